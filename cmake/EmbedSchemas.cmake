@@ -1,0 +1,16 @@
+# Generates a C++ source holding every schemas/*.schema.json as a string, so that the lsds binary
+# validates with exactly the schemas it was built with, wherever it is installed.
+file(GLOB files "${SCHEMA_DIR}/*.schema.json")
+list(SORT files)
+set(content "// Generated from schemas/*.schema.json by cmake/EmbedSchemas.cmake; do not edit.\n")
+string(APPEND content "#include <map>\n#include <string>\n\nnamespace lsds {\n\n")
+string(APPEND content "const std::map<std::string, std::string>& EmbeddedSchemas() {\n")
+string(APPEND content "  static const std::map<std::string, std::string> schemas = {\n")
+foreach(file ${files})
+  get_filename_component(name "${file}" NAME)
+  file(READ "${file}" text)
+  string(APPEND content "      {\"${name}\", R\"lsds_schema(${text})lsds_schema\"},\n")
+endforeach()
+string(APPEND content "  };\n  return schemas;\n}\n\n}  // namespace lsds\n")
+file(WRITE "${OUT}.new" "${content}")
+file(COPY_FILE "${OUT}.new" "${OUT}" ONLY_IF_DIFFERENT)

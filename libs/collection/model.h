@@ -1,0 +1,151 @@
+// The in-memory model of a collection (docs/format.md). Plain structs; JSON I/O lives in json_io.h.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "libs/exr/exr_types.h"
+#include "libs/geometry/attitude.h"
+#include "libs/geometry/box2d.h"
+#include "libs/geometry/camera.h"
+#include "libs/geometry/oriented_box.h"
+#include "libs/geometry/rigid3.h"
+#include "libs/geometry/world_frame.h"
+
+namespace lsds {
+
+inline constexpr const char* kCollectionFormat = "lsds-collection";
+inline constexpr const char* kMetadataFormat = "lsds-metadata";
+inline constexpr const char* kFormatVersion = "1.0";
+inline constexpr const char* kCollectionFile = "collection.json";
+inline constexpr const char* kMetadataFile = "metadata.json";
+
+struct ClassInfo {
+  uint32_t id = 0;  // > 0; 0 is background
+  std::string name;
+};
+
+struct LayerChannel {
+  std::string name;
+  exr::PixelType type = exr::PixelType::kFloat;
+};
+
+// One entry of the layer table: a folder of one EXR per frame.
+struct LayerInfo {
+  std::string name;      // folder name, e.g. "depth"
+  std::string semantic;  // rgb | classid | instanceid | depth | normal | worldposition | shadow | motion | bundle | derived
+  bool deep = false;
+  std::vector<LayerChannel> channels;
+  std::string unit;  // free text for people: "m", "unit vector", "screen-normalized", ...
+  std::optional<DepthKind> depth_kind;  // depth layers and deep bundles
+  exr::Compression compression = exr::Compression::kZip;
+  bool required = true;  // every frame has a file for it
+  std::string description;
+
+  const LayerChannel* FindChannel(const std::string& channel) const;
+};
+
+struct Provenance {
+  std::string generator;  // "lsds generate", "lsds synth", ...
+  std::string generator_version;
+  std::optional<uint64_t> seed;
+  std::string scene_source;    // LSCENE text, verbatim
+  std::string capture_source;  // LCAP text, verbatim
+  nlohmann::json render = nlohmann::json::object();  // spp, renderer settings, ...
+};
+
+// Declared units and frames (docs/format.md, "Units and frames").
+struct Conventions {
+  WorldFrame world = WorldFrame::Make("ENU", "m");
+  // Fixed in format 1.0, written so that readers never have to guess.
+  std::string camera_frame = "opencv";       // x right, y down, z forward
+  std::string pixel_coordinates = "edge";    // pixel (i, j) covers [i, i+1) x [j, j+1)
+  std::string motion = "screen-normalized";  // 0.5 + 0.5 * (current - previous) / size
+};
+
+// A registered metadata variant (metadata.json and perturbed copies).
+struct MetadataVariant {
+  std::string file;  // relative to the collection root
+  bool perturbed = false;
+  std::string description;
+};
+
+struct CameraTruth {
+  PinholeCamera intrinsics;
+  // As declared (world units; the rotation has determinant -1 for a left-handed world).
+  Eigen::Matrix3d cam_from_world_rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d cam_from_world_translation = Eigen::Vector3d::Zero();
+};
+
+struct ObjectTruth {
+  uint32_t instance_id = 0;  // > 0, the value in the instanceid layer
+  uint32_t class_id = 0;     // > 0, an id of the class table
+  std::string name;          // e.g. "O2#3": the LSCENE symbol and its copy
+  OrientedBox obb;           // world frame, world units
+  std::optional<Box2d> bbox;  // tight, visible: extent of the instance mask; none when not visible
+  std::optional<Box2d> bbox_projected;  // loose: bounds of the projected OBB clipped to the image
+  int64_t visible_pixels = 0;
+  double visibility = 0;  // visible pixels / pixels covered with no occluders, in [0, 1]
+  double in_frame = 0;    // share of the projected silhouette inside the image, in [0, 1]
+};
+
+struct Frame {
+  int64_t index = 0;
+  double time = 0;           // seconds
+  std::string sequence;      // frames of one path/sequence; splits never cut one
+  CameraTruth camera;
+  std::map<std::string, std::string> files;  // layer name -> path relative to the collection root
+  std::vector<ObjectTruth> objects;
+};
+
+// Everything in collection.json except the frames, which are streamed.
+struct CollectionHeader {
+  std::string format_version = kFormatVersion;
+  Provenance provenance;
+  Conventions conventions;
+  std::vector<ClassInfo> classes;
+  std::vector<LayerInfo> layers;
+  std::vector<MetadataVariant> metadata;
+  int64_t frame_count = 0;
+
+  const LayerInfo* FindLayer(const std::string& name) const;
+  const LayerInfo* FindLayerBySemantic(const std::string& semantic) const;
+  const ClassInfo* FindClass(uint32_t id) const;
+};
+
+// The standard layer table entries of docs/format.md.
+LayerInfo StandardLayer(const std::string& semantic, DepthKind depth_kind = DepthKind::kPlanar);
+const std::vector<std::string>& StandardLayerSemantics();
+
+// --- metadata.json ---
+
+struct NoiseRecord {  // what perturb-metadata did; absent for truth
+  std::string model;
+  nlohmann::json parameters = nlohmann::json::object();
+  uint64_t seed = 0;
+};
+
+struct MetadataFrame {
+  int64_t index = 0;
+  double time = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // camera centre, world frame and units
+  Attitude attitude;                                    // see libs/geometry/attitude.h
+  PinholeCamera camera;
+  nlohmann::json error;  // realized errors when perturbed, else null
+};
+
+struct MetadataHeader {
+  std::string format_version = kFormatVersion;
+  bool perturbed = false;
+  std::optional<NoiseRecord> noise;
+  std::string source;  // the metadata file this one was derived from, if any
+  int64_t frame_count = 0;
+};
+
+}  // namespace lsds

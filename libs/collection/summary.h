@@ -1,0 +1,44 @@
+// What `lsds info` reports: a one-pass summary of a collection.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "libs/collection/collection_reader.h"
+
+namespace lsds {
+
+struct LayerSummary {
+  int64_t files = 0;
+  int64_t missing_files = 0;
+  int64_t bytes = 0;
+};
+
+struct ClassSummary {
+  int64_t objects = 0;                // object entries over all frames
+  std::set<uint32_t> instance_ids;    // distinct instances
+};
+
+struct CollectionSummary {
+  int64_t frames = 0;
+  double time_min = 0, time_max = 0;
+  std::map<std::string, int> resolutions;  // "1024x768" -> frames
+  double hfov_min_deg = 0, hfov_max_deg = 0;
+  double camera_height_min = 0, camera_height_max = 0;  // camera centre "up" coordinate, world units
+  std::map<std::string, LayerSummary> layers;
+  std::map<uint32_t, ClassSummary> classes;
+  int64_t objects = 0;
+  int64_t collection_json_bytes = 0;
+  int64_t total_bytes = 0;
+};
+
+// Streams the frames once (stat-ing each layer file, not decoding it).
+CollectionSummary Summarize(const CollectionReader& reader);
+
+nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSummary& summary);
+std::string SummaryToText(const CollectionReader& reader, const CollectionSummary& summary);
+
+}  // namespace lsds

@@ -1,0 +1,60 @@
+// Deep EXR layers: a variable-length list of samples per pixel (the pixel bundle of docs/format.md).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "libs/exr/exr_types.h"
+
+namespace lsds::exr {
+
+// One channel's samples for all pixels, concatenated in pixel order (row-major), sample order within.
+struct DeepChannel {
+  std::string name;
+  PixelType type = PixelType::kFloat;
+  std::vector<float> floats;
+  std::vector<uint32_t> uints;
+};
+
+class DeepImage {
+ public:
+  DeepImage() = default;
+  // `sample_counts` has width * height entries.
+  DeepImage(int width, int height, std::vector<uint32_t> sample_counts);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  size_t pixel_count() const { return static_cast<size_t>(width_) * height_; }
+  uint64_t total_samples() const { return offsets_.empty() ? 0 : offsets_.back(); }
+  uint32_t SampleCount(int x, int y) const { return sample_counts_[Index(x, y)]; }
+  // Index of the first sample of pixel (x, y) in every channel's arrays.
+  uint64_t FirstSample(int x, int y) const { return offsets_[Index(x, y)]; }
+  size_t Index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
+  const std::vector<uint32_t>& sample_counts() const { return sample_counts_; }
+  const std::vector<uint64_t>& offsets() const { return offsets_; }
+
+  DeepChannel& AddChannel(const std::string& name, PixelType type);  // zero-filled
+  const DeepChannel* Find(const std::string& name) const;
+  const DeepChannel& Get(const std::string& name) const;  // throws lsds::Error when missing
+  DeepChannel& Get(const std::string& name);
+  const std::vector<DeepChannel>& channels() const { return channels_; }
+
+ private:
+  int width_ = 0;
+  int height_ = 0;
+  std::vector<uint32_t> sample_counts_;
+  std::vector<uint64_t> offsets_;  // prefix sums, pixel_count() + 1 entries
+  std::vector<DeepChannel> channels_;
+};
+
+// Reads the named channels (all when empty) of a deep scanline EXR. Sample counts are checked against
+// `limits` before any sample is decoded.
+DeepImage ReadDeepExr(const std::filesystem::path& path, const std::vector<std::string>& channels = {},
+                      const ReadLimits& limits = {});
+
+// Writes atomically (temporary file + rename). Deep files allow only none, rle, zips or zip.
+void WriteDeepExr(const std::filesystem::path& path, const DeepImage& image,
+                  const WriteOptions& options = {});
+
+}  // namespace lsds::exr

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package that lsds needs to build, test and run its demo.
+# Idempotent: when everything is present it only runs dpkg queries and exits in seconds.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config ninja-build
+  libopenexr-dev openexr            # EXR layers (flat + deep) and exrheader/exrcheck for tests
+  libopencv-dev                     # images, contours
+  libeigen3-dev                     # geometry
+  nlohmann-json3-dev                # JSON I/O
+  libvalijson-dev                   # JSON Schema validation
+  libcli11-dev                      # command line
+  libpcl-dev                        # point clouds
+  libceres-dev                      # camera-geometry checks
+  libembree-dev libtbb-dev          # reference renderer, parallelism
+  libassimp-dev                     # mesh assets
+  libgtest-dev libgmock-dev         # tests
+  python3                           # bad-input corpus script
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,34 @@
+#include "tools/command.h"
+
+#include <iostream>
+
+#include "libs/util/error.h"
+
+namespace lsds {
+
+const std::vector<Command>& Commands() {
+  static const std::vector<Command> commands = {
+      {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
+  };
+  return commands;
+}
+
+int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help or the parse error
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  try {
+    return body();
+  } catch (const Error& e) {
+    std::cerr << app.get_name() << ": error: " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << app.get_name() << ": error: " << e.what() << "\n";
+    return kExitUsage;
+  }
+}
+
+}  // namespace lsds

@@ -1,0 +1,28 @@
+// lsds info COLLECTION [--json]
+#include <iostream>
+
+#include "libs/collection/collection_reader.h"
+#include "libs/collection/summary.h"
+#include "tools/command.h"
+
+namespace lsds {
+
+int RunInfo(int argc, char** argv) {
+  CLI::App app("Summarize a collection: frames, layers, classes, cameras, units, size.", "lsds info");
+  std::string collection;
+  bool json = false;
+  app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
+  app.add_flag("--json", json, "print the summary as JSON");
+  return RunCommand(app, argc, argv, [&] {
+    const CollectionReader reader(collection);
+    const CollectionSummary summary = Summarize(reader);
+    if (json) {
+      std::cout << SummaryToJson(reader, summary).dump(2) << "\n";
+    } else {
+      std::cout << SummaryToText(reader, summary);
+    }
+    return 0;
+  });
+}
+
+}  // namespace lsds

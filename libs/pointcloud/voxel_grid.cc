@@ -1,0 +1,140 @@
+#include "libs/pointcloud/voxel_grid.h"
+
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "libs/util/error.h"
+
+namespace lsds::pointcloud {
+
+namespace {
+
+struct KeyHash {
+  size_t operator()(const VoxelKey& k) const {
+    // Large odd multipliers spread neighbouring cells (classic spatial hash).
+    const uint64_t h = static_cast<uint64_t>(k.x) * 73856093ULL ^ static_cast<uint64_t>(k.y) * 19349663ULL ^
+                       static_cast<uint64_t>(k.z) * 83492791ULL;
+    return static_cast<size_t>(h ^ (h >> 29));
+  }
+};
+
+struct Cell {
+  double sum_x = 0, sum_y = 0, sum_z = 0;
+  double sum_r = 0, sum_g = 0, sum_b = 0;
+  double sum_nx = 0, sum_ny = 0, sum_nz = 0;
+  int64_t count = 0;
+  double best_centre_distance = INFINITY;
+  uint32_t label = 0, instance = 0;
+};
+
+// The float nearest `value` that still lies in [lo, hi) of its voxel.
+float InsideVoxel(double value, double lo, double hi) {
+  float f = static_cast<float>(value);
+  while (static_cast<double>(f) >= hi) f = std::nextafter(f, -INFINITY);
+  while (static_cast<double>(f) < lo) f = std::nextafter(f, INFINITY);
+  return f;
+}
+
+}  // namespace
+
+VoxelKey VoxelOf(float x, float y, float z, double size) {
+  return {static_cast<int64_t>(std::floor(x / size)), static_cast<int64_t>(std::floor(y / size)),
+          static_cast<int64_t>(std::floor(z / size))};
+}
+
+struct VoxelAccumulator::Impl {
+  double size;
+  Attributes attributes;
+  std::unordered_map<VoxelKey, size_t, KeyHash> index;
+  std::vector<VoxelKey> keys;
+  std::vector<Cell> cells;
+};
+
+VoxelAccumulator::VoxelAccumulator(double size, Attributes attributes) : impl_(new Impl) {
+  if (!(size > 0) || !std::isfinite(size)) throw Error("voxel size must be a positive number");
+  impl_->size = size;
+  impl_->attributes = attributes;
+}
+
+VoxelAccumulator::~VoxelAccumulator() = default;
+
+size_t VoxelAccumulator::voxel_count() const { return impl_->cells.size(); }
+
+void VoxelAccumulator::Add(const PointCloud& cloud) {
+  Impl& s = *impl_;
+  for (const CloudPoint& p : cloud.points) {
+    const VoxelKey key = VoxelOf(p.x, p.y, p.z, s.size);
+    auto [it, inserted] = s.index.try_emplace(key, s.cells.size());
+    if (inserted) {
+      s.cells.emplace_back();
+      s.keys.push_back(key);
+    }
+    Cell& c = s.cells[it->second];
+    c.sum_x += p.x;
+    c.sum_y += p.y;
+    c.sum_z += p.z;
+    ++c.count;
+    if (s.attributes.rgb) {
+      c.sum_r += (p.rgb >> 16) & 0xff;
+      c.sum_g += (p.rgb >> 8) & 0xff;
+      c.sum_b += p.rgb & 0xff;
+    }
+    if (s.attributes.normals) {
+      c.sum_nx += p.normal_x;
+      c.sum_ny += p.normal_y;
+      c.sum_nz += p.normal_z;
+    }
+    if (s.attributes.labels) {
+      const double dx = p.x - (key.x + 0.5) * s.size, dy = p.y - (key.y + 0.5) * s.size,
+                   dz = p.z - (key.z + 0.5) * s.size;
+      const double d = dx * dx + dy * dy + dz * dz;
+      if (d < c.best_centre_distance) {
+        c.best_centre_distance = d;
+        c.label = p.label;
+        c.instance = p.instance;
+      }
+    }
+  }
+}
+
+PointCloud VoxelAccumulator::Finish() const {
+  const Impl& s = *impl_;
+  PointCloud out;
+  out.attributes = s.attributes;
+  out.points.resize(s.cells.size());
+  for (size_t i = 0; i < s.cells.size(); ++i) {
+    const Cell& c = s.cells[i];
+    const VoxelKey& k = s.keys[i];
+    const double n = static_cast<double>(c.count);
+    CloudPoint& p = out.points[i];
+    p.x = InsideVoxel(c.sum_x / n, k.x * s.size, (k.x + 1) * s.size);
+    p.y = InsideVoxel(c.sum_y / n, k.y * s.size, (k.y + 1) * s.size);
+    p.z = InsideVoxel(c.sum_z / n, k.z * s.size, (k.z + 1) * s.size);
+    // Guard the definition used by VoxelOf (float division) as well as the double bounds above.
+    while (VoxelOf(p.x, p.y, p.z, s.size).x > k.x) p.x = std::nextafter(p.x, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).x < k.x) p.x = std::nextafter(p.x, INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).y > k.y) p.y = std::nextafter(p.y, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).y < k.y) p.y = std::nextafter(p.y, INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).z > k.z) p.z = std::nextafter(p.z, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).z < k.z) p.z = std::nextafter(p.z, INFINITY);
+    if (s.attributes.rgb) {
+      auto mean = [n](double sum) { return static_cast<uint8_t>(std::lround(sum / n)); };
+      p.rgb = PackRgb(mean(c.sum_r), mean(c.sum_g), mean(c.sum_b));
+    }
+    if (s.attributes.normals) {
+      Eigen::Vector3d normal(c.sum_nx, c.sum_ny, c.sum_nz);
+      if (normal.norm() > 0) normal.normalize();
+      p.normal_x = static_cast<float>(normal.x());
+      p.normal_y = static_cast<float>(normal.y());
+      p.normal_z = static_cast<float>(normal.z());
+    }
+    p.label = c.label;
+    p.instance = c.instance;
+  }
+  return out;
+}
+
+}  // namespace lsds::pointcloud

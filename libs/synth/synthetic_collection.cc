@@ -54,6 +54,7 @@ struct Sample {
   double planar = kInf;
   double perspective = kInf;
   double sun_visibility = 1;
+  double shadow = 1;  // final / unshadowed shading
   Eigen::Vector3d radiance = Eigen::Vector3d::Zero();
 };
 
@@ -74,6 +75,7 @@ Sample Shade(const AnalyticScene& scene, const Spec& spec, const PinholeCamera& 
   if (cosine > 0) {
     const Hit blocker = scene.Intersect(s.point + 1e-6 * s.hit.normal, spec.direction_to_sun);
     s.sun_visibility = blocker.hit ? 0.0 : 1.0;
+    s.shadow = (kAmbient + cosine * s.sun_visibility) / (kAmbient + cosine);
   }
   s.radiance = Albedo(s.hit.class_id) * (kAmbient + std::max(0.0, cosine) * s.sun_visibility);
   return s;
@@ -175,7 +177,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
           normal.Get(axis).floats[p] = static_cast<float>(s.hit.normal[c]);
           position.Get(axis).floats[p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
         }
-        shadow.Get("Y").floats[p] = static_cast<float>(s.sun_visibility);
+        shadow.Get("Y").floats[p] = static_cast<float>(s.shadow);
         Eigen::Vector2d shift = Eigen::Vector2d::Zero();
         if (previous_cam_from_world) {
           // Static world: where this surface point (or, for sky, this direction) was last frame.

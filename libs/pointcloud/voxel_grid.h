@@ -6,6 +6,7 @@
 // limit and accepts points frame by frame, so memory is bounded by the output (one cell per voxel).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 
@@ -18,7 +19,10 @@ struct VoxelKey {
   int64_t x = 0, y = 0, z = 0;
   bool operator==(const VoxelKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
-VoxelKey VoxelOf(float x, float y, float z, double size);
+inline VoxelKey VoxelOf(float x, float y, float z, double size) {
+  return {static_cast<int64_t>(std::floor(x / size)), static_cast<int64_t>(std::floor(y / size)),
+          static_cast<int64_t>(std::floor(z / size))};
+}
 
 // One output point per occupied voxel: the centroid of the voxel's points (moved inside the voxel if
 // rounding to float put it on the far face), the mean colour, the normalized mean normal, and the

@@ -40,7 +40,9 @@ TEST(VoxelGrid, FusedCloudOfOverlappingFramesHasAtMostOnePointPerVoxel) {
     ASSERT_EQ(static_cast<int64_t>(cloud.points.size()), summary.points_written);
     EXPECT_EQ(DistinctVoxels(cloud, voxel), cloud.points.size()) << "voxel " << voxel;
     // Pixels are ~0.36 m apart on the ground: big voxels merge points, tiny ones keep every point.
-    if (voxel >= 0.5) EXPECT_LT(summary.points_written, summary.points_backprojected / 2);
+    if (voxel >= 0.5) {
+      EXPECT_LT(summary.points_written, summary.points_backprojected / 2);
+    }
     EXPECT_LE(summary.points_written, summary.points_backprojected);
     EXPECT_GT(summary.points_written, 0);
     for (const CloudPoint& p : cloud.points) ASSERT_TRUE(p.label >= 1 && p.label <= 3);

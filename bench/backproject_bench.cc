@@ -1,11 +1,13 @@
-// Benchmark of lsds backproject: points/s for one frame and for a fused run of many frames, next to
-// the floor (decoding the depth EXR), and Open3D's create_from_depth_image on the same depth when
-// python3 with open3d is available.
+// Benchmark of lsds backproject: points/s for one frame and for a fused run of
+// many frames, next to the floor (decoding the depth EXR), and Open3D's
+// create_from_depth_image on the same depth when python3 with open3d is
+// available.
 //
-//   backproject_bench [--size 1024] [--frames 100] [--voxel 0.05] [--repeat 5] [--work DIR]
+//   backproject_bench [--size 1024] [--frames 100] [--voxel 0.05] [--repeat 5]
+//   [--work DIR]
 //                     [--python /usr/bin/python3] [--no-open3d]
-// The synthetic collection is rendered once into DIR (default /tmp/lsds_bench_backproject_SIZE_FRAMES)
-// and reused by later runs.
+// The synthetic collection is rendered once into DIR (default
+// /tmp/lsds_bench_backproject_SIZE_FRAMES) and reused by later runs.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -33,26 +35,38 @@ namespace {
 double CpuSeconds() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
-double last_cpu = 0;  // CPU seconds (all threads) of the best repetition of the last Seconds() call
+double last_cpu = 0;  // CPU seconds (all threads) of the best repetition of the
+                      // last Seconds() call
 
-// Best wall time of `repeat` runs (the machine may be shared: the best run is the least disturbed).
+// Best wall time of `repeat` runs (the machine may be shared: the best run is
+// the least disturbed).
 double Seconds(const std::function<void()>& fn, int repeat) {
   double best = 1e300;
   for (int r = 0; r < repeat; ++r) {
     const double cpu = CpuSeconds();
     const auto start = std::chrono::steady_clock::now();
     fn();
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
     if (wall < best) best = wall, last_cpu = CpuSeconds() - cpu;
   }
   return best;
 }
 
-void Row(const char* what, double points, double seconds, double floor_seconds, double cpu = -1) {
-  std::printf("  %-46s %9.2f ms  %8.1f Mpoints/s  x%.2f floor", what, seconds * 1e3, points / seconds / 1e6,
+void Row(const char* what,
+         double points,
+         double seconds,
+         double floor_seconds,
+         double cpu = -1) {
+  std::printf("  %-46s %9.2f ms  %8.1f Mpoints/s  x%.2f floor",
+              what,
+              seconds * 1e3,
+              points / seconds / 1e6,
               seconds / floor_seconds);
   if (cpu >= 0) std::printf("  (cpu %.2f ms)", cpu * 1e3);
   std::printf("\n");
@@ -92,28 +106,41 @@ int main(int argc, char** argv) {
   bool no_open3d = false;
   app.add_option("--size", size, "frame width and height (pixels)");
   app.add_option("--frames", frames, "frames of the fused run");
-  app.add_option("--voxel", voxel, "voxel size of the fused run (m); 0 = no downsampling");
-  app.add_option("--repeat", repeat, "repetitions of the single-frame timings (best is kept)");
-  app.add_option("--work", work, "folder for the synthetic collection (reused when present)");
+  app.add_option(
+      "--voxel", voxel, "voxel size of the fused run (m); 0 = no downsampling");
+  app.add_option("--repeat",
+                 repeat,
+                 "repetitions of the single-frame timings (best is kept)");
+  app.add_option("--work",
+                 work,
+                 "folder for the synthetic collection (reused when present)");
   app.add_option("--python", python, "python with open3d");
   app.add_flag("--no-open3d", no_open3d, "skip the Open3D comparison");
   CLI11_PARSE(app, argc, argv);
   if (work.empty()) {
-    work = (fs::temp_directory_path() / ("lsds_bench_backproject_" + std::to_string(size) + "_" +
-                                         std::to_string(frames)))
+    work = (fs::temp_directory_path() /
+            ("lsds_bench_backproject_" + std::to_string(size) + "_" +
+             std::to_string(frames)))
                .string();
   }
   const fs::path collection = fs::path(work) / "collection";
   if (!fs::exists(collection / "collection.json")) {
-    std::printf("rendering a %dx%d synthetic collection of %d frames into %s ...\n", size, size, frames,
-                collection.c_str());
+    std::printf(
+        "rendering a %dx%d synthetic collection of %d frames into %s ...\n",
+        size,
+        size,
+        frames,
+        collection.c_str());
     synth::Spec spec = synth::DefaultSpec();
     spec.width = spec.height = size;
     spec.samples_per_axis = 1;
     spec.layers = {"rgb", "classid", "instanceid", "depth"};
     spec.cam_from_world.clear();
-    // A nadir pass at 20 m, 0.2 m between frames: consecutive frames overlap by ~99 %.
-    for (int k = 0; k < frames; ++k) spec.cam_from_world.push_back(synth::NadirCamFromWorld({-10 + 0.2 * k, 0, 20}));
+    // A nadir pass at 20 m, 0.2 m between frames: consecutive frames overlap by
+    // ~99 %.
+    for (int k = 0; k < frames; ++k)
+      spec.cam_from_world.push_back(
+          synth::NadirCamFromWorld({-10 + 0.2 * k, 0, 20}));
     fs::remove_all(collection);
     fs::create_directories(work);
     synth::WriteCollection(collection, spec);
@@ -127,16 +154,24 @@ int main(int argc, char** argv) {
   const fs::path depth_path = reader.LayerPath(first, "depth");
   const double pixels = static_cast<double>(size) * size;
 
-  std::printf("lsds backproject benchmark: %dx%d frames (%.2f Mpixels), %d frames fused, voxel %g m\n", size, size,
-              pixels / 1e6, frames, voxel);
+  std::printf(
+      "lsds backproject benchmark: %dx%d frames (%.2f Mpixels), %d frames "
+      "fused, voxel %g m\n",
+      size,
+      size,
+      pixels / 1e6,
+      frames,
+      voxel);
 
   // Floor: decoding the depth EXR.
   exr::FlatImage depth;
-  const double floor = Seconds([&] { depth = exr::ReadFlatExr(depth_path, {"Z"}); }, repeat);
+  const double floor =
+      Seconds([&] { depth = exr::ReadFlatExr(depth_path, {"Z"}); }, repeat);
   std::printf("one frame:\n");
   Row("floor: decode depth EXR", pixels, floor, floor, last_cpu);
 
-  // The arithmetic alone, on decoded depth (what Open3D's create_from_depth_image does).
+  // The arithmetic alone, on decoded depth (what Open3D's
+  // create_from_depth_image does).
   pointcloud::FrameLayers layers;
   layers.width = layers.height = size;
   layers.depth = depth.Get("Z").floats.data();
@@ -155,9 +190,18 @@ int main(int argc, char** argv) {
       },
       repeat);
   const double points = static_cast<double>(cloud.points.size());
-  Row("back-projection only (decoded depth, xyz)", points, core, floor, last_cpu);
+  Row("back-projection only (decoded depth, xyz)",
+      points,
+      core,
+      floor,
+      last_cpu);
 
-  auto run = [&](bool attributes, const fs::path& out, int64_t begin, int64_t end, bool fuse, double v) {
+  auto run = [&](bool attributes,
+                 const fs::path& out,
+                 int64_t begin,
+                 int64_t end,
+                 bool fuse,
+                 double v) {
     pointcloud::BackprojectOptions options;
     options.collection = collection;
     options.output = out;
@@ -171,51 +215,98 @@ int main(int argc, char** argv) {
   };
   const fs::path out_dir = fs::path(work) / "out";
   fs::create_directories(out_dir);
-  const double e2e_xyz = Seconds([&] { run(false, out_dir / "one.pcd", 0, 1, true, 0); }, repeat);
+  const double e2e_xyz =
+      Seconds([&] { run(false, out_dir / "one.pcd", 0, 1, true, 0); }, repeat);
   Row("end to end: depth EXR -> PCD (xyz)", points, e2e_xyz, floor, last_cpu);
-  const double e2e_full = Seconds([&] { run(true, out_dir / "one_full.pcd", 0, 1, true, 0); }, repeat);
-  Row("end to end: + rgb, class, instance -> PCD", points, e2e_full, floor, last_cpu);
+  const double e2e_full = Seconds(
+      [&] { run(true, out_dir / "one_full.pcd", 0, 1, true, 0); }, repeat);
+  Row("end to end: + rgb, class, instance -> PCD",
+      points,
+      e2e_full,
+      floor,
+      last_cpu);
 
   // Many frames fused.
   std::printf("%d frames fused:\n", frames);
   const double floor_all = Seconds(
       [&] {
-        reader.ForEachFrame([&](const Frame& f) { exr::ReadFlatExr(reader.LayerPath(f, "depth"), {"Z"}); });
+        reader.ForEachFrame([&](const Frame& f) {
+          exr::ReadFlatExr(reader.LayerPath(f, "depth"), {"Z"});
+        });
       },
       1);
-  Row("floor: decode every depth EXR (1 thread)", pixels * frames, floor_all, floor_all, last_cpu);
+  Row("floor: decode every depth EXR (1 thread)",
+      pixels * frames,
+      floor_all,
+      floor_all,
+      last_cpu);
   pointcloud::BackprojectSummary summary;
-  const double fused = Seconds([&] { summary = run(false, out_dir / "fused.pcd", 0, frames, true, voxel); }, 1);
+  const double fused = Seconds(
+      [&] {
+        summary = run(false, out_dir / "fused.pcd", 0, frames, true, voxel);
+      },
+      1);
   char label[128];
-  std::snprintf(label, sizeof label, "fused xyz, voxel %g -> %lld points", voxel,
+  std::snprintf(label,
+                sizeof label,
+                "fused xyz, voxel %g -> %lld points",
+                voxel,
                 static_cast<long long>(summary.points_written));
-  Row(label, static_cast<double>(summary.points_backprojected), fused, floor_all, last_cpu);
-  const double fused_full = Seconds([&] { summary = run(true, out_dir / "fused_full.pcd", 0, frames, true, voxel); }, 1);
+  Row(label,
+      static_cast<double>(summary.points_backprojected),
+      fused,
+      floor_all,
+      last_cpu);
+  const double fused_full = Seconds(
+      [&] {
+        summary = run(true, out_dir / "fused_full.pcd", 0, frames, true, voxel);
+      },
+      1);
   std::snprintf(label, sizeof label, "fused + rgb/labels, voxel %g", voxel);
-  Row(label, static_cast<double>(summary.points_backprojected), fused_full, floor_all, last_cpu);
+  Row(label,
+      static_cast<double>(summary.points_backprojected),
+      fused_full,
+      floor_all,
+      last_cpu);
 
-  // Open3D on the same depth, same camera (camera frame output: extrinsic identity).
+  // Open3D on the same depth, same camera (camera frame output: extrinsic
+  // identity).
   if (no_open3d) {
     std::printf("open3d: skipped (--no-open3d)\n");
     return 0;
   }
-  if (std::system((python + " -c 'import open3d' > /dev/null 2>&1").c_str()) != 0) {
-    std::printf("open3d: skipped (%s cannot import open3d; Debian: apt-get install python3-open3d)\n",
-                python.c_str());
+  if (std::system((python + " -c 'import open3d' > /dev/null 2>&1").c_str()) !=
+      0) {
+    std::printf(
+        "open3d: skipped (%s cannot import open3d; Debian: apt-get install "
+        "python3-open3d)\n",
+        python.c_str());
     return 0;
   }
   const fs::path raw = fs::path(work) / "depth.f32";
   const fs::path script = fs::path(work) / "open3d_bench.py";
   {
     std::ofstream(raw, std::ios::binary)
-        .write(reinterpret_cast<const char*>(layers.depth), static_cast<std::streamsize>(pixels * sizeof(float)));
+        .write(reinterpret_cast<const char*>(layers.depth),
+               static_cast<std::streamsize>(pixels * sizeof(float)));
     std::ofstream(script) << kOpen3dScript;
   }
   const fs::path result = fs::path(work) / "open3d.txt";
   char command[1024];
-  std::snprintf(command, sizeof command, "%s %s %s %d %d %.17g %.17g %.17g %.17g %d > %s 2>/dev/null", python.c_str(),
-                script.c_str(), raw.c_str(), size, size, pose.camera.fx, pose.camera.fy, pose.camera.cx,
-                pose.camera.cy, repeat, result.c_str());
+  std::snprintf(command,
+                sizeof command,
+                "%s %s %s %d %d %.17g %.17g %.17g %.17g %d > %s 2>/dev/null",
+                python.c_str(),
+                script.c_str(),
+                raw.c_str(),
+                size,
+                size,
+                pose.camera.fx,
+                pose.camera.fy,
+                pose.camera.cx,
+                pose.camera.cy,
+                repeat,
+                result.c_str());
   if (std::system(command) != 0) {
     std::printf("open3d: failed to run %s\n", script.c_str());
     return 0;
@@ -224,8 +315,17 @@ int main(int argc, char** argv) {
   double o3d_depth = 0, o3d_rgbd = 0;
   std::ifstream(result) >> o3d_points >> o3d_depth >> o3d_rgbd;
   std::printf("open3d %s (decoded depth, no EXR decode):\n", "0.16");
-  Row("create_from_depth_image", static_cast<double>(o3d_points), o3d_depth, floor);
-  Row("create_from_rgbd_image (+ colour)", static_cast<double>(o3d_points), o3d_rgbd, floor);
-  std::printf("lsds back-projection only vs open3d create_from_depth_image: %.2fx faster\n", o3d_depth / core);
+  Row("create_from_depth_image",
+      static_cast<double>(o3d_points),
+      o3d_depth,
+      floor);
+  Row("create_from_rgbd_image (+ colour)",
+      static_cast<double>(o3d_points),
+      o3d_rgbd,
+      floor);
+  std::printf(
+      "lsds back-projection only vs open3d create_from_depth_image: %.2fx "
+      "faster\n",
+      o3d_depth / core);
   return 0;
 }

@@ -35,7 +35,9 @@ FrameRange ParseFrameRange(const std::string& text) {
       used = 0;
     }
     if (used != part.size() || value < 0) {
-      throw Error("--frames '" + text + "': expected A:B with frame indices >= 0 (A:, :B and A also work)");
+      throw Error(
+          "--frames '" + text +
+          "': expected A:B with frame indices >= 0 (A:, :B and A also work)");
     }
     return value;
   };
@@ -48,7 +50,8 @@ FrameRange ParseFrameRange(const std::string& text) {
     range.begin = parse(text.substr(0, colon), 0);
     range.end = parse(text.substr(colon + 1), range.end);
   }
-  if (range.end <= range.begin) throw Error("--frames '" + text + "' selects no frame (B must be > A)");
+  if (range.end <= range.begin)
+    throw Error("--frames '" + text + "' selects no frame (B must be > A)");
   return range;
 }
 
@@ -66,9 +69,12 @@ struct Plan {
   Attributes attributes;
 };
 
-std::vector<std::string> ChannelNames(const LayerInfo& layer, size_t count, const std::string& where) {
+std::vector<std::string> ChannelNames(const LayerInfo& layer,
+                                      size_t count,
+                                      const std::string& where) {
   if (layer.channels.size() < count) {
-    throw Error("layer '" + layer.name + "' declares " + std::to_string(layer.channels.size()) +
+    throw Error("layer '" + layer.name + "' declares " +
+                    std::to_string(layer.channels.size()) +
                     " channels, expected " + std::to_string(count),
                 Location(where));
   }
@@ -77,7 +83,8 @@ std::vector<std::string> ChannelNames(const LayerInfo& layer, size_t count, cons
   return names;
 }
 
-// One frame's decoded layers, owning the pixels the FrameLayers views point into.
+// One frame's decoded layers, owning the pixels the FrameLayers views point
+// into.
 struct LoadedFrame {
   exr::FlatImage depth, rgb, classid, instanceid, normal, world;
   FrameLayers layers;
@@ -86,40 +93,59 @@ struct LoadedFrame {
   const float* world_z = nullptr;
 };
 
-const float* Floats(const exr::FlatImage& image, const std::string& channel, const fs::path& path) {
+const float* Floats(const exr::FlatImage& image,
+                    const std::string& channel,
+                    const fs::path& path) {
   const exr::FlatChannel& c = image.Get(channel);
   if (c.floats.size() != image.pixel_count()) {
-    throw Error("channel '" + channel + "' is not HALF or FLOAT", Location(path.string()));
+    throw Error("channel '" + channel + "' is not HALF or FLOAT",
+                Location(path.string()));
   }
   return c.floats.data();
 }
 
-const uint32_t* Uints(const exr::FlatImage& image, const std::string& channel, const fs::path& path) {
+const uint32_t* Uints(const exr::FlatImage& image,
+                      const std::string& channel,
+                      const fs::path& path) {
   const exr::FlatChannel& c = image.Get(channel);
   if (c.uints.size() != image.pixel_count()) {
-    throw Error("channel '" + channel + "' is not UINT", Location(path.string()));
+    throw Error("channel '" + channel + "' is not UINT",
+                Location(path.string()));
   }
   return c.uints.data();
 }
 
-void Load(const CollectionReader& reader, const Frame& frame, const LayerInfo& layer, size_t channels,
-          int width, int height, exr::FlatImage* image, fs::path* path) {
+void Load(const CollectionReader& reader,
+          const Frame& frame,
+          const LayerInfo& layer,
+          size_t channels,
+          int width,
+          int height,
+          exr::FlatImage* image,
+          fs::path* path) {
   *path = reader.LayerPath(frame, layer.name);
-  *image = exr::ReadFlatExr(*path, ChannelNames(layer, channels, reader.collection_path().string()));
+  *image = exr::ReadFlatExr(
+      *path, ChannelNames(layer, channels, reader.collection_path().string()));
   if (image->width() != width || image->height() != height) {
     Location where(path->string());
     where.frame = frame.index;
-    throw Error("layer '" + layer.name + "' is " + std::to_string(image->width()) + "x" +
-                    std::to_string(image->height()) + " but the frame's depth is " + std::to_string(width) +
-                    "x" + std::to_string(height),
+    throw Error("layer '" + layer.name + "' is " +
+                    std::to_string(image->width()) + "x" +
+                    std::to_string(image->height()) +
+                    " but the frame's depth is " + std::to_string(width) + "x" +
+                    std::to_string(height),
                 where);
   }
 }
 
-LoadedFrame LoadFrame(const CollectionReader& reader, const Frame& frame, const Plan& plan, bool check) {
+LoadedFrame LoadFrame(const CollectionReader& reader,
+                      const Frame& frame,
+                      const Plan& plan,
+                      bool check) {
   LoadedFrame f;
   fs::path path;
-  const std::string depth_channel = ChannelNames(*plan.depth, 1, reader.collection_path().string())[0];
+  const std::string depth_channel =
+      ChannelNames(*plan.depth, 1, reader.collection_path().string())[0];
   path = reader.LayerPath(frame, plan.depth->name);
   f.depth = exr::ReadFlatExr(path, {depth_channel});
   const int w = f.depth.width(), h = f.depth.height();
@@ -139,7 +165,8 @@ LoadedFrame LoadFrame(const CollectionReader& reader, const Frame& frame, const 
     Load(reader, frame, *plan.classid, 1, w, h, &f.classid, &path);
     l.class_id = Uints(f.classid, plan.classid->channels[0].name, path);
     Load(reader, frame, *plan.instanceid, 1, w, h, &f.instanceid, &path);
-    l.instance_id = Uints(f.instanceid, plan.instanceid->channels[0].name, path);
+    l.instance_id =
+        Uints(f.instanceid, plan.instanceid->channels[0].name, path);
   }
   if (plan.attributes.normals) {
     Load(reader, frame, *plan.normal, 3, w, h, &f.normal, &path);
@@ -165,28 +192,38 @@ Eigen::Affine3d CamFromWorldTruth(const CameraTruth& camera) {
   return cam_from_world;
 }
 
-// A metadata pose (camera centre in world coordinates, attitude against NED/ENU) as an affine map
-// from the camera frame (world units) to the declared world frame (world units).
-Eigen::Affine3d WorldFromCamMetadata(const WorldFrame& world, const MetadataFrame& m) {
-  const Rigid3d enu_from_cam = CamFromEnu(world.EnuMetresFromWorld(m.position), m.attitude).Inverse();
+// A metadata pose (camera centre in world coordinates, attitude against
+// NED/ENU) as an affine map from the camera frame (world units) to the declared
+// world frame (world units).
+Eigen::Affine3d WorldFromCamMetadata(const WorldFrame& world,
+                                     const MetadataFrame& m) {
+  const Rigid3d enu_from_cam =
+      CamFromEnu(world.EnuMetresFromWorld(m.position), m.attitude).Inverse();
   // p_world = F^T (R (s p) + t) / s = F^T R p + F^T t / s
   Eigen::Affine3d world_from_cam = Eigen::Affine3d::Identity();
-  world_from_cam.linear() = world.enu_from_frame.transpose() * enu_from_cam.rotation.toRotationMatrix();
-  world_from_cam.translation() = world.enu_from_frame.transpose() * enu_from_cam.translation / world.metres_per_unit;
+  world_from_cam.linear() = world.enu_from_frame.transpose() *
+                            enu_from_cam.rotation.toRotationMatrix();
+  world_from_cam.translation() = world.enu_from_frame.transpose() *
+                                 enu_from_cam.translation /
+                                 world.metres_per_unit;
   return world_from_cam;
 }
 
 fs::path ResolveMetadataPath(const fs::path& root, const fs::path& file) {
   std::error_code ec;
-  if (file.is_relative() && !fs::exists(file, ec) && fs::exists(root / file, ec)) return root / file;
+  if (file.is_relative() && !fs::exists(file, ec) &&
+      fs::exists(root / file, ec))
+    return root / file;
   return file;
 }
 
 // Fails early (before any work) when a file cannot be created beside `path`.
 void CheckWritableParent(const fs::path& path) {
-  const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  const fs::path parent =
+      path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::error_code ec;
-  if (!fs::is_directory(parent, ec)) throw Error("output folder does not exist", Location(parent.string()));
+  if (!fs::is_directory(parent, ec))
+    throw Error("output folder does not exist", Location(parent.string()));
   if (::access(parent.c_str(), W_OK) != 0) {
     throw Error("output folder is not writable", Location(parent.string()));
   }
@@ -199,12 +236,15 @@ struct FrameResult {
 
 }  // namespace
 
-BackprojectSummary RunBackproject(const BackprojectOptions& options,
-                                  const std::function<void(const FrameReport&)>& on_frame) {
+BackprojectSummary RunBackproject(
+    const BackprojectOptions& options,
+    const std::function<void(const FrameReport&)>& on_frame) {
   if (options.stride < 1) throw Error("--stride must be >= 1");
   if (options.voxel < 0) throw Error("--voxel must be >= 0");
-  if (options.voxel > 0 && !options.fuse) throw Error("--voxel needs --fuse (it downsamples the fused cloud)");
-  if (options.output.empty() && !options.check) throw Error("nothing to do: give -o OUT, --check or both");
+  if (options.voxel > 0 && !options.fuse)
+    throw Error("--voxel needs --fuse (it downsamples the fused cloud)");
+  if (options.output.empty() && !options.check)
+    throw Error("nothing to do: give -o OUT, --check or both");
 
   const CollectionReader reader(options.collection);
   const CollectionHeader& header = reader.header();
@@ -213,12 +253,15 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
   Plan plan;
   plan.depth = header.FindLayerBySemantic("depth");
   if (plan.depth == nullptr || plan.depth->deep) {
-    throw Error("the collection has no flat depth layer to back-project (layers: " + [&header] {
-      std::vector<std::string> names;
-      for (const LayerInfo& l : header.layers) names.push_back(l.name);
-      return Join(names, ", ");
-    }() + ")",
-                Location(collection_file, "/layers"));
+    throw Error(
+        "the collection has no flat depth layer to back-project (layers: " +
+            [&header] {
+              std::vector<std::string> names;
+              for (const LayerInfo& l : header.layers) names.push_back(l.name);
+              return Join(names, ", ");
+            }() +
+            ")",
+        Location(collection_file, "/layers"));
   }
   plan.depth_kind = plan.depth->depth_kind.value_or(DepthKind::kPlanar);
   plan.rgb = header.FindLayerBySemantic("rgb");
@@ -227,14 +270,17 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
   plan.normal = header.FindLayerBySemantic("normal");
   plan.world = header.FindLayerBySemantic("worldposition");
   plan.attributes.rgb = options.colors && plan.rgb != nullptr;
-  plan.attributes.labels = options.labels && plan.classid != nullptr && plan.instanceid != nullptr;
+  plan.attributes.labels =
+      options.labels && plan.classid != nullptr && plan.instanceid != nullptr;
   plan.attributes.normals = options.normals;
   if (options.normals && plan.normal == nullptr) {
-    throw Error("--normals: the collection has no normal layer", Location(collection_file, "/layers"));
+    throw Error("--normals: the collection has no normal layer",
+                Location(collection_file, "/layers"));
   }
   if (options.check && plan.world == nullptr) {
-    throw Error("--check: the collection has no worldposition layer to compare with",
-                Location(collection_file, "/layers"));
+    throw Error(
+        "--check: the collection has no worldposition layer to compare with",
+        Location(collection_file, "/layers"));
   }
   const WorldFrame& world = header.conventions.world;
 
@@ -249,7 +295,8 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
     });
   }
 
-  // Outputs: checked and claimed before any work, so that bad usage costs nothing.
+  // Outputs: checked and claimed before any work, so that bad usage costs
+  // nothing.
   std::optional<CloudFormat> format;
   std::unique_ptr<AtomicDirectory> folder;
   if (!options.output.empty()) {
@@ -260,9 +307,11 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
     } else {
       const std::string ext = options.output.extension().string();
       if (ext == ".pcd" || ext == ".ply" || ext == ".PCD" || ext == ".PLY") {
-        throw Error("without --fuse the output is a folder of one cloud per frame; add --fuse to write one "
-                    "file, or name a folder (and --format pcd|ply)",
-                    Location(options.output.string()));
+        throw Error(
+            "without --fuse the output is a folder of one cloud per frame; add "
+            "--fuse to write one "
+            "file, or name a folder (and --format pcd|ply)",
+            Location(options.output.string()));
       }
       format = FormatFromName(options.per_frame_format);
       CheckWritableParent(options.output);
@@ -275,11 +324,14 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
   PointCloud fused;
   fused.attributes = plan.attributes;
   std::unique_ptr<VoxelAccumulator> voxels;
-  if (options.fuse && options.voxel > 0) voxels = std::make_unique<VoxelAccumulator>(options.voxel, plan.attributes);
+  if (options.fuse && options.voxel > 0)
+    voxels = std::make_unique<VoxelAccumulator>(options.voxel, plan.attributes);
 
   const int64_t in_file = static_cast<int64_t>(reader.frames_in_file());
-  const int64_t total = std::max<int64_t>(
-      0, std::min(in_file, options.frames.end) - std::min(in_file, options.frames.begin));
+  const int64_t total =
+      std::max<int64_t>(0,
+                        std::min(in_file, options.frames.end) -
+                            std::min(in_file, options.frames.begin));
   Progress progress("backproject", total);
 
   auto process = [&](const Frame& frame) {
@@ -289,62 +341,84 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
     const LoadedFrame loaded = LoadFrame(reader, frame, plan, options.check);
     FramePose pose;
     pose.camera = frame.camera.intrinsics;
-    const Eigen::Affine3d cam_from_world_truth = CamFromWorldTruth(frame.camera);
+    const Eigen::Affine3d cam_from_world_truth =
+        CamFromWorldTruth(frame.camera);
     Eigen::Affine3d world_from_cam = cam_from_world_truth.inverse();
     if (!options.metadata.empty()) {
       const auto it = metadata.find(frame.index);
       if (it == metadata.end()) {
         Location where(metadata_path.string());
         where.frame = frame.index;
-        throw Error("the metadata variant has no frame " + std::to_string(frame.index), where);
+        throw Error(
+            "the metadata variant has no frame " + std::to_string(frame.index),
+            where);
       }
       world_from_cam = WorldFromCamMetadata(world, it->second);
       if (it->second.camera.width > 0) pose.camera = it->second.camera;
     }
-    if (pose.camera.width != loaded.layers.width || pose.camera.height != loaded.layers.height) {
+    if (pose.camera.width != loaded.layers.width ||
+        pose.camera.height != loaded.layers.height) {
       Location where(reader.LayerPath(frame, plan.depth->name).string());
       where.frame = frame.index;
-      throw Error("depth is " + std::to_string(loaded.layers.width) + "x" + std::to_string(loaded.layers.height) +
-                      " but the camera is " + std::to_string(pose.camera.width) + "x" +
+      throw Error("depth is " + std::to_string(loaded.layers.width) + "x" +
+                      std::to_string(loaded.layers.height) +
+                      " but the camera is " +
+                      std::to_string(pose.camera.width) + "x" +
                       std::to_string(pose.camera.height),
                   where);
     }
     if (options.frame == OutputFrame::kWorld) {
       pose.out_from_cam = world_from_cam;
-      pose.out_from_world_normal = world_from_cam.linear() * cam_from_world_truth.linear();
+      pose.out_from_world_normal =
+          world_from_cam.linear() * cam_from_world_truth.linear();
     } else {
       pose.out_from_cam = Eigen::Affine3d::Identity();
       pose.out_from_world_normal = cam_from_world_truth.linear();
     }
-    if (!options.output.empty()) BackprojectFrame(loaded.layers, pose, options.stride, &result.cloud);
+    if (!options.output.empty())
+      BackprojectFrame(loaded.layers, pose, options.stride, &result.cloud);
     if (options.check) {
       result.report.checked = true;
-      result.report.check = CompareWithWorldPosition(loaded.layers, pose.camera, world_from_cam, options.stride,
-                                                     loaded.world_x, loaded.world_y, loaded.world_z);
+      result.report.check = CompareWithWorldPosition(loaded.layers,
+                                                     pose.camera,
+                                                     world_from_cam,
+                                                     options.stride,
+                                                     loaded.world_x,
+                                                     loaded.world_y,
+                                                     loaded.world_z);
     }
     result.report.points = static_cast<int64_t>(result.cloud.points.size());
     return result;
   };
 
-  // Frames are streamed in batches back-projected in parallel, then merged in file order, so the
-  // output is deterministic and memory holds one batch of frames plus the output cloud.
+  // Frames are streamed in batches back-projected in parallel, then merged in
+  // file order, so the output is deterministic and memory holds one batch of
+  // frames plus the output cloud.
   const size_t batch_size =
-      options.batch_frames > 0 ? options.batch_frames : std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
+      options.batch_frames > 0
+          ? options.batch_frames
+          : std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
   std::vector<Frame> batch;
   auto flush = [&] {
     std::vector<FrameResult> results(batch.size());
-    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) { results[i] = process(batch[i]); });
+    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
+      results[i] = process(batch[i]);
+    });
     for (FrameResult& r : results) {
       ++summary.frames;
       summary.points_backprojected += r.report.points;
       if (r.report.checked) summary.check.Merge(r.report.check);
       if (folder) {
-        WriteCloud(folder->temp_path() / (FrameStem(r.report.index) + Extension(*format)), r.cloud, *format);
+        WriteCloud(folder->temp_path() /
+                       (FrameStem(r.report.index) + Extension(*format)),
+                   r.cloud,
+                   *format);
         summary.points_written += r.report.points;
       } else if (voxels) {
         voxels->Add(r.cloud);
       } else if (options.fuse && !options.output.empty()) {
-        fused.points.insert(fused.points.end(), r.cloud.points.begin(), r.cloud.points.end());
+        fused.points.insert(
+            fused.points.end(), r.cloud.points.begin(), r.cloud.points.end());
       }
       r.cloud = PointCloud();
       if (on_frame) on_frame(r.report);
@@ -359,7 +433,8 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
   });
   flush();
   if (summary.frames == 0) {
-    throw Error("no frame selected (the collection has " + std::to_string(in_file) + " frames)",
+    throw Error("no frame selected (the collection has " +
+                    std::to_string(in_file) + " frames)",
                 Location(collection_file));
   }
 

@@ -1,4 +1,5 @@
-// `lsds backproject`: a collection's depth layers to point clouds, per frame or fused, streamed.
+// `lsds backproject`: a collection's depth layers to point clouds, per frame or
+// fused, streamed.
 #pragma once
 
 #include <cstdint>
@@ -23,14 +24,16 @@ FrameRange ParseFrameRange(const std::string& text);  // throws lsds::Error
 
 struct BackprojectOptions {
   std::filesystem::path collection;
-  // Empty: nothing is written (e.g. --check alone). Per frame: a folder of FRAME.pcd|ply files; fused:
-  // one file whose extension picks the format.
+  // Empty: nothing is written (e.g. --check alone). Per frame: a folder of
+  // FRAME.pcd|ply files; fused: one file whose extension picks the format.
   std::filesystem::path output;
   std::string per_frame_format = "pcd";  // per-frame mode only
   bool fuse = false;
-  double voxel = 0;  // fused only; world units of the output frame; 0 = no downsampling
+  double voxel =
+      0;  // fused only; world units of the output frame; 0 = no downsampling
   OutputFrame frame = OutputFrame::kWorld;
-  std::filesystem::path metadata;  // a metadata variant's poses instead of the truth poses
+  std::filesystem::path
+      metadata;  // a metadata variant's poses instead of the truth poses
   bool check = false;
   bool normals = false;
   bool colors = true;  // when the collection has an rgb layer
@@ -38,7 +41,8 @@ struct BackprojectOptions {
   int stride = 1;
   FrameRange frames;
   bool force = false;
-  size_t batch_frames = 0;  // frames back-projected in parallel; 0 = 2 x hardware threads
+  size_t batch_frames =
+      0;  // frames back-projected in parallel; 0 = 2 x hardware threads
 };
 
 struct FrameReport {
@@ -56,10 +60,12 @@ struct BackprojectSummary {
   std::string world_unit;  // the declared length unit of the outputs and errors
 };
 
-// Runs the whole command. `on_frame` sees each frame's report in frame order. Throws lsds::Error for
-// bad input (no depth layer, missing layers, unknown extension, unwritable output, ...); outputs are
-// atomic, so nothing partial is left behind.
-BackprojectSummary RunBackproject(const BackprojectOptions& options,
-                                  const std::function<void(const FrameReport&)>& on_frame = {});
+// Runs the whole command. `on_frame` sees each frame's report in frame order.
+// Throws lsds::Error for bad input (no depth layer, missing layers, unknown
+// extension, unwritable output, ...); outputs are atomic, so nothing partial is
+// left behind.
+BackprojectSummary RunBackproject(
+    const BackprojectOptions& options,
+    const std::function<void(const FrameReport&)>& on_frame = {});
 
 }  // namespace lsds::pointcloud

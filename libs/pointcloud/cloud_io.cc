@@ -26,19 +26,26 @@ struct FieldSpec {
 };
 
 std::vector<FieldSpec> FieldsFor(const Attributes& a) {
-  std::vector<FieldSpec> fields = {{"x", Field::FLOAT32, offsetof(CloudPoint, x)},
-                                   {"y", Field::FLOAT32, offsetof(CloudPoint, y)},
-                                   {"z", Field::FLOAT32, offsetof(CloudPoint, z)}};
-  // PCL stores colour as a FLOAT32 field holding the packed bits (pcl::PointXYZRGB::rgb).
-  if (a.rgb) fields.push_back({"rgb", Field::FLOAT32, offsetof(CloudPoint, rgb)});
+  std::vector<FieldSpec> fields = {
+      {"x", Field::FLOAT32, offsetof(CloudPoint, x)},
+      {"y", Field::FLOAT32, offsetof(CloudPoint, y)},
+      {"z", Field::FLOAT32, offsetof(CloudPoint, z)}};
+  // PCL stores colour as a FLOAT32 field holding the packed bits
+  // (pcl::PointXYZRGB::rgb).
+  if (a.rgb)
+    fields.push_back({"rgb", Field::FLOAT32, offsetof(CloudPoint, rgb)});
   if (a.labels) {
     fields.push_back({"label", Field::UINT32, offsetof(CloudPoint, label)});
-    fields.push_back({"instance", Field::UINT32, offsetof(CloudPoint, instance)});
+    fields.push_back(
+        {"instance", Field::UINT32, offsetof(CloudPoint, instance)});
   }
   if (a.normals) {
-    fields.push_back({"normal_x", Field::FLOAT32, offsetof(CloudPoint, normal_x)});
-    fields.push_back({"normal_y", Field::FLOAT32, offsetof(CloudPoint, normal_y)});
-    fields.push_back({"normal_z", Field::FLOAT32, offsetof(CloudPoint, normal_z)});
+    fields.push_back(
+        {"normal_x", Field::FLOAT32, offsetof(CloudPoint, normal_x)});
+    fields.push_back(
+        {"normal_y", Field::FLOAT32, offsetof(CloudPoint, normal_y)});
+    fields.push_back(
+        {"normal_z", Field::FLOAT32, offsetof(CloudPoint, normal_z)});
   }
   return fields;
 }
@@ -74,7 +81,9 @@ pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud) {
 }
 
 std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) {
+    return std::tolower(c);
+  });
   return s;
 }
 
@@ -105,9 +114,13 @@ CloudFormat FormatFromName(const std::string& name) {
   throw Error("unknown point cloud format '" + name + "'; expected pcd or ply");
 }
 
-const char* Extension(CloudFormat format) { return format == CloudFormat::kPcd ? ".pcd" : ".ply"; }
+const char* Extension(CloudFormat format) {
+  return format == CloudFormat::kPcd ? ".pcd" : ".ply";
+}
 
-void WriteCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format) {
+void WriteCloud(const std::filesystem::path& path,
+                const PointCloud& cloud,
+                CloudFormat format) {
   const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud);
   const std::filesystem::path temp = TempPathBeside(path);
   int status = -1;
@@ -120,8 +133,11 @@ void WriteCloud(const std::filesystem::path& path, const PointCloud& cloud, Clou
         status = writer.writeBinary(temp.string(), pcl_cloud);
       } else {
         pcl::PLYWriter writer;
-        status = writer.writeBinary(temp.string(), pcl_cloud, Eigen::Vector4f::Zero(),
-                                    Eigen::Quaternionf::Identity(), /*use_camera=*/false);
+        status = writer.writeBinary(temp.string(),
+                                    pcl_cloud,
+                                    Eigen::Vector4f::Zero(),
+                                    Eigen::Quaternionf::Identity(),
+                                    /*use_camera=*/false);
       }
     } catch (const std::exception& e) {
       detail = e.what();
@@ -130,13 +146,15 @@ void WriteCloud(const std::filesystem::path& path, const PointCloud& cloud, Clou
   std::error_code ec;
   if (status != 0) {
     std::filesystem::remove(temp, ec);
-    throw Error("cannot write point cloud" + (detail.empty() ? std::string() : ": " + detail),
+    throw Error("cannot write point cloud" +
+                    (detail.empty() ? std::string() : ": " + detail),
                 Location(path.string()));
   }
   std::filesystem::rename(temp, path, ec);
   if (ec) {
     std::filesystem::remove(temp, ec);
-    throw Error("cannot rename into place: " + ec.message(), Location(path.string()));
+    throw Error("cannot rename into place: " + ec.message(),
+                Location(path.string()));
   }
 }
 
@@ -147,13 +165,15 @@ PointCloud ReadCloud(const std::filesystem::path& path) {
   {
     QuietPcl quiet;
     try {
-      status = format == CloudFormat::kPcd ? pcl::io::loadPCDFile(path.string(), in)
-                                           : pcl::io::loadPLYFile(path.string(), in);
+      status = format == CloudFormat::kPcd
+                   ? pcl::io::loadPCDFile(path.string(), in)
+                   : pcl::io::loadPLYFile(path.string(), in);
     } catch (const std::exception&) {
       status = -1;
     }
   }
-  if (status < 0) throw Error("cannot read point cloud", Location(path.string()));
+  if (status < 0)
+    throw Error("cannot read point cloud", Location(path.string()));
   auto find = [&in](const char* name) -> const Field* {
     for (const Field& f : in.fields)
       if (f.name == name) return &f;
@@ -161,7 +181,8 @@ PointCloud ReadCloud(const std::filesystem::path& path) {
   };
   PointCloud cloud;
   cloud.attributes.rgb = find("rgb") != nullptr || find("rgba") != nullptr;
-  cloud.attributes.labels = find("label") != nullptr && find("instance") != nullptr;
+  cloud.attributes.labels =
+      find("label") != nullptr && find("instance") != nullptr;
   cloud.attributes.normals = find("normal_x") != nullptr;
   if (!find("x") || !find("y") || !find("z")) {
     throw Error("point cloud has no x y z fields", Location(path.string()));
@@ -171,7 +192,9 @@ PointCloud ReadCloud(const std::filesystem::path& path) {
   for (const FieldSpec& spec : specs) {
     const Field* f = find(spec.name);
     if (!f && std::strcmp(spec.name, "rgb") == 0) f = find("rgba");
-    if (!f || f->count != 1) throw Error(std::string("unusable field ") + spec.name, Location(path.string()));
+    if (!f || f->count != 1)
+      throw Error(std::string("unusable field ") + spec.name,
+                  Location(path.string()));
     fields.push_back(f);
   }
   const size_t n = static_cast<size_t>(in.width) * in.height;

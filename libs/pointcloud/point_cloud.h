@@ -1,6 +1,7 @@
-// A point cloud in memory, free of PCL so that any code may include it. The files are written with
-// PCL (cloud_io.h) using PCL's field names: x y z, rgb (packed 0x00RRGGBB as in pcl::PointXYZRGB),
-// label (the class id, as in pcl::PointXYZRGBL), instance, normal_x normal_y normal_z.
+// A point cloud in memory, free of PCL so that any code may include it. The
+// files are written with PCL (cloud_io.h) using PCL's field names: x y z, rgb
+// (packed 0x00RRGGBB as in pcl::PointXYZRGB), label (the class id, as in
+// pcl::PointXYZRGBL), instance, normal_x normal_y normal_z.
 #pragma once
 
 #include <cstdint>
@@ -10,13 +11,14 @@ namespace lsds::pointcloud {
 
 struct CloudPoint {
   float x = 0, y = 0, z = 0;
-  uint32_t rgb = 0;        // 0x00RRGGBB, sRGB 8 bit
-  uint32_t label = 0;      // class id, 0 background
-  uint32_t instance = 0;   // instance id, 0 background
+  uint32_t rgb = 0;       // 0x00RRGGBB, sRGB 8 bit
+  uint32_t label = 0;     // class id, 0 background
+  uint32_t instance = 0;  // instance id, 0 background
   float normal_x = 0, normal_y = 0, normal_z = 0;
 };
 
-// Which attributes the points carry (and the files hold). Position is always there.
+// Which attributes the points carry (and the files hold). Position is always
+// there.
 struct Attributes {
   bool rgb = false;
   bool labels = false;  // label + instance

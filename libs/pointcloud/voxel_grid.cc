@@ -12,8 +12,10 @@ namespace lsds::pointcloud {
 namespace {
 
 uint64_t Hash(const VoxelKey& k) {
-  // Neighbouring cells differ in low bits only: mix them all into the high bits (murmur finalizer).
-  uint64_t h = static_cast<uint64_t>(k.x) * 0x9E3779B97F4A7C15ULL + static_cast<uint64_t>(k.y) * 0xC2B2AE3D27D4EB4FULL +
+  // Neighbouring cells differ in low bits only: mix them all into the high bits
+  // (murmur finalizer).
+  uint64_t h = static_cast<uint64_t>(k.x) * 0x9E3779B97F4A7C15ULL +
+               static_cast<uint64_t>(k.y) * 0xC2B2AE3D27D4EB4FULL +
                static_cast<uint64_t>(k.z) * 0x165667B19E3779F9ULL;
   h ^= h >> 33;
   h *= 0xFF51AFD7ED558CCDULL;
@@ -23,8 +25,9 @@ uint64_t Hash(const VoxelKey& k) {
   return h;
 }
 
-// Open addressing with linear probing, keys stored in the slots (one cache miss per lookup): several
-// times faster than std::unordered_map for millions of points.
+// Open addressing with linear probing, keys stored in the slots (one cache miss
+// per lookup): several times faster than std::unordered_map for millions of
+// points.
 class KeyIndex {
  public:
   KeyIndex() : slots_(1024) {}
@@ -92,8 +95,10 @@ struct VoxelAccumulator::Impl {
   std::vector<Cell> cells;
 };
 
-VoxelAccumulator::VoxelAccumulator(double size, Attributes attributes) : impl_(new Impl) {
-  if (!(size > 0) || !std::isfinite(size)) throw Error("voxel size must be a positive number");
+VoxelAccumulator::VoxelAccumulator(double size, Attributes attributes)
+    : impl_(new Impl) {
+  if (!(size > 0) || !std::isfinite(size))
+    throw Error("voxel size must be a positive number");
   impl_->size = size;
   impl_->attributes = attributes;
 }
@@ -131,7 +136,8 @@ void VoxelAccumulator::Add(const PointCloud& cloud) {
       c.sum_nz += p.normal_z;
     }
     if (s.attributes.labels) {
-      const double dx = p.x - (key.x + 0.5) * s.size, dy = p.y - (key.y + 0.5) * s.size,
+      const double dx = p.x - (key.x + 0.5) * s.size,
+                   dy = p.y - (key.y + 0.5) * s.size,
                    dz = p.z - (key.z + 0.5) * s.size;
       const double d = dx * dx + dy * dy + dz * dz;
       if (d < c.best_centre_distance) {
@@ -156,15 +162,24 @@ PointCloud VoxelAccumulator::Finish() const {
     p.x = InsideVoxel(c.sum_x / n, k.x * s.size, (k.x + 1) * s.size);
     p.y = InsideVoxel(c.sum_y / n, k.y * s.size, (k.y + 1) * s.size);
     p.z = InsideVoxel(c.sum_z / n, k.z * s.size, (k.z + 1) * s.size);
-    // Guard the definition used by VoxelOf (float division) as well as the double bounds above.
-    while (VoxelOf(p.x, p.y, p.z, s.size).x > k.x) p.x = std::nextafter(p.x, -INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).x < k.x) p.x = std::nextafter(p.x, INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).y > k.y) p.y = std::nextafter(p.y, -INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).y < k.y) p.y = std::nextafter(p.y, INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).z > k.z) p.z = std::nextafter(p.z, -INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).z < k.z) p.z = std::nextafter(p.z, INFINITY);
+    // Guard the definition used by VoxelOf (float division) as well as the
+    // double bounds above.
+    while (VoxelOf(p.x, p.y, p.z, s.size).x > k.x)
+      p.x = std::nextafter(p.x, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).x < k.x)
+      p.x = std::nextafter(p.x, INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).y > k.y)
+      p.y = std::nextafter(p.y, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).y < k.y)
+      p.y = std::nextafter(p.y, INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).z > k.z)
+      p.z = std::nextafter(p.z, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).z < k.z)
+      p.z = std::nextafter(p.z, INFINITY);
     if (s.attributes.rgb) {
-      auto mean = [n](double sum) { return static_cast<uint8_t>(std::lround(sum / n)); };
+      auto mean = [n](double sum) {
+        return static_cast<uint8_t>(std::lround(sum / n));
+      };
       p.rgb = PackRgb(mean(c.sum_r), mean(c.sum_g), mean(c.sum_b));
     }
     if (s.attributes.normals) {

@@ -18,7 +18,8 @@ namespace fs = std::filesystem;
 using testing::ScratchDir;
 using testing::WriteSynth;
 
-// An oblique camera too, so that perspective and planar depth differ noticeably off-axis.
+// An oblique camera too, so that perspective and planar depth differ noticeably
+// off-axis.
 synth::Spec GroundOnly(DepthKind kind) {
   synth::Spec spec = synth::DefaultSpec();
   spec.boxes.clear();
@@ -28,7 +29,9 @@ synth::Spec GroundOnly(DepthKind kind) {
   return spec;
 }
 
-PointCloud Fuse(const fs::path& collection, const fs::path& out, BackprojectOptions options = {}) {
+PointCloud Fuse(const fs::path& collection,
+                const fs::path& out,
+                BackprojectOptions options = {}) {
   options.collection = collection;
   options.output = out;
   options.fuse = true;
@@ -42,17 +45,22 @@ TEST(Backproject, PlaneAtKnownDistanceBackprojectsOntoThatPlane) {
     const fs::path collection = WriteSynth(dir / "c", GroundOnly(kind));
     const PointCloud world = Fuse(collection, dir / "world.pcd");
     synth::Spec spec = GroundOnly(kind);
-    // Every pixel of the nadir frame and the lower part of the oblique one see the ground.
-    ASSERT_GT(world.points.size(), static_cast<size_t>(spec.width * spec.height));
-    for (const CloudPoint& p : world.points) ASSERT_NEAR(p.z, 0.0f, 2e-5) << DepthKindName(kind);
+    // Every pixel of the nadir frame and the lower part of the oblique one see
+    // the ground.
+    ASSERT_GT(world.points.size(),
+              static_cast<size_t>(spec.width * spec.height));
+    for (const CloudPoint& p : world.points)
+      ASSERT_NEAR(p.z, 0.0f, 2e-5) << DepthKindName(kind);
 
     // In the nadir camera's frame the ground is the plane z = 20 (m).
     BackprojectOptions options;
     options.frame = OutputFrame::kCamera;
     options.frames = ParseFrameRange("0");
     const PointCloud camera = Fuse(collection, dir / "camera.pcd", options);
-    ASSERT_EQ(camera.points.size(), static_cast<size_t>(spec.width * spec.height));
-    for (const CloudPoint& p : camera.points) ASSERT_NEAR(p.z, 20.0f, 2e-5) << DepthKindName(kind);
+    ASSERT_EQ(camera.points.size(),
+              static_cast<size_t>(spec.width * spec.height));
+    for (const CloudPoint& p : camera.points)
+      ASSERT_NEAR(p.z, 20.0f, 2e-5) << DepthKindName(kind);
   }
 }
 
@@ -63,14 +71,16 @@ TEST(Backproject, PlanarAndPerspectiveDepthGiveTheSamePoints) {
   synth::Spec perspective = planar;
   perspective.depth_kind = DepthKind::kPerspective;
   const PointCloud a = Fuse(WriteSynth(dir / "planar", planar), dir / "a.pcd");
-  const PointCloud b = Fuse(WriteSynth(dir / "perspective", perspective), dir / "b.pcd");
+  const PointCloud b =
+      Fuse(WriteSynth(dir / "perspective", perspective), dir / "b.pcd");
   ASSERT_EQ(a.points.size(), b.points.size());
   ASSERT_GT(a.points.size(), 1000u);
   double max_distance = 0;
   for (size_t i = 0; i < a.points.size(); ++i) {
     const CloudPoint& p = a.points[i];
     const CloudPoint& q = b.points[i];
-    max_distance = std::max<double>(max_distance, std::hypot(p.x - q.x, p.y - q.y, p.z - q.z));
+    max_distance = std::max<double>(
+        max_distance, std::hypot(p.x - q.x, p.y - q.y, p.z - q.z));
     ASSERT_EQ(p.label, q.label);
     ASSERT_EQ(p.instance, q.instance);
   }
@@ -98,16 +108,22 @@ TEST(Backproject, CameraFrameOutputTransformedByThePoseEqualsWorldFrameOutput) {
     const PointCloud world = ReadCloud(dir / "world" / file);
     const PointCloud camera = ReadCloud(dir / "camera" / file);
     ASSERT_EQ(world.points.size(), camera.points.size());
-    const Rigid3d cam_from_world(Eigen::Quaterniond(frame.camera.cam_from_world_rotation),
-                                 frame.camera.cam_from_world_translation);
+    const Rigid3d cam_from_world(
+        Eigen::Quaterniond(frame.camera.cam_from_world_rotation),
+        frame.camera.cam_from_world_translation);
     const Rigid3d world_from_cam = cam_from_world.Inverse();
     for (size_t i = 0; i < world.points.size(); ++i) {
       const CloudPoint& c = camera.points[i];
-      const Eigen::Vector3d mapped = world_from_cam * Eigen::Vector3d(c.x, c.y, c.z);
+      const Eigen::Vector3d mapped =
+          world_from_cam * Eigen::Vector3d(c.x, c.y, c.z);
       const CloudPoint& w = world.points[i];
-      ASSERT_LT((mapped - Eigen::Vector3d(w.x, w.y, w.z)).norm(), 3e-5) << "frame " << frame.index;
-      // Camera-frame normals face the camera: the point is in front, the normal points back.
-      ASSERT_LT(Eigen::Vector3d(c.normal_x, c.normal_y, c.normal_z).dot(Eigen::Vector3d(c.x, c.y, c.z)), 0);
+      ASSERT_LT((mapped - Eigen::Vector3d(w.x, w.y, w.z)).norm(), 3e-5)
+          << "frame " << frame.index;
+      // Camera-frame normals face the camera: the point is in front, the normal
+      // points back.
+      ASSERT_LT(Eigen::Vector3d(c.normal_x, c.normal_y, c.normal_z)
+                    .dot(Eigen::Vector3d(c.x, c.y, c.z)),
+                0);
     }
     ++frames;
   });
@@ -123,12 +139,13 @@ TEST(Backproject, CheckIsAtFloatPrecisionOnTruthPosesAndShowsMetadataErrors) {
   options.collection = collection;
   options.check = true;
   int frames = 0;
-  BackprojectSummary summary = RunBackproject(options, [&](const FrameReport& r) {
-    EXPECT_TRUE(r.checked);
-    EXPECT_EQ(r.check.compared, spec.width * spec.height);
-    EXPECT_LT(r.check.max_error, 1e-5);  // ~20 m in float: ulp 2e-6
-    ++frames;
-  });
+  BackprojectSummary summary =
+      RunBackproject(options, [&](const FrameReport& r) {
+        EXPECT_TRUE(r.checked);
+        EXPECT_EQ(r.check.compared, spec.width * spec.height);
+        EXPECT_LT(r.check.max_error, 1e-5);  // ~20 m in float: ulp 2e-6
+        ++frames;
+      });
   EXPECT_EQ(frames, 4);
   EXPECT_LT(summary.check.rms(), 5e-6);
 
@@ -137,7 +154,8 @@ TEST(Backproject, CheckIsAtFloatPrecisionOnTruthPosesAndShowsMetadataErrors) {
   summary = RunBackproject(options);
   EXPECT_LT(summary.check.max_error, 1e-5);
 
-  // A variant whose positions are 0.5 m off east: the registration error shows as 0.5 m everywhere.
+  // A variant whose positions are 0.5 m off east: the registration error shows
+  // as 0.5 m everywhere.
   {
     MetadataReader truth(collection / "metadata.json");
     MetadataHeader header = truth.header();
@@ -162,7 +180,8 @@ TEST(Backproject, PointsCarryLabelsColoursAndNormals) {
   BackprojectOptions options;
   options.normals = true;
   const PointCloud cloud = Fuse(collection, dir / "all.ply", options);
-  ASSERT_TRUE(cloud.attributes.rgb && cloud.attributes.labels && cloud.attributes.normals);
+  ASSERT_TRUE(cloud.attributes.rgb && cloud.attributes.labels &&
+              cloud.attributes.normals);
   int ground = 0, boxes = 0, coloured = 0;
   for (const CloudPoint& p : cloud.points) {
     if (p.instance == 1000) {  // the ground plane
@@ -175,7 +194,9 @@ TEST(Backproject, PointsCarryLabelsColoursAndNormals) {
       ASSERT_TRUE(p.label == 2 || p.label == 3);
       ASSERT_GT(p.z, 0.0f);
       // Boxes stand upright: tops face up, sides are horizontal.
-      ASSERT_TRUE(std::abs(p.normal_z - 1.0f) < 1e-6f || std::abs(p.normal_z) < 1e-6f) << p.normal_z;
+      ASSERT_TRUE(std::abs(p.normal_z - 1.0f) < 1e-6f ||
+                  std::abs(p.normal_z) < 1e-6f)
+          << p.normal_z;
     }
     if (p.rgb != 0) ++coloured;
   }

@@ -1,4 +1,5 @@
-// PCD and PLY files: what is written reads back equal, with lsds and with PCL's own point types.
+// PCD and PLY files: what is written reads back equal, with lsds and with PCL's
+// own point types.
 #include <cstring>
 #include <random>
 
@@ -27,7 +28,9 @@ PointCloud RandomCloud(size_t n, Attributes attributes) {
     p.x = coord(rng), p.y = coord(rng), p.z = coord(rng);
     if (attributes.rgb) p.rgb = id(rng) * 3355 & 0xffffff;
     if (attributes.labels) p.label = id(rng), p.instance = id(rng) * 1000;
-    if (attributes.normals) p.normal_x = coord(rng) / 100, p.normal_y = coord(rng) / 100, p.normal_z = 1;
+    if (attributes.normals)
+      p.normal_x = coord(rng) / 100, p.normal_y = coord(rng) / 100,
+      p.normal_z = 1;
     cloud.points.push_back(p);
   }
   return cloud;
@@ -37,13 +40,16 @@ void ExpectEqual(const PointCloud& a, const PointCloud& b) {
   ASSERT_TRUE(a.attributes == b.attributes);
   ASSERT_EQ(a.points.size(), b.points.size());
   for (size_t i = 0; i < a.points.size(); ++i) {
-    ASSERT_EQ(std::memcmp(&a.points[i], &b.points[i], sizeof(CloudPoint)), 0) << "point " << i;
+    ASSERT_EQ(std::memcmp(&a.points[i], &b.points[i], sizeof(CloudPoint)), 0)
+        << "point " << i;
   }
 }
 
 TEST(CloudIo, PcdAndPlyReadBackEqualToWhatWasWritten) {
   testing::ScratchDir dir("io");
-  for (const Attributes attributes : {Attributes{}, Attributes{true, true, false}, Attributes{true, true, true},
+  for (const Attributes attributes : {Attributes{},
+                                      Attributes{true, true, false},
+                                      Attributes{true, true, true},
                                       Attributes{false, false, true}}) {
     const PointCloud cloud = RandomCloud(1000, attributes);
     for (const char* name : {"c.pcd", "c.ply", "C.PLY"}) {
@@ -96,7 +102,8 @@ TEST(CloudIo, UnknownExtensionAndUnwritablePathsAreClearErrors) {
     WriteCloud(dir / "missing" / "c.pcd", PointCloud{}, CloudFormat::kPcd);
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("missing/c.pcd"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("missing/c.pcd"), std::string::npos)
+        << e.what();
   }
   EXPECT_EQ(testing::ListDir(dir.path()), "");
 }

@@ -26,7 +26,8 @@ size_t DistinctVoxels(const PointCloud& cloud, double size) {
 
 TEST(VoxelGrid, FusedCloudOfOverlappingFramesHasAtMostOnePointPerVoxel) {
   testing::ScratchDir dir("voxel");
-  synth::Spec spec = synth::DefaultSpec();  // 4 frames 1 m apart: they overlap mostly
+  synth::Spec spec =
+      synth::DefaultSpec();  // 4 frames 1 m apart: they overlap mostly
   const auto collection = testing::WriteSynth(dir / "c", spec);
   for (double voxel : {0.5, 0.25, 0.1, 1e-4}) {
     BackprojectOptions options;
@@ -37,20 +38,25 @@ TEST(VoxelGrid, FusedCloudOfOverlappingFramesHasAtMostOnePointPerVoxel) {
     options.force = true;
     const BackprojectSummary summary = RunBackproject(options);
     const PointCloud cloud = ReadCloud(options.output);
-    ASSERT_EQ(static_cast<int64_t>(cloud.points.size()), summary.points_written);
-    EXPECT_EQ(DistinctVoxels(cloud, voxel), cloud.points.size()) << "voxel " << voxel;
-    // Pixels are ~0.36 m apart on the ground: big voxels merge points, tiny ones keep every point.
+    ASSERT_EQ(static_cast<int64_t>(cloud.points.size()),
+              summary.points_written);
+    EXPECT_EQ(DistinctVoxels(cloud, voxel), cloud.points.size())
+        << "voxel " << voxel;
+    // Pixels are ~0.36 m apart on the ground: big voxels merge points, tiny
+    // ones keep every point.
     if (voxel >= 0.5) {
       EXPECT_LT(summary.points_written, summary.points_backprojected / 2);
     }
     EXPECT_LE(summary.points_written, summary.points_backprojected);
     EXPECT_GT(summary.points_written, 0);
-    for (const CloudPoint& p : cloud.points) ASSERT_TRUE(p.label >= 1 && p.label <= 3);
+    for (const CloudPoint& p : cloud.points)
+      ASSERT_TRUE(p.label >= 1 && p.label <= 3);
   }
 }
 
 TEST(VoxelGrid, CentroidsOnVoxelFacesStayInTheirVoxel) {
-  // Points crowding the far face of a voxel: their centroid rounds onto the face in float.
+  // Points crowding the far face of a voxel: their centroid rounds onto the
+  // face in float.
   const double size = 0.1;
   PointCloud cloud;
   cloud.attributes.labels = true;
@@ -77,7 +83,8 @@ TEST(VoxelGrid, CentroidsOnVoxelFacesStayInTheirVoxel) {
   }
   for (const CloudPoint& p : out.points) {
     const VoxelKey k = VoxelOf(p.x, p.y, p.z, size);
-    ASSERT_TRUE(input_keys.count({k.x, k.y, k.z})) << "a centroid left its voxel";
+    ASSERT_TRUE(input_keys.count({k.x, k.y, k.z}))
+        << "a centroid left its voxel";
     ASSERT_EQ(p.label, 7u);
   }
   EXPECT_THROW(VoxelAccumulator(0, Attributes{}), Error);

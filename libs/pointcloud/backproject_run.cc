@@ -55,6 +55,27 @@ FrameRange ParseFrameRange(const std::string& text) {
   return range;
 }
 
+Eigen::Affine3d WorldFromCamOfTruth(const CameraTruth& camera) {
+  Eigen::Affine3d cam_from_world = Eigen::Affine3d::Identity();
+  cam_from_world.linear() = camera.cam_from_world_rotation;
+  cam_from_world.translation() = camera.cam_from_world_translation;
+  return cam_from_world.inverse();
+}
+
+Eigen::Affine3d WorldFromCamOfMetadata(const WorldFrame& world,
+                                       const MetadataFrame& m) {
+  const Rigid3d enu_from_cam =
+      CamFromEnu(world.EnuMetresFromWorld(m.position), m.attitude).Inverse();
+  // p_world = F^T (R (s p) + t) / s = F^T R p + F^T t / s
+  Eigen::Affine3d world_from_cam = Eigen::Affine3d::Identity();
+  world_from_cam.linear() = world.enu_from_frame.transpose() *
+                            enu_from_cam.rotation.toRotationMatrix();
+  world_from_cam.translation() = world.enu_from_frame.transpose() *
+                                 enu_from_cam.translation /
+                                 world.metres_per_unit;
+  return world_from_cam;
+}
+
 namespace {
 
 // The layers a run reads, from the collection's layer table.
@@ -183,30 +204,6 @@ LoadedFrame LoadFrame(const CollectionReader& reader,
     f.world_z = Floats(f.world, names[2], path);
   }
   return f;
-}
-
-Eigen::Affine3d CamFromWorldTruth(const CameraTruth& camera) {
-  Eigen::Affine3d cam_from_world = Eigen::Affine3d::Identity();
-  cam_from_world.linear() = camera.cam_from_world_rotation;
-  cam_from_world.translation() = camera.cam_from_world_translation;
-  return cam_from_world;
-}
-
-// A metadata pose (camera centre in world coordinates, attitude against
-// NED/ENU) as an affine map from the camera frame (world units) to the declared
-// world frame (world units).
-Eigen::Affine3d WorldFromCamMetadata(const WorldFrame& world,
-                                     const MetadataFrame& m) {
-  const Rigid3d enu_from_cam =
-      CamFromEnu(world.EnuMetresFromWorld(m.position), m.attitude).Inverse();
-  // p_world = F^T (R (s p) + t) / s = F^T R p + F^T t / s
-  Eigen::Affine3d world_from_cam = Eigen::Affine3d::Identity();
-  world_from_cam.linear() = world.enu_from_frame.transpose() *
-                            enu_from_cam.rotation.toRotationMatrix();
-  world_from_cam.translation() = world.enu_from_frame.transpose() *
-                                 enu_from_cam.translation /
-                                 world.metres_per_unit;
-  return world_from_cam;
 }
 
 fs::path ResolveMetadataPath(const fs::path& root, const fs::path& file) {
@@ -341,9 +338,8 @@ BackprojectSummary RunBackproject(
     const LoadedFrame loaded = LoadFrame(reader, frame, plan, options.check);
     FramePose pose;
     pose.camera = frame.camera.intrinsics;
-    const Eigen::Affine3d cam_from_world_truth =
-        CamFromWorldTruth(frame.camera);
-    Eigen::Affine3d world_from_cam = cam_from_world_truth.inverse();
+    Eigen::Affine3d world_from_cam = WorldFromCamOfTruth(frame.camera);
+    const Eigen::Affine3d cam_from_world_truth = world_from_cam.inverse();
     if (!options.metadata.empty()) {
       const auto it = metadata.find(frame.index);
       if (it == metadata.end()) {
@@ -353,7 +349,7 @@ BackprojectSummary RunBackproject(
             "the metadata variant has no frame " + std::to_string(frame.index),
             where);
       }
-      world_from_cam = WorldFromCamMetadata(world, it->second);
+      world_from_cam = WorldFromCamOfMetadata(world, it->second);
       if (it->second.camera.width > 0) pose.camera = it->second.camera;
     }
     if (pose.camera.width != loaded.layers.width ||

@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "libs/collection/model.h"
 #include "libs/pointcloud/backproject.h"
 
 namespace lsds::pointcloud {
@@ -21,6 +22,13 @@ struct FrameRange {
   bool Contains(int64_t index) const { return index >= begin && index < end; }
 };
 FrameRange ParseFrameRange(const std::string& text);  // throws lsds::Error
+
+// The map from a frame's camera (OpenCV, world units) to the declared world
+// frame (world units): from the declared truth pose, or from a metadata frame's
+// camera centre and attitude (against local NED) through the world frame.
+Eigen::Affine3d WorldFromCamOfTruth(const CameraTruth& camera);
+Eigen::Affine3d WorldFromCamOfMetadata(const WorldFrame& world,
+                                       const MetadataFrame& metadata);
 
 struct BackprojectOptions {
   std::filesystem::path collection;

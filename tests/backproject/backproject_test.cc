@@ -5,6 +5,7 @@
 
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
+#include "libs/collection/json_io.h"
 #include "libs/pointcloud/backproject_run.h"
 #include "libs/pointcloud/cloud_io.h"
 #include "libs/util/error.h"
@@ -223,6 +224,43 @@ TEST(Backproject, StrideAndFrameRangeSelectPixelsAndFrames) {
   EXPECT_THROW(ParseFrameRange("a:b"), Error);
   EXPECT_EQ(ParseFrameRange(":4").end, 4);
   EXPECT_EQ(ParseFrameRange("2:").begin, 2);
+}
+
+}  // namespace
+}  // namespace lsds::pointcloud
+
+namespace lsds::pointcloud {
+namespace {
+
+// Metadata poses (camera centre + attitude) map to the same world points as
+// the declared truth pose, in every declared world frame and unit.
+TEST(Backproject, MetadataPosesMatchTruthPosesInEveryWorldFrame) {
+  const Rigid3d cam_from_enu_m = LookAt({-15, -10, 12}, {1, 2, 0});
+  for (const auto& [name, unit] :
+       std::vector<std::pair<std::string, std::string>>{
+           {"ENU", "m"}, {"NED", "m"}, {"unreal", "cm"}, {"ENU", "mm"}}) {
+    const WorldFrame world = WorldFrame::Make(name, unit);
+    // Declared pose: p_cam[unit] = R p_world + t with R = R_ce * F.
+    Frame frame;
+    frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(64, 48, 60);
+    frame.camera.cam_from_world_rotation =
+        cam_from_enu_m.rotation.toRotationMatrix() * world.enu_from_frame;
+    frame.camera.cam_from_world_translation =
+        cam_from_enu_m.translation / world.metres_per_unit;
+    const MetadataFrame metadata = TruthMetadata(frame, world);
+    const Eigen::Affine3d truth = WorldFromCamOfTruth(frame.camera);
+    const Eigen::Affine3d measured = WorldFromCamOfMetadata(world, metadata);
+    for (const Eigen::Vector3d& p_cam :
+         {Eigen::Vector3d(0, 0, 10), Eigen::Vector3d(3, -2, 25)}) {
+      const Eigen::Vector3d p = p_cam / world.metres_per_unit;
+      EXPECT_LT((truth * p - measured * p).norm() * world.metres_per_unit, 1e-9)
+          << name << " " << unit;
+      // And the world point is where the ENU-metre pose puts it.
+      const Eigen::Vector3d enu = cam_from_enu_m.Inverse() * p_cam;
+      EXPECT_LT((world.EnuMetresFromWorld(truth * p) - enu).norm(), 1e-9)
+          << name << " " << unit;
+    }
+  }
 }
 
 }  // namespace

@@ -99,8 +99,8 @@ std::vector<std::string> Spec::LayerSemantics() const {
 }
 
 Rigid3d NadirCamFromWorld(const Eigen::Vector3d& position_in_world) {
-  // Pitch -90 looks down; yaw 90 turns the image x axis to world +x (east).
-  return CamFromEnu(position_in_world, Attitude{0.0, -90.0, 90.0});
+  // Pitch -90 looks down; with yaw 0 the image x axis is east and the image top is north.
+  return CamFromEnu(position_in_world, Attitude{0.0, -90.0, 0.0});
 }
 
 Spec DefaultSpec() {

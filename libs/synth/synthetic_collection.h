@@ -36,7 +36,7 @@ struct Spec {
 // Ground + 3 boxes, 4 frames: a nadir camera at 20 m moving +x by 1 m per frame.
 Spec DefaultSpec();
 
-// A nadir camera (looking straight down, image x along world +x) at `position_in_world`.
+// A nadir camera (looking straight down, image x east, image top north) at `position_in_world`.
 Rigid3d NadirCamFromWorld(const Eigen::Vector3d& position_in_world);
 
 struct RenderedFrame {

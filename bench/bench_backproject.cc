@@ -3,11 +3,12 @@
 // create_from_depth_image on the same depth when python3 with open3d is
 // available.
 //
-//   backproject_bench [--size 1024] [--frames 100] [--voxel 0.05] [--repeat 5]
-//   [--work DIR]
-//                     [--python /usr/bin/python3] [--no-open3d]
-// The synthetic collection is rendered once into DIR (default
-// /tmp/lsds_bench_backproject_SIZE_FRAMES) and reused by later runs.
+//   bench_backproject [--size 256] [--frames 20] [--voxel 0.05] [--repeat 5]
+//                     [--work DIR] [--python /usr/bin/python3] [--no-open3d]
+//
+// Issue-sized run: --size 1024 --frames 100. The synthetic collection is
+// rendered once into DIR (default /tmp/lsds_bench_backproject_SIZE_FRAMES) and
+// reused by later runs.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -100,7 +101,7 @@ print(n, best, best_rgbd)
 
 int main(int argc, char** argv) {
   CLI::App app("lsds backproject benchmark");
-  int size = 1024, frames = 100, repeat = 5;
+  int size = 256, frames = 20, repeat = 5;
   double voxel = 0.05;
   std::string work, python = "/usr/bin/python3";
   bool no_open3d = false;

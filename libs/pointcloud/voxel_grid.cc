@@ -68,6 +68,45 @@ class KeyIndex {
   size_t count_ = 0;
 };
 
+// Voxels grouped in blocks of 8x8x8: a block is found by hash, its voxels by
+// direct indexing. Consecutive points of an image row fall in the same block,
+// so most lookups touch one cached block instead of a random hash slot (the
+// accumulation is memory-latency bound otherwise).
+class BlockIndex {
+ public:
+  static constexpr int kShift = 3;
+  static constexpr int64_t kMask = (1 << kShift) - 1;
+  static constexpr size_t kBlockCells = size_t{1} << (3 * kShift);
+
+  size_t FindOrInsert(const VoxelKey& key, size_t next) {
+    // Arithmetic shifts floor negative coordinates too.
+    const VoxelKey block{key.x >> kShift, key.y >> kShift, key.z >> kShift};
+    if (!(block == last_block_) || cells_.empty()) {
+      const size_t count = cells_.size() / kBlockCells;
+      last_offset_ = blocks_.FindOrInsert(block, count) * kBlockCells;
+      if (last_offset_ == cells_.size())
+        cells_.resize(cells_.size() + kBlockCells, kEmpty);
+      last_block_ = block;
+    }
+    uint32_t& cell = cells_[last_offset_ +
+                            static_cast<size_t>(
+                                ((key.x & kMask) << (2 * kShift)) |
+                                ((key.y & kMask) << kShift) | (key.z & kMask))];
+    if (cell == kEmpty) {
+      if (next >= kEmpty) throw Error("--voxel: more than 4 billion voxels");
+      cell = static_cast<uint32_t>(next);
+    }
+    return cell;
+  }
+
+ private:
+  static constexpr uint32_t kEmpty = ~uint32_t{0};
+  KeyIndex blocks_;
+  std::vector<uint32_t> cells_;
+  VoxelKey last_block_;
+  size_t last_offset_ = 0;
+};
+
 struct Cell {
   double sum_x = 0, sum_y = 0, sum_z = 0;
   double sum_r = 0, sum_g = 0, sum_b = 0;
@@ -90,7 +129,7 @@ float InsideVoxel(double value, double lo, double hi) {
 struct VoxelAccumulator::Impl {
   double size;
   Attributes attributes;
-  KeyIndex index;
+  BlockIndex index;
   std::vector<VoxelKey> keys;
   std::vector<Cell> cells;
 };

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
 namespace lsds::pointcloud {
 
 namespace {
@@ -77,20 +79,50 @@ void BackprojectFrame(const FrameLayers& layers,
     return tone[static_cast<int>(v * 4096.0f + 0.5f)];
   };
 
-  std::vector<CloudPoint>& out = cloud->points;
-  out.reserve(out.size() + rays.x.size() * rays.y.size());
+  // Planar depth z along the ray (rx, ry, 1): out = z * (A (rx, ry, 1)) + b,
+  // with A (rx, ry, 1) = column_term[col] + row_term[row], precomputed.
+  std::vector<Eigen::Vector3d> column_term(rays.x.size());
+  std::vector<Eigen::Vector3d> row_term(rays.y.size());
+  for (size_t col = 0; col < rays.x.size(); ++col) {
+    column_term[col] = linear.col(0) * rays.x[col];
+  }
   for (size_t row = 0; row < rays.y.size(); ++row) {
-    const size_t j = row * stride;
-    const double ry = rays.y[row];
-    const size_t row_offset = j * layers.width;
+    row_term[row] = linear.col(1) * rays.y[row] + linear.col(2);
+  }
+  const bool perspective = layers.depth_kind == DepthKind::kPerspective;
+
+  auto sample = [&](size_t row, size_t col) {
+    return row * stride * static_cast<size_t>(layers.width) + col * stride;
+  };
+  // Two passes over rows, both parallel: count the valid pixels of each row,
+  // then fill each row's slice of the output, so the order stays row-major.
+  const size_t rows = rays.y.size();
+  std::vector<size_t> row_start(rows + 1, 0);
+  tbb::parallel_for(size_t{0}, rows, [&](size_t row) {
+    size_t count = 0;
     for (size_t col = 0; col < rays.x.size(); ++col) {
-      const size_t k = row_offset + col * stride;
+      count += IsValidDepth(layers.depth[sample(row, col)]) ? 1 : 0;
+    }
+    row_start[row + 1] = count;
+  });
+  for (size_t row = 0; row < rows; ++row) row_start[row + 1] += row_start[row];
+  std::vector<CloudPoint>& out = cloud->points;
+  const size_t base = out.size();
+  out.resize(base + row_start[rows]);
+
+  tbb::parallel_for(size_t{0}, rows, [&](size_t row) {
+    CloudPoint* next = out.data() + base + row_start[row];
+    const double ry = rays.y[row];
+    for (size_t col = 0; col < rays.x.size(); ++col) {
+      const size_t k = sample(row, col);
       const float d = layers.depth[k];
       if (!IsValidDepth(d)) continue;
+      const double rx = rays.x[col];
+      const double z =
+          perspective ? d / std::sqrt(rx * rx + ry * ry + 1.0) : double{d};
       const Eigen::Vector3d p =
-          linear * CamPoint(rays.x[col], ry, d, layers.depth_kind) +
-          translation;
-      CloudPoint point;
+          z * (column_term[col] + row_term[row]) + translation;
+      CloudPoint& point = *next++;
       point.x = static_cast<float>(p.x());
       point.y = static_cast<float>(p.y());
       point.z = static_cast<float>(p.z());
@@ -110,9 +142,8 @@ void BackprojectFrame(const FrameLayers& layers,
         point.normal_y = n.y();
         point.normal_z = n.z();
       }
-      out.push_back(point);
     }
-  }
+  });
 }
 
 double ErrorStats::rms() const {

@@ -106,7 +106,7 @@ void BackprojectFrame(const FrameLayers& layers,
     row_start[row + 1] = count;
   });
   for (size_t row = 0; row < rows; ++row) row_start[row + 1] += row_start[row];
-  std::vector<CloudPoint>& out = cloud->points;
+  PointVector& out = cloud->points;
   const size_t base = out.size();
   out.resize(base + row_start[rows]);
 
@@ -126,6 +126,9 @@ void BackprojectFrame(const FrameLayers& layers,
       point.x = static_cast<float>(p.x());
       point.y = static_cast<float>(p.y());
       point.z = static_cast<float>(p.z());
+      point.rgb = 0;
+      point.label = point.instance = 0;
+      point.normal_x = point.normal_y = point.normal_z = 0;
       if (want.rgb) {
         point.rgb = (tone_map(layers.red[k]) << 16) |
                     (tone_map(layers.green[k]) << 8) | tone_map(layers.blue[k]);

@@ -413,8 +413,12 @@ BackprojectSummary RunBackproject(
       } else if (voxels) {
         voxels->Add(r.cloud);
       } else if (options.fuse && !options.output.empty()) {
-        fused.points.insert(
-            fused.points.end(), r.cloud.points.begin(), r.cloud.points.end());
+        if (fused.points.empty()) {
+          fused.points.swap(r.cloud.points);  // the first frame: no copy
+        } else {
+          fused.points.insert(
+              fused.points.end(), r.cloud.points.begin(), r.cloud.points.end());
+        }
       }
       r.cloud = PointCloud();
       if (on_frame) on_frame(r.report);

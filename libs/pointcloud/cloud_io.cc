@@ -198,7 +198,7 @@ PointCloud ReadCloud(const std::filesystem::path& path) {
     fields.push_back(f);
   }
   const size_t n = static_cast<size_t>(in.width) * in.height;
-  cloud.points.resize(n);
+  cloud.points.resize(n, CloudPoint{});
   for (size_t i = 0; i < n; ++i) {
     const uint8_t* src = in.data.data() + i * in.point_step;
     auto* dst = reinterpret_cast<uint8_t*>(&cloud.points[i]);

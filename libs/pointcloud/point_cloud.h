@@ -4,18 +4,60 @@
 // pcl::PointXYZRGBL), instance, normal_x normal_y normal_z.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <new>
+#include <utility>
 #include <vector>
 
 namespace lsds::pointcloud {
 
+// Trivial on purpose (no member initializers): clouds of millions of points
+// are allocated without zero-filling them first. `CloudPoint{}` is all zeros.
 struct CloudPoint {
-  float x = 0, y = 0, z = 0;
-  uint32_t rgb = 0;       // 0x00RRGGBB, sRGB 8 bit
-  uint32_t label = 0;     // class id, 0 background
-  uint32_t instance = 0;  // instance id, 0 background
-  float normal_x = 0, normal_y = 0, normal_z = 0;
+  float x, y, z;
+  uint32_t rgb;       // 0x00RRGGBB, sRGB 8 bit
+  uint32_t label;     // class id, 0 background
+  uint32_t instance;  // instance id, 0 background
+  float normal_x, normal_y, normal_z;
 };
+
+// Large point buffers get transparent huge pages (one page fault per 2 MB
+// instead of per 4 KB: the faults cost more than the back-projection itself).
+void* AllocatePointMemory(size_t bytes);
+void FreePointMemory(void* memory);
+
+// std::allocator semantics, but resize() leaves new points uninitialized
+// (default-initialization) and big buffers use huge pages.
+template <typename T>
+struct PointAllocator {
+  using value_type = T;
+  PointAllocator() = default;
+  template <typename U>
+  PointAllocator(const PointAllocator<U>&) {}  // NOLINT: rebinding
+  T* allocate(size_t n) {
+    return static_cast<T*>(AllocatePointMemory(n * sizeof(T)));
+  }
+  void deallocate(T* p, size_t) { FreePointMemory(p); }
+  template <typename U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+  template <typename U>
+  bool operator==(const PointAllocator<U>&) const {
+    return true;
+  }
+  template <typename U>
+  bool operator!=(const PointAllocator<U>&) const {
+    return false;
+  }
+};
+
+using PointVector = std::vector<CloudPoint, PointAllocator<CloudPoint>>;
 
 // Which attributes the points carry (and the files hold). Position is always
 // there.
@@ -30,7 +72,7 @@ struct Attributes {
 
 struct PointCloud {
   Attributes attributes;
-  std::vector<CloudPoint> points;
+  PointVector points;
 };
 
 inline uint32_t PackRgb(uint8_t r, uint8_t g, uint8_t b) {

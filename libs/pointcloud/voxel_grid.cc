@@ -192,7 +192,7 @@ PointCloud VoxelAccumulator::Finish() const {
   const Impl& s = *impl_;
   PointCloud out;
   out.attributes = s.attributes;
-  out.points.resize(s.cells.size());
+  out.points.resize(s.cells.size(), CloudPoint{});
   for (size_t i = 0; i < s.cells.size(); ++i) {
     const Cell& c = s.cells[i];
     const VoxelKey& k = s.keys[i];

@@ -24,7 +24,7 @@ PointCloud RandomCloud(size_t n, Attributes attributes) {
   PointCloud cloud;
   cloud.attributes = attributes;
   for (size_t i = 0; i < n; ++i) {
-    CloudPoint p;
+    CloudPoint p{};
     p.x = coord(rng), p.y = coord(rng), p.z = coord(rng);
     if (attributes.rgb) p.rgb = id(rng) * 3355 & 0xffffff;
     if (attributes.labels) p.label = id(rng), p.instance = id(rng) * 1000;

@@ -64,7 +64,7 @@ TEST(VoxelGrid, CentroidsOnVoxelFacesStayInTheirVoxel) {
   std::uniform_int_distribution<int> cell(-50, 50);
   for (int i = 0; i < 20000; ++i) {
     const float face = static_cast<float>((cell(rng) + 1) * size);
-    CloudPoint p;
+    CloudPoint p{};
     p.x = std::nextafter(face, -INFINITY);
     p.y = std::nextafter(std::nextafter(face, -INFINITY), -INFINITY);
     p.z = static_cast<float>(cell(rng) * size);

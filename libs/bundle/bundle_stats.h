@@ -1,9 +1,11 @@
-// Mixed-pixel statistics of pixel bundles (the deep `bundle` layer, docs/format.md): how many pixels
-// hold more than one surface, which classes share pixels, how pure they are, how far apart their
-// depths and normals lie, and which averaged depths would fly. docs/bundles.md explains each figure.
+// Mixed-pixel statistics of pixel bundles (the deep `bundle` layer,
+// docs/format.md): how many pixels hold more than one surface, which classes
+// share pixels, how pure they are, how far apart their depths and normals lie,
+// and which averaged depths would fly. docs/bundles.md explains each figure.
 //
-// One BundleStats holds the figures of one frame or of many merged together; its size depends on the
-// number of classes, objects and bins, never on the number of frames.
+// One BundleStats holds the figures of one frame or of many merged together;
+// its size depends on the number of classes, objects and bins, never on the
+// number of frames.
 #pragma once
 
 #include <cstdint>
@@ -16,14 +18,17 @@
 namespace lsds::bundle {
 
 struct StatsOptions {
-  // An averaged depth d flies when every sample depth z_i is farther from it than
-  // max(flying_absolute, flying_relative * d): it lies in empty space between the surfaces. The same
-  // threshold marks depth discontinuities inside a pixel for the edge mask.
+  // An averaged depth d flies when every sample depth z_i is farther from it
+  // than max(flying_absolute, flying_relative * d): it lies in empty space
+  // between the surfaces. The same threshold marks depth discontinuities inside
+  // a pixel for the edge mask.
   double flying_absolute = 0.05;  // world length units
   double flying_relative = 0.01;  // share of the averaged depth
-  // Lower edges of the distance bands (world units, ascending, first 0); the last band is open.
+  // Lower edges of the distance bands (world units, ascending, first 0); the
+  // last band is open.
   std::vector<double> distance_bands = {0, 5, 10, 20, 50, 100, 200, 500};
-  // Lower edges of the object size bins (pixels of an object in a frame, ascending, first 1).
+  // Lower edges of the object size bins (pixels of an object in a frame,
+  // ascending, first 1).
   std::vector<int64_t> size_bins = {1, 16, 64, 256, 1024, 4096, 16384, 65536};
   int purity_bins = 10;  // equal bins over [0, 1]; purity 1 falls into the last
 };
@@ -61,11 +66,13 @@ struct BundleStats {
   uint64_t mixed_pixels = 0;        // more than one instance id
   uint64_t class_mixed_pixels = 0;  // more than one class id
 
-  std::map<uint32_t, MixCounter> per_class;  // pixels holding at least one sample of the class
-  std::vector<MixCounter> by_distance;       // by the pixel's nearest depth; one per band
-  MixCounter sky_only;                       // pixels without a finite depth
-  // (a, b) -> samples of class a in pixels that also hold class b; (a, a) -> samples of class a in
-  // pixels holding no other class.
+  std::map<uint32_t, MixCounter>
+      per_class;  // pixels holding at least one sample of the class
+  std::vector<MixCounter>
+      by_distance;      // by the pixel's nearest depth; one per band
+  MixCounter sky_only;  // pixels without a finite depth
+  // (a, b) -> samples of class a in pixels that also hold class b; (a, a) ->
+  // samples of class a in pixels holding no other class.
   std::map<std::pair<uint32_t, uint32_t>, uint64_t> class_mixing;
 
   std::vector<uint64_t> purity_histogram;
@@ -100,8 +107,10 @@ struct PixelMaps {
   std::vector<uint32_t> majority_class;
   std::vector<float> purity;
   std::vector<uint8_t> mixed;
-  std::vector<uint8_t> edge;  // mixed, or depths farther apart than the flying threshold
-  // Soft coverage: per pixel, one entry per distinct instance id, by coverage descending.
+  std::vector<uint8_t>
+      edge;  // mixed, or depths farther apart than the flying threshold
+  // Soft coverage: per pixel, one entry per distinct instance id, by coverage
+  // descending.
   std::vector<uint32_t> coverage_counts;
   std::vector<uint32_t> coverage_instance;
   std::vector<uint32_t> coverage_class;
@@ -111,9 +120,11 @@ struct PixelMaps {
 // Channels read from a bundle layer; the normals are optional.
 const std::vector<std::string>& BundleChannels();
 
-// The figures of one frame. `bundle` must hold UINT channels instanceid and classid and a FLOAT
-// channel Z; NX, NY, NZ are used when present. Throws lsds::Error otherwise.
-BundleStats AnalyzeFrame(const exr::DeepImage& bundle, const StatsOptions& options,
+// The figures of one frame. `bundle` must hold UINT channels instanceid and
+// classid and a FLOAT channel Z; NX, NY, NZ are used when present. Throws
+// lsds::Error otherwise.
+BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
+                         const StatsOptions& options,
                          PixelMaps* maps = nullptr);
 
 }  // namespace lsds::bundle

@@ -12,7 +12,8 @@ namespace lsds::bundle {
 using exr::PixelType;
 
 const std::vector<std::string>& DerivedLayerNames() {
-  static const std::vector<std::string> names = {"majority", "purity", "coverage", "edge"};
+  static const std::vector<std::string> names = {
+      "majority", "purity", "coverage", "edge"};
   return names;
 }
 
@@ -26,10 +27,11 @@ std::vector<std::string> ParseDerivedLayerList(const std::string& list) {
     if (name.empty()) continue;
     const auto& known = DerivedLayerNames();
     if (std::find(known.begin(), known.end(), name) == known.end()) {
-      throw Error("--write-layers: unknown layer '" + name + "'" + DidYouMean(name, known) +
-                  "; known: " + Join(known, ", "));
+      throw Error("--write-layers: unknown layer '" + name + "'" +
+                  DidYouMean(name, known) + "; known: " + Join(known, ", "));
     }
-    if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+    if (std::find(out.begin(), out.end(), name) == out.end())
+      out.push_back(name);
   }
   if (out.empty()) throw Error("--write-layers: no layer named");
   return out;
@@ -42,16 +44,19 @@ LayerInfo DerivedLayer(const std::string& name, bool required) {
   layer.required = required;
   layer.compression = exr::Compression::kZip;
   if (name == "majority") {
-    layer.channels = {{"instanceid", PixelType::kUint}, {"classid", PixelType::kUint}};
+    layer.channels = {{"instanceid", PixelType::kUint},
+                      {"classid", PixelType::kUint}};
     layer.unit = "id";
     layer.description =
-        "lsds bundles: the instance id holding most samples of the pixel bundle (ties: the one seen "
+        "lsds bundles: the instance id holding most samples of the pixel "
+        "bundle (ties: the one seen "
         "first, sample 0 nearest the centre) and its class id; 0 background";
   } else if (name == "purity") {
     layer.channels = {{"Y", PixelType::kFloat}};
     layer.unit = "ratio";
     layer.description =
-        "lsds bundles: share of the pixel's samples holding the majority instance id, in (0, 1]; 0 "
+        "lsds bundles: share of the pixel's samples holding the majority "
+        "instance id, in (0, 1]; 0 "
         "for pixels without samples";
   } else if (name == "coverage") {
     layer.deep = true;
@@ -61,13 +66,15 @@ LayerInfo DerivedLayer(const std::string& name, bool required) {
                       {"coverage", PixelType::kFloat}};
     layer.unit = "ratio";
     layer.description =
-        "lsds bundles: soft coverage, one deep sample per instance id in the pixel bundle with the "
+        "lsds bundles: soft coverage, one deep sample per instance id in the "
+        "pixel bundle with the "
         "share of samples holding it, by share descending; shares sum to 1";
   } else if (name == "edge") {
     layer.channels = {{"Y", PixelType::kUint}};
     layer.unit = "mask";
     layer.description =
-        "lsds bundles: 1 where the pixel holds more than one instance id or depths farther apart than "
+        "lsds bundles: 1 where the pixel holds more than one instance id or "
+        "depths farther apart than "
         "the flying threshold (labels or depth uncertain), else 0";
   } else {
     throw Error("unknown derived layer '" + name + "'");
@@ -75,14 +82,18 @@ LayerInfo DerivedLayer(const std::string& name, bool required) {
   return layer;
 }
 
-void WriteDerivedLayer(const std::string& name, const PixelMaps& maps, int width, int height,
+void WriteDerivedLayer(const std::string& name,
+                       const PixelMaps& maps,
+                       int width,
+                       int height,
                        const std::filesystem::path& path) {
   exr::WriteOptions options;
   const LayerInfo layer = DerivedLayer(name, true);
   options.compression = layer.compression;
   if (name == "coverage") {
     exr::DeepImage image(width, height, maps.coverage_counts);
-    image.AddChannel("instanceid", PixelType::kUint).uints = maps.coverage_instance;
+    image.AddChannel("instanceid", PixelType::kUint).uints =
+        maps.coverage_instance;
     image.AddChannel("classid", PixelType::kUint).uints = maps.coverage_class;
     image.AddChannel("coverage", PixelType::kFloat).floats = maps.coverage;
     exr::WriteDeepExr(path, image, options);
@@ -90,12 +101,14 @@ void WriteDerivedLayer(const std::string& name, const PixelMaps& maps, int width
   }
   exr::FlatImage image(width, height);
   if (name == "majority") {
-    image.AddChannel("instanceid", PixelType::kUint).uints = maps.majority_instance;
+    image.AddChannel("instanceid", PixelType::kUint).uints =
+        maps.majority_instance;
     image.AddChannel("classid", PixelType::kUint).uints = maps.majority_class;
   } else if (name == "purity") {
     image.AddChannel("Y", PixelType::kFloat).floats = maps.purity;
   } else if (name == "edge") {
-    image.AddChannel("Y", PixelType::kUint).uints.assign(maps.edge.begin(), maps.edge.end());
+    image.AddChannel("Y", PixelType::kUint)
+        .uints.assign(maps.edge.begin(), maps.edge.end());
   } else {
     throw Error("unknown derived layer '" + name + "'");
   }

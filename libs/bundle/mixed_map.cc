@@ -11,10 +11,13 @@
 
 namespace lsds::bundle {
 
-void WriteMixedMapPng(const std::filesystem::path& path, const PixelMaps& maps, int width,
+void WriteMixedMapPng(const std::filesystem::path& path,
+                      const PixelMaps& maps,
+                      int width,
                       int height) {
   if (maps.mixed.size() != static_cast<size_t>(width) * height) {
-    throw Error("mixed map: pixel maps do not match the image size", Location(path.string()));
+    throw Error("mixed map: pixel maps do not match the image size",
+                Location(path.string()));
   }
   cv::Mat image(height, width, CV_8UC3);
   for (int y = 0; y < height; ++y) {
@@ -26,21 +29,26 @@ void WriteMixedMapPng(const std::filesystem::path& path, const PixelMaps& maps, 
         const double impurity = std::clamp(1.0 - maps.purity[p], 0.0, 1.0);
         const double t = std::min(1.0, impurity * 2.0);
         const double u = std::max(0.0, impurity * 2.0 - 1.0);
-        bgr = cv::Vec3b(static_cast<uchar>(255 * u), static_cast<uchar>(255 * (1 - t)), 255);
+        bgr = cv::Vec3b(static_cast<uchar>(255 * u),
+                        static_cast<uchar>(255 * (1 - t)),
+                        255);
       } else {
         const uint32_t id = maps.majority_instance[p];
         if (id == 0) {
           bgr = cv::Vec3b(0, 0, 0);
         } else {
-          // A dim, stable colour per instance so that objects stay recognisable.
+          // A dim, stable colour per instance so that objects stay
+          // recognisable.
           const uint32_t h = id * 2654435761u;
-          bgr = cv::Vec3b(40 + (h & 63), 40 + ((h >> 8) & 63), 40 + ((h >> 16) & 63));
+          bgr = cv::Vec3b(
+              40 + (h & 63), 40 + ((h >> 8) & 63), 40 + ((h >> 16) & 63));
         }
       }
     }
   }
   std::vector<uchar> png;
-  if (!cv::imencode(".png", image, png)) throw Error("cannot encode PNG", Location(path.string()));
+  if (!cv::imencode(".png", image, png))
+    throw Error("cannot encode PNG", Location(path.string()));
   WriteFileAtomic(path, std::string(png.begin(), png.end()));
 }
 

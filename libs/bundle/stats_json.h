@@ -1,4 +1,5 @@
-// JSON form of the bundle statistics (schemas/bundle-stats.schema.json, docs/bundles.md).
+// JSON form of the bundle statistics (schemas/bundle-stats.schema.json,
+// docs/bundles.md).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -11,8 +12,10 @@ namespace lsds::bundle {
 inline constexpr const char* kStatsFormat = "lsds-bundle-stats";
 inline constexpr const char* kStatsFormatVersion = "1.0";
 
-// The figures of one frame or of the collection ("stats" in the schema). `header` names the classes.
-nlohmann::json StatsToJson(const BundleStats& stats, const StatsOptions& options,
+// The figures of one frame or of the collection ("stats" in the schema).
+// `header` names the classes.
+nlohmann::json StatsToJson(const BundleStats& stats,
+                           const StatsOptions& options,
                            const CollectionHeader& header);
 // One entry per object: mixed share of its pixels over all analysed frames.
 nlohmann::json ObjectsToJson(const BundleStats& stats);

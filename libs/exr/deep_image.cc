@@ -122,6 +122,9 @@ DeepImage ReadDeepExr(const std::filesystem::path& path, const std::vector<std::
                                          sizeof(char*), sizeof(char*) * width, element));
     }
     file.setFrameBuffer(frame_buffer);
+    // OpenEXR forgets the sample counts when the frame buffer changes: read them again (into the
+    // same array, same values) before the samples.
+    file.readPixelSampleCounts(0, height - 1);
     file.readPixels(0, height - 1);
     return image;
   });

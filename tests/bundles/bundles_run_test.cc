@@ -71,9 +71,12 @@ TEST(BundlesRun, WritesStatisticsThatPassTheSchema) {
   TempDir dir;
   const fs::path root = dir.path() / "c";
   synth::WriteCollection(root, SmallSpec());
+  const auto before = Snapshot(root);
   RunOptions options;
   options.output = dir.path() / "stats.json";
   const RunResult result = RunBundles(root, options);
+  EXPECT_EQ(Snapshot(root),
+            before);  // statistics alone touch nothing in the collection
   EXPECT_EQ(result.frames_analyzed, 4);
   EXPECT_EQ(result.total.pixels, 4u * 48 * 36);
   EXPECT_GT(result.total.mixed_pixels, 0u);  // box edges against the ground

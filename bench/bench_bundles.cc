@@ -1,12 +1,12 @@
-// bundles_bench: frames/s of `lsds bundles` (statistics, optionally derived
+// bench_bundles: frames/s of `lsds bundles` (statistics, optionally derived
 // layers) on a generated collection of deep bundles, next to the floor: reading
 // and decoding the same bundle channels with the same frame batching. Prints
 // both and their ratio (the issue aims at <= 1.3x).
 //
-//   bundles_bench [--frames 100] [--width 1024] [--height 1024]
-//   [--samples-per-axis 2]
-//                 [--discs 400] [--dir PATH] [--keep] [--with-layers]
-//                 [--picture PNG]
+//   bench_bundles [--frames 10] [--width 512] [--height 512]
+//                 [--samples-per-axis 2] [--discs 400] [--dir PATH] [--keep]
+//                 [--with-layers] [--repeats N] [--picture PNG]
+// Issue-sized run: --frames 100 --width 1024 --height 1024 (4 samples/pixel).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -117,7 +117,7 @@ void Generate(
     const fs::path& root, int frames, int width, int height, int n, int discs) {
   fs::create_directories(root / "bundle");
   CollectionHeader header;
-  header.provenance.generator = "bundles_bench";
+  header.provenance.generator = "bench_bundles";
   header.classes = {{1, "ground"}, {2, "a"}, {3, "b"}, {4, "c"}, {5, "d"}};
   header.layers = {StandardLayer("bundle")};
   header.frame_count = frames;
@@ -175,8 +175,7 @@ int main(int argc, char** argv) {
   CLI::App app(
       "Benchmark of lsds bundles against the floor (reading and decoding the "
       "deep bundles).");
-  int frames = 100, width = 1024, height = 1024, n = 2, discs = 400,
-      repeats = 1;
+  int frames = 10, width = 512, height = 512, n = 2, discs = 400, repeats = 1;
   std::string dir, picture;
   bool keep = false, with_layers = false;
   app.add_option("--frames", frames, "frames")->check(CLI::PositiveNumber);
@@ -206,6 +205,7 @@ int main(int argc, char** argv) {
   fs::remove_all(root);
   auto start = std::chrono::steady_clock::now();
   Generate(root, frames, width, height, n, discs);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   std::printf(
       "generated %d frames %dx%d, %d samples per pixel in %.1f s (%s)\n",
       frames,

@@ -59,6 +59,8 @@ double Seconds(const std::function<void()>& fn, int repeat) {
   return best;
 }
 
+double floor_cpu = 1;  // CPU seconds of the floor the following rows refer to
+
 void Row(const char* what,
          double points,
          double seconds,
@@ -69,7 +71,9 @@ void Row(const char* what,
               seconds * 1e3,
               points / seconds / 1e6,
               seconds / floor_seconds);
-  if (cpu >= 0) std::printf("  (cpu %.2f ms)", cpu * 1e3);
+  if (cpu >= 0) {
+    std::printf("  cpu %8.2f ms  x%.2f floor cpu", cpu * 1e3, cpu / floor_cpu);
+  }
   std::printf("\n");
 }
 
@@ -171,6 +175,8 @@ int main(int argc, char** argv) {
   const double floor =
       Seconds([&] { depth = exr::ReadFlatExr(depth_path, {"Z"}); }, repeat);
   std::printf("one frame:\n");
+  floor_cpu = last_cpu;
+  const double single_floor_cpu = floor_cpu;
   Row("floor: decode depth EXR", pixels, floor, floor, last_cpu);
 
   // The arithmetic alone, on decoded depth (what Open3D's
@@ -239,6 +245,7 @@ int main(int argc, char** argv) {
         });
       },
       1);
+  floor_cpu = last_cpu;
   Row("floor: decode every depth EXR (1 thread)",
       pixels * frames,
       floor_all,
@@ -320,6 +327,7 @@ int main(int argc, char** argv) {
   std::ifstream(result) >> o3d_points >> o3d_depth >> o3d_depth_cpu >>
       o3d_rgbd >> o3d_rgbd_cpu;
   std::printf("open3d %s (decoded depth, no EXR decode):\n", "0.16");
+  floor_cpu = single_floor_cpu;
   Row("create_from_depth_image",
       static_cast<double>(o3d_points),
       o3d_depth,

@@ -1,4 +1,5 @@
-// Perturbs metadata frames: draws the realized error of each field and applies it to the truth.
+// Perturbs metadata frames: draws the realized error of each field and applies
+// it to the truth.
 #pragma once
 
 #include <array>
@@ -17,27 +18,35 @@ namespace lsds::noise {
 struct RealizedError {
   std::array<double, kFieldCount> value{};
 
-  Eigen::Vector3d position_enu_m() const { return {value[kEast], value[kNorth], value[kUp]}; }
+  Eigen::Vector3d position_enu_m() const {
+    return {value[kEast], value[kNorth], value[kUp]};
+  }
   // Rotation vector about the heading-level axes forward/right/down, degrees.
-  Eigen::Vector3d rotation_vector_deg() const { return {value[kRoll], value[kPitch], value[kYaw]}; }
+  Eigen::Vector3d rotation_vector_deg() const {
+    return {value[kRoll], value[kPitch], value[kYaw]};
+  }
   double rotation_angle_deg() const { return rotation_vector_deg().norm(); }
 };
 
-// The measured attitude: the true one turned by `rotation_vector_deg` (heading-level axes forward,
-// right, down, i.e. north/east/down turned by the true yaw). The angle between the true and the
-// measured attitude is exactly the norm of the vector. A zero vector returns `truth` unchanged.
-Attitude RotateAttitude(const Attitude& truth, const Eigen::Vector3d& rotation_vector_deg);
+// The measured attitude: the true one turned by `rotation_vector_deg`
+// (heading-level axes forward, right, down, i.e. north/east/down turned by the
+// true yaw). The angle between the true and the measured attitude is exactly
+// the norm of the vector. A zero vector returns `truth` unchanged.
+Attitude RotateAttitude(const Attitude& truth,
+                        const Eigen::Vector3d& rotation_vector_deg);
 
-// Frames must be visited in time order (file order) because gauss-markov noise carries state; the
-// draws themselves depend only on (seed, field, frame index).
+// Frames must be visited in time order (file order) because gauss-markov noise
+// carries state; the draws themselves depend only on (seed, field, frame
+// index).
 class MetadataPerturber {
  public:
   MetadataPerturber(const NoiseSpec& spec, const WorldFrame& world);
 
   RealizedError NextError(int64_t frame_index, double time);
-  // `truth` with `error` applied and recorded in its "error" member. Fields with zero error keep
-  // their true values bit for bit.
-  MetadataFrame Apply(const MetadataFrame& truth, const RealizedError& error) const;
+  // `truth` with `error` applied and recorded in its "error" member. Fields
+  // with zero error keep their true values bit for bit.
+  MetadataFrame Apply(const MetadataFrame& truth,
+                      const RealizedError& error) const;
   MetadataFrame Perturb(const MetadataFrame& truth) {
     return Apply(truth, NextError(truth.index, truth.time));
   }
@@ -48,7 +57,8 @@ class MetadataPerturber {
   std::vector<ScalarProcess> processes_;
 };
 
-// Running statistics of realized errors (constant memory), for the metadata's "summary".
+// Running statistics of realized errors (constant memory), for the metadata's
+// "summary".
 class ErrorStatistics {
  public:
   void Add(const RealizedError& error);

@@ -1,11 +1,12 @@
 #include "libs/noise/perturb_collection.h"
 
+#include <fstream>
 #include <memory>
 
 #include "libs/collection/collection_reader.h"
-#include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
-#include "libs/collection/json_stream.h"
+#include "libs/collection/schema.h"
+#include "libs/noise/json_array_scan.h"
 #include "libs/noise/metadata_perturber.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -76,9 +77,27 @@ class ReportWriter {
 
 PerturbResult PerturbCollection(const PerturbOptions& options) {
   options.spec.Validate();
-  const CollectionReader collection(options.collection);
-  const CollectionHeader& header = collection.header();
-  const std::string collection_file = collection.collection_path().string();
+  const fs::path& root = options.collection;
+  const fs::path collection_path = root / kCollectionFile;
+  const std::string collection_file = collection_path.string();
+  std::error_code ec;
+  if (!fs::is_directory(root, ec)) {
+    throw Error(fs::exists(root, ec) ? "is not a folder" : "does not exist",
+                Location(root.string()));
+  }
+  if (!LooksLikeCollection(root)) {
+    throw Error(
+        "is not an lsds collection: it has no " + std::string(kCollectionFile),
+        Location(root.string()));
+  }
+  // The header only (a fast scan, no DOM for the frames), checked as
+  // CollectionReader checks it.
+  ArrayScanResult collection_scan =
+      ScanJsonArrayMember(collection_path, "frames");
+  JsonSchema::Get("collection.schema.json")
+      .ValidateOrThrow(collection_scan.header, collection_file);
+  const CollectionHeader header =
+      HeaderFromJson(collection_scan.header, collection_file);
   const WorldFrame& world = header.conventions.world;
 
   // The truth to perturb: the collection's unperturbed metadata variant.
@@ -91,8 +110,7 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
         Location(collection_file, "/metadata"));
   }
   PerturbResult result;
-  result.source = collection.root() / truth_variant->file;
-  std::error_code ec;
+  result.source = root / truth_variant->file;
   if (!fs::is_regular_file(result.source, ec)) {
     throw Error("the truth metadata registered in " + collection_file +
                     " does not exist",
@@ -102,11 +120,11 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   // Outputs: refuse to overwrite the inputs ever, and anything else without
   // --force.
   result.output = options.output.empty()
-                      ? collection.root() / DefaultOutputName(options.spec.seed)
+                      ? root / DefaultOutputName(options.spec.seed)
                       : options.output;
   const fs::path output_canonical = fs::weakly_canonical(result.output);
   if (output_canonical == fs::weakly_canonical(result.source) ||
-      output_canonical == fs::weakly_canonical(collection.collection_path())) {
+      output_canonical == fs::weakly_canonical(collection_path)) {
     throw Error(
         "the output would replace an input of the collection; choose another "
         "-o",
@@ -130,59 +148,86 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
     RefuseToOverwrite(report, options.force, "report");
     result.report = report;
   }
-  result.registered_as = RelativeInside(result.output, collection.root());
+  result.registered_as = RelativeInside(result.output, root);
 
-  const MetadataReader truth(result.source);
-  if (truth.header().perturbed) {
-    throw Error("the metadata registered as truth is itself perturbed",
-                Location(result.source.string(), "/perturbed"));
-  }
-
-  // Pass 1: the realized errors' statistics, which the output states in its
-  // header.
+  // One pass over the truth metadata: each frame parsed, checked, perturbed and
+  // written to a temporary file, the statistics accumulated; the output is then
+  // the header (which states the statistics) followed by those frames.
+  // Temporary files vanish unless committed.
+  const std::string source_file = result.source.string();
+  const JsonSchema& frame_schema =
+      JsonSchema::Get("metadata.schema.json", "frame");
+  AtomicFile frames_file(fs::path(result.output).concat(".frames"));
   ErrorStatistics statistics;
-  {
-    MetadataPerturber perturber(options.spec, world);
-    truth.ForEachFrame([&](const MetadataFrame& frame) {
-      statistics.Add(perturber.NextError(frame.index, frame.time));
-    });
+  MetadataPerturber perturber(options.spec, world);
+  std::unique_ptr<Progress> progress;
+  if (options.progress)
+    progress =
+        std::make_unique<Progress>("perturb-metadata", header.frame_count);
+  std::ostream& frames_out = frames_file.stream();
+  const ArrayScanResult metadata_scan = ScanJsonArrayMember(
+      result.source,
+      "frames",
+      {nullptr, [&](std::string_view text, size_t index) {
+         const std::string pointer = "/frames/" + std::to_string(index);
+         const nlohmann::json json = ParseElement(text, result.source, pointer);
+         frame_schema.ValidateOrThrow(json, source_file, pointer);
+         const MetadataFrame truth =
+             MetadataFrameFromJson(json, source_file, pointer);
+         const RealizedError error =
+             perturber.NextError(truth.index, truth.time);
+         statistics.Add(error);
+         frames_out
+             << (index == 0 ? "\n    " : ",\n    ")
+             << MetadataFrameToJson(perturber.Apply(truth, error)).dump();
+         if (progress) progress->Add();
+       }});
+  progress.reset();
+  JsonSchema::Get("metadata.schema.json")
+      .ValidateOrThrow(metadata_scan.header, source_file);
+  const MetadataHeader truth_header =
+      MetadataHeaderFromJson(metadata_scan.header, source_file);
+  if (truth_header.perturbed) {
+    throw Error("the metadata registered as truth is itself perturbed",
+                Location(source_file, "/perturbed"));
+  }
+  if (truth_header.frame_count !=
+      static_cast<int64_t>(metadata_scan.elements)) {
+    throw Error("frame_count is " + std::to_string(truth_header.frame_count) +
+                    " but the file has " +
+                    std::to_string(metadata_scan.elements) + " frames",
+                Location(source_file, "/frame_count"));
   }
   result.summary = statistics.ToJson();
   result.frames = statistics.count();
 
-  // Pass 2: the perturbed frames (the same draws again; they depend only on
-  // seed, field and frame).
   MetadataHeader out_header;
-  out_header.format_version = truth.header().format_version;
+  out_header.format_version = truth_header.format_version;
   out_header.perturbed = true;
   out_header.noise = NoiseRecord{NoiseModelName(options.spec.model),
                                  options.spec.ParametersJson(world),
                                  options.spec.seed};
   out_header.source = truth_variant->file;
-  out_header.frame_count = truth.header().frame_count;
-  MetadataWriter writer(
-      result.output, out_header, {{"summary", result.summary}});
-  {
-    const MetadataReader again(result.source,
-                               ReaderOptions{false});  // validated in pass 1
-    MetadataPerturber perturber(options.spec, world);
-    std::unique_ptr<Progress> progress;
-    if (options.progress)
-      progress = std::make_unique<Progress>("perturb-metadata", result.frames);
-    again.ForEachFrame([&](const MetadataFrame& frame) {
-      writer.Append(perturber.Perturb(frame));
-      if (progress) progress->Add();
-    });
+  out_header.frame_count = truth_header.frame_count;
+  nlohmann::json out_header_json = MetadataHeaderToJson(out_header);
+  out_header_json["summary"] = result.summary;
+  AtomicFile output(result.output);
+  output.stream() << ArrayFileHead(out_header_json, "frames");
+  frames_out.flush();
+  if (!frames_out)
+    throw Error("write failed", Location(frames_file.temp_path().string()));
+  if (result.frames > 0) {
+    std::ifstream frames_in(frames_file.temp_path(), std::ios::binary);
+    output.stream() << frames_in.rdbuf();
   }
+  output.stream() << (result.frames == 0 ? "]\n}\n" : "\n  ]\n}\n");
 
   // Pass over collection.json: the header rewritten with the new variant, the
-  // frames copied as they are, and the report measured on the way. Both files
-  // stay temporary until everything succeeded.
-  std::unique_ptr<JsonArrayWriter> registry;
+  // frames' bytes copied verbatim, and the report measured on the way.
+  // Everything stays temporary until all succeeded.
+  std::unique_ptr<AtomicFile> registry;
   if (!result.registered_as.empty()) {
-    nlohmann::json collection_json;
-    StreamJsonArrayMember(
-        collection.collection_path(), "frames", &collection_json, nullptr);
+    nlohmann::json& collection_json = collection_scan.header;
     nlohmann::json entry = {{"file", result.registered_as},
                             {"perturbed", true},
                             {"description", options.spec.Describe()}};
@@ -195,8 +240,8 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
       }
     }
     if (!replaced) variants.push_back(entry);
-    registry = std::make_unique<JsonArrayWriter>(
-        collection.collection_path(), collection_json, "frames");
+    registry = std::make_unique<AtomicFile>(collection_path);
+    registry->stream() << ArrayFileHead(collection_json, "frames");
   }
   std::unique_ptr<ReportWriter> report;
   DisplacementSummary displacement;
@@ -210,24 +255,36 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
                        {"seed", options.spec.seed}});
   }
   if (registry || report) {
-    collection.ForEachFrameJson(
-        [&](const nlohmann::json& json, const std::string& pointer) {
-          if (registry) registry->Append(json);
-          if (!report) return;
-          const Frame frame = FrameFromJson(json, collection_file, pointer);
-          // The measured camera, from the truth as metadata.json states it
-          // (TruthMetadata) and the same realized error as the output's frame
-          // of that index.
-          const MetadataFrame measured =
-              report_perturber.Perturb(TruthMetadata(frame, world));
-          const FrameDisplacement moved =
-              MeasureDisplacement(frame, world, measured);
-          displacement.Add(moved);
-          report->Append(moved);
-        });
+    ArrayScanCallbacks callbacks;
+    if (registry) {
+      std::ostream& out = registry->stream();
+      callbacks.on_raw = [&out](std::string_view bytes) {
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      };
+    }
+    if (report) {
+      callbacks.on_element = [&](std::string_view text, size_t index) {
+        const std::string pointer = "/frames/" + std::to_string(index);
+        const Frame frame =
+            FrameFromJson(ParseElement(text, collection_path, pointer),
+                          collection_file,
+                          pointer);
+        // The measured camera, from the truth as metadata.json states it
+        // (TruthMetadata) and the same realized error as the output's frame of
+        // that index.
+        const MetadataFrame measured =
+            report_perturber.Perturb(TruthMetadata(frame, world));
+        const FrameDisplacement moved =
+            MeasureDisplacement(frame, world, measured);
+        displacement.Add(moved);
+        report->Append(moved);
+      };
+    }
+    ScanJsonArrayMember(collection_path, "frames", callbacks);
+    if (registry) registry->stream() << "]\n}\n";
   }
 
-  writer.Commit();
+  output.Commit();
   if (report) {
     result.report_summary = displacement.ToJson();
     report->Finish(*result.report_summary);

@@ -36,18 +36,21 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
   bool in_array = false;      // inside the target array
   bool array_done = false;
   bool in_element = false;
+  size_t element_start = 0;  // where the current element starts in this chunk
+  const bool want_elements = static_cast<bool>(callbacks.on_element);
 
   std::vector<char> buffer(1 << 20);
   while (in) {
     in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
     const size_t got = static_cast<size_t>(in.gcount());
     if (got == 0) break;
-    size_t raw_start =
-        0;  // start of the array bytes of this chunk not handed out yet
+    size_t raw_start = 0;  // the array bytes of this chunk not handed out yet
     for (size_t i = 0; i < got; ++i) {
       const char c = buffer[i];
       if (in_array) {
-        // Inside the array: depth >= 2 until its closing ']'.
+        // Inside the array: depth >= 2 until its closing ']'. Element bytes are
+        // appended in runs (from element_start to the current position) rather
+        // than one by one.
         if (in_string) {
           if (escape) {
             escape = false;
@@ -56,33 +59,35 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
           } else if (c == '"') {
             in_string = false;
           }
-          element += c;
           continue;
         }
         if (depth == 2 && (c == ',' || c == ']')) {
           if (in_element) {
-            if (callbacks.on_element)
+            if (want_elements) {
+              element.append(buffer.data() + element_start, i - element_start);
               callbacks.on_element(TrimRight(element), result.elements);
+              element.clear();
+            }
             ++result.elements;
-            element.clear();
             in_element = false;
           }
           if (c == ']') {
-            if (callbacks.on_raw)
+            if (callbacks.on_raw) {
               callbacks.on_raw(
                   std::string_view(buffer.data() + raw_start, i - raw_start));
+            }
             in_array = false;
             array_done = true;
             depth = 1;
             header_text += c;
-          } else {
-            element.clear();
           }
           continue;
         }
-        if (!in_element && IsSpace(c)) continue;
-        in_element = true;
-        element += c;
+        if (!in_element) {
+          if (IsSpace(c)) continue;
+          in_element = true;
+          element_start = i;
+        }
         if (c == '"') {
           in_string = true;
         } else if (c == '{' || c == '[') {
@@ -146,6 +151,11 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
       callbacks.on_raw(
           std::string_view(buffer.data() + raw_start, got - raw_start));
     }
+    // An element cut by the end of the chunk: keep its first part.
+    if (in_element && want_elements) {
+      element.append(buffer.data() + element_start, got - element_start);
+    }
+    element_start = 0;
   }
   if (in.bad()) throw Error("read error", Location(path.string()));
   if (in_array)

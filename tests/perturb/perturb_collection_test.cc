@@ -99,6 +99,20 @@ TEST(PerturbCollection, WritesAValidRegisteredVariantAndLeavesTheTruthAlone) {
             2.0);
   EXPECT_EQ(perturbed.header().source, "metadata.json");
 
+  // Every frame passes the reader's own checks; the tightened schema knows the
+  // error members.
+  int64_t read = 0;
+  perturbed.ForEachFrame([&](const MetadataFrame& frame) {
+    EXPECT_TRUE(frame.error.contains("rotation_vector_deg"));
+    ++read;
+  });
+  EXPECT_EQ(read, 20);
+  nlohmann::json bad_frame = Frames(result.output).front();
+  bad_frame["error"]["rotation"] = 1.0;
+  EXPECT_FALSE(JsonSchema::Get("metadata.schema.json", "frame")
+                   .Validate(bad_frame)
+                   .empty());
+
   // A second variant with --force replaces its own entry instead of adding a
   // duplicate.
   options.force = true;
@@ -142,7 +156,8 @@ TEST(PerturbCollection, RecordedErrorsAreTheDifferenceBetweenMeasuredAndTrue) {
 
 TEST(PerturbCollection, SampleStdOverTwoThousandFramesMatchesSigmaPerField) {
   TempDir dir;
-  const fs::path root = WriteNadirCollection(dir.path() / "c", 2000);
+  const fs::path root =
+      WriteNadirCollection(dir.path() / "c", 2000, 8, 8, false);
   PerturbOptions options = Options(root, 12345);
   options.spec.sigma = {0.8, 0.8, 2.5, 0.1, 0.2, 0.4, 0.005, 0.3};
   const PerturbResult result = PerturbCollection(options);

@@ -60,8 +60,12 @@ inline synth::Spec NadirSpec(int frames,
 inline fs::path WriteNadirCollection(const fs::path& root,
                                      int frames,
                                      int width = 8,
-                                     int height = 8) {
-  synth::WriteCollection(root, NadirSpec(frames, width, height));
+                                     int height = 8,
+                                     bool targets = true) {
+  synth::Spec spec = NadirSpec(frames, width, height);
+  if (!targets)
+    spec.boxes.clear();  // ground only: much cheaper truth for long collections
+  synth::WriteCollection(root, spec);
   return root;
 }
 

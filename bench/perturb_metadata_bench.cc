@@ -76,7 +76,7 @@ double Seconds(const std::chrono::steady_clock::time_point& start) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int frames = 10000;
+  int frames = 2000;
   std::string keep;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
@@ -84,8 +84,11 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--keep") == 0 && i + 1 < argc) {
       keep = argv[++i];
     } else {
-      std::cerr << "usage: perturb_metadata_bench [--frames N] [--keep DIR]\n";
-      return 2;
+      const bool help = std::strcmp(argv[i], "--help") == 0;
+      (help ? std::cout : std::cerr)
+          << "usage: bench_perturb_metadata [--frames N (default 2000; the issue's size is 10000)] "
+             "[--keep DIR]\n";
+      return help ? 0 : 2;
     }
   }
   const fs::path root =

@@ -11,6 +11,7 @@ const std::vector<Command>& Commands() {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"perturb-metadata", "write a perturbed copy of the metadata with the noise and errors recorded",
        RunPerturbMetadata},
+      {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
   };
   return commands;
 }

@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
     } else {
       const bool help = std::strcmp(argv[i], "--help") == 0;
       (help ? std::cout : std::cerr)
-          << "usage: bench_perturb_metadata [--frames N (default 2000; the issue's size is 10000)] "
+          << "usage: bench_perturb_metadata [--frames N (default 2000; the "
+             "issue's size is 10000)] "
              "[--keep DIR]\n";
       return help ? 0 : 2;
     }

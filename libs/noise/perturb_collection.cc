@@ -130,6 +130,10 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
         "-o",
         Location(result.output.string()));
   }
+  if (!fs::is_directory(fs::absolute(result.output).parent_path(), ec)) {
+    throw Error("the output's folder does not exist",
+                Location(result.output.string()));
+  }
   if (fs::is_directory(result.output, ec)) {
     throw Error("the output is a folder; -o takes a file name",
                 Location(result.output.string()));

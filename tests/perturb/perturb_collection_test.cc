@@ -292,6 +292,9 @@ TEST(PerturbCollection, BadInputIsRefusedAndNothingIsWritten) {
   onto_truth.output = root / "metadata.json";
   onto_truth.force = true;
   expect_refused(onto_truth, "replace an input");
+  PerturbOptions no_folder = Options(root, 1);
+  no_folder.output = dir.path() / "missing" / "x.json";
+  expect_refused(no_folder, "folder does not exist");
   PerturbOptions too_wide = Options(root, 1);
   too_wide.spec.bias[kHfov] = 170;
   expect_refused(too_wide, "field of view");

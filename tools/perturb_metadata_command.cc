@@ -133,7 +133,11 @@ int RunPerturbMetadata(int argc, char** argv) {
                  "constant error FIELD=VALUE[,...], repeatable; FIELD: pos "
                  "(E[,N] m), alt (m), rot "
                  "(S or R,P,Y deg), time (s), fov (deg), east, north, up, "
-                 "roll, pitch, yaw");
+                 "roll, pitch, yaw")
+      ->expected(
+          1)  // one value per --bias, so a following COLLECTION is not taken
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option(
          "--model", model, "noise model: gaussian | uniform | gauss-markov")
       ->capture_default_str();

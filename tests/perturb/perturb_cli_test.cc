@@ -90,11 +90,11 @@ TEST_F(PerturbCli, WritesRegistersAndReports) {
   EXPECT_EQ(CollectionReader(root_).header().metadata.size(), 2u);
 
   // Biases and gauss-markov through the command line.
-  const CliRun gm = Lsds("perturb-metadata " + root_.string() +
-                         " --sigma 0 --bias pos=1,2 --bias yaw=0.5 --model "
-                         "gauss-markov --tau 2 --seed 1"
-                         " -o " +
-                         (root_ / "gm.json").string());
+  // (--bias before COLLECTION: each --bias takes exactly one value.)
+  const CliRun gm =
+      Lsds("perturb-metadata --bias pos=1,2 --bias yaw=0.5 " + root_.string() +
+           " --sigma 0 --model gauss-markov --tau 2 --seed 1 -o " +
+           (root_ / "gm.json").string());
   ASSERT_EQ(gm.exit_code, 0) << gm.output;
   StreamJsonArrayMember(
       root_ / "gm.json", "frames", nullptr, [](nlohmann::json&& frame, size_t) {

@@ -12,6 +12,7 @@ const std::vector<Command>& Commands() {
       {"perturb-metadata", "write a perturbed copy of the metadata with the noise and errors recorded",
        RunPerturbMetadata},
       {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
+      {"bundles", "mixed-pixel statistics of the pixel bundles; bundle-derived truth layers", RunBundles},
   };
   return commands;
 }

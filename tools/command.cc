@@ -9,6 +9,7 @@ namespace lsds {
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
+      {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
   };
   return commands;
 }

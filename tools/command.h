@@ -27,5 +27,6 @@ int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>&
 int RunInfo(int argc, char** argv);
 int RunPlan(int argc, char** argv);
 int RunSynth(int argc, char** argv);
+int RunBundles(int argc, char** argv);
 
 }  // namespace lsds

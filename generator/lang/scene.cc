@@ -667,11 +667,14 @@ class SceneEvaluator {
           supports.insert(ref);
         } else if (k == "in") {
           const std::string ref = ReadString(c);
-          shrink(ref == terrain_symbol_ ? TerrainSurface().footprint
-                                        : AnyCopy(c, ref).aabb,
-                 c,
-                 "IN:" + ref);
-          in = true;
+          if (ref == terrain_symbol_) {  // IN the terrain = standing on it
+            surface = TerrainSurface();
+            shrink(surface.footprint, c, "IN:" + ref);
+            on = true;
+          } else {
+            shrink(AnyCopy(c, ref).aabb, c, "IN:" + ref);
+            in = true;
+          }
           supports.insert(ref);
         } else if (k == "around") {
           std::vector<std::pair<std::string, Node>> refs;

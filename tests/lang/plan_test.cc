@@ -409,6 +409,18 @@ TEST(LangPlan, SceneChangeSetsFramesAndDuringTimings) {
             *plan.frames[1].changes[0].position);
 }
 
+TEST(LangPlan, InTheTerrainMeansOnIt) {
+  const Plan plan = PlanText(
+      "LSCENE = ONE(W) ONE(X)\nW = terrain{size:[20,20],height:{perlin:1}}\n"
+      "X = object{class:cube,position:{IN:W}}\n",
+      "",
+      4);
+  const PlannedObject& x = plan.objects[0];
+  EXPECT_NEAR(x.position.z() - 0.5,
+              TerrainHeight(plan.terrain, x.position.x(), x.position.y()),
+              1e-9);
+}
+
 TEST(LangPlan, TerrainHeightIsBoundedAndDeterministic) {
   PlannedTerrain t;
   t.present = true;

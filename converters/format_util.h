@@ -35,7 +35,8 @@ inline void AppendAndRemove(std::ofstream& out, const std::filesystem::path& pat
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot read back", Location(path.string()));
-    out << in.rdbuf();
+    // operator<< of an empty streambuf sets failbit on `out`: copy only when there is something.
+    if (in.peek() != std::ifstream::traits_type::eof()) out << in.rdbuf();
   }
   std::filesystem::remove(path);
 }

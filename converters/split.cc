@@ -57,8 +57,17 @@ std::string SplitGroup(const Frame& frame, int64_t block) {
   return "#frames/" + std::to_string(frame.index / block);
 }
 
+uint64_t Mix64(uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ull;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebull;
+  x ^= x >> 31;
+  return x;
+}
+
 const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::string& group) {
-  const double u = static_cast<double>(Fnv1a64(group) >> 11) * 0x1.0p-53;
+  const double u = static_cast<double>(Mix64(Fnv1a64(group)) >> 11) * 0x1.0p-53;
   double cumulative = 0;
   for (const SplitPart& part : parts) {
     cumulative += part.fraction;

@@ -25,8 +25,12 @@ uint64_t Fnv1a64(const std::string& text);
 // `block` consecutive frame indices ("#frames/<index / block>").
 std::string SplitGroup(const Frame& frame, int64_t block = 50);
 
-// The split of a group: u = top 53 bits of FNV-1a(group) / 2^53 in [0, 1), the first part whose
-// cumulative fraction exceeds u.
+// SplitMix64's finalizer: FNV-1a alone leaves its top bits poorly mixed for names that differ only
+// in their last characters ("seq_1", "seq_2"), which would skew the split proportions.
+uint64_t Mix64(uint64_t x);
+
+// The split of a group: u = top 53 bits of Mix64(FNV-1a(group)) / 2^53 in [0, 1), the first part
+// whose cumulative fraction exceeds u.
 const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::string& group);
 
 }  // namespace lsds::convert

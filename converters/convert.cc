@@ -30,8 +30,8 @@ struct Driver {
   const ClassMap& classes;
   const std::vector<SplitPart>& splits;
   fs::path root;
-  std::string rgb_layer;         // empty with --images none
-  std::string instance_layer;    // empty when no format needs masks
+  std::string rgb_layer;       // empty with --images none
+  std::string instance_layer;  // empty when no format needs masks
   std::atomic<int64_t> images_written{0};
 
   std::string ClassName(uint32_t id) const {
@@ -49,14 +49,16 @@ struct Driver {
     loss->CountFrame(ctx->split);
 
     if (!rgb_layer.empty()) {
-      const exr::FlatImage rgb = exr::ReadFlatExr(reader.LayerPath(frame, rgb_layer), {"R", "G", "B"});
+      const exr::FlatImage rgb =
+          exr::ReadFlatExr(reader.LayerPath(frame, rgb_layer), {"R", "G", "B"});
       imaging::WriteImage(root / "images" / ctx->split / ctx->image_name,
-                          imaging::ToSrgb8(rgb, options.display), options.display);
+                          imaging::ToSrgb8(rgb, options.display),
+                          options.display);
       ++images_written;
     }
 
-    // Filters, in the order the loss report lists them; an object is counted once, by the first
-    // filter that drops it.
+    // Filters, in the order the loss report lists them; an object is counted
+    // once, by the first filter that drops it.
     std::vector<std::pair<const ObjectTruth*, int>> kept;
     for (const ObjectTruth& object : frame.objects) {
       const std::string source = ClassName(object.class_id);
@@ -84,18 +86,23 @@ struct Driver {
         Location where(path.string());
         where.frame = frame.index;
         throw Error("instanceid layer is " + std::to_string(ids.width()) + "x" +
-                        std::to_string(ids.height()) + ", the camera " + std::to_string(ctx->width) +
-                        "x" + std::to_string(ctx->height),
+                        std::to_string(ids.height()) + ", the camera " +
+                        std::to_string(ctx->width) + "x" +
+                        std::to_string(ctx->height),
                     where);
       }
       const uint32_t* data = ids.Get("id").uints.data();
-      const auto bounds = masks::ComputeIdBounds(data, ids.width(), ids.height());
+      const auto bounds =
+          masks::ComputeIdBounds(data, ids.width(), ids.height());
       ctx->mask_storage.resize(kept.size());
       for (size_t i = 0; i < kept.size(); ++i) {
         const auto it = bounds.find(kept[i].first->instance_id);
         if (it == bounds.end()) continue;
-        ctx->mask_storage[i] =
-            masks::ExtractMask(data, ids.width(), ids.height(), kept[i].first->instance_id, it->second);
+        ctx->mask_storage[i] = masks::ExtractMask(data,
+                                                  ids.width(),
+                                                  ids.height(),
+                                                  kept[i].first->instance_id,
+                                                  it->second);
         object_masks[i] = &ctx->mask_storage[i];
       }
     }
@@ -118,10 +125,12 @@ struct Driver {
       }
       out.mask = object_masks[i];
       if (out.mask != nullptr) {
-        const Box2d mask_box{double(out.mask->left), double(out.mask->top),
+        const Box2d mask_box{double(out.mask->left),
+                             double(out.mask->top),
                              double(out.mask->left + out.mask->width()),
                              double(out.mask->top + out.mask->height())};
-        if (!out.box.Contains(mask_box)) loss->Add(loss::kMaskBoxMismatch, name);
+        if (!out.box.Contains(mask_box))
+          loss->Add(loss::kMaskBoxMismatch, name);
       }
       if (object.in_frame < 1.0) loss->Add(loss::kClippedAtBorder, name);
       loss->Add(loss::kKept, name);
@@ -137,7 +146,9 @@ ConvertResult Convert(const ConvertOptions& options) {
   const CollectionReader reader(options.collection);
   const CollectionHeader& header = reader.header();
   const ClassMap classes =
-      options.classes.empty() ? ClassMap::All(header.classes) : ClassMap::Parse(options.classes, header.classes);
+      options.classes.empty()
+          ? ClassMap::All(header.classes)
+          : ClassMap::Parse(options.classes, header.classes);
   const std::vector<SplitPart> splits = ParseSplit(options.split);
 
   std::vector<std::unique_ptr<Converter>> converters;
@@ -153,16 +164,19 @@ ConvertResult Convert(const ConvertOptions& options) {
   if (options.images != "none") {
     const LayerInfo* rgb = header.FindLayerBySemantic("rgb");
     if (rgb == nullptr) {
-      throw Error("the collection has no rgb layer; use --images none", Location(reader.collection_path().string()));
+      throw Error("the collection has no rgb layer; use --images none",
+                  Location(reader.collection_path().string()));
     }
     driver.rgb_layer = rgb->name;
-    for (const SplitPart& split : splits) fs::create_directories(out.temp_path() / "images" / split.name);
+    for (const SplitPart& split : splits)
+      fs::create_directories(out.temp_path() / "images" / split.name);
   }
   if (needs_masks) {
     const LayerInfo* ids = header.FindLayerBySemantic("instanceid");
     if (ids == nullptr) {
-      throw Error("the collection has no instanceid layer, which masks are made from",
-                  Location(reader.collection_path().string()));
+      throw Error(
+          "the collection has no instanceid layer, which masks are made from",
+          Location(reader.collection_path().string()));
     }
     driver.instance_layer = ids->name;
   }
@@ -202,6 +216,10 @@ ConvertResult Convert(const ConvertOptions& options) {
     batch.clear();
   };
   reader.ForEachFrame([&](const Frame& frame) {
+    if (frame.index < options.frame_begin ||
+        (options.frame_end >= 0 && frame.index >= options.frame_end)) {
+      return;
+    }
     batch.push_back(frame);
     if (batch.size() == options.batch_size) flush();
   });
@@ -209,7 +227,8 @@ ConvertResult Convert(const ConvertOptions& options) {
   for (auto& converter : converters) converter->Finish();
 
   WriteFileAtomic(out.temp_path() / "loss_report.txt", result.loss.ToText());
-  WriteFileAtomic(out.temp_path() / "loss_report.json", result.loss.ToJson().dump(2) + "\n");
+  WriteFileAtomic(out.temp_path() / "loss_report.json",
+                  result.loss.ToJson().dump(2) + "\n");
   out.Commit();
   result.images_written = driver.images_written;
   return result;

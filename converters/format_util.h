@@ -10,8 +10,8 @@
 
 namespace lsds::convert {
 
-// printf-style formatting into a std::string (numbers in files are written with explicit precision,
-// independent of the locale of iostreams).
+// printf-style formatting into a std::string (numbers in files are written with
+// explicit precision, independent of the locale of iostreams).
 template <typename... Args>
 std::string Format(const char* format, Args... args) {
   char buffer[128];
@@ -31,11 +31,13 @@ inline std::ofstream OpenForWrite(const std::filesystem::path& path) {
 }
 
 // Appends the whole of `path` to `out` and removes it.
-inline void AppendAndRemove(std::ofstream& out, const std::filesystem::path& path) {
+inline void AppendAndRemove(std::ofstream& out,
+                            const std::filesystem::path& path) {
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot read back", Location(path.string()));
-    // operator<< of an empty streambuf sets failbit on `out`: copy only when there is something.
+    // operator<< of an empty streambuf sets failbit on `out`: copy only when
+    // there is something.
     if (in.peek() != std::ifstream::traits_type::eof()) out << in.rdbuf();
   }
   std::filesystem::remove(path);

@@ -4,7 +4,9 @@
 
 namespace lsds::convert {
 
-void LossReport::Add(const std::string& reason, const std::string& class_name, int64_t count) {
+void LossReport::Add(const std::string& reason,
+                     const std::string& class_name,
+                     int64_t count) {
   if (count != 0) counts_[reason][class_name] += count;
 }
 
@@ -15,7 +17,8 @@ void LossReport::Merge(const LossReport& other) {
   for (const auto& [split, count] : other.frames_) frames_[split] += count;
 }
 
-int64_t LossReport::Count(const std::string& reason, const std::string& class_name) const {
+int64_t LossReport::Count(const std::string& reason,
+                          const std::string& class_name) const {
   const auto it = counts_.find(reason);
   if (it == counts_.end()) return 0;
   const auto jt = it->second.find(class_name);
@@ -34,7 +37,8 @@ int64_t LossReport::Total(const std::string& reason) const {
 std::string LossReport::ToText() const {
   std::ostringstream out;
   out << "frames per split:";
-  for (const auto& [split, count] : frames_) out << " " << split << "=" << count;
+  for (const auto& [split, count] : frames_)
+    out << " " << split << "=" << count;
   out << "\n";
   if (counts_.empty()) out << "no objects\n";
   for (const auto& [reason, by_class] : counts_) {

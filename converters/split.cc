@@ -20,25 +20,32 @@ std::vector<SplitPart> ParseSplit(const std::string& spec) {
     SplitPart part;
     part.name = entry.substr(0, eq);
     for (char c : part.name) {
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) {
-        throw Error("split name '" + part.name + "' may only hold letters, digits, '_' and '-'", where);
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' ||
+            c == '-')) {
+        throw Error("split name '" + part.name +
+                        "' may only hold letters, digits, '_' and '-'",
+                    where);
       }
     }
     const std::string value = entry.substr(eq + 1);
     char* end = nullptr;
     part.fraction = std::strtod(value.c_str(), &end);
-    if (value.empty() || *end != '\0' || !(part.fraction >= 0) || !std::isfinite(part.fraction)) {
-      throw Error("bad fraction '" + value + "' for split '" + part.name + "'", where);
+    if (value.empty() || *end != '\0' || !(part.fraction >= 0) ||
+        !std::isfinite(part.fraction)) {
+      throw Error("bad fraction '" + value + "' for split '" + part.name + "'",
+                  where);
     }
     for (const SplitPart& other : parts) {
-      if (other.name == part.name) throw Error("split '" + part.name + "' given twice", where);
+      if (other.name == part.name)
+        throw Error("split '" + part.name + "' given twice", where);
     }
     sum += part.fraction;
     parts.push_back(part);
   }
   if (parts.empty()) throw Error("no split given", where);
   if (std::abs(sum - 1.0) > 1e-6) {
-    throw Error("split fractions sum to " + std::to_string(sum) + ", not 1", where);
+    throw Error("split fractions sum to " + std::to_string(sum) + ", not 1",
+                where);
   }
   return parts;
 }
@@ -66,7 +73,8 @@ uint64_t Mix64(uint64_t x) {
   return x;
 }
 
-const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::string& group) {
+const std::string& AssignSplit(const std::vector<SplitPart>& parts,
+                               const std::string& group) {
   const double u = static_cast<double>(Mix64(Fnv1a64(group)) >> 11) * 0x1.0p-53;
   double cumulative = 0;
   for (const SplitPart& part : parts) {

@@ -1,4 +1,5 @@
-// COCO instances JSON (docs/convert.md): annotations/instances_<split>.json per split.
+// COCO instances JSON (docs/convert.md): annotations/instances_<split>.json per
+// split.
 #pragma once
 
 #include <memory>

@@ -1,4 +1,5 @@
-// CVAT for images 1.1 (`cvat`) and CVAT for video 1.1 (`cvat-video`) XML (docs/convert.md).
+// CVAT for images 1.1 (`cvat`) and CVAT for video 1.1 (`cvat-video`) XML
+// (docs/convert.md).
 #pragma once
 
 #include <memory>

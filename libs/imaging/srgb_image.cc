@@ -11,8 +11,9 @@ namespace lsds::imaging {
 
 namespace {
 
-// The sRGB encoding of [0, 1] sampled finely enough that every 8-bit output is exact except within
-// 1/kSteps of a rounding boundary (the curve's steepest slope is 12.92).
+// The sRGB encoding of [0, 1] sampled finely enough that every 8-bit output is
+// exact except within 1/kSteps of a rounding boundary (the curve's steepest
+// slope is 12.92).
 constexpr int kSteps = 1 << 16;
 
 const std::array<uint8_t, kSteps + 1>& SrgbTable() {
@@ -20,7 +21,8 @@ const std::array<uint8_t, kSteps + 1>& SrgbTable() {
     std::array<uint8_t, kSteps + 1> t{};
     for (int i = 0; i <= kSteps; ++i) {
       const double v = static_cast<double>(i) / kSteps;
-      const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+      const double e =
+          v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
       t[i] = static_cast<uint8_t>(std::lround(std::clamp(e, 0.0, 1.0) * 255.0));
     }
     return t;
@@ -45,7 +47,8 @@ cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
   const std::array<uint8_t, kSteps + 1>& table = SrgbTable();
   const float scale = static_cast<float>(std::exp2(options.exposure_ev));
   const bool reinhard = options.tonemap == ToneMap::kReinhard;
-  const float* channels[3] = {rgb.Get("B").floats.data(), rgb.Get("G").floats.data(),
+  const float* channels[3] = {rgb.Get("B").floats.data(),
+                              rgb.Get("G").floats.data(),
                               rgb.Get("R").floats.data()};
   cv::Mat out(rgb.height(), rgb.width(), CV_8UC3);
   for (int y = 0; y < rgb.height(); ++y) {
@@ -64,7 +67,9 @@ cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
   return out;
 }
 
-void WriteImage(const std::filesystem::path& path, const cv::Mat& bgr, const DisplayOptions& options) {
+void WriteImage(const std::filesystem::path& path,
+                const cv::Mat& bgr,
+                const DisplayOptions& options) {
   std::vector<int> params;
   const std::string ext = path.extension().string();
   if (ext == ".jpg" || ext == ".jpeg") {
@@ -76,7 +81,8 @@ void WriteImage(const std::filesystem::path& path, const cv::Mat& bgr, const Dis
   try {
     ok = cv::imwrite(path.string(), bgr, params);
   } catch (const cv::Exception& e) {
-    throw Error(std::string("cannot write image: ") + e.what(), Location(path.string()));
+    throw Error(std::string("cannot write image: ") + e.what(),
+                Location(path.string()));
   }
   if (!ok) throw Error("cannot write image", Location(path.string()));
 }

@@ -5,9 +5,10 @@ namespace lsds::masks {
 std::vector<uint32_t> CocoRleCounts(const BoxMask& mask) {
   const int64_t h = mask.image_height;
   std::vector<uint32_t> counts;
-  // Column-major: runs walk down each column, then on to the top of the next one. Everything outside
-  // the box is background, so only the box columns need looking at.
-  int64_t run = 0;   // length of the current run
+  // Column-major: runs walk down each column, then on to the top of the next
+  // one. Everything outside the box is background, so only the box columns need
+  // looking at.
+  int64_t run = 0;     // length of the current run
   bool value = false;  // value of the current run; the first run is background
   auto push = [&](bool v, int64_t n) {
     if (n == 0) return;
@@ -24,7 +25,8 @@ std::vector<uint32_t> CocoRleCounts(const BoxMask& mask) {
     push(false, h * mask.left);
     for (int c = 0; c < mask.width(); ++c) {
       push(false, mask.top);
-      for (int r = 0; r < mask.height(); ++r) push(mask.mask.at<uint8_t>(r, c) != 0, 1);
+      for (int r = 0; r < mask.height(); ++r)
+        push(mask.mask.at<uint8_t>(r, c) != 0, 1);
       push(false, h - mask.top - mask.height());
     }
     push(false, h * (mask.image_width - mask.left - mask.width()));
@@ -38,7 +40,9 @@ std::string CocoRleToString(const std::vector<uint32_t>& counts) {
   s.reserve(counts.size() * 2);
   for (size_t i = 0; i < counts.size(); ++i) {
     long x = static_cast<long>(counts[i]);
-    if (i > 2) x -= static_cast<long>(counts[i - 2]);  // "i > 2", not ">= 2": as the COCO API does
+    if (i > 2)
+      x -= static_cast<long>(
+          counts[i - 2]);  // "i > 2", not ">= 2": as the COCO API does
     bool more = true;
     while (more) {
       char c = static_cast<char>(x & 0x1f);

@@ -1,5 +1,6 @@
-// Every format end to end on synthesized collections with exact truth: masks decode to exactly the
-// instance masks, boxes to the AABBs, splits are deterministic and grouped, filters are reported.
+// Every format end to end on synthesized collections with exact truth: masks
+// decode to exactly the instance masks, boxes to the AABBs, splits are
+// deterministic and grouped, filters are reported.
 #include <cmath>
 #include <cstdlib>
 
@@ -21,21 +22,24 @@ using nlohmann::json;
 constexpr uint32_t kSinglePixel = 7;
 constexpr uint32_t kBorder = 8;
 
-// The default scene plus a box covering exactly one pixel centre in frame 0 and a box cut by the left
-// image border.
+// The default scene plus a box covering exactly one pixel centre in frame 0 and
+// a box cut by the left image border.
 synth::Spec TestSpec() {
   synth::Spec spec = synth::DefaultSpec();
-  const PinholeCamera camera = PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
+  const PinholeCamera camera =
+      PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
   const Rigid3d world_from_cam = spec.cam_from_world[0].Inverse();
   const Eigen::Vector3d ray = camera.CamFromImage({40.5, 20.5});
-  const Eigen::Vector3d top_in_world = world_from_cam * Eigen::Vector3d(ray / ray.z() * 19.0);
+  const Eigen::Vector3d top_in_world =
+      world_from_cam * Eigen::Vector3d(ray / ray.z() * 19.0);
   synth::Box pixel;
   pixel.class_id = 3, pixel.instance_id = kSinglePixel, pixel.name = "crate#1";
   pixel.center = top_in_world - Eigen::Vector3d(0, 0, 0.05);
   pixel.half_extents = {0.05, 0.05, 0.05};
   synth::Box border;
   border.class_id = 2, border.instance_id = kBorder, border.name = "box#2";
-  border.center = {-1.5, 11.0, 0.5}, border.half_extents = {1.0, 1.0, 0.5};  // image x is world -y
+  border.center = {-1.5, 11.0, 0.5},
+  border.half_extents = {1.0, 1.0, 0.5};  // image x is world -y
   spec.boxes.push_back(pixel);
   spec.boxes.push_back(border);
   return spec;
@@ -61,7 +65,8 @@ TEST_F(ConvertTest, PreconditionsOfTheTestScene) {
   bool single = false, border = false;
   for (const ObjectTruth& o : frames[0].objects) {
     if (o.instance_id == kSinglePixel) single = o.visible_pixels == 1;
-    if (o.instance_id == kBorder) border = o.bbox && o.bbox->x0 == 0 && o.in_frame < 1;
+    if (o.instance_id == kBorder)
+      border = o.bbox && o.bbox->x0 == 0 && o.in_frame < 1;
   }
   EXPECT_TRUE(single);
   EXPECT_TRUE(border);
@@ -69,9 +74,11 @@ TEST_F(ConvertTest, PreconditionsOfTheTestScene) {
 
 TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
   const fs::path out = Out("coco");
-  const convert::ConvertResult result = convert::Convert(Options(Collection(), out, {"coco"}));
+  const convert::ConvertResult result =
+      convert::Convert(Options(Collection(), out, {"coco"}));
   EXPECT_EQ(result.frames, 4);
-  const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
   const std::vector<Frame> frames = Frames(Collection());
   ASSERT_EQ(coco["images"].size(), frames.size());
   // Categories: the class table in id order, ids 1..K.
@@ -100,13 +107,15 @@ TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
     const cv::Mat expected_mask = InstanceMask(Collection(), frame, instance);
     EXPECT_EQ(a["segmentation"]["size"], json::array({48, 64}));
     int64_t total = 0;
-    const cv::Mat decoded =
-        CocoDecode(CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &total);
+    const cv::Mat decoded = CocoDecode(
+        CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &total);
     EXPECT_EQ(total, 48 * 64);
-    EXPECT_TRUE(SameMask(decoded, expected_mask)) << "instance " << instance << " frame " << frame.index;
+    EXPECT_TRUE(SameMask(decoded, expected_mask))
+        << "instance " << instance << " frame " << frame.index;
     EXPECT_EQ(a["area"], cv::countNonZero(expected_mask));
     EXPECT_EQ(a["iscrowd"], 0);
-    EXPECT_EQ(a["category_id"], truth->class_id);  // class table 1, 2, 3 -> categories 1, 2, 3
+    EXPECT_EQ(a["category_id"],
+              truth->class_id);  // class table 1, 2, 3 -> categories 1, 2, 3
     const Box2d& b = *truth->bbox;
     EXPECT_EQ(a["bbox"], json::array({b.x0, b.y0, b.width(), b.height()}));
     // The mask's extent is the box.
@@ -135,7 +144,8 @@ TEST_F(ConvertTest, CvatMasksEqualInstanceMasksAndCocoMasks) {
   convert::Convert(Options(Collection(), out, {"cvat", "coco"}));
   const std::string xml = ReadText(out / "annotations" / "cvat_train.xml");
   EXPECT_NE(xml.find("<version>1.1</version>"), std::string::npos);
-  const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
   const auto masks = XmlElements(xml, "mask");
   const auto boxes = XmlElements(xml, "box");
   ASSERT_EQ(masks.size(), coco["annotations"].size());
@@ -144,19 +154,31 @@ TEST_F(ConvertTest, CvatMasksEqualInstanceMasksAndCocoMasks) {
   for (size_t i = 0; i < masks.size(); ++i) {
     const auto& m = masks[i];
     int64_t total = 0;
-    const cv::Mat cvat = CvatDecode(m.at("rle"), std::stoi(m.at("left")), std::stoi(m.at("top")),
-                                    std::stoi(m.at("width")), std::stoi(m.at("height")), 64, 48, &total);
+    const cv::Mat cvat = CvatDecode(m.at("rle"),
+                                    std::stoi(m.at("left")),
+                                    std::stoi(m.at("top")),
+                                    std::stoi(m.at("width")),
+                                    std::stoi(m.at("height")),
+                                    64,
+                                    48,
+                                    &total);
     EXPECT_EQ(total, std::stoll(m.at("width")) * std::stoll(m.at("height")));
     const json& a = coco["annotations"][i];
     int64_t coco_total = 0;
-    const cv::Mat from_coco = CocoDecode(CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &coco_total);
+    const cv::Mat from_coco = CocoDecode(
+        CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &coco_total);
     EXPECT_TRUE(SameMask(cvat, from_coco)) << "annotation " << i;
-    // The CVAT box is the COCO box in corner form; the mask box is its integer form.
-    EXPECT_NEAR(std::stod(boxes[i].at("xtl")), a["bbox"][0].get<double>(), 1e-9);
-    EXPECT_NEAR(std::stod(boxes[i].at("xbr")), a["bbox"][0].get<double>() + a["bbox"][2].get<double>(), 1e-9);
+    // The CVAT box is the COCO box in corner form; the mask box is its integer
+    // form.
+    EXPECT_NEAR(
+        std::stod(boxes[i].at("xtl")), a["bbox"][0].get<double>(), 1e-9);
+    EXPECT_NEAR(std::stod(boxes[i].at("xbr")),
+                a["bbox"][0].get<double>() + a["bbox"][2].get<double>(),
+                1e-9);
     EXPECT_EQ(std::stoi(m.at("left")), a["bbox"][0].get<int>());
     EXPECT_EQ(std::stoi(m.at("width")), a["bbox"][2].get<int>());
-    EXPECT_EQ(m.at("occluded"), a["lsds"]["visibility"].get<double>() < 1.0 ? "1" : "0");
+    EXPECT_EQ(m.at("occluded"),
+              a["lsds"]["visibility"].get<double>() < 1.0 ? "1" : "0");
   }
   EXPECT_EQ(XmlElements(xml, "image").size(), 4u);
 }
@@ -165,11 +187,18 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
   const fs::path out = Out("yolo");
   convert::Convert(Options(Collection(), out, {"yolo"}));
   const std::string yaml = ReadText(out / "data.yaml");
-  EXPECT_NE(yaml.find("names:\n  0: \"ground\"\n  1: \"box\"\n  2: \"crate\"\n"), std::string::npos) << yaml;
-  EXPECT_NE(yaml.find("path: \"" + fs::absolute(out).lexically_normal().string() + "\""), std::string::npos);
-  EXPECT_NE(yaml.find("train: images/train\nval: images/train\n"), std::string::npos);
+  EXPECT_NE(
+      yaml.find("names:\n  0: \"ground\"\n  1: \"box\"\n  2: \"crate\"\n"),
+      std::string::npos)
+      << yaml;
+  EXPECT_NE(yaml.find("path: \"" +
+                      fs::absolute(out).lexically_normal().string() + "\""),
+            std::string::npos);
+  EXPECT_NE(yaml.find("train: images/train\nval: images/train\n"),
+            std::string::npos);
   for (const Frame& frame : Frames(Collection())) {
-    std::istringstream labels(ReadText(out / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
+    std::istringstream labels(
+        ReadText(out / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
     std::vector<const ObjectTruth*> visible;
     for (const ObjectTruth& o : frame.objects) {
       if (o.visible_pixels > 0) visible.push_back(&o);
@@ -196,10 +225,12 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
 
 TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
   const fs::path out = Out("yolo_seg");
-  const convert::ConvertResult result = convert::Convert(Options(Collection(), out, {"yolo-seg"}));
+  const convert::ConvertResult result =
+      convert::Convert(Options(Collection(), out, {"yolo-seg"}));
   const json coco_like = nullptr;
   for (const Frame& frame : Frames(Collection())) {
-    std::istringstream labels(ReadText(out / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
+    std::istringstream labels(
+        ReadText(out / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
     std::vector<const ObjectTruth*> visible;
     for (const ObjectTruth& o : frame.objects) {
       if (o.visible_pixels > 0) visible.push_back(&o);
@@ -237,7 +268,8 @@ TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
 TEST_F(ConvertTest, CvatVideoHasOneTrackPerInstance) {
   const fs::path out = Out("cvat_video");
   convert::Convert(Options(Collection(), out, {"cvat-video"}));
-  const std::string xml = ReadText(out / "annotations" / "cvat_video_train.xml");
+  const std::string xml =
+      ReadText(out / "annotations" / "cvat_video_train.xml");
   const auto tracks = XmlElements(xml, "track");
   std::set<uint32_t> instances;
   for (const Frame& frame : Frames(Collection())) {
@@ -247,7 +279,8 @@ TEST_F(ConvertTest, CvatVideoHasOneTrackPerInstance) {
   }
   EXPECT_EQ(tracks.size(), instances.size());
   EXPECT_NE(xml.find("<mode>interpolation</mode>"), std::string::npos);
-  // Every track starts with a visible keyframe; frames are numbered within the split.
+  // Every track starts with a visible keyframe; frames are numbered within the
+  // split.
   for (const auto& box : XmlElements(xml, "box")) {
     EXPECT_EQ(box.at("keyframe"), "1");
     EXPECT_LT(std::stoi(box.at("frame")), 4);
@@ -261,13 +294,17 @@ TEST_F(ConvertTest, FiltersAndClassesAreReported) {
   options.classes = "box=thing,crate=thing";
   options.drop_truncated = true;
   const convert::ConvertResult result = convert::Convert(options);
-  EXPECT_NE(ReadText(out / "data.yaml").find("names:\n  0: \"thing\"\n"), std::string::npos);
+  EXPECT_NE(ReadText(out / "data.yaml").find("names:\n  0: \"thing\"\n"),
+            std::string::npos);
   const json report = json::parse(ReadText(out / "loss_report.json"));
-  EXPECT_GE(result.loss.Count(convert::loss::kMinPixels, "crate"), 1);  // the single pixel
-  EXPECT_GE(result.loss.Count(convert::loss::kTruncated, "box"), 1);    // the border box
+  EXPECT_GE(result.loss.Count(convert::loss::kMinPixels, "crate"),
+            1);  // the single pixel
+  EXPECT_GE(result.loss.Count(convert::loss::kTruncated, "box"),
+            1);  // the border box
   EXPECT_EQ(report["counts"][convert::loss::kMinPixels]["per_class"]["crate"],
             result.loss.Count(convert::loss::kMinPixels, "crate"));
-  EXPECT_NE(ReadText(out / "loss_report.txt").find(convert::loss::kMinPixels), std::string::npos);
+  EXPECT_NE(ReadText(out / "loss_report.txt").find(convert::loss::kMinPixels),
+            std::string::npos);
   // Every kept object is class 0.
   for (const auto& entry : fs::directory_iterator(out / "labels" / "train")) {
     std::istringstream in(ReadText(entry.path()));
@@ -277,12 +314,14 @@ TEST_F(ConvertTest, FiltersAndClassesAreReported) {
 }
 
 TEST_F(ConvertTest, MinVisibilityDropsOccludedObjects) {
-  convert::ConvertOptions options = Options(Collection(), Out("visible"), {"coco"});
+  convert::ConvertOptions options =
+      Options(Collection(), Out("visible"), {"coco"});
   options.min_visibility = 0.999;
   const convert::ConvertResult result = convert::Convert(options);
   int64_t below = 0;
   for (const Frame& frame : Frames(Collection())) {
-    for (const ObjectTruth& o : frame.objects) below += o.visible_pixels > 0 && o.visibility < 0.999;
+    for (const ObjectTruth& o : frame.objects)
+      below += o.visible_pixels > 0 && o.visibility < 0.999;
   }
   EXPECT_EQ(result.loss.Total(convert::loss::kMinVisibility), below);
 }
@@ -307,17 +346,22 @@ TEST_F(ConvertTest, RefusesNonEmptyOutputWithoutForce) {
 
 TEST_F(ConvertTest, ImagesAreSrgbEncodedOnce) {
   const fs::path out = Out("images");
-  convert::ConvertOptions options = Options(Collection(), out, {"yolo", "coco"});
+  convert::ConvertOptions options =
+      Options(Collection(), out, {"yolo", "coco"});
   options.images = "png";
   const convert::ConvertResult result = convert::Convert(options);
   EXPECT_EQ(result.images_written, 4);
   const Frame frame = Frames(Collection())[1];
-  const cv::Mat png = cv::imread((out / "images" / "train" / "000001.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat png = cv::imread(
+      (out / "images" / "train" / "000001.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(png.type(), CV_8UC3);
-  exr::FlatImage rgb = exr::ReadFlatExr(Collection() / frame.files.at("rgb"), {"R", "G", "B"});
+  exr::FlatImage rgb =
+      exr::ReadFlatExr(Collection() / frame.files.at("rgb"), {"R", "G", "B"});
   auto srgb = [](double v) {
     v = std::clamp(v, 0.0, 1.0);
-    return std::lround(255 * (v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055));
+    return std::lround(255 * (v <= 0.0031308
+                                  ? 12.92 * v
+                                  : 1.055 * std::pow(v, 1 / 2.4) - 0.055));
   };
   for (int y = 0; y < 48; y += 7) {
     for (int x = 0; x < 64; x += 5) {
@@ -327,32 +371,42 @@ TEST_F(ConvertTest, ImagesAreSrgbEncodedOnce) {
       EXPECT_NEAR(p[0], srgb(rgb.F("B", x, y)), 1);
     }
   }
-  const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
   EXPECT_EQ(coco["images"][1]["file_name"], "000001.png");
 }
 
 TEST_F(ConvertTest, OutputIsDeterministic) {
-  convert::ConvertOptions a = Options(Collection(), Out("det_a"), {"coco", "cvat"});
-  convert::ConvertOptions b = Options(Collection(), Out("det_b"), {"coco", "cvat"});
+  convert::ConvertOptions a =
+      Options(Collection(), Out("det_a"), {"coco", "cvat"});
+  convert::ConvertOptions b =
+      Options(Collection(), Out("det_b"), {"coco", "cvat"});
   a.batch_size = 1;  // different batching, same files
   convert::Convert(a);
   convert::Convert(b);
-  for (const char* file : {"annotations/instances_train.json", "annotations/cvat_train.xml", "loss_report.json"}) {
-    EXPECT_EQ(ReadText(Out("det_a") / file), ReadText(Out("det_b") / file)) << file;
+  for (const char* file : {"annotations/instances_train.json",
+                           "annotations/cvat_train.xml",
+                           "loss_report.json"}) {
+    EXPECT_EQ(ReadText(Out("det_a") / file), ReadText(Out("det_b") / file))
+        << file;
   }
 }
 
 TEST_F(ConvertTest, CommandLineExitCodes) {
   const std::string lsds = std::string(LSDS_BINARY_DIR) + "/tools/lsds";
   const std::string out = (Out("cli")).string();
-  const std::string ok = lsds + " convert " + Collection().string() + " --to yolo --images none -q -o " + out;
+  const std::string ok = lsds + " convert " + Collection().string() +
+                         " --to yolo --images none -q -o " + out;
   EXPECT_EQ(std::system(ok.c_str()), 0);
-  EXPECT_EQ(WEXITSTATUS(std::system((ok + " 2>/dev/null").c_str())), 2);  // not empty, no --force
+  EXPECT_EQ(WEXITSTATUS(std::system((ok + " 2>/dev/null").c_str())),
+            2);  // not empty, no --force
   EXPECT_EQ(WEXITSTATUS(std::system((ok + " --force").c_str())), 0);
-  const std::string bad = lsds + " convert " + Collection().string() + " --to yollo -o " + out + "x 2>/dev/null";
+  const std::string bad = lsds + " convert " + Collection().string() +
+                          " --to yollo -o " + out + "x 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
   const std::string split = lsds + " convert " + Collection().string() +
-                            " --to coco --split train=0.5,val=0.4 -o " + out + "y 2>/dev/null";
+                            " --to coco --split train=0.5,val=0.4 -o " + out +
+                            "y 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(split.c_str())), 2);
 }
 
@@ -363,7 +417,8 @@ TEST(Splits, DeterministicGroupedAndProportional) {
   EXPECT_THROW(convert::ParseSplit("train=1,train=0"), Error);
   EXPECT_THROW(convert::ParseSplit("train"), Error);
   EXPECT_EQ(convert::Fnv1a64(""), 14695981039346656037ull);
-  EXPECT_EQ(convert::Fnv1a64("a"), 0xaf63dc4c8601ec8cull);  // the FNV-1a 64 test vector
+  EXPECT_EQ(convert::Fnv1a64("a"),
+            0xaf63dc4c8601ec8cull);  // the FNV-1a 64 test vector
   std::map<std::string, int> counts;
   for (int g = 0; g < 2000; ++g) {
     const std::string group = "sequence_" + std::to_string(g);
@@ -374,7 +429,8 @@ TEST(Splits, DeterministicGroupedAndProportional) {
   EXPECT_NEAR(counts["train"], 1400, 100);
   EXPECT_NEAR(counts["val"], 400, 80);
   EXPECT_NEAR(counts["test"], 200, 60);
-  // Frames of one sequence share a split; frames without one go by blocks of consecutive indices.
+  // Frames of one sequence share a split; frames without one go by blocks of
+  // consecutive indices.
   Frame a, b, c;
   a.sequence = b.sequence = "flight-3";
   a.index = 0, b.index = 999;
@@ -387,22 +443,30 @@ TEST(Splits, DeterministicGroupedAndProportional) {
 
 TEST_F(ConvertTest, SplitsKeepSequencesTogether) {
   const fs::path out = Out("split");
-  convert::ConvertOptions options = Options(Collection(), out, {"yolo", "coco"});
+  convert::ConvertOptions options =
+      Options(Collection(), out, {"yolo", "coco"});
   options.split = "train=0.5,val=0.5";
   convert::Convert(options);
-  // The one sequence lands entirely in one split, the other split is empty but present.
-  const json train = json::parse(ReadText(out / "annotations" / "instances_train.json"));
-  const json val = json::parse(ReadText(out / "annotations" / "instances_val.json"));
+  // The one sequence lands entirely in one split, the other split is empty but
+  // present.
+  const json train =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json val =
+      json::parse(ReadText(out / "annotations" / "instances_val.json"));
   EXPECT_EQ(train["images"].size() + val["images"].size(), 4u);
   EXPECT_TRUE(train["images"].empty() || val["images"].empty());
-  const std::string expected = convert::AssignSplit(convert::ParseSplit(options.split), "S1");
+  const std::string expected =
+      convert::AssignSplit(convert::ParseSplit(options.split), "S1");
   EXPECT_EQ((expected == "train" ? train : val)["images"].size(), 4u);
-  EXPECT_NE(ReadText(out / "data.yaml").find("val: images/val\n"), std::string::npos);
+  EXPECT_NE(ReadText(out / "data.yaml").find("val: images/val\n"),
+            std::string::npos);
 }
 
 TEST(ClassMap, SubsetRenameMergeAndErrors) {
-  const std::vector<ClassInfo> classes = {{1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
-  const auto map = convert::ClassMap::Parse("person, car=vehicle, 3=vehicle", classes);
+  const std::vector<ClassInfo> classes = {
+      {1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
+  const auto map =
+      convert::ClassMap::Parse("person, car=vehicle, 3=vehicle", classes);
   ASSERT_EQ(map.classes().size(), 2u);
   EXPECT_EQ(map.classes()[0].name, "person");
   EXPECT_EQ(map.classes()[1].name, "vehicle");
@@ -414,7 +478,9 @@ TEST(ClassMap, SubsetRenameMergeAndErrors) {
     convert::ClassMap::Parse("persn", classes);
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("did you mean 'person'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("did you mean 'person'"),
+              std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(convert::ClassMap::Parse("car,car=x", classes), Error);
 }

@@ -1,4 +1,5 @@
-// COCO and CVAT RLE and polygons against reference decoders, on hand-made and random masks.
+// COCO and CVAT RLE and polygons against reference decoders, on hand-made and
+// random masks.
 #include <random>
 
 #include <gtest/gtest.h>
@@ -25,7 +26,8 @@ BoxMask MaskOf(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
   BoxMask empty;
   empty.image_width = w;
   empty.image_height = h;
-  return it == bounds.end() ? empty : ExtractMask(ids.data(), w, h, id, it->second);
+  return it == bounds.end() ? empty
+                            : ExtractMask(ids.data(), w, h, id, it->second);
 }
 
 cv::Mat FullMask(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
@@ -36,7 +38,10 @@ cv::Mat FullMask(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
   return m;
 }
 
-void ExpectRoundTrips(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
+void ExpectRoundTrips(const std::vector<uint32_t>& ids,
+                      int w,
+                      int h,
+                      uint32_t id) {
   const BoxMask mask = MaskOf(ids, w, h, id);
   const cv::Mat truth = FullMask(ids, w, h, id);
   EXPECT_EQ(mask.pixel_count, cv::countNonZero(truth));
@@ -46,37 +51,49 @@ void ExpectRoundTrips(const std::vector<uint32_t>& ids, int w, int h, uint32_t i
   const std::string coco = CocoRleToString(counts);
   EXPECT_EQ(CocoCountsFromString(coco), counts);
   int64_t total = 0;
-  EXPECT_TRUE(SameMask(CocoDecode(CocoCountsFromString(coco), h, w, &total), truth));
+  EXPECT_TRUE(
+      SameMask(CocoDecode(CocoCountsFromString(coco), h, w, &total), truth));
   EXPECT_EQ(total, int64_t{w} * h);
 
   if (!mask.empty()) {
     int64_t cvat_total = 0;
-    const cv::Mat cvat = CvatDecode(CvatRleToString(CvatRleCounts(mask)), mask.left, mask.top,
-                                    mask.width(), mask.height(), w, h, &cvat_total);
+    const cv::Mat cvat = CvatDecode(CvatRleToString(CvatRleCounts(mask)),
+                                    mask.left,
+                                    mask.top,
+                                    mask.width(),
+                                    mask.height(),
+                                    w,
+                                    h,
+                                    &cvat_total);
     EXPECT_TRUE(SameMask(cvat, truth));
     EXPECT_EQ(cvat_total, int64_t{mask.width()} * mask.height());
   }
 }
 
 TEST(CocoRle, KnownEncodingOfTheCocoApi) {
-  // pycocotools: mask [[0,1],[1,1]] (h=2, w=2, column-major 0,1,1,1) -> counts [1,3] -> "13".
+  // pycocotools: mask [[0,1],[1,1]] (h=2, w=2, column-major 0,1,1,1) -> counts
+  // [1,3] -> "13".
   std::vector<uint32_t> ids = {0, 5, 5, 5};
   const BoxMask mask = MaskOf(ids, 2, 2, 5);
   EXPECT_EQ(CocoRleCounts(mask), (std::vector<uint32_t>{1, 3}));
   EXPECT_EQ(CocoRleToString({1, 3}), "13");
   // Foreground first: a leading background run of 0.
   ids = {5, 0, 0, 0};
-  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 2, 2, 5)), (std::vector<uint32_t>{0, 1, 3}));
+  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 2, 2, 5)),
+            (std::vector<uint32_t>{0, 1, 3}));
   // Large counts and negative deltas ("i > 2" quirk of rleToString).
   const std::vector<uint32_t> counts = {100000, 3, 7, 1, 99999, 2, 0};
   EXPECT_EQ(CocoCountsFromString(CocoRleToString(counts)), counts);
 }
 
 TEST(CocoRle, ColumnMajorNotRowMajor) {
-  // A horizontal 3-pixel line in a 3x3 image: column-major runs are 1,1,2,1,2,1,1.
+  // A horizontal 3-pixel line in a 3x3 image: column-major runs are
+  // 1,1,2,1,2,1,1.
   std::vector<uint32_t> ids = {0, 0, 0, 7, 7, 7, 0, 0, 0};
-  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 3, 3, 7)), (std::vector<uint32_t>{1, 1, 2, 1, 2, 1, 1}));
-  // CVAT: row-major inside the tight box (1 row of 3): no background, one run of 3.
+  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 3, 3, 7)),
+            (std::vector<uint32_t>{1, 1, 2, 1, 2, 1, 1}));
+  // CVAT: row-major inside the tight box (1 row of 3): no background, one run
+  // of 3.
   EXPECT_EQ(CvatRleCounts(MaskOf(ids, 3, 3, 7)), (std::vector<uint32_t>{0, 3}));
 }
 
@@ -97,9 +114,11 @@ TEST(CocoRle, SinglePixelAndBorderObjects) {
 TEST(CocoRle, RandomMasksRoundTrip) {
   std::mt19937 rng(42);
   for (int trial = 0; trial < 200; ++trial) {
-    const int w = 1 + static_cast<int>(rng() % 40), h = 1 + static_cast<int>(rng() % 40);
+    const int w = 1 + static_cast<int>(rng() % 40),
+              h = 1 + static_cast<int>(rng() % 40);
     std::vector<uint32_t> ids(w * h);
-    // Blobs of a few ids, some pixels noise: several pieces, holes, border contact.
+    // Blobs of a few ids, some pixels noise: several pieces, holes, border
+    // contact.
     for (uint32_t& id : ids) id = rng() % 5;  // 0 is background
     for (uint32_t id = 1; id <= 4; ++id) ExpectRoundTrips(ids, w, h, id);
   }
@@ -108,7 +127,8 @@ TEST(CocoRle, RandomMasksRoundTrip) {
 TEST(Polygons, InsideTheBoxAndCoverTheMask) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 100; ++trial) {
-    const int w = 2 + static_cast<int>(rng() % 30), h = 2 + static_cast<int>(rng() % 30);
+    const int w = 2 + static_cast<int>(rng() % 30),
+              h = 2 + static_cast<int>(rng() % 30);
     std::vector<uint32_t> ids(w * h);
     for (uint32_t& id : ids) id = (rng() % 3 == 0) ? 1 : 0;
     const BoxMask mask = MaskOf(ids, w, h, 1);
@@ -152,7 +172,8 @@ TEST(Polygons, PiecesAndHolesAreCounted) {
   const MaskPolygons polygons = ExtractPolygons(MaskOf(ids, w, h, 2));
   EXPECT_EQ(polygons.pieces.size(), 2u);
   EXPECT_EQ(polygons.holes, 1);
-  // Largest first: the ring's outer boundary through the centres of its corner pixels.
+  // Largest first: the ring's outer boundary through the centres of its corner
+  // pixels.
   const Polygon ring = {{1.5, 1.5}, {1.5, 5.5}, {5.5, 5.5}, {5.5, 1.5}};
   EXPECT_EQ(polygons.pieces[0], ring);
 }

@@ -1,5 +1,6 @@
-// Decoders written from the reference algorithms (pycocotools maskApi.c rleFrString/rleDecode; CVAT's
-// mask import), independent of lsds' encoders, so that round trips test the conventions themselves.
+// Decoders written from the reference algorithms (pycocotools maskApi.c
+// rleFrString/rleDecode; CVAT's mask import), independent of lsds' encoders, so
+// that round trips test the conventions themselves.
 #pragma once
 
 #include <cstdint>
@@ -11,8 +12,8 @@
 
 namespace lsds::testing {
 
-// maskApi.c rleFrString: 6 bits per char from '0', bit 5 "more", sign bit 4 of the last chunk,
-// counts after the third are deltas to the count two before.
+// maskApi.c rleFrString: 6 bits per char from '0', bit 5 "more", sign bit 4 of
+// the last chunk, counts after the third are deltas to the count two before.
 inline std::vector<uint32_t> CocoCountsFromString(const std::string& s) {
   std::vector<uint32_t> counts;
   size_t p = 0;
@@ -35,9 +36,13 @@ inline std::vector<uint32_t> CocoCountsFromString(const std::string& s) {
   return counts;
 }
 
-// maskApi.c rleDecode: runs alternate starting with 0, over the image in column-major order. Returns a
-// row-major CV_8U image; `total` receives the sum of the counts (must be h * w).
-inline cv::Mat CocoDecode(const std::vector<uint32_t>& counts, int height, int width, int64_t* total) {
+// maskApi.c rleDecode: runs alternate starting with 0, over the image in
+// column-major order. Returns a row-major CV_8U image; `total` receives the sum
+// of the counts (must be h * w).
+inline cv::Mat CocoDecode(const std::vector<uint32_t>& counts,
+                          int height,
+                          int width,
+                          int64_t* total) {
   std::vector<uint8_t> column_major;
   uint8_t v = 0;
   for (uint32_t c : counts) {
@@ -46,26 +51,38 @@ inline cv::Mat CocoDecode(const std::vector<uint32_t>& counts, int height, int w
   }
   *total = static_cast<int64_t>(column_major.size());
   cv::Mat mask = cv::Mat::zeros(height, width, CV_8U);
-  for (size_t i = 0; i < column_major.size() && i < static_cast<size_t>(height) * width; ++i) {
-    mask.at<uint8_t>(static_cast<int>(i % height), static_cast<int>(i / height)) = column_major[i];
+  for (size_t i = 0;
+       i < column_major.size() && i < static_cast<size_t>(height) * width;
+       ++i) {
+    mask.at<uint8_t>(static_cast<int>(i % height),
+                     static_cast<int>(i / height)) = column_major[i];
   }
   return mask;
 }
 
-// CVAT mask: "a, b, c" runs alternating from background, row-major inside left/top/width/height.
-inline cv::Mat CvatDecode(const std::string& rle, int left, int top, int box_width, int box_height,
-                          int image_width, int image_height, int64_t* total) {
+// CVAT mask: "a, b, c" runs alternating from background, row-major inside
+// left/top/width/height.
+inline cv::Mat CvatDecode(const std::string& rle,
+                          int left,
+                          int top,
+                          int box_width,
+                          int box_height,
+                          int image_width,
+                          int image_height,
+                          int64_t* total) {
   std::vector<uint32_t> counts;
   std::stringstream in(rle);
   std::string token;
-  while (std::getline(in, token, ',')) counts.push_back(static_cast<uint32_t>(std::stoul(token)));
+  while (std::getline(in, token, ','))
+    counts.push_back(static_cast<uint32_t>(std::stoul(token)));
   cv::Mat mask = cv::Mat::zeros(image_height, image_width, CV_8U);
   int64_t i = 0;
   uint8_t v = 0;
   for (uint32_t c : counts) {
     for (uint32_t k = 0; k < c; ++k, ++i) {
       if (v && i < int64_t{box_width} * box_height) {
-        mask.at<uint8_t>(top + static_cast<int>(i / box_width), left + static_cast<int>(i % box_width)) = 1;
+        mask.at<uint8_t>(top + static_cast<int>(i / box_width),
+                         left + static_cast<int>(i % box_width)) = 1;
       }
     }
     v = !v;

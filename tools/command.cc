@@ -10,6 +10,7 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"convert", "truth into YOLO, COCO or CVAT files with a loss report", RunConvert},
+      {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
   };
   return commands;
 }

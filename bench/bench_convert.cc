@@ -1,4 +1,4 @@
-// convert_bench: frames/s of `lsds convert` per format next to the floor
+// bench_convert: frames/s of `lsds convert` per format next to the floor
 // (decoding the EXR layers the conversion needs + encoding the output images,
 // with the same parallelism), the ratio, and the peak memory for a quarter of
 // the frames and for all of them (flat = memory does not grow with frames).
@@ -136,7 +136,7 @@ double Floor(const fs::path& collection,
 int main(int argc, char** argv) {
   CLI::App app("frames/s of lsds convert per format, next to its floor",
                "convert_bench");
-  int frames = 200, size = 1024, distinct = 8;
+  int frames = 40, size = 256, distinct = 4;
   std::string formats = "yolo,yolo-seg,coco,cvat,cvat-video", images = "png",
               work;
   std::string
@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
         if (pipe == nullptr ||
             std::fscanf(pipe, "%lf %ld %lld", seconds, mb, &done) != 3) {
           std::fprintf(
-              stderr, "convert_bench: child run failed: %s\n", command.c_str());
+              stderr, "bench_convert: child run failed: %s\n", command.c_str());
           std::exit(2);
         }
         pclose(pipe);

@@ -3,8 +3,9 @@
 // with the same parallelism), the ratio, and the peak memory for a quarter of
 // the frames and for all of them (flat = memory does not grow with frames).
 //
-//   convert_bench [--frames 200] [--size 1024] [--distinct 8] [--formats
-//   yolo,coco,...] [--images png]
+//   bench_convert                           small default run (make bench)
+//   bench_convert --frames 200 --size 1024  the size
+//   [--distinct K] [--formats yolo,coco,...] [--images png|jpg|none]
 //
 // The collection is K distinct analytic frames (libs/synth) repeated under N
 // frame indices (each a real file of its own), so that setting up N large
@@ -135,7 +136,7 @@ double Floor(const fs::path& collection,
 
 int main(int argc, char** argv) {
   CLI::App app("frames/s of lsds convert per format, next to its floor",
-               "convert_bench");
+               "bench_convert");
   int frames = 40, size = 256, distinct = 4;
   std::string formats = "yolo,yolo-seg,coco,cvat,cvat-video", images = "png",
               work;

@@ -38,8 +38,11 @@ synth::Spec TestSpec() {
   pixel.half_extents = {0.05, 0.05, 0.05};
   synth::Box border;
   border.class_id = 2, border.instance_id = kBorder, border.name = "box#2";
-  border.center = {-1.5, 11.0, 0.5},
-  border.half_extents = {1.0, 1.0, 0.5};  // image x is world -y
+  // Centred on the ray through the left border pixel (0, 24) at the box top, z = 1.
+  const Eigen::Vector3d edge = camera.CamFromImage({0.5, 24.5});
+  border.center = world_from_cam * Eigen::Vector3d(edge / edge.z() * 19.0) -
+                  Eigen::Vector3d(0, 0, 0.5);
+  border.half_extents = {1.0, 1.0, 0.5};
   spec.boxes.push_back(pixel);
   spec.boxes.push_back(border);
   return spec;
@@ -483,6 +486,88 @@ TEST(ClassMap, SubsetRenameMergeAndErrors) {
         << e.what();
   }
   EXPECT_THROW(convert::ClassMap::Parse("car,car=x", classes), Error);
+}
+
+}  // namespace
+}  // namespace lsds::testing
+
+namespace lsds::testing {
+namespace {
+
+// A crate cut in two by a pole standing on it, and a flat crate with a pillar
+// in its middle (a hole): what polygons do with pieces and holes.
+TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
+  TempDir dir;
+  synth::Spec spec = synth::DefaultSpec();
+  spec.boxes.clear();
+  auto add = [&](uint32_t class_id,
+                 uint32_t id,
+                 Eigen::Vector3d center,
+                 Eigen::Vector3d half) {
+    synth::Box box;
+    box.class_id = class_id, box.instance_id = id;
+    box.name = "b" + std::to_string(id);
+    box.center = center, box.half_extents = half;
+    spec.boxes.push_back(box);
+  };
+  add(3, 21, {0, -5, 0.3}, {0.4, 3, 0.3});    // long crate along image x
+  add(2, 22, {0, -5, 2.5}, {1.0, 0.4, 2.5});  // pole across it
+  add(3, 23, {0, 5, 0.2}, {2, 2, 0.2});       // flat crate
+  add(2, 24, {0, 5, 2}, {0.5, 0.5, 2});       // pillar in its middle
+  spec.cam_from_world = {synth::NadirCamFromWorld({0, 0, 20})};
+  spec.layers = {"rgb", "classid", "instanceid"};
+  const fs::path collection = dir.path() / "c";
+  synth::WriteCollection(collection, spec);
+  const Frame frame = Frames(collection)[0];
+
+  const convert::ConvertResult seg =
+      convert::Convert(Options(collection, dir.path() / "seg", {"yolo-seg"}));
+  EXPECT_EQ(seg.loss.Count(convert::loss::kPiecesMerged, "crate"), 1);
+  EXPECT_EQ(seg.loss.Count(convert::loss::kHolesFilled, "crate"), 1);
+  // The bridged polygon, filled, covers both pieces of the crate.
+  std::istringstream labels(
+      ReadText(dir.path() / "seg" / "labels" / "train" / "000000.txt"));
+  std::string line;
+  bool checked = false;
+  size_t k = 0;
+  while (std::getline(labels, line)) {
+    const ObjectTruth& o = frame.objects[k++];
+    if (o.instance_id != 21) continue;
+    std::istringstream in(line);
+    int cls;
+    in >> cls;
+    std::vector<cv::Point> points;
+    double x, y;
+    while (in >> x >> y) {
+      points.emplace_back(static_cast<int>(std::lround(x * 64 - 0.5)),
+                          static_cast<int>(std::lround(y * 48 - 0.5)));
+    }
+    cv::Mat filled = cv::Mat::zeros(48, 64, CV_8U);
+    cv::fillPoly(filled, std::vector<std::vector<cv::Point>>{points}, 1);
+    const cv::Mat mask = InstanceMask(collection, frame, 21);
+    EXPECT_EQ(cv::countNonZero(mask & (filled == 0)), 0);
+    checked = true;
+  }
+  EXPECT_TRUE(checked);
+
+  convert::ConvertOptions options =
+      Options(collection, dir.path() / "poly", {"coco"});
+  options.segmentation = "polygon";
+  const convert::ConvertResult poly = convert::Convert(options);
+  EXPECT_EQ(poly.loss.Count(convert::loss::kPiecesSplit, "crate"), 1);
+  const json coco = json::parse(
+      ReadText(dir.path() / "poly" / "annotations" / "instances_train.json"));
+  for (const json& a : coco["annotations"]) {
+    const uint32_t id = a["lsds"]["instance_id"];
+    if (id == 21) {
+      EXPECT_EQ(a["segmentation"].size(), 2u);
+    }
+    if (id == 23) {
+      EXPECT_EQ(a["segmentation"].size(), 1u);
+    }
+    // area stays the mask pixel count, not a polygon area.
+    EXPECT_EQ(a["area"], cv::countNonZero(InstanceMask(collection, frame, id)));
+  }
 }
 
 }  // namespace

@@ -10,7 +10,12 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"convert", "truth into YOLO, COCO or CVAT files with a loss report", RunConvert},
+      {"perturb-metadata", "write a perturbed copy of the metadata with the noise and errors recorded",
+       RunPerturbMetadata},
       {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
+      {"bundles", "mixed-pixel statistics of the pixel bundles; bundle-derived truth layers", RunBundles},
+      {"backproject", "depth layers to point clouds (PCD/PLY), per frame or fused; --check vs truth",
+       RunBackproject},
   };
   return commands;
 }

@@ -9,6 +9,7 @@ namespace lsds {
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
+      {"convert", "truth into YOLO, COCO or CVAT files with a loss report", RunConvert},
       {"perturb-metadata", "write a perturbed copy of the metadata with the noise and errors recorded",
        RunPerturbMetadata},
       {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},

@@ -1,0 +1,237 @@
+#include "converters/convert.h"
+
+#include <atomic>
+#include <filesystem>
+
+#include <tbb/parallel_for.h>
+
+#include "converters/class_map.h"
+#include "converters/converter.h"
+#include "converters/registry.h"
+#include "converters/split.h"
+#include "libs/collection/collection_reader.h"
+#include "libs/exr/flat_image.h"
+#include "libs/imaging/srgb_image.h"
+#include "libs/masks/instance_masks.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "libs/util/progress.h"
+#include "libs/util/strings.h"
+
+namespace lsds::convert {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Driver {
+  const ConvertOptions& options;
+  const CollectionReader& reader;
+  const ClassMap& classes;
+  const std::vector<SplitPart>& splits;
+  fs::path root;
+  std::string rgb_layer;       // empty with --images none
+  std::string instance_layer;  // empty when no format needs masks
+  std::atomic<int64_t> images_written{0};
+
+  std::string ClassName(uint32_t id) const {
+    const ClassInfo* c = reader.header().FindClass(id);
+    return c ? c->name : "class " + std::to_string(id);
+  }
+
+  void Prepare(const Frame& frame, FrameContext* ctx, LossReport* loss) {
+    ctx->frame = &frame;
+    ctx->split = AssignSplit(splits, SplitGroup(frame));
+    ctx->stem = FrameStem(frame.index);
+    ctx->image_name = ctx->stem + options.ImageExtension();
+    ctx->width = frame.camera.intrinsics.width;
+    ctx->height = frame.camera.intrinsics.height;
+    loss->CountFrame(ctx->split);
+
+    if (!rgb_layer.empty()) {
+      const exr::FlatImage rgb =
+          exr::ReadFlatExr(reader.LayerPath(frame, rgb_layer), {"R", "G", "B"});
+      imaging::WriteImage(root / "images" / ctx->split / ctx->image_name,
+                          imaging::ToSrgb8(rgb, options.display),
+                          options.display);
+      ++images_written;
+    }
+
+    // Filters, in the order the loss report lists them; an object is counted
+    // once, by the first filter that drops it.
+    std::vector<std::pair<const ObjectTruth*, int>> kept;
+    for (const ObjectTruth& object : frame.objects) {
+      const std::string source = ClassName(object.class_id);
+      const std::optional<int> index = classes.Map(object.class_id);
+      if (!object.bbox || object.bbox->empty() || object.visible_pixels <= 0) {
+        loss->Add(loss::kNotVisible, source);
+      } else if (!index) {
+        loss->Add(loss::kClassNotSelected, source);
+      } else if (object.visibility < options.min_visibility) {
+        loss->Add(loss::kMinVisibility, source);
+      } else if (object.visible_pixels < options.min_pixels) {
+        loss->Add(loss::kMinPixels, source);
+      } else if (options.drop_truncated && object.in_frame < 1.0) {
+        loss->Add(loss::kTruncated, source);
+      } else {
+        kept.emplace_back(&object, *index);
+      }
+    }
+
+    std::vector<const masks::BoxMask*> object_masks(kept.size(), nullptr);
+    if (!instance_layer.empty() && !kept.empty()) {
+      const fs::path path = reader.LayerPath(frame, instance_layer);
+      const exr::FlatImage ids = exr::ReadFlatExr(path, {"id"});
+      if (ids.width() != ctx->width || ids.height() != ctx->height) {
+        Location where(path.string());
+        where.frame = frame.index;
+        throw Error("instanceid layer is " + std::to_string(ids.width()) + "x" +
+                        std::to_string(ids.height()) + ", the camera " +
+                        std::to_string(ctx->width) + "x" +
+                        std::to_string(ctx->height),
+                    where);
+      }
+      const uint32_t* data = ids.Get("id").uints.data();
+      const auto bounds =
+          masks::ComputeIdBounds(data, ids.width(), ids.height());
+      ctx->mask_storage.resize(kept.size());
+      for (size_t i = 0; i < kept.size(); ++i) {
+        const auto it = bounds.find(kept[i].first->instance_id);
+        if (it == bounds.end()) continue;
+        ctx->mask_storage[i] = masks::ExtractMask(data,
+                                                  ids.width(),
+                                                  ids.height(),
+                                                  kept[i].first->instance_id,
+                                                  it->second);
+        object_masks[i] = &ctx->mask_storage[i];
+      }
+    }
+
+    for (size_t i = 0; i < kept.size(); ++i) {
+      const ObjectTruth& object = *kept[i].first;
+      const std::string& name = classes.classes()[kept[i].second].name;
+      if (!instance_layer.empty() && object_masks[i] == nullptr) {
+        loss->Add(loss::kNoMask, ClassName(object.class_id));
+        continue;
+      }
+      KeptObject out;
+      out.truth = &object;
+      out.class_index = kept[i].second;
+      out.box = object.bbox->ClippedTo(ctx->width, ctx->height);
+      if (!(out.box == *object.bbox)) loss->Add(loss::kBoxClipped, name);
+      if (out.box.empty()) {
+        loss->Add(loss::kNotVisible, ClassName(object.class_id));
+        continue;
+      }
+      out.mask = object_masks[i];
+      if (out.mask != nullptr) {
+        const Box2d mask_box{double(out.mask->left),
+                             double(out.mask->top),
+                             double(out.mask->left + out.mask->width()),
+                             double(out.mask->top + out.mask->height())};
+        if (!out.box.Contains(mask_box))
+          loss->Add(loss::kMaskBoxMismatch, name);
+      }
+      if (object.in_frame < 1.0) loss->Add(loss::kClippedAtBorder, name);
+      loss->Add(loss::kKept, name);
+      ctx->objects.push_back(out);
+    }
+  }
+};
+
+}  // namespace
+
+ConvertResult Convert(const ConvertOptions& options) {
+  options.Check();
+  const CollectionReader reader(options.collection);
+  const CollectionHeader& header = reader.header();
+  const ClassMap classes =
+      options.classes.empty()
+          ? ClassMap::All(header.classes)
+          : ClassMap::Parse(options.classes, header.classes);
+  const std::vector<SplitPart> splits = ParseSplit(options.split);
+
+  std::vector<std::unique_ptr<Converter>> converters;
+  bool needs_masks = false;
+  for (const std::string& format : options.formats) {
+    converters.push_back(MakeConverter(format));
+    needs_masks = needs_masks || converters.back()->NeedsMasks();
+  }
+
+  // Refuse early (before any work) and build under a temporary name.
+  AtomicDirectory out(options.output, options.force);
+  Driver driver{options, reader, classes, splits, out.temp_path(), "", ""};
+  if (options.images != "none") {
+    const LayerInfo* rgb = header.FindLayerBySemantic("rgb");
+    if (rgb == nullptr) {
+      throw Error("the collection has no rgb layer; use --images none",
+                  Location(reader.collection_path().string()));
+    }
+    driver.rgb_layer = rgb->name;
+    for (const SplitPart& split : splits)
+      fs::create_directories(out.temp_path() / "images" / split.name);
+  }
+  if (needs_masks) {
+    const LayerInfo* ids = header.FindLayerBySemantic("instanceid");
+    if (ids == nullptr) {
+      throw Error(
+          "the collection has no instanceid layer, which masks are made from",
+          Location(reader.collection_path().string()));
+    }
+    driver.instance_layer = ids->name;
+  }
+
+  ConvertSetup setup;
+  setup.root = out.temp_path();
+  setup.final_root = fs::absolute(options.output).lexically_normal();
+  setup.header = &header;
+  setup.classes = &classes;
+  setup.splits = splits;
+  setup.options = &options;
+  for (auto& converter : converters) converter->Begin(setup);
+
+  ConvertResult result;
+  Progress progress("convert", static_cast<int64_t>(reader.frames_in_file()));
+  std::vector<Frame> batch;
+  batch.reserve(options.batch_size);
+  auto flush = [&] {
+    const size_t n = batch.size();
+    std::vector<FrameContext> contexts(n);
+    std::vector<LossReport> losses(n);
+    std::vector<std::vector<std::unique_ptr<FramePiece>>> pieces(n);
+    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+      driver.Prepare(batch[i], &contexts[i], &losses[i]);
+      for (const auto& converter : converters) {
+        pieces[i].push_back(converter->EncodeFrame(contexts[i], &losses[i]));
+      }
+      if (options.progress) progress.Add();
+    });
+    for (size_t i = 0; i < n; ++i) {
+      result.loss.Merge(losses[i]);
+      for (size_t c = 0; c < converters.size(); ++c) {
+        converters[c]->AddFrame(contexts[i], std::move(pieces[i][c]));
+      }
+    }
+    result.frames += static_cast<int64_t>(n);
+    batch.clear();
+  };
+  reader.ForEachFrame([&](const Frame& frame) {
+    if (frame.index < options.frame_begin ||
+        (options.frame_end >= 0 && frame.index >= options.frame_end)) {
+      return;
+    }
+    batch.push_back(frame);
+    if (batch.size() == options.batch_size) flush();
+  });
+  flush();
+  for (auto& converter : converters) converter->Finish();
+
+  WriteFileAtomic(out.temp_path() / "loss_report.txt", result.loss.ToText());
+  WriteFileAtomic(out.temp_path() / "loss_report.json",
+                  result.loss.ToJson().dump(2) + "\n");
+  out.Commit();
+  result.images_written = driver.images_written;
+  return result;
+}
+
+}  // namespace lsds::convert

@@ -1,0 +1,59 @@
+#include "converters/options.h"
+
+#include <cmath>
+
+#include "converters/registry.h"
+#include "converters/split.h"
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+
+namespace lsds::convert {
+
+void ConvertOptions::Check() const {
+  if (formats.empty()) throw Error("no target format", Location("--to"));
+  const std::vector<std::string> names = ConverterNames();
+  for (const std::string& format : formats) {
+    if (std::find(names.begin(), names.end(), format) == names.end()) {
+      throw Error("unknown format '" + format + "'" +
+                      DidYouMean(format, names) + "; one of " +
+                      Join(names, ", "),
+                  Location("--to"));
+    }
+  }
+  for (size_t i = 0; i < formats.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      const bool both_yolo =
+          formats[i].rfind("yolo", 0) == 0 && formats[j].rfind("yolo", 0) == 0;
+      if (formats[i] == formats[j] || both_yolo) {
+        throw Error("'" + formats[j] + "' and '" + formats[i] +
+                        "' write the same files",
+                    Location("--to"));
+      }
+    }
+  }
+  if (images != "png" && images != "jpg" && images != "none") {
+    throw Error("expected png, jpg or none, got '" + images + "'",
+                Location("--images"));
+  }
+  if (!std::isfinite(display.exposure_ev))
+    throw Error("not a number", Location("--exposure"));
+  if (!(min_visibility >= 0 && min_visibility <= 1)) {
+    throw Error("must be in [0, 1]", Location("--min-visibility"));
+  }
+  if (min_pixels < 1) throw Error("must be >= 1", Location("--min-pixels"));
+  if (segmentation != "rle" && segmentation != "polygon") {
+    throw Error("expected rle or polygon, got '" + segmentation + "'",
+                Location("--segmentation"));
+  }
+  if (!(occluded_below >= 0 && occluded_below <= 1)) {
+    throw Error("must be in [0, 1]", Location("--occluded-below"));
+  }
+  if (frame_begin < 0 || (frame_end >= 0 && frame_end < frame_begin)) {
+    throw Error("expected 0 <= A <= B", Location("--frames"));
+  }
+  if (batch_size < 1) throw Error("must be >= 1", Location("--batch"));
+  ParseSplit(split);
+  if (output.empty()) throw Error("no output folder", Location("-o"));
+}
+
+}  // namespace lsds::convert

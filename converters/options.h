@@ -1,0 +1,44 @@
+// Options of `lsds convert` (docs/convert.md): one struct that checks itself.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "libs/imaging/srgb_image.h"
+
+namespace lsds::convert {
+
+struct ConvertOptions {
+  std::filesystem::path collection;
+  std::filesystem::path output;
+  std::vector<std::string> formats;  // registry names; several share one output
+                                     // folder and its images
+  std::string images = "png";        // png | jpg | none
+  imaging::DisplayOptions display;
+  std::string split = "train=1";
+  double min_visibility = 0;  // keep objects with visibility >= this
+  int64_t min_pixels =
+      1;  // keep objects with at least this many visible pixels
+  std::string
+      classes;  // --classes FILE|LIST; empty: every class of the collection
+  bool drop_truncated =
+      false;  // drop objects cut by the image border (in_frame < 1)
+  std::string segmentation = "rle";  // coco: rle | polygon
+  double occluded_below = 1.0;  // cvat: occluded="1" when visibility < this
+  int64_t frame_begin =
+      0;  // convert the frames with index in [frame_begin, frame_end)
+  int64_t frame_end = -1;  // -1: to the last frame
+  bool force = false;
+  size_t batch_size = 64;  // frames in flight: bounds memory
+  bool progress = true;
+
+  // Throws lsds::Error (exit 2) naming the flag at fault.
+  void Check() const;
+  std::string ImageExtension() const {
+    return images == "jpg" ? ".jpg" : ".png";
+  }
+};
+
+}  // namespace lsds::convert

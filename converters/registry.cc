@@ -1,0 +1,48 @@
+#include "converters/registry.h"
+
+#include <functional>
+
+#include "converters/coco/coco_converter.h"
+#include "converters/cvat/cvat_converter.h"
+#include "converters/yolo/yolo_converter.h"
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+
+namespace lsds::convert {
+
+namespace {
+
+struct Entry {
+  const char* name;
+  std::function<std::unique_ptr<Converter>()> make;
+};
+
+const std::vector<Entry>& Entries() {
+  static const std::vector<Entry> entries = {
+      {"yolo", [] { return MakeYoloConverter(/*segmentation=*/false); }},
+      {"yolo-seg", [] { return MakeYoloConverter(/*segmentation=*/true); }},
+      {"coco", [] { return MakeCocoConverter(); }},
+      {"cvat", [] { return MakeCvatImagesConverter(); }},
+      {"cvat-video", [] { return MakeCvatVideoConverter(); }},
+  };
+  return entries;
+}
+
+}  // namespace
+
+std::vector<std::string> ConverterNames() {
+  std::vector<std::string> names;
+  for (const Entry& entry : Entries()) names.push_back(entry.name);
+  return names;
+}
+
+std::unique_ptr<Converter> MakeConverter(const std::string& name) {
+  for (const Entry& entry : Entries()) {
+    if (name == entry.name) return entry.make();
+  }
+  throw Error(
+      "unknown format '" + name + "'" + DidYouMean(name, ConverterNames()),
+      Location("--to"));
+}
+
+}  // namespace lsds::convert

@@ -1,0 +1,17 @@
+// The registry of target formats: one line per format in registry.cc.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "converters/converter.h"
+
+namespace lsds::convert {
+
+std::vector<std::string>
+ConverterNames();  // yolo, yolo-seg, coco, cvat, cvat-video
+// Throws lsds::Error for an unknown name.
+std::unique_ptr<Converter> MakeConverter(const std::string& name);
+
+}  // namespace lsds::convert

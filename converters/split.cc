@@ -1,0 +1,91 @@
+#include "converters/split.h"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+
+namespace lsds::convert {
+
+std::vector<SplitPart> ParseSplit(const std::string& spec) {
+  std::vector<SplitPart> parts;
+  double sum = 0;
+  const Location where("--split");
+  for (const std::string& entry : Split(spec, ',')) {
+    const size_t eq = entry.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw Error("expected NAME=FRACTION, got '" + entry + "'", where);
+    }
+    SplitPart part;
+    part.name = entry.substr(0, eq);
+    for (char c : part.name) {
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' ||
+            c == '-')) {
+        throw Error("split name '" + part.name +
+                        "' may only hold letters, digits, '_' and '-'",
+                    where);
+      }
+    }
+    const std::string value = entry.substr(eq + 1);
+    char* end = nullptr;
+    part.fraction = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0' || !(part.fraction >= 0) ||
+        !std::isfinite(part.fraction)) {
+      throw Error("bad fraction '" + value + "' for split '" + part.name + "'",
+                  where);
+    }
+    for (const SplitPart& other : parts) {
+      if (other.name == part.name)
+        throw Error("split '" + part.name + "' given twice", where);
+    }
+    sum += part.fraction;
+    parts.push_back(part);
+  }
+  if (parts.empty()) throw Error("no split given", where);
+  if (std::abs(sum - 1.0) > 1e-6) {
+    throw Error("split fractions sum to " + std::to_string(sum) + ", not 1",
+                where);
+  }
+  return parts;
+}
+
+uint64_t Fnv1a64(const std::string& text) {
+  uint64_t hash = 14695981039346656037ull;
+  for (unsigned char c : text) {
+    hash ^= c;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+std::string SplitGroup(const Frame& frame, int64_t block) {
+  if (!frame.sequence.empty()) return frame.sequence;
+  return "#frames/" + std::to_string(frame.index / block);
+}
+
+uint64_t Mix64(uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ull;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebull;
+  x ^= x >> 31;
+  return x;
+}
+
+const std::string& AssignSplit(const std::vector<SplitPart>& parts,
+                               const std::string& group) {
+  const double u = static_cast<double>(Mix64(Fnv1a64(group)) >> 11) * 0x1.0p-53;
+  double cumulative = 0;
+  for (const SplitPart& part : parts) {
+    cumulative += part.fraction;
+    if (u < cumulative) return part.name;
+  }
+  // Rounding of the sum: the last part with a non-zero share.
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
+    if (it->fraction > 0) return it->name;
+  }
+  return parts.back().name;
+}
+
+}  // namespace lsds::convert

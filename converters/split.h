@@ -1,0 +1,41 @@
+// Deterministic train/val/test splits by a stable hash of each frame's group,
+// so that the frames of one sequence (near-identical neighbours) never straddle
+// two splits.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "libs/collection/model.h"
+
+namespace lsds::convert {
+
+struct SplitPart {
+  std::string name;
+  double fraction = 0;
+};
+
+// "train=0.8,val=0.2[,test=...]": names [A-Za-z0-9_-], fractions >= 0 summing
+// to 1 (within 1e-6).
+std::vector<SplitPart> ParseSplit(const std::string& spec);
+
+// 64-bit FNV-1a of the bytes of `text`: stable across platforms, runs and
+// versions.
+uint64_t Fnv1a64(const std::string& text);
+
+// The group a frame is split with: its sequence; frames without one are grouped
+// in blocks of `block` consecutive frame indices ("#frames/<index / block>").
+std::string SplitGroup(const Frame& frame, int64_t block = 50);
+
+// SplitMix64's finalizer: FNV-1a alone leaves its top bits poorly mixed for
+// names that differ only in their last characters ("seq_1", "seq_2"), which
+// would skew the split proportions.
+uint64_t Mix64(uint64_t x);
+
+// The split of a group: u = top 53 bits of Mix64(FNV-1a(group)) / 2^53 in [0,
+// 1), the first part whose cumulative fraction exceeds u.
+const std::string& AssignSplit(const std::vector<SplitPart>& parts,
+                               const std::string& group);
+
+}  // namespace lsds::convert

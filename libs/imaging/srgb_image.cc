@@ -1,0 +1,90 @@
+#include "libs/imaging/srgb_image.h"
+
+#include <array>
+#include <cmath>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "libs/util/error.h"
+
+namespace lsds::imaging {
+
+namespace {
+
+// The sRGB encoding of [0, 1] sampled finely enough that every 8-bit output is
+// exact except within 1/kSteps of a rounding boundary (the curve's steepest
+// slope is 12.92).
+constexpr int kSteps = 1 << 16;
+
+const std::array<uint8_t, kSteps + 1>& SrgbTable() {
+  static const std::array<uint8_t, kSteps + 1> table = [] {
+    std::array<uint8_t, kSteps + 1> t{};
+    for (int i = 0; i <= kSteps; ++i) {
+      const double v = static_cast<double>(i) / kSteps;
+      const double e =
+          v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+      t[i] = static_cast<uint8_t>(std::lround(std::clamp(e, 0.0, 1.0) * 255.0));
+    }
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+bool ParseToneMap(const std::string& name, ToneMap* tonemap) {
+  if (name == "clamp") {
+    *tonemap = ToneMap::kClamp;
+  } else if (name == "reinhard") {
+    *tonemap = ToneMap::kReinhard;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
+  const std::array<uint8_t, kSteps + 1>& table = SrgbTable();
+  const float scale = static_cast<float>(std::exp2(options.exposure_ev));
+  const bool reinhard = options.tonemap == ToneMap::kReinhard;
+  const float* channels[3] = {rgb.Get("B").floats.data(),
+                              rgb.Get("G").floats.data(),
+                              rgb.Get("R").floats.data()};
+  cv::Mat out(rgb.height(), rgb.width(), CV_8UC3);
+  for (int y = 0; y < rgb.height(); ++y) {
+    uint8_t* dst = out.ptr<uint8_t>(y);
+    const size_t row = static_cast<size_t>(y) * rgb.width();
+    for (int x = 0; x < rgb.width(); ++x) {
+      for (int c = 0; c < 3; ++c) {
+        float v = channels[c][row + x] * scale;
+        if (!(v > 0.f)) v = 0.f;  // negatives and NaN
+        if (reinhard) v = v / (1.f + v);
+        if (v > 1.f) v = 1.f;
+        dst[3 * x + c] = table[static_cast<int>(v * kSteps + 0.5f)];
+      }
+    }
+  }
+  return out;
+}
+
+void WriteImage(const std::filesystem::path& path,
+                const cv::Mat& bgr,
+                const DisplayOptions& options) {
+  std::vector<int> params;
+  const std::string ext = path.extension().string();
+  if (ext == ".jpg" || ext == ".jpeg") {
+    params = {cv::IMWRITE_JPEG_QUALITY, options.jpeg_quality};
+  } else {
+    params = {cv::IMWRITE_PNG_COMPRESSION, options.png_compression};
+  }
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path.string(), bgr, params);
+  } catch (const cv::Exception& e) {
+    throw Error(std::string("cannot write image: ") + e.what(),
+                Location(path.string()));
+  }
+  if (!ok) throw Error("cannot write image", Location(path.string()));
+}
+
+}  // namespace lsds::imaging

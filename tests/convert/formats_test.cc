@@ -1,0 +1,574 @@
+// Every format end to end on synthesized collections with exact truth: masks
+// decode to exactly the instance masks, boxes to the AABBs, splits are
+// deterministic and grouped, filters are reported.
+#include <cmath>
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "converters/class_map.h"
+#include "converters/split.h"
+#include "libs/util/error.h"
+#include "tests/convert/convert_test_util.h"
+#include "tests/convert/reference_decoders.h"
+
+namespace lsds::testing {
+namespace {
+
+using nlohmann::json;
+
+constexpr uint32_t kSinglePixel = 7;
+constexpr uint32_t kBorder = 8;
+
+// The default scene plus a box covering exactly one pixel centre in frame 0 and
+// a box cut by the left image border.
+synth::Spec TestSpec() {
+  synth::Spec spec = synth::DefaultSpec();
+  const PinholeCamera camera =
+      PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
+  const Rigid3d world_from_cam = spec.cam_from_world[0].Inverse();
+  const Eigen::Vector3d ray = camera.CamFromImage({40.5, 20.5});
+  const Eigen::Vector3d top_in_world =
+      world_from_cam * Eigen::Vector3d(ray / ray.z() * 19.0);
+  synth::Box pixel;
+  pixel.class_id = 3, pixel.instance_id = kSinglePixel, pixel.name = "crate#1";
+  pixel.center = top_in_world - Eigen::Vector3d(0, 0, 0.05);
+  pixel.half_extents = {0.05, 0.05, 0.05};
+  synth::Box border;
+  border.class_id = 2, border.instance_id = kBorder, border.name = "box#2";
+  // Centred on the ray through the left border pixel (0, 24) at the box top, z = 1.
+  const Eigen::Vector3d edge = camera.CamFromImage({0.5, 24.5});
+  border.center = world_from_cam * Eigen::Vector3d(edge / edge.z() * 19.0) -
+                  Eigen::Vector3d(0, 0, 0.5);
+  border.half_extents = {1.0, 1.0, 0.5};
+  spec.boxes.push_back(pixel);
+  spec.boxes.push_back(border);
+  return spec;
+}
+
+class ConvertTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    synth::WriteCollection(Collection(), TestSpec());
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static fs::path Collection() { return dir_->path() / "collection"; }
+  fs::path Out(const std::string& name) const { return dir_->path() / name; }
+
+  static TempDir* dir_;
+};
+TempDir* ConvertTest::dir_ = nullptr;
+
+TEST_F(ConvertTest, PreconditionsOfTheTestScene) {
+  const std::vector<Frame> frames = Frames(Collection());
+  ASSERT_EQ(frames.size(), 4u);
+  bool single = false, border = false;
+  for (const ObjectTruth& o : frames[0].objects) {
+    if (o.instance_id == kSinglePixel) single = o.visible_pixels == 1;
+    if (o.instance_id == kBorder)
+      border = o.bbox && o.bbox->x0 == 0 && o.in_frame < 1;
+  }
+  EXPECT_TRUE(single);
+  EXPECT_TRUE(border);
+}
+
+TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
+  const fs::path out = Out("coco");
+  const convert::ConvertResult result =
+      convert::Convert(Options(Collection(), out, {"coco"}));
+  EXPECT_EQ(result.frames, 4);
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const std::vector<Frame> frames = Frames(Collection());
+  ASSERT_EQ(coco["images"].size(), frames.size());
+  // Categories: the class table in id order, ids 1..K.
+  ASSERT_EQ(coco["categories"].size(), 3u);
+  EXPECT_EQ(coco["categories"][1]["name"], "box");
+  EXPECT_EQ(coco["categories"][1]["id"], 2);
+
+  std::map<int64_t, const Frame*> by_image;
+  for (const Frame& f : frames) by_image[f.index + 1] = &f;
+  size_t expected = 0;
+  for (const Frame& f : frames) {
+    for (const ObjectTruth& o : f.objects) expected += o.visible_pixels > 0;
+  }
+  ASSERT_EQ(coco["annotations"].size(), expected);
+  std::set<int64_t> ids;
+  bool saw_single = false, saw_border = false;
+  for (const json& a : coco["annotations"]) {
+    ids.insert(a["id"].get<int64_t>());
+    const Frame& frame = *by_image.at(a["image_id"]);
+    const uint32_t instance = a["lsds"]["instance_id"];
+    const ObjectTruth* truth = nullptr;
+    for (const ObjectTruth& o : frame.objects) {
+      if (o.instance_id == instance) truth = &o;
+    }
+    ASSERT_NE(truth, nullptr);
+    const cv::Mat expected_mask = InstanceMask(Collection(), frame, instance);
+    EXPECT_EQ(a["segmentation"]["size"], json::array({48, 64}));
+    int64_t total = 0;
+    const cv::Mat decoded = CocoDecode(
+        CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &total);
+    EXPECT_EQ(total, 48 * 64);
+    EXPECT_TRUE(SameMask(decoded, expected_mask))
+        << "instance " << instance << " frame " << frame.index;
+    EXPECT_EQ(a["area"], cv::countNonZero(expected_mask));
+    EXPECT_EQ(a["iscrowd"], 0);
+    EXPECT_EQ(a["category_id"],
+              truth->class_id);  // class table 1, 2, 3 -> categories 1, 2, 3
+    const Box2d& b = *truth->bbox;
+    EXPECT_EQ(a["bbox"], json::array({b.x0, b.y0, b.width(), b.height()}));
+    // The mask's extent is the box.
+    const cv::Rect r = cv::boundingRect(expected_mask);
+    EXPECT_EQ(r.x, b.x0);
+    EXPECT_EQ(r.x + r.width, b.x1);
+    if (instance == kSinglePixel && frame.index == 0) {
+      saw_single = true;
+      EXPECT_EQ(a["area"], 1);
+      EXPECT_EQ(a["bbox"], json::array({40.0, 20.0, 1.0, 1.0}));
+    }
+    if (instance == kBorder && frame.index == 0) {
+      saw_border = true;
+      EXPECT_EQ(a["bbox"][0], 0.0);
+      EXPECT_LT(a["lsds"]["in_frame"].get<double>(), 1.0);
+    }
+  }
+  EXPECT_TRUE(saw_single);
+  EXPECT_TRUE(saw_border);
+  EXPECT_EQ(ids.size(), coco["annotations"].size());  // unique
+  EXPECT_GT(result.loss.Total(convert::loss::kClippedAtBorder), 0);
+}
+
+TEST_F(ConvertTest, CvatMasksEqualInstanceMasksAndCocoMasks) {
+  const fs::path out = Out("cvat_coco");
+  convert::Convert(Options(Collection(), out, {"cvat", "coco"}));
+  const std::string xml = ReadText(out / "annotations" / "cvat_train.xml");
+  EXPECT_NE(xml.find("<version>1.1</version>"), std::string::npos);
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const auto masks = XmlElements(xml, "mask");
+  const auto boxes = XmlElements(xml, "box");
+  ASSERT_EQ(masks.size(), coco["annotations"].size());
+  ASSERT_EQ(boxes.size(), masks.size());
+  // Both list the kept objects frame by frame in the collection's order.
+  for (size_t i = 0; i < masks.size(); ++i) {
+    const auto& m = masks[i];
+    int64_t total = 0;
+    const cv::Mat cvat = CvatDecode(m.at("rle"),
+                                    std::stoi(m.at("left")),
+                                    std::stoi(m.at("top")),
+                                    std::stoi(m.at("width")),
+                                    std::stoi(m.at("height")),
+                                    64,
+                                    48,
+                                    &total);
+    EXPECT_EQ(total, std::stoll(m.at("width")) * std::stoll(m.at("height")));
+    const json& a = coco["annotations"][i];
+    int64_t coco_total = 0;
+    const cv::Mat from_coco = CocoDecode(
+        CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &coco_total);
+    EXPECT_TRUE(SameMask(cvat, from_coco)) << "annotation " << i;
+    // The CVAT box is the COCO box in corner form; the mask box is its integer
+    // form.
+    EXPECT_NEAR(
+        std::stod(boxes[i].at("xtl")), a["bbox"][0].get<double>(), 1e-9);
+    EXPECT_NEAR(std::stod(boxes[i].at("xbr")),
+                a["bbox"][0].get<double>() + a["bbox"][2].get<double>(),
+                1e-9);
+    EXPECT_EQ(std::stoi(m.at("left")), a["bbox"][0].get<int>());
+    EXPECT_EQ(std::stoi(m.at("width")), a["bbox"][2].get<int>());
+    EXPECT_EQ(m.at("occluded"),
+              a["lsds"]["visibility"].get<double>() < 1.0 ? "1" : "0");
+  }
+  EXPECT_EQ(XmlElements(xml, "image").size(), 4u);
+}
+
+TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
+  const fs::path out = Out("yolo");
+  convert::Convert(Options(Collection(), out, {"yolo"}));
+  const std::string yaml = ReadText(out / "data.yaml");
+  EXPECT_NE(
+      yaml.find("names:\n  0: \"ground\"\n  1: \"box\"\n  2: \"crate\"\n"),
+      std::string::npos)
+      << yaml;
+  EXPECT_NE(yaml.find("path: \"" +
+                      fs::absolute(out).lexically_normal().string() + "\""),
+            std::string::npos);
+  EXPECT_NE(yaml.find("train: images/train\nval: images/train\n"),
+            std::string::npos);
+  for (const Frame& frame : Frames(Collection())) {
+    std::istringstream labels(
+        ReadText(out / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
+    std::vector<const ObjectTruth*> visible;
+    for (const ObjectTruth& o : frame.objects) {
+      if (o.visible_pixels > 0) visible.push_back(&o);
+    }
+    int cls;
+    double xc, yc, w, h;
+    size_t n = 0;
+    while (labels >> cls >> xc >> yc >> w >> h) {
+      ASSERT_LT(n, visible.size());
+      const ObjectTruth& o = *visible[n++];
+      EXPECT_EQ(cls, static_cast<int>(o.class_id) - 1);
+      for (double v : {xc, yc, w, h}) {
+        EXPECT_GE(v, 0.0);
+        EXPECT_LE(v, 1.0);
+      }
+      EXPECT_NEAR((xc - w / 2) * 64, o.bbox->x0, 0.5);
+      EXPECT_NEAR((xc + w / 2) * 64, o.bbox->x1, 0.5);
+      EXPECT_NEAR((yc - h / 2) * 48, o.bbox->y0, 0.5);
+      EXPECT_NEAR((yc + h / 2) * 48, o.bbox->y1, 0.5);
+    }
+    EXPECT_EQ(n, visible.size());
+  }
+}
+
+TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
+  const fs::path out = Out("yolo_seg");
+  const convert::ConvertResult result =
+      convert::Convert(Options(Collection(), out, {"yolo-seg"}));
+  const json coco_like = nullptr;
+  for (const Frame& frame : Frames(Collection())) {
+    std::istringstream labels(
+        ReadText(out / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
+    std::vector<const ObjectTruth*> visible;
+    for (const ObjectTruth& o : frame.objects) {
+      if (o.visible_pixels > 0) visible.push_back(&o);
+    }
+    std::string line;
+    size_t n = 0;
+    while (std::getline(labels, line)) {
+      ASSERT_LT(n, visible.size());
+      const ObjectTruth& o = *visible[n++];
+      std::istringstream in(line);
+      int cls;
+      in >> cls;
+      EXPECT_EQ(cls, static_cast<int>(o.class_id) - 1);
+      std::vector<double> v;
+      double x;
+      while (in >> x) v.push_back(x);
+      ASSERT_EQ(v.size() % 2, 0u);
+      ASSERT_GE(v.size(), 6u);  // at least a triangle
+      for (size_t k = 0; k < v.size(); k += 2) {
+        EXPECT_GE(v[k] * 64, o.bbox->x0 - 1e-4);
+        EXPECT_LE(v[k] * 64, o.bbox->x1 + 1e-4);
+        EXPECT_GE(v[k + 1] * 48, o.bbox->y0 - 1e-4);
+        EXPECT_LE(v[k + 1] * 48, o.bbox->y1 + 1e-4);
+      }
+      if (o.instance_id == kSinglePixel && o.visible_pixels == 1) {
+        // A single pixel is its pixel-edge square.
+        EXPECT_EQ(v.size(), 8u);
+      }
+    }
+    EXPECT_EQ(n, visible.size());
+  }
+  EXPECT_EQ(result.loss.Total(convert::loss::kPiecesMerged), 0);
+}
+
+TEST_F(ConvertTest, CvatVideoHasOneTrackPerInstance) {
+  const fs::path out = Out("cvat_video");
+  convert::Convert(Options(Collection(), out, {"cvat-video"}));
+  const std::string xml =
+      ReadText(out / "annotations" / "cvat_video_train.xml");
+  const auto tracks = XmlElements(xml, "track");
+  std::set<uint32_t> instances;
+  for (const Frame& frame : Frames(Collection())) {
+    for (const ObjectTruth& o : frame.objects) {
+      if (o.visible_pixels > 0) instances.insert(o.instance_id);
+    }
+  }
+  EXPECT_EQ(tracks.size(), instances.size());
+  EXPECT_NE(xml.find("<mode>interpolation</mode>"), std::string::npos);
+  // Every track starts with a visible keyframe; frames are numbered within the
+  // split.
+  for (const auto& box : XmlElements(xml, "box")) {
+    EXPECT_EQ(box.at("keyframe"), "1");
+    EXPECT_LT(std::stoi(box.at("frame")), 4);
+  }
+}
+
+TEST_F(ConvertTest, FiltersAndClassesAreReported) {
+  const fs::path out = Out("filtered");
+  convert::ConvertOptions options = Options(Collection(), out, {"yolo"});
+  options.min_pixels = 2;
+  options.classes = "box=thing,crate=thing";
+  options.drop_truncated = true;
+  const convert::ConvertResult result = convert::Convert(options);
+  EXPECT_NE(ReadText(out / "data.yaml").find("names:\n  0: \"thing\"\n"),
+            std::string::npos);
+  const json report = json::parse(ReadText(out / "loss_report.json"));
+  EXPECT_GE(result.loss.Count(convert::loss::kMinPixels, "crate"),
+            1);  // the single pixel
+  EXPECT_GE(result.loss.Count(convert::loss::kTruncated, "box"),
+            1);  // the border box
+  EXPECT_EQ(report["counts"][convert::loss::kMinPixels]["per_class"]["crate"],
+            result.loss.Count(convert::loss::kMinPixels, "crate"));
+  EXPECT_NE(ReadText(out / "loss_report.txt").find(convert::loss::kMinPixels),
+            std::string::npos);
+  // Every kept object is class 0.
+  for (const auto& entry : fs::directory_iterator(out / "labels" / "train")) {
+    std::istringstream in(ReadText(entry.path()));
+    std::string line;
+    while (std::getline(in, line)) EXPECT_EQ(line.substr(0, 2), "0 ");
+  }
+}
+
+TEST_F(ConvertTest, MinVisibilityDropsOccludedObjects) {
+  convert::ConvertOptions options =
+      Options(Collection(), Out("visible"), {"coco"});
+  options.min_visibility = 0.999;
+  const convert::ConvertResult result = convert::Convert(options);
+  int64_t below = 0;
+  for (const Frame& frame : Frames(Collection())) {
+    for (const ObjectTruth& o : frame.objects)
+      below += o.visible_pixels > 0 && o.visibility < 0.999;
+  }
+  EXPECT_EQ(result.loss.Total(convert::loss::kMinVisibility), below);
+}
+
+TEST_F(ConvertTest, RefusesNonEmptyOutputWithoutForce) {
+  const fs::path out = Out("busy");
+  fs::create_directories(out);
+  std::ofstream(out / "keep.txt") << "x";
+  EXPECT_THROW(convert::Convert(Options(Collection(), out, {"yolo"})), Error);
+  EXPECT_TRUE(fs::exists(out / "keep.txt"));
+  convert::ConvertOptions options = Options(Collection(), out, {"yolo"});
+  options.force = true;
+  convert::Convert(options);
+  EXPECT_FALSE(fs::exists(out / "keep.txt"));
+  EXPECT_TRUE(fs::exists(out / "data.yaml"));
+  // An empty folder is fine without --force.
+  const fs::path empty = Out("empty");
+  fs::create_directories(empty);
+  convert::Convert(Options(Collection(), empty, {"yolo"}));
+  EXPECT_TRUE(fs::exists(empty / "data.yaml"));
+}
+
+TEST_F(ConvertTest, ImagesAreSrgbEncodedOnce) {
+  const fs::path out = Out("images");
+  convert::ConvertOptions options =
+      Options(Collection(), out, {"yolo", "coco"});
+  options.images = "png";
+  const convert::ConvertResult result = convert::Convert(options);
+  EXPECT_EQ(result.images_written, 4);
+  const Frame frame = Frames(Collection())[1];
+  const cv::Mat png = cv::imread(
+      (out / "images" / "train" / "000001.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(png.type(), CV_8UC3);
+  exr::FlatImage rgb =
+      exr::ReadFlatExr(Collection() / frame.files.at("rgb"), {"R", "G", "B"});
+  auto srgb = [](double v) {
+    v = std::clamp(v, 0.0, 1.0);
+    return std::lround(255 * (v <= 0.0031308
+                                  ? 12.92 * v
+                                  : 1.055 * std::pow(v, 1 / 2.4) - 0.055));
+  };
+  for (int y = 0; y < 48; y += 7) {
+    for (int x = 0; x < 64; x += 5) {
+      const cv::Vec3b p = png.at<cv::Vec3b>(y, x);
+      EXPECT_NEAR(p[2], srgb(rgb.F("R", x, y)), 1);
+      EXPECT_NEAR(p[1], srgb(rgb.F("G", x, y)), 1);
+      EXPECT_NEAR(p[0], srgb(rgb.F("B", x, y)), 1);
+    }
+  }
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  EXPECT_EQ(coco["images"][1]["file_name"], "000001.png");
+}
+
+TEST_F(ConvertTest, OutputIsDeterministic) {
+  convert::ConvertOptions a =
+      Options(Collection(), Out("det_a"), {"coco", "cvat"});
+  convert::ConvertOptions b =
+      Options(Collection(), Out("det_b"), {"coco", "cvat"});
+  a.batch_size = 1;  // different batching, same files
+  convert::Convert(a);
+  convert::Convert(b);
+  for (const char* file : {"annotations/instances_train.json",
+                           "annotations/cvat_train.xml",
+                           "loss_report.json"}) {
+    EXPECT_EQ(ReadText(Out("det_a") / file), ReadText(Out("det_b") / file))
+        << file;
+  }
+}
+
+TEST_F(ConvertTest, CommandLineExitCodes) {
+  const std::string lsds = std::string(LSDS_BINARY_DIR) + "/tools/lsds";
+  const std::string out = (Out("cli")).string();
+  const std::string ok = lsds + " convert " + Collection().string() +
+                         " --to yolo --images none -q -o " + out;
+  EXPECT_EQ(std::system(ok.c_str()), 0);
+  EXPECT_EQ(WEXITSTATUS(std::system((ok + " 2>/dev/null").c_str())),
+            2);  // not empty, no --force
+  EXPECT_EQ(WEXITSTATUS(std::system((ok + " --force").c_str())), 0);
+  const std::string bad = lsds + " convert " + Collection().string() +
+                          " --to yollo -o " + out + "x 2>/dev/null";
+  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
+  const std::string split = lsds + " convert " + Collection().string() +
+                            " --to coco --split train=0.5,val=0.4 -o " + out +
+                            "y 2>/dev/null";
+  EXPECT_EQ(WEXITSTATUS(std::system(split.c_str())), 2);
+}
+
+TEST(Splits, DeterministicGroupedAndProportional) {
+  const auto parts = convert::ParseSplit("train=0.7,val=0.2,test=0.1");
+  ASSERT_EQ(parts.size(), 3u);
+  EXPECT_THROW(convert::ParseSplit("train=0.7,val=0.2"), Error);
+  EXPECT_THROW(convert::ParseSplit("train=1,train=0"), Error);
+  EXPECT_THROW(convert::ParseSplit("train"), Error);
+  EXPECT_EQ(convert::Fnv1a64(""), 14695981039346656037ull);
+  EXPECT_EQ(convert::Fnv1a64("a"),
+            0xaf63dc4c8601ec8cull);  // the FNV-1a 64 test vector
+  std::map<std::string, int> counts;
+  for (int g = 0; g < 2000; ++g) {
+    const std::string group = "sequence_" + std::to_string(g);
+    const std::string& split = convert::AssignSplit(parts, group);
+    EXPECT_EQ(split, convert::AssignSplit(parts, group));
+    ++counts[split];
+  }
+  EXPECT_NEAR(counts["train"], 1400, 100);
+  EXPECT_NEAR(counts["val"], 400, 80);
+  EXPECT_NEAR(counts["test"], 200, 60);
+  // Frames of one sequence share a split; frames without one go by blocks of
+  // consecutive indices.
+  Frame a, b, c;
+  a.sequence = b.sequence = "flight-3";
+  a.index = 0, b.index = 999;
+  EXPECT_EQ(convert::SplitGroup(a), convert::SplitGroup(b));
+  c.index = 49;
+  Frame d;
+  d.index = 10;
+  EXPECT_EQ(convert::SplitGroup(c), convert::SplitGroup(d));
+}
+
+TEST_F(ConvertTest, SplitsKeepSequencesTogether) {
+  const fs::path out = Out("split");
+  convert::ConvertOptions options =
+      Options(Collection(), out, {"yolo", "coco"});
+  options.split = "train=0.5,val=0.5";
+  convert::Convert(options);
+  // The one sequence lands entirely in one split, the other split is empty but
+  // present.
+  const json train =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json val =
+      json::parse(ReadText(out / "annotations" / "instances_val.json"));
+  EXPECT_EQ(train["images"].size() + val["images"].size(), 4u);
+  EXPECT_TRUE(train["images"].empty() || val["images"].empty());
+  const std::string expected =
+      convert::AssignSplit(convert::ParseSplit(options.split), "S1");
+  EXPECT_EQ((expected == "train" ? train : val)["images"].size(), 4u);
+  EXPECT_NE(ReadText(out / "data.yaml").find("val: images/val\n"),
+            std::string::npos);
+}
+
+TEST(ClassMap, SubsetRenameMergeAndErrors) {
+  const std::vector<ClassInfo> classes = {
+      {1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
+  const auto map =
+      convert::ClassMap::Parse("person, car=vehicle, 3=vehicle", classes);
+  ASSERT_EQ(map.classes().size(), 2u);
+  EXPECT_EQ(map.classes()[0].name, "person");
+  EXPECT_EQ(map.classes()[1].name, "vehicle");
+  EXPECT_EQ(map.Map(2), 1);
+  EXPECT_EQ(map.Map(3), 1);
+  EXPECT_EQ(map.Map(4), 0);
+  EXPECT_FALSE(map.Map(1).has_value());
+  try {
+    convert::ClassMap::Parse("persn", classes);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("did you mean 'person'"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(convert::ClassMap::Parse("car,car=x", classes), Error);
+}
+
+}  // namespace
+}  // namespace lsds::testing
+
+namespace lsds::testing {
+namespace {
+
+// A crate cut in two by a pole standing on it, and a flat crate with a pillar
+// in its middle (a hole): what polygons do with pieces and holes.
+TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
+  TempDir dir;
+  synth::Spec spec = synth::DefaultSpec();
+  spec.boxes.clear();
+  auto add = [&](uint32_t class_id,
+                 uint32_t id,
+                 Eigen::Vector3d center,
+                 Eigen::Vector3d half) {
+    synth::Box box;
+    box.class_id = class_id, box.instance_id = id;
+    box.name = "b" + std::to_string(id);
+    box.center = center, box.half_extents = half;
+    spec.boxes.push_back(box);
+  };
+  add(3, 21, {0, -5, 0.3}, {0.4, 3, 0.3});    // long crate along image x
+  add(2, 22, {0, -5, 2.5}, {1.0, 0.4, 2.5});  // pole across it
+  add(3, 23, {0, 5, 0.2}, {2, 2, 0.2});       // flat crate
+  add(2, 24, {0, 5, 2}, {0.5, 0.5, 2});       // pillar in its middle
+  spec.cam_from_world = {synth::NadirCamFromWorld({0, 0, 20})};
+  spec.layers = {"rgb", "classid", "instanceid"};
+  const fs::path collection = dir.path() / "c";
+  synth::WriteCollection(collection, spec);
+  const Frame frame = Frames(collection)[0];
+
+  const convert::ConvertResult seg =
+      convert::Convert(Options(collection, dir.path() / "seg", {"yolo-seg"}));
+  EXPECT_EQ(seg.loss.Count(convert::loss::kPiecesMerged, "crate"), 1);
+  EXPECT_EQ(seg.loss.Count(convert::loss::kHolesFilled, "crate"), 1);
+  // The bridged polygon, filled, covers both pieces of the crate.
+  std::istringstream labels(
+      ReadText(dir.path() / "seg" / "labels" / "train" / "000000.txt"));
+  std::string line;
+  bool checked = false;
+  size_t k = 0;
+  while (std::getline(labels, line)) {
+    const ObjectTruth& o = frame.objects[k++];
+    if (o.instance_id != 21) continue;
+    std::istringstream in(line);
+    int cls;
+    in >> cls;
+    std::vector<cv::Point> points;
+    double x, y;
+    while (in >> x >> y) {
+      points.emplace_back(static_cast<int>(std::lround(x * 64 - 0.5)),
+                          static_cast<int>(std::lround(y * 48 - 0.5)));
+    }
+    cv::Mat filled = cv::Mat::zeros(48, 64, CV_8U);
+    cv::fillPoly(filled, std::vector<std::vector<cv::Point>>{points}, 1);
+    const cv::Mat mask = InstanceMask(collection, frame, 21);
+    EXPECT_EQ(cv::countNonZero(mask & (filled == 0)), 0);
+    checked = true;
+  }
+  EXPECT_TRUE(checked);
+
+  convert::ConvertOptions options =
+      Options(collection, dir.path() / "poly", {"coco"});
+  options.segmentation = "polygon";
+  const convert::ConvertResult poly = convert::Convert(options);
+  EXPECT_EQ(poly.loss.Count(convert::loss::kPiecesSplit, "crate"), 1);
+  const json coco = json::parse(
+      ReadText(dir.path() / "poly" / "annotations" / "instances_train.json"));
+  for (const json& a : coco["annotations"]) {
+    const uint32_t id = a["lsds"]["instance_id"];
+    if (id == 21) {
+      EXPECT_EQ(a["segmentation"].size(), 2u);
+    }
+    if (id == 23) {
+      EXPECT_EQ(a["segmentation"].size(), 1u);
+    }
+    // area stays the mask pixel count, not a polygon area.
+    EXPECT_EQ(a["area"], cv::countNonZero(InstanceMask(collection, frame, id)));
+  }
+}
+
+}  // namespace
+}  // namespace lsds::testing

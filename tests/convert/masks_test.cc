@@ -1,0 +1,182 @@
+// COCO and CVAT RLE and polygons against reference decoders, on hand-made and
+// random masks.
+#include <random>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "libs/masks/coco_rle.h"
+#include "libs/masks/contours.h"
+#include "libs/masks/cvat_rle.h"
+#include "libs/masks/instance_masks.h"
+#include "tests/convert/reference_decoders.h"
+
+namespace lsds::masks {
+namespace {
+
+using testing::CocoCountsFromString;
+using testing::CocoDecode;
+using testing::CvatDecode;
+using testing::SameMask;
+
+// The BoxMask of instance `id` of a full-image id map.
+BoxMask MaskOf(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
+  const auto bounds = ComputeIdBounds(ids.data(), w, h);
+  const auto it = bounds.find(id);
+  BoxMask empty;
+  empty.image_width = w;
+  empty.image_height = h;
+  return it == bounds.end() ? empty
+                            : ExtractMask(ids.data(), w, h, id, it->second);
+}
+
+cv::Mat FullMask(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
+  cv::Mat m(h, w, CV_8U);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) m.at<uint8_t>(y, x) = ids[y * w + x] == id;
+  }
+  return m;
+}
+
+void ExpectRoundTrips(const std::vector<uint32_t>& ids,
+                      int w,
+                      int h,
+                      uint32_t id) {
+  const BoxMask mask = MaskOf(ids, w, h, id);
+  const cv::Mat truth = FullMask(ids, w, h, id);
+  EXPECT_EQ(mask.pixel_count, cv::countNonZero(truth));
+  EXPECT_TRUE(SameMask(ToFullImage(mask), truth));
+
+  const std::vector<uint32_t> counts = CocoRleCounts(mask);
+  const std::string coco = CocoRleToString(counts);
+  EXPECT_EQ(CocoCountsFromString(coco), counts);
+  int64_t total = 0;
+  EXPECT_TRUE(
+      SameMask(CocoDecode(CocoCountsFromString(coco), h, w, &total), truth));
+  EXPECT_EQ(total, int64_t{w} * h);
+
+  if (!mask.empty()) {
+    int64_t cvat_total = 0;
+    const cv::Mat cvat = CvatDecode(CvatRleToString(CvatRleCounts(mask)),
+                                    mask.left,
+                                    mask.top,
+                                    mask.width(),
+                                    mask.height(),
+                                    w,
+                                    h,
+                                    &cvat_total);
+    EXPECT_TRUE(SameMask(cvat, truth));
+    EXPECT_EQ(cvat_total, int64_t{mask.width()} * mask.height());
+  }
+}
+
+TEST(CocoRle, KnownEncodingOfTheCocoApi) {
+  // pycocotools: mask [[0,1],[1,1]] (h=2, w=2, column-major 0,1,1,1) -> counts
+  // [1,3] -> "13".
+  std::vector<uint32_t> ids = {0, 5, 5, 5};
+  const BoxMask mask = MaskOf(ids, 2, 2, 5);
+  EXPECT_EQ(CocoRleCounts(mask), (std::vector<uint32_t>{1, 3}));
+  EXPECT_EQ(CocoRleToString({1, 3}), "13");
+  // Foreground first: a leading background run of 0.
+  ids = {5, 0, 0, 0};
+  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 2, 2, 5)),
+            (std::vector<uint32_t>{0, 1, 3}));
+  // Large counts and negative deltas ("i > 2" quirk of rleToString).
+  const std::vector<uint32_t> counts = {100000, 3, 7, 1, 99999, 2, 0};
+  EXPECT_EQ(CocoCountsFromString(CocoRleToString(counts)), counts);
+}
+
+TEST(CocoRle, ColumnMajorNotRowMajor) {
+  // A horizontal 3-pixel line in a 3x3 image: column-major runs are
+  // 1,1,2,1,2,1,1.
+  std::vector<uint32_t> ids = {0, 0, 0, 7, 7, 7, 0, 0, 0};
+  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 3, 3, 7)),
+            (std::vector<uint32_t>{1, 1, 2, 1, 2, 1, 1}));
+  // CVAT: row-major inside the tight box (1 row of 3): no background, one run
+  // of 3.
+  EXPECT_EQ(CvatRleCounts(MaskOf(ids, 3, 3, 7)), (std::vector<uint32_t>{0, 3}));
+}
+
+TEST(CocoRle, SinglePixelAndBorderObjects) {
+  const int w = 7, h = 5;
+  for (int y : {0, 2, h - 1}) {
+    for (int x : {0, 3, w - 1}) {
+      std::vector<uint32_t> ids(w * h, 0);
+      ids[y * w + x] = 9;
+      ExpectRoundTrips(ids, w, h, 9);
+    }
+  }
+  std::vector<uint32_t> full(w * h, 4);  // the whole image
+  ExpectRoundTrips(full, w, h, 4);
+  ExpectRoundTrips(full, w, h, 3);  // absent: one background run
+}
+
+TEST(CocoRle, RandomMasksRoundTrip) {
+  std::mt19937 rng(42);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int w = 1 + static_cast<int>(rng() % 40),
+              h = 1 + static_cast<int>(rng() % 40);
+    std::vector<uint32_t> ids(w * h);
+    // Blobs of a few ids, some pixels noise: several pieces, holes, border
+    // contact.
+    for (uint32_t& id : ids) id = rng() % 5;  // 0 is background
+    for (uint32_t id = 1; id <= 4; ++id) ExpectRoundTrips(ids, w, h, id);
+  }
+}
+
+TEST(Polygons, InsideTheBoxAndCoverTheMask) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int w = 2 + static_cast<int>(rng() % 30),
+              h = 2 + static_cast<int>(rng() % 30);
+    std::vector<uint32_t> ids(w * h);
+    for (uint32_t& id : ids) id = (rng() % 3 == 0) ? 1 : 0;
+    const BoxMask mask = MaskOf(ids, w, h, 1);
+    if (mask.empty()) continue;
+    const MaskPolygons polygons = ExtractPolygons(mask);
+    ASSERT_FALSE(polygons.pieces.empty());
+    for (const Polygon& polygon : polygons.pieces) {
+      EXPECT_GE(polygon.size(), 3u);
+      for (const cv::Point2d& p : polygon) {
+        EXPECT_GE(p.x, mask.left);
+        EXPECT_LE(p.x, mask.left + mask.width());
+        EXPECT_GE(p.y, mask.top);
+        EXPECT_LE(p.y, mask.top + mask.height());
+      }
+    }
+    // The merged polygon holds every piece's vertices.
+    const Polygon merged = MergePieces(polygons.pieces);
+    size_t vertices = 0;
+    for (const Polygon& polygon : polygons.pieces) vertices += polygon.size();
+    EXPECT_EQ(merged.size(), vertices + 2 * (polygons.pieces.size() - 1));
+  }
+}
+
+TEST(Polygons, SinglePixelIsItsSquare) {
+  std::vector<uint32_t> ids(5 * 4, 0);
+  ids[2 * 5 + 4] = 1;  // pixel (4, 2), at the right border
+  const MaskPolygons polygons = ExtractPolygons(MaskOf(ids, 5, 4, 1));
+  ASSERT_EQ(polygons.pieces.size(), 1u);
+  const Polygon expected = {{4, 2}, {5, 2}, {5, 3}, {4, 3}};
+  EXPECT_EQ(polygons.pieces[0], expected);
+}
+
+TEST(Polygons, PiecesAndHolesAreCounted) {
+  // A 5x5 ring (one hole) and a separate pixel: two pieces, one hole.
+  const int w = 9, h = 7;
+  std::vector<uint32_t> ids(w * h, 0);
+  for (int y = 1; y <= 5; ++y) {
+    for (int x = 1; x <= 5; ++x) ids[y * w + x] = (x == 3 && y == 3) ? 0 : 2;
+  }
+  ids[3 * w + 7] = 2;
+  const MaskPolygons polygons = ExtractPolygons(MaskOf(ids, w, h, 2));
+  EXPECT_EQ(polygons.pieces.size(), 2u);
+  EXPECT_EQ(polygons.holes, 1);
+  // Largest first: the ring's outer boundary through the centres of its corner
+  // pixels.
+  const Polygon ring = {{1.5, 1.5}, {1.5, 5.5}, {5.5, 5.5}, {5.5, 1.5}};
+  EXPECT_EQ(polygons.pieces[0], ring);
+}
+
+}  // namespace
+}  // namespace lsds::masks

@@ -1,0 +1,121 @@
+// lsds convert COLLECTION --to yolo|yolo-seg|coco|cvat|cvat-video -o OUT [...]
+// (docs/convert.md)
+#include <iostream>
+
+#include "converters/convert.h"
+#include "converters/registry.h"
+#include "libs/imaging/srgb_image.h"
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+#include "tools/command.h"
+
+namespace lsds {
+
+int RunConvert(int argc, char** argv) {
+  CLI::App app(
+      "Convert a collection's truth into YOLO, COCO or CVAT files "
+      "(docs/convert.md).",
+      "lsds convert");
+  convert::ConvertOptions options;
+  std::string collection, output, formats, tonemap = "clamp";
+  bool clip_truncated = false, quiet = false;
+  app.add_option(
+         "COLLECTION", collection, "collection folder (holds collection.json)")
+      ->required();
+  app.add_option("--to",
+                 formats,
+                 "target format(s), comma separated: " +
+                     Join(convert::ConverterNames(), ", "))
+      ->required();
+  app.add_option("-o,--output", output, "output folder (built atomically)")
+      ->required();
+  app.add_option(
+         "--images", options.images, "images to write: png, jpg or none")
+      ->capture_default_str();
+  app.add_option("--exposure",
+                 options.display.exposure_ev,
+                 "exposure in EV: linear * 2^EV")
+      ->capture_default_str();
+  app.add_option("--tonemap", tonemap, "clamp or reinhard")
+      ->capture_default_str();
+  app.add_option(
+         "--jpeg-quality", options.display.jpeg_quality, "JPEG quality 1..100")
+      ->capture_default_str();
+  app.add_option(
+         "--split",
+         options.split,
+         "splits by stable hash of the sequence, e.g. train=0.8,val=0.2")
+      ->capture_default_str();
+  app.add_option("--min-visibility",
+                 options.min_visibility,
+                 "drop objects less visible than this")
+      ->capture_default_str();
+  app.add_option("--min-pixels",
+                 options.min_pixels,
+                 "drop objects with fewer visible pixels")
+      ->capture_default_str();
+  app.add_option("--classes",
+                 options.classes,
+                 "FILE or LIST of SOURCE[=NAME]: keep, rename and merge "
+                 "classes (default: all)");
+  app.add_flag("--clip-truncated",
+               clip_truncated,
+               "keep objects cut by the image border, boxed by their visible "
+               "part (the default)");
+  app.add_flag("--drop-truncated",
+               options.drop_truncated,
+               "drop objects cut by the image border");
+  app.add_option("--segmentation", options.segmentation, "coco: rle or polygon")
+      ->capture_default_str();
+  app.add_option("--occluded-below",
+                 options.occluded_below,
+                 "cvat: occluded=\"1\" when visibility is below this")
+      ->capture_default_str();
+  std::string frames;
+  app.add_option(
+      "--frames", frames, "A:B: only the frames with index in [A, B)");
+  app.add_option(
+         "--batch", options.batch_size, "frames in flight (bounds memory)")
+      ->capture_default_str();
+  app.add_flag("--force", options.force, "replace a non-empty output folder");
+  app.add_flag("-q,--quiet", quiet, "do not print the loss report");
+  return RunCommand(app, argc, argv, [&] {
+    if (clip_truncated && options.drop_truncated) {
+      throw Error("--clip-truncated and --drop-truncated exclude each other",
+                  Location("--drop-truncated"));
+    }
+    if (!imaging::ParseToneMap(tonemap, &options.display.tonemap)) {
+      throw Error("expected clamp or reinhard, got '" + tonemap + "'",
+                  Location("--tonemap"));
+    }
+    if (options.display.jpeg_quality < 1 ||
+        options.display.jpeg_quality > 100) {
+      throw Error("must be in 1..100", Location("--jpeg-quality"));
+    }
+    if (!frames.empty()) {
+      const size_t colon = frames.find(':');
+      try {
+        if (colon == std::string::npos) throw std::invalid_argument(frames);
+        if (colon > 0)
+          options.frame_begin = std::stoll(frames.substr(0, colon));
+        if (colon + 1 < frames.size())
+          options.frame_end = std::stoll(frames.substr(colon + 1));
+      } catch (const std::exception&) {
+        throw Error("expected A:B, got '" + frames + "'", Location("--frames"));
+      }
+    }
+    options.collection = collection;
+    options.output = output;
+    options.formats = Split(formats, ',');
+    const convert::ConvertResult result = convert::Convert(options);
+    if (!quiet) {
+      std::cout << "converted " << result.frames << " frames to " << formats
+                << " in " << output << " (" << result.images_written
+                << " images)\n"
+                << result.loss.ToText();
+    }
+    return kExitOk;
+  });
+}
+
+}  // namespace lsds

@@ -9,6 +9,8 @@ namespace lsds {
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
+      {"validate", "check a collection: schemas, structure, layers, cross-layer truth, camera geometry",
+       RunValidate},
   };
   return commands;
 }

@@ -9,6 +9,7 @@ namespace lsds {
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
+      {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
       {"validate", "check a collection: schemas, structure, layers, cross-layer truth, camera geometry",
        RunValidate},
   };

@@ -96,8 +96,12 @@ bool Validator::ReadHeader() {
   try {
     header_ = HeaderFromJson(header_json, kCollectionFile);
   } catch (const Error& e) {
-    Emit("schema", Json(kCollectionFile, e.location().json_pointer),
-         "header cannot be read: " + e.message());
+    // Past its schema, what the header parser refuses is a table inconsistency (a duplicate class
+    // id or layer name, handedness against the world frame): the frames cannot be checked then.
+    if (issues.empty()) {
+      Emit("structure.tables", Json(kCollectionFile, e.location().json_pointer),
+           e.message() + " (the frames were not checked)");
+    }
     return false;
   }
   return true;

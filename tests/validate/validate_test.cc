@@ -2,6 +2,9 @@
 // corpus is reported at its specific check id and location.
 #include <unistd.h>
 
+#include <fstream>
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 #include "libs/geometry/camera.h"
@@ -151,6 +154,17 @@ TEST(CheckSelectionTest, GroupsAndSuggestions) {
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("did you mean 'layer.depth-finite'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DocsTest, DocsListEveryCheck) {
+  std::ifstream in(std::string(LSDS_TEST_DATA_DIR) + "/../../docs/validate.md");
+  ASSERT_TRUE(in.good());
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const CheckInfo& check : AllChecks()) {
+    EXPECT_NE(text.str().find("| `" + check.id + "` | " + SeverityName(check.severity) + " |"), std::string::npos)
+        << check.id << " is not in docs/validate.md's table";
   }
 }
 

@@ -32,7 +32,7 @@ def matches(finding, expected):
 
 
 def validate(lsds, collection):
-    run = subprocess.run([lsds, "validate", "--format", "json", collection],
+    run = subprocess.run([lsds, "validate", "--format", "json", "--fail-on", "warning", collection],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if run.returncode == 2:
         raise RuntimeError(f"lsds validate {collection}: exit 2: {run.stderr.strip()}")

@@ -1,5 +1,6 @@
 #include "tests/validate/corruptions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -320,6 +321,17 @@ std::vector<Corruption> MakeCorruptions() {
       });
     }
     return At("camera.handedness", File("worldposition", 0), 0);
+  });
+  add("image-mirrored", "worldposition/000000.exr stored mirrored (columns reversed)", [](const fs::path& root) {
+    EditFlat(root, "worldposition", 0, [](exr::FlatImage& im) {
+      for (const char* c : {"X", "Y", "Z"}) {
+        std::vector<float>& v = im.Get(c).floats;
+        for (int j = 0; j < im.height(); ++j) {
+          std::reverse(v.begin() + im.Index(0, j), v.begin() + im.Index(0, j) + im.width());
+        }
+      }
+    });
+    return At("camera.image-flip", File("worldposition", 0), 0);
   });
   add("camera-rolled", "frame 1's declared camera rolled 5 degrees about its optical axis",
       [](const fs::path& root) {

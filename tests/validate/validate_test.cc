@@ -158,7 +158,7 @@ TEST(CheckSelectionTest, GroupsAndSuggestions) {
 }
 
 TEST(DocsTest, DocsListEveryCheck) {
-  std::ifstream in(std::string(LSDS_TEST_DATA_DIR) + "/../../docs/validate.md");
+  std::ifstream in(std::string(LSDS_SOURCE_DIR) + "/docs/validate.md");
   ASSERT_TRUE(in.good());
   std::stringstream text;
   text << in.rdbuf();

@@ -1,11 +1,15 @@
-// bench_validate: `lsds validate` throughput next to its floor, and its peak memory as frames grow.
+// bench_validate: `lsds validate` throughput next to its floor, and its peak
+// memory as frames grow.
 //
-//   bench_validate [--frames 200] [--size 1024x1024] [--samples-per-axis 1] [--jobs 0]
-//                  [--rss-frames 100,400] [--rss-size 256x256] [--dir /tmp/lsds_bench_validate]
+//   bench_validate [--frames 200] [--size 1024x1024] [--samples-per-axis 1]
+//   [--jobs 0]
+//                  [--rss-frames 100,400] [--rss-size 256x256] [--dir
+//                  /tmp/lsds_bench_validate]
 //
-// Floor: reading and decoding the same EXR files (every layer of every frame, once, with the same
-// parallelism) and nothing else. Peak RSS is measured in a forked child per collection size, so each
-// figure is that run's own high-water mark.
+// Floor: reading and decoding the same EXR files (every layer of every frame,
+// once, with the same parallelism) and nothing else. Peak RSS is measured in a
+// forked child per collection size, so each figure is that run's own high-water
+// mark.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -34,17 +38,24 @@ using namespace lsds;
 namespace {
 
 double Now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return std::chrono::duration<double>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
-void Generate(const fs::path& dir, int frames, int width, int height, int samples_per_axis) {
+void Generate(const fs::path& dir,
+              int frames,
+              int width,
+              int height,
+              int samples_per_axis) {
   if (fs::exists(dir / "collection.json")) {
     const CollectionReader reader(dir);
     const Frame* first = nullptr;
     bool same = static_cast<int>(reader.frames_in_file()) == frames;
     reader.ForEachFrame([&](const Frame& f) {
       if (first == nullptr && f.index == 0) {
-        same = same && f.camera.intrinsics.width == width && f.camera.intrinsics.height == height;
+        same = same && f.camera.intrinsics.width == width &&
+               f.camera.intrinsics.height == height;
         first = &f;
       }
     });
@@ -55,7 +66,11 @@ void Generate(const fs::path& dir, int frames, int width, int height, int sample
   spec.samples_per_axis = samples_per_axis;
   const double start = Now();
   synth::WriteCollection(dir, spec);
-  std::printf("  generated %d frames at %dx%d in %.1f s\n", frames, width, height, Now() - start);
+  std::printf("  generated %d frames at %dx%d in %.1f s\n",
+              frames,
+              width,
+              height,
+              Now() - start);
 }
 
 struct Pass {
@@ -64,7 +79,8 @@ struct Pass {
   int64_t files = 0;
 };
 
-// The floor: decode every layer file of every frame, batch by batch as validate does, nothing else.
+// The floor: decode every layer file of every frame, batch by batch as validate
+// does, nothing else.
 Pass DecodeOnly(const fs::path& dir, size_t batch_size) {
   const double start = Now();
   const CollectionReader reader(dir);
@@ -97,7 +113,9 @@ Pass DecodeOnly(const fs::path& dir, size_t batch_size) {
   return pass;
 }
 
-Pass Validate(const fs::path& dir, const validate::ValidateOptions& options, validate::Report* out = nullptr) {
+Pass Validate(const fs::path& dir,
+              const validate::ValidateOptions& options,
+              validate::Report* out = nullptr) {
   const double start = Now();
   validate::Report report = validate::ValidateCollection(dir, options);
   Pass pass;
@@ -105,7 +123,10 @@ Pass Validate(const fs::path& dir, const validate::ValidateOptions& options, val
   pass.bytes = report.bytes_decoded;
   pass.files = report.files_decoded;
   if (report.Fails(validate::Severity::kWarning)) {
-    std::fprintf(stderr, "%s", validate::ReportToText(report, validate::Severity::kWarning).c_str());
+    std::fprintf(
+        stderr,
+        "%s",
+        validate::ReportToText(report, validate::Severity::kWarning).c_str());
   }
   if (out) *out = std::move(report);
   return pass;
@@ -124,14 +145,18 @@ double PeakRssMb(const std::function<void()>& fn) {
   return usage.ru_maxrss / 1024.0;
 }
 
-bool ParseSize(const std::string& text, int* w, int* h) { return std::sscanf(text.c_str(), "%dx%d", w, h) == 2; }
+bool ParseSize(const std::string& text, int* w, int* h) {
+  return std::sscanf(text.c_str(), "%dx%d", w, h) == 2;
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   // Small defaults for `make bench`; the issue-sized run is
-  //   bench_validate --frames 200 --size 1024x1024 --rss-frames 100,400 --rss-size 256x256
-  int frames = 24, width = 256, height = 256, samples = 1, jobs = 0, rss_w = 128, rss_h = 128;
+  //   bench_validate --frames 200 --size 1024x1024 --rss-frames 100,400
+  //   --rss-size 256x256
+  int frames = 24, width = 256, height = 256, samples = 1, jobs = 0,
+      rss_w = 128, rss_h = 128;
   std::vector<int> rss_frames = {25, 100};
   fs::path dir = fs::temp_directory_path() / "lsds_bench_validate";
   for (int i = 1; i < argc; ++i) {
@@ -158,44 +183,75 @@ int main(int argc, char** argv) {
     } else if (arg == "--dir") {
       dir = value, ++i;
     } else {
-      std::cerr << "usage: bench_validate [--frames N] [--size WxH] [--samples-per-axis N] [--jobs N]\n"
-                   "                      [--rss-frames A,B] [--rss-size WxH] [--dir PATH]\n";
+      std::cerr << "usage: bench_validate [--frames N] [--size WxH] "
+                   "[--samples-per-axis N] [--jobs N]\n"
+                   "                      [--rss-frames A,B] [--rss-size WxH] "
+                   "[--dir PATH]\n";
       return arg == "--help" ? 0 : 2;
     }
   }
   std::unique_ptr<tbb::global_control> threads;
   if (jobs > 0) {
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, jobs);
+    threads = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism, jobs);
   }
   validate::ValidateOptions options;
   options.jobs = jobs;
 
-  std::printf("bench_validate: %d frames at %dx%d, %d bundle sample(s) per pixel, %s threads\n", frames, width,
-              height, samples * samples, jobs > 0 ? std::to_string(jobs).c_str() : "all");
-  const fs::path main_dir = dir / ("throughput_" + std::to_string(frames) + "_" + std::to_string(width) + "x" +
-                                   std::to_string(height));
+  std::printf(
+      "bench_validate: %d frames at %dx%d, %d bundle sample(s) per pixel, %s "
+      "threads\n",
+      frames,
+      width,
+      height,
+      samples * samples,
+      jobs > 0 ? std::to_string(jobs).c_str() : "all");
+  const fs::path main_dir =
+      dir / ("throughput_" + std::to_string(frames) + "_" +
+             std::to_string(width) + "x" + std::to_string(height));
   Generate(main_dir, frames, width, height, samples);
-  DecodeOnly(main_dir, options.batch_size);  // warm the page cache for both timed passes
+  DecodeOnly(main_dir,
+             options.batch_size);  // warm the page cache for both timed passes
   const Pass floor = DecodeOnly(main_dir, options.batch_size);
   validate::Report report;
   const Pass validation = Validate(main_dir, options, &report);
   const double mb = floor.bytes / 1e6;
-  std::printf("  floor (decode every EXR once):   %7.2f s  %7.1f frames/s  %8.1f MB/s  (%lld files, %.0f MB)\n",
-              floor.seconds, frames / floor.seconds, mb / floor.seconds, static_cast<long long>(floor.files), mb);
-  std::printf("  lsds validate (all %zu checks): %7.2f s  %7.1f frames/s  %8.1f MB/s  (%lld files decoded)\n",
-              report.checks.size(), validation.seconds, frames / validation.seconds,
-              validation.bytes / 1e6 / validation.seconds, static_cast<long long>(validation.files));
-  std::printf("  ratio validate / floor: %.3f (aim <= 1.25)\n", validation.seconds / floor.seconds);
-  std::printf("  %s\n", validate::Verdict(report, validate::Severity::kWarning).c_str());
+  std::printf(
+      "  floor (decode every EXR once):   %7.2f s  %7.1f frames/s  %8.1f MB/s  "
+      "(%lld files, %.0f MB)\n",
+      floor.seconds,
+      frames / floor.seconds,
+      mb / floor.seconds,
+      static_cast<long long>(floor.files),
+      mb);
+  std::printf(
+      "  lsds validate (all %zu checks): %7.2f s  %7.1f frames/s  %8.1f MB/s  "
+      "(%lld files decoded)\n",
+      report.checks.size(),
+      validation.seconds,
+      frames / validation.seconds,
+      validation.bytes / 1e6 / validation.seconds,
+      static_cast<long long>(validation.files));
+  std::printf("  ratio validate / floor: %.3f (aim <= 1.25)\n",
+              validation.seconds / floor.seconds);
+  std::printf("  %s\n",
+              validate::Verdict(report, validate::Severity::kWarning).c_str());
 
   for (int n : rss_frames) {
     const fs::path rss_dir =
-        dir / ("rss_" + std::to_string(n) + "_" + std::to_string(rss_w) + "x" + std::to_string(rss_h));
+        dir / ("rss_" + std::to_string(n) + "_" + std::to_string(rss_w) + "x" +
+               std::to_string(rss_h));
     Generate(rss_dir, n, rss_w, rss_h, samples);
-    const double floor_rss = PeakRssMb([&] { DecodeOnly(rss_dir, options.batch_size); });
+    const double floor_rss =
+        PeakRssMb([&] { DecodeOnly(rss_dir, options.batch_size); });
     const double rss = PeakRssMb([&] { Validate(rss_dir, options); });
-    std::printf("  peak RSS, %4d frames at %dx%d: validate %7.1f MB, floor %7.1f MB\n", n, rss_w, rss_h, rss,
-                floor_rss);
+    std::printf(
+        "  peak RSS, %4d frames at %dx%d: validate %7.1f MB, floor %7.1f MB\n",
+        n,
+        rss_w,
+        rss_h,
+        rss,
+        floor_rss);
   }
   return 0;
 }

@@ -1,7 +1,8 @@
-// Camera geometry: does the declared pinhole camera explain the world-position and depth layers?
-// When it does not, Ceres solves for the intrinsics (and then the pose) that do, and the common
-// mistakes are diagnosed by name: wrong FOV or focal unit, depth in cm vs m, planar vs perspective
-// depth, a mirrored world axis (handedness), an image stored upside down.
+// Camera geometry: does the declared pinhole camera explain the world-position
+// and depth layers? When it does not, Ceres solves for the intrinsics (and then
+// the pose) that do, and the common mistakes are diagnosed by name: wrong FOV
+// or focal unit, depth in cm vs m, planar vs perspective depth, a mirrored
+// world axis (handedness), an image stored upside down.
 #pragma once
 
 #include <string>
@@ -34,15 +35,18 @@ struct CameraSolution {
   double rms_px = 0;
 };
 
-// Appends findings of the camera.* checks selected; returns the declared camera's RMS reprojection
-// error in pixels (statistic "camera.reprojection_rms_px").
-double CheckCameraGeometry(const CameraCheckInput& input, const CheckSelection& checks,
+// Appends findings of the camera.* checks selected; returns the declared
+// camera's RMS reprojection error in pixels (statistic
+// "camera.reprojection_rms_px").
+double CheckCameraGeometry(const CameraCheckInput& input,
+                           const CheckSelection& checks,
                            std::vector<Finding>* findings);
 
-// Exposed for tests: solve intrinsics (and the pose when `solve_pose`) from correspondences, starting
-// at `initial`, with a Cauchy loss.
+// Exposed for tests: solve intrinsics (and the pose when `solve_pose`) from
+// correspondences, starting at `initial`, with a Cauchy loss.
 CameraSolution SolveCamera(const std::vector<Eigen::Vector2d>& pixels,
                            const std::vector<Eigen::Vector3d>& points_in_world,
-                           const CameraSolution& initial, bool solve_pose);
+                           const CameraSolution& initial,
+                           bool solve_pose);
 
 }  // namespace lsds::validate

@@ -1,4 +1,5 @@
-// What a validator check reports: typed findings with a severity, a check id and a location.
+// What a validator check reports: typed findings with a severity, a check id
+// and a location.
 #pragma once
 
 #include <string>
@@ -13,9 +14,12 @@ bool ParseSeverity(const std::string& name, Severity* severity);
 
 struct Finding {
   Severity severity = Severity::kError;
-  std::string check_id;  // an id of the registry (checks.h), e.g. "layer.depth-finite"
-  Location location;     // file, frame, pixel or JSON pointer; only the fields that apply
-  std::string object;    // "instance 3 (box)" when the finding is about one object
+  std::string
+      check_id;  // an id of the registry (checks.h), e.g. "layer.depth-finite"
+  Location location;  // file, frame, pixel or JSON pointer; only the fields
+                      // that apply
+  std::string
+      object;  // "instance 3 (box)" when the finding is about one object
   std::string message;
 };
 

@@ -1,5 +1,5 @@
-// Per-frame checks: every EXR of the frame is opened and decoded once, then the layer, cross-layer
-// and camera checks all read the decoded images.
+// Per-frame checks: every EXR of the frame is opened and decoded once, then the
+// layer, cross-layer and camera checks all read the decoded images.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +18,9 @@ namespace lsds::validate {
 
 struct FrameInput {
   Frame frame;
-  size_t position = 0;                     // index in the "frames" array (for JSON pointers)
-  std::optional<CameraTruth> previous_camera;  // the previous frame of the same sequence, if adjacent
+  size_t position = 0;  // index in the "frames" array (for JSON pointers)
+  std::optional<CameraTruth>
+      previous_camera;  // the previous frame of the same sequence, if adjacent
 };
 
 struct FrameOutcome {
@@ -37,6 +38,7 @@ struct FrameCheckContext {
   int camera_grid = 24;
 };
 
-FrameOutcome CheckFrame(const FrameCheckContext& context, const FrameInput& input);
+FrameOutcome CheckFrame(const FrameCheckContext& context,
+                        const FrameInput& input);
 
 }  // namespace lsds::validate

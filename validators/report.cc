@@ -5,17 +5,26 @@
 
 namespace lsds::validate {
 
-double Statistic::rms() const { return count == 0 ? 0.0 : std::sqrt(sum_squares / count); }
+double Statistic::rms() const {
+  return count == 0 ? 0.0 : std::sqrt(sum_squares / count);
+}
 
 void Report::AddLocked(Finding finding) {
   CheckResult& result = results_[finding.check_id];
   ++result.counts[static_cast<int>(finding.severity)];
-  auto frame_of = [](const Finding& f) { return f.location.frame.value_or(-1); };
+  auto frame_of = [](const Finding& f) {
+    return f.location.frame.value_or(-1);
+  };
   auto& examples = result.examples;
-  if (examples.size() >= max_examples_ && frame_of(finding) >= frame_of(examples.back())) return;
-  const auto at = std::upper_bound(
-      examples.begin(), examples.end(), finding,
-      [&](const Finding& a, const Finding& b) { return frame_of(a) < frame_of(b); });
+  if (examples.size() >= max_examples_ &&
+      frame_of(finding) >= frame_of(examples.back()))
+    return;
+  const auto at = std::upper_bound(examples.begin(),
+                                   examples.end(),
+                                   finding,
+                                   [&](const Finding& a, const Finding& b) {
+                                     return frame_of(a) < frame_of(b);
+                                   });
   examples.insert(at, std::move(finding));
   if (examples.size() > max_examples_) examples.pop_back();
 }
@@ -40,7 +49,8 @@ void Report::AddStatistic(const std::string& name, double value) {
   MergeStatistic(name, s);
 }
 
-void Report::MergeStatistic(const std::string& name, const Statistic& statistic) {
+void Report::MergeStatistic(const std::string& name,
+                            const Statistic& statistic) {
   if (statistic.count == 0) return;
   std::lock_guard<std::mutex> lock(*mutex_);
   Statistic& s = statistics_[name];
@@ -52,12 +62,15 @@ void Report::MergeStatistic(const std::string& name, const Statistic& statistic)
 int64_t Report::Count(Severity severity) const {
   std::lock_guard<std::mutex> lock(*mutex_);
   int64_t n = 0;
-  for (const auto& [id, result] : results_) n += result.counts[static_cast<int>(severity)];
+  for (const auto& [id, result] : results_)
+    n += result.counts[static_cast<int>(severity)];
   return n;
 }
 
 bool Report::Fails(Severity fail_on) const {
-  for (int s = static_cast<int>(fail_on); s <= static_cast<int>(Severity::kError); ++s) {
+  for (int s = static_cast<int>(fail_on);
+       s <= static_cast<int>(Severity::kError);
+       ++s) {
     if (Count(static_cast<Severity>(s)) > 0) return true;
   }
   return false;

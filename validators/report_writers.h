@@ -1,5 +1,6 @@
-// Report writers: text for people, JSON for machines (schemas/validate-report.schema.json), JUnit XML
-// for CI systems (one test case per selected check).
+// Report writers: text for people, JSON for machines
+// (schemas/validate-report.schema.json), JUnit XML for CI systems (one test
+// case per selected check).
 #pragma once
 
 #include <string>
@@ -10,9 +11,11 @@
 
 namespace lsds::validate {
 
-// Grouped by check, counted, the first `max_shown` findings of each with their location, and a
-// one-line verdict against `fail_on`.
-std::string ReportToText(const Report& report, Severity fail_on, size_t max_shown = 5);
+// Grouped by check, counted, the first `max_shown` findings of each with their
+// location, and a one-line verdict against `fail_on`.
+std::string ReportToText(const Report& report,
+                         Severity fail_on,
+                         size_t max_shown = 5);
 nlohmann::json ReportToJson(const Report& report, Severity fail_on);
 std::string ReportToJUnit(const Report& report, Severity fail_on);
 std::string Verdict(const Report& report, Severity fail_on);

@@ -1,6 +1,7 @@
-// lsds_make_bad_corpus OUT [--only NAME ...] [--list]: writes OUT/good (a synthetic collection) and one
-// corrupted copy per corruption, OUT/NAME, plus OUT/manifest.json naming the check and location each
-// must be reported at. Driven by scripts/make-bad-corpus.py.
+// lsds_make_bad_corpus OUT [--only NAME ...] [--list]: writes OUT/good (a
+// synthetic collection) and one corrupted copy per corruption, OUT/NAME, plus
+// OUT/manifest.json naming the check and location each must be reported at.
+// Driven by scripts/make-bad-corpus.py.
 #include <cstring>
 #include <iostream>
 #include <set>
@@ -18,14 +19,16 @@ int main(int argc, char** argv) {
   std::set<std::string> only;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--list") == 0) {
-      for (const Corruption& c : Corruptions()) std::cout << c.name << "\t" << c.description << "\n";
+      for (const Corruption& c : Corruptions())
+        std::cout << c.name << "\t" << c.description << "\n";
       return 0;
     } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
       only.insert(argv[++i]);
     } else if (out.empty() && argv[i][0] != '-') {
       out = argv[i];
     } else {
-      std::cerr << "usage: lsds_make_bad_corpus OUT [--only NAME ...] [--list]\n";
+      std::cerr
+          << "usage: lsds_make_bad_corpus OUT [--only NAME ...] [--list]\n";
       return 2;
     }
   }
@@ -50,9 +53,12 @@ int main(int argc, char** argv) {
       if (e.frame) expected["frame"] = *e.frame;
       if (!e.json_pointer.empty()) expected["json_pointer"] = e.json_pointer;
       if (e.pixel_x) expected["pixel"] = {*e.pixel_x, *e.pixel_y};
-      manifest.push_back({{"name", c.name}, {"description", c.description}, {"expected", expected}});
+      manifest.push_back({{"name", c.name},
+                          {"description", c.description},
+                          {"expected", expected}});
     }
-    lsds::WriteFileAtomic(fs::path(out) / "manifest.json", manifest.dump(2) + "\n");
+    lsds::WriteFileAtomic(fs::path(out) / "manifest.json",
+                          manifest.dump(2) + "\n");
   } catch (const std::exception& e) {
     std::cerr << "lsds_make_bad_corpus: " << e.what() << "\n";
     return 2;

@@ -1,4 +1,5 @@
-// lsds validate end to end: exit codes, the three report formats, --checks, --fail-on, -o.
+// lsds validate end to end: exit codes, the three report formats, --checks,
+// --fail-on, -o.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,12 +24,14 @@ struct CliRun {
 };
 
 CliRun Lsds(const std::string& args) {
-  const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>/dev/null";
+  const std::string command =
+      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>/dev/null";
   CliRun run;
   FILE* pipe = popen(command.c_str(), "r");
   char buffer[4096];
   size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0)
+    run.out.append(buffer, n);
   const int status = pclose(pipe);
   run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
@@ -36,7 +39,10 @@ CliRun Lsds(const std::string& args) {
 
 class ValidateCli : public ::testing::Test {
  protected:
-  static fs::path Root() { return fs::temp_directory_path() / ("lsds_validate_cli_" + std::to_string(getpid())); }
+  static fs::path Root() {
+    return fs::temp_directory_path() /
+           ("lsds_validate_cli_" + std::to_string(getpid()));
+  }
   static void SetUpTestSuite() {
     fs::remove_all(Root());
     corpus::WriteGoodCollection(Root() / "good");
@@ -46,21 +52,30 @@ class ValidateCli : public ::testing::Test {
     }
   }
   static void TearDownTestSuite() { fs::remove_all(Root()); }
-  static std::string Path(const std::string& name) { return (Root() / name).string(); }
+  static std::string Path(const std::string& name) {
+    return (Root() / name).string();
+  }
 };
 
 TEST_F(ValidateCli, GoodCollectionExitsZero) {
   const CliRun run = Lsds("validate " + Path("good"));
   EXPECT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(run.out.find("PASS: 0 error(s), 0 warning(s) in 4 frame(s)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("PASS: 0 error(s), 0 warning(s) in 4 frame(s)"),
+            std::string::npos)
+      << run.out;
 }
 
 TEST_F(ValidateCli, FindingsExitOneWithLocation) {
   const CliRun run = Lsds("validate " + Path("nan-depth"));
   EXPECT_EQ(run.code, 1);
-  EXPECT_NE(run.out.find("error layer.depth-finite: 1 finding(s)"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("depth/000002.exr frame 2 pixel (10, 7)"), std::string::npos) << run.out;
-  // The NaN also disagrees with the bundle's centre sample: a second, genuine finding.
+  EXPECT_NE(run.out.find("error layer.depth-finite: 1 finding(s)"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("depth/000002.exr frame 2 pixel (10, 7)"),
+            std::string::npos)
+      << run.out;
+  // The NaN also disagrees with the bundle's centre sample: a second, genuine
+  // finding.
   EXPECT_NE(run.out.find("FAIL: 2 error(s)"), std::string::npos) << run.out;
 }
 
@@ -68,7 +83,9 @@ TEST_F(ValidateCli, JsonReportMatchesItsSchema) {
   const CliRun run = Lsds("validate --format json " + Path("nan-depth"));
   EXPECT_EQ(run.code, 1);
   const nlohmann::json report = nlohmann::json::parse(run.out);
-  EXPECT_TRUE(JsonSchema::Get("validate-report.schema.json").Validate(report).empty()) << run.out;
+  EXPECT_TRUE(
+      JsonSchema::Get("validate-report.schema.json").Validate(report).empty())
+      << run.out;
   EXPECT_EQ(report["verdict"], "fail");
   bool found = false;
   for (const auto& check : report["checks"]) {
@@ -84,13 +101,16 @@ TEST_F(ValidateCli, JsonReportMatchesItsSchema) {
 }
 
 TEST_F(ValidateCli, JUnitHasOneTestCasePerCheck) {
-  const CliRun run = Lsds("validate --format junit --checks layer " + Path("nan-depth"));
+  const CliRun run =
+      Lsds("validate --format junit --checks layer " + Path("nan-depth"));
   EXPECT_EQ(run.code, 1);
   size_t testcases = 0, failures = 0;
-  for (size_t at = run.out.find("<testcase "); at != std::string::npos; at = run.out.find("<testcase ", at + 1)) {
+  for (size_t at = run.out.find("<testcase "); at != std::string::npos;
+       at = run.out.find("<testcase ", at + 1)) {
     ++testcases;
   }
-  for (size_t at = run.out.find("<failure "); at != std::string::npos; at = run.out.find("<failure ", at + 1)) {
+  for (size_t at = run.out.find("<failure "); at != std::string::npos;
+       at = run.out.find("<failure ", at + 1)) {
     ++failures;
   }
   EXPECT_EQ(testcases, 12u) << run.out;  // the layer.* checks
@@ -111,10 +131,15 @@ TEST_F(ValidateCli, UnreadableInputOrBadUsageExitsTwo) {
 
 TEST_F(ValidateCli, ReportFileIsNotOverwrittenWithoutForce) {
   const std::string report = Path("report.json");
-  EXPECT_EQ(Lsds("validate --format json -o " + report + " " + Path("good")).code, 0);
+  EXPECT_EQ(
+      Lsds("validate --format json -o " + report + " " + Path("good")).code, 0);
   EXPECT_TRUE(fs::exists(report));
-  EXPECT_EQ(Lsds("validate --format json -o " + report + " " + Path("good")).code, 2);
-  EXPECT_EQ(Lsds("validate --format json --force -o " + report + " " + Path("good")).code, 0);
+  EXPECT_EQ(
+      Lsds("validate --format json -o " + report + " " + Path("good")).code, 2);
+  EXPECT_EQ(
+      Lsds("validate --format json --force -o " + report + " " + Path("good"))
+          .code,
+      0);
 }
 
 }  // namespace

@@ -179,15 +179,24 @@ Pass Validate(const fs::path& dir,
 }
 
 // Peak RSS (MB) of a child process that runs `fn`.
-double PeakRssMb(const std::function<void()>& fn) {
+// Peak RSS (MB) of a fresh process (this binary re-executed with `mode`), so
+// that nothing of this process's own heap is inherited into the figure.
+double PeakRssMb(const std::string& mode, const fs::path& dir, int jobs) {
   const pid_t pid = fork();
   if (pid == 0) {
-    fn();
-    _exit(0);
+    const std::string jobs_text = std::to_string(jobs);
+    execl("/proc/self/exe",
+          "bench_validate",
+          mode.c_str(),
+          dir.c_str(),
+          jobs_text.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
   }
   int status = 0;
   struct rusage usage {};
   wait4(pid, &status, 0, &usage);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return -1;
   return usage.ru_maxrss / 1024.0;
 }
 
@@ -205,6 +214,23 @@ int main(int argc, char** argv) {
       rss_w = 128, rss_h = 128;
   std::vector<int> rss_frames = {25, 100};
   fs::path dir = fs::temp_directory_path() / "lsds_bench_validate";
+  if (argc == 4 && (std::strcmp(argv[1], "--child-validate") == 0 ||
+                    std::strcmp(argv[1], "--child-decode") == 0)) {
+    const int child_jobs = std::atoi(argv[3]);
+    std::unique_ptr<tbb::global_control> child_threads;
+    if (child_jobs > 0) {
+      child_threads = std::make_unique<tbb::global_control>(
+          tbb::global_control::max_allowed_parallelism, child_jobs);
+    }
+    validate::ValidateOptions child_options;
+    child_options.jobs = child_jobs;
+    if (std::strcmp(argv[1], "--child-validate") == 0) {
+      Validate(argv[2], child_options);
+    } else {
+      DecodeOnly(argv[2], child_options.batch_size);
+    }
+    return 0;
+  }
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const char* value = i + 1 < argc ? argv[i + 1] : "";
@@ -257,49 +283,55 @@ int main(int argc, char** argv) {
   const fs::path main_dir =
       dir / ("throughput_" + std::to_string(frames) + "_" +
              std::to_string(width) + "x" + std::to_string(height));
-  Generate(main_dir, frames, width, height, samples, unique);
-  DecodeOnly(main_dir,
-             options.batch_size);  // warm the page cache for both timed passes
-  const Pass floor = DecodeOnly(main_dir, options.batch_size);
-  validate::Report report;
-  const Pass validation = Validate(main_dir, options, &report);
-  const double mb = floor.bytes / 1e6;
-  std::printf(
-      "  floor (decode every EXR once):   %7.2f s  %7.1f frames/s  %8.1f MB/s  "
-      "(%lld files, %.0f MB)\n",
-      floor.seconds,
-      frames / floor.seconds,
-      mb / floor.seconds,
-      static_cast<long long>(floor.files),
-      mb);
-  std::printf(
-      "  lsds validate (all %zu checks): %7.2f s  %7.1f frames/s  %8.1f MB/s  "
-      "(%lld files decoded)\n",
-      report.checks.size(),
-      validation.seconds,
-      frames / validation.seconds,
-      validation.bytes / 1e6 / validation.seconds,
-      static_cast<long long>(validation.files));
-  std::printf("  ratio validate / floor: %.3f wall, %.3f CPU (aim <= 1.25)\n",
-              validation.seconds / floor.seconds,
-              validation.cpu_seconds / floor.cpu_seconds);
-  std::printf(
-      "  CPU seconds: floor %.2f, validate %.2f (%.1f / %.1f ms per frame)\n",
-      floor.cpu_seconds,
-      validation.cpu_seconds,
-      1e3 * floor.cpu_seconds / frames,
-      1e3 * validation.cpu_seconds / frames);
-  std::printf("  %s\n",
-              validate::Verdict(report, validate::Severity::kWarning).c_str());
+  if (frames > 0) {  // --frames 0: memory figures only
+    Generate(main_dir, frames, width, height, samples, unique);
+    DecodeOnly(
+        main_dir,
+        options.batch_size);  // warm the page cache for both timed passes
+    const Pass floor = DecodeOnly(main_dir, options.batch_size);
+    validate::Report report;
+    const Pass validation = Validate(main_dir, options, &report);
+    const double mb = floor.bytes / 1e6;
+    std::printf(
+        "  floor (decode every EXR once):   %7.2f s  %7.1f frames/s  %8.1f "
+        "MB/s  "
+        "(%lld files, %.0f MB)\n",
+        floor.seconds,
+        frames / floor.seconds,
+        mb / floor.seconds,
+        static_cast<long long>(floor.files),
+        mb);
+    std::printf(
+        "  lsds validate (all %zu checks): %7.2f s  %7.1f frames/s  %8.1f MB/s "
+        " "
+        "(%lld files decoded)\n",
+        report.checks.size(),
+        validation.seconds,
+        frames / validation.seconds,
+        validation.bytes / 1e6 / validation.seconds,
+        static_cast<long long>(validation.files));
+    std::printf("  ratio validate / floor: %.3f wall, %.3f CPU (aim <= 1.25)\n",
+                validation.seconds / floor.seconds,
+                validation.cpu_seconds / floor.cpu_seconds);
+    std::printf(
+        "  CPU seconds: floor %.2f, validate %.2f (%.1f / %.1f ms per frame)\n",
+        floor.cpu_seconds,
+        validation.cpu_seconds,
+        1e3 * floor.cpu_seconds / frames,
+        1e3 * validation.cpu_seconds / frames);
+    std::printf(
+        "  %s\n",
+        validate::Verdict(report, validate::Severity::kWarning).c_str());
+  }
 
+  std::fflush(stdout);
   for (int n : rss_frames) {
     const fs::path rss_dir =
         dir / ("rss_" + std::to_string(n) + "_" + std::to_string(rss_w) + "x" +
                std::to_string(rss_h));
     Generate(rss_dir, n, rss_w, rss_h, samples, unique);
-    const double floor_rss =
-        PeakRssMb([&] { DecodeOnly(rss_dir, options.batch_size); });
-    const double rss = PeakRssMb([&] { Validate(rss_dir, options); });
+    const double floor_rss = PeakRssMb("--child-decode", rss_dir, jobs);
+    const double rss = PeakRssMb("--child-validate", rss_dir, jobs);
     std::printf(
         "  peak RSS, %4d frames at %dx%d: validate %7.1f MB, floor %7.1f MB\n",
         n,

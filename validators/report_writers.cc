@@ -72,8 +72,11 @@ std::string ReportToText(const Report& report,
                          size_t max_shown) {
   std::ostringstream out;
   out << "lsds validate " << report.collection << "\n";
-  for (const auto& [id, result] : report.results()) {
-    const CheckInfo& info = GetCheck(id);
+  for (const CheckInfo& info : AllChecks()) {  // registry order: schema, structure, layer, ...
+    const auto found = report.results().find(info.id);
+    if (found == report.results().end()) continue;
+    const std::string& id = info.id;
+    const CheckResult& result = found->second;
     out << "\n"
         << SeverityName(info.severity) << " " << id << ": " << result.total()
         << " finding(s) - " << info.what << "\n";

@@ -528,6 +528,27 @@ std::vector<Corruption> MakeCorruptions() {
                   3,
                   "/frames/3/objects/0");
       });
+  add("class-imbalance",
+      "100 extra (hidden) boxes per frame against one crate",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) {
+          for (json& frame : j["frames"]) {
+            json extra = frame["objects"][0];
+            extra["class_id"] = 2;
+            extra["visible_pixels"] = 0;
+            extra["bbox"] = nullptr;
+            extra["visibility"] = 0;
+            for (int k = 0; k < 100; ++k) {
+              extra["instance_id"] = 100 + k;
+              frame["objects"].push_back(extra);
+            }
+          }
+        });
+        return At("stats.class-imbalance",
+                  "collection.json",
+                  std::nullopt,
+                  "/classes");
+      });
   add("empty-frame", "frame 3 has no objects", [](const fs::path& root) {
     EditCollection(root,
                    [](json& j) { j["frames"][3]["objects"] = json::array(); });

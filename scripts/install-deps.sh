@@ -17,6 +17,7 @@ packages=(
   libassimp-dev                     # mesh assets
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus script
+  python3-open3d                    # bench/backproject: Open3D create_from_depth_image side by side (~33 MB)
 )
 
 missing=()

@@ -10,6 +10,9 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
+      {"bundles", "mixed-pixel statistics of the pixel bundles; bundle-derived truth layers", RunBundles},
+      {"backproject", "depth layers to point clouds (PCD/PLY), per frame or fused; --check vs truth",
+       RunBackproject},
       {"validate", "check a collection: schemas, structure, layers, cross-layer truth, camera geometry",
        RunValidate},
   };

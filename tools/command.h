@@ -27,5 +27,7 @@ int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>&
 int RunInfo(int argc, char** argv);
 int RunValidate(int argc, char** argv);
 int RunSynth(int argc, char** argv);
+int RunBundles(int argc, char** argv);
+int RunBackproject(int argc, char** argv);
 
 }  // namespace lsds

@@ -8,7 +8,7 @@
 //
 // Floor: reading and decoding the same EXR files (every layer of every frame,
 // once, with the same parallelism) and nothing else. Peak RSS is measured in a
-// forked child per collection size, so each figure is that run's own high-water
+// fresh process per collection size, so each figure is that run's own high-water
 // mark.
 #include <sys/resource.h>
 #include <sys/wait.h>

@@ -8,8 +8,8 @@
 //
 // Floor: reading and decoding the same EXR files (every layer of every frame,
 // once, with the same parallelism) and nothing else. Peak RSS is measured in a
-// fresh process per collection size, so each figure is that run's own high-water
-// mark.
+// fresh process per collection size, so each figure is that run's own
+// high-water mark.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>

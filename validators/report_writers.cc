@@ -72,7 +72,8 @@ std::string ReportToText(const Report& report,
                          size_t max_shown) {
   std::ostringstream out;
   out << "lsds validate " << report.collection << "\n";
-  for (const CheckInfo& info : AllChecks()) {  // registry order: schema, structure, layer, ...
+  for (const CheckInfo& info :
+       AllChecks()) {  // registry order: schema, structure, layer, ...
     const auto found = report.results().find(info.id);
     if (found == report.results().end()) continue;
     const std::string& id = info.id;

@@ -113,6 +113,14 @@ bool Validator::ReadHeader() {
            e.message() + " (the frames were not checked)");
     }
     return false;
+  } catch (const std::exception& e) {
+    // Only reachable past schema violations, which are reported already.
+    if (issues.empty()) {
+      Emit("schema",
+           Json(kCollectionFile, "/"),
+           std::string("header cannot be read: ") + e.what());
+    }
+    return false;
   }
   return true;
 }
@@ -202,9 +210,12 @@ void Validator::ReadMetadata() {
                  std::to_string(frames_in_file_));
       }
     } catch (const Error& e) {
-      Emit("schema",
-           e.location().file.empty() ? Location(variant.file) : e.location(),
-           e.message());
+      Location where = e.location();
+      where.file = variant.file;  // relative, like every location of the report
+      Emit("schema", where, e.message());
+      continue;
+    } catch (const std::exception& e) {
+      Emit("schema", Location(variant.file), e.what());
       continue;
     }
     metadata_.push_back(std::move(file));
@@ -396,6 +407,10 @@ void Validator::StreamFrames() {
           Emit("schema",
                Json(file, e.location().json_pointer, index),
                e.message());
+          previous_.reset();
+          return;
+        } catch (const std::exception& e) {
+          Emit("schema", Json(file, pointer, index), e.what());
           previous_.reset();
           return;
         }

@@ -126,6 +126,19 @@ std::vector<Corruption> MakeCorruptions() {
         EditCollection(root, [](json& j) { j["colour"] = "blue"; });
         return At("schema", "collection.json", std::nullopt, "/colour");
       });
+  add("schema-missing-layers",
+      "the header has no layer table",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) { j.erase("layers"); });
+        return At("schema", "collection.json", std::nullopt, "/");
+      });
+  add("metadata-not-json",
+      "metadata.json cut in the middle",
+      [](const fs::path& root) {
+        const fs::path path = root / "metadata.json";
+        fs::resize_file(path, fs::file_size(path) / 2);
+        return At("schema", "metadata.json", std::nullopt);
+      });
   add("metadata-schema-violation",
       "metadata.json frame without position",
       [](const fs::path& root) {

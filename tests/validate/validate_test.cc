@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "libs/geometry/camera.h"
 #include "tests/validate/corruptions.h"
@@ -134,6 +135,24 @@ TEST_F(ValidateTest, CorpusCoversEveryCheck) {
     EXPECT_TRUE(covered.count(check.id))
         << check.id << " has no corruption in the corpus";
   }
+}
+
+TEST_F(ValidateTest, DeclaredPerturbedMetadataIsAStatisticNotAFinding) {
+  corpus::Expected expected;
+  const fs::path root =
+      Corrupted("metadata-pose", &expected);  // frame 2 off by 0.5 m
+  {
+    std::ifstream in(root / "collection.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    j["metadata"][0]["perturbed"] = true;
+    std::ofstream(root / "collection.json") << j.dump(1);
+  }
+  const Report report = ValidateCollection(root);
+  EXPECT_EQ(report.CountOf("cross.metadata-pose"), 0) << Dump(report);
+  const Statistic& position = report.statistics().at(
+      "cross.metadata-pose.metadata.json.position_error");
+  EXPECT_NEAR(position.max, 0.5, 1e-9);
+  EXPECT_EQ(position.count, 4);
 }
 
 TEST_F(ValidateTest, CheckSelectionSkipsOtherChecks) {

@@ -17,6 +17,8 @@ const std::vector<Command>& Commands() {
       {"bundles", "mixed-pixel statistics of the pixel bundles; bundle-derived truth layers", RunBundles},
       {"backproject", "depth layers to point clouds (PCD/PLY), per frame or fused; --check vs truth",
        RunBackproject},
+      {"validate", "check a collection: schemas, structure, layers, cross-layer truth, camera geometry",
+       RunValidate},
   };
   return commands;
 }

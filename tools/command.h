@@ -28,6 +28,7 @@ int RunInfo(int argc, char** argv);
 int RunConvert(int argc, char** argv);
 int RunPerturbMetadata(int argc, char** argv);
 int RunPlan(int argc, char** argv);
+int RunValidate(int argc, char** argv);
 int RunSynth(int argc, char** argv);
 int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);

@@ -1,0 +1,146 @@
+// lsds validate end to end: exit codes, the three report formats, --checks,
+// --fail-on, -o.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "libs/collection/schema.h"
+#include "tests/validate/corruptions.h"
+
+namespace lsds::validate {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out;
+};
+
+CliRun Lsds(const std::string& args) {
+  const std::string command =
+      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>/dev/null";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0)
+    run.out.append(buffer, n);
+  const int status = pclose(pipe);
+  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+class ValidateCli : public ::testing::Test {
+ protected:
+  static fs::path Root() {
+    return fs::temp_directory_path() /
+           ("lsds_validate_cli_" + std::to_string(getpid()));
+  }
+  static void SetUpTestSuite() {
+    fs::remove_all(Root());
+    corpus::WriteGoodCollection(Root() / "good");
+    for (const char* name : {"nan-depth", "stray-file"}) {
+      corpus::CopyCollection(Root() / "good", Root() / name);
+      corpus::FindCorruption(name).apply(Root() / name);
+    }
+  }
+  static void TearDownTestSuite() { fs::remove_all(Root()); }
+  static std::string Path(const std::string& name) {
+    return (Root() / name).string();
+  }
+};
+
+TEST_F(ValidateCli, GoodCollectionExitsZero) {
+  const CliRun run = Lsds("validate " + Path("good"));
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("PASS: 0 error(s), 0 warning(s) in 4 frame(s)"),
+            std::string::npos)
+      << run.out;
+}
+
+TEST_F(ValidateCli, FindingsExitOneWithLocation) {
+  const CliRun run = Lsds("validate " + Path("nan-depth"));
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.out.find("error layer.depth-finite: 1 finding(s)"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("depth/000002.exr frame 2 pixel (10, 7)"),
+            std::string::npos)
+      << run.out;
+  // The NaN also disagrees with the bundle's centre sample: a second, genuine
+  // finding.
+  EXPECT_NE(run.out.find("FAIL: 2 error(s)"), std::string::npos) << run.out;
+}
+
+TEST_F(ValidateCli, JsonReportMatchesItsSchema) {
+  const CliRun run = Lsds("validate --format json " + Path("nan-depth"));
+  EXPECT_EQ(run.code, 1);
+  const nlohmann::json report = nlohmann::json::parse(run.out);
+  EXPECT_TRUE(
+      JsonSchema::Get("validate-report.schema.json").Validate(report).empty())
+      << run.out;
+  EXPECT_EQ(report["verdict"], "fail");
+  bool found = false;
+  for (const auto& check : report["checks"]) {
+    if (check["id"] != "layer.depth-finite") continue;
+    EXPECT_EQ(check["count"], 1);
+    const auto& location = check["findings"][0]["location"];
+    EXPECT_EQ(location["file"], "depth/000002.exr");
+    EXPECT_EQ(location["frame"], 2);
+    EXPECT_EQ(location["pixel"], nlohmann::json({10, 7}));
+    found = true;
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST_F(ValidateCli, JUnitHasOneTestCasePerCheck) {
+  const CliRun run =
+      Lsds("validate --format junit --checks layer " + Path("nan-depth"));
+  EXPECT_EQ(run.code, 1);
+  size_t testcases = 0, failures = 0;
+  for (size_t at = run.out.find("<testcase "); at != std::string::npos;
+       at = run.out.find("<testcase ", at + 1)) {
+    ++testcases;
+  }
+  for (size_t at = run.out.find("<failure "); at != std::string::npos;
+       at = run.out.find("<failure ", at + 1)) {
+    ++failures;
+  }
+  EXPECT_EQ(testcases, 12u) << run.out;  // the layer.* checks
+  EXPECT_EQ(failures, 1u) << run.out;
+  EXPECT_NE(run.out.find("name=\"layer.depth-finite\""), std::string::npos);
+}
+
+TEST_F(ValidateCli, FailOnWarning) {
+  EXPECT_EQ(Lsds("validate " + Path("stray-file")).code, 0);  // a warning only
+  EXPECT_EQ(Lsds("validate --fail-on warning " + Path("stray-file")).code, 1);
+}
+
+TEST_F(ValidateCli, UnreadableInputOrBadUsageExitsTwo) {
+  EXPECT_EQ(Lsds("validate /nonexistent/collection").code, 2);
+  EXPECT_EQ(Lsds("validate --checks layer.nope " + Path("good")).code, 2);
+  EXPECT_EQ(Lsds("validate --format yaml " + Path("good")).code, 2);
+}
+
+TEST_F(ValidateCli, ReportFileIsNotOverwrittenWithoutForce) {
+  const std::string report = Path("report.json");
+  EXPECT_EQ(
+      Lsds("validate --format json -o " + report + " " + Path("good")).code, 0);
+  EXPECT_TRUE(fs::exists(report));
+  EXPECT_EQ(
+      Lsds("validate --format json -o " + report + " " + Path("good")).code, 2);
+  EXPECT_EQ(
+      Lsds("validate --format json --force -o " + report + " " + Path("good"))
+          .code,
+      0);
+}
+
+}  // namespace
+}  // namespace lsds::validate

@@ -1,0 +1,83 @@
+// lsds validate COLLECTION [--format text|json|junit] [-o REPORT] [--fail-on
+// error|warning]
+//                          [--checks LIST] [--jobs N] [--max-examples N]
+//                          [--force]
+#include <iostream>
+
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "tools/command.h"
+#include "validators/report_writers.h"
+#include "validators/validate.h"
+
+namespace lsds {
+
+int RunValidate(int argc, char** argv) {
+  CLI::App app(
+      "Check a collection before training: schemas, structure, every layer, "
+      "cross-layer truth and "
+      "camera geometry. Exit 0 when nothing is at or above --fail-on, 1 "
+      "otherwise, 2 when the "
+      "input cannot be read as a collection.",
+      "lsds validate");
+  std::string collection, format = "text", output, fail_on = "error",
+                          checks = "all";
+  int jobs = 0;
+  size_t max_examples = 20;
+  bool force = false;
+  app.add_option(
+         "COLLECTION", collection, "collection folder (holds collection.json)")
+      ->required();
+  app.add_option("--format", format, "report format")
+      ->check(CLI::IsMember({"text", "json", "junit"}));
+  app.add_option(
+      "-o,--output",
+      output,
+      "write the report to this file (atomically) instead of stdout");
+  app.add_option("--fail-on",
+                 fail_on,
+                 "lowest severity that makes the run fail (exit 1)")
+      ->check(CLI::IsMember({"error", "warning", "info"}));
+  app.add_option(
+      "--checks",
+      checks,
+      "comma-separated check ids or groups (schema, structure, layer, "
+      "cross, camera, stats); default all");
+  app.add_option("--jobs", jobs, "worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--max-examples",
+                 max_examples,
+                 "findings kept and shown per check (all are counted)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--force", force, "overwrite an existing report file");
+  return RunCommand(app, argc, argv, [&] {
+    validate::Severity threshold;
+    validate::ParseSeverity(fail_on, &threshold);
+    validate::ValidateOptions options;
+    options.checks = validate::CheckSelection::Parse(checks);
+    options.jobs = jobs;
+    options.max_examples = max_examples;
+    options.progress = true;  // on a terminal only; silent in CI
+    if (!output.empty()) RefuseToOverwrite(output, force, "report");
+    const validate::Report report =
+        validate::ValidateCollection(collection, options);
+    std::string text;
+    if (format == "json") {
+      text = validate::ReportToJson(report, threshold).dump(2) + "\n";
+    } else if (format == "junit") {
+      text = validate::ReportToJUnit(report, threshold);
+    } else {
+      text = validate::ReportToText(
+          report, threshold, max_examples < 5 ? max_examples : 5);
+    }
+    if (output.empty()) {
+      std::cout << text;
+    } else {
+      WriteFileAtomic(output, text);
+      std::cerr << validate::Verdict(report, threshold) << "\n";
+    }
+    return report.Fails(threshold) ? kExitFindings : kExitOk;
+  });
+}
+
+}  // namespace lsds

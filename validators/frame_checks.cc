@@ -1,0 +1,740 @@
+#include "validators/frame_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+#include "libs/exr/deep_image.h"
+#include "libs/exr/exr_info.h"
+#include "libs/exr/flat_image.h"
+#include "libs/geometry/oriented_box.h"
+#include "validators/camera_checks.h"
+
+namespace lsds::validate {
+
+namespace fs = std::filesystem;
+using exr::DeepImage;
+using exr::FlatImage;
+
+namespace {
+
+// Counts the pixels that fail one check in one file and remembers the first, so
+// that a layer full of NaN is one finding ("40000 pixels ..., first at ...")
+// and not 40000.
+struct PixelTally {
+  int64_t count = 0;
+  int x = -1, y = -1;
+  std::string first_detail;
+  void Add(int px, int py, const std::string& detail = "") {
+    if (count++ == 0) {
+      x = px, y = py;
+      first_detail = detail;
+    }
+  }
+};
+
+std::string Fmt(double v) {
+  std::ostringstream out;
+  out.precision(6);
+  out << v;
+  return out.str();
+}
+
+class FrameChecker {
+ public:
+  FrameChecker(const FrameCheckContext& context, const FrameInput& input)
+      : context_(context),
+        input_(input),
+        frame_(input.frame),
+        header_(*context.header) {}
+
+  FrameOutcome Run();
+
+ private:
+  bool Selected(const std::string& id) const {
+    return context_.checks->Has(id);
+  }
+  void Emit(const std::string& id,
+            Location location,
+            const std::string& message,
+            const std::string& object = "") {
+    if (!Selected(id)) return;
+    outcome_.findings.push_back(
+        {GetCheck(id).severity, id, std::move(location), object, message});
+  }
+  Location FileLocation(const std::string& file) const {
+    Location where(file);
+    where.frame = frame_.index;
+    return where;
+  }
+  Location JsonLocation(const std::string& pointer_suffix) const {
+    Location where(
+        kCollectionFile,
+        "/frames/" + std::to_string(input_.position) + pointer_suffix);
+    where.frame = frame_.index;
+    return where;
+  }
+  void EmitTally(const std::string& id,
+                 const std::string& file,
+                 const PixelTally& tally,
+                 const std::string& what) {
+    if (tally.count == 0) return;
+    std::string message = std::to_string(tally.count) + " pixel(s) " + what;
+    if (!tally.first_detail.empty())
+      message += "; first: " + tally.first_detail;
+    Emit(id, Location::Pixel(file, frame_.index, tally.x, tally.y), message);
+  }
+
+  void LoadLayers();
+  bool CheckHeader(const LayerInfo& layer,
+                   const std::string& file,
+                   const fs::path& path);
+  void CheckValues();
+  void CheckBundle();
+  void CheckObjects();
+  void CheckWorldPositionVsDepth();
+  void CheckMotion();
+  void CheckCamera();
+
+  const FlatImage* Flat(const std::string& semantic) const {
+    const auto it = flat_.find(semantic);
+    return it == flat_.end() ? nullptr : &it->second;
+  }
+  const LayerInfo* Layer(const std::string& semantic) const {
+    return header_.FindLayerBySemantic(semantic);
+  }
+  std::string FileOf(const std::string& semantic) const {
+    const auto it = file_of_.find(semantic);
+    return it == file_of_.end() ? std::string() : it->second;
+  }
+  // The first declared channel of the layer for `semantic`, if it was decoded.
+  const std::vector<float>* Channel(const std::string& semantic,
+                                    size_t k) const {
+    const FlatImage* image = Flat(semantic);
+    const LayerInfo* layer = Layer(semantic);
+    if (image == nullptr || layer == nullptr || k >= layer->channels.size())
+      return nullptr;
+    const exr::FlatChannel* channel = image->Find(layer->channels[k].name);
+    if (channel == nullptr || channel->floats.size() != image->pixel_count())
+      return nullptr;
+    return &channel->floats;
+  }
+  const std::vector<uint32_t>* Ids(const std::string& semantic) const {
+    const FlatImage* image = Flat(semantic);
+    const LayerInfo* layer = Layer(semantic);
+    if (image == nullptr || layer == nullptr || layer->channels.empty())
+      return nullptr;
+    const exr::FlatChannel* channel = image->Find(layer->channels[0].name);
+    if (channel == nullptr || channel->uints.size() != image->pixel_count())
+      return nullptr;
+    return &channel->uints;
+  }
+
+  const FrameCheckContext& context_;
+  const FrameInput& input_;
+  const Frame& frame_;
+  const CollectionHeader& header_;
+  FrameOutcome outcome_;
+  std::map<std::string, FlatImage>
+      flat_;  // by semantic (the first layer of each semantic)
+  std::optional<DeepImage> bundle_;
+  std::map<std::string, std::string>
+      file_of_;  // semantic -> file relative to the root
+  int width_ = 0, height_ = 0;
+};
+
+FrameOutcome FrameChecker::Run() {
+  width_ = frame_.camera.intrinsics.width;
+  height_ = frame_.camera.intrinsics.height;
+  LoadLayers();
+  CheckValues();
+  CheckBundle();
+  CheckObjects();
+  CheckWorldPositionVsDepth();
+  CheckMotion();
+  CheckCamera();
+  return std::move(outcome_);
+}
+
+bool IsIdSemantic(const std::string& semantic) {
+  return semantic == "classid" || semantic == "instanceid";
+}
+
+bool FrameChecker::CheckHeader(const LayerInfo& layer,
+                               const std::string& file,
+                               const fs::path& path) {
+  exr::ExrInfo info;
+  try {
+    info = exr::ReadExrInfo(path);
+  } catch (const std::exception& e) {
+    Emit("layer.readable",
+         FileLocation(file),
+         std::string("cannot open: ") + e.what());
+    return false;
+  }
+  bool ok = true;
+  if (info.deep != layer.deep) {
+    Emit("layer.channels",
+         FileLocation(file),
+         std::string("file is ") + (info.deep ? "deep" : "flat") +
+             " but layer '" + layer.name + "' is declared " +
+             (layer.deep ? "deep" : "flat"));
+    ok = false;
+  }
+  if (info.width != width_ || info.height != height_) {
+    Emit("layer.dimensions",
+         FileLocation(file),
+         "is " + std::to_string(info.width) + "x" +
+             std::to_string(info.height) + " but the frame's camera is " +
+             std::to_string(width_) + "x" + std::to_string(height_));
+    ok = false;
+  }
+  for (const LayerChannel& declared : layer.channels) {
+    const exr::ChannelSpec* found = info.Find(declared.name);
+    if (found == nullptr) {
+      Emit("layer.channels",
+           FileLocation(file),
+           "has no channel '" + declared.name + "' declared by layer '" +
+               layer.name + "'");
+      ok = false;
+    } else if (found->type != declared.type) {
+      const bool id_channel = IsIdSemantic(layer.semantic) ||
+                              (layer.semantic == "bundle" &&
+                               declared.type == exr::PixelType::kUint);
+      Emit(id_channel ? "layer.id-type" : "layer.channels",
+           FileLocation(file),
+           "channel '" + declared.name + "' is " +
+               exr::PixelTypeName(found->type) + " but declared " +
+               exr::PixelTypeName(declared.type));
+      ok = false;
+    }
+  }
+  for (const exr::ChannelSpec& present : info.channels) {
+    if (layer.FindChannel(present.name) == nullptr) {
+      Emit("layer.channels",
+           FileLocation(file),
+           "has channel '" + present.name + "' that layer '" + layer.name +
+               "' does not declare");
+    }
+  }
+  if ((IsIdSemantic(layer.semantic)) && !layer.channels.empty() &&
+      layer.channels[0].type != exr::PixelType::kUint) {
+    Emit("layer.id-type",
+         FileLocation(file),
+         "id layer '" + layer.name + "' is declared " +
+             exr::PixelTypeName(layer.channels[0].type) + ", ids must be uint");
+    ok = false;
+  }
+  return ok;
+}
+
+void FrameChecker::LoadLayers() {
+  const CheckSelection& c = *context_.checks;
+  const bool need_flat = c.HasGroup("layer") || c.HasGroup("cross") ||
+                         c.HasGroup("camera") || c.Has("stats.class-unused");
+  const bool need_bundle =
+      c.Has("layer.bundle") || c.Has("cross.bundle-centre");
+  const bool need_headers = need_flat || need_bundle;
+  if (!need_headers) return;
+  for (const LayerInfo& layer : header_.layers) {
+    const auto it = frame_.files.find(layer.name);
+    if (it == frame_.files.end())
+      continue;  // structure.missing-file, reported while streaming
+    const fs::path path = context_.root / it->second;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) continue;  // idem
+    if (!CheckHeader(layer, it->second, path)) continue;
+    const bool first_of_semantic = file_of_.count(layer.semantic) == 0;
+    if (layer.deep ? !need_bundle : !need_flat) continue;
+    if (!first_of_semantic || layer.semantic == "derived") continue;
+    std::vector<std::string> channels;
+    for (const LayerChannel& channel : layer.channels)
+      channels.push_back(channel.name);
+    try {
+      if (layer.deep) {
+        if (layer.semantic != "bundle") continue;
+        bundle_ = exr::ReadDeepExr(path, channels);
+      } else {
+        flat_[layer.semantic] = exr::ReadFlatExr(path, channels);
+      }
+      file_of_[layer.semantic] = it->second;
+      ++outcome_.files_decoded;
+      outcome_.bytes_decoded += static_cast<int64_t>(fs::file_size(path, ec));
+    } catch (const std::exception& e) {
+      Emit("layer.readable",
+           FileLocation(it->second),
+           std::string("cannot decode: ") + e.what());
+    }
+  }
+}
+
+void FrameChecker::CheckValues() {
+  const size_t n = static_cast<size_t>(width_) * height_;
+  auto xy = [&](size_t p, int* x, int* y) {
+    *x = static_cast<int>(p % width_);
+    *y = static_cast<int>(p / width_);
+  };
+  if (const LayerInfo* layer = Layer("rgb");
+      layer && Flat("rgb") && Selected("layer.rgb-range")) {
+    PixelTally bad;
+    for (size_t k = 0; k < layer->channels.size(); ++k) {
+      const std::vector<float>* v = Channel("rgb", k);
+      if (v == nullptr) continue;
+      for (size_t p = 0; p < n; ++p) {
+        const float value = (*v)[p];
+        if (!(std::isfinite(value) && value >= 0)) {
+          int x, y;
+          xy(p, &x, &y);
+          bad.Add(x, y, layer->channels[k].name + " = " + Fmt(value));
+        }
+      }
+    }
+    EmitTally("layer.rgb-range",
+              FileOf("rgb"),
+              bad,
+              "with non-finite or negative colour");
+  }
+  if (const std::vector<float>* z = Channel("depth", 0);
+      z && Selected("layer.depth-finite")) {
+    PixelTally bad;
+    for (size_t p = 0; p < n; ++p) {
+      const float d = (*z)[p];
+      if (std::isnan(d) || d < 0 || d == -INFINITY) {
+        int x, y;
+        xy(p, &x, &y);
+        bad.Add(x, y, "depth = " + Fmt(d));
+      }
+    }
+    EmitTally("layer.depth-finite",
+              FileOf("depth"),
+              bad,
+              "with NaN or negative depth (only +inf, for sky, is allowed "
+              "beside finite >= 0)");
+  }
+  if (Flat("normal") && Selected("layer.normal-unit")) {
+    const auto *nx = Channel("normal", 0), *ny = Channel("normal", 1),
+               *nz = Channel("normal", 2);
+    if (nx && ny && nz) {
+      PixelTally bad;
+      for (size_t p = 0; p < n; ++p) {
+        const double a = (*nx)[p], b = (*ny)[p], c = (*nz)[p];
+        const double length = std::sqrt(a * a + b * b + c * c);
+        if (length == 0) continue;  // sky
+        if (!(std::abs(length - 1) <= 1e-3)) {
+          int x, y;
+          xy(p, &x, &y);
+          bad.Add(x, y, "|n| = " + Fmt(length));
+        }
+      }
+      EmitTally("layer.normal-unit",
+                FileOf("normal"),
+                bad,
+                "with a normal of length != 1");
+    }
+  }
+  if (Flat("worldposition") && Selected("layer.worldposition-finite")) {
+    const auto *px = Channel("worldposition", 0),
+               *py = Channel("worldposition", 1),
+               *pz = Channel("worldposition", 2);
+    if (px && py && pz) {
+      PixelTally bad;
+      for (size_t p = 0; p < n; ++p) {
+        const float a = (*px)[p], b = (*py)[p], c = (*pz)[p];
+        const bool finite =
+            std::isfinite(a) && std::isfinite(b) && std::isfinite(c);
+        const bool sky = a == INFINITY && b == INFINITY && c == INFINITY;
+        if (!finite && !sky) {
+          int x, y;
+          xy(p, &x, &y);
+          bad.Add(x, y, "(" + Fmt(a) + ", " + Fmt(b) + ", " + Fmt(c) + ")");
+        }
+      }
+      EmitTally("layer.worldposition-finite",
+                FileOf("worldposition"),
+                bad,
+                "with a non-finite world position that is not sky (+inf, +inf, "
+                "+inf)");
+    }
+  }
+  for (const char* semantic : {"shadow", "motion"}) {
+    const std::string id = std::string("layer.") + semantic + "-range";
+    const LayerInfo* layer = Layer(semantic);
+    if (!layer || !Flat(semantic) || !Selected(id)) continue;
+    PixelTally bad;
+    for (size_t k = 0; k < layer->channels.size(); ++k) {
+      const std::vector<float>* v = Channel(semantic, k);
+      if (v == nullptr) continue;
+      for (size_t p = 0; p < n; ++p) {
+        const float value = (*v)[p];
+        if (!(value >= 0 && value <= 1)) {
+          int x, y;
+          xy(p, &x, &y);
+          bad.Add(x, y, layer->channels[k].name + " = " + Fmt(value));
+        }
+      }
+    }
+    EmitTally(id, FileOf(semantic), bad, "outside [0, 1]");
+  }
+  if (const std::vector<uint32_t>* ids = Ids("classid")) {
+    PixelTally bad;
+    uint32_t last_known = 0;
+    for (size_t p = 0; p < n; ++p) {
+      const uint32_t id = (*ids)[p];
+      if (id == 0 || id == last_known) continue;
+      if (header_.FindClass(id) != nullptr) {
+        last_known = id;
+        outcome_.pixel_classes.insert(id);
+        continue;
+      }
+      int x, y;
+      xy(p, &x, &y);
+      bad.Add(x, y, "class id " + std::to_string(id));
+    }
+    if (Selected("layer.classid-known")) {
+      EmitTally("layer.classid-known",
+                FileOf("classid"),
+                bad,
+                "with a class id that is not in the class table");
+    }
+  }
+}
+
+void FrameChecker::CheckBundle() {
+  if (!bundle_) return;
+  const DeepImage& deep = *bundle_;
+  const std::string file = FileOf("bundle");
+  const exr::DeepChannel* z = deep.Find("Z");
+  const exr::DeepChannel* sx = deep.Find("SX");
+  const exr::DeepChannel* sy = deep.Find("SY");
+  if (Selected("layer.bundle")) {
+    PixelTally empty, bad_z, bad_position;
+    for (int y = 0; y < deep.height(); ++y) {
+      for (int x = 0; x < deep.width(); ++x) {
+        const uint32_t count = deep.SampleCount(x, y);
+        if (count == 0) empty.Add(x, y);
+        const uint64_t first = deep.FirstSample(x, y);
+        for (uint32_t s = 0; s < count; ++s) {
+          if (z && z->floats.size() == deep.total_samples()) {
+            const float d = z->floats[first + s];
+            if (std::isnan(d) || d < 0)
+              bad_z.Add(x, y, "sample " + std::to_string(s) + " Z = " + Fmt(d));
+          }
+          if (sx && sy && sx->floats.size() == deep.total_samples()) {
+            const float a = sx->floats[first + s], b = sy->floats[first + s];
+            if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1)) {
+              bad_position.Add(x, y, "sample " + std::to_string(s));
+            }
+          }
+        }
+      }
+    }
+    EmitTally("layer.bundle", file, empty, "with no sample");
+    EmitTally(
+        "layer.bundle", file, bad_z, "with a NaN or negative sample depth");
+    EmitTally("layer.bundle",
+              file,
+              bad_position,
+              "with a sample position outside [0, 1]");
+  }
+  if (Selected("cross.bundle-centre")) {
+    struct Pair {
+      const char* bundle_channel;
+      const char* semantic;
+    };
+    for (const Pair& pair :
+         {Pair{"instanceid", "instanceid"}, Pair{"classid", "classid"}}) {
+      const exr::DeepChannel* samples = deep.Find(pair.bundle_channel);
+      const std::vector<uint32_t>* ids = Ids(pair.semantic);
+      if (!samples || !ids || samples->uints.size() != deep.total_samples() ||
+          deep.width() != width_ || deep.height() != height_) {
+        continue;
+      }
+      PixelTally bad;
+      for (int y = 0; y < height_; ++y) {
+        for (int x = 0; x < width_; ++x) {
+          if (deep.SampleCount(x, y) == 0) continue;
+          const uint32_t centre = samples->uints[deep.FirstSample(x, y)];
+          const uint32_t single = (*ids)[deep.Index(x, y)];
+          if (centre != single) {
+            bad.Add(x,
+                    y,
+                    std::string(pair.bundle_channel) +
+                        " sample 0 = " + std::to_string(centre) + ", " +
+                        pair.semantic + " layer = " + std::to_string(single));
+          }
+        }
+      }
+      EmitTally("cross.bundle-centre",
+                file,
+                bad,
+                std::string("whose sample 0 disagrees with the ") +
+                    pair.semantic + " layer");
+    }
+    const std::vector<float>* depth = Channel("depth", 0);
+    const LayerInfo* bundle_layer = Layer("bundle");
+    const LayerInfo* depth_layer = Layer("depth");
+    if (z && depth && z->floats.size() == deep.total_samples() &&
+        bundle_layer && depth_layer &&
+        bundle_layer->depth_kind == depth_layer->depth_kind &&
+        deep.width() == width_ && deep.height() == height_) {
+      PixelTally bad;
+      for (int y = 0; y < height_; ++y) {
+        for (int x = 0; x < width_; ++x) {
+          if (deep.SampleCount(x, y) == 0) continue;
+          const float centre = z->floats[deep.FirstSample(x, y)];
+          const float single = (*depth)[deep.Index(x, y)];
+          if (centre == single) continue;
+          if (std::abs(centre - single) <= 1e-6 * std::abs(single)) continue;
+          bad.Add(
+              x, y, "Z sample 0 = " + Fmt(centre) + ", depth = " + Fmt(single));
+        }
+      }
+      EmitTally("cross.bundle-centre",
+                file,
+                bad,
+                "whose sample 0 depth disagrees with the depth layer");
+    }
+  }
+}
+
+void FrameChecker::CheckObjects() {
+  const std::vector<uint32_t>* ids = Ids("instanceid");
+  const std::vector<uint32_t>* classes = Ids("classid");
+  struct Mask {
+    int64_t count = 0;
+    int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+    PixelTally wrong_class;
+    uint32_t wrong_class_id = 0;
+  };
+  std::unordered_map<uint32_t, Mask> masks;
+  std::unordered_map<uint32_t, uint32_t> class_of;
+  for (const ObjectTruth& object : frame_.objects) {
+    masks[object.instance_id];
+    class_of[object.instance_id] = object.class_id;
+  }
+  if (ids) {
+    for (int y = 0; y < height_; ++y) {
+      for (int x = 0; x < width_; ++x) {
+        const size_t p = static_cast<size_t>(y) * width_ + x;
+        const auto it = masks.find((*ids)[p]);
+        if (it == masks.end()) continue;
+        Mask& m = it->second;
+        ++m.count;
+        m.x0 = std::min(m.x0, x), m.y0 = std::min(m.y0, y);
+        m.x1 = std::max(m.x1, x), m.y1 = std::max(m.y1, y);
+        if (classes && (*classes)[p] != class_of[(*ids)[p]]) {
+          m.wrong_class.Add(x, y, "classid " + std::to_string((*classes)[p]));
+        }
+      }
+    }
+  }
+  const bool can_project =
+      frame_.camera.cam_from_world_rotation.determinant() > 0;
+  const Eigen::Quaterniond rotation(frame_.camera.cam_from_world_rotation);
+  const Rigid3d cam_from_world(rotation.normalized(),
+                               frame_.camera.cam_from_world_translation);
+  for (size_t k = 0; k < frame_.objects.size(); ++k) {
+    const ObjectTruth& object = frame_.objects[k];
+    const std::string pointer = "/objects/" + std::to_string(k);
+    const ClassInfo* info = header_.FindClass(object.class_id);
+    const std::string who =
+        "instance " + std::to_string(object.instance_id) +
+        (object.name.empty() ? "" : " '" + object.name + "'") +
+        (info ? " (" + info->name + ")" : "");
+    if (ids) {
+      const Mask& m = masks[object.instance_id];
+      std::optional<Box2d> extent;
+      if (m.count > 0)
+        extent = Box2d{
+            double(m.x0), double(m.y0), double(m.x1 + 1), double(m.y1 + 1)};
+      auto box_text = [](const std::optional<Box2d>& b) {
+        return b ? "[" + Fmt(b->x0) + ", " + Fmt(b->y0) + ", " + Fmt(b->x1) +
+                       ", " + Fmt(b->y1) + "]"
+                 : std::string("null");
+      };
+      const bool equal = extent.has_value() == object.bbox.has_value() &&
+                         (!extent || *extent == *object.bbox);
+      if (!equal) {
+        Emit("cross.bbox-tight",
+             JsonLocation(pointer + "/bbox"),
+             "bbox is " + box_text(object.bbox) + " but the instance mask in " +
+                 FileOf("instanceid") + " spans " + box_text(extent),
+             who);
+      }
+      if (m.count != object.visible_pixels) {
+        Emit("cross.visible-pixels",
+             JsonLocation(pointer + "/visible_pixels"),
+             "visible_pixels is " + std::to_string(object.visible_pixels) +
+                 " but the mask has " + std::to_string(m.count) + " pixels",
+             who);
+      }
+      if (m.wrong_class.count > 0 && Selected("cross.class-instance")) {
+        Emit("cross.class-instance",
+             Location::Pixel(FileOf("classid"),
+                             frame_.index,
+                             m.wrong_class.x,
+                             m.wrong_class.y),
+             std::to_string(m.wrong_class.count) +
+                 " pixel(s) of the instance carry another class than " +
+                 std::to_string(object.class_id) +
+                 "; first: " + m.wrong_class.first_detail,
+             who);
+      }
+    }
+    if (object.bbox && can_project && Selected("cross.obb-contains-bbox")) {
+      const auto projected =
+          ProjectedBounds(object.obb, frame_.camera.intrinsics, cam_from_world);
+      const Box2d clipped =
+          projected ? projected->ClippedTo(width_, height_) : Box2d{};
+      if (!projected || !clipped.Contains(*object.bbox, 1.0)) {
+        Emit("cross.obb-contains-bbox",
+             JsonLocation(pointer + "/bbox"),
+             "the OBB projected through the declared camera covers [" +
+                 Fmt(clipped.x0) + ", " + Fmt(clipped.y0) + ", " +
+                 Fmt(clipped.x1) + ", " + Fmt(clipped.y1) +
+                 "], which does not contain the tight bbox [" +
+                 Fmt(object.bbox->x0) + ", " + Fmt(object.bbox->y0) + ", " +
+                 Fmt(object.bbox->x1) + ", " + Fmt(object.bbox->y1) + "]",
+             who);
+      }
+    }
+  }
+}
+
+void FrameChecker::CheckWorldPositionVsDepth() {
+  if (!Selected("cross.worldpos-depth")) return;
+  const std::vector<float>* z = Channel("depth", 0);
+  const auto *px = Channel("worldposition", 0),
+             *py = Channel("worldposition", 1),
+             *pz = Channel("worldposition", 2);
+  const LayerInfo* depth_layer = Layer("depth");
+  if (!z || !px || !py || !pz || !depth_layer) return;
+  const DepthKind kind = depth_layer->depth_kind.value_or(DepthKind::kPlanar);
+  const PinholeCamera& camera = frame_.camera.intrinsics;
+  const Eigen::Matrix3d world_from_cam =
+      frame_.camera.cam_from_world_rotation.inverse();
+  const Eigen::Vector3d t = frame_.camera.cam_from_world_translation;
+  Statistic error;
+  PixelTally bad;
+  for (int y = 0; y < height_; ++y) {
+    for (int x = 0; x < width_; ++x) {
+      const size_t p = static_cast<size_t>(y) * width_ + x;
+      const float d = (*z)[p];
+      const Eigen::Vector3d point((*px)[p], (*py)[p], (*pz)[p]);
+      const bool sky_depth = d == INFINITY;
+      const bool sky_point = !point.allFinite();
+      if (sky_depth || sky_point) {
+        if (sky_depth != sky_point)
+          bad.Add(x,
+                  y,
+                  sky_depth ? "sky depth, finite position"
+                            : "finite depth, sky position");
+        continue;
+      }
+      if (!std::isfinite(d)) continue;  // layer.depth-finite
+      const Eigen::Vector3d in_cam =
+          UnprojectDepth(camera, {x + 0.5, y + 0.5}, d, kind);
+      const Eigen::Vector3d back_projected = world_from_cam * (in_cam - t);
+      const double e = (back_projected - point).norm();
+      error.max = std::max(error.max, e);
+      error.sum_squares += e * e;
+      ++error.count;
+      if (!(e <= 1e-4 * d + 1e-4)) {
+        bad.Add(x, y, "error " + Fmt(e) + " at depth " + Fmt(d));
+      }
+    }
+  }
+  outcome_.statistics.push_back({"cross.worldpos-depth.error", error});
+  if (bad.count > 0) {
+    Emit("cross.worldpos-depth",
+         Location::Pixel(FileOf("worldposition"), frame_.index, bad.x, bad.y),
+         std::to_string(bad.count) +
+             " pixel(s) whose world position is not the " +
+             DepthKindName(kind) + " depth of " + FileOf("depth") +
+             " back-projected through the declared camera (max error " +
+             Fmt(error.max) + ", RMS " + Fmt(error.rms()) +
+             " world units); first: " + bad.first_detail);
+  }
+}
+
+void FrameChecker::CheckMotion() {
+  if (!Selected("cross.motion-pose") || !input_.previous_camera) return;
+  const auto *mx = Channel("motion", 0), *my = Channel("motion", 1);
+  const auto *px = Channel("worldposition", 0),
+             *py = Channel("worldposition", 1),
+             *pz = Channel("worldposition", 2);
+  if (!mx || !my || !px || !py || !pz) return;
+  const CameraTruth& previous = *input_.previous_camera;
+  const PinholeCamera& camera = previous.intrinsics;
+  int64_t checked = 0;
+  PixelTally bad;
+  for (int y = 0; y < height_; ++y) {
+    for (int x = 0; x < width_; ++x) {
+      const size_t p = static_cast<size_t>(y) * width_ + x;
+      const Eigen::Vector3d point((*px)[p], (*py)[p], (*pz)[p]);
+      if (!point.allFinite()) continue;
+      const Eigen::Vector3d in_previous =
+          previous.cam_from_world_rotation * point +
+          previous.cam_from_world_translation;
+      if (in_previous.z() <= 0) continue;
+      const Eigen::Vector2d shift =
+          Eigen::Vector2d(x + 0.5, y + 0.5) - camera.ImageFromCam(in_previous);
+      const double ex = 0.5 + 0.5 * shift.x() / width_,
+                   ey = 0.5 + 0.5 * shift.y() / height_;
+      ++checked;
+      if (std::abs((*mx)[p] - ex) > 2e-3 || std::abs((*my)[p] - ey) > 2e-3) {
+        bad.Add(x,
+                y,
+                "motion (" + Fmt((*mx)[p]) + ", " + Fmt((*my)[p]) +
+                    "), pose change says (" + Fmt(ex) + ", " + Fmt(ey) + ")");
+      }
+    }
+  }
+  // Moving objects legitimately differ; a large share of disagreeing pixels is
+  // a defect.
+  if (checked > 0 && bad.count > checked / 10) {
+    Emit("cross.motion-pose",
+         Location::Pixel(FileOf("motion"), frame_.index, bad.x, bad.y),
+         std::to_string(bad.count) + " of " + std::to_string(checked) +
+             " pixels disagree with the camera motion since the previous "
+             "frame; first: " +
+             bad.first_detail);
+  }
+}
+
+void FrameChecker::CheckCamera() {
+  if (!context_.checks->HasGroup("camera")) return;
+  const FlatImage* worldposition = Flat("worldposition");
+  const LayerInfo* wp_layer = Layer("worldposition");
+  if (!worldposition || !wp_layer || wp_layer->channels.size() < 3) return;
+  CameraCheckInput in;
+  in.frame = &frame_;
+  in.worldposition = worldposition;
+  in.worldposition_file = FileOf("worldposition");
+  if (const LayerInfo* depth_layer = Layer("depth");
+      depth_layer && Flat("depth")) {
+    in.depth = Flat("depth");
+    in.depth_channel = depth_layer->channels[0].name;
+    in.depth_file = FileOf("depth");
+    in.depth_kind = depth_layer->depth_kind.value_or(DepthKind::kPlanar);
+  }
+  in.grid = context_.camera_grid;
+  const double rms =
+      CheckCameraGeometry(in, *context_.checks, &outcome_.findings);
+  if (rms >= 0) {
+    Statistic s;
+    s.max = rms, s.sum_squares = rms * rms, s.count = 1;
+    outcome_.statistics.push_back({"camera.reprojection_rms_px", s});
+  }
+}
+
+}  // namespace
+
+FrameOutcome CheckFrame(const FrameCheckContext& context,
+                        const FrameInput& input) {
+  return FrameChecker(context, input).Run();
+}
+
+}  // namespace lsds::validate

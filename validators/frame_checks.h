@@ -1,0 +1,44 @@
+// Per-frame checks: every EXR of the frame is opened and decoded once, then the
+// layer, cross-layer and camera checks all read the decoded images.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "libs/collection/model.h"
+#include "validators/checks.h"
+#include "validators/finding.h"
+#include "validators/report.h"
+
+namespace lsds::validate {
+
+struct FrameInput {
+  Frame frame;
+  size_t position = 0;  // index in the "frames" array (for JSON pointers)
+  std::optional<CameraTruth>
+      previous_camera;  // the previous frame of the same sequence, if adjacent
+};
+
+struct FrameOutcome {
+  std::vector<Finding> findings;
+  std::set<uint32_t> pixel_classes;  // class ids seen in the classid layer
+  int64_t files_decoded = 0;
+  int64_t bytes_decoded = 0;
+  std::vector<std::pair<std::string, Statistic>> statistics;
+};
+
+struct FrameCheckContext {
+  std::filesystem::path root;
+  const CollectionHeader* header = nullptr;
+  const CheckSelection* checks = nullptr;
+  int camera_grid = 24;
+};
+
+FrameOutcome CheckFrame(const FrameCheckContext& context,
+                        const FrameInput& input);
+
+}  // namespace lsds::validate

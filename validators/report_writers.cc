@@ -1,0 +1,210 @@
+#include "validators/report_writers.h"
+
+#include <sstream>
+
+namespace lsds::validate {
+
+namespace {
+
+nlohmann::json LocationToJson(const Location& location) {
+  nlohmann::json j = nlohmann::json::object();
+  if (!location.file.empty()) j["file"] = location.file;
+  if (location.line > 0) j["line"] = location.line;
+  if (location.column > 0) j["column"] = location.column;
+  if (!location.json_pointer.empty()) j["json_pointer"] = location.json_pointer;
+  if (location.frame) j["frame"] = *location.frame;
+  if (location.pixel_x && location.pixel_y)
+    j["pixel"] = {*location.pixel_x, *location.pixel_y};
+  return j;
+}
+
+std::string XmlEscape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') {
+          out += ' ';
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out;
+}
+
+std::string FindingLine(const Finding& f) {
+  std::string line = f.location.ToString();
+  if (!f.object.empty()) line += " [" + f.object + "]";
+  return line + ": " + f.message;
+}
+
+}  // namespace
+
+std::string Verdict(const Report& report, Severity fail_on) {
+  const int64_t errors = report.Count(Severity::kError),
+                warnings = report.Count(Severity::kWarning);
+  std::ostringstream out;
+  out << (report.Fails(fail_on) ? "FAIL" : "PASS") << ": " << errors
+      << " error(s), " << warnings << " warning(s) in " << report.frames
+      << " frame(s), " << report.checks.size() << " check(s) (failing on "
+      << SeverityName(fail_on) << ")";
+  return out.str();
+}
+
+std::string ReportToText(const Report& report,
+                         Severity fail_on,
+                         size_t max_shown) {
+  std::ostringstream out;
+  out << "lsds validate " << report.collection << "\n";
+  for (const CheckInfo& info :
+       AllChecks()) {  // registry order: schema, structure, layer, ...
+    const auto found = report.results().find(info.id);
+    if (found == report.results().end()) continue;
+    const std::string& id = info.id;
+    const CheckResult& result = found->second;
+    out << "\n"
+        << SeverityName(info.severity) << " " << id << ": " << result.total()
+        << " finding(s) - " << info.what << "\n";
+    size_t shown = 0;
+    for (const Finding& f : result.examples) {
+      if (shown++ == max_shown) break;
+      out << "  " << FindingLine(f) << "\n";
+    }
+    if (result.total() >
+        static_cast<int64_t>(std::min(max_shown, result.examples.size()))) {
+      out << "  ... and "
+          << result.total() - static_cast<int64_t>(
+                                  std::min(max_shown, result.examples.size()))
+          << " more\n";
+    }
+  }
+  if (!report.statistics().empty()) {
+    out << "\nstatistics:\n";
+    for (const auto& [name, s] : report.statistics()) {
+      out << "  " << name << ": max " << s.max << ", rms " << s.rms()
+          << " over " << s.count << "\n";
+    }
+  }
+  out << "\n" << Verdict(report, fail_on) << "\n";
+  return out.str();
+}
+
+nlohmann::json ReportToJson(const Report& report, Severity fail_on) {
+  nlohmann::json j;
+  j["format"] = "lsds-validate-report";
+  j["format_version"] = "1.0";
+  j["collection"] = report.collection;
+  j["verdict"] = report.Fails(fail_on) ? "fail" : "pass";
+  j["fail_on"] = SeverityName(fail_on);
+  j["frames"] = report.frames;
+  j["files_decoded"] = report.files_decoded;
+  j["bytes_decoded"] = report.bytes_decoded;
+  j["seconds"] = report.seconds;
+  j["counts"] = {{"error", report.Count(Severity::kError)},
+                 {"warning", report.Count(Severity::kWarning)},
+                 {"info", report.Count(Severity::kInfo)}};
+  nlohmann::json checks = nlohmann::json::array();
+  for (const std::string& id : report.checks) {
+    const CheckInfo& info = GetCheck(id);
+    const auto it = report.results().find(id);
+    nlohmann::json c = {
+        {"id", id},
+        {"severity", SeverityName(info.severity)},
+        {"tolerance", info.tolerance},
+        {"count", it == report.results().end() ? 0 : it->second.total()}};
+    nlohmann::json findings = nlohmann::json::array();
+    if (it != report.results().end()) {
+      for (const Finding& f : it->second.examples) {
+        nlohmann::json fj = {{"severity", SeverityName(f.severity)},
+                             {"check", f.check_id},
+                             {"location", LocationToJson(f.location)},
+                             {"message", f.message}};
+        if (!f.object.empty()) fj["object"] = f.object;
+        findings.push_back(fj);
+      }
+    }
+    c["findings"] = findings;
+    checks.push_back(c);
+  }
+  j["checks"] = checks;
+  nlohmann::json statistics = nlohmann::json::object();
+  for (const auto& [name, s] : report.statistics()) {
+    statistics[name] = {{"max", s.max}, {"rms", s.rms()}, {"count", s.count}};
+  }
+  j["statistics"] = statistics;
+  return j;
+}
+
+std::string ReportToJUnit(const Report& report, Severity fail_on) {
+  std::ostringstream out;
+  int64_t failures = 0;
+  for (const std::string& id : report.checks) {
+    const auto it = report.results().find(id);
+    if (it == report.results().end()) continue;
+    for (int s = static_cast<int>(fail_on); s <= 2; ++s) {
+      if (it->second.counts[s] > 0) {
+        ++failures;
+        break;
+      }
+    }
+  }
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  out << "<testsuites name=\"lsds validate\" tests=\"" << report.checks.size()
+      << "\" failures=\"" << failures << "\" time=\"" << report.seconds
+      << "\">\n";
+  out << "  <testsuite name=\"" << XmlEscape(report.collection) << "\" tests=\""
+      << report.checks.size() << "\" failures=\"" << failures
+      << "\" errors=\"0\" time=\"" << report.seconds << "\">\n";
+  for (const std::string& id : report.checks) {
+    const std::string group = id.substr(0, id.find('.'));
+    out << "    <testcase classname=\"lsds.validate." << group << "\" name=\""
+        << id << "\">\n";
+    const auto it = report.results().find(id);
+    if (it != report.results().end()) {
+      const CheckResult& r = it->second;
+      bool failing = false;
+      for (int s = static_cast<int>(fail_on); s <= 2; ++s)
+        failing |= r.counts[s] > 0;
+      std::ostringstream body;
+      for (const Finding& f : r.examples)
+        body << SeverityName(f.severity) << " " << FindingLine(f) << "\n";
+      if (r.total() > static_cast<int64_t>(r.examples.size())) {
+        body << "... and "
+             << r.total() - static_cast<int64_t>(r.examples.size())
+             << " more\n";
+      }
+      const std::string summary = std::to_string(r.total()) + " finding(s)";
+      if (failing) {
+        out << "      <failure message=\""
+            << XmlEscape(summary + ": " +
+                         (r.examples.empty() ? "" : r.examples.front().message))
+            << "\" type=\"" << SeverityName(GetCheck(id).severity) << "\">"
+            << XmlEscape(body.str()) << "</failure>\n";
+      } else {
+        out << "      <system-out>" << XmlEscape(body.str())
+            << "</system-out>\n";
+      }
+    }
+    out << "    </testcase>\n";
+  }
+  out << "  </testsuite>\n</testsuites>\n";
+  return out.str();
+}
+
+}  // namespace lsds::validate

@@ -1,0 +1,23 @@
+// Report writers: text for people, JSON for machines
+// (schemas/validate-report.schema.json), JUnit XML for CI systems (one test
+// case per selected check).
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "validators/report.h"
+
+namespace lsds::validate {
+
+// Grouped by check, counted, the first `max_shown` findings of each with their
+// location, and a one-line verdict against `fail_on`.
+std::string ReportToText(const Report& report,
+                         Severity fail_on,
+                         size_t max_shown = 5);
+nlohmann::json ReportToJson(const Report& report, Severity fail_on);
+std::string ReportToJUnit(const Report& report, Severity fail_on);
+std::string Verdict(const Report& report, Severity fail_on);
+
+}  // namespace lsds::validate

@@ -1,0 +1,49 @@
+#include "generator/scene/terrain.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "generator/scene/perlin.h"
+
+namespace lsds::gen {
+
+double TerrainHeight(const PlannedTerrain& terrain, double x, double y) {
+  if (terrain.perlin_amplitude == 0) return 0;
+  static thread_local uint64_t cached_seed = ~uint64_t{0};
+  static thread_local Perlin noise(0);
+  if (cached_seed != terrain.perlin_seed) {
+    noise = Perlin(terrain.perlin_seed);
+    cached_seed = terrain.perlin_seed;
+  }
+  const double f = terrain.perlin_frequency;
+  return terrain.perlin_amplitude * noise.Fbm(x * f, y * f, 5);
+}
+
+TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells) {
+  TriangleMesh mesh;
+  const double sx = terrain.size.x(), sy = terrain.size.y();
+  int nx = 1, ny = 1;
+  if (terrain.perlin_amplitude != 0) {
+    // About four vertices per noise period on the finest octave we show, bounded.
+    const double spacing = std::max(0.25, 0.125 / std::max(1e-6, terrain.perlin_frequency));
+    nx = std::clamp(static_cast<int>(std::ceil(sx / spacing)), 1, max_cells);
+    ny = std::clamp(static_cast<int>(std::ceil(sy / spacing)), 1, max_cells);
+  }
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      const double x = -sx / 2 + sx * i / nx, y = -sy / 2 + sy * j / ny;
+      mesh.positions.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                                  static_cast<float>(TerrainHeight(terrain, x, y)));
+    }
+  }
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
+      mesh.triangles.emplace_back(a, b, d);
+      mesh.triangles.emplace_back(a, d, c);
+    }
+  }
+  return mesh;
+}
+
+}  // namespace lsds::gen

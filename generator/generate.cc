@@ -11,6 +11,7 @@
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
 #include "generator/render/truth.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
 #include "libs/exr/deep_image.h"
@@ -90,6 +91,31 @@ void PrepareOutput(const GenerateOptions& options, const nlohmann::json& setting
   }
   fs::create_directories(root / kWorkFolder);
   WriteFileAtomic(settings_path, settings.dump(2) + "\n");
+  // Resuming a finished collection: its frames become truth parts again, so that only frames whose
+  // files are missing or broken are rendered.
+  if (options.resume && LooksLikeCollection(root)) {
+    try {
+      const CollectionReader reader(root);
+      const Provenance& provenance = reader.header().provenance;
+      bool same = provenance.seed == settings["seed"].get<uint64_t>();
+      for (const auto& [key, value] : settings.items()) {
+        if (key != "seed" && provenance.render.value(key, nlohmann::json()) != value) same = false;
+      }
+      if (!same) {
+        throw Error("--resume: the existing collection was made with other settings (seed " +
+                        std::to_string(provenance.seed.value_or(0)) + ", " + provenance.render.dump() +
+                        "); use --force to start over",
+                    Location((root / kCollectionFile).string()));
+      }
+      reader.ForEachFrame([&root](const Frame& frame) {
+        const fs::path part = TruthPartPath(root, frame.index);
+        if (!fs::exists(part)) WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
+      });
+    } catch (const Error& e) {
+      if (e.message().find("--resume") != std::string::npos) throw;
+      // An unreadable collection.json is rebuilt from the frames.
+    }
+  }
 }
 
 }  // namespace

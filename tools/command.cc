@@ -8,6 +8,7 @@ namespace lsds {
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
+      {"generate", "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection", RunGenerate},
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
   };
   return commands;

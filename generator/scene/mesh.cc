@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Dense>
+
 namespace lsds::gen {
 
 void TriangleMesh::Append(const TriangleMesh& other, const Eigen::Matrix3f& linear,

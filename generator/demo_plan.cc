@@ -50,7 +50,7 @@ Plan MakeDemoPlan(const DemoOptions& options) {
     o.instance_id = static_cast<uint32_t>(i + 1);
     const double scale = uniform(0.8, 1.25);
     o.extent = kind.extent * scale;
-    const double x = uniform(-25, 25), y = uniform(-20, 20 + 2.0 * options.frames);
+    const double x = uniform(-16, 16), y = uniform(-16, 6 + 2.0 * options.frames);
     const double yaw = uniform(0, 2 * M_PI);
     o.world_from_object = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     // Standing on the terrain: the box's base at the terrain height under its centre.
@@ -67,7 +67,7 @@ Plan MakeDemoPlan(const DemoOptions& options) {
     frame.time = 0.1 * f;
     frame.sequence = "P1(1)";
     frame.camera = camera;
-    const Eigen::Vector3d position(0, -30 + 2.0 * f, 40);
+    const Eigen::Vector3d position(0, -26 + 2.0 * f, 25);
     frame.cam_from_world = CamFromEnu(position, Attitude{0, -60, 0});
     if (!mover.empty()) {
       ObjectChange change;

@@ -15,7 +15,7 @@ struct DemoOptions {
   int width = 512;
   int height = 512;
   uint64_t seed = 0;
-  int objects = 40;
+  int objects = 60;
 };
 
 Plan MakeDemoPlan(const DemoOptions& options);

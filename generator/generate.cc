@@ -4,6 +4,7 @@
 #include <fstream>
 #include <optional>
 
+#include <OpenEXR/ImfCompression.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
@@ -41,7 +42,8 @@ nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
           {"spp", options.spp},
           {"sampling", "stratified jittered n x n; sample 0 nearest the pixel centre"},
           {"jitter", options.jitter},
-          {"depth", DepthKindName(options.depth_kind)}};
+          {"depth", DepthKindName(options.depth_kind)},
+          {"zip_level", options.zip_level}};
 }
 
 fs::path TruthPartPath(const fs::path& root, int64_t index) {
@@ -129,6 +131,7 @@ void GenerateOptions::Check() const {
   if (first_frame > last_frame) throw Error("--frames A:B needs A <= B");
   if (threads < 0) throw Error("--threads must be >= 0 (0: all cores)");
   if (force && resume) throw Error("--force and --resume exclude each other");
+  if (zip_level < 0 || zip_level > 9) throw Error("--zip-level must be in [0, 9]");
   CheckSamplerSettings({spp, jitter, 0});
 }
 
@@ -177,6 +180,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   if (options.threads > 0) {
     threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(options.threads));
   }
+  Imf::setDefaultZipCompressionLevel(options.zip_level);
   // Validate the whole plan before touching the output.
   const SceneAssets assets = BuildSceneAssets(plan);
   const Sky sky(plan);

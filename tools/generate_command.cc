@@ -57,6 +57,7 @@ int RunGenerate(int argc, char** argv) {
   app.add_option("--jitter", options.jitter, "jitter of each stratified sample in its cell, [0, 1]");
   app.add_option("--threads", options.threads, "worker threads (default: all cores)");
   app.add_option("--depth", depth, "depth layer kind: planar (default) or perspective");
+  app.add_option("--zip-level", options.zip_level, "zlib level of ZIP layers, 0-9 (default 1: fast)");
   app.add_flag("--force", options.force, "replace an existing output folder");
   app.add_flag("--resume", options.resume, "keep the complete frames of an interrupted run");
   app.add_option("--plan", plan_file, "render a plan JSON file (lsds plan -o) instead of SCENE");
@@ -97,7 +98,8 @@ int RunGenerate(int argc, char** argv) {
     if (!quiet) {
       const double per_frame = summary.frames_rendered > 0 ? summary.total_seconds / summary.frames_rendered : 0;
       std::cerr << "lsds generate: " << summary.frames_rendered << " frames rendered, " << summary.frames_skipped
-                << " kept, " << summary.total_seconds << " s (" << per_frame << " s/frame, "
+                << " kept, " << summary.total_seconds << " s (" << per_frame << " s/frame: render "
+                << summary.render_seconds << " s, write " << summary.write_seconds << " s, "
                 << (summary.render_seconds > 0 ? summary.rays / summary.render_seconds / 1e6 : 0)
                 << " Mrays/s) -> " << options.output.string() << "\n";
     }

@@ -122,6 +122,7 @@ DeepImage ReadDeepExr(const std::filesystem::path& path, const std::vector<std::
                                          sizeof(char*), sizeof(char*) * width, element));
     }
     file.setFrameBuffer(frame_buffer);
+    file.readPixelSampleCounts(0, height - 1);  // a new frame buffer needs its counts read again
     file.readPixels(0, height - 1);
     return image;
   });
@@ -129,8 +130,11 @@ DeepImage ReadDeepExr(const std::filesystem::path& path, const std::vector<std::
 
 void WriteDeepExr(const std::filesystem::path& path, const DeepImage& image,
                   const WriteOptions& options) {
-  if (options.compression == Compression::kPiz) {
-    throw Error("deep EXR files cannot use piz compression", Location(path.string()));
+  if (options.compression != Compression::kNone && options.compression != Compression::kRle &&
+      options.compression != Compression::kZips) {
+    throw Error(std::string("deep EXR files allow only none, rle or zips compression, not ") +
+                    CompressionName(options.compression),
+                Location(path.string()));
   }
   const std::filesystem::path temp = TempPathBeside(path);
   internal::WriteThroughTemp(path, temp, [&] {

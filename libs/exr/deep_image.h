@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <deque>
 #include <vector>
 
 #include "libs/exr/exr_types.h"
@@ -38,14 +39,14 @@ class DeepImage {
   const DeepChannel* Find(const std::string& name) const;
   const DeepChannel& Get(const std::string& name) const;  // throws lsds::Error when missing
   DeepChannel& Get(const std::string& name);
-  const std::vector<DeepChannel>& channels() const { return channels_; }
+  const std::deque<DeepChannel>& channels() const { return channels_; }
 
  private:
   int width_ = 0;
   int height_ = 0;
   std::vector<uint32_t> sample_counts_;
   std::vector<uint64_t> offsets_;  // prefix sums, pixel_count() + 1 entries
-  std::vector<DeepChannel> channels_;
+  std::deque<DeepChannel> channels_;  // deque: AddChannel keeps earlier references valid
 };
 
 // Reads the named channels (all when empty) of a deep scanline EXR. Sample counts are checked against
@@ -53,7 +54,7 @@ class DeepImage {
 DeepImage ReadDeepExr(const std::filesystem::path& path, const std::vector<std::string>& channels = {},
                       const ReadLimits& limits = {});
 
-// Writes atomically (temporary file + rename). Deep files allow only none, rle, zips or zip.
+// Writes atomically (temporary file + rename). Deep files allow only none, rle or zips.
 void WriteDeepExr(const std::filesystem::path& path, const DeepImage& image,
                   const WriteOptions& options = {});
 

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <deque>
 #include <vector>
 
 #include "libs/exr/exr_types.h"
@@ -32,7 +33,7 @@ class FlatImage {
   FlatChannel* Find(const std::string& name);
   const FlatChannel& Get(const std::string& name) const;  // throws lsds::Error when missing
   FlatChannel& Get(const std::string& name);
-  const std::vector<FlatChannel>& channels() const { return channels_; }
+  const std::deque<FlatChannel>& channels() const { return channels_; }
 
   float& F(const std::string& name, int x, int y) { return Get(name).floats[Index(x, y)]; }
   uint32_t& U(const std::string& name, int x, int y) { return Get(name).uints[Index(x, y)]; }
@@ -41,7 +42,7 @@ class FlatImage {
  private:
   int width_ = 0;
   int height_ = 0;
-  std::vector<FlatChannel> channels_;
+  std::deque<FlatChannel> channels_;  // deque: AddChannel keeps earlier references valid
 };
 
 // Reads the named channels (all when `channels` is empty) of a flat scanline EXR, each decoded into its

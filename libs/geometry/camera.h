@@ -36,6 +36,18 @@ struct PinholeCamera {
   Eigen::Vector3d RayThroughPixelCenter(int i, int j) const {
     return CamFromImage({i + 0.5, j + 0.5});
   }
+  // The `worldToNDC` convention of our EXR headers (docs/format.md): x_ndc = 2u/width - 1,
+  // y_ndc = 2v/height - 1 (y down), z_ndc = 1/z, after division by w = z.
+  Eigen::Matrix4d NdcFromCam() const {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+    m(0, 0) = 2 * fx / width;
+    m(0, 2) = 2 * cx / width - 1;
+    m(1, 1) = 2 * fy / height;
+    m(1, 2) = 2 * cy / height - 1;
+    m(2, 3) = 1;
+    m(3, 2) = 1;
+    return m;
+  }
   bool operator==(const PinholeCamera& other) const {
     return width == other.width && height == other.height && fx == other.fx && fy == other.fy &&
            cx == other.cx && cy == other.cy;

@@ -1,0 +1,291 @@
+#include "libs/synth/synthetic_collection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tbb/parallel_for.h>
+
+#include "libs/collection/collection_writer.h"
+#include "libs/collection/json_io.h"
+#include "libs/geometry/attitude.h"
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+
+namespace lsds::synth {
+
+namespace fs = std::filesystem;
+using exr::DeepImage;
+using exr::FlatImage;
+using exr::PixelType;
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kAmbient = 0.3;
+
+Eigen::Vector3d Albedo(uint32_t class_id) {
+  switch (class_id) {
+    case 0: return {0.5, 0.7, 1.0};  // sky radiance
+    case 1: return {0.35, 0.3, 0.2};
+    case 2: return {0.7, 0.2, 0.1};
+    case 3: return {0.2, 0.5, 0.2};
+    default: return {0.5, 0.5, 0.5};
+  }
+}
+
+// Sub-pixel sample positions in [0, 1)^2: strata centres, with the stratum holding the pixel centre
+// moved onto it; that sample comes first (docs/format.md, "Pixel bundles").
+std::vector<Eigen::Vector2d> SamplePattern(int n) {
+  std::vector<Eigen::Vector2d> samples = {{0.5, 0.5}};
+  const int centre_stratum = n / 2;
+  for (int b = 0; b < n; ++b) {
+    for (int a = 0; a < n; ++a) {
+      if (a == centre_stratum && b == centre_stratum) continue;
+      samples.push_back({(a + 0.5) / n, (b + 0.5) / n});
+    }
+  }
+  return samples;
+}
+
+struct Sample {
+  Hit hit;
+  Eigen::Vector3d point = Eigen::Vector3d::Constant(kInf);
+  double planar = kInf;
+  double perspective = kInf;
+  double sun_visibility = 1;
+  double shadow = 1;  // final / unshadowed shading
+  Eigen::Vector3d radiance = Eigen::Vector3d::Zero();
+};
+
+Sample Shade(const AnalyticScene& scene, const Spec& spec, const PinholeCamera& camera,
+             const Rigid3d& world_from_cam, const Eigen::Vector2d& pixel) {
+  Sample s;
+  const Eigen::Vector3d ray_in_cam = camera.CamFromImage(pixel);  // z == 1: t is planar depth
+  const Eigen::Vector3d direction = world_from_cam.rotation * ray_in_cam;
+  s.hit = scene.Intersect(world_from_cam.translation, direction);
+  if (!s.hit.hit) {
+    s.radiance = Albedo(0);
+    return s;
+  }
+  s.planar = s.hit.t;
+  s.perspective = s.hit.t * ray_in_cam.norm();
+  s.point = world_from_cam.translation + s.hit.t * direction;
+  const double cosine = s.hit.normal.dot(spec.direction_to_sun);
+  if (cosine > 0) {
+    const Hit blocker = scene.Intersect(s.point + 1e-6 * s.hit.normal, spec.direction_to_sun);
+    s.sun_visibility = blocker.hit ? 0.0 : 1.0;
+    s.shadow = (kAmbient + cosine * s.sun_visibility) / (kAmbient + cosine);
+  }
+  s.radiance = Albedo(s.hit.class_id) * (kAmbient + std::max(0.0, cosine) * s.sun_visibility);
+  return s;
+}
+
+PinholeCamera Camera(const Spec& spec) {
+  return PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
+}
+
+}  // namespace
+
+AnalyticScene Spec::Scene() const {
+  AnalyticScene scene;
+  scene.ground = ground;
+  scene.boxes = boxes;
+  return scene;
+}
+
+std::vector<std::string> Spec::LayerSemantics() const {
+  return layers.empty() ? StandardLayerSemantics() : layers;
+}
+
+Rigid3d NadirCamFromWorld(const Eigen::Vector3d& position_in_world) {
+  // Pitch -90 looks down; with yaw 0 the image x axis is east and the image top is north.
+  return CamFromEnu(position_in_world, Attitude{0.0, -90.0, 0.0});
+}
+
+Spec DefaultSpec() {
+  Spec spec;
+  spec.classes = {{1, "ground"}, {2, "box"}, {3, "crate"}};
+  Box a;
+  a.class_id = 2, a.instance_id = 1, a.name = "box#0";
+  a.center = {0, 0, 1}, a.half_extents = {1, 1, 1};
+  Box b;
+  b.class_id = 2, b.instance_id = 2, b.name = "box#1";
+  b.center = {4, 2, 0.5}, b.half_extents = {0.5, 0.5, 0.5}, b.yaw_deg = 30;
+  Box c;
+  c.class_id = 3, c.instance_id = 3, c.name = "crate#0";
+  c.center = {-3, -2, 0.75}, c.half_extents = {1.5, 0.75, 0.75}, c.yaw_deg = -20;
+  spec.boxes = {a, b, c};
+  for (int k = 0; k < 4; ++k) spec.cam_from_world.push_back(NadirCamFromWorld({-1.5 + k, 0.0, 20.0}));
+  return spec;
+}
+
+RenderedFrame RenderFrame(const Spec& spec, int frame) {
+  const AnalyticScene scene = spec.Scene();
+  const PinholeCamera camera = Camera(spec);
+  const Rigid3d& cam_from_world = spec.cam_from_world.at(frame);
+  const Rigid3d world_from_cam = cam_from_world.Inverse();
+  const std::optional<Rigid3d> previous_cam_from_world =
+      frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1]) : std::nullopt;
+  const int w = spec.width, h = spec.height;
+  const std::vector<Eigen::Vector2d> pattern = SamplePattern(spec.samples_per_axis);
+  const size_t samples_per_pixel = pattern.size();
+
+  RenderedFrame out;
+  FlatImage& rgb = out.flat["rgb"] = FlatImage(w, h);
+  FlatImage& classid = out.flat["classid"] = FlatImage(w, h);
+  FlatImage& instanceid = out.flat["instanceid"] = FlatImage(w, h);
+  FlatImage& depth = out.flat["depth"] = FlatImage(w, h);
+  FlatImage& normal = out.flat["normal"] = FlatImage(w, h);
+  FlatImage& position = out.flat["worldposition"] = FlatImage(w, h);
+  FlatImage& shadow = out.flat["shadow"] = FlatImage(w, h);
+  FlatImage& motion = out.flat["motion"] = FlatImage(w, h);
+  for (const LayerInfo& layer : {StandardLayer("rgb"), StandardLayer("classid"), StandardLayer("instanceid"),
+                                 StandardLayer("depth"), StandardLayer("normal"), StandardLayer("worldposition"),
+                                 StandardLayer("shadow"), StandardLayer("motion")}) {
+    for (const LayerChannel& c : layer.channels) out.flat[layer.semantic].AddChannel(c.name, c.type);
+  }
+  out.bundle = DeepImage(w, h, std::vector<uint32_t>(static_cast<size_t>(w) * h, samples_per_pixel));
+  for (const LayerChannel& c : StandardLayer("bundle").channels) out.bundle.AddChannel(c.name, c.type);
+
+  tbb::parallel_for(0, h, [&](int j) {
+    for (int i = 0; i < w; ++i) {
+      const size_t p = rgb.Index(i, j);
+      Eigen::Vector3d radiance = Eigen::Vector3d::Zero();
+      for (size_t k = 0; k < samples_per_pixel; ++k) {
+        const Eigen::Vector2d at(i + pattern[k].x(), j + pattern[k].y());
+        const Sample s = Shade(scene, spec, camera, world_from_cam, at);
+        radiance += s.radiance;
+        const uint64_t q = out.bundle.FirstSample(i, j) + k;
+        out.bundle.Get("instanceid").uints[q] = s.hit.instance_id;
+        out.bundle.Get("classid").uints[q] = s.hit.class_id;
+        out.bundle.Get("Z").floats[q] =
+            static_cast<float>(spec.depth_kind == DepthKind::kPlanar ? s.planar : s.perspective);
+        out.bundle.Get("NX").floats[q] = static_cast<float>(s.hit.normal.x());
+        out.bundle.Get("NY").floats[q] = static_cast<float>(s.hit.normal.y());
+        out.bundle.Get("NZ").floats[q] = static_cast<float>(s.hit.normal.z());
+        out.bundle.Get("SX").floats[q] = static_cast<float>(pattern[k].x());
+        out.bundle.Get("SY").floats[q] = static_cast<float>(pattern[k].y());
+        if (k != 0) continue;
+        // The centre sample is the single value of every truth layer.
+        classid.Get("id").uints[p] = s.hit.class_id;
+        instanceid.Get("id").uints[p] = s.hit.instance_id;
+        depth.Get("Z").floats[p] =
+            static_cast<float>(spec.depth_kind == DepthKind::kPlanar ? s.planar : s.perspective);
+        for (int c = 0; c < 3; ++c) {
+          const char* axis = c == 0 ? "X" : (c == 1 ? "Y" : "Z");
+          normal.Get(axis).floats[p] = static_cast<float>(s.hit.normal[c]);
+          position.Get(axis).floats[p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
+        }
+        shadow.Get("Y").floats[p] = static_cast<float>(s.shadow);
+        Eigen::Vector2d shift = Eigen::Vector2d::Zero();
+        if (previous_cam_from_world) {
+          // Static world: where this surface point (or, for sky, this direction) was last frame.
+          const Eigen::Vector3d in_previous =
+              s.hit.hit ? Eigen::Vector3d(*previous_cam_from_world * s.point)
+                        : Eigen::Vector3d(previous_cam_from_world->rotation *
+                                          (world_from_cam.rotation * camera.CamFromImage(at)));
+          if (in_previous.z() > 0) shift = at - camera.ImageFromCam(in_previous);
+        }
+        motion.Get("X").floats[p] = static_cast<float>(0.5 + 0.5 * shift.x() / w);
+        motion.Get("Y").floats[p] = static_cast<float>(0.5 + 0.5 * shift.y() / h);
+      }
+      radiance /= static_cast<double>(samples_per_pixel);
+      rgb.Get("R").floats[p] = static_cast<float>(radiance.x());
+      rgb.Get("G").floats[p] = static_cast<float>(radiance.y());
+      rgb.Get("B").floats[p] = static_cast<float>(radiance.z());
+    }
+  });
+
+  // Truth, measured on the rendered layers.
+  Frame& truth = out.truth;
+  truth.index = frame;
+  truth.time = frame * spec.frame_interval;
+  truth.sequence = spec.sequence;
+  truth.camera.intrinsics = camera;
+  truth.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
+  truth.camera.cam_from_world_translation = cam_from_world.translation;
+  const std::vector<uint32_t>& ids = instanceid.Get("id").uints;
+  for (size_t b = 0; b < spec.boxes.size(); ++b) {
+    const Box& box = spec.boxes[b];
+    ObjectTruth object;
+    object.instance_id = box.instance_id;
+    object.class_id = box.class_id;
+    object.name = box.name;
+    object.obb = box.Obb();
+    object.in_frame = InFrameFraction(object.obb, camera, cam_from_world);
+    if (object.in_frame <= 0) continue;  // not in view: no entry
+    int64_t unoccluded = 0;
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    for (int j = 0; j < h; ++j) {
+      for (int i = 0; i < w; ++i) {
+        if (ids[rgb.Index(i, j)] == box.instance_id) {
+          ++object.visible_pixels;
+          x0 = std::min(x0, i), y0 = std::min(y0, j), x1 = std::max(x1, i), y1 = std::max(y1, j);
+        }
+        const Eigen::Vector3d direction = world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
+        if (scene.Intersect(world_from_cam.translation, direction, 1e-9, static_cast<int>(b)).hit) ++unoccluded;
+      }
+    }
+    if (object.visible_pixels > 0) object.bbox = Box2d{double(x0), double(y0), double(x1 + 1), double(y1 + 1)};
+    object.visibility = unoccluded > 0 ? static_cast<double>(object.visible_pixels) / unoccluded : 0.0;
+    const auto projected = ProjectedBounds(object.obb, camera, cam_from_world);
+    if (projected) {
+      const Box2d clipped = projected->ClippedTo(w, h);
+      if (!clipped.empty()) object.bbox_projected = clipped;
+    }
+    truth.objects.push_back(object);
+  }
+  return out;
+}
+
+void WriteCollection(const fs::path& root, const Spec& spec) {
+  std::error_code ec;
+  if (fs::exists(root, ec) && !fs::is_empty(root, ec)) {
+    throw Error("synthetic collection target exists and is not empty", Location(root.string()));
+  }
+  fs::create_directories(root);
+  const std::vector<std::string> semantics = spec.LayerSemantics();
+  CollectionHeader header;
+  header.provenance.generator = "lsds synth";
+  header.provenance.generator_version = LSDS_VERSION;
+  header.provenance.seed = 0;
+  header.provenance.render = {{"samples_per_pixel", SamplePattern(spec.samples_per_axis).size()},
+                              {"renderer", "analytic ray casting"}};
+  header.classes = spec.classes;
+  for (const std::string& semantic : semantics) {
+    header.layers.push_back(StandardLayer(semantic, spec.depth_kind));
+    fs::create_directories(root / semantic);
+  }
+  header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
+  header.frame_count = static_cast<int64_t>(spec.cam_from_world.size());
+
+  CollectionWriter collection(root, header);
+  MetadataHeader metadata_header;
+  metadata_header.frame_count = header.frame_count;
+  MetadataWriter metadata(root / kMetadataFile, metadata_header);
+  for (int k = 0; k < static_cast<int>(spec.cam_from_world.size()); ++k) {
+    RenderedFrame rendered = RenderFrame(spec, k);
+    const Rigid3d& cam_from_world = spec.cam_from_world[k];
+    exr::WriteOptions options;
+    options.camera = exr::HeaderCamera{cam_from_world.ToMatrix(),
+                                       Camera(spec).NdcFromCam() * cam_from_world.ToMatrix()};
+    for (const std::string& semantic : semantics) {
+      const LayerInfo layer = StandardLayer(semantic, spec.depth_kind);
+      const std::string file = semantic + "/" + FrameStem(k) + ".exr";
+      options.compression = layer.compression;
+      if (layer.deep) {
+        exr::WriteDeepExr(root / file, rendered.bundle, options);
+      } else {
+        exr::WriteFlatExr(root / file, rendered.flat.at(semantic), options);
+      }
+      rendered.truth.files[semantic] = file;
+    }
+    collection.Append(rendered.truth);
+    metadata.Append(TruthMetadata(rendered.truth, header.conventions.world));
+  }
+  metadata.Commit();
+  collection.Commit();
+}
+
+}  // namespace lsds::synth

@@ -1,0 +1,182 @@
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "libs/collection/collection_reader.h"
+#include "libs/collection/collection_writer.h"
+#include "libs/collection/json_io.h"
+#include "libs/collection/schema.h"
+#include "libs/synth/synthetic_collection.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "tests/test_util.h"
+
+namespace lsds {
+namespace {
+
+using nlohmann::json;
+
+CollectionHeader SampleHeader(int64_t frames) {
+  CollectionHeader header;
+  header.provenance.generator = "test";
+  header.provenance.generator_version = "1";
+  header.provenance.seed = 42;
+  header.provenance.scene_source = "LSCENE = ONE(S)";
+  header.classes = {{1, "ground"}, {7, "barrel"}};
+  header.layers = {StandardLayer("depth", DepthKind::kPerspective), StandardLayer("bundle")};
+  header.metadata = {{"metadata.json", false, ""}};
+  header.frame_count = frames;
+  return header;
+}
+
+Frame SampleFrame(int64_t index) {
+  Frame frame;
+  frame.index = index;
+  frame.time = 0.5 * index;
+  frame.sequence = "P1(1)";
+  frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(64, 48, 50);
+  frame.camera.cam_from_world_rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  frame.camera.cam_from_world_translation = {1.25, -2.5, 30.125};
+  frame.files = {{"depth", "depth/" + std::to_string(index) + ".exr"}};
+  ObjectTruth object;
+  object.instance_id = 3;
+  object.class_id = 7;
+  object.name = "O2#1";
+  object.obb.center = {1, 2, 0.5};
+  object.obb.half_extents = {0.3, 0.3, 0.5};
+  object.bbox = Box2d{10, 11, 20, 31};
+  object.visible_pixels = 150;
+  object.visibility = 0.75;
+  object.in_frame = 1.0;
+  frame.objects.push_back(object);
+  ObjectTruth hidden = object;
+  hidden.instance_id = 4;
+  hidden.bbox.reset();
+  hidden.visible_pixels = 0;
+  hidden.visibility = 0;
+  frame.objects.push_back(hidden);
+  return frame;
+}
+
+TEST(CollectionJson, WriteReadRoundTrip) {
+  testing::TempDir dir;
+  CollectionWriter writer(dir.path(), SampleHeader(3));
+  for (int k = 0; k < 3; ++k) writer.Append(SampleFrame(k));
+  writer.Commit();
+
+  const CollectionReader reader(dir.path());
+  EXPECT_EQ(reader.frames_in_file(), 3u);
+  const CollectionHeader& header = reader.header();
+  EXPECT_EQ(header.provenance.seed, 42u);
+  EXPECT_EQ(header.classes.size(), 2u);
+  ASSERT_NE(header.FindLayer("depth"), nullptr);
+  EXPECT_EQ(header.FindLayer("depth")->depth_kind, DepthKind::kPerspective);
+  EXPECT_TRUE(header.FindLayer("bundle")->deep);
+  int seen = 0;
+  reader.ForEachFrame([&](const Frame& frame) {
+    const Frame expected = SampleFrame(seen);
+    EXPECT_EQ(FrameToJson(frame), FrameToJson(expected));  // exact doubles survive
+    EXPECT_EQ(frame.objects[0].bbox->x1, 20);
+    EXPECT_FALSE(frame.objects[1].bbox);
+    ++seen;
+  });
+  EXPECT_EQ(seen, 3);
+}
+
+TEST(CollectionJson, WriterRefusesWrongFrameCount) {
+  testing::TempDir dir;
+  CollectionWriter writer(dir.path(), SampleHeader(2));
+  writer.Append(SampleFrame(0));
+  EXPECT_THROW(writer.Commit(), Error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "collection.json"));
+}
+
+TEST(Schema, RejectsUnknownKeyWithPointer) {
+  json header = HeaderToJson(SampleHeader(0));
+  header["conventions"]["handednes"] = "right";
+  const auto issues = JsonSchema::Get("collection.schema.json").Validate(header);
+  ASSERT_FALSE(issues.empty());
+  EXPECT_EQ(issues[0].pointer, "/conventions/handednes");
+}
+
+TEST(Schema, RejectsWrongTypeInFrameWithPointer) {
+  json frame = FrameToJson(SampleFrame(0));
+  frame["objects"][1]["visibility"] = 1.5;
+  const auto issues = JsonSchema::Get("collection.schema.json", "frame").Validate(frame, "/frames/9");
+  ASSERT_FALSE(issues.empty());
+  EXPECT_EQ(issues[0].pointer, "/frames/9/objects/1/visibility");
+}
+
+TEST(Schema, ReaderNamesFileAndPointer) {
+  testing::TempDir dir;
+  json header = HeaderToJson(SampleHeader(1));
+  json frame = FrameToJson(SampleFrame(0));
+  frame["camera"]["fx"] = "wide";
+  header["frames"] = json::array({frame});
+  WriteFileAtomic(dir / "collection.json", header.dump());
+  const CollectionReader reader(dir.path());  // the header is fine
+  try {
+    reader.ForEachFrame([](const Frame&) {});
+    FAIL() << "expected a schema error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location().json_pointer, "/frames/0/camera/fx");
+    EXPECT_NE(std::string(e.what()).find("collection.json#/frames/0/camera/fx"), std::string::npos);
+  }
+}
+
+TEST(CollectionJson, SyntaxErrorHasLineAndColumn) {
+  testing::TempDir dir;
+  std::ofstream(dir / "collection.json") << "{\n  \"format\": \"lsds-collection\",\n  \"frames\": [,]\n}\n";
+  try {
+    CollectionReader reader(dir.path());
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location().line, 3);
+    EXPECT_GT(e.location().column, 0);
+  }
+}
+
+TEST(CollectionJson, NotACollection) {
+  testing::TempDir dir;
+  EXPECT_THROW(CollectionReader(dir.path()), Error);
+  EXPECT_THROW(CollectionReader(dir / "nowhere"), Error);
+}
+
+TEST(CollectionJson, StreamingVisitsFramesInOrderWithoutHoldingThem) {
+  testing::TempDir dir;
+  const int frames = 500;
+  CollectionWriter writer(dir.path(), SampleHeader(frames));
+  for (int k = 0; k < frames; ++k) writer.Append(SampleFrame(k));
+  writer.Commit();
+  const CollectionReader reader(dir.path());
+  int64_t expected = 0;
+  reader.ForEachFrame([&](const Frame& frame) { EXPECT_EQ(frame.index, expected++); });
+  EXPECT_EQ(expected, frames);
+  std::atomic<int64_t> sum{0};
+  reader.ParallelForEachFrame([&](const Frame& frame) { sum += frame.index; }, 16);
+  EXPECT_EQ(sum.load(), int64_t{frames} * (frames - 1) / 2);
+}
+
+TEST(MetadataJson, SyntheticCollectionMetadataEqualsTruth) {
+  testing::TempDir dir;
+  synth::Spec spec = synth::DefaultSpec();
+  spec.width = 16, spec.height = 12;
+  synth::WriteCollection(dir / "c", spec);
+  const CollectionReader collection(dir / "c");
+  std::vector<Frame> frames;
+  collection.ForEachFrame([&](const Frame& frame) { frames.push_back(frame); });
+  const MetadataReader metadata(dir / "c" / "metadata.json");
+  EXPECT_FALSE(metadata.header().perturbed);
+  int k = 0;
+  metadata.ForEachFrame([&](const MetadataFrame& m) {
+    const Rigid3d cam_from_enu = CamFromEnu(m.position, m.attitude);
+    EXPECT_TRUE(cam_from_enu.rotation.toRotationMatrix().isApprox(frames[k].camera.cam_from_world_rotation, 1e-12));
+    EXPECT_TRUE(cam_from_enu.translation.isApprox(frames[k].camera.cam_from_world_translation, 1e-12));
+    EXPECT_EQ(m.camera, frames[k].camera.intrinsics);
+    ++k;
+  });
+  EXPECT_EQ(k, 4);
+}
+
+}  // namespace
+}  // namespace lsds

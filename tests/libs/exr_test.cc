@@ -1,0 +1,160 @@
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "libs/exr/deep_image.h"
+#include "libs/exr/exr_info.h"
+#include "libs/exr/flat_image.h"
+#include "libs/util/error.h"
+#include "tests/test_util.h"
+
+namespace lsds::exr {
+namespace {
+
+FlatImage MakeFlat(int w, int h) {
+  FlatImage image(w, h);
+  FlatChannel& id = image.AddChannel("id", PixelType::kUint);
+  FlatChannel& z = image.AddChannel("Z", PixelType::kFloat);
+  FlatChannel& r = image.AddChannel("R", PixelType::kHalf);
+  for (size_t i = 0; i < image.pixel_count(); ++i) {
+    id.uints[i] = static_cast<uint32_t>(i * 2654435761u);  // all 32 bits used
+    z.floats[i] = 0.1f * static_cast<float>(i) + 1e-7f;
+    r.floats[i] = 0.25f * static_cast<float>(i % 7);  // exactly representable in HALF
+  }
+  z.floats[3] = std::numeric_limits<float>::infinity();
+  return image;
+}
+
+TEST(FlatExr, RoundTripEveryPixelType) {
+  lsds::testing::TempDir dir;
+  const FlatImage written = MakeFlat(7, 5);
+  WriteOptions options;
+  options.compression = Compression::kZip;
+  WriteFlatExr(dir / "a.exr", written, options);
+  const FlatImage read = ReadFlatExr(dir / "a.exr");
+  ASSERT_EQ(read.width(), 7);
+  ASSERT_EQ(read.height(), 5);
+  EXPECT_EQ(read.Get("id").type, PixelType::kUint);
+  EXPECT_EQ(read.Get("id").uints, written.Get("id").uints);
+  EXPECT_EQ(read.Get("Z").floats, written.Get("Z").floats);
+  EXPECT_EQ(read.Get("R").type, PixelType::kHalf);
+  EXPECT_EQ(read.Get("R").floats, written.Get("R").floats);
+}
+
+TEST(FlatExr, ReadsOnlyRequestedChannelsAndNamesMissingOnes) {
+  lsds::testing::TempDir dir;
+  WriteFlatExr(dir / "a.exr", MakeFlat(4, 4));
+  const FlatImage read = ReadFlatExr(dir / "a.exr", {"Z"});
+  EXPECT_EQ(read.channels().size(), 1u);
+  try {
+    ReadFlatExr(dir / "a.exr", {"nope"});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("a.exr"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("nope"), std::string::npos);
+  }
+}
+
+TEST(FlatExr, HeaderCameraAndInfo) {
+  lsds::testing::TempDir dir;
+  WriteOptions options;
+  HeaderCamera camera;
+  camera.cam_from_world << 1, 0, 0, 1, 0, -1, 0, 2, 0, 0, -1, 3, 0, 0, 0, 1;
+  camera.ndc_from_world = 2 * camera.cam_from_world;
+  options.camera = camera;
+  options.compression = Compression::kPiz;
+  WriteFlatExr(dir / "a.exr", MakeFlat(3, 2), options);
+  const ExrInfo info = ReadExrInfo(dir / "a.exr");
+  EXPECT_EQ(info.width, 3);
+  EXPECT_EQ(info.height, 2);
+  EXPECT_FALSE(info.deep);
+  EXPECT_EQ(info.compression, Compression::kPiz);
+  ASSERT_TRUE(info.camera);
+  EXPECT_TRUE(info.camera->cam_from_world.isApprox(camera.cam_from_world));
+  ASSERT_NE(info.Find("id"), nullptr);
+  EXPECT_EQ(info.Find("id")->type, PixelType::kUint);
+}
+
+TEST(FlatExr, LimitsCheckedBeforeDecoding) {
+  lsds::testing::TempDir dir;
+  WriteFlatExr(dir / "a.exr", MakeFlat(64, 64));
+  ReadLimits limits;
+  limits.max_pixels = 100;
+  EXPECT_THROW(ReadFlatExr(dir / "a.exr", {}, limits), Error);
+  EXPECT_THROW(ReadExrInfo(dir / "a.exr", limits), Error);
+}
+
+TEST(FlatExr, TruncatedAndGarbageFilesAreErrorsNotCrashes) {
+  lsds::testing::TempDir dir;
+  WriteFlatExr(dir / "a.exr", MakeFlat(64, 64));
+  const auto size = std::filesystem::file_size(dir / "a.exr");
+  std::filesystem::copy_file(dir / "a.exr", dir / "t.exr");
+  std::filesystem::resize_file(dir / "t.exr", size / 2);
+  EXPECT_THROW(ReadFlatExr(dir / "t.exr"), Error);
+  std::ofstream(dir / "g.exr") << "not an exr at all";
+  EXPECT_THROW(ReadFlatExr(dir / "g.exr"), Error);
+  EXPECT_THROW(ReadExrInfo(dir / "missing.exr"), Error);
+}
+
+TEST(FlatExr, WriteIsAtomic) {
+  lsds::testing::TempDir dir;
+  WriteFlatExr(dir / "a.exr", MakeFlat(4, 4));
+  // Only the final file exists: no temporary left behind.
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    (void)entry;
+    ++files;
+  }
+  EXPECT_EQ(files, 1);
+}
+
+TEST(DeepExr, RoundTripVariableSampleCounts) {
+  lsds::testing::TempDir dir;
+  const int w = 5, h = 3;
+  std::vector<uint32_t> counts(w * h);
+  for (int i = 0; i < w * h; ++i) counts[i] = static_cast<uint32_t>(i % 4);  // includes empty pixels
+  DeepImage written(w, h, counts);
+  DeepChannel& id = written.AddChannel("instanceid", PixelType::kUint);
+  DeepChannel& z = written.AddChannel("Z", PixelType::kFloat);
+  DeepChannel& s = written.AddChannel("SX", PixelType::kHalf);
+  for (uint64_t k = 0; k < written.total_samples(); ++k) {
+    id.uints[k] = static_cast<uint32_t>(k + 1);
+    z.floats[k] = 1.5f * static_cast<float>(k);
+    s.floats[k] = 0.125f * static_cast<float>(k % 8);
+  }
+  WriteOptions options;
+  options.compression = Compression::kZips;
+  WriteDeepExr(dir / "d.exr", written, options);
+  EXPECT_TRUE(ReadExrInfo(dir / "d.exr").deep);
+  const DeepImage read = ReadDeepExr(dir / "d.exr");
+  EXPECT_EQ(read.sample_counts(), counts);
+  EXPECT_EQ(read.Get("instanceid").uints, id.uints);
+  EXPECT_EQ(read.Get("Z").floats, z.floats);
+  EXPECT_EQ(read.Get("SX").floats, s.floats);
+  EXPECT_EQ(read.FirstSample(2, 1), written.FirstSample(2, 1));
+  // A flat reader refuses a deep file with a clear error.
+  EXPECT_THROW(ReadFlatExr(dir / "d.exr"), Error);
+}
+
+TEST(DeepExr, SampleLimits) {
+  lsds::testing::TempDir dir;
+  DeepImage written(2, 2, {3, 3, 3, 3});
+  written.AddChannel("Z", PixelType::kFloat);
+  WriteOptions options;
+  options.compression = Compression::kZips;
+  WriteDeepExr(dir / "d.exr", written, options);
+  options.compression = Compression::kZip;  // not valid for deep data: a clear error
+  EXPECT_THROW(WriteDeepExr(dir / "e.exr", written, options), Error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "e.exr"));
+  ReadLimits limits;
+  limits.max_samples_per_pixel = 2;
+  EXPECT_THROW(ReadDeepExr(dir / "d.exr", {}, limits), Error);
+  limits = ReadLimits();
+  limits.max_deep_samples = 11;
+  EXPECT_THROW(ReadDeepExr(dir / "d.exr", {}, limits), Error);
+}
+
+}  // namespace
+}  // namespace lsds::exr

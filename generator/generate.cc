@@ -39,8 +39,8 @@ double Seconds(Clock::time_point since) {
 
 nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
   return {{"renderer", "lsds reference renderer (Embree 3)"},
-          {"spp", options.spp},
-          {"sampling", "stratified jittered n x n; sample 0 nearest the pixel centre"},
+          {"samples_per_pixel", options.spp},
+          {"sampling", "stratified jittered n x n; sample 0 exactly at the pixel centre"},
           {"jitter", options.jitter},
           {"depth", DepthKindName(options.depth_kind)},
           {"zip_level", options.zip_level}};

@@ -147,8 +147,8 @@ Film RenderFrame(const RenderScene& scene, const Sky& sky, const PlannedFrame& f
               Eigen::Vector3f radiance;
               float shadow_ratio = 1.f;
               const size_t b = static_cast<size_t>(pixel) * spp + k;
-              b_s[0][b] = static_cast<float>(samples[k].x());
-              b_s[1][b] = static_cast<float>(samples[k].y());
+              b_s[0][b] = static_cast<float>(samples[k].x() - x);  // inside the pixel, [0, 1)
+              b_s[1][b] = static_cast<float>(samples[k].y() - y);
               double z_value = kInf;
               if (!hit.hit) {
                 radiance = sky.Radiance(direction.normalized());
@@ -184,7 +184,7 @@ Film RenderFrame(const RenderScene& scene, const Sky& sky, const PlannedFrame& f
               b_z[b] = static_cast<float>(z_value);
               sum += radiance;
               if (k != 0) continue;
-              // The flat truth layers: the single, non-mixed value of the centre-nearest sample.
+              // The flat truth layers: the single, non-mixed value of the centre sample.
               film.centre_sample[pixel] = samples[0].cast<float>();
               class_id[pixel] = b_class[b];
               instance_id[pixel] = b_instance[b];

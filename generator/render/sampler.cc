@@ -33,8 +33,7 @@ void PixelSamples(const SamplerSettings& s, int64_t frame, int x, int y, Eigen::
   for (int k = 0; k < s.spp; ++k) {
     const int cx = k % n, cy = k / n;
     double jx = 0, jy = 0;
-    const bool centre_cell = (n % 2 == 1) && cx == n / 2 && cy == n / 2;
-    if (!centre_cell && s.jitter > 0) {
+    if (s.jitter > 0) {
       const uint64_t h = HashCombine(pixel_seed, static_cast<uint64_t>(k));
       jx = s.jitter * (Uniform(h) - 0.5);
       jy = s.jitter * (Uniform(HashCombine(h, 1)) - 0.5);
@@ -47,8 +46,8 @@ void PixelSamples(const SamplerSettings& s, int64_t frame, int x, int y, Eigen::
       nearest = k;
     }
   }
-  // Rotate the nearest sample to the front, keeping the others in cell order.
-  const Eigen::Vector2d first = out[nearest];
+  // The nearest sample becomes the exact centre and moves to the front; the others keep cell order.
+  const Eigen::Vector2d first(x + 0.5, y + 0.5);
   for (int k = nearest; k > 0; --k) out[k] = out[k - 1];
   out[0] = first;
 }

@@ -1,8 +1,8 @@
-// Stratified, jittered sub-pixel samples. `spp` must be a square n * n: the pixel is cut into n x n
-// cells and each cell gets one sample jittered by `jitter` (1: anywhere in the cell, 0: its centre).
-// With odd n the centre cell is never jittered, so sample 0 is exactly the pixel centre. Positions
-// depend only on (seed, frame, pixel, sample): any frame subset, shard or thread count gives the
-// same samples.
+// Stratified, jittered sub-pixel samples (docs/format.md, "Pixel bundles"). `spp` must be a square
+// n * n: the pixel is cut into n x n cells and each cell gets one sample jittered by `jitter` (1:
+// anywhere in the cell, 0: its centre), except that the sample nearest the pixel centre is moved
+// exactly onto it and stored first: the single-value layers are that sample's values. Positions depend
+// only on (seed, frame, pixel, sample): any frame subset, shard or thread count gives the same samples.
 #pragma once
 
 #include <cstdint>
@@ -22,7 +22,7 @@ struct SamplerSettings {
 void CheckSamplerSettings(const SamplerSettings& settings);
 
 // Writes the spp sample positions of pixel (x, y) of frame `frame` in pixel-edge image coordinates,
-// the one nearest the pixel centre first, the others in cell order.
+// the pixel centre (x + 0.5, y + 0.5) first, the others in cell order.
 void PixelSamples(const SamplerSettings& settings, int64_t frame, int x, int y, Eigen::Vector2d* out);
 
 }  // namespace lsds::gen

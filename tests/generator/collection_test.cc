@@ -65,7 +65,7 @@ TEST(GenerateCollection, WritesACompleteCollectionThatReadsBack) {
   EXPECT_EQ(reader.header().frame_count, 4);
   EXPECT_EQ(reader.header().layers.size(), StandardLayerSemantics().size());
   EXPECT_EQ(*reader.header().provenance.seed, 7u);
-  EXPECT_EQ(reader.header().provenance.render["spp"], 4);
+  EXPECT_EQ(reader.header().provenance.render["samples_per_pixel"], 4);
   EXPECT_FALSE(fs::exists(root / ".lsds-generate"));
   EXPECT_TRUE(fs::exists(root / kMetadataFile));
   reader.ForEachFrame([&](const Frame& frame) {

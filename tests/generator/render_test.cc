@@ -249,10 +249,11 @@ TEST(Render, BundleCentreSampleIsTheFlatLayerAndEdgesAreMixed) {
         const uint64_t first = bundle.FirstSample(x, y);
         ASSERT_EQ(ids[first], U(film, "instanceid")[i]);
         ASSERT_EQ(z[first], F(film, "depth", "Z")[i]);
-        ASSERT_GE(sx[first], x);
-        ASSERT_LT(sx[first], x + 1);
-        if (spp == 9) {
-          ASSERT_EQ(sx[first], x + 0.5f);  // odd n: sample 0 is the pixel centre
+        ASSERT_EQ(sx[first], 0.5f);  // sample 0 is the pixel centre
+        ASSERT_EQ(bundle.Get("SY").floats[first], 0.5f);
+        for (int k = 1; k < spp; ++k) {
+          ASSERT_GE(sx[first + k], 0.f);
+          ASSERT_LT(sx[first + k], 1.f);
         }
         for (int k = 1; k < spp; ++k) {
           if (ids[first + k] != ids[first]) {

@@ -10,6 +10,8 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"generate", "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection", RunGenerate},
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
+      {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
+      {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
   };
   return commands;
 }

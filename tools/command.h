@@ -26,5 +26,7 @@ int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>&
 // Command entry points, one per file (tools/<name>_command.cc).
 int RunInfo(int argc, char** argv);
 int RunGenerate(int argc, char** argv);
+int RunPlan(int argc, char** argv);
+int RunSynth(int argc, char** argv);
 
 }  // namespace lsds

@@ -87,6 +87,8 @@ struct Plan {
   PlannedTerrain terrain;
   std::vector<PlannedObject> objects;
   std::vector<std::string> post_process;  // PP materials named in LCAP, recorded as capture settings
+  // LCAP capture settings other than post-process materials (e.g. "layers", "output"), as written.
+  nlohmann::json capture_settings = nlohmann::json::object();
   std::vector<PlannedFrame> frames;
 };
 

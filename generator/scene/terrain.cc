@@ -3,21 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "generator/scene/perlin.h"
 
 namespace lsds::gen {
-
-double TerrainHeight(const PlannedTerrain& terrain, double x, double y) {
-  if (terrain.perlin_amplitude == 0) return 0;
-  static thread_local uint64_t cached_seed = ~uint64_t{0};
-  static thread_local Perlin noise(0);
-  if (cached_seed != terrain.perlin_seed) {
-    noise = Perlin(terrain.perlin_seed);
-    cached_seed = terrain.perlin_seed;
-  }
-  const double f = terrain.perlin_frequency;
-  return terrain.perlin_amplitude * noise.Fbm(x * f, y * f, 5);
-}
 
 TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells) {
   TriangleMesh mesh;

@@ -3,12 +3,13 @@
 #pragma once
 
 #include "generator/plan/plan.h"
+#include "generator/plan/terrain_height.h"
 #include "generator/scene/mesh.h"
 
 namespace lsds::gen {
 
-// Height of the terrain at a world (x, y) point.
-double TerrainHeight(const PlannedTerrain& terrain, double x, double y);
+// Heights come from lsds::TerrainHeight (generator/plan/terrain_height.h), the very function the
+// planner uses to stand objects ON the terrain.
 // The mesh in world coordinates; `max_cells` bounds the grid resolution per axis.
 TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells = 256);
 

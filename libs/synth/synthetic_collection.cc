@@ -120,6 +120,18 @@ Spec DefaultSpec() {
   return spec;
 }
 
+Spec CircleSpec(int frames, int width, int height) {
+  Spec spec = DefaultSpec();
+  spec.width = width;
+  spec.height = height;
+  spec.cam_from_world.clear();
+  for (int k = 0; k < frames; ++k) {
+    const double angle = 2.0 * 3.14159265358979323846 * k / std::max(1, frames);
+    spec.cam_from_world.push_back(NadirCamFromWorld({3.0 * std::cos(angle), 3.0 * std::sin(angle), 20.0}));
+  }
+  return spec;
+}
+
 RenderedFrame RenderFrame(const Spec& spec, int frame) {
   const AnalyticScene scene = spec.Scene();
   const PinholeCamera camera = Camera(spec);
@@ -148,6 +160,26 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   out.bundle = DeepImage(w, h, std::vector<uint32_t>(static_cast<size_t>(w) * h, samples_per_pixel));
   for (const LayerChannel& c : StandardLayer("bundle").channels) out.bundle.AddChannel(c.name, c.type);
 
+  // Channel storage looked up once, not per sample.
+  uint32_t* bundle_instance = out.bundle.Get("instanceid").uints.data();
+  uint32_t* bundle_class = out.bundle.Get("classid").uints.data();
+  float* bundle_depth = out.bundle.Get("Z").floats.data();
+  float* bundle_normal[3] = {out.bundle.Get("NX").floats.data(), out.bundle.Get("NY").floats.data(),
+                             out.bundle.Get("NZ").floats.data()};
+  float* bundle_sx = out.bundle.Get("SX").floats.data();
+  float* bundle_sy = out.bundle.Get("SY").floats.data();
+  float* rgb_channel[3] = {rgb.Get("R").floats.data(), rgb.Get("G").floats.data(), rgb.Get("B").floats.data()};
+  uint32_t* class_pixels = classid.Get("id").uints.data();
+  uint32_t* instance_pixels = instanceid.Get("id").uints.data();
+  float* depth_pixels = depth.Get("Z").floats.data();
+  float* normal_pixels[3] = {normal.Get("X").floats.data(), normal.Get("Y").floats.data(),
+                             normal.Get("Z").floats.data()};
+  float* position_pixels[3] = {position.Get("X").floats.data(), position.Get("Y").floats.data(),
+                               position.Get("Z").floats.data()};
+  float* shadow_pixels = shadow.Get("Y").floats.data();
+  float* motion_pixels[2] = {motion.Get("X").floats.data(), motion.Get("Y").floats.data()};
+  const bool planar = spec.depth_kind == DepthKind::kPlanar;
+
   tbb::parallel_for(0, h, [&](int j) {
     for (int i = 0; i < w; ++i) {
       const size_t p = rgb.Index(i, j);
@@ -157,27 +189,22 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
         const Sample s = Shade(scene, spec, camera, world_from_cam, at);
         radiance += s.radiance;
         const uint64_t q = out.bundle.FirstSample(i, j) + k;
-        out.bundle.Get("instanceid").uints[q] = s.hit.instance_id;
-        out.bundle.Get("classid").uints[q] = s.hit.class_id;
-        out.bundle.Get("Z").floats[q] =
-            static_cast<float>(spec.depth_kind == DepthKind::kPlanar ? s.planar : s.perspective);
-        out.bundle.Get("NX").floats[q] = static_cast<float>(s.hit.normal.x());
-        out.bundle.Get("NY").floats[q] = static_cast<float>(s.hit.normal.y());
-        out.bundle.Get("NZ").floats[q] = static_cast<float>(s.hit.normal.z());
-        out.bundle.Get("SX").floats[q] = static_cast<float>(pattern[k].x());
-        out.bundle.Get("SY").floats[q] = static_cast<float>(pattern[k].y());
+        bundle_instance[q] = s.hit.instance_id;
+        bundle_class[q] = s.hit.class_id;
+        bundle_depth[q] = static_cast<float>(planar ? s.planar : s.perspective);
+        for (int c = 0; c < 3; ++c) bundle_normal[c][q] = static_cast<float>(s.hit.normal[c]);
+        bundle_sx[q] = static_cast<float>(pattern[k].x());
+        bundle_sy[q] = static_cast<float>(pattern[k].y());
         if (k != 0) continue;
         // The centre sample is the single value of every truth layer.
-        classid.Get("id").uints[p] = s.hit.class_id;
-        instanceid.Get("id").uints[p] = s.hit.instance_id;
-        depth.Get("Z").floats[p] =
-            static_cast<float>(spec.depth_kind == DepthKind::kPlanar ? s.planar : s.perspective);
+        class_pixels[p] = s.hit.class_id;
+        instance_pixels[p] = s.hit.instance_id;
+        depth_pixels[p] = bundle_depth[q];
         for (int c = 0; c < 3; ++c) {
-          const char* axis = c == 0 ? "X" : (c == 1 ? "Y" : "Z");
-          normal.Get(axis).floats[p] = static_cast<float>(s.hit.normal[c]);
-          position.Get(axis).floats[p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
+          normal_pixels[c][p] = static_cast<float>(s.hit.normal[c]);
+          position_pixels[c][p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
         }
-        shadow.Get("Y").floats[p] = static_cast<float>(s.shadow);
+        shadow_pixels[p] = static_cast<float>(s.shadow);
         Eigen::Vector2d shift = Eigen::Vector2d::Zero();
         if (previous_cam_from_world) {
           // Static world: where this surface point (or, for sky, this direction) was last frame.
@@ -187,13 +214,11 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
                                           (world_from_cam.rotation * camera.CamFromImage(at)));
           if (in_previous.z() > 0) shift = at - camera.ImageFromCam(in_previous);
         }
-        motion.Get("X").floats[p] = static_cast<float>(0.5 + 0.5 * shift.x() / w);
-        motion.Get("Y").floats[p] = static_cast<float>(0.5 + 0.5 * shift.y() / h);
+        motion_pixels[0][p] = static_cast<float>(0.5 + 0.5 * shift.x() / w);
+        motion_pixels[1][p] = static_cast<float>(0.5 + 0.5 * shift.y() / h);
       }
       radiance /= static_cast<double>(samples_per_pixel);
-      rgb.Get("R").floats[p] = static_cast<float>(radiance.x());
-      rgb.Get("G").floats[p] = static_cast<float>(radiance.y());
-      rgb.Get("B").floats[p] = static_cast<float>(radiance.z());
+      for (int c = 0; c < 3; ++c) rgb_channel[c][p] = static_cast<float>(radiance[c]);
     }
   });
 
@@ -215,10 +240,13 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
     object.obb = box.Obb();
     object.in_frame = InFrameFraction(object.obb, camera, cam_from_world);
     if (object.in_frame <= 0) continue;  // not in view: no entry
+    const auto projected = ProjectedBounds(object.obb, camera, cam_from_world);
+    // Pixels the box would cover alone lie inside its projected bounds.
+    const Box2d search = projected ? projected->ClippedTo(w, h) : Box2d{};
     int64_t unoccluded = 0;
     int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int j = 0; j < h; ++j) {
-      for (int i = 0; i < w; ++i) {
+    for (int j = static_cast<int>(search.y0); j < static_cast<int>(std::ceil(search.y1)); ++j) {
+      for (int i = static_cast<int>(search.x0); i < static_cast<int>(std::ceil(search.x1)); ++i) {
         if (ids[rgb.Index(i, j)] == box.instance_id) {
           ++object.visible_pixels;
           x0 = std::min(x0, i), y0 = std::min(y0, j), x1 = std::max(x1, i), y1 = std::max(y1, j);
@@ -229,7 +257,6 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
     }
     if (object.visible_pixels > 0) object.bbox = Box2d{double(x0), double(y0), double(x1 + 1), double(y1 + 1)};
     object.visibility = unoccluded > 0 ? static_cast<double>(object.visible_pixels) / unoccluded : 0.0;
-    const auto projected = ProjectedBounds(object.obb, camera, cam_from_world);
     if (projected) {
       const Box2d clipped = projected->ClippedTo(w, h);
       if (!clipped.empty()) object.bbox_projected = clipped;

@@ -36,6 +36,10 @@ struct Spec {
 // Ground + 3 boxes, 4 frames: a nadir camera at 20 m moving +x by 1 m per frame.
 Spec DefaultSpec();
 
+// DefaultSpec with `frames` nadir frames on a 3 m circle around the boxes at 20 m, at any size:
+// a stand-in collection of any length for demos and benchmarks.
+Spec CircleSpec(int frames, int width, int height);
+
 // A nadir camera (looking straight down, image x east, image top north) at `position_in_world`.
 Rigid3d NadirCamFromWorld(const Eigen::Vector3d& position_in_world);
 

@@ -1,0 +1,63 @@
+#include "generator/lang/source.h"
+
+#include <filesystem>
+
+#include "generator/lang/text_parser.h"
+#include "libs/util/atomic_file.h"
+
+namespace lsds {
+
+std::string PointerJoin(const std::string& parent, const std::string& token) {
+  std::string escaped;
+  for (char c : token) {
+    if (c == '~') escaped += "~0";
+    else if (c == '/') escaped += "~1";
+    else escaped += c;
+  }
+  return parent + "/" + escaped;
+}
+
+Location SourceFile::Where(const std::string& pointer) const {
+  if (is_json) return Location(path, pointer.empty() ? "" : pointer);
+  std::string p = pointer;
+  while (true) {
+    auto it = positions.find(p);
+    if (it != positions.end()) return Location::Text(path, it->second.first, it->second.second);
+    const size_t slash = p.rfind('/');
+    if (slash == std::string::npos || p.empty()) break;
+    p = p.substr(0, slash);
+  }
+  return Location::Text(path, 1, 1);
+}
+
+SourceFile ParseSource(const std::string& text, const std::string& path_for_messages, bool is_json) {
+  SourceFile source;
+  source.path = path_for_messages;
+  source.text = text;
+  source.is_json = is_json;
+  if (is_json) {
+    try {
+      source.doc = OJson::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+      int line = 0, column = 0;
+      LineColumnFromOffset(text, e.byte > 0 ? e.byte - 1 : 0, &line, &column);
+      throw Error(std::string("invalid JSON: ") + e.what(), Location::Text(path_for_messages, line, column));
+    }
+    if (!source.doc.is_object()) throw Error("expected a JSON object at the top level", Location(path_for_messages, ""));
+  } else {
+    ParseTextNotation(&source);
+  }
+  return source;
+}
+
+SourceFile LoadSource(const std::string& path) {
+  const std::string text = ReadFile(path);
+  bool is_json = std::filesystem::path(path).extension() == ".json";
+  if (!is_json) {
+    const size_t first = text.find_first_not_of(" \t\r\n");
+    is_json = first != std::string::npos && text[first] == '{';
+  }
+  return ParseSource(text, path, is_json);
+}
+
+}  // namespace lsds

@@ -1,0 +1,200 @@
+#include "generator/plan/plan_json.h"
+
+#include "libs/collection/schema.h"
+#include "libs/util/error.h"
+
+namespace lsds {
+namespace {
+
+using nlohmann::json;
+
+json Vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+json Vec2(const Eigen::Vector2d& v) { return json::array({v.x(), v.y()}); }
+json Mat3(const Eigen::Matrix3d& m) {
+  json rows = json::array();
+  for (int r = 0; r < 3; ++r) rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
+  return rows;
+}
+Eigen::Vector3d ToVec3(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+Eigen::Vector2d ToVec2(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>()}; }
+Eigen::Matrix3d ToMat3(const json& j) {
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m(r, c) = j.at(r).at(c).get<double>();
+  return m;
+}
+
+json CameraJson(const PinholeCamera& c) {
+  return {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy}};
+}
+PinholeCamera CameraFrom(const json& j) {
+  PinholeCamera c;
+  c.width = j.at("width").get<int>();
+  c.height = j.at("height").get<int>();
+  c.fx = j.at("fx").get<double>();
+  c.fy = j.at("fy").get<double>();
+  c.cx = j.at("cx").get<double>();
+  c.cy = j.at("cy").get<double>();
+  return c;
+}
+
+json ChangeJson(const ObjectChange& c) {
+  json j = {{"object", c.object}};
+  if (c.position) j["position"] = Vec3(*c.position);
+  if (c.world_from_object) j["rotation"] = Mat3(*c.world_from_object);
+  if (c.extent) j["extent"] = Vec3(*c.extent);
+  if (c.material) j["material"] = *c.material;
+  if (c.visible) j["visible"] = *c.visible;
+  return j;
+}
+ObjectChange ChangeFrom(const json& j) {
+  ObjectChange c;
+  c.object = j.at("object").get<std::string>();
+  if (j.contains("position")) c.position = ToVec3(j["position"]);
+  if (j.contains("rotation")) c.world_from_object = ToMat3(j["rotation"]);
+  if (j.contains("extent")) c.extent = ToVec3(j["extent"]);
+  if (j.contains("material")) c.material = j["material"].get<std::string>();
+  if (j.contains("visible")) c.visible = j["visible"].get<bool>();
+  return c;
+}
+
+}  // namespace
+
+json PlannedFrameToJson(const PlannedFrame& f) {
+  json changes = json::array();
+  for (const ObjectChange& c : f.changes) changes.push_back(ChangeJson(c));
+  return {{"index", f.index},
+          {"time", f.time},
+          {"sequence", f.sequence},
+          {"camera", CameraJson(f.camera)},
+          {"cam_from_world",
+           {{"rotation", Mat3(f.cam_from_world.rotation.toRotationMatrix())},
+            {"translation", Vec3(f.cam_from_world.translation)}}},
+          {"changes", changes}};
+}
+
+PlannedFrame PlannedFrameFromJson(const json& j, const std::string& file, const std::string& pointer) {
+  try {
+    PlannedFrame f;
+    f.index = j.at("index").get<int64_t>();
+    f.time = j.at("time").get<double>();
+    f.sequence = j.at("sequence").get<std::string>();
+    f.camera = CameraFrom(j.at("camera"));
+    f.cam_from_world.rotation = Eigen::Quaterniond(ToMat3(j.at("cam_from_world").at("rotation")));
+    f.cam_from_world.rotation.normalize();
+    f.cam_from_world.translation = ToVec3(j.at("cam_from_world").at("translation"));
+    for (const json& c : j.at("changes")) f.changes.push_back(ChangeFrom(c));
+    return f;
+  } catch (const json::exception& e) {
+    throw Error(std::string("bad plan frame: ") + e.what(), Location(file, pointer));
+  }
+}
+
+json PlanToJson(const Plan& plan) {
+  json classes = json::array();
+  for (const ClassInfo& c : plan.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
+  json objects = json::array();
+  for (const PlannedObject& o : plan.objects) {
+    objects.push_back({{"name", o.name},
+                       {"symbol", o.symbol},
+                       {"class", o.class_name},
+                       {"class_id", o.class_id},
+                       {"instance_id", o.instance_id},
+                       {"visible", o.visible},
+                       {"target", o.target},
+                       {"position", Vec3(o.position)},
+                       {"rotation", Mat3(o.world_from_object)},
+                       {"extent", Vec3(o.extent)},
+                       {"material", o.material}});
+  }
+  json frames = json::array();
+  for (const PlannedFrame& f : plan.frames) frames.push_back(PlannedFrameToJson(f));
+  const PlannedTerrain& t = plan.terrain;
+  return {{"format", kPlanFormat},
+          {"format_version", kPlanFormatVersion},
+          {"seed", plan.seed},
+          {"scene_source", plan.scene_source},
+          {"capture_source", plan.capture_source},
+          {"classes", classes},
+          {"sky",
+           {{"color", Vec3(plan.sky.color)},
+            {"cloud_type", plan.sky.cloud_type},
+            {"cloud_density", plan.sky.cloud_density},
+            {"intensity", plan.sky.intensity}}},
+          {"sun",
+           {{"elevation_deg", plan.sun.elevation_deg},
+            {"azimuth_deg", plan.sun.azimuth_deg},
+            {"intensity", plan.sun.intensity}}},
+          {"fog_density", plan.fog_density},
+          {"skylight_intensity", plan.skylight_intensity},
+          {"terrain",
+           {{"present", t.present},
+            {"size", Vec2(t.size)},
+            {"perlin_amplitude", t.perlin_amplitude},
+            {"perlin_frequency", t.perlin_frequency},
+            {"perlin_seed", t.perlin_seed},
+            {"material", t.material},
+            {"class_id", t.class_id},
+            {"instance_id", t.instance_id}}},
+          {"objects", objects},
+          {"post_process", plan.post_process},
+          {"capture_settings", plan.capture_settings},
+          {"frame_count", plan.frames.size()},
+          {"frames", frames}};
+}
+
+Plan PlanFromJson(const json& j, const std::string& file) {
+  JsonSchema::Get("plan.schema.json").ValidateOrThrow(j, file);
+  try {
+    Plan plan;
+    plan.seed = j.at("seed").get<uint64_t>();
+    plan.scene_source = j.at("scene_source").get<std::string>();
+    plan.capture_source = j.at("capture_source").get<std::string>();
+    for (const json& c : j.at("classes")) plan.classes.push_back({c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
+    const json& sky = j.at("sky");
+    plan.sky.color = ToVec3(sky.at("color"));
+    plan.sky.cloud_type = sky.at("cloud_type").get<std::string>();
+    plan.sky.cloud_density = sky.at("cloud_density").get<double>();
+    plan.sky.intensity = sky.at("intensity").get<double>();
+    const json& sun = j.at("sun");
+    plan.sun.elevation_deg = sun.at("elevation_deg").get<double>();
+    plan.sun.azimuth_deg = sun.at("azimuth_deg").get<double>();
+    plan.sun.intensity = sun.at("intensity").get<double>();
+    plan.fog_density = j.at("fog_density").get<double>();
+    plan.skylight_intensity = j.at("skylight_intensity").get<double>();
+    const json& t = j.at("terrain");
+    plan.terrain.present = t.at("present").get<bool>();
+    plan.terrain.size = ToVec2(t.at("size"));
+    plan.terrain.perlin_amplitude = t.at("perlin_amplitude").get<double>();
+    plan.terrain.perlin_frequency = t.at("perlin_frequency").get<double>();
+    plan.terrain.perlin_seed = t.at("perlin_seed").get<uint64_t>();
+    plan.terrain.material = t.at("material").get<std::string>();
+    plan.terrain.class_id = t.at("class_id").get<uint32_t>();
+    plan.terrain.instance_id = t.at("instance_id").get<uint32_t>();
+    for (const json& o : j.at("objects")) {
+      PlannedObject p;
+      p.name = o.at("name").get<std::string>();
+      p.symbol = o.at("symbol").get<std::string>();
+      p.class_name = o.at("class").get<std::string>();
+      p.class_id = o.at("class_id").get<uint32_t>();
+      p.instance_id = o.at("instance_id").get<uint32_t>();
+      p.visible = o.at("visible").get<bool>();
+      p.target = o.at("target").get<bool>();
+      p.position = ToVec3(o.at("position"));
+      p.world_from_object = ToMat3(o.at("rotation"));
+      p.extent = ToVec3(o.at("extent"));
+      p.material = o.at("material").get<std::string>();
+      plan.objects.push_back(p);
+    }
+    plan.post_process = j.at("post_process").get<std::vector<std::string>>();
+    if (j.contains("capture_settings")) plan.capture_settings = j["capture_settings"];
+    const json& frames = j.at("frames");
+    for (size_t i = 0; i < frames.size(); ++i)
+      plan.frames.push_back(PlannedFrameFromJson(frames[i], file, "/frames/" + std::to_string(i)));
+    return plan;
+  } catch (const json::exception& e) {
+    throw Error(std::string("bad plan: ") + e.what(), Location(file, ""));
+  }
+}
+
+}  // namespace lsds

@@ -1,6 +1,7 @@
 #include "generator/scene/materials.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -33,6 +34,19 @@ const std::vector<Material>& MaterialTable() {
       {"painted_yellow", {0.70f, 0.55f, 0.05f}, {0.60f, 0.45f, 0.04f}, 4.0f, 0.2f},
       {"white", {0.80f, 0.80f, 0.80f}, {0.75f, 0.75f, 0.75f}, 1.0f, 0.0f},
       {"orange", {0.80f, 0.30f, 0.03f}, {0.70f, 0.25f, 0.03f}, 1.0f, 0.1f},
+      // Names used by the LSCENE examples (docs/languages.md).
+      {"sand", {0.58f, 0.48f, 0.32f}, {0.48f, 0.39f, 0.26f}, 0.3f, 0.5f},
+      {"rocky_sand", {0.45f, 0.39f, 0.30f}, {0.30f, 0.28f, 0.25f}, 0.6f, 0.7f},
+      {"granite", {0.35f, 0.33f, 0.32f}, {0.55f, 0.52f, 0.50f}, 5.0f, 0.6f},
+      {"sandstone", {0.55f, 0.38f, 0.22f}, {0.45f, 0.30f, 0.18f}, 3.0f, 0.5f},
+      {"olive", {0.20f, 0.22f, 0.08f}, {0.16f, 0.18f, 0.06f}, 4.0f, 0.2f},
+      {"red", {0.55f, 0.05f, 0.04f}, {0.45f, 0.05f, 0.04f}, 4.0f, 0.2f},
+      {"green", {0.08f, 0.30f, 0.06f}, {0.06f, 0.24f, 0.05f}, 4.0f, 0.2f},
+      {"blue", {0.05f, 0.12f, 0.45f}, {0.04f, 0.10f, 0.38f}, 4.0f, 0.2f},
+      {"yellow", {0.70f, 0.55f, 0.05f}, {0.60f, 0.45f, 0.04f}, 4.0f, 0.2f},
+      {"black", {0.03f, 0.03f, 0.03f}, {0.04f, 0.04f, 0.04f}, 4.0f, 0.2f},
+      {"painted", {0.30f, 0.32f, 0.20f}, {0.25f, 0.26f, 0.16f}, 4.0f, 0.3f},
+      {"metal_gold", {0.60f, 0.45f, 0.15f}, {0.50f, 0.36f, 0.10f}, 4.0f, 0.2f},
   };
   return table;
 }
@@ -46,9 +60,23 @@ const std::vector<std::string>& MaterialNames() {
   return names;
 }
 
+namespace {
+
+// Names match case-insensitively and without '_' or '-': "MetalGold" is "metal_gold".
+std::string Canonical(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    if (c != '_' && c != '-' && c != ' ') out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return out;
+}
+
+}  // namespace
+
 const Material& FindMaterial(const std::string& name, const std::string& where) {
+  const std::string canonical = Canonical(name);
   for (const Material& m : MaterialTable()) {
-    if (m.name == name) return m;
+    if (Canonical(m.name) == canonical) return m;
   }
   throw Error(where + ": unknown material '" + name + "'" + DidYouMean(name, MaterialNames()) +
               "; known: " + Join(MaterialNames(), ", "));

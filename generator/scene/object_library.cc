@@ -89,7 +89,7 @@ TriangleMesh Person() {
 const std::vector<std::string>& BuiltinClassNames() {
   static const std::vector<std::string> names = {"cube",  "box",      "sphere", "cylinder", "cone",
                                                  "barrel", "tire",    "jerrycan", "watercan", "rock",
-                                                 "bush",  "person"};
+                                                 "bush",  "person", "rocks", "tyre", "human", "pedestrian"};
   return names;
 }
 
@@ -132,6 +132,9 @@ TriangleMesh LoadMeshFile(const std::string& path, const std::string& where) {
 
 ClassShape MakeClassShape(const std::string& name, uint64_t seed, const std::string& where) {
   ClassShape shape;
+  if (name == "rocks") return MakeClassShape("rock", seed, where);
+  if (name == "tyre") return MakeClassShape("tire", seed, where);
+  if (name == "human" || name == "pedestrian") return MakeClassShape("person", seed, where);
   if (name == "cube" || name == "box") {
     shape = {MakeBoxMesh(), "concrete", {1, 1, 1}};
   } else if (name == "sphere") {

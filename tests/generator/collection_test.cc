@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "generator/generate.h"
+#include "generator/plan/plan_json.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_io.h"
 #include "libs/exr/flat_image.h"
@@ -198,6 +199,29 @@ TEST(GenerateCommand, DemoCollectionPassesInfoAndRefusesOverwrite) {
     EXPECT_EQ(Shell("exrheader " + (root / "bundle" / "000001.exr").string()), 0);
     EXPECT_EQ(Shell("exrheader " + (root / "rgb" / "000000.exr").string()), 0);
   }
+}
+
+TEST(GenerateCommand, PlanJsonRendersLikeThePlanInMemory) {
+  const fs::path reference = TempRoot("plan_ref"), root = TempRoot("plan_cli");
+  const fs::path plan_file = fs::temp_directory_path() / "lsds_generate_test_plan.json";
+  const Plan plan = MovingPlan(3);
+  WriteFileAtomic(plan_file, PlanToJson(plan).dump(2));
+  GenerateCollection(plan, Options(reference));
+  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
+  ASSERT_EQ(Shell(lsds + " generate -q --plan " + plan_file.string() + " -o " + root.string()), 0);
+  EXPECT_EQ(ReadFile(root / kCollectionFile), ReadFile(reference / kCollectionFile));
+  for (const auto& [index, frame] : FramesByIndex(root)) ExpectSameFrameFiles(root, reference, frame);
+}
+
+TEST(GenerateCommand, RendersAnLsceneExample) {
+  const fs::path root = TempRoot("lscene");
+  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
+  const std::string scene = LSDS_SOURCE_DIR "/examples/rocky_sand_clutter.lscene";
+  ASSERT_EQ(Shell(lsds + " generate -q --spp 1 --seed 3 " + scene + " -o " + root.string()), 0);
+  const std::map<int64_t, Frame> frames = FramesByIndex(root);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_FALSE(frames.begin()->second.objects.empty());
+  EXPECT_EQ(Shell(lsds + " generate -q --force " + scene + "x -o " + root.string()), 2);  // unreadable
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
-// A built-in demonstration plan: hilly grassy terrain with barrels, tires, jerrycans, rocks, bushes,
-// people and cubes, seen by a camera flying a straight line at 40 m looking 30 degrees forward of
-// nadir. Used by `lsds generate --demo`, the benchmark and the end-to-end tests, so that none of them
-// needs the LSCENE/LCAP parser.
+// A built-in demonstration plan: hilly grassy terrain with barrels, tires,
+// jerrycans, rocks, bushes, people and cubes, seen by a camera flying a
+// straight line at 40 m looking 30 degrees forward of nadir. Used by `lsds
+// generate --demo`, the benchmark and the end-to-end tests, so that none of
+// them needs the LSCENE/LCAP parser.
 #pragma once
 
 #include <cstdint>

@@ -29,8 +29,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-// Per-frame truth of finished frames lives here until collection.json is assembled; a frame counts
-// as complete for --resume only when its truth file exists (it is written after the frame's EXRs).
+// Per-frame truth of finished frames lives here until collection.json is
+// assembled; a frame counts as complete for --resume only when its truth file
+// exists (it is written after the frame's EXRs).
 constexpr const char* kWorkFolder = ".lsds-generate";
 
 double Seconds(Clock::time_point since) {
@@ -40,7 +41,8 @@ double Seconds(Clock::time_point since) {
 nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
   return {{"renderer", "lsds reference renderer (Embree 3)"},
           {"samples_per_pixel", options.spp},
-          {"sampling", "stratified jittered n x n; sample 0 exactly at the pixel centre"},
+          {"sampling",
+           "stratified jittered n x n; sample 0 exactly at the pixel centre"},
           {"jitter", options.jitter},
           {"depth", DepthKindName(options.depth_kind)},
           {"zip_level", options.zip_level}};
@@ -50,9 +52,11 @@ fs::path TruthPartPath(const fs::path& root, int64_t index) {
   return root / kWorkFolder / (FrameStem(index) + ".json");
 }
 
-// A frame is complete when its truth part parses and every layer file has a readable header of the
-// frame's size.
-bool FrameComplete(const fs::path& root, const CollectionHeader& header, const PlannedFrame& frame) {
+// A frame is complete when its truth part parses and every layer file has a
+// readable header of the frame's size.
+bool FrameComplete(const fs::path& root,
+                   const CollectionHeader& header,
+                   const PlannedFrame& frame) {
   const fs::path part = TruthPartPath(root, frame.index);
   if (!fs::is_regular_file(part)) return false;
   try {
@@ -62,7 +66,8 @@ bool FrameComplete(const fs::path& root, const CollectionHeader& header, const P
       const auto it = truth.files.find(layer.name);
       if (it == truth.files.end()) return false;
       const exr::ExrInfo info = exr::ReadExrInfo(root / it->second);
-      if (info.width != frame.camera.width || info.height != frame.camera.height || info.deep != layer.deep) {
+      if (info.width != frame.camera.width ||
+          info.height != frame.camera.height || info.deep != layer.deep) {
         return false;
       }
     }
@@ -72,17 +77,20 @@ bool FrameComplete(const fs::path& root, const CollectionHeader& header, const P
   return true;
 }
 
-void PrepareOutput(const GenerateOptions& options, const nlohmann::json& settings) {
+void PrepareOutput(const GenerateOptions& options,
+                   const nlohmann::json& settings) {
   const fs::path& root = options.output;
   const fs::path settings_path = root / kWorkFolder / "settings.json";
   if (fs::exists(root)) {
     if (options.resume) {
       if (fs::exists(settings_path)) {
-        const nlohmann::json previous = nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
+        const nlohmann::json previous =
+            nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
         if (previous != settings) {
-          throw Error("--resume: the existing output was made with other settings (" + previous.dump() +
-                          "); use --force to start over",
-                      Location(root.string()));
+          throw Error(
+              "--resume: the existing output was made with other settings (" +
+                  previous.dump() + "); use --force to start over",
+              Location(root.string()));
         }
       }
     } else if (options.force) {
@@ -93,25 +101,30 @@ void PrepareOutput(const GenerateOptions& options, const nlohmann::json& setting
   }
   fs::create_directories(root / kWorkFolder);
   WriteFileAtomic(settings_path, settings.dump(2) + "\n");
-  // Resuming a finished collection: its frames become truth parts again, so that only frames whose
-  // files are missing or broken are rendered.
+  // Resuming a finished collection: its frames become truth parts again, so
+  // that only frames whose files are missing or broken are rendered.
   if (options.resume && LooksLikeCollection(root)) {
     try {
       const CollectionReader reader(root);
       const Provenance& provenance = reader.header().provenance;
       bool same = provenance.seed == settings["seed"].get<uint64_t>();
       for (const auto& [key, value] : settings.items()) {
-        if (key != "seed" && provenance.render.value(key, nlohmann::json()) != value) same = false;
+        if (key != "seed" &&
+            provenance.render.value(key, nlohmann::json()) != value)
+          same = false;
       }
       if (!same) {
-        throw Error("--resume: the existing collection was made with other settings (seed " +
-                        std::to_string(provenance.seed.value_or(0)) + ", " + provenance.render.dump() +
-                        "); use --force to start over",
-                    Location((root / kCollectionFile).string()));
+        throw Error(
+            "--resume: the existing collection was made with other settings "
+            "(seed " +
+                std::to_string(provenance.seed.value_or(0)) + ", " +
+                provenance.render.dump() + "); use --force to start over",
+            Location((root / kCollectionFile).string()));
       }
       reader.ForEachFrame([&root](const Frame& frame) {
         const fs::path part = TruthPartPath(root, frame.index);
-        if (!fs::exists(part)) WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
+        if (!fs::exists(part))
+          WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
       });
     } catch (const Error& e) {
       if (e.message().find("--resume") != std::string::npos) throw;
@@ -125,13 +138,14 @@ void PrepareOutput(const GenerateOptions& options, const nlohmann::json& setting
 void GenerateOptions::Check() const {
   if (output.empty()) throw Error("no output folder (-o OUT)");
   if (shard_count < 1 || shard_index < 0 || shard_index >= shard_count) {
-    throw Error("--shard " + std::to_string(shard_index) + "/" + std::to_string(shard_count) +
-                ": expected I/N with 0 <= I < N");
+    throw Error("--shard " + std::to_string(shard_index) + "/" +
+                std::to_string(shard_count) + ": expected I/N with 0 <= I < N");
   }
   if (first_frame > last_frame) throw Error("--frames A:B needs A <= B");
   if (threads < 0) throw Error("--threads must be >= 0 (0: all cores)");
   if (force && resume) throw Error("--force and --resume exclude each other");
-  if (zip_level < 0 || zip_level > 9) throw Error("--zip-level must be in [0, 9]");
+  if (zip_level < 0 || zip_level > 9)
+    throw Error("--zip-level must be in [0, 9]");
   CheckSamplerSettings({spp, jitter, 0});
 }
 
@@ -143,17 +157,22 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   header.provenance.scene_source = plan.scene_source;
   header.provenance.capture_source = plan.capture_source;
   header.provenance.render = RenderSettingsJson(options);
-  if (!plan.post_process.empty()) header.provenance.render["post_process"] = plan.post_process;
+  if (!plan.post_process.empty())
+    header.provenance.render["post_process"] = plan.post_process;
   header.classes = plan.classes;
   for (const std::string& semantic : StandardLayerSemantics()) {
     header.layers.push_back(StandardLayer(semantic, options.depth_kind));
   }
-  header.metadata = {{kMetadataFile, false, "measured metadata; equal to truth"}};
+  header.metadata = {
+      {kMetadataFile, false, "measured metadata; equal to truth"}};
   return header;
 }
 
-std::map<std::string, std::string> WriteFrameLayers(const fs::path& root, const CollectionHeader& header,
-                                                    int64_t frame_index, const Film& film) {
+std::map<std::string, std::string> WriteFrameLayers(
+    const fs::path& root,
+    const CollectionHeader& header,
+    int64_t frame_index,
+    const Film& film) {
   std::map<std::string, std::string> files;
   for (const LayerInfo& layer : header.layers) {
     files[layer.name] = layer.name + "/" + FrameStem(frame_index) + ".exr";
@@ -173,12 +192,14 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root, const 
   return files;
 }
 
-GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options) {
+GenerateSummary GenerateCollection(const Plan& plan,
+                                   const GenerateOptions& options) {
   const Clock::time_point start = Clock::now();
   options.Check();
   std::optional<tbb::global_control> threads;
   if (options.threads > 0) {
-    threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(options.threads));
+    threads.emplace(tbb::global_control::max_allowed_parallelism,
+                    static_cast<size_t>(options.threads));
   }
   Imf::setDefaultZipCompressionLevel(options.zip_level);
   // Validate the whole plan before touching the output.
@@ -193,7 +214,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   settings["seed"] = plan.seed;
   PrepareOutput(options, settings);
   const fs::path& root = options.output;
-  for (const LayerInfo& layer : base_header.layers) fs::create_directories(root / layer.name);
+  for (const LayerInfo& layer : base_header.layers)
+    fs::create_directories(root / layer.name);
 
   RenderSettings render;
   render.sampler = {options.spp, options.jitter, plan.seed};
@@ -202,7 +224,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   EmbreeDevice device;
   std::unique_ptr<RenderScene> scene;
   std::optional<Progress> progress;
-  if (options.progress) progress.emplace("generate", static_cast<int64_t>(selected.size()));
+  if (options.progress)
+    progress.emplace("generate", static_cast<int64_t>(selected.size()));
   for (size_t k : selected) {
     const PlannedFrame& frame = plan.frames[k];
     if (options.resume && FrameComplete(root, base_header, frame)) {
@@ -212,7 +235,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
     }
     Clock::time_point t0 = Clock::now();
     WorldState world = WorldAt(plan, frame);
-    if (!scene || !(scene->world() == world)) {  // one Embree scene per world state
+    if (!scene ||
+        !(scene->world() == world)) {  // one Embree scene per world state
       scene.reset();
       scene = std::make_unique<RenderScene>(device, plan, assets, world);
     }
@@ -229,7 +253,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
     truth.time = frame.time;
     truth.sequence = frame.sequence;
     truth.camera.intrinsics = frame.camera;
-    truth.camera.cam_from_world_rotation = frame.cam_from_world.rotation.toRotationMatrix();
+    truth.camera.cam_from_world_rotation =
+        frame.cam_from_world.rotation.toRotationMatrix();
     truth.camera.cam_from_world_translation = frame.cam_from_world.translation;
     uint64_t rays = film.rays;
     truth.objects = ComputeObjectTruth(*scene, frame, film, &rays);
@@ -238,14 +263,16 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
 
     t0 = Clock::now();
     truth.files = WriteFrameLayers(root, base_header, frame.index, film);
-    WriteFileAtomic(TruthPartPath(root, frame.index), FrameToJson(truth).dump() + "\n");
+    WriteFileAtomic(TruthPartPath(root, frame.index),
+                    FrameToJson(truth).dump() + "\n");
     summary.write_seconds += Seconds(t0);
     ++summary.frames_rendered;
     if (progress) progress->Add();
   }
   progress.reset();
 
-  // Assemble collection.json and metadata.json from the truth parts, in frame order.
+  // Assemble collection.json and metadata.json from the truth parts, in frame
+  // order.
   const Clock::time_point t0 = Clock::now();
   CollectionHeader header = base_header;
   header.frame_count = static_cast<int64_t>(selected.size());
@@ -255,7 +282,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   MetadataWriter metadata(root / kMetadataFile, metadata_header);
   for (size_t k : selected) {
     const fs::path part = TruthPartPath(root, plan.frames[k].index);
-    const Frame truth = FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
+    const Frame truth =
+        FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
     collection.Append(truth);
     metadata.Append(TruthMetadata(truth, header.conventions.world));
   }

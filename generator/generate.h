@@ -1,6 +1,7 @@
-// GenerateCollection: renders the frames of a plan into a complete flat collection (docs/format.md,
-// docs/generator.md): one EXR per standard layer per frame, collection.json with per-frame camera and
-// per-object truth, metadata.json equal to truth.
+// GenerateCollection: renders the frames of a plan into a complete flat
+// collection (docs/format.md, docs/generator.md): one EXR per standard layer
+// per frame, collection.json with per-frame camera and per-object truth,
+// metadata.json equal to truth.
 #pragma once
 
 #include <cstdint>
@@ -29,13 +30,15 @@ struct GenerateOptions {
   int shard_index = 0;
   int shard_count = 1;
   DepthKind depth_kind = DepthKind::kPlanar;
-  // zlib level of the ZIP/ZIPS layers (OpenEXR's process-wide default; 1 encodes about twice as fast
-  // as OpenEXR's own default 4 for files a few percent larger).
+  // zlib level of the ZIP/ZIPS layers (OpenEXR's process-wide default; 1
+  // encodes about twice as fast as OpenEXR's own default 4 for files a few
+  // percent larger).
   int zip_level = 1;
 
   void Check() const;  // throws lsds::Error for inconsistent options
   bool Selects(int64_t frame_index) const {
-    return frame_index >= first_frame && frame_index < last_frame && frame_index % shard_count == shard_index;
+    return frame_index >= first_frame && frame_index < last_frame &&
+           frame_index % shard_count == shard_index;
   }
 };
 
@@ -48,13 +51,18 @@ struct GenerateSummary {
   double total_seconds = 0;
 };
 
-GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options);
+GenerateSummary GenerateCollection(const Plan& plan,
+                                   const GenerateOptions& options);
 
-// The collection header (provenance, classes, layer table) GenerateCollection writes.
+// The collection header (provenance, classes, layer table) GenerateCollection
+// writes.
 CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options);
-// Writes one frame's layers of `header` from `film` under `root` and returns their relative paths.
-std::map<std::string, std::string> WriteFrameLayers(const std::filesystem::path& root,
-                                                    const CollectionHeader& header, int64_t frame_index,
-                                                    const Film& film);
+// Writes one frame's layers of `header` from `film` under `root` and returns
+// their relative paths.
+std::map<std::string, std::string> WriteFrameLayers(
+    const std::filesystem::path& root,
+    const CollectionHeader& header,
+    int64_t frame_index,
+    const Film& film);
 
 }  // namespace lsds::gen

@@ -9,15 +9,20 @@
 
 namespace lsds::gen {
 
-Plan PlanFromScene(const std::string& scene, const std::string& capture, uint64_t seed, int64_t first_frame,
+Plan PlanFromScene(const std::string& scene,
+                   const std::string& capture,
+                   uint64_t seed,
+                   int64_t first_frame,
                    int64_t last_frame) {
   std::optional<std::filesystem::path> capture_path;
   if (!capture.empty()) capture_path = capture;
-  // Frames are planned independently of each other (frame k depends on (seed, k) only), so planning
-  // just the requested range gives the same frames as the full plan.
+  // Frames are planned independently of each other (frame k depends on (seed,
+  // k) only), so planning just the requested range gives the same frames as the
+  // full plan.
   FrameRange range;
   range.begin = first_frame;
-  range.end = last_frame == std::numeric_limits<int64_t>::max() ? -1 : last_frame;
+  range.end =
+      last_frame == std::numeric_limits<int64_t>::max() ? -1 : last_frame;
   return MakePlan(scene, capture_path, seed, range);
 }
 

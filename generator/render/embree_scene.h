@@ -1,6 +1,7 @@
-// The Embree device and the ray-tracing scene of one world state: terrain plus every rendered object,
-// transformed to world coordinates once. Each rendered object also gets a scene of its own (sharing
-// its geometry) for the unoccluded coverage that visibility fractions need.
+// The Embree device and the ray-tracing scene of one world state: terrain plus
+// every rendered object, transformed to world coordinates once. Each rendered
+// object also gets a scene of its own (sharing its geometry) for the unoccluded
+// coverage that visibility fractions need.
 #pragma once
 
 #include <memory>
@@ -28,8 +29,8 @@ class EmbreeDevice {
   RTCDevice device_ = nullptr;
 };
 
-// Per-plan assets built once: each object's class shape and the materials (validated up front so that
-// a bad name fails before any frame is rendered).
+// Per-plan assets built once: each object's class shape and the materials
+// (validated up front so that a bad name fails before any frame is rendered).
 struct SceneAssets {
   std::vector<ClassShape> shapes;  // per Plan::objects entry
   const Material* terrain_material = nullptr;
@@ -42,13 +43,16 @@ struct Surface {
   uint32_t class_id = 0;
   uint32_t instance_id = 0;
   const Material* material = nullptr;
-  const Eigen::Vector3f* positions = nullptr;  // world-space vertices of the geometry
+  const Eigen::Vector3f* positions =
+      nullptr;  // world-space vertices of the geometry
   const Eigen::Vector3i* triangles = nullptr;
 };
 
 class RenderScene {
  public:
-  RenderScene(const EmbreeDevice& device, const Plan& plan, const SceneAssets& assets,
+  RenderScene(const EmbreeDevice& device,
+              const Plan& plan,
+              const SceneAssets& assets,
               const WorldState& world);
   ~RenderScene();
   RenderScene(const RenderScene&) = delete;
@@ -61,14 +65,17 @@ class RenderScene {
   const WorldState& world() const { return world_; }
 
  private:
-  unsigned AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Surface surface);
+  unsigned AddMesh(const EmbreeDevice& device,
+                   TriangleMesh mesh,
+                   Surface surface);
 
   WorldState world_;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> object_scenes_;
   std::vector<RTCGeometry> geometries_;
-  std::vector<std::unique_ptr<TriangleMesh>> meshes_;  // world-space copies, owned
-  std::vector<Surface> surfaces_;                        // by geometry id
+  std::vector<std::unique_ptr<TriangleMesh>>
+      meshes_;                     // world-space copies, owned
+  std::vector<Surface> surfaces_;  // by geometry id
 };
 
 }  // namespace lsds::gen

@@ -11,13 +11,17 @@ Film Film::Make(int width, int height, int spp) {
     if (layer.deep) continue;
     exr::FlatImage image(width, height);
     for (const LayerChannel& c : layer.channels) {
-      image.AddChannel(c.name, c.type);  // HALF channels hold floats until written
+      image.AddChannel(c.name,
+                       c.type);  // HALF channels hold floats until written
     }
     film.flat.emplace(semantic, std::move(image));
   }
-  film.bundle = exr::DeepImage(width, height,
-                               std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
-  for (const LayerChannel& c : StandardLayer("bundle").channels) film.bundle.AddChannel(c.name, c.type);
+  film.bundle = exr::DeepImage(
+      width,
+      height,
+      std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
+  for (const LayerChannel& c : StandardLayer("bundle").channels)
+    film.bundle.AddChannel(c.name, c.type);
   film.centre_sample.resize(static_cast<size_t>(width) * height);
   return film;
 }

@@ -1,6 +1,6 @@
-// The tile integrator: renders one frame of a world state into the film of every standard layer.
-// Tiles run in parallel over TBB; every pixel depends only on its own samples, so the result is the
-// same for any thread count.
+// The tile integrator: renders one frame of a world state into the film of
+// every standard layer. Tiles run in parallel over TBB; every pixel depends
+// only on its own samples, so the result is the same for any thread count.
 #pragma once
 
 #include <cstdint>
@@ -21,13 +21,17 @@ struct RenderSettings {
   int tile_size = 16;
 };
 
-// The previous frame of the same sequence, for motion vectors (absent on a sequence's first frame).
+// The previous frame of the same sequence, for motion vectors (absent on a
+// sequence's first frame).
 struct PreviousView {
   const PlannedFrame* frame = nullptr;
   const WorldState* world = nullptr;
 };
 
-Film RenderFrame(const RenderScene& scene, const Sky& sky, const PlannedFrame& frame,
-                 const PreviousView& previous, const RenderSettings& settings);
+Film RenderFrame(const RenderScene& scene,
+                 const Sky& sky,
+                 const PlannedFrame& frame,
+                 const PreviousView& previous,
+                 const RenderSettings& settings);
 
 }  // namespace lsds::gen

@@ -1,5 +1,6 @@
-// Sky and sun: a zenith-to-horizon gradient with procedural clouds (type and density), a sun as a
-// directional light, the skylight as an ambient term and distance fog towards the horizon colour.
+// Sky and sun: a zenith-to-horizon gradient with procedural clouds (type and
+// density), a sun as a directional light, the skylight as an ambient term and
+// distance fog towards the horizon colour.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,7 +16,8 @@ class Sky {
 
   // Radiance seen along a world direction that hits nothing.
   Eigen::Vector3f Radiance(const Eigen::Vector3d& direction_in_world) const;
-  // Unit vector towards the sun: azimuth from north (+y) clockwise towards east (+x).
+  // Unit vector towards the sun: azimuth from north (+y) clockwise towards east
+  // (+x).
   const Eigen::Vector3d& to_sun() const { return to_sun_; }
   const Eigen::Vector3f& sun_irradiance() const { return sun_irradiance_; }
   const Eigen::Vector3f& ambient() const { return ambient_; }

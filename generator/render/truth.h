@@ -1,6 +1,7 @@
-// Per-object truth of a rendered frame (docs/format.md): the 3D OBB, the tight visible box and pixel
-// count from the instanceid layer, the projected OBB bounds, the visibility fraction (visible pixels /
-// pixels the object covers when rendered alone, with the same centre samples) and the in-frame fraction.
+// Per-object truth of a rendered frame (docs/format.md): the 3D OBB, the tight
+// visible box and pixel count from the instanceid layer, the projected OBB
+// bounds, the visibility fraction (visible pixels / pixels the object covers
+// when rendered alone, with the same centre samples) and the in-frame fraction.
 #pragma once
 
 #include <cstdint>
@@ -13,9 +14,12 @@
 
 namespace lsds::gen {
 
-// Objects of interest (target, rendered, with class and instance ids) whose projected box meets the
-// image or that have visible pixels, in plan order. Adds the rays it casts to `rays`.
-std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene, const PlannedFrame& frame,
-                                            const Film& film, uint64_t* rays);
+// Objects of interest (target, rendered, with class and instance ids) whose
+// projected box meets the image or that have visible pixels, in plan order.
+// Adds the rays it casts to `rays`.
+std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
+                                            const PlannedFrame& frame,
+                                            const Film& film,
+                                            uint64_t* rays);
 
 }  // namespace lsds::gen

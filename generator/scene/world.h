@@ -1,6 +1,7 @@
-// The world state of one frame: the plan's objects with that frame's changes applied, each with the
-// transform and material it is rendered with. Frames are independent (a change lists what is in
-// effect on its frame), which is what makes --frames and --shard give byte-identical results.
+// The world state of one frame: the plan's objects with that frame's changes
+// applied, each with the transform and material it is rendered with. Frames are
+// independent (a change lists what is in effect on its frame), which is what
+// makes --frames and --shard give byte-identical results.
 #pragma once
 
 #include <string>
@@ -25,11 +26,13 @@ struct ObjectState {
     return world_from_object * extent.cwiseProduct(p) + position;
   }
   Eigen::Vector3d UnitFromWorld(const Eigen::Vector3d& p) const {
-    return (world_from_object.transpose() * (p - position)).cwiseQuotient(extent.cwiseMax(1e-12));
+    return (world_from_object.transpose() * (p - position))
+        .cwiseQuotient(extent.cwiseMax(1e-12));
   }
   bool operator==(const ObjectState& o) const {
-    return planned == o.planned && position == o.position && world_from_object == o.world_from_object &&
-           extent == o.extent && material == o.material && visible == o.visible;
+    return planned == o.planned && position == o.position &&
+           world_from_object == o.world_from_object && extent == o.extent &&
+           material == o.material && visible == o.visible;
   }
 };
 
@@ -38,7 +41,8 @@ struct WorldState {
   bool operator==(const WorldState& o) const { return objects == o.objects; }
 };
 
-// Throws lsds::Error naming the frame when a change refers to an unknown object.
+// Throws lsds::Error naming the frame when a change refers to an unknown
+// object.
 WorldState WorldAt(const Plan& plan, const PlannedFrame& frame);
 
 }  // namespace lsds::gen

@@ -1,5 +1,6 @@
-// The renderer against analytic answers: flat ground seen from a nadir camera, boxes of known size,
-// sun shadows, motion of a translated camera, perspective depth, the pixel bundle and per-object truth.
+// The renderer against analytic answers: flat ground seen from a nadir camera,
+// boxes of known size, sun shadows, motion of a translated camera, perspective
+// depth, the pixel bundle and per-object truth.
 #include <cmath>
 #include <set>
 
@@ -21,7 +22,10 @@ struct Rendered {
   std::vector<ObjectTruth> truth;
 };
 
-Rendered Render(const Plan& plan, size_t k, int spp = 1, DepthKind depth_kind = DepthKind::kPlanar) {
+Rendered Render(const Plan& plan,
+                size_t k,
+                int spp = 1,
+                DepthKind depth_kind = DepthKind::kPlanar) {
   static EmbreeDevice device;
   const SceneAssets assets = BuildSceneAssets(plan);
   const Sky sky(plan);
@@ -43,7 +47,9 @@ Rendered Render(const Plan& plan, size_t k, int spp = 1, DepthKind depth_kind = 
   return r;
 }
 
-const std::vector<float>& F(const Film& film, const char* layer, const char* channel) {
+const std::vector<float>& F(const Film& film,
+                            const char* layer,
+                            const char* channel) {
   return film.flat.at(layer).Get(channel).floats;
 }
 const std::vector<uint32_t>& U(const Film& film, const char* layer) {
@@ -65,10 +71,11 @@ TEST(Render, NadirOverFlatGroundHasDepthAltitudeNormalUpAndZeroHeight) {
       ASSERT_NEAR(F(film, "worldposition", "Z")[i], 0.0, 1e-5);
       ASSERT_EQ(U(film, "classid")[i], 1u);
       ASSERT_EQ(U(film, "instanceid")[i], 1000u);
-      ASSERT_EQ(F(film, "shadow", "Y")[i], 1.f);  // nothing blocks the sun
+      ASSERT_EQ(F(film, "shadow", "Y")[i], 1.f);   // nothing blocks the sun
       ASSERT_EQ(F(film, "motion", "X")[i], 0.5f);  // first frame
       ASSERT_EQ(F(film, "motion", "Y")[i], 0.5f);
-      for (const char* c : {"R", "G", "B"}) ASSERT_GT(F(film, "rgb", c)[i], 0.f);
+      for (const char* c : {"R", "G", "B"})
+        ASSERT_GT(F(film, "rgb", c)[i], 0.f);
     }
     // Every bundle sample sees the same plane.
     for (float z : film.bundle.Get("Z").floats) ASSERT_NEAR(z, h, 1e-5 * h);
@@ -84,7 +91,8 @@ TEST(Render, WorldPositionIsTheGroundPointUnderThePixelCentre) {
   for (int y = 0; y < 24; y += 5) {
     for (int x = 0; x < 32; x += 5) {
       const size_t i = static_cast<size_t>(y) * 32 + x;
-      const Eigen::Vector3d ray = camera.RayThroughPixelCenter(x, y);  // nadir: x -> +x, y -> -y
+      const Eigen::Vector3d ray =
+          camera.RayThroughPixelCenter(x, y);  // nadir: x -> +x, y -> -y
       EXPECT_NEAR(F(film, "worldposition", "X")[i], ray.x() * h, 1e-4);
       EXPECT_NEAR(F(film, "worldposition", "Y")[i], -ray.y() * h, 1e-4);
     }
@@ -103,7 +111,9 @@ TEST(Render, PerspectiveDepthIsPlanarOverCosine) {
       const size_t i = static_cast<size_t>(y) * camera.width + x;
       const Eigen::Vector3d ray = camera.RayThroughPixelCenter(x, y);
       const double cos_angle = 1.0 / ray.norm();
-      ASSERT_NEAR(perspective.flat.at("depth").Get("Z").floats[i], h / cos_angle, 1e-5 * h);
+      ASSERT_NEAR(perspective.flat.at("depth").Get("Z").floats[i],
+                  h / cos_angle,
+                  1e-5 * h);
       ASSERT_NEAR(planar.flat.at("depth").Get("Z").floats[i], h, 1e-5 * h);
     }
   }
@@ -112,7 +122,8 @@ TEST(Render, PerspectiveDepthIsPlanarOverCosine) {
 TEST(Render, SkyHasInfiniteDepthAndBackgroundIds) {
   Plan plan = FlatPlan();
   plan.terrain.present = false;
-  plan.frames[0].cam_from_world = LookAt({0, 0, 10}, {0, 100, 20});  // looking up at the sky
+  plan.frames[0].cam_from_world =
+      LookAt({0, 0, 10}, {0, 100, 20});  // looking up at the sky
   const Film film = Render(plan, 0).film;
   for (size_t i = 0; i < film.centre_sample.size(); ++i) {
     ASSERT_TRUE(std::isinf(F(film, "depth", "Z")[i]));
@@ -123,8 +134,8 @@ TEST(Render, SkyHasInfiniteDepthAndBackgroundIds) {
 }
 
 TEST(Render, BoxCoversItsAnalyticPixelCount) {
-  // A cube of side s on the ground under a nadir camera at h: its silhouette is the top face,
-  // a square of side fx * s / (h - s) pixels.
+  // A cube of side s on the ground under a nadir camera at h: its silhouette is
+  // the top face, a square of side fx * s / (h - s) pixels.
   const double h = 30, s = 4;
   Plan plan = FlatPlan(96, 96, 50);
   plan.objects.push_back(Box("B1", 1, {0, 0, s / 2}, {s, s, s}));
@@ -139,7 +150,8 @@ TEST(Render, BoxCoversItsAnalyticPixelCount) {
   EXPECT_NEAR(F(r.film, "depth", "Z")[centre], h - s, 1e-5);
   EXPECT_EQ(F(r.film, "normal", "Z")[centre], 1.f);
   EXPECT_EQ(U(r.film, "classid")[centre], 2u);
-  // Truth: one unoccluded, fully in-frame object whose tight box matches the mask.
+  // Truth: one unoccluded, fully in-frame object whose tight box matches the
+  // mask.
   ASSERT_EQ(r.truth.size(), 1u);
   const ObjectTruth& t = r.truth[0];
   EXPECT_EQ(t.visible_pixels, count);
@@ -155,8 +167,10 @@ TEST(Render, OccludedBoxHasVisibilityBelowOneAndTruncatedBoxInFrameBelowOne) {
   const double h = 30;
   Plan plan = FlatPlan(96, 96, 50);
   plan.objects.push_back(Box("low", 1, {0, 0, 0.5}, {4, 4, 1}));
-  plan.objects.push_back(Box("high", 2, {1.5, 0, 6}, {3, 6, 0.5}));  // a slab above half of it
-  plan.objects.push_back(Box("edge", 3, {14, 0, 1}, {4, 4, 2}));     // beyond the image's right edge
+  plan.objects.push_back(
+      Box("high", 2, {1.5, 0, 6}, {3, 6, 0.5}));  // a slab above half of it
+  plan.objects.push_back(
+      Box("edge", 3, {14, 0, 1}, {4, 4, 2}));  // beyond the image's right edge
   plan.frames[0].cam_from_world = Nadir({0, 0, h});
   const Rendered r = Render(plan, 0);
   ASSERT_EQ(r.truth.size(), 3u);
@@ -169,25 +183,30 @@ TEST(Render, OccludedBoxHasVisibilityBelowOneAndTruncatedBoxInFrameBelowOne) {
 }
 
 TEST(Render, ShadowIsOneInTheSunAndBelowOneBehindABox) {
-  // Sun from the east (+x) at 60 degrees: a box of height 4 casts a shadow about 2.3 m long to the
-  // west (-x) of its west face.
+  // Sun from the east (+x) at 60 degrees: a box of height 4 casts a shadow
+  // about 2.3 m long to the west (-x) of its west face.
   const double h = 30;
   Plan plan = FlatPlan(96, 96, 50);
   plan.objects.push_back(Box("B1", 1, {0, 0, 2}, {2, 2, 4}));
   plan.frames[0].cam_from_world = Nadir({0, 0, h});
   const Film film = Render(plan, 0).film;
   const PinholeCamera& camera = plan.frames[0].camera;
-  auto pixel_of = [&](double x, double y) {  // nadir: u = cx + fx x / h, v = cy - fy y / h
-    const int u = static_cast<int>(camera.cx + camera.fx * x / h);
-    const int v = static_cast<int>(camera.cy - camera.fy * y / h);
-    return static_cast<size_t>(v) * camera.width + u;
-  };
-  EXPECT_LT(F(film, "shadow", "Y")[pixel_of(-1.8, 0)], 0.5);  // in the shadow, on the ground
+  auto pixel_of =
+      [&](double x, double y) {  // nadir: u = cx + fx x / h, v = cy - fy y / h
+        const int u = static_cast<int>(camera.cx + camera.fx * x / h);
+        const int v = static_cast<int>(camera.cy - camera.fy * y / h);
+        return static_cast<size_t>(v) * camera.width + u;
+      };
+  EXPECT_LT(F(film, "shadow", "Y")[pixel_of(-1.8, 0)],
+            0.5);  // in the shadow, on the ground
   EXPECT_EQ(U(film, "instanceid")[pixel_of(-1.8, 0)], 1000u);
-  EXPECT_EQ(F(film, "shadow", "Y")[pixel_of(2.5, 0)], 1.f);  // east of the box, in the sun
-  EXPECT_EQ(F(film, "shadow", "Y")[pixel_of(-1.8, 4)], 1.f);  // beside the shadow
+  EXPECT_EQ(F(film, "shadow", "Y")[pixel_of(2.5, 0)],
+            1.f);  // east of the box, in the sun
+  EXPECT_EQ(F(film, "shadow", "Y")[pixel_of(-1.8, 4)],
+            1.f);  // beside the shadow
   // The shadowed ground is darker than the lit ground.
-  EXPECT_LT(F(film, "rgb", "G")[pixel_of(-1.8, 0)], F(film, "rgb", "G")[pixel_of(2.5, 0)]);
+  EXPECT_LT(F(film, "rgb", "G")[pixel_of(-1.8, 0)],
+            F(film, "rgb", "G")[pixel_of(2.5, 0)]);
 }
 
 TEST(Render, MotionIsStillForAStillCameraAndMatchesATranslation) {
@@ -223,9 +242,12 @@ TEST(Render, MovingObjectHasItsOwnMotion) {
   plan.frames[1].changes.push_back(change);
   const Film film = Render(plan, 1).film;
   const PinholeCamera& camera = plan.frames[0].camera;
-  const size_t on_top = static_cast<size_t>(32) * 64 + 34;  // on the box's top face, now at x = 1
+  const size_t on_top =
+      static_cast<size_t>(32) * 64 + 34;  // on the box's top face, now at x = 1
   ASSERT_EQ(U(film, "instanceid")[on_top], 1u);
-  EXPECT_NEAR(F(film, "motion", "X")[on_top], 0.5 + 0.5 * camera.fx * 1.0 / (h - 2) / 64, 1e-5);
+  EXPECT_NEAR(F(film, "motion", "X")[on_top],
+              0.5 + 0.5 * camera.fx * 1.0 / (h - 2) / 64,
+              1e-5);
   EXPECT_FLOAT_EQ(F(film, "motion", "X")[0], 0.5f);  // the ground does not move
 }
 
@@ -270,7 +292,8 @@ TEST(Render, BundleCentreSampleIsTheFlatLayerAndEdgesAreMixed) {
     EXPECT_EQ(mixed_pixels.count(static_cast<size_t>(5) * 96 + 5), 0u);
     for (size_t i : mixed_pixels) {
       const int x = static_cast<int>(i % 96), y = static_cast<int>(i / 96);
-      EXPECT_GT(std::max(std::abs(x - 48), std::abs(y - 48)), 8);  // only near the silhouette
+      EXPECT_GT(std::max(std::abs(x - 48), std::abs(y - 48)),
+                8);  // only near the silhouette
     }
   }
 }

@@ -34,7 +34,8 @@ TEST(ObjectLibrary, EveryBuiltinClassFillsTheUnitBox) {
 }
 
 TEST(ObjectLibrary, RandomClassesDependOnTheSeedOnly) {
-  const ClassShape a = MakeClassShape("rock", 1, "t"), b = MakeClassShape("rock", 1, "t");
+  const ClassShape a = MakeClassShape("rock", 1, "t"),
+                   b = MakeClassShape("rock", 1, "t");
   const ClassShape c = MakeClassShape("rock", 2, "t");
   EXPECT_EQ(a.mesh.positions, b.mesh.positions);
   EXPECT_NE(a.mesh.positions, c.mesh.positions);
@@ -46,8 +47,10 @@ TEST(ObjectLibrary, UnknownClassIsRejectedWithASuggestion) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("unknown object class 'barel'"), std::string::npos) << message;
-    EXPECT_NE(message.find("did you mean 'barrel'"), std::string::npos) << message;
+    EXPECT_NE(message.find("unknown object class 'barel'"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("did you mean 'barrel'"), std::string::npos)
+        << message;
     EXPECT_NE(message.find("O1#0"), std::string::npos) << message;
   }
   EXPECT_THROW(MakeClassShape("missing/file.obj", 0, "o"), Error);
@@ -66,7 +69,8 @@ TEST(Sky, UnknownCloudTypeIsRejected) {
   plan.sky.cloud_density = 0.5;
   const Sky sky(plan);
   EXPECT_GT(sky.Radiance(Eigen::Vector3d(0, 0, 1)).sum(), 0);
-  // The sun direction: azimuth from north (+y) clockwise, elevation above the horizon.
+  // The sun direction: azimuth from north (+y) clockwise, elevation above the
+  // horizon.
   EXPECT_NEAR(sky.to_sun().norm(), 1, 1e-12);
   EXPECT_GT(sky.to_sun().x(), 0);  // default azimuth 135: south-east
   EXPECT_LT(sky.to_sun().y(), 0);
@@ -115,7 +119,8 @@ TEST(World, ChangesApplyToTheirFrameOnly) {
   const WorldState world = WorldAt(plan, frame);
   EXPECT_EQ(world.objects[0].position, Eigen::Vector3d(1, 2, 3));
   EXPECT_FALSE(world.objects[0].visible);
-  EXPECT_EQ(WorldAt(plan, PlannedFrame{}).objects[0].position, Eigen::Vector3d::Zero());
+  EXPECT_EQ(WorldAt(plan, PlannedFrame{}).objects[0].position,
+            Eigen::Vector3d::Zero());
   frame.changes[0].object = "nobody";
   EXPECT_THROW(WorldAt(plan, frame), Error);
 }

@@ -1,5 +1,5 @@
-// Small plans with analytic answers for the generator tests: flat terrain at z = 0 (class 1,
-// instance 1000), optional boxes, nadir cameras.
+// Small plans with analytic answers for the generator tests: flat terrain at z
+// = 0 (class 1, instance 1000), optional boxes, nadir cameras.
 #pragma once
 
 #include <vector>
@@ -32,7 +32,9 @@ inline Rigid3d Nadir(const Eigen::Vector3d& eye) {
   return LookAt(eye, eye - Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::UnitY());
 }
 
-inline PlannedObject Box(const std::string& name, uint32_t instance_id, const Eigen::Vector3d& centre,
+inline PlannedObject Box(const std::string& name,
+                         uint32_t instance_id,
+                         const Eigen::Vector3d& centre,
                          const Eigen::Vector3d& extent) {
   PlannedObject o;
   o.name = name;

@@ -2,11 +2,14 @@
 
 #include <chrono>
 #include <fstream>
+#include <memory>
+#include <mutex>
 #include <optional>
 
 #include <OpenEXR/ImfCompression.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "generator/render/embree_scene.h"
 #include "generator/render/integrator.h"
@@ -94,6 +97,17 @@ void PrepareOutput(const GenerateOptions& options,
         }
       }
     } else if (options.force) {
+      // Only ever delete what a generator wrote: a collection or an interrupted
+      // run.
+      const bool ours = !fs::is_directory(root) || fs::is_empty(root) ||
+                        LooksLikeCollection(root) ||
+                        fs::exists(root / kWorkFolder);
+      if (!ours) {
+        throw Error(
+            "--force: the output exists and is not a collection; refusing to "
+            "delete it",
+            Location(root.string()));
+      }
       fs::remove_all(root);
     } else {
       RefuseToOverwrite(root, false, "output collection");
@@ -224,51 +238,71 @@ GenerateSummary GenerateCollection(const Plan& plan,
   EmbreeDevice device;
   std::unique_ptr<RenderScene> scene;
   std::optional<Progress> progress;
+  tbb::task_group writer;
+  std::mutex write_mutex;
   if (options.progress)
     progress.emplace("generate", static_cast<int64_t>(selected.size()));
-  for (size_t k : selected) {
-    const PlannedFrame& frame = plan.frames[k];
-    if (options.resume && FrameComplete(root, base_header, frame)) {
-      ++summary.frames_skipped;
-      if (progress) progress->Add();
-      continue;
-    }
-    Clock::time_point t0 = Clock::now();
-    WorldState world = WorldAt(plan, frame);
-    if (!scene ||
-        !(scene->world() == world)) {  // one Embree scene per world state
-      scene.reset();
-      scene = std::make_unique<RenderScene>(device, plan, assets, world);
-    }
-    PreviousView previous;
-    std::optional<WorldState> previous_world;
-    if (k > 0 && plan.frames[k - 1].sequence == frame.sequence) {
-      previous.frame = &plan.frames[k - 1];
-      previous_world = WorldAt(plan, plan.frames[k - 1]);
-      previous.world = &*previous_world;
-    }
-    const Film film = RenderFrame(*scene, sky, frame, previous, render);
-    Frame truth;
-    truth.index = frame.index;
-    truth.time = frame.time;
-    truth.sequence = frame.sequence;
-    truth.camera.intrinsics = frame.camera;
-    truth.camera.cam_from_world_rotation =
-        frame.cam_from_world.rotation.toRotationMatrix();
-    truth.camera.cam_from_world_translation = frame.cam_from_world.translation;
-    uint64_t rays = film.rays;
-    truth.objects = ComputeObjectTruth(*scene, frame, film, &rays);
-    summary.rays += rays;
-    summary.render_seconds += Seconds(t0);
+  // A failure while a write runs must not leave the task group unwaited.
+  try {
+    for (size_t k : selected) {
+      const PlannedFrame& frame = plan.frames[k];
+      if (options.resume && FrameComplete(root, base_header, frame)) {
+        ++summary.frames_skipped;
+        if (progress) progress->Add();
+        continue;
+      }
+      Clock::time_point t0 = Clock::now();
+      WorldState world = WorldAt(plan, frame);
+      if (!scene ||
+          !(scene->world() == world)) {  // one Embree scene per world state
+        scene.reset();
+        scene = std::make_unique<RenderScene>(device, plan, assets, world);
+      }
+      PreviousView previous;
+      std::optional<WorldState> previous_world;
+      if (k > 0 && plan.frames[k - 1].sequence == frame.sequence) {
+        previous.frame = &plan.frames[k - 1];
+        previous_world = WorldAt(plan, plan.frames[k - 1]);
+        previous.world = &*previous_world;
+      }
+      auto film = std::make_shared<const Film>(
+          RenderFrame(*scene, sky, frame, previous, render));
+      auto truth = std::make_shared<Frame>();
+      truth->index = frame.index;
+      truth->time = frame.time;
+      truth->sequence = frame.sequence;
+      truth->camera.intrinsics = frame.camera;
+      truth->camera.cam_from_world_rotation =
+          frame.cam_from_world.rotation.toRotationMatrix();
+      truth->camera.cam_from_world_translation =
+          frame.cam_from_world.translation;
+      uint64_t rays = film->rays;
+      truth->objects = ComputeObjectTruth(*scene, frame, *film, &rays);
+      summary.rays += rays;
+      summary.render_seconds += Seconds(t0);
 
-    t0 = Clock::now();
-    truth.files = WriteFrameLayers(root, base_header, frame.index, film);
-    WriteFileAtomic(TruthPartPath(root, frame.index),
-                    FrameToJson(truth).dump() + "\n");
-    summary.write_seconds += Seconds(t0);
-    ++summary.frames_rendered;
-    if (progress) progress->Add();
+      // Encode this frame while the next one renders: at most two films live.
+      writer.wait();  // rethrows a failed write
+      writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
+        const Clock::time_point w0 = Clock::now();
+        truth->files = WriteFrameLayers(root, base_header, truth->index, *film);
+        // The truth part comes last: its presence marks the frame complete.
+        WriteFileAtomic(TruthPartPath(root, truth->index),
+                        FrameToJson(*truth).dump() + "\n");
+        std::lock_guard<std::mutex> lock(write_mutex);
+        summary.write_seconds += Seconds(w0);
+      });
+      ++summary.frames_rendered;
+      if (progress) progress->Add();
+    }
+  } catch (...) {
+    try {
+      writer.wait();
+    } catch (...) {
+    }
+    throw;
   }
+  writer.wait();
   progress.reset();
 
   // Assemble collection.json and metadata.json from the truth parts, in frame

@@ -101,6 +101,13 @@ TEST(GenerateCollection, RefusesAnExistingOutputWithoutForce) {
   GenerateOptions force = Options(root);
   force.force = true;
   EXPECT_EQ(GenerateCollection(plan, force).frames_rendered, 1);
+  // --force never deletes a folder that is not a collection.
+  const fs::path other = TempRoot("not_a_collection");
+  fs::create_directories(other);
+  WriteFileAtomic(other / "precious.txt", "keep me");
+  force.output = other;
+  EXPECT_THROW(GenerateCollection(plan, force), Error);
+  EXPECT_TRUE(fs::exists(other / "precious.txt"));
 }
 
 TEST(GenerateCollection, RejectsBadOptionsAndPlansBeforeWriting) {

@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
     std::printf("%6d %9.3f %9.2f %10.3f %10.3f %10.3f %7.2f\n",
                 size,
                 per_frame,
-                summary.rays / summary.render_seconds / 1e6,
+                summary.rays / summary.total_seconds / 1e6,
                 ray_seconds / frames,
                 encode_seconds / frames,
                 floor,

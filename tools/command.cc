@@ -12,6 +12,7 @@ const std::vector<Command>& Commands() {
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
       {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
+      {"bundles", "mixed-pixel statistics of the pixel bundles; bundle-derived truth layers", RunBundles},
   };
   return commands;
 }

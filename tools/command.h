@@ -28,5 +28,6 @@ int RunInfo(int argc, char** argv);
 int RunGenerate(int argc, char** argv);
 int RunPlan(int argc, char** argv);
 int RunSynth(int argc, char** argv);
+int RunBundles(int argc, char** argv);
 
 }  // namespace lsds

@@ -1,0 +1,19 @@
+// A picture of where the mixed pixels of a frame lie (docs/images/, `lsds
+// bundles --mixed-map`).
+#pragma once
+
+#include <filesystem>
+
+#include "libs/bundle/bundle_stats.h"
+
+namespace lsds::bundle {
+
+// PNG (OpenCV): pure pixels in a dim colour per majority instance (black for
+// background), mixed pixels from yellow (purity near 1) to red (purity 0.5) to
+// magenta (lower), flying-free.
+void WriteMixedMapPng(const std::filesystem::path& path,
+                      const PixelMaps& maps,
+                      int width,
+                      int height);
+
+}  // namespace lsds::bundle

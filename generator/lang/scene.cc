@@ -183,7 +183,17 @@ class SceneEvaluator {
     if (!cls->is_string() && !cls->is_object()) cls.Fail("class must be a name or a choice {name: weight}");
     for (const auto& [key, child] : cls->is_object() ? cls.Members() : std::vector<std::pair<std::string, Node>>{})
       (void)key, ReadNumber(child);
-    for (const std::string& option : StringOptions(cls)) ResolveClass(cls->is_object() ? cls.Child(option) : cls, option);
+    for (const std::string& option : StringOptions(cls)) {
+      if (cls->is_object()) {
+        try {
+          ResolveClass(cls.Child(option), option);
+        } catch (const Error& e) {  // point at the option's name, not its weight
+          throw Error(e.message(), cls.src->WhereKey(cls.Child(option).pointer));
+        }
+      } else {
+        ResolveClass(cls, option);
+      }
+    }
     if (const Node pos = def.body.Find("position")) {
       pos.CheckKeys(kPositionKeys, "position of " + def.symbol);
       for (const auto& [key, c] : pos.Members()) {
@@ -316,7 +326,7 @@ class SceneEvaluator {
     static const std::vector<std::string> kTypes = {"none", "cumulus", "nimbostratus", "cirrus", "stratus"};
     for (const std::string& option : StringOptions(n))
       if (std::find(kTypes.begin(), kTypes.end(), option) == kTypes.end())
-        (n->is_object() ? n.Child(option) : n).Fail("unknown cloud type '" + option + "'" + DidYouMean(option, kTypes));
+        (n->is_object() ? n.Child(option) : n).FailKey("unknown cloud type '" + option + "'" + DidYouMean(option, kTypes));
     return SampleString(n, rng_);
   }
   Eigen::Vector3d Color(const Node& n) {
@@ -329,7 +339,7 @@ class SceneEvaluator {
       for (const auto& [name, c] : kColors) names.push_back(name);
       for (const std::string& option : StringOptions(n))
         if (!kColors.count(option))
-          (n->is_object() ? n.Child(option) : n).Fail("unknown color '" + option + "'" + DidYouMean(option, names) +
+          (n->is_object() ? n.Child(option) : n).FailKey("unknown color '" + option + "'" + DidYouMean(option, names) +
                                                       "; use a name or [r, g, b] in [0, 1]");
       return kColors.at(SampleString(n, rng_));
     }
@@ -342,7 +352,7 @@ class SceneEvaluator {
   void EvaluateTerrain(const Node& b) {
     PlannedTerrain& t = plan_->terrain;
     t.present = true;
-    t.perlin_seed = MixKey(seed_, static_cast<uint64_t>(StreamTag::kTerrain));
+    t.perlin_seed = MixKey(seed_, static_cast<uint64_t>(StreamTag::kTerrain)) >> 11;  // 53 bits: exact in JSON
     if (const Node n = b.Find("size")) {
       t.size = SampleVec2(n, rng_);
       if (t.size.minCoeff() <= 0) n.Fail("terrain size must be > 0");
@@ -357,7 +367,7 @@ class SceneEvaluator {
     if (const Node m = b.Find("material")) t.material = SampleString(m, rng_);
     if (const Node s = b.Find("seed")) {
       const double v = ReadNumber(s);
-      if (v < 0 || v != std::floor(v)) s.Fail("terrain seed must be a whole number >= 0");
+      if (v < 0 || v > 9007199254740992.0 || v != std::floor(v)) s.Fail("terrain seed must be a whole number in [0, 2^53]");
       t.perlin_seed = static_cast<uint64_t>(v);
     }
     for (const ClassInfo& c : plan_->classes)

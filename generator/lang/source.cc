@@ -30,6 +30,12 @@ Location SourceFile::Where(const std::string& pointer) const {
   return Location::Text(path, 1, 1);
 }
 
+Location SourceFile::WhereKey(const std::string& pointer) const {
+  auto it = key_positions.find(pointer);
+  if (!is_json && it != key_positions.end()) return Location::Text(path, it->second.first, it->second.second);
+  return Where(pointer);
+}
+
 SourceFile ParseSource(const std::string& text, const std::string& path_for_messages, bool is_json) {
   SourceFile source;
   source.path = path_for_messages;

@@ -21,11 +21,14 @@ struct SourceFile {
   bool is_json = false;       // JSON form (locations are JSON pointers) or text notation
   OJson doc;                  // {"LSCENE": [...], "S": {"skybox": {...}}, ...}
   std::map<std::string, std::pair<int, int>> positions;  // text: JSON pointer -> (line, column)
+  std::map<std::string, std::pair<int, int>> key_positions;  // text: member pointer -> its key
   std::vector<std::string> warnings;                     // accepted deviations (paper typos)
 
   // Where the node at `pointer` is: "file:line:col" for text (nearest enclosing node with a
   // position), "file#pointer" for JSON.
   Location Where(const std::string& pointer) const;
+  // Where the key of the member at `pointer` is (text), else Where(pointer).
+  Location WhereKey(const std::string& pointer) const;
 };
 
 // Reads `path`: JSON form when it ends in .json or starts with '{', else the text notation.

@@ -107,6 +107,10 @@ class Parser {
     LineColumnFromOffset(text_, offset, &line, &column);
     throw Error(message, Location::Text(src_->path, line, column));
   }
+  [[noreturn]] void Unclosed(size_t open_offset, char close) const {
+    Fail(open_offset, std::string("unclosed '") + (close == '}' ? '{' : '[') + "': expected '" + close +
+                          "' before the end of the file");
+  }
   const Token& Peek(size_t ahead = 0) const {
     return tokens_[std::min(pos_ + ahead, tokens_.size() - 1)];
   }
@@ -129,6 +133,12 @@ class Parser {
   void Mark(const std::string& pointer, size_t offset) {
     int line = 0, column = 0;
     LineColumnFromOffset(text_, offset, &line, &column);
+    src_->positions[pointer] = std::make_pair(line, column);
+  }
+  void MarkKey(const std::string& pointer, size_t offset) {
+    int line = 0, column = 0;
+    LineColumnFromOffset(text_, offset, &line, &column);
+    src_->key_positions[pointer] = std::make_pair(line, column);
     src_->positions.emplace(pointer, std::make_pair(line, column));
   }
   void Warn(size_t offset, const std::string& message) {
@@ -181,6 +191,7 @@ class Parser {
       entry[op.text] = sym.text;
       const std::string item_pointer = PointerJoin(pointer, std::to_string(list.size()));
       Mark(item_pointer, op.offset);
+      Mark(PointerJoin(item_pointer, op.text), sym.offset);
       if (AcceptPunct(',')) entry["count"] = Value(PointerJoin(item_pointer, "count"));
       ExpectPunct(')', "to close " + op.text + "(" + sym.text);
       list.push_back(std::move(entry));
@@ -196,9 +207,10 @@ class Parser {
   OJson Members(const std::string& pointer, char close) {
     OJson object = OJson::object();
     std::string last_key;
+    const size_t open_offset = pos_ > 0 ? tokens_[pos_ - 1].offset : 0;
     while (!AcceptPunct(close)) {
       const Token& t = Peek();
-      if (t.kind == Tok::kEnd) Fail(t.offset, std::string("expected '") + close + "' before the end of the file");
+      if (t.kind == Tok::kEnd) Unclosed(open_offset, close);
       if (IsPunct(t, '{') || IsPunct(t, '[')) {
         if (last_key.empty()) Fail(t.offset, "a value without a key must follow a 'key: value' member");
         // "range:[0,0,0],[360,360,360]" and "O1:{...},{...}": the previous member becomes a list.
@@ -218,7 +230,7 @@ class Parser {
         while (first.kind == Tok::kIdent && Peek().kind == Tok::kIdent) key += "_" + Next().text;  // "create hemi"
         if (object.contains(key)) Fail(first.offset, "key '" + key + "' appears twice");
         const std::string member_pointer = PointerJoin(pointer, key);
-        Mark(member_pointer, first.offset);
+        MarkKey(member_pointer, first.offset);
         if (AcceptPunct(':') || AcceptPunct('=')) {
           object[key] = Value(member_pointer);
         } else if (IsPunct(Peek(), '{') || IsPunct(Peek(), '[')) {
@@ -231,6 +243,7 @@ class Parser {
       } else {
         Fail(t.offset, "expected a key or '" + std::string(1, close) + "', found " + Describe(t));
       }
+      if (Peek().kind == Tok::kEnd) Unclosed(open_offset, close);
       if (!IsPunct(Peek(), close) && !AcceptPunct(','))
         Fail(Peek().offset, std::string("expected ',' or '") + close + "', found " + Describe(Peek()));
     }
@@ -259,8 +272,9 @@ class Parser {
     if (IsPunct(t, '[')) {
       OJson list = OJson::array();
       while (!AcceptPunct(']')) {
-        if (Peek().kind == Tok::kEnd) Fail(t.offset, "unclosed '['");
+        if (Peek().kind == Tok::kEnd) Unclosed(t.offset, ']');
         list.push_back(Value(PointerJoin(pointer, std::to_string(list.size()))));
+        if (Peek().kind == Tok::kEnd) Unclosed(t.offset, ']');
         if (!IsPunct(Peek(), ']') && !AcceptPunct(','))
           Fail(Peek().offset, "expected ',' or ']' in the list, found " + Describe(Peek()));
       }

@@ -19,6 +19,7 @@ std::string CanonicalKey(const std::string& key) {
 }
 
 void Node::Fail(const std::string& message) const { throw Error(message, Where()); }
+void Node::FailKey(const std::string& message) const { throw Error(message, src->WhereKey(pointer)); }
 
 Node Node::Child(const std::string& key) const {
   if (!value || !value->is_object() || !value->contains(key)) return Node{src, nullptr, PointerJoin(pointer, key)};
@@ -59,7 +60,7 @@ void Node::CheckKeys(const std::vector<std::string>& known, const std::string& w
       for (size_t i = 0; i < canon.size(); ++i)
         if (canon[i] == close) hint = " (did you mean '" + known[i] + "'?)";
       if (hint.empty()) hint = "; known keys: " + Join(known, ", ");
-      Node{src, &it.value(), PointerJoin(pointer, it.key())}.Fail("unknown key '" + it.key() + "' in " + what + hint);
+      Node{src, &it.value(), PointerJoin(pointer, it.key())}.FailKey("unknown key '" + it.key() + "' in " + what + hint);
     }
   }
 }
@@ -124,7 +125,7 @@ double SampleScalar(const Node& node, Rng& rng) {
     const std::string key = SampleChoiceKey(node, rng);
     char* end = nullptr;
     const double d = std::strtod(key.c_str(), &end);
-    if (end == key.c_str() || *end != '\0') node.Child(key).Fail("choice '" + key + "' is not a number");
+    if (end == key.c_str() || *end != '\0') node.Child(key).FailKey("choice '" + key + "' is not a number");
     return d;
   }
   node.Fail("expected a number, an interval [lo, hi] or a choice {value: weight, ...}, found " + v.dump());
@@ -165,7 +166,7 @@ bool SampleBool(const Node& node, Rng& rng) {
     const std::string key = SampleChoiceKey(node, rng);
     if (key == "true") return true;
     if (key == "false") return false;
-    node.Child(key).Fail("choice '" + key + "' is not true or false");
+    node.Child(key).FailKey("choice '" + key + "' is not true or false");
   }
   node.Fail("expected true, false or a choice {true: p, false: q}, found " + node->dump());
 }

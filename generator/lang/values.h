@@ -32,6 +32,8 @@ struct Node {
   const OJson* operator->() const { return value; }
   Location Where() const { return src->Where(pointer); }
   [[noreturn]] void Fail(const std::string& message) const;
+  // Fails at the member's key (text) - for unknown keys and choice options.
+  [[noreturn]] void FailKey(const std::string& message) const;
   Node Child(const std::string& key) const;  // exact key, for objects
   Node Item(size_t i) const;                 // for arrays
   // The member whose canonical key is `canonical` (nullptr-valued Node when absent).

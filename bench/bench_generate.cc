@@ -3,7 +3,7 @@
 // casts alone (the same primary and shadow rays, no shading, no films) + the
 // encoding of the same EXR files alone, with the ratio frame time / floor.
 //
-//   generate_bench [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
+//   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -97,7 +97,7 @@ uint64_t CastRaysOnly(const RenderScene& scene,
 }  // namespace
 
 int main(int argc, char** argv) {
-  int frames = 8, spp = 4, threads = 0;
+  int frames = 4, spp = 4, threads = 0;
   std::vector<int> sizes = {512, 1024};
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
         sizes.push_back(std::atoi(s.c_str()));
     } else {
       std::fprintf(stderr,
-                   "usage: generate_bench [--frames N] [--sizes 512,1024] "
+                   "usage: bench_generate [--frames N] [--sizes 512,1024] "
                    "[--spp S] [--threads T]\n");
       return 2;
     }
@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
   std::optional<tbb::global_control> control;
   if (threads > 0)
     control.emplace(tbb::global_control::max_allowed_parallelism, threads);
-  const fs::path root = fs::temp_directory_path() / "lsds_generate_bench";
+  const fs::path root = fs::temp_directory_path() / "lsds_bench_generate";
   std::printf(
       "lsds generate benchmark: demo scene, %d frames, spp %d\n", frames, spp);
   std::printf("%6s %9s %9s %10s %10s %10s %7s\n",

@@ -1,4 +1,7 @@
 // Scene entities: the class factory, materials, meshes, terrain, world state.
+#include <filesystem>
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "generator/render/sky.h"
@@ -56,9 +59,33 @@ TEST(ObjectLibrary, UnknownClassIsRejectedWithASuggestion) {
   EXPECT_THROW(MakeClassShape("missing/file.obj", 0, "o"), Error);
 }
 
+TEST(ObjectLibrary, UserMeshesLoadThroughAssimpNormalized) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "lsds_scene_test_tetra.obj";
+  {
+    std::ofstream obj(path);
+    obj << "v 0 0 0\nv 2 0 0\nv 0 4 0\nv 0 0 6\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 "
+           "3 4\n";
+  }
+  ASSERT_TRUE(IsMeshPath(path.string()));
+  const ClassShape shape = MakeClassShape(path.string(), 0, "object 'M#0'");
+  EXPECT_EQ(shape.mesh.triangles.size(), 4u);
+  Eigen::Vector3f lo = shape.mesh.positions[0], hi = lo;
+  for (const Eigen::Vector3f& p : shape.mesh.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  EXPECT_TRUE(lo.isApprox(Eigen::Vector3f::Constant(-0.5f), 1e-5));
+  EXPECT_TRUE(hi.isApprox(Eigen::Vector3f::Constant(0.5f), 1e-5));
+  std::ofstream(path) << "this is not a mesh\n";
+  EXPECT_THROW(MakeClassShape(path.string(), 0, "object 'M#0'"), Error);
+}
+
 TEST(Materials, UnknownNamesAreRejected) {
   EXPECT_THROW(FindMaterial("grasy", "terrain"), Error);
   EXPECT_EQ(FindMaterial("grassy", "terrain").name, "grassy");
+  EXPECT_EQ(FindMaterial("MetalGold", "object").name,
+            "metal_gold");  // case and '_' do not matter
 }
 
 TEST(Sky, UnknownCloudTypeIsRejected) {

@@ -25,6 +25,7 @@ demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/tools/lsds
 
 bench: build
+	@./scripts/install-deps.sh --bench
 	@./scripts/bench.sh $(BUILD_DIR)
 
 format:

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package that lsds needs to build, test and run its demo.
 # Idempotent: when everything is present it only runs dpkg queries and exits in seconds.
+#   scripts/install-deps.sh          what the build, the tests and the demo need
+#   scripts/install-deps.sh --bench  also the peers the benchmarks compare against (make bench)
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config ninja-build
-  libopenexr-dev openexr            # EXR layers (flat + deep) and exrheader/exrcheck for tests
+  libopenexr-dev openexr            # EXR layers (flat + deep) and exrheader/exrinfo for tests
   libopencv-dev                     # images, contours
   libeigen3-dev                     # geometry
   nlohmann-json3-dev                # JSON I/O
@@ -18,6 +20,9 @@ packages=(
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus script
 )
+if [ "${1:-}" = "--bench" ]; then
+  packages+=(python3-open3d)        # bench/backproject: Open3D create_from_depth_image side by side
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -11,8 +11,12 @@ const std::vector<Command>& Commands() {
       {"generate", "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection", RunGenerate},
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
+      {"perturb-metadata", "write a perturbed copy of the metadata with the noise and errors recorded",
+       RunPerturbMetadata},
       {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
       {"bundles", "mixed-pixel statistics of the pixel bundles; bundle-derived truth layers", RunBundles},
+      {"backproject", "depth layers to point clouds (PCD/PLY), per frame or fused; --check vs truth",
+       RunBackproject},
   };
   return commands;
 }

@@ -27,7 +27,9 @@ int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>&
 int RunInfo(int argc, char** argv);
 int RunGenerate(int argc, char** argv);
 int RunPlan(int argc, char** argv);
+int RunPerturbMetadata(int argc, char** argv);
 int RunSynth(int argc, char** argv);
 int RunBundles(int argc, char** argv);
+int RunBackproject(int argc, char** argv);
 
 }  // namespace lsds

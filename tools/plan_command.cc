@@ -1,4 +1,5 @@
-// lsds plan SCENE [CAPTURE] [-o plan.json] [--seed N] [--frames B:E] [--emit-json] [--force]
+// lsds plan SCENE [CAPTURE] [-o plan.json] [--seed N] [--frames B:E]
+// [--emit-json] [--force]
 #include <iostream>
 #include <optional>
 
@@ -10,30 +11,49 @@
 namespace lsds {
 
 int RunPlan(int argc, char** argv) {
-  CLI::App app("Expand an LSCENE scene (and an LCAP capture) into the frame plan the renderer consumes.",
-               "lsds plan");
+  CLI::App app(
+      "Expand an LSCENE scene (and an LCAP capture) into the frame plan the "
+      "renderer consumes.",
+      "lsds plan");
   std::string scene, capture, output, frames;
   uint64_t seed = 0;
   bool emit_json = false, force = false;
-  app.add_option("SCENE", scene, "LSCENE file (text notation or .json)")->required();
-  app.add_option("CAPTURE", capture, "LCAP file (text notation or .json); default: one nadir frame");
-  app.add_option("-o,--output", output, "write the plan (or the JSON form) here instead of stdout");
-  app.add_option("--seed", seed, "random seed (same files + seed = same plan, byte for byte)");
-  app.add_option("--frames", frames, "plan only frames B:E ([B, E), E empty = to the end)");
-  app.add_flag("--emit-json", emit_json, "print the JSON form of the scene (and capture) instead of the plan");
+  app.add_option("SCENE", scene, "LSCENE file (text notation or .json)")
+      ->required();
+  app.add_option(
+      "CAPTURE",
+      capture,
+      "LCAP file (text notation or .json); default: one nadir frame");
+  app.add_option("-o,--output",
+                 output,
+                 "write the plan (or the JSON form) here instead of stdout");
+  app.add_option("--seed",
+                 seed,
+                 "random seed (same files + seed = same plan, byte for byte)");
+  app.add_option("--frames",
+                 frames,
+                 "plan only frames B:E ([B, E), E empty = to the end)");
+  app.add_flag(
+      "--emit-json",
+      emit_json,
+      "print the JSON form of the scene (and capture) instead of the plan");
   app.add_flag("--force", force, "overwrite the output file");
   return RunCommand(app, argc, argv, [&] {
     if (!output.empty()) RefuseToOverwrite(output, force, "plan");
     std::string text;
     if (emit_json) {
       const SourceFile s = LoadSource(scene);
-      for (const std::string& w : s.warnings) std::cerr << "lsds plan: warning: " << w << "\n";
+      for (const std::string& w : s.warnings)
+        std::cerr << "lsds plan: warning: " << w << "\n";
       if (capture.empty()) {
         text = SourceToJson(s).dump(2);
       } else {
         const SourceFile c = LoadSource(capture);
-        for (const std::string& w : c.warnings) std::cerr << "lsds plan: warning: " << w << "\n";
-        text = nlohmann::ordered_json{{"scene", SourceToJson(s)}, {"capture", SourceToJson(c)}}.dump(2);
+        for (const std::string& w : c.warnings)
+          std::cerr << "lsds plan: warning: " << w << "\n";
+        text = nlohmann::ordered_json{{"scene", SourceToJson(s)},
+                                      {"capture", SourceToJson(c)}}
+                   .dump(2);
       }
     } else {
       FrameRange range;
@@ -41,9 +61,11 @@ int RunPlan(int argc, char** argv) {
         const size_t colon = frames.find(':');
         try {
           range.begin = std::stoll(frames.substr(0, colon));
-          if (colon != std::string::npos && colon + 1 < frames.size()) range.end = std::stoll(frames.substr(colon + 1));
+          if (colon != std::string::npos && colon + 1 < frames.size())
+            range.end = std::stoll(frames.substr(colon + 1));
         } catch (const std::exception&) {
-          throw Error("--frames expects B:E, e.g. 10:20, found '" + frames + "'");
+          throw Error("--frames expects B:E, e.g. 10:20, found '" + frames +
+                      "'");
         }
         if (range.begin < 0 || (range.end >= 0 && range.end < range.begin))
           throw Error("--frames B:E needs 0 <= B <= E, found '" + frames + "'");

@@ -14,20 +14,42 @@
 namespace lsds {
 namespace {
 
-const std::vector<std::string> kCameraKeys = {"csettings", "camera_settings", "settings", "targets",
-                                              "ppmaterial", "post_process", "capture", "capture_settings"};
-const std::vector<std::string> kSettingsKeys = {"fov", "res", "resolution", "focal_length", "sensor_width", "fps"};
-const std::vector<std::string> kPathKinds = {"create_hemi", "hemi", "grid", "increment_points", "random",
-                                             "random_poses", "waypoints", "create_point", "point"};
-const std::vector<std::string> kTimingKeys = {"when", "after", "during", "frame"};
-const std::vector<std::string> kChangeKeys = {"material", "rotation", "scale", "extent", "visible", "visibility", "offset"};
+const std::vector<std::string> kCameraKeys = {"csettings",
+                                              "camera_settings",
+                                              "settings",
+                                              "targets",
+                                              "ppmaterial",
+                                              "post_process",
+                                              "capture",
+                                              "capture_settings"};
+const std::vector<std::string> kSettingsKeys = {
+    "fov", "res", "resolution", "focal_length", "sensor_width", "fps"};
+const std::vector<std::string> kPathKinds = {"create_hemi",
+                                             "hemi",
+                                             "grid",
+                                             "increment_points",
+                                             "random",
+                                             "random_poses",
+                                             "waypoints",
+                                             "create_point",
+                                             "point"};
+const std::vector<std::string> kTimingKeys = {
+    "when", "after", "during", "frame"};
+const std::vector<std::string> kChangeKeys = {"material",
+                                              "rotation",
+                                              "scale",
+                                              "extent",
+                                              "visible",
+                                              "visibility",
+                                              "offset"};
 
 // "P1:3" / "P1" / {"P1": 3} -> (symbol, number or -1).
 std::pair<std::string, int64_t> RefWithNumber(const Node& n) {
   if (n->is_object() && n->size() == 1) {
     const auto [key, value] = n.Members().front();
     const double v = ReadNumber(value);
-    if (v < 1 || v != std::floor(v) || v > 1e6) value.Fail("expected a whole number >= 1");
+    if (v < 1 || v != std::floor(v) || v > 1e6)
+      value.Fail("expected a whole number >= 1");
     return {key, static_cast<int64_t>(v)};
   }
   const std::string s = ReadString(n);
@@ -36,7 +58,8 @@ std::pair<std::string, int64_t> RefWithNumber(const Node& n) {
   const std::string num = s.substr(colon + 1);
   char* end = nullptr;
   const long long v = std::strtoll(num.c_str(), &end, 10);
-  if (num.empty() || *end != '\0' || v < 0 || v > 1000000) n.Fail("expected NAME:NUMBER, found '" + s + "'");
+  if (num.empty() || *end != '\0' || v < 0 || v > 1000000)
+    n.Fail("expected NAME:NUMBER, found '" + s + "'");
   return {s.substr(0, colon), static_cast<int64_t>(v)};
 }
 
@@ -49,26 +72,30 @@ struct Segment {
 
 struct Rule {
   std::string object_symbol;
-  Node block;         // the change keys
-  Node timing;        // for messages
+  Node block;   // the change keys
+  Node timing;  // for messages
   bool during = false;
   int64_t begin = 0;  // first frame in effect
-  int64_t end = std::numeric_limits<int64_t>::max();  // one past the last (during)
+  int64_t end =
+      std::numeric_limits<int64_t>::max();  // one past the last (during)
   uint64_t id = 0;
 };
 
 class CaptureEvaluator {
  public:
-  CaptureEvaluator(const Program& capture, uint64_t seed, Plan* plan) : cap_(capture), seed_(seed), plan_(plan) {}
+  CaptureEvaluator(const Program& capture, uint64_t seed, Plan* plan)
+      : cap_(capture), seed_(seed), plan_(plan) {}
 
   void Run(int64_t begin, int64_t end) {
     Check();
     ReadCamera();
     BuildTimeline();
     BuildRules();
-    const int64_t total = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
+    const int64_t total =
+        segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
     if (end < 0 || end > total) end = total;
-    for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k) plan_->frames.push_back(Frame(k));
+    for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k)
+      plan_->frames.push_back(Frame(k));
   }
 
  private:
@@ -81,10 +108,13 @@ class CaptureEvaluator {
         d.body.CheckKeys(kCameraKeys, "camera " + d.symbol);
       } else if (d.kind == "path") {
         d.body.CheckKeys(kPathKinds, "path " + d.symbol);
-        if (d.body->size() != 1) d.body.Fail("a path has exactly one generator: " + Join(kPathKinds, ", "));
+        if (d.body->size() != 1)
+          d.body.Fail("a path has exactly one generator: " +
+                      Join(kPathKinds, ", "));
       } else if (d.kind == "collection" || d.kind == "scene_change") {
       } else {
-        d.statement.Fail("'" + d.kind + "' belongs in the LSCENE scene file, not in LCAP");
+        d.statement.Fail("'" + d.kind +
+                         "' belongs in the LSCENE scene file, not in LCAP");
       }
     }
     if (cap_.start_rule) {
@@ -97,8 +127,10 @@ class CaptureEvaluator {
         const std::string name = ReadString(sym);
         if (!cap_.Find(name) && !CategoryKinds().count(name)) {
           std::vector<std::string> names;
-          for (const Definition& d : cap_.definitions) names.push_back(d.symbol);
-          sym.Fail("the start rule names undefined symbol '" + name + "'" + DidYouMean(name, names));
+          for (const Definition& d : cap_.definitions)
+            names.push_back(d.symbol);
+          sym.Fail("the start rule names undefined symbol '" + name + "'" +
+                   DidYouMean(name, names));
         }
       }
     }
@@ -116,9 +148,11 @@ class CaptureEvaluator {
       int w = 1024, h = 1024;
       for (const char* key : {"res", "resolution"}) {
         if (const Node r = settings.Find(key)) {
-          if (!r->is_array() || r->size() != 2) r.Fail("resolution is [width, height]");
+          if (!r->is_array() || r->size() != 2)
+            r.Fail("resolution is [width, height]");
           const double rw = ReadNumber(r.Item(0)), rh = ReadNumber(r.Item(1));
-          if (rw < 1 || rh < 1 || rw > 65536 || rh > 65536 || rw != std::floor(rw) || rh != std::floor(rh))
+          if (rw < 1 || rh < 1 || rw > 65536 || rh > 65536 ||
+              rw != std::floor(rw) || rh != std::floor(rh))
             r.Fail("resolution must be whole numbers in [1, 65536]");
           w = static_cast<int>(rw);
           h = static_cast<int>(rh);
@@ -134,7 +168,8 @@ class CaptureEvaluator {
         double sensor = 36;
         if (const Node s = settings.Find("sensorwidth")) sensor = ReadNumber(s);
         const double mm = ReadNumber(f);
-        if (mm <= 0 || sensor <= 0) f.Fail("focal_length and sensor_width must be > 0 (mm)");
+        if (mm <= 0 || sensor <= 0)
+          f.Fail("focal_length and sensor_width must be > 0 (mm)");
         camera_model_.fx = camera_model_.fy = mm / sensor * w;
       }
       if (const Node f = settings.Find("fps")) {
@@ -144,8 +179,10 @@ class CaptureEvaluator {
     }
     for (const char* key : {"ppmaterial", "postprocess"}) {
       if (const Node n = b.Find(key)) {
-        if (!n->is_array()) n.Fail("post-process materials are a list [Name, ...]");
-        for (size_t i = 0; i < n->size(); ++i) plan_->post_process.push_back(ReadString(n.Item(i)));
+        if (!n->is_array())
+          n.Fail("post-process materials are a list [Name, ...]");
+        for (size_t i = 0; i < n->size(); ++i)
+          plan_->post_process.push_back(ReadString(n.Item(i)));
       }
     }
     for (const char* key : {"capture", "capturesettings"}) {
@@ -160,25 +197,43 @@ class CaptureEvaluator {
     const auto [kind, g] = path.body.Members().front();
     const std::string k = CanonicalKey(kind);
     if (k == "createhemi" || k == "hemi") {
-      g.CheckKeys({"cam_radius", "obj_angle", "cam_angle", "center", "target"}, "create hemi");
+      g.CheckKeys({"cam_radius", "obj_angle", "cam_angle", "center", "target"},
+                  "create hemi");
       for (const char* key : {"camradius", "objangle", "camangle"})
-        if (!g.Find(key)) g.Fail("create hemi needs cam_radius, obj_angle and cam_angle ([start, stop, count])");
-      return static_cast<int64_t>(ExpandRange(g.Find("camradius")).size() * ExpandRange(g.Find("objangle")).size() *
+        if (!g.Find(key))
+          g.Fail(
+              "create hemi needs cam_radius, obj_angle and cam_angle ([start, "
+              "stop, count])");
+      return static_cast<int64_t>(ExpandRange(g.Find("camradius")).size() *
+                                  ExpandRange(g.Find("objangle")).size() *
                                   ExpandRange(g.Find("camangle")).size());
     }
     if (k == "grid" || k == "incrementpoints") {
-      g.CheckKeys({"x", "y", "altitude", "start", "step", "count", "perturb", "roll", "pitch", "yaw"}, "grid");
+      g.CheckKeys({"x",
+                   "y",
+                   "altitude",
+                   "start",
+                   "step",
+                   "count",
+                   "perturb",
+                   "roll",
+                   "pitch",
+                   "yaw"},
+                  "grid");
       const auto axes = GridAxes(g);
-      return static_cast<int64_t>(axes[0].size() * axes[1].size() * axes[2].size());
+      return static_cast<int64_t>(axes[0].size() * axes[1].size() *
+                                  axes[2].size());
     }
     if (k == "random" || k == "randomposes") {
-      g.CheckKeys({"count", "x", "y", "altitude", "off_nadir", "yaw"}, "random poses");
+      g.CheckKeys({"count", "x", "y", "altitude", "off_nadir", "yaw"},
+                  "random poses");
       if (!g.Find("count")) g.Fail("random poses need a count");
       Rng dummy(0);
       return SampleCount(g.Find("count"), dummy);
     }
     if (k == "waypoints") {
-      if (!g->is_array() || g->empty()) g.Fail("waypoints are a non-empty list");
+      if (!g->is_array() || g->empty())
+        g.Fail("waypoints are a non-empty list");
       return static_cast<int64_t>(g->size());
     }
     g.CheckKeys({"position", "rotation", "look_at", "count"}, "create point");
@@ -194,19 +249,28 @@ class CaptureEvaluator {
   std::array<std::vector<double>, 3> GridAxes(const Node& g) {
     std::array<std::vector<double>, 3> axes;
     if (g.Find("x") || g.Find("y")) {
-      if (!g.Find("x") || !g.Find("y") || !g.Find("altitude")) g.Fail("a grid needs x, y and altitude ranges [start, stop, count]");
+      if (!g.Find("x") || !g.Find("y") || !g.Find("altitude"))
+        g.Fail("a grid needs x, y and altitude ranges [start, stop, count]");
       axes[0] = ExpandRange(g.Find("x"));
       axes[1] = ExpandRange(g.Find("y"));
       axes[2] = ExpandRange(g.Find("altitude"));
       return axes;
     }
-    const Node start = g.Find("start"), step = g.Find("step"), count = g.Find("count");
-    if (!start || !step || !count) g.Fail("increment points need start [x,y,z], step [dx,dy,dz] and count [nx,ny,nz]");
+    const Node start = g.Find("start"), step = g.Find("step"),
+               count = g.Find("count");
+    if (!start || !step || !count)
+      g.Fail(
+          "increment points need start [x,y,z], step [dx,dy,dz] and count "
+          "[nx,ny,nz]");
     Rng dummy(0);
-    const Eigen::Vector3d s = SampleVec3(start, dummy), d = SampleVec3(step, dummy), n = SampleVec3(count, dummy);
+    const Eigen::Vector3d s = SampleVec3(start, dummy),
+                          d = SampleVec3(step, dummy),
+                          n = SampleVec3(count, dummy);
     for (int i = 0; i < 3; ++i) {
-      if (n[i] < 1 || n[i] > 100000 || n[i] != std::floor(n[i])) count.Fail("counts must be whole numbers >= 1");
-      for (int j = 0; j < static_cast<int>(n[i]); ++j) axes[i].push_back(s[i] + j * d[i]);
+      if (n[i] < 1 || n[i] > 100000 || n[i] != std::floor(n[i]))
+        count.Fail("counts must be whole numbers >= 1");
+      for (int j = 0; j < static_cast<int>(n[i]); ++j)
+        axes[i].push_back(s[i] + j * d[i]);
     }
     return axes;
   }
@@ -220,7 +284,9 @@ class CaptureEvaluator {
         Segment s;
         s.path = path;
         s.repetition = r;
-        s.first = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
+        s.first = segments_.empty()
+                      ? 0
+                      : segments_.back().first + segments_.back().count;
         s.count = PathFrameCount(*path);
         segments_.push_back(s);
       }
@@ -235,13 +301,16 @@ class CaptureEvaluator {
           if (!move) block.Fail("a camera entry needs move:[P1:3, ...]");
           std::vector<Node> items;
           if (move->is_array())
-            for (size_t i = 0; i < move->size(); ++i) items.push_back(move.Item(i));
+            for (size_t i = 0; i < move->size(); ++i)
+              items.push_back(move.Item(i));
           else
             items.push_back(move);
           for (const Node& item : items) {
             const auto [symbol, reps] = RefWithNumber(item);
             const Definition* path = cap_.Find(symbol);
-            if (!path || path->kind != "path") item.Fail("'" + symbol + "' is not a path" + DidYouMean(symbol, PathNames()));
+            if (!path || path->kind != "path")
+              item.Fail("'" + symbol + "' is not a path" +
+                        DidYouMean(symbol, PathNames()));
             append(path, reps < 0 ? 1 : reps);
             moved = true;
           }
@@ -260,8 +329,8 @@ class CaptureEvaluator {
     return names;
   }
 
-  // The camera's entry in a collection: its symbol, or (the paper writes "C1" for camera "CO") any
-  // undefined name whose block moves the camera.
+  // The camera's entry in a collection: its symbol, or (the paper writes "C1"
+  // for camera "CO") any undefined name whose block moves the camera.
   bool IsCameraEntry(const std::string& key, const Node& value) const {
     if (camera_ && key == camera_->symbol) return true;
     if (cap_.Find(key) || HasObject(key)) return false;
@@ -279,25 +348,31 @@ class CaptureEvaluator {
   static std::vector<Node> Blocks(const Node& value) {
     std::vector<Node> blocks;
     if (value->is_array())
-      for (size_t i = 0; i < value->size(); ++i) blocks.push_back(value.Item(i));
+      for (size_t i = 0; i < value->size(); ++i)
+        blocks.push_back(value.Item(i));
     else
       blocks.push_back(value);
     return blocks;
   }
 
   // Frame range of path instance "P1:i" (i < 0: all instances).
-  std::pair<int64_t, int64_t> Span(const Node& where, const std::string& symbol, int64_t rep) const {
+  std::pair<int64_t, int64_t> Span(const Node& where,
+                                   const std::string& symbol,
+                                   int64_t rep) const {
     int64_t lo = -1, hi = -1;
     for (const Segment& s : segments_) {
-      if (s.path->symbol != symbol || (rep >= 0 && s.repetition != rep)) continue;
+      if (s.path->symbol != symbol || (rep >= 0 && s.repetition != rep))
+        continue;
       if (lo < 0) lo = s.first;
       hi = s.first + s.count;
     }
     if (lo < 0) {
       std::vector<std::string> names = PathNames();
       if (cap_.Find(symbol) && rep >= 0)
-        where.Fail("path '" + symbol + "' has no repetition " + std::to_string(rep) + " in the camera's moves");
-      where.Fail("'" + symbol + "' is not a path the camera moves along" + DidYouMean(symbol, names));
+        where.Fail("path '" + symbol + "' has no repetition " +
+                   std::to_string(rep) + " in the camera's moves");
+      where.Fail("'" + symbol + "' is not a path the camera moves along" +
+                 DidYouMean(symbol, names));
     }
     return {lo, hi};
   }
@@ -321,19 +396,25 @@ class CaptureEvaluator {
         rule->during = true;
       } else if (k == "frame") {
         const double f = ReadNumber(v);
-        if (f < 0 || f != std::floor(f)) v.Fail("frame must be a whole number >= 0");
+        if (f < 0 || f != std::floor(f))
+          v.Fail("frame must be a whole number >= 0");
         rule->begin = static_cast<int64_t>(f);
       }
     }
   }
 
-  void AddRules(const std::string& object, const Node& block, const Node& timing_block, const std::string& where) {
+  void AddRules(const std::string& object,
+                const Node& block,
+                const Node& timing_block,
+                const std::string& where) {
     std::vector<std::string> keys = kChangeKeys;
     keys.insert(keys.end(), kTimingKeys.begin(), kTimingKeys.end());
     block.CheckKeys(keys, where);
     if (!HasObject(object)) {
-      std::vector<std::string> names(scene_symbols_.begin(), scene_symbols_.end());
-      block.Fail("'" + object + "' is not an object of the scene" + DidYouMean(object, names));
+      std::vector<std::string> names(scene_symbols_.begin(),
+                                     scene_symbols_.end());
+      block.Fail("'" + object + "' is not an object of the scene" +
+                 DidYouMean(object, names));
     }
     Rule rule;
     rule.object_symbol = object;
@@ -341,7 +422,8 @@ class CaptureEvaluator {
     rule.timing = timing_block;
     rule.id = rules_.size() + 1;
     Timing(timing_block, &rule);
-    // Sample once with a throwaway stream so that bad values are reported now, not on some frame.
+    // Sample once with a throwaway stream so that bad values are reported now,
+    // not on some frame.
     Rng probe(0);
     for (const PlannedObject& o : plan_->objects)
       if (o.symbol == object) {
@@ -358,13 +440,19 @@ class CaptureEvaluator {
         if (IsCameraEntry(key, value)) continue;
         const Definition* set = cap_.Find(key);
         for (const Node& block : Blocks(value)) {
-          if (!block->is_object()) block.Fail("expected {when:{...}, change...} for " + key);
-          if (set && set->kind == "scene_change") {  // SCS1:{after:P1:1} applies the set with that timing
+          if (!block->is_object())
+            block.Fail("expected {when:{...}, change...} for " + key);
+          if (set &&
+              set->kind == "scene_change") {  // SCS1:{after:P1:1} applies the
+                                              // set with that timing
             block.CheckKeys(kTimingKeys, "scene change set entry " + key);
             for (const auto& [object, changes] : set->body.Members())
-              for (const Node& change : Blocks(changes)) AddRules(object, change, block, "scene change set " + key);
+              for (const Node& change : Blocks(changes))
+                AddRules(object, change, block, "scene change set " + key);
           } else if (set) {
-            block.Fail("'" + key + "' is a " + set->kind + "; a collection entry names the camera, an object or a scene change set");
+            block.Fail("'" + key + "' is a " + set->kind +
+                       "; a collection entry names the camera, an object or a "
+                       "scene change set");
           } else {
             AddRules(key, block, block, "scene change of " + key);
           }
@@ -373,13 +461,16 @@ class CaptureEvaluator {
     }
   }
 
-  ObjectChange Change(const Rule& rule, const PlannedObject& o, Rng& rng) const {
+  ObjectChange Change(const Rule& rule,
+                      const PlannedObject& o,
+                      Rng& rng) const {
     ObjectChange c;
     c.object = o.name;
     for (const auto& [key, v] : rule.block.Members()) {
       const std::string k = CanonicalKey(key);
       if (k == "material") c.material = SampleString(v, rng);
-      if (k == "rotation") c.world_from_object = RotationFromEulerDeg(SampleVec3(v, rng));
+      if (k == "rotation")
+        c.world_from_object = RotationFromEulerDeg(SampleVec3(v, rng));
       if (k == "visible" || k == "visibility") c.visible = SampleBool(v, rng);
       if (k == "extent") {
         c.extent = SampleVec3(v, rng);
@@ -395,7 +486,8 @@ class CaptureEvaluator {
     return c;
   }
 
-  Eigen::Vector3d ObjectCenter(const Node& where, const std::string& symbol) const {
+  Eigen::Vector3d ObjectCenter(const Node& where,
+                               const std::string& symbol) const {
     for (const PlannedObject& o : plan_->objects)
       if (o.symbol == symbol) return o.position;
     where.Fail("'" + symbol + "' is not a placed object of the scene");
@@ -411,7 +503,8 @@ class CaptureEvaluator {
     const std::string k = CanonicalKey(kind);
     const double deg = M_PI / 180.0;
     if (k == "createhemi" || k == "hemi") {
-      const auto radii = ExpandRange(g.Find("camradius")), az = ExpandRange(g.Find("objangle")),
+      const auto radii = ExpandRange(g.Find("camradius")),
+                 az = ExpandRange(g.Find("objangle")),
                  el = ExpandRange(g.Find("camangle"));
       const size_t a = static_cast<size_t>(i) % az.size();
       const size_t e = (static_cast<size_t>(i) / az.size()) % el.size();
@@ -419,11 +512,15 @@ class CaptureEvaluator {
       Eigen::Vector3d center = Eigen::Vector3d::Zero();
       Node c = g.Find("center");
       if (!c) c = g.Find("target");
-      if (c) center = Point(c, rng);
-      else if (!first_target_.empty()) center = ObjectCenter(camera_->body, first_target_);
-      const Eigen::Vector3d eye = center + radii[r] * Eigen::Vector3d(std::cos(el[e] * deg) * std::cos(az[a] * deg),
-                                                                       std::cos(el[e] * deg) * std::sin(az[a] * deg),
-                                                                       std::sin(el[e] * deg));
+      if (c)
+        center = Point(c, rng);
+      else if (!first_target_.empty())
+        center = ObjectCenter(camera_->body, first_target_);
+      const Eigen::Vector3d eye =
+          center + radii[r] * Eigen::Vector3d(
+                                  std::cos(el[e] * deg) * std::cos(az[a] * deg),
+                                  std::cos(el[e] * deg) * std::sin(az[a] * deg),
+                                  std::sin(el[e] * deg));
       return LookAt(eye, center);
     }
     if (k == "grid" || k == "incrementpoints") {
@@ -446,8 +543,12 @@ class CaptureEvaluator {
       return CamFromEnu(p, att);
     }
     if (k == "random" || k == "randomposes") {
-      const Eigen::Vector2d half = plan_->terrain.present ? Eigen::Vector2d(0.5 * plan_->terrain.size) : Eigen::Vector2d(50, 50);
-      Eigen::Vector3d p(rng.Uniform(-half.x(), half.x()), rng.Uniform(-half.y(), half.y()), 50);
+      const Eigen::Vector2d half =
+          plan_->terrain.present ? Eigen::Vector2d(0.5 * plan_->terrain.size)
+                                 : Eigen::Vector2d(50, 50);
+      Eigen::Vector3d p(rng.Uniform(-half.x(), half.x()),
+                        rng.Uniform(-half.y(), half.y()),
+                        50);
       if (const Node n = g.Find("x")) p.x() = SampleScalar(n, rng);
       if (const Node n = g.Find("y")) p.y() = SampleScalar(n, rng);
       if (const Node n = g.Find("altitude")) p.z() = SampleScalar(n, rng);
@@ -455,16 +556,20 @@ class CaptureEvaluator {
       double off_nadir = 0, yaw = rng.Uniform(0, 360);
       if (const Node n = g.Find("offnadir")) off_nadir = SampleScalar(n, rng);
       if (const Node n = g.Find("yaw")) yaw = SampleScalar(n, rng);
-      if (off_nadir < 0 || off_nadir > 90) g.Find("offnadir").Fail("off_nadir must be within [0, 90] degrees");
+      if (off_nadir < 0 || off_nadir > 90)
+        g.Find("offnadir").Fail("off_nadir must be within [0, 90] degrees");
       return CamFromEnu(p, Attitude{0, -90 + off_nadir, yaw});
     }
     if (k == "waypoints") {
       const Node w = g.Item(static_cast<size_t>(i));
       if (w->is_array()) {
-        if (w->size() != 3 && w->size() != 6) w.Fail("a waypoint is [x,y,z] (nadir) or [x,y,z,roll,pitch,yaw]");
+        if (w->size() != 3 && w->size() != 6)
+          w.Fail("a waypoint is [x,y,z] (nadir) or [x,y,z,roll,pitch,yaw]");
         std::vector<double> v;
-        for (size_t j = 0; j < w->size(); ++j) v.push_back(SampleScalar(w.Item(j), rng));
-        const Attitude att = v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
+        for (size_t j = 0; j < w->size(); ++j)
+          v.push_back(SampleScalar(w.Item(j), rng));
+        const Attitude att =
+            v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
         return CamFromEnu({v[0], v[1], v[2]}, att);
       }
       w.CheckKeys({"position", "attitude", "look_at"}, "waypoint");
@@ -473,7 +578,8 @@ class CaptureEvaluator {
     return PointPose(g, rng);
   }
 
-  // {position, rotation|attitude: [roll,pitch,yaw] | look_at: [x,y,z] or an object}
+  // {position, rotation|attitude: [roll,pitch,yaw] | look_at: [x,y,z] or an
+  // object}
   Rigid3d PointPose(const Node& g, Rng& rng) const {
     const Node pos = g.Find("position");
     if (!pos) g.Fail("expected a position");
@@ -496,17 +602,26 @@ class CaptureEvaluator {
     PlannedFrame f;
     f.index = k;
     f.time = static_cast<double>(k) / fps_;
-    f.sequence = seg->path->symbol + "(" + std::to_string(seg->repetition) + ")";
+    f.sequence =
+        seg->path->symbol + "(" + std::to_string(seg->repetition) + ")";
     f.camera = camera_model_;
     Rng rng = Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k));
     f.cam_from_world = Pose(*seg->path, k - seg->first, rng);
     for (const Rule& rule : rules_) {
       if (k < rule.begin || k >= rule.end) continue;
-      // An "after" change is drawn once, when it fires; a "during" change on every frame.
-      Rng change_rng = rule.during ? Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
-                                   : Rng::For(seed_, StreamTag::kChange, rule.id, static_cast<uint64_t>(rule.begin));
+      // An "after" change is drawn once, when it fires; a "during" change on
+      // every frame.
+      Rng change_rng =
+          rule.during
+              ? Rng::For(
+                    seed_, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
+              : Rng::For(seed_,
+                         StreamTag::kChange,
+                         rule.id,
+                         static_cast<uint64_t>(rule.begin));
       for (const PlannedObject& o : plan_->objects)
-        if (o.symbol == rule.object_symbol) f.changes.push_back(Change(rule, o, change_rng));
+        if (o.symbol == rule.object_symbol)
+          f.changes.push_back(Change(rule, o, change_rng));
     }
     return f;
   }
@@ -538,7 +653,8 @@ TargetLabels ReadTargets(const Program& capture, const Program& scene) {
     if (t->is_array()) {
       for (size_t i = 0; i < t->size(); ++i) items.push_back(t.Item(i));
     } else if (t->is_object()) {
-      for (const auto& [key, value] : t.Members()) items.push_back(Node{t.src, nullptr, value.pointer});
+      for (const auto& [key, value] : t.Members())
+        items.push_back(Node{t.src, nullptr, value.pointer});
     } else {
       t.Fail("targets are a list [O1:5, ...]");
     }
@@ -558,24 +674,33 @@ TargetLabels ReadTargets(const Program& capture, const Program& scene) {
         std::vector<std::string> names;
         for (const Definition& s : scene.definitions)
           if (s.kind == "object") names.push_back(s.symbol);
-        where.Fail("target '" + symbol + "' is not an object of the scene" + DidYouMean(symbol, names));
+        where.Fail("target '" + symbol + "' is not an object of the scene" +
+                   DidYouMean(symbol, names));
       }
-      if (label < 0 || label > 0xFFFFFFFFll) where.Fail("a label id must be in [1, 4294967295]");
+      if (label < 0 || label > 0xFFFFFFFFll)
+        where.Fail("a label id must be in [1, 4294967295]");
       labels[symbol] = static_cast<uint32_t>(label < 0 ? 0 : label);
     }
   }
   return labels;
 }
 
-void EvaluateCapture(const Program& capture, const Program& scene, uint64_t seed, int64_t begin, int64_t end,
+void EvaluateCapture(const Program& capture,
+                     const Program& scene,
+                     uint64_t seed,
+                     int64_t begin,
+                     int64_t end,
                      Plan* plan) {
   CaptureEvaluator evaluator(capture, seed, plan);
   for (const Definition& d : scene.definitions)
     if (d.kind == "object") evaluator.scene_symbols_.insert(d.symbol);
   for (const Definition& d : capture.definitions)
     if (d.kind == "camera")
-      if (const Node t = d.body.Find("targets"); t && t->is_array() && !t->empty())
-        if (t->at(0).is_string()) evaluator.first_target_ = t->at(0).get<std::string>().substr(0, t->at(0).get<std::string>().find(':'));
+      if (const Node t = d.body.Find("targets");
+          t && t->is_array() && !t->empty())
+        if (t->at(0).is_string())
+          evaluator.first_target_ = t->at(0).get<std::string>().substr(
+              0, t->at(0).get<std::string>().find(':'));
   evaluator.Run(begin, end);
 }
 
@@ -602,7 +727,8 @@ void DefaultCapture(int64_t begin, int64_t end, Plan* plan) {
   f.sequence = "default(1)";
   f.camera = PinholeCamera::FromHorizontalFov(1024, 1024, 60);
   const double altitude = ground + 0.5 * across / std::tan(30.0 * M_PI / 180.0);
-  f.cam_from_world = CamFromEnu({center.x(), center.y(), altitude}, Attitude{0, -90, 0});
+  f.cam_from_world =
+      CamFromEnu({center.x(), center.y(), altitude}, Attitude{0, -90, 0});
   plan->frames.push_back(f);
 }
 

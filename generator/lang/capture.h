@@ -1,4 +1,5 @@
-// LCAP: camera, paths, collections and scene changes, expanded into the frames of a plan.
+// LCAP: camera, paths, collections and scene changes, expanded into the frames
+// of a plan.
 #pragma once
 
 #include "generator/lang/scene.h"
@@ -6,19 +7,26 @@
 
 namespace lsds {
 
-// The targets named by the capture's camera ("targets:[O1:5]"), checked against the scene.
+// The targets named by the capture's camera ("targets:[O1:5]"), checked against
+// the scene.
 TargetLabels ReadTargets(const Program& capture, const Program& scene);
 
-// Checks the whole capture (keys, references, values), then fills plan->frames for the global frame
-// indices [begin, end) (end < 0: all), plan->post_process and plan->capture_settings. The world
-// (plan objects, terrain) must already be sampled. Frame k draws only from the streams of
-// (seed, k) and of the scene changes in effect, so any subset equals the same frames of a full plan.
-void EvaluateCapture(const Program& capture, const Program& scene, uint64_t seed, int64_t begin, int64_t end,
+// Checks the whole capture (keys, references, values), then fills plan->frames
+// for the global frame indices [begin, end) (end < 0: all), plan->post_process
+// and plan->capture_settings. The world (plan objects, terrain) must already be
+// sampled. Frame k draws only from the streams of (seed, k) and of the scene
+// changes in effect, so any subset equals the same frames of a full plan.
+void EvaluateCapture(const Program& capture,
+                     const Program& scene,
+                     uint64_t seed,
+                     int64_t begin,
+                     int64_t end,
                      Plan* plan);
 
-// The capture used when no LCAP file is given: one nadir frame, 1024x1024 pixels, 60 degrees
-// horizontal field of view, over the centre of the terrain (or of the objects), high enough to see
-// the whole terrain (or all objects, at least 10 m across).
+// The capture used when no LCAP file is given: one nadir frame, 1024x1024
+// pixels, 60 degrees horizontal field of view, over the centre of the terrain
+// (or of the objects), high enough to see the whole terrain (or all objects, at
+// least 10 m across).
 void DefaultCapture(int64_t begin, int64_t end, Plan* plan);
 
 }  // namespace lsds

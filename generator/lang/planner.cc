@@ -9,12 +9,14 @@ namespace lsds {
 void ValidateSourceSchema(const SourceFile& source) {
   const bool capture = source.doc.contains("LCAP");
   const nlohmann::json plain = nlohmann::json::parse(source.doc.dump());
-  const auto issues = JsonSchema::Get(capture ? "lcap.schema.json" : "lscene.schema.json").Validate(plain);
-  if (!issues.empty()) {
-    std::string all;
-    for (const auto& i : issues) all += i.pointer + ": " + i.message + "; ";
-    throw Error(all, source.Where(issues.front().pointer));
-  }
+  const auto issues =
+      JsonSchema::Get(capture ? "lcap.schema.json" : "lscene.schema.json")
+          .Validate(plain);
+  if (!issues.empty())
+    throw Error("does not match the " +
+                    std::string(capture ? "LCAP" : "LSCENE") +
+                    " JSON form: " + issues.front().message,
+                source.Where(issues.front().pointer));
 }
 
 nlohmann::ordered_json SourceToJson(const SourceFile& source) {
@@ -22,7 +24,9 @@ nlohmann::ordered_json SourceToJson(const SourceFile& source) {
   return source.doc;
 }
 
-Plan MakePlanFromSources(const SourceFile& scene_source, const SourceFile* capture_source, uint64_t seed,
+Plan MakePlanFromSources(const SourceFile& scene_source,
+                         const SourceFile* capture_source,
+                         uint64_t seed,
                          FrameRange frames) {
   ValidateSourceSchema(scene_source);
   if (capture_source) ValidateSourceSchema(*capture_source);
@@ -45,8 +49,10 @@ Plan MakePlanFromSources(const SourceFile& scene_source, const SourceFile* captu
   return plan;
 }
 
-Plan MakePlan(const std::filesystem::path& scene, const std::optional<std::filesystem::path>& capture,
-              uint64_t seed, FrameRange frames) {
+Plan MakePlan(const std::filesystem::path& scene,
+              const std::optional<std::filesystem::path>& capture,
+              uint64_t seed,
+              FrameRange frames) {
   const SourceFile scene_source = LoadSource(scene.string());
   if (!capture) return MakePlanFromSources(scene_source, nullptr, seed, frames);
   const SourceFile capture_source = LoadSource(capture->string());

@@ -9,14 +9,22 @@ namespace {
 
 const std::map<std::string, std::string>& KindAliases() {
   static const std::map<std::string, std::string> aliases = {
-      {"skybox", "skybox"},         {"sky", "skybox"},
-      {"light", "light"},           {"directionallight", "light"},
-      {"sun", "light"},             {"atmosphere", "atmosphere"},
-      {"skylight", "skylight"},     {"terrain", "terrain"},
-      {"object", "object"},         {"classes", "classes"},
-      {"camera", "camera"},         {"path", "path"},
-      {"collection", "collection"}, {"scenechange", "scene_change"},
-      {"scenechangeset", "scene_change"}, {"set", "scene_change"},
+      {"skybox", "skybox"},
+      {"sky", "skybox"},
+      {"light", "light"},
+      {"directionallight", "light"},
+      {"sun", "light"},
+      {"atmosphere", "atmosphere"},
+      {"skylight", "skylight"},
+      {"terrain", "terrain"},
+      {"object", "object"},
+      {"classes", "classes"},
+      {"camera", "camera"},
+      {"path", "path"},
+      {"collection", "collection"},
+      {"scenechange", "scene_change"},
+      {"scenechangeset", "scene_change"},
+      {"set", "scene_change"},
   };
   return aliases;
 }
@@ -25,8 +33,16 @@ const std::map<std::string, std::string>& KindAliases() {
 
 const std::map<std::string, std::string>& CategoryKinds() {
   static const std::map<std::string, std::string> kinds = {
-      {"S", "skybox"}, {"DL", "light"},  {"A", "atmosphere"}, {"SL", "skylight"}, {"W", "terrain"},
-      {"O", "object"}, {"CO", "camera"}, {"P", "path"},       {"CL", "collection"}, {"SCS", "scene_change"}};
+      {"S", "skybox"},
+      {"DL", "light"},
+      {"A", "atmosphere"},
+      {"SL", "skylight"},
+      {"W", "terrain"},
+      {"O", "object"},
+      {"CO", "camera"},
+      {"P", "path"},
+      {"CL", "collection"},
+      {"SCS", "scene_change"}};
   return kinds;
 }
 
@@ -46,22 +62,29 @@ Program ReadProgram(const SourceFile& src, const std::string& start) {
   for (const auto& [alias, kind] : KindAliases()) kind_names.push_back(alias);
   for (const auto& [key, node] : root.Members()) {
     if (key == start) {
-      if (!node->is_array()) node.Fail(start + " must be a list of ONE(...)/MANY(...) entries");
+      if (!node->is_array())
+        node.Fail(start + " must be a list of ONE(...)/MANY(...) entries");
       program.start_rule = node;
       continue;
     }
     if (key == other)
-      node.Fail("this is " + other + " notation but a" + (start == "LSCENE" ? " scene" : " capture") +
+      node.Fail("this is " + other + " notation but a" +
+                (start == "LSCENE" ? " scene" : " capture") +
                 " file was expected (scene first, capture second)");
-    if (key.empty() || !(std::isalpha(static_cast<unsigned char>(key[0])) || key[0] == '_'))
+    if (key.empty() ||
+        !(std::isalpha(static_cast<unsigned char>(key[0])) || key[0] == '_'))
       node.Fail("symbol names start with a letter, found '" + key + "'");
     if (!node->is_object() || node->size() != 1)
-      node.Fail("a definition is {\"KIND\": {...}} with exactly one kind (skybox, terrain, object, camera, path, ...)");
+      node.Fail(
+          "a definition is {\"KIND\": {...}} with exactly one kind (skybox, "
+          "terrain, object, camera, path, ...)");
     const auto [kind_key, body] = node.Members().front();
     auto alias = KindAliases().find(CanonicalKey(kind_key));
     if (alias == KindAliases().end())
-      body.Fail("unknown kind '" + kind_key + "' for " + key + DidYouMean(CanonicalKey(kind_key), kind_names));
-    if (!body->is_object()) body.Fail("the body of " + key + " must be {key: value, ...}");
+      body.Fail("unknown kind '" + kind_key + "' for " + key +
+                DidYouMean(CanonicalKey(kind_key), kind_names));
+    if (!body->is_object())
+      body.Fail("the body of " + key + " must be {key: value, ...}");
     Definition def;
     def.symbol = key;
     def.kind = alias->second;

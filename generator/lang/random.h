@@ -1,6 +1,6 @@
-// Deterministic, platform-independent random streams. std:: distributions are implementation
-// defined, so the planner draws through these helpers only: the same seed gives the same plan on
-// every compiler and machine.
+// Deterministic, platform-independent random streams. std:: distributions are
+// implementation defined, so the planner draws through these helpers only: the
+// same seed gives the same plan on every compiler and machine.
 #pragma once
 
 #include <cstdint>
@@ -21,15 +21,26 @@ inline uint64_t MixKey(uint64_t a, uint64_t b) {
   return SplitMix64Next(&state);
 }
 
-// Stream tags: the world stream, one stream per frame, one per fired scene change.
-enum class StreamTag : uint64_t { kWorld = 1, kFrame = 2, kChange = 3, kTerrain = 4 };
+// Stream tags: the world stream, one stream per frame, one per fired scene
+// change.
+enum class StreamTag : uint64_t {
+  kWorld = 1,
+  kFrame = 2,
+  kChange = 3,
+  kTerrain = 4
+};
 
 class Rng {
  public:
   explicit Rng(uint64_t key) : state_(key) {}
-  // The stream for (seed, tag, index): e.g. frame k's stream is Rng::For(seed, kFrame, k).
-  static Rng For(uint64_t seed, StreamTag tag, uint64_t index, uint64_t sub = 0) {
-    return Rng(MixKey(MixKey(MixKey(seed, static_cast<uint64_t>(tag)), index), sub));
+  // The stream for (seed, tag, index): e.g. frame k's stream is Rng::For(seed,
+  // kFrame, k).
+  static Rng For(uint64_t seed,
+                 StreamTag tag,
+                 uint64_t index,
+                 uint64_t sub = 0) {
+    return Rng(
+        MixKey(MixKey(MixKey(seed, static_cast<uint64_t>(tag)), index), sub));
   }
   uint64_t NextU64() { return SplitMix64Next(&state_); }
   // Uniform in [0, 1) with 53 random bits.

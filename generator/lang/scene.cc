@@ -14,9 +14,15 @@ namespace lsds {
 
 const std::map<std::string, Eigen::Vector3d>& BuiltinClasses() {
   static const std::map<std::string, Eigen::Vector3d> classes = {
-      {"cube", {1, 1, 1}},          {"sphere", {1, 1, 1}},          {"cylinder", {1, 1, 1}},
-      {"cone", {1, 1, 1}},          {"barrel", {0.6, 0.6, 0.9}},    {"tire", {0.7, 0.7, 0.25}},
-      {"jerrycan", {0.35, 0.17, 0.47}}, {"rock", {1.0, 0.8, 0.6}}, {"bush", {1.2, 1.2, 1.0}},
+      {"cube", {1, 1, 1}},
+      {"sphere", {1, 1, 1}},
+      {"cylinder", {1, 1, 1}},
+      {"cone", {1, 1, 1}},
+      {"barrel", {0.6, 0.6, 0.9}},
+      {"tire", {0.7, 0.7, 0.25}},
+      {"jerrycan", {0.35, 0.17, 0.47}},
+      {"rock", {1.0, 0.8, 0.6}},
+      {"bush", {1.2, 1.2, 1.0}},
       {"person", {0.5, 0.3, 1.8}}};
   return classes;
 }
@@ -30,9 +36,20 @@ namespace {
 
 constexpr double kHuge = 1e7;  // the "max sized 3D bounding box" of Algorithm 1
 
-const std::vector<std::string> kObjectKeys = {"class",  "rotation", "position", "extent",  "scale",
-                                              "visible", "visibility", "overlap", "on_overlap", "retries",
-                                              "material", "bound",  "target",   "count"};
+const std::vector<std::string> kObjectKeys = {"class",
+                                              "rotation",
+                                              "position",
+                                              "extent",
+                                              "scale",
+                                              "visible",
+                                              "visibility",
+                                              "overlap",
+                                              "on_overlap",
+                                              "retries",
+                                              "material",
+                                              "bound",
+                                              "target",
+                                              "count"};
 const std::vector<std::string> kPositionKeys = {"ON", "IN", "AROUND", "within"};
 
 struct Box {
@@ -51,12 +68,13 @@ struct Box {
       std::snprintf(buf, sizeof buf, "%.3g", v);
       return std::string(buf);
     };
-    return "[" + f(lo.x()) + "," + f(hi.x()) + "]x[" + f(lo.y()) + "," + f(hi.y()) + "]x[" + f(lo.z()) + "," +
-           f(hi.z()) + "]";
+    return "[" + f(lo.x()) + "," + f(hi.x()) + "]x[" + f(lo.y()) + "," +
+           f(hi.y()) + "]x[" + f(lo.z()) + "," + f(hi.z()) + "]";
   }
 };
 
-// Where an object stands: a footprint and either the terrain surface or a flat top.
+// Where an object stands: a footprint and either the terrain surface or a flat
+// top.
 struct Surface {
   Box footprint;  // only x, y used
   bool terrain = false;
@@ -66,11 +84,13 @@ struct Surface {
 struct Placed {
   PlannedObject object;
   Box aabb;
-  Surface support;      // what it stands on (ON), when it has an ON constraint
+  Surface support;  // what it stands on (ON), when it has an ON constraint
   bool has_support = false;
 };
 
-Box AabbOf(const Eigen::Vector3d& center, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& extent) {
+Box AabbOf(const Eigen::Vector3d& center,
+           const Eigen::Matrix3d& rotation,
+           const Eigen::Vector3d& extent) {
   const Eigen::Vector3d half = rotation.cwiseAbs() * (0.5 * extent);
   Box b;
   b.lo = center - half;
@@ -88,8 +108,15 @@ OrientedBox ObbOf(const PlannedObject& o) {
 
 class SceneEvaluator {
  public:
-  SceneEvaluator(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan)
-      : scene_(scene), seed_(seed), targets_(targets), plan_(plan), rng_(Rng::For(seed, StreamTag::kWorld, 0)) {}
+  SceneEvaluator(const Program& scene,
+                 uint64_t seed,
+                 const TargetLabels& targets,
+                 Plan* plan)
+      : scene_(scene),
+        seed_(seed),
+        targets_(targets),
+        plan_(plan),
+        rng_(Rng::For(seed, StreamTag::kWorld, 0)) {}
 
   void Run() {
     Check();
@@ -110,14 +137,23 @@ class SceneEvaluator {
     int terrains = 0;
     for (const Definition& def : scene_.definitions) {
       const std::string& k = def.kind;
-      if (k == "camera" || k == "path" || k == "collection" || k == "scene_change")
-        def.statement.Fail("'" + k + "' belongs in the LCAP capture file, not in LSCENE");
-      if (k == "skybox") def.body.CheckKeys({"color", "clouds", "cloud_type", "cloud_density", "intensity"}, def.symbol);
-      if (k == "light") def.body.CheckKeys({"elevation", "azimuth", "intensity"}, def.symbol);
-      if (k == "atmosphere") def.body.CheckKeys({"fog", "fog_density", "density"}, def.symbol);
+      if (k == "camera" || k == "path" || k == "collection" ||
+          k == "scene_change")
+        def.statement.Fail("'" + k +
+                           "' belongs in the LCAP capture file, not in LSCENE");
+      if (k == "skybox")
+        def.body.CheckKeys(
+            {"color", "clouds", "cloud_type", "cloud_density", "intensity"},
+            def.symbol);
+      if (k == "light")
+        def.body.CheckKeys({"elevation", "azimuth", "intensity"}, def.symbol);
+      if (k == "atmosphere")
+        def.body.CheckKeys({"fog", "fog_density", "density"}, def.symbol);
       if (k == "skylight") def.body.CheckKeys({"intensity"}, def.symbol);
       if (k == "terrain") {
-        def.body.CheckKeys({"size", "height", "perlin", "frequency", "material", "seed"}, def.symbol);
+        def.body.CheckKeys(
+            {"size", "height", "perlin", "frequency", "material", "seed"},
+            def.symbol);
         if (++terrains > 1) def.statement.Fail("only one terrain per scene");
         terrain_symbol_ = def.symbol;
       }
@@ -125,8 +161,9 @@ class SceneEvaluator {
         for (const auto& [name, node] : def.body.Members()) {
           const std::string target = ReadString(node);
           if (!BuiltinClasses().count(target) && !IsMeshClass(target))
-            node.Fail("class alias '" + name + "' must name a built-in class or a mesh file, not '" + target + "'" +
-                      DidYouMean(target, BuiltinNames()));
+            node.Fail("class alias '" + name +
+                      "' must name a built-in class or a mesh file, not '" +
+                      target + "'" + DidYouMean(target, BuiltinNames()));
           aliases_[name] = target;
         }
       }
@@ -147,48 +184,68 @@ class SceneEvaluator {
     if (alias != aliases_.end()) return alias->second;
     if (BuiltinClasses().count(name)) return name;
     if (IsMeshClass(name)) {
-      const std::filesystem::path dir = std::filesystem::path(scene_.src->path).parent_path();
+      const std::filesystem::path dir =
+          std::filesystem::path(scene_.src->path).parent_path();
       return (dir / name).lexically_normal().generic_string();
     }
     std::vector<std::string> names = BuiltinNames();
     for (const auto& [a, t] : aliases_) names.push_back(a);
     where.Fail("unknown class '" + name + "'" + DidYouMean(name, names) +
                "; use a built-in class (" + Join(BuiltinNames(), ", ") +
-               "), a mesh file (.obj/.ply/.gltf/.glb) or declare it in a classes{...} definition");
+               "), a mesh file (.obj/.ply/.gltf/.glb) or declare it in a "
+               "classes{...} definition");
   }
 
-  void CheckReference(const Node& node, const std::set<std::string>& defined, const std::string& symbol,
+  void CheckReference(const Node& node,
+                      const std::set<std::string>& defined,
+                      const std::string& symbol,
                       bool objects_only = false) const {
     CheckReferenceName(ReadString(node), node, defined, symbol, objects_only);
   }
-  void CheckReferenceName(const std::string& ref, const Node& node, const std::set<std::string>& defined,
-                          const std::string& symbol, bool objects_only) const {
+  void CheckReferenceName(const std::string& ref,
+                          const Node& node,
+                          const std::set<std::string>& defined,
+                          const std::string& symbol,
+                          bool objects_only) const {
     const Definition* def = scene_.Find(ref);
     if (!def) {
       std::vector<std::string> names(defined.begin(), defined.end());
-      node.Fail(symbol + " refers to undefined symbol '" + ref + "'" + DidYouMean(ref, names));
+      node.Fail(symbol + " refers to undefined symbol '" + ref + "'" +
+                DidYouMean(ref, names));
     }
     if (ref == symbol) node.Fail(symbol + " refers to itself (a cycle)");
     if (!defined.count(ref))
-      node.Fail(symbol + " refers to '" + ref + "' before its definition; definitions are evaluated in file order, "
-                "so a forward reference or a cycle is not allowed");
+      node.Fail(
+          symbol + " refers to '" + ref +
+          "' before its definition; definitions are evaluated in file order, "
+          "so a forward reference or a cycle is not allowed");
     if (def->kind != "object" && (objects_only || def->kind != "terrain"))
-      node.Fail("'" + ref + "' is a " + def->kind + (objects_only ? ", expected an object" : ", expected an object or the terrain"));
+      node.Fail("'" + ref + "' is a " + def->kind +
+                (objects_only ? ", expected an object"
+                              : ", expected an object or the terrain"));
   }
 
-  void CheckObject(const Definition& def, const std::set<std::string>& defined) {
+  void CheckObject(const Definition& def,
+                   const std::set<std::string>& defined) {
     def.body.CheckKeys(kObjectKeys, "object " + def.symbol);
     const Node cls = def.body.Find("class");
-    if (!cls) def.body.Fail("object " + def.symbol + " needs a class (e.g. class:cube)");
-    if (!cls->is_string() && !cls->is_object()) cls.Fail("class must be a name or a choice {name: weight}");
-    for (const auto& [key, child] : cls->is_object() ? cls.Members() : std::vector<std::pair<std::string, Node>>{})
+    if (!cls)
+      def.body.Fail("object " + def.symbol +
+                    " needs a class (e.g. class:cube)");
+    if (!cls->is_string() && !cls->is_object())
+      cls.Fail("class must be a name or a choice {name: weight}");
+    for (const auto& [key, child] :
+         cls->is_object() ? cls.Members()
+                          : std::vector<std::pair<std::string, Node>>{})
       (void)key, ReadNumber(child);
     for (const std::string& option : StringOptions(cls)) {
       if (cls->is_object()) {
         try {
           ResolveClass(cls.Child(option), option);
-        } catch (const Error& e) {  // point at the option's name, not its weight
-          throw Error(e.message(), cls.src->WhereKey(cls.Child(option).pointer));
+        } catch (
+            const Error& e) {  // point at the option's name, not its weight
+          throw Error(e.message(),
+                      cls.src->WhereKey(cls.Child(option).pointer));
         }
       } else {
         ResolveClass(cls, option);
@@ -200,17 +257,20 @@ class SceneEvaluator {
         const std::string k = CanonicalKey(key);
         if (k == "within") continue;
         if (k == "around" && c->is_object()) {
-          for (const auto& [ref, margin] : c.Members()) CheckReferenceName(ref, margin, defined, def.symbol, true);
+          for (const auto& [ref, margin] : c.Members())
+            CheckReferenceName(ref, margin, defined, def.symbol, true);
           continue;
         }
         CheckReference(c, defined, def.symbol, k == "around");
       }
     }
-    if (const Node bound = def.body.Find("bound")) CheckReference(bound, defined, def.symbol, true);
+    if (const Node bound = def.body.Find("bound"))
+      CheckReference(bound, defined, def.symbol, true);
     if (const Node policy = def.body.Find("onoverlap")) {
       const std::string p = ReadString(policy);
       if (p != "move" && p != "delete" && p != "hide" && p != "allow")
-        policy.Fail("on_overlap must be move, delete, hide or allow" + DidYouMean(p, {"move", "delete", "hide", "allow"}));
+        policy.Fail("on_overlap must be move, delete, hide or allow" +
+                    DidYouMean(p, {"move", "delete", "hide", "allow"}));
     }
   }
 
@@ -221,7 +281,8 @@ class SceneEvaluator {
       if (!entry->is_object()) entry.Fail("expected ONE(...) or MANY(...)");
       entry.CheckKeys({"ONE", "MANY", "count"}, "the start rule");
       const Node one = entry.Child("ONE"), many = entry.Child("MANY");
-      if (bool(one) == bool(many)) entry.Fail("each start rule entry is exactly one of ONE or MANY");
+      if (bool(one) == bool(many))
+        entry.Fail("each start rule entry is exactly one of ONE or MANY");
       const Node sym = one ? one : many;
       const std::string name = ReadString(sym);
       std::vector<const Definition*> defs;
@@ -232,18 +293,25 @@ class SceneEvaluator {
           if (d.kind == CategoryKinds().at(name)) defs.push_back(&d);
       } else {
         std::vector<std::string> names;
-        for (const Definition& d : scene_.definitions) names.push_back(d.symbol);
-        sym.Fail("the start rule names undefined symbol '" + name + "'" + DidYouMean(name, names));
+        for (const Definition& d : scene_.definitions)
+          names.push_back(d.symbol);
+        sym.Fail("the start rule names undefined symbol '" + name + "'" +
+                 DidYouMean(name, names));
       }
       for (const Definition* d : defs) {
-        if (many && d->kind != "object") sym.Fail("MANY applies to objects only; '" + d->symbol + "' is a " + d->kind);
-        if (d->kind == "object") count_nodes_[d->symbol] = many ? entry.Child("count") : Node{};
-        if (d->kind == "object" && many && !entry.Child("count")) many_default_.insert(d->symbol);
+        if (many && d->kind != "object")
+          sym.Fail("MANY applies to objects only; '" + d->symbol + "' is a " +
+                   d->kind);
+        if (d->kind == "object")
+          count_nodes_[d->symbol] = many ? entry.Child("count") : Node{};
+        if (d->kind == "object" && many && !entry.Child("count"))
+          many_default_.insert(d->symbol);
       }
     }
   }
 
-  // --- class ids: terrain first, then class options in order of first appearance in the file ---
+  // --- class ids: terrain first, then class options in order of first
+  // appearance in the file ---
   void AssignClassIds() {
     std::set<uint32_t> reserved;
     for (const auto& [symbol, label] : targets_)
@@ -259,21 +327,25 @@ class SceneEvaluator {
       if (def.kind == "terrain") add("terrain");
       if (def.kind != "object" || LabelOf(def.symbol) != 0) continue;
       const Node cls = def.body.Find("class");
-      for (const std::string& option : StringOptions(cls)) add(ResolveClass(cls, option));
+      for (const std::string& option : StringOptions(cls))
+        add(ResolveClass(cls, option));
     }
     for (const auto& [symbol, label] : targets_) {
       if (!scene_.Find(symbol) || label == 0) continue;
       plan_->classes.push_back({label, symbol});
     }
-    std::sort(plan_->classes.begin(), plan_->classes.end(),
-              [](const ClassInfo& a, const ClassInfo& b) { return a.id < b.id; });
+    std::sort(
+        plan_->classes.begin(),
+        plan_->classes.end(),
+        [](const ClassInfo& a, const ClassInfo& b) { return a.id < b.id; });
   }
 
   uint32_t LabelOf(const std::string& symbol) const {
     auto t = targets_.find(symbol);
     return t == targets_.end() ? 0 : t->second;
   }
-  uint32_t ClassIdOf(const std::string& symbol, const std::string& class_name) const {
+  uint32_t ClassIdOf(const std::string& symbol,
+                     const std::string& class_name) const {
     if (const uint32_t label = LabelOf(symbol)) return label;
     for (const ClassInfo& c : plan_->classes)
       if (c.name == class_name) return c.id;
@@ -288,23 +360,31 @@ class SceneEvaluator {
       if (const Node n = b.Find("clouds")) {
         n.CheckKeys({"type", "density"}, "clouds");
         if (const Node t = n.Find("type")) plan_->sky.cloud_type = CloudType(t);
-        if (const Node d = n.Find("density")) plan_->sky.cloud_density = Fraction(d);
+        if (const Node d = n.Find("density"))
+          plan_->sky.cloud_density = Fraction(d);
       }
-      if (const Node n = b.Find("cloudtype")) plan_->sky.cloud_type = CloudType(n);
-      if (const Node n = b.Find("clouddensity")) plan_->sky.cloud_density = Fraction(n);
-      if (const Node n = b.Find("intensity")) plan_->sky.intensity = NonNegative(n);
+      if (const Node n = b.Find("cloudtype"))
+        plan_->sky.cloud_type = CloudType(n);
+      if (const Node n = b.Find("clouddensity"))
+        plan_->sky.cloud_density = Fraction(n);
+      if (const Node n = b.Find("intensity"))
+        plan_->sky.intensity = NonNegative(n);
     } else if (def.kind == "light") {
       if (const Node n = b.Find("elevation")) {
         plan_->sun.elevation_deg = SampleScalar(n, rng_);
-        if (std::abs(plan_->sun.elevation_deg) > 90) n.Fail("sun elevation must be within [-90, 90] degrees");
+        if (std::abs(plan_->sun.elevation_deg) > 90)
+          n.Fail("sun elevation must be within [-90, 90] degrees");
       }
-      if (const Node n = b.Find("azimuth")) plan_->sun.azimuth_deg = SampleScalar(n, rng_);
-      if (const Node n = b.Find("intensity")) plan_->sun.intensity = NonNegative(n);
+      if (const Node n = b.Find("azimuth"))
+        plan_->sun.azimuth_deg = SampleScalar(n, rng_);
+      if (const Node n = b.Find("intensity"))
+        plan_->sun.intensity = NonNegative(n);
     } else if (def.kind == "atmosphere") {
       for (const char* key : {"fog", "fogdensity", "density"})
         if (const Node n = b.Find(key)) plan_->fog_density = NonNegative(n);
     } else if (def.kind == "skylight") {
-      if (const Node n = b.Find("intensity")) plan_->skylight_intensity = NonNegative(n);
+      if (const Node n = b.Find("intensity"))
+        plan_->skylight_intensity = NonNegative(n);
     } else if (def.kind == "terrain") {
       EvaluateTerrain(b);
     } else if (def.kind == "object") {
@@ -319,40 +399,54 @@ class SceneEvaluator {
   }
   double Fraction(const Node& n) {
     const double v = SampleScalar(n, rng_);
-    if (v < 0 || v > 1) n.Fail("expected a value in [0, 1], sampled " + std::to_string(v));
+    if (v < 0 || v > 1)
+      n.Fail("expected a value in [0, 1], sampled " + std::to_string(v));
     return v;
   }
   std::string CloudType(const Node& n) {
-    static const std::vector<std::string> kTypes = {"none", "cumulus", "nimbostratus", "cirrus", "stratus"};
+    static const std::vector<std::string> kTypes = {
+        "none", "cumulus", "nimbostratus", "cirrus", "stratus"};
     for (const std::string& option : StringOptions(n))
       if (std::find(kTypes.begin(), kTypes.end(), option) == kTypes.end())
-        (n->is_object() ? n.Child(option) : n).FailKey("unknown cloud type '" + option + "'" + DidYouMean(option, kTypes));
+        (n->is_object() ? n.Child(option) : n)
+            .FailKey("unknown cloud type '" + option + "'" +
+                     DidYouMean(option, kTypes));
     return SampleString(n, rng_);
   }
   Eigen::Vector3d Color(const Node& n) {
     static const std::map<std::string, Eigen::Vector3d> kColors = {
-        {"white", {1, 1, 1}},       {"black", {0, 0, 0}},       {"gray", {0.5, 0.5, 0.5}},
-        {"grey", {0.5, 0.5, 0.5}},  {"blue", {0.55, 0.7, 0.95}}, {"red", {0.9, 0.2, 0.15}},
-        {"green", {0.3, 0.7, 0.3}}, {"orange", {1.0, 0.6, 0.2}}, {"yellow", {1.0, 0.9, 0.3}}};
+        {"white", {1, 1, 1}},
+        {"black", {0, 0, 0}},
+        {"gray", {0.5, 0.5, 0.5}},
+        {"grey", {0.5, 0.5, 0.5}},
+        {"blue", {0.55, 0.7, 0.95}},
+        {"red", {0.9, 0.2, 0.15}},
+        {"green", {0.3, 0.7, 0.3}},
+        {"orange", {1.0, 0.6, 0.2}},
+        {"yellow", {1.0, 0.9, 0.3}}};
     if (n->is_string() || n->is_object()) {
       std::vector<std::string> names;
       for (const auto& [name, c] : kColors) names.push_back(name);
       for (const std::string& option : StringOptions(n))
         if (!kColors.count(option))
-          (n->is_object() ? n.Child(option) : n).FailKey("unknown color '" + option + "'" + DidYouMean(option, names) +
-                                                      "; use a name or [r, g, b] in [0, 1]");
+          (n->is_object() ? n.Child(option) : n)
+              .FailKey("unknown color '" + option + "'" +
+                       DidYouMean(option, names) +
+                       "; use a name or [r, g, b] in [0, 1]");
       return kColors.at(SampleString(n, rng_));
     }
     Eigen::Vector3d c = SampleVec3(n, rng_);
     if (c.maxCoeff() > 1.0) c /= 255.0;  // 0-255 colours
-    if (c.minCoeff() < 0 || c.maxCoeff() > 1) n.Fail("colour components must be in [0, 1] (or 0-255)");
+    if (c.minCoeff() < 0 || c.maxCoeff() > 1)
+      n.Fail("colour components must be in [0, 1] (or 0-255)");
     return c;
   }
 
   void EvaluateTerrain(const Node& b) {
     PlannedTerrain& t = plan_->terrain;
     t.present = true;
-    t.perlin_seed = MixKey(seed_, static_cast<uint64_t>(StreamTag::kTerrain)) >> 11;  // 53 bits: exact in JSON
+    t.perlin_seed = MixKey(seed_, static_cast<uint64_t>(StreamTag::kTerrain)) >>
+                    11;  // 53 bits: exact in JSON
     if (const Node n = b.Find("size")) {
       t.size = SampleVec2(n, rng_);
       if (t.size.minCoeff() <= 0) n.Fail("terrain size must be > 0");
@@ -360,14 +454,16 @@ class SceneEvaluator {
     if (const Node n = b.Find("height")) {
       n.CheckKeys({"perlin", "frequency"}, "terrain height");
       if (const Node p = n.Find("perlin")) Perlin(p);
-      if (const Node f = n.Find("frequency")) t.perlin_frequency = NonNegative(f);
+      if (const Node f = n.Find("frequency"))
+        t.perlin_frequency = NonNegative(f);
     }
     if (const Node p = b.Find("perlin")) Perlin(p);
     if (const Node f = b.Find("frequency")) t.perlin_frequency = NonNegative(f);
     if (const Node m = b.Find("material")) t.material = SampleString(m, rng_);
     if (const Node s = b.Find("seed")) {
       const double v = ReadNumber(s);
-      if (v < 0 || v > 9007199254740992.0 || v != std::floor(v)) s.Fail("terrain seed must be a whole number in [0, 2^53]");
+      if (v < 0 || v > 9007199254740992.0 || v != std::floor(v))
+        s.Fail("terrain seed must be a whole number in [0, 2^53]");
       t.perlin_seed = static_cast<uint64_t>(v);
     }
     for (const ClassInfo& c : plan_->classes)
@@ -376,8 +472,10 @@ class SceneEvaluator {
   void Perlin(const Node& p) {
     if (p->is_object()) {
       p.CheckKeys({"amplitude", "frequency"}, "Perlin");
-      if (const Node a = p.Find("amplitude")) plan_->terrain.perlin_amplitude = NonNegative(a);
-      if (const Node f = p.Find("frequency")) plan_->terrain.perlin_frequency = NonNegative(f);
+      if (const Node a = p.Find("amplitude"))
+        plan_->terrain.perlin_amplitude = NonNegative(a);
+      if (const Node f = p.Find("frequency"))
+        plan_->terrain.perlin_frequency = NonNegative(f);
     } else {
       plan_->terrain.perlin_amplitude = NonNegative(p);
     }
@@ -386,8 +484,10 @@ class SceneEvaluator {
   int64_t CountOf(const Definition& def) {
     if (const Node n = def.body.Find("count")) return SampleCount(n, rng_);
     auto it = count_nodes_.find(def.symbol);
-    if (it != count_nodes_.end() && it->second) return SampleCount(it->second, rng_);
-    if (many_default_.count(def.symbol)) return rng_.UniformInt(5, 15);  // MANY(X) without a count
+    if (it != count_nodes_.end() && it->second)
+      return SampleCount(it->second, rng_);
+    if (many_default_.count(def.symbol))
+      return rng_.UniformInt(5, 15);  // MANY(X) without a count
     return 1;
   }
 
@@ -401,7 +501,8 @@ class SceneEvaluator {
     if (const Node n = b.Find("onoverlap")) policy = ReadString(n);
     if (const Node n = b.Find("retries")) {
       const double r = ReadNumber(n);
-      if (r < 0 || r > 100000 || r != std::floor(r)) n.Fail("retries must be a whole number in [0, 100000]");
+      if (r < 0 || r > 100000 || r != std::floor(r))
+        n.Fail("retries must be a whole number in [0, 100000]");
       retries = static_cast<int>(r);
     }
     int64_t copy_number = 0;
@@ -413,19 +514,23 @@ class SceneEvaluator {
       const std::string chosen = SampleString(cls, rng_);
       o.class_name = ResolveClass(cls, chosen);
       o.class_id = ClassIdOf(def.symbol, o.class_name);
-      o.extent = IsMeshClass(o.class_name) ? Eigen::Vector3d::Ones() : BuiltinClasses().at(o.class_name);
+      o.extent = IsMeshClass(o.class_name) ? Eigen::Vector3d::Ones()
+                                           : BuiltinClasses().at(o.class_name);
       for (const char* key : {"visible", "visibility"})
         if (const Node n = b.Find(key)) o.visible = SampleBool(n, rng_);
       if (const Node n = b.Find("material")) o.material = SampleString(n, rng_);
-      o.target = o.visible && (targets_.empty() || targets_.count(def.symbol) > 0);
+      o.target =
+          o.visible && (targets_.empty() || targets_.count(def.symbol) > 0);
       if (const Node n = b.Find("target")) o.target = SampleBool(n, rng_);
-      // Geometry keys in the order written: a size given after `position` is applied after the
-      // collision test (the paper's trick for gaps or overlaps, section 3.1).
+      // Geometry keys in the order written: a size given after `position` is
+      // applied after the collision test (the paper's trick for gaps or
+      // overlaps, section 3.1).
       bool positioned = false, keep = true;
       for (const auto& [key, n] : b.Members()) {
         const std::string k = CanonicalKey(key);
         if (k == "extent") Resize(&p, SizeVec(n), positioned);
-        if (k == "bound") Resize(&p, FirstCopy(ReadString(n)).object.extent, positioned);
+        if (k == "bound")
+          Resize(&p, FirstCopy(ReadString(n)).object.extent, positioned);
         if (k == "scale") {
           const Eigen::Vector3d s = SampleScale(n, rng_);
           if (s.minCoeff() <= 0) n.Fail("scale must be > 0");
@@ -440,7 +545,15 @@ class SceneEvaluator {
           positioned = true;
         }
       }
-      if (!positioned) keep = Position(def, Node{b.src, nullptr, b.pointer}, copy, count, overlap, policy, retries, &p);
+      if (!positioned)
+        keep = Position(def,
+                        Node{b.src, nullptr, b.pointer},
+                        copy,
+                        count,
+                        overlap,
+                        policy,
+                        retries,
+                        &p);
       if (!keep) continue;
       o.name = def.symbol + "#" + std::to_string(++copy_number);
       by_symbol_[def.symbol].push_back(placed_.size());
@@ -461,22 +574,29 @@ class SceneEvaluator {
   }
   void Reseat(Placed* p) {
     const double old_base = p->aabb.lo.z();
-    p->aabb = AabbOf(p->object.position, p->object.world_from_object, p->object.extent);
+    p->aabb = AabbOf(
+        p->object.position, p->object.world_from_object, p->object.extent);
     p->object.position.z() += old_base - p->aabb.lo.z();
-    p->aabb = AabbOf(p->object.position, p->object.world_from_object, p->object.extent);
+    p->aabb = AabbOf(
+        p->object.position, p->object.world_from_object, p->object.extent);
   }
 
   const Placed& FirstCopy(const std::string& symbol) const {
     auto it = by_symbol_.find(symbol);
     if (it == by_symbol_.end() || it->second.empty())
-      throw Error("'" + symbol + "' has no placed copies to refer to (count 0 or all deleted)", scene_.Find(symbol)->statement.Where());
+      throw Error(
+          "'" + symbol +
+              "' has no placed copies to refer to (count 0 or all deleted)",
+          scene_.Find(symbol)->statement.Where());
     return placed_[it->second.front()];
   }
   const Placed& AnyCopy(const Node& where, const std::string& symbol) {
     auto it = by_symbol_.find(symbol);
     if (it == by_symbol_.end() || it->second.empty())
-      where.Fail("'" + symbol + "' has no placed copies to refer to (count 0 or all deleted)");
-    return placed_[it->second[static_cast<size_t>(rng_.UniformInt(0, static_cast<int64_t>(it->second.size()) - 1))]];
+      where.Fail("'" + symbol +
+                 "' has no placed copies to refer to (count 0 or all deleted)");
+    return placed_[it->second[static_cast<size_t>(
+        rng_.UniformInt(0, static_cast<int64_t>(it->second.size()) - 1))]];
   }
 
   Surface TerrainSurface() const {
@@ -492,8 +612,9 @@ class SceneEvaluator {
     return s;
   }
 
-  // ON:X - the surface an object on X stands on. An invisible X (a placement zone) passes on the
-  // surface X itself stands on, restricted to X's footprint.
+  // ON:X - the surface an object on X stands on. An invisible X (a placement
+  // zone) passes on the surface X itself stands on, restricted to X's
+  // footprint.
   Surface SurfaceOf(const Node& where, const std::string& symbol) {
     if (symbol == terrain_symbol_) return TerrainSurface();
     const Placed& x = AnyCopy(where, symbol);
@@ -511,21 +632,30 @@ class SceneEvaluator {
     return s;
   }
 
-  // Algorithm 1: start from the largest box, shrink it by each constraint in order, sample a point,
-  // then resolve overlaps (move with retries, delete, hide or allow). Returns false when deleted.
-  bool Position(const Definition& def, const Node& pos, int64_t copy, int64_t count, bool overlap,
-                const std::string& policy, int retries, Placed* p) {
+  // Algorithm 1: start from the largest box, shrink it by each constraint in
+  // order, sample a point, then resolve overlaps (move with retries, delete,
+  // hide or allow). Returns false when deleted.
+  bool Position(const Definition& def,
+                const Node& pos,
+                int64_t copy,
+                int64_t count,
+                bool overlap,
+                const std::string& policy,
+                int retries,
+                Placed* p) {
     PlannedObject& o = p->object;
     Box space;
     bool on = false, in = false;
     Surface surface;
     std::set<std::string> supports;
-    auto shrink = [&](const Box& box, const Node& constraint, const std::string& what) {
-      space.Intersect(box);
-      if (space.Empty())
-        constraint.Fail(def.symbol + " copy " + std::to_string(copy + 1) + ": the position space is empty after " +
-                        what + " (it leaves " + space.ToString() + ")");
-    };
+    auto shrink =
+        [&](const Box& box, const Node& constraint, const std::string& what) {
+          space.Intersect(box);
+          if (space.Empty())
+            constraint.Fail(def.symbol + " copy " + std::to_string(copy + 1) +
+                            ": the position space is empty after " + what +
+                            " (it leaves " + space.ToString() + ")");
+        };
     if (pos) {
       for (const auto& [key, c] : pos.Members()) {
         const std::string k = CanonicalKey(key);
@@ -537,15 +667,24 @@ class SceneEvaluator {
           supports.insert(ref);
         } else if (k == "in") {
           const std::string ref = ReadString(c);
-          shrink(ref == terrain_symbol_ ? TerrainSurface().footprint : AnyCopy(c, ref).aabb, c, "IN:" + ref);
-          in = true;
+          if (ref == terrain_symbol_) {  // IN the terrain = standing on it
+            surface = TerrainSurface();
+            shrink(surface.footprint, c, "IN:" + ref);
+            on = true;
+          } else {
+            shrink(AnyCopy(c, ref).aabb, c, "IN:" + ref);
+            in = true;
+          }
           supports.insert(ref);
         } else if (k == "around") {
           std::vector<std::pair<std::string, Node>> refs;
-          if (c->is_object()) refs = c.Members();
-          else refs.push_back({ReadString(c), Node{}});
+          if (c->is_object())
+            refs = c.Members();
+          else
+            refs.push_back({ReadString(c), Node{}});
           for (const auto& [ref, margin_node] : refs) {
-            Eigen::Vector3d margin(10, 10, 0);  // default: 10 m around, horizontally
+            Eigen::Vector3d margin(
+                10, 10, 0);  // default: 10 m around, horizontally
             if (margin_node) {
               if (margin_node->is_array()) {
                 margin = SampleVec3(margin_node, rng_);
@@ -553,17 +692,20 @@ class SceneEvaluator {
                 const double m = SampleScalar(margin_node, rng_);
                 margin = Eigen::Vector3d(m, m, 0);
               }
-              if (margin.minCoeff() < 0) margin_node.Fail("AROUND margin must be >= 0");
+              if (margin.minCoeff() < 0)
+                margin_node.Fail("AROUND margin must be >= 0");
             }
             Box box = AnyCopy(c, ref).aabb;
             box.lo -= margin;
             box.hi += margin;
-            box.lo.z() = -kHuge;  // AROUND restricts x and y; z comes from ON/IN or the ground
+            box.lo.z() = -kHuge;  // AROUND restricts x and y; z comes from
+                                  // ON/IN or the ground
             box.hi.z() = kHuge;
             shrink(box, c, "AROUND:" + ref);
           }
         } else if (k == "within") {
-          if (!c->is_array() || c->size() != 2) c.Fail("within is [[x0,y0,z0],[x1,y1,z1]]");
+          if (!c->is_array() || c->size() != 2)
+            c.Fail("within is [[x0,y0,z0],[x1,y1,z1]]");
           Box box;
           for (int i = 0; i < 3; ++i) {
             box.lo[i] = ReadNumber(c.Item(0).Item(i));
@@ -573,7 +715,9 @@ class SceneEvaluator {
         }
       }
     }
-    if (!on && !in && space.lo.z() <= -kHuge) {  // no vertical constraint: stand on the ground
+    if (!on && !in &&
+        space.lo.z() <=
+            -kHuge) {  // no vertical constraint: stand on the ground
       surface = TerrainSurface();
       shrink(surface.footprint, pos ? pos : def.body, "ON:terrain (implied)");
       on = true;
@@ -584,17 +728,23 @@ class SceneEvaluator {
     p->support.footprint = space;
 
     for (int attempt = 0;; ++attempt) {
-      const Eigen::Vector3d half = o.world_from_object.cwiseAbs() * (0.5 * o.extent);
+      const Eigen::Vector3d half =
+          o.world_from_object.cwiseAbs() * (0.5 * o.extent);
       for (int i = 0; i < 3; ++i) {
         if (i == 2 && on) continue;
         const double lo = space.lo[i] + half[i], hi = space.hi[i] - half[i];
         if (std::abs(space.lo[i]) >= kHuge || std::abs(space.hi[i]) >= kHuge)
-          (pos ? pos : def.body).Fail(def.symbol + ": the position space is unbounded along " + "xyz"[i] +
-                                      "; add ON, IN or within");
-        o.position[i] = lo <= hi ? rng_.Uniform(lo, hi) : 0.5 * (space.lo[i] + space.hi[i]);
+          (pos ? pos : def.body)
+              .Fail(def.symbol + ": the position space is unbounded along " +
+                    "xyz"[i] + "; add ON, IN or within");
+        o.position[i] =
+            lo <= hi ? rng_.Uniform(lo, hi) : 0.5 * (space.lo[i] + space.hi[i]);
       }
       if (on) {
-        const double ground = surface.terrain ? TerrainHeight(plan_->terrain, o.position.x(), o.position.y()) : surface.top;
+        const double ground =
+            surface.terrain
+                ? TerrainHeight(plan_->terrain, o.position.x(), o.position.y())
+                : surface.top;
         o.position.z() = ground + half.z();
       }
       p->aabb = AabbOf(o.position, o.world_from_object, o.extent);
@@ -608,9 +758,11 @@ class SceneEvaluator {
       return true;
     }
     (pos ? pos : def.body)
-        .Fail(def.symbol + ": cannot place copy " + std::to_string(copy + 1) + " of " + std::to_string(count) +
-              " without overlap after " + std::to_string(retries) + " retries in " + space.ToString() +
-              "; enlarge the space, lower the count, set overlap:true or on_overlap:delete");
+        .Fail(def.symbol + ": cannot place copy " + std::to_string(copy + 1) +
+              " of " + std::to_string(count) + " without overlap after " +
+              std::to_string(retries) + " retries in " + space.ToString() +
+              "; enlarge the space, lower the count, set overlap:true or "
+              "on_overlap:delete");
   }
 
   bool Collides(const Placed& p, const std::set<std::string>& supports) const {
@@ -618,8 +770,9 @@ class SceneEvaluator {
     const OrientedBox mine = ObbOf(p.object);
     for (const Placed& q : placed_) {
       if (!q.object.visible || supports.count(q.object.symbol)) continue;
-      if (q.aabb.hi.x() <= p.aabb.lo.x() || p.aabb.hi.x() <= q.aabb.lo.x() || q.aabb.hi.y() <= p.aabb.lo.y() ||
-          p.aabb.hi.y() <= q.aabb.lo.y() || q.aabb.hi.z() <= p.aabb.lo.z() || p.aabb.hi.z() <= q.aabb.lo.z())
+      if (q.aabb.hi.x() <= p.aabb.lo.x() || p.aabb.hi.x() <= q.aabb.lo.x() ||
+          q.aabb.hi.y() <= p.aabb.lo.y() || p.aabb.hi.y() <= q.aabb.lo.y() ||
+          q.aabb.hi.z() <= p.aabb.lo.z() || p.aabb.hi.z() <= q.aabb.lo.z())
         continue;
       if (mine.Intersects(ObbOf(q.object))) return true;
     }
@@ -641,7 +794,10 @@ class SceneEvaluator {
 
 }  // namespace
 
-void EvaluateScene(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan) {
+void EvaluateScene(const Program& scene,
+                   uint64_t seed,
+                   const TargetLabels& targets,
+                   Plan* plan) {
   SceneEvaluator(scene, seed, targets, plan).Run();
 }
 

@@ -1,5 +1,6 @@
-// LSCENE: the definitions of a scene file and their evaluation into the world state of a plan
-// (sky, sun, atmosphere, skylight, terrain, objects). Algorithm 1 (Position) lives here.
+// LSCENE: the definitions of a scene file and their evaluation into the world
+// state of a plan (sky, sun, atmosphere, skylight, terrain, objects). Algorithm
+// 1 (Position) lives here.
 #pragma once
 
 #include <map>
@@ -15,15 +16,16 @@ namespace lsds {
 // One "NAME = kind{...}" statement.
 struct Definition {
   std::string symbol;
-  std::string kind;  // canonical kind: skybox, light, atmosphere, skylight, terrain, object, classes,
-                     // camera, path, collection, scene_change
+  std::string
+      kind;  // canonical kind: skybox, light, atmosphere, skylight, terrain,
+             // object, classes, camera, path, collection, scene_change
   Node body;
   Node statement;    // the whole "NAME: {kind: body}" node, for messages
   size_t order = 0;  // position in the file
 };
 
-// Splits a source into its start rule and definitions, checking kinds (did-you-mean) and names.
-// `start` is "LSCENE" or "LCAP".
+// Splits a source into its start rule and definitions, checking kinds
+// (did-you-mean) and names. `start` is "LSCENE" or "LCAP".
 struct Program {
   const SourceFile* src = nullptr;
   std::string start;
@@ -33,21 +35,27 @@ struct Program {
 };
 Program ReadProgram(const SourceFile& src, const std::string& start);
 
-// Table 1 category symbols usable in a start rule for "all definitions of that kind".
+// Table 1 category symbols usable in a start rule for "all definitions of that
+// kind".
 const std::map<std::string, std::string>& CategoryKinds();
 
-// Built-in procedural classes the renderer supports and their default extents (metres).
+// Built-in procedural classes the renderer supports and their default extents
+// (metres).
 const std::map<std::string, Eigen::Vector3d>& BuiltinClasses();
 bool IsMeshClass(const std::string& name);
 
-// LCAP targets: symbol -> label id ("O1:5"), 0 when listed without a label ("O1").
+// LCAP targets: symbol -> label id ("O1:5"), 0 when listed without a label
+// ("O1").
 using TargetLabels = std::map<std::string, uint32_t>;
 
-// Checks every key of every definition (unknown keys, undefined or forward references, unknown
-// classes) without sampling, then samples the world state from the world stream of `seed`.
-// Fills plan->classes, sky, sun, fog_density, skylight_intensity, terrain and objects.
-// `targets` (may be empty): objects whose symbol is listed are the targets and their class id is
-// the given label.
-void EvaluateScene(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan);
+// Checks every key of every definition (unknown keys, undefined or forward
+// references, unknown classes) without sampling, then samples the world state
+// from the world stream of `seed`. Fills plan->classes, sky, sun, fog_density,
+// skylight_intensity, terrain and objects. `targets` (may be empty): objects
+// whose symbol is listed are the targets and their class id is the given label.
+void EvaluateScene(const Program& scene,
+                   uint64_t seed,
+                   const TargetLabels& targets,
+                   Plan* plan);
 
 }  // namespace lsds

@@ -10,9 +10,12 @@ namespace lsds {
 std::string PointerJoin(const std::string& parent, const std::string& token) {
   std::string escaped;
   for (char c : token) {
-    if (c == '~') escaped += "~0";
-    else if (c == '/') escaped += "~1";
-    else escaped += c;
+    if (c == '~')
+      escaped += "~0";
+    else if (c == '/')
+      escaped += "~1";
+    else
+      escaped += c;
   }
   return parent + "/" + escaped;
 }
@@ -22,7 +25,8 @@ Location SourceFile::Where(const std::string& pointer) const {
   std::string p = pointer;
   while (true) {
     auto it = positions.find(p);
-    if (it != positions.end()) return Location::Text(path, it->second.first, it->second.second);
+    if (it != positions.end())
+      return Location::Text(path, it->second.first, it->second.second);
     const size_t slash = p.rfind('/');
     if (slash == std::string::npos || p.empty()) break;
     p = p.substr(0, slash);
@@ -32,11 +36,14 @@ Location SourceFile::Where(const std::string& pointer) const {
 
 Location SourceFile::WhereKey(const std::string& pointer) const {
   auto it = key_positions.find(pointer);
-  if (!is_json && it != key_positions.end()) return Location::Text(path, it->second.first, it->second.second);
+  if (!is_json && it != key_positions.end())
+    return Location::Text(path, it->second.first, it->second.second);
   return Where(pointer);
 }
 
-SourceFile ParseSource(const std::string& text, const std::string& path_for_messages, bool is_json) {
+SourceFile ParseSource(const std::string& text,
+                       const std::string& path_for_messages,
+                       bool is_json) {
   SourceFile source;
   source.path = path_for_messages;
   source.text = text;
@@ -47,9 +54,12 @@ SourceFile ParseSource(const std::string& text, const std::string& path_for_mess
     } catch (const nlohmann::json::parse_error& e) {
       int line = 0, column = 0;
       LineColumnFromOffset(text, e.byte > 0 ? e.byte - 1 : 0, &line, &column);
-      throw Error(std::string("invalid JSON: ") + e.what(), Location::Text(path_for_messages, line, column));
+      throw Error(std::string("invalid JSON: ") + e.what(),
+                  Location::Text(path_for_messages, line, column));
     }
-    if (!source.doc.is_object()) throw Error("expected a JSON object at the top level", Location(path_for_messages, ""));
+    if (!source.doc.is_object())
+      throw Error("expected a JSON object at the top level",
+                  Location(path_for_messages, ""));
   } else {
     ParseTextNotation(&source);
   }

@@ -15,23 +15,32 @@ enum class Tok { kIdent, kNumber, kString, kPunct, kEnd };
 
 struct Token {
   Tok kind = Tok::kEnd;
-  std::string text;  // identifier, number text, string content, or the punctuation character
+  std::string text;  // identifier, number text, string content, or the
+                     // punctuation character
   size_t offset = 0;
 };
 
 std::string Describe(const Token& t) {
   switch (t.kind) {
-    case Tok::kIdent: return "'" + t.text + "'";
-    case Tok::kNumber: return "number " + t.text;
-    case Tok::kString: return "string \"" + t.text + "\"";
-    case Tok::kPunct: return "'" + t.text + "'";
-    default: return "end of file";
+    case Tok::kIdent:
+      return "'" + t.text + "'";
+    case Tok::kNumber:
+      return "number " + t.text;
+    case Tok::kString:
+      return "string \"" + t.text + "\"";
+    case Tok::kPunct:
+      return "'" + t.text + "'";
+    default:
+      return "end of file";
   }
 }
 
-bool IsIdentStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
+bool IsIdentStart(char c) {
+  return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+}
 bool IsIdentChar(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '/' || c == '-';
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' ||
+         c == '/' || c == '-';
 }
 
 class Parser {
@@ -60,26 +69,33 @@ class Parser {
         const size_t start = i;
         while (i < n && IsIdentChar(text_[i])) ++i;
         tokens_.push_back({Tok::kIdent, text_.substr(start, i - start), start});
-      } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' ||
-                 (c == '.' && i + 1 < n && std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
+      } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' ||
+                 c == '+' ||
+                 (c == '.' && i + 1 < n &&
+                  std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
         const size_t start = i;
         if (c == '-' || c == '+') ++i;
         bool digits = false;
-        while (i < n && std::isdigit(static_cast<unsigned char>(text_[i]))) ++i, digits = true;
+        while (i < n && std::isdigit(static_cast<unsigned char>(text_[i])))
+          ++i, digits = true;
         if (i < n && text_[i] == '.') {
           ++i;
-          while (i < n && std::isdigit(static_cast<unsigned char>(text_[i]))) ++i, digits = true;
+          while (i < n && std::isdigit(static_cast<unsigned char>(text_[i])))
+            ++i, digits = true;
         }
         if (digits && i < n && (text_[i] == 'e' || text_[i] == 'E')) {
           size_t j = i + 1;
           if (j < n && (text_[j] == '-' || text_[j] == '+')) ++j;
           if (j < n && std::isdigit(static_cast<unsigned char>(text_[j]))) {
             i = j;
-            while (i < n && std::isdigit(static_cast<unsigned char>(text_[i]))) ++i;
+            while (i < n && std::isdigit(static_cast<unsigned char>(text_[i])))
+              ++i;
           }
         }
-        if (!digits) Fail(start, "expected a number after '" + std::string(1, c) + "'");
-        tokens_.push_back({Tok::kNumber, text_.substr(start, i - start), start});
+        if (!digits)
+          Fail(start, "expected a number after '" + std::string(1, c) + "'");
+        tokens_.push_back(
+            {Tok::kNumber, text_.substr(start, i - start), start});
       } else if (c == '"' || c == '\'') {
         const size_t start = i++;
         std::string content;
@@ -108,8 +124,9 @@ class Parser {
     throw Error(message, Location::Text(src_->path, line, column));
   }
   [[noreturn]] void Unclosed(size_t open_offset, char close) const {
-    Fail(open_offset, std::string("unclosed '") + (close == '}' ? '{' : '[') + "': expected '" + close +
-                          "' before the end of the file");
+    Fail(open_offset,
+         std::string("unclosed '") + (close == '}' ? '{' : '[') +
+             "': expected '" + close + "' before the end of the file");
   }
   const Token& Peek(size_t ahead = 0) const {
     return tokens_[std::min(pos_ + ahead, tokens_.size() - 1)];
@@ -119,7 +136,9 @@ class Parser {
     if (pos_ < tokens_.size() - 1) ++pos_;
     return t;
   }
-  bool IsPunct(const Token& t, char c) const { return t.kind == Tok::kPunct && t.text[0] == c; }
+  bool IsPunct(const Token& t, char c) const {
+    return t.kind == Tok::kPunct && t.text[0] == c;
+  }
   bool AcceptPunct(char c) {
     if (!IsPunct(Peek(), c)) return false;
     Next();
@@ -127,7 +146,9 @@ class Parser {
   }
   Token ExpectPunct(char c, const std::string& context) {
     if (!IsPunct(Peek(), c))
-      Fail(Peek().offset, "expected '" + std::string(1, c) + "' " + context + ", found " + Describe(Peek()));
+      Fail(Peek().offset,
+           "expected '" + std::string(1, c) + "' " + context + ", found " +
+               Describe(Peek()));
     return Next();
   }
   void Mark(const std::string& pointer, size_t offset) {
@@ -144,18 +165,25 @@ class Parser {
   void Warn(size_t offset, const std::string& message) {
     int line = 0, column = 0;
     LineColumnFromOffset(text_, offset, &line, &column);
-    src_->warnings.push_back(Location::Text(src_->path, line, column).ToString() + ": " + message);
+    src_->warnings.push_back(
+        Location::Text(src_->path, line, column).ToString() + ": " + message);
   }
 
   // --- grammar ---
   // statement = IDENT ("=" | ":") ( start_rule | definition )
   void Statement(OJson* doc) {
     const Token name = Next();
-    if (name.kind != Tok::kIdent) Fail(name.offset, "expected a symbol name (e.g. 'O1 = object{...}'), found " + Describe(name));
+    if (name.kind != Tok::kIdent)
+      Fail(name.offset,
+           "expected a symbol name (e.g. 'O1 = object{...}'), found " +
+               Describe(name));
     if (!AcceptPunct('=') && !AcceptPunct(':'))
-      Fail(Peek().offset, "expected '=' after symbol '" + name.text + "', found " + Describe(Peek()));
+      Fail(Peek().offset,
+           "expected '=' after symbol '" + name.text + "', found " +
+               Describe(Peek()));
     const std::string pointer = PointerJoin("", name.text);
-    if (doc->contains(name.text)) Fail(name.offset, "symbol '" + name.text + "' is defined twice");
+    if (doc->contains(name.text))
+      Fail(name.offset, "symbol '" + name.text + "' is defined twice");
     Mark(pointer, name.offset);
     if (name.text == "LSCENE" || name.text == "LCAP") {
       (*doc)[name.text] = StartRule(pointer);
@@ -163,15 +191,20 @@ class Parser {
     }
     const Token kind = Next();
     if (kind.kind != Tok::kIdent)
-      Fail(kind.offset, "expected a symbol kind (skybox, terrain, object, camera, path, ...) after '" + name.text + " =', found " + Describe(kind));
+      Fail(kind.offset,
+           "expected a symbol kind (skybox, terrain, object, camera, path, "
+           "...) after '" +
+               name.text + " =', found " + Describe(kind));
     const std::string body_pointer = PointerJoin(pointer, kind.text);
     Mark(body_pointer, kind.offset);
     ExpectPunct('{', "to open the body of " + name.text);
     OJson body = Members(body_pointer, '}');
-    // Paper typo: "object{...,extent[..]},position:{...}}" closes the body early. A ',' right after
-    // the closing brace continues the same body.
+    // Paper typo: "object{...,extent[..]},position:{...}}" closes the body
+    // early. A ',' right after the closing brace continues the same body.
     while (IsPunct(Peek(), ',')) {
-      Warn(Peek().offset, "stray '}' before ',' in " + name.text + " ignored (the body continues)");
+      Warn(Peek().offset,
+           "stray '}' before ',' in " + name.text +
+               " ignored (the body continues)");
       Next();
       OJson more = Members(body_pointer, '}');
       for (auto& item : more.items()) body[item.key()] = item.value();
@@ -182,28 +215,39 @@ class Parser {
   // start_rule = { ("ONE" | "MANY") "(" IDENT [ "," count ] ")" }
   OJson StartRule(const std::string& pointer) {
     OJson list = OJson::array();
-    while (Peek().kind == Tok::kIdent && (Peek().text == "ONE" || Peek().text == "MANY") && IsPunct(Peek(1), '(')) {
+    while (Peek().kind == Tok::kIdent &&
+           (Peek().text == "ONE" || Peek().text == "MANY") &&
+           IsPunct(Peek(1), '(')) {
       const Token op = Next();
       Next();  // (
       const Token sym = Next();
-      if (sym.kind != Tok::kIdent) Fail(sym.offset, "expected a symbol name inside " + op.text + "(...), found " + Describe(sym));
+      if (sym.kind != Tok::kIdent)
+        Fail(sym.offset,
+             "expected a symbol name inside " + op.text + "(...), found " +
+                 Describe(sym));
       OJson entry = OJson::object();
       entry[op.text] = sym.text;
-      const std::string item_pointer = PointerJoin(pointer, std::to_string(list.size()));
+      const std::string item_pointer =
+          PointerJoin(pointer, std::to_string(list.size()));
       Mark(item_pointer, op.offset);
       Mark(PointerJoin(item_pointer, op.text), sym.offset);
-      if (AcceptPunct(',')) entry["count"] = Value(PointerJoin(item_pointer, "count"));
+      if (AcceptPunct(','))
+        entry["count"] = Value(PointerJoin(item_pointer, "count"));
       ExpectPunct(')', "to close " + op.text + "(" + sym.text);
       list.push_back(std::move(entry));
       AcceptPunct(',');
     }
-    if (list.empty()) Fail(Peek().offset, "expected ONE(...) or MANY(...) in the start rule, found " + Describe(Peek()));
+    if (list.empty())
+      Fail(Peek().offset,
+           "expected ONE(...) or MANY(...) in the start rule, found " +
+               Describe(Peek()));
     return list;
   }
 
   // members = [ member { "," member } [ "," ] ] close
   // member  = key (":" | "=") value | key "{" members "}" | key "[" items "]"
-  //         | "{" members "}" | "[" items "]"          (keyless: continues the previous member)
+  //         | "{" members "}" | "[" items "]"          (keyless: continues the
+  //         previous member)
   OJson Members(const std::string& pointer, char close) {
     OJson object = OJson::object();
     std::string last_key;
@@ -212,8 +256,11 @@ class Parser {
       const Token& t = Peek();
       if (t.kind == Tok::kEnd) Unclosed(open_offset, close);
       if (IsPunct(t, '{') || IsPunct(t, '[')) {
-        if (last_key.empty()) Fail(t.offset, "a value without a key must follow a 'key: value' member");
-        // "range:[0,0,0],[360,360,360]" and "O1:{...},{...}": the previous member becomes a list.
+        if (last_key.empty())
+          Fail(t.offset,
+               "a value without a key must follow a 'key: value' member");
+        // "range:[0,0,0],[360,360,360]" and "O1:{...},{...}": the previous
+        // member becomes a list.
         OJson& previous = object[last_key];
         const std::string member_pointer = PointerJoin(pointer, last_key);
         if (!previous.is_array() || !continued_.count(member_pointer)) {
@@ -223,47 +270,65 @@ class Parser {
           continued_.insert(member_pointer);
           RelocateChildren(member_pointer);
         }
-        previous.push_back(Value(PointerJoin(member_pointer, std::to_string(previous.size()))));
+        previous.push_back(Value(
+            PointerJoin(member_pointer, std::to_string(previous.size()))));
       } else if (t.kind == Tok::kIdent || t.kind == Tok::kString) {
         const Token first = Next();
         std::string key = first.text;
-        while (first.kind == Tok::kIdent && Peek().kind == Tok::kIdent) key += "_" + Next().text;  // "create hemi"
-        if (object.contains(key)) Fail(first.offset, "key '" + key + "' appears twice");
+        while (first.kind == Tok::kIdent && Peek().kind == Tok::kIdent)
+          key += "_" + Next().text;  // "create hemi"
+        if (object.contains(key))
+          Fail(first.offset, "key '" + key + "' appears twice");
         const std::string member_pointer = PointerJoin(pointer, key);
         MarkKey(member_pointer, first.offset);
         if (AcceptPunct(':') || AcceptPunct('=')) {
           object[key] = Value(member_pointer);
         } else if (IsPunct(Peek(), '{') || IsPunct(Peek(), '[')) {
-          if (IsPunct(Peek(), '[')) Warn(Peek().offset, "'" + key + "[' read as '" + key + ":['");
+          if (IsPunct(Peek(), '['))
+            Warn(Peek().offset, "'" + key + "[' read as '" + key + ":['");
           object[key] = Value(member_pointer);  // csettings{...}, extent[...]
         } else {
-          Fail(Peek().offset, "expected ':' or '=' after key '" + key + "', found " + Describe(Peek()));
+          Fail(Peek().offset,
+               "expected ':' or '=' after key '" + key + "', found " +
+                   Describe(Peek()));
         }
         last_key = key;
       } else {
-        Fail(t.offset, "expected a key or '" + std::string(1, close) + "', found " + Describe(t));
+        Fail(t.offset,
+             "expected a key or '" + std::string(1, close) + "', found " +
+                 Describe(t));
       }
       if (Peek().kind == Tok::kEnd) Unclosed(open_offset, close);
       if (!IsPunct(Peek(), close) && !AcceptPunct(','))
-        Fail(Peek().offset, std::string("expected ',' or '") + close + "', found " + Describe(Peek()));
+        Fail(Peek().offset,
+             std::string("expected ',' or '") + close + "', found " +
+                 Describe(Peek()));
     }
     return object;
   }
 
-  // After turning "key: v" into "key: [v, ...]", v's positions move one level down.
+  // After turning "key: v" into "key: [v, ...]", v's positions move one level
+  // down.
   void RelocateChildren(const std::string& member_pointer) {
     std::map<std::string, std::pair<int, int>> moved;
-    for (auto it = src_->positions.lower_bound(member_pointer + "/"); it != src_->positions.end();) {
-      if (it->first.compare(0, member_pointer.size() + 1, member_pointer + "/") != 0) break;
-      moved.emplace(member_pointer + "/0" + it->first.substr(member_pointer.size()), it->second);
+    for (auto it = src_->positions.lower_bound(member_pointer + "/");
+         it != src_->positions.end();) {
+      if (it->first.compare(
+              0, member_pointer.size() + 1, member_pointer + "/") != 0)
+        break;
+      moved.emplace(
+          member_pointer + "/0" + it->first.substr(member_pointer.size()),
+          it->second);
       it = src_->positions.erase(it);
     }
     auto self = src_->positions.find(member_pointer);
-    if (self != src_->positions.end()) moved.emplace(member_pointer + "/0", self->second);
+    if (self != src_->positions.end())
+      moved.emplace(member_pointer + "/0", self->second);
     src_->positions.insert(moved.begin(), moved.end());
   }
 
-  // value = NUMBER | STRING | "true" | "false" | IDENT [ ":" (NUMBER | IDENT) ] | "{" members "}"
+  // value = NUMBER | STRING | "true" | "false" | IDENT [ ":" (NUMBER | IDENT) ]
+  // | "{" members "}"
   //       | "[" items "]"
   OJson Value(const std::string& pointer) {
     const Token t = Next();
@@ -273,10 +338,12 @@ class Parser {
       OJson list = OJson::array();
       while (!AcceptPunct(']')) {
         if (Peek().kind == Tok::kEnd) Unclosed(t.offset, ']');
-        list.push_back(Value(PointerJoin(pointer, std::to_string(list.size()))));
+        list.push_back(
+            Value(PointerJoin(pointer, std::to_string(list.size()))));
         if (Peek().kind == Tok::kEnd) Unclosed(t.offset, ']');
         if (!IsPunct(Peek(), ']') && !AcceptPunct(','))
-          Fail(Peek().offset, "expected ',' or ']' in the list, found " + Describe(Peek()));
+          Fail(Peek().offset,
+               "expected ',' or ']' in the list, found " + Describe(Peek()));
       }
       return list;
     }
@@ -290,22 +357,28 @@ class Parser {
       }
       errno = 0;
       const double d = std::strtod(t.text.c_str(), nullptr);
-      if (errno != 0 || !std::isfinite(d)) Fail(t.offset, "number " + t.text + " is out of range");
+      if (errno != 0 || !std::isfinite(d))
+        Fail(t.offset, "number " + t.text + " is out of range");
       return OJson(d);
     }
     if (t.kind == Tok::kString) return OJson(t.text);
     if (t.kind == Tok::kIdent) {
       if (t.text == "true") return OJson(true);
       if (t.text == "false") return OJson(false);
-      // References with a count or index: "P1:3" (3 repetitions), "O1:5" (label 5), "P1:1".
-      if (IsPunct(Peek(), ':') && (Peek(1).kind == Tok::kNumber || Peek(1).kind == Tok::kIdent) &&
-          !IsPunct(Peek(2), ':') && !IsPunct(Peek(2), '=') && !IsPunct(Peek(2), '{')) {
+      // References with a count or index: "P1:3" (3 repetitions), "O1:5" (label
+      // 5), "P1:1".
+      if (IsPunct(Peek(), ':') &&
+          (Peek(1).kind == Tok::kNumber || Peek(1).kind == Tok::kIdent) &&
+          !IsPunct(Peek(2), ':') && !IsPunct(Peek(2), '=') &&
+          !IsPunct(Peek(2), '{')) {
         Next();
         return OJson(t.text + ":" + Next().text);
       }
       return OJson(t.text);
     }
-    Fail(t.offset, "expected a value (number, name, {...} or [...]), found " + Describe(t));
+    Fail(t.offset,
+         "expected a value (number, name, {...} or [...]), found " +
+             Describe(t));
   }
 
   SourceFile* src_;

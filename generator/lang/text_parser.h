@@ -1,5 +1,6 @@
-// The text notation of LSCENE/LCAP (docs/languages.md, "Grammar"), parsed into the generic tree of
-// source.h. Errors are lsds::Error with file:line:column and what was expected.
+// The text notation of LSCENE/LCAP (docs/languages.md, "Grammar"), parsed into
+// the generic tree of source.h. Errors are lsds::Error with file:line:column
+// and what was expected.
 #pragma once
 
 #include <string>

@@ -8,15 +8,22 @@ namespace {
 
 using nlohmann::json;
 
-json Vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+json Vec3(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
 json Vec2(const Eigen::Vector2d& v) { return json::array({v.x(), v.y()}); }
 json Mat3(const Eigen::Matrix3d& m) {
   json rows = json::array();
-  for (int r = 0; r < 3; ++r) rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
+  for (int r = 0; r < 3; ++r)
+    rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
   return rows;
 }
-Eigen::Vector3d ToVec3(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
-Eigen::Vector2d ToVec2(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>()}; }
+Eigen::Vector3d ToVec3(const json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+Eigen::Vector2d ToVec2(const json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>()};
+}
 Eigen::Matrix3d ToMat3(const json& j) {
   Eigen::Matrix3d m;
   for (int r = 0; r < 3; ++r)
@@ -25,7 +32,12 @@ Eigen::Matrix3d ToMat3(const json& j) {
 }
 
 json CameraJson(const PinholeCamera& c) {
-  return {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy}};
+  return {{"width", c.width},
+          {"height", c.height},
+          {"fx", c.fx},
+          {"fy", c.fy},
+          {"cx", c.cx},
+          {"cy", c.cy}};
 }
 PinholeCamera CameraFrom(const json& j) {
   PinholeCamera c;
@@ -73,26 +85,32 @@ json PlannedFrameToJson(const PlannedFrame& f) {
           {"changes", changes}};
 }
 
-PlannedFrame PlannedFrameFromJson(const json& j, const std::string& file, const std::string& pointer) {
+PlannedFrame PlannedFrameFromJson(const json& j,
+                                  const std::string& file,
+                                  const std::string& pointer) {
   try {
     PlannedFrame f;
     f.index = j.at("index").get<int64_t>();
     f.time = j.at("time").get<double>();
     f.sequence = j.at("sequence").get<std::string>();
     f.camera = CameraFrom(j.at("camera"));
-    f.cam_from_world.rotation = Eigen::Quaterniond(ToMat3(j.at("cam_from_world").at("rotation")));
+    f.cam_from_world.rotation =
+        Eigen::Quaterniond(ToMat3(j.at("cam_from_world").at("rotation")));
     f.cam_from_world.rotation.normalize();
-    f.cam_from_world.translation = ToVec3(j.at("cam_from_world").at("translation"));
+    f.cam_from_world.translation =
+        ToVec3(j.at("cam_from_world").at("translation"));
     for (const json& c : j.at("changes")) f.changes.push_back(ChangeFrom(c));
     return f;
   } catch (const json::exception& e) {
-    throw Error(std::string("bad plan frame: ") + e.what(), Location(file, pointer));
+    throw Error(std::string("bad plan frame: ") + e.what(),
+                Location(file, pointer));
   }
 }
 
 json PlanToJson(const Plan& plan) {
   json classes = json::array();
-  for (const ClassInfo& c : plan.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
+  for (const ClassInfo& c : plan.classes)
+    classes.push_back({{"id", c.id}, {"name", c.name}});
   json objects = json::array();
   for (const PlannedObject& o : plan.objects) {
     objects.push_back({{"name", o.name},
@@ -108,7 +126,8 @@ json PlanToJson(const Plan& plan) {
                        {"material", o.material}});
   }
   json frames = json::array();
-  for (const PlannedFrame& f : plan.frames) frames.push_back(PlannedFrameToJson(f));
+  for (const PlannedFrame& f : plan.frames)
+    frames.push_back(PlannedFrameToJson(f));
   const PlannedTerrain& t = plan.terrain;
   return {{"format", kPlanFormat},
           {"format_version", kPlanFormatVersion},
@@ -150,7 +169,9 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     plan.seed = j.at("seed").get<uint64_t>();
     plan.scene_source = j.at("scene_source").get<std::string>();
     plan.capture_source = j.at("capture_source").get<std::string>();
-    for (const json& c : j.at("classes")) plan.classes.push_back({c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
+    for (const json& c : j.at("classes"))
+      plan.classes.push_back(
+          {c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
     const json& sky = j.at("sky");
     plan.sky.color = ToVec3(sky.at("color"));
     plan.sky.cloud_type = sky.at("cloud_type").get<std::string>();
@@ -187,10 +208,12 @@ Plan PlanFromJson(const json& j, const std::string& file) {
       plan.objects.push_back(p);
     }
     plan.post_process = j.at("post_process").get<std::vector<std::string>>();
-    if (j.contains("capture_settings")) plan.capture_settings = j["capture_settings"];
+    if (j.contains("capture_settings"))
+      plan.capture_settings = j["capture_settings"];
     const json& frames = j.at("frames");
     for (size_t i = 0; i < frames.size(); ++i)
-      plan.frames.push_back(PlannedFrameFromJson(frames[i], file, "/frames/" + std::to_string(i)));
+      plan.frames.push_back(PlannedFrameFromJson(
+          frames[i], file, "/frames/" + std::to_string(i)));
     return plan;
   } catch (const json::exception& e) {
     throw Error(std::string("bad plan: ") + e.what(), Location(file, ""));

@@ -1,5 +1,6 @@
-// JSON form of the frame plan (schemas/plan.schema.json). Rotations are 3x3 row-major matrices and
-// poses `{rotation, translation}` as in the collection format (docs/format.md).
+// JSON form of the frame plan (schemas/plan.schema.json). Rotations are 3x3
+// row-major matrices and poses `{rotation, translation}` as in the collection
+// format (docs/format.md).
 #pragma once
 
 #include <string>
@@ -14,11 +15,13 @@ inline constexpr const char* kPlanFormat = "lsds-plan";
 inline constexpr const char* kPlanFormatVersion = "1.0";
 
 nlohmann::json PlanToJson(const Plan& plan);
-// Validates against plan.schema.json first; errors name `file` and the JSON pointer.
+// Validates against plan.schema.json first; errors name `file` and the JSON
+// pointer.
 Plan PlanFromJson(const nlohmann::json& json, const std::string& file);
 
 nlohmann::json PlannedFrameToJson(const PlannedFrame& frame);
-PlannedFrame PlannedFrameFromJson(const nlohmann::json& json, const std::string& file,
+PlannedFrame PlannedFrameFromJson(const nlohmann::json& json,
+                                  const std::string& file,
                                   const std::string& pointer);
 
 }  // namespace lsds

@@ -22,7 +22,8 @@ Permutation MakePermutation(uint64_t seed) {
   for (int i = 0; i < 256; ++i) p[i] = i;
   uint64_t state = seed;
   for (int i = 255; i > 0; --i) {  // Fisher-Yates with an exact integer draw
-    const int j = static_cast<int>(SplitMix64(&state) % static_cast<uint64_t>(i + 1));
+    const int j =
+        static_cast<int>(SplitMix64(&state) % static_cast<uint64_t>(i + 1));
     std::swap(p[i], p[j]);
   }
   Permutation out;
@@ -31,7 +32,8 @@ Permutation MakePermutation(uint64_t seed) {
 }
 
 const Permutation& PermutationFor(uint64_t seed) {
-  // A handful of terrains per process: cache so that meshing millions of vertices stays cheap.
+  // A handful of terrains per process: cache so that meshing millions of
+  // vertices stays cheap.
   static std::mutex mutex;
   static std::unordered_map<uint64_t, Permutation> cache;
   std::lock_guard<std::mutex> lock(mutex);
@@ -43,16 +45,25 @@ const Permutation& PermutationFor(uint64_t seed) {
 double Fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 double Lerp(double t, double a, double b) { return a + t * (b - a); }
 double Grad(int hash, double x, double y) {
-  // 8 gradient directions of equal length sqrt(2) scaled to keep the range within [-1, 1].
+  // 8 gradient directions of equal length sqrt(2) scaled to keep the range
+  // within [-1, 1].
   switch (hash & 7) {
-    case 0: return x + y;
-    case 1: return -x + y;
-    case 2: return x - y;
-    case 3: return -x - y;
-    case 4: return x;
-    case 5: return -x;
-    case 6: return y;
-    default: return -y;
+    case 0:
+      return x + y;
+    case 1:
+      return -x + y;
+    case 2:
+      return x - y;
+    case 3:
+      return -x - y;
+    case 4:
+      return x;
+    case 5:
+      return -x;
+    case 6:
+      return y;
+    default:
+      return -y;
   }
 }
 
@@ -67,15 +78,18 @@ double PerlinNoise2(uint64_t seed, double x, double y) {
   y -= fy;
   const double u = Fade(x), v = Fade(y);
   const int a = p[xi] + yi, b = p[xi + 1] + yi;
-  const double value = Lerp(v, Lerp(u, Grad(p[a], x, y), Grad(p[b], x - 1, y)),
-                            Lerp(u, Grad(p[a + 1], x, y - 1), Grad(p[b + 1], x - 1, y - 1)));
+  const double value =
+      Lerp(v,
+           Lerp(u, Grad(p[a], x, y), Grad(p[b], x - 1, y)),
+           Lerp(u, Grad(p[a + 1], x, y - 1), Grad(p[b + 1], x - 1, y - 1)));
   return std::max(-1.0, std::min(1.0, value));
 }
 
 double TerrainHeight(const PlannedTerrain& terrain, double x, double y) {
   if (!terrain.present || terrain.perlin_amplitude == 0.0) return 0.0;
-  return terrain.perlin_amplitude *
-         PerlinNoise2(terrain.perlin_seed, terrain.perlin_frequency * x, terrain.perlin_frequency * y);
+  return terrain.perlin_amplitude * PerlinNoise2(terrain.perlin_seed,
+                                                 terrain.perlin_frequency * x,
+                                                 terrain.perlin_frequency * y);
 }
 
 }  // namespace lsds

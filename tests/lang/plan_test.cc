@@ -1,5 +1,5 @@
-// Property tests of the planner over many seeds (issue 3, "Must show"), determinism and frame
-// subsets, the plan's JSON form.
+// Property tests of the planner over many seeds (issue 3, "Must show"),
+// determinism and frame subsets, the plan's JSON form.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,14 +16,19 @@ namespace {
 
 const std::string kExamples = LSDS_EXAMPLES_DIR;
 
-Plan PlanText(const std::string& scene, const std::string& capture, uint64_t seed, FrameRange range = {}) {
+Plan PlanText(const std::string& scene,
+              const std::string& capture,
+              uint64_t seed,
+              FrameRange range = {}) {
   const SourceFile s = ParseSource(scene, "s.lscene", false);
   if (capture.empty()) return MakePlanFromSources(s, nullptr, seed, range);
   const SourceFile c = ParseSource(capture, "c.lcap", false);
   return MakePlanFromSources(s, &c, seed, range);
 }
 
-Eigen::Vector3d HalfAabb(const PlannedObject& o) { return o.world_from_object.cwiseAbs() * (0.5 * o.extent); }
+Eigen::Vector3d HalfAabb(const PlannedObject& o) {
+  return o.world_from_object.cwiseAbs() * (0.5 * o.extent);
+}
 
 OrientedBox Obb(const PlannedObject& o) {
   OrientedBox b;
@@ -43,7 +48,9 @@ TEST(LangPlan, OnPutsTheBaseOnTheTerrainSurface) {
   const std::string scene =
       "LSCENE = ONE(W) MANY(R, 30) ONE(BOX) MANY(TOP, 3)\n"
       "W = terrain{size:[80,80],height:{perlin:{amplitude:4,frequency:0.05}}}\n"
-      "R = object{class:{rock:0.5,barrel:0.5},rotation:[[0,0,0],[40,40,360]],scale:[0.5,2],position:{ON:W}}\n"
+      "R = "
+      "object{class:{rock:0.5,barrel:0.5},rotation:[[0,0,0],[40,40,360]],scale:"
+      "[0.5,2],position:{ON:W}}\n"
       "BOX = object{class:cube,extent:[6,6,2],position:{ON:W}}\n"
       "TOP = object{class:jerrycan,position:{ON:BOX}}\n";
   for (uint64_t seed = 0; seed < 40; ++seed) {
@@ -53,10 +60,14 @@ TEST(LangPlan, OnPutsTheBaseOnTheTerrainSurface) {
     for (const PlannedObject& o : plan.objects) {
       const double base = o.position.z() - HalfAabb(o).z();
       if (o.symbol == "TOP") {
-        EXPECT_NEAR(base, box->position.z() + HalfAabb(*box).z(), 1e-9) << o.name << " seed " << seed;
+        EXPECT_NEAR(base, box->position.z() + HalfAabb(*box).z(), 1e-9)
+            << o.name << " seed " << seed;
         EXPECT_LE(std::abs(o.position.x() - box->position.x()), 3 + 1e-9);
       } else {
-        EXPECT_NEAR(base, TerrainHeight(plan.terrain, o.position.x(), o.position.y()), 1e-9) << o.name << " seed " << seed;
+        EXPECT_NEAR(base,
+                    TerrainHeight(plan.terrain, o.position.x(), o.position.y()),
+                    1e-9)
+            << o.name << " seed " << seed;
         EXPECT_LE(std::abs(o.position.x()) + HalfAabb(o).x(), 40 + 1e-9);
         EXPECT_LE(std::abs(o.position.y()) + HalfAabb(o).y(), 40 + 1e-9);
       }
@@ -66,32 +77,47 @@ TEST(LangPlan, OnPutsTheBaseOnTheTerrainSurface) {
 
 TEST(LangPlan, InAndAroundKeepObjectsInsideTheirBoxes) {
   const std::string scene =
-      "LSCENE = ONE(W) ONE(T) ONE(ZONE) MANY(INSIDE, 10) MANY(NEAR, 10) MANY(ONZONE, 10)\n"
+      "LSCENE = ONE(W) ONE(T) ONE(ZONE) MANY(INSIDE, 10) MANY(NEAR, 10) "
+      "MANY(ONZONE, 10)\n"
       "W = terrain{size:[100,100],height:{perlin:1}}\n"
       "T = object{class:person,position:{ON:W}}\n"
-      "ZONE = object{class:cube,visible:false,extent:[12,8,6],position:{ON:W,AROUND:{T:20}}}\n"
-      "INSIDE = object{class:cube,extent:[1,1,1],rotation:[0,0,[0,360]],overlap:true,position:{IN:ZONE}}\n"
-      "NEAR = object{class:tire,overlap:true,position:{ON:W,AROUND:{T:[3,2,0]}}}\n"
+      "ZONE = "
+      "object{class:cube,visible:false,extent:[12,8,6],position:{ON:W,AROUND:{"
+      "T:20}}}\n"
+      "INSIDE = "
+      "object{class:cube,extent:[1,1,1],rotation:[0,0,[0,360]],overlap:true,"
+      "position:{IN:ZONE}}\n"
+      "NEAR = "
+      "object{class:tire,overlap:true,position:{ON:W,AROUND:{T:[3,2,0]}}}\n"
       "ONZONE = object{class:bush,overlap:true,position:{ON:ZONE}}\n";
   for (uint64_t seed = 0; seed < 40; ++seed) {
     const Plan plan = PlanText(scene, "", seed);
     const PlannedObject& t = *Find(plan, "T#1");
     const PlannedObject& zone = *Find(plan, "ZONE#1");
-    const Eigen::Vector3d zlo = zone.position - HalfAabb(zone), zhi = zone.position + HalfAabb(zone);
-    const Eigen::Vector3d tlo = t.position - HalfAabb(t), thi = t.position + HalfAabb(t);
-    EXPECT_LE((zone.position - t.position).head<2>().cwiseAbs().maxCoeff(), 20 + 6 + 0.5);
+    const Eigen::Vector3d zlo = zone.position - HalfAabb(zone),
+                          zhi = zone.position + HalfAabb(zone);
+    const Eigen::Vector3d tlo = t.position - HalfAabb(t),
+                          thi = t.position + HalfAabb(t);
+    EXPECT_LE((zone.position - t.position).head<2>().cwiseAbs().maxCoeff(),
+              20 + 6 + 0.5);
     for (const PlannedObject& o : plan.objects) {
-      const Eigen::Vector3d lo = o.position - HalfAabb(o), hi = o.position + HalfAabb(o);
+      const Eigen::Vector3d lo = o.position - HalfAabb(o),
+                            hi = o.position + HalfAabb(o);
       if (o.symbol == "INSIDE") {
-        EXPECT_TRUE((lo.array() >= zlo.array() - 1e-9).all() && (hi.array() <= zhi.array() + 1e-9).all()) << o.name;
+        EXPECT_TRUE((lo.array() >= zlo.array() - 1e-9).all() &&
+                    (hi.array() <= zhi.array() + 1e-9).all())
+            << o.name;
       } else if (o.symbol == "NEAR") {
         EXPECT_GE(lo.x(), tlo.x() - 3 - 1e-9);
         EXPECT_LE(hi.x(), thi.x() + 3 + 1e-9);
         EXPECT_GE(lo.y(), tlo.y() - 2 - 1e-9);
         EXPECT_LE(hi.y(), thi.y() + 2 + 1e-9);
       } else if (o.symbol == "ONZONE") {
-        // ON an invisible zone: stands on the terrain, inside the zone's footprint.
-        EXPECT_NEAR(lo.z(), TerrainHeight(plan.terrain, o.position.x(), o.position.y()), 1e-9);
+        // ON an invisible zone: stands on the terrain, inside the zone's
+        // footprint.
+        EXPECT_NEAR(lo.z(),
+                    TerrainHeight(plan.terrain, o.position.x(), o.position.y()),
+                    1e-9);
         EXPECT_GE(lo.x(), zlo.x() - 1e-9);
         EXPECT_LE(hi.y(), zhi.y() + 1e-9);
       }
@@ -103,15 +129,24 @@ TEST(LangPlan, OverlapFalseLeavesNoIntersectingBoxes) {
   const std::string scene =
       "LSCENE = ONE(W) MANY(A, 25) MANY(B, 25)\n"
       "W = terrain{size:[30,30],height:{perlin:0.5}}\n"
-      "A = object{class:{cube:0.5,barrel:0.5},scale:[0.5,2],rotation:[0,0,[0,360]],position:{ON:W}}\n"
-      "B = object{class:rock,rotation:[[0,0,0],[20,20,360]],overlap:false,on_overlap:delete,position:{ON:W}}\n";
+      "A = "
+      "object{class:{cube:0.5,barrel:0.5},scale:[0.5,2],rotation:[0,0,[0,360]],"
+      "position:{ON:W}}\n"
+      "B = "
+      "object{class:rock,rotation:[[0,0,0],[20,20,360]],overlap:false,on_"
+      "overlap:delete,position:{ON:W}}\n";
   for (uint64_t seed = 0; seed < 30; ++seed) {
     const Plan plan = PlanText(scene, "", seed);
-    EXPECT_EQ(std::count_if(plan.objects.begin(), plan.objects.end(), [](const PlannedObject& o) { return o.symbol == "A"; }), 25);
+    EXPECT_EQ(
+        std::count_if(plan.objects.begin(),
+                      plan.objects.end(),
+                      [](const PlannedObject& o) { return o.symbol == "A"; }),
+        25);
     for (size_t i = 0; i < plan.objects.size(); ++i)
       for (size_t j = i + 1; j < plan.objects.size(); ++j)
         EXPECT_FALSE(Obb(plan.objects[i]).Intersects(Obb(plan.objects[j])))
-            << plan.objects[i].name << " " << plan.objects[j].name << " seed " << seed;
+            << plan.objects[i].name << " " << plan.objects[j].name << " seed "
+            << seed;
   }
 }
 
@@ -119,10 +154,13 @@ TEST(LangPlan, DiscreteChoicesConvergeToTheirWeights) {
   const std::string scene =
       "LSCENE = ONE(W) MANY(X, 4000)\n"
       "W = terrain{size:[100,100]}\n"
-      "X = object{class:{cube:0.2,sphere:0.5,cone:0.3},material:{a:1,b:3},overlap:true,position:{ON:W}}\n";
+      "X = "
+      "object{class:{cube:0.2,sphere:0.5,cone:0.3},material:{a:1,b:3},overlap:"
+      "true,position:{ON:W}}\n";
   const Plan plan = PlanText(scene, "", 11);
   std::map<std::string, int> classes, materials;
-  for (const PlannedObject& o : plan.objects) ++classes[o.class_name], ++materials[o.material];
+  for (const PlannedObject& o : plan.objects)
+    ++classes[o.class_name], ++materials[o.material];
   EXPECT_NEAR(classes["cube"] / 4000.0, 0.2, 0.025);
   EXPECT_NEAR(classes["sphere"] / 4000.0, 0.5, 0.025);
   EXPECT_NEAR(classes["cone"] / 4000.0, 0.3, 0.025);
@@ -130,27 +168,40 @@ TEST(LangPlan, DiscreteChoicesConvergeToTheirWeights) {
   // Sky choices across seeds.
   int cumulus = 0;
   for (uint64_t seed = 0; seed < 1000; ++seed)
-    cumulus += PlanText("LSCENE = ONE(S)\nS = skybox{clouds:{type:{cumulus:0.3,cirrus:0.7}}}\n", "", seed).sky.cloud_type == "cumulus";
+    cumulus += PlanText(
+                   "LSCENE = ONE(S)\nS = "
+                   "skybox{clouds:{type:{cumulus:0.3,cirrus:0.7}}}\n",
+                   "",
+                   seed)
+                   .sky.cloud_type == "cumulus";
   EXPECT_NEAR(cumulus / 1000.0, 0.3, 0.05);
 }
 
 TEST(LangPlan, HemiPosesLieOnTheSphereLookingAtTheTarget) {
-  const std::string scene = "LSCENE = ONE(W) ONE(O1)\nW = terrain{size:[50,50],height:{perlin:1}}\nO1 = object{class:barrel,position:{ON:W}}\n";
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(O1)\nW = "
+      "terrain{size:[50,50],height:{perlin:1}}\nO1 = "
+      "object{class:barrel,position:{ON:W}}\n";
   const std::string capture =
-      "LCAP = ONE(CO) ONE(P1) ONE(CL)\nCO = camera{csettings{fov:30,res:[64,48]},targets:[O1:5]}\n"
-      "P1 = path{create hemi:{cam radius:[10,20,3],obj angle:[0,360,4],cam angle:[30,60,2]}}\n"
+      "LCAP = ONE(CO) ONE(P1) ONE(CL)\nCO = "
+      "camera{csettings{fov:30,res:[64,48]},targets:[O1:5]}\n"
+      "P1 = path{create hemi:{cam radius:[10,20,3],obj angle:[0,360,4],cam "
+      "angle:[30,60,2]}}\n"
       "CL = collection{CO:{move:[P1:2]}}\n";
   for (uint64_t seed = 0; seed < 10; ++seed) {
     const Plan plan = PlanText(scene, capture, seed);
     ASSERT_EQ(plan.frames.size(), 2u * 3 * 4 * 2);
     const Eigen::Vector3d target = plan.objects[0].position;
-    const double radii[] = {10, 15, 20}, elevations[] = {30, 60}, azimuths[] = {0, 90, 180, 270};
+    const double radii[] = {10, 15, 20}, elevations[] = {30, 60},
+                 azimuths[] = {0, 90, 180, 270};
     for (const PlannedFrame& f : plan.frames) {
       const int i = static_cast<int>(f.index % 24);
       const Eigen::Vector3d eye = CameraCenterInWorld(f.cam_from_world);
       const Eigen::Vector3d d = eye - target;
       EXPECT_NEAR(d.norm(), radii[i / 8], 1e-9);
-      EXPECT_NEAR(std::asin(d.z() / d.norm()) * 180 / M_PI, elevations[(i / 4) % 2], 1e-9);
+      EXPECT_NEAR(std::asin(d.z() / d.norm()) * 180 / M_PI,
+                  elevations[(i / 4) % 2],
+                  1e-9);
       double az = std::atan2(d.y(), d.x()) * 180 / M_PI;
       if (az < -1e-9) az += 360;
       EXPECT_NEAR(az, azimuths[i % 4], 1e-9);
@@ -166,7 +217,8 @@ TEST(LangPlan, HemiPosesLieOnTheSphereLookingAtTheTarget) {
 }
 
 TEST(LangPlan, GridAndRandomPosesRespectTheirRanges) {
-  const Plan plan = MakePlan(kExamples + "/uav_survey.lscene", kExamples + "/uav_survey.lcap", 2);
+  const Plan plan = MakePlan(
+      kExamples + "/uav_survey.lscene", kExamples + "/uav_survey.lcap", 2);
   ASSERT_EQ(plan.frames.size(), 49u + 2u);
   for (int k = 0; k < 49; ++k) {
     const PlannedFrame& f = plan.frames[k];
@@ -174,9 +226,11 @@ TEST(LangPlan, GridAndRandomPosesRespectTheirRanges) {
     const int row = k / 7, col = row % 2 ? 6 - k % 7 : k % 7;  // serpentine
     EXPECT_NEAR(c.x(), -60 + 20 * col, 1.5 + 1e-9);
     EXPECT_NEAR(c.y(), -60 + 20 * row, 1.5 + 1e-9);
-    EXPECT_NEAR(c.z() - TerrainHeight(plan.terrain, c.x(), c.y()), 40, 0.5 + 1e-9);
+    EXPECT_NEAR(
+        c.z() - TerrainHeight(plan.terrain, c.x(), c.y()), 40, 0.5 + 1e-9);
     // Nadir: the optical axis points down.
-    const Eigen::Vector3d axis = f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d axis =
+        f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
     EXPECT_NEAR(axis.z(), -1, 1e-9);
   }
   // The walker is hidden from the first frame after the grid on.
@@ -189,14 +243,17 @@ TEST(LangPlan, GridAndRandomPosesRespectTheirRanges) {
   const Eigen::Vector3d w_in_cam = plan.frames[50].cam_from_world * walker;
   EXPECT_NEAR(w_in_cam.head<2>().norm(), 0, 1e-9);
 
-  const Plan random = MakePlan(kExamples + "/rocky_sand_clutter.lscene", kExamples + "/rocky_sand_random.lcap", 3);
+  const Plan random = MakePlan(kExamples + "/rocky_sand_clutter.lscene",
+                               kExamples + "/rocky_sand_random.lcap",
+                               3);
   ASSERT_EQ(random.frames.size(), 100u);
   for (const PlannedFrame& f : random.frames) {
     const Eigen::Vector3d c = CameraCenterInWorld(f.cam_from_world);
     const double agl = c.z() - TerrainHeight(random.terrain, c.x(), c.y());
     EXPECT_GE(agl, 15 - 1e-9);
     EXPECT_LE(agl, 60 + 1e-9);
-    const Eigen::Vector3d axis = f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d axis =
+        f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
     EXPECT_LE(std::acos(std::min(1.0, -axis.z())) * 180 / M_PI, 40 + 1e-6);
     // `during:R:2` re-draws the clutter materials on every frame of R(2) only.
     EXPECT_EQ(f.changes.empty(), f.index < 50);
@@ -209,26 +266,44 @@ TEST(LangPlan, SameSeedSamePlanAndFrameSubsetsMatch) {
       {"rocky_sand_clutter.lscene", "rocky_sand_random.lcap"},
       {"uav_survey.lscene", "uav_survey.lcap"}};
   for (const auto& [scene, capture] : inputs) {
-    const Plan full = MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42);
+    const Plan full =
+        MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42);
     const std::string full_text = PlanToJson(full).dump();
-    EXPECT_EQ(PlanToJson(MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42)).dump(), full_text);
-    EXPECT_NE(PlanToJson(MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 43)).dump(), full_text);
+    EXPECT_EQ(
+        PlanToJson(
+            MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42))
+            .dump(),
+        full_text);
+    EXPECT_NE(
+        PlanToJson(
+            MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 43))
+            .dump(),
+        full_text);
     const int64_t n = static_cast<int64_t>(full.frames.size());
-    for (const auto& [b, e] : std::vector<std::pair<int64_t, int64_t>>{{0, 1}, {n / 3, n / 2}, {n - 5, n}, {n - 1, -1}}) {
-      const Plan part = MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42, FrameRange{b, e});
+    for (const auto& [b, e] : std::vector<std::pair<int64_t, int64_t>>{
+             {0, 1}, {n / 3, n / 2}, {n - 5, n}, {n - 1, -1}}) {
+      const Plan part = MakePlan(kExamples + "/" + scene,
+                                 kExamples + "/" + capture,
+                                 42,
+                                 FrameRange{b, e});
       const int64_t end = e < 0 ? n : e;
       ASSERT_EQ(static_cast<int64_t>(part.frames.size()), end - b) << scene;
       EXPECT_EQ(PlanToJson(part)["objects"], PlanToJson(full)["objects"]);
       for (int64_t k = b; k < end; ++k)
-        EXPECT_EQ(PlannedFrameToJson(part.frames[k - b]), PlannedFrameToJson(full.frames[k])) << scene << " frame " << k;
+        EXPECT_EQ(PlannedFrameToJson(part.frames[k - b]),
+                  PlannedFrameToJson(full.frames[k]))
+            << scene << " frame " << k;
     }
   }
 }
 
 TEST(LangPlan, PlanJsonMatchesItsSchemaAndRoundTrips) {
-  const Plan plan = MakePlan(kExamples + "/paper_example1.lscene", kExamples + "/paper_example1.lcap", 9);
+  const Plan plan = MakePlan(kExamples + "/paper_example1.lscene",
+                             kExamples + "/paper_example1.lcap",
+                             9);
   const nlohmann::json j = PlanToJson(plan);
-  for (const SchemaIssue& issue : JsonSchema::Get("plan.schema.json").Validate(j))
+  for (const SchemaIssue& issue :
+       JsonSchema::Get("plan.schema.json").Validate(j))
     ADD_FAILURE() << issue.pointer << ": " << issue.message;
   const Plan back = PlanFromJson(j, "plan.json");
   ASSERT_EQ(back.frames.size(), plan.frames.size());
@@ -236,8 +311,10 @@ TEST(LangPlan, PlanJsonMatchesItsSchemaAndRoundTrips) {
   EXPECT_EQ(back.objects[3].position, plan.objects[3].position);
   EXPECT_EQ(back.classes.size(), plan.classes.size());
   for (size_t k = 0; k < plan.frames.size(); ++k) {
-    EXPECT_TRUE(back.frames[k].cam_from_world.rotation.isApprox(plan.frames[k].cam_from_world.rotation, 1e-12) ||
-                back.frames[k].cam_from_world.rotation.coeffs().isApprox(-plan.frames[k].cam_from_world.rotation.coeffs(), 1e-12));
+    EXPECT_TRUE(back.frames[k].cam_from_world.rotation.isApprox(
+                    plan.frames[k].cam_from_world.rotation, 1e-12) ||
+                back.frames[k].cam_from_world.rotation.coeffs().isApprox(
+                    -plan.frames[k].cam_from_world.rotation.coeffs(), 1e-12));
     EXPECT_EQ(back.frames[k].changes.size(), plan.frames[k].changes.size());
   }
   nlohmann::json bad = j;
@@ -246,41 +323,102 @@ TEST(LangPlan, PlanJsonMatchesItsSchemaAndRoundTrips) {
     PlanFromJson(bad, "plan.json");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("plan.json#/frames/2/camera/fx"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("plan.json#/frames/2/camera/fx"),
+              std::string::npos)
+        << e.what();
   }
 }
 
 TEST(LangPlan, DefaultCaptureIsOneNadirFrameOverTheScene) {
-  const Plan plan = PlanText("LSCENE = ONE(W)\nW = terrain{size:[100,60]}\n", "", 0);
+  const Plan plan =
+      PlanText("LSCENE = ONE(W)\nW = terrain{size:[100,60]}\n", "", 0);
   ASSERT_EQ(plan.frames.size(), 1u);
   const Eigen::Vector3d c = CameraCenterInWorld(plan.frames[0].cam_from_world);
   EXPECT_NEAR(c.head<2>().norm(), 0, 1e-9);
   EXPECT_NEAR(c.z(), 50 / std::tan(M_PI / 6), 1e-9);
-  const Eigen::Vector3d axis = plan.frames[0].cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d axis =
+      plan.frames[0].cam_from_world.rotation.conjugate() *
+      Eigen::Vector3d::UnitZ();
   EXPECT_NEAR(axis.z(), -1, 1e-12);
 }
 
 TEST(LangPlan, SizeAfterPositionIsAppliedAfterTheCollisionTest) {
-  // The paper's trick (section 3.1): place with a large box, then apply the real size: each new
-  // object's 4 m box avoided the earlier 1 m boxes, so centres are >= 2.5 m apart along x or y.
+  // The paper's trick (section 3.1): place with a large box, then apply the
+  // real size: each new object's 4 m box avoided the earlier 1 m boxes, so
+  // centres are >= 2.5 m apart along x or y.
   const std::string scene =
       "LSCENE = ONE(W) MANY(X, 20)\nW = terrain{size:[40,40]}\n"
       "X = object{class:cube,extent:[4,4,1],position:{ON:W},extent:[1,1,1]}\n";
-  // A key twice in one body is an error in the text notation; use scale after position instead.
+  // A key twice in one body is an error in the text notation; use scale after
+  // position instead.
   EXPECT_THROW(ParseSource(scene, "s", false), Error);
   const std::string scene2 =
       "LSCENE = ONE(W) MANY(X, 20)\nW = terrain{size:[40,40]}\n"
-      "X = object{class:cube,extent:[4,4,1],position:{ON:W},scale:[0.25,0.25,1]}\n";
+      "X = "
+      "object{class:cube,extent:[4,4,1],position:{ON:W},scale:[0.25,0.25,1]}\n";
   for (uint64_t seed = 0; seed < 10; ++seed) {
     const Plan plan = PlanText(scene2, "", seed);
     for (size_t i = 0; i < plan.objects.size(); ++i) {
       EXPECT_EQ(plan.objects[i].extent, Eigen::Vector3d(1, 1, 1));
       for (size_t j = i + 1; j < plan.objects.size(); ++j) {
-        const Eigen::Vector3d d = (plan.objects[i].position - plan.objects[j].position).cwiseAbs();
+        const Eigen::Vector3d d =
+            (plan.objects[i].position - plan.objects[j].position).cwiseAbs();
         EXPECT_TRUE(d.x() >= 2.5 - 1e-9 || d.y() >= 2.5 - 1e-9);
       }
     }
   }
+}
+
+TEST(LangPlan, SceneChangeSetsFramesAndDuringTimings) {
+  const std::string scene =
+      "LSCENE = ONE(W) MANY(O, 3)\nW = terrain{size:[20,20]}\nO = "
+      "object{class:cube,position:{ON:W}}\n";
+  const std::string capture =
+      "LCAP = ONE(P1) ONE(SCS1) ONE(CL)\n"
+      "P1 = path{waypoints:[[0,0,10],[1,0,10]]}\n"
+      "SCS1 = scene_change{O:{material:gold}}\n"
+      "CL = "
+      "collection{CO:{move:[P1:3]},SCS1:{after:P1:1},O:{when:{frame:5},visible:"
+      "false},"
+      "{during:P1,offset:[[-1,-1,0],[1,1,0]]},{during:P1:2,scale:2}}\n";
+  const Plan plan = PlanText(scene, capture, 8);
+  ASSERT_EQ(plan.frames.size(), 6u);
+  auto count = [](const PlannedFrame& f, auto pred) {
+    return std::count_if(f.changes.begin(), f.changes.end(), pred);
+  };
+  for (const PlannedFrame& f : plan.frames) {
+    const auto material =
+        count(f, [](const ObjectChange& c) { return c.material.has_value(); });
+    const auto hidden =
+        count(f, [](const ObjectChange& c) { return c.visible.has_value(); });
+    const auto moved =
+        count(f, [](const ObjectChange& c) { return c.position.has_value(); });
+    const auto scaled =
+        count(f, [](const ObjectChange& c) { return c.extent.has_value(); });
+    EXPECT_EQ(material, f.index >= 2 ? 3 : 0) << f.index;
+    EXPECT_EQ(hidden, f.index >= 5 ? 3 : 0) << f.index;
+    EXPECT_EQ(moved, 3) << f.index;
+    EXPECT_EQ(scaled, f.index == 2 || f.index == 3 ? 3 : 0) << f.index;
+    for (const ObjectChange& c : f.changes)
+      if (c.extent) {
+        EXPECT_EQ(*c.extent, Eigen::Vector3d(2, 2, 2));
+      }
+  }
+  // `during` offsets are drawn anew on every frame.
+  EXPECT_NE(*plan.frames[0].changes[0].position,
+            *plan.frames[1].changes[0].position);
+}
+
+TEST(LangPlan, InTheTerrainMeansOnIt) {
+  const Plan plan = PlanText(
+      "LSCENE = ONE(W) ONE(X)\nW = terrain{size:[20,20],height:{perlin:1}}\n"
+      "X = object{class:cube,position:{IN:W}}\n",
+      "",
+      4);
+  const PlannedObject& x = plan.objects[0];
+  EXPECT_NEAR(x.position.z() - 0.5,
+              TerrainHeight(plan.terrain, x.position.x(), x.position.y()),
+              1e-9);
 }
 
 TEST(LangPlan, TerrainHeightIsBoundedAndDeterministic) {
@@ -300,7 +438,8 @@ TEST(LangPlan, TerrainHeightIsBoundedAndDeterministic) {
   EXPECT_GT(hi - lo, 1);
   EXPECT_EQ(TerrainHeight(t, 1.5, 2.5), TerrainHeight(t, 1.5, 2.5));
   t.perlin_frequency = 1;
-  EXPECT_EQ(TerrainHeight(t, 3, 4), 0.0);  // lattice points of the noise are zero
+  EXPECT_EQ(TerrainHeight(t, 3, 4),
+            0.0);  // lattice points of the noise are zero
 }
 
 }  // namespace

@@ -12,4 +12,10 @@ echo
 echo "== lsds info"
 "$lsds" info "$out/synthetic"
 echo
+echo "== lsds generate: the Embree reference renderer (built-in demo scene, 24 frames, 512x512, 4 spp)"
+"$lsds" generate --demo --demo-frames 24 --demo-size 512x512 -o "$out/generated" --force
+echo
+echo "== lsds info"
+"$lsds" info "$out/generated"
+echo
 echo "demo collections are in $out/"

@@ -24,13 +24,14 @@ const std::vector<Command>& Commands();
 int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 // Command entry points, one per file (tools/<name>_command.cc).
+int RunGenerate(int argc, char** argv);
+int RunPlan(int argc, char** argv);
 int RunInfo(int argc, char** argv);
+int RunValidate(int argc, char** argv);
 int RunConvert(int argc, char** argv);
 int RunPerturbMetadata(int argc, char** argv);
-int RunPlan(int argc, char** argv);
-int RunValidate(int argc, char** argv);
-int RunSynth(int argc, char** argv);
 int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);
+int RunSynth(int argc, char** argv);
 
 }  // namespace lsds

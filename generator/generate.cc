@@ -1,0 +1,332 @@
+#include "generator/generate.h"
+
+#include <chrono>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include <OpenEXR/ImfCompression.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
+#include "generator/render/embree_scene.h"
+#include "generator/render/integrator.h"
+#include "generator/render/sky.h"
+#include "generator/render/truth.h"
+#include "libs/collection/collection_reader.h"
+#include "libs/collection/collection_writer.h"
+#include "libs/collection/json_io.h"
+#include "libs/exr/deep_image.h"
+#include "libs/exr/exr_info.h"
+#include "libs/exr/flat_image.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "libs/util/progress.h"
+#include "libs/util/strings.h"
+
+namespace lsds::gen {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// Per-frame truth of finished frames lives here until collection.json is
+// assembled; a frame counts as complete for --resume only when its truth file
+// exists (it is written after the frame's EXRs).
+constexpr const char* kWorkFolder = ".lsds-generate";
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
+  return {{"renderer", "lsds reference renderer (Embree 3)"},
+          {"samples_per_pixel", options.spp},
+          {"sampling",
+           "stratified jittered n x n; sample 0 exactly at the pixel centre"},
+          {"jitter", options.jitter},
+          {"depth", DepthKindName(options.depth_kind)},
+          {"zip_level", options.zip_level}};
+}
+
+fs::path TruthPartPath(const fs::path& root, int64_t index) {
+  return root / kWorkFolder / (FrameStem(index) + ".json");
+}
+
+// A frame is complete when its truth part parses and every layer file has a
+// readable header of the frame's size.
+bool FrameComplete(const fs::path& root,
+                   const CollectionHeader& header,
+                   const PlannedFrame& frame) {
+  const fs::path part = TruthPartPath(root, frame.index);
+  if (!fs::is_regular_file(part)) return false;
+  try {
+    const nlohmann::json json = nlohmann::json::parse(ReadFile(part));
+    const Frame truth = FrameFromJson(json, part.string(), "");
+    for (const LayerInfo& layer : header.layers) {
+      const auto it = truth.files.find(layer.name);
+      if (it == truth.files.end()) return false;
+      const exr::ExrInfo info = exr::ReadExrInfo(root / it->second);
+      if (info.width != frame.camera.width ||
+          info.height != frame.camera.height || info.deep != layer.deep) {
+        return false;
+      }
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
+void PrepareOutput(const GenerateOptions& options,
+                   const nlohmann::json& settings) {
+  const fs::path& root = options.output;
+  const fs::path settings_path = root / kWorkFolder / "settings.json";
+  if (fs::exists(root)) {
+    if (options.resume) {
+      if (fs::exists(settings_path)) {
+        const nlohmann::json previous =
+            nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
+        if (previous != settings) {
+          throw Error(
+              "--resume: the existing output was made with other settings (" +
+                  previous.dump() + "); use --force to start over",
+              Location(root.string()));
+        }
+      }
+    } else if (options.force) {
+      // Only ever delete what a generator wrote: a collection or an interrupted
+      // run.
+      const bool ours = !fs::is_directory(root) || fs::is_empty(root) ||
+                        LooksLikeCollection(root) ||
+                        fs::exists(root / kWorkFolder);
+      if (!ours) {
+        throw Error(
+            "--force: the output exists and is not a collection; refusing to "
+            "delete it",
+            Location(root.string()));
+      }
+      fs::remove_all(root);
+    } else {
+      RefuseToOverwrite(root, false, "output collection");
+    }
+  }
+  fs::create_directories(root / kWorkFolder);
+  WriteFileAtomic(settings_path, settings.dump(2) + "\n");
+  // Resuming a finished collection: its frames become truth parts again, so
+  // that only frames whose files are missing or broken are rendered.
+  if (options.resume && LooksLikeCollection(root)) {
+    try {
+      const CollectionReader reader(root);
+      const Provenance& provenance = reader.header().provenance;
+      bool same = provenance.seed == settings["seed"].get<uint64_t>();
+      for (const auto& [key, value] : settings.items()) {
+        if (key != "seed" &&
+            provenance.render.value(key, nlohmann::json()) != value)
+          same = false;
+      }
+      if (!same) {
+        throw Error(
+            "--resume: the existing collection was made with other settings "
+            "(seed " +
+                std::to_string(provenance.seed.value_or(0)) + ", " +
+                provenance.render.dump() + "); use --force to start over",
+            Location((root / kCollectionFile).string()));
+      }
+      reader.ForEachFrame([&root](const Frame& frame) {
+        const fs::path part = TruthPartPath(root, frame.index);
+        if (!fs::exists(part))
+          WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
+      });
+    } catch (const Error& e) {
+      if (e.message().find("--resume") != std::string::npos) throw;
+      // An unreadable collection.json is rebuilt from the frames.
+    }
+  }
+}
+
+}  // namespace
+
+void GenerateOptions::Check() const {
+  if (output.empty()) throw Error("no output folder (-o OUT)");
+  if (shard_count < 1 || shard_index < 0 || shard_index >= shard_count) {
+    throw Error("--shard " + std::to_string(shard_index) + "/" +
+                std::to_string(shard_count) + ": expected I/N with 0 <= I < N");
+  }
+  if (first_frame > last_frame) throw Error("--frames A:B needs A <= B");
+  if (threads < 0) throw Error("--threads must be >= 0 (0: all cores)");
+  if (force && resume) throw Error("--force and --resume exclude each other");
+  if (zip_level < 0 || zip_level > 9)
+    throw Error("--zip-level must be in [0, 9]");
+  CheckSamplerSettings({spp, jitter, 0});
+}
+
+CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
+  CollectionHeader header;
+  header.provenance.generator = "lsds generate";
+  header.provenance.generator_version = LSDS_VERSION;
+  header.provenance.seed = plan.seed;
+  header.provenance.scene_source = plan.scene_source;
+  header.provenance.capture_source = plan.capture_source;
+  header.provenance.render = RenderSettingsJson(options);
+  if (!plan.post_process.empty())
+    header.provenance.render["post_process"] = plan.post_process;
+  header.classes = plan.classes;
+  for (const std::string& semantic : StandardLayerSemantics()) {
+    header.layers.push_back(StandardLayer(semantic, options.depth_kind));
+  }
+  header.metadata = {
+      {kMetadataFile, false, "measured metadata; equal to truth"}};
+  return header;
+}
+
+std::map<std::string, std::string> WriteFrameLayers(
+    const fs::path& root,
+    const CollectionHeader& header,
+    int64_t frame_index,
+    const Film& film) {
+  std::map<std::string, std::string> files;
+  for (const LayerInfo& layer : header.layers) {
+    files[layer.name] = layer.name + "/" + FrameStem(frame_index) + ".exr";
+  }
+  // Layers are independent files: encode them in parallel.
+  tbb::parallel_for(size_t{0}, header.layers.size(), [&](size_t i) {
+    const LayerInfo& layer = header.layers[i];
+    exr::WriteOptions write;
+    write.compression = layer.compression;
+    const fs::path path = root / files.at(layer.name);
+    if (layer.deep) {
+      exr::WriteDeepExr(path, film.bundle, write);
+    } else {
+      exr::WriteFlatExr(path, film.flat.at(layer.semantic), write);
+    }
+  });
+  return files;
+}
+
+GenerateSummary GenerateCollection(const Plan& plan,
+                                   const GenerateOptions& options) {
+  const Clock::time_point start = Clock::now();
+  options.Check();
+  std::optional<tbb::global_control> threads;
+  if (options.threads > 0) {
+    threads.emplace(tbb::global_control::max_allowed_parallelism,
+                    static_cast<size_t>(options.threads));
+  }
+  Imf::setDefaultZipCompressionLevel(options.zip_level);
+  // Validate the whole plan before touching the output.
+  const SceneAssets assets = BuildSceneAssets(plan);
+  const Sky sky(plan);
+  std::vector<size_t> selected;
+  for (size_t k = 0; k < plan.frames.size(); ++k) {
+    if (options.Selects(plan.frames[k].index)) selected.push_back(k);
+  }
+  const CollectionHeader base_header = MakeHeader(plan, options);
+  nlohmann::json settings = RenderSettingsJson(options);
+  settings["seed"] = plan.seed;
+  PrepareOutput(options, settings);
+  const fs::path& root = options.output;
+  for (const LayerInfo& layer : base_header.layers)
+    fs::create_directories(root / layer.name);
+
+  RenderSettings render;
+  render.sampler = {options.spp, options.jitter, plan.seed};
+  render.depth_kind = options.depth_kind;
+  GenerateSummary summary;
+  EmbreeDevice device;
+  std::unique_ptr<RenderScene> scene;
+  std::optional<Progress> progress;
+  tbb::task_group writer;
+  std::mutex write_mutex;
+  if (options.progress)
+    progress.emplace("generate", static_cast<int64_t>(selected.size()));
+  // A failure while a write runs must not leave the task group unwaited.
+  try {
+    for (size_t k : selected) {
+      const PlannedFrame& frame = plan.frames[k];
+      if (options.resume && FrameComplete(root, base_header, frame)) {
+        ++summary.frames_skipped;
+        if (progress) progress->Add();
+        continue;
+      }
+      Clock::time_point t0 = Clock::now();
+      WorldState world = WorldAt(plan, frame);
+      if (!scene ||
+          !(scene->world() == world)) {  // one Embree scene per world state
+        scene.reset();
+        scene = std::make_unique<RenderScene>(device, plan, assets, world);
+      }
+      PreviousView previous;
+      std::optional<WorldState> previous_world;
+      if (k > 0 && plan.frames[k - 1].sequence == frame.sequence) {
+        previous.frame = &plan.frames[k - 1];
+        previous_world = WorldAt(plan, plan.frames[k - 1]);
+        previous.world = &*previous_world;
+      }
+      auto film = std::make_shared<const Film>(
+          RenderFrame(*scene, sky, frame, previous, render));
+      auto truth = std::make_shared<Frame>();
+      truth->index = frame.index;
+      truth->time = frame.time;
+      truth->sequence = frame.sequence;
+      truth->camera.intrinsics = frame.camera;
+      truth->camera.cam_from_world_rotation =
+          frame.cam_from_world.rotation.toRotationMatrix();
+      truth->camera.cam_from_world_translation =
+          frame.cam_from_world.translation;
+      uint64_t rays = film->rays;
+      truth->objects = ComputeObjectTruth(*scene, frame, *film, &rays);
+      summary.rays += rays;
+      summary.render_seconds += Seconds(t0);
+
+      // Encode this frame while the next one renders: at most two films live.
+      writer.wait();  // rethrows a failed write
+      writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
+        const Clock::time_point w0 = Clock::now();
+        truth->files = WriteFrameLayers(root, base_header, truth->index, *film);
+        // The truth part comes last: its presence marks the frame complete.
+        WriteFileAtomic(TruthPartPath(root, truth->index),
+                        FrameToJson(*truth).dump() + "\n");
+        std::lock_guard<std::mutex> lock(write_mutex);
+        summary.write_seconds += Seconds(w0);
+      });
+      ++summary.frames_rendered;
+      if (progress) progress->Add();
+    }
+  } catch (...) {
+    try {
+      writer.wait();
+    } catch (...) {
+    }
+    throw;
+  }
+  writer.wait();
+  progress.reset();
+
+  // Assemble collection.json and metadata.json from the truth parts, in frame
+  // order.
+  const Clock::time_point t0 = Clock::now();
+  CollectionHeader header = base_header;
+  header.frame_count = static_cast<int64_t>(selected.size());
+  MetadataHeader metadata_header;
+  metadata_header.frame_count = header.frame_count;
+  CollectionWriter collection(root, header);
+  MetadataWriter metadata(root / kMetadataFile, metadata_header);
+  for (size_t k : selected) {
+    const fs::path part = TruthPartPath(root, plan.frames[k].index);
+    const Frame truth =
+        FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
+    collection.Append(truth);
+    metadata.Append(TruthMetadata(truth, header.conventions.world));
+  }
+  collection.Commit();
+  metadata.Commit();
+  fs::remove_all(root / kWorkFolder);
+  summary.write_seconds += Seconds(t0);
+  summary.total_seconds = Seconds(start);
+  return summary;
+}
+
+}  // namespace lsds::gen

@@ -1,0 +1,146 @@
+#include "generator/render/embree_scene.h"
+
+#include "generator/scene/perlin.h"
+#include "generator/scene/terrain.h"
+#include "libs/util/error.h"
+
+namespace lsds::gen {
+namespace {
+
+// Embree reports through a C callback: remember the message, CheckDevice()
+// throws it from C++.
+thread_local std::string last_error;
+void ErrorFunction(void*, RTCError, const char* message) {
+  last_error = message ? message : "unknown error";
+}
+
+void CheckDevice(RTCDevice device) {
+  if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
+    throw Error("Embree: " + last_error);
+}
+
+}  // namespace
+
+EmbreeDevice::EmbreeDevice() {
+  device_ = rtcNewDevice(nullptr);
+  if (device_ == nullptr) throw Error("cannot create the Embree device");
+  rtcSetDeviceErrorFunction(device_, ErrorFunction, nullptr);
+}
+
+EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
+
+SceneAssets BuildSceneAssets(const Plan& plan) {
+  SceneAssets assets;
+  assets.shapes.reserve(plan.objects.size());
+  for (const PlannedObject& o : plan.objects) {
+    const std::string where = "object '" + o.name + "'";
+    const uint64_t seed = HashCombine(plan.seed, HashString(o.name.c_str()));
+    assets.shapes.push_back(MakeClassShape(o.class_name, seed, where));
+    FindMaterial(
+        o.material.empty() ? assets.shapes.back().default_material : o.material,
+        where);
+  }
+  if (plan.terrain.present)
+    assets.terrain_material = &FindMaterial(plan.terrain.material, "terrain");
+  for (const PlannedFrame& f : plan.frames) {
+    for (const ObjectChange& c : f.changes) {
+      if (c.material)
+        FindMaterial(
+            *c.material,
+            "frame " + std::to_string(f.index) + " object '" + c.object + "'");
+    }
+  }
+  return assets;
+}
+
+RenderScene::RenderScene(const EmbreeDevice& device,
+                         const Plan& plan,
+                         const SceneAssets& assets,
+                         const WorldState& world)
+    : world_(world) {
+  scene_ = rtcNewScene(device.get());
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  object_scenes_.assign(world.objects.size(), nullptr);
+  if (plan.terrain.present) {
+    Surface s;
+    s.class_id = plan.terrain.class_id;
+    s.instance_id = plan.terrain.instance_id;
+    s.material = assets.terrain_material;
+    AddMesh(device, MakeTerrainMesh(plan.terrain), s);
+  }
+  for (size_t i = 0; i < world.objects.size(); ++i) {
+    const ObjectState& o = world.objects[i];
+    if (!o.visible) continue;  // invisible helpers are placed but not rendered
+    TriangleMesh mesh = assets.shapes[i].mesh;
+    const Eigen::Matrix3f linear =
+        (o.world_from_object * o.extent.asDiagonal()).cast<float>();
+    const Eigen::Vector3f offset = o.position.cast<float>();
+    for (Eigen::Vector3f& p : mesh.positions) p = linear * p + offset;
+    Surface s;
+    s.object = static_cast<int>(i);
+    s.class_id = o.planned->class_id;
+    s.instance_id = o.planned->instance_id;
+    s.material = &FindMaterial(
+        o.material.empty() ? assets.shapes[i].default_material : o.material,
+        "object '" + o.planned->name + "'");
+    const unsigned id = AddMesh(device, std::move(mesh), s);
+    RTCScene own = rtcNewScene(device.get());
+    rtcAttachGeometry(own, geometries_[id]);
+    rtcCommitScene(own);
+    object_scenes_[i] = own;
+  }
+  rtcCommitScene(scene_);
+  CheckDevice(device.get());
+}
+
+unsigned RenderScene::AddMesh(const EmbreeDevice& device,
+                              TriangleMesh mesh,
+                              Surface surface) {
+  meshes_.push_back(std::make_unique<TriangleMesh>(std::move(mesh)));
+  const TriangleMesh& m = *meshes_.back();
+  RTCGeometry geometry =
+      rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Shared buffers: Embree reads our arrays in place (Vector3f is 3 packed
+  // floats; the last vertex needs 4 readable bytes past it, so the positions
+  // are padded by one).
+  meshes_.back()->positions.reserve(m.positions.size() + 1);
+  rtcSetSharedGeometryBuffer(geometry,
+                             RTC_BUFFER_TYPE_VERTEX,
+                             0,
+                             RTC_FORMAT_FLOAT3,
+                             m.positions.data(),
+                             0,
+                             sizeof(Eigen::Vector3f),
+                             m.positions.size());
+  rtcSetSharedGeometryBuffer(geometry,
+                             RTC_BUFFER_TYPE_INDEX,
+                             0,
+                             RTC_FORMAT_UINT3,
+                             m.triangles.data(),
+                             0,
+                             sizeof(Eigen::Vector3i),
+                             m.triangles.size());
+  rtcCommitGeometry(geometry);
+  const unsigned id = rtcAttachGeometry(scene_, geometry);
+  if (geometries_.size() <= id) {
+    geometries_.resize(id + 1, nullptr);
+    surfaces_.resize(id + 1);
+  }
+  geometries_[id] = geometry;
+  surface.positions = m.positions.data();
+  surface.triangles = m.triangles.data();
+  surfaces_[id] = surface;
+  return id;
+}
+
+RenderScene::~RenderScene() {
+  for (RTCScene s : object_scenes_) {
+    if (s) rtcReleaseScene(s);
+  }
+  for (RTCGeometry g : geometries_) {
+    if (g) rtcReleaseGeometry(g);
+  }
+  rtcReleaseScene(scene_);
+}
+
+}  // namespace lsds::gen

@@ -1,0 +1,81 @@
+// The Embree device and the ray-tracing scene of one world state: terrain plus
+// every rendered object, transformed to world coordinates once. Each rendered
+// object also gets a scene of its own (sharing its geometry) for the unoccluded
+// coverage that visibility fractions need.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "generator/plan/plan.h"
+#include "generator/scene/materials.h"
+#include "generator/scene/object_library.h"
+#include "generator/scene/world.h"
+
+namespace lsds::gen {
+
+class EmbreeDevice {
+ public:
+  EmbreeDevice();  // throws lsds::Error when Embree cannot start
+  ~EmbreeDevice();
+  EmbreeDevice(const EmbreeDevice&) = delete;
+  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+  RTCDevice get() const { return device_; }
+
+ private:
+  RTCDevice device_ = nullptr;
+};
+
+// Per-plan assets built once: each object's class shape and the materials
+// (validated up front so that a bad name fails before any frame is rendered).
+struct SceneAssets {
+  std::vector<ClassShape> shapes;  // per Plan::objects entry
+  const Material* terrain_material = nullptr;
+};
+SceneAssets BuildSceneAssets(const Plan& plan);
+
+// What a hit on a geometry means.
+struct Surface {
+  int object = -1;  // index in WorldState::objects, -1 for the terrain
+  uint32_t class_id = 0;
+  uint32_t instance_id = 0;
+  const Material* material = nullptr;
+  const Eigen::Vector3f* positions =
+      nullptr;  // world-space vertices of the geometry
+  const Eigen::Vector3i* triangles = nullptr;
+};
+
+class RenderScene {
+ public:
+  RenderScene(const EmbreeDevice& device,
+              const Plan& plan,
+              const SceneAssets& assets,
+              const WorldState& world);
+  ~RenderScene();
+  RenderScene(const RenderScene&) = delete;
+  RenderScene& operator=(const RenderScene&) = delete;
+
+  RTCScene scene() const { return scene_; }
+  // The scene holding only object `object` (nullptr when it is not rendered).
+  RTCScene ObjectScene(int object) const { return object_scenes_[object]; }
+  const Surface& surface(unsigned geom_id) const { return surfaces_[geom_id]; }
+  const WorldState& world() const { return world_; }
+
+ private:
+  unsigned AddMesh(const EmbreeDevice& device,
+                   TriangleMesh mesh,
+                   Surface surface);
+
+  WorldState world_;
+  RTCScene scene_ = nullptr;
+  std::vector<RTCScene> object_scenes_;
+  std::vector<RTCGeometry> geometries_;
+  std::vector<std::unique_ptr<TriangleMesh>>
+      meshes_;                     // world-space copies, owned
+  std::vector<Surface> surfaces_;  // by geometry id
+};
+
+}  // namespace lsds::gen

@@ -1,0 +1,30 @@
+// The film of one frame: named flat layers (the standard layers of
+// docs/format.md), the deep pixel bundle, and what the truth needs (the centre
+// sample's position per pixel, ray counts).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "libs/exr/deep_image.h"
+#include "libs/exr/flat_image.h"
+
+namespace lsds::gen {
+
+struct Film {
+  std::map<std::string, exr::FlatImage> flat;  // by layer semantic
+  exr::DeepImage bundle;
+  std::vector<Eigen::Vector2f>
+      centre_sample;  // per pixel, the position of bundle sample 0
+  uint64_t rays = 0;  // primary + shadow rays cast
+
+  // The film for `semantics` (flat channels from StandardLayer) at the given
+  // size and samples.
+  static Film Make(int width, int height, int spp);
+};
+
+}  // namespace lsds::gen

@@ -1,0 +1,278 @@
+#include "generator/render/integrator.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include "libs/util/error.h"
+
+namespace lsds::gen {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct Hit {
+  bool hit = false;
+  unsigned geom = 0;
+  double t =
+      0;  // along the ray whose camera-frame direction has z == 1: planar depth
+  Eigen::Vector3d point;   // world
+  Eigen::Vector3d normal;  // world, unit, facing the camera
+};
+
+// The ray's exact hit: Embree finds the triangle, the plane of its (float)
+// vertices gives t in double, so a flat terrain at z = 0 yields z == 0 and
+// depth == altitude to double precision.
+Hit Trace(const RenderScene& scene,
+          RTCScene rtc_scene,
+          const Eigen::Vector3d& origin,
+          const Eigen::Vector3d& direction,
+          RTCIntersectContext* context) {
+  RTCRayHit rh;
+  rh.ray.org_x = static_cast<float>(origin.x());
+  rh.ray.org_y = static_cast<float>(origin.y());
+  rh.ray.org_z = static_cast<float>(origin.z());
+  rh.ray.dir_x = static_cast<float>(direction.x());
+  rh.ray.dir_y = static_cast<float>(direction.y());
+  rh.ray.dir_z = static_cast<float>(direction.z());
+  rh.ray.tnear = 0.f;
+  rh.ray.tfar = kInf;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.flags = 0;
+  rh.ray.time = 0.f;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc_scene, context, &rh);
+  Hit hit;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  hit.hit = true;
+  hit.geom = rh.hit.geomID;
+  const Surface& s = scene.surface(rh.hit.geomID);
+  const Eigen::Vector3i& tri = s.triangles[rh.hit.primID];
+  const Eigen::Vector3d v0 = s.positions[tri[0]].cast<double>();
+  const Eigen::Vector3d v1 = s.positions[tri[1]].cast<double>();
+  const Eigen::Vector3d v2 = s.positions[tri[2]].cast<double>();
+  Eigen::Vector3d n = (v1 - v0).cross(v2 - v0);
+  const double nn = n.norm();
+  n = nn > 0 ? Eigen::Vector3d(n / nn) : Eigen::Vector3d(0, 0, 1);
+  const double nd = n.dot(direction);
+  hit.t = std::abs(nd) > 1e-12 ? n.dot(v0 - origin) / nd : rh.ray.tfar;
+  if (!(hit.t > 0)) hit.t = rh.ray.tfar;
+  if (nd > 0) n = -n;
+  hit.normal = n;
+  hit.point = origin + hit.t * direction;
+  return hit;
+}
+
+bool Occluded(RTCScene scene,
+              const Eigen::Vector3d& origin,
+              const Eigen::Vector3d& direction,
+              RTCIntersectContext* context) {
+  RTCRay ray;
+  ray.org_x = static_cast<float>(origin.x());
+  ray.org_y = static_cast<float>(origin.y());
+  ray.org_z = static_cast<float>(origin.z());
+  ray.dir_x = static_cast<float>(direction.x());
+  ray.dir_y = static_cast<float>(direction.y());
+  ray.dir_z = static_cast<float>(direction.z());
+  ray.tnear = 0.f;
+  ray.tfar = kInf;
+  ray.mask = 0xffffffffu;
+  ray.flags = 0;
+  ray.time = 0.f;
+  rtcOccluded1(scene, context, &ray);
+  return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+float Luminance(const Eigen::Vector3f& c) {
+  return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+}
+
+// Screen-normalized motion of a world point seen now at `pixel_now` (Unreal's
+// convention).
+Eigen::Vector2d Motion(const PinholeCamera& camera,
+                       const Eigen::Vector2d& pixel_now,
+                       const PinholeCamera& previous_camera,
+                       const Eigen::Vector3d& point_in_previous_cam) {
+  if (!(point_in_previous_cam.z() > 1e-9)) return {0.5, 0.5};
+  const Eigen::Vector2d before =
+      previous_camera.ImageFromCam(point_in_previous_cam);
+  return {0.5 + 0.5 * (pixel_now.x() - before.x()) / camera.width,
+          0.5 + 0.5 * (pixel_now.y() - before.y()) / camera.height};
+}
+
+}  // namespace
+
+Film RenderFrame(const RenderScene& scene,
+                 const Sky& sky,
+                 const PlannedFrame& frame,
+                 const PreviousView& previous,
+                 const RenderSettings& settings) {
+  CheckSamplerSettings(settings.sampler);
+  const PinholeCamera& camera = frame.camera;
+  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) ||
+      !(camera.fy > 0)) {
+    throw Error("frame " + std::to_string(frame.index) +
+                ": the camera has no valid intrinsics");
+  }
+  const int width = camera.width, height = camera.height,
+            spp = settings.sampler.spp;
+  Film film = Film::Make(width, height, spp);
+  const Eigen::Matrix3d world_from_cam =
+      frame.cam_from_world.rotation.conjugate().toRotationMatrix();
+  const Eigen::Vector3d centre = CameraCenterInWorld(frame.cam_from_world);
+
+  auto ch = [&film](const std::string& layer, const std::string& channel) {
+    return &film.flat.at(layer).Get(channel);
+  };
+  float* rgb[3] = {ch("rgb", "R")->floats.data(),
+                   ch("rgb", "G")->floats.data(),
+                   ch("rgb", "B")->floats.data()};
+  uint32_t* class_id = ch("classid", "id")->uints.data();
+  uint32_t* instance_id = ch("instanceid", "id")->uints.data();
+  float* depth = ch("depth", "Z")->floats.data();
+  float* normal[3] = {ch("normal", "X")->floats.data(),
+                      ch("normal", "Y")->floats.data(),
+                      ch("normal", "Z")->floats.data()};
+  float* position[3] = {ch("worldposition", "X")->floats.data(),
+                        ch("worldposition", "Y")->floats.data(),
+                        ch("worldposition", "Z")->floats.data()};
+  float* shadow = ch("shadow", "Y")->floats.data();
+  float* motion[2] = {ch("motion", "X")->floats.data(),
+                      ch("motion", "Y")->floats.data()};
+  exr::DeepImage& bundle = film.bundle;
+  uint32_t* b_instance = bundle.Get("instanceid").uints.data();
+  uint32_t* b_class = bundle.Get("classid").uints.data();
+  float* b_z = bundle.Get("Z").floats.data();
+  float* b_n[3] = {bundle.Get("NX").floats.data(),
+                   bundle.Get("NY").floats.data(),
+                   bundle.Get("NZ").floats.data()};
+  float* b_s[2] = {bundle.Get("SX").floats.data(),
+                   bundle.Get("SY").floats.data()};
+
+  std::atomic<uint64_t> total_rays{0};
+  const int tile = settings.tile_size;
+  tbb::parallel_for(
+      tbb::blocked_range2d<int>(0, height, tile, 0, width, tile),
+      [&](const tbb::blocked_range2d<int>& r) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        std::vector<Eigen::Vector2d> samples(spp);
+        uint64_t rays = 0;
+        for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
+          for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
+            const size_t pixel = static_cast<size_t>(y) * width + x;
+            PixelSamples(settings.sampler, frame.index, x, y, samples.data());
+            Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+            for (int k = 0; k < spp; ++k) {
+              const Eigen::Vector3d ray_in_cam =
+                  camera.CamFromImage(samples[k]);  // z == 1
+              const Eigen::Vector3d direction = world_from_cam * ray_in_cam;
+              const Hit hit =
+                  Trace(scene, scene.scene(), centre, direction, &context);
+              ++rays;
+              Eigen::Vector3f radiance;
+              float shadow_ratio = 1.f;
+              const size_t b = static_cast<size_t>(pixel) * spp + k;
+              b_s[0][b] = static_cast<float>(samples[k].x() -
+                                             x);  // inside the pixel, [0, 1)
+              b_s[1][b] = static_cast<float>(samples[k].y() - y);
+              double z_value = kInf;
+              if (!hit.hit) {
+                radiance = sky.Radiance(direction.normalized());
+                b_instance[b] = b_class[b] = 0;
+                for (int a = 0; a < 3; ++a) b_n[a][b] = 0.f;
+              } else {
+                const Surface& s = scene.surface(hit.geom);
+                const Eigen::Vector3f albedo = Albedo(
+                    *s.material, sky.texture_noise(), hit.point.cast<float>());
+                const double cos_sun = hit.normal.dot(sky.to_sun());
+                float lit = 0.f;
+                if (cos_sun > 0) {
+                  const Eigen::Vector3d origin =
+                      hit.point +
+                      hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
+                  lit = Occluded(scene.scene(), origin, sky.to_sun(), &context)
+                            ? 0.f
+                            : 1.f;
+                  ++rays;
+                }
+                const Eigen::Vector3f direct =
+                    sky.sun_irradiance() *
+                    static_cast<float>(std::max(0.0, cos_sun));
+                const Eigen::Vector3f unshadowed = sky.ambient() + direct;
+                const Eigen::Vector3f shaded = sky.ambient() + direct * lit;
+                const float denominator = Luminance(unshadowed);
+                shadow_ratio =
+                    denominator > 0
+                        ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f)
+                        : 1.f;
+                radiance = albedo.cwiseProduct(shaded);
+                const double distance = hit.t * ray_in_cam.norm();
+                if (sky.fog_density() > 0) {
+                  const float f = static_cast<float>(
+                      std::exp(-sky.fog_density() * distance));
+                  radiance = radiance * f + sky.horizon() * (1 - f);
+                }
+                z_value = settings.depth_kind == DepthKind::kPlanar ? hit.t
+                                                                    : distance;
+                b_instance[b] = s.instance_id;
+                b_class[b] = s.class_id;
+                for (int a = 0; a < 3; ++a)
+                  b_n[a][b] = static_cast<float>(hit.normal[a]);
+              }
+              b_z[b] = static_cast<float>(z_value);
+              sum += radiance;
+              if (k != 0) continue;
+              // The flat truth layers: the single, non-mixed value of the
+              // centre sample.
+              film.centre_sample[pixel] = samples[0].cast<float>();
+              class_id[pixel] = b_class[b];
+              instance_id[pixel] = b_instance[b];
+              depth[pixel] = static_cast<float>(z_value);
+              shadow[pixel] = shadow_ratio;
+              for (int a = 0; a < 3; ++a) {
+                normal[a][pixel] = b_n[a][b];
+                position[a][pixel] =
+                    hit.hit ? static_cast<float>(hit.point[a]) : kInf;
+              }
+              Eigen::Vector2d m(0.5, 0.5);
+              if (previous.frame != nullptr) {
+                const PlannedFrame& p = *previous.frame;
+                if (!hit.hit) {
+                  const Eigen::Vector3d dir_prev =
+                      p.cam_from_world.rotation * direction;
+                  m = Motion(camera, samples[0], p.camera, dir_prev);
+                } else {
+                  Eigen::Vector3d point_before = hit.point;
+                  const int object = scene.surface(hit.geom).object;
+                  if (object >= 0 && previous.world != nullptr) {
+                    const ObjectState& now = scene.world().objects[object];
+                    const ObjectState& before = previous.world->objects[object];
+                    point_before =
+                        before.WorldFromUnit(now.UnitFromWorld(hit.point));
+                  }
+                  m = Motion(camera,
+                             samples[0],
+                             p.camera,
+                             p.cam_from_world * point_before);
+                }
+              }
+              motion[0][pixel] = static_cast<float>(m.x());
+              motion[1][pixel] = static_cast<float>(m.y());
+            }
+            sum /= static_cast<float>(spp);
+            for (int a = 0; a < 3; ++a) rgb[a][pixel] = sum[a];
+          }
+        }
+        total_rays += rays;
+      });
+  film.rays = total_rays;
+  return film;
+}
+
+}  // namespace lsds::gen

@@ -1,0 +1,37 @@
+// The tile integrator: renders one frame of a world state into the film of
+// every standard layer. Tiles run in parallel over TBB; every pixel depends
+// only on its own samples, so the result is the same for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "generator/plan/plan.h"
+#include "generator/render/embree_scene.h"
+#include "generator/render/film.h"
+#include "generator/render/sampler.h"
+#include "generator/render/sky.h"
+#include "libs/geometry/camera.h"
+
+namespace lsds::gen {
+
+struct RenderSettings {
+  SamplerSettings sampler;
+  DepthKind depth_kind = DepthKind::kPlanar;
+  int tile_size = 16;
+};
+
+// The previous frame of the same sequence, for motion vectors (absent on a
+// sequence's first frame).
+struct PreviousView {
+  const PlannedFrame* frame = nullptr;
+  const WorldState* world = nullptr;
+};
+
+Film RenderFrame(const RenderScene& scene,
+                 const Sky& sky,
+                 const PlannedFrame& frame,
+                 const PreviousView& previous,
+                 const RenderSettings& settings);
+
+}  // namespace lsds::gen

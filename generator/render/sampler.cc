@@ -1,0 +1,67 @@
+#include "generator/render/sampler.h"
+
+#include <cmath>
+#include <string>
+
+#include "generator/scene/perlin.h"
+#include "libs/util/error.h"
+
+namespace lsds::gen {
+namespace {
+
+int SamplesPerAxis(int spp) {
+  return static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
+}
+
+double Uniform(uint64_t h) {
+  return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+}  // namespace
+
+void CheckSamplerSettings(const SamplerSettings& s) {
+  const int n = SamplesPerAxis(s.spp);
+  if (s.spp < 1 || s.spp > 256 || n * n != s.spp) {
+    throw Error("--spp " + std::to_string(s.spp) +
+                ": samples per pixel must be a square number " +
+                "(1, 4, 9, 16, ...) up to 256, for stratified n x n sampling");
+  }
+  if (!(s.jitter >= 0 && s.jitter <= 1))
+    throw Error("--jitter must be in [0, 1]");
+}
+
+void PixelSamples(const SamplerSettings& s,
+                  int64_t frame,
+                  int x,
+                  int y,
+                  Eigen::Vector2d* out) {
+  const int n = SamplesPerAxis(s.spp);
+  const uint64_t pixel_seed =
+      HashCombine(HashCombine(s.seed, static_cast<uint64_t>(frame)),
+                  (static_cast<uint64_t>(y) << 32) | x);
+  int nearest = 0;
+  double nearest_d2 = 1e9;
+  for (int k = 0; k < s.spp; ++k) {
+    const int cx = k % n, cy = k / n;
+    double jx = 0, jy = 0;
+    if (s.jitter > 0) {
+      const uint64_t h = HashCombine(pixel_seed, static_cast<uint64_t>(k));
+      jx = s.jitter * (Uniform(h) - 0.5);
+      jy = s.jitter * (Uniform(HashCombine(h, 1)) - 0.5);
+    }
+    const double ox = (cx + 0.5 + jx) / n, oy = (cy + 0.5 + jy) / n;
+    out[k] = Eigen::Vector2d(x + ox, y + oy);
+    const double d2 = (ox - 0.5) * (ox - 0.5) + (oy - 0.5) * (oy - 0.5);
+    if (d2 < nearest_d2) {
+      nearest_d2 = d2;
+      nearest = k;
+    }
+  }
+  // The nearest sample becomes the exact centre and moves to the front; the
+  // others keep cell order.
+  const Eigen::Vector2d first(x + 0.5, y + 0.5);
+  for (int k = nearest; k > 0; --k) out[k] = out[k - 1];
+  out[0] = first;
+}
+
+}  // namespace lsds::gen

@@ -1,0 +1,43 @@
+// Sky and sun: a zenith-to-horizon gradient with procedural clouds (type and
+// density), a sun as a directional light, the skylight as an ambient term and
+// distance fog towards the horizon colour.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "generator/plan/plan.h"
+#include "generator/scene/perlin.h"
+
+namespace lsds::gen {
+
+class Sky {
+ public:
+  explicit Sky(const Plan& plan);
+
+  // Radiance seen along a world direction that hits nothing.
+  Eigen::Vector3f Radiance(const Eigen::Vector3d& direction_in_world) const;
+  // Unit vector towards the sun: azimuth from north (+y) clockwise towards east
+  // (+x).
+  const Eigen::Vector3d& to_sun() const { return to_sun_; }
+  const Eigen::Vector3f& sun_irradiance() const { return sun_irradiance_; }
+  const Eigen::Vector3f& ambient() const { return ambient_; }
+  const Eigen::Vector3f& horizon() const { return horizon_; }
+  double fog_density() const { return fog_density_; }
+  // The noise field of procedural material textures.
+  const Perlin& texture_noise() const { return texture_noise_; }
+
+ private:
+  double CloudCover(const Eigen::Vector3d& direction) const;
+
+  Eigen::Vector3f zenith_, horizon_, sun_irradiance_, ambient_;
+  Eigen::Vector3d to_sun_;
+  double fog_density_ = 0;
+  double cloud_density_ = 0;
+  double cloud_frequency_ = 1, cloud_stretch_ = 1, cloud_softness_ = 0.2;
+  Perlin noise_;
+  Perlin texture_noise_;
+};
+
+const std::vector<std::string>& CloudTypes();
+
+}  // namespace lsds::gen

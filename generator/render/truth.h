@@ -1,0 +1,25 @@
+// Per-object truth of a rendered frame (docs/format.md): the 3D OBB, the tight
+// visible box and pixel count from the instanceid layer, the projected OBB
+// bounds, the visibility fraction (visible pixels / pixels the object covers
+// when rendered alone, with the same centre samples) and the in-frame fraction.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "generator/plan/plan.h"
+#include "generator/render/embree_scene.h"
+#include "generator/render/film.h"
+#include "libs/collection/model.h"
+
+namespace lsds::gen {
+
+// Objects of interest (target, rendered, with class and instance ids) whose
+// projected box meets the image or that have visible pixels, in plan order.
+// Adds the rays it casts to `rays`.
+std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
+                                            const PlannedFrame& frame,
+                                            const Film& film,
+                                            uint64_t* rays);
+
+}  // namespace lsds::gen

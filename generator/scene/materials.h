@@ -1,0 +1,37 @@
+// Procedural materials: a named albedo with a noise pattern, evaluated at a
+// world point. Simple and fast (Lambertian); the names are what LSCENE's
+// `material` properties and the terrain refer to.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "generator/scene/perlin.h"
+
+namespace lsds::gen {
+
+struct Material {
+  std::string name;
+  Eigen::Vector3f base;       // linear albedo
+  Eigen::Vector3f secondary;  // mixed in by the pattern
+  float frequency = 1.f;      // pattern cycles per metre
+  float contrast = 0.5f;  // [0, 1] share of `secondary` at the pattern's peaks
+};
+
+// The built-in material table (grassy, sandy, rocky, snowy, soil, asphalt,
+// concrete, metal, ...).
+const std::vector<Material>& MaterialTable();
+const std::vector<std::string>& MaterialNames();
+// Throws lsds::Error (with a "did you mean") for unknown names; `where` names
+// the plan entity.
+const Material& FindMaterial(const std::string& name, const std::string& where);
+
+// Albedo of `material` at a world point; `noise` is the material noise field of
+// the world.
+Eigen::Vector3f Albedo(const Material& material,
+                       const Perlin& noise,
+                       const Eigen::Vector3f& point_in_world);
+
+}  // namespace lsds::gen

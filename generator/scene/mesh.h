@@ -1,0 +1,40 @@
+// Triangle meshes and the procedural primitives the built-in object classes are
+// made of. Every class mesh is normalized to the unit box [-0.5, 0.5]^3 of its
+// object frame (z up), so that an object's `extent` scales it to exactly the
+// size the plan asks for and its OBB is tight.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace lsds::gen {
+
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> positions;
+  std::vector<Eigen::Vector3i>
+      triangles;  // counter-clockwise seen from outside
+
+  void Append(const TriangleMesh& other,
+              const Eigen::Matrix3f& linear = Eigen::Matrix3f::Identity(),
+              const Eigen::Vector3f& offset = Eigen::Vector3f::Zero());
+  bool empty() const { return triangles.empty(); }
+};
+
+TriangleMesh MakeBoxMesh();  // [-0.5, 0.5]^3
+// A surface of revolution about z: `radius(t)` for t in [0, 1] from z = -0.5 to
+// z = 0.5, closed by caps where the radius is not zero.
+TriangleMesh MakeLatheMesh(int segments, int rings, double (*radius)(double t));
+TriangleMesh MakeSphereMesh(int segments, int rings);  // radius 0.5
+TriangleMesh MakeCylinderMesh(int segments);           // radius 0.5, height 1
+TriangleMesh MakeConeMesh(int segments);  // base radius 0.5 at z = -0.5
+TriangleMesh MakeTorusMesh(int segments,
+                           int sides,
+                           double minor_over_major);  // axis z
+
+// Scales and centres the mesh so that its bounding box is exactly [-0.5, 0.5]^3
+// (flat axes stay 0).
+void NormalizeToUnitBox(TriangleMesh* mesh);
+
+}  // namespace lsds::gen

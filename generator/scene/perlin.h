@@ -1,0 +1,34 @@
+// Seeded gradient (Perlin) noise and its fractal sum, the source of terrain
+// heights, rock shapes, material variation and clouds. Deterministic: the same
+// seed gives the same field on every machine.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace lsds::gen {
+
+class Perlin {
+ public:
+  explicit Perlin(uint64_t seed = 0);
+
+  // Noise in about [-1, 1]; 0 at integer lattice points.
+  double Noise(double x, double y, double z) const;
+  double Noise(double x, double y) const { return Noise(x, y, 0.0); }
+  // Fractal Brownian motion: `octaves` octaves, each at twice the frequency and
+  // half the amplitude, normalized to about [-1, 1].
+  double Fbm(double x, double y, double z, int octaves) const;
+  double Fbm(double x, double y, int octaves) const {
+    return Fbm(x, y, 0.0, octaves);
+  }
+
+ private:
+  std::array<uint8_t, 512> permutation_;
+};
+
+// A 64-bit mix of two values (splitmix64 finalizer); used to derive independent
+// seeds.
+uint64_t HashCombine(uint64_t a, uint64_t b);
+uint64_t HashString(const char* text);
+
+}  // namespace lsds::gen

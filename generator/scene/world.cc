@@ -1,0 +1,40 @@
+#include "generator/scene/world.h"
+
+#include "libs/util/error.h"
+
+namespace lsds::gen {
+
+WorldState WorldAt(const Plan& plan, const PlannedFrame& frame) {
+  WorldState world;
+  world.objects.reserve(plan.objects.size());
+  for (const PlannedObject& o : plan.objects) {
+    ObjectState s;
+    s.planned = &o;
+    s.position = o.position;
+    s.world_from_object = o.world_from_object;
+    s.extent = o.extent;
+    s.material = o.material;
+    s.visible = o.visible;
+    world.objects.push_back(s);
+  }
+  for (const ObjectChange& change : frame.changes) {
+    ObjectState* target = nullptr;
+    for (ObjectState& s : world.objects) {
+      if (s.planned->name == change.object) target = &s;
+    }
+    if (target == nullptr) {
+      throw Error("frame " + std::to_string(frame.index) +
+                  ": a change refers to unknown object '" + change.object +
+                  "'");
+    }
+    if (change.position) target->position = *change.position;
+    if (change.world_from_object)
+      target->world_from_object = *change.world_from_object;
+    if (change.extent) target->extent = *change.extent;
+    if (change.material) target->material = *change.material;
+    if (change.visible) target->visible = *change.visible;
+  }
+  return world;
+}
+
+}  // namespace lsds::gen

@@ -1,0 +1,48 @@
+// The world state of one frame: the plan's objects with that frame's changes
+// applied, each with the transform and material it is rendered with. Frames are
+// independent (a change lists what is in effect on its frame), which is what
+// makes --frames and --shard give byte-identical results.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "generator/plan/plan.h"
+#include "libs/geometry/oriented_box.h"
+
+namespace lsds::gen {
+
+struct ObjectState {
+  const PlannedObject* planned = nullptr;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d world_from_object = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d extent = Eigen::Vector3d::Ones();
+  std::string material;
+  bool visible = true;
+
+  OrientedBox Box() const { return {position, extent / 2, world_from_object}; }
+  // The world point of an object-frame point of the unit box.
+  Eigen::Vector3d WorldFromUnit(const Eigen::Vector3d& p) const {
+    return world_from_object * extent.cwiseProduct(p) + position;
+  }
+  Eigen::Vector3d UnitFromWorld(const Eigen::Vector3d& p) const {
+    return (world_from_object.transpose() * (p - position))
+        .cwiseQuotient(extent.cwiseMax(1e-12));
+  }
+  bool operator==(const ObjectState& o) const {
+    return planned == o.planned && position == o.position &&
+           world_from_object == o.world_from_object && extent == o.extent &&
+           material == o.material && visible == o.visible;
+  }
+};
+
+struct WorldState {
+  std::vector<ObjectState> objects;  // same order as Plan::objects
+  bool operator==(const WorldState& o) const { return objects == o.objects; }
+};
+
+// Throws lsds::Error naming the frame when a change refers to an unknown
+// object.
+WorldState WorldAt(const Plan& plan, const PlannedFrame& frame);
+
+}  // namespace lsds::gen

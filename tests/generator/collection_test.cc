@@ -1,0 +1,263 @@
+// GenerateCollection end to end: complete collections that read back, atomic
+// refusal, determinism,
+// --frames, --shard byte-identical to a single run, --resume, and the `lsds
+// generate` command.
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "generator/generate.h"
+#include "generator/plan/plan_json.h"
+#include "libs/collection/collection_reader.h"
+#include "libs/collection/json_io.h"
+#include "libs/exr/flat_image.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "tests/generator/test_plans.h"
+
+namespace lsds::gen {
+namespace {
+
+namespace fs = std::filesystem;
+
+Plan MovingPlan(int frames = 4) {
+  Plan plan = testing::FlatPlan(32, 24);
+  plan.objects.push_back(testing::Box("B1", 1, {0, 0, 1}, {2, 2, 2}));
+  plan.objects.push_back(testing::Box("B2", 2, {3, 1, 0.5}, {1, 1, 1}));
+  plan.objects.back().class_name = "barrel";
+  const PlannedFrame first = plan.frames[0];
+  plan.frames.clear();
+  for (int f = 0; f < frames; ++f) {
+    PlannedFrame frame = first;
+    frame.index = f;
+    frame.time = 0.1 * f;
+    frame.cam_from_world = testing::Nadir({0.5 * f - 1, 0, 15});
+    plan.frames.push_back(frame);
+  }
+  return plan;
+}
+
+fs::path TempRoot(const std::string& name) {
+  const fs::path root =
+      fs::temp_directory_path() / ("lsds_generate_test_" + name);
+  fs::remove_all(root);
+  return root;
+}
+
+GenerateOptions Options(const fs::path& root) {
+  GenerateOptions options;
+  options.output = root;
+  options.progress = false;
+  options.threads = 2;
+  return options;
+}
+
+std::map<int64_t, Frame> FramesByIndex(const fs::path& root) {
+  std::map<int64_t, Frame> frames;
+  CollectionReader(root).ForEachFrame(
+      [&](const Frame& f) { frames[f.index] = f; });
+  return frames;
+}
+
+TEST(GenerateCollection, WritesACompleteCollectionThatReadsBack) {
+  const fs::path root = TempRoot("complete");
+  const GenerateSummary summary =
+      GenerateCollection(MovingPlan(), Options(root));
+  EXPECT_EQ(summary.frames_rendered, 4);
+  EXPECT_GT(summary.rays, 0u);
+  const CollectionReader reader(root);
+  EXPECT_EQ(reader.header().frame_count, 4);
+  EXPECT_EQ(reader.header().layers.size(), StandardLayerSemantics().size());
+  EXPECT_EQ(*reader.header().provenance.seed, 7u);
+  EXPECT_EQ(reader.header().provenance.render["samples_per_pixel"], 4);
+  EXPECT_FALSE(fs::exists(root / ".lsds-generate"));
+  EXPECT_TRUE(fs::exists(root / kMetadataFile));
+  reader.ForEachFrame([&](const Frame& frame) {
+    EXPECT_EQ(frame.files.size(), StandardLayerSemantics().size());
+    for (const auto& [layer, file] : frame.files)
+      EXPECT_TRUE(fs::exists(root / file)) << file;
+    ASSERT_EQ(frame.objects.size(), 2u);
+    // The truth agrees with the instance layer on disk.
+    const exr::FlatImage ids =
+        exr::ReadFlatExr(reader.LayerPath(frame, "instanceid"));
+    for (const ObjectTruth& o : frame.objects) {
+      int64_t count = 0;
+      for (uint32_t id : ids.Get("id").uints) count += id == o.instance_id;
+      EXPECT_EQ(count, o.visible_pixels);
+      EXPECT_GT(o.visible_pixels, 0);
+    }
+  });
+  MetadataReader metadata(root / kMetadataFile);
+  EXPECT_EQ(metadata.header().frame_count, 4);
+}
+
+TEST(GenerateCollection, RefusesAnExistingOutputWithoutForce) {
+  const fs::path root = TempRoot("refuse");
+  Plan plan = MovingPlan(1);
+  GenerateCollection(plan, Options(root));
+  EXPECT_THROW(GenerateCollection(plan, Options(root)), Error);
+  GenerateOptions force = Options(root);
+  force.force = true;
+  EXPECT_EQ(GenerateCollection(plan, force).frames_rendered, 1);
+  // --force never deletes a folder that is not a collection.
+  const fs::path other = TempRoot("not_a_collection");
+  fs::create_directories(other);
+  WriteFileAtomic(other / "precious.txt", "keep me");
+  force.output = other;
+  EXPECT_THROW(GenerateCollection(plan, force), Error);
+  EXPECT_TRUE(fs::exists(other / "precious.txt"));
+}
+
+TEST(GenerateCollection, RejectsBadOptionsAndPlansBeforeWriting) {
+  const fs::path root = TempRoot("bad");
+  GenerateOptions options = Options(root);
+  options.spp = 3;
+  EXPECT_THROW(GenerateCollection(MovingPlan(1), options), Error);
+  options = Options(root);
+  options.shard_index = 2;
+  options.shard_count = 2;
+  EXPECT_THROW(GenerateCollection(MovingPlan(1), options), Error);
+  Plan plan = MovingPlan(1);
+  plan.objects[0].class_name = "cubee";
+  EXPECT_THROW(GenerateCollection(plan, Options(root)), Error);
+  EXPECT_FALSE(fs::exists(root));
+}
+
+// Every file of `a` equals the file of the same name in `b`, byte for byte.
+void ExpectSameFrameFiles(const fs::path& a,
+                          const fs::path& b,
+                          const Frame& frame) {
+  for (const auto& [layer, file] : frame.files) {
+    EXPECT_EQ(ReadFile(a / file), ReadFile(b / file)) << file;
+  }
+}
+
+TEST(GenerateCollection, SameSeedGivesByteIdenticalOutput) {
+  const fs::path a = TempRoot("det_a"), b = TempRoot("det_b");
+  GenerateCollection(MovingPlan(), Options(a));
+  GenerateOptions one_thread = Options(b);
+  one_thread.threads = 1;
+  GenerateCollection(MovingPlan(), one_thread);
+  EXPECT_EQ(ReadFile(a / kCollectionFile), ReadFile(b / kCollectionFile));
+  EXPECT_EQ(ReadFile(a / kMetadataFile), ReadFile(b / kMetadataFile));
+  for (const auto& [index, frame] : FramesByIndex(a))
+    ExpectSameFrameFiles(a, b, frame);
+}
+
+TEST(GenerateCollection, ShardsAndFrameRangesEqualTheSingleRun) {
+  const fs::path single = TempRoot("single");
+  GenerateCollection(MovingPlan(5), Options(single));
+  const std::map<int64_t, Frame> all = FramesByIndex(single);
+  std::set<int64_t> covered;
+  for (int shard = 0; shard < 2; ++shard) {
+    const fs::path root = TempRoot("shard" + std::to_string(shard));
+    GenerateOptions options = Options(root);
+    options.shard_index = shard;
+    options.shard_count = 2;
+    GenerateCollection(MovingPlan(5), options);
+    for (const auto& [index, frame] : FramesByIndex(root)) {
+      EXPECT_EQ(index % 2, shard);
+      covered.insert(index);
+      EXPECT_EQ(FrameToJson(frame).dump(), FrameToJson(all.at(index)).dump());
+      ExpectSameFrameFiles(root, single, frame);
+    }
+  }
+  EXPECT_EQ(covered.size(), 5u);
+  const fs::path range = TempRoot("range");
+  GenerateOptions options = Options(range);
+  options.first_frame = 2;
+  options.last_frame = 4;
+  GenerateCollection(MovingPlan(5), options);
+  const std::map<int64_t, Frame> part = FramesByIndex(range);
+  ASSERT_EQ(part.size(), 2u);
+  for (const auto& [index, frame] : part) {
+    EXPECT_EQ(FrameToJson(frame).dump(), FrameToJson(all.at(index)).dump());
+    ExpectSameFrameFiles(
+        range, single, frame);  // motion of frame 2 still comes from frame 1
+  }
+}
+
+TEST(GenerateCollection, ResumeRendersOnlyMissingFrames) {
+  const fs::path root = TempRoot("resume"), reference = TempRoot("resume_ref");
+  GenerateCollection(MovingPlan(), Options(reference));
+  GenerateCollection(MovingPlan(), Options(root));
+  fs::remove(root / "depth" / "000002.exr");
+  GenerateOptions resume = Options(root);
+  resume.resume = true;
+  const GenerateSummary summary = GenerateCollection(MovingPlan(), resume);
+  EXPECT_EQ(summary.frames_rendered, 1);
+  EXPECT_EQ(summary.frames_skipped, 3);
+  EXPECT_EQ(ReadFile(root / kCollectionFile),
+            ReadFile(reference / kCollectionFile));
+  for (const auto& [index, frame] : FramesByIndex(root))
+    ExpectSameFrameFiles(root, reference, frame);
+  // Other settings are refused rather than mixed into the collection.
+  resume.spp = 9;
+  fs::remove(root / "depth" / "000002.exr");
+  EXPECT_THROW(GenerateCollection(MovingPlan(), resume), Error);
+}
+
+int Shell(const std::string& command) {
+  const int status = std::system((command + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(GenerateCommand, DemoCollectionPassesInfoAndRefusesOverwrite) {
+  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
+  const fs::path root = TempRoot("cli");
+  const std::string generate =
+      lsds +
+      " generate --demo --demo-frames 2 --demo-size 48x32 --spp 1 -q -o " +
+      root.string();
+  ASSERT_EQ(Shell(generate), 0);
+  EXPECT_EQ(Shell(generate), 2);  // exists, no --force
+  EXPECT_EQ(Shell(generate + " --force"), 0);
+  EXPECT_EQ(Shell(lsds + " info " + root.string()), 0);
+  EXPECT_EQ(
+      Shell(lsds + " generate --demo --spp 3 -q --force -o " + root.string()),
+      2);
+  EXPECT_EQ(Shell(lsds + " generate -q -o " + root.string()), 2);  // no scene
+  if (Shell("command -v exrheader") == 0) {
+    EXPECT_EQ(Shell("exrheader " + (root / "bundle" / "000001.exr").string()),
+              0);
+    EXPECT_EQ(Shell("exrheader " + (root / "rgb" / "000000.exr").string()), 0);
+  }
+}
+
+TEST(GenerateCommand, PlanJsonRendersLikeThePlanInMemory) {
+  const fs::path reference = TempRoot("plan_ref"), root = TempRoot("plan_cli");
+  const fs::path plan_file =
+      fs::temp_directory_path() / "lsds_generate_test_plan.json";
+  const Plan plan = MovingPlan(3);
+  WriteFileAtomic(plan_file, PlanToJson(plan).dump(2));
+  GenerateCollection(plan, Options(reference));
+  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
+  ASSERT_EQ(Shell(lsds + " generate -q --plan " + plan_file.string() + " -o " +
+                  root.string()),
+            0);
+  EXPECT_EQ(ReadFile(root / kCollectionFile),
+            ReadFile(reference / kCollectionFile));
+  for (const auto& [index, frame] : FramesByIndex(root))
+    ExpectSameFrameFiles(root, reference, frame);
+}
+
+TEST(GenerateCommand, RendersAnLsceneExample) {
+  const fs::path root = TempRoot("lscene");
+  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
+  const std::string scene =
+      LSDS_SOURCE_DIR "/examples/rocky_sand_clutter.lscene";
+  ASSERT_EQ(Shell(lsds + " generate -q --spp 1 --seed 3 " + scene + " -o " +
+                  root.string()),
+            0);
+  const std::map<int64_t, Frame> frames = FramesByIndex(root);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_FALSE(frames.begin()->second.objects.empty());
+  EXPECT_EQ(
+      Shell(lsds + " generate -q --force " + scene + "x -o " + root.string()),
+      2);  // unreadable
+}
+
+}  // namespace
+}  // namespace lsds::gen

@@ -1,0 +1,320 @@
+// The renderer against analytic answers: flat ground seen from a nadir camera,
+// boxes of known size, sun shadows, motion of a translated camera, perspective
+// depth, the pixel bundle and per-object truth.
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "generator/render/integrator.h"
+#include "generator/render/truth.h"
+#include "tests/generator/test_plans.h"
+
+namespace lsds::gen {
+namespace {
+
+using testing::Box;
+using testing::FlatPlan;
+using testing::Nadir;
+
+struct Rendered {
+  Film film;
+  std::vector<ObjectTruth> truth;
+};
+
+Rendered Render(const Plan& plan,
+                size_t k,
+                int spp = 1,
+                DepthKind depth_kind = DepthKind::kPlanar) {
+  static EmbreeDevice device;
+  const SceneAssets assets = BuildSceneAssets(plan);
+  const Sky sky(plan);
+  const WorldState world = WorldAt(plan, plan.frames[k]);
+  const RenderScene scene(device, plan, assets, world);
+  RenderSettings settings;
+  settings.sampler = {spp, 1.0, plan.seed};
+  settings.depth_kind = depth_kind;
+  PreviousView previous;
+  std::optional<WorldState> previous_world;
+  if (k > 0) {
+    previous.frame = &plan.frames[k - 1];
+    previous_world = WorldAt(plan, plan.frames[k - 1]);
+    previous.world = &*previous_world;
+  }
+  Rendered r{RenderFrame(scene, sky, plan.frames[k], previous, settings), {}};
+  uint64_t rays = 0;
+  r.truth = ComputeObjectTruth(scene, plan.frames[k], r.film, &rays);
+  return r;
+}
+
+const std::vector<float>& F(const Film& film,
+                            const char* layer,
+                            const char* channel) {
+  return film.flat.at(layer).Get(channel).floats;
+}
+const std::vector<uint32_t>& U(const Film& film, const char* layer) {
+  return film.flat.at(layer).Get("id").uints;
+}
+
+TEST(Render, NadirOverFlatGroundHasDepthAltitudeNormalUpAndZeroHeight) {
+  const double h = 25;
+  Plan plan = FlatPlan();
+  plan.frames[0].cam_from_world = Nadir({3, -2, h});
+  for (int spp : {1, 4}) {
+    const Film film = Render(plan, 0, spp).film;
+    const size_t n = film.centre_sample.size();
+    for (size_t i = 0; i < n; ++i) {
+      ASSERT_NEAR(F(film, "depth", "Z")[i], h, 1e-5 * h) << i;
+      ASSERT_EQ(F(film, "normal", "X")[i], 0.f);
+      ASSERT_EQ(F(film, "normal", "Y")[i], 0.f);
+      ASSERT_EQ(F(film, "normal", "Z")[i], 1.f);
+      ASSERT_NEAR(F(film, "worldposition", "Z")[i], 0.0, 1e-5);
+      ASSERT_EQ(U(film, "classid")[i], 1u);
+      ASSERT_EQ(U(film, "instanceid")[i], 1000u);
+      ASSERT_EQ(F(film, "shadow", "Y")[i], 1.f);   // nothing blocks the sun
+      ASSERT_EQ(F(film, "motion", "X")[i], 0.5f);  // first frame
+      ASSERT_EQ(F(film, "motion", "Y")[i], 0.5f);
+      for (const char* c : {"R", "G", "B"})
+        ASSERT_GT(F(film, "rgb", c)[i], 0.f);
+    }
+    // Every bundle sample sees the same plane.
+    for (float z : film.bundle.Get("Z").floats) ASSERT_NEAR(z, h, 1e-5 * h);
+  }
+}
+
+TEST(Render, WorldPositionIsTheGroundPointUnderThePixelCentre) {
+  const double h = 10;
+  Plan plan = FlatPlan(32, 24);
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  const Film film = Render(plan, 0).film;
+  const PinholeCamera& camera = plan.frames[0].camera;
+  for (int y = 0; y < 24; y += 5) {
+    for (int x = 0; x < 32; x += 5) {
+      const size_t i = static_cast<size_t>(y) * 32 + x;
+      const Eigen::Vector3d ray =
+          camera.RayThroughPixelCenter(x, y);  // nadir: x -> +x, y -> -y
+      EXPECT_NEAR(F(film, "worldposition", "X")[i], ray.x() * h, 1e-4);
+      EXPECT_NEAR(F(film, "worldposition", "Y")[i], -ray.y() * h, 1e-4);
+    }
+  }
+}
+
+TEST(Render, PerspectiveDepthIsPlanarOverCosine) {
+  const double h = 20;
+  Plan plan = FlatPlan();
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  const Film planar = Render(plan, 0, 1, DepthKind::kPlanar).film;
+  const Film perspective = Render(plan, 0, 1, DepthKind::kPerspective).film;
+  const PinholeCamera& camera = plan.frames[0].camera;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * camera.width + x;
+      const Eigen::Vector3d ray = camera.RayThroughPixelCenter(x, y);
+      const double cos_angle = 1.0 / ray.norm();
+      ASSERT_NEAR(perspective.flat.at("depth").Get("Z").floats[i],
+                  h / cos_angle,
+                  1e-5 * h);
+      ASSERT_NEAR(planar.flat.at("depth").Get("Z").floats[i], h, 1e-5 * h);
+    }
+  }
+}
+
+TEST(Render, SkyHasInfiniteDepthAndBackgroundIds) {
+  Plan plan = FlatPlan();
+  plan.terrain.present = false;
+  plan.frames[0].cam_from_world =
+      LookAt({0, 0, 10}, {0, 100, 20});  // looking up at the sky
+  const Film film = Render(plan, 0).film;
+  for (size_t i = 0; i < film.centre_sample.size(); ++i) {
+    ASSERT_TRUE(std::isinf(F(film, "depth", "Z")[i]));
+    ASSERT_TRUE(std::isinf(F(film, "worldposition", "X")[i]));
+    ASSERT_EQ(U(film, "instanceid")[i], 0u);
+    ASSERT_EQ(F(film, "normal", "Z")[i], 0.f);
+  }
+}
+
+TEST(Render, BoxCoversItsAnalyticPixelCount) {
+  // A cube of side s on the ground under a nadir camera at h: its silhouette is
+  // the top face, a square of side fx * s / (h - s) pixels.
+  const double h = 30, s = 4;
+  Plan plan = FlatPlan(96, 96, 50);
+  plan.objects.push_back(Box("B1", 1, {0, 0, s / 2}, {s, s, s}));
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  const Rendered r = Render(plan, 0);
+  const double side = plan.frames[0].camera.fx * s / (h - s);
+  int64_t count = 0;
+  for (uint32_t id : U(r.film, "instanceid")) count += id == 1;
+  EXPECT_NEAR(static_cast<double>(count), side * side, 4 * side + 4);
+  // The top face is at depth h - s with normal +z.
+  const size_t centre = static_cast<size_t>(48) * 96 + 48;
+  EXPECT_NEAR(F(r.film, "depth", "Z")[centre], h - s, 1e-5);
+  EXPECT_EQ(F(r.film, "normal", "Z")[centre], 1.f);
+  EXPECT_EQ(U(r.film, "classid")[centre], 2u);
+  // Truth: one unoccluded, fully in-frame object whose tight box matches the
+  // mask.
+  ASSERT_EQ(r.truth.size(), 1u);
+  const ObjectTruth& t = r.truth[0];
+  EXPECT_EQ(t.visible_pixels, count);
+  EXPECT_DOUBLE_EQ(t.visibility, 1.0);
+  EXPECT_DOUBLE_EQ(t.in_frame, 1.0);
+  ASSERT_TRUE(t.bbox && t.bbox_projected);
+  EXPECT_NEAR(t.bbox->width(), side, 1.0);
+  EXPECT_TRUE(t.bbox_projected->Contains(*t.bbox, 1.0));
+  EXPECT_EQ(t.obb.half_extents, Eigen::Vector3d(s / 2, s / 2, s / 2));
+}
+
+TEST(Render, OccludedBoxHasVisibilityBelowOneAndTruncatedBoxInFrameBelowOne) {
+  const double h = 30;
+  Plan plan = FlatPlan(96, 96, 50);
+  plan.objects.push_back(Box("low", 1, {0, 0, 0.5}, {4, 4, 1}));
+  plan.objects.push_back(
+      Box("high", 2, {1.5, 0, 6}, {3, 6, 0.5}));  // a slab above half of it
+  plan.objects.push_back(
+      Box("edge", 3, {14, 0, 1}, {4, 4, 2}));  // beyond the image's right edge
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  const Rendered r = Render(plan, 0);
+  ASSERT_EQ(r.truth.size(), 3u);
+  EXPECT_GT(r.truth[0].visibility, 0.2);
+  EXPECT_LT(r.truth[0].visibility, 0.8);
+  EXPECT_DOUBLE_EQ(r.truth[1].visibility, 1.0);
+  EXPECT_GT(r.truth[2].in_frame, 0.0);
+  EXPECT_LT(r.truth[2].in_frame, 1.0);
+  EXPECT_DOUBLE_EQ(r.truth[2].visibility, 1.0);  // truncated is not occluded
+}
+
+TEST(Render, ShadowIsOneInTheSunAndBelowOneBehindABox) {
+  // Sun from the east (+x) at 60 degrees: a box of height 4 casts a shadow
+  // about 2.3 m long to the west (-x) of its west face.
+  const double h = 30;
+  Plan plan = FlatPlan(96, 96, 50);
+  plan.objects.push_back(Box("B1", 1, {0, 0, 2}, {2, 2, 4}));
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  const Film film = Render(plan, 0).film;
+  const PinholeCamera& camera = plan.frames[0].camera;
+  auto pixel_of =
+      [&](double x, double y) {  // nadir: u = cx + fx x / h, v = cy - fy y / h
+        const int u = static_cast<int>(camera.cx + camera.fx * x / h);
+        const int v = static_cast<int>(camera.cy - camera.fy * y / h);
+        return static_cast<size_t>(v) * camera.width + u;
+      };
+  EXPECT_LT(F(film, "shadow", "Y")[pixel_of(-1.8, 0)],
+            0.5);  // in the shadow, on the ground
+  EXPECT_EQ(U(film, "instanceid")[pixel_of(-1.8, 0)], 1000u);
+  EXPECT_EQ(F(film, "shadow", "Y")[pixel_of(2.5, 0)],
+            1.f);  // east of the box, in the sun
+  EXPECT_EQ(F(film, "shadow", "Y")[pixel_of(-1.8, 4)],
+            1.f);  // beside the shadow
+  // The shadowed ground is darker than the lit ground.
+  EXPECT_LT(F(film, "rgb", "G")[pixel_of(-1.8, 0)],
+            F(film, "rgb", "G")[pixel_of(2.5, 0)]);
+}
+
+TEST(Render, MotionIsStillForAStillCameraAndMatchesATranslation) {
+  const double h = 20, step = 1.5;
+  Plan plan = FlatPlan();
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  plan.frames.push_back(plan.frames[0]);
+  plan.frames[1].index = 1;
+  plan.frames.push_back(plan.frames[0]);
+  plan.frames[2].index = 2;
+  plan.frames[2].cam_from_world = Nadir({step, 0, h});
+  const Film still = Render(plan, 1).film;
+  for (float m : F(still, "motion", "X")) ASSERT_FLOAT_EQ(m, 0.5f);
+  for (float m : F(still, "motion", "Y")) ASSERT_FLOAT_EQ(m, 0.5f);
+  // Moving +x by `step`: the ground moves left by fx * step / h pixels.
+  const Film moved = Render(plan, 2).film;
+  const PinholeCamera& camera = plan.frames[0].camera;
+  const double expected = 0.5 - 0.5 * camera.fx * step / h / camera.width;
+  for (float m : F(moved, "motion", "X")) ASSERT_NEAR(m, expected, 1e-5);
+  for (float m : F(moved, "motion", "Y")) ASSERT_NEAR(m, 0.5, 1e-5);
+}
+
+TEST(Render, MovingObjectHasItsOwnMotion) {
+  const double h = 20;
+  Plan plan = FlatPlan(64, 64, 50);
+  plan.objects.push_back(Box("B1", 1, {0, 0, 1}, {3, 3, 2}));
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  plan.frames.push_back(plan.frames[0]);
+  plan.frames[1].index = 1;
+  ObjectChange change;
+  change.object = "B1";
+  change.position = Eigen::Vector3d(1, 0, 1);
+  plan.frames[1].changes.push_back(change);
+  const Film film = Render(plan, 1).film;
+  const PinholeCamera& camera = plan.frames[0].camera;
+  const size_t on_top =
+      static_cast<size_t>(32) * 64 + 34;  // on the box's top face, now at x = 1
+  ASSERT_EQ(U(film, "instanceid")[on_top], 1u);
+  EXPECT_NEAR(F(film, "motion", "X")[on_top],
+              0.5 + 0.5 * camera.fx * 1.0 / (h - 2) / 64,
+              1e-5);
+  EXPECT_FLOAT_EQ(F(film, "motion", "X")[0], 0.5f);  // the ground does not move
+}
+
+TEST(Render, BundleCentreSampleIsTheFlatLayerAndEdgesAreMixed) {
+  const double h = 30;
+  Plan plan = FlatPlan(96, 96, 50);
+  plan.objects.push_back(Box("B1", 1, {0, 0, 2}, {6, 6, 4}));
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  for (int spp : {4, 9}) {
+    const Film film = Render(plan, 0, spp).film;
+    const exr::DeepImage& bundle = film.bundle;
+    const auto& ids = bundle.Get("instanceid").uints;
+    const auto& z = bundle.Get("Z").floats;
+    const auto& sx = bundle.Get("SX").floats;
+    int mixed = 0;
+    std::set<size_t> mixed_pixels;
+    for (int y = 0; y < 96; ++y) {
+      for (int x = 0; x < 96; ++x) {
+        const size_t i = static_cast<size_t>(y) * 96 + x;
+        ASSERT_EQ(bundle.SampleCount(x, y), static_cast<uint32_t>(spp));
+        const uint64_t first = bundle.FirstSample(x, y);
+        ASSERT_EQ(ids[first], U(film, "instanceid")[i]);
+        ASSERT_EQ(z[first], F(film, "depth", "Z")[i]);
+        ASSERT_EQ(sx[first], 0.5f);  // sample 0 is the pixel centre
+        ASSERT_EQ(bundle.Get("SY").floats[first], 0.5f);
+        for (int k = 1; k < spp; ++k) {
+          ASSERT_GE(sx[first + k], 0.f);
+          ASSERT_LT(sx[first + k], 1.f);
+        }
+        for (int k = 1; k < spp; ++k) {
+          if (ids[first + k] != ids[first]) {
+            ++mixed;
+            mixed_pixels.insert(i);
+            break;
+          }
+        }
+      }
+    }
+    EXPECT_GT(mixed, 0);
+    // Deep inside the box top and far out on the ground no pixel is mixed.
+    EXPECT_EQ(mixed_pixels.count(static_cast<size_t>(48) * 96 + 48), 0u);
+    EXPECT_EQ(mixed_pixels.count(static_cast<size_t>(5) * 96 + 5), 0u);
+    for (size_t i : mixed_pixels) {
+      const int x = static_cast<int>(i % 96), y = static_cast<int>(i / 96);
+      EXPECT_GT(std::max(std::abs(x - 48), std::abs(y - 48)),
+                8);  // only near the silhouette
+    }
+  }
+}
+
+TEST(Render, SameSeedGivesIdenticalFilmsAndThreadsDoNotMatter) {
+  Plan plan = FlatPlan();
+  plan.terrain.perlin_amplitude = 2;
+  plan.objects.push_back(Box("B1", 1, {0, 0, 2}, {3, 3, 4}));
+  plan.objects.push_back(Box("R1", 2, {4, 3, 1}, {2, 2, 1}));
+  plan.objects.back().class_name = "rock";
+  plan.frames[0].cam_from_world = LookAt({-20, -20, 15}, {0, 0, 0});
+  const Film a = Render(plan, 0, 4).film;
+  const Film b = Render(plan, 0, 4).film;
+  for (const auto& [name, image] : a.flat) {
+    for (const auto& c : image.channels()) {
+      EXPECT_EQ(c.floats, b.flat.at(name).Get(c.name).floats) << name;
+      EXPECT_EQ(c.uints, b.flat.at(name).Get(c.name).uints) << name;
+    }
+  }
+  EXPECT_EQ(a.bundle.Get("Z").floats, b.bundle.Get("Z").floats);
+}
+
+}  // namespace
+}  // namespace lsds::gen

@@ -1,0 +1,156 @@
+// Scene entities: the class factory, materials, meshes, terrain, world state.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "generator/render/sky.h"
+#include "generator/scene/materials.h"
+#include "generator/scene/object_library.h"
+#include "generator/scene/perlin.h"
+#include "generator/scene/terrain.h"
+#include "generator/scene/world.h"
+#include "libs/util/error.h"
+
+namespace lsds::gen {
+namespace {
+
+TEST(ObjectLibrary, EveryBuiltinClassFillsTheUnitBox) {
+  for (const std::string& name : BuiltinClassNames()) {
+    const ClassShape shape = MakeClassShape(name, 3, "test");
+    ASSERT_FALSE(shape.mesh.empty()) << name;
+    Eigen::Vector3f lo = shape.mesh.positions[0], hi = lo;
+    for (const Eigen::Vector3f& p : shape.mesh.positions) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    EXPECT_TRUE(lo.isApprox(Eigen::Vector3f::Constant(-0.5f), 1e-5)) << name;
+    EXPECT_TRUE(hi.isApprox(Eigen::Vector3f::Constant(0.5f), 1e-5)) << name;
+    for (const Eigen::Vector3i& t : shape.mesh.triangles) {
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_GE(t[k], 0);
+        ASSERT_LT(t[k], static_cast<int>(shape.mesh.positions.size()));
+      }
+    }
+    FindMaterial(shape.default_material, name);  // default materials exist
+  }
+}
+
+TEST(ObjectLibrary, RandomClassesDependOnTheSeedOnly) {
+  const ClassShape a = MakeClassShape("rock", 1, "t"),
+                   b = MakeClassShape("rock", 1, "t");
+  const ClassShape c = MakeClassShape("rock", 2, "t");
+  EXPECT_EQ(a.mesh.positions, b.mesh.positions);
+  EXPECT_NE(a.mesh.positions, c.mesh.positions);
+}
+
+TEST(ObjectLibrary, UnknownClassIsRejectedWithASuggestion) {
+  try {
+    MakeClassShape("barel", 0, "object 'O1#0'");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("unknown object class 'barel'"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("did you mean 'barrel'"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("O1#0"), std::string::npos) << message;
+  }
+  EXPECT_THROW(MakeClassShape("missing/file.obj", 0, "o"), Error);
+}
+
+TEST(ObjectLibrary, UserMeshesLoadThroughAssimpNormalized) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "lsds_scene_test_tetra.obj";
+  {
+    std::ofstream obj(path);
+    obj << "v 0 0 0\nv 2 0 0\nv 0 4 0\nv 0 0 6\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 "
+           "3 4\n";
+  }
+  ASSERT_TRUE(IsMeshPath(path.string()));
+  const ClassShape shape = MakeClassShape(path.string(), 0, "object 'M#0'");
+  EXPECT_EQ(shape.mesh.triangles.size(), 4u);
+  Eigen::Vector3f lo = shape.mesh.positions[0], hi = lo;
+  for (const Eigen::Vector3f& p : shape.mesh.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  EXPECT_TRUE(lo.isApprox(Eigen::Vector3f::Constant(-0.5f), 1e-5));
+  EXPECT_TRUE(hi.isApprox(Eigen::Vector3f::Constant(0.5f), 1e-5));
+  std::ofstream(path) << "this is not a mesh\n";
+  EXPECT_THROW(MakeClassShape(path.string(), 0, "object 'M#0'"), Error);
+}
+
+TEST(Materials, UnknownNamesAreRejected) {
+  EXPECT_THROW(FindMaterial("grasy", "terrain"), Error);
+  EXPECT_EQ(FindMaterial("grassy", "terrain").name, "grassy");
+  EXPECT_EQ(FindMaterial("MetalGold", "object").name,
+            "metal_gold");  // case and '_' do not matter
+}
+
+TEST(Sky, UnknownCloudTypeIsRejected) {
+  Plan plan;
+  plan.sky.cloud_type = "cumulous";
+  EXPECT_THROW(Sky{plan}, Error);
+  plan.sky.cloud_type = "cirrus";
+  plan.sky.cloud_density = 0.5;
+  const Sky sky(plan);
+  EXPECT_GT(sky.Radiance(Eigen::Vector3d(0, 0, 1)).sum(), 0);
+  // The sun direction: azimuth from north (+y) clockwise, elevation above the
+  // horizon.
+  EXPECT_NEAR(sky.to_sun().norm(), 1, 1e-12);
+  EXPECT_GT(sky.to_sun().x(), 0);  // default azimuth 135: south-east
+  EXPECT_LT(sky.to_sun().y(), 0);
+}
+
+TEST(Perlin, IsDeterministicAndBounded) {
+  const Perlin a(5), b(5), c(6);
+  double differ = 0;
+  for (int i = 0; i < 100; ++i) {
+    const double x = i * 0.37, y = i * 0.11;
+    EXPECT_EQ(a.Fbm(x, y, 4), b.Fbm(x, y, 4));
+    EXPECT_LE(std::abs(a.Fbm(x, y, 4)), 1.5);
+    differ += std::abs(a.Noise(x, y) - c.Noise(x, y));
+  }
+  EXPECT_GT(differ, 0);
+}
+
+TEST(Terrain, FlatTerrainIsTwoTrianglesAtZeroAndHillsFollowTheHeight) {
+  PlannedTerrain terrain;
+  terrain.present = true;
+  terrain.size = {100, 50};
+  TriangleMesh flat = MakeTerrainMesh(terrain);
+  EXPECT_EQ(flat.triangles.size(), 2u);
+  for (const auto& p : flat.positions) EXPECT_EQ(p.z(), 0.f);
+  terrain.perlin_amplitude = 4;
+  terrain.perlin_frequency = 0.05;
+  const TriangleMesh hills = MakeTerrainMesh(terrain);
+  EXPECT_GT(hills.triangles.size(), 100u);
+  for (const auto& p : hills.positions) {
+    EXPECT_NEAR(p.z(), TerrainHeight(terrain, p.x(), p.y()), 1e-4);
+  }
+}
+
+TEST(World, ChangesApplyToTheirFrameOnly) {
+  Plan plan;
+  PlannedObject o;
+  o.name = "O1#0";
+  o.class_name = "cube";
+  plan.objects.push_back(o);
+  PlannedFrame frame;
+  ObjectChange change;
+  change.object = "O1#0";
+  change.position = Eigen::Vector3d(1, 2, 3);
+  change.visible = false;
+  frame.changes.push_back(change);
+  const WorldState world = WorldAt(plan, frame);
+  EXPECT_EQ(world.objects[0].position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_FALSE(world.objects[0].visible);
+  EXPECT_EQ(WorldAt(plan, PlannedFrame{}).objects[0].position,
+            Eigen::Vector3d::Zero());
+  frame.changes[0].object = "nobody";
+  EXPECT_THROW(WorldAt(plan, frame), Error);
+}
+
+}  // namespace
+}  // namespace lsds::gen

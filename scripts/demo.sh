@@ -1,21 +1,40 @@
 #!/usr/bin/env bash
-# `make demo`: make the example collection and run the main tools on it.
+# `make demo`: render the example collection from its LSCENE/LCAP description and run the main tools
+# on it. Everything goes into demo/ (or $LSDS_DEMO_DIR); a second run replaces it.
 # Usage: scripts/demo.sh PATH/TO/lsds
 set -euo pipefail
 lsds="${1:?usage: scripts/demo.sh PATH/TO/lsds}"
 out="${LSDS_DEMO_DIR:-demo}"
+collection="$out/survey"
+rm -rf "$out"
 mkdir -p "$out"
 
-echo "== lsds synth: a synthetic collection with exact truth (24 frames, 512x512)"
-"$lsds" synth "$out/synthetic" --frames 24 --size 512x512 --force
-echo
-echo "== lsds info"
-"$lsds" info "$out/synthetic"
-echo
-echo "== lsds generate: the Embree reference renderer (built-in demo scene, 24 frames, 512x512, 4 spp)"
-"$lsds" generate --demo --demo-frames 24 --demo-size 512x512 -o "$out/generated" --force
-echo
-echo "== lsds info"
-"$lsds" info "$out/generated"
-echo
-echo "demo collections are in $out/"
+step() { printf '\n== %s\n' "$*"; }
+
+step "lsds plan: expand the scene and capture into the frame plan"
+"$lsds" plan examples/uav_survey.lscene examples/demo_survey.lcap --seed 7 -o "$out/plan.json"
+echo "wrote $out/plan.json"
+
+step "lsds generate: render 24 frames at 512x512, 4 samples per pixel (Embree)"
+"$lsds" generate examples/uav_survey.lscene examples/demo_survey.lcap --seed 7 --spp 4 -o "$collection"
+
+step "lsds info"
+"$lsds" info "$collection"
+
+step "lsds validate: schemas, layers, cross-layer truth, camera geometry"
+"$lsds" validate "$collection" --format text -o "$out/validate.txt"
+tail -n 3 "$out/validate.txt"
+
+step "lsds convert: YOLO and COCO"
+"$lsds" convert "$collection" --to yolo,coco -o "$out/export"
+
+step "lsds bundles: mixed pixels from the pixel bundles"
+"$lsds" bundles "$collection" -o "$out/bundle-stats.json"
+
+step "lsds backproject: one fused point cloud, checked against the world-position layer"
+"$lsds" backproject "$collection" -o "$out/cloud.ply" --fuse --voxel 0.25 --check | tail -n 2
+
+step "lsds perturb-metadata: GNSS-like noise, 0.5 m and 1 degree, with its effect in pixels"
+"$lsds" perturb-metadata "$collection" --sigma 0.5,1 --seed 7 --report
+
+printf '\ndemo outputs are in %s/\n' "$out"

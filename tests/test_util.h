@@ -18,7 +18,8 @@ class TempDir {
   TempDir() {
     std::random_device device;
     path_ = std::filesystem::temp_directory_path() /
-            ("lsds-test-" + std::to_string(::getpid()) + "-" + std::to_string(device()));
+            ("lsds-test-" + std::to_string(::getpid()) + "-" +
+             std::to_string(device()));
     std::filesystem::create_directories(path_);
   }
   ~TempDir() {
@@ -26,7 +27,9 @@ class TempDir {
     std::filesystem::remove_all(path_, ec);
   }
   const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+  std::filesystem::path operator/(const std::string& name) const {
+    return path_ / name;
+  }
 
  private:
   std::filesystem::path path_;
@@ -44,13 +47,16 @@ inline CommandResult RunCommandLine(const std::string& command_line) {
   if (pipe == nullptr) return result;
   std::array<char, 4096> buffer;
   size_t n;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = ::pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
 }
 
 // The lsds binary of this build.
-inline std::string LsdsBinary() { return std::string(LSDS_BINARY_DIR) + "/tools/lsds"; }
+inline std::string LsdsBinary() {
+  return std::string(LSDS_BINARY_DIR) + "/tools/lsds";
+}
 
 }  // namespace lsds::testing

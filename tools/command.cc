@@ -8,27 +8,44 @@ namespace lsds {
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
-      {"generate", "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection",
+      {"generate",
+       "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection",
        RunGenerate},
-      {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
-      {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
+      {"plan",
+       "expand an LSCENE scene and LCAP capture into the frame plan (JSON)",
+       RunPlan},
+      {"info",
+       "summarize a collection: frames, layers, classes, cameras, size",
+       RunInfo},
       {"validate",
-       "check a collection: schemas, structure, layers, cross-layer truth, camera geometry",
+       "check a collection: schemas, structure, layers, cross-layer truth, "
+       "camera geometry",
        RunValidate},
-      {"convert", "truth into YOLO, COCO or CVAT files with a loss report", RunConvert},
+      {"convert",
+       "truth into YOLO, COCO or CVAT files with a loss report",
+       RunConvert},
       {"perturb-metadata",
-       "write a perturbed copy of the metadata with the noise and errors recorded",
+       "write a perturbed copy of the metadata with the noise and errors "
+       "recorded",
        RunPerturbMetadata},
-      {"bundles", "mixed-pixel statistics of the pixel bundles; bundle-derived truth layers",
+      {"bundles",
+       "mixed-pixel statistics of the pixel bundles; bundle-derived truth "
+       "layers",
        RunBundles},
-      {"backproject", "depth layers to point clouds (PCD/PLY), per frame or fused; --check",
+      {"backproject",
+       "depth layers to point clouds (PCD/PLY), per frame or fused; --check",
        RunBackproject},
-      {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
+      {"synth",
+       "write a synthetic collection with exact analytic truth (for tests)",
+       RunSynth},
   };
   return commands;
 }
 
-int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+int RunCommand(CLI::App& app,
+               int argc,
+               char** argv,
+               const std::function<int()>& body) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -15,13 +15,18 @@ struct Command {
   int (*run)(int argc, char** argv);
 };
 
-// Every command, in the order `lsds help` lists them. One line per command in command.cc.
+// Every command, in the order `lsds help` lists them. One line per command in
+// command.cc.
 const std::vector<Command>& Commands();
 
-// Parses `argv` with `app` and runs `body`, mapping the outcome to the exit codes of the brief:
-// 0 success, 1 findings (returned by `body`), 2 bad usage or unreadable input (CLI11 errors and
-// lsds::Error, printed as "lsds NAME: error: WHERE: WHAT").
-int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+// Parses `argv` with `app` and runs `body`, mapping the outcome to the exit
+// codes of the brief: 0 success, 1 findings (returned by `body`), 2 bad usage
+// or unreadable input (CLI11 errors and lsds::Error, printed as "lsds NAME:
+// error: WHERE: WHAT").
+int RunCommand(CLI::App& app,
+               int argc,
+               char** argv,
+               const std::function<int()>& body);
 
 // Command entry points, one per file (tools/<name>_command.cc).
 int RunGenerate(int argc, char** argv);

@@ -9,13 +9,18 @@
 namespace {
 
 void PrintHelp() {
-  std::cout << "lsds " << LSDS_VERSION << ": simulated datasets for AI/ML and UAV imagery\n\n"
-            << "usage: lsds COMMAND [ARGS...]   (lsds COMMAND --help for its options)\n\ncommands:\n";
+  std::cout << "lsds " << LSDS_VERSION
+            << ": simulated datasets for AI/ML and UAV imagery\n\n"
+            << "usage: lsds COMMAND [ARGS...]   (lsds COMMAND --help for its "
+               "options)\n\ncommands:\n";
   for (const lsds::Command& command : lsds::Commands()) {
-    std::cout << "  " << command.name << std::string(18 - std::min<size_t>(17, command.name.size()), ' ')
+    std::cout << "  " << command.name
+              << std::string(18 - std::min<size_t>(17, command.name.size()),
+                             ' ')
               << command.summary << "\n";
   }
-  std::cout << "\nexit codes: 0 success, 1 findings at or above the failure level, 2 bad usage or "
+  std::cout << "\nexit codes: 0 success, 1 findings at or above the failure "
+               "level, 2 bad usage or "
                "unreadable input\n";
 }
 
@@ -49,7 +54,8 @@ int main(int argc, char** argv) {
     if (command.name == name) return command.run(argc - 1, argv + 1);
     names.push_back(command.name);
   }
-  std::cerr << "lsds: error: unknown command '" << name << "'" << lsds::DidYouMean(name, names)
+  std::cerr << "lsds: error: unknown command '" << name << "'"
+            << lsds::DidYouMean(name, names)
             << "; run 'lsds help' for the list\n";
   return lsds::kExitUsage;
 }

@@ -1,4 +1,5 @@
-// lsds synth OUT [--frames N] [--size WxH] [--samples-per-axis N] [--depth planar|perspective] [--force]
+// lsds synth OUT [--frames N] [--size WxH] [--samples-per-axis N] [--depth
+// planar|perspective] [--force]
 #include <cstdio>
 #include <iostream>
 
@@ -11,8 +12,10 @@ namespace lsds {
 
 int RunSynth(int argc, char** argv) {
   CLI::App app(
-      "Write a synthetic collection with exact, analytic layers and truth (a ground plane and three "
-      "boxes under a nadir camera): a known-good input for testing pipelines and tools.",
+      "Write a synthetic collection with exact, analytic layers and truth (a "
+      "ground plane and three "
+      "boxes under a nadir camera): a known-good input for testing pipelines "
+      "and tools.",
       "lsds synth");
   std::string out;
   int frames = 4;
@@ -21,17 +24,22 @@ int RunSynth(int argc, char** argv) {
   std::string depth = "planar";
   bool force = false;
   app.add_option("OUT", out, "output collection folder")->required();
-  app.add_option("--frames", frames, "number of frames")->check(CLI::Range(1, 1000000));
+  app.add_option("--frames", frames, "number of frames")
+      ->check(CLI::Range(1, 1000000));
   app.add_option("--size", size, "image size WIDTHxHEIGHT");
-  app.add_option("--samples-per-axis", samples_per_axis, "bundle samples per pixel = N*N")
+  app.add_option("--samples-per-axis",
+                 samples_per_axis,
+                 "bundle samples per pixel = N*N")
       ->check(CLI::Range(1, 16));
-  app.add_option("--depth", depth, "declared depth kind")->check(CLI::IsMember({"planar", "perspective"}));
+  app.add_option("--depth", depth, "declared depth kind")
+      ->check(CLI::IsMember({"planar", "perspective"}));
   app.add_flag("--force", force, "replace OUT if it exists");
   return RunCommand(app, argc, argv, [&] {
     int width = 0, height = 0;
-    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 || height < 1 ||
-        width > 16384 || height > 16384) {
-      throw Error("--size must be WIDTHxHEIGHT, e.g. 640x480, got '" + size + "'");
+    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 ||
+        height < 1 || width > 16384 || height > 16384) {
+      throw Error("--size must be WIDTHxHEIGHT, e.g. 640x480, got '" + size +
+                  "'");
     }
     synth::Spec spec = synth::CircleSpec(frames, width, height);
     spec.samples_per_axis = samples_per_axis;
@@ -39,7 +47,8 @@ int RunSynth(int argc, char** argv) {
     AtomicDirectory output(out, force);
     synth::WriteCollection(output.temp_path(), spec);
     output.Commit();
-    std::cout << "wrote " << frames << " frames (" << width << "x" << height << ") to " << out << "\n";
+    std::cout << "wrote " << frames << " frames (" << width << "x" << height
+              << ") to " << out << "\n";
     return 0;
   });
 }

@@ -1,6 +1,7 @@
-// The frame plan: what LSCENE/LCAP expand to and what the renderer consumes (docs/languages.md).
-// A plan is fully sampled: no intervals or choices remain, every value is crisp. Its JSON form has
-// its own schema (schemas/plan.schema.json).
+// The frame plan: what LSCENE/LCAP expand to and what the renderer consumes
+// (docs/languages.md). A plan is fully sampled: no intervals or choices remain,
+// every value is crisp. Its JSON form has its own schema
+// (schemas/plan.schema.json).
 #pragma once
 
 #include <cstdint>
@@ -19,9 +20,10 @@ namespace lsds {
 
 struct PlannedSky {
   Eigen::Vector3d color = {0.55, 0.7, 0.95};  // linear RGB at the zenith
-  std::string cloud_type = "none";            // none | cumulus | nimbostratus | cirrus | stratus
-  double cloud_density = 0.0;                 // [0, 1]
-  double intensity = 1.0;                     // sky radiance scale
+  std::string cloud_type =
+      "none";  // none | cumulus | nimbostratus | cirrus | stratus
+  double cloud_density = 0.0;  // [0, 1]
+  double intensity = 1.0;      // sky radiance scale
 };
 
 struct PlannedSun {
@@ -32,31 +34,37 @@ struct PlannedSun {
 
 struct PlannedTerrain {
   bool present = false;
-  Eigen::Vector2d size = {200.0, 200.0};  // metres along x and y, centred on the origin
-  double perlin_amplitude = 0.0;          // metres
-  double perlin_frequency = 0.05;         // cycles per metre
+  Eigen::Vector2d size = {
+      200.0, 200.0};              // metres along x and y, centred on the origin
+  double perlin_amplitude = 0.0;  // metres
+  double perlin_frequency = 0.05;  // cycles per metre
   uint64_t perlin_seed = 0;
   std::string material = "grassy";
-  uint32_t class_id = 0;     // terrain class in the class table (0: unlabeled background)
+  uint32_t class_id =
+      0;  // terrain class in the class table (0: unlabeled background)
   uint32_t instance_id = 0;  // instance id in the instanceid layer
 };
 
 // One object of the sampled world.
 struct PlannedObject {
-  std::string name;        // "O2#3": LSCENE symbol and copy number
-  std::string symbol;      // "O2"
-  std::string class_name;  // built-in class ("cube", "rock", ...) or a mesh file path
+  std::string name;    // "O2#3": LSCENE symbol and copy number
+  std::string symbol;  // "O2"
+  std::string
+      class_name;  // built-in class ("cube", "rock", ...) or a mesh file path
   uint32_t class_id = 0;
   uint32_t instance_id = 0;
-  bool visible = true;   // invisible helpers are placed but not rendered
-  bool target = true;    // an object of interest: gets a truth entry per frame
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // centre of the object's box, world metres
+  bool visible = true;  // invisible helpers are placed but not rendered
+  bool target = true;   // an object of interest: gets a truth entry per frame
+  Eigen::Vector3d position =
+      Eigen::Vector3d::Zero();  // centre of the object's box, world metres
   Eigen::Matrix3d world_from_object = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d extent = Eigen::Vector3d::Ones();  // full box size in metres (after scale)
-  std::string material;  // empty: the class's default
+  Eigen::Vector3d extent =
+      Eigen::Vector3d::Ones();  // full box size in metres (after scale)
+  std::string material;         // empty: the class's default
 };
 
-// A change to an object in effect on a frame (LCAP scene changes: when/after/during).
+// A change to an object in effect on a frame (LCAP scene changes:
+// when/after/during).
 struct ObjectChange {
   std::string object;  // PlannedObject::name
   std::optional<Eigen::Vector3d> position;
@@ -68,11 +76,12 @@ struct ObjectChange {
 
 struct PlannedFrame {
   int64_t index = 0;
-  double time = 0;        // seconds
-  std::string sequence;   // path instance, e.g. "P1(2)"
+  double time = 0;       // seconds
+  std::string sequence;  // path instance, e.g. "P1(2)"
   PinholeCamera camera;
   Rigid3d cam_from_world;
-  std::vector<ObjectChange> changes;  // applied in order on top of the world's objects
+  std::vector<ObjectChange>
+      changes;  // applied in order on top of the world's objects
 };
 
 struct Plan {
@@ -86,8 +95,10 @@ struct Plan {
   double skylight_intensity = 0.3;  // ambient
   PlannedTerrain terrain;
   std::vector<PlannedObject> objects;
-  std::vector<std::string> post_process;  // PP materials named in LCAP, recorded as capture settings
-  // LCAP capture settings other than post-process materials (e.g. "layers", "output"), as written.
+  std::vector<std::string>
+      post_process;  // PP materials named in LCAP, recorded as capture settings
+  // LCAP capture settings other than post-process materials (e.g. "layers",
+  // "output"), as written.
   nlohmann::json capture_settings = nlohmann::json::object();
   std::vector<PlannedFrame> frames;
 };

@@ -22,30 +22,38 @@ CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
     : root_(root), options_(options) {
   std::error_code ec;
   if (!fs::is_directory(root_, ec)) {
-    throw Error(fs::exists(root_, ec) ? "is not a folder" : "does not exist", Location(root_.string()));
+    throw Error(fs::exists(root_, ec) ? "is not a folder" : "does not exist",
+                Location(root_.string()));
   }
   if (!LooksLikeCollection(root_)) {
-    throw Error("is not an lsds collection: it has no " + std::string(kCollectionFile),
-                Location(root_.string()));
+    throw Error(
+        "is not an lsds collection: it has no " + std::string(kCollectionFile),
+        Location(root_.string()));
   }
   const std::string file = collection_path().string();
   nlohmann::json header_json;
-  frames_in_file_ = StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
+  frames_in_file_ =
+      StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
   if (options_.validate_schema) {
-    JsonSchema::Get("collection.schema.json").ValidateOrThrow(header_json, file);
+    JsonSchema::Get("collection.schema.json")
+        .ValidateOrThrow(header_json, file);
   }
   header_ = HeaderFromJson(header_json, file);
 }
 
 void CollectionReader::ForEachFrameJson(
-    const std::function<void(const nlohmann::json&, const std::string&)>& fn) const {
-  StreamJsonArrayMember(collection_path(), "frames", nullptr,
+    const std::function<void(const nlohmann::json&, const std::string&)>& fn)
+    const {
+  StreamJsonArrayMember(collection_path(),
+                        "frames",
+                        nullptr,
                         [&](nlohmann::json&& frame, size_t index) {
                           fn(frame, "/frames/" + std::to_string(index));
                         });
 }
 
-void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn) const {
+void CollectionReader::ForEachFrame(
+    const std::function<void(const Frame&)>& fn) const {
   const std::string file = collection_path().string();
   const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
   ForEachFrameJson([&](const nlohmann::json& json, const std::string& pointer) {
@@ -54,8 +62,8 @@ void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn)
   });
 }
 
-void CollectionReader::ParallelForEachFrame(const std::function<void(const Frame&)>& fn,
-                                            size_t batch_size) const {
+void CollectionReader::ParallelForEachFrame(
+    const std::function<void(const Frame&)>& fn, size_t batch_size) const {
   std::vector<Frame> batch;
   batch.reserve(batch_size);
   auto flush = [&] {
@@ -69,7 +77,8 @@ void CollectionReader::ParallelForEachFrame(const std::function<void(const Frame
   flush();
 }
 
-fs::path CollectionReader::LayerPath(const Frame& frame, const std::string& layer) const {
+fs::path CollectionReader::LayerPath(const Frame& frame,
+                                     const std::string& layer) const {
   const auto it = frame.files.find(layer);
   if (it == frame.files.end()) {
     Location where{collection_path().string()};
@@ -82,23 +91,28 @@ fs::path CollectionReader::LayerPath(const Frame& frame, const std::string& laye
 MetadataReader::MetadataReader(const fs::path& path, ReaderOptions options)
     : path_(path), options_(options) {
   std::error_code ec;
-  if (!fs::is_regular_file(path_, ec)) throw Error("metadata file does not exist", Location(path_.string()));
+  if (!fs::is_regular_file(path_, ec))
+    throw Error("metadata file does not exist", Location(path_.string()));
   nlohmann::json header_json;
   StreamJsonArrayMember(path_, "frames", &header_json, nullptr);
   if (options_.validate_schema) {
-    JsonSchema::Get("metadata.schema.json").ValidateOrThrow(header_json, path_.string());
+    JsonSchema::Get("metadata.schema.json")
+        .ValidateOrThrow(header_json, path_.string());
   }
   header_ = MetadataHeaderFromJson(header_json, path_.string());
 }
 
-void MetadataReader::ForEachFrame(const std::function<void(const MetadataFrame&)>& fn) const {
+void MetadataReader::ForEachFrame(
+    const std::function<void(const MetadataFrame&)>& fn) const {
   const std::string file = path_.string();
   const JsonSchema& schema = JsonSchema::Get("metadata.schema.json", "frame");
-  StreamJsonArrayMember(path_, "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
-    const std::string pointer = "/frames/" + std::to_string(index);
-    if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
-    fn(MetadataFrameFromJson(json, file, pointer));
-  });
+  StreamJsonArrayMember(
+      path_, "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
+        const std::string pointer = "/frames/" + std::to_string(index);
+        if (options_.validate_schema)
+          schema.ValidateOrThrow(json, file, pointer);
+        fn(MetadataFrameFromJson(json, file, pointer));
+      });
 }
 
 }  // namespace lsds

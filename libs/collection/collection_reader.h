@@ -12,30 +12,43 @@
 namespace lsds {
 
 struct ReaderOptions {
-  bool validate_schema = true;  // check collection.json (header and each frame) against its schema
+  bool validate_schema =
+      true;  // check collection.json (header and each frame) against its schema
 };
 
 class CollectionReader {
  public:
-  // Opens `root`/collection.json: parses and validates the header, counts the frames. Throws
-  // lsds::Error naming the file (and the JSON pointer or line:column) if it is not a collection.
-  explicit CollectionReader(const std::filesystem::path& root, ReaderOptions options = {});
+  // Opens `root`/collection.json: parses and validates the header, counts the
+  // frames. Throws lsds::Error naming the file (and the JSON pointer or
+  // line:column) if it is not a collection.
+  explicit CollectionReader(const std::filesystem::path& root,
+                            ReaderOptions options = {});
 
   const std::filesystem::path& root() const { return root_; }
-  std::filesystem::path collection_path() const { return root_ / kCollectionFile; }
+  std::filesystem::path collection_path() const {
+    return root_ / kCollectionFile;
+  }
   const CollectionHeader& header() const { return header_; }
   size_t frames_in_file() const { return frames_in_file_; }
 
-  // Frames in file order, one at a time. Each frame is schema-checked and parsed before `fn` sees it.
+  // Frames in file order, one at a time. Each frame is schema-checked and
+  // parsed before `fn` sees it.
   void ForEachFrame(const std::function<void(const Frame&)>& fn) const;
-  // The raw JSON of each frame with its JSON pointer ("/frames/17"), for checks on the text itself.
-  void ForEachFrameJson(const std::function<void(const nlohmann::json&, const std::string&)>& fn) const;
-  // Frames in batches of `batch_size`, each batch processed in parallel (TBB); memory is bounded by the
-  // batch, not the collection. `fn` must be thread-safe.
-  void ParallelForEachFrame(const std::function<void(const Frame&)>& fn, size_t batch_size = 32) const;
+  // The raw JSON of each frame with its JSON pointer ("/frames/17"), for checks
+  // on the text itself.
+  void ForEachFrameJson(
+      const std::function<void(const nlohmann::json&, const std::string&)>& fn)
+      const;
+  // Frames in batches of `batch_size`, each batch processed in parallel (TBB);
+  // memory is bounded by the batch, not the collection. `fn` must be
+  // thread-safe.
+  void ParallelForEachFrame(const std::function<void(const Frame&)>& fn,
+                            size_t batch_size = 32) const;
 
-  // Absolute path of a frame's file for `layer`; throws when the frame has none.
-  std::filesystem::path LayerPath(const Frame& frame, const std::string& layer) const;
+  // Absolute path of a frame's file for `layer`; throws when the frame has
+  // none.
+  std::filesystem::path LayerPath(const Frame& frame,
+                                  const std::string& layer) const;
 
  private:
   std::filesystem::path root_;
@@ -50,7 +63,8 @@ bool LooksLikeCollection(const std::filesystem::path& root);
 // metadata.json and its variants, streamed the same way.
 class MetadataReader {
  public:
-  explicit MetadataReader(const std::filesystem::path& path, ReaderOptions options = {});
+  explicit MetadataReader(const std::filesystem::path& path,
+                          ReaderOptions options = {});
   const MetadataHeader& header() const { return header_; }
   const std::filesystem::path& path() const { return path_; }
   void ForEachFrame(const std::function<void(const MetadataFrame&)>& fn) const;

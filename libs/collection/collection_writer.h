@@ -8,11 +8,12 @@
 
 namespace lsds {
 
-// Frames are appended in order; Commit() checks that their number equals header.frame_count and
-// renames the file into place.
+// Frames are appended in order; Commit() checks that their number equals
+// header.frame_count and renames the file into place.
 class CollectionWriter {
  public:
-  CollectionWriter(const std::filesystem::path& root, const CollectionHeader& header);
+  CollectionWriter(const std::filesystem::path& root,
+                   const CollectionHeader& header);
   void Append(const Frame& frame);
   void Commit();
 
@@ -23,8 +24,10 @@ class CollectionWriter {
 
 class MetadataWriter {
  public:
-  MetadataWriter(const std::filesystem::path& path, const MetadataHeader& header,
-                 const nlohmann::json& extra_members = nlohmann::json::object());
+  MetadataWriter(
+      const std::filesystem::path& path,
+      const MetadataHeader& header,
+      const nlohmann::json& extra_members = nlohmann::json::object());
   void Append(const MetadataFrame& frame);
   void Commit();
 

@@ -7,11 +7,14 @@ namespace lsds {
 
 using nlohmann::json;
 
-json Vector3ToJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+json Vector3ToJson(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
 
 json Matrix3ToJson(const Eigen::Matrix3d& m) {
   json rows = json::array();
-  for (int r = 0; r < 3; ++r) rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
+  for (int r = 0; r < 3; ++r)
+    rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
   return rows;
 }
 
@@ -36,12 +39,17 @@ Eigen::Matrix3d Matrix3FromJson(const json& j) {
 
 std::optional<Box2d> Box2dFromJson(const json& j) {
   if (j.is_null()) return std::nullopt;
-  return Box2d{j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>(), j.at(3).get<double>()};
+  return Box2d{j.at(0).get<double>(),
+               j.at(1).get<double>(),
+               j.at(2).get<double>(),
+               j.at(3).get<double>()};
 }
 
-// Runs `body`, turning nlohmann's type and range errors into lsds::Error at `file#pointer`.
+// Runs `body`, turning nlohmann's type and range errors into lsds::Error at
+// `file#pointer`.
 template <typename Body>
-auto AtPointer(const std::string& file, const std::string& pointer, Body&& body) -> decltype(body()) {
+auto AtPointer(const std::string& file, const std::string& pointer, Body&& body)
+    -> decltype(body()) {
   try {
     return body();
   } catch (const json::exception& e) {
@@ -55,7 +63,8 @@ auto AtPointer(const std::string& file, const std::string& pointer, Body&& body)
 json LayerToJson(const LayerInfo& layer) {
   json channels = json::array();
   for (const LayerChannel& c : layer.channels) {
-    channels.push_back({{"name", c.name}, {"type", exr::PixelTypeName(c.type)}});
+    channels.push_back(
+        {{"name", c.name}, {"type", exr::PixelTypeName(c.type)}});
   }
   json j = {{"name", layer.name},
             {"semantic", layer.semantic},
@@ -94,16 +103,17 @@ LayerInfo LayerFromJson(const json& j) {
 
 json CameraToJson(const CameraTruth& camera) {
   const PinholeCamera& k = camera.intrinsics;
-  return {{"model", "pinhole"},
-          {"width", k.width},
-          {"height", k.height},
-          {"fx", k.fx},
-          {"fy", k.fy},
-          {"cx", k.cx},
-          {"cy", k.cy},
-          {"cam_from_world",
-           {{"rotation", Matrix3ToJson(camera.cam_from_world_rotation)},
-            {"translation", Vector3ToJson(camera.cam_from_world_translation)}}}};
+  return {
+      {"model", "pinhole"},
+      {"width", k.width},
+      {"height", k.height},
+      {"fx", k.fx},
+      {"fy", k.fy},
+      {"cx", k.cx},
+      {"cy", k.cy},
+      {"cam_from_world",
+       {{"rotation", Matrix3ToJson(camera.cam_from_world_rotation)},
+        {"translation", Vector3ToJson(camera.cam_from_world_translation)}}}};
 }
 
 CameraTruth CameraFromJson(const json& j) {
@@ -114,8 +124,10 @@ CameraTruth CameraFromJson(const json& j) {
   camera.intrinsics.fy = j.at("fy").get<double>();
   camera.intrinsics.cx = j.at("cx").get<double>();
   camera.intrinsics.cy = j.at("cy").get<double>();
-  camera.cam_from_world_rotation = Matrix3FromJson(j.at("cam_from_world").at("rotation"));
-  camera.cam_from_world_translation = Vector3FromJson(j.at("cam_from_world").at("translation"));
+  camera.cam_from_world_rotation =
+      Matrix3FromJson(j.at("cam_from_world").at("rotation"));
+  camera.cam_from_world_translation =
+      Vector3FromJson(j.at("cam_from_world").at("translation"));
   return camera;
 }
 
@@ -144,7 +156,9 @@ ObjectTruth ObjectFromJson(const json& j) {
   o.obb.half_extents = Vector3FromJson(j.at("obb").at("half_extents"));
   o.obb.world_from_box = Matrix3FromJson(j.at("obb").at("rotation"));
   o.bbox = Box2dFromJson(j.at("bbox"));
-  o.bbox_projected = j.contains("bbox_projected") ? Box2dFromJson(j.at("bbox_projected")) : std::nullopt;
+  o.bbox_projected = j.contains("bbox_projected")
+                         ? Box2dFromJson(j.at("bbox_projected"))
+                         : std::nullopt;
   o.visible_pixels = j.at("visible_pixels").get<int64_t>();
   o.visibility = j.at("visibility").get<double>();
   o.in_frame = j.at("in_frame").get<double>();
@@ -158,8 +172,10 @@ json HeaderToJson(const CollectionHeader& h) {
                      {"generator_version", h.provenance.generator_version},
                      {"render", h.provenance.render}};
   if (h.provenance.seed) provenance["seed"] = *h.provenance.seed;
-  if (!h.provenance.scene_source.empty()) provenance["scene_source"] = h.provenance.scene_source;
-  if (!h.provenance.capture_source.empty()) provenance["capture_source"] = h.provenance.capture_source;
+  if (!h.provenance.scene_source.empty())
+    provenance["scene_source"] = h.provenance.scene_source;
+  if (!h.provenance.capture_source.empty())
+    provenance["capture_source"] = h.provenance.capture_source;
   const WorldFrame& world = h.conventions.world;
   json conventions = {{"world_frame", world.name},
                       {"length_unit", world.length_unit},
@@ -169,7 +185,8 @@ json HeaderToJson(const CollectionHeader& h) {
                       {"pixel_coordinates", h.conventions.pixel_coordinates},
                       {"motion", h.conventions.motion}};
   json classes = json::array();
-  for (const ClassInfo& c : h.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
+  for (const ClassInfo& c : h.classes)
+    classes.push_back({{"id", c.id}, {"name", c.name}});
   json layers = json::array();
   for (const LayerInfo& layer : h.layers) layers.push_back(LayerToJson(layer));
   json metadata = json::array();
@@ -195,15 +212,20 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     h.format_version = j.at("format_version").get<std::string>();
     const json& p = j.at("provenance");
     h.provenance.generator = p.at("generator").get<std::string>();
-    h.provenance.generator_version = p.at("generator_version").get<std::string>();
+    h.provenance.generator_version =
+        p.at("generator_version").get<std::string>();
     if (p.contains("seed")) h.provenance.seed = p.at("seed").get<uint64_t>();
     h.provenance.scene_source = p.value("scene_source", "");
     h.provenance.capture_source = p.value("capture_source", "");
     h.provenance.render = p.value("render", json::object());
-    for (const json& c : j.at("classes")) h.classes.push_back({c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
+    for (const json& c : j.at("classes"))
+      h.classes.push_back(
+          {c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
     for (const json& l : j.at("layers")) h.layers.push_back(LayerFromJson(l));
     for (const json& m : j.at("metadata")) {
-      h.metadata.push_back({m.at("file").get<std::string>(), m.at("perturbed").get<bool>(), m.value("description", "")});
+      h.metadata.push_back({m.at("file").get<std::string>(),
+                            m.at("perturbed").get<bool>(),
+                            m.value("description", "")});
     }
     h.frame_count = j.at("frame_count").get<int64_t>();
     return 0;
@@ -212,22 +234,27 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
   Location where{file};
   where.json_pointer = "/conventions";
   try {
-    h.conventions.world = WorldFrame::Make(c.at("world_frame").get<std::string>(),
-                                           c.at("length_unit").get<std::string>());
+    h.conventions.world =
+        WorldFrame::Make(c.at("world_frame").get<std::string>(),
+                         c.at("length_unit").get<std::string>());
   } catch (const Error& e) {
     throw Error(e.message(), where);
   }
-  const std::string handedness = h.conventions.world.right_handed() ? "right" : "left";
+  const std::string handedness =
+      h.conventions.world.right_handed() ? "right" : "left";
   if (c.at("handedness").get<std::string>() != handedness) {
     where.json_pointer = "/conventions/handedness";
-    throw Error("world frame '" + h.conventions.world.name + "' is " + handedness + "-handed", where);
+    throw Error("world frame '" + h.conventions.world.name + "' is " +
+                    handedness + "-handed",
+                where);
   }
   // Ids must be unique; layer names too.
   for (size_t a = 0; a < h.classes.size(); ++a) {
     for (size_t b = 0; b < a; ++b) {
       if (h.classes[a].id == h.classes[b].id) {
         where.json_pointer = "/classes/" + std::to_string(a) + "/id";
-        throw Error("duplicate class id " + std::to_string(h.classes[a].id), where);
+        throw Error("duplicate class id " + std::to_string(h.classes[a].id),
+                    where);
       }
     }
   }
@@ -254,7 +281,9 @@ json FrameToJson(const Frame& f) {
   return j;
 }
 
-Frame FrameFromJson(const json& j, const std::string& file, const std::string& pointer) {
+Frame FrameFromJson(const json& j,
+                    const std::string& file,
+                    const std::string& pointer) {
   return AtPointer(file, pointer, [&] {
     Frame f;
     f.index = j.at("index").get<int64_t>();
@@ -262,7 +291,8 @@ Frame FrameFromJson(const json& j, const std::string& file, const std::string& p
     f.sequence = j.value("sequence", "");
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
-    for (const json& o : j.at("objects")) f.objects.push_back(ObjectFromJson(o));
+    for (const json& o : j.at("objects"))
+      f.objects.push_back(ObjectFromJson(o));
     return f;
   });
 }
@@ -275,7 +305,9 @@ json MetadataHeaderToJson(const MetadataHeader& h) {
             {"frames", json::array()}};
   if (!h.source.empty()) j["source"] = h.source;
   if (h.noise) {
-    j["noise"] = {{"model", h.noise->model}, {"parameters", h.noise->parameters}, {"seed", h.noise->seed}};
+    j["noise"] = {{"model", h.noise->model},
+                  {"parameters", h.noise->parameters},
+                  {"seed", h.noise->seed}};
   }
   return j;
 }
@@ -285,7 +317,9 @@ json MetadataFrameToJson(const MetadataFrame& f) {
             {"time", f.time},
             {"position", Vector3ToJson(f.position)},
             {"attitude",
-             {{"roll", f.attitude.roll_deg}, {"pitch", f.attitude.pitch_deg}, {"yaw", f.attitude.yaw_deg}}},
+             {{"roll", f.attitude.roll_deg},
+              {"pitch", f.attitude.pitch_deg},
+              {"yaw", f.attitude.yaw_deg}}},
             {"camera",
              {{"width", f.camera.width},
               {"height", f.camera.height},
@@ -306,20 +340,26 @@ MetadataHeader MetadataHeaderFromJson(const json& j, const std::string& file) {
     h.frame_count = j.at("frame_count").get<int64_t>();
     if (j.contains("noise")) {
       const json& n = j.at("noise");
-      h.noise = NoiseRecord{n.at("model").get<std::string>(), n.at("parameters"), n.at("seed").get<uint64_t>()};
+      h.noise = NoiseRecord{n.at("model").get<std::string>(),
+                            n.at("parameters"),
+                            n.at("seed").get<uint64_t>()};
     }
     return h;
   });
 }
 
-MetadataFrame MetadataFrameFromJson(const json& j, const std::string& file, const std::string& pointer) {
+MetadataFrame MetadataFrameFromJson(const json& j,
+                                    const std::string& file,
+                                    const std::string& pointer) {
   return AtPointer(file, pointer, [&] {
     MetadataFrame f;
     f.index = j.at("index").get<int64_t>();
     f.time = j.at("time").get<double>();
     f.position = Vector3FromJson(j.at("position"));
     const json& a = j.at("attitude");
-    f.attitude = {a.at("roll").get<double>(), a.at("pitch").get<double>(), a.at("yaw").get<double>()};
+    f.attitude = {a.at("roll").get<double>(),
+                  a.at("pitch").get<double>(),
+                  a.at("yaw").get<double>()};
     const json& c = j.at("camera");
     f.camera.width = c.at("width").get<int>();
     f.camera.height = c.at("height").get<int>();
@@ -338,9 +378,11 @@ MetadataFrame TruthMetadata(const Frame& frame, const WorldFrame& world) {
   m.time = frame.time;
   m.camera = frame.camera.intrinsics;
   const Rigid3d cam_from_enu =
-      world.CamFromEnuMetres(frame.camera.cam_from_world_rotation, frame.camera.cam_from_world_translation);
+      world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
+                             frame.camera.cam_from_world_translation);
   Eigen::Vector3d position_in_enu;
-  PositionAndAttitudeFromCamFromEnu(cam_from_enu, &position_in_enu, &m.attitude);
+  PositionAndAttitudeFromCamFromEnu(
+      cam_from_enu, &position_in_enu, &m.attitude);
   m.position = world.WorldFromEnuMetres(position_in_enu);
   return m;
 }

@@ -1,5 +1,6 @@
-// JSON form of the collection model (docs/format.md). Readers assume the document passed its schema
-// (schema.h) and still throw lsds::Error with file and JSON pointer on anything the schema cannot see.
+// JSON form of the collection model (docs/format.md). Readers assume the
+// document passed its schema (schema.h) and still throw lsds::Error with file
+// and JSON pointer on anything the schema cannot see.
 #pragma once
 
 #include <string>
@@ -10,18 +11,25 @@
 
 namespace lsds {
 
-nlohmann::json HeaderToJson(const CollectionHeader& header);  // "frames" left empty
+nlohmann::json HeaderToJson(
+    const CollectionHeader& header);  // "frames" left empty
 nlohmann::json FrameToJson(const Frame& frame);
-CollectionHeader HeaderFromJson(const nlohmann::json& json, const std::string& file);
-Frame FrameFromJson(const nlohmann::json& json, const std::string& file, const std::string& pointer);
+CollectionHeader HeaderFromJson(const nlohmann::json& json,
+                                const std::string& file);
+Frame FrameFromJson(const nlohmann::json& json,
+                    const std::string& file,
+                    const std::string& pointer);
 
 nlohmann::json MetadataHeaderToJson(const MetadataHeader& header);
 nlohmann::json MetadataFrameToJson(const MetadataFrame& frame);
-MetadataHeader MetadataHeaderFromJson(const nlohmann::json& json, const std::string& file);
-MetadataFrame MetadataFrameFromJson(const nlohmann::json& json, const std::string& file,
+MetadataHeader MetadataHeaderFromJson(const nlohmann::json& json,
+                                      const std::string& file);
+MetadataFrame MetadataFrameFromJson(const nlohmann::json& json,
+                                    const std::string& file,
                                     const std::string& pointer);
 
-// The metadata that a perfect platform would measure for a frame (metadata equals truth).
+// The metadata that a perfect platform would measure for a frame (metadata
+// equals truth).
 MetadataFrame TruthMetadata(const Frame& frame, const WorldFrame& world);
 
 nlohmann::json Box2dToJson(const std::optional<Box2d>& box);

@@ -9,24 +9,32 @@ namespace lsds {
 
 namespace {
 
-// "... parse error at line 3, column 5: syntax error ..." -> line/column into the Location.
-Error SyntaxError(const std::filesystem::path& path, const nlohmann::json::parse_error& e) {
+// "... parse error at line 3, column 5: syntax error ..." -> line/column into
+// the Location.
+Error SyntaxError(const std::filesystem::path& path,
+                  const nlohmann::json::parse_error& e) {
   Location where{path.string()};
   std::string message = e.what();
   const size_t at_line = message.find("at line ");
   if (at_line != std::string::npos) {
-    std::sscanf(message.c_str() + at_line, "at line %d, column %d", &where.line, &where.column);
+    std::sscanf(message.c_str() + at_line,
+                "at line %d, column %d",
+                &where.line,
+                &where.column);
   }
-  const size_t colon = message.find(": ", at_line == std::string::npos ? 0 : at_line);
+  const size_t colon =
+      message.find(": ", at_line == std::string::npos ? 0 : at_line);
   if (colon != std::string::npos) message = message.substr(colon + 2);
   return Error("invalid JSON: " + message, where);
 }
 
 }  // namespace
 
-size_t StreamJsonArrayMember(const std::filesystem::path& path, const std::string& array_key,
-                             nlohmann::json* header,
-                             const std::function<void(nlohmann::json&&, size_t)>& on_element) {
+size_t StreamJsonArrayMember(
+    const std::filesystem::path& path,
+    const std::string& array_key,
+    nlohmann::json* header,
+    const std::function<void(nlohmann::json&&, size_t)>& on_element) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));
   std::string top_key;  // the member of the root object being parsed
@@ -38,7 +46,8 @@ size_t StreamJsonArrayMember(const std::filesystem::path& path, const std::strin
       return true;
     }
     if (depth == 2 && top_key == array_key &&
-        (event == Event::object_end || event == Event::array_end || event == Event::value)) {
+        (event == Event::object_end || event == Event::array_end ||
+         event == Event::value)) {
       if (on_element) on_element(std::move(parsed), count);
       ++count;
       return false;  // discard: the element is not kept in the parent array
@@ -51,9 +60,12 @@ size_t StreamJsonArrayMember(const std::filesystem::path& path, const std::strin
   } catch (const nlohmann::json::parse_error& e) {
     throw SyntaxError(path, e);
   }
-  if (!root.is_object()) throw Error("top level must be a JSON object", Location(path.string(), "/"));
+  if (!root.is_object())
+    throw Error("top level must be a JSON object",
+                Location(path.string(), "/"));
   if (header != nullptr) {
-    if (root.contains(array_key) && root[array_key].is_array()) root[array_key] = nlohmann::json::array();
+    if (root.contains(array_key) && root[array_key].is_array())
+      root[array_key] = nlohmann::json::array();
     *header = std::move(root);
   }
   return count;
@@ -64,23 +76,26 @@ struct JsonArrayWriter::Impl {
   explicit Impl(const std::filesystem::path& path) : file(path) {}
 };
 
-JsonArrayWriter::JsonArrayWriter(const std::filesystem::path& path, const nlohmann::json& header,
+JsonArrayWriter::JsonArrayWriter(const std::filesystem::path& path,
+                                 const nlohmann::json& header,
                                  const std::string& array_key)
     : impl_(new Impl(path)) {
   nlohmann::json members = header;
   members.erase(array_key);
   std::string text = members.dump(2);  // "{\n  ...\n}"
   text.erase(text.find_last_of('}'));
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
+    text.pop_back();
   auto& out = impl_->file.stream();
-  out << text << (members.empty() ? "\n" : ",\n") << "  " << nlohmann::json(array_key).dump()
-      << ": [";
+  out << text << (members.empty() ? "\n" : ",\n") << "  "
+      << nlohmann::json(array_key).dump() << ": [";
 }
 
 JsonArrayWriter::~JsonArrayWriter() { delete impl_; }
 
 void JsonArrayWriter::Append(const nlohmann::json& element) {
-  impl_->file.stream() << (count_ == 0 ? "\n    " : ",\n    ") << element.dump();
+  impl_->file.stream() << (count_ == 0 ? "\n    " : ",\n    ")
+                       << element.dump();
   ++count_;
 }
 

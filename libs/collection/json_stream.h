@@ -1,6 +1,7 @@
-// Streaming a JSON file whose top level is an object holding one large array (collection.json's
-// "frames", metadata.json's "frames"): the elements are handed out one at a time, so memory does not
-// grow with the number of elements.
+// Streaming a JSON file whose top level is an object holding one large array
+// (collection.json's "frames", metadata.json's "frames"): the elements are
+// handed out one at a time, so memory does not grow with the number of
+// elements.
 #pragma once
 
 #include <filesystem>
@@ -11,19 +12,24 @@
 
 namespace lsds {
 
-// Parses `path`. Every member except `array_key` goes into `*header` (when not null), with
-// `array_key` set to an empty array; each element of `array_key` is passed to `on_element` with its
-// index (when set) and then freed. Returns the number of elements. Throws lsds::Error with the file,
-// line and column on a syntax error, and when the top level is not an object.
-size_t StreamJsonArrayMember(const std::filesystem::path& path, const std::string& array_key,
-                             nlohmann::json* header,
-                             const std::function<void(nlohmann::json&& element, size_t index)>& on_element);
+// Parses `path`. Every member except `array_key` goes into `*header` (when not
+// null), with `array_key` set to an empty array; each element of `array_key` is
+// passed to `on_element` with its index (when set) and then freed. Returns the
+// number of elements. Throws lsds::Error with the file, line and column on a
+// syntax error, and when the top level is not an object.
+size_t StreamJsonArrayMember(
+    const std::filesystem::path& path,
+    const std::string& array_key,
+    nlohmann::json* header,
+    const std::function<void(nlohmann::json&& element, size_t index)>&
+        on_element);
 
-// Writes such a file: the header members first (pretty), then the array one element per line.
-// Atomic: nothing appears under `path` until Commit().
+// Writes such a file: the header members first (pretty), then the array one
+// element per line. Atomic: nothing appears under `path` until Commit().
 class JsonArrayWriter {
  public:
-  JsonArrayWriter(const std::filesystem::path& path, const nlohmann::json& header,
+  JsonArrayWriter(const std::filesystem::path& path,
+                  const nlohmann::json& header,
                   const std::string& array_key);
   ~JsonArrayWriter();
   void Append(const nlohmann::json& element);

@@ -1,4 +1,5 @@
-// The in-memory model of a collection (docs/format.md). Plain structs; JSON I/O lives in json_io.h.
+// The in-memory model of a collection (docs/format.md). Plain structs; JSON I/O
+// lives in json_io.h.
 #pragma once
 
 #include <cstdint>
@@ -39,10 +40,12 @@ struct LayerChannel {
 // One entry of the layer table: a folder of one EXR per frame.
 struct LayerInfo {
   std::string name;      // folder name, e.g. "depth"
-  std::string semantic;  // rgb | classid | instanceid | depth | normal | worldposition | shadow | motion | bundle | derived
+  std::string semantic;  // rgb | classid | instanceid | depth | normal |
+                         // worldposition | shadow | motion | bundle | derived
   bool deep = false;
   std::vector<LayerChannel> channels;
-  std::string unit;  // free text for people: "m", "unit vector", "screen-normalized", ...
+  std::string unit;  // free text for people: "m", "unit vector",
+                     // "screen-normalized", ...
   std::optional<DepthKind> depth_kind;  // depth layers and deep bundles
   exr::Compression compression = exr::Compression::kZip;
   bool required = true;  // every frame has a file for it
@@ -57,16 +60,19 @@ struct Provenance {
   std::optional<uint64_t> seed;
   std::string scene_source;    // LSCENE text, verbatim
   std::string capture_source;  // LCAP text, verbatim
-  nlohmann::json render = nlohmann::json::object();  // spp, renderer settings, ...
+  nlohmann::json render =
+      nlohmann::json::object();  // spp, renderer settings, ...
 };
 
 // Declared units and frames (docs/format.md, "Units and frames").
 struct Conventions {
   WorldFrame world = WorldFrame::Make("ENU", "m");
   // Fixed in format 1.0, written so that readers never have to guess.
-  std::string camera_frame = "opencv";       // x right, y down, z forward
-  std::string pixel_coordinates = "edge";    // pixel (i, j) covers [i, i+1) x [j, j+1)
-  std::string motion = "screen-normalized";  // 0.5 + 0.5 * (current - previous) / size
+  std::string camera_frame = "opencv";  // x right, y down, z forward
+  std::string pixel_coordinates =
+      "edge";  // pixel (i, j) covers [i, i+1) x [j, j+1)
+  std::string motion =
+      "screen-normalized";  // 0.5 + 0.5 * (current - previous) / size
 };
 
 // A registered metadata variant (metadata.json and perturbed copies).
@@ -78,29 +84,35 @@ struct MetadataVariant {
 
 struct CameraTruth {
   PinholeCamera intrinsics;
-  // As declared (world units; the rotation has determinant -1 for a left-handed world).
+  // As declared (world units; the rotation has determinant -1 for a left-handed
+  // world).
   Eigen::Matrix3d cam_from_world_rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d cam_from_world_translation = Eigen::Vector3d::Zero();
 };
 
 struct ObjectTruth {
-  uint32_t instance_id = 0;  // > 0, the value in the instanceid layer
-  uint32_t class_id = 0;     // > 0, an id of the class table
-  std::string name;          // e.g. "O2#3": the LSCENE symbol and its copy
-  OrientedBox obb;           // world frame, world units
-  std::optional<Box2d> bbox;  // tight, visible: extent of the instance mask; none when not visible
-  std::optional<Box2d> bbox_projected;  // loose: bounds of the projected OBB clipped to the image
+  uint32_t instance_id = 0;   // > 0, the value in the instanceid layer
+  uint32_t class_id = 0;      // > 0, an id of the class table
+  std::string name;           // e.g. "O2#3": the LSCENE symbol and its copy
+  OrientedBox obb;            // world frame, world units
+  std::optional<Box2d> bbox;  // tight, visible: extent of the instance mask;
+                              // none when not visible
+  std::optional<Box2d> bbox_projected;  // loose: bounds of the projected OBB
+                                        // clipped to the image
   int64_t visible_pixels = 0;
-  double visibility = 0;  // visible pixels / pixels covered with no occluders, in [0, 1]
-  double in_frame = 0;    // share of the projected silhouette inside the image, in [0, 1]
+  double visibility =
+      0;  // visible pixels / pixels covered with no occluders, in [0, 1]
+  double in_frame =
+      0;  // share of the projected silhouette inside the image, in [0, 1]
 };
 
 struct Frame {
   int64_t index = 0;
-  double time = 0;           // seconds
-  std::string sequence;      // frames of one path/sequence; splits never cut one
+  double time = 0;       // seconds
+  std::string sequence;  // frames of one path/sequence; splits never cut one
   CameraTruth camera;
-  std::map<std::string, std::string> files;  // layer name -> path relative to the collection root
+  std::map<std::string, std::string>
+      files;  // layer name -> path relative to the collection root
   std::vector<ObjectTruth> objects;
 };
 
@@ -120,7 +132,8 @@ struct CollectionHeader {
 };
 
 // The standard layer table entries of docs/format.md.
-LayerInfo StandardLayer(const std::string& semantic, DepthKind depth_kind = DepthKind::kPlanar);
+LayerInfo StandardLayer(const std::string& semantic,
+                        DepthKind depth_kind = DepthKind::kPlanar);
 const std::vector<std::string>& StandardLayerSemantics();
 
 // --- metadata.json ---
@@ -134,8 +147,9 @@ struct NoiseRecord {  // what perturb-metadata did; absent for truth
 struct MetadataFrame {
   int64_t index = 0;
   double time = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // camera centre, world frame and units
-  Attitude attitude;                                    // see libs/geometry/attitude.h
+  Eigen::Vector3d position =
+      Eigen::Vector3d::Zero();  // camera centre, world frame and units
+  Attitude attitude;            // see libs/geometry/attitude.h
   PinholeCamera camera;
   nlohmann::json error;  // realized errors when perturbed, else null
 };

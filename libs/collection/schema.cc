@@ -15,14 +15,16 @@
 
 namespace lsds {
 
-const std::map<std::string, std::string>& EmbeddedSchemas();  // generated, schemas/CMakeLists.txt
+const std::map<std::string, std::string>&
+EmbeddedSchemas();  // generated, schemas/CMakeLists.txt
 
 struct JsonSchema::Impl {
   nlohmann::json document;  // the adapter refers to it while parsing
   valijson::Schema schema;
 };
 
-JsonSchema::JsonSchema(const nlohmann::json& schema_document) : impl_(new Impl) {
+JsonSchema::JsonSchema(const nlohmann::json& schema_document)
+    : impl_(new Impl) {
   impl_->document = schema_document;
   valijson::SchemaParser parser(valijson::SchemaParser::kDraft7);
   valijson::adapters::NlohmannJsonAdapter adapter(impl_->document);
@@ -35,7 +37,8 @@ const std::string& EmbeddedSchemaText(const std::string& file) {
   const auto& schemas = EmbeddedSchemas();
   const auto it = schemas.find(file);
   if (it == schemas.end()) {
-    throw Error("unknown schema '" + file + "'" + DidYouMean(file, EmbeddedSchemaNames()));
+    throw Error("unknown schema '" + file + "'" +
+                DidYouMean(file, EmbeddedSchemaNames()));
   }
   return it->second;
 }
@@ -46,7 +49,8 @@ std::vector<std::string> EmbeddedSchemaNames() {
   return names;
 }
 
-const JsonSchema& JsonSchema::Get(const std::string& file, const std::string& definition) {
+const JsonSchema& JsonSchema::Get(const std::string& file,
+                                  const std::string& definition) {
   static std::mutex mutex;
   static std::map<std::string, std::unique_ptr<JsonSchema>> cache;
   std::lock_guard<std::mutex> lock(mutex);
@@ -56,9 +60,11 @@ const JsonSchema& JsonSchema::Get(const std::string& file, const std::string& de
     nlohmann::json document = nlohmann::json::parse(EmbeddedSchemaText(file));
     if (!definition.empty()) {
       if (!document["definitions"].contains(definition)) {
-        throw Error("schema " + file + " has no definition '" + definition + "'");
+        throw Error("schema " + file + " has no definition '" + definition +
+                    "'");
       }
-      // The definition as the root, with all definitions beside it so that its $refs resolve.
+      // The definition as the root, with all definitions beside it so that its
+      // $refs resolve.
       document = nlohmann::json{{"$schema", document["$schema"]},
                                 {"definitions", document["definitions"]},
                                 {"$ref", "#/definitions/" + definition}};
@@ -96,14 +102,15 @@ std::string PointerFromContext(const std::vector<std::string>& context) {
 }
 
 bool IsPrefix(const std::string& prefix, const std::string& pointer) {
-  return pointer.size() > prefix.size() && pointer.compare(0, prefix.size(), prefix) == 0 &&
+  return pointer.size() > prefix.size() &&
+         pointer.compare(0, prefix.size(), prefix) == 0 &&
          pointer[prefix.size()] == '/';
 }
 
 }  // namespace
 
-std::vector<SchemaIssue> JsonSchema::Validate(const nlohmann::json& document,
-                                              const std::string& pointer_prefix) const {
+std::vector<SchemaIssue> JsonSchema::Validate(
+    const nlohmann::json& document, const std::string& pointer_prefix) const {
   valijson::Validator validator;
   valijson::ValidationResults results;
   valijson::adapters::NlohmannJsonAdapter adapter(document);
@@ -113,18 +120,21 @@ std::vector<SchemaIssue> JsonSchema::Validate(const nlohmann::json& document,
   while (results.popError(error)) {
     std::string pointer = PointerFromContext(error.context);
     // Point at an unknown key itself rather than at the object holding it.
-    static const std::string kUnknown = "could not be validated using 'properties' or 'additionalProperties'";
+    static const std::string kUnknown =
+        "could not be validated using 'properties' or 'additionalProperties'";
     if (error.description.find(kUnknown) != std::string::npos) {
       const size_t open = error.description.rfind(": '");
       if (open != std::string::npos && error.description.size() > open + 4) {
-        const std::string key = error.description.substr(open + 3, error.description.size() - open - 5);
+        const std::string key = error.description.substr(
+            open + 3, error.description.size() - open - 5);
         pointer += "/" + EscapePointerToken(key);
         error.description = "unknown key '" + key + "'";
       }
     }
     all.push_back({pointer, error.description});
   }
-  // Keep the most specific issues: drop any whose pointer contains another issue's pointer.
+  // Keep the most specific issues: drop any whose pointer contains another
+  // issue's pointer.
   std::vector<SchemaIssue> specific;
   for (const SchemaIssue& issue : all) {
     bool has_deeper = false;
@@ -133,22 +143,28 @@ std::vector<SchemaIssue> JsonSchema::Validate(const nlohmann::json& document,
     }
     bool duplicate = false;
     for (const SchemaIssue& kept : specific) {
-      if (kept.pointer == pointer_prefix + issue.pointer && kept.message == issue.message) duplicate = true;
+      if (kept.pointer == pointer_prefix + issue.pointer &&
+          kept.message == issue.message)
+        duplicate = true;
     }
-    if (!has_deeper && !duplicate) specific.push_back({pointer_prefix + issue.pointer, issue.message});
+    if (!has_deeper && !duplicate)
+      specific.push_back({pointer_prefix + issue.pointer, issue.message});
   }
   return specific;
 }
 
-void JsonSchema::ValidateOrThrow(const nlohmann::json& document, const std::string& file_for_messages,
+void JsonSchema::ValidateOrThrow(const nlohmann::json& document,
+                                 const std::string& file_for_messages,
                                  const std::string& pointer_prefix) const {
   const std::vector<SchemaIssue> issues = Validate(document, pointer_prefix);
   if (issues.empty()) return;
   Location where;
   where.file = file_for_messages;
-  where.json_pointer = issues.front().pointer.empty() ? "/" : issues.front().pointer;
+  where.json_pointer =
+      issues.front().pointer.empty() ? "/" : issues.front().pointer;
   std::string message = "does not match its schema: " + issues.front().message;
-  if (issues.size() > 1) message += " (and " + std::to_string(issues.size() - 1) + " more issues)";
+  if (issues.size() > 1)
+    message += " (and " + std::to_string(issues.size() - 1) + " more issues)";
   throw Error(message, where);
 }
 

@@ -1,4 +1,5 @@
-// JSON Schema validation (valijson) against the schemas of schemas/, compiled into the binary.
+// JSON Schema validation (valijson) against the schemas of schemas/, compiled
+// into the binary.
 #pragma once
 
 #include <string>
@@ -9,21 +10,28 @@
 namespace lsds {
 
 struct SchemaIssue {
-  std::string pointer;  // JSON pointer of the offending value, e.g. "/frames/3/camera/fx"
+  std::string pointer;  // JSON pointer of the offending value, e.g.
+                        // "/frames/3/camera/fx"
   std::string message;
 };
 
 class JsonSchema {
  public:
-  // The schema `file` of schemas/ (e.g. "collection.schema.json"), or one of its definitions
-  // (e.g. "frame") so that large arrays can be validated element by element. Cached; thread-safe.
-  static const JsonSchema& Get(const std::string& file, const std::string& definition = "");
+  // The schema `file` of schemas/ (e.g. "collection.schema.json"), or one of
+  // its definitions (e.g. "frame") so that large arrays can be validated
+  // element by element. Cached; thread-safe.
+  static const JsonSchema& Get(const std::string& file,
+                               const std::string& definition = "");
 
-  // The most specific issues (no issue whose location contains another's), pointers prefixed.
-  std::vector<SchemaIssue> Validate(const nlohmann::json& document,
-                                    const std::string& pointer_prefix = "") const;
-  // Throws lsds::Error naming `file_for_messages` and the pointer of the first issue.
-  void ValidateOrThrow(const nlohmann::json& document, const std::string& file_for_messages,
+  // The most specific issues (no issue whose location contains another's),
+  // pointers prefixed.
+  std::vector<SchemaIssue> Validate(
+      const nlohmann::json& document,
+      const std::string& pointer_prefix = "") const;
+  // Throws lsds::Error naming `file_for_messages` and the pointer of the first
+  // issue.
+  void ValidateOrThrow(const nlohmann::json& document,
+                       const std::string& file_for_messages,
                        const std::string& pointer_prefix = "") const;
 
   ~JsonSchema();

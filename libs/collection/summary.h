@@ -18,8 +18,8 @@ struct LayerSummary {
 };
 
 struct ClassSummary {
-  int64_t objects = 0;                // object entries over all frames
-  std::set<uint32_t> instance_ids;    // distinct instances
+  int64_t objects = 0;              // object entries over all frames
+  std::set<uint32_t> instance_ids;  // distinct instances
 };
 
 struct CollectionSummary {
@@ -27,7 +27,8 @@ struct CollectionSummary {
   double time_min = 0, time_max = 0;
   std::map<std::string, int> resolutions;  // "1024x768" -> frames
   double hfov_min_deg = 0, hfov_max_deg = 0;
-  double camera_height_min = 0, camera_height_max = 0;  // camera centre "up" coordinate, world units
+  double camera_height_min = 0,
+         camera_height_max = 0;  // camera centre "up" coordinate, world units
   std::map<std::string, LayerSummary> layers;
   std::map<uint32_t, ClassSummary> classes;
   int64_t objects = 0;
@@ -38,7 +39,9 @@ struct CollectionSummary {
 // Streams the frames once (stat-ing each layer file, not decoding it).
 CollectionSummary Summarize(const CollectionReader& reader);
 
-nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSummary& summary);
-std::string SummaryToText(const CollectionReader& reader, const CollectionSummary& summary);
+nlohmann::json SummaryToJson(const CollectionReader& reader,
+                             const CollectionSummary& summary);
+std::string SummaryToText(const CollectionReader& reader,
+                          const CollectionSummary& summary);
 
 }  // namespace lsds

@@ -1,16 +1,18 @@
-// Deep EXR layers: a variable-length list of samples per pixel (the pixel bundle of docs/format.md).
+// Deep EXR layers: a variable-length list of samples per pixel (the pixel
+// bundle of docs/format.md).
 #pragma once
 
+#include <deque>
 #include <filesystem>
 #include <string>
-#include <deque>
 #include <vector>
 
 #include "libs/exr/exr_types.h"
 
 namespace lsds::exr {
 
-// One channel's samples for all pixels, concatenated in pixel order (row-major), sample order within.
+// One channel's samples for all pixels, concatenated in pixel order
+// (row-major), sample order within.
 struct DeepChannel {
   std::string name;
   PixelType type = PixelType::kFloat;
@@ -27,17 +29,25 @@ class DeepImage {
   int width() const { return width_; }
   int height() const { return height_; }
   size_t pixel_count() const { return static_cast<size_t>(width_) * height_; }
-  uint64_t total_samples() const { return offsets_.empty() ? 0 : offsets_.back(); }
-  uint32_t SampleCount(int x, int y) const { return sample_counts_[Index(x, y)]; }
+  uint64_t total_samples() const {
+    return offsets_.empty() ? 0 : offsets_.back();
+  }
+  uint32_t SampleCount(int x, int y) const {
+    return sample_counts_[Index(x, y)];
+  }
   // Index of the first sample of pixel (x, y) in every channel's arrays.
   uint64_t FirstSample(int x, int y) const { return offsets_[Index(x, y)]; }
-  size_t Index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
+  size_t Index(int x, int y) const {
+    return static_cast<size_t>(y) * width_ + x;
+  }
   const std::vector<uint32_t>& sample_counts() const { return sample_counts_; }
   const std::vector<uint64_t>& offsets() const { return offsets_; }
 
-  DeepChannel& AddChannel(const std::string& name, PixelType type);  // zero-filled
+  DeepChannel& AddChannel(const std::string& name,
+                          PixelType type);  // zero-filled
   const DeepChannel* Find(const std::string& name) const;
-  const DeepChannel& Get(const std::string& name) const;  // throws lsds::Error when missing
+  const DeepChannel& Get(
+      const std::string& name) const;  // throws lsds::Error when missing
   DeepChannel& Get(const std::string& name);
   const std::deque<DeepChannel>& channels() const { return channels_; }
 
@@ -46,16 +56,20 @@ class DeepImage {
   int height_ = 0;
   std::vector<uint32_t> sample_counts_;
   std::vector<uint64_t> offsets_;  // prefix sums, pixel_count() + 1 entries
-  std::deque<DeepChannel> channels_;  // deque: AddChannel keeps earlier references valid
+  std::deque<DeepChannel>
+      channels_;  // deque: AddChannel keeps earlier references valid
 };
 
-// Reads the named channels (all when empty) of a deep scanline EXR. Sample counts are checked against
-// `limits` before any sample is decoded.
-DeepImage ReadDeepExr(const std::filesystem::path& path, const std::vector<std::string>& channels = {},
+// Reads the named channels (all when empty) of a deep scanline EXR. Sample
+// counts are checked against `limits` before any sample is decoded.
+DeepImage ReadDeepExr(const std::filesystem::path& path,
+                      const std::vector<std::string>& channels = {},
                       const ReadLimits& limits = {});
 
-// Writes atomically (temporary file + rename). Deep files allow only none, rle or zips.
-void WriteDeepExr(const std::filesystem::path& path, const DeepImage& image,
+// Writes atomically (temporary file + rename). Deep files allow only none, rle
+// or zips.
+void WriteDeepExr(const std::filesystem::path& path,
+                  const DeepImage& image,
                   const WriteOptions& options = {});
 
 }  // namespace lsds::exr

@@ -1,8 +1,8 @@
 #include "libs/exr/exr_info.h"
 
 #include <ImfChannelList.h>
-#include <ImfPartType.h>
 #include <ImfMultiPartInputFile.h>
+#include <ImfPartType.h>
 #include <ImfStandardAttributes.h>
 
 #include <algorithm>
@@ -14,9 +14,12 @@ namespace lsds::exr {
 
 const char* PixelTypeName(PixelType type) {
   switch (type) {
-    case PixelType::kUint: return "uint";
-    case PixelType::kHalf: return "half";
-    case PixelType::kFloat: return "float";
+    case PixelType::kUint:
+      return "uint";
+    case PixelType::kHalf:
+      return "half";
+    case PixelType::kFloat:
+      return "float";
   }
   return "?";
 }
@@ -33,17 +36,25 @@ bool ParsePixelType(const std::string& name, PixelType* type) {
 
 const char* CompressionName(Compression compression) {
   switch (compression) {
-    case Compression::kNone: return "none";
-    case Compression::kRle: return "rle";
-    case Compression::kZips: return "zips";
-    case Compression::kZip: return "zip";
-    case Compression::kPiz: return "piz";
+    case Compression::kNone:
+      return "none";
+    case Compression::kRle:
+      return "rle";
+    case Compression::kZips:
+      return "zips";
+    case Compression::kZip:
+      return "zip";
+    case Compression::kPiz:
+      return "piz";
   }
   return "?";
 }
 
 bool ParseCompression(const std::string& name, Compression* compression) {
-  for (Compression c : {Compression::kNone, Compression::kRle, Compression::kZips, Compression::kZip,
+  for (Compression c : {Compression::kNone,
+                        Compression::kRle,
+                        Compression::kZips,
+                        Compression::kZip,
                         Compression::kPiz}) {
     if (name == CompressionName(c)) {
       *compression = c;
@@ -64,20 +75,28 @@ namespace internal {
 
 Imf::PixelType ToImf(PixelType type) {
   switch (type) {
-    case PixelType::kUint: return Imf::UINT;
-    case PixelType::kHalf: return Imf::HALF;
-    case PixelType::kFloat: return Imf::FLOAT;
+    case PixelType::kUint:
+      return Imf::UINT;
+    case PixelType::kHalf:
+      return Imf::HALF;
+    case PixelType::kFloat:
+      return Imf::FLOAT;
   }
   return Imf::FLOAT;
 }
 
 Imf::Compression ToImf(Compression compression) {
   switch (compression) {
-    case Compression::kNone: return Imf::NO_COMPRESSION;
-    case Compression::kRle: return Imf::RLE_COMPRESSION;
-    case Compression::kZips: return Imf::ZIPS_COMPRESSION;
-    case Compression::kZip: return Imf::ZIP_COMPRESSION;
-    case Compression::kPiz: return Imf::PIZ_COMPRESSION;
+    case Compression::kNone:
+      return Imf::NO_COMPRESSION;
+    case Compression::kRle:
+      return Imf::RLE_COMPRESSION;
+    case Compression::kZips:
+      return Imf::ZIPS_COMPRESSION;
+    case Compression::kZip:
+      return Imf::ZIP_COMPRESSION;
+    case Compression::kPiz:
+      return Imf::PIZ_COMPRESSION;
   }
   return Imf::ZIP_COMPRESSION;
 }
@@ -85,7 +104,8 @@ Imf::Compression ToImf(Compression compression) {
 static Imath::M44f ToImath(const Eigen::Matrix4d& m) {
   Imath::M44f out;
   for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) out[r][c] = static_cast<float>(m(c, r));  // row-vector convention
+    for (int c = 0; c < 4; ++c)
+      out[r][c] = static_cast<float>(m(c, r));  // row-vector convention
   }
   return out;
 }
@@ -110,64 +130,93 @@ ExrInfo InfoFromHeader(const Imf::Header& header) {
   info.width = window.max.x - window.min.x + 1;
   info.height = window.max.y - window.min.y + 1;
   info.deep = header.hasType() && Imf::isDeepData(header.type());
-  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+  for (auto it = header.channels().begin(); it != header.channels().end();
+       ++it) {
     PixelType type = PixelType::kFloat;
     if (it.channel().type == Imf::UINT) type = PixelType::kUint;
     if (it.channel().type == Imf::HALF) type = PixelType::kHalf;
     info.channels.push_back({it.name(), type});
   }
   switch (header.compression()) {
-    case Imf::NO_COMPRESSION: info.compression = Compression::kNone; break;
-    case Imf::RLE_COMPRESSION: info.compression = Compression::kRle; break;
-    case Imf::ZIPS_COMPRESSION: info.compression = Compression::kZips; break;
-    case Imf::ZIP_COMPRESSION: info.compression = Compression::kZip; break;
-    case Imf::PIZ_COMPRESSION: info.compression = Compression::kPiz; break;
-    default: info.compression = Compression::kNone; break;  // lossy or exotic: reported by validators
+    case Imf::NO_COMPRESSION:
+      info.compression = Compression::kNone;
+      break;
+    case Imf::RLE_COMPRESSION:
+      info.compression = Compression::kRle;
+      break;
+    case Imf::ZIPS_COMPRESSION:
+      info.compression = Compression::kZips;
+      break;
+    case Imf::ZIP_COMPRESSION:
+      info.compression = Compression::kZip;
+      break;
+    case Imf::PIZ_COMPRESSION:
+      info.compression = Compression::kPiz;
+      break;
+    default:
+      info.compression = Compression::kNone;
+      break;  // lossy or exotic: reported by validators
   }
   if (Imf::hasWorldToCamera(header) && Imf::hasWorldToNDC(header)) {
-    info.camera = HeaderCamera{FromImath(Imf::worldToCamera(header)), FromImath(Imf::worldToNDC(header))};
+    info.camera = HeaderCamera{FromImath(Imf::worldToCamera(header)),
+                               FromImath(Imf::worldToNDC(header))};
   }
   return info;
 }
 
-void CheckLimits(const std::filesystem::path& path, const Imf::Header& header, const ReadLimits& limits) {
+void CheckLimits(const std::filesystem::path& path,
+                 const Imf::Header& header,
+                 const ReadLimits& limits) {
   const Imath::Box2i window = header.dataWindow();
   const int64_t width = int64_t{window.max.x} - window.min.x + 1;
   const int64_t height = int64_t{window.max.y} - window.min.y + 1;
   const Location where{path.string()};
-  if (width <= 0 || height <= 0) throw Error("empty or inverted data window", where);
+  if (width <= 0 || height <= 0)
+    throw Error("empty or inverted data window", where);
   if (window.min.x != 0 || window.min.y != 0) {
-    throw Error("data window must start at (0, 0), starts at (" + std::to_string(window.min.x) +
-                    ", " + std::to_string(window.min.y) + ")",
+    throw Error("data window must start at (0, 0), starts at (" +
+                    std::to_string(window.min.x) + ", " +
+                    std::to_string(window.min.y) + ")",
                 where);
   }
-  if (width > limits.max_width || height > limits.max_height || width * height > limits.max_pixels) {
-    throw Error("image of " + std::to_string(width) + "x" + std::to_string(height) +
+  if (width > limits.max_width || height > limits.max_height ||
+      width * height > limits.max_pixels) {
+    throw Error("image of " + std::to_string(width) + "x" +
+                    std::to_string(height) +
                     " pixels exceeds the reader's size limits",
                 where);
   }
   int channels = 0;
-  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++channels;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+    ++channels;
   if (channels > limits.max_channels) {
     throw Error(std::to_string(channels) + " channels exceed the limit of " +
                     std::to_string(limits.max_channels),
                 where);
   }
-  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+  for (auto it = header.channels().begin(); it != header.channels().end();
+       ++it) {
     if (it.channel().xSampling != 1 || it.channel().ySampling != 1) {
-      throw Error(std::string("channel '") + it.name() + "' is subsampled; lsds layers are not", where);
+      throw Error(std::string("channel '") + it.name() +
+                      "' is subsampled; lsds layers are not",
+                  where);
     }
   }
 }
 
 }  // namespace internal
 
-ExrInfo ReadExrInfo(const std::filesystem::path& path, const ReadLimits& limits) {
+ExrInfo ReadExrInfo(const std::filesystem::path& path,
+                    const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
     Imf::MultiPartInputFile file(path.c_str(), 0);  // no threads for a header
-    if (file.parts() != 1) throw Error("multi-part EXR files are not lsds layers", Location(path.string()));
+    if (file.parts() != 1)
+      throw Error("multi-part EXR files are not lsds layers",
+                  Location(path.string()));
     const Imf::Header& header = file.header(0);
-    if (header.hasTileDescription()) throw Error("tiled EXR files are not lsds layers", Location(path.string()));
+    if (header.hasTileDescription())
+      throw Error("tiled EXR files are not lsds layers",
+                  Location(path.string()));
     internal::CheckLimits(path, header, limits);
     return internal::InfoFromHeader(header);
   });

@@ -1,4 +1,5 @@
-// Helpers shared by the EXR readers and writers; not part of the public interface.
+// Helpers shared by the EXR readers and writers; not part of the public
+// interface.
 #pragma once
 
 #include <ImfHeader.h>
@@ -17,23 +18,30 @@ Imf::PixelType ToImf(PixelType type);
 Imf::Compression ToImf(Compression compression);
 void AddCamera(const WriteOptions& options, Imf::Header* header);
 ExrInfo InfoFromHeader(const Imf::Header& header);
-void CheckLimits(const std::filesystem::path& path, const Imf::Header& header, const ReadLimits& limits);
+void CheckLimits(const std::filesystem::path& path,
+                 const Imf::Header& header,
+                 const ReadLimits& limits);
 
-// Runs `body`, turning OpenEXR's exceptions into lsds::Error that names the file.
+// Runs `body`, turning OpenEXR's exceptions into lsds::Error that names the
+// file.
 template <typename Body>
-auto GuardExr(const std::filesystem::path& path, Body&& body) -> decltype(body()) {
+auto GuardExr(const std::filesystem::path& path, Body&& body)
+    -> decltype(body()) {
   try {
     return body();
   } catch (const lsds::Error&) {
     throw;
   } catch (const std::exception& e) {
-    throw lsds::Error(std::string("cannot read or write EXR: ") + e.what(), Location(path.string()));
+    throw lsds::Error(std::string("cannot read or write EXR: ") + e.what(),
+                      Location(path.string()));
   }
 }
 
-// Runs `write` (which writes `temp`), then renames `temp` to `path`; on failure removes `temp`.
+// Runs `write` (which writes `temp`), then renames `temp` to `path`; on failure
+// removes `temp`.
 template <typename Write>
-void WriteThroughTemp(const std::filesystem::path& path, const std::filesystem::path& temp,
+void WriteThroughTemp(const std::filesystem::path& path,
+                      const std::filesystem::path& temp,
                       Write&& write) {
   try {
     GuardExr(path, [&] {

@@ -11,10 +11,12 @@
 namespace lsds::exr {
 
 enum class PixelType { kUint, kHalf, kFloat };
-const char* PixelTypeName(PixelType type);  // "uint" | "half" | "float", as in docs/format.md
+const char* PixelTypeName(
+    PixelType type);  // "uint" | "half" | "float", as in docs/format.md
 bool ParsePixelType(const std::string& name, PixelType* type);
 
-// Lossless compressions only: truth layers must survive a round trip bit for bit.
+// Lossless compressions only: truth layers must survive a round trip bit for
+// bit.
 enum class Compression { kNone, kRle, kZips, kZip, kPiz };
 const char* CompressionName(Compression compression);
 bool ParseCompression(const std::string& name, Compression* compression);
@@ -22,11 +24,13 @@ bool ParseCompression(const std::string& name, Compression* compression);
 struct ChannelSpec {
   std::string name;
   PixelType type = PixelType::kFloat;
-  bool operator==(const ChannelSpec& o) const { return name == o.name && type == o.type; }
+  bool operator==(const ChannelSpec& o) const {
+    return name == o.name && type == o.type;
+  }
 };
 
-// Limits checked on the header before anything is decoded, so that a hostile or corrupt file cannot
-// make a reader allocate without bound.
+// Limits checked on the header before anything is decoded, so that a hostile or
+// corrupt file cannot make a reader allocate without bound.
 struct ReadLimits {
   int64_t max_width = 1 << 15;
   int64_t max_height = 1 << 15;
@@ -36,11 +40,14 @@ struct ReadLimits {
   int max_samples_per_pixel = 1 << 12;
 };
 
-// Camera matrices written into EXR headers as the standard attributes `worldToCamera` and
-// `worldToNDC`, in Imath's row-vector convention (p' = p * M, i.e. the transpose of our matrices).
+// Camera matrices written into EXR headers as the standard attributes
+// `worldToCamera` and `worldToNDC`, in Imath's row-vector convention (p' = p *
+// M, i.e. the transpose of our matrices).
 struct HeaderCamera {
-  Eigen::Matrix4d cam_from_world = Eigen::Matrix4d::Identity();  // OpenCV camera frame
-  Eigen::Matrix4d ndc_from_world = Eigen::Matrix4d::Identity();  // see docs/format.md
+  Eigen::Matrix4d cam_from_world =
+      Eigen::Matrix4d::Identity();  // OpenCV camera frame
+  Eigen::Matrix4d ndc_from_world =
+      Eigen::Matrix4d::Identity();  // see docs/format.md
 };
 
 struct WriteOptions {

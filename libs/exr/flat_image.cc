@@ -1,10 +1,10 @@
 #include "libs/exr/flat_image.h"
 
 #include <ImfChannelList.h>
-#include <ImfPartType.h>
 #include <ImfFrameBuffer.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfPartType.h>
 #include <half.h>
 
 #include "libs/exr/exr_internal.h"
@@ -39,7 +39,8 @@ const FlatChannel* FlatImage::Find(const std::string& name) const {
 }
 
 FlatChannel* FlatImage::Find(const std::string& name) {
-  return const_cast<FlatChannel*>(static_cast<const FlatImage*>(this)->Find(name));
+  return const_cast<FlatChannel*>(
+      static_cast<const FlatImage*>(this)->Find(name));
 }
 
 const FlatChannel& FlatImage::Get(const std::string& name) const {
@@ -49,16 +50,19 @@ const FlatChannel& FlatImage::Get(const std::string& name) const {
 }
 
 FlatChannel& FlatImage::Get(const std::string& name) {
-  return const_cast<FlatChannel&>(static_cast<const FlatImage*>(this)->Get(name));
+  return const_cast<FlatChannel&>(
+      static_cast<const FlatImage*>(this)->Get(name));
 }
 
-FlatImage ReadFlatExr(const std::filesystem::path& path, const std::vector<std::string>& channels,
+FlatImage ReadFlatExr(const std::filesystem::path& path,
+                      const std::vector<std::string>& channels,
                       const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
     Imf::InputFile file(path.c_str());
     const Imf::Header& header = file.header();
     if (header.hasType() && Imf::isDeepData(header.type())) {
-      throw Error("is a deep EXR; expected a flat layer", Location(path.string()));
+      throw Error("is a deep EXR; expected a flat layer",
+                  Location(path.string()));
     }
     internal::CheckLimits(path, header, limits);
     const ExrInfo info = internal::InfoFromHeader(header);
@@ -69,11 +73,13 @@ FlatImage ReadFlatExr(const std::filesystem::path& path, const std::vector<std::
     } else {
       for (const std::string& name : channels) {
         const ChannelSpec* spec = info.Find(name);
-        if (spec == nullptr) throw Error("has no channel '" + name + "'", Location(path.string()));
+        if (spec == nullptr)
+          throw Error("has no channel '" + name + "'", Location(path.string()));
         wanted.push_back(*spec);
       }
     }
-    // HALF decodes to float; the frame buffer converts while decoding, without a second pass.
+    // HALF decodes to float; the frame buffer converts while decoding, without
+    // a second pass.
     Imf::FrameBuffer frame_buffer;
     for (const ChannelSpec& spec : wanted) {
       FlatChannel& channel = image.AddChannel(spec.name, spec.type);
@@ -81,8 +87,11 @@ FlatImage ReadFlatExr(const std::filesystem::path& path, const std::vector<std::
       char* base = is_uint ? reinterpret_cast<char*>(channel.uints.data())
                            : reinterpret_cast<char*>(channel.floats.data());
       const size_t element = is_uint ? sizeof(uint32_t) : sizeof(float);
-      frame_buffer.insert(spec.name, Imf::Slice(is_uint ? Imf::UINT : Imf::FLOAT, base, element,
-                                                element * info.width));
+      frame_buffer.insert(spec.name,
+                          Imf::Slice(is_uint ? Imf::UINT : Imf::FLOAT,
+                                     base,
+                                     element,
+                                     element * info.width));
     }
     file.setFrameBuffer(frame_buffer);
     file.readPixels(0, info.height - 1);
@@ -90,7 +99,8 @@ FlatImage ReadFlatExr(const std::filesystem::path& path, const std::vector<std::
   });
 }
 
-void WriteFlatExr(const std::filesystem::path& path, const FlatImage& image,
+void WriteFlatExr(const std::filesystem::path& path,
+                  const FlatImage& image,
                   const WriteOptions& options) {
   const std::filesystem::path temp = TempPathBeside(path);
   internal::WriteThroughTemp(path, temp, [&] {
@@ -102,20 +112,26 @@ void WriteFlatExr(const std::filesystem::path& path, const FlatImage& image,
     halves.reserve(image.channels().size());
     Imf::FrameBuffer frame_buffer;
     for (const FlatChannel& channel : image.channels()) {
-      header.channels().insert(channel.name, Imf::Channel(internal::ToImf(channel.type)));
+      header.channels().insert(channel.name,
+                               Imf::Channel(internal::ToImf(channel.type)));
       char* base = nullptr;
       size_t element = 4;
       if (channel.type == PixelType::kUint) {
-        base = reinterpret_cast<char*>(const_cast<uint32_t*>(channel.uints.data()));
+        base = reinterpret_cast<char*>(
+            const_cast<uint32_t*>(channel.uints.data()));
       } else if (channel.type == PixelType::kFloat) {
-        base = reinterpret_cast<char*>(const_cast<float*>(channel.floats.data()));
+        base =
+            reinterpret_cast<char*>(const_cast<float*>(channel.floats.data()));
       } else {
         halves.emplace_back(channel.floats.begin(), channel.floats.end());
         base = reinterpret_cast<char*>(halves.back().data());
         element = sizeof(half);
       }
-      frame_buffer.insert(channel.name, Imf::Slice(internal::ToImf(channel.type), base, element,
-                                                   element * image.width()));
+      frame_buffer.insert(channel.name,
+                          Imf::Slice(internal::ToImf(channel.type),
+                                     base,
+                                     element,
+                                     element * image.width()));
     }
     {
       Imf::OutputFile file(temp.c_str(), header);

@@ -26,7 +26,8 @@ Attitude AttitudeFromNedFromBody(const Eigen::Quaterniond& ned_from_body) {
     attitude.roll_deg = Deg(std::atan2(r(2, 1), r(2, 2)));
     attitude.yaw_deg = Deg(std::atan2(r(1, 0), r(0, 0)));
   } else {
-    // Gimbal lock (nadir or zenith): only yaw -/+ roll is defined; put it all in yaw.
+    // Gimbal lock (nadir or zenith): only yaw -/+ roll is defined; put it all
+    // in yaw.
     attitude.roll_deg = 0.0;
     attitude.yaw_deg = Deg(std::atan2(-r(0, 1), r(1, 1)));
   }
@@ -35,7 +36,8 @@ Attitude AttitudeFromNedFromBody(const Eigen::Quaterniond& ned_from_body) {
 
 Eigen::Matrix3d BodyFromCam() {
   Eigen::Matrix3d body_from_cam;
-  // Columns are the camera axes in the body frame: cam x = body y, cam y = body z, cam z = body x.
+  // Columns are the camera axes in the body frame: cam x = body y, cam y = body
+  // z, cam z = body x.
   body_from_cam << 0, 0, 1,  //
       1, 0, 0,               //
       0, 1, 0;
@@ -50,18 +52,21 @@ Eigen::Matrix3d EnuFromNed() {
   return enu_from_ned;
 }
 
-Rigid3d CamFromEnu(const Eigen::Vector3d& position_in_enu, const Attitude& attitude) {
+Rigid3d CamFromEnu(const Eigen::Vector3d& position_in_enu,
+                   const Attitude& attitude) {
   const Eigen::Matrix3d enu_from_cam =
       EnuFromNed() * NedFromBody(attitude).toRotationMatrix() * BodyFromCam();
   return Rigid3d(Eigen::Quaterniond(enu_from_cam), position_in_enu).Inverse();
 }
 
-void PositionAndAttitudeFromCamFromEnu(const Rigid3d& cam_from_enu, Eigen::Vector3d* position_in_enu,
+void PositionAndAttitudeFromCamFromEnu(const Rigid3d& cam_from_enu,
+                                       Eigen::Vector3d* position_in_enu,
                                        Attitude* attitude) {
   const Rigid3d enu_from_cam = cam_from_enu.Inverse();
   *position_in_enu = enu_from_cam.translation;
   const Eigen::Matrix3d ned_from_body =
-      EnuFromNed() * enu_from_cam.rotation.toRotationMatrix() * BodyFromCam().transpose();
+      EnuFromNed() * enu_from_cam.rotation.toRotationMatrix() *
+      BodyFromCam().transpose();
   *attitude = AttitudeFromNedFromBody(Eigen::Quaterniond(ned_from_body));
 }
 

@@ -1,8 +1,10 @@
-// The pinhole camera model of the collection format (docs/format.md, "Camera model").
+// The pinhole camera model of the collection format (docs/format.md, "Camera
+// model").
 //
-// Camera frame: OpenCV convention, x right, y down, z forward (the optical axis).
-// Image coordinates are continuous pixel-edge coordinates: pixel (i, j) covers [i, i+1) x [j, j+1),
-// so its centre is (i + 0.5, j + 0.5) and a centred principal point is (width / 2, height / 2).
+// Camera frame: OpenCV convention, x right, y down, z forward (the optical
+// axis). Image coordinates are continuous pixel-edge coordinates: pixel (i, j)
+// covers [i, i+1) x [j, j+1), so its centre is (i + 0.5, j + 0.5) and a centred
+// principal point is (width / 2, height / 2).
 //   u = fx * x / z + cx,  v = fy * y / z + cy
 #pragma once
 
@@ -18,17 +20,22 @@ struct PinholeCamera {
   double fx = 0, fy = 0;  // focal lengths in pixels
   double cx = 0, cy = 0;  // principal point in pixel-edge coordinates
 
-  // Square pixels, centred principal point, horizontal field of view in degrees.
-  static PinholeCamera FromHorizontalFov(int width, int height, double hfov_deg);
+  // Square pixels, centred principal point, horizontal field of view in
+  // degrees.
+  static PinholeCamera FromHorizontalFov(int width,
+                                         int height,
+                                         double hfov_deg);
 
   double HorizontalFovDeg() const;
   double VerticalFovDeg() const;
 
   // Pixel coordinates of a point in the camera frame (z > 0 expected).
   Eigen::Vector2d ImageFromCam(const Eigen::Vector3d& point_in_cam) const {
-    return {fx * point_in_cam.x() / point_in_cam.z() + cx, fy * point_in_cam.y() / point_in_cam.z() + cy};
+    return {fx * point_in_cam.x() / point_in_cam.z() + cx,
+            fy * point_in_cam.y() / point_in_cam.z() + cy};
   }
-  // The ray through a pixel position, scaled so that z == 1 (multiply by planar depth to get the point).
+  // The ray through a pixel position, scaled so that z == 1 (multiply by planar
+  // depth to get the point).
   Eigen::Vector3d CamFromImage(const Eigen::Vector2d& pixel) const {
     return {(pixel.x() - cx) / fx, (pixel.y() - cy) / fy, 1.0};
   }
@@ -36,8 +43,9 @@ struct PinholeCamera {
   Eigen::Vector3d RayThroughPixelCenter(int i, int j) const {
     return CamFromImage({i + 0.5, j + 0.5});
   }
-  // The `worldToNDC` convention of our EXR headers (docs/format.md): x_ndc = 2u/width - 1,
-  // y_ndc = 2v/height - 1 (y down), z_ndc = 1/z, after division by w = z.
+  // The `worldToNDC` convention of our EXR headers (docs/format.md): x_ndc =
+  // 2u/width - 1, y_ndc = 2v/height - 1 (y down), z_ndc = 1/z, after division
+  // by w = z.
   Eigen::Matrix4d NdcFromCam() const {
     Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
     m(0, 0) = 2 * fx / width;
@@ -49,28 +57,36 @@ struct PinholeCamera {
     return m;
   }
   bool operator==(const PinholeCamera& other) const {
-    return width == other.width && height == other.height && fx == other.fx && fy == other.fy &&
-           cx == other.cx && cy == other.cy;
+    return width == other.width && height == other.height && fx == other.fx &&
+           fy == other.fy && cx == other.cx && cy == other.cy;
   }
 };
 
-// Planar depth is measured along the optical axis (z); perspective depth along the ray (distance from
-// the camera centre). For the ray r = CamFromImage(pixel) with r.z == 1: perspective = planar * |r|.
-inline double PerspectiveFromPlanarDepth(const PinholeCamera& camera, const Eigen::Vector2d& pixel,
+// Planar depth is measured along the optical axis (z); perspective depth along
+// the ray (distance from the camera centre). For the ray r =
+// CamFromImage(pixel) with r.z == 1: perspective = planar * |r|.
+inline double PerspectiveFromPlanarDepth(const PinholeCamera& camera,
+                                         const Eigen::Vector2d& pixel,
                                          double planar) {
   return planar * camera.CamFromImage(pixel).norm();
 }
-inline double PlanarFromPerspectiveDepth(const PinholeCamera& camera, const Eigen::Vector2d& pixel,
+inline double PlanarFromPerspectiveDepth(const PinholeCamera& camera,
+                                         const Eigen::Vector2d& pixel,
                                          double perspective) {
   return perspective / camera.CamFromImage(pixel).norm();
 }
 
-// The point in the camera frame seen at `pixel` with the given depth of either kind.
+// The point in the camera frame seen at `pixel` with the given depth of either
+// kind.
 enum class DepthKind { kPlanar, kPerspective };
-inline Eigen::Vector3d UnprojectDepth(const PinholeCamera& camera, const Eigen::Vector2d& pixel,
-                                      double depth, DepthKind kind) {
+inline Eigen::Vector3d UnprojectDepth(const PinholeCamera& camera,
+                                      const Eigen::Vector2d& pixel,
+                                      double depth,
+                                      DepthKind kind) {
   const Eigen::Vector3d ray = camera.CamFromImage(pixel);
-  return kind == DepthKind::kPlanar ? Eigen::Vector3d(ray * depth) : Eigen::Vector3d(ray * (depth / ray.norm()));
+  return kind == DepthKind::kPlanar
+             ? Eigen::Vector3d(ray * depth)
+             : Eigen::Vector3d(ray * (depth / ray.norm()));
 }
 
 const char* DepthKindName(DepthKind kind);  // "planar" | "perspective"

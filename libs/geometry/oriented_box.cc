@@ -8,14 +8,17 @@ namespace lsds {
 std::array<Eigen::Vector3d, 8> OrientedBox::Corners() const {
   std::array<Eigen::Vector3d, 8> corners;
   for (int k = 0; k < 8; ++k) {
-    const Eigen::Vector3d sign((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0);
+    const Eigen::Vector3d sign(
+        (k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0);
     corners[k] = center + world_from_box * sign.cwiseProduct(half_extents);
   }
   return corners;
 }
 
-bool OrientedBox::Contains(const Eigen::Vector3d& point_in_world, double tolerance) const {
-  const Eigen::Vector3d local = world_from_box.transpose() * (point_in_world - center);
+bool OrientedBox::Contains(const Eigen::Vector3d& point_in_world,
+                           double tolerance) const {
+  const Eigen::Vector3d local =
+      world_from_box.transpose() * (point_in_world - center);
   return (local.cwiseAbs() - half_extents).maxCoeff() <= tolerance;
 }
 
@@ -45,16 +48,20 @@ bool OrientedBox::Intersects(const OrientedBox& other) const {
 
 namespace {
 
-// Corners in front of the near plane plus the points where box edges cross it, projected.
-std::vector<Eigen::Vector2d> ProjectClipped(const OrientedBox& box, const PinholeCamera& camera,
-                                            const Rigid3d& cam_from_world, double near) {
+// Corners in front of the near plane plus the points where box edges cross it,
+// projected.
+std::vector<Eigen::Vector2d> ProjectClipped(const OrientedBox& box,
+                                            const PinholeCamera& camera,
+                                            const Rigid3d& cam_from_world,
+                                            double near) {
   const auto corners = box.Corners();
   std::array<Eigen::Vector3d, 8> in_cam;
   for (int k = 0; k < 8; ++k) in_cam[k] = cam_from_world * corners[k];
   std::vector<Eigen::Vector2d> points;
   for (int k = 0; k < 8; ++k) {
     if (in_cam[k].z() >= near) points.push_back(camera.ImageFromCam(in_cam[k]));
-    for (int bit = 0; bit < 3; ++bit) {  // each edge once: from k to k with one bit set
+    for (int bit = 0; bit < 3;
+         ++bit) {  // each edge once: from k to k with one bit set
       if (k & (1 << bit)) continue;
       const Eigen::Vector3d& p = in_cam[k];
       const Eigen::Vector3d& q = in_cam[k | (1 << bit)];
@@ -67,7 +74,9 @@ std::vector<Eigen::Vector2d> ProjectClipped(const OrientedBox& box, const Pinhol
   return points;
 }
 
-double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+double Cross(const Eigen::Vector2d& o,
+             const Eigen::Vector2d& a,
+             const Eigen::Vector2d& b) {
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
 }
 
@@ -84,7 +93,8 @@ std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points) {
     hull[k++] = points[i];
   }
   for (size_t i = points.size() - 1, lower = k + 1; i > 0; --i) {
-    while (k >= lower && Cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0) --k;
+    while (k >= lower && Cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0)
+      --k;
     hull[k++] = points[i - 1];
   }
   hull.resize(k - 1);
@@ -101,24 +111,31 @@ double PolygonArea(const std::vector<Eigen::Vector2d>& polygon) {
   return 0.5 * std::abs(twice_area);
 }
 
-// Sutherland-Hodgman against one half-plane: keep points with sign * (p[axis] - limit) <= 0.
-std::vector<Eigen::Vector2d> ClipHalfPlane(const std::vector<Eigen::Vector2d>& polygon, int axis,
-                                           double limit, double sign) {
+// Sutherland-Hodgman against one half-plane: keep points with sign * (p[axis] -
+// limit) <= 0.
+std::vector<Eigen::Vector2d> ClipHalfPlane(
+    const std::vector<Eigen::Vector2d>& polygon,
+    int axis,
+    double limit,
+    double sign) {
   std::vector<Eigen::Vector2d> out;
   for (size_t i = 0; i < polygon.size(); ++i) {
     const auto& a = polygon[i];
     const auto& b = polygon[(i + 1) % polygon.size()];
     const double da = sign * (a[axis] - limit), db = sign * (b[axis] - limit);
     if (da <= 0) out.push_back(a);
-    if ((da < 0) != (db < 0) && da != 0 && db != 0) out.push_back(a + (b - a) * (da / (da - db)));
+    if ((da < 0) != (db < 0) && da != 0 && db != 0)
+      out.push_back(a + (b - a) * (da / (da - db)));
   }
   return out;
 }
 
 }  // namespace
 
-std::optional<Box2d> ProjectedBounds(const OrientedBox& box, const PinholeCamera& camera,
-                                     const Rigid3d& cam_from_world, double near) {
+std::optional<Box2d> ProjectedBounds(const OrientedBox& box,
+                                     const PinholeCamera& camera,
+                                     const Rigid3d& cam_from_world,
+                                     double near) {
   const auto points = ProjectClipped(box, camera, cam_from_world, near);
   if (points.empty()) return std::nullopt;
   Box2d bounds{points[0].x(), points[0].y(), points[0].x(), points[0].y()};
@@ -131,16 +148,20 @@ std::optional<Box2d> ProjectedBounds(const OrientedBox& box, const PinholeCamera
   return bounds;
 }
 
-double InFrameFraction(const OrientedBox& box, const PinholeCamera& camera,
-                       const Rigid3d& cam_from_world, double near) {
-  const auto hull = ConvexHull(ProjectClipped(box, camera, cam_from_world, near));
+double InFrameFraction(const OrientedBox& box,
+                       const PinholeCamera& camera,
+                       const Rigid3d& cam_from_world,
+                       double near) {
+  const auto hull =
+      ConvexHull(ProjectClipped(box, camera, cam_from_world, near));
   const double total = hull.size() >= 3 ? PolygonArea(hull) : 0.0;
   if (total <= 0) return 0.0;
   auto clipped = ClipHalfPlane(hull, 0, 0.0, -1.0);
   clipped = ClipHalfPlane(clipped, 0, camera.width, 1.0);
   clipped = ClipHalfPlane(clipped, 1, 0.0, -1.0);
   clipped = ClipHalfPlane(clipped, 1, camera.height, 1.0);
-  return clipped.size() >= 3 ? std::min(1.0, PolygonArea(clipped) / total) : 0.0;
+  return clipped.size() >= 3 ? std::min(1.0, PolygonArea(clipped) / total)
+                             : 0.0;
 }
 
 }  // namespace lsds

@@ -9,12 +9,18 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix3d Yaw(double deg) {
-  return Eigen::AngleAxisd(deg * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return Eigen::AngleAxisd(deg * kPi / 180.0, Eigen::Vector3d::UnitZ())
+      .toRotationMatrix();
 }
 
-// Slab test in the box frame; returns the entering t and the entering face's normal.
-bool IntersectBox(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
-                  double t_min, double* t_hit, Eigen::Vector3d* normal) {
+// Slab test in the box frame; returns the entering t and the entering face's
+// normal.
+bool IntersectBox(const Box& box,
+                  const Eigen::Vector3d& origin,
+                  const Eigen::Vector3d& direction,
+                  double t_min,
+                  double* t_hit,
+                  Eigen::Vector3d* normal) {
   const Eigen::Matrix3d world_from_box = Yaw(box.yaw_deg);
   const Eigen::Vector3d o = world_from_box.transpose() * (origin - box.center);
   const Eigen::Vector3d d = world_from_box.transpose() * direction;
@@ -42,7 +48,8 @@ bool IntersectBox(const Box& box, const Eigen::Vector3d& origin, const Eigen::Ve
     }
     t_far = std::min(t_far, t1);
   }
-  if (t_near > t_far || t_near <= t_min || near_axis < 0) return false;  // inside or behind: no hit
+  if (t_near > t_far || t_near <= t_min || near_axis < 0)
+    return false;  // inside or behind: no hit
   Eigen::Vector3d local_normal = Eigen::Vector3d::Zero();
   local_normal[near_axis] = near_sign;
   *t_hit = t_near;
@@ -60,20 +67,27 @@ OrientedBox Box::Obb() const {
   return obb;
 }
 
-Hit AnalyticScene::Intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
-                             double t_min, int only_box) const {
+Hit AnalyticScene::Intersect(const Eigen::Vector3d& origin,
+                             const Eigen::Vector3d& direction,
+                             double t_min,
+                             int only_box) const {
   Hit best;
   if (ground && only_box < 0 && direction.z() < 0) {
     const double t = -origin.z() / direction.z();
     if (t > t_min) {
-      best = {true, t, Eigen::Vector3d::UnitZ(), ground_class_id, ground_instance_id};
+      best = {true,
+              t,
+              Eigen::Vector3d::UnitZ(),
+              ground_class_id,
+              ground_instance_id};
     }
   }
   for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
     if (only_box >= 0 && i != only_box) continue;
     double t;
     Eigen::Vector3d normal;
-    if (IntersectBox(boxes[i], origin, direction, t_min, &t, &normal) && (!best.hit || t < best.t)) {
+    if (IntersectBox(boxes[i], origin, direction, t_min, &t, &normal) &&
+        (!best.hit || t < best.t)) {
       best = {true, t, normal, boxes[i].class_id, boxes[i].instance_id};
     }
   }

@@ -1,5 +1,6 @@
-// Exact ray casting against a ground plane and oriented boxes: the analytic truth that synthetic
-// collections are made of (cf. COLMAP's synthetic dataset).
+// Exact ray casting against a ground plane and oriented boxes: the analytic
+// truth that synthetic collections are made of (cf. COLMAP's synthetic
+// dataset).
 #pragma once
 
 #include <cstdint>
@@ -37,8 +38,11 @@ struct AnalyticScene {
   uint32_t ground_instance_id = 1000;
   std::vector<Box> boxes;
 
-  // Closest hit with t > t_min. `only_box` >= 0 restricts the scene to that box (unoccluded renders).
-  Hit Intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min = 1e-9,
+  // Closest hit with t > t_min. `only_box` >= 0 restricts the scene to that box
+  // (unoccluded renders).
+  Hit Intersect(const Eigen::Vector3d& origin,
+                const Eigen::Vector3d& direction,
+                double t_min = 1e-9,
                 int only_box = -1) const;
 };
 

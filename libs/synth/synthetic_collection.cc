@@ -26,16 +26,22 @@ constexpr double kAmbient = 0.3;
 
 Eigen::Vector3d Albedo(uint32_t class_id) {
   switch (class_id) {
-    case 0: return {0.5, 0.7, 1.0};  // sky radiance
-    case 1: return {0.35, 0.3, 0.2};
-    case 2: return {0.7, 0.2, 0.1};
-    case 3: return {0.2, 0.5, 0.2};
-    default: return {0.5, 0.5, 0.5};
+    case 0:
+      return {0.5, 0.7, 1.0};  // sky radiance
+    case 1:
+      return {0.35, 0.3, 0.2};
+    case 2:
+      return {0.7, 0.2, 0.1};
+    case 3:
+      return {0.2, 0.5, 0.2};
+    default:
+      return {0.5, 0.5, 0.5};
   }
 }
 
-// Sub-pixel sample positions in [0, 1)^2: strata centres, with the stratum holding the pixel centre
-// moved onto it; that sample comes first (docs/format.md, "Pixel bundles").
+// Sub-pixel sample positions in [0, 1)^2: strata centres, with the stratum
+// holding the pixel centre moved onto it; that sample comes first
+// (docs/format.md, "Pixel bundles").
 std::vector<Eigen::Vector2d> SamplePattern(int n) {
   std::vector<Eigen::Vector2d> samples = {{0.5, 0.5}};
   const int centre_stratum = n / 2;
@@ -58,10 +64,14 @@ struct Sample {
   Eigen::Vector3d radiance = Eigen::Vector3d::Zero();
 };
 
-Sample Shade(const AnalyticScene& scene, const Spec& spec, const PinholeCamera& camera,
-             const Rigid3d& world_from_cam, const Eigen::Vector2d& pixel) {
+Sample Shade(const AnalyticScene& scene,
+             const Spec& spec,
+             const PinholeCamera& camera,
+             const Rigid3d& world_from_cam,
+             const Eigen::Vector2d& pixel) {
   Sample s;
-  const Eigen::Vector3d ray_in_cam = camera.CamFromImage(pixel);  // z == 1: t is planar depth
+  const Eigen::Vector3d ray_in_cam =
+      camera.CamFromImage(pixel);  // z == 1: t is planar depth
   const Eigen::Vector3d direction = world_from_cam.rotation * ray_in_cam;
   s.hit = scene.Intersect(world_from_cam.translation, direction);
   if (!s.hit.hit) {
@@ -73,16 +83,19 @@ Sample Shade(const AnalyticScene& scene, const Spec& spec, const PinholeCamera& 
   s.point = world_from_cam.translation + s.hit.t * direction;
   const double cosine = s.hit.normal.dot(spec.direction_to_sun);
   if (cosine > 0) {
-    const Hit blocker = scene.Intersect(s.point + 1e-6 * s.hit.normal, spec.direction_to_sun);
+    const Hit blocker =
+        scene.Intersect(s.point + 1e-6 * s.hit.normal, spec.direction_to_sun);
     s.sun_visibility = blocker.hit ? 0.0 : 1.0;
     s.shadow = (kAmbient + cosine * s.sun_visibility) / (kAmbient + cosine);
   }
-  s.radiance = Albedo(s.hit.class_id) * (kAmbient + std::max(0.0, cosine) * s.sun_visibility);
+  s.radiance = Albedo(s.hit.class_id) *
+               (kAmbient + std::max(0.0, cosine) * s.sun_visibility);
   return s;
 }
 
 PinholeCamera Camera(const Spec& spec) {
-  return PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
+  return PinholeCamera::FromHorizontalFov(
+      spec.width, spec.height, spec.hfov_deg);
 }
 
 }  // namespace
@@ -99,7 +112,8 @@ std::vector<std::string> Spec::LayerSemantics() const {
 }
 
 Rigid3d NadirCamFromWorld(const Eigen::Vector3d& position_in_world) {
-  // Pitch -90 looks down; with yaw 0 the image x axis is east and the image top is north.
+  // Pitch -90 looks down; with yaw 0 the image x axis is east and the image top
+  // is north.
   return CamFromEnu(position_in_world, Attitude{0.0, -90.0, 0.0});
 }
 
@@ -114,9 +128,11 @@ Spec DefaultSpec() {
   b.center = {4, 2, 0.5}, b.half_extents = {0.5, 0.5, 0.5}, b.yaw_deg = 30;
   Box c;
   c.class_id = 3, c.instance_id = 3, c.name = "crate#0";
-  c.center = {-3, -2, 0.75}, c.half_extents = {1.5, 0.75, 0.75}, c.yaw_deg = -20;
+  c.center = {-3, -2, 0.75}, c.half_extents = {1.5, 0.75, 0.75},
+  c.yaw_deg = -20;
   spec.boxes = {a, b, c};
-  for (int k = 0; k < 4; ++k) spec.cam_from_world.push_back(NadirCamFromWorld({-1.5 + k, 0.0, 20.0}));
+  for (int k = 0; k < 4; ++k)
+    spec.cam_from_world.push_back(NadirCamFromWorld({-1.5 + k, 0.0, 20.0}));
   return spec;
 }
 
@@ -127,7 +143,8 @@ Spec CircleSpec(int frames, int width, int height) {
   spec.cam_from_world.clear();
   for (int k = 0; k < frames; ++k) {
     const double angle = 2.0 * 3.14159265358979323846 * k / std::max(1, frames);
-    spec.cam_from_world.push_back(NadirCamFromWorld({3.0 * std::cos(angle), 3.0 * std::sin(angle), 20.0}));
+    spec.cam_from_world.push_back(NadirCamFromWorld(
+        {3.0 * std::cos(angle), 3.0 * std::sin(angle), 20.0}));
   }
   return spec;
 }
@@ -138,9 +155,11 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   const Rigid3d& cam_from_world = spec.cam_from_world.at(frame);
   const Rigid3d world_from_cam = cam_from_world.Inverse();
   const std::optional<Rigid3d> previous_cam_from_world =
-      frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1]) : std::nullopt;
+      frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1])
+                : std::nullopt;
   const int w = spec.width, h = spec.height;
-  const std::vector<Eigen::Vector2d> pattern = SamplePattern(spec.samples_per_axis);
+  const std::vector<Eigen::Vector2d> pattern =
+      SamplePattern(spec.samples_per_axis);
   const size_t samples_per_pixel = pattern.size();
 
   RenderedFrame out;
@@ -152,32 +171,48 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   FlatImage& position = out.flat["worldposition"] = FlatImage(w, h);
   FlatImage& shadow = out.flat["shadow"] = FlatImage(w, h);
   FlatImage& motion = out.flat["motion"] = FlatImage(w, h);
-  for (const LayerInfo& layer : {StandardLayer("rgb"), StandardLayer("classid"), StandardLayer("instanceid"),
-                                 StandardLayer("depth"), StandardLayer("normal"), StandardLayer("worldposition"),
-                                 StandardLayer("shadow"), StandardLayer("motion")}) {
-    for (const LayerChannel& c : layer.channels) out.flat[layer.semantic].AddChannel(c.name, c.type);
+  for (const LayerInfo& layer : {StandardLayer("rgb"),
+                                 StandardLayer("classid"),
+                                 StandardLayer("instanceid"),
+                                 StandardLayer("depth"),
+                                 StandardLayer("normal"),
+                                 StandardLayer("worldposition"),
+                                 StandardLayer("shadow"),
+                                 StandardLayer("motion")}) {
+    for (const LayerChannel& c : layer.channels)
+      out.flat[layer.semantic].AddChannel(c.name, c.type);
   }
-  out.bundle = DeepImage(w, h, std::vector<uint32_t>(static_cast<size_t>(w) * h, samples_per_pixel));
-  for (const LayerChannel& c : StandardLayer("bundle").channels) out.bundle.AddChannel(c.name, c.type);
+  out.bundle = DeepImage(
+      w,
+      h,
+      std::vector<uint32_t>(static_cast<size_t>(w) * h, samples_per_pixel));
+  for (const LayerChannel& c : StandardLayer("bundle").channels)
+    out.bundle.AddChannel(c.name, c.type);
 
   // Channel storage looked up once, not per sample.
   uint32_t* bundle_instance = out.bundle.Get("instanceid").uints.data();
   uint32_t* bundle_class = out.bundle.Get("classid").uints.data();
   float* bundle_depth = out.bundle.Get("Z").floats.data();
-  float* bundle_normal[3] = {out.bundle.Get("NX").floats.data(), out.bundle.Get("NY").floats.data(),
+  float* bundle_normal[3] = {out.bundle.Get("NX").floats.data(),
+                             out.bundle.Get("NY").floats.data(),
                              out.bundle.Get("NZ").floats.data()};
   float* bundle_sx = out.bundle.Get("SX").floats.data();
   float* bundle_sy = out.bundle.Get("SY").floats.data();
-  float* rgb_channel[3] = {rgb.Get("R").floats.data(), rgb.Get("G").floats.data(), rgb.Get("B").floats.data()};
+  float* rgb_channel[3] = {rgb.Get("R").floats.data(),
+                           rgb.Get("G").floats.data(),
+                           rgb.Get("B").floats.data()};
   uint32_t* class_pixels = classid.Get("id").uints.data();
   uint32_t* instance_pixels = instanceid.Get("id").uints.data();
   float* depth_pixels = depth.Get("Z").floats.data();
-  float* normal_pixels[3] = {normal.Get("X").floats.data(), normal.Get("Y").floats.data(),
+  float* normal_pixels[3] = {normal.Get("X").floats.data(),
+                             normal.Get("Y").floats.data(),
                              normal.Get("Z").floats.data()};
-  float* position_pixels[3] = {position.Get("X").floats.data(), position.Get("Y").floats.data(),
+  float* position_pixels[3] = {position.Get("X").floats.data(),
+                               position.Get("Y").floats.data(),
                                position.Get("Z").floats.data()};
   float* shadow_pixels = shadow.Get("Y").floats.data();
-  float* motion_pixels[2] = {motion.Get("X").floats.data(), motion.Get("Y").floats.data()};
+  float* motion_pixels[2] = {motion.Get("X").floats.data(),
+                             motion.Get("Y").floats.data()};
   const bool planar = spec.depth_kind == DepthKind::kPlanar;
 
   tbb::parallel_for(0, h, [&](int j) {
@@ -192,7 +227,8 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
         bundle_instance[q] = s.hit.instance_id;
         bundle_class[q] = s.hit.class_id;
         bundle_depth[q] = static_cast<float>(planar ? s.planar : s.perspective);
-        for (int c = 0; c < 3; ++c) bundle_normal[c][q] = static_cast<float>(s.hit.normal[c]);
+        for (int c = 0; c < 3; ++c)
+          bundle_normal[c][q] = static_cast<float>(s.hit.normal[c]);
         bundle_sx[q] = static_cast<float>(pattern[k].x());
         bundle_sy[q] = static_cast<float>(pattern[k].y());
         if (k != 0) continue;
@@ -202,23 +238,28 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
         depth_pixels[p] = bundle_depth[q];
         for (int c = 0; c < 3; ++c) {
           normal_pixels[c][p] = static_cast<float>(s.hit.normal[c]);
-          position_pixels[c][p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
+          position_pixels[c][p] =
+              s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
         }
         shadow_pixels[p] = static_cast<float>(s.shadow);
         Eigen::Vector2d shift = Eigen::Vector2d::Zero();
         if (previous_cam_from_world) {
-          // Static world: where this surface point (or, for sky, this direction) was last frame.
+          // Static world: where this surface point (or, for sky, this
+          // direction) was last frame.
           const Eigen::Vector3d in_previous =
               s.hit.hit ? Eigen::Vector3d(*previous_cam_from_world * s.point)
                         : Eigen::Vector3d(previous_cam_from_world->rotation *
-                                          (world_from_cam.rotation * camera.CamFromImage(at)));
-          if (in_previous.z() > 0) shift = at - camera.ImageFromCam(in_previous);
+                                          (world_from_cam.rotation *
+                                           camera.CamFromImage(at)));
+          if (in_previous.z() > 0)
+            shift = at - camera.ImageFromCam(in_previous);
         }
         motion_pixels[0][p] = static_cast<float>(0.5 + 0.5 * shift.x() / w);
         motion_pixels[1][p] = static_cast<float>(0.5 + 0.5 * shift.y() / h);
       }
       radiance /= static_cast<double>(samples_per_pixel);
-      for (int c = 0; c < 3; ++c) rgb_channel[c][p] = static_cast<float>(radiance[c]);
+      for (int c = 0; c < 3; ++c)
+        rgb_channel[c][p] = static_cast<float>(radiance[c]);
     }
   });
 
@@ -228,7 +269,8 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   truth.time = frame * spec.frame_interval;
   truth.sequence = spec.sequence;
   truth.camera.intrinsics = camera;
-  truth.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
+  truth.camera.cam_from_world_rotation =
+      cam_from_world.rotation.toRotationMatrix();
   truth.camera.cam_from_world_translation = cam_from_world.translation;
   const std::vector<uint32_t>& ids = instanceid.Get("id").uints;
   for (size_t b = 0; b < spec.boxes.size(); ++b) {
@@ -245,18 +287,34 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
     const Box2d search = projected ? projected->ClippedTo(w, h) : Box2d{};
     int64_t unoccluded = 0;
     int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int j = static_cast<int>(search.y0); j < static_cast<int>(std::ceil(search.y1)); ++j) {
-      for (int i = static_cast<int>(search.x0); i < static_cast<int>(std::ceil(search.x1)); ++i) {
+    for (int j = static_cast<int>(search.y0);
+         j < static_cast<int>(std::ceil(search.y1));
+         ++j) {
+      for (int i = static_cast<int>(search.x0);
+           i < static_cast<int>(std::ceil(search.x1));
+           ++i) {
         if (ids[rgb.Index(i, j)] == box.instance_id) {
           ++object.visible_pixels;
-          x0 = std::min(x0, i), y0 = std::min(y0, j), x1 = std::max(x1, i), y1 = std::max(y1, j);
+          x0 = std::min(x0, i), y0 = std::min(y0, j), x1 = std::max(x1, i),
+          y1 = std::max(y1, j);
         }
-        const Eigen::Vector3d direction = world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
-        if (scene.Intersect(world_from_cam.translation, direction, 1e-9, static_cast<int>(b)).hit) ++unoccluded;
+        const Eigen::Vector3d direction =
+            world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
+        if (scene
+                .Intersect(world_from_cam.translation,
+                           direction,
+                           1e-9,
+                           static_cast<int>(b))
+                .hit)
+          ++unoccluded;
       }
     }
-    if (object.visible_pixels > 0) object.bbox = Box2d{double(x0), double(y0), double(x1 + 1), double(y1 + 1)};
-    object.visibility = unoccluded > 0 ? static_cast<double>(object.visible_pixels) / unoccluded : 0.0;
+    if (object.visible_pixels > 0)
+      object.bbox =
+          Box2d{double(x0), double(y0), double(x1 + 1), double(y1 + 1)};
+    object.visibility =
+        unoccluded > 0 ? static_cast<double>(object.visible_pixels) / unoccluded
+                       : 0.0;
     if (projected) {
       const Box2d clipped = projected->ClippedTo(w, h);
       if (!clipped.empty()) object.bbox_projected = clipped;
@@ -269,7 +327,8 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
 void WriteCollection(const fs::path& root, const Spec& spec) {
   std::error_code ec;
   if (fs::exists(root, ec) && !fs::is_empty(root, ec)) {
-    throw Error("synthetic collection target exists and is not empty", Location(root.string()));
+    throw Error("synthetic collection target exists and is not empty",
+                Location(root.string()));
   }
   fs::create_directories(root);
   const std::vector<std::string> semantics = spec.LayerSemantics();
@@ -277,14 +336,16 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
   header.provenance.generator = "lsds synth";
   header.provenance.generator_version = LSDS_VERSION;
   header.provenance.seed = 0;
-  header.provenance.render = {{"samples_per_pixel", SamplePattern(spec.samples_per_axis).size()},
-                              {"renderer", "analytic ray casting"}};
+  header.provenance.render = {
+      {"samples_per_pixel", SamplePattern(spec.samples_per_axis).size()},
+      {"renderer", "analytic ray casting"}};
   header.classes = spec.classes;
   for (const std::string& semantic : semantics) {
     header.layers.push_back(StandardLayer(semantic, spec.depth_kind));
     fs::create_directories(root / semantic);
   }
-  header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
+  header.metadata = {
+      {kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = static_cast<int64_t>(spec.cam_from_world.size());
 
   CollectionWriter collection(root, header);
@@ -295,8 +356,9 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
     RenderedFrame rendered = RenderFrame(spec, k);
     const Rigid3d& cam_from_world = spec.cam_from_world[k];
     exr::WriteOptions options;
-    options.camera = exr::HeaderCamera{cam_from_world.ToMatrix(),
-                                       Camera(spec).NdcFromCam() * cam_from_world.ToMatrix()};
+    options.camera = exr::HeaderCamera{
+        cam_from_world.ToMatrix(),
+        Camera(spec).NdcFromCam() * cam_from_world.ToMatrix()};
     for (const std::string& semantic : semantics) {
       const LayerInfo layer = StandardLayer(semantic, spec.depth_kind);
       const std::string file = semantic + "/" + FrameStem(k) + ".exr";

@@ -1,5 +1,6 @@
-// Outputs are written atomically: to a temporary name beside the target, renamed at the end.
-// A crash or an error never leaves a half-written file under the final name.
+// Outputs are written atomically: to a temporary name beside the target,
+// renamed at the end. A crash or an error never leaves a half-written file
+// under the final name.
 #pragma once
 
 #include <filesystem>
@@ -10,11 +11,14 @@ namespace lsds {
 
 namespace fs = std::filesystem;
 
-// A unique temporary path in the same folder as `target` (same filesystem, so rename is atomic).
+// A unique temporary path in the same folder as `target` (same filesystem, so
+// rename is atomic).
 fs::path TempPathBeside(const fs::path& target);
 
 // Throws lsds::Error naming `path` if it exists and `force` is false.
-void RefuseToOverwrite(const fs::path& path, bool force, const std::string& what = "output");
+void RefuseToOverwrite(const fs::path& path,
+                       bool force,
+                       const std::string& what = "output");
 
 // Writes `content` to `path` through a temporary file and a rename.
 void WriteFileAtomic(const fs::path& path, const std::string& content);
@@ -22,7 +26,9 @@ void WriteFileAtomic(const fs::path& path, const std::string& content);
 // A file stream whose content appears under `path` only when Commit() succeeds.
 class AtomicFile {
  public:
-  explicit AtomicFile(fs::path path, std::ios::openmode mode = std::ios::out | std::ios::binary);
+  explicit AtomicFile(fs::path path,
+                      std::ios::openmode mode = std::ios::out |
+                                                std::ios::binary);
   ~AtomicFile();  // removes the temporary file unless committed
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
@@ -38,8 +44,9 @@ class AtomicFile {
   bool committed_ = false;
 };
 
-// A folder built under a temporary name and renamed to `path` at Commit(); with `force` an existing
-// folder is replaced only then, so a failed run leaves the old output untouched.
+// A folder built under a temporary name and renamed to `path` at Commit(); with
+// `force` an existing folder is replaced only then, so a failed run leaves the
+// old output untouched.
 class AtomicDirectory {
  public:
   AtomicDirectory(fs::path path, bool force);

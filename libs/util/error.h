@@ -1,4 +1,5 @@
-// Errors that name the place: every message a user sees says which file and where in it.
+// Errors that name the place: every message a user sees says which file and
+// where in it.
 #pragma once
 
 #include <cstdint>
@@ -35,7 +36,8 @@ struct Location {
   std::optional<int64_t> frame;
   std::optional<int> pixel_x, pixel_y;
 
-  // "collection.json:12:5", "collection.json#/frames/3/camera", "depth/000003.exr frame 3 pixel (10, 4)".
+  // "collection.json:12:5", "collection.json#/frames/3/camera",
+  // "depth/000003.exr frame 3 pixel (10, 4)".
   std::string ToString() const;
 };
 
@@ -59,6 +61,9 @@ class Error : public std::runtime_error {
 };
 
 // Converts a byte offset inside `text` into 1-based line and column.
-void LineColumnFromOffset(const std::string& text, size_t offset, int* line, int* column);
+void LineColumnFromOffset(const std::string& text,
+                          size_t offset,
+                          int* line,
+                          int* column);
 
 }  // namespace lsds

@@ -1,4 +1,5 @@
-// A progress line with rate and ETA on a terminal; silent in CI (CI=true) or when stderr is not a TTY.
+// A progress line with rate and ETA on a terminal; silent in CI (CI=true) or
+// when stderr is not a TTY.
 #pragma once
 
 #include <atomic>
@@ -12,7 +13,7 @@ namespace lsds {
 class Progress {
  public:
   Progress(std::string label, int64_t total, std::string unit = "frames");
-  ~Progress();  // finishes the line
+  ~Progress();                 // finishes the line
   void Add(int64_t done = 1);  // thread-safe
 
   static bool Enabled();  // a terminal and not CI

@@ -20,7 +20,8 @@ int EditDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+std::string ClosestMatch(const std::string& word,
+                         const std::vector<std::string>& candidates) {
   std::string best;
   int best_distance = 0;
   for (const std::string& candidate : candidates) {
@@ -30,12 +31,14 @@ std::string ClosestMatch(const std::string& word, const std::vector<std::string>
       best_distance = distance;
     }
   }
-  // Close enough: at most a third of the word changed (and at least one edit allowed).
+  // Close enough: at most a third of the word changed (and at least one edit
+  // allowed).
   const int budget = std::max<int>(1, static_cast<int>(word.size()) / 3);
   return best_distance <= budget ? best : std::string();
 }
 
-std::string DidYouMean(const std::string& word, const std::vector<std::string>& candidates) {
+std::string DidYouMean(const std::string& word,
+                       const std::vector<std::string>& candidates) {
   const std::string match = ClosestMatch(word, candidates);
   return match.empty() ? std::string() : " (did you mean '" + match + "'?)";
 }
@@ -52,7 +55,8 @@ std::vector<std::string> Split(const std::string& text, char separator) {
   return parts;
 }
 
-std::string Join(const std::vector<std::string>& parts, const std::string& separator) {
+std::string Join(const std::vector<std::string>& parts,
+                 const std::string& separator) {
   std::string out;
   for (size_t i = 0; i < parts.size(); ++i) {
     if (i > 0) out += separator;
@@ -63,7 +67,8 @@ std::string Join(const std::vector<std::string>& parts, const std::string& separ
 
 std::string FrameStem(int64_t index) {
   char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%06lld", static_cast<long long>(index));
+  std::snprintf(
+      buffer, sizeof(buffer), "%06lld", static_cast<long long>(index));
   return buffer;
 }
 

@@ -38,7 +38,8 @@ synth::Spec TestSpec() {
   pixel.half_extents = {0.05, 0.05, 0.05};
   synth::Box border;
   border.class_id = 2, border.instance_id = kBorder, border.name = "box#2";
-  // Centred on the ray through the left border pixel (0, 24) at the box top, z = 1.
+  // Centred on the ray through the left border pixel (0, 24) at the box top, z
+  // = 1.
   const Eigen::Vector3d edge = camera.CamFromImage({0.5, 24.5});
   border.center = world_from_cam * Eigen::Vector3d(edge / edge.z() * 19.0) -
                   Eigen::Vector3d(0, 0, 0.5);

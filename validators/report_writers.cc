@@ -1,5 +1,7 @@
 #include "validators/report_writers.h"
 
+#include "libs/util/strings.h"
+
 #include <sstream>
 
 namespace lsds::validate {
@@ -16,36 +18,6 @@ nlohmann::json LocationToJson(const Location& location) {
   if (location.pixel_x && location.pixel_y)
     j["pixel"] = {*location.pixel_x, *location.pixel_y};
   return j;
-}
-
-std::string XmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') {
-          out += ' ';
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out;
 }
 
 std::string FindingLine(const Finding& f) {

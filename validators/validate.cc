@@ -500,16 +500,7 @@ Report Validator::Run() {
   for (const CheckInfo& check : AllChecks()) {
     if (Selected(check.id)) report_.checks.push_back(check.id);
   }
-  std::error_code ec;
-  if (!fs::is_directory(root_, ec)) {
-    throw Error(fs::exists(root_, ec) ? "is not a folder" : "does not exist",
-                Location(root_.string()));
-  }
-  if (!LooksLikeCollection(root_)) {
-    throw Error(
-        "is not an lsds collection: it has no " + std::string(kCollectionFile),
-        Location(root_.string()));
-  }
+  CheckCollectionFolder(root_);
   if (ReadHeader()) {
     CheckTables();
     ReadMetadata();

@@ -1,4 +1,5 @@
 #include "converters/cvat/cvat_converter.h"
+#include "libs/util/strings.h"
 
 #include <fstream>
 #include <map>
@@ -35,7 +36,7 @@ class CvatImagesConverter : public Converter {
     auto piece = std::make_unique<CvatPiece>();
     const std::vector<OutputClass>& classes = setup_.classes->classes();
     for (const KeptObject& object : frame.objects) {
-      const std::string label = cvat::Escape(classes[object.class_index].name);
+      const std::string label = XmlEscape(classes[object.class_index].name);
       const bool occluded =
           object.truth->visibility < setup_.options->occluded_below;
       const std::string common = "label=\"" + label +
@@ -60,7 +61,7 @@ class CvatImagesConverter : public Converter {
     auto* piece = static_cast<CvatPiece*>(base.get());
     Split& s = splits_.at(frame.split);
     s.part << "  <image id=\"" << s.count++ << "\" name=\""
-           << cvat::Escape(frame.image_name) << "\" width=\"" << frame.width
+           << XmlEscape(frame.image_name) << "\" width=\"" << frame.width
            << "\" height=\"" << frame.height << "\">\n"
            << piece->shapes << "  </image>\n";
   }
@@ -73,7 +74,7 @@ class CvatImagesConverter : public Converter {
       std::ofstream out = OpenForWrite(path);
       out << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<annotations>\n  "
              "<version>1.1</version>\n"
-          << "  <meta>\n    <task>\n      <name>" << cvat::Escape(name)
+          << "  <meta>\n    <task>\n      <name>" << XmlEscape(name)
           << "</name>\n"
           << "      <size>" << s.count
           << "</size>\n      <mode>annotation</mode>\n"

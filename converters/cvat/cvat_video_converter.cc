@@ -6,6 +6,7 @@
 #include "converters/cvat/cvat_converter.h"
 #include "converters/cvat/cvat_xml.h"
 #include "converters/format_util.h"
+#include "libs/util/strings.h"
 
 namespace lsds::convert {
 
@@ -61,7 +62,7 @@ class CvatVideoConverter : public Converter {
       std::ofstream out = OpenForWrite(path);
       out << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<annotations>\n  "
              "<version>1.1</version>\n"
-          << "  <meta>\n    <task>\n      <name>" << cvat::Escape(name)
+          << "  <meta>\n    <task>\n      <name>" << XmlEscape(name)
           << "</name>\n"
           << "      <size>" << s.frames
           << "</size>\n      <mode>interpolation</mode>\n"
@@ -76,7 +77,7 @@ class CvatVideoConverter : public Converter {
       for (size_t t = 0; t < s.tracks.size(); ++t) {
         const Track& track = s.tracks[t];
         out << "  <track id=\"" << t << "\" label=\""
-            << cvat::Escape(classes[track.class_index].name)
+            << XmlEscape(classes[track.class_index].name)
             << "\" source=\"manual\">\n";
         auto write =
             [&](int64_t frame, const Box2d& box, bool outside, bool occluded) {

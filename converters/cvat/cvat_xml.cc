@@ -1,34 +1,9 @@
 #include "converters/cvat/cvat_xml.h"
+#include "libs/util/strings.h"
 
 #include "converters/format_util.h"
 
 namespace lsds::convert::cvat {
-
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string LabelsXml(const ClassMap& classes, const std::string& indent) {
   static const char* kColors[] = {"#e6194b",
@@ -46,8 +21,8 @@ std::string LabelsXml(const ClassMap& classes, const std::string& indent) {
   std::string xml = indent + "<labels>\n";
   for (size_t i = 0; i < classes.classes().size(); ++i) {
     xml += indent + "  <label>\n";
-    xml +=
-        indent + "    <name>" + Escape(classes.classes()[i].name) + "</name>\n";
+    xml += indent + "    <name>" + XmlEscape(classes.classes()[i].name) +
+           "</name>\n";
     xml += indent + "    <color>" + kColors[i % 12] + "</color>\n";
     xml += indent + "    <type>any</type>\n";
     xml += indent + "    <attributes>\n" + indent + "    </attributes>\n";

@@ -8,7 +8,6 @@
 
 namespace lsds::convert::cvat {
 
-std::string Escape(const std::string& text);  // XML attribute/text escaping
 // <labels> with one <label> per output class (type "any", a fixed colour per
 // index), indented.
 std::string LabelsXml(const ClassMap& classes, const std::string& indent);

@@ -18,18 +18,22 @@ bool LooksLikeCollection(const fs::path& root) {
   return fs::is_regular_file(root / kCollectionFile, ec);
 }
 
-CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
-    : root_(root), options_(options) {
+void CheckCollectionFolder(const fs::path& root) {
   std::error_code ec;
-  if (!fs::is_directory(root_, ec)) {
-    throw Error(fs::exists(root_, ec) ? "is not a folder" : "does not exist",
-                Location(root_.string()));
+  if (!fs::is_directory(root, ec)) {
+    throw Error(fs::exists(root, ec) ? "is not a folder" : "does not exist",
+                Location(root.string()));
   }
-  if (!LooksLikeCollection(root_)) {
+  if (!LooksLikeCollection(root)) {
     throw Error(
         "is not an lsds collection: it has no " + std::string(kCollectionFile),
-        Location(root_.string()));
+        Location(root.string()));
   }
+}
+
+CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
+    : root_(root), options_(options) {
+  CheckCollectionFolder(root_);
   const std::string file = collection_path().string();
   nlohmann::json header_json;
   frames_in_file_ =

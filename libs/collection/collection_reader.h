@@ -59,6 +59,9 @@ class CollectionReader {
 
 // True if `root` holds a collection.json (says nothing about its validity).
 bool LooksLikeCollection(const std::filesystem::path& root);
+// Throws lsds::Error naming `root` when it is not a folder holding a
+// collection.json.
+void CheckCollectionFolder(const std::filesystem::path& root);
 
 // metadata.json and its variants, streamed the same way.
 class MetadataReader {

@@ -65,6 +65,35 @@ std::string Join(const std::vector<std::string>& parts,
   return out;
 }
 
+std::string XmlEscape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        const bool forbidden = static_cast<unsigned char>(c) < 0x20 &&
+                               c != '\n' && c != '\t' && c != '\r';
+        out += forbidden ? ' ' : c;
+    }
+  }
+  return out;
+}
+
 std::string FrameStem(int64_t index) {
   char buffer[32];
   std::snprintf(

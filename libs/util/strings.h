@@ -22,6 +22,10 @@ std::vector<std::string> Split(const std::string& text, char separator);
 std::string Join(const std::vector<std::string>& parts,
                  const std::string& separator);
 
+// Text escaped for XML attributes and content; control characters XML 1.0
+// forbids become spaces.
+std::string XmlEscape(const std::string& text);
+
 // Zero-padded frame file stem: 7 -> "000007".
 std::string FrameStem(int64_t index);
 

@@ -80,16 +80,8 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   const fs::path& root = options.collection;
   const fs::path collection_path = root / kCollectionFile;
   const std::string collection_file = collection_path.string();
+  CheckCollectionFolder(root);
   std::error_code ec;
-  if (!fs::is_directory(root, ec)) {
-    throw Error(fs::exists(root, ec) ? "is not a folder" : "does not exist",
-                Location(root.string()));
-  }
-  if (!LooksLikeCollection(root)) {
-    throw Error(
-        "is not an lsds collection: it has no " + std::string(kCollectionFile),
-        Location(root.string()));
-  }
   // The header only (a fast scan, no DOM for the frames), checked as
   // CollectionReader checks it.
   ArrayScanResult collection_scan =

@@ -18,29 +18,13 @@
 #include "libs/exr/flat_image.h"
 #include "libs/synth/synthetic_collection.h"
 #include "libs/util/strings.h"
+#include "tests/test_util.h"
 
 namespace lsds::testing {
 
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ =
-        fs::temp_directory_path() /
-        ("lsds_convert_test_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+// TempDir: tests/test_util.h.
 
 inline std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

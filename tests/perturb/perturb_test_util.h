@@ -10,6 +10,7 @@
 
 #include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
+#include "tests/test_util.h"
 
 namespace lsds::testing_perturb {
 
@@ -17,25 +18,7 @@ namespace fs = std::filesystem;
 
 // A fresh folder under the system temporary folder, removed at the end of the
 // test.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("lsds-perturb-" + std::to_string(::getpid()) + "-" +
-             std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using TempDir = lsds::testing::TempDir;
 
 // A synthetic collection (ground + the default boxes) seen by a nadir camera at
 // 20 m moving +x by `step` metres per frame, 0.1 s apart; only the instance

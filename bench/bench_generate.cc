@@ -166,7 +166,12 @@ int main(int argc, char** argv) {
       settings.sampler = sampler;
       const Film film = RenderFrame(scene, sky, frame, {}, settings);
       t = Clock::now();
-      WriteFrameLayers(encode_root, header, frame.index, film);
+      CameraTruth camera;
+      camera.intrinsics = frame.camera;
+      camera.cam_from_world_rotation =
+          frame.cam_from_world.rotation.toRotationMatrix();
+      camera.cam_from_world_translation = frame.cam_from_world.translation;
+      WriteFrameLayers(encode_root, header, frame.index, camera, film);
       encode_seconds += Since(t);
     }
     const double floor = (ray_seconds + encode_seconds) / frames;

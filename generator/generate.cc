@@ -186,6 +186,7 @@ std::map<std::string, std::string> WriteFrameLayers(
     const fs::path& root,
     const CollectionHeader& header,
     int64_t frame_index,
+    const CameraTruth& camera,
     const Film& film) {
   std::map<std::string, std::string> files;
   for (const LayerInfo& layer : header.layers) {
@@ -196,6 +197,7 @@ std::map<std::string, std::string> WriteFrameLayers(
     const LayerInfo& layer = header.layers[i];
     exr::WriteOptions write;
     write.compression = layer.compression;
+    write.camera = HeaderCameraOf(camera);
     const fs::path path = root / files.at(layer.name);
     if (layer.deep) {
       exr::WriteDeepExr(path, film.bundle, write);
@@ -285,7 +287,8 @@ GenerateSummary GenerateCollection(const Plan& plan,
       writer.wait();  // rethrows a failed write
       writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
         const Clock::time_point w0 = Clock::now();
-        truth->files = WriteFrameLayers(root, base_header, truth->index, *film);
+        truth->files = WriteFrameLayers(
+            root, base_header, truth->index, truth->camera, *film);
         // The truth part comes last: its presence marks the frame complete.
         WriteFileAtomic(TruthPartPath(root, truth->index),
                         FrameToJson(*truth).dump() + "\n");

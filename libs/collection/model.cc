@@ -34,6 +34,13 @@ const ClassInfo* CollectionHeader::FindClass(uint32_t id) const {
   return nullptr;
 }
 
+exr::HeaderCamera HeaderCameraOf(const CameraTruth& camera) {
+  Eigen::Matrix4d cam_from_world = Eigen::Matrix4d::Identity();
+  cam_from_world.topLeftCorner<3, 3>() = camera.cam_from_world_rotation;
+  cam_from_world.topRightCorner<3, 1>() = camera.cam_from_world_translation;
+  return {cam_from_world, camera.intrinsics.NdcFromCam() * cam_from_world};
+}
+
 const std::vector<std::string>& StandardLayerSemantics() {
   static const std::vector<std::string> semantics = {"rgb",
                                                      "classid",

@@ -131,6 +131,10 @@ struct CollectionHeader {
   const ClassInfo* FindClass(uint32_t id) const;
 };
 
+// The frame's camera as every EXR of the frame carries it in its header
+// (docs/format.md, "EXR header camera").
+exr::HeaderCamera HeaderCameraOf(const CameraTruth& camera);
+
 // The standard layer table entries of docs/format.md.
 LayerInfo StandardLayer(const std::string& semantic,
                         DepthKind depth_kind = DepthKind::kPlanar);

@@ -354,11 +354,8 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
   MetadataWriter metadata(root / kMetadataFile, metadata_header);
   for (int k = 0; k < static_cast<int>(spec.cam_from_world.size()); ++k) {
     RenderedFrame rendered = RenderFrame(spec, k);
-    const Rigid3d& cam_from_world = spec.cam_from_world[k];
     exr::WriteOptions options;
-    options.camera = exr::HeaderCamera{
-        cam_from_world.ToMatrix(),
-        Camera(spec).NdcFromCam() * cam_from_world.ToMatrix()};
+    options.camera = HeaderCameraOf(rendered.truth.camera);
     for (const std::string& semantic : semantics) {
       const LayerInfo layer = StandardLayer(semantic, spec.depth_kind);
       const std::string file = semantic + "/" + FrameStem(k) + ".exr";

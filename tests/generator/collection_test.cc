@@ -12,6 +12,7 @@
 #include "generator/plan/plan_json.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_io.h"
+#include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -76,8 +77,15 @@ TEST(GenerateCollection, WritesACompleteCollectionThatReadsBack) {
   EXPECT_TRUE(fs::exists(root / kMetadataFile));
   reader.ForEachFrame([&](const Frame& frame) {
     EXPECT_EQ(frame.files.size(), StandardLayerSemantics().size());
-    for (const auto& [layer, file] : frame.files)
+    for (const auto& [layer, file] : frame.files) {
       EXPECT_TRUE(fs::exists(root / file)) << file;
+      // Every layer carries the frame's camera in its header.
+      const exr::ExrInfo info = exr::ReadExrInfo(root / file);
+      ASSERT_TRUE(info.camera) << file;
+      EXPECT_TRUE(info.camera->cam_from_world.isApprox(
+          HeaderCameraOf(frame.camera).cam_from_world, 1e-6))
+          << file;
+    }
     ASSERT_EQ(frame.objects.size(), 2u);
     // The truth agrees with the instance layer on disk.
     const exr::FlatImage ids =

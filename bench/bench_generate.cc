@@ -23,6 +23,7 @@
 #include "generator/render/embree_scene.h"
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
+#include "libs/collection/collection_builder.h"
 #include "libs/util/strings.h"
 
 namespace fs = std::filesystem;
@@ -171,7 +172,8 @@ int main(int argc, char** argv) {
       camera.cam_from_world_rotation =
           frame.cam_from_world.rotation.toRotationMatrix();
       camera.cam_from_world_translation = frame.cam_from_world.translation;
-      WriteFrameLayers(encode_root, header, frame.index, camera, film);
+      WriteFrameLayers(
+          encode_root, header, frame.index, camera, {&film.flat, &film.bundle});
       encode_seconds += Since(t);
     }
     const double floor = (ray_seconds + encode_seconds) / frames;

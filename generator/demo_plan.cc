@@ -83,6 +83,7 @@ Plan MakeDemoPlan(const DemoOptions& options) {
     frame.index = f;
     frame.time = 0.1 * f;
     frame.sequence = "P1(1)";
+    frame.shot = 0;  // one continuous flight
     frame.camera = camera;
     const Eigen::Vector3d position(0, -26 + 2.0 * f, 25);
     frame.cam_from_world = CamFromEnu(position, Attitude{0, -60, 0});

@@ -1,6 +1,7 @@
 #include "generator/generate.h"
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -11,10 +12,12 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
+#include "generator/plan/plan_json.h"
 #include "generator/render/embree_scene.h"
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
 #include "generator/render/truth.h"
+#include "libs/collection/collection_builder.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
@@ -147,6 +150,44 @@ void PrepareOutput(const GenerateOptions& options,
   }
 }
 
+// The scene state a frame shows (docs/format.md, "Scene state").
+nlohmann::json SceneStateJson(const Plan& plan) {
+  const double el = plan.sun.elevation_deg * M_PI / 180.0,
+               az = plan.sun.azimuth_deg * M_PI / 180.0;
+  // Azimuth from north (+y), clockwise (towards east, +x), in the ENU world.
+  const Eigen::Vector3d to_sun(
+      std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
+  nlohmann::json visibility = nullptr;
+  // Meteorological visibility (Koschmieder, 2 % contrast threshold).
+  if (plan.fog_density > 0) visibility = 3.912 / plan.fog_density;
+  return {
+      {"sun",
+       {{"azimuth_deg", plan.sun.azimuth_deg},
+        {"elevation_deg", plan.sun.elevation_deg},
+        {"direction", {to_sun.x(), to_sun.y(), to_sun.z()}},
+        {"intensity", plan.sun.intensity}}},
+      {"sky",
+       {{"color", {plan.sky.color.x(), plan.sky.color.y(), plan.sky.color.z()}},
+        {"intensity", plan.sky.intensity},
+        {"cloud_type", plan.sky.cloud_type},
+        {"cloud_density", plan.sky.cloud_density}}},
+      {"atmosphere",
+       {{"extinction_per_m", plan.fog_density}, {"visibility_m", visibility}}},
+      {"skylight_intensity", plan.skylight_intensity}};
+}
+
+// Each object's LCAP changes in effect at the frame, as the plan states them.
+void RecordObjectChanges(const PlannedFrame& frame,
+                         std::vector<ObjectTruth>* objects) {
+  for (ObjectTruth& object : *objects) {
+    for (const ObjectChange& change : frame.changes) {
+      if (change.object != object.name) continue;
+      if (object.changes.is_null()) object.changes = nlohmann::json::array();
+      object.changes.push_back(ObjectChangeToJson(change));
+    }
+  }
+}
+
 }  // namespace
 
 void GenerateOptions::Check() const {
@@ -182,32 +223,6 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   return header;
 }
 
-std::map<std::string, std::string> WriteFrameLayers(
-    const fs::path& root,
-    const CollectionHeader& header,
-    int64_t frame_index,
-    const CameraTruth& camera,
-    const Film& film) {
-  std::map<std::string, std::string> files;
-  for (const LayerInfo& layer : header.layers) {
-    files[layer.name] = layer.name + "/" + FrameStem(frame_index) + ".exr";
-  }
-  // Layers are independent files: encode them in parallel.
-  tbb::parallel_for(size_t{0}, header.layers.size(), [&](size_t i) {
-    const LayerInfo& layer = header.layers[i];
-    exr::WriteOptions write;
-    write.compression = layer.compression;
-    write.camera = HeaderCameraOf(camera);
-    const fs::path path = root / files.at(layer.name);
-    if (layer.deep) {
-      exr::WriteDeepExr(path, film.bundle, write);
-    } else {
-      exr::WriteFlatExr(path, film.flat.at(layer.semantic), write);
-    }
-  });
-  return files;
-}
-
 GenerateSummary GenerateCollection(const Plan& plan,
                                    const GenerateOptions& options) {
   const Clock::time_point start = Clock::now();
@@ -225,6 +240,17 @@ GenerateSummary GenerateCollection(const Plan& plan,
   for (size_t k = 0; k < plan.frames.size(); ++k) {
     if (options.Selects(plan.frames[k].index)) selected.push_back(k);
   }
+  if (selected.empty()) {
+    // An empty collection is never a success: say which frames exist.
+    const std::string range =
+        plan.frames.empty()
+            ? std::string("the plan has no frames")
+            : "the plan has frames " +
+                  std::to_string(plan.frames.front().index) + " to " +
+                  std::to_string(plan.frames.back().index);
+    throw Error("no frame to render: --frames/--shard select none (" + range +
+                ")");
+  }
   const CollectionHeader base_header = MakeHeader(plan, options);
   nlohmann::json settings = RenderSettingsJson(options);
   settings["seed"] = plan.seed;
@@ -238,7 +264,7 @@ GenerateSummary GenerateCollection(const Plan& plan,
   render.depth_kind = options.depth_kind;
   GenerateSummary summary;
   EmbreeDevice device;
-  std::unique_ptr<RenderScene> scene;
+  std::unique_ptr<RenderScene> scene, previous_scene;
   std::optional<Progress> progress;
   tbb::task_group writer;
   std::mutex write_mutex;
@@ -255,17 +281,30 @@ GenerateSummary GenerateCollection(const Plan& plan,
       }
       Clock::time_point t0 = Clock::now();
       WorldState world = WorldAt(plan, frame);
-      if (!scene ||
-          !(scene->world() == world)) {  // one Embree scene per world state
-        scene.reset();
+      if (!scene || !(scene->world() == world)) {  // one scene per world state
+        previous_scene = std::move(scene);
         scene = std::make_unique<RenderScene>(device, plan, assets, world);
       }
+      // Motion is measured against the previous frame of the same shot, seen
+      // in that frame's world (for moved objects and disocclusions).
       PreviousView previous;
       std::optional<WorldState> previous_world;
-      if (k > 0 && plan.frames[k - 1].sequence == frame.sequence) {
+      std::unique_ptr<RenderScene> built_previous;
+      if (k > 0 && plan.frames[k - 1].shot == frame.shot &&
+          plan.frames[k - 1].index + 1 == frame.index) {
         previous.frame = &plan.frames[k - 1];
         previous_world = WorldAt(plan, plan.frames[k - 1]);
         previous.world = &*previous_world;
+        if (scene->world() == *previous_world) {
+          previous.scene = scene.get();
+        } else if (previous_scene &&
+                   previous_scene->world() == *previous_world) {
+          previous.scene = previous_scene.get();
+        } else {
+          built_previous = std::make_unique<RenderScene>(
+              device, plan, assets, *previous_world);
+          previous.scene = built_previous.get();
+        }
       }
       auto film = std::make_shared<const Film>(
           RenderFrame(*scene, sky, frame, previous, render));
@@ -273,13 +312,17 @@ GenerateSummary GenerateCollection(const Plan& plan,
       truth->index = frame.index;
       truth->time = frame.time;
       truth->sequence = frame.sequence;
+      truth->shot = frame.shot;
+      truth->scene = SceneStateJson(plan);
       truth->camera.intrinsics = frame.camera;
       truth->camera.cam_from_world_rotation =
           frame.cam_from_world.rotation.toRotationMatrix();
       truth->camera.cam_from_world_translation =
           frame.cam_from_world.translation;
       uint64_t rays = film->rays;
-      truth->objects = ComputeObjectTruth(*scene, frame, *film, &rays);
+      truth->objects =
+          ComputeObjectTruth(*scene, frame, *film, plan.fog_density, &rays);
+      RecordObjectChanges(frame, &truth->objects);
       summary.rays += rays;
       summary.render_seconds += Seconds(t0);
 
@@ -287,8 +330,11 @@ GenerateSummary GenerateCollection(const Plan& plan,
       writer.wait();  // rethrows a failed write
       writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
         const Clock::time_point w0 = Clock::now();
-        truth->files = WriteFrameLayers(
-            root, base_header, truth->index, truth->camera, *film);
+        truth->files = WriteFrameLayers(root,
+                                        base_header,
+                                        truth->index,
+                                        truth->camera,
+                                        {&film->flat, &film->bundle});
         // The truth part comes last: its presence marks the frame complete.
         WriteFileAtomic(TruthPartPath(root, truth->index),
                         FrameToJson(*truth).dump() + "\n");
@@ -313,19 +359,13 @@ GenerateSummary GenerateCollection(const Plan& plan,
   const Clock::time_point t0 = Clock::now();
   CollectionHeader header = base_header;
   header.frame_count = static_cast<int64_t>(selected.size());
-  MetadataHeader metadata_header;
-  metadata_header.frame_count = header.frame_count;
-  CollectionWriter collection(root, header);
-  MetadataWriter metadata(root / kMetadataFile, metadata_header);
+  CollectionBuilder builder(root, header);
   for (size_t k : selected) {
     const fs::path part = TruthPartPath(root, plan.frames[k].index);
-    const Frame truth =
-        FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
-    collection.Append(truth);
-    metadata.Append(TruthMetadata(truth, header.conventions.world));
+    builder.Append(FrameFromJson(
+        nlohmann::json::parse(ReadFile(part)), part.string(), ""));
   }
-  collection.Commit();
-  metadata.Commit();
+  builder.Commit();
   fs::remove_all(root / kWorkFolder);
   summary.write_seconds += Seconds(t0);
   summary.total_seconds = Seconds(start);

@@ -57,13 +57,4 @@ GenerateSummary GenerateCollection(const Plan& plan,
 // The collection header (provenance, classes, layer table) GenerateCollection
 // writes.
 CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options);
-// Writes one frame's layers of `header` from `film` under `root`, each with the
-// frame's camera in its header, and returns their relative paths.
-std::map<std::string, std::string> WriteFrameLayers(
-    const std::filesystem::path& root,
-    const CollectionHeader& header,
-    int64_t frame_index,
-    const CameraTruth& camera,
-    const Film& film);
-
 }  // namespace lsds::gen

@@ -118,7 +118,8 @@ const std::vector<CheckInfo>& AllChecks() {
       {"layer.shadow-range", S::kError, "shadow ratio in [0, 1]", "exact"},
       {"layer.motion-range",
        S::kError,
-       "screen-normalized motion in [0, 1]",
+       "screen-normalized motion is finite (it may exceed [0, 1]), or NaN on "
+       "both channels (no valid motion)",
        "exact"},
       {"layer.classid-known",
        S::kError,
@@ -163,6 +164,11 @@ const std::vector<CheckInfo>& AllChecks() {
        "motion of static pixels equals the reprojection through the previous "
        "frame's camera",
        "2e-3 screen units on >= 90% of pixels"},
+      {"cross.motion-invalid",
+       S::kError,
+       "motion is NaN on the first frame of a shot and where the previous "
+       "frame's camera did not see the point (behind it or outside its image)",
+       "exact on shot starts; >= 90% of unseen pixels"},
       {"cross.metadata-pose",
        S::kWarning,
        "metadata pose equals truth unless the metadata file is declared "
@@ -208,11 +214,11 @@ const std::vector<CheckInfo>& AllChecks() {
        "every class of the table has instances or pixels",
        "exact"},
       {"stats.zero-visible-target",
-       S::kWarning,
+       S::kInfo,
        "objects kept as targets have visible pixels",
        "exact"},
       {"stats.empty-frame",
-       S::kWarning,
+       S::kInfo,
        "every frame has at least one object",
        "exact"},
       {"stats.class-imbalance",

@@ -358,13 +358,11 @@ void FrameChecker::CheckValues() {
                 "+inf)");
     }
   }
-  for (const char* semantic : {"shadow", "motion"}) {
-    const std::string id = std::string("layer.") + semantic + "-range";
-    const LayerInfo* layer = Layer(semantic);
-    if (!layer || !Flat(semantic) || !Selected(id)) continue;
+  if (const LayerInfo* layer = Layer("shadow");
+      layer && Flat("shadow") && Selected("layer.shadow-range")) {
     PixelTally bad;
     for (size_t k = 0; k < layer->channels.size(); ++k) {
-      const std::vector<float>* v = Channel(semantic, k);
+      const std::vector<float>* v = Channel("shadow", k);
       if (v == nullptr) continue;
       for (size_t p = 0; p < n; ++p) {
         const float value = (*v)[p];
@@ -375,7 +373,29 @@ void FrameChecker::CheckValues() {
         }
       }
     }
-    EmitTally(id, FileOf(semantic), bad, "outside [0, 1]");
+    EmitTally("layer.shadow-range", FileOf("shadow"), bad, "outside [0, 1]");
+  }
+  // Motion may exceed [0, 1] (motion beyond one image size); NaN marks a pixel
+  // with no valid motion and must be NaN on both channels.
+  if (Flat("motion") && Selected("layer.motion-range")) {
+    const auto *mx = Channel("motion", 0), *my = Channel("motion", 1);
+    if (mx && my) {
+      PixelTally bad;
+      for (size_t p = 0; p < n; ++p) {
+        const float a = (*mx)[p], b = (*my)[p];
+        const bool valid = std::isfinite(a) && std::isfinite(b);
+        const bool invalid = std::isnan(a) && std::isnan(b);
+        if (!valid && !invalid) {
+          int x, y;
+          xy(p, &x, &y);
+          bad.Add(x, y, "(" + Fmt(a) + ", " + Fmt(b) + ")");
+        }
+      }
+      EmitTally("layer.motion-range",
+                FileOf("motion"),
+                bad,
+                "whose motion is neither finite nor NaN on both channels");
+    }
   }
   if (const std::vector<uint32_t>* ids = Ids("classid")) {
     PixelTally bad;
@@ -660,27 +680,65 @@ void FrameChecker::CheckWorldPositionVsDepth() {
 }
 
 void FrameChecker::CheckMotion() {
-  if (!Selected("cross.motion-pose") || !input_.previous_camera) return;
   const auto *mx = Channel("motion", 0), *my = Channel("motion", 1);
+  if (!mx || !my) return;
+  // The first frame of a shot has nothing to move from.
+  if (input_.shot_start && Selected("cross.motion-invalid")) {
+    PixelTally bad;
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x) {
+        const size_t p = static_cast<size_t>(y) * width_ + x;
+        if (!std::isnan((*mx)[p]) || !std::isnan((*my)[p]))
+          bad.Add(
+              x, y, "motion (" + Fmt((*mx)[p]) + ", " + Fmt((*my)[p]) + ")");
+      }
+    EmitTally(
+        "cross.motion-invalid",
+        FileOf("motion"),
+        bad,
+        "with a motion value on the first frame of a shot (expected NaN)");
+  }
+  if (!input_.previous_camera) return;
+  const bool check_pose = Selected("cross.motion-pose");
+  const bool check_invalid = Selected("cross.motion-invalid");
+  if (!check_pose && !check_invalid) return;
   const auto *px = Channel("worldposition", 0),
              *py = Channel("worldposition", 1),
              *pz = Channel("worldposition", 2);
-  if (!mx || !my || !px || !py || !pz) return;
+  if (!px || !py || !pz) return;
   const CameraTruth& previous = *input_.previous_camera;
   const PinholeCamera& camera = previous.intrinsics;
-  int64_t checked = 0;
-  PixelTally bad;
+  int64_t checked = 0, unseen = 0;
+  PixelTally bad, unmarked;
   for (int y = 0; y < height_; ++y) {
     for (int x = 0; x < width_; ++x) {
       const size_t p = static_cast<size_t>(y) * width_ + x;
       const Eigen::Vector3d point((*px)[p], (*py)[p], (*pz)[p]);
       if (!point.allFinite()) continue;
+      const bool marked = std::isnan((*mx)[p]);
       const Eigen::Vector3d in_previous =
           previous.cam_from_world_rotation * point +
           previous.cam_from_world_translation;
-      if (in_previous.z() <= 0) continue;
-      const Eigen::Vector2d shift =
-          Eigen::Vector2d(x + 0.5, y + 0.5) - camera.ImageFromCam(in_previous);
+      // Where a static point was in the previous image; a point behind that
+      // camera or more than a pixel outside its image was not seen there.
+      Eigen::Vector2d before(0, 0);
+      bool seen = in_previous.z() > 0;
+      if (seen) {
+        before = camera.ImageFromCam(in_previous);
+        seen = before.x() > -1 && before.x() < camera.width + 1 &&
+               before.y() > -1 && before.y() < camera.height + 1;
+      }
+      if (!seen) {
+        ++unseen;
+        if (!marked)
+          unmarked.Add(x,
+                       y,
+                       "motion (" + Fmt((*mx)[p]) + ", " + Fmt((*my)[p]) +
+                           ") for a point the previous camera did not see");
+        continue;
+      }
+      if (marked) continue;  // disoccluded or moved: no static expectation
+      const Eigen::Vector2d shift = Eigen::Vector2d(x + 0.5, y + 0.5) - before;
       const double ex = 0.5 + 0.5 * shift.x() / width_,
                    ey = 0.5 + 0.5 * shift.y() / height_;
       ++checked;
@@ -694,13 +752,22 @@ void FrameChecker::CheckMotion() {
   }
   // Moving objects legitimately differ; a large share of disagreeing pixels is
   // a defect.
-  if (checked > 0 && bad.count > checked / 10) {
+  if (check_pose && checked > 0 && bad.count > checked / 10) {
     Emit("cross.motion-pose",
          Location::Pixel(FileOf("motion"), frame_.index, bad.x, bad.y),
          std::to_string(bad.count) + " of " + std::to_string(checked) +
              " pixels disagree with the camera motion since the previous "
              "frame; first: " +
              bad.first_detail);
+  }
+  if (check_invalid && unseen > 0 && unmarked.count > unseen / 10) {
+    Emit(
+        "cross.motion-invalid",
+        Location::Pixel(FileOf("motion"), frame_.index, unmarked.x, unmarked.y),
+        std::to_string(unmarked.count) + " of " + std::to_string(unseen) +
+            " pixels that the previous frame's camera did not see carry a "
+            "motion value instead of NaN; first: " +
+            unmarked.first_detail);
   }
 }
 

@@ -19,8 +19,11 @@ namespace lsds::validate {
 struct FrameInput {
   Frame frame;
   size_t position = 0;  // index in the "frames" array (for JSON pointers)
-  std::optional<CameraTruth>
-      previous_camera;  // the previous frame of the same sequence, if adjacent
+  // The previous frame of the same shot (format 1.1; of the same sequence in
+  // 1.0), if it is the adjacent frame of the collection.
+  std::optional<CameraTruth> previous_camera;
+  // The frame starts its shot (format 1.1: shot == index): no valid motion.
+  bool shot_start = false;
 };
 
 struct FrameOutcome {

@@ -417,10 +417,16 @@ void Validator::StreamFrames() {
         CheckFrameStructure(frame, position);
         FrameInput input;
         input.position = position;
-        if (previous_ && previous_->index + 1 == frame.index &&
-            previous_->sequence == frame.sequence) {
+        // Motion continues within a shot (format 1.1), or within a sequence
+        // in 1.0 collections, which have no shots.
+        const bool same_shot =
+            previous_ && (frame.shot && previous_->shot
+                              ? *frame.shot == *previous_->shot
+                              : previous_->sequence == frame.sequence);
+        if (previous_ && previous_->index + 1 == frame.index && same_shot) {
           input.previous_camera = previous_->camera;
         }
+        input.shot_start = frame.shot && *frame.shot == frame.index;
         previous_ = frame;
         previous_->objects.clear();
         previous_->files.clear();

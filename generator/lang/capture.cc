@@ -91,6 +91,12 @@ class CaptureEvaluator {
     ReadCamera();
     BuildTimeline();
     BuildRules();
+    std::set<std::string> made_visible;
+    for (const Rule& rule : rules_)
+      for (const auto& [key, v] : rule.block.Members())
+        if (CanonicalKey(key) == "visible" || CanonicalKey(key) == "visibility")
+          made_visible.insert(rule.object_symbol);
+    DropHelperClasses(made_visible, plan_);
     const int64_t total =
         segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
     if (end < 0 || end > total) end = total;
@@ -193,7 +199,10 @@ class CaptureEvaluator {
     }
   }
 
-  int64_t PathFrameCount(const Definition& path) {
+  // The number of frames of a path instance; a count interval is drawn from
+  // the seed, on the stream of the instance's place `segment` in the timeline.
+  int64_t PathFrameCount(const Definition& path, uint64_t segment) {
+    Rng count_rng = Rng::For(seed_, StreamTag::kCount, segment);
     const auto [kind, g] = path.body.Members().front();
     const std::string k = CanonicalKey(kind);
     if (k == "createhemi" || k == "hemi") {
@@ -228,8 +237,7 @@ class CaptureEvaluator {
       g.CheckKeys({"count", "x", "y", "altitude", "off_nadir", "yaw"},
                   "random poses");
       if (!g.Find("count")) g.Fail("random poses need a count");
-      Rng dummy(0);
-      return SampleCount(g.Find("count"), dummy);
+      return SampleCount(g.Find("count"), count_rng);
     }
     if (k == "waypoints") {
       if (!g->is_array() || g->empty())
@@ -238,10 +246,7 @@ class CaptureEvaluator {
     }
     g.CheckKeys({"position", "rotation", "look_at", "count"}, "create point");
     if (!g.Find("position")) g.Fail("create point needs a position");
-    if (const Node c = g.Find("count")) {
-      Rng dummy(0);
-      return SampleCount(c, dummy);
-    }
+    if (const Node c = g.Find("count")) return SampleCount(c, count_rng);
     return 1;
   }
 
@@ -287,7 +292,7 @@ class CaptureEvaluator {
         s.first = segments_.empty()
                       ? 0
                       : segments_.back().first + segments_.back().count;
-        s.count = PathFrameCount(*path);
+        s.count = PathFrameCount(*path, segments_.size());
         segments_.push_back(s);
       }
     };
@@ -578,6 +583,24 @@ class CaptureEvaluator {
     return PointPose(g, rng);
   }
 
+  // The first frame of the shot of pose `i` of a path instance starting at
+  // frame `first` (docs/format.md, "Motion"): waypoints are flown in one shot,
+  // a grid in one shot per altitude level (its rows are flown serpentine, the
+  // climb to the next level is a jump); every pose of hemi, random and
+  // create point is a shot of its own.
+  int64_t ShotStart(const Definition& path, int64_t first, int64_t i) {
+    const auto [kind, g] = path.body.Members().front();
+    const std::string k = CanonicalKey(kind);
+    if (k == "waypoints") return first;
+    if (k == "grid" || k == "incrementpoints") {
+      const auto axes = GridAxes(g);
+      const int64_t level =
+          static_cast<int64_t>(axes[0].size() * axes[1].size());
+      return first + (i / level) * level;
+    }
+    return first + i;
+  }
+
   // {position, rotation|attitude: [roll,pitch,yaw] | look_at: [x,y,z] or an
   // object}
   Rigid3d PointPose(const Node& g, Rng& rng) const {
@@ -604,6 +627,7 @@ class CaptureEvaluator {
     f.time = static_cast<double>(k) / fps_;
     f.sequence =
         seg->path->symbol + "(" + std::to_string(seg->repetition) + ")";
+    f.shot = ShotStart(*seg->path, seg->first, k - seg->first);
     f.camera = camera_model_;
     Rng rng = Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k));
     f.cam_from_world = Pose(*seg->path, k - seg->first, rng);
@@ -705,6 +729,7 @@ void EvaluateCapture(const Program& capture,
 }
 
 void DefaultCapture(int64_t begin, int64_t end, Plan* plan) {
+  DropHelperClasses({}, plan);
   if (end < 0 || end > 1) end = 1;
   if (begin >= end) return;
   Eigen::Vector2d center(0, 0);
@@ -725,6 +750,7 @@ void DefaultCapture(int64_t begin, int64_t end, Plan* plan) {
   PlannedFrame f;
   f.index = 0;
   f.sequence = "default(1)";
+  f.shot = 0;
   f.camera = PinholeCamera::FromHorizontalFov(1024, 1024, 60);
   const double altitude = ground + 0.5 * across / std::tan(30.0 * M_PI / 180.0);
   f.cam_from_world =

@@ -27,7 +27,8 @@ enum class StreamTag : uint64_t {
   kWorld = 1,
   kFrame = 2,
   kChange = 3,
-  kTerrain = 4
+  kTerrain = 4,
+  kCount = 5  // frame counts of capture paths, one stream per path instance
 };
 
 class Rng {

@@ -801,4 +801,19 @@ void EvaluateScene(const Program& scene,
   SceneEvaluator(scene, seed, targets, plan).Run();
 }
 
+void DropHelperClasses(const std::set<std::string>& symbols_made_visible,
+                       Plan* plan) {
+  std::set<uint32_t> shown;
+  if (plan->terrain.present) shown.insert(plan->terrain.class_id);
+  for (const PlannedObject& o : plan->objects)
+    if (o.visible || symbols_made_visible.count(o.symbol))
+      shown.insert(o.class_id);
+  std::vector<ClassInfo> kept;
+  for (const ClassInfo& c : plan->classes)
+    if (shown.count(c.id)) kept.push_back(c);
+  plan->classes = kept;
+  for (PlannedObject& o : plan->objects)
+    if (!shown.count(o.class_id)) o.class_id = 0;
+}
+
 }  // namespace lsds

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -57,5 +58,12 @@ void EvaluateScene(const Program& scene,
                    uint64_t seed,
                    const TargetLabels& targets,
                    Plan* plan);
+
+// Removes from the class table the classes that no rendered object can show:
+// classes whose objects are all invisible helpers, unless a capture change may
+// make one visible (`symbols_made_visible`). Their objects get class id 0.
+// The terrain class stays. A clean collection then has no unused class.
+void DropHelperClasses(const std::set<std::string>& symbols_made_visible,
+                       Plan* plan);
 
 }  // namespace lsds

@@ -78,6 +78,11 @@ struct PlannedFrame {
   int64_t index = 0;
   double time = 0;       // seconds
   std::string sequence;  // path instance, e.g. "P1(2)"
+  // Index of the first frame of this frame's continuous shot: a path flown
+  // continuously (waypoints, one altitude level of a grid) is one shot; each
+  // discrete pose (hemi, random, create point) starts one. Motion vectors are
+  // measured only within a shot.
+  int64_t shot = 0;
   PinholeCamera camera;
   Rigid3d cam_from_world;
   std::vector<ObjectChange>

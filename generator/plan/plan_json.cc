@@ -72,12 +72,17 @@ ObjectChange ChangeFrom(const json& j) {
 
 }  // namespace
 
+json ObjectChangeToJson(const ObjectChange& change) {
+  return ChangeJson(change);
+}
+
 json PlannedFrameToJson(const PlannedFrame& f) {
   json changes = json::array();
   for (const ObjectChange& c : f.changes) changes.push_back(ChangeJson(c));
   return {{"index", f.index},
           {"time", f.time},
           {"sequence", f.sequence},
+          {"shot", f.shot},
           {"camera", CameraJson(f.camera)},
           {"cam_from_world",
            {{"rotation", Mat3(f.cam_from_world.rotation.toRotationMatrix())},
@@ -93,6 +98,7 @@ PlannedFrame PlannedFrameFromJson(const json& j,
     f.index = j.at("index").get<int64_t>();
     f.time = j.at("time").get<double>();
     f.sequence = j.at("sequence").get<std::string>();
+    f.shot = j.value("shot", int64_t{-1});  // older plans: see PlanFromJson
     f.camera = CameraFrom(j.at("camera"));
     f.cam_from_world.rotation =
         Eigen::Quaterniond(ToMat3(j.at("cam_from_world").at("rotation")));
@@ -214,6 +220,16 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     for (size_t i = 0; i < frames.size(); ++i)
       plan.frames.push_back(PlannedFrameFromJson(
           frames[i], file, "/frames/" + std::to_string(i)));
+    // Plans written before shots existed: a shot is a run of consecutive
+    // frames of one sequence.
+    for (size_t i = 0; i < plan.frames.size(); ++i) {
+      PlannedFrame& f = plan.frames[i];
+      if (f.shot >= 0) continue;
+      const PlannedFrame* p = i > 0 ? &plan.frames[i - 1] : nullptr;
+      f.shot = p && p->sequence == f.sequence && p->index + 1 == f.index
+                   ? p->shot
+                   : f.index;
+    }
     return plan;
   } catch (const json::exception& e) {
     throw Error(std::string("bad plan: ") + e.what(), Location(file, ""));

@@ -20,6 +20,8 @@ nlohmann::json PlanToJson(const Plan& plan);
 Plan PlanFromJson(const nlohmann::json& json, const std::string& file);
 
 nlohmann::json PlannedFrameToJson(const PlannedFrame& frame);
+// One scene change as the plan writes it ({"object": ..., "extent": ...}).
+nlohmann::json ObjectChangeToJson(const ObjectChange& change);
 PlannedFrame PlannedFrameFromJson(const nlohmann::json& json,
                                   const std::string& file,
                                   const std::string& pointer);

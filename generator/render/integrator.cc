@@ -92,17 +92,55 @@ float Luminance(const Eigen::Vector3f& c) {
   return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
 }
 
-// Screen-normalized motion of a world point seen now at `pixel_now` (Unreal's
-// convention).
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// Screen-normalized motion (Unreal's convention) of a point seen now at
+// `pixel_now` that the previous camera saw at `point_in_previous_cam`; NaN
+// (no valid motion, docs/format.md "Motion") when the point was behind that
+// camera or outside its image.
 Eigen::Vector2d Motion(const PinholeCamera& camera,
                        const Eigen::Vector2d& pixel_now,
                        const PinholeCamera& previous_camera,
                        const Eigen::Vector3d& point_in_previous_cam) {
-  if (!(point_in_previous_cam.z() > 1e-9)) return {0.5, 0.5};
+  const Eigen::Vector2d invalid(kNaN, kNaN);
+  if (!(point_in_previous_cam.z() > 1e-9)) return invalid;
   const Eigen::Vector2d before =
       previous_camera.ImageFromCam(point_in_previous_cam);
+  if (!(before.x() >= 0 && before.x() < previous_camera.width &&
+        before.y() >= 0 && before.y() < previous_camera.height))
+    return invalid;
   return {0.5 + 0.5 * (pixel_now.x() - before.x()) / camera.width,
           0.5 + 0.5 * (pixel_now.y() - before.y()) / camera.height};
+}
+
+// Whether `point` (in the previous world) was hidden from the previous camera
+// centre by another surface: then the pixel was disoccluded and has no motion.
+bool HiddenBefore(RTCScene previous_scene,
+                  const Eigen::Vector3d& previous_centre,
+                  const Eigen::Vector3d& point,
+                  RTCIntersectContext* context) {
+  const Eigen::Vector3d to_point = point - previous_centre;
+  const double distance = to_point.norm();
+  if (!(distance > 0)) return false;
+  // Stop short of the surface itself: a relative and an absolute margin cover
+  // the float precision of the Embree hit.
+  const double margin = 1e-4 * distance + 1e-3;
+  if (distance <= margin) return false;
+  RTCRay ray;
+  ray.org_x = static_cast<float>(previous_centre.x());
+  ray.org_y = static_cast<float>(previous_centre.y());
+  ray.org_z = static_cast<float>(previous_centre.z());
+  const Eigen::Vector3d d = to_point / distance;
+  ray.dir_x = static_cast<float>(d.x());
+  ray.dir_y = static_cast<float>(d.y());
+  ray.dir_z = static_cast<float>(d.z());
+  ray.tnear = 0.f;
+  ray.tfar = static_cast<float>(distance - margin);
+  ray.mask = 0xffffffffu;
+  ray.flags = 0;
+  ray.time = 0.f;
+  rtcOccluded1(previous_scene, context, &ray);
+  return ray.tfar < 0;
 }
 
 }  // namespace
@@ -240,7 +278,8 @@ Film RenderFrame(const RenderScene& scene,
                 position[a][pixel] =
                     hit.hit ? static_cast<float>(hit.point[a]) : kInf;
               }
-              Eigen::Vector2d m(0.5, 0.5);
+              // No previous frame in the shot: no valid motion.
+              Eigen::Vector2d m(kNaN, kNaN);
               if (previous.frame != nullptr) {
                 const PlannedFrame& p = *previous.frame;
                 if (!hit.hit) {
@@ -260,6 +299,14 @@ Film RenderFrame(const RenderScene& scene,
                              samples[0],
                              p.camera,
                              p.cam_from_world * point_before);
+                  if (std::isfinite(m.x()) && previous.scene != nullptr &&
+                      HiddenBefore(previous.scene->scene(),
+                                   CameraCenterInWorld(p.cam_from_world),
+                                   point_before,
+                                   &context)) {
+                    m = Eigen::Vector2d(kNaN, kNaN);
+                  }
+                  ++rays;
                 }
               }
               motion[0][pixel] = static_cast<float>(m.x());

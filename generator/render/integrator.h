@@ -21,11 +21,13 @@ struct RenderSettings {
   int tile_size = 16;
 };
 
-// The previous frame of the same sequence, for motion vectors (absent on a
-// sequence's first frame).
+// The previous frame of the same shot, for motion vectors (absent on a shot's
+// first frame, whose motion is all NaN). `scene` is the previous world's ray
+// scene, used to find disoccluded pixels (NaN too); null skips that test.
 struct PreviousView {
   const PlannedFrame* frame = nullptr;
   const WorldState* world = nullptr;
+  const RenderScene* scene = nullptr;
 };
 
 Film RenderFrame(const RenderScene& scene,

@@ -8,16 +8,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include "libs/collection/object_truth.h"
 #include "libs/geometry/oriented_box.h"
 
 namespace lsds::gen {
 namespace {
-
-struct MaskStats {
-  int64_t pixels = 0;
-  int x0 = std::numeric_limits<int>::max(),
-      y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
-};
 
 // Pixels whose centre sample hits the object when it is alone in the scene,
 // inside `bounds`.
@@ -76,65 +71,40 @@ int64_t UnoccludedPixels(RTCScene own,
 std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
                                             const PlannedFrame& frame,
                                             const Film& film,
+                                            double extinction_per_m,
                                             uint64_t* rays) {
   const WorldState& world = scene.world();
   const PinholeCamera& camera = frame.camera;
-  // One pass over the instance layer for every object's mask statistics.
-  std::map<uint32_t, MaskStats> stats;
-  const std::vector<uint32_t>& ids = film.flat.at("instanceid").Get("id").uints;
-  for (int y = 0; y < camera.height; ++y) {
-    for (int x = 0; x < camera.width; ++x) {
-      const uint32_t id = ids[static_cast<size_t>(y) * camera.width + x];
-      if (id == 0) continue;
-      MaskStats& s = stats[id];
-      ++s.pixels;
-      s.x0 = std::min(s.x0, x);
-      s.y0 = std::min(s.y0, y);
-      s.x1 = std::max(s.x1, x + 1);
-      s.y1 = std::max(s.y1, y + 1);
-    }
-  }
+  const auto masks = MeasureInstanceMasks(
+      film.flat.at("instanceid").Get("id").uints, camera.width, camera.height);
   std::vector<ObjectTruth> truths;
   for (size_t i = 0; i < world.objects.size(); ++i) {
     const ObjectState& o = world.objects[i];
     const PlannedObject& p = *o.planned;
     if (!p.target || !o.visible || p.class_id == 0 || p.instance_id == 0)
       continue;
-    ObjectTruth t;
-    t.instance_id = p.instance_id;
-    t.class_id = p.class_id;
-    t.name = p.name;
-    t.obb = o.Box();
-    const auto it = stats.find(p.instance_id);
-    if (it != stats.end()) {
-      t.visible_pixels = it->second.pixels;
-      t.bbox = Box2d{static_cast<double>(it->second.x0),
-                     static_cast<double>(it->second.y0),
-                     static_cast<double>(it->second.x1),
-                     static_cast<double>(it->second.y1)};
-    }
-    const std::optional<Box2d> projected =
-        ProjectedBounds(t.obb, camera, frame.cam_from_world);
-    t.in_frame = InFrameFraction(t.obb, camera, frame.cam_from_world);
-    if (projected) {
-      const Box2d clipped = projected->ClippedTo(camera.width, camera.height);
-      if (!clipped.empty()) t.bbox_projected = clipped;
-    }
-    if (!t.bbox_projected && t.visible_pixels == 0)
-      continue;  // nowhere near the image
-    if (t.bbox_projected) {
-      const int64_t unoccluded =
-          UnoccludedPixels(scene.ObjectScene(static_cast<int>(i)),
-                           frame,
-                           film,
-                           *t.bbox_projected,
-                           rays);
-      const int64_t denominator = std::max(unoccluded, t.visible_pixels);
-      t.visibility = denominator > 0
-                         ? static_cast<double>(t.visible_pixels) / denominator
-                         : 0.0;
-    }
-    truths.push_back(t);
+    ObjectIdentity identity;
+    identity.instance_id = p.instance_id;
+    identity.class_id = p.class_id;
+    identity.name = p.name;
+    identity.asset = p.class_name;
+    identity.obb = o.Box();
+    const auto mask = masks.find(p.instance_id);
+    const RTCScene own = scene.ObjectScene(static_cast<int>(i));
+    std::optional<ObjectTruth> t = MeasureObjectTruth(
+        identity,
+        camera,
+        frame.cam_from_world,
+        mask == masks.end() ? nullptr : &mask->second,
+        [&](const Box2d& bounds) {
+          return UnoccludedPixels(own, frame, film, bounds, rays);
+        });
+    if (!t) continue;  // nowhere near the image
+    t->material = o.material;
+    t->transmittance = std::exp(
+        -extinction_per_m *
+        (t->obb.center - CameraCenterInWorld(frame.cam_from_world)).norm());
+    truths.push_back(std::move(*t));
   }
   return truths;
 }

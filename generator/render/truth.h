@@ -16,10 +16,12 @@ namespace lsds::gen {
 
 // Objects of interest (target, rendered, with class and instance ids) whose
 // projected box meets the image or that have visible pixels, in plan order.
-// Adds the rays it casts to `rays`.
+// The transmittance is that of the atmosphere (extinction per metre) from the
+// camera centre to the OBB centre. Adds the rays it casts to `rays`.
 std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
                                             const PlannedFrame& frame,
                                             const Film& film,
+                                            double extinction_per_m,
                                             uint64_t* rays);
 
 }  // namespace lsds::gen

@@ -144,6 +144,10 @@ json ObjectToJson(const ObjectTruth& o) {
             {"visibility", o.visibility},
             {"in_frame", o.in_frame}};
   if (!o.name.empty()) j["name"] = o.name;
+  if (!o.asset.empty()) j["asset"] = o.asset;
+  if (!o.material.empty()) j["material"] = o.material;
+  if (o.transmittance) j["transmittance"] = *o.transmittance;
+  if (!o.changes.is_null()) j["changes"] = o.changes;
   return j;
 }
 
@@ -162,6 +166,11 @@ ObjectTruth ObjectFromJson(const json& j) {
   o.visible_pixels = j.at("visible_pixels").get<int64_t>();
   o.visibility = j.at("visibility").get<double>();
   o.in_frame = j.at("in_frame").get<double>();
+  o.asset = j.value("asset", "");
+  o.material = j.value("material", "");
+  if (j.contains("transmittance"))
+    o.transmittance = j.at("transmittance").get<double>();
+  if (j.contains("changes")) o.changes = j.at("changes");
   return o;
 }
 
@@ -278,6 +287,8 @@ json FrameToJson(const Frame& f) {
             {"files", f.files},
             {"objects", objects}};
   if (!f.sequence.empty()) j["sequence"] = f.sequence;
+  if (f.shot) j["shot"] = *f.shot;
+  if (!f.scene.is_null()) j["scene"] = f.scene;
   return j;
 }
 
@@ -289,6 +300,8 @@ Frame FrameFromJson(const json& j,
     f.index = j.at("index").get<int64_t>();
     f.time = j.at("time").get<double>();
     f.sequence = j.value("sequence", "");
+    if (j.contains("shot")) f.shot = j.at("shot").get<int64_t>();
+    if (j.contains("scene")) f.scene = j.at("scene");
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
     for (const json& o : j.at("objects"))

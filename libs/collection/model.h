@@ -23,7 +23,7 @@ namespace lsds {
 
 inline constexpr const char* kCollectionFormat = "lsds-collection";
 inline constexpr const char* kMetadataFormat = "lsds-metadata";
-inline constexpr const char* kFormatVersion = "1.0";
+inline constexpr const char* kFormatVersion = "1.1";
 inline constexpr const char* kCollectionFile = "collection.json";
 inline constexpr const char* kMetadataFile = "metadata.json";
 
@@ -104,12 +104,24 @@ struct ObjectTruth {
       0;  // visible pixels / pixels covered with no occluders, in [0, 1]
   double in_frame =
       0;  // share of the projected silhouette inside the image, in [0, 1]
+  // Format 1.1, optional: what was drawn and how it was seen.
+  std::string asset;  // the asset the object was drawn from ("barrel", a mesh)
+  std::string material;  // the material applied in this frame, if known
+  std::optional<double> transmittance;  // atmospheric, camera to OBB centre
+  nlohmann::json changes;  // LCAP changes in effect at this frame (null: none)
 };
 
 struct Frame {
   int64_t index = 0;
   double time = 0;       // seconds
   std::string sequence;  // frames of one path/sequence; splits never cut one
+  // Format 1.1: index of the first frame of this frame's continuous shot.
+  // Motion is measured against the previous frame only within a shot. Absent
+  // in 1.0 collections, where the sequence plays that role.
+  std::optional<int64_t> shot;
+  // Format 1.1: the scene state the frame shows (sun, sky, atmosphere), as
+  // written by the generator; null when unknown.
+  nlohmann::json scene;
   CameraTruth camera;
   std::map<std::string, std::string>
       files;  // layer name -> path relative to the collection root

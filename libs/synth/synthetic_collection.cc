@@ -6,8 +6,9 @@
 
 #include <tbb/parallel_for.h>
 
-#include "libs/collection/collection_writer.h"
+#include "libs/collection/collection_builder.h"
 #include "libs/collection/json_io.h"
+#include "libs/collection/object_truth.h"
 #include "libs/geometry/attitude.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -22,6 +23,17 @@ using exr::PixelType;
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Whether another surface hid `point` from `centre`: a disoccluded pixel.
+bool HiddenFrom(const AnalyticScene& scene,
+                const Eigen::Vector3d& centre,
+                const Eigen::Vector3d& point) {
+  const Eigen::Vector3d d = point - centre;
+  const double distance = d.norm();
+  const Hit first = scene.Intersect(centre, d / distance);
+  return first.hit && first.t < distance - (1e-9 * distance + 1e-9);
+}
 constexpr double kAmbient = 0.3;
 
 Eigen::Vector3d Albedo(uint32_t class_id) {
@@ -157,6 +169,9 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   const std::optional<Rigid3d> previous_cam_from_world =
       frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1])
                 : std::nullopt;
+  const Eigen::Vector3d previous_centre =
+      previous_cam_from_world ? previous_cam_from_world->Inverse().translation
+                              : Eigen::Vector3d::Zero();
   const int w = spec.width, h = spec.height;
   const std::vector<Eigen::Vector2d> pattern =
       SamplePattern(spec.samples_per_axis);
@@ -242,17 +257,25 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
               s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
         }
         shadow_pixels[p] = static_cast<float>(s.shadow);
-        Eigen::Vector2d shift = Eigen::Vector2d::Zero();
+        // Motion against the previous frame (one shot: a static world seen
+        // by a moving camera); NaN where there is none (docs/format.md).
+        Eigen::Vector2d shift(kNaN, kNaN);
         if (previous_cam_from_world) {
-          // Static world: where this surface point (or, for sky, this
-          // direction) was last frame.
+          // Where this surface point (or, for sky, this direction) was last
+          // frame, if that camera saw it.
           const Eigen::Vector3d in_previous =
               s.hit.hit ? Eigen::Vector3d(*previous_cam_from_world * s.point)
                         : Eigen::Vector3d(previous_cam_from_world->rotation *
                                           (world_from_cam.rotation *
                                            camera.CamFromImage(at)));
-          if (in_previous.z() > 0)
-            shift = at - camera.ImageFromCam(in_previous);
+          if (in_previous.z() > 0) {
+            const Eigen::Vector2d before = camera.ImageFromCam(in_previous);
+            const bool inside = before.x() >= 0 && before.x() < w &&
+                                before.y() >= 0 && before.y() < h;
+            if (inside &&
+                !(s.hit.hit && HiddenFrom(scene, previous_centre, s.point)))
+              shift = at - before;
+          }
         }
         motion_pixels[0][p] = static_cast<float>(0.5 + 0.5 * shift.x() / w);
         motion_pixels[1][p] = static_cast<float>(0.5 + 0.5 * shift.y() / h);
@@ -268,58 +291,52 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   truth.index = frame;
   truth.time = frame * spec.frame_interval;
   truth.sequence = spec.sequence;
+  truth.shot = 0;  // one continuous flight
   truth.camera.intrinsics = camera;
   truth.camera.cam_from_world_rotation =
       cam_from_world.rotation.toRotationMatrix();
   truth.camera.cam_from_world_translation = cam_from_world.translation;
-  const std::vector<uint32_t>& ids = instanceid.Get("id").uints;
+  const auto masks = MeasureInstanceMasks(instanceid.Get("id").uints, w, h);
   for (size_t b = 0; b < spec.boxes.size(); ++b) {
     const Box& box = spec.boxes[b];
-    ObjectTruth object;
-    object.instance_id = box.instance_id;
-    object.class_id = box.class_id;
-    object.name = box.name;
-    object.obb = box.Obb();
-    object.in_frame = InFrameFraction(object.obb, camera, cam_from_world);
-    if (object.in_frame <= 0) continue;  // not in view: no entry
-    const auto projected = ProjectedBounds(object.obb, camera, cam_from_world);
-    // Pixels the box would cover alone lie inside its projected bounds.
-    const Box2d search = projected ? projected->ClippedTo(w, h) : Box2d{};
-    int64_t unoccluded = 0;
-    int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int j = static_cast<int>(search.y0);
-         j < static_cast<int>(std::ceil(search.y1));
-         ++j) {
-      for (int i = static_cast<int>(search.x0);
-           i < static_cast<int>(std::ceil(search.x1));
-           ++i) {
-        if (ids[rgb.Index(i, j)] == box.instance_id) {
-          ++object.visible_pixels;
-          x0 = std::min(x0, i), y0 = std::min(y0, j), x1 = std::max(x1, i),
-          y1 = std::max(y1, j);
+    ObjectIdentity identity;
+    identity.instance_id = box.instance_id;
+    identity.class_id = box.class_id;
+    identity.name = box.name;
+    identity.asset = "box";
+    identity.obb = box.Obb();
+    const auto mask = masks.find(box.instance_id);
+    // The box alone, through the same pixel centres as the id layer.
+    auto count_unoccluded = [&](const Box2d& bounds) {
+      int64_t unoccluded = 0;
+      for (int j = static_cast<int>(bounds.y0);
+           j < static_cast<int>(std::ceil(bounds.y1));
+           ++j) {
+        for (int i = static_cast<int>(bounds.x0);
+             i < static_cast<int>(std::ceil(bounds.x1));
+             ++i) {
+          const Eigen::Vector3d direction =
+              world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
+          if (scene
+                  .Intersect(world_from_cam.translation,
+                             direction,
+                             1e-9,
+                             static_cast<int>(b))
+                  .hit)
+            ++unoccluded;
         }
-        const Eigen::Vector3d direction =
-            world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
-        if (scene
-                .Intersect(world_from_cam.translation,
-                           direction,
-                           1e-9,
-                           static_cast<int>(b))
-                .hit)
-          ++unoccluded;
       }
+      return unoccluded;
+    };
+    if (std::optional<ObjectTruth> object =
+            MeasureObjectTruth(identity,
+                               camera,
+                               cam_from_world,
+                               mask == masks.end() ? nullptr : &mask->second,
+                               count_unoccluded)) {
+      object->transmittance = 1.0;  // no atmosphere
+      truth.objects.push_back(std::move(*object));
     }
-    if (object.visible_pixels > 0)
-      object.bbox =
-          Box2d{double(x0), double(y0), double(x1 + 1), double(y1 + 1)};
-    object.visibility =
-        unoccluded > 0 ? static_cast<double>(object.visible_pixels) / unoccluded
-                       : 0.0;
-    if (projected) {
-      const Box2d clipped = projected->ClippedTo(w, h);
-      if (!clipped.empty()) object.bbox_projected = clipped;
-    }
-    truth.objects.push_back(object);
   }
   return out;
 }
@@ -348,30 +365,17 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
       {kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = static_cast<int64_t>(spec.cam_from_world.size());
 
-  CollectionWriter collection(root, header);
-  MetadataHeader metadata_header;
-  metadata_header.frame_count = header.frame_count;
-  MetadataWriter metadata(root / kMetadataFile, metadata_header);
+  CollectionBuilder builder(root, header);
   for (int k = 0; k < static_cast<int>(spec.cam_from_world.size()); ++k) {
     RenderedFrame rendered = RenderFrame(spec, k);
-    exr::WriteOptions options;
-    options.camera = HeaderCameraOf(rendered.truth.camera);
-    for (const std::string& semantic : semantics) {
-      const LayerInfo layer = StandardLayer(semantic, spec.depth_kind);
-      const std::string file = semantic + "/" + FrameStem(k) + ".exr";
-      options.compression = layer.compression;
-      if (layer.deep) {
-        exr::WriteDeepExr(root / file, rendered.bundle, options);
-      } else {
-        exr::WriteFlatExr(root / file, rendered.flat.at(semantic), options);
-      }
-      rendered.truth.files[semantic] = file;
-    }
-    collection.Append(rendered.truth);
-    metadata.Append(TruthMetadata(rendered.truth, header.conventions.world));
+    rendered.truth.files = WriteFrameLayers(root,
+                                            header,
+                                            k,
+                                            rendered.truth.camera,
+                                            {&rendered.flat, &rendered.bundle});
+    builder.Append(rendered.truth);
   }
-  metadata.Commit();
-  collection.Commit();
+  builder.Commit();
 }
 
 }  // namespace lsds::synth

@@ -2,6 +2,7 @@
 // boxes of known size, sun shadows, motion of a translated camera, perspective
 // depth, the pixel bundle and per-object truth.
 #include <cmath>
+#include <cstring>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -43,7 +44,7 @@ Rendered Render(const Plan& plan,
   }
   Rendered r{RenderFrame(scene, sky, plan.frames[k], previous, settings), {}};
   uint64_t rays = 0;
-  r.truth = ComputeObjectTruth(scene, plan.frames[k], r.film, &rays);
+  r.truth = ComputeObjectTruth(scene, plan.frames[k], r.film, plan.fog_density, &rays);
   return r;
 }
 
@@ -72,8 +73,9 @@ TEST(Render, NadirOverFlatGroundHasDepthAltitudeNormalUpAndZeroHeight) {
       ASSERT_EQ(U(film, "classid")[i], 1u);
       ASSERT_EQ(U(film, "instanceid")[i], 1000u);
       ASSERT_EQ(F(film, "shadow", "Y")[i], 1.f);   // nothing blocks the sun
-      ASSERT_EQ(F(film, "motion", "X")[i], 0.5f);  // first frame
-      ASSERT_EQ(F(film, "motion", "Y")[i], 0.5f);
+      // The first frame of a shot has no valid motion: NaN, never 0.5.
+      ASSERT_TRUE(std::isnan(F(film, "motion", "X")[i]));
+      ASSERT_TRUE(std::isnan(F(film, "motion", "Y")[i]));
       for (const char* c : {"R", "G", "B"})
         ASSERT_GT(F(film, "rgb", c)[i], 0.f);
     }
@@ -224,9 +226,26 @@ TEST(Render, MotionIsStillForAStillCameraAndMatchesATranslation) {
   // Moving +x by `step`: the ground moves left by fx * step / h pixels.
   const Film moved = Render(plan, 2).film;
   const PinholeCamera& camera = plan.frames[0].camera;
-  const double expected = 0.5 - 0.5 * camera.fx * step / h / camera.width;
-  for (float m : F(moved, "motion", "X")) ASSERT_NEAR(m, expected, 1e-5);
-  for (float m : F(moved, "motion", "Y")) ASSERT_NEAR(m, 0.5, 1e-5);
+  const double shift_px = camera.fx * step / h;
+  const double expected = 0.5 - 0.5 * shift_px / camera.width;
+  // Ground that entered the image on the right was outside the previous
+  // image: no valid motion there (NaN), the exact shift everywhere else.
+  int64_t entered = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const size_t p = static_cast<size_t>(y) * camera.width + x;
+      const double before_x = moved.centre_sample[p].x() + shift_px;
+      if (before_x >= camera.width) {
+        ASSERT_TRUE(std::isnan(F(moved, "motion", "X")[p])) << x << "," << y;
+        ASSERT_TRUE(std::isnan(F(moved, "motion", "Y")[p]));
+        ++entered;
+      } else {
+        ASSERT_NEAR(F(moved, "motion", "X")[p], expected, 1e-5);
+        ASSERT_NEAR(F(moved, "motion", "Y")[p], 0.5, 1e-5);
+      }
+    }
+  }
+  EXPECT_GT(entered, 0);
 }
 
 TEST(Render, MovingObjectHasItsOwnMotion) {
@@ -309,7 +328,14 @@ TEST(Render, SameSeedGivesIdenticalFilmsAndThreadsDoNotMatter) {
   const Film b = Render(plan, 0, 4).film;
   for (const auto& [name, image] : a.flat) {
     for (const auto& c : image.channels()) {
-      EXPECT_EQ(c.floats, b.flat.at(name).Get(c.name).floats) << name;
+      // Bitwise, so that NaN (no valid motion) compares equal to itself.
+      const auto& other = b.flat.at(name).Get(c.name).floats;
+      ASSERT_EQ(c.floats.size(), other.size()) << name;
+      EXPECT_EQ(std::memcmp(c.floats.data(),
+                            other.data(),
+                            c.floats.size() * sizeof(float)),
+                0)
+          << name;
       EXPECT_EQ(c.uints, b.flat.at(name).Get(c.name).uints) << name;
     }
   }

@@ -316,11 +316,11 @@ std::vector<Corruption> MakeCorruptions() {
         });
         return AtPixel("layer.shadow-range", File("shadow", 3), 3, 2, 3);
       });
-  add("motion-out-of-range",
-      "motion/000001.exr pixel (4, 4) X = -0.2",
+  add("motion-half-invalid",
+      "motion/000001.exr pixel (4, 4) X = NaN while Y has a value",
       [](const fs::path& root) {
         EditFlat(root, "motion", 1, [](exr::FlatImage& im) {
-          im.F("X", 4, 4) = -0.2f;
+          im.F("X", 4, 4) = std::numeric_limits<float>::quiet_NaN();
         });
         return AtPixel("layer.motion-range", File("motion", 1), 1, 4, 4);
       });
@@ -425,6 +425,15 @@ std::vector<Corruption> MakeCorruptions() {
           for (float& v : im.Get("Y").floats) v = 0.5f;
         });
         return AtPixel("cross.motion-pose", File("motion", 2), 2, 0, 0);
+      });
+  add("motion-on-shot-start",
+      "motion/000000.exr, the first frame of the shot, says no motion (0.5)",
+      [](const fs::path& root) {
+        EditFlat(root, "motion", 0, [](exr::FlatImage& im) {
+          im.F("X", 3, 2) = 0.5f;
+          im.F("Y", 3, 2) = 0.5f;
+        });
+        return AtPixel("cross.motion-invalid", File("motion", 0), 0, 3, 2);
       });
   add("metadata-pose",
       "metadata.json frame 2 position off by 0.5 m, not declared perturbed",

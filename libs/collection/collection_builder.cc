@@ -1,0 +1,70 @@
+#include "libs/collection/collection_builder.h"
+
+#include <tbb/parallel_for.h>
+
+#include "libs/collection/json_io.h"
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+
+namespace lsds {
+
+namespace fs = std::filesystem;
+
+std::map<std::string, std::string> WriteFrameLayers(
+    const fs::path& root,
+    const CollectionHeader& header,
+    int64_t frame_index,
+    const CameraTruth& camera,
+    const FrameImages& images) {
+  std::map<std::string, std::string> files;
+  for (const LayerInfo& layer : header.layers) {
+    if (layer.deep && images.bundle == nullptr)
+      throw Error("frame " + std::to_string(frame_index) + ": layer '" +
+                  layer.name + "' is deep but no bundle was rendered");
+    if (!layer.deep &&
+        (images.flat == nullptr || images.flat->count(layer.semantic) == 0))
+      throw Error("frame " + std::to_string(frame_index) +
+                  ": no image for layer '" + layer.name + "'");
+    files[layer.name] = layer.name + "/" + FrameStem(frame_index) + ".exr";
+  }
+  // Layers are independent files: encode them in parallel.
+  tbb::parallel_for(size_t{0}, header.layers.size(), [&](size_t i) {
+    const LayerInfo& layer = header.layers[i];
+    exr::WriteOptions write;
+    write.compression = layer.compression;
+    write.camera = HeaderCameraOf(camera);
+    const fs::path path = root / files.at(layer.name);
+    if (layer.deep) {
+      exr::WriteDeepExr(path, *images.bundle, write);
+    } else {
+      exr::WriteFlatExr(path, images.flat->at(layer.semantic), write);
+    }
+  });
+  return files;
+}
+
+namespace {
+MetadataHeader TruthMetadataHeader(const CollectionHeader& header) {
+  MetadataHeader metadata;
+  metadata.frame_count = header.frame_count;
+  return metadata;
+}
+}  // namespace
+
+CollectionBuilder::CollectionBuilder(const fs::path& root,
+                                     const CollectionHeader& header)
+    : header_(header),
+      collection_(root, header),
+      metadata_(root / kMetadataFile, TruthMetadataHeader(header)) {}
+
+void CollectionBuilder::Append(const Frame& truth) {
+  collection_.Append(truth);
+  metadata_.Append(TruthMetadata(truth, header_.conventions.world));
+}
+
+void CollectionBuilder::Commit() {
+  metadata_.Commit();
+  collection_.Commit();
+}
+
+}  // namespace lsds

@@ -1,5 +1,7 @@
 #include "validators/camera_checks.h"
 
+#include "libs/util/strings.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -17,10 +19,7 @@ constexpr double kFocalTolerance = 5e-3;  // relative
 constexpr double kDepthTolerance = 1e-3;  // relative
 
 std::string Fmt(double v, int precision = 4) {
-  std::ostringstream out;
-  out.precision(precision);
-  out << v;
-  return out.str();
+  return FormatNumber(v, precision);
 }
 
 double HfovDeg(double fx, int width) {

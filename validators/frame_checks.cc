@@ -1,5 +1,7 @@
 #include "validators/frame_checks.h"
 
+#include "libs/util/strings.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -35,12 +37,7 @@ struct PixelTally {
   }
 };
 
-std::string Fmt(double v) {
-  std::ostringstream out;
-  out.precision(6);
-  out << v;
-  return out.str();
-}
+std::string Fmt(double v) { return FormatNumber(v); }
 
 class FrameChecker {
  public:

@@ -22,8 +22,17 @@ const std::vector<std::string> kCameraKeys = {"csettings",
                                               "post_process",
                                               "capture",
                                               "capture_settings"};
-const std::vector<std::string> kSettingsKeys = {
-    "fov", "res", "resolution", "focal_length", "sensor_width", "fps"};
+const std::vector<std::string> kSettingsKeys = {"fov",
+                                                "res",
+                                                "resolution",
+                                                "focal_length",
+                                                "sensor_width",
+                                                "fps",
+                                                "clearance"};
+
+// Default minimum clearance of a camera above the terrain and objects
+// (docs/languages.md, "Cameras where a drone can be").
+constexpr double kDefaultClearanceM = 1.0;
 const std::vector<std::string> kPathKinds = {"create_hemi",
                                              "hemi",
                                              "grid",
@@ -181,6 +190,15 @@ class CaptureEvaluator {
       if (const Node f = settings.Find("fps")) {
         fps_ = ReadNumber(f);
         if (fps_ <= 0) f.Fail("fps must be > 0");
+      }
+      if (const Node c = settings.Find("clearance")) {
+        if (c->is_string() && ReadString(c) == "off") {
+          clearance_.reset();  // the user's explicit opt-out
+        } else {
+          clearance_ = ReadNumber(c);
+          if (!(*clearance_ >= 0) || *clearance_ > 1e4)
+            c.Fail("clearance must be a distance in [0, 10000] m, or off");
+        }
       }
     }
     for (const char* key : {"ppmaterial", "postprocess"}) {
@@ -631,6 +649,8 @@ class CaptureEvaluator {
     f.camera = camera_model_;
     Rng rng = Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k));
     f.cam_from_world = Pose(*seg->path, k - seg->first, rng);
+    CheckClearance(*seg, k, f.cam_from_world);
+    std::vector<const Rule*> change_rules;  // the rule of each change
     for (const Rule& rule : rules_) {
       if (k < rule.begin || k >= rule.end) continue;
       // An "after" change is drawn once, when it fires; a "during" change on
@@ -644,10 +664,133 @@ class CaptureEvaluator {
                          rule.id,
                          static_cast<uint64_t>(rule.begin));
       for (const PlannedObject& o : plan_->objects)
-        if (o.symbol == rule.object_symbol)
+        if (o.symbol == rule.object_symbol) {
           f.changes.push_back(Change(rule, o, change_rng));
+          change_rules.push_back(&rule);
+        }
     }
+    KeepPlacement(change_rules, &f);
     return f;
+  }
+
+  // A camera must be where a drone can be: at least the clearance above the
+  // terrain under it and outside every rendered object grown by it.
+  // A violation is a plan error naming the path instance, the pose and the
+  // terrain height there; `clearance:off` opts out.
+  void CheckClearance(const Segment& seg,
+                      int64_t k,
+                      const Rigid3d& cam_from_world) const {
+    if (!clearance_) return;
+    const Eigen::Vector3d eye = CameraCenterInWorld(cam_from_world);
+    const std::string who =
+        seg.path->symbol + "(" + std::to_string(seg.repetition) + ") pose " +
+        std::to_string(k - seg.first) + " (frame " + std::to_string(k) + ")";
+    const std::string fix =
+        "; raise the path, or set camera settings clearance:" +
+        std::string("N (metres) or clearance:off");
+    if (plan_->terrain.present) {
+      const double ground = TerrainHeight(plan_->terrain, eye.x(), eye.y());
+      if (eye.z() < ground + *clearance_)
+        seg.path->body.Fail(
+            who + ": the camera at (" + FormatNumber(eye.x()) + ", " +
+            FormatNumber(eye.y()) + ", " + FormatNumber(eye.z()) + ") is " +
+            FormatNumber(eye.z() - ground) + " m above the terrain (height " +
+            FormatNumber(ground) + " m there), under the clearance of " +
+            FormatNumber(*clearance_) + " m" + fix);
+    }
+    for (const PlannedObject& o : plan_->objects) {
+      if (!o.visible) continue;
+      const OrientedBox grown{
+          o.position,
+          0.5 * o.extent + Eigen::Vector3d::Constant(*clearance_),
+          o.world_from_object};
+      const Eigen::Vector3d local =
+          grown.world_from_box.transpose() * (eye - grown.center);
+      if ((local.cwiseAbs() - grown.half_extents).maxCoeff() < 0)
+        seg.path->body.Fail(who + ": the camera is within " +
+                            FormatNumber(*clearance_) + " m of object " +
+                            o.name + fix);
+    }
+  }
+
+  // A change of size, rotation or offset re-applies the object's LSCENE
+  // placement: an object ON a support keeps its base on the support's top (on
+  // the terrain: the height under its new centre, as Algorithm 1 places it),
+  // and an object that may not overlap must not overlap another after the
+  // change. The re-seated position is appended as a final change of the
+  // frame; an overlap is a plan error at the change that caused it.
+  void KeepPlacement(const std::vector<const Rule*>& change_rules,
+                     PlannedFrame* f) const {
+    struct State {
+      const PlannedObject* planned = nullptr;
+      Eigen::Vector3d position, extent;
+      Eigen::Matrix3d world_from_object;
+      bool visible = true, moved = false;
+      const Rule* rule = nullptr;  // the last geometry change, for errors
+    };
+    std::map<std::string, State> states;
+    for (const PlannedObject& o : plan_->objects)
+      states[o.name] = {&o,
+                        o.position,
+                        o.extent,
+                        o.world_from_object,
+                        o.visible,
+                        false,
+                        nullptr};
+    for (size_t i = 0; i < f->changes.size(); ++i) {
+      const ObjectChange& c = f->changes[i];
+      State& s = states.at(c.object);
+      if (c.visible) s.visible = *c.visible;
+      if (!c.position && !c.extent && !c.world_from_object) continue;
+      if (c.position) s.position = *c.position;
+      if (c.extent) s.extent = *c.extent;
+      if (c.world_from_object) s.world_from_object = *c.world_from_object;
+      s.moved = true;
+      s.rule = change_rules[i];
+    }
+    for (auto& [name, s] : states) {
+      if (!s.moved) continue;
+      const PlannedObject& o = *s.planned;
+      const double half_z =
+          (s.world_from_object.cwiseAbs() * (0.5 * s.extent)).z();
+      // An offset's z lifts the object off its support on purpose.
+      double lift = 0;
+      for (const auto& [key, v] : s.rule->block.Members())
+        if (CanonicalKey(key) == "offset")
+          lift = s.position.z() - o.position.z();
+      if (o.support == PlannedObject::Support::kTerrain) {
+        s.position.z() =
+            TerrainHeight(plan_->terrain, s.position.x(), s.position.y()) +
+            half_z + lift;
+      } else if (o.support == PlannedObject::Support::kTop) {
+        s.position.z() = o.support_top + half_z + lift;
+      } else {
+        continue;  // no support: the change is taken as written
+      }
+      ObjectChange seat;
+      seat.object = name;
+      seat.position = s.position;
+      f->changes.push_back(seat);
+    }
+    for (const auto& [name, s] : states) {
+      if (!s.moved || !s.visible || s.planned->overlap_allowed) continue;
+      const OrientedBox mine{s.position, 0.5 * s.extent, s.world_from_object};
+      for (const auto& [other_name, t] : states) {
+        if (other_name == name || !t.visible) continue;
+        const auto& supports = s.planned->supports;
+        if (std::find(supports.begin(), supports.end(), t.planned->symbol) !=
+            supports.end())
+          continue;
+        const OrientedBox theirs{
+            t.position, 0.5 * t.extent, t.world_from_object};
+        if (mine.Intersects(theirs))
+          s.rule->block.Fail(
+              "frame " + std::to_string(f->index) + ": this change makes " +
+              name + " overlap " + other_name +
+              ", which its LSCENE placement forbids; change less, or allow "
+              "overlap in the scene (overlap:true or on_overlap:allow)");
+      }
+    }
   }
 
  public:
@@ -661,6 +804,7 @@ class CaptureEvaluator {
   const Definition* camera_ = nullptr;
   PinholeCamera camera_model_;
   double fps_ = 10;
+  std::optional<double> clearance_ = kDefaultClearanceM;
   std::vector<Segment> segments_;
   std::vector<Rule> rules_;
 };
@@ -701,7 +845,8 @@ TargetLabels ReadTargets(const Program& capture, const Program& scene) {
         where.Fail("target '" + symbol + "' is not an object of the scene" +
                    DidYouMean(symbol, names));
       }
-      if (label < 0 || label > 0xFFFFFFFFll)
+      // -1: listed without a label ("O2"); its class comes from the scene.
+      if (label == 0 || label > 0xFFFFFFFFll)
         where.Fail("a label id must be in [1, 4294967295]");
       labels[symbol] = static_cast<uint32_t>(label < 0 ? 0 : label);
     }

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "generator/plan/terrain_height.h"
+#include "generator/scene/object_library.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/util/strings.h"
 
@@ -49,7 +50,8 @@ const std::vector<std::string> kObjectKeys = {"class",
                                               "material",
                                               "bound",
                                               "target",
-                                              "count"};
+                                              "count",
+                                              "unit"};
 const std::vector<std::string> kPositionKeys = {"ON", "IN", "AROUND", "within"};
 
 struct Box {
@@ -328,11 +330,26 @@ class SceneEvaluator {
       if (def.kind != "object" || LabelOf(def.symbol) != 0) continue;
       const Node cls = def.body.Find("class");
       for (const std::string& option : StringOptions(cls))
-        add(ResolveClass(cls, option));
+        add(ClassNameOf(cls, option));
     }
+    // A labelled target's class is named after what it draws: the class name
+    // of its options (docs/languages.md, "Class names"), joined by "|" when
+    // the symbol draws several.
     for (const auto& [symbol, label] : targets_) {
-      if (!scene_.Find(symbol) || label == 0) continue;
-      plan_->classes.push_back({label, symbol});
+      const Definition* def = scene_.Find(symbol);
+      if (!def || label == 0) continue;
+      const Node cls = def->body.Find("class");
+      std::vector<std::string> names;
+      for (const std::string& option : StringOptions(cls)) {
+        const std::string name = ClassNameOf(cls, option);
+        if (std::find(names.begin(), names.end(), name) == names.end())
+          names.push_back(name);
+      }
+      std::string name = Join(names, "|");
+      // Two labels may not share a name, nor a label a name of the table.
+      for (const ClassInfo& c : plan_->classes)
+        if (c.name == name) name += "#" + std::to_string(label);
+      plan_->classes.push_back({label, name});
     }
     std::sort(
         plan_->classes.begin(),
@@ -340,12 +357,51 @@ class SceneEvaluator {
         [](const ClassInfo& a, const ClassInfo& b) { return a.id < b.id; });
   }
 
+  // A mesh keeps its native size: its bounds in the file's unit (`unit`,
+  // metres by default, as glTF's specification says), in metres.
+  Eigen::Vector3d MeshExtent(const Definition& def, const std::string& path) {
+    double metres_per_unit = 1.0;
+    if (const Node n = def.body.Find("unit")) {
+      static const std::map<std::string, double> kUnits = {{"m", 1.0},
+                                                           {"cm", 0.01},
+                                                           {"mm", 0.001},
+                                                           {"in", 0.0254},
+                                                           {"ft", 0.3048}};
+      const std::string unit = ReadString(n);
+      const auto it = kUnits.find(unit);
+      if (it == kUnits.end())
+        n.Fail("unit must be one of m, cm, mm, in, ft, not '" + unit + "'");
+      metres_per_unit = it->second;
+    }
+    auto cached = mesh_extents_.find(path);
+    if (cached == mesh_extents_.end()) {
+      Eigen::Vector3d extent;
+      try {
+        extent = gen::MeshFileExtent(path, "object " + def.symbol);
+      } catch (const Error& e) {
+        def.body.Find("class").Fail(e.message() + " (" + path + ")");
+      }
+      // A flat mesh (a plane) still needs a box: 1 mm thick.
+      extent = extent.cwiseMax(Eigen::Vector3d::Constant(1e-3));
+      cached = mesh_extents_.emplace(path, extent).first;
+    }
+    return cached->second * metres_per_unit;
+  }
+
+  // The class name of a class option (docs/languages.md, "Class names"): a
+  // classes{} alias keeps its own name (the user's class, e.g. `A`), a
+  // built-in is its name, a mesh its resolved path.
+  std::string ClassNameOf(const Node& where, const std::string& option) const {
+    if (aliases_.count(option)) return option;
+    return ResolveClass(where, option);
+  }
+
   uint32_t LabelOf(const std::string& symbol) const {
     auto t = targets_.find(symbol);
     return t == targets_.end() ? 0 : t->second;
   }
   uint32_t ClassIdOf(const std::string& symbol,
-                     const std::string& class_name) const {
+                     const std::string& class_name) const {  // by class name
     if (const uint32_t label = LabelOf(symbol)) return label;
     for (const ClassInfo& c : plan_->classes)
       if (c.name == class_name) return c.id;
@@ -512,9 +568,9 @@ class SceneEvaluator {
       o.symbol = def.symbol;
       const Node cls = b.Find("class");
       const std::string chosen = SampleString(cls, rng_);
-      o.class_name = ResolveClass(cls, chosen);
-      o.class_id = ClassIdOf(def.symbol, o.class_name);
-      o.extent = IsMeshClass(o.class_name) ? Eigen::Vector3d::Ones()
+      o.class_name = ResolveClass(cls, chosen);  // the asset drawn
+      o.class_id = ClassIdOf(def.symbol, ClassNameOf(cls, chosen));
+      o.extent = IsMeshClass(o.class_name) ? MeshExtent(def, o.class_name)
                                            : BuiltinClasses().at(o.class_name);
       for (const char* key : {"visible", "visibility"})
         if (const Node n = b.Find(key)) o.visible = SampleBool(n, rng_);
@@ -748,6 +804,12 @@ class SceneEvaluator {
         o.position.z() = ground + half.z();
       }
       p->aabb = AabbOf(o.position, o.world_from_object, o.extent);
+      o.support = !on               ? PlannedObject::Support::kNone
+                  : surface.terrain ? PlannedObject::Support::kTerrain
+                                    : PlannedObject::Support::kTop;
+      o.support_top = surface.top;
+      o.supports.assign(supports.begin(), supports.end());
+      o.overlap_allowed = overlap || policy == "allow";
       if (overlap || policy == "allow" || !Collides(*p, supports)) return true;
       if (attempt >= retries) break;
     }
@@ -786,6 +848,7 @@ class SceneEvaluator {
   Rng rng_;
   std::string terrain_symbol_;
   std::map<std::string, std::string> aliases_;
+  std::map<std::string, Eigen::Vector3d> mesh_extents_;  // by file path
   std::map<std::string, Node> count_nodes_;
   std::set<std::string> many_default_;
   std::vector<Placed> placed_;

@@ -61,6 +61,16 @@ struct PlannedObject {
   Eigen::Vector3d extent =
       Eigen::Vector3d::Ones();  // full box size in metres (after scale)
   std::string material;         // empty: the class's default
+
+  // How LSCENE placed it, so that LCAP changes of its size, rotation or
+  // offset keep the same constraints (docs/languages.md, "Scene changes keep
+  // the placement"). Not part of the plan's JSON form: the changes a capture
+  // plans already carry the re-seated positions.
+  enum class Support { kNone, kTerrain, kTop };
+  Support support = Support::kNone;   // ON the terrain or ON another's top
+  double support_top = 0;             // z of that top (kTop)
+  std::vector<std::string> supports;  // symbols it may touch (ON/IN refs)
+  bool overlap_allowed = true;        // overlap:true or on_overlap:allow
 };
 
 // A change to an object in effect on a frame (LCAP scene changes:

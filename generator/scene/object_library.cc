@@ -134,7 +134,8 @@ bool IsMeshPath(const std::string& class_name) {
   return std::find(known.begin(), known.end(), ext) != known.end();
 }
 
-TriangleMesh LoadMeshFile(const std::string& path, const std::string& where) {
+TriangleMesh LoadMeshFileNative(const std::string& path,
+                                const std::string& where) {
   if (!std::filesystem::is_regular_file(path)) {
     throw Error(where + ": mesh file not found", Location(path));
   }
@@ -147,13 +148,23 @@ TriangleMesh LoadMeshFile(const std::string& path, const std::string& where) {
     throw Error(where + ": cannot read mesh: " + importer.GetErrorString(),
                 Location(path));
   }
+  // glTF is y-up by its specification; the world is z-up: (x, y, z) ->
+  // (x, -z, y). Other formats carry no axis convention and are taken as z-up.
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) {
+    return std::tolower(c);
+  });
+  const bool y_up = ext == ".gltf" || ext == ".glb";
   TriangleMesh mesh;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* in = scene->mMeshes[m];
     const int base = static_cast<int>(mesh.positions.size());
     for (unsigned v = 0; v < in->mNumVertices; ++v) {
-      mesh.positions.emplace_back(
-          in->mVertices[v].x, in->mVertices[v].y, in->mVertices[v].z);
+      const aiVector3D& p = in->mVertices[v];
+      if (y_up)
+        mesh.positions.emplace_back(p.x, -p.z, p.y);
+      else
+        mesh.positions.emplace_back(p.x, p.y, p.z);
     }
     for (unsigned f = 0; f < in->mNumFaces; ++f) {
       const aiFace& face = in->mFaces[f];
@@ -165,8 +176,24 @@ TriangleMesh LoadMeshFile(const std::string& path, const std::string& where) {
   }
   if (mesh.empty())
     throw Error(where + ": the mesh file has no triangles", Location(path));
+  return mesh;
+}
+
+TriangleMesh LoadMeshFile(const std::string& path, const std::string& where) {
+  TriangleMesh mesh = LoadMeshFileNative(path, where);
   NormalizeToUnitBox(&mesh);
   return mesh;
+}
+
+Eigen::Vector3d MeshFileExtent(const std::string& path,
+                               const std::string& where) {
+  const TriangleMesh mesh = LoadMeshFileNative(path, where);
+  Eigen::Vector3f lo = mesh.positions.front(), hi = lo;
+  for (const Eigen::Vector3f& p : mesh.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).cast<double>();
 }
 
 ClassShape MakeClassShape(const std::string& name,

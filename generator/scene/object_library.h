@@ -33,7 +33,14 @@ ClassShape MakeClassShape(const std::string& class_name,
                           const std::string& where);
 
 // Loads every mesh of a file with assimp (triangulated, node transforms
-// applied), normalized.
+// applied, glTF's y-up turned to the world's z-up), in the file's units.
+TriangleMesh LoadMeshFileNative(const std::string& path,
+                                const std::string& where);
+// The same, normalized to the unit box (the renderer scales it by `extent`).
 TriangleMesh LoadMeshFile(const std::string& path, const std::string& where);
+// The size of the mesh's axis-aligned bounds in the file's units (z-up): the
+// native extent an object drawn from the file gets.
+Eigen::Vector3d MeshFileExtent(const std::string& path,
+                               const std::string& where);
 
 }  // namespace lsds::gen

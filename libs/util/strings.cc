@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <sstream>
 
 namespace lsds {
 
@@ -99,6 +100,13 @@ std::string FrameStem(int64_t index) {
   std::snprintf(
       buffer, sizeof(buffer), "%06lld", static_cast<long long>(index));
   return buffer;
+}
+
+std::string FormatNumber(double value, int significant) {
+  std::ostringstream out;
+  out.precision(significant);
+  out << value;
+  return out.str();
 }
 
 }  // namespace lsds

@@ -28,5 +28,7 @@ std::string XmlEscape(const std::string& text);
 
 // Zero-padded frame file stem: 7 -> "000007".
 std::string FrameStem(int64_t index);
+// A number for a message: `significant` digits, shortest form ("1.5", "1e+06").
+std::string FormatNumber(double value, int significant = 6);
 
 }  // namespace lsds

@@ -87,8 +87,8 @@ TEST(LangParser, FixedPaperExamplesPlan) {
   EXPECT_EQ(plan.terrain.size, Eigen::Vector2d(201, 201));
   EXPECT_EQ(plan.terrain.perlin_amplitude, 0.2);
   EXPECT_EQ(plan.terrain.material, "grassy");
-  // O1 is the target with label 5; its class table entry is named after the
-  // symbol.
+  // O1 is the target with label 5; its class table entry is named after what
+  // it draws: its classes{} aliases A and B.
   ASSERT_FALSE(plan.objects.empty());
   EXPECT_EQ(plan.objects[0].symbol, "O1");
   EXPECT_EQ(plan.objects[0].class_id, 5u);
@@ -97,7 +97,7 @@ TEST(LangParser, FixedPaperExamplesPlan) {
               plan.objects[0].class_name == "barrel");
   bool found = false;
   for (const ClassInfo& c : plan.classes)
-    found = found || (c.id == 5 && c.name == "O1");
+    found = found || (c.id == 5 && c.name == "A|B");
   EXPECT_TRUE(found);
   EXPECT_EQ(plan.classes.front().name, "terrain");
   EXPECT_FALSE(plan.objects[1].visible);  // IO1, the invisible placement zone
@@ -106,8 +106,10 @@ TEST(LangParser, FixedPaperExamplesPlan) {
   EXPECT_TRUE(plan.frames[19].changes.empty());
   ASSERT_EQ(plan.frames[20].changes.size(), 1u);
   EXPECT_EQ(*plan.frames[20].changes[0].material, "MetalGold");
-  ASSERT_EQ(plan.frames[40].changes.size(), 2u);
+  // The rotation, then the re-seat that keeps O1 ON the terrain.
+  ASSERT_EQ(plan.frames[40].changes.size(), 3u);
   EXPECT_TRUE(plan.frames[40].changes[1].world_from_object.has_value());
+  EXPECT_TRUE(plan.frames[40].changes[2].position.has_value());
   // Drawn once when it fires: the same rotation on every later frame.
   EXPECT_EQ(*plan.frames[40].changes[1].world_from_object,
             *plan.frames[59].changes[1].world_from_object);

@@ -3,13 +3,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <map>
+#include <set>
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
 #include "generator/plan/terrain_height.h"
+#include "generator/scene/world.h"
 #include "libs/collection/schema.h"
 #include "libs/geometry/oriented_box.h"
+#include "tests/test_util.h"
 
 namespace lsds {
 namespace {
@@ -397,7 +401,8 @@ TEST(LangPlan, SceneChangeSetsFramesAndDuringTimings) {
         count(f, [](const ObjectChange& c) { return c.extent.has_value(); });
     EXPECT_EQ(material, f.index >= 2 ? 3 : 0) << f.index;
     EXPECT_EQ(hidden, f.index >= 5 ? 3 : 0) << f.index;
-    EXPECT_EQ(moved, 3) << f.index;
+    // Three offsets, then three re-seats that keep each cube ON the terrain.
+    EXPECT_EQ(moved, 6) << f.index;
     EXPECT_EQ(scaled, f.index == 2 || f.index == 3 ? 3 : 0) << f.index;
     for (const ObjectChange& c : f.changes)
       if (c.extent) {
@@ -441,6 +446,160 @@ TEST(LangPlan, TerrainHeightIsBoundedAndDeterministic) {
   EXPECT_EQ(TerrainHeight(t, 3, 4),
             0.0);  // lattice points of the noise are zero
 }
+
+
+// --- The truth gate (issue: every capture yields a collection that passes) ---
+
+namespace gate {
+
+const char* kHills =
+    "LSCENE = ONE(W) MANY(O, 3)\n"
+    "W = terrain{size:[60,60],height:{perlin:{amplitude:4,frequency:0.08}}}\n"
+    "O = object{class:cube,extent:[1,1,1],rotation:[0,0,[0,90]],"
+    "position:{ON:W,within:[[-20,-20,-100],[20,20,100]]}}\n";
+
+TEST(LangGate, ADoubledObjectOnHillsKeepsItsBaseOnTheSurfaceInEveryFrame) {
+  const Plan plan = PlanText(
+      kHills,
+      "LCAP = ONE(P) ONE(CL)\n"
+      "P = path{waypoints:[[0,0,40],[1,0,40],[2,0,40],[3,0,40]]}\n"
+      "CL = collection{CO:{move:[P:2]},O:{after:P:1,scale:[2,2,2]},"
+      "{during:P:2,rotation:[[0,30],0,[0,360]]},{during:P:2,offset:[[-3,-3,0],"
+      "[3,3,0]]}}\n",
+      11);
+  ASSERT_EQ(plan.frames.size(), 8u);
+  for (const PlannedFrame& frame : plan.frames) {
+    const gen::WorldState world = gen::WorldAt(plan, frame);
+    for (const gen::ObjectState& o : world.objects) {
+      const double half_z =
+          (o.world_from_object.cwiseAbs() * (0.5 * o.extent)).z();
+      const double base = o.position.z() - half_z;
+      const double ground =
+          TerrainHeight(plan.terrain, o.position.x(), o.position.y());
+      EXPECT_NEAR(base, ground, 1e-3)
+          << o.planned->name << " frame " << frame.index;
+      if (frame.index >= 4) {
+        EXPECT_EQ(o.extent, Eigen::Vector3d(2, 2, 2));
+      }
+    }
+  }
+}
+
+TEST(LangGate, AChangeThatMakesObjectsOverlapIsAPlanErrorAtTheChange) {
+  try {
+    PlanText(kHills,
+             "LCAP = ONE(P) ONE(CL)\n"
+             "P = path{waypoints:[[0,0,40],[1,0,40]]}\n"
+             "CL = collection{CO:{move:[P:2]},O:{after:P:1,scale:[60,60,1]}}\n",
+             11);
+    FAIL() << "expected an overlap error";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("overlap"), std::string::npos) << e.message();
+    EXPECT_EQ(e.location().line, 3) << e.location().ToString();
+  }
+}
+
+TEST(LangGate, AnUndergroundCameraIsAPlanErrorNamingPathAndPose) {
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(O)\n"
+      "W = terrain{size:[200,200],height:{perlin:{amplitude:8,frequency:0.05}}}"
+      "\nO = object{class:cube,position:{ON:W,within:[[-1,-1,-100],[1,1,100]]}}"
+      "\n";
+  const std::string low_orbit =
+      "P = path{create hemi:{cam radius:[40,40,1],obj angle:[0,360,8],"
+      "cam angle:[2,2,1],center:[0,0,0]}}\n";
+  try {
+    PlanText(scene, "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n" + low_orbit, 3);
+    FAIL() << "expected a clearance error";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("P(1) pose "), std::string::npos) << e.message();
+    EXPECT_NE(e.message().find("above the terrain (height "), std::string::npos)
+        << e.message();
+    EXPECT_EQ(e.location().line, 3) << e.location().ToString();
+  }
+  // The explicit opt-out plans the same orbit.
+  const Plan plan = PlanText(
+      scene,
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{clearance:off}}\n" +
+          low_orbit,
+      3);
+  EXPECT_EQ(plan.frames.size(), 8u);
+}
+
+TEST(LangGate, CountIntervalsAreDrawnFromTheSeed) {
+  const std::string scene = "LSCENE = ONE(W)\nW = terrain{size:[100,100]}\n";
+  const std::string capture =
+      "LCAP = ONE(P)\nP = path{random:{count:[5,50],altitude:30}}\n";
+  std::set<size_t> counts;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    const Plan plan = PlanText(scene, capture, seed);
+    EXPECT_GE(plan.frames.size(), 5u);
+    EXPECT_LE(plan.frames.size(), 50u);
+    counts.insert(plan.frames.size());
+    EXPECT_EQ(PlanText(scene, capture, seed).frames.size(), plan.frames.size());
+  }
+  EXPECT_GT(counts.size(), 1u);
+}
+
+TEST(LangGate, TargetsTakeOptionalLabelsAndClassesSayWhatWasDrawn) {
+  const Plan plan = PlanText(
+      "LSCENE = ONE(W) ONE(K) ONE(O1) ONE(O2) ONE(O3)\n"
+      "W = terrain{size:[60,60]}\nK = classes{debris:tire}\n"
+      "O1 = object{class:barrel,position:{ON:W}}\n"
+      "O2 = object{class:cube,position:{ON:W}}\n"
+      "O3 = object{class:debris,position:{ON:W}}\n",
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{targets:[O1:5, O2, O3]}\n"
+      "P = path{waypoints:[[0,0,50]]}\n",
+      2);
+  std::map<uint32_t, std::string> names;
+  for (const ClassInfo& c : plan.classes) names[c.id] = c.name;
+  for (const PlannedObject& o : plan.objects) {
+    EXPECT_TRUE(o.target) << o.name;
+    if (o.symbol == "O1") {
+      EXPECT_EQ(o.class_id, 5u);
+      EXPECT_EQ(names[o.class_id], "barrel");  // the label names the drawn
+    }
+    if (o.symbol == "O2") EXPECT_EQ(names[o.class_id], "cube");
+    if (o.symbol == "O3") {
+      EXPECT_EQ(names[o.class_id], "debris");  // the user's alias
+      EXPECT_EQ(o.class_name, "tire");         // what is drawn
+    }
+  }
+}
+
+TEST(LangGate, AMeshKeepsItsNativeSize) {
+  testing::TempDir dir;
+  // A 4 x 2 x 1.5 m box as an OBJ file (metres, z up).
+  std::ofstream obj(dir / "crate.obj");
+  for (int k = 0; k < 8; ++k)
+    obj << "v " << (k & 1 ? 2 : -2) << " " << (k & 2 ? 1 : -1) << " "
+        << (k & 4 ? 1.5 : 0) << "\n";
+  obj << "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\nf 1 5 6\nf 1 6 2\n"
+         "f 3 4 8\nf 3 8 7\nf 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n";
+  obj.close();
+  const std::string path = (dir / "crate.obj").string();
+  const Plan plan = PlanText(
+      "LSCENE = ONE(W) ONE(C) ONE(D)\nW = terrain{size:[60,60]}\n"
+      "C = object{class:\"" +
+          path +
+          "\",position:{ON:W}}\n"
+          "D = object{class:\"" +
+          path + "\",unit:cm,position:{ON:W}}\n",
+      "",
+      2);
+  ASSERT_EQ(plan.objects.size(), 2u);
+  EXPECT_TRUE(plan.objects[0].extent.isApprox(Eigen::Vector3d(4, 2, 1.5)))
+      << plan.objects[0].extent.transpose();
+  EXPECT_TRUE(
+      plan.objects[1].extent.isApprox(Eigen::Vector3d(0.04, 0.02, 0.015)))
+      << plan.objects[1].extent.transpose();
+  // The truth OBB is the mesh's bounds after the transform.
+  const gen::WorldState world = gen::WorldAt(plan, plan.frames[0]);
+  EXPECT_TRUE(world.objects[0].Box().half_extents.isApprox(
+      Eigen::Vector3d(2, 1, 0.75)));
+}
+
+}  // namespace gate
 
 }  // namespace
 }  // namespace lsds

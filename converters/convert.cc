@@ -69,6 +69,12 @@ struct Driver {
         loss->Add(loss::kClassNotSelected, source);
       } else if (object.visibility < options.min_visibility) {
         loss->Add(loss::kMinVisibility, source);
+      } else if (options.min_transmittance > 0 &&
+                 object.transmittance.value_or(1.0) <
+                     options.min_transmittance) {
+        // Seen through so much fog that nobody can see it (format 1.1;
+        // objects without the field count as clear air).
+        loss->Add(loss::kMinTransmittance, source);
       } else if (object.visible_pixels < options.min_pixels) {
         loss->Add(loss::kMinPixels, source);
       } else if (options.drop_truncated && object.in_frame < 1.0) {

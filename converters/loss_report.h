@@ -19,6 +19,8 @@ inline constexpr const char* kClassNotSelected =
     "dropped: class not selected (--classes)";
 inline constexpr const char* kMinVisibility =
     "dropped: visibility below --min-visibility";
+inline constexpr const char* kMinTransmittance =
+    "dropped: atmospheric transmittance below --min-transmittance";
 inline constexpr const char* kMinPixels =
     "dropped: visible pixels below --min-pixels";
 inline constexpr const char* kTruncated =

@@ -37,6 +37,9 @@ void ConvertOptions::Check() const {
   }
   if (!std::isfinite(display.exposure_ev))
     throw Error("not a number", Location("--exposure"));
+  if (!(min_transmittance >= 0 && min_transmittance <= 1)) {
+    throw Error("must be in [0, 1]", Location("--min-transmittance"));
+  }
   if (!(min_visibility >= 0 && min_visibility <= 1)) {
     throw Error("must be in [0, 1]", Location("--min-visibility"));
   }

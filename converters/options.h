@@ -18,7 +18,8 @@ struct ConvertOptions {
   std::string images = "png";        // png | jpg | none
   imaging::DisplayOptions display;
   std::string split = "train=1";
-  double min_visibility = 0;  // keep objects with visibility >= this
+  double min_visibility = 0;     // keep objects with visibility >= this
+  double min_transmittance = 0;  // keep objects seen through at least this
   int64_t min_pixels =
       1;  // keep objects with at least this many visible pixels
   std::string

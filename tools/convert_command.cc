@@ -50,6 +50,10 @@ int RunConvert(int argc, char** argv) {
                  options.min_visibility,
                  "drop objects less visible than this")
       ->capture_default_str();
+  app.add_option("--min-transmittance",
+                 options.min_transmittance,
+                 "drop objects whose atmospheric transmittance is below this")
+      ->capture_default_str();
   app.add_option("--min-pixels",
                  options.min_pixels,
                  "drop objects with fewer visible pixels")

@@ -150,7 +150,8 @@ class SceneEvaluator {
       if (k == "light")
         def.body.CheckKeys({"elevation", "azimuth", "intensity"}, def.symbol);
       if (k == "atmosphere")
-        def.body.CheckKeys({"fog", "fog_density", "density"}, def.symbol);
+        def.body.CheckKeys({"fog", "fog_density", "density", "visibility"},
+                           def.symbol);
       if (k == "skylight") def.body.CheckKeys({"intensity"}, def.symbol);
       if (k == "terrain") {
         def.body.CheckKeys(
@@ -436,8 +437,7 @@ class SceneEvaluator {
       if (const Node n = b.Find("intensity"))
         plan_->sun.intensity = NonNegative(n);
     } else if (def.kind == "atmosphere") {
-      for (const char* key : {"fog", "fogdensity", "density"})
-        if (const Node n = b.Find(key)) plan_->fog_density = NonNegative(n);
+      plan_->fog_density = AtmosphereExtinction(b);
     } else if (def.kind == "skylight") {
       if (const Node n = b.Find("intensity"))
         plan_->skylight_intensity = NonNegative(n);
@@ -446,6 +446,53 @@ class SceneEvaluator {
     } else if (def.kind == "object") {
       EvaluateObject(def);
     }
+  }
+
+  // The atmosphere's extinction coefficient per metre (docs/languages.md,
+  // "Atmosphere"), from one of: `fog` / `fog_density` (per metre), `density`
+  // (the paper's fraction of the range from clear air, 0, to a fog of 100 m
+  // meteorological visibility, 1) or `visibility` (meteorological, metres,
+  // Koschmieder's 2 % contrast: extinction = 3.912 / visibility).
+  double AtmosphereExtinction(const Node& b) {
+    constexpr double kKoschmieder = 3.912;
+    constexpr double kDensestVisibilityM = 100;  // density 1
+    constexpr double kMinVisibilityM = 10;       // anything denser is absurd
+    double extinction = 0;
+    int given = 0;
+    for (const char* key : {"fog", "fogdensity"})
+      if (const Node n = b.Find(key)) {
+        extinction = NonNegative(n);
+        if (extinction > kKoschmieder / kMinVisibilityM)
+          n.Fail("fog is an extinction per metre; " + FormatNumber(extinction) +
+                 " /m means a visibility of " +
+                 FormatNumber(kKoschmieder / extinction) + " m. Use at most " +
+                 FormatNumber(kKoschmieder / kMinVisibilityM) +
+                 " /m, or density (a fraction) or visibility (metres)");
+        ++given;
+      }
+    if (const Node n = b.Find("density")) {
+      const double d = NonNegative(n);
+      if (d > 1)
+        n.Fail(
+            "density is a fraction in [0, 1] (1: a fog of 100 m "
+            "visibility); write 10 % as 0.1");
+      extinction = d * kKoschmieder / kDensestVisibilityM;
+      ++given;
+    }
+    if (const Node n = b.Find("visibility")) {
+      const double v = SampleScalar(n, rng_);
+      if (!(v >= kMinVisibilityM))
+        n.Fail(
+            "visibility is the meteorological visibility in metres, at "
+            "least 10");
+      extinction = kKoschmieder / v;
+      ++given;
+    }
+    if (given > 1)
+      b.Fail(
+          "give one of fog (per metre), density (a fraction) or visibility "
+          "(metres)");
+    return extinction;
   }
 
   double NonNegative(const Node& n) {

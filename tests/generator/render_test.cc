@@ -37,14 +37,18 @@ Rendered Render(const Plan& plan,
   settings.depth_kind = depth_kind;
   PreviousView previous;
   std::optional<WorldState> previous_world;
+  std::optional<RenderScene> previous_scene;
   if (k > 0) {
     previous.frame = &plan.frames[k - 1];
     previous_world = WorldAt(plan, plan.frames[k - 1]);
     previous.world = &*previous_world;
+    previous_scene.emplace(device, plan, assets, *previous_world);
+    previous.scene = &*previous_scene;
   }
   Rendered r{RenderFrame(scene, sky, plan.frames[k], previous, settings), {}};
   uint64_t rays = 0;
-  r.truth = ComputeObjectTruth(scene, plan.frames[k], r.film, plan.fog_density, &rays);
+  r.truth = ComputeObjectTruth(
+      scene, plan.frames[k], r.film, plan.fog_density, &rays);
   return r;
 }
 
@@ -72,7 +76,7 @@ TEST(Render, NadirOverFlatGroundHasDepthAltitudeNormalUpAndZeroHeight) {
       ASSERT_NEAR(F(film, "worldposition", "Z")[i], 0.0, 1e-5);
       ASSERT_EQ(U(film, "classid")[i], 1u);
       ASSERT_EQ(U(film, "instanceid")[i], 1000u);
-      ASSERT_EQ(F(film, "shadow", "Y")[i], 1.f);   // nothing blocks the sun
+      ASSERT_EQ(F(film, "shadow", "Y")[i], 1.f);  // nothing blocks the sun
       // The first frame of a shot has no valid motion: NaN, never 0.5.
       ASSERT_TRUE(std::isnan(F(film, "motion", "X")[i]));
       ASSERT_TRUE(std::isnan(F(film, "motion", "Y")[i]));
@@ -248,6 +252,76 @@ TEST(Render, MotionIsStillForAStillCameraAndMatchesATranslation) {
   EXPECT_GT(entered, 0);
 }
 
+// Whether the segment from `from` to `to` passes through the axis-aligned box
+// (centre, extent) before reaching `to`: the slab test.
+bool SegmentHitsBox(const Eigen::Vector3d& from,
+                    const Eigen::Vector3d& to,
+                    const Eigen::Vector3d& centre,
+                    const Eigen::Vector3d& extent) {
+  double t0 = 0, t1 = 1 - 1e-6;
+  for (int a = 0; a < 3; ++a) {
+    const double d = to[a] - from[a];
+    const double lo = centre[a] - extent[a] / 2, hi = centre[a] + extent[a] / 2;
+    if (std::abs(d) < 1e-12) {
+      if (from[a] < lo || from[a] > hi) return false;
+      continue;
+    }
+    double a0 = (lo - from[a]) / d, a1 = (hi - from[a]) / d;
+    if (a0 > a1) std::swap(a0, a1);
+    t0 = std::max(t0, a0), t1 = std::min(t1, a1);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+TEST(Render, DisoccludedGroundHasNoMotion) {
+  // A tall box; the camera slides sideways, so ground that the box hid in the
+  // previous frame comes into view: NaN there, valid motion elsewhere.
+  Plan plan = FlatPlan(96, 64, 60);
+  const Eigen::Vector3d centre(0, 0, 5), extent(4, 4, 10);
+  plan.objects.push_back(Box("B1", 1, centre, extent));
+  plan.frames[0].cam_from_world = LookAt({-30, 0, 15}, {0, 0, 0});
+  plan.frames.push_back(plan.frames[0]);
+  plan.frames[1].index = 1;
+  plan.frames[1].cam_from_world = LookAt({-30, 6, 15}, {0, 6, 0});
+  const Film film = Render(plan, 1).film;
+  const Eigen::Vector3d previous_eye(-30, 0, 15);
+  const PinholeCamera& camera = plan.frames[0].camera;
+  int64_t disoccluded = 0, valid = 0;
+  for (size_t p = 0; p < film.centre_sample.size(); ++p) {
+    if (U(film, "instanceid")[p] != 1000) continue;  // ground only
+    const Eigen::Vector3d point(F(film, "worldposition", "X")[p],
+                                F(film, "worldposition", "Y")[p],
+                                F(film, "worldposition", "Z")[p]);
+    const Eigen::Vector3d in_previous = plan.frames[0].cam_from_world * point;
+    const Eigen::Vector2d before = camera.ImageFromCam(in_previous);
+    // Points near the previous image border are left out (sample jitter).
+    if (!(before.x() > 1 && before.x() < camera.width - 1 && before.y() > 1 &&
+          before.y() < camera.height - 1))
+      continue;
+    const bool hidden = SegmentHitsBox(previous_eye, point, centre, extent);
+    const bool nan = std::isnan(F(film, "motion", "X")[p]);
+    EXPECT_EQ(nan, hidden) << "pixel " << p << " at " << point.transpose();
+    EXPECT_EQ(nan, std::isnan(F(film, "motion", "Y")[p]));
+    hidden ? ++disoccluded : ++valid;
+  }
+  EXPECT_GT(disoccluded, 20);
+  EXPECT_GT(valid, 1000);
+}
+
+TEST(Render, TransmittanceIsTheFogsExtinctionOverTheDistance) {
+  Plan plan = FlatPlan();
+  plan.fog_density = 0.015;  // per metre
+  plan.objects.push_back(Box("B1", 1, {1, 2, 1}, {2, 2, 2}));
+  plan.frames[0].cam_from_world = Nadir({0, 0, 30});
+  const Rendered r = Render(plan, 0);
+  ASSERT_EQ(r.truth.size(), 1u);
+  ASSERT_TRUE(r.truth[0].transmittance.has_value());
+  const double distance =
+      (Eigen::Vector3d(1, 2, 1) - Eigen::Vector3d(0, 0, 30)).norm();
+  EXPECT_NEAR(*r.truth[0].transmittance, std::exp(-0.015 * distance), 1e-12);
+}
+
 TEST(Render, MovingObjectHasItsOwnMotion) {
   const double h = 20;
   Plan plan = FlatPlan(64, 64, 50);
@@ -331,10 +405,10 @@ TEST(Render, SameSeedGivesIdenticalFilmsAndThreadsDoNotMatter) {
       // Bitwise, so that NaN (no valid motion) compares equal to itself.
       const auto& other = b.flat.at(name).Get(c.name).floats;
       ASSERT_EQ(c.floats.size(), other.size()) << name;
-      EXPECT_EQ(std::memcmp(c.floats.data(),
-                            other.data(),
-                            c.floats.size() * sizeof(float)),
-                0)
+      EXPECT_EQ(
+          std::memcmp(
+              c.floats.data(), other.data(), c.floats.size() * sizeof(float)),
+          0)
           << name;
       EXPECT_EQ(c.uints, b.flat.at(name).Get(c.name).uints) << name;
     }

@@ -4,9 +4,13 @@
 // `lsds validate --fail-on warning`, the way a team gates training in CI.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <regex>
 #include <sstream>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "../test_util.h"
 
@@ -170,6 +174,66 @@ TEST(TruthGate, FramesPastTheEndAreAnErrorNotAnEmptyCollection) {
   EXPECT_NE(result.output.find("no frame to render"), std::string::npos)
       << result.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+TEST(TruthGate, FogTransmittanceIsTruthAndConvertFiltersOnIt) {
+  TempDir dir;
+  WriteText(dir / "s.lscene",
+            "LSCENE = ONE(W) ONE(A) MANY(O, 12)\n"
+            "W = terrain{size:[300,300]}\nA = atmosphere{visibility:400}\n"
+            "O = object{class:cube,extent:[3,3,3],position:{ON:W,within:"
+            "[[-100,-100,-100],[100,100,100]]}}\n");
+  WriteText(dir / "c.lcap",
+            "LCAP = ONE(CO) ONE(P)\n"
+            "CO = camera{csettings:{fov:90,res:[160,120]}}\n"
+            "P = path{waypoints:[[0,0,60],[0,-80,40,0,-20,0],"
+            "[0,80,40,0,-20,180]]}\n");
+  const auto result = GenerateAndValidate(
+      dir, (dir / "s.lscene").string(), (dir / "c.lcap").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::ifstream in(dir / "collection" / "collection.json");
+  const auto collection = nlohmann::json::parse(in);
+  const double extinction =
+      collection["frames"][0]["scene"]["atmosphere"]["extinction_per_m"];
+  EXPECT_NEAR(extinction, 3.912 / 400, 1e-12);
+  int64_t clear = 0, hazy = 0;
+  for (const auto& frame : collection["frames"]) {
+    const auto& rotation = frame["camera"]["cam_from_world"]["rotation"];
+    const auto& translation = frame["camera"]["cam_from_world"]["translation"];
+    Eigen::Matrix3d r;
+    Eigen::Vector3d t;
+    for (int i = 0; i < 3; ++i) {
+      t[i] = translation[i];
+      for (int j = 0; j < 3; ++j) r(i, j) = rotation[i][j];
+    }
+    const Eigen::Vector3d eye = -r.transpose() * t;
+    for (const auto& object : frame["objects"]) {
+      const Eigen::Vector3d centre(object["obb"]["center"][0],
+                                   object["obb"]["center"][1],
+                                   object["obb"]["center"][2]);
+      const double expected = std::exp(-extinction * (centre - eye).norm());
+      EXPECT_NEAR(object["transmittance"].get<double>(), expected, 1e-9);
+      if (object["visible_pixels"].get<int64_t>() == 0) continue;
+      (expected >= 0.45 ? clear : hazy) += 1;
+    }
+  }
+  ASSERT_GT(clear, 0);
+  ASSERT_GT(hazy, 0);
+  const auto converted = RunCommandLine(
+      LsdsBinary() + " convert " + (dir / "collection").string() +
+      " --to coco --images none --min-transmittance 0.45 -o " +
+      (dir / "coco").string());
+  ASSERT_EQ(converted.exit_code, 0) << converted.output;
+  int64_t annotations = 0;
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(dir / "coco")) {
+    if (entry.path().extension() != ".json" ||
+        entry.path().filename().string().rfind("instances", 0) != 0)
+      continue;
+    std::ifstream coco(entry.path());
+    annotations += nlohmann::json::parse(coco)["annotations"].size();
+  }
+  EXPECT_EQ(annotations, clear);
 }
 
 }  // namespace

@@ -28,7 +28,8 @@ const std::vector<std::string> kSettingsKeys = {"fov",
                                                 "focal_length",
                                                 "sensor_width",
                                                 "fps",
-                                                "clearance"};
+                                                "clearance",
+                                                "heights"};
 
 // Default minimum clearance of a camera above the terrain and objects
 // (docs/languages.md, "Cameras where a drone can be").
@@ -190,6 +191,14 @@ class CaptureEvaluator {
       if (const Node f = settings.Find("fps")) {
         fps_ = ReadNumber(f);
         if (fps_ <= 0) f.Fail("fps must be > 0");
+      }
+      if (const Node h = settings.Find("heights")) {
+        const std::string v = ReadString(h);
+        if (v != "agl" && v != "datum")
+          h.Fail(
+              "heights is agl (above the terrain) or datum (world z), not '" +
+              v + "'");
+        heights_agl_ = v == "agl";
       }
       if (const Node c = settings.Find("clearance")) {
         if (c->is_string() && ReadString(c) == "off") {
@@ -593,7 +602,7 @@ class CaptureEvaluator {
           v.push_back(SampleScalar(w.Item(j), rng));
         const Attitude att =
             v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
-        return CamFromEnu({v[0], v[1], v[2]}, att);
+        return CamFromEnu(Datum({v[0], v[1], v[2]}), att);
       }
       w.CheckKeys({"position", "attitude", "look_at"}, "waypoint");
       return PointPose(w, rng);
@@ -621,10 +630,17 @@ class CaptureEvaluator {
 
   // {position, rotation|attitude: [roll,pitch,yaw] | look_at: [x,y,z] or an
   // object}
+  // A waypoint or point position in the world frame: with camera settings
+  // `heights:agl`, its z is above the terrain under it.
+  Eigen::Vector3d Datum(Eigen::Vector3d p) const {
+    if (heights_agl_) p.z() += TerrainHeight(plan_->terrain, p.x(), p.y());
+    return p;
+  }
+
   Rigid3d PointPose(const Node& g, Rng& rng) const {
     const Node pos = g.Find("position");
     if (!pos) g.Fail("expected a position");
-    const Eigen::Vector3d p = SampleVec3(pos, rng);
+    const Eigen::Vector3d p = Datum(SampleVec3(pos, rng));
     if (const Node l = g.Find("lookat")) return LookAt(p, Point(l, rng));
     Attitude att{0, -90, 0};
     Node r = g.Find("rotation");
@@ -805,6 +821,7 @@ class CaptureEvaluator {
   PinholeCamera camera_model_;
   double fps_ = 10;
   std::optional<double> clearance_ = kDefaultClearanceM;
+  bool heights_agl_ = false;  // waypoint and point z above the terrain
   std::vector<Segment> segments_;
   std::vector<Rule> rules_;
 };

@@ -447,7 +447,6 @@ TEST(LangPlan, TerrainHeightIsBoundedAndDeterministic) {
             0.0);  // lattice points of the noise are zero
 }
 
-
 // --- The truth gate (issue: every capture yields a collection that passes) ---
 
 namespace gate {
@@ -524,6 +523,24 @@ TEST(LangGate, AnUndergroundCameraIsAPlanErrorNamingPathAndPose) {
           low_orbit,
       3);
   EXPECT_EQ(plan.frames.size(), 8u);
+}
+
+TEST(LangGate, WaypointHeightsAboveGroundFollowTheTerrain) {
+  const std::string capture =
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{heights:agl}}\n"
+      "P = path{waypoints:[[-10,3,12],[0,0,12],{position:[7,-4,20]}]}\n";
+  const Plan plan = PlanText(kHills, capture, 11);
+  ASSERT_EQ(plan.frames.size(), 3u);
+  const std::vector<Eigen::Vector3d> asked = {
+      {-10, 3, 12}, {0, 0, 12}, {7, -4, 20}};
+  for (size_t k = 0; k < 3; ++k) {
+    const Eigen::Vector3d eye =
+        CameraCenterInWorld(plan.frames[k].cam_from_world);
+    EXPECT_NEAR(eye.z() - TerrainHeight(plan.terrain, eye.x(), eye.y()),
+                asked[k].z(),
+                1e-9);
+    EXPECT_NEAR(eye.x(), asked[k].x(), 1e-9);
+  }
 }
 
 TEST(LangGate, CountIntervalsAreDrawnFromTheSeed) {

@@ -1,5 +1,6 @@
 #include "generator/generate.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -215,9 +216,19 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   if (!plan.post_process.empty())
     header.provenance.render["post_process"] = plan.post_process;
   header.classes = plan.classes;
+  // Capture Settings `layers` choose the layers written (rgb always); the
+  // table keeps the standard order.
+  const nlohmann::json& asked =
+      plan.capture_settings.value("layers", nlohmann::json());
   for (const std::string& semantic : StandardLayerSemantics()) {
-    header.layers.push_back(StandardLayer(semantic, options.depth_kind));
+    const bool wanted =
+        !asked.is_array() || semantic == "rgb" ||
+        std::find(asked.begin(), asked.end(), semantic) != asked.end();
+    if (wanted)
+      header.layers.push_back(StandardLayer(semantic, options.depth_kind));
   }
+  if (!plan.capture_settings.empty())
+    header.provenance.render["capture_settings"] = plan.capture_settings;
   header.metadata = {
       {kMetadataFile, false, "measured metadata; equal to truth"}};
   return header;
@@ -254,6 +265,8 @@ GenerateSummary GenerateCollection(const Plan& plan,
   const CollectionHeader base_header = MakeHeader(plan, options);
   nlohmann::json settings = RenderSettingsJson(options);
   settings["seed"] = plan.seed;
+  if (!plan.capture_settings.empty())
+    settings["capture_settings"] = plan.capture_settings;
   PrepareOutput(options, settings);
   const fs::path& root = options.output;
   for (const LayerInfo& layer : base_header.layers)
@@ -262,6 +275,7 @@ GenerateSummary GenerateCollection(const Plan& plan,
   RenderSettings render;
   render.sampler = {options.spp, options.jitter, plan.seed};
   render.depth_kind = options.depth_kind;
+  render.bundle = base_header.FindLayerBySemantic("bundle") != nullptr;
   GenerateSummary summary;
   EmbreeDevice device;
   std::unique_ptr<RenderScene> scene, previous_scene;

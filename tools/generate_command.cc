@@ -54,8 +54,10 @@ int RunGenerate(int argc, char** argv) {
   int demo_frames = 24;
   app.add_option("SCENE", scene, "LSCENE file (text or JSON)");
   app.add_option("CAPTURE", capture, "LCAP file (text or JSON)");
-  app.add_option("-o,--output", options.output, "output collection folder")
-      ->required();
+  app.add_option("-o,--output",
+                 options.output,
+                 "output collection folder (default: the capture's Capture "
+                 "Settings folder)");
   app.add_option(
       "--seed", seed, "random seed of the plan and of the sampler (default 0)");
   app.add_option(
@@ -124,6 +126,17 @@ int RunGenerate(int argc, char** argv) {
                                 seed.value_or(0),
                                 options.first_frame,
                                 options.last_frame);
+    }
+    if (options.output.empty()) {
+      // LCAP Capture Settings may name the output folder (relative to the
+      // current directory); -o wins when both are given.
+      const std::string folder =
+          plan.capture_settings.value("folder", std::string());
+      if (folder.empty())
+        throw Error(
+            "no output folder: give -o OUT (or a Capture Settings "
+            "folder in the LCAP camera)");
+      options.output = folder;
     }
     const gen::GenerateSummary summary = gen::GenerateCollection(plan, options);
     if (!quiet) {

@@ -478,11 +478,15 @@ void Validator::CheckStatistics() {
   }
   int64_t most = 0, least = -1;
   std::string most_name, least_name;
+  const bool has_classid_layer =
+      header_.FindLayerBySemantic("classid") != nullptr;
   for (size_t k = 0; k < header_.classes.size(); ++k) {
     const ClassInfo& c = header_.classes[k];
     const auto it = objects_per_class_.find(c.id);
     const int64_t n = it == objects_per_class_.end() ? 0 : it->second;
-    if (n == 0 && pixel_classes_.count(c.id) == 0) {
+    // Without a classid layer, pixels cannot tell whether a class without
+    // objects (the terrain) is drawn: only what is declared is checked.
+    if (n == 0 && pixel_classes_.count(c.id) == 0 && has_classid_layer) {
       Emit("stats.class-unused",
            Json(kCollectionFile, "/classes/" + std::to_string(k)),
            "class " + std::to_string(c.id) + " '" + c.name +

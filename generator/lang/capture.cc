@@ -221,7 +221,29 @@ class CaptureEvaluator {
     for (const char* key : {"capture", "capturesettings"}) {
       if (const Node n = b.Find(key)) {
         n.CheckKeys({"layers", "output", "folder"}, "capture settings");
-        plan_->capture_settings = nlohmann::json::parse(n->dump());
+        plan_->capture_settings = nlohmann::json::object();
+        if (const Node layers = n.Find("layers")) {
+          if (!layers->is_array() || layers->empty())
+            layers.Fail("layers is a list of layer names, e.g. [rgb,depth]");
+          std::vector<std::string> names;
+          const auto& known = StandardLayerSemantics();
+          for (size_t i = 0; i < layers->size(); ++i) {
+            const std::string name = ReadString(layers.Item(i));
+            if (std::find(known.begin(), known.end(), name) == known.end())
+              layers.Item(i).Fail("unknown layer '" + name + "'" +
+                                  DidYouMean(name, known) +
+                                  "; layers: " + Join(known, ", "));
+            if (std::find(names.begin(), names.end(), name) == names.end())
+              names.push_back(name);
+          }
+          plan_->capture_settings["layers"] = names;
+        }
+        for (const char* folder_key : {"folder", "output"})
+          if (const Node f = n.Find(folder_key)) {
+            const std::string folder = ReadString(f);
+            if (folder.empty()) f.Fail("the output folder name is empty");
+            plan_->capture_settings["folder"] = folder;
+          }
       }
     }
   }

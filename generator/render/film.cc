@@ -4,7 +4,7 @@
 
 namespace lsds::gen {
 
-Film Film::Make(int width, int height, int spp) {
+Film Film::Make(int width, int height, int spp, bool with_bundle) {
   Film film;
   for (const std::string& semantic : StandardLayerSemantics()) {
     const LayerInfo layer = StandardLayer(semantic);
@@ -16,13 +16,14 @@ Film Film::Make(int width, int height, int spp) {
     }
     film.flat.emplace(semantic, std::move(image));
   }
+  film.centre_sample.resize(static_cast<size_t>(width) * height);
+  if (!with_bundle) return film;
   film.bundle = exr::DeepImage(
       width,
       height,
       std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
   for (const LayerChannel& c : StandardLayer("bundle").channels)
     film.bundle.AddChannel(c.name, c.type);
-  film.centre_sample.resize(static_cast<size_t>(width) * height);
   return film;
 }
 

@@ -24,7 +24,8 @@ struct Film {
 
   // The film for `semantics` (flat channels from StandardLayer) at the given
   // size and samples.
-  static Film Make(int width, int height, int spp);
+  // Without `with_bundle` the bundle stays empty (0 x 0).
+  static Film Make(int width, int height, int spp, bool with_bundle = true);
 };
 
 }  // namespace lsds::gen

@@ -159,7 +159,7 @@ Film RenderFrame(const RenderScene& scene,
   }
   const int width = camera.width, height = camera.height,
             spp = settings.sampler.spp;
-  Film film = Film::Make(width, height, spp);
+  Film film = Film::Make(width, height, spp, settings.bundle);
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
   const Eigen::Vector3d centre = CameraCenterInWorld(frame.cam_from_world);
@@ -182,15 +182,20 @@ Film RenderFrame(const RenderScene& scene,
   float* shadow = ch("shadow", "Y")->floats.data();
   float* motion[2] = {ch("motion", "X")->floats.data(),
                       ch("motion", "Y")->floats.data()};
+  // The bundle is written only when the capture asks for it (null: skip).
   exr::DeepImage& bundle = film.bundle;
-  uint32_t* b_instance = bundle.Get("instanceid").uints.data();
-  uint32_t* b_class = bundle.Get("classid").uints.data();
-  float* b_z = bundle.Get("Z").floats.data();
-  float* b_n[3] = {bundle.Get("NX").floats.data(),
-                   bundle.Get("NY").floats.data(),
-                   bundle.Get("NZ").floats.data()};
-  float* b_s[2] = {bundle.Get("SX").floats.data(),
-                   bundle.Get("SY").floats.data()};
+  const bool with_bundle = settings.bundle;
+  auto u = [&](const char* c) {
+    return with_bundle ? bundle.Get(c).uints.data() : nullptr;
+  };
+  auto f = [&](const char* c) {
+    return with_bundle ? bundle.Get(c).floats.data() : nullptr;
+  };
+  uint32_t* b_instance = u("instanceid");
+  uint32_t* b_class = u("classid");
+  float* b_z = f("Z");
+  float* b_n[3] = {f("NX"), f("NY"), f("NZ")};
+  float* b_s[2] = {f("SX"), f("SY")};
 
   std::atomic<uint64_t> total_rays{0};
   const int tile = settings.tile_size;
@@ -216,14 +221,11 @@ Film RenderFrame(const RenderScene& scene,
               Eigen::Vector3f radiance;
               float shadow_ratio = 1.f;
               const size_t b = static_cast<size_t>(pixel) * spp + k;
-              b_s[0][b] = static_cast<float>(samples[k].x() -
-                                             x);  // inside the pixel, [0, 1)
-              b_s[1][b] = static_cast<float>(samples[k].y() - y);
               double z_value = kInf;
+              uint32_t sample_instance = 0, sample_class = 0;
+              Eigen::Vector3f sample_normal = Eigen::Vector3f::Zero();
               if (!hit.hit) {
                 radiance = sky.Radiance(direction.normalized());
-                b_instance[b] = b_class[b] = 0;
-                for (int a = 0; a < 3; ++a) b_n[a][b] = 0.f;
               } else {
                 const Surface& s = scene.surface(hit.geom);
                 const Eigen::Vector3f albedo = Albedo(
@@ -258,23 +260,29 @@ Film RenderFrame(const RenderScene& scene,
                 }
                 z_value = settings.depth_kind == DepthKind::kPlanar ? hit.t
                                                                     : distance;
-                b_instance[b] = s.instance_id;
-                b_class[b] = s.class_id;
-                for (int a = 0; a < 3; ++a)
-                  b_n[a][b] = static_cast<float>(hit.normal[a]);
+                sample_instance = s.instance_id;
+                sample_class = s.class_id;
+                sample_normal = hit.normal.cast<float>();
               }
-              b_z[b] = static_cast<float>(z_value);
+              if (with_bundle) {
+                b_s[0][b] = static_cast<float>(samples[k].x() - x);  // [0, 1)
+                b_s[1][b] = static_cast<float>(samples[k].y() - y);
+                b_instance[b] = sample_instance;
+                b_class[b] = sample_class;
+                for (int a = 0; a < 3; ++a) b_n[a][b] = sample_normal[a];
+                b_z[b] = static_cast<float>(z_value);
+              }
               sum += radiance;
               if (k != 0) continue;
               // The flat truth layers: the single, non-mixed value of the
               // centre sample.
               film.centre_sample[pixel] = samples[0].cast<float>();
-              class_id[pixel] = b_class[b];
-              instance_id[pixel] = b_instance[b];
+              class_id[pixel] = sample_class;
+              instance_id[pixel] = sample_instance;
               depth[pixel] = static_cast<float>(z_value);
               shadow[pixel] = shadow_ratio;
               for (int a = 0; a < 3; ++a) {
-                normal[a][pixel] = b_n[a][b];
+                normal[a][pixel] = sample_normal[a];
                 position[a][pixel] =
                     hit.hit ? static_cast<float>(hit.point[a]) : kInf;
               }

@@ -19,6 +19,7 @@ struct RenderSettings {
   SamplerSettings sampler;
   DepthKind depth_kind = DepthKind::kPlanar;
   int tile_size = 16;
+  bool bundle = true;  // fill the film's pixel bundle (the deep layer)
 };
 
 // The previous frame of the same shot, for motion vectors (absent on a shot's

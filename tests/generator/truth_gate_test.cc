@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include <Eigen/Core>
@@ -174,6 +175,45 @@ TEST(TruthGate, FramesPastTheEndAreAnErrorNotAnEmptyCollection) {
   EXPECT_NE(result.output.find("no frame to render"), std::string::npos)
       << result.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+TEST(TruthGate, CaptureSettingsChooseTheLayersAndTheFolder) {
+  TempDir dir;
+  WriteText(dir / "s.lscene", kScene);
+  WriteText(dir / "c.lcap",
+            "LCAP = ONE(CO) ONE(P)\n"
+            "CO = camera{csettings:{res:[160,120]},targets:[O1,O2],"
+            "capture:{layers:[rgb,depth,instanceid],folder:survey_a}}\n"
+            "P = path{waypoints:[[0,0,30],[1,0,30]]}\n");
+  const auto generated =
+      RunCommandLine("cd " + dir.path().string() + " && " + LsdsBinary() +
+                     " generate s.lscene c.lcap --spp 1 -q");
+  ASSERT_EQ(generated.exit_code, 0) << generated.output;
+  const std::filesystem::path out = dir / "survey_a";
+  std::set<std::string> folders;
+  for (const auto& entry : std::filesystem::directory_iterator(out))
+    if (entry.is_directory()) folders.insert(entry.path().filename().string());
+  EXPECT_EQ(folders, (std::set<std::string>{"rgb", "depth", "instanceid"}));
+  std::ifstream in(out / "collection.json");
+  const auto collection = nlohmann::json::parse(in);
+  EXPECT_EQ(collection["layers"].size(), 3u);
+  EXPECT_EQ(collection["provenance"]["render"]["capture_settings"]["layers"],
+            nlohmann::json({"rgb", "depth", "instanceid"}));
+  const auto validated = RunCommandLine(LsdsBinary() + " validate " +
+                                        out.string() + " --fail-on warning");
+  EXPECT_EQ(validated.exit_code, 0) << validated.output;
+  // An unknown layer is a located error with a suggestion.
+  WriteText(dir / "bad.lcap",
+            "LCAP = ONE(CO) ONE(P)\n"
+            "CO = camera{capture:{layers:[rgb,dept]}}\n"
+            "P = path{waypoints:[[0,0,30]]}\n");
+  const auto bad =
+      RunCommandLine(LsdsBinary() + " plan " + (dir / "s.lscene").string() +
+                     " " + (dir / "bad.lcap").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("bad.lcap:2:"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("did you mean 'depth'"), std::string::npos)
+      << bad.output;
 }
 
 TEST(TruthGate, FogTransmittanceIsTruthAndConvertFiltersOnIt) {

@@ -7,6 +7,7 @@
 #include <set>
 #include <tuple>
 
+#include "generator/lang/environment.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/geometry/attitude.h"
 #include "libs/util/strings.h"
@@ -81,9 +82,10 @@ struct Segment {
 };
 
 struct Rule {
-  std::string object_symbol;
-  Node block;   // the change keys
-  Node timing;  // for messages
+  std::string object_symbol;     // the object, or the environment symbol
+  std::string environment_kind;  // skybox, light, ...: an environment change
+  Node block;                    // the change keys
+  Node timing;                   // for messages
   bool during = false;
   int64_t begin = 0;  // first frame in effect
   int64_t end =
@@ -463,6 +465,27 @@ class CaptureEvaluator {
                 const std::string& where) {
     std::vector<std::string> keys = kChangeKeys;
     keys.insert(keys.end(), kTimingKeys.begin(), kTimingKeys.end());
+    const auto environment = environment_symbols_.find(object);
+    if (environment != environment_symbols_.end()) {
+      // Any LSCENE function of the sky, light, atmosphere, skylight or
+      // terrain material, as in the scene (docs/languages.md).
+      std::vector<std::string> env_keys =
+          EnvironmentKeys(environment->second, true);
+      env_keys.insert(env_keys.end(), kTimingKeys.begin(), kTimingKeys.end());
+      block.CheckKeys(env_keys, where);
+      Rule rule;
+      rule.object_symbol = object;
+      rule.environment_kind = environment->second;
+      rule.block = block;
+      rule.timing = timing_block;
+      rule.id = rules_.size() + 1;
+      Timing(timing_block, &rule);
+      Rng probe(0);  // bad values are reported now, not on some frame
+      PlannedEnvironment scratch = EnvironmentOf(*plan_);
+      ApplyEnvironment(rule.environment_kind, block, probe, &scratch);
+      rules_.push_back(rule);
+      return;
+    }
     block.CheckKeys(keys, where);
     if (!HasObject(object)) {
       std::vector<std::string> names(scene_symbols_.begin(),
@@ -701,6 +724,12 @@ class CaptureEvaluator {
                          StreamTag::kChange,
                          rule.id,
                          static_cast<uint64_t>(rule.begin));
+      if (!rule.environment_kind.empty()) {
+        if (!f.environment) f.environment = EnvironmentOf(*plan_);
+        ApplyEnvironment(
+            rule.environment_kind, rule.block, change_rng, &*f.environment);
+        continue;
+      }
       for (const PlannedObject& o : plan_->objects)
         if (o.symbol == rule.object_symbol) {
           f.changes.push_back(Change(rule, o, change_rng));
@@ -833,6 +862,7 @@ class CaptureEvaluator {
 
  public:
   std::set<std::string> scene_symbols_;
+  std::map<std::string, std::string> environment_symbols_;  // symbol -> kind
   std::string first_target_;
 
  private:
@@ -901,7 +931,10 @@ void EvaluateCapture(const Program& capture,
                      Plan* plan) {
   CaptureEvaluator evaluator(capture, seed, plan);
   for (const Definition& d : scene.definitions)
-    if (d.kind == "object") evaluator.scene_symbols_.insert(d.symbol);
+    if (d.kind == "object")
+      evaluator.scene_symbols_.insert(d.symbol);
+    else if (IsEnvironmentKind(d.kind))
+      evaluator.environment_symbols_[d.symbol] = d.kind;
   for (const Definition& d : capture.definitions)
     if (d.kind == "camera")
       if (const Node t = d.body.Find("targets");

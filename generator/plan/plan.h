@@ -32,6 +32,17 @@ struct PlannedSun {
   double intensity = 3.0;       // irradiance scale
 };
 
+// The scene's environment: what LSCENE's sky, light, atmosphere, skylight and
+// terrain material set, and what LCAP scene changes may change per frame.
+struct PlannedEnvironment {
+  PlannedSky sky;
+  PlannedSun sun;
+  double fog_density = 0.0;         // extinction per metre
+  double skylight_intensity = 0.3;  // ambient
+  std::string terrain_material = "grassy";
+  bool operator==(const PlannedEnvironment& o) const;
+};
+
 struct PlannedTerrain {
   bool present = false;
   Eigen::Vector2d size = {
@@ -97,6 +108,9 @@ struct PlannedFrame {
   Rigid3d cam_from_world;
   std::vector<ObjectChange>
       changes;  // applied in order on top of the world's objects
+  // The environment in effect when LCAP changes it (sky, sun, atmosphere,
+  // skylight, terrain material); absent: the plan's.
+  std::optional<PlannedEnvironment> environment;
 };
 
 struct Plan {
@@ -117,5 +131,11 @@ struct Plan {
   nlohmann::json capture_settings = nlohmann::json::object();
   std::vector<PlannedFrame> frames;
 };
+
+// The plan's own environment, and the one in effect on `frame`.
+PlannedEnvironment EnvironmentOf(const Plan& plan);
+PlannedEnvironment EnvironmentAt(const Plan& plan, const PlannedFrame& frame);
+// Writes `environment` back into the plan's own fields.
+void SetEnvironment(const PlannedEnvironment& environment, Plan* plan);
 
 }  // namespace lsds

@@ -18,6 +18,7 @@
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
 #include "generator/render/truth.h"
+#include "generator/survey.h"
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
@@ -219,6 +220,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   if (!plan.post_process.empty())
     header.provenance.render["post_process"] = plan.post_process;
   header.classes = plan.classes;
+  header.conventions.geo_origin = plan.geo;
   // Capture Settings `layers` choose the layers written (rgb always); the
   // table keeps the standard order.
   const nlohmann::json& asked =
@@ -383,8 +385,11 @@ GenerateSummary GenerateCollection(const Plan& plan,
   CollectionBuilder builder(root, header);
   for (size_t k : selected) {
     const fs::path part = TruthPartPath(root, plan.frames[k].index);
-    builder.Append(FrameFromJson(
-        nlohmann::json::parse(ReadFile(part)), part.string(), ""));
+    const Frame truth =
+        FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
+    MetadataFrame metadata = TruthMetadata(truth, header.conventions.world);
+    AddSurveyMetadata(plan, plan.frames[k], &metadata);
+    builder.Append(truth, metadata);
   }
   builder.Commit();
   fs::remove_all(root / kWorkFolder);

@@ -17,6 +17,7 @@ packages=(
   libceres-dev                      # camera-geometry checks
   libembree-dev libtbb-dev          # reference renderer, parallelism
   libassimp-dev                     # mesh assets
+  libgeographiclib-dev              # WGS84 <-> local ENU (geo-referenced scenes)
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus script
 )

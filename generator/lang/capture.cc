@@ -483,6 +483,10 @@ class CaptureEvaluator {
       Rng probe(0);  // bad values are reported now, not on some frame
       PlannedEnvironment scratch = EnvironmentOf(*plan_);
       ApplyEnvironment(rule.environment_kind, block, probe, &scratch);
+      if (scratch.sun.clock_utc_s && !plan_->geo)
+        block.Fail(
+            "a sun given by date and time needs a place: add a "
+            "georeference{latitude, longitude, altitude} to the scene");
       rules_.push_back(rule);
       return;
     }
@@ -737,6 +741,15 @@ class CaptureEvaluator {
         }
     }
     KeepPlacement(change_rules, &f);
+    // A sun given by date and time moves with the frame's time.
+    if (plan_->geo) {
+      PlannedEnvironment environment = EnvironmentAt(*plan_, f);
+      if (environment.sun.clock_utc_s) {
+        PlaceSun(*plan_->geo, f.time, &environment.sun);
+        if (!(environment == EnvironmentOf(*plan_)))
+          f.environment = environment;
+      }
+    }
     return f;
   }
 

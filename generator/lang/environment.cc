@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
+#include "libs/geometry/solar_position.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
@@ -109,6 +111,57 @@ double AtmosphereExtinction(const Node& b, Rng& rng) {
   return extinction;
 }
 
+// `date:"2026-06-21"`, `time:"14:30"` (or "14:30:15"), `utc_offset:2`: the sun
+// by date and local time. A time alone keeps the date of the clock in force.
+void SunClock(const Node& b, Rng& rng, PlannedSun* sun) {
+  const Node date = b.Find("date"), time = b.Find("time"),
+             offset = b.Find("utcoffset");
+  if (!date && !time && !offset) return;
+  if (offset) {
+    sun->utc_offset_h = SampleScalar(offset, rng);
+    if (std::abs(sun->utc_offset_h) > 14)
+      offset.Fail("utc_offset is in hours, within [-14, 14]");
+  }
+  int year = 0, month = 0, day = 0;
+  if (date) {
+    const std::string text = SampleString(date, rng);
+    if (std::sscanf(text.c_str(), "%d-%d-%d", &year, &month, &day) != 3 ||
+        month < 1 || month > 12 || day < 1 || day > 31)
+      date.Fail("date is \"YYYY-MM-DD\", not '" + text + "'");
+  } else if (sun->clock_utc_s) {
+    // The local date of the clock in force.
+    const double local_days =
+        std::floor((*sun->clock_utc_s + sun->utc_offset_h * 3600) / 86400);
+    int y = 1970, m = 1, d = 1;
+    // Civil from days (Howard Hinnant's algorithm).
+    int64_t z = static_cast<int64_t>(local_days) + 719468;
+    const int64_t era = (z >= 0 ? z : z - 146096) / 146097;
+    const int64_t doe = z - era * 146097;
+    const int64_t yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    const int64_t doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    const int64_t mp = (5 * doy + 2) / 153;
+    d = static_cast<int>(doy - (153 * mp + 2) / 5 + 1);
+    m = static_cast<int>(mp < 10 ? mp + 3 : mp - 9);
+    y = static_cast<int>(yoe + era * 400 + (m <= 2 ? 1 : 0));
+    year = y, month = m, day = d;
+  } else {
+    (time ? time : offset).Fail("a sun by local time needs a date too");
+  }
+  int hour = 12, minute = 0;
+  double second = 0;
+  if (time) {
+    const std::string text = SampleString(time, rng);
+    const int n =
+        std::sscanf(text.c_str(), "%d:%d:%lf", &hour, &minute, &second);
+    if (n < 2 || hour < 0 || hour > 24 || minute < 0 || minute > 59 ||
+        second < 0 || second >= 61)
+      time.Fail("time is \"HH:MM\" or \"HH:MM:SS\" (local), not '" + text +
+                "'");
+  }
+  sun->clock_utc_s =
+      UnixSeconds(year, month, day, hour, minute, second, sun->utc_offset_h);
+}
+
 }  // namespace
 
 bool IsEnvironmentKind(const std::string& kind) {
@@ -121,7 +174,8 @@ const std::vector<std::string>& EnvironmentKeys(const std::string& kind,
   static const std::map<std::string, std::vector<std::string>> kKeys = {
       {"skybox",
        {"color", "clouds", "cloud_type", "cloud_density", "intensity"}},
-      {"light", {"elevation", "azimuth", "intensity"}},
+      {"light",
+       {"elevation", "azimuth", "intensity", "date", "time", "utc_offset"}},
       {"atmosphere", {"fog", "fog_density", "density", "visibility"}},
       {"skylight", {"intensity"}},
       {"terrain",
@@ -151,6 +205,7 @@ void ApplyEnvironment(const std::string& kind,
     if (const Node n = b.Find("intensity"))
       env->sky.intensity = NonNegative(n, rng);
   } else if (kind == "light") {
+    SunClock(b, rng, &env->sun);
     if (const Node n = b.Find("elevation")) {
       env->sun.elevation_deg = SampleScalar(n, rng);
       if (std::abs(env->sun.elevation_deg) > 90)
@@ -169,6 +224,14 @@ void ApplyEnvironment(const std::string& kind,
     if (const Node m = b.Find("material"))
       env->terrain_material = SampleString(m, rng);
   }
+}
+
+void PlaceSun(const GeoOrigin& geo, double time_s, PlannedSun* sun) {
+  if (!sun->clock_utc_s) return;
+  const SolarPosition at = SunPositionAt(
+      *sun->clock_utc_s + time_s, geo.latitude_deg, geo.longitude_deg);
+  sun->azimuth_deg = at.azimuth_deg;
+  sun->elevation_deg = at.elevation_deg;
 }
 
 }  // namespace lsds

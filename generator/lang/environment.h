@@ -28,4 +28,8 @@ void ApplyEnvironment(const std::string& kind,
                       Rng& rng,
                       PlannedEnvironment* environment);
 
+// A sun given by date and time (`clock_utc_s`) gets the solar position of
+// `geo` at `time_s` seconds after capture time 0; otherwise nothing changes.
+void PlaceSun(const GeoOrigin& geo, double time_s, PlannedSun* sun);
+
 }  // namespace lsds

@@ -125,6 +125,19 @@ class SceneEvaluator {
     Check();
     AssignClassIds();
     for (const Definition& def : scene_.definitions) Evaluate(def);
+    // A sun by date and time needs a place; its position at capture time 0
+    // is the plan's own (each frame gets its own in the capture).
+    if (plan_->sun.clock_utc_s) {
+      if (!plan_->geo)
+        for (const Definition& def : scene_.definitions)
+          if (def.kind == "light")
+            for (const char* key : {"date", "time"})
+              if (const Node n = def.body.Find(key))
+                n.Fail(
+                    "a sun given by date and time needs a place: add a "
+                    "georeference{latitude, longitude, altitude}");
+      if (plan_->geo) PlaceSun(*plan_->geo, 0.0, &plan_->sun);
+    }
     uint32_t instance = 1;
     if (plan_->terrain.present) plan_->terrain.instance_id = instance++;
     for (Placed& p : placed_) {
@@ -137,7 +150,7 @@ class SceneEvaluator {
   // --- checking (no sampling) ---
   void Check() {
     std::set<std::string> defined;
-    int terrains = 0;
+    int terrains = 0, georeferences = 0;
     for (const Definition& def : scene_.definitions) {
       const std::string& k = def.kind;
       if (k == "camera" || k == "path" || k == "collection" ||
@@ -146,6 +159,11 @@ class SceneEvaluator {
                            "' belongs in the LCAP capture file, not in LSCENE");
       if (IsEnvironmentKind(k))
         def.body.CheckKeys(EnvironmentKeys(k, false), def.symbol);
+      if (k == "georeference") {
+        def.body.CheckKeys({"latitude", "longitude", "altitude"}, def.symbol);
+        if (++georeferences > 1)
+          def.statement.Fail("only one georeference per scene");
+      }
       if (k == "terrain") {
         if (++terrains > 1) def.statement.Fail("only one terrain per scene");
         terrain_symbol_ = def.symbol;
@@ -407,6 +425,25 @@ class SceneEvaluator {
       PlannedEnvironment environment = EnvironmentOf(*plan_);
       ApplyEnvironment(def.kind, b, rng_, &environment);
       SetEnvironment(environment, plan_);
+    } else if (def.kind == "georeference") {
+      GeoOrigin geo;
+      if (const Node n = b.Find("latitude")) {
+        geo.latitude_deg = SampleScalar(n, rng_);
+        if (std::abs(geo.latitude_deg) > 90)
+          n.Fail("latitude must be within [-90, 90] degrees");
+      } else {
+        b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
+      }
+      if (const Node n = b.Find("longitude")) {
+        geo.longitude_deg = SampleScalar(n, rng_);
+        if (std::abs(geo.longitude_deg) > 180)
+          n.Fail("longitude must be within [-180, 180] degrees");
+      } else {
+        b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
+      }
+      if (const Node n = b.Find("altitude"))
+        geo.altitude_m = SampleScalar(n, rng_);
+      plan_->geo = geo;
     } else if (def.kind == "terrain") {
       EvaluateTerrain(b);
     } else if (def.kind == "object") {

@@ -8,7 +8,10 @@ bool PlannedEnvironment::operator==(const PlannedEnvironment& o) const {
          sky.intensity == o.sky.intensity &&
          sun.elevation_deg == o.sun.elevation_deg &&
          sun.azimuth_deg == o.sun.azimuth_deg &&
-         sun.intensity == o.sun.intensity && fog_density == o.fog_density &&
+         sun.intensity == o.sun.intensity &&
+         sun.clock_utc_s == o.sun.clock_utc_s &&
+         sun.utc_offset_h == o.sun.utc_offset_h &&
+         fog_density == o.fog_density &&
          skylight_intensity == o.skylight_intensity &&
          terrain_material == o.terrain_material;
 }

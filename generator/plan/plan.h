@@ -14,6 +14,7 @@
 
 #include "libs/collection/model.h"
 #include "libs/geometry/camera.h"
+#include "libs/geometry/geodesy.h"
 #include "libs/geometry/rigid3.h"
 
 namespace lsds {
@@ -30,6 +31,11 @@ struct PlannedSun {
   double elevation_deg = 50.0;  // above the horizon
   double azimuth_deg = 135.0;   // from north, clockwise
   double intensity = 3.0;       // irradiance scale
+  // Given by date and time (geo-referenced scenes): the UTC clock at capture
+  // time 0 (seconds since 1970) and the local offset it was written in. Each
+  // frame's sun is then the solar position at clock + frame time.
+  std::optional<double> clock_utc_s;
+  double utc_offset_h = 0;
 };
 
 // The scene's environment: what LSCENE's sky, light, atmosphere, skylight and
@@ -115,8 +121,9 @@ struct PlannedFrame {
 
 struct Plan {
   uint64_t seed = 0;
-  std::string scene_source;    // LSCENE text, verbatim
-  std::string capture_source;  // LCAP text, verbatim
+  std::optional<GeoOrigin> geo;  // LSCENE georeference: the world is ENU there
+  std::string scene_source;      // LSCENE text, verbatim
+  std::string capture_source;    // LCAP text, verbatim
   std::vector<ClassInfo> classes;
   PlannedSky sky;
   PlannedSun sun;

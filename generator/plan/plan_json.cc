@@ -76,6 +76,17 @@ json ObjectChangeToJson(const ObjectChange& change) {
   return ChangeJson(change);
 }
 
+json SunJson(const PlannedSun& sun) {
+  json j = {{"elevation_deg", sun.elevation_deg},
+            {"azimuth_deg", sun.azimuth_deg},
+            {"intensity", sun.intensity}};
+  if (sun.clock_utc_s) {
+    j["clock_utc_s"] = *sun.clock_utc_s;
+    j["utc_offset_h"] = sun.utc_offset_h;
+  }
+  return j;
+}
+
 // The environment members, as the plan's top level writes them.
 json EnvironmentJson(const PlannedEnvironment& e) {
   return {{"sky",
@@ -83,10 +94,7 @@ json EnvironmentJson(const PlannedEnvironment& e) {
             {"cloud_type", e.sky.cloud_type},
             {"cloud_density", e.sky.cloud_density},
             {"intensity", e.sky.intensity}}},
-          {"sun",
-           {{"elevation_deg", e.sun.elevation_deg},
-            {"azimuth_deg", e.sun.azimuth_deg},
-            {"intensity", e.sun.intensity}}},
+          {"sun", SunJson(e.sun)},
           {"fog_density", e.fog_density},
           {"skylight_intensity", e.skylight_intensity},
           {"terrain_material", e.terrain_material}};
@@ -103,6 +111,10 @@ PlannedEnvironment EnvironmentFromJson(const json& j) {
   e.sun.elevation_deg = sun.at("elevation_deg").get<double>();
   e.sun.azimuth_deg = sun.at("azimuth_deg").get<double>();
   e.sun.intensity = sun.at("intensity").get<double>();
+  if (sun.contains("clock_utc_s")) {
+    e.sun.clock_utc_s = sun.at("clock_utc_s").get<double>();
+    e.sun.utc_offset_h = sun.value("utc_offset_h", 0.0);
+  }
   e.fog_density = j.at("fog_density").get<double>();
   e.skylight_intensity = j.at("skylight_intensity").get<double>();
   e.terrain_material = j.value("terrain_material", std::string());
@@ -195,6 +207,10 @@ json PlanToJson(const Plan& plan) {
             {"frame_count", plan.frames.size()},
             {"frames", frames}};
   j.update(environment);
+  if (plan.geo)
+    j["geo"] = {{"latitude_deg", plan.geo->latitude_deg},
+                {"longitude_deg", plan.geo->longitude_deg},
+                {"altitude_m", plan.geo->altitude_m}};
   return j;
 }
 
@@ -218,6 +234,12 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     plan.terrain.material = t.at("material").get<std::string>();
     environment.terrain_material = plan.terrain.material;
     SetEnvironment(environment, &plan);
+    if (j.contains("geo")) {
+      const json& g = j.at("geo");
+      plan.geo = GeoOrigin{g.at("latitude_deg").get<double>(),
+                           g.at("longitude_deg").get<double>(),
+                           g.at("altitude_m").get<double>()};
+    }
     plan.terrain.class_id = t.at("class_id").get<uint32_t>();
     plan.terrain.instance_id = t.at("instance_id").get<uint32_t>();
     for (const json& o : j.at("objects")) {

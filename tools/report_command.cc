@@ -26,32 +26,40 @@ int RunReport(int argc, char** argv) {
       ->required();
   app.add_option("-o,--output", output, "the HTML file (written atomically)")
       ->required();
-  app.add_option("--frames", frames,
+  app.add_option("--frames",
+                 frames,
                  "A:B: only the frames with index in [A, B) (A: and :B too)");
-  app.add_option("--sample", options.sample,
+  app.add_option("--sample",
+                 options.sample,
                  "frames on the contact sheet, spread evenly")
       ->capture_default_str()
       ->check(CLI::Range(size_t{1}, size_t{10000}));
-  app.add_option("--layer-frames", options.layer_frames,
+  app.add_option("--layer-frames",
+                 options.layer_frames,
                  "of those, frames shown with every layer")
       ->capture_default_str();
-  app.add_option("--thumb-width", options.thumb_width,
+  app.add_option("--thumb-width",
+                 options.thumb_width,
                  "contact sheet image width in px (never upscaled)")
       ->capture_default_str()
       ->check(CLI::Range(16, 4096));
-  app.add_option("--layer-width", options.layer_width,
+  app.add_option("--layer-width",
+                 options.layer_width,
                  "layer image width in px (never upscaled)")
       ->capture_default_str()
       ->check(CLI::Range(16, 4096));
-  app.add_option("--exposure", options.display.exposure_ev,
+  app.add_option("--exposure",
+                 options.display.exposure_ev,
                  "exposure in EV for the colour images: linear * 2^EV")
       ->capture_default_str();
   app.add_option("--tonemap", tonemap, "clamp or reinhard")
       ->capture_default_str();
-  app.add_flag("--validate", validate,
+  app.add_flag("--validate",
+               validate,
                "run lsds validate (all checks) and add its summary, with links "
                "from findings to their frames");
-  app.add_option("--validation-report", validation_report,
+  app.add_option("--validation-report",
+                 validation_report,
                  "add this `lsds validate --format json` report instead");
   app.add_flag("--force", options.force, "replace an existing output file");
   return RunCommand(app, argc, argv, [&] {
@@ -67,7 +75,8 @@ int RunReport(int argc, char** argv) {
       const size_t colon = frames.find(':');
       try {
         if (colon == std::string::npos) throw std::invalid_argument(frames);
-        if (colon > 0) options.frame_begin = std::stoll(frames.substr(0, colon));
+        if (colon > 0)
+          options.frame_begin = std::stoll(frames.substr(0, colon));
         if (colon + 1 < frames.size())
           options.frame_end = std::stoll(frames.substr(colon + 1));
       } catch (const std::exception&) {
@@ -88,9 +97,10 @@ int RunReport(int argc, char** argv) {
       }
       if (!options.validation.is_object() ||
           options.validation.value("format", "") != "lsds-validate-report") {
-        throw Error("not an lsds validate JSON report (format "
-                    "lsds-validate-report)",
-                    Location(validation_report));
+        throw Error(
+            "not an lsds validate JSON report (format "
+            "lsds-validate-report)",
+            Location(validation_report));
       }
     } else if (validate) {
       validate::ValidateOptions validate_options;
@@ -99,7 +109,8 @@ int RunReport(int argc, char** argv) {
           validate::ValidateCollection(collection, validate_options);
       options.validation =
           validate::ReportToJson(result, validate::Severity::kError);
-      std::cerr << validate::Verdict(result, validate::Severity::kError) << "\n";
+      std::cerr << validate::Verdict(result, validate::Severity::kError)
+                << "\n";
     }
     const report::ReportResult result = report::WriteReport(options);
     std::cout << "wrote " << output << " (" << result.frames << " frames, "

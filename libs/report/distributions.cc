@@ -28,39 +28,61 @@ Distributions MakeDistributions(const CollectionHeader& header) {
   }
   d.histograms.push_back(MakeCategorical(
       "class", "Objects per class", "class", "visible objects", names));
-  Histogram box = MakeNumeric("box-size", "Object size",
-                              "longer side of the tight box", "px",
+  Histogram box = MakeNumeric("box-size",
+                              "Object size",
+                              "longer side of the tight box",
+                              "px",
                               "visible objects",
                               GeometricEdges(1, 16384, 2));
   box.warn_below = 8;  // detectors rarely learn anything smaller
   d.histograms.push_back(box);
-  d.histograms.push_back(MakeNumeric("visible-pixels", "Visible pixels",
-                                     "pixels of the instance mask", "px",
+  d.histograms.push_back(MakeNumeric("visible-pixels",
+                                     "Visible pixels",
+                                     "pixels of the instance mask",
+                                     "px",
                                      "visible objects",
                                      GeometricEdges(1, 1 << 26, 4)));
-  d.histograms.push_back(MakeNumeric(
-      "visibility", "Visibility", "visible / unoccluded pixels", "",
-      "listed objects", LinearEdges(0, 1, 0.1)));
-  d.histograms.push_back(MakeNumeric(
-      "in-frame", "In-frame fraction", "share of the silhouette in the image",
-      "", "listed objects", LinearEdges(0, 1, 0.1)));
-  d.histograms.push_back(MakeNumeric("distance", "Object distance",
-                                     "camera centre to OBB centre", "m",
+  d.histograms.push_back(MakeNumeric("visibility",
+                                     "Visibility",
+                                     "visible / unoccluded pixels",
+                                     "",
+                                     "listed objects",
+                                     LinearEdges(0, 1, 0.1)));
+  d.histograms.push_back(MakeNumeric("in-frame",
+                                     "In-frame fraction",
+                                     "share of the silhouette in the image",
+                                     "",
+                                     "listed objects",
+                                     LinearEdges(0, 1, 0.1)));
+  d.histograms.push_back(MakeNumeric("distance",
+                                     "Object distance",
+                                     "camera centre to OBB centre",
+                                     "m",
                                      "visible objects",
                                      OneTwoFiveEdges(0.1, 100000)));
-  d.histograms.push_back(MakeNumeric("altitude", "Altitude",
+  d.histograms.push_back(MakeNumeric("altitude",
+                                     "Altitude",
                                      "above the surface seen at the centre",
-                                     "m", "frames",
+                                     "m",
+                                     "frames",
                                      OneTwoFiveEdges(0.1, 100000)));
-  d.histograms.push_back(MakeNumeric("off-nadir", "Off-nadir angle",
-                                     "optical axis from straight down", "deg",
-                                     "frames", LinearEdges(0, 180, 5)));
-  d.histograms.push_back(MakeNumeric("gsd", "Ground sample distance",
-                                     "at the image centre", "cm/px", "frames",
+  d.histograms.push_back(MakeNumeric("off-nadir",
+                                     "Off-nadir angle",
+                                     "optical axis from straight down",
+                                     "deg",
+                                     "frames",
+                                     LinearEdges(0, 180, 5)));
+  d.histograms.push_back(MakeNumeric("gsd",
+                                     "Ground sample distance",
+                                     "at the image centre",
+                                     "cm/px",
+                                     "frames",
                                      OneTwoFiveEdges(0.01, 100000)));
-  d.histograms.push_back(MakeNumeric("sun-elevation", "Sun elevation",
+  d.histograms.push_back(MakeNumeric("sun-elevation",
+                                     "Sun elevation",
                                      "time of day: sun above the horizon",
-                                     "deg", "frames",
+                                     "deg",
+                                     "frames",
                                      LinearEdges(-90, 90, 5)));
   return d;
 }

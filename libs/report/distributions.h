@@ -13,7 +13,7 @@
 namespace lsds::report {
 
 struct Distributions {
-  std::vector<Histogram> histograms;  // in display order
+  std::vector<Histogram> histograms;     // in display order
   std::map<uint32_t, size_t> class_bin;  // class id -> bin of "class"
   int64_t frames = 0;
   int64_t objects = 0;          // object entries listed in the frames

@@ -17,12 +17,24 @@ cv::Vec3b HsvToBgr(double h, double s, double v) {
   const double p = v * (1 - s), q = v * (1 - f * s), t = v * (1 - (1 - f) * s);
   double r = 0, g = 0, b = 0;
   switch (static_cast<int>(i) % 6) {
-    case 0: r = v, g = t, b = p; break;
-    case 1: r = q, g = v, b = p; break;
-    case 2: r = p, g = v, b = t; break;
-    case 3: r = p, g = q, b = v; break;
-    case 4: r = t, g = p, b = v; break;
-    default: r = v, g = p, b = q; break;
+    case 0:
+      r = v, g = t, b = p;
+      break;
+    case 1:
+      r = q, g = v, b = p;
+      break;
+    case 2:
+      r = p, g = v, b = t;
+      break;
+    case 3:
+      r = p, g = q, b = v;
+      break;
+    case 4:
+      r = t, g = p, b = v;
+      break;
+    default:
+      r = v, g = p, b = q;
+      break;
   }
   return cv::Vec3b(static_cast<uchar>(std::lround(b * 255)),
                    static_cast<uchar>(std::lround(g * 255)),
@@ -58,13 +70,19 @@ cv::Rect PixelRect(const Box2d& box, double scale, const cv::Size& image) {
          cv::Rect(0, 0, image.width, image.height);
 }
 
-void DrawBox(cv::Mat* bgr, const Box2d& box, double scale,
+void DrawBox(cv::Mat* bgr,
+             const Box2d& box,
+             double scale,
              const cv::Vec3b& color) {
   const cv::Rect r = PixelRect(box, scale, bgr->size());
   if (r.empty()) return;
   // cv::rectangle's corners are inclusive pixel positions.
-  cv::rectangle(*bgr, r.tl(), cv::Point(r.x + r.width - 1, r.y + r.height - 1),
-                cv::Scalar(color[0], color[1], color[2]), 1, cv::LINE_8);
+  cv::rectangle(*bgr,
+                r.tl(),
+                cv::Point(r.x + r.width - 1, r.y + r.height - 1),
+                cv::Scalar(color[0], color[1], color[2]),
+                1,
+                cv::LINE_8);
 }
 
 void DrawAnnotations(cv::Mat* bgr,
@@ -77,7 +95,9 @@ void DrawAnnotations(cv::Mat* bgr,
   if (options.outlines && instance_ids != nullptr &&
       instance_ids->Find("id") != nullptr) {
     const std::vector<uint32_t>& values = instance_ids->Get("id").uints;
-    cv::Mat full(instance_ids->height(), instance_ids->width(), CV_32S,
+    cv::Mat full(instance_ids->height(),
+                 instance_ids->width(),
+                 CV_32S,
                  const_cast<uint32_t*>(values.data()));
     if (full.size() == bgr->size()) {
       ids = full;
@@ -95,11 +115,11 @@ void DrawAnnotations(cv::Mat* bgr,
     if (roi.empty()) continue;
     cv::Mat mask = ids(roi) == static_cast<int>(object.instance_id);
     std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(mask, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE,
-                     roi.tl());
+    cv::findContours(
+        mask, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE, roi.tl());
     const cv::Vec3b c = IdColor(object.instance_id);
-    cv::drawContours(*bgr, contours, -1, cv::Scalar(c[0], c[1], c[2]), 1,
-                     cv::LINE_8);
+    cv::drawContours(
+        *bgr, contours, -1, cv::Scalar(c[0], c[1], c[2]), 1, cv::LINE_8);
   }
   for (const ObjectTruth& object : frame.objects) {
     if (object.visible_pixels <= 0 || !object.bbox || !options.boxes) continue;
@@ -118,12 +138,18 @@ void DrawAnnotations(cv::Mat* bgr,
     const cv::Size size =
         cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, font, 1, &baseline);
     // Above the box when there is room, else just inside its top edge.
-    const int top = r.y - size.height - 3 >= 0 ? r.y - size.height - 3 : r.y + 1;
+    const int top =
+        r.y - size.height - 3 >= 0 ? r.y - size.height - 3 : r.y + 1;
     const cv::Rect label(r.x, top, size.width + 2, size.height + 3);
     const cv::Vec3b c = ClassColor(object.class_id);
     cv::rectangle(*bgr, label, cv::Scalar(c[0], c[1], c[2]), cv::FILLED);
-    cv::putText(*bgr, text, cv::Point(r.x + 1, top + size.height + 1),
-                cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(0, 0, 0), 1,
+    cv::putText(*bgr,
+                text,
+                cv::Point(r.x + 1, top + size.height + 1),
+                cv::FONT_HERSHEY_SIMPLEX,
+                font,
+                cv::Scalar(0, 0, 0),
+                1,
                 cv::LINE_AA);
   }
 }

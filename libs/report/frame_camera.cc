@@ -27,20 +27,22 @@ FrameCamera ComputeFrameCamera(const CollectionHeader& header,
       std::acos(std::clamp(-axis_in_enu.z(), -1.0, 1.0)) * 180.0 / M_PI;
 
   // The pixel holding the principal point; its ray is (nearly) the axis.
-  const int i = std::clamp(static_cast<int>(std::floor(intrinsics.cx)), 0,
+  const int i = std::clamp(static_cast<int>(std::floor(intrinsics.cx)),
+                           0,
                            std::max(0, intrinsics.width - 1));
-  const int j = std::clamp(static_cast<int>(std::floor(intrinsics.cy)), 0,
+  const int j = std::clamp(static_cast<int>(std::floor(intrinsics.cy)),
+                           0,
                            std::max(0, intrinsics.height - 1));
   const Eigen::Vector2d pixel(i + 0.5, j + 0.5);
   std::optional<Eigen::Vector3d> point_in_cam;  // metres
-  if (depth != nullptr && depth->Find("Z") != nullptr &&
-      i < depth->width() && j < depth->height()) {
+  if (depth != nullptr && depth->Find("Z") != nullptr && i < depth->width() &&
+      j < depth->height()) {
     out.from_depth = true;
     const double value = depth->Get("Z").floats[depth->Index(i, j)] *
                          header.conventions.world.metres_per_unit;
     if (std::isfinite(value) && value > 0) {
-      point_in_cam = UnprojectDepth(intrinsics, pixel, value,
-                                    depth_kind.value_or(DepthKind::kPlanar));
+      point_in_cam = UnprojectDepth(
+          intrinsics, pixel, value, depth_kind.value_or(DepthKind::kPlanar));
     }
   } else {
     // No depth: where the ray meets the datum plane z = 0, if it goes down.

@@ -31,7 +31,8 @@ class FrameSampler {
     if (kept_.size() >= 2 * target_) {
       std::vector<std::pair<int64_t, T>> thinned;
       for (auto& entry : kept_) {
-        if (entry.first % (2 * stride_) == 0) thinned.push_back(std::move(entry));
+        if (entry.first % (2 * stride_) == 0)
+          thinned.push_back(std::move(entry));
       }
       kept_ = std::move(thinned);
       stride_ *= 2;

@@ -49,7 +49,8 @@ Histogram MakeCategorical(std::string id,
 
 // Equal bins: first, first + step, ..., last.
 std::vector<double> LinearEdges(double first, double last, double step);
-// 1-2-5 steps from `first` to `last` (both powers of ten): 0.1, 0.2, 0.5, 1, ...
+// 1-2-5 steps from `first` to `last` (both powers of ten): 0.1, 0.2, 0.5, 1,
+// ...
 std::vector<double> OneTwoFiveEdges(double first, double last);
 // Powers of `base` from `first` up to `last` inclusive.
 std::vector<double> GeometricEdges(double first, double last, double base);

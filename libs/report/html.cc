@@ -48,7 +48,8 @@ std::string ImageDataUri(const cv::Mat& bgr, bool jpeg, int jpeg_quality) {
   if (!cv::imencode(jpeg ? ".jpg" : ".png", bgr, encoded, params)) {
     throw Error("report: cannot encode an image");
   }
-  return std::string(jpeg ? "data:image/jpeg;base64," : "data:image/png;base64,") +
+  return std::string(jpeg ? "data:image/jpeg;base64,"
+                          : "data:image/png;base64,") +
          Base64(std::string(encoded.begin(), encoded.end()));
 }
 

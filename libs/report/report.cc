@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include <opencv2/imgproc.hpp>
 #include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
 
 #include "libs/bundle/bundle_stats.h"
 #include "libs/bundle/mixed_map.h"
@@ -60,24 +60,31 @@ FrameCamera CameraOf(const CollectionReader& reader, const Frame& frame) {
 cv::Mat Resized(const cv::Mat& image, int width, bool smooth) {
   if (image.cols <= width) return image;
   const int height = std::max(
-      1, static_cast<int>(std::lround(double(image.rows) * width / image.cols)));
+      1,
+      static_cast<int>(std::lround(double(image.rows) * width / image.cols)));
   cv::Mat out;
-  cv::resize(image, out, cv::Size(width, height), 0, 0,
+  cv::resize(image,
+             out,
+             cv::Size(width, height),
+             0,
+             0,
              smooth ? cv::INTER_AREA : cv::INTER_NEAREST);
   return out;
 }
 
 // The frame's colour image, or a grey placeholder when it has none.
-cv::Mat DisplayImage(const CollectionReader& reader, const Frame& frame,
+cv::Mat DisplayImage(const CollectionReader& reader,
+                     const Frame& frame,
                      const ReportOptions& options) {
   const LayerInfo* rgb = reader.header().FindLayerBySemantic("rgb");
   if (HasFile(frame, rgb)) {
-    return imaging::ToSrgb8(exr::ReadFlatExr(reader.LayerPath(frame, rgb->name),
-                                             {"R", "G", "B"}),
-                            options.display);
+    return imaging::ToSrgb8(
+        exr::ReadFlatExr(reader.LayerPath(frame, rgb->name), {"R", "G", "B"}),
+        options.display);
   }
   return cv::Mat(std::max(1, frame.camera.intrinsics.height),
-                 std::max(1, frame.camera.intrinsics.width), CV_8UC3,
+                 std::max(1, frame.camera.intrinsics.width),
+                 CV_8UC3,
                  cv::Scalar(80, 80, 80));
 }
 
@@ -147,7 +154,8 @@ std::string ObjectsTable(const CollectionHeader& header,
   return s.str();
 }
 
-std::string Figure(const std::string& uri, const cv::Size& size,
+std::string Figure(const std::string& uri,
+                   const cv::Size& size,
                    const std::string& caption) {
   std::ostringstream s;
   s << "<figure><img src=\"" << uri << "\" width=\"" << size.width
@@ -163,7 +171,8 @@ std::string Failed(const std::string& layer, const std::string& message) {
 }
 
 // Every displayable layer of one frame, side by side.
-std::string LayerStrip(const CollectionReader& reader, const SampledFrame& sample,
+std::string LayerStrip(const CollectionReader& reader,
+                       const SampledFrame& sample,
                        const ReportOptions& options) {
   const CollectionHeader& header = reader.header();
   const Frame& frame = sample.frame;
@@ -178,53 +187,61 @@ std::string LayerStrip(const CollectionReader& reader, const SampledFrame& sampl
     try {
       const fs::path path = reader.LayerPath(frame, layer.name);
       if (sem == "rgb") {
-        const cv::Mat image = Resized(DisplayImage(reader, frame, options),
-                                      options.layer_width, true);
+        const cv::Mat image = Resized(
+            DisplayImage(reader, frame, options), options.layer_width, true);
         s << Figure(ImageDataUri(image, true), image.size(), title);
       } else if (sem == "classid" || sem == "instanceid") {
-        const cv::Mat image = Resized(
-            ColorizeIds(exr::ReadFlatExr(path, {"id"})), options.layer_width,
-            false);
-        s << Figure(ImageDataUri(image, false), image.size(),
+        const cv::Mat image =
+            Resized(ColorizeIds(exr::ReadFlatExr(path, {"id"})),
+                    options.layer_width,
+                    false);
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
                     title + " (a stable colour per id)");
       } else if (sem == "depth" && !layer.deep) {
         double lo = 0, hi = 0;
         const cv::Mat image =
             Resized(ColorizeDepth(exr::ReadFlatExr(path, {"Z"}), &lo, &hi),
-                    options.layer_width, true);
+                    options.layer_width,
+                    true);
         const cv::Mat bar = DepthScaleBar(image.cols, 10);
-        s << Figure(ImageDataUri(image, false), image.size(),
-                    title + " (" +
-                        (layer.depth_kind ? DepthKindName(*layer.depth_kind)
-                                          : "") +
-                        ")<img class=\"bar\" src=\"" +
-                        ImageDataUri(bar, false) + "\" width=\"" +
-                        std::to_string(bar.cols) +
-                        "\" height=\"10\" alt=\"\"><span class=\"range\"><span>" +
-                        FormatNumber(lo) + " " + HtmlEscape(unit) +
-                        "</span><span>" + FormatNumber(hi) + " " +
-                        HtmlEscape(unit) + "</span></span>");
+        s << Figure(
+            ImageDataUri(image, false),
+            image.size(),
+            title + " (" +
+                (layer.depth_kind ? DepthKindName(*layer.depth_kind) : "") +
+                ")<img class=\"bar\" src=\"" + ImageDataUri(bar, false) +
+                "\" width=\"" + std::to_string(bar.cols) +
+                "\" height=\"10\" alt=\"\"><span class=\"range\"><span>" +
+                FormatNumber(lo) + " " + HtmlEscape(unit) + "</span><span>" +
+                FormatNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
       } else if (sem == "normal") {
-        const cv::Mat image = Resized(
-            ColorizeNormals(exr::ReadFlatExr(path, {"X", "Y", "Z"})),
-            options.layer_width, false);
-        s << Figure(ImageDataUri(image, false), image.size(),
+        const cv::Mat image =
+            Resized(ColorizeNormals(exr::ReadFlatExr(path, {"X", "Y", "Z"})),
+                    options.layer_width,
+                    false);
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
                     title + " (world RGB = (n + 1) / 2)");
       } else if (sem == "shadow") {
-        const cv::Mat image = Resized(
-            ColorizeShadow(exr::ReadFlatExr(path, {"Y"})), options.layer_width,
-            true);
-        s << Figure(ImageDataUri(image, false), image.size(),
+        const cv::Mat image =
+            Resized(ColorizeShadow(exr::ReadFlatExr(path, {"Y"})),
+                    options.layer_width,
+                    true);
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
                     title + " (black: full shadow)");
       } else if (sem == "motion") {
         double max_px = 0;
         int64_t invalid = 0;
         const exr::FlatImage motion = exr::ReadFlatExr(path, {"X", "Y"});
-        const cv::Mat image = Resized(
-            ColorizeMotion(motion, &max_px, &invalid), options.layer_width,
-            false);
-        const double share = 100.0 * invalid / std::max<size_t>(1, motion.pixel_count());
-        s << Figure(ImageDataUri(image, false), image.size(),
+        const cv::Mat image = Resized(ColorizeMotion(motion, &max_px, &invalid),
+                                      options.layer_width,
+                                      false);
+        const double share =
+            100.0 * invalid / std::max<size_t>(1, motion.pixel_count());
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
                     title + "<img class=\"wheel\" src=\"" +
                         ImageDataUri(FlowWheel(40), false) +
                         "\" width=\"40\" height=\"40\" alt=\"\"> max " +
@@ -241,7 +258,8 @@ std::string LayerStrip(const CollectionReader& reader, const SampledFrame& sampl
         const cv::Mat image = Resized(full, options.layer_width, false);
         const double share =
             100.0 * stats.mixed_pixels / std::max<uint64_t>(1, stats.pixels);
-        s << Figure(ImageDataUri(image, false), image.size(),
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
                     title + " mixed pixels " + Fixed(share, 2) +
                         " % (yellow &rarr; red &rarr; magenta: less pure)");
       }
@@ -255,8 +273,10 @@ std::string LayerStrip(const CollectionReader& reader, const SampledFrame& sampl
   return s.str();
 }
 
-std::string Card(const CollectionReader& reader, const SampledFrame& sample,
-                 bool has_layers, const ReportOptions& options) {
+std::string Card(const CollectionReader& reader,
+                 const SampledFrame& sample,
+                 bool has_layers,
+                 const ReportOptions& options) {
   const CollectionHeader& header = reader.header();
   const Frame& frame = sample.frame;
   std::ostringstream s;
@@ -265,10 +285,9 @@ std::string Card(const CollectionReader& reader, const SampledFrame& sample,
     << HtmlEscape(ClassList(header, frame)) << "\">";
   try {
     cv::Mat image = DisplayImage(reader, frame, options);
-    const double scale =
-        image.cols > options.thumb_width
-            ? double(options.thumb_width) / image.cols
-            : 1.0;
+    const double scale = image.cols > options.thumb_width
+                             ? double(options.thumb_width) / image.cols
+                             : 1.0;
     image = Resized(image, options.thumb_width, true);
     std::optional<exr::FlatImage> ids;
     const LayerInfo* instance = header.FindLayerBySemantic("instanceid");
@@ -287,8 +306,9 @@ std::string Card(const CollectionReader& reader, const SampledFrame& sample,
   int visible = 0;
   for (const ObjectTruth& o : frame.objects) visible += o.visible_pixels > 0;
   const FrameCamera& c = sample.camera;
-  s << "<figcaption><b>frame " << frame.index << "</b> t " << Fixed(frame.time, 2)
-    << " s" << (frame.sequence.empty() ? "" : " &middot; " + HtmlEscape(frame.sequence))
+  s << "<figcaption><b>frame " << frame.index << "</b> t "
+    << Fixed(frame.time, 2) << " s"
+    << (frame.sequence.empty() ? "" : " &middot; " + HtmlEscape(frame.sequence))
     << (has_layers ? " <span class=\"tag\">layers</span>" : "") << "<br>alt "
     << Fixed(c.altitude_m, 1) << " m &middot; off-nadir "
     << Fixed(c.off_nadir_deg, 1) << "&deg; &middot; GSD "
@@ -296,8 +316,8 @@ std::string Card(const CollectionReader& reader, const SampledFrame& sample,
     << frame.objects.size() << " objects";
   const std::string scene = SceneLine(frame);
   if (!scene.empty()) s << "<br>" << scene;
-  s << "</figcaption><div class=\"detail\" hidden>" << ObjectsTable(header, sample)
-    << "</div></figure>";
+  s << "</figcaption><div class=\"detail\" hidden>"
+    << ObjectsTable(header, sample) << "</div></figure>";
   return s.str();
 }
 
@@ -316,24 +336,32 @@ std::string ValidationSection(const nlohmann::json& v,
   s << " over " << v.value("frames", 0) << " frames</p>";
   s << "<table class=\"findings\"><tr><th>check</th><th>severity</th>"
        "<th>count</th><th>where</th><th>what</th></tr>";
+  bool any = false;
   if (v.contains("checks") && v["checks"].is_array()) {
     for (const nlohmann::json& check : v["checks"]) {
       const int64_t count = check.value("count", int64_t{0});
       if (count == 0) continue;
+      any = true;
       const nlohmann::json findings =
           check.value("findings", nlohmann::json::array());
-      s << "<tr class=\"" << HtmlEscape(check.value("severity", "")) << "\"><td>"
-        << HtmlEscape(check.value("id", "")) << "</td><td>"
+      s << "<tr class=\"" << HtmlEscape(check.value("severity", ""))
+        << "\"><td>" << HtmlEscape(check.value("id", "")) << "</td><td>"
         << HtmlEscape(check.value("severity", "")) << "</td><td>" << count
-        << "</td><td colspan=\"2\">" << (findings.empty() ? "" : "") << "</td></tr>";
+        << "</td><td colspan=\"2\">"
+        << (findings.size() < size_t(count)
+                ? "the first " + std::to_string(findings.size()) + " listed"
+                : "")
+        << "</td></tr>";
       for (const nlohmann::json& f : findings) {
         const nlohmann::json location =
             f.value("location", nlohmann::json::object());
         std::string where = HtmlEscape(location.value("file", ""));
         if (location.contains("json_pointer")) {
-          where += "#" + HtmlEscape(location["json_pointer"].get<std::string>());
+          where +=
+              "#" + HtmlEscape(location["json_pointer"].get<std::string>());
         }
-        if (location.contains("frame") && location["frame"].is_number_integer()) {
+        if (location.contains("frame") &&
+            location["frame"].is_number_integer()) {
           const int64_t frame = location["frame"].get<int64_t>();
           const std::string label = "frame " + std::to_string(frame);
           where += " " + (on_sheet.count(frame)
@@ -348,15 +376,17 @@ std::string ValidationSection(const nlohmann::json& v,
                    location["pixel"][1].dump() + ")";
         }
         s << "<tr class=\"finding\"><td></td><td>"
-          << HtmlEscape(f.value("severity", "")) << "</td><td></td><td>" << where
-          << "</td><td>"
-          << HtmlEscape((f.contains("object") ? f["object"].get<std::string>() + ": "
-                                              : std::string()) +
+          << HtmlEscape(f.value("severity", "")) << "</td><td></td><td>"
+          << where << "</td><td>"
+          << HtmlEscape((f.contains("object")
+                             ? f["object"].get<std::string>() + ": "
+                             : std::string()) +
                         f.value("message", ""))
           << "</td></tr>";
       }
     }
   }
+  if (!any) s << "<tr><td colspan=\"5\">no findings</td></tr>";
   s << "</table></section>";
   return s.str();
 }
@@ -428,7 +458,8 @@ std::string RenderReportHtml(const CollectionReader& reader,
   // The frames shown with every layer: spread evenly over the sample.
   std::set<size_t> layer_samples;
   const size_t k = std::min(options.layer_frames, n);
-  for (size_t i = 0; i < k; ++i) layer_samples.insert((2 * i + 1) * n / (2 * k));
+  for (size_t i = 0; i < k; ++i)
+    layer_samples.insert((2 * i + 1) * n / (2 * k));
   std::vector<std::string> cards(n), strips(n);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
     const bool layers = layer_samples.count(i) > 0;
@@ -439,15 +470,16 @@ std::string RenderReportHtml(const CollectionReader& reader,
   for (const SampledFrame& s : data.samples) on_sheet.insert(s.frame.index);
 
   const Distributions& d = data.distributions;
-  const std::string name = fs::absolute(reader.root()).lexically_normal().filename().string();
+  const std::string name =
+      fs::absolute(reader.root()).lexically_normal().filename().string();
   std::ostringstream s;
   s << "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">"
     << "<title>lsds report: " << HtmlEscape(name) << "</title><style>"
     << PageStyle() << "</style></head><body>"
     << "<script>window.onerror=function(m){document.body.setAttribute("
        "'data-js-error',String(m));};</script>"
-    << "<header><h1>lsds report: " << HtmlEscape(name) << "</h1><p>"
-    << d.frames << " frames";
+    << "<header><h1>lsds report: " << HtmlEscape(name) << "</h1><p>" << d.frames
+    << " frames";
   if (reader.frames_in_file() != static_cast<size_t>(d.frames)) {
     s << " selected of " << reader.frames_in_file();
   }
@@ -459,10 +491,12 @@ std::string RenderReportHtml(const CollectionReader& reader,
     << " &middot; format " << HtmlEscape(header.format_version) << " &middot; "
     << HtmlEscape(header.provenance.generator) << " "
     << HtmlEscape(header.provenance.generator_version) << "</p>"
-    << "<nav><a href=\"#sheet\">contact sheet</a> <a href=\"#layers\">layers</a> "
-       "<a href=\"#distributions\">distributions</a>"
-    << (options.validation.is_object() ? " <a href=\"#validation\">validation</a>"
-                                       : "")
+    << "<nav><a href=\"#sheet\">contact sheet</a> "
+    << (layer_samples.empty() ? "" : "<a href=\"#layers\">layers</a> ")
+    << "<a href=\"#distributions\">distributions</a>"
+    << (options.validation.is_object()
+            ? " <a href=\"#validation\">validation</a>"
+            : "")
     << "</nav></header>";
 
   if (options.validation.is_object()) {
@@ -476,24 +510,31 @@ std::string RenderReportHtml(const CollectionReader& reader,
   for (const ClassInfo& c : header.classes) {
     const cv::Vec3b col = ClassColor(c.id);
     char swatch[16];
-    std::snprintf(swatch, sizeof(swatch), "#%02x%02x%02x", col[2], col[1], col[0]);
+    std::snprintf(
+        swatch, sizeof(swatch), "#%02x%02x%02x", col[2], col[1], col[0]);
     s << "<label><input type=\"checkbox\" checked data-class=\""
-      << HtmlEscape(c.name) << "\"><span class=\"swatch\" style=\"background:"
-      << swatch << "\"></span>" << HtmlEscape(c.name) << "</label>";
+      << HtmlEscape(c.name)
+      << "\"><span class=\"swatch\" style=\"background:" << swatch
+      << "\"></span>" << HtmlEscape(c.name) << "</label>";
   }
   s << "<label><input type=\"checkbox\" checked data-class=\"\">frames with no "
        "visible object</label></div><div class=\"sheet\">";
   for (const std::string& card : cards) s << card;
   s << "</div></section>";
 
-  s << "<section id=\"layers\"><h2>Layers</h2><p class=\"help\">Every layer of "
-    << layer_samples.size()
-    << " frames side by side. Ids: one colour per id, black background. Depth: "
-       "turbo colour map from near (blue) to far (red), sky dark grey. Motion: "
-       "hue is the direction (wheel), saturation the speed, white no motion, "
-       "checkered grey no valid motion.</p>";
-  for (const std::string& strip : strips) s << strip;
-  s << "</section>";
+  if (!layer_samples.empty()) {
+    s << "<section id=\"layers\"><h2>Layers</h2><p class=\"help\">Every layer "
+         "of "
+      << layer_samples.size()
+      << " frames side by side. Ids: one colour per id, black background. "
+         "Depth: "
+         "turbo colour map from near (blue) to far (red), sky dark grey. "
+         "Motion: "
+         "hue is the direction (wheel), saturation the speed, white no motion, "
+         "checkered grey no valid motion.</p>";
+    for (const std::string& strip : strips) s << strip;
+    s << "</section>";
+  }
 
   s << "<section id=\"distributions\"><h2>Distributions</h2><p "
        "class=\"help\">Counts over all "

@@ -46,7 +46,7 @@ struct SampledFrame {
 };
 
 struct ReportData {
-  Distributions distributions;  // over every selected frame
+  Distributions distributions;        // over every selected frame
   std::vector<SampledFrame> samples;  // contact sheet, in collection order
 };
 
@@ -66,9 +66,9 @@ std::string RenderReportHtml(const CollectionReader& reader,
                              const ReportOptions& options);
 
 struct ReportResult {
-  int64_t frames = 0;   // frames in the distributions
-  size_t sampled = 0;   // frames on the contact sheet
-  size_t bytes = 0;     // size of the page
+  int64_t frames = 0;  // frames in the distributions
+  size_t sampled = 0;  // frames on the contact sheet
+  size_t bytes = 0;    // size of the page
 };
 
 // Checks the output (refuses an existing one without `force`, and one inside

@@ -48,8 +48,10 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
   std::vector<std::string> edge_labels;  // numeric: one more than the bars
   if (h.categorical()) {
     for (size_t i = 0; i < h.bins(); ++i) {
-      bars.push_back({h.labels[i], h.labels[i] + ": " + std::to_string(h.counts[i]),
-                      h.counts[i], false});
+      bars.push_back({h.labels[i],
+                      h.labels[i] + ": " + std::to_string(h.counts[i]),
+                      h.counts[i],
+                      false});
     }
   } else {
     size_t first = h.bins(), last = 0;
@@ -63,26 +65,31 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
       if (last - first < 4 && first > 0) --first;
     }
     if (h.below > 0) {
-      bars.push_back({"<", "< " + FormatNumber(h.edges.front()) + unit + ": " +
-                               std::to_string(h.below),
-                      h.below, true});
+      bars.push_back({"<",
+                      "< " + FormatNumber(h.edges.front()) + unit + ": " +
+                          std::to_string(h.below),
+                      h.below,
+                      true});
       edge_labels.push_back("");
     }
     for (size_t i = first; i <= last; ++i) {
       const bool closed = i + 1 == h.bins();
-      bars.push_back({"",
-                      "[" + FormatNumber(h.edges[i]) + ", " +
-                          FormatNumber(h.edges[i + 1]) + (closed ? "]" : ")") +
-                          unit + ": " + std::to_string(h.counts[i]),
-                      h.counts[i],
-                      !std::isnan(h.warn_below) && h.edges[i + 1] <= h.warn_below});
+      bars.push_back(
+          {"",
+           "[" + FormatNumber(h.edges[i]) + ", " +
+               FormatNumber(h.edges[i + 1]) + (closed ? "]" : ")") + unit +
+               ": " + std::to_string(h.counts[i]),
+           h.counts[i],
+           !std::isnan(h.warn_below) && h.edges[i + 1] <= h.warn_below});
       edge_labels.push_back(FormatNumber(h.edges[i]));
     }
     edge_labels.push_back(FormatNumber(h.edges[last + 1]));
     if (h.above > 0) {
-      bars.push_back({">", "> " + FormatNumber(h.edges.back()) + unit + ": " +
-                               std::to_string(h.above),
-                      h.above, true});
+      bars.push_back({">",
+                      "> " + FormatNumber(h.edges.back()) + unit + ": " +
+                          std::to_string(h.above),
+                      h.above,
+                      true});
       edge_labels.push_back("");
     }
   }
@@ -91,7 +98,7 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
   const double step = NiceStep(static_cast<double>(max_count), 4);
   const double top_value = std::max(step, std::ceil(max_count / step) * step);
 
-  const int left = 52, right = 12, top = 10, bottom = 48;
+  const int left = 52, right = 24, top = 10, bottom = 48;
   const double plot_w = width - left - right, plot_h = height - top - bottom;
   const double bar_w = plot_w / std::max<size_t>(1, bars.size());
   std::ostringstream s;

@@ -1,0 +1,194 @@
+// End-to-end: `lsds report` as a user runs it, and the page as a browser shows
+// it (headless Chromium: a screenshot that is not blank, no script errors).
+#include <fstream>
+#include <map>
+#include <regex>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "libs/synth/synthetic_collection.h"
+#include "tests/test_util.h"
+
+namespace lsds {
+namespace {
+
+using testing::RunCommandLine;
+namespace fs = std::filesystem;
+
+std::string Slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Every file of a folder with its content, to show that inputs stay untouched.
+std::map<std::string, std::string> Snapshot(const fs::path& root) {
+  std::map<std::string, std::string> out;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file()) {
+      out[fs::relative(entry.path(), root).string()] = Slurp(entry.path());
+    }
+  }
+  return out;
+}
+
+size_t Count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos;
+       at = text.find(what, at + 1))
+    ++n;
+  return n;
+}
+
+class ReportCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto synth =
+        RunCommandLine(testing::LsdsBinary() + " synth " +
+                       (dir_ / "c").string() + " --frames 12 --size 160x120");
+    ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  }
+  std::string Report(const std::string& args) {
+    return testing::LsdsBinary() + " report " + (dir_ / "c").string() + " " +
+           args;
+  }
+  testing::TempDir dir_;
+};
+
+TEST_F(ReportCli, WritesOnePageAndLeavesTheInputAlone) {
+  const auto before = Snapshot(dir_ / "c");
+  const fs::path page = dir_ / "report.html";
+  const auto result = RunCommandLine(Report(
+      "-o " + page.string() + " --sample 5 --layer-frames 2 --validate"));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(Snapshot(dir_ / "c"), before);
+  const std::string html = Slurp(page);
+  EXPECT_EQ(Count(html, "<figure class=\"card\""), 5u);
+  EXPECT_EQ(Count(html, "<section class=\"layers\""), 2u);
+  EXPECT_NE(html.find("id=\"validation\""), std::string::npos);
+  EXPECT_NE(html.find("data-id=\"gsd\""), std::string::npos);
+  // Self-contained: every image is inline, nothing is fetched.
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("src=\"file"), std::string::npos);
+  EXPECT_GT(Count(html, "src=\"data:image/"), 5u);
+  // Only the temporary-free page is left beside it.
+  size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir_.path())) {
+    files += entry.is_regular_file();
+  }
+  EXPECT_EQ(files, 1u);
+}
+
+TEST_F(ReportCli, RefusesExistingOutputAndOutputInsideTheCollection) {
+  const fs::path page = dir_ / "report.html";
+  ASSERT_EQ(RunCommandLine(Report("-o " + page.string())).exit_code, 0);
+  const auto again = RunCommandLine(Report("-o " + page.string()));
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.output.find(page.string()), std::string::npos);
+  EXPECT_EQ(
+      RunCommandLine(Report("-o " + page.string() + " --force")).exit_code, 0);
+  const auto inside =
+      RunCommandLine(Report("-o " + (dir_ / "c" / "r.html").string()));
+  EXPECT_EQ(inside.exit_code, 2);
+  EXPECT_NE(inside.output.find("inside the input"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "c" / "r.html"));
+  const auto bad_range = RunCommandLine(
+      Report("-o " + (dir_ / "x.html").string() + " --frames 3"));
+  EXPECT_EQ(bad_range.exit_code, 2);
+  EXPECT_NE(bad_range.output.find("--frames"), std::string::npos);
+  const auto not_a_collection =
+      RunCommandLine(testing::LsdsBinary() + " report " + dir_.path().string() +
+                     " -o " + (dir_ / "y.html").string());
+  EXPECT_EQ(not_a_collection.exit_code, 2);
+  EXPECT_NE(not_a_collection.output.find("collection.json"), std::string::npos);
+}
+
+TEST_F(ReportCli, FindingsLinkToTheirFrames) {
+  // A validation report whose finding points at frame 7: the page links it and
+  // puts frame 7 on the contact sheet even though the sample would skip it.
+  const fs::path json = dir_ / "validation.json";
+  std::ofstream(json)
+      << R"({"format": "lsds-validate-report", "format_version": "1.0",
+    "collection": "c", "verdict": "fail", "fail_on": "error", "frames": 12,
+    "files_decoded": 0, "bytes_decoded": 0, "seconds": 0,
+    "counts": {"error": 1, "warning": 0, "info": 0},
+    "checks": [{"id": "layer.depth-finite", "severity": "error", "tolerance": "",
+      "count": 1, "findings": [{"severity": "error", "check": "layer.depth-finite",
+      "location": {"file": "depth/000007.exr", "frame": 7, "pixel": [3, 4]},
+      "message": "depth is NaN"}]}],
+    "statistics": {}})";
+  const fs::path page = dir_ / "report.html";
+  const auto result = RunCommandLine(Report("-o " + page.string() +
+                                            " --sample 2 --validation-report " +
+                                            json.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string html = Slurp(page);
+  EXPECT_NE(html.find("<a href=\"#frame-7\""), std::string::npos);
+  EXPECT_NE(html.find("id=\"frame-7\""), std::string::npos);
+  EXPECT_EQ(Count(html, "<figure class=\"card\""), 3u);
+  EXPECT_NE(html.find("depth is NaN"), std::string::npos);
+}
+
+// The page in a real browser. Skipped, saying why, when Chromium is absent
+// (scripts/install-deps.sh installs it).
+TEST_F(ReportCli, ChromiumShowsAPageWithoutScriptErrors) {
+  const auto which = RunCommandLine("command -v chromium");
+  if (which.exit_code != 0) {
+    GTEST_SKIP() << "chromium is not installed (Debian package `chromium`, "
+                    "scripts/install-deps.sh): the page was not rendered";
+  }
+  const fs::path page = dir_ / "report.html";
+  ASSERT_EQ(RunCommandLine(Report("-o " + page.string() +
+                                  " --sample 8 --layer-frames 2 --validate"))
+                .exit_code,
+            0);
+  const std::string chromium =
+      "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
+      "--user-data-dir=" +
+      (dir_ / "profile").string() + " ";
+  const fs::path shot = dir_ / "shot.png";
+  const auto screenshot =
+      RunCommandLine(chromium +
+                     "--enable-logging=stderr --v=0 --window-size=1200,900 "
+                     "--screenshot=" +
+                     shot.string() + " file://" + page.string());
+  ASSERT_TRUE(fs::exists(shot)) << screenshot.output;
+  // Console messages from the page (the page itself logs nothing).
+  const std::regex console(R"(CONSOLE[(:]\d+[)\]].*)");
+  std::smatch match;
+  EXPECT_FALSE(std::regex_search(screenshot.output, match, console))
+      << match.str();
+
+  // Not blank: the contact sheet region (below the header) varies strongly.
+  const cv::Mat image = cv::imread(shot.string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(image.empty());
+  ASSERT_EQ(image.cols, 1200);
+  const cv::Mat sheet = image(cv::Rect(0, 200, image.cols, image.rows - 200));
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(sheet, mean, stddev);
+  EXPECT_GT(stddev[0], 20.0) << "the page looks blank";
+
+  // The script ran to its end and no error reached window.onerror.
+  const auto dom =
+      RunCommandLine(chromium + "--dump-dom file://" + page.string());
+  EXPECT_NE(dom.output.find("data-report-ready=\"1\""), std::string::npos)
+      << dom.output.substr(0, 2000);
+  EXPECT_EQ(dom.output.find("data-js-error=\""), std::string::npos);
+
+  // Control: the same page with a failing script is caught by both probes.
+  std::string broken = Slurp(page);
+  broken.insert(broken.rfind("</body>"),
+                "<script>no_such_function();</script>");
+  const fs::path bad = dir_ / "broken.html";
+  std::ofstream(bad, std::ios::binary) << broken;
+  const auto bad_dom = RunCommandLine(chromium +
+                                      "--enable-logging=stderr --v=0 "
+                                      "--dump-dom file://" +
+                                      bad.string());
+  EXPECT_NE(bad_dom.output.find("data-js-error=\""), std::string::npos);
+  EXPECT_TRUE(std::regex_search(bad_dom.output, match, console));
+}
+
+}  // namespace
+}  // namespace lsds

@@ -19,6 +19,7 @@ packages=(
   libassimp-dev                     # mesh assets
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus script
+  chromium                          # lsds report end-to-end test: headless screenshot of the page
 )
 if [ "${1:-}" = "--bench" ]; then
   packages+=(python3-open3d)        # bench/backproject: Open3D create_from_depth_image side by side

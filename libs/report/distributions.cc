@@ -84,6 +84,19 @@ Distributions MakeDistributions(const CollectionHeader& header) {
                                      "deg",
                                      "frames",
                                      LinearEdges(-90, 90, 5)));
+  d.histograms.push_back(
+      MakeNumeric("metadata-position",
+                  "Metadata position error",
+                  "perturbed minus true camera position, length",
+                  "m",
+                  "frames",
+                  OneTwoFiveEdges(0.001, 1000)));
+  d.histograms.push_back(MakeNumeric("metadata-rotation",
+                                     "Metadata rotation error",
+                                     "perturbed vs true attitude, angle",
+                                     "deg",
+                                     "frames",
+                                     OneTwoFiveEdges(0.001, 100)));
   return d;
 }
 
@@ -126,6 +139,28 @@ void AddFrame(const CollectionHeader& header,
     sun = frame.scene["sun"]["elevation_deg"].get<double>();
   }
   d->Get("sun-elevation").Add(sun);
+}
+
+void AddMetadataError(const MetadataFrame& frame, Distributions* d) {
+  double position = 0.0 / 0.0, rotation = 0.0 / 0.0;
+  const nlohmann::json& e = frame.error;
+  if (e.is_object()) {
+    if (e.contains("position_enu_m") && e["position_enu_m"].is_array() &&
+        e["position_enu_m"].size() == 3) {
+      const nlohmann::json& p = e["position_enu_m"];
+      if (p[0].is_number() && p[1].is_number() && p[2].is_number()) {
+        position =
+            Eigen::Vector3d(
+                p[0].get<double>(), p[1].get<double>(), p[2].get<double>())
+                .norm();
+      }
+    }
+    if (e.contains("rotation_deg") && e["rotation_deg"].is_number()) {
+      rotation = e["rotation_deg"].get<double>();
+    }
+  }
+  d->Get("metadata-position").Add(position);
+  d->Get("metadata-rotation").Add(rotation);
 }
 
 }  // namespace lsds::report

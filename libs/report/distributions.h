@@ -16,8 +16,9 @@ struct Distributions {
   std::vector<Histogram> histograms;     // in display order
   std::map<uint32_t, size_t> class_bin;  // class id -> bin of "class"
   int64_t frames = 0;
-  int64_t objects = 0;          // object entries listed in the frames
-  int64_t visible_objects = 0;  // of those, with at least one visible pixel
+  int64_t objects = 0;           // object entries listed in the frames
+  int64_t visible_objects = 0;   // of those, with at least one visible pixel
+  std::string metadata_variant;  // the perturbed variant measured, if any
 
   const Histogram& Get(const std::string& id) const;  // throws when unknown
   Histogram& Get(const std::string& id);
@@ -36,5 +37,10 @@ void AddFrame(const CollectionHeader& header,
               const Frame& frame,
               const FrameCamera& camera,
               Distributions* distributions);
+
+// Folds in the realized error of one frame of a perturbed metadata variant
+// (docs/perturb-metadata.md): position error length in ENU metres and rotation
+// angle in degrees. Frames without recorded errors count as invalid.
+void AddMetadataError(const MetadataFrame& frame, Distributions* distributions);
 
 }  // namespace lsds::report

@@ -447,6 +447,18 @@ ReportData CollectReportData(const CollectionReader& reader,
   });
   flush();
   data.samples = sampler.Take();
+  // Metadata error: the first perturbed variant, streamed the same way.
+  for (const MetadataVariant& variant : header.metadata) {
+    if (!variant.perturbed) continue;
+    const MetadataReader metadata(reader.root() / variant.file);
+    metadata.ForEachFrame([&](const MetadataFrame& frame) {
+      if (frame.index < options.frame_begin || frame.index >= options.frame_end)
+        return;
+      AddMetadataError(frame, &data.distributions);
+    });
+    data.distributions.metadata_variant = variant.file;
+    break;
+  }
   return data;
 }
 
@@ -546,6 +558,10 @@ std::string RenderReportHtml(const CollectionReader& reader,
     if (h.total() == 0) continue;  // e.g. no sun elevation in the scene state
     s << "<div class=\"plot\" id=\"dist-" << HtmlEscape(h.id) << "\"><h3>"
       << HtmlEscape(h.title) << "</h3>" << HistogramSvg(h);
+    if (h.id.rfind("metadata-", 0) == 0) {
+      s << "<p class=\"note\">variant " << HtmlEscape(d.metadata_variant)
+        << "</p>";
+    }
     if (h.invalid > 0) {
       s << "<p class=\"note\">" << h.invalid << " " << HtmlEscape(h.counted)
         << " without a value"

@@ -2,10 +2,12 @@
 // says: expectations are recomputed here from the truth with plain loops, and
 // the camera figures from the analytic scene.
 #include <cmath>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
 #include "libs/collection/collection_reader.h"
+#include "libs/noise/perturb_collection.h"
 #include "libs/report/frame_sampler.h"
 #include "libs/report/report.h"
 #include "libs/synth/synthetic_collection.h"
@@ -125,6 +127,43 @@ TEST(Distributions, CountsEqualTheCollectionTruth) {
   EXPECT_EQ(d.Get("class").counts[0], 0);  // ground is not a target
   EXPECT_GT(d.Get("class").counts[1], 0);
   EXPECT_GT(d.Get("class").counts[2], 0);
+}
+
+TEST(Distributions, MetadataErrorsEqualTheRealizedErrors) {
+  testing::TempDir dir;
+  synth::Spec spec = synth::CircleSpec(30, 32, 24);
+  synth::WriteCollection(dir / "c", spec);
+  noise::PerturbOptions perturb;
+  perturb.collection = dir / "c";
+  perturb.spec.seed = 7;
+  perturb.spec.sigma[noise::kEast] = perturb.spec.sigma[noise::kNorth] = 0.5;
+  perturb.spec.sigma[noise::kYaw] = 1.0;
+  perturb.progress = false;
+  const noise::PerturbResult perturbed = noise::PerturbCollection(perturb);
+
+  const CollectionReader reader(dir / "c");
+  const ReportData data = CollectReportData(reader, ReportOptions());
+  const Distributions& d = data.distributions;
+  EXPECT_EQ(d.metadata_variant, perturbed.registered_as);
+  Expected position(d.Get("metadata-position")),
+      rotation(d.Get("metadata-rotation"));
+  // The realized errors as the perturbed file records them.
+  const nlohmann::json file =
+      nlohmann::json::parse(std::ifstream(perturbed.output));
+  int frames = 0;
+  for (const nlohmann::json& frame : file.at("frames")) {
+    const nlohmann::json& e = frame.at("error");
+    const double de = e["position_enu_m"][0], dn = e["position_enu_m"][1],
+                 du = e["position_enu_m"][2];
+    position.Add(d.Get("metadata-position"),
+                 std::sqrt(de * de + dn * dn + du * du));
+    rotation.Add(d.Get("metadata-rotation"), e["rotation_deg"].get<double>());
+    ++frames;
+  }
+  EXPECT_EQ(frames, 30);
+  ExpectSame(d.Get("metadata-position"), position);
+  ExpectSame(d.Get("metadata-rotation"), rotation);
+  EXPECT_EQ(d.Get("metadata-position").total(), 30);
 }
 
 TEST(Distributions, FrameRangeSelectsByIndex) {

@@ -140,9 +140,19 @@ void DrawAnnotations(cv::Mat* bgr,
     // Above the box when there is room, else just inside its top edge.
     const int top =
         r.y - size.height - 3 >= 0 ? r.y - size.height - 3 : r.y + 1;
-    const cv::Rect label(r.x, top, size.width + 2, size.height + 3);
+    const cv::Rect label = cv::Rect(r.x, top, size.width + 2, size.height + 3) &
+                           cv::Rect(0, 0, bgr->cols, bgr->rows);
+    if (label.empty()) continue;
+    // A translucent tag: small objects under it stay visible.
     const cv::Vec3b c = ClassColor(object.class_id);
-    cv::rectangle(*bgr, label, cv::Scalar(c[0], c[1], c[2]), cv::FILLED);
+    cv::Mat tag = (*bgr)(label);
+    cv::addWeighted(
+        tag,
+        0.45,
+        cv::Mat(tag.size(), tag.type(), cv::Scalar(c[0], c[1], c[2])),
+        0.55,
+        0.0,
+        tag);
     cv::putText(*bgr,
                 text,
                 cv::Point(r.x + 1, top + size.height + 1),

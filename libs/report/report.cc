@@ -245,7 +245,7 @@ std::string LayerStrip(const CollectionReader& reader,
                     title + "<img class=\"wheel\" src=\"" +
                         ImageDataUri(FlowWheel(40), false) +
                         "\" width=\"40\" height=\"40\" alt=\"\"> max " +
-                        Fixed(max_px, 1) + " px; no motion (checkered) " +
+                        Fixed(max_px, 1) + " px; invalid (checkered) " +
                         Fixed(share, 1) + " %");
       } else if (sem == "bundle" && layer.deep) {
         const exr::DeepImage deep = exr::ReadDeepExr(path);

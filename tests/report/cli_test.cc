@@ -130,24 +130,16 @@ TEST_F(ReportCli, FindingsLinkToTheirFrames) {
   EXPECT_NE(html.find("depth is NaN"), std::string::npos);
 }
 
-// The page in a real browser. Skipped, saying why, when Chromium is absent
+// The page in a real browser: a screenshot that is not blank, no console
+// message, and the page script ran to its end with no error caught by its
+// window.onerror hook. Skipped, saying why, when Chromium is absent
 // (scripts/install-deps.sh installs it).
-TEST_F(ReportCli, ChromiumShowsAPageWithoutScriptErrors) {
-  const auto which = RunCommandLine("command -v chromium");
-  if (which.exit_code != 0) {
-    GTEST_SKIP() << "chromium is not installed (Debian package `chromium`, "
-                    "scripts/install-deps.sh): the page was not rendered";
-  }
-  const fs::path page = dir_ / "report.html";
-  ASSERT_EQ(RunCommandLine(Report("-o " + page.string() +
-                                  " --sample 8 --layer-frames 2 --validate"))
-                .exit_code,
-            0);
+void CheckInChromium(const fs::path& page, const fs::path& scratch) {
   const std::string chromium =
       "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
       "--user-data-dir=" +
-      (dir_ / "profile").string() + " ";
-  const fs::path shot = dir_ / "shot.png";
+      (scratch / "profile").string() + " ";
+  const fs::path shot = scratch / "shot.png";
   const auto screenshot =
       RunCommandLine(chromium +
                      "--enable-logging=stderr --v=0 --window-size=1200,900 "
@@ -169,18 +161,17 @@ TEST_F(ReportCli, ChromiumShowsAPageWithoutScriptErrors) {
   cv::meanStdDev(sheet, mean, stddev);
   EXPECT_GT(stddev[0], 20.0) << "the page looks blank";
 
-  // The script ran to its end and no error reached window.onerror.
   const auto dom =
       RunCommandLine(chromium + "--dump-dom file://" + page.string());
   EXPECT_NE(dom.output.find("data-report-ready=\"1\""), std::string::npos)
       << dom.output.substr(0, 2000);
   EXPECT_EQ(dom.output.find("data-js-error=\""), std::string::npos);
 
-  // Control: the same page with a failing script is caught by both probes.
+  // Control: the same page with a failing script trips both probes.
   std::string broken = Slurp(page);
   broken.insert(broken.rfind("</body>"),
                 "<script>no_such_function();</script>");
-  const fs::path bad = dir_ / "broken.html";
+  const fs::path bad = scratch / "broken.html";
   std::ofstream(bad, std::ios::binary) << broken;
   const auto bad_dom = RunCommandLine(chromium +
                                       "--enable-logging=stderr --v=0 "
@@ -188,6 +179,43 @@ TEST_F(ReportCli, ChromiumShowsAPageWithoutScriptErrors) {
                                       bad.string());
   EXPECT_NE(bad_dom.output.find("data-js-error=\""), std::string::npos);
   EXPECT_TRUE(std::regex_search(bad_dom.output, match, console));
+}
+
+bool HaveChromium() {
+  return RunCommandLine("command -v chromium").exit_code == 0;
+}
+constexpr const char* kNoChromium =
+    "chromium is not installed (Debian package `chromium`, "
+    "scripts/install-deps.sh): the page was not rendered";
+
+TEST_F(ReportCli, ChromiumShowsTheSynthReport) {
+  if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
+  const fs::path page = dir_ / "report.html";
+  ASSERT_EQ(RunCommandLine(Report("-o " + page.string() +
+                                  " --sample 8 --layer-frames 2 --validate"))
+                .exit_code,
+            0);
+  CheckInChromium(page, dir_.path());
+}
+
+// The demo scene (`lsds generate --demo`, the scene of `make demo`) at a
+// small size: rendered terrain, vegetation, targets, every layer and bundles.
+TEST(ReportDemo, ChromiumShowsTheGeneratedDemoReport) {
+  if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
+  testing::TempDir dir;
+  const auto generate = RunCommandLine(
+      testing::LsdsBinary() + " generate --demo --demo-frames 4 " +
+      "--demo-size 192x144 --spp 4 -q -o " + (dir / "demo").string());
+  ASSERT_EQ(generate.exit_code, 0) << generate.output;
+  const fs::path page = dir / "report.html";
+  const auto report = RunCommandLine(
+      testing::LsdsBinary() + " report " + (dir / "demo").string() + " -o " +
+      page.string() + " --validate --layer-frames 1");
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string html = Slurp(page);
+  EXPECT_EQ(Count(html, "<figure class=\"card\""), 4u);
+  EXPECT_NE(html.find("mixed pixels"), std::string::npos);  // bundle layer
+  CheckInChromium(page, dir.path());
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // (docs/report.md)
 #include <iostream>
 
+#include "libs/report/bundle_section.h"
 #include "libs/report/report.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -19,7 +20,8 @@ int RunReport(int argc, char** argv) {
       "distributions, validation summary (docs/report.md).",
       "lsds report");
   report::ReportOptions options;
-  std::string collection, output, frames, validation_report, tonemap = "clamp";
+  std::string collection, output, frames, validation_report, bundle_stats,
+      tonemap = "clamp";
   bool validate = false;
   app.add_option(
          "COLLECTION", collection, "collection folder (holds collection.json)")
@@ -61,6 +63,10 @@ int RunReport(int argc, char** argv) {
   app.add_option("--validation-report",
                  validation_report,
                  "add this `lsds validate --format json` report instead");
+  app.add_option("--bundle-stats",
+                 bundle_stats,
+                 "add the class-mixing matrix and mixed pixels by object size "
+                 "from this `lsds bundles -o` file");
   app.add_flag("--force", options.force, "replace an existing output file");
   return RunCommand(app, argc, argv, [&] {
     if (validate && !validation_report.empty()) {
@@ -85,9 +91,17 @@ int RunReport(int argc, char** argv) {
     }
     options.collection = collection;
     options.output = output;
-    options.progress = true;
     // Refuse before the long validation run, not after it.
     RefuseToOverwrite(output, options.force, "report");
+    if (!bundle_stats.empty()) {
+      try {
+        options.bundle_stats = nlohmann::json::parse(ReadFile(bundle_stats));
+      } catch (const nlohmann::json::exception& e) {
+        throw Error(std::string("not JSON: ") + e.what(),
+                    Location(bundle_stats));
+      }
+      report::CheckBundleStats(options.bundle_stats, bundle_stats);
+    }
     if (!validation_report.empty()) {
       try {
         options.validation = nlohmann::json::parse(ReadFile(validation_report));

@@ -30,6 +30,7 @@ table{border-collapse:collapse;font-size:12px;background:#fff}td,th{border:1px s
 #overlay[hidden]{display:none}
 #overlay .panel{background:#f4f4f2;margin:24px;padding:12px;max-width:95vw}
 #overlay img.big{width:640px;max-width:90vw;height:auto;image-rendering:pixelated}
+table.mixing td{text-align:right}.meter{display:inline-block;height:9px;background:#d04a4a;vertical-align:middle}
 footer{margin-top:28px;color:#777}
 )CSS";
 }

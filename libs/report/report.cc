@@ -11,6 +11,7 @@
 #include "libs/bundle/bundle_stats.h"
 #include "libs/bundle/mixed_map.h"
 #include "libs/exr/deep_image.h"
+#include "libs/report/bundle_section.h"
 #include "libs/report/draw.h"
 #include "libs/report/frame_sampler.h"
 #include "libs/report/html.h"
@@ -509,6 +510,9 @@ std::string RenderReportHtml(const CollectionReader& reader,
     << (options.validation.is_object()
             ? " <a href=\"#validation\">validation</a>"
             : "")
+    << (options.bundle_stats.is_null()
+            ? ""
+            : " <a href=\"#bundles\">mixed pixels</a>")
     << "</nav></header>";
 
   if (options.validation.is_object()) {
@@ -574,6 +578,9 @@ std::string RenderReportHtml(const CollectionReader& reader,
     s << "</div>";
   }
   s << "</div></section>";
+  if (!options.bundle_stats.is_null()) {
+    s << BundleStatsSection(options.bundle_stats, header);
+  }
   s << "<div id=\"overlay\" hidden><div class=\"panel\"><button "
        "id=\"close\">close</button><div id=\"overlay-body\"></div></div></div>";
   s << "<footer>Written by lsds report. How to read this page: docs/report.md."

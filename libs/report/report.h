@@ -36,8 +36,10 @@ struct ReportOptions {
   // A validation report (`lsds validate --format json`); null: none. The frames
   // its findings point to join the contact sheet so that links have targets.
   nlohmann::json validation;
+  // Statistics from `lsds bundles -o` (checked with CheckBundleStats); null:
+  // no mixed-pixel section.
+  nlohmann::json bundle_stats;
   imaging::DisplayOptions display;
-  bool progress = false;  // a progress line on a terminal
 };
 
 struct SampledFrame {

@@ -5,6 +5,7 @@
 #include <regex>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -128,6 +129,49 @@ TEST_F(ReportCli, FindingsLinkToTheirFrames) {
   EXPECT_NE(html.find("id=\"frame-7\""), std::string::npos);
   EXPECT_EQ(Count(html, "<figure class=\"card\""), 3u);
   EXPECT_NE(html.find("depth is NaN"), std::string::npos);
+}
+
+TEST_F(ReportCli, BundleStatisticsFromLsdsBundles) {
+  const fs::path stats = dir_ / "stats.json";
+  const auto bundles =
+      RunCommandLine(testing::LsdsBinary() + " bundles " +
+                     (dir_ / "c").string() + " -o " + stats.string());
+  ASSERT_EQ(bundles.exit_code, 0) << bundles.output;
+  const fs::path page = dir_ / "report.html";
+  const auto result = RunCommandLine(
+      Report("-o " + page.string() + " --bundle-stats " + stats.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string html = Slurp(page);
+  ASSERT_NE(html.find("id=\"bundles\""), std::string::npos);
+  // Every cell of the class-mixing matrix and every size band's counts, as
+  // lsds bundles wrote them.
+  const nlohmann::json json = nlohmann::json::parse(Slurp(stats));
+  const nlohmann::json& mixing = json["summary"]["class_mixing"]["samples"];
+  ASSERT_GE(mixing.size(), 2u);
+  const std::string matrix = html.substr(html.find("class=\"mixing\""));
+  size_t at = 0;
+  for (const nlohmann::json& row : mixing) {
+    for (const nlohmann::json& v : row) {
+      at = matrix.find(">" + v.dump() + "<br>", at);
+      ASSERT_NE(at, std::string::npos) << v;
+    }
+  }
+  const std::string sizes = html.substr(html.find("class=\"sizes\""));
+  at = 0;
+  for (const nlohmann::json& band : json["summary"]["by_object_size"]) {
+    at = sizes.find("<td>" + band["objects"].dump() + "</td><td>" +
+                        band["pixels"].dump() + "</td><td>" +
+                        band["mixed_pixels"].dump() + "</td>",
+                    at);
+    ASSERT_NE(at, std::string::npos) << band;
+  }
+  // Any other JSON file is refused, naming it.
+  const fs::path other = dir_ / "c" / "collection.json";
+  const auto bad = RunCommandLine(Report("-o " + (dir_ / "x.html").string() +
+                                         " --bundle-stats " + other.string()));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find(other.string()), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "x.html"));
 }
 
 // The page in a real browser: a screenshot that is not blank, no console

@@ -35,6 +35,11 @@ std::string Fixed(double value, int digits) {
   return buffer;
 }
 
+// "12.3 m", or "n/a" when there is no value.
+std::string WithUnit(double value, int digits, const std::string& unit) {
+  return std::isfinite(value) ? Fixed(value, digits) + unit : "n/a";
+}
+
 bool HasFile(const Frame& frame, const LayerInfo* layer) {
   return layer != nullptr && frame.files.count(layer->name) > 0;
 }
@@ -311,10 +316,10 @@ std::string Card(const CollectionReader& reader,
     << Fixed(frame.time, 2) << " s"
     << (frame.sequence.empty() ? "" : " &middot; " + HtmlEscape(frame.sequence))
     << (has_layers ? " <span class=\"tag\">layers</span>" : "") << "<br>alt "
-    << Fixed(c.altitude_m, 1) << " m &middot; off-nadir "
-    << Fixed(c.off_nadir_deg, 1) << "&deg; &middot; GSD "
-    << Fixed(c.gsd_m * 100, 2) << " cm/px<br>" << visible << " visible of "
-    << frame.objects.size() << " objects";
+    << WithUnit(c.altitude_m, 1, " m") << " &middot; off-nadir "
+    << WithUnit(c.off_nadir_deg, 1, "&deg;") << " &middot; GSD "
+    << WithUnit(c.gsd_m * 100, 2, " cm/px") << "<br>" << visible
+    << " visible of " << frame.objects.size() << " objects";
   const std::string scene = SceneLine(frame);
   if (!scene.empty()) s << "<br>" << scene;
   s << "</figcaption><div class=\"detail\" hidden>"

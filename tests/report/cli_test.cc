@@ -105,6 +105,27 @@ TEST_F(ReportCli, RefusesExistingOutputAndOutputInsideTheCollection) {
   EXPECT_NE(not_a_collection.output.find("collection.json"), std::string::npos);
 }
 
+TEST_F(ReportCli, AnUnreadableLayerIsShownNotFatal) {
+  // The page is for looking at broken collections too: a corrupt file becomes
+  // a message naming it where its picture would be.
+  std::ofstream(dir_ / "c" / "rgb" / "000000.exr") << "not an EXR";
+  std::ofstream(dir_ / "c" / "depth" / "000000.exr") << "not an EXR";
+  const fs::path page = dir_ / "report.html";
+  const auto result = RunCommandLine(
+      Report("-o " + page.string() + " --sample 12 --layer-frames 12"));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string html = Slurp(page);
+  EXPECT_EQ(Count(html, "<figure class=\"card\""), 12u);
+  EXPECT_NE(html.find("cannot show rgb: " +
+                      (dir_ / "c" / "rgb" / "000000.exr").string()),
+            std::string::npos);
+  EXPECT_NE(html.find("cannot show depth: "), std::string::npos);
+  // Frame 0's altitude and GSD need its depth: unknown, not made up.
+  const std::string card = html.substr(html.find("id=\"frame-0\""), 20000);
+  EXPECT_NE(card.find("alt n/a"), std::string::npos);
+  EXPECT_NE(card.find("GSD n/a"), std::string::npos);
+}
+
 TEST_F(ReportCli, FindingsLinkToTheirFrames) {
   // A validation report whose finding points at frame 7: the page links it and
   // puts frame 7 on the contact sheet even though the sample would skip it.

@@ -263,6 +263,67 @@ TEST_F(ReportCli, ChromiumShowsTheSynthReport) {
   CheckInChromium(page, dir_.path());
 }
 
+// The page's interactivity, driven in the browser by a probe script appended
+// to a copy of the page: the class filter hides and shows cards, clicking a
+// card tagged "layers" opens its layers and objects.
+TEST_F(ReportCli, ChromiumClassFilterAndFrameDetail) {
+  if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
+  const fs::path page = dir_ / "report.html";
+  ASSERT_EQ(RunCommandLine(
+                Report("-o " + page.string() + " --sample 8 --layer-frames 2"))
+                .exit_code,
+            0);
+  std::string html = Slurp(page);
+  // Expected from the page's own data: cards without visible objects, cards
+  // with a crate (class 3), and the first card tagged with layers.
+  const std::regex card_re(
+      R"re(id="frame-(\d+)" data-frame="\d+" data-classes="([^"]*)")re");
+  int empty = 0, with_crate = 0, cards = 0, first_layers = -1;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), card_re);
+       it != std::sregex_iterator();
+       ++it, ++cards) {
+    const std::string classes = (*it)[2];
+    empty += classes.empty();
+    with_crate += (" " + classes + " ").find(" c3 ") != std::string::npos;
+    const size_t end = html.find("</figure>", it->position());
+    if (first_layers < 0 && html.substr(it->position(), end - it->position())
+                                    .find("class=\"tag\"") != std::string::npos)
+      first_layers = cards;
+  }
+  ASSERT_EQ(cards, 8);
+  ASSERT_GE(first_layers, 0);
+  ASSERT_GT(with_crate, 0);
+  html.insert(html.rfind("</body>"),
+              R"(<script>
+function shown(){return Array.prototype.filter.call(document.querySelectorAll('.card'),
+  function(c){return c.style.display!=='none';}).length;}
+function set(cls,on){var b=document.querySelector('.filter input[data-class="'+cls+'"]');
+  b.checked=on;b.dispatchEvent(new Event('change'));}
+var r=[];
+set('c2',false);set('c3',false);r.push(shown());
+set('c3',true);r.push(shown());
+document.querySelectorAll('.card')[)" +
+                  std::to_string(first_layers) + R"(].click();
+var o=document.getElementById('overlay');
+r.push(o.hidden?'hidden':'open');
+r.push(o.querySelectorAll('table.objects').length);
+r.push(o.querySelectorAll('.strip figure').length);
+document.body.setAttribute('data-probe',r.join(','));
+</script>)");
+  const fs::path probe = dir_ / "probe.html";
+  std::ofstream(probe, std::ios::binary) << html;
+  const auto dom = RunCommandLine(
+      "chromium --headless --no-sandbox --disable-gpu --user-data-dir=" +
+      (dir_ / "profile").string() + " --dump-dom file://" + probe.string());
+  // rgb, classid, instanceid, depth, normal, shadow, motion, bundle.
+  const std::string expected =
+      std::to_string(empty) + "," + std::to_string(with_crate) + ",open,1,8";
+  EXPECT_NE(dom.output.find("data-probe=\"" + expected + "\""),
+            std::string::npos)
+      << "expected " << expected << " in "
+      << dom.output.substr(0, dom.output.find("<header>"));
+}
+
 // The demo scene (`lsds generate --demo`, the scene of `make demo`) at a
 // small size: rendered terrain, vegetation, targets, every layer and bundles.
 TEST(ReportDemo, ChromiumShowsTheGeneratedDemoReport) {

@@ -340,7 +340,20 @@ TEST(ReportDemo, ChromiumShowsTheGeneratedDemoReport) {
   ASSERT_EQ(report.exit_code, 0) << report.output;
   const std::string html = Slurp(page);
   EXPECT_EQ(Count(html, "<figure class=\"card\""), 4u);
-  EXPECT_NE(html.find("mixed pixels"), std::string::npos);  // bundle layer
+  // Every layer the collection declares is pictured; the bundle as its
+  // mixed-pixel map.
+  const nlohmann::json collection =
+      nlohmann::json::parse(Slurp(dir / "demo" / "collection.json"));
+  for (const nlohmann::json& layer : collection["layers"]) {
+    const std::string semantic = layer["semantic"];
+    if (semantic == "worldposition" || semantic == "derived") continue;
+    EXPECT_NE(html.find("<figcaption>" + layer["name"].get<std::string>()),
+              std::string::npos)
+        << semantic;
+    if (semantic == "bundle") {
+      EXPECT_NE(html.find("mixed pixels"), std::string::npos);
+    }
+  }
   CheckInChromium(page, dir.path());
 }
 

@@ -1,6 +1,7 @@
 // lsds report COLLECTION -o report.html [--frames A:B] [--sample N]
 // [--layer-frames K] [--validate | --validation-report FILE] [--force]
 // (docs/report.md)
+#include <filesystem>
 #include <iostream>
 
 #include "libs/report/bundle_section.h"
@@ -91,6 +92,13 @@ int RunReport(int argc, char** argv) {
     }
     options.collection = collection;
     options.output = output;
+    // The page never replaces one of its inputs, even with --force.
+    for (const std::string& input : {validation_report, bundle_stats}) {
+      if (!input.empty() && std::filesystem::weakly_canonical(input) ==
+                                std::filesystem::weakly_canonical(output)) {
+        throw Error("the output is an input of this run", Location(output));
+      }
+    }
     // Refuse before the long validation run, not after it.
     RefuseToOverwrite(output, options.force, "report");
     if (!bundle_stats.empty()) {

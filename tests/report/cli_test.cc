@@ -186,6 +186,11 @@ TEST_F(ReportCli, BundleStatisticsFromLsdsBundles) {
                     at);
     ASSERT_NE(at, std::string::npos) << band;
   }
+  // The page never replaces an input, even with --force.
+  const auto same = RunCommandLine(Report(
+      "-o " + stats.string() + " --force --bundle-stats " + stats.string()));
+  EXPECT_EQ(same.exit_code, 2);
+  EXPECT_EQ(nlohmann::json::parse(Slurp(stats)), json);
   // Any other JSON file is refused, naming it.
   const fs::path other = dir_ / "c" / "collection.json";
   const auto bad = RunCommandLine(Report("-o " + (dir_ / "x.html").string() +

@@ -37,4 +37,7 @@ step "lsds backproject: one fused point cloud, checked against the world-positio
 step "lsds perturb-metadata: GNSS-like noise, 0.5 m and 1 degree, with its effect in pixels"
 "$lsds" perturb-metadata "$collection" --sigma 0.5,1 --seed 7 --report
 
+step "lsds report: one offline page with the contact sheet, layers, distributions and validation"
+"$lsds" report "$collection" -o "$out/report.html" --validate --bundle-stats "$out/bundle-stats.json"
+
 printf '\ndemo outputs are in %s/\n' "$out"

@@ -345,3 +345,32 @@ TEST_F(CliGrammar, BackprojectOneFrameToANamedFile) {
 
 }  // namespace
 }  // namespace lsds
+
+namespace lsds {
+namespace {
+
+// After an interrupt the output holds generate's work folder; a rerun without
+// --resume points to --resume (not --force, which deletes the frames), and
+// --resume finishes the collection.
+TEST(CliResumeHint, ARerunAfterAnInterruptPointsToResume) {
+  testing::TempDir out;
+  const std::string base = testing::LsdsBinary() +
+                           " generate --demo --demo-frames 2 --demo-size 16x16 "
+                           "--spp 1 -q -o " +
+                           (out / "g").string();
+  // What an interrupted run leaves is generate's work folder in the output:
+  // a finished collection with that folder recreated stands for it.
+  ASSERT_EQ(testing::RunCommandLine(base).exit_code, 0);
+  std::filesystem::create_directories(out / "g" / ".lsds-generate");
+  const testing::CommandResult rerun = testing::RunCommandLine(base);
+  EXPECT_EQ(rerun.exit_code, 2);
+  EXPECT_NE(rerun.output.find("pass --resume to finish it"), std::string::npos)
+      << rerun.output;
+  const testing::CommandResult resumed =
+      testing::RunCommandLine(base + " --resume");
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_TRUE(std::filesystem::exists(out / "g" / "collection.json"));
+}
+
+}  // namespace
+}  // namespace lsds

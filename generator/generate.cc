@@ -114,6 +114,12 @@ void PrepareOutput(const GenerateOptions& options,
             Location(root.string()));
       }
       fs::remove_all(root);
+    } else if (fs::exists(root / kWorkFolder)) {
+      // An interrupted run: --resume keeps its frames, --force deletes them.
+      throw Error(
+          "the output holds an interrupted run; pass --resume to finish it "
+          "(--force deletes its frames and starts over)",
+          Location(root.string()));
     } else {
       RefuseToOverwrite(root, false, "output collection");
     }

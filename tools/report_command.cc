@@ -9,6 +9,7 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 #include "validators/report_writers.h"
 #include "validators/validate.h"
 
@@ -29,9 +30,7 @@ int RunReport(int argc, char** argv) {
       ->required();
   app.add_option("-o,--output", output, "the HTML file (written atomically)")
       ->required();
-  app.add_option("--frames",
-                 frames,
-                 "A:B: only the frames with index in [A, B) (A: and :B too)");
+  AddFramesOption(app, &frames);
   app.add_option("--sample",
                  options.sample,
                  "frames on the contact sheet, spread evenly")
@@ -79,16 +78,10 @@ int RunReport(int argc, char** argv) {
                   Location("--tonemap"));
     }
     if (!frames.empty()) {
-      const size_t colon = frames.find(':');
-      try {
-        if (colon == std::string::npos) throw std::invalid_argument(frames);
-        if (colon > 0)
-          options.frame_begin = std::stoll(frames.substr(0, colon));
-        if (colon + 1 < frames.size())
-          options.frame_end = std::stoll(frames.substr(colon + 1));
-      } catch (const std::exception&) {
-        throw Error("expected A:B, got '" + frames + "'", Location("--frames"));
-      }
+      const FrameSelection selection =
+          SelectCollectionFrames(frames, collection);
+      options.frame_begin = selection.begin;
+      options.frame_end = selection.end;
     }
     options.collection = collection;
     options.output = output;

@@ -47,7 +47,7 @@ class ReportCli : public ::testing::Test {
   void SetUp() override {
     const auto synth =
         RunCommandLine(testing::LsdsBinary() + " synth " +
-                       (dir_ / "c").string() + " --frames 12 --size 160x120");
+                       (dir_ / "c").string() + " --count 12 --size 160x120");
     ASSERT_EQ(synth.exit_code, 0) << synth.output;
   }
   std::string Report(const std::string& args) {
@@ -95,7 +95,7 @@ TEST_F(ReportCli, RefusesExistingOutputAndOutputInsideTheCollection) {
   EXPECT_NE(inside.output.find("inside the input"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "c" / "r.html"));
   const auto bad_range = RunCommandLine(
-      Report("-o " + (dir_ / "x.html").string() + " --frames 3"));
+      Report("-o " + (dir_ / "x.html").string() + " --frames 99"));
   EXPECT_EQ(bad_range.exit_code, 2);
   EXPECT_NE(bad_range.output.find("--frames"), std::string::npos);
   const auto not_a_collection =

@@ -40,6 +40,6 @@ step "lsds perturb-metadata: GNSS-like noise, 0.5 m and 1 degree, with its effec
 "$lsds" perturb-metadata "$collection" --sigma 0.5,1 --seed 1 --report
 
 step "lsds report: one offline page with the contact sheet, layers, distributions and validation"
-"$lsds" report "$collection" -o "$out/report.html" --validate --bundle-stats "$out/bundle-stats.json"
+"$lsds" report "$collection" -o "$out/demo-report.html" --validate --bundle-stats "$out/demo-bundle-stats.json"
 
 printf '\ndemo outputs are in %s/\n' "$out"

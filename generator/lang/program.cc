@@ -24,6 +24,7 @@ const std::map<std::string, std::string>& KindAliases() {
       {"geo", "georeference"},
       {"camera", "camera"},
       {"path", "path"},
+      {"createpath", "path"},
       {"collection", "collection"},
       {"scenechange", "scene_change"},
       {"scenechangeset", "scene_change"},

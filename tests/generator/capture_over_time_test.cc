@@ -66,6 +66,43 @@ TEST(CaptureOverTime, EnvironmentChangesApplyFromTheirFrame) {
   }
 }
 
+TEST(CaptureOverTime, TimingsReferToFramesCollectionsAndTable3Spellings) {
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(O)\nW = terrain{size:[50,50]}\n"
+      "O = object{class:cube,position:{ON:W}}\n";
+  // Table 3's words: `scene change`, `create path`, `increment point`; two
+  // collections flown in order; changes after frame 1, during frame 4 and
+  // after the first collection.
+  const Plan plan = PlanText(
+      scene,
+      "LCAP = ONE(P) ONE(Q) ONE(SCS1) ONE(CL1) ONE(CL2)\n"
+      "P = create path{waypoints:[[0,0,30],[1,0,30],[2,0,30]]}\n"
+      "Q = path{increment point:{start:[0,0,30],step:[1,1,0],count:[2,1,1]}}\n"
+      "SCS1 = scene change{O:{material:gold}}\n"
+      "CL1 = collection{CO:{move:[P]},O:{after:1,visible:false},{during:4,"
+      "material:rust}}\n"
+      "CL2 = collection{CO:{move:[Q]},SCS1:{after:CL1}}\n");
+  ASSERT_EQ(plan.frames.size(), 5u);
+  auto has = [&](int k, auto pred) {
+    for (const ObjectChange& c : plan.frames[k].changes)
+      if (pred(c)) return true;
+    return false;
+  };
+  auto hidden = [](const ObjectChange& c) { return c.visible.has_value(); };
+  auto gold = [](const ObjectChange& c) {
+    return c.material && *c.material == "gold";
+  };
+  auto rust = [](const ObjectChange& c) {
+    return c.material && *c.material == "rust";
+  };
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(has(k, hidden), k >= 2) << k;  // after frame 1
+    EXPECT_EQ(has(k, rust), k == 4) << k;    // during frame 4 only
+    EXPECT_EQ(has(k, gold), k >= 3) << k;    // after CL1's three frames
+  }
+  EXPECT_EQ(plan.frames[3].sequence, "Q(1)");
+}
+
 const char* kSunScene =
     "LSCENE = ONE(G) ONE(DL) ONE(W) ONE(POLE)\n"
     "G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}\n"

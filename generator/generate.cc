@@ -342,6 +342,7 @@ GenerateSummary GenerateCollection(const Plan& plan,
       truth->time = frame.time;
       truth->sequence = frame.sequence;
       truth->shot = frame.shot;
+      truth->camera_velocity = frame.camera_velocity;
       truth->scene = SceneStateJson(EnvironmentAt(plan, frame));
       truth->camera.intrinsics = frame.camera;
       truth->camera.cam_from_world_rotation =

@@ -83,6 +83,79 @@ std::string PathKind(const std::string& key) {
   return k == "incrementpoint" ? "incrementpoints" : k;
 }
 
+// A flight's curve, sampled densely: arc length -> position, the attitude
+// interpolated between the waypoints, and the velocity.
+struct FlightSample {
+  Rigid3d cam_from_world;
+  Eigen::Vector3d velocity;  // world m/s
+};
+
+struct Flight {
+  double speed = 0;    // m/s
+  double spacing = 0;  // metres between frames: speed / fps
+  double length = 0;   // of the curve, metres
+  int64_t frame_count = 0;
+  std::vector<Eigen::Quaterniond> attitudes;  // cam_from_world at waypoints
+  std::vector<Eigen::Vector3d> points;        // dense curve
+  std::vector<double> along;                  // arc length at each point
+  std::vector<double> param;                  // waypoint parameter (i + t)
+
+  static constexpr int kSamplesPerSegment = 64;
+
+  void Build(const std::vector<Rigid3d>& poses, bool spline) {
+    std::vector<Eigen::Vector3d> centres;
+    for (const Rigid3d& p : poses) {
+      centres.push_back(CameraCenterInWorld(p));
+      attitudes.push_back(p.rotation);
+    }
+    const size_t n = centres.size();
+    auto at = [&](size_t i, double t) -> Eigen::Vector3d {
+      const Eigen::Vector3d& p1 = centres[i];
+      const Eigen::Vector3d& p2 = centres[i + 1];
+      if (!spline) return p1 + t * (p2 - p1);
+      // Catmull-Rom (uniform), the end points repeated.
+      const Eigen::Vector3d& p0 = centres[i == 0 ? 0 : i - 1];
+      const Eigen::Vector3d& p3 = centres[std::min(i + 2, n - 1)];
+      const double t2 = t * t, t3 = t2 * t;
+      return 0.5 *
+             ((2 * p1) + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 +
+              (-p0 + 3 * p1 - 3 * p2 + p3) * t3);
+    };
+    for (size_t i = 0; i + 1 < n; ++i) {
+      for (int k = (i == 0 ? 0 : 1); k <= kSamplesPerSegment; ++k) {
+        const double t = static_cast<double>(k) / kSamplesPerSegment;
+        const Eigen::Vector3d p = at(i, t);
+        along.push_back(
+            points.empty() ? 0.0 : along.back() + (p - points.back()).norm());
+        points.push_back(p);
+        param.push_back(static_cast<double>(i) + t);
+      }
+    }
+    length = along.back();
+  }
+
+  FlightSample At(double s) const {
+    s = std::clamp(s, 0.0, length);
+    const size_t j = static_cast<size_t>(
+        std::upper_bound(along.begin(), along.end(), s) - along.begin());
+    const size_t hi = std::clamp<size_t>(j, 1, along.size() - 1), lo = hi - 1;
+    const double span = along[hi] - along[lo];
+    const double t = span > 0 ? (s - along[lo]) / span : 0.0;
+    const Eigen::Vector3d centre = points[lo] + t * (points[hi] - points[lo]);
+    const double u = param[lo] + t * (param[hi] - param[lo]);
+    const size_t w = std::min(static_cast<size_t>(u), attitudes.size() - 2);
+    const Eigen::Quaterniond rotation =
+        attitudes[w].slerp(u - static_cast<double>(w), attitudes[w + 1]);
+    FlightSample sample;
+    sample.cam_from_world.rotation = rotation;
+    sample.cam_from_world.translation = -(rotation * centre);
+    const Eigen::Vector3d d = points[hi] - points[lo];
+    sample.velocity = d.norm() > 0 ? Eigen::Vector3d(speed * d.normalized())
+                                   : Eigen::Vector3d::Zero();
+    return sample;
+  }
+};
+
 struct Segment {
   const Definition* path = nullptr;
   const Definition* collection = nullptr;  // whose move flies it, if any
@@ -260,6 +333,46 @@ class CaptureEvaluator {
     }
   }
 
+  // A smooth flight (docs/languages.md, "Smooth flights"): `waypoints:{points:
+  // [...], speed: m/s, interpolation: linear | spline}` is flown at `speed`,
+  // one frame every speed / fps metres along the polyline or a Catmull-Rom
+  // spline through the waypoints; the attitude is interpolated (slerp)
+  // between the waypoints' attitudes. Waypoint intervals are drawn once per
+  // path instance.
+  const Flight& FlightOf(const Node& g, uint64_t segment) {
+    const auto cached = flights_.find(segment);
+    if (cached != flights_.end()) return cached->second;
+    g.CheckKeys({"points", "speed", "interpolation"}, "waypoints");
+    const Node points = g.Find("points"), speed = g.Find("speed");
+    if (!points || !points->is_array() || points->size() < 2)
+      (points ? points : g)
+          .Fail("a flight needs points: at least two waypoints");
+    if (!speed) g.Fail("a flight needs a speed (m/s)");
+    Rng rng = Rng::For(seed_, StreamTag::kFlight, segment);
+    Flight flight;
+    flight.speed = SampleScalar(speed, rng);
+    if (!(flight.speed > 0) || flight.speed > 1000)
+      speed.Fail("speed is in m/s, within (0, 1000]");
+    flight.spacing = flight.speed / fps_;
+    bool spline = false;
+    if (const Node n = g.Find("interpolation")) {
+      const std::string v = ReadString(n);
+      if (v != "linear" && v != "spline")
+        n.Fail("interpolation is linear or spline, not '" + v + "'");
+      spline = v == "spline";
+    }
+    std::vector<Rigid3d> poses;
+    for (size_t j = 0; j < points->size(); ++j)
+      poses.push_back(WaypointPose(points.Item(j), rng));
+    flight.Build(poses, spline);
+    const double frames = std::floor(flight.length / flight.spacing + 1e-9) + 1;
+    if (frames > 1e6)
+      g.Fail("the flight has " + FormatNumber(frames) +
+             " frames; lower the fps or raise the speed");
+    flight.frame_count = static_cast<int64_t>(frames);
+    return flights_.emplace(segment, std::move(flight)).first->second;
+  }
+
   // The number of frames of a path instance; a count interval is drawn from
   // the seed, on the stream of the instance's place `segment` in the timeline.
   int64_t PathFrameCount(const Definition& path, uint64_t segment) {
@@ -301,6 +414,7 @@ class CaptureEvaluator {
       return SampleCount(g.Find("count"), count_rng);
     }
     if (k == "waypoints") {
+      if (g->is_object()) return FlightOf(g, segment).frame_count;
       if (!g->is_array() || g->empty())
         g.Fail("waypoints are a non-empty list");
       return static_cast<int64_t>(g->size());
@@ -623,7 +737,11 @@ class CaptureEvaluator {
     return SampleVec3(n, rng);
   }
 
-  Rigid3d Pose(const Definition& path, int64_t i, Rng& rng) {
+  Rigid3d Pose(const Definition& path,
+               int64_t i,
+               Rng& rng,
+               uint64_t segment = 0,
+               std::optional<Eigen::Vector3d>* velocity = nullptr) {
     const auto [kind, g] = path.body.Members().front();
     const std::string k = PathKind(kind);
     const double deg = M_PI / 180.0;
@@ -685,21 +803,15 @@ class CaptureEvaluator {
         g.Find("offnadir").Fail("off_nadir must be within [0, 90] degrees");
       return CamFromEnu(p, Attitude{0, -90 + off_nadir, yaw});
     }
-    if (k == "waypoints") {
-      const Node w = g.Item(static_cast<size_t>(i));
-      if (w->is_array()) {
-        if (w->size() != 3 && w->size() != 6)
-          w.Fail("a waypoint is [x,y,z] (nadir) or [x,y,z,roll,pitch,yaw]");
-        std::vector<double> v;
-        for (size_t j = 0; j < w->size(); ++j)
-          v.push_back(SampleScalar(w.Item(j), rng));
-        const Attitude att =
-            v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
-        return CamFromEnu(Datum({v[0], v[1], v[2]}), att);
-      }
-      w.CheckKeys({"position", "attitude", "look_at"}, "waypoint");
-      return PointPose(w, rng);
+    if (k == "waypoints" && g->is_object()) {
+      const Flight& flight = FlightOf(g, segment);
+      const FlightSample at =
+          flight.At(static_cast<double>(i) * flight.spacing);
+      if (velocity) *velocity = at.velocity;
+      return at.cam_from_world;
     }
+    if (k == "waypoints")
+      return WaypointPose(g.Item(static_cast<size_t>(i)), rng);
     return PointPose(g, rng);
   }
 
@@ -723,6 +835,23 @@ class CaptureEvaluator {
 
   // {position, rotation|attitude: [roll,pitch,yaw] | look_at: [x,y,z] or an
   // object}
+  // One waypoint: [x,y,z] (nadir), [x,y,z,roll,pitch,yaw] or {position,
+  // attitude | look_at}.
+  Rigid3d WaypointPose(const Node& w, Rng& rng) const {
+    if (w->is_array()) {
+      if (w->size() != 3 && w->size() != 6)
+        w.Fail("a waypoint is [x,y,z] (nadir) or [x,y,z,roll,pitch,yaw]");
+      std::vector<double> v;
+      for (size_t j = 0; j < w->size(); ++j)
+        v.push_back(SampleScalar(w.Item(j), rng));
+      const Attitude att =
+          v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
+      return CamFromEnu(Datum({v[0], v[1], v[2]}), att);
+    }
+    w.CheckKeys({"position", "attitude", "look_at"}, "waypoint");
+    return PointPose(w, rng);
+  }
+
   // A waypoint or point position in the world frame: with camera settings
   // `heights:agl`, its z is above the terrain under it.
   Eigen::Vector3d Datum(Eigen::Vector3d p) const {
@@ -757,7 +886,11 @@ class CaptureEvaluator {
     f.shot = ShotStart(*seg->path, seg->first, k - seg->first);
     f.camera = camera_model_;
     Rng rng = Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k));
-    f.cam_from_world = Pose(*seg->path, k - seg->first, rng);
+    f.cam_from_world = Pose(*seg->path,
+                            k - seg->first,
+                            rng,
+                            static_cast<uint64_t>(seg - segments_.data()),
+                            &f.camera_velocity);
     CheckClearance(*seg, k, f.cam_from_world);
     std::vector<const Rule*> change_rules;  // the rule of each change
     for (const Rule& rule : rules_) {
@@ -930,6 +1063,7 @@ class CaptureEvaluator {
   PinholeCamera camera_model_;
   double fps_ = 10;
   std::optional<double> clearance_ = kDefaultClearanceM;
+  std::map<uint64_t, Flight> flights_;  // by path instance (segment)
   bool heights_agl_ = false;  // waypoint and point z above the terrain
   std::vector<Segment> segments_;
   std::vector<Rule> rules_;

@@ -28,7 +28,8 @@ enum class StreamTag : uint64_t {
   kFrame = 2,
   kChange = 3,
   kTerrain = 4,
-  kCount = 5  // frame counts of capture paths, one stream per path instance
+  kCount = 5,  // frame counts of capture paths, one stream per path instance
+  kFlight = 6  // waypoints of a smooth flight, one stream per path instance
 };
 
 class Rng {

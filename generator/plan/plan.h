@@ -112,6 +112,8 @@ struct PlannedFrame {
   int64_t shot = 0;
   PinholeCamera camera;
   Rigid3d cam_from_world;
+  // The camera centre's velocity, world m/s, on smooth flights.
+  std::optional<Eigen::Vector3d> camera_velocity;
   std::vector<ObjectChange>
       changes;  // applied in order on top of the world's objects
   // The environment in effect when LCAP changes it (sky, sun, atmosphere,

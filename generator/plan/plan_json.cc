@@ -134,6 +134,7 @@ json PlannedFrameToJson(const PlannedFrame& f) {
               {"translation", Vec3(f.cam_from_world.translation)}}},
             {"changes", changes}};
   if (f.environment) j["environment"] = EnvironmentJson(*f.environment);
+  if (f.camera_velocity) j["camera_velocity"] = Vec3(*f.camera_velocity);
   return j;
 }
 
@@ -155,6 +156,8 @@ PlannedFrame PlannedFrameFromJson(const json& j,
     for (const json& c : j.at("changes")) f.changes.push_back(ChangeFrom(c));
     if (j.contains("environment"))
       f.environment = EnvironmentFromJson(j.at("environment"));
+    if (j.contains("camera_velocity"))
+      f.camera_velocity = ToVec3(j.at("camera_velocity"));
     return f;
   } catch (const json::exception& e) {
     throw Error(std::string("bad plan frame: ") + e.what(),

@@ -299,6 +299,8 @@ json FrameToJson(const Frame& f) {
   if (!f.sequence.empty()) j["sequence"] = f.sequence;
   if (f.shot) j["shot"] = *f.shot;
   if (!f.scene.is_null()) j["scene"] = f.scene;
+  if (f.camera_velocity)
+    j["camera_velocity"] = Vector3ToJson(*f.camera_velocity);
   return j;
 }
 
@@ -312,6 +314,8 @@ Frame FrameFromJson(const json& j,
     f.sequence = j.value("sequence", "");
     if (j.contains("shot")) f.shot = j.at("shot").get<int64_t>();
     if (j.contains("scene")) f.scene = j.at("scene");
+    if (j.contains("camera_velocity"))
+      f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
     for (const json& o : j.at("objects"))

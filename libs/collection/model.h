@@ -127,6 +127,9 @@ struct Frame {
   // written by the generator; null when unknown.
   nlohmann::json scene;
   CameraTruth camera;
+  // Format 1.1, optional: the camera centre's velocity (world units per
+  // second) on a smooth flight.
+  std::optional<Eigen::Vector3d> camera_velocity;
   std::map<std::string, std::string>
       files;  // layer name -> path relative to the collection root
   std::vector<ObjectTruth> objects;

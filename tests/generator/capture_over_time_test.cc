@@ -103,6 +103,79 @@ TEST(CaptureOverTime, TimingsReferToFramesCollectionsAndTable3Spellings) {
   EXPECT_EQ(plan.frames[3].sequence, "Q(1)");
 }
 
+TEST(CaptureOverTime, ASmoothFlightAdvancesSpeedOverFpsPerFrame) {
+  const std::string scene = "LSCENE = ONE(W)\nW = terrain{size:[300,300]}\n";
+  // 10 m/s at 10 fps: 1 m per frame along a 30 m + 40 m dog-leg.
+  const Plan plan = PlanText(
+      scene,
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:10}}\n"
+      "P = "
+      "path{waypoints:{points:[[0,0,40],[30,0,40],[30,40,40]],speed:10}}\n");
+  ASSERT_EQ(plan.frames.size(), 71u);
+  for (size_t k = 1; k < plan.frames.size(); ++k) {
+    const Eigen::Vector3d a =
+        CameraCenterInWorld(plan.frames[k - 1].cam_from_world);
+    const Eigen::Vector3d b =
+        CameraCenterInWorld(plan.frames[k].cam_from_world);
+    // Along the path 1 m per frame; the corner cuts the chord below 1 m.
+    EXPECT_LE((b - a).norm(), 1.0 + 1e-9);
+    if (k != 30) {
+      EXPECT_NEAR((b - a).norm(), 1.0, 1e-9) << k;
+    }
+    EXPECT_NEAR(plan.frames[k].time - plan.frames[k - 1].time, 0.1, 1e-12);
+    ASSERT_TRUE(plan.frames[k].camera_velocity.has_value());
+    EXPECT_NEAR(plan.frames[k].camera_velocity->norm(), 10.0, 1e-9);
+    EXPECT_EQ(plan.frames[k].shot, 0);  // one continuous shot
+  }
+  EXPECT_TRUE(
+      plan.frames[10].camera_velocity->isApprox(Eigen::Vector3d(10, 0, 0)));
+  EXPECT_TRUE(
+      plan.frames[50].camera_velocity->isApprox(Eigen::Vector3d(0, 10, 0)));
+  EXPECT_TRUE(CameraCenterInWorld(plan.frames[70].cam_from_world)
+                  .isApprox(Eigen::Vector3d(30, 40, 40)));
+  // A spline passes through its waypoints and is smooth: no corner.
+  const Plan smooth = PlanText(
+      scene,
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:10}}\n"
+      "P = path{waypoints:{points:[[0,0,40],[30,0,40],[30,40,40]],speed:10,"
+      "interpolation:spline}}\n");
+  double worst_turn = 0;
+  for (size_t k = 1; k < smooth.frames.size(); ++k) {
+    const Eigen::Vector3d a = *smooth.frames[k - 1].camera_velocity,
+                          b = *smooth.frames[k].camera_velocity;
+    worst_turn = std::max(
+        worst_turn,
+        std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+  }
+  EXPECT_LT(worst_turn * 180 / M_PI, 15);  // the linear path turns 90 at once
+}
+
+TEST(CaptureOverTime, ASmoothFlightPassesTheGateWithValidMotion) {
+  testing::TempDir dir;
+  std::ofstream(dir / "s.lscene")
+      << "LSCENE = ONE(W) MANY(O, 6)\n"
+         "W = terrain{size:[120,120],height:{perlin:{amplitude:2}}}\n"
+         "O = object{class:cube,extent:[2,2,2],position:{ON:W,within:[[-15,"
+         "-15,-100],[15,15,100]]}}\n";
+  std::ofstream(dir / "c.lcap")
+      << "LCAP = ONE(CO) ONE(P)\n"
+         "CO = camera{csettings:{res:[160,120],fps:5},targets:[O]}\n"
+         "P = path{waypoints:{points:[[-20,-20,25],[0,0,30],[20,-10,25]],"
+         "speed:8,interpolation:spline}}\n";
+  const std::string out = (dir / "out").string();
+  const auto generated = testing::RunCommandLine(
+      testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() + " " +
+      (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
+  ASSERT_EQ(generated.exit_code, 0) << generated.output;
+  const auto validated = testing::RunCommandLine(
+      testing::LsdsBinary() + " validate " + out + " --fail-on warning");
+  EXPECT_EQ(validated.exit_code, 0) << validated.output;
+  std::ifstream in(dir / "out" / "collection.json");
+  const auto collection = nlohmann::json::parse(in);
+  EXPECT_GT(collection["frames"].size(), 8u);
+  EXPECT_TRUE(collection["frames"][3].contains("camera_velocity"));
+}
+
 const char* kSunScene =
     "LSCENE = ONE(G) ONE(DL) ONE(W) ONE(POLE)\n"
     "G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}\n"

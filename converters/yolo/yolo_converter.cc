@@ -62,6 +62,8 @@ class YoloConverter : public Converter {
             masks::ExtractPolygons(*object.mask);
         if (polygons.pieces.size() > 1) loss->Add(loss::kPiecesMerged, name);
         if (polygons.holes > 0) loss->Add(loss::kHolesFilled, name);
+        loss->Add(loss::kPolygonMaskPixels, name, object.mask->pixel_count);
+        loss->Add(loss::kPolygonHolePixels, name, polygons.hole_pixels);
         const masks::Polygon polygon = masks::MergePieces(polygons.pieces);
         text += std::to_string(object.class_index);
         for (const cv::Point2d& p : polygon) {

@@ -263,6 +263,16 @@ TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
         // A single pixel is its pixel-edge square.
         EXPECT_EQ(v.size(), 8u);
       }
+      // Ultralytics derives the box from the polygon (segment2box): it is the
+      // object's pixel-edge box, not one pixel smaller.
+      std::vector<cv::Point2d> points;
+      for (size_t k = 0; k < v.size(); k += 2)
+        points.emplace_back(v[k] * 64, v[k + 1] * 48);
+      const cv::Rect2d box = UltralyticsSegmentToBox(points, 64, 48);
+      EXPECT_NEAR(box.x, o.bbox->x0, 1e-4);
+      EXPECT_NEAR(box.y, o.bbox->y0, 1e-4);
+      EXPECT_NEAR(box.x + box.width, o.bbox->x1, 1e-4);
+      EXPECT_NEAR(box.y + box.height, o.bbox->y1, 1e-4);
     }
     EXPECT_EQ(n, visible.size());
   }
@@ -556,15 +566,36 @@ TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
   options.segmentation = "polygon";
   const convert::ConvertResult poly = convert::Convert(options);
   EXPECT_EQ(poly.loss.Count(convert::loss::kPiecesSplit, "crate"), 1);
+  // The loss report gives the IoU the filled hole costs: crate pixels over
+  // crate pixels plus the pillar's.
+  const int64_t crate_pixels =
+      cv::countNonZero(InstanceMask(collection, frame, 21)) +
+      cv::countNonZero(InstanceMask(collection, frame, 23));
+  const int64_t hole_pixels =
+      cv::countNonZero(InstanceMask(collection, frame, 24));
+  EXPECT_NEAR(poly.loss.PolygonIou().at("crate"),
+              double(crate_pixels) / double(crate_pixels + hole_pixels),
+              1e-12);
+  EXPECT_LT(poly.loss.PolygonIou().at("crate"), 1.0);
   const json coco = json::parse(
       ReadText(dir.path() / "poly" / "annotations" / "instances_train.json"));
   for (const json& a : coco["annotations"]) {
     const uint32_t id = a["lsds"]["instance_id"];
+    // pycocotools' rasterization of the polygons (frPyObjects + decode).
+    const cv::Mat decoded = CocoPolygonsToMask(
+        a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
+    const cv::Mat mask = InstanceMask(collection, frame, id) != 0;
     if (id == 21) {
       EXPECT_EQ(a["segmentation"].size(), 2u);
     }
     if (id == 23) {
       EXPECT_EQ(a["segmentation"].size(), 1u);
+      // The hole (the pillar) is filled: the mask plus the hole.
+      const cv::Mat hole = InstanceMask(collection, frame, 24) != 0;
+      EXPECT_EQ(cv::countNonZero((decoded != 0) != (mask | hole)), 0);
+      EXPECT_GT(cv::countNonZero(hole), 0);
+    } else {
+      EXPECT_EQ(cv::countNonZero((decoded != 0) != mask), 0) << "id " << id;
     }
     // area stays the mask pixel count, not a polygon area.
     EXPECT_EQ(a["area"], cv::countNonZero(InstanceMask(collection, frame, id)));

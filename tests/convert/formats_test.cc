@@ -76,6 +76,40 @@ TEST_F(ConvertTest, PreconditionsOfTheTestScene) {
   EXPECT_TRUE(border);
 }
 
+// COCO polygons on the synthetic collection, rasterized by pycocotools' own
+// rule (rleFrPoly port): exactly the instance mask, its holes (if any) filled,
+// and the loss report's IoU matches.
+TEST_F(ConvertTest, CocoPolygonsRasterizeToTheInstanceMask) {
+  const fs::path out = Out("coco_polygon_exact");
+  convert::ConvertOptions options = Options(Collection(), out, {"coco"});
+  options.segmentation = "polygon";
+  const convert::ConvertResult result = convert::Convert(options);
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  std::map<int64_t, Frame> by_image;
+  for (const Frame& f : Frames(Collection())) by_image[f.index + 1] = f;
+  int exact = 0;
+  for (const json& a : coco["annotations"]) {
+    const Frame& frame = by_image.at(a["image_id"]);
+    const cv::Mat mask =
+        InstanceMask(Collection(), frame, a["lsds"]["instance_id"]) != 0;
+    cv::Mat padded;
+    cv::copyMakeBorder(mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+    cv::floodFill(padded, cv::Point(0, 0), 128, nullptr, 0, 0, 4);
+    const cv::Mat filled = padded(cv::Rect(1, 1, 64, 48)) != 128;
+    const cv::Mat decoded = CocoPolygonsToMask(
+        a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
+    EXPECT_EQ(cv::countNonZero((decoded != 0) != filled), 0)
+        << "instance " << a["lsds"]["instance_id"] << " frame " << frame.index;
+    exact += cv::countNonZero((decoded != 0) != mask) == 0;
+  }
+  EXPECT_GT(exact, 0);
+  for (const auto& [name, iou] : result.loss.PolygonIou()) {
+    EXPECT_GT(iou, 0.0) << name;
+    EXPECT_LE(iou, 1.0) << name;
+  }
+}
+
 TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
   const fs::path out = Out("coco");
   const convert::ConvertResult result =

@@ -229,9 +229,8 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
       yaml.find("names:\n  0: \"ground\"\n  1: \"box\"\n  2: \"crate\"\n"),
       std::string::npos)
       << yaml;
-  EXPECT_NE(yaml.find("path: \"" +
-                      fs::absolute(out).lexically_normal().string() + "\""),
-            std::string::npos);
+  // No absolute `path:`: the dataset root is the folder of data.yaml.
+  EXPECT_EQ(yaml.find("path:"), std::string::npos);
   EXPECT_NE(yaml.find("train: images/train\nval: images/train\n"),
             std::string::npos);
   for (const Frame& frame : Frames(Collection())) {
@@ -489,25 +488,58 @@ TEST(Splits, DeterministicGroupedAndProportional) {
   EXPECT_EQ(convert::SplitGroup(c), convert::SplitGroup(d));
 }
 
-TEST_F(ConvertTest, SplitsKeepSequencesTogether) {
+TEST_F(ConvertTest, OneSequenceStillFillsEverySplit) {
+  // The README's split on a one-sequence collection (4 frames): the hash rule
+  // would put the whole sequence in one split, so contiguous blocks are cut.
   const fs::path out = Out("split");
   convert::ConvertOptions options =
       Options(Collection(), out, {"yolo", "coco"});
-  options.split = "train=0.5,val=0.5";
+  options.split = "train=0.8,val=0.2";
+  options.images = "png";
   convert::Convert(options);
-  // The one sequence lands entirely in one split, the other split is empty but
-  // present.
   const json train =
       json::parse(ReadText(out / "annotations" / "instances_train.json"));
   const json val =
       json::parse(ReadText(out / "annotations" / "instances_val.json"));
-  EXPECT_EQ(train["images"].size() + val["images"].size(), 4u);
-  EXPECT_TRUE(train["images"].empty() || val["images"].empty());
-  const std::string expected =
-      convert::AssignSplit(convert::ParseSplit(options.split), "S1");
-  EXPECT_EQ((expected == "train" ? train : val)["images"].size(), 4u);
-  EXPECT_NE(ReadText(out / "data.yaml").find("val: images/val\n"),
-            std::string::npos);
+  EXPECT_EQ(train["images"].size(), 3u);
+  EXPECT_EQ(val["images"].size(), 1u);
+  // Blocks are contiguous: train holds the first frames.
+  EXPECT_EQ(val["images"][0]["lsds"]["frame"], 3);
+  EXPECT_FALSE(fs::is_empty(out / "images" / "train"));
+  EXPECT_FALSE(fs::is_empty(out / "images" / "val"));
+  const std::string yaml = ReadText(out / "data.yaml");
+  EXPECT_NE(yaml.find("val: images/val\n"), std::string::npos);
+  // Relative to its own folder: no absolute path inside.
+  EXPECT_EQ(yaml.find(fs::absolute(out).string()), std::string::npos);
+  EXPECT_EQ(yaml.find("\npath:"), std::string::npos);
+}
+
+TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
+  std::vector<convert::SplitFrame> frames;
+  for (int s = 0; s < 40; ++s) {
+    for (int i = 0; i < 5; ++i)
+      frames.push_back({s * 5 + i, "seq_" + std::to_string(s)});
+  }
+  const auto parts = convert::ParseSplit("train=0.8,val=0.2");
+  const convert::SplitPlan plan = convert::PlanSplits(parts, frames);
+  EXPECT_FALSE(plan.blocks);
+  for (const auto& f : frames) {
+    EXPECT_EQ(plan.split_of_frame.at(f.index),
+              convert::AssignSplit(parts, f.group));
+  }
+  // Too few frames for the splits: a loud error naming the split.
+  const auto three = convert::ParseSplit("train=0.5,val=0.3,test=0.2");
+  try {
+    convert::PlanSplits(three, {{0, "a"}, {1, "a"}});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot fill split 'test'"),
+              std::string::npos)
+        << e.what();
+  }
+  // A zero fraction may stay empty.
+  const auto zero = convert::ParseSplit("train=1,val=0");
+  EXPECT_FALSE(convert::PlanSplits(zero, {{0, "a"}}).blocks);
 }
 
 TEST(ClassMap, SubsetRenameMergeAndErrors) {

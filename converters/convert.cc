@@ -29,6 +29,7 @@ struct Driver {
   const CollectionReader& reader;
   const ClassMap& classes;
   const std::vector<SplitPart>& splits;
+  const SplitPlan& split_plan;
   fs::path root;
   std::string rgb_layer;       // empty with --images none
   std::string instance_layer;  // empty when no format needs masks
@@ -41,7 +42,7 @@ struct Driver {
 
   void Prepare(const Frame& frame, FrameContext* ctx, LossReport* loss) {
     ctx->frame = &frame;
-    ctx->split = AssignSplit(splits, SplitGroup(frame));
+    ctx->split = split_plan.split_of_frame.at(frame.index);
     ctx->stem = FrameStem(frame.index);
     ctx->image_name = ctx->stem + options.ImageExtension();
     ctx->width = frame.camera.intrinsics.width;
@@ -164,9 +165,23 @@ ConvertResult Convert(const ConvertOptions& options) {
     needs_masks = needs_masks || converters.back()->NeedsMasks();
   }
 
+  auto in_range = [&](const Frame& frame) {
+    return frame.index >= options.frame_begin &&
+           (options.frame_end < 0 || frame.index < options.frame_end);
+  };
+  // Splits are planned over all the frames first, so that no requested split
+  // is left empty (docs/convert.md, "Splits").
+  std::vector<SplitFrame> split_frames;
+  reader.ForEachFrame([&](const Frame& frame) {
+    if (in_range(frame))
+      split_frames.push_back({frame.index, SplitGroup(frame)});
+  });
+  const SplitPlan split_plan = PlanSplits(splits, split_frames);
+
   // Refuse early (before any work) and build under a temporary name.
   AtomicDirectory out(options.output, options.force);
-  Driver driver{options, reader, classes, splits, out.temp_path(), "", ""};
+  Driver driver{
+      options, reader, classes, splits, split_plan, out.temp_path(), "", ""};
   if (options.images != "none") {
     const LayerInfo* rgb = header.FindLayerBySemantic("rgb");
     if (rgb == nullptr) {

@@ -34,6 +34,18 @@ int64_t LossReport::Total(const std::string& reason) const {
   return total;
 }
 
+std::map<std::string, double> LossReport::PolygonIou() const {
+  std::map<std::string, double> iou;
+  const auto it = counts_.find(loss::kPolygonMaskPixels);
+  if (it == counts_.end()) return iou;
+  for (const auto& [name, pixels] : it->second) {
+    const int64_t holes = Count(loss::kPolygonHolePixels, name);
+    iou[name] =
+        static_cast<double>(pixels) / static_cast<double>(pixels + holes);
+  }
+  return iou;
+}
+
 std::string LossReport::ToText() const {
   std::ostringstream out;
   out << "frames per split:";
@@ -50,6 +62,12 @@ std::string LossReport::ToText() const {
     }
     out << ")\n";
   }
+  const std::map<std::string, double> iou = PolygonIou();
+  if (!iou.empty()) {
+    out << "polygon IoU with the masks (holes filled):";
+    for (const auto& [name, value] : iou) out << " " << name << " " << value;
+    out << "\n";
+  }
   return out.str();
 }
 
@@ -61,6 +79,8 @@ nlohmann::json LossReport::ToJson() const {
     reasons[reason] = {{"total", Total(reason)}, {"per_class", by_class}};
   }
   json["counts"] = reasons;
+  const std::map<std::string, double> iou = PolygonIou();
+  if (!iou.empty()) json["polygon_iou"] = iou;
   return json;
 }
 

@@ -36,6 +36,12 @@ inline constexpr const char* kPiecesMerged =
 inline constexpr const char* kPiecesSplit =
     "polygon: instance written as several polygons (coco)";
 inline constexpr const char* kHolesFilled = "polygon: holes filled";
+// Pixel sums behind the polygon IoU (mask pixels / filled polygon pixels) that
+// ToText and ToJson report per class.
+inline constexpr const char* kPolygonMaskPixels =
+    "polygon: mask pixels written as polygons";
+inline constexpr const char* kPolygonHolePixels =
+    "polygon: hole pixels added by filling";
 inline constexpr const char* kMaskBoxMismatch =
     "mask extends beyond the truth box (box kept)";
 }  // namespace loss
@@ -55,6 +61,10 @@ class LossReport {
   const std::map<std::string, std::map<std::string, int64_t>>& counts() const {
     return counts_;
   }
+
+  // Per class, mask pixels / pixels of the filled polygons (1 when no hole
+  // was filled); empty when nothing was written as polygons.
+  std::map<std::string, double> PolygonIou() const;
 
   std::string ToText() const;
   nlohmann::json ToJson() const;

@@ -1,5 +1,8 @@
 #include "converters/split.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <cmath>
 #include <cstdlib>
 
@@ -86,6 +89,68 @@ const std::string& AssignSplit(const std::vector<SplitPart>& parts,
     if (it->fraction > 0) return it->name;
   }
   return parts.back().name;
+}
+
+SplitPlan PlanSplits(const std::vector<SplitPart>& parts,
+                     const std::vector<SplitFrame>& frames) {
+  SplitPlan plan;
+  std::map<std::string, int64_t> filled;
+  for (const SplitFrame& f : frames) {
+    const std::string& split = AssignSplit(parts, f.group);
+    plan.split_of_frame[f.index] = split;
+    ++filled[split];
+  }
+  std::vector<const SplitPart*> wanted;
+  for (const SplitPart& part : parts) {
+    if (part.fraction > 0) wanted.push_back(&part);
+  }
+  const bool all_filled =
+      std::all_of(wanted.begin(), wanted.end(), [&](const SplitPart* p) {
+        return filled[p->name] > 0;
+      });
+  if (all_filled || frames.empty()) return plan;
+
+  const int64_t n = static_cast<int64_t>(frames.size());
+  const int64_t k = static_cast<int64_t>(wanted.size());
+  if (n < k) {
+    throw Error("cannot fill split '" + wanted[n]->name +
+                    "': " + std::to_string(n) + " frame(s) for " +
+                    std::to_string(k) + " splits with a non-zero fraction",
+                Location("--split"));
+  }
+  // Block sizes: rounded cumulative fractions, then each at least one frame
+  // (taken from the largest block).
+  std::vector<int64_t> size(k);
+  double cumulative = 0, total = 0;
+  for (const SplitPart* p : wanted) total += p->fraction;
+  int64_t start = 0;
+  for (int64_t i = 0; i < k; ++i) {
+    cumulative += wanted[i]->fraction / total;
+    const int64_t end = i + 1 == k ? n : std::llround(cumulative * n);
+    size[i] = std::max<int64_t>(0, end - start);
+    start += size[i];
+  }
+  for (int64_t i = 0; i < k; ++i) {
+    while (size[i] == 0) {
+      const auto largest = std::max_element(size.begin(), size.end());
+      --*largest;
+      ++size[i];
+    }
+  }
+  std::vector<SplitFrame> ordered = frames;
+  std::stable_sort(ordered.begin(),
+                   ordered.end(),
+                   [](const SplitFrame& a, const SplitFrame& b) {
+                     return a.group != b.group ? a.group < b.group
+                                               : a.index < b.index;
+                   });
+  int64_t at = 0;
+  for (int64_t i = 0; i < k; ++i) {
+    for (int64_t j = 0; j < size[i]; ++j)
+      plan.split_of_frame[ordered[at++].index] = wanted[i]->name;
+  }
+  plan.blocks = true;
+  return plan;
 }
 
 }  // namespace lsds::convert

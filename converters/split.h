@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -37,5 +38,23 @@ uint64_t Mix64(uint64_t x);
 // 1), the first part whose cumulative fraction exceeds u.
 const std::string& AssignSplit(const std::vector<SplitPart>& parts,
                                const std::string& group);
+
+// The split of every frame of a conversion. The hash rule above (whole groups)
+// is used when it fills every split with a non-zero fraction; otherwise (few
+// sequences, e.g. one) the frames, ordered by group then index, are cut into
+// one contiguous block per split sized by the fractions (each at least one
+// frame), so a requested split is never empty and neighbours mostly stay
+// together. Fewer frames than such splits is an error naming the split that
+// cannot be filled.
+struct SplitPlan {
+  std::map<int64_t, std::string> split_of_frame;  // frame index -> split
+  bool blocks = false;  // true when the block rule was needed
+};
+struct SplitFrame {
+  int64_t index;
+  std::string group;  // SplitGroup(frame)
+};
+SplitPlan PlanSplits(const std::vector<SplitPart>& parts,
+                     const std::vector<SplitFrame>& frames);
 
 }  // namespace lsds::convert

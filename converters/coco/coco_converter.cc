@@ -73,6 +73,8 @@ class CocoConverter : public Converter {
         const std::string& name = classes[object.class_index].name;
         if (polygons.pieces.size() > 1) loss->Add(loss::kPiecesSplit, name);
         if (polygons.holes > 0) loss->Add(loss::kHolesFilled, name);
+        loss->Add(loss::kPolygonMaskPixels, name, object.mask->pixel_count);
+        loss->Add(loss::kPolygonHolePixels, name, polygons.hole_pixels);
         json segmentation = json::array();
         for (const masks::Polygon& polygon : polygons.pieces) {
           json flat = json::array();

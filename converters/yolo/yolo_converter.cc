@@ -62,6 +62,8 @@ class YoloConverter : public Converter {
             masks::ExtractPolygons(*object.mask);
         if (polygons.pieces.size() > 1) loss->Add(loss::kPiecesMerged, name);
         if (polygons.holes > 0) loss->Add(loss::kHolesFilled, name);
+        loss->Add(loss::kPolygonMaskPixels, name, object.mask->pixel_count);
+        loss->Add(loss::kPolygonHolePixels, name, polygons.hole_pixels);
         const masks::Polygon polygon = masks::MergePieces(polygons.pieces);
         text += std::to_string(object.class_index);
         for (const cv::Point2d& p : polygon) {
@@ -95,7 +97,12 @@ class YoloConverter : public Converter {
     std::string yaml =
         "# Ultralytics YOLO dataset written by lsds convert "
         "(docs/convert.md)\n";
-    yaml += "path: " + Quote(setup_.final_root.string()) + "\n";
+    // No `path:`: Ultralytics then takes the folder of this file as the
+    // dataset root, so the dataset can be moved or copied. (A relative `path:`,
+    // even ".", is resolved against Ultralytics' datasets_dir instead.)
+    yaml +=
+        "# dataset root: the folder of this file (no path key, see "
+        "docs/convert.md)\n";
     // Ultralytics needs train and val: a missing one points at the first split
     // (see docs).
     const std::string first = setup_.splits.front().name;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <map>
 
 #include <opencv2/imgproc.hpp>
 
@@ -9,27 +10,67 @@ namespace lsds::masks {
 
 namespace {
 
-Polygon PiecePolygon(const std::vector<cv::Point>& contour, int left, int top) {
-  std::vector<cv::Point> distinct;
-  for (const cv::Point& p : contour) {
-    if (std::find(distinct.begin(), distinct.end(), p) == distinct.end())
-      distinct.push_back(p);
-    if (distinct.size() >= 3) break;
+// Directed pixel-edge steps, clockwise on screen (y down) with the piece on
+// the right: 0 right, 1 down, 2 left, 3 up.
+const int kDx[4] = {1, 0, -1, 0};
+const int kDy[4] = {0, 1, 0, -1};
+
+// The boundary loops of a binary CV_8U image (with a background border) along
+// pixel edges. Each foreground pixel side that faces background is one unit
+// step; at a corner where two pixels touch only diagonally the walk turns
+// left, into the other pixel, so that an 8-connected piece is one loop (it
+// passes that corner twice, which rasterizers count twice and so cancel).
+// Only corners are kept as vertices.
+std::vector<std::vector<cv::Point>> TraceEdgeLoops(const cv::Mat& filled) {
+  auto at = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < filled.cols && y < filled.rows &&
+           filled.at<uint8_t>(y, x) != 0;
+  };
+  // Outgoing steps per grid corner, keyed by (y, x) for a deterministic start
+  // at the top-left corner.
+  std::map<std::pair<int, int>, std::vector<int>> out;
+  for (int y = 0; y < filled.rows; ++y) {
+    for (int x = 0; x < filled.cols; ++x) {
+      if (!at(x, y)) continue;
+      if (!at(x, y - 1)) out[{y, x}].push_back(0);
+      if (!at(x + 1, y)) out[{y, x + 1}].push_back(1);
+      if (!at(x, y + 1)) out[{y + 1, x + 1}].push_back(2);
+      if (!at(x - 1, y)) out[{y + 1, x}].push_back(3);
+    }
   }
-  Polygon polygon;
-  if (distinct.size() < 3) {
-    // A pixel or a straight 1-pixel line: its contour has no area, write its
-    // pixel-edge rectangle.
-    const cv::Rect r = cv::boundingRect(contour);
-    const double x0 = left + r.x, y0 = top + r.y, x1 = x0 + r.width,
-                 y1 = y0 + r.height;
-    polygon = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-    return polygon;
+  std::vector<std::vector<cv::Point>> loops;
+  while (true) {
+    auto start = out.begin();
+    while (start != out.end() && start->second.empty()) ++start;
+    if (start == out.end()) break;
+    const cv::Point origin(start->first.second, start->first.first);
+    int dir = start->second.front();
+    start->second.erase(start->second.begin());
+    std::vector<cv::Point> loop = {origin};
+    cv::Point p = origin + cv::Point(kDx[dir], kDy[dir]);
+    while (p != origin || !out[{p.y, p.x}].empty()) {
+      std::vector<int>& next = out[{p.y, p.x}];
+      if (next.empty()) break;  // cannot happen: every corner is balanced
+      // Prefer a left turn, then straight on, then right.
+      int chosen = -1;
+      for (int turn : {3, 0, 1}) {
+        const int d = (dir + turn) % 4;
+        auto it = std::find(next.begin(), next.end(), d);
+        if (it != next.end()) {
+          chosen = d;
+          next.erase(it);
+          break;
+        }
+      }
+      if (chosen < 0) break;
+      if (chosen != dir) loop.push_back(p);
+      dir = chosen;
+      p += cv::Point(kDx[dir], kDy[dir]);
+      if (p == origin && out[{p.y, p.x}].empty()) break;
+    }
+    loops.push_back(std::move(loop));
   }
-  polygon.reserve(contour.size());
-  for (const cv::Point& p : contour)
-    polygon.emplace_back(left + p.x + 0.5, top + p.y + 0.5);
-  return polygon;
+  return loops;
 }
 
 }  // namespace
@@ -38,27 +79,33 @@ MaskPolygons ExtractPolygons(const BoxMask& mask) {
   MaskPolygons out;
   if (mask.empty()) return out;
   // A background border so that pieces touching the box edge are traced like
-  // the others.
+  // the others, and the outside is one 4-connected background region.
   cv::Mat padded;
   cv::copyMakeBorder(mask.mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
-  std::vector<std::vector<cv::Point>> contours;
-  std::vector<cv::Vec4i> hierarchy;
-  cv::findContours(padded,
-                   contours,
-                   hierarchy,
-                   cv::RETR_CCOMP,
-                   cv::CHAIN_APPROX_SIMPLE,
-                   cv::Point(-1, -1));
-  std::vector<std::pair<double, Polygon>> pieces;
-  for (size_t i = 0; i < contours.size(); ++i) {
-    if (hierarchy[i][3] >= 0) {  // a hole inside an outer boundary
-      ++out.holes;
-      continue;
+  padded = padded != 0;
+  cv::Mat labels;
+  const int n = cv::connectedComponents(padded, labels, 8, CV_32S);
+  std::vector<std::pair<int64_t, Polygon>> pieces;
+  for (int k = 1; k < n; ++k) {
+    cv::Mat piece = labels == k;  // 255 inside
+    const int64_t pixels = cv::countNonZero(piece);
+    // Holes: background not 4-connected to the border.
+    cv::Mat outside = piece.clone();
+    cv::floodFill(outside, cv::Point(0, 0), 128, nullptr, 0, 0, 4);
+    const cv::Mat filled = outside != 128;
+    const cv::Mat holes = filled & ~piece;
+    out.hole_pixels += cv::countNonZero(holes);
+    if (out.hole_pixels > 0) {
+      cv::Mat hole_labels;
+      out.holes += cv::connectedComponents(holes, hole_labels, 4, CV_32S) - 1;
     }
-    const cv::Rect r = cv::boundingRect(contours[i]);
-    const double size =
-        std::abs(cv::contourArea(contours[i])) + r.width + r.height;
-    pieces.emplace_back(size, PiecePolygon(contours[i], mask.left, mask.top));
+    for (const std::vector<cv::Point>& loop : TraceEdgeLoops(filled)) {
+      Polygon polygon;
+      polygon.reserve(loop.size());
+      for (const cv::Point& p : loop)
+        polygon.emplace_back(mask.left + p.x - 1, mask.top + p.y - 1);
+      pieces.emplace_back(pixels, std::move(polygon));
+    }
   }
   std::stable_sort(
       pieces.begin(), pieces.end(), [](const auto& a, const auto& b) {

@@ -1,15 +1,16 @@
-// Polygons of an instance mask, from OpenCV contours (cv::findContours,
-// CHAIN_APPROX_SIMPLE: only collinear points are dropped, nothing else is
-// simplified).
+// Polygons of an instance mask, traced along pixel edges.
 //
-// Conventions (docs/convert.md): vertices are the centres of the mask's
-// boundary pixels in pixel-edge coordinates, (x + 0.5, y + 0.5), so every
-// polygon lies inside the object's pixel-edge box. A piece whose contour has
-// fewer than 3 distinct points (a single pixel, a 1-pixel-wide line) is written
-// as the pixel-edge rectangle of its pixels. Polygons cannot hold holes: holes
-// are filled (and counted).
+// Conventions (docs/convert.md): vertices lie on pixel corners (integer
+// pixel-edge coordinates) and the polygon follows the outer boundary of the
+// piece's pixels, so that pycocotools' rasterizer (maskApi.c rleFrPoly, which
+// samples pixel centres) gives back exactly the piece's pixels, and the
+// polygon's min/max (Ultralytics' segment2box) is the pixel-edge box. Pieces
+// are 8-connected; where two pixels touch only at a corner the polygon passes
+// that corner twice. Polygons cannot hold holes: holes are filled (and
+// counted).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -24,6 +25,8 @@ struct MaskPolygons {
   std::vector<Polygon> pieces;  // one outer boundary per connected piece
                                 // (8-connected), largest first
   int holes = 0;                // holes that the polygons fill
+  int64_t hole_pixels = 0;      // pixels of those holes: the filled polygons
+                                // cover pixel_count + hole_pixels pixels
 };
 
 MaskPolygons ExtractPolygons(const BoxMask& mask);

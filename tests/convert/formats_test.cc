@@ -76,6 +76,40 @@ TEST_F(ConvertTest, PreconditionsOfTheTestScene) {
   EXPECT_TRUE(border);
 }
 
+// COCO polygons on the synthetic collection, rasterized by pycocotools' own
+// rule (rleFrPoly port): exactly the instance mask, its holes (if any) filled,
+// and the loss report's IoU matches.
+TEST_F(ConvertTest, CocoPolygonsRasterizeToTheInstanceMask) {
+  const fs::path out = Out("coco_polygon_exact");
+  convert::ConvertOptions options = Options(Collection(), out, {"coco"});
+  options.segmentation = "polygon";
+  const convert::ConvertResult result = convert::Convert(options);
+  const json coco =
+      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  std::map<int64_t, Frame> by_image;
+  for (const Frame& f : Frames(Collection())) by_image[f.index + 1] = f;
+  int exact = 0;
+  for (const json& a : coco["annotations"]) {
+    const Frame& frame = by_image.at(a["image_id"]);
+    const cv::Mat mask =
+        InstanceMask(Collection(), frame, a["lsds"]["instance_id"]) != 0;
+    cv::Mat padded;
+    cv::copyMakeBorder(mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+    cv::floodFill(padded, cv::Point(0, 0), 128, nullptr, 0, 0, 4);
+    const cv::Mat filled = padded(cv::Rect(1, 1, 64, 48)) != 128;
+    const cv::Mat decoded = CocoPolygonsToMask(
+        a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
+    EXPECT_EQ(cv::countNonZero((decoded != 0) != filled), 0)
+        << "instance " << a["lsds"]["instance_id"] << " frame " << frame.index;
+    exact += cv::countNonZero((decoded != 0) != mask) == 0;
+  }
+  EXPECT_GT(exact, 0);
+  for (const auto& [name, iou] : result.loss.PolygonIou()) {
+    EXPECT_GT(iou, 0.0) << name;
+    EXPECT_LE(iou, 1.0) << name;
+  }
+}
+
 TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
   const fs::path out = Out("coco");
   const convert::ConvertResult result =
@@ -195,9 +229,8 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
       yaml.find("names:\n  0: \"ground\"\n  1: \"box\"\n  2: \"crate\"\n"),
       std::string::npos)
       << yaml;
-  EXPECT_NE(yaml.find("path: \"" +
-                      fs::absolute(out).lexically_normal().string() + "\""),
-            std::string::npos);
+  // No absolute `path:`: the dataset root is the folder of data.yaml.
+  EXPECT_EQ(yaml.find("path:"), std::string::npos);
   EXPECT_NE(yaml.find("train: images/train\nval: images/train\n"),
             std::string::npos);
   for (const Frame& frame : Frames(Collection())) {
@@ -263,6 +296,16 @@ TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
         // A single pixel is its pixel-edge square.
         EXPECT_EQ(v.size(), 8u);
       }
+      // Ultralytics derives the box from the polygon (segment2box): it is the
+      // object's pixel-edge box, not one pixel smaller.
+      std::vector<cv::Point2d> points;
+      for (size_t k = 0; k < v.size(); k += 2)
+        points.emplace_back(v[k] * 64, v[k + 1] * 48);
+      const cv::Rect2d box = UltralyticsSegmentToBox(points, 64, 48);
+      EXPECT_NEAR(box.x, o.bbox->x0, 1e-4);
+      EXPECT_NEAR(box.y, o.bbox->y0, 1e-4);
+      EXPECT_NEAR(box.x + box.width, o.bbox->x1, 1e-4);
+      EXPECT_NEAR(box.y + box.height, o.bbox->y1, 1e-4);
     }
     EXPECT_EQ(n, visible.size());
   }
@@ -445,25 +488,58 @@ TEST(Splits, DeterministicGroupedAndProportional) {
   EXPECT_EQ(convert::SplitGroup(c), convert::SplitGroup(d));
 }
 
-TEST_F(ConvertTest, SplitsKeepSequencesTogether) {
+TEST_F(ConvertTest, OneSequenceStillFillsEverySplit) {
+  // The README's split on a one-sequence collection (4 frames): the hash rule
+  // would put the whole sequence in one split, so contiguous blocks are cut.
   const fs::path out = Out("split");
   convert::ConvertOptions options =
       Options(Collection(), out, {"yolo", "coco"});
-  options.split = "train=0.5,val=0.5";
+  options.split = "train=0.8,val=0.2";
+  options.images = "png";
   convert::Convert(options);
-  // The one sequence lands entirely in one split, the other split is empty but
-  // present.
   const json train =
       json::parse(ReadText(out / "annotations" / "instances_train.json"));
   const json val =
       json::parse(ReadText(out / "annotations" / "instances_val.json"));
-  EXPECT_EQ(train["images"].size() + val["images"].size(), 4u);
-  EXPECT_TRUE(train["images"].empty() || val["images"].empty());
-  const std::string expected =
-      convert::AssignSplit(convert::ParseSplit(options.split), "S1");
-  EXPECT_EQ((expected == "train" ? train : val)["images"].size(), 4u);
-  EXPECT_NE(ReadText(out / "data.yaml").find("val: images/val\n"),
-            std::string::npos);
+  EXPECT_EQ(train["images"].size(), 3u);
+  EXPECT_EQ(val["images"].size(), 1u);
+  // Blocks are contiguous: train holds the first frames.
+  EXPECT_EQ(val["images"][0]["lsds"]["frame"], 3);
+  EXPECT_FALSE(fs::is_empty(out / "images" / "train"));
+  EXPECT_FALSE(fs::is_empty(out / "images" / "val"));
+  const std::string yaml = ReadText(out / "data.yaml");
+  EXPECT_NE(yaml.find("val: images/val\n"), std::string::npos);
+  // Relative to its own folder: no absolute path inside.
+  EXPECT_EQ(yaml.find(fs::absolute(out).string()), std::string::npos);
+  EXPECT_EQ(yaml.find("\npath:"), std::string::npos);
+}
+
+TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
+  std::vector<convert::SplitFrame> frames;
+  for (int s = 0; s < 40; ++s) {
+    for (int i = 0; i < 5; ++i)
+      frames.push_back({s * 5 + i, "seq_" + std::to_string(s)});
+  }
+  const auto parts = convert::ParseSplit("train=0.8,val=0.2");
+  const convert::SplitPlan plan = convert::PlanSplits(parts, frames);
+  EXPECT_FALSE(plan.blocks);
+  for (const auto& f : frames) {
+    EXPECT_EQ(plan.split_of_frame.at(f.index),
+              convert::AssignSplit(parts, f.group));
+  }
+  // Too few frames for the splits: a loud error naming the split.
+  const auto three = convert::ParseSplit("train=0.5,val=0.3,test=0.2");
+  try {
+    convert::PlanSplits(three, {{0, "a"}, {1, "a"}});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot fill split 'test'"),
+              std::string::npos)
+        << e.what();
+  }
+  // A zero fraction may stay empty.
+  const auto zero = convert::ParseSplit("train=1,val=0");
+  EXPECT_FALSE(convert::PlanSplits(zero, {{0, "a"}}).blocks);
 }
 
 TEST(ClassMap, SubsetRenameMergeAndErrors) {
@@ -556,15 +632,36 @@ TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
   options.segmentation = "polygon";
   const convert::ConvertResult poly = convert::Convert(options);
   EXPECT_EQ(poly.loss.Count(convert::loss::kPiecesSplit, "crate"), 1);
+  // The loss report gives the IoU the filled hole costs: crate pixels over
+  // crate pixels plus the pillar's.
+  const int64_t crate_pixels =
+      cv::countNonZero(InstanceMask(collection, frame, 21)) +
+      cv::countNonZero(InstanceMask(collection, frame, 23));
+  const int64_t hole_pixels =
+      cv::countNonZero(InstanceMask(collection, frame, 24));
+  EXPECT_NEAR(poly.loss.PolygonIou().at("crate"),
+              double(crate_pixels) / double(crate_pixels + hole_pixels),
+              1e-12);
+  EXPECT_LT(poly.loss.PolygonIou().at("crate"), 1.0);
   const json coco = json::parse(
       ReadText(dir.path() / "poly" / "annotations" / "instances_train.json"));
   for (const json& a : coco["annotations"]) {
     const uint32_t id = a["lsds"]["instance_id"];
+    // pycocotools' rasterization of the polygons (frPyObjects + decode).
+    const cv::Mat decoded = CocoPolygonsToMask(
+        a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
+    const cv::Mat mask = InstanceMask(collection, frame, id) != 0;
     if (id == 21) {
       EXPECT_EQ(a["segmentation"].size(), 2u);
     }
     if (id == 23) {
       EXPECT_EQ(a["segmentation"].size(), 1u);
+      // The hole (the pillar) is filled: the mask plus the hole.
+      const cv::Mat hole = InstanceMask(collection, frame, 24) != 0;
+      EXPECT_EQ(cv::countNonZero((decoded != 0) != (mask | hole)), 0);
+      EXPECT_GT(cv::countNonZero(hole), 0);
+    } else {
+      EXPECT_EQ(cv::countNonZero((decoded != 0) != mask), 0) << "id " << id;
     }
     // area stays the mask pixel count, not a polygon area.
     EXPECT_EQ(a["area"], cv::countNonZero(InstanceMask(collection, frame, id)));

@@ -172,10 +172,108 @@ TEST(Polygons, PiecesAndHolesAreCounted) {
   const MaskPolygons polygons = ExtractPolygons(MaskOf(ids, w, h, 2));
   EXPECT_EQ(polygons.pieces.size(), 2u);
   EXPECT_EQ(polygons.holes, 1);
-  // Largest first: the ring's outer boundary through the centres of its corner
-  // pixels.
-  const Polygon ring = {{1.5, 1.5}, {1.5, 5.5}, {5.5, 5.5}, {5.5, 1.5}};
+  // Largest first: the ring's outer boundary along its pixel edges.
+  const Polygon ring = {{1, 1}, {6, 1}, {6, 6}, {1, 6}};
   EXPECT_EQ(polygons.pieces[0], ring);
+}
+
+// pycocotools' own rule (frPyObjects + decode, rleFrPoly ported in
+// reference_decoders.h) applied to the written polygons gives back the mask
+// with its holes filled: exactly the mask when it has no holes.
+cv::Mat CocoRasterized(const MaskPolygons& polygons, int w, int h) {
+  std::vector<std::vector<double>> flat;
+  for (const Polygon& polygon : polygons.pieces) {
+    flat.emplace_back();
+    for (const cv::Point2d& p : polygon) {
+      flat.back().push_back(p.x);
+      flat.back().push_back(p.y);
+    }
+  }
+  return testing::CocoPolygonsToMask(flat, h, w);
+}
+
+cv::Mat HolesFilled(const cv::Mat& mask01) {
+  cv::Mat padded;
+  cv::copyMakeBorder(mask01, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+  cv::floodFill(padded, cv::Point(0, 0), 2, nullptr, 0, 0, 4);
+  cv::Mat filled = padded != 2;
+  return filled(cv::Rect(1, 1, mask01.cols, mask01.rows)) / 255;
+}
+
+void ExpectCocoExact(const std::vector<uint32_t>& ids, int w, int h) {
+  const MaskPolygons polygons = ExtractPolygons(MaskOf(ids, w, h, 1));
+  const cv::Mat expected = HolesFilled(FullMask(ids, w, h, 1));
+  const cv::Mat got = CocoRasterized(polygons, w, h);
+  EXPECT_EQ(cv::countNonZero(got != expected), 0)
+      << "pycocotools rasterizes " << cv::countNonZero(got) << " pixels for "
+      << cv::countNonZero(expected);
+}
+
+std::vector<uint32_t> Shape(int w, int h, const std::vector<cv::Point>& on) {
+  std::vector<uint32_t> ids(w * h, 0);
+  for (const cv::Point& p : on) ids[p.y * w + p.x] = 1;
+  return ids;
+}
+
+TEST(PolygonsPycocotools, SinglePixelIsExact) {
+  ExpectCocoExact(Shape(5, 4, {{0, 0}}), 5, 4);
+  ExpectCocoExact(Shape(5, 4, {{4, 3}}), 5, 4);
+  ExpectCocoExact(Shape(5, 4, {{2, 1}}), 5, 4);
+}
+
+TEST(PolygonsPycocotools, LShapeIsExact) {
+  ExpectCocoExact(Shape(6, 6, {{1, 1}, {1, 2}, {1, 3}, {2, 3}, {3, 3}}), 6, 6);
+}
+
+TEST(PolygonsPycocotools, DiagonalStaircaseIsExact) {
+  // Pixels touching only at corners: one 8-connected piece.
+  ExpectCocoExact(Shape(6, 6, {{0, 0}, {1, 1}, {2, 2}, {3, 3}, {4, 4}}), 6, 6);
+  ExpectCocoExact(Shape(6, 6, {{4, 0}, {3, 1}, {2, 2}, {1, 3}, {0, 4}}), 6, 6);
+  // A two-pixel-thick staircase.
+  ExpectCocoExact(
+      Shape(6, 6, {{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {3, 2}, {3, 3}}),
+      6,
+      6);
+}
+
+TEST(PolygonsPycocotools, DiscIsExact) {
+  const int w = 40, h = 36;
+  cv::Mat disc = cv::Mat::zeros(h, w, CV_8U);
+  cv::circle(disc, {19, 17}, 13, 1, cv::FILLED);
+  std::vector<uint32_t> ids(w * h);
+  for (int i = 0; i < w * h; ++i) ids[i] = disc.data[i];
+  const MaskPolygons polygons = ExtractPolygons(MaskOf(ids, w, h, 1));
+  ASSERT_EQ(polygons.pieces.size(), 1u);
+  EXPECT_EQ(polygons.holes, 0);
+  ExpectCocoExact(ids, w, h);
+}
+
+TEST(PolygonsPycocotools, RandomMasksAreExactUpToFilledHoles) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int w = 1 + static_cast<int>(rng() % 30),
+              h = 1 + static_cast<int>(rng() % 30);
+    std::vector<uint32_t> ids(w * h);
+    for (uint32_t& id : ids) id = (rng() % 3 == 0) ? 1 : 0;
+    if (std::count(ids.begin(), ids.end(), 1u) == 0) continue;
+    ExpectCocoExact(ids, w, h);
+  }
+}
+
+TEST(PolygonsUltralytics, SegmentBoxIsThePixelEdgeBox) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int w = 1 + static_cast<int>(rng() % 30),
+              h = 1 + static_cast<int>(rng() % 30);
+    std::vector<uint32_t> ids(w * h);
+    for (uint32_t& id : ids) id = (rng() % 4 == 0) ? 1 : 0;
+    const BoxMask mask = MaskOf(ids, w, h, 1);
+    if (mask.empty()) continue;
+    const Polygon merged = MergePieces(ExtractPolygons(mask).pieces);
+    const cv::Rect2d box = testing::UltralyticsSegmentToBox(merged, w, h);
+    EXPECT_EQ(box,
+              cv::Rect2d(mask.left, mask.top, mask.width(), mask.height()));
+  }
 }
 
 }  // namespace

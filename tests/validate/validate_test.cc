@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "libs/exr/flat_image.h"
 #include "libs/geometry/camera.h"
 #include "tests/validate/corruptions.h"
 #include "validators/camera_checks.h"
@@ -67,6 +68,49 @@ TEST_F(ValidateTest, GoodCollectionPassesClean) {
                 .at("cross.metadata-pose.metadata.json.position_error")
                 .max,
             0.0);
+}
+
+// A collection written before format 1.1 (no shots, no scene state or new
+// object fields, 0.5 motion on the first frame) stays valid: readers keep
+// every 1.x, and checks that need 1.1 fields are skipped.
+TEST_F(ValidateTest, Format10CollectionStillValidates) {
+  const fs::path old = TestRoot() / "format-1.0";
+  fs::remove_all(old);
+  corpus::CopyCollection(Good(), old);
+  nlohmann::json collection;
+  {
+    std::ifstream in(old / "collection.json");
+    collection = nlohmann::json::parse(in);
+  }
+  collection["format_version"] = "1.0";
+  for (auto& frame : collection["frames"]) {
+    ASSERT_TRUE(frame.contains("shot"));
+    frame.erase("shot");
+    frame.erase("scene");
+    for (auto& object : frame["objects"])
+      for (const char* key : {"asset", "material", "transmittance", "changes"})
+        object.erase(key);
+  }
+  std::ofstream(old / "collection.json") << collection.dump();
+  nlohmann::json metadata;
+  {
+    std::ifstream in(old / "metadata.json");
+    metadata = nlohmann::json::parse(in);
+  }
+  metadata["format_version"] = "1.0";
+  std::ofstream(old / "metadata.json") << metadata.dump();
+  // 1.0 wrote "no motion" (0.5) on a sequence's first frame.
+  const fs::path motion = old / collection["frames"][0]["files"]["motion"];
+  exr::FlatImage image = exr::ReadFlatExr(motion, {"X", "Y"});
+  for (const char* c : {"X", "Y"})
+    for (float& v : image.Get(c).floats) v = 0.5f;
+  exr::WriteOptions options;
+  options.compression = exr::Compression::kZip;
+  exr::WriteFlatExr(motion, image, options);
+  const Report report = ValidateCollection(old);
+  EXPECT_EQ(report.Count(Severity::kError), 0) << Dump(report);
+  EXPECT_EQ(report.Count(Severity::kWarning), 0) << Dump(report);
+  EXPECT_EQ(report.frames, 4);
 }
 
 class CorpusTest : public ValidateTest,

@@ -2,6 +2,7 @@
 // error|warning]
 //                          [--checks LIST] [--threads N] [--max-examples N]
 //                          [--force]
+#include <chrono>
 #include <iostream>
 
 #include "libs/util/atomic_file.h"
@@ -61,8 +62,27 @@ int RunValidate(int argc, char** argv) {
     options.max_examples = max_examples;
     options.progress = true;  // on a terminal only; silent in CI
     if (!output.empty()) RefuseToOverwrite(output, force, "report");
-    const validate::Report report =
-        validate::ValidateCollection(collection, options);
+    const auto start = std::chrono::steady_clock::now();
+    validate::Report report;
+    try {
+      report = validate::ValidateCollection(collection, options);
+    } catch (const Error& e) {
+      // CI reads the JUnit file whatever the exit code: say why there is no
+      // report of checks, then fail with exit 2 as usual.
+      if (format == "junit" && !output.empty()) {
+        const double seconds = std::chrono::duration<double>(
+                                   std::chrono::steady_clock::now() - start)
+                                   .count();
+        WriteFileAtomic(output,
+                        validate::UnreadableInputToJUnit(
+                            collection,
+                            e.location().ToString().empty()
+                                ? e.message()
+                                : e.location().ToString() + ": " + e.message(),
+                            seconds));
+      }
+      throw;
+    }
     std::string text;
     if (format == "json") {
       text = validate::ReportToJson(report, threshold).dump(2) + "\n";

@@ -179,4 +179,25 @@ std::string ReportToJUnit(const Report& report, Severity fail_on) {
   return out.str();
 }
 
+std::string UnreadableInputToJUnit(const std::string& collection,
+                                   const std::string& message,
+                                   double seconds) {
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  out << "<testsuites name=\"lsds validate\" tests=\"1\" failures=\"1\" "
+         "time=\""
+      << seconds << "\">\n";
+  out << "  <testsuite name=\"" << XmlEscape(collection)
+      << "\" tests=\"1\" failures=\"1\" errors=\"0\" time=\"" << seconds
+      << "\">\n";
+  out << "    <testcase classname=\"lsds.validate.input\" "
+         "name=\"collection readable\" time=\""
+      << seconds << "\">\n";
+  out << "      <failure message=\"" << XmlEscape(message)
+      << "\" type=\"error\">" << XmlEscape(collection + ": " + message)
+      << "</failure>\n";
+  out << "    </testcase>\n  </testsuite>\n</testsuites>\n";
+  return out.str();
+}
+
 }  // namespace lsds::validate

@@ -18,6 +18,11 @@ std::string ReportToText(const Report& report,
                          size_t max_shown = 5);
 nlohmann::json ReportToJson(const Report& report, Severity fail_on);
 std::string ReportToJUnit(const Report& report, Severity fail_on);
+// The JUnit report of a run whose input could not be read (exit 2): one
+// failing testcase naming the input and the error, so a CI page shows why.
+std::string UnreadableInputToJUnit(const std::string& collection,
+                                   const std::string& message,
+                                   double seconds);
 std::string Verdict(const Report& report, Severity fail_on);
 
 }  // namespace lsds::validate

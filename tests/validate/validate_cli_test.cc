@@ -118,6 +118,21 @@ TEST_F(ValidateCli, JUnitHasOneTestCasePerCheck) {
   EXPECT_NE(run.out.find("name=\"layer.depth-finite\""), std::string::npos);
 }
 
+TEST_F(ValidateCli, AnUnreadableInputStillWritesAJUnitReport) {
+  const std::string report = Path("unreadable.xml");
+  const CliRun run = Lsds("validate --format junit -o " + report + " " +
+                          Path("no-such-collection"));
+  EXPECT_EQ(run.code, 2);
+  std::ifstream in(report);
+  ASSERT_TRUE(in.good()) << "no JUnit report for an unreadable input";
+  const std::string xml((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(xml.find("failures=\"1\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("name=\"collection readable\""), std::string::npos);
+  EXPECT_NE(xml.find("no-such-collection"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<testcase classname=\"lsds.validate.input\""),
+            std::string::npos);
+}
+
 TEST_F(ValidateCli, FailOnWarning) {
   EXPECT_EQ(Lsds("validate " + Path("stray-file")).code, 0);  // a warning only
   EXPECT_EQ(Lsds("validate --fail-on warning " + Path("stray-file")).code, 1);

@@ -38,5 +38,6 @@ int RunPerturbMetadata(int argc, char** argv);
 int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);
 int RunSynth(int argc, char** argv);
+int RunImport(int argc, char** argv);
 
 }  // namespace lsds

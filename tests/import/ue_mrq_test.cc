@@ -207,7 +207,22 @@ TEST_F(UeMrqImportTest, SinglePartMultilayerAndHalfDepthImportAlike) {
 }
 
 TEST_F(UeMrqImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheIdLayers) {
-  const fs::path out = Import({}, "cli-source");
+  // As a user runs it: the sidecar elsewhere (--objects), the CLI end to end.
+  const fs::path source = dir_ / "cli-mrq";
+  WriteMrqFixture(source, spec_, {});
+  const fs::path objects = dir_ / "objects.json";
+  fs::rename(source / "lsds_objects.json", objects);
+  const fs::path out = dir_ / "cli-collection";
+  const CommandResult imported =
+      RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() +
+                     " -o " + out.string() + " --objects " + objects.string());
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  EXPECT_NE(imported.output.find("imported 5 frames"), std::string::npos)
+      << imported.output;
+  const CommandResult again =
+      RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() +
+                     " -o " + out.string() + " --objects " + objects.string());
+  EXPECT_EQ(again.exit_code, 2) << again.output;  // exists, no --force
   const CommandResult validate = RunCommandLine(
       LsdsBinary() + " validate --fail-on warning " + out.string());
   EXPECT_EQ(validate.exit_code, 0) << validate.output;

@@ -1,4 +1,5 @@
-// lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--force]
+// lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE]
+// [--force]
 #include <iostream>
 
 #include "libs/importers/import_collection.h"
@@ -17,7 +18,7 @@ int RunImport(int argc, char** argv) {
       "lsds import");
   std::string format, source, output;
   import::ImportOptions options;
-  std::string objects;
+  std::string objects, settings;
   bool force = false;
   app.add_option("FORMAT", format, "source format")->required();
   app.add_option("SOURCE", source, "the simulator's output folder")->required();
@@ -26,10 +27,15 @@ int RunImport(int argc, char** argv) {
   app.add_option("--objects",
                  objects,
                  "sidecar with the objects' classes, ids and 3D boxes "
-                 "(ue-mrq: default SOURCE/lsds_objects.json)");
+                 "(default SOURCE/lsds_objects.json)");
+  app.add_option("--settings",
+                 settings,
+                 "the simulator's settings (airsim: settings.json with the "
+                 "camera mount; default SOURCE/settings.json)");
   app.add_flag("--force", force, "replace the output if it exists");
   return RunCommand(app, argc, argv, [&] {
     options.objects = objects;
+    options.settings = settings;
     const import::ImportResult result =
         import::ImportCollection(format, source, output, options, force);
     std::cout << "imported " << result.frames << " frames, " << result.objects

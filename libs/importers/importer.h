@@ -23,6 +23,9 @@ struct ImportOptions {
   // A sidecar file with the objects' identities and 3D boxes, for sources
   // that do not store them; empty: the importer's default place.
   std::filesystem::path objects;
+  // The simulator's settings file where the source does not hold it (AirSim:
+  // settings.json with the camera mount); empty: the importer's default.
+  std::filesystem::path settings;
 };
 
 // What the whole source holds, known before the first frame is read.

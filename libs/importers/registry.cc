@@ -3,6 +3,7 @@
 #include <functional>
 #include <utility>
 
+#include "libs/importers/airsim/airsim_importer.h"
 #include "libs/importers/ue_mrq/ue_mrq_importer.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -14,6 +15,7 @@ using Factory = std::function<std::unique_ptr<Importer>()>;
 const std::vector<std::pair<std::string, Factory>>& Table() {
   static const std::vector<std::pair<std::string, Factory>> table = {
       {"ue-mrq", [] { return std::make_unique<UeMrqImporter>(); }},
+      {"airsim", [] { return std::make_unique<AirSimImporter>(); }},
   };
   return table;
 }

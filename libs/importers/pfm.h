@@ -1,6 +1,6 @@
 // Portable float maps (PFM), greyscale ("Pf") and colour ("PF"). The PFM
 // specification stores rows bottom first; AirSim's writer
-// (AirLib common_utils/Utils.hpp writePfmFile) writes them top first, so the
+// (AirLib common_utils/Utils.hpp writePFMfile) writes them top first, so the
 // row order is the caller's to state.
 #pragma once
 

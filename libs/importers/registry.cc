@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "libs/importers/airsim/airsim_importer.h"
+#include "libs/importers/bop/bop_importer.h"
 #include "libs/importers/ue_mrq/ue_mrq_importer.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -16,6 +17,7 @@ const std::vector<std::pair<std::string, Factory>>& Table() {
   static const std::vector<std::pair<std::string, Factory>> table = {
       {"ue-mrq", [] { return std::make_unique<UeMrqImporter>(); }},
       {"airsim", [] { return std::make_unique<AirSimImporter>(); }},
+      {"bop", [] { return std::make_unique<BopImporter>(); }},
   };
   return table;
 }

@@ -11,6 +11,7 @@
 
 #include "libs/geometry/world_frame.h"
 #include "libs/importers/pfm.h"
+#include "libs/importers/srgb.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -38,13 +39,6 @@ Eigen::Matrix3d FrdFromOpenCv() {
       1, 0, 0,   //
       0, 1, 0;
   return m;
-}
-
-// AirSim's Scene PNG is sRGB-encoded 8-bit; the rgb layer is linear.
-float LinearFromSrgb(uint8_t value) {
-  const double c = value / 255.0;
-  return static_cast<float>(c <= 0.04045 ? c / 12.92
-                                         : std::pow((c + 0.055) / 1.055, 2.4));
 }
 
 template <typename F>
@@ -381,7 +375,7 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
     for (int i = 0; i < width_; ++i) {
       const cv::Vec3b bgr = scene.at<cv::Vec3b>(j, i);
       for (int c = 0; c < 3; ++c)
-        channel[c][rgb.Index(i, j)] = LinearFromSrgb(bgr[2 - c]);
+        channel[c][rgb.Index(i, j)] = LinearFromSrgb8(bgr[2 - c]);
     }
 
   const PfmImage pfm = ReadPfm(row.depth, PfmRows::kTopFirst);

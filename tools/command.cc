@@ -39,7 +39,7 @@ const std::vector<Command>& Commands() {
        "write a synthetic collection with exact analytic truth (for tests)",
        RunSynth},
       {"import",
-       "another simulator's output (ue-mrq, airsim) into a collection",
+       "another simulator's output (ue-mrq, airsim, bop) into a collection",
        RunImport},
   };
   return commands;

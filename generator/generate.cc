@@ -18,6 +18,7 @@
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
 #include "generator/render/truth.h"
+#include "generator/survey.h"
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
@@ -113,6 +114,12 @@ void PrepareOutput(const GenerateOptions& options,
             Location(root.string()));
       }
       fs::remove_all(root);
+    } else if (fs::exists(root / kWorkFolder)) {
+      // An interrupted run: --resume keeps its frames, --force deletes them.
+      throw Error(
+          "the output holds an interrupted run; pass --resume to finish it "
+          "(--force deletes its frames and starts over)",
+          Location(root.string()));
     } else {
       RefuseToOverwrite(root, false, "output collection");
     }
@@ -152,29 +159,32 @@ void PrepareOutput(const GenerateOptions& options,
 }
 
 // The scene state a frame shows (docs/format.md, "Scene state").
-nlohmann::json SceneStateJson(const Plan& plan) {
-  const double el = plan.sun.elevation_deg * M_PI / 180.0,
-               az = plan.sun.azimuth_deg * M_PI / 180.0;
+nlohmann::json SceneStateJson(const PlannedEnvironment& environment) {
+  const double el = environment.sun.elevation_deg * M_PI / 180.0,
+               az = environment.sun.azimuth_deg * M_PI / 180.0;
   // Azimuth from north (+y), clockwise (towards east, +x), in the ENU world.
   const Eigen::Vector3d to_sun(
       std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
   nlohmann::json visibility = nullptr;
   // Meteorological visibility (Koschmieder, 2 % contrast threshold).
-  if (plan.fog_density > 0) visibility = 3.912 / plan.fog_density;
-  return {
-      {"sun",
-       {{"azimuth_deg", plan.sun.azimuth_deg},
-        {"elevation_deg", plan.sun.elevation_deg},
-        {"direction", {to_sun.x(), to_sun.y(), to_sun.z()}},
-        {"intensity", plan.sun.intensity}}},
-      {"sky",
-       {{"color", {plan.sky.color.x(), plan.sky.color.y(), plan.sky.color.z()}},
-        {"intensity", plan.sky.intensity},
-        {"cloud_type", plan.sky.cloud_type},
-        {"cloud_density", plan.sky.cloud_density}}},
-      {"atmosphere",
-       {{"extinction_per_m", plan.fog_density}, {"visibility_m", visibility}}},
-      {"skylight_intensity", plan.skylight_intensity}};
+  if (environment.fog_density > 0) visibility = 3.912 / environment.fog_density;
+  return {{"sun",
+           {{"azimuth_deg", environment.sun.azimuth_deg},
+            {"elevation_deg", environment.sun.elevation_deg},
+            {"direction", {to_sun.x(), to_sun.y(), to_sun.z()}},
+            {"intensity", environment.sun.intensity}}},
+          {"sky",
+           {{"color",
+             {environment.sky.color.x(),
+              environment.sky.color.y(),
+              environment.sky.color.z()}},
+            {"intensity", environment.sky.intensity},
+            {"cloud_type", environment.sky.cloud_type},
+            {"cloud_density", environment.sky.cloud_density}}},
+          {"atmosphere",
+           {{"extinction_per_m", environment.fog_density},
+            {"visibility_m", visibility}}},
+          {"skylight_intensity", environment.skylight_intensity}};
 }
 
 // Each object's LCAP changes in effect at the frame, as the plan states them.
@@ -216,6 +226,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   if (!plan.post_process.empty())
     header.provenance.render["post_process"] = plan.post_process;
   header.classes = plan.classes;
+  header.conventions.geo_origin = plan.geo;
   // Capture Settings `layers` choose the layers written (rgb always); the
   // table keeps the standard order.
   const nlohmann::json& asked =
@@ -246,7 +257,9 @@ GenerateSummary GenerateCollection(const Plan& plan,
   Imf::setDefaultZipCompressionLevel(options.zip_level);
   // Validate the whole plan before touching the output.
   const SceneAssets assets = BuildSceneAssets(plan);
-  const Sky sky(plan);
+  const Sky plan_sky(plan);  // throws for a bad sky before any output
+  for (const PlannedFrame& f : plan.frames)
+    if (f.environment) Sky(plan, *f.environment);
   std::vector<size_t> selected;
   for (size_t k = 0; k < plan.frames.size(); ++k) {
     if (options.Selects(plan.frames[k].index)) selected.push_back(k);
@@ -320,6 +333,8 @@ GenerateSummary GenerateCollection(const Plan& plan,
           previous.scene = built_previous.get();
         }
       }
+      const PlannedEnvironment environment = EnvironmentAt(plan, frame);
+      const Sky sky(plan, environment);  // LCAP may change it per frame
       auto film = std::make_shared<const Film>(
           RenderFrame(*scene, sky, frame, previous, render));
       auto truth = std::make_shared<Frame>();
@@ -327,15 +342,15 @@ GenerateSummary GenerateCollection(const Plan& plan,
       truth->time = frame.time;
       truth->sequence = frame.sequence;
       truth->shot = frame.shot;
-      truth->scene = SceneStateJson(plan);
+      truth->scene = SceneStateJson(EnvironmentAt(plan, frame));
       truth->camera.intrinsics = frame.camera;
       truth->camera.cam_from_world_rotation =
           frame.cam_from_world.rotation.toRotationMatrix();
       truth->camera.cam_from_world_translation =
           frame.cam_from_world.translation;
       uint64_t rays = film->rays;
-      truth->objects =
-          ComputeObjectTruth(*scene, frame, *film, plan.fog_density, &rays);
+      truth->objects = ComputeObjectTruth(
+          *scene, frame, *film, EnvironmentAt(plan, frame).fog_density, &rays);
       RecordObjectChanges(frame, &truth->objects);
       summary.rays += rays;
       summary.render_seconds += Seconds(t0);
@@ -376,8 +391,11 @@ GenerateSummary GenerateCollection(const Plan& plan,
   CollectionBuilder builder(root, header);
   for (size_t k : selected) {
     const fs::path part = TruthPartPath(root, plan.frames[k].index);
-    builder.Append(FrameFromJson(
-        nlohmann::json::parse(ReadFile(part)), part.string(), ""));
+    const Frame truth =
+        FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
+    MetadataFrame metadata = TruthMetadata(truth, header.conventions.world);
+    AddSurveyMetadata(plan, plan.frames[k], &metadata);
+    builder.Append(truth, metadata);
   }
   builder.Commit();
   fs::remove_all(root / kWorkFolder);

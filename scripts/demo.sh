@@ -1,19 +1,21 @@
 #!/usr/bin/env bash
 # `make demo`: render the example collection from its LSCENE/LCAP description and run the main tools
-# on it. Everything goes into demo/ (or $LSDS_DEMO_DIR); a second run replaces it.
+# on it. Everything goes into demo/ (or $LSDS_DEMO_DIR); a second run replaces it. The names differ
+# from those of the README tour (plan.json, survey, report.xml, yolo, bundle-stats.json, cloud.ply,
+# seed 7), so the tour runs after the demo, from the repository or from demo/, without a collision.
 # Usage: scripts/demo.sh PATH/TO/lsds
 set -euo pipefail
 lsds="${1:?usage: scripts/demo.sh PATH/TO/lsds}"
 out="${LSDS_DEMO_DIR:-demo}"
-collection="$out/survey"
+collection="$out/demo-survey"
 rm -rf "$out"
 mkdir -p "$out"
 
 step() { printf '\n== %s\n' "$*"; }
 
 step "lsds plan: expand the scene and capture into the frame plan"
-"$lsds" plan examples/uav_survey.lscene examples/demo_survey.lcap --seed 7 -o "$out/plan.json"
-echo "wrote $out/plan.json"
+"$lsds" plan examples/uav_survey.lscene examples/demo_survey.lcap --seed 7 -o "$out/demo-plan.json"
+echo "wrote $out/demo-plan.json"
 
 step "lsds generate: render 24 frames at 512x512, 4 samples per pixel (Embree)"
 "$lsds" generate examples/uav_survey.lscene examples/demo_survey.lcap --seed 7 --spp 4 -o "$collection"
@@ -22,19 +24,22 @@ step "lsds info"
 "$lsds" info "$collection"
 
 step "lsds validate: schemas, layers, cross-layer truth, camera geometry"
-"$lsds" validate "$collection" --format text -o "$out/validate.txt"
-tail -n 3 "$out/validate.txt"
+"$lsds" validate "$collection" --format text -o "$out/demo-validate.txt"
+tail -n 3 "$out/demo-validate.txt"
 
 step "lsds convert: YOLO and COCO"
-"$lsds" convert "$collection" --to yolo,coco -o "$out/export"
+"$lsds" convert "$collection" --to yolo,coco -o "$out/demo-export"
 
 step "lsds bundles: mixed pixels from the pixel bundles"
-"$lsds" bundles "$collection" -o "$out/bundle-stats.json"
+"$lsds" bundles "$collection" -o "$out/demo-bundle-stats.json"
 
 step "lsds backproject: one fused point cloud, checked against the world-position layer"
-"$lsds" backproject "$collection" -o "$out/cloud.ply" --fuse --voxel 0.25 --check | tail -n 2
+"$lsds" backproject "$collection" -o "$out/demo-cloud.ply" --fuse --voxel 0.25 --check | tail -n 2
 
 step "lsds perturb-metadata: GNSS-like noise, 0.5 m and 1 degree, with its effect in pixels"
-"$lsds" perturb-metadata "$collection" --sigma 0.5,1 --seed 7 --report
+"$lsds" perturb-metadata "$collection" --sigma 0.5,1 --seed 1 --report
+
+step "lsds report: one offline page with the contact sheet, layers, distributions and validation"
+"$lsds" report "$collection" -o "$out/demo-report.html" --validate --bundle-stats "$out/demo-bundle-stats.json"
 
 printf '\ndemo outputs are in %s/\n' "$out"

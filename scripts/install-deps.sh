@@ -17,8 +17,10 @@ packages=(
   libceres-dev                      # camera-geometry checks
   libembree-dev libtbb-dev          # reference renderer, parallelism
   libassimp-dev                     # mesh assets
+  libgeographiclib-dev              # WGS84 <-> local ENU (geo-referenced scenes)
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus script
+  chromium                          # lsds report end-to-end test: headless screenshot of the page
 )
 if [ "${1:-}" = "--bench" ]; then
   packages+=(python3-open3d)        # bench/backproject: Open3D create_from_depth_image side by side

@@ -2,12 +2,14 @@
 // world|camera] [--use-metadata FILE]
 //                  [--check] [--normals] [--stride K] [--frames A:B] [--format
 //                  pcd|ply] [--force]
+#include <cctype>
 #include <cstdio>
 #include <iostream>
 
 #include "libs/pointcloud/backproject_run.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 
 namespace lsds {
 
@@ -61,9 +63,9 @@ int RunBackproject(int argc, char** argv) {
                  options.stride,
                  "use every K-th pixel in x and y (quick previews)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--frames",
-                 frames,
-                 "frame indices A:B (from A, before B; A:, :B and A work too)");
+  AddFramesOption(app, &frames);
+  int threads = 0;
+  AddThreadsOption(app, &threads);
   app.add_option("--format",
                  options.per_frame_format,
                  "per-frame file format: pcd (default) or ply")
@@ -76,7 +78,24 @@ int RunBackproject(int argc, char** argv) {
   return RunCommand(app, argc, argv, [&] {
     options.frame = frame == "camera" ? pointcloud::OutputFrame::kCamera
                                       : pointcloud::OutputFrame::kWorld;
-    if (!frames.empty()) options.frames = pointcloud::ParseFrameRange(frames);
+    if (!frames.empty()) {
+      const FrameSelection selection =
+          SelectCollectionFrames(frames, options.collection);
+      options.frames.begin = selection.begin;
+      options.frames.end = selection.end;
+    }
+    // `-o f0.pcd` without --fuse: a file, not a folder. One selected frame is
+    // written to it (its cloud is the fused cloud of that frame); several are
+    // a usage error in the library that says what to do.
+    std::string extension = options.output.extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(c));
+    if (!options.fuse && (extension == ".pcd" || extension == ".ply")) {
+      int64_t selected = 0;
+      for (const int64_t index : CollectionFrameIndices(options.collection))
+        if (options.frames.Contains(index)) ++selected;
+      if (selected == 1) options.fuse = true;
+    }
+    const ThreadLimit thread_limit(threads);
     options.colors = !no_color;
     options.labels = !no_labels;
     if (tolerance >= 0 && !options.check) options.check = true;

@@ -1,11 +1,13 @@
 // lsds bundles COLLECTION [-o stats.json] [--write-layers LIST] [--frames A:B]
 // [--force] ...
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
 #include "libs/bundle/bundle_run.h"
 #include "libs/bundle/derived_layers.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 
 namespace lsds {
 
@@ -28,10 +30,9 @@ int RunBundles(int argc, char** argv) {
                  layers,
                  "comma-separated derived layers to add to the collection: "
                  "majority,purity,coverage,edge");
-  app.add_option(
-      "--frames",
-      frames,
-      "frame positions A:B (B exclusive; A: and :B allowed; 0-based)");
+  AddFramesOption(app, &frames);
+  int threads = 0;
+  AddThreadsOption(app, &threads);
   app.add_flag("--force",
                options.force,
                "replace the output files and earlier derived layers");
@@ -53,8 +54,22 @@ int RunBundles(int argc, char** argv) {
   return RunCommand(app, argc, argv, [&] {
     if (!layers.empty())
       options.write_layers = bundle::ParseDerivedLayerList(layers);
-    if (!frames.empty())
-      bundle::ParseFrameRange(frames, &options.first, &options.end);
+    if (!frames.empty()) {
+      // The library walks positions in the frame list; --frames names indices
+      // (increasing, docs/format.md), so map one onto the other.
+      const FrameSelection selection = ParseFrameSelection(frames);
+      const std::vector<int64_t> indices = CollectionFrameIndices(collection);
+      CheckFrameSelection(selection, indices, "the collection " + collection);
+      options.first =
+          std::lower_bound(indices.begin(), indices.end(), selection.begin) -
+          indices.begin();
+      options.end = selection.bounded()
+                        ? std::lower_bound(
+                              indices.begin(), indices.end(), selection.end) -
+                              indices.begin()
+                        : -1;
+    }
+    const ThreadLimit thread_limit(threads);
     options.output = output;
     options.mixed_map = mixed_map;
     const bundle::RunResult result = bundle::RunBundles(collection, options);

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 
 namespace lsds {
 
@@ -35,6 +36,9 @@ const std::vector<Command>& Commands() {
       {"backproject",
        "depth layers to point clouds (PCD/PLY), per frame or fused; --check",
        RunBackproject},
+      {"report",
+       "one offline HTML page: contact sheet, layers, distributions",
+       RunReport},
       {"synth",
        "write a synthetic collection with exact analytic truth (for tests)",
        RunSynth},
@@ -45,6 +49,44 @@ const std::vector<Command>& Commands() {
   return commands;
 }
 
+namespace {
+
+// The visible option names of `app` ("--frames", "-o", ...): the candidates of
+// a did-you-mean. Hidden (deprecated) aliases are never suggested.
+std::vector<std::string> OptionNames(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->get_group().empty()) continue;
+    for (const std::string& name : option->get_lnames())
+      names.push_back("--" + name);
+    for (const std::string& name : option->get_snames())
+      names.push_back("-" + name);
+  }
+  return names;
+}
+
+// A CLI11 parse error as the documented one-line message, with a suggestion
+// for a mistyped option.
+std::string UsageMessage(CLI::App& app, const CLI::ParseError& error) {
+  if (dynamic_cast<const CLI::ExtrasError*>(&error) != nullptr) {
+    const std::vector<std::string> extras = app.remaining();
+    std::vector<std::string> parts;
+    for (const std::string& extra : extras) {
+      if (extra.size() > 1 && extra[0] == '-') {
+        const std::string name = extra.substr(0, extra.find('='));
+        parts.push_back("unknown option '" + name + "'" +
+                        DidYouMean(name, OptionNames(app)));
+      } else {
+        parts.push_back("unexpected argument '" + extra + "'");
+      }
+    }
+    if (!parts.empty()) return Join(parts, "; ");
+  }
+  return error.what();
+}
+
+}  // namespace
+
 int RunCommand(CLI::App& app,
                int argc,
                char** argv,
@@ -52,8 +94,13 @@ int RunCommand(CLI::App& app,
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints help or the parse error
-    return code == 0 ? kExitOk : kExitUsage;
+    if (e.get_exit_code() == 0) {
+      app.exit(e);  // --help
+      return kExitOk;
+    }
+    std::cerr << app.get_name() << ": error: " << UsageMessage(app, e)
+              << "; run '" << app.get_name() << " --help' for the options\n";
+    return kExitUsage;
   }
   try {
     return body();

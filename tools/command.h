@@ -21,8 +21,9 @@ const std::vector<Command>& Commands();
 
 // Parses `argv` with `app` and runs `body`, mapping the outcome to the exit
 // codes of the brief: 0 success, 1 findings (returned by `body`), 2 bad usage
-// or unreadable input (CLI11 errors and lsds::Error, printed as "lsds NAME:
-// error: WHERE: WHAT").
+// or unreadable input (lsds::Error, printed as "lsds NAME: error: WHERE: WHAT",
+// and CLI11 errors, printed as "lsds NAME: error: WHAT" with a did-you-mean
+// for a mistyped option).
 int RunCommand(CLI::App& app,
                int argc,
                char** argv,
@@ -37,6 +38,7 @@ int RunConvert(int argc, char** argv);
 int RunPerturbMetadata(int argc, char** argv);
 int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);
+int RunReport(int argc, char** argv);
 int RunSynth(int argc, char** argv);
 int RunImport(int argc, char** argv);
 

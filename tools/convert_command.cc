@@ -8,6 +8,7 @@
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 
 namespace lsds {
 
@@ -76,8 +77,9 @@ int RunConvert(int argc, char** argv) {
                  "cvat: occluded=\"1\" when visibility is below this")
       ->capture_default_str();
   std::string frames;
-  app.add_option(
-      "--frames", frames, "A:B: only the frames with index in [A, B)");
+  AddFramesOption(app, &frames);
+  int threads = 0;
+  AddThreadsOption(app, &threads);
   app.add_option(
          "--batch", options.batch_size, "frames in flight (bounds memory)")
       ->capture_default_str();
@@ -97,17 +99,12 @@ int RunConvert(int argc, char** argv) {
       throw Error("must be in 1..100", Location("--jpeg-quality"));
     }
     if (!frames.empty()) {
-      const size_t colon = frames.find(':');
-      try {
-        if (colon == std::string::npos) throw std::invalid_argument(frames);
-        if (colon > 0)
-          options.frame_begin = std::stoll(frames.substr(0, colon));
-        if (colon + 1 < frames.size())
-          options.frame_end = std::stoll(frames.substr(colon + 1));
-      } catch (const std::exception&) {
-        throw Error("expected A:B, got '" + frames + "'", Location("--frames"));
-      }
+      const FrameSelection selection =
+          SelectCollectionFrames(frames, collection);
+      options.frame_begin = selection.begin;
+      options.frame_end = selection.bounded() ? selection.end : -1;
     }
+    const ThreadLimit thread_limit(threads);
     options.collection = collection;
     options.output = output;
     options.formats = Split(formats, ',');

@@ -1,8 +1,12 @@
 // lsds generate: render a plan (from LSCENE/LCAP, a plan JSON, or the built-in
 // demo) into a collection. The work lives in generator/generate.h; this file
 // parses flags.
+#include <csignal>
+#include <cstring>
 #include <iostream>
 #include <optional>
+
+#include <unistd.h>
 
 #include "generator/demo_plan.h"
 #include "generator/generate.h"
@@ -10,22 +14,32 @@
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 
 namespace lsds {
 namespace {
 
-// "A:B" (half-open), "A:" or ":B".
-void ParseFrames(const std::string& text, gen::GenerateOptions* options) {
-  const size_t colon = text.find(':');
-  if (colon == std::string::npos)
-    throw Error("--frames " + text + ": expected A:B (frames A to B-1)");
-  try {
-    const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
-    if (!a.empty()) options->first_frame = std::stoll(a);
-    if (!b.empty()) options->last_frame = std::stoll(b);
-  } catch (const std::exception&) {
-    throw Error("--frames " + text + ": expected integers A:B");
-  }
+// The message printed on Ctrl-C, composed before rendering starts: a signal
+// handler may only write() what already exists.
+std::string interrupt_message;
+
+extern "C" void OnInterrupt(int signal_number) {
+  const ssize_t ignored =
+      write(STDERR_FILENO, interrupt_message.data(), interrupt_message.size());
+  (void)ignored;
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+// On SIGINT/SIGTERM, tells the user how to keep the frames already rendered:
+// --resume (not --force, which deletes them).
+void InstallResumeHint(const std::string& command_line) {
+  interrupt_message =
+      "\nlsds generate: interrupted; the complete frames are "
+      "kept: run\n  " +
+      command_line + " --resume\nto finish the collection\n";
+  std::signal(SIGINT, OnInterrupt);
+  std::signal(SIGTERM, OnInterrupt);
 }
 
 void ParseShard(const std::string& text, gen::GenerateOptions* options) {
@@ -60,8 +74,7 @@ int RunGenerate(int argc, char** argv) {
                  "Settings folder)");
   app.add_option(
       "--seed", seed, "random seed of the plan and of the sampler (default 0)");
-  app.add_option(
-      "--frames", frames, "render frames A to B-1 only (A:B, A: or :B)");
+  AddFramesOption(app, &frames);
   app.add_option("--shard", shard, "render frames whose index % N == I (I/N)");
   app.add_option("--spp",
                  options.spp,
@@ -69,8 +82,7 @@ int RunGenerate(int argc, char** argv) {
   app.add_option("--jitter",
                  options.jitter,
                  "jitter of each stratified sample in its cell, [0, 1]");
-  app.add_option(
-      "--threads", options.threads, "worker threads (default: all cores)");
+  AddThreadsOption(app, &options.threads);
   app.add_option(
       "--depth", depth, "depth layer kind: planar (default) or perspective");
   app.add_option("--zip-level",
@@ -92,7 +104,12 @@ int RunGenerate(int argc, char** argv) {
                  "image size of the demo scene, WxH (default 512x512)");
   app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
   return RunCommand(app, argc, argv, [&]() {
-    if (!frames.empty()) ParseFrames(frames, &options);
+    std::optional<FrameSelection> selection;
+    if (!frames.empty()) {
+      selection = ParseFrameSelection(frames);
+      options.first_frame = selection->begin;
+      options.last_frame = selection->end;
+    }
     if (!shard.empty()) ParseShard(shard, &options);
     if (!ParseDepthKind(depth, &options.depth_kind)) {
       throw Error("--depth " + depth + ": expected planar or perspective");
@@ -121,12 +138,11 @@ int RunGenerate(int argc, char** argv) {
       plan = gen::LoadPlanJson(plan_file);
       if (seed) plan.seed = *seed;
     } else {
-      plan = gen::PlanFromScene(scene,
-                                capture,
-                                seed.value_or(0),
-                                options.first_frame,
-                                options.last_frame);
+      plan = PlanSelectedFrames(scene, capture, seed.value_or(0), selection);
     }
+    // Before the output is touched: an out-of-range --frames never empties
+    // (or, with --force, wipes) an existing collection.
+    if (selection) CheckPlanFrames(*selection, plan);
     if (options.output.empty()) {
       // LCAP Capture Settings may name the output folder (relative to the
       // current directory); -o wins when both are given.
@@ -138,6 +154,13 @@ int RunGenerate(int argc, char** argv) {
             "folder in the LCAP camera)");
       options.output = folder;
     }
+    std::string command_line = "lsds generate";
+    for (int i = 1; i < argc; ++i) {
+      if (std::strcmp(argv[i], "--force") != 0 &&
+          std::strcmp(argv[i], "--resume") != 0)
+        command_line += std::string(" ") + argv[i];
+    }
+    InstallResumeHint(command_line);
     const gen::GenerateSummary summary = gen::GenerateCollection(plan, options);
     if (!quiet) {
       const double per_frame =

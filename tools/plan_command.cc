@@ -1,4 +1,4 @@
-// lsds plan SCENE [CAPTURE] [-o plan.json] [--seed N] [--frames B:E]
+// lsds plan SCENE [CAPTURE] [-o plan.json] [--seed N] [--frames A:B]
 // [--emit-json] [--force]
 #include <iostream>
 #include <optional>
@@ -7,6 +7,7 @@
 #include "generator/plan/plan_json.h"
 #include "libs/util/atomic_file.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 
 namespace lsds {
 
@@ -30,9 +31,7 @@ int RunPlan(int argc, char** argv) {
   app.add_option("--seed",
                  seed,
                  "random seed (same files + seed = same plan, byte for byte)");
-  app.add_option("--frames",
-                 frames,
-                 "plan only frames B:E ([B, E), E empty = to the end)");
+  AddFramesOption(app, &frames);
   app.add_flag(
       "--emit-json",
       emit_json,
@@ -56,23 +55,9 @@ int RunPlan(int argc, char** argv) {
                    .dump(2);
       }
     } else {
-      FrameRange range;
-      if (!frames.empty()) {
-        const size_t colon = frames.find(':');
-        try {
-          range.begin = std::stoll(frames.substr(0, colon));
-          if (colon != std::string::npos && colon + 1 < frames.size())
-            range.end = std::stoll(frames.substr(colon + 1));
-        } catch (const std::exception&) {
-          throw Error("--frames expects B:E, e.g. 10:20, found '" + frames +
-                      "'");
-        }
-        if (range.begin < 0 || (range.end >= 0 && range.end < range.begin))
-          throw Error("--frames B:E needs 0 <= B <= E, found '" + frames + "'");
-      }
-      std::optional<std::filesystem::path> capture_path;
-      if (!capture.empty()) capture_path = capture;
-      const Plan plan = MakePlan(scene, capture_path, seed, range);
+      std::optional<FrameSelection> selection;
+      if (!frames.empty()) selection = ParseFrameSelection(frames);
+      const Plan plan = PlanSelectedFrames(scene, capture, seed, selection);
       text = PlanToJson(plan).dump(1);
     }
     if (output.empty()) {

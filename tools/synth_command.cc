@@ -1,4 +1,4 @@
-// lsds synth OUT [--frames N] [--size WxH] [--samples-per-axis N] [--depth
+// lsds synth OUT [--count N] [--size WxH] [--samples-per-axis N] [--depth
 // planar|perspective] [--force]
 #include <cstdio>
 #include <iostream>
@@ -7,6 +7,7 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 
 namespace lsds {
 
@@ -24,8 +25,18 @@ int RunSynth(int argc, char** argv) {
   std::string depth = "planar";
   bool force = false;
   app.add_option("OUT", out, "output collection folder")->required();
-  app.add_option("--frames", frames, "number of frames")
+  app.add_option("--count", frames, "number of frames to write (default 4)")
       ->check(CLI::Range(1, 1000000));
+  // --frames selects frame indices in every command (docs/cli.md); synth makes
+  // a new collection, so it takes a count and says so instead of guessing.
+  std::string frames_text;
+  app.add_option("--frames",
+                 frames_text,
+                 "not a count here: use --count N (--frames selects frame "
+                 "indices of existing collections and plans)")
+      ->group("");
+  int threads = 0;
+  AddThreadsOption(app, &threads);
   app.add_option("--size", size, "image size WIDTHxHEIGHT");
   app.add_option("--samples-per-axis",
                  samples_per_axis,
@@ -35,6 +46,14 @@ int RunSynth(int argc, char** argv) {
       ->check(CLI::IsMember({"planar", "perspective"}));
   app.add_flag("--force", force, "replace OUT if it exists");
   return RunCommand(app, argc, argv, [&] {
+    if (!frames_text.empty()) {
+      throw Error(
+          "synth writes a new collection: give its number of frames with "
+          "--count N (--frames selects frame indices of an existing "
+          "collection or plan in the other commands)",
+          Location("--frames " + frames_text));
+    }
+    const ThreadLimit thread_limit(threads);
     int width = 0, height = 0;
     if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 ||
         height < 1 || width > 16384 || height > 16384) {

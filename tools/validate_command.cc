@@ -1,12 +1,13 @@
 // lsds validate COLLECTION [--format text|json|junit] [-o REPORT] [--fail-on
 // error|warning]
-//                          [--checks LIST] [--jobs N] [--max-examples N]
+//                          [--checks LIST] [--threads N] [--max-examples N]
 //                          [--force]
 #include <iostream>
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
+#include "tools/shared_flags.h"
 #include "validators/report_writers.h"
 #include "validators/validate.h"
 
@@ -42,15 +43,16 @@ int RunValidate(int argc, char** argv) {
       "--checks",
       checks,
       "comma-separated check ids or groups (schema, structure, layer, "
-      "cross, camera, stats); default all");
-  app.add_option("--jobs", jobs, "worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      "cross, camera, stats), or all; -ID excludes one (all,-camera; a list "
+      "that starts with -ID means all but it); default all");
+  AddThreadsOption(app, &jobs, /*jobs_alias=*/true);
   app.add_option("--max-examples",
                  max_examples,
                  "findings kept and shown per check (all are counted)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--force", force, "overwrite an existing report file");
   return RunCommand(app, argc, argv, [&] {
+    WarnIfJobsUsed(app);
     validate::Severity threshold;
     validate::ParseSeverity(fail_on, &threshold);
     validate::ValidateOptions options;

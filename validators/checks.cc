@@ -259,31 +259,48 @@ CheckSelection CheckSelection::All() {
 }
 
 CheckSelection CheckSelection::Parse(const std::string& list) {
+  auto trim = [](std::string text) {
+    while (!text.empty() && text.front() == ' ') text.erase(text.begin());
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    return text;
+  };
   CheckSelection selection;
-  for (std::string entry : Split(list, ',')) {
-    while (!entry.empty() && entry.front() == ' ') entry.erase(entry.begin());
-    while (!entry.empty() && entry.back() == ' ') entry.pop_back();
+  bool first = true;
+  // Entries apply left to right: NAME adds, -NAME removes; a list that starts
+  // with -NAME starts from all checks ("-camera" = "all,-camera").
+  for (const std::string& raw : Split(list, ',')) {
+    std::string entry = trim(raw);
     if (entry.empty()) continue;
-    if (entry == "all" || entry == "*") return All();
+    const bool exclude = entry.front() == '-';
+    if (exclude) entry = trim(entry.substr(1));
+    if (first && exclude) selection = All();
+    first = false;
     std::string group = entry;
     if (group.size() > 2 && group.compare(group.size() - 2, 2, ".*") == 0) {
       group.resize(group.size() - 2);
     }
-    bool matched = false;
+    std::vector<std::string> matched;
     for (const CheckInfo& check : AllChecks()) {
-      if (check.id == entry || check.id == group ||
+      if (entry == "all" || entry == "*" || check.id == entry ||
+          check.id == group ||
           check.id.compare(0, group.size() + 1, group + ".") == 0) {
-        selection.ids_.insert(check.id);
-        matched = true;
+        matched.push_back(check.id);
       }
     }
-    if (!matched) {
+    if (matched.empty()) {
       throw Error("--checks: unknown check '" + entry + "'" +
                   DidYouMean(entry, AllNames()) +
                   "; see docs/validate.md for the list");
     }
+    for (const std::string& id : matched) {
+      if (exclude)
+        selection.ids_.erase(id);
+      else
+        selection.ids_.insert(id);
+    }
   }
-  if (selection.ids_.empty()) throw Error("--checks: the list is empty");
+  if (selection.ids_.empty())
+    throw Error("--checks: '" + list + "' selects no check");
   return selection;
 }
 

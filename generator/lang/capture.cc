@@ -7,6 +7,7 @@
 #include <set>
 #include <tuple>
 
+#include "generator/lang/environment.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/geometry/attitude.h"
 #include "libs/util/strings.h"
@@ -34,10 +35,12 @@ const std::vector<std::string> kSettingsKeys = {"fov",
 // Default minimum clearance of a camera above the terrain and objects
 // (docs/languages.md, "Cameras where a drone can be").
 constexpr double kDefaultClearanceM = 1.0;
+// Table 3's spellings are accepted too: `increment point` (singular).
 const std::vector<std::string> kPathKinds = {"create_hemi",
                                              "hemi",
                                              "grid",
                                              "increment_points",
+                                             "increment_point",
                                              "random",
                                              "random_poses",
                                              "waypoints",
@@ -73,17 +76,26 @@ std::pair<std::string, int64_t> RefWithNumber(const Node& n) {
   return {s.substr(0, colon), static_cast<int64_t>(v)};
 }
 
+// The canonical key of a path generator: `increment point` is
+// `increment_points`.
+std::string PathKind(const std::string& key) {
+  const std::string k = CanonicalKey(key);
+  return k == "incrementpoint" ? "incrementpoints" : k;
+}
+
 struct Segment {
   const Definition* path = nullptr;
-  int64_t repetition = 1;  // 1-based
-  int64_t first = 0;       // global frame index of its first frame
+  const Definition* collection = nullptr;  // whose move flies it, if any
+  int64_t repetition = 1;                  // 1-based
+  int64_t first = 0;  // global frame index of its first frame
   int64_t count = 0;
 };
 
 struct Rule {
-  std::string object_symbol;
-  Node block;   // the change keys
-  Node timing;  // for messages
+  std::string object_symbol;     // the object, or the environment symbol
+  std::string environment_kind;  // skybox, light, ...: an environment change
+  Node block;                    // the change keys
+  Node timing;                   // for messages
   bool during = false;
   int64_t begin = 0;  // first frame in effect
   int64_t end =
@@ -253,7 +265,7 @@ class CaptureEvaluator {
   int64_t PathFrameCount(const Definition& path, uint64_t segment) {
     Rng count_rng = Rng::For(seed_, StreamTag::kCount, segment);
     const auto [kind, g] = path.body.Members().front();
-    const std::string k = CanonicalKey(kind);
+    const std::string k = PathKind(kind);
     if (k == "createhemi" || k == "hemi") {
       g.CheckKeys({"cam_radius", "obj_angle", "cam_angle", "center", "target"},
                   "create hemi");
@@ -333,6 +345,7 @@ class CaptureEvaluator {
     std::vector<const Definition*> collections;
     for (const Definition& d : cap_.definitions)
       if (d.kind == "collection") collections.push_back(&d);
+    const Definition* current_collection = nullptr;
     auto append = [&](const Definition* path, int64_t repetitions) {
       for (int64_t r = 1; r <= repetitions; ++r) {
         Segment s;
@@ -342,11 +355,13 @@ class CaptureEvaluator {
                       ? 0
                       : segments_.back().first + segments_.back().count;
         s.count = PathFrameCount(*path, segments_.size());
+        s.collection = current_collection;
         segments_.push_back(s);
       }
     };
     bool moved = false;
     for (const Definition* c : collections) {
+      current_collection = c;
       for (const auto& [key, value] : c->body.Members()) {
         if (!IsCameraEntry(key, value)) continue;
         for (const Node& block : Blocks(value)) {
@@ -414,6 +429,21 @@ class CaptureEvaluator {
                                    const std::string& symbol,
                                    int64_t rep) const {
     int64_t lo = -1, hi = -1;
+    const Definition* named = cap_.Find(symbol);
+    if (named && named->kind == "collection") {
+      // A set/collection: the frames of the paths its camera moves fly.
+      if (rep >= 0)
+        where.Fail("a collection has no repetitions: write '" + symbol + "'");
+      for (const Segment& s : segments_) {
+        if (s.collection != named) continue;
+        if (lo < 0) lo = s.first;
+        hi = s.first + s.count;
+      }
+      if (lo < 0)
+        where.Fail("collection '" + symbol +
+                   "' moves the camera along no path");
+      return {lo, hi};
+    }
     for (const Segment& s : segments_) {
       if (s.path->symbol != symbol || (rep >= 0 && s.repetition != rep))
         continue;
@@ -431,6 +461,13 @@ class CaptureEvaluator {
     return {lo, hi};
   }
 
+  static int64_t FrameNumber(const Node& v) {
+    const double f = ReadNumber(v);
+    if (f < 0 || f != std::floor(f) || f > 1e9)
+      v.Fail("a frame number is a whole number >= 0");
+    return static_cast<int64_t>(f);
+  }
+
   void Timing(const Node& block, Rule* rule) {
     for (const auto& [key, v] : block.Members()) {
       const std::string k = CanonicalKey(key);
@@ -442,11 +479,20 @@ class CaptureEvaluator {
           Timing(v, rule);
         }
       } else if (k == "after") {
-        const auto [symbol, rep] = RefWithNumber(v);
-        rule->begin = Span(v, symbol, rep).second;
+        if (v->is_number()) {  // after frame N: from frame N + 1 on
+          rule->begin = FrameNumber(v) + 1;
+        } else {
+          const auto [symbol, rep] = RefWithNumber(v);
+          rule->begin = Span(v, symbol, rep).second;
+        }
       } else if (k == "during") {
-        const auto [symbol, rep] = RefWithNumber(v);
-        std::tie(rule->begin, rule->end) = Span(v, symbol, rep);
+        if (v->is_number()) {  // during frame N: that frame only
+          rule->begin = FrameNumber(v);
+          rule->end = rule->begin + 1;
+        } else {
+          const auto [symbol, rep] = RefWithNumber(v);
+          std::tie(rule->begin, rule->end) = Span(v, symbol, rep);
+        }
         rule->during = true;
       } else if (k == "frame") {
         const double f = ReadNumber(v);
@@ -463,6 +509,31 @@ class CaptureEvaluator {
                 const std::string& where) {
     std::vector<std::string> keys = kChangeKeys;
     keys.insert(keys.end(), kTimingKeys.begin(), kTimingKeys.end());
+    const auto environment = environment_symbols_.find(object);
+    if (environment != environment_symbols_.end()) {
+      // Any LSCENE function of the sky, light, atmosphere, skylight or
+      // terrain material, as in the scene (docs/languages.md).
+      std::vector<std::string> env_keys =
+          EnvironmentKeys(environment->second, true);
+      env_keys.insert(env_keys.end(), kTimingKeys.begin(), kTimingKeys.end());
+      block.CheckKeys(env_keys, where);
+      Rule rule;
+      rule.object_symbol = object;
+      rule.environment_kind = environment->second;
+      rule.block = block;
+      rule.timing = timing_block;
+      rule.id = rules_.size() + 1;
+      Timing(timing_block, &rule);
+      Rng probe(0);  // bad values are reported now, not on some frame
+      PlannedEnvironment scratch = EnvironmentOf(*plan_);
+      ApplyEnvironment(rule.environment_kind, block, probe, &scratch);
+      if (scratch.sun.clock_utc_s && !plan_->geo)
+        block.Fail(
+            "a sun given by date and time needs a place: add a "
+            "georeference{latitude, longitude, altitude} to the scene");
+      rules_.push_back(rule);
+      return;
+    }
     block.CheckKeys(keys, where);
     if (!HasObject(object)) {
       std::vector<std::string> names(scene_symbols_.begin(),
@@ -554,7 +625,7 @@ class CaptureEvaluator {
 
   Rigid3d Pose(const Definition& path, int64_t i, Rng& rng) {
     const auto [kind, g] = path.body.Members().front();
-    const std::string k = CanonicalKey(kind);
+    const std::string k = PathKind(kind);
     const double deg = M_PI / 180.0;
     if (k == "createhemi" || k == "hemi") {
       const auto radii = ExpandRange(g.Find("camradius")),
@@ -639,7 +710,7 @@ class CaptureEvaluator {
   // create point is a shot of its own.
   int64_t ShotStart(const Definition& path, int64_t first, int64_t i) {
     const auto [kind, g] = path.body.Members().front();
-    const std::string k = CanonicalKey(kind);
+    const std::string k = PathKind(kind);
     if (k == "waypoints") return first;
     if (k == "grid" || k == "incrementpoints") {
       const auto axes = GridAxes(g);
@@ -701,6 +772,12 @@ class CaptureEvaluator {
                          StreamTag::kChange,
                          rule.id,
                          static_cast<uint64_t>(rule.begin));
+      if (!rule.environment_kind.empty()) {
+        if (!f.environment) f.environment = EnvironmentOf(*plan_);
+        ApplyEnvironment(
+            rule.environment_kind, rule.block, change_rng, &*f.environment);
+        continue;
+      }
       for (const PlannedObject& o : plan_->objects)
         if (o.symbol == rule.object_symbol) {
           f.changes.push_back(Change(rule, o, change_rng));
@@ -708,6 +785,15 @@ class CaptureEvaluator {
         }
     }
     KeepPlacement(change_rules, &f);
+    // A sun given by date and time moves with the frame's time.
+    if (plan_->geo) {
+      PlannedEnvironment environment = EnvironmentAt(*plan_, f);
+      if (environment.sun.clock_utc_s) {
+        PlaceSun(*plan_->geo, f.time, &environment.sun);
+        if (!(environment == EnvironmentOf(*plan_)))
+          f.environment = environment;
+      }
+    }
     return f;
   }
 
@@ -833,6 +919,7 @@ class CaptureEvaluator {
 
  public:
   std::set<std::string> scene_symbols_;
+  std::map<std::string, std::string> environment_symbols_;  // symbol -> kind
   std::string first_target_;
 
  private:
@@ -901,7 +988,10 @@ void EvaluateCapture(const Program& capture,
                      Plan* plan) {
   CaptureEvaluator evaluator(capture, seed, plan);
   for (const Definition& d : scene.definitions)
-    if (d.kind == "object") evaluator.scene_symbols_.insert(d.symbol);
+    if (d.kind == "object")
+      evaluator.scene_symbols_.insert(d.symbol);
+    else if (IsEnvironmentKind(d.kind))
+      evaluator.environment_symbols_[d.symbol] = d.kind;
   for (const Definition& d : capture.definitions)
     if (d.kind == "camera")
       if (const Node t = d.body.Find("targets");

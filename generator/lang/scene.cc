@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 
+#include "generator/lang/environment.h"
 #include "generator/plan/terrain_height.h"
 #include "generator/scene/object_library.h"
 #include "libs/geometry/oriented_box.h"
@@ -124,6 +125,19 @@ class SceneEvaluator {
     Check();
     AssignClassIds();
     for (const Definition& def : scene_.definitions) Evaluate(def);
+    // A sun by date and time needs a place; its position at capture time 0
+    // is the plan's own (each frame gets its own in the capture).
+    if (plan_->sun.clock_utc_s) {
+      if (!plan_->geo)
+        for (const Definition& def : scene_.definitions)
+          if (def.kind == "light")
+            for (const char* key : {"date", "time"})
+              if (const Node n = def.body.Find(key))
+                n.Fail(
+                    "a sun given by date and time needs a place: add a "
+                    "georeference{latitude, longitude, altitude}");
+      if (plan_->geo) PlaceSun(*plan_->geo, 0.0, &plan_->sun);
+    }
     uint32_t instance = 1;
     if (plan_->terrain.present) plan_->terrain.instance_id = instance++;
     for (Placed& p : placed_) {
@@ -136,27 +150,21 @@ class SceneEvaluator {
   // --- checking (no sampling) ---
   void Check() {
     std::set<std::string> defined;
-    int terrains = 0;
+    int terrains = 0, georeferences = 0;
     for (const Definition& def : scene_.definitions) {
       const std::string& k = def.kind;
       if (k == "camera" || k == "path" || k == "collection" ||
           k == "scene_change")
         def.statement.Fail("'" + k +
                            "' belongs in the LCAP capture file, not in LSCENE");
-      if (k == "skybox")
-        def.body.CheckKeys(
-            {"color", "clouds", "cloud_type", "cloud_density", "intensity"},
-            def.symbol);
-      if (k == "light")
-        def.body.CheckKeys({"elevation", "azimuth", "intensity"}, def.symbol);
-      if (k == "atmosphere")
-        def.body.CheckKeys({"fog", "fog_density", "density", "visibility"},
-                           def.symbol);
-      if (k == "skylight") def.body.CheckKeys({"intensity"}, def.symbol);
+      if (IsEnvironmentKind(k))
+        def.body.CheckKeys(EnvironmentKeys(k, false), def.symbol);
+      if (k == "georeference") {
+        def.body.CheckKeys({"latitude", "longitude", "altitude"}, def.symbol);
+        if (++georeferences > 1)
+          def.statement.Fail("only one georeference per scene");
+      }
       if (k == "terrain") {
-        def.body.CheckKeys(
-            {"size", "height", "perlin", "frequency", "material", "seed"},
-            def.symbol);
         if (++terrains > 1) def.statement.Fail("only one terrain per scene");
         terrain_symbol_ = def.symbol;
       }
@@ -412,35 +420,30 @@ class SceneEvaluator {
   // --- evaluation ---
   void Evaluate(const Definition& def) {
     const Node& b = def.body;
-    if (def.kind == "skybox") {
-      if (const Node n = b.Find("color")) plan_->sky.color = Color(n);
-      if (const Node n = b.Find("clouds")) {
-        n.CheckKeys({"type", "density"}, "clouds");
-        if (const Node t = n.Find("type")) plan_->sky.cloud_type = CloudType(t);
-        if (const Node d = n.Find("density"))
-          plan_->sky.cloud_density = Fraction(d);
+    if (def.kind == "skybox" || def.kind == "light" ||
+        def.kind == "atmosphere" || def.kind == "skylight") {
+      PlannedEnvironment environment = EnvironmentOf(*plan_);
+      ApplyEnvironment(def.kind, b, rng_, &environment);
+      SetEnvironment(environment, plan_);
+    } else if (def.kind == "georeference") {
+      GeoOrigin geo;
+      if (const Node n = b.Find("latitude")) {
+        geo.latitude_deg = SampleScalar(n, rng_);
+        if (std::abs(geo.latitude_deg) > 90)
+          n.Fail("latitude must be within [-90, 90] degrees");
+      } else {
+        b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
       }
-      if (const Node n = b.Find("cloudtype"))
-        plan_->sky.cloud_type = CloudType(n);
-      if (const Node n = b.Find("clouddensity"))
-        plan_->sky.cloud_density = Fraction(n);
-      if (const Node n = b.Find("intensity"))
-        plan_->sky.intensity = NonNegative(n);
-    } else if (def.kind == "light") {
-      if (const Node n = b.Find("elevation")) {
-        plan_->sun.elevation_deg = SampleScalar(n, rng_);
-        if (std::abs(plan_->sun.elevation_deg) > 90)
-          n.Fail("sun elevation must be within [-90, 90] degrees");
+      if (const Node n = b.Find("longitude")) {
+        geo.longitude_deg = SampleScalar(n, rng_);
+        if (std::abs(geo.longitude_deg) > 180)
+          n.Fail("longitude must be within [-180, 180] degrees");
+      } else {
+        b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
       }
-      if (const Node n = b.Find("azimuth"))
-        plan_->sun.azimuth_deg = SampleScalar(n, rng_);
-      if (const Node n = b.Find("intensity"))
-        plan_->sun.intensity = NonNegative(n);
-    } else if (def.kind == "atmosphere") {
-      plan_->fog_density = AtmosphereExtinction(b);
-    } else if (def.kind == "skylight") {
-      if (const Node n = b.Find("intensity"))
-        plan_->skylight_intensity = NonNegative(n);
+      if (const Node n = b.Find("altitude"))
+        geo.altitude_m = SampleScalar(n, rng_);
+      plan_->geo = geo;
     } else if (def.kind == "terrain") {
       EvaluateTerrain(b);
     } else if (def.kind == "object") {
@@ -448,103 +451,11 @@ class SceneEvaluator {
     }
   }
 
-  // The atmosphere's extinction coefficient per metre (docs/languages.md,
-  // "Atmosphere"), from one of: `fog` / `fog_density` (per metre), `density`
-  // (the paper's fraction of the range from clear air, 0, to a fog of 100 m
-  // meteorological visibility, 1) or `visibility` (meteorological, metres,
-  // Koschmieder's 2 % contrast: extinction = 3.912 / visibility).
-  double AtmosphereExtinction(const Node& b) {
-    constexpr double kKoschmieder = 3.912;
-    constexpr double kDensestVisibilityM = 100;  // density 1
-    constexpr double kMinVisibilityM = 10;       // anything denser is absurd
-    double extinction = 0;
-    int given = 0;
-    for (const char* key : {"fog", "fogdensity"})
-      if (const Node n = b.Find(key)) {
-        extinction = NonNegative(n);
-        if (extinction > kKoschmieder / kMinVisibilityM)
-          n.Fail("fog is an extinction per metre; " + FormatNumber(extinction) +
-                 " /m means a visibility of " +
-                 FormatNumber(kKoschmieder / extinction) + " m. Use at most " +
-                 FormatNumber(kKoschmieder / kMinVisibilityM) +
-                 " /m, or density (a fraction) or visibility (metres)");
-        ++given;
-      }
-    if (const Node n = b.Find("density")) {
-      const double d = NonNegative(n);
-      if (d > 1)
-        n.Fail(
-            "density is a fraction in [0, 1] (1: a fog of 100 m "
-            "visibility); write 10 % as 0.1");
-      extinction = d * kKoschmieder / kDensestVisibilityM;
-      ++given;
-    }
-    if (const Node n = b.Find("visibility")) {
-      const double v = SampleScalar(n, rng_);
-      if (!(v >= kMinVisibilityM))
-        n.Fail(
-            "visibility is the meteorological visibility in metres, at "
-            "least 10");
-      extinction = kKoschmieder / v;
-      ++given;
-    }
-    if (given > 1)
-      b.Fail(
-          "give one of fog (per metre), density (a fraction) or visibility "
-          "(metres)");
-    return extinction;
-  }
-
   double NonNegative(const Node& n) {
     const double v = SampleScalar(n, rng_);
     if (v < 0) n.Fail("expected a value >= 0, sampled " + std::to_string(v));
     return v;
   }
-  double Fraction(const Node& n) {
-    const double v = SampleScalar(n, rng_);
-    if (v < 0 || v > 1)
-      n.Fail("expected a value in [0, 1], sampled " + std::to_string(v));
-    return v;
-  }
-  std::string CloudType(const Node& n) {
-    static const std::vector<std::string> kTypes = {
-        "none", "cumulus", "nimbostratus", "cirrus", "stratus"};
-    for (const std::string& option : StringOptions(n))
-      if (std::find(kTypes.begin(), kTypes.end(), option) == kTypes.end())
-        (n->is_object() ? n.Child(option) : n)
-            .FailKey("unknown cloud type '" + option + "'" +
-                     DidYouMean(option, kTypes));
-    return SampleString(n, rng_);
-  }
-  Eigen::Vector3d Color(const Node& n) {
-    static const std::map<std::string, Eigen::Vector3d> kColors = {
-        {"white", {1, 1, 1}},
-        {"black", {0, 0, 0}},
-        {"gray", {0.5, 0.5, 0.5}},
-        {"grey", {0.5, 0.5, 0.5}},
-        {"blue", {0.55, 0.7, 0.95}},
-        {"red", {0.9, 0.2, 0.15}},
-        {"green", {0.3, 0.7, 0.3}},
-        {"orange", {1.0, 0.6, 0.2}},
-        {"yellow", {1.0, 0.9, 0.3}}};
-    if (n->is_string() || n->is_object()) {
-      std::vector<std::string> names;
-      for (const auto& [name, c] : kColors) names.push_back(name);
-      for (const std::string& option : StringOptions(n))
-        if (!kColors.count(option))
-          (n->is_object() ? n.Child(option) : n)
-              .FailKey("unknown color '" + option + "'" +
-                       DidYouMean(option, names) +
-                       "; use a name or [r, g, b] in [0, 1]");
-      return kColors.at(SampleString(n, rng_));
-    }
-    Eigen::Vector3d c = SampleVec3(n, rng_);
-    if (c.maxCoeff() > 1.0) c /= 255.0;  // 0-255 colours
-    if (c.minCoeff() < 0 || c.maxCoeff() > 1)
-      n.Fail("colour components must be in [0, 1] (or 0-255)");
-    return c;
-  }
-
   void EvaluateTerrain(const Node& b) {
     PlannedTerrain& t = plan_->terrain;
     t.present = true;

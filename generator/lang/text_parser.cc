@@ -189,12 +189,15 @@ class Parser {
       (*doc)[name.text] = StartRule(pointer);
       return;
     }
-    const Token kind = Next();
+    Token kind = Next();
     if (kind.kind != Tok::kIdent)
       Fail(kind.offset,
            "expected a symbol kind (skybox, terrain, object, camera, path, "
            "...) after '" +
                name.text + " =', found " + Describe(kind));
+    // Table 3 spells some kinds in words: `scene change{...}`, `create
+    // path{...}`. They are joined with '_' as in their JSON form.
+    while (Peek().kind == Tok::kIdent) kind.text += "_" + Next().text;
     const std::string body_pointer = PointerJoin(pointer, kind.text);
     Mark(body_pointer, kind.offset);
     ExpectPunct('{', "to open the body of " + name.text);

@@ -14,6 +14,7 @@
 
 #include "libs/collection/model.h"
 #include "libs/geometry/camera.h"
+#include "libs/geometry/geodesy.h"
 #include "libs/geometry/rigid3.h"
 
 namespace lsds {
@@ -30,6 +31,22 @@ struct PlannedSun {
   double elevation_deg = 50.0;  // above the horizon
   double azimuth_deg = 135.0;   // from north, clockwise
   double intensity = 3.0;       // irradiance scale
+  // Given by date and time (geo-referenced scenes): the UTC clock at capture
+  // time 0 (seconds since 1970) and the local offset it was written in. Each
+  // frame's sun is then the solar position at clock + frame time.
+  std::optional<double> clock_utc_s;
+  double utc_offset_h = 0;
+};
+
+// The scene's environment: what LSCENE's sky, light, atmosphere, skylight and
+// terrain material set, and what LCAP scene changes may change per frame.
+struct PlannedEnvironment {
+  PlannedSky sky;
+  PlannedSun sun;
+  double fog_density = 0.0;         // extinction per metre
+  double skylight_intensity = 0.3;  // ambient
+  std::string terrain_material = "grassy";
+  bool operator==(const PlannedEnvironment& o) const;
 };
 
 struct PlannedTerrain {
@@ -97,12 +114,16 @@ struct PlannedFrame {
   Rigid3d cam_from_world;
   std::vector<ObjectChange>
       changes;  // applied in order on top of the world's objects
+  // The environment in effect when LCAP changes it (sky, sun, atmosphere,
+  // skylight, terrain material); absent: the plan's.
+  std::optional<PlannedEnvironment> environment;
 };
 
 struct Plan {
   uint64_t seed = 0;
-  std::string scene_source;    // LSCENE text, verbatim
-  std::string capture_source;  // LCAP text, verbatim
+  std::optional<GeoOrigin> geo;  // LSCENE georeference: the world is ENU there
+  std::string scene_source;      // LSCENE text, verbatim
+  std::string capture_source;    // LCAP text, verbatim
   std::vector<ClassInfo> classes;
   PlannedSky sky;
   PlannedSun sun;
@@ -117,5 +138,11 @@ struct Plan {
   nlohmann::json capture_settings = nlohmann::json::object();
   std::vector<PlannedFrame> frames;
 };
+
+// The plan's own environment, and the one in effect on `frame`.
+PlannedEnvironment EnvironmentOf(const Plan& plan);
+PlannedEnvironment EnvironmentAt(const Plan& plan, const PlannedFrame& frame);
+// Writes `environment` back into the plan's own fields.
+void SetEnvironment(const PlannedEnvironment& environment, Plan* plan);
 
 }  // namespace lsds

@@ -76,18 +76,65 @@ json ObjectChangeToJson(const ObjectChange& change) {
   return ChangeJson(change);
 }
 
+json SunJson(const PlannedSun& sun) {
+  json j = {{"elevation_deg", sun.elevation_deg},
+            {"azimuth_deg", sun.azimuth_deg},
+            {"intensity", sun.intensity}};
+  if (sun.clock_utc_s) {
+    j["clock_utc_s"] = *sun.clock_utc_s;
+    j["utc_offset_h"] = sun.utc_offset_h;
+  }
+  return j;
+}
+
+// The environment members, as the plan's top level writes them.
+json EnvironmentJson(const PlannedEnvironment& e) {
+  return {{"sky",
+           {{"color", Vec3(e.sky.color)},
+            {"cloud_type", e.sky.cloud_type},
+            {"cloud_density", e.sky.cloud_density},
+            {"intensity", e.sky.intensity}}},
+          {"sun", SunJson(e.sun)},
+          {"fog_density", e.fog_density},
+          {"skylight_intensity", e.skylight_intensity},
+          {"terrain_material", e.terrain_material}};
+}
+
+PlannedEnvironment EnvironmentFromJson(const json& j) {
+  PlannedEnvironment e;
+  const json& sky = j.at("sky");
+  e.sky.color = ToVec3(sky.at("color"));
+  e.sky.cloud_type = sky.at("cloud_type").get<std::string>();
+  e.sky.cloud_density = sky.at("cloud_density").get<double>();
+  e.sky.intensity = sky.at("intensity").get<double>();
+  const json& sun = j.at("sun");
+  e.sun.elevation_deg = sun.at("elevation_deg").get<double>();
+  e.sun.azimuth_deg = sun.at("azimuth_deg").get<double>();
+  e.sun.intensity = sun.at("intensity").get<double>();
+  if (sun.contains("clock_utc_s")) {
+    e.sun.clock_utc_s = sun.at("clock_utc_s").get<double>();
+    e.sun.utc_offset_h = sun.value("utc_offset_h", 0.0);
+  }
+  e.fog_density = j.at("fog_density").get<double>();
+  e.skylight_intensity = j.at("skylight_intensity").get<double>();
+  e.terrain_material = j.value("terrain_material", std::string());
+  return e;
+}
+
 json PlannedFrameToJson(const PlannedFrame& f) {
   json changes = json::array();
   for (const ObjectChange& c : f.changes) changes.push_back(ChangeJson(c));
-  return {{"index", f.index},
-          {"time", f.time},
-          {"sequence", f.sequence},
-          {"shot", f.shot},
-          {"camera", CameraJson(f.camera)},
-          {"cam_from_world",
-           {{"rotation", Mat3(f.cam_from_world.rotation.toRotationMatrix())},
-            {"translation", Vec3(f.cam_from_world.translation)}}},
-          {"changes", changes}};
+  json j = {{"index", f.index},
+            {"time", f.time},
+            {"sequence", f.sequence},
+            {"shot", f.shot},
+            {"camera", CameraJson(f.camera)},
+            {"cam_from_world",
+             {{"rotation", Mat3(f.cam_from_world.rotation.toRotationMatrix())},
+              {"translation", Vec3(f.cam_from_world.translation)}}},
+            {"changes", changes}};
+  if (f.environment) j["environment"] = EnvironmentJson(*f.environment);
+  return j;
 }
 
 PlannedFrame PlannedFrameFromJson(const json& j,
@@ -106,6 +153,8 @@ PlannedFrame PlannedFrameFromJson(const json& j,
     f.cam_from_world.translation =
         ToVec3(j.at("cam_from_world").at("translation"));
     for (const json& c : j.at("changes")) f.changes.push_back(ChangeFrom(c));
+    if (j.contains("environment"))
+      f.environment = EnvironmentFromJson(j.at("environment"));
     return f;
   } catch (const json::exception& e) {
     throw Error(std::string("bad plan frame: ") + e.what(),
@@ -135,37 +184,34 @@ json PlanToJson(const Plan& plan) {
   for (const PlannedFrame& f : plan.frames)
     frames.push_back(PlannedFrameToJson(f));
   const PlannedTerrain& t = plan.terrain;
-  return {{"format", kPlanFormat},
-          {"format_version", kPlanFormatVersion},
-          {"seed", plan.seed},
-          {"scene_source", plan.scene_source},
-          {"capture_source", plan.capture_source},
-          {"classes", classes},
-          {"sky",
-           {{"color", Vec3(plan.sky.color)},
-            {"cloud_type", plan.sky.cloud_type},
-            {"cloud_density", plan.sky.cloud_density},
-            {"intensity", plan.sky.intensity}}},
-          {"sun",
-           {{"elevation_deg", plan.sun.elevation_deg},
-            {"azimuth_deg", plan.sun.azimuth_deg},
-            {"intensity", plan.sun.intensity}}},
-          {"fog_density", plan.fog_density},
-          {"skylight_intensity", plan.skylight_intensity},
-          {"terrain",
-           {{"present", t.present},
-            {"size", Vec2(t.size)},
-            {"perlin_amplitude", t.perlin_amplitude},
-            {"perlin_frequency", t.perlin_frequency},
-            {"perlin_seed", t.perlin_seed},
-            {"material", t.material},
-            {"class_id", t.class_id},
-            {"instance_id", t.instance_id}}},
-          {"objects", objects},
-          {"post_process", plan.post_process},
-          {"capture_settings", plan.capture_settings},
-          {"frame_count", plan.frames.size()},
-          {"frames", frames}};
+  json environment = EnvironmentJson(EnvironmentOf(plan));
+  environment.erase("terrain_material");  // the terrain's own "material"
+  json j = {{"format", kPlanFormat},
+            {"format_version", kPlanFormatVersion},
+            {"seed", plan.seed},
+            {"scene_source", plan.scene_source},
+            {"capture_source", plan.capture_source},
+            {"classes", classes},
+            {"terrain",
+             {{"present", t.present},
+              {"size", Vec2(t.size)},
+              {"perlin_amplitude", t.perlin_amplitude},
+              {"perlin_frequency", t.perlin_frequency},
+              {"perlin_seed", t.perlin_seed},
+              {"material", t.material},
+              {"class_id", t.class_id},
+              {"instance_id", t.instance_id}}},
+            {"objects", objects},
+            {"post_process", plan.post_process},
+            {"capture_settings", plan.capture_settings},
+            {"frame_count", plan.frames.size()},
+            {"frames", frames}};
+  j.update(environment);
+  if (plan.geo)
+    j["geo"] = {{"latitude_deg", plan.geo->latitude_deg},
+                {"longitude_deg", plan.geo->longitude_deg},
+                {"altitude_m", plan.geo->altitude_m}};
+  return j;
 }
 
 Plan PlanFromJson(const json& j, const std::string& file) {
@@ -178,17 +224,7 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     for (const json& c : j.at("classes"))
       plan.classes.push_back(
           {c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
-    const json& sky = j.at("sky");
-    plan.sky.color = ToVec3(sky.at("color"));
-    plan.sky.cloud_type = sky.at("cloud_type").get<std::string>();
-    plan.sky.cloud_density = sky.at("cloud_density").get<double>();
-    plan.sky.intensity = sky.at("intensity").get<double>();
-    const json& sun = j.at("sun");
-    plan.sun.elevation_deg = sun.at("elevation_deg").get<double>();
-    plan.sun.azimuth_deg = sun.at("azimuth_deg").get<double>();
-    plan.sun.intensity = sun.at("intensity").get<double>();
-    plan.fog_density = j.at("fog_density").get<double>();
-    plan.skylight_intensity = j.at("skylight_intensity").get<double>();
+    PlannedEnvironment environment = EnvironmentFromJson(j);
     const json& t = j.at("terrain");
     plan.terrain.present = t.at("present").get<bool>();
     plan.terrain.size = ToVec2(t.at("size"));
@@ -196,6 +232,14 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     plan.terrain.perlin_frequency = t.at("perlin_frequency").get<double>();
     plan.terrain.perlin_seed = t.at("perlin_seed").get<uint64_t>();
     plan.terrain.material = t.at("material").get<std::string>();
+    environment.terrain_material = plan.terrain.material;
+    SetEnvironment(environment, &plan);
+    if (j.contains("geo")) {
+      const json& g = j.at("geo");
+      plan.geo = GeoOrigin{g.at("latitude_deg").get<double>(),
+                           g.at("longitude_deg").get<double>(),
+                           g.at("altitude_m").get<double>()};
+    }
     plan.terrain.class_id = t.at("class_id").get<uint32_t>();
     plan.terrain.instance_id = t.at("instance_id").get<uint32_t>();
     for (const json& o : j.at("objects")) {

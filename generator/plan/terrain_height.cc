@@ -1,5 +1,6 @@
 #include "generator/plan/terrain_height.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <mutex>
@@ -90,6 +91,39 @@ double TerrainHeight(const PlannedTerrain& terrain, double x, double y) {
   return terrain.perlin_amplitude * PerlinNoise2(terrain.perlin_seed,
                                                  terrain.perlin_frequency * x,
                                                  terrain.perlin_frequency * y);
+}
+
+std::optional<Eigen::Vector3d> IntersectTerrain(
+    const PlannedTerrain& terrain,
+    const Eigen::Vector3d& origin,
+    const Eigen::Vector3d& direction,
+    double max_range) {
+  const Eigen::Vector3d d = direction.normalized();
+  auto above = [&](double t) {
+    const Eigen::Vector3d p = origin + t * d;
+    return p.z() - TerrainHeight(terrain, p.x(), p.y());
+  };
+  if (!terrain.present || terrain.perlin_amplitude == 0) {
+    if (!(d.z() < 0) || origin.z() <= 0) return std::nullopt;  // z = 0 plane
+    const double t = -origin.z() / d.z();
+    if (t > max_range) return std::nullopt;
+    return origin + t * d;
+  }
+  if (above(0) <= 0) return std::nullopt;  // starts under the ground
+  const double step =
+      std::max(0.05, 0.1 / std::max(terrain.perlin_frequency, 1e-6));
+  double t0 = 0;
+  for (double t1 = step; t0 < max_range; t0 = t1, t1 += step) {
+    t1 = std::min(t1, max_range);
+    if (above(t1) > 0) continue;
+    double lo = t0, hi = t1;  // above at lo, under at hi
+    while (hi - lo > 1e-3) {
+      const double mid = 0.5 * (lo + hi);
+      (above(mid) > 0 ? lo : hi) = mid;
+    }
+    return origin + hi * d;
+  }
+  return std::nullopt;
 }
 
 }  // namespace lsds

@@ -3,6 +3,10 @@
 // planned objects sit exactly on the rendered ground.
 #pragma once
 
+#include <optional>
+
+#include <Eigen/Core>
+
 #include "generator/plan/plan.h"
 
 namespace lsds {
@@ -14,6 +18,16 @@ namespace lsds {
 // Zero everywhere when the terrain is absent or its amplitude is 0. Defined
 // outside the terrain rectangle too (the renderer may skirt the edges).
 double TerrainHeight(const PlannedTerrain& terrain, double x, double y);
+
+// Where the ray origin + t * direction (t > 0) first meets the terrain surface
+// within `max_range` (along a unit `direction`), or nothing. Flat terrain is
+// intersected exactly; hills by marching in steps no longer than a tenth of a
+// Perlin wavelength and refining by bisection to 1 mm.
+std::optional<Eigen::Vector3d> IntersectTerrain(
+    const PlannedTerrain& terrain,
+    const Eigen::Vector3d& origin,
+    const Eigen::Vector3d& direction,
+    double max_range);
 
 // Perlin2 alone, for tests.
 double PerlinNoise2(uint64_t seed, double x, double y);

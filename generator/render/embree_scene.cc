@@ -43,6 +43,9 @@ SceneAssets BuildSceneAssets(const Plan& plan) {
   if (plan.terrain.present)
     assets.terrain_material = &FindMaterial(plan.terrain.material, "terrain");
   for (const PlannedFrame& f : plan.frames) {
+    if (f.environment && plan.terrain.present)  // fail before rendering
+      FindMaterial(f.environment->terrain_material,
+                   "frame " + std::to_string(f.index) + " terrain");
     for (const ObjectChange& c : f.changes) {
       if (c.material)
         FindMaterial(
@@ -65,7 +68,10 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     Surface s;
     s.class_id = plan.terrain.class_id;
     s.instance_id = plan.terrain.instance_id;
-    s.material = assets.terrain_material;
+    // The terrain's material may change per frame (LCAP): the world's.
+    s.material = world.terrain_material.empty()
+                     ? assets.terrain_material
+                     : &FindMaterial(world.terrain_material, "terrain");
     AddMesh(device, MakeTerrainMesh(plan.terrain), s);
   }
   for (size_t i = 0; i < world.objects.size(); ++i) {

@@ -14,24 +14,26 @@ const std::vector<std::string>& CloudTypes() {
   return types;
 }
 
-Sky::Sky(const Plan& plan)
+Sky::Sky(const Plan& plan) : Sky(plan, EnvironmentOf(plan)) {}
+
+Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
     : noise_(HashCombine(plan.seed, 0xc10d)),
       texture_noise_(HashCombine(plan.seed, 0x7e47)) {
-  const PlannedSky& sky = plan.sky;
+  const PlannedSky& sky = environment.sky;
   const float intensity = static_cast<float>(sky.intensity);
   zenith_ = sky.color.cast<float>() * intensity;
   horizon_ =
       (0.5f * sky.color.cast<float>() + Eigen::Vector3f(0.45f, 0.45f, 0.45f)) *
       intensity;
-  const double el = plan.sun.elevation_deg * M_PI / 180,
-               az = plan.sun.azimuth_deg * M_PI / 180;
+  const double el = environment.sun.elevation_deg * M_PI / 180,
+               az = environment.sun.azimuth_deg * M_PI / 180;
   to_sun_ = Eigen::Vector3d(
       std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
   sun_irradiance_ = Eigen::Vector3f(1.0f, 0.96f, 0.9f) *
-                    static_cast<float>(plan.sun.intensity);
+                    static_cast<float>(environment.sun.intensity);
   ambient_ = (0.6f * zenith_ + 0.4f * horizon_) *
-             static_cast<float>(plan.skylight_intensity);
-  fog_density_ = plan.fog_density;
+             static_cast<float>(environment.skylight_intensity);
+  fog_density_ = environment.fog_density;
   cloud_density_ = std::clamp(sky.cloud_density, 0.0, 1.0);
   const auto& types = CloudTypes();
   if (std::find(types.begin(), types.end(), sky.cloud_type) == types.end()) {
@@ -54,7 +56,7 @@ Sky::Sky(const Plan& plan)
     ambient_ = ambient_ * static_cast<float>(1 - 0.3 * cloud_density_) +
                Eigen::Vector3f::Constant(
                    0.15f * static_cast<float>(cloud_density_ *
-                                              plan.skylight_intensity));
+                                              environment.skylight_intensity));
   }
 }
 

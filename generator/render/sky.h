@@ -12,7 +12,9 @@ namespace lsds::gen {
 
 class Sky {
  public:
+  // The sky of the plan's own environment, or of a frame's (LCAP changes).
   explicit Sky(const Plan& plan);
+  Sky(const Plan& plan, const PlannedEnvironment& environment);
 
   // Radiance seen along a world direction that hits nothing.
   Eigen::Vector3f Radiance(const Eigen::Vector3d& direction_in_world) const;

@@ -6,6 +6,7 @@ namespace lsds::gen {
 
 WorldState WorldAt(const Plan& plan, const PlannedFrame& frame) {
   WorldState world;
+  world.terrain_material = EnvironmentAt(plan, frame).terrain_material;
   world.objects.reserve(plan.objects.size());
   for (const PlannedObject& o : plan.objects) {
     ObjectState s;

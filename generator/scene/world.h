@@ -38,7 +38,10 @@ struct ObjectState {
 
 struct WorldState {
   std::vector<ObjectState> objects;  // same order as Plan::objects
-  bool operator==(const WorldState& o) const { return objects == o.objects; }
+  std::string terrain_material;      // in effect on the frame
+  bool operator==(const WorldState& o) const {
+    return objects == o.objects && terrain_material == o.terrain_material;
+  }
 };
 
 // Throws lsds::Error naming the frame when a change refers to an unknown

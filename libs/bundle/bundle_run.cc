@@ -48,36 +48,6 @@ const LayerInfo& FindBundleLayer(const CollectionHeader& header,
   return *layer;
 }
 
-void ParseFrameRange(const std::string& text, int64_t* first, int64_t* end) {
-  auto parse = [&](const std::string& part, int64_t fallback) -> int64_t {
-    if (part.empty()) return fallback;
-    size_t used = 0;
-    long long value = -1;
-    try {
-      value = std::stoll(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != part.size() || value < 0) {
-      throw Error("--frames '" + text +
-                  "': expected A:B with non-negative frame positions");
-    }
-    return value;
-  };
-  const size_t colon = text.find(':');
-  if (colon == std::string::npos) {
-    *first = parse(text, 0);
-    *end = *first + 1;
-  } else {
-    *first = parse(text.substr(0, colon), 0);
-    *end = parse(text.substr(colon + 1), -1);
-  }
-  if (*end != -1 && *end <= *first) {
-    throw Error("--frames '" + text +
-                "': the range is empty (B must be greater than A)");
-  }
-}
-
 namespace {
 
 struct Task {

@@ -35,10 +35,6 @@ struct RunResult {
 const LayerInfo& FindBundleLayer(const CollectionHeader& header,
                                  const std::string& collection_file);
 
-// Parses "A:B", "A:", ":B" or "A" (one frame) into [first, end). Throws
-// lsds::Error on bad text.
-void ParseFrameRange(const std::string& text, int64_t* first, int64_t* end);
-
 RunResult RunBundles(const std::filesystem::path& root,
                      const RunOptions& options);
 

@@ -58,8 +58,13 @@ CollectionBuilder::CollectionBuilder(const fs::path& root,
       metadata_(root / kMetadataFile, TruthMetadataHeader(header)) {}
 
 void CollectionBuilder::Append(const Frame& truth) {
+  Append(truth, TruthMetadata(truth, header_.conventions.world));
+}
+
+void CollectionBuilder::Append(const Frame& truth,
+                               const MetadataFrame& metadata) {
   collection_.Append(truth);
-  metadata_.Append(TruthMetadata(truth, header_.conventions.world));
+  metadata_.Append(metadata);
 }
 
 void CollectionBuilder::Commit() {

@@ -38,7 +38,10 @@ class CollectionBuilder {
  public:
   CollectionBuilder(const std::filesystem::path& root,
                     const CollectionHeader& header);
+  // metadata.json gets the truth pose (TruthMetadata) ...
   void Append(const Frame& truth);
+  // ... or what the caller measured, e.g. TruthMetadata plus survey fields.
+  void Append(const Frame& truth, const MetadataFrame& metadata);
   void Commit();
 
  private:

@@ -195,6 +195,10 @@ json HeaderToJson(const CollectionHeader& h) {
                       {"camera_frame", h.conventions.camera_frame},
                       {"pixel_coordinates", h.conventions.pixel_coordinates},
                       {"motion", h.conventions.motion}};
+  if (const auto& geo = h.conventions.geo_origin)
+    conventions["geo_origin"] = {{"latitude_deg", geo->latitude_deg},
+                                 {"longitude_deg", geo->longitude_deg},
+                                 {"altitude_m", geo->altitude_m}};
   json classes = json::array();
   for (const ClassInfo& c : h.classes)
     classes.push_back({{"id", c.id}, {"name", c.name}});
@@ -251,6 +255,12 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
                          c.at("length_unit").get<std::string>());
   } catch (const Error& e) {
     throw Error(e.message(), where);
+  }
+  if (c.contains("geo_origin")) {
+    const json& g = c.at("geo_origin");
+    h.conventions.geo_origin = GeoOrigin{g.at("latitude_deg").get<double>(),
+                                         g.at("longitude_deg").get<double>(),
+                                         g.at("altitude_m").get<double>()};
   }
   const std::string handedness =
       h.conventions.world.right_handed() ? "right" : "left";
@@ -344,6 +354,18 @@ json MetadataFrameToJson(const MetadataFrame& f) {
               {"cx", f.camera.cx},
               {"cy", f.camera.cy}}}};
   if (!f.error.is_null()) j["error"] = f.error;
+  if (f.geo)
+    j["geo"] = {{"latitude_deg", f.geo->latitude_deg},
+                {"longitude_deg", f.geo->longitude_deg},
+                {"altitude_msl_m", f.geo->altitude_msl_m}};
+  if (f.altitude_agl_m) j["altitude_agl_m"] = *f.altitude_agl_m;
+  if (f.gsd_m) j["gsd_m"] = *f.gsd_m;
+  if (!f.footprint.empty()) {
+    json corners = json::array();
+    for (const Eigen::Vector3d& c : f.footprint)
+      corners.push_back(Vector3ToJson(c));
+    j["footprint"] = corners;
+  }
   return j;
 }
 
@@ -384,6 +406,18 @@ MetadataFrame MetadataFrameFromJson(const json& j,
     f.camera.cx = c.at("cx").get<double>();
     f.camera.cy = c.at("cy").get<double>();
     f.error = j.value("error", json());
+    if (j.contains("geo")) {
+      const json& g = j.at("geo");
+      f.geo = Geodetic{g.at("latitude_deg").get<double>(),
+                       g.at("longitude_deg").get<double>(),
+                       g.at("altitude_msl_m").get<double>()};
+    }
+    if (j.contains("altitude_agl_m"))
+      f.altitude_agl_m = j.at("altitude_agl_m").get<double>();
+    if (j.contains("gsd_m")) f.gsd_m = j.at("gsd_m").get<double>();
+    if (j.contains("footprint"))
+      for (const json& c : j.at("footprint"))
+        f.footprint.push_back(Vector3FromJson(c));
     return f;
   });
 }

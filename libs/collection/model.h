@@ -15,6 +15,7 @@
 #include "libs/geometry/attitude.h"
 #include "libs/geometry/box2d.h"
 #include "libs/geometry/camera.h"
+#include "libs/geometry/geodesy.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/geometry/rigid3.h"
 #include "libs/geometry/world_frame.h"
@@ -77,6 +78,9 @@ struct Conventions {
       "edge";  // pixel (i, j) covers [i, i+1) x [j, j+1)
   std::string motion =
       "screen-normalized";  // 0.5 + 0.5 * (current - previous) / size
+  // Format 1.1, optional: where the world origin is on Earth (the world frame
+  // is then local ENU at that origin).
+  std::optional<GeoOrigin> geo_origin;
 };
 
 // A registered metadata variant (metadata.json and perturbed copies).
@@ -172,6 +176,13 @@ struct MetadataFrame {
   Attitude attitude;            // see libs/geometry/attitude.h
   PinholeCamera camera;
   nlohmann::json error;  // realized errors when perturbed, else null
+  // Format 1.1, optional: what a UAV logs besides its pose.
+  std::optional<Geodetic> geo;           // when the world is geo-referenced
+  std::optional<double> altitude_agl_m;  // above the terrain under the camera
+  std::optional<double> gsd_m;  // ground sample distance at the image centre
+  // The image corners (top-left, top-right, bottom-right, bottom-left) on the
+  // ground, world frame; empty when a corner ray misses the ground.
+  std::vector<Eigen::Vector3d> footprint;
 };
 
 struct MetadataHeader {

@@ -66,6 +66,19 @@ MetadataFrame MetadataPerturber::Apply(const MetadataFrame& truth,
     if (position_error[i] != 0.0)
       measured.position[i] = truth.position[i] + position_error[i];
   }
+  // The survey fields move with the position error: the GNSS fix by the ENU
+  // error at the true place, the height above ground by its up part. GSD and
+  // footprint are derived from the true pose, not measured: a perturbed
+  // variant leaves them out.
+  if (truth.geo)
+    measured.geo = GeodeticOf(GeoOrigin{truth.geo->latitude_deg,
+                                        truth.geo->longitude_deg,
+                                        truth.geo->altitude_msl_m},
+                              error.position_enu_m());
+  if (truth.altitude_agl_m)
+    measured.altitude_agl_m = *truth.altitude_agl_m + error.position_enu_m().z();
+  measured.gsd_m.reset();
+  measured.footprint.clear();
   measured.attitude =
       RotateAttitude(truth.attitude, error.rotation_vector_deg());
   if (error.value[kTime] != 0.0)

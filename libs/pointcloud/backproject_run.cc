@@ -24,37 +24,6 @@ namespace lsds::pointcloud {
 
 namespace fs = std::filesystem;
 
-FrameRange ParseFrameRange(const std::string& text) {
-  auto parse = [&text](const std::string& part, int64_t fallback) -> int64_t {
-    if (part.empty()) return fallback;
-    size_t used = 0;
-    int64_t value = 0;
-    try {
-      value = std::stoll(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != part.size() || value < 0) {
-      throw Error(
-          "--frames '" + text +
-          "': expected A:B with frame indices >= 0 (A:, :B and A also work)");
-    }
-    return value;
-  };
-  FrameRange range;
-  const size_t colon = text.find(':');
-  if (colon == std::string::npos) {
-    range.begin = parse(text, 0);
-    range.end = range.begin + 1;
-  } else {
-    range.begin = parse(text.substr(0, colon), 0);
-    range.end = parse(text.substr(colon + 1), range.end);
-  }
-  if (range.end <= range.begin)
-    throw Error("--frames '" + text + "' selects no frame (B must be > A)");
-  return range;
-}
-
 Eigen::Affine3d WorldFromCamOfTruth(const CameraTruth& camera) {
   Eigen::Affine3d cam_from_world = Eigen::Affine3d::Identity();
   cam_from_world.linear() = camera.cam_from_world_rotation;
@@ -306,8 +275,8 @@ BackprojectSummary RunBackproject(
       if (ext == ".pcd" || ext == ".ply" || ext == ".PCD" || ext == ".PLY") {
         throw Error(
             "without --fuse the output is a folder of one cloud per frame; add "
-            "--fuse to write one "
-            "file, or name a folder (and --format pcd|ply)",
+            "--fuse to write one file, select one frame (--frames N), or name "
+            "a folder (and --format pcd|ply)",
             Location(options.output.string()));
       }
       format = FormatFromName(options.per_frame_format);

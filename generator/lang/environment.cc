@@ -1,0 +1,237 @@
+#include "generator/lang/environment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "libs/geometry/solar_position.h"
+#include "libs/util/strings.h"
+
+namespace lsds {
+namespace {
+
+double NonNegative(const Node& n, Rng& rng) {
+  const double v = SampleScalar(n, rng);
+  if (v < 0) n.Fail("expected a value >= 0, sampled " + FormatNumber(v));
+  return v;
+}
+
+double Fraction(const Node& n, Rng& rng) {
+  const double v = SampleScalar(n, rng);
+  if (v < 0 || v > 1)
+    n.Fail("expected a value in [0, 1], sampled " + FormatNumber(v));
+  return v;
+}
+
+std::string CloudType(const Node& n, Rng& rng) {
+  static const std::vector<std::string> kTypes = {
+      "none", "cumulus", "nimbostratus", "cirrus", "stratus"};
+  for (const std::string& option : StringOptions(n))
+    if (std::find(kTypes.begin(), kTypes.end(), option) == kTypes.end())
+      (n->is_object() ? n.Child(option) : n)
+          .FailKey("unknown cloud type '" + option + "'" +
+                   DidYouMean(option, kTypes));
+  return SampleString(n, rng);
+}
+
+Eigen::Vector3d Color(const Node& n, Rng& rng) {
+  static const std::map<std::string, Eigen::Vector3d> kColors = {
+      {"white", {1, 1, 1}},
+      {"black", {0, 0, 0}},
+      {"gray", {0.5, 0.5, 0.5}},
+      {"grey", {0.5, 0.5, 0.5}},
+      {"blue", {0.55, 0.7, 0.95}},
+      {"red", {0.9, 0.2, 0.15}},
+      {"green", {0.3, 0.7, 0.3}},
+      {"orange", {1.0, 0.6, 0.2}},
+      {"yellow", {1.0, 0.9, 0.3}}};
+  if (n->is_string() || n->is_object()) {
+    std::vector<std::string> names;
+    for (const auto& [name, c] : kColors) names.push_back(name);
+    for (const std::string& option : StringOptions(n))
+      if (!kColors.count(option))
+        (n->is_object() ? n.Child(option) : n)
+            .FailKey("unknown color '" + option + "'" +
+                     DidYouMean(option, names) +
+                     "; use a name or [r, g, b] in [0, 1]");
+    return kColors.at(SampleString(n, rng));
+  }
+  Eigen::Vector3d c = SampleVec3(n, rng);
+  if (c.maxCoeff() > 1.0) c /= 255.0;  // 0-255 colours
+  if (c.minCoeff() < 0 || c.maxCoeff() > 1)
+    n.Fail("colour components must be in [0, 1] (or 0-255)");
+  return c;
+}
+
+// The atmosphere's extinction coefficient per metre (docs/languages.md,
+// "Atmosphere"), from one of: `fog` / `fog_density` (per metre), `density`
+// (the paper's fraction of the range from clear air, 0, to a fog of 100 m
+// meteorological visibility, 1) or `visibility` (meteorological, metres,
+// Koschmieder's 2 % contrast: extinction = 3.912 / visibility).
+double AtmosphereExtinction(const Node& b, Rng& rng) {
+  constexpr double kKoschmieder = 3.912;
+  constexpr double kDensestVisibilityM = 100;  // density 1
+  constexpr double kMinVisibilityM = 10;       // anything denser is absurd
+  double extinction = 0;
+  int given = 0;
+  for (const char* key : {"fog", "fogdensity"})
+    if (const Node n = b.Find(key)) {
+      extinction = NonNegative(n, rng);
+      if (extinction > kKoschmieder / kMinVisibilityM)
+        n.Fail("fog is an extinction per metre; " + FormatNumber(extinction) +
+               " /m means a visibility of " +
+               FormatNumber(kKoschmieder / extinction) + " m. Use at most " +
+               FormatNumber(kKoschmieder / kMinVisibilityM) +
+               " /m, or density (a fraction) or visibility (metres)");
+      ++given;
+    }
+  if (const Node n = b.Find("density")) {
+    const double d = NonNegative(n, rng);
+    if (d > 1)
+      n.Fail(
+          "density is a fraction in [0, 1] (1: a fog of 100 m visibility); "
+          "write 10 % as 0.1");
+    extinction = d * kKoschmieder / kDensestVisibilityM;
+    ++given;
+  }
+  if (const Node n = b.Find("visibility")) {
+    const double v = SampleScalar(n, rng);
+    if (!(v >= kMinVisibilityM))
+      n.Fail(
+          "visibility is the meteorological visibility in metres, at least "
+          "10");
+    extinction = kKoschmieder / v;
+    ++given;
+  }
+  if (given > 1)
+    b.Fail(
+        "give one of fog (per metre), density (a fraction) or visibility "
+        "(metres)");
+  return extinction;
+}
+
+// `date:"2026-06-21"`, `time:"14:30"` (or "14:30:15"), `utc_offset:2`: the sun
+// by date and local time. A time alone keeps the date of the clock in force.
+void SunClock(const Node& b, Rng& rng, PlannedSun* sun) {
+  const Node date = b.Find("date"), time = b.Find("time"),
+             offset = b.Find("utcoffset");
+  if (!date && !time && !offset) return;
+  if (offset) {
+    sun->utc_offset_h = SampleScalar(offset, rng);
+    if (std::abs(sun->utc_offset_h) > 14)
+      offset.Fail("utc_offset is in hours, within [-14, 14]");
+  }
+  int year = 0, month = 0, day = 0;
+  if (date) {
+    const std::string text = SampleString(date, rng);
+    if (std::sscanf(text.c_str(), "%d-%d-%d", &year, &month, &day) != 3 ||
+        month < 1 || month > 12 || day < 1 || day > 31)
+      date.Fail("date is \"YYYY-MM-DD\", not '" + text + "'");
+  } else if (sun->clock_utc_s) {
+    // The local date of the clock in force.
+    const double local_days =
+        std::floor((*sun->clock_utc_s + sun->utc_offset_h * 3600) / 86400);
+    int y = 1970, m = 1, d = 1;
+    // Civil from days (Howard Hinnant's algorithm).
+    int64_t z = static_cast<int64_t>(local_days) + 719468;
+    const int64_t era = (z >= 0 ? z : z - 146096) / 146097;
+    const int64_t doe = z - era * 146097;
+    const int64_t yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    const int64_t doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    const int64_t mp = (5 * doy + 2) / 153;
+    d = static_cast<int>(doy - (153 * mp + 2) / 5 + 1);
+    m = static_cast<int>(mp < 10 ? mp + 3 : mp - 9);
+    y = static_cast<int>(yoe + era * 400 + (m <= 2 ? 1 : 0));
+    year = y, month = m, day = d;
+  } else {
+    (time ? time : offset).Fail("a sun by local time needs a date too");
+  }
+  int hour = 12, minute = 0;
+  double second = 0;
+  if (time) {
+    const std::string text = SampleString(time, rng);
+    const int n =
+        std::sscanf(text.c_str(), "%d:%d:%lf", &hour, &minute, &second);
+    if (n < 2 || hour < 0 || hour > 24 || minute < 0 || minute > 59 ||
+        second < 0 || second >= 61)
+      time.Fail("time is \"HH:MM\" or \"HH:MM:SS\" (local), not '" + text +
+                "'");
+  }
+  sun->clock_utc_s =
+      UnixSeconds(year, month, day, hour, minute, second, sun->utc_offset_h);
+}
+
+}  // namespace
+
+bool IsEnvironmentKind(const std::string& kind) {
+  return kind == "skybox" || kind == "light" || kind == "atmosphere" ||
+         kind == "skylight" || kind == "terrain";
+}
+
+const std::vector<std::string>& EnvironmentKeys(const std::string& kind,
+                                                bool in_change) {
+  static const std::map<std::string, std::vector<std::string>> kKeys = {
+      {"skybox",
+       {"color", "clouds", "cloud_type", "cloud_density", "intensity"}},
+      {"light",
+       {"elevation", "azimuth", "intensity", "date", "time", "utc_offset"}},
+      {"atmosphere", {"fog", "fog_density", "density", "visibility"}},
+      {"skylight", {"intensity"}},
+      {"terrain",
+       {"size", "height", "perlin", "frequency", "material", "seed"}}};
+  static const std::vector<std::string> kTerrainChange = {"material"};
+  if (in_change && kind == "terrain") return kTerrainChange;
+  return kKeys.at(kind);
+}
+
+void ApplyEnvironment(const std::string& kind,
+                      const Node& b,
+                      Rng& rng,
+                      PlannedEnvironment* env) {
+  if (kind == "skybox") {
+    if (const Node n = b.Find("color")) env->sky.color = Color(n, rng);
+    if (const Node n = b.Find("clouds")) {
+      n.CheckKeys({"type", "density"}, "clouds");
+      if (const Node t = n.Find("type"))
+        env->sky.cloud_type = CloudType(t, rng);
+      if (const Node d = n.Find("density"))
+        env->sky.cloud_density = Fraction(d, rng);
+    }
+    if (const Node n = b.Find("cloudtype"))
+      env->sky.cloud_type = CloudType(n, rng);
+    if (const Node n = b.Find("clouddensity"))
+      env->sky.cloud_density = Fraction(n, rng);
+    if (const Node n = b.Find("intensity"))
+      env->sky.intensity = NonNegative(n, rng);
+  } else if (kind == "light") {
+    SunClock(b, rng, &env->sun);
+    if (const Node n = b.Find("elevation")) {
+      env->sun.elevation_deg = SampleScalar(n, rng);
+      if (std::abs(env->sun.elevation_deg) > 90)
+        n.Fail("sun elevation must be within [-90, 90] degrees");
+    }
+    if (const Node n = b.Find("azimuth"))
+      env->sun.azimuth_deg = SampleScalar(n, rng);
+    if (const Node n = b.Find("intensity"))
+      env->sun.intensity = NonNegative(n, rng);
+  } else if (kind == "atmosphere") {
+    env->fog_density = AtmosphereExtinction(b, rng);
+  } else if (kind == "skylight") {
+    if (const Node n = b.Find("intensity"))
+      env->skylight_intensity = NonNegative(n, rng);
+  } else if (kind == "terrain") {
+    if (const Node m = b.Find("material"))
+      env->terrain_material = SampleString(m, rng);
+  }
+}
+
+void PlaceSun(const GeoOrigin& geo, double time_s, PlannedSun* sun) {
+  if (!sun->clock_utc_s) return;
+  const SolarPosition at = SunPositionAt(
+      *sun->clock_utc_s + time_s, geo.latitude_deg, geo.longitude_deg);
+  sun->azimuth_deg = at.azimuth_deg;
+  sun->elevation_deg = at.elevation_deg;
+}
+
+}  // namespace lsds

@@ -1,0 +1,310 @@
+#include "libs/report/frame_views.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include <opencv2/imgproc.hpp>
+
+#include "libs/bundle/bundle_stats.h"
+#include "libs/bundle/mixed_map.h"
+#include "libs/exr/deep_image.h"
+#include "libs/report/draw.h"
+#include "libs/report/html.h"
+#include "libs/report/layer_images.h"
+#include "libs/report/svg_plot.h"
+#include "libs/util/error.h"
+
+namespace lsds::report {
+
+std::string Fixed(double value, int digits) {
+  if (!std::isfinite(value)) return "n/a";
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
+  return buffer;
+}
+
+// "12.3 m", or "n/a" when there is no value.
+namespace {
+
+std::string WithUnit(double value, int digits, const std::string& unit) {
+  return std::isfinite(value) ? Fixed(value, digits) + unit : "n/a";
+}
+
+}  // namespace
+
+bool HasFile(const Frame& frame, const LayerInfo* layer) {
+  return layer != nullptr && frame.files.count(layer->name) > 0;
+}
+
+namespace {
+
+cv::Mat Resized(const cv::Mat& image, int width, bool smooth) {
+  if (image.cols <= width) return image;
+  const int height = std::max(
+      1,
+      static_cast<int>(std::lround(double(image.rows) * width / image.cols)));
+  cv::Mat out;
+  cv::resize(image,
+             out,
+             cv::Size(width, height),
+             0,
+             0,
+             smooth ? cv::INTER_AREA : cv::INTER_NEAREST);
+  return out;
+}
+
+// The frame's colour image, or a grey placeholder when it has none.
+cv::Mat DisplayImage(const CollectionReader& reader,
+                     const Frame& frame,
+                     const ReportOptions& options) {
+  const LayerInfo* rgb = reader.header().FindLayerBySemantic("rgb");
+  if (HasFile(frame, rgb)) {
+    return imaging::ToSrgb8(
+        exr::ReadFlatExr(reader.LayerPath(frame, rgb->name), {"R", "G", "B"}),
+        options.display);
+  }
+  return cv::Mat(std::max(1, frame.camera.intrinsics.height),
+                 std::max(1, frame.camera.intrinsics.width),
+                 CV_8UC3,
+                 cv::Scalar(80, 80, 80));
+}
+
+// The classes of the frame's visible objects as "c2 c3" (by id, so that any
+// class name is safe in the attribute), for the contact sheet filter.
+std::string ClassList(const Frame& frame) {
+  std::set<uint32_t> ids;
+  for (const ObjectTruth& object : frame.objects) {
+    if (object.visible_pixels > 0) ids.insert(object.class_id);
+  }
+  std::string out;
+  for (uint32_t id : ids) {
+    out += (out.empty() ? "c" : " c") + std::to_string(id);
+  }
+  return out;
+}
+
+std::string SceneLine(const Frame& frame) {
+  const nlohmann::json& scene = frame.scene;
+  if (!scene.is_object()) return "";
+  std::string out;
+  if (scene.contains("sun") && scene["sun"].is_object()) {
+    const nlohmann::json& sun = scene["sun"];
+    if (sun.value("elevation_deg", nlohmann::json()).is_number()) {
+      out += "sun " + Fixed(sun["elevation_deg"].get<double>(), 0) + "&deg; up";
+      if (sun.value("azimuth_deg", nlohmann::json()).is_number()) {
+        out += ", az " + Fixed(sun["azimuth_deg"].get<double>(), 0) + "&deg;";
+      }
+    }
+  }
+  if (scene.contains("atmosphere") && scene["atmosphere"].is_object() &&
+      scene["atmosphere"].value("visibility_m", nlohmann::json()).is_number()) {
+    out += (out.empty() ? "" : " &middot; ") + std::string("visibility ") +
+           Fixed(scene["atmosphere"]["visibility_m"].get<double>(), 0) + " m";
+  }
+  if (scene.contains("sky") && scene["sky"].is_object() &&
+      scene["sky"].value("cloud_type", nlohmann::json()).is_string()) {
+    out += (out.empty() ? "" : " &middot; ") +
+           HtmlEscape(scene["sky"]["cloud_type"].get<std::string>());
+  }
+  return out;
+}
+
+std::string ObjectsTable(const CollectionHeader& header,
+                         const SampledFrame& sample) {
+  std::ostringstream s;
+  s << "<table class=\"objects\"><tr><th>instance</th><th>class</th>"
+       "<th>name</th><th>box (px)</th><th>visible px</th><th>visibility</th>"
+       "<th>in frame</th><th>distance (m)</th></tr>";
+  for (const ObjectTruth& o : sample.frame.objects) {
+    const ClassInfo* c = header.FindClass(o.class_id);
+    s << "<tr><td>" << o.instance_id << "</td><td>"
+      << HtmlEscape(c ? c->name : std::to_string(o.class_id)) << "</td><td>"
+      << HtmlEscape(o.name) << "</td><td>";
+    if (o.bbox) {
+      s << Fixed(o.bbox->x0, 0) << ", " << Fixed(o.bbox->y0, 0) << " &ndash; "
+        << Fixed(o.bbox->x1, 0) << ", " << Fixed(o.bbox->y1, 0);
+    } else {
+      s << "&ndash;";
+    }
+    s << "</td><td>" << o.visible_pixels << "</td><td>"
+      << Fixed(o.visibility, 2) << "</td><td>" << Fixed(o.in_frame, 2)
+      << "</td><td>" << Fixed(ObjectDistanceM(header, sample.camera, o), 1)
+      << "</td></tr>";
+  }
+  s << "</table>";
+  return s.str();
+}
+
+std::string Figure(const std::string& uri,
+                   const cv::Size& size,
+                   const std::string& caption) {
+  std::ostringstream s;
+  s << "<figure><img src=\"" << uri << "\" width=\"" << size.width
+    << "\" height=\"" << size.height << "\" alt=\"\"><figcaption>" << caption
+    << "</figcaption></figure>";
+  return s.str();
+}
+
+std::string Failed(const std::string& layer, const std::string& message) {
+  return "<figure class=\"failed\"><div>cannot show " + HtmlEscape(layer) +
+         ": " + HtmlEscape(message) + "</div><figcaption>" + HtmlEscape(layer) +
+         "</figcaption></figure>";
+}
+
+// Every displayable layer of one frame, side by side.
+}  // namespace
+
+std::string LayerStrip(const CollectionReader& reader,
+                       const SampledFrame& sample,
+                       const ReportOptions& options) {
+  const CollectionHeader& header = reader.header();
+  const Frame& frame = sample.frame;
+  const std::string unit = header.conventions.world.length_unit;
+  std::ostringstream s;
+  s << "<section class=\"layers\" id=\"layers-" << frame.index
+    << "\"><h3>frame " << frame.index << "</h3><div class=\"strip\">";
+  for (const LayerInfo& layer : header.layers) {
+    if (!HasFile(frame, &layer)) continue;
+    const std::string& sem = layer.semantic;
+    const std::string title = HtmlEscape(layer.name);
+    try {
+      const std::filesystem::path path = reader.LayerPath(frame, layer.name);
+      if (sem == "rgb") {
+        const cv::Mat image = Resized(
+            DisplayImage(reader, frame, options), options.layer_width, true);
+        s << Figure(ImageDataUri(image, true), image.size(), title);
+      } else if (sem == "classid" || sem == "instanceid") {
+        const cv::Mat image =
+            Resized(ColorizeIds(exr::ReadFlatExr(path, {"id"})),
+                    options.layer_width,
+                    false);
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
+                    title + " (a stable colour per id)");
+      } else if (sem == "depth" && !layer.deep) {
+        double lo = 0, hi = 0;
+        const cv::Mat image =
+            Resized(ColorizeDepth(exr::ReadFlatExr(path, {"Z"}), &lo, &hi),
+                    options.layer_width,
+                    true);
+        const cv::Mat bar = DepthScaleBar(image.cols, 10);
+        s << Figure(
+            ImageDataUri(image, false),
+            image.size(),
+            title + " (" +
+                (layer.depth_kind ? DepthKindName(*layer.depth_kind) : "") +
+                ")<img class=\"bar\" src=\"" + ImageDataUri(bar, false) +
+                "\" width=\"" + std::to_string(bar.cols) +
+                "\" height=\"10\" alt=\"\"><span class=\"range\"><span>" +
+                FormatNumber(lo) + " " + HtmlEscape(unit) + "</span><span>" +
+                FormatNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
+      } else if (sem == "normal") {
+        const cv::Mat image =
+            Resized(ColorizeNormals(exr::ReadFlatExr(path, {"X", "Y", "Z"})),
+                    options.layer_width,
+                    false);
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
+                    title + " (world RGB = (n + 1) / 2)");
+      } else if (sem == "shadow") {
+        const cv::Mat image =
+            Resized(ColorizeShadow(exr::ReadFlatExr(path, {"Y"})),
+                    options.layer_width,
+                    true);
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
+                    title + " (black: full shadow)");
+      } else if (sem == "motion") {
+        double max_px = 0;
+        int64_t invalid = 0;
+        const exr::FlatImage motion = exr::ReadFlatExr(path, {"X", "Y"});
+        const cv::Mat image = Resized(ColorizeMotion(motion, &max_px, &invalid),
+                                      options.layer_width,
+                                      false);
+        const double share =
+            100.0 * invalid / std::max<size_t>(1, motion.pixel_count());
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
+                    title + "<img class=\"wheel\" src=\"" +
+                        ImageDataUri(FlowWheel(40), false) +
+                        "\" width=\"40\" height=\"40\" alt=\"\"> max " +
+                        Fixed(max_px, 1) + " px; invalid (checkered) " +
+                        Fixed(share, 1) + " %");
+      } else if (sem == "bundle" && layer.deep) {
+        const exr::DeepImage deep = exr::ReadDeepExr(path);
+        bundle::PixelMaps maps;
+        const bundle::BundleStats stats =
+            bundle::AnalyzeFrame(deep, bundle::StatsOptions(), &maps);
+        std::vector<uint8_t> bgr =
+            bundle::MixedMapBgr(maps, deep.width(), deep.height());
+        const cv::Mat full(deep.height(), deep.width(), CV_8UC3, bgr.data());
+        const cv::Mat image = Resized(full, options.layer_width, false);
+        const double share =
+            100.0 * stats.mixed_pixels / std::max<uint64_t>(1, stats.pixels);
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
+                    title + " mixed pixels " + Fixed(share, 2) +
+                        " % (yellow &rarr; red &rarr; magenta: less pure)");
+      }
+    } catch (const Error& e) {
+      s << Failed(layer.name, e.what());
+    } catch (const cv::Exception& e) {
+      s << Failed(layer.name, e.what());
+    }
+  }
+  s << "</div></section>";
+  return s.str();
+}
+
+std::string FrameCard(const CollectionReader& reader,
+                      const SampledFrame& sample,
+                      bool has_layers,
+                      const ReportOptions& options) {
+  const CollectionHeader& header = reader.header();
+  const Frame& frame = sample.frame;
+  std::ostringstream s;
+  s << "<figure class=\"card\" id=\"frame-" << frame.index << "\" data-frame=\""
+    << frame.index << "\" data-classes=\"" << ClassList(frame) << "\">";
+  try {
+    cv::Mat image = DisplayImage(reader, frame, options);
+    const double scale = image.cols > options.thumb_width
+                             ? double(options.thumb_width) / image.cols
+                             : 1.0;
+    image = Resized(image, options.thumb_width, true);
+    std::optional<exr::FlatImage> ids;
+    const LayerInfo* instance = header.FindLayerBySemantic("instanceid");
+    if (HasFile(frame, instance)) {
+      ids = exr::ReadFlatExr(reader.LayerPath(frame, instance->name), {"id"});
+    }
+    AnnotateOptions annotate;
+    annotate.scale = scale;
+    DrawAnnotations(&image, header, frame, ids ? &*ids : nullptr, annotate);
+    s << "<img src=\"" << ImageDataUri(image, true) << "\" width=\""
+      << image.cols << "\" height=\"" << image.rows << "\" alt=\"frame "
+      << frame.index << "\">";
+  } catch (const Error& e) {
+    s << "<div class=\"failed\">" << HtmlEscape(e.what()) << "</div>";
+  }
+  int visible = 0;
+  for (const ObjectTruth& o : frame.objects) visible += o.visible_pixels > 0;
+  const FrameCamera& c = sample.camera;
+  s << "<figcaption><b>frame " << frame.index << "</b> t "
+    << Fixed(frame.time, 2) << " s"
+    << (frame.sequence.empty() ? "" : " &middot; " + HtmlEscape(frame.sequence))
+    << (has_layers ? " <span class=\"tag\">layers</span>" : "") << "<br>alt "
+    << WithUnit(c.altitude_m, 1, " m") << " &middot; off-nadir "
+    << WithUnit(c.off_nadir_deg, 1, "&deg;") << " &middot; GSD "
+    << WithUnit(c.gsd_m * 100, 2, " cm/px") << "<br>" << visible
+    << " visible of " << frame.objects.size() << " objects";
+  const std::string scene = SceneLine(frame);
+  if (!scene.empty()) s << "<br>" << scene;
+  s << "</figcaption><div class=\"detail\" hidden>"
+    << ObjectsTable(header, sample) << "</div></figure>";
+  return s.str();
+}
+
+}  // namespace lsds::report

@@ -1,0 +1,23 @@
+// Histograms as inline SVG drawn by lsds itself: the page needs no charting
+// library and opens offline.
+#pragma once
+
+#include <string>
+
+#include "libs/report/histogram.h"
+
+namespace lsds::report {
+
+// A bar chart with a count axis (left), the bins' edges or names (bottom), the
+// x label with its unit, and a tooltip per bar. Numeric histograms show the
+// bins from the first to the last non-empty one, plus "<" and ">" bars for
+// values outside the bins when there are any. Warning bins (Histogram::
+// warn_below) are drawn in red.
+std::string HistogramSvg(const Histogram& histogram,
+                         int width = 380,
+                         int height = 230);
+
+// "12", "0.5", "1e+04" -> "10000": short numbers for axes.
+std::string FormatNumber(double value);
+
+}  // namespace lsds::report

@@ -1,0 +1,236 @@
+// LCAP over time (docs/languages.md): scene changes of the environment, the
+// sun by date and time at a geo-referenced place, the survey metadata a UAV
+// logs (GSD, footprint, latitude/longitude), checked on plans and renders.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "generator/generate.h"
+#include "generator/lang/planner.h"
+#include "generator/plan_source.h"
+#include "generator/survey.h"
+#include "libs/exr/flat_image.h"
+#include "libs/geometry/solar_position.h"
+#include "tests/test_util.h"
+
+namespace lsds {
+namespace {
+
+Plan PlanText(const std::string& scene,
+              const std::string& capture,
+              uint64_t seed = 1) {
+  const SourceFile s = ParseSource(scene, "s.lscene", false);
+  const SourceFile c = ParseSource(capture, "c.lcap", false);
+  return MakePlanFromSources(s, &c, seed, {});
+}
+
+TEST(CaptureOverTime, EnvironmentChangesApplyFromTheirFrame) {
+  const Plan plan = PlanText(
+      "LSCENE = ONE(S) ONE(DL) ONE(A) ONE(W)\nS = skybox{color:blue}\n"
+      "DL = light{elevation:40,azimuth:90}\nA = atmosphere{visibility:5000}\n"
+      "W = terrain{size:[100,100],material:grassy}\n",
+      "LCAP = ONE(P) ONE(CL)\nP = path{waypoints:[[0,0,30],[1,0,30]]}\n"
+      "CL = collection{CO:{move:[P:3]},A:{after:P:1,visibility:500},"
+      "DL:{during:P:3,azimuth:[200,300]},S:{after:P:2,clouds:{type:stratus,"
+      "density:0.8}},W:{after:P:2,material:sandy}}\n");
+  ASSERT_EQ(plan.frames.size(), 6u);
+  for (const PlannedFrame& f : plan.frames) {
+    const PlannedEnvironment e = EnvironmentAt(plan, f);
+    EXPECT_NEAR(
+        e.fog_density, f.index >= 2 ? 3.912 / 500 : 3.912 / 5000, 1e-12);
+    if (f.index >= 4) {
+      EXPECT_GE(e.sun.azimuth_deg, 200);
+      EXPECT_LE(e.sun.azimuth_deg, 300);
+      EXPECT_EQ(e.sky.cloud_type, "stratus");
+      EXPECT_EQ(e.terrain_material, "sandy");
+    } else {
+      EXPECT_EQ(e.sun.azimuth_deg, 90);
+      EXPECT_EQ(e.terrain_material, "grassy");
+    }
+  }
+  // `during` draws anew on every frame.
+  EXPECT_NE(EnvironmentAt(plan, plan.frames[4]).sun.azimuth_deg,
+            EnvironmentAt(plan, plan.frames[5]).sun.azimuth_deg);
+  // An unknown key of the changed symbol is a located error.
+  try {
+    PlanText("LSCENE = ONE(DL)\nDL = light{elevation:40}\n",
+             "LCAP = ONE(P) ONE(CL)\nP = path{waypoints:[[0,0,30]]}\n"
+             "CL = collection{CO:{move:[P]},DL:{azimut:10}}\n");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.location().line, 3);
+    EXPECT_NE(e.message().find("azimuth"), std::string::npos) << e.message();
+  }
+}
+
+TEST(CaptureOverTime, TimingsReferToFramesCollectionsAndTable3Spellings) {
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(O)\nW = terrain{size:[50,50]}\n"
+      "O = object{class:cube,position:{ON:W}}\n";
+  // Table 3's words: `scene change`, `create path`, `increment point`; two
+  // collections flown in order; changes after frame 1, during frame 4 and
+  // after the first collection.
+  const Plan plan = PlanText(
+      scene,
+      "LCAP = ONE(P) ONE(Q) ONE(SCS1) ONE(CL1) ONE(CL2)\n"
+      "P = create path{waypoints:[[0,0,30],[1,0,30],[2,0,30]]}\n"
+      "Q = path{increment point:{start:[0,0,30],step:[1,1,0],count:[2,1,1]}}\n"
+      "SCS1 = scene change{O:{material:gold}}\n"
+      "CL1 = collection{CO:{move:[P]},O:{after:1,visible:false},{during:4,"
+      "material:rust}}\n"
+      "CL2 = collection{CO:{move:[Q]},SCS1:{after:CL1}}\n");
+  ASSERT_EQ(plan.frames.size(), 5u);
+  auto has = [&](int k, auto pred) {
+    for (const ObjectChange& c : plan.frames[k].changes)
+      if (pred(c)) return true;
+    return false;
+  };
+  auto hidden = [](const ObjectChange& c) { return c.visible.has_value(); };
+  auto gold = [](const ObjectChange& c) {
+    return c.material && *c.material == "gold";
+  };
+  auto rust = [](const ObjectChange& c) {
+    return c.material && *c.material == "rust";
+  };
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(has(k, hidden), k >= 2) << k;  // after frame 1
+    EXPECT_EQ(has(k, rust), k == 4) << k;    // during frame 4 only
+    EXPECT_EQ(has(k, gold), k >= 3) << k;    // after CL1's three frames
+  }
+  EXPECT_EQ(plan.frames[3].sequence, "Q(1)");
+}
+
+const char* kSunScene =
+    "LSCENE = ONE(G) ONE(DL) ONE(W) ONE(POLE)\n"
+    "G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}\n"
+    "DL = light{date:\"2026-06-21\",time:\"08:00\",utc_offset:2}\n"
+    "W = terrain{size:[200,200]}\n"
+    "POLE = object{class:cube,extent:[1,1,12],position:{ON:W,within:[[-0.5,"
+    "-0.5,-100],[0.5,0.5,100]]}}\n";
+
+TEST(CaptureOverTime, TheSunFollowsTheClockOfEveryFrame) {
+  // One frame an hour (fps 1/3600) from 08:00 local.
+  const Plan plan = PlanText(
+      kSunScene,
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:0.000277777777778}}\n"
+      "P = path{waypoints:[[0,0,60],[0,0,60],[0,0,60],[0,0,60],[0,0,60]]}\n");
+  ASSERT_TRUE(plan.geo.has_value());
+  for (const PlannedFrame& f : plan.frames) {
+    const SolarPosition expected = SunPositionAt(
+        UnixSeconds(2026, 6, 21, 8, 0, 0, 2) + f.time, 47.3769, 8.5417);
+    const PlannedEnvironment e = EnvironmentAt(plan, f);
+    EXPECT_NEAR(e.sun.azimuth_deg, expected.azimuth_deg, 1e-9) << f.index;
+    EXPECT_NEAR(e.sun.elevation_deg, expected.elevation_deg, 1e-9);
+  }
+  // A morning in June: the sun climbs and swings south.
+  EXPECT_GT(EnvironmentAt(plan, plan.frames[4]).sun.azimuth_deg,
+            EnvironmentAt(plan, plan.frames[0]).sun.azimuth_deg + 30);
+  // A date without a place is a located error.
+  try {
+    PlanText(
+        "LSCENE = ONE(DL)\nDL = light{date:\"2026-06-21\",time:\"8:00\"}\n",
+        "LCAP = ONE(P)\nP = path{waypoints:[[0,0,30]]}\n");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("georeference"), std::string::npos);
+    EXPECT_EQ(e.location().line, 2);
+  }
+}
+
+// The direction (xy) from the pole's foot to the centroid of its shadow.
+Eigen::Vector2d ShadowDirection(const std::filesystem::path& root, int frame) {
+  char stem[16];
+  std::snprintf(stem, sizeof(stem), "%06d.exr", frame);
+  const exr::FlatImage shadow = exr::ReadFlatExr(root / "shadow" / stem, {"Y"});
+  const exr::FlatImage position =
+      exr::ReadFlatExr(root / "worldposition" / stem, {"X", "Y", "Z"});
+  Eigen::Vector2d sum(0, 0);
+  int n = 0;
+  for (size_t p = 0; p < shadow.Get("Y").floats.size(); ++p) {
+    const float z = position.Get("Z").floats[p];
+    if (shadow.Get("Y").floats[p] > 0.5f || !(std::abs(z) < 0.01)) continue;
+    sum += Eigen::Vector2d(position.Get("X").floats[p],
+                           position.Get("Y").floats[p]);
+    ++n;
+  }
+  EXPECT_GT(n, 20) << "frame " << frame;
+  return (sum / std::max(n, 1)).normalized();
+}
+
+TEST(CaptureOverTime, ShadowsTurnWithTheSunOverAnOrbit) {
+  testing::TempDir dir;
+  std::ofstream(dir / "s.lscene") << kSunScene;
+  // An orbit of 4 views, one every 2 hours from 08:00.
+  std::ofstream(dir / "c.lcap")
+      << "LCAP = ONE(CO) ONE(P)\n"
+         "CO = camera{csettings:{fov:70,res:[160,120],fps:0.000138888888889}}\n"
+         "P = path{create hemi:{cam radius:[45,45,1],obj angle:[0,360,4],"
+         "cam angle:[70,70,1],center:[0,0,0]}}\n";
+  const Plan plan = gen::PlanFromScene((dir / "s.lscene").string(),
+                                       (dir / "c.lcap").string(),
+                                       1,
+                                       0,
+                                       std::numeric_limits<int64_t>::max());
+  gen::GenerateOptions options;
+  options.output = dir / "out";
+  options.spp = 1;
+  options.progress = false;
+  gen::GenerateCollection(plan, options);
+  std::ifstream in(dir / "out" / "collection.json");
+  const auto collection = nlohmann::json::parse(in);
+  double previous_angle = 0;
+  for (int k = 0; k < 4; ++k) {
+    const auto& sun = collection["frames"][k]["scene"]["sun"];
+    const Eigen::Vector2d away_from_sun(-sun["direction"][0].get<double>(),
+                                        -sun["direction"][1].get<double>());
+    const Eigen::Vector2d shadow = ShadowDirection(dir / "out", k);
+    const double angle = std::acos(
+        std::clamp(shadow.dot(away_from_sun.normalized()), -1.0, 1.0));
+    EXPECT_LT(angle * 180 / M_PI, 10) << "frame " << k;
+    const double heading = std::atan2(shadow.y(), shadow.x());
+    if (k > 0) {
+      EXPECT_GT(std::abs(heading - previous_angle) * 180 / M_PI, 15)
+          << "the shadow did not turn between frames " << k - 1 << " and " << k;
+    }
+    previous_angle = heading;
+  }
+}
+
+TEST(CaptureOverTime, NadirSurveyMetadataIsAnalytic) {
+  const Plan plan = PlanText(
+      "LSCENE = ONE(G) ONE(W)\n"
+      "G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}\n"
+      "W = terrain{size:[400,400]}\n",
+      "LCAP = ONE(CO) ONE(P)\n"
+      "CO = camera{csettings:{fov:60,res:[400,300]}}\n"
+      "P = path{waypoints:[[10,20,50]]}\n");
+  MetadataFrame metadata;
+  gen::AddSurveyMetadata(plan, plan.frames[0], &metadata);
+  const PinholeCamera& camera = plan.frames[0].camera;
+  ASSERT_TRUE(metadata.gsd_m && metadata.altitude_agl_m && metadata.geo);
+  EXPECT_NEAR(*metadata.altitude_agl_m, 50, 1e-9);
+  EXPECT_NEAR(*metadata.gsd_m, 50 / camera.fx, 1e-12);
+  ASSERT_EQ(metadata.footprint.size(), 4u);
+  // A nadir camera, image top to the north: the ground rectangle is
+  // (w / fx) x (h / fy) times the altitude, centred under the camera.
+  const double half_x = 0.5 * camera.width / camera.fx * 50,
+               half_y = 0.5 * camera.height / camera.fy * 50;
+  const Eigen::Vector2d expected[4] = {{10 - half_x, 20 + half_y},
+                                       {10 + half_x, 20 + half_y},
+                                       {10 + half_x, 20 - half_y},
+                                       {10 - half_x, 20 - half_y}};
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_NEAR(metadata.footprint[c].x(), expected[c].x(), 1e-9) << c;
+    EXPECT_NEAR(metadata.footprint[c].y(), expected[c].y(), 1e-9) << c;
+    EXPECT_NEAR(metadata.footprint[c].z(), 0, 1e-9);
+  }
+  EXPECT_NEAR(metadata.geo->altitude_msl_m, 458, 0.01);
+  EXPECT_GT(metadata.geo->latitude_deg, 47.3769);
+  EXPECT_GT(metadata.geo->longitude_deg, 8.5417);
+}
+
+}  // namespace
+}  // namespace lsds

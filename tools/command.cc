@@ -42,6 +42,9 @@ const std::vector<Command>& Commands() {
       {"synth",
        "write a synthetic collection with exact analytic truth (for tests)",
        RunSynth},
+      {"import",
+       "another simulator's output (ue-mrq, airsim, bop) into a collection",
+       RunImport},
   };
   return commands;
 }

@@ -185,6 +185,8 @@ json HeaderToJson(const CollectionHeader& h) {
     provenance["scene_source"] = h.provenance.scene_source;
   if (!h.provenance.capture_source.empty())
     provenance["capture_source"] = h.provenance.capture_source;
+  if (!h.provenance.import.is_null())
+    provenance["import"] = h.provenance.import;
   const WorldFrame& world = h.conventions.world;
   json conventions = {{"world_frame", world.name},
                       {"length_unit", world.length_unit},
@@ -231,6 +233,7 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     h.provenance.scene_source = p.value("scene_source", "");
     h.provenance.capture_source = p.value("capture_source", "");
     h.provenance.render = p.value("render", json::object());
+    if (p.contains("import")) h.provenance.import = p.at("import");
     for (const json& c : j.at("classes"))
       h.classes.push_back(
           {c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});

@@ -63,6 +63,10 @@ struct Provenance {
   std::string capture_source;  // LCAP text, verbatim
   nlohmann::json render =
       nlohmann::json::object();  // spp, renderer settings, ...
+  // Format 1.1, imported collections only (docs/format.md, "Truth of other
+  // origins"): {"format", "source", "truth_origin": {field: origin}}; null
+  // for collections lsds rendered.
+  nlohmann::json import;
 };
 
 // Declared units and frames (docs/format.md, "Units and frames").

@@ -1,0 +1,41 @@
+// Truth derived from layers, for sources that do not store it (docs/import.md,
+// "What is derived"). 2D boxes and pixel counts come from the id layer through
+// libs/collection/object_truth.h; depth conversions and unprojection are those
+// of libs/geometry/camera.h.
+#pragma once
+
+#include <cstdint>
+
+#include "libs/collection/model.h"
+#include "libs/exr/flat_image.h"
+#include "libs/geometry/box2d.h"
+#include "libs/geometry/camera.h"
+#include "libs/geometry/oriented_box.h"
+#include "libs/geometry/rigid3.h"
+
+namespace lsds::import {
+
+// The worldposition layer (channels X, Y, Z) of a depth layer (channel Z) of
+// `kind`: point_in_world = world_from_cam * UnprojectDepth(pixel centre); +inf
+// where the depth is not finite (sky).
+exr::FlatImage WorldPositionFromDepth(const exr::FlatImage& depth,
+                                      DepthKind kind,
+                                      const PinholeCamera& camera,
+                                      const Rigid3d& cam_from_world);
+
+// A depth layer of `kind` from one of the other kind (planar <-> perspective).
+exr::FlatImage ConvertDepthKind(const exr::FlatImage& depth,
+                                DepthKind from,
+                                DepthKind to,
+                                const PinholeCamera& camera);
+
+// The pixels inside `bounds` whose centre ray hits `box` in front of the
+// camera: the pixels the object would cover with no occluder when it fills its
+// OBB (exact for box-shaped objects; otherwise an upper bound, so the
+// visibility measured with it is a lower bound).
+int64_t CountObbPixels(const OrientedBox& box,
+                       const PinholeCamera& camera,
+                       const Rigid3d& cam_from_world,
+                       const Box2d& bounds);
+
+}  // namespace lsds::import

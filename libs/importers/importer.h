@@ -1,0 +1,70 @@
+// The interface every source format implements (docs/import.md). An importer
+// only decodes its source into frames in the collection's conventions (ENU
+// metres, OpenCV camera, pixel-edge image coordinates); the driver
+// (import_collection.h) derives what the source lacks and writes through the
+// one collection builder. Frames are read one at a time, in order, so memory
+// does not grow with the number of frames.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "libs/collection/model.h"
+#include "libs/collection/object_truth.h"
+#include "libs/exr/flat_image.h"
+
+namespace lsds::import {
+
+struct ImportOptions {
+  // A sidecar file with the objects' identities and 3D boxes, for sources
+  // that do not store them; empty: the importer's default place.
+  std::filesystem::path objects;
+  // The simulator's settings file where the source does not hold it (AirSim:
+  // settings.json with the camera mount); empty: the importer's default.
+  std::filesystem::path settings;
+};
+
+// What the whole source holds, known before the first frame is read.
+struct SourceDescription {
+  std::vector<ClassInfo> classes;
+  int64_t frame_count = 0;
+  // Flat layers every frame provides, by semantic (rgb, classid, instanceid,
+  // depth, ...), with the standard channels (model.h StandardLayer).
+  std::vector<std::string> semantics;
+  DepthKind depth_kind = DepthKind::kPlanar;
+  // Where each truth field comes from: "imported" (read from the source) or
+  // "derived" (computed from its layers); the driver adds its own.
+  std::map<std::string, std::string> truth_origin;
+  // The source's own units and frames, recorded for people.
+  nlohmann::json source_conventions = nlohmann::json::object();
+};
+
+struct SourceFrame {
+  double time = 0;
+  std::string sequence;
+  int64_t shot = 0;
+  CameraTruth camera;  // ENU metres, OpenCV camera, pixel-edge intrinsics
+  // By semantic, with the standard channels; lengths in metres.
+  std::map<std::string, exr::FlatImage> flat;
+  // The objects of interest (OBB in ENU metres): each gets a truth entry when
+  // it is near the image.
+  std::vector<ObjectIdentity> targets;
+};
+
+class Importer {
+ public:
+  virtual ~Importer() = default;
+  virtual std::string name() const = 0;
+  // Reads the source's layout; throws lsds::Error naming file and field when
+  // the source is not what it claims.
+  virtual SourceDescription Open(const std::filesystem::path& source,
+                                 const ImportOptions& options) = 0;
+  // Frame `index` (0-based, called in increasing order).
+  virtual SourceFrame ReadFrame(int64_t index) = 0;
+};
+
+}  // namespace lsds::import

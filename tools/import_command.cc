@@ -1,0 +1,48 @@
+// lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE]
+// [--force]
+#include <iostream>
+
+#include "libs/importers/import_collection.h"
+#include "libs/importers/registry.h"
+#include "libs/util/strings.h"
+#include "tools/command.h"
+
+namespace lsds {
+
+int RunImport(int argc, char** argv) {
+  CLI::App app(
+      "Bring another simulator's output into a collection (docs/import.md): "
+      "layers converted to the collection's units and frames, missing truth "
+      "derived from the layers. Formats: " +
+          Join(import::ImporterNames(), ", ") + ".",
+      "lsds import");
+  std::string format, source, output;
+  import::ImportOptions options;
+  std::string objects, settings;
+  bool force = false;
+  app.add_option("FORMAT", format, "source format")->required();
+  app.add_option("SOURCE", source, "the simulator's output folder")->required();
+  app.add_option("-o,--output", output, "the collection folder to write")
+      ->required();
+  app.add_option("--objects",
+                 objects,
+                 "sidecar with the objects' classes, ids and 3D boxes "
+                 "(default SOURCE/lsds_objects.json)");
+  app.add_option("--settings",
+                 settings,
+                 "the simulator's settings (airsim: settings.json with the "
+                 "camera mount; default SOURCE/settings.json)");
+  app.add_flag("--force", force, "replace the output if it exists");
+  return RunCommand(app, argc, argv, [&] {
+    options.objects = objects;
+    options.settings = settings;
+    const import::ImportResult result =
+        import::ImportCollection(format, source, output, options, force);
+    std::cout << "imported " << result.frames << " frames, " << result.objects
+              << " object entries from " << source << " (" << format << ") to "
+              << output << "\n";
+    return 0;
+  });
+}
+
+}  // namespace lsds

@@ -40,5 +40,6 @@ int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);
 int RunReport(int argc, char** argv);
 int RunSynth(int argc, char** argv);
+int RunMerge(int argc, char** argv);
 
 }  // namespace lsds

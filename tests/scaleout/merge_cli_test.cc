@@ -167,5 +167,53 @@ TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
   EXPECT_TRUE(fs::exists(Path("taken") / "keep.txt"));
 }
 
+// The scripts of `lsds submit slurm` run without Slurm: bash ignores the
+// #SBATCH lines, so running each array task by hand and then the merge must
+// give the single run.
+TEST_F(MergeCliTest, SubmitScriptsRunByHandGiveTheSingleRun) {
+  const std::string submit =
+      "CI=true " + LsdsBinary() + " submit slurm " + LSDS_SOURCE_DIR +
+      "/examples/uav_survey.lscene " + Path("small.lcap").string() +
+      " --spp 1 --seed 3 -o " + Path("slurm_run").string();
+  testing::CommandResult r = RunCommandLine(submit + " --shards 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path work = Path("slurm_run.shards");
+  for (const char* script : {"generate.sbatch", "merge.sbatch", "submit.sh"})
+    EXPECT_TRUE(fs::is_regular_file(work / script)) << script;
+  for (int task = 0; task < 3; ++task) {
+    r = RunCommandLine("SLURM_ARRAY_TASK_ID=" + std::to_string(task) +
+                       " bash " + (work / "generate.sbatch").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  // A task run again (a requeue) keeps its shard: --resume.
+  r = RunCommandLine("SLURM_ARRAY_TASK_ID=1 bash " +
+                     (work / "generate.sbatch").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommandLine("bash " + (work / "merge.sbatch").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(Tree(Path("slurm_run")), Tree(Path("whole")));
+
+  // The same run again needs no --force; another run in the same folder does.
+  fs::remove_all(Path("slurm_run"));
+  r = RunCommandLine(submit + " --shards 3");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommandLine(submit + " --shards 4");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
+  // More shards than frames: a task would have nothing to render.
+  r = RunCommandLine(submit + " --shards 13 --work-dir " +
+                     Path("too_many").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("the run has 12 frames"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("too_many")));
+  // --submit where there is no Slurm.
+  r = RunCommandLine("PATH=/nonexistent " + submit + " --shards 3 --submit");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("sbatch not found"), std::string::npos) << r.output;
+  r = RunCommandLine(submit + " --shards 3 --scheduler-typo 1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
 }  // namespace
 }  // namespace lsds

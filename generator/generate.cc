@@ -242,6 +242,23 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
     header.provenance.render["capture_settings"] = plan.capture_settings;
   header.metadata = {
       {kMetadataFile, false, "measured metadata; equal to truth"}};
+  // A shard says which run it is part of, so that `lsds merge` can tell a
+  // missing or doubled frame; the run itself (one shard) records nothing.
+  if (options.shard_count > 1) {
+    ShardRecord shard;
+    shard.index = options.shard_index;
+    shard.count = options.shard_count;
+    for (const PlannedFrame& frame : plan.frames) {
+      if (frame.index < options.first_frame ||
+          frame.index >= options.last_frame)
+        continue;
+      if (shard.run_frame_count == 0) shard.run_first_frame = frame.index;
+      shard.run_first_frame = std::min(shard.run_first_frame, frame.index);
+      shard.run_last_frame = std::max(shard.run_last_frame, frame.index);
+      ++shard.run_frame_count;
+    }
+    header.provenance.shard = shard;
+  }
   return header;
 }
 

@@ -21,6 +21,7 @@ packages=(
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus script
   chromium                          # lsds report end-to-end test: headless screenshot of the page
+  slurm-wlm munge                   # scale-out test: a real one-node Slurm (tests/scaleout/slurm_test.sh)
 )
 if [ "${1:-}" = "--bench" ]; then
   packages+=(python3-open3d)        # bench/backproject: Open3D create_from_depth_image side by side

@@ -41,5 +41,7 @@ int RunBackproject(int argc, char** argv);
 int RunReport(int argc, char** argv);
 int RunSynth(int argc, char** argv);
 int RunImport(int argc, char** argv);
+int RunMerge(int argc, char** argv);
+int RunSubmit(int argc, char** argv);
 
 }  // namespace lsds

@@ -187,6 +187,13 @@ json HeaderToJson(const CollectionHeader& h) {
     provenance["capture_source"] = h.provenance.capture_source;
   if (!h.provenance.import.is_null())
     provenance["import"] = h.provenance.import;
+  if (const auto& shard = h.provenance.shard)
+    provenance["shard"] = {{"index", shard->index},
+                           {"count", shard->count},
+                           {"run_frames",
+                            {{"first", shard->run_first_frame},
+                             {"last", shard->run_last_frame},
+                             {"count", shard->run_frame_count}}}};
   const WorldFrame& world = h.conventions.world;
   json conventions = {{"world_frame", world.name},
                       {"length_unit", world.length_unit},
@@ -234,6 +241,17 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     h.provenance.capture_source = p.value("capture_source", "");
     h.provenance.render = p.value("render", json::object());
     if (p.contains("import")) h.provenance.import = p.at("import");
+    if (p.contains("shard")) {
+      const json& s = p.at("shard");
+      ShardRecord shard;
+      shard.index = s.at("index").get<int>();
+      shard.count = s.at("count").get<int>();
+      const json& run = s.at("run_frames");
+      shard.run_first_frame = run.at("first").get<int64_t>();
+      shard.run_last_frame = run.at("last").get<int64_t>();
+      shard.run_frame_count = run.at("count").get<int64_t>();
+      h.provenance.shard = shard;
+    }
     for (const json& c : j.at("classes"))
       h.classes.push_back(
           {c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});

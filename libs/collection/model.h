@@ -55,6 +55,20 @@ struct LayerInfo {
   const LayerChannel* FindChannel(const std::string& channel) const;
 };
 
+// Format 1.1, optional: the collection is shard `index` of `count` of one run
+// (`lsds generate --shard I/N`): it holds the run's frames whose index % count
+// == index. `lsds merge` joins the shards into the run's collection
+// (docs/scale-out.md).
+struct ShardRecord {
+  int index = 0;
+  int count = 1;
+  // The frames of the whole run, all shards together: `run_frame_count`
+  // indices from `run_first_frame` to `run_last_frame` (inclusive).
+  int64_t run_first_frame = 0;
+  int64_t run_last_frame = 0;
+  int64_t run_frame_count = 0;
+};
+
 struct Provenance {
   std::string generator;  // "lsds generate", "lsds synth", ...
   std::string generator_version;
@@ -67,6 +81,7 @@ struct Provenance {
   // origins"): {"format", "source", "truth_origin": {field: origin}}; null
   // for collections lsds rendered.
   nlohmann::json import;
+  std::optional<ShardRecord> shard;  // set only in a shard of a run
 };
 
 // Declared units and frames (docs/format.md, "Units and frames").

@@ -1,0 +1,219 @@
+// lsds merge end to end: a small survey rendered once whole and once in three
+// shards; the merged shards must equal the whole run byte for byte, and shard
+// sets that are not one run must be refused naming the frames.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "tests/test_util.h"
+
+namespace lsds {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::LsdsBinary;
+using testing::RunCommandLine;
+
+std::string Slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Every regular file under `root` by relative path, with its bytes.
+std::map<std::string, std::string> Tree(const fs::path& root) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(root))
+    if (entry.is_regular_file())
+      files[fs::relative(entry.path(), root).string()] = Slurp(entry.path());
+  return files;
+}
+
+class MergeCliTest : public ::testing::Test {
+ protected:
+  // 12 frames (a 4 x 3 grid) at 64x48, one sample per pixel.
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir();
+    std::string capture =
+        Slurp(fs::path(LSDS_SOURCE_DIR) / "examples" / "demo_survey.lcap");
+    capture = std::regex_replace(
+        capture, std::regex(R"(res:\[512,512\])"), "res:[64,48]");
+    capture = std::regex_replace(
+        capture, std::regex(R"(x:\[-40,40,6\])"), "x:[-40,40,4]");
+    capture = std::regex_replace(
+        capture, std::regex(R"(y:\[-25,25,4\])"), "y:[-25,25,3]");
+    std::ofstream(*dir_ / "small.lcap") << capture;
+    ASSERT_EQ(Generate("whole", ""), 0);
+    for (int i = 0; i < 3; ++i)
+      ASSERT_EQ(Generate("s" + std::to_string(i),
+                         "--shard " + std::to_string(i) + "/3"),
+                0);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static int Generate(const std::string& out,
+                      const std::string& extra,
+                      int seed = 3) {
+    const testing::CommandResult r = RunCommandLine(
+        "CI=true " + LsdsBinary() + " generate " + LSDS_SOURCE_DIR +
+        "/examples/uav_survey.lscene " + (*dir_ / "small.lcap").string() +
+        " --spp 1 -q --seed " + std::to_string(seed) + " " + extra + " -o " +
+        (*dir_ / out).string());
+    if (r.exit_code != 0) ADD_FAILURE() << r.output;
+    return r.exit_code;
+  }
+  static testing::CommandResult Merge(const std::string& shards,
+                                      const std::string& out) {
+    std::string args;
+    std::istringstream names(shards);
+    for (std::string name; names >> name;)
+      args += " " + (*dir_ / name).string();
+    return RunCommandLine("CI=true " + LsdsBinary() + " merge" + args + " -o " +
+                          (*dir_ / out).string());
+  }
+  static fs::path Path(const std::string& name) { return *dir_ / name; }
+
+  static testing::TempDir* dir_;
+};
+testing::TempDir* MergeCliTest::dir_ = nullptr;
+
+TEST_F(MergeCliTest, MergedShardsEqualTheSingleRunByteForByte) {
+  const auto before = Tree(Path("s1"));
+  const testing::CommandResult r = Merge("s2 s0 s1", "merged");  // any order
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto whole = Tree(Path("whole"));
+  const auto merged = Tree(Path("merged"));
+  ASSERT_EQ(whole.size(), merged.size());
+  EXPECT_GT(whole.size(), 12u * 5);  // collection.json, metadata.json, layers
+  for (const auto& [name, bytes] : whole) {
+    const auto it = merged.find(name);
+    ASSERT_NE(it, merged.end()) << name << " missing from the merged run";
+    EXPECT_TRUE(it->second == bytes) << name << " differs";
+  }
+  EXPECT_EQ(Tree(Path("s1")), before);  // the shards are only read
+  // A shard is a partial collection and says so; the merged one does not.
+  EXPECT_NE(Slurp(Path("s1") / "collection.json").find("\"shard\""),
+            std::string::npos);
+  const testing::CommandResult v = RunCommandLine(
+      "CI=true " + LsdsBinary() + " validate " + Path("merged").string());
+  EXPECT_EQ(v.exit_code, 0) << v.output;
+}
+
+TEST_F(MergeCliTest, AMissingShardNamesItsFrames) {
+  const testing::CommandResult r = Merge("s0 s1", "missing");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("frames 2, 5, 8 and 11 are in no shard given: "
+                          "shard 2/3"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("missing")));
+}
+
+TEST_F(MergeCliTest, ADoubledShardNamesItsFrames) {
+  const testing::CommandResult r = Merge("s0 s1 s2 s1", "doubled");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("frames 1, 4, 7 and 10 are in more than one shard"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("doubled")));
+}
+
+TEST_F(MergeCliTest, AShardOfAnotherSeedIsRefusedNamingTheField) {
+  ASSERT_EQ(Generate("seed4_s2", "--shard 2/3", 4), 0);
+  const testing::CommandResult r = Merge("s0 s1 seed4_s2", "mixed");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("seed4_s2/collection.json#/provenance/seed: not a "
+                          "shard of the same run"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("mixed")));
+}
+
+TEST_F(MergeCliTest, ShardsOfAnotherShardCountAreRefused) {
+  ASSERT_EQ(Generate("half1", "--shard 1/2"), 0);
+  const testing::CommandResult r = Merge("s0 half1", "counts");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("#/provenance/shard/count"), std::string::npos)
+      << r.output;
+}
+
+TEST_F(MergeCliTest, AWholeRunOrAnUnfinishedShardIsNotMerged) {
+  testing::CommandResult r = Merge("s0 s1 whole", "notashard");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("not a shard"), std::string::npos) << r.output;
+  fs::copy(Path("s2"), Path("s2_unfinished"), fs::copy_options::recursive);
+  fs::create_directory(Path("s2_unfinished") / ".lsds-generate");
+  r = Merge("s0 s1 s2_unfinished", "unfinished");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("the shard is unfinished"), std::string::npos)
+      << r.output;
+}
+
+TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
+  testing::CommandResult r = Merge("s0 s1 s2", "s1/inside");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(Path("s1") / "inside"));
+  fs::create_directory(Path("taken"));
+  std::ofstream(Path("taken") / "keep.txt") << "user data";
+  r = Merge("s0 s1 s2", "taken");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(Path("taken") / "keep.txt"));
+}
+
+// The scripts of `lsds submit slurm` run without Slurm: bash ignores the
+// #SBATCH lines, so running each array task by hand and then the merge must
+// give the single run.
+TEST_F(MergeCliTest, SubmitScriptsRunByHandGiveTheSingleRun) {
+  const std::string submit =
+      "CI=true " + LsdsBinary() + " submit slurm " + LSDS_SOURCE_DIR +
+      "/examples/uav_survey.lscene " + Path("small.lcap").string() +
+      " --spp 1 --seed 3 -o " + Path("slurm_run").string();
+  testing::CommandResult r = RunCommandLine(submit + " --shards 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path work = Path("slurm_run.shards");
+  for (const char* script : {"generate.sbatch", "merge.sbatch", "submit.sh"})
+    EXPECT_TRUE(fs::is_regular_file(work / script)) << script;
+  for (int task = 0; task < 3; ++task) {
+    r = RunCommandLine("SLURM_ARRAY_TASK_ID=" + std::to_string(task) +
+                       " bash " + (work / "generate.sbatch").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  // A task run again (a requeue) keeps its shard: --resume.
+  r = RunCommandLine("SLURM_ARRAY_TASK_ID=1 bash " +
+                     (work / "generate.sbatch").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommandLine("bash " + (work / "merge.sbatch").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(Tree(Path("slurm_run")), Tree(Path("whole")));
+
+  // The same run again needs no --force; another run in the same folder does.
+  fs::remove_all(Path("slurm_run"));
+  r = RunCommandLine(submit + " --shards 3");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = RunCommandLine(submit + " --shards 4");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
+  // More shards than frames: a task would have nothing to render.
+  r = RunCommandLine(submit + " --shards 13 --work-dir " +
+                     Path("too_many").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("the run has 12 frames"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("too_many")));
+  // --submit where there is no Slurm.
+  r = RunCommandLine("PATH=/nonexistent " + submit + " --shards 3 --submit");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("sbatch not found"), std::string::npos) << r.output;
+  r = RunCommandLine(submit + " --shards 3 --scheduler-typo 1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+}  // namespace
+}  // namespace lsds

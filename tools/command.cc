@@ -42,6 +42,10 @@ const std::vector<Command>& Commands() {
       {"merge",
        "join the shards of one generate run into the single run's collection",
        RunMerge},
+      {"merge-reports",
+       "join the partial reports of validate --shard into the single run's "
+       "report",
+       RunMergeReports},
       {"submit",
        "write and submit a Slurm job array of generate shards and its merge",
        RunSubmit},

@@ -42,6 +42,7 @@ int RunReport(int argc, char** argv);
 int RunSynth(int argc, char** argv);
 int RunImport(int argc, char** argv);
 int RunMerge(int argc, char** argv);
+int RunMergeReports(int argc, char** argv);
 int RunSubmit(int argc, char** argv);
 
 }  // namespace lsds

@@ -101,9 +101,9 @@ int main(int argc, char** argv) {
             batch);
       },
       repeat);
-  std::printf("  %-34s %9.1f ms  %8.1f frames/s  %8.1f MB/s read   x1.00\n",
+  std::printf("  %-34s %9.1f ms  %8.1f frames/s  %8.1f MB/s EXR read %8s MB/s written  x1.00\n",
               "floor: read + decode the EXRs", floor * 1e3, frames / floor,
-              exr_bytes / floor / 1e6);
+              exr_bytes / floor / 1e6, "-");
 
   for (const layer_export::Target target :
        {layer_export::Target::kNpy, layer_export::Target::kTiff,
@@ -122,9 +122,10 @@ int main(int argc, char** argv) {
     char label[64];
     std::snprintf(label, sizeof label, "export-layers --to %s",
                   layer_export::TargetName(target));
-    std::printf("  %-34s %9.1f ms  %8.1f frames/s  %8.1f MB/s written x%.2f floor\n",
+    std::printf("  %-34s %9.1f ms  %8.1f frames/s  %8.1f MB/s EXR read %8.1f MB/s written  x%.2f floor\n",
                 label, seconds * 1e3, frames / seconds,
-                summary.bytes / seconds / 1e6, seconds / floor);
+                exr_bytes / seconds / 1e6, summary.bytes / seconds / 1e6,
+                seconds / floor);
   }
   return 0;
 }

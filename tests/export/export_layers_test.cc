@@ -63,6 +63,16 @@ Npy ReadNpy(const fs::path& path) {
   return npy;
 }
 
+// A file of layers.json ("depth/{stem}.png") for frame `index`.
+std::string FileOfFrame(const fs::path& out,
+                        const nlohmann::json& pattern,
+                        int64_t index) {
+  return (out / std::regex_replace(pattern.get<std::string>(),
+                                   std::regex("\\{stem\\}"),
+                                   FrameStem(index)))
+      .string();
+}
+
 nlohmann::json ReadSidecar(const fs::path& out) {
   return nlohmann::json::parse(Slurp(out / "layers.json"));
 }
@@ -219,11 +229,7 @@ TEST_F(ExportLayers, Png16DecodesWithinHalfAStepWithInvalidPixelsMarked) {
     int64_t invalid_seen = 0;
     for (const auto& [index, image] : Exrs(name)) {
       for (const auto& [channel, file] : entry["files"].items()) {
-        const std::string path =
-            (out_ / std::regex_replace(file.get<std::string>(),
-                                       std::regex("\\{stem\\}"),
-                                       FrameStem(index)))
-                .string();
+        const std::string path = FileOfFrame(out_, file, index);
         const cv::Mat png = cv::imread(path, cv::IMREAD_UNCHANGED);
         ASSERT_EQ(png.type(), CV_16UC1) << path;
         ASSERT_EQ(png.cols, image.width());
@@ -307,11 +313,7 @@ TEST_F(ExportLayers, TiffHoldsTheExrValuesBitForBitOneFilePerChannel) {
     const nlohmann::json& entry = sidecar["layers"][name];
     for (const auto& [index, image] : Exrs(name)) {
       for (const auto& [channel, file] : entry["files"].items()) {
-        const std::string path =
-            (out_ / std::regex_replace(file.get<std::string>(),
-                                       std::regex("\\{stem\\}"),
-                                       FrameStem(index)))
-                .string();
+        const std::string path = FileOfFrame(out_, file, index);
         const cv::Mat tiff = cv::imread(path, cv::IMREAD_UNCHANGED);
         ASSERT_EQ(tiff.type(), name == "instanceid" ? CV_32SC1 : CV_32FC1)
             << path;

@@ -326,7 +326,7 @@ nlohmann::ordered_json Describe(const LayerPlan& plan,
   if (options.target == Target::kPng16 && plan.integer)
     j["clamped_pixels"] = 0;  // ids are exact or an error
   if (plan.integer) j["note"] = "0 = background/sky";
-  j["files_written"] = plan.summary.files;
+  j["frames_written"] = plan.summary.frames;
   j["invalid_pixels"] = plan.summary.invalid_pixels;
   return j;
 }
@@ -367,14 +367,14 @@ ExportSummary ExportLayers(const ExportOptions& options) {
           const LayerInfo& layer = *plans[i].info;
           if (!layer.required && frame.files.count(layer.name) == 0) continue;
           frame_bytes += writer.Write(reader, frame, plans[i], &counts[i]);
-          counts[i].files = 1;
+          counts[i].frames = 1;
         }
         bytes += frame_bytes;
         progress.Add();
         const std::lock_guard<std::mutex> lock(mutex);
         frames.push_back(frame.index);
         for (size_t i = 0; i < plans.size(); ++i) {
-          plans[i].summary.files += counts[i].files;
+          plans[i].summary.frames += counts[i].frames;
           plans[i].summary.invalid_pixels += counts[i].invalid_pixels;
           plans[i].summary.clamped_pixels += counts[i].clamped_pixels;
         }
@@ -398,7 +398,7 @@ ExportSummary ExportLayers(const ExportOptions& options) {
   for (const LayerPlan& plan : plans) {
     layers[plan.info->name] = Describe(plan, options, header);
     summary.layers.push_back(plan.summary);
-    summary.files += plan.summary.files *
+    summary.files += plan.summary.frames *
                      (options.target == Target::kNpy
                           ? 1
                           : static_cast<int64_t>(plan.info->channels.size()));

@@ -143,7 +143,7 @@ TEST_F(ExportLayers, NpyHoldsTheExrValuesBitForBitWithTheirDtypeAndShape) {
     const bool ids = layer->channels[0].type == exr::PixelType::kUint;
     EXPECT_EQ(entry["dtype"], ids ? "uint32" : "float32");
     EXPECT_EQ(entry["unit"], layer->unit);
-    EXPECT_EQ(entry["files_written"], 2);
+    EXPECT_EQ(entry["frames_written"], 2);
     EXPECT_FALSE(fs::exists(out_ / layer->name / "000000.npy"));
     for (const auto& [index, image] : Exrs(layer->name)) {
       if (index < 1 || index >= 3) continue;

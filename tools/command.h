@@ -38,6 +38,7 @@ int RunConvert(int argc, char** argv);
 int RunPerturbMetadata(int argc, char** argv);
 int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);
+int RunExportLayers(int argc, char** argv);
 int RunReport(int argc, char** argv);
 int RunSynth(int argc, char** argv);
 int RunImport(int argc, char** argv);

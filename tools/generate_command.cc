@@ -129,7 +129,12 @@ int RunGenerate(int argc, char** argv) {
       plan = gen::LoadPlanJson(plan_file);
       if (seed) plan.seed = *seed;
     } else {
-      plan = PlanSelectedFrames(scene, capture, seed.value_or(0), selection);
+      // The frame before the first selected one is planned too (not
+      // rendered): the first frame's motion is measured against it, so that
+      // --frames gives the bytes of the single run.
+      std::optional<FrameSelection> planned = selection;
+      if (planned && planned->begin > 0) --planned->begin;
+      plan = PlanSelectedFrames(scene, capture, seed.value_or(0), planned);
     }
     // Before the output is touched: an out-of-range --frames never empties
     // (or, with --force, wipes) an existing collection.

@@ -744,14 +744,39 @@ void FrameChecker::CheckMotion() {
   if (!px || !py || !pz) return;
   const CameraTruth& previous = *input_.previous_camera;
   const PinholeCamera& camera = previous.intrinsics;
+  // Objects whose box moved since the previous frame (LCAP moves and
+  // changes): their points move with the box, from the unit box of now to
+  // the box of then.
+  std::map<uint32_t, std::pair<OrientedBox, OrientedBox>> moved;
+  for (const ObjectTruth& o : input_.frame.objects) {
+    const auto before = input_.previous_boxes.find(o.instance_id);
+    if (before == input_.previous_boxes.end()) continue;
+    const OrientedBox& b = before->second;
+    if (b.center != o.obb.center || b.half_extents != o.obb.half_extents ||
+        b.world_from_box != o.obb.world_from_box)
+      moved[o.instance_id] = {o.obb, b};
+  }
+  const std::vector<uint32_t>* instances = moved.empty() ? nullptr
+                                                         : Ids("instanceid");
   int64_t checked = 0, unseen = 0;
   PixelTally bad, unmarked;
   for (int y = 0; y < height_; ++y) {
     for (int x = 0; x < width_; ++x) {
       const size_t p = static_cast<size_t>(y) * width_ + x;
-      const Eigen::Vector3d point((*px)[p], (*py)[p], (*pz)[p]);
+      Eigen::Vector3d point((*px)[p], (*py)[p], (*pz)[p]);
       if (!point.allFinite()) continue;
       const bool marked = std::isnan((*mx)[p]);
+      if (instances) {
+        const auto m = moved.find((*instances)[p]);
+        if (m != moved.end()) {
+          const OrientedBox &now = m->second.first, &then = m->second.second;
+          const Eigen::Vector3d unit =
+              (now.world_from_box.transpose() * (point - now.center))
+                  .cwiseQuotient(now.half_extents.cwiseMax(1e-12));
+          point = then.world_from_box * unit.cwiseProduct(then.half_extents) +
+                  then.center;
+        }
+      }
       const Eigen::Vector3d in_previous =
           previous.cam_from_world_rotation * point +
           previous.cam_from_world_translation;

@@ -83,6 +83,7 @@ class Validator {
   // documented in docs/validate.md.
   std::vector<FrameInput> batch_;
   std::optional<Frame> previous_;
+  std::map<uint32_t, OrientedBox> previous_boxes_;  // of previous_'s objects
   std::unordered_set<uint64_t> referenced_;
   std::set<std::string> layer_folders_;
   struct MetadataPose {
@@ -473,9 +474,13 @@ void Validator::StreamFrames() {
                               : previous_->sequence == frame.sequence);
         if (previous_ && previous_->index + 1 == frame.index && same_shot) {
           input.previous_camera = previous_->camera;
+          input.previous_boxes = previous_boxes_;
         }
         input.shot_start = frame.shot && *frame.shot == frame.index;
         previous_ = frame;
+        previous_boxes_.clear();
+        for (const ObjectTruth& o : frame.objects)
+          previous_boxes_[o.instance_id] = o.obb;
         previous_->objects.clear();
         previous_->files.clear();
         if (!owned) return;  // another shard decodes its layers

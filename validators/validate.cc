@@ -18,6 +18,7 @@
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
 #include "validators/frame_checks.h"
+#include "validators/truth_origin_check.h"
 
 namespace lsds::validate {
 
@@ -513,6 +514,8 @@ Report Validator::Run() {
   CheckCollectionFolder(root_);
   if (ReadHeader()) {
     CheckTables();
+    for (const Finding& f : TruthOriginFindings(header_))
+      Emit(f.check_id, f.location, f.message);
     ReadMetadata();
     StreamFrames();
     CheckStrayFiles();

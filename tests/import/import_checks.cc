@@ -1,0 +1,131 @@
+#include "tests/import/import_checks.h"
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "libs/collection/collection_reader.h"
+#include "libs/util/strings.h"
+#include "tests/convert/reference_decoders.h"
+#include "tests/test_util.h"
+
+namespace lsds::testing {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+std::string Text(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+}  // namespace
+
+fs::path ExpectImportValidatesAndConverts(const std::string& format,
+                                          const fs::path& source,
+                                          const fs::path& dir,
+                                          int w,
+                                          int h,
+                                          const FixtureIds& fixture_ids,
+                                          const std::string& flags) {
+  const fs::path out = dir / "collection";
+  const CommandResult imported =
+      RunCommandLine(LsdsBinary() + " import " + format + " " +
+                     source.string() + " -o " + out.string() + " " + flags);
+  EXPECT_EQ(imported.exit_code, 0) << imported.output;
+  if (imported.exit_code != 0) return out;
+  const CommandResult validate = RunCommandLine(
+      LsdsBinary() + " validate --fail-on warning " + out.string());
+  EXPECT_EQ(validate.exit_code, 0) << validate.output;
+
+  // COCO: every annotation's RLE mask is the fixture's mask of its instance.
+  const fs::path coco = dir / "coco";
+  const CommandResult convert =
+      RunCommandLine(LsdsBinary() + " convert " + out.string() +
+                     " --to coco --images none -o " + coco.string());
+  EXPECT_EQ(convert.exit_code, 0) << convert.output;
+  fs::path annotations;
+  for (const auto& entry : fs::recursive_directory_iterator(coco))
+    if (entry.path().extension() == ".json" &&
+        entry.path().filename().string().rfind("instances", 0) == 0)
+      annotations = entry.path();
+  EXPECT_FALSE(annotations.empty());
+  if (annotations.empty()) return out;
+  const json doc = json::parse(Text(annotations));
+  std::map<int64_t, std::string> image_names;
+  for (const json& image : doc["images"])
+    image_names[image["id"].get<int64_t>()] = image["file_name"];
+  EXPECT_GT(doc["annotations"].size(), 0u);
+  for (const json& a : doc["annotations"]) {
+    const int k = std::stoi(
+        fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string());
+    const std::vector<uint32_t> ids = fixture_ids(k);
+    const uint32_t instance = a["lsds"]["instance_id"];
+    int64_t total = 0;
+    const cv::Mat mask = CocoDecode(
+        CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
+    int64_t differing = 0;
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        differing += (mask.at<uint8_t>(j, i) != 0) !=
+                     (ids[static_cast<size_t>(j) * w + i] == instance);
+    EXPECT_EQ(differing, 0) << "instance " << instance << " frame " << k;
+  }
+
+  // YOLO: one line per visible object, in truth order, whose normalised box
+  // denormalises to the truth's pixel box (Ultralytics' label rule).
+  const fs::path yolo = dir / "yolo";
+  const CommandResult to_yolo =
+      RunCommandLine(LsdsBinary() + " convert " + out.string() +
+                     " --to yolo --images none -o " + yolo.string());
+  EXPECT_EQ(to_yolo.exit_code, 0) << to_yolo.output;
+  // A label's class index names, in data.yaml, the object's class.
+  const CollectionReader reader(out);
+  std::map<std::string, int> index_of_name;
+  {
+    std::istringstream yaml(Text(yolo / "data.yaml"));
+    std::string line;
+    bool in_names = false;
+    while (std::getline(yaml, line)) {
+      if (line == "names:") {
+        in_names = true;
+      } else if (in_names && line.rfind("  ", 0) == 0) {
+        const size_t colon = line.find(':');
+        std::string name = line.substr(colon + 2);
+        if (name.size() >= 2 && name.front() == '"') name = name.substr(1, name.size() - 2);
+        index_of_name[name] = std::stoi(line.substr(2, colon - 2));
+      } else {
+        in_names = false;
+      }
+    }
+  }
+  std::map<uint32_t, int> yolo_class;
+  for (const ClassInfo& c : reader.header().classes)
+    if (index_of_name.count(c.name)) yolo_class[c.id] = index_of_name.at(c.name);
+  reader.ForEachFrame([&](const Frame& frame) {
+    std::istringstream labels(
+        Text(yolo / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
+    std::vector<const ObjectTruth*> visible;
+    for (const ObjectTruth& o : frame.objects)
+      if (o.visible_pixels > 0) visible.push_back(&o);
+    int cls;
+    double xc, yc, bw, bh;
+    size_t n = 0;
+    while (labels >> cls >> xc >> yc >> bw >> bh) {
+      ASSERT_LT(n, visible.size());
+      const ObjectTruth& o = *visible[n++];
+      EXPECT_EQ(cls, yolo_class.at(o.class_id));
+      EXPECT_NEAR((xc - bw / 2) * w, o.bbox->x0, 1e-3);
+      EXPECT_NEAR((xc + bw / 2) * w, o.bbox->x1, 1e-3);
+      EXPECT_NEAR((yc - bh / 2) * h, o.bbox->y0, 1e-3);
+      EXPECT_NEAR((yc + bh / 2) * h, o.bbox->y1, 1e-3);
+    }
+    EXPECT_EQ(n, visible.size()) << "frame " << frame.index;
+  });
+  return out;
+}
+
+}  // namespace lsds::testing

@@ -9,6 +9,7 @@
 
 #include "libs/geometry/world_frame.h"
 #include "libs/importers/pfm.h"
+#include "tests/import/fixture_images.h"
 
 namespace lsds::testing {
 
@@ -27,15 +28,6 @@ std::map<uint32_t, std::array<uint8_t, 3>> AirSimFixtureColours() {
           {2, {89, 121, 72}},
           {3, {190, 225, 64}}};
 }
-
-namespace {
-uint8_t Srgb8(float linear) {
-  const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double s =
-      c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(s * 255));
-}
-}  // namespace
 
 void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
   fs::create_directories(folder / "images");

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "tests/import/fixture_images.h"
+
 namespace lsds::testing {
 
 namespace fs = std::filesystem;
@@ -25,12 +27,6 @@ json Flat(const Eigen::Matrix3d& m) {
   return out;
 }
 json Flat(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-uint8_t Srgb8(float linear) {
-  const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double s =
-      c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(s * 255));
-}
 }  // namespace
 
 fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {

@@ -24,6 +24,42 @@ std::string Text(const fs::path& path) {
 }
 }  // namespace
 
+void ExpectCameraNear(const CameraTruth& got,
+                      const CameraTruth& want,
+                      double relative,
+                      double pose) {
+  const PinholeCamera& a = got.intrinsics;
+  const PinholeCamera& b = want.intrinsics;
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_NEAR(a.fx, b.fx, relative * b.fx);
+  EXPECT_NEAR(a.fy, b.fy, relative * b.fy);
+  EXPECT_NEAR(a.cx, b.cx, relative * b.cx);
+  EXPECT_NEAR(a.cy, b.cy, relative * b.cy);
+  EXPECT_LT((got.cam_from_world_rotation - want.cam_from_world_rotation)
+                .cwiseAbs()
+                .maxCoeff(),
+            pose);
+  EXPECT_LT(
+      (got.cam_from_world_translation - want.cam_from_world_translation).norm(),
+      pose);
+}
+
+void ExpectObjectNear(const ObjectTruth& got,
+                      const ObjectTruth& want,
+                      double obb) {
+  EXPECT_EQ(got.bbox, want.bbox);  // exact
+  EXPECT_EQ(got.visible_pixels, want.visible_pixels);
+  EXPECT_NEAR(got.visibility, want.visibility, 1e-12);
+  EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9 + 10 * obb);
+  EXPECT_LT((got.obb.center - want.obb.center).norm(), obb);
+  EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), obb);
+  EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box)
+                .cwiseAbs()
+                .maxCoeff(),
+            obb);
+}
+
 fs::path ExpectImportValidatesAndConverts(const std::string& format,
                                           const fs::path& source,
                                           const fs::path& dir,

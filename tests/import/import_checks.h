@@ -10,7 +10,24 @@
 #include <string>
 #include <vector>
 
+#include "libs/collection/model.h"
+
 namespace lsds::testing {
+
+// Intrinsics within `relative` of the truth's (width and height exact), the
+// rotation entries and the translation within `pose` (after the importer's
+// convention changes).
+void ExpectCameraNear(const CameraTruth& got,
+                      const CameraTruth& want,
+                      double relative,
+                      double pose);
+
+// The per-object truth an importer derives (tight box and pixel counts exact,
+// visibility and in-frame fraction) and the OBB within `obb` (centre and half
+// extents in metres, rotation entries). Ids are the caller's to compare.
+void ExpectObjectNear(const ObjectTruth& got,
+                      const ObjectTruth& want,
+                      double obb);
 
 // The fixture's id layer of frame k (what the source's masks hold).
 using FixtureIds = std::function<std::vector<uint32_t>(int frame)>;

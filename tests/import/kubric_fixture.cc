@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "libs/importers/indexed_png.h"
+#include "tests/import/fixture_images.h"
 
 namespace lsds::testing {
 
@@ -19,12 +20,6 @@ std::string Name(const char* stem, int k, const char* ext) {
   char text[64];
   std::snprintf(text, sizeof text, "%s_%05d.%s", stem, k, ext);
   return text;
-}
-uint8_t Srgb8(float linear) {
-  const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double s =
-      c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(s * 255));
 }
 json Row(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 }  // namespace

@@ -78,39 +78,15 @@ TEST_F(SoloImportTest, TruthEqualsTheAnalyticScene) {
     EXPECT_EQ(frame.sequence, k < kSplit ? "sequence.0" : "sequence.1");
     EXPECT_EQ(frame.shot, k < kSplit ? 0 : kSplit);
     EXPECT_NEAR(frame.time, step * spec_.frame_interval, 1e-12);
-    const PinholeCamera& got_k = frame.camera.intrinsics;
-    const PinholeCamera& want_k = truth.truth.camera.intrinsics;
-    EXPECT_EQ(got_k.width, want_k.width);
-    EXPECT_EQ(got_k.height, want_k.height);
-    for (auto [got, want] : {std::pair{got_k.fx, want_k.fx},
-                             {got_k.fy, want_k.fy},
-                             {got_k.cx, want_k.cx},
-                             {got_k.cy, want_k.cy}})
-      EXPECT_NEAR(got, want, 1e-12 * want);
-    EXPECT_LT((frame.camera.cam_from_world_rotation -
-               truth.truth.camera.cam_from_world_rotation)
-                  .cwiseAbs()
-                  .maxCoeff(),
-              1e-12);
-    EXPECT_LT((frame.camera.cam_from_world_translation -
-               truth.truth.camera.cam_from_world_translation)
-                  .norm(),
-              1e-12);
+    // Unity: left-handed y-up world, +z-forward camera, [x, y, z, w].
+    ExpectCameraNear(frame.camera, truth.truth.camera, 1e-12, 1e-12);
     ASSERT_EQ(frame.objects.size(), truth.truth.objects.size());
     for (size_t i = 0; i < frame.objects.size(); ++i) {
       const ObjectTruth& got = frame.objects[i];
       const ObjectTruth& want = truth.truth.objects[i];
       EXPECT_EQ(got.instance_id, kSoloInstanceBase + want.instance_id - 1);
       EXPECT_EQ(got.class_id, want.class_id);
-      EXPECT_EQ(got.bbox, want.bbox);  // exact
-      EXPECT_EQ(got.visible_pixels, want.visible_pixels);
-      EXPECT_NEAR(got.visibility, want.visibility, 1e-12);
-      EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-12);
-      EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), 1e-12);
-      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box)
-                    .cwiseAbs()
-                    .maxCoeff(),
-                1e-12);
+      ExpectObjectNear(got, want, 1e-12);
     }
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));

@@ -10,7 +10,7 @@
 
 #include "libs/importers/indexed_png.h"
 #include "libs/importers/source_json.h"
-#include "libs/importers/srgb.h"
+#include "libs/importers/source_png.h"
 #include "libs/util/error.h"
 
 namespace lsds::import {
@@ -204,28 +204,8 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
   frame.camera.cam_from_world_rotation = world_from_cam.transpose();
   frame.camera.cam_from_world_translation = -(world_from_cam.transpose() * position);
 
-  const fs::path rgb_path = scene_ / FrameFile("rgba", index, "png");
-  const cv::Mat image = cv::imread(rgb_path.string(), cv::IMREAD_UNCHANGED);
-  if (image.empty() || image.cols != width_ || image.rows != height_ ||
-      (image.depth() != CV_8U && image.depth() != CV_16U) || image.channels() < 3)
-    throw Error("missing, unreadable or not a " + std::to_string(width_) + "x" +
-                    std::to_string(height_) + " RGB(A) PNG",
-                Location(rgb_path.string()));
-  exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width_, height_);
-  float* channel[3] = {
-      rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
-  cv::Mat bgr;
-  image.convertTo(bgr, CV_32F, image.depth() == CV_8U ? 1 / 255.0 : 1 / 65535.0);
-  const int channels = bgr.channels();
-  for (int j = 0; j < height_; ++j) {
-    const float* row = bgr.ptr<float>(j);
-    for (int i = 0; i < width_; ++i)
-      for (int c = 0; c < 3; ++c)
-        channel[c][rgb.Index(i, j)] =
-            LinearFromSrgb(row[i * channels + (2 - c)]);
-  }
+  frame.flat["rgb"] = ReadSrgbLayer(scene_ / FrameFile("rgba", index, "png"),
+                                    width_, height_, "metadata.json resolution");
 
   const fs::path depth_path = scene_ / FrameFile("depth", index, "tiff");
   const cv::Mat depth_tiff = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);

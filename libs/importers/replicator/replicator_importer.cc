@@ -9,7 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "libs/importers/source_json.h"
-#include "libs/importers/srgb.h"
+#include "libs/importers/source_png.h"
 #include "libs/util/error.h"
 #include "libs/util/npy.h"
 
@@ -244,23 +244,8 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
     throw Error("not a perspective projection",
                 Location(camera_file, "/cameraProjection"));
 
-  const fs::path rgb_path = Path("rgb", index, "png");
-  const cv::Mat image = cv::imread(rgb_path.string(), cv::IMREAD_COLOR);
-  if (image.empty() || image.cols != width || image.rows != height)
-    throw Error("missing, unreadable or not " + std::to_string(width) + "x" +
-                    std::to_string(height) + " (renderProductResolution)",
-                Location(rgb_path.string()));
-  exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width, height);
-  float* channel[3] = {
-      rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
-  for (int j = 0; j < height; ++j)
-    for (int i = 0; i < width; ++i) {
-      const cv::Vec3b bgr = image.at<cv::Vec3b>(j, i);
-      for (int c = 0; c < 3; ++c)
-        channel[c][rgb.Index(i, j)] = LinearFromSrgb8(bgr[2 - c]);
-    }
+  frame.flat["rgb"] = ReadSrgbLayer(Path("rgb", index, "png"), width, height,
+                                    "renderProductResolution");
 
   if (!depth_stem_.empty()) {
     const fs::path depth_path = Path(depth_stem_, index, "npy");
@@ -307,14 +292,7 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
     instance_of_colour[rgba] =
         IsBackgroundLabel(path) ? 0 : instance_of_prim_.at(path);
   }
-  const cv::Mat colours =
-      cv::imread(segmentation_path.string(), cv::IMREAD_UNCHANGED);
-  if (colours.empty() || colours.type() != CV_8UC4 || colours.cols != width ||
-      colours.rows != height)
-    throw Error("not a " + std::to_string(width) + "x" +
-                    std::to_string(height) +
-                    " colourised RGBA PNG (colorize_instance_segmentation)",
-                Location(segmentation_path.string()));
+  const cv::Mat colours = ReadRgbaPng(segmentation_path, width, height);
   exr::FlatImage& instances = frame.flat["instanceid"] =
       exr::FlatImage(width, height);
   exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width, height);
@@ -327,15 +305,10 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
     class_of_instance[id] = class_of_prim_.at(prim);
   for (int j = 0; j < height; ++j)
     for (int i = 0; i < width; ++i) {
-      const cv::Vec4b bgra = colours.at<cv::Vec4b>(j, i);
-      const uint32_t rgba = (uint32_t{bgra[2]} << 24) | (uint32_t{bgra[1]} << 16) |
-                            (uint32_t{bgra[0]} << 8) | bgra[3];
+      const uint32_t rgba = PackedRgba(colours.at<cv::Vec4b>(j, i));
       const auto found = instance_of_colour.find(rgba);
       if (found == instance_of_colour.end()) {
-        char text[48];
-        std::snprintf(text, sizeof text, "(%u, %u, %u, %u)", bgra[2], bgra[1],
-                      bgra[0], bgra[3]);
-        throw Error(std::string("colour ") + text + " is not in " +
+        throw Error("colour " + RgbaText(rgba) + " is not in " +
                         mapping_path.filename().string(),
                     Location::Pixel(segmentation_path.string(), index, i, j));
       }

@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "libs/importers/source_json.h"
-#include "libs/importers/srgb.h"
+#include "libs/importers/source_png.h"
 #include "libs/util/error.h"
 
 namespace lsds::import {
@@ -226,23 +226,8 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
     });
     return folder / name;
   };
-  const fs::path rgb_path = named_file(capture, at);
-  const cv::Mat image = cv::imread(rgb_path.string(), cv::IMREAD_COLOR);
-  if (image.empty() || image.cols != width || image.rows != height)
-    throw Error("missing, unreadable or not " + std::to_string(width) + "x" +
-                    std::to_string(height) + " (the capture's dimension)",
-                Location(rgb_path.string()));
-  exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width, height);
-  float* channel[3] = {
-      rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
-  for (int j = 0; j < height; ++j)
-    for (int i = 0; i < width; ++i) {
-      const cv::Vec3b bgr = image.at<cv::Vec3b>(j, i);
-      for (int ch = 0; ch < 3; ++ch)
-        channel[ch][rgb.Index(i, j)] = LinearFromSrgb8(bgr[2 - ch]);
-    }
+  frame.flat["rgb"] = ReadSrgbLayer(named_file(capture, at), width, height,
+                                    "the capture's dimension");
 
   bool have_instances = false;
   const json annotations = capture.value("annotations", json::array());
@@ -275,12 +260,7 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
         of_colour[rgba] = {instance, label};
       }
       const fs::path path = named_file(annotation, where);
-      const cv::Mat colours = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-      if (colours.empty() || colours.type() != CV_8UC4 ||
-          colours.cols != width || colours.rows != height)
-        throw Error("not a " + std::to_string(width) + "x" +
-                        std::to_string(height) + " RGBA PNG",
-                    Location(path.string()));
+      const cv::Mat colours = ReadRgbaPng(path, width, height);
       exr::FlatImage& ids = frame.flat["instanceid"] =
           exr::FlatImage(width, height);
       exr::FlatImage& classes = frame.flat["classid"] =
@@ -291,18 +271,12 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
           classes.AddChannel("id", exr::PixelType::kUint).uints;
       for (int j = 0; j < height; ++j)
         for (int i = 0; i < width; ++i) {
-          const cv::Vec4b bgra = colours.at<cv::Vec4b>(j, i);
-          const uint32_t rgba = (uint32_t{bgra[2]} << 24) |
-                                (uint32_t{bgra[1]} << 16) |
-                                (uint32_t{bgra[0]} << 8) | bgra[3];
+          const uint32_t rgba = PackedRgba(colours.at<cv::Vec4b>(j, i));
           const auto found = of_colour.find(rgba);
           if (found == of_colour.end()) {
             // Unlabelled surfaces and the sky are black.
-            if (bgra[0] == 0 && bgra[1] == 0 && bgra[2] == 0) continue;
-            throw Error("colour (" + std::to_string(bgra[2]) + ", " +
-                            std::to_string(bgra[1]) + ", " +
-                            std::to_string(bgra[0]) + ", " +
-                            std::to_string(bgra[3]) + ") is not in " + file +
+            if ((rgba >> 8) == 0) continue;
+            throw Error("colour " + RgbaText(rgba) + " is not in " + file +
                             "#" + where + "/instances",
                         Location::Pixel(path.string(), index, i, j));
           }

@@ -109,16 +109,14 @@ void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
     const std::string scene_name = prefix + "_0" + tail + ".png";
     const std::string depth_name = prefix + "_1" + tail + ".pfm";
     const std::string seg_name = prefix + "_5" + tail + ".png";
-    cv::Mat scene(h, w, CV_8UC3), seg(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
     const exr::FlatImage& rgb = frame.flat.at("rgb");
+    const cv::Mat scene = SrgbPng(rgb, false);
+    cv::Mat seg(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
     const std::vector<uint32_t>& ids =
         frame.flat.at("instanceid").Get("id").uints;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = rgb.Index(i, j);
-        scene.at<cv::Vec3b>(j, i) = {Srgb8(rgb.Get("B").floats[p]),
-                                     Srgb8(rgb.Get("G").floats[p]),
-                                     Srgb8(rgb.Get("R").floats[p])};
         if (ids[p] != 0) {
           const auto& c = colours.at(ids[p]);
           seg.at<cv::Vec3b>(j, i) = {c[2], c[1], c[0]};  // OpenCV: BGR

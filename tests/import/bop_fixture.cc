@@ -95,15 +95,13 @@ fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
     }
     gts[std::to_string(k)] = gt;
     infos[std::to_string(k)] = info;
-    cv::Mat rgb(h, w, CV_8UC3), depth(h, w, CV_16UC1);
     const exr::FlatImage& colour = frame.flat.at("rgb");
+    const cv::Mat rgb = SrgbPng(colour, false);
+    cv::Mat depth(h, w, CV_16UC1);
     const std::vector<float>& z = frame.flat.at("depth").Get("Z").floats;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
-        rgb.at<cv::Vec3b>(j, i) = {Srgb8(colour.Get("B").floats[p]),
-                                   Srgb8(colour.Get("G").floats[p]),
-                                   Srgb8(colour.Get("R").floats[p])};
         const double units = std::round(z[p] * 1000.0 / kBopDepthScale);
         depth.at<uint16_t>(j, i) = std::isfinite(units) && units <= 65535
                                        ? static_cast<uint16_t>(units)

@@ -1,19 +1,26 @@
-// What the import fixtures share: the 8-bit sRGB encoding simulators write
-// their colour PNGs with (IEC 61966-2-1), the inverse of the importers'
-// LinearFromSrgb8 up to rounding.
+// What the import fixtures share: the colour PNG simulators write, 8-bit sRGB
+// of the analytic scene's linear rgb layer (libs/imaging, the same encoding
+// `lsds convert` uses), with an opaque alpha for the RGBA writers.
 #pragma once
 
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "libs/exr/flat_image.h"
+#include "libs/imaging/srgb_image.h"
 
 namespace lsds::testing {
 
-inline uint8_t Srgb8(float linear) {
-  const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double s =
-      c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(s * 255));
+inline cv::Mat SrgbPng(const exr::FlatImage& rgb, bool alpha) {
+  cv::Mat bgr = imaging::ToSrgb8(rgb, {});
+  if (!alpha) return bgr;
+  std::vector<cv::Mat> planes;
+  cv::split(bgr, planes);
+  planes.push_back(cv::Mat(bgr.rows, bgr.cols, CV_8UC1, cv::Scalar(255)));
+  cv::Mat bgra;
+  cv::merge(planes, bgra);
+  return bgra;
 }
 
 }  // namespace lsds::testing

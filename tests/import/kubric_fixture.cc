@@ -63,7 +63,7 @@ void WriteKubricFixture(const fs::path& scene, const synth::Spec& spec) {
           }
       instances[b]["bboxes_3d"].push_back(corners);
     }
-    cv::Mat rgba(h, w, CV_8UC4), depth(h, w, CV_32FC1);
+    cv::Mat depth(h, w, CV_32FC1);
     import::IndexImage segmentation;
     segmentation.width = w, segmentation.height = h;
     segmentation.index.assign(static_cast<size_t>(w) * h, 0);
@@ -74,16 +74,14 @@ void WriteKubricFixture(const fs::path& scene, const synth::Spec& spec) {
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
-        rgba.at<cv::Vec4b>(j, i) = {Srgb8(colour.Get("B").floats[p]),
-                                    Srgb8(colour.Get("G").floats[p]),
-                                    Srgb8(colour.Get("R").floats[p]), 255};
         depth.at<float>(j, i) = std::isfinite(z[p]) ? z[p] : 1e10f;
         for (size_t b = 0; b < spec.boxes.size(); ++b)
           if (ids[p] == spec.boxes[b].instance_id)
             segmentation.index[static_cast<size_t>(j) * w + i] =
                 static_cast<uint8_t>(b + 1);
       }
-    cv::imwrite((scene / Name("rgba", k, "png")).string(), rgba);
+    cv::imwrite((scene / Name("rgba", k, "png")).string(),
+                SrgbPng(frame.flat.at("rgb"), true));
     cv::imwrite((scene / Name("depth", k, "tiff")).string(), depth);
     // kb.write_palette_png with plotting.hls_palette(max + 1): any distinct
     // colours; the importer reads indices.

@@ -112,7 +112,7 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
     std::ofstream(folder / Name("camera_params", k, "json")) << params.dump(2);
 
     // RGB, distance to the image plane (scene units), instance colours.
-    cv::Mat rgba(h, w, CV_8UC4), colours(h, w, CV_8UC4);
+    cv::Mat colours(h, w, CV_8UC4);
     const exr::FlatImage& colour = frame.flat.at("rgb");
     const std::vector<float>& z = frame.flat.at("depth").Get("Z").floats;
     const std::vector<uint32_t>& ids =
@@ -126,9 +126,6 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
-        rgba.at<cv::Vec4b>(j, i) = {Srgb8(colour.Get("B").floats[p]),
-                                    Srgb8(colour.Get("G").floats[p]),
-                                    Srgb8(colour.Get("R").floats[p]), 255};
         Put(&depth_bytes, std::isfinite(z[p])
                               ? static_cast<float>(z[p] / mpu)
                               : std::numeric_limits<float>::infinity());
@@ -143,7 +140,8 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
           }
         colours.at<cv::Vec4b>(j, i) = {c[2], c[1], c[0], c[3]};  // BGRA
       }
-    cv::imwrite((folder / Name("rgb", k, "png")).string(), rgba);
+    cv::imwrite((folder / Name("rgb", k, "png")).string(),
+                SrgbPng(colour, true));
     cv::imwrite((folder / Name("instance_segmentation", k, "png")).string(),
                 colours);
     std::ofstream(folder / Name("instance_segmentation_mapping", k, "json"))

@@ -85,7 +85,7 @@ void WriteSoloFixture(const fs::path& dataset, const synth::Spec& spec,
                          1 - 2 * in.cx / w, 2 * in.cy / h - 1,
                          -(f + n) / (f - n)};
 
-    cv::Mat rgba(h, w, CV_8UC4), colours(h, w, CV_8UC4);
+    cv::Mat colours(h, w, CV_8UC4);
     exr::FlatImage depth(w, h);
     for (const char* c : {"R", "G", "B", "A"})
       depth.AddChannel(c, exr::PixelType::kFloat);
@@ -102,9 +102,6 @@ void WriteSoloFixture(const fs::path& dataset, const synth::Spec& spec,
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
-        rgba.at<cv::Vec4b>(j, i) = {Srgb8(colour.Get("B").floats[p]),
-                                    Srgb8(colour.Get("G").floats[p]),
-                                    Srgb8(colour.Get("R").floats[p]), 255};
         const float d = std::isfinite(z[p]) ? z[p] : 0.0f;
         for (const char* c : {"R", "G", "B"}) depth.Get(c).floats[p] = d;
         depth.Get("A").floats[p] = 1;
@@ -122,7 +119,8 @@ void WriteSoloFixture(const fs::path& dataset, const synth::Spec& spec,
           }
         colours.at<cv::Vec4b>(j, i) = {c[2], c[1], c[0], c[3]};
       }
-    cv::imwrite((folder / (prefix + "camera.png")).string(), rgba);
+    cv::imwrite((folder / (prefix + "camera.png")).string(),
+                SrgbPng(colour, true));
     cv::imwrite(
         (folder / (prefix + "camera.instance segmentation.png")).string(),
         colours);

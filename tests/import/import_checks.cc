@@ -17,12 +17,27 @@ namespace lsds::testing {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace {
-std::string Text(const fs::path& path) {
+synth::Spec ObliqueImportSpec() {
+  synth::Spec spec = synth::DefaultSpec();
+  spec.samples_per_axis = 1;
+  const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
+  const Eigen::Quaterniond roll(
+      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
+  spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
+  return spec;
+}
+
+std::vector<uint32_t> TargetIds(const synth::RenderedFrame& truth) {
+  std::vector<uint32_t> ids = truth.flat.at("instanceid").Get("id").uints;
+  for (uint32_t& id : ids)
+    if (id == 1000) id = 0;
+  return ids;
+}
+
+std::string ReadText(const fs::path& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
-}  // namespace
 
 void ExpectCameraNear(const CameraTruth& got,
                       const CameraTruth& want,
@@ -90,7 +105,7 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
       annotations = entry.path();
   EXPECT_FALSE(annotations.empty());
   if (annotations.empty()) return out;
-  const json doc = json::parse(Text(annotations));
+  const json doc = json::parse(ReadText(annotations));
   std::map<int64_t, std::string> image_names;
   for (const json& image : doc["images"])
     image_names[image["id"].get<int64_t>()] = image["file_name"];
@@ -122,7 +137,7 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
   const CollectionReader reader(out);
   std::map<std::string, int> index_of_name;
   {
-    std::istringstream yaml(Text(yolo / "data.yaml"));
+    std::istringstream yaml(ReadText(yolo / "data.yaml"));
     std::string line;
     bool in_names = false;
     while (std::getline(yaml, line)) {
@@ -143,7 +158,7 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
     if (index_of_name.count(c.name)) yolo_class[c.id] = index_of_name.at(c.name);
   reader.ForEachFrame([&](const Frame& frame) {
     std::istringstream labels(
-        Text(yolo / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
+        ReadText(yolo / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
     std::vector<const ObjectTruth*> visible;
     for (const ObjectTruth& o : frame.objects)
       if (o.visible_pixels > 0) visible.push_back(&o);

@@ -11,8 +11,20 @@
 #include <vector>
 
 #include "libs/collection/model.h"
+#include "libs/synth/synthetic_collection.h"
 
 namespace lsds::testing {
+
+// DefaultSpec with one pixel sample and a fifth, oblique and rolled frame
+// (the horizon in view, so sky pixels too): the scene the import fixtures are
+// synthesized from.
+synth::Spec ObliqueImportSpec();
+
+// The instance layer of frame `truth` with the ground (instance 1000) as
+// background: the sources label only their objects.
+std::vector<uint32_t> TargetIds(const synth::RenderedFrame& truth);
+
+std::string ReadText(const std::filesystem::path& path);
 
 // Intrinsics within `relative` of the truth's (width and height exact), the
 // rotation entries and the translation within `pose` (after the importer's

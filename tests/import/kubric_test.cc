@@ -23,34 +23,17 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-synth::Spec FixtureSpec() {
-  synth::Spec spec = synth::DefaultSpec();
-  spec.samples_per_axis = 1;
+synth::Spec KubricSpec() {
+  synth::Spec spec = ObliqueImportSpec();
   spec.depth_kind = DepthKind::kPerspective;  // Kubric's depth: ray distance
-  const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
-  const Eigen::Quaterniond roll(
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
-  spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
   return spec;
 }
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// Kubric segments only its foreground instances: the ground is background.
-std::vector<uint32_t> MaskedIds(const synth::RenderedFrame& truth) {
-  std::vector<uint32_t> ids = truth.flat.at("instanceid").Get("id").uints;
-  for (uint32_t& id : ids)
-    if (id == 1000) id = 0;
-  return ids;
-}
 
 class KubricImportTest : public ::testing::Test {
  protected:
   TempDir dir_;
-  synth::Spec spec_ = FixtureSpec();
+  synth::Spec spec_ = KubricSpec();
 };
 
 TEST_F(KubricImportTest, TruthEqualsTheAnalyticScene) {
@@ -82,7 +65,7 @@ TEST_F(KubricImportTest, TruthEqualsTheAnalyticScene) {
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
     };
-    EXPECT_EQ(read("instanceid").Get("id").uints, MaskedIds(truth));
+    EXPECT_EQ(read("instanceid").Get("id").uints, TargetIds(truth));
     // Ray distance stored as perspective depth: float32 exactly; the
     // background (1e10) is +inf.
     const std::vector<float> depth = read("depth").Get("Z").floats;
@@ -118,7 +101,7 @@ TEST_F(KubricImportTest, ValidatesCleanAndConverts) {
   WriteKubricFixture(scene, spec_);
   ExpectImportValidatesAndConverts(
       "kubric", scene, dir_.path(), spec_.width, spec_.height, [&](int k) {
-        return MaskedIds(synth::RenderFrame(spec_, k));
+        return TargetIds(synth::RenderFrame(spec_, k));
       });
 }
 

@@ -26,28 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-synth::Spec FixtureSpec() {
-  synth::Spec spec = synth::DefaultSpec();
-  spec.samples_per_axis = 1;
-  const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
-  const Eigen::Quaterniond roll(
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
-  spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
-  return spec;
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// Replicator labels only the boxes: the ground is UNLABELLED (0).
-std::vector<uint32_t> MaskedIds(const synth::RenderedFrame& truth) {
-  std::vector<uint32_t> ids = truth.flat.at("instanceid").Get("id").uints;
-  for (uint32_t& id : ids)
-    if (id == 1000) id = 0;
-  return ids;
-}
 
 std::string FrameName(const char* stem, size_t k, const char* ext) {
   char text[96];
@@ -58,7 +36,7 @@ std::string FrameName(const char* stem, size_t k, const char* ext) {
 class ReplicatorImportTest : public ::testing::Test {
  protected:
   TempDir dir_;
-  synth::Spec spec_ = FixtureSpec();
+  synth::Spec spec_ = ObliqueImportSpec();
 };
 
 TEST_F(ReplicatorImportTest, TruthEqualsTheAnalyticScene) {
@@ -109,7 +87,7 @@ TEST_F(ReplicatorImportTest, TruthEqualsTheAnalyticScene) {
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
     };
-    EXPECT_EQ(read("instanceid").Get("id").uints, MaskedIds(truth));
+    EXPECT_EQ(read("instanceid").Get("id").uints, TargetIds(truth));
     // float32 centimetres back to metres.
     const std::vector<float> depth = read("depth").Get("Z").floats;
     const std::vector<float>& want = truth.flat.at("depth").Get("Z").floats;
@@ -138,7 +116,7 @@ TEST_F(ReplicatorImportTest, ValidatesCleanAndConverts) {
   WriteReplicatorFixture(folder, spec_);
   ExpectImportValidatesAndConverts(
       "replicator", folder, dir_.path(), spec_.width, spec_.height,
-      [&](int k) { return MaskedIds(synth::RenderFrame(spec_, k)); },
+      [&](int k) { return TargetIds(synth::RenderFrame(spec_, k)); },
       "--up-axis y");
 }
 

@@ -25,21 +25,6 @@ using nlohmann::json;
 
 constexpr int kSplit = 3;  // frames [0, 3) in sequence.0, the rest sequence.1
 
-synth::Spec FixtureSpec() {
-  synth::Spec spec = synth::DefaultSpec();
-  spec.samples_per_axis = 1;
-  const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
-  const Eigen::Quaterniond roll(
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
-  spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
-  return spec;
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 // The fixture's ids: box b is Unity instance 100 + b; the ground is black.
 std::vector<uint32_t> SoloIds(const synth::Spec& spec,
                               const synth::RenderedFrame& truth) {
@@ -57,7 +42,7 @@ std::vector<uint32_t> SoloIds(const synth::Spec& spec,
 class SoloImportTest : public ::testing::Test {
  protected:
   TempDir dir_;
-  synth::Spec spec_ = FixtureSpec();
+  synth::Spec spec_ = ObliqueImportSpec();
 };
 
 TEST_F(SoloImportTest, TruthEqualsTheAnalyticScene) {

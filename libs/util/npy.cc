@@ -241,9 +241,11 @@ void WriteNpy(const std::filesystem::path& path,
               const std::string& descr,
               const std::vector<int64_t>& shape,
               const std::string& data) {
+  // Python's tuple spelling: (), (3,), (2, 3).
   std::string dims;
-  for (int64_t d : shape) dims += std::to_string(d) + ", ";
-  if (shape.size() > 1) dims.resize(dims.size() - 2);
+  for (size_t k = 0; k < shape.size(); ++k)
+    dims += (k ? ", " : "") + std::to_string(shape[k]);
+  if (shape.size() == 1) dims += ",";
   std::string header = "{'descr': " + descr +
                        ", 'fortran_order': False, 'shape': (" + dims + "), }";
   const size_t total = 10 + header.size() + 1;

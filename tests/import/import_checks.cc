@@ -135,27 +135,20 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
   EXPECT_EQ(to_yolo.exit_code, 0) << to_yolo.output;
   // A label's class index names, in data.yaml, the object's class.
   const CollectionReader reader(out);
-  std::map<std::string, int> index_of_name;
+  // data.yaml: `  0: "box"  # lsds class id 2`.
+  std::map<uint32_t, int> yolo_class;
   {
     std::istringstream yaml(ReadText(yolo / "data.yaml"));
     std::string line;
-    bool in_names = false;
+    const std::string tag = "# lsds class id ";
     while (std::getline(yaml, line)) {
-      if (line == "names:") {
-        in_names = true;
-      } else if (in_names && line.rfind("  ", 0) == 0) {
-        const size_t colon = line.find(':');
-        std::string name = line.substr(colon + 2);
-        if (name.size() >= 2 && name.front() == '"') name = name.substr(1, name.size() - 2);
-        index_of_name[name] = std::stoi(line.substr(2, colon - 2));
-      } else {
-        in_names = false;
-      }
+      const size_t at = line.find(tag);
+      if (line.rfind("  ", 0) != 0 || at == std::string::npos) continue;
+      yolo_class[static_cast<uint32_t>(std::stoul(line.substr(at + tag.size())))] =
+          std::stoi(line.substr(2, line.find(':') - 2));
     }
   }
-  std::map<uint32_t, int> yolo_class;
-  for (const ClassInfo& c : reader.header().classes)
-    if (index_of_name.count(c.name)) yolo_class[c.id] = index_of_name.at(c.name);
+  EXPECT_FALSE(yolo_class.empty());
   reader.ForEachFrame([&](const Frame& frame) {
     std::istringstream labels(
         ReadText(yolo / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
@@ -168,6 +161,7 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
     while (labels >> cls >> xc >> yc >> bw >> bh) {
       ASSERT_LT(n, visible.size());
       const ObjectTruth& o = *visible[n++];
+      ASSERT_TRUE(yolo_class.count(o.class_id));
       EXPECT_EQ(cls, yolo_class.at(o.class_id));
       EXPECT_NEAR((xc - bw / 2) * w, o.bbox->x0, 1e-3);
       EXPECT_NEAR((xc + bw / 2) * w, o.bbox->x1, 1e-3);

@@ -1,4 +1,4 @@
-// lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE]
+// lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE] [--up-axis z|y]
 // [--force]
 #include <iostream>
 
@@ -32,6 +32,11 @@ int RunImport(int argc, char** argv) {
                  settings,
                  "the simulator's settings (airsim: settings.json with the "
                  "camera mount; default SOURCE/settings.json)");
+  app.add_option("--up-axis",
+                 options.up_axis,
+                 "the USD stage's up axis, which Replicator does not write "
+                 "(replicator: z or y; default z)")
+      ->check(CLI::IsMember({"z", "y"}));
   app.add_flag("--force", force, "replace the output if it exists");
   return RunCommand(app, argc, argv, [&] {
     options.objects = objects;

@@ -85,6 +85,12 @@ const std::vector<CheckInfo>& AllChecks() {
        "the determinant of each cam_from_world rotation matches the declared "
        "world handedness",
        "1e-6"},
+      {"structure.truth-origin",
+       S::kInfo,
+       "an imported collection's truth fields that the source could not "
+       "provide (absent) or that are estimated (a derived visibility), from "
+       "provenance.import.truth_origin",
+       "exact"},
       {"layer.readable",
        S::kError,
        "EXR opens, is within the size limits (checked before decoding) and "

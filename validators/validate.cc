@@ -19,6 +19,7 @@
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
 #include "validators/frame_checks.h"
+#include "validators/truth_origin_check.h"
 
 namespace lsds::validate {
 
@@ -546,10 +547,15 @@ Report Validator::Run(bool finish) {
   {
     CheckTimer timer(&check_seconds_,
                      shard_zero_ ? SelectedOf({"schema", "structure.tables",
-                                               "structure.frame-count"})
+                                               "structure.frame-count",
+                                               "structure.truth-origin"})
                                  : std::vector<std::string>{});
     header_read = ReadHeader();
-    if (header_read) CheckTables();
+    if (header_read) {
+      CheckTables();
+      for (const Finding& f : TruthOriginFindings(header_))
+        Emit(f.check_id, f.location, f.message);
+    }
   }
   if (header_read) {
     tallies_.header_read = true;

@@ -26,6 +26,9 @@ struct ImportOptions {
   // The simulator's settings file where the source does not hold it (AirSim:
   // settings.json with the camera mount); empty: the importer's default.
   std::filesystem::path settings;
+  // The world's up axis where the source does not say (Replicator: the USD
+  // stage's upAxis, "z" or "y"); converted to ENU's z up.
+  std::string up_axis = "z";
 };
 
 // What the whole source holds, known before the first frame is read.

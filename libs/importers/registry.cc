@@ -5,6 +5,9 @@
 
 #include "libs/importers/airsim/airsim_importer.h"
 #include "libs/importers/bop/bop_importer.h"
+#include "libs/importers/kubric/kubric_importer.h"
+#include "libs/importers/replicator/replicator_importer.h"
+#include "libs/importers/solo/solo_importer.h"
 #include "libs/importers/ue_mrq/ue_mrq_importer.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -18,6 +21,9 @@ const std::vector<std::pair<std::string, Factory>>& Table() {
       {"ue-mrq", [] { return std::make_unique<UeMrqImporter>(); }},
       {"airsim", [] { return std::make_unique<AirSimImporter>(); }},
       {"bop", [] { return std::make_unique<BopImporter>(); }},
+      {"kubric", [] { return std::make_unique<KubricImporter>(); }},
+      {"replicator", [] { return std::make_unique<ReplicatorImporter>(); }},
+      {"solo", [] { return std::make_unique<SoloImporter>(); }},
   };
   return table;
 }

@@ -9,6 +9,7 @@
 
 #include "libs/geometry/world_frame.h"
 #include "libs/importers/pfm.h"
+#include "tests/import/fixture_images.h"
 
 namespace lsds::testing {
 
@@ -27,15 +28,6 @@ std::map<uint32_t, std::array<uint8_t, 3>> AirSimFixtureColours() {
           {2, {89, 121, 72}},
           {3, {190, 225, 64}}};
 }
-
-namespace {
-uint8_t Srgb8(float linear) {
-  const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double s =
-      c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(s * 255));
-}
-}  // namespace
 
 void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
   fs::create_directories(folder / "images");
@@ -117,16 +109,14 @@ void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
     const std::string scene_name = prefix + "_0" + tail + ".png";
     const std::string depth_name = prefix + "_1" + tail + ".pfm";
     const std::string seg_name = prefix + "_5" + tail + ".png";
-    cv::Mat scene(h, w, CV_8UC3), seg(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
     const exr::FlatImage& rgb = frame.flat.at("rgb");
+    const cv::Mat scene = SrgbPng(rgb, false);
+    cv::Mat seg(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
     const std::vector<uint32_t>& ids =
         frame.flat.at("instanceid").Get("id").uints;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = rgb.Index(i, j);
-        scene.at<cv::Vec3b>(j, i) = {Srgb8(rgb.Get("B").floats[p]),
-                                     Srgb8(rgb.Get("G").floats[p]),
-                                     Srgb8(rgb.Get("R").floats[p])};
         if (ids[p] != 0) {
           const auto& c = colours.at(ids[p]);
           seg.at<cv::Vec3b>(j, i) = {c[2], c[1], c[0]};  // OpenCV: BGR

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "tests/import/fixture_images.h"
+
 namespace lsds::testing {
 
 namespace fs = std::filesystem;
@@ -25,12 +27,6 @@ json Flat(const Eigen::Matrix3d& m) {
   return out;
 }
 json Flat(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-uint8_t Srgb8(float linear) {
-  const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double s =
-      c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-  return static_cast<uint8_t>(std::lround(s * 255));
-}
 }  // namespace
 
 fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
@@ -99,15 +95,13 @@ fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
     }
     gts[std::to_string(k)] = gt;
     infos[std::to_string(k)] = info;
-    cv::Mat rgb(h, w, CV_8UC3), depth(h, w, CV_16UC1);
     const exr::FlatImage& colour = frame.flat.at("rgb");
+    const cv::Mat rgb = SrgbPng(colour, false);
+    cv::Mat depth(h, w, CV_16UC1);
     const std::vector<float>& z = frame.flat.at("depth").Get("Z").floats;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
-        rgb.at<cv::Vec3b>(j, i) = {Srgb8(colour.Get("B").floats[p]),
-                                   Srgb8(colour.Get("G").floats[p]),
-                                   Srgb8(colour.Get("R").floats[p])};
         const double units = std::round(z[p] * 1000.0 / kBopDepthScale);
         depth.at<uint16_t>(j, i) = std::isfinite(units) && units <= 65535
                                        ? static_cast<uint16_t>(units)

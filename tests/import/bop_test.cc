@@ -13,8 +13,8 @@
 #include "libs/exr/flat_image.h"
 #include "libs/importers/import_collection.h"
 #include "libs/util/error.h"
-#include "tests/convert/reference_decoders.h"
 #include "tests/import/bop_fixture.h"
+#include "tests/import/import_checks.h"
 #include "tests/test_util.h"
 
 namespace lsds::testing {
@@ -23,34 +23,11 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-synth::Spec FixtureSpec() {
-  synth::Spec spec = synth::DefaultSpec();
-  spec.samples_per_axis = 1;
-  const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
-  const Eigen::Quaterniond roll(
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
-  spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
-  return spec;
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// The fixture's id layer: the boxes' instances (BOP masks only its objects;
-// the ground is background).
-std::vector<uint32_t> MaskedIds(const synth::RenderedFrame& truth) {
-  std::vector<uint32_t> ids = truth.flat.at("instanceid").Get("id").uints;
-  for (uint32_t& id : ids)
-    if (id == 1000) id = 0;
-  return ids;
-}
 
 class BopImportTest : public ::testing::Test {
  protected:
   TempDir dir_;
-  synth::Spec spec_ = FixtureSpec();
+  synth::Spec spec_ = ObliqueImportSpec();
 };
 
 TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
@@ -93,7 +70,7 @@ TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
     };
-    EXPECT_EQ(read("instanceid").Get("id").uints, MaskedIds(truth));
+    EXPECT_EQ(read("instanceid").Get("id").uints, TargetIds(truth));
     // Depth: 16-bit units of 0.5 mm, so within 0.25 mm; beyond 32.77 m the
     // PNG holds 0 (none), read as +inf.
     const std::vector<float> depth = read("depth").Get("Z").floats;
@@ -113,51 +90,17 @@ TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
                     want_position.Get(c).floats[p],
                     0.5e-3 + 1e-6 * want[p]);
     }
-    if (k == frames.size() - 1) EXPECT_GT(beyond, 0);
+    if (k == frames.size() - 1) {
+      EXPECT_GT(beyond, 0);
+    }
   }
 }
 
 TEST_F(BopImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheVisibleMasks) {
   const fs::path scene = WriteBopFixture(dir_ / "bop", spec_);
-  const fs::path out = dir_ / "collection";
-  const CommandResult imported = RunCommandLine(
-      LsdsBinary() + " import bop " + scene.string() + " -o " + out.string());
-  ASSERT_EQ(imported.exit_code, 0) << imported.output;
-  const CommandResult validate = RunCommandLine(
-      LsdsBinary() + " validate --fail-on warning " + out.string());
-  EXPECT_EQ(validate.exit_code, 0) << validate.output;
-  const fs::path coco = dir_ / "coco";
-  const CommandResult convert =
-      RunCommandLine(LsdsBinary() + " convert " + out.string() +
-                     " --to coco --images none -o " + coco.string());
-  ASSERT_EQ(convert.exit_code, 0) << convert.output;
-  fs::path annotations;
-  for (const auto& entry : fs::recursive_directory_iterator(coco))
-    if (entry.path().extension() == ".json" &&
-        entry.path().filename().string().rfind("instances", 0) == 0)
-      annotations = entry.path();
-  ASSERT_FALSE(annotations.empty());
-  const json doc = json::parse(ReadText(annotations));
-  std::map<int64_t, std::string> image_names;
-  for (const json& image : doc["images"])
-    image_names[image["id"].get<int64_t>()] = image["file_name"];
-  ASSERT_GT(doc["annotations"].size(), 0u);
-  const int w = spec_.width, h = spec_.height;
-  for (const json& a : doc["annotations"]) {
-    const int k = std::stoi(
-        fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string());
-    const std::vector<uint32_t> ids = MaskedIds(synth::RenderFrame(spec_, k));
-    const uint32_t instance = a["lsds"]["instance_id"];
-    int64_t total = 0;
-    const cv::Mat mask = CocoDecode(
-        CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
-    int64_t differing = 0;
-    for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i)
-        differing += (mask.at<uint8_t>(j, i) != 0) !=
-                     (ids[static_cast<size_t>(j) * w + i] == instance);
-    EXPECT_EQ(differing, 0) << "instance " << instance << " frame " << k;
-  }
+  ExpectImportValidatesAndConverts(
+      "bop", scene, dir_.path(), spec_.width, spec_.height,
+      [&](int k) { return TargetIds(synth::RenderFrame(spec_, k)); });
 }
 
 TEST_F(BopImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {

@@ -242,6 +242,19 @@ std::vector<Corruption> MakeCorruptions() {
                   0,
                   "/frames/0/camera/cam_from_world/rotation");
       });
+  add("imported-absent-shadow",
+      "the header declares an import whose source had no shadow layer",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) {
+          j["provenance"]["import"] = {
+              {"format", "bop"},
+              {"truth_origin", {{"camera", "imported"}, {"shadow", "absent"}}}};
+        });
+        return At("structure.truth-origin",
+                  "collection.json",
+                  std::nullopt,
+                  "/provenance/import/truth_origin/shadow");
+      });
   // --- per layer ---
   add("truncated-exr",
       "normal/000001.exr cut to 60% of its size",

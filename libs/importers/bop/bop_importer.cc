@@ -7,8 +7,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "libs/importers/srgb.h"
-#include "libs/util/atomic_file.h"
+#include "libs/importers/source_json.h"
+#include "libs/importers/source_png.h"
 #include "libs/util/error.h"
 
 namespace lsds::import {
@@ -17,24 +17,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-json ParseJsonFile(const fs::path& path) {
-  try {
-    return json::parse(ReadFile(path));
-  } catch (const json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), Location(path.string()));
-  }
-}
-
-template <typename F>
-auto AtField(const std::string& file, const std::string& pointer, F&& body) {
-  try {
-    return body();
-  } catch (const json::exception& e) {
-    throw Error(std::string("malformed field: ") + e.what(),
-                Location(file, pointer));
-  }
-}
 
 Eigen::Matrix3d Matrix3(const json& j) {
   if (!j.is_array() || j.size() != 9)
@@ -169,23 +151,8 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
   const Eigen::Matrix3d world_from_cam = r_w2c.transpose();
   const Eigen::Vector3d centre_mm = -(world_from_cam * t_w2c_mm);
 
-  const fs::path rgb_path = scene_ / "rgb" / (Stem(id) + ".png");
-  const cv::Mat image = cv::imread(rgb_path.string(), cv::IMREAD_COLOR);
-  if (image.empty() || image.cols != width_ || image.rows != height_)
-    throw Error("missing, unreadable or not " + std::to_string(width_) + "x" +
-                    std::to_string(height_),
-                Location(rgb_path.string()));
-  exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width_, height_);
-  float* channel[3] = {
-      rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
-  for (int j = 0; j < height_; ++j)
-    for (int i = 0; i < width_; ++i) {
-      const cv::Vec3b bgr = image.at<cv::Vec3b>(j, i);
-      for (int c = 0; c < 3; ++c)
-        channel[c][rgb.Index(i, j)] = LinearFromSrgb8(bgr[2 - c]);
-    }
+  frame.flat["rgb"] = ReadSrgbLayer(scene_ / "rgb" / (Stem(id) + ".png"),
+                                    width_, height_, "the depth images' size");
 
   const fs::path depth_path = scene_ / "depth" / (Stem(id) + ".png");
   const cv::Mat depth_png =

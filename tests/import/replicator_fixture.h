@@ -1,0 +1,22 @@
+// An Omniverse Replicator BasicWriter folder synthesized from an lsds analytic
+// scene (no Omniverse needed), in the writer's layout (docs/import.md,
+// "Omniverse Replicator"): rgb_NNNN.png, distance_to_image_plane_NNNN.npy,
+// instance_segmentation_NNNN.png (colourised) + _mapping / _semantics_mapping
+// JSON, bounding_box_2d_tight and bounding_box_3d .npy records + _labels and
+// _prim_paths JSON, camera_params_NNNN.json (row-major row-vector matrices).
+// The stage is y up and in centimetres (metersPerSceneUnit 0.01), the harder
+// case; box b is prim /World/<name>, the ground is unlabelled.
+#pragma once
+
+#include <filesystem>
+
+#include "libs/synth/synthetic_collection.h"
+
+namespace lsds::testing {
+
+inline constexpr double kReplicatorMetersPerUnit = 0.01;
+
+void WriteReplicatorFixture(const std::filesystem::path& folder,
+                            const synth::Spec& spec);
+
+}  // namespace lsds::testing

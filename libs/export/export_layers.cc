@@ -14,10 +14,10 @@
 
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/export/npy.h"
 #include "libs/export/png16_encoding.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/npy.h"
 #include "libs/util/path_overlap.h"
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
@@ -193,7 +193,9 @@ class FrameWriter {
         std::vector<uint32_t> out(n * c_count);
         for (size_t c = 0; c < c_count; ++c)
           for (size_t p = 0; p < n; ++p) out[p * c_count + c] = data[c]->uints[p];
-        WriteNpy(path, "<u4", shape, out.data(), out.size() * 4);
+        WriteNpy(path, "'<u4'", shape,
+                 std::string(reinterpret_cast<const char*>(out.data()),
+                             out.size() * 4));
       } else {
         std::vector<float> out(n * c_count);
         for (size_t c = 0; c < c_count; ++c)
@@ -201,7 +203,9 @@ class FrameWriter {
             out[p * c_count + c] = data[c]->floats[p];
         for (float v : out)
           if (!std::isfinite(v)) ++counts->invalid_pixels;
-        WriteNpy(path, "<f4", shape, out.data(), out.size() * 4);
+        WriteNpy(path, "'<f4'", shape,
+                 std::string(reinterpret_cast<const char*>(out.data()),
+                             out.size() * 4));
       }
       written(path);
       return bytes;

@@ -1,5 +1,7 @@
 // lsds bundles on synthetic collections (libs/synth): statistics JSON, derived
 // layers registered and readable, inputs unchanged, clear errors.
+#include <unistd.h>
+
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -58,7 +60,10 @@ synth::Spec SmallSpec() {
 
 int RunLsds(const std::string& args, std::string* output) {
   const std::string out_file =
-      (fs::temp_directory_path() / "lsds_bundles_cli_out.txt").string();
+      // Per process: suites of several checkouts may run at once.
+      (fs::temp_directory_path() /
+       ("lsds_bundles_cli_out_" + std::to_string(getpid()) + ".txt"))
+          .string();
   const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " +
                               args + " > " + out_file + " 2>&1";
   const int status = std::system(command.c_str());

@@ -6,6 +6,7 @@
 #include "generator/plan/plan_json.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/limits.h"
 
 namespace lsds::gen {
 
@@ -28,8 +29,16 @@ Plan PlanFromScene(const std::string& scene,
 
 Plan LoadPlanJson(const std::string& path) {
   const std::string text = ReadFile(path);
-  nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
-  if (json.is_discarded()) throw Error("not valid JSON", Location(path));
+  CheckJsonNesting(text, path);
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    Location where(path);
+    LineColumnFromOffset(text, e.byte > 0 ? e.byte - 1 : 0, &where.line,
+                         &where.column);
+    throw Error("not valid JSON", where);
+  }
   return PlanFromJson(json, path);
 }
 

@@ -4,6 +4,7 @@
 
 #include "converters/convert.h"
 #include "converters/registry.h"
+#include "libs/collection/collection_guard.h"
 #include "libs/imaging/srgb_image.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -104,6 +105,11 @@ int RunConvert(int argc, char** argv) {
       options.frame_begin = selection.begin;
       options.frame_end = selection.bounded() ? selection.end : -1;
     }
+    OutputGuard guard("lsds convert");
+    GuardCollection(&guard, collection, CollectionAccess::kReadOnly);
+    if (std::filesystem::is_regular_file(options.classes))
+      guard.AddInput(options.classes, "classes file");
+    guard.CheckOutput(output, "-o");
     const ThreadLimit thread_limit(threads);
     options.collection = collection;
     options.output = output;

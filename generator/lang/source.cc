@@ -4,6 +4,7 @@
 
 #include "generator/lang/text_parser.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/limits.h"
 
 namespace lsds {
 
@@ -49,6 +50,7 @@ SourceFile ParseSource(const std::string& text,
   source.text = text;
   source.is_json = is_json;
   if (is_json) {
+    CheckJsonNesting(text, path_for_messages);
     try {
       source.doc = OJson::parse(text);
     } catch (const nlohmann::json::parse_error& e) {

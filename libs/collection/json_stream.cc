@@ -4,6 +4,8 @@
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
+#include "libs/util/limits.h"
 
 namespace lsds {
 
@@ -35,12 +37,27 @@ size_t StreamJsonArrayMember(
     const std::string& array_key,
     nlohmann::json* header,
     const std::function<void(nlohmann::json&&, size_t)>& on_element) {
+  RequireRegularFile(path, "JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));
   std::string top_key;  // the member of the root object being parsed
   size_t count = 0;
   using Event = nlohmann::json::parse_event_t;
   auto callback = [&](int depth, Event event, nlohmann::json& parsed) -> bool {
+    // The parser itself does not recurse, but schema checks and printing do:
+    // refuse documents nested deeper than any lsds file before they are built.
+    if ((event == Event::object_start || event == Event::array_start) &&
+        depth >= kMaxNestingDepth) {
+      const std::string pointer = top_key == array_key && depth >= 2
+                                      ? "/" + array_key + "/" +
+                                            std::to_string(count)
+                                      : "";
+      throw Error("nesting deeper than " + std::to_string(kMaxNestingDepth) +
+                      " levels (objects and arrays) near byte " +
+                      std::to_string(static_cast<long long>(in.tellg())) +
+                      "; lsds refuses such documents",
+                  Location(path.string(), pointer));
+    }
     if (event == Event::key && depth == 1) {
       top_key = parsed.get<std::string>();
       return true;

@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
+#include "libs/util/limits.h"
 
 namespace lsds::noise {
 
@@ -21,6 +23,7 @@ std::string_view TrimRight(std::string_view text) {
 ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
                                     const std::string& array_key,
                                     const ArrayScanCallbacks& callbacks) {
+  RequireRegularFile(path, "JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));
 
@@ -161,6 +164,8 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
   if (in_array)
     throw Error("invalid JSON: the \"" + array_key + "\" array is not closed",
                 Location(path.string()));
+  if (FindExcessJsonNesting(header_text) != std::string_view::npos)
+    throw Error(NestingMessage(), Location(path.string()));
   try {
     result.header = nlohmann::json::parse(header_text);
   } catch (const nlohmann::json::parse_error& e) {
@@ -181,6 +186,8 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
 nlohmann::json ParseElement(std::string_view text,
                             const std::filesystem::path& path,
                             const std::string& pointer) {
+  if (FindExcessJsonNesting(text) != std::string_view::npos)
+    throw Error(NestingMessage(), Location(path.string(), pointer));
   try {
     return nlohmann::json::parse(text.begin(), text.end());
   } catch (const nlohmann::json::parse_error& e) {

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <vector>
 
+#include "libs/collection/json_stream.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
 #include "libs/util/limits.h"
@@ -169,6 +170,9 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
   try {
     result.header = nlohmann::json::parse(header_text);
   } catch (const nlohmann::json::parse_error& e) {
+    // Only on failure: the streaming parser reads the file once more to name
+    // the line and column (the scan's header text has lost them).
+    StreamJsonArrayMember(path, array_key, nullptr, nullptr);
     std::string message = e.what();
     const size_t colon = message.rfind(": ");
     throw Error(

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "libs/collection/collection_guard.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/pointcloud/backproject_run.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
@@ -97,6 +98,8 @@ int RunBackproject(int argc, char** argv) {
       if (selected == 1) options.fuse = true;
     }
     OutputGuard guard("lsds backproject");
+    // "Not a collection" says more than "the output lies inside the folder".
+    CheckCollectionFolder(options.collection);
     GuardCollection(&guard, options.collection, CollectionAccess::kReadOnly);
     guard.AddInput(options.metadata, "metadata file");
     if (!options.metadata.empty())

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "libs/collection/collection_guard.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/report/bundle_section.h"
 #include "libs/report/report.h"
 #include "libs/util/atomic_file.h"
@@ -88,6 +89,8 @@ int RunReport(int argc, char** argv) {
     options.output = output;
     // The page never replaces one of its inputs, even with --force.
     OutputGuard guard("lsds report");
+    // "Not a collection" says more than "the output lies inside the folder".
+    CheckCollectionFolder(collection);
     GuardCollection(&guard, collection, CollectionAccess::kReadOnly);
     guard.AddInput(validation_report, "validation report");
     guard.AddInput(bundle_stats, "bundle statistics file");

@@ -215,7 +215,7 @@ TEST_F(PerturbCli, RefusesOutputsOntoInputsEvenWithForce) {
                     " --force",
                 "is the truth metadata");
   ExpectRefused("--sigma 1 --seed 3 -o " + root_.string() + " --force",
-                "is the collection folder");
+                "an input of lsds perturb-metadata");
 }
 
 }  // namespace

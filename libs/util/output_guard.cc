@@ -55,27 +55,35 @@ void OutputGuard::CheckOutput(const fs::path& output,
   if (output.empty()) return;
   const fs::path out = CanonicalPath(output);
   std::error_code ec;
-  for (const Entry& input : inputs_) {
-    std::string relation;
-    if (out == input.canonical ||
-        (fs::exists(output, ec) && fs::equivalent(output, input.given, ec))) {
-      relation = "is";
-    } else if (PathWithin(input.canonical, out)) {
-      relation = "contains";
-    } else if (!input.container && PathWithin(out, input.canonical)) {
-      relation = "lies inside";
+  const bool exists = fs::exists(output, ec);
+  // "is" first, whichever input it is: `-o C` is the collection folder, even
+  // though it also contains collection.json.
+  auto relation_to = [&](const Entry& input, bool identity) -> std::string {
+    if (identity) {
+      const bool same = out == input.canonical ||
+                        (exists && fs::equivalent(output, input.given, ec));
+      return same ? "is" : "";
     }
-    if (relation.empty()) continue;
-    std::string message = "the output";
-    if (!flag.empty()) message += " (" + flag + ")";
-    message += " " + relation + " the " + input.what + " " +
-               input.given.string();
-    if (input.given != input.canonical)
-      message += " (" + input.canonical.string() + ")";
-    message += ", an input of " + command_ +
-               "; an output may not be, contain or lie inside an input, even "
-               "with --force: choose another output";
-    throw Error(message, Location(output.string()));
+    if (PathWithin(input.canonical, out)) return "contains";
+    if (!input.container && PathWithin(out, input.canonical))
+      return "lies inside";
+    return "";
+  };
+  for (const bool identity : {true, false}) {
+    for (const Entry& input : inputs_) {
+      const std::string relation = relation_to(input, identity);
+      if (relation.empty()) continue;
+      std::string message = "the output";
+      if (!flag.empty()) message += " (" + flag + ")";
+      message += " " + relation + " the " + input.what + " " +
+                 input.given.string();
+      if (input.given != input.canonical)
+        message += " (" + input.canonical.string() + ")";
+      message += ", an input of " + command_ +
+                 "; an output may not be, contain or lie inside an input, even "
+                 "with --force: choose another output";
+      throw Error(message, Location(output.string()));
+    }
   }
 }
 

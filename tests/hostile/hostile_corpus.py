@@ -90,11 +90,11 @@ def json_mutations():
         ("not-an-object", lambda b: b"[1, 2, 3]\n", None),
         ("garbage", lambda b: bytes(range(256)) * 4, r":\d+:\d+"),
         ("deep-arrays", lambda b: b"{\"frames\": " + b"[" * DEEP + b"]" * DEEP
-         + b"}", None),
+         + b"}", "nesting deeper"),
         ("deep-objects", lambda b: b"{\"a\": " + b"{\"a\": " * DEEP + b"1"
-         + b"}" * DEEP + b"}", None),
+         + b"}" * DEEP + b"}", "nesting deeper"),
         ("deep-inside-frames", lambda b: b.replace(b"\"frames\": [",
-                                                     b"\"frames\": [" + b"[" * DEEP + b"]" * DEEP + b",", 1), None),
+                                                     b"\"frames\": [" + b"[" * DEEP + b"]" * DEEP + b",", 1), "nesting deeper"),
         ("nul-bytes", lambda b: b[:40] + b"\0\0\0" + b[40:], r":\d+:\d+"),
         ("frames-not-array", lambda b: re.sub(rb"\"frames\": \[", b"\"frames\": {\"x\": [", b, count=1)
          + b"", None),
@@ -187,8 +187,12 @@ def build_cases(lsds, work):
         for command, line in readers.items():
             if label == "deep-inside-frames" and command == "perturb":
                 continue  # perturb-metadata reads only collection.json's header
+            # perturb-metadata only scans past the frames of collection.json:
+            # deep frames are never parsed; it names the schema error instead.
+            where = r"collection.json#/" if (label == "deep-arrays" and
+                                             command == "perturb") else place
             add(Case("collection-json/%s/%s" % (label, command), line.split(),
-                     names="collection.json", place=place),
+                     names="collection.json", place=where),
                 lambda d, data=data: write(os.path.join(d, "C", "collection.json"), data))
     for command, line in readers.items():
         add(Case("collection-json/fifo/" + command, line.split(),
@@ -246,16 +250,16 @@ def build_cases(lsds, work):
 
     # --- 5. LSCENE / LCAP broken -----------------------------------------------
     scene_mutations = [
-        ("deep-braces", "s.lscene", "scene { a: " + "{ b: " * DEEP + "1" + " }" * DEEP + " }\n", r":\d+:\d+"),
-        ("deep-lists", "s.lscene", "scene { a: " + "[" * DEEP + "1" + "]" * DEEP + " }\n", r":\d+:\d+"),
-        ("deep-json", "s.lscene", "{\"a\": " + "[" * DEEP + "]" * DEEP + "}\n", r":\d+:\d+"),
-        ("deep-json-objects", "s.lscene", "{\"a\": " + "{\"b\": " * DEEP + "1" + "}" * DEEP + "}\n", r":\d+:\d+"),
+        ("deep-braces", "s.lscene", "LSCENE = ONE(S)\nS = skybox{color:" + "{b:" * DEEP + "1" + "}" * DEEP + "}\n", r":2:\d+: nesting deeper"),
+        ("deep-lists", "s.lscene", "LSCENE = ONE(S)\nS = skybox{color:" + "[" * DEEP + "1" + "]" * DEEP + "}\n", r":2:\d+: nesting deeper"),
+        ("deep-json", "s.lscene", "{\"a\": " + "[" * DEEP + "]" * DEEP + "}\n", r":1:\d+: nesting deeper"),
+        ("deep-json-objects", "s.lscene", "{\"a\": " + "{\"b\": " * DEEP + "1" + "}" * DEEP + "}\n", r":1:\d+: nesting deeper"),
         ("unterminated-string", "s.lscene", "scene { name: \"abc\n }\n", r":\d+:\d+"),
         ("unclosed-brace", "s.lscene", scene_text.rstrip().rstrip("}") + "\n", r":\d+:\d+"),
         ("garbage", "s.lscene", bytes(range(1, 256)) * 4, r":\d+:\d+"),
         ("empty-json", "s.lscene", "{", r":\d+:\d+"),
-        ("capture-deep-braces", "c.lcap", "camera { a: " + "{ b: " * DEEP + "1" + " }" * DEEP + " }\n", r":\d+:\d+"),
-        ("capture-deep-json", "c.lcap", "{\"a\": " + "[" * DEEP + "]" * DEEP + "}\n", r":\d+:\d+"),
+        ("capture-deep-braces", "c.lcap", "LCAP = ONE(CO)\nCO = camera{x:" + "{b:" * DEEP + "1" + "}" * DEEP + "}\n", r":2:\d+: nesting deeper"),
+        ("capture-deep-json", "c.lcap", "{\"a\": " + "[" * DEEP + "]" * DEEP + "}\n", r":1:\d+: nesting deeper"),
         ("capture-garbage", "c.lcap", b"\xff\xfe\x00" * 100, None),
     ]
     scene_commands = {
@@ -278,7 +282,7 @@ def build_cases(lsds, work):
 
     # --- 6. plans (generate --plan) ----------------------------------------------
     plan_mutations = [
-        ("deep", "{\"frames\": " + "[" * DEEP + "]" * DEEP + "}", r":\d+:\d+"),
+        ("deep", "{\"frames\": " + "[" * DEEP + "]" * DEEP + "}", r":1:\d+: nesting deeper"),
         ("truncated", "{\"frames\": [{\"index\": 0, ", r":\d+:\d+"),
         ("garbage", "\x01\x02 nonsense", r":\d+:\d+"),
         ("not-an-object", "[]", None),

@@ -4,6 +4,7 @@
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
+#include "libs/collection/json_stream.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/limits.h"
@@ -33,11 +34,8 @@ Plan LoadPlanJson(const std::string& path) {
   nlohmann::json json;
   try {
     json = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    Location where(path);
-    LineColumnFromOffset(text, e.byte > 0 ? e.byte - 1 : 0, &where.line,
-                         &where.column);
-    throw Error("not valid JSON", where);
+  } catch (const nlohmann::json::exception& e) {
+    throw JsonTextError(e, text, path);
   }
   return PlanFromJson(json, path);
 }

@@ -18,6 +18,7 @@
 #include "libs/collection/json_stream.h"
 #include "libs/exr/deep_image.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/check.h"
 #include "libs/util/error.h"
 #include "libs/util/folder_lock.h"
 #include "libs/util/output_guard.h"
@@ -142,6 +143,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
     folders.push_back(
         std::make_unique<AtomicDirectory>(root / name, options.force));
   }
+  // One folder per requested layer, in order: process() indexes both alike.
+  LSDS_CHECK(folders.size() == options.write_layers.size());
   std::optional<CollectionWriter> writer;
   if (!options.write_layers.empty()) writer.emplace(root, new_header);
 

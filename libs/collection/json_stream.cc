@@ -1,5 +1,6 @@
 #include "libs/collection/json_stream.h"
 
+#include <algorithm>
 #include <fstream>
 
 #include "libs/util/atomic_file.h"
@@ -11,11 +12,28 @@ namespace lsds {
 
 namespace {
 
+// "[json.exception.out_of_range.406] number overflow ..." -> "number
+// overflow ...".
+std::string WithoutLibraryPrefix(std::string message) {
+  if (!message.empty() && message[0] == '[') {
+    const size_t end = message.find("] ");
+    if (end != std::string::npos) message = message.substr(end + 2);
+  }
+  return message;
+}
+
 // "... parse error at line 3, column 5: syntax error ..." -> line/column into
 // the Location.
 Error SyntaxError(const std::filesystem::path& path,
-                  const nlohmann::json::parse_error& e) {
+                  const nlohmann::json::exception& e,
+                  std::streamoff byte) {
   Location where{path.string()};
+  if (dynamic_cast<const nlohmann::json::parse_error*>(&e) == nullptr) {
+    // Not a syntax error (a number out of range): no line from the parser.
+    return Error("invalid JSON: " + WithoutLibraryPrefix(e.what()) +
+                     " (near byte " + std::to_string(byte) + ")",
+                 where);
+  }
   std::string message = e.what();
   const size_t at_line = message.find("at line ");
   if (at_line != std::string::npos) {
@@ -31,6 +49,34 @@ Error SyntaxError(const std::filesystem::path& path,
 }
 
 }  // namespace
+
+Error JsonTextError(const nlohmann::json::exception& e,
+                    std::string_view text,
+                    const std::string& file) {
+  Location where(file);
+  size_t offset = std::string_view::npos;
+  if (const auto* parse = dynamic_cast<const nlohmann::json::parse_error*>(&e)) {
+    offset = parse->byte > 0 ? parse->byte - 1 : 0;
+  } else {
+    // "number overflow parsing '1e999'": find the literal.
+    const std::string message = e.what();
+    const size_t open = message.find('\'');
+    const size_t close = open == std::string::npos
+                             ? std::string::npos
+                             : message.find('\'', open + 1);
+    if (close != std::string::npos)
+      offset = text.find(message.substr(open + 1, close - open - 1));
+  }
+  if (offset != std::string_view::npos) {
+    LineColumnFromOffset(std::string(text), std::min(offset, text.size()),
+                         &where.line, &where.column);
+  }
+  std::string message = WithoutLibraryPrefix(e.what());
+  const size_t colon = message.find(": ");
+  if (message.rfind("parse error", 0) == 0 && colon != std::string::npos)
+    message = message.substr(colon + 2);
+  return Error("invalid JSON: " + message, where);
+}
 
 size_t StreamJsonArrayMember(
     const std::filesystem::path& path,
@@ -74,8 +120,8 @@ size_t StreamJsonArrayMember(
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(in, callback);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw SyntaxError(path, e);
+  } catch (const nlohmann::json::exception& e) {
+    throw SyntaxError(path, e, static_cast<std::streamoff>(in.tellg()));
   }
   if (!root.is_object())
     throw Error("top level must be a JSON object",

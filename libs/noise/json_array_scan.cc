@@ -169,7 +169,7 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
     throw Error(NestingMessage(), Location(path.string()));
   try {
     result.header = nlohmann::json::parse(header_text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
     // Only on failure: the streaming parser reads the file once more to name
     // the line and column (the scan's header text has lost them).
     StreamJsonArrayMember(path, array_key, nullptr, nullptr);
@@ -194,13 +194,9 @@ nlohmann::json ParseElement(std::string_view text,
     throw Error(NestingMessage(), Location(path.string(), pointer));
   try {
     return nlohmann::json::parse(text.begin(), text.end());
-  } catch (const nlohmann::json::parse_error& e) {
-    std::string message = e.what();
-    const size_t colon = message.rfind(": ");
-    throw Error(
-        "invalid JSON" + (colon == std::string::npos ? std::string()
-                                                     : message.substr(colon)),
-        Location(path.string(), pointer));
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(JsonTextError(e, text, path.string()).message(),
+                Location(path.string(), pointer));
   }
 }
 

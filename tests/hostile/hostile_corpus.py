@@ -96,6 +96,8 @@ def json_mutations():
         ("deep-inside-frames", lambda b: b.replace(b"\"frames\": [",
                                                      b"\"frames\": [" + b"[" * DEEP + b"]" * DEEP + b",", 1), "nesting deeper"),
         ("nul-bytes", lambda b: b[:40] + b"\0\0\0" + b[40:], r":\d+:\d+"),
+        ("number-overflow", lambda b: b.replace(b"\"frames\": [", b"\"x\": 1e99999, \"frames\": [", 1),
+         "number overflow"),
         ("frames-not-array", lambda b: re.sub(rb"\"frames\": \[", b"\"frames\": {\"x\": [", b, count=1)
          + b"", None),
     ]
@@ -258,6 +260,7 @@ def build_cases(lsds, work):
         ("unclosed-brace", "s.lscene", scene_text.rstrip().rstrip("}") + "\n", r":\d+:\d+"),
         ("garbage", "s.lscene", bytes(range(1, 256)) * 4, r":\d+:\d+"),
         ("empty-json", "s.lscene", "{", r":\d+:\d+"),
+        ("json-number-overflow", "s.lscene", "{\"a\": 1e999999}", r":1:7: invalid JSON: number overflow"),
         ("capture-deep-braces", "c.lcap", "LCAP = ONE(CO)\nCO = camera{x:" + "{b:" * DEEP + "1" + "}" * DEEP + "}\n", r":2:\d+: nesting deeper"),
         ("capture-deep-json", "c.lcap", "{\"a\": " + "[" * DEEP + "]" * DEEP + "}\n", r":1:\d+: nesting deeper"),
         ("capture-garbage", "c.lcap", b"\xff\xfe\x00" * 100, None),

@@ -7,7 +7,7 @@ BUILD_DIR := build/$(PRESET)
 JOBS ?= $(shell nproc)
 PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test demo install format clean bench
+.PHONY: all deps configure build test test-asan tidy demo install format clean bench
 
 all: build
 
@@ -24,6 +24,18 @@ build: configure
 
 test: build
 	@ctest --preset $(PRESET) -j $(JOBS)
+
+# The whole suite under ASan + UBSan + LeakSanitizer (the debug preset, -O1), in build/debug.
+test-asan: deps
+	@mkdir -p build/debug
+	@cmake --preset debug >build/debug/configure.log 2>&1 || { cat build/debug/configure.log; exit 1; }
+	@cmake --build --preset debug -j $(JOBS)
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --preset debug -j $(JOBS)
+
+# clang-tidy (.clang-tidy) over the C++ files that differ from main.
+tidy: configure
+	@git diff --name-only --diff-filter=AM main -- '*.cc' | xargs -r clang-tidy -p $(BUILD_DIR) --quiet
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/tools/lsds

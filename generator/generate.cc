@@ -15,6 +15,7 @@
 
 #include "generator/plan/plan_json.h"
 #include "generator/render/embree_scene.h"
+#include "generator/render/film.h"
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
 #include "generator/render/truth.h"
@@ -28,6 +29,7 @@
 #include "libs/exr/flat_image.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/limits.h"
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
 
@@ -291,6 +293,17 @@ GenerateSummary GenerateCollection(const Plan& plan,
                   std::to_string(plan.frames.back().index);
     throw Error("no frame to render: --frames/--shard select none (" + range +
                 ")");
+  }
+  // Before the output is touched: a frame whose film cannot fit in memory is a
+  // usage error naming the budget, not a 40 GB allocation.
+  for (size_t k : selected) {
+    const PlannedFrame& frame = plan.frames[k];
+    CheckImageBudget(
+        frame.camera.width, frame.camera.height,
+        static_cast<int64_t>(Film::BytesPerPixel(options.spp)), 1,
+        "frame " + std::to_string(frame.index) + " (camera of the capture, " +
+            std::to_string(options.spp) + " samples per pixel)",
+        "");
   }
   const CollectionHeader base_header = MakeHeader(plan, options);
   nlohmann::json settings = RenderSettingsJson(options);

@@ -4,8 +4,10 @@
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
+#include "libs/collection/json_stream.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/limits.h"
 
 namespace lsds::gen {
 
@@ -28,8 +30,13 @@ Plan PlanFromScene(const std::string& scene,
 
 Plan LoadPlanJson(const std::string& path) {
   const std::string text = ReadFile(path);
-  nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
-  if (json.is_discarded()) throw Error("not valid JSON", Location(path));
+  CheckJsonNesting(text, path);
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw JsonTextError(e, text, path);
+  }
   return PlanFromJson(json, path);
 }
 

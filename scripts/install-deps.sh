@@ -19,8 +19,10 @@ packages=(
   libassimp-dev                     # mesh assets
   libgeographiclib-dev              # WGS84 <-> local ENU (geo-referenced scenes)
   libgtest-dev libgmock-dev         # tests
-  python3                           # bad-input corpus script
+  python3                           # bad-input corpus scripts (tests/validate, tests/hostile)
   python3-numpy                     # export-layers test: numpy.load reads the .npy files
+  clang libclang-rt-14-dev          # libFuzzer targets and their smoke tests (docs/reliability.md)
+  clang-tidy                        # make tidy (.clang-tidy)
   chromium                          # lsds report end-to-end test: headless screenshot of the page
   slurm-wlm munge                   # scale-out test: a real one-node Slurm (tests/scaleout/slurm_test.sh)
 )

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "libs/collection/collection_guard.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/pointcloud/backproject_run.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
@@ -95,6 +97,14 @@ int RunBackproject(int argc, char** argv) {
         if (options.frames.Contains(index)) ++selected;
       if (selected == 1) options.fuse = true;
     }
+    OutputGuard guard("lsds backproject");
+    // "Not a collection" says more than "the output lies inside the folder".
+    CheckCollectionFolder(options.collection);
+    GuardCollection(&guard, options.collection, CollectionAccess::kReadOnly);
+    guard.AddInput(options.metadata, "metadata file");
+    if (!options.metadata.empty())
+      guard.AddInput(options.collection / options.metadata, "metadata file");
+    guard.CheckOutput(options.output, "-o");
     const ThreadLimit thread_limit(threads);
     options.colors = !no_color;
     options.labels = !no_labels;

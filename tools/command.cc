@@ -1,7 +1,10 @@
 #include "tools/command.h"
 
+#include <filesystem>
 #include <iostream>
+#include <new>
 
+#include "libs/util/check.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 
@@ -115,14 +118,32 @@ int RunCommand(CLI::App& app,
               << "; run '" << app.get_name() << " --help' for the options\n";
     return kExitUsage;
   }
+  // Three kinds of failure (docs/reliability.md): bad input (lsds::Error,
+  // exit 2, located), findings (exit 1, returned by `body`), and bugs in lsds
+  // (everything else, exit 70 with a request for a bug report).
   try {
     return body();
   } catch (const Error& e) {
     std::cerr << app.get_name() << ": error: " << e.what() << "\n";
     return kExitUsage;
-  } catch (const std::exception& e) {
+  } catch (const std::filesystem::filesystem_error& e) {
+    // The operating system refused a path the user gave (permissions, a full
+    // disk): the message names the path.
     std::cerr << app.get_name() << ": error: " << e.what() << "\n";
     return kExitUsage;
+  } catch (const std::bad_alloc&) {
+    std::cerr << app.get_name()
+              << ": error: out of memory; lower --threads or --batch, or "
+                 "work on fewer frames\n";
+    return kExitUsage;
+  } catch (const InternalError& e) {
+    std::cerr << app.get_name() << ": internal error: " << e.what() << "; "
+              << InternalErrorAdvice() << "\n";
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::cerr << app.get_name() << ": internal error: unexpected exception: "
+              << e.what() << "; " << InternalErrorAdvice() << "\n";
+    return kExitInternal;
   }
 }
 

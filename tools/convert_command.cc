@@ -4,6 +4,8 @@
 
 #include "converters/convert.h"
 #include "converters/registry.h"
+#include "libs/collection/collection_guard.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/imaging/srgb_image.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -108,6 +110,13 @@ int RunConvert(int argc, char** argv) {
       options.frame_begin = selection.begin;
       options.frame_end = selection.bounded() ? selection.end : -1;
     }
+    OutputGuard guard("lsds convert");
+    // "Not a collection" says more than "the output lies inside the folder".
+    CheckCollectionFolder(collection);
+    GuardCollection(&guard, collection, CollectionAccess::kReadOnly);
+    if (std::filesystem::is_regular_file(options.classes))
+      guard.AddInput(options.classes, "classes file");
+    guard.CheckOutput(output, "-o");
     const ThreadLimit thread_limit(threads);
     options.collection = collection;
     options.output = output;

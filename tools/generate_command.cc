@@ -11,7 +11,10 @@
 #include "generator/demo_plan.h"
 #include "generator/generate.h"
 #include "generator/plan_source.h"
+#include "generator/render/film.h"
 #include "libs/util/error.h"
+#include "libs/util/limits.h"
+#include "libs/util/output_guard.h"
 #include "libs/util/strings.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
@@ -93,7 +96,13 @@ int RunGenerate(int argc, char** argv) {
                  demo_size,
                  "image size of the demo scene, WxH (default 512x512)");
   app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
+  std::string memory_budget;
+  app.add_option("--memory-budget",
+                 memory_budget,
+                 "memory one frame's film may take, e.g. 16G (default: "
+                 "LSDS_MEMORY_BUDGET or 8G)");
   return RunCommand(app, argc, argv, [&]() {
+    if (!memory_budget.empty()) SetMemoryBudget(memory_budget);
     std::optional<FrameSelection> selection;
     if (!frames.empty()) {
       selection = ParseFrameSelection(frames);
@@ -124,6 +133,10 @@ int RunGenerate(int argc, char** argv) {
         throw Error("--demo-size " + demo_size +
                     ": expected WxH, e.g. 512x512");
       }
+      CheckImageBudget(demo_options.width, demo_options.height,
+                       static_cast<int64_t>(
+                           gen::Film::BytesPerPixel(options.spp)),
+                       1, "the demo image", "--demo-size");
       plan = gen::MakeDemoPlan(demo_options);
     } else if (!plan_file.empty()) {
       plan = gen::LoadPlanJson(plan_file);
@@ -150,6 +163,11 @@ int RunGenerate(int argc, char** argv) {
             "folder in the LCAP camera)");
       options.output = folder;
     }
+    OutputGuard guard("lsds generate");
+    guard.AddInput(scene, "scene file");
+    guard.AddInput(capture, "capture file");
+    guard.AddInput(plan_file, "plan file");
+    guard.CheckOutput(options.output, "-o");
     std::string command_line = "lsds generate";
     for (int i = 1; i < argc; ++i) {
       if (std::strcmp(argv[i], "--force") != 0 &&

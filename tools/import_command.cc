@@ -4,6 +4,7 @@
 
 #include "libs/importers/import_collection.h"
 #include "libs/importers/registry.h"
+#include "libs/util/output_guard.h"
 #include "libs/util/strings.h"
 #include "tools/command.h"
 
@@ -39,6 +40,11 @@ int RunImport(int argc, char** argv) {
       ->check(CLI::IsMember({"z", "y"}));
   app.add_flag("--force", force, "replace the output if it exists");
   return RunCommand(app, argc, argv, [&] {
+    OutputGuard guard("lsds import");
+    guard.AddInput(source, "source folder");
+    guard.AddInput(objects, "objects file");
+    guard.AddInput(settings, "settings file");
+    guard.CheckOutput(output, "-o");
     options.objects = objects;
     options.settings = settings;
     const import::ImportResult result =

@@ -2,6 +2,7 @@
 #include <cstring>
 #include <iostream>
 
+#include "libs/util/check.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 #include "tools/command.h"
@@ -20,13 +21,36 @@ void PrintHelp() {
               << command.summary << "\n";
   }
   std::cout << "\nexit codes: 0 success, 1 findings at or above the failure "
-               "level, 2 bad usage or "
-               "unreadable input\n";
+               "level, 2 bad usage or unreadable input, 70 internal error (a "
+               "bug in lsds: please report it)\n";
 }
 
 }  // namespace
 
+namespace {
+
+int Dispatch(int argc, char** argv);
+
+}  // namespace
+
+// The last line of defence: anything that escapes a command (which maps its
+// own failures to exit codes in RunCommand) is a bug in lsds.
 int main(int argc, char** argv) {
+  try {
+    return Dispatch(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "lsds: internal error: " << e.what() << "; "
+              << lsds::InternalErrorAdvice() << "\n";
+  } catch (...) {
+    std::cerr << "lsds: internal error: unknown exception; "
+              << lsds::InternalErrorAdvice() << "\n";
+  }
+  return lsds::kExitInternal;
+}
+
+namespace {
+
+int Dispatch(int argc, char** argv) {
   if (argc < 2) {
     PrintHelp();
     return lsds::kExitUsage;
@@ -59,3 +83,5 @@ int main(int argc, char** argv) {
             << "; run 'lsds help' for the list\n";
   return lsds::kExitUsage;
 }
+
+}  // namespace

@@ -3,6 +3,7 @@
 // shard_merge.h does the work).
 #include <iostream>
 
+#include "libs/collection/collection_guard.h"
 #include "libs/collection/shard_merge.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
@@ -25,7 +26,12 @@ int RunMerge(int argc, char** argv) {
   app.add_flag("--force", options.force, "replace an existing output folder");
   app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
   return RunCommand(app, argc, argv, [&]() {
-    for (const std::string& shard : shards) options.shards.push_back(shard);
+    OutputGuard guard("lsds merge");
+    for (const std::string& shard : shards) {
+      GuardCollection(&guard, shard, CollectionAccess::kReadOnly);
+      options.shards.push_back(shard);
+    }
+    guard.CheckOutput(output, "-o");
     options.output = output;
     options.progress = !quiet;
     const MergeSummary summary = MergeShards(options);

@@ -6,6 +6,7 @@
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/output_guard.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
 
@@ -38,6 +39,10 @@ int RunPlan(int argc, char** argv) {
       "print the JSON form of the scene (and capture) instead of the plan");
   app.add_flag("--force", force, "overwrite the output file");
   return RunCommand(app, argc, argv, [&] {
+    OutputGuard guard("lsds plan");
+    guard.AddInput(scene, "scene file");
+    guard.AddInput(capture, "capture file");
+    guard.CheckOutput(output, "-o");
     if (!output.empty()) RefuseToOverwrite(output, force, "plan");
     std::string text;
     if (emit_json) {

@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include "libs/collection/collection_guard.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/report/bundle_section.h"
 #include "libs/report/report.h"
 #include "libs/util/atomic_file.h"
@@ -86,12 +88,13 @@ int RunReport(int argc, char** argv) {
     options.collection = collection;
     options.output = output;
     // The page never replaces one of its inputs, even with --force.
-    for (const std::string& input : {validation_report, bundle_stats}) {
-      if (!input.empty() && std::filesystem::weakly_canonical(input) ==
-                                std::filesystem::weakly_canonical(output)) {
-        throw Error("the output is an input of this run", Location(output));
-      }
-    }
+    OutputGuard guard("lsds report");
+    // "Not a collection" says more than "the output lies inside the folder".
+    CheckCollectionFolder(collection);
+    GuardCollection(&guard, collection, CollectionAccess::kReadOnly);
+    guard.AddInput(validation_report, "validation report");
+    guard.AddInput(bundle_stats, "bundle statistics file");
+    guard.CheckOutput(output, "-o");
     // Refuse before the long validation run, not after it.
     RefuseToOverwrite(output, options.force, "report");
     if (!bundle_stats.empty()) {

@@ -13,6 +13,7 @@
 #include "libs/scaleout/slurm_job.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/output_guard.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
 
@@ -113,6 +114,12 @@ int RunSubmit(int argc, char** argv) {
       throw Error("--shards " + std::to_string(job.shards) + ": the run has " +
                   std::to_string(plan.frames.size()) +
                   " frames; every shard needs at least one");
+    OutputGuard guard("lsds submit");
+    guard.AddInput(scene, "scene file");
+    guard.AddInput(capture, "capture file");
+    guard.CheckOutput(job.output, "-o");
+    for (const char* script : {"generate.sbatch", "merge.sbatch", "submit.sh"})
+      guard.CheckOutput(job.work / script, "--work-dir");
     if (fs::exists(job.output)) RefuseToOverwrite(job.output, force);
     const SlurmScripts scripts = MakeSlurmScripts(job);
     fs::create_directories(job.work / "logs");

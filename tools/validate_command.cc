@@ -5,6 +5,7 @@
 #include <chrono>
 #include <iostream>
 
+#include "libs/collection/collection_guard.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tools/command.h"
@@ -67,6 +68,9 @@ int RunValidate(int argc, char** argv) {
     options.jobs = jobs;
     options.max_examples = max_examples;
     options.progress = true;  // on a terminal only; silent in CI
+    OutputGuard guard("lsds validate");
+    GuardCollection(&guard, collection, CollectionAccess::kReadOnly);
+    guard.CheckOutput(output, "-o");
     if (!output.empty()) RefuseToOverwrite(output, force, "report");
     if (!shard.empty()) {
       ParseShard(shard, &options.shard_index, &options.shard_count);

@@ -3,7 +3,9 @@
 #include <filesystem>
 
 #include "generator/lang/text_parser.h"
+#include "libs/collection/json_stream.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/limits.h"
 
 namespace lsds {
 
@@ -49,13 +51,11 @@ SourceFile ParseSource(const std::string& text,
   source.text = text;
   source.is_json = is_json;
   if (is_json) {
+    CheckJsonNesting(text, path_for_messages);
     try {
       source.doc = OJson::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-      int line = 0, column = 0;
-      LineColumnFromOffset(text, e.byte > 0 ? e.byte - 1 : 0, &line, &column);
-      throw Error(std::string("invalid JSON: ") + e.what(),
-                  Location::Text(path_for_messages, line, column));
+    } catch (const nlohmann::json::exception& e) {
+      throw JsonTextError(e, text, path_for_messages);
     }
     if (!source.doc.is_object())
       throw Error("expected a JSON object at the top level",

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "libs/util/limits.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
@@ -336,6 +337,20 @@ class Parser {
   OJson Value(const std::string& pointer) {
     const Token t = Next();
     Mark(pointer, t.offset);
+    // Braces and lists recurse: a hostile file must not reach the stack's end.
+    struct DepthGuard {
+      int* depth;
+      ~DepthGuard() {
+        if (depth != nullptr) --*depth;
+      }
+    };
+    const bool nests = IsPunct(t, '{') || IsPunct(t, '[');
+    if (nests && ++depth_ > kMaxNestingDepth) {
+      Fail(t.offset,
+           "nesting deeper than " + std::to_string(kMaxNestingDepth) +
+               " levels (braces and lists); lsds refuses such documents");
+    }
+    const DepthGuard depth_guard{nests ? &depth_ : nullptr};
     if (IsPunct(t, '{')) return Members(pointer, '}');
     if (IsPunct(t, '[')) {
       OJson list = OJson::array();
@@ -389,6 +404,7 @@ class Parser {
   std::vector<Token> tokens_;
   size_t pos_ = 0;
   std::set<std::string> continued_;
+  int depth_ = 0;  // braces and lists open around the current value
 };
 
 }  // namespace

@@ -1,8 +1,25 @@
 #include "generator/render/film.h"
 
+#include <algorithm>
+
 #include "libs/collection/model.h"
 
 namespace lsds::gen {
+
+uint64_t Film::BytesPerPixel(int spp, bool with_bundle) {
+  uint64_t bytes = sizeof(Eigen::Vector2f);  // centre_sample
+  for (const std::string& semantic : StandardLayerSemantics()) {
+    const LayerInfo layer = StandardLayer(semantic);
+    if (!layer.deep) bytes += 4 * layer.channels.size();
+  }
+  if (with_bundle) {
+    // Sample counts, offsets and spp samples of every bundle channel.
+    bytes += sizeof(uint32_t) + sizeof(uint64_t) +
+             static_cast<uint64_t>(std::max(1, spp)) * 4 *
+                 StandardLayer("bundle").channels.size();
+  }
+  return bytes;
+}
 
 Film Film::Make(int width, int height, int spp, bool with_bundle) {
   Film film;

@@ -26,6 +26,10 @@ struct Film {
   // size and samples.
   // Without `with_bundle` the bundle stays empty (0 x 0).
   static Film Make(int width, int height, int spp, bool with_bundle = true);
+
+  // The bytes one pixel of such a film takes: checked against the memory
+  // budget (libs/util/limits.h) before a frame is rendered.
+  static uint64_t BytesPerPixel(int spp, bool with_bundle = true);
 };
 
 }  // namespace lsds::gen

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
@@ -11,12 +12,16 @@
 #include "libs/bundle/derived_layers.h"
 #include "libs/bundle/mixed_map.h"
 #include "libs/bundle/stats_json.h"
+#include "libs/collection/collection_guard.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_stream.h"
 #include "libs/exr/deep_image.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/check.h"
 #include "libs/util/error.h"
+#include "libs/util/folder_lock.h"
+#include "libs/util/output_guard.h"
 #include "libs/util/progress.h"
 
 namespace lsds::bundle {
@@ -60,6 +65,13 @@ struct Task {
 }  // namespace
 
 RunResult RunBundles(const fs::path& root, const RunOptions& options) {
+  // Writers of one collection take turns, and the header is read under the
+  // lock, so that no other writer's change to collection.json is lost.
+  std::optional<FolderLock> lock;
+  if (!options.write_layers.empty()) {
+    CheckCollectionFolder(root);
+    lock.emplace(root, "lsds bundles");
+  }
   const CollectionReader reader(root);
   const std::string collection_file = reader.collection_path().string();
   const CollectionHeader& header = reader.header();
@@ -73,6 +85,13 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
                     ")",
                 Location(collection_file));
   }
+  // No output may be, contain or lie inside an input (libs/util/output_guard.h):
+  // the statistics and the picture go outside the collection; derived layers
+  // go into their own folders only.
+  OutputGuard read_guard("lsds bundles");
+  GuardCollection(&read_guard, root, CollectionAccess::kReadOnly);
+  read_guard.CheckOutput(options.output, "-o");
+  read_guard.CheckOutput(options.mixed_map, "--mixed-map");
   if (!options.output.empty())
     RefuseToOverwrite(options.output, options.force, "statistics file");
   if (!options.mixed_map.empty())
@@ -83,6 +102,13 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   CollectionHeader new_header = header;
   std::vector<std::unique_ptr<AtomicDirectory>> folders;
   const bool all_frames = first == 0 && end == count;
+  std::set<std::string> replaceable;  // derived layers of an earlier run
+  for (const LayerInfo& layer : header.layers) {
+    if (layer.semantic == "derived") replaceable.insert(layer.name);
+  }
+  OutputGuard layer_guard("lsds bundles");
+  GuardCollection(&layer_guard, root, CollectionAccess::kAddsOutputs,
+                  replaceable);
   for (const std::string& name : options.write_layers) {
     const LayerInfo layer = DerivedLayer(name, all_frames);
     auto it = std::find_if(new_header.layers.begin(),
@@ -103,11 +129,22 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
       }
       *it = layer;
     } else {
+      std::error_code ec;
+      if (fs::exists(root / name, ec)) {
+        // --force replaces only what an earlier `lsds bundles` wrote.
+        throw Error("the collection holds a '" + name +
+                        "' that is not one of its derived layers; lsds never "
+                        "replaces it, even with --force",
+                    Location((root / name).string()));
+      }
       new_header.layers.push_back(layer);
     }
+    layer_guard.CheckOutput(root / name, "--write-layers");
     folders.push_back(
         std::make_unique<AtomicDirectory>(root / name, options.force));
   }
+  // One folder per requested layer, in order: process() indexes both alike.
+  LSDS_CHECK(folders.size() == options.write_layers.size());
   std::optional<CollectionWriter> writer;
   if (!options.write_layers.empty()) writer.emplace(root, new_header);
 

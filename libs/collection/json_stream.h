@@ -7,8 +7,11 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
+
+#include "libs/util/error.h"
 
 namespace lsds {
 
@@ -23,6 +26,14 @@ size_t StreamJsonArrayMember(
     nlohmann::json* header,
     const std::function<void(nlohmann::json&& element, size_t index)>&
         on_element);
+
+// Any nlohmann exception met while parsing `text` (a syntax error, a number
+// out of range, ...) as lsds::Error naming `file` and the line and column:
+// the parser's byte offset for a syntax error, the offending literal's first
+// occurrence for a number overflow. Never a raw library message with no place.
+Error JsonTextError(const nlohmann::json::exception& e,
+                    std::string_view text,
+                    const std::string& file);
 
 // Writes such a file: the header members first (pretty), then the array one
 // element per line. Atomic: nothing appears under `path` until Commit().

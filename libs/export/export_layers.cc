@@ -12,13 +12,13 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "libs/collection/collection_guard.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
 #include "libs/export/png16_encoding.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/npy.h"
-#include "libs/util/path_overlap.h"
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
 
@@ -344,8 +344,9 @@ ExportSummary ExportLayers(const ExportOptions& options) {
   const CollectionReader reader(options.collection);
   const CollectionHeader& header = reader.header();
   const std::string collection_file = reader.collection_path().string();
-  RefuseOutputOverlappingInput(options.collection, options.output,
-                               "input collection");
+  OutputGuard guard("lsds export-layers");
+  GuardCollection(&guard, options.collection, CollectionAccess::kReadOnly);
+  guard.CheckOutput(options.output, "-o");
   std::vector<LayerPlan> plans =
       PlanLayers(header, options, collection_file);
 

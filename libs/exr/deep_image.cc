@@ -10,6 +10,7 @@
 #include "libs/exr/exr_internal.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 
 namespace lsds::exr {
 
@@ -74,6 +75,7 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
                       const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
     const Location where{path.string()};
+    RequireRegularFile(path, "layer file");
     Imf::DeepScanLineInputFile file(path.c_str());
     const Imf::Header& header = file.header();
     internal::CheckLimits(path, header, limits);

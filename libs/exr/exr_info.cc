@@ -9,6 +9,7 @@
 
 #include "libs/exr/exr_internal.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 
 namespace lsds::exr {
 
@@ -209,6 +210,7 @@ void CheckLimits(const std::filesystem::path& path,
 ExrInfo ReadExrInfo(const std::filesystem::path& path,
                     const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
+    RequireRegularFile(path, "layer file");
     Imf::MultiPartInputFile file(path.c_str(), 0);  // no threads for a header
     if (file.parts() != 1)
       throw Error("multi-part EXR files are not lsds layers",

@@ -10,6 +10,7 @@
 #include "libs/exr/exr_internal.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 
 namespace lsds::exr {
 
@@ -58,6 +59,7 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
                       const std::vector<std::string>& channels,
                       const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
+    RequireRegularFile(path, "layer file");
     Imf::InputFile file(path.c_str());
     const Imf::Header& header = file.header();
     if (header.hasType() && Imf::isDeepData(header.type())) {

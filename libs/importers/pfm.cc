@@ -6,6 +6,7 @@
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 
 namespace lsds::import {
 
@@ -20,6 +21,7 @@ bool HostIsLittleEndian() {
 
 PfmImage ReadPfm(const std::filesystem::path& path, PfmRows rows) {
   const std::string file = path.string();
+  RequireRegularFile(path, "PFM file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open", Location(file));
   std::string magic;

@@ -3,7 +3,10 @@
 #include <fstream>
 #include <vector>
 
+#include "libs/collection/json_stream.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
+#include "libs/util/limits.h"
 
 namespace lsds::noise {
 
@@ -21,6 +24,7 @@ std::string_view TrimRight(std::string_view text) {
 ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
                                     const std::string& array_key,
                                     const ArrayScanCallbacks& callbacks) {
+  RequireRegularFile(path, "JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));
 
@@ -161,9 +165,14 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
   if (in_array)
     throw Error("invalid JSON: the \"" + array_key + "\" array is not closed",
                 Location(path.string()));
+  if (FindExcessJsonNesting(header_text) != std::string_view::npos)
+    throw Error(NestingMessage(), Location(path.string()));
   try {
     result.header = nlohmann::json::parse(header_text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // Only on failure: the streaming parser reads the file once more to name
+    // the line and column (the scan's header text has lost them).
+    StreamJsonArrayMember(path, array_key, nullptr, nullptr);
     std::string message = e.what();
     const size_t colon = message.rfind(": ");
     throw Error(
@@ -181,15 +190,13 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
 nlohmann::json ParseElement(std::string_view text,
                             const std::filesystem::path& path,
                             const std::string& pointer) {
+  if (FindExcessJsonNesting(text) != std::string_view::npos)
+    throw Error(NestingMessage(), Location(path.string(), pointer));
   try {
     return nlohmann::json::parse(text.begin(), text.end());
-  } catch (const nlohmann::json::parse_error& e) {
-    std::string message = e.what();
-    const size_t colon = message.rfind(": ");
-    throw Error(
-        "invalid JSON" + (colon == std::string::npos ? std::string()
-                                                     : message.substr(colon)),
-        Location(path.string(), pointer));
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(JsonTextError(e, text, path.string()).message(),
+                Location(path.string(), pointer));
   }
 }
 

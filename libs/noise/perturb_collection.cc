@@ -2,7 +2,9 @@
 
 #include <fstream>
 #include <memory>
+#include <optional>
 
+#include "libs/collection/collection_guard.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/schema.h"
@@ -10,6 +12,8 @@
 #include "libs/noise/metadata_perturber.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/folder_lock.h"
+#include "libs/util/output_guard.h"
 #include "libs/util/progress.h"
 
 namespace lsds::noise {
@@ -81,6 +85,15 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   const fs::path collection_path = root / kCollectionFile;
   const std::string collection_file = collection_path.string();
   CheckCollectionFolder(root);
+  // Registering the variant rewrites collection.json: writers of one collection
+  // take turns, and the header is read under the lock so that no other
+  // writer's registration is lost.
+  const fs::path planned_output = options.output.empty()
+                                      ? root / DefaultOutputName(options.spec.seed)
+                                      : options.output;
+  std::optional<FolderLock> lock;
+  if (!RelativeInside(planned_output, root).empty())
+    lock.emplace(root, "lsds perturb-metadata");
   std::error_code ec;
   // The header only (a fast scan, no DOM for the frames), checked as
   // CollectionReader checks it.
@@ -111,17 +124,14 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
 
   // Outputs: refuse to overwrite the inputs ever, and anything else without
   // --force.
-  result.output = options.output.empty()
-                      ? root / DefaultOutputName(options.spec.seed)
-                      : options.output;
+  result.output = planned_output;
   const fs::path output_canonical = fs::weakly_canonical(result.output);
-  if (output_canonical == fs::weakly_canonical(result.source) ||
-      output_canonical == fs::weakly_canonical(collection_path)) {
-    throw Error(
-        "the output would replace an input of the collection; choose another "
-        "-o",
-        Location(result.output.string()));
-  }
+  // The variant may go into the collection (where it is registered), but never
+  // onto collection.json, the truth metadata or into a layer folder.
+  OutputGuard guard("lsds perturb-metadata");
+  guard.AddInput(result.source, "truth metadata");
+  GuardCollection(&guard, root, CollectionAccess::kAddsOutputs);
+  guard.CheckOutput(result.output, "-o");
   if (!fs::is_directory(fs::absolute(result.output).parent_path(), ec)) {
     throw Error("the output's folder does not exist",
                 Location(result.output.string()));
@@ -141,6 +151,7 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
       throw Error("the report and the output metadata are the same file",
                   Location(report.string()));
     }
+    guard.CheckOutput(report, "--report");
     RefuseToOverwrite(report, options.force, "report");
     result.report = report;
   }

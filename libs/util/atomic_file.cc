@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 
 namespace lsds {
 
@@ -115,6 +116,7 @@ void AtomicDirectory::Commit() {
 }
 
 std::string ReadFile(const fs::path& path) {
+  RequireRegularFile(path, "file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));
   std::ostringstream content;

@@ -46,6 +46,9 @@ enum ExitCode : int {
   kExitOk = 0,
   kExitFindings = 1,  // the data has findings at or above the failure level
   kExitUsage = 2,     // bad usage or unreadable input
+  // A bug in lsds: a failed internal check (libs/util/check.h) or an
+  // unexpected exception. 70 is EX_SOFTWARE of sysexits.h.
+  kExitInternal = 70,
 };
 
 // Bad input or bad usage: reported to the user with its location, exit code 2.

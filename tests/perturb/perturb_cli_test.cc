@@ -182,5 +182,41 @@ TEST_F(PerturbCli, NotACollectionIsRefused) {
   EXPECT_NE(run.output.find("does not exist"), std::string::npos) << run.output;
 }
 
+// Eight writers registering variants at once: the folder lock makes them take
+// turns, so every registration survives (without it, each rewrites the header
+// it read and all but one are lost).
+TEST_F(PerturbCli, ConcurrentWritersAllRegister) {
+  std::string script;
+  for (int seed = 1; seed <= 8; ++seed) {
+    script += std::string(LSDS_BINARY_DIR) + "/tools/lsds perturb-metadata " +
+              root_.string() + " --sigma 1 --seed " + std::to_string(seed) +
+              " >/dev/null 2>&1 & ";
+  }
+  script += "wait";
+  ASSERT_EQ(std::system(("sh -c '" + script + "'").c_str()), 0);
+  const CollectionReader reader(root_);
+  std::set<std::string> files;
+  for (const MetadataVariant& variant : reader.header().metadata)
+    files.insert(variant.file);
+  EXPECT_EQ(files.size(), 9u);  // the truth and eight variants
+  for (int seed = 1; seed <= 8; ++seed) {
+    EXPECT_EQ(files.count("metadata.perturbed-" + std::to_string(seed) +
+                          ".json"),
+              1u)
+        << seed;
+  }
+}
+
+TEST_F(PerturbCli, RefusesOutputsOntoInputsEvenWithForce) {
+  ExpectRefused("--sigma 1 --seed 3 -o " + (root_ / "collection.json").string() +
+                    " --force",
+                "is the collection file");
+  ExpectRefused("--sigma 1 --seed 3 -o " + (root_ / "metadata.json").string() +
+                    " --force",
+                "is the truth metadata");
+  ExpectRefused("--sigma 1 --seed 3 -o " + root_.string() + " --force",
+                "an input of lsds perturb-metadata");
+}
+
 }  // namespace
 }  // namespace lsds

@@ -291,7 +291,7 @@ TEST(PerturbCollection, BadInputIsRefusedAndNothingIsWritten) {
   PerturbOptions onto_truth = Options(root, 1);
   onto_truth.output = root / "metadata.json";
   onto_truth.force = true;
-  expect_refused(onto_truth, "replace an input");
+  expect_refused(onto_truth, "is the truth metadata");
   PerturbOptions no_folder = Options(root, 1);
   no_folder.output = dir.path() / "missing" / "x.json";
   expect_refused(no_folder, "folder does not exist");

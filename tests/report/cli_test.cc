@@ -92,7 +92,8 @@ TEST_F(ReportCli, RefusesExistingOutputAndOutputInsideTheCollection) {
   const auto inside =
       RunCommandLine(Report("-o " + (dir_ / "c" / "r.html").string()));
   EXPECT_EQ(inside.exit_code, 2);
-  EXPECT_NE(inside.output.find("inside the input"), std::string::npos);
+  EXPECT_NE(inside.output.find("lies inside the collection folder"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "c" / "r.html"));
   const auto bad_range = RunCommandLine(
       Report("-o " + (dir_ / "x.html").string() + " --frames 99"));

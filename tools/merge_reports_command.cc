@@ -6,6 +6,7 @@
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/output_guard.h"
 #include "tools/command.h"
 #include "validators/partial_report.h"
 #include "validators/report_writers.h"
@@ -38,13 +39,10 @@ int RunMergeReports(int argc, char** argv) {
     validate::ParseSeverity(fail_on, &threshold);
     std::vector<std::filesystem::path> files(partials.begin(), partials.end());
     if (!output.empty()) {
-      std::error_code ec;
-      for (const std::filesystem::path& file : files) {
-        if (std::filesystem::equivalent(file, output, ec)) {
-          throw Error("the report would replace the partial report " +
-                      file.string() + " it is made from");
-        }
-      }
+      OutputGuard guard("lsds merge-reports");
+      for (const std::filesystem::path& file : files)
+        guard.AddInput(file, "partial report");
+      guard.CheckOutput(output, "-o");
       RefuseToOverwrite(output, force, "report");
     }
     const validate::Report report = validate::MergePartialReports(files);

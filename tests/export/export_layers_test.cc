@@ -336,9 +336,9 @@ TEST_F(ExportLayers, RefusesBadUsageWithTheDocumentedMessages) {
         << run.output;
   };
   expect_usage("-o " + (collection_ / "exported").string(),
-               "lie inside nor contain");
+               "the output (-o) lies inside the collection folder");
   EXPECT_FALSE(fs::exists(collection_ / "exported"));
-  expect_usage("-o " + dir_.path().string(), "lie inside nor contain");
+  expect_usage("-o " + dir_.path().string(), "the output (-o) contains the collection folder");
   expect_usage("-o " + out_.string() + " --layers dept",
                "did you mean 'depth'");
   expect_usage("-o " + out_.string() + " --layers bundle", "deep layer");

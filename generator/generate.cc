@@ -124,6 +124,8 @@ void PrepareOutput(const GenerateOptions& options,
       RefuseToOverwrite(root, false, "output collection");
     }
   }
+  // Temporaries of a killed earlier run are removed, never taken for frames.
+  if (options.resume) RemoveStaleTemps(root, /*recursive=*/true);
   fs::create_directories(root / kWorkFolder);
   WriteFileAtomic(settings_path, settings.dump(2) + "\n");
   // Resuming a finished collection: its frames become truth parts again, so
@@ -155,6 +157,10 @@ void PrepareOutput(const GenerateOptions& options,
       if (e.message().find("--resume") != std::string::npos) throw;
       // An unreadable collection.json is rebuilt from the frames.
     }
+    // Until this run ends, the folder is an interrupted run, not a finished
+    // collection: a failure or a kill must not leave collection.json there
+    // describing frames that are being rewritten.
+    fs::remove(root / kCollectionFile);
   }
 }
 

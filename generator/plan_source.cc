@@ -6,6 +6,7 @@
 #include "generator/plan/plan_json.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 
 namespace lsds::gen {
 
@@ -28,9 +29,7 @@ Plan PlanFromScene(const std::string& scene,
 
 Plan LoadPlanJson(const std::string& path) {
   const std::string text = ReadFile(path);
-  nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
-  if (json.is_discarded()) throw Error("not valid JSON", Location(path));
-  return PlanFromJson(json, path);
+  return PlanFromJson(ParseJsonText(text, path), path);
 }
 
 }  // namespace lsds::gen

@@ -85,7 +85,9 @@ int RunValidate(int argc, char** argv) {
     }
     std::string text;
     if (format == "json") {
-      text = validate::ReportToJson(report, threshold).dump(2) + "\n";
+      text = validate::ReportToJson(report, threshold).dump(
+                 2, ' ', false, nlohmann::json::error_handler_t::replace) +
+             "\n";
     } else if (format == "junit") {
       text = validate::ReportToJUnit(report, threshold);
     } else {

@@ -1,6 +1,7 @@
 #include "validators/report_writers.h"
 
 #include "libs/util/strings.h"
+#include "libs/util/text_check.h"
 
 #include <sstream>
 
@@ -10,7 +11,7 @@ namespace {
 
 nlohmann::json LocationToJson(const Location& location) {
   nlohmann::json j = nlohmann::json::object();
-  if (!location.file.empty()) j["file"] = location.file;
+  if (!location.file.empty()) j["file"] = Utf8Escaped(location.file);
   if (location.line > 0) j["line"] = location.line;
   if (location.column > 0) j["column"] = location.column;
   if (!location.json_pointer.empty()) j["json_pointer"] = location.json_pointer;

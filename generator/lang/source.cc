@@ -4,6 +4,8 @@
 
 #include "generator/lang/text_parser.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/json_errors.h"
+#include "libs/util/text_check.h"
 
 namespace lsds {
 
@@ -48,14 +50,16 @@ SourceFile ParseSource(const std::string& text,
   source.path = path_for_messages;
   source.text = text;
   source.is_json = is_json;
+  // Comments too: the text ends up in JSON (plans, provenance), which holds
+  // UTF-8 only.
+  CheckUtf8(text, path_for_messages);
   if (is_json) {
     try {
       source.doc = OJson::parse(text);
     } catch (const nlohmann::json::parse_error& e) {
-      int line = 0, column = 0;
-      LineColumnFromOffset(text, e.byte > 0 ? e.byte - 1 : 0, &line, &column);
-      throw Error(std::string("invalid JSON: ") + e.what(),
-                  Location::Text(path_for_messages, line, column));
+      throw JsonParseError(text, path_for_messages, e);
+    } catch (const nlohmann::json::out_of_range& e) {
+      throw JsonParseError(text, path_for_messages, e);
     }
     if (!source.doc.is_object())
       throw Error("expected a JSON object at the top level",

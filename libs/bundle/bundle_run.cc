@@ -17,6 +17,7 @@
 #include "libs/exr/deep_image.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/text_check.h"
 #include "libs/util/progress.h"
 
 namespace lsds::bundle {
@@ -133,7 +134,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
 
   auto process = [&](Task& task) {
     const fs::path path = reader.LayerPath(task.frame, bundle_layer.name);
-    const exr::DeepImage image = exr::ReadDeepExr(path, channels);
+    const exr::DeepImage image =
+        reader.ReadDeepLayer(task.frame, bundle_layer.name, channels);
     const bool need_maps = !options.write_layers.empty() || task.picture;
     PixelMaps maps;
     try {
@@ -216,7 +218,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
     nlohmann::json top = {
         {"format", kStatsFormat},
         {"format_version", kStatsFormatVersion},
-        {"collection", fs::absolute(root).lexically_normal().string()},
+        {"collection",
+         Utf8Escaped(fs::absolute(root).lexically_normal().string())},
         {"bundle_layer", bundle_layer.name},
         {"frame_range", {{"first", first}, {"end", end}}},
         {"options", OptionsToJson(options.stats)},

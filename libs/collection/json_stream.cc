@@ -4,6 +4,7 @@
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 
 namespace lsds {
 
@@ -59,6 +60,10 @@ size_t StreamJsonArrayMember(
     root = nlohmann::json::parse(in, callback);
   } catch (const nlohmann::json::parse_error& e) {
     throw SyntaxError(path, e);
+  } catch (const nlohmann::json::out_of_range& e) {
+    // A number beyond double (1e999): nlohmann gives no position; the error
+    // path reads the file again to find it.
+    throw JsonParseError(ReadFile(path), path.string(), e);
   }
   if (!root.is_object())
     throw Error("top level must be a JSON object",
@@ -79,7 +84,7 @@ struct JsonArrayWriter::Impl {
 JsonArrayWriter::JsonArrayWriter(const std::filesystem::path& path,
                                  const nlohmann::json& header,
                                  const std::string& array_key)
-    : impl_(new Impl(path)) {
+    : impl_(std::make_unique<Impl>(path)) {
   nlohmann::json members = header;
   members.erase(array_key);
   std::string text = members.dump(2);  // "{\n  ...\n}"
@@ -91,7 +96,7 @@ JsonArrayWriter::JsonArrayWriter(const std::filesystem::path& path,
       << nlohmann::json(array_key).dump() << ": [";
 }
 
-JsonArrayWriter::~JsonArrayWriter() { delete impl_; }
+JsonArrayWriter::~JsonArrayWriter() = default;
 
 void JsonArrayWriter::Append(const nlohmann::json& element) {
   impl_->file.stream() << (count_ == 0 ? "\n    " : ",\n    ")

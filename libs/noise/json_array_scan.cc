@@ -3,7 +3,9 @@
 #include <fstream>
 #include <vector>
 
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 
 namespace lsds::noise {
 
@@ -161,16 +163,9 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
   if (in_array)
     throw Error("invalid JSON: the \"" + array_key + "\" array is not closed",
                 Location(path.string()));
-  try {
-    result.header = nlohmann::json::parse(header_text);
-  } catch (const nlohmann::json::parse_error& e) {
-    std::string message = e.what();
-    const size_t colon = message.rfind(": ");
-    throw Error(
-        "invalid JSON" + (colon == std::string::npos ? std::string()
-                                                     : message.substr(colon)),
-        Location(path.string()));
-  }
+  // Lines and columns are exact up to the array (the header text lacks its
+  // contents).
+  result.header = ParseJsonText(header_text, path.string());
   if (!result.header.is_object()) {
     throw Error("top level must be a JSON object",
                 Location(path.string(), "/"));
@@ -183,13 +178,26 @@ nlohmann::json ParseElement(std::string_view text,
                             const std::string& pointer) {
   try {
     return nlohmann::json::parse(text.begin(), text.end());
-  } catch (const nlohmann::json::parse_error& e) {
-    std::string message = e.what();
-    const size_t colon = message.rfind(": ");
-    throw Error(
-        "invalid JSON" + (colon == std::string::npos ? std::string()
-                                                     : message.substr(colon)),
-        Location(path.string(), pointer));
+  } catch (const nlohmann::json::exception& e) {
+    if (e.id < 101 || (e.id > 199 && e.id != 406)) throw;
+    // The error path only: find the element in the file for its line and
+    // column (element texts are the file's exact bytes).
+    std::string file_text;
+    try {
+      file_text = ReadFile(path);
+    } catch (const Error&) {
+    }
+    const size_t at = file_text.find(text);
+    Error located = JsonParseError(text, path.string(), e);
+    Location where = located.location();
+    where.json_pointer = pointer;
+    if (at != std::string::npos && where.line > 0) {
+      int line = 0, column = 0;
+      LineColumnFromOffset(file_text, at, &line, &column);
+      where.column = where.line == 1 ? where.column + column - 1 : where.column;
+      where.line += line - 1;
+    }
+    throw Error(located.message(), where);
   }
 }
 

@@ -306,7 +306,7 @@ TEST(Numbers, MalformedNumbersInCollectionJsonAreLocated) {
   const std::vector<Case> cases = {
       {"\"width\":32", "\"width\":4294967297", "4294967297"},
       {"\"fx\":", "\"fx\":1e999,\"x\":", "1e999"},
-      {"\"instance_id\":", "\"instance_id\":-1,\"x\":", "-1"},
+      {"\"instance_id\":", "\"instance_id\":-1,\"x\":", "instance_id"},
   };
   for (const Case& c : cases) {
     testing::TempDir dir;

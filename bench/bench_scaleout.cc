@@ -1,7 +1,9 @@
 // Benchmark of scaling a generate run out (issue 17): the same frames rendered
 // by one `lsds generate` process and by N shard processes side by side
 // (`--shard I/N`, each with cores/N threads), the speedup on this machine, and
-// `lsds merge` of the shards next to copying the same bytes (its floor).
+// `lsds merge` of the shards next to copying the same bytes (its floor); then
+// `lsds validate` of the result in one process vs N `--shard` processes joined
+// by `lsds merge-reports`.
 //
 //   bench_scaleout [--grid 4x3] [--size 256x192] [--spp 1] [--shards 2]
 #include <sys/wait.h>
@@ -159,6 +161,50 @@ int main(int argc, char** argv) {
       (merge - start) / copy);
   std::printf("  merged == single run, byte for byte: %s\n",
               identical ? "yes" : "NO");
+
+  // Validation in shards: one `lsds validate` vs N `--shard I/N` processes at
+  // once, then `lsds merge-reports` (which decodes nothing: the floor of the
+  // join is starting a process).
+  t = Clock::now();
+  Run(lsds + " validate --format junit -o " + Quote(dir / "single.xml") + " " +
+      Quote(dir / "single") + " 2>/dev/null");
+  const double validate_single = Since(t);
+  t = Clock::now();
+  std::string validate_parallel, parts;
+  for (int i = 0; i < shards; ++i) {
+    const fs::path part = dir / ("part-" + std::to_string(i) + ".json");
+    validate_parallel += lsds + " validate --threads " +
+                         std::to_string(threads_per_shard) + " --shard " +
+                         std::to_string(i) + "/" + std::to_string(shards) +
+                         " -o " + Quote(part) + " " + Quote(dir / "single") +
+                         " 2>/dev/null & ";
+    parts += " " + Quote(part);
+  }
+  Run("(" + validate_parallel + "wait)");
+  const double validate_sharded = Since(t);
+  t = Clock::now();
+  Run(lsds + " merge-reports --format junit -o " + Quote(dir / "merged.xml") +
+      parts + " 2>/dev/null");
+  const double merge_reports = Since(t);
+  // Equal but for the measured times.
+  auto without_times = [](const fs::path& file) {
+    std::ifstream in(file);
+    const std::string xml((std::istreambuf_iterator<char>(in)), {});
+    return std::regex_replace(xml, std::regex(R"( time="[^"]*")"), "");
+  };
+  const bool same_report = without_times(dir / "single.xml") ==
+                           without_times(dir / "merged.xml");
+  std::printf("  validate, one process:         %8.2f s\n", validate_single);
+  std::printf(
+      "  validate, %d shard processes:   %8.2f s   speedup %.2fx; "
+      "merge-reports %.3f s (%.2fx the process start)\n",
+      shards,
+      validate_sharded,
+      validate_single / validate_sharded,
+      merge_reports,
+      merge_reports / start);
+  std::printf("  merged report == single run's (times apart): %s\n",
+              same_report ? "yes" : "NO");
   fs::remove_all(dir);
-  return identical ? 0 : 1;
+  return identical && same_report ? 0 : 1;
 }

@@ -94,4 +94,19 @@ std::optional<int> ClassMap::Map(uint32_t class_id) const {
   return it->second;
 }
 
+ClassMap ClassMap::OnlyUsed(const std::set<uint32_t>& used) const {
+  ClassMap map;
+  for (const OutputClass& c : classes_) {
+    const bool seen = std::any_of(c.source_ids.begin(),
+                                  c.source_ids.end(),
+                                  [&](uint32_t id) { return used.count(id); });
+    if (!seen) continue;
+    // Every source of a merged class keeps it, seen or not: the class is one.
+    for (uint32_t id : c.source_ids)
+      map.index_[id] = static_cast<int>(map.classes_.size());
+    map.classes_.push_back(c);
+  }
+  return map;
+}
+
 }  // namespace lsds::convert

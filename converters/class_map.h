@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,11 @@ class ClassMap {
   // listed are dropped; output order = first appearance of each NAME.
   static ClassMap Parse(const std::string& spec,
                         const std::vector<ClassInfo>& classes);
+
+  // The output classes that have at least one source id in `used`, in the
+  // same order, re-indexed 0..K-1 (docs/convert.md, "Classes"). Classes that
+  // no kept object has are not listed, so YOLO ids stay contiguous.
+  ClassMap OnlyUsed(const std::set<uint32_t>& used) const;
 
   // 0-based output index of a collection class id, none when the class is not
   // kept.

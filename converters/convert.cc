@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <set>
 
 #include <tbb/parallel_for.h>
 
@@ -23,6 +24,25 @@ namespace lsds::convert {
 namespace fs = std::filesystem;
 
 namespace {
+
+// The loss-report reason of the first filter that drops `object` (in the
+// order the loss report lists them), or nullptr when the object is kept.
+const char* DropReason(const ObjectTruth& object,
+                       const ConvertOptions& options,
+                       const ClassMap& classes) {
+  if (!object.bbox || object.bbox->empty() || object.visible_pixels <= 0)
+    return loss::kNotVisible;
+  if (!classes.Map(object.class_id)) return loss::kClassNotSelected;
+  if (object.visibility < options.min_visibility) return loss::kMinVisibility;
+  // Seen through so much fog that nobody can see it (format 1.1; objects
+  // without the field count as clear air).
+  if (options.min_transmittance > 0 &&
+      object.transmittance.value_or(1.0) < options.min_transmittance)
+    return loss::kMinTransmittance;
+  if (object.visible_pixels < options.min_pixels) return loss::kMinPixels;
+  if (options.drop_truncated && object.in_frame < 1.0) return loss::kTruncated;
+  return nullptr;
+}
 
 struct Driver {
   const ConvertOptions& options;
@@ -62,26 +82,10 @@ struct Driver {
     // once, by the first filter that drops it.
     std::vector<std::pair<const ObjectTruth*, int>> kept;
     for (const ObjectTruth& object : frame.objects) {
-      const std::string source = ClassName(object.class_id);
-      const std::optional<int> index = classes.Map(object.class_id);
-      if (!object.bbox || object.bbox->empty() || object.visible_pixels <= 0) {
-        loss->Add(loss::kNotVisible, source);
-      } else if (!index) {
-        loss->Add(loss::kClassNotSelected, source);
-      } else if (object.visibility < options.min_visibility) {
-        loss->Add(loss::kMinVisibility, source);
-      } else if (options.min_transmittance > 0 &&
-                 object.transmittance.value_or(1.0) <
-                     options.min_transmittance) {
-        // Seen through so much fog that nobody can see it (format 1.1;
-        // objects without the field count as clear air).
-        loss->Add(loss::kMinTransmittance, source);
-      } else if (object.visible_pixels < options.min_pixels) {
-        loss->Add(loss::kMinPixels, source);
-      } else if (options.drop_truncated && object.in_frame < 1.0) {
-        loss->Add(loss::kTruncated, source);
+      if (const char* reason = DropReason(object, options, classes)) {
+        loss->Add(reason, ClassName(object.class_id));
       } else {
-        kept.emplace_back(&object, *index);
+        kept.emplace_back(&object, *classes.Map(object.class_id));
       }
     }
 
@@ -143,7 +147,7 @@ ConvertResult Convert(const ConvertOptions& options) {
   options.Check();
   const CollectionReader reader(options.collection);
   const CollectionHeader& header = reader.header();
-  const ClassMap classes =
+  const ClassMap selected =
       options.classes.empty()
           ? ClassMap::All(header.classes)
           : ClassMap::Parse(options.classes, header.classes);
@@ -162,12 +166,21 @@ ConvertResult Convert(const ConvertOptions& options) {
   };
   // Splits are planned over all the frames first, so that no requested split
   // is left empty (docs/convert.md, "Splits").
+  // The same pass finds the classes some kept object has: the others are not
+  // listed (unless --keep-classes), so YOLO ids are contiguous and no
+  // consumer sees a class without a single label (docs/convert.md, "Classes").
   std::vector<SplitFrame> split_frames;
+  std::set<uint32_t> used_classes;
   reader.ForEachFrame([&](const Frame& frame) {
-    if (in_range(frame))
-      split_frames.push_back({frame.index, SplitGroup(frame)});
+    if (!in_range(frame)) return;
+    split_frames.push_back({frame.index, SplitGroup(frame)});
+    for (const ObjectTruth& object : frame.objects)
+      if (DropReason(object, options, selected) == nullptr)
+        used_classes.insert(object.class_id);
   });
   const SplitPlan split_plan = PlanSplits(splits, split_frames);
+  const ClassMap classes =
+      options.keep_classes ? selected : selected.OnlyUsed(used_classes);
 
   // Refuse early (before any work) and build under a temporary name.
   AtomicDirectory out(options.output, options.force);

@@ -24,6 +24,9 @@ struct ConvertOptions {
       1;  // keep objects with at least this many visible pixels
   std::string
       classes;  // --classes FILE|LIST; empty: every class of the collection
+  // List every selected class, also those no kept object has (default: only
+  // the classes that occur, re-indexed 0..K-1).
+  bool keep_classes = false;
   bool drop_truncated =
       false;  // drop objects cut by the image border (in_frame < 1)
   std::string segmentation = "rle";  // coco: rle | polygon

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `make demo`: render the example collection from its LSCENE/LCAP description and run the main tools
 # on it. Everything goes into demo/ (or $LSDS_DEMO_DIR); a second run replaces it. The names differ
-# from those of the README tour (plan.json, survey, report.xml, yolo, bundle-stats.json, cloud.ply,
+# from those of the README tour (plan.json, survey, report.xml, yolo, bundle-stats.json, cloud.ply, survey-npy,
 # seed 7), so the tour runs after the demo, from the repository or from demo/, without a collision.
 # Usage: scripts/demo.sh PATH/TO/lsds
 set -euo pipefail

@@ -20,6 +20,7 @@ packages=(
   libgeographiclib-dev              # WGS84 <-> local ENU (geo-referenced scenes)
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus script
+  python3-numpy                     # export-layers test: numpy.load reads the .npy files
   chromium                          # lsds report end-to-end test: headless screenshot of the page
   slurm-wlm munge                   # scale-out test: a real one-node Slurm (tests/scaleout/slurm_test.sh)
 )

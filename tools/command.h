@@ -38,10 +38,12 @@ int RunConvert(int argc, char** argv);
 int RunPerturbMetadata(int argc, char** argv);
 int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);
+int RunExportLayers(int argc, char** argv);
 int RunReport(int argc, char** argv);
 int RunSynth(int argc, char** argv);
 int RunImport(int argc, char** argv);
 int RunMerge(int argc, char** argv);
+int RunMergeReports(int argc, char** argv);
 int RunSubmit(int argc, char** argv);
 
 }  // namespace lsds

@@ -63,6 +63,10 @@ int RunConvert(int argc, char** argv) {
                  options.classes,
                  "FILE or LIST of SOURCE[=NAME]: keep, rename and merge "
                  "classes (default: all)");
+  app.add_flag("--keep-classes",
+               options.keep_classes,
+               "list every selected class, also those without a kept object "
+               "(default: drop them; ids stay contiguous)");
   app.add_flag("--clip-truncated",
                clip_truncated,
                "keep objects cut by the image border, boxed by their visible "

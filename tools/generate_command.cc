@@ -42,17 +42,6 @@ void InstallResumeHint(const std::string& command_line) {
   std::signal(SIGTERM, OnInterrupt);
 }
 
-void ParseShard(const std::string& text, gen::GenerateOptions* options) {
-  const std::vector<std::string> parts = Split(text, '/');
-  try {
-    if (parts.size() != 2) throw std::invalid_argument("shard");
-    options->shard_index = std::stoi(parts[0]);
-    options->shard_count = std::stoi(parts[1]);
-  } catch (const std::exception&) {
-    throw Error("--shard " + text + ": expected I/N, e.g. 0/4");
-  }
-}
-
 }  // namespace
 
 int RunGenerate(int argc, char** argv) {
@@ -75,7 +64,8 @@ int RunGenerate(int argc, char** argv) {
   app.add_option(
       "--seed", seed, "random seed of the plan and of the sampler (default 0)");
   AddFramesOption(app, &frames);
-  app.add_option("--shard", shard, "render frames whose index % N == I (I/N)");
+  AddShardOption(app, &shard,
+                 "render only the frames whose index % N == I (I/N)");
   app.add_option("--spp",
                  options.spp,
                  "samples per pixel, a square: 1, 4, 9, 16, ... (default 4)");
@@ -110,7 +100,8 @@ int RunGenerate(int argc, char** argv) {
       options.first_frame = selection->begin;
       options.last_frame = selection->end;
     }
-    if (!shard.empty()) ParseShard(shard, &options);
+    if (!shard.empty())
+      ParseShard(shard, &options.shard_index, &options.shard_count);
     if (!ParseDepthKind(depth, &options.depth_kind)) {
       throw Error("--depth " + depth + ": expected planar or perspective");
     }
@@ -138,7 +129,12 @@ int RunGenerate(int argc, char** argv) {
       plan = gen::LoadPlanJson(plan_file);
       if (seed) plan.seed = *seed;
     } else {
-      plan = PlanSelectedFrames(scene, capture, seed.value_or(0), selection);
+      // The frame before the first selected one is planned too (not
+      // rendered): the first frame's motion is measured against it, so that
+      // --frames gives the bytes of the single run.
+      std::optional<FrameSelection> planned = selection;
+      if (planned && planned->begin > 0) --planned->begin;
+      plan = PlanSelectedFrames(scene, capture, seed.value_or(0), planned);
     }
     // Before the output is touched: an out-of-range --frames never empties
     // (or, with --force, wipes) an existing collection.

@@ -1,5 +1,7 @@
 #include "tools/shared_flags.h"
 
+#include "libs/util/strings.h"
+
 #include <iostream>
 
 #include <tbb/global_control.h>
@@ -16,6 +18,27 @@ CLI::Option* AddFramesOption(CLI::App& app, std::string* text) {
       *text,
       "frame indices: A:B (A to B-1), A: (A to the last), :B (the first to "
       "B-1) or N (frame N alone)");
+}
+
+CLI::Option* AddShardOption(CLI::App& app, std::string* text,
+                            const std::string& description) {
+  return app.add_option("--shard", *text, description);
+}
+
+void ParseShard(const std::string& text, int* index, int* count) {
+  const std::vector<std::string> parts = Split(text, '/');
+  size_t used_i = 0, used_n = 0;
+  try {
+    if (parts.size() != 2) throw std::invalid_argument("shard");
+    *index = std::stoi(parts[0], &used_i);
+    *count = std::stoi(parts[1], &used_n);
+  } catch (const std::exception&) {
+    throw Error("--shard " + text + ": expected I/N, e.g. 0/4");
+  }
+  if (used_i != parts[0].size() || used_n != parts[1].size() || *count < 1 ||
+      *index < 0 || *index >= *count) {
+    throw Error("--shard " + text + ": expected I/N with 0 <= I < N, e.g. 0/4");
+  }
 }
 
 void AddThreadsOption(CLI::App& app, int* threads, bool jobs_alias) {

@@ -26,6 +26,13 @@ void AddThreadsOption(CLI::App& app, int* threads, bool jobs_alias = false);
 // Warns once on stderr when the deprecated --jobs was used.
 void WarnIfJobsUsed(const CLI::App& app);
 
+// --shard I/N: the frames whose index % N == I (parse with ParseShard).
+CLI::Option* AddShardOption(CLI::App& app, std::string* text,
+                            const std::string& description);
+
+// Parses --shard I/N: exit 2 unless 0 <= I < N.
+void ParseShard(const std::string& text, int* index, int* count);
+
 // Caps TBB's worker threads for its lifetime (0: no cap).
 class ThreadLimit {
  public:

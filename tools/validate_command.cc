@@ -1,7 +1,7 @@
-// lsds validate COLLECTION [--format text|json|junit] [-o REPORT] [--fail-on
-// error|warning]
-//                          [--checks LIST] [--threads N] [--max-examples N]
-//                          [--force]
+// lsds validate COLLECTION [--format text|json|junit] [-o REPORT]
+//                          [--fail-on error|warning|info] [--checks LIST]
+//                          [--threads N] [--max-examples N] [--force]
+//                          [--shard I/N (writes a partial report to -o)]
 #include <chrono>
 #include <iostream>
 
@@ -52,6 +52,12 @@ int RunValidate(int argc, char** argv) {
                  "findings kept and shown per check (all are counted)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--force", force, "overwrite an existing report file");
+  std::string shard;
+  AddShardOption(
+      app, &shard,
+      "check only the frames whose index % N == I (I/N) and write a "
+          "partial report to -o; lsds merge-reports joins the N partial "
+          "reports into the report of a single run");
   return RunCommand(app, argc, argv, [&] {
     WarnIfJobsUsed(app);
     validate::Severity threshold;
@@ -62,6 +68,24 @@ int RunValidate(int argc, char** argv) {
     options.max_examples = max_examples;
     options.progress = true;  // on a terminal only; silent in CI
     if (!output.empty()) RefuseToOverwrite(output, force, "report");
+    if (!shard.empty()) {
+      ParseShard(shard, &options.shard_index, &options.shard_count);
+      if (output.empty())
+        throw Error("--shard writes a partial report: give its file with -o");
+      if (app.count("--format") > 0)
+        throw Error("--shard writes a partial report (JSON); --format applies "
+                    "to lsds merge-reports");
+      const validate::PartialReport partial =
+          validate::ValidateShard(collection, options);
+      WriteFileAtomic(output,
+                      validate::PartialReportToJson(partial).dump(1) + "\n");
+      std::cerr << "lsds validate: shard " << shard << ": "
+                << partial.report.frames << " frame(s) checked -> " << output
+                << " (lsds merge-reports gives the verdict)\n";
+      // The shard's job is done: the verdict needs every shard (exit 0 lets
+      // the merge job of a Slurm array run).
+      return kExitOk;
+    }
     const auto start = std::chrono::steady_clock::now();
     validate::Report report;
     try {
@@ -83,17 +107,7 @@ int RunValidate(int argc, char** argv) {
       }
       throw;
     }
-    std::string text;
-    if (format == "json") {
-      text = validate::ReportToJson(report, threshold).dump(
-                 2, ' ', false, nlohmann::json::error_handler_t::replace) +
-             "\n";
-    } else if (format == "junit") {
-      text = validate::ReportToJUnit(report, threshold);
-    } else {
-      text = validate::ReportToText(
-          report, threshold, max_examples < 5 ? max_examples : 5);
-    }
+    const std::string text = validate::RenderReport(report, format, threshold);
     if (output.empty()) {
       std::cout << text;
     } else {

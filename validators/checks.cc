@@ -258,6 +258,12 @@ CheckSelection CheckSelection::All() {
   return selection;
 }
 
+CheckSelection CheckSelection::Of(const std::vector<std::string>& ids) {
+  CheckSelection selection;
+  for (const std::string& id : ids) selection.ids_.insert(GetCheck(id).id);
+  return selection;
+}
+
 CheckSelection CheckSelection::Parse(const std::string& list) {
   auto trim = [](std::string text) {
     while (!text.empty() && text.front() == ' ') text.erase(text.begin());

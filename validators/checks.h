@@ -27,6 +27,8 @@ const CheckInfo& GetCheck(
 class CheckSelection {
  public:
   static CheckSelection All();
+  // Exactly these registry ids (throws lsds::Error for an unknown one).
+  static CheckSelection Of(const std::vector<std::string>& ids);
   // Comma-separated ids or groups ("layer", "cross.*", "all"); throws
   // lsds::Error naming an unknown entry with a suggestion.
   static CheckSelection Parse(const std::string& list);

@@ -53,6 +53,13 @@ class FrameChecker {
   bool Selected(const std::string& id) const {
     return context_.checks->Has(id);
   }
+  // The selected ones of `ids` (a block's time is charged to them).
+  std::vector<std::string> Chosen(std::vector<std::string> ids) const {
+    ids.erase(std::remove_if(ids.begin(), ids.end(),
+                             [&](const std::string& id) { return !Selected(id); }),
+              ids.end());
+    return ids;
+  }
   void Emit(const std::string& id,
             Location location,
             const std::string& message,
@@ -145,13 +152,36 @@ class FrameChecker {
 FrameOutcome FrameChecker::Run() {
   width_ = frame_.camera.intrinsics.width;
   height_ = frame_.camera.intrinsics.height;
-  LoadLayers();
-  CheckValues();
-  CheckBundle();
-  CheckObjects();
-  CheckWorldPositionVsDepth();
-  CheckMotion();
-  CheckCamera();
+  {
+    // Decoding serves every layer check; it is charged to layer.readable.
+    CheckTimer timer(&outcome_.check_seconds, Chosen({"layer.readable"}));
+    LoadLayers();
+  }
+  CheckValues();  // times each check's block itself
+  CheckBundle();  // idem
+  {
+    CheckTimer timer(&outcome_.check_seconds,
+                     Chosen({"cross.bbox-tight", "cross.visible-pixels",
+                             "cross.class-instance", "cross.obb-contains-bbox"}));
+    CheckObjects();
+  }
+  {
+    CheckTimer timer(&outcome_.check_seconds, Chosen({"cross.worldpos-depth"}));
+    CheckWorldPositionVsDepth();
+  }
+  {
+    CheckTimer timer(&outcome_.check_seconds,
+                     Chosen({"cross.motion-pose", "cross.motion-invalid"}));
+    CheckMotion();
+  }
+  {
+    std::vector<std::string> camera;
+    for (const CheckInfo& check : AllChecks()) {
+      if (check.id.rfind("camera.", 0) == 0) camera.push_back(check.id);
+    }
+    CheckTimer timer(&outcome_.check_seconds, Chosen(std::move(camera)));
+    CheckCamera();
+  }
   return std::move(outcome_);
 }
 
@@ -275,6 +305,7 @@ void FrameChecker::CheckValues() {
   };
   if (const LayerInfo* layer = Layer("rgb");
       layer && Flat("rgb") && Selected("layer.rgb-range")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.rgb-range"});
     PixelTally bad;
     for (size_t k = 0; k < layer->channels.size(); ++k) {
       const std::vector<float>* v = Channel("rgb", k);
@@ -295,6 +326,7 @@ void FrameChecker::CheckValues() {
   }
   if (const std::vector<float>* z = Channel("depth", 0);
       z && Selected("layer.depth-finite")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.depth-finite"});
     PixelTally bad;
     for (size_t p = 0; p < n; ++p) {
       const float d = (*z)[p];
@@ -311,6 +343,7 @@ void FrameChecker::CheckValues() {
               "beside finite >= 0)");
   }
   if (Flat("normal") && Selected("layer.normal-unit")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.normal-unit"});
     const auto *nx = Channel("normal", 0), *ny = Channel("normal", 1),
                *nz = Channel("normal", 2);
     if (nx && ny && nz) {
@@ -332,6 +365,7 @@ void FrameChecker::CheckValues() {
     }
   }
   if (Flat("worldposition") && Selected("layer.worldposition-finite")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.worldposition-finite"});
     const auto *px = Channel("worldposition", 0),
                *py = Channel("worldposition", 1),
                *pz = Channel("worldposition", 2);
@@ -357,6 +391,7 @@ void FrameChecker::CheckValues() {
   }
   if (const LayerInfo* layer = Layer("shadow");
       layer && Flat("shadow") && Selected("layer.shadow-range")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.shadow-range"});
     PixelTally bad;
     for (size_t k = 0; k < layer->channels.size(); ++k) {
       const std::vector<float>* v = Channel("shadow", k);
@@ -375,6 +410,7 @@ void FrameChecker::CheckValues() {
   // Motion may exceed [0, 1] (motion beyond one image size); NaN marks a pixel
   // with no valid motion and must be NaN on both channels.
   if (Flat("motion") && Selected("layer.motion-range")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.motion-range"});
     const auto *mx = Channel("motion", 0), *my = Channel("motion", 1);
     if (mx && my) {
       PixelTally bad;
@@ -395,6 +431,7 @@ void FrameChecker::CheckValues() {
     }
   }
   if (const std::vector<uint32_t>* ids = Ids("classid")) {
+    CheckTimer timer(&outcome_.check_seconds, Chosen({"layer.classid-known"}));
     PixelTally bad;
     uint32_t last_known = 0;
     for (size_t p = 0; p < n; ++p) {
@@ -426,6 +463,7 @@ void FrameChecker::CheckBundle() {
   const exr::DeepChannel* sx = deep.Find("SX");
   const exr::DeepChannel* sy = deep.Find("SY");
   if (Selected("layer.bundle")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.bundle"});
     PixelTally empty, bad_z, bad_position;
     for (int y = 0; y < deep.height(); ++y) {
       for (int x = 0; x < deep.width(); ++x) {
@@ -456,6 +494,7 @@ void FrameChecker::CheckBundle() {
               "with a sample position outside [0, 1]");
   }
   if (Selected("cross.bundle-centre")) {
+    CheckTimer timer(&outcome_.check_seconds, {"cross.bundle-centre"});
     struct Pair {
       const char* bundle_channel;
       const char* semantic;
@@ -705,14 +744,39 @@ void FrameChecker::CheckMotion() {
   if (!px || !py || !pz) return;
   const CameraTruth& previous = *input_.previous_camera;
   const PinholeCamera& camera = previous.intrinsics;
+  // Objects whose box moved since the previous frame (LCAP moves and
+  // changes): their points move with the box, from the unit box of now to
+  // the box of then.
+  std::map<uint32_t, std::pair<OrientedBox, OrientedBox>> moved;
+  for (const ObjectTruth& o : input_.frame.objects) {
+    const auto before = input_.previous_boxes.find(o.instance_id);
+    if (before == input_.previous_boxes.end()) continue;
+    const OrientedBox& b = before->second;
+    if (b.center != o.obb.center || b.half_extents != o.obb.half_extents ||
+        b.world_from_box != o.obb.world_from_box)
+      moved[o.instance_id] = {o.obb, b};
+  }
+  const std::vector<uint32_t>* instances = moved.empty() ? nullptr
+                                                         : Ids("instanceid");
   int64_t checked = 0, unseen = 0;
   PixelTally bad, unmarked;
   for (int y = 0; y < height_; ++y) {
     for (int x = 0; x < width_; ++x) {
       const size_t p = static_cast<size_t>(y) * width_ + x;
-      const Eigen::Vector3d point((*px)[p], (*py)[p], (*pz)[p]);
+      Eigen::Vector3d point((*px)[p], (*py)[p], (*pz)[p]);
       if (!point.allFinite()) continue;
       const bool marked = std::isnan((*mx)[p]);
+      if (instances) {
+        const auto m = moved.find((*instances)[p]);
+        if (m != moved.end()) {
+          const OrientedBox &now = m->second.first, &then = m->second.second;
+          const Eigen::Vector3d unit =
+              (now.world_from_box.transpose() * (point - now.center))
+                  .cwiseQuotient(now.half_extents.cwiseMax(1e-12));
+          point = then.world_from_box * unit.cwiseProduct(then.half_extents) +
+                  then.center;
+        }
+      }
       const Eigen::Vector3d in_previous =
           previous.cam_from_world_rotation * point +
           previous.cam_from_world_translation;

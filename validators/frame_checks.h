@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -22,6 +23,9 @@ struct FrameInput {
   // The previous frame of the same shot (format 1.1; of the same sequence in
   // 1.0), if it is the adjacent frame of the collection.
   std::optional<CameraTruth> previous_camera;
+  // The previous frame's object boxes by instance id (with previous_camera):
+  // a pixel of an object whose box moved is expected to move with it.
+  std::map<uint32_t, OrientedBox> previous_boxes;
   // The frame starts its shot (format 1.1: shot == index): no valid motion.
   bool shot_start = false;
 };
@@ -32,6 +36,7 @@ struct FrameOutcome {
   int64_t files_decoded = 0;
   int64_t bytes_decoded = 0;
   std::vector<std::pair<std::string, Statistic>> statistics;
+  std::vector<std::pair<std::string, double>> check_seconds;  // CheckTimer
 };
 
 struct FrameCheckContext {

@@ -59,6 +59,60 @@ void Report::MergeStatistic(const std::string& name,
   s.count += statistic.count;
 }
 
+void Report::AddCheckSeconds(const std::string& id, double seconds) {
+  std::lock_guard<std::mutex> lock(*mutex_);
+  check_seconds_[id] += seconds;
+}
+
+void Report::MergeFrom(const Report& other) {
+  std::lock_guard<std::mutex> lock(*mutex_);
+  for (const auto& [id, result] : other.results_) {
+    CheckResult& mine = results_[id];
+    // Examples first through AddLocked (which counts each), then the counts
+    // the other report did not keep as examples.
+    const std::array<int64_t, 3> before = mine.counts;
+    for (const Finding& finding : result.examples) AddLocked(finding);
+    for (int s = 0; s < 3; ++s) mine.counts[s] = before[s] + result.counts[s];
+  }
+  for (const auto& [name, s] : other.statistics_) {
+    if (s.count == 0) continue;
+    Statistic& mine = statistics_[name];
+    mine.max = std::max(mine.max, s.max);
+    mine.sum_squares += s.sum_squares;
+    mine.count += s.count;
+  }
+  for (const auto& [id, seconds] : other.check_seconds_)
+    check_seconds_[id] += seconds;
+  frames += other.frames;
+  files_decoded += other.files_decoded;
+  bytes_decoded += other.bytes_decoded;
+  seconds += other.seconds;
+}
+
+void Report::Restore(const std::string& id,
+                     const std::array<int64_t, 3>& counts,
+                     std::vector<Finding> examples) {
+  std::lock_guard<std::mutex> lock(*mutex_);
+  CheckResult& result = results_[id];
+  result.counts = counts;
+  result.examples = std::move(examples);
+}
+
+CheckTimer::CheckTimer(std::vector<std::pair<std::string, double>>* sink,
+                       std::vector<std::string> ids)
+    : sink_(sink),
+      ids_(std::move(ids)),
+      start_(std::chrono::steady_clock::now()) {}
+
+CheckTimer::~CheckTimer() {
+  if (ids_.empty()) return;
+  const double seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start_)
+                             .count() /
+                         static_cast<double>(ids_.size());
+  for (std::string& id : ids_) sink_->emplace_back(std::move(id), seconds);
+}
+
 int64_t Report::Count(Severity severity) const {
   std::lock_guard<std::mutex> lock(*mutex_);
   int64_t n = 0;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -42,6 +43,17 @@ class Report {
   // statistic `name`.
   void AddStatistic(const std::string& name, double value);
   void MergeStatistic(const std::string& name, const Statistic& statistic);
+  // Thread-safe: charges `seconds` of work to the check `id` (JUnit testcase
+  // time; see docs/validate.md for how shared work is charged).
+  void AddCheckSeconds(const std::string& id, double seconds);
+  // Thread-safe: adds another report's counts, examples (keeping the first
+  // `max_examples` by frame), statistics, check times and frame/file tallies.
+  // Used to join the partial reports of `validate --shard`.
+  void MergeFrom(const Report& other);
+  // Sets one check's result as a partial report recorded it (counts of all
+  // findings, the examples it kept).
+  void Restore(const std::string& id, const std::array<int64_t, 3>& counts,
+               std::vector<Finding> examples);
 
   std::string collection;           // the folder validated
   std::vector<std::string> checks;  // the selected check ids, registry order
@@ -54,6 +66,10 @@ class Report {
   const std::map<std::string, Statistic>& statistics() const {
     return statistics_;
   }
+  const std::map<std::string, double>& check_seconds() const {
+    return check_seconds_;
+  }
+  size_t max_examples() const { return max_examples_; }
   int64_t Count(Severity severity) const;
   // True when some finding is at or above `fail_on`.
   bool Fails(Severity fail_on) const;
@@ -69,6 +85,25 @@ class Report {
       std::make_unique<std::mutex>();  // movable Report
   std::map<std::string, CheckResult> results_;
   std::map<std::string, Statistic> statistics_;
+  std::map<std::string, double> check_seconds_;
+};
+
+// Charges the wall time of a block of one thread to one or more checks (split
+// evenly when a block serves several, e.g. the camera solve). Adds to `sink`,
+// a per-frame list merged into the report later, so no lock is taken per
+// block.
+class CheckTimer {
+ public:
+  CheckTimer(std::vector<std::pair<std::string, double>>* sink,
+             std::vector<std::string> ids);
+  ~CheckTimer();
+  CheckTimer(const CheckTimer&) = delete;
+  CheckTimer& operator=(const CheckTimer&) = delete;
+
+ private:
+  std::vector<std::pair<std::string, double>>* sink_;
+  std::vector<std::string> ids_;
+  std::chrono::steady_clock::time_point start_;
 };
 
 }  // namespace lsds::validate

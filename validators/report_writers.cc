@@ -3,11 +3,26 @@
 #include "libs/util/strings.h"
 #include "libs/util/text_check.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <sstream>
 
 namespace lsds::validate {
 
 namespace {
+
+double SecondsOf(const Report& report, const std::string& id) {
+  const auto it = report.check_seconds().find(id);
+  return it == report.check_seconds().end() ? 0.0 : it->second;
+}
+
+std::string FindingLine(const Finding& f) {
+  std::string line = f.location.ToString();
+  if (!f.object.empty()) line += " [" + f.object + "]";
+  return line + ": " + f.message;
+}
+
+}  // namespace
 
 nlohmann::json LocationToJson(const Location& location) {
   nlohmann::json j = nlohmann::json::object();
@@ -21,13 +36,14 @@ nlohmann::json LocationToJson(const Location& location) {
   return j;
 }
 
-std::string FindingLine(const Finding& f) {
-  std::string line = f.location.ToString();
-  if (!f.object.empty()) line += " [" + f.object + "]";
-  return line + ": " + f.message;
+nlohmann::json FindingToJson(const Finding& f) {
+  nlohmann::json j = {{"severity", SeverityName(f.severity)},
+                      {"check", f.check_id},
+                      {"location", LocationToJson(f.location)},
+                      {"message", f.message}};
+  if (!f.object.empty()) j["object"] = f.object;
+  return j;
 }
-
-}  // namespace
 
 std::string Verdict(const Report& report, Severity fail_on) {
   const int64_t errors = report.Count(Severity::kError),
@@ -100,17 +116,12 @@ nlohmann::json ReportToJson(const Report& report, Severity fail_on) {
         {"id", id},
         {"severity", SeverityName(info.severity)},
         {"tolerance", info.tolerance},
-        {"count", it == report.results().end() ? 0 : it->second.total()}};
+        {"count", it == report.results().end() ? 0 : it->second.total()},
+        {"seconds", SecondsOf(report, id)}};
     nlohmann::json findings = nlohmann::json::array();
     if (it != report.results().end()) {
-      for (const Finding& f : it->second.examples) {
-        nlohmann::json fj = {{"severity", SeverityName(f.severity)},
-                             {"check", f.check_id},
-                             {"location", LocationToJson(f.location)},
-                             {"message", f.message}};
-        if (!f.object.empty()) fj["object"] = f.object;
-        findings.push_back(fj);
-      }
+      for (const Finding& f : it->second.examples)
+        findings.push_back(FindingToJson(f));
     }
     c["findings"] = findings;
     checks.push_back(c);
@@ -118,7 +129,11 @@ nlohmann::json ReportToJson(const Report& report, Severity fail_on) {
   j["checks"] = checks;
   nlohmann::json statistics = nlohmann::json::object();
   for (const auto& [name, s] : report.statistics()) {
-    statistics[name] = {{"max", s.max}, {"rms", s.rms()}, {"count", s.count}};
+    // rms to 9 significant digits: its last bits depend on the order in which
+    // threads (and shards) added their sums, its first nine do not.
+    statistics[name] = {{"max", s.max},
+                        {"rms", std::stod(FormatNumber(s.rms(), 9))},
+                        {"count", s.count}};
   }
   j["statistics"] = statistics;
   return j;
@@ -146,8 +161,10 @@ std::string ReportToJUnit(const Report& report, Severity fail_on) {
       << "\" errors=\"0\" time=\"" << report.seconds << "\">\n";
   for (const std::string& id : report.checks) {
     const std::string group = id.substr(0, id.find('.'));
+    char time[32];
+    std::snprintf(time, sizeof(time), "%.3f", SecondsOf(report, id));
     out << "    <testcase classname=\"lsds.validate." << group << "\" name=\""
-        << id << "\">\n";
+        << id << "\" time=\"" << time << "\">\n";
     const auto it = report.results().find(id);
     if (it != report.results().end()) {
       const CheckResult& r = it->second;
@@ -178,6 +195,17 @@ std::string ReportToJUnit(const Report& report, Severity fail_on) {
   }
   out << "  </testsuite>\n</testsuites>\n";
   return out.str();
+}
+
+std::string RenderReport(const Report& report, const std::string& format,
+                         Severity fail_on) {
+  // Messages may quote paths that are not UTF-8: never a type_error 316.
+  if (format == "json")
+    return ReportToJson(report, fail_on)
+               .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+           "\n";
+  if (format == "junit") return ReportToJUnit(report, fail_on);
+  return ReportToText(report, fail_on, std::min<size_t>(report.max_examples(), 5));
 }
 
 std::string UnreadableInputToJUnit(const std::string& collection,

@@ -23,6 +23,15 @@ std::string ReportToJUnit(const Report& report, Severity fail_on);
 std::string UnreadableInputToJUnit(const std::string& collection,
                                    const std::string& message,
                                    double seconds);
+// One finding and its location as the JSON report writes them (also used by
+// the partial reports of `validate --shard`).
+nlohmann::json LocationToJson(const Location& location);
+nlohmann::json FindingToJson(const Finding& finding);
 std::string Verdict(const Report& report, Severity fail_on);
+
+// The report in `format` ("text", "json" or "junit") as `lsds validate` and
+// `lsds merge-reports` print it (text shows up to 5 findings per check).
+std::string RenderReport(const Report& report, const std::string& format,
+                         Severity fail_on);
 
 }  // namespace lsds::validate

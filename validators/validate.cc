@@ -1,5 +1,6 @@
 #include "validators/validate.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -30,15 +31,19 @@ class Validator {
   Validator(const fs::path& root, const ValidateOptions& options)
       : root_(root), options_(options), report_(options.max_examples) {}
 
-  Report Run();
+  // Runs the checks; with `finish`, also the whole-collection checks (a
+  // single run), else their tallies are left for the join of the shards.
+  Report Run(bool finish);
+  const CollectionTallies& tallies() const { return tallies_; }
 
  private:
   bool Selected(const std::string& id) const { return options_.checks.Has(id); }
+  // Findings are emitted only for what this shard owns (see emitting_).
   void Emit(const std::string& id,
             Location location,
             const std::string& message,
             const std::string& object = "") {
-    if (!Selected(id)) return;
+    if (!emitting_ || !Selected(id)) return;
     report_.Add(
         {GetCheck(id).severity, id, std::move(location), object, message});
   }
@@ -57,19 +62,28 @@ class Validator {
   void CheckFrameStructure(const Frame& frame, size_t position);
   void FlushBatch();
   void CheckStrayFiles();
-  void CheckStatistics();
+  bool OwnsFrame(std::optional<int64_t> index) const;
+  // The selected ones of `ids`, for a CheckTimer.
+  std::vector<std::string> SelectedOf(std::vector<std::string> ids) const;
+  void AddCheckSeconds();
 
   fs::path root_;
   ValidateOptions options_;
   Report report_;
   CollectionHeader header_;
   size_t frames_in_file_ = 0;
+  // Shard I of N emits the findings of the frames it owns and (I = 0) those
+  // about the collection as a whole; a single run is shard 0 of 1.
+  bool emitting_ = true;
+  bool shard_zero_ = true;
+  std::vector<std::pair<std::string, double>> check_seconds_;  // this thread
 
   // Streaming state: O(1) per frame except the hashes of referenced files (8
   // bytes per file) and the compact metadata poses (one per frame), both
   // documented in docs/validate.md.
   std::vector<FrameInput> batch_;
   std::optional<Frame> previous_;
+  std::map<uint32_t, OrientedBox> previous_boxes_;  // of previous_'s objects
   std::unordered_set<uint64_t> referenced_;
   std::set<std::string> layer_folders_;
   struct MetadataPose {
@@ -78,15 +92,11 @@ class Validator {
   };
   struct MetadataFile {
     std::string file;
-    bool perturbed = false;
     std::map<int64_t, MetadataPose> poses;
-    Statistic position_error, angle_error;
-    int64_t mismatched = 0;
-    std::optional<int64_t> first_mismatch;
+    size_t tally = 0;  // its entry in tallies_.metadata
   };
   std::vector<MetadataFile> metadata_;
-  std::map<uint32_t, int64_t> objects_per_class_;
-  std::set<uint32_t> pixel_classes_;
+  CollectionTallies tallies_;  // of the frames this shard owns
   std::mutex tally_mutex_;
 };
 
@@ -178,7 +188,9 @@ void Validator::ReadMetadata() {
     }
     MetadataFile file;
     file.file = variant.file;
-    file.perturbed = variant.perturbed;
+    CollectionTallies::Metadata tally;
+    tally.file = variant.file;
+    tally.perturbed = variant.perturbed;
     try {
       nlohmann::json header_json;
       const JsonSchema& frame_schema =
@@ -218,6 +230,8 @@ void Validator::ReadMetadata() {
       Emit("schema", Location(variant.file), e.what());
       continue;
     }
+    file.tally = tallies_.metadata.size();
+    tallies_.metadata.push_back(std::move(tally));
     metadata_.push_back(std::move(file));
   }
 }
@@ -303,9 +317,9 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
            "class id " + std::to_string(object.class_id) +
                " is not in the class table",
            who);
-    } else {
+    } else if (emitting_) {
       std::lock_guard<std::mutex> lock(tally_mutex_);
-      ++objects_per_class_[object.class_id];
+      ++tallies_.objects_per_class[object.class_id];
     }
     if (!instances.insert(object.instance_id).second) {
       Emit("structure.duplicate-instance",
@@ -334,20 +348,26 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
            "has no entry for frame " + std::to_string(frame.index));
       continue;
     }
+    if (!emitting_) {  // another shard's frame: its pose is compared there
+      file.poses.erase(it);
+      continue;
+    }
+    CollectionTallies::Metadata& tally = tallies_.metadata[file.tally];
     const MetadataFrame truth = TruthMetadata(frame, header_.conventions.world);
     const double position_error = (truth.position - it->second.position).norm();
     const Eigen::Quaterniond a = NedFromBody(truth.attitude),
                              b = NedFromBody(it->second.attitude);
     const double angle_error = a.angularDistance(b) * 180 / M_PI;
-    for (auto [stat, value] : {std::pair{&file.position_error, position_error},
-                               {&file.angle_error, angle_error}}) {
+    for (auto [stat, value] : {std::pair{&tally.position_error, position_error},
+                               {&tally.angle_error, angle_error}}) {
       stat->max = std::max(stat->max, value);
       stat->sum_squares += value * value;
       ++stat->count;
     }
     if (position_error > 1e-6 || angle_error > 1e-6) {
-      ++file.mismatched;
-      if (!file.first_mismatch) file.first_mismatch = frame.index;
+      ++tally.mismatched;
+      if (!tally.first_mismatch || frame.index < *tally.first_mismatch)
+        tally.first_mismatch = frame.index;
     }
     file.poses.erase(it);  // each pose is needed once
   }
@@ -360,17 +380,23 @@ void Validator::FlushBatch() {
   context.header = &header_;
   context.checks = &options_.checks;
   context.camera_grid = options_.camera_grid;
+  std::vector<FrameOutcome> outcomes(batch_.size());
   tbb::parallel_for(size_t{0}, batch_.size(), [&](size_t i) {
-    FrameOutcome outcome = CheckFrame(context, batch_[i]);
+    outcomes[i] = CheckFrame(context, batch_[i]);
+  });
+  // Folded in frame order, so that sums (and so the report) do not depend on
+  // which thread finished first.
+  for (FrameOutcome& outcome : outcomes) {
     report_.AddAll(&outcome.findings);
     for (const auto& [name, statistic] : outcome.statistics)
       report_.MergeStatistic(name, statistic);
-    std::lock_guard<std::mutex> lock(tally_mutex_);
-    pixel_classes_.insert(outcome.pixel_classes.begin(),
-                          outcome.pixel_classes.end());
+    for (const auto& [id, seconds] : outcome.check_seconds)
+      report_.AddCheckSeconds(id, seconds);
+    tallies_.pixel_classes.insert(outcome.pixel_classes.begin(),
+                                  outcome.pixel_classes.end());
     report_.files_decoded += outcome.files_decoded;
     report_.bytes_decoded += outcome.bytes_decoded;
-  });
+  }
   batch_.clear();
 }
 
@@ -390,11 +416,18 @@ void Validator::StreamFrames() {
             json["index"].is_number_integer()) {
           index = json["index"].get<int64_t>();
         }
-        const std::vector<SchemaIssue> issues =
-            frame_schema.Validate(json, pointer);
+        const bool owned = OwnsFrame(index);
+        emitting_ = owned;
+        std::vector<SchemaIssue> issues;
+        {
+          CheckTimer timer(&check_seconds_,
+                           owned ? SelectedOf({"schema"})
+                                 : std::vector<std::string>{});
+          issues = frame_schema.Validate(json, pointer);
+        }
         for (const SchemaIssue& issue : issues)
           Emit("schema", Json(file, issue.pointer, index), issue.message);
-        ++report_.frames;
+        if (owned) ++report_.frames;
         if (options_.progress) progress.Add();
         if (!issues.empty()) {
           previous_.reset();
@@ -414,7 +447,23 @@ void Validator::StreamFrames() {
           previous_.reset();
           return;
         }
-        CheckFrameStructure(frame, position);
+        {
+          CheckTimer timer(
+              &check_seconds_,
+              owned ? SelectedOf({"structure.duplicate-frame",
+                                  "structure.frame-order",
+                                  "structure.missing-file",
+                                  "structure.unknown-layer",
+                                  "structure.handedness",
+                                  "structure.class-id",
+                                  "structure.duplicate-instance",
+                                  "structure.metadata",
+                                  "cross.metadata-pose",
+                                  "stats.zero-visible-target",
+                                  "stats.empty-frame"})
+                    : std::vector<std::string>{});
+          CheckFrameStructure(frame, position);
+        }
         FrameInput input;
         input.position = position;
         // Motion continues within a shot (format 1.1), or within a sequence
@@ -425,16 +474,22 @@ void Validator::StreamFrames() {
                               : previous_->sequence == frame.sequence);
         if (previous_ && previous_->index + 1 == frame.index && same_shot) {
           input.previous_camera = previous_->camera;
+          input.previous_boxes = previous_boxes_;
         }
         input.shot_start = frame.shot && *frame.shot == frame.index;
         previous_ = frame;
+        previous_boxes_.clear();
+        for (const ObjectTruth& o : frame.objects)
+          previous_boxes_[o.instance_id] = o.obb;
         previous_->objects.clear();
         previous_->files.clear();
+        if (!owned) return;  // another shard decodes its layers
         input.frame = std::move(frame);
         batch_.push_back(std::move(input));
         if (batch_.size() >= options_.batch_size) FlushBatch();
       });
   FlushBatch();
+  emitting_ = shard_zero_;
 }
 
 void Validator::CheckStrayFiles() {
@@ -455,69 +510,73 @@ void Validator::CheckStrayFiles() {
   }
 }
 
-void Validator::CheckStatistics() {
-  for (MetadataFile& file : metadata_) {
-    report_.MergeStatistic(
-        "cross.metadata-pose." + file.file + ".position_error",
-        file.position_error);
-    report_.MergeStatistic(
-        "cross.metadata-pose." + file.file + ".angle_error_deg",
-        file.angle_error);
-    if (file.mismatched > 0 && !file.perturbed) {
-      Location where(file.file, "/frames");
-      where.frame = file.first_mismatch;
-      Emit("cross.metadata-pose",
-           where,
-           std::to_string(file.mismatched) +
-               " frame(s) differ from truth (max position error " +
-               std::to_string(file.position_error.max) +
-               " world units, max attitude error " +
-               std::to_string(file.angle_error.max) +
-               " deg) but the file is not declared perturbed");
-    }
-  }
-  int64_t most = 0, least = -1;
-  std::string most_name, least_name;
-  const bool has_classid_layer =
-      header_.FindLayerBySemantic("classid") != nullptr;
-  for (size_t k = 0; k < header_.classes.size(); ++k) {
-    const ClassInfo& c = header_.classes[k];
-    const auto it = objects_per_class_.find(c.id);
-    const int64_t n = it == objects_per_class_.end() ? 0 : it->second;
-    // Without a classid layer, pixels cannot tell whether a class without
-    // objects (the terrain) is drawn: only what is declared is checked.
-    if (n == 0 && pixel_classes_.count(c.id) == 0 && has_classid_layer) {
-      Emit("stats.class-unused",
-           Json(kCollectionFile, "/classes/" + std::to_string(k)),
-           "class " + std::to_string(c.id) + " '" + c.name +
-               "' has no object and no pixel");
-    }
-    if (n > most) most = n, most_name = c.name;
-    if (n > 0 && (least < 0 || n < least)) least = n, least_name = c.name;
-  }
-  if (least > 0 && most >= 100 * least) {
-    Emit("stats.class-imbalance",
-         Json(kCollectionFile, "/classes"),
-         "class '" + most_name + "' has " + std::to_string(most) +
-             " objects, class '" + least_name + "' only " +
-             std::to_string(least));
-  }
+bool Validator::OwnsFrame(std::optional<int64_t> index) const {
+  // A frame whose index cannot be read belongs to shard 0, with the findings
+  // about the collection as a whole.
+  if (!index) return shard_zero_;
+  const int64_t n = options_.shard_count;
+  return ((*index % n) + n) % n == options_.shard_index;
 }
 
-Report Validator::Run() {
+std::vector<std::string> Validator::SelectedOf(
+    std::vector<std::string> ids) const {
+  ids.erase(std::remove_if(ids.begin(),
+                           ids.end(),
+                           [&](const std::string& id) { return !Selected(id); }),
+            ids.end());
+  return ids;
+}
+
+void Validator::AddCheckSeconds() {
+  for (const auto& [id, seconds] : check_seconds_)
+    report_.AddCheckSeconds(id, seconds);
+  check_seconds_.clear();
+}
+
+Report Validator::Run(bool finish) {
   const auto start = std::chrono::steady_clock::now();
   report_.collection = root_.string();
   for (const CheckInfo& check : AllChecks()) {
     if (Selected(check.id)) report_.checks.push_back(check.id);
   }
+  shard_zero_ = options_.shard_index == 0;
+  emitting_ = shard_zero_;
   CheckCollectionFolder(root_);
-  if (ReadHeader()) {
-    CheckTables();
-    ReadMetadata();
-    StreamFrames();
-    CheckStrayFiles();
-    CheckStatistics();
+  bool header_read = false;
+  {
+    CheckTimer timer(&check_seconds_,
+                     shard_zero_ ? SelectedOf({"schema", "structure.tables",
+                                               "structure.frame-count"})
+                                 : std::vector<std::string>{});
+    header_read = ReadHeader();
+    if (header_read) CheckTables();
   }
+  if (header_read) {
+    tallies_.header_read = true;
+    tallies_.classes = header_.classes;
+    tallies_.has_classid_layer =
+        header_.FindLayerBySemantic("classid") != nullptr;
+    {
+      CheckTimer timer(&check_seconds_,
+                       shard_zero_ ? SelectedOf({"schema", "structure.metadata"})
+                                   : std::vector<std::string>{});
+      ReadMetadata();
+    }
+    StreamFrames();
+    {
+      CheckTimer timer(&check_seconds_,
+                       shard_zero_ ? SelectedOf({"structure.stray-file"})
+                                   : std::vector<std::string>{});
+      CheckStrayFiles();
+    }
+    if (finish) {
+      CheckTimer timer(&check_seconds_,
+                       SelectedOf({"stats.class-unused", "stats.class-imbalance",
+                                   "cross.metadata-pose"}));
+      FinishCollectionChecks(tallies_, options_.checks, &report_);
+    }
+  }
+  AddCheckSeconds();
   report_.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -534,7 +593,39 @@ Report ValidateCollection(const fs::path& root,
         tbb::global_control::max_allowed_parallelism,
         static_cast<size_t>(options.jobs));
   }
-  return Validator(root, options).Run();
+  if (options.shard_count != 1 || options.shard_index != 0)
+    throw Error("ValidateCollection runs one whole run; use ValidateShard");
+  return Validator(root, options).Run(/*finish=*/true);
+}
+
+PartialReport ValidateShard(const fs::path& root,
+                            const ValidateOptions& options) {
+  if (options.shard_count < 1 || options.shard_index < 0 ||
+      options.shard_index >= options.shard_count) {
+    throw Error("shard " + std::to_string(options.shard_index) + "/" +
+                std::to_string(options.shard_count) +
+                " is not a shard: I/N needs 0 <= I < N");
+  }
+  std::unique_ptr<tbb::global_control> threads;
+  if (options.jobs > 0) {
+    threads = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism,
+        static_cast<size_t>(options.jobs));
+  }
+  Validator validator(root, options);
+  PartialReport partial;
+  partial.report = validator.Run(/*finish=*/false);
+  partial.tallies = validator.tallies();
+  partial.shard_index = options.shard_index;
+  partial.shard_count = options.shard_count;
+  partial.collection = root.string();
+  partial.checks = partial.report.checks;
+  std::error_code ec;
+  partial.collection_digest =
+      fs::is_regular_file(root / kCollectionFile, ec)
+          ? FileDigest(root / kCollectionFile)
+          : std::string();
+  return partial;
 }
 
 }  // namespace lsds::validate

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "validators/checks.h"
+#include "validators/partial_report.h"
 #include "validators/report.h"
 
 namespace lsds::validate {
@@ -18,6 +19,11 @@ struct ValidateOptions {
   int camera_grid =
       24;  // world-position correspondences per image axis for the camera solve
   bool progress = false;  // a progress line on a terminal
+  // `--shard I/N`: check only the frames whose index % N == I (and, in shard
+  // 0, the header, metadata tables and stray files). The result is a partial
+  // report; `lsds merge-reports` joins N of them into the single run's report.
+  int shard_index = 0;
+  int shard_count = 1;
 };
 
 // Throws lsds::Error (exit code 2) when `root` cannot be read as a collection
@@ -25,5 +31,10 @@ struct ValidateOptions {
 // Everything else is a finding in the report.
 Report ValidateCollection(const std::filesystem::path& root,
                           const ValidateOptions& options = {});
+
+// One shard of a run (options.shard_count >= 1): its findings, and the tallies
+// that the whole-collection checks need from every shard.
+PartialReport ValidateShard(const std::filesystem::path& root,
+                            const ValidateOptions& options);
 
 }  // namespace lsds::validate

@@ -6,6 +6,7 @@
 #include "converters/format_util.h"
 #include "libs/masks/contours.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/strings.h"
 
 namespace lsds::convert {
 
@@ -111,7 +112,12 @@ class YoloConverter : public Converter {
     yaml += "names:\n";
     const std::vector<OutputClass>& classes = setup_.classes->classes();
     for (size_t i = 0; i < classes.size(); ++i) {
-      yaml += "  " + std::to_string(i) + ": " + Quote(classes[i].name) + "\n";
+      // The mapping back to the collection's class table, as a comment
+      // (Ultralytics reads only the names).
+      std::vector<std::string> ids;
+      for (uint32_t id : classes[i].source_ids) ids.push_back(std::to_string(id));
+      yaml += "  " + std::to_string(i) + ": " + Quote(classes[i].name) +
+              "  # lsds class id " + Join(ids, ", ") + "\n";
     }
     WriteFileAtomic(setup_.root / "data.yaml", yaml);
   }

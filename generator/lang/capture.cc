@@ -54,7 +54,11 @@ const std::vector<std::string> kChangeKeys = {"material",
                                               "extent",
                                               "visible",
                                               "visibility",
-                                              "offset"};
+                                              "offset",
+                                              "class",
+                                              "rescatter",
+                                              "move",
+                                              "heading"};
 
 // "P1:3" / "P1" / {"P1": 3} -> (symbol, number or -1).
 std::pair<std::string, int64_t> RefWithNumber(const Node& n) {
@@ -87,7 +91,9 @@ std::string PathKind(const std::string& key) {
 // interpolated between the waypoints, and the velocity.
 struct FlightSample {
   Rigid3d cam_from_world;
+  Eigen::Vector3d centre;    // the point on the curve
   Eigen::Vector3d velocity;  // world m/s
+  Eigen::Vector3d tangent;   // unit direction of travel
 };
 
 struct Flight {
@@ -104,10 +110,19 @@ struct Flight {
 
   void Build(const std::vector<Rigid3d>& poses, bool spline) {
     std::vector<Eigen::Vector3d> centres;
+    std::vector<Eigen::Quaterniond> rotations;
     for (const Rigid3d& p : poses) {
       centres.push_back(CameraCenterInWorld(p));
-      attitudes.push_back(p.rotation);
+      rotations.push_back(p.rotation);
     }
+    Build(centres, rotations, spline);
+  }
+
+  // The curve through `centres` (an object's path has identity attitudes).
+  void Build(const std::vector<Eigen::Vector3d>& centres,
+             const std::vector<Eigen::Quaterniond>& rotations,
+             bool spline) {
+    attitudes = rotations;
     const size_t n = centres.size();
     auto at = [&](size_t i, double t) -> Eigen::Vector3d {
       const Eigen::Vector3d& p1 = centres[i];
@@ -149,9 +164,11 @@ struct Flight {
     FlightSample sample;
     sample.cam_from_world.rotation = rotation;
     sample.cam_from_world.translation = -(rotation * centre);
+    sample.centre = centre;
     const Eigen::Vector3d d = points[hi] - points[lo];
-    sample.velocity = d.norm() > 0 ? Eigen::Vector3d(speed * d.normalized())
-                                   : Eigen::Vector3d::Zero();
+    sample.tangent =
+        d.norm() > 0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+    sample.velocity = speed * sample.tangent;
     return sample;
   }
 };
@@ -174,6 +191,14 @@ struct Rule {
   int64_t end =
       std::numeric_limits<int64_t>::max();  // one past the last (during)
   uint64_t id = 0;
+  // An object's `move:[P2, P3:2]`: the flights it follows from `begin`, one
+  // after the other, each repeated.
+  struct Leg {
+    const Flight* flight = nullptr;
+    int64_t repetitions = 1;
+  };
+  std::vector<Leg> legs;
+  bool heading = false;  // the object turns to its direction of travel
 };
 
 class CaptureEvaluator {
@@ -191,7 +216,7 @@ class CaptureEvaluator {
       for (const auto& [key, v] : rule.block.Members())
         if (CanonicalKey(key) == "visible" || CanonicalKey(key) == "visibility")
           made_visible.insert(rule.object_symbol);
-    DropHelperClasses(made_visible, plan_);
+    DropHelperClasses(made_visible, plan_, swapped_in_);
     const int64_t total =
         segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
     if (end < 0 || end > total) end = total;
@@ -342,25 +367,10 @@ class CaptureEvaluator {
   const Flight& FlightOf(const Node& g, uint64_t segment) {
     const auto cached = flights_.find(segment);
     if (cached != flights_.end()) return cached->second;
-    g.CheckKeys({"points", "speed", "interpolation"}, "waypoints");
-    const Node points = g.Find("points"), speed = g.Find("speed");
-    if (!points || !points->is_array() || points->size() < 2)
-      (points ? points : g)
-          .Fail("a flight needs points: at least two waypoints");
-    if (!speed) g.Fail("a flight needs a speed (m/s)");
     Rng rng = Rng::For(seed_, StreamTag::kFlight, segment);
     Flight flight;
-    flight.speed = SampleScalar(speed, rng);
-    if (!(flight.speed > 0) || flight.speed > 1000)
-      speed.Fail("speed is in m/s, within (0, 1000]");
-    flight.spacing = flight.speed / fps_;
-    bool spline = false;
-    if (const Node n = g.Find("interpolation")) {
-      const std::string v = ReadString(n);
-      if (v != "linear" && v != "spline")
-        n.Fail("interpolation is linear or spline, not '" + v + "'");
-      spline = v == "spline";
-    }
+    const bool spline = ReadFlightSettings(g, rng, &flight);
+    const Node points = g.Find("points");
     std::vector<Rigid3d> poses;
     for (size_t j = 0; j < points->size(); ++j)
       poses.push_back(WaypointPose(points.Item(j), rng));
@@ -371,6 +381,64 @@ class CaptureEvaluator {
              " frames; lower the fps or raise the speed");
     flight.frame_count = static_cast<int64_t>(frames);
     return flights_.emplace(segment, std::move(flight)).first->second;
+  }
+
+  // The keys every flight shares (points, speed, interpolation), checked;
+  // fills the speed and spacing and returns whether it is a spline.
+  bool ReadFlightSettings(const Node& g, Rng& rng, Flight* flight) const {
+    g.CheckKeys({"points", "speed", "interpolation"}, "waypoints");
+    const Node points = g.Find("points"), speed = g.Find("speed");
+    if (!points || !points->is_array() || points->size() < 2)
+      (points ? points : g)
+          .Fail("a flight needs points: at least two waypoints");
+    if (!speed) g.Fail("a flight needs a speed (m/s)");
+    flight->speed = SampleScalar(speed, rng);
+    if (!(flight->speed > 0) || flight->speed > 1000)
+      speed.Fail("speed is in m/s, within (0, 1000]");
+    flight->spacing = flight->speed / fps_;
+    if (const Node n = g.Find("interpolation")) {
+      const std::string v = ReadString(n);
+      if (v != "linear" && v != "spline")
+        n.Fail("interpolation is linear or spline, not '" + v + "'");
+      return v == "spline";
+    }
+    return false;
+  }
+
+  // The path an object moves along (`O1:{move:[P2]}`): a smooth flight
+  // `waypoints:{points:[[x,y,z], ...], speed, interpolation}` through the
+  // positions of the object's centre. Its intervals are drawn once per rule
+  // and leg (stream (seed, object flight, rule, leg)).
+  const Flight& ObjectFlightOf(const Node& item,
+                               const Definition& path,
+                               uint64_t rule_id,
+                               size_t leg) {
+    const auto key = std::make_pair(rule_id, leg);
+    const auto cached = object_flights_.find(key);
+    if (cached != object_flights_.end()) return cached->second;
+    const auto [kind, g] = path.body.Members().front();
+    if (PathKind(kind) != "waypoints" || !g->is_object())
+      item.Fail("an object moves along a smooth flight: '" + path.symbol +
+                "' must be path{waypoints:{points:[[x,y,z], ...], speed: "
+                "m/s}}");
+    Rng rng = Rng::For(seed_, StreamTag::kObjectFlight, rule_id, leg);
+    Flight flight;
+    const bool spline = ReadFlightSettings(g, rng, &flight);
+    const Node points = g.Find("points");
+    std::vector<Eigen::Vector3d> centres;
+    for (size_t j = 0; j < points->size(); ++j) {
+      const Node p = points.Item(j);
+      if (!p->is_array() || p->size() != 3)
+        p.Fail("an object's waypoint is the position [x,y,z] of its centre");
+      centres.push_back(SampleVec3(p, rng));
+    }
+    flight.Build(centres,
+                 std::vector<Eigen::Quaterniond>(
+                     centres.size(), Eigen::Quaterniond::Identity()),
+                 spline);
+    if (!(flight.length > 0))
+      g.Fail("the path of a moving object has length 0");
+    return object_flights_.emplace(key, std::move(flight)).first->second;
   }
 
   // The number of frames of a path instance; a count interval is drawn from
@@ -661,6 +729,13 @@ class CaptureEvaluator {
     rule.timing = timing_block;
     rule.id = rules_.size() + 1;
     Timing(timing_block, &rule);
+    ReadMotion(block, &rule);
+    if (const Node cls = block.Find("class")) {
+      if (!cls->is_string() && !cls->is_object())
+        cls.Fail("class must be a name or a choice {name: weight}");
+      for (const std::string& option : StringOptions(cls))
+        swapped_in_.insert(SwapClass(cls, object, option).second);
+    }
     // Sample once with a throwaway stream so that bad values are reported now,
     // not on some frame.
     Rng probe(0);
@@ -670,6 +745,64 @@ class CaptureEvaluator {
         break;
       }
     rules_.push_back(rule);
+  }
+
+  // `move:[P2, P3:2]` and `heading` of an object's change block; `rescatter`
+  // is checked here too (it draws a new position, a move follows a path).
+  void ReadMotion(const Node& block, Rule* rule) {
+    const Node move = block.Find("move");
+    if (const Node h = block.Find("heading")) {
+      if (!move) h.Fail("heading turns an object along its move; add move:[P]");
+      if (!h->is_boolean()) h.Fail("heading is true or false");
+      rule->heading = h->get<bool>();
+    }
+    if (const Node r = block.Find("rescatter")) {
+      if (!r->is_boolean()) r.Fail("rescatter is true or false");
+      if (move) r.Fail("an object either moves along a path or is re-scattered");
+    }
+    if (!move) return;
+    if (const Node n = block.Find("offset"))
+      n.Fail(
+          "a moving object's position comes from its path; offset it in "
+          "another block");
+    std::vector<Node> items;
+    if (move->is_array())
+      for (size_t i = 0; i < move->size(); ++i) items.push_back(move.Item(i));
+    else
+      items.push_back(move);
+    if (items.empty()) move.Fail("move lists paths: move:[P2, P3:2]");
+    for (const Node& item : items) {
+      const auto [symbol, reps] = RefWithNumber(item);
+      const Definition* path = cap_.Find(symbol);
+      if (!path || path->kind != "path")
+        item.Fail("'" + symbol + "' is not a path" +
+                  DidYouMean(symbol, PathNames()));
+      Rule::Leg leg;
+      leg.flight = &ObjectFlightOf(item, *path, rule->id, rule->legs.size());
+      leg.repetitions = reps < 0 ? 1 : reps;
+      rule->legs.push_back(leg);
+    }
+  }
+
+  // The asset and class id a class change draws for an object of `symbol`:
+  // a labelled target keeps its label; another object takes the class of
+  // that name, added to the class table if the scene has none (after the
+  // scene's ids, so that the scene's ids never change).
+  std::pair<std::string, uint32_t> SwapClass(const Node& where,
+                                             const std::string& symbol,
+                                             const std::string& option) {
+    const SceneClass resolved = ResolveSceneClass(*scene_, where, option);
+    const auto label = labels_.find(symbol);
+    if (label != labels_.end() && label->second != 0)
+      return {resolved.asset, label->second};
+    uint32_t next = 1;
+    for (const ClassInfo& c : plan_->classes) {
+      if (c.name == resolved.name) return {resolved.asset, c.id};
+      next = std::max(next, c.id + 1);
+    }
+    for (const auto& [s, l] : labels_) next = std::max(next, l + 1);
+    plan_->classes.push_back({next, resolved.name});
+    return {resolved.asset, next};
   }
 
   void BuildRules() {
@@ -700,9 +833,7 @@ class CaptureEvaluator {
     }
   }
 
-  ObjectChange Change(const Rule& rule,
-                      const PlannedObject& o,
-                      Rng& rng) const {
+  ObjectChange Change(const Rule& rule, const PlannedObject& o, Rng& rng) {
     ObjectChange c;
     c.object = o.name;
     for (const auto& [key, v] : rule.block.Members()) {
@@ -721,6 +852,11 @@ class CaptureEvaluator {
         c.extent = o.extent.cwiseProduct(s);
       }
       if (k == "offset") c.position = o.position + SampleVec3(v, rng);
+      if (k == "class") {
+        const auto [asset, id] = SwapClass(v, o.symbol, SampleString(v, rng));
+        c.asset = asset;
+        c.class_id = id;
+      }
     }
     return c;
   }
@@ -911,9 +1047,14 @@ class CaptureEvaluator {
             rule.environment_kind, rule.block, change_rng, &*f.environment);
         continue;
       }
+      const bool rescatter = rule.block.Find("rescatter") &&
+                             rule.block.Find("rescatter")->get<bool>();
       for (const PlannedObject& o : plan_->objects)
         if (o.symbol == rule.object_symbol) {
-          f.changes.push_back(Change(rule, o, change_rng));
+          ObjectChange change = Change(rule, o, change_rng);
+          if (!rule.legs.empty()) Move(rule, o, k, &change);
+          if (rescatter) Rescatter(rule, o, f, change_rng, &change);
+          f.changes.push_back(change);
           change_rules.push_back(&rule);
         }
     }
@@ -928,6 +1069,142 @@ class CaptureEvaluator {
       }
     }
     return f;
+  }
+
+  // An object moving along its legs (docs/languages.md, "Objects that
+  // move"): at time t since the rule began it is where its path is after
+  // t * speed metres; after the last leg it stays at its end, at rest.
+  // Several copies of a symbol move in formation: each keeps its planned
+  // offset from the first copy. Its velocity is the path's; an object
+  // standing on the terrain follows the ground, so the vertical component
+  // is the terrain's slope along the motion (its z is re-seated on the
+  // support by KeepPlacement).
+  void Move(const Rule& rule,
+            const PlannedObject& o,
+            int64_t k,
+            ObjectChange* c) const {
+    const PlannedObject* first = &o;
+    for (const PlannedObject& p : plan_->objects)
+      if (p.symbol == o.symbol) {
+        first = &p;
+        break;
+      }
+    double t = static_cast<double>(k - rule.begin) / fps_;
+    FlightSample at;
+    bool moving = false;
+    for (const Rule::Leg& leg : rule.legs) {
+      const Flight& flight = *leg.flight;
+      const double lap = flight.length / flight.speed;
+      if (t < lap * static_cast<double>(leg.repetitions)) {
+        at = flight.At((t - std::floor(t / lap) * lap) * flight.speed);
+        moving = true;
+        break;
+      }
+      t -= lap * static_cast<double>(leg.repetitions);
+      at = flight.At(flight.length);
+    }
+    c->position = at.centre + (o.position - first->position);
+    Eigen::Vector3d v = moving ? at.velocity : Eigen::Vector3d::Zero();
+    if (o.support == PlannedObject::Support::kTerrain) {
+      const double e = 1e-3;  // central difference of the terrain height
+      const Eigen::Vector3d& p = *c->position;
+      const double dx = (TerrainHeight(plan_->terrain, p.x() + e, p.y()) -
+                         TerrainHeight(plan_->terrain, p.x() - e, p.y())) /
+                        (2 * e);
+      const double dy = (TerrainHeight(plan_->terrain, p.x(), p.y() + e) -
+                         TerrainHeight(plan_->terrain, p.x(), p.y() - e)) /
+                        (2 * e);
+      v.z() = dx * v.x() + dy * v.y();
+    } else if (o.support == PlannedObject::Support::kTop) {
+      v.z() = 0;
+    }
+    c->velocity = v;
+    // Heading: the yaw of travel on top of the object's rotation (the
+    // block's, else the planned one).
+    if (rule.heading && at.tangent.head<2>().norm() > 1e-12) {
+      const double yaw = std::atan2(at.tangent.y(), at.tangent.x());
+      c->world_from_object =
+          Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+          (c->world_from_object ? *c->world_from_object : o.world_from_object);
+    }
+  }
+
+  // A re-scatter (`rescatter:true`): Algorithm 1 again for the object, in
+  // the space its LSCENE constraints left (recorded when it was placed),
+  // against the objects as they are on this frame (their changes so far);
+  // its overlap policy holds: after `retries` overlapping draws it is hidden
+  // on this frame (on_overlap delete or hide) or the plan fails (move).
+  void Rescatter(const Rule& rule,
+                 const PlannedObject& o,
+                 const PlannedFrame& f,
+                 Rng& rng,
+                 ObjectChange* c) const {
+    struct State {
+      const PlannedObject* planned;
+      Eigen::Vector3d position, extent;
+      Eigen::Matrix3d world_from_object;
+      bool visible;
+    };
+    std::map<std::string, State> states;
+    for (const PlannedObject& p : plan_->objects)
+      states[p.name] = {
+          &p, p.position, p.extent, p.world_from_object, p.visible};
+    for (const ObjectChange& change : f.changes) {
+      State& s = states.at(change.object);
+      if (change.position) s.position = *change.position;
+      if (change.extent) s.extent = *change.extent;
+      if (change.world_from_object)
+        s.world_from_object = *change.world_from_object;
+      if (change.visible) s.visible = *change.visible;
+    }
+    State& me = states.at(o.name);
+    if (c->extent) me.extent = *c->extent;
+    if (c->world_from_object) me.world_from_object = *c->world_from_object;
+    if (c->visible) me.visible = *c->visible;
+    const Eigen::Vector3d half =
+        me.world_from_object.cwiseAbs() * (0.5 * me.extent);
+    const bool on = o.support != PlannedObject::Support::kNone;
+    for (int attempt = 0;; ++attempt) {
+      Eigen::Vector3d p;
+      for (int i = 0; i < 3; ++i) {
+        if (i == 2 && on) continue;
+        const double lo = o.placement_lo[i] + half[i],
+                     hi = o.placement_hi[i] - half[i];
+        p[i] = lo <= hi ? rng.Uniform(lo, hi)
+                        : 0.5 * (o.placement_lo[i] + o.placement_hi[i]);
+      }
+      if (o.support == PlannedObject::Support::kTerrain)
+        p.z() = TerrainHeight(plan_->terrain, p.x(), p.y()) + half.z();
+      else if (o.support == PlannedObject::Support::kTop)
+        p.z() = o.support_top + half.z();
+      c->position = p;
+      if (o.overlap_allowed || !me.visible) return;
+      const OrientedBox mine{p, 0.5 * me.extent, me.world_from_object};
+      bool collides = false;
+      for (const auto& [name, t] : states) {
+        if (name == o.name || !t.visible) continue;
+        if (std::find(o.supports.begin(),
+                      o.supports.end(),
+                      t.planned->symbol) != o.supports.end())
+          continue;
+        if (mine.Intersects(
+                {t.position, 0.5 * t.extent, t.world_from_object})) {
+          collides = true;
+          break;
+        }
+      }
+      if (!collides) return;
+      if (attempt >= o.retries) break;
+    }
+    if (o.on_overlap == "delete" || o.on_overlap == "hide") {
+      c->visible = false;  // a frame cannot delete it: it is hidden there
+      return;
+    }
+    rule.block.Fail("frame " + std::to_string(f.index) + ": cannot re-scatter " +
+                    o.name + " without overlap after " +
+                    std::to_string(o.retries) +
+                    " retries; lower the count, enlarge its space, or allow "
+                    "overlap in the scene (overlap:true or on_overlap:delete)");
   }
 
   // A camera must be where a drone can be: at least the clearance above the
@@ -1054,6 +1331,9 @@ class CaptureEvaluator {
   std::set<std::string> scene_symbols_;
   std::map<std::string, std::string> environment_symbols_;  // symbol -> kind
   std::string first_target_;
+  const Program* scene_ = nullptr;
+  TargetLabels labels_;
+  std::set<uint32_t> swapped_in_;  // class ids class changes may draw
 
  private:
   const Program& cap_;
@@ -1064,6 +1344,8 @@ class CaptureEvaluator {
   double fps_ = 10;
   std::optional<double> clearance_ = kDefaultClearanceM;
   std::map<uint64_t, Flight> flights_;  // by path instance (segment)
+  std::map<std::pair<uint64_t, size_t>, Flight>
+      object_flights_;  // by (rule, leg)
   bool heights_agl_ = false;  // waypoint and point z above the terrain
   std::vector<Segment> segments_;
   std::vector<Rule> rules_;
@@ -1121,6 +1403,8 @@ void EvaluateCapture(const Program& capture,
                      int64_t end,
                      Plan* plan) {
   CaptureEvaluator evaluator(capture, seed, plan);
+  evaluator.scene_ = &scene;
+  evaluator.labels_ = ReadTargets(capture, scene);
   for (const Definition& d : scene.definitions)
     if (d.kind == "object")
       evaluator.scene_symbols_.insert(d.symbol);

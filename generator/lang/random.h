@@ -29,7 +29,8 @@ enum class StreamTag : uint64_t {
   kChange = 3,
   kTerrain = 4,
   kCount = 5,  // frame counts of capture paths, one stream per path instance
-  kFlight = 6  // waypoints of a smooth flight, one stream per path instance
+  kFlight = 6,  // waypoints of a smooth flight, one stream per path instance
+  kObjectFlight = 7  // an object's path, one stream per (rule, leg)
 };
 
 class Rng {

@@ -740,6 +740,10 @@ class SceneEvaluator {
     p->has_support = on;
     p->support = surface;
     p->support.footprint = space;
+    o.placement_lo = space.lo;
+    o.placement_hi = space.hi;
+    o.on_overlap = policy;
+    o.retries = retries;
 
     for (int attempt = 0;; ++attempt) {
       const Eigen::Vector3d half =
@@ -815,6 +819,30 @@ class SceneEvaluator {
 
 }  // namespace
 
+SceneClass ResolveSceneClass(const Program& scene,
+                             const Node& where,
+                             const std::string& option) {
+  for (const Definition& def : scene.definitions) {
+    if (def.kind != "classes") continue;
+    for (const auto& [name, node] : def.body.Members())
+      if (name == option) return {ReadString(node), option};
+  }
+  if (BuiltinClasses().count(option)) return {option, option};
+  if (IsMeshClass(option)) {
+    const std::string path =
+        (std::filesystem::path(scene.src->path).parent_path() / option)
+            .lexically_normal()
+            .generic_string();
+    return {path, path};
+  }
+  std::vector<std::string> names;
+  for (const auto& [name, extent] : BuiltinClasses()) names.push_back(name);
+  where.Fail("unknown class '" + option + "'" + DidYouMean(option, names) +
+             "; use a built-in class, a mesh file (.obj/.ply/.gltf/.glb, "
+             "relative to the scene file) or a classes{...} alias of the "
+             "scene");
+}
+
 void EvaluateScene(const Program& scene,
                    uint64_t seed,
                    const TargetLabels& targets,
@@ -823,8 +851,9 @@ void EvaluateScene(const Program& scene,
 }
 
 void DropHelperClasses(const std::set<std::string>& symbols_made_visible,
-                       Plan* plan) {
-  std::set<uint32_t> shown;
+                       Plan* plan,
+                       const std::set<uint32_t>& extra_shown) {
+  std::set<uint32_t> shown = extra_shown;
   if (plan->terrain.present) shown.insert(plan->terrain.class_id);
   for (const PlannedObject& o : plan->objects)
     if (o.visible || symbols_made_visible.count(o.symbol))

@@ -59,11 +59,25 @@ void EvaluateScene(const Program& scene,
                    const TargetLabels& targets,
                    Plan* plan);
 
+// A class option as the scene resolves it: the asset drawn (a built-in class
+// or a mesh path relative to the scene file) and the class name it is
+// labelled with (a classes{} alias keeps the user's name). For LCAP class
+// swaps; an unknown option is an error at `where`.
+struct SceneClass {
+  std::string asset;
+  std::string name;
+};
+SceneClass ResolveSceneClass(const Program& scene,
+                             const Node& where,
+                             const std::string& option);
+
 // Removes from the class table the classes that no rendered object can show:
 // classes whose objects are all invisible helpers, unless a capture change may
 // make one visible (`symbols_made_visible`). Their objects get class id 0.
 // The terrain class stays. A clean collection then has no unused class.
+// `extra_shown`: class ids a capture swaps in (class changes).
 void DropHelperClasses(const std::set<std::string>& symbols_made_visible,
-                       Plan* plan);
+                       Plan* plan,
+                       const std::set<uint32_t>& extra_shown = {});
 
 }  // namespace lsds

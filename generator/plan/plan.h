@@ -88,6 +88,13 @@ struct PlannedObject {
   double support_top = 0;             // z of that top (kTop)
   std::vector<std::string> supports;  // symbols it may touch (ON/IN refs)
   bool overlap_allowed = true;        // overlap:true or on_overlap:allow
+  // Algorithm 1's space after the object's constraints (the box its centre
+  // was drawn in, z unused when it stands on a support), and its overlap
+  // policy: what an LCAP re-scatter draws from again.
+  Eigen::Vector3d placement_lo = Eigen::Vector3d::Zero();
+  Eigen::Vector3d placement_hi = Eigen::Vector3d::Zero();
+  std::string on_overlap = "move";  // move | delete | hide | allow
+  int retries = 100;
 };
 
 // A change to an object in effect on a frame (LCAP scene changes:
@@ -99,6 +106,12 @@ struct ObjectChange {
   std::optional<Eigen::Vector3d> extent;
   std::optional<std::string> material;
   std::optional<bool> visible;
+  // A class or asset swap: the asset drawn from this frame on (built-in
+  // class or mesh path, fitted to the object's box) and its class id.
+  std::optional<std::string> asset;
+  std::optional<uint32_t> class_id;
+  // The object's velocity (world m/s) when it moves along a path.
+  std::optional<Eigen::Vector3d> velocity;
 };
 
 struct PlannedFrame {

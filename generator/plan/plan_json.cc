@@ -58,6 +58,9 @@ json ChangeJson(const ObjectChange& c) {
   if (c.extent) j["extent"] = Vec3(*c.extent);
   if (c.material) j["material"] = *c.material;
   if (c.visible) j["visible"] = *c.visible;
+  if (c.asset) j["asset"] = *c.asset;
+  if (c.class_id) j["class_id"] = *c.class_id;
+  if (c.velocity) j["velocity"] = Vec3(*c.velocity);
   return j;
 }
 ObjectChange ChangeFrom(const json& j) {
@@ -68,6 +71,9 @@ ObjectChange ChangeFrom(const json& j) {
   if (j.contains("extent")) c.extent = ToVec3(j["extent"]);
   if (j.contains("material")) c.material = j["material"].get<std::string>();
   if (j.contains("visible")) c.visible = j["visible"].get<bool>();
+  if (j.contains("asset")) c.asset = j["asset"].get<std::string>();
+  if (j.contains("class_id")) c.class_id = j["class_id"].get<uint32_t>();
+  if (j.contains("velocity")) c.velocity = ToVec3(j["velocity"]);
   return c;
 }
 

@@ -29,6 +29,12 @@ EmbreeDevice::EmbreeDevice() {
 
 EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
 
+const ClassShape& SceneAssets::ShapeOf(size_t i,
+                                       const std::string& asset) const {
+  const auto swap = swapped.find({i, asset});
+  return swap == swapped.end() ? shapes[i] : swap->second;
+}
+
 SceneAssets BuildSceneAssets(const Plan& plan) {
   SceneAssets assets;
   assets.shapes.reserve(plan.objects.size());
@@ -47,6 +53,22 @@ SceneAssets BuildSceneAssets(const Plan& plan) {
       FindMaterial(f.environment->terrain_material,
                    "frame " + std::to_string(f.index) + " terrain");
     for (const ObjectChange& c : f.changes) {
+      if (c.asset) {
+        size_t i = 0;
+        while (i < plan.objects.size() && plan.objects[i].name != c.object) ++i;
+        if (i == plan.objects.size())
+          throw Error("frame " + std::to_string(f.index) +
+                      ": a change refers to unknown object '" + c.object + "'");
+        const PlannedObject& o = plan.objects[i];
+        if (*c.asset != o.class_name && !assets.swapped.count({i, *c.asset}))
+          assets.swapped.emplace(
+              std::make_pair(i, *c.asset),
+              MakeClassShape(
+                  *c.asset,
+                  HashCombine(plan.seed, HashString(o.name.c_str())),
+                  "frame " + std::to_string(f.index) + " object '" + c.object +
+                      "'"));
+      }
       if (c.material)
         FindMaterial(
             *c.material,
@@ -77,17 +99,18 @@ RenderScene::RenderScene(const EmbreeDevice& device,
   for (size_t i = 0; i < world.objects.size(); ++i) {
     const ObjectState& o = world.objects[i];
     if (!o.visible) continue;  // invisible helpers are placed but not rendered
-    TriangleMesh mesh = assets.shapes[i].mesh;
+    const ClassShape& shape = assets.ShapeOf(i, o.asset);
+    TriangleMesh mesh = shape.mesh;
     const Eigen::Matrix3f linear =
         (o.world_from_object * o.extent.asDiagonal()).cast<float>();
     const Eigen::Vector3f offset = o.position.cast<float>();
     for (Eigen::Vector3f& p : mesh.positions) p = linear * p + offset;
     Surface s;
     s.object = static_cast<int>(i);
-    s.class_id = o.planned->class_id;
+    s.class_id = o.class_id;
     s.instance_id = o.planned->instance_id;
     s.material = &FindMaterial(
-        o.material.empty() ? assets.shapes[i].default_material : o.material,
+        o.material.empty() ? shape.default_material : o.material,
         "object '" + o.planned->name + "'");
     const unsigned id = AddMesh(device, std::move(mesh), s);
     RTCScene own = rtcNewScene(device.get());

@@ -4,6 +4,7 @@
 // coverage that visibility fractions need.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,6 +34,10 @@ class EmbreeDevice {
 // (validated up front so that a bad name fails before any frame is rendered).
 struct SceneAssets {
   std::vector<ClassShape> shapes;  // per Plan::objects entry
+  // Shapes LCAP class changes swap in: (object index, asset) -> shape.
+  std::map<std::pair<size_t, std::string>, ClassShape> swapped;
+  // The shape object `i` draws as `asset`.
+  const ClassShape& ShapeOf(size_t i, const std::string& asset) const;
   const Material* terrain_material = nullptr;
 };
 SceneAssets BuildSceneAssets(const Plan& plan);

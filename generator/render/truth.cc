@@ -81,13 +81,13 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
   for (size_t i = 0; i < world.objects.size(); ++i) {
     const ObjectState& o = world.objects[i];
     const PlannedObject& p = *o.planned;
-    if (!p.target || !o.visible || p.class_id == 0 || p.instance_id == 0)
+    if (!p.target || !o.visible || o.class_id == 0 || p.instance_id == 0)
       continue;
     ObjectIdentity identity;
     identity.instance_id = p.instance_id;
-    identity.class_id = p.class_id;
+    identity.class_id = o.class_id;
     identity.name = p.name;
-    identity.asset = p.class_name;
+    identity.asset = o.asset;
     identity.obb = o.Box();
     const auto mask = masks.find(p.instance_id);
     const RTCScene own = scene.ObjectScene(static_cast<int>(i));
@@ -101,6 +101,7 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
         });
     if (!t) continue;  // nowhere near the image
     t->material = o.material;
+    t->velocity = o.velocity;
     t->transmittance = std::exp(
         -extinction_per_m *
         (t->obb.center - CameraCenterInWorld(frame.cam_from_world)).norm());

@@ -16,6 +16,8 @@ WorldState WorldAt(const Plan& plan, const PlannedFrame& frame) {
     s.extent = o.extent;
     s.material = o.material;
     s.visible = o.visible;
+    s.asset = o.class_name;
+    s.class_id = o.class_id;
     world.objects.push_back(s);
   }
   for (const ObjectChange& change : frame.changes) {
@@ -34,6 +36,9 @@ WorldState WorldAt(const Plan& plan, const PlannedFrame& frame) {
     if (change.extent) target->extent = *change.extent;
     if (change.material) target->material = *change.material;
     if (change.visible) target->visible = *change.visible;
+    if (change.asset) target->asset = *change.asset;
+    if (change.class_id) target->class_id = *change.class_id;
+    if (change.velocity) target->velocity = *change.velocity;
   }
   return world;
 }

@@ -19,6 +19,11 @@ struct ObjectState {
   Eigen::Vector3d extent = Eigen::Vector3d::Ones();
   std::string material;
   bool visible = true;
+  std::string asset;      // the class shape drawn (LCAP may swap it)
+  uint32_t class_id = 0;  // in effect on the frame
+  // World m/s: the path's velocity for an object moving along one, else 0
+  // (discrete changes are jumps, not motion). Not part of the geometry.
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
 
   OrientedBox Box() const { return {position, extent / 2, world_from_object}; }
   // The world point of an object-frame point of the unit box.
@@ -32,7 +37,8 @@ struct ObjectState {
   bool operator==(const ObjectState& o) const {
     return planned == o.planned && position == o.position &&
            world_from_object == o.world_from_object && extent == o.extent &&
-           material == o.material && visible == o.visible;
+           material == o.material && visible == o.visible &&
+           asset == o.asset && class_id == o.class_id;
   }
 };
 

@@ -177,6 +177,7 @@ json ObjectToJson(const ObjectTruth& o) {
   if (!o.asset.empty()) j["asset"] = o.asset;
   if (!o.material.empty()) j["material"] = o.material;
   if (o.transmittance) j["transmittance"] = *o.transmittance;
+  if (o.velocity) j["velocity"] = Vector3ToJson(*o.velocity);
   if (!o.changes.is_null()) j["changes"] = o.changes;
   return j;
 }
@@ -200,6 +201,7 @@ ObjectTruth ObjectFromJson(const json& j) {
   o.material = j.value("material", "");
   if (j.contains("transmittance"))
     o.transmittance = j.at("transmittance").get<double>();
+  if (j.contains("velocity")) o.velocity = Vector3FromJson(j.at("velocity"));
   if (j.contains("changes")) o.changes = j.at("changes");
   return o;
 }

@@ -131,6 +131,8 @@ struct ObjectTruth {
   std::string asset;  // the asset the object was drawn from ("barrel", a mesh)
   std::string material;  // the material applied in this frame, if known
   std::optional<double> transmittance;  // atmospheric, camera to OBB centre
+  // World units per second: the OBB centre's velocity (0 at rest).
+  std::optional<Eigen::Vector3d> velocity;
   nlohmann::json changes;  // LCAP changes in effect at this frame (null: none)
 };
 

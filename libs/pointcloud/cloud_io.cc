@@ -25,7 +25,11 @@ struct FieldSpec {
   size_t offset_in_point;  // offset in CloudPoint
 };
 
-std::vector<FieldSpec> FieldsFor(const Attributes& a) {
+// `ids_type`: UINT32 for PCD (pcl::PointXYZRGBL's label), INT32 for PLY
+// ("int"): Open3D's tensor PLY reader keeps only uchar, uint16, int, float and
+// double properties and silently drops "uint" ones. Same bits either way.
+std::vector<FieldSpec> FieldsFor(const Attributes& a,
+                                 uint8_t ids_type = Field::UINT32) {
   std::vector<FieldSpec> fields = {
       {"x", Field::FLOAT32, offsetof(CloudPoint, x)},
       {"y", Field::FLOAT32, offsetof(CloudPoint, y)},
@@ -35,9 +39,8 @@ std::vector<FieldSpec> FieldsFor(const Attributes& a) {
   if (a.rgb)
     fields.push_back({"rgb", Field::FLOAT32, offsetof(CloudPoint, rgb)});
   if (a.labels) {
-    fields.push_back({"label", Field::UINT32, offsetof(CloudPoint, label)});
-    fields.push_back(
-        {"instance", Field::UINT32, offsetof(CloudPoint, instance)});
+    fields.push_back({"label", ids_type, offsetof(CloudPoint, label)});
+    fields.push_back({"instance", ids_type, offsetof(CloudPoint, instance)});
   }
   if (a.normals) {
     fields.push_back(
@@ -50,8 +53,10 @@ std::vector<FieldSpec> FieldsFor(const Attributes& a) {
   return fields;
 }
 
-pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud) {
-  const std::vector<FieldSpec> specs = FieldsFor(cloud.attributes);
+pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud, CloudFormat format) {
+  const std::vector<FieldSpec> specs = FieldsFor(
+      cloud.attributes,
+      format == CloudFormat::kPly ? Field::INT32 : Field::UINT32);
   pcl::PCLPointCloud2 out;
   uint32_t offset = 0;
   for (const FieldSpec& spec : specs) {
@@ -121,7 +126,7 @@ const char* Extension(CloudFormat format) {
 void WriteCloud(const std::filesystem::path& path,
                 const PointCloud& cloud,
                 CloudFormat format) {
-  const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud);
+  const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud, format);
   // PCL writes by file name and ignores write errors: it writes into memory
   // and the bytes reach `path` through the checked atomic path.
   WriteFileAtomicVia(path, [&](const std::filesystem::path& scratch) {

@@ -1,7 +1,10 @@
 // PCD and PLY files: what is written reads back equal, with lsds and with PCL's
 // own point types.
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <pcl/io/pcd_io.h>
@@ -16,6 +19,13 @@ namespace lsds::pointcloud {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string ReadFileText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 PointCloud RandomCloud(size_t n, Attributes attributes) {
   std::mt19937 rng(7);
@@ -90,6 +100,100 @@ TEST(CloudIo, PclPointTypesReadTheFiles) {
     ASSERT_EQ(normals[i].b, p.rgb & 0xff);
     ASSERT_EQ(normals[i].normal_x, p.normal_x);
     ASSERT_EQ(normals[i].normal_z, p.normal_z);
+  }
+}
+
+// The PLY header up to end_header.
+std::string PlyHeader(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string header, line;
+  while (std::getline(in, line) && line != "end_header") header += line + "\n";
+  return header;
+}
+
+// A labelled cloud whose ids include one above 2^31 (written as the int32 with
+// the same bits).
+PointCloud LabelledCloud() {
+  PointCloud cloud = RandomCloud(300, Attributes{true, true, false});
+  cloud.points[7].instance = 3000000000u;
+  return cloud;
+}
+
+TEST(CloudIo, PlyIdsAreIntPropertiesThatPclKeeps) {
+  testing::ScratchDir dir("ply_ids");
+  const PointCloud cloud = LabelledCloud();
+  WriteCloud(dir / "c.ply", cloud, CloudFormat::kPly);
+  // "int", which Open3D's tensor reader keeps, not "uint", which it drops.
+  const std::string header = PlyHeader(dir / "c.ply");
+  EXPECT_NE(header.find("property int label\n"), std::string::npos) << header;
+  EXPECT_NE(header.find("property int instance\n"), std::string::npos);
+  EXPECT_EQ(header.find("uint"), std::string::npos) << header;
+  // PCL's own PLY reader keeps both properties, value for value.
+  pcl::PCLPointCloud2 blob;
+  ASSERT_EQ(pcl::io::loadPLYFile((dir / "c.ply").string(), blob), 0);
+  ASSERT_EQ(blob.width * blob.height, cloud.points.size());
+  for (const char* name : {"label", "instance"}) {
+    const pcl::PCLPointField* field = nullptr;
+    for (const pcl::PCLPointField& f : blob.fields)
+      if (f.name == name) field = &f;
+    ASSERT_NE(field, nullptr) << name;
+    EXPECT_EQ(field->datatype, pcl::PCLPointField::INT32);
+    for (size_t i = 0; i < cloud.points.size(); ++i) {
+      uint32_t bits;
+      std::memcpy(&bits,
+                  blob.data.data() + i * blob.point_step + field->offset,
+                  4);
+      ASSERT_EQ(bits,
+                std::string(name) == "label" ? cloud.points[i].label
+                                             : cloud.points[i].instance)
+          << name << " point " << i;
+    }
+  }
+  // PCD keeps uint32 (pcl::PointXYZRGBL's label type).
+  WriteCloud(dir / "c.pcd", cloud, CloudFormat::kPcd);
+  EXPECT_NE(ReadFileText(dir / "c.pcd").find("TYPE F F F F U U"),
+            std::string::npos);
+}
+
+TEST(CloudIo, Open3dTensorReaderKeepsPlyLabels) {
+  // Debian's python3 with python3-open3d (scripts/install-deps.sh --bench).
+  const std::string python = "/usr/bin/python3";
+  std::string out;
+  if (std::system((python + " -c 'import open3d' >/dev/null 2>&1").c_str()) !=
+      0) {
+    GTEST_SKIP() << "python3-open3d is not installed (scripts/install-deps.sh "
+                    "--bench installs it); PCL's reader is tested always";
+  }
+  testing::ScratchDir dir("ply_open3d");
+  const PointCloud cloud = LabelledCloud();
+  WriteCloud(dir / "c.ply", cloud, CloudFormat::kPly);
+  std::ofstream(dir / "read.py")
+      << "import sys, numpy as np, open3d as o3d\n"
+         "pc = o3d.t.io.read_point_cloud(sys.argv[1])\n"
+         "for name in ('label', 'instance'):\n"
+         "    a = pc.point[name].numpy().reshape(-1)\n"
+         "    print(name, a.dtype)\n"
+         "    a.astype(np.int32).tofile(sys.argv[1] + '.' + name)\n";
+  ASSERT_EQ(std::system((python + " " + (dir / "read.py").string() + " " +
+                         (dir / "c.ply").string() + " > " +
+                         (dir / "log").string() + " 2>&1")
+                            .c_str()),
+            0)
+      << ReadFileText(dir / "log");
+  EXPECT_NE(ReadFileText(dir / "log").find("label int32"), std::string::npos)
+      << ReadFileText(dir / "log");
+  for (const char* name : {"label", "instance"}) {
+    const std::string bytes =
+        ReadFileText(dir / (std::string("c.ply.") + name));
+    ASSERT_EQ(bytes.size(), cloud.points.size() * 4) << name;
+    for (size_t i = 0; i < cloud.points.size(); ++i) {
+      uint32_t bits;
+      std::memcpy(&bits, bytes.data() + 4 * i, 4);
+      ASSERT_EQ(bits,
+                std::string(name) == "label" ? cloud.points[i].label
+                                             : cloud.points[i].instance)
+          << name << " point " << i;
+    }
   }
 }
 

@@ -128,6 +128,15 @@ class CliGrammar : public ::testing::Test {
          },
          [](const fs::path& out) { return FileStems(out / "clouds"); },
          0},
+        {"export-layers",
+         [](const fs::path& out) {
+           return Lsds() + " export-layers " + C() + " --layers depth -o " +
+                  (out / "layers").string();
+         },
+         [](const fs::path& out) {
+           return FileStems(out / "layers" / "depth");
+         },
+         0},
     };
   }
 
@@ -233,6 +242,7 @@ TEST_F(CliGrammar, AMistypedFlagGetsTheDocumentedErrorWithASuggestion) {
       {"perturb-metadata", C() + " --seed 1"},
       {"bundles", C()},
       {"backproject", C()},
+      {"export-layers", C() + " -o /nonexistent/x"},
       {"synth", "/nonexistent/x"},
   };
   for (const auto& [name, args] : commands) {

@@ -119,10 +119,12 @@ TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
       json::parse(ReadText(out / "annotations" / "instances_train.json"));
   const std::vector<Frame> frames = Frames(Collection());
   ASSERT_EQ(coco["images"].size(), frames.size());
-  // Categories: the class table in id order, ids 1..K.
-  ASSERT_EQ(coco["categories"].size(), 3u);
-  EXPECT_EQ(coco["categories"][1]["name"], "box");
-  EXPECT_EQ(coco["categories"][1]["id"], 2);
+  // Categories: the classes some annotation has, in class-table order, ids
+  // 1..K (the ground has no truth objects and is not listed).
+  ASSERT_EQ(coco["categories"].size(), 2u);
+  EXPECT_EQ(coco["categories"][0]["name"], "box");
+  EXPECT_EQ(coco["categories"][0]["id"], 1);
+  EXPECT_EQ(coco["categories"][0]["lsds"]["class_ids"], json::array({2}));
 
   std::map<int64_t, const Frame*> by_image;
   for (const Frame& f : frames) by_image[f.index + 1] = &f;
@@ -153,7 +155,7 @@ TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
     EXPECT_EQ(a["area"], cv::countNonZero(expected_mask));
     EXPECT_EQ(a["iscrowd"], 0);
     EXPECT_EQ(a["category_id"],
-              truth->class_id);  // class table 1, 2, 3 -> categories 1, 2, 3
+              truth->class_id - 1);  // classes 2, 3 -> categories 1, 2
     const Box2d& b = *truth->bbox;
     EXPECT_EQ(a["bbox"], json::array({b.x0, b.y0, b.width(), b.height()}));
     // The mask's extent is the box.
@@ -225,9 +227,11 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
   const fs::path out = Out("yolo");
   convert::Convert(Options(Collection(), out, {"yolo"}));
   const std::string yaml = ReadText(out / "data.yaml");
-  EXPECT_NE(
-      yaml.find("names:\n  0: \"ground\"\n  1: \"box\"\n  2: \"crate\"\n"),
-      std::string::npos)
+  // The ground has no truth objects: it is not listed, and the ids of the
+  // classes that occur are contiguous, each with its lsds class id.
+  EXPECT_NE(yaml.find("names:\n  0: \"box\"  # lsds class id 2\n"
+                      "  1: \"crate\"  # lsds class id 3\n"),
+            std::string::npos)
       << yaml;
   // No absolute `path:`: the dataset root is the folder of data.yaml.
   EXPECT_EQ(yaml.find("path:"), std::string::npos);
@@ -246,7 +250,7 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
     while (labels >> cls >> xc >> yc >> w >> h) {
       ASSERT_LT(n, visible.size());
       const ObjectTruth& o = *visible[n++];
-      EXPECT_EQ(cls, static_cast<int>(o.class_id) - 1);
+      EXPECT_EQ(cls, static_cast<int>(o.class_id) - 2);
       for (double v : {xc, yc, w, h}) {
         EXPECT_GE(v, 0.0);
         EXPECT_LE(v, 1.0);
@@ -280,7 +284,7 @@ TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
       std::istringstream in(line);
       int cls;
       in >> cls;
-      EXPECT_EQ(cls, static_cast<int>(o.class_id) - 1);
+      EXPECT_EQ(cls, static_cast<int>(o.class_id) - 2);  // ground not listed
       std::vector<double> v;
       double x;
       while (in >> x) v.push_back(x);
@@ -334,6 +338,74 @@ TEST_F(ConvertTest, CvatVideoHasOneTrackPerInstance) {
   }
 }
 
+// data.yaml's names keys and every label file's class indices of a YOLO
+// output.
+void ReadYoloClasses(const fs::path& out,
+                     std::vector<int>* names,
+                     std::vector<std::string>* listed,
+                     std::set<int>* used) {
+  std::istringstream yaml(ReadText(out / "data.yaml"));
+  std::string line;
+  bool in_names = false;
+  while (std::getline(yaml, line)) {
+    if (line == "names:") {
+      in_names = true;
+    } else if (in_names && line.rfind("  ", 0) == 0) {
+      names->push_back(std::stoi(line.substr(2, line.find(':') - 2)));
+      const size_t q = line.find('"');
+      listed->push_back(line.substr(q + 1, line.find('"', q + 1) - q - 1));
+    }
+  }
+  for (const auto& entry :
+       fs::recursive_directory_iterator(out / "labels")) {
+    std::istringstream labels(ReadText(entry.path()));
+    while (std::getline(labels, line)) {
+      if (!line.empty()) used->insert(std::stoi(line));
+    }
+  }
+}
+
+TEST_F(ConvertTest, UnusedClassesAreDroppedUnlessKeptAndUltralyticsAccepts) {
+  // Only crates pass --classes ground,crate: the ground (no truth objects) is
+  // dropped, the crate becomes class 0.
+  for (const bool keep : {false, true}) {
+    SCOPED_TRACE(keep ? "--keep-classes" : "default");
+    const fs::path out = Out(keep ? "yolo-keep" : "yolo-used");
+    convert::ConvertOptions options =
+        Options(Collection(), out, {"yolo", "coco", "cvat"});
+    options.classes = "ground,crate";
+    options.keep_classes = keep;
+    convert::Convert(options);
+    std::vector<int> names;
+    std::vector<std::string> listed;
+    std::set<int> used;
+    ReadYoloClasses(out, &names, &listed, &used);
+    EXPECT_EQ(UltralyticsClassCheck(names, used), "");
+    const json coco =
+        json::parse(ReadText(out / "annotations" / "instances_train.json"));
+    const std::string xml =
+        ReadText(out / "annotations" / "cvat_train.xml");
+    if (keep) {
+      EXPECT_EQ(listed, (std::vector<std::string>{"ground", "crate"}));
+      EXPECT_EQ(used, std::set<int>{1});
+      EXPECT_EQ(coco["categories"].size(), 2u);
+      EXPECT_NE(xml.find("<name>ground</name>"), std::string::npos);
+    } else {
+      EXPECT_EQ(listed, std::vector<std::string>{"crate"});
+      EXPECT_EQ(used, std::set<int>{0});
+      ASSERT_EQ(coco["categories"].size(), 1u);
+      EXPECT_EQ(coco["categories"][0]["name"], "crate");
+      for (const json& a : coco["annotations"]) EXPECT_EQ(a["category_id"], 1);
+      EXPECT_EQ(xml.find("<name>ground</name>"), std::string::npos);
+      EXPECT_NE(xml.find("<name>crate</name>"), std::string::npos);
+    }
+  }
+  // The consumer's own rule catches what dropping classes avoids: ids with a
+  // gap, or labels beyond the names.
+  EXPECT_NE(UltralyticsClassCheck({0, 2}, {0}), "");
+  EXPECT_NE(UltralyticsClassCheck({0}, {1}), "");
+}
+
 TEST_F(ConvertTest, FiltersAndClassesAreReported) {
   const fs::path out = Out("filtered");
   convert::ConvertOptions options = Options(Collection(), out, {"yolo"});
@@ -341,7 +413,8 @@ TEST_F(ConvertTest, FiltersAndClassesAreReported) {
   options.classes = "box=thing,crate=thing";
   options.drop_truncated = true;
   const convert::ConvertResult result = convert::Convert(options);
-  EXPECT_NE(ReadText(out / "data.yaml").find("names:\n  0: \"thing\"\n"),
+  EXPECT_NE(ReadText(out / "data.yaml")
+                .find("names:\n  0: \"thing\"  # lsds class id 2, 3\n"),
             std::string::npos);
   const json report = json::parse(ReadText(out / "loss_report.json"));
   EXPECT_GE(result.loss.Count(convert::loss::kMinPixels, "crate"),
@@ -540,6 +613,28 @@ TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
   // A zero fraction may stay empty.
   const auto zero = convert::ParseSplit("train=1,val=0");
   EXPECT_FALSE(convert::PlanSplits(zero, {{0, "a"}}).blocks);
+}
+
+TEST(ClassMap, OnlyUsedKeepsOrderReindexesAndKeepsMergedClassesWhole) {
+  const std::vector<ClassInfo> classes = {
+      {1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
+  const auto all = convert::ClassMap::All(classes);
+  const auto used = all.OnlyUsed({4, 2});
+  ASSERT_EQ(used.classes().size(), 2u);
+  EXPECT_EQ(used.classes()[0].name, "car");
+  EXPECT_EQ(used.classes()[1].name, "person");
+  EXPECT_EQ(used.Map(2), 0);
+  EXPECT_EQ(used.Map(4), 1);
+  EXPECT_FALSE(used.Map(1).has_value());
+  EXPECT_FALSE(used.Map(3).has_value());
+  // A merged class is kept when any of its sources occurs, with all of them.
+  const auto merged = convert::ClassMap::Parse("car=vehicle,truck=vehicle,person",
+                                               classes)
+                          .OnlyUsed({3});
+  ASSERT_EQ(merged.classes().size(), 1u);
+  EXPECT_EQ(merged.Map(2), 0);
+  EXPECT_EQ(merged.Map(3), 0);
+  EXPECT_TRUE(all.OnlyUsed({}).classes().empty());
 }
 
 TEST(ClassMap, SubsetRenameMergeAndErrors) {

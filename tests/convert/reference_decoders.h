@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <sstream>
 #include <string>
+#include <set>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -211,6 +212,29 @@ inline cv::Rect2d UltralyticsSegmentToBox(
     y1 = std::max(y1, p.y);
   }
   return {x0, y0, x1 - x0, y1 - y0};
+}
+
+// Ultralytics' class rules for a detection dataset, as its loaders apply
+// them: `names` of data.yaml must have the keys 0..n-1
+// (ultralytics/nn/autobackend.py check_class_names: "n-class dataset requires
+// class indices 0-(n-1)"), and every label's class must be below n
+// (ultralytics/data/utils.py verify_image_label: "Label class exceeds dataset
+// class count"). Returns the consumer's complaint, or "" when it accepts.
+// `names` are the keys of data.yaml's names block; `label_classes` every class
+// index of every label file.
+inline std::string UltralyticsClassCheck(const std::vector<int>& names,
+                                         const std::set<int>& label_classes) {
+  const int n = static_cast<int>(names.size());
+  for (int key : names) {
+    if (key < 0 || key >= n)
+      return std::to_string(n) + "-class dataset requires class indices 0-" +
+             std::to_string(n - 1) + ", but you have invalid class index " +
+             std::to_string(key);
+  }
+  if (!label_classes.empty() && *label_classes.rbegin() >= n)
+    return "Label class " + std::to_string(*label_classes.rbegin()) +
+           " exceeds dataset class count " + std::to_string(n);
+  return "";
 }
 
 }  // namespace lsds::testing

@@ -74,11 +74,18 @@ std::string Capture(const CaptureCase& c, bool changes) {
        << "CO = camera{csettings:{fov:60,res:[160,120]},targets:[O1,O2:7]}\n"
        << "P = path{" << c.path << "}\n";
   if (changes) {
-    // The path flown twice; from the second instance on: a doubled cube, a
-    // turned and re-painted O1 on every frame, a shifted cube, hidden copies.
-    lcap << "CL = collection{CO:{move:[P:2]},"
-         << "O2:{after:P:1,scale:[2,2,2]},{after:P:1,offset:[1.5,-1,0]},"
-         << "O1:{during:P:2,rotation:[0,[0,20],[0,360]],material:{rust:0.5,"
+    // The path flown twice. During the first instance the cube drives along
+    // a road (a moving object) and O1 is re-scattered on every frame; from
+    // the second instance on: a doubled cube of another asset, a turned and
+    // re-painted O1 on every frame, a shifted cube, hidden copies.
+    lcap << "ROAD = path{waypoints:{points:[[-12,-14,0],[12,-14,0]],"
+            "speed:6}}\n"
+         << "CL = collection{CO:{move:[P:2]},"
+         << "O2:{during:P:1,move:[ROAD],heading:true},"
+            "{after:P:1,scale:[2,2,2]},{after:P:1,offset:[1.5,-1,0]},"
+            "{after:P:1,class:sphere},"
+         << "O1:{during:P:1,rescatter:true},"
+            "{during:P:2,rotation:[0,[0,20],[0,360]],material:{rust:0.5,"
             "plastic:0.5}},{after:P:1,visible:false}}\n";
   } else {
     lcap << "CL = collection{CO:{move:[P]}}\n";

@@ -616,6 +616,85 @@ TEST(LangGate, AMeshKeepsItsNativeSize) {
       Eigen::Vector3d(2, 1, 0.75)));
 }
 
+// Every key this wave added to LCAP and LSCENE, in the text notation and in
+// the JSON form `--emit-json` prints: the plans are identical.
+TEST(LangGate, TheKeysOfLcapOverTimePlanTheSameInTextAndJson) {
+  const std::string scene =
+      "LSCENE = ONE(G) ONE(S) ONE(DL) ONE(A) ONE(SL) ONE(W) ONE(CAR) "
+      "MANY(O, 4) ONE(T)\n"
+      "G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}\n"
+      "S = skybox{color:blue,clouds:{type:cumulus,density:[0.1,0.3]}}\n"
+      "DL = light{date:\"2026-06-21\",time:\"08:00\",utc_offset:2}\n"
+      "A = atmosphere{visibility:[2000,8000]}\nSL = skylight{intensity:0.3}\n"
+      "W = terrain{size:[120,120],height:{perlin:{amplitude:2}},material:"
+      "grassy}\n"
+      "K = classes{debris:tire}\n"
+      "CAR = object{class:cube,extent:[2,1,1],position:{ON:W,within:[[-30,-2,"
+      "-99],[-26,2,99]]}}\n"
+      "O = object{class:{rock:0.5,barrel:0.5},position:{ON:W,within:[[0,0,-99],"
+      "[20,20,99]]}}\n"
+      "T = object{class:barrel,position:{ON:W,within:[[-10,-10,-99],[-6,-6,99]]"
+      "}}\n";
+  const std::string capture =
+      "LCAP = ONE(CO) ONE(P) ONE(F) ONE(ROAD) ONE(CL1) ONE(CL2)\n"
+      "CO = camera{csettings:{fov:70,res:[64,48],fps:4,clearance:2,heights:agl},"
+      "targets:[CAR,O,T:7],capture:{layers:[rgb,depth,motion],folder:run_a}}\n"
+      "P = create path{increment point:{start:[-10,-10,30],step:[10,10,0],"
+      "count:[2,2,1]}}\n"
+      "F = path{waypoints:{points:[[0,-20,25],[10,0,30],{position:[20,10,25],"
+      "look_at:T}],speed:[8,12],interpolation:spline}}\n"
+      "ROAD = path{waypoints:{points:[[-28,-3,0],[-3,-3,0],[-3,28,0]],speed:6,"
+      "interpolation:linear}}\n"
+      "SCS1 = scene change{O:{material:rust},S:{clouds:{type:stratus,density:"
+      "0.7}}}\n"
+      "CL1 = collection{CO:{move:[P]},DL:{during:P,azimuth:[0,360]},"
+      "A:{after:1,visibility:500},SL:{frame:2,intensity:0.1},"
+      "W:{after:P,material:sandy},T:{after:2,class:debris}}\n"
+      "CL2 = collection{CO:{move:[F:2]},SCS1:{after:CL1},O:{during:F:2,"
+      "rescatter:true},CAR:{after:CL1,move:[ROAD:2],heading:true},"
+      "DL:{after:F:1,time:\"16:00\"}}\n";
+  const SourceFile text_scene = ParseSource(scene, "s.lscene", false);
+  const SourceFile text_capture = ParseSource(capture, "c.lcap", false);
+  const SourceFile json_scene =
+      ParseSource(SourceToJson(text_scene).dump(2), "s.json", true);
+  const SourceFile json_capture =
+      ParseSource(SourceToJson(text_capture).dump(2), "c.json", true);
+  auto without_sources = [](const Plan& plan) {
+    nlohmann::json j = PlanToJson(plan);
+    j.erase("scene_source");
+    j.erase("capture_source");
+    return j;
+  };
+  for (uint64_t seed : {0ull, 7ull}) {
+    const Plan from_text =
+        MakePlanFromSources(text_scene, &text_capture, seed);
+    const Plan from_json =
+        MakePlanFromSources(json_scene, &json_capture, seed);
+    EXPECT_EQ(without_sources(from_text), without_sources(from_json))
+        << "seed " << seed;
+    // The keys took effect (the comparison is not between two empty plans).
+    ASSERT_GT(from_text.frames.size(), 10u);
+    EXPECT_EQ(from_text.capture_settings["folder"], "run_a");
+    bool swapped = false, moved = false, rescattered = false;
+    for (const PlannedFrame& f : from_text.frames)
+      for (const ObjectChange& c : f.changes) {
+        swapped |= c.asset.has_value() && *c.asset == "tire";
+        moved |= c.velocity.has_value() && c.velocity->norm() > 5.9;
+        rescattered |= c.object.rfind("O#", 0) == 0 && c.position.has_value();
+      }
+    EXPECT_TRUE(swapped && moved && rescattered);
+    EXPECT_TRUE(from_text.frames.back().environment.has_value());
+    // The plan's JSON form declares the new change fields and reads back.
+    const nlohmann::json j = PlanToJson(from_text);
+    for (const SchemaIssue& issue :
+         JsonSchema::Get("plan.schema.json").Validate(j))
+      ADD_FAILURE() << issue.pointer << ": " << issue.message;
+    const nlohmann::json back = PlanToJson(PlanFromJson(j, "plan.json"));
+    for (size_t k = 0; k < j["frames"].size(); ++k)
+      EXPECT_EQ(back["frames"][k]["changes"], j["frames"][k]["changes"]);
+  }
+}
+
 }  // namespace gate
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -155,6 +156,47 @@ TEST_F(ValidateCli, ReportFileIsNotOverwrittenWithoutForce) {
       Lsds("validate --format json --force -o " + report + " " + Path("good"))
           .code,
       0);
+}
+
+// What a CI job array does: each task validates one shard, a last job joins
+// them; the joined JUnit equals the single run's (times apart) and the joined
+// verdict sets the exit code.
+TEST_F(ValidateCli, ShardsJoinedByMergeReportsEqualTheSingleRun) {
+  for (const std::string name : {"good", "nan-depth"}) {
+    std::string parts;
+    for (int i = 0; i < 3; ++i) {
+      const std::string part = Path(name + "-part" + std::to_string(i) + ".json");
+      const CliRun shard = Lsds("validate --shard " + std::to_string(i) +
+                                "/3 -o " + part + " " + Path(name));
+      EXPECT_EQ(shard.code, 0) << "a shard exits 0 once its report is written";
+      parts += " " + part;
+    }
+    const CliRun single = Lsds("validate --format junit " + Path(name));
+    const CliRun merged = Lsds("merge-reports --format junit" + parts);
+    EXPECT_EQ(merged.code, single.code) << name;
+    EXPECT_EQ(merged.code, name == "good" ? 0 : 1);
+    const std::regex time(R"( time="[^"]*")");
+    EXPECT_EQ(std::regex_replace(merged.out, time, ""),
+              std::regex_replace(single.out, time, ""))
+        << name;
+    EXPECT_EQ(Lsds("merge-reports" + parts).out, Lsds("validate " + Path(name)).out)
+        << "text reports differ for " << name;
+  }
+}
+
+TEST_F(ValidateCli, ShardUsageErrorsExitTwo) {
+  EXPECT_EQ(Lsds("validate --shard 3/3 -o " + Path("p.json") + " " + Path("good")).code, 2);
+  EXPECT_EQ(Lsds("validate --shard 1/x -o " + Path("p.json") + " " + Path("good")).code, 2);
+  EXPECT_EQ(Lsds("validate --shard 0/2 " + Path("good")).code, 2);  // no -o
+  EXPECT_EQ(Lsds("validate --shard 0/2 --format junit -o " + Path("p.json") + " " +
+                 Path("good")).code,
+            2);
+  EXPECT_EQ(Lsds("merge-reports " + Path("no-such-part.json")).code, 2);
+  // The report may not replace a partial report it is made from.
+  const std::string part = Path("only-part.json");
+  ASSERT_EQ(Lsds("validate --shard 0/1 -o " + part + " " + Path("good")).code, 0);
+  EXPECT_EQ(Lsds("merge-reports --force -o " + part + " " + part).code, 2);
+  EXPECT_EQ(Lsds("merge-reports " + part).code, 0);
 }
 
 }  // namespace

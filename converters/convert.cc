@@ -71,7 +71,7 @@ struct Driver {
 
     if (!rgb_layer.empty()) {
       const exr::FlatImage rgb =
-          exr::ReadFlatExr(reader.LayerPath(frame, rgb_layer), {"R", "G", "B"});
+          reader.ReadFlatLayer(frame, rgb_layer, {"R", "G", "B"});
       imaging::WriteImage(root / "images" / ctx->split / ctx->image_name,
                           imaging::ToSrgb8(rgb, options.display),
                           options.display);
@@ -91,17 +91,8 @@ struct Driver {
 
     std::vector<const masks::BoxMask*> object_masks(kept.size(), nullptr);
     if (!instance_layer.empty() && !kept.empty()) {
-      const fs::path path = reader.LayerPath(frame, instance_layer);
-      const exr::FlatImage ids = exr::ReadFlatExr(path, {"id"});
-      if (ids.width() != ctx->width || ids.height() != ctx->height) {
-        Location where(path.string());
-        where.frame = frame.index;
-        throw Error("instanceid layer is " + std::to_string(ids.width()) + "x" +
-                        std::to_string(ids.height()) + ", the camera " +
-                        std::to_string(ctx->width) + "x" +
-                        std::to_string(ctx->height),
-                    where);
-      }
+      const exr::FlatImage ids =
+          reader.ReadFlatLayer(frame, instance_layer, {"id"});
       const uint32_t* data = ids.Get("id").uints.data();
       const auto bounds =
           masks::ComputeIdBounds(data, ids.width(), ids.height());

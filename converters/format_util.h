@@ -4,8 +4,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 
 namespace lsds::convert {
@@ -23,15 +25,16 @@ std::string Format(const char* format, Args... args) {
   return out;
 }
 
-inline std::ofstream OpenForWrite(const std::filesystem::path& path) {
+// A converter's files go through the one checked, atomic output path: the
+// content appears under `path` at Commit().
+inline std::unique_ptr<AtomicFile> OpenForWrite(
+    const std::filesystem::path& path) {
   std::filesystem::create_directories(path.parent_path());
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw Error("cannot write", Location(path.string()));
-  return out;
+  return std::make_unique<AtomicFile>(path);
 }
 
 // Appends the whole of `path` to `out` and removes it.
-inline void AppendAndRemove(std::ofstream& out,
+inline void AppendAndRemove(std::ostream& out,
                             const std::filesystem::path& path) {
   {
     std::ifstream in(path, std::ios::binary);

@@ -126,35 +126,56 @@ void PrepareOutput(const GenerateOptions& options,
       RefuseToOverwrite(root, false, "output collection");
     }
   }
-  fs::create_directories(root / kWorkFolder);
-  WriteFileAtomic(settings_path, settings.dump(2) + "\n");
-  // Resuming a finished collection: its frames become truth parts again, so
-  // that only frames whose files are missing or broken are rendered.
+  // Temporaries of a killed earlier run are removed, never taken for frames.
+  if (options.resume) RemoveStaleTemps(root, /*recursive=*/true);
+  // Resuming a finished collection: its collection.json moves into the work
+  // folder first (one rename), so that from here until the run ends the
+  // folder is an interrupted run, never a finished collection describing
+  // frames that are being rewritten; a failure or a kill leaves it resumable.
+  const fs::path finished = root / kWorkFolder / "finished";
   if (options.resume && LooksLikeCollection(root)) {
+    std::optional<Provenance> provenance;
     try {
-      const CollectionReader reader(root);
-      const Provenance& provenance = reader.header().provenance;
-      bool same = provenance.seed == settings["seed"].get<uint64_t>();
+      provenance = CollectionReader(root).header().provenance;
+    } catch (const Error&) {
+      // An unreadable collection.json is rebuilt from the frames.
+    }
+    if (provenance) {
+      bool same = provenance->seed == settings["seed"].get<uint64_t>();
       for (const auto& [key, value] : settings.items()) {
         if (key != "seed" &&
-            provenance.render.value(key, nlohmann::json()) != value)
+            provenance->render.value(key, nlohmann::json()) != value)
           same = false;
       }
       if (!same) {
         throw Error(
             "--resume: the existing collection was made with other settings "
             "(seed " +
-                std::to_string(provenance.seed.value_or(0)) + ", " +
-                provenance.render.dump() + "); use --force to start over",
+                std::to_string(provenance->seed.value_or(0)) + ", " +
+                provenance->render.dump() + "); use --force to start over",
             Location((root / kCollectionFile).string()));
       }
-      reader.ForEachFrame([&root](const Frame& frame) {
+    }
+    fs::create_directories(finished);
+    fs::rename(root / kCollectionFile, finished / kCollectionFile);
+  }
+  fs::create_directories(root / kWorkFolder);
+  WriteFileAtomic(settings_path, settings.dump(2) + "\n");
+  // Its frames become truth parts again, so that only frames whose files are
+  // missing or broken are rendered.
+  if (options.resume && LooksLikeCollection(finished)) {
+    bool writing = false;  // a failed write is an error; a bad read is not
+    try {
+      const CollectionReader reader(finished);
+      reader.ForEachFrame([&root, &writing](const Frame& frame) {
         const fs::path part = TruthPartPath(root, frame.index);
-        if (!fs::exists(part))
-          WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
+        if (fs::exists(part)) return;
+        writing = true;
+        WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
+        writing = false;
       });
-    } catch (const Error& e) {
-      if (e.message().find("--resume") != std::string::npos) throw;
+    } catch (const Error&) {
+      if (writing) throw;
       // An unreadable collection.json is rebuilt from the frames.
     }
   }

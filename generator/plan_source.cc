@@ -7,6 +7,7 @@
 #include "libs/collection/json_stream.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
 
 namespace lsds::gen {
@@ -31,13 +32,7 @@ Plan PlanFromScene(const std::string& scene,
 Plan LoadPlanJson(const std::string& path) {
   const std::string text = ReadFile(path);
   CheckJsonNesting(text, path);
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw JsonTextError(e, text, path);
-  }
-  return PlanFromJson(json, path);
+  return PlanFromJson(ParseJsonText(text, path), path);
 }
 
 }  // namespace lsds::gen

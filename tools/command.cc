@@ -1,5 +1,8 @@
 #include "tools/command.h"
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <new>
@@ -101,6 +104,40 @@ std::string UsageMessage(CLI::App& app, const CLI::ParseError& error) {
   return error.what();
 }
 
+// The one range check of numeric flags, for every command: CLI11 converts
+// "nan", "inf" and "1e999" into non-finite doubles and (in some versions) "-1"
+// into a huge unsigned value. The option's type name says what it holds.
+void CheckNumericFlags(const CLI::App& app) {
+  for (const CLI::Option* option : app.get_options()) {
+    const std::string type = option->get_type_name();
+    const bool real = type.find("FLOAT") != std::string::npos;
+    const bool natural = type.find("UINT") != std::string::npos;
+    if (!real && !natural) continue;
+    const std::string name =
+        option->get_lnames().empty() ? option->get_name()
+                                     : "--" + option->get_lnames().front();
+    for (const std::string& value : option->results()) {
+      const size_t first = value.find_first_not_of(" \t");
+      if (first == std::string::npos) continue;
+      if (natural && value[first] == '-') {
+        throw Error(name + ": expected a number >= 0, got '" + value + "'");
+      }
+      if (real) {
+        errno = 0;
+        char* end = nullptr;
+        const double number = std::strtod(value.c_str(), &end);
+        if (end != value.c_str() && (!std::isfinite(number) || errno == ERANGE) &&
+            std::fabs(number) > 1.0) {
+          throw Error(name + ": expected a finite number, got '" + value + "'");
+        }
+        if (end != value.c_str() && std::isnan(number))
+          throw Error(name + ": expected a finite number, got '" + value + "'");
+      }
+    }
+  }
+  for (const CLI::App* sub : app.get_subcommands({})) CheckNumericFlags(*sub);
+}
+
 }  // namespace
 
 int RunCommand(CLI::App& app,
@@ -121,6 +158,13 @@ int RunCommand(CLI::App& app,
   // Three kinds of failure (docs/reliability.md): bad input (lsds::Error,
   // exit 2, located), findings (exit 1, returned by `body`), and bugs in lsds
   // (everything else, exit 70 with a request for a bug report).
+  try {
+    CheckNumericFlags(app);
+  } catch (const Error& e) {
+    std::cerr << app.get_name() << ": error: " << e.what() << "; run '"
+              << app.get_name() << " --help' for the options\n";
+    return kExitUsage;
+  }
   try {
     return body();
   } catch (const Error& e) {

@@ -1,6 +1,7 @@
 // lsds perturb-metadata COLLECTION --sigma POS_M[,ROT_DEG] --seed N [-o FILE]
 // [--model M] [...]
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 
@@ -23,7 +24,8 @@ std::vector<double> ParseNumbers(const std::string& text,
     char* end = nullptr;
     errno = 0;
     const double value = std::strtod(begin, &end);
-    if (part.empty() || end == begin || *end != '\0' || errno == ERANGE) {
+    if (part.empty() || end == begin || *end != '\0' || errno == ERANGE ||
+        !std::isfinite(value)) {
       throw Error(flag + ": '" + part + "' is not a number (in '" + text +
                   "')");
     }

@@ -1,6 +1,7 @@
 #include "validators/report_writers.h"
 
 #include "libs/util/strings.h"
+#include "libs/util/text_check.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -25,7 +26,7 @@ std::string FindingLine(const Finding& f) {
 
 nlohmann::json LocationToJson(const Location& location) {
   nlohmann::json j = nlohmann::json::object();
-  if (!location.file.empty()) j["file"] = location.file;
+  if (!location.file.empty()) j["file"] = Utf8Escaped(location.file);
   if (location.line > 0) j["line"] = location.line;
   if (location.column > 0) j["column"] = location.column;
   if (!location.json_pointer.empty()) j["json_pointer"] = location.json_pointer;
@@ -198,7 +199,11 @@ std::string ReportToJUnit(const Report& report, Severity fail_on) {
 
 std::string RenderReport(const Report& report, const std::string& format,
                          Severity fail_on) {
-  if (format == "json") return ReportToJson(report, fail_on).dump(2) + "\n";
+  // Messages may quote paths that are not UTF-8: never a type_error 316.
+  if (format == "json")
+    return ReportToJson(report, fail_on)
+               .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+           "\n";
   if (format == "junit") return ReportToJUnit(report, fail_on);
   return ReportToText(report, fail_on, std::min<size_t>(report.max_examples(), 5));
 }

@@ -114,9 +114,9 @@ class CocoConverter : public Converter {
                 std::unique_ptr<FramePiece> base) override {
     auto* piece = static_cast<CocoPiece*>(base.get());
     Split& s = splits_.at(frame.split);
-    s.images << (s.image_count++ ? ",\n" : "") << piece->image;
+    s.images->stream() << (s.image_count++ ? ",\n" : "") << piece->image;
     for (const std::string& annotation : piece->annotations) {
-      s.annotations << (s.annotation_count++ ? ",\n" : "")
+      s.annotations->stream() << (s.annotation_count++ ? ",\n" : "")
                     << "{\"id\":" << next_annotation_id_++ << "," << annotation;
     }
   }
@@ -136,25 +136,26 @@ class CocoConverter : public Converter {
         {"bbox", "pixel-edge [x, y, width, height]"},
         {"segmentation", polygons_ ? "polygons" : "compressed RLE"}};
     for (auto& [name, s] : splits_) {
-      s.images.close();
-      s.annotations.close();
+      s.images->Commit();
+      s.annotations->Commit();
       const std::filesystem::path path =
           setup_.root / "annotations" / ("instances_" + name + ".json");
-      std::ofstream out = OpenForWrite(path);
+      std::unique_ptr<AtomicFile> file = OpenForWrite(path);
+      std::ostream& out = file->stream();
       out << "{\"info\":" << info.dump()
           << ",\n\"licenses\":[],\n\"images\":[\n";
       AppendAndRemove(out, s.images_path);
       out << "\n],\n\"annotations\":[\n";
       AppendAndRemove(out, s.annotations_path);
       out << "\n],\n\"categories\":" << categories.dump() << "}\n";
-      if (!out) throw Error("cannot write", Location(path.string()));
+      file->Commit();
     }
   }
 
  private:
   struct Split {
     std::filesystem::path images_path, annotations_path;
-    std::ofstream images, annotations;
+    std::unique_ptr<AtomicFile> images, annotations;
     int64_t image_count = 0, annotation_count = 0;
   };
   ConvertSetup setup_;

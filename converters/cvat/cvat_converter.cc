@@ -60,7 +60,7 @@ class CvatImagesConverter : public Converter {
                 std::unique_ptr<FramePiece> base) override {
     auto* piece = static_cast<CvatPiece*>(base.get());
     Split& s = splits_.at(frame.split);
-    s.part << "  <image id=\"" << s.count++ << "\" name=\""
+    s.part->stream() << "  <image id=\"" << s.count++ << "\" name=\""
            << XmlEscape(frame.image_name) << "\" width=\"" << frame.width
            << "\" height=\"" << frame.height << "\">\n"
            << piece->shapes << "  </image>\n";
@@ -68,10 +68,11 @@ class CvatImagesConverter : public Converter {
 
   void Finish() override {
     for (auto& [name, s] : splits_) {
-      s.part.close();
+      s.part->Commit();
       const std::filesystem::path path =
           setup_.root / "annotations" / ("cvat_" + name + ".xml");
-      std::ofstream out = OpenForWrite(path);
+      std::unique_ptr<AtomicFile> file = OpenForWrite(path);
+      std::ostream& out = file->stream();
       out << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<annotations>\n  "
              "<version>1.1</version>\n"
           << "  <meta>\n    <task>\n      <name>" << XmlEscape(name)
@@ -83,14 +84,14 @@ class CvatImagesConverter : public Converter {
           << "    </task>\n  </meta>\n";
       AppendAndRemove(out, s.part_path);
       out << "</annotations>\n";
-      if (!out) throw Error("cannot write", Location(path.string()));
+      file->Commit();
     }
   }
 
  private:
   struct Split {
     std::filesystem::path part_path;
-    std::ofstream part;
+    std::unique_ptr<AtomicFile> part;
     int64_t count = 0;
   };
   ConvertSetup setup_;

@@ -59,7 +59,8 @@ class CvatVideoConverter : public Converter {
     for (auto& [name, s] : splits_) {
       const std::filesystem::path path =
           setup_.root / "annotations" / ("cvat_video_" + name + ".xml");
-      std::ofstream out = OpenForWrite(path);
+      std::unique_ptr<AtomicFile> file = OpenForWrite(path);
+      std::ostream& out = file->stream();
       out << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<annotations>\n  "
              "<version>1.1</version>\n"
           << "  <meta>\n    <task>\n      <name>" << XmlEscape(name)
@@ -99,7 +100,7 @@ class CvatVideoConverter : public Converter {
         out << "  </track>\n";
       }
       out << "</annotations>\n";
-      if (!out) throw Error("cannot write", Location(path.string()));
+      file->Commit();
     }
   }
 

@@ -78,12 +78,10 @@ class YoloConverter : public Converter {
     }
     // Every image gets a label file, empty when it has no objects (Ultralytics
     // then counts it as a background image instead of a missing label).
-    std::ofstream out = OpenForWrite(setup_.root / "labels" / frame.split /
-                                     (frame.stem + ".txt"));
-    out << text;
-    if (!out)
-      throw Error("cannot write",
-                  Location((setup_.root / "labels" / frame.split).string()));
+    std::unique_ptr<AtomicFile> out = OpenForWrite(
+        setup_.root / "labels" / frame.split / (frame.stem + ".txt"));
+    out->stream() << text;
+    out->Commit();
     return nullptr;
   }
 

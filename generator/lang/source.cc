@@ -5,7 +5,9 @@
 #include "generator/lang/text_parser.h"
 #include "libs/collection/json_stream.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
+#include "libs/util/text_check.h"
 
 namespace lsds {
 
@@ -50,12 +52,17 @@ SourceFile ParseSource(const std::string& text,
   source.path = path_for_messages;
   source.text = text;
   source.is_json = is_json;
+  // Comments too: the text ends up in JSON (plans, provenance), which holds
+  // UTF-8 only.
+  CheckUtf8(text, path_for_messages);
   if (is_json) {
     CheckJsonNesting(text, path_for_messages);
     try {
       source.doc = OJson::parse(text);
-    } catch (const nlohmann::json::exception& e) {
-      throw JsonTextError(e, text, path_for_messages);
+    } catch (const nlohmann::json::parse_error& e) {
+      throw JsonParseError(text, path_for_messages, e);
+    } catch (const nlohmann::json::out_of_range& e) {
+      throw JsonParseError(text, path_for_messages, e);
     }
     if (!source.doc.is_object())
       throw Error("expected a JSON object at the top level",

@@ -2,6 +2,7 @@
 
 #include "libs/collection/schema.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 
 namespace lsds {
 namespace {
@@ -41,8 +42,8 @@ json CameraJson(const PinholeCamera& c) {
 }
 PinholeCamera CameraFrom(const json& j) {
   PinholeCamera c;
-  c.width = j.at("width").get<int>();
-  c.height = j.at("height").get<int>();
+  c.width = GetInteger<int>(j, "width");
+  c.height = GetInteger<int>(j, "height");
   c.fx = j.at("fx").get<double>();
   c.fy = j.at("fy").get<double>();
   c.cx = j.at("cx").get<double>();
@@ -227,19 +228,19 @@ Plan PlanFromJson(const json& j, const std::string& file) {
   JsonSchema::Get("plan.schema.json").ValidateOrThrow(j, file);
   try {
     Plan plan;
-    plan.seed = j.at("seed").get<uint64_t>();
+    plan.seed = GetInteger<uint64_t>(j, "seed");
     plan.scene_source = j.at("scene_source").get<std::string>();
     plan.capture_source = j.at("capture_source").get<std::string>();
     for (const json& c : j.at("classes"))
       plan.classes.push_back(
-          {c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
+          {GetInteger<uint32_t>(c, "id"), c.at("name").get<std::string>()});
     PlannedEnvironment environment = EnvironmentFromJson(j);
     const json& t = j.at("terrain");
     plan.terrain.present = t.at("present").get<bool>();
     plan.terrain.size = ToVec2(t.at("size"));
     plan.terrain.perlin_amplitude = t.at("perlin_amplitude").get<double>();
     plan.terrain.perlin_frequency = t.at("perlin_frequency").get<double>();
-    plan.terrain.perlin_seed = t.at("perlin_seed").get<uint64_t>();
+    plan.terrain.perlin_seed = GetInteger<uint64_t>(t, "perlin_seed");
     plan.terrain.material = t.at("material").get<std::string>();
     environment.terrain_material = plan.terrain.material;
     SetEnvironment(environment, &plan);
@@ -249,15 +250,15 @@ Plan PlanFromJson(const json& j, const std::string& file) {
                            g.at("longitude_deg").get<double>(),
                            g.at("altitude_m").get<double>()};
     }
-    plan.terrain.class_id = t.at("class_id").get<uint32_t>();
-    plan.terrain.instance_id = t.at("instance_id").get<uint32_t>();
+    plan.terrain.class_id = GetInteger<uint32_t>(t, "class_id");
+    plan.terrain.instance_id = GetInteger<uint32_t>(t, "instance_id");
     for (const json& o : j.at("objects")) {
       PlannedObject p;
       p.name = o.at("name").get<std::string>();
       p.symbol = o.at("symbol").get<std::string>();
       p.class_name = o.at("class").get<std::string>();
-      p.class_id = o.at("class_id").get<uint32_t>();
-      p.instance_id = o.at("instance_id").get<uint32_t>();
+      p.class_id = GetInteger<uint32_t>(o, "class_id");
+      p.instance_id = GetInteger<uint32_t>(o, "instance_id");
       p.visible = o.at("visible").get<bool>();
       p.target = o.at("target").get<bool>();
       p.position = ToVec3(o.at("position"));

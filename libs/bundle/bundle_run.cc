@@ -22,6 +22,7 @@
 #include "libs/util/error.h"
 #include "libs/util/folder_lock.h"
 #include "libs/util/output_guard.h"
+#include "libs/util/text_check.h"
 #include "libs/util/progress.h"
 
 namespace lsds::bundle {
@@ -170,7 +171,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
 
   auto process = [&](Task& task) {
     const fs::path path = reader.LayerPath(task.frame, bundle_layer.name);
-    const exr::DeepImage image = exr::ReadDeepExr(path, channels);
+    const exr::DeepImage image =
+        reader.ReadDeepLayer(task.frame, bundle_layer.name, channels);
     const bool need_maps = !options.write_layers.empty() || task.picture;
     PixelMaps maps;
     try {
@@ -253,7 +255,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
     nlohmann::json top = {
         {"format", kStatsFormat},
         {"format_version", kStatsFormatVersion},
-        {"collection", fs::absolute(root).lexically_normal().string()},
+        {"collection",
+         Utf8Escaped(fs::absolute(root).lexically_normal().string())},
         {"bundle_layer", bundle_layer.name},
         {"frame_range", {{"first", first}, {"end", end}}},
         {"options", OptionsToJson(options.stats)},

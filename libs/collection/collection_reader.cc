@@ -92,6 +92,43 @@ fs::path CollectionReader::LayerPath(const Frame& frame,
   return root_ / it->second;
 }
 
+exr::FlatImage CollectionReader::ReadFlatLayer(
+    const Frame& frame,
+    const std::string& layer,
+    const std::vector<std::string>& channels) const {
+  const fs::path path = LayerPath(frame, layer);
+  exr::FlatImage image = exr::ReadFlatExr(path, channels);
+  CheckLayerSize(frame, layer, path, image.width(), image.height());
+  return image;
+}
+
+exr::DeepImage CollectionReader::ReadDeepLayer(
+    const Frame& frame,
+    const std::string& layer,
+    const std::vector<std::string>& channels) const {
+  const fs::path path = LayerPath(frame, layer);
+  exr::DeepImage image = exr::ReadDeepExr(path, channels);
+  CheckLayerSize(frame, layer, path, image.width(), image.height());
+  return image;
+}
+
+void CheckLayerSize(const Frame& frame,
+                    const std::string& layer,
+                    const fs::path& path,
+                    int width,
+                    int height) {
+  const int camera_width = frame.camera.intrinsics.width;
+  const int camera_height = frame.camera.intrinsics.height;
+  if (width == camera_width && height == camera_height) return;
+  Location where(path.string());
+  where.frame = frame.index;
+  throw Error("layer '" + layer + "' is " + std::to_string(width) + "x" +
+                  std::to_string(height) + " but the frame's camera is " +
+                  std::to_string(camera_width) + "x" +
+                  std::to_string(camera_height),
+              where);
+}
+
 MetadataReader::MetadataReader(const fs::path& path, ReaderOptions options)
     : path_(path), options_(options) {
   std::error_code ec;

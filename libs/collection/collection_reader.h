@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/collection/model.h"
+#include "libs/exr/deep_image.h"
+#include "libs/exr/flat_image.h"
 
 namespace lsds {
 
@@ -50,12 +52,30 @@ class CollectionReader {
   std::filesystem::path LayerPath(const Frame& frame,
                                   const std::string& layer) const;
 
+  // Read a frame's layer file and check its size against the frame's camera
+  // (every command reads layers through these): a wrong-size layer is an
+  // lsds::Error naming the file, the frame and the layer.
+  exr::FlatImage ReadFlatLayer(const Frame& frame,
+                               const std::string& layer,
+                               const std::vector<std::string>& channels) const;
+  exr::DeepImage ReadDeepLayer(const Frame& frame,
+                               const std::string& layer,
+                               const std::vector<std::string>& channels) const;
+
  private:
   std::filesystem::path root_;
   ReaderOptions options_;
   CollectionHeader header_;
   size_t frames_in_file_ = 0;
 };
+
+// Throws lsds::Error naming `path`, the frame and the layer unless the layer is
+// width x height, the size of the frame's camera.
+void CheckLayerSize(const Frame& frame,
+                    const std::string& layer,
+                    const std::filesystem::path& path,
+                    int width,
+                    int height);
 
 // True if `root` holds a collection.json (says nothing about its validity).
 bool LooksLikeCollection(const std::filesystem::path& root);

@@ -1,6 +1,9 @@
 #include "libs/collection/json_io.h"
 
+#include <algorithm>
+
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
@@ -43,6 +46,33 @@ std::optional<Box2d> Box2dFromJson(const json& j) {
                j.at(1).get<double>(),
                j.at(2).get<double>(),
                j.at(3).get<double>()};
+}
+
+// File references in a collection resolve strictly inside it: relative, with no
+// ".." component (docs/format.md, "File references"). Throws lsds::Error at
+// `file#pointer`.
+void CheckInsideReference(const std::string& reference,
+                          const std::string& file,
+                          const std::string& pointer) {
+  std::string problem;
+  if (reference.empty()) {
+    problem = "is empty";
+  } else if (reference[0] == '/' || reference[0] == '\\' ||
+             (reference.size() > 2 && std::isalpha(static_cast<unsigned char>(
+                                          reference[0])) &&
+              reference[1] == ':' && (reference[2] == '/' || reference[2] == '\\'))) {
+    problem = "is absolute";
+  } else {
+    std::string slashes = reference;  // "a\\..\\b" leaves it as well
+    std::replace(slashes.begin(), slashes.end(), '\\', '/');
+    for (const std::string& part : Split(slashes, '/')) {
+      if (part == "..") problem = "leaves the collection (\"..\")";
+    }
+  }
+  if (problem.empty()) return;
+  throw Error("file reference '" + reference + "' " + problem +
+                  "; references must be relative paths inside the collection",
+              Location(file, pointer));
 }
 
 // Runs `body`, turning nlohmann's type and range errors into lsds::Error at
@@ -118,8 +148,8 @@ json CameraToJson(const CameraTruth& camera) {
 
 CameraTruth CameraFromJson(const json& j) {
   CameraTruth camera;
-  camera.intrinsics.width = j.at("width").get<int>();
-  camera.intrinsics.height = j.at("height").get<int>();
+  camera.intrinsics.width = GetInteger<int>(j, "width");
+  camera.intrinsics.height = GetInteger<int>(j, "height");
   camera.intrinsics.fx = j.at("fx").get<double>();
   camera.intrinsics.fy = j.at("fy").get<double>();
   camera.intrinsics.cx = j.at("cx").get<double>();
@@ -154,8 +184,8 @@ json ObjectToJson(const ObjectTruth& o) {
 
 ObjectTruth ObjectFromJson(const json& j) {
   ObjectTruth o;
-  o.instance_id = j.at("instance_id").get<uint32_t>();
-  o.class_id = j.at("class_id").get<uint32_t>();
+  o.instance_id = GetInteger<uint32_t>(j, "instance_id");
+  o.class_id = GetInteger<uint32_t>(j, "class_id");
   o.name = j.value("name", "");
   o.obb.center = Vector3FromJson(j.at("obb").at("center"));
   o.obb.half_extents = Vector3FromJson(j.at("obb").at("half_extents"));
@@ -238,7 +268,7 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     h.provenance.generator = p.at("generator").get<std::string>();
     h.provenance.generator_version =
         p.at("generator_version").get<std::string>();
-    if (p.contains("seed")) h.provenance.seed = p.at("seed").get<uint64_t>();
+    if (p.contains("seed")) h.provenance.seed = GetInteger<uint64_t>(p, "seed");
     h.provenance.scene_source = p.value("scene_source", "");
     h.provenance.capture_source = p.value("capture_source", "");
     h.provenance.render = p.value("render", json::object());
@@ -246,8 +276,8 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     if (p.contains("shard")) {
       const json& s = p.at("shard");
       ShardRecord shard;
-      shard.index = s.at("index").get<int>();
-      shard.count = s.at("count").get<int>();
+      shard.index = GetInteger<int>(s, "index");
+      shard.count = GetInteger<int>(s, "count");
       const json& run = s.at("run_frames");
       shard.run_first_frame = run.at("first").get<int64_t>();
       shard.run_last_frame = run.at("last").get<int64_t>();
@@ -256,9 +286,13 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     }
     for (const json& c : j.at("classes"))
       h.classes.push_back(
-          {c.at("id").get<uint32_t>(), c.at("name").get<std::string>()});
+          {GetInteger<uint32_t>(c, "id"), c.at("name").get<std::string>()});
     for (const json& l : j.at("layers")) h.layers.push_back(LayerFromJson(l));
     for (const json& m : j.at("metadata")) {
+      CheckInsideReference(m.at("file").get<std::string>(),
+                           file,
+                           "/metadata/" + std::to_string(h.metadata.size()) +
+                               "/file");
       h.metadata.push_back({m.at("file").get<std::string>(),
                             m.at("perturbed").get<bool>(),
                             m.value("description", "")});
@@ -341,6 +375,8 @@ Frame FrameFromJson(const json& j,
       f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
+    for (const auto& [layer, reference] : f.files)
+      CheckInsideReference(reference, file, pointer + "/files/" + layer);
     for (const json& o : j.at("objects"))
       f.objects.push_back(ObjectFromJson(o));
     return f;
@@ -404,7 +440,7 @@ MetadataHeader MetadataHeaderFromJson(const json& j, const std::string& file) {
       const json& n = j.at("noise");
       h.noise = NoiseRecord{n.at("model").get<std::string>(),
                             n.at("parameters"),
-                            n.at("seed").get<uint64_t>()};
+                            GetInteger<uint64_t>(n, "seed")};
     }
     return h;
   });
@@ -423,8 +459,8 @@ MetadataFrame MetadataFrameFromJson(const json& j,
                   a.at("pitch").get<double>(),
                   a.at("yaw").get<double>()};
     const json& c = j.at("camera");
-    f.camera.width = c.at("width").get<int>();
-    f.camera.height = c.at("height").get<int>();
+    f.camera.width = GetInteger<int>(c, "width");
+    f.camera.height = GetInteger<int>(c, "height");
     f.camera.fx = c.at("fx").get<double>();
     f.camera.fy = c.at("fy").get<double>();
     f.camera.cx = c.at("cx").get<double>();

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <fstream>
+#include <vector>
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
 
 namespace lsds {
@@ -48,35 +50,126 @@ Error SyntaxError(const std::filesystem::path& path,
   return Error("invalid JSON: " + message, where);
 }
 
-}  // namespace
+// Builds the document like nlohmann's DOM parser, except that the elements of
+// the root's `array_key` array are handed out one at a time and not kept.
+// (nlohmann's callback parser scans the parent container at every
+// object_end, which is quadratic in the objects of one frame: 10^6 objects
+// did not load in 15 minutes.)
+class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  using Json = nlohmann::json;
+  ArrayMemberSax(const std::string& array_key,
+                 const std::function<void(Json&&, size_t)>& on_element,
+                 const std::filesystem::path& path,
+                 std::istream& in)
+      : array_key_(array_key), on_element_(on_element), path_(path), in_(in) {}
 
-Error JsonTextError(const nlohmann::json::exception& e,
-                    std::string_view text,
-                    const std::string& file) {
-  Location where(file);
-  size_t offset = std::string_view::npos;
-  if (const auto* parse = dynamic_cast<const nlohmann::json::parse_error*>(&e)) {
-    offset = parse->byte > 0 ? parse->byte - 1 : 0;
-  } else {
-    // "number overflow parsing '1e999'": find the literal.
-    const std::string message = e.what();
-    const size_t open = message.find('\'');
-    const size_t close = open == std::string::npos
-                             ? std::string::npos
-                             : message.find('\'', open + 1);
-    if (close != std::string::npos)
-      offset = text.find(message.substr(open + 1, close - open - 1));
+  Json root;
+  size_t count = 0;
+
+  bool null() override { return Add(nullptr); }
+  bool boolean(bool value) override { return Add(value); }
+  bool number_integer(number_integer_t value) override { return Add(value); }
+  bool number_unsigned(number_unsigned_t value) override { return Add(value); }
+  bool number_float(number_float_t value, const string_t&) override {
+    return Add(value);
   }
-  if (offset != std::string_view::npos) {
-    LineColumnFromOffset(std::string(text), std::min(offset, text.size()),
-                         &where.line, &where.column);
+  bool string(string_t& value) override { return Add(std::move(value)); }
+  bool binary(binary_t& value) override {
+    return Add(Json::binary(std::move(value)));
   }
-  std::string message = WithoutLibraryPrefix(e.what());
-  const size_t colon = message.find(": ");
-  if (message.rfind("parse error", 0) == 0 && colon != std::string::npos)
-    message = message.substr(colon + 2);
-  return Error("invalid JSON: " + message, where);
-}
+  bool start_object(std::size_t) override {
+    CheckDepth();
+    stack_.push_back(Place(Json::object()));
+    return true;
+  }
+  bool key(string_t& value) override {
+    key_ = std::move(value);
+    return true;
+  }
+  bool end_object() override { return End(); }
+  bool start_array(std::size_t) override {
+    CheckDepth();
+    Json* array = Place(Json::array());
+    if (stack_.size() == 1 && key_ == array_key_) target_ = array;
+    stack_.push_back(array);
+    return true;
+  }
+  bool end_array() override { return End(); }
+  bool parse_error(std::size_t,
+                   const std::string&,
+                   const nlohmann::detail::exception& e) override {
+    // Rethrown with its own type (the base class would slice it).
+    if (const auto* syntax = dynamic_cast<const Json::parse_error*>(&e))
+      throw *syntax;
+    if (const auto* range = dynamic_cast<const Json::out_of_range*>(&e))
+      throw *range;
+    throw Error(e.what());
+  }
+
+ private:
+  // The parser itself does not recurse, but schema checks and printing do:
+  // refuse documents nested deeper than any lsds file before they are built.
+  void CheckDepth() const {
+    if (stack_.size() < static_cast<size_t>(kMaxNestingDepth)) return;
+    const std::string pointer =
+        target_ != nullptr && stack_.size() >= 2 && stack_[1] == target_
+            ? "/" + array_key_ + "/" + std::to_string(count)
+            : "";
+    throw Error("nesting deeper than " + std::to_string(kMaxNestingDepth) +
+                    " levels (objects and arrays) near byte " +
+                    std::to_string(static_cast<long long>(in_.tellg())) +
+                    "; lsds refuses such documents",
+                Location(path_.string(), pointer));
+  }
+  // Puts `value` where the parser is; returns where it went.
+  Json* Place(Json value) {
+    if (stack_.empty()) {
+      root = std::move(value);
+      return &root;
+    }
+    Json* parent = stack_.back();
+    if (parent == target_) {  // an element: built on its own
+      element_ = std::move(value);
+      return &element_;
+    }
+    if (parent->is_array()) {
+      parent->push_back(std::move(value));
+      return &parent->back();
+    }
+    Json& slot = (*parent)[key_];
+    slot = std::move(value);
+    return &slot;
+  }
+  bool Add(Json value) {
+    Json* placed = Place(std::move(value));
+    if (placed == &element_ && stack_.back() == target_) HandOut();
+    return true;
+  }
+  bool End() {
+    Json* done = stack_.back();
+    stack_.pop_back();
+    if (done == &element_ && !stack_.empty() && stack_.back() == target_)
+      HandOut();
+    return true;
+  }
+  void HandOut() {
+    if (on_element_) on_element_(std::move(element_), count);
+    element_ = Json();
+    ++count;
+  }
+
+  const std::string& array_key_;
+  const std::function<void(Json&&, size_t)>& on_element_;
+  const std::filesystem::path& path_;
+  std::istream& in_;
+  std::vector<Json*> stack_;
+  std::string key_;
+  Json* target_ = nullptr;  // the root's array_key array
+  Json element_;            // the element of that array being built
+};
+
+}  // namespace
 
 size_t StreamJsonArrayMember(
     const std::filesystem::path& path,
@@ -86,43 +179,18 @@ size_t StreamJsonArrayMember(
   RequireRegularFile(path, "JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));
-  std::string top_key;  // the member of the root object being parsed
-  size_t count = 0;
-  using Event = nlohmann::json::parse_event_t;
-  auto callback = [&](int depth, Event event, nlohmann::json& parsed) -> bool {
-    // The parser itself does not recurse, but schema checks and printing do:
-    // refuse documents nested deeper than any lsds file before they are built.
-    if ((event == Event::object_start || event == Event::array_start) &&
-        depth >= kMaxNestingDepth) {
-      const std::string pointer = top_key == array_key && depth >= 2
-                                      ? "/" + array_key + "/" +
-                                            std::to_string(count)
-                                      : "";
-      throw Error("nesting deeper than " + std::to_string(kMaxNestingDepth) +
-                      " levels (objects and arrays) near byte " +
-                      std::to_string(static_cast<long long>(in.tellg())) +
-                      "; lsds refuses such documents",
-                  Location(path.string(), pointer));
-    }
-    if (event == Event::key && depth == 1) {
-      top_key = parsed.get<std::string>();
-      return true;
-    }
-    if (depth == 2 && top_key == array_key &&
-        (event == Event::object_end || event == Event::array_end ||
-         event == Event::value)) {
-      if (on_element) on_element(std::move(parsed), count);
-      ++count;
-      return false;  // discard: the element is not kept in the parent array
-    }
-    return true;
-  };
-  nlohmann::json root;
+  ArrayMemberSax sax(array_key, on_element, path, in);
   try {
-    root = nlohmann::json::parse(in, callback);
-  } catch (const nlohmann::json::exception& e) {
+    nlohmann::json::sax_parse(in, &sax);
+  } catch (const nlohmann::json::parse_error& e) {
     throw SyntaxError(path, e, static_cast<std::streamoff>(in.tellg()));
+  } catch (const nlohmann::json::out_of_range& e) {
+    // A number beyond double (1e999): nlohmann gives no position; the error
+    // path reads the file again to find it.
+    throw JsonParseError(ReadFile(path), path.string(), e);
   }
+  nlohmann::json& root = sax.root;
+  const size_t count = sax.count;
   if (!root.is_object())
     throw Error("top level must be a JSON object",
                 Location(path.string(), "/"));
@@ -142,7 +210,7 @@ struct JsonArrayWriter::Impl {
 JsonArrayWriter::JsonArrayWriter(const std::filesystem::path& path,
                                  const nlohmann::json& header,
                                  const std::string& array_key)
-    : impl_(new Impl(path)) {
+    : impl_(std::make_unique<Impl>(path)) {
   nlohmann::json members = header;
   members.erase(array_key);
   std::string text = members.dump(2);  // "{\n  ...\n}"
@@ -154,7 +222,7 @@ JsonArrayWriter::JsonArrayWriter(const std::filesystem::path& path,
       << nlohmann::json(array_key).dump() << ": [";
 }
 
-JsonArrayWriter::~JsonArrayWriter() { delete impl_; }
+JsonArrayWriter::~JsonArrayWriter() = default;
 
 void JsonArrayWriter::Append(const nlohmann::json& element) {
   impl_->file.stream() << (count_ == 0 ? "\n    " : ",\n    ")

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -27,14 +28,6 @@ size_t StreamJsonArrayMember(
     const std::function<void(nlohmann::json&& element, size_t index)>&
         on_element);
 
-// Any nlohmann exception met while parsing `text` (a syntax error, a number
-// out of range, ...) as lsds::Error naming `file` and the line and column:
-// the parser's byte offset for a syntax error, the offending literal's first
-// occurrence for a number overflow. Never a raw library message with no place.
-Error JsonTextError(const nlohmann::json::exception& e,
-                    std::string_view text,
-                    const std::string& file);
-
 // Writes such a file: the header members first (pretty), then the array one
 // element per line. Atomic: nothing appears under `path` until Commit().
 class JsonArrayWriter {
@@ -49,7 +42,7 @@ class JsonArrayWriter {
 
  private:
   struct Impl;
-  Impl* impl_;
+  std::unique_ptr<Impl> impl_;  // owned even when the constructor throws
   size_t count_ = 0;
 };
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "libs/geometry/world_frame.h"
+#include "libs/util/text_check.h"
 
 namespace lsds {
 
@@ -99,7 +100,7 @@ nlohmann::json SummaryToJson(const CollectionReader& reader,
          {"objects", cs.objects},
          {"instances", cs.instance_ids.size()}});
   }
-  return {{"path", reader.root().string()},
+  return {{"path", Utf8Escaped(reader.root().string())},
           {"format_version", h.format_version},
           {"generator",
            h.provenance.generator + " " + h.provenance.generator_version},

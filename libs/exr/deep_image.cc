@@ -165,8 +165,7 @@ void WriteDeepExr(const std::filesystem::path& path,
             CompressionName(options.compression),
         Location(path.string()));
   }
-  const std::filesystem::path temp = TempPathBeside(path);
-  internal::WriteThroughTemp(path, temp, [&] {
+  internal::WriteAtomicExr(path, [&](Imf::OStream& stream) {
     Imf::Header header(image.width(), image.height());
     header.compression() = internal::ToImf(options.compression);
     header.setType(Imf::DEEPSCANLINE);
@@ -206,7 +205,7 @@ void WriteDeepExr(const std::filesystem::path& path,
                          sizeof(char*) * image.width(),
                          element));
     }
-    Imf::DeepScanLineOutputFile file(temp.c_str(), header);
+    Imf::DeepScanLineOutputFile file(stream, header);
     file.setFrameBuffer(frame_buffer);
     file.writePixels(image.height());
   });

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfPixelType.h>
 
 #include <exception>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "libs/exr/exr_types.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 
 namespace lsds::exr::internal {
@@ -37,23 +39,41 @@ auto GuardExr(const std::filesystem::path& path, Body&& body)
   }
 }
 
-// Runs `write` (which writes `temp`), then renames `temp` to `path`; on failure
-// removes `temp`.
-template <typename Write>
-void WriteThroughTemp(const std::filesystem::path& path,
-                      const std::filesystem::path& temp,
-                      Write&& write) {
-  try {
-    GuardExr(path, [&] {
-      write();
-      std::filesystem::rename(temp, path);
-      return 0;
-    });
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(temp, ec);
-    throw;
+// OpenEXR's output stream over lsds's one atomic-output path: every write is
+// checked, the file is synced and renamed into place by AtomicFile::Commit().
+class AtomicOStream : public Imf::OStream {
+ public:
+  explicit AtomicOStream(AtomicFile& file)
+      : Imf::OStream(file.path().c_str()), file_(file) {}
+  void write(const char c[], int n) override {
+    file_.stream().write(c, n);
+    if (!file_.stream()) file_.Check();  // throws naming the file and errno
   }
+  uint64_t tellp() override {
+    return static_cast<uint64_t>(file_.stream().tellp());
+  }
+  void seekp(uint64_t pos) override {
+    file_.stream().seekp(static_cast<std::streamoff>(pos));
+    if (!file_.stream()) file_.Check();
+  }
+
+ private:
+  AtomicFile& file_;
+};
+
+// Runs `write` with an OStream for `path`, then commits it; on failure
+// nothing appears under `path`.
+template <typename Write>
+void WriteAtomicExr(const std::filesystem::path& path, Write&& write) {
+  GuardExr(path, [&] {
+    AtomicFile file(path);
+    {
+      AtomicOStream stream(file);
+      write(stream);
+    }
+    file.Commit();
+    return 0;
+  });
 }
 
 }  // namespace lsds::exr::internal

@@ -104,8 +104,7 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
 void WriteFlatExr(const std::filesystem::path& path,
                   const FlatImage& image,
                   const WriteOptions& options) {
-  const std::filesystem::path temp = TempPathBeside(path);
-  internal::WriteThroughTemp(path, temp, [&] {
+  internal::WriteAtomicExr(path, [&](Imf::OStream& stream) {
     Imf::Header header(image.width(), image.height());
     header.compression() = internal::ToImf(options.compression);
     internal::AddCamera(options, &header);
@@ -136,7 +135,7 @@ void WriteFlatExr(const std::filesystem::path& path,
                                      element * image.width()));
     }
     {
-      Imf::OutputFile file(temp.c_str(), header);
+      Imf::OutputFile file(stream, header);
       file.setFrameBuffer(frame_buffer);
       file.writePixels(image.height());
     }

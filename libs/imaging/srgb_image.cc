@@ -5,6 +5,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 
 namespace lsds::imaging {
@@ -78,13 +79,17 @@ void WriteImage(const std::filesystem::path& path,
     params = {cv::IMWRITE_PNG_COMPRESSION, options.png_compression};
   }
   bool ok = false;
+  std::vector<uchar> encoded;
   try {
-    ok = cv::imwrite(path.string(), bgr, params);
+    ok = cv::imencode(ext.empty() ? std::string(".png") : ext, bgr, encoded,
+                      params);
   } catch (const cv::Exception& e) {
     throw Error(std::string("cannot write image: ") + e.what(),
                 Location(path.string()));
   }
   if (!ok) throw Error("cannot write image", Location(path.string()));
+  // Through the one checked, atomic output path.
+  WriteFileAtomic(path, std::string(encoded.begin(), encoded.end()));
 }
 
 }  // namespace lsds::imaging

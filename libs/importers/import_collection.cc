@@ -8,6 +8,7 @@
 #include "libs/importers/registry.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/text_check.h"
 
 namespace lsds::import {
 
@@ -80,7 +81,7 @@ ImportResult ImportCollection(const std::string& format,
   header.provenance.generator_version = LSDS_VERSION;
   header.provenance.import = {
       {"format", importer->name()},
-      {"source", fs::absolute(source).string()},
+      {"source", Utf8Escaped(fs::absolute(source).string())},
       {"source_conventions", description.source_conventions},
       {"truth_origin", origin}};
   header.classes = description.classes;

@@ -3,9 +3,10 @@
 #include <fstream>
 #include <vector>
 
-#include "libs/collection/json_stream.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
 
 namespace lsds::noise {
@@ -167,19 +168,9 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
                 Location(path.string()));
   if (FindExcessJsonNesting(header_text) != std::string_view::npos)
     throw Error(NestingMessage(), Location(path.string()));
-  try {
-    result.header = nlohmann::json::parse(header_text);
-  } catch (const nlohmann::json::exception& e) {
-    // Only on failure: the streaming parser reads the file once more to name
-    // the line and column (the scan's header text has lost them).
-    StreamJsonArrayMember(path, array_key, nullptr, nullptr);
-    std::string message = e.what();
-    const size_t colon = message.rfind(": ");
-    throw Error(
-        "invalid JSON" + (colon == std::string::npos ? std::string()
-                                                     : message.substr(colon)),
-        Location(path.string()));
-  }
+  // Lines and columns are exact up to the array (the header text lacks its
+  // contents).
+  result.header = ParseJsonText(header_text, path.string());
   if (!result.header.is_object()) {
     throw Error("top level must be a JSON object",
                 Location(path.string(), "/"));
@@ -195,8 +186,25 @@ nlohmann::json ParseElement(std::string_view text,
   try {
     return nlohmann::json::parse(text.begin(), text.end());
   } catch (const nlohmann::json::exception& e) {
-    throw Error(JsonTextError(e, text, path.string()).message(),
-                Location(path.string(), pointer));
+    if (e.id < 101 || (e.id > 199 && e.id != 406)) throw;
+    // The error path only: find the element in the file for its line and
+    // column (element texts are the file's exact bytes).
+    std::string file_text;
+    try {
+      file_text = ReadFile(path);
+    } catch (const Error&) {
+    }
+    const size_t at = file_text.find(text);
+    Error located = JsonParseError(text, path.string(), e);
+    Location where = located.location();
+    where.json_pointer = pointer;
+    if (at != std::string::npos && where.line > 0) {
+      int line = 0, column = 0;
+      LineColumnFromOffset(file_text, at, &line, &column);
+      where.column = where.line == 1 ? where.column + column - 1 : where.column;
+      where.line += line - 1;
+    }
+    throw Error(located.message(), where);
   }
 }
 

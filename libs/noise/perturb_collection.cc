@@ -220,9 +220,7 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   out_header_json["summary"] = result.summary;
   AtomicFile output(result.output);
   output.stream() << ArrayFileHead(out_header_json, "frames");
-  frames_out.flush();
-  if (!frames_out)
-    throw Error("write failed", Location(frames_file.temp_path().string()));
+  frames_file.Check();  // the scratch frames were all written
   if (result.frames > 0) {
     std::ifstream frames_in(frames_file.temp_path(), std::ios::binary);
     output.stream() << frames_in.rdbuf();

@@ -114,8 +114,10 @@ void Load(const CollectionReader& reader,
           exr::FlatImage* image,
           fs::path* path) {
   *path = reader.LayerPath(frame, layer.name);
-  *image = exr::ReadFlatExr(
-      *path, ChannelNames(layer, channels, reader.collection_path().string()));
+  *image = reader.ReadFlatLayer(
+      frame,
+      layer.name,
+      ChannelNames(layer, channels, reader.collection_path().string()));
   if (image->width() != width || image->height() != height) {
     Location where(path->string());
     where.frame = frame.index;
@@ -137,7 +139,7 @@ LoadedFrame LoadFrame(const CollectionReader& reader,
   const std::string depth_channel =
       ChannelNames(*plan.depth, 1, reader.collection_path().string())[0];
   path = reader.LayerPath(frame, plan.depth->name);
-  f.depth = exr::ReadFlatExr(path, {depth_channel});
+  f.depth = reader.ReadFlatLayer(frame, plan.depth->name, {depth_channel});
   const int w = f.depth.width(), h = f.depth.height();
   FrameLayers& l = f.layers;
   l.width = w;

@@ -127,40 +127,35 @@ void WriteCloud(const std::filesystem::path& path,
                 const PointCloud& cloud,
                 CloudFormat format) {
   const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud, format);
-  const std::filesystem::path temp = TempPathBeside(path);
-  int status = -1;
-  std::string detail;
-  {
-    QuietPcl quiet;
-    try {
-      if (format == CloudFormat::kPcd) {
-        pcl::PCDWriter writer;
-        status = writer.writeBinary(temp.string(), pcl_cloud);
-      } else {
-        pcl::PLYWriter writer;
-        status = writer.writeBinary(temp.string(),
-                                    pcl_cloud,
-                                    Eigen::Vector4f::Zero(),
-                                    Eigen::Quaternionf::Identity(),
-                                    /*use_camera=*/false);
+  // PCL writes by file name and ignores write errors: it writes into memory
+  // and the bytes reach `path` through the checked atomic path.
+  WriteFileAtomicVia(path, [&](const std::filesystem::path& scratch) {
+    int status = -1;
+    std::string detail;
+    {
+      QuietPcl quiet;
+      try {
+        if (format == CloudFormat::kPcd) {
+          pcl::PCDWriter writer;
+          status = writer.writeBinary(scratch.string(), pcl_cloud);
+        } else {
+          pcl::PLYWriter writer;
+          status = writer.writeBinary(scratch.string(),
+                                      pcl_cloud,
+                                      Eigen::Vector4f::Zero(),
+                                      Eigen::Quaternionf::Identity(),
+                                      /*use_camera=*/false);
+        }
+      } catch (const std::exception& e) {
+        detail = e.what();
       }
-    } catch (const std::exception& e) {
-      detail = e.what();
     }
-  }
-  std::error_code ec;
-  if (status != 0) {
-    std::filesystem::remove(temp, ec);
-    throw Error("cannot write point cloud" +
-                    (detail.empty() ? std::string() : ": " + detail),
-                Location(path.string()));
-  }
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
-    std::filesystem::remove(temp, ec);
-    throw Error("cannot rename into place: " + ec.message(),
-                Location(path.string()));
-  }
+    if (status != 0) {
+      throw Error("cannot write point cloud" +
+                      (detail.empty() ? std::string() : ": " + detail),
+                  Location(path.string()));
+    }
+  });
 }
 
 PointCloud ReadCloud(const std::filesystem::path& path) {

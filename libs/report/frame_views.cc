@@ -64,7 +64,7 @@ cv::Mat DisplayImage(const CollectionReader& reader,
   const LayerInfo* rgb = reader.header().FindLayerBySemantic("rgb");
   if (HasFile(frame, rgb)) {
     return imaging::ToSrgb8(
-        exr::ReadFlatExr(reader.LayerPath(frame, rgb->name), {"R", "G", "B"}),
+        reader.ReadFlatLayer(frame, rgb->name, {"R", "G", "B"}),
         options.display);
   }
   return cv::Mat(std::max(1, frame.camera.intrinsics.height),
@@ -172,14 +172,13 @@ std::string LayerStrip(const CollectionReader& reader,
     const std::string& sem = layer.semantic;
     const std::string title = HtmlEscape(layer.name);
     try {
-      const std::filesystem::path path = reader.LayerPath(frame, layer.name);
       if (sem == "rgb") {
         const cv::Mat image = Resized(
             DisplayImage(reader, frame, options), options.layer_width, true);
         s << Figure(ImageDataUri(image, true), image.size(), title);
       } else if (sem == "classid" || sem == "instanceid") {
         const cv::Mat image =
-            Resized(ColorizeIds(exr::ReadFlatExr(path, {"id"})),
+            Resized(ColorizeIds(reader.ReadFlatLayer(frame, layer.name, {"id"})),
                     options.layer_width,
                     false);
         s << Figure(ImageDataUri(image, false),
@@ -188,7 +187,7 @@ std::string LayerStrip(const CollectionReader& reader,
       } else if (sem == "depth" && !layer.deep) {
         double lo = 0, hi = 0;
         const cv::Mat image =
-            Resized(ColorizeDepth(exr::ReadFlatExr(path, {"Z"}), &lo, &hi),
+            Resized(ColorizeDepth(reader.ReadFlatLayer(frame, layer.name, {"Z"}), &lo, &hi),
                     options.layer_width,
                     true);
         const cv::Mat bar = DepthScaleBar(image.cols, 10);
@@ -204,7 +203,7 @@ std::string LayerStrip(const CollectionReader& reader,
                 FormatNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
       } else if (sem == "normal") {
         const cv::Mat image =
-            Resized(ColorizeNormals(exr::ReadFlatExr(path, {"X", "Y", "Z"})),
+            Resized(ColorizeNormals(reader.ReadFlatLayer(frame, layer.name, {"X", "Y", "Z"})),
                     options.layer_width,
                     false);
         s << Figure(ImageDataUri(image, false),
@@ -212,7 +211,7 @@ std::string LayerStrip(const CollectionReader& reader,
                     title + " (world RGB = (n + 1) / 2)");
       } else if (sem == "shadow") {
         const cv::Mat image =
-            Resized(ColorizeShadow(exr::ReadFlatExr(path, {"Y"})),
+            Resized(ColorizeShadow(reader.ReadFlatLayer(frame, layer.name, {"Y"})),
                     options.layer_width,
                     true);
         s << Figure(ImageDataUri(image, false),
@@ -221,7 +220,7 @@ std::string LayerStrip(const CollectionReader& reader,
       } else if (sem == "motion") {
         double max_px = 0;
         int64_t invalid = 0;
-        const exr::FlatImage motion = exr::ReadFlatExr(path, {"X", "Y"});
+        const exr::FlatImage motion = reader.ReadFlatLayer(frame, layer.name, {"X", "Y"});
         const cv::Mat image = Resized(ColorizeMotion(motion, &max_px, &invalid),
                                       options.layer_width,
                                       false);
@@ -235,7 +234,7 @@ std::string LayerStrip(const CollectionReader& reader,
                         Fixed(max_px, 1) + " px; invalid (checkered) " +
                         Fixed(share, 1) + " %");
       } else if (sem == "bundle" && layer.deep) {
-        const exr::DeepImage deep = exr::ReadDeepExr(path);
+        const exr::DeepImage deep = reader.ReadDeepLayer(frame, layer.name, {});
         bundle::PixelMaps maps;
         const bundle::BundleStats stats =
             bundle::AnalyzeFrame(deep, bundle::StatsOptions(), &maps);
@@ -278,7 +277,7 @@ std::string FrameCard(const CollectionReader& reader,
     std::optional<exr::FlatImage> ids;
     const LayerInfo* instance = header.FindLayerBySemantic("instanceid");
     if (HasFile(frame, instance)) {
-      ids = exr::ReadFlatExr(reader.LayerPath(frame, instance->name), {"id"});
+      ids = reader.ReadFlatLayer(frame, instance->name, {"id"});
     }
     AnnotateOptions annotate;
     annotate.scale = scale;

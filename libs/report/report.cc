@@ -31,7 +31,7 @@ FrameCamera CameraOf(const CollectionReader& reader, const Frame& frame) {
   if (HasFile(frame, depth) && !depth->deep) {
     try {
       const exr::FlatImage z =
-          exr::ReadFlatExr(reader.LayerPath(frame, depth->name), {"Z"});
+          reader.ReadFlatLayer(frame, depth->name, {"Z"});
       return ComputeFrameCamera(header, frame, &z, depth->depth_kind);
     } catch (const Error&) {
       // An unreadable depth file: the camera figures that need it are unknown

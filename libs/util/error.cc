@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "libs/util/text_check.h"
+
 namespace lsds {
 
 std::string Location::ToString() const {
@@ -24,10 +26,23 @@ static std::string Compose(const std::string& message,
   return where.empty() ? message : where + ": " + message;
 }
 
+// Messages quote inputs (identifiers, values, paths): they stay readable
+// however long or binary the quoted text is.
+static std::string Readable(const std::string& text) {
+  return Excerpt(text, 2000, /*keep_lines=*/true);
+}
+
+static Location ReadableLocation(Location location) {
+  location.file = Readable(location.file);
+  location.json_pointer = Readable(location.json_pointer);
+  return location;
+}
+
 Error::Error(const std::string& message, Location location)
-    : std::runtime_error(Compose(message, location)),
-      message_(message),
-      location_(std::move(location)) {}
+    : std::runtime_error(
+          Compose(Readable(message), ReadableLocation(location))),
+      message_(Readable(message)),
+      location_(ReadableLocation(std::move(location))) {}
 
 void LineColumnFromOffset(const std::string& text,
                           size_t offset,

@@ -1,0 +1,64 @@
+// nlohmann-json's parse failures turned into located lsds::Error: syntax
+// errors and malformed UTF-8 at line:column with an excerpt of the text there,
+// numbers beyond the range of double (`1e999`, which nlohmann reports with no
+// position) at the line:column of the number.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <type_traits>
+
+#include <nlohmann/json.hpp>
+
+#include "libs/util/error.h"
+
+namespace lsds {
+
+// `text` is the document (or the part of it that was parsed); `first_line` is
+// the line of the file where `text` starts (for a part of a file).
+Error JsonParseError(std::string_view text,
+                     const std::string& file,
+                     const nlohmann::json::exception& e,
+                     int first_line = 1);
+
+// The integer member `key` of `object`, range-checked: nlohmann converts
+// silently (2^32+1 becomes 1 as int, -1 becomes 4294967295 as uint32, 2.5
+// becomes 2). Throws nlohmann's out_of_range naming the key and the value, which
+// the readers turn into an error at the JSON pointer.
+template <typename T>
+T GetInteger(const nlohmann::json& object, const char* key) {
+  static_assert(std::is_integral_v<T>);
+  const nlohmann::json& value = object.at(key);
+  if (!value.is_number()) return value.get<T>();  // nlohmann's type_error
+  constexpr T lo = std::numeric_limits<T>::min();
+  constexpr T hi = std::numeric_limits<T>::max();
+  bool ok = false;
+  if (value.is_number_unsigned()) {
+    ok = value.get<uint64_t>() <= static_cast<uint64_t>(hi);
+  } else if (value.is_number_integer()) {
+    const int64_t v = value.get<int64_t>();
+    ok = v >= static_cast<int64_t>(lo) &&
+         (v < 0 || static_cast<uint64_t>(v) <= static_cast<uint64_t>(hi));
+  } else {
+    const double v = value.get<double>();
+    ok = std::isfinite(v) && v == std::floor(v) &&
+         v >= static_cast<double>(lo) && v <= static_cast<double>(hi);
+  }
+  if (!ok) {
+    throw nlohmann::json::out_of_range::create(
+        406,
+        std::string(key) + ": " + value.dump() +
+            " is not an integer in [" + std::to_string(lo) + ", " +
+            std::to_string(hi) + "]",
+        nullptr);
+  }
+  return value.get<T>();
+}
+
+// Parses a whole document with located errors.
+nlohmann::json ParseJsonText(std::string_view text, const std::string& file);
+
+}  // namespace lsds

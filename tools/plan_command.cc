@@ -6,6 +6,7 @@
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/input_file.h"
 #include "libs/util/output_guard.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
@@ -39,6 +40,9 @@ int RunPlan(int argc, char** argv) {
       "print the JSON form of the scene (and capture) instead of the plan");
   app.add_flag("--force", force, "overwrite the output file");
   return RunCommand(app, argc, argv, [&] {
+    // What the inputs are first: `lsds plan DIR` is told DIR is a folder.
+    RequireRegularFile(scene, "scene file");
+    if (!capture.empty()) RequireRegularFile(capture, "capture file");
     OutputGuard guard("lsds plan");
     guard.AddInput(scene, "scene file");
     guard.AddInput(capture, "capture file");

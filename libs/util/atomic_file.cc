@@ -401,9 +401,6 @@ void AtomicDirectory::Commit() {
 }
 
 std::string ReadFile(const fs::path& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec))
-    throw Error("is a folder, expected a file", Location(path.string()));
   RequireRegularFile(path, "file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));

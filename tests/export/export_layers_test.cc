@@ -338,7 +338,7 @@ TEST_F(ExportLayers, RefusesBadUsageWithTheDocumentedMessages) {
   expect_usage("-o " + (collection_ / "exported").string(),
                "the output (-o) lies inside the collection folder");
   EXPECT_FALSE(fs::exists(collection_ / "exported"));
-  expect_usage("-o " + dir_.path().string(), "the output (-o) contains the collection folder");
+  expect_usage("-o " + dir_.path().string(), "the output (-o) contains the collection");
   expect_usage("-o " + out_.string() + " --layers dept",
                "did you mean 'depth'");
   expect_usage("-o " + out_.string() + " --layers bundle", "deep layer");

@@ -7,7 +7,7 @@ BUILD_DIR := build/$(PRESET)
 JOBS ?= $(shell nproc)
 PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test test-asan tidy demo install format clean bench
+.PHONY: all deps configure build test test-asan tidy demo install format format-check clean bench
 
 all: build
 
@@ -49,6 +49,10 @@ bench: build
 
 format:
 	@git ls-files '*.h' '*.cc' | xargs clang-format -i
+
+# Fails when a C++ file differs from .clang-format's layout (CI runs it before the suite).
+format-check: deps
+	@git ls-files '*.h' '*.cc' | xargs clang-format --dry-run --Werror
 
 clean:
 	@rm -rf build

@@ -52,8 +52,7 @@ double Seconds(const std::function<void()>& fn, int repeat) {
     const auto start = std::chrono::steady_clock::now();
     fn();
     const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-            .count();
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (wall < best) best = wall, last_cpu = CpuSeconds() - cpu;
   }
   return best;
@@ -61,11 +60,7 @@ double Seconds(const std::function<void()>& fn, int repeat) {
 
 double floor_cpu = 1;  // CPU seconds of the floor the following rows refer to
 
-void Row(const char* what,
-         double points,
-         double seconds,
-         double floor_seconds,
-         double cpu = -1) {
+void Row(const char* what, double points, double seconds, double floor_seconds, double cpu = -1) {
   std::printf("  %-46s %9.2f ms  %8.1f Mpoints/s  x%.2f floor",
               what,
               seconds * 1e3,
@@ -113,31 +108,24 @@ int main(int argc, char** argv) {
   bool no_open3d = false;
   app.add_option("--size", size, "frame width and height (pixels)");
   app.add_option("--frames", frames, "frames of the fused run");
-  app.add_option(
-      "--voxel", voxel, "voxel size of the fused run (m); 0 = no downsampling");
-  app.add_option("--repeat",
-                 repeat,
-                 "repetitions of the single-frame timings (best is kept)");
-  app.add_option("--work",
-                 work,
-                 "folder for the synthetic collection (reused when present)");
+  app.add_option("--voxel", voxel, "voxel size of the fused run (m); 0 = no downsampling");
+  app.add_option("--repeat", repeat, "repetitions of the single-frame timings (best is kept)");
+  app.add_option("--work", work, "folder for the synthetic collection (reused when present)");
   app.add_option("--python", python, "python with open3d");
   app.add_flag("--no-open3d", no_open3d, "skip the Open3D comparison");
   CLI11_PARSE(app, argc, argv);
   if (work.empty()) {
     work = (fs::temp_directory_path() /
-            ("lsds_bench_backproject_" + std::to_string(size) + "_" +
-             std::to_string(frames)))
+            ("lsds_bench_backproject_" + std::to_string(size) + "_" + std::to_string(frames)))
                .string();
   }
   const fs::path collection = fs::path(work) / "collection";
   if (!fs::exists(collection / "collection.json")) {
-    std::printf(
-        "rendering a %dx%d synthetic collection of %d frames into %s ...\n",
-        size,
-        size,
-        frames,
-        collection.c_str());
+    std::printf("rendering a %dx%d synthetic collection of %d frames into %s ...\n",
+                size,
+                size,
+                frames,
+                collection.c_str());
     synth::Spec spec = synth::DefaultSpec();
     spec.width = spec.height = size;
     spec.samples_per_axis = 1;
@@ -146,8 +134,7 @@ int main(int argc, char** argv) {
     // A nadir pass at 20 m, 0.2 m between frames: consecutive frames overlap by
     // ~99 %.
     for (int k = 0; k < frames; ++k)
-      spec.cam_from_world.push_back(
-          synth::NadirCamFromWorld({-10 + 0.2 * k, 0, 20}));
+      spec.cam_from_world.push_back(synth::NadirCamFromWorld({-10 + 0.2 * k, 0, 20}));
     fs::remove_all(collection);
     fs::create_directories(work);
     synth::WriteCollection(collection, spec);
@@ -172,8 +159,7 @@ int main(int argc, char** argv) {
 
   // Floor: decoding the depth EXR.
   exr::FlatImage depth;
-  const double floor =
-      Seconds([&] { depth = exr::ReadFlatExr(depth_path, {"Z"}); }, repeat);
+  const double floor = Seconds([&] { depth = exr::ReadFlatExr(depth_path, {"Z"}); }, repeat);
   std::printf("one frame:\n");
   floor_cpu = last_cpu;
   const double single_floor_cpu = floor_cpu;
@@ -200,85 +186,53 @@ int main(int argc, char** argv) {
       repeat);
   const double core_cpu = last_cpu;
   const double points = static_cast<double>(cloud.points.size());
-  Row("back-projection only (decoded depth, xyz)",
-      points,
-      core,
-      floor,
-      last_cpu);
+  Row("back-projection only (decoded depth, xyz)", points, core, floor, last_cpu);
 
-  auto run = [&](bool attributes,
-                 const fs::path& out,
-                 int64_t begin,
-                 int64_t end,
-                 bool fuse,
-                 double v) {
-    pointcloud::BackprojectOptions options;
-    options.collection = collection;
-    options.output = out;
-    options.fuse = fuse;
-    options.voxel = v;
-    options.colors = options.labels = attributes;
-    options.frames.begin = begin;
-    options.frames.end = end;
-    options.force = true;
-    return pointcloud::RunBackproject(options);
-  };
+  auto run =
+      [&](bool attributes, const fs::path& out, int64_t begin, int64_t end, bool fuse, double v) {
+        pointcloud::BackprojectOptions options;
+        options.collection = collection;
+        options.output = out;
+        options.fuse = fuse;
+        options.voxel = v;
+        options.colors = options.labels = attributes;
+        options.frames.begin = begin;
+        options.frames.end = end;
+        options.force = true;
+        return pointcloud::RunBackproject(options);
+      };
   const fs::path out_dir = fs::path(work) / "out";
   fs::create_directories(out_dir);
-  const double e2e_xyz =
-      Seconds([&] { run(false, out_dir / "one.pcd", 0, 1, true, 0); }, repeat);
+  const double e2e_xyz = Seconds([&] { run(false, out_dir / "one.pcd", 0, 1, true, 0); }, repeat);
   Row("end to end: depth EXR -> PCD (xyz)", points, e2e_xyz, floor, last_cpu);
-  const double e2e_full = Seconds(
-      [&] { run(true, out_dir / "one_full.pcd", 0, 1, true, 0); }, repeat);
-  Row("end to end: + rgb, class, instance -> PCD",
-      points,
-      e2e_full,
-      floor,
-      last_cpu);
+  const double e2e_full =
+      Seconds([&] { run(true, out_dir / "one_full.pcd", 0, 1, true, 0); }, repeat);
+  Row("end to end: + rgb, class, instance -> PCD", points, e2e_full, floor, last_cpu);
 
   // Many frames fused.
   std::printf("%d frames fused:\n", frames);
   const double floor_all = Seconds(
       [&] {
-        reader.ForEachFrame([&](const Frame& f) {
-          exr::ReadFlatExr(reader.LayerPath(f, "depth"), {"Z"});
-        });
+        reader.ForEachFrame(
+            [&](const Frame& f) { exr::ReadFlatExr(reader.LayerPath(f, "depth"), {"Z"}); });
       },
       1);
   floor_cpu = last_cpu;
-  Row("floor: decode every depth EXR (1 thread)",
-      pixels * frames,
-      floor_all,
-      floor_all,
-      last_cpu);
+  Row("floor: decode every depth EXR (1 thread)", pixels * frames, floor_all, floor_all, last_cpu);
   pointcloud::BackprojectSummary summary;
-  const double fused = Seconds(
-      [&] {
-        summary = run(false, out_dir / "fused.pcd", 0, frames, true, voxel);
-      },
-      1);
+  const double fused =
+      Seconds([&] { summary = run(false, out_dir / "fused.pcd", 0, frames, true, voxel); }, 1);
   char label[128];
   std::snprintf(label,
                 sizeof label,
                 "fused xyz, voxel %g -> %lld points",
                 voxel,
                 static_cast<long long>(summary.points_written));
-  Row(label,
-      static_cast<double>(summary.points_backprojected),
-      fused,
-      floor_all,
-      last_cpu);
-  const double fused_full = Seconds(
-      [&] {
-        summary = run(true, out_dir / "fused_full.pcd", 0, frames, true, voxel);
-      },
-      1);
+  Row(label, static_cast<double>(summary.points_backprojected), fused, floor_all, last_cpu);
+  const double fused_full =
+      Seconds([&] { summary = run(true, out_dir / "fused_full.pcd", 0, frames, true, voxel); }, 1);
   std::snprintf(label, sizeof label, "fused + rgb/labels, voxel %g", voxel);
-  Row(label,
-      static_cast<double>(summary.points_backprojected),
-      fused_full,
-      floor_all,
-      last_cpu);
+  Row(label, static_cast<double>(summary.points_backprojected), fused_full, floor_all, last_cpu);
 
   // Open3D on the same depth, same camera (camera frame output: extrinsic
   // identity).
@@ -286,8 +240,7 @@ int main(int argc, char** argv) {
     std::printf("open3d: skipped (--no-open3d)\n");
     return 0;
   }
-  if (std::system((python + " -c 'import open3d' > /dev/null 2>&1").c_str()) !=
-      0) {
+  if (std::system((python + " -c 'import open3d' > /dev/null 2>&1").c_str()) != 0) {
     std::printf(
         "open3d: skipped (%s cannot import open3d; Debian: apt-get install "
         "python3-open3d)\n",
@@ -324,15 +277,10 @@ int main(int argc, char** argv) {
   }
   long long o3d_points = 0;
   double o3d_depth = 0, o3d_depth_cpu = 0, o3d_rgbd = 0, o3d_rgbd_cpu = 0;
-  std::ifstream(result) >> o3d_points >> o3d_depth >> o3d_depth_cpu >>
-      o3d_rgbd >> o3d_rgbd_cpu;
+  std::ifstream(result) >> o3d_points >> o3d_depth >> o3d_depth_cpu >> o3d_rgbd >> o3d_rgbd_cpu;
   std::printf("open3d %s (decoded depth, no EXR decode):\n", "0.16");
   floor_cpu = single_floor_cpu;
-  Row("create_from_depth_image",
-      static_cast<double>(o3d_points),
-      o3d_depth,
-      floor,
-      o3d_depth_cpu);
+  Row("create_from_depth_image", static_cast<double>(o3d_points), o3d_depth, floor, o3d_depth_cpu);
   Row("create_from_rgbd_image (+ colour)",
       static_cast<double>(o3d_points),
       o3d_rgbd,

@@ -36,14 +36,12 @@ struct Disc {
 // A tilted ground (instance 1000, class 1) under discs that bulge towards the
 // camera: many sizes, so that small objects and edges are plentiful. n x n
 // stratified samples, sample 0 at the centre.
-exr::DeepImage MakeFrame(
-    int width, int height, int n, int discs, uint64_t seed) {
+exr::DeepImage MakeFrame(int width, int height, int n, int discs, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uni(0, 1);
   std::vector<Disc> scene;
   for (int i = 0; i < discs; ++i) {
-    const double r =
-        1.0 + std::pow(uni(rng), 3) * width / 12.0;  // mostly small
+    const double r = 1.0 + std::pow(uni(rng), 3) * width / 12.0;  // mostly small
     scene.push_back({uni(rng) * width,
                      uni(rng) * height,
                      r,
@@ -51,9 +49,7 @@ exr::DeepImage MakeFrame(
                      static_cast<uint32_t>(i + 1),
                      static_cast<uint32_t>(2 + i % 4)});
   }
-  std::sort(scene.begin(), scene.end(), [](const Disc& a, const Disc& b) {
-    return a.z > b.z;
-  });
+  std::sort(scene.begin(), scene.end(), [](const Disc& a, const Disc& b) { return a.z > b.z; });
   const int spp = n * n;
   std::vector<float> sx(spp), sy(spp);
   for (int s = 0; s < spp; ++s) {
@@ -62,9 +58,7 @@ exr::DeepImage MakeFrame(
   }
   sx[0] = sy[0] = 0.5f;
   exr::DeepImage image(
-      width,
-      height,
-      std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
+      width, height, std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
   auto& inst = image.AddChannel("instanceid", exr::PixelType::kUint).uints;
   auto& cls = image.AddChannel("classid", exr::PixelType::kUint).uints;
   auto& zs = image.AddChannel("Z", exr::PixelType::kFloat).floats;
@@ -95,8 +89,7 @@ exr::DeepImage MakeFrame(
       for (int x = x0; x <= x1; ++x) {
         const uint64_t first = image.FirstSample(x, y);
         for (int s = 0; s < spp; ++s) {
-          const double dx = (x + sx[s] - d.cx) / d.r,
-                       dy = (y + sy[s] - d.cy) / d.r;
+          const double dx = (x + sx[s] - d.cx) / d.r, dy = (y + sy[s] - d.cy) / d.r;
           const double q = dx * dx + dy * dy;
           if (q >= 1) continue;
           const double h = std::sqrt(1 - q);
@@ -113,8 +106,7 @@ exr::DeepImage MakeFrame(
   return image;
 }
 
-void Generate(
-    const fs::path& root, int frames, int width, int height, int n, int discs) {
+void Generate(const fs::path& root, int frames, int width, int height, int n, int discs) {
   fs::create_directories(root / "bundle");
   CollectionHeader header;
   header.provenance.generator = "bench_bundles";
@@ -134,8 +126,7 @@ void Generate(
     frame.index = i;
     frame.time = 0.1 * i;
     frame.sequence = "S1";
-    frame.camera.intrinsics =
-        PinholeCamera::FromHorizontalFov(width, height, 60);
+    frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(width, height, 60);
     frame.files["bundle"] = "bundle/" + FrameStem(i) + ".exr";
     writer.Append(frame);
   }
@@ -143,8 +134,7 @@ void Generate(
 }
 
 double Seconds(const std::chrono::steady_clock::time_point& start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // The floor: the same frame stream, batching and channels, decoding only.
@@ -155,8 +145,8 @@ double Floor(const fs::path& root, size_t batch_size) {
   std::atomic<uint64_t> samples{0};
   auto flush = [&] {
     tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
-      const exr::DeepImage image = exr::ReadDeepExr(
-          reader.LayerPath(batch[i], "bundle"), bundle::BundleChannels());
+      const exr::DeepImage image =
+          exr::ReadDeepExr(reader.LayerPath(batch[i], "bundle"), bundle::BundleChannels());
       samples += image.total_samples();
     });
     batch.clear();
@@ -181,42 +171,32 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "frames")->check(CLI::PositiveNumber);
   app.add_option("--width", width)->check(CLI::PositiveNumber);
   app.add_option("--height", height)->check(CLI::PositiveNumber);
-  app.add_option("--samples-per-axis", n, "n: n*n samples per pixel")
-      ->check(CLI::PositiveNumber);
+  app.add_option("--samples-per-axis", n, "n: n*n samples per pixel")->check(CLI::PositiveNumber);
   app.add_option("--discs", discs, "objects per frame");
-  app.add_option(
-      "--dir",
-      dir,
-      "where to generate the collection (default: a temporary folder)");
-  app.add_option(
-         "--repeats", repeats, "timed passes of each (the best is kept)")
+  app.add_option("--dir", dir, "where to generate the collection (default: a temporary folder)");
+  app.add_option("--repeats", repeats, "timed passes of each (the best is kept)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--keep", keep, "keep the generated collection");
-  app.add_flag("--with-layers",
-               with_layers,
-               "also time --write-layers majority,purity,coverage,edge");
-  app.add_option(
-      "--picture", picture, "write the mixed-pixel map of frame 0 (PNG)");
+  app.add_flag(
+      "--with-layers", with_layers, "also time --write-layers majority,purity,coverage,edge");
+  app.add_option("--picture", picture, "write the mixed-pixel map of frame 0 (PNG)");
   CLI11_PARSE(app, argc, argv);
 
-  const fs::path root = dir.empty()
-                            ? fs::temp_directory_path() / "lsds_bundles_bench"
-                            : fs::path(dir);
+  const fs::path root =
+      dir.empty() ? fs::temp_directory_path() / "lsds_bundles_bench" : fs::path(dir);
   fs::remove_all(root);
   auto start = std::chrono::steady_clock::now();
   Generate(root, frames, width, height, n, discs);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  std::printf(
-      "generated %d frames %dx%d, %d samples per pixel in %.1f s (%s)\n",
-      frames,
-      width,
-      height,
-      n * n,
-      Seconds(start),
-      root.c_str());
+  std::printf("generated %d frames %dx%d, %d samples per pixel in %.1f s (%s)\n",
+              frames,
+              width,
+              height,
+              n * n,
+              Seconds(start),
+              root.c_str());
 
-  const size_t batch =
-      static_cast<size_t>(std::max(1, tbb::info::default_concurrency()));
+  const size_t batch = static_cast<size_t>(std::max(1, tbb::info::default_concurrency()));
   Floor(root,
         batch);  // warm the page cache so that both passes read from memory
   double floor_s = 1e30, stats_s = 1e30, layers_s = 1e30;
@@ -238,24 +218,20 @@ int main(int argc, char** argv) {
       layers_s = std::min(layers_s, Seconds(start));
     }
   }
-  std::printf(
-      "threads %d, batch %zu\n", tbb::info::default_concurrency(), batch);
+  std::printf("threads %d, batch %zu\n", tbb::info::default_concurrency(), batch);
   std::printf("mixed pixels %.3f%%, flying %.3f%%\n",
               100.0 * result.total.mixed_pixels / result.total.pixels,
               100.0 * result.total.flying_pixels / result.total.pixels);
-  std::printf("floor (read + decode)   %8.2f frames/s  (%.2f s)\n",
-              frames / floor_s,
-              floor_s);
+  std::printf("floor (read + decode)   %8.2f frames/s  (%.2f s)\n", frames / floor_s, floor_s);
   std::printf("lsds bundles (stats)    %8.2f frames/s  (%.2f s)  ratio %.2fx\n",
               frames / stats_s,
               stats_s,
               stats_s / floor_s);
   if (with_layers) {
-    std::printf(
-        "lsds bundles (+layers)  %8.2f frames/s  (%.2f s)  ratio %.2fx\n",
-        frames / layers_s,
-        layers_s,
-        layers_s / floor_s);
+    std::printf("lsds bundles (+layers)  %8.2f frames/s  (%.2f s)  ratio %.2fx\n",
+                frames / layers_s,
+                layers_s,
+                layers_s / floor_s);
   }
   if (!keep) fs::remove_all(root);
   return 0;

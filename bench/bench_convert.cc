@@ -36,8 +36,7 @@ using namespace lsds;
 namespace {
 
 double Seconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 long PeakRssMb() {
@@ -76,8 +75,7 @@ void BuildCollection(const fs::path& root, int frames, int size, int distinct) {
   CollectionHeader header = reader.header();
   header.frame_count = frames;
   header.metadata.clear();
-  for (const LayerInfo& layer : header.layers)
-    fs::create_directories(out / layer.name);
+  for (const LayerInfo& layer : header.layers) fs::create_directories(out / layer.name);
   CollectionWriter writer(out, header);
   for (int i = 0; i < frames; ++i) {
     Frame frame = seeds[i % distinct];
@@ -86,8 +84,7 @@ void BuildCollection(const fs::path& root, int frames, int size, int distinct) {
     frame.sequence = "S" + std::to_string(i / 20);
     for (auto& [layer, file] : frame.files) {
       const std::string name = layer + "/" + FrameStem(i) + ".exr";
-      fs::copy_file(
-          seed / file, out / name, fs::copy_options::overwrite_existing);
+      fs::copy_file(seed / file, out / name, fs::copy_options::overwrite_existing);
       file = name;
     }
     writer.Append(frame);
@@ -110,15 +107,13 @@ double Floor(const fs::path& collection,
   auto flush = [&] {
     tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
       if (images != "none") {
-        const exr::FlatImage rgb = exr::ReadFlatExr(
-            reader.LayerPath(batch[i], "rgb"), {"R", "G", "B"});
-        imaging::WriteImage(out / (FrameStem(batch[i].index) +
-                                   (images == "jpg" ? ".jpg" : ".png")),
+        const exr::FlatImage rgb =
+            exr::ReadFlatExr(reader.LayerPath(batch[i], "rgb"), {"R", "G", "B"});
+        imaging::WriteImage(out / (FrameStem(batch[i].index) + (images == "jpg" ? ".jpg" : ".png")),
                             imaging::ToSrgb8(rgb, display),
                             display);
       }
-      if (masks)
-        exr::ReadFlatExr(reader.LayerPath(batch[i], "instanceid"), {"id"});
+      if (masks) exr::ReadFlatExr(reader.LayerPath(batch[i], "instanceid"), {"id"});
     });
     batch.clear();
   };
@@ -135,25 +130,18 @@ double Floor(const fs::path& collection,
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app("frames/s of lsds convert per format, next to its floor",
-               "bench_convert");
+  CLI::App app("frames/s of lsds convert per format, next to its floor", "bench_convert");
   int frames = 40, size = 256, distinct = 4;
-  std::string formats = "yolo,yolo-seg,coco,cvat,cvat-video", images = "png",
-              work;
-  std::string
-      child;  // internal: run one conversion and print "seconds peak_mb"
+  std::string formats = "yolo,yolo-seg,coco,cvat,cvat-video", images = "png", work;
+  std::string child;  // internal: run one conversion and print "seconds peak_mb"
   int64_t child_frames = 0;
-  app.add_option("--frames", frames, "frames in the collection")
-      ->capture_default_str();
-  app.add_option("--size", size, "image width = height in pixels")
-      ->capture_default_str();
+  app.add_option("--frames", frames, "frames in the collection")->capture_default_str();
+  app.add_option("--size", size, "image width = height in pixels")->capture_default_str();
   app.add_option("--distinct", distinct, "distinct rendered frames, repeated")
       ->capture_default_str();
-  app.add_option("--formats", formats, "formats to measure")
-      ->capture_default_str();
+  app.add_option("--formats", formats, "formats to measure")->capture_default_str();
   app.add_option("--images", images, "png, jpg or none")->capture_default_str();
-  app.add_option(
-      "--work", work, "work folder (default: a temporary one, removed)");
+  app.add_option("--work", work, "work folder (default: a temporary one, removed)");
   app.add_option("--child", child)->group("");
   app.add_option("--child-frames", child_frames)->group("");
   CLI11_PARSE(app, argc, argv);
@@ -169,19 +157,16 @@ int main(int argc, char** argv) {
     options.frame_end = child_frames;
     const auto start = std::chrono::steady_clock::now();
     const convert::ConvertResult result = convert::Convert(options);
-    std::printf("%.6f %ld %lld\n",
-                Seconds(start),
-                PeakRssMb(),
-                static_cast<long long>(result.frames));
+    std::printf(
+        "%.6f %ld %lld\n", Seconds(start), PeakRssMb(), static_cast<long long>(result.frames));
     fs::remove_all(options.output);
     return 0;
   }
 
   const bool own_work = work.empty();
   if (own_work)
-    work = (fs::temp_directory_path() /
-            ("lsds_convert_bench_" + std::to_string(getpid())))
-               .string();
+    work =
+        (fs::temp_directory_path() / ("lsds_convert_bench_" + std::to_string(getpid()))).string();
   fs::remove_all(work);
   fs::create_directories(work);
   auto start = std::chrono::steady_clock::now();
@@ -198,16 +183,12 @@ int main(int argc, char** argv) {
       tbb::this_task_arena::max_concurrency());
 
   const fs::path collection = fs::path(work) / "collection";
-  const double floor_images =
-      Floor(collection, images, false, 64, fs::path(work) / "floor");
-  const double floor_masks =
-      Floor(collection, images, true, 64, fs::path(work) / "floor");
-  std::printf(
-      "floor (decode rgb + encode images):              %8.2f frames/s\n",
-      frames / floor_images);
-  std::printf(
-      "floor (decode rgb + instanceid + encode images): %8.2f frames/s\n\n",
-      frames / floor_masks);
+  const double floor_images = Floor(collection, images, false, 64, fs::path(work) / "floor");
+  const double floor_masks = Floor(collection, images, true, 64, fs::path(work) / "floor");
+  std::printf("floor (decode rgb + encode images):              %8.2f frames/s\n",
+              frames / floor_images);
+  std::printf("floor (decode rgb + instanceid + encode images): %8.2f frames/s\n\n",
+              frames / floor_masks);
   std::printf("%-12s %10s %10s %8s %14s %14s\n",
               "format",
               "frames/s",
@@ -216,21 +197,17 @@ int main(int argc, char** argv) {
               "peak MB (1/4)",
               "peak MB (all)");
 
-  auto run_child =
-      [&](const std::string& format, int64_t n, double* seconds, long* mb) {
-        const std::string command =
-            std::string(argv[0]) + " --work " + work + " --images " + images +
-            " --child " + format + " --child-frames " + std::to_string(n);
-        FILE* pipe = popen(command.c_str(), "r");
-        long long done = 0;
-        if (pipe == nullptr ||
-            std::fscanf(pipe, "%lf %ld %lld", seconds, mb, &done) != 3) {
-          std::fprintf(
-              stderr, "bench_convert: child run failed: %s\n", command.c_str());
-          std::exit(2);
-        }
-        pclose(pipe);
-      };
+  auto run_child = [&](const std::string& format, int64_t n, double* seconds, long* mb) {
+    const std::string command = std::string(argv[0]) + " --work " + work + " --images " + images +
+                                " --child " + format + " --child-frames " + std::to_string(n);
+    FILE* pipe = popen(command.c_str(), "r");
+    long long done = 0;
+    if (pipe == nullptr || std::fscanf(pipe, "%lf %ld %lld", seconds, mb, &done) != 3) {
+      std::fprintf(stderr, "bench_convert: child run failed: %s\n", command.c_str());
+      std::exit(2);
+    }
+    pclose(pipe);
+  };
   for (const std::string& format : Split(formats, ',')) {
     const bool masks = convert::MakeConverter(format)->NeedsMasks();
     const double floor_seconds = masks ? floor_masks : floor_images;

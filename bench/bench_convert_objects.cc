@@ -33,8 +33,7 @@ using namespace lsds;
 namespace {
 
 double Seconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // One frame, `count` one-pixel objects of class 2.
@@ -85,9 +84,8 @@ fs::path BuildCollection(const fs::path& work, int64_t count) {
 double Floor(const fs::path& collection) {
   const auto start = std::chrono::steady_clock::now();
   const CollectionReader reader(collection);
-  reader.ForEachFrame([&](const Frame& frame) {
-    reader.ReadFlatLayer(frame, "instanceid", {"id"});
-  });
+  reader.ForEachFrame(
+      [&](const Frame& frame) { reader.ReadFlatLayer(frame, "instanceid", {"id"}); });
   return Seconds(start);
 }
 
@@ -103,12 +101,16 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const fs::path work =
-      fs::temp_directory_path() /
-      ("lsds_convert_objects_" + std::to_string(::getpid()));
+      fs::temp_directory_path() / ("lsds_convert_objects_" + std::to_string(::getpid()));
   fs::remove_all(work);
   fs::create_directories(work);
-  std::printf("%10s %10s %12s %12s %14s %10s\n", "objects", "floor s",
-              "convert s", "us/object", "vs previous", "vs floor");
+  std::printf("%10s %10s %12s %12s %14s %10s\n",
+              "objects",
+              "floor s",
+              "convert s",
+              "us/object",
+              "vs previous",
+              "vs floor");
   double previous = 0;
   for (int64_t count = min_count; count <= max_count; count *= 10) {
     const fs::path collection = BuildCollection(work, count);
@@ -123,7 +125,9 @@ int main(int argc, char** argv) {
     convert::Convert(options);
     const double seconds = Seconds(start);
     std::printf("%10lld %10.3f %12.3f %12.2f %14s %10.1f\n",
-                static_cast<long long>(count), floor, seconds,
+                static_cast<long long>(count),
+                floor,
+                seconds,
                 1e6 * seconds / double(count),
                 previous > 0 ? FormatNumber(seconds / previous, 3).c_str() : "-",
                 seconds / floor);

@@ -18,8 +18,8 @@
 #include <CLI/CLI.hpp>
 
 #include "libs/collection/collection_reader.h"
-#include "libs/exr/flat_image.h"
 #include "libs/export/export_layers.h"
+#include "libs/exr/flat_image.h"
 #include "libs/synth/synthetic_collection.h"
 
 namespace fs = std::filesystem;
@@ -34,10 +34,8 @@ double Seconds(const std::function<void()>& fn, int repeat) {
   for (int r = 0; r < repeat; ++r) {
     const auto start = std::chrono::steady_clock::now();
     fn();
-    best = std::min(best,
-                    std::chrono::duration<double>(
-                        std::chrono::steady_clock::now() - start)
-                        .count());
+    best = std::min(
+        best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   return best;
 }
@@ -51,14 +49,11 @@ int main(int argc, char** argv) {
   app.add_option("--size", size, "frame width and height (pixels)");
   app.add_option("--frames", frames, "frames of the collection");
   app.add_option("--repeat", repeat, "repetitions (best is kept)");
-  app.add_option("--work",
-                 work,
-                 "folder for the synthetic collection (reused when present)");
+  app.add_option("--work", work, "folder for the synthetic collection (reused when present)");
   CLI11_PARSE(app, argc, argv);
   if (work.empty()) {
     work = (fs::temp_directory_path() /
-            ("lsds_bench_export_layers_" + std::to_string(size) + "_" +
-             std::to_string(frames)))
+            ("lsds_bench_export_layers_" + std::to_string(size) + "_" + std::to_string(frames)))
                .string();
   }
   const fs::path collection = fs::path(work) / "collection";
@@ -67,9 +62,11 @@ int main(int argc, char** argv) {
   const std::vector<std::string> layers = {
       "classid", "instanceid", "depth", "normal", "shadow", "motion"};
   if (!fs::exists(collection / "collection.json")) {
-    std::printf(
-        "rendering a %dx%d synthetic collection of %d frames into %s ...\n",
-        size, size, frames, collection.c_str());
+    std::printf("rendering a %dx%d synthetic collection of %d frames into %s ...\n",
+                size,
+                size,
+                frames,
+                collection.c_str());
     synth::Spec spec = synth::CircleSpec(frames, size, size);
     spec.samples_per_axis = 1;
     spec.layers = layers;
@@ -85,7 +82,10 @@ int main(int argc, char** argv) {
   std::printf(
       "lsds export-layers benchmark: %d frames of %dx%d, layers %s, %.1f MB "
       "of EXR\n",
-      frames, size, size, "classid,instanceid,depth,normal,shadow,motion",
+      frames,
+      size,
+      size,
+      "classid,instanceid,depth,normal,shadow,motion",
       exr_bytes / 1e6);
 
   // Floor: stream collection.json and decode every EXR the export reads, in
@@ -102,30 +102,33 @@ int main(int argc, char** argv) {
       },
       repeat);
   std::printf("  %-34s %9.1f ms  %8.1f frames/s  %8.1f MB/s EXR read %8s MB/s written  x1.00\n",
-              "floor: read + decode the EXRs", floor * 1e3, frames / floor,
-              exr_bytes / floor / 1e6, "-");
+              "floor: read + decode the EXRs",
+              floor * 1e3,
+              frames / floor,
+              exr_bytes / floor / 1e6,
+              "-");
 
   for (const layer_export::Target target :
-       {layer_export::Target::kNpy, layer_export::Target::kTiff,
-        layer_export::Target::kPng16}) {
+       {layer_export::Target::kNpy, layer_export::Target::kTiff, layer_export::Target::kPng16}) {
     layer_export::ExportOptions options;
     options.collection = collection;
-    options.output = fs::path(work) / (std::string("out_") +
-                                       layer_export::TargetName(target));
+    options.output = fs::path(work) / (std::string("out_") + layer_export::TargetName(target));
     options.target = target;
     options.layers = layers;
     options.depth_step = 0.001;
     options.force = true;
     layer_export::ExportSummary summary;
-    const double seconds =
-        Seconds([&] { summary = layer_export::ExportLayers(options); }, repeat);
+    const double seconds = Seconds([&] { summary = layer_export::ExportLayers(options); }, repeat);
     char label[64];
-    std::snprintf(label, sizeof label, "export-layers --to %s",
-                  layer_export::TargetName(target));
-    std::printf("  %-34s %9.1f ms  %8.1f frames/s  %8.1f MB/s EXR read %8.1f MB/s written  x%.2f floor\n",
-                label, seconds * 1e3, frames / seconds,
-                exr_bytes / seconds / 1e6, summary.bytes / seconds / 1e6,
-                seconds / floor);
+    std::snprintf(label, sizeof label, "export-layers --to %s", layer_export::TargetName(target));
+    std::printf(
+        "  %-34s %9.1f ms  %8.1f frames/s  %8.1f MB/s EXR read %8.1f MB/s written  x%.2f floor\n",
+        label,
+        seconds * 1e3,
+        frames / seconds,
+        exr_bytes / seconds / 1e6,
+        summary.bytes / seconds / 1e6,
+        seconds / floor);
   }
   return 0;
 }

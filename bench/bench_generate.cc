@@ -46,8 +46,7 @@ uint64_t CastRaysOnly(const RenderScene& scene,
   const PinholeCamera& camera = frame.camera;
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
-  const Eigen::Vector3f origin =
-      CameraCenterInWorld(frame.cam_from_world).cast<float>();
+  const Eigen::Vector3f origin = CameraCenterInWorld(frame.cam_from_world).cast<float>();
   const Eigen::Vector3f to_sun = sky.to_sun().cast<float>();
   std::atomic<uint64_t> total{0};
   tbb::parallel_for(
@@ -61,14 +60,11 @@ uint64_t CastRaysOnly(const RenderScene& scene,
           for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
             PixelSamples(sampler, frame.index, x, y, samples.data());
             for (const Eigen::Vector2d& s : samples) {
-              const Eigen::Vector3f d =
-                  (world_from_cam * camera.CamFromImage(s)).cast<float>();
+              const Eigen::Vector3f d = (world_from_cam * camera.CamFromImage(s)).cast<float>();
               RTCRayHit rh;
-              rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(),
-              rh.ray.org_z = origin.z();
+              rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
               rh.ray.dir_x = d.x(), rh.ray.dir_y = d.y(), rh.ray.dir_z = d.z();
-              rh.ray.tnear = 0,
-              rh.ray.tfar = std::numeric_limits<float>::infinity();
+              rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity();
               rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0;
               rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
               rtcIntersect1(scene.scene(), &context, &rh);
@@ -81,8 +77,7 @@ uint64_t CastRaysOnly(const RenderScene& scene,
               const Eigen::Vector3f p = origin + rh.ray.tfar * d + 1e-3f * n;
               RTCRay ray;
               ray.org_x = p.x(), ray.org_y = p.y(), ray.org_z = p.z();
-              ray.dir_x = to_sun.x(), ray.dir_y = to_sun.y(),
-              ray.dir_z = to_sun.z();
+              ray.dir_x = to_sun.x(), ray.dir_y = to_sun.y(), ray.dir_z = to_sun.z();
               ray.tnear = 0, ray.tfar = std::numeric_limits<float>::infinity();
               ray.mask = ~0u, ray.flags = 0, ray.time = 0;
               rtcOccluded1(scene.scene(), &context, &ray);
@@ -110,8 +105,7 @@ int main(int argc, char** argv) {
       threads = std::atoi(argv[i + 1]);
     else if (flag == "--sizes") {
       sizes.clear();
-      for (const std::string& s : Split(argv[i + 1], ','))
-        sizes.push_back(std::atoi(s.c_str()));
+      for (const std::string& s : Split(argv[i + 1], ',')) sizes.push_back(std::atoi(s.c_str()));
     } else {
       std::fprintf(stderr,
                    "usage: bench_generate [--frames N] [--sizes 512,1024] "
@@ -120,11 +114,9 @@ int main(int argc, char** argv) {
     }
   }
   std::optional<tbb::global_control> control;
-  if (threads > 0)
-    control.emplace(tbb::global_control::max_allowed_parallelism, threads);
+  if (threads > 0) control.emplace(tbb::global_control::max_allowed_parallelism, threads);
   const fs::path root = fs::temp_directory_path() / "lsds_bench_generate";
-  std::printf(
-      "lsds generate benchmark: demo scene, %d frames, spp %d\n", frames, spp);
+  std::printf("lsds generate benchmark: demo scene, %d frames, spp %d\n", frames, spp);
   std::printf("%6s %9s %9s %10s %10s %10s %7s\n",
               "size",
               "s/frame",
@@ -156,8 +148,7 @@ int main(int argc, char** argv) {
     const CollectionHeader header = MakeHeader(plan, options);
     const fs::path encode_root = root / "encode";
     fs::remove_all(encode_root);
-    for (const LayerInfo& layer : header.layers)
-      fs::create_directories(encode_root / layer.name);
+    for (const LayerInfo& layer : header.layers) fs::create_directories(encode_root / layer.name);
     for (const PlannedFrame& frame : plan.frames) {
       const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
       Clock::time_point t = Clock::now();
@@ -169,11 +160,9 @@ int main(int argc, char** argv) {
       t = Clock::now();
       CameraTruth camera;
       camera.intrinsics = frame.camera;
-      camera.cam_from_world_rotation =
-          frame.cam_from_world.rotation.toRotationMatrix();
+      camera.cam_from_world_rotation = frame.cam_from_world.rotation.toRotationMatrix();
       camera.cam_from_world_translation = frame.cam_from_world.translation;
-      WriteFrameLayers(
-          encode_root, header, frame.index, camera, {&film.flat, &film.bundle});
+      WriteFrameLayers(encode_root, header, frame.index, camera, {&film.flat, &film.bundle});
       encode_seconds += Since(t);
     }
     const double floor = (ray_seconds + encode_seconds) / frames;

@@ -40,8 +40,7 @@ using namespace lsds;
 
 namespace {
 double Seconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 long PeakRssMb() {
   rusage usage{};
@@ -75,9 +74,7 @@ double FileFloor(const fs::path& source) {
     const fs::path& p = entry.path();
     const std::string name = p.filename().string();
     // Files the importers do not open.
-    if (name.find("bounding_box_2d") != std::string::npos ||
-        name == "data_ranges.json")
-      continue;
+    if (name.find("bounding_box_2d") != std::string::npos || name == "data_ranges.json") continue;
     const std::string ext = p.extension().string();
     if (name.rfind("segmentation_", 0) == 0 && ext == ".png") {
       checksum += import::ReadIndexedPng(p).index[0];  // Kubric's palette PNG
@@ -103,15 +100,13 @@ int main(int argc, char** argv) {
   std::string format = "all";
   app.add_option("--frames", frames, "frames in the source");
   app.add_option("--size", size, "WIDTHxHEIGHT");
-  app.add_option("--format", format,
-                 "ue-mrq, kubric, replicator, solo or all");
+  app.add_option("--format", format, "ue-mrq, kubric, replicator, solo or all");
   CLI11_PARSE(app, argc, argv);
   int width = 0, height = 0;
   if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) return 2;
 
   const fs::path root =
-      fs::temp_directory_path() /
-      ("lsds_bench_import_" + size + "_" + std::to_string(frames));
+      fs::temp_directory_path() / ("lsds_bench_import_" + size + "_" + std::to_string(frames));
   synth::Spec spec = synth::CircleSpec(frames, width, height);
   spec.samples_per_axis = 1;
   for (const std::string f : {"ue-mrq", "kubric", "replicator", "solo"}) {
@@ -120,8 +115,7 @@ int main(int argc, char** argv) {
     const fs::path done = root / (f + ".done");
     import::ImportOptions options;
     if (!fs::exists(done)) {
-      std::cout << "synthesizing " << frames << " " << f << " frames into "
-                << source << " ...\n";
+      std::cout << "synthesizing " << frames << " " << f << " frames into " << source << " ...\n";
       fs::remove_all(source);
       if (f == "ue-mrq") {
         testing::WriteMrqFixture(source, spec, {});
@@ -153,16 +147,13 @@ int main(int argc, char** argv) {
                 width,
                 height,
                 static_cast<long long>(result.objects));
-    std::printf("  floor (decode the source files): %8.1f frames/s\n",
-                frames / floor);
+    std::printf("  floor (decode the source files): %8.1f frames/s\n", frames / floor);
     std::printf(
         "  lsds import:                     %8.1f frames/s  (%.2fx the "
         "floor)\n",
         frames / seconds,
         seconds / floor);
-    std::printf("  peak memory so far: %ld MB%s\n",
-                PeakRssMb(),
-                checksum == 12345.678 ? " " : "");
+    std::printf("  peak memory so far: %ld MB%s\n", PeakRssMb(), checksum == 12345.678 ? " " : "");
     fs::remove_all(out);
   }
   return 0;

@@ -26,8 +26,7 @@ using namespace lsds;
 namespace {
 
 double Seconds(const std::chrono::steady_clock::time_point& start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // The same frame stream and batching as the report's pass, decoding only.
@@ -68,8 +67,7 @@ int main(int argc, char** argv) {
   }
   const fs::path root =
       dir.empty()
-          ? fs::temp_directory_path() /
-                ("lsds_bench_report_" + std::to_string(frames) + "_" + size)
+          ? fs::temp_directory_path() / ("lsds_bench_report_" + std::to_string(frames) + "_" + size)
           : fs::path(dir);
   if (!fs::exists(root / "collection.json")) {
     fs::remove_all(root);
@@ -102,14 +100,11 @@ int main(int argc, char** argv) {
   const report::ReportResult result = report::WriteReport(options);
   const double whole = Seconds(start);
 
-  std::printf("floor (stream + decode depth)  %.3f s  %8.1f frames/s\n",
-              floor,
-              frames / floor);
-  std::printf(
-      "report pass (distributions)    %.3f s  %8.1f frames/s  %.2fx floor\n",
-      pass,
-      frames / pass,
-      pass / floor);
+  std::printf("floor (stream + decode depth)  %.3f s  %8.1f frames/s\n", floor, frames / floor);
+  std::printf("report pass (distributions)    %.3f s  %8.1f frames/s  %.2fx floor\n",
+              pass,
+              frames / pass,
+              pass / floor);
   std::printf(
       "report page (+%zu thumbnails, %zu layer strips)  %.3f s  %8.1f "
       "frames/s  %.2fx floor  %.0f KiB\n",

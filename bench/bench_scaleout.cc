@@ -65,8 +65,8 @@ int main(int argc, char** argv) {
   app.add_option("--shards", shards, "N shard processes (default 2)");
   CLI11_PARSE(app, argc, argv);
   const std::string lsds = std::string(LSDS_BINARY_DIR) + "/tools/lsds";
-  const fs::path dir = fs::temp_directory_path() /
-                       ("lsds_bench_scaleout_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("lsds_bench_scaleout_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const int cores = static_cast<int>(std::thread::hardware_concurrency());
   const int threads_per_shard = std::max(1, cores / shards);
@@ -75,21 +75,17 @@ int main(int argc, char** argv) {
   std::ifstream in(std::string(LSDS_SOURCE_DIR) + "/examples/demo_survey.lcap");
   std::string capture((std::istreambuf_iterator<char>(in)), {});
   const size_t x = grid.find('x'), w = size.find('x');
+  capture = std::regex_replace(capture,
+                               std::regex(R"(res:\[512,512\])"),
+                               "res:[" + size.substr(0, w) + "," + size.substr(w + 1) + "]");
   capture = std::regex_replace(
-      capture,
-      std::regex(R"(res:\[512,512\])"),
-      "res:[" + size.substr(0, w) + "," + size.substr(w + 1) + "]");
-  capture = std::regex_replace(capture,
-                               std::regex(R"(x:\[-40,40,6\])"),
-                               "x:[-40,40," + grid.substr(0, x) + "]");
-  capture = std::regex_replace(capture,
-                               std::regex(R"(y:\[-25,25,4\])"),
-                               "y:[-25,25," + grid.substr(x + 1) + "]");
+      capture, std::regex(R"(x:\[-40,40,6\])"), "x:[-40,40," + grid.substr(0, x) + "]");
+  capture = std::regex_replace(
+      capture, std::regex(R"(y:\[-25,25,4\])"), "y:[-25,25," + grid.substr(x + 1) + "]");
   std::ofstream(dir / "bench.lcap") << capture;
-  const std::string generate =
-      "CI=true " + lsds + " generate " + LSDS_SOURCE_DIR +
-      "/examples/uav_survey.lscene " + Quote(dir / "bench.lcap") +
-      " -q --seed 1 --spp " + std::to_string(spp);
+  const std::string generate = "CI=true " + lsds + " generate " + LSDS_SOURCE_DIR +
+                               "/examples/uav_survey.lscene " + Quote(dir / "bench.lcap") +
+                               " -q --seed 1 --spp " + std::to_string(spp);
 
   std::printf("bench_scaleout: %s frames at %s, spp %d, %d cores, %d shards\n",
               grid.c_str(),
@@ -105,23 +101,20 @@ int main(int argc, char** argv) {
   t = Clock::now();
   std::string parallel;
   for (int i = 0; i < shards; ++i)
-    parallel += generate + " --threads " + std::to_string(threads_per_shard) +
-                " --shard " + std::to_string(i) + "/" + std::to_string(shards) +
-                " -o " + Quote(dir / ("shard-" + std::to_string(i))) + " & ";
+    parallel += generate + " --threads " + std::to_string(threads_per_shard) + " --shard " +
+                std::to_string(i) + "/" + std::to_string(shards) + " -o " +
+                Quote(dir / ("shard-" + std::to_string(i))) + " & ";
   if (Run("(" + parallel + "wait)") != 0) return 1;
   const double sharded = Since(t);
 
   std::string shard_dirs;
-  for (int i = 0; i < shards; ++i)
-    shard_dirs += " " + Quote(dir / ("shard-" + std::to_string(i)));
+  for (int i = 0; i < shards; ++i) shard_dirs += " " + Quote(dir / ("shard-" + std::to_string(i)));
   // The shards were just written: the page cache is warm for the merge and
   // the copy alike.
   int64_t files = 0;
   const uint64_t bytes = TreeBytes(dir / "single", &files);
   t = Clock::now();
-  if (Run(lsds + " merge -q" + shard_dirs + " -o " + Quote(dir / "merged")) !=
-      0)
-    return 1;
+  if (Run(lsds + " merge -q" + shard_dirs + " -o " + Quote(dir / "merged")) != 0) return 1;
   const double merge = Since(t);
   // The floor: copying the same files (cp -r of every shard).
   t = Clock::now();
@@ -139,12 +132,11 @@ int main(int argc, char** argv) {
   const bool identical = SameTree(dir / "single", dir / "merged");
 
   std::printf("  one process (%d threads):      %8.2f s\n", cores, single);
-  std::printf(
-      "  %d shard processes (%d threads each): %8.2f s   speedup %.2fx\n",
-      shards,
-      threads_per_shard,
-      sharded,
-      single / sharded);
+  std::printf("  %d shard processes (%d threads each): %8.2f s   speedup %.2fx\n",
+              shards,
+              threads_per_shard,
+              sharded,
+              single / sharded);
   std::printf(
       "  merge: %.3f s for %lld files, %.1f MB (%.0f MB/s); copying the "
       "same bytes: %.3f s; ratio merge / copy %.2fx\n",
@@ -159,8 +151,7 @@ int main(int argc, char** argv) {
       "minus start / copy %.2fx)\n",
       start,
       (merge - start) / copy);
-  std::printf("  merged == single run, byte for byte: %s\n",
-              identical ? "yes" : "NO");
+  std::printf("  merged == single run, byte for byte: %s\n", identical ? "yes" : "NO");
 
   // Validation in shards: one `lsds validate` vs N `--shard I/N` processes at
   // once, then `lsds merge-reports` (which decodes nothing: the floor of the
@@ -173,18 +164,16 @@ int main(int argc, char** argv) {
   std::string validate_parallel, parts;
   for (int i = 0; i < shards; ++i) {
     const fs::path part = dir / ("part-" + std::to_string(i) + ".json");
-    validate_parallel += lsds + " validate --threads " +
-                         std::to_string(threads_per_shard) + " --shard " +
-                         std::to_string(i) + "/" + std::to_string(shards) +
-                         " -o " + Quote(part) + " " + Quote(dir / "single") +
-                         " 2>/dev/null & ";
+    validate_parallel += lsds + " validate --threads " + std::to_string(threads_per_shard) +
+                         " --shard " + std::to_string(i) + "/" + std::to_string(shards) + " -o " +
+                         Quote(part) + " " + Quote(dir / "single") + " 2>/dev/null & ";
     parts += " " + Quote(part);
   }
   Run("(" + validate_parallel + "wait)");
   const double validate_sharded = Since(t);
   t = Clock::now();
-  Run(lsds + " merge-reports --format junit -o " + Quote(dir / "merged.xml") +
-      parts + " 2>/dev/null");
+  Run(lsds + " merge-reports --format junit -o " + Quote(dir / "merged.xml") + parts +
+      " 2>/dev/null");
   const double merge_reports = Since(t);
   // Equal but for the measured times.
   auto without_times = [](const fs::path& file) {
@@ -192,8 +181,7 @@ int main(int argc, char** argv) {
     const std::string xml((std::istreambuf_iterator<char>(in)), {});
     return std::regex_replace(xml, std::regex(R"( time="[^"]*")"), "");
   };
-  const bool same_report = without_times(dir / "single.xml") ==
-                           without_times(dir / "merged.xml");
+  const bool same_report = without_times(dir / "single.xml") == without_times(dir / "merged.xml");
   std::printf("  validate, one process:         %8.2f s\n", validate_single);
   std::printf(
       "  validate, %d shard processes:   %8.2f s   speedup %.2fx; "
@@ -203,8 +191,7 @@ int main(int argc, char** argv) {
       validate_single / validate_sharded,
       merge_reports,
       merge_reports / start);
-  std::printf("  merged report == single run's (times apart): %s\n",
-              same_report ? "yes" : "NO");
+  std::printf("  merged report == single run's (times apart): %s\n", same_report ? "yes" : "NO");
   fs::remove_all(dir);
   return identical && same_report ? 0 : 1;
 }

@@ -49,9 +49,7 @@ double CpuNow() {
 }
 
 double Now() {
-  return std::chrono::duration<double>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 // Rendering a 1024x1024 frame analytically takes seconds, so `unique` frames (a
@@ -59,18 +57,13 @@ double Now() {
 // k is a copy of unique frame k % unique, each cycle its own sequence (motion
 // is checked within a sequence only). Every file is a real copy, so the I/O is
 // that of a collection of `frames` distinct files.
-void Generate(const fs::path& dir,
-              int frames,
-              int width,
-              int height,
-              int samples_per_axis,
-              int unique) {
+void Generate(
+    const fs::path& dir, int frames, int width, int height, int samples_per_axis, int unique) {
   if (fs::exists(dir / "collection.json")) {
     const CollectionReader reader(dir);
     bool same = static_cast<int>(reader.frames_in_file()) == frames;
     reader.ForEachFrame([&](const Frame& f) {
-      same = same && f.camera.intrinsics.width == width &&
-             f.camera.intrinsics.height == height;
+      same = same && f.camera.intrinsics.width == width && f.camera.intrinsics.height == height;
     });
     if (same) return;  // reuse a collection of the right shape
   }
@@ -107,13 +100,12 @@ void Generate(const fs::path& dir,
   metadata.Commit();
   collection.Commit();
   fs::remove_all(source);
-  std::printf(
-      "  generated %d frames at %dx%d (%d rendered, copied) in %.1f s\n",
-      frames,
-      width,
-      height,
-      unique,
-      Now() - start);
+  std::printf("  generated %d frames at %dx%d (%d rendered, copied) in %.1f s\n",
+              frames,
+              width,
+              height,
+              unique,
+              Now() - start);
 }
 
 struct Pass {
@@ -170,9 +162,7 @@ Pass Validate(const fs::path& dir,
   pass.files = report.files_decoded;
   if (report.Fails(validate::Severity::kWarning)) {
     std::fprintf(
-        stderr,
-        "%s",
-        validate::ReportToText(report, validate::Severity::kWarning).c_str());
+        stderr, "%s", validate::ReportToText(report, validate::Severity::kWarning).c_str());
   }
   if (out) *out = std::move(report);
   return pass;
@@ -210,8 +200,8 @@ int main(int argc, char** argv) {
   // Small defaults for `make bench`; the issue-sized run is
   //   bench_validate --frames 200 --size 1024x1024 --rss-frames 100,400
   //   --rss-size 256x256
-  int frames = 24, width = 256, height = 256, samples = 1, jobs = 0, unique = 8,
-      rss_w = 128, rss_h = 128;
+  int frames = 24, width = 256, height = 256, samples = 1, jobs = 0, unique = 8, rss_w = 128,
+      rss_h = 128;
   std::vector<int> rss_frames = {25, 100};
   fs::path dir = fs::temp_directory_path() / "lsds_bench_validate";
   if (argc == 4 && (std::strcmp(argv[1], "--child-validate") == 0 ||
@@ -266,8 +256,8 @@ int main(int argc, char** argv) {
   }
   std::unique_ptr<tbb::global_control> threads;
   if (jobs > 0) {
-    threads = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, jobs);
+    threads =
+        std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, jobs);
   }
   validate::ValidateOptions options;
   options.jobs = jobs;
@@ -280,14 +270,12 @@ int main(int argc, char** argv) {
       height,
       samples * samples,
       jobs > 0 ? std::to_string(jobs).c_str() : "all");
-  const fs::path main_dir =
-      dir / ("throughput_" + std::to_string(frames) + "_" +
-             std::to_string(width) + "x" + std::to_string(height));
+  const fs::path main_dir = dir / ("throughput_" + std::to_string(frames) + "_" +
+                                   std::to_string(width) + "x" + std::to_string(height));
   if (frames > 0) {  // --frames 0: memory figures only
     Generate(main_dir, frames, width, height, samples, unique);
-    DecodeOnly(
-        main_dir,
-        options.batch_size);  // warm the page cache for both timed passes
+    DecodeOnly(main_dir,
+               options.batch_size);  // warm the page cache for both timed passes
     const Pass floor = DecodeOnly(main_dir, options.batch_size);
     validate::Report report;
     const Pass validation = Validate(main_dir, options, &report);
@@ -313,32 +301,27 @@ int main(int argc, char** argv) {
     std::printf("  ratio validate / floor: %.3f wall, %.3f CPU (aim <= 1.25)\n",
                 validation.seconds / floor.seconds,
                 validation.cpu_seconds / floor.cpu_seconds);
-    std::printf(
-        "  CPU seconds: floor %.2f, validate %.2f (%.1f / %.1f ms per frame)\n",
-        floor.cpu_seconds,
-        validation.cpu_seconds,
-        1e3 * floor.cpu_seconds / frames,
-        1e3 * validation.cpu_seconds / frames);
-    std::printf(
-        "  %s\n",
-        validate::Verdict(report, validate::Severity::kWarning).c_str());
+    std::printf("  CPU seconds: floor %.2f, validate %.2f (%.1f / %.1f ms per frame)\n",
+                floor.cpu_seconds,
+                validation.cpu_seconds,
+                1e3 * floor.cpu_seconds / frames,
+                1e3 * validation.cpu_seconds / frames);
+    std::printf("  %s\n", validate::Verdict(report, validate::Severity::kWarning).c_str());
   }
 
   std::fflush(stdout);
   for (int n : rss_frames) {
-    const fs::path rss_dir =
-        dir / ("rss_" + std::to_string(n) + "_" + std::to_string(rss_w) + "x" +
-               std::to_string(rss_h));
+    const fs::path rss_dir = dir / ("rss_" + std::to_string(n) + "_" + std::to_string(rss_w) + "x" +
+                                    std::to_string(rss_h));
     Generate(rss_dir, n, rss_w, rss_h, samples, unique);
     const double floor_rss = PeakRssMb("--child-decode", rss_dir, jobs);
     const double rss = PeakRssMb("--child-validate", rss_dir, jobs);
-    std::printf(
-        "  peak RSS, %4d frames at %dx%d: validate %7.1f MB, floor %7.1f MB\n",
-        n,
-        rss_w,
-        rss_h,
-        rss,
-        floor_rss);
+    std::printf("  peak RSS, %4d frames at %dx%d: validate %7.1f MB, floor %7.1f MB\n",
+                n,
+                rss_w,
+                rss_h,
+                rss,
+                floor_rss);
   }
   return 0;
 }

@@ -43,10 +43,8 @@ void WriteCollection(const fs::path& root, int frames) {
     frame.time = 0.1 * k;
     frame.sequence = "S1";
     frame.camera.intrinsics = camera;
-    const Rigid3d cam_from_world =
-        CamFromEnu({0.5 * k, 0.0, 60.0}, Attitude{0.0, -60.0, 90.0});
-    frame.camera.cam_from_world_rotation =
-        cam_from_world.rotation.toRotationMatrix();
+    const Rigid3d cam_from_world = CamFromEnu({0.5 * k, 0.0, 60.0}, Attitude{0.0, -60.0, 90.0});
+    frame.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
     frame.camera.cam_from_world_translation = cam_from_world.translation;
     frame.files["rgb"] = "rgb/" + std::to_string(k) + ".exr";
     for (int o = 0; o < 3; ++o) {
@@ -69,8 +67,7 @@ void WriteCollection(const fs::path& root, int frames) {
 }
 
 double Seconds(const std::chrono::steady_clock::time_point& start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace
@@ -92,24 +89,20 @@ int main(int argc, char** argv) {
       return help ? 0 : 2;
     }
   }
-  const fs::path root =
-      keep.empty() ? fs::temp_directory_path() /
-                         ("lsds-perturb-bench-" + std::to_string(::getpid()))
-                   : fs::path(keep);
+  const fs::path root = keep.empty() ? fs::temp_directory_path() /
+                                           ("lsds-perturb-bench-" + std::to_string(::getpid()))
+                                     : fs::path(keep);
   fs::remove_all(root);
   auto start = std::chrono::steady_clock::now();
   WriteCollection(root, frames);
   std::cout << "built " << frames << " frames in " << Seconds(start) << " s ("
-            << fs::file_size(root / "collection.json") / 1e6
-            << " MB collection.json, "
-            << fs::file_size(root / "metadata.json") / 1e6
-            << " MB metadata.json)\n";
+            << fs::file_size(root / "collection.json") / 1e6 << " MB collection.json, "
+            << fs::file_size(root / "metadata.json") / 1e6 << " MB metadata.json)\n";
 
   {
     std::ifstream load("/proc/loadavg");
     std::string one_minute;
-    if (load >> one_minute)
-      std::cout << "load average (1 min): " << one_minute << "\n";
+    if (load >> one_minute) std::cout << "load average (1 min): " << one_minute << "\n";
   }
   noise::PerturbOptions options;
   options.collection = root;
@@ -121,26 +114,20 @@ int main(int argc, char** argv) {
   for (const char* model : {"gaussian", "gauss-markov"}) {
     for (bool report : {false, true}) {
       options.spec.model = noise::ParseNoiseModel(model);
-      options.spec.tau =
-          options.spec.model == noise::NoiseModel::kGaussMarkov ? 5.0 : 0.0;
+      options.spec.tau = options.spec.model == noise::NoiseModel::kGaussMarkov ? 5.0 : 0.0;
       options.report = report;
       start = std::chrono::steady_clock::now();
       const std::clock_t cpu_start = std::clock();
       noise::PerturbCollection(options);
       const double seconds = Seconds(start);
-      const double cpu =
-          static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-      std::cout
-          << "perturb-metadata " << model << (report ? " --report" : "") << ": "
-          << frames << " frames in " << seconds << " s wall (" << cpu
-          << " s CPU), " << frames / seconds
-          << " frames/s, ratio to the floor (1 s per 10,000 frames): "
-          << seconds / floor_s
-          << (seconds <= floor_s ? " (ok)"
-              : cpu <= floor_s
-                  ? " (slower on the wall clock only: the machine is loaded)"
-                  : " (SLOWER THAN THE FLOOR)")
-          << "\n";
+      const double cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+      std::cout << "perturb-metadata " << model << (report ? " --report" : "") << ": " << frames
+                << " frames in " << seconds << " s wall (" << cpu << " s CPU), " << frames / seconds
+                << " frames/s, ratio to the floor (1 s per 10,000 frames): " << seconds / floor_s
+                << (seconds <= floor_s ? " (ok)"
+                    : cpu <= floor_s   ? " (slower on the wall clock only: the machine is loaded)"
+                                       : " (SLOWER THAN THE FLOOR)")
+                << "\n";
     }
   }
   if (keep.empty()) fs::remove_all(root);

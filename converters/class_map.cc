@@ -22,9 +22,7 @@ std::string Trim(const std::string& s) {
 
 ClassMap ClassMap::All(const std::vector<ClassInfo>& classes) {
   std::vector<ClassInfo> sorted = classes;
-  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) {
-    return a.id < b.id;
-  });
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
   ClassMap map;
   for (const ClassInfo& c : sorted) {
     map.index_[c.id] = static_cast<int>(map.classes_.size());
@@ -33,8 +31,7 @@ ClassMap ClassMap::All(const std::vector<ClassInfo>& classes) {
   return map;
 }
 
-ClassMap ClassMap::Parse(const std::string& spec,
-                         const std::vector<ClassInfo>& classes) {
+ClassMap ClassMap::Parse(const std::string& spec, const std::vector<ClassInfo>& classes) {
   std::vector<std::string> entries;
   std::string where = "--classes";
   std::error_code ec;
@@ -58,26 +55,22 @@ ClassMap ClassMap::Parse(const std::string& spec,
   for (const std::string& entry : entries) {
     const size_t eq = entry.find('=');
     const std::string source = Trim(entry.substr(0, eq));
-    const std::string target =
-        eq == std::string::npos ? source : Trim(entry.substr(eq + 1));
+    const std::string target = eq == std::string::npos ? source : Trim(entry.substr(eq + 1));
     const ClassInfo* found = nullptr;
     for (const ClassInfo& c : classes) {
       if (c.name == source || std::to_string(c.id) == source) found = &c;
     }
     if (found == nullptr) {
-      throw Error("unknown class '" + source + "'" + DidYouMean(source, names),
-                  Location(where));
+      throw Error("unknown class '" + source + "'" + DidYouMean(source, names), Location(where));
     }
-    if (target.empty())
-      throw Error("empty class name in '" + entry + "'", Location(where));
+    if (target.empty()) throw Error("empty class name in '" + entry + "'", Location(where));
     const std::string name = eq == std::string::npos ? found->name : target;
     if (map.index_.count(found->id)) {
       throw Error("class '" + source + "' listed twice", Location(where));
     }
-    auto it = std::find_if(
-        map.classes_.begin(), map.classes_.end(), [&](const OutputClass& o) {
-          return o.name == name;
-        });
+    auto it = std::find_if(map.classes_.begin(), map.classes_.end(), [&](const OutputClass& o) {
+      return o.name == name;
+    });
     if (it == map.classes_.end()) {
       map.classes_.push_back({name, {}});
       it = map.classes_.end() - 1;
@@ -97,13 +90,11 @@ std::optional<int> ClassMap::Map(uint32_t class_id) const {
 ClassMap ClassMap::OnlyUsed(const std::set<uint32_t>& used) const {
   ClassMap map;
   for (const OutputClass& c : classes_) {
-    const bool seen = std::any_of(c.source_ids.begin(),
-                                  c.source_ids.end(),
-                                  [&](uint32_t id) { return used.count(id); });
+    const bool seen = std::any_of(
+        c.source_ids.begin(), c.source_ids.end(), [&](uint32_t id) { return used.count(id); });
     if (!seen) continue;
     // Every source of a merged class keeps it, seen or not: the class is one.
-    for (uint32_t id : c.source_ids)
-      map.index_[id] = static_cast<int>(map.classes_.size());
+    for (uint32_t id : c.source_ids) map.index_[id] = static_cast<int>(map.classes_.size());
     map.classes_.push_back(c);
   }
   return map;

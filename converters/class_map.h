@@ -16,8 +16,7 @@ namespace lsds::convert {
 
 struct OutputClass {
   std::string name;
-  std::vector<uint32_t>
-      source_ids;  // collection class ids merged into this one
+  std::vector<uint32_t> source_ids;  // collection class ids merged into this one
 };
 
 class ClassMap {
@@ -29,8 +28,7 @@ class ClassMap {
   // entry is `SOURCE` or `SOURCE=NAME`, SOURCE a class name or id of the
   // collection. Several sources with the same NAME are merged; classes not
   // listed are dropped; output order = first appearance of each NAME.
-  static ClassMap Parse(const std::string& spec,
-                        const std::vector<ClassInfo>& classes);
+  static ClassMap Parse(const std::string& spec, const std::vector<ClassInfo>& classes);
 
   // The output classes that have at least one source id in `used`, in the
   // same order, re-indexed 0..K-1 (docs/convert.md, "Classes"). Classes that

@@ -30,8 +30,7 @@ namespace {
 const char* DropReason(const ObjectTruth& object,
                        const ConvertOptions& options,
                        const ClassMap& classes) {
-  if (!object.bbox || object.bbox->empty() || object.visible_pixels <= 0)
-    return loss::kNotVisible;
+  if (!object.bbox || object.bbox->empty() || object.visible_pixels <= 0) return loss::kNotVisible;
   if (!classes.Map(object.class_id)) return loss::kClassNotSelected;
   if (object.visibility < options.min_visibility) return loss::kMinVisibility;
   // Seen through so much fog that nobody can see it (format 1.1; objects
@@ -70,8 +69,7 @@ struct Driver {
     loss->CountFrame(ctx->split);
 
     if (!rgb_layer.empty()) {
-      const exr::FlatImage rgb =
-          reader.ReadFlatLayer(frame, rgb_layer, {"R", "G", "B"});
+      const exr::FlatImage rgb = reader.ReadFlatLayer(frame, rgb_layer, {"R", "G", "B"});
       imaging::WriteImage(root / "images" / ctx->split / ctx->image_name,
                           imaging::ToSrgb8(rgb, options.display),
                           options.display);
@@ -91,20 +89,15 @@ struct Driver {
 
     std::vector<const masks::BoxMask*> object_masks(kept.size(), nullptr);
     if (!instance_layer.empty() && !kept.empty()) {
-      const exr::FlatImage ids =
-          reader.ReadFlatLayer(frame, instance_layer, {"id"});
+      const exr::FlatImage ids = reader.ReadFlatLayer(frame, instance_layer, {"id"});
       const uint32_t* data = ids.Get("id").uints.data();
-      const auto bounds =
-          masks::ComputeIdBounds(data, ids.width(), ids.height());
+      const auto bounds = masks::ComputeIdBounds(data, ids.width(), ids.height());
       ctx->mask_storage.resize(kept.size());
       for (size_t i = 0; i < kept.size(); ++i) {
         const auto it = bounds.find(kept[i].first->instance_id);
         if (it == bounds.end()) continue;
-        ctx->mask_storage[i] = masks::ExtractMask(data,
-                                                  ids.width(),
-                                                  ids.height(),
-                                                  kept[i].first->instance_id,
-                                                  it->second);
+        ctx->mask_storage[i] = masks::ExtractMask(
+            data, ids.width(), ids.height(), kept[i].first->instance_id, it->second);
         object_masks[i] = &ctx->mask_storage[i];
       }
     }
@@ -131,8 +124,7 @@ struct Driver {
                              double(out.mask->top),
                              double(out.mask->left + out.mask->width()),
                              double(out.mask->top + out.mask->height())};
-        if (!out.box.Contains(mask_box))
-          loss->Add(loss::kMaskBoxMismatch, name);
+        if (!out.box.Contains(mask_box)) loss->Add(loss::kMaskBoxMismatch, name);
       }
       if (object.in_frame < 1.0) loss->Add(loss::kClippedAtBorder, name);
       loss->Add(loss::kKept, name);
@@ -147,10 +139,9 @@ ConvertResult Convert(const ConvertOptions& options) {
   options.Check();
   const CollectionReader reader(options.collection);
   const CollectionHeader& header = reader.header();
-  const ClassMap selected =
-      options.classes.empty()
-          ? ClassMap::All(header.classes)
-          : ClassMap::Parse(options.classes, header.classes);
+  const ClassMap selected = options.classes.empty()
+                                ? ClassMap::All(header.classes)
+                                : ClassMap::Parse(options.classes, header.classes);
   const std::vector<SplitPart> splits = ParseSplit(options.split);
 
   std::vector<std::unique_ptr<Converter>> converters;
@@ -175,17 +166,14 @@ ConvertResult Convert(const ConvertOptions& options) {
     if (!in_range(frame)) return;
     split_frames.push_back({frame.index, SplitGroup(frame)});
     for (const ObjectTruth& object : frame.objects)
-      if (DropReason(object, options, selected) == nullptr)
-        used_classes.insert(object.class_id);
+      if (DropReason(object, options, selected) == nullptr) used_classes.insert(object.class_id);
   });
   const SplitPlan split_plan = PlanSplits(splits, split_frames);
-  const ClassMap classes =
-      options.keep_classes ? selected : selected.OnlyUsed(used_classes);
+  const ClassMap classes = options.keep_classes ? selected : selected.OnlyUsed(used_classes);
 
   // Refuse early (before any work) and build under a temporary name.
   AtomicDirectory out(options.output, options.force);
-  Driver driver{
-      options, reader, classes, splits, split_plan, out.temp_path(), "", ""};
+  Driver driver{options, reader, classes, splits, split_plan, out.temp_path(), "", ""};
   if (options.images != "none") {
     const LayerInfo* rgb = header.FindLayerBySemantic("rgb");
     if (rgb == nullptr) {
@@ -199,9 +187,8 @@ ConvertResult Convert(const ConvertOptions& options) {
   if (needs_masks) {
     const LayerInfo* ids = header.FindLayerBySemantic("instanceid");
     if (ids == nullptr) {
-      throw Error(
-          "the collection has no instanceid layer, which masks are made from",
-          Location(reader.collection_path().string()));
+      throw Error("the collection has no instanceid layer, which masks are made from",
+                  Location(reader.collection_path().string()));
     }
     driver.instance_layer = ids->name;
   }
@@ -252,8 +239,7 @@ ConvertResult Convert(const ConvertOptions& options) {
   for (auto& converter : converters) converter->Finish();
 
   WriteFileAtomic(out.temp_path() / "loss_report.txt", result.loss.ToText());
-  WriteFileAtomic(out.temp_path() / "loss_report.json",
-                  result.loss.ToJson().dump(2) + "\n");
+  WriteFileAtomic(out.temp_path() / "loss_report.json", result.loss.ToJson().dump(2) + "\n");
   out.Commit();
   result.images_written = driver.images_written;
   return result;

@@ -27,8 +27,8 @@ namespace lsds::convert {
 struct KeptObject {
   const ObjectTruth* truth = nullptr;
   int class_index = 0;  // 0-based output class (ClassMap order)
-  Box2d box;  // pixel-edge, inside the image: the truth box (tight, visible),
-              // clipped
+  Box2d box;            // pixel-edge, inside the image: the truth box (tight, visible),
+                        // clipped
   const masks::BoxMask* mask =
       nullptr;  // from the instanceid layer; null when no format needs masks
 };
@@ -36,19 +36,16 @@ struct KeptObject {
 struct FrameContext {
   const Frame* frame = nullptr;
   std::string split;
-  std::string stem;  // "000007": file names of the image and the label files
-  std::string
-      image_name;  // "000007.png" (the name is written even with --images none)
+  std::string stem;        // "000007": file names of the image and the label files
+  std::string image_name;  // "000007.png" (the name is written even with --images none)
   int width = 0, height = 0;
   std::vector<KeptObject> objects;  // in the collection's order
   std::vector<masks::BoxMask> mask_storage;
 };
 
 struct ConvertSetup {
-  std::filesystem::path
-      root;  // the folder being written (temporary until the end)
-  std::filesystem::path
-      final_root;  // where it will be (absolute), for files that name it
+  std::filesystem::path root;        // the folder being written (temporary until the end)
+  std::filesystem::path final_root;  // where it will be (absolute), for files that name it
   const CollectionHeader* header = nullptr;
   const ClassMap* classes = nullptr;
   std::vector<SplitPart> splits;
@@ -71,8 +68,7 @@ class Converter {
   virtual std::unique_ptr<FramePiece> EncodeFrame(const FrameContext& frame,
                                                   LossReport* loss) const = 0;
   // Serial, in frame order.
-  virtual void AddFrame(const FrameContext& frame,
-                        std::unique_ptr<FramePiece> piece) = 0;
+  virtual void AddFrame(const FrameContext& frame, std::unique_ptr<FramePiece> piece) = 0;
   virtual void Finish() = 0;
 };
 

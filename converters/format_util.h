@@ -27,15 +27,13 @@ std::string Format(const char* format, Args... args) {
 
 // A converter's files go through the one checked, atomic output path: the
 // content appears under `path` at Commit().
-inline std::unique_ptr<AtomicFile> OpenForWrite(
-    const std::filesystem::path& path) {
+inline std::unique_ptr<AtomicFile> OpenForWrite(const std::filesystem::path& path) {
   std::filesystem::create_directories(path.parent_path());
   return std::make_unique<AtomicFile>(path);
 }
 
 // Appends the whole of `path` to `out` and removes it.
-inline void AppendAndRemove(std::ostream& out,
-                            const std::filesystem::path& path) {
+inline void AppendAndRemove(std::ostream& out, const std::filesystem::path& path) {
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot read back", Location(path.string()));

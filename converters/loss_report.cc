@@ -4,9 +4,7 @@
 
 namespace lsds::convert {
 
-void LossReport::Add(const std::string& reason,
-                     const std::string& class_name,
-                     int64_t count) {
+void LossReport::Add(const std::string& reason, const std::string& class_name, int64_t count) {
   if (count != 0) counts_[reason][class_name] += count;
 }
 
@@ -17,8 +15,7 @@ void LossReport::Merge(const LossReport& other) {
   for (const auto& [split, count] : other.frames_) frames_[split] += count;
 }
 
-int64_t LossReport::Count(const std::string& reason,
-                          const std::string& class_name) const {
+int64_t LossReport::Count(const std::string& reason, const std::string& class_name) const {
   const auto it = counts_.find(reason);
   if (it == counts_.end()) return 0;
   const auto jt = it->second.find(class_name);
@@ -40,8 +37,7 @@ std::map<std::string, double> LossReport::PolygonIou() const {
   if (it == counts_.end()) return iou;
   for (const auto& [name, pixels] : it->second) {
     const int64_t holes = Count(loss::kPolygonHolePixels, name);
-    iou[name] =
-        static_cast<double>(pixels) / static_cast<double>(pixels + holes);
+    iou[name] = static_cast<double>(pixels) / static_cast<double>(pixels + holes);
   }
   return iou;
 }
@@ -49,8 +45,7 @@ std::map<std::string, double> LossReport::PolygonIou() const {
 std::string LossReport::ToText() const {
   std::ostringstream out;
   out << "frames per split:";
-  for (const auto& [split, count] : frames_)
-    out << " " << split << "=" << count;
+  for (const auto& [split, count] : frames_) out << " " << split << "=" << count;
   out << "\n";
   if (counts_.empty()) out << "no objects\n";
   for (const auto& [reason, by_class] : counts_) {

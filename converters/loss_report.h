@@ -13,54 +13,39 @@ namespace lsds::convert {
 // Reasons (docs/convert.md, "Loss report"). Dropped objects are counted under
 // their collection class name, kept ones under their output class name.
 namespace loss {
-inline constexpr const char* kNotVisible =
-    "dropped: not visible (no box, 0 visible pixels)";
-inline constexpr const char* kClassNotSelected =
-    "dropped: class not selected (--classes)";
-inline constexpr const char* kMinVisibility =
-    "dropped: visibility below --min-visibility";
+inline constexpr const char* kNotVisible = "dropped: not visible (no box, 0 visible pixels)";
+inline constexpr const char* kClassNotSelected = "dropped: class not selected (--classes)";
+inline constexpr const char* kMinVisibility = "dropped: visibility below --min-visibility";
 inline constexpr const char* kMinTransmittance =
     "dropped: atmospheric transmittance below --min-transmittance";
-inline constexpr const char* kMinPixels =
-    "dropped: visible pixels below --min-pixels";
+inline constexpr const char* kMinPixels = "dropped: visible pixels below --min-pixels";
 inline constexpr const char* kTruncated =
     "dropped: truncated by the image border (--drop-truncated)";
-inline constexpr const char* kNoMask =
-    "dropped: no pixel of the instance in the instanceid layer";
+inline constexpr const char* kNoMask = "dropped: no pixel of the instance in the instanceid layer";
 inline constexpr const char* kKept = "kept";
 inline constexpr const char* kClippedAtBorder =
     "kept, truncated: box is the visible part inside the image";
 inline constexpr const char* kBoxClipped = "box clipped to the image";
 inline constexpr const char* kPiecesMerged =
     "polygon: extra pieces bridged into one polygon (yolo-seg)";
-inline constexpr const char* kPiecesSplit =
-    "polygon: instance written as several polygons (coco)";
+inline constexpr const char* kPiecesSplit = "polygon: instance written as several polygons (coco)";
 inline constexpr const char* kHolesFilled = "polygon: holes filled";
 // Pixel sums behind the polygon IoU (mask pixels / filled polygon pixels) that
 // ToText and ToJson report per class.
-inline constexpr const char* kPolygonMaskPixels =
-    "polygon: mask pixels written as polygons";
-inline constexpr const char* kPolygonHolePixels =
-    "polygon: hole pixels added by filling";
-inline constexpr const char* kMaskBoxMismatch =
-    "mask extends beyond the truth box (box kept)";
+inline constexpr const char* kPolygonMaskPixels = "polygon: mask pixels written as polygons";
+inline constexpr const char* kPolygonHolePixels = "polygon: hole pixels added by filling";
+inline constexpr const char* kMaskBoxMismatch = "mask extends beyond the truth box (box kept)";
 }  // namespace loss
 
 class LossReport {
  public:
-  void Add(const std::string& reason,
-           const std::string& class_name,
-           int64_t count = 1);
-  void CountFrame(const std::string& split, int64_t count = 1) {
-    frames_[split] += count;
-  }
+  void Add(const std::string& reason, const std::string& class_name, int64_t count = 1);
+  void CountFrame(const std::string& split, int64_t count = 1) { frames_[split] += count; }
   void Merge(const LossReport& other);
 
   int64_t Count(const std::string& reason, const std::string& class_name) const;
   int64_t Total(const std::string& reason) const;
-  const std::map<std::string, std::map<std::string, int64_t>>& counts() const {
-    return counts_;
-  }
+  const std::map<std::string, std::map<std::string, int64_t>>& counts() const { return counts_; }
 
   // Per class, mask pixels / pixels of the filled polygons (1 when no hole
   // was filled); empty when nothing was written as polygons.
@@ -70,9 +55,8 @@ class LossReport {
   nlohmann::json ToJson() const;
 
  private:
-  std::map<std::string, std::map<std::string, int64_t>>
-      counts_;                             // reason -> class -> count
-  std::map<std::string, int64_t> frames_;  // split -> frames
+  std::map<std::string, std::map<std::string, int64_t>> counts_;  // reason -> class -> count
+  std::map<std::string, int64_t> frames_;                         // split -> frames
 };
 
 }  // namespace lsds::convert

@@ -14,29 +14,24 @@ void ConvertOptions::Check() const {
   const std::vector<std::string> names = ConverterNames();
   for (const std::string& format : formats) {
     if (std::find(names.begin(), names.end(), format) == names.end()) {
-      throw Error("unknown format '" + format + "'" +
-                      DidYouMean(format, names) + "; one of " +
+      throw Error("unknown format '" + format + "'" + DidYouMean(format, names) + "; one of " +
                       Join(names, ", "),
                   Location("--to"));
     }
   }
   for (size_t i = 0; i < formats.size(); ++i) {
     for (size_t j = 0; j < i; ++j) {
-      const bool both_yolo =
-          formats[i].rfind("yolo", 0) == 0 && formats[j].rfind("yolo", 0) == 0;
+      const bool both_yolo = formats[i].rfind("yolo", 0) == 0 && formats[j].rfind("yolo", 0) == 0;
       if (formats[i] == formats[j] || both_yolo) {
-        throw Error("'" + formats[j] + "' and '" + formats[i] +
-                        "' write the same files",
+        throw Error("'" + formats[j] + "' and '" + formats[i] + "' write the same files",
                     Location("--to"));
       }
     }
   }
   if (images != "png" && images != "jpg" && images != "none") {
-    throw Error("expected png, jpg or none, got '" + images + "'",
-                Location("--images"));
+    throw Error("expected png, jpg or none, got '" + images + "'", Location("--images"));
   }
-  if (!std::isfinite(display.exposure_ev))
-    throw Error("not a number", Location("--exposure"));
+  if (!std::isfinite(display.exposure_ev)) throw Error("not a number", Location("--exposure"));
   if (!(min_transmittance >= 0 && min_transmittance <= 1)) {
     throw Error("must be in [0, 1]", Location("--min-transmittance"));
   }
@@ -45,8 +40,7 @@ void ConvertOptions::Check() const {
   }
   if (min_pixels < 1) throw Error("must be >= 1", Location("--min-pixels"));
   if (segmentation != "rle" && segmentation != "polygon") {
-    throw Error("expected rle or polygon, got '" + segmentation + "'",
-                Location("--segmentation"));
+    throw Error("expected rle or polygon, got '" + segmentation + "'", Location("--segmentation"));
   }
   if (!(occluded_below >= 0 && occluded_below <= 1)) {
     throw Error("must be in [0, 1]", Location("--occluded-below"));

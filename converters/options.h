@@ -20,29 +20,23 @@ struct ConvertOptions {
   std::string split = "train=1";
   double min_visibility = 0;     // keep objects with visibility >= this
   double min_transmittance = 0;  // keep objects seen through at least this
-  int64_t min_pixels =
-      1;  // keep objects with at least this many visible pixels
-  std::string
-      classes;  // --classes FILE|LIST; empty: every class of the collection
+  int64_t min_pixels = 1;        // keep objects with at least this many visible pixels
+  std::string classes;           // --classes FILE|LIST; empty: every class of the collection
   // List every selected class, also those no kept object has (default: only
   // the classes that occur, re-indexed 0..K-1).
   bool keep_classes = false;
-  bool drop_truncated =
-      false;  // drop objects cut by the image border (in_frame < 1)
+  bool drop_truncated = false;       // drop objects cut by the image border (in_frame < 1)
   std::string segmentation = "rle";  // coco: rle | polygon
-  double occluded_below = 1.0;  // cvat: occluded="1" when visibility < this
-  int64_t frame_begin =
-      0;  // convert the frames with index in [frame_begin, frame_end)
-  int64_t frame_end = -1;  // -1: to the last frame
+  double occluded_below = 1.0;       // cvat: occluded="1" when visibility < this
+  int64_t frame_begin = 0;           // convert the frames with index in [frame_begin, frame_end)
+  int64_t frame_end = -1;            // -1: to the last frame
   bool force = false;
   size_t batch_size = 64;  // frames in flight: bounds memory
   bool progress = true;
 
   // Throws lsds::Error (exit 2) naming the flag at fault.
   void Check() const;
-  std::string ImageExtension() const {
-    return images == "jpg" ? ".jpg" : ".png";
-  }
+  std::string ImageExtension() const { return images == "jpg" ? ".jpg" : ".png"; }
 };
 
 }  // namespace lsds::convert

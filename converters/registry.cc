@@ -40,9 +40,8 @@ std::unique_ptr<Converter> MakeConverter(const std::string& name) {
   for (const Entry& entry : Entries()) {
     if (name == entry.name) return entry.make();
   }
-  throw Error(
-      "unknown format '" + name + "'" + DidYouMean(name, ConverterNames()),
-      Location("--to"));
+  throw Error("unknown format '" + name + "'" + DidYouMean(name, ConverterNames()),
+              Location("--to"));
 }
 
 }  // namespace lsds::convert

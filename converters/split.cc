@@ -23,32 +23,26 @@ std::vector<SplitPart> ParseSplit(const std::string& spec) {
     SplitPart part;
     part.name = entry.substr(0, eq);
     for (char c : part.name) {
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' ||
-            c == '-')) {
-        throw Error("split name '" + part.name +
-                        "' may only hold letters, digits, '_' and '-'",
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) {
+        throw Error("split name '" + part.name + "' may only hold letters, digits, '_' and '-'",
                     where);
       }
     }
     const std::string value = entry.substr(eq + 1);
     char* end = nullptr;
     part.fraction = std::strtod(value.c_str(), &end);
-    if (value.empty() || *end != '\0' || !(part.fraction >= 0) ||
-        !std::isfinite(part.fraction)) {
-      throw Error("bad fraction '" + value + "' for split '" + part.name + "'",
-                  where);
+    if (value.empty() || *end != '\0' || !(part.fraction >= 0) || !std::isfinite(part.fraction)) {
+      throw Error("bad fraction '" + value + "' for split '" + part.name + "'", where);
     }
     for (const SplitPart& other : parts) {
-      if (other.name == part.name)
-        throw Error("split '" + part.name + "' given twice", where);
+      if (other.name == part.name) throw Error("split '" + part.name + "' given twice", where);
     }
     sum += part.fraction;
     parts.push_back(part);
   }
   if (parts.empty()) throw Error("no split given", where);
   if (std::abs(sum - 1.0) > 1e-6) {
-    throw Error("split fractions sum to " + std::to_string(sum) + ", not 1",
-                where);
+    throw Error("split fractions sum to " + std::to_string(sum) + ", not 1", where);
   }
   return parts;
 }
@@ -76,8 +70,7 @@ uint64_t Mix64(uint64_t x) {
   return x;
 }
 
-const std::string& AssignSplit(const std::vector<SplitPart>& parts,
-                               const std::string& group) {
+const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::string& group) {
   const double u = static_cast<double>(Mix64(Fnv1a64(group)) >> 11) * 0x1.0p-53;
   double cumulative = 0;
   for (const SplitPart& part : parts) {
@@ -91,8 +84,7 @@ const std::string& AssignSplit(const std::vector<SplitPart>& parts,
   return parts.back().name;
 }
 
-SplitPlan PlanSplits(const std::vector<SplitPart>& parts,
-                     const std::vector<SplitFrame>& frames) {
+SplitPlan PlanSplits(const std::vector<SplitPart>& parts, const std::vector<SplitFrame>& frames) {
   SplitPlan plan;
   std::map<std::string, int64_t> filled;
   for (const SplitFrame& f : frames) {
@@ -104,18 +96,15 @@ SplitPlan PlanSplits(const std::vector<SplitPart>& parts,
   for (const SplitPart& part : parts) {
     if (part.fraction > 0) wanted.push_back(&part);
   }
-  const bool all_filled =
-      std::all_of(wanted.begin(), wanted.end(), [&](const SplitPart* p) {
-        return filled[p->name] > 0;
-      });
+  const bool all_filled = std::all_of(
+      wanted.begin(), wanted.end(), [&](const SplitPart* p) { return filled[p->name] > 0; });
   if (all_filled || frames.empty()) return plan;
 
   const int64_t n = static_cast<int64_t>(frames.size());
   const int64_t k = static_cast<int64_t>(wanted.size());
   if (n < k) {
-    throw Error("cannot fill split '" + wanted[n]->name +
-                    "': " + std::to_string(n) + " frame(s) for " +
-                    std::to_string(k) + " splits with a non-zero fraction",
+    throw Error("cannot fill split '" + wanted[n]->name + "': " + std::to_string(n) +
+                    " frame(s) for " + std::to_string(k) + " splits with a non-zero fraction",
                 Location("--split"));
   }
   // Block sizes: rounded cumulative fractions, then each at least one frame
@@ -138,12 +127,9 @@ SplitPlan PlanSplits(const std::vector<SplitPart>& parts,
     }
   }
   std::vector<SplitFrame> ordered = frames;
-  std::stable_sort(ordered.begin(),
-                   ordered.end(),
-                   [](const SplitFrame& a, const SplitFrame& b) {
-                     return a.group != b.group ? a.group < b.group
-                                               : a.index < b.index;
-                   });
+  std::stable_sort(ordered.begin(), ordered.end(), [](const SplitFrame& a, const SplitFrame& b) {
+    return a.group != b.group ? a.group < b.group : a.index < b.index;
+  });
   int64_t at = 0;
   for (int64_t i = 0; i < k; ++i) {
     for (int64_t j = 0; j < size[i]; ++j)

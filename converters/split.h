@@ -36,8 +36,7 @@ uint64_t Mix64(uint64_t x);
 
 // The split of a group: u = top 53 bits of Mix64(FNV-1a(group)) / 2^53 in [0,
 // 1), the first part whose cumulative fraction exceeds u.
-const std::string& AssignSplit(const std::vector<SplitPart>& parts,
-                               const std::string& group);
+const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::string& group);
 
 // The split of every frame of a conversion. The hash rule above (whole groups)
 // is used when it fills every split with a non-zero fraction; otherwise (few
@@ -48,13 +47,12 @@ const std::string& AssignSplit(const std::vector<SplitPart>& parts,
 // cannot be filled.
 struct SplitPlan {
   std::map<int64_t, std::string> split_of_frame;  // frame index -> split
-  bool blocks = false;  // true when the block rule was needed
+  bool blocks = false;                            // true when the block rule was needed
 };
 struct SplitFrame {
   int64_t index;
   std::string group;  // SplitGroup(frame)
 };
-SplitPlan PlanSplits(const std::vector<SplitPart>& parts,
-                     const std::vector<SplitFrame>& frames);
+SplitPlan PlanSplits(const std::vector<SplitPart>& parts, const std::vector<SplitFrame>& frames);
 
 }  // namespace lsds::convert

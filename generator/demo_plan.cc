@@ -12,14 +12,8 @@ Plan MakeDemoPlan(const DemoOptions& options) {
   Plan plan;
   plan.seed = options.seed;
   plan.scene_source = "# built-in demo scene (lsds generate --demo)";
-  const char* classes[] = {"terrain",
-                           "barrel",
-                           "tire",
-                           "jerrycan",
-                           "rock",
-                           "bush",
-                           "person",
-                           "cube"};
+  const char* classes[] = {
+      "terrain", "barrel", "tire", "jerrycan", "rock", "bush", "person", "cube"};
   for (uint32_t i = 0; i < 8; ++i) plan.classes.push_back({i + 1, classes[i]});
   plan.sky.cloud_type = "cumulus";
   plan.sky.cloud_density = 0.4;
@@ -37,8 +31,7 @@ Plan MakeDemoPlan(const DemoOptions& options) {
   uint64_t state = HashCombine(options.seed, 2);
   auto uniform = [&state](double lo, double hi) {
     state = HashCombine(state, 0x2545f4914f6cdd1dull);
-    return lo +
-           (hi - lo) * (static_cast<double>(state >> 11) / 9007199254740992.0);
+    return lo + (hi - lo) * (static_cast<double>(state >> 11) / 9007199254740992.0);
   };
   const struct {
     const char* name;
@@ -61,15 +54,12 @@ Plan MakeDemoPlan(const DemoOptions& options) {
     o.instance_id = static_cast<uint32_t>(i + 1);
     const double scale = uniform(0.8, 1.25);
     o.extent = kind.extent * scale;
-    const double x = uniform(-16, 16),
-                 y = uniform(-16, 6 + 2.0 * options.frames);
+    const double x = uniform(-16, 16), y = uniform(-16, 6 + 2.0 * options.frames);
     const double yaw = uniform(0, 2 * M_PI);
-    o.world_from_object =
-        Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    o.world_from_object = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     // Standing on the terrain: the box's base at the terrain height under its
     // centre.
-    o.position = {
-        x, y, TerrainHeight(plan.terrain, x, y) + o.extent.z() / 2 - 0.05};
+    o.position = {x, y, TerrainHeight(plan.terrain, x, y) + o.extent.z() / 2 - 0.05};
     plan.objects.push_back(o);
   }
   // The last barrel rolls along x: a scene change per frame, so motion vectors
@@ -90,13 +80,11 @@ Plan MakeDemoPlan(const DemoOptions& options) {
     if (!mover.empty()) {
       ObjectChange change;
       change.object = mover;
-      const Eigen::Vector3d p =
-          plan.objects[0].position + Eigen::Vector3d(0.3 * f, 0, 0);
-      change.position =
-          Eigen::Vector3d(p.x(),
-                          p.y(),
-                          TerrainHeight(plan.terrain, p.x(), p.y()) +
-                              plan.objects[0].extent.z() / 2 - 0.05);
+      const Eigen::Vector3d p = plan.objects[0].position + Eigen::Vector3d(0.3 * f, 0, 0);
+      change.position = Eigen::Vector3d(
+          p.x(),
+          p.y(),
+          TerrainHeight(plan.terrain, p.x(), p.y()) + plan.objects[0].extent.z() / 2 - 0.05);
       frame.changes.push_back(change);
     }
     plan.frames.push_back(frame);

@@ -51,8 +51,7 @@ double Seconds(Clock::time_point since) {
 nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
   return {{"renderer", "lsds reference renderer (Embree 3)"},
           {"samples_per_pixel", options.spp},
-          {"sampling",
-           "stratified jittered n x n; sample 0 exactly at the pixel centre"},
+          {"sampling", "stratified jittered n x n; sample 0 exactly at the pixel centre"},
           {"jitter", options.jitter},
           {"depth", DepthKindName(options.depth_kind)},
           {"zip_level", options.zip_level}};
@@ -76,8 +75,8 @@ bool FrameComplete(const fs::path& root,
       const auto it = truth.files.find(layer.name);
       if (it == truth.files.end()) return false;
       const exr::ExrInfo info = exr::ReadExrInfo(root / it->second);
-      if (info.width != frame.camera.width ||
-          info.height != frame.camera.height || info.deep != layer.deep) {
+      if (info.width != frame.camera.width || info.height != frame.camera.height ||
+          info.deep != layer.deep) {
         return false;
       }
     }
@@ -87,8 +86,7 @@ bool FrameComplete(const fs::path& root,
   return true;
 }
 
-void PrepareOutput(const GenerateOptions& options,
-                   const nlohmann::json& settings) {
+void PrepareOutput(const GenerateOptions& options, const nlohmann::json& settings) {
   const fs::path& root = options.output;
   const fs::path settings_path = root / kWorkFolder / "settings.json";
   if (fs::exists(root)) {
@@ -97,18 +95,16 @@ void PrepareOutput(const GenerateOptions& options,
         const nlohmann::json previous =
             nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
         if (previous != settings) {
-          throw Error(
-              "--resume: the existing output was made with other settings (" +
-                  previous.dump() + "); use --force to start over",
-              Location(root.string()));
+          throw Error("--resume: the existing output was made with other settings (" +
+                          previous.dump() + "); use --force to start over",
+                      Location(root.string()));
         }
       }
     } else if (options.force) {
       // Only ever delete what a generator wrote: a collection or an interrupted
       // run.
       const bool ours = !fs::is_directory(root) || fs::is_empty(root) ||
-                        LooksLikeCollection(root) ||
-                        fs::exists(root / kWorkFolder);
+                        LooksLikeCollection(root) || fs::exists(root / kWorkFolder);
       if (!ours) {
         throw Error(
             "--force: the output exists and is not a collection; refusing to "
@@ -143,16 +139,14 @@ void PrepareOutput(const GenerateOptions& options,
     if (provenance) {
       bool same = provenance->seed == settings["seed"].get<uint64_t>();
       for (const auto& [key, value] : settings.items()) {
-        if (key != "seed" &&
-            provenance->render.value(key, nlohmann::json()) != value)
-          same = false;
+        if (key != "seed" && provenance->render.value(key, nlohmann::json()) != value) same = false;
       }
       if (!same) {
         throw Error(
             "--resume: the existing collection was made with other settings "
             "(seed " +
-                std::to_string(provenance->seed.value_or(0)) + ", " +
-                provenance->render.dump() + "); use --force to start over",
+                std::to_string(provenance->seed.value_or(0)) + ", " + provenance->render.dump() +
+                "); use --force to start over",
             Location((root / kCollectionFile).string()));
       }
     }
@@ -191,28 +185,24 @@ nlohmann::json SceneStateJson(const PlannedEnvironment& environment) {
   nlohmann::json visibility = nullptr;
   // Meteorological visibility (Koschmieder, 2 % contrast threshold).
   if (environment.fog_density > 0) visibility = 3.912 / environment.fog_density;
-  return {{"sun",
-           {{"azimuth_deg", environment.sun.azimuth_deg},
-            {"elevation_deg", environment.sun.elevation_deg},
-            {"direction", {to_sun.x(), to_sun.y(), to_sun.z()}},
-            {"intensity", environment.sun.intensity}}},
-          {"sky",
-           {{"color",
-             {environment.sky.color.x(),
-              environment.sky.color.y(),
-              environment.sky.color.z()}},
-            {"intensity", environment.sky.intensity},
-            {"cloud_type", environment.sky.cloud_type},
-            {"cloud_density", environment.sky.cloud_density}}},
-          {"atmosphere",
-           {{"extinction_per_m", environment.fog_density},
-            {"visibility_m", visibility}}},
-          {"skylight_intensity", environment.skylight_intensity}};
+  return {
+      {"sun",
+       {{"azimuth_deg", environment.sun.azimuth_deg},
+        {"elevation_deg", environment.sun.elevation_deg},
+        {"direction", {to_sun.x(), to_sun.y(), to_sun.z()}},
+        {"intensity", environment.sun.intensity}}},
+      {"sky",
+       {{"color",
+         {environment.sky.color.x(), environment.sky.color.y(), environment.sky.color.z()}},
+        {"intensity", environment.sky.intensity},
+        {"cloud_type", environment.sky.cloud_type},
+        {"cloud_density", environment.sky.cloud_density}}},
+      {"atmosphere", {{"extinction_per_m", environment.fog_density}, {"visibility_m", visibility}}},
+      {"skylight_intensity", environment.skylight_intensity}};
 }
 
 // Each object's LCAP changes in effect at the frame, as the plan states them.
-void RecordObjectChanges(const PlannedFrame& frame,
-                         std::vector<ObjectTruth>* objects) {
+void RecordObjectChanges(const PlannedFrame& frame, std::vector<ObjectTruth>* objects) {
   for (ObjectTruth& object : *objects) {
     for (const ObjectChange& change : frame.changes) {
       if (change.object != object.name) continue;
@@ -227,14 +217,13 @@ void RecordObjectChanges(const PlannedFrame& frame,
 void GenerateOptions::Check() const {
   if (output.empty()) throw Error("no output folder (-o OUT)");
   if (shard_count < 1 || shard_index < 0 || shard_index >= shard_count) {
-    throw Error("--shard " + std::to_string(shard_index) + "/" +
-                std::to_string(shard_count) + ": expected I/N with 0 <= I < N");
+    throw Error("--shard " + std::to_string(shard_index) + "/" + std::to_string(shard_count) +
+                ": expected I/N with 0 <= I < N");
   }
   if (first_frame > last_frame) throw Error("--frames A:B needs A <= B");
   if (threads < 0) throw Error("--threads must be >= 0 (0: all cores)");
   if (force && resume) throw Error("--force and --resume exclude each other");
-  if (zip_level < 0 || zip_level > 9)
-    throw Error("--zip-level must be in [0, 9]");
+  if (zip_level < 0 || zip_level > 9) throw Error("--zip-level must be in [0, 9]");
   CheckSamplerSettings({spp, jitter, 0});
 }
 
@@ -246,25 +235,20 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   header.provenance.scene_source = plan.scene_source;
   header.provenance.capture_source = plan.capture_source;
   header.provenance.render = RenderSettingsJson(options);
-  if (!plan.post_process.empty())
-    header.provenance.render["post_process"] = plan.post_process;
+  if (!plan.post_process.empty()) header.provenance.render["post_process"] = plan.post_process;
   header.classes = plan.classes;
   header.conventions.geo_origin = plan.geo;
   // Capture Settings `layers` choose the layers written (rgb always); the
   // table keeps the standard order.
-  const nlohmann::json& asked =
-      plan.capture_settings.value("layers", nlohmann::json());
+  const nlohmann::json& asked = plan.capture_settings.value("layers", nlohmann::json());
   for (const std::string& semantic : StandardLayerSemantics()) {
-    const bool wanted =
-        !asked.is_array() || semantic == "rgb" ||
-        std::find(asked.begin(), asked.end(), semantic) != asked.end();
-    if (wanted)
-      header.layers.push_back(StandardLayer(semantic, options.depth_kind));
+    const bool wanted = !asked.is_array() || semantic == "rgb" ||
+                        std::find(asked.begin(), asked.end(), semantic) != asked.end();
+    if (wanted) header.layers.push_back(StandardLayer(semantic, options.depth_kind));
   }
   if (!plan.capture_settings.empty())
     header.provenance.render["capture_settings"] = plan.capture_settings;
-  header.metadata = {
-      {kMetadataFile, false, "measured metadata; equal to truth"}};
+  header.metadata = {{kMetadataFile, false, "measured metadata; equal to truth"}};
   // A shard says which run it is part of, so that `lsds merge` can tell a
   // missing or doubled frame; the run itself (one shard) records nothing.
   if (options.shard_count > 1) {
@@ -272,9 +256,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
     shard.index = options.shard_index;
     shard.count = options.shard_count;
     for (const PlannedFrame& frame : plan.frames) {
-      if (frame.index < options.first_frame ||
-          frame.index >= options.last_frame)
-        continue;
+      if (frame.index < options.first_frame || frame.index >= options.last_frame) continue;
       if (shard.run_frame_count == 0) shard.run_first_frame = frame.index;
       shard.run_first_frame = std::min(shard.run_first_frame, frame.index);
       shard.run_last_frame = std::max(shard.run_last_frame, frame.index);
@@ -285,8 +267,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   return header;
 }
 
-GenerateSummary GenerateCollection(const Plan& plan,
-                                   const GenerateOptions& options) {
+GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options) {
   const Clock::time_point start = Clock::now();
   options.Check();
   std::optional<tbb::global_control> threads;
@@ -307,34 +288,30 @@ GenerateSummary GenerateCollection(const Plan& plan,
   if (selected.empty()) {
     // An empty collection is never a success: say which frames exist.
     const std::string range =
-        plan.frames.empty()
-            ? std::string("the plan has no frames")
-            : "the plan has frames " +
-                  std::to_string(plan.frames.front().index) + " to " +
-                  std::to_string(plan.frames.back().index);
-    throw Error("no frame to render: --frames/--shard select none (" + range +
-                ")");
+        plan.frames.empty() ? std::string("the plan has no frames")
+                            : "the plan has frames " + std::to_string(plan.frames.front().index) +
+                                  " to " + std::to_string(plan.frames.back().index);
+    throw Error("no frame to render: --frames/--shard select none (" + range + ")");
   }
   // Before the output is touched: a frame whose film cannot fit in memory is a
   // usage error naming the budget, not a 40 GB allocation.
   for (size_t k : selected) {
     const PlannedFrame& frame = plan.frames[k];
-    CheckImageBudget(
-        frame.camera.width, frame.camera.height,
-        static_cast<int64_t>(Film::BytesPerPixel(options.spp)), 1,
-        "frame " + std::to_string(frame.index) + " (camera of the capture, " +
-            std::to_string(options.spp) + " samples per pixel)",
-        "");
+    CheckImageBudget(frame.camera.width,
+                     frame.camera.height,
+                     static_cast<int64_t>(Film::BytesPerPixel(options.spp)),
+                     1,
+                     "frame " + std::to_string(frame.index) + " (camera of the capture, " +
+                         std::to_string(options.spp) + " samples per pixel)",
+                     "");
   }
   const CollectionHeader base_header = MakeHeader(plan, options);
   nlohmann::json settings = RenderSettingsJson(options);
   settings["seed"] = plan.seed;
-  if (!plan.capture_settings.empty())
-    settings["capture_settings"] = plan.capture_settings;
+  if (!plan.capture_settings.empty()) settings["capture_settings"] = plan.capture_settings;
   PrepareOutput(options, settings);
   const fs::path& root = options.output;
-  for (const LayerInfo& layer : base_header.layers)
-    fs::create_directories(root / layer.name);
+  for (const LayerInfo& layer : base_header.layers) fs::create_directories(root / layer.name);
 
   RenderSettings render;
   render.sampler = {options.spp, options.jitter, plan.seed};
@@ -346,8 +323,7 @@ GenerateSummary GenerateCollection(const Plan& plan,
   std::optional<Progress> progress;
   tbb::task_group writer;
   std::mutex write_mutex;
-  if (options.progress)
-    progress.emplace("generate", static_cast<int64_t>(selected.size()));
+  if (options.progress) progress.emplace("generate", static_cast<int64_t>(selected.size()));
   // A failure while a write runs must not leave the task group unwaited.
   try {
     for (size_t k : selected) {
@@ -375,19 +351,16 @@ GenerateSummary GenerateCollection(const Plan& plan,
         previous.world = &*previous_world;
         if (scene->world() == *previous_world) {
           previous.scene = scene.get();
-        } else if (previous_scene &&
-                   previous_scene->world() == *previous_world) {
+        } else if (previous_scene && previous_scene->world() == *previous_world) {
           previous.scene = previous_scene.get();
         } else {
-          built_previous = std::make_unique<RenderScene>(
-              device, plan, assets, *previous_world);
+          built_previous = std::make_unique<RenderScene>(device, plan, assets, *previous_world);
           previous.scene = built_previous.get();
         }
       }
       const PlannedEnvironment environment = EnvironmentAt(plan, frame);
       const Sky sky(plan, environment);  // LCAP may change it per frame
-      auto film = std::make_shared<const Film>(
-          RenderFrame(*scene, sky, frame, previous, render));
+      auto film = std::make_shared<const Film>(RenderFrame(*scene, sky, frame, previous, render));
       auto truth = std::make_shared<Frame>();
       truth->index = frame.index;
       truth->time = frame.time;
@@ -396,13 +369,11 @@ GenerateSummary GenerateCollection(const Plan& plan,
       truth->camera_velocity = frame.camera_velocity;
       truth->scene = SceneStateJson(EnvironmentAt(plan, frame));
       truth->camera.intrinsics = frame.camera;
-      truth->camera.cam_from_world_rotation =
-          frame.cam_from_world.rotation.toRotationMatrix();
-      truth->camera.cam_from_world_translation =
-          frame.cam_from_world.translation;
+      truth->camera.cam_from_world_rotation = frame.cam_from_world.rotation.toRotationMatrix();
+      truth->camera.cam_from_world_translation = frame.cam_from_world.translation;
       uint64_t rays = film->rays;
-      truth->objects = ComputeObjectTruth(
-          *scene, frame, *film, EnvironmentAt(plan, frame).fog_density, &rays);
+      truth->objects =
+          ComputeObjectTruth(*scene, frame, *film, EnvironmentAt(plan, frame).fog_density, &rays);
       RecordObjectChanges(frame, &truth->objects);
       summary.rays += rays;
       summary.render_seconds += Seconds(t0);
@@ -411,14 +382,10 @@ GenerateSummary GenerateCollection(const Plan& plan,
       writer.wait();  // rethrows a failed write
       writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
         const Clock::time_point w0 = Clock::now();
-        truth->files = WriteFrameLayers(root,
-                                        base_header,
-                                        truth->index,
-                                        truth->camera,
-                                        {&film->flat, &film->bundle});
+        truth->files = WriteFrameLayers(
+            root, base_header, truth->index, truth->camera, {&film->flat, &film->bundle});
         // The truth part comes last: its presence marks the frame complete.
-        WriteFileAtomic(TruthPartPath(root, truth->index),
-                        FrameToJson(*truth).dump() + "\n");
+        WriteFileAtomic(TruthPartPath(root, truth->index), FrameToJson(*truth).dump() + "\n");
         std::lock_guard<std::mutex> lock(write_mutex);
         summary.write_seconds += Seconds(w0);
       });
@@ -443,8 +410,7 @@ GenerateSummary GenerateCollection(const Plan& plan,
   CollectionBuilder builder(root, header);
   for (size_t k : selected) {
     const fs::path part = TruthPartPath(root, plan.frames[k].index);
-    const Frame truth =
-        FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
+    const Frame truth = FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
     MetadataFrame metadata = TruthMetadata(truth, header.conventions.world);
     AddSurveyMetadata(plan, plan.frames[k], &metadata);
     builder.Append(truth, metadata);

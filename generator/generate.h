@@ -51,8 +51,7 @@ struct GenerateSummary {
   double total_seconds = 0;
 };
 
-GenerateSummary GenerateCollection(const Plan& plan,
-                                   const GenerateOptions& options);
+GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options);
 
 // The collection header (provenance, classes, layer table) GenerateCollection
 // writes.

@@ -24,8 +24,7 @@ Plan PlanFromScene(const std::string& scene,
   // full plan.
   FrameRange range;
   range.begin = first_frame;
-  range.end =
-      last_frame == std::numeric_limits<int64_t>::max() ? -1 : last_frame;
+  range.end = last_frame == std::numeric_limits<int64_t>::max() ? -1 : last_frame;
   return MakePlan(scene, capture_path, seed, range);
 }
 

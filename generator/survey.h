@@ -13,8 +13,6 @@ namespace lsds::gen {
 inline constexpr double kSurveyMaxRangeM = 10000;
 
 // Fills the survey fields of `metadata` for `frame`.
-void AddSurveyMetadata(const Plan& plan,
-                       const PlannedFrame& frame,
-                       MetadataFrame* metadata);
+void AddSurveyMetadata(const Plan& plan, const PlannedFrame& frame, MetadataFrame* metadata);
 
 }  // namespace lsds::gen

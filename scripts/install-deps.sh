@@ -23,6 +23,7 @@ packages=(
   python3-numpy                     # export-layers test: numpy.load reads the .npy files
   clang libclang-rt-14-dev          # libFuzzer targets and their smoke tests (docs/reliability.md)
   clang-tidy                        # make tidy (.clang-tidy)
+  clang-format                      # make format-check in CI (.clang-format)
   chromium                          # lsds report end-to-end test: headless screenshot of the page
   slurm-wlm munge                   # scale-out test: a real one-node Slurm (tests/scaleout/slurm_test.sh)
 )

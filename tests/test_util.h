@@ -18,8 +18,7 @@ class TempDir {
   TempDir() {
     std::random_device device;
     path_ = std::filesystem::temp_directory_path() /
-            ("lsds-test-" + std::to_string(::getpid()) + "-" +
-             std::to_string(device()));
+            ("lsds-test-" + std::to_string(::getpid()) + "-" + std::to_string(device()));
     std::filesystem::create_directories(path_);
   }
   ~TempDir() {
@@ -27,9 +26,7 @@ class TempDir {
     std::filesystem::remove_all(path_, ec);
   }
   const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path operator/(const std::string& name) const {
-    return path_ / name;
-  }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
 
  private:
   std::filesystem::path path_;
@@ -55,8 +52,6 @@ inline CommandResult RunCommandLine(const std::string& command_line) {
 }
 
 // The lsds binary of this build.
-inline std::string LsdsBinary() {
-  return std::string(LSDS_BINARY_DIR) + "/tools/lsds";
-}
+inline std::string LsdsBinary() { return std::string(LSDS_BINARY_DIR) + "/tools/lsds"; }
 
 }  // namespace lsds::testing

@@ -26,63 +26,50 @@ int RunBackproject(int argc, char** argv) {
   std::string frames;
   double tolerance = -1;
   bool no_color = false, no_labels = false;
-  app.add_option("COLLECTION",
-                 options.collection,
-                 "collection folder (holds collection.json)")
+  app.add_option("COLLECTION", options.collection, "collection folder (holds collection.json)")
       ->required();
   app.add_option("-o,--output",
                  options.output,
                  "output: a folder of FRAME.pcd|ply files, or with --fuse one "
                  ".pcd or .ply file");
-  app.add_flag(
-      "--fuse", options.fuse, "write one cloud of all selected frames");
+  app.add_flag("--fuse", options.fuse, "write one cloud of all selected frames");
   app.add_option("--voxel",
                  options.voxel,
                  "with --fuse: keep one point per voxel of this size (world "
                  "units of the output frame)");
-  app.add_option(
-         "--frame",
-         frame,
-         "coordinates of the points: world (declared frame and unit) or camera "
-         "(OpenCV, world unit)")
+  app.add_option("--frame",
+                 frame,
+                 "coordinates of the points: world (declared frame and unit) or camera "
+                 "(OpenCV, world unit)")
       ->check(CLI::IsMember({"world", "camera"}));
   app.add_option("--use-metadata",
                  options.metadata,
                  "use this metadata variant's poses and intrinsics instead of "
                  "the truth (path, or relative "
                  "to the collection)");
-  app.add_flag("--check",
-               options.check,
-               "report per-frame max/RMS distance to the worldposition layer");
+  app.add_flag(
+      "--check", options.check, "report per-frame max/RMS distance to the worldposition layer");
   app.add_option("--tolerance",
                  tolerance,
                  "with --check: exit 1 when a frame's max error exceeds this "
                  "(world units)");
-  app.add_flag("--normals",
-               options.normals,
-               "add per-point normals from the normal layer");
-  app.add_option("--stride",
-                 options.stride,
-                 "use every K-th pixel in x and y (quick previews)")
+  app.add_flag("--normals", options.normals, "add per-point normals from the normal layer");
+  app.add_option("--stride", options.stride, "use every K-th pixel in x and y (quick previews)")
       ->check(CLI::PositiveNumber);
   AddFramesOption(app, &frames);
   int threads = 0;
   AddThreadsOption(app, &threads);
-  app.add_option("--format",
-                 options.per_frame_format,
-                 "per-frame file format: pcd (default) or ply")
+  app.add_option(
+         "--format", options.per_frame_format, "per-frame file format: pcd (default) or ply")
       ->check(CLI::IsMember({"pcd", "ply"}));
   app.add_flag("--no-color", no_color, "leave out the rgb field");
-  app.add_flag("--no-labels",
-               no_labels,
-               "leave out the label (class) and instance fields");
+  app.add_flag("--no-labels", no_labels, "leave out the label (class) and instance fields");
   app.add_flag("--force", options.force, "replace an existing output");
   return RunCommand(app, argc, argv, [&] {
-    options.frame = frame == "camera" ? pointcloud::OutputFrame::kCamera
-                                      : pointcloud::OutputFrame::kWorld;
+    options.frame =
+        frame == "camera" ? pointcloud::OutputFrame::kCamera : pointcloud::OutputFrame::kWorld;
     if (!frames.empty()) {
-      const FrameSelection selection =
-          SelectCollectionFrames(frames, options.collection);
+      const FrameSelection selection = SelectCollectionFrames(frames, options.collection);
       options.frames.begin = selection.begin;
       options.frames.end = selection.end;
     }
@@ -111,13 +98,9 @@ int RunBackproject(int argc, char** argv) {
     if (tolerance >= 0 && !options.check) options.check = true;
     bool exceeded = false;
     if (options.check)
-      std::printf("%8s %10s %14s %14s\n",
-                  "frame",
-                  "compared",
-                  "max_error",
-                  "rms_error");
-    const pointcloud::BackprojectSummary summary = pointcloud::RunBackproject(
-        options, [&](const pointcloud::FrameReport& r) {
+      std::printf("%8s %10s %14s %14s\n", "frame", "compared", "max_error", "rms_error");
+    const pointcloud::BackprojectSummary summary =
+        pointcloud::RunBackproject(options, [&](const pointcloud::FrameReport& r) {
           if (!r.checked) return;
           std::printf("%8lld %10lld %14.6g %14.6g\n",
                       static_cast<long long>(r.index),
@@ -135,9 +118,8 @@ int RunBackproject(int argc, char** argv) {
                   summary.world_unit.c_str());
     }
     if (!options.output.empty()) {
-      std::cerr << "backproject: " << summary.frames << " frames, "
-                << summary.points_backprojected << " points back-projected, "
-                << summary.points_written << " written to "
+      std::cerr << "backproject: " << summary.frames << " frames, " << summary.points_backprojected
+                << " points back-projected, " << summary.points_written << " written to "
                 << options.output.string() << "\n";
     }
     return exceeded ? kExitFindings : kExitOk;

@@ -18,19 +18,13 @@ const std::vector<Command>& Commands() {
       {"generate",
        "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection",
        RunGenerate},
-      {"plan",
-       "expand an LSCENE scene and LCAP capture into the frame plan (JSON)",
-       RunPlan},
-      {"info",
-       "summarize a collection: frames, layers, classes, cameras, size",
-       RunInfo},
+      {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
+      {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"validate",
        "check a collection: schemas, structure, layers, cross-layer truth, "
        "camera geometry",
        RunValidate},
-      {"convert",
-       "truth into YOLO, COCO or CVAT files with a loss report",
-       RunConvert},
+      {"convert", "truth into YOLO, COCO or CVAT files with a loss report", RunConvert},
       {"perturb-metadata",
        "write a perturbed copy of the metadata with the noise and errors "
        "recorded",
@@ -45,25 +39,15 @@ const std::vector<Command>& Commands() {
       {"export-layers",
        "layers as .npy, 16-bit PNG or float TIFF with units and scales",
        RunExportLayers},
-      {"report",
-       "one offline HTML page: contact sheet, layers, distributions",
-       RunReport},
-      {"merge",
-       "join the shards of one generate run into the single run's collection",
-       RunMerge},
+      {"report", "one offline HTML page: contact sheet, layers, distributions", RunReport},
+      {"merge", "join the shards of one generate run into the single run's collection", RunMerge},
       {"merge-reports",
        "join the partial reports of validate --shard into the single run's "
        "report",
        RunMergeReports},
-      {"submit",
-       "write and submit a Slurm job array of generate shards and its merge",
-       RunSubmit},
-      {"synth",
-       "write a synthetic collection with exact analytic truth (for tests)",
-       RunSynth},
-      {"import",
-       "another simulator's output (ue-mrq, airsim, bop) into a collection",
-       RunImport},
+      {"submit", "write and submit a Slurm job array of generate shards and its merge", RunSubmit},
+      {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
+      {"import", "another simulator's output (ue-mrq, airsim, bop) into a collection", RunImport},
   };
   return commands;
 }
@@ -76,10 +60,8 @@ std::vector<std::string> OptionNames(const CLI::App& app) {
   std::vector<std::string> names;
   for (const CLI::Option* option : app.get_options()) {
     if (option->get_group().empty()) continue;
-    for (const std::string& name : option->get_lnames())
-      names.push_back("--" + name);
-    for (const std::string& name : option->get_snames())
-      names.push_back("-" + name);
+    for (const std::string& name : option->get_lnames()) names.push_back("--" + name);
+    for (const std::string& name : option->get_snames()) names.push_back("-" + name);
   }
   return names;
 }
@@ -93,8 +75,7 @@ std::string UsageMessage(CLI::App& app, const CLI::ParseError& error) {
     for (const std::string& extra : extras) {
       if (extra.size() > 1 && extra[0] == '-') {
         const std::string name = extra.substr(0, extra.find('='));
-        parts.push_back("unknown option '" + name + "'" +
-                        DidYouMean(name, OptionNames(app)));
+        parts.push_back("unknown option '" + name + "'" + DidYouMean(name, OptionNames(app)));
       } else {
         parts.push_back("unexpected argument '" + extra + "'");
       }
@@ -114,8 +95,7 @@ void CheckNumericFlags(const CLI::App& app) {
     const bool natural = type.find("UINT") != std::string::npos;
     if (!real && !natural) continue;
     const std::string name =
-        option->get_lnames().empty() ? option->get_name()
-                                     : "--" + option->get_lnames().front();
+        option->get_lnames().empty() ? option->get_name() : "--" + option->get_lnames().front();
     for (const std::string& value : option->results()) {
       const size_t first = value.find_first_not_of(" \t");
       if (first == std::string::npos) continue;
@@ -140,10 +120,7 @@ void CheckNumericFlags(const CLI::App& app) {
 
 }  // namespace
 
-int RunCommand(CLI::App& app,
-               int argc,
-               char** argv,
-               const std::function<int()>& body) {
+int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -151,8 +128,8 @@ int RunCommand(CLI::App& app,
       app.exit(e);  // --help
       return kExitOk;
     }
-    std::cerr << app.get_name() << ": error: " << UsageMessage(app, e)
-              << "; run '" << app.get_name() << " --help' for the options\n";
+    std::cerr << app.get_name() << ": error: " << UsageMessage(app, e) << "; run '"
+              << app.get_name() << " --help' for the options\n";
     return kExitUsage;
   }
   // Three kinds of failure (docs/reliability.md): bad input (lsds::Error,
@@ -161,8 +138,8 @@ int RunCommand(CLI::App& app,
   try {
     CheckNumericFlags(app);
   } catch (const Error& e) {
-    std::cerr << app.get_name() << ": error: " << e.what() << "; run '"
-              << app.get_name() << " --help' for the options\n";
+    std::cerr << app.get_name() << ": error: " << e.what() << "; run '" << app.get_name()
+              << " --help' for the options\n";
     return kExitUsage;
   }
   try {
@@ -181,12 +158,12 @@ int RunCommand(CLI::App& app,
                  "work on fewer frames\n";
     return kExitUsage;
   } catch (const InternalError& e) {
-    std::cerr << app.get_name() << ": internal error: " << e.what() << "; "
-              << InternalErrorAdvice() << "\n";
+    std::cerr << app.get_name() << ": internal error: " << e.what() << "; " << InternalErrorAdvice()
+              << "\n";
     return kExitInternal;
   } catch (const std::exception& e) {
-    std::cerr << app.get_name() << ": internal error: unexpected exception: "
-              << e.what() << "; " << InternalErrorAdvice() << "\n";
+    std::cerr << app.get_name() << ": internal error: unexpected exception: " << e.what() << "; "
+              << InternalErrorAdvice() << "\n";
     return kExitInternal;
   }
 }

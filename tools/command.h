@@ -24,10 +24,7 @@ const std::vector<Command>& Commands();
 // or unreadable input (lsds::Error, printed as "lsds NAME: error: WHERE: WHAT",
 // and CLI11 errors, printed as "lsds NAME: error: WHAT" with a did-you-mean
 // for a mistyped option).
-int RunCommand(CLI::App& app,
-               int argc,
-               char** argv,
-               const std::function<int()>& body);
+int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 // Command entry points, one per file (tools/<name>_command.cc).
 int RunGenerate(int argc, char** argv);

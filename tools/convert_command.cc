@@ -22,44 +22,29 @@ int RunConvert(int argc, char** argv) {
   convert::ConvertOptions options;
   std::string collection, output, formats, tonemap = "clamp";
   bool clip_truncated = false, quiet = false;
-  app.add_option(
-         "COLLECTION", collection, "collection folder (holds collection.json)")
-      ->required();
+  app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("--to",
                  formats,
-                 "target format(s), comma separated: " +
-                     Join(convert::ConverterNames(), ", "))
+                 "target format(s), comma separated: " + Join(convert::ConverterNames(), ", "))
       ->required();
-  app.add_option("-o,--output", output, "output folder (built atomically)")
-      ->required();
-  app.add_option(
-         "--images", options.images, "images to write: png, jpg or none")
+  app.add_option("-o,--output", output, "output folder (built atomically)")->required();
+  app.add_option("--images", options.images, "images to write: png, jpg or none")
       ->capture_default_str();
-  app.add_option("--exposure",
-                 options.display.exposure_ev,
-                 "exposure in EV: linear * 2^EV")
+  app.add_option("--exposure", options.display.exposure_ev, "exposure in EV: linear * 2^EV")
       ->capture_default_str();
-  app.add_option("--tonemap", tonemap, "clamp or reinhard")
+  app.add_option("--tonemap", tonemap, "clamp or reinhard")->capture_default_str();
+  app.add_option("--jpeg-quality", options.display.jpeg_quality, "JPEG quality 1..100")
       ->capture_default_str();
   app.add_option(
-         "--jpeg-quality", options.display.jpeg_quality, "JPEG quality 1..100")
+         "--split", options.split, "splits by stable hash of the sequence, e.g. train=0.8,val=0.2")
       ->capture_default_str();
-  app.add_option(
-         "--split",
-         options.split,
-         "splits by stable hash of the sequence, e.g. train=0.8,val=0.2")
-      ->capture_default_str();
-  app.add_option("--min-visibility",
-                 options.min_visibility,
-                 "drop objects less visible than this")
+  app.add_option("--min-visibility", options.min_visibility, "drop objects less visible than this")
       ->capture_default_str();
   app.add_option("--min-transmittance",
                  options.min_transmittance,
                  "drop objects whose atmospheric transmittance is below this")
       ->capture_default_str();
-  app.add_option("--min-pixels",
-                 options.min_pixels,
-                 "drop objects with fewer visible pixels")
+  app.add_option("--min-pixels", options.min_pixels, "drop objects with fewer visible pixels")
       ->capture_default_str();
   app.add_option("--classes",
                  options.classes,
@@ -73,9 +58,7 @@ int RunConvert(int argc, char** argv) {
                clip_truncated,
                "keep objects cut by the image border, boxed by their visible "
                "part (the default)");
-  app.add_flag("--drop-truncated",
-               options.drop_truncated,
-               "drop objects cut by the image border");
+  app.add_flag("--drop-truncated", options.drop_truncated, "drop objects cut by the image border");
   app.add_option("--segmentation", options.segmentation, "coco: rle or polygon")
       ->capture_default_str();
   app.add_option("--occluded-below",
@@ -86,8 +69,7 @@ int RunConvert(int argc, char** argv) {
   AddFramesOption(app, &frames);
   int threads = 0;
   AddThreadsOption(app, &threads);
-  app.add_option(
-         "--batch", options.batch_size, "frames in flight (bounds memory)")
+  app.add_option("--batch", options.batch_size, "frames in flight (bounds memory)")
       ->capture_default_str();
   app.add_flag("--force", options.force, "replace a non-empty output folder");
   app.add_flag("-q,--quiet", quiet, "do not print the loss report");
@@ -97,16 +79,13 @@ int RunConvert(int argc, char** argv) {
                   Location("--drop-truncated"));
     }
     if (!imaging::ParseToneMap(tonemap, &options.display.tonemap)) {
-      throw Error("expected clamp or reinhard, got '" + tonemap + "'",
-                  Location("--tonemap"));
+      throw Error("expected clamp or reinhard, got '" + tonemap + "'", Location("--tonemap"));
     }
-    if (options.display.jpeg_quality < 1 ||
-        options.display.jpeg_quality > 100) {
+    if (options.display.jpeg_quality < 1 || options.display.jpeg_quality > 100) {
       throw Error("must be in 1..100", Location("--jpeg-quality"));
     }
     if (!frames.empty()) {
-      const FrameSelection selection =
-          SelectCollectionFrames(frames, collection);
+      const FrameSelection selection = SelectCollectionFrames(frames, collection);
       options.frame_begin = selection.begin;
       options.frame_end = selection.bounded() ? selection.end : -1;
     }
@@ -123,9 +102,8 @@ int RunConvert(int argc, char** argv) {
     options.formats = Split(formats, ',');
     const convert::ConvertResult result = convert::Convert(options);
     if (!quiet) {
-      std::cout << "converted " << result.frames << " frames to " << formats
-                << " in " << output << " (" << result.images_written
-                << " images)\n"
+      std::cout << "converted " << result.frames << " frames to " << formats << " in " << output
+                << " (" << result.images_written << " images)\n"
                 << result.loss.ToText();
     }
     return kExitOk;

@@ -19,13 +19,10 @@ int RunExportLayers(int argc, char** argv) {
   layer_export::ExportOptions options;
   std::string to = "npy", layers, frames;
   int threads = 0;
-  app.add_option("COLLECTION",
-                 options.collection,
-                 "collection folder (holds collection.json)")
+  app.add_option("COLLECTION", options.collection, "collection folder (holds collection.json)")
       ->required();
-  app.add_option("-o,--output",
-                 options.output,
-                 "output folder: LAYER/FRAME.npy|png|tiff and layers.json")
+  app.add_option(
+         "-o,--output", options.output, "output folder: LAYER/FRAME.npy|png|tiff and layers.json")
       ->required();
   app.add_option("--to",
                  to,
@@ -47,19 +44,16 @@ int RunExportLayers(int argc, char** argv) {
     options.target = layer_export::ParseTarget(to);
     for (const std::string& name : Split(layers, ','))
       if (!name.empty()) options.layers.push_back(name);
-    if (!frames.empty())
-      options.frames = SelectCollectionFrames(frames, options.collection);
+    if (!frames.empty()) options.frames = SelectCollectionFrames(frames, options.collection);
     const ThreadLimit thread_limit(threads);
-    const layer_export::ExportSummary summary =
-        layer_export::ExportLayers(options);
-    std::cerr << "export-layers: " << summary.frames << " frames, "
-              << summary.files << " files ("
+    const layer_export::ExportSummary summary = layer_export::ExportLayers(options);
+    std::cerr << "export-layers: " << summary.frames << " frames, " << summary.files << " files ("
               << FormatNumber(summary.bytes / 1e6, 4) << " MB) written to "
               << options.output.string() << "\n";
     for (const layer_export::LayerSummary& layer : summary.layers) {
       if (layer.clamped_pixels > 0) {
-        std::cerr << "export-layers: warning: " << layer.clamped_pixels
-                  << " pixels of '" << layer.name
+        std::cerr << "export-layers: warning: " << layer.clamped_pixels << " pixels of '"
+                  << layer.name
                   << "' outside the 16-bit range were clamped (see "
                      "layers.json; --depth-step for depth)\n";
       }

@@ -27,8 +27,7 @@ namespace {
 std::string interrupt_message;
 
 extern "C" void OnInterrupt(int signal_number) {
-  const ssize_t ignored =
-      write(STDERR_FILENO, interrupt_message.data(), interrupt_message.size());
+  const ssize_t ignored = write(STDERR_FILENO, interrupt_message.data(), interrupt_message.size());
   (void)ignored;
   std::signal(signal_number, SIG_DFL);
   std::raise(signal_number);
@@ -52,8 +51,7 @@ int RunGenerate(int argc, char** argv) {
       "Render an LSCENE/LCAP scene (or a plan) into a collection with every "
       "layer and truth",
       "lsds generate"};
-  std::string scene, capture, plan_file, frames, shard, depth = "planar",
-                                                        demo_size = "512x512";
+  std::string scene, capture, plan_file, frames, shard, depth = "planar", demo_size = "512x512";
   std::optional<uint64_t> seed;
   gen::GenerateOptions options;
   bool demo = false, quiet = false;
@@ -64,37 +62,22 @@ int RunGenerate(int argc, char** argv) {
                  options.output,
                  "output collection folder (default: the capture's Capture "
                  "Settings folder)");
-  app.add_option(
-      "--seed", seed, "random seed of the plan and of the sampler (default 0)");
+  app.add_option("--seed", seed, "random seed of the plan and of the sampler (default 0)");
   AddFramesOption(app, &frames);
-  AddShardOption(app, &shard,
-                 "render only the frames whose index % N == I (I/N)");
-  app.add_option("--spp",
-                 options.spp,
-                 "samples per pixel, a square: 1, 4, 9, 16, ... (default 4)");
-  app.add_option("--jitter",
-                 options.jitter,
-                 "jitter of each stratified sample in its cell, [0, 1]");
+  AddShardOption(app, &shard, "render only the frames whose index % N == I (I/N)");
+  app.add_option("--spp", options.spp, "samples per pixel, a square: 1, 4, 9, 16, ... (default 4)");
+  app.add_option(
+      "--jitter", options.jitter, "jitter of each stratified sample in its cell, [0, 1]");
   AddThreadsOption(app, &options.threads);
+  app.add_option("--depth", depth, "depth layer kind: planar (default) or perspective");
   app.add_option(
-      "--depth", depth, "depth layer kind: planar (default) or perspective");
-  app.add_option("--zip-level",
-                 options.zip_level,
-                 "zlib level of ZIP layers, 0-9 (default 1: fast)");
+      "--zip-level", options.zip_level, "zlib level of ZIP layers, 0-9 (default 1: fast)");
   app.add_flag("--force", options.force, "replace an existing output folder");
-  app.add_flag("--resume",
-               options.resume,
-               "keep the complete frames of an interrupted run");
-  app.add_option("--plan",
-                 plan_file,
-                 "render a plan JSON file (lsds plan -o) instead of SCENE");
-  app.add_flag(
-      "--demo", demo, "render the built-in demo scene instead of SCENE");
-  app.add_option(
-      "--demo-frames", demo_frames, "frames of the demo scene (default 24)");
-  app.add_option("--demo-size",
-                 demo_size,
-                 "image size of the demo scene, WxH (default 512x512)");
+  app.add_flag("--resume", options.resume, "keep the complete frames of an interrupted run");
+  app.add_option("--plan", plan_file, "render a plan JSON file (lsds plan -o) instead of SCENE");
+  app.add_flag("--demo", demo, "render the built-in demo scene instead of SCENE");
+  app.add_option("--demo-frames", demo_frames, "frames of the demo scene (default 24)");
+  app.add_option("--demo-size", demo_size, "image size of the demo scene, WxH (default 512x512)");
   app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
   std::string memory_budget;
   app.add_option("--memory-budget",
@@ -109,16 +92,13 @@ int RunGenerate(int argc, char** argv) {
       options.first_frame = selection->begin;
       options.last_frame = selection->end;
     }
-    if (!shard.empty())
-      ParseShard(shard, &options.shard_index, &options.shard_count);
+    if (!shard.empty()) ParseShard(shard, &options.shard_index, &options.shard_count);
     if (!ParseDepthKind(depth, &options.depth_kind)) {
       throw Error("--depth " + depth + ": expected planar or perspective");
     }
     options.progress = !quiet;
-    const int sources =
-        (demo ? 1 : 0) + (plan_file.empty() ? 0 : 1) + (scene.empty() ? 0 : 1);
-    if (sources != 1)
-      throw Error("give exactly one of SCENE [CAPTURE], --plan FILE or --demo");
+    const int sources = (demo ? 1 : 0) + (plan_file.empty() ? 0 : 1) + (scene.empty() ? 0 : 1);
+    if (sources != 1) throw Error("give exactly one of SCENE [CAPTURE], --plan FILE or --demo");
     Plan plan;
     if (demo) {
       gen::DemoOptions demo_options;
@@ -130,13 +110,14 @@ int RunGenerate(int argc, char** argv) {
         demo_options.width = std::stoi(size[0]);
         demo_options.height = std::stoi(size[1]);
       } catch (const std::exception&) {
-        throw Error("--demo-size " + demo_size +
-                    ": expected WxH, e.g. 512x512");
+        throw Error("--demo-size " + demo_size + ": expected WxH, e.g. 512x512");
       }
-      CheckImageBudget(demo_options.width, demo_options.height,
-                       static_cast<int64_t>(
-                           gen::Film::BytesPerPixel(options.spp)),
-                       1, "the demo image", "--demo-size");
+      CheckImageBudget(demo_options.width,
+                       demo_options.height,
+                       static_cast<int64_t>(gen::Film::BytesPerPixel(options.spp)),
+                       1,
+                       "the demo image",
+                       "--demo-size");
       plan = gen::MakeDemoPlan(demo_options);
     } else if (!plan_file.empty()) {
       plan = gen::LoadPlanJson(plan_file);
@@ -155,8 +136,7 @@ int RunGenerate(int argc, char** argv) {
     if (options.output.empty()) {
       // LCAP Capture Settings may name the output folder (relative to the
       // current directory); -o wins when both are given.
-      const std::string folder =
-          plan.capture_settings.value("folder", std::string());
+      const std::string folder = plan.capture_settings.value("folder", std::string());
       if (folder.empty())
         throw Error(
             "no output folder: give -o OUT (or a Capture Settings "
@@ -170,25 +150,19 @@ int RunGenerate(int argc, char** argv) {
     guard.CheckOutput(options.output, "-o");
     std::string command_line = "lsds generate";
     for (int i = 1; i < argc; ++i) {
-      if (std::strcmp(argv[i], "--force") != 0 &&
-          std::strcmp(argv[i], "--resume") != 0)
+      if (std::strcmp(argv[i], "--force") != 0 && std::strcmp(argv[i], "--resume") != 0)
         command_line += std::string(" ") + argv[i];
     }
     InstallResumeHint(command_line);
     const gen::GenerateSummary summary = gen::GenerateCollection(plan, options);
     if (!quiet) {
       const double per_frame =
-          summary.frames_rendered > 0
-              ? summary.total_seconds / summary.frames_rendered
-              : 0;
-      std::cerr << "lsds generate: " << summary.frames_rendered
-                << " frames rendered, " << summary.frames_skipped << " kept, "
-                << summary.total_seconds << " s (" << per_frame
-                << " s/frame: render " << summary.render_seconds << " s, write "
+          summary.frames_rendered > 0 ? summary.total_seconds / summary.frames_rendered : 0;
+      std::cerr << "lsds generate: " << summary.frames_rendered << " frames rendered, "
+                << summary.frames_skipped << " kept, " << summary.total_seconds << " s ("
+                << per_frame << " s/frame: render " << summary.render_seconds << " s, write "
                 << summary.write_seconds << " s, "
-                << (summary.render_seconds > 0
-                        ? summary.rays / summary.render_seconds / 1e6
-                        : 0)
+                << (summary.render_seconds > 0 ? summary.rays / summary.render_seconds / 1e6 : 0)
                 << " Mrays/s) -> " << options.output.string() << "\n";
     }
     return kExitOk;

@@ -23,8 +23,7 @@ int RunImport(int argc, char** argv) {
   bool force = false;
   app.add_option("FORMAT", format, "source format")->required();
   app.add_option("SOURCE", source, "the simulator's output folder")->required();
-  app.add_option("-o,--output", output, "the collection folder to write")
-      ->required();
+  app.add_option("-o,--output", output, "the collection folder to write")->required();
   app.add_option("--objects",
                  objects,
                  "sidecar with the objects' classes, ids and 3D boxes "
@@ -50,8 +49,7 @@ int RunImport(int argc, char** argv) {
     const import::ImportResult result =
         import::ImportCollection(format, source, output, options, force);
     std::cout << "imported " << result.frames << " frames, " << result.objects
-              << " object entries from " << source << " (" << format << ") to "
-              << output << "\n";
+              << " object entries from " << source << " (" << format << ") to " << output << "\n";
     return 0;
   });
 }

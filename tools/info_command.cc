@@ -8,14 +8,11 @@
 namespace lsds {
 
 int RunInfo(int argc, char** argv) {
-  CLI::App app(
-      "Summarize a collection: frames, layers, classes, cameras, units, size.",
-      "lsds info");
+  CLI::App app("Summarize a collection: frames, layers, classes, cameras, units, size.",
+               "lsds info");
   std::string collection;
   bool json = false;
-  app.add_option(
-         "COLLECTION", collection, "collection folder (holds collection.json)")
-      ->required();
+  app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_flag("--json", json, "print the summary as JSON");
   return RunCommand(app, argc, argv, [&] {
     const CollectionReader reader(collection);

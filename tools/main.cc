@@ -10,15 +10,13 @@
 namespace {
 
 void PrintHelp() {
-  std::cout << "lsds " << LSDS_VERSION
-            << ": simulated datasets for AI/ML and UAV imagery\n\n"
+  std::cout << "lsds " << LSDS_VERSION << ": simulated datasets for AI/ML and UAV imagery\n\n"
             << "usage: lsds COMMAND [ARGS...]   (lsds COMMAND --help for its "
                "options)\n\ncommands:\n";
   for (const lsds::Command& command : lsds::Commands()) {
     std::cout << "  " << command.name
-              << std::string(18 - std::min<size_t>(17, command.name.size()),
-                             ' ')
-              << command.summary << "\n";
+              << std::string(18 - std::min<size_t>(17, command.name.size()), ' ') << command.summary
+              << "\n";
   }
   std::cout << "\nexit codes: 0 success, 1 findings at or above the failure "
                "level, 2 bad usage or unreadable input, 70 internal error (a "
@@ -39,11 +37,10 @@ int main(int argc, char** argv) {
   try {
     return Dispatch(argc, argv);
   } catch (const std::exception& e) {
-    std::cerr << "lsds: internal error: " << e.what() << "; "
-              << lsds::InternalErrorAdvice() << "\n";
+    std::cerr << "lsds: internal error: " << e.what() << "; " << lsds::InternalErrorAdvice()
+              << "\n";
   } catch (...) {
-    std::cerr << "lsds: internal error: unknown exception; "
-              << lsds::InternalErrorAdvice() << "\n";
+    std::cerr << "lsds: internal error: unknown exception; " << lsds::InternalErrorAdvice() << "\n";
   }
   return lsds::kExitInternal;
 }
@@ -78,8 +75,7 @@ int Dispatch(int argc, char** argv) {
     if (command.name == name) return command.run(argc - 1, argv + 1);
     names.push_back(command.name);
   }
-  std::cerr << "lsds: error: unknown command '" << name << "'"
-            << lsds::DidYouMean(name, names)
+  std::cerr << "lsds: error: unknown command '" << name << "'" << lsds::DidYouMean(name, names)
             << "; run 'lsds help' for the list\n";
   return lsds::kExitUsage;
 }

@@ -19,10 +19,8 @@ int RunMerge(int argc, char** argv) {
   std::vector<std::string> shards;
   std::string output;
   bool quiet = false;
-  app.add_option("SHARD_DIR", shards, "shard collections, any order")
-      ->required();
-  app.add_option("-o,--output", output, "the merged collection folder")
-      ->required();
+  app.add_option("SHARD_DIR", shards, "shard collections, any order")->required();
+  app.add_option("-o,--output", output, "the merged collection folder")->required();
   app.add_flag("--force", options.force, "replace an existing output folder");
   app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
   return RunCommand(app, argc, argv, [&]() {
@@ -36,9 +34,8 @@ int RunMerge(int argc, char** argv) {
     options.progress = !quiet;
     const MergeSummary summary = MergeShards(options);
     if (!quiet) {
-      std::cerr << "lsds merge: " << summary.shards << " shards, "
-                << summary.frames << " frames, " << summary.files
-                << " layer files (" << summary.bytes / 1e6 << " MB) in "
+      std::cerr << "lsds merge: " << summary.shards << " shards, " << summary.frames << " frames, "
+                << summary.files << " layer files (" << summary.bytes / 1e6 << " MB) in "
                 << summary.seconds << " s -> " << output << "\n";
     }
     return kExitOk;

@@ -23,15 +23,14 @@ int RunMergeReports(int argc, char** argv) {
   std::vector<std::string> partials;
   std::string format = "text", output, fail_on = "error";
   bool force = false;
-  app.add_option("PARTIAL", partials,
-                 "partial reports (lsds validate --shard I/N -o FILE), any order")
+  app.add_option(
+         "PARTIAL", partials, "partial reports (lsds validate --shard I/N -o FILE), any order")
       ->required();
   app.add_option("--format", format, "report format")
       ->check(CLI::IsMember({"text", "json", "junit"}));
-  app.add_option("-o,--output", output,
-                 "write the report to this file (atomically) instead of stdout");
-  app.add_option("--fail-on", fail_on,
-                 "lowest severity that makes the run fail (exit 1)")
+  app.add_option(
+      "-o,--output", output, "write the report to this file (atomically) instead of stdout");
+  app.add_option("--fail-on", fail_on, "lowest severity that makes the run fail (exit 1)")
       ->check(CLI::IsMember({"error", "warning", "info"}));
   app.add_flag("--force", force, "overwrite an existing report file");
   return RunCommand(app, argc, argv, [&] {
@@ -40,8 +39,7 @@ int RunMergeReports(int argc, char** argv) {
     std::vector<std::filesystem::path> files(partials.begin(), partials.end());
     if (!output.empty()) {
       OutputGuard guard("lsds merge-reports");
-      for (const std::filesystem::path& file : files)
-        guard.AddInput(file, "partial report");
+      for (const std::filesystem::path& file : files) guard.AddInput(file, "partial report");
       guard.CheckOutput(output, "-o");
       RefuseToOverwrite(output, force, "report");
     }

@@ -16,18 +16,15 @@ namespace {
 
 using noise::Field;
 
-std::vector<double> ParseNumbers(const std::string& text,
-                                 const std::string& flag) {
+std::vector<double> ParseNumbers(const std::string& text, const std::string& flag) {
   std::vector<double> numbers;
   for (const std::string& part : Split(text, ',')) {
     const char* begin = part.c_str();
     char* end = nullptr;
     errno = 0;
     const double value = std::strtod(begin, &end);
-    if (part.empty() || end == begin || *end != '\0' || errno == ERANGE ||
-        !std::isfinite(value)) {
-      throw Error(flag + ": '" + part + "' is not a number (in '" + text +
-                  "')");
+    if (part.empty() || end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(value)) {
+      throw Error(flag + ": '" + part + "' is not a number (in '" + text + "')");
     }
     numbers.push_back(value);
   }
@@ -43,18 +40,15 @@ void SetFields(std::array<double, noise::kFieldCount>* values,
                const std::string& flag) {
   const std::vector<double> numbers = ParseNumbers(text, flag);
   if (numbers.size() != 1 && static_cast<int>(numbers.size()) != count) {
-    throw Error(flag + ": expected 1" +
-                (count > 1 ? " or " + std::to_string(count) : "") +
-                " value(s), got " + std::to_string(numbers.size()) + " in '" +
-                text + "'");
+    throw Error(flag + ": expected 1" + (count > 1 ? " or " + std::to_string(count) : "") +
+                " value(s), got " + std::to_string(numbers.size()) + " in '" + text + "'");
   }
   for (int i = 0; i < count; ++i)
     (*values)[first + i] = numbers.size() == 1 ? numbers[0] : numbers[i];
 }
 
 // --bias FIELD=VALUE[,VALUE...]
-void ParseBias(const std::string& text,
-               std::array<double, noise::kFieldCount>* bias) {
+void ParseBias(const std::string& text, std::array<double, noise::kFieldCount>* bias) {
   struct Target {
     const char* name;
     int first;
@@ -75,17 +69,13 @@ void ParseBias(const std::string& text,
   std::vector<std::string> names;
   for (const Target& target : targets) names.push_back(target.name);
   if (equals == std::string::npos) {
-    throw Error("--bias: expected FIELD=VALUE (FIELD one of " +
-                Join(names, ", ") + "), got '" + text + "'");
+    throw Error("--bias: expected FIELD=VALUE (FIELD one of " + Join(names, ", ") + "), got '" +
+                text + "'");
   }
   const std::string name = text.substr(0, equals);
   for (const Target& target : targets) {
     if (name == target.name) {
-      SetFields(bias,
-                target.first,
-                target.count,
-                text.substr(equals + 1),
-                "--bias " + name);
+      SetFields(bias, target.first, target.count, text.substr(equals + 1), "--bias " + name);
       return;
     }
   }
@@ -103,50 +93,38 @@ int RunPerturbMetadata(int argc, char** argv) {
       "See "
       "docs/perturb-metadata.md.",
       "lsds perturb-metadata");
-  std::string collection, output, sigma, sigma_rot, model = "gaussian",
-                                                    report_path;
+  std::string collection, output, sigma, sigma_rot, model = "gaussian", report_path;
   std::vector<std::string> biases;
   double sigma_pos = -1, sigma_alt = -1, sigma_time = 0, sigma_fov = 0, tau = 0;
   uint64_t seed = 0;
   bool force = false;
-  app.add_option(
-         "COLLECTION", collection, "collection folder (holds collection.json)")
-      ->required();
+  app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("--sigma",
                  sigma,
                  "POS_M[,ROT_DEG]: position sigma (horizontal and vertical) in "
                  "metres and attitude "
                  "sigma (every axis) in degrees; the flags below override it");
   auto* pos_flag = app.add_option(
-      "--sigma-pos",
-      sigma_pos,
-      "horizontal position sigma per axis (east, north), metres");
-  auto* alt_flag = app.add_option(
-      "--sigma-alt", sigma_alt, "vertical position sigma (up), metres");
-  app.add_option("--sigma-rot",
-                 sigma_rot,
-                 "attitude sigma in degrees: S (every axis) or ROLL,PITCH,YAW");
-  auto* time_flag =
-      app.add_option("--sigma-time", sigma_time, "time-stamp sigma, seconds");
-  auto* fov_flag = app.add_option(
-      "--sigma-fov", sigma_fov, "horizontal field-of-view sigma, degrees");
+      "--sigma-pos", sigma_pos, "horizontal position sigma per axis (east, north), metres");
+  auto* alt_flag = app.add_option("--sigma-alt", sigma_alt, "vertical position sigma (up), metres");
+  app.add_option(
+      "--sigma-rot", sigma_rot, "attitude sigma in degrees: S (every axis) or ROLL,PITCH,YAW");
+  auto* time_flag = app.add_option("--sigma-time", sigma_time, "time-stamp sigma, seconds");
+  auto* fov_flag =
+      app.add_option("--sigma-fov", sigma_fov, "horizontal field-of-view sigma, degrees");
   app.add_option("--bias",
                  biases,
                  "constant error FIELD=VALUE[,...], repeatable; FIELD: pos "
                  "(E[,N] m), alt (m), rot "
                  "(S or R,P,Y deg), time (s), fov (deg), east, north, up, "
                  "roll, pitch, yaw")
-      ->expected(
-          1)  // one value per --bias, so a following COLLECTION is not taken
+      ->expected(1)  // one value per --bias, so a following COLLECTION is not taken
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  app.add_option(
-         "--model", model, "noise model: gaussian | uniform | gauss-markov")
+  app.add_option("--model", model, "noise model: gaussian | uniform | gauss-markov")
       ->capture_default_str();
   app.add_option("--tau", tau, "gauss-markov correlation time, seconds");
-  app.add_option("--seed",
-                 seed,
-                 "random seed; the same seed gives a byte-identical output")
+  app.add_option("--seed", seed, "random seed; the same seed gives a byte-identical output")
       ->required();
   app.add_option("-o,--output",
                  output,
@@ -154,12 +132,11 @@ int RunPerturbMetadata(int argc, char** argv) {
                  "COLLECTION/metadata.perturbed-<seed>.json)");
   app.add_flag("--force", force, "overwrite an existing output and report");
   auto* report_flag =
-      app.add_option(
-             "--report",
-             report_path,
-             "measure how far the targets' projected OBB corners move (pixels) "
-             "and write "
-             "the per-frame report (default: the output with .report.json)")
+      app.add_option("--report",
+                     report_path,
+                     "measure how far the targets' projected OBB corners move (pixels) "
+                     "and write "
+                     "the per-frame report (default: the output with .report.json)")
           ->expected(0, 1);
   return RunCommand(app, argc, argv, [&] {
     noise::PerturbOptions options;
@@ -175,26 +152,20 @@ int RunPerturbMetadata(int argc, char** argv) {
     bool any_noise = !biases.empty();
     if (!sigma.empty()) {
       const std::vector<double> values = ParseNumbers(sigma, "--sigma");
-      if (values.size() > 2)
-        throw Error("--sigma: expected POS_M[,ROT_DEG], got '" + sigma + "'");
-      spec.sigma[noise::kEast] = spec.sigma[noise::kNorth] =
-          spec.sigma[noise::kUp] = values[0];
+      if (values.size() > 2) throw Error("--sigma: expected POS_M[,ROT_DEG], got '" + sigma + "'");
+      spec.sigma[noise::kEast] = spec.sigma[noise::kNorth] = spec.sigma[noise::kUp] = values[0];
       if (values.size() == 2) {
-        spec.sigma[noise::kRoll] = spec.sigma[noise::kPitch] =
-            spec.sigma[noise::kYaw] = values[1];
+        spec.sigma[noise::kRoll] = spec.sigma[noise::kPitch] = spec.sigma[noise::kYaw] = values[1];
       }
       any_noise = true;
     }
-    if (pos_flag->count() > 0)
-      spec.sigma[noise::kEast] = spec.sigma[noise::kNorth] = sigma_pos;
+    if (pos_flag->count() > 0) spec.sigma[noise::kEast] = spec.sigma[noise::kNorth] = sigma_pos;
     if (alt_flag->count() > 0) spec.sigma[noise::kUp] = sigma_alt;
-    if (!sigma_rot.empty())
-      SetFields(&spec.sigma, noise::kRoll, 3, sigma_rot, "--sigma-rot");
+    if (!sigma_rot.empty()) SetFields(&spec.sigma, noise::kRoll, 3, sigma_rot, "--sigma-rot");
     if (time_flag->count() > 0) spec.sigma[noise::kTime] = sigma_time;
     if (fov_flag->count() > 0) spec.sigma[noise::kHfov] = sigma_fov;
-    any_noise = any_noise || pos_flag->count() > 0 || alt_flag->count() > 0 ||
-                !sigma_rot.empty() || time_flag->count() > 0 ||
-                fov_flag->count() > 0;
+    any_noise = any_noise || pos_flag->count() > 0 || alt_flag->count() > 0 || !sigma_rot.empty() ||
+                time_flag->count() > 0 || fov_flag->count() > 0;
     for (const std::string& bias : biases) ParseBias(bias, &spec.bias);
     if (!any_noise) {
       throw Error(
@@ -204,27 +175,25 @@ int RunPerturbMetadata(int argc, char** argv) {
     const noise::PerturbResult result = noise::PerturbCollection(options);
     const nlohmann::json& position = result.summary["position_m"];
     const nlohmann::json& rotation = result.summary["rotation_deg"];
-    std::cout << "wrote " << result.output.string() << ": " << result.frames
-              << " frames, " << spec.Describe() << "\n"
-              << "  position error rms " << position["rms"].get<double>()
-              << " m (max " << position["max_abs"].get<double>()
-              << "), rotation error rms " << rotation["rms"].get<double>()
-              << " deg (max " << rotation["max_abs"].get<double>() << ")\n";
+    std::cout << "wrote " << result.output.string() << ": " << result.frames << " frames, "
+              << spec.Describe() << "\n"
+              << "  position error rms " << position["rms"].get<double>() << " m (max "
+              << position["max_abs"].get<double>() << "), rotation error rms "
+              << rotation["rms"].get<double>() << " deg (max " << rotation["max_abs"].get<double>()
+              << ")\n";
     if (result.registered_as.empty()) {
       std::cout << "  not registered in collection.json: the output is outside "
                    "the collection\n";
     } else {
-      std::cout << "  registered in collection.json as metadata variant '"
-                << result.registered_as << "'\n";
+      std::cout << "  registered in collection.json as metadata variant '" << result.registered_as
+                << "'\n";
     }
     if (result.report_summary) {
       const nlohmann::json& r = *result.report_summary;
-      std::cout << "report " << result.report->string() << ": "
-                << r["corners"].get<int64_t>() << " target corners in "
-                << r["frames_with_targets"].get<int64_t>()
-                << " frames moved mean " << r["mean_px"].get<double>()
-                << " px, p95 " << r["p95_px"].get<double>() << " px, max "
-                << r["max_px"].get<double>() << " px\n";
+      std::cout << "report " << result.report->string() << ": " << r["corners"].get<int64_t>()
+                << " target corners in " << r["frames_with_targets"].get<int64_t>()
+                << " frames moved mean " << r["mean_px"].get<double>() << " px, p95 "
+                << r["p95_px"].get<double>() << " px, max " << r["max_px"].get<double>() << " px\n";
     }
     return 0;
   });

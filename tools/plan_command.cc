@@ -21,23 +21,15 @@ int RunPlan(int argc, char** argv) {
   std::string scene, capture, output, frames;
   uint64_t seed = 0;
   bool emit_json = false, force = false;
-  app.add_option("SCENE", scene, "LSCENE file (text notation or .json)")
-      ->required();
+  app.add_option("SCENE", scene, "LSCENE file (text notation or .json)")->required();
   app.add_option(
-      "CAPTURE",
-      capture,
-      "LCAP file (text notation or .json); default: one nadir frame");
-  app.add_option("-o,--output",
-                 output,
-                 "write the plan (or the JSON form) here instead of stdout");
-  app.add_option("--seed",
-                 seed,
-                 "random seed (same files + seed = same plan, byte for byte)");
+      "CAPTURE", capture, "LCAP file (text notation or .json); default: one nadir frame");
+  app.add_option("-o,--output", output, "write the plan (or the JSON form) here instead of stdout");
+  app.add_option("--seed", seed, "random seed (same files + seed = same plan, byte for byte)");
   AddFramesOption(app, &frames);
-  app.add_flag(
-      "--emit-json",
-      emit_json,
-      "print the JSON form of the scene (and capture) instead of the plan");
+  app.add_flag("--emit-json",
+               emit_json,
+               "print the JSON form of the scene (and capture) instead of the plan");
   app.add_flag("--force", force, "overwrite the output file");
   return RunCommand(app, argc, argv, [&] {
     // What the inputs are first: `lsds plan DIR` is told DIR is a folder.
@@ -51,17 +43,15 @@ int RunPlan(int argc, char** argv) {
     std::string text;
     if (emit_json) {
       const SourceFile s = LoadSource(scene);
-      for (const std::string& w : s.warnings)
-        std::cerr << "lsds plan: warning: " << w << "\n";
+      for (const std::string& w : s.warnings) std::cerr << "lsds plan: warning: " << w << "\n";
       if (capture.empty()) {
         text = SourceToJson(s).dump(2);
       } else {
         const SourceFile c = LoadSource(capture);
-        for (const std::string& w : c.warnings)
-          std::cerr << "lsds plan: warning: " << w << "\n";
-        text = nlohmann::ordered_json{{"scene", SourceToJson(s)},
-                                      {"capture", SourceToJson(c)}}
-                   .dump(2);
+        for (const std::string& w : c.warnings) std::cerr << "lsds plan: warning: " << w << "\n";
+        text =
+            nlohmann::ordered_json{{"scene", SourceToJson(s)}, {"capture", SourceToJson(c)}}.dump(
+                2);
       }
     } else {
       std::optional<FrameSelection> selection;

@@ -24,40 +24,28 @@ int RunReport(int argc, char** argv) {
       "distributions, validation summary (docs/report.md).",
       "lsds report");
   report::ReportOptions options;
-  std::string collection, output, frames, validation_report, bundle_stats,
-      tonemap = "clamp";
+  std::string collection, output, frames, validation_report, bundle_stats, tonemap = "clamp";
   bool validate = false;
-  app.add_option(
-         "COLLECTION", collection, "collection folder (holds collection.json)")
-      ->required();
-  app.add_option("-o,--output", output, "the HTML file (written atomically)")
-      ->required();
+  app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
+  app.add_option("-o,--output", output, "the HTML file (written atomically)")->required();
   AddFramesOption(app, &frames);
-  app.add_option("--sample",
-                 options.sample,
-                 "frames on the contact sheet, spread evenly")
+  app.add_option("--sample", options.sample, "frames on the contact sheet, spread evenly")
       ->capture_default_str()
       ->check(CLI::Range(size_t{1}, size_t{10000}));
-  app.add_option("--layer-frames",
-                 options.layer_frames,
-                 "of those, frames shown with every layer")
+  app.add_option("--layer-frames", options.layer_frames, "of those, frames shown with every layer")
       ->capture_default_str();
-  app.add_option("--thumb-width",
-                 options.thumb_width,
-                 "contact sheet image width in px (never upscaled)")
+  app.add_option(
+         "--thumb-width", options.thumb_width, "contact sheet image width in px (never upscaled)")
       ->capture_default_str()
       ->check(CLI::Range(16, 4096));
-  app.add_option("--layer-width",
-                 options.layer_width,
-                 "layer image width in px (never upscaled)")
+  app.add_option("--layer-width", options.layer_width, "layer image width in px (never upscaled)")
       ->capture_default_str()
       ->check(CLI::Range(16, 4096));
   app.add_option("--exposure",
                  options.display.exposure_ev,
                  "exposure in EV for the colour images: linear * 2^EV")
       ->capture_default_str();
-  app.add_option("--tonemap", tonemap, "clamp or reinhard")
-      ->capture_default_str();
+  app.add_option("--tonemap", tonemap, "clamp or reinhard")->capture_default_str();
   app.add_flag("--validate",
                validate,
                "run lsds validate (all checks) and add its summary, with links "
@@ -76,12 +64,10 @@ int RunReport(int argc, char** argv) {
                   Location("--validation-report"));
     }
     if (!imaging::ParseToneMap(tonemap, &options.display.tonemap)) {
-      throw Error("expected clamp or reinhard, got '" + tonemap + "'",
-                  Location("--tonemap"));
+      throw Error("expected clamp or reinhard, got '" + tonemap + "'", Location("--tonemap"));
     }
     if (!frames.empty()) {
-      const FrameSelection selection =
-          SelectCollectionFrames(frames, collection);
+      const FrameSelection selection = SelectCollectionFrames(frames, collection);
       options.frame_begin = selection.begin;
       options.frame_end = selection.end;
     }
@@ -101,8 +87,7 @@ int RunReport(int argc, char** argv) {
       try {
         options.bundle_stats = nlohmann::json::parse(ReadFile(bundle_stats));
       } catch (const nlohmann::json::exception& e) {
-        throw Error(std::string("not JSON: ") + e.what(),
-                    Location(bundle_stats));
+        throw Error(std::string("not JSON: ") + e.what(), Location(bundle_stats));
       }
       report::CheckBundleStats(options.bundle_stats, bundle_stats);
     }
@@ -110,8 +95,7 @@ int RunReport(int argc, char** argv) {
       try {
         options.validation = nlohmann::json::parse(ReadFile(validation_report));
       } catch (const nlohmann::json::exception& e) {
-        throw Error(std::string("not JSON: ") + e.what(),
-                    Location(validation_report));
+        throw Error(std::string("not JSON: ") + e.what(), Location(validation_report));
       }
       if (!options.validation.is_object() ||
           options.validation.value("format", "") != "lsds-validate-report") {
@@ -123,17 +107,13 @@ int RunReport(int argc, char** argv) {
     } else if (validate) {
       validate::ValidateOptions validate_options;
       validate_options.progress = true;
-      const validate::Report result =
-          validate::ValidateCollection(collection, validate_options);
-      options.validation =
-          validate::ReportToJson(result, validate::Severity::kError);
-      std::cerr << validate::Verdict(result, validate::Severity::kError)
-                << "\n";
+      const validate::Report result = validate::ValidateCollection(collection, validate_options);
+      options.validation = validate::ReportToJson(result, validate::Severity::kError);
+      std::cerr << validate::Verdict(result, validate::Severity::kError) << "\n";
     }
     const report::ReportResult result = report::WriteReport(options);
-    std::cout << "wrote " << output << " (" << result.frames << " frames, "
-              << result.sampled << " on the contact sheet, "
-              << (result.bytes + 512) / 1024 << " KiB)\n";
+    std::cout << "wrote " << output << " (" << result.frames << " frames, " << result.sampled
+              << " on the contact sheet, " << (result.bytes + 512) / 1024 << " KiB)\n";
     return kExitOk;
   });
 }

@@ -13,15 +13,13 @@
 namespace lsds {
 
 CLI::Option* AddFramesOption(CLI::App& app, std::string* text) {
-  return app.add_option(
-      "--frames",
-      *text,
-      "frame indices: A:B (A to B-1), A: (A to the last), :B (the first to "
-      "B-1) or N (frame N alone)");
+  return app.add_option("--frames",
+                        *text,
+                        "frame indices: A:B (A to B-1), A: (A to the last), :B (the first to "
+                        "B-1) or N (frame N alone)");
 }
 
-CLI::Option* AddShardOption(CLI::App& app, std::string* text,
-                            const std::string& description) {
+CLI::Option* AddShardOption(CLI::App& app, std::string* text, const std::string& description) {
   return app.add_option("--shard", *text, description);
 }
 
@@ -35,8 +33,8 @@ void ParseShard(const std::string& text, int* index, int* count) {
   } catch (const std::exception&) {
     throw Error("--shard " + text + ": expected I/N, e.g. 0/4");
   }
-  if (used_i != parts[0].size() || used_n != parts[1].size() || *count < 1 ||
-      *index < 0 || *index >= *count) {
+  if (used_i != parts[0].size() || used_n != parts[1].size() || *count < 1 || *index < 0 ||
+      *index >= *count) {
     throw Error("--shard " + text + ": expected I/N with 0 <= I < N, e.g. 0/4");
   }
 }
@@ -55,16 +53,14 @@ void AddThreadsOption(CLI::App& app, int* threads, bool jobs_alias) {
 void WarnIfJobsUsed(const CLI::App& app) {
   const CLI::Option* jobs = app.get_option_no_throw("--jobs");
   if (jobs != nullptr && jobs->count() > 0) {
-    std::cerr << app.get_name()
-              << ": warning: --jobs is deprecated; use --threads\n";
+    std::cerr << app.get_name() << ": warning: --jobs is deprecated; use --threads\n";
   }
 }
 
 ThreadLimit::ThreadLimit(int threads) {
   if (threads > 0) {
-    control_ = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism,
-        static_cast<size_t>(threads));
+    control_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                     static_cast<size_t>(threads));
   }
 }
 
@@ -76,8 +72,7 @@ std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root) {
   indices.reserve(reader.frames_in_file());
   reader.ForEachFrameJson([&](const nlohmann::json& frame, const std::string&) {
     const auto it = frame.find("index");
-    if (it != frame.end() && it->is_number_integer())
-      indices.push_back(it->get<int64_t>());
+    if (it != frame.end() && it->is_number_integer()) indices.push_back(it->get<int64_t>());
   });
   // Indices are unique and increasing (docs/format.md); sorting keeps the
   // check meaningful on a collection that breaks that rule (validate names it).
@@ -85,12 +80,9 @@ std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root) {
   return indices;
 }
 
-FrameSelection SelectCollectionFrames(const std::string& text,
-                                      const std::filesystem::path& root) {
+FrameSelection SelectCollectionFrames(const std::string& text, const std::filesystem::path& root) {
   const FrameSelection selection = ParseFrameSelection(text);
-  CheckFrameSelection(selection,
-                      CollectionFrameIndices(root),
-                      "the collection " + root.string());
+  CheckFrameSelection(selection, CollectionFrameIndices(root), "the collection " + root.string());
   return selection;
 }
 
@@ -118,12 +110,10 @@ Plan PlanSelectedFrames(const std::string& scene,
   // Frames are planned independently, so the restricted plan holds exactly the
   // selected frames that exist; anything less means the selection reaches past
   // the plan.
-  const bool complete = selection->bounded()
-                            ? static_cast<int64_t>(plan.frames.size()) ==
-                                  selection->end - selection->begin
-                            : !plan.frames.empty();
-  if (!complete)
-    CheckPlanFrames(*selection, MakePlan(scene, capture_path, seed, {}));
+  const bool complete = selection->bounded() ? static_cast<int64_t>(plan.frames.size()) ==
+                                                   selection->end - selection->begin
+                                             : !plan.frames.empty();
+  if (!complete) CheckPlanFrames(*selection, MakePlan(scene, capture_path, seed, {}));
   return plan;
 }
 

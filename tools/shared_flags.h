@@ -27,8 +27,7 @@ void AddThreadsOption(CLI::App& app, int* threads, bool jobs_alias = false);
 void WarnIfJobsUsed(const CLI::App& app);
 
 // --shard I/N: the frames whose index % N == I (parse with ParseShard).
-CLI::Option* AddShardOption(CLI::App& app, std::string* text,
-                            const std::string& description);
+CLI::Option* AddShardOption(CLI::App& app, std::string* text, const std::string& description);
 
 // Parses --shard I/N: exit 2 unless 0 <= I < N.
 void ParseShard(const std::string& text, int* index, int* count);
@@ -48,8 +47,7 @@ std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root);
 
 // Parses --frames and checks it against the collection's frames: exit 2 naming
 // the valid range when it reaches outside them.
-FrameSelection SelectCollectionFrames(const std::string& text,
-                                      const std::filesystem::path& root);
+FrameSelection SelectCollectionFrames(const std::string& text, const std::filesystem::path& root);
 
 // Checks --frames against the frames of a full plan.
 void CheckPlanFrames(const FrameSelection& selection, const Plan& plan);

@@ -47,17 +47,12 @@ int RunSubmit(int argc, char** argv) {
   std::string depth;
   SlurmJob job;
   bool submit = false, wait = false, force = false;
-  app.add_option("SCHEDULER", scheduler, "slurm (the only one so far)")
-      ->required();
+  app.add_option("SCHEDULER", scheduler, "slurm (the only one so far)")->required();
   app.add_option("SCENE", scene, "LSCENE file (text or JSON)")->required();
   app.add_option("CAPTURE", capture, "LCAP file (text or JSON)");
-  app.add_option("-o,--output", output, "the merged collection folder")
-      ->required();
-  app.add_option("--shards", job.shards, "N: tasks of the array (>= 2)")
-      ->required();
-  app.add_option("--work-dir",
-                 work,
-                 "shards, logs and scripts (default: OUT.shards beside OUT)");
+  app.add_option("-o,--output", output, "the merged collection folder")->required();
+  app.add_option("--shards", job.shards, "N: tasks of the array (>= 2)")->required();
+  app.add_option("--work-dir", work, "shards, logs and scripts (default: OUT.shards beside OUT)");
   app.add_option("--seed", seed, "random seed (as lsds generate)");
   app.add_option("--spp", spp, "samples per pixel (as lsds generate)");
   AddFramesOption(app, &frames);
@@ -65,16 +60,11 @@ int RunSubmit(int argc, char** argv) {
   app.add_option("--partition", job.partition, "Slurm partition");
   app.add_option("--account", job.account, "Slurm account");
   app.add_option("--time", job.time, "time limit per task, e.g. 2:00:00");
-  app.add_option("--cpus-per-task",
-                 job.cpus_per_task,
-                 "CPUs per task (its render threads)");
+  app.add_option("--cpus-per-task", job.cpus_per_task, "CPUs per task (its render threads)");
   app.add_option("--mem", job.mem, "memory per task, e.g. 8G");
-  app.add_option(
-      "--throttle", job.throttle, "at most K tasks run at once (array %K)");
+  app.add_option("--throttle", job.throttle, "at most K tasks run at once (array %K)");
   app.add_option("--job-name", job.job_name, "job name prefix (default lsds)");
-  app.add_option("--lsds",
-                 lsds_binary,
-                 "the lsds binary the jobs run (default: this one)");
+  app.add_option("--lsds", lsds_binary, "the lsds binary the jobs run (default: this one)");
   app.add_flag("--submit", submit, "submit with sbatch after writing");
   app.add_flag("--wait",
                wait,
@@ -91,13 +81,11 @@ int RunSubmit(int argc, char** argv) {
                   "Indexed Job)");
     if (wait && !submit) throw Error("--wait needs --submit");
     job.scene = fs::absolute(scene).lexically_normal();
-    if (!capture.empty())
-      job.capture = fs::absolute(capture).lexically_normal();
+    if (!capture.empty()) job.capture = fs::absolute(capture).lexically_normal();
     job.output = fs::absolute(output).lexically_normal();
     job.work = work.empty() ? fs::path(job.output.string() + ".shards")
                             : fs::absolute(work).lexically_normal();
-    job.lsds = lsds_binary.empty() ? fs::read_symlink("/proc/self/exe")
-                                   : fs::absolute(lsds_binary);
+    job.lsds = lsds_binary.empty() ? fs::read_symlink("/proc/self/exe") : fs::absolute(lsds_binary);
     job.seed = seed;
     job.spp = spp;
     job.frames = frames;
@@ -108,12 +96,10 @@ int RunSubmit(int argc, char** argv) {
     // not in every task on the cluster.
     std::optional<FrameSelection> selection;
     if (!frames.empty()) selection = ParseFrameSelection(frames);
-    const Plan plan =
-        PlanSelectedFrames(scene, capture, seed.value_or(0), selection);
+    const Plan plan = PlanSelectedFrames(scene, capture, seed.value_or(0), selection);
     if (static_cast<int64_t>(plan.frames.size()) < job.shards)
       throw Error("--shards " + std::to_string(job.shards) + ": the run has " +
-                  std::to_string(plan.frames.size()) +
-                  " frames; every shard needs at least one");
+                  std::to_string(plan.frames.size()) + " frames; every shard needs at least one");
     OutputGuard guard("lsds submit");
     guard.AddInput(scene, "scene file");
     guard.AddInput(capture, "capture file");
@@ -126,21 +112,17 @@ int RunSubmit(int argc, char** argv) {
     WriteScript(job.work / "generate.sbatch", scripts.generate, force);
     WriteScript(job.work / "merge.sbatch", scripts.merge, force);
     WriteScript(job.work / "submit.sh", scripts.submit, force);
-    std::cerr << "lsds submit: " << plan.frames.size() << " frames in "
-              << job.shards << " shards; scripts in " << job.work.string()
-              << "\n";
+    std::cerr << "lsds submit: " << plan.frames.size() << " frames in " << job.shards
+              << " shards; scripts in " << job.work.string() << "\n";
     if (!submit) {
-      std::cerr << "submit with: sh "
-                << ShellQuote((job.work / "submit.sh").string()) << "\n";
+      std::cerr << "submit with: sh " << ShellQuote((job.work / "submit.sh").string()) << "\n";
       return kExitOk;
     }
     if (std::system("command -v sbatch >/dev/null 2>&1") != 0)
       throw Error("sbatch not found on PATH: submit from a Slurm login node");
     std::cout.flush();
-    const int status =
-        std::system(("sh " + ShellQuote((job.work / "submit.sh").string()) +
-                     (wait ? " --wait" : ""))
-                        .c_str());
+    const int status = std::system(
+        ("sh " + ShellQuote((job.work / "submit.sh").string()) + (wait ? " --wait" : "")).c_str());
     bool ok = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
     // sbatch --wait exits 0 for a merge that Slurm cancelled because a task
     // failed (its exit code is 0:0): success is the merged collection.
@@ -153,8 +135,7 @@ int RunSubmit(int argc, char** argv) {
                 << "; logs in " << (job.work / "logs").string() << "\n";
       return wait ? kExitFindings : kExitUsage;
     }
-    if (wait)
-      std::cerr << "lsds submit: merged -> " << job.output.string() << "\n";
+    if (wait) std::cerr << "lsds submit: merged -> " << job.output.string() << "\n";
     return kExitOk;
   });
 }

@@ -38,9 +38,7 @@ int RunSynth(int argc, char** argv) {
   int threads = 0;
   AddThreadsOption(app, &threads);
   app.add_option("--size", size, "image size WIDTHxHEIGHT");
-  app.add_option("--samples-per-axis",
-                 samples_per_axis,
-                 "bundle samples per pixel = N*N")
+  app.add_option("--samples-per-axis", samples_per_axis, "bundle samples per pixel = N*N")
       ->check(CLI::Range(1, 16));
   app.add_option("--depth", depth, "declared depth kind")
       ->check(CLI::IsMember({"planar", "perspective"}));
@@ -55,10 +53,9 @@ int RunSynth(int argc, char** argv) {
     }
     const ThreadLimit thread_limit(threads);
     int width = 0, height = 0;
-    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 ||
-        height < 1 || width > 16384 || height > 16384) {
-      throw Error("--size must be WIDTHxHEIGHT, e.g. 640x480, got '" + size +
-                  "'");
+    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 || height < 1 ||
+        width > 16384 || height > 16384) {
+      throw Error("--size must be WIDTHxHEIGHT, e.g. 640x480, got '" + size + "'");
     }
     synth::Spec spec = synth::CircleSpec(frames, width, height);
     spec.samples_per_axis = samples_per_axis;
@@ -66,8 +63,8 @@ int RunSynth(int argc, char** argv) {
     AtomicDirectory output(out, force);
     synth::WriteCollection(output.temp_path(), spec);
     output.Commit();
-    std::cout << "wrote " << frames << " frames (" << width << "x" << height
-              << ") to " << out << "\n";
+    std::cout << "wrote " << frames << " frames (" << width << "x" << height << ") to " << out
+              << "\n";
     return 0;
   });
 }

@@ -23,42 +23,33 @@ int RunValidate(int argc, char** argv) {
       "otherwise, 2 when the "
       "input cannot be read as a collection.",
       "lsds validate");
-  std::string collection, format = "text", output, fail_on = "error",
-                          checks = "all";
+  std::string collection, format = "text", output, fail_on = "error", checks = "all";
   int jobs = 0;
   size_t max_examples = 20;
   bool force = false;
-  app.add_option(
-         "COLLECTION", collection, "collection folder (holds collection.json)")
-      ->required();
+  app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("--format", format, "report format")
       ->check(CLI::IsMember({"text", "json", "junit"}));
   app.add_option(
-      "-o,--output",
-      output,
-      "write the report to this file (atomically) instead of stdout");
-  app.add_option("--fail-on",
-                 fail_on,
-                 "lowest severity that makes the run fail (exit 1)")
+      "-o,--output", output, "write the report to this file (atomically) instead of stdout");
+  app.add_option("--fail-on", fail_on, "lowest severity that makes the run fail (exit 1)")
       ->check(CLI::IsMember({"error", "warning", "info"}));
-  app.add_option(
-      "--checks",
-      checks,
-      "comma-separated check ids or groups (schema, structure, layer, "
-      "cross, camera, stats), or all; -ID excludes one (all,-camera; a list "
-      "that starts with -ID means all but it); default all");
+  app.add_option("--checks",
+                 checks,
+                 "comma-separated check ids or groups (schema, structure, layer, "
+                 "cross, camera, stats), or all; -ID excludes one (all,-camera; a list "
+                 "that starts with -ID means all but it); default all");
   AddThreadsOption(app, &jobs, /*jobs_alias=*/true);
-  app.add_option("--max-examples",
-                 max_examples,
-                 "findings kept and shown per check (all are counted)")
+  app.add_option(
+         "--max-examples", max_examples, "findings kept and shown per check (all are counted)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--force", force, "overwrite an existing report file");
   std::string shard;
-  AddShardOption(
-      app, &shard,
-      "check only the frames whose index % N == I (I/N) and write a "
-          "partial report to -o; lsds merge-reports joins the N partial "
-          "reports into the report of a single run");
+  AddShardOption(app,
+                 &shard,
+                 "check only the frames whose index % N == I (I/N) and write a "
+                 "partial report to -o; lsds merge-reports joins the N partial "
+                 "reports into the report of a single run");
   return RunCommand(app, argc, argv, [&] {
     WarnIfJobsUsed(app);
     validate::Severity threshold;
@@ -74,18 +65,15 @@ int RunValidate(int argc, char** argv) {
     if (!output.empty()) RefuseToOverwrite(output, force, "report");
     if (!shard.empty()) {
       ParseShard(shard, &options.shard_index, &options.shard_count);
-      if (output.empty())
-        throw Error("--shard writes a partial report: give its file with -o");
+      if (output.empty()) throw Error("--shard writes a partial report: give its file with -o");
       if (app.count("--format") > 0)
-        throw Error("--shard writes a partial report (JSON); --format applies "
-                    "to lsds merge-reports");
-      const validate::PartialReport partial =
-          validate::ValidateShard(collection, options);
-      WriteFileAtomic(output,
-                      validate::PartialReportToJson(partial).dump(1) + "\n");
-      std::cerr << "lsds validate: shard " << shard << ": "
-                << partial.report.frames << " frame(s) checked -> " << output
-                << " (lsds merge-reports gives the verdict)\n";
+        throw Error(
+            "--shard writes a partial report (JSON); --format applies "
+            "to lsds merge-reports");
+      const validate::PartialReport partial = validate::ValidateShard(collection, options);
+      WriteFileAtomic(output, validate::PartialReportToJson(partial).dump(1) + "\n");
+      std::cerr << "lsds validate: shard " << shard << ": " << partial.report.frames
+                << " frame(s) checked -> " << output << " (lsds merge-reports gives the verdict)\n";
       // The shard's job is done: the verdict needs every shard (exit 0 lets
       // the merge job of a Slurm array run).
       return kExitOk;
@@ -98,16 +86,15 @@ int RunValidate(int argc, char** argv) {
       // CI reads the JUnit file whatever the exit code: say why there is no
       // report of checks, then fail with exit 2 as usual.
       if (format == "junit" && !output.empty()) {
-        const double seconds = std::chrono::duration<double>(
-                                   std::chrono::steady_clock::now() - start)
-                                   .count();
-        WriteFileAtomic(output,
-                        validate::UnreadableInputToJUnit(
-                            collection,
-                            e.location().ToString().empty()
-                                ? e.message()
-                                : e.location().ToString() + ": " + e.message(),
-                            seconds));
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        WriteFileAtomic(
+            output,
+            validate::UnreadableInputToJUnit(collection,
+                                             e.location().ToString().empty()
+                                                 ? e.message()
+                                                 : e.location().ToString() + ": " + e.message(),
+                                             seconds));
       }
       throw;
     }

@@ -13,14 +13,11 @@ namespace lsds::validate {
 
 namespace {
 
-constexpr double kPixelTolerance =
-    0.5;  // RMS reprojection error accepted, pixels
+constexpr double kPixelTolerance = 0.5;   // RMS reprojection error accepted, pixels
 constexpr double kFocalTolerance = 5e-3;  // relative
 constexpr double kDepthTolerance = 1e-3;  // relative
 
-std::string Fmt(double v, int precision = 4) {
-  return FormatNumber(v, precision);
-}
+std::string Fmt(double v, int precision = 4) { return FormatNumber(v, precision); }
 
 double HfovDeg(double fx, int width) {
   return 2 * std::atan(width / (2 * std::abs(fx))) * 180 / M_PI;
@@ -33,14 +30,13 @@ struct Correspondences {
   std::vector<Eigen::Vector2i> where;
 };
 
-double RmsReprojection(
-    const Correspondences& c,
-    const PinholeCamera& camera,
-    const Eigen::Matrix3d& r,
-    const Eigen::Vector3d& t,
-    const Eigen::Vector3d& point_sign = Eigen::Vector3d::Ones(),
-    bool flip_u = false,
-    bool flip_v = false) {
+double RmsReprojection(const Correspondences& c,
+                       const PinholeCamera& camera,
+                       const Eigen::Matrix3d& r,
+                       const Eigen::Vector3d& t,
+                       const Eigen::Vector3d& point_sign = Eigen::Vector3d::Ones(),
+                       bool flip_u = false,
+                       bool flip_v = false) {
   double sum = 0;
   for (size_t k = 0; k < c.points.size(); ++k) {
     const Eigen::Vector3d in_cam = r * c.points[k].cwiseProduct(point_sign) + t;
@@ -48,8 +44,7 @@ double RmsReprojection(
     if (flip_u) pixel.x() = camera.width - pixel.x();
     if (flip_v) pixel.y() = camera.height - pixel.y();
     double e2 = 1e12;
-    if (in_cam.z() > 0)
-      e2 = (camera.ImageFromCam(in_cam) - pixel).squaredNorm();
+    if (in_cam.z() > 0) e2 = (camera.ImageFromCam(in_cam) - pixel).squaredNorm();
     sum += std::min(e2, 1e12);
   }
   return c.points.empty() ? 0 : std::sqrt(sum / c.points.size());
@@ -59,19 +54,14 @@ struct ReprojectionCost {
   ReprojectionCost(const Eigen::Vector2d& pixel, const Eigen::Vector3d& point)
       : pixel_(pixel), point_(point) {}
   template <typename T>
-  bool operator()(const T* intrinsics,
-                  const T* rotation,
-                  const T* translation,
-                  T* residual) const {
+  bool operator()(const T* intrinsics, const T* rotation, const T* translation, T* residual) const {
     const T point[3] = {T(point_.x()), T(point_.y()), T(point_.z())};
     T in_cam[3];
     ceres::AngleAxisRotatePoint(rotation, point, in_cam);
     for (int i = 0; i < 3; ++i) in_cam[i] += translation[i];
     if (in_cam[2] <= T(1e-9)) in_cam[2] = T(1e-9);
-    residual[0] =
-        intrinsics[0] * in_cam[0] / in_cam[2] + intrinsics[2] - T(pixel_.x());
-    residual[1] =
-        intrinsics[1] * in_cam[1] / in_cam[2] + intrinsics[3] - T(pixel_.y());
+    residual[0] = intrinsics[0] * in_cam[0] / in_cam[2] + intrinsics[2] - T(pixel_.x());
+    residual[1] = intrinsics[1] * in_cam[1] / in_cam[2] + intrinsics[3] - T(pixel_.y());
     return true;
   }
   Eigen::Vector2d pixel_;
@@ -87,20 +77,18 @@ CameraSolution SolveCamera(const std::vector<Eigen::Vector2d>& pixels,
   double intrinsics[4] = {initial.fx, initial.fy, initial.cx, initial.cy};
   double rotation[3];
   const Eigen::Matrix3d r = initial.cam_from_world_rotation;
-  ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(r.data()),
-                                   rotation);
+  ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(r.data()), rotation);
   double translation[3] = {initial.cam_from_world_translation.x(),
                            initial.cam_from_world_translation.y(),
                            initial.cam_from_world_translation.z()};
   ceres::Problem problem;
   for (size_t k = 0; k < pixels.size(); ++k) {
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<ReprojectionCost, 2, 4, 3, 3>(
-            new ReprojectionCost(pixels[k], points_in_world[k])),
-        new ceres::CauchyLoss(1.0),
-        intrinsics,
-        rotation,
-        translation);
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionCost, 2, 4, 3, 3>(
+                                 new ReprojectionCost(pixels[k], points_in_world[k])),
+                             new ceres::CauchyLoss(1.0),
+                             intrinsics,
+                             rotation,
+                             translation);
   }
   if (!solve_pose) {
     problem.SetParameterBlockConstant(rotation);
@@ -118,14 +106,11 @@ CameraSolution SolveCamera(const std::vector<Eigen::Vector2d>& pixels,
 
   CameraSolution out;
   out.solved = summary.IsSolutionUsable();
-  out.fx = intrinsics[0], out.fy = intrinsics[1], out.cx = intrinsics[2],
-  out.cy = intrinsics[3];
+  out.fx = intrinsics[0], out.fy = intrinsics[1], out.cx = intrinsics[2], out.cy = intrinsics[3];
   Eigen::Matrix3d solved_rotation;
-  ceres::AngleAxisToRotationMatrix(
-      rotation, ceres::ColumnMajorAdapter3x3(solved_rotation.data()));
+  ceres::AngleAxisToRotationMatrix(rotation, ceres::ColumnMajorAdapter3x3(solved_rotation.data()));
   out.cam_from_world_rotation = solved_rotation;
-  out.cam_from_world_translation =
-      Eigen::Vector3d(translation[0], translation[1], translation[2]);
+  out.cam_from_world_translation = Eigen::Vector3d(translation[0], translation[1], translation[2]);
   double sum = 0;
   for (size_t k = 0; k < pixels.size(); ++k) {
     const Eigen::Vector3d in_cam =
@@ -149,13 +134,10 @@ double CheckCameraGeometry(const CameraCheckInput& input,
   const exr::FlatChannel* cx = wp.Find("X");
   const exr::FlatChannel* cy = wp.Find("Y");
   const exr::FlatChannel* cz = wp.Find("Z");
-  if (!cx || !cy || !cz || cx->floats.empty() || cy->floats.empty() ||
-      cz->floats.empty())
+  if (!cx || !cy || !cz || cx->floats.empty() || cy->floats.empty() || cz->floats.empty())
     return -1;
-  const exr::FlatChannel* depth =
-      input.depth ? input.depth->Find(input.depth_channel) : nullptr;
-  if (depth && depth->floats.size() != input.depth->pixel_count())
-    depth = nullptr;
+  const exr::FlatChannel* depth = input.depth ? input.depth->Find(input.depth_channel) : nullptr;
+  if (depth && depth->floats.size() != input.depth->pixel_count()) depth = nullptr;
 
   Correspondences c;
   const int grid = std::max(4, input.grid);
@@ -175,16 +157,14 @@ double CheckCameraGeometry(const CameraCheckInput& input,
   }
   if (c.points.size() < 8) return -1;
 
-  auto emit = [&](const std::string& id,
-                  const std::string& file,
-                  const std::string& message) {
+  auto emit = [&](const std::string& id, const std::string& file, const std::string& message) {
     if (!checks.Has(id)) return;
     Location where(file);
     where.frame = frame.index;
     findings->push_back({GetCheck(id).severity, id, where, "", message});
   };
-  const std::string camera_text = "declared camera fx " + Fmt(camera.fx, 6) +
-                                  ", fy " + Fmt(camera.fy, 6) + " (hfov " +
+  const std::string camera_text = "declared camera fx " + Fmt(camera.fx, 6) + ", fy " +
+                                  Fmt(camera.fy, 6) + " (hfov " +
                                   Fmt(camera.HorizontalFovDeg(), 5) + " deg)";
 
   // Depth against the declared pose: needs only the pose, so it is independent
@@ -205,15 +185,12 @@ double CheckCameraGeometry(const CameraCheckInput& input,
     };
     if (planar_ratio.size() >= 8) {
       const double declared =
-          median(input.depth_kind == DepthKind::kPlanar ? planar_ratio
-                                                        : perspective_ratio);
+          median(input.depth_kind == DepthKind::kPlanar ? planar_ratio : perspective_ratio);
       const double other =
-          median(input.depth_kind == DepthKind::kPlanar ? perspective_ratio
-                                                        : planar_ratio);
+          median(input.depth_kind == DepthKind::kPlanar ? perspective_ratio : planar_ratio);
       if (std::abs(declared - 1) > kDepthTolerance) {
         bool unit = false;
-        for (const auto& [factor, name] :
-             std::vector<std::pair<double, std::string>>{
+        for (const auto& [factor, name] : std::vector<std::pair<double, std::string>>{
                  {100,
                   "centimetres in a metre collection (or metres in a cm one, "
                   "0.01)"},
@@ -228,23 +205,20 @@ double CheckCameraGeometry(const CameraCheckInput& input,
               emit("camera.depth-unit",
                    input.depth_file,
                    "depth is " + Fmt(candidate, 6) +
-                       " x the distance to the world-position points: " +
-                       "depth looks like " + name);
+                       " x the distance to the world-position points: " + "depth looks like " +
+                       name);
             }
           }
         }
         if (!unit && std::abs(other - 1) <= kDepthTolerance) {
-          const DepthKind actual = input.depth_kind == DepthKind::kPlanar
-                                       ? DepthKind::kPerspective
-                                       : DepthKind::kPlanar;
+          const DepthKind actual =
+              input.depth_kind == DepthKind::kPlanar ? DepthKind::kPerspective : DepthKind::kPlanar;
           emit("camera.depth-kind",
                input.depth_file,
-               std::string("depth is declared ") +
-                   DepthKindName(input.depth_kind) + " but the data is " +
-                   DepthKindName(actual) + " (median ratio to " +
-                   DepthKindName(input.depth_kind) + " distance " +
-                   Fmt(declared, 6) + ", to " + DepthKindName(actual) + " " +
-                   Fmt(other, 6) + ")");
+               std::string("depth is declared ") + DepthKindName(input.depth_kind) +
+                   " but the data is " + DepthKindName(actual) + " (median ratio to " +
+                   DepthKindName(input.depth_kind) + " distance " + Fmt(declared, 6) + ", to " +
+                   DepthKindName(actual) + " " + Fmt(other, 6) + ")");
         }
       }
     }
@@ -264,16 +238,14 @@ double CheckCameraGeometry(const CameraCheckInput& input,
       emit("camera.handedness",
            input.worldposition_file,
            std::string("the world-position layer has its ") + axis_names[axis] +
-               " axis mirrored: negating " + axis_names[axis] +
-               " reprojects with RMS " + Fmt(rms) + " px, the data as stored " +
-               Fmt(declared_rms) + " px (flipped handedness or axis)");
+               " axis mirrored: negating " + axis_names[axis] + " reprojects with RMS " + Fmt(rms) +
+               " px, the data as stored " + Fmt(declared_rms) + " px (flipped handedness or axis)");
       return declared_rms;
     }
   }
   for (int flip = 1; flip <= 3; ++flip) {
     const bool flip_u = flip & 1, flip_v = flip & 2;
-    const double rms = RmsReprojection(
-        c, camera, r, t, Eigen::Vector3d::Ones(), flip_u, flip_v);
+    const double rms = RmsReprojection(c, camera, r, t, Eigen::Vector3d::Ones(), flip_u, flip_v);
     if (rms <= kPixelTolerance) {
       emit("camera.image-flip",
            input.worldposition_file,
@@ -281,8 +253,8 @@ double CheckCameraGeometry(const CameraCheckInput& input,
                (flip_u && flip_v ? "rotated by 180 degrees"
                 : flip_v         ? "upside down (image y flipped)"
                                  : "mirrored (image x flipped)") +
-               ": flipped they reproject with RMS " + Fmt(rms) +
-               " px, as stored " + Fmt(declared_rms) + " px");
+               ": flipped they reproject with RMS " + Fmt(rms) + " px, as stored " +
+               Fmt(declared_rms) + " px");
       return declared_rms;
     }
   }
@@ -291,19 +263,16 @@ double CheckCameraGeometry(const CameraCheckInput& input,
   if (r.determinant() <= 0) {
     emit("camera.pose",
          input.worldposition_file,
-         "the declared camera reprojects the world-position layer with RMS " +
-             Fmt(declared_rms) +
+         "the declared camera reprojects the world-position layer with RMS " + Fmt(declared_rms) +
              " px; the rotation is not proper (left-handed world), no solve "
              "attempted");
     return declared_rms;
   }
   CameraSolution initial;
-  initial.fx = camera.fx, initial.fy = camera.fy, initial.cx = camera.cx,
-  initial.cy = camera.cy;
+  initial.fx = camera.fx, initial.fy = camera.fy, initial.cx = camera.cx, initial.cy = camera.cy;
   initial.cam_from_world_rotation = r;
   initial.cam_from_world_translation = t;
-  CameraSolution solution =
-      SolveCamera(c.pixels, c.points, initial, /*solve_pose=*/false);
+  CameraSolution solution = SolveCamera(c.pixels, c.points, initial, /*solve_pose=*/false);
   bool pose_solved = false;
   if (!solution.solved || solution.rms_px > kPixelTolerance) {
     solution = SolveCamera(c.pixels,
@@ -317,20 +286,16 @@ double CheckCameraGeometry(const CameraCheckInput& input,
          input.worldposition_file,
          "no pinhole camera explains the world-position layer: the declared "
          "camera reprojects it with RMS " +
-             Fmt(declared_rms) + " px, the best solved one with " +
-             Fmt(solution.rms_px) + " px");
+             Fmt(declared_rms) + " px, the best solved one with " + Fmt(solution.rms_px) + " px");
     return declared_rms;
   }
-  const double fx_ratio = solution.fx / camera.fx,
-               fy_ratio = solution.fy / camera.fy;
+  const double fx_ratio = solution.fx / camera.fx, fy_ratio = solution.fy / camera.fy;
   bool explained = false;
-  if (std::abs(fx_ratio - 1) > kFocalTolerance ||
-      std::abs(fy_ratio - 1) > kFocalTolerance) {
-    std::string message =
-        camera_text + " but the world-position layer says fx " +
-        Fmt(solution.fx, 6) + ", fy " + Fmt(solution.fy, 6) + " (hfov " +
-        Fmt(HfovDeg(solution.fx, camera.width), 5) + " deg; solved RMS " +
-        Fmt(solution.rms_px) + " px)";
+  if (std::abs(fx_ratio - 1) > kFocalTolerance || std::abs(fy_ratio - 1) > kFocalTolerance) {
+    std::string message = camera_text + " but the world-position layer says fx " +
+                          Fmt(solution.fx, 6) + ", fy " + Fmt(solution.fy, 6) + " (hfov " +
+                          Fmt(HfovDeg(solution.fx, camera.width), 5) + " deg; solved RMS " +
+                          Fmt(solution.rms_px) + " px)";
     for (double unit : {1000.0, 25.4, 10.0}) {
       for (double ratio : {fx_ratio, 1 / fx_ratio}) {
         if (std::abs(ratio / unit - 1) < 0.05) {
@@ -342,30 +307,26 @@ double CheckCameraGeometry(const CameraCheckInput& input,
     emit("camera.fov", input.worldposition_file, message);
     explained = true;
   }
-  if (std::abs(solution.cx - camera.cx) > 0.5 ||
-      std::abs(solution.cy - camera.cy) > 0.5) {
+  if (std::abs(solution.cx - camera.cx) > 0.5 || std::abs(solution.cy - camera.cy) > 0.5) {
     emit("camera.principal-point",
          input.worldposition_file,
-         "declared principal point (" + Fmt(camera.cx, 6) + ", " +
-             Fmt(camera.cy, 6) + ") but the world-position layer says (" +
-             Fmt(solution.cx, 6) + ", " + Fmt(solution.cy, 6) + ")");
+         "declared principal point (" + Fmt(camera.cx, 6) + ", " + Fmt(camera.cy, 6) +
+             ") but the world-position layer says (" + Fmt(solution.cx, 6) + ", " +
+             Fmt(solution.cy, 6) + ")");
     explained = true;
   }
   if (pose_solved || !explained) {
-    const Eigen::Matrix3d delta =
-        solution.cam_from_world_rotation * r.transpose();
-    const double angle =
-        std::acos(std::clamp((delta.trace() - 1) / 2, -1.0, 1.0)) * 180 / M_PI;
+    const Eigen::Matrix3d delta = solution.cam_from_world_rotation * r.transpose();
+    const double angle = std::acos(std::clamp((delta.trace() - 1) / 2, -1.0, 1.0)) * 180 / M_PI;
     const Eigen::Vector3d declared_centre = -r.transpose() * t;
     const Eigen::Vector3d solved_centre =
-        -solution.cam_from_world_rotation.transpose() *
-        solution.cam_from_world_translation;
+        -solution.cam_from_world_rotation.transpose() * solution.cam_from_world_translation;
     emit("camera.pose",
          input.worldposition_file,
-         "the declared pose does not explain the world-position layer (RMS " +
-             Fmt(declared_rms) + " px): the solved camera is rotated by " +
-             Fmt(angle) + " deg and its centre moved by " +
-             Fmt((solved_centre - declared_centre).norm()) + " world units");
+         "the declared pose does not explain the world-position layer (RMS " + Fmt(declared_rms) +
+             " px): the solved camera is rotated by " + Fmt(angle) +
+             " deg and its centre moved by " + Fmt((solved_centre - declared_centre).norm()) +
+             " world units");
   }
   return declared_rms;
 }

@@ -38,18 +38,12 @@ const std::vector<CheckInfo>& AllChecks() {
        S::kError,
        "every JSON file (collection.json, metadata files) matches its schema",
        "exact"},
-      {"structure.frame-count",
-       S::kError,
-       "frame_count equals the number of frames",
-       "exact"},
+      {"structure.frame-count", S::kError, "frame_count equals the number of frames", "exact"},
       {"structure.frame-order",
        S::kError,
        "frame indices strictly increase and times do not decrease",
        "exact"},
-      {"structure.duplicate-frame",
-       S::kError,
-       "no frame index appears twice",
-       "exact"},
+      {"structure.duplicate-frame", S::kError, "no frame index appears twice", "exact"},
       {"structure.tables",
        S::kError,
        "class ids and layer names are unique; layer declarations are "
@@ -59,18 +53,12 @@ const std::vector<CheckInfo>& AllChecks() {
        S::kError,
        "every frame has an existing file for every required layer",
        "exact"},
-      {"structure.unknown-layer",
-       S::kError,
-       "frame files name only declared layers",
-       "exact"},
+      {"structure.unknown-layer", S::kError, "frame files name only declared layers", "exact"},
       {"structure.stray-file",
        S::kWarning,
        "layer folders hold no file that no frame references",
        "exact"},
-      {"structure.class-id",
-       S::kError,
-       "object class ids are in the class table",
-       "exact"},
+      {"structure.class-id", S::kError, "object class ids are in the class table", "exact"},
       {"structure.duplicate-instance",
        S::kError,
        "an instance id appears at most once among a frame's objects",
@@ -96,23 +84,14 @@ const std::vector<CheckInfo>& AllChecks() {
        "EXR opens, is within the size limits (checked before decoding) and "
        "decodes",
        "exact"},
-      {"layer.dimensions",
-       S::kError,
-       "EXR size equals the frame's camera resolution",
-       "exact"},
-      {"layer.channels",
-       S::kError,
-       "EXR channel names and pixel types are as declared",
-       "exact"},
+      {"layer.dimensions", S::kError, "EXR size equals the frame's camera resolution", "exact"},
+      {"layer.channels", S::kError, "EXR channel names and pixel types are as declared", "exact"},
       {"layer.id-type",
        S::kError,
        "id layers (classid, instanceid, bundle ids) are uint typed",
        "exact"},
       {"layer.rgb-range", S::kError, "RGB values are finite and >= 0", "exact"},
-      {"layer.depth-finite",
-       S::kError,
-       "depth is finite and >= 0, or +inf (sky)",
-       "exact"},
+      {"layer.depth-finite", S::kError, "depth is finite and >= 0, or +inf (sky)", "exact"},
       {"layer.normal-unit",
        S::kError,
        "normals are unit length, or (0,0,0) for sky",
@@ -223,10 +202,7 @@ const std::vector<CheckInfo>& AllChecks() {
        S::kInfo,
        "objects kept as targets have visible pixels",
        "exact"},
-      {"stats.empty-frame",
-       S::kInfo,
-       "every frame has at least one object",
-       "exact"},
+      {"stats.empty-frame", S::kInfo, "every frame has at least one object", "exact"},
       {"stats.class-imbalance",
        S::kWarning,
        "object counts of the most and least frequent used classes differ by < "
@@ -249,8 +225,7 @@ std::vector<std::string> AllNames() {
   for (const CheckInfo& check : AllChecks()) {
     names.push_back(check.id);
     const std::string group = check.id.substr(0, check.id.find('.'));
-    if (names.back() != group &&
-        std::find(names.begin(), names.end(), group) == names.end()) {
+    if (names.back() != group && std::find(names.begin(), names.end(), group) == names.end()) {
       names.push_back(group);
     }
   }
@@ -293,15 +268,13 @@ CheckSelection CheckSelection::Parse(const std::string& list) {
     }
     std::vector<std::string> matched;
     for (const CheckInfo& check : AllChecks()) {
-      if (entry == "all" || entry == "*" || check.id == entry ||
-          check.id == group ||
+      if (entry == "all" || entry == "*" || check.id == entry || check.id == group ||
           check.id.compare(0, group.size() + 1, group + ".") == 0) {
         matched.push_back(check.id);
       }
     }
     if (matched.empty()) {
-      throw Error("--checks: unknown check '" + entry + "'" +
-                  DidYouMean(entry, AllNames()) +
+      throw Error("--checks: unknown check '" + entry + "'" + DidYouMean(entry, AllNames()) +
                   "; see docs/validate.md for the list");
     }
     for (const std::string& id : matched) {
@@ -311,15 +284,13 @@ CheckSelection CheckSelection::Parse(const std::string& list) {
         selection.ids_.insert(id);
     }
   }
-  if (selection.ids_.empty())
-    throw Error("--checks: '" + list + "' selects no check");
+  if (selection.ids_.empty()) throw Error("--checks: '" + list + "' selects no check");
   return selection;
 }
 
 bool CheckSelection::HasGroup(const std::string& group) const {
   for (const std::string& id : ids_) {
-    if (id.compare(0, group.size() + 1, group + ".") == 0 || id == group)
-      return true;
+    if (id.compare(0, group.size() + 1, group + ".") == 0 || id == group) return true;
   }
   return false;
 }

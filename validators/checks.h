@@ -21,8 +21,7 @@ struct CheckInfo {
 
 // Every check, in report order.
 const std::vector<CheckInfo>& AllChecks();
-const CheckInfo& GetCheck(
-    const std::string& id);  // throws lsds::Error for unknown ids
+const CheckInfo& GetCheck(const std::string& id);  // throws lsds::Error for unknown ids
 
 class CheckSelection {
  public:

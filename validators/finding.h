@@ -14,12 +14,10 @@ bool ParseSeverity(const std::string& name, Severity* severity);
 
 struct Finding {
   Severity severity = Severity::kError;
-  std::string
-      check_id;  // an id of the registry (checks.h), e.g. "layer.depth-finite"
-  Location location;  // file, frame, pixel or JSON pointer; only the fields
-                      // that apply
-  std::string
-      object;  // "instance 3 (box)" when the finding is about one object
+  std::string check_id;  // an id of the registry (checks.h), e.g. "layer.depth-finite"
+  Location location;     // file, frame, pixel or JSON pointer; only the fields
+                         // that apply
+  std::string object;    // "instance 3 (box)" when the finding is about one object
   std::string message;
 };
 

@@ -42,21 +42,16 @@ std::string Fmt(double v) { return FormatNumber(v); }
 class FrameChecker {
  public:
   FrameChecker(const FrameCheckContext& context, const FrameInput& input)
-      : context_(context),
-        input_(input),
-        frame_(input.frame),
-        header_(*context.header) {}
+      : context_(context), input_(input), frame_(input.frame), header_(*context.header) {}
 
   FrameOutcome Run();
 
  private:
-  bool Selected(const std::string& id) const {
-    return context_.checks->Has(id);
-  }
+  bool Selected(const std::string& id) const { return context_.checks->Has(id); }
   // The selected ones of `ids` (a block's time is charged to them).
   std::vector<std::string> Chosen(std::vector<std::string> ids) const {
-    ids.erase(std::remove_if(ids.begin(), ids.end(),
-                             [&](const std::string& id) { return !Selected(id); }),
+    ids.erase(std::remove_if(
+                  ids.begin(), ids.end(), [&](const std::string& id) { return !Selected(id); }),
               ids.end());
     return ids;
   }
@@ -65,8 +60,7 @@ class FrameChecker {
             const std::string& message,
             const std::string& object = "") {
     if (!Selected(id)) return;
-    outcome_.findings.push_back(
-        {GetCheck(id).severity, id, std::move(location), object, message});
+    outcome_.findings.push_back({GetCheck(id).severity, id, std::move(location), object, message});
   }
   Location FileLocation(const std::string& file) const {
     Location where(file);
@@ -74,9 +68,7 @@ class FrameChecker {
     return where;
   }
   Location JsonLocation(const std::string& pointer_suffix) const {
-    Location where(
-        kCollectionFile,
-        "/frames/" + std::to_string(input_.position) + pointer_suffix);
+    Location where(kCollectionFile, "/frames/" + std::to_string(input_.position) + pointer_suffix);
     where.frame = frame_.index;
     return where;
   }
@@ -86,15 +78,12 @@ class FrameChecker {
                  const std::string& what) {
     if (tally.count == 0) return;
     std::string message = std::to_string(tally.count) + " pixel(s) " + what;
-    if (!tally.first_detail.empty())
-      message += "; first: " + tally.first_detail;
+    if (!tally.first_detail.empty()) message += "; first: " + tally.first_detail;
     Emit(id, Location::Pixel(file, frame_.index, tally.x, tally.y), message);
   }
 
   void LoadLayers();
-  bool CheckHeader(const LayerInfo& layer,
-                   const std::string& file,
-                   const fs::path& path);
+  bool CheckHeader(const LayerInfo& layer, const std::string& file, const fs::path& path);
   void CheckValues();
   void CheckBundle();
   void CheckObjects();
@@ -114,25 +103,20 @@ class FrameChecker {
     return it == file_of_.end() ? std::string() : it->second;
   }
   // The first declared channel of the layer for `semantic`, if it was decoded.
-  const std::vector<float>* Channel(const std::string& semantic,
-                                    size_t k) const {
+  const std::vector<float>* Channel(const std::string& semantic, size_t k) const {
     const FlatImage* image = Flat(semantic);
     const LayerInfo* layer = Layer(semantic);
-    if (image == nullptr || layer == nullptr || k >= layer->channels.size())
-      return nullptr;
+    if (image == nullptr || layer == nullptr || k >= layer->channels.size()) return nullptr;
     const exr::FlatChannel* channel = image->Find(layer->channels[k].name);
-    if (channel == nullptr || channel->floats.size() != image->pixel_count())
-      return nullptr;
+    if (channel == nullptr || channel->floats.size() != image->pixel_count()) return nullptr;
     return &channel->floats;
   }
   const std::vector<uint32_t>* Ids(const std::string& semantic) const {
     const FlatImage* image = Flat(semantic);
     const LayerInfo* layer = Layer(semantic);
-    if (image == nullptr || layer == nullptr || layer->channels.empty())
-      return nullptr;
+    if (image == nullptr || layer == nullptr || layer->channels.empty()) return nullptr;
     const exr::FlatChannel* channel = image->Find(layer->channels[0].name);
-    if (channel == nullptr || channel->uints.size() != image->pixel_count())
-      return nullptr;
+    if (channel == nullptr || channel->uints.size() != image->pixel_count()) return nullptr;
     return &channel->uints;
   }
 
@@ -141,11 +125,9 @@ class FrameChecker {
   const Frame& frame_;
   const CollectionHeader& header_;
   FrameOutcome outcome_;
-  std::map<std::string, FlatImage>
-      flat_;  // by semantic (the first layer of each semantic)
+  std::map<std::string, FlatImage> flat_;  // by semantic (the first layer of each semantic)
   std::optional<DeepImage> bundle_;
-  std::map<std::string, std::string>
-      file_of_;  // semantic -> file relative to the root
+  std::map<std::string, std::string> file_of_;  // semantic -> file relative to the root
   int width_ = 0, height_ = 0;
 };
 
@@ -161,8 +143,10 @@ FrameOutcome FrameChecker::Run() {
   CheckBundle();  // idem
   {
     CheckTimer timer(&outcome_.check_seconds,
-                     Chosen({"cross.bbox-tight", "cross.visible-pixels",
-                             "cross.class-instance", "cross.obb-contains-bbox"}));
+                     Chosen({"cross.bbox-tight",
+                             "cross.visible-pixels",
+                             "cross.class-instance",
+                             "cross.obb-contains-bbox"}));
     CheckObjects();
   }
   {
@@ -196,26 +180,23 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
   try {
     info = exr::ReadExrInfo(path);
   } catch (const std::exception& e) {
-    Emit("layer.readable",
-         FileLocation(file),
-         std::string("cannot open: ") + e.what());
+    Emit("layer.readable", FileLocation(file), std::string("cannot open: ") + e.what());
     return false;
   }
   bool ok = true;
   if (info.deep != layer.deep) {
     Emit("layer.channels",
          FileLocation(file),
-         std::string("file is ") + (info.deep ? "deep" : "flat") +
-             " but layer '" + layer.name + "' is declared " +
-             (layer.deep ? "deep" : "flat"));
+         std::string("file is ") + (info.deep ? "deep" : "flat") + " but layer '" + layer.name +
+             "' is declared " + (layer.deep ? "deep" : "flat"));
     ok = false;
   }
   if (info.width != width_ || info.height != height_) {
     Emit("layer.dimensions",
          FileLocation(file),
-         "is " + std::to_string(info.width) + "x" +
-             std::to_string(info.height) + " but the frame's camera is " +
-             std::to_string(width_) + "x" + std::to_string(height_));
+         "is " + std::to_string(info.width) + "x" + std::to_string(info.height) +
+             " but the frame's camera is " + std::to_string(width_) + "x" +
+             std::to_string(height_));
     ok = false;
   }
   for (const LayerChannel& declared : layer.channels) {
@@ -223,18 +204,16 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
     if (found == nullptr) {
       Emit("layer.channels",
            FileLocation(file),
-           "has no channel '" + declared.name + "' declared by layer '" +
-               layer.name + "'");
+           "has no channel '" + declared.name + "' declared by layer '" + layer.name + "'");
       ok = false;
     } else if (found->type != declared.type) {
-      const bool id_channel = IsIdSemantic(layer.semantic) ||
-                              (layer.semantic == "bundle" &&
-                               declared.type == exr::PixelType::kUint);
+      const bool id_channel =
+          IsIdSemantic(layer.semantic) ||
+          (layer.semantic == "bundle" && declared.type == exr::PixelType::kUint);
       Emit(id_channel ? "layer.id-type" : "layer.channels",
            FileLocation(file),
-           "channel '" + declared.name + "' is " +
-               exr::PixelTypeName(found->type) + " but declared " +
-               exr::PixelTypeName(declared.type));
+           "channel '" + declared.name + "' is " + exr::PixelTypeName(found->type) +
+               " but declared " + exr::PixelTypeName(declared.type));
       ok = false;
     }
   }
@@ -242,16 +221,15 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
     if (layer.FindChannel(present.name) == nullptr) {
       Emit("layer.channels",
            FileLocation(file),
-           "has channel '" + present.name + "' that layer '" + layer.name +
-               "' does not declare");
+           "has channel '" + present.name + "' that layer '" + layer.name + "' does not declare");
     }
   }
   if ((IsIdSemantic(layer.semantic)) && !layer.channels.empty() &&
       layer.channels[0].type != exr::PixelType::kUint) {
     Emit("layer.id-type",
          FileLocation(file),
-         "id layer '" + layer.name + "' is declared " +
-             exr::PixelTypeName(layer.channels[0].type) + ", ids must be uint");
+         "id layer '" + layer.name + "' is declared " + exr::PixelTypeName(layer.channels[0].type) +
+             ", ids must be uint");
     ok = false;
   }
   return ok;
@@ -259,16 +237,14 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
 
 void FrameChecker::LoadLayers() {
   const CheckSelection& c = *context_.checks;
-  const bool need_flat = c.HasGroup("layer") || c.HasGroup("cross") ||
-                         c.HasGroup("camera") || c.Has("stats.class-unused");
-  const bool need_bundle =
-      c.Has("layer.bundle") || c.Has("cross.bundle-centre");
+  const bool need_flat = c.HasGroup("layer") || c.HasGroup("cross") || c.HasGroup("camera") ||
+                         c.Has("stats.class-unused");
+  const bool need_bundle = c.Has("layer.bundle") || c.Has("cross.bundle-centre");
   const bool need_headers = need_flat || need_bundle;
   if (!need_headers) return;
   for (const LayerInfo& layer : header_.layers) {
     const auto it = frame_.files.find(layer.name);
-    if (it == frame_.files.end())
-      continue;  // structure.missing-file, reported while streaming
+    if (it == frame_.files.end()) continue;  // structure.missing-file, reported while streaming
     const fs::path path = context_.root / it->second;
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) continue;  // idem
@@ -277,8 +253,7 @@ void FrameChecker::LoadLayers() {
     if (layer.deep ? !need_bundle : !need_flat) continue;
     if (!first_of_semantic || layer.semantic == "derived") continue;
     std::vector<std::string> channels;
-    for (const LayerChannel& channel : layer.channels)
-      channels.push_back(channel.name);
+    for (const LayerChannel& channel : layer.channels) channels.push_back(channel.name);
     try {
       if (layer.deep) {
         if (layer.semantic != "bundle") continue;
@@ -290,9 +265,7 @@ void FrameChecker::LoadLayers() {
       ++outcome_.files_decoded;
       outcome_.bytes_decoded += static_cast<int64_t>(fs::file_size(path, ec));
     } catch (const std::exception& e) {
-      Emit("layer.readable",
-           FileLocation(it->second),
-           std::string("cannot decode: ") + e.what());
+      Emit("layer.readable", FileLocation(it->second), std::string("cannot decode: ") + e.what());
     }
   }
 }
@@ -303,8 +276,7 @@ void FrameChecker::CheckValues() {
     *x = static_cast<int>(p % width_);
     *y = static_cast<int>(p / width_);
   };
-  if (const LayerInfo* layer = Layer("rgb");
-      layer && Flat("rgb") && Selected("layer.rgb-range")) {
+  if (const LayerInfo* layer = Layer("rgb"); layer && Flat("rgb") && Selected("layer.rgb-range")) {
     CheckTimer timer(&outcome_.check_seconds, {"layer.rgb-range"});
     PixelTally bad;
     for (size_t k = 0; k < layer->channels.size(); ++k) {
@@ -319,13 +291,9 @@ void FrameChecker::CheckValues() {
         }
       }
     }
-    EmitTally("layer.rgb-range",
-              FileOf("rgb"),
-              bad,
-              "with non-finite or negative colour");
+    EmitTally("layer.rgb-range", FileOf("rgb"), bad, "with non-finite or negative colour");
   }
-  if (const std::vector<float>* z = Channel("depth", 0);
-      z && Selected("layer.depth-finite")) {
+  if (const std::vector<float>* z = Channel("depth", 0); z && Selected("layer.depth-finite")) {
     CheckTimer timer(&outcome_.check_seconds, {"layer.depth-finite"});
     PixelTally bad;
     for (size_t p = 0; p < n; ++p) {
@@ -344,8 +312,7 @@ void FrameChecker::CheckValues() {
   }
   if (Flat("normal") && Selected("layer.normal-unit")) {
     CheckTimer timer(&outcome_.check_seconds, {"layer.normal-unit"});
-    const auto *nx = Channel("normal", 0), *ny = Channel("normal", 1),
-               *nz = Channel("normal", 2);
+    const auto *nx = Channel("normal", 0), *ny = Channel("normal", 1), *nz = Channel("normal", 2);
     if (nx && ny && nz) {
       PixelTally bad;
       for (size_t p = 0; p < n; ++p) {
@@ -358,23 +325,18 @@ void FrameChecker::CheckValues() {
           bad.Add(x, y, "|n| = " + Fmt(length));
         }
       }
-      EmitTally("layer.normal-unit",
-                FileOf("normal"),
-                bad,
-                "with a normal of length != 1");
+      EmitTally("layer.normal-unit", FileOf("normal"), bad, "with a normal of length != 1");
     }
   }
   if (Flat("worldposition") && Selected("layer.worldposition-finite")) {
     CheckTimer timer(&outcome_.check_seconds, {"layer.worldposition-finite"});
-    const auto *px = Channel("worldposition", 0),
-               *py = Channel("worldposition", 1),
+    const auto *px = Channel("worldposition", 0), *py = Channel("worldposition", 1),
                *pz = Channel("worldposition", 2);
     if (px && py && pz) {
       PixelTally bad;
       for (size_t p = 0; p < n; ++p) {
         const float a = (*px)[p], b = (*py)[p], c = (*pz)[p];
-        const bool finite =
-            std::isfinite(a) && std::isfinite(b) && std::isfinite(c);
+        const bool finite = std::isfinite(a) && std::isfinite(b) && std::isfinite(c);
         const bool sky = a == INFINITY && b == INFINITY && c == INFINITY;
         if (!finite && !sky) {
           int x, y;
@@ -486,12 +448,8 @@ void FrameChecker::CheckBundle() {
       }
     }
     EmitTally("layer.bundle", file, empty, "with no sample");
-    EmitTally(
-        "layer.bundle", file, bad_z, "with a NaN or negative sample depth");
-    EmitTally("layer.bundle",
-              file,
-              bad_position,
-              "with a sample position outside [0, 1]");
+    EmitTally("layer.bundle", file, bad_z, "with a NaN or negative sample depth");
+    EmitTally("layer.bundle", file, bad_position, "with a sample position outside [0, 1]");
   }
   if (Selected("cross.bundle-centre")) {
     CheckTimer timer(&outcome_.check_seconds, {"cross.bundle-centre"});
@@ -499,8 +457,7 @@ void FrameChecker::CheckBundle() {
       const char* bundle_channel;
       const char* semantic;
     };
-    for (const Pair& pair :
-         {Pair{"instanceid", "instanceid"}, Pair{"classid", "classid"}}) {
+    for (const Pair& pair : {Pair{"instanceid", "instanceid"}, Pair{"classid", "classid"}}) {
       const exr::DeepChannel* samples = deep.Find(pair.bundle_channel);
       const std::vector<uint32_t>* ids = Ids(pair.semantic);
       if (!samples || !ids || samples->uints.size() != deep.total_samples() ||
@@ -516,25 +473,22 @@ void FrameChecker::CheckBundle() {
           if (centre != single) {
             bad.Add(x,
                     y,
-                    std::string(pair.bundle_channel) +
-                        " sample 0 = " + std::to_string(centre) + ", " +
-                        pair.semantic + " layer = " + std::to_string(single));
+                    std::string(pair.bundle_channel) + " sample 0 = " + std::to_string(centre) +
+                        ", " + pair.semantic + " layer = " + std::to_string(single));
           }
         }
       }
       EmitTally("cross.bundle-centre",
                 file,
                 bad,
-                std::string("whose sample 0 disagrees with the ") +
-                    pair.semantic + " layer");
+                std::string("whose sample 0 disagrees with the ") + pair.semantic + " layer");
     }
     const std::vector<float>* depth = Channel("depth", 0);
     const LayerInfo* bundle_layer = Layer("bundle");
     const LayerInfo* depth_layer = Layer("depth");
-    if (z && depth && z->floats.size() == deep.total_samples() &&
-        bundle_layer && depth_layer &&
-        bundle_layer->depth_kind == depth_layer->depth_kind &&
-        deep.width() == width_ && deep.height() == height_) {
+    if (z && depth && z->floats.size() == deep.total_samples() && bundle_layer && depth_layer &&
+        bundle_layer->depth_kind == depth_layer->depth_kind && deep.width() == width_ &&
+        deep.height() == height_) {
       PixelTally bad;
       for (int y = 0; y < height_; ++y) {
         for (int x = 0; x < width_; ++x) {
@@ -543,14 +497,11 @@ void FrameChecker::CheckBundle() {
           const float single = (*depth)[deep.Index(x, y)];
           if (centre == single) continue;
           if (std::abs(centre - single) <= 1e-6 * std::abs(single)) continue;
-          bad.Add(
-              x, y, "Z sample 0 = " + Fmt(centre) + ", depth = " + Fmt(single));
+          bad.Add(x, y, "Z sample 0 = " + Fmt(centre) + ", depth = " + Fmt(single));
         }
       }
-      EmitTally("cross.bundle-centre",
-                file,
-                bad,
-                "whose sample 0 depth disagrees with the depth layer");
+      EmitTally(
+          "cross.bundle-centre", file, bad, "whose sample 0 depth disagrees with the depth layer");
     }
   }
 }
@@ -586,32 +537,28 @@ void FrameChecker::CheckObjects() {
       }
     }
   }
-  const bool can_project =
-      frame_.camera.cam_from_world_rotation.determinant() > 0;
+  const bool can_project = frame_.camera.cam_from_world_rotation.determinant() > 0;
   const Eigen::Quaterniond rotation(frame_.camera.cam_from_world_rotation);
-  const Rigid3d cam_from_world(rotation.normalized(),
-                               frame_.camera.cam_from_world_translation);
+  const Rigid3d cam_from_world(rotation.normalized(), frame_.camera.cam_from_world_translation);
   for (size_t k = 0; k < frame_.objects.size(); ++k) {
     const ObjectTruth& object = frame_.objects[k];
     const std::string pointer = "/objects/" + std::to_string(k);
     const ClassInfo* info = header_.FindClass(object.class_id);
-    const std::string who =
-        "instance " + std::to_string(object.instance_id) +
-        (object.name.empty() ? "" : " '" + object.name + "'") +
-        (info ? " (" + info->name + ")" : "");
+    const std::string who = "instance " + std::to_string(object.instance_id) +
+                            (object.name.empty() ? "" : " '" + object.name + "'") +
+                            (info ? " (" + info->name + ")" : "");
     if (ids) {
       const Mask& m = masks[object.instance_id];
       std::optional<Box2d> extent;
       if (m.count > 0)
-        extent = Box2d{
-            double(m.x0), double(m.y0), double(m.x1 + 1), double(m.y1 + 1)};
+        extent = Box2d{double(m.x0), double(m.y0), double(m.x1 + 1), double(m.y1 + 1)};
       auto box_text = [](const std::optional<Box2d>& b) {
-        return b ? "[" + Fmt(b->x0) + ", " + Fmt(b->y0) + ", " + Fmt(b->x1) +
-                       ", " + Fmt(b->y1) + "]"
+        return b ? "[" + Fmt(b->x0) + ", " + Fmt(b->y0) + ", " + Fmt(b->x1) + ", " + Fmt(b->y1) +
+                       "]"
                  : std::string("null");
       };
-      const bool equal = extent.has_value() == object.bbox.has_value() &&
-                         (!extent || *extent == *object.bbox);
+      const bool equal =
+          extent.has_value() == object.bbox.has_value() && (!extent || *extent == *object.bbox);
       if (!equal) {
         Emit("cross.bbox-tight",
              JsonLocation(pointer + "/bbox"),
@@ -622,37 +569,30 @@ void FrameChecker::CheckObjects() {
       if (m.count != object.visible_pixels) {
         Emit("cross.visible-pixels",
              JsonLocation(pointer + "/visible_pixels"),
-             "visible_pixels is " + std::to_string(object.visible_pixels) +
-                 " but the mask has " + std::to_string(m.count) + " pixels",
+             "visible_pixels is " + std::to_string(object.visible_pixels) + " but the mask has " +
+                 std::to_string(m.count) + " pixels",
              who);
       }
       if (m.wrong_class.count > 0 && Selected("cross.class-instance")) {
         Emit("cross.class-instance",
-             Location::Pixel(FileOf("classid"),
-                             frame_.index,
-                             m.wrong_class.x,
-                             m.wrong_class.y),
+             Location::Pixel(FileOf("classid"), frame_.index, m.wrong_class.x, m.wrong_class.y),
              std::to_string(m.wrong_class.count) +
                  " pixel(s) of the instance carry another class than " +
-                 std::to_string(object.class_id) +
-                 "; first: " + m.wrong_class.first_detail,
+                 std::to_string(object.class_id) + "; first: " + m.wrong_class.first_detail,
              who);
       }
     }
     if (object.bbox && can_project && Selected("cross.obb-contains-bbox")) {
-      const auto projected =
-          ProjectedBounds(object.obb, frame_.camera.intrinsics, cam_from_world);
-      const Box2d clipped =
-          projected ? projected->ClippedTo(width_, height_) : Box2d{};
+      const auto projected = ProjectedBounds(object.obb, frame_.camera.intrinsics, cam_from_world);
+      const Box2d clipped = projected ? projected->ClippedTo(width_, height_) : Box2d{};
       if (!projected || !clipped.Contains(*object.bbox, 1.0)) {
         Emit("cross.obb-contains-bbox",
              JsonLocation(pointer + "/bbox"),
-             "the OBB projected through the declared camera covers [" +
-                 Fmt(clipped.x0) + ", " + Fmt(clipped.y0) + ", " +
-                 Fmt(clipped.x1) + ", " + Fmt(clipped.y1) +
-                 "], which does not contain the tight bbox [" +
-                 Fmt(object.bbox->x0) + ", " + Fmt(object.bbox->y0) + ", " +
-                 Fmt(object.bbox->x1) + ", " + Fmt(object.bbox->y1) + "]",
+             "the OBB projected through the declared camera covers [" + Fmt(clipped.x0) + ", " +
+                 Fmt(clipped.y0) + ", " + Fmt(clipped.x1) + ", " + Fmt(clipped.y1) +
+                 "], which does not contain the tight bbox [" + Fmt(object.bbox->x0) + ", " +
+                 Fmt(object.bbox->y0) + ", " + Fmt(object.bbox->x1) + ", " + Fmt(object.bbox->y1) +
+                 "]",
              who);
       }
     }
@@ -662,15 +602,13 @@ void FrameChecker::CheckObjects() {
 void FrameChecker::CheckWorldPositionVsDepth() {
   if (!Selected("cross.worldpos-depth")) return;
   const std::vector<float>* z = Channel("depth", 0);
-  const auto *px = Channel("worldposition", 0),
-             *py = Channel("worldposition", 1),
+  const auto *px = Channel("worldposition", 0), *py = Channel("worldposition", 1),
              *pz = Channel("worldposition", 2);
   const LayerInfo* depth_layer = Layer("depth");
   if (!z || !px || !py || !pz || !depth_layer) return;
   const DepthKind kind = depth_layer->depth_kind.value_or(DepthKind::kPlanar);
   const PinholeCamera& camera = frame_.camera.intrinsics;
-  const Eigen::Matrix3d world_from_cam =
-      frame_.camera.cam_from_world_rotation.inverse();
+  const Eigen::Matrix3d world_from_cam = frame_.camera.cam_from_world_rotation.inverse();
   const Eigen::Vector3d t = frame_.camera.cam_from_world_translation;
   Statistic error;
   PixelTally bad;
@@ -683,15 +621,11 @@ void FrameChecker::CheckWorldPositionVsDepth() {
       const bool sky_point = !point.allFinite();
       if (sky_depth || sky_point) {
         if (sky_depth != sky_point)
-          bad.Add(x,
-                  y,
-                  sky_depth ? "sky depth, finite position"
-                            : "finite depth, sky position");
+          bad.Add(x, y, sky_depth ? "sky depth, finite position" : "finite depth, sky position");
         continue;
       }
       if (!std::isfinite(d)) continue;  // layer.depth-finite
-      const Eigen::Vector3d in_cam =
-          UnprojectDepth(camera, {x + 0.5, y + 0.5}, d, kind);
+      const Eigen::Vector3d in_cam = UnprojectDepth(camera, {x + 0.5, y + 0.5}, d, kind);
       const Eigen::Vector3d back_projected = world_from_cam * (in_cam - t);
       const double e = (back_projected - point).norm();
       error.max = std::max(error.max, e);
@@ -706,12 +640,10 @@ void FrameChecker::CheckWorldPositionVsDepth() {
   if (bad.count > 0) {
     Emit("cross.worldpos-depth",
          Location::Pixel(FileOf("worldposition"), frame_.index, bad.x, bad.y),
-         std::to_string(bad.count) +
-             " pixel(s) whose world position is not the " +
+         std::to_string(bad.count) + " pixel(s) whose world position is not the " +
              DepthKindName(kind) + " depth of " + FileOf("depth") +
-             " back-projected through the declared camera (max error " +
-             Fmt(error.max) + ", RMS " + Fmt(error.rms()) +
-             " world units); first: " + bad.first_detail);
+             " back-projected through the declared camera (max error " + Fmt(error.max) + ", RMS " +
+             Fmt(error.rms()) + " world units); first: " + bad.first_detail);
   }
 }
 
@@ -725,21 +657,18 @@ void FrameChecker::CheckMotion() {
       for (int x = 0; x < width_; ++x) {
         const size_t p = static_cast<size_t>(y) * width_ + x;
         if (!std::isnan((*mx)[p]) || !std::isnan((*my)[p]))
-          bad.Add(
-              x, y, "motion (" + Fmt((*mx)[p]) + ", " + Fmt((*my)[p]) + ")");
+          bad.Add(x, y, "motion (" + Fmt((*mx)[p]) + ", " + Fmt((*my)[p]) + ")");
       }
-    EmitTally(
-        "cross.motion-invalid",
-        FileOf("motion"),
-        bad,
-        "with a motion value on the first frame of a shot (expected NaN)");
+    EmitTally("cross.motion-invalid",
+              FileOf("motion"),
+              bad,
+              "with a motion value on the first frame of a shot (expected NaN)");
   }
   if (!input_.previous_camera) return;
   const bool check_pose = Selected("cross.motion-pose");
   const bool check_invalid = Selected("cross.motion-invalid");
   if (!check_pose && !check_invalid) return;
-  const auto *px = Channel("worldposition", 0),
-             *py = Channel("worldposition", 1),
+  const auto *px = Channel("worldposition", 0), *py = Channel("worldposition", 1),
              *pz = Channel("worldposition", 2);
   if (!px || !py || !pz) return;
   const CameraTruth& previous = *input_.previous_camera;
@@ -756,8 +685,7 @@ void FrameChecker::CheckMotion() {
         b.world_from_box != o.obb.world_from_box)
       moved[o.instance_id] = {o.obb, b};
   }
-  const std::vector<uint32_t>* instances = moved.empty() ? nullptr
-                                                         : Ids("instanceid");
+  const std::vector<uint32_t>* instances = moved.empty() ? nullptr : Ids("instanceid");
   int64_t checked = 0, unseen = 0;
   PixelTally bad, unmarked;
   for (int y = 0; y < height_; ++y) {
@@ -770,24 +698,21 @@ void FrameChecker::CheckMotion() {
         const auto m = moved.find((*instances)[p]);
         if (m != moved.end()) {
           const OrientedBox &now = m->second.first, &then = m->second.second;
-          const Eigen::Vector3d unit =
-              (now.world_from_box.transpose() * (point - now.center))
-                  .cwiseQuotient(now.half_extents.cwiseMax(1e-12));
-          point = then.world_from_box * unit.cwiseProduct(then.half_extents) +
-                  then.center;
+          const Eigen::Vector3d unit = (now.world_from_box.transpose() * (point - now.center))
+                                           .cwiseQuotient(now.half_extents.cwiseMax(1e-12));
+          point = then.world_from_box * unit.cwiseProduct(then.half_extents) + then.center;
         }
       }
       const Eigen::Vector3d in_previous =
-          previous.cam_from_world_rotation * point +
-          previous.cam_from_world_translation;
+          previous.cam_from_world_rotation * point + previous.cam_from_world_translation;
       // Where a static point was in the previous image; a point behind that
       // camera or more than a pixel outside its image was not seen there.
       Eigen::Vector2d before(0, 0);
       bool seen = in_previous.z() > 0;
       if (seen) {
         before = camera.ImageFromCam(in_previous);
-        seen = before.x() > -1 && before.x() < camera.width + 1 &&
-               before.y() > -1 && before.y() < camera.height + 1;
+        seen = before.x() > -1 && before.x() < camera.width + 1 && before.y() > -1 &&
+               before.y() < camera.height + 1;
       }
       if (!seen) {
         ++unseen;
@@ -800,14 +725,13 @@ void FrameChecker::CheckMotion() {
       }
       if (marked) continue;  // disoccluded or moved: no static expectation
       const Eigen::Vector2d shift = Eigen::Vector2d(x + 0.5, y + 0.5) - before;
-      const double ex = 0.5 + 0.5 * shift.x() / width_,
-                   ey = 0.5 + 0.5 * shift.y() / height_;
+      const double ex = 0.5 + 0.5 * shift.x() / width_, ey = 0.5 + 0.5 * shift.y() / height_;
       ++checked;
       if (std::abs((*mx)[p] - ex) > 2e-3 || std::abs((*my)[p] - ey) > 2e-3) {
         bad.Add(x,
                 y,
-                "motion (" + Fmt((*mx)[p]) + ", " + Fmt((*my)[p]) +
-                    "), pose change says (" + Fmt(ex) + ", " + Fmt(ey) + ")");
+                "motion (" + Fmt((*mx)[p]) + ", " + Fmt((*my)[p]) + "), pose change says (" +
+                    Fmt(ex) + ", " + Fmt(ey) + ")");
       }
     }
   }
@@ -822,13 +746,12 @@ void FrameChecker::CheckMotion() {
              bad.first_detail);
   }
   if (check_invalid && unseen > 0 && unmarked.count > unseen / 10) {
-    Emit(
-        "cross.motion-invalid",
-        Location::Pixel(FileOf("motion"), frame_.index, unmarked.x, unmarked.y),
-        std::to_string(unmarked.count) + " of " + std::to_string(unseen) +
-            " pixels that the previous frame's camera did not see carry a "
-            "motion value instead of NaN; first: " +
-            unmarked.first_detail);
+    Emit("cross.motion-invalid",
+         Location::Pixel(FileOf("motion"), frame_.index, unmarked.x, unmarked.y),
+         std::to_string(unmarked.count) + " of " + std::to_string(unseen) +
+             " pixels that the previous frame's camera did not see carry a "
+             "motion value instead of NaN; first: " +
+             unmarked.first_detail);
   }
 }
 
@@ -841,16 +764,14 @@ void FrameChecker::CheckCamera() {
   in.frame = &frame_;
   in.worldposition = worldposition;
   in.worldposition_file = FileOf("worldposition");
-  if (const LayerInfo* depth_layer = Layer("depth");
-      depth_layer && Flat("depth")) {
+  if (const LayerInfo* depth_layer = Layer("depth"); depth_layer && Flat("depth")) {
     in.depth = Flat("depth");
     in.depth_channel = depth_layer->channels[0].name;
     in.depth_file = FileOf("depth");
     in.depth_kind = depth_layer->depth_kind.value_or(DepthKind::kPlanar);
   }
   in.grid = context_.camera_grid;
-  const double rms =
-      CheckCameraGeometry(in, *context_.checks, &outcome_.findings);
+  const double rms = CheckCameraGeometry(in, *context_.checks, &outcome_.findings);
   if (rms >= 0) {
     Statistic s;
     s.max = rms, s.sum_squares = rms * rms, s.count = 1;
@@ -860,8 +781,7 @@ void FrameChecker::CheckCamera() {
 
 }  // namespace
 
-FrameOutcome CheckFrame(const FrameCheckContext& context,
-                        const FrameInput& input) {
+FrameOutcome CheckFrame(const FrameCheckContext& context, const FrameInput& input) {
   return FrameChecker(context, input).Run();
 }
 

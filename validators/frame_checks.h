@@ -46,7 +46,6 @@ struct FrameCheckContext {
   int camera_grid = 24;
 };
 
-FrameOutcome CheckFrame(const FrameCheckContext& context,
-                        const FrameInput& input);
+FrameOutcome CheckFrame(const FrameCheckContext& context, const FrameInput& input);
 
 }  // namespace lsds::validate

@@ -37,27 +37,22 @@ void FinishCollectionChecks(const CollectionTallies& tallies,
                             const CheckSelection& checks,
                             Report* report) {
   if (!tallies.header_read) return;
-  auto emit = [&](const std::string& id, Location where,
-                  const std::string& message) {
+  auto emit = [&](const std::string& id, Location where, const std::string& message) {
     if (!checks.Has(id)) return;
     report->Add({GetCheck(id).severity, id, std::move(where), "", message});
   };
   for (const CollectionTallies::Metadata& file : tallies.metadata) {
-    report->MergeStatistic(
-        "cross.metadata-pose." + file.file + ".position_error",
-        file.position_error);
-    report->MergeStatistic(
-        "cross.metadata-pose." + file.file + ".angle_error_deg",
-        file.angle_error);
+    report->MergeStatistic("cross.metadata-pose." + file.file + ".position_error",
+                           file.position_error);
+    report->MergeStatistic("cross.metadata-pose." + file.file + ".angle_error_deg",
+                           file.angle_error);
     if (file.mismatched > 0 && !file.perturbed) {
       Location where(file.file, "/frames");
       where.frame = file.first_mismatch;
       emit("cross.metadata-pose",
            where,
-           std::to_string(file.mismatched) +
-               " frame(s) differ from truth (max position error " +
-               std::to_string(file.position_error.max) +
-               " world units, max attitude error " +
+           std::to_string(file.mismatched) + " frame(s) differ from truth (max position error " +
+               std::to_string(file.position_error.max) + " world units, max attitude error " +
                std::to_string(file.angle_error.max) +
                " deg) but the file is not declared perturbed");
     }
@@ -70,12 +65,10 @@ void FinishCollectionChecks(const CollectionTallies& tallies,
     const int64_t n = it == tallies.objects_per_class.end() ? 0 : it->second;
     // Without a classid layer, pixels cannot tell whether a class without
     // objects (the terrain) is drawn: only what is declared is checked.
-    if (n == 0 && tallies.pixel_classes.count(c.id) == 0 &&
-        tallies.has_classid_layer) {
+    if (n == 0 && tallies.pixel_classes.count(c.id) == 0 && tallies.has_classid_layer) {
       emit("stats.class-unused",
            Location(kCollectionFile, "/classes/" + std::to_string(k)),
-           "class " + std::to_string(c.id) + " '" + c.name +
-               "' has no object and no pixel");
+           "class " + std::to_string(c.id) + " '" + c.name + "' has no object and no pixel");
     }
     if (n > most) most = n, most_name = c.name;
     if (n > 0 && (least < 0 || n < least)) least = n, least_name = c.name;
@@ -83,9 +76,8 @@ void FinishCollectionChecks(const CollectionTallies& tallies,
   if (least > 0 && most >= 100 * least) {
     emit("stats.class-imbalance",
          Location(kCollectionFile, "/classes"),
-         "class '" + most_name + "' has " + std::to_string(most) +
-             " objects, class '" + least_name + "' only " +
-             std::to_string(least));
+         "class '" + most_name + "' has " + std::to_string(most) + " objects, class '" +
+             least_name + "' only " + std::to_string(least));
   }
 }
 
@@ -110,8 +102,7 @@ Location LocationFromJson(const nlohmann::json& j) {
   if (j.contains("file")) where.file = j["file"].get<std::string>();
   if (j.contains("line")) where.line = j["line"].get<int>();
   if (j.contains("column")) where.column = j["column"].get<int>();
-  if (j.contains("json_pointer"))
-    where.json_pointer = j["json_pointer"].get<std::string>();
+  if (j.contains("json_pointer")) where.json_pointer = j["json_pointer"].get<std::string>();
   if (j.contains("frame")) where.frame = j["frame"].get<int64_t>();
   if (j.contains("pixel")) {
     where.pixel_x = j["pixel"][0].get<int>();
@@ -187,25 +178,21 @@ nlohmann::json PartialReportToJson(const PartialReport& partial) {
   return j;
 }
 
-PartialReport PartialReportFromJson(const nlohmann::json& json,
-                                    const std::string& file) {
+PartialReport PartialReportFromJson(const nlohmann::json& json, const std::string& file) {
   if (!json.is_object() || json.value("format", "") != kPartialFormat) {
-    throw Error("not a partial validation report (format is not '" +
-                    std::string(kPartialFormat) +
+    throw Error("not a partial validation report (format is not '" + std::string(kPartialFormat) +
                     "'; write one with lsds validate --shard I/N -o FILE)",
                 Location(file, "/format"));
   }
   const std::vector<SchemaIssue> issues =
       JsonSchema::Get("validate-partial.schema.json").Validate(json);
-  if (!issues.empty())
-    throw Error(issues.front().message, Location(file, issues.front().pointer));
+  if (!issues.empty()) throw Error(issues.front().message, Location(file, issues.front().pointer));
   PartialReport partial;
   partial.shard_index = json["shard"]["index"].get<int>();
   partial.shard_count = json["shard"]["count"].get<int>();
   if (partial.shard_index >= partial.shard_count) {
     throw Error("shard index " + std::to_string(partial.shard_index) +
-                    " is not below the shard count " +
-                    std::to_string(partial.shard_count),
+                    " is not below the shard count " + std::to_string(partial.shard_count),
                 Location(file, "/shard"));
   }
   partial.collection = json["collection"].get<std::string>();
@@ -236,8 +223,7 @@ PartialReport PartialReportFromJson(const nlohmann::json& json,
                           f.value("object", ""),
                           f["message"].get<std::string>()});
     }
-    report.Restore(id, result["counts"].get<std::array<int64_t, 3>>(),
-                   std::move(examples));
+    report.Restore(id, result["counts"].get<std::array<int64_t, 3>>(), std::move(examples));
   }
   for (const auto& [name, s] : json["statistics"].items())
     report.MergeStatistic(name, SumFromJson(s));
@@ -262,8 +248,7 @@ PartialReport PartialReportFromJson(const nlohmann::json& json,
     metadata.position_error = SumFromJson(m["position_error"]);
     metadata.angle_error = SumFromJson(m["angle_error"]);
     metadata.mismatched = m["mismatched"].get<int64_t>();
-    if (m.contains("first_mismatch"))
-      metadata.first_mismatch = m["first_mismatch"].get<int64_t>();
+    if (m.contains("first_mismatch")) metadata.first_mismatch = m["first_mismatch"].get<int64_t>();
     tallies.metadata.push_back(std::move(metadata));
   }
   return partial;
@@ -285,9 +270,9 @@ Report MergePartialReports(const std::vector<fs::path>& files) {
   for (size_t k = 0; k < partials.size(); ++k) {
     const PartialReport& p = partials[k];
     auto differ = [&](const std::string& what, const std::string& pointer) {
-      throw Error(what + " differs from " + names.front() +
-                      "'s: the reports are not shards of one run",
-                  Location(names[k], pointer));
+      throw Error(
+          what + " differs from " + names.front() + "'s: the reports are not shards of one run",
+          Location(names[k], pointer));
     };
     if (p.shard_count != count) differ("the shard count", "/shard/count");
     if (p.collection_digest != first.collection_digest)
@@ -297,9 +282,8 @@ Report MergePartialReports(const std::vector<fs::path>& files) {
       differ("--max-examples", "/max_examples");
     int& slot = owner[static_cast<size_t>(p.shard_index)];
     if (slot >= 0) {
-      throw Error("shard " + std::to_string(p.shard_index) + "/" +
-                      std::to_string(count) + " is given twice (also " +
-                      names[static_cast<size_t>(slot)] + ")",
+      throw Error("shard " + std::to_string(p.shard_index) + "/" + std::to_string(count) +
+                      " is given twice (also " + names[static_cast<size_t>(slot)] + ")",
                   Location(names[k], "/shard/index"));
     }
     slot = static_cast<int>(k);

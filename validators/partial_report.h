@@ -54,8 +54,8 @@ void FinishCollectionChecks(const CollectionTallies& tallies,
 struct PartialReport {
   int shard_index = 0;
   int shard_count = 1;
-  std::string collection;          // as given to the shard's command
-  std::string collection_digest;   // of collection.json: the same input
+  std::string collection;           // as given to the shard's command
+  std::string collection_digest;    // of collection.json: the same input
   std::vector<std::string> checks;  // the selected ids, registry order
   Report report{20};
   CollectionTallies tallies;
@@ -65,8 +65,7 @@ struct PartialReport {
 // docs/validate.md). Doubles are written so that they read back exactly.
 nlohmann::json PartialReportToJson(const PartialReport& partial);
 // Throws lsds::Error naming `file` and the JSON pointer of what is wrong.
-PartialReport PartialReportFromJson(const nlohmann::json& json,
-                                    const std::string& file);
+PartialReport PartialReportFromJson(const nlohmann::json& json, const std::string& file);
 
 // Reads the partial reports of one run and joins them. Throws lsds::Error
 // (exit 2) naming the file when they are not N shards of the same collection,

@@ -5,26 +5,18 @@
 
 namespace lsds::validate {
 
-double Statistic::rms() const {
-  return count == 0 ? 0.0 : std::sqrt(sum_squares / count);
-}
+double Statistic::rms() const { return count == 0 ? 0.0 : std::sqrt(sum_squares / count); }
 
 void Report::AddLocked(Finding finding) {
   CheckResult& result = results_[finding.check_id];
   ++result.counts[static_cast<int>(finding.severity)];
-  auto frame_of = [](const Finding& f) {
-    return f.location.frame.value_or(-1);
-  };
+  auto frame_of = [](const Finding& f) { return f.location.frame.value_or(-1); };
   auto& examples = result.examples;
-  if (examples.size() >= max_examples_ &&
-      frame_of(finding) >= frame_of(examples.back()))
-    return;
-  const auto at = std::upper_bound(examples.begin(),
-                                   examples.end(),
-                                   finding,
-                                   [&](const Finding& a, const Finding& b) {
-                                     return frame_of(a) < frame_of(b);
-                                   });
+  if (examples.size() >= max_examples_ && frame_of(finding) >= frame_of(examples.back())) return;
+  const auto at = std::upper_bound(
+      examples.begin(), examples.end(), finding, [&](const Finding& a, const Finding& b) {
+        return frame_of(a) < frame_of(b);
+      });
   examples.insert(at, std::move(finding));
   if (examples.size() > max_examples_) examples.pop_back();
 }
@@ -49,8 +41,7 @@ void Report::AddStatistic(const std::string& name, double value) {
   MergeStatistic(name, s);
 }
 
-void Report::MergeStatistic(const std::string& name,
-                            const Statistic& statistic) {
+void Report::MergeStatistic(const std::string& name, const Statistic& statistic) {
   if (statistic.count == 0) return;
   std::lock_guard<std::mutex> lock(*mutex_);
   Statistic& s = statistics_[name];
@@ -81,8 +72,7 @@ void Report::MergeFrom(const Report& other) {
     mine.sum_squares += s.sum_squares;
     mine.count += s.count;
   }
-  for (const auto& [id, seconds] : other.check_seconds_)
-    check_seconds_[id] += seconds;
+  for (const auto& [id, seconds] : other.check_seconds_) check_seconds_[id] += seconds;
   frames += other.frames;
   files_decoded += other.files_decoded;
   bytes_decoded += other.bytes_decoded;
@@ -100,31 +90,25 @@ void Report::Restore(const std::string& id,
 
 CheckTimer::CheckTimer(std::vector<std::pair<std::string, double>>* sink,
                        std::vector<std::string> ids)
-    : sink_(sink),
-      ids_(std::move(ids)),
-      start_(std::chrono::steady_clock::now()) {}
+    : sink_(sink), ids_(std::move(ids)), start_(std::chrono::steady_clock::now()) {}
 
 CheckTimer::~CheckTimer() {
   if (ids_.empty()) return;
-  const double seconds = std::chrono::duration<double>(
-                             std::chrono::steady_clock::now() - start_)
-                             .count() /
-                         static_cast<double>(ids_.size());
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() /
+      static_cast<double>(ids_.size());
   for (std::string& id : ids_) sink_->emplace_back(std::move(id), seconds);
 }
 
 int64_t Report::Count(Severity severity) const {
   std::lock_guard<std::mutex> lock(*mutex_);
   int64_t n = 0;
-  for (const auto& [id, result] : results_)
-    n += result.counts[static_cast<int>(severity)];
+  for (const auto& [id, result] : results_) n += result.counts[static_cast<int>(severity)];
   return n;
 }
 
 bool Report::Fails(Severity fail_on) const {
-  for (int s = static_cast<int>(fail_on);
-       s <= static_cast<int>(Severity::kError);
-       ++s) {
+  for (int s = static_cast<int>(fail_on); s <= static_cast<int>(Severity::kError); ++s) {
     if (Count(static_cast<Severity>(s)) > 0) return true;
   }
   return false;

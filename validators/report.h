@@ -36,9 +36,8 @@ class Report {
  public:
   explicit Report(size_t max_examples = 20) : max_examples_(max_examples) {}
 
-  void Add(Finding finding);  // thread-safe
-  void AddAll(
-      std::vector<Finding>* findings);  // thread-safe; empties `findings`
+  void Add(Finding finding);                    // thread-safe
+  void AddAll(std::vector<Finding>* findings);  // thread-safe; empties `findings`
   // Thread-safe: folds `value` (or a pre-aggregated statistic) into the
   // statistic `name`.
   void AddStatistic(const std::string& name, double value);
@@ -52,7 +51,8 @@ class Report {
   void MergeFrom(const Report& other);
   // Sets one check's result as a partial report recorded it (counts of all
   // findings, the examples it kept).
-  void Restore(const std::string& id, const std::array<int64_t, 3>& counts,
+  void Restore(const std::string& id,
+               const std::array<int64_t, 3>& counts,
                std::vector<Finding> examples);
 
   std::string collection;           // the folder validated
@@ -63,12 +63,8 @@ class Report {
   double seconds = 0;
 
   const std::map<std::string, CheckResult>& results() const { return results_; }
-  const std::map<std::string, Statistic>& statistics() const {
-    return statistics_;
-  }
-  const std::map<std::string, double>& check_seconds() const {
-    return check_seconds_;
-  }
+  const std::map<std::string, Statistic>& statistics() const { return statistics_; }
+  const std::map<std::string, double>& check_seconds() const { return check_seconds_; }
   size_t max_examples() const { return max_examples_; }
   int64_t Count(Severity severity) const;
   // True when some finding is at or above `fail_on`.
@@ -81,8 +77,7 @@ class Report {
   void AddLocked(Finding finding);
 
   size_t max_examples_;
-  std::unique_ptr<std::mutex> mutex_ =
-      std::make_unique<std::mutex>();  // movable Report
+  std::unique_ptr<std::mutex> mutex_ = std::make_unique<std::mutex>();  // movable Report
   std::map<std::string, CheckResult> results_;
   std::map<std::string, Statistic> statistics_;
   std::map<std::string, double> check_seconds_;
@@ -94,8 +89,7 @@ class Report {
 // block.
 class CheckTimer {
  public:
-  CheckTimer(std::vector<std::pair<std::string, double>>* sink,
-             std::vector<std::string> ids);
+  CheckTimer(std::vector<std::pair<std::string, double>>* sink, std::vector<std::string> ids);
   ~CheckTimer();
   CheckTimer(const CheckTimer&) = delete;
   CheckTimer& operator=(const CheckTimer&) = delete;

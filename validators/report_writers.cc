@@ -31,8 +31,7 @@ nlohmann::json LocationToJson(const Location& location) {
   if (location.column > 0) j["column"] = location.column;
   if (!location.json_pointer.empty()) j["json_pointer"] = location.json_pointer;
   if (location.frame) j["frame"] = *location.frame;
-  if (location.pixel_x && location.pixel_y)
-    j["pixel"] = {*location.pixel_x, *location.pixel_y};
+  if (location.pixel_x && location.pixel_y) j["pixel"] = {*location.pixel_x, *location.pixel_y};
   return j;
 }
 
@@ -49,45 +48,39 @@ std::string Verdict(const Report& report, Severity fail_on) {
   const int64_t errors = report.Count(Severity::kError),
                 warnings = report.Count(Severity::kWarning);
   std::ostringstream out;
-  out << (report.Fails(fail_on) ? "FAIL" : "PASS") << ": " << errors
-      << " error(s), " << warnings << " warning(s) in " << report.frames
-      << " frame(s), " << report.checks.size() << " check(s) (failing on "
-      << SeverityName(fail_on) << ")";
+  out << (report.Fails(fail_on) ? "FAIL" : "PASS") << ": " << errors << " error(s), " << warnings
+      << " warning(s) in " << report.frames << " frame(s), " << report.checks.size()
+      << " check(s) (failing on " << SeverityName(fail_on) << ")";
   return out.str();
 }
 
-std::string ReportToText(const Report& report,
-                         Severity fail_on,
-                         size_t max_shown) {
+std::string ReportToText(const Report& report, Severity fail_on, size_t max_shown) {
   std::ostringstream out;
   out << "lsds validate " << report.collection << "\n";
-  for (const CheckInfo& info :
-       AllChecks()) {  // registry order: schema, structure, layer, ...
+  for (const CheckInfo& info : AllChecks()) {  // registry order: schema, structure, layer, ...
     const auto found = report.results().find(info.id);
     if (found == report.results().end()) continue;
     const std::string& id = info.id;
     const CheckResult& result = found->second;
     out << "\n"
-        << SeverityName(info.severity) << " " << id << ": " << result.total()
-        << " finding(s) - " << info.what << "\n";
+        << SeverityName(info.severity) << " " << id << ": " << result.total() << " finding(s) - "
+        << info.what << "\n";
     size_t shown = 0;
     for (const Finding& f : result.examples) {
       if (shown++ == max_shown) break;
       out << "  " << FindingLine(f) << "\n";
     }
-    if (result.total() >
-        static_cast<int64_t>(std::min(max_shown, result.examples.size()))) {
+    if (result.total() > static_cast<int64_t>(std::min(max_shown, result.examples.size()))) {
       out << "  ... and "
-          << result.total() - static_cast<int64_t>(
-                                  std::min(max_shown, result.examples.size()))
+          << result.total() - static_cast<int64_t>(std::min(max_shown, result.examples.size()))
           << " more\n";
     }
   }
   if (!report.statistics().empty()) {
     out << "\nstatistics:\n";
     for (const auto& [name, s] : report.statistics()) {
-      out << "  " << name << ": max " << s.max << ", rms " << s.rms()
-          << " over " << s.count << "\n";
+      out << "  " << name << ": max " << s.max << ", rms " << s.rms() << " over " << s.count
+          << "\n";
     }
   }
   out << "\n" << Verdict(report, fail_on) << "\n";
@@ -112,16 +105,14 @@ nlohmann::json ReportToJson(const Report& report, Severity fail_on) {
   for (const std::string& id : report.checks) {
     const CheckInfo& info = GetCheck(id);
     const auto it = report.results().find(id);
-    nlohmann::json c = {
-        {"id", id},
-        {"severity", SeverityName(info.severity)},
-        {"tolerance", info.tolerance},
-        {"count", it == report.results().end() ? 0 : it->second.total()},
-        {"seconds", SecondsOf(report, id)}};
+    nlohmann::json c = {{"id", id},
+                        {"severity", SeverityName(info.severity)},
+                        {"tolerance", info.tolerance},
+                        {"count", it == report.results().end() ? 0 : it->second.total()},
+                        {"seconds", SecondsOf(report, id)}};
     nlohmann::json findings = nlohmann::json::array();
     if (it != report.results().end()) {
-      for (const Finding& f : it->second.examples)
-        findings.push_back(FindingToJson(f));
+      for (const Finding& f : it->second.examples) findings.push_back(FindingToJson(f));
     }
     c["findings"] = findings;
     checks.push_back(c);
@@ -131,9 +122,8 @@ nlohmann::json ReportToJson(const Report& report, Severity fail_on) {
   for (const auto& [name, s] : report.statistics()) {
     // rms to 9 significant digits: its last bits depend on the order in which
     // threads (and shards) added their sums, its first nine do not.
-    statistics[name] = {{"max", s.max},
-                        {"rms", std::stod(FormatNumber(s.rms(), 9))},
-                        {"count", s.count}};
+    statistics[name] = {
+        {"max", s.max}, {"rms", std::stod(FormatNumber(s.rms(), 9))}, {"count", s.count}};
   }
   j["statistics"] = statistics;
   return j;
@@ -153,42 +143,36 @@ std::string ReportToJUnit(const Report& report, Severity fail_on) {
     }
   }
   out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  out << "<testsuites name=\"lsds validate\" tests=\"" << report.checks.size()
-      << "\" failures=\"" << failures << "\" time=\"" << report.seconds
-      << "\">\n";
+  out << "<testsuites name=\"lsds validate\" tests=\"" << report.checks.size() << "\" failures=\""
+      << failures << "\" time=\"" << report.seconds << "\">\n";
   out << "  <testsuite name=\"" << XmlEscape(report.collection) << "\" tests=\""
-      << report.checks.size() << "\" failures=\"" << failures
-      << "\" errors=\"0\" time=\"" << report.seconds << "\">\n";
+      << report.checks.size() << "\" failures=\"" << failures << "\" errors=\"0\" time=\""
+      << report.seconds << "\">\n";
   for (const std::string& id : report.checks) {
     const std::string group = id.substr(0, id.find('.'));
     char time[32];
     std::snprintf(time, sizeof(time), "%.3f", SecondsOf(report, id));
-    out << "    <testcase classname=\"lsds.validate." << group << "\" name=\""
-        << id << "\" time=\"" << time << "\">\n";
+    out << "    <testcase classname=\"lsds.validate." << group << "\" name=\"" << id << "\" time=\""
+        << time << "\">\n";
     const auto it = report.results().find(id);
     if (it != report.results().end()) {
       const CheckResult& r = it->second;
       bool failing = false;
-      for (int s = static_cast<int>(fail_on); s <= 2; ++s)
-        failing |= r.counts[s] > 0;
+      for (int s = static_cast<int>(fail_on); s <= 2; ++s) failing |= r.counts[s] > 0;
       std::ostringstream body;
       for (const Finding& f : r.examples)
         body << SeverityName(f.severity) << " " << FindingLine(f) << "\n";
       if (r.total() > static_cast<int64_t>(r.examples.size())) {
-        body << "... and "
-             << r.total() - static_cast<int64_t>(r.examples.size())
-             << " more\n";
+        body << "... and " << r.total() - static_cast<int64_t>(r.examples.size()) << " more\n";
       }
       const std::string summary = std::to_string(r.total()) + " finding(s)";
       if (failing) {
         out << "      <failure message=\""
-            << XmlEscape(summary + ": " +
-                         (r.examples.empty() ? "" : r.examples.front().message))
-            << "\" type=\"" << SeverityName(GetCheck(id).severity) << "\">"
-            << XmlEscape(body.str()) << "</failure>\n";
+            << XmlEscape(summary + ": " + (r.examples.empty() ? "" : r.examples.front().message))
+            << "\" type=\"" << SeverityName(GetCheck(id).severity) << "\">" << XmlEscape(body.str())
+            << "</failure>\n";
       } else {
-        out << "      <system-out>" << XmlEscape(body.str())
-            << "</system-out>\n";
+        out << "      <system-out>" << XmlEscape(body.str()) << "</system-out>\n";
       }
     }
     out << "    </testcase>\n";
@@ -197,8 +181,7 @@ std::string ReportToJUnit(const Report& report, Severity fail_on) {
   return out.str();
 }
 
-std::string RenderReport(const Report& report, const std::string& format,
-                         Severity fail_on) {
+std::string RenderReport(const Report& report, const std::string& format, Severity fail_on) {
   // Messages may quote paths that are not UTF-8: never a type_error 316.
   if (format == "json")
     return ReportToJson(report, fail_on)
@@ -217,14 +200,12 @@ std::string UnreadableInputToJUnit(const std::string& collection,
          "time=\""
       << seconds << "\">\n";
   out << "  <testsuite name=\"" << XmlEscape(collection)
-      << "\" tests=\"1\" failures=\"1\" errors=\"0\" time=\"" << seconds
-      << "\">\n";
+      << "\" tests=\"1\" failures=\"1\" errors=\"0\" time=\"" << seconds << "\">\n";
   out << "    <testcase classname=\"lsds.validate.input\" "
          "name=\"collection readable\" time=\""
       << seconds << "\">\n";
-  out << "      <failure message=\"" << XmlEscape(message)
-      << "\" type=\"error\">" << XmlEscape(collection + ": " + message)
-      << "</failure>\n";
+  out << "      <failure message=\"" << XmlEscape(message) << "\" type=\"error\">"
+      << XmlEscape(collection + ": " + message) << "</failure>\n";
   out << "    </testcase>\n  </testsuite>\n</testsuites>\n";
   return out.str();
 }

@@ -13,9 +13,7 @@ namespace lsds::validate {
 
 // Grouped by check, counted, the first `max_shown` findings of each with their
 // location, and a one-line verdict against `fail_on`.
-std::string ReportToText(const Report& report,
-                         Severity fail_on,
-                         size_t max_shown = 5);
+std::string ReportToText(const Report& report, Severity fail_on, size_t max_shown = 5);
 nlohmann::json ReportToJson(const Report& report, Severity fail_on);
 std::string ReportToJUnit(const Report& report, Severity fail_on);
 // The JUnit report of a run whose input could not be read (exit 2): one
@@ -31,7 +29,6 @@ std::string Verdict(const Report& report, Severity fail_on);
 
 // The report in `format` ("text", "json" or "junit") as `lsds validate` and
 // `lsds merge-reports` print it (text shows up to 5 findings per check).
-std::string RenderReport(const Report& report, const std::string& format,
-                         Severity fail_on);
+std::string RenderReport(const Report& report, const std::string& format, Severity fail_on);
 
 }  // namespace lsds::validate

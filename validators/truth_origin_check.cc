@@ -32,9 +32,7 @@ std::vector<Finding> TruthOriginFindings(const CollectionHeader& header) {
     finding.check_id = kTruthOriginCheck;
     finding.location = Location(
         kCollectionFile,
-        (nlohmann::json::json_pointer("/provenance/import/truth_origin") /
-         field)
-            .to_string());
+        (nlohmann::json::json_pointer("/provenance/import/truth_origin") / field).to_string());
     finding.message = message;
     findings.push_back(std::move(finding));
   }

@@ -45,8 +45,7 @@ class Validator {
             const std::string& message,
             const std::string& object = "") {
     if (!emitting_ || !Selected(id)) return;
-    report_.Add(
-        {GetCheck(id).severity, id, std::move(location), object, message});
+    report_.Add({GetCheck(id).severity, id, std::move(location), object, message});
   }
   static Location Json(const std::string& file,
                        const std::string& pointer,
@@ -105,8 +104,7 @@ bool Validator::ReadHeader() {
   nlohmann::json header_json;
   // Syntax errors throw lsds::Error with line:column: the input cannot be read
   // as a collection.
-  frames_in_file_ = StreamJsonArrayMember(
-      root_ / kCollectionFile, "frames", &header_json, nullptr);
+  frames_in_file_ = StreamJsonArrayMember(root_ / kCollectionFile, "frames", &header_json, nullptr);
   const std::vector<SchemaIssue> issues =
       JsonSchema::Get("collection.schema.json").Validate(header_json);
   for (const SchemaIssue& issue : issues) {
@@ -127,9 +125,7 @@ bool Validator::ReadHeader() {
   } catch (const std::exception& e) {
     // Only reachable past schema violations, which are reported already.
     if (issues.empty()) {
-      Emit("schema",
-           Json(kCollectionFile, "/"),
-           std::string("header cannot be read: ") + e.what());
+      Emit("schema", Json(kCollectionFile, "/"), std::string("header cannot be read: ") + e.what());
     }
     return false;
   }
@@ -155,8 +151,7 @@ void Validator::CheckTables() {
            Json(kCollectionFile, pointer + "/name"),
            "layer name '" + layer.name + "' appears twice in the layer table");
     }
-    if ((layer.semantic == "depth" || layer.semantic == "bundle") &&
-        !layer.depth_kind) {
+    if ((layer.semantic == "depth" || layer.semantic == "bundle") && !layer.depth_kind) {
       Emit("structure.tables",
            Json(kCollectionFile, pointer),
            "layer '" + layer.name + "' holds depth but declares no depth_kind");
@@ -170,9 +165,8 @@ void Validator::CheckTables() {
   if (static_cast<size_t>(header_.frame_count) != frames_in_file_) {
     Emit("structure.frame-count",
          Json(kCollectionFile, "/frame_count"),
-         "frame_count is " + std::to_string(header_.frame_count) +
-             " but the file has " + std::to_string(frames_in_file_) +
-             " frames");
+         "frame_count is " + std::to_string(header_.frame_count) + " but the file has " +
+             std::to_string(frames_in_file_) + " frames");
   }
 }
 
@@ -194,22 +188,16 @@ void Validator::ReadMetadata() {
     tally.perturbed = variant.perturbed;
     try {
       nlohmann::json header_json;
-      const JsonSchema& frame_schema =
-          JsonSchema::Get("metadata.schema.json", "frame");
+      const JsonSchema& frame_schema = JsonSchema::Get("metadata.schema.json", "frame");
       const size_t frames = StreamJsonArrayMember(
-          path,
-          "frames",
-          &header_json,
-          [&](nlohmann::json&& json, size_t index) {
+          path, "frames", &header_json, [&](nlohmann::json&& json, size_t index) {
             const std::string pointer = "/frames/" + std::to_string(index);
             const auto issues = frame_schema.Validate(json, pointer);
             for (const SchemaIssue& issue : issues)
               Emit("schema", Json(variant.file, issue.pointer), issue.message);
             if (!issues.empty()) return;
-            const MetadataFrame m =
-                MetadataFrameFromJson(json, variant.file, pointer);
-            if (Selected("cross.metadata-pose") ||
-                Selected("structure.metadata"))
+            const MetadataFrame m = MetadataFrameFromJson(json, variant.file, pointer);
+            if (Selected("cross.metadata-pose") || Selected("structure.metadata"))
               file.poses[m.index] = {m.position, m.attitude};
           });
       for (const SchemaIssue& issue :
@@ -247,8 +235,7 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
     if (frame.index == previous_->index) {
       Emit("structure.duplicate-frame",
            Json(kCollectionFile, pointer + "/index", frame.index),
-           "frame index " + std::to_string(frame.index) +
-               " appears twice in a row");
+           "frame index " + std::to_string(frame.index) + " appears twice in a row");
     } else if (frame.index < previous_->index) {
       Emit("structure.frame-order",
            Json(kCollectionFile, pointer + "/index", frame.index),
@@ -258,8 +245,7 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
     if (frame.time < previous_->time && frame.sequence == previous_->sequence) {
       Emit("structure.frame-order",
            Json(kCollectionFile, pointer + "/time", frame.index),
-           "time " + std::to_string(frame.time) +
-               " is before the previous frame's " +
+           "time " + std::to_string(frame.time) + " is before the previous frame's " +
                std::to_string(previous_->time));
     }
   }
@@ -279,8 +265,8 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
       where.frame = frame.index;
       Emit("structure.missing-file",
            where,
-           "file of layer '" + layer.name + "' does not exist (referenced at " +
-               kCollectionFile + "#" + pointer + "/files/" + layer.name + ")");
+           "file of layer '" + layer.name + "' does not exist (referenced at " + kCollectionFile +
+               "#" + pointer + "/files/" + layer.name + ")");
     }
   }
   for (const auto& [layer, file] : frame.files) {
@@ -291,32 +277,26 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
       for (const LayerInfo& l : header_.layers) names.push_back(l.name);
       Emit("structure.unknown-layer",
            Json(kCollectionFile, pointer + "/files/" + layer, frame.index),
-           "layer '" + layer + "' is not in the layer table" +
-               DidYouMean(layer, names));
+           "layer '" + layer + "' is not in the layer table" + DidYouMean(layer, names));
     }
   }
   const double det = frame.camera.cam_from_world_rotation.determinant();
   const bool right = header_.conventions.world.right_handed();
   if (std::abs(std::abs(det) - 1) > 1e-6 || (det > 0) != right) {
     Emit("structure.handedness",
-         Json(kCollectionFile,
-              pointer + "/camera/cam_from_world/rotation",
-              frame.index),
-         "rotation determinant is " + std::to_string(det) +
-             " but the world is declared " + (right ? "right" : "left") +
-             "-handed (expected " + (right ? "+1" : "-1") + ")");
+         Json(kCollectionFile, pointer + "/camera/cam_from_world/rotation", frame.index),
+         "rotation determinant is " + std::to_string(det) + " but the world is declared " +
+             (right ? "right" : "left") + "-handed (expected " + (right ? "+1" : "-1") + ")");
   }
   std::set<uint32_t> instances;
   for (size_t k = 0; k < frame.objects.size(); ++k) {
     const ObjectTruth& object = frame.objects[k];
-    const std::string object_pointer =
-        pointer + "/objects/" + std::to_string(k);
+    const std::string object_pointer = pointer + "/objects/" + std::to_string(k);
     const std::string who = "instance " + std::to_string(object.instance_id);
     if (header_.FindClass(object.class_id) == nullptr) {
       Emit("structure.class-id",
            Json(kCollectionFile, object_pointer + "/class_id", frame.index),
-           "class id " + std::to_string(object.class_id) +
-               " is not in the class table",
+           "class id " + std::to_string(object.class_id) + " is not in the class table",
            who);
     } else if (emitting_) {
       std::lock_guard<std::mutex> lock(tally_mutex_);
@@ -325,8 +305,7 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
     if (!instances.insert(object.instance_id).second) {
       Emit("structure.duplicate-instance",
            Json(kCollectionFile, object_pointer + "/instance_id", frame.index),
-           "instance id " + std::to_string(object.instance_id) +
-               " appears twice in the frame",
+           "instance id " + std::to_string(object.instance_id) + " appears twice in the frame",
            who);
     }
     if (object.visible_pixels == 0) {
@@ -356,11 +335,10 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
     CollectionTallies::Metadata& tally = tallies_.metadata[file.tally];
     const MetadataFrame truth = TruthMetadata(frame, header_.conventions.world);
     const double position_error = (truth.position - it->second.position).norm();
-    const Eigen::Quaterniond a = NedFromBody(truth.attitude),
-                             b = NedFromBody(it->second.attitude);
+    const Eigen::Quaterniond a = NedFromBody(truth.attitude), b = NedFromBody(it->second.attitude);
     const double angle_error = a.angularDistance(b) * 180 / M_PI;
-    for (auto [stat, value] : {std::pair{&tally.position_error, position_error},
-                               {&tally.angle_error, angle_error}}) {
+    for (auto [stat, value] :
+         {std::pair{&tally.position_error, position_error}, {&tally.angle_error, angle_error}}) {
       stat->max = std::max(stat->max, value);
       stat->sum_squares += value * value;
       ++stat->count;
@@ -382,19 +360,16 @@ void Validator::FlushBatch() {
   context.checks = &options_.checks;
   context.camera_grid = options_.camera_grid;
   std::vector<FrameOutcome> outcomes(batch_.size());
-  tbb::parallel_for(size_t{0}, batch_.size(), [&](size_t i) {
-    outcomes[i] = CheckFrame(context, batch_[i]);
-  });
+  tbb::parallel_for(
+      size_t{0}, batch_.size(), [&](size_t i) { outcomes[i] = CheckFrame(context, batch_[i]); });
   // Folded in frame order, so that sums (and so the report) do not depend on
   // which thread finished first.
   for (FrameOutcome& outcome : outcomes) {
     report_.AddAll(&outcome.findings);
     for (const auto& [name, statistic] : outcome.statistics)
       report_.MergeStatistic(name, statistic);
-    for (const auto& [id, seconds] : outcome.check_seconds)
-      report_.AddCheckSeconds(id, seconds);
-    tallies_.pixel_classes.insert(outcome.pixel_classes.begin(),
-                                  outcome.pixel_classes.end());
+    for (const auto& [id, seconds] : outcome.check_seconds) report_.AddCheckSeconds(id, seconds);
+    tallies_.pixel_classes.insert(outcome.pixel_classes.begin(), outcome.pixel_classes.end());
     report_.files_decoded += outcome.files_decoded;
     report_.bytes_decoded += outcome.bytes_decoded;
   }
@@ -403,18 +378,13 @@ void Validator::FlushBatch() {
 
 void Validator::StreamFrames() {
   const std::string file = kCollectionFile;
-  const JsonSchema& frame_schema =
-      JsonSchema::Get("collection.schema.json", "frame");
+  const JsonSchema& frame_schema = JsonSchema::Get("collection.schema.json", "frame");
   Progress progress("validate", static_cast<int64_t>(frames_in_file_));
   StreamJsonArrayMember(
-      root_ / kCollectionFile,
-      "frames",
-      nullptr,
-      [&](nlohmann::json&& json, size_t position) {
+      root_ / kCollectionFile, "frames", nullptr, [&](nlohmann::json&& json, size_t position) {
         const std::string pointer = "/frames/" + std::to_string(position);
         std::optional<int64_t> index;
-        if (json.is_object() && json.contains("index") &&
-            json["index"].is_number_integer()) {
+        if (json.is_object() && json.contains("index") && json["index"].is_number_integer()) {
           index = json["index"].get<int64_t>();
         }
         const bool owned = OwnsFrame(index);
@@ -422,8 +392,7 @@ void Validator::StreamFrames() {
         std::vector<SchemaIssue> issues;
         {
           CheckTimer timer(&check_seconds_,
-                           owned ? SelectedOf({"schema"})
-                                 : std::vector<std::string>{});
+                           owned ? SelectedOf({"schema"}) : std::vector<std::string>{});
           issues = frame_schema.Validate(json, pointer);
         }
         for (const SchemaIssue& issue : issues)
@@ -438,9 +407,7 @@ void Validator::StreamFrames() {
         try {
           frame = FrameFromJson(json, file, pointer);
         } catch (const Error& e) {
-          Emit("schema",
-               Json(file, e.location().json_pointer, index),
-               e.message());
+          Emit("schema", Json(file, e.location().json_pointer, index), e.message());
           previous_.reset();
           return;
         } catch (const std::exception& e) {
@@ -449,20 +416,19 @@ void Validator::StreamFrames() {
           return;
         }
         {
-          CheckTimer timer(
-              &check_seconds_,
-              owned ? SelectedOf({"structure.duplicate-frame",
-                                  "structure.frame-order",
-                                  "structure.missing-file",
-                                  "structure.unknown-layer",
-                                  "structure.handedness",
-                                  "structure.class-id",
-                                  "structure.duplicate-instance",
-                                  "structure.metadata",
-                                  "cross.metadata-pose",
-                                  "stats.zero-visible-target",
-                                  "stats.empty-frame"})
-                    : std::vector<std::string>{});
+          CheckTimer timer(&check_seconds_,
+                           owned ? SelectedOf({"structure.duplicate-frame",
+                                               "structure.frame-order",
+                                               "structure.missing-file",
+                                               "structure.unknown-layer",
+                                               "structure.handedness",
+                                               "structure.class-id",
+                                               "structure.duplicate-instance",
+                                               "structure.metadata",
+                                               "cross.metadata-pose",
+                                               "stats.zero-visible-target",
+                                               "stats.empty-frame"})
+                                 : std::vector<std::string>{});
           CheckFrameStructure(frame, position);
         }
         FrameInput input;
@@ -470,9 +436,8 @@ void Validator::StreamFrames() {
         // Motion continues within a shot (format 1.1), or within a sequence
         // in 1.0 collections, which have no shots.
         const bool same_shot =
-            previous_ && (frame.shot && previous_->shot
-                              ? *frame.shot == *previous_->shot
-                              : previous_->sequence == frame.sequence);
+            previous_ && (frame.shot && previous_->shot ? *frame.shot == *previous_->shot
+                                                        : previous_->sequence == frame.sequence);
         if (previous_ && previous_->index + 1 == frame.index && same_shot) {
           input.previous_camera = previous_->camera;
           input.previous_boxes = previous_boxes_;
@@ -480,8 +445,7 @@ void Validator::StreamFrames() {
         input.shot_start = frame.shot && *frame.shot == frame.index;
         previous_ = frame;
         previous_boxes_.clear();
-        for (const ObjectTruth& o : frame.objects)
-          previous_boxes_[o.instance_id] = o.obb;
+        for (const ObjectTruth& o : frame.objects) previous_boxes_[o.instance_id] = o.obb;
         previous_->objects.clear();
         previous_->files.clear();
         if (!owned) return;  // another shard decodes its layers
@@ -500,12 +464,9 @@ void Validator::CheckStrayFiles() {
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(root_ / folder, ec)) {
       if (!entry.is_regular_file()) continue;
-      const std::string relative =
-          (fs::path(folder) / entry.path().filename()).string();
+      const std::string relative = (fs::path(folder) / entry.path().filename()).string();
       if (referenced_.count(HashPath(relative)) == 0) {
-        Emit("structure.stray-file",
-             Location(relative),
-             "no frame references this file");
+        Emit("structure.stray-file", Location(relative), "no frame references this file");
       }
     }
   }
@@ -519,18 +480,15 @@ bool Validator::OwnsFrame(std::optional<int64_t> index) const {
   return ((*index % n) + n) % n == options_.shard_index;
 }
 
-std::vector<std::string> Validator::SelectedOf(
-    std::vector<std::string> ids) const {
-  ids.erase(std::remove_if(ids.begin(),
-                           ids.end(),
-                           [&](const std::string& id) { return !Selected(id); }),
-            ids.end());
+std::vector<std::string> Validator::SelectedOf(std::vector<std::string> ids) const {
+  ids.erase(
+      std::remove_if(ids.begin(), ids.end(), [&](const std::string& id) { return !Selected(id); }),
+      ids.end());
   return ids;
 }
 
 void Validator::AddCheckSeconds() {
-  for (const auto& [id, seconds] : check_seconds_)
-    report_.AddCheckSeconds(id, seconds);
+  for (const auto& [id, seconds] : check_seconds_) report_.AddCheckSeconds(id, seconds);
   check_seconds_.clear();
 }
 
@@ -545,78 +503,70 @@ Report Validator::Run(bool finish) {
   CheckCollectionFolder(root_);
   bool header_read = false;
   {
-    CheckTimer timer(&check_seconds_,
-                     shard_zero_ ? SelectedOf({"schema", "structure.tables",
-                                               "structure.frame-count",
-                                               "structure.truth-origin"})
-                                 : std::vector<std::string>{});
+    CheckTimer timer(
+        &check_seconds_,
+        shard_zero_
+            ? SelectedOf(
+                  {"schema", "structure.tables", "structure.frame-count", "structure.truth-origin"})
+            : std::vector<std::string>{});
     header_read = ReadHeader();
     if (header_read) {
       CheckTables();
-      for (const Finding& f : TruthOriginFindings(header_))
-        Emit(f.check_id, f.location, f.message);
+      for (const Finding& f : TruthOriginFindings(header_)) Emit(f.check_id, f.location, f.message);
     }
   }
   if (header_read) {
     tallies_.header_read = true;
     tallies_.classes = header_.classes;
-    tallies_.has_classid_layer =
-        header_.FindLayerBySemantic("classid") != nullptr;
+    tallies_.has_classid_layer = header_.FindLayerBySemantic("classid") != nullptr;
     {
-      CheckTimer timer(&check_seconds_,
-                       shard_zero_ ? SelectedOf({"schema", "structure.metadata"})
-                                   : std::vector<std::string>{});
+      CheckTimer timer(
+          &check_seconds_,
+          shard_zero_ ? SelectedOf({"schema", "structure.metadata"}) : std::vector<std::string>{});
       ReadMetadata();
     }
     StreamFrames();
     {
-      CheckTimer timer(&check_seconds_,
-                       shard_zero_ ? SelectedOf({"structure.stray-file"})
-                                   : std::vector<std::string>{});
+      CheckTimer timer(
+          &check_seconds_,
+          shard_zero_ ? SelectedOf({"structure.stray-file"}) : std::vector<std::string>{});
       CheckStrayFiles();
     }
     if (finish) {
-      CheckTimer timer(&check_seconds_,
-                       SelectedOf({"stats.class-unused", "stats.class-imbalance",
-                                   "cross.metadata-pose"}));
+      CheckTimer timer(
+          &check_seconds_,
+          SelectedOf({"stats.class-unused", "stats.class-imbalance", "cross.metadata-pose"}));
       FinishCollectionChecks(tallies_, options_.checks, &report_);
     }
   }
   AddCheckSeconds();
-  report_.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-          .count();
+  report_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return std::move(report_);
 }
 
 }  // namespace
 
-Report ValidateCollection(const fs::path& root,
-                          const ValidateOptions& options) {
+Report ValidateCollection(const fs::path& root, const ValidateOptions& options) {
   std::unique_ptr<tbb::global_control> threads;
   if (options.jobs > 0) {
-    threads = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism,
-        static_cast<size_t>(options.jobs));
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    static_cast<size_t>(options.jobs));
   }
   if (options.shard_count != 1 || options.shard_index != 0)
     throw Error("ValidateCollection runs one whole run; use ValidateShard");
   return Validator(root, options).Run(/*finish=*/true);
 }
 
-PartialReport ValidateShard(const fs::path& root,
-                            const ValidateOptions& options) {
+PartialReport ValidateShard(const fs::path& root, const ValidateOptions& options) {
   if (options.shard_count < 1 || options.shard_index < 0 ||
       options.shard_index >= options.shard_count) {
     throw Error("shard " + std::to_string(options.shard_index) + "/" +
-                std::to_string(options.shard_count) +
-                " is not a shard: I/N needs 0 <= I < N");
+                std::to_string(options.shard_count) + " is not a shard: I/N needs 0 <= I < N");
   }
   std::unique_ptr<tbb::global_control> threads;
   if (options.jobs > 0) {
-    threads = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism,
-        static_cast<size_t>(options.jobs));
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    static_cast<size_t>(options.jobs));
   }
   Validator validator(root, options);
   PartialReport partial;
@@ -627,10 +577,9 @@ PartialReport ValidateShard(const fs::path& root,
   partial.collection = root.string();
   partial.checks = partial.report.checks;
   std::error_code ec;
-  partial.collection_digest =
-      fs::is_regular_file(root / kCollectionFile, ec)
-          ? FileDigest(root / kCollectionFile)
-          : std::string();
+  partial.collection_digest = fs::is_regular_file(root / kCollectionFile, ec)
+                                  ? FileDigest(root / kCollectionFile)
+                                  : std::string();
   return partial;
 }
 

@@ -14,11 +14,9 @@ struct ValidateOptions {
   CheckSelection checks = CheckSelection::All();
   int jobs = 0;              // worker threads; 0 = all cores
   size_t max_examples = 20;  // findings kept per check (all are counted)
-  size_t batch_size =
-      16;  // frames in flight at once: bounds memory, not the frame count
-  int camera_grid =
-      24;  // world-position correspondences per image axis for the camera solve
-  bool progress = false;  // a progress line on a terminal
+  size_t batch_size = 16;    // frames in flight at once: bounds memory, not the frame count
+  int camera_grid = 24;      // world-position correspondences per image axis for the camera solve
+  bool progress = false;     // a progress line on a terminal
   // `--shard I/N`: check only the frames whose index % N == I (and, in shard
   // 0, the header, metadata tables and stray files). The result is a partial
   // report; `lsds merge-reports` joins N of them into the single run's report.
@@ -29,12 +27,10 @@ struct ValidateOptions {
 // Throws lsds::Error (exit code 2) when `root` cannot be read as a collection
 // at all: no folder, no collection.json, or collection.json is not JSON.
 // Everything else is a finding in the report.
-Report ValidateCollection(const std::filesystem::path& root,
-                          const ValidateOptions& options = {});
+Report ValidateCollection(const std::filesystem::path& root, const ValidateOptions& options = {});
 
 // One shard of a run (options.shard_count >= 1): its findings, and the tallies
 // that the whole-collection checks need from every shard.
-PartialReport ValidateShard(const std::filesystem::path& root,
-                            const ValidateOptions& options);
+PartialReport ValidateShard(const std::filesystem::path& root, const ValidateOptions& options);
 
 }  // namespace lsds::validate

@@ -17,14 +17,11 @@ namespace {
 using nlohmann::json;
 
 struct CocoPiece : FramePiece {
-  std::string image;  // the images[] entry
-  std::vector<std::string>
-      annotations;  // each without its id: "{" + id is prepended serially
+  std::string image;                     // the images[] entry
+  std::vector<std::string> annotations;  // each without its id: "{" + id is prepended serially
 };
 
-json BoxJson(const Box2d& box) {
-  return json::array({box.x0, box.y0, box.width(), box.height()});
-}
+json BoxJson(const Box2d& box) { return json::array({box.x0, box.y0, box.width(), box.height()}); }
 
 class CocoConverter : public Converter {
  public:
@@ -36,10 +33,8 @@ class CocoConverter : public Converter {
     polygons_ = setup.options->segmentation == "polygon";
     for (const SplitPart& split : setup.splits) {
       Split& s = splits_[split.name];
-      s.images_path =
-          setup.root / "annotations" / (".images_" + split.name + ".part");
-      s.annotations_path =
-          setup.root / "annotations" / (".annotations_" + split.name + ".part");
+      s.images_path = setup.root / "annotations" / (".images_" + split.name + ".part");
+      s.annotations_path = setup.root / "annotations" / (".annotations_" + split.name + ".part");
       s.images = OpenForWrite(s.images_path);
       s.annotations = OpenForWrite(s.annotations_path);
     }
@@ -68,8 +63,7 @@ class CocoConverter : public Converter {
       a["area"] = object.mask->pixel_count;
       a["iscrowd"] = 0;
       if (polygons_) {
-        const masks::MaskPolygons polygons =
-            masks::ExtractPolygons(*object.mask);
+        const masks::MaskPolygons polygons = masks::ExtractPolygons(*object.mask);
         const std::string& name = classes[object.class_index].name;
         if (polygons.pieces.size() > 1) loss->Add(loss::kPiecesSplit, name);
         if (polygons.holes > 0) loss->Add(loss::kHolesFilled, name);
@@ -88,8 +82,7 @@ class CocoConverter : public Converter {
       } else {
         a["segmentation"] = {
             {"size", {frame.height, frame.width}},
-            {"counts",
-             masks::CocoRleToString(masks::CocoRleCounts(*object.mask))}};
+            {"counts", masks::CocoRleToString(masks::CocoRleCounts(*object.mask))}};
       }
       a["lsds"] = {
           {"instance_id", truth.instance_id},
@@ -98,8 +91,7 @@ class CocoConverter : public Converter {
           {"visible_pixels", truth.visible_pixels},
           {"visibility", truth.visibility},
           {"in_frame", truth.in_frame},
-          {"bbox_projected",
-           truth.bbox_projected ? BoxJson(*truth.bbox_projected) : json()},
+          {"bbox_projected", truth.bbox_projected ? BoxJson(*truth.bbox_projected) : json()},
           {"obb",
            {{"center", Vector3ToJson(truth.obb.center)},
             {"half_extents", Vector3ToJson(truth.obb.half_extents)},
@@ -110,14 +102,13 @@ class CocoConverter : public Converter {
     return piece;
   }
 
-  void AddFrame(const FrameContext& frame,
-                std::unique_ptr<FramePiece> base) override {
+  void AddFrame(const FrameContext& frame, std::unique_ptr<FramePiece> base) override {
     auto* piece = static_cast<CocoPiece*>(base.get());
     Split& s = splits_.at(frame.split);
     s.images->stream() << (s.image_count++ ? ",\n" : "") << piece->image;
     for (const std::string& annotation : piece->annotations) {
       s.annotations->stream() << (s.annotation_count++ ? ",\n" : "")
-                    << "{\"id\":" << next_annotation_id_++ << "," << annotation;
+                              << "{\"id\":" << next_annotation_id_++ << "," << annotation;
     }
   }
 
@@ -130,11 +121,10 @@ class CocoConverter : public Converter {
                             {"supercategory", ""},
                             {"lsds", {{"class_ids", classes[i].source_ids}}}});
     }
-    const json info = {
-        {"description", "written by lsds convert (docs/convert.md)"},
-        {"lsds_format_version", setup_.header->format_version},
-        {"bbox", "pixel-edge [x, y, width, height]"},
-        {"segmentation", polygons_ ? "polygons" : "compressed RLE"}};
+    const json info = {{"description", "written by lsds convert (docs/convert.md)"},
+                       {"lsds_format_version", setup_.header->format_version},
+                       {"bbox", "pixel-edge [x, y, width, height]"},
+                       {"segmentation", polygons_ ? "polygons" : "compressed RLE"}};
     for (auto& [name, s] : splits_) {
       s.images->Commit();
       s.annotations->Commit();
@@ -142,8 +132,7 @@ class CocoConverter : public Converter {
           setup_.root / "annotations" / ("instances_" + name + ".json");
       std::unique_ptr<AtomicFile> file = OpenForWrite(path);
       std::ostream& out = file->stream();
-      out << "{\"info\":" << info.dump()
-          << ",\n\"licenses\":[],\n\"images\":[\n";
+      out << "{\"info\":" << info.dump() << ",\n\"licenses\":[],\n\"images\":[\n";
       AppendAndRemove(out, s.images_path);
       out << "\n],\n\"annotations\":[\n";
       AppendAndRemove(out, s.annotations_path);
@@ -166,8 +155,6 @@ class CocoConverter : public Converter {
 
 }  // namespace
 
-std::unique_ptr<Converter> MakeCocoConverter() {
-  return std::make_unique<CocoConverter>();
-}
+std::unique_ptr<Converter> MakeCocoConverter() { return std::make_unique<CocoConverter>(); }
 
 }  // namespace lsds::convert

@@ -24,13 +24,11 @@ class CvatVideoConverter : public Converter {
     for (const SplitPart& split : setup.splits) splits_[split.name];
   }
 
-  std::unique_ptr<FramePiece> EncodeFrame(const FrameContext&,
-                                          LossReport*) const override {
+  std::unique_ptr<FramePiece> EncodeFrame(const FrameContext&, LossReport*) const override {
     return nullptr;  // nothing heavy: the boxes are recorded in AddFrame
   }
 
-  void AddFrame(const FrameContext& frame,
-                std::unique_ptr<FramePiece>) override {
+  void AddFrame(const FrameContext& frame, std::unique_ptr<FramePiece>) override {
     Split& s = splits_.at(frame.split);
     const int64_t number = s.frames++;
     if (s.frames == 1) {
@@ -38,8 +36,7 @@ class CvatVideoConverter : public Converter {
       s.height = frame.height;
     }
     for (const KeptObject& object : frame.objects) {
-      const std::pair<std::string, uint32_t> key{frame.frame->sequence,
-                                                 object.truth->instance_id};
+      const std::pair<std::string, uint32_t> key{frame.frame->sequence, object.truth->instance_id};
       auto it = s.track_index.find(key);
       if (it == s.track_index.end()) {
         it = s.track_index.emplace(key, s.tracks.size()).first;
@@ -48,9 +45,7 @@ class CvatVideoConverter : public Converter {
       // Compact records: the XML is written at the end, when every track is
       // complete.
       s.tracks[it->second].boxes.push_back(
-          {number,
-           object.box,
-           object.truth->visibility < setup_.options->occluded_below});
+          {number, object.box, object.truth->visibility < setup_.options->occluded_below});
     }
   }
 
@@ -63,30 +58,22 @@ class CvatVideoConverter : public Converter {
       std::ostream& out = file->stream();
       out << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<annotations>\n  "
              "<version>1.1</version>\n"
-          << "  <meta>\n    <task>\n      <name>" << XmlEscape(name)
-          << "</name>\n"
-          << "      <size>" << s.frames
-          << "</size>\n      <mode>interpolation</mode>\n"
+          << "  <meta>\n    <task>\n      <name>" << XmlEscape(name) << "</name>\n"
+          << "      <size>" << s.frames << "</size>\n      <mode>interpolation</mode>\n"
           << "      <overlap>0</overlap>\n      <start_frame>0</start_frame>\n"
-          << "      <stop_frame>" << std::max<int64_t>(0, s.frames - 1)
-          << "</stop_frame>\n"
-          << cvat::LabelsXml(*setup_.classes, "      ")
-          << "      <original_size>\n"
-          << "        <width>" << s.width << "</width>\n        <height>"
-          << s.height
+          << "      <stop_frame>" << std::max<int64_t>(0, s.frames - 1) << "</stop_frame>\n"
+          << cvat::LabelsXml(*setup_.classes, "      ") << "      <original_size>\n"
+          << "        <width>" << s.width << "</width>\n        <height>" << s.height
           << "</height>\n      </original_size>\n    </task>\n  </meta>\n";
       for (size_t t = 0; t < s.tracks.size(); ++t) {
         const Track& track = s.tracks[t];
-        out << "  <track id=\"" << t << "\" label=\""
-            << XmlEscape(classes[track.class_index].name)
+        out << "  <track id=\"" << t << "\" label=\"" << XmlEscape(classes[track.class_index].name)
             << "\" source=\"manual\">\n";
-        auto write =
-            [&](int64_t frame, const Box2d& box, bool outside, bool occluded) {
-              out << "    <box frame=\"" << frame
-                  << "\" keyframe=\"1\" outside=\"" << outside
-                  << "\" occluded=\"" << occluded << "\" "
-                  << cvat::BoxCorners(box) << " z_order=\"0\">\n    </box>\n";
-            };
+        auto write = [&](int64_t frame, const Box2d& box, bool outside, bool occluded) {
+          out << "    <box frame=\"" << frame << "\" keyframe=\"1\" outside=\"" << outside
+              << "\" occluded=\"" << occluded << "\" " << cvat::BoxCorners(box)
+              << " z_order=\"0\">\n    </box>\n";
+        };
         for (size_t k = 0; k < track.boxes.size(); ++k) {
           const Record& r = track.boxes[k];
           write(r.frame, r.box, false, r.occluded);

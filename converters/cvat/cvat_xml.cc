@@ -21,8 +21,7 @@ std::string LabelsXml(const ClassMap& classes, const std::string& indent) {
   std::string xml = indent + "<labels>\n";
   for (size_t i = 0; i < classes.classes().size(); ++i) {
     xml += indent + "  <label>\n";
-    xml += indent + "    <name>" + XmlEscape(classes.classes()[i].name) +
-           "</name>\n";
+    xml += indent + "    <name>" + XmlEscape(classes.classes()[i].name) + "</name>\n";
     xml += indent + "    <color>" + kColors[i % 12] + "</color>\n";
     xml += indent + "    <type>any</type>\n";
     xml += indent + "    <attributes>\n" + indent + "    </attributes>\n";
@@ -32,11 +31,8 @@ std::string LabelsXml(const ClassMap& classes, const std::string& indent) {
 }
 
 std::string BoxCorners(const Box2d& box) {
-  return Format("xtl=\"%.2f\" ytl=\"%.2f\" xbr=\"%.2f\" ybr=\"%.2f\"",
-                box.x0,
-                box.y0,
-                box.x1,
-                box.y1);
+  return Format(
+      "xtl=\"%.2f\" ytl=\"%.2f\" xbr=\"%.2f\" ybr=\"%.2f\"", box.x0, box.y0, box.x1, box.y1);
 }
 
 }  // namespace lsds::convert::cvat

@@ -33,9 +33,7 @@ std::string Quote(const std::string& s) {
 class YoloConverter : public Converter {
  public:
   explicit YoloConverter(bool segmentation) : segmentation_(segmentation) {}
-  std::string name() const override {
-    return segmentation_ ? "yolo-seg" : "yolo";
-  }
+  std::string name() const override { return segmentation_ ? "yolo-seg" : "yolo"; }
   bool NeedsMasks() const override { return segmentation_; }
 
   void Begin(const ConvertSetup& setup) override {
@@ -53,14 +51,9 @@ class YoloConverter : public Converter {
       const std::string& name = classes[object.class_index].name;
       int clipped = 0;
       if (!segmentation_) {
-        text += YoloBoxLine(object.class_index,
-                            object.box,
-                            frame.width,
-                            frame.height,
-                            &clipped);
+        text += YoloBoxLine(object.class_index, object.box, frame.width, frame.height, &clipped);
       } else {
-        const masks::MaskPolygons polygons =
-            masks::ExtractPolygons(*object.mask);
+        const masks::MaskPolygons polygons = masks::ExtractPolygons(*object.mask);
         if (polygons.pieces.size() > 1) loss->Add(loss::kPiecesMerged, name);
         if (polygons.holes > 0) loss->Add(loss::kHolesFilled, name);
         loss->Add(loss::kPolygonMaskPixels, name, object.mask->pixel_count);
@@ -78,8 +71,8 @@ class YoloConverter : public Converter {
     }
     // Every image gets a label file, empty when it has no objects (Ultralytics
     // then counts it as a background image instead of a missing label).
-    std::unique_ptr<AtomicFile> out = OpenForWrite(
-        setup_.root / "labels" / frame.split / (frame.stem + ".txt"));
+    std::unique_ptr<AtomicFile> out =
+        OpenForWrite(setup_.root / "labels" / frame.split / (frame.stem + ".txt"));
     out->stream() << text;
     out->Commit();
     return nullptr;
@@ -89,9 +82,9 @@ class YoloConverter : public Converter {
 
   void Finish() override {
     auto has = [&](const std::string& name) {
-      return std::any_of(setup_.splits.begin(),
-                         setup_.splits.end(),
-                         [&](const SplitPart& s) { return s.name == name; });
+      return std::any_of(setup_.splits.begin(), setup_.splits.end(), [&](const SplitPart& s) {
+        return s.name == name;
+      });
     };
     std::string yaml =
         "# Ultralytics YOLO dataset written by lsds convert "
@@ -105,8 +98,7 @@ class YoloConverter : public Converter {
     // Ultralytics needs train and val: a missing one points at the first split
     // (see docs).
     const std::string first = setup_.splits.front().name;
-    yaml +=
-        "train: images/" + (has("train") ? std::string("train") : first) + "\n";
+    yaml += "train: images/" + (has("train") ? std::string("train") : first) + "\n";
     yaml += "val: images/" + (has("val") ? std::string("val") : first) + "\n";
     if (has("test")) yaml += "test: images/test\n";
     yaml += "names:\n";
@@ -116,8 +108,8 @@ class YoloConverter : public Converter {
       // (Ultralytics reads only the names).
       std::vector<std::string> ids;
       for (uint32_t id : classes[i].source_ids) ids.push_back(std::to_string(id));
-      yaml += "  " + std::to_string(i) + ": " + Quote(classes[i].name) +
-              "  # lsds class id " + Join(ids, ", ") + "\n";
+      yaml += "  " + std::to_string(i) + ": " + Quote(classes[i].name) + "  # lsds class id " +
+              Join(ids, ", ") + "\n";
     }
     WriteFileAtomic(setup_.root / "data.yaml", yaml);
   }
@@ -129,14 +121,12 @@ class YoloConverter : public Converter {
 
 }  // namespace
 
-std::string YoloBoxLine(
-    int class_index, const Box2d& box, int width, int height, int* clipped) {
+std::string YoloBoxLine(int class_index, const Box2d& box, int width, int height, int* clipped) {
   const double xc = Clip01((box.x0 + box.x1) / 2 / width, clipped);
   const double yc = Clip01((box.y0 + box.y1) / 2 / height, clipped);
   const double w = Clip01(box.width() / width, clipped);
   const double h = Clip01(box.height() / height, clipped);
-  return std::to_string(class_index) +
-         Format(" %.6f %.6f %.6f %.6f\n", xc, yc, w, h);
+  return std::to_string(class_index) + Format(" %.6f %.6f %.6f %.6f\n", xc, yc, w, h);
 }
 
 std::unique_ptr<Converter> MakeYoloConverter(bool segmentation) {

@@ -23,14 +23,8 @@ const std::vector<std::string> kCameraKeys = {"csettings",
                                               "post_process",
                                               "capture",
                                               "capture_settings"};
-const std::vector<std::string> kSettingsKeys = {"fov",
-                                                "res",
-                                                "resolution",
-                                                "focal_length",
-                                                "sensor_width",
-                                                "fps",
-                                                "clearance",
-                                                "heights"};
+const std::vector<std::string> kSettingsKeys = {
+    "fov", "res", "resolution", "focal_length", "sensor_width", "fps", "clearance", "heights"};
 
 // Default minimum clearance of a camera above the terrain and objects
 // (docs/languages.md, "Cameras where a drone can be").
@@ -46,8 +40,7 @@ const std::vector<std::string> kPathKinds = {"create_hemi",
                                              "waypoints",
                                              "create_point",
                                              "point"};
-const std::vector<std::string> kTimingKeys = {
-    "when", "after", "during", "frame"};
+const std::vector<std::string> kTimingKeys = {"when", "after", "during", "frame"};
 const std::vector<std::string> kChangeKeys = {"material",
                                               "rotation",
                                               "scale",
@@ -65,8 +58,7 @@ std::pair<std::string, int64_t> RefWithNumber(const Node& n) {
   if (n->is_object() && n->size() == 1) {
     const auto [key, value] = n.Members().front();
     const double v = ReadNumber(value);
-    if (v < 1 || v != std::floor(v) || v > 1e6)
-      value.Fail("expected a whole number >= 1");
+    if (v < 1 || v != std::floor(v) || v > 1e6) value.Fail("expected a whole number >= 1");
     return {key, static_cast<int64_t>(v)};
   }
   const std::string s = ReadString(n);
@@ -132,16 +124,14 @@ struct Flight {
       const Eigen::Vector3d& p0 = centres[i == 0 ? 0 : i - 1];
       const Eigen::Vector3d& p3 = centres[std::min(i + 2, n - 1)];
       const double t2 = t * t, t3 = t2 * t;
-      return 0.5 *
-             ((2 * p1) + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 +
-              (-p0 + 3 * p1 - 3 * p2 + p3) * t3);
+      return 0.5 * ((2 * p1) + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 +
+                    (-p0 + 3 * p1 - 3 * p2 + p3) * t3);
     };
     for (size_t i = 0; i + 1 < n; ++i) {
       for (int k = (i == 0 ? 0 : 1); k <= kSamplesPerSegment; ++k) {
         const double t = static_cast<double>(k) / kSamplesPerSegment;
         const Eigen::Vector3d p = at(i, t);
-        along.push_back(
-            points.empty() ? 0.0 : along.back() + (p - points.back()).norm());
+        along.push_back(points.empty() ? 0.0 : along.back() + (p - points.back()).norm());
         points.push_back(p);
         param.push_back(static_cast<double>(i) + t);
       }
@@ -151,8 +141,8 @@ struct Flight {
 
   FlightSample At(double s) const {
     s = std::clamp(s, 0.0, length);
-    const size_t j = static_cast<size_t>(
-        std::upper_bound(along.begin(), along.end(), s) - along.begin());
+    const size_t j =
+        static_cast<size_t>(std::upper_bound(along.begin(), along.end(), s) - along.begin());
     const size_t hi = std::clamp<size_t>(j, 1, along.size() - 1), lo = hi - 1;
     const double span = along[hi] - along[lo];
     const double t = span > 0 ? (s - along[lo]) / span : 0.0;
@@ -166,8 +156,7 @@ struct Flight {
     sample.cam_from_world.translation = -(rotation * centre);
     sample.centre = centre;
     const Eigen::Vector3d d = points[hi] - points[lo];
-    sample.tangent =
-        d.norm() > 0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+    sample.tangent = d.norm() > 0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
     sample.velocity = speed * sample.tangent;
     return sample;
   }
@@ -177,7 +166,7 @@ struct Segment {
   const Definition* path = nullptr;
   const Definition* collection = nullptr;  // whose move flies it, if any
   int64_t repetition = 1;                  // 1-based
-  int64_t first = 0;  // global frame index of its first frame
+  int64_t first = 0;                       // global frame index of its first frame
   int64_t count = 0;
 };
 
@@ -187,9 +176,8 @@ struct Rule {
   Node block;                    // the change keys
   Node timing;                   // for messages
   bool during = false;
-  int64_t begin = 0;  // first frame in effect
-  int64_t end =
-      std::numeric_limits<int64_t>::max();  // one past the last (during)
+  int64_t begin = 0;                                  // first frame in effect
+  int64_t end = std::numeric_limits<int64_t>::max();  // one past the last (during)
   uint64_t id = 0;
   // An object's `move:[P2, P3:2]`: the flights it follows from `begin`, one
   // after the other, each repeated.
@@ -217,11 +205,9 @@ class CaptureEvaluator {
         if (CanonicalKey(key) == "visible" || CanonicalKey(key) == "visibility")
           made_visible.insert(rule.object_symbol);
     DropHelperClasses(made_visible, plan_, swapped_in_);
-    const int64_t total =
-        segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
+    const int64_t total = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
     if (end < 0 || end > total) end = total;
-    for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k)
-      plan_->frames.push_back(Frame(k));
+    for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k) plan_->frames.push_back(Frame(k));
   }
 
  private:
@@ -235,12 +221,10 @@ class CaptureEvaluator {
       } else if (d.kind == "path") {
         d.body.CheckKeys(kPathKinds, "path " + d.symbol);
         if (d.body->size() != 1)
-          d.body.Fail("a path has exactly one generator: " +
-                      Join(kPathKinds, ", "));
+          d.body.Fail("a path has exactly one generator: " + Join(kPathKinds, ", "));
       } else if (d.kind == "collection" || d.kind == "scene_change") {
       } else {
-        d.statement.Fail("'" + d.kind +
-                         "' belongs in the LSCENE scene file, not in LCAP");
+        d.statement.Fail("'" + d.kind + "' belongs in the LSCENE scene file, not in LCAP");
       }
     }
     if (cap_.start_rule) {
@@ -253,8 +237,7 @@ class CaptureEvaluator {
         const std::string name = ReadString(sym);
         if (!cap_.Find(name) && !CategoryKinds().count(name)) {
           std::vector<std::string> names;
-          for (const Definition& d : cap_.definitions)
-            names.push_back(d.symbol);
+          for (const Definition& d : cap_.definitions) names.push_back(d.symbol);
           sym.Fail("the start rule names undefined symbol '" + name + "'" +
                    DidYouMean(name, names));
         }
@@ -274,11 +257,10 @@ class CaptureEvaluator {
       int w = 1024, h = 1024;
       for (const char* key : {"res", "resolution"}) {
         if (const Node r = settings.Find(key)) {
-          if (!r->is_array() || r->size() != 2)
-            r.Fail("resolution is [width, height]");
+          if (!r->is_array() || r->size() != 2) r.Fail("resolution is [width, height]");
           const double rw = ReadNumber(r.Item(0)), rh = ReadNumber(r.Item(1));
-          if (rw < 1 || rh < 1 || rw > 65536 || rh > 65536 ||
-              rw != std::floor(rw) || rh != std::floor(rh))
+          if (rw < 1 || rh < 1 || rw > 65536 || rh > 65536 || rw != std::floor(rw) ||
+              rh != std::floor(rh))
             r.Fail("resolution must be whole numbers in [1, 65536]");
           w = static_cast<int>(rw);
           h = static_cast<int>(rh);
@@ -294,8 +276,7 @@ class CaptureEvaluator {
         double sensor = 36;
         if (const Node s = settings.Find("sensorwidth")) sensor = ReadNumber(s);
         const double mm = ReadNumber(f);
-        if (mm <= 0 || sensor <= 0)
-          f.Fail("focal_length and sensor_width must be > 0 (mm)");
+        if (mm <= 0 || sensor <= 0) f.Fail("focal_length and sensor_width must be > 0 (mm)");
         camera_model_.fx = camera_model_.fy = mm / sensor * w;
       }
       if (const Node f = settings.Find("fps")) {
@@ -305,9 +286,7 @@ class CaptureEvaluator {
       if (const Node h = settings.Find("heights")) {
         const std::string v = ReadString(h);
         if (v != "agl" && v != "datum")
-          h.Fail(
-              "heights is agl (above the terrain) or datum (world z), not '" +
-              v + "'");
+          h.Fail("heights is agl (above the terrain) or datum (world z), not '" + v + "'");
         heights_agl_ = v == "agl";
       }
       if (const Node c = settings.Find("clearance")) {
@@ -322,10 +301,8 @@ class CaptureEvaluator {
     }
     for (const char* key : {"ppmaterial", "postprocess"}) {
       if (const Node n = b.Find(key)) {
-        if (!n->is_array())
-          n.Fail("post-process materials are a list [Name, ...]");
-        for (size_t i = 0; i < n->size(); ++i)
-          plan_->post_process.push_back(ReadString(n.Item(i)));
+        if (!n->is_array()) n.Fail("post-process materials are a list [Name, ...]");
+        for (size_t i = 0; i < n->size(); ++i) plan_->post_process.push_back(ReadString(n.Item(i)));
       }
     }
     for (const char* key : {"capture", "capturesettings"}) {
@@ -340,11 +317,9 @@ class CaptureEvaluator {
           for (size_t i = 0; i < layers->size(); ++i) {
             const std::string name = ReadString(layers.Item(i));
             if (std::find(known.begin(), known.end(), name) == known.end())
-              layers.Item(i).Fail("unknown layer '" + name + "'" +
-                                  DidYouMean(name, known) +
+              layers.Item(i).Fail("unknown layer '" + name + "'" + DidYouMean(name, known) +
                                   "; layers: " + Join(known, ", "));
-            if (std::find(names.begin(), names.end(), name) == names.end())
-              names.push_back(name);
+            if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
           }
           plan_->capture_settings["layers"] = names;
         }
@@ -372,8 +347,7 @@ class CaptureEvaluator {
     const bool spline = ReadFlightSettings(g, rng, &flight);
     const Node points = g.Find("points");
     std::vector<Rigid3d> poses;
-    for (size_t j = 0; j < points->size(); ++j)
-      poses.push_back(WaypointPose(points.Item(j), rng));
+    for (size_t j = 0; j < points->size(); ++j) poses.push_back(WaypointPose(points.Item(j), rng));
     flight.Build(poses, spline);
     const double frames = std::floor(flight.length / flight.spacing + 1e-9) + 1;
     if (frames > 1e6)
@@ -389,8 +363,7 @@ class CaptureEvaluator {
     g.CheckKeys({"points", "speed", "interpolation"}, "waypoints");
     const Node points = g.Find("points"), speed = g.Find("speed");
     if (!points || !points->is_array() || points->size() < 2)
-      (points ? points : g)
-          .Fail("a flight needs points: at least two waypoints");
+      (points ? points : g).Fail("a flight needs points: at least two waypoints");
     if (!speed) g.Fail("a flight needs a speed (m/s)");
     flight->speed = SampleScalar(speed, rng);
     if (!(flight->speed > 0) || flight->speed > 1000)
@@ -433,11 +406,9 @@ class CaptureEvaluator {
       centres.push_back(SampleVec3(p, rng));
     }
     flight.Build(centres,
-                 std::vector<Eigen::Quaterniond>(
-                     centres.size(), Eigen::Quaterniond::Identity()),
+                 std::vector<Eigen::Quaterniond>(centres.size(), Eigen::Quaterniond::Identity()),
                  spline);
-    if (!(flight.length > 0))
-      g.Fail("the path of a moving object has length 0");
+    if (!(flight.length > 0)) g.Fail("the path of a moving object has length 0");
     return object_flights_.emplace(key, std::move(flight)).first->second;
   }
 
@@ -448,8 +419,7 @@ class CaptureEvaluator {
     const auto [kind, g] = path.body.Members().front();
     const std::string k = PathKind(kind);
     if (k == "createhemi" || k == "hemi") {
-      g.CheckKeys({"cam_radius", "obj_angle", "cam_angle", "center", "target"},
-                  "create hemi");
+      g.CheckKeys({"cam_radius", "obj_angle", "cam_angle", "center", "target"}, "create hemi");
       for (const char* key : {"camradius", "objangle", "camangle"})
         if (!g.Find(key))
           g.Fail(
@@ -460,31 +430,20 @@ class CaptureEvaluator {
                                   ExpandRange(g.Find("camangle")).size());
     }
     if (k == "grid" || k == "incrementpoints") {
-      g.CheckKeys({"x",
-                   "y",
-                   "altitude",
-                   "start",
-                   "step",
-                   "count",
-                   "perturb",
-                   "roll",
-                   "pitch",
-                   "yaw"},
-                  "grid");
+      g.CheckKeys(
+          {"x", "y", "altitude", "start", "step", "count", "perturb", "roll", "pitch", "yaw"},
+          "grid");
       const auto axes = GridAxes(g);
-      return static_cast<int64_t>(axes[0].size() * axes[1].size() *
-                                  axes[2].size());
+      return static_cast<int64_t>(axes[0].size() * axes[1].size() * axes[2].size());
     }
     if (k == "random" || k == "randomposes") {
-      g.CheckKeys({"count", "x", "y", "altitude", "off_nadir", "yaw"},
-                  "random poses");
+      g.CheckKeys({"count", "x", "y", "altitude", "off_nadir", "yaw"}, "random poses");
       if (!g.Find("count")) g.Fail("random poses need a count");
       return SampleCount(g.Find("count"), count_rng);
     }
     if (k == "waypoints") {
       if (g->is_object()) return FlightOf(g, segment).frame_count;
-      if (!g->is_array() || g->empty())
-        g.Fail("waypoints are a non-empty list");
+      if (!g->is_array() || g->empty()) g.Fail("waypoints are a non-empty list");
       return static_cast<int64_t>(g->size());
     }
     g.CheckKeys({"position", "rotation", "look_at", "count"}, "create point");
@@ -504,21 +463,18 @@ class CaptureEvaluator {
       axes[2] = ExpandRange(g.Find("altitude"));
       return axes;
     }
-    const Node start = g.Find("start"), step = g.Find("step"),
-               count = g.Find("count");
+    const Node start = g.Find("start"), step = g.Find("step"), count = g.Find("count");
     if (!start || !step || !count)
       g.Fail(
           "increment points need start [x,y,z], step [dx,dy,dz] and count "
           "[nx,ny,nz]");
     Rng dummy(0);
-    const Eigen::Vector3d s = SampleVec3(start, dummy),
-                          d = SampleVec3(step, dummy),
+    const Eigen::Vector3d s = SampleVec3(start, dummy), d = SampleVec3(step, dummy),
                           n = SampleVec3(count, dummy);
     for (int i = 0; i < 3; ++i) {
       if (n[i] < 1 || n[i] > 100000 || n[i] != std::floor(n[i]))
         count.Fail("counts must be whole numbers >= 1");
-      for (int j = 0; j < static_cast<int>(n[i]); ++j)
-        axes[i].push_back(s[i] + j * d[i]);
+      for (int j = 0; j < static_cast<int>(n[i]); ++j) axes[i].push_back(s[i] + j * d[i]);
     }
     return axes;
   }
@@ -533,9 +489,7 @@ class CaptureEvaluator {
         Segment s;
         s.path = path;
         s.repetition = r;
-        s.first = segments_.empty()
-                      ? 0
-                      : segments_.back().first + segments_.back().count;
+        s.first = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
         s.count = PathFrameCount(*path, segments_.size());
         s.collection = current_collection;
         segments_.push_back(s);
@@ -552,16 +506,14 @@ class CaptureEvaluator {
           if (!move) block.Fail("a camera entry needs move:[P1:3, ...]");
           std::vector<Node> items;
           if (move->is_array())
-            for (size_t i = 0; i < move->size(); ++i)
-              items.push_back(move.Item(i));
+            for (size_t i = 0; i < move->size(); ++i) items.push_back(move.Item(i));
           else
             items.push_back(move);
           for (const Node& item : items) {
             const auto [symbol, reps] = RefWithNumber(item);
             const Definition* path = cap_.Find(symbol);
             if (!path || path->kind != "path")
-              item.Fail("'" + symbol + "' is not a path" +
-                        DidYouMean(symbol, PathNames()));
+              item.Fail("'" + symbol + "' is not a path" + DidYouMean(symbol, PathNames()));
             append(path, reps < 0 ? 1 : reps);
             moved = true;
           }
@@ -599,8 +551,7 @@ class CaptureEvaluator {
   static std::vector<Node> Blocks(const Node& value) {
     std::vector<Node> blocks;
     if (value->is_array())
-      for (size_t i = 0; i < value->size(); ++i)
-        blocks.push_back(value.Item(i));
+      for (size_t i = 0; i < value->size(); ++i) blocks.push_back(value.Item(i));
     else
       blocks.push_back(value);
     return blocks;
@@ -614,29 +565,25 @@ class CaptureEvaluator {
     const Definition* named = cap_.Find(symbol);
     if (named && named->kind == "collection") {
       // A set/collection: the frames of the paths its camera moves fly.
-      if (rep >= 0)
-        where.Fail("a collection has no repetitions: write '" + symbol + "'");
+      if (rep >= 0) where.Fail("a collection has no repetitions: write '" + symbol + "'");
       for (const Segment& s : segments_) {
         if (s.collection != named) continue;
         if (lo < 0) lo = s.first;
         hi = s.first + s.count;
       }
-      if (lo < 0)
-        where.Fail("collection '" + symbol +
-                   "' moves the camera along no path");
+      if (lo < 0) where.Fail("collection '" + symbol + "' moves the camera along no path");
       return {lo, hi};
     }
     for (const Segment& s : segments_) {
-      if (s.path->symbol != symbol || (rep >= 0 && s.repetition != rep))
-        continue;
+      if (s.path->symbol != symbol || (rep >= 0 && s.repetition != rep)) continue;
       if (lo < 0) lo = s.first;
       hi = s.first + s.count;
     }
     if (lo < 0) {
       std::vector<std::string> names = PathNames();
       if (cap_.Find(symbol) && rep >= 0)
-        where.Fail("path '" + symbol + "' has no repetition " +
-                   std::to_string(rep) + " in the camera's moves");
+        where.Fail("path '" + symbol + "' has no repetition " + std::to_string(rep) +
+                   " in the camera's moves");
       where.Fail("'" + symbol + "' is not a path the camera moves along" +
                  DidYouMean(symbol, names));
     }
@@ -645,8 +592,7 @@ class CaptureEvaluator {
 
   static int64_t FrameNumber(const Node& v) {
     const double f = ReadNumber(v);
-    if (f < 0 || f != std::floor(f) || f > 1e9)
-      v.Fail("a frame number is a whole number >= 0");
+    if (f < 0 || f != std::floor(f) || f > 1e9) v.Fail("a frame number is a whole number >= 0");
     return static_cast<int64_t>(f);
   }
 
@@ -678,8 +624,7 @@ class CaptureEvaluator {
         rule->during = true;
       } else if (k == "frame") {
         const double f = ReadNumber(v);
-        if (f < 0 || f != std::floor(f))
-          v.Fail("frame must be a whole number >= 0");
+        if (f < 0 || f != std::floor(f)) v.Fail("frame must be a whole number >= 0");
         rule->begin = static_cast<int64_t>(f);
       }
     }
@@ -695,8 +640,7 @@ class CaptureEvaluator {
     if (environment != environment_symbols_.end()) {
       // Any LSCENE function of the sky, light, atmosphere, skylight or
       // terrain material, as in the scene (docs/languages.md).
-      std::vector<std::string> env_keys =
-          EnvironmentKeys(environment->second, true);
+      std::vector<std::string> env_keys = EnvironmentKeys(environment->second, true);
       env_keys.insert(env_keys.end(), kTimingKeys.begin(), kTimingKeys.end());
       block.CheckKeys(env_keys, where);
       Rule rule;
@@ -718,10 +662,8 @@ class CaptureEvaluator {
     }
     block.CheckKeys(keys, where);
     if (!HasObject(object)) {
-      std::vector<std::string> names(scene_symbols_.begin(),
-                                     scene_symbols_.end());
-      block.Fail("'" + object + "' is not an object of the scene" +
-                 DidYouMean(object, names));
+      std::vector<std::string> names(scene_symbols_.begin(), scene_symbols_.end());
+      block.Fail("'" + object + "' is not an object of the scene" + DidYouMean(object, names));
     }
     Rule rule;
     rule.object_symbol = object;
@@ -775,8 +717,7 @@ class CaptureEvaluator {
       const auto [symbol, reps] = RefWithNumber(item);
       const Definition* path = cap_.Find(symbol);
       if (!path || path->kind != "path")
-        item.Fail("'" + symbol + "' is not a path" +
-                  DidYouMean(symbol, PathNames()));
+        item.Fail("'" + symbol + "' is not a path" + DidYouMean(symbol, PathNames()));
       Rule::Leg leg;
       leg.flight = &ObjectFlightOf(item, *path, rule->id, rule->legs.size());
       leg.repetitions = reps < 0 ? 1 : reps;
@@ -793,8 +734,7 @@ class CaptureEvaluator {
                                              const std::string& option) {
     const SceneClass resolved = ResolveSceneClass(*scene_, where, option);
     const auto label = labels_.find(symbol);
-    if (label != labels_.end() && label->second != 0)
-      return {resolved.asset, label->second};
+    if (label != labels_.end() && label->second != 0) return {resolved.asset, label->second};
     uint32_t next = 1;
     for (const ClassInfo& c : plan_->classes) {
       if (c.name == resolved.name) return {resolved.asset, c.id};
@@ -812,11 +752,9 @@ class CaptureEvaluator {
         if (IsCameraEntry(key, value)) continue;
         const Definition* set = cap_.Find(key);
         for (const Node& block : Blocks(value)) {
-          if (!block->is_object())
-            block.Fail("expected {when:{...}, change...} for " + key);
-          if (set &&
-              set->kind == "scene_change") {  // SCS1:{after:P1:1} applies the
-                                              // set with that timing
+          if (!block->is_object()) block.Fail("expected {when:{...}, change...} for " + key);
+          if (set && set->kind == "scene_change") {  // SCS1:{after:P1:1} applies the
+                                                     // set with that timing
             block.CheckKeys(kTimingKeys, "scene change set entry " + key);
             for (const auto& [object, changes] : set->body.Members())
               for (const Node& change : Blocks(changes))
@@ -839,8 +777,7 @@ class CaptureEvaluator {
     for (const auto& [key, v] : rule.block.Members()) {
       const std::string k = CanonicalKey(key);
       if (k == "material") c.material = SampleString(v, rng);
-      if (k == "rotation")
-        c.world_from_object = RotationFromEulerDeg(SampleVec3(v, rng));
+      if (k == "rotation") c.world_from_object = RotationFromEulerDeg(SampleVec3(v, rng));
       if (k == "visible" || k == "visibility") c.visible = SampleBool(v, rng);
       if (k == "extent") {
         c.extent = SampleVec3(v, rng);
@@ -861,8 +798,7 @@ class CaptureEvaluator {
     return c;
   }
 
-  Eigen::Vector3d ObjectCenter(const Node& where,
-                               const std::string& symbol) const {
+  Eigen::Vector3d ObjectCenter(const Node& where, const std::string& symbol) const {
     for (const PlannedObject& o : plan_->objects)
       if (o.symbol == symbol) return o.position;
     where.Fail("'" + symbol + "' is not a placed object of the scene");
@@ -882,8 +818,7 @@ class CaptureEvaluator {
     const std::string k = PathKind(kind);
     const double deg = M_PI / 180.0;
     if (k == "createhemi" || k == "hemi") {
-      const auto radii = ExpandRange(g.Find("camradius")),
-                 az = ExpandRange(g.Find("objangle")),
+      const auto radii = ExpandRange(g.Find("camradius")), az = ExpandRange(g.Find("objangle")),
                  el = ExpandRange(g.Find("camangle"));
       const size_t a = static_cast<size_t>(i) % az.size();
       const size_t e = (static_cast<size_t>(i) / az.size()) % el.size();
@@ -896,10 +831,9 @@ class CaptureEvaluator {
       else if (!first_target_.empty())
         center = ObjectCenter(camera_->body, first_target_);
       const Eigen::Vector3d eye =
-          center + radii[r] * Eigen::Vector3d(
-                                  std::cos(el[e] * deg) * std::cos(az[a] * deg),
-                                  std::cos(el[e] * deg) * std::sin(az[a] * deg),
-                                  std::sin(el[e] * deg));
+          center + radii[r] * Eigen::Vector3d(std::cos(el[e] * deg) * std::cos(az[a] * deg),
+                                              std::cos(el[e] * deg) * std::sin(az[a] * deg),
+                                              std::sin(el[e] * deg));
       return LookAt(eye, center);
     }
     if (k == "grid" || k == "incrementpoints") {
@@ -922,12 +856,10 @@ class CaptureEvaluator {
       return CamFromEnu(p, att);
     }
     if (k == "random" || k == "randomposes") {
-      const Eigen::Vector2d half =
-          plan_->terrain.present ? Eigen::Vector2d(0.5 * plan_->terrain.size)
-                                 : Eigen::Vector2d(50, 50);
-      Eigen::Vector3d p(rng.Uniform(-half.x(), half.x()),
-                        rng.Uniform(-half.y(), half.y()),
-                        50);
+      const Eigen::Vector2d half = plan_->terrain.present
+                                       ? Eigen::Vector2d(0.5 * plan_->terrain.size)
+                                       : Eigen::Vector2d(50, 50);
+      Eigen::Vector3d p(rng.Uniform(-half.x(), half.x()), rng.Uniform(-half.y(), half.y()), 50);
       if (const Node n = g.Find("x")) p.x() = SampleScalar(n, rng);
       if (const Node n = g.Find("y")) p.y() = SampleScalar(n, rng);
       if (const Node n = g.Find("altitude")) p.z() = SampleScalar(n, rng);
@@ -941,13 +873,11 @@ class CaptureEvaluator {
     }
     if (k == "waypoints" && g->is_object()) {
       const Flight& flight = FlightOf(g, segment);
-      const FlightSample at =
-          flight.At(static_cast<double>(i) * flight.spacing);
+      const FlightSample at = flight.At(static_cast<double>(i) * flight.spacing);
       if (velocity) *velocity = at.velocity;
       return at.cam_from_world;
     }
-    if (k == "waypoints")
-      return WaypointPose(g.Item(static_cast<size_t>(i)), rng);
+    if (k == "waypoints") return WaypointPose(g.Item(static_cast<size_t>(i)), rng);
     return PointPose(g, rng);
   }
 
@@ -962,8 +892,7 @@ class CaptureEvaluator {
     if (k == "waypoints") return first;
     if (k == "grid" || k == "incrementpoints") {
       const auto axes = GridAxes(g);
-      const int64_t level =
-          static_cast<int64_t>(axes[0].size() * axes[1].size());
+      const int64_t level = static_cast<int64_t>(axes[0].size() * axes[1].size());
       return first + (i / level) * level;
     }
     return first + i;
@@ -978,10 +907,8 @@ class CaptureEvaluator {
       if (w->size() != 3 && w->size() != 6)
         w.Fail("a waypoint is [x,y,z] (nadir) or [x,y,z,roll,pitch,yaw]");
       std::vector<double> v;
-      for (size_t j = 0; j < w->size(); ++j)
-        v.push_back(SampleScalar(w.Item(j), rng));
-      const Attitude att =
-          v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
+      for (size_t j = 0; j < w->size(); ++j) v.push_back(SampleScalar(w.Item(j), rng));
+      const Attitude att = v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
       return CamFromEnu(Datum({v[0], v[1], v[2]}), att);
     }
     w.CheckKeys({"position", "attitude", "look_at"}, "waypoint");
@@ -1017,8 +944,7 @@ class CaptureEvaluator {
     PlannedFrame f;
     f.index = k;
     f.time = static_cast<double>(k) / fps_;
-    f.sequence =
-        seg->path->symbol + "(" + std::to_string(seg->repetition) + ")";
+    f.sequence = seg->path->symbol + "(" + std::to_string(seg->repetition) + ")";
     f.shot = ShotStart(*seg->path, seg->first, k - seg->first);
     f.camera = camera_model_;
     Rng rng = Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k));
@@ -1035,20 +961,15 @@ class CaptureEvaluator {
       // every frame.
       Rng change_rng =
           rule.during
-              ? Rng::For(
-                    seed_, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
-              : Rng::For(seed_,
-                         StreamTag::kChange,
-                         rule.id,
-                         static_cast<uint64_t>(rule.begin));
+              ? Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
+              : Rng::For(seed_, StreamTag::kChange, rule.id, static_cast<uint64_t>(rule.begin));
       if (!rule.environment_kind.empty()) {
         if (!f.environment) f.environment = EnvironmentOf(*plan_);
-        ApplyEnvironment(
-            rule.environment_kind, rule.block, change_rng, &*f.environment);
+        ApplyEnvironment(rule.environment_kind, rule.block, change_rng, &*f.environment);
         continue;
       }
-      const bool rescatter = rule.block.Find("rescatter") &&
-                             rule.block.Find("rescatter")->get<bool>();
+      const bool rescatter =
+          rule.block.Find("rescatter") && rule.block.Find("rescatter")->get<bool>();
       for (const PlannedObject& o : plan_->objects)
         if (o.symbol == rule.object_symbol) {
           ObjectChange change = Change(rule, o, change_rng);
@@ -1064,8 +985,7 @@ class CaptureEvaluator {
       PlannedEnvironment environment = EnvironmentAt(*plan_, f);
       if (environment.sun.clock_utc_s) {
         PlaceSun(*plan_->geo, f.time, &environment.sun);
-        if (!(environment == EnvironmentOf(*plan_)))
-          f.environment = environment;
+        if (!(environment == EnvironmentOf(*plan_))) f.environment = environment;
       }
     }
     return f;
@@ -1079,10 +999,7 @@ class CaptureEvaluator {
   // standing on the terrain follows the ground, so the vertical component
   // is the terrain's slope along the motion (its z is re-seated on the
   // support by KeepPlacement).
-  void Move(const Rule& rule,
-            const PlannedObject& o,
-            int64_t k,
-            ObjectChange* c) const {
+  void Move(const Rule& rule, const PlannedObject& o, int64_t k, ObjectChange* c) const {
     const PlannedObject* first = &o;
     for (const PlannedObject& p : plan_->objects)
       if (p.symbol == o.symbol) {
@@ -1123,9 +1040,8 @@ class CaptureEvaluator {
     // block's, else the planned one).
     if (rule.heading && at.tangent.head<2>().norm() > 1e-12) {
       const double yaw = std::atan2(at.tangent.y(), at.tangent.x());
-      c->world_from_object =
-          Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-          (c->world_from_object ? *c->world_from_object : o.world_from_object);
+      c->world_from_object = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+                             (c->world_from_object ? *c->world_from_object : o.world_from_object);
     }
   }
 
@@ -1147,31 +1063,26 @@ class CaptureEvaluator {
     };
     std::map<std::string, State> states;
     for (const PlannedObject& p : plan_->objects)
-      states[p.name] = {
-          &p, p.position, p.extent, p.world_from_object, p.visible};
+      states[p.name] = {&p, p.position, p.extent, p.world_from_object, p.visible};
     for (const ObjectChange& change : f.changes) {
       State& s = states.at(change.object);
       if (change.position) s.position = *change.position;
       if (change.extent) s.extent = *change.extent;
-      if (change.world_from_object)
-        s.world_from_object = *change.world_from_object;
+      if (change.world_from_object) s.world_from_object = *change.world_from_object;
       if (change.visible) s.visible = *change.visible;
     }
     State& me = states.at(o.name);
     if (c->extent) me.extent = *c->extent;
     if (c->world_from_object) me.world_from_object = *c->world_from_object;
     if (c->visible) me.visible = *c->visible;
-    const Eigen::Vector3d half =
-        me.world_from_object.cwiseAbs() * (0.5 * me.extent);
+    const Eigen::Vector3d half = me.world_from_object.cwiseAbs() * (0.5 * me.extent);
     const bool on = o.support != PlannedObject::Support::kNone;
     for (int attempt = 0;; ++attempt) {
       Eigen::Vector3d p;
       for (int i = 0; i < 3; ++i) {
         if (i == 2 && on) continue;
-        const double lo = o.placement_lo[i] + half[i],
-                     hi = o.placement_hi[i] - half[i];
-        p[i] = lo <= hi ? rng.Uniform(lo, hi)
-                        : 0.5 * (o.placement_lo[i] + o.placement_hi[i]);
+        const double lo = o.placement_lo[i] + half[i], hi = o.placement_hi[i] - half[i];
+        p[i] = lo <= hi ? rng.Uniform(lo, hi) : 0.5 * (o.placement_lo[i] + o.placement_hi[i]);
       }
       if (o.support == PlannedObject::Support::kTerrain)
         p.z() = TerrainHeight(plan_->terrain, p.x(), p.y()) + half.z();
@@ -1183,12 +1094,9 @@ class CaptureEvaluator {
       bool collides = false;
       for (const auto& [name, t] : states) {
         if (name == o.name || !t.visible) continue;
-        if (std::find(o.supports.begin(),
-                      o.supports.end(),
-                      t.planned->symbol) != o.supports.end())
+        if (std::find(o.supports.begin(), o.supports.end(), t.planned->symbol) != o.supports.end())
           continue;
-        if (mine.Intersects(
-                {t.position, 0.5 * t.extent, t.world_from_object})) {
+        if (mine.Intersects({t.position, 0.5 * t.extent, t.world_from_object})) {
           collides = true;
           break;
         }
@@ -1200,9 +1108,8 @@ class CaptureEvaluator {
       c->visible = false;  // a frame cannot delete it: it is hidden there
       return;
     }
-    rule.block.Fail("frame " + std::to_string(f.index) + ": cannot re-scatter " +
-                    o.name + " without overlap after " +
-                    std::to_string(o.retries) +
+    rule.block.Fail("frame " + std::to_string(f.index) + ": cannot re-scatter " + o.name +
+                    " without overlap after " + std::to_string(o.retries) +
                     " retries; lower the count, enlarge its space, or allow "
                     "overlap in the scene (overlap:true or on_overlap:delete)");
   }
@@ -1211,39 +1118,30 @@ class CaptureEvaluator {
   // terrain under it and outside every rendered object grown by it.
   // A violation is a plan error naming the path instance, the pose and the
   // terrain height there; `clearance:off` opts out.
-  void CheckClearance(const Segment& seg,
-                      int64_t k,
-                      const Rigid3d& cam_from_world) const {
+  void CheckClearance(const Segment& seg, int64_t k, const Rigid3d& cam_from_world) const {
     if (!clearance_) return;
     const Eigen::Vector3d eye = CameraCenterInWorld(cam_from_world);
-    const std::string who =
-        seg.path->symbol + "(" + std::to_string(seg.repetition) + ") pose " +
-        std::to_string(k - seg.first) + " (frame " + std::to_string(k) + ")";
-    const std::string fix =
-        "; raise the path, or set camera settings clearance:" +
-        std::string("N (metres) or clearance:off");
+    const std::string who = seg.path->symbol + "(" + std::to_string(seg.repetition) + ") pose " +
+                            std::to_string(k - seg.first) + " (frame " + std::to_string(k) + ")";
+    const std::string fix = "; raise the path, or set camera settings clearance:" +
+                            std::string("N (metres) or clearance:off");
     if (plan_->terrain.present) {
       const double ground = TerrainHeight(plan_->terrain, eye.x(), eye.y());
       if (eye.z() < ground + *clearance_)
-        seg.path->body.Fail(
-            who + ": the camera at (" + FormatNumber(eye.x()) + ", " +
-            FormatNumber(eye.y()) + ", " + FormatNumber(eye.z()) + ") is " +
-            FormatNumber(eye.z() - ground) + " m above the terrain (height " +
-            FormatNumber(ground) + " m there), under the clearance of " +
-            FormatNumber(*clearance_) + " m" + fix);
+        seg.path->body.Fail(who + ": the camera at (" + FormatNumber(eye.x()) + ", " +
+                            FormatNumber(eye.y()) + ", " + FormatNumber(eye.z()) + ") is " +
+                            FormatNumber(eye.z() - ground) + " m above the terrain (height " +
+                            FormatNumber(ground) + " m there), under the clearance of " +
+                            FormatNumber(*clearance_) + " m" + fix);
     }
     for (const PlannedObject& o : plan_->objects) {
       if (!o.visible) continue;
       const OrientedBox grown{
-          o.position,
-          0.5 * o.extent + Eigen::Vector3d::Constant(*clearance_),
-          o.world_from_object};
-      const Eigen::Vector3d local =
-          grown.world_from_box.transpose() * (eye - grown.center);
+          o.position, 0.5 * o.extent + Eigen::Vector3d::Constant(*clearance_), o.world_from_object};
+      const Eigen::Vector3d local = grown.world_from_box.transpose() * (eye - grown.center);
       if ((local.cwiseAbs() - grown.half_extents).maxCoeff() < 0)
-        seg.path->body.Fail(who + ": the camera is within " +
-                            FormatNumber(*clearance_) + " m of object " +
-                            o.name + fix);
+        seg.path->body.Fail(who + ": the camera is within " + FormatNumber(*clearance_) +
+                            " m of object " + o.name + fix);
     }
   }
 
@@ -1253,8 +1151,7 @@ class CaptureEvaluator {
   // and an object that may not overlap must not overlap another after the
   // change. The re-seated position is appended as a final change of the
   // frame; an overlap is a plan error at the change that caused it.
-  void KeepPlacement(const std::vector<const Rule*>& change_rules,
-                     PlannedFrame* f) const {
+  void KeepPlacement(const std::vector<const Rule*>& change_rules, PlannedFrame* f) const {
     struct State {
       const PlannedObject* planned = nullptr;
       Eigen::Vector3d position, extent;
@@ -1264,13 +1161,7 @@ class CaptureEvaluator {
     };
     std::map<std::string, State> states;
     for (const PlannedObject& o : plan_->objects)
-      states[o.name] = {&o,
-                        o.position,
-                        o.extent,
-                        o.world_from_object,
-                        o.visible,
-                        false,
-                        nullptr};
+      states[o.name] = {&o, o.position, o.extent, o.world_from_object, o.visible, false, nullptr};
     for (size_t i = 0; i < f->changes.size(); ++i) {
       const ObjectChange& c = f->changes[i];
       State& s = states.at(c.object);
@@ -1285,17 +1176,14 @@ class CaptureEvaluator {
     for (auto& [name, s] : states) {
       if (!s.moved) continue;
       const PlannedObject& o = *s.planned;
-      const double half_z =
-          (s.world_from_object.cwiseAbs() * (0.5 * s.extent)).z();
+      const double half_z = (s.world_from_object.cwiseAbs() * (0.5 * s.extent)).z();
       // An offset's z lifts the object off its support on purpose.
       double lift = 0;
       for (const auto& [key, v] : s.rule->block.Members())
-        if (CanonicalKey(key) == "offset")
-          lift = s.position.z() - o.position.z();
+        if (CanonicalKey(key) == "offset") lift = s.position.z() - o.position.z();
       if (o.support == PlannedObject::Support::kTerrain) {
         s.position.z() =
-            TerrainHeight(plan_->terrain, s.position.x(), s.position.y()) +
-            half_z + lift;
+            TerrainHeight(plan_->terrain, s.position.x(), s.position.y()) + half_z + lift;
       } else if (o.support == PlannedObject::Support::kTop) {
         s.position.z() = o.support_top + half_z + lift;
       } else {
@@ -1312,17 +1200,14 @@ class CaptureEvaluator {
       for (const auto& [other_name, t] : states) {
         if (other_name == name || !t.visible) continue;
         const auto& supports = s.planned->supports;
-        if (std::find(supports.begin(), supports.end(), t.planned->symbol) !=
-            supports.end())
+        if (std::find(supports.begin(), supports.end(), t.planned->symbol) != supports.end())
           continue;
-        const OrientedBox theirs{
-            t.position, 0.5 * t.extent, t.world_from_object};
+        const OrientedBox theirs{t.position, 0.5 * t.extent, t.world_from_object};
         if (mine.Intersects(theirs))
-          s.rule->block.Fail(
-              "frame " + std::to_string(f->index) + ": this change makes " +
-              name + " overlap " + other_name +
-              ", which its LSCENE placement forbids; change less, or allow "
-              "overlap in the scene (overlap:true or on_overlap:allow)");
+          s.rule->block.Fail("frame " + std::to_string(f->index) + ": this change makes " + name +
+                             " overlap " + other_name +
+                             ", which its LSCENE placement forbids; change less, or allow "
+                             "overlap in the scene (overlap:true or on_overlap:allow)");
       }
     }
   }
@@ -1343,9 +1228,8 @@ class CaptureEvaluator {
   PinholeCamera camera_model_;
   double fps_ = 10;
   std::optional<double> clearance_ = kDefaultClearanceM;
-  std::map<uint64_t, Flight> flights_;  // by path instance (segment)
-  std::map<std::pair<uint64_t, size_t>, Flight>
-      object_flights_;  // by (rule, leg)
+  std::map<uint64_t, Flight> flights_;                            // by path instance (segment)
+  std::map<std::pair<uint64_t, size_t>, Flight> object_flights_;  // by (rule, leg)
   bool heights_agl_ = false;  // waypoint and point z above the terrain
   std::vector<Segment> segments_;
   std::vector<Rule> rules_;
@@ -1388,8 +1272,7 @@ TargetLabels ReadTargets(const Program& capture, const Program& scene) {
                    DidYouMean(symbol, names));
       }
       // -1: listed without a label ("O2"); its class comes from the scene.
-      if (label == 0 || label > 0xFFFFFFFFll)
-        where.Fail("a label id must be in [1, 4294967295]");
+      if (label == 0 || label > 0xFFFFFFFFll) where.Fail("a label id must be in [1, 4294967295]");
       labels[symbol] = static_cast<uint32_t>(label < 0 ? 0 : label);
     }
   }
@@ -1412,11 +1295,10 @@ void EvaluateCapture(const Program& capture,
       evaluator.environment_symbols_[d.symbol] = d.kind;
   for (const Definition& d : capture.definitions)
     if (d.kind == "camera")
-      if (const Node t = d.body.Find("targets");
-          t && t->is_array() && !t->empty())
+      if (const Node t = d.body.Find("targets"); t && t->is_array() && !t->empty())
         if (t->at(0).is_string())
-          evaluator.first_target_ = t->at(0).get<std::string>().substr(
-              0, t->at(0).get<std::string>().find(':'));
+          evaluator.first_target_ =
+              t->at(0).get<std::string>().substr(0, t->at(0).get<std::string>().find(':'));
   evaluator.Run(begin, end);
 }
 
@@ -1445,8 +1327,7 @@ void DefaultCapture(int64_t begin, int64_t end, Plan* plan) {
   f.shot = 0;
   f.camera = PinholeCamera::FromHorizontalFov(1024, 1024, 60);
   const double altitude = ground + 0.5 * across / std::tan(30.0 * M_PI / 180.0);
-  f.cam_from_world =
-      CamFromEnu({center.x(), center.y(), altitude}, Attitude{0, -90, 0});
+  f.cam_from_world = CamFromEnu({center.x(), center.y(), altitude}, Attitude{0, -90, 0});
   plan->frames.push_back(f);
 }
 

@@ -19,8 +19,7 @@ double NonNegative(const Node& n, Rng& rng) {
 
 double Fraction(const Node& n, Rng& rng) {
   const double v = SampleScalar(n, rng);
-  if (v < 0 || v > 1)
-    n.Fail("expected a value in [0, 1], sampled " + FormatNumber(v));
+  if (v < 0 || v > 1) n.Fail("expected a value in [0, 1], sampled " + FormatNumber(v));
   return v;
 }
 
@@ -30,30 +29,27 @@ std::string CloudType(const Node& n, Rng& rng) {
   for (const std::string& option : StringOptions(n))
     if (std::find(kTypes.begin(), kTypes.end(), option) == kTypes.end())
       (n->is_object() ? n.Child(option) : n)
-          .FailKey("unknown cloud type '" + option + "'" +
-                   DidYouMean(option, kTypes));
+          .FailKey("unknown cloud type '" + option + "'" + DidYouMean(option, kTypes));
   return SampleString(n, rng);
 }
 
 Eigen::Vector3d Color(const Node& n, Rng& rng) {
-  static const std::map<std::string, Eigen::Vector3d> kColors = {
-      {"white", {1, 1, 1}},
-      {"black", {0, 0, 0}},
-      {"gray", {0.5, 0.5, 0.5}},
-      {"grey", {0.5, 0.5, 0.5}},
-      {"blue", {0.55, 0.7, 0.95}},
-      {"red", {0.9, 0.2, 0.15}},
-      {"green", {0.3, 0.7, 0.3}},
-      {"orange", {1.0, 0.6, 0.2}},
-      {"yellow", {1.0, 0.9, 0.3}}};
+  static const std::map<std::string, Eigen::Vector3d> kColors = {{"white", {1, 1, 1}},
+                                                                 {"black", {0, 0, 0}},
+                                                                 {"gray", {0.5, 0.5, 0.5}},
+                                                                 {"grey", {0.5, 0.5, 0.5}},
+                                                                 {"blue", {0.55, 0.7, 0.95}},
+                                                                 {"red", {0.9, 0.2, 0.15}},
+                                                                 {"green", {0.3, 0.7, 0.3}},
+                                                                 {"orange", {1.0, 0.6, 0.2}},
+                                                                 {"yellow", {1.0, 0.9, 0.3}}};
   if (n->is_string() || n->is_object()) {
     std::vector<std::string> names;
     for (const auto& [name, c] : kColors) names.push_back(name);
     for (const std::string& option : StringOptions(n))
       if (!kColors.count(option))
         (n->is_object() ? n.Child(option) : n)
-            .FailKey("unknown color '" + option + "'" +
-                     DidYouMean(option, names) +
+            .FailKey("unknown color '" + option + "'" + DidYouMean(option, names) +
                      "; use a name or [r, g, b] in [0, 1]");
     return kColors.at(SampleString(n, rng));
   }
@@ -80,9 +76,8 @@ double AtmosphereExtinction(const Node& b, Rng& rng) {
       extinction = NonNegative(n, rng);
       if (extinction > kKoschmieder / kMinVisibilityM)
         n.Fail("fog is an extinction per metre; " + FormatNumber(extinction) +
-               " /m means a visibility of " +
-               FormatNumber(kKoschmieder / extinction) + " m. Use at most " +
-               FormatNumber(kKoschmieder / kMinVisibilityM) +
+               " /m means a visibility of " + FormatNumber(kKoschmieder / extinction) +
+               " m. Use at most " + FormatNumber(kKoschmieder / kMinVisibilityM) +
                " /m, or density (a fraction) or visibility (metres)");
       ++given;
     }
@@ -114,24 +109,21 @@ double AtmosphereExtinction(const Node& b, Rng& rng) {
 // `date:"2026-06-21"`, `time:"14:30"` (or "14:30:15"), `utc_offset:2`: the sun
 // by date and local time. A time alone keeps the date of the clock in force.
 void SunClock(const Node& b, Rng& rng, PlannedSun* sun) {
-  const Node date = b.Find("date"), time = b.Find("time"),
-             offset = b.Find("utcoffset");
+  const Node date = b.Find("date"), time = b.Find("time"), offset = b.Find("utcoffset");
   if (!date && !time && !offset) return;
   if (offset) {
     sun->utc_offset_h = SampleScalar(offset, rng);
-    if (std::abs(sun->utc_offset_h) > 14)
-      offset.Fail("utc_offset is in hours, within [-14, 14]");
+    if (std::abs(sun->utc_offset_h) > 14) offset.Fail("utc_offset is in hours, within [-14, 14]");
   }
   int year = 0, month = 0, day = 0;
   if (date) {
     const std::string text = SampleString(date, rng);
-    if (std::sscanf(text.c_str(), "%d-%d-%d", &year, &month, &day) != 3 ||
-        month < 1 || month > 12 || day < 1 || day > 31)
+    if (std::sscanf(text.c_str(), "%d-%d-%d", &year, &month, &day) != 3 || month < 1 ||
+        month > 12 || day < 1 || day > 31)
       date.Fail("date is \"YYYY-MM-DD\", not '" + text + "'");
   } else if (sun->clock_utc_s) {
     // The local date of the clock in force.
-    const double local_days =
-        std::floor((*sun->clock_utc_s + sun->utc_offset_h * 3600) / 86400);
+    const double local_days = std::floor((*sun->clock_utc_s + sun->utc_offset_h * 3600) / 86400);
     int y = 1970, m = 1, d = 1;
     // Civil from days (Howard Hinnant's algorithm).
     int64_t z = static_cast<int64_t>(local_days) + 719468;
@@ -151,59 +143,43 @@ void SunClock(const Node& b, Rng& rng, PlannedSun* sun) {
   double second = 0;
   if (time) {
     const std::string text = SampleString(time, rng);
-    const int n =
-        std::sscanf(text.c_str(), "%d:%d:%lf", &hour, &minute, &second);
-    if (n < 2 || hour < 0 || hour > 24 || minute < 0 || minute > 59 ||
-        second < 0 || second >= 61)
-      time.Fail("time is \"HH:MM\" or \"HH:MM:SS\" (local), not '" + text +
-                "'");
+    const int n = std::sscanf(text.c_str(), "%d:%d:%lf", &hour, &minute, &second);
+    if (n < 2 || hour < 0 || hour > 24 || minute < 0 || minute > 59 || second < 0 || second >= 61)
+      time.Fail("time is \"HH:MM\" or \"HH:MM:SS\" (local), not '" + text + "'");
   }
-  sun->clock_utc_s =
-      UnixSeconds(year, month, day, hour, minute, second, sun->utc_offset_h);
+  sun->clock_utc_s = UnixSeconds(year, month, day, hour, minute, second, sun->utc_offset_h);
 }
 
 }  // namespace
 
 bool IsEnvironmentKind(const std::string& kind) {
-  return kind == "skybox" || kind == "light" || kind == "atmosphere" ||
-         kind == "skylight" || kind == "terrain";
+  return kind == "skybox" || kind == "light" || kind == "atmosphere" || kind == "skylight" ||
+         kind == "terrain";
 }
 
-const std::vector<std::string>& EnvironmentKeys(const std::string& kind,
-                                                bool in_change) {
+const std::vector<std::string>& EnvironmentKeys(const std::string& kind, bool in_change) {
   static const std::map<std::string, std::vector<std::string>> kKeys = {
-      {"skybox",
-       {"color", "clouds", "cloud_type", "cloud_density", "intensity"}},
-      {"light",
-       {"elevation", "azimuth", "intensity", "date", "time", "utc_offset"}},
+      {"skybox", {"color", "clouds", "cloud_type", "cloud_density", "intensity"}},
+      {"light", {"elevation", "azimuth", "intensity", "date", "time", "utc_offset"}},
       {"atmosphere", {"fog", "fog_density", "density", "visibility"}},
       {"skylight", {"intensity"}},
-      {"terrain",
-       {"size", "height", "perlin", "frequency", "material", "seed"}}};
+      {"terrain", {"size", "height", "perlin", "frequency", "material", "seed"}}};
   static const std::vector<std::string> kTerrainChange = {"material"};
   if (in_change && kind == "terrain") return kTerrainChange;
   return kKeys.at(kind);
 }
 
-void ApplyEnvironment(const std::string& kind,
-                      const Node& b,
-                      Rng& rng,
-                      PlannedEnvironment* env) {
+void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedEnvironment* env) {
   if (kind == "skybox") {
     if (const Node n = b.Find("color")) env->sky.color = Color(n, rng);
     if (const Node n = b.Find("clouds")) {
       n.CheckKeys({"type", "density"}, "clouds");
-      if (const Node t = n.Find("type"))
-        env->sky.cloud_type = CloudType(t, rng);
-      if (const Node d = n.Find("density"))
-        env->sky.cloud_density = Fraction(d, rng);
+      if (const Node t = n.Find("type")) env->sky.cloud_type = CloudType(t, rng);
+      if (const Node d = n.Find("density")) env->sky.cloud_density = Fraction(d, rng);
     }
-    if (const Node n = b.Find("cloudtype"))
-      env->sky.cloud_type = CloudType(n, rng);
-    if (const Node n = b.Find("clouddensity"))
-      env->sky.cloud_density = Fraction(n, rng);
-    if (const Node n = b.Find("intensity"))
-      env->sky.intensity = NonNegative(n, rng);
+    if (const Node n = b.Find("cloudtype")) env->sky.cloud_type = CloudType(n, rng);
+    if (const Node n = b.Find("clouddensity")) env->sky.cloud_density = Fraction(n, rng);
+    if (const Node n = b.Find("intensity")) env->sky.intensity = NonNegative(n, rng);
   } else if (kind == "light") {
     SunClock(b, rng, &env->sun);
     if (const Node n = b.Find("elevation")) {
@@ -211,25 +187,21 @@ void ApplyEnvironment(const std::string& kind,
       if (std::abs(env->sun.elevation_deg) > 90)
         n.Fail("sun elevation must be within [-90, 90] degrees");
     }
-    if (const Node n = b.Find("azimuth"))
-      env->sun.azimuth_deg = SampleScalar(n, rng);
-    if (const Node n = b.Find("intensity"))
-      env->sun.intensity = NonNegative(n, rng);
+    if (const Node n = b.Find("azimuth")) env->sun.azimuth_deg = SampleScalar(n, rng);
+    if (const Node n = b.Find("intensity")) env->sun.intensity = NonNegative(n, rng);
   } else if (kind == "atmosphere") {
     env->fog_density = AtmosphereExtinction(b, rng);
   } else if (kind == "skylight") {
-    if (const Node n = b.Find("intensity"))
-      env->skylight_intensity = NonNegative(n, rng);
+    if (const Node n = b.Find("intensity")) env->skylight_intensity = NonNegative(n, rng);
   } else if (kind == "terrain") {
-    if (const Node m = b.Find("material"))
-      env->terrain_material = SampleString(m, rng);
+    if (const Node m = b.Find("material")) env->terrain_material = SampleString(m, rng);
   }
 }
 
 void PlaceSun(const GeoOrigin& geo, double time_s, PlannedSun* sun) {
   if (!sun->clock_utc_s) return;
-  const SolarPosition at = SunPositionAt(
-      *sun->clock_utc_s + time_s, geo.latitude_deg, geo.longitude_deg);
+  const SolarPosition at =
+      SunPositionAt(*sun->clock_utc_s + time_s, geo.latitude_deg, geo.longitude_deg);
   sun->azimuth_deg = at.azimuth_deg;
   sun->elevation_deg = at.elevation_deg;
 }

@@ -10,8 +10,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     lsds::SourceFile source = lsds::ParseSource(text, "fuzz.lscene", false);
-    for (const auto& [pointer, position] : source.positions)
-      (void)source.Where(pointer);
+    for (const auto& [pointer, position] : source.positions) (void)source.Where(pointer);
   } catch (const lsds::Error&) {
   }
   return 0;

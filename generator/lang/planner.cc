@@ -10,11 +10,9 @@ void ValidateSourceSchema(const SourceFile& source) {
   const bool capture = source.doc.contains("LCAP");
   const nlohmann::json plain = nlohmann::json::parse(source.doc.dump());
   const auto issues =
-      JsonSchema::Get(capture ? "lcap.schema.json" : "lscene.schema.json")
-          .Validate(plain);
+      JsonSchema::Get(capture ? "lcap.schema.json" : "lscene.schema.json").Validate(plain);
   if (!issues.empty())
-    throw Error("does not match the " +
-                    std::string(capture ? "LCAP" : "LSCENE") +
+    throw Error("does not match the " + std::string(capture ? "LCAP" : "LSCENE") +
                     " JSON form: " + issues.front().message,
                 source.Where(issues.front().pointer));
 }

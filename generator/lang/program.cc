@@ -36,17 +36,16 @@ const std::map<std::string, std::string>& KindAliases() {
 }  // namespace
 
 const std::map<std::string, std::string>& CategoryKinds() {
-  static const std::map<std::string, std::string> kinds = {
-      {"S", "skybox"},
-      {"DL", "light"},
-      {"A", "atmosphere"},
-      {"SL", "skylight"},
-      {"W", "terrain"},
-      {"O", "object"},
-      {"CO", "camera"},
-      {"P", "path"},
-      {"CL", "collection"},
-      {"SCS", "scene_change"}};
+  static const std::map<std::string, std::string> kinds = {{"S", "skybox"},
+                                                           {"DL", "light"},
+                                                           {"A", "atmosphere"},
+                                                           {"SL", "skylight"},
+                                                           {"W", "terrain"},
+                                                           {"O", "object"},
+                                                           {"CO", "camera"},
+                                                           {"P", "path"},
+                                                           {"CL", "collection"},
+                                                           {"SCS", "scene_change"}};
   return kinds;
 }
 
@@ -66,8 +65,7 @@ Program ReadProgram(const SourceFile& src, const std::string& start) {
   for (const auto& [alias, kind] : KindAliases()) kind_names.push_back(alias);
   for (const auto& [key, node] : root.Members()) {
     if (key == start) {
-      if (!node->is_array())
-        node.Fail(start + " must be a list of ONE(...)/MANY(...) entries");
+      if (!node->is_array()) node.Fail(start + " must be a list of ONE(...)/MANY(...) entries");
       program.start_rule = node;
       continue;
     }
@@ -75,8 +73,7 @@ Program ReadProgram(const SourceFile& src, const std::string& start) {
       node.Fail("this is " + other + " notation but a" +
                 (start == "LSCENE" ? " scene" : " capture") +
                 " file was expected (scene first, capture second)");
-    if (key.empty() ||
-        !(std::isalpha(static_cast<unsigned char>(key[0])) || key[0] == '_'))
+    if (key.empty() || !(std::isalpha(static_cast<unsigned char>(key[0])) || key[0] == '_'))
       node.Fail("symbol names start with a letter, found '" + key + "'");
     if (!node->is_object() || node->size() != 1)
       node.Fail(
@@ -87,8 +84,7 @@ Program ReadProgram(const SourceFile& src, const std::string& start) {
     if (alias == KindAliases().end())
       body.Fail("unknown kind '" + kind_key + "' for " + key +
                 DidYouMean(CanonicalKey(kind_key), kind_names));
-    if (!body->is_object())
-      body.Fail("the body of " + key + " must be {key: value, ...}");
+    if (!body->is_object()) body.Fail("the body of " + key + " must be {key: value, ...}");
     Definition def;
     def.symbol = key;
     def.kind = alias->second;

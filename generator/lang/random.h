@@ -28,8 +28,8 @@ enum class StreamTag : uint64_t {
   kFrame = 2,
   kChange = 3,
   kTerrain = 4,
-  kCount = 5,  // frame counts of capture paths, one stream per path instance
-  kFlight = 6,  // waypoints of a smooth flight, one stream per path instance
+  kCount = 5,        // frame counts of capture paths, one stream per path instance
+  kFlight = 6,       // waypoints of a smooth flight, one stream per path instance
   kObjectFlight = 7  // an object's path, one stream per (rule, leg)
 };
 
@@ -38,12 +38,8 @@ class Rng {
   explicit Rng(uint64_t key) : state_(key) {}
   // The stream for (seed, tag, index): e.g. frame k's stream is Rng::For(seed,
   // kFrame, k).
-  static Rng For(uint64_t seed,
-                 StreamTag tag,
-                 uint64_t index,
-                 uint64_t sub = 0) {
-    return Rng(
-        MixKey(MixKey(MixKey(seed, static_cast<uint64_t>(tag)), index), sub));
+  static Rng For(uint64_t seed, StreamTag tag, uint64_t index, uint64_t sub = 0) {
+    return Rng(MixKey(MixKey(MixKey(seed, static_cast<uint64_t>(tag)), index), sub));
   }
   uint64_t NextU64() { return SplitMix64Next(&state_); }
   // Uniform in [0, 1) with 53 random bits.

@@ -15,17 +15,16 @@
 namespace lsds {
 
 const std::map<std::string, Eigen::Vector3d>& BuiltinClasses() {
-  static const std::map<std::string, Eigen::Vector3d> classes = {
-      {"cube", {1, 1, 1}},
-      {"sphere", {1, 1, 1}},
-      {"cylinder", {1, 1, 1}},
-      {"cone", {1, 1, 1}},
-      {"barrel", {0.6, 0.6, 0.9}},
-      {"tire", {0.7, 0.7, 0.25}},
-      {"jerrycan", {0.35, 0.17, 0.47}},
-      {"rock", {1.0, 0.8, 0.6}},
-      {"bush", {1.2, 1.2, 1.0}},
-      {"person", {0.5, 0.3, 1.8}}};
+  static const std::map<std::string, Eigen::Vector3d> classes = {{"cube", {1, 1, 1}},
+                                                                 {"sphere", {1, 1, 1}},
+                                                                 {"cylinder", {1, 1, 1}},
+                                                                 {"cone", {1, 1, 1}},
+                                                                 {"barrel", {0.6, 0.6, 0.9}},
+                                                                 {"tire", {0.7, 0.7, 0.25}},
+                                                                 {"jerrycan", {0.35, 0.17, 0.47}},
+                                                                 {"rock", {1.0, 0.8, 0.6}},
+                                                                 {"bush", {1.2, 1.2, 1.0}},
+                                                                 {"person", {0.5, 0.3, 1.8}}};
   return classes;
 }
 
@@ -71,8 +70,8 @@ struct Box {
       std::snprintf(buf, sizeof buf, "%.3g", v);
       return std::string(buf);
     };
-    return "[" + f(lo.x()) + "," + f(hi.x()) + "]x[" + f(lo.y()) + "," +
-           f(hi.y()) + "]x[" + f(lo.z()) + "," + f(hi.z()) + "]";
+    return "[" + f(lo.x()) + "," + f(hi.x()) + "]x[" + f(lo.y()) + "," + f(hi.y()) + "]x[" +
+           f(lo.z()) + "," + f(hi.z()) + "]";
   }
 };
 
@@ -111,10 +110,7 @@ OrientedBox ObbOf(const PlannedObject& o) {
 
 class SceneEvaluator {
  public:
-  SceneEvaluator(const Program& scene,
-                 uint64_t seed,
-                 const TargetLabels& targets,
-                 Plan* plan)
+  SceneEvaluator(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan)
       : scene_(scene),
         seed_(seed),
         targets_(targets),
@@ -153,16 +149,12 @@ class SceneEvaluator {
     int terrains = 0, georeferences = 0;
     for (const Definition& def : scene_.definitions) {
       const std::string& k = def.kind;
-      if (k == "camera" || k == "path" || k == "collection" ||
-          k == "scene_change")
-        def.statement.Fail("'" + k +
-                           "' belongs in the LCAP capture file, not in LSCENE");
-      if (IsEnvironmentKind(k))
-        def.body.CheckKeys(EnvironmentKeys(k, false), def.symbol);
+      if (k == "camera" || k == "path" || k == "collection" || k == "scene_change")
+        def.statement.Fail("'" + k + "' belongs in the LCAP capture file, not in LSCENE");
+      if (IsEnvironmentKind(k)) def.body.CheckKeys(EnvironmentKeys(k, false), def.symbol);
       if (k == "georeference") {
         def.body.CheckKeys({"latitude", "longitude", "altitude"}, def.symbol);
-        if (++georeferences > 1)
-          def.statement.Fail("only one georeference per scene");
+        if (++georeferences > 1) def.statement.Fail("only one georeference per scene");
       }
       if (k == "terrain") {
         if (++terrains > 1) def.statement.Fail("only one terrain per scene");
@@ -173,8 +165,8 @@ class SceneEvaluator {
           const std::string target = ReadString(node);
           if (!BuiltinClasses().count(target) && !IsMeshClass(target))
             node.Fail("class alias '" + name +
-                      "' must name a built-in class or a mesh file, not '" +
-                      target + "'" + DidYouMean(target, BuiltinNames()));
+                      "' must name a built-in class or a mesh file, not '" + target + "'" +
+                      DidYouMean(target, BuiltinNames()));
           aliases_[name] = target;
         }
       }
@@ -195,8 +187,7 @@ class SceneEvaluator {
     if (alias != aliases_.end()) return alias->second;
     if (BuiltinClasses().count(name)) return name;
     if (IsMeshClass(name)) {
-      const std::filesystem::path dir =
-          std::filesystem::path(scene_.src->path).parent_path();
+      const std::filesystem::path dir = std::filesystem::path(scene_.src->path).parent_path();
       return (dir / name).lexically_normal().generic_string();
     }
     std::vector<std::string> names = BuiltinNames();
@@ -221,42 +212,33 @@ class SceneEvaluator {
     const Definition* def = scene_.Find(ref);
     if (!def) {
       std::vector<std::string> names(defined.begin(), defined.end());
-      node.Fail(symbol + " refers to undefined symbol '" + ref + "'" +
-                DidYouMean(ref, names));
+      node.Fail(symbol + " refers to undefined symbol '" + ref + "'" + DidYouMean(ref, names));
     }
     if (ref == symbol) node.Fail(symbol + " refers to itself (a cycle)");
     if (!defined.count(ref))
-      node.Fail(
-          symbol + " refers to '" + ref +
-          "' before its definition; definitions are evaluated in file order, "
-          "so a forward reference or a cycle is not allowed");
+      node.Fail(symbol + " refers to '" + ref +
+                "' before its definition; definitions are evaluated in file order, "
+                "so a forward reference or a cycle is not allowed");
     if (def->kind != "object" && (objects_only || def->kind != "terrain"))
       node.Fail("'" + ref + "' is a " + def->kind +
-                (objects_only ? ", expected an object"
-                              : ", expected an object or the terrain"));
+                (objects_only ? ", expected an object" : ", expected an object or the terrain"));
   }
 
-  void CheckObject(const Definition& def,
-                   const std::set<std::string>& defined) {
+  void CheckObject(const Definition& def, const std::set<std::string>& defined) {
     def.body.CheckKeys(kObjectKeys, "object " + def.symbol);
     const Node cls = def.body.Find("class");
-    if (!cls)
-      def.body.Fail("object " + def.symbol +
-                    " needs a class (e.g. class:cube)");
+    if (!cls) def.body.Fail("object " + def.symbol + " needs a class (e.g. class:cube)");
     if (!cls->is_string() && !cls->is_object())
       cls.Fail("class must be a name or a choice {name: weight}");
     for (const auto& [key, child] :
-         cls->is_object() ? cls.Members()
-                          : std::vector<std::pair<std::string, Node>>{})
+         cls->is_object() ? cls.Members() : std::vector<std::pair<std::string, Node>>{})
       (void)key, ReadNumber(child);
     for (const std::string& option : StringOptions(cls)) {
       if (cls->is_object()) {
         try {
           ResolveClass(cls.Child(option), option);
-        } catch (
-            const Error& e) {  // point at the option's name, not its weight
-          throw Error(e.message(),
-                      cls.src->WhereKey(cls.Child(option).pointer));
+        } catch (const Error& e) {  // point at the option's name, not its weight
+          throw Error(e.message(), cls.src->WhereKey(cls.Child(option).pointer));
         }
       } else {
         ResolveClass(cls, option);
@@ -275,8 +257,7 @@ class SceneEvaluator {
         CheckReference(c, defined, def.symbol, k == "around");
       }
     }
-    if (const Node bound = def.body.Find("bound"))
-      CheckReference(bound, defined, def.symbol, true);
+    if (const Node bound = def.body.Find("bound")) CheckReference(bound, defined, def.symbol, true);
     if (const Node policy = def.body.Find("onoverlap")) {
       const std::string p = ReadString(policy);
       if (p != "move" && p != "delete" && p != "hide" && p != "allow")
@@ -304,19 +285,14 @@ class SceneEvaluator {
           if (d.kind == CategoryKinds().at(name)) defs.push_back(&d);
       } else {
         std::vector<std::string> names;
-        for (const Definition& d : scene_.definitions)
-          names.push_back(d.symbol);
-        sym.Fail("the start rule names undefined symbol '" + name + "'" +
-                 DidYouMean(name, names));
+        for (const Definition& d : scene_.definitions) names.push_back(d.symbol);
+        sym.Fail("the start rule names undefined symbol '" + name + "'" + DidYouMean(name, names));
       }
       for (const Definition* d : defs) {
         if (many && d->kind != "object")
-          sym.Fail("MANY applies to objects only; '" + d->symbol + "' is a " +
-                   d->kind);
-        if (d->kind == "object")
-          count_nodes_[d->symbol] = many ? entry.Child("count") : Node{};
-        if (d->kind == "object" && many && !entry.Child("count"))
-          many_default_.insert(d->symbol);
+          sym.Fail("MANY applies to objects only; '" + d->symbol + "' is a " + d->kind);
+        if (d->kind == "object") count_nodes_[d->symbol] = many ? entry.Child("count") : Node{};
+        if (d->kind == "object" && many && !entry.Child("count")) many_default_.insert(d->symbol);
       }
     }
   }
@@ -338,8 +314,7 @@ class SceneEvaluator {
       if (def.kind == "terrain") add("terrain");
       if (def.kind != "object" || LabelOf(def.symbol) != 0) continue;
       const Node cls = def.body.Find("class");
-      for (const std::string& option : StringOptions(cls))
-        add(ClassNameOf(cls, option));
+      for (const std::string& option : StringOptions(cls)) add(ClassNameOf(cls, option));
     }
     // A labelled target's class is named after what it draws: the class name
     // of its options (docs/languages.md, "Class names"), joined by "|" when
@@ -351,8 +326,7 @@ class SceneEvaluator {
       std::vector<std::string> names;
       for (const std::string& option : StringOptions(cls)) {
         const std::string name = ClassNameOf(cls, option);
-        if (std::find(names.begin(), names.end(), name) == names.end())
-          names.push_back(name);
+        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
       }
       std::string name = Join(names, "|");
       // Two labels may not share a name, nor a label a name of the table.
@@ -360,10 +334,9 @@ class SceneEvaluator {
         if (c.name == name) name += "#" + std::to_string(label);
       plan_->classes.push_back({label, name});
     }
-    std::sort(
-        plan_->classes.begin(),
-        plan_->classes.end(),
-        [](const ClassInfo& a, const ClassInfo& b) { return a.id < b.id; });
+    std::sort(plan_->classes.begin(),
+              plan_->classes.end(),
+              [](const ClassInfo& a, const ClassInfo& b) { return a.id < b.id; });
   }
 
   // A mesh keeps its native size: its bounds in the file's unit (`unit`,
@@ -371,15 +344,11 @@ class SceneEvaluator {
   Eigen::Vector3d MeshExtent(const Definition& def, const std::string& path) {
     double metres_per_unit = 1.0;
     if (const Node n = def.body.Find("unit")) {
-      static const std::map<std::string, double> kUnits = {{"m", 1.0},
-                                                           {"cm", 0.01},
-                                                           {"mm", 0.001},
-                                                           {"in", 0.0254},
-                                                           {"ft", 0.3048}};
+      static const std::map<std::string, double> kUnits = {
+          {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}};
       const std::string unit = ReadString(n);
       const auto it = kUnits.find(unit);
-      if (it == kUnits.end())
-        n.Fail("unit must be one of m, cm, mm, in, ft, not '" + unit + "'");
+      if (it == kUnits.end()) n.Fail("unit must be one of m, cm, mm, in, ft, not '" + unit + "'");
       metres_per_unit = it->second;
     }
     auto cached = mesh_extents_.find(path);
@@ -420,8 +389,8 @@ class SceneEvaluator {
   // --- evaluation ---
   void Evaluate(const Definition& def) {
     const Node& b = def.body;
-    if (def.kind == "skybox" || def.kind == "light" ||
-        def.kind == "atmosphere" || def.kind == "skylight") {
+    if (def.kind == "skybox" || def.kind == "light" || def.kind == "atmosphere" ||
+        def.kind == "skylight") {
       PlannedEnvironment environment = EnvironmentOf(*plan_);
       ApplyEnvironment(def.kind, b, rng_, &environment);
       SetEnvironment(environment, plan_);
@@ -429,8 +398,7 @@ class SceneEvaluator {
       GeoOrigin geo;
       if (const Node n = b.Find("latitude")) {
         geo.latitude_deg = SampleScalar(n, rng_);
-        if (std::abs(geo.latitude_deg) > 90)
-          n.Fail("latitude must be within [-90, 90] degrees");
+        if (std::abs(geo.latitude_deg) > 90) n.Fail("latitude must be within [-90, 90] degrees");
       } else {
         b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
       }
@@ -441,8 +409,7 @@ class SceneEvaluator {
       } else {
         b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
       }
-      if (const Node n = b.Find("altitude"))
-        geo.altitude_m = SampleScalar(n, rng_);
+      if (const Node n = b.Find("altitude")) geo.altitude_m = SampleScalar(n, rng_);
       plan_->geo = geo;
     } else if (def.kind == "terrain") {
       EvaluateTerrain(b);
@@ -459,8 +426,8 @@ class SceneEvaluator {
   void EvaluateTerrain(const Node& b) {
     PlannedTerrain& t = plan_->terrain;
     t.present = true;
-    t.perlin_seed = MixKey(seed_, static_cast<uint64_t>(StreamTag::kTerrain)) >>
-                    11;  // 53 bits: exact in JSON
+    t.perlin_seed =
+        MixKey(seed_, static_cast<uint64_t>(StreamTag::kTerrain)) >> 11;  // 53 bits: exact in JSON
     if (const Node n = b.Find("size")) {
       t.size = SampleVec2(n, rng_);
       if (t.size.minCoeff() <= 0) n.Fail("terrain size must be > 0");
@@ -468,8 +435,7 @@ class SceneEvaluator {
     if (const Node n = b.Find("height")) {
       n.CheckKeys({"perlin", "frequency"}, "terrain height");
       if (const Node p = n.Find("perlin")) Perlin(p);
-      if (const Node f = n.Find("frequency"))
-        t.perlin_frequency = NonNegative(f);
+      if (const Node f = n.Find("frequency")) t.perlin_frequency = NonNegative(f);
     }
     if (const Node p = b.Find("perlin")) Perlin(p);
     if (const Node f = b.Find("frequency")) t.perlin_frequency = NonNegative(f);
@@ -486,10 +452,8 @@ class SceneEvaluator {
   void Perlin(const Node& p) {
     if (p->is_object()) {
       p.CheckKeys({"amplitude", "frequency"}, "Perlin");
-      if (const Node a = p.Find("amplitude"))
-        plan_->terrain.perlin_amplitude = NonNegative(a);
-      if (const Node f = p.Find("frequency"))
-        plan_->terrain.perlin_frequency = NonNegative(f);
+      if (const Node a = p.Find("amplitude")) plan_->terrain.perlin_amplitude = NonNegative(a);
+      if (const Node f = p.Find("frequency")) plan_->terrain.perlin_frequency = NonNegative(f);
     } else {
       plan_->terrain.perlin_amplitude = NonNegative(p);
     }
@@ -498,10 +462,8 @@ class SceneEvaluator {
   int64_t CountOf(const Definition& def) {
     if (const Node n = def.body.Find("count")) return SampleCount(n, rng_);
     auto it = count_nodes_.find(def.symbol);
-    if (it != count_nodes_.end() && it->second)
-      return SampleCount(it->second, rng_);
-    if (many_default_.count(def.symbol))
-      return rng_.UniformInt(5, 15);  // MANY(X) without a count
+    if (it != count_nodes_.end() && it->second) return SampleCount(it->second, rng_);
+    if (many_default_.count(def.symbol)) return rng_.UniformInt(5, 15);  // MANY(X) without a count
     return 1;
   }
 
@@ -533,8 +495,7 @@ class SceneEvaluator {
       for (const char* key : {"visible", "visibility"})
         if (const Node n = b.Find(key)) o.visible = SampleBool(n, rng_);
       if (const Node n = b.Find("material")) o.material = SampleString(n, rng_);
-      o.target =
-          o.visible && (targets_.empty() || targets_.count(def.symbol) > 0);
+      o.target = o.visible && (targets_.empty() || targets_.count(def.symbol) > 0);
       if (const Node n = b.Find("target")) o.target = SampleBool(n, rng_);
       // Geometry keys in the order written: a size given after `position` is
       // applied after the collision test (the paper's trick for gaps or
@@ -543,8 +504,7 @@ class SceneEvaluator {
       for (const auto& [key, n] : b.Members()) {
         const std::string k = CanonicalKey(key);
         if (k == "extent") Resize(&p, SizeVec(n), positioned);
-        if (k == "bound")
-          Resize(&p, FirstCopy(ReadString(n)).object.extent, positioned);
+        if (k == "bound") Resize(&p, FirstCopy(ReadString(n)).object.extent, positioned);
         if (k == "scale") {
           const Eigen::Vector3d s = SampleScale(n, rng_);
           if (s.minCoeff() <= 0) n.Fail("scale must be > 0");
@@ -560,14 +520,8 @@ class SceneEvaluator {
         }
       }
       if (!positioned)
-        keep = Position(def,
-                        Node{b.src, nullptr, b.pointer},
-                        copy,
-                        count,
-                        overlap,
-                        policy,
-                        retries,
-                        &p);
+        keep = Position(
+            def, Node{b.src, nullptr, b.pointer}, copy, count, overlap, policy, retries, &p);
       if (!keep) continue;
       o.name = def.symbol + "#" + std::to_string(++copy_number);
       by_symbol_[def.symbol].push_back(placed_.size());
@@ -588,27 +542,22 @@ class SceneEvaluator {
   }
   void Reseat(Placed* p) {
     const double old_base = p->aabb.lo.z();
-    p->aabb = AabbOf(
-        p->object.position, p->object.world_from_object, p->object.extent);
+    p->aabb = AabbOf(p->object.position, p->object.world_from_object, p->object.extent);
     p->object.position.z() += old_base - p->aabb.lo.z();
-    p->aabb = AabbOf(
-        p->object.position, p->object.world_from_object, p->object.extent);
+    p->aabb = AabbOf(p->object.position, p->object.world_from_object, p->object.extent);
   }
 
   const Placed& FirstCopy(const std::string& symbol) const {
     auto it = by_symbol_.find(symbol);
     if (it == by_symbol_.end() || it->second.empty())
-      throw Error(
-          "'" + symbol +
-              "' has no placed copies to refer to (count 0 or all deleted)",
-          scene_.Find(symbol)->statement.Where());
+      throw Error("'" + symbol + "' has no placed copies to refer to (count 0 or all deleted)",
+                  scene_.Find(symbol)->statement.Where());
     return placed_[it->second.front()];
   }
   const Placed& AnyCopy(const Node& where, const std::string& symbol) {
     auto it = by_symbol_.find(symbol);
     if (it == by_symbol_.end() || it->second.empty())
-      where.Fail("'" + symbol +
-                 "' has no placed copies to refer to (count 0 or all deleted)");
+      where.Fail("'" + symbol + "' has no placed copies to refer to (count 0 or all deleted)");
     return placed_[it->second[static_cast<size_t>(
         rng_.UniformInt(0, static_cast<int64_t>(it->second.size()) - 1))]];
   }
@@ -662,14 +611,13 @@ class SceneEvaluator {
     bool on = false, in = false;
     Surface surface;
     std::set<std::string> supports;
-    auto shrink =
-        [&](const Box& box, const Node& constraint, const std::string& what) {
-          space.Intersect(box);
-          if (space.Empty())
-            constraint.Fail(def.symbol + " copy " + std::to_string(copy + 1) +
-                            ": the position space is empty after " + what +
-                            " (it leaves " + space.ToString() + ")");
-        };
+    auto shrink = [&](const Box& box, const Node& constraint, const std::string& what) {
+      space.Intersect(box);
+      if (space.Empty())
+        constraint.Fail(def.symbol + " copy " + std::to_string(copy + 1) +
+                        ": the position space is empty after " + what + " (it leaves " +
+                        space.ToString() + ")");
+    };
     if (pos) {
       for (const auto& [key, c] : pos.Members()) {
         const std::string k = CanonicalKey(key);
@@ -697,8 +645,7 @@ class SceneEvaluator {
           else
             refs.push_back({ReadString(c), Node{}});
           for (const auto& [ref, margin_node] : refs) {
-            Eigen::Vector3d margin(
-                10, 10, 0);  // default: 10 m around, horizontally
+            Eigen::Vector3d margin(10, 10, 0);  // default: 10 m around, horizontally
             if (margin_node) {
               if (margin_node->is_array()) {
                 margin = SampleVec3(margin_node, rng_);
@@ -706,8 +653,7 @@ class SceneEvaluator {
                 const double m = SampleScalar(margin_node, rng_);
                 margin = Eigen::Vector3d(m, m, 0);
               }
-              if (margin.minCoeff() < 0)
-                margin_node.Fail("AROUND margin must be >= 0");
+              if (margin.minCoeff() < 0) margin_node.Fail("AROUND margin must be >= 0");
             }
             Box box = AnyCopy(c, ref).aabb;
             box.lo -= margin;
@@ -718,8 +664,7 @@ class SceneEvaluator {
             shrink(box, c, "AROUND:" + ref);
           }
         } else if (k == "within") {
-          if (!c->is_array() || c->size() != 2)
-            c.Fail("within is [[x0,y0,z0],[x1,y1,z1]]");
+          if (!c->is_array() || c->size() != 2) c.Fail("within is [[x0,y0,z0],[x1,y1,z1]]");
           Box box;
           for (int i = 0; i < 3; ++i) {
             box.lo[i] = ReadNumber(c.Item(0).Item(i));
@@ -729,9 +674,7 @@ class SceneEvaluator {
         }
       }
     }
-    if (!on && !in &&
-        space.lo.z() <=
-            -kHuge) {  // no vertical constraint: stand on the ground
+    if (!on && !in && space.lo.z() <= -kHuge) {  // no vertical constraint: stand on the ground
       surface = TerrainSurface();
       shrink(surface.footprint, pos ? pos : def.body, "ON:terrain (implied)");
       on = true;
@@ -746,23 +689,20 @@ class SceneEvaluator {
     o.retries = retries;
 
     for (int attempt = 0;; ++attempt) {
-      const Eigen::Vector3d half =
-          o.world_from_object.cwiseAbs() * (0.5 * o.extent);
+      const Eigen::Vector3d half = o.world_from_object.cwiseAbs() * (0.5 * o.extent);
       for (int i = 0; i < 3; ++i) {
         if (i == 2 && on) continue;
         const double lo = space.lo[i] + half[i], hi = space.hi[i] - half[i];
         if (std::abs(space.lo[i]) >= kHuge || std::abs(space.hi[i]) >= kHuge)
           (pos ? pos : def.body)
-              .Fail(def.symbol + ": the position space is unbounded along " +
-                    "xyz"[i] + "; add ON, IN or within");
-        o.position[i] =
-            lo <= hi ? rng_.Uniform(lo, hi) : 0.5 * (space.lo[i] + space.hi[i]);
+              .Fail(def.symbol + ": the position space is unbounded along " + "xyz"[i] +
+                    "; add ON, IN or within");
+        o.position[i] = lo <= hi ? rng_.Uniform(lo, hi) : 0.5 * (space.lo[i] + space.hi[i]);
       }
       if (on) {
-        const double ground =
-            surface.terrain
-                ? TerrainHeight(plan_->terrain, o.position.x(), o.position.y())
-                : surface.top;
+        const double ground = surface.terrain
+                                  ? TerrainHeight(plan_->terrain, o.position.x(), o.position.y())
+                                  : surface.top;
         o.position.z() = ground + half.z();
       }
       p->aabb = AabbOf(o.position, o.world_from_object, o.extent);
@@ -782,9 +722,9 @@ class SceneEvaluator {
       return true;
     }
     (pos ? pos : def.body)
-        .Fail(def.symbol + ": cannot place copy " + std::to_string(copy + 1) +
-              " of " + std::to_string(count) + " without overlap after " +
-              std::to_string(retries) + " retries in " + space.ToString() +
+        .Fail(def.symbol + ": cannot place copy " + std::to_string(copy + 1) + " of " +
+              std::to_string(count) + " without overlap after " + std::to_string(retries) +
+              " retries in " + space.ToString() +
               "; enlarge the space, lower the count, set overlap:true or "
               "on_overlap:delete");
   }
@@ -819,9 +759,7 @@ class SceneEvaluator {
 
 }  // namespace
 
-SceneClass ResolveSceneClass(const Program& scene,
-                             const Node& where,
-                             const std::string& option) {
+SceneClass ResolveSceneClass(const Program& scene, const Node& where, const std::string& option) {
   for (const Definition& def : scene.definitions) {
     if (def.kind != "classes") continue;
     for (const auto& [name, node] : def.body.Members())
@@ -829,10 +767,9 @@ SceneClass ResolveSceneClass(const Program& scene,
   }
   if (BuiltinClasses().count(option)) return {option, option};
   if (IsMeshClass(option)) {
-    const std::string path =
-        (std::filesystem::path(scene.src->path).parent_path() / option)
-            .lexically_normal()
-            .generic_string();
+    const std::string path = (std::filesystem::path(scene.src->path).parent_path() / option)
+                                 .lexically_normal()
+                                 .generic_string();
     return {path, path};
   }
   std::vector<std::string> names;
@@ -843,10 +780,7 @@ SceneClass ResolveSceneClass(const Program& scene,
              "scene");
 }
 
-void EvaluateScene(const Program& scene,
-                   uint64_t seed,
-                   const TargetLabels& targets,
-                   Plan* plan) {
+void EvaluateScene(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan) {
   SceneEvaluator(scene, seed, targets, plan).Run();
 }
 
@@ -856,8 +790,7 @@ void DropHelperClasses(const std::set<std::string>& symbols_made_visible,
   std::set<uint32_t> shown = extra_shown;
   if (plan->terrain.present) shown.insert(plan->terrain.class_id);
   for (const PlannedObject& o : plan->objects)
-    if (o.visible || symbols_made_visible.count(o.symbol))
-      shown.insert(o.class_id);
+    if (o.visible || symbols_made_visible.count(o.symbol)) shown.insert(o.class_id);
   std::vector<ClassInfo> kept;
   for (const ClassInfo& c : plan->classes)
     if (shown.count(c.id)) kept.push_back(c);

@@ -17,9 +17,8 @@ namespace lsds {
 // One "NAME = kind{...}" statement.
 struct Definition {
   std::string symbol;
-  std::string
-      kind;  // canonical kind: skybox, light, atmosphere, skylight, terrain,
-             // object, classes, camera, path, collection, scene_change
+  std::string kind;  // canonical kind: skybox, light, atmosphere, skylight, terrain,
+                     // object, classes, camera, path, collection, scene_change
   Node body;
   Node statement;    // the whole "NAME: {kind: body}" node, for messages
   size_t order = 0;  // position in the file
@@ -54,10 +53,7 @@ using TargetLabels = std::map<std::string, uint32_t>;
 // from the world stream of `seed`. Fills plan->classes, sky, sun, fog_density,
 // skylight_intensity, terrain and objects. `targets` (may be empty): objects
 // whose symbol is listed are the targets and their class id is the given label.
-void EvaluateScene(const Program& scene,
-                   uint64_t seed,
-                   const TargetLabels& targets,
-                   Plan* plan);
+void EvaluateScene(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan);
 
 // A class option as the scene resolves it: the asset drawn (a built-in class
 // or a mesh path relative to the scene file) and the class name it is
@@ -67,9 +63,7 @@ struct SceneClass {
   std::string asset;
   std::string name;
 };
-SceneClass ResolveSceneClass(const Program& scene,
-                             const Node& where,
-                             const std::string& option);
+SceneClass ResolveSceneClass(const Program& scene, const Node& where, const std::string& option);
 
 // Removes from the class table the classes that no rendered object can show:
 // classes whose objects are all invisible helpers, unless a capture change may

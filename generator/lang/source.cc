@@ -29,8 +29,7 @@ Location SourceFile::Where(const std::string& pointer) const {
   std::string p = pointer;
   while (true) {
     auto it = positions.find(p);
-    if (it != positions.end())
-      return Location::Text(path, it->second.first, it->second.second);
+    if (it != positions.end()) return Location::Text(path, it->second.first, it->second.second);
     const size_t slash = p.rfind('/');
     if (slash == std::string::npos || p.empty()) break;
     p = p.substr(0, slash);
@@ -65,8 +64,7 @@ SourceFile ParseSource(const std::string& text,
       throw JsonParseError(text, path_for_messages, e);
     }
     if (!source.doc.is_object())
-      throw Error("expected a JSON object at the top level",
-                  Location(path_for_messages, ""));
+      throw Error("expected a JSON object at the top level", Location(path_for_messages, ""));
   } else {
     ParseTextNotation(&source);
   }

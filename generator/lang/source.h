@@ -17,16 +17,13 @@ namespace lsds {
 using OJson = nlohmann::ordered_json;
 
 struct SourceFile {
-  std::string path;  // as given, for messages
-  std::string text;  // verbatim
-  bool is_json =
-      false;  // JSON form (locations are JSON pointers) or text notation
-  OJson doc;  // {"LSCENE": [...], "S": {"skybox": {...}}, ...}
-  std::map<std::string, std::pair<int, int>>
-      positions;  // text: JSON pointer -> (line, column)
-  std::map<std::string, std::pair<int, int>>
-      key_positions;                  // text: member pointer -> its key
-  std::vector<std::string> warnings;  // accepted deviations (paper typos)
+  std::string path;      // as given, for messages
+  std::string text;      // verbatim
+  bool is_json = false;  // JSON form (locations are JSON pointers) or text notation
+  OJson doc;             // {"LSCENE": [...], "S": {"skybox": {...}}, ...}
+  std::map<std::string, std::pair<int, int>> positions;      // text: JSON pointer -> (line, column)
+  std::map<std::string, std::pair<int, int>> key_positions;  // text: member pointer -> its key
+  std::vector<std::string> warnings;                         // accepted deviations (paper typos)
 
   // Where the node at `pointer` is: "file:line:col" for text (nearest enclosing
   // node with a position), "file#pointer" for JSON.
@@ -39,9 +36,7 @@ struct SourceFile {
 // text notation.
 SourceFile LoadSource(const std::string& path);
 // Same from memory (the fuzzer and the tests).
-SourceFile ParseSource(const std::string& text,
-                       const std::string& path_for_messages,
-                       bool is_json);
+SourceFile ParseSource(const std::string& text, const std::string& path_for_messages, bool is_json);
 
 // JSON pointer of `parent` + "/" + escaped `token`.
 std::string PointerJoin(const std::string& parent, const std::string& token);

@@ -36,12 +36,10 @@ std::string Describe(const Token& t) {
   }
 }
 
-bool IsIdentStart(char c) {
-  return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
-}
+bool IsIdentStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool IsIdentChar(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' ||
-         c == '/' || c == '-';
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '/' ||
+         c == '-';
 }
 
 class Parser {
@@ -70,33 +68,27 @@ class Parser {
         const size_t start = i;
         while (i < n && IsIdentChar(text_[i])) ++i;
         tokens_.push_back({Tok::kIdent, text_.substr(start, i - start), start});
-      } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' ||
-                 c == '+' ||
+      } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' ||
                  (c == '.' && i + 1 < n &&
                   std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
         const size_t start = i;
         if (c == '-' || c == '+') ++i;
         bool digits = false;
-        while (i < n && std::isdigit(static_cast<unsigned char>(text_[i])))
-          ++i, digits = true;
+        while (i < n && std::isdigit(static_cast<unsigned char>(text_[i]))) ++i, digits = true;
         if (i < n && text_[i] == '.') {
           ++i;
-          while (i < n && std::isdigit(static_cast<unsigned char>(text_[i])))
-            ++i, digits = true;
+          while (i < n && std::isdigit(static_cast<unsigned char>(text_[i]))) ++i, digits = true;
         }
         if (digits && i < n && (text_[i] == 'e' || text_[i] == 'E')) {
           size_t j = i + 1;
           if (j < n && (text_[j] == '-' || text_[j] == '+')) ++j;
           if (j < n && std::isdigit(static_cast<unsigned char>(text_[j]))) {
             i = j;
-            while (i < n && std::isdigit(static_cast<unsigned char>(text_[i])))
-              ++i;
+            while (i < n && std::isdigit(static_cast<unsigned char>(text_[i]))) ++i;
           }
         }
-        if (!digits)
-          Fail(start, "expected a number after '" + std::string(1, c) + "'");
-        tokens_.push_back(
-            {Tok::kNumber, text_.substr(start, i - start), start});
+        if (!digits) Fail(start, "expected a number after '" + std::string(1, c) + "'");
+        tokens_.push_back({Tok::kNumber, text_.substr(start, i - start), start});
       } else if (c == '"' || c == '\'') {
         const size_t start = i++;
         std::string content;
@@ -126,8 +118,8 @@ class Parser {
   }
   [[noreturn]] void Unclosed(size_t open_offset, char close) const {
     Fail(open_offset,
-         std::string("unclosed '") + (close == '}' ? '{' : '[') +
-             "': expected '" + close + "' before the end of the file");
+         std::string("unclosed '") + (close == '}' ? '{' : '[') + "': expected '" + close +
+             "' before the end of the file");
   }
   const Token& Peek(size_t ahead = 0) const {
     return tokens_[std::min(pos_ + ahead, tokens_.size() - 1)];
@@ -137,9 +129,7 @@ class Parser {
     if (pos_ < tokens_.size() - 1) ++pos_;
     return t;
   }
-  bool IsPunct(const Token& t, char c) const {
-    return t.kind == Tok::kPunct && t.text[0] == c;
-  }
+  bool IsPunct(const Token& t, char c) const { return t.kind == Tok::kPunct && t.text[0] == c; }
   bool AcceptPunct(char c) {
     if (!IsPunct(Peek(), c)) return false;
     Next();
@@ -148,8 +138,7 @@ class Parser {
   Token ExpectPunct(char c, const std::string& context) {
     if (!IsPunct(Peek(), c))
       Fail(Peek().offset,
-           "expected '" + std::string(1, c) + "' " + context + ", found " +
-               Describe(Peek()));
+           "expected '" + std::string(1, c) + "' " + context + ", found " + Describe(Peek()));
     return Next();
   }
   void Mark(const std::string& pointer, size_t offset) {
@@ -166,8 +155,7 @@ class Parser {
   void Warn(size_t offset, const std::string& message) {
     int line = 0, column = 0;
     LineColumnFromOffset(text_, offset, &line, &column);
-    src_->warnings.push_back(
-        Location::Text(src_->path, line, column).ToString() + ": " + message);
+    src_->warnings.push_back(Location::Text(src_->path, line, column).ToString() + ": " + message);
   }
 
   // --- grammar ---
@@ -176,15 +164,12 @@ class Parser {
     const Token name = Next();
     if (name.kind != Tok::kIdent)
       Fail(name.offset,
-           "expected a symbol name (e.g. 'O1 = object{...}'), found " +
-               Describe(name));
+           "expected a symbol name (e.g. 'O1 = object{...}'), found " + Describe(name));
     if (!AcceptPunct('=') && !AcceptPunct(':'))
       Fail(Peek().offset,
-           "expected '=' after symbol '" + name.text + "', found " +
-               Describe(Peek()));
+           "expected '=' after symbol '" + name.text + "', found " + Describe(Peek()));
     const std::string pointer = PointerJoin("", name.text);
-    if (doc->contains(name.text))
-      Fail(name.offset, "symbol '" + name.text + "' is defined twice");
+    if (doc->contains(name.text)) Fail(name.offset, "symbol '" + name.text + "' is defined twice");
     Mark(pointer, name.offset);
     if (name.text == "LSCENE" || name.text == "LCAP") {
       (*doc)[name.text] = StartRule(pointer);
@@ -206,9 +191,7 @@ class Parser {
     // Paper typo: "object{...,extent[..]},position:{...}}" closes the body
     // early. A ',' right after the closing brace continues the same body.
     while (IsPunct(Peek(), ',')) {
-      Warn(Peek().offset,
-           "stray '}' before ',' in " + name.text +
-               " ignored (the body continues)");
+      Warn(Peek().offset, "stray '}' before ',' in " + name.text + " ignored (the body continues)");
       Next();
       OJson more = Members(body_pointer, '}');
       for (auto& item : more.items()) body[item.key()] = item.value();
@@ -219,32 +202,27 @@ class Parser {
   // start_rule = { ("ONE" | "MANY") "(" IDENT [ "," count ] ")" }
   OJson StartRule(const std::string& pointer) {
     OJson list = OJson::array();
-    while (Peek().kind == Tok::kIdent &&
-           (Peek().text == "ONE" || Peek().text == "MANY") &&
+    while (Peek().kind == Tok::kIdent && (Peek().text == "ONE" || Peek().text == "MANY") &&
            IsPunct(Peek(1), '(')) {
       const Token op = Next();
       Next();  // (
       const Token sym = Next();
       if (sym.kind != Tok::kIdent)
         Fail(sym.offset,
-             "expected a symbol name inside " + op.text + "(...), found " +
-                 Describe(sym));
+             "expected a symbol name inside " + op.text + "(...), found " + Describe(sym));
       OJson entry = OJson::object();
       entry[op.text] = sym.text;
-      const std::string item_pointer =
-          PointerJoin(pointer, std::to_string(list.size()));
+      const std::string item_pointer = PointerJoin(pointer, std::to_string(list.size()));
       Mark(item_pointer, op.offset);
       Mark(PointerJoin(item_pointer, op.text), sym.offset);
-      if (AcceptPunct(','))
-        entry["count"] = Value(PointerJoin(item_pointer, "count"));
+      if (AcceptPunct(',')) entry["count"] = Value(PointerJoin(item_pointer, "count"));
       ExpectPunct(')', "to close " + op.text + "(" + sym.text);
       list.push_back(std::move(entry));
       AcceptPunct(',');
     }
     if (list.empty())
       Fail(Peek().offset,
-           "expected ONE(...) or MANY(...) in the start rule, found " +
-               Describe(Peek()));
+           "expected ONE(...) or MANY(...) in the start rule, found " + Describe(Peek()));
     return list;
   }
 
@@ -261,8 +239,7 @@ class Parser {
       if (t.kind == Tok::kEnd) Unclosed(open_offset, close);
       if (IsPunct(t, '{') || IsPunct(t, '[')) {
         if (last_key.empty())
-          Fail(t.offset,
-               "a value without a key must follow a 'key: value' member");
+          Fail(t.offset, "a value without a key must follow a 'key: value' member");
         // "range:[0,0,0],[360,360,360]" and "O1:{...},{...}": the previous
         // member becomes a list.
         OJson& previous = object[last_key];
@@ -274,39 +251,32 @@ class Parser {
           continued_.insert(member_pointer);
           RelocateChildren(member_pointer);
         }
-        previous.push_back(Value(
-            PointerJoin(member_pointer, std::to_string(previous.size()))));
+        previous.push_back(Value(PointerJoin(member_pointer, std::to_string(previous.size()))));
       } else if (t.kind == Tok::kIdent || t.kind == Tok::kString) {
         const Token first = Next();
         std::string key = first.text;
         while (first.kind == Tok::kIdent && Peek().kind == Tok::kIdent)
           key += "_" + Next().text;  // "create hemi"
-        if (object.contains(key))
-          Fail(first.offset, "key '" + key + "' appears twice");
+        if (object.contains(key)) Fail(first.offset, "key '" + key + "' appears twice");
         const std::string member_pointer = PointerJoin(pointer, key);
         MarkKey(member_pointer, first.offset);
         if (AcceptPunct(':') || AcceptPunct('=')) {
           object[key] = Value(member_pointer);
         } else if (IsPunct(Peek(), '{') || IsPunct(Peek(), '[')) {
-          if (IsPunct(Peek(), '['))
-            Warn(Peek().offset, "'" + key + "[' read as '" + key + ":['");
+          if (IsPunct(Peek(), '[')) Warn(Peek().offset, "'" + key + "[' read as '" + key + ":['");
           object[key] = Value(member_pointer);  // csettings{...}, extent[...]
         } else {
           Fail(Peek().offset,
-               "expected ':' or '=' after key '" + key + "', found " +
-                   Describe(Peek()));
+               "expected ':' or '=' after key '" + key + "', found " + Describe(Peek()));
         }
         last_key = key;
       } else {
-        Fail(t.offset,
-             "expected a key or '" + std::string(1, close) + "', found " +
-                 Describe(t));
+        Fail(t.offset, "expected a key or '" + std::string(1, close) + "', found " + Describe(t));
       }
       if (Peek().kind == Tok::kEnd) Unclosed(open_offset, close);
       if (!IsPunct(Peek(), close) && !AcceptPunct(','))
         Fail(Peek().offset,
-             std::string("expected ',' or '") + close + "', found " +
-                 Describe(Peek()));
+             std::string("expected ',' or '") + close + "', found " + Describe(Peek()));
     }
     return object;
   }
@@ -317,17 +287,12 @@ class Parser {
     std::map<std::string, std::pair<int, int>> moved;
     for (auto it = src_->positions.lower_bound(member_pointer + "/");
          it != src_->positions.end();) {
-      if (it->first.compare(
-              0, member_pointer.size() + 1, member_pointer + "/") != 0)
-        break;
-      moved.emplace(
-          member_pointer + "/0" + it->first.substr(member_pointer.size()),
-          it->second);
+      if (it->first.compare(0, member_pointer.size() + 1, member_pointer + "/") != 0) break;
+      moved.emplace(member_pointer + "/0" + it->first.substr(member_pointer.size()), it->second);
       it = src_->positions.erase(it);
     }
     auto self = src_->positions.find(member_pointer);
-    if (self != src_->positions.end())
-      moved.emplace(member_pointer + "/0", self->second);
+    if (self != src_->positions.end()) moved.emplace(member_pointer + "/0", self->second);
     src_->positions.insert(moved.begin(), moved.end());
   }
 
@@ -356,12 +321,10 @@ class Parser {
       OJson list = OJson::array();
       while (!AcceptPunct(']')) {
         if (Peek().kind == Tok::kEnd) Unclosed(t.offset, ']');
-        list.push_back(
-            Value(PointerJoin(pointer, std::to_string(list.size()))));
+        list.push_back(Value(PointerJoin(pointer, std::to_string(list.size()))));
         if (Peek().kind == Tok::kEnd) Unclosed(t.offset, ']');
         if (!IsPunct(Peek(), ']') && !AcceptPunct(','))
-          Fail(Peek().offset,
-               "expected ',' or ']' in the list, found " + Describe(Peek()));
+          Fail(Peek().offset, "expected ',' or ']' in the list, found " + Describe(Peek()));
       }
       return list;
     }
@@ -375,8 +338,7 @@ class Parser {
       }
       errno = 0;
       const double d = std::strtod(t.text.c_str(), nullptr);
-      if (errno != 0 || !std::isfinite(d))
-        Fail(t.offset, "number " + t.text + " is out of range");
+      if (errno != 0 || !std::isfinite(d)) Fail(t.offset, "number " + t.text + " is out of range");
       return OJson(d);
     }
     if (t.kind == Tok::kString) return OJson(t.text);
@@ -385,18 +347,14 @@ class Parser {
       if (t.text == "false") return OJson(false);
       // References with a count or index: "P1:3" (3 repetitions), "O1:5" (label
       // 5), "P1:1".
-      if (IsPunct(Peek(), ':') &&
-          (Peek(1).kind == Tok::kNumber || Peek(1).kind == Tok::kIdent) &&
-          !IsPunct(Peek(2), ':') && !IsPunct(Peek(2), '=') &&
-          !IsPunct(Peek(2), '{')) {
+      if (IsPunct(Peek(), ':') && (Peek(1).kind == Tok::kNumber || Peek(1).kind == Tok::kIdent) &&
+          !IsPunct(Peek(2), ':') && !IsPunct(Peek(2), '=') && !IsPunct(Peek(2), '{')) {
         Next();
         return OJson(t.text + ":" + Next().text);
       }
       return OJson(t.text);
     }
-    Fail(t.offset,
-         "expected a value (number, name, {...} or [...]), found " +
-             Describe(t));
+    Fail(t.offset, "expected a value (number, name, {...} or [...]), found " + Describe(t));
   }
 
   SourceFile* src_;

@@ -18,9 +18,7 @@ std::string CanonicalKey(const std::string& key) {
   return out;
 }
 
-void Node::Fail(const std::string& message) const {
-  throw Error(message, Where());
-}
+void Node::Fail(const std::string& message) const { throw Error(message, Where()); }
 void Node::FailKey(const std::string& message) const {
   throw Error(message, src->WhereKey(pointer));
 }
@@ -48,15 +46,12 @@ std::vector<std::pair<std::string, Node>> Node::Members() const {
   std::vector<std::pair<std::string, Node>> out;
   if (!value || !value->is_object()) return out;
   for (auto it = value->begin(); it != value->end(); ++it)
-    out.emplace_back(it.key(),
-                     Node{src, &it.value(), PointerJoin(pointer, it.key())});
+    out.emplace_back(it.key(), Node{src, &it.value(), PointerJoin(pointer, it.key())});
   return out;
 }
 
-void Node::CheckKeys(const std::vector<std::string>& known,
-                     const std::string& what) const {
-  if (!value || !value->is_object())
-    Fail("expected {key: value, ...} for " + what);
+void Node::CheckKeys(const std::vector<std::string>& known, const std::string& what) const {
+  if (!value || !value->is_object()) Fail("expected {key: value, ...} for " + what);
   std::vector<std::string> canon;
   for (const std::string& k : known) canon.push_back(CanonicalKey(k));
   for (auto it = value->begin(); it != value->end(); ++it) {
@@ -69,8 +64,8 @@ void Node::CheckKeys(const std::vector<std::string>& known,
       for (size_t i = 0; i < canon.size(); ++i)
         if (canon[i] == close) hint = " (did you mean '" + known[i] + "'?)";
       if (hint.empty()) hint = "; known keys: " + Join(known, ", ");
-      Node{src, &it.value(), PointerJoin(pointer, it.key())}.FailKey(
-          "unknown key '" + it.key() + "' in " + what + hint);
+      Node{src, &it.value(), PointerJoin(pointer, it.key())}.FailKey("unknown key '" + it.key() +
+                                                                     "' in " + what + hint);
     }
   }
 }
@@ -79,8 +74,7 @@ bool IsNumber(const OJson& v) { return v.is_number(); }
 
 double ReadNumber(const Node& node) {
   if (!node.value || !node->is_number())
-    node.Fail("expected a number, found " +
-              (node.value ? node->dump() : "nothing"));
+    node.Fail("expected a number, found " + (node.value ? node->dump() : "nothing"));
   const double d = node->get<double>();
   if (!std::isfinite(d)) node.Fail("expected a finite number");
   return d;
@@ -88,8 +82,7 @@ double ReadNumber(const Node& node) {
 
 std::string ReadString(const Node& node) {
   if (!node.value || !node->is_string())
-    node.Fail("expected a name, found " +
-              (node.value ? node->dump() : "nothing"));
+    node.Fail("expected a name, found " + (node.value ? node->dump() : "nothing"));
   return node->get<std::string>();
 }
 
@@ -121,8 +114,7 @@ std::string SampleChoiceKey(const Node& node, Rng& rng) {
   double total = 0;
   for (double w : weights) total += w;
   if (keys.empty() || total <= 0)
-    node.Fail(
-        "a choice needs at least one positive weight, e.g. {a:0.2, b:0.8}");
+    node.Fail("a choice needs at least one positive weight, e.g. {a:0.2, b:0.8}");
   return keys[SampleWeighted(weights, rng)];
 }
 
@@ -155,10 +147,8 @@ int64_t SampleCount(const Node& node, Rng& rng) {
   const OJson& v = *node;
   if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()) {
     const double lo = ReadNumber(node.Item(0)), hi = ReadNumber(node.Item(1));
-    if (lo < 0 || lo > hi || hi > 1e6 || lo != std::floor(lo) ||
-        hi != std::floor(hi))
-      node.Fail(
-          "a count interval needs whole numbers 0 <= lo <= hi <= 1000000");
+    if (lo < 0 || lo > hi || hi > 1e6 || lo != std::floor(lo) || hi != std::floor(hi))
+      node.Fail("a count interval needs whole numbers 0 <= lo <= hi <= 1000000");
     return rng.UniformInt(static_cast<int64_t>(lo), static_cast<int64_t>(hi));
   }
   const double d = SampleScalar(node, rng);
@@ -171,8 +161,7 @@ std::string SampleString(const Node& node, Rng& rng) {
   if (!node.value) node.Fail("expected a name");
   if (node->is_string()) return node->get<std::string>();
   if (node->is_object()) return SampleChoiceKey(node, rng);
-  node.Fail("expected a name or a choice {name: weight, ...}, found " +
-            node->dump());
+  node.Fail("expected a name or a choice {name: weight, ...}, found " + node->dump());
 }
 
 std::vector<std::string> StringOptions(const Node& node) {
@@ -192,8 +181,7 @@ bool SampleBool(const Node& node, Rng& rng) {
     if (key == "false") return false;
     node.Child(key).FailKey("choice '" + key + "' is not true or false");
   }
-  node.Fail("expected true, false or a choice {true: p, false: q}, found " +
-            node->dump());
+  node.Fail("expected true, false or a choice {true: p, false: q}, found " + node->dump());
 }
 
 Eigen::Vector3d SampleVec3(const Node& node, Rng& rng) {
@@ -209,10 +197,8 @@ Eigen::Vector3d SampleVec3(const Node& node, Rng& rng) {
     const double d = ReadNumber(node);
     return {d, d, d};
   }
-  if (!v.is_array())
-    node.Fail("expected a vector [x, y, z], found " + v.dump());
-  if (v.size() == 2 && v[0].is_array() &&
-      v[1].is_array()) {  // [[lo..], [hi..]]
+  if (!v.is_array()) node.Fail("expected a vector [x, y, z], found " + v.dump());
+  if (v.size() == 2 && v[0].is_array() && v[1].is_array()) {  // [[lo..], [hi..]]
     const Node lo = node.Item(0), hi = node.Item(1);
     if (lo->size() != 3 || hi->size() != 3)
       node.Fail("a vector range needs two vectors of 3 numbers");
@@ -225,16 +211,14 @@ Eigen::Vector3d SampleVec3(const Node& node, Rng& rng) {
     return out;
   }
   if (v.size() != 3)
-    node.Fail("expected 3 components [x, y, z], found " +
-              std::to_string(v.size()));
+    node.Fail("expected 3 components [x, y, z], found " + std::to_string(v.size()));
   Eigen::Vector3d out;
   for (int i = 0; i < 3; ++i) out[i] = SampleScalar(node.Item(i), rng);
   return out;
 }
 
 Eigen::Vector3d SampleScale(const Node& node, Rng& rng) {
-  if (node.value && node->is_array() &&
-      !(node->size() == 2 && (*node)[0].is_number()))
+  if (node.value && node->is_array() && !(node->size() == 2 && (*node)[0].is_number()))
     return SampleVec3(node, rng);
   return Eigen::Vector3d::Constant(SampleScalar(node, rng));
 }
@@ -253,22 +237,17 @@ Eigen::Vector2d SampleVec2(const Node& node, Rng& rng) {
 std::vector<double> ExpandRange(const Node& node) {
   if (node->is_number()) return {ReadNumber(node)};
   if (!node->is_array() || (node->size() != 3 && node->size() != 2))
-    node.Fail("expected a range [start, stop, count] or a number, found " +
-              node->dump());
-  const double start = ReadNumber(node.Item(0)),
-               stop = ReadNumber(node.Item(1));
+    node.Fail("expected a range [start, stop, count] or a number, found " + node->dump());
+  const double start = ReadNumber(node.Item(0)), stop = ReadNumber(node.Item(1));
   double count_value = node->size() == 3 ? ReadNumber(node.Item(2)) : 2;
-  if (count_value < 1 || count_value > 100000 ||
-      count_value != std::floor(count_value))
-    node.Item(node->size() - 1)
-        .Fail("a range count must be a whole number in [1, 100000]");
+  if (count_value < 1 || count_value > 100000 || count_value != std::floor(count_value))
+    node.Item(node->size() - 1).Fail("a range count must be a whole number in [1, 100000]");
   const int count = static_cast<int>(count_value);
   if (count == 1) return {start};
   const bool full_turn = std::abs(std::abs(stop - start) - 360.0) < 1e-9;
   const int divisions = full_turn ? count : count - 1;
   std::vector<double> out;
-  for (int i = 0; i < count; ++i)
-    out.push_back(start + (stop - start) * i / divisions);
+  for (int i = 0; i < count; ++i) out.push_back(start + (stop - start) * i / divisions);
   return out;
 }
 

@@ -44,8 +44,7 @@ struct Node {
   Node Find(const std::string& canonical) const;
   // Throws for any member not in `known` (snake_case names), suggesting the
   // closest one.
-  void CheckKeys(const std::vector<std::string>& known,
-                 const std::string& what) const;
+  void CheckKeys(const std::vector<std::string>& known, const std::string& what) const;
   // Members as (key, Node) in file order.
   std::vector<std::pair<std::string, Node>> Members() const;
 };

@@ -21,10 +21,9 @@ namespace lsds {
 
 struct PlannedSky {
   Eigen::Vector3d color = {0.55, 0.7, 0.95};  // linear RGB at the zenith
-  std::string cloud_type =
-      "none";  // none | cumulus | nimbostratus | cirrus | stratus
-  double cloud_density = 0.0;  // [0, 1]
-  double intensity = 1.0;      // sky radiance scale
+  std::string cloud_type = "none";            // none | cumulus | nimbostratus | cirrus | stratus
+  double cloud_density = 0.0;                 // [0, 1]
+  double intensity = 1.0;                     // sky radiance scale
 };
 
 struct PlannedSun {
@@ -51,33 +50,28 @@ struct PlannedEnvironment {
 
 struct PlannedTerrain {
   bool present = false;
-  Eigen::Vector2d size = {
-      200.0, 200.0};              // metres along x and y, centred on the origin
-  double perlin_amplitude = 0.0;  // metres
-  double perlin_frequency = 0.05;  // cycles per metre
+  Eigen::Vector2d size = {200.0, 200.0};  // metres along x and y, centred on the origin
+  double perlin_amplitude = 0.0;          // metres
+  double perlin_frequency = 0.05;         // cycles per metre
   uint64_t perlin_seed = 0;
   std::string material = "grassy";
-  uint32_t class_id =
-      0;  // terrain class in the class table (0: unlabeled background)
+  uint32_t class_id = 0;     // terrain class in the class table (0: unlabeled background)
   uint32_t instance_id = 0;  // instance id in the instanceid layer
 };
 
 // One object of the sampled world.
 struct PlannedObject {
-  std::string name;    // "O2#3": LSCENE symbol and copy number
-  std::string symbol;  // "O2"
-  std::string
-      class_name;  // built-in class ("cube", "rock", ...) or a mesh file path
+  std::string name;        // "O2#3": LSCENE symbol and copy number
+  std::string symbol;      // "O2"
+  std::string class_name;  // built-in class ("cube", "rock", ...) or a mesh file path
   uint32_t class_id = 0;
   uint32_t instance_id = 0;
   bool visible = true;  // invisible helpers are placed but not rendered
   bool target = true;   // an object of interest: gets a truth entry per frame
-  Eigen::Vector3d position =
-      Eigen::Vector3d::Zero();  // centre of the object's box, world metres
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // centre of the object's box, world metres
   Eigen::Matrix3d world_from_object = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d extent =
-      Eigen::Vector3d::Ones();  // full box size in metres (after scale)
-  std::string material;         // empty: the class's default
+  Eigen::Vector3d extent = Eigen::Vector3d::Ones();  // full box size in metres (after scale)
+  std::string material;                              // empty: the class's default
 
   // How LSCENE placed it, so that LCAP changes of its size, rotation or
   // offset keep the same constraints (docs/languages.md, "Scene changes keep
@@ -127,8 +121,7 @@ struct PlannedFrame {
   Rigid3d cam_from_world;
   // The camera centre's velocity, world m/s, on smooth flights.
   std::optional<Eigen::Vector3d> camera_velocity;
-  std::vector<ObjectChange>
-      changes;  // applied in order on top of the world's objects
+  std::vector<ObjectChange> changes;  // applied in order on top of the world's objects
   // The environment in effect when LCAP changes it (sky, sun, atmosphere,
   // skylight, terrain material); absent: the plan's.
   std::optional<PlannedEnvironment> environment;

@@ -9,22 +9,17 @@ namespace {
 
 using nlohmann::json;
 
-json Vec3(const Eigen::Vector3d& v) {
-  return json::array({v.x(), v.y(), v.z()});
-}
+json Vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 json Vec2(const Eigen::Vector2d& v) { return json::array({v.x(), v.y()}); }
 json Mat3(const Eigen::Matrix3d& m) {
   json rows = json::array();
-  for (int r = 0; r < 3; ++r)
-    rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
+  for (int r = 0; r < 3; ++r) rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
   return rows;
 }
 Eigen::Vector3d ToVec3(const json& j) {
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
 }
-Eigen::Vector2d ToVec2(const json& j) {
-  return {j.at(0).get<double>(), j.at(1).get<double>()};
-}
+Eigen::Vector2d ToVec2(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>()}; }
 Eigen::Matrix3d ToMat3(const json& j) {
   Eigen::Matrix3d m;
   for (int r = 0; r < 3; ++r)
@@ -79,9 +74,7 @@ ObjectChange ChangeFrom(const json& j) {
 
 }  // namespace
 
-json ObjectChangeToJson(const ObjectChange& change) {
-  return ChangeJson(change);
-}
+json ObjectChangeToJson(const ObjectChange& change) { return ChangeJson(change); }
 
 json SunJson(const PlannedSun& sun) {
   json j = {{"elevation_deg", sun.elevation_deg},
@@ -155,27 +148,21 @@ PlannedFrame PlannedFrameFromJson(const json& j,
     f.sequence = j.at("sequence").get<std::string>();
     f.shot = j.value("shot", int64_t{-1});  // older plans: see PlanFromJson
     f.camera = CameraFrom(j.at("camera"));
-    f.cam_from_world.rotation =
-        Eigen::Quaterniond(ToMat3(j.at("cam_from_world").at("rotation")));
+    f.cam_from_world.rotation = Eigen::Quaterniond(ToMat3(j.at("cam_from_world").at("rotation")));
     f.cam_from_world.rotation.normalize();
-    f.cam_from_world.translation =
-        ToVec3(j.at("cam_from_world").at("translation"));
+    f.cam_from_world.translation = ToVec3(j.at("cam_from_world").at("translation"));
     for (const json& c : j.at("changes")) f.changes.push_back(ChangeFrom(c));
-    if (j.contains("environment"))
-      f.environment = EnvironmentFromJson(j.at("environment"));
-    if (j.contains("camera_velocity"))
-      f.camera_velocity = ToVec3(j.at("camera_velocity"));
+    if (j.contains("environment")) f.environment = EnvironmentFromJson(j.at("environment"));
+    if (j.contains("camera_velocity")) f.camera_velocity = ToVec3(j.at("camera_velocity"));
     return f;
   } catch (const json::exception& e) {
-    throw Error(std::string("bad plan frame: ") + e.what(),
-                Location(file, pointer));
+    throw Error(std::string("bad plan frame: ") + e.what(), Location(file, pointer));
   }
 }
 
 json PlanToJson(const Plan& plan) {
   json classes = json::array();
-  for (const ClassInfo& c : plan.classes)
-    classes.push_back({{"id", c.id}, {"name", c.name}});
+  for (const ClassInfo& c : plan.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
   json objects = json::array();
   for (const PlannedObject& o : plan.objects) {
     objects.push_back({{"name", o.name},
@@ -191,8 +178,7 @@ json PlanToJson(const Plan& plan) {
                        {"material", o.material}});
   }
   json frames = json::array();
-  for (const PlannedFrame& f : plan.frames)
-    frames.push_back(PlannedFrameToJson(f));
+  for (const PlannedFrame& f : plan.frames) frames.push_back(PlannedFrameToJson(f));
   const PlannedTerrain& t = plan.terrain;
   json environment = EnvironmentJson(EnvironmentOf(plan));
   environment.erase("terrain_material");  // the terrain's own "material"
@@ -232,8 +218,7 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     plan.scene_source = j.at("scene_source").get<std::string>();
     plan.capture_source = j.at("capture_source").get<std::string>();
     for (const json& c : j.at("classes"))
-      plan.classes.push_back(
-          {GetInteger<uint32_t>(c, "id"), c.at("name").get<std::string>()});
+      plan.classes.push_back({GetInteger<uint32_t>(c, "id"), c.at("name").get<std::string>()});
     PlannedEnvironment environment = EnvironmentFromJson(j);
     const json& t = j.at("terrain");
     plan.terrain.present = t.at("present").get<bool>();
@@ -268,21 +253,17 @@ Plan PlanFromJson(const json& j, const std::string& file) {
       plan.objects.push_back(p);
     }
     plan.post_process = j.at("post_process").get<std::vector<std::string>>();
-    if (j.contains("capture_settings"))
-      plan.capture_settings = j["capture_settings"];
+    if (j.contains("capture_settings")) plan.capture_settings = j["capture_settings"];
     const json& frames = j.at("frames");
     for (size_t i = 0; i < frames.size(); ++i)
-      plan.frames.push_back(PlannedFrameFromJson(
-          frames[i], file, "/frames/" + std::to_string(i)));
+      plan.frames.push_back(PlannedFrameFromJson(frames[i], file, "/frames/" + std::to_string(i)));
     // Plans written before shots existed: a shot is a run of consecutive
     // frames of one sequence.
     for (size_t i = 0; i < plan.frames.size(); ++i) {
       PlannedFrame& f = plan.frames[i];
       if (f.shot >= 0) continue;
       const PlannedFrame* p = i > 0 ? &plan.frames[i - 1] : nullptr;
-      f.shot = p && p->sequence == f.sequence && p->index + 1 == f.index
-                   ? p->shot
-                   : f.index;
+      f.shot = p && p->sequence == f.sequence && p->index + 1 == f.index ? p->shot : f.index;
     }
     return plan;
   } catch (const json::exception& e) {

@@ -23,8 +23,7 @@ Permutation MakePermutation(uint64_t seed) {
   for (int i = 0; i < 256; ++i) p[i] = i;
   uint64_t state = seed;
   for (int i = 255; i > 0; --i) {  // Fisher-Yates with an exact integer draw
-    const int j =
-        static_cast<int>(SplitMix64(&state) % static_cast<uint64_t>(i + 1));
+    const int j = static_cast<int>(SplitMix64(&state) % static_cast<uint64_t>(i + 1));
     std::swap(p[i], p[j]);
   }
   Permutation out;
@@ -79,10 +78,9 @@ double PerlinNoise2(uint64_t seed, double x, double y) {
   y -= fy;
   const double u = Fade(x), v = Fade(y);
   const int a = p[xi] + yi, b = p[xi + 1] + yi;
-  const double value =
-      Lerp(v,
-           Lerp(u, Grad(p[a], x, y), Grad(p[b], x - 1, y)),
-           Lerp(u, Grad(p[a + 1], x, y - 1), Grad(p[b + 1], x - 1, y - 1)));
+  const double value = Lerp(v,
+                            Lerp(u, Grad(p[a], x, y), Grad(p[b], x - 1, y)),
+                            Lerp(u, Grad(p[a + 1], x, y - 1), Grad(p[b + 1], x - 1, y - 1)));
   return std::max(-1.0, std::min(1.0, value));
 }
 
@@ -93,11 +91,10 @@ double TerrainHeight(const PlannedTerrain& terrain, double x, double y) {
                                                  terrain.perlin_frequency * y);
 }
 
-std::optional<Eigen::Vector3d> IntersectTerrain(
-    const PlannedTerrain& terrain,
-    const Eigen::Vector3d& origin,
-    const Eigen::Vector3d& direction,
-    double max_range) {
+std::optional<Eigen::Vector3d> IntersectTerrain(const PlannedTerrain& terrain,
+                                                const Eigen::Vector3d& origin,
+                                                const Eigen::Vector3d& direction,
+                                                double max_range) {
   const Eigen::Vector3d d = direction.normalized();
   auto above = [&](double t) {
     const Eigen::Vector3d p = origin + t * d;
@@ -110,8 +107,7 @@ std::optional<Eigen::Vector3d> IntersectTerrain(
     return origin + t * d;
   }
   if (above(0) <= 0) return std::nullopt;  // starts under the ground
-  const double step =
-      std::max(0.05, 0.1 / std::max(terrain.perlin_frequency, 1e-6));
+  const double step = std::max(0.05, 0.1 / std::max(terrain.perlin_frequency, 1e-6));
   double t0 = 0;
   for (double t1 = step; t0 < max_range; t0 = t1, t1 += step) {
     t1 = std::min(t1, max_range);

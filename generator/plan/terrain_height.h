@@ -23,11 +23,10 @@ double TerrainHeight(const PlannedTerrain& terrain, double x, double y);
 // within `max_range` (along a unit `direction`), or nothing. Flat terrain is
 // intersected exactly; hills by marching in steps no longer than a tenth of a
 // Perlin wavelength and refining by bisection to 1 mm.
-std::optional<Eigen::Vector3d> IntersectTerrain(
-    const PlannedTerrain& terrain,
-    const Eigen::Vector3d& origin,
-    const Eigen::Vector3d& direction,
-    double max_range);
+std::optional<Eigen::Vector3d> IntersectTerrain(const PlannedTerrain& terrain,
+                                                const Eigen::Vector3d& origin,
+                                                const Eigen::Vector3d& direction,
+                                                double max_range);
 
 // Perlin2 alone, for tests.
 double PerlinNoise2(uint64_t seed, double x, double y);

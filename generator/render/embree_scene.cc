@@ -15,8 +15,7 @@ void ErrorFunction(void*, RTCError, const char* message) {
 }
 
 void CheckDevice(RTCDevice device) {
-  if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
-    throw Error("Embree: " + last_error);
+  if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw Error("Embree: " + last_error);
 }
 
 }  // namespace
@@ -29,8 +28,7 @@ EmbreeDevice::EmbreeDevice() {
 
 EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
 
-const ClassShape& SceneAssets::ShapeOf(size_t i,
-                                       const std::string& asset) const {
+const ClassShape& SceneAssets::ShapeOf(size_t i, const std::string& asset) const {
   const auto swap = swapped.find({i, asset});
   return swap == swapped.end() ? shapes[i] : swap->second;
 }
@@ -42,9 +40,7 @@ SceneAssets BuildSceneAssets(const Plan& plan) {
     const std::string where = "object '" + o.name + "'";
     const uint64_t seed = HashCombine(plan.seed, HashString(o.name.c_str()));
     assets.shapes.push_back(MakeClassShape(o.class_name, seed, where));
-    FindMaterial(
-        o.material.empty() ? assets.shapes.back().default_material : o.material,
-        where);
+    FindMaterial(o.material.empty() ? assets.shapes.back().default_material : o.material, where);
   }
   if (plan.terrain.present)
     assets.terrain_material = &FindMaterial(plan.terrain.material, "terrain");
@@ -57,22 +53,19 @@ SceneAssets BuildSceneAssets(const Plan& plan) {
         size_t i = 0;
         while (i < plan.objects.size() && plan.objects[i].name != c.object) ++i;
         if (i == plan.objects.size())
-          throw Error("frame " + std::to_string(f.index) +
-                      ": a change refers to unknown object '" + c.object + "'");
+          throw Error("frame " + std::to_string(f.index) + ": a change refers to unknown object '" +
+                      c.object + "'");
         const PlannedObject& o = plan.objects[i];
         if (*c.asset != o.class_name && !assets.swapped.count({i, *c.asset}))
           assets.swapped.emplace(
               std::make_pair(i, *c.asset),
-              MakeClassShape(
-                  *c.asset,
-                  HashCombine(plan.seed, HashString(o.name.c_str())),
-                  "frame " + std::to_string(f.index) + " object '" + c.object +
-                      "'"));
+              MakeClassShape(*c.asset,
+                             HashCombine(plan.seed, HashString(o.name.c_str())),
+                             "frame " + std::to_string(f.index) + " object '" + c.object + "'"));
       }
       if (c.material)
-        FindMaterial(
-            *c.material,
-            "frame " + std::to_string(f.index) + " object '" + c.object + "'");
+        FindMaterial(*c.material,
+                     "frame " + std::to_string(f.index) + " object '" + c.object + "'");
     }
   }
   return assets;
@@ -91,9 +84,8 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     s.class_id = plan.terrain.class_id;
     s.instance_id = plan.terrain.instance_id;
     // The terrain's material may change per frame (LCAP): the world's.
-    s.material = world.terrain_material.empty()
-                     ? assets.terrain_material
-                     : &FindMaterial(world.terrain_material, "terrain");
+    s.material = world.terrain_material.empty() ? assets.terrain_material
+                                                : &FindMaterial(world.terrain_material, "terrain");
     AddMesh(device, MakeTerrainMesh(plan.terrain), s);
   }
   for (size_t i = 0; i < world.objects.size(); ++i) {
@@ -101,17 +93,15 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     if (!o.visible) continue;  // invisible helpers are placed but not rendered
     const ClassShape& shape = assets.ShapeOf(i, o.asset);
     TriangleMesh mesh = shape.mesh;
-    const Eigen::Matrix3f linear =
-        (o.world_from_object * o.extent.asDiagonal()).cast<float>();
+    const Eigen::Matrix3f linear = (o.world_from_object * o.extent.asDiagonal()).cast<float>();
     const Eigen::Vector3f offset = o.position.cast<float>();
     for (Eigen::Vector3f& p : mesh.positions) p = linear * p + offset;
     Surface s;
     s.object = static_cast<int>(i);
     s.class_id = o.class_id;
     s.instance_id = o.planned->instance_id;
-    s.material = &FindMaterial(
-        o.material.empty() ? shape.default_material : o.material,
-        "object '" + o.planned->name + "'");
+    s.material = &FindMaterial(o.material.empty() ? shape.default_material : o.material,
+                               "object '" + o.planned->name + "'");
     const unsigned id = AddMesh(device, std::move(mesh), s);
     RTCScene own = rtcNewScene(device.get());
     rtcAttachGeometry(own, geometries_[id]);
@@ -122,13 +112,10 @@ RenderScene::RenderScene(const EmbreeDevice& device,
   CheckDevice(device.get());
 }
 
-unsigned RenderScene::AddMesh(const EmbreeDevice& device,
-                              TriangleMesh mesh,
-                              Surface surface) {
+unsigned RenderScene::AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Surface surface) {
   meshes_.push_back(std::make_unique<TriangleMesh>(std::move(mesh)));
   const TriangleMesh& m = *meshes_.back();
-  RTCGeometry geometry =
-      rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  RTCGeometry geometry = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
   // Shared buffers: Embree reads our arrays in place (Vector3f is 3 packed
   // floats; the last vertex needs 4 readable bytes past it, so the positions
   // are padded by one).

@@ -48,8 +48,7 @@ struct Surface {
   uint32_t class_id = 0;
   uint32_t instance_id = 0;
   const Material* material = nullptr;
-  const Eigen::Vector3f* positions =
-      nullptr;  // world-space vertices of the geometry
+  const Eigen::Vector3f* positions = nullptr;  // world-space vertices of the geometry
   const Eigen::Vector3i* triangles = nullptr;
 };
 
@@ -70,17 +69,14 @@ class RenderScene {
   const WorldState& world() const { return world_; }
 
  private:
-  unsigned AddMesh(const EmbreeDevice& device,
-                   TriangleMesh mesh,
-                   Surface surface);
+  unsigned AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Surface surface);
 
   WorldState world_;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> object_scenes_;
   std::vector<RTCGeometry> geometries_;
-  std::vector<std::unique_ptr<TriangleMesh>>
-      meshes_;                     // world-space copies, owned
-  std::vector<Surface> surfaces_;  // by geometry id
+  std::vector<std::unique_ptr<TriangleMesh>> meshes_;  // world-space copies, owned
+  std::vector<Surface> surfaces_;                      // by geometry id
 };
 
 }  // namespace lsds::gen

@@ -15,8 +15,7 @@ uint64_t Film::BytesPerPixel(int spp, bool with_bundle) {
   if (with_bundle) {
     // Sample counts, offsets and spp samples of every bundle channel.
     bytes += sizeof(uint32_t) + sizeof(uint64_t) +
-             static_cast<uint64_t>(std::max(1, spp)) * 4 *
-                 StandardLayer("bundle").channels.size();
+             static_cast<uint64_t>(std::max(1, spp)) * 4 * StandardLayer("bundle").channels.size();
   }
   return bytes;
 }
@@ -36,9 +35,7 @@ Film Film::Make(int width, int height, int spp, bool with_bundle) {
   film.centre_sample.resize(static_cast<size_t>(width) * height);
   if (!with_bundle) return film;
   film.bundle = exr::DeepImage(
-      width,
-      height,
-      std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
+      width, height, std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
   for (const LayerChannel& c : StandardLayer("bundle").channels)
     film.bundle.AddChannel(c.name, c.type);
   return film;

@@ -18,9 +18,8 @@ namespace lsds::gen {
 struct Film {
   std::map<std::string, exr::FlatImage> flat;  // by layer semantic
   exr::DeepImage bundle;
-  std::vector<Eigen::Vector2f>
-      centre_sample;  // per pixel, the position of bundle sample 0
-  uint64_t rays = 0;  // primary + shadow rays cast
+  std::vector<Eigen::Vector2f> centre_sample;  // per pixel, the position of bundle sample 0
+  uint64_t rays = 0;                           // primary + shadow rays cast
 
   // The film for `semantics` (flat channels from StandardLayer) at the given
   // size and samples.

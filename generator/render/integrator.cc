@@ -18,8 +18,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 struct Hit {
   bool hit = false;
   unsigned geom = 0;
-  double t =
-      0;  // along the ray whose camera-frame direction has z == 1: planar depth
+  double t = 0;            // along the ray whose camera-frame direction has z == 1: planar depth
   Eigen::Vector3d point;   // world
   Eigen::Vector3d normal;  // world, unit, facing the camera
 };
@@ -104,10 +103,9 @@ Eigen::Vector2d Motion(const PinholeCamera& camera,
                        const Eigen::Vector3d& point_in_previous_cam) {
   const Eigen::Vector2d invalid(kNaN, kNaN);
   if (!(point_in_previous_cam.z() > 1e-9)) return invalid;
-  const Eigen::Vector2d before =
-      previous_camera.ImageFromCam(point_in_previous_cam);
-  if (!(before.x() >= 0 && before.x() < previous_camera.width &&
-        before.y() >= 0 && before.y() < previous_camera.height))
+  const Eigen::Vector2d before = previous_camera.ImageFromCam(point_in_previous_cam);
+  if (!(before.x() >= 0 && before.x() < previous_camera.width && before.y() >= 0 &&
+        before.y() < previous_camera.height))
     return invalid;
   return {0.5 + 0.5 * (pixel_now.x() - before.x()) / camera.width,
           0.5 + 0.5 * (pixel_now.y() - before.y()) / camera.height};
@@ -152,13 +150,10 @@ Film RenderFrame(const RenderScene& scene,
                  const RenderSettings& settings) {
   CheckSamplerSettings(settings.sampler);
   const PinholeCamera& camera = frame.camera;
-  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) ||
-      !(camera.fy > 0)) {
-    throw Error("frame " + std::to_string(frame.index) +
-                ": the camera has no valid intrinsics");
+  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0)) {
+    throw Error("frame " + std::to_string(frame.index) + ": the camera has no valid intrinsics");
   }
-  const int width = camera.width, height = camera.height,
-            spp = settings.sampler.spp;
+  const int width = camera.width, height = camera.height, spp = settings.sampler.spp;
   Film film = Film::Make(width, height, spp, settings.bundle);
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
@@ -167,9 +162,8 @@ Film RenderFrame(const RenderScene& scene,
   auto ch = [&film](const std::string& layer, const std::string& channel) {
     return &film.flat.at(layer).Get(channel);
   };
-  float* rgb[3] = {ch("rgb", "R")->floats.data(),
-                   ch("rgb", "G")->floats.data(),
-                   ch("rgb", "B")->floats.data()};
+  float* rgb[3] = {
+      ch("rgb", "R")->floats.data(), ch("rgb", "G")->floats.data(), ch("rgb", "B")->floats.data()};
   uint32_t* class_id = ch("classid", "id")->uints.data();
   uint32_t* instance_id = ch("instanceid", "id")->uints.data();
   float* depth = ch("depth", "Z")->floats.data();
@@ -180,17 +174,12 @@ Film RenderFrame(const RenderScene& scene,
                         ch("worldposition", "Y")->floats.data(),
                         ch("worldposition", "Z")->floats.data()};
   float* shadow = ch("shadow", "Y")->floats.data();
-  float* motion[2] = {ch("motion", "X")->floats.data(),
-                      ch("motion", "Y")->floats.data()};
+  float* motion[2] = {ch("motion", "X")->floats.data(), ch("motion", "Y")->floats.data()};
   // The bundle is written only when the capture asks for it (null: skip).
   exr::DeepImage& bundle = film.bundle;
   const bool with_bundle = settings.bundle;
-  auto u = [&](const char* c) {
-    return with_bundle ? bundle.Get(c).uints.data() : nullptr;
-  };
-  auto f = [&](const char* c) {
-    return with_bundle ? bundle.Get(c).floats.data() : nullptr;
-  };
+  auto u = [&](const char* c) { return with_bundle ? bundle.Get(c).uints.data() : nullptr; };
+  auto f = [&](const char* c) { return with_bundle ? bundle.Get(c).floats.data() : nullptr; };
   uint32_t* b_instance = u("instanceid");
   uint32_t* b_class = u("classid");
   float* b_z = f("Z");
@@ -212,11 +201,9 @@ Film RenderFrame(const RenderScene& scene,
             PixelSamples(settings.sampler, frame.index, x, y, samples.data());
             Eigen::Vector3f sum = Eigen::Vector3f::Zero();
             for (int k = 0; k < spp; ++k) {
-              const Eigen::Vector3d ray_in_cam =
-                  camera.CamFromImage(samples[k]);  // z == 1
+              const Eigen::Vector3d ray_in_cam = camera.CamFromImage(samples[k]);  // z == 1
               const Eigen::Vector3d direction = world_from_cam * ray_in_cam;
-              const Hit hit =
-                  Trace(scene, scene.scene(), centre, direction, &context);
+              const Hit hit = Trace(scene, scene.scene(), centre, direction, &context);
               ++rays;
               Eigen::Vector3f radiance;
               float shadow_ratio = 1.f;
@@ -228,38 +215,30 @@ Film RenderFrame(const RenderScene& scene,
                 radiance = sky.Radiance(direction.normalized());
               } else {
                 const Surface& s = scene.surface(hit.geom);
-                const Eigen::Vector3f albedo = Albedo(
-                    *s.material, sky.texture_noise(), hit.point.cast<float>());
+                const Eigen::Vector3f albedo =
+                    Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>());
                 const double cos_sun = hit.normal.dot(sky.to_sun());
                 float lit = 0.f;
                 if (cos_sun > 0) {
                   const Eigen::Vector3d origin =
-                      hit.point +
-                      hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
-                  lit = Occluded(scene.scene(), origin, sky.to_sun(), &context)
-                            ? 0.f
-                            : 1.f;
+                      hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
+                  lit = Occluded(scene.scene(), origin, sky.to_sun(), &context) ? 0.f : 1.f;
                   ++rays;
                 }
                 const Eigen::Vector3f direct =
-                    sky.sun_irradiance() *
-                    static_cast<float>(std::max(0.0, cos_sun));
+                    sky.sun_irradiance() * static_cast<float>(std::max(0.0, cos_sun));
                 const Eigen::Vector3f unshadowed = sky.ambient() + direct;
                 const Eigen::Vector3f shaded = sky.ambient() + direct * lit;
                 const float denominator = Luminance(unshadowed);
                 shadow_ratio =
-                    denominator > 0
-                        ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f)
-                        : 1.f;
+                    denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
                 radiance = albedo.cwiseProduct(shaded);
                 const double distance = hit.t * ray_in_cam.norm();
                 if (sky.fog_density() > 0) {
-                  const float f = static_cast<float>(
-                      std::exp(-sky.fog_density() * distance));
+                  const float f = static_cast<float>(std::exp(-sky.fog_density() * distance));
                   radiance = radiance * f + sky.horizon() * (1 - f);
                 }
-                z_value = settings.depth_kind == DepthKind::kPlanar ? hit.t
-                                                                    : distance;
+                z_value = settings.depth_kind == DepthKind::kPlanar ? hit.t : distance;
                 sample_instance = s.instance_id;
                 sample_class = s.class_id;
                 sample_normal = hit.normal.cast<float>();
@@ -283,16 +262,14 @@ Film RenderFrame(const RenderScene& scene,
               shadow[pixel] = shadow_ratio;
               for (int a = 0; a < 3; ++a) {
                 normal[a][pixel] = sample_normal[a];
-                position[a][pixel] =
-                    hit.hit ? static_cast<float>(hit.point[a]) : kInf;
+                position[a][pixel] = hit.hit ? static_cast<float>(hit.point[a]) : kInf;
               }
               // No previous frame in the shot: no valid motion.
               Eigen::Vector2d m(kNaN, kNaN);
               if (previous.frame != nullptr) {
                 const PlannedFrame& p = *previous.frame;
                 if (!hit.hit) {
-                  const Eigen::Vector3d dir_prev =
-                      p.cam_from_world.rotation * direction;
+                  const Eigen::Vector3d dir_prev = p.cam_from_world.rotation * direction;
                   m = Motion(camera, samples[0], p.camera, dir_prev);
                 } else {
                   Eigen::Vector3d point_before = hit.point;
@@ -300,13 +277,9 @@ Film RenderFrame(const RenderScene& scene,
                   if (object >= 0 && previous.world != nullptr) {
                     const ObjectState& now = scene.world().objects[object];
                     const ObjectState& before = previous.world->objects[object];
-                    point_before =
-                        before.WorldFromUnit(now.UnitFromWorld(hit.point));
+                    point_before = before.WorldFromUnit(now.UnitFromWorld(hit.point));
                   }
-                  m = Motion(camera,
-                             samples[0],
-                             p.camera,
-                             p.cam_from_world * point_before);
+                  m = Motion(camera, samples[0], p.camera, p.cam_from_world * point_before);
                   if (std::isfinite(m.x()) && previous.scene != nullptr &&
                       HiddenBefore(previous.scene->scene(),
                                    CameraCenterInWorld(p.cam_from_world),

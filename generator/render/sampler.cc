@@ -13,32 +13,23 @@ int SamplesPerAxis(int spp) {
   return static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
 }
 
-double Uniform(uint64_t h) {
-  return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);
-}
+double Uniform(uint64_t h) { return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0); }
 
 }  // namespace
 
 void CheckSamplerSettings(const SamplerSettings& s) {
   const int n = SamplesPerAxis(s.spp);
   if (s.spp < 1 || s.spp > 256 || n * n != s.spp) {
-    throw Error("--spp " + std::to_string(s.spp) +
-                ": samples per pixel must be a square number " +
+    throw Error("--spp " + std::to_string(s.spp) + ": samples per pixel must be a square number " +
                 "(1, 4, 9, 16, ...) up to 256, for stratified n x n sampling");
   }
-  if (!(s.jitter >= 0 && s.jitter <= 1))
-    throw Error("--jitter must be in [0, 1]");
+  if (!(s.jitter >= 0 && s.jitter <= 1)) throw Error("--jitter must be in [0, 1]");
 }
 
-void PixelSamples(const SamplerSettings& s,
-                  int64_t frame,
-                  int x,
-                  int y,
-                  Eigen::Vector2d* out) {
+void PixelSamples(const SamplerSettings& s, int64_t frame, int x, int y, Eigen::Vector2d* out) {
   const int n = SamplesPerAxis(s.spp);
-  const uint64_t pixel_seed =
-      HashCombine(HashCombine(s.seed, static_cast<uint64_t>(frame)),
-                  (static_cast<uint64_t>(y) << 32) | x);
+  const uint64_t pixel_seed = HashCombine(HashCombine(s.seed, static_cast<uint64_t>(frame)),
+                                          (static_cast<uint64_t>(y) << 32) | x);
   int nearest = 0;
   double nearest_d2 = 1e9;
   for (int k = 0; k < s.spp; ++k) {

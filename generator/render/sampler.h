@@ -26,10 +26,7 @@ void CheckSamplerSettings(const SamplerSettings& settings);
 // Writes the spp sample positions of pixel (x, y) of frame `frame` in
 // pixel-edge image coordinates, the pixel centre (x + 0.5, y + 0.5) first, the
 // others in cell order.
-void PixelSamples(const SamplerSettings& settings,
-                  int64_t frame,
-                  int x,
-                  int y,
-                  Eigen::Vector2d* out);
+void PixelSamples(
+    const SamplerSettings& settings, int64_t frame, int x, int y, Eigen::Vector2d* out);
 
 }  // namespace lsds::gen

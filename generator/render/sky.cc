@@ -17,46 +17,37 @@ const std::vector<std::string>& CloudTypes() {
 Sky::Sky(const Plan& plan) : Sky(plan, EnvironmentOf(plan)) {}
 
 Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
-    : noise_(HashCombine(plan.seed, 0xc10d)),
-      texture_noise_(HashCombine(plan.seed, 0x7e47)) {
+    : noise_(HashCombine(plan.seed, 0xc10d)), texture_noise_(HashCombine(plan.seed, 0x7e47)) {
   const PlannedSky& sky = environment.sky;
   const float intensity = static_cast<float>(sky.intensity);
   zenith_ = sky.color.cast<float>() * intensity;
-  horizon_ =
-      (0.5f * sky.color.cast<float>() + Eigen::Vector3f(0.45f, 0.45f, 0.45f)) *
-      intensity;
+  horizon_ = (0.5f * sky.color.cast<float>() + Eigen::Vector3f(0.45f, 0.45f, 0.45f)) * intensity;
   const double el = environment.sun.elevation_deg * M_PI / 180,
                az = environment.sun.azimuth_deg * M_PI / 180;
-  to_sun_ = Eigen::Vector3d(
-      std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
-  sun_irradiance_ = Eigen::Vector3f(1.0f, 0.96f, 0.9f) *
-                    static_cast<float>(environment.sun.intensity);
-  ambient_ = (0.6f * zenith_ + 0.4f * horizon_) *
-             static_cast<float>(environment.skylight_intensity);
+  to_sun_ = Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+  sun_irradiance_ =
+      Eigen::Vector3f(1.0f, 0.96f, 0.9f) * static_cast<float>(environment.sun.intensity);
+  ambient_ =
+      (0.6f * zenith_ + 0.4f * horizon_) * static_cast<float>(environment.skylight_intensity);
   fog_density_ = environment.fog_density;
   cloud_density_ = std::clamp(sky.cloud_density, 0.0, 1.0);
   const auto& types = CloudTypes();
   if (std::find(types.begin(), types.end(), sky.cloud_type) == types.end()) {
     throw Error("sky: unknown cloud type '" + sky.cloud_type + "'" +
-                DidYouMean(sky.cloud_type, types) +
-                "; known: " + Join(types, ", "));
+                DidYouMean(sky.cloud_type, types) + "; known: " + Join(types, ", "));
   }
   if (sky.cloud_type == "none") cloud_density_ = 0;
-  if (sky.cloud_type == "cumulus")
-    cloud_frequency_ = 1.5, cloud_softness_ = 0.1;
-  if (sky.cloud_type == "nimbostratus")
-    cloud_frequency_ = 0.5, cloud_softness_ = 0.5;
+  if (sky.cloud_type == "cumulus") cloud_frequency_ = 1.5, cloud_softness_ = 0.1;
+  if (sky.cloud_type == "nimbostratus") cloud_frequency_ = 0.5, cloud_softness_ = 0.5;
   if (sky.cloud_type == "stratus")
     cloud_frequency_ = 0.3, cloud_stretch_ = 3, cloud_softness_ = 0.6;
-  if (sky.cloud_type == "cirrus")
-    cloud_frequency_ = 2.0, cloud_stretch_ = 6, cloud_softness_ = 0.3;
+  if (sky.cloud_type == "cirrus") cloud_frequency_ = 2.0, cloud_stretch_ = 6, cloud_softness_ = 0.3;
   if (cloud_density_ > 0) {
     // Clouds dim the sun and whiten the skylight.
     sun_irradiance_ *= static_cast<float>(1 - 0.7 * cloud_density_);
     ambient_ = ambient_ * static_cast<float>(1 - 0.3 * cloud_density_) +
                Eigen::Vector3f::Constant(
-                   0.15f * static_cast<float>(cloud_density_ *
-                                              environment.skylight_intensity));
+                   0.15f * static_cast<float>(cloud_density_ * environment.skylight_intensity));
   }
 }
 
@@ -64,8 +55,7 @@ double Sky::CloudCover(const Eigen::Vector3d& d) const {
   if (cloud_density_ <= 0 || d.z() <= 0.01) return 0;
   // Where the ray meets a cloud deck 1 km up, in km.
   const double x = d.x() / d.z(), y = d.y() / d.z();
-  const double n = noise_.Fbm(
-      x * cloud_frequency_, y * cloud_frequency_ * cloud_stretch_, 5);
+  const double n = noise_.Fbm(x * cloud_frequency_, y * cloud_frequency_ * cloud_stretch_, 5);
   const double threshold = 0.6 - 1.2 * cloud_density_;
   const double cover = std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);
   return cover * std::min(1.0, d.z() * 4);  // thin out towards the horizon
@@ -75,11 +65,9 @@ Eigen::Vector3f Sky::Radiance(const Eigen::Vector3d& d) const {
   const float up = static_cast<float>(std::clamp(d.z(), 0.0, 1.0));
   const float t = std::sqrt(up);
   Eigen::Vector3f sky = (1 - t) * horizon_ + t * zenith_;
-  if (d.z() < 0)
-    sky = horizon_ * 0.8f;  // below the horizon with no terrain: a hazy floor
+  if (d.z() < 0) sky = horizon_ * 0.8f;  // below the horizon with no terrain: a hazy floor
   const double cos_sun = d.dot(to_sun_);
-  if (cos_sun > 0.9995)
-    sky += sun_irradiance_ * 20.f;  // the sun's disc (about 1.8 degrees)
+  if (cos_sun > 0.9995) sky += sun_irradiance_ * 20.f;  // the sun's disc (about 1.8 degrees)
   const double cover = CloudCover(d);
   if (cover > 0) {
     const float c = static_cast<float>(cover);

@@ -29,21 +29,9 @@ const std::vector<Material>& MaterialTable() {
       {"foliage", {0.05f, 0.16f, 0.04f}, {0.12f, 0.25f, 0.06f}, 5.0f, 0.7f},
       {"stone", {0.32f, 0.30f, 0.27f}, {0.20f, 0.19f, 0.18f}, 2.0f, 0.6f},
       {"painted_red", {0.55f, 0.05f, 0.04f}, {0.45f, 0.05f, 0.04f}, 4.0f, 0.2f},
-      {"painted_green",
-       {0.10f, 0.25f, 0.08f},
-       {0.08f, 0.20f, 0.06f},
-       4.0f,
-       0.2f},
-      {"painted_blue",
-       {0.05f, 0.12f, 0.45f},
-       {0.04f, 0.10f, 0.38f},
-       4.0f,
-       0.2f},
-      {"painted_yellow",
-       {0.70f, 0.55f, 0.05f},
-       {0.60f, 0.45f, 0.04f},
-       4.0f,
-       0.2f},
+      {"painted_green", {0.10f, 0.25f, 0.08f}, {0.08f, 0.20f, 0.06f}, 4.0f, 0.2f},
+      {"painted_blue", {0.05f, 0.12f, 0.45f}, {0.04f, 0.10f, 0.38f}, 4.0f, 0.2f},
+      {"painted_yellow", {0.70f, 0.55f, 0.05f}, {0.60f, 0.45f, 0.04f}, 4.0f, 0.2f},
       {"white", {0.80f, 0.80f, 0.80f}, {0.75f, 0.75f, 0.75f}, 1.0f, 0.0f},
       {"orange", {0.80f, 0.30f, 0.03f}, {0.70f, 0.25f, 0.03f}, 1.0f, 0.1f},
       // Names used by the LSCENE examples (docs/languages.md).
@@ -87,25 +75,20 @@ std::string Canonical(const std::string& name) {
 
 }  // namespace
 
-const Material& FindMaterial(const std::string& name,
-                             const std::string& where) {
+const Material& FindMaterial(const std::string& name, const std::string& where) {
   const std::string canonical = Canonical(name);
   for (const Material& m : MaterialTable()) {
     if (Canonical(m.name) == canonical) return m;
   }
-  throw Error(where + ": unknown material '" + name + "'" +
-              DidYouMean(name, MaterialNames()) +
+  throw Error(where + ": unknown material '" + name + "'" + DidYouMean(name, MaterialNames()) +
               "; known: " + Join(MaterialNames(), ", "));
 }
 
-Eigen::Vector3f Albedo(const Material& material,
-                       const Perlin& noise,
-                       const Eigen::Vector3f& p) {
+Eigen::Vector3f Albedo(const Material& material, const Perlin& noise, const Eigen::Vector3f& p) {
   if (material.contrast <= 0) return material.base;
   const double f = material.frequency;
   const double n = noise.Fbm(p.x() * f, p.y() * f, p.z() * f, 3);
-  const float mix = std::clamp(static_cast<float>(0.5 + 0.8 * n), 0.f, 1.f) *
-                    material.contrast;
+  const float mix = std::clamp(static_cast<float>(0.5 + 0.8 * n), 0.f, 1.f) * material.contrast;
   return (1 - mix) * material.base + mix * material.secondary;
 }
 

@@ -17,7 +17,7 @@ struct Material {
   Eigen::Vector3f base;       // linear albedo
   Eigen::Vector3f secondary;  // mixed in by the pattern
   float frequency = 1.f;      // pattern cycles per metre
-  float contrast = 0.5f;  // [0, 1] share of `secondary` at the pattern's peaks
+  float contrast = 0.5f;      // [0, 1] share of `secondary` at the pattern's peaks
 };
 
 // The built-in material table (grassy, sandy, rocky, snowy, soil, asphalt,

@@ -10,12 +10,10 @@ void TriangleMesh::Append(const TriangleMesh& other,
                           const Eigen::Matrix3f& linear,
                           const Eigen::Vector3f& offset) {
   const int base = static_cast<int>(positions.size());
-  for (const Eigen::Vector3f& p : other.positions)
-    positions.push_back(linear * p + offset);
+  for (const Eigen::Vector3f& p : other.positions) positions.push_back(linear * p + offset);
   const bool flip = linear.determinant() < 0;
   for (const Eigen::Vector3i& t : other.triangles) {
-    triangles.push_back(flip ? Eigen::Vector3i(t[0], t[2], t[1]) +
-                                   Eigen::Vector3i::Constant(base)
+    triangles.push_back(flip ? Eigen::Vector3i(t[0], t[2], t[1]) + Eigen::Vector3i::Constant(base)
                              : t + Eigen::Vector3i::Constant(base));
   }
 }
@@ -27,12 +25,8 @@ TriangleMesh MakeBoxMesh() {
         (k & 1) ? 0.5f : -0.5f, (k & 2) ? 0.5f : -0.5f, (k & 4) ? 0.5f : -0.5f);
   }
   // Two triangles per face, wound outward.
-  const int faces[6][4] = {{0, 2, 3, 1},
-                           {4, 5, 7, 6},
-                           {0, 1, 5, 4},
-                           {2, 6, 7, 3},
-                           {0, 4, 6, 2},
-                           {1, 3, 7, 5}};
+  const int faces[6][4] = {
+      {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : faces) {
     mesh.triangles.emplace_back(f[0], f[1], f[2]);
     mesh.triangles.emplace_back(f[0], f[2], f[3]);
@@ -40,9 +34,7 @@ TriangleMesh MakeBoxMesh() {
   return mesh;
 }
 
-TriangleMesh MakeLatheMesh(int segments,
-                           int rings,
-                           double (*radius)(double t)) {
+TriangleMesh MakeLatheMesh(int segments, int rings, double (*radius)(double t)) {
   TriangleMesh mesh;
   for (int r = 0; r <= rings; ++r) {
     const double t = static_cast<double>(r) / rings;
@@ -81,8 +73,7 @@ TriangleMesh MakeLatheMesh(int segments,
 }
 
 TriangleMesh MakeSphereMesh(int segments, int rings) {
-  return MakeLatheMesh(
-      segments, rings, [](double t) { return 0.5 * std::sin(M_PI * t); });
+  return MakeLatheMesh(segments, rings, [](double t) { return 0.5 * std::sin(M_PI * t); });
 }
 
 TriangleMesh MakeCylinderMesh(int segments) {
@@ -109,8 +100,7 @@ TriangleMesh MakeTorusMesh(int segments, int sides, double minor_over_major) {
   for (int s = 0; s < segments; ++s) {
     for (int k = 0; k < sides; ++k) {
       const int s1 = (s + 1) % segments, k1 = (k + 1) % sides;
-      const int a = s * sides + k, b = s1 * sides + k, c = s1 * sides + k1,
-                d = s * sides + k1;
+      const int a = s * sides + k, b = s1 * sides + k, c = s1 * sides + k1, d = s * sides + k1;
       mesh.triangles.emplace_back(a, b, c);
       mesh.triangles.emplace_back(a, c, d);
     }

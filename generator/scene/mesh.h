@@ -13,8 +13,7 @@ namespace lsds::gen {
 
 struct TriangleMesh {
   std::vector<Eigen::Vector3f> positions;
-  std::vector<Eigen::Vector3i>
-      triangles;  // counter-clockwise seen from outside
+  std::vector<Eigen::Vector3i> triangles;  // counter-clockwise seen from outside
 
   void Append(const TriangleMesh& other,
               const Eigen::Matrix3f& linear = Eigen::Matrix3f::Identity(),
@@ -28,9 +27,8 @@ TriangleMesh MakeBoxMesh();  // [-0.5, 0.5]^3
 TriangleMesh MakeLatheMesh(int segments, int rings, double (*radius)(double t));
 TriangleMesh MakeSphereMesh(int segments, int rings);  // radius 0.5
 TriangleMesh MakeCylinderMesh(int segments);           // radius 0.5, height 1
-TriangleMesh MakeConeMesh(int segments);  // base radius 0.5 at z = -0.5
-TriangleMesh MakeTorusMesh(int segments,
-                           int sides,
+TriangleMesh MakeConeMesh(int segments);               // base radius 0.5 at z = -0.5
+TriangleMesh MakeTorusMesh(int segments, int sides,
                            double minor_over_major);  // axis z
 
 // Scales and centres the mesh so that its bounding box is exactly [-0.5, 0.5]^3

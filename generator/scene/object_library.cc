@@ -17,16 +17,11 @@ namespace {
 
 // Displaces every vertex of a unit sphere along its radius by fractal noise:
 // rocks and bush lobes.
-void DisplaceRadially(TriangleMesh* mesh,
-                      uint64_t seed,
-                      double amplitude,
-                      double frequency) {
+void DisplaceRadially(TriangleMesh* mesh, uint64_t seed, double amplitude, double frequency) {
   const Perlin noise(seed);
   for (Eigen::Vector3f& p : mesh->positions) {
-    const double n = noise.Fbm(p.x() * frequency + 11.3,
-                               p.y() * frequency + 7.1,
-                               p.z() * frequency + 3.7,
-                               4);
+    const double n =
+        noise.Fbm(p.x() * frequency + 11.3, p.y() * frequency + 7.1, p.z() * frequency + 3.7, 4);
     p *= static_cast<float>(1 + amplitude * n);
   }
 }
@@ -34,8 +29,7 @@ void DisplaceRadially(TriangleMesh* mesh,
 TriangleMesh Rock(uint64_t seed) {
   TriangleMesh mesh = MakeSphereMesh(24, 12);
   DisplaceRadially(&mesh, seed, 0.45, 2.0);
-  for (Eigen::Vector3f& p : mesh.positions)
-    p.z() *= 0.6f;  // rocks are flatter than tall
+  for (Eigen::Vector3f& p : mesh.positions) p.z() *= 0.6f;  // rocks are flatter than tall
   return mesh;
 }
 
@@ -44,8 +38,7 @@ TriangleMesh Bush(uint64_t seed) {
   uint64_t state = seed;
   auto uniform = [&state]() {
     state = HashCombine(state, 0x5bd1e995);
-    return static_cast<double>(state >> 11) /
-           static_cast<double>(uint64_t{1} << 53);
+    return static_cast<double>(state >> 11) / static_cast<double>(uint64_t{1} << 53);
   };
   const int lobes = 5 + static_cast<int>(uniform() * 4);
   for (int i = 0; i < lobes; ++i) {
@@ -65,13 +58,10 @@ TriangleMesh Bush(uint64_t seed) {
 TriangleMesh Jerrycan() {
   TriangleMesh mesh;
   const TriangleMesh box = MakeBoxMesh();
-  mesh.Append(box,
-              Eigen::Vector3f(0.17f, 0.35f, 0.45f).asDiagonal(),
-              Eigen::Vector3f(0, 0, 0));
+  mesh.Append(box, Eigen::Vector3f(0.17f, 0.35f, 0.45f).asDiagonal(), Eigen::Vector3f(0, 0, 0));
   // Handle bar on top and a spout at one corner.
-  mesh.Append(box,
-              Eigen::Vector3f(0.05f, 0.2f, 0.04f).asDiagonal(),
-              Eigen::Vector3f(0, -0.03f, 0.245f));
+  mesh.Append(
+      box, Eigen::Vector3f(0.05f, 0.2f, 0.04f).asDiagonal(), Eigen::Vector3f(0, -0.03f, 0.245f));
   mesh.Append(MakeCylinderMesh(12),
               Eigen::Vector3f(0.05f, 0.05f, 0.06f).asDiagonal(),
               Eigen::Vector3f(0, 0.13f, 0.25f));
@@ -93,11 +83,8 @@ TriangleMesh Person() {
   // width).
   return MakeLatheMesh(16, 16, [](double t) {
     const double cap = 0.18;  // share of the height taken by each hemisphere
-    if (t < cap)
-      return 0.5 * std::sqrt(std::max(0.0, 1 - std::pow((cap - t) / cap, 2)));
-    if (t > 1 - cap)
-      return 0.5 *
-             std::sqrt(std::max(0.0, 1 - std::pow((t - 1 + cap) / cap, 2)));
+    if (t < cap) return 0.5 * std::sqrt(std::max(0.0, 1 - std::pow((cap - t) / cap, 2)));
+    if (t > 1 - cap) return 0.5 * std::sqrt(std::max(0.0, 1 - std::pow((t - 1 + cap) / cap, 2)));
     return 0.5;
   });
 }
@@ -126,34 +113,30 @@ const std::vector<std::string>& BuiltinClassNames() {
 
 bool IsMeshPath(const std::string& class_name) {
   std::string ext = std::filesystem::path(class_name).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) {
-    return std::tolower(c);
-  });
+  std::transform(
+      ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   static const std::vector<std::string> known = {
       ".obj", ".ply", ".gltf", ".glb", ".fbx", ".stl", ".dae", ".3ds", ".off"};
   return std::find(known.begin(), known.end(), ext) != known.end();
 }
 
-TriangleMesh LoadMeshFileNative(const std::string& path,
-                                const std::string& where) {
+TriangleMesh LoadMeshFileNative(const std::string& path, const std::string& where) {
   if (!std::filesystem::is_regular_file(path)) {
     throw Error(where + ": mesh file not found", Location(path));
   }
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(
-      path,
-      aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-          aiProcess_PreTransformVertices | aiProcess_SortByPType);
+  const aiScene* scene =
+      importer.ReadFile(path,
+                        aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                            aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (scene == nullptr) {
-    throw Error(where + ": cannot read mesh: " + importer.GetErrorString(),
-                Location(path));
+    throw Error(where + ": cannot read mesh: " + importer.GetErrorString(), Location(path));
   }
   // glTF is y-up by its specification; the world is z-up: (x, y, z) ->
   // (x, -z, y). Other formats carry no axis convention and are taken as z-up.
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) {
-    return std::tolower(c);
-  });
+  std::transform(
+      ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   const bool y_up = ext == ".gltf" || ext == ".glb";
   TriangleMesh mesh;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
@@ -169,13 +152,11 @@ TriangleMesh LoadMeshFileNative(const std::string& path,
     for (unsigned f = 0; f < in->mNumFaces; ++f) {
       const aiFace& face = in->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines carry no surface
-      mesh.triangles.emplace_back(base + face.mIndices[0],
-                                  base + face.mIndices[1],
-                                  base + face.mIndices[2]);
+      mesh.triangles.emplace_back(
+          base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
     }
   }
-  if (mesh.empty())
-    throw Error(where + ": the mesh file has no triangles", Location(path));
+  if (mesh.empty()) throw Error(where + ": the mesh file has no triangles", Location(path));
   return mesh;
 }
 
@@ -185,8 +166,7 @@ TriangleMesh LoadMeshFile(const std::string& path, const std::string& where) {
   return mesh;
 }
 
-Eigen::Vector3d MeshFileExtent(const std::string& path,
-                               const std::string& where) {
+Eigen::Vector3d MeshFileExtent(const std::string& path, const std::string& where) {
   const TriangleMesh mesh = LoadMeshFileNative(path, where);
   Eigen::Vector3f lo = mesh.positions.front(), hi = lo;
   for (const Eigen::Vector3f& p : mesh.positions) {
@@ -196,14 +176,11 @@ Eigen::Vector3d MeshFileExtent(const std::string& path,
   return (hi - lo).cast<double>();
 }
 
-ClassShape MakeClassShape(const std::string& name,
-                          uint64_t seed,
-                          const std::string& where) {
+ClassShape MakeClassShape(const std::string& name, uint64_t seed, const std::string& where) {
   ClassShape shape;
   if (name == "rocks") return MakeClassShape("rock", seed, where);
   if (name == "tyre") return MakeClassShape("tire", seed, where);
-  if (name == "human" || name == "pedestrian")
-    return MakeClassShape("person", seed, where);
+  if (name == "human" || name == "pedestrian") return MakeClassShape("person", seed, where);
   if (name == "cube" || name == "box") {
     shape = {MakeBoxMesh(), "concrete", {1, 1, 1}};
   } else if (name == "sphere") {
@@ -213,17 +190,13 @@ ClassShape MakeClassShape(const std::string& name,
   } else if (name == "cone") {
     shape = {MakeConeMesh(32), "orange", {0.4, 0.4, 0.7}};
   } else if (name == "barrel") {
-    shape = {
-        MakeLatheMesh(
-            24, 8, [](double t) { return 0.44 + 0.06 * std::sin(M_PI * t); }),
-        "painted_blue",
-        {0.6, 0.6, 0.9}};
+    shape = {MakeLatheMesh(24, 8, [](double t) { return 0.44 + 0.06 * std::sin(M_PI * t); }),
+             "painted_blue",
+             {0.6, 0.6, 0.9}};
   } else if (name == "tire") {
     shape = {Tire(), "rubber", {0.65, 0.22, 0.65}};
   } else if (name == "jerrycan" || name == "watercan") {
-    shape = {Jerrycan(),
-             name == "jerrycan" ? "painted_green" : "painted_blue",
-             {0.17, 0.35, 0.47}};
+    shape = {Jerrycan(), name == "jerrycan" ? "painted_green" : "painted_blue", {0.17, 0.35, 0.47}};
   } else if (name == "rock") {
     shape = {Rock(seed), "stone", {1.0, 0.8, 0.5}};
   } else if (name == "bush") {

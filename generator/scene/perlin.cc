@@ -25,14 +25,11 @@ double Grad(int hash, double x, double y, double z) {
 
 }  // namespace
 
-uint64_t HashCombine(uint64_t a, uint64_t b) {
-  return SplitMix(a ^ SplitMix(b));
-}
+uint64_t HashCombine(uint64_t a, uint64_t b) { return SplitMix(a ^ SplitMix(b)); }
 
 uint64_t HashString(const char* text) {
   uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (const char* c = text; *c; ++c)
-    h = (h ^ static_cast<uint8_t>(*c)) * 1099511628211ull;
+  for (const char* c = text; *c; ++c) h = (h ^ static_cast<uint8_t>(*c)) * 1099511628211ull;
   return h;
 }
 
@@ -66,12 +63,8 @@ double Perlin::Noise(double x, double y, double z) const {
            Lerp(u, Grad(P[AA], x, y, z), Grad(P[BA], x - 1, y, z)),
            Lerp(u, Grad(P[AB], x, y - 1, z), Grad(P[BB], x - 1, y - 1, z))),
       Lerp(v,
-           Lerp(u,
-                Grad(P[AA + 1], x, y, z - 1),
-                Grad(P[BA + 1], x - 1, y, z - 1)),
-           Lerp(u,
-                Grad(P[AB + 1], x, y - 1, z - 1),
-                Grad(P[BB + 1], x - 1, y - 1, z - 1))));
+           Lerp(u, Grad(P[AA + 1], x, y, z - 1), Grad(P[BA + 1], x - 1, y, z - 1)),
+           Lerp(u, Grad(P[AB + 1], x, y - 1, z - 1), Grad(P[BB + 1], x - 1, y - 1, z - 1))));
 }
 
 double Perlin::Fbm(double x, double y, double z, int octaves) const {

@@ -18,9 +18,7 @@ class Perlin {
   // Fractal Brownian motion: `octaves` octaves, each at twice the frequency and
   // half the amplitude, normalized to about [-1, 1].
   double Fbm(double x, double y, double z, int octaves) const;
-  double Fbm(double x, double y, int octaves) const {
-    return Fbm(x, y, 0.0, octaves);
-  }
+  double Fbm(double x, double y, int octaves) const { return Fbm(x, y, 0.0, octaves); }
 
  private:
   std::array<uint8_t, 512> permutation_;

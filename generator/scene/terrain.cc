@@ -12,18 +12,16 @@ TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells) {
   if (terrain.perlin_amplitude != 0) {
     // About four vertices per noise period on the finest octave we show,
     // bounded.
-    const double spacing =
-        std::max(0.25, 0.125 / std::max(1e-6, terrain.perlin_frequency));
+    const double spacing = std::max(0.25, 0.125 / std::max(1e-6, terrain.perlin_frequency));
     nx = std::clamp(static_cast<int>(std::ceil(sx / spacing)), 1, max_cells);
     ny = std::clamp(static_cast<int>(std::ceil(sy / spacing)), 1, max_cells);
   }
   for (int j = 0; j <= ny; ++j) {
     for (int i = 0; i <= nx; ++i) {
       const double x = -sx / 2 + sx * i / nx, y = -sy / 2 + sy * j / ny;
-      mesh.positions.emplace_back(
-          static_cast<float>(x),
-          static_cast<float>(y),
-          static_cast<float>(TerrainHeight(terrain, x, y)));
+      mesh.positions.emplace_back(static_cast<float>(x),
+                                  static_cast<float>(y),
+                                  static_cast<float>(TerrainHeight(terrain, x, y)));
     }
   }
   for (int j = 0; j < ny; ++j) {

@@ -12,7 +12,6 @@ namespace lsds::gen {
 // Heights come from lsds::TerrainHeight (generator/plan/terrain_height.h), the
 // very function the planner uses to stand objects ON the terrain. The mesh in
 // world coordinates; `max_cells` bounds the grid resolution per axis.
-TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain,
-                             int max_cells = 256);
+TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells = 256);
 
 }  // namespace lsds::gen

@@ -26,13 +26,11 @@ WorldState WorldAt(const Plan& plan, const PlannedFrame& frame) {
       if (s.planned->name == change.object) target = &s;
     }
     if (target == nullptr) {
-      throw Error("frame " + std::to_string(frame.index) +
-                  ": a change refers to unknown object '" + change.object +
-                  "'");
+      throw Error("frame " + std::to_string(frame.index) + ": a change refers to unknown object '" +
+                  change.object + "'");
     }
     if (change.position) target->position = *change.position;
-    if (change.world_from_object)
-      target->world_from_object = *change.world_from_object;
+    if (change.world_from_object) target->world_from_object = *change.world_from_object;
     if (change.extent) target->extent = *change.extent;
     if (change.material) target->material = *change.material;
     if (change.visible) target->visible = *change.visible;

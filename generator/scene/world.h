@@ -31,14 +31,13 @@ struct ObjectState {
     return world_from_object * extent.cwiseProduct(p) + position;
   }
   Eigen::Vector3d UnitFromWorld(const Eigen::Vector3d& p) const {
-    return (world_from_object.transpose() * (p - position))
-        .cwiseQuotient(extent.cwiseMax(1e-12));
+    return (world_from_object.transpose() * (p - position)).cwiseQuotient(extent.cwiseMax(1e-12));
   }
   bool operator==(const ObjectState& o) const {
     return planned == o.planned && position == o.position &&
            world_from_object == o.world_from_object && extent == o.extent &&
-           material == o.material && visible == o.visible &&
-           asset == o.asset && class_id == o.class_id;
+           material == o.material && visible == o.visible && asset == o.asset &&
+           class_id == o.class_id;
   }
 };
 

@@ -22,8 +22,8 @@
 #include "libs/util/error.h"
 #include "libs/util/folder_lock.h"
 #include "libs/util/output_guard.h"
-#include "libs/util/text_check.h"
 #include "libs/util/progress.h"
+#include "libs/util/text_check.h"
 
 namespace lsds::bundle {
 
@@ -46,8 +46,7 @@ const LayerInfo& FindBundleLayer(const CollectionHeader& header,
   }
   for (const char* channel : {"instanceid", "classid", "Z"}) {
     if (layer->FindChannel(channel) == nullptr) {
-      throw Error("the bundle layer '" + layer->name + "' has no channel '" +
-                      channel + "'",
+      throw Error("the bundle layer '" + layer->name + "' has no channel '" + channel + "'",
                   Location(collection_file, "/layers"));
     }
   }
@@ -82,8 +81,7 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   const int64_t end = options.end < 0 ? count : std::min(options.end, count);
   if (first >= count) {
     throw Error("--frames: the collection has " + std::to_string(count) +
-                    " frames (positions 0 to " + std::to_string(count - 1) +
-                    ")",
+                    " frames (positions 0 to " + std::to_string(count - 1) + ")",
                 Location(collection_file));
   }
   // No output may be, contain or lie inside an input (libs/util/output_guard.h):
@@ -93,10 +91,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   GuardCollection(&read_guard, root, CollectionAccess::kReadOnly);
   read_guard.CheckOutput(options.output, "-o");
   read_guard.CheckOutput(options.mixed_map, "--mixed-map");
-  if (!options.output.empty())
-    RefuseToOverwrite(options.output, options.force, "statistics file");
-  if (!options.mixed_map.empty())
-    RefuseToOverwrite(options.mixed_map, options.force, "picture");
+  if (!options.output.empty()) RefuseToOverwrite(options.output, options.force, "statistics file");
+  if (!options.mixed_map.empty()) RefuseToOverwrite(options.mixed_map, options.force, "picture");
 
   // New layers: refuse to touch existing ones, except earlier derived layers
   // with --force.
@@ -108,8 +104,7 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
     if (layer.semantic == "derived") replaceable.insert(layer.name);
   }
   OutputGuard layer_guard("lsds bundles");
-  GuardCollection(&layer_guard, root, CollectionAccess::kAddsOutputs,
-                  replaceable);
+  GuardCollection(&layer_guard, root, CollectionAccess::kAddsOutputs, replaceable);
   for (const std::string& name : options.write_layers) {
     const LayerInfo layer = DerivedLayer(name, all_frames);
     auto it = std::find_if(new_header.layers.begin(),
@@ -117,16 +112,14 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
                            [&](const LayerInfo& l) { return l.name == name; });
     if (it != new_header.layers.end()) {
       if (it->semantic != "derived") {
-        throw Error("the collection already has a layer '" + name +
-                        "' (semantic \"" + it->semantic +
-                        "\"); existing layers are never modified",
+        throw Error("the collection already has a layer '" + name + "' (semantic \"" +
+                        it->semantic + "\"); existing layers are never modified",
                     Location(collection_file, "/layers"));
       }
       if (!options.force) {
-        throw Error(
-            "the collection already has a derived layer '" + name +
-                "' (written by an earlier run); use --force to replace it",
-            Location(collection_file, "/layers"));
+        throw Error("the collection already has a derived layer '" + name +
+                        "' (written by an earlier run); use --force to replace it",
+                    Location(collection_file, "/layers"));
       }
       *it = layer;
     } else {
@@ -141,8 +134,7 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
       new_header.layers.push_back(layer);
     }
     layer_guard.CheckOutput(root / name, "--write-layers");
-    folders.push_back(
-        std::make_unique<AtomicDirectory>(root / name, options.force));
+    folders.push_back(std::make_unique<AtomicDirectory>(root / name, options.force));
   }
   // One folder per requested layer, in order: process() indexes both alike.
   LSDS_CHECK(folders.size() == options.write_layers.size());
@@ -162,22 +154,19 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
 
   RunResult result{BundleStats(options.stats), 0, bundle_layer.name};
   const size_t batch_size =
-      options.batch > 0
-          ? options.batch
-          : static_cast<size_t>(std::max(1, tbb::info::default_concurrency()));
+      options.batch > 0 ? options.batch
+                        : static_cast<size_t>(std::max(1, tbb::info::default_concurrency()));
   Progress progress("bundles", end - first);
   std::vector<Task> batch;
   batch.reserve(batch_size);
 
   auto process = [&](Task& task) {
     const fs::path path = reader.LayerPath(task.frame, bundle_layer.name);
-    const exr::DeepImage image =
-        reader.ReadDeepLayer(task.frame, bundle_layer.name, channels);
+    const exr::DeepImage image = reader.ReadDeepLayer(task.frame, bundle_layer.name, channels);
     const bool need_maps = !options.write_layers.empty() || task.picture;
     PixelMaps maps;
     try {
-      task.stats =
-          AnalyzeFrame(image, options.stats, need_maps ? &maps : nullptr);
+      task.stats = AnalyzeFrame(image, options.stats, need_maps ? &maps : nullptr);
     } catch (const Error& e) {
       Location where(path.string());
       where.frame = task.frame.index;
@@ -191,8 +180,7 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
                         image.height(),
                         folders[i]->temp_path() / file_name);
     }
-    if (task.picture)
-      WriteMixedMapPng(options.mixed_map, maps, image.width(), image.height());
+    if (task.picture) WriteMixedMapPng(options.mixed_map, maps, image.width(), image.height());
     progress.Add();
   };
 
@@ -213,18 +201,16 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
         }
       }
       if (writer) {
-        const std::string file_name =
-            fs::path(task.frame.files.count(bundle_layer.name)
-                         ? task.frame.files.at(bundle_layer.name)
-                         : std::string())
-                .filename()
-                .string();
+        const std::string file_name = fs::path(task.frame.files.count(bundle_layer.name)
+                                                   ? task.frame.files.at(bundle_layer.name)
+                                                   : std::string())
+                                          .filename()
+                                          .string();
         for (const std::string& name : options.write_layers) {
           if (task.analyse) {
             task.frame.files[name] = name + "/" + file_name;
           } else {
-            task.frame.files.erase(
-                name);  // a replaced derived layer keeps no stale entry
+            task.frame.files.erase(name);  // a replaced derived layer keeps no stale entry
           }
         }
         writer->Append(task.frame);
@@ -236,8 +222,7 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   int64_t position = 0;
   reader.ForEachFrame([&](const Frame& frame) {
     const bool analyse = position >= first && position < end;
-    const bool picture =
-        analyse && position == first && !options.mixed_map.empty();
+    const bool picture = analyse && position == first && !options.mixed_map.empty();
     ++position;
     if (!analyse && !writer) return;
     batch.push_back({frame, analyse, picture, std::nullopt});
@@ -255,8 +240,7 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
     nlohmann::json top = {
         {"format", kStatsFormat},
         {"format_version", kStatsFormatVersion},
-        {"collection",
-         Utf8Escaped(fs::absolute(root).lexically_normal().string())},
+        {"collection", Utf8Escaped(fs::absolute(root).lexically_normal().string())},
         {"bundle_layer", bundle_layer.name},
         {"frame_range", {{"first", first}, {"end", end}}},
         {"options", OptionsToJson(options.stats)},

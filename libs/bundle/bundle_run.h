@@ -16,12 +16,11 @@ struct RunOptions {
   StatsOptions stats;
   std::filesystem::path output;           // statistics JSON; empty: none
   std::vector<std::string> write_layers;  // DerivedLayerNames()
-  int64_t first = 0;  // positions in collection.json's frame list: [first, end)
-  int64_t end = -1;   // -1: to the last frame
-  bool force = false;  // replace the output and earlier derived layers
-  std::filesystem::path
-      mixed_map;     // PNG of the first analysed frame; empty: none
-  size_t batch = 0;  // frames decoded at once; 0: the TBB concurrency
+  int64_t first = 0;                      // positions in collection.json's frame list: [first, end)
+  int64_t end = -1;                       // -1: to the last frame
+  bool force = false;                     // replace the output and earlier derived layers
+  std::filesystem::path mixed_map;        // PNG of the first analysed frame; empty: none
+  size_t batch = 0;                       // frames decoded at once; 0: the TBB concurrency
 };
 
 struct RunResult {
@@ -35,7 +34,6 @@ struct RunResult {
 const LayerInfo& FindBundleLayer(const CollectionHeader& header,
                                  const std::string& collection_file);
 
-RunResult RunBundles(const std::filesystem::path& root,
-                     const RunOptions& options);
+RunResult RunBundles(const std::filesystem::path& root, const RunOptions& options);
 
 }  // namespace lsds::bundle

@@ -14,8 +14,7 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 
 size_t BinOf(const std::vector<double>& upper_edges, double value) {
   // Upper edges; the last bin (index upper_edges.size()) is open.
-  return std::upper_bound(upper_edges.begin(), upper_edges.end(), value) -
-         upper_edges.begin();
+  return std::upper_bound(upper_edges.begin(), upper_edges.end(), value) - upper_edges.begin();
 }
 
 // Per-class counters indexed densely for the usual small ids; large ids fall
@@ -66,8 +65,7 @@ const std::vector<double>& NormalSpreadEdges() {
 }
 
 const std::vector<std::string>& BundleChannels() {
-  static const std::vector<std::string> channels = {
-      "instanceid", "classid", "Z", "NX", "NY", "NZ"};
+  static const std::vector<std::string> channels = {"instanceid", "classid", "Z", "NX", "NY", "NZ"};
   return channels;
 }
 
@@ -90,10 +88,8 @@ void BundleStats::Merge(const BundleStats& o) {
   mixed_pixels += o.mixed_pixels;
   class_mixed_pixels += o.class_mixed_pixels;
   for (const auto& [id, c] : o.per_class) add_counter(per_class[id], c);
-  if (by_distance.size() < o.by_distance.size())
-    by_distance.resize(o.by_distance.size());
-  for (size_t i = 0; i < o.by_distance.size(); ++i)
-    add_counter(by_distance[i], o.by_distance[i]);
+  if (by_distance.size() < o.by_distance.size()) by_distance.resize(o.by_distance.size());
+  for (size_t i = 0; i < o.by_distance.size(); ++i) add_counter(by_distance[i], o.by_distance[i]);
   add_counter(sky_only, o.sky_only);
   for (const auto& [key, n] : o.class_mixing) class_mixing[key] += n;
   if (purity_histogram.size() < o.purity_histogram.size()) {
@@ -144,17 +140,14 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
   auto uint_channel = [&](const char* name) {
     const exr::DeepChannel* c = bundle.Find(name);
     if (c == nullptr || c->type != exr::PixelType::kUint) {
-      throw Error(std::string("bundle layer needs a UINT channel '") + name +
-                  "'");
+      throw Error(std::string("bundle layer needs a UINT channel '") + name + "'");
     }
     return c->uints.data();
   };
   auto float_channel = [&](const char* name, bool required) -> const float* {
     const exr::DeepChannel* c = bundle.Find(name);
     if (c == nullptr || c->type == exr::PixelType::kUint) {
-      if (required)
-        throw Error(std::string("bundle layer needs a FLOAT channel '") + name +
-                    "'");
+      if (required) throw Error(std::string("bundle layer needs a FLOAT channel '") + name + "'");
       return nullptr;
     }
     return c->floats.data();
@@ -188,10 +181,8 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
   }
 
   uint32_t max_samples = 0;
-  for (uint32_t n : bundle.sample_counts())
-    max_samples = std::max(max_samples, n);
-  std::vector<uint32_t> ids(max_samples), id_counts(max_samples),
-      id_class(max_samples);
+  for (uint32_t n : bundle.sample_counts()) max_samples = std::max(max_samples, n);
+  std::vector<uint32_t> ids(max_samples), id_counts(max_samples), id_class(max_samples);
   std::vector<uint32_t> classes(max_samples), class_counts(max_samples);
   std::vector<uint32_t> order(max_samples);
 
@@ -251,8 +242,7 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
     const double inv_n = 1.0 / n;
     const double purity = id_counts[best] * inv_n;
     stats.purity_sum += purity;
-    stats.purity_histogram[std::min(purity_bins - 1,
-                                    static_cast<int>(purity * purity_bins))]++;
+    stats.purity_histogram[std::min(purity_bins - 1, static_cast<int>(purity * purity_bins))]++;
     if (mixed) {
       double entropy = 0;
       for (uint32_t j = 0; j < k; ++j) {
@@ -273,9 +263,7 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
     } else {
       for (uint32_t a = 0; a < kc; ++a) {
         for (uint32_t b = 0; b < kc; ++b) {
-          if (a != b)
-            class_pairs[(uint64_t{classes[a]} << 32) | classes[b]] +=
-                class_counts[a];
+          if (a != b) class_pairs[(uint64_t{classes[a]} << 32) | classes[b]] += class_counts[a];
         }
       }
     }
@@ -322,13 +310,12 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
       stats.depth_spread_max = std::max(stats.depth_spread_max, spread);
       stats.depth_spread_histogram[BinOf(DepthSpreadEdges(), spread)]++;
       const double average = zsum / m;
-      const double threshold = std::max(
-          options.flying_absolute, options.flying_relative * std::abs(average));
+      const double threshold =
+          std::max(options.flying_absolute, options.flying_relative * std::abs(average));
       double nearest = INFINITY;
       for (uint32_t s = 0; s < n; ++s) {
         const float z = zs[first + s];
-        if (std::isfinite(z))
-          nearest = std::min(nearest, std::abs(average - z));
+        if (std::isfinite(z)) nearest = std::min(nearest, std::abs(average - z));
       }
       stats.flying_pixels += nearest > threshold;
       depth_edge = spread > threshold;
@@ -355,16 +342,13 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
         if (len > 1e-12) {
           min_dot = 1;
           for (uint32_t s = 0; s < n; ++s) {
-            const double x = nxs[first + s], y = nys[first + s],
-                         z = nzs[first + s];
+            const double x = nxs[first + s], y = nys[first + s], z = nzs[first + s];
             const double len2 = x * x + y * y + z * z;
             if (!(len2 > 0) || !std::isfinite(len2)) continue;
-            min_dot = std::min(
-                min_dot, (x * sx + y * sy + z * sz) / (std::sqrt(len2) * len));
+            min_dot = std::min(min_dot, (x * sx + y * sy + z * sz) / (std::sqrt(len2) * len));
           }
         }
-        const double angle =
-            std::acos(std::clamp(min_dot, -1.0, 1.0)) * kRadToDeg;
+        const double angle = std::acos(std::clamp(min_dot, -1.0, 1.0)) * kRadToDeg;
         ++stats.normal_pixels;
         stats.normal_spread_sum += angle;
         if (mixed) {
@@ -384,27 +368,21 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
       maps->edge[p] = mixed || depth_edge;
       maps->coverage_counts[p] = k;
       for (uint32_t j = 0; j < k; ++j) order[j] = j;
-      std::stable_sort(
-          order.begin(), order.begin() + k, [&](uint32_t a, uint32_t b) {
-            return id_counts[a] > id_counts[b];
-          });
+      std::stable_sort(order.begin(), order.begin() + k, [&](uint32_t a, uint32_t b) {
+        return id_counts[a] > id_counts[b];
+      });
       for (uint32_t j = 0; j < k; ++j) {
         maps->coverage_instance.push_back(ids[order[j]]);
         maps->coverage_class.push_back(id_class[order[j]]);
-        maps->coverage.push_back(
-            static_cast<float>(id_counts[order[j]] * inv_n));
+        maps->coverage.push_back(static_cast<float>(id_counts[order[j]] * inv_n));
       }
     }
   }
 
-  per_class.ForEach(
-      [&](uint32_t id, const MixCounter& c) { stats.per_class[id] = c; });
-  pure_class_samples.ForEach([&](uint32_t id, uint64_t n) {
-    stats.class_mixing[{id, id}] += n;
-  });
+  per_class.ForEach([&](uint32_t id, const MixCounter& c) { stats.per_class[id] = c; });
+  pure_class_samples.ForEach([&](uint32_t id, uint64_t n) { stats.class_mixing[{id, id}] += n; });
   for (const auto& [key, n] : class_pairs) {
-    stats.class_mixing[{static_cast<uint32_t>(key >> 32),
-                        static_cast<uint32_t>(key)}] += n;
+    stats.class_mixing[{static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key)}] += n;
   }
   for (const auto& [id, o] : objects) {
     ObjectCounter& c = stats.objects[id];
@@ -414,8 +392,7 @@ BundleStats AnalyzeFrame(const exr::DeepImage& bundle,
     c.mixed = o.mixed;
     const auto& edges = options.size_bins;
     const size_t bin =
-        std::upper_bound(
-            edges.begin(), edges.end(), static_cast<int64_t>(o.pixels)) -
+        std::upper_bound(edges.begin(), edges.end(), static_cast<int64_t>(o.pixels)) -
         edges.begin();
     if (bin == 0) continue;  // smaller than the first edge
     SizeBin& b = stats.by_object_size[bin - 1];

@@ -66,11 +66,9 @@ struct BundleStats {
   uint64_t mixed_pixels = 0;        // more than one instance id
   uint64_t class_mixed_pixels = 0;  // more than one class id
 
-  std::map<uint32_t, MixCounter>
-      per_class;  // pixels holding at least one sample of the class
-  std::vector<MixCounter>
-      by_distance;      // by the pixel's nearest depth; one per band
-  MixCounter sky_only;  // pixels without a finite depth
+  std::map<uint32_t, MixCounter> per_class;  // pixels holding at least one sample of the class
+  std::vector<MixCounter> by_distance;       // by the pixel's nearest depth; one per band
+  MixCounter sky_only;                       // pixels without a finite depth
   // (a, b) -> samples of class a in pixels that also hold class b; (a, a) ->
   // samples of class a in pixels holding no other class.
   std::map<std::pair<uint32_t, uint32_t>, uint64_t> class_mixing;
@@ -107,8 +105,7 @@ struct PixelMaps {
   std::vector<uint32_t> majority_class;
   std::vector<float> purity;
   std::vector<uint8_t> mixed;
-  std::vector<uint8_t>
-      edge;  // mixed, or depths farther apart than the flying threshold
+  std::vector<uint8_t> edge;  // mixed, or depths farther apart than the flying threshold
   // Soft coverage: per pixel, one entry per distinct instance id, by coverage
   // descending.
   std::vector<uint32_t> coverage_counts;

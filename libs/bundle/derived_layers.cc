@@ -12,8 +12,7 @@ namespace lsds::bundle {
 using exr::PixelType;
 
 const std::vector<std::string>& DerivedLayerNames() {
-  static const std::vector<std::string> names = {
-      "majority", "purity", "coverage", "edge"};
+  static const std::vector<std::string> names = {"majority", "purity", "coverage", "edge"};
   return names;
 }
 
@@ -27,11 +26,10 @@ std::vector<std::string> ParseDerivedLayerList(const std::string& list) {
     if (name.empty()) continue;
     const auto& known = DerivedLayerNames();
     if (std::find(known.begin(), known.end(), name) == known.end()) {
-      throw Error("--write-layers: unknown layer '" + name + "'" +
-                  DidYouMean(name, known) + "; known: " + Join(known, ", "));
+      throw Error("--write-layers: unknown layer '" + name + "'" + DidYouMean(name, known) +
+                  "; known: " + Join(known, ", "));
     }
-    if (std::find(out.begin(), out.end(), name) == out.end())
-      out.push_back(name);
+    if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   }
   if (out.empty()) throw Error("--write-layers: no layer named");
   return out;
@@ -44,8 +42,7 @@ LayerInfo DerivedLayer(const std::string& name, bool required) {
   layer.required = required;
   layer.compression = exr::Compression::kZip;
   if (name == "majority") {
-    layer.channels = {{"instanceid", PixelType::kUint},
-                      {"classid", PixelType::kUint}};
+    layer.channels = {{"instanceid", PixelType::kUint}, {"classid", PixelType::kUint}};
     layer.unit = "id";
     layer.description =
         "lsds bundles: the instance id holding most samples of the pixel "
@@ -92,8 +89,7 @@ void WriteDerivedLayer(const std::string& name,
   options.compression = layer.compression;
   if (name == "coverage") {
     exr::DeepImage image(width, height, maps.coverage_counts);
-    image.AddChannel("instanceid", PixelType::kUint).uints =
-        maps.coverage_instance;
+    image.AddChannel("instanceid", PixelType::kUint).uints = maps.coverage_instance;
     image.AddChannel("classid", PixelType::kUint).uints = maps.coverage_class;
     image.AddChannel("coverage", PixelType::kFloat).floats = maps.coverage;
     exr::WriteDeepExr(path, image, options);
@@ -101,14 +97,12 @@ void WriteDerivedLayer(const std::string& name,
   }
   exr::FlatImage image(width, height);
   if (name == "majority") {
-    image.AddChannel("instanceid", PixelType::kUint).uints =
-        maps.majority_instance;
+    image.AddChannel("instanceid", PixelType::kUint).uints = maps.majority_instance;
     image.AddChannel("classid", PixelType::kUint).uints = maps.majority_class;
   } else if (name == "purity") {
     image.AddChannel("Y", PixelType::kFloat).floats = maps.purity;
   } else if (name == "edge") {
-    image.AddChannel("Y", PixelType::kUint)
-        .uints.assign(maps.edge.begin(), maps.edge.end());
+    image.AddChannel("Y", PixelType::kUint).uints.assign(maps.edge.begin(), maps.edge.end());
   } else {
     throw Error("unknown derived layer '" + name + "'");
   }

@@ -47,14 +47,12 @@ void WriteMixedMapPng(const std::filesystem::path& path,
                       int width,
                       int height) {
   if (maps.mixed.size() != static_cast<size_t>(width) * height) {
-    throw Error("mixed map: pixel maps do not match the image size",
-                Location(path.string()));
+    throw Error("mixed map: pixel maps do not match the image size", Location(path.string()));
   }
   std::vector<uint8_t> bgr = MixedMapBgr(maps, width, height);
   const cv::Mat image(height, width, CV_8UC3, bgr.data());
   std::vector<uchar> png;
-  if (!cv::imencode(".png", image, png))
-    throw Error("cannot encode PNG", Location(path.string()));
+  if (!cv::imencode(".png", image, png)) throw Error("cannot encode PNG", Location(path.string()));
   WriteFileAtomic(path, std::string(png.begin(), png.end()));
 }
 

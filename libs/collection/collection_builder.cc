@@ -10,21 +10,19 @@ namespace lsds {
 
 namespace fs = std::filesystem;
 
-std::map<std::string, std::string> WriteFrameLayers(
-    const fs::path& root,
-    const CollectionHeader& header,
-    int64_t frame_index,
-    const CameraTruth& camera,
-    const FrameImages& images) {
+std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
+                                                    const CollectionHeader& header,
+                                                    int64_t frame_index,
+                                                    const CameraTruth& camera,
+                                                    const FrameImages& images) {
   std::map<std::string, std::string> files;
   for (const LayerInfo& layer : header.layers) {
     if (layer.deep && images.bundle == nullptr)
-      throw Error("frame " + std::to_string(frame_index) + ": layer '" +
-                  layer.name + "' is deep but no bundle was rendered");
-    if (!layer.deep &&
-        (images.flat == nullptr || images.flat->count(layer.semantic) == 0))
-      throw Error("frame " + std::to_string(frame_index) +
-                  ": no image for layer '" + layer.name + "'");
+      throw Error("frame " + std::to_string(frame_index) + ": layer '" + layer.name +
+                  "' is deep but no bundle was rendered");
+    if (!layer.deep && (images.flat == nullptr || images.flat->count(layer.semantic) == 0))
+      throw Error("frame " + std::to_string(frame_index) + ": no image for layer '" + layer.name +
+                  "'");
     files[layer.name] = layer.name + "/" + FrameStem(frame_index) + ".exr";
   }
   // Layers are independent files: encode them in parallel.
@@ -51,8 +49,7 @@ MetadataHeader TruthMetadataHeader(const CollectionHeader& header) {
 }
 }  // namespace
 
-CollectionBuilder::CollectionBuilder(const fs::path& root,
-                                     const CollectionHeader& header)
+CollectionBuilder::CollectionBuilder(const fs::path& root, const CollectionHeader& header)
     : header_(header),
       collection_(root, header),
       metadata_(root / kMetadataFile, TruthMetadataHeader(header)) {}
@@ -61,8 +58,7 @@ void CollectionBuilder::Append(const Frame& truth) {
   Append(truth, TruthMetadata(truth, header_.conventions.world));
 }
 
-void CollectionBuilder::Append(const Frame& truth,
-                               const MetadataFrame& metadata) {
+void CollectionBuilder::Append(const Frame& truth, const MetadataFrame& metadata) {
   collection_.Append(truth);
   metadata_.Append(metadata);
 }

@@ -25,19 +25,17 @@ struct FrameImages {
 // Writes every layer of `header` for frame `frame_index` under `root` (layer
 // files in parallel, each atomically) and returns their relative paths
 // (layer name -> "name/000042.exr"). A layer's image is found by its semantic.
-std::map<std::string, std::string> WriteFrameLayers(
-    const std::filesystem::path& root,
-    const CollectionHeader& header,
-    int64_t frame_index,
-    const CameraTruth& camera,
-    const FrameImages& images);
+std::map<std::string, std::string> WriteFrameLayers(const std::filesystem::path& root,
+                                                    const CollectionHeader& header,
+                                                    int64_t frame_index,
+                                                    const CameraTruth& camera,
+                                                    const FrameImages& images);
 
 // collection.json and metadata.json of `header`, frame by frame, in order.
 // header.frame_count frames must be appended before Commit().
 class CollectionBuilder {
  public:
-  CollectionBuilder(const std::filesystem::path& root,
-                    const CollectionHeader& header);
+  CollectionBuilder(const std::filesystem::path& root, const CollectionHeader& header);
   // metadata.json gets the truth pose (TruthMetadata) ...
   void Append(const Frame& truth);
   // ... or what the caller measured, e.g. TruthMetadata plus survey fields.

@@ -14,12 +14,10 @@ void GuardCollection(OutputGuard* guard,
   guard->AddInput(root / kCollectionFile, "collection file");
   std::error_code ec;
   if (access == CollectionAccess::kAddsOutputs) {
-    for (fs::directory_iterator it(root, ec), end; !ec && it != end;
-         it.increment(ec)) {
+    for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec)) {
       const std::string name = it->path().filename().string();
       if (replaceable.count(name) != 0) continue;
-      if (it->is_directory(ec))
-        guard->AddInput(it->path(), "collection's layer folder");
+      if (it->is_directory(ec)) guard->AddInput(it->path(), "collection's layer folder");
     }
     guard->AddContainer(root, "collection folder");
   } else {

@@ -25,9 +25,8 @@ void CheckCollectionFolder(const fs::path& root) {
                 Location(root.string()));
   }
   if (!LooksLikeCollection(root)) {
-    throw Error(
-        "is not an lsds collection: it has no " + std::string(kCollectionFile),
-        Location(root.string()));
+    throw Error("is not an lsds collection: it has no " + std::string(kCollectionFile),
+                Location(root.string()));
   }
 }
 
@@ -36,28 +35,22 @@ CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
   CheckCollectionFolder(root_);
   const std::string file = collection_path().string();
   nlohmann::json header_json;
-  frames_in_file_ =
-      StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
+  frames_in_file_ = StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
   if (options_.validate_schema) {
-    JsonSchema::Get("collection.schema.json")
-        .ValidateOrThrow(header_json, file);
+    JsonSchema::Get("collection.schema.json").ValidateOrThrow(header_json, file);
   }
   header_ = HeaderFromJson(header_json, file);
 }
 
 void CollectionReader::ForEachFrameJson(
-    const std::function<void(const nlohmann::json&, const std::string&)>& fn)
-    const {
-  StreamJsonArrayMember(collection_path(),
-                        "frames",
-                        nullptr,
-                        [&](nlohmann::json&& frame, size_t index) {
-                          fn(frame, "/frames/" + std::to_string(index));
-                        });
+    const std::function<void(const nlohmann::json&, const std::string&)>& fn) const {
+  StreamJsonArrayMember(
+      collection_path(), "frames", nullptr, [&](nlohmann::json&& frame, size_t index) {
+        fn(frame, "/frames/" + std::to_string(index));
+      });
 }
 
-void CollectionReader::ForEachFrame(
-    const std::function<void(const Frame&)>& fn) const {
+void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn) const {
   const std::string file = collection_path().string();
   const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
   ForEachFrameJson([&](const nlohmann::json& json, const std::string& pointer) {
@@ -66,8 +59,8 @@ void CollectionReader::ForEachFrame(
   });
 }
 
-void CollectionReader::ParallelForEachFrame(
-    const std::function<void(const Frame&)>& fn, size_t batch_size) const {
+void CollectionReader::ParallelForEachFrame(const std::function<void(const Frame&)>& fn,
+                                            size_t batch_size) const {
   std::vector<Frame> batch;
   batch.reserve(batch_size);
   auto flush = [&] {
@@ -81,8 +74,7 @@ void CollectionReader::ParallelForEachFrame(
   flush();
 }
 
-fs::path CollectionReader::LayerPath(const Frame& frame,
-                                     const std::string& layer) const {
+fs::path CollectionReader::LayerPath(const Frame& frame, const std::string& layer) const {
   const auto it = frame.files.find(layer);
   if (it == frame.files.end()) {
     Location where{collection_path().string()};
@@ -92,39 +84,33 @@ fs::path CollectionReader::LayerPath(const Frame& frame,
   return root_ / it->second;
 }
 
-exr::FlatImage CollectionReader::ReadFlatLayer(
-    const Frame& frame,
-    const std::string& layer,
-    const std::vector<std::string>& channels) const {
+exr::FlatImage CollectionReader::ReadFlatLayer(const Frame& frame,
+                                               const std::string& layer,
+                                               const std::vector<std::string>& channels) const {
   const fs::path path = LayerPath(frame, layer);
   exr::FlatImage image = exr::ReadFlatExr(path, channels);
   CheckLayerSize(frame, layer, path, image.width(), image.height());
   return image;
 }
 
-exr::DeepImage CollectionReader::ReadDeepLayer(
-    const Frame& frame,
-    const std::string& layer,
-    const std::vector<std::string>& channels) const {
+exr::DeepImage CollectionReader::ReadDeepLayer(const Frame& frame,
+                                               const std::string& layer,
+                                               const std::vector<std::string>& channels) const {
   const fs::path path = LayerPath(frame, layer);
   exr::DeepImage image = exr::ReadDeepExr(path, channels);
   CheckLayerSize(frame, layer, path, image.width(), image.height());
   return image;
 }
 
-void CheckLayerSize(const Frame& frame,
-                    const std::string& layer,
-                    const fs::path& path,
-                    int width,
-                    int height) {
+void CheckLayerSize(
+    const Frame& frame, const std::string& layer, const fs::path& path, int width, int height) {
   const int camera_width = frame.camera.intrinsics.width;
   const int camera_height = frame.camera.intrinsics.height;
   if (width == camera_width && height == camera_height) return;
   Location where(path.string());
   where.frame = frame.index;
-  throw Error("layer '" + layer + "' is " + std::to_string(width) + "x" +
-                  std::to_string(height) + " but the frame's camera is " +
-                  std::to_string(camera_width) + "x" +
+  throw Error("layer '" + layer + "' is " + std::to_string(width) + "x" + std::to_string(height) +
+                  " but the frame's camera is " + std::to_string(camera_width) + "x" +
                   std::to_string(camera_height),
               where);
 }
@@ -137,23 +123,19 @@ MetadataReader::MetadataReader(const fs::path& path, ReaderOptions options)
   nlohmann::json header_json;
   StreamJsonArrayMember(path_, "frames", &header_json, nullptr);
   if (options_.validate_schema) {
-    JsonSchema::Get("metadata.schema.json")
-        .ValidateOrThrow(header_json, path_.string());
+    JsonSchema::Get("metadata.schema.json").ValidateOrThrow(header_json, path_.string());
   }
   header_ = MetadataHeaderFromJson(header_json, path_.string());
 }
 
-void MetadataReader::ForEachFrame(
-    const std::function<void(const MetadataFrame&)>& fn) const {
+void MetadataReader::ForEachFrame(const std::function<void(const MetadataFrame&)>& fn) const {
   const std::string file = path_.string();
   const JsonSchema& schema = JsonSchema::Get("metadata.schema.json", "frame");
-  StreamJsonArrayMember(
-      path_, "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
-        const std::string pointer = "/frames/" + std::to_string(index);
-        if (options_.validate_schema)
-          schema.ValidateOrThrow(json, file, pointer);
-        fn(MetadataFrameFromJson(json, file, pointer));
-      });
+  StreamJsonArrayMember(path_, "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
+    const std::string pointer = "/frames/" + std::to_string(index);
+    if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
+    fn(MetadataFrameFromJson(json, file, pointer));
+  });
 }
 
 }  // namespace lsds

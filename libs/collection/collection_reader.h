@@ -14,8 +14,7 @@
 namespace lsds {
 
 struct ReaderOptions {
-  bool validate_schema =
-      true;  // check collection.json (header and each frame) against its schema
+  bool validate_schema = true;  // check collection.json (header and each frame) against its schema
 };
 
 class CollectionReader {
@@ -23,13 +22,10 @@ class CollectionReader {
   // Opens `root`/collection.json: parses and validates the header, counts the
   // frames. Throws lsds::Error naming the file (and the JSON pointer or
   // line:column) if it is not a collection.
-  explicit CollectionReader(const std::filesystem::path& root,
-                            ReaderOptions options = {});
+  explicit CollectionReader(const std::filesystem::path& root, ReaderOptions options = {});
 
   const std::filesystem::path& root() const { return root_; }
-  std::filesystem::path collection_path() const {
-    return root_ / kCollectionFile;
-  }
+  std::filesystem::path collection_path() const { return root_ / kCollectionFile; }
   const CollectionHeader& header() const { return header_; }
   size_t frames_in_file() const { return frames_in_file_; }
 
@@ -39,8 +35,7 @@ class CollectionReader {
   // The raw JSON of each frame with its JSON pointer ("/frames/17"), for checks
   // on the text itself.
   void ForEachFrameJson(
-      const std::function<void(const nlohmann::json&, const std::string&)>& fn)
-      const;
+      const std::function<void(const nlohmann::json&, const std::string&)>& fn) const;
   // Frames in batches of `batch_size`, each batch processed in parallel (TBB);
   // memory is bounded by the batch, not the collection. `fn` must be
   // thread-safe.
@@ -49,8 +44,7 @@ class CollectionReader {
 
   // Absolute path of a frame's file for `layer`; throws when the frame has
   // none.
-  std::filesystem::path LayerPath(const Frame& frame,
-                                  const std::string& layer) const;
+  std::filesystem::path LayerPath(const Frame& frame, const std::string& layer) const;
 
   // Read a frame's layer file and check its size against the frame's camera
   // (every command reads layers through these): a wrong-size layer is an
@@ -86,8 +80,7 @@ void CheckCollectionFolder(const std::filesystem::path& root);
 // metadata.json and its variants, streamed the same way.
 class MetadataReader {
  public:
-  explicit MetadataReader(const std::filesystem::path& path,
-                          ReaderOptions options = {});
+  explicit MetadataReader(const std::filesystem::path& path, ReaderOptions options = {});
   const MetadataHeader& header() const { return header_; }
   const std::filesystem::path& path() const { return path_; }
   void ForEachFrame(const std::function<void(const MetadataFrame&)>& fn) const;

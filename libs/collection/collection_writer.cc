@@ -10,14 +10,11 @@ CollectionWriter::CollectionWriter(const std::filesystem::path& root,
     : expected_(header.frame_count),
       writer_(root / kCollectionFile, HeaderToJson(header), "frames") {}
 
-void CollectionWriter::Append(const Frame& frame) {
-  writer_.Append(FrameToJson(frame));
-}
+void CollectionWriter::Append(const Frame& frame) { writer_.Append(FrameToJson(frame)); }
 
 void CollectionWriter::Commit() {
   if (static_cast<int64_t>(writer_.count()) != expected_) {
-    throw Error("collection writer: header declares " +
-                std::to_string(expected_) + " frames, " +
+    throw Error("collection writer: header declares " + std::to_string(expected_) + " frames, " +
                 std::to_string(writer_.count()) + " were written");
   }
   writer_.Commit();
@@ -26,8 +23,7 @@ void CollectionWriter::Commit() {
 static nlohmann::json MergedMetadataHeader(const MetadataHeader& header,
                                            const nlohmann::json& extra) {
   nlohmann::json json = MetadataHeaderToJson(header);
-  for (auto it = extra.begin(); it != extra.end(); ++it)
-    json[it.key()] = it.value();
+  for (auto it = extra.begin(); it != extra.end(); ++it) json[it.key()] = it.value();
   return json;
 }
 
@@ -43,8 +39,7 @@ void MetadataWriter::Append(const MetadataFrame& frame) {
 
 void MetadataWriter::Commit() {
   if (static_cast<int64_t>(writer_.count()) != expected_) {
-    throw Error("metadata writer: header declares " +
-                std::to_string(expected_) + " frames, " +
+    throw Error("metadata writer: header declares " + std::to_string(expected_) + " frames, " +
                 std::to_string(writer_.count()) + " were written");
   }
   writer_.Commit();

@@ -12,8 +12,7 @@ namespace lsds {
 // header.frame_count and renames the file into place.
 class CollectionWriter {
  public:
-  CollectionWriter(const std::filesystem::path& root,
-                   const CollectionHeader& header);
+  CollectionWriter(const std::filesystem::path& root, const CollectionHeader& header);
   void Append(const Frame& frame);
   void Commit();
 
@@ -24,10 +23,9 @@ class CollectionWriter {
 
 class MetadataWriter {
  public:
-  MetadataWriter(
-      const std::filesystem::path& path,
-      const MetadataHeader& header,
-      const nlohmann::json& extra_members = nlohmann::json::object());
+  MetadataWriter(const std::filesystem::path& path,
+                 const MetadataHeader& header,
+                 const nlohmann::json& extra_members = nlohmann::json::object());
   void Append(const MetadataFrame& frame);
   void Commit();
 

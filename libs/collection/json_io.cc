@@ -10,14 +10,11 @@ namespace lsds {
 
 using nlohmann::json;
 
-json Vector3ToJson(const Eigen::Vector3d& v) {
-  return json::array({v.x(), v.y(), v.z()});
-}
+json Vector3ToJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 json Matrix3ToJson(const Eigen::Matrix3d& m) {
   json rows = json::array();
-  for (int r = 0; r < 3; ++r)
-    rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
+  for (int r = 0; r < 3; ++r) rows.push_back(json::array({m(r, 0), m(r, 1), m(r, 2)}));
   return rows;
 }
 
@@ -42,10 +39,8 @@ Eigen::Matrix3d Matrix3FromJson(const json& j) {
 
 std::optional<Box2d> Box2dFromJson(const json& j) {
   if (j.is_null()) return std::nullopt;
-  return Box2d{j.at(0).get<double>(),
-               j.at(1).get<double>(),
-               j.at(2).get<double>(),
-               j.at(3).get<double>()};
+  return Box2d{
+      j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>(), j.at(3).get<double>()};
 }
 
 // File references in a collection resolve strictly inside it: relative, with no
@@ -58,8 +53,7 @@ void CheckInsideReference(const std::string& reference,
   if (reference.empty()) {
     problem = "is empty";
   } else if (reference[0] == '/' || reference[0] == '\\' ||
-             (reference.size() > 2 && std::isalpha(static_cast<unsigned char>(
-                                          reference[0])) &&
+             (reference.size() > 2 && std::isalpha(static_cast<unsigned char>(reference[0])) &&
               reference[1] == ':' && (reference[2] == '/' || reference[2] == '\\'))) {
     problem = "is absolute";
   } else {
@@ -93,8 +87,7 @@ auto AtPointer(const std::string& file, const std::string& pointer, Body&& body)
 json LayerToJson(const LayerInfo& layer) {
   json channels = json::array();
   for (const LayerChannel& c : layer.channels) {
-    channels.push_back(
-        {{"name", c.name}, {"type", exr::PixelTypeName(c.type)}});
+    channels.push_back({{"name", c.name}, {"type", exr::PixelTypeName(c.type)}});
   }
   json j = {{"name", layer.name},
             {"semantic", layer.semantic},
@@ -133,17 +126,16 @@ LayerInfo LayerFromJson(const json& j) {
 
 json CameraToJson(const CameraTruth& camera) {
   const PinholeCamera& k = camera.intrinsics;
-  return {
-      {"model", "pinhole"},
-      {"width", k.width},
-      {"height", k.height},
-      {"fx", k.fx},
-      {"fy", k.fy},
-      {"cx", k.cx},
-      {"cy", k.cy},
-      {"cam_from_world",
-       {{"rotation", Matrix3ToJson(camera.cam_from_world_rotation)},
-        {"translation", Vector3ToJson(camera.cam_from_world_translation)}}}};
+  return {{"model", "pinhole"},
+          {"width", k.width},
+          {"height", k.height},
+          {"fx", k.fx},
+          {"fy", k.fy},
+          {"cx", k.cx},
+          {"cy", k.cy},
+          {"cam_from_world",
+           {{"rotation", Matrix3ToJson(camera.cam_from_world_rotation)},
+            {"translation", Vector3ToJson(camera.cam_from_world_translation)}}}};
 }
 
 CameraTruth CameraFromJson(const json& j) {
@@ -154,10 +146,8 @@ CameraTruth CameraFromJson(const json& j) {
   camera.intrinsics.fy = j.at("fy").get<double>();
   camera.intrinsics.cx = j.at("cx").get<double>();
   camera.intrinsics.cy = j.at("cy").get<double>();
-  camera.cam_from_world_rotation =
-      Matrix3FromJson(j.at("cam_from_world").at("rotation"));
-  camera.cam_from_world_translation =
-      Vector3FromJson(j.at("cam_from_world").at("translation"));
+  camera.cam_from_world_rotation = Matrix3FromJson(j.at("cam_from_world").at("rotation"));
+  camera.cam_from_world_translation = Vector3FromJson(j.at("cam_from_world").at("translation"));
   return camera;
 }
 
@@ -191,16 +181,14 @@ ObjectTruth ObjectFromJson(const json& j) {
   o.obb.half_extents = Vector3FromJson(j.at("obb").at("half_extents"));
   o.obb.world_from_box = Matrix3FromJson(j.at("obb").at("rotation"));
   o.bbox = Box2dFromJson(j.at("bbox"));
-  o.bbox_projected = j.contains("bbox_projected")
-                         ? Box2dFromJson(j.at("bbox_projected"))
-                         : std::nullopt;
+  o.bbox_projected =
+      j.contains("bbox_projected") ? Box2dFromJson(j.at("bbox_projected")) : std::nullopt;
   o.visible_pixels = j.at("visible_pixels").get<int64_t>();
   o.visibility = j.at("visibility").get<double>();
   o.in_frame = j.at("in_frame").get<double>();
   o.asset = j.value("asset", "");
   o.material = j.value("material", "");
-  if (j.contains("transmittance"))
-    o.transmittance = j.at("transmittance").get<double>();
+  if (j.contains("transmittance")) o.transmittance = j.at("transmittance").get<double>();
   if (j.contains("velocity")) o.velocity = Vector3FromJson(j.at("velocity"));
   if (j.contains("changes")) o.changes = j.at("changes");
   return o;
@@ -213,12 +201,10 @@ json HeaderToJson(const CollectionHeader& h) {
                      {"generator_version", h.provenance.generator_version},
                      {"render", h.provenance.render}};
   if (h.provenance.seed) provenance["seed"] = *h.provenance.seed;
-  if (!h.provenance.scene_source.empty())
-    provenance["scene_source"] = h.provenance.scene_source;
+  if (!h.provenance.scene_source.empty()) provenance["scene_source"] = h.provenance.scene_source;
   if (!h.provenance.capture_source.empty())
     provenance["capture_source"] = h.provenance.capture_source;
-  if (!h.provenance.import.is_null())
-    provenance["import"] = h.provenance.import;
+  if (!h.provenance.import.is_null()) provenance["import"] = h.provenance.import;
   if (const auto& shard = h.provenance.shard)
     provenance["shard"] = {{"index", shard->index},
                            {"count", shard->count},
@@ -239,8 +225,7 @@ json HeaderToJson(const CollectionHeader& h) {
                                  {"longitude_deg", geo->longitude_deg},
                                  {"altitude_m", geo->altitude_m}};
   json classes = json::array();
-  for (const ClassInfo& c : h.classes)
-    classes.push_back({{"id", c.id}, {"name", c.name}});
+  for (const ClassInfo& c : h.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
   json layers = json::array();
   for (const LayerInfo& layer : h.layers) layers.push_back(LayerToJson(layer));
   json metadata = json::array();
@@ -266,8 +251,7 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     h.format_version = j.at("format_version").get<std::string>();
     const json& p = j.at("provenance");
     h.provenance.generator = p.at("generator").get<std::string>();
-    h.provenance.generator_version =
-        p.at("generator_version").get<std::string>();
+    h.provenance.generator_version = p.at("generator_version").get<std::string>();
     if (p.contains("seed")) h.provenance.seed = GetInteger<uint64_t>(p, "seed");
     h.provenance.scene_source = p.value("scene_source", "");
     h.provenance.capture_source = p.value("capture_source", "");
@@ -285,14 +269,12 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
       h.provenance.shard = shard;
     }
     for (const json& c : j.at("classes"))
-      h.classes.push_back(
-          {GetInteger<uint32_t>(c, "id"), c.at("name").get<std::string>()});
+      h.classes.push_back({GetInteger<uint32_t>(c, "id"), c.at("name").get<std::string>()});
     for (const json& l : j.at("layers")) h.layers.push_back(LayerFromJson(l));
     for (const json& m : j.at("metadata")) {
       CheckInsideReference(m.at("file").get<std::string>(),
                            file,
-                           "/metadata/" + std::to_string(h.metadata.size()) +
-                               "/file");
+                           "/metadata/" + std::to_string(h.metadata.size()) + "/file");
       h.metadata.push_back({m.at("file").get<std::string>(),
                             m.at("perturbed").get<bool>(),
                             m.value("description", "")});
@@ -304,9 +286,8 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
   Location where{file};
   where.json_pointer = "/conventions";
   try {
-    h.conventions.world =
-        WorldFrame::Make(c.at("world_frame").get<std::string>(),
-                         c.at("length_unit").get<std::string>());
+    h.conventions.world = WorldFrame::Make(c.at("world_frame").get<std::string>(),
+                                           c.at("length_unit").get<std::string>());
   } catch (const Error& e) {
     throw Error(e.message(), where);
   }
@@ -316,12 +297,10 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
                                          g.at("longitude_deg").get<double>(),
                                          g.at("altitude_m").get<double>()};
   }
-  const std::string handedness =
-      h.conventions.world.right_handed() ? "right" : "left";
+  const std::string handedness = h.conventions.world.right_handed() ? "right" : "left";
   if (c.at("handedness").get<std::string>() != handedness) {
     where.json_pointer = "/conventions/handedness";
-    throw Error("world frame '" + h.conventions.world.name + "' is " +
-                    handedness + "-handed",
+    throw Error("world frame '" + h.conventions.world.name + "' is " + handedness + "-handed",
                 where);
   }
   // Ids must be unique; layer names too.
@@ -329,8 +308,7 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     for (size_t b = 0; b < a; ++b) {
       if (h.classes[a].id == h.classes[b].id) {
         where.json_pointer = "/classes/" + std::to_string(a) + "/id";
-        throw Error("duplicate class id " + std::to_string(h.classes[a].id),
-                    where);
+        throw Error("duplicate class id " + std::to_string(h.classes[a].id), where);
       }
     }
   }
@@ -356,14 +334,11 @@ json FrameToJson(const Frame& f) {
   if (!f.sequence.empty()) j["sequence"] = f.sequence;
   if (f.shot) j["shot"] = *f.shot;
   if (!f.scene.is_null()) j["scene"] = f.scene;
-  if (f.camera_velocity)
-    j["camera_velocity"] = Vector3ToJson(*f.camera_velocity);
+  if (f.camera_velocity) j["camera_velocity"] = Vector3ToJson(*f.camera_velocity);
   return j;
 }
 
-Frame FrameFromJson(const json& j,
-                    const std::string& file,
-                    const std::string& pointer) {
+Frame FrameFromJson(const json& j, const std::string& file, const std::string& pointer) {
   return AtPointer(file, pointer, [&] {
     Frame f;
     f.index = j.at("index").get<int64_t>();
@@ -371,14 +346,12 @@ Frame FrameFromJson(const json& j,
     f.sequence = j.value("sequence", "");
     if (j.contains("shot")) f.shot = j.at("shot").get<int64_t>();
     if (j.contains("scene")) f.scene = j.at("scene");
-    if (j.contains("camera_velocity"))
-      f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
+    if (j.contains("camera_velocity")) f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
     for (const auto& [layer, reference] : f.files)
       CheckInsideReference(reference, file, pointer + "/files/" + layer);
-    for (const json& o : j.at("objects"))
-      f.objects.push_back(ObjectFromJson(o));
+    for (const json& o : j.at("objects")) f.objects.push_back(ObjectFromJson(o));
     return f;
   });
 }
@@ -391,9 +364,8 @@ json MetadataHeaderToJson(const MetadataHeader& h) {
             {"frames", json::array()}};
   if (!h.source.empty()) j["source"] = h.source;
   if (h.noise) {
-    j["noise"] = {{"model", h.noise->model},
-                  {"parameters", h.noise->parameters},
-                  {"seed", h.noise->seed}};
+    j["noise"] = {
+        {"model", h.noise->model}, {"parameters", h.noise->parameters}, {"seed", h.noise->seed}};
   }
   return j;
 }
@@ -422,8 +394,7 @@ json MetadataFrameToJson(const MetadataFrame& f) {
   if (f.gsd_m) j["gsd_m"] = *f.gsd_m;
   if (!f.footprint.empty()) {
     json corners = json::array();
-    for (const Eigen::Vector3d& c : f.footprint)
-      corners.push_back(Vector3ToJson(c));
+    for (const Eigen::Vector3d& c : f.footprint) corners.push_back(Vector3ToJson(c));
     j["footprint"] = corners;
   }
   return j;
@@ -438,9 +409,8 @@ MetadataHeader MetadataHeaderFromJson(const json& j, const std::string& file) {
     h.frame_count = j.at("frame_count").get<int64_t>();
     if (j.contains("noise")) {
       const json& n = j.at("noise");
-      h.noise = NoiseRecord{n.at("model").get<std::string>(),
-                            n.at("parameters"),
-                            GetInteger<uint64_t>(n, "seed")};
+      h.noise = NoiseRecord{
+          n.at("model").get<std::string>(), n.at("parameters"), GetInteger<uint64_t>(n, "seed")};
     }
     return h;
   });
@@ -455,9 +425,8 @@ MetadataFrame MetadataFrameFromJson(const json& j,
     f.time = j.at("time").get<double>();
     f.position = Vector3FromJson(j.at("position"));
     const json& a = j.at("attitude");
-    f.attitude = {a.at("roll").get<double>(),
-                  a.at("pitch").get<double>(),
-                  a.at("yaw").get<double>()};
+    f.attitude = {
+        a.at("roll").get<double>(), a.at("pitch").get<double>(), a.at("yaw").get<double>()};
     const json& c = j.at("camera");
     f.camera.width = GetInteger<int>(c, "width");
     f.camera.height = GetInteger<int>(c, "height");
@@ -472,12 +441,10 @@ MetadataFrame MetadataFrameFromJson(const json& j,
                        g.at("longitude_deg").get<double>(),
                        g.at("altitude_msl_m").get<double>()};
     }
-    if (j.contains("altitude_agl_m"))
-      f.altitude_agl_m = j.at("altitude_agl_m").get<double>();
+    if (j.contains("altitude_agl_m")) f.altitude_agl_m = j.at("altitude_agl_m").get<double>();
     if (j.contains("gsd_m")) f.gsd_m = j.at("gsd_m").get<double>();
     if (j.contains("footprint"))
-      for (const json& c : j.at("footprint"))
-        f.footprint.push_back(Vector3FromJson(c));
+      for (const json& c : j.at("footprint")) f.footprint.push_back(Vector3FromJson(c));
     return f;
   });
 }
@@ -487,12 +454,10 @@ MetadataFrame TruthMetadata(const Frame& frame, const WorldFrame& world) {
   m.index = frame.index;
   m.time = frame.time;
   m.camera = frame.camera.intrinsics;
-  const Rigid3d cam_from_enu =
-      world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
-                             frame.camera.cam_from_world_translation);
+  const Rigid3d cam_from_enu = world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
+                                                      frame.camera.cam_from_world_translation);
   Eigen::Vector3d position_in_enu;
-  PositionAndAttitudeFromCamFromEnu(
-      cam_from_enu, &position_in_enu, &m.attitude);
+  PositionAndAttitudeFromCamFromEnu(cam_from_enu, &position_in_enu, &m.attitude);
   m.position = world.WorldFromEnuMetres(position_in_enu);
   return m;
 }

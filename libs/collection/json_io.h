@@ -11,19 +11,16 @@
 
 namespace lsds {
 
-nlohmann::json HeaderToJson(
-    const CollectionHeader& header);  // "frames" left empty
+nlohmann::json HeaderToJson(const CollectionHeader& header);  // "frames" left empty
 nlohmann::json FrameToJson(const Frame& frame);
-CollectionHeader HeaderFromJson(const nlohmann::json& json,
-                                const std::string& file);
+CollectionHeader HeaderFromJson(const nlohmann::json& json, const std::string& file);
 Frame FrameFromJson(const nlohmann::json& json,
                     const std::string& file,
                     const std::string& pointer);
 
 nlohmann::json MetadataHeaderToJson(const MetadataHeader& header);
 nlohmann::json MetadataFrameToJson(const MetadataFrame& frame);
-MetadataHeader MetadataHeaderFromJson(const nlohmann::json& json,
-                                      const std::string& file);
+MetadataHeader MetadataHeaderFromJson(const nlohmann::json& json, const std::string& file);
 MetadataFrame MetadataFrameFromJson(const nlohmann::json& json,
                                     const std::string& file,
                                     const std::string& pointer);

@@ -32,20 +32,16 @@ Error SyntaxError(const std::filesystem::path& path,
   Location where{path.string()};
   if (dynamic_cast<const nlohmann::json::parse_error*>(&e) == nullptr) {
     // Not a syntax error (a number out of range): no line from the parser.
-    return Error("invalid JSON: " + WithoutLibraryPrefix(e.what()) +
-                     " (near byte " + std::to_string(byte) + ")",
+    return Error("invalid JSON: " + WithoutLibraryPrefix(e.what()) + " (near byte " +
+                     std::to_string(byte) + ")",
                  where);
   }
   std::string message = e.what();
   const size_t at_line = message.find("at line ");
   if (at_line != std::string::npos) {
-    std::sscanf(message.c_str() + at_line,
-                "at line %d, column %d",
-                &where.line,
-                &where.column);
+    std::sscanf(message.c_str() + at_line, "at line %d, column %d", &where.line, &where.column);
   }
-  const size_t colon =
-      message.find(": ", at_line == std::string::npos ? 0 : at_line);
+  const size_t colon = message.find(": ", at_line == std::string::npos ? 0 : at_line);
   if (colon != std::string::npos) message = message.substr(colon + 2);
   return Error("invalid JSON: " + message, where);
 }
@@ -71,13 +67,9 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
   bool boolean(bool value) override { return Add(value); }
   bool number_integer(number_integer_t value) override { return Add(value); }
   bool number_unsigned(number_unsigned_t value) override { return Add(value); }
-  bool number_float(number_float_t value, const string_t&) override {
-    return Add(value);
-  }
+  bool number_float(number_float_t value, const string_t&) override { return Add(value); }
   bool string(string_t& value) override { return Add(std::move(value)); }
-  bool binary(binary_t& value) override {
-    return Add(Json::binary(std::move(value)));
-  }
+  bool binary(binary_t& value) override { return Add(Json::binary(std::move(value))); }
   bool start_object(std::size_t) override {
     CheckDepth();
     stack_.push_back(Place(Json::object()));
@@ -96,14 +88,10 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
     return true;
   }
   bool end_array() override { return End(); }
-  bool parse_error(std::size_t,
-                   const std::string&,
-                   const nlohmann::detail::exception& e) override {
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
     // Rethrown with its own type (the base class would slice it).
-    if (const auto* syntax = dynamic_cast<const Json::parse_error*>(&e))
-      throw *syntax;
-    if (const auto* range = dynamic_cast<const Json::out_of_range*>(&e))
-      throw *range;
+    if (const auto* syntax = dynamic_cast<const Json::parse_error*>(&e)) throw *syntax;
+    if (const auto* range = dynamic_cast<const Json::out_of_range*>(&e)) throw *range;
     throw Error(e.what());
   }
 
@@ -112,10 +100,9 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
   // refuse documents nested deeper than any lsds file before they are built.
   void CheckDepth() const {
     if (stack_.size() < static_cast<size_t>(kMaxNestingDepth)) return;
-    const std::string pointer =
-        target_ != nullptr && stack_.size() >= 2 && stack_[1] == target_
-            ? "/" + array_key_ + "/" + std::to_string(count)
-            : "";
+    const std::string pointer = target_ != nullptr && stack_.size() >= 2 && stack_[1] == target_
+                                    ? "/" + array_key_ + "/" + std::to_string(count)
+                                    : "";
     throw Error("nesting deeper than " + std::to_string(kMaxNestingDepth) +
                     " levels (objects and arrays) near byte " +
                     std::to_string(static_cast<long long>(in_.tellg())) +
@@ -149,8 +136,7 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
   bool End() {
     Json* done = stack_.back();
     stack_.pop_back();
-    if (done == &element_ && !stack_.empty() && stack_.back() == target_)
-      HandOut();
+    if (done == &element_ && !stack_.empty() && stack_.back() == target_) HandOut();
     return true;
   }
   void HandOut() {
@@ -171,11 +157,10 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
 
 }  // namespace
 
-size_t StreamJsonArrayMember(
-    const std::filesystem::path& path,
-    const std::string& array_key,
-    nlohmann::json* header,
-    const std::function<void(nlohmann::json&&, size_t)>& on_element) {
+size_t StreamJsonArrayMember(const std::filesystem::path& path,
+                             const std::string& array_key,
+                             nlohmann::json* header,
+                             const std::function<void(nlohmann::json&&, size_t)>& on_element) {
   RequireRegularFile(path, "JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open for reading", Location(path.string()));
@@ -192,8 +177,7 @@ size_t StreamJsonArrayMember(
   nlohmann::json& root = sax.root;
   const size_t count = sax.count;
   if (!root.is_object())
-    throw Error("top level must be a JSON object",
-                Location(path.string(), "/"));
+    throw Error("top level must be a JSON object", Location(path.string(), "/"));
   if (header != nullptr) {
     if (root.contains(array_key) && root[array_key].is_array())
       root[array_key] = nlohmann::json::array();
@@ -215,18 +199,16 @@ JsonArrayWriter::JsonArrayWriter(const std::filesystem::path& path,
   members.erase(array_key);
   std::string text = members.dump(2);  // "{\n  ...\n}"
   text.erase(text.find_last_of('}'));
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
-    text.pop_back();
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
   auto& out = impl_->file.stream();
-  out << text << (members.empty() ? "\n" : ",\n") << "  "
-      << nlohmann::json(array_key).dump() << ": [";
+  out << text << (members.empty() ? "\n" : ",\n") << "  " << nlohmann::json(array_key).dump()
+      << ": [";
 }
 
 JsonArrayWriter::~JsonArrayWriter() = default;
 
 void JsonArrayWriter::Append(const nlohmann::json& element) {
-  impl_->file.stream() << (count_ == 0 ? "\n    " : ",\n    ")
-                       << element.dump();
+  impl_->file.stream() << (count_ == 0 ? "\n    " : ",\n    ") << element.dump();
   ++count_;
 }
 

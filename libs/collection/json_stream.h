@@ -25,8 +25,7 @@ size_t StreamJsonArrayMember(
     const std::filesystem::path& path,
     const std::string& array_key,
     nlohmann::json* header,
-    const std::function<void(nlohmann::json&& element, size_t index)>&
-        on_element);
+    const std::function<void(nlohmann::json&& element, size_t index)>& on_element);
 
 // Writes such a file: the header members first (pretty), then the array one
 // element per line. Atomic: nothing appears under `path` until Commit().

@@ -19,8 +19,7 @@ const LayerInfo* CollectionHeader::FindLayer(const std::string& name) const {
   return nullptr;
 }
 
-const LayerInfo* CollectionHeader::FindLayerBySemantic(
-    const std::string& semantic) const {
+const LayerInfo* CollectionHeader::FindLayerBySemantic(const std::string& semantic) const {
   for (const LayerInfo& layer : layers) {
     if (layer.semantic == semantic) return &layer;
   }
@@ -60,42 +59,34 @@ LayerInfo StandardLayer(const std::string& semantic, DepthKind depth_kind) {
   layer.semantic = semantic;
   layer.compression = Compression::kZip;
   if (semantic == "rgb") {
-    layer.channels = {{"R", PixelType::kHalf},
-                      {"G", PixelType::kHalf},
-                      {"B", PixelType::kHalf}};
+    layer.channels = {{"R", PixelType::kHalf}, {"G", PixelType::kHalf}, {"B", PixelType::kHalf}};
     layer.compression = Compression::kPiz;
     layer.unit = "linear radiance";
     layer.description = "scene-linear HDR colour, spatially multisampled";
   } else if (semantic == "classid" || semantic == "instanceid") {
     layer.channels = {{"id", PixelType::kUint}};
     layer.unit = "id";
-    layer.description = semantic == "classid"
-                            ? "class id of the closest surface at the pixel "
-                              "centre sample; 0 background"
-                            : "instance id of the closest surface at the pixel "
-                              "centre sample; 0 background";
+    layer.description = semantic == "classid" ? "class id of the closest surface at the pixel "
+                                                "centre sample; 0 background"
+                                              : "instance id of the closest surface at the pixel "
+                                                "centre sample; 0 background";
   } else if (semantic == "depth") {
     layer.channels = {{"Z", PixelType::kFloat}};
     layer.unit = "world length unit";
     layer.depth_kind = depth_kind;
     layer.description = "distance of the closest surface; +inf for sky";
   } else if (semantic == "normal") {
-    layer.channels = {{"X", PixelType::kFloat},
-                      {"Y", PixelType::kFloat},
-                      {"Z", PixelType::kFloat}};
+    layer.channels = {{"X", PixelType::kFloat}, {"Y", PixelType::kFloat}, {"Z", PixelType::kFloat}};
     layer.unit = "unit vector, world frame";
     layer.description = "surface normal facing the camera; (0, 0, 0) for sky";
   } else if (semantic == "worldposition") {
-    layer.channels = {{"X", PixelType::kFloat},
-                      {"Y", PixelType::kFloat},
-                      {"Z", PixelType::kFloat}};
+    layer.channels = {{"X", PixelType::kFloat}, {"Y", PixelType::kFloat}, {"Z", PixelType::kFloat}};
     layer.unit = "world length unit";
     layer.description = "hit point in world coordinates; +inf for sky";
   } else if (semantic == "shadow") {
     layer.channels = {{"Y", PixelType::kFloat}};
     layer.unit = "ratio";
-    layer.description =
-        "final / unshadowed shading in [0, 1]: 0 full shadow, 1 none";
+    layer.description = "final / unshadowed shading in [0, 1]: 0 full shadow, 1 none";
   } else if (semantic == "motion") {
     layer.channels = {{"X", PixelType::kFloat}, {"Y", PixelType::kFloat}};
     layer.unit = "screen-normalized";

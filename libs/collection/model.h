@@ -45,8 +45,8 @@ struct LayerInfo {
                          // worldposition | shadow | motion | bundle | derived
   bool deep = false;
   std::vector<LayerChannel> channels;
-  std::string unit;  // free text for people: "m", "unit vector",
-                     // "screen-normalized", ...
+  std::string unit;                     // free text for people: "m", "unit vector",
+                                        // "screen-normalized", ...
   std::optional<DepthKind> depth_kind;  // depth layers and deep bundles
   exr::Compression compression = exr::Compression::kZip;
   bool required = true;  // every frame has a file for it
@@ -73,10 +73,9 @@ struct Provenance {
   std::string generator;  // "lsds generate", "lsds synth", ...
   std::string generator_version;
   std::optional<uint64_t> seed;
-  std::string scene_source;    // LSCENE text, verbatim
-  std::string capture_source;  // LCAP text, verbatim
-  nlohmann::json render =
-      nlohmann::json::object();  // spp, renderer settings, ...
+  std::string scene_source;                          // LSCENE text, verbatim
+  std::string capture_source;                        // LCAP text, verbatim
+  nlohmann::json render = nlohmann::json::object();  // spp, renderer settings, ...
   // Format 1.1, imported collections only (docs/format.md, "Truth of other
   // origins"): {"format", "source", "truth_origin": {field: origin}}; null
   // for collections lsds rendered.
@@ -88,11 +87,9 @@ struct Provenance {
 struct Conventions {
   WorldFrame world = WorldFrame::Make("ENU", "m");
   // Fixed in format 1.0, written so that readers never have to guess.
-  std::string camera_frame = "opencv";  // x right, y down, z forward
-  std::string pixel_coordinates =
-      "edge";  // pixel (i, j) covers [i, i+1) x [j, j+1)
-  std::string motion =
-      "screen-normalized";  // 0.5 + 0.5 * (current - previous) / size
+  std::string camera_frame = "opencv";       // x right, y down, z forward
+  std::string pixel_coordinates = "edge";    // pixel (i, j) covers [i, i+1) x [j, j+1)
+  std::string motion = "screen-normalized";  // 0.5 + 0.5 * (current - previous) / size
   // Format 1.1, optional: where the world origin is on Earth (the world frame
   // is then local ENU at that origin).
   std::optional<GeoOrigin> geo_origin;
@@ -114,22 +111,20 @@ struct CameraTruth {
 };
 
 struct ObjectTruth {
-  uint32_t instance_id = 0;   // > 0, the value in the instanceid layer
-  uint32_t class_id = 0;      // > 0, an id of the class table
-  std::string name;           // e.g. "O2#3": the LSCENE symbol and its copy
-  OrientedBox obb;            // world frame, world units
-  std::optional<Box2d> bbox;  // tight, visible: extent of the instance mask;
-                              // none when not visible
+  uint32_t instance_id = 0;             // > 0, the value in the instanceid layer
+  uint32_t class_id = 0;                // > 0, an id of the class table
+  std::string name;                     // e.g. "O2#3": the LSCENE symbol and its copy
+  OrientedBox obb;                      // world frame, world units
+  std::optional<Box2d> bbox;            // tight, visible: extent of the instance mask;
+                                        // none when not visible
   std::optional<Box2d> bbox_projected;  // loose: bounds of the projected OBB
                                         // clipped to the image
   int64_t visible_pixels = 0;
-  double visibility =
-      0;  // visible pixels / pixels covered with no occluders, in [0, 1]
-  double in_frame =
-      0;  // share of the projected silhouette inside the image, in [0, 1]
+  double visibility = 0;  // visible pixels / pixels covered with no occluders, in [0, 1]
+  double in_frame = 0;    // share of the projected silhouette inside the image, in [0, 1]
   // Format 1.1, optional: what was drawn and how it was seen.
-  std::string asset;  // the asset the object was drawn from ("barrel", a mesh)
-  std::string material;  // the material applied in this frame, if known
+  std::string asset;                    // the asset the object was drawn from ("barrel", a mesh)
+  std::string material;                 // the material applied in this frame, if known
   std::optional<double> transmittance;  // atmospheric, camera to OBB centre
   // World units per second: the OBB centre's velocity (0 at rest).
   std::optional<Eigen::Vector3d> velocity;
@@ -151,8 +146,7 @@ struct Frame {
   // Format 1.1, optional: the camera centre's velocity (world units per
   // second) on a smooth flight.
   std::optional<Eigen::Vector3d> camera_velocity;
-  std::map<std::string, std::string>
-      files;  // layer name -> path relative to the collection root
+  std::map<std::string, std::string> files;  // layer name -> path relative to the collection root
   std::vector<ObjectTruth> objects;
 };
 
@@ -176,8 +170,7 @@ struct CollectionHeader {
 exr::HeaderCamera HeaderCameraOf(const CameraTruth& camera);
 
 // The standard layer table entries of docs/format.md.
-LayerInfo StandardLayer(const std::string& semantic,
-                        DepthKind depth_kind = DepthKind::kPlanar);
+LayerInfo StandardLayer(const std::string& semantic, DepthKind depth_kind = DepthKind::kPlanar);
 const std::vector<std::string>& StandardLayerSemantics();
 
 // --- metadata.json ---
@@ -191,15 +184,14 @@ struct NoiseRecord {  // what perturb-metadata did; absent for truth
 struct MetadataFrame {
   int64_t index = 0;
   double time = 0;
-  Eigen::Vector3d position =
-      Eigen::Vector3d::Zero();  // camera centre, world frame and units
-  Attitude attitude;            // see libs/geometry/attitude.h
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // camera centre, world frame and units
+  Attitude attitude;                                   // see libs/geometry/attitude.h
   PinholeCamera camera;
   nlohmann::json error;  // realized errors when perturbed, else null
   // Format 1.1, optional: what a UAV logs besides its pose.
   std::optional<Geodetic> geo;           // when the world is geo-referenced
   std::optional<double> altitude_agl_m;  // above the terrain under the camera
-  std::optional<double> gsd_m;  // ground sample distance at the image centre
+  std::optional<double> gsd_m;           // ground sample distance at the image centre
   // The image corners (top-left, top-right, bottom-right, bottom-left) on the
   // ground, world frame; empty when a corner ray misses the ground.
   std::vector<Eigen::Vector3d> footprint;

@@ -4,8 +4,9 @@
 
 namespace lsds {
 
-std::unordered_map<uint32_t, InstanceMask> MeasureInstanceMasks(
-    const std::vector<uint32_t>& ids, int width, int height) {
+std::unordered_map<uint32_t, InstanceMask> MeasureInstanceMasks(const std::vector<uint32_t>& ids,
+                                                                int width,
+                                                                int height) {
   struct Extent {
     int64_t pixels = 0;
     int x0, y0, x1, y1;
@@ -30,19 +31,16 @@ std::unordered_map<uint32_t, InstanceMask> MeasureInstanceMasks(
   std::unordered_map<uint32_t, InstanceMask> masks;
   masks.reserve(extents.size());
   for (const auto& [id, e] : extents) {
-    masks[id] = {
-        e.pixels,
-        Box2d{double(e.x0), double(e.y0), double(e.x1 + 1), double(e.y1 + 1)}};
+    masks[id] = {e.pixels, Box2d{double(e.x0), double(e.y0), double(e.x1 + 1), double(e.y1 + 1)}};
   }
   return masks;
 }
 
-std::optional<ObjectTruth> MeasureObjectTruth(
-    const ObjectIdentity& object,
-    const PinholeCamera& camera,
-    const Rigid3d& cam_from_world,
-    const InstanceMask* mask,
-    const UnoccludedCounter& count_unoccluded) {
+std::optional<ObjectTruth> MeasureObjectTruth(const ObjectIdentity& object,
+                                              const PinholeCamera& camera,
+                                              const Rigid3d& cam_from_world,
+                                              const InstanceMask* mask,
+                                              const UnoccludedCounter& count_unoccluded) {
   ObjectTruth t;
   t.instance_id = object.instance_id;
   t.class_id = object.class_id;
@@ -53,8 +51,7 @@ std::optional<ObjectTruth> MeasureObjectTruth(
     t.visible_pixels = mask->pixels;
     t.bbox = mask->box;
   }
-  if (const std::optional<Box2d> projected =
-          ProjectedBounds(t.obb, camera, cam_from_world)) {
+  if (const std::optional<Box2d> projected = ProjectedBounds(t.obb, camera, cam_from_world)) {
     const Box2d clipped = projected->ClippedTo(camera.width, camera.height);
     if (!clipped.empty()) t.bbox_projected = clipped;
   }
@@ -63,8 +60,7 @@ std::optional<ObjectTruth> MeasureObjectTruth(
   int64_t unoccluded = t.visible_pixels;
   if (t.bbox_projected && count_unoccluded)
     unoccluded = std::max(unoccluded, count_unoccluded(*t.bbox_projected));
-  t.visibility =
-      unoccluded > 0 ? static_cast<double>(t.visible_pixels) / unoccluded : 0.0;
+  t.visibility = unoccluded > 0 ? static_cast<double>(t.visible_pixels) / unoccluded : 0.0;
   return t;
 }
 

@@ -26,8 +26,9 @@ struct InstanceMask {
 
 // One pass over a row-major id layer of `width` x `height`: the mask of every
 // non-zero id. 0 is background.
-std::unordered_map<uint32_t, InstanceMask> MeasureInstanceMasks(
-    const std::vector<uint32_t>& ids, int width, int height);
+std::unordered_map<uint32_t, InstanceMask> MeasureInstanceMasks(const std::vector<uint32_t>& ids,
+                                                                int width,
+                                                                int height);
 
 // What the caller knows of an object besides the layers.
 struct ObjectIdentity {
@@ -48,11 +49,10 @@ using UnoccludedCounter = std::function<int64_t(const Box2d& bounds)>;
 // the max keeps it in [0, 1] where a sample position differs by a hair between
 // the two passes. `count_unoccluded` may be empty when the caller cannot
 // count; the visibility is then 1 for a visible object and 0 otherwise.
-std::optional<ObjectTruth> MeasureObjectTruth(
-    const ObjectIdentity& object,
-    const PinholeCamera& camera,
-    const Rigid3d& cam_from_world,
-    const InstanceMask* mask,
-    const UnoccludedCounter& count_unoccluded);
+std::optional<ObjectTruth> MeasureObjectTruth(const ObjectIdentity& object,
+                                              const PinholeCamera& camera,
+                                              const Rigid3d& cam_from_world,
+                                              const InstanceMask* mask,
+                                              const UnoccludedCounter& count_unoccluded);
 
 }  // namespace lsds

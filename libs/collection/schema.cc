@@ -15,16 +15,14 @@
 
 namespace lsds {
 
-const std::map<std::string, std::string>&
-EmbeddedSchemas();  // generated, schemas/CMakeLists.txt
+const std::map<std::string, std::string>& EmbeddedSchemas();  // generated, schemas/CMakeLists.txt
 
 struct JsonSchema::Impl {
   nlohmann::json document;  // the adapter refers to it while parsing
   valijson::Schema schema;
 };
 
-JsonSchema::JsonSchema(const nlohmann::json& schema_document)
-    : impl_(new Impl) {
+JsonSchema::JsonSchema(const nlohmann::json& schema_document) : impl_(new Impl) {
   impl_->document = schema_document;
   valijson::SchemaParser parser(valijson::SchemaParser::kDraft7);
   valijson::adapters::NlohmannJsonAdapter adapter(impl_->document);
@@ -37,8 +35,7 @@ const std::string& EmbeddedSchemaText(const std::string& file) {
   const auto& schemas = EmbeddedSchemas();
   const auto it = schemas.find(file);
   if (it == schemas.end()) {
-    throw Error("unknown schema '" + file + "'" +
-                DidYouMean(file, EmbeddedSchemaNames()));
+    throw Error("unknown schema '" + file + "'" + DidYouMean(file, EmbeddedSchemaNames()));
   }
   return it->second;
 }
@@ -49,8 +46,7 @@ std::vector<std::string> EmbeddedSchemaNames() {
   return names;
 }
 
-const JsonSchema& JsonSchema::Get(const std::string& file,
-                                  const std::string& definition) {
+const JsonSchema& JsonSchema::Get(const std::string& file, const std::string& definition) {
   static std::mutex mutex;
   static std::map<std::string, std::unique_ptr<JsonSchema>> cache;
   std::lock_guard<std::mutex> lock(mutex);
@@ -60,8 +56,7 @@ const JsonSchema& JsonSchema::Get(const std::string& file,
     nlohmann::json document = nlohmann::json::parse(EmbeddedSchemaText(file));
     if (!definition.empty()) {
       if (!document["definitions"].contains(definition)) {
-        throw Error("schema " + file + " has no definition '" + definition +
-                    "'");
+        throw Error("schema " + file + " has no definition '" + definition + "'");
       }
       // The definition as the root, with all definitions beside it so that its
       // $refs resolve.
@@ -102,15 +97,14 @@ std::string PointerFromContext(const std::vector<std::string>& context) {
 }
 
 bool IsPrefix(const std::string& prefix, const std::string& pointer) {
-  return pointer.size() > prefix.size() &&
-         pointer.compare(0, prefix.size(), prefix) == 0 &&
+  return pointer.size() > prefix.size() && pointer.compare(0, prefix.size(), prefix) == 0 &&
          pointer[prefix.size()] == '/';
 }
 
 }  // namespace
 
-std::vector<SchemaIssue> JsonSchema::Validate(
-    const nlohmann::json& document, const std::string& pointer_prefix) const {
+std::vector<SchemaIssue> JsonSchema::Validate(const nlohmann::json& document,
+                                              const std::string& pointer_prefix) const {
   valijson::Validator validator;
   valijson::ValidationResults results;
   valijson::adapters::NlohmannJsonAdapter adapter(document);
@@ -125,8 +119,8 @@ std::vector<SchemaIssue> JsonSchema::Validate(
     if (error.description.find(kUnknown) != std::string::npos) {
       const size_t open = error.description.rfind(": '");
       if (open != std::string::npos && error.description.size() > open + 4) {
-        const std::string key = error.description.substr(
-            open + 3, error.description.size() - open - 5);
+        const std::string key =
+            error.description.substr(open + 3, error.description.size() - open - 5);
         pointer += "/" + EscapePointerToken(key);
         error.description = "unknown key '" + key + "'";
       }
@@ -143,8 +137,7 @@ std::vector<SchemaIssue> JsonSchema::Validate(
     }
     bool duplicate = false;
     for (const SchemaIssue& kept : specific) {
-      if (kept.pointer == pointer_prefix + issue.pointer &&
-          kept.message == issue.message)
+      if (kept.pointer == pointer_prefix + issue.pointer && kept.message == issue.message)
         duplicate = true;
     }
     if (!has_deeper && !duplicate)
@@ -160,11 +153,9 @@ void JsonSchema::ValidateOrThrow(const nlohmann::json& document,
   if (issues.empty()) return;
   Location where;
   where.file = file_for_messages;
-  where.json_pointer =
-      issues.front().pointer.empty() ? "/" : issues.front().pointer;
+  where.json_pointer = issues.front().pointer.empty() ? "/" : issues.front().pointer;
   std::string message = "does not match its schema: " + issues.front().message;
-  if (issues.size() > 1)
-    message += " (and " + std::to_string(issues.size() - 1) + " more issues)";
+  if (issues.size() > 1) message += " (and " + std::to_string(issues.size() - 1) + " more issues)";
   throw Error(message, where);
 }
 

@@ -20,14 +20,12 @@ class JsonSchema {
   // The schema `file` of schemas/ (e.g. "collection.schema.json"), or one of
   // its definitions (e.g. "frame") so that large arrays can be validated
   // element by element. Cached; thread-safe.
-  static const JsonSchema& Get(const std::string& file,
-                               const std::string& definition = "");
+  static const JsonSchema& Get(const std::string& file, const std::string& definition = "");
 
   // The most specific issues (no issue whose location contains another's),
   // pointers prefixed.
-  std::vector<SchemaIssue> Validate(
-      const nlohmann::json& document,
-      const std::string& pointer_prefix = "") const;
+  std::vector<SchemaIssue> Validate(const nlohmann::json& document,
+                                    const std::string& pointer_prefix = "") const;
   // Throws lsds::Error naming `file_for_messages` and the pointer of the first
   // issue.
   void ValidateOrThrow(const nlohmann::json& document,

@@ -16,18 +16,15 @@ CollectionSummary Summarize(const CollectionReader& reader) {
   const CollectionHeader& header = reader.header();
   const WorldFrame& world = header.conventions.world;
   std::error_code ec;
-  s.collection_json_bytes =
-      static_cast<int64_t>(fs::file_size(reader.collection_path(), ec));
+  s.collection_json_bytes = static_cast<int64_t>(fs::file_size(reader.collection_path(), ec));
   for (const LayerInfo& layer : header.layers) s.layers[layer.name];
   for (const ClassInfo& c : header.classes) s.classes[c.id];
   reader.ForEachFrame([&](const Frame& frame) {
     const PinholeCamera& k = frame.camera.intrinsics;
     const double hfov = k.HorizontalFovDeg();
-    const Rigid3d cam_from_enu =
-        world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
-                               frame.camera.cam_from_world_translation);
-    const double height =
-        CameraCenterInWorld(cam_from_enu).z() / world.metres_per_unit;
+    const Rigid3d cam_from_enu = world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
+                                                        frame.camera.cam_from_world_translation);
+    const double height = CameraCenterInWorld(cam_from_enu).z() / world.metres_per_unit;
     if (s.frames == 0) {
       s.time_min = s.time_max = frame.time;
       s.hfov_min_deg = s.hfov_max_deg = hfov;
@@ -43,9 +40,8 @@ CollectionSummary Summarize(const CollectionReader& reader) {
     for (const LayerInfo& layer : header.layers) {
       LayerSummary& ls = s.layers[layer.name];
       const auto it = frame.files.find(layer.name);
-      const auto size = it == frame.files.end()
-                            ? static_cast<uintmax_t>(-1)
-                            : fs::file_size(reader.root() / it->second, ec);
+      const auto size = it == frame.files.end() ? static_cast<uintmax_t>(-1)
+                                                : fs::file_size(reader.root() / it->second, ec);
       if (it == frame.files.end() || ec) {
         ++ls.missing_files;
       } else {
@@ -64,15 +60,13 @@ CollectionSummary Summarize(const CollectionReader& reader) {
   s.total_bytes = s.collection_json_bytes;
   for (const auto& [name, layer] : s.layers) s.total_bytes += layer.bytes;
   for (const MetadataVariant& variant : header.metadata) {
-    s.total_bytes +=
-        static_cast<int64_t>(fs::file_size(reader.root() / variant.file, ec));
+    s.total_bytes += static_cast<int64_t>(fs::file_size(reader.root() / variant.file, ec));
     if (ec) ec.clear();
   }
   return s;
 }
 
-nlohmann::json SummaryToJson(const CollectionReader& reader,
-                             const CollectionSummary& s) {
+nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSummary& s) {
   const CollectionHeader& h = reader.header();
   nlohmann::json layers = nlohmann::json::array();
   for (const LayerInfo& layer : h.layers) {
@@ -87,23 +81,20 @@ nlohmann::json SummaryToJson(const CollectionReader& reader,
                             {"files", ls.files},
                             {"missing_files", ls.missing_files},
                             {"bytes", ls.bytes}};
-    if (layer.depth_kind)
-      entry["depth_kind"] = DepthKindName(*layer.depth_kind);
+    if (layer.depth_kind) entry["depth_kind"] = DepthKindName(*layer.depth_kind);
     layers.push_back(entry);
   }
   nlohmann::json classes = nlohmann::json::array();
   for (const auto& [id, cs] : s.classes) {
     const ClassInfo* info = h.FindClass(id);
-    classes.push_back(
-        {{"id", id},
-         {"name", info ? info->name : std::string("(not in class table)")},
-         {"objects", cs.objects},
-         {"instances", cs.instance_ids.size()}});
+    classes.push_back({{"id", id},
+                       {"name", info ? info->name : std::string("(not in class table)")},
+                       {"objects", cs.objects},
+                       {"instances", cs.instance_ids.size()}});
   }
   return {{"path", Utf8Escaped(reader.root().string())},
           {"format_version", h.format_version},
-          {"generator",
-           h.provenance.generator + " " + h.provenance.generator_version},
+          {"generator", h.provenance.generator + " " + h.provenance.generator_version},
           {"frames", s.frames},
           {"frame_count_declared", h.frame_count},
           {"time", {{"min", s.time_min}, {"max", s.time_max}}},
@@ -113,8 +104,7 @@ nlohmann::json SummaryToJson(const CollectionReader& reader,
           {"cameras",
            {{"resolutions", s.resolutions},
             {"hfov_deg", {{"min", s.hfov_min_deg}, {"max", s.hfov_max_deg}}},
-            {"height",
-             {{"min", s.camera_height_min}, {"max", s.camera_height_max}}}}},
+            {"height", {{"min", s.camera_height_min}, {"max", s.camera_height_max}}}}},
           {"layers", layers},
           {"classes", classes},
           {"objects", s.objects},
@@ -132,29 +122,21 @@ std::string HumanBytes(int64_t bytes) {
     ++unit;
   }
   char buffer[32];
-  std::snprintf(buffer,
-                sizeof(buffer),
-                unit == 0 ? "%.0f %s" : "%.1f %s",
-                value,
-                units[unit]);
+  std::snprintf(buffer, sizeof(buffer), unit == 0 ? "%.0f %s" : "%.1f %s", value, units[unit]);
   return buffer;
 }
 }  // namespace
 
-std::string SummaryToText(const CollectionReader& reader,
-                          const CollectionSummary& s) {
+std::string SummaryToText(const CollectionReader& reader, const CollectionSummary& s) {
   const CollectionHeader& h = reader.header();
   std::ostringstream out;
-  out << "collection  " << reader.root().string() << "  (format "
-      << h.format_version << ", " << h.provenance.generator << " "
-      << h.provenance.generator_version << ")\n";
+  out << "collection  " << reader.root().string() << "  (format " << h.format_version << ", "
+      << h.provenance.generator << " " << h.provenance.generator_version << ")\n";
   out << "frames      " << s.frames;
-  if (s.frames != h.frame_count)
-    out << "  (header declares " << h.frame_count << ")";
+  if (s.frames != h.frame_count) out << "  (header declares " << h.frame_count << ")";
   out << ", time " << s.time_min << " .. " << s.time_max << " s\n";
-  out << "units       world " << h.conventions.world.name << ", "
-      << h.conventions.world.length_unit << ", "
-      << (h.conventions.world.right_handed() ? "right" : "left")
+  out << "units       world " << h.conventions.world.name << ", " << h.conventions.world.length_unit
+      << ", " << (h.conventions.world.right_handed() ? "right" : "left")
       << "-handed; camera OpenCV\n";
   out << "cameras     ";
   for (const auto& [resolution, count] : s.resolutions)
@@ -173,8 +155,7 @@ std::string SummaryToText(const CollectionReader& reader,
     const LayerSummary& ls = s.layers.at(layer.name);
     std::string channels;
     for (const LayerChannel& c : layer.channels) {
-      channels += (channels.empty() ? "" : ",") + c.name + ":" +
-                  exr::PixelTypeName(c.type);
+      channels += (channels.empty() ? "" : ",") + c.name + ":" + exr::PixelTypeName(c.type);
     }
     std::snprintf(line,
                   sizeof(line),

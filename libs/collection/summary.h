@@ -39,9 +39,7 @@ struct CollectionSummary {
 // Streams the frames once (stat-ing each layer file, not decoding it).
 CollectionSummary Summarize(const CollectionReader& reader);
 
-nlohmann::json SummaryToJson(const CollectionReader& reader,
-                             const CollectionSummary& summary);
-std::string SummaryToText(const CollectionReader& reader,
-                          const CollectionSummary& summary);
+nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSummary& summary);
+std::string SummaryToText(const CollectionReader& reader, const CollectionSummary& summary);
 
 }  // namespace lsds

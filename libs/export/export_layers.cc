@@ -14,8 +14,8 @@
 
 #include "libs/collection/collection_guard.h"
 #include "libs/collection/collection_reader.h"
-#include "libs/exr/flat_image.h"
 #include "libs/export/png16_encoding.h"
+#include "libs/exr/flat_image.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/npy.h"
@@ -30,16 +30,18 @@ Target ParseTarget(const std::string& name) {
   if (name == "npy") return Target::kNpy;
   if (name == "png16") return Target::kPng16;
   if (name == "tiff") return Target::kTiff;
-  throw Error("--to: unknown target '" + name + "'" +
-              DidYouMean(name, {"npy", "png16", "tiff"}) +
+  throw Error("--to: unknown target '" + name + "'" + DidYouMean(name, {"npy", "png16", "tiff"}) +
               " (npy, png16 or tiff)");
 }
 
 const char* TargetName(Target target) {
   switch (target) {
-    case Target::kNpy: return "npy";
-    case Target::kPng16: return "png16";
-    case Target::kTiff: return "tiff";
+    case Target::kNpy:
+      return "npy";
+    case Target::kPng16:
+      return "png16";
+    case Target::kTiff:
+      return "tiff";
   }
   return "?";
 }
@@ -55,9 +57,12 @@ struct LayerPlan {
 
 const char* Extension(Target target) {
   switch (target) {
-    case Target::kNpy: return ".npy";
-    case Target::kPng16: return ".png";
-    case Target::kTiff: return ".tiff";
+    case Target::kNpy:
+      return ".npy";
+    case Target::kPng16:
+      return ".png";
+    case Target::kTiff:
+      return ".tiff";
   }
   return "";
 }
@@ -68,8 +73,7 @@ std::string FileName(const std::string& stem,
                      const LayerInfo& layer,
                      size_t channel,
                      Target target) {
-  if (target == Target::kNpy || layer.channels.size() == 1)
-    return stem + Extension(target);
+  if (target == Target::kNpy || layer.channels.size() == 1) return stem + Extension(target);
   return stem + "." + layer.channels[channel].name + Extension(target);
 }
 
@@ -106,15 +110,13 @@ std::vector<LayerPlan> PlanLayers(const CollectionHeader& header,
   if (options.layers.empty()) {
     for (const LayerInfo& info : header.layers) {
       if (info.deep || info.channels.empty()) continue;
-      if (options.target == Target::kPng16 &&
-          !Png16EncodingOf(info.semantic, options.depth_step))
+      if (options.target == Target::kPng16 && !Png16EncodingOf(info.semantic, options.depth_step))
         continue;
       add(info);
     }
     if (plans.empty()) {
       throw Error(std::string("the collection has no flat layer that ") +
-                      TargetName(options.target) + " can hold (layers: " +
-                      Join(names, ", ") + ")",
+                      TargetName(options.target) + " can hold (layers: " + Join(names, ", ") + ")",
                   Location(collection_file, "/layers"));
     }
     return plans;
@@ -122,9 +124,8 @@ std::vector<LayerPlan> PlanLayers(const CollectionHeader& header,
   for (const std::string& name : options.layers) {
     const LayerInfo* info = header.FindLayer(name);
     if (info == nullptr) {
-      throw Error("--layers: the collection has no layer '" + name + "'" +
-                  DidYouMean(name, names) + " (layers: " + Join(names, ", ") +
-                  ")");
+      throw Error("--layers: the collection has no layer '" + name + "'" + DidYouMean(name, names) +
+                  " (layers: " + Join(names, ", ") + ")");
     }
     for (const LayerPlan& p : plans)
       if (p.info == info) throw Error("--layers: '" + name + "' given twice");
@@ -133,10 +134,8 @@ std::vector<LayerPlan> PlanLayers(const CollectionHeader& header,
                   "' is a deep layer (several samples per pixel); read it with "
                   "OpenEXR's deep API (docs/format.md, \"Pixel bundles\")");
     }
-    if (options.target == Target::kPng16 &&
-        !Png16EncodingOf(info->semantic, options.depth_step)) {
-      const std::string semantic =
-          info->semantic == name ? "" : " (" + info->semantic + ")";
+    if (options.target == Target::kPng16 && !Png16EncodingOf(info->semantic, options.depth_step)) {
+      const std::string semantic = info->semantic == name ? "" : " (" + info->semantic + ")";
       throw Error("--layers: '" + name + "'" + semantic +
                   " has no 16-bit PNG encoding: its values are unbounded or "
                   "of unknown range; use --to npy or --to tiff (exact float32)");
@@ -193,27 +192,27 @@ class FrameWriter {
         std::vector<uint32_t> out(n * c_count);
         for (size_t c = 0; c < c_count; ++c)
           for (size_t p = 0; p < n; ++p) out[p * c_count + c] = data[c]->uints[p];
-        WriteNpy(path, "'<u4'", shape,
-                 std::string(reinterpret_cast<const char*>(out.data()),
-                             out.size() * 4));
+        WriteNpy(path,
+                 "'<u4'",
+                 shape,
+                 std::string(reinterpret_cast<const char*>(out.data()), out.size() * 4));
       } else {
         std::vector<float> out(n * c_count);
         for (size_t c = 0; c < c_count; ++c)
-          for (size_t p = 0; p < n; ++p)
-            out[p * c_count + c] = data[c]->floats[p];
+          for (size_t p = 0; p < n; ++p) out[p * c_count + c] = data[c]->floats[p];
         for (float v : out)
           if (!std::isfinite(v)) ++counts->invalid_pixels;
-        WriteNpy(path, "'<f4'", shape,
-                 std::string(reinterpret_cast<const char*>(out.data()),
-                             out.size() * 4));
+        WriteNpy(path,
+                 "'<f4'",
+                 shape,
+                 std::string(reinterpret_cast<const char*>(out.data()), out.size() * 4));
       }
       written(path);
       return bytes;
     }
 
     for (size_t c = 0; c < data.size(); ++c) {
-      const fs::path path =
-          folder / FileName(stem, layer, c, options_.target);
+      const fs::path path = folder / FileName(stem, layer, c, options_.target);
       cv::Mat mat;
       if (options_.target == Target::kTiff) {
         // OpenCV has no 32-bit unsigned type: ids go as int32 with the same
@@ -234,14 +233,13 @@ class FrameWriter {
           if (plan.integer) {
             const uint32_t id = data[c]->uints[p];
             if (id > 65535) {
-              throw Error(
-                  "id " + std::to_string(id) + " of layer '" + layer.name +
-                      "' does not fit a 16-bit PNG (max 65535); use --to npy "
-                      "or --to tiff",
-                  Location::Pixel(source.string(),
-                                  frame.index,
-                                  static_cast<int>(p % w),
-                                  static_cast<int>(p / w)));
+              throw Error("id " + std::to_string(id) + " of layer '" + layer.name +
+                              "' does not fit a 16-bit PNG (max 65535); use --to npy "
+                              "or --to tiff",
+                          Location::Pixel(source.string(),
+                                          frame.index,
+                                          static_cast<int>(p % w),
+                                          static_cast<int>(p / w)));
             }
             out[p] = static_cast<uint16_t>(id);
             continue;
@@ -282,8 +280,7 @@ nlohmann::ordered_json Describe(const LayerPlan& plan,
   if (layer.depth_kind) j["depth_kind"] = DepthKindName(*layer.depth_kind);
   nlohmann::ordered_json exr_channels = nlohmann::ordered_json::array();
   for (const LayerChannel& c : layer.channels)
-    exr_channels.push_back({{"name", c.name},
-                            {"type", exr::PixelTypeName(c.type)}});
+    exr_channels.push_back({{"name", c.name}, {"type", exr::PixelTypeName(c.type)}});
   j["exr_channels"] = exr_channels;
   j["dtype"] = NumpyType(plan, options.target);
   if (options.target == Target::kNpy) {
@@ -303,8 +300,7 @@ nlohmann::ordered_json Describe(const LayerPlan& plan,
     j["decode"] = "value = stored * scale + offset";
     j["scale"] = plan.png16->scale;
     j["offset"] = plan.png16->offset;
-    j["quantisation"] =
-        "round to nearest: |value - exr| <= scale / 2 inside the range";
+    j["quantisation"] = "round to nearest: |value - exr| <= scale / 2 inside the range";
     j["range"] = {DecodePng16(*plan.png16, plan.png16->lowest_valid()),
                   DecodePng16(*plan.png16, 65535)};
     if (plan.png16->invalid_stored) {
@@ -339,20 +335,17 @@ nlohmann::ordered_json Describe(const LayerPlan& plan,
 
 ExportSummary ExportLayers(const ExportOptions& options) {
   if (options.output.empty()) throw Error("no output folder (-o OUT)");
-  if (!(options.depth_step > 0))
-    throw Error("--depth-step must be > 0");
+  if (!(options.depth_step > 0)) throw Error("--depth-step must be > 0");
   const CollectionReader reader(options.collection);
   const CollectionHeader& header = reader.header();
   const std::string collection_file = reader.collection_path().string();
   OutputGuard guard("lsds export-layers");
   GuardCollection(&guard, options.collection, CollectionAccess::kReadOnly);
   guard.CheckOutput(options.output, "-o");
-  std::vector<LayerPlan> plans =
-      PlanLayers(header, options, collection_file);
+  std::vector<LayerPlan> plans = PlanLayers(header, options, collection_file);
 
   AtomicDirectory folder(options.output, options.force);
-  for (const LayerPlan& plan : plans)
-    fs::create_directories(folder.temp_path() / plan.info->name);
+  for (const LayerPlan& plan : plans) fs::create_directories(folder.temp_path() / plan.info->name);
 
   const FrameWriter writer(options, folder.temp_path());
   ExportSummary summary;
@@ -361,8 +354,7 @@ ExportSummary ExportLayers(const ExportOptions& options) {
   std::atomic<int64_t> bytes{0};
   const int64_t in_file = static_cast<int64_t>(reader.frames_in_file());
   Progress progress("export-layers", in_file);
-  const size_t batch =
-      std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
+  const size_t batch = std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
   reader.ParallelForEachFrame(
       [&](const Frame& frame) {
         if (!options.frames.Contains(frame.index)) return;
@@ -386,8 +378,7 @@ ExportSummary ExportLayers(const ExportOptions& options) {
       },
       batch);
   if (frames.empty()) {
-    throw Error("no frame selected (the collection has " +
-                    std::to_string(in_file) + " frames)",
+    throw Error("no frame selected (the collection has " + std::to_string(in_file) + " frames)",
                 Location(collection_file));
   }
   std::sort(frames.begin(), frames.end());
@@ -403,10 +394,9 @@ ExportSummary ExportLayers(const ExportOptions& options) {
   for (const LayerPlan& plan : plans) {
     layers[plan.info->name] = Describe(plan, options, header);
     summary.layers.push_back(plan.summary);
-    summary.files += plan.summary.frames *
-                     (options.target == Target::kNpy
-                          ? 1
-                          : static_cast<int64_t>(plan.info->channels.size()));
+    summary.files +=
+        plan.summary.frames *
+        (options.target == Target::kNpy ? 1 : static_cast<int64_t>(plan.info->channels.size()));
   }
   sidecar["layers"] = layers;
   const std::string text = sidecar.dump(2) + "\n";

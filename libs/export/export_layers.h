@@ -34,7 +34,7 @@ struct ExportOptions {
 
 struct LayerSummary {
   std::string name;
-  int64_t frames = 0;  // frames written (a non-required layer may lack some)
+  int64_t frames = 0;          // frames written (a non-required layer may lack some)
   int64_t invalid_pixels = 0;  // non-finite values given the invalid code
   int64_t clamped_pixels = 0;  // png16: values outside the encodable range
 };

@@ -19,8 +19,7 @@ Png16Encoding Centred(double centre, std::string invalid_meaning) {
 
 }  // namespace
 
-std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic,
-                                             double depth_step) {
+std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic, double depth_step) {
   Png16Encoding e;
   if (semantic == "classid" || semantic == "instanceid") {
     e.integer = true;
@@ -35,8 +34,7 @@ std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic,
   }
   if (semantic == "normal")
     return Centred(0.0, "non-finite in the EXR (never in lsds' own layers)");
-  if (semantic == "motion")
-    return Centred(0.5, "no valid motion: NaN in the EXR");
+  if (semantic == "motion") return Centred(0.5, "no valid motion: NaN in the EXR");
   if (semantic == "shadow") {
     e.scale = 1.0 / 65535.0;  // [0, 1] onto the full range
     return e;
@@ -44,9 +42,7 @@ std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic,
   return std::nullopt;
 }
 
-uint16_t EncodeFloat(const Png16Encoding& encoding,
-                     float value,
-                     EncodeOutcome* outcome) {
+uint16_t EncodeFloat(const Png16Encoding& encoding, float value, EncodeOutcome* outcome) {
   if (!std::isfinite(value)) {
     if (encoding.invalid_stored) {
       *outcome = EncodeOutcome::kInvalid;
@@ -56,8 +52,7 @@ uint16_t EncodeFloat(const Png16Encoding& encoding,
     return 0;
   }
   const double stored =
-      std::nearbyint((static_cast<double>(value) - encoding.offset) /
-                     encoding.scale);
+      std::nearbyint((static_cast<double>(value) - encoding.offset) / encoding.scale);
   const double lowest = encoding.lowest_valid();
   if (stored < lowest || stored > 65535.0) {
     *outcome = EncodeOutcome::kClamped;

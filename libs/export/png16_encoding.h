@@ -19,7 +19,7 @@ struct Png16Encoding {
   // when the layer has none (ids: 0 is a real id, "background").
   std::optional<uint16_t> invalid_stored;
   std::string invalid_meaning;  // what such a pixel is in the EXR
-  bool integer = false;  // ids: copied, never rounded; > 65535 is an error
+  bool integer = false;         // ids: copied, never rounded; > 65535 is an error
 
   uint16_t lowest_valid() const { return invalid_stored ? 1 : 0; }
 };
@@ -28,17 +28,14 @@ struct Png16Encoding {
 // (worldposition: unbounded signed coordinates; rgb: HDR radiance; derived
 // layers: unknown range). `depth_step` is the depth quantum in the collection's
 // length unit (0.001: millimetres for a metre collection).
-std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic,
-                                             double depth_step);
+std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic, double depth_step);
 
 enum class EncodeOutcome { kValue, kInvalid, kClamped };
 
 // Quantises a float value. Non-finite values become invalid_stored (kInvalid);
 // values outside the range are clamped to it (kClamped). A non-finite value in a
 // layer without an invalid code is clamped to 0 and reported as kClamped.
-uint16_t EncodeFloat(const Png16Encoding& encoding,
-                     float value,
-                     EncodeOutcome* outcome);
+uint16_t EncodeFloat(const Png16Encoding& encoding, float value, EncodeOutcome* outcome);
 
 inline double DecodePng16(const Png16Encoding& encoding, uint16_t stored) {
   return stored * encoding.scale + encoding.offset;

@@ -20,8 +20,7 @@ DeepImage::DeepImage(int width, int height, std::vector<uint32_t> sample_counts)
     throw Error("deep image: sample count array size mismatch");
   offsets_.resize(pixel_count() + 1);
   offsets_[0] = 0;
-  for (size_t i = 0; i < pixel_count(); ++i)
-    offsets_[i + 1] = offsets_[i] + sample_counts_[i];
+  for (size_t i = 0; i < pixel_count(); ++i) offsets_[i + 1] = offsets_[i] + sample_counts_[i];
 }
 
 DeepChannel& DeepImage::AddChannel(const std::string& name, PixelType type) {
@@ -44,14 +43,12 @@ const DeepChannel* DeepImage::Find(const std::string& name) const {
 
 const DeepChannel& DeepImage::Get(const std::string& name) const {
   const DeepChannel* channel = Find(name);
-  if (channel == nullptr)
-    throw Error("deep image has no channel '" + name + "'");
+  if (channel == nullptr) throw Error("deep image has no channel '" + name + "'");
   return *channel;
 }
 
 DeepChannel& DeepImage::Get(const std::string& name) {
-  return const_cast<DeepChannel&>(
-      static_cast<const DeepImage*>(this)->Get(name));
+  return const_cast<DeepChannel&>(static_cast<const DeepImage*>(this)->Get(name));
 }
 
 namespace {
@@ -59,8 +56,7 @@ namespace {
 // OpenEXR's deep frame buffers take one pointer per pixel into each channel's
 // sample storage.
 template <typename T>
-std::vector<char*> PixelPointers(T* samples,
-                                 const std::vector<uint64_t>& offsets) {
+std::vector<char*> PixelPointers(T* samples, const std::vector<uint64_t>& offsets) {
   std::vector<char*> pointers(offsets.size() - 1);
   for (size_t i = 0; i + 1 < offsets.size(); ++i) {
     pointers[i] = reinterpret_cast<char*>(samples + offsets[i]);
@@ -84,29 +80,23 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
 
     Imf::DeepFrameBuffer counts_buffer;
     std::vector<uint32_t> sample_counts(static_cast<size_t>(width) * height);
-    counts_buffer.insertSampleCountSlice(
-        Imf::Slice(Imf::UINT,
-                   reinterpret_cast<char*>(sample_counts.data()),
-                   sizeof(uint32_t),
-                   sizeof(uint32_t) * width));
+    counts_buffer.insertSampleCountSlice(Imf::Slice(Imf::UINT,
+                                                    reinterpret_cast<char*>(sample_counts.data()),
+                                                    sizeof(uint32_t),
+                                                    sizeof(uint32_t) * width));
     file.setFrameBuffer(counts_buffer);
     file.readPixelSampleCounts(0, height - 1);
     uint64_t total = 0;
     for (size_t i = 0; i < sample_counts.size(); ++i) {
-      if (sample_counts[i] >
-          static_cast<uint32_t>(limits.max_samples_per_pixel)) {
-        throw Error("pixel (" + std::to_string(i % width) + ", " +
-                        std::to_string(i / width) + ") has " +
-                        std::to_string(sample_counts[i]) +
-                        " samples, beyond the limit",
+      if (sample_counts[i] > static_cast<uint32_t>(limits.max_samples_per_pixel)) {
+        throw Error("pixel (" + std::to_string(i % width) + ", " + std::to_string(i / width) +
+                        ") has " + std::to_string(sample_counts[i]) + " samples, beyond the limit",
                     where);
       }
       total += sample_counts[i];
     }
     if (total > static_cast<uint64_t>(limits.max_deep_samples)) {
-      throw Error(
-          std::to_string(total) + " deep samples exceed the reader's limit",
-          where);
+      throw Error(std::to_string(total) + " deep samples exceed the reader's limit", where);
     }
 
     DeepImage image(width, height, std::move(sample_counts));
@@ -116,16 +106,14 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
     } else {
       for (const std::string& name : channels) {
         const ChannelSpec* spec = info.Find(name);
-        if (spec == nullptr)
-          throw Error("has no channel '" + name + "'", where);
+        if (spec == nullptr) throw Error("has no channel '" + name + "'", where);
         wanted.push_back(*spec);
       }
     }
     Imf::DeepFrameBuffer frame_buffer;
     frame_buffer.insertSampleCountSlice(
         Imf::Slice(Imf::UINT,
-                   reinterpret_cast<char*>(
-                       const_cast<uint32_t*>(image.sample_counts().data())),
+                   reinterpret_cast<char*>(const_cast<uint32_t*>(image.sample_counts().data())),
                    sizeof(uint32_t),
                    sizeof(uint32_t) * width));
     std::vector<std::vector<char*>> pointers;
@@ -133,21 +121,18 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
     for (const ChannelSpec& spec : wanted) {
       DeepChannel& channel = image.AddChannel(spec.name, spec.type);
       const bool is_uint = spec.type == PixelType::kUint;
-      pointers.push_back(
-          is_uint ? PixelPointers(channel.uints.data(), image.offsets())
-                  : PixelPointers(channel.floats.data(), image.offsets()));
+      pointers.push_back(is_uint ? PixelPointers(channel.uints.data(), image.offsets())
+                                 : PixelPointers(channel.floats.data(), image.offsets()));
       const size_t element = is_uint ? sizeof(uint32_t) : sizeof(float);
-      frame_buffer.insert(
-          spec.name,
-          Imf::DeepSlice(is_uint ? Imf::UINT : Imf::FLOAT,
-                         reinterpret_cast<char*>(pointers.back().data()),
-                         sizeof(char*),
-                         sizeof(char*) * width,
-                         element));
+      frame_buffer.insert(spec.name,
+                          Imf::DeepSlice(is_uint ? Imf::UINT : Imf::FLOAT,
+                                         reinterpret_cast<char*>(pointers.back().data()),
+                                         sizeof(char*),
+                                         sizeof(char*) * width,
+                                         element));
     }
     file.setFrameBuffer(frame_buffer);
-    file.readPixelSampleCounts(
-        0, height - 1);  // a new frame buffer needs its counts read again
+    file.readPixelSampleCounts(0, height - 1);  // a new frame buffer needs its counts read again
     file.readPixels(0, height - 1);
     return image;
   });
@@ -156,14 +141,11 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
 void WriteDeepExr(const std::filesystem::path& path,
                   const DeepImage& image,
                   const WriteOptions& options) {
-  if (options.compression != Compression::kNone &&
-      options.compression != Compression::kRle &&
+  if (options.compression != Compression::kNone && options.compression != Compression::kRle &&
       options.compression != Compression::kZips) {
-    throw Error(
-        std::string(
-            "deep EXR files allow only none, rle or zips compression, not ") +
-            CompressionName(options.compression),
-        Location(path.string()));
+    throw Error(std::string("deep EXR files allow only none, rle or zips compression, not ") +
+                    CompressionName(options.compression),
+                Location(path.string()));
   }
   internal::WriteAtomicExr(path, [&](Imf::OStream& stream) {
     Imf::Header header(image.width(), image.height());
@@ -173,8 +155,7 @@ void WriteDeepExr(const std::filesystem::path& path,
     Imf::DeepFrameBuffer frame_buffer;
     frame_buffer.insertSampleCountSlice(
         Imf::Slice(Imf::UINT,
-                   reinterpret_cast<char*>(
-                       const_cast<uint32_t*>(image.sample_counts().data())),
+                   reinterpret_cast<char*>(const_cast<uint32_t*>(image.sample_counts().data())),
                    sizeof(uint32_t),
                    sizeof(uint32_t) * image.width()));
     std::vector<std::vector<half>> halves;
@@ -182,28 +163,25 @@ void WriteDeepExr(const std::filesystem::path& path,
     std::vector<std::vector<char*>> pointers;
     pointers.reserve(image.channels().size());
     for (const DeepChannel& channel : image.channels()) {
-      header.channels().insert(channel.name,
-                               Imf::Channel(internal::ToImf(channel.type)));
+      header.channels().insert(channel.name, Imf::Channel(internal::ToImf(channel.type)));
       size_t element = 4;
       if (channel.type == PixelType::kUint) {
-        pointers.push_back(PixelPointers(
-            const_cast<uint32_t*>(channel.uints.data()), image.offsets()));
+        pointers.push_back(
+            PixelPointers(const_cast<uint32_t*>(channel.uints.data()), image.offsets()));
       } else if (channel.type == PixelType::kFloat) {
-        pointers.push_back(PixelPointers(
-            const_cast<float*>(channel.floats.data()), image.offsets()));
+        pointers.push_back(
+            PixelPointers(const_cast<float*>(channel.floats.data()), image.offsets()));
       } else {
         halves.emplace_back(channel.floats.begin(), channel.floats.end());
-        pointers.push_back(
-            PixelPointers(halves.back().data(), image.offsets()));
+        pointers.push_back(PixelPointers(halves.back().data(), image.offsets()));
         element = sizeof(half);
       }
-      frame_buffer.insert(
-          channel.name,
-          Imf::DeepSlice(internal::ToImf(channel.type),
-                         reinterpret_cast<char*>(pointers.back().data()),
-                         sizeof(char*),
-                         sizeof(char*) * image.width(),
-                         element));
+      frame_buffer.insert(channel.name,
+                          Imf::DeepSlice(internal::ToImf(channel.type),
+                                         reinterpret_cast<char*>(pointers.back().data()),
+                                         sizeof(char*),
+                                         sizeof(char*) * image.width(),
+                                         element));
     }
     Imf::DeepScanLineOutputFile file(stream, header);
     file.setFrameBuffer(frame_buffer);

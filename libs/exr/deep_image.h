@@ -29,25 +29,18 @@ class DeepImage {
   int width() const { return width_; }
   int height() const { return height_; }
   size_t pixel_count() const { return static_cast<size_t>(width_) * height_; }
-  uint64_t total_samples() const {
-    return offsets_.empty() ? 0 : offsets_.back();
-  }
-  uint32_t SampleCount(int x, int y) const {
-    return sample_counts_[Index(x, y)];
-  }
+  uint64_t total_samples() const { return offsets_.empty() ? 0 : offsets_.back(); }
+  uint32_t SampleCount(int x, int y) const { return sample_counts_[Index(x, y)]; }
   // Index of the first sample of pixel (x, y) in every channel's arrays.
   uint64_t FirstSample(int x, int y) const { return offsets_[Index(x, y)]; }
-  size_t Index(int x, int y) const {
-    return static_cast<size_t>(y) * width_ + x;
-  }
+  size_t Index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
   const std::vector<uint32_t>& sample_counts() const { return sample_counts_; }
   const std::vector<uint64_t>& offsets() const { return offsets_; }
 
   DeepChannel& AddChannel(const std::string& name,
                           PixelType type);  // zero-filled
   const DeepChannel* Find(const std::string& name) const;
-  const DeepChannel& Get(
-      const std::string& name) const;  // throws lsds::Error when missing
+  const DeepChannel& Get(const std::string& name) const;  // throws lsds::Error when missing
   DeepChannel& Get(const std::string& name);
   const std::deque<DeepChannel>& channels() const { return channels_; }
 
@@ -55,9 +48,8 @@ class DeepImage {
   int width_ = 0;
   int height_ = 0;
   std::vector<uint32_t> sample_counts_;
-  std::vector<uint64_t> offsets_;  // prefix sums, pixel_count() + 1 entries
-  std::deque<DeepChannel>
-      channels_;  // deque: AddChannel keeps earlier references valid
+  std::vector<uint64_t> offsets_;     // prefix sums, pixel_count() + 1 entries
+  std::deque<DeepChannel> channels_;  // deque: AddChannel keeps earlier references valid
 };
 
 // Reads the named channels (all when empty) of a deep scanline EXR. Sample

@@ -105,8 +105,7 @@ Imf::Compression ToImf(Compression compression) {
 static Imath::M44f ToImath(const Eigen::Matrix4d& m) {
   Imath::M44f out;
   for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c)
-      out[r][c] = static_cast<float>(m(c, r));  // row-vector convention
+    for (int c = 0; c < 4; ++c) out[r][c] = static_cast<float>(m(c, r));  // row-vector convention
   }
   return out;
 }
@@ -131,8 +130,7 @@ ExrInfo InfoFromHeader(const Imf::Header& header) {
   info.width = window.max.x - window.min.x + 1;
   info.height = window.max.y - window.min.y + 1;
   info.deep = header.hasType() && Imf::isDeepData(header.type());
-  for (auto it = header.channels().begin(); it != header.channels().end();
-       ++it) {
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
     PixelType type = PixelType::kFloat;
     if (it.channel().type == Imf::UINT) type = PixelType::kUint;
     if (it.channel().type == Imf::HALF) type = PixelType::kHalf;
@@ -159,8 +157,8 @@ ExrInfo InfoFromHeader(const Imf::Header& header) {
       break;  // lossy or exotic: reported by validators
   }
   if (Imf::hasWorldToCamera(header) && Imf::hasWorldToNDC(header)) {
-    info.camera = HeaderCamera{FromImath(Imf::worldToCamera(header)),
-                               FromImath(Imf::worldToNDC(header))};
+    info.camera =
+        HeaderCamera{FromImath(Imf::worldToCamera(header)), FromImath(Imf::worldToNDC(header))};
   }
   return info;
 }
@@ -172,34 +170,28 @@ void CheckLimits(const std::filesystem::path& path,
   const int64_t width = int64_t{window.max.x} - window.min.x + 1;
   const int64_t height = int64_t{window.max.y} - window.min.y + 1;
   const Location where{path.string()};
-  if (width <= 0 || height <= 0)
-    throw Error("empty or inverted data window", where);
+  if (width <= 0 || height <= 0) throw Error("empty or inverted data window", where);
   if (window.min.x != 0 || window.min.y != 0) {
-    throw Error("data window must start at (0, 0), starts at (" +
-                    std::to_string(window.min.x) + ", " +
-                    std::to_string(window.min.y) + ")",
+    throw Error("data window must start at (0, 0), starts at (" + std::to_string(window.min.x) +
+                    ", " + std::to_string(window.min.y) + ")",
                 where);
   }
   if (width > limits.max_width || height > limits.max_height ||
       width * height > limits.max_pixels) {
-    throw Error("image of " + std::to_string(width) + "x" +
-                    std::to_string(height) +
+    throw Error("image of " + std::to_string(width) + "x" + std::to_string(height) +
                     " pixels exceeds the reader's size limits",
                 where);
   }
   int channels = 0;
-  for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
-    ++channels;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) ++channels;
   if (channels > limits.max_channels) {
     throw Error(std::to_string(channels) + " channels exceed the limit of " +
                     std::to_string(limits.max_channels),
                 where);
   }
-  for (auto it = header.channels().begin(); it != header.channels().end();
-       ++it) {
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
     if (it.channel().xSampling != 1 || it.channel().ySampling != 1) {
-      throw Error(std::string("channel '") + it.name() +
-                      "' is subsampled; lsds layers are not",
+      throw Error(std::string("channel '") + it.name() + "' is subsampled; lsds layers are not",
                   where);
     }
   }
@@ -207,18 +199,15 @@ void CheckLimits(const std::filesystem::path& path,
 
 }  // namespace internal
 
-ExrInfo ReadExrInfo(const std::filesystem::path& path,
-                    const ReadLimits& limits) {
+ExrInfo ReadExrInfo(const std::filesystem::path& path, const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
     RequireRegularFile(path, "layer file");
     Imf::MultiPartInputFile file(path.c_str(), 0);  // no threads for a header
     if (file.parts() != 1)
-      throw Error("multi-part EXR files are not lsds layers",
-                  Location(path.string()));
+      throw Error("multi-part EXR files are not lsds layers", Location(path.string()));
     const Imf::Header& header = file.header(0);
     if (header.hasTileDescription())
-      throw Error("tiled EXR files are not lsds layers",
-                  Location(path.string()));
+      throw Error("tiled EXR files are not lsds layers", Location(path.string()));
     internal::CheckLimits(path, header, limits);
     return internal::InfoFromHeader(header);
   });

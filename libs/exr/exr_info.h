@@ -10,7 +10,6 @@ namespace lsds::exr {
 // Opens the header of a flat or deep scanline EXR and checks `limits`; throws
 // lsds::Error naming the file for unreadable files, tiled or multi-part files,
 // or files beyond the limits.
-ExrInfo ReadExrInfo(const std::filesystem::path& path,
-                    const ReadLimits& limits = {});
+ExrInfo ReadExrInfo(const std::filesystem::path& path, const ReadLimits& limits = {});
 
 }  // namespace lsds::exr

@@ -27,8 +27,7 @@ void CheckLimits(const std::filesystem::path& path,
 // Runs `body`, turning OpenEXR's exceptions into lsds::Error that names the
 // file.
 template <typename Body>
-auto GuardExr(const std::filesystem::path& path, Body&& body)
-    -> decltype(body()) {
+auto GuardExr(const std::filesystem::path& path, Body&& body) -> decltype(body()) {
   try {
     return body();
   } catch (const lsds::Error&) {
@@ -43,15 +42,12 @@ auto GuardExr(const std::filesystem::path& path, Body&& body)
 // checked, the file is synced and renamed into place by AtomicFile::Commit().
 class AtomicOStream : public Imf::OStream {
  public:
-  explicit AtomicOStream(AtomicFile& file)
-      : Imf::OStream(file.path().c_str()), file_(file) {}
+  explicit AtomicOStream(AtomicFile& file) : Imf::OStream(file.path().c_str()), file_(file) {}
   void write(const char c[], int n) override {
     file_.stream().write(c, n);
     if (!file_.stream()) file_.Check();  // throws naming the file and errno
   }
-  uint64_t tellp() override {
-    return static_cast<uint64_t>(file_.stream().tellp());
-  }
+  uint64_t tellp() override { return static_cast<uint64_t>(file_.stream().tellp()); }
   void seekp(uint64_t pos) override {
     file_.stream().seekp(static_cast<std::streamoff>(pos));
     if (!file_.stream()) file_.Check();

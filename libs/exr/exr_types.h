@@ -11,8 +11,7 @@
 namespace lsds::exr {
 
 enum class PixelType { kUint, kHalf, kFloat };
-const char* PixelTypeName(
-    PixelType type);  // "uint" | "half" | "float", as in docs/format.md
+const char* PixelTypeName(PixelType type);  // "uint" | "half" | "float", as in docs/format.md
 bool ParsePixelType(const std::string& name, PixelType* type);
 
 // Lossless compressions only: truth layers must survive a round trip bit for
@@ -24,9 +23,7 @@ bool ParseCompression(const std::string& name, Compression* compression);
 struct ChannelSpec {
   std::string name;
   PixelType type = PixelType::kFloat;
-  bool operator==(const ChannelSpec& o) const {
-    return name == o.name && type == o.type;
-  }
+  bool operator==(const ChannelSpec& o) const { return name == o.name && type == o.type; }
 };
 
 // Limits checked on the header before anything is decoded, so that a hostile or
@@ -44,10 +41,8 @@ struct ReadLimits {
 // `worldToCamera` and `worldToNDC`, in Imath's row-vector convention (p' = p *
 // M, i.e. the transpose of our matrices).
 struct HeaderCamera {
-  Eigen::Matrix4d cam_from_world =
-      Eigen::Matrix4d::Identity();  // OpenCV camera frame
-  Eigen::Matrix4d ndc_from_world =
-      Eigen::Matrix4d::Identity();  // see docs/format.md
+  Eigen::Matrix4d cam_from_world = Eigen::Matrix4d::Identity();  // OpenCV camera frame
+  Eigen::Matrix4d ndc_from_world = Eigen::Matrix4d::Identity();  // see docs/format.md
 };
 
 struct WriteOptions {

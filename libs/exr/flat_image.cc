@@ -40,8 +40,7 @@ const FlatChannel* FlatImage::Find(const std::string& name) const {
 }
 
 FlatChannel* FlatImage::Find(const std::string& name) {
-  return const_cast<FlatChannel*>(
-      static_cast<const FlatImage*>(this)->Find(name));
+  return const_cast<FlatChannel*>(static_cast<const FlatImage*>(this)->Find(name));
 }
 
 const FlatChannel& FlatImage::Get(const std::string& name) const {
@@ -51,8 +50,7 @@ const FlatChannel& FlatImage::Get(const std::string& name) const {
 }
 
 FlatChannel& FlatImage::Get(const std::string& name) {
-  return const_cast<FlatChannel&>(
-      static_cast<const FlatImage*>(this)->Get(name));
+  return const_cast<FlatChannel&>(static_cast<const FlatImage*>(this)->Get(name));
 }
 
 FlatImage ReadFlatExr(const std::filesystem::path& path,
@@ -63,8 +61,7 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
     Imf::InputFile file(path.c_str());
     const Imf::Header& header = file.header();
     if (header.hasType() && Imf::isDeepData(header.type())) {
-      throw Error("is a deep EXR; expected a flat layer",
-                  Location(path.string()));
+      throw Error("is a deep EXR; expected a flat layer", Location(path.string()));
     }
     internal::CheckLimits(path, header, limits);
     const ExrInfo info = internal::InfoFromHeader(header);
@@ -75,8 +72,7 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
     } else {
       for (const std::string& name : channels) {
         const ChannelSpec* spec = info.Find(name);
-        if (spec == nullptr)
-          throw Error("has no channel '" + name + "'", Location(path.string()));
+        if (spec == nullptr) throw Error("has no channel '" + name + "'", Location(path.string()));
         wanted.push_back(*spec);
       }
     }
@@ -89,11 +85,9 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
       char* base = is_uint ? reinterpret_cast<char*>(channel.uints.data())
                            : reinterpret_cast<char*>(channel.floats.data());
       const size_t element = is_uint ? sizeof(uint32_t) : sizeof(float);
-      frame_buffer.insert(spec.name,
-                          Imf::Slice(is_uint ? Imf::UINT : Imf::FLOAT,
-                                     base,
-                                     element,
-                                     element * info.width));
+      frame_buffer.insert(
+          spec.name,
+          Imf::Slice(is_uint ? Imf::UINT : Imf::FLOAT, base, element, element * info.width));
     }
     file.setFrameBuffer(frame_buffer);
     file.readPixels(0, info.height - 1);
@@ -113,26 +107,21 @@ void WriteFlatExr(const std::filesystem::path& path,
     halves.reserve(image.channels().size());
     Imf::FrameBuffer frame_buffer;
     for (const FlatChannel& channel : image.channels()) {
-      header.channels().insert(channel.name,
-                               Imf::Channel(internal::ToImf(channel.type)));
+      header.channels().insert(channel.name, Imf::Channel(internal::ToImf(channel.type)));
       char* base = nullptr;
       size_t element = 4;
       if (channel.type == PixelType::kUint) {
-        base = reinterpret_cast<char*>(
-            const_cast<uint32_t*>(channel.uints.data()));
+        base = reinterpret_cast<char*>(const_cast<uint32_t*>(channel.uints.data()));
       } else if (channel.type == PixelType::kFloat) {
-        base =
-            reinterpret_cast<char*>(const_cast<float*>(channel.floats.data()));
+        base = reinterpret_cast<char*>(const_cast<float*>(channel.floats.data()));
       } else {
         halves.emplace_back(channel.floats.begin(), channel.floats.end());
         base = reinterpret_cast<char*>(halves.back().data());
         element = sizeof(half);
       }
-      frame_buffer.insert(channel.name,
-                          Imf::Slice(internal::ToImf(channel.type),
-                                     base,
-                                     element,
-                                     element * image.width()));
+      frame_buffer.insert(
+          channel.name,
+          Imf::Slice(internal::ToImf(channel.type), base, element, element * image.width()));
     }
     {
       Imf::OutputFile file(stream, header);

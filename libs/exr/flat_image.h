@@ -34,26 +34,18 @@ class FlatImage {
   FlatChannel& AddChannel(const std::string& name, PixelType type);
   const FlatChannel* Find(const std::string& name) const;
   FlatChannel* Find(const std::string& name);
-  const FlatChannel& Get(
-      const std::string& name) const;  // throws lsds::Error when missing
+  const FlatChannel& Get(const std::string& name) const;  // throws lsds::Error when missing
   FlatChannel& Get(const std::string& name);
   const std::deque<FlatChannel>& channels() const { return channels_; }
 
-  float& F(const std::string& name, int x, int y) {
-    return Get(name).floats[Index(x, y)];
-  }
-  uint32_t& U(const std::string& name, int x, int y) {
-    return Get(name).uints[Index(x, y)];
-  }
-  size_t Index(int x, int y) const {
-    return static_cast<size_t>(y) * width_ + x;
-  }
+  float& F(const std::string& name, int x, int y) { return Get(name).floats[Index(x, y)]; }
+  uint32_t& U(const std::string& name, int x, int y) { return Get(name).uints[Index(x, y)]; }
+  size_t Index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
 
  private:
   int width_ = 0;
   int height_ = 0;
-  std::deque<FlatChannel>
-      channels_;  // deque: AddChannel keeps earlier references valid
+  std::deque<FlatChannel> channels_;  // deque: AddChannel keeps earlier references valid
 };
 
 // Reads the named channels (all when `channels` is empty) of a flat scanline

@@ -52,8 +52,7 @@ Eigen::Matrix3d EnuFromNed() {
   return enu_from_ned;
 }
 
-Rigid3d CamFromEnu(const Eigen::Vector3d& position_in_enu,
-                   const Attitude& attitude) {
+Rigid3d CamFromEnu(const Eigen::Vector3d& position_in_enu, const Attitude& attitude) {
   const Eigen::Matrix3d enu_from_cam =
       EnuFromNed() * NedFromBody(attitude).toRotationMatrix() * BodyFromCam();
   return Rigid3d(Eigen::Quaterniond(enu_from_cam), position_in_enu).Inverse();
@@ -65,8 +64,7 @@ void PositionAndAttitudeFromCamFromEnu(const Rigid3d& cam_from_enu,
   const Rigid3d enu_from_cam = cam_from_enu.Inverse();
   *position_in_enu = enu_from_cam.translation;
   const Eigen::Matrix3d ned_from_body =
-      EnuFromNed() * enu_from_cam.rotation.toRotationMatrix() *
-      BodyFromCam().transpose();
+      EnuFromNed() * enu_from_cam.rotation.toRotationMatrix() * BodyFromCam().transpose();
   *attitude = AttitudeFromNedFromBody(Eigen::Quaterniond(ned_from_body));
 }
 

@@ -31,8 +31,7 @@ Eigen::Matrix3d EnuFromNed();
 
 // Pose of a camera at `position_in_enu` with the given attitude, in an ENU
 // world.
-Rigid3d CamFromEnu(const Eigen::Vector3d& position_in_enu,
-                   const Attitude& attitude);
+Rigid3d CamFromEnu(const Eigen::Vector3d& position_in_enu, const Attitude& attitude);
 // Inverse of CamFromEnu: camera centre and attitude of a pose.
 void PositionAndAttitudeFromCamFromEnu(const Rigid3d& cam_from_enu,
                                        Eigen::Vector3d* position_in_enu,

@@ -11,13 +11,11 @@ struct Box2d {
 
   double width() const { return x1 - x0; }
   double height() const { return y1 - y0; }
-  double area() const {
-    return std::max(0.0, width()) * std::max(0.0, height());
-  }
+  double area() const { return std::max(0.0, width()) * std::max(0.0, height()); }
   bool empty() const { return !(x1 > x0 && y1 > y0); }
   bool Contains(const Box2d& other, double tolerance = 0.0) const {
-    return other.x0 >= x0 - tolerance && other.y0 >= y0 - tolerance &&
-           other.x1 <= x1 + tolerance && other.y1 <= y1 + tolerance;
+    return other.x0 >= x0 - tolerance && other.y0 >= y0 - tolerance && other.x1 <= x1 + tolerance &&
+           other.y1 <= y1 + tolerance;
   }
   Box2d ClippedTo(double width, double height) const {
     return {std::clamp(x0, 0.0, width),

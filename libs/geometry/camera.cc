@@ -10,9 +10,7 @@ double Deg(double rad) { return rad * 180.0 / kPi; }
 double Rad(double deg) { return deg * kPi / 180.0; }
 }  // namespace
 
-PinholeCamera PinholeCamera::FromHorizontalFov(int width,
-                                               int height,
-                                               double hfov_deg) {
+PinholeCamera PinholeCamera::FromHorizontalFov(int width, int height, double hfov_deg) {
   PinholeCamera camera;
   camera.width = width;
   camera.height = height;
@@ -22,12 +20,8 @@ PinholeCamera PinholeCamera::FromHorizontalFov(int width,
   return camera;
 }
 
-double PinholeCamera::HorizontalFovDeg() const {
-  return Deg(2.0 * std::atan(0.5 * width / fx));
-}
-double PinholeCamera::VerticalFovDeg() const {
-  return Deg(2.0 * std::atan(0.5 * height / fy));
-}
+double PinholeCamera::HorizontalFovDeg() const { return Deg(2.0 * std::atan(0.5 * width / fx)); }
+double PinholeCamera::VerticalFovDeg() const { return Deg(2.0 * std::atan(0.5 * height / fy)); }
 
 const char* DepthKindName(DepthKind kind) {
   return kind == DepthKind::kPlanar ? "planar" : "perspective";

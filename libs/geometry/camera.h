@@ -22,9 +22,7 @@ struct PinholeCamera {
 
   // Square pixels, centred principal point, horizontal field of view in
   // degrees.
-  static PinholeCamera FromHorizontalFov(int width,
-                                         int height,
-                                         double hfov_deg);
+  static PinholeCamera FromHorizontalFov(int width, int height, double hfov_deg);
 
   double HorizontalFovDeg() const;
   double VerticalFovDeg() const;
@@ -57,8 +55,8 @@ struct PinholeCamera {
     return m;
   }
   bool operator==(const PinholeCamera& other) const {
-    return width == other.width && height == other.height && fx == other.fx &&
-           fy == other.fy && cx == other.cx && cy == other.cy;
+    return width == other.width && height == other.height && fx == other.fx && fy == other.fy &&
+           cx == other.cx && cy == other.cy;
   }
 };
 
@@ -84,9 +82,8 @@ inline Eigen::Vector3d UnprojectDepth(const PinholeCamera& camera,
                                       double depth,
                                       DepthKind kind) {
   const Eigen::Vector3d ray = camera.CamFromImage(pixel);
-  return kind == DepthKind::kPlanar
-             ? Eigen::Vector3d(ray * depth)
-             : Eigen::Vector3d(ray * (depth / ray.norm()));
+  return kind == DepthKind::kPlanar ? Eigen::Vector3d(ray * depth)
+                                    : Eigen::Vector3d(ray * (depth / ray.norm()));
 }
 
 const char* DepthKindName(DepthKind kind);  // "planar" | "perspective"

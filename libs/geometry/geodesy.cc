@@ -4,8 +4,7 @@
 
 namespace lsds {
 
-Geodetic GeodeticOf(const GeoOrigin& origin,
-                    const Eigen::Vector3d& point_in_enu) {
+Geodetic GeodeticOf(const GeoOrigin& origin, const Eigen::Vector3d& point_in_enu) {
   // The origin's MSL altitude stands in for its ellipsoidal height: only
   // height differences matter below.
   const GeographicLib::LocalCartesian local(
@@ -24,12 +23,8 @@ Eigen::Vector3d EnuOf(const GeoOrigin& origin, const Geodetic& position) {
   const GeographicLib::LocalCartesian local(
       origin.latitude_deg, origin.longitude_deg, origin.altitude_m);
   Eigen::Vector3d p;
-  local.Forward(position.latitude_deg,
-                position.longitude_deg,
-                position.altitude_msl_m,
-                p.x(),
-                p.y(),
-                p.z());
+  local.Forward(
+      position.latitude_deg, position.longitude_deg, position.altitude_msl_m, p.x(), p.y(), p.z());
   return p;
 }
 

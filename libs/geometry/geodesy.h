@@ -21,8 +21,7 @@ struct Geodetic {
 };
 
 // The geodetic position of a point of the ENU world frame (metres).
-Geodetic GeodeticOf(const GeoOrigin& origin,
-                    const Eigen::Vector3d& point_in_enu);
+Geodetic GeodeticOf(const GeoOrigin& origin, const Eigen::Vector3d& point_in_enu);
 // The inverse: the ENU point of a geodetic position.
 Eigen::Vector3d EnuOf(const GeoOrigin& origin, const Geodetic& position);
 

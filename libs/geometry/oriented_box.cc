@@ -8,17 +8,14 @@ namespace lsds {
 std::array<Eigen::Vector3d, 8> OrientedBox::Corners() const {
   std::array<Eigen::Vector3d, 8> corners;
   for (int k = 0; k < 8; ++k) {
-    const Eigen::Vector3d sign(
-        (k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0);
+    const Eigen::Vector3d sign((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0, (k & 4) ? 1.0 : -1.0);
     corners[k] = center + world_from_box * sign.cwiseProduct(half_extents);
   }
   return corners;
 }
 
-bool OrientedBox::Contains(const Eigen::Vector3d& point_in_world,
-                           double tolerance) const {
-  const Eigen::Vector3d local =
-      world_from_box.transpose() * (point_in_world - center);
+bool OrientedBox::Contains(const Eigen::Vector3d& point_in_world, double tolerance) const {
+  const Eigen::Vector3d local = world_from_box.transpose() * (point_in_world - center);
   return (local.cwiseAbs() - half_extents).maxCoeff() <= tolerance;
 }
 
@@ -60,8 +57,7 @@ std::vector<Eigen::Vector2d> ProjectClipped(const OrientedBox& box,
   std::vector<Eigen::Vector2d> points;
   for (int k = 0; k < 8; ++k) {
     if (in_cam[k].z() >= near) points.push_back(camera.ImageFromCam(in_cam[k]));
-    for (int bit = 0; bit < 3;
-         ++bit) {  // each edge once: from k to k with one bit set
+    for (int bit = 0; bit < 3; ++bit) {  // each edge once: from k to k with one bit set
       if (k & (1 << bit)) continue;
       const Eigen::Vector3d& p = in_cam[k];
       const Eigen::Vector3d& q = in_cam[k | (1 << bit)];
@@ -74,9 +70,7 @@ std::vector<Eigen::Vector2d> ProjectClipped(const OrientedBox& box,
   return points;
 }
 
-double Cross(const Eigen::Vector2d& o,
-             const Eigen::Vector2d& a,
-             const Eigen::Vector2d& b) {
+double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
 }
 
@@ -93,8 +87,7 @@ std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points) {
     hull[k++] = points[i];
   }
   for (size_t i = points.size() - 1, lower = k + 1; i > 0; --i) {
-    while (k >= lower && Cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0)
-      --k;
+    while (k >= lower && Cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0) --k;
     hull[k++] = points[i - 1];
   }
   hull.resize(k - 1);
@@ -113,19 +106,17 @@ double PolygonArea(const std::vector<Eigen::Vector2d>& polygon) {
 
 // Sutherland-Hodgman against one half-plane: keep points with sign * (p[axis] -
 // limit) <= 0.
-std::vector<Eigen::Vector2d> ClipHalfPlane(
-    const std::vector<Eigen::Vector2d>& polygon,
-    int axis,
-    double limit,
-    double sign) {
+std::vector<Eigen::Vector2d> ClipHalfPlane(const std::vector<Eigen::Vector2d>& polygon,
+                                           int axis,
+                                           double limit,
+                                           double sign) {
   std::vector<Eigen::Vector2d> out;
   for (size_t i = 0; i < polygon.size(); ++i) {
     const auto& a = polygon[i];
     const auto& b = polygon[(i + 1) % polygon.size()];
     const double da = sign * (a[axis] - limit), db = sign * (b[axis] - limit);
     if (da <= 0) out.push_back(a);
-    if ((da < 0) != (db < 0) && da != 0 && db != 0)
-      out.push_back(a + (b - a) * (da / (da - db)));
+    if ((da < 0) != (db < 0) && da != 0 && db != 0) out.push_back(a + (b - a) * (da / (da - db)));
   }
   return out;
 }
@@ -152,16 +143,14 @@ double InFrameFraction(const OrientedBox& box,
                        const PinholeCamera& camera,
                        const Rigid3d& cam_from_world,
                        double near) {
-  const auto hull =
-      ConvexHull(ProjectClipped(box, camera, cam_from_world, near));
+  const auto hull = ConvexHull(ProjectClipped(box, camera, cam_from_world, near));
   const double total = hull.size() >= 3 ? PolygonArea(hull) : 0.0;
   if (total <= 0) return 0.0;
   auto clipped = ClipHalfPlane(hull, 0, 0.0, -1.0);
   clipped = ClipHalfPlane(clipped, 0, camera.width, 1.0);
   clipped = ClipHalfPlane(clipped, 1, 0.0, -1.0);
   clipped = ClipHalfPlane(clipped, 1, camera.height, 1.0);
-  return clipped.size() >= 3 ? std::min(1.0, PolygonArea(clipped) / total)
-                             : 0.0;
+  return clipped.size() >= 3 ? std::min(1.0, PolygonArea(clipped) / total) : 0.0;
 }
 
 }  // namespace lsds

@@ -13,15 +13,13 @@
 namespace lsds {
 
 struct OrientedBox {
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();        // point_in_world
-  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  // along the box axes
-  Eigen::Matrix3d world_from_box =
-      Eigen::Matrix3d::Identity();  // columns: box axes in the world
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();              // point_in_world
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();        // along the box axes
+  Eigen::Matrix3d world_from_box = Eigen::Matrix3d::Identity();  // columns: box axes in the world
 
   // Corner k has sign (+/-) of half_extents from bits 0, 1, 2 of k.
   std::array<Eigen::Vector3d, 8> Corners() const;
-  bool Contains(const Eigen::Vector3d& point_in_world,
-                double tolerance = 0.0) const;
+  bool Contains(const Eigen::Vector3d& point_in_world, double tolerance = 0.0) const;
   // Separating-axis test; touching boxes do not intersect.
   bool Intersects(const OrientedBox& other) const;
 };

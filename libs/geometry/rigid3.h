@@ -11,16 +11,13 @@ struct Rigid3d {
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
 
   Rigid3d() = default;
-  Rigid3d(const Eigen::Quaterniond& r, const Eigen::Vector3d& t)
-      : rotation(r), translation(t) {}
+  Rigid3d(const Eigen::Quaterniond& r, const Eigen::Vector3d& t) : rotation(r), translation(t) {}
 
   Eigen::Vector3d operator*(const Eigen::Vector3d& point) const {
     return rotation * point + translation;
   }
-  Rigid3d operator*(
-      const Rigid3d& other) const {  // (a_from_b * b_from_c) = a_from_c
-    return Rigid3d(rotation * other.rotation,
-                   rotation * other.translation + translation);
+  Rigid3d operator*(const Rigid3d& other) const {  // (a_from_b * b_from_c) = a_from_c
+    return Rigid3d(rotation * other.rotation, rotation * other.translation + translation);
   }
   Rigid3d Inverse() const {
     const Eigen::Quaterniond inverse = rotation.conjugate();
@@ -42,14 +39,12 @@ inline Eigen::Vector3d CameraCenterInWorld(const Rigid3d& cam_from_world) {
 // A `cam_from_world` pose for a camera at `eye_in_world` looking at
 // `target_in_world`, with the image's "up" (-y in the OpenCV camera frame) as
 // close as possible to `up_in_world`.
-inline Rigid3d LookAt(
-    const Eigen::Vector3d& eye_in_world,
-    const Eigen::Vector3d& target_in_world,
-    const Eigen::Vector3d& up_in_world = Eigen::Vector3d::UnitZ()) {
+inline Rigid3d LookAt(const Eigen::Vector3d& eye_in_world,
+                      const Eigen::Vector3d& target_in_world,
+                      const Eigen::Vector3d& up_in_world = Eigen::Vector3d::UnitZ()) {
   const Eigen::Vector3d z = (target_in_world - eye_in_world).normalized();
   Eigen::Vector3d x = z.cross(up_in_world);
-  if (x.squaredNorm() < 1e-12)
-    x = z.cross(Eigen::Vector3d::UnitY());  // looking along up
+  if (x.squaredNorm() < 1e-12) x = z.cross(Eigen::Vector3d::UnitY());  // looking along up
   x.normalize();
   const Eigen::Vector3d y = z.cross(x);
   Eigen::Matrix3d world_from_cam;

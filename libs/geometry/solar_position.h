@@ -15,18 +15,11 @@ struct SolarPosition {
 
 // `unix_seconds` is UTC (seconds since 1970-01-01T00:00:00Z); latitude north
 // and longitude east in degrees (WGS84).
-SolarPosition SunPositionAt(double unix_seconds,
-                            double latitude_deg,
-                            double longitude_deg);
+SolarPosition SunPositionAt(double unix_seconds, double latitude_deg, double longitude_deg);
 
 // Seconds since the epoch of a civil date and time at `utc_offset_hours`
 // (e.g. -7 for MST): days from civil (proleptic Gregorian calendar).
-double UnixSeconds(int year,
-                   int month,
-                   int day,
-                   int hour,
-                   int minute,
-                   double second,
-                   double utc_offset_hours);
+double UnixSeconds(
+    int year, int month, int day, int hour, int minute, double second, double utc_offset_hours);
 
 }  // namespace lsds

@@ -16,8 +16,7 @@ const std::vector<std::string>& WorldFrame::UnitNames() {
   return names;
 }
 
-WorldFrame WorldFrame::Make(const std::string& name,
-                            const std::string& length_unit) {
+WorldFrame WorldFrame::Make(const std::string& name, const std::string& length_unit) {
   WorldFrame frame;
   frame.name = name;
   frame.length_unit = length_unit;
@@ -31,9 +30,8 @@ WorldFrame WorldFrame::Make(const std::string& name,
         1, 0, 0,                      //
         0, 0, 1;
   } else {
-    throw Error("unknown world frame '" + name + "'" +
-                DidYouMean(name, FrameNames()) + "; expected one of " +
-                Join(FrameNames(), ", "));
+    throw Error("unknown world frame '" + name + "'" + DidYouMean(name, FrameNames()) +
+                "; expected one of " + Join(FrameNames(), ", "));
   }
   if (length_unit == "m") {
     frame.metres_per_unit = 1.0;
@@ -42,22 +40,18 @@ WorldFrame WorldFrame::Make(const std::string& name,
   } else if (length_unit == "mm") {
     frame.metres_per_unit = 0.001;
   } else {
-    throw Error("unknown length unit '" + length_unit + "'" +
-                DidYouMean(length_unit, UnitNames()) + "; expected one of " +
-                Join(UnitNames(), ", "));
+    throw Error("unknown length unit '" + length_unit + "'" + DidYouMean(length_unit, UnitNames()) +
+                "; expected one of " + Join(UnitNames(), ", "));
   }
   return frame;
 }
 
-Rigid3d WorldFrame::CamFromEnuMetres(
-    const Eigen::Matrix3d& cam_from_world_rotation,
-    const Eigen::Vector3d& cam_from_world_translation) const {
+Rigid3d WorldFrame::CamFromEnuMetres(const Eigen::Matrix3d& cam_from_world_rotation,
+                                     const Eigen::Vector3d& cam_from_world_translation) const {
   // p_cam[unit] = R p_world + t,  p_world = F^T p_enu / s   =>   p_cam[m] = R
   // F^T p_enu + s t.
-  const Eigen::Matrix3d rotation =
-      cam_from_world_rotation * enu_from_frame.transpose();
-  return Rigid3d(Eigen::Quaterniond(rotation),
-                 metres_per_unit * cam_from_world_translation);
+  const Eigen::Matrix3d rotation = cam_from_world_rotation * enu_from_frame.transpose();
+  return Rigid3d(Eigen::Quaterniond(rotation), metres_per_unit * cam_from_world_translation);
 }
 
 }  // namespace lsds

@@ -22,8 +22,7 @@ const std::array<uint8_t, kSteps + 1>& SrgbTable() {
     std::array<uint8_t, kSteps + 1> t{};
     for (int i = 0; i <= kSteps; ++i) {
       const double v = static_cast<double>(i) / kSteps;
-      const double e =
-          v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+      const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
       t[i] = static_cast<uint8_t>(std::lround(std::clamp(e, 0.0, 1.0) * 255.0));
     }
     return t;
@@ -48,9 +47,8 @@ cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
   const std::array<uint8_t, kSteps + 1>& table = SrgbTable();
   const float scale = static_cast<float>(std::exp2(options.exposure_ev));
   const bool reinhard = options.tonemap == ToneMap::kReinhard;
-  const float* channels[3] = {rgb.Get("B").floats.data(),
-                              rgb.Get("G").floats.data(),
-                              rgb.Get("R").floats.data()};
+  const float* channels[3] = {
+      rgb.Get("B").floats.data(), rgb.Get("G").floats.data(), rgb.Get("R").floats.data()};
   cv::Mat out(rgb.height(), rgb.width(), CV_8UC3);
   for (int y = 0; y < rgb.height(); ++y) {
     uint8_t* dst = out.ptr<uint8_t>(y);
@@ -81,11 +79,9 @@ void WriteImage(const std::filesystem::path& path,
   bool ok = false;
   std::vector<uchar> encoded;
   try {
-    ok = cv::imencode(ext.empty() ? std::string(".png") : ext, bgr, encoded,
-                      params);
+    ok = cv::imencode(ext.empty() ? std::string(".png") : ext, bgr, encoded, params);
   } catch (const cv::Exception& e) {
-    throw Error(std::string("cannot write image: ") + e.what(),
-                Location(path.string()));
+    throw Error(std::string("cannot write image: ") + e.what(), Location(path.string()));
   }
   if (!ok) throw Error("cannot write image", Location(path.string()));
   // Through the one checked, atomic output path.

@@ -15,7 +15,7 @@ enum class ToneMap { kClamp, kReinhard };
 bool ParseToneMap(const std::string& name, ToneMap* tonemap);
 
 struct DisplayOptions {
-  double exposure_ev = 0;  // linear values are multiplied by 2^EV first
+  double exposure_ev = 0;             // linear values are multiplied by 2^EV first
   ToneMap tonemap = ToneMap::kClamp;  // clamp: min(v, 1); reinhard: v / (1 + v)
   int jpeg_quality = 95;
   int png_compression = 1;  // zlib level: fast, the files are still lossless

@@ -26,8 +26,7 @@ uint32_t MurmurHash3_32(std::string_view text, uint32_t seed) {
   uint32_t h = seed;
   const size_t blocks = length / 4;
   for (size_t i = 0; i < blocks; ++i) {
-    uint32_t k = static_cast<uint32_t>(data[4 * i]) |
-                 static_cast<uint32_t>(data[4 * i + 1]) << 8 |
+    uint32_t k = static_cast<uint32_t>(data[4 * i]) | static_cast<uint32_t>(data[4 * i + 1]) << 8 |
                  static_cast<uint32_t>(data[4 * i + 2]) << 16 |
                  static_cast<uint32_t>(data[4 * i + 3]) << 24;
     k *= c1;
@@ -77,21 +76,18 @@ float CryptomatteFloatFromHash(uint32_t hash) {
   return value;
 }
 
-std::string CryptomatteAttribute(const std::string& name,
-                                 const std::string& field) {
+std::string CryptomatteAttribute(const std::string& name, const std::string& field) {
   return "cryptomatte/" + Hex8(MurmurHash3_32(name)).substr(0, 7) + "/" + field;
 }
 
 std::string CryptomatteManifest(const std::vector<std::string>& names) {
   nlohmann::json manifest = nlohmann::json::object();
-  for (const std::string& name : names)
-    manifest[name] = Hex8(MurmurHash3_32(name));
+  for (const std::string& name : names) manifest[name] = Hex8(MurmurHash3_32(name));
   return manifest.dump();
 }
 
 std::vector<CryptomatteLayer> ParseCryptomatteLayers(
-    const std::map<std::string, std::string>& attributes,
-    const std::string& file) {
+    const std::map<std::string, std::string>& attributes, const std::string& file) {
   // Group "cryptomatte/<key>/<field>" by key.
   std::map<std::string, std::map<std::string, std::string>> by_key;
   const std::string prefix = "cryptomatte/";
@@ -99,8 +95,7 @@ std::vector<CryptomatteLayer> ParseCryptomatteLayers(
     if (name.rfind(prefix, 0) != 0) continue;
     const size_t slash = name.find('/', prefix.size());
     if (slash == std::string::npos) continue;
-    by_key[name.substr(prefix.size(), slash - prefix.size())]
-          [name.substr(slash + 1)] = value;
+    by_key[name.substr(prefix.size(), slash - prefix.size())][name.substr(slash + 1)] = value;
   }
   std::vector<CryptomatteLayer> layers;
   for (const auto& [key, fields] : by_key) {
@@ -108,9 +103,8 @@ std::vector<CryptomatteLayer> ParseCryptomatteLayers(
     auto field = [&](const std::string& f) -> const std::string& {
       const auto it = fields.find(f);
       if (it == fields.end())
-        throw Error(
-            "cryptomatte layer without header attribute '" + where + f + "'",
-            Location(file));
+        throw Error("cryptomatte layer without header attribute '" + where + f + "'",
+                    Location(file));
       return it->second;
     };
     CryptomatteLayer layer;
@@ -121,10 +115,9 @@ std::vector<CryptomatteLayer> ParseCryptomatteLayers(
                       "'; only MurmurHash3_32 is defined by the "
                       "Cryptomatte specification",
                   Location(file));
-    if (fields.count("conversion") &&
-        field("conversion") != "uint32_to_float32")
-      throw Error("attribute '" + where + "conversion' is '" +
-                      field("conversion") + "'; expected uint32_to_float32",
+    if (fields.count("conversion") && field("conversion") != "uint32_to_float32")
+      throw Error("attribute '" + where + "conversion' is '" + field("conversion") +
+                      "'; expected uint32_to_float32",
                   Location(file));
     if (!fields.count("manifest"))
       throw Error("cryptomatte layer '" + layer.name + "' has no '" + where +
@@ -135,19 +128,17 @@ std::vector<CryptomatteLayer> ParseCryptomatteLayers(
     try {
       manifest = nlohmann::json::parse(field("manifest"));
     } catch (const nlohmann::json::exception& e) {
-      throw Error("attribute '" + where + "manifest' is not JSON: " + e.what(),
-                  Location(file));
+      throw Error("attribute '" + where + "manifest' is not JSON: " + e.what(), Location(file));
     }
     if (!manifest.is_object())
-      throw Error("attribute '" + where + "manifest' is not a JSON object",
-                  Location(file));
+      throw Error("attribute '" + where + "manifest' is not a JSON object", Location(file));
     for (const auto& [object, hex] : manifest.items()) {
       uint32_t hash = 0;
       if (!hex.is_string() || hex.get<std::string>().size() != 8 ||
           std::sscanf(hex.get<std::string>().c_str(), "%8x", &hash) != 1)
-        throw Error("manifest entry '" + object + "' in '" + where +
-                        "manifest' is not 8 hex digits",
-                    Location(file));
+        throw Error(
+            "manifest entry '" + object + "' in '" + where + "manifest' is not 8 hex digits",
+            Location(file));
       layer.names_by_bits[CryptomatteBitsFromHash(hash)] = object;
     }
     layers.push_back(std::move(layer));

@@ -37,13 +37,11 @@ struct CryptomatteLayer {
 // or conversion, a missing or malformed manifest (a sidecar manif_file is not
 // supported).
 std::vector<CryptomatteLayer> ParseCryptomatteLayers(
-    const std::map<std::string, std::string>& attributes,
-    const std::string& file);
+    const std::map<std::string, std::string>& attributes, const std::string& file);
 
 // "cryptomatte/<key>/<field>" for layer `name`: key = first 7 hex digits of
 // MurmurHash3_32(name), as writers name them.
-std::string CryptomatteAttribute(const std::string& name,
-                                 const std::string& field);
+std::string CryptomatteAttribute(const std::string& name, const std::string& field);
 
 // The manifest of `names`: {"name": "hex8", ...}, sorted by name.
 std::string CryptomatteManifest(const std::vector<std::string>& names);

@@ -15,8 +15,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 bool RayHitsBox(const OrientedBox& box,
                 const Eigen::Vector3d& origin,
                 const Eigen::Vector3d& direction) {
-  const Eigen::Vector3d o =
-      box.world_from_box.transpose() * (origin - box.center);
+  const Eigen::Vector3d o = box.world_from_box.transpose() * (origin - box.center);
   const Eigen::Vector3d d = box.world_from_box.transpose() * direction;
   double t_near = -std::numeric_limits<double>::infinity();
   double t_far = std::numeric_limits<double>::infinity();
@@ -56,8 +55,7 @@ exr::FlatImage WorldPositionFromDepth(const exr::FlatImage& depth,
         continue;
       }
       const Eigen::Vector3d point =
-          world_from_cam *
-          UnprojectDepth(camera, {i + 0.5, j + 0.5}, z[p], kind);
+          world_from_cam * UnprojectDepth(camera, {i + 0.5, j + 0.5}, z[p], kind);
       for (int c = 0; c < 3; ++c) xyz[c][p] = static_cast<float>(point[c]);
     }
   });
@@ -78,11 +76,9 @@ exr::FlatImage ConvertDepthKind(const exr::FlatImage& depth,
       if (from == to || !std::isfinite(in[p])) {
         z[p] = in[p];
       } else if (from == DepthKind::kPlanar) {
-        z[p] = static_cast<float>(
-            PerspectiveFromPlanarDepth(camera, pixel, in[p]));
+        z[p] = static_cast<float>(PerspectiveFromPlanarDepth(camera, pixel, in[p]));
       } else {
-        z[p] = static_cast<float>(
-            PlanarFromPerspectiveDepth(camera, pixel, in[p]));
+        z[p] = static_cast<float>(PlanarFromPerspectiveDepth(camera, pixel, in[p]));
       }
     }
   }
@@ -97,8 +93,7 @@ int64_t CountObbPixels(const OrientedBox& box,
   const int i0 = std::max(0, static_cast<int>(std::floor(bounds.x0)));
   const int j0 = std::max(0, static_cast<int>(std::floor(bounds.y0)));
   const int i1 = std::min(camera.width, static_cast<int>(std::ceil(bounds.x1)));
-  const int j1 =
-      std::min(camera.height, static_cast<int>(std::ceil(bounds.y1)));
+  const int j1 = std::min(camera.height, static_cast<int>(std::ceil(bounds.y1)));
   int64_t count = 0;
   for (int j = j0; j < j1; ++j) {
     for (int i = i0; i < i1; ++i) {

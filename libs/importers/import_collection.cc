@@ -17,8 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 bool IsWithin(const fs::path& inner, const fs::path& outer) {
-  const auto mismatch =
-      std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
+  const auto mismatch = std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
   return mismatch.first == outer.end();
 }
 
@@ -34,9 +33,8 @@ void RefuseOverlap(const fs::path& source, const fs::path& output) {
 }
 
 Rigid3d CamFromWorld(const CameraTruth& camera) {
-  return Rigid3d(
-      Eigen::Quaterniond(camera.cam_from_world_rotation).normalized(),
-      camera.cam_from_world_translation);
+  return Rigid3d(Eigen::Quaterniond(camera.cam_from_world_rotation).normalized(),
+                 camera.cam_from_world_translation);
 }
 
 }  // namespace
@@ -48,28 +46,24 @@ ImportResult ImportCollection(const std::string& format,
                               bool force) {
   std::unique_ptr<Importer> importer = MakeImporter(format);
   std::error_code ec;
-  if (!fs::exists(source, ec))
-    throw Error("source does not exist", Location(source.string()));
+  if (!fs::exists(source, ec)) throw Error("source does not exist", Location(source.string()));
   RefuseOverlap(source, output);
   RefuseToOverwrite(output, force);
   const SourceDescription description = importer->Open(source, options);
   if (description.frame_count < 1)
     throw Error("the source has no frames", Location(source.string()));
 
-  const bool has_depth = std::count(description.semantics.begin(),
-                                    description.semantics.end(),
-                                    "depth") != 0;
+  const bool has_depth =
+      std::count(description.semantics.begin(), description.semantics.end(), "depth") != 0;
   std::vector<std::string> semantics = description.semantics;
   std::map<std::string, std::string> origin = description.truth_origin;
-  if (has_depth &&
-      !std::count(semantics.begin(), semantics.end(), "worldposition")) {
+  if (has_depth && !std::count(semantics.begin(), semantics.end(), "worldposition")) {
     semantics.push_back("worldposition");
     origin["worldposition"] = "derived";
   }
   // Per-object truth measured here on the imported id layer
   // (object_truth.h); the unoccluded pixels are those of the OBB.
-  for (const char* field :
-       {"bbox", "visible_pixels", "bbox_projected", "in_frame", "visibility"})
+  for (const char* field : {"bbox", "visible_pixels", "bbox_projected", "in_frame", "visibility"})
     origin.emplace(field, "derived");
   for (const std::string& semantic : StandardLayerSemantics()) {
     if (!std::count(semantics.begin(), semantics.end(), semantic))
@@ -79,22 +73,19 @@ ImportResult ImportCollection(const std::string& format,
   CollectionHeader header;
   header.provenance.generator = "lsds import";
   header.provenance.generator_version = LSDS_VERSION;
-  header.provenance.import = {
-      {"format", importer->name()},
-      {"source", Utf8Escaped(fs::absolute(source).string())},
-      {"source_conventions", description.source_conventions},
-      {"truth_origin", origin}};
+  header.provenance.import = {{"format", importer->name()},
+                              {"source", Utf8Escaped(fs::absolute(source).string())},
+                              {"source_conventions", description.source_conventions},
+                              {"truth_origin", origin}};
   header.classes = description.classes;
   for (const std::string& semantic : semantics)
     header.layers.push_back(StandardLayer(semantic, description.depth_kind));
-  header.metadata = {
-      {kMetadataFile, false, "measured metadata, equal to truth"}};
+  header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = description.frame_count;
 
   AtomicDirectory out(output, force);
   const fs::path& root = out.temp_path();
-  for (const LayerInfo& layer : header.layers)
-    fs::create_directories(root / layer.name);
+  for (const LayerInfo& layer : header.layers) fs::create_directories(root / layer.name);
   CollectionBuilder builder(root, header);
   ImportResult result;
   for (int64_t k = 0; k < description.frame_count; ++k) {
@@ -102,11 +93,8 @@ ImportResult ImportCollection(const std::string& format,
     const Rigid3d cam_from_world = CamFromWorld(source_frame.camera);
     const PinholeCamera& camera = source_frame.camera.intrinsics;
     if (has_depth && !source_frame.flat.count("worldposition")) {
-      source_frame.flat["worldposition"] =
-          WorldPositionFromDepth(source_frame.flat.at("depth"),
-                                 description.depth_kind,
-                                 camera,
-                                 cam_from_world);
+      source_frame.flat["worldposition"] = WorldPositionFromDepth(
+          source_frame.flat.at("depth"), description.depth_kind, camera, cam_from_world);
     }
     Frame frame;
     frame.index = k;
@@ -115,8 +103,8 @@ ImportResult ImportCollection(const std::string& format,
     frame.shot = source_frame.shot;
     frame.camera = source_frame.camera;
     const exr::FlatImage& instances = source_frame.flat.at("instanceid");
-    const auto masks = MeasureInstanceMasks(
-        instances.Get("id").uints, instances.width(), instances.height());
+    const auto masks =
+        MeasureInstanceMasks(instances.Get("id").uints, instances.width(), instances.height());
     for (const ObjectIdentity& target : source_frame.targets) {
       const auto mask = masks.find(target.instance_id);
       auto count_unoccluded = [&](const Box2d& bounds) {
@@ -130,8 +118,7 @@ ImportResult ImportCollection(const std::string& format,
                                  count_unoccluded))
         frame.objects.push_back(std::move(*object));
     }
-    frame.files = WriteFrameLayers(
-        root, header, k, frame.camera, {&source_frame.flat, nullptr});
+    frame.files = WriteFrameLayers(root, header, k, frame.camera, {&source_frame.flat, nullptr});
     result.objects += static_cast<int64_t>(frame.objects.size());
     builder.Append(frame);
   }

@@ -32,8 +32,8 @@ IndexImage ReadIndexedPng(const fs::path& path) {
   File file(std::fopen(path.string().c_str(), "rb"));
   if (!file) throw Error("cannot open", Location(path.string()));
   std::string message;
-  png_structp png = png_create_read_struct(
-      PNG_LIBPNG_VER_STRING, &message, OnPngError, OnPngWarning);
+  png_structp png =
+      png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, OnPngError, OnPngWarning);
   png_infop info = png_create_info_struct(png);
   IndexImage image;
   std::vector<png_bytep> rows;
@@ -45,8 +45,7 @@ IndexImage ReadIndexedPng(const fs::path& path) {
     png_read_info(png, info);
     const int colour = png_get_color_type(png, info);
     const int depth = png_get_bit_depth(png, info);
-    if ((colour != PNG_COLOR_TYPE_PALETTE && colour != PNG_COLOR_TYPE_GRAY) ||
-        depth > 8) {
+    if ((colour != PNG_COLOR_TYPE_PALETTE && colour != PNG_COLOR_TYPE_GRAY) || depth > 8) {
       wrong_kind = true;
     } else {
       if (depth < 8) png_set_packing(png);
@@ -66,8 +65,7 @@ IndexImage ReadIndexedPng(const fs::path& path) {
   }
   png_destroy_read_struct(&png, &info, nullptr);
   if (wrong_kind)
-    throw Error("expected an 8-bit indexed (palette) or greyscale PNG",
-                Location(path.string()));
+    throw Error("expected an 8-bit indexed (palette) or greyscale PNG", Location(path.string()));
   return image;
 }
 
@@ -77,22 +75,26 @@ void WriteIndexedPng(const fs::path& path,
   File file(std::fopen(path.string().c_str(), "wb"));
   if (!file) throw Error("cannot create", Location(path.string()));
   std::string message;
-  png_structp png = png_create_write_struct(
-      PNG_LIBPNG_VER_STRING, &message, OnPngError, OnPngWarning);
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, &message, OnPngError, OnPngWarning);
   png_infop info = png_create_info_struct(png);
   std::vector<png_color> palette(palette_rgb.size() / 3);
   for (size_t k = 0; k < palette.size(); ++k)
-    palette[k] = {palette_rgb[3 * k], palette_rgb[3 * k + 1],
-                  palette_rgb[3 * k + 2]};
+    palette[k] = {palette_rgb[3 * k], palette_rgb[3 * k + 1], palette_rgb[3 * k + 2]};
   std::vector<png_bytep> rows(static_cast<size_t>(image.height));
   for (int j = 0; j < image.height; ++j)
-    rows[j] = const_cast<png_bytep>(image.index.data() +
-                                    static_cast<size_t>(j) * image.width);
+    rows[j] = const_cast<png_bytep>(image.index.data() + static_cast<size_t>(j) * image.width);
   if (setjmp(png_jmpbuf(png)) == 0) {
     png_init_io(png, file.get());
-    png_set_IHDR(png, info, image.width, image.height, 8,
-                 PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png,
+                 info,
+                 image.width,
+                 image.height,
+                 8,
+                 PNG_COLOR_TYPE_PALETTE,
+                 PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
     png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
     png_write_info(png, info);
     png_write_image(png, rows.data());

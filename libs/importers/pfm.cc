@@ -28,18 +28,14 @@ PfmImage ReadPfm(const std::filesystem::path& path, PfmRows rows) {
   PfmImage image;
   double scale = 0;
   in >> magic >> image.width >> image.height >> scale;
-  if (!in || (magic != "Pf" && magic != "PF") || image.width < 1 ||
-      image.height < 1 || image.width > 32768 || image.height > 32768 ||
-      scale == 0)
-    throw Error("not a PFM file (header 'Pf|PF W H SCALE' expected)",
-                Location(file));
+  if (!in || (magic != "Pf" && magic != "PF") || image.width < 1 || image.height < 1 ||
+      image.width > 32768 || image.height > 32768 || scale == 0)
+    throw Error("not a PFM file (header 'Pf|PF W H SCALE' expected)", Location(file));
   in.get();  // the single whitespace after the scale
   image.channels = magic == "PF" ? 3 : 1;
-  const size_t count =
-      static_cast<size_t>(image.width) * image.height * image.channels;
+  const size_t count = static_cast<size_t>(image.width) * image.height * image.channels;
   std::vector<float> raw(count);
-  in.read(reinterpret_cast<char*>(raw.data()),
-          static_cast<std::streamsize>(count * sizeof(float)));
+  in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(count * sizeof(float)));
   if (in.gcount() != static_cast<std::streamsize>(count * sizeof(float)))
     throw Error("PFM data is shorter than its header says", Location(file));
   // Negative scale: little-endian data.
@@ -54,28 +50,22 @@ PfmImage ReadPfm(const std::filesystem::path& path, PfmRows rows) {
   const size_t row = static_cast<size_t>(image.width) * image.channels;
   image.values.resize(count);
   for (int j = 0; j < image.height; ++j) {
-    const int source_row =
-        rows == PfmRows::kTopFirst ? j : image.height - 1 - j;
-    std::memcpy(
-        &image.values[j * row], &raw[source_row * row], row * sizeof(float));
+    const int source_row = rows == PfmRows::kTopFirst ? j : image.height - 1 - j;
+    std::memcpy(&image.values[j * row], &raw[source_row * row], row * sizeof(float));
   }
   return image;
 }
 
-void WritePfm(const std::filesystem::path& path,
-              const PfmImage& image,
-              PfmRows rows) {
+void WritePfm(const std::filesystem::path& path, const PfmImage& image, PfmRows rows) {
   AtomicFile out(path);
   out.stream() << "Pf\n"
                << image.width << " " << image.height << "\n"
                << (HostIsLittleEndian() ? "-1" : "1") << "\n";
   const size_t row = static_cast<size_t>(image.width);
   for (int j = 0; j < image.height; ++j) {
-    const int source_row =
-        rows == PfmRows::kTopFirst ? j : image.height - 1 - j;
-    out.stream().write(
-        reinterpret_cast<const char*>(&image.values[source_row * row]),
-        static_cast<std::streamsize>(row * sizeof(float)));
+    const int source_row = rows == PfmRows::kTopFirst ? j : image.height - 1 - j;
+    out.stream().write(reinterpret_cast<const char*>(&image.values[source_row * row]),
+                       static_cast<std::streamsize>(row * sizeof(float)));
   }
   out.Commit();
 }

@@ -20,8 +20,6 @@ enum class PfmRows { kBottomFirst, kTopFirst };
 // 32768 x 32768, or too few bytes.
 PfmImage ReadPfm(const std::filesystem::path& path, PfmRows rows);
 // Greyscale, little-endian, atomically.
-void WritePfm(const std::filesystem::path& path,
-              const PfmImage& image,
-              PfmRows rows);
+void WritePfm(const std::filesystem::path& path, const PfmImage& image, PfmRows rows);
 
 }  // namespace lsds::import

@@ -39,8 +39,7 @@ std::unique_ptr<Importer> MakeImporter(const std::string& name) {
   for (const auto& entry : Table()) {
     if (entry.first == name) return entry.second();
   }
-  throw Error("unknown source format '" + name + "'" +
-              DidYouMean(name, ImporterNames()) +
+  throw Error("unknown source format '" + name + "'" + DidYouMean(name, ImporterNames()) +
               " (known: " + Join(ImporterNames(), ", ") + ")");
 }
 

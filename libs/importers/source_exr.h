@@ -18,23 +18,18 @@ class SourceExr {
  public:
   // Throws lsds::Error naming the file when it is not a readable flat EXR,
   // parts disagree on their data window, or it is beyond `limits`.
-  explicit SourceExr(const std::filesystem::path& path,
-                     const exr::ReadLimits& limits = {});
+  explicit SourceExr(const std::filesystem::path& path, const exr::ReadLimits& limits = {});
 
   int width() const { return width_; }
   int height() const { return height_; }
   const std::string& file() const { return file_; }
-  bool HasChannel(const std::string& name) const {
-    return channels_.count(name) != 0;
-  }
+  bool HasChannel(const std::string& name) const { return channels_.count(name) != 0; }
   std::optional<exr::PixelType> ChannelType(const std::string& name) const;
   std::vector<std::string> ChannelNames() const;
 
   // String, float, double and int attributes of every part, as text (numbers
   // with round-trip precision). The first part that has a name wins.
-  const std::map<std::string, std::string>& attributes() const {
-    return attributes_;
-  }
+  const std::map<std::string, std::string>& attributes() const { return attributes_; }
   // The number in the first attribute of `names` that exists; throws naming
   // the file and the names when none does or it is not a number.
   double Number(const std::vector<std::string>& names) const;

@@ -14,8 +14,7 @@
 namespace lsds::import {
 
 inline nlohmann::json ParseJsonFile(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path))
-    throw Error("missing file", Location(path.string()));
+  if (!std::filesystem::is_regular_file(path)) throw Error("missing file", Location(path.string()));
   try {
     return nlohmann::json::parse(ReadFile(path));
   } catch (const nlohmann::json::exception& e) {
@@ -29,8 +28,7 @@ auto AtField(const std::string& file, const std::string& pointer, F&& body) {
   try {
     return body();
   } catch (const nlohmann::json::exception& e) {
-    throw Error(std::string("malformed field: ") + e.what(),
-                Location(file, pointer));
+    throw Error(std::string("malformed field: ") + e.what(), Location(file, pointer));
   }
 }
 
@@ -46,8 +44,7 @@ Eigen::Matrix<double, N, 1> JsonNumbers(const nlohmann::json& j) {
         flat.push_back(row);
     }
   if (flat.size() != static_cast<size_t>(N))
-    throw nlohmann::json::type_error::create(
-        302, "expected " + std::to_string(N) + " numbers", &j);
+    throw nlohmann::json::type_error::create(302, "expected " + std::to_string(N) + " numbers", &j);
   Eigen::Matrix<double, N, 1> out;
   for (int k = 0; k < N; ++k) out[k] = flat.at(k).get<double>();
   return out;

@@ -26,8 +26,7 @@ cv::Mat ReadRgbaPng(const std::filesystem::path& path, int width, int height);
 
 // 0xRRGGBBAA of an OpenCV BGRA pixel.
 inline uint32_t PackedRgba(const cv::Vec4b& bgra) {
-  return (uint32_t{bgra[2]} << 24) | (uint32_t{bgra[1]} << 16) |
-         (uint32_t{bgra[0]} << 8) | bgra[3];
+  return (uint32_t{bgra[2]} << 24) | (uint32_t{bgra[1]} << 16) | (uint32_t{bgra[0]} << 8) | bgra[3];
 }
 // "(r, g, b, a)", as Replicator's mappings and messages write colours.
 std::string RgbaText(uint32_t rgba);

@@ -18,9 +18,7 @@ const WorldFrame& Unreal() {
   return frame;
 }
 // Directions (no scale) between the frames.
-Eigen::Vector3d EnuDirection(const Eigen::Vector3d& d) {
-  return Unreal().enu_from_frame * d;
-}
+Eigen::Vector3d EnuDirection(const Eigen::Vector3d& d) { return Unreal().enu_from_frame * d; }
 Eigen::Vector3d UnrealDirection(const Eigen::Vector3d& d) {
   return Unreal().enu_from_frame.transpose() * d;
 }
@@ -102,9 +100,8 @@ void UnrealBoxOfEnuBox(const OrientedBox& box,
                        UnrealRotator* rotation) {
   *center_cm = UnrealFromEnuMetres(box.center);
   const double m = Unreal().metres_per_unit;
-  *extent_cm = Eigen::Vector3d(box.half_extents.y() / m,
-                               box.half_extents.x() / m,
-                               box.half_extents.z() / m);
+  *extent_cm =
+      Eigen::Vector3d(box.half_extents.y() / m, box.half_extents.x() / m, box.half_extents.z() / m);
   Eigen::Matrix3d axes;
   axes.row(0) = UnrealDirection(box.world_from_box.col(1));
   axes.row(1) = UnrealDirection(box.world_from_box.col(0));

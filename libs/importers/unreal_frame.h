@@ -28,8 +28,7 @@ Eigen::Vector3d UnrealFromEnuMetres(const Eigen::Vector3d& point_in_enu_m);
 
 // An Unreal camera (location in cm, rotation) as the OpenCV cam_from_world
 // pose of the ENU metre world (rotation determinant +1), and back.
-Rigid3d CamFromEnuOfUnrealCamera(const Eigen::Vector3d& location_cm,
-                                 const UnrealRotator& rotation);
+Rigid3d CamFromEnuOfUnrealCamera(const Eigen::Vector3d& location_cm, const UnrealRotator& rotation);
 void UnrealCameraOfCamFromEnu(const Rigid3d& cam_from_enu,
                               Eigen::Vector3d* location_cm,
                               UnrealRotator* rotation);

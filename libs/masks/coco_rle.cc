@@ -25,8 +25,7 @@ std::vector<uint32_t> CocoRleCounts(const BoxMask& mask) {
     push(false, h * mask.left);
     for (int c = 0; c < mask.width(); ++c) {
       push(false, mask.top);
-      for (int r = 0; r < mask.height(); ++r)
-        push(mask.mask.at<uint8_t>(r, c) != 0, 1);
+      for (int r = 0; r < mask.height(); ++r) push(mask.mask.at<uint8_t>(r, c) != 0, 1);
       push(false, h - mask.top - mask.height());
     }
     push(false, h * (mask.image_width - mask.left - mask.width()));
@@ -40,9 +39,7 @@ std::string CocoRleToString(const std::vector<uint32_t>& counts) {
   s.reserve(counts.size() * 2);
   for (size_t i = 0; i < counts.size(); ++i) {
     long x = static_cast<long>(counts[i]);
-    if (i > 2)
-      x -= static_cast<long>(
-          counts[i - 2]);  // "i > 2", not ">= 2": as the COCO API does
+    if (i > 2) x -= static_cast<long>(counts[i - 2]);  // "i > 2", not ">= 2": as the COCO API does
     bool more = true;
     while (more) {
       char c = static_cast<char>(x & 0x1f);

@@ -23,8 +23,7 @@ const int kDy[4] = {0, 1, 0, -1};
 // Only corners are kept as vertices.
 std::vector<std::vector<cv::Point>> TraceEdgeLoops(const cv::Mat& filled) {
   auto at = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < filled.cols && y < filled.rows &&
-           filled.at<uint8_t>(y, x) != 0;
+    return x >= 0 && y >= 0 && x < filled.cols && y < filled.rows && filled.at<uint8_t>(y, x) != 0;
   };
   // Outgoing steps per grid corner, keyed by (y, x) for a deterministic start
   // at the top-left corner.
@@ -102,15 +101,12 @@ MaskPolygons ExtractPolygons(const BoxMask& mask) {
     for (const std::vector<cv::Point>& loop : TraceEdgeLoops(filled)) {
       Polygon polygon;
       polygon.reserve(loop.size());
-      for (const cv::Point& p : loop)
-        polygon.emplace_back(mask.left + p.x - 1, mask.top + p.y - 1);
+      for (const cv::Point& p : loop) polygon.emplace_back(mask.left + p.x - 1, mask.top + p.y - 1);
       pieces.emplace_back(pixels, std::move(polygon));
     }
   }
   std::stable_sort(
-      pieces.begin(), pieces.end(), [](const auto& a, const auto& b) {
-        return a.first > b.first;
-      });
+      pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   for (auto& piece : pieces) out.pieces.push_back(std::move(piece.second));
   return out;
 }
@@ -136,8 +132,7 @@ Polygon MergePieces(const std::vector<Polygon>& pieces) {
     // merged[0..i], next[j..], next[..j], next[j], merged[i..]: out along the
     // bridge, round the piece, back along the same bridge.
     Polygon joined(merged.begin(), merged.begin() + best_i + 1);
-    for (size_t t = 0; t <= next.size(); ++t)
-      joined.push_back(next[(best_j + t) % next.size()]);
+    for (size_t t = 0; t <= next.size(); ++t) joined.push_back(next[(best_j + t) % next.size()]);
     joined.insert(joined.end(), merged.begin() + best_i, merged.end());
     merged = std::move(joined);
   }

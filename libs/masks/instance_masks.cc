@@ -4,9 +4,7 @@
 
 namespace lsds::masks {
 
-std::unordered_map<uint32_t, IdBounds> ComputeIdBounds(const uint32_t* ids,
-                                                       int width,
-                                                       int height) {
+std::unordered_map<uint32_t, IdBounds> ComputeIdBounds(const uint32_t* ids, int width, int height) {
   std::unordered_map<uint32_t, IdBounds> bounds;
   for (int y = 0; y < height; ++y) {
     const uint32_t* row = ids + static_cast<size_t>(y) * width;
@@ -18,8 +16,7 @@ std::unordered_map<uint32_t, IdBounds> ComputeIdBounds(const uint32_t* ids,
       int end = x + 1;
       while (end < width && row[end] == id) ++end;
       if (id != 0) {
-        auto [it, inserted] =
-            bounds.try_emplace(id, IdBounds{x, y, end, y + 1, 0});
+        auto [it, inserted] = bounds.try_emplace(id, IdBounds{x, y, end, y + 1, 0});
         IdBounds& b = it->second;
         if (!inserted) {
           b.x0 = std::min(b.x0, x);
@@ -34,19 +31,15 @@ std::unordered_map<uint32_t, IdBounds> ComputeIdBounds(const uint32_t* ids,
   return bounds;
 }
 
-BoxMask ExtractMask(const uint32_t* ids,
-                    int width,
-                    int height,
-                    uint32_t id,
-                    const IdBounds& bounds) {
+BoxMask ExtractMask(
+    const uint32_t* ids, int width, int height, uint32_t id, const IdBounds& bounds) {
   BoxMask out;
   out.image_width = width;
   out.image_height = height;
   if (bounds.count == 0) return out;
   out.left = bounds.x0;
   out.top = bounds.y0;
-  out.mask =
-      cv::Mat::zeros(bounds.y1 - bounds.y0, bounds.x1 - bounds.x0, CV_8U);
+  out.mask = cv::Mat::zeros(bounds.y1 - bounds.y0, bounds.x1 - bounds.x0, CV_8U);
   for (int y = bounds.y0; y < bounds.y1; ++y) {
     const uint32_t* row = ids + static_cast<size_t>(y) * width;
     uint8_t* dst = out.mask.ptr<uint8_t>(y - bounds.y0);
@@ -63,8 +56,7 @@ BoxMask ExtractMask(const uint32_t* ids,
 cv::Mat ToFullImage(const BoxMask& mask) {
   cv::Mat full = cv::Mat::zeros(mask.image_height, mask.image_width, CV_8U);
   if (!mask.empty()) {
-    mask.mask.copyTo(
-        full(cv::Rect(mask.left, mask.top, mask.width(), mask.height())));
+    mask.mask.copyTo(full(cv::Rect(mask.left, mask.top, mask.width(), mask.height())));
   }
   return full;
 }

@@ -30,17 +30,12 @@ struct IdBounds {
   int x0, y0, x1, y1;  // pixel-edge: pixels x0..x1-1, y0..y1-1
   int64_t count;
 };
-std::unordered_map<uint32_t, IdBounds> ComputeIdBounds(const uint32_t* ids,
-                                                       int width,
-                                                       int height);
+std::unordered_map<uint32_t, IdBounds> ComputeIdBounds(const uint32_t* ids, int width, int height);
 
 // The mask of `id` inside `bounds` (from ComputeIdBounds); an empty BoxMask
 // when bounds.count == 0.
-BoxMask ExtractMask(const uint32_t* ids,
-                    int width,
-                    int height,
-                    uint32_t id,
-                    const IdBounds& bounds);
+BoxMask ExtractMask(
+    const uint32_t* ids, int width, int height, uint32_t id, const IdBounds& bounds);
 
 // Expands a box mask into a full-image CV_8U mask (for tests and polygons
 // across the image).

@@ -18,10 +18,7 @@ inline uint64_t Mix64(uint64_t z) {
   return z ^ (z >> 31);
 }
 
-inline uint64_t CounterHash(uint64_t seed,
-                            uint64_t field,
-                            uint64_t frame,
-                            uint64_t draw) {
+inline uint64_t CounterHash(uint64_t seed, uint64_t field, uint64_t frame, uint64_t draw) {
   uint64_t h = Mix64(seed + 0x9E3779B97F4A7C15ULL);
   h = Mix64(h ^ ((field + 1) * 0xD1B54A32D192ED03ULL));
   h = Mix64(h ^ ((frame + 1) * 0xABC98388FB8FAC03ULL));
@@ -30,20 +27,13 @@ inline uint64_t CounterHash(uint64_t seed,
 
 // Uniform on the open interval (0, 1): 53 random bits, offset by half a step so
 // 0 never occurs.
-inline double Uniform01(uint64_t seed,
-                        uint64_t field,
-                        uint64_t frame,
-                        uint64_t draw) {
-  return (static_cast<double>(CounterHash(seed, field, frame, draw) >> 11) +
-          0.5) *
+inline double Uniform01(uint64_t seed, uint64_t field, uint64_t frame, uint64_t draw) {
+  return (static_cast<double>(CounterHash(seed, field, frame, draw) >> 11) + 0.5) *
          (1.0 / 9007199254740992.0);
 }
 
 // Standard normal by Box-Muller from draws 2k and 2k+1.
-inline double StandardNormal(uint64_t seed,
-                             uint64_t field,
-                             uint64_t frame,
-                             uint64_t k = 0) {
+inline double StandardNormal(uint64_t seed, uint64_t field, uint64_t frame, uint64_t k = 0) {
   constexpr double kTwoPi = 6.283185307179586476925;
   const double u1 = Uniform01(seed, field, frame, 2 * k);
   const double u2 = Uniform01(seed, field, frame, 2 * k + 1);

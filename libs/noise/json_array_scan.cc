@@ -78,8 +78,7 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
           }
           if (c == ']') {
             if (callbacks.on_raw) {
-              callbacks.on_raw(
-                  std::string_view(buffer.data() + raw_start, i - raw_start));
+              callbacks.on_raw(std::string_view(buffer.data() + raw_start, i - raw_start));
             }
             in_array = false;
             array_done = true;
@@ -133,8 +132,7 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
         value_of_key = true;
         continue;
       }
-      if (c == '[' && depth == 1 && value_of_key && key == array_key &&
-          !array_done) {
+      if (c == '[' && depth == 1 && value_of_key && key == array_key && !array_done) {
         in_array = true;
         result.found = true;
         depth = 2;
@@ -153,8 +151,7 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
       }
     }
     if (in_array && callbacks.on_raw) {
-      callbacks.on_raw(
-          std::string_view(buffer.data() + raw_start, got - raw_start));
+      callbacks.on_raw(std::string_view(buffer.data() + raw_start, got - raw_start));
     }
     // An element cut by the end of the chunk: keep its first part.
     if (in_element && want_elements) {
@@ -172,8 +169,7 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
   // contents).
   result.header = ParseJsonText(header_text, path.string());
   if (!result.header.is_object()) {
-    throw Error("top level must be a JSON object",
-                Location(path.string(), "/"));
+    throw Error("top level must be a JSON object", Location(path.string(), "/"));
   }
   return result;
 }
@@ -208,16 +204,13 @@ nlohmann::json ParseElement(std::string_view text,
   }
 }
 
-std::string ArrayFileHead(const nlohmann::json& header,
-                          const std::string& array_key) {
+std::string ArrayFileHead(const nlohmann::json& header, const std::string& array_key) {
   nlohmann::json members = header;
   members.erase(array_key);
   std::string text = members.dump(2);
   text.erase(text.find_last_of('}'));
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
-    text.pop_back();
-  return text + (members.empty() ? "\n" : ",\n") + "  " +
-         nlohmann::json(array_key).dump() + ": [";
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  return text + (members.empty() ? "\n" : ",\n") + "  " + nlohmann::json(array_key).dump() + ": [";
 }
 
 }  // namespace lsds::noise

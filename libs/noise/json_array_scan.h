@@ -44,7 +44,6 @@ nlohmann::json ParseElement(std::string_view text,
 
 // The text that JsonArrayWriter writes before the elements: the header members
 // (pretty, without `array_key`), then `"array_key": [`.
-std::string ArrayFileHead(const nlohmann::json& header,
-                          const std::string& array_key);
+std::string ArrayFileHead(const nlohmann::json& header, const std::string& array_key);
 
 }  // namespace lsds::noise

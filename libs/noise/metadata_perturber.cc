@@ -16,33 +16,25 @@ constexpr double kPi = 3.14159265358979323846;
 double Rad(double deg) { return deg * kPi / 180.0; }
 }  // namespace
 
-Attitude RotateAttitude(const Attitude& truth,
-                        const Eigen::Vector3d& rotation_vector_deg) {
+Attitude RotateAttitude(const Attitude& truth, const Eigen::Vector3d& rotation_vector_deg) {
   const double angle = Rad(rotation_vector_deg.norm());
   if (angle == 0.0) return truth;
   // Heading-level axes: north/east/down turned about down by the true yaw.
   const Eigen::Matrix3d ned_from_level =
-      Eigen::AngleAxisd(Rad(truth.yaw_deg), Eigen::Vector3d::UnitZ())
-          .toRotationMatrix();
-  const Eigen::Vector3d axis_in_ned =
-      ned_from_level * rotation_vector_deg.normalized();
+      Eigen::AngleAxisd(Rad(truth.yaw_deg), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d axis_in_ned = ned_from_level * rotation_vector_deg.normalized();
   const Eigen::Quaterniond measured_ned_from_body =
-      Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis_in_ned)) *
-      NedFromBody(truth);
+      Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis_in_ned)) * NedFromBody(truth);
   return AttitudeFromNedFromBody(measured_ned_from_body.normalized());
 }
 
-MetadataPerturber::MetadataPerturber(const NoiseSpec& spec,
-                                     const WorldFrame& world)
+MetadataPerturber::MetadataPerturber(const NoiseSpec& spec, const WorldFrame& world)
     : spec_(spec), world_(world) {
   spec_.Validate();
   processes_.reserve(kFieldCount);
   for (int f = 0; f < kFieldCount; ++f) {
-    processes_.emplace_back(spec_.model,
-                            spec_.sigma[f],
-                            spec_.tau,
-                            spec_.seed,
-                            static_cast<uint64_t>(f));
+    processes_.emplace_back(
+        spec_.model, spec_.sigma[f], spec_.tau, spec_.seed, static_cast<uint64_t>(f));
   }
 }
 
@@ -60,29 +52,24 @@ MetadataFrame MetadataPerturber::Apply(const MetadataFrame& truth,
   MetadataFrame measured = truth;
   // Position: east/north/up metres into the declared frame and unit (a linear
   // map, so zero stays zero).
-  const Eigen::Vector3d position_error =
-      world_.WorldFromEnuMetres(error.position_enu_m());
+  const Eigen::Vector3d position_error = world_.WorldFromEnuMetres(error.position_enu_m());
   for (int i = 0; i < 3; ++i) {
-    if (position_error[i] != 0.0)
-      measured.position[i] = truth.position[i] + position_error[i];
+    if (position_error[i] != 0.0) measured.position[i] = truth.position[i] + position_error[i];
   }
   // The survey fields move with the position error: the GNSS fix by the ENU
   // error at the true place, the height above ground by its up part. GSD and
   // footprint are derived from the true pose, not measured: a perturbed
   // variant leaves them out.
   if (truth.geo)
-    measured.geo = GeodeticOf(GeoOrigin{truth.geo->latitude_deg,
-                                        truth.geo->longitude_deg,
-                                        truth.geo->altitude_msl_m},
-                              error.position_enu_m());
+    measured.geo = GeodeticOf(
+        GeoOrigin{truth.geo->latitude_deg, truth.geo->longitude_deg, truth.geo->altitude_msl_m},
+        error.position_enu_m());
   if (truth.altitude_agl_m)
     measured.altitude_agl_m = *truth.altitude_agl_m + error.position_enu_m().z();
   measured.gsd_m.reset();
   measured.footprint.clear();
-  measured.attitude =
-      RotateAttitude(truth.attitude, error.rotation_vector_deg());
-  if (error.value[kTime] != 0.0)
-    measured.time = truth.time + error.value[kTime];
+  measured.attitude = RotateAttitude(truth.attitude, error.rotation_vector_deg());
+  if (error.value[kTime] != 0.0) measured.time = truth.time + error.value[kTime];
   if (error.value[kHfov] != 0.0) {
     const double hfov = truth.camera.HorizontalFovDeg() + error.value[kHfov];
     if (!(hfov > 0.0 && hfov < 180.0)) {
@@ -119,10 +106,8 @@ void ErrorStatistics::Running::Add(double x) {
 }
 
 nlohmann::json ErrorStatistics::Running::ToJson() const {
-  const double std_dev =
-      n > 1 ? std::sqrt(m2 / static_cast<double>(n - 1)) : 0.0;
-  const double rms =
-      n > 0 ? std::sqrt(sum_squares / static_cast<double>(n)) : 0.0;
+  const double std_dev = n > 1 ? std::sqrt(m2 / static_cast<double>(n - 1)) : 0.0;
+  const double rms = n > 0 ? std::sqrt(sum_squares / static_cast<double>(n)) : 0.0;
   return {{"mean", mean}, {"std", std_dev}, {"rms", rms}, {"max_abs", max_abs}};
 }
 
@@ -137,8 +122,7 @@ void ErrorStatistics::Add(const RealizedError& error) {
 
 nlohmann::json ErrorStatistics::ToJson() const {
   nlohmann::json fields = nlohmann::json::object();
-  for (int f = 0; f < kFieldCount; ++f)
-    fields[FieldName(f)] = fields_[f].ToJson();
+  for (int f = 0; f < kFieldCount; ++f) fields[FieldName(f)] = fields_[f].ToJson();
   return {{"frames", count_},
           {"fields", fields},
           {"position_m", position_.ToJson()},

@@ -18,13 +18,9 @@ namespace lsds::noise {
 struct RealizedError {
   std::array<double, kFieldCount> value{};
 
-  Eigen::Vector3d position_enu_m() const {
-    return {value[kEast], value[kNorth], value[kUp]};
-  }
+  Eigen::Vector3d position_enu_m() const { return {value[kEast], value[kNorth], value[kUp]}; }
   // Rotation vector about the heading-level axes forward/right/down, degrees.
-  Eigen::Vector3d rotation_vector_deg() const {
-    return {value[kRoll], value[kPitch], value[kYaw]};
-  }
+  Eigen::Vector3d rotation_vector_deg() const { return {value[kRoll], value[kPitch], value[kYaw]}; }
   double rotation_angle_deg() const { return rotation_vector_deg().norm(); }
 };
 
@@ -32,8 +28,7 @@ struct RealizedError {
 // (heading-level axes forward, right, down, i.e. north/east/down turned by the
 // true yaw). The angle between the true and the measured attitude is exactly
 // the norm of the vector. A zero vector returns `truth` unchanged.
-Attitude RotateAttitude(const Attitude& truth,
-                        const Eigen::Vector3d& rotation_vector_deg);
+Attitude RotateAttitude(const Attitude& truth, const Eigen::Vector3d& rotation_vector_deg);
 
 // Frames must be visited in time order (file order) because gauss-markov noise
 // carries state; the draws themselves depend only on (seed, field, frame
@@ -45,8 +40,7 @@ class MetadataPerturber {
   RealizedError NextError(int64_t frame_index, double time);
   // `truth` with `error` applied and recorded in its "error" member. Fields
   // with zero error keep their true values bit for bit.
-  MetadataFrame Apply(const MetadataFrame& truth,
-                      const RealizedError& error) const;
+  MetadataFrame Apply(const MetadataFrame& truth, const RealizedError& error) const;
   MetadataFrame Perturb(const MetadataFrame& truth) {
     return Apply(truth, NextError(truth.index, truth.time));
   }

@@ -21,8 +21,7 @@ const char* NoiseModelName(NoiseModel model) {
 }
 
 const std::vector<std::string>& NoiseModelNames() {
-  static const std::vector<std::string> names = {
-      "gaussian", "uniform", "gauss-markov"};
+  static const std::vector<std::string> names = {"gaussian", "uniform", "gauss-markov"};
   return names;
 }
 
@@ -30,8 +29,7 @@ NoiseModel ParseNoiseModel(const std::string& name) {
   if (name == "gaussian") return NoiseModel::kGaussian;
   if (name == "uniform") return NoiseModel::kUniform;
   if (name == "gauss-markov") return NoiseModel::kGaussMarkov;
-  throw Error("unknown noise model '" + name + "'" +
-              DidYouMean(name, NoiseModelNames()) +
+  throw Error("unknown noise model '" + name + "'" + DidYouMean(name, NoiseModelNames()) +
               "; expected one of: " + Join(NoiseModelNames(), ", "));
 }
 
@@ -46,8 +44,7 @@ double ScalarProcess::Next(int64_t frame_index, double time) {
     case NoiseModel::kGaussian:
       return sigma_ * StandardNormal(seed_, field_, frame);
     case NoiseModel::kUniform:
-      return sigma_ * std::sqrt(3.0) *
-             (2.0 * Uniform01(seed_, field_, frame, 0) - 1.0);
+      return sigma_ * std::sqrt(3.0) * (2.0 * Uniform01(seed_, field_, frame, 0) - 1.0);
     case NoiseModel::kGaussMarkov: {
       const double n = StandardNormal(seed_, field_, frame);
       const double dt = time - previous_time_;

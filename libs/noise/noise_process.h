@@ -12,8 +12,7 @@ namespace lsds::noise {
 
 enum class NoiseModel { kGaussian, kUniform, kGaussMarkov };
 
-const char* NoiseModelName(
-    NoiseModel model);  // "gaussian" | "uniform" | "gauss-markov"
+const char* NoiseModelName(NoiseModel model);  // "gaussian" | "uniform" | "gauss-markov"
 const std::vector<std::string>& NoiseModelNames();
 // Throws lsds::Error for an unknown name, with a did-you-mean suggestion.
 NoiseModel ParseNoiseModel(const std::string& name);
@@ -30,11 +29,7 @@ NoiseModel ParseNoiseModel(const std::string& name);
 // bit-identical.
 class ScalarProcess {
  public:
-  ScalarProcess(NoiseModel model,
-                double sigma,
-                double tau,
-                uint64_t seed,
-                uint64_t field);
+  ScalarProcess(NoiseModel model, double sigma, double tau, uint64_t seed, uint64_t field);
   // The noise at the frame with `frame_index` and time `time` (seconds).
   double Next(int64_t frame_index, double time);
   void Reset() { started_ = false; }

@@ -8,14 +8,8 @@
 namespace lsds::noise {
 
 const char* FieldName(int field) {
-  static const char* const names[kFieldCount] = {"east_m",
-                                                 "north_m",
-                                                 "up_m",
-                                                 "roll_deg",
-                                                 "pitch_deg",
-                                                 "yaw_deg",
-                                                 "time_s",
-                                                 "hfov_deg"};
+  static const char* const names[kFieldCount] = {
+      "east_m", "north_m", "up_m", "roll_deg", "pitch_deg", "yaw_deg", "time_s", "hfov_deg"};
   return field >= 0 && field < kFieldCount ? names[field] : "?";
 }
 
@@ -38,13 +32,12 @@ void NoiseSpec::Validate() const {
   for (int f = 0; f < kFieldCount; ++f) {
     if (!std::isfinite(sigma[f]) || sigma[f] < 0) {
       std::ostringstream message;
-      message << FieldFlag(f) << ": sigma of " << FieldName(f)
-              << " must be finite and >= 0, got " << sigma[f];
+      message << FieldFlag(f) << ": sigma of " << FieldName(f) << " must be finite and >= 0, got "
+              << sigma[f];
       throw Error(message.str());
     }
     if (!std::isfinite(bias[f])) {
-      throw Error(std::string("--bias: bias of ") + FieldName(f) +
-                  " must be finite");
+      throw Error(std::string("--bias: bias of ") + FieldName(f) + " must be finite");
     }
   }
   if (model == NoiseModel::kGaussMarkov) {
@@ -54,9 +47,8 @@ void NoiseSpec::Validate() const {
           "seconds");
     }
   } else if (tau != 0) {
-    throw Error(
-        std::string("--tau applies only to --model gauss-markov, not ") +
-        NoiseModelName(model));
+    throw Error(std::string("--tau applies only to --model gauss-markov, not ") +
+                NoiseModelName(model));
   }
 }
 
@@ -85,12 +77,10 @@ nlohmann::json NoiseSpec::ParametersJson(const WorldFrame& world) const {
        "rotation vector about the heading-level axes forward, right, down "
        "(roll, pitch, yaw) in "
        "degrees, composed on the left of the true ned_from_body"},
-      {"hfov",
-       "horizontal field of view in degrees; principal point and aspect kept"},
+      {"hfov", "horizontal field of view in degrees; principal point and aspect kept"},
   };
   if (model == NoiseModel::kUniform) {
-    parameters["distribution"] =
-        "uniform on [-sqrt(3) sigma, sqrt(3) sigma] per field";
+    parameters["distribution"] = "uniform on [-sqrt(3) sigma, sqrt(3) sigma] per field";
   } else if (model == NoiseModel::kGaussMarkov) {
     parameters["tau_s"] = tau;
     parameters["distribution"] =
@@ -104,10 +94,9 @@ nlohmann::json NoiseSpec::ParametersJson(const WorldFrame& world) const {
 
 std::string NoiseSpec::Describe() const {
   std::ostringstream text;
-  text << "perturbed: " << NoiseModelName(model) << ", seed " << seed
-       << ", sigma pos " << sigma[kEast] << " m, alt " << sigma[kUp]
-       << " m, rot " << sigma[kRoll] << "/" << sigma[kPitch] << "/"
-       << sigma[kYaw] << " deg";
+  text << "perturbed: " << NoiseModelName(model) << ", seed " << seed << ", sigma pos "
+       << sigma[kEast] << " m, alt " << sigma[kUp] << " m, rot " << sigma[kRoll] << "/"
+       << sigma[kPitch] << "/" << sigma[kYaw] << " deg";
   if (sigma[kTime] != 0) text << ", time " << sigma[kTime] << " s";
   if (sigma[kHfov] != 0) text << ", hfov " << sigma[kHfov] << " deg";
   bool any_bias = false;

@@ -18,17 +18,7 @@ namespace lsds::noise {
 // Position noise is drawn along east/north/up (metres) and mapped into the
 // declared world frame; attitude noise is a small rotation vector about the
 // heading-level axes forward/right/down (roll/pitch/yaw, degrees).
-enum Field : int {
-  kEast,
-  kNorth,
-  kUp,
-  kRoll,
-  kPitch,
-  kYaw,
-  kTime,
-  kHfov,
-  kFieldCount
-};
+enum Field : int { kEast, kNorth, kUp, kRoll, kPitch, kYaw, kTime, kHfov, kFieldCount };
 
 // "east_m", "north_m", "up_m", "roll_deg", "pitch_deg", "yaw_deg", "time_s",
 // "hfov_deg".
@@ -39,8 +29,7 @@ struct NoiseSpec {
   double tau = 0;  // seconds; gauss-markov only
   uint64_t seed = 0;
   std::array<double, kFieldCount> sigma{};  // standard deviation per field
-  std::array<double, kFieldCount>
-      bias{};  // constant offset per field, added to the noise
+  std::array<double, kFieldCount> bias{};   // constant offset per field, added to the noise
 
   // Throws lsds::Error naming the flag: negative or non-finite sigma,
   // non-finite bias, missing or non-positive tau for gauss-markov, tau given

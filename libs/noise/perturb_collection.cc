@@ -51,13 +51,11 @@ class ReportWriter {
   ReportWriter(const fs::path& path, const nlohmann::json& head) : file_(path) {
     std::string text = head.dump(2);
     text.erase(text.find_last_of('}'));
-    while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
-      text.pop_back();
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
     file_.stream() << text << ",\n  \"frames\": [";
   }
   void Append(const FrameDisplacement& frame) {
-    file_.stream() << (count_++ == 0 ? "\n    " : ",\n    ")
-                   << frame.ToJson().dump();
+    file_.stream() << (count_++ == 0 ? "\n    " : ",\n    ") << frame.ToJson().dump();
   }
   void Finish(const nlohmann::json& summary) {
     std::string text = summary.dump(2);
@@ -67,8 +65,8 @@ class ReportWriter {
       indented += c;
       if (c == '\n') indented += "  ";
     }
-    file_.stream() << (count_ == 0 ? "],\n" : "\n  ],\n")
-                   << "  \"summary\": " << indented << "\n}\n";
+    file_.stream() << (count_ == 0 ? "],\n" : "\n  ],\n") << "  \"summary\": " << indented
+                   << "\n}\n";
   }
   void Commit() { file_.Commit(); }
 
@@ -88,21 +86,17 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   // Registering the variant rewrites collection.json: writers of one collection
   // take turns, and the header is read under the lock so that no other
   // writer's registration is lost.
-  const fs::path planned_output = options.output.empty()
-                                      ? root / DefaultOutputName(options.spec.seed)
-                                      : options.output;
+  const fs::path planned_output =
+      options.output.empty() ? root / DefaultOutputName(options.spec.seed) : options.output;
   std::optional<FolderLock> lock;
-  if (!RelativeInside(planned_output, root).empty())
-    lock.emplace(root, "lsds perturb-metadata");
+  if (!RelativeInside(planned_output, root).empty()) lock.emplace(root, "lsds perturb-metadata");
   std::error_code ec;
   // The header only (a fast scan, no DOM for the frames), checked as
   // CollectionReader checks it.
-  ArrayScanResult collection_scan =
-      ScanJsonArrayMember(collection_path, "frames");
+  ArrayScanResult collection_scan = ScanJsonArrayMember(collection_path, "frames");
   JsonSchema::Get("collection.schema.json")
       .ValidateOrThrow(collection_scan.header, collection_file);
-  const CollectionHeader header =
-      HeaderFromJson(collection_scan.header, collection_file);
+  const CollectionHeader header = HeaderFromJson(collection_scan.header, collection_file);
   const WorldFrame& world = header.conventions.world;
 
   // The truth to perturb: the collection's unperturbed metadata variant.
@@ -117,8 +111,7 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   PerturbResult result;
   result.source = root / truth_variant->file;
   if (!fs::is_regular_file(result.source, ec)) {
-    throw Error("the truth metadata registered in " + collection_file +
-                    " does not exist",
+    throw Error("the truth metadata registered in " + collection_file + " does not exist",
                 Location(result.source.string()));
   }
 
@@ -133,12 +126,10 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   GuardCollection(&guard, root, CollectionAccess::kAddsOutputs);
   guard.CheckOutput(result.output, "-o");
   if (!fs::is_directory(fs::absolute(result.output).parent_path(), ec)) {
-    throw Error("the output's folder does not exist",
-                Location(result.output.string()));
+    throw Error("the output's folder does not exist", Location(result.output.string()));
   }
   if (fs::is_directory(result.output, ec)) {
-    throw Error("the output is a folder; -o takes a file name",
-                Location(result.output.string()));
+    throw Error("the output is a folder; -o takes a file name", Location(result.output.string()));
   }
   RefuseToOverwrite(result.output, options.force, "output metadata");
   if (options.report) {
@@ -162,15 +153,13 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   // the header (which states the statistics) followed by those frames.
   // Temporary files vanish unless committed.
   const std::string source_file = result.source.string();
-  const JsonSchema& frame_schema =
-      JsonSchema::Get("metadata.schema.json", "frame");
+  const JsonSchema& frame_schema = JsonSchema::Get("metadata.schema.json", "frame");
   AtomicFile frames_file(fs::path(result.output).concat(".frames"));
   ErrorStatistics statistics;
   MetadataPerturber perturber(options.spec, world);
   std::unique_ptr<Progress> progress;
   if (options.progress)
-    progress =
-        std::make_unique<Progress>("perturb-metadata", header.frame_count);
+    progress = std::make_unique<Progress>("perturb-metadata", header.frame_count);
   std::ostream& frames_out = frames_file.stream();
   const ArrayScanResult metadata_scan = ScanJsonArrayMember(
       result.source,
@@ -179,30 +168,23 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
          const std::string pointer = "/frames/" + std::to_string(index);
          const nlohmann::json json = ParseElement(text, result.source, pointer);
          frame_schema.ValidateOrThrow(json, source_file, pointer);
-         const MetadataFrame truth =
-             MetadataFrameFromJson(json, source_file, pointer);
-         const RealizedError error =
-             perturber.NextError(truth.index, truth.time);
+         const MetadataFrame truth = MetadataFrameFromJson(json, source_file, pointer);
+         const RealizedError error = perturber.NextError(truth.index, truth.time);
          statistics.Add(error);
-         frames_out
-             << (index == 0 ? "\n    " : ",\n    ")
-             << MetadataFrameToJson(perturber.Apply(truth, error)).dump();
+         frames_out << (index == 0 ? "\n    " : ",\n    ")
+                    << MetadataFrameToJson(perturber.Apply(truth, error)).dump();
          if (progress) progress->Add();
        }});
   progress.reset();
-  JsonSchema::Get("metadata.schema.json")
-      .ValidateOrThrow(metadata_scan.header, source_file);
-  const MetadataHeader truth_header =
-      MetadataHeaderFromJson(metadata_scan.header, source_file);
+  JsonSchema::Get("metadata.schema.json").ValidateOrThrow(metadata_scan.header, source_file);
+  const MetadataHeader truth_header = MetadataHeaderFromJson(metadata_scan.header, source_file);
   if (truth_header.perturbed) {
     throw Error("the metadata registered as truth is itself perturbed",
                 Location(source_file, "/perturbed"));
   }
-  if (truth_header.frame_count !=
-      static_cast<int64_t>(metadata_scan.elements)) {
+  if (truth_header.frame_count != static_cast<int64_t>(metadata_scan.elements)) {
     throw Error("frame_count is " + std::to_string(truth_header.frame_count) +
-                    " but the file has " +
-                    std::to_string(metadata_scan.elements) + " frames",
+                    " but the file has " + std::to_string(metadata_scan.elements) + " frames",
                 Location(source_file, "/frame_count"));
   }
   result.summary = statistics.ToJson();
@@ -211,9 +193,8 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   MetadataHeader out_header;
   out_header.format_version = truth_header.format_version;
   out_header.perturbed = true;
-  out_header.noise = NoiseRecord{NoiseModelName(options.spec.model),
-                                 options.spec.ParametersJson(world),
-                                 options.spec.seed};
+  out_header.noise = NoiseRecord{
+      NoiseModelName(options.spec.model), options.spec.ParametersJson(world), options.spec.seed};
   out_header.source = truth_variant->file;
   out_header.frame_count = truth_header.frame_count;
   nlohmann::json out_header_json = MetadataHeaderToJson(out_header);
@@ -271,16 +252,12 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
       callbacks.on_element = [&](std::string_view text, size_t index) {
         const std::string pointer = "/frames/" + std::to_string(index);
         const Frame frame =
-            FrameFromJson(ParseElement(text, collection_path, pointer),
-                          collection_file,
-                          pointer);
+            FrameFromJson(ParseElement(text, collection_path, pointer), collection_file, pointer);
         // The measured camera, from the truth as metadata.json states it
         // (TruthMetadata) and the same realized error as the output's frame of
         // that index.
-        const MetadataFrame measured =
-            report_perturber.Perturb(TruthMetadata(frame, world));
-        const FrameDisplacement moved =
-            MeasureDisplacement(frame, world, measured);
+        const MetadataFrame measured = report_perturber.Perturb(TruthMetadata(frame, world));
+        const FrameDisplacement moved = MeasureDisplacement(frame, world, measured);
         displacement.Add(moved);
         report->Append(moved);
       };

@@ -18,24 +18,21 @@ namespace lsds::noise {
 
 struct PerturbOptions {
   std::filesystem::path collection;  // the collection folder
-  std::filesystem::path
-      output;          // empty: COLLECTION/metadata.perturbed-<seed>.json
-  bool force = false;  // overwrite an existing output (and report)
+  std::filesystem::path output;      // empty: COLLECTION/metadata.perturbed-<seed>.json
+  bool force = false;                // overwrite an existing output (and report)
   NoiseSpec spec;
   bool report = false;
-  std::filesystem::path
-      report_path;       // empty: the output with ".report.json" for ".json"
-  bool progress = true;  // a progress line on a terminal
+  std::filesystem::path report_path;  // empty: the output with ".report.json" for ".json"
+  bool progress = true;               // a progress line on a terminal
 };
 
 struct PerturbResult {
   std::filesystem::path output;
   std::filesystem::path source;  // the truth metadata that was perturbed
-  std::string registered_as;  // the variant's "file" in collection.json; empty
-                              // if not registered
+  std::string registered_as;     // the variant's "file" in collection.json; empty
+                                 // if not registered
   int64_t frames = 0;
-  nlohmann::json
-      summary;  // realized error statistics (also in the output's "summary")
+  nlohmann::json summary;  // realized error statistics (also in the output's "summary")
   std::optional<std::filesystem::path> report;
   std::optional<nlohmann::json> report_summary;
 };

@@ -26,26 +26,23 @@ FrameDisplacement MeasureDisplacement(const Frame& frame,
                                       double near) {
   FrameDisplacement result;
   result.index = frame.index;
-  const Rigid3d true_cam_from_enu =
-      world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
-                             frame.camera.cam_from_world_translation);
-  const Rigid3d measured_cam_from_enu = CamFromEnu(
-      world.EnuMetresFromWorld(measured.position), measured.attitude);
+  const Rigid3d true_cam_from_enu = world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
+                                                           frame.camera.cam_from_world_translation);
+  const Rigid3d measured_cam_from_enu =
+      CamFromEnu(world.EnuMetresFromWorld(measured.position), measured.attitude);
   const PinholeCamera& true_camera = frame.camera.intrinsics;
   const PinholeCamera& measured_camera = measured.camera;
   for (const ObjectTruth& object : frame.objects) {
     if (!(object.in_frame > 0)) continue;
     ++result.targets;
     for (const Eigen::Vector3d& corner_in_world : object.obb.Corners()) {
-      const Eigen::Vector3d corner_in_enu =
-          world.EnuMetresFromWorld(corner_in_world);
+      const Eigen::Vector3d corner_in_enu = world.EnuMetresFromWorld(corner_in_world);
       const Eigen::Vector3d in_true_cam = true_cam_from_enu * corner_in_enu;
-      const Eigen::Vector3d in_measured_cam =
-          measured_cam_from_enu * corner_in_enu;
+      const Eigen::Vector3d in_measured_cam = measured_cam_from_enu * corner_in_enu;
       if (!(in_true_cam.z() > near) || !(in_measured_cam.z() > near)) continue;
-      const double distance = (measured_camera.ImageFromCam(in_measured_cam) -
-                               true_camera.ImageFromCam(in_true_cam))
-                                  .norm();
+      const double distance =
+          (measured_camera.ImageFromCam(in_measured_cam) - true_camera.ImageFromCam(in_true_cam))
+              .norm();
       result.displacements_px.push_back(distance);
     }
   }
@@ -73,8 +70,8 @@ double Quantile(std::vector<double> values, double q) {
 }
 
 QuantileHistogram::QuantileHistogram() {
-  const size_t bins = static_cast<size_t>(
-      std::ceil(std::log(kHistogramMax / kHistogramMin) / std::log(kBinRatio)));
+  const size_t bins =
+      static_cast<size_t>(std::ceil(std::log(kHistogramMax / kHistogramMin) / std::log(kBinRatio)));
   bins_.assign(bins + 2, 0);  // + underflow (bin 0) and overflow (last)
 }
 
@@ -82,8 +79,7 @@ void QuantileHistogram::Add(double value) {
   if (!std::isfinite(value)) value = kHistogramMax * 2;
   size_t bin = 0;
   if (value >= kHistogramMin) {
-    const double position =
-        std::log(value / kHistogramMin) / std::log(kBinRatio);
+    const double position = std::log(value / kHistogramMin) / std::log(kBinRatio);
     bin = std::min(bins_.size() - 1, static_cast<size_t>(position) + 1);
   }
   ++bins_[bin];
@@ -100,16 +96,14 @@ double QuantileHistogram::Quantile(double q) const {
   if (count_ == 0) return 0.0;
   // Nearest rank: the smallest value with at least q * count values at or below
   // it.
-  const int64_t rank =
-      std::max<int64_t>(1, static_cast<int64_t>(std::ceil(q * count_)));
+  const int64_t rank = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(q * count_)));
   int64_t seen = 0;
   for (size_t bin = 0; bin < bins_.size(); ++bin) {
     seen += bins_[bin];
     if (seen < rank) continue;
     if (bin == 0) return std::max(0.0, std::min(min_, kHistogramMin));
     // Geometric centre of the bin, kept inside the observed range.
-    const double centre =
-        kHistogramMin * std::pow(kBinRatio, static_cast<double>(bin) - 0.5);
+    const double centre = kHistogramMin * std::pow(kBinRatio, static_cast<double>(bin) - 0.5);
     return std::min(max_, std::max(min_, centre));
   }
   return max_;

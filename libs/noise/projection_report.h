@@ -14,8 +14,8 @@ namespace lsds::noise {
 
 struct FrameDisplacement {
   int64_t index = 0;
-  int targets = 0;  // objects with in_frame > 0
-  int corners = 0;  // their OBB corners in front of both cameras
+  int targets = 0;                             // objects with in_frame > 0
+  int corners = 0;                             // their OBB corners in front of both cameras
   double mean_px = 0, p95_px = 0, max_px = 0;  // 0 when no corner counts
   std::vector<double> displacements_px;        // one per counted corner
   nlohmann::json ToJson() const;               // without the per-corner list
@@ -56,9 +56,7 @@ class DisplacementSummary {
   void Add(const FrameDisplacement& frame);
   nlohmann::json ToJson() const;
   int64_t corners() const { return histogram_.count(); }
-  double mean_px() const {
-    return corners() > 0 ? sum_ / static_cast<double>(corners()) : 0.0;
-  }
+  double mean_px() const { return corners() > 0 ? sum_ / static_cast<double>(corners()) : 0.0; }
   double p95_px() const { return histogram_.Quantile(0.95); }
   double max_px() const { return max_; }
 

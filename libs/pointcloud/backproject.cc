@@ -21,20 +21,15 @@ struct Rays {
 
 Rays MakeRays(const PinholeCamera& camera, int width, int height, int stride) {
   Rays rays;
-  for (int i = 0; i < width; i += stride)
-    rays.x.push_back(camera.CamFromImage({i + 0.5, 0.0}).x());
+  for (int i = 0; i < width; i += stride) rays.x.push_back(camera.CamFromImage({i + 0.5, 0.0}).x());
   for (int j = 0; j < height; j += stride)
     rays.y.push_back(camera.CamFromImage({0.0, j + 0.5}).y());
   return rays;
 }
 
 // Point in the camera frame for depth `d` along the ray (rx, ry, 1).
-inline Eigen::Vector3d CamPoint(double rx,
-                                double ry,
-                                double d,
-                                DepthKind kind) {
-  const double z =
-      kind == DepthKind::kPlanar ? d : d / std::sqrt(rx * rx + ry * ry + 1.0);
+inline Eigen::Vector3d CamPoint(double rx, double ry, double d, DepthKind kind) {
+  const double z = kind == DepthKind::kPlanar ? d : d / std::sqrt(rx * rx + ry * ry + 1.0);
   return {rx * z, ry * z, z};
 }
 
@@ -43,8 +38,7 @@ const std::array<uint8_t, 4097>& ToneMapTable() {
     std::array<uint8_t, 4097> t{};
     for (int k = 0; k <= 4096; ++k) {
       const double v = k / 4096.0;
-      const double s =
-          v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+      const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
       t[k] = static_cast<uint8_t>(std::lround(std::clamp(s, 0.0, 1.0) * 255.0));
     }
     return t;
@@ -69,8 +63,7 @@ void BackprojectFrame(const FrameLayers& layers,
   const Rays rays = MakeRays(pose.camera, layers.width, layers.height, stride);
   const Eigen::Matrix3d linear = pose.out_from_cam.linear();
   const Eigen::Vector3d translation = pose.out_from_cam.translation();
-  const Eigen::Matrix3f normal_rotation =
-      pose.out_from_world_normal.cast<float>();
+  const Eigen::Matrix3f normal_rotation = pose.out_from_world_normal.cast<float>();
   const bool rotate_normals = !pose.out_from_world_normal.isIdentity(0.0);
   const auto& tone = ToneMapTable();
   auto tone_map = [&tone](float v) -> uint32_t {
@@ -118,10 +111,8 @@ void BackprojectFrame(const FrameLayers& layers,
       const float d = layers.depth[k];
       if (!IsValidDepth(d)) continue;
       const double rx = rays.x[col];
-      const double z =
-          perspective ? d / std::sqrt(rx * rx + ry * ry + 1.0) : double{d};
-      const Eigen::Vector3d p =
-          z * (column_term[col] + row_term[row]) + translation;
+      const double z = perspective ? d / std::sqrt(rx * rx + ry * ry + 1.0) : double{d};
+      const Eigen::Vector3d p = z * (column_term[col] + row_term[row]) + translation;
       CloudPoint& point = *next++;
       point.x = static_cast<float>(p.x());
       point.y = static_cast<float>(p.y());
@@ -130,16 +121,15 @@ void BackprojectFrame(const FrameLayers& layers,
       point.label = point.instance = 0;
       point.normal_x = point.normal_y = point.normal_z = 0;
       if (want.rgb) {
-        point.rgb = (tone_map(layers.red[k]) << 16) |
-                    (tone_map(layers.green[k]) << 8) | tone_map(layers.blue[k]);
+        point.rgb = (tone_map(layers.red[k]) << 16) | (tone_map(layers.green[k]) << 8) |
+                    tone_map(layers.blue[k]);
       }
       if (want.labels) {
         point.label = layers.class_id[k];
         point.instance = layers.instance_id[k];
       }
       if (want.normals) {
-        Eigen::Vector3f n(
-            layers.normal_x[k], layers.normal_y[k], layers.normal_z[k]);
+        Eigen::Vector3f n(layers.normal_x[k], layers.normal_y[k], layers.normal_z[k]);
         if (rotate_normals) n = normal_rotation * n;
         point.normal_x = n.x();
         point.normal_y = n.y();
@@ -149,9 +139,7 @@ void BackprojectFrame(const FrameLayers& layers,
   });
 }
 
-double ErrorStats::rms() const {
-  return compared > 0 ? std::sqrt(sum_squared / compared) : 0.0;
-}
+double ErrorStats::rms() const { return compared > 0 ? std::sqrt(sum_squared / compared) : 0.0; }
 
 void ErrorStats::Merge(const ErrorStats& other) {
   compared += other.compared;
@@ -178,8 +166,7 @@ ErrorStats CompareWithWorldPosition(const FrameLayers& layers,
       const Eigen::Vector3d truth(world_x[k], world_y[k], world_z[k]);
       if (!truth.allFinite()) continue;
       const Eigen::Vector3d p =
-          world_from_cam *
-          CamPoint(rays.x[col], rays.y[row], d, layers.depth_kind);
+          world_from_cam * CamPoint(rays.x[col], rays.y[row], d, layers.depth_kind);
       const double e = (p - truth).norm();
       ++stats.compared;
       stats.max_error = std::max(stats.max_error, e);

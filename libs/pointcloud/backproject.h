@@ -43,9 +43,7 @@ struct FramePose {
 
 // True for a depth that is a surface: finite and > 0 (sky is +inf; NaN and
 // negatives are invalid).
-inline bool IsValidDepth(float depth) {
-  return depth > 0.0f && depth < INFINITY;
-}
+inline bool IsValidDepth(float depth) { return depth > 0.0f && depth < INFINITY; }
 
 // Appends one point per valid pixel of every `stride`-th row and column (pixel
 // centres) to `cloud`. `cloud->attributes` says which attributes to fill; the

@@ -31,17 +31,15 @@ Eigen::Affine3d WorldFromCamOfTruth(const CameraTruth& camera) {
   return cam_from_world.inverse();
 }
 
-Eigen::Affine3d WorldFromCamOfMetadata(const WorldFrame& world,
-                                       const MetadataFrame& m) {
+Eigen::Affine3d WorldFromCamOfMetadata(const WorldFrame& world, const MetadataFrame& m) {
   const Rigid3d enu_from_cam =
       CamFromEnu(world.EnuMetresFromWorld(m.position), m.attitude).Inverse();
   // p_world = F^T (R (s p) + t) / s = F^T R p + F^T t / s
   Eigen::Affine3d world_from_cam = Eigen::Affine3d::Identity();
-  world_from_cam.linear() = world.enu_from_frame.transpose() *
-                            enu_from_cam.rotation.toRotationMatrix();
-  world_from_cam.translation() = world.enu_from_frame.transpose() *
-                                 enu_from_cam.translation /
-                                 world.metres_per_unit;
+  world_from_cam.linear() =
+      world.enu_from_frame.transpose() * enu_from_cam.rotation.toRotationMatrix();
+  world_from_cam.translation() =
+      world.enu_from_frame.transpose() * enu_from_cam.translation / world.metres_per_unit;
   return world_from_cam;
 }
 
@@ -63,8 +61,7 @@ std::vector<std::string> ChannelNames(const LayerInfo& layer,
                                       size_t count,
                                       const std::string& where) {
   if (layer.channels.size() < count) {
-    throw Error("layer '" + layer.name + "' declares " +
-                    std::to_string(layer.channels.size()) +
+    throw Error("layer '" + layer.name + "' declares " + std::to_string(layer.channels.size()) +
                     " channels, expected " + std::to_string(count),
                 Location(where));
   }
@@ -83,13 +80,10 @@ struct LoadedFrame {
   const float* world_z = nullptr;
 };
 
-const float* Floats(const exr::FlatImage& image,
-                    const std::string& channel,
-                    const fs::path& path) {
+const float* Floats(const exr::FlatImage& image, const std::string& channel, const fs::path& path) {
   const exr::FlatChannel& c = image.Get(channel);
   if (c.floats.size() != image.pixel_count()) {
-    throw Error("channel '" + channel + "' is not HALF or FLOAT",
-                Location(path.string()));
+    throw Error("channel '" + channel + "' is not HALF or FLOAT", Location(path.string()));
   }
   return c.floats.data();
 }
@@ -99,8 +93,7 @@ const uint32_t* Uints(const exr::FlatImage& image,
                       const fs::path& path) {
   const exr::FlatChannel& c = image.Get(channel);
   if (c.uints.size() != image.pixel_count()) {
-    throw Error("channel '" + channel + "' is not UINT",
-                Location(path.string()));
+    throw Error("channel '" + channel + "' is not UINT", Location(path.string()));
   }
   return c.uints.data();
 }
@@ -115,17 +108,13 @@ void Load(const CollectionReader& reader,
           fs::path* path) {
   *path = reader.LayerPath(frame, layer.name);
   *image = reader.ReadFlatLayer(
-      frame,
-      layer.name,
-      ChannelNames(layer, channels, reader.collection_path().string()));
+      frame, layer.name, ChannelNames(layer, channels, reader.collection_path().string()));
   if (image->width() != width || image->height() != height) {
     Location where(path->string());
     where.frame = frame.index;
-    throw Error("layer '" + layer.name + "' is " +
-                    std::to_string(image->width()) + "x" +
-                    std::to_string(image->height()) +
-                    " but the frame's depth is " + std::to_string(width) + "x" +
-                    std::to_string(height),
+    throw Error("layer '" + layer.name + "' is " + std::to_string(image->width()) + "x" +
+                    std::to_string(image->height()) + " but the frame's depth is " +
+                    std::to_string(width) + "x" + std::to_string(height),
                 where);
   }
 }
@@ -157,8 +146,7 @@ LoadedFrame LoadFrame(const CollectionReader& reader,
     Load(reader, frame, *plan.classid, 1, w, h, &f.classid, &path);
     l.class_id = Uints(f.classid, plan.classid->channels[0].name, path);
     Load(reader, frame, *plan.instanceid, 1, w, h, &f.instanceid, &path);
-    l.instance_id =
-        Uints(f.instanceid, plan.instanceid->channels[0].name, path);
+    l.instance_id = Uints(f.instanceid, plan.instanceid->channels[0].name, path);
   }
   if (plan.attributes.normals) {
     Load(reader, frame, *plan.normal, 3, w, h, &f.normal, &path);
@@ -179,16 +167,14 @@ LoadedFrame LoadFrame(const CollectionReader& reader,
 
 fs::path ResolveMetadataPath(const fs::path& root, const fs::path& file) {
   std::error_code ec;
-  if (file.is_relative() && !fs::exists(file, ec) &&
-      fs::exists(root / file, ec))
+  if (file.is_relative() && !fs::exists(file, ec) && fs::exists(root / file, ec))
     return root / file;
   return file;
 }
 
 // Fails early (before any work) when a file cannot be created beside `path`.
 void CheckWritableParent(const fs::path& path) {
-  const fs::path parent =
-      path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   std::error_code ec;
   if (!fs::is_directory(parent, ec))
     throw Error("output folder does not exist", Location(parent.string()));
@@ -204,9 +190,8 @@ struct FrameResult {
 
 }  // namespace
 
-BackprojectSummary RunBackproject(
-    const BackprojectOptions& options,
-    const std::function<void(const FrameReport&)>& on_frame) {
+BackprojectSummary RunBackproject(const BackprojectOptions& options,
+                                  const std::function<void(const FrameReport&)>& on_frame) {
   if (options.stride < 1) throw Error("--stride must be >= 1");
   if (options.voxel < 0) throw Error("--voxel must be >= 0");
   if (options.voxel > 0 && !options.fuse)
@@ -238,17 +223,15 @@ BackprojectSummary RunBackproject(
   plan.normal = header.FindLayerBySemantic("normal");
   plan.world = header.FindLayerBySemantic("worldposition");
   plan.attributes.rgb = options.colors && plan.rgb != nullptr;
-  plan.attributes.labels =
-      options.labels && plan.classid != nullptr && plan.instanceid != nullptr;
+  plan.attributes.labels = options.labels && plan.classid != nullptr && plan.instanceid != nullptr;
   plan.attributes.normals = options.normals;
   if (options.normals && plan.normal == nullptr) {
     throw Error("--normals: the collection has no normal layer",
                 Location(collection_file, "/layers"));
   }
   if (options.check && plan.world == nullptr) {
-    throw Error(
-        "--check: the collection has no worldposition layer to compare with",
-        Location(collection_file, "/layers"));
+    throw Error("--check: the collection has no worldposition layer to compare with",
+                Location(collection_file, "/layers"));
   }
   const WorldFrame& world = header.conventions.world;
 
@@ -296,10 +279,8 @@ BackprojectSummary RunBackproject(
     voxels = std::make_unique<VoxelAccumulator>(options.voxel, plan.attributes);
 
   const int64_t in_file = static_cast<int64_t>(reader.frames_in_file());
-  const int64_t total =
-      std::max<int64_t>(0,
-                        std::min(in_file, options.frames.end) -
-                            std::min(in_file, options.frames.begin));
+  const int64_t total = std::max<int64_t>(
+      0, std::min(in_file, options.frames.end) - std::min(in_file, options.frames.begin));
   Progress progress("backproject", total);
 
   auto process = [&](const Frame& frame) {
@@ -316,28 +297,22 @@ BackprojectSummary RunBackproject(
       if (it == metadata.end()) {
         Location where(metadata_path.string());
         where.frame = frame.index;
-        throw Error(
-            "the metadata variant has no frame " + std::to_string(frame.index),
-            where);
+        throw Error("the metadata variant has no frame " + std::to_string(frame.index), where);
       }
       world_from_cam = WorldFromCamOfMetadata(world, it->second);
       if (it->second.camera.width > 0) pose.camera = it->second.camera;
     }
-    if (pose.camera.width != loaded.layers.width ||
-        pose.camera.height != loaded.layers.height) {
+    if (pose.camera.width != loaded.layers.width || pose.camera.height != loaded.layers.height) {
       Location where(reader.LayerPath(frame, plan.depth->name).string());
       where.frame = frame.index;
       throw Error("depth is " + std::to_string(loaded.layers.width) + "x" +
-                      std::to_string(loaded.layers.height) +
-                      " but the camera is " +
-                      std::to_string(pose.camera.width) + "x" +
-                      std::to_string(pose.camera.height),
+                      std::to_string(loaded.layers.height) + " but the camera is " +
+                      std::to_string(pose.camera.width) + "x" + std::to_string(pose.camera.height),
                   where);
     }
     if (options.frame == OutputFrame::kWorld) {
       pose.out_from_cam = world_from_cam;
-      pose.out_from_world_normal =
-          world_from_cam.linear() * cam_from_world_truth.linear();
+      pose.out_from_world_normal = world_from_cam.linear() * cam_from_world_truth.linear();
     } else {
       pose.out_from_cam = Eigen::Affine3d::Identity();
       pose.out_from_world_normal = cam_from_world_truth.linear();
@@ -361,23 +336,19 @@ BackprojectSummary RunBackproject(
   // Frames are streamed in batches back-projected in parallel, then merged in
   // file order, so the output is deterministic and memory holds one batch of
   // frames plus the output cloud.
-  const size_t batch_size =
-      options.batch_frames > 0
-          ? options.batch_frames
-          : std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
+  const size_t batch_size = options.batch_frames > 0
+                                ? options.batch_frames
+                                : std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
   std::vector<Frame> batch;
   auto flush = [&] {
     std::vector<FrameResult> results(batch.size());
-    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
-      results[i] = process(batch[i]);
-    });
+    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) { results[i] = process(batch[i]); });
     for (FrameResult& r : results) {
       ++summary.frames;
       summary.points_backprojected += r.report.points;
       if (r.report.checked) summary.check.Merge(r.report.check);
       if (folder) {
-        WriteCloud(folder->temp_path() /
-                       (FrameStem(r.report.index) + Extension(*format)),
+        WriteCloud(folder->temp_path() / (FrameStem(r.report.index) + Extension(*format)),
                    r.cloud,
                    *format);
         summary.points_written += r.report.points;
@@ -387,8 +358,7 @@ BackprojectSummary RunBackproject(
         if (fused.points.empty()) {
           fused.points.swap(r.cloud.points);  // the first frame: no copy
         } else {
-          fused.points.insert(
-              fused.points.end(), r.cloud.points.begin(), r.cloud.points.end());
+          fused.points.insert(fused.points.end(), r.cloud.points.begin(), r.cloud.points.end());
         }
       }
       r.cloud = PointCloud();
@@ -404,8 +374,7 @@ BackprojectSummary RunBackproject(
   });
   flush();
   if (summary.frames == 0) {
-    throw Error("no frame selected (the collection has " +
-                    std::to_string(in_file) + " frames)",
+    throw Error("no frame selected (the collection has " + std::to_string(in_file) + " frames)",
                 Location(collection_file));
   }
 

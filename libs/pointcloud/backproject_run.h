@@ -26,8 +26,7 @@ struct FrameRange {
 // frame (world units): from the declared truth pose, or from a metadata frame's
 // camera centre and attitude (against local NED) through the world frame.
 Eigen::Affine3d WorldFromCamOfTruth(const CameraTruth& camera);
-Eigen::Affine3d WorldFromCamOfMetadata(const WorldFrame& world,
-                                       const MetadataFrame& metadata);
+Eigen::Affine3d WorldFromCamOfMetadata(const WorldFrame& world, const MetadataFrame& metadata);
 
 struct BackprojectOptions {
   std::filesystem::path collection;
@@ -36,11 +35,9 @@ struct BackprojectOptions {
   std::filesystem::path output;
   std::string per_frame_format = "pcd";  // per-frame mode only
   bool fuse = false;
-  double voxel =
-      0;  // fused only; world units of the output frame; 0 = no downsampling
+  double voxel = 0;  // fused only; world units of the output frame; 0 = no downsampling
   OutputFrame frame = OutputFrame::kWorld;
-  std::filesystem::path
-      metadata;  // a metadata variant's poses instead of the truth poses
+  std::filesystem::path metadata;  // a metadata variant's poses instead of the truth poses
   bool check = false;
   bool normals = false;
   bool colors = true;  // when the collection has an rgb layer
@@ -48,8 +45,7 @@ struct BackprojectOptions {
   int stride = 1;
   FrameRange frames;
   bool force = false;
-  size_t batch_frames =
-      0;  // frames back-projected in parallel; 0 = 2 x hardware threads
+  size_t batch_frames = 0;  // frames back-projected in parallel; 0 = 2 x hardware threads
 };
 
 struct FrameReport {
@@ -71,8 +67,7 @@ struct BackprojectSummary {
 // Throws lsds::Error for bad input (no depth layer, missing layers, unknown
 // extension, unwritable output, ...); outputs are atomic, so nothing partial is
 // left behind.
-BackprojectSummary RunBackproject(
-    const BackprojectOptions& options,
-    const std::function<void(const FrameReport&)>& on_frame = {});
+BackprojectSummary RunBackproject(const BackprojectOptions& options,
+                                  const std::function<void(const FrameReport&)>& on_frame = {});
 
 }  // namespace lsds::pointcloud

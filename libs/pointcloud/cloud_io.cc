@@ -28,35 +28,28 @@ struct FieldSpec {
 // `ids_type`: UINT32 for PCD (pcl::PointXYZRGBL's label), INT32 for PLY
 // ("int"): Open3D's tensor PLY reader keeps only uchar, uint16, int, float and
 // double properties and silently drops "uint" ones. Same bits either way.
-std::vector<FieldSpec> FieldsFor(const Attributes& a,
-                                 uint8_t ids_type = Field::UINT32) {
-  std::vector<FieldSpec> fields = {
-      {"x", Field::FLOAT32, offsetof(CloudPoint, x)},
-      {"y", Field::FLOAT32, offsetof(CloudPoint, y)},
-      {"z", Field::FLOAT32, offsetof(CloudPoint, z)}};
+std::vector<FieldSpec> FieldsFor(const Attributes& a, uint8_t ids_type = Field::UINT32) {
+  std::vector<FieldSpec> fields = {{"x", Field::FLOAT32, offsetof(CloudPoint, x)},
+                                   {"y", Field::FLOAT32, offsetof(CloudPoint, y)},
+                                   {"z", Field::FLOAT32, offsetof(CloudPoint, z)}};
   // PCL stores colour as a FLOAT32 field holding the packed bits
   // (pcl::PointXYZRGB::rgb).
-  if (a.rgb)
-    fields.push_back({"rgb", Field::FLOAT32, offsetof(CloudPoint, rgb)});
+  if (a.rgb) fields.push_back({"rgb", Field::FLOAT32, offsetof(CloudPoint, rgb)});
   if (a.labels) {
     fields.push_back({"label", ids_type, offsetof(CloudPoint, label)});
     fields.push_back({"instance", ids_type, offsetof(CloudPoint, instance)});
   }
   if (a.normals) {
-    fields.push_back(
-        {"normal_x", Field::FLOAT32, offsetof(CloudPoint, normal_x)});
-    fields.push_back(
-        {"normal_y", Field::FLOAT32, offsetof(CloudPoint, normal_y)});
-    fields.push_back(
-        {"normal_z", Field::FLOAT32, offsetof(CloudPoint, normal_z)});
+    fields.push_back({"normal_x", Field::FLOAT32, offsetof(CloudPoint, normal_x)});
+    fields.push_back({"normal_y", Field::FLOAT32, offsetof(CloudPoint, normal_y)});
+    fields.push_back({"normal_z", Field::FLOAT32, offsetof(CloudPoint, normal_z)});
   }
   return fields;
 }
 
 pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud, CloudFormat format) {
-  const std::vector<FieldSpec> specs = FieldsFor(
-      cloud.attributes,
-      format == CloudFormat::kPly ? Field::INT32 : Field::UINT32);
+  const std::vector<FieldSpec> specs =
+      FieldsFor(cloud.attributes, format == CloudFormat::kPly ? Field::INT32 : Field::UINT32);
   pcl::PCLPointCloud2 out;
   uint32_t offset = 0;
   for (const FieldSpec& spec : specs) {
@@ -86,9 +79,7 @@ pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud, CloudFormat format) {
 }
 
 std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) {
-    return std::tolower(c);
-  });
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
 }
 
@@ -119,13 +110,9 @@ CloudFormat FormatFromName(const std::string& name) {
   throw Error("unknown point cloud format '" + name + "'; expected pcd or ply");
 }
 
-const char* Extension(CloudFormat format) {
-  return format == CloudFormat::kPcd ? ".pcd" : ".ply";
-}
+const char* Extension(CloudFormat format) { return format == CloudFormat::kPcd ? ".pcd" : ".ply"; }
 
-void WriteCloud(const std::filesystem::path& path,
-                const PointCloud& cloud,
-                CloudFormat format) {
+void WriteCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format) {
   const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud, format);
   // PCL writes by file name and ignores write errors: it writes into memory
   // and the bytes reach `path` through the checked atomic path.
@@ -151,8 +138,7 @@ void WriteCloud(const std::filesystem::path& path,
       }
     }
     if (status != 0) {
-      throw Error("cannot write point cloud" +
-                      (detail.empty() ? std::string() : ": " + detail),
+      throw Error("cannot write point cloud" + (detail.empty() ? std::string() : ": " + detail),
                   Location(path.string()));
     }
   });
@@ -165,15 +151,13 @@ PointCloud ReadCloud(const std::filesystem::path& path) {
   {
     QuietPcl quiet;
     try {
-      status = format == CloudFormat::kPcd
-                   ? pcl::io::loadPCDFile(path.string(), in)
-                   : pcl::io::loadPLYFile(path.string(), in);
+      status = format == CloudFormat::kPcd ? pcl::io::loadPCDFile(path.string(), in)
+                                           : pcl::io::loadPLYFile(path.string(), in);
     } catch (const std::exception&) {
       status = -1;
     }
   }
-  if (status < 0)
-    throw Error("cannot read point cloud", Location(path.string()));
+  if (status < 0) throw Error("cannot read point cloud", Location(path.string()));
   auto find = [&in](const char* name) -> const Field* {
     for (const Field& f : in.fields)
       if (f.name == name) return &f;
@@ -181,8 +165,7 @@ PointCloud ReadCloud(const std::filesystem::path& path) {
   };
   PointCloud cloud;
   cloud.attributes.rgb = find("rgb") != nullptr || find("rgba") != nullptr;
-  cloud.attributes.labels =
-      find("label") != nullptr && find("instance") != nullptr;
+  cloud.attributes.labels = find("label") != nullptr && find("instance") != nullptr;
   cloud.attributes.normals = find("normal_x") != nullptr;
   if (!find("x") || !find("y") || !find("z")) {
     throw Error("point cloud has no x y z fields", Location(path.string()));
@@ -193,8 +176,7 @@ PointCloud ReadCloud(const std::filesystem::path& path) {
     const Field* f = find(spec.name);
     if (!f && std::strcmp(spec.name, "rgb") == 0) f = find("rgba");
     if (!f || f->count != 1)
-      throw Error(std::string("unusable field ") + spec.name,
-                  Location(path.string()));
+      throw Error(std::string("unusable field ") + spec.name, Location(path.string()));
     fields.push_back(f);
   }
   const size_t n = static_cast<size_t>(in.width) * in.height;

@@ -21,9 +21,7 @@ const char* Extension(CloudFormat format);  // ".pcd" | ".ply"
 // Writes atomically (temporary file beside `path`, then rename): an error
 // leaves nothing behind. Fields: x y z, then rgb, label instance, normal_x
 // normal_y normal_z as `cloud.attributes` says.
-void WriteCloud(const std::filesystem::path& path,
-                const PointCloud& cloud,
-                CloudFormat format);
+void WriteCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format);
 
 // Reads a PCD or PLY file (by extension) with PCL; the attributes are the
 // fields present.

@@ -35,9 +35,7 @@ struct PointAllocator {
   PointAllocator() = default;
   template <typename U>
   PointAllocator(const PointAllocator<U>&) {}  // NOLINT: rebinding
-  T* allocate(size_t n) {
-    return static_cast<T*>(AllocatePointMemory(n * sizeof(T)));
-  }
+  T* allocate(size_t n) { return static_cast<T*>(AllocatePointMemory(n * sizeof(T))); }
   void deallocate(T* p, size_t) { FreePointMemory(p); }
   template <typename U>
   void construct(U* p) {

@@ -84,14 +84,12 @@ class BlockIndex {
     if (!(block == last_block_) || cells_.empty()) {
       const size_t count = cells_.size() / kBlockCells;
       last_offset_ = blocks_.FindOrInsert(block, count) * kBlockCells;
-      if (last_offset_ == cells_.size())
-        cells_.resize(cells_.size() + kBlockCells, kEmpty);
+      if (last_offset_ == cells_.size()) cells_.resize(cells_.size() + kBlockCells, kEmpty);
       last_block_ = block;
     }
-    uint32_t& cell = cells_[last_offset_ +
-                            static_cast<size_t>(
-                                ((key.x & kMask) << (2 * kShift)) |
-                                ((key.y & kMask) << kShift) | (key.z & kMask))];
+    uint32_t& cell =
+        cells_[last_offset_ + static_cast<size_t>(((key.x & kMask) << (2 * kShift)) |
+                                                  ((key.y & kMask) << kShift) | (key.z & kMask))];
     if (cell == kEmpty) {
       if (next >= kEmpty) throw Error("--voxel: more than 4 billion voxels");
       cell = static_cast<uint32_t>(next);
@@ -134,10 +132,8 @@ struct VoxelAccumulator::Impl {
   std::vector<Cell> cells;
 };
 
-VoxelAccumulator::VoxelAccumulator(double size, Attributes attributes)
-    : impl_(new Impl) {
-  if (!(size > 0) || !std::isfinite(size))
-    throw Error("voxel size must be a positive number");
+VoxelAccumulator::VoxelAccumulator(double size, Attributes attributes) : impl_(new Impl) {
+  if (!(size > 0) || !std::isfinite(size)) throw Error("voxel size must be a positive number");
   impl_->size = size;
   impl_->attributes = attributes;
 }
@@ -175,8 +171,7 @@ void VoxelAccumulator::Add(const PointCloud& cloud) {
       c.sum_nz += p.normal_z;
     }
     if (s.attributes.labels) {
-      const double dx = p.x - (key.x + 0.5) * s.size,
-                   dy = p.y - (key.y + 0.5) * s.size,
+      const double dx = p.x - (key.x + 0.5) * s.size, dy = p.y - (key.y + 0.5) * s.size,
                    dz = p.z - (key.z + 0.5) * s.size;
       const double d = dx * dx + dy * dy + dz * dz;
       if (d < c.best_centre_distance) {
@@ -203,22 +198,14 @@ PointCloud VoxelAccumulator::Finish() const {
     p.z = InsideVoxel(c.sum_z / n, k.z * s.size, (k.z + 1) * s.size);
     // Guard the definition used by VoxelOf (float division) as well as the
     // double bounds above.
-    while (VoxelOf(p.x, p.y, p.z, s.size).x > k.x)
-      p.x = std::nextafter(p.x, -INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).x < k.x)
-      p.x = std::nextafter(p.x, INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).y > k.y)
-      p.y = std::nextafter(p.y, -INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).y < k.y)
-      p.y = std::nextafter(p.y, INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).z > k.z)
-      p.z = std::nextafter(p.z, -INFINITY);
-    while (VoxelOf(p.x, p.y, p.z, s.size).z < k.z)
-      p.z = std::nextafter(p.z, INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).x > k.x) p.x = std::nextafter(p.x, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).x < k.x) p.x = std::nextafter(p.x, INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).y > k.y) p.y = std::nextafter(p.y, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).y < k.y) p.y = std::nextafter(p.y, INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).z > k.z) p.z = std::nextafter(p.z, -INFINITY);
+    while (VoxelOf(p.x, p.y, p.z, s.size).z < k.z) p.z = std::nextafter(p.z, INFINITY);
     if (s.attributes.rgb) {
-      auto mean = [n](double sum) {
-        return static_cast<uint8_t>(std::lround(sum / n));
-      };
+      auto mean = [n](double sum) { return static_cast<uint8_t>(std::lround(sum / n)); };
       p.rgb = PackRgb(mean(c.sum_r), mean(c.sum_g), mean(c.sum_b));
     }
     if (s.attributes.normals) {

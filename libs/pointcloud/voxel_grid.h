@@ -19,9 +19,7 @@ namespace lsds::pointcloud {
 // Voxel (floor(x / size), floor(y / size), floor(z / size)) of a point.
 struct VoxelKey {
   int64_t x = 0, y = 0, z = 0;
-  bool operator==(const VoxelKey& o) const {
-    return x == o.x && y == o.y && z == o.z;
-  }
+  bool operator==(const VoxelKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
 inline VoxelKey VoxelOf(float x, float y, float z, double size) {
   return {static_cast<int64_t>(std::floor(x / size)),

@@ -39,10 +39,8 @@ void CheckBundleStats(const nlohmann::json& stats, const std::string& file) {
   }
   const nlohmann::json& s = stats["summary"];
   if (!s.contains("class_mixing") || !s["class_mixing"].is_object() ||
-      !s["class_mixing"].contains("classes") ||
-      !s["class_mixing"]["classes"].is_array() ||
-      !s["class_mixing"].contains("samples") ||
-      !s["class_mixing"]["samples"].is_array()) {
+      !s["class_mixing"].contains("classes") || !s["class_mixing"]["classes"].is_array() ||
+      !s["class_mixing"].contains("samples") || !s["class_mixing"]["samples"].is_array()) {
     fail("/summary/class_mixing", "missing or not {classes, samples}");
   }
   const size_t n = s["class_mixing"]["classes"].size();
@@ -52,17 +50,14 @@ void CheckBundleStats(const nlohmann::json& stats, const std::string& file) {
   }
   for (size_t i = 0; i < n; ++i) {
     if (!s["class_mixing"]["classes"][i].is_number_unsigned()) {
-      fail("/summary/class_mixing/classes/" + std::to_string(i),
-           "not a class id");
+      fail("/summary/class_mixing/classes/" + std::to_string(i), "not a class id");
     }
     if (!samples[i].is_array() || samples[i].size() != n) {
-      fail("/summary/class_mixing/samples/" + std::to_string(i),
-           "not one count per class");
+      fail("/summary/class_mixing/samples/" + std::to_string(i), "not one count per class");
     }
     for (const nlohmann::json& v : samples[i]) {
       if (!v.is_number_unsigned())
-        fail("/summary/class_mixing/samples/" + std::to_string(i),
-             "not a sample count");
+        fail("/summary/class_mixing/samples/" + std::to_string(i), "not a sample count");
     }
   }
   if (!s.contains("by_object_size") || !s["by_object_size"].is_array()) {
@@ -70,34 +65,24 @@ void CheckBundleStats(const nlohmann::json& stats, const std::string& file) {
   }
   for (size_t i = 0; i < s["by_object_size"].size(); ++i) {
     const nlohmann::json& b = s["by_object_size"][i];
-    for (const char* key : {"min_pixels",
-                            "objects",
-                            "pixels",
-                            "mixed_pixels",
-                            "mixed_fraction"}) {
+    for (const char* key : {"min_pixels", "objects", "pixels", "mixed_pixels", "mixed_fraction"}) {
       if (!b.is_object() || !b.contains(key) || !b[key].is_number()) {
-        fail("/summary/by_object_size/" + std::to_string(i) + "/" + key,
-             "missing or not a number");
+        fail("/summary/by_object_size/" + std::to_string(i) + "/" + key, "missing or not a number");
       }
     }
   }
 }
 
-std::string BundleStatsSection(const nlohmann::json& stats,
-                               const CollectionHeader& header) {
+std::string BundleStatsSection(const nlohmann::json& stats, const CollectionHeader& header) {
   const nlohmann::json& s = stats["summary"];
   std::ostringstream out;
   out << "<section id=\"bundles\"><h2>Mixed pixels (pixel bundles)</h2>"
       << "<p class=\"help\">From <code>lsds bundles</code> over layer '"
-      << HtmlEscape(stats.value("bundle_layer", "bundle"))
-      << "', frame positions ["
-      << stats.value("frame_range", nlohmann::json::object()).value("first", 0)
-      << ", "
-      << stats.value("frame_range", nlohmann::json::object()).value("end", 0)
-      << ")"
+      << HtmlEscape(stats.value("bundle_layer", "bundle")) << "', frame positions ["
+      << stats.value("frame_range", nlohmann::json::object()).value("first", 0) << ", "
+      << stats.value("frame_range", nlohmann::json::object()).value("end", 0) << ")"
       << " (docs/bundles.md).";
-  if (s.contains("class_mixed_fraction") &&
-      s["class_mixed_fraction"].is_number())
+  if (s.contains("class_mixed_fraction") && s["class_mixed_fraction"].is_number())
     out << " Pixels holding more than one class: "
         << Percent(s["class_mixed_fraction"].get<double>()) << ".";
   out << "</p><div class=\"plots\"><div class=\"plot\"><h3>Class mixing "
@@ -106,25 +91,23 @@ std::string BundleStatsSection(const nlohmann::json& stats,
   const nlohmann::json& classes = s["class_mixing"]["classes"];
   const nlohmann::json& samples = s["class_mixing"]["samples"];
   for (const nlohmann::json& c : classes) {
-    out << "<th>" << HtmlEscape(ClassName(header, c.get<uint32_t>()))
-        << "</th>";
+    out << "<th>" << HtmlEscape(ClassName(header, c.get<uint32_t>())) << "</th>";
   }
   out << "</tr>";
   for (size_t a = 0; a < classes.size(); ++a) {
     double row = 0;
     for (const nlohmann::json& v : samples[a]) row += v.get<double>();
-    out << "<tr><th>"
-        << HtmlEscape(ClassName(header, classes[a].get<uint32_t>())) << "</th>";
+    out << "<tr><th>" << HtmlEscape(ClassName(header, classes[a].get<uint32_t>())) << "</th>";
     for (size_t b = 0; b < classes.size(); ++b) {
       const uint64_t v = samples[a][b].get<uint64_t>();
       const double share = row > 0 ? v / row : 0;
       // Off-diagonal cells shade red by their share of the row (heat =
       // mixing); the diagonal is the pure part.
-      const int shade = static_cast<int>(std::lround(
-          255 - (a == b ? 0.0 : std::min(1.0, share * 20.0)) * 160));
-      out << "<td style=\"background:rgb(255," << shade << "," << shade
-          << ")\" title=\"" << Percent(share) << " of the row\">" << v
-          << "<br><small>" << Percent(share) << "</small></td>";
+      const int shade =
+          static_cast<int>(std::lround(255 - (a == b ? 0.0 : std::min(1.0, share * 20.0)) * 160));
+      out << "<td style=\"background:rgb(255," << shade << "," << shade << ")\" title=\""
+          << Percent(share) << " of the row\">" << v << "<br><small>" << Percent(share)
+          << "</small></td>";
     }
     out << "</tr>";
   }
@@ -140,11 +123,10 @@ std::string BundleStatsSection(const nlohmann::json& stats,
     out << "<tr><td>" << FormatNumber(b["min_pixels"].get<double>())
         << (max.is_number() ? " &ndash; " + FormatNumber(max.get<double>())
                             : std::string(" and up"))
-        << "</td><td>" << b["objects"].get<int64_t>() << "</td><td>"
-        << b["pixels"].get<int64_t>() << "</td><td>"
-        << b["mixed_pixels"].get<int64_t>() << "</td><td><span class=\"meter\" "
-        << "style=\"width:" << std::lround(std::min(1.0, share) * 120)
-        << "px\"></span> " << Percent(share) << "</td></tr>";
+        << "</td><td>" << b["objects"].get<int64_t>() << "</td><td>" << b["pixels"].get<int64_t>()
+        << "</td><td>" << b["mixed_pixels"].get<int64_t>() << "</td><td><span class=\"meter\" "
+        << "style=\"width:" << std::lround(std::min(1.0, share) * 120) << "px\"></span> "
+        << Percent(share) << "</td></tr>";
   }
   out << "</table><p class=\"note\">objects: (object, frame) pairs whose "
          "pixel count falls in the band; mixed share: their mixed pixels / "

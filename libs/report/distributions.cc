@@ -15,8 +15,7 @@ const Histogram& Distributions::Get(const std::string& id) const {
 }
 
 Histogram& Distributions::Get(const std::string& id) {
-  return const_cast<Histogram&>(
-      static_cast<const Distributions&>(*this).Get(id));
+  return const_cast<Histogram&>(static_cast<const Distributions&>(*this).Get(id));
 }
 
 Distributions MakeDistributions(const CollectionHeader& header) {
@@ -26,8 +25,8 @@ Distributions MakeDistributions(const CollectionHeader& header) {
     d.class_bin[c.id] = names.size();
     names.push_back(c.name);
   }
-  d.histograms.push_back(MakeCategorical(
-      "class", "Objects per class", "class", "visible objects", names));
+  d.histograms.push_back(
+      MakeCategorical("class", "Objects per class", "class", "visible objects", names));
   Histogram box = MakeNumeric("box-size",
                               "Object size",
                               "longer side of the tight box",
@@ -84,13 +83,12 @@ Distributions MakeDistributions(const CollectionHeader& header) {
                                      "deg",
                                      "frames",
                                      LinearEdges(-90, 90, 5)));
-  d.histograms.push_back(
-      MakeNumeric("metadata-position",
-                  "Metadata position error",
-                  "perturbed minus true camera position, length",
-                  "m",
-                  "frames",
-                  OneTwoFiveEdges(0.001, 1000)));
+  d.histograms.push_back(MakeNumeric("metadata-position",
+                                     "Metadata position error",
+                                     "perturbed minus true camera position, length",
+                                     "m",
+                                     "frames",
+                                     OneTwoFiveEdges(0.001, 1000)));
   d.histograms.push_back(MakeNumeric("metadata-rotation",
                                      "Metadata rotation error",
                                      "perturbed vs true attitude, angle",
@@ -123,8 +121,7 @@ void AddFrame(const CollectionHeader& header,
     } else {
       classes.AddCategory(bin->second);
     }
-    box.Add(object.bbox ? std::max(object.bbox->width(), object.bbox->height())
-                        : 0.0 / 0.0);
+    box.Add(object.bbox ? std::max(object.bbox->width(), object.bbox->height()) : 0.0 / 0.0);
     pixels.Add(static_cast<double>(object.visible_pixels));
     distance.Add(ObjectDistanceM(header, camera, object));
   }
@@ -132,8 +129,7 @@ void AddFrame(const CollectionHeader& header,
   d->Get("off-nadir").Add(camera.off_nadir_deg);
   d->Get("gsd").Add(camera.gsd_m * 100.0);
   double sun = 0.0 / 0.0;
-  if (frame.scene.is_object() && frame.scene.contains("sun") &&
-      frame.scene["sun"].is_object() &&
+  if (frame.scene.is_object() && frame.scene.contains("sun") && frame.scene["sun"].is_object() &&
       frame.scene["sun"].contains("elevation_deg") &&
       frame.scene["sun"]["elevation_deg"].is_number()) {
     sun = frame.scene["sun"]["elevation_deg"].get<double>();
@@ -150,9 +146,7 @@ void AddMetadataError(const MetadataFrame& frame, Distributions* d) {
       const nlohmann::json& p = e["position_enu_m"];
       if (p[0].is_number() && p[1].is_number() && p[2].is_number()) {
         position =
-            Eigen::Vector3d(
-                p[0].get<double>(), p[1].get<double>(), p[2].get<double>())
-                .norm();
+            Eigen::Vector3d(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()).norm();
       }
     }
     if (e.contains("rotation_deg") && e["rotation_deg"].is_number()) {

@@ -55,25 +55,17 @@ cv::Vec3b IdColor(uint32_t id) {
   return SequenceColor(id, 0.85);
 }
 
-cv::Vec3b ClassColor(uint32_t class_id) {
-  return SequenceColor(class_id * 7 + 3, 1.0);
-}
+cv::Vec3b ClassColor(uint32_t class_id) { return SequenceColor(class_id * 7 + 3, 1.0); }
 
 cv::Rect PixelRect(const Box2d& box, double scale, const cv::Size& image) {
   const int x0 = static_cast<int>(std::lround(box.x0 * scale));
   const int y0 = static_cast<int>(std::lround(box.y0 * scale));
-  const int x1 =
-      std::max(x0 + 1, static_cast<int>(std::lround(box.x1 * scale)));
-  const int y1 =
-      std::max(y0 + 1, static_cast<int>(std::lround(box.y1 * scale)));
-  return cv::Rect(x0, y0, x1 - x0, y1 - y0) &
-         cv::Rect(0, 0, image.width, image.height);
+  const int x1 = std::max(x0 + 1, static_cast<int>(std::lround(box.x1 * scale)));
+  const int y1 = std::max(y0 + 1, static_cast<int>(std::lround(box.y1 * scale)));
+  return cv::Rect(x0, y0, x1 - x0, y1 - y0) & cv::Rect(0, 0, image.width, image.height);
 }
 
-void DrawBox(cv::Mat* bgr,
-             const Box2d& box,
-             double scale,
-             const cv::Vec3b& color) {
+void DrawBox(cv::Mat* bgr, const Box2d& box, double scale, const cv::Vec3b& color) {
   const cv::Rect r = PixelRect(box, scale, bgr->size());
   if (r.empty()) return;
   // cv::rectangle's corners are inclusive pixel positions.
@@ -92,8 +84,7 @@ void DrawAnnotations(cv::Mat* bgr,
                      const AnnotateOptions& options) {
   // The id image at the drawing's size (nearest neighbour keeps ids whole).
   cv::Mat ids;
-  if (options.outlines && instance_ids != nullptr &&
-      instance_ids->Find("id") != nullptr) {
+  if (options.outlines && instance_ids != nullptr && instance_ids->Find("id") != nullptr) {
     const std::vector<uint32_t>& values = instance_ids->Get("id").uints;
     cv::Mat full(instance_ids->height(),
                  instance_ids->width(),
@@ -115,11 +106,9 @@ void DrawAnnotations(cv::Mat* bgr,
     if (roi.empty()) continue;
     cv::Mat mask = ids(roi) == static_cast<int>(object.instance_id);
     std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(
-        mask, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE, roi.tl());
+    cv::findContours(mask, contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE, roi.tl());
     const cv::Vec3b c = IdColor(object.instance_id);
-    cv::drawContours(
-        *bgr, contours, -1, cv::Scalar(c[0], c[1], c[2]), 1, cv::LINE_8);
+    cv::drawContours(*bgr, contours, -1, cv::Scalar(c[0], c[1], c[2]), 1, cv::LINE_8);
   }
   for (const ObjectTruth& object : frame.objects) {
     if (object.visible_pixels <= 0 || !object.bbox || !options.boxes) continue;
@@ -129,30 +118,22 @@ void DrawAnnotations(cv::Mat* bgr,
   for (const ObjectTruth& object : frame.objects) {
     if (object.visible_pixels <= 0 || !object.bbox) continue;
     const ClassInfo* info = header.FindClass(object.class_id);
-    const std::string text =
-        info ? info->name : "class " + std::to_string(object.class_id);
+    const std::string text = info ? info->name : "class " + std::to_string(object.class_id);
     const cv::Rect r = PixelRect(*object.bbox, options.scale, bgr->size());
     if (r.empty()) continue;
     int baseline = 0;
     const double font = 0.35;
-    const cv::Size size =
-        cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, font, 1, &baseline);
+    const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, font, 1, &baseline);
     // Above the box when there is room, else just inside its top edge.
-    const int top =
-        r.y - size.height - 3 >= 0 ? r.y - size.height - 3 : r.y + 1;
-    const cv::Rect label = cv::Rect(r.x, top, size.width + 2, size.height + 3) &
-                           cv::Rect(0, 0, bgr->cols, bgr->rows);
+    const int top = r.y - size.height - 3 >= 0 ? r.y - size.height - 3 : r.y + 1;
+    const cv::Rect label =
+        cv::Rect(r.x, top, size.width + 2, size.height + 3) & cv::Rect(0, 0, bgr->cols, bgr->rows);
     if (label.empty()) continue;
     // A translucent tag: small objects under it stay visible.
     const cv::Vec3b c = ClassColor(object.class_id);
     cv::Mat tag = (*bgr)(label);
     cv::addWeighted(
-        tag,
-        0.45,
-        cv::Mat(tag.size(), tag.type(), cv::Scalar(c[0], c[1], c[2])),
-        0.55,
-        0.0,
-        tag);
+        tag, 0.45, cv::Mat(tag.size(), tag.type(), cv::Scalar(c[0], c[1], c[2])), 0.55, 0.0, tag);
     cv::putText(*bgr,
                 text,
                 cv::Point(r.x + 1, top + size.height + 1),

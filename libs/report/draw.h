@@ -24,10 +24,7 @@ cv::Rect PixelRect(const Box2d& box, double scale, const cv::Size& image);
 // Paints the one-pixel outline of PixelRect(box): its first and last rows and
 // columns, nothing else. At scale 1 those are the pixels just inside the box's
 // edges x0, x1, y0, y1.
-void DrawBox(cv::Mat* bgr,
-             const Box2d& box,
-             double scale,
-             const cv::Vec3b& color);
+void DrawBox(cv::Mat* bgr, const Box2d& box, double scale, const cv::Vec3b& color);
 
 struct AnnotateOptions {
   double scale = 1.0;  // `bgr` pixels per collection pixel

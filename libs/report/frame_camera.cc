@@ -6,9 +6,8 @@
 namespace lsds::report {
 
 Rigid3d CamFromEnuMetres(const CollectionHeader& header, const Frame& frame) {
-  return header.conventions.world.CamFromEnuMetres(
-      frame.camera.cam_from_world_rotation,
-      frame.camera.cam_from_world_translation);
+  return header.conventions.world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
+                                                   frame.camera.cam_from_world_translation);
 }
 
 FrameCamera ComputeFrameCamera(const CollectionHeader& header,
@@ -23,34 +22,29 @@ FrameCamera ComputeFrameCamera(const CollectionHeader& header,
   out.height_m = out.center_in_enu.z();
   const Eigen::Vector3d axis_in_enu =
       (enu_from_cam.rotation * Eigen::Vector3d::UnitZ()).normalized();
-  out.off_nadir_deg =
-      std::acos(std::clamp(-axis_in_enu.z(), -1.0, 1.0)) * 180.0 / M_PI;
+  out.off_nadir_deg = std::acos(std::clamp(-axis_in_enu.z(), -1.0, 1.0)) * 180.0 / M_PI;
 
   // The pixel holding the principal point; its ray is (nearly) the axis.
-  const int i = std::clamp(static_cast<int>(std::floor(intrinsics.cx)),
-                           0,
-                           std::max(0, intrinsics.width - 1));
-  const int j = std::clamp(static_cast<int>(std::floor(intrinsics.cy)),
-                           0,
-                           std::max(0, intrinsics.height - 1));
+  const int i =
+      std::clamp(static_cast<int>(std::floor(intrinsics.cx)), 0, std::max(0, intrinsics.width - 1));
+  const int j = std::clamp(
+      static_cast<int>(std::floor(intrinsics.cy)), 0, std::max(0, intrinsics.height - 1));
   const Eigen::Vector2d pixel(i + 0.5, j + 0.5);
   std::optional<Eigen::Vector3d> point_in_cam;  // metres
   if (depth != nullptr && depth->Find("Z") != nullptr && i < depth->width() &&
       j < depth->height()) {
     out.from_depth = true;
-    const double value = depth->Get("Z").floats[depth->Index(i, j)] *
-                         header.conventions.world.metres_per_unit;
+    const double value =
+        depth->Get("Z").floats[depth->Index(i, j)] * header.conventions.world.metres_per_unit;
     if (std::isfinite(value) && value > 0) {
-      point_in_cam = UnprojectDepth(
-          intrinsics, pixel, value, depth_kind.value_or(DepthKind::kPlanar));
+      point_in_cam =
+          UnprojectDepth(intrinsics, pixel, value, depth_kind.value_or(DepthKind::kPlanar));
     }
   } else {
     // No depth: where the ray meets the datum plane z = 0, if it goes down.
-    const Eigen::Vector3d ray_in_enu =
-        enu_from_cam.rotation * intrinsics.CamFromImage(pixel);
+    const Eigen::Vector3d ray_in_enu = enu_from_cam.rotation * intrinsics.CamFromImage(pixel);
     if (ray_in_enu.z() < 0) {
-      point_in_cam = intrinsics.CamFromImage(pixel) *
-                     (out.center_in_enu.z() / -ray_in_enu.z());
+      point_in_cam = intrinsics.CamFromImage(pixel) * (out.center_in_enu.z() / -ray_in_enu.z());
     }
   }
   if (point_in_cam) {
@@ -65,8 +59,7 @@ FrameCamera ComputeFrameCamera(const CollectionHeader& header,
 double ObjectDistanceM(const CollectionHeader& header,
                        const FrameCamera& camera,
                        const ObjectTruth& object) {
-  return (header.conventions.world.EnuMetresFromWorld(object.obb.center) -
-          camera.center_in_enu)
+  return (header.conventions.world.EnuMetresFromWorld(object.obb.center) - camera.center_in_enu)
       .norm();
 }
 

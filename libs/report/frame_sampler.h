@@ -31,8 +31,7 @@ class FrameSampler {
     if (kept_.size() >= 2 * target_) {
       std::vector<std::pair<int64_t, T>> thinned;
       for (auto& entry : kept_) {
-        if (entry.first % (2 * stride_) == 0)
-          thinned.push_back(std::move(entry));
+        if (entry.first % (2 * stride_) == 0) thinned.push_back(std::move(entry));
       }
       kept_ = std::move(thinned);
       stride_ *= 2;
@@ -54,9 +53,8 @@ class FrameSampler {
       }
     }
     for (auto& entry : forced_) out.push_back(std::move(entry));
-    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
-      return a.first < b.first;
-    });
+    std::sort(
+        out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<T> items;
     for (auto& entry : out) items.push_back(std::move(entry.second));
     kept_.clear();

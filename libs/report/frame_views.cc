@@ -44,16 +44,11 @@ namespace {
 
 cv::Mat Resized(const cv::Mat& image, int width, bool smooth) {
   if (image.cols <= width) return image;
-  const int height = std::max(
-      1,
-      static_cast<int>(std::lround(double(image.rows) * width / image.cols)));
+  const int height =
+      std::max(1, static_cast<int>(std::lround(double(image.rows) * width / image.cols)));
   cv::Mat out;
-  cv::resize(image,
-             out,
-             cv::Size(width, height),
-             0,
-             0,
-             smooth ? cv::INTER_AREA : cv::INTER_NEAREST);
+  cv::resize(
+      image, out, cv::Size(width, height), 0, 0, smooth ? cv::INTER_AREA : cv::INTER_NEAREST);
   return out;
 }
 
@@ -63,9 +58,8 @@ cv::Mat DisplayImage(const CollectionReader& reader,
                      const ReportOptions& options) {
   const LayerInfo* rgb = reader.header().FindLayerBySemantic("rgb");
   if (HasFile(frame, rgb)) {
-    return imaging::ToSrgb8(
-        reader.ReadFlatLayer(frame, rgb->name, {"R", "G", "B"}),
-        options.display);
+    return imaging::ToSrgb8(reader.ReadFlatLayer(frame, rgb->name, {"R", "G", "B"}),
+                            options.display);
   }
   return cv::Mat(std::max(1, frame.camera.intrinsics.height),
                  std::max(1, frame.camera.intrinsics.width),
@@ -113,8 +107,7 @@ std::string SceneLine(const Frame& frame) {
   return out;
 }
 
-std::string ObjectsTable(const CollectionHeader& header,
-                         const SampledFrame& sample) {
+std::string ObjectsTable(const CollectionHeader& header, const SampledFrame& sample) {
   std::ostringstream s;
   s << "<table class=\"objects\"><tr><th>instance</th><th>class</th>"
        "<th>name</th><th>box (px)</th><th>visible px</th><th>visibility</th>"
@@ -122,37 +115,32 @@ std::string ObjectsTable(const CollectionHeader& header,
   for (const ObjectTruth& o : sample.frame.objects) {
     const ClassInfo* c = header.FindClass(o.class_id);
     s << "<tr><td>" << o.instance_id << "</td><td>"
-      << HtmlEscape(c ? c->name : std::to_string(o.class_id)) << "</td><td>"
-      << HtmlEscape(o.name) << "</td><td>";
+      << HtmlEscape(c ? c->name : std::to_string(o.class_id)) << "</td><td>" << HtmlEscape(o.name)
+      << "</td><td>";
     if (o.bbox) {
       s << Fixed(o.bbox->x0, 0) << ", " << Fixed(o.bbox->y0, 0) << " &ndash; "
         << Fixed(o.bbox->x1, 0) << ", " << Fixed(o.bbox->y1, 0);
     } else {
       s << "&ndash;";
     }
-    s << "</td><td>" << o.visible_pixels << "</td><td>"
-      << Fixed(o.visibility, 2) << "</td><td>" << Fixed(o.in_frame, 2)
-      << "</td><td>" << Fixed(ObjectDistanceM(header, sample.camera, o), 1)
+    s << "</td><td>" << o.visible_pixels << "</td><td>" << Fixed(o.visibility, 2) << "</td><td>"
+      << Fixed(o.in_frame, 2) << "</td><td>" << Fixed(ObjectDistanceM(header, sample.camera, o), 1)
       << "</td></tr>";
   }
   s << "</table>";
   return s.str();
 }
 
-std::string Figure(const std::string& uri,
-                   const cv::Size& size,
-                   const std::string& caption) {
+std::string Figure(const std::string& uri, const cv::Size& size, const std::string& caption) {
   std::ostringstream s;
-  s << "<figure><img src=\"" << uri << "\" width=\"" << size.width
-    << "\" height=\"" << size.height << "\" alt=\"\"><figcaption>" << caption
-    << "</figcaption></figure>";
+  s << "<figure><img src=\"" << uri << "\" width=\"" << size.width << "\" height=\"" << size.height
+    << "\" alt=\"\"><figcaption>" << caption << "</figcaption></figure>";
   return s.str();
 }
 
 std::string Failed(const std::string& layer, const std::string& message) {
-  return "<figure class=\"failed\"><div>cannot show " + HtmlEscape(layer) +
-         ": " + HtmlEscape(message) + "</div><figcaption>" + HtmlEscape(layer) +
-         "</figcaption></figure>";
+  return "<figure class=\"failed\"><div>cannot show " + HtmlEscape(layer) + ": " +
+         HtmlEscape(message) + "</div><figcaption>" + HtmlEscape(layer) + "</figcaption></figure>";
 }
 
 // Every displayable layer of one frame, side by side.
@@ -165,25 +153,22 @@ std::string LayerStrip(const CollectionReader& reader,
   const Frame& frame = sample.frame;
   const std::string unit = header.conventions.world.length_unit;
   std::ostringstream s;
-  s << "<section class=\"layers\" id=\"layers-" << frame.index
-    << "\"><h3>frame " << frame.index << "</h3><div class=\"strip\">";
+  s << "<section class=\"layers\" id=\"layers-" << frame.index << "\"><h3>frame " << frame.index
+    << "</h3><div class=\"strip\">";
   for (const LayerInfo& layer : header.layers) {
     if (!HasFile(frame, &layer)) continue;
     const std::string& sem = layer.semantic;
     const std::string title = HtmlEscape(layer.name);
     try {
       if (sem == "rgb") {
-        const cv::Mat image = Resized(
-            DisplayImage(reader, frame, options), options.layer_width, true);
+        const cv::Mat image =
+            Resized(DisplayImage(reader, frame, options), options.layer_width, true);
         s << Figure(ImageDataUri(image, true), image.size(), title);
       } else if (sem == "classid" || sem == "instanceid") {
-        const cv::Mat image =
-            Resized(ColorizeIds(reader.ReadFlatLayer(frame, layer.name, {"id"})),
-                    options.layer_width,
-                    false);
-        s << Figure(ImageDataUri(image, false),
-                    image.size(),
-                    title + " (a stable colour per id)");
+        const cv::Mat image = Resized(ColorizeIds(reader.ReadFlatLayer(frame, layer.name, {"id"})),
+                                      options.layer_width,
+                                      false);
+        s << Figure(ImageDataUri(image, false), image.size(), title + " (a stable colour per id)");
       } else if (sem == "depth" && !layer.deep) {
         double lo = 0, hi = 0;
         const cv::Mat image =
@@ -191,59 +176,46 @@ std::string LayerStrip(const CollectionReader& reader,
                     options.layer_width,
                     true);
         const cv::Mat bar = DepthScaleBar(image.cols, 10);
-        s << Figure(
-            ImageDataUri(image, false),
-            image.size(),
-            title + " (" +
-                (layer.depth_kind ? DepthKindName(*layer.depth_kind) : "") +
-                ")<img class=\"bar\" src=\"" + ImageDataUri(bar, false) +
-                "\" width=\"" + std::to_string(bar.cols) +
-                "\" height=\"10\" alt=\"\"><span class=\"range\"><span>" +
-                FormatNumber(lo) + " " + HtmlEscape(unit) + "</span><span>" +
-                FormatNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
+        s << Figure(ImageDataUri(image, false),
+                    image.size(),
+                    title + " (" + (layer.depth_kind ? DepthKindName(*layer.depth_kind) : "") +
+                        ")<img class=\"bar\" src=\"" + ImageDataUri(bar, false) + "\" width=\"" +
+                        std::to_string(bar.cols) +
+                        "\" height=\"10\" alt=\"\"><span class=\"range\"><span>" +
+                        FormatNumber(lo) + " " + HtmlEscape(unit) + "</span><span>" +
+                        FormatNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
       } else if (sem == "normal") {
         const cv::Mat image =
             Resized(ColorizeNormals(reader.ReadFlatLayer(frame, layer.name, {"X", "Y", "Z"})),
                     options.layer_width,
                     false);
-        s << Figure(ImageDataUri(image, false),
-                    image.size(),
-                    title + " (world RGB = (n + 1) / 2)");
+        s << Figure(ImageDataUri(image, false), image.size(), title + " (world RGB = (n + 1) / 2)");
       } else if (sem == "shadow") {
         const cv::Mat image =
             Resized(ColorizeShadow(reader.ReadFlatLayer(frame, layer.name, {"Y"})),
                     options.layer_width,
                     true);
-        s << Figure(ImageDataUri(image, false),
-                    image.size(),
-                    title + " (black: full shadow)");
+        s << Figure(ImageDataUri(image, false), image.size(), title + " (black: full shadow)");
       } else if (sem == "motion") {
         double max_px = 0;
         int64_t invalid = 0;
         const exr::FlatImage motion = reader.ReadFlatLayer(frame, layer.name, {"X", "Y"});
-        const cv::Mat image = Resized(ColorizeMotion(motion, &max_px, &invalid),
-                                      options.layer_width,
-                                      false);
-        const double share =
-            100.0 * invalid / std::max<size_t>(1, motion.pixel_count());
+        const cv::Mat image =
+            Resized(ColorizeMotion(motion, &max_px, &invalid), options.layer_width, false);
+        const double share = 100.0 * invalid / std::max<size_t>(1, motion.pixel_count());
         s << Figure(ImageDataUri(image, false),
                     image.size(),
-                    title + "<img class=\"wheel\" src=\"" +
-                        ImageDataUri(FlowWheel(40), false) +
-                        "\" width=\"40\" height=\"40\" alt=\"\"> max " +
-                        Fixed(max_px, 1) + " px; invalid (checkered) " +
-                        Fixed(share, 1) + " %");
+                    title + "<img class=\"wheel\" src=\"" + ImageDataUri(FlowWheel(40), false) +
+                        "\" width=\"40\" height=\"40\" alt=\"\"> max " + Fixed(max_px, 1) +
+                        " px; invalid (checkered) " + Fixed(share, 1) + " %");
       } else if (sem == "bundle" && layer.deep) {
         const exr::DeepImage deep = reader.ReadDeepLayer(frame, layer.name, {});
         bundle::PixelMaps maps;
-        const bundle::BundleStats stats =
-            bundle::AnalyzeFrame(deep, bundle::StatsOptions(), &maps);
-        std::vector<uint8_t> bgr =
-            bundle::MixedMapBgr(maps, deep.width(), deep.height());
+        const bundle::BundleStats stats = bundle::AnalyzeFrame(deep, bundle::StatsOptions(), &maps);
+        std::vector<uint8_t> bgr = bundle::MixedMapBgr(maps, deep.width(), deep.height());
         const cv::Mat full(deep.height(), deep.width(), CV_8UC3, bgr.data());
         const cv::Mat image = Resized(full, options.layer_width, false);
-        const double share =
-            100.0 * stats.mixed_pixels / std::max<uint64_t>(1, stats.pixels);
+        const double share = 100.0 * stats.mixed_pixels / std::max<uint64_t>(1, stats.pixels);
         s << Figure(ImageDataUri(image, false),
                     image.size(),
                     title + " mixed pixels " + Fixed(share, 2) +
@@ -266,13 +238,12 @@ std::string FrameCard(const CollectionReader& reader,
   const CollectionHeader& header = reader.header();
   const Frame& frame = sample.frame;
   std::ostringstream s;
-  s << "<figure class=\"card\" id=\"frame-" << frame.index << "\" data-frame=\""
-    << frame.index << "\" data-classes=\"" << ClassList(frame) << "\">";
+  s << "<figure class=\"card\" id=\"frame-" << frame.index << "\" data-frame=\"" << frame.index
+    << "\" data-classes=\"" << ClassList(frame) << "\">";
   try {
     cv::Mat image = DisplayImage(reader, frame, options);
-    const double scale = image.cols > options.thumb_width
-                             ? double(options.thumb_width) / image.cols
-                             : 1.0;
+    const double scale =
+        image.cols > options.thumb_width ? double(options.thumb_width) / image.cols : 1.0;
     image = Resized(image, options.thumb_width, true);
     std::optional<exr::FlatImage> ids;
     const LayerInfo* instance = header.FindLayerBySemantic("instanceid");
@@ -282,27 +253,25 @@ std::string FrameCard(const CollectionReader& reader,
     AnnotateOptions annotate;
     annotate.scale = scale;
     DrawAnnotations(&image, header, frame, ids ? &*ids : nullptr, annotate);
-    s << "<img src=\"" << ImageDataUri(image, true) << "\" width=\""
-      << image.cols << "\" height=\"" << image.rows << "\" alt=\"frame "
-      << frame.index << "\">";
+    s << "<img src=\"" << ImageDataUri(image, true) << "\" width=\"" << image.cols << "\" height=\""
+      << image.rows << "\" alt=\"frame " << frame.index << "\">";
   } catch (const Error& e) {
     s << "<div class=\"failed\">" << HtmlEscape(e.what()) << "</div>";
   }
   int visible = 0;
   for (const ObjectTruth& o : frame.objects) visible += o.visible_pixels > 0;
   const FrameCamera& c = sample.camera;
-  s << "<figcaption><b>frame " << frame.index << "</b> t "
-    << Fixed(frame.time, 2) << " s"
+  s << "<figcaption><b>frame " << frame.index << "</b> t " << Fixed(frame.time, 2) << " s"
     << (frame.sequence.empty() ? "" : " &middot; " + HtmlEscape(frame.sequence))
     << (has_layers ? " <span class=\"tag\">layers</span>" : "") << "<br>alt "
     << WithUnit(c.altitude_m, 1, " m") << " &middot; off-nadir "
     << WithUnit(c.off_nadir_deg, 1, "&deg;") << " &middot; GSD "
-    << WithUnit(c.gsd_m * 100, 2, " cm/px") << "<br>" << visible
-    << " visible of " << frame.objects.size() << " objects";
+    << WithUnit(c.gsd_m * 100, 2, " cm/px") << "<br>" << visible << " visible of "
+    << frame.objects.size() << " objects";
   const std::string scene = SceneLine(frame);
   if (!scene.empty()) s << "<br>" << scene;
-  s << "</figcaption><div class=\"detail\" hidden>"
-    << ObjectsTable(header, sample) << "</div></figure>";
+  s << "</figcaption><div class=\"detail\" hidden>" << ObjectsTable(header, sample)
+    << "</div></figure>";
   return s.str();
 }
 

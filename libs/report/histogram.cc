@@ -27,8 +27,8 @@ void Histogram::Add(double value) {
   // First edge greater than the value; the closing edge belongs to the last
   // bin.
   const auto it = std::upper_bound(edges.begin(), edges.end(), value);
-  const size_t bin = std::min<size_t>(
-      static_cast<size_t>(it - edges.begin()) - 1, counts.size() - 1);
+  const size_t bin =
+      std::min<size_t>(static_cast<size_t>(it - edges.begin()) - 1, counts.size() - 1);
   ++counts[bin];
 }
 

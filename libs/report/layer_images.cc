@@ -14,12 +14,10 @@ namespace {
 
 cv::Vec3b FlowColor(double dx, double dy, double max_magnitude) {
   const double magnitude = std::hypot(dx, dy);
-  const double s =
-      max_magnitude > 0 ? std::min(1.0, magnitude / max_magnitude) : 0.0;
+  const double s = max_magnitude > 0 ? std::min(1.0, magnitude / max_magnitude) : 0.0;
   double hue = std::atan2(dy, dx) / (2 * M_PI);  // [-0.5, 0.5]
   if (hue < 0) hue += 1;
-  cv::Mat hsv(
-      1, 1, CV_8UC3, cv::Scalar(std::fmod(hue * 180.0, 180.0), s * 255, 255));
+  cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(std::fmod(hue * 180.0, 180.0), s * 255, 255));
   cv::Mat bgr;
   cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
   return bgr.at<cv::Vec3b>(0, 0);
@@ -42,8 +40,7 @@ cv::Mat ColorizeDepth(const exr::FlatImage& depth, double* min, double* max) {
   const std::vector<float>& z = depth.Get("Z").floats;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (float v : z) {
-    if (std::isfinite(v))
-      lo = std::min<double>(lo, v), hi = std::max<double>(hi, v);
+    if (std::isfinite(v)) lo = std::min<double>(lo, v), hi = std::max<double>(hi, v);
   }
   if (!(lo <= hi)) lo = hi = 0;
   *min = lo, *max = hi;
@@ -57,8 +54,7 @@ cv::Mat ColorizeDepth(const exr::FlatImage& depth, double* min, double* max) {
         invalid.at<uchar>(y, x) = 1;
         gray.at<uchar>(y, x) = 0;
       } else {
-        gray.at<uchar>(y, x) =
-            static_cast<uchar>(std::lround(255.0 * (v - lo) / span));
+        gray.at<uchar>(y, x) = static_cast<uchar>(std::lround(255.0 * (v - lo) / span));
       }
     }
   }
@@ -71,8 +67,7 @@ cv::Mat ColorizeDepth(const exr::FlatImage& depth, double* min, double* max) {
 cv::Mat DepthScaleBar(int width, int height) {
   cv::Mat gray(height, width, CV_8U);
   for (int x = 0; x < width; ++x) {
-    gray.col(x).setTo(
-        cv::Scalar(std::lround(255.0 * x / std::max(1, width - 1))));
+    gray.col(x).setTo(cv::Scalar(std::lround(255.0 * x / std::max(1, width - 1))));
   }
   cv::Mat out;
   cv::applyColorMap(gray, out, cv::COLORMAP_TURBO);
@@ -86,8 +81,7 @@ cv::Mat ColorizeNormals(const exr::FlatImage& normals) {
   cv::Mat out(normals.height(), normals.width(), CV_8UC3);
   auto byte = [](float v) {
     if (!std::isfinite(v)) return uchar{0};
-    return static_cast<uchar>(
-        std::lround(std::clamp((v + 1.0) / 2.0, 0.0, 1.0) * 255.0));
+    return static_cast<uchar>(std::lround(std::clamp((v + 1.0) / 2.0, 0.0, 1.0) * 255.0));
   };
   for (int y = 0; y < normals.height(); ++y) {
     for (int x = 0; x < normals.width(); ++x) {
@@ -95,8 +89,7 @@ cv::Mat ColorizeNormals(const exr::FlatImage& normals) {
       if (nx[p] == 0 && ny[p] == 0 && nz[p] == 0) {
         out.at<cv::Vec3b>(y, x) = cv::Vec3b(0, 0, 0);
       } else {
-        out.at<cv::Vec3b>(y, x) =
-            cv::Vec3b(byte(nz[p]), byte(ny[p]), byte(nx[p]));
+        out.at<cv::Vec3b>(y, x) = cv::Vec3b(byte(nz[p]), byte(ny[p]), byte(nx[p]));
       }
     }
   }
@@ -109,19 +102,16 @@ cv::Mat ColorizeShadow(const exr::FlatImage& shadow) {
   for (int y = 0; y < shadow.height(); ++y) {
     for (int x = 0; x < shadow.width(); ++x) {
       const float v = s[shadow.Index(x, y)];
-      const uchar g =
-          std::isfinite(v)
-              ? static_cast<uchar>(std::lround(std::clamp(v, 0.f, 1.f) * 255.f))
-              : uchar{0};
+      const uchar g = std::isfinite(v)
+                          ? static_cast<uchar>(std::lround(std::clamp(v, 0.f, 1.f) * 255.f))
+                          : uchar{0};
       out.at<cv::Vec3b>(y, x) = cv::Vec3b(g, g, g);
     }
   }
   return out;
 }
 
-cv::Mat ColorizeMotion(const exr::FlatImage& motion,
-                       double* max_px,
-                       int64_t* invalid) {
+cv::Mat ColorizeMotion(const exr::FlatImage& motion, double* max_px, int64_t* invalid) {
   const std::vector<float>& mx = motion.Get("X").floats;
   const std::vector<float>& my = motion.Get("Y").floats;
   const int w = motion.width(), h = motion.height();
@@ -152,12 +142,10 @@ cv::Mat ColorizeMotion(const exr::FlatImage& motion,
       const double ddx = dx(p), ddy = dy(p);
       double hue = std::atan2(ddy, ddx) / (2 * M_PI);
       if (hue < 0) hue += 1;
-      const double s =
-          largest > 0 ? std::min(1.0, std::hypot(ddx, ddy) / largest) : 0.0;
-      hsv.at<cv::Vec3b>(y, x) =
-          cv::Vec3b(static_cast<uchar>(static_cast<int>(hue * 180.0) % 180),
-                    static_cast<uchar>(std::lround(s * 255)),
-                    255);
+      const double s = largest > 0 ? std::min(1.0, std::hypot(ddx, ddy) / largest) : 0.0;
+      hsv.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<uchar>(static_cast<int>(hue * 180.0) % 180),
+                                          static_cast<uchar>(std::lround(s * 255)),
+                                          255);
     }
   }
   cv::Mat out;
@@ -166,8 +154,7 @@ cv::Mat ColorizeMotion(const exr::FlatImage& motion,
     for (int x = 0; x < w; ++x) {
       if (!bad.at<uchar>(y, x)) continue;
       const bool dark = ((x / 4) + (y / 4)) % 2 == 0;
-      out.at<cv::Vec3b>(y, x) =
-          dark ? cv::Vec3b(90, 90, 90) : cv::Vec3b(150, 150, 150);
+      out.at<cv::Vec3b>(y, x) = dark ? cv::Vec3b(90, 90, 90) : cv::Vec3b(150, 150, 150);
     }
   }
   return out;
@@ -179,8 +166,7 @@ cv::Mat FlowWheel(int size) {
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
       const double dx = x + 0.5 - r, dy = y + 0.5 - r;
-      if (std::hypot(dx, dy) <= r)
-        out.at<cv::Vec3b>(y, x) = FlowColor(dx, dy, r);
+      if (std::hypot(dx, dy) <= r) out.at<cv::Vec3b>(y, x) = FlowColor(dx, dy, r);
     }
   }
   return out;

@@ -33,9 +33,7 @@ cv::Mat ColorizeShadow(const exr::FlatImage& shadow);
 // = no motion, full saturation = the largest motion of the frame (written to
 // `max_px`). Pixels without valid motion (NaN) are a grey checkerboard;
 // `invalid` counts them.
-cv::Mat ColorizeMotion(const exr::FlatImage& motion,
-                       double* max_px,
-                       int64_t* invalid);
+cv::Mat ColorizeMotion(const exr::FlatImage& motion, double* max_px, int64_t* invalid);
 // The colour wheel of ColorizeMotion: direction around, magnitude outwards.
 cv::Mat FlowWheel(int size);
 

@@ -30,8 +30,7 @@ FrameCamera CameraOf(const CollectionReader& reader, const Frame& frame) {
   const LayerInfo* depth = header.FindLayerBySemantic("depth");
   if (HasFile(frame, depth) && !depth->deep) {
     try {
-      const exr::FlatImage z =
-          reader.ReadFlatLayer(frame, depth->name, {"Z"});
+      const exr::FlatImage z = reader.ReadFlatLayer(frame, depth->name, {"Z"});
       return ComputeFrameCamera(header, frame, &z, depth->depth_kind);
     } catch (const Error&) {
       // An unreadable depth file: the camera figures that need it are unknown
@@ -46,8 +45,7 @@ FrameCamera CameraOf(const CollectionReader& reader, const Frame& frame) {
 
 }  // namespace
 
-std::set<int64_t> FramesWithFindings(const nlohmann::json& validation,
-                                     size_t max) {
+std::set<int64_t> FramesWithFindings(const nlohmann::json& validation, size_t max) {
   std::set<int64_t> frames;
   if (!validation.is_object() || !validation.contains("checks") ||
       !validation["checks"].is_array()) {
@@ -57,9 +55,8 @@ std::set<int64_t> FramesWithFindings(const nlohmann::json& validation,
     if (!check.is_object() || !check.contains("findings")) continue;
     for (const nlohmann::json& f : check["findings"]) {
       if (frames.size() >= max) return frames;
-      if (f.is_object() && f.contains("location") &&
-          f["location"].is_object() && f["location"].contains("frame") &&
-          f["location"]["frame"].is_number_integer()) {
+      if (f.is_object() && f.contains("location") && f["location"].is_object() &&
+          f["location"].contains("frame") && f["location"]["frame"].is_number_integer()) {
         frames.insert(f["location"]["frame"].get<int64_t>());
       }
     }
@@ -80,9 +77,8 @@ ReportData CollectReportData(const CollectionReader& reader,
   std::vector<Frame> batch;
   auto flush = [&] {
     std::vector<FrameCamera> cameras(batch.size());
-    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
-      cameras[i] = CameraOf(reader, batch[i]);
-    });
+    tbb::parallel_for(
+        size_t{0}, batch.size(), [&](size_t i) { cameras[i] = CameraOf(reader, batch[i]); });
     for (size_t i = 0; i < batch.size(); ++i) {
       AddFrame(header, batch[i], cameras[i], &data.distributions);
       sampler.Offer(batch[i].index, SampledFrame{batch[i], cameras[i]});
@@ -105,8 +101,7 @@ ReportData CollectReportData(const CollectionReader& reader,
     if (!variant.perturbed) continue;
     const MetadataReader metadata(reader.root() / variant.file);
     metadata.ForEachFrame([&](const MetadataFrame& frame) {
-      if (frame.index < options.frame_begin || frame.index >= options.frame_end)
-        return;
+      if (frame.index < options.frame_begin || frame.index >= options.frame_end) return;
       AddMetadataError(frame, &data.distributions);
     });
     data.distributions.metadata_variant = variant.file;
@@ -123,8 +118,7 @@ std::string RenderReportHtml(const CollectionReader& reader,
   // The frames shown with every layer: spread evenly over the sample.
   std::set<size_t> layer_samples;
   const size_t k = std::min(options.layer_frames, n);
-  for (size_t i = 0; i < k; ++i)
-    layer_samples.insert((2 * i + 1) * n / (2 * k));
+  for (size_t i = 0; i < k; ++i) layer_samples.insert((2 * i + 1) * n / (2 * k));
   std::vector<std::string> cards(n), strips(n);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
     const bool layers = layer_samples.count(i) > 0;
@@ -135,36 +129,29 @@ std::string RenderReportHtml(const CollectionReader& reader,
   for (const SampledFrame& s : data.samples) on_sheet.insert(s.frame.index);
 
   const Distributions& d = data.distributions;
-  const std::string name =
-      fs::absolute(reader.root()).lexically_normal().filename().string();
+  const std::string name = fs::absolute(reader.root()).lexically_normal().filename().string();
   std::ostringstream s;
   s << "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">"
-    << "<title>lsds report: " << HtmlEscape(name) << "</title><style>"
-    << PageStyle() << "</style></head><body>"
+    << "<title>lsds report: " << HtmlEscape(name) << "</title><style>" << PageStyle()
+    << "</style></head><body>"
     << "<script>window.onerror=function(m){document.body.setAttribute("
        "'data-js-error',String(m));};</script>"
-    << "<header><h1>lsds report: " << HtmlEscape(name) << "</h1><p>" << d.frames
-    << " frames";
+    << "<header><h1>lsds report: " << HtmlEscape(name) << "</h1><p>" << d.frames << " frames";
   if (reader.frames_in_file() != static_cast<size_t>(d.frames)) {
     s << " selected of " << reader.frames_in_file();
   }
-  s << " &middot; " << n << " on the contact sheet &middot; " << d.objects
-    << " objects listed, " << d.visible_objects << " visible &middot; "
-    << header.classes.size() << " classes &middot; " << header.layers.size()
-    << " layers &middot; world " << HtmlEscape(header.conventions.world.name)
-    << ", " << HtmlEscape(header.conventions.world.length_unit)
-    << " &middot; format " << HtmlEscape(header.format_version) << " &middot; "
-    << HtmlEscape(header.provenance.generator) << " "
-    << HtmlEscape(header.provenance.generator_version) << "</p>"
+  s << " &middot; " << n << " on the contact sheet &middot; " << d.objects << " objects listed, "
+    << d.visible_objects << " visible &middot; " << header.classes.size() << " classes &middot; "
+    << header.layers.size() << " layers &middot; world "
+    << HtmlEscape(header.conventions.world.name) << ", "
+    << HtmlEscape(header.conventions.world.length_unit) << " &middot; format "
+    << HtmlEscape(header.format_version) << " &middot; " << HtmlEscape(header.provenance.generator)
+    << " " << HtmlEscape(header.provenance.generator_version) << "</p>"
     << "<nav><a href=\"#sheet\">contact sheet</a> "
     << (layer_samples.empty() ? "" : "<a href=\"#layers\">layers</a> ")
     << "<a href=\"#distributions\">distributions</a>"
-    << (options.validation.is_object()
-            ? " <a href=\"#validation\">validation</a>"
-            : "")
-    << (options.bundle_stats.is_null()
-            ? ""
-            : " <a href=\"#bundles\">mixed pixels</a>")
+    << (options.validation.is_object() ? " <a href=\"#validation\">validation</a>" : "")
+    << (options.bundle_stats.is_null() ? "" : " <a href=\"#bundles\">mixed pixels</a>")
     << "</nav></header>";
 
   if (options.validation.is_object()) {
@@ -178,11 +165,10 @@ std::string RenderReportHtml(const CollectionReader& reader,
   for (const ClassInfo& c : header.classes) {
     const cv::Vec3b col = ClassColor(c.id);
     char swatch[16];
-    std::snprintf(
-        swatch, sizeof(swatch), "#%02x%02x%02x", col[2], col[1], col[0]);
+    std::snprintf(swatch, sizeof(swatch), "#%02x%02x%02x", col[2], col[1], col[0]);
     s << "<label><input type=\"checkbox\" checked data-class=\"c" << c.id
-      << "\"><span class=\"swatch\" style=\"background:" << swatch
-      << "\"></span>" << HtmlEscape(c.name) << "</label>";
+      << "\"><span class=\"swatch\" style=\"background:" << swatch << "\"></span>"
+      << HtmlEscape(c.name) << "</label>";
   }
   s << "<label><input type=\"checkbox\" checked data-class=\"\">frames with no "
        "visible object</label></div><div class=\"sheet\">";
@@ -211,19 +197,16 @@ std::string RenderReportHtml(const CollectionReader& reader,
        "count.</p><div class=\"plots\">";
   for (const Histogram& h : d.histograms) {
     if (h.total() == 0) continue;  // e.g. no sun elevation in the scene state
-    s << "<div class=\"plot\" id=\"dist-" << HtmlEscape(h.id) << "\"><h3>"
-      << HtmlEscape(h.title) << "</h3>" << HistogramSvg(h);
+    s << "<div class=\"plot\" id=\"dist-" << HtmlEscape(h.id) << "\"><h3>" << HtmlEscape(h.title)
+      << "</h3>" << HistogramSvg(h);
     if (h.id.rfind("metadata-", 0) == 0) {
-      s << "<p class=\"note\">variant " << HtmlEscape(d.metadata_variant)
-        << "</p>";
+      s << "<p class=\"note\">variant " << HtmlEscape(d.metadata_variant) << "</p>";
     }
     if (h.invalid > 0) {
-      s << "<p class=\"note\">" << h.invalid << " " << HtmlEscape(h.counted)
-        << " without a value"
-        << (h.id == "class" ? " (class id not in the class table)"
-                            : (h.id == "altitude" || h.id == "gsd"
-                                   ? " (sky at the image centre)"
-                                   : ""))
+      s << "<p class=\"note\">" << h.invalid << " " << HtmlEscape(h.counted) << " without a value"
+        << (h.id == "class"
+                ? " (class id not in the class table)"
+                : (h.id == "altitude" || h.id == "gsd" ? " (sky at the image centre)" : ""))
         << "</p>";
     }
     s << "</div>";
@@ -246,21 +229,18 @@ ReportResult WriteReport(const ReportOptions& options) {
   // The page must not land inside the collection: inputs stay untouched.
   const fs::path root = fs::weakly_canonical(options.collection);
   const fs::path out = fs::weakly_canonical(options.output);
-  const auto mismatch =
-      std::mismatch(root.begin(), root.end(), out.begin(), out.end());
+  const auto mismatch = std::mismatch(root.begin(), root.end(), out.begin(), out.end());
   if (mismatch.first == root.end()) {
-    throw Error("the output lies inside the input collection " +
-                    options.collection.string(),
+    throw Error("the output lies inside the input collection " + options.collection.string(),
                 Location(options.output.string()));
   }
   if (fs::is_directory(options.output)) {
-    throw Error("is a folder; expected an .html file path",
-                Location(options.output.string()));
+    throw Error("is a folder; expected an .html file path", Location(options.output.string()));
   }
   RefuseToOverwrite(options.output, options.force, "report");
   const CollectionReader reader(options.collection);
-  const ReportData data = CollectReportData(
-      reader, options, FramesWithFindings(options.validation, 12));
+  const ReportData data =
+      CollectReportData(reader, options, FramesWithFindings(options.validation, 12));
   const std::string html = RenderReportHtml(reader, data, options);
   WriteFileAtomic(options.output, html);
   return {data.distributions.frames, data.samples.size(), html.size()};

@@ -59,8 +59,7 @@ ReportData CollectReportData(const CollectionReader& reader,
                              const std::set<int64_t>& always = {});
 
 // Frame indices the findings of a validation report point to (at most `max`).
-std::set<int64_t> FramesWithFindings(const nlohmann::json& validation,
-                                     size_t max);
+std::set<int64_t> FramesWithFindings(const nlohmann::json& validation, size_t max);
 
 // The page. Decodes the layers of the sampled frames only.
 std::string RenderReportHtml(const CollectionReader& reader,

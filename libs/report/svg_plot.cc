@@ -48,10 +48,8 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
   std::vector<std::string> edge_labels;  // numeric: one more than the bars
   if (h.categorical()) {
     for (size_t i = 0; i < h.bins(); ++i) {
-      bars.push_back({h.labels[i],
-                      h.labels[i] + ": " + std::to_string(h.counts[i]),
-                      h.counts[i],
-                      false});
+      bars.push_back(
+          {h.labels[i], h.labels[i] + ": " + std::to_string(h.counts[i]), h.counts[i], false});
     }
   } else {
     size_t first = h.bins(), last = 0;
@@ -66,28 +64,24 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
     }
     if (h.below > 0) {
       bars.push_back({"<",
-                      "< " + FormatNumber(h.edges.front()) + unit + ": " +
-                          std::to_string(h.below),
+                      "< " + FormatNumber(h.edges.front()) + unit + ": " + std::to_string(h.below),
                       h.below,
                       true});
       edge_labels.push_back("");
     }
     for (size_t i = first; i <= last; ++i) {
       const bool closed = i + 1 == h.bins();
-      bars.push_back(
-          {"",
-           "[" + FormatNumber(h.edges[i]) + ", " +
-               FormatNumber(h.edges[i + 1]) + (closed ? "]" : ")") + unit +
-               ": " + std::to_string(h.counts[i]),
-           h.counts[i],
-           !std::isnan(h.warn_below) && h.edges[i + 1] <= h.warn_below});
+      bars.push_back({"",
+                      "[" + FormatNumber(h.edges[i]) + ", " + FormatNumber(h.edges[i + 1]) +
+                          (closed ? "]" : ")") + unit + ": " + std::to_string(h.counts[i]),
+                      h.counts[i],
+                      !std::isnan(h.warn_below) && h.edges[i + 1] <= h.warn_below});
       edge_labels.push_back(FormatNumber(h.edges[i]));
     }
     edge_labels.push_back(FormatNumber(h.edges[last + 1]));
     if (h.above > 0) {
       bars.push_back({">",
-                      "> " + FormatNumber(h.edges.back()) + unit + ": " +
-                          std::to_string(h.above),
+                      "> " + FormatNumber(h.edges.back()) + unit + ": " + std::to_string(h.above),
                       h.above,
                       true});
       edge_labels.push_back("");
@@ -102,28 +96,26 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
   const double plot_w = width - left - right, plot_h = height - top - bottom;
   const double bar_w = plot_w / std::max<size_t>(1, bars.size());
   std::ostringstream s;
-  s << "<svg class=\"hist\" xmlns=\"http://www.w3.org/2000/svg\" width=\""
-    << width << "\" height=\"" << height << "\" viewBox=\"0 0 " << width << " "
-    << height << "\" data-id=\"" << XmlEscape(h.id) << "\">";
+  s << "<svg class=\"hist\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width
+    << "\" height=\"" << height << "\" viewBox=\"0 0 " << width << " " << height << "\" data-id=\""
+    << XmlEscape(h.id) << "\">";
   // Count axis with grid lines.
   for (double v = 0; v <= top_value + 1e-9; v += step) {
     const double y = top + plot_h * (1 - v / top_value);
-    s << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << y
-      << "\" y2=\"" << y << "\" class=\"grid\"/>";
-    s << "<text x=\"" << left - 4 << "\" y=\"" << y + 3
-      << "\" text-anchor=\"end\">" << FormatNumber(v) << "</text>";
+    s << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << y << "\" y2=\"" << y
+      << "\" class=\"grid\"/>";
+    s << "<text x=\"" << left - 4 << "\" y=\"" << y + 3 << "\" text-anchor=\"end\">"
+      << FormatNumber(v) << "</text>";
   }
   s << "<text transform=\"translate(12," << top + plot_h / 2
-    << ") rotate(-90)\" text-anchor=\"middle\">" << XmlEscape(h.counted)
-    << "</text>";
+    << ") rotate(-90)\" text-anchor=\"middle\">" << XmlEscape(h.counted) << "</text>";
   for (size_t i = 0; i < bars.size(); ++i) {
     const Bar& b = bars[i];
     const double bh = plot_h * b.count / top_value;
     const double x = left + i * bar_w;
-    s << "<rect class=\"bar" << (b.warn ? " warn" : "") << "\" x=\"" << x + 1
-      << "\" y=\"" << top + plot_h - bh << "\" width=\""
-      << std::max(1.0, bar_w - 2) << "\" height=\"" << bh << "\"><title>"
-      << XmlEscape(b.tooltip) << "</title></rect>";
+    s << "<rect class=\"bar" << (b.warn ? " warn" : "") << "\" x=\"" << x + 1 << "\" y=\""
+      << top + plot_h - bh << "\" width=\"" << std::max(1.0, bar_w - 2) << "\" height=\"" << bh
+      << "\"><title>" << XmlEscape(b.tooltip) << "</title></rect>";
     if (!b.label.empty()) {
       s << "<text x=\"" << x + bar_w / 2 << "\" y=\"" << top + plot_h + 13
         << "\" text-anchor=\"middle\">" << XmlEscape(b.label) << "</text>";
@@ -135,17 +127,15 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
     for (size_t i = 0; i < edge_labels.size(); i += every) {
       if (edge_labels[i].empty()) continue;
       s << "<text x=\"" << left + i * bar_w << "\" y=\"" << top + plot_h + 13
-        << "\" text-anchor=\"middle\">" << XmlEscape(edge_labels[i])
-        << "</text>";
+        << "\" text-anchor=\"middle\">" << XmlEscape(edge_labels[i]) << "</text>";
     }
   }
-  s << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\""
-    << top + plot_h << "\" y2=\"" << top + plot_h << "\" class=\"axis\"/>";
-  s << "<line x1=\"" << left << "\" x2=\"" << left << "\" y1=\"" << top
+  s << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << top + plot_h
     << "\" y2=\"" << top + plot_h << "\" class=\"axis\"/>";
-  s << "<text x=\"" << left + plot_w / 2 << "\" y=\"" << height - 8
-    << "\" text-anchor=\"middle\">" << XmlEscape(h.x_label)
-    << (h.unit.empty() ? "" : " (" + XmlEscape(h.unit) + ")") << "</text>";
+  s << "<line x1=\"" << left << "\" x2=\"" << left << "\" y1=\"" << top << "\" y2=\""
+    << top + plot_h << "\" class=\"axis\"/>";
+  s << "<text x=\"" << left + plot_w / 2 << "\" y=\"" << height - 8 << "\" text-anchor=\"middle\">"
+    << XmlEscape(h.x_label) << (h.unit.empty() ? "" : " (" + XmlEscape(h.unit) + ")") << "</text>";
   s << "</svg>";
   return s.str();
 }

@@ -13,9 +13,7 @@ namespace lsds::report {
 // bins from the first to the last non-empty one, plus "<" and ">" bars for
 // values outside the bins when there are any. Warning bins (Histogram::
 // warn_below) are drawn in red.
-std::string HistogramSvg(const Histogram& histogram,
-                         int width = 380,
-                         int height = 230);
+std::string HistogramSvg(const Histogram& histogram, int width = 380, int height = 230);
 
 // "12", "0.5", "1e+04" -> "10000": short numbers for axes.
 std::string FormatNumber(double value);

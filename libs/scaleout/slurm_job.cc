@@ -12,20 +12,16 @@ namespace {
 void CheckSbatchValue(const std::string& flag, const std::string& value) {
   for (char c : value) {
     if (c == '\n' || c == ' ' || c == '\t' || c == '#' || c == '\'' || c == '"')
-      throw Error(flag + " '" + value +
-                  "': spaces, quotes and '#' are not allowed");
+      throw Error(flag + " '" + value + "': spaces, quotes and '#' are not allowed");
   }
 }
 
-std::string Q(const std::filesystem::path& path) {
-  return ShellQuote(path.string());
-}
+std::string Q(const std::filesystem::path& path) { return ShellQuote(path.string()); }
 
 // The #SBATCH resource lines shared by both jobs.
 std::string ResourceLines(const SlurmJob& job, bool with_cpus) {
   std::ostringstream s;
-  if (!job.partition.empty())
-    s << "#SBATCH --partition=" << job.partition << "\n";
+  if (!job.partition.empty()) s << "#SBATCH --partition=" << job.partition << "\n";
   if (!job.account.empty()) s << "#SBATCH --account=" << job.account << "\n";
   if (!job.time.empty()) s << "#SBATCH --time=" << job.time << "\n";
   if (with_cpus && job.cpus_per_task > 0)
@@ -62,10 +58,8 @@ void SlurmJob::Check() const {
   if (job_name.empty()) throw Error("--job-name must not be empty");
   // Slurm expands %A, %a, %j in --output; a % in the folder name
   // would be expanded too.
-  if (work.string().find('%') != std::string::npos ||
-      work.string().find('\n') != std::string::npos)
-    throw Error("the work folder's path must not hold '%' or a newline",
-                Location(work.string()));
+  if (work.string().find('%') != std::string::npos || work.string().find('\n') != std::string::npos)
+    throw Error("the work folder's path must not hold '%' or a newline", Location(work.string()));
 }
 
 SlurmScripts MakeSlurmScripts(const SlurmJob& job) {
@@ -86,8 +80,8 @@ SlurmScripts MakeSlurmScripts(const SlurmJob& job) {
     << "# shards hold exactly the frames (bytes) one process would write; "
        "merge.sbatch joins them.\n"
     << "#SBATCH --job-name=" << job.job_name << "-generate\n"
-    << "#SBATCH --array=0-" << last
-    << (job.throttle > 0 ? "%" + std::to_string(job.throttle) : "") << "\n"
+    << "#SBATCH --array=0-" << last << (job.throttle > 0 ? "%" + std::to_string(job.throttle) : "")
+    << "\n"
     << ResourceLines(job, true) << "set -euo pipefail\n"
     << "LSDS=" << Q(job.lsds) << "\n"
     << "WORK=" << Q(job.work) << "\n"
@@ -120,8 +114,8 @@ SlurmScripts MakeSlurmScripts(const SlurmJob& job) {
     << ResourceLines(job, false) << "set -euo pipefail\n"
     << "LSDS=" << Q(job.lsds) << "\n"
     << "WORK=" << Q(job.work) << "\n"
-    << "exec \"$LSDS\" merge \"$WORK\"/shard-{0.." << last << "} -o "
-    << Q(job.output) << (job.force_merge ? " --force" : "") << " --quiet\n";
+    << "exec \"$LSDS\" merge \"$WORK\"/shard-{0.." << last << "} -o " << Q(job.output)
+    << (job.force_merge ? " --force" : "") << " --quiet\n";
   scripts.merge = m.str();
 
   std::ostringstream s;

@@ -9,8 +9,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix3d Yaw(double deg) {
-  return Eigen::AngleAxisd(deg * kPi / 180.0, Eigen::Vector3d::UnitZ())
-      .toRotationMatrix();
+  return Eigen::AngleAxisd(deg * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
 // Slab test in the box frame; returns the entering t and the entering face's
@@ -48,8 +47,7 @@ bool IntersectBox(const Box& box,
     }
     t_far = std::min(t_far, t1);
   }
-  if (t_near > t_far || t_near <= t_min || near_axis < 0)
-    return false;  // inside or behind: no hit
+  if (t_near > t_far || t_near <= t_min || near_axis < 0) return false;  // inside or behind: no hit
   Eigen::Vector3d local_normal = Eigen::Vector3d::Zero();
   local_normal[near_axis] = near_sign;
   *t_hit = t_near;
@@ -75,11 +73,7 @@ Hit AnalyticScene::Intersect(const Eigen::Vector3d& origin,
   if (ground && only_box < 0 && direction.z() < 0) {
     const double t = -origin.z() / direction.z();
     if (t > t_min) {
-      best = {true,
-              t,
-              Eigen::Vector3d::UnitZ(),
-              ground_class_id,
-              ground_instance_id};
+      best = {true, t, Eigen::Vector3d::UnitZ(), ground_class_id, ground_instance_id};
     }
   }
   for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {

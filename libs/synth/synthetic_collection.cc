@@ -82,8 +82,7 @@ Sample Shade(const AnalyticScene& scene,
              const Rigid3d& world_from_cam,
              const Eigen::Vector2d& pixel) {
   Sample s;
-  const Eigen::Vector3d ray_in_cam =
-      camera.CamFromImage(pixel);  // z == 1: t is planar depth
+  const Eigen::Vector3d ray_in_cam = camera.CamFromImage(pixel);  // z == 1: t is planar depth
   const Eigen::Vector3d direction = world_from_cam.rotation * ray_in_cam;
   s.hit = scene.Intersect(world_from_cam.translation, direction);
   if (!s.hit.hit) {
@@ -95,19 +94,16 @@ Sample Shade(const AnalyticScene& scene,
   s.point = world_from_cam.translation + s.hit.t * direction;
   const double cosine = s.hit.normal.dot(spec.direction_to_sun);
   if (cosine > 0) {
-    const Hit blocker =
-        scene.Intersect(s.point + 1e-6 * s.hit.normal, spec.direction_to_sun);
+    const Hit blocker = scene.Intersect(s.point + 1e-6 * s.hit.normal, spec.direction_to_sun);
     s.sun_visibility = blocker.hit ? 0.0 : 1.0;
     s.shadow = (kAmbient + cosine * s.sun_visibility) / (kAmbient + cosine);
   }
-  s.radiance = Albedo(s.hit.class_id) *
-               (kAmbient + std::max(0.0, cosine) * s.sun_visibility);
+  s.radiance = Albedo(s.hit.class_id) * (kAmbient + std::max(0.0, cosine) * s.sun_visibility);
   return s;
 }
 
 PinholeCamera Camera(const Spec& spec) {
-  return PinholeCamera::FromHorizontalFov(
-      spec.width, spec.height, spec.hfov_deg);
+  return PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
 }
 
 }  // namespace
@@ -140,8 +136,7 @@ Spec DefaultSpec() {
   b.center = {4, 2, 0.5}, b.half_extents = {0.5, 0.5, 0.5}, b.yaw_deg = 30;
   Box c;
   c.class_id = 3, c.instance_id = 3, c.name = "crate#0";
-  c.center = {-3, -2, 0.75}, c.half_extents = {1.5, 0.75, 0.75},
-  c.yaw_deg = -20;
+  c.center = {-3, -2, 0.75}, c.half_extents = {1.5, 0.75, 0.75}, c.yaw_deg = -20;
   spec.boxes = {a, b, c};
   for (int k = 0; k < 4; ++k)
     spec.cam_from_world.push_back(NadirCamFromWorld({-1.5 + k, 0.0, 20.0}));
@@ -155,8 +150,8 @@ Spec CircleSpec(int frames, int width, int height) {
   spec.cam_from_world.clear();
   for (int k = 0; k < frames; ++k) {
     const double angle = 2.0 * 3.14159265358979323846 * k / std::max(1, frames);
-    spec.cam_from_world.push_back(NadirCamFromWorld(
-        {3.0 * std::cos(angle), 3.0 * std::sin(angle), 20.0}));
+    spec.cam_from_world.push_back(
+        NadirCamFromWorld({3.0 * std::cos(angle), 3.0 * std::sin(angle), 20.0}));
   }
   return spec;
 }
@@ -167,14 +162,12 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   const Rigid3d& cam_from_world = spec.cam_from_world.at(frame);
   const Rigid3d world_from_cam = cam_from_world.Inverse();
   const std::optional<Rigid3d> previous_cam_from_world =
-      frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1])
-                : std::nullopt;
-  const Eigen::Vector3d previous_centre =
-      previous_cam_from_world ? previous_cam_from_world->Inverse().translation
-                              : Eigen::Vector3d::Zero();
+      frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1]) : std::nullopt;
+  const Eigen::Vector3d previous_centre = previous_cam_from_world
+                                              ? previous_cam_from_world->Inverse().translation
+                                              : Eigen::Vector3d::Zero();
   const int w = spec.width, h = spec.height;
-  const std::vector<Eigen::Vector2d> pattern =
-      SamplePattern(spec.samples_per_axis);
+  const std::vector<Eigen::Vector2d> pattern = SamplePattern(spec.samples_per_axis);
   const size_t samples_per_pixel = pattern.size();
 
   RenderedFrame out;
@@ -197,10 +190,8 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
     for (const LayerChannel& c : layer.channels)
       out.flat[layer.semantic].AddChannel(c.name, c.type);
   }
-  out.bundle = DeepImage(
-      w,
-      h,
-      std::vector<uint32_t>(static_cast<size_t>(w) * h, samples_per_pixel));
+  out.bundle =
+      DeepImage(w, h, std::vector<uint32_t>(static_cast<size_t>(w) * h, samples_per_pixel));
   for (const LayerChannel& c : StandardLayer("bundle").channels)
     out.bundle.AddChannel(c.name, c.type);
 
@@ -213,21 +204,18 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
                              out.bundle.Get("NZ").floats.data()};
   float* bundle_sx = out.bundle.Get("SX").floats.data();
   float* bundle_sy = out.bundle.Get("SY").floats.data();
-  float* rgb_channel[3] = {rgb.Get("R").floats.data(),
-                           rgb.Get("G").floats.data(),
-                           rgb.Get("B").floats.data()};
+  float* rgb_channel[3] = {
+      rgb.Get("R").floats.data(), rgb.Get("G").floats.data(), rgb.Get("B").floats.data()};
   uint32_t* class_pixels = classid.Get("id").uints.data();
   uint32_t* instance_pixels = instanceid.Get("id").uints.data();
   float* depth_pixels = depth.Get("Z").floats.data();
-  float* normal_pixels[3] = {normal.Get("X").floats.data(),
-                             normal.Get("Y").floats.data(),
-                             normal.Get("Z").floats.data()};
+  float* normal_pixels[3] = {
+      normal.Get("X").floats.data(), normal.Get("Y").floats.data(), normal.Get("Z").floats.data()};
   float* position_pixels[3] = {position.Get("X").floats.data(),
                                position.Get("Y").floats.data(),
                                position.Get("Z").floats.data()};
   float* shadow_pixels = shadow.Get("Y").floats.data();
-  float* motion_pixels[2] = {motion.Get("X").floats.data(),
-                             motion.Get("Y").floats.data()};
+  float* motion_pixels[2] = {motion.Get("X").floats.data(), motion.Get("Y").floats.data()};
   const bool planar = spec.depth_kind == DepthKind::kPlanar;
 
   tbb::parallel_for(0, h, [&](int j) {
@@ -242,8 +230,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
         bundle_instance[q] = s.hit.instance_id;
         bundle_class[q] = s.hit.class_id;
         bundle_depth[q] = static_cast<float>(planar ? s.planar : s.perspective);
-        for (int c = 0; c < 3; ++c)
-          bundle_normal[c][q] = static_cast<float>(s.hit.normal[c]);
+        for (int c = 0; c < 3; ++c) bundle_normal[c][q] = static_cast<float>(s.hit.normal[c]);
         bundle_sx[q] = static_cast<float>(pattern[k].x());
         bundle_sy[q] = static_cast<float>(pattern[k].y());
         if (k != 0) continue;
@@ -253,8 +240,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
         depth_pixels[p] = bundle_depth[q];
         for (int c = 0; c < 3; ++c) {
           normal_pixels[c][p] = static_cast<float>(s.hit.normal[c]);
-          position_pixels[c][p] =
-              s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
+          position_pixels[c][p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
         }
         shadow_pixels[p] = static_cast<float>(s.shadow);
         // Motion against the previous frame (one shot: a static world seen
@@ -266,14 +252,12 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
           const Eigen::Vector3d in_previous =
               s.hit.hit ? Eigen::Vector3d(*previous_cam_from_world * s.point)
                         : Eigen::Vector3d(previous_cam_from_world->rotation *
-                                          (world_from_cam.rotation *
-                                           camera.CamFromImage(at)));
+                                          (world_from_cam.rotation * camera.CamFromImage(at)));
           if (in_previous.z() > 0) {
             const Eigen::Vector2d before = camera.ImageFromCam(in_previous);
-            const bool inside = before.x() >= 0 && before.x() < w &&
-                                before.y() >= 0 && before.y() < h;
-            if (inside &&
-                !(s.hit.hit && HiddenFrom(scene, previous_centre, s.point)))
+            const bool inside =
+                before.x() >= 0 && before.x() < w && before.y() >= 0 && before.y() < h;
+            if (inside && !(s.hit.hit && HiddenFrom(scene, previous_centre, s.point)))
               shift = at - before;
           }
         }
@@ -281,8 +265,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
         motion_pixels[1][p] = static_cast<float>(0.5 + 0.5 * shift.y() / h);
       }
       radiance /= static_cast<double>(samples_per_pixel);
-      for (int c = 0; c < 3; ++c)
-        rgb_channel[c][p] = static_cast<float>(radiance[c]);
+      for (int c = 0; c < 3; ++c) rgb_channel[c][p] = static_cast<float>(radiance[c]);
     }
   });
 
@@ -293,8 +276,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   truth.sequence = spec.sequence;
   truth.shot = 0;  // one continuous flight
   truth.camera.intrinsics = camera;
-  truth.camera.cam_from_world_rotation =
-      cam_from_world.rotation.toRotationMatrix();
+  truth.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
   truth.camera.cam_from_world_translation = cam_from_world.translation;
   const auto masks = MeasureInstanceMasks(instanceid.Get("id").uints, w, h);
   for (size_t b = 0; b < spec.boxes.size(); ++b) {
@@ -309,20 +291,11 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
     // The box alone, through the same pixel centres as the id layer.
     auto count_unoccluded = [&](const Box2d& bounds) {
       int64_t unoccluded = 0;
-      for (int j = static_cast<int>(bounds.y0);
-           j < static_cast<int>(std::ceil(bounds.y1));
-           ++j) {
-        for (int i = static_cast<int>(bounds.x0);
-             i < static_cast<int>(std::ceil(bounds.x1));
-             ++i) {
+      for (int j = static_cast<int>(bounds.y0); j < static_cast<int>(std::ceil(bounds.y1)); ++j) {
+        for (int i = static_cast<int>(bounds.x0); i < static_cast<int>(std::ceil(bounds.x1)); ++i) {
           const Eigen::Vector3d direction =
               world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
-          if (scene
-                  .Intersect(world_from_cam.translation,
-                             direction,
-                             1e-9,
-                             static_cast<int>(b))
-                  .hit)
+          if (scene.Intersect(world_from_cam.translation, direction, 1e-9, static_cast<int>(b)).hit)
             ++unoccluded;
         }
       }
@@ -344,8 +317,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
 void WriteCollection(const fs::path& root, const Spec& spec) {
   std::error_code ec;
   if (fs::exists(root, ec) && !fs::is_empty(root, ec)) {
-    throw Error("synthetic collection target exists and is not empty",
-                Location(root.string()));
+    throw Error("synthetic collection target exists and is not empty", Location(root.string()));
   }
   fs::create_directories(root);
   const std::vector<std::string> semantics = spec.LayerSemantics();
@@ -353,26 +325,21 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
   header.provenance.generator = "lsds synth";
   header.provenance.generator_version = LSDS_VERSION;
   header.provenance.seed = 0;
-  header.provenance.render = {
-      {"samples_per_pixel", SamplePattern(spec.samples_per_axis).size()},
-      {"renderer", "analytic ray casting"}};
+  header.provenance.render = {{"samples_per_pixel", SamplePattern(spec.samples_per_axis).size()},
+                              {"renderer", "analytic ray casting"}};
   header.classes = spec.classes;
   for (const std::string& semantic : semantics) {
     header.layers.push_back(StandardLayer(semantic, spec.depth_kind));
     fs::create_directories(root / semantic);
   }
-  header.metadata = {
-      {kMetadataFile, false, "measured metadata, equal to truth"}};
+  header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = static_cast<int64_t>(spec.cam_from_world.size());
 
   CollectionBuilder builder(root, header);
   for (int k = 0; k < static_cast<int>(spec.cam_from_world.size()); ++k) {
     RenderedFrame rendered = RenderFrame(spec, k);
-    rendered.truth.files = WriteFrameLayers(root,
-                                            header,
-                                            k,
-                                            rendered.truth.camera,
-                                            {&rendered.flat, &rendered.bundle});
+    rendered.truth.files = WriteFrameLayers(
+        root, header, k, rendered.truth.camera, {&rendered.flat, &rendered.bundle});
     builder.Append(rendered.truth);
   }
   builder.Commit();

@@ -19,19 +19,16 @@ struct Spec {
   int width = 64;
   int height = 48;
   double hfov_deg = 60;
-  std::vector<ClassInfo> classes;  // 1 "ground", 2 "box", 3 "crate" by default
-  bool ground = true;      // plane z = 0, class 1, instance 1000 (not a target)
-  std::vector<Box> boxes;  // the targets
+  std::vector<ClassInfo> classes;       // 1 "ground", 2 "box", 3 "crate" by default
+  bool ground = true;                   // plane z = 0, class 1, instance 1000 (not a target)
+  std::vector<Box> boxes;               // the targets
   std::vector<Rigid3d> cam_from_world;  // one per frame
   double frame_interval = 0.1;          // seconds
   std::string sequence = "S1";
-  int samples_per_axis =
-      2;  // bundle: n*n stratified samples, one moved to the pixel centre
+  int samples_per_axis = 2;  // bundle: n*n stratified samples, one moved to the pixel centre
   DepthKind depth_kind = DepthKind::kPlanar;
-  std::vector<std::string>
-      layers;  // semantics to write; empty = every standard layer
-  Eigen::Vector3d direction_to_sun =
-      Eigen::Vector3d(0.3, 0.2, 1.0).normalized();
+  std::vector<std::string> layers;  // semantics to write; empty = every standard layer
+  Eigen::Vector3d direction_to_sun = Eigen::Vector3d(0.3, 0.2, 1.0).normalized();
 
   AnalyticScene Scene() const;
   std::vector<std::string> LayerSemantics() const;

@@ -55,8 +55,7 @@ std::string ErrnoText(int error) { return std::strerror(error); }
 // Makes a rename durable (best effort: not every file system can sync a
 // folder).
 void SyncFolder(const fs::path& folder) {
-  const int fd = ::open(folder.empty() ? "." : folder.c_str(),
-                        O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const int fd = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) return;
   ::fsync(fd);
   ::close(fd);
@@ -102,8 +101,7 @@ fs::path TempPathBeside(const fs::path& target) {
   // Keep the name within NAME_MAX for long targets.
   std::string stem = target.filename().string().substr(0, 120);
   std::ostringstream name;
-  name << "." << stem << kTempMarker << HostName() << "-" << ::getpid() << "-"
-       << counter++;
+  name << "." << stem << kTempMarker << HostName() << "-" << ::getpid() << "-" << counter++;
   return target.parent_path() / name.str();
 }
 
@@ -116,8 +114,7 @@ size_t RemoveStaleTemps(const fs::path& folder, bool recursive) {
   size_t removed = 0;
   std::error_code ec;
   std::vector<fs::path> stale, below;
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end;
-       it.increment(ec)) {
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (IsTempName(name)) {
       if (OwnerGone(name)) stale.push_back(it->path());
@@ -133,30 +130,24 @@ size_t RemoveStaleTemps(const fs::path& folder, bool recursive) {
   return removed;
 }
 
-void RefuseToOverwrite(const fs::path& path,
-                       bool force,
-                       const std::string& what) {
+void RefuseToOverwrite(const fs::path& path, bool force, const std::string& what) {
   std::error_code ec;
   if (!force && fs::exists(path, ec)) {
-    throw Error(what + " exists; pass --force to overwrite it",
-                Location(path.string()));
+    throw Error(what + " exists; pass --force to overwrite it", Location(path.string()));
   }
 }
 
 void WriteFileAtomic(const fs::path& path, const std::string& content) {
   AtomicFile file(path);
-  file.stream().write(content.data(),
-                      static_cast<std::streamsize>(content.size()));
+  file.stream().write(content.data(), static_cast<std::streamsize>(content.size()));
   file.Commit();
 }
 
-void WriteFileAtomicVia(
-    const fs::path& path,
-    const std::function<void(const fs::path& scratch)>& write) {
+void WriteFileAtomicVia(const fs::path& path,
+                        const std::function<void(const fs::path& scratch)>& write) {
   const int memory = ::memfd_create("lsds-scratch", MFD_CLOEXEC);
   if (memory < 0) {
-    throw Error("cannot create a scratch file: " + ErrnoText(errno),
-                Location(path.string()));
+    throw Error("cannot create a scratch file: " + ErrnoText(errno), Location(path.string()));
   }
   struct Closer {
     int fd;
@@ -182,9 +173,7 @@ void WriteFileAtomicVia(
 
 // ---- CheckedFileBuf ----
 
-CheckedFileBuf::CheckedFileBuf(int fd) : fd_(fd) {
-  setp(buffer_, buffer_ + sizeof(buffer_));
-}
+CheckedFileBuf::CheckedFileBuf(int fd) : fd_(fd) { setp(buffer_, buffer_ + sizeof(buffer_)); }
 
 bool CheckedFileBuf::WriteAll(const char* data, size_t n) {
   if (error_ != 0) return false;
@@ -268,22 +257,17 @@ CheckedFileBuf::pos_type CheckedFileBuf::seekoff(off_type off,
   return pos_type(at);
 }
 
-CheckedFileBuf::pos_type CheckedFileBuf::seekpos(pos_type pos,
-                                                 std::ios_base::openmode mode) {
+CheckedFileBuf::pos_type CheckedFileBuf::seekpos(pos_type pos, std::ios_base::openmode mode) {
   return seekoff(off_type(pos), std::ios_base::beg, mode);
 }
 
 // ---- AtomicFile ----
 
-AtomicFile::AtomicFile(fs::path path)
-    : path_(std::move(path)), temp_path_(TempPathBeside(path_)) {
+AtomicFile::AtomicFile(fs::path path) : path_(std::move(path)), temp_path_(TempPathBeside(path_)) {
   SweepOnce(path_.parent_path());
-  fd_ = ::open(temp_path_.c_str(),
-               O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC,
-               0666);
+  fd_ = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd_ < 0) {
-    throw Error("cannot open for writing: " + ErrnoText(errno),
-                Location(path_.string()));
+    throw Error("cannot open for writing: " + ErrnoText(errno), Location(path_.string()));
   }
   buffer_ = std::make_unique<CheckedFileBuf>(fd_);
   stream_ = std::make_unique<std::ostream>(buffer_.get());
@@ -330,8 +314,7 @@ void AtomicFile::Commit() {
   if (ec) {
     std::error_code remove_ec;
     fs::remove(temp_path_, remove_ec);
-    throw Error("cannot rename into place: " + ec.message(),
-                Location(path_.string()));
+    throw Error("cannot rename into place: " + ec.message(), Location(path_.string()));
   }
   committed_ = true;
   SyncFolder(path_.parent_path());
@@ -342,20 +325,17 @@ void AtomicFile::Commit() {
 AtomicDirectory::AtomicDirectory(fs::path path, bool force)
     : path_(std::move(path)), force_(force) {
   std::error_code ec;
-  if (fs::exists(path_, ec) &&
-      !(fs::is_directory(path_, ec) && fs::is_empty(path_, ec))) {
+  if (fs::exists(path_, ec) && !(fs::is_directory(path_, ec) && fs::is_empty(path_, ec))) {
     RefuseToOverwrite(path_, force_, "output folder");
   }
-  const fs::path parent =
-      path_.parent_path().empty() ? fs::path(".") : path_.parent_path();
+  const fs::path parent = path_.parent_path().empty() ? fs::path(".") : path_.parent_path();
   if (!fs::is_directory(parent, ec)) {
     throw Error("parent folder does not exist", Location(parent.string()));
   }
   SweepOnce(path_.parent_path());
   temp_path_ = TempPathBeside(path_);
   if (!fs::create_directory(temp_path_, ec)) {
-    throw Error("cannot create output folder: " + ec.message(),
-                Location(temp_path_.string()));
+    throw Error("cannot create output folder: " + ec.message(), Location(temp_path_.string()));
   }
 }
 
@@ -369,8 +349,7 @@ AtomicDirectory::~AtomicDirectory() {
 void AtomicDirectory::Commit() {
   std::error_code ec;
   // The files inside were synced by AtomicFile; their folder entries now.
-  for (fs::recursive_directory_iterator it(temp_path_, ec), end;
-       !ec && it != end;
+  for (fs::recursive_directory_iterator it(temp_path_, ec), end; !ec && it != end;
        it.increment(ec)) {
     if (it->is_directory(ec) && !it->is_symlink(ec)) SyncFolder(it->path());
   }
@@ -381,20 +360,16 @@ void AtomicDirectory::Commit() {
     // rename loses nothing.
     const fs::path old = TempPathBeside(path_);
     fs::rename(path_, old, ec);
-    if (ec)
-      throw Error("cannot replace: " + ec.message(), Location(path_.string()));
+    if (ec) throw Error("cannot replace: " + ec.message(), Location(path_.string()));
     fs::rename(temp_path_, path_, ec);
     if (ec) {
       fs::rename(old, path_);
-      throw Error("cannot rename into place: " + ec.message(),
-                  Location(path_.string()));
+      throw Error("cannot rename into place: " + ec.message(), Location(path_.string()));
     }
     fs::remove_all(old, ec);
   } else {
     fs::rename(temp_path_, path_, ec);
-    if (ec)
-      throw Error("cannot rename into place: " + ec.message(),
-                  Location(path_.string()));
+    if (ec) throw Error("cannot rename into place: " + ec.message(), Location(path_.string()));
   }
   committed_ = true;
   SyncFolder(path_.parent_path());

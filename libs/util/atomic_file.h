@@ -34,9 +34,7 @@ bool IsTempName(const std::string& file_name);
 size_t RemoveStaleTemps(const fs::path& folder, bool recursive = false);
 
 // Throws lsds::Error naming `path` if it exists and `force` is false.
-void RefuseToOverwrite(const fs::path& path,
-                       bool force,
-                       const std::string& what = "output");
+void RefuseToOverwrite(const fs::path& path, bool force, const std::string& what = "output");
 
 // Writes `content` to `path` through a temporary file and a rename.
 void WriteFileAtomic(const fs::path& path, const std::string& content);
@@ -45,8 +43,7 @@ void WriteFileAtomic(const fs::path& path, const std::string& content);
 // (PCL): `write` writes the file at the scratch path it is given (in memory);
 // its bytes then go to `path` through the checked atomic path.
 void WriteFileAtomicVia(const fs::path& path,
-                        const std::function<void(const fs::path& scratch)>&
-                            write);
+                        const std::function<void(const fs::path& scratch)>& write);
 
 // A stream buffer over a file descriptor that checks every write (the first
 // error is kept; later writes are refused) and supports seeking.

@@ -2,12 +2,9 @@
 
 namespace lsds {
 
-void FailCheck(const char* condition,
-               const char* file,
-               int line,
-               const std::string& detail) {
-  std::string message = std::string("internal check failed: ") + condition +
-                        " (" + file + ":" + std::to_string(line) + ")";
+void FailCheck(const char* condition, const char* file, int line, const std::string& detail) {
+  std::string message = std::string("internal check failed: ") + condition + " (" + file + ":" +
+                        std::to_string(line) + ")";
   if (!detail.empty()) message += ": " + detail;
   throw InternalError(message);
 }

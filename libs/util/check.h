@@ -11,8 +11,7 @@ namespace lsds {
 
 class InternalError : public std::logic_error {
  public:
-  explicit InternalError(const std::string& message)
-      : std::logic_error(message) {}
+  explicit InternalError(const std::string& message) : std::logic_error(message) {}
 };
 
 [[noreturn]] void FailCheck(const char* condition,
@@ -26,14 +25,12 @@ std::string InternalErrorAdvice();
 }  // namespace lsds
 
 // LSDS_CHECK(cond) << nothing: a plain macro; LSDS_CHECK_MSG adds context.
-#define LSDS_CHECK(condition)                                          \
-  do {                                                                 \
-    if (!(condition))                                                  \
-      ::lsds::FailCheck(#condition, __FILE__, __LINE__, std::string()); \
+#define LSDS_CHECK(condition)                                                           \
+  do {                                                                                  \
+    if (!(condition)) ::lsds::FailCheck(#condition, __FILE__, __LINE__, std::string()); \
   } while (false)
 
-#define LSDS_CHECK_MSG(condition, detail)                         \
-  do {                                                            \
-    if (!(condition))                                             \
-      ::lsds::FailCheck(#condition, __FILE__, __LINE__, (detail)); \
+#define LSDS_CHECK_MSG(condition, detail)                                          \
+  do {                                                                             \
+    if (!(condition)) ::lsds::FailCheck(#condition, __FILE__, __LINE__, (detail)); \
   } while (false)

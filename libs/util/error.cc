@@ -15,13 +15,11 @@ std::string Location::ToString() const {
   }
   if (!json_pointer.empty()) out << "#" << json_pointer;
   if (frame) out << (out.tellp() > 0 ? " " : "") << "frame " << *frame;
-  if (pixel_x && pixel_y)
-    out << " pixel (" << *pixel_x << ", " << *pixel_y << ")";
+  if (pixel_x && pixel_y) out << " pixel (" << *pixel_x << ", " << *pixel_y << ")";
   return out.str();
 }
 
-static std::string Compose(const std::string& message,
-                           const Location& location) {
+static std::string Compose(const std::string& message, const Location& location) {
   const std::string where = location.ToString();
   return where.empty() ? message : where + ": " + message;
 }
@@ -39,15 +37,11 @@ static Location ReadableLocation(Location location) {
 }
 
 Error::Error(const std::string& message, Location location)
-    : std::runtime_error(
-          Compose(Readable(message), ReadableLocation(location))),
+    : std::runtime_error(Compose(Readable(message), ReadableLocation(location))),
       message_(Readable(message)),
       location_(ReadableLocation(std::move(location))) {}
 
-void LineColumnFromOffset(const std::string& text,
-                          size_t offset,
-                          int* line,
-                          int* column) {
+void LineColumnFromOffset(const std::string& text, size_t offset, int* line, int* column) {
   *line = 1;
   *column = 1;
   for (size_t i = 0; i < offset && i < text.size(); ++i) {

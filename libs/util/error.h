@@ -64,9 +64,6 @@ class Error : public std::runtime_error {
 };
 
 // Converts a byte offset inside `text` into 1-based line and column.
-void LineColumnFromOffset(const std::string& text,
-                          size_t offset,
-                          int* line,
-                          int* column);
+void LineColumnFromOffset(const std::string& text, size_t offset, int* line, int* column);
 
 }  // namespace lsds

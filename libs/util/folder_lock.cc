@@ -21,37 +21,33 @@ double LockTimeoutSeconds() {
   char* end = nullptr;
   const double seconds = std::strtod(text, &end);
   if (end == text || *end != '\0' || !(seconds >= 0)) {
-    throw Error("LSDS_LOCK_TIMEOUT: expected a number of seconds, got '" +
-                std::string(text) + "'");
+    throw Error("LSDS_LOCK_TIMEOUT: expected a number of seconds, got '" + std::string(text) + "'");
   }
   return seconds;
 }
 
-FolderLock::FolderLock(const std::filesystem::path& folder,
-                       const std::string& command) {
+FolderLock::FolderLock(const std::filesystem::path& folder, const std::string& command) {
   fd_ = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd_ < 0) {
-    throw Error(std::string("cannot open the folder to lock it: ") +
-                    std::strerror(errno),
+    throw Error(std::string("cannot open the folder to lock it: ") + std::strerror(errno),
                 Location(folder.string()));
   }
   if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
   const double timeout = LockTimeoutSeconds();
-  std::cerr << command << ": waiting for another lsds command writing to "
-            << folder.string() << " (lock on the folder)\n";
+  std::cerr << command << ": waiting for another lsds command writing to " << folder.string()
+            << " (lock on the folder)\n";
   const auto start = std::chrono::steady_clock::now();
   while (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    const double waited = std::chrono::duration<double>(
-                              std::chrono::steady_clock::now() - start)
-                              .count();
+    const double waited =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (waited >= timeout) {
       ::close(fd_);
       fd_ = -1;
-      throw Error("another lsds command holds the write lock on this "
-                  "collection folder (waited " +
-                      std::to_string(static_cast<int>(waited)) +
-                      " s; LSDS_LOCK_TIMEOUT sets the wait)",
-                  Location(folder.string()));
+      throw Error(
+          "another lsds command holds the write lock on this "
+          "collection folder (waited " +
+              std::to_string(static_cast<int>(waited)) + " s; LSDS_LOCK_TIMEOUT sets the wait)",
+          Location(folder.string()));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }

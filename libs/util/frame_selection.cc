@@ -14,8 +14,7 @@ const char kForms[] =
 
 }  // namespace
 
-FrameSelection ParseFrameSelection(const std::string& text,
-                                   const std::string& flag) {
+FrameSelection ParseFrameSelection(const std::string& text, const std::string& flag) {
   const std::string where = flag + " " + text;
   auto parse = [&](const std::string& part, int64_t fallback) -> int64_t {
     if (part.empty()) return fallback;
@@ -27,16 +26,14 @@ FrameSelection ParseFrameSelection(const std::string& text,
       used = 0;
     }
     if (used != part.size() || value < 0 || part[0] == '+' || part[0] == ' ')
-      throw Error(std::string(kForms) + "; got '" + text + "'",
-                  Location(where));
+      throw Error(std::string(kForms) + "; got '" + text + "'", Location(where));
     return value;
   };
   FrameSelection selection;
   selection.text = text;
   const size_t colon = text.find(':');
   if (text.empty() || text == ":" ||
-      (colon != std::string::npos &&
-       text.find(':', colon + 1) != std::string::npos)) {
+      (colon != std::string::npos && text.find(':', colon + 1) != std::string::npos)) {
     if (text == ":") return selection;  // every frame, as in Python
     throw Error(std::string(kForms) + "; got '" + text + "'", Location(where));
   }
@@ -63,17 +60,15 @@ void CheckFrameSelection(const FrameSelection& selection,
   const std::string where = flag + " " + selection.text;
   if (available.empty()) throw Error(what + " has no frames", Location(where));
   const int64_t first = available.front(), last = available.back();
-  const std::string valid =
-      what + " has frame indices " + std::to_string(first) + " to " +
-      std::to_string(last) + " (" + std::to_string(available.size()) +
-      " frames; " + flag + " " + std::to_string(first) + ":" +
-      std::to_string(last + 1) + " selects them all)";
+  const std::string valid = what + " has frame indices " + std::to_string(first) + " to " +
+                            std::to_string(last) + " (" + std::to_string(available.size()) +
+                            " frames; " + flag + " " + std::to_string(first) + ":" +
+                            std::to_string(last + 1) + " selects them all)";
   if (selection.begin < first || selection.begin > last ||
       (selection.bounded() && selection.end > last + 1)) {
     throw Error("out of range: " + valid, Location(where));
   }
-  const auto it =
-      std::lower_bound(available.begin(), available.end(), selection.begin);
+  const auto it = std::lower_bound(available.begin(), available.end(), selection.begin);
   if (it == available.end() || !selection.Contains(*it))
     throw Error("selects no frame: " + valid, Location(where));
 }

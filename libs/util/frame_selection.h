@@ -24,8 +24,7 @@ struct FrameSelection {
 // Parses the text of `flag`; throws lsds::Error located at the flag ("--frames
 // 5:2: ...") for anything that is not one of the four forms with indices >= 0
 // and A < B.
-FrameSelection ParseFrameSelection(const std::string& text,
-                                   const std::string& flag = "--frames");
+FrameSelection ParseFrameSelection(const std::string& text, const std::string& flag = "--frames");
 
 // Checks the selection against the frame indices that exist (`available`,
 // increasing), e.g. a collection's or a plan's. Throws lsds::Error (exit 2)

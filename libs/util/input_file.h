@@ -9,7 +9,6 @@ namespace lsds {
 
 // Throws lsds::Error naming `path` unless it is a regular file (symlinks
 // followed). `what` says which input it is ("scene file", "layer file").
-void RequireRegularFile(const std::filesystem::path& path,
-                        const std::string& what = "input");
+void RequireRegularFile(const std::filesystem::path& path, const std::string& what = "input");
 
 }  // namespace lsds

@@ -9,8 +9,8 @@ namespace lsds {
 namespace {
 
 bool NumberChar(char c) {
-  return std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' ||
-         c == '.' || c == 'e' || c == 'E';
+  return std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.' ||
+         c == 'e' || c == 'E';
 }
 
 // Where the number token `token` stands in `text` (outside strings); npos if
@@ -20,18 +20,18 @@ size_t FindNumberToken(std::string_view text, std::string_view token) {
   for (size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
       continue;
     }
     if (c == '"') {
       in_string = true;
       continue;
     }
-    if ((i == 0 || !NumberChar(text[i - 1])) &&
-        text.substr(i, token.size()) == token &&
-        (i + token.size() == text.size() ||
-         !NumberChar(text[i + token.size()]))) {
+    if ((i == 0 || !NumberChar(text[i - 1])) && text.substr(i, token.size()) == token &&
+        (i + token.size() == text.size() || !NumberChar(text[i + token.size()]))) {
       return i;
     }
   }
@@ -69,17 +69,14 @@ Error JsonParseError(std::string_view text,
     const std::string message = e.what();
     const size_t open = message.find('\''), close = message.rfind('\'');
     if (open != std::string::npos && close > open) {
-      offset = FindNumberToken(
-          text, std::string_view(message).substr(open + 1, close - open - 1));
+      offset = FindNumberToken(text, std::string_view(message).substr(open + 1, close - open - 1));
     }
   }
   std::string reason = Reason(e);
   if (e.id == 406) reason = "number out of range: " + reason;
-  if (offset == std::string_view::npos)
-    return Error("invalid JSON: " + reason, Location(file));
+  if (offset == std::string_view::npos) return Error("invalid JSON: " + reason, Location(file));
   int line = 0, column = 0;
-  LineColumnFromOffset(std::string(text.substr(0, offset)), offset, &line,
-                       &column);
+  LineColumnFromOffset(std::string(text.substr(0, offset)), offset, &line, &column);
   // A short excerpt of the text where it failed, so that the message shows
   // the place even for a one-line file.
   const size_t from = offset > 20 ? offset - 20 : 0;

@@ -44,16 +44,15 @@ T GetInteger(const nlohmann::json& object, const char* key) {
          (v < 0 || static_cast<uint64_t>(v) <= static_cast<uint64_t>(hi));
   } else {
     const double v = value.get<double>();
-    ok = std::isfinite(v) && v == std::floor(v) &&
-         v >= static_cast<double>(lo) && v <= static_cast<double>(hi);
+    ok = std::isfinite(v) && v == std::floor(v) && v >= static_cast<double>(lo) &&
+         v <= static_cast<double>(hi);
   }
   if (!ok) {
-    throw nlohmann::json::out_of_range::create(
-        406,
-        std::string(key) + ": " + value.dump() +
-            " is not an integer in [" + std::to_string(lo) + ", " +
-            std::to_string(hi) + "]",
-        nullptr);
+    throw nlohmann::json::out_of_range::create(406,
+                                               std::string(key) + ": " + value.dump() +
+                                                   " is not an integer in [" + std::to_string(lo) +
+                                                   ", " + std::to_string(hi) + "]",
+                                               nullptr);
   }
   return value.get<T>();
 }

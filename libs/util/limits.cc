@@ -16,8 +16,8 @@ std::optional<uint64_t>& BudgetOverride() {
 
 std::string Gib(uint64_t bytes) {
   char text[64];
-  std::snprintf(text, sizeof(text), "%.2f GiB",
-                static_cast<double>(bytes) / (1024.0 * 1024.0 * 1024.0));
+  std::snprintf(
+      text, sizeof(text), "%.2f GiB", static_cast<double>(bytes) / (1024.0 * 1024.0 * 1024.0));
   return text;
 }
 
@@ -65,15 +65,22 @@ uint64_t ParseByteSize(const std::string& text, const std::string& where) {
   const double value = std::strtod(text.c_str(), &end);
   double scale = 1;
   std::string suffix = end != nullptr ? std::string(end) : std::string();
-  if (suffix == "K" || suffix == "k" || suffix == "KiB") scale = 1024.0;
-  else if (suffix == "M" || suffix == "MiB") scale = 1024.0 * 1024;
-  else if (suffix == "G" || suffix == "GiB") scale = 1024.0 * 1024 * 1024;
-  else if (suffix == "T" || suffix == "TiB") scale = 1024.0 * 1024 * 1024 * 1024;
-  else if (!suffix.empty()) scale = -1;
+  if (suffix == "K" || suffix == "k" || suffix == "KiB")
+    scale = 1024.0;
+  else if (suffix == "M" || suffix == "MiB")
+    scale = 1024.0 * 1024;
+  else if (suffix == "G" || suffix == "GiB")
+    scale = 1024.0 * 1024 * 1024;
+  else if (suffix == "T" || suffix == "TiB")
+    scale = 1024.0 * 1024 * 1024 * 1024;
+  else if (!suffix.empty())
+    scale = -1;
   if (end == text.c_str() || scale < 0 || !(value > 0) || value * scale > 1e19) {
-    throw Error("expected a positive size in bytes with an optional K, M, G "
-                "or T suffix (e.g. 16G), got '" + text + "'",
-                Location(where));
+    throw Error(
+        "expected a positive size in bytes with an optional K, M, G "
+        "or T suffix (e.g. 16G), got '" +
+            text + "'",
+        Location(where));
   }
   return static_cast<uint64_t>(value * scale);
 }
@@ -85,8 +92,7 @@ void SetMemoryBudget(const std::string& text) {
 uint64_t MemoryBudgetBytes() {
   if (BudgetOverride()) return *BudgetOverride();
   const char* env = std::getenv("LSDS_MEMORY_BUDGET");
-  if (env != nullptr && *env != '\0')
-    return ParseByteSize(env, "LSDS_MEMORY_BUDGET");
+  if (env != nullptr && *env != '\0') return ParseByteSize(env, "LSDS_MEMORY_BUDGET");
   return uint64_t{8} << 30;
 }
 
@@ -97,8 +103,8 @@ void CheckImageBudget(int64_t width,
                       const std::string& what,
                       const std::string& where) {
   if (width <= 0 || height <= 0) {
-    throw Error(what + ": the size must be positive, got " +
-                    std::to_string(width) + "x" + std::to_string(height),
+    throw Error(what + ": the size must be positive, got " + std::to_string(width) + "x" +
+                    std::to_string(height),
                 Location(where));
   }
   // In double: the product of hostile factors must not wrap around.
@@ -107,8 +113,7 @@ void CheckImageBudget(int64_t width,
                       static_cast<double>(std::max<int64_t>(1, bytes_per_value));
   const uint64_t budget = MemoryBudgetBytes();
   if (need > static_cast<double>(budget)) {
-    throw Error(what + ": " + std::to_string(width) + "x" +
-                    std::to_string(height) + " needs " +
+    throw Error(what + ": " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
                     Gib(static_cast<uint64_t>(std::min(need, 1.8e19))) +
                     ", over the memory budget of " + Gib(budget) +
                     " (raise it with --memory-budget or LSDS_MEMORY_BUDGET, "

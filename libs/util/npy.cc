@@ -20,7 +20,7 @@ struct PyValue {
   enum Kind { kString, kInt, kBool, kSequence, kDict } kind = kInt;
   std::string text;
   int64_t number = 0;
-  std::vector<PyValue> items;                          // sequence
+  std::vector<PyValue> items;                            // sequence
   std::vector<std::pair<std::string, PyValue>> entries;  // dict
 
   const PyValue* Find(const std::string& key) const {
@@ -32,8 +32,7 @@ struct PyValue {
 
 class PyParser {
  public:
-  PyParser(const std::string& text, const std::string& file)
-      : text_(text), file_(file) {}
+  PyParser(const std::string& text, const std::string& file) : text_(text), file_(file) {}
   PyValue Parse() {
     PyValue v = Value();
     Skip();
@@ -42,13 +41,11 @@ class PyParser {
 
  private:
   [[noreturn]] void Fail(const std::string& what) {
-    throw Error("bad .npy header at character " + std::to_string(at_ + 1) +
-                    ": " + what,
+    throw Error("bad .npy header at character " + std::to_string(at_ + 1) + ": " + what,
                 Location(file_));
   }
   void Skip() {
-    while (at_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[at_])))
-      ++at_;
+    while (at_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[at_]))) ++at_;
   }
   bool Eat(char c) {
     Skip();
@@ -106,16 +103,14 @@ class PyParser {
 NpyField ParseType(const std::string& type, const std::string& file) {
   // '<f4', '|u1', '|b1': byte order, kind, size.
   if (type.size() < 3 || (type[0] != '<' && type[0] != '|' && type[0] != '='))
-    throw Error("unsupported dtype '" + type +
-                    "' (only little-endian bool, int and float)",
+    throw Error("unsupported dtype '" + type + "' (only little-endian bool, int and float)",
                 Location(file));
   NpyField field;
   field.kind = type[1];
   field.size = std::atoi(type.c_str() + 2);
   const bool ok = (field.kind == 'f' && (field.size == 4 || field.size == 8)) ||
                   ((field.kind == 'u' || field.kind == 'i') &&
-                   (field.size == 1 || field.size == 2 || field.size == 4 ||
-                    field.size == 8)) ||
+                   (field.size == 1 || field.size == 2 || field.size == 4 || field.size == 8)) ||
                   (field.kind == 'b' && field.size == 1);
   if (!ok) throw Error("unsupported dtype '" + type + "'", Location(file));
   return field;
@@ -129,17 +124,15 @@ int64_t NpyArray::size() const {
   return n;
 }
 
-const NpyField& NpyArray::Field(const std::string& name,
-                                const std::string& file) const {
+const NpyField& NpyArray::Field(const std::string& name, const std::string& file) const {
   for (const NpyField& f : fields)
     if (f.name == name) return f;
   throw Error("no field '" + name + "' in the array's dtype", Location(file));
 }
 
-double NpyArray::Get(int64_t record, const NpyField& field,
-                     int64_t element) const {
-  const char* p = data.data() + static_cast<size_t>(record) * record_size +
-                  field.offset + static_cast<size_t>(element) * field.size;
+double NpyArray::Get(int64_t record, const NpyField& field, int64_t element) const {
+  const char* p = data.data() + static_cast<size_t>(record) * record_size + field.offset +
+                  static_cast<size_t>(element) * field.size;
   // .npy payloads are little-endian, as is every machine lsds builds on.
   auto read = [p](auto value) {
     std::memcpy(&value, p, sizeof value);
@@ -165,29 +158,25 @@ double NpyArray::Get(int64_t record, const NpyField& field,
 
 NpyArray ReadNpy(const std::filesystem::path& path) {
   const std::string file = path.string();
-  if (!std::filesystem::is_regular_file(path))
-    throw Error("missing file", Location(file));
+  if (!std::filesystem::is_regular_file(path)) throw Error("missing file", Location(file));
   const std::string bytes = ReadFile(path);
   if (bytes.size() < 10 || bytes.compare(0, 6, "\x93NUMPY") != 0)
     throw Error("not a .npy file (no \\x93NUMPY magic)", Location(file));
   const int major = static_cast<unsigned char>(bytes[6]);
   size_t header_length = 0, start = 0;
   if (major == 1) {
-    header_length = static_cast<unsigned char>(bytes[8]) |
-                    (static_cast<unsigned char>(bytes[9]) << 8);
+    header_length =
+        static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
     start = 10;
   } else if (major == 2 || major == 3) {
     if (bytes.size() < 12) throw Error("truncated .npy header", Location(file));
     for (int b = 3; b >= 0; --b)
-      header_length = (header_length << 8) |
-                      static_cast<unsigned char>(bytes[8 + b]);
+      header_length = (header_length << 8) | static_cast<unsigned char>(bytes[8 + b]);
     start = 12;
   } else {
-    throw Error("unsupported .npy version " + std::to_string(major),
-                Location(file));
+    throw Error("unsupported .npy version " + std::to_string(major), Location(file));
   }
-  if (start + header_length > bytes.size())
-    throw Error("truncated .npy header", Location(file));
+  if (start + header_length > bytes.size()) throw Error("truncated .npy header", Location(file));
   const std::string header = bytes.substr(start, header_length);
   const PyValue dict = PyParser(header, file).Parse();
   const PyValue* descr = dict.Find("descr");
@@ -195,8 +184,7 @@ NpyArray ReadNpy(const std::filesystem::path& path) {
   const PyValue* shape = dict.Find("shape");
   if (dict.kind != PyValue::kDict || !descr || !fortran || !shape ||
       shape->kind != PyValue::kSequence)
-    throw Error("the .npy header lacks descr, fortran_order or shape",
-                Location(file));
+    throw Error("the .npy header lacks descr, fortran_order or shape", Location(file));
   if (fortran->number != 0)
     throw Error("Fortran-order .npy arrays are not supported", Location(file));
   NpyArray array;
@@ -211,8 +199,7 @@ NpyArray ReadNpy(const std::filesystem::path& path) {
   } else if (descr->kind == PyValue::kSequence) {
     for (const PyValue& item : descr->items) {
       if (item.kind != PyValue::kSequence || item.items.size() < 2 ||
-          item.items[0].kind != PyValue::kString ||
-          item.items[1].kind != PyValue::kString)
+          item.items[0].kind != PyValue::kString || item.items[1].kind != PyValue::kString)
         throw Error("bad structured dtype in the .npy header", Location(file));
       NpyField field = ParseType(item.items[1].text, file);
       field.name = item.items[0].text;
@@ -243,11 +230,10 @@ void WriteNpy(const std::filesystem::path& path,
               const std::string& data) {
   // Python's tuple spelling: (), (3,), (2, 3).
   std::string dims;
-  for (size_t k = 0; k < shape.size(); ++k)
-    dims += (k ? ", " : "") + std::to_string(shape[k]);
+  for (size_t k = 0; k < shape.size(); ++k) dims += (k ? ", " : "") + std::to_string(shape[k]);
   if (shape.size() == 1) dims += ",";
-  std::string header = "{'descr': " + descr +
-                       ", 'fortran_order': False, 'shape': (" + dims + "), }";
+  std::string header =
+      "{'descr': " + descr + ", 'fortran_order': False, 'shape': (" + dims + "), }";
   const size_t total = 10 + header.size() + 1;
   header.append((64 - total % 64) % 64, ' ');
   header += '\n';

@@ -13,11 +13,11 @@
 namespace lsds {
 
 struct NpyField {
-  std::string name;      // empty for a plain array
-  char kind = 'f';       // 'f' float, 'u' unsigned, 'i' signed, 'b' bool
-  int size = 4;          // bytes per element
-  int64_t count = 1;     // elements per record (product of the sub-shape)
-  size_t offset = 0;     // in the record
+  std::string name;   // empty for a plain array
+  char kind = 'f';    // 'f' float, 'u' unsigned, 'i' signed, 'b' bool
+  int size = 4;       // bytes per element
+  int64_t count = 1;  // elements per record (product of the sub-shape)
+  size_t offset = 0;  // in the record
 };
 
 struct NpyArray {

@@ -32,26 +32,22 @@ void OutputGuard::AddInput(const fs::path& path, const std::string& what) {
   inputs_.push_back({path, CanonicalPath(path), what, false});
 }
 
-void OutputGuard::AddContainer(const fs::path& folder,
-                               const std::string& what) {
+void OutputGuard::AddContainer(const fs::path& folder, const std::string& what) {
   if (folder.empty()) return;
   inputs_.push_back({folder, CanonicalPath(folder), what, true});
 }
 
 void OutputGuard::AddSymlinkTargetsIn(const fs::path& folder) {
   std::error_code ec;
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end;
-       it.increment(ec)) {
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code type_ec;
     if (it->is_symlink(type_ec)) {
-      inputs_.push_back({it->path(), CanonicalPath(it->path()),
-                         "target of the symlink", false});
+      inputs_.push_back({it->path(), CanonicalPath(it->path()), "target of the symlink", false});
     }
   }
 }
 
-void OutputGuard::CheckOutput(const fs::path& output,
-                              const std::string& flag) const {
+void OutputGuard::CheckOutput(const fs::path& output, const std::string& flag) const {
   if (output.empty()) return;
   const fs::path out = CanonicalPath(output);
   std::error_code ec;
@@ -60,13 +56,12 @@ void OutputGuard::CheckOutput(const fs::path& output,
   // though it also contains collection.json.
   auto relation_to = [&](const Entry& input, bool identity) -> std::string {
     if (identity) {
-      const bool same = out == input.canonical ||
-                        (exists && fs::equivalent(output, input.given, ec));
+      const bool same =
+          out == input.canonical || (exists && fs::equivalent(output, input.given, ec));
       return same ? "is" : "";
     }
     if (PathWithin(input.canonical, out)) return "contains";
-    if (!input.container && PathWithin(out, input.canonical))
-      return "lies inside";
+    if (!input.container && PathWithin(out, input.canonical)) return "lies inside";
     return "";
   };
   for (const bool identity : {true, false}) {
@@ -75,10 +70,8 @@ void OutputGuard::CheckOutput(const fs::path& output,
       if (relation.empty()) continue;
       std::string message = "the output";
       if (!flag.empty()) message += " (" + flag + ")";
-      message += " " + relation + " the " + input.what + " " +
-                 input.given.string();
-      if (input.given != input.canonical)
-        message += " (" + input.canonical.string() + ")";
+      message += " " + relation + " the " + input.what + " " + input.given.string();
+      if (input.given != input.canonical) message += " (" + input.canonical.string() + ")";
       message += ", an input of " + command_ +
                  "; an output may not be, contain or lie inside an input, even "
                  "with --force: choose another output";

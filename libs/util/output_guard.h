@@ -29,13 +29,11 @@ class OutputGuard {
   // bundles' derived layers): outputs may lie inside it, but may not be it or
   // contain it. The files inside it that the command reads must be added with
   // AddInput.
-  void AddContainer(const std::filesystem::path& folder,
-                    const std::string& what);
+  void AddContainer(const std::filesystem::path& folder, const std::string& what);
 
   // Throws lsds::Error (exit 2) naming the output, the flag that gave it and
   // the input it would destroy. Empty outputs are ignored.
-  void CheckOutput(const std::filesystem::path& output,
-                   const std::string& flag) const;
+  void CheckOutput(const std::filesystem::path& output, const std::string& flag) const;
 
   size_t input_count() const { return inputs_.size(); }
 
@@ -54,7 +52,6 @@ class OutputGuard {
 std::filesystem::path CanonicalPath(const std::filesystem::path& path);
 
 // True when `inner` is `outer` or lies below it (both canonical).
-bool PathWithin(const std::filesystem::path& inner,
-                const std::filesystem::path& outer);
+bool PathWithin(const std::filesystem::path& inner, const std::filesystem::path& outer);
 
 }  // namespace lsds

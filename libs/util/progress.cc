@@ -34,16 +34,14 @@ void Progress::Add(int64_t done) {
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
-  if (!lock.owns_lock() || now - last_draw_ < std::chrono::milliseconds(100))
-    return;
+  if (!lock.owns_lock() || now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
   Draw(false);
 }
 
 void Progress::Draw(bool final) {
   const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
-          .count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const int64_t done = done_.load();
   const double rate = seconds > 0 ? done / seconds : 0.0;
   const double eta = rate > 0 && total_ > done ? (total_ - done) / rate : 0.0;

@@ -21,8 +21,7 @@ int EditDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-std::string ClosestMatch(const std::string& word,
-                         const std::vector<std::string>& candidates) {
+std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates) {
   std::string best;
   int best_distance = 0;
   for (const std::string& candidate : candidates) {
@@ -38,8 +37,7 @@ std::string ClosestMatch(const std::string& word,
   return best_distance <= budget ? best : std::string();
 }
 
-std::string DidYouMean(const std::string& word,
-                       const std::vector<std::string>& candidates) {
+std::string DidYouMean(const std::string& word, const std::vector<std::string>& candidates) {
   const std::string match = ClosestMatch(word, candidates);
   return match.empty() ? std::string() : " (did you mean '" + match + "'?)";
 }
@@ -56,8 +54,7 @@ std::vector<std::string> Split(const std::string& text, char separator) {
   return parts;
 }
 
-std::string Join(const std::vector<std::string>& parts,
-                 const std::string& separator) {
+std::string Join(const std::vector<std::string>& parts, const std::string& separator) {
   std::string out;
   for (size_t i = 0; i < parts.size(); ++i) {
     if (i > 0) out += separator;
@@ -87,8 +84,8 @@ std::string XmlEscape(const std::string& text) {
         out += "&apos;";
         break;
       default:
-        const bool forbidden = static_cast<unsigned char>(c) < 0x20 &&
-                               c != '\n' && c != '\t' && c != '\r';
+        const bool forbidden =
+            static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t' && c != '\r';
         out += forbidden ? ' ' : c;
     }
   }
@@ -97,8 +94,7 @@ std::string XmlEscape(const std::string& text) {
 
 std::string FrameStem(int64_t index) {
   char buffer[32];
-  std::snprintf(
-      buffer, sizeof(buffer), "%06lld", static_cast<long long>(index));
+  std::snprintf(buffer, sizeof(buffer), "%06lld", static_cast<long long>(index));
   return buffer;
 }
 

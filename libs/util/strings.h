@@ -11,16 +11,13 @@ int EditDistance(const std::string& a, const std::string& b);
 
 // The candidate closest to `word` if it is close enough to be a likely
 // misspelling, else "".
-std::string ClosestMatch(const std::string& word,
-                         const std::vector<std::string>& candidates);
+std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);
 
 // " (did you mean 'x'?)" or "" when nothing is close.
-std::string DidYouMean(const std::string& word,
-                       const std::vector<std::string>& candidates);
+std::string DidYouMean(const std::string& word, const std::vector<std::string>& candidates);
 
 std::vector<std::string> Split(const std::string& text, char separator);
-std::string Join(const std::vector<std::string>& parts,
-                 const std::string& separator);
+std::string Join(const std::vector<std::string>& parts, const std::string& separator);
 
 // Text escaped for XML attributes and content; control characters XML 1.0
 // forbids become spaces.

@@ -13,9 +13,7 @@ namespace {
 // Length of the well-formed UTF-8 sequence at `text[i]`, 0 if malformed
 // (RFC 3629, table 3-7 of the Unicode standard).
 size_t SequenceLength(std::string_view text, size_t i) {
-  const auto byte = [&](size_t k) {
-    return static_cast<unsigned char>(text[k]);
-  };
+  const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
   const unsigned char b0 = byte(i);
   if (b0 < 0x80) return 1;
   size_t n = 0;
@@ -62,10 +60,8 @@ void CheckUtf8(std::string_view text, const std::string& file) {
   if (!bad) return;
   int line = 0, column = 0;
   LineColumnFromOffset(std::string(text.substr(0, *bad)), *bad, &line, &column);
-  throw Error("not valid UTF-8 (byte 0x" +
-                  Hex(static_cast<unsigned char>(text[*bad])).substr(2) +
-                  " at byte offset " + std::to_string(*bad) +
-                  "); save the file as UTF-8",
+  throw Error("not valid UTF-8 (byte 0x" + Hex(static_cast<unsigned char>(text[*bad])).substr(2) +
+                  " at byte offset " + std::to_string(*bad) + "); save the file as UTF-8",
               Location::Text(file, line, column));
 }
 
@@ -100,22 +96,18 @@ std::string Excerpt(std::string_view text, size_t max_bytes, bool keep_lines) {
       i += n;
     }
   }
-  if (i < text.size())
-    out += "... (" + std::to_string(text.size() - i) + " more bytes)";
+  if (i < text.size()) out += "... (" + std::to_string(text.size() - i) + " more bytes)";
   return out;
 }
 
 double CheckFinite(double value, const std::string& what) {
   if (!std::isfinite(value))
-    throw Error(what + ": expected a finite number, got " +
-                FormatNumber(value));
+    throw Error(what + ": expected a finite number, got " + FormatNumber(value));
   return value;
 }
 
 int64_t CheckNonNegative(int64_t value, const std::string& what) {
-  if (value < 0)
-    throw Error(what + ": expected a number >= 0, got " +
-                std::to_string(value));
+  if (value < 0) throw Error(what + ": expected a number >= 0, got " + std::to_string(value));
   return value;
 }
 

@@ -22,9 +22,7 @@ void CheckUtf8(std::string_view text, const std::string& file);
 // `text` fit for a message: invalid UTF-8 bytes and control characters shown
 // as \xNN (line breaks kept with `keep_lines`), and cut to about `max_bytes`
 // with a note of how much was left out.
-std::string Excerpt(std::string_view text,
-                    size_t max_bytes = 200,
-                    bool keep_lines = false);
+std::string Excerpt(std::string_view text, size_t max_bytes = 200, bool keep_lines = false);
 
 // `text` with invalid UTF-8 bytes replaced by \xNN, so that it can go into a
 // JSON string (used for file paths, which need not be UTF-8).

@@ -30,40 +30,34 @@ ScratchDir* BackprojectCli::dir_ = nullptr;
 TEST_F(BackprojectCli, WritesPerFrameFusedAndChecks) {
   ScratchDir out("cli_out");
   std::string log;
-  ASSERT_EQ(RunLsds("backproject " + Collection().string() + " -o " +
-                        (out / "frames").string() +
+  ASSERT_EQ(RunLsds("backproject " + Collection().string() + " -o " + (out / "frames").string() +
                         " --format ply --normals --check --tolerance 1e-4",
                     &log),
             0)
       << log;
-  EXPECT_EQ(ListDir(out / "frames"),
-            "000000.ply 000001.ply 000002.ply 000003.ply ");
+  EXPECT_EQ(ListDir(out / "frames"), "000000.ply 000001.ply 000002.ply 000003.ply ");
   EXPECT_NE(log.find("max_error"), std::string::npos) << log;
   EXPECT_NE(log.find("all"), std::string::npos) << log;
-  ASSERT_EQ(
-      RunLsds("backproject " + Collection().string() +
-                  " --fuse --voxel 0.2 -o " + (out / "fused.pcd").string(),
-              &log),
-      0)
+  ASSERT_EQ(RunLsds("backproject " + Collection().string() + " --fuse --voxel 0.2 -o " +
+                        (out / "fused.pcd").string(),
+                    &log),
+            0)
       << log;
   EXPECT_GT(ReadCloud(out / "fused.pcd").points.size(), 100u);
   // Refuses to overwrite without --force; replaces with it.
-  EXPECT_EQ(RunLsds("backproject " + Collection().string() + " --fuse -o " +
-                        (out / "fused.pcd").string(),
-                    &log),
-            2);
+  EXPECT_EQ(
+      RunLsds("backproject " + Collection().string() + " --fuse -o " + (out / "fused.pcd").string(),
+              &log),
+      2);
   EXPECT_NE(log.find("--force"), std::string::npos) << log;
-  EXPECT_EQ(RunLsds("backproject " + Collection().string() +
-                        " --fuse --force -o " + (out / "fused.pcd").string(),
+  EXPECT_EQ(RunLsds("backproject " + Collection().string() + " --fuse --force -o " +
+                        (out / "fused.pcd").string(),
                     &log),
             0)
       << log;
   EXPECT_EQ(ListDir(out.path()), "frames fused.pcd ");
   // A perturbed-pose tolerance breach is a finding: exit 1.
-  EXPECT_EQ(
-      RunLsds("backproject " + Collection().string() + " --check --tolerance 0",
-              &log),
-      1)
+  EXPECT_EQ(RunLsds("backproject " + Collection().string() + " --check --tolerance 0", &log), 1)
       << log;
 }
 
@@ -73,10 +67,10 @@ TEST_F(BackprojectCli, CollectionWithoutDepthIsAClearError) {
   spec.layers = {"rgb", "classid", "instanceid"};
   testing::WriteSynth(dir / "c", spec);
   std::string log;
-  EXPECT_EQ(RunLsds("backproject " + (dir / "c").string() + " --fuse -o " +
-                        (dir / "x.pcd").string(),
-                    &log),
-            2);
+  EXPECT_EQ(
+      RunLsds("backproject " + (dir / "c").string() + " --fuse -o " + (dir / "x.pcd").string(),
+              &log),
+      2);
   EXPECT_NE(log.find("no flat depth layer"), std::string::npos) << log;
   EXPECT_NE(log.find("collection.json"), std::string::npos) << log;
   EXPECT_EQ(ListDir(dir.path()), "c ");
@@ -85,18 +79,15 @@ TEST_F(BackprojectCli, CollectionWithoutDepthIsAClearError) {
 TEST_F(BackprojectCli, UnknownExtensionIsAClearError) {
   ScratchDir dir("cli_ext");
   std::string log;
-  EXPECT_EQ(RunLsds("backproject " + Collection().string() + " --fuse -o " +
-                        (dir / "x.xyz").string(),
-                    &log),
-            2);
-  EXPECT_NE(log.find("unknown point cloud extension '.xyz'"), std::string::npos)
-      << log;
+  EXPECT_EQ(
+      RunLsds("backproject " + Collection().string() + " --fuse -o " + (dir / "x.xyz").string(),
+              &log),
+      2);
+  EXPECT_NE(log.find("unknown point cloud extension '.xyz'"), std::string::npos) << log;
   // Per-frame output is a folder: a .pcd name without --fuse is refused rather
   // than guessed.
-  EXPECT_EQ(RunLsds("backproject " + Collection().string() + " -o " +
-                        (dir / "x.pcd").string(),
-                    &log),
-            2);
+  EXPECT_EQ(
+      RunLsds("backproject " + Collection().string() + " -o " + (dir / "x.pcd").string(), &log), 2);
   EXPECT_NE(log.find("--fuse"), std::string::npos) << log;
   EXPECT_EQ(ListDir(dir.path()), "");
 }
@@ -111,10 +102,10 @@ TEST_F(BackprojectCli, UnwritableOutputIsAClearError) {
   EXPECT_NE(log.find("does not exist"), std::string::npos) << log;
   // The parent "folder" is a file.
   std::ofstream(dir / "file").put('x');
-  EXPECT_EQ(RunLsds("backproject " + Collection().string() + " -o " +
-                        (dir / "file" / "frames").string(),
-                    &log),
-            2);
+  EXPECT_EQ(
+      RunLsds("backproject " + Collection().string() + " -o " + (dir / "file" / "frames").string(),
+              &log),
+      2);
   EXPECT_EQ(ListDir(dir.path()), "file ");
 }
 
@@ -125,10 +116,10 @@ TEST_F(BackprojectCli, AnErrorMidwayLeavesNothingBehind) {
   fs::remove(dir / "c" / "depth" / "000002.exr");
   fs::create_directory(dir / "out");
   std::string log;
-  EXPECT_EQ(RunLsds("backproject " + (dir / "c").string() + " -o " +
-                        (dir / "out" / "frames").string(),
-                    &log),
-            2);
+  EXPECT_EQ(
+      RunLsds("backproject " + (dir / "c").string() + " -o " + (dir / "out" / "frames").string(),
+              &log),
+      2);
   EXPECT_NE(log.find("000002.exr"), std::string::npos) << log;
   EXPECT_EQ(RunLsds("backproject " + (dir / "c").string() + " --fuse -o " +
                         (dir / "out" / "f.ply").string(),

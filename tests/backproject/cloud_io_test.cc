@@ -39,8 +39,7 @@ PointCloud RandomCloud(size_t n, Attributes attributes) {
     if (attributes.rgb) p.rgb = id(rng) * 3355 & 0xffffff;
     if (attributes.labels) p.label = id(rng), p.instance = id(rng) * 1000;
     if (attributes.normals)
-      p.normal_x = coord(rng) / 100, p.normal_y = coord(rng) / 100,
-      p.normal_z = 1;
+      p.normal_x = coord(rng) / 100, p.normal_y = coord(rng) / 100, p.normal_z = 1;
     cloud.points.push_back(p);
   }
   return cloud;
@@ -50,8 +49,7 @@ void ExpectEqual(const PointCloud& a, const PointCloud& b) {
   ASSERT_TRUE(a.attributes == b.attributes);
   ASSERT_EQ(a.points.size(), b.points.size());
   for (size_t i = 0; i < a.points.size(); ++i) {
-    ASSERT_EQ(std::memcmp(&a.points[i], &b.points[i], sizeof(CloudPoint)), 0)
-        << "point " << i;
+    ASSERT_EQ(std::memcmp(&a.points[i], &b.points[i], sizeof(CloudPoint)), 0) << "point " << i;
   }
 }
 
@@ -140,58 +138,49 @@ TEST(CloudIo, PlyIdsAreIntPropertiesThatPclKeeps) {
     EXPECT_EQ(field->datatype, pcl::PCLPointField::INT32);
     for (size_t i = 0; i < cloud.points.size(); ++i) {
       uint32_t bits;
-      std::memcpy(&bits,
-                  blob.data.data() + i * blob.point_step + field->offset,
-                  4);
+      std::memcpy(&bits, blob.data.data() + i * blob.point_step + field->offset, 4);
       ASSERT_EQ(bits,
-                std::string(name) == "label" ? cloud.points[i].label
-                                             : cloud.points[i].instance)
+                std::string(name) == "label" ? cloud.points[i].label : cloud.points[i].instance)
           << name << " point " << i;
     }
   }
   // PCD keeps uint32 (pcl::PointXYZRGBL's label type).
   WriteCloud(dir / "c.pcd", cloud, CloudFormat::kPcd);
-  EXPECT_NE(ReadFileText(dir / "c.pcd").find("TYPE F F F F U U"),
-            std::string::npos);
+  EXPECT_NE(ReadFileText(dir / "c.pcd").find("TYPE F F F F U U"), std::string::npos);
 }
 
 TEST(CloudIo, Open3dTensorReaderKeepsPlyLabels) {
   // Debian's python3 with python3-open3d (scripts/install-deps.sh --bench).
   const std::string python = "/usr/bin/python3";
   std::string out;
-  if (std::system((python + " -c 'import open3d' >/dev/null 2>&1").c_str()) !=
-      0) {
+  if (std::system((python + " -c 'import open3d' >/dev/null 2>&1").c_str()) != 0) {
     GTEST_SKIP() << "python3-open3d is not installed (scripts/install-deps.sh "
                     "--bench installs it); PCL's reader is tested always";
   }
   testing::ScratchDir dir("ply_open3d");
   const PointCloud cloud = LabelledCloud();
   WriteCloud(dir / "c.ply", cloud, CloudFormat::kPly);
-  std::ofstream(dir / "read.py")
-      << "import sys, numpy as np, open3d as o3d\n"
-         "pc = o3d.t.io.read_point_cloud(sys.argv[1])\n"
-         "for name in ('label', 'instance'):\n"
-         "    a = pc.point[name].numpy().reshape(-1)\n"
-         "    print(name, a.dtype)\n"
-         "    a.astype(np.int32).tofile(sys.argv[1] + '.' + name)\n";
+  std::ofstream(dir / "read.py") << "import sys, numpy as np, open3d as o3d\n"
+                                    "pc = o3d.t.io.read_point_cloud(sys.argv[1])\n"
+                                    "for name in ('label', 'instance'):\n"
+                                    "    a = pc.point[name].numpy().reshape(-1)\n"
+                                    "    print(name, a.dtype)\n"
+                                    "    a.astype(np.int32).tofile(sys.argv[1] + '.' + name)\n";
   ASSERT_EQ(std::system((python + " " + (dir / "read.py").string() + " " +
-                         (dir / "c.ply").string() + " > " +
-                         (dir / "log").string() + " 2>&1")
+                         (dir / "c.ply").string() + " > " + (dir / "log").string() + " 2>&1")
                             .c_str()),
             0)
       << ReadFileText(dir / "log");
   EXPECT_NE(ReadFileText(dir / "log").find("label int32"), std::string::npos)
       << ReadFileText(dir / "log");
   for (const char* name : {"label", "instance"}) {
-    const std::string bytes =
-        ReadFileText(dir / (std::string("c.ply.") + name));
+    const std::string bytes = ReadFileText(dir / (std::string("c.ply.") + name));
     ASSERT_EQ(bytes.size(), cloud.points.size() * 4) << name;
     for (size_t i = 0; i < cloud.points.size(); ++i) {
       uint32_t bits;
       std::memcpy(&bits, bytes.data() + 4 * i, 4);
       ASSERT_EQ(bits,
-                std::string(name) == "label" ? cloud.points[i].label
-                                             : cloud.points[i].instance)
+                std::string(name) == "label" ? cloud.points[i].label : cloud.points[i].instance)
           << name << " point " << i;
     }
   }
@@ -206,8 +195,7 @@ TEST(CloudIo, UnknownExtensionAndUnwritablePathsAreClearErrors) {
     WriteCloud(dir / "missing" / "c.pcd", PointCloud{}, CloudFormat::kPcd);
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("missing/c.pcd"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("missing/c.pcd"), std::string::npos) << e.what();
   }
   EXPECT_EQ(testing::ListDir(dir.path()), "");
 }

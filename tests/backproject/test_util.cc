@@ -13,8 +13,7 @@ namespace lsds::testing {
 namespace fs = std::filesystem;
 
 ScratchDir::ScratchDir(const std::string& name)
-    : path_(fs::temp_directory_path() /
-            ("lsds_bp_" + name + "_" + std::to_string(::getpid()))) {
+    : path_(fs::temp_directory_path() / ("lsds_bp_" + name + "_" + std::to_string(::getpid()))) {
   fs::remove_all(path_);
   fs::create_directories(path_);
 }
@@ -30,10 +29,9 @@ fs::path WriteSynth(const fs::path& root, const synth::Spec& spec) {
 }
 
 int RunLsds(const std::string& args, std::string* output) {
-  const fs::path log =
-      fs::temp_directory_path() / ("lsds_bp_log_" + std::to_string(::getpid()));
-  const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " +
-                              args + " > " + log.string() + " 2>&1";
+  const fs::path log = fs::temp_directory_path() / ("lsds_bp_log_" + std::to_string(::getpid()));
+  const std::string command =
+      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " > " + log.string() + " 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream in(log);
   std::stringstream text;

@@ -15,17 +15,14 @@ class ScratchDir {
   explicit ScratchDir(const std::string& name);
   ~ScratchDir();
   const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path operator/(const std::string& leaf) const {
-    return path_ / leaf;
-  }
+  std::filesystem::path operator/(const std::string& leaf) const { return path_ / leaf; }
 
  private:
   std::filesystem::path path_;
 };
 
 // Writes `spec` into `root` and returns root.
-std::filesystem::path WriteSynth(const std::filesystem::path& root,
-                                 const synth::Spec& spec);
+std::filesystem::path WriteSynth(const std::filesystem::path& root, const synth::Spec& spec);
 
 // Runs `lsds ARGS` with stdout and stderr captured; returns the exit code.
 int RunLsds(const std::string& args, std::string* output = nullptr);

@@ -26,8 +26,7 @@ size_t DistinctVoxels(const PointCloud& cloud, double size) {
 
 TEST(VoxelGrid, FusedCloudOfOverlappingFramesHasAtMostOnePointPerVoxel) {
   testing::ScratchDir dir("voxel");
-  synth::Spec spec =
-      synth::DefaultSpec();  // 4 frames 1 m apart: they overlap mostly
+  synth::Spec spec = synth::DefaultSpec();  // 4 frames 1 m apart: they overlap mostly
   const auto collection = testing::WriteSynth(dir / "c", spec);
   for (double voxel : {0.5, 0.25, 0.1, 1e-4}) {
     BackprojectOptions options;
@@ -38,10 +37,8 @@ TEST(VoxelGrid, FusedCloudOfOverlappingFramesHasAtMostOnePointPerVoxel) {
     options.force = true;
     const BackprojectSummary summary = RunBackproject(options);
     const PointCloud cloud = ReadCloud(options.output);
-    ASSERT_EQ(static_cast<int64_t>(cloud.points.size()),
-              summary.points_written);
-    EXPECT_EQ(DistinctVoxels(cloud, voxel), cloud.points.size())
-        << "voxel " << voxel;
+    ASSERT_EQ(static_cast<int64_t>(cloud.points.size()), summary.points_written);
+    EXPECT_EQ(DistinctVoxels(cloud, voxel), cloud.points.size()) << "voxel " << voxel;
     // Pixels are ~0.36 m apart on the ground: big voxels merge points, tiny
     // ones keep every point.
     if (voxel >= 0.5) {
@@ -49,8 +46,7 @@ TEST(VoxelGrid, FusedCloudOfOverlappingFramesHasAtMostOnePointPerVoxel) {
     }
     EXPECT_LE(summary.points_written, summary.points_backprojected);
     EXPECT_GT(summary.points_written, 0);
-    for (const CloudPoint& p : cloud.points)
-      ASSERT_TRUE(p.label >= 1 && p.label <= 3);
+    for (const CloudPoint& p : cloud.points) ASSERT_TRUE(p.label >= 1 && p.label <= 3);
   }
 }
 
@@ -83,8 +79,7 @@ TEST(VoxelGrid, CentroidsOnVoxelFacesStayInTheirVoxel) {
   }
   for (const CloudPoint& p : out.points) {
     const VoxelKey k = VoxelOf(p.x, p.y, p.z, size);
-    ASSERT_TRUE(input_keys.count({k.x, k.y, k.z}))
-        << "a centroid left its voxel";
+    ASSERT_TRUE(input_keys.count({k.x, k.y, k.z})) << "a centroid left its voxel";
     ASSERT_EQ(p.label, 7u);
   }
   EXPECT_THROW(VoxelAccumulator(0, Attributes{}), Error);

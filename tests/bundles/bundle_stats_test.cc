@@ -23,12 +23,9 @@ struct Sample {
 using Pixel = std::vector<Sample>;
 
 // Row-major pixels into a deep image with the bundle channels.
-exr::DeepImage MakeBundle(int width,
-                          int height,
-                          const std::vector<Pixel>& pixels) {
+exr::DeepImage MakeBundle(int width, int height, const std::vector<Pixel>& pixels) {
   std::vector<uint32_t> counts;
-  for (const Pixel& p : pixels)
-    counts.push_back(static_cast<uint32_t>(p.size()));
+  for (const Pixel& p : pixels) counts.push_back(static_cast<uint32_t>(p.size()));
   exr::DeepImage image(width, height, counts);
   auto& inst = image.AddChannel("instanceid", exr::PixelType::kUint).uints;
   auto& cls = image.AddChannel("classid", exr::PixelType::kUint).uints;
@@ -56,8 +53,7 @@ const Sample kGround{1000, 1, 20.0f, 0, 0, 1};
 
 TEST(BundleStats, HalfCoveredPixelIsMixedWithPurityAndCoverageOneHalf) {
   // 4 samples: the box covers the left half, the ground the right half.
-  const exr::DeepImage image =
-      MakeBundle(1, 1, {{kBox, kGround, kBox, kGround}});
+  const exr::DeepImage image = MakeBundle(1, 1, {{kBox, kGround, kBox, kGround}});
   PixelMaps maps;
   const BundleStats s = AnalyzeFrame(image, StatsOptions(), &maps);
   EXPECT_EQ(s.pixels, 1u);
@@ -86,8 +82,7 @@ TEST(BundleStats, HalfCoveredPixelIsMixedWithPurityAndCoverageOneHalf) {
 
 TEST(BundleStats, OneHalfCoveredPixelAmongFourGivesMixedFractionOneQuarter) {
   const Pixel pure(4, kGround);
-  const exr::DeepImage image =
-      MakeBundle(2, 2, {pure, {kGround, kBox, kBox, kGround}, pure, pure});
+  const exr::DeepImage image = MakeBundle(2, 2, {pure, {kGround, kBox, kBox, kGround}, pure, pure});
   PixelMaps maps;
   const BundleStats s = AnalyzeFrame(image, StatsOptions(), &maps);
   EXPECT_EQ(s.pixels, 4u);
@@ -101,8 +96,7 @@ TEST(BundleStats, OneHalfCoveredPixelAmongFourGivesMixedFractionOneQuarter) {
 }
 
 TEST(BundleStats, UniformRegionHasNoMixedPixels) {
-  const exr::DeepImage image =
-      MakeBundle(8, 8, std::vector<Pixel>(64, Pixel(4, kGround)));
+  const exr::DeepImage image = MakeBundle(8, 8, std::vector<Pixel>(64, Pixel(4, kGround)));
   PixelMaps maps;
   const BundleStats s = AnalyzeFrame(image, StatsOptions(), &maps);
   EXPECT_EQ(s.pixels, 64u);
@@ -159,8 +153,7 @@ TEST(BundleStats, FlyingThresholdIsTheLargerOfAbsoluteAndRelative) {
 
 TEST(BundleStats, SkySamplesDoNotEnterTheAveragedDepth) {
   Sample sky;  // instance 0, class 0, +inf
-  const exr::DeepImage image =
-      MakeBundle(2, 1, {{kBox, sky, sky, sky}, {sky, sky}});
+  const exr::DeepImage image = MakeBundle(2, 1, {{kBox, sky, sky, sky}, {sky, sky}});
   const BundleStats s = AnalyzeFrame(image, StatsOptions());
   EXPECT_EQ(s.mixed_pixels, 1u);
   EXPECT_EQ(s.depth_pixels, 0u);  // one finite depth only
@@ -171,8 +164,7 @@ TEST(BundleStats, SkySamplesDoNotEnterTheAveragedDepth) {
 }
 
 TEST(BundleStats, ClassMixingMatrixCountsSamples) {
-  const exr::DeepImage image =
-      MakeBundle(1, 1, {{kGround, kGround, kGround, kBox}});
+  const exr::DeepImage image = MakeBundle(1, 1, {{kGround, kGround, kGround, kBox}});
   const BundleStats s = AnalyzeFrame(image, StatsOptions());
   EXPECT_EQ(s.class_mixing.at({1, 2}),
             3u);  // ground samples in pixels shared with boxes
@@ -201,8 +193,7 @@ TEST(BundleStats, EmptyPixelsAreCountedApart) {
 }
 
 TEST(BundleStats, MergeAddsFramesAndObjectSizeBins) {
-  const exr::DeepImage image =
-      MakeBundle(2, 1, {{kBox, kGround, kBox, kGround}, Pixel(4, kBox)});
+  const exr::DeepImage image = MakeBundle(2, 1, {{kBox, kGround, kBox, kGround}, Pixel(4, kBox)});
   const BundleStats one = AnalyzeFrame(image, StatsOptions());
   BundleStats total;
   total.Merge(one);

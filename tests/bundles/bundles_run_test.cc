@@ -29,8 +29,7 @@ class TempDir {
  public:
   TempDir() {
     std::random_device rd;
-    path_ = fs::temp_directory_path() /
-            ("lsds_bundles_test_" + std::to_string(rd()));
+    path_ = fs::temp_directory_path() / ("lsds_bundles_test_" + std::to_string(rd()));
     fs::create_directories(path_);
   }
   ~TempDir() { fs::remove_all(path_); }
@@ -61,11 +60,10 @@ synth::Spec SmallSpec() {
 int RunLsds(const std::string& args, std::string* output) {
   const std::string out_file =
       // Per process: suites of several checkouts may run at once.
-      (fs::temp_directory_path() /
-       ("lsds_bundles_cli_out_" + std::to_string(getpid()) + ".txt"))
+      (fs::temp_directory_path() / ("lsds_bundles_cli_out_" + std::to_string(getpid()) + ".txt"))
           .string();
-  const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " +
-                              args + " > " + out_file + " 2>&1";
+  const std::string command =
+      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " > " + out_file + " 2>&1";
   const int status = std::system(command.c_str());
   *output = ReadFile(out_file);
   fs::remove(out_file);
@@ -88,11 +86,9 @@ TEST(BundlesRun, WritesStatisticsThatPassTheSchema) {
   EXPECT_LT(result.total.mixed_pixels, result.total.pixels / 2);
 
   const nlohmann::json stats = nlohmann::json::parse(ReadFile(options.output));
-  EXPECT_TRUE(
-      JsonSchema::Get("bundle-stats.schema.json").Validate(stats).empty());
+  EXPECT_TRUE(JsonSchema::Get("bundle-stats.schema.json").Validate(stats).empty());
   EXPECT_EQ(stats["frames"].size(), 4u);
-  EXPECT_EQ(stats["summary"]["mixed_pixels"].get<uint64_t>(),
-            result.total.mixed_pixels);
+  EXPECT_EQ(stats["summary"]["mixed_pixels"].get<uint64_t>(), result.total.mixed_pixels);
   uint64_t per_frame = 0;
   for (const auto& frame : stats["frames"])
     per_frame += frame["stats"]["mixed_pixels"].get<uint64_t>();
@@ -138,16 +134,11 @@ TEST(BundlesRun, WrittenLayersAreRegisteredReadableAndInputsUnchanged) {
   int frames = 0;
   reader.ForEachFrame([&](const Frame& frame) {
     ++frames;
-    const exr::DeepImage bundle =
-        exr::ReadDeepExr(reader.LayerPath(frame, "bundle"));
-    const exr::FlatImage majority =
-        exr::ReadFlatExr(reader.LayerPath(frame, "majority"));
-    const exr::FlatImage purity =
-        exr::ReadFlatExr(reader.LayerPath(frame, "purity"));
-    const exr::FlatImage edge =
-        exr::ReadFlatExr(reader.LayerPath(frame, "edge"));
-    const exr::DeepImage coverage =
-        exr::ReadDeepExr(reader.LayerPath(frame, "coverage"));
+    const exr::DeepImage bundle = exr::ReadDeepExr(reader.LayerPath(frame, "bundle"));
+    const exr::FlatImage majority = exr::ReadFlatExr(reader.LayerPath(frame, "majority"));
+    const exr::FlatImage purity = exr::ReadFlatExr(reader.LayerPath(frame, "purity"));
+    const exr::FlatImage edge = exr::ReadFlatExr(reader.LayerPath(frame, "edge"));
+    const exr::DeepImage coverage = exr::ReadDeepExr(reader.LayerPath(frame, "coverage"));
     ASSERT_EQ(majority.width(), bundle.width());
     const auto& ids = bundle.Get("instanceid").uints;
     const auto& shares = coverage.Get("coverage").floats;
@@ -167,12 +158,10 @@ TEST(BundlesRun, WrittenLayersAreRegisteredReadableAndInputsUnchanged) {
                   majority.Get("instanceid").uints[p]);
         bool uniform = true;
         for (uint32_t s = 1; s < n; ++s)
-          uniform &= ids[bundle.FirstSample(x, y) + s] ==
-                     ids[bundle.FirstSample(x, y)];
+          uniform &= ids[bundle.FirstSample(x, y) + s] == ids[bundle.FirstSample(x, y)];
         EXPECT_EQ(pur == 1.0f, uniform);
         if (uniform) {
-          EXPECT_EQ(majority.Get("instanceid").uints[p],
-                    ids[bundle.FirstSample(x, y)]);
+          EXPECT_EQ(majority.Get("instanceid").uints[p], ids[bundle.FirstSample(x, y)]);
         } else {
           EXPECT_EQ(edge.Get("Y").uints[p], 1u);
         }
@@ -211,8 +200,7 @@ TEST(BundlesRun, FrameRangeWritesOptionalLayers) {
   const CollectionReader reader(root);
   EXPECT_FALSE(reader.header().FindLayer("edge")->required);
   int with_edge = 0;
-  reader.ForEachFrame(
-      [&](const Frame& frame) { with_edge += frame.files.count("edge"); });
+  reader.ForEachFrame([&](const Frame& frame) { with_edge += frame.files.count("edge"); });
   EXPECT_EQ(with_edge, 2);
 }
 
@@ -226,9 +214,7 @@ TEST(BundlesRun, CollectionWithoutBundleSaysHowToMakeOne) {
     RunBundles(root, RunOptions());
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("lsds generate --spp"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("lsds generate --spp"), std::string::npos) << e.what();
   }
 }
 
@@ -239,8 +225,8 @@ TEST(BundlesCli, RunsEndToEndAndMapsErrorsToExitCodes) {
   std::string out;
   const fs::path stats = dir.path() / "s.json";
   const fs::path png = dir.path() / "mixed.png";
-  EXPECT_EQ(RunLsds("bundles " + root.string() + " -o " + stats.string() +
-                        " --mixed-map " + png.string() + " --frames 0:2",
+  EXPECT_EQ(RunLsds("bundles " + root.string() + " -o " + stats.string() + " --mixed-map " +
+                        png.string() + " --frames 0:2",
                     &out),
             0)
       << out;
@@ -248,10 +234,8 @@ TEST(BundlesCli, RunsEndToEndAndMapsErrorsToExitCodes) {
   EXPECT_TRUE(fs::exists(stats));
   EXPECT_GT(fs::file_size(png), 0u);
   // Existing output without --force.
-  EXPECT_EQ(RunLsds("bundles " + root.string() + " -o " + stats.string(), &out),
-            2);
-  EXPECT_EQ(
-      RunLsds("bundles " + root.string() + " --write-layers majorty", &out), 2);
+  EXPECT_EQ(RunLsds("bundles " + root.string() + " -o " + stats.string(), &out), 2);
+  EXPECT_EQ(RunLsds("bundles " + root.string() + " --write-layers majorty", &out), 2);
   EXPECT_NE(out.find("did you mean 'majority'"), std::string::npos) << out;
   EXPECT_EQ(RunLsds("bundles " + root.string() + " --frames 5:2", &out), 2);
   EXPECT_EQ(RunLsds("bundles " + (dir.path() / "nothing").string(), &out), 2);

@@ -30,8 +30,7 @@ nlohmann::json ReadJson(const fs::path& path) {
 
 std::set<int64_t> FrameIndices(const nlohmann::json& frames) {
   std::set<int64_t> indices;
-  for (const auto& frame : frames)
-    indices.insert(frame["index"].get<int64_t>());
+  for (const auto& frame : frames) indices.insert(frame["index"].get<int64_t>());
   return indices;
 }
 
@@ -48,8 +47,7 @@ struct FramesCommand {
   std::string name;
   std::function<std::string(const fs::path& out)> command_line;
   std::function<std::set<int64_t>(const fs::path& out)> produced;
-  int64_t
-      first_frame_of_input;  // the input's frames are first.. first+3 at least
+  int64_t first_frame_of_input;  // the input's frames are first.. first+3 at least
 };
 
 class CliGrammar : public ::testing::Test {
@@ -71,12 +69,9 @@ class CliGrammar : public ::testing::Test {
     return {
         {"plan",
          [=](const fs::path& out) {
-           return Lsds() + " plan " + scene + capture + "-o " +
-                  (out / "plan.json").string();
+           return Lsds() + " plan " + scene + capture + "-o " + (out / "plan.json").string();
          },
-         [](const fs::path& out) {
-           return FrameIndices(ReadJson(out / "plan.json")["frames"]);
-         },
+         [](const fs::path& out) { return FrameIndices(ReadJson(out / "plan.json")["frames"]); },
          0},
         {"generate",
          [](const fs::path& out) {
@@ -86,19 +81,17 @@ class CliGrammar : public ::testing::Test {
                   (out / "g").string();
          },
          [](const fs::path& out) {
-           return FrameIndices(
-               ReadJson(out / "g" / "collection.json")["frames"]);
+           return FrameIndices(ReadJson(out / "g" / "collection.json")["frames"]);
          },
          0},
         {"convert",
          [](const fs::path& out) {
-           return Lsds() + " convert " + C() +
-                  " --to coco --images none -q -o " + (out / "coco").string();
+           return Lsds() + " convert " + C() + " --to coco --images none -q -o " +
+                  (out / "coco").string();
          },
          [](const fs::path& out) {
            std::set<int64_t> ids;
-           for (const auto& entry :
-                fs::recursive_directory_iterator(out / "coco")) {
+           for (const auto& entry : fs::recursive_directory_iterator(out / "coco")) {
              if (entry.path().extension() != ".json" ||
                  entry.path().filename() == "loss_report.json")
                continue;
@@ -114,17 +107,13 @@ class CliGrammar : public ::testing::Test {
          0},
         {"bundles",
          [](const fs::path& out) {
-           return Lsds() + " bundles " + C() + " -o " +
-                  (out / "stats.json").string();
+           return Lsds() + " bundles " + C() + " -o " + (out / "stats.json").string();
          },
-         [](const fs::path& out) {
-           return FrameIndices(ReadJson(out / "stats.json")["frames"]);
-         },
+         [](const fs::path& out) { return FrameIndices(ReadJson(out / "stats.json")["frames"]); },
          0},
         {"backproject",
          [](const fs::path& out) {
-           return Lsds() + " backproject " + C() + " -o " +
-                  (out / "clouds").string();
+           return Lsds() + " backproject " + C() + " -o " + (out / "clouds").string();
          },
          [](const fs::path& out) { return FileStems(out / "clouds"); },
          0},
@@ -133,9 +122,7 @@ class CliGrammar : public ::testing::Test {
            return Lsds() + " export-layers " + C() + " --layers depth -o " +
                   (out / "layers").string();
          },
-         [](const fs::path& out) {
-           return FileStems(out / "layers" / "depth");
-         },
+         [](const fs::path& out) { return FileStems(out / "layers" / "depth"); },
          0},
     };
   }
@@ -151,11 +138,10 @@ TEST_F(CliGrammar, EveryCommandReadsTheFramesFormsTheSameWay) {
   for (const FramesCommand& command : Table()) {
     for (const auto& [text, expected] : forms) {
       testing::TempDir out;
-      const CommandResult result = RunCommandLine(
-          command.command_line(out.path()) + " --frames " + text);
-      ASSERT_EQ(result.exit_code, 0)
-          << command.name << " --frames " << text << "\n"
-          << result.output;
+      const CommandResult result =
+          RunCommandLine(command.command_line(out.path()) + " --frames " + text);
+      ASSERT_EQ(result.exit_code, 0) << command.name << " --frames " << text << "\n"
+                                     << result.output;
       std::set<int64_t> got = command.produced(out.path());
       if (command.name == "plan" && text == "2:") {
         // The plan has more than 4 frames: 2: runs to its last one.
@@ -179,17 +165,14 @@ TEST_F(CliGrammar, OutOfRangeFramesAreExit2NamingTheRangeAndKeepTheOutput) {
       fs::create_directories(out / "coco");
       fs::create_directories(out / "clouds");
       std::ofstream(out / "keep.txt") << "keep";
-      const CommandResult result = RunCommandLine(
-          command.command_line(out.path()) + " --frames " + text + " --force");
+      const CommandResult result =
+          RunCommandLine(command.command_line(out.path()) + " --frames " + text + " --force");
       EXPECT_EQ(result.exit_code, 2) << command.name << " " << result.output;
-      EXPECT_EQ(
-          result.output.rfind("lsds " + command.name + ": error: --frames " +
-                                  text + ": out of range: ",
-                              0),
-          0u)
+      EXPECT_EQ(result.output.rfind(
+                    "lsds " + command.name + ": error: --frames " + text + ": out of range: ", 0),
+                0u)
           << result.output;
-      EXPECT_NE(result.output.find("frame indices 0 to "), std::string::npos)
-          << result.output;
+      EXPECT_NE(result.output.find("frame indices 0 to "), std::string::npos) << result.output;
       EXPECT_TRUE(fs::exists(out / "keep.txt"));
       EXPECT_FALSE(fs::exists(out / "plan.json"));
       EXPECT_FALSE(fs::exists(out / "stats.json"));
@@ -202,29 +185,25 @@ TEST_F(CliGrammar, OutOfRangeFramesAreExit2NamingTheRangeAndKeepTheOutput) {
 TEST_F(CliGrammar, BadFramesTextIsTheSameErrorEverywhere) {
   for (const FramesCommand& command : Table()) {
     testing::TempDir out;
-    const CommandResult result =
-        RunCommandLine(command.command_line(out.path()) + " --frames 3:1");
+    const CommandResult result = RunCommandLine(command.command_line(out.path()) + " --frames 3:1");
     EXPECT_EQ(result.exit_code, 2) << result.output;
-    EXPECT_EQ(
-        result.output.rfind("lsds " + command.name +
-                                ": error: --frames 3:1: the range is empty",
-                            0),
-        0u)
+    EXPECT_EQ(result.output.rfind(
+                  "lsds " + command.name + ": error: --frames 3:1: the range is empty", 0),
+              0u)
         << result.output;
   }
 }
 
 TEST_F(CliGrammar, SynthTakesACountAndExplainsFrames) {
   testing::TempDir out;
-  const CommandResult count = RunCommandLine(
-      Lsds() + " synth " + (out / "s").string() + " --count 2 --size 16x12");
+  const CommandResult count =
+      RunCommandLine(Lsds() + " synth " + (out / "s").string() + " --count 2 --size 16x12");
   ASSERT_EQ(count.exit_code, 0) << count.output;
   EXPECT_EQ(ReadJson(out / "s" / "collection.json")["frames"].size(), 2u);
   const CommandResult frames =
       RunCommandLine(Lsds() + " synth " + (out / "t").string() + " --frames 2");
   EXPECT_EQ(frames.exit_code, 2);
-  EXPECT_EQ(frames.output.rfind("lsds synth: error: --frames 2: ", 0), 0u)
-      << frames.output;
+  EXPECT_EQ(frames.output.rfind("lsds synth: error: --frames 2: ", 0), 0u) << frames.output;
   EXPECT_NE(frames.output.find("--count N"), std::string::npos);
   EXPECT_FALSE(fs::exists(out / "t"));
 }
@@ -246,8 +225,7 @@ TEST_F(CliGrammar, AMistypedFlagGetsTheDocumentedErrorWithASuggestion) {
       {"synth", "/nonexistent/x"},
   };
   for (const auto& [name, args] : commands) {
-    const CommandResult result =
-        RunCommandLine(Lsds() + " " + name + " " + args + " --hepl");
+    const CommandResult result = RunCommandLine(Lsds() + " " + name + " " + args + " --hepl");
     EXPECT_EQ(result.exit_code, 2) << name;
     EXPECT_EQ(result.output,
               "lsds " + name +
@@ -258,13 +236,11 @@ TEST_F(CliGrammar, AMistypedFlagGetsTheDocumentedErrorWithASuggestion) {
   // Command-specific options are suggested the same way.
   for (const std::string name :
        {"generate", "convert", "bundles", "backproject", "validate", "synth"}) {
-    const std::string args = name == "generate" ? "--demo -o /nonexistent/x"
-                             : name == "convert"
-                                 ? C() + " --to coco -o /nonexistent/x"
-                             : name == "synth" ? "/nonexistent/x"
-                                               : C();
-    const CommandResult result =
-        RunCommandLine(Lsds() + " " + name + " " + args + " --thraeds=2");
+    const std::string args = name == "generate"  ? "--demo -o /nonexistent/x"
+                             : name == "convert" ? C() + " --to coco -o /nonexistent/x"
+                             : name == "synth"   ? "/nonexistent/x"
+                                                 : C();
+    const CommandResult result = RunCommandLine(Lsds() + " " + name + " " + args + " --thraeds=2");
     EXPECT_EQ(result.exit_code, 2) << name;
     EXPECT_NE(result.output.find("lsds " + name +
                                  ": error: unknown option '--thraeds' (did "
@@ -272,23 +248,19 @@ TEST_F(CliGrammar, AMistypedFlagGetsTheDocumentedErrorWithASuggestion) {
               std::string::npos)
         << result.output;
   }
-  const CommandResult frames =
-      RunCommandLine(Lsds() + " backproject " + C() + " --frmaes 1");
-  EXPECT_NE(frames.output.find("(did you mean '--frames'?)"), std::string::npos)
-      << frames.output;
+  const CommandResult frames = RunCommandLine(Lsds() + " backproject " + C() + " --frmaes 1");
+  EXPECT_NE(frames.output.find("(did you mean '--frames'?)"), std::string::npos) << frames.output;
 }
 
 TEST_F(CliGrammar, ValidateChecksExcludeAndRejectUnknownNames) {
   testing::TempDir out;
   const auto run = [&](const std::string& checks) {
-    return RunCommandLine(Lsds() + " validate " + C() +
-                          " --format json --checks " + checks);
+    return RunCommandLine(Lsds() + " validate " + C() + " --format json --checks " + checks);
   };
   auto ids = [](const std::string& json_text) {
     std::set<std::string> ids;
     const nlohmann::json report = nlohmann::json::parse(json_text);
-    for (const auto& check : report["checks"])
-      ids.insert(check["id"].get<std::string>());
+    for (const auto& check : report["checks"]) ids.insert(check["id"].get<std::string>());
     return ids;
   };
   const CommandResult all = run("all");
@@ -309,46 +281,38 @@ TEST_F(CliGrammar, ValidateChecksExcludeAndRejectUnknownNames) {
   ASSERT_EQ(one.exit_code, 0) << one.output;
   std::set<std::string> layer_ids;
   for (const std::string& id : all_ids)
-    if (id.rfind("layer.", 0) == 0 && id != "layer.depth-finite")
-      layer_ids.insert(id);
+    if (id.rfind("layer.", 0) == 0 && id != "layer.depth-finite") layer_ids.insert(id);
   EXPECT_GT(layer_ids.size(), 1u);
   EXPECT_EQ(ids(one.output), layer_ids);
   const CommandResult unknown = run("all,camrea");
   EXPECT_EQ(unknown.exit_code, 2);
-  EXPECT_NE(
-      unknown.output.find("unknown check 'camrea' (did you mean 'camera'?)"),
-      std::string::npos)
+  EXPECT_NE(unknown.output.find("unknown check 'camrea' (did you mean 'camera'?)"),
+            std::string::npos)
       << unknown.output;
   // The deprecated --jobs still works, with a warning; --threads is the flag.
   const CommandResult jobs =
       RunCommandLine(Lsds() + " validate " + C() + " --checks schema --jobs 1");
   EXPECT_EQ(jobs.exit_code, 0) << jobs.output;
-  EXPECT_NE(jobs.output.find("--jobs is deprecated; use --threads"),
-            std::string::npos);
-  EXPECT_EQ(RunCommandLine(Lsds() + " validate " + C() +
-                           " --checks schema --threads 1")
-                .exit_code,
+  EXPECT_NE(jobs.output.find("--jobs is deprecated; use --threads"), std::string::npos);
+  EXPECT_EQ(RunCommandLine(Lsds() + " validate " + C() + " --checks schema --threads 1").exit_code,
             0);
 }
 
 TEST_F(CliGrammar, BackprojectOneFrameToANamedFile) {
   testing::TempDir out;
-  const CommandResult one =
-      RunCommandLine(Lsds() + " backproject " + C() + " --frames 0:1 -o " +
-                     (out / "f0.pcd").string());
+  const CommandResult one = RunCommandLine(Lsds() + " backproject " + C() + " --frames 0:1 -o " +
+                                           (out / "f0.pcd").string());
   ASSERT_EQ(one.exit_code, 0) << one.output;
   EXPECT_TRUE(fs::is_regular_file(out / "f0.pcd"));
   // Its points are those of frame 0 written per frame.
-  ASSERT_EQ(RunCommandLine(Lsds() + " backproject " + C() + " --frames 0 -o " +
-                           (out / "per").string())
-                .exit_code,
-            0);
-  EXPECT_EQ(fs::file_size(out / "f0.pcd"),
-            fs::file_size(out / "per" / "000000.pcd"));
+  ASSERT_EQ(
+      RunCommandLine(Lsds() + " backproject " + C() + " --frames 0 -o " + (out / "per").string())
+          .exit_code,
+      0);
+  EXPECT_EQ(fs::file_size(out / "f0.pcd"), fs::file_size(out / "per" / "000000.pcd"));
   // Several frames into one file still need --fuse, and say so.
-  const CommandResult two =
-      RunCommandLine(Lsds() + " backproject " + C() + " --frames 0:2 -o " +
-                     (out / "f01.pcd").string());
+  const CommandResult two = RunCommandLine(Lsds() + " backproject " + C() + " --frames 0:2 -o " +
+                                           (out / "f01.pcd").string());
   EXPECT_EQ(two.exit_code, 2);
   EXPECT_NE(two.output.find("--frames N"), std::string::npos) << two.output;
 }
@@ -374,10 +338,8 @@ TEST(CliResumeHint, ARerunAfterAnInterruptPointsToResume) {
   std::filesystem::create_directories(out / "g" / ".lsds-generate");
   const testing::CommandResult rerun = testing::RunCommandLine(base);
   EXPECT_EQ(rerun.exit_code, 2);
-  EXPECT_NE(rerun.output.find("pass --resume to finish it"), std::string::npos)
-      << rerun.output;
-  const testing::CommandResult resumed =
-      testing::RunCommandLine(base + " --resume");
+  EXPECT_NE(rerun.output.find("pass --resume to finish it"), std::string::npos) << rerun.output;
+  const testing::CommandResult resumed = testing::RunCommandLine(base + " --resume");
   EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_TRUE(std::filesystem::exists(out / "g" / "collection.json"));
 }

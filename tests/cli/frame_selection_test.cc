@@ -27,15 +27,12 @@ TEST(FrameSelection, TheFourFormsAreAPythonSlice) {
 }
 
 TEST(FrameSelection, BadTextIsALocatedError) {
-  for (const char* text :
-       {"a:b", "3:1", "2:2", "-1", "1:2:3", "", "1.5", "+2"}) {
+  for (const char* text : {"a:b", "3:1", "2:2", "-1", "1:2:3", "", "1.5", "+2"}) {
     try {
       ParseFrameSelection(text);
       ADD_FAILURE() << "accepted '" << text << "'";
     } catch (const Error& e) {
-      EXPECT_EQ(std::string(e.what()).rfind("--frames " + std::string(text), 0),
-                0u)
-          << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("--frames " + std::string(text), 0), 0u) << e.what();
     }
   }
 }
@@ -43,26 +40,20 @@ TEST(FrameSelection, BadTextIsALocatedError) {
 TEST(FrameSelection, OutOfRangeNamesTheValidRange) {
   const std::vector<int64_t> frames = {0, 1, 2, 3};
   for (const char* ok : {"0:4", "3", ":", "1:", ":4"})
-    EXPECT_NO_THROW(
-        CheckFrameSelection(ParseFrameSelection(ok), frames, "the collection"))
-        << ok;
+    EXPECT_NO_THROW(CheckFrameSelection(ParseFrameSelection(ok), frames, "the collection")) << ok;
   for (const char* bad : {"4", "4:6", "2:5", "100:"}) {
     try {
       CheckFrameSelection(ParseFrameSelection(bad), frames, "the collection");
       ADD_FAILURE() << "accepted '" << bad << "'";
     } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("indices 0 to 3"), std::string::npos)
-          << e.what();
-      EXPECT_NE(std::string(e.what()).find("--frames 0:4"), std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find("indices 0 to 3"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--frames 0:4"), std::string::npos) << e.what();
     }
   }
   // A sharded collection with a gap: a selection inside the gap selects none.
-  EXPECT_THROW(CheckFrameSelection(
-                   ParseFrameSelection("2:4"), {0, 1, 4, 5}, "the collection"),
+  EXPECT_THROW(CheckFrameSelection(ParseFrameSelection("2:4"), {0, 1, 4, 5}, "the collection"),
                Error);
-  EXPECT_NO_THROW(CheckFrameSelection(
-      ParseFrameSelection("1:5"), {0, 1, 4, 5}, "the collection"));
+  EXPECT_NO_THROW(CheckFrameSelection(ParseFrameSelection("1:5"), {0, 1, 4, 5}, "the collection"));
 }
 
 }  // namespace

@@ -35,9 +35,7 @@ inline std::string ReadText(const fs::path& path) {
 
 // The instance mask of `instance_id` in `frame` of a collection, from its
 // instanceid EXR.
-inline cv::Mat InstanceMask(const fs::path& collection,
-                            const Frame& frame,
-                            uint32_t instance_id) {
+inline cv::Mat InstanceMask(const fs::path& collection, const Frame& frame, uint32_t instance_id) {
   const fs::path path = collection / frame.files.at("instanceid");
   const exr::FlatImage ids = exr::ReadFlatExr(path, {"id"});
   cv::Mat mask = cv::Mat::zeros(ids.height(), ids.width(), CV_8U);
@@ -52,15 +50,13 @@ inline cv::Mat InstanceMask(const fs::path& collection,
 // Every frame of a collection, in order.
 inline std::vector<Frame> Frames(const fs::path& collection) {
   std::vector<Frame> frames;
-  CollectionReader(collection).ForEachFrame([&](const Frame& f) {
-    frames.push_back(f);
-  });
+  CollectionReader(collection).ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   return frames;
 }
 
 // Attributes of every <TAG ...> element of an XML text, in order.
-inline std::vector<std::map<std::string, std::string>> XmlElements(
-    const std::string& xml, const std::string& tag) {
+inline std::vector<std::map<std::string, std::string>> XmlElements(const std::string& xml,
+                                                                   const std::string& tag) {
   std::vector<std::map<std::string, std::string>> out;
   const std::regex element("<" + tag + " ([^>]*)>");
   const std::regex attribute("([a-z_]+)=\"([^\"]*)\"");

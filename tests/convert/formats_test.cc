@@ -30,8 +30,7 @@ synth::Spec TestSpec() {
       PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
   const Rigid3d world_from_cam = spec.cam_from_world[0].Inverse();
   const Eigen::Vector3d ray = camera.CamFromImage({40.5, 20.5});
-  const Eigen::Vector3d top_in_world =
-      world_from_cam * Eigen::Vector3d(ray / ray.z() * 19.0);
+  const Eigen::Vector3d top_in_world = world_from_cam * Eigen::Vector3d(ray / ray.z() * 19.0);
   synth::Box pixel;
   pixel.class_id = 3, pixel.instance_id = kSinglePixel, pixel.name = "crate#1";
   pixel.center = top_in_world - Eigen::Vector3d(0, 0, 0.05);
@@ -41,8 +40,8 @@ synth::Spec TestSpec() {
   // Centred on the ray through the left border pixel (0, 24) at the box top, z
   // = 1.
   const Eigen::Vector3d edge = camera.CamFromImage({0.5, 24.5});
-  border.center = world_from_cam * Eigen::Vector3d(edge / edge.z() * 19.0) -
-                  Eigen::Vector3d(0, 0, 0.5);
+  border.center =
+      world_from_cam * Eigen::Vector3d(edge / edge.z() * 19.0) - Eigen::Vector3d(0, 0, 0.5);
   border.half_extents = {1.0, 1.0, 0.5};
   spec.boxes.push_back(pixel);
   spec.boxes.push_back(border);
@@ -69,8 +68,7 @@ TEST_F(ConvertTest, PreconditionsOfTheTestScene) {
   bool single = false, border = false;
   for (const ObjectTruth& o : frames[0].objects) {
     if (o.instance_id == kSinglePixel) single = o.visible_pixels == 1;
-    if (o.instance_id == kBorder)
-      border = o.bbox && o.bbox->x0 == 0 && o.in_frame < 1;
+    if (o.instance_id == kBorder) border = o.bbox && o.bbox->x0 == 0 && o.in_frame < 1;
   }
   EXPECT_TRUE(single);
   EXPECT_TRUE(border);
@@ -84,21 +82,19 @@ TEST_F(ConvertTest, CocoPolygonsRasterizeToTheInstanceMask) {
   convert::ConvertOptions options = Options(Collection(), out, {"coco"});
   options.segmentation = "polygon";
   const convert::ConvertResult result = convert::Convert(options);
-  const json coco =
-      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
   std::map<int64_t, Frame> by_image;
   for (const Frame& f : Frames(Collection())) by_image[f.index + 1] = f;
   int exact = 0;
   for (const json& a : coco["annotations"]) {
     const Frame& frame = by_image.at(a["image_id"]);
-    const cv::Mat mask =
-        InstanceMask(Collection(), frame, a["lsds"]["instance_id"]) != 0;
+    const cv::Mat mask = InstanceMask(Collection(), frame, a["lsds"]["instance_id"]) != 0;
     cv::Mat padded;
     cv::copyMakeBorder(mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
     cv::floodFill(padded, cv::Point(0, 0), 128, nullptr, 0, 0, 4);
     const cv::Mat filled = padded(cv::Rect(1, 1, 64, 48)) != 128;
-    const cv::Mat decoded = CocoPolygonsToMask(
-        a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
+    const cv::Mat decoded =
+        CocoPolygonsToMask(a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
     EXPECT_EQ(cv::countNonZero((decoded != 0) != filled), 0)
         << "instance " << a["lsds"]["instance_id"] << " frame " << frame.index;
     exact += cv::countNonZero((decoded != 0) != mask) == 0;
@@ -112,11 +108,9 @@ TEST_F(ConvertTest, CocoPolygonsRasterizeToTheInstanceMask) {
 
 TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
   const fs::path out = Out("coco");
-  const convert::ConvertResult result =
-      convert::Convert(Options(Collection(), out, {"coco"}));
+  const convert::ConvertResult result = convert::Convert(Options(Collection(), out, {"coco"}));
   EXPECT_EQ(result.frames, 4);
-  const json coco =
-      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
   const std::vector<Frame> frames = Frames(Collection());
   ASSERT_EQ(coco["images"].size(), frames.size());
   // Categories: the classes some annotation has, in class-table order, ids
@@ -147,8 +141,8 @@ TEST_F(ConvertTest, CocoRleDecodesToExactlyTheInstanceMask) {
     const cv::Mat expected_mask = InstanceMask(Collection(), frame, instance);
     EXPECT_EQ(a["segmentation"]["size"], json::array({48, 64}));
     int64_t total = 0;
-    const cv::Mat decoded = CocoDecode(
-        CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &total);
+    const cv::Mat decoded =
+        CocoDecode(CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &total);
     EXPECT_EQ(total, 48 * 64);
     EXPECT_TRUE(SameMask(decoded, expected_mask))
         << "instance " << instance << " frame " << frame.index;
@@ -184,8 +178,7 @@ TEST_F(ConvertTest, CvatMasksEqualInstanceMasksAndCocoMasks) {
   convert::Convert(Options(Collection(), out, {"cvat", "coco"}));
   const std::string xml = ReadText(out / "annotations" / "cvat_train.xml");
   EXPECT_NE(xml.find("<version>1.1</version>"), std::string::npos);
-  const json coco =
-      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
   const auto masks = XmlElements(xml, "mask");
   const auto boxes = XmlElements(xml, "box");
   ASSERT_EQ(masks.size(), coco["annotations"].size());
@@ -205,20 +198,18 @@ TEST_F(ConvertTest, CvatMasksEqualInstanceMasksAndCocoMasks) {
     EXPECT_EQ(total, std::stoll(m.at("width")) * std::stoll(m.at("height")));
     const json& a = coco["annotations"][i];
     int64_t coco_total = 0;
-    const cv::Mat from_coco = CocoDecode(
-        CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &coco_total);
+    const cv::Mat from_coco =
+        CocoDecode(CocoCountsFromString(a["segmentation"]["counts"]), 48, 64, &coco_total);
     EXPECT_TRUE(SameMask(cvat, from_coco)) << "annotation " << i;
     // The CVAT box is the COCO box in corner form; the mask box is its integer
     // form.
-    EXPECT_NEAR(
-        std::stod(boxes[i].at("xtl")), a["bbox"][0].get<double>(), 1e-9);
+    EXPECT_NEAR(std::stod(boxes[i].at("xtl")), a["bbox"][0].get<double>(), 1e-9);
     EXPECT_NEAR(std::stod(boxes[i].at("xbr")),
                 a["bbox"][0].get<double>() + a["bbox"][2].get<double>(),
                 1e-9);
     EXPECT_EQ(std::stoi(m.at("left")), a["bbox"][0].get<int>());
     EXPECT_EQ(std::stoi(m.at("width")), a["bbox"][2].get<int>());
-    EXPECT_EQ(m.at("occluded"),
-              a["lsds"]["visibility"].get<double>() < 1.0 ? "1" : "0");
+    EXPECT_EQ(m.at("occluded"), a["lsds"]["visibility"].get<double>() < 1.0 ? "1" : "0");
   }
   EXPECT_EQ(XmlElements(xml, "image").size(), 4u);
 }
@@ -235,8 +226,7 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
       << yaml;
   // No absolute `path:`: the dataset root is the folder of data.yaml.
   EXPECT_EQ(yaml.find("path:"), std::string::npos);
-  EXPECT_NE(yaml.find("train: images/train\nval: images/train\n"),
-            std::string::npos);
+  EXPECT_NE(yaml.find("train: images/train\nval: images/train\n"), std::string::npos);
   for (const Frame& frame : Frames(Collection())) {
     std::istringstream labels(
         ReadText(out / "labels" / "train" / (FrameStem(frame.index) + ".txt")));
@@ -266,8 +256,7 @@ TEST_F(ConvertTest, YoloBoxesDenormalizeToTheAabb) {
 
 TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
   const fs::path out = Out("yolo_seg");
-  const convert::ConvertResult result =
-      convert::Convert(Options(Collection(), out, {"yolo-seg"}));
+  const convert::ConvertResult result = convert::Convert(Options(Collection(), out, {"yolo-seg"}));
   const json coco_like = nullptr;
   for (const Frame& frame : Frames(Collection())) {
     std::istringstream labels(
@@ -303,8 +292,7 @@ TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
       // Ultralytics derives the box from the polygon (segment2box): it is the
       // object's pixel-edge box, not one pixel smaller.
       std::vector<cv::Point2d> points;
-      for (size_t k = 0; k < v.size(); k += 2)
-        points.emplace_back(v[k] * 64, v[k + 1] * 48);
+      for (size_t k = 0; k < v.size(); k += 2) points.emplace_back(v[k] * 64, v[k + 1] * 48);
       const cv::Rect2d box = UltralyticsSegmentToBox(points, 64, 48);
       EXPECT_NEAR(box.x, o.bbox->x0, 1e-4);
       EXPECT_NEAR(box.y, o.bbox->y0, 1e-4);
@@ -319,8 +307,7 @@ TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
 TEST_F(ConvertTest, CvatVideoHasOneTrackPerInstance) {
   const fs::path out = Out("cvat_video");
   convert::Convert(Options(Collection(), out, {"cvat-video"}));
-  const std::string xml =
-      ReadText(out / "annotations" / "cvat_video_train.xml");
+  const std::string xml = ReadText(out / "annotations" / "cvat_video_train.xml");
   const auto tracks = XmlElements(xml, "track");
   std::set<uint32_t> instances;
   for (const Frame& frame : Frames(Collection())) {
@@ -356,8 +343,7 @@ void ReadYoloClasses(const fs::path& out,
       listed->push_back(line.substr(q + 1, line.find('"', q + 1) - q - 1));
     }
   }
-  for (const auto& entry :
-       fs::recursive_directory_iterator(out / "labels")) {
+  for (const auto& entry : fs::recursive_directory_iterator(out / "labels")) {
     std::istringstream labels(ReadText(entry.path()));
     while (std::getline(labels, line)) {
       if (!line.empty()) used->insert(std::stoi(line));
@@ -371,8 +357,7 @@ TEST_F(ConvertTest, UnusedClassesAreDroppedUnlessKeptAndUltralyticsAccepts) {
   for (const bool keep : {false, true}) {
     SCOPED_TRACE(keep ? "--keep-classes" : "default");
     const fs::path out = Out(keep ? "yolo-keep" : "yolo-used");
-    convert::ConvertOptions options =
-        Options(Collection(), out, {"yolo", "coco", "cvat"});
+    convert::ConvertOptions options = Options(Collection(), out, {"yolo", "coco", "cvat"});
     options.classes = "ground,crate";
     options.keep_classes = keep;
     convert::Convert(options);
@@ -381,10 +366,8 @@ TEST_F(ConvertTest, UnusedClassesAreDroppedUnlessKeptAndUltralyticsAccepts) {
     std::set<int> used;
     ReadYoloClasses(out, &names, &listed, &used);
     EXPECT_EQ(UltralyticsClassCheck(names, used), "");
-    const json coco =
-        json::parse(ReadText(out / "annotations" / "instances_train.json"));
-    const std::string xml =
-        ReadText(out / "annotations" / "cvat_train.xml");
+    const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
+    const std::string xml = ReadText(out / "annotations" / "cvat_train.xml");
     if (keep) {
       EXPECT_EQ(listed, (std::vector<std::string>{"ground", "crate"}));
       EXPECT_EQ(used, std::set<int>{1});
@@ -413,8 +396,7 @@ TEST_F(ConvertTest, FiltersAndClassesAreReported) {
   options.classes = "box=thing,crate=thing";
   options.drop_truncated = true;
   const convert::ConvertResult result = convert::Convert(options);
-  EXPECT_NE(ReadText(out / "data.yaml")
-                .find("names:\n  0: \"thing\"  # lsds class id 2, 3\n"),
+  EXPECT_NE(ReadText(out / "data.yaml").find("names:\n  0: \"thing\"  # lsds class id 2, 3\n"),
             std::string::npos);
   const json report = json::parse(ReadText(out / "loss_report.json"));
   EXPECT_GE(result.loss.Count(convert::loss::kMinPixels, "crate"),
@@ -423,8 +405,7 @@ TEST_F(ConvertTest, FiltersAndClassesAreReported) {
             1);  // the border box
   EXPECT_EQ(report["counts"][convert::loss::kMinPixels]["per_class"]["crate"],
             result.loss.Count(convert::loss::kMinPixels, "crate"));
-  EXPECT_NE(ReadText(out / "loss_report.txt").find(convert::loss::kMinPixels),
-            std::string::npos);
+  EXPECT_NE(ReadText(out / "loss_report.txt").find(convert::loss::kMinPixels), std::string::npos);
   // Every kept object is class 0.
   for (const auto& entry : fs::directory_iterator(out / "labels" / "train")) {
     std::istringstream in(ReadText(entry.path()));
@@ -434,8 +415,7 @@ TEST_F(ConvertTest, FiltersAndClassesAreReported) {
 }
 
 TEST_F(ConvertTest, MinVisibilityDropsOccludedObjects) {
-  convert::ConvertOptions options =
-      Options(Collection(), Out("visible"), {"coco"});
+  convert::ConvertOptions options = Options(Collection(), Out("visible"), {"coco"});
   options.min_visibility = 0.999;
   const convert::ConvertResult result = convert::Convert(options);
   int64_t below = 0;
@@ -466,22 +446,18 @@ TEST_F(ConvertTest, RefusesNonEmptyOutputWithoutForce) {
 
 TEST_F(ConvertTest, ImagesAreSrgbEncodedOnce) {
   const fs::path out = Out("images");
-  convert::ConvertOptions options =
-      Options(Collection(), out, {"yolo", "coco"});
+  convert::ConvertOptions options = Options(Collection(), out, {"yolo", "coco"});
   options.images = "png";
   const convert::ConvertResult result = convert::Convert(options);
   EXPECT_EQ(result.images_written, 4);
   const Frame frame = Frames(Collection())[1];
-  const cv::Mat png = cv::imread(
-      (out / "images" / "train" / "000001.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat png =
+      cv::imread((out / "images" / "train" / "000001.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(png.type(), CV_8UC3);
-  exr::FlatImage rgb =
-      exr::ReadFlatExr(Collection() / frame.files.at("rgb"), {"R", "G", "B"});
+  exr::FlatImage rgb = exr::ReadFlatExr(Collection() / frame.files.at("rgb"), {"R", "G", "B"});
   auto srgb = [](double v) {
     v = std::clamp(v, 0.0, 1.0);
-    return std::lround(255 * (v <= 0.0031308
-                                  ? 12.92 * v
-                                  : 1.055 * std::pow(v, 1 / 2.4) - 0.055));
+    return std::lround(255 * (v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055));
   };
   for (int y = 0; y < 48; y += 7) {
     for (int x = 0; x < 64; x += 5) {
@@ -491,42 +467,36 @@ TEST_F(ConvertTest, ImagesAreSrgbEncodedOnce) {
       EXPECT_NEAR(p[0], srgb(rgb.F("B", x, y)), 1);
     }
   }
-  const json coco =
-      json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json coco = json::parse(ReadText(out / "annotations" / "instances_train.json"));
   EXPECT_EQ(coco["images"][1]["file_name"], "000001.png");
 }
 
 TEST_F(ConvertTest, OutputIsDeterministic) {
-  convert::ConvertOptions a =
-      Options(Collection(), Out("det_a"), {"coco", "cvat"});
-  convert::ConvertOptions b =
-      Options(Collection(), Out("det_b"), {"coco", "cvat"});
+  convert::ConvertOptions a = Options(Collection(), Out("det_a"), {"coco", "cvat"});
+  convert::ConvertOptions b = Options(Collection(), Out("det_b"), {"coco", "cvat"});
   a.batch_size = 1;  // different batching, same files
   convert::Convert(a);
   convert::Convert(b);
-  for (const char* file : {"annotations/instances_train.json",
-                           "annotations/cvat_train.xml",
-                           "loss_report.json"}) {
-    EXPECT_EQ(ReadText(Out("det_a") / file), ReadText(Out("det_b") / file))
-        << file;
+  for (const char* file :
+       {"annotations/instances_train.json", "annotations/cvat_train.xml", "loss_report.json"}) {
+    EXPECT_EQ(ReadText(Out("det_a") / file), ReadText(Out("det_b") / file)) << file;
   }
 }
 
 TEST_F(ConvertTest, CommandLineExitCodes) {
   const std::string lsds = std::string(LSDS_BINARY_DIR) + "/tools/lsds";
   const std::string out = (Out("cli")).string();
-  const std::string ok = lsds + " convert " + Collection().string() +
-                         " --to yolo --images none -q -o " + out;
+  const std::string ok =
+      lsds + " convert " + Collection().string() + " --to yolo --images none -q -o " + out;
   EXPECT_EQ(std::system(ok.c_str()), 0);
   EXPECT_EQ(WEXITSTATUS(std::system((ok + " 2>/dev/null").c_str())),
             2);  // not empty, no --force
   EXPECT_EQ(WEXITSTATUS(std::system((ok + " --force").c_str())), 0);
-  const std::string bad = lsds + " convert " + Collection().string() +
-                          " --to yollo -o " + out + "x 2>/dev/null";
+  const std::string bad =
+      lsds + " convert " + Collection().string() + " --to yollo -o " + out + "x 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
   const std::string split = lsds + " convert " + Collection().string() +
-                            " --to coco --split train=0.5,val=0.4 -o " + out +
-                            "y 2>/dev/null";
+                            " --to coco --split train=0.5,val=0.4 -o " + out + "y 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(split.c_str())), 2);
 }
 
@@ -565,15 +535,12 @@ TEST_F(ConvertTest, OneSequenceStillFillsEverySplit) {
   // The README's split on a one-sequence collection (4 frames): the hash rule
   // would put the whole sequence in one split, so contiguous blocks are cut.
   const fs::path out = Out("split");
-  convert::ConvertOptions options =
-      Options(Collection(), out, {"yolo", "coco"});
+  convert::ConvertOptions options = Options(Collection(), out, {"yolo", "coco"});
   options.split = "train=0.8,val=0.2";
   options.images = "png";
   convert::Convert(options);
-  const json train =
-      json::parse(ReadText(out / "annotations" / "instances_train.json"));
-  const json val =
-      json::parse(ReadText(out / "annotations" / "instances_val.json"));
+  const json train = json::parse(ReadText(out / "annotations" / "instances_train.json"));
+  const json val = json::parse(ReadText(out / "annotations" / "instances_val.json"));
   EXPECT_EQ(train["images"].size(), 3u);
   EXPECT_EQ(val["images"].size(), 1u);
   // Blocks are contiguous: train holds the first frames.
@@ -590,15 +557,13 @@ TEST_F(ConvertTest, OneSequenceStillFillsEverySplit) {
 TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
   std::vector<convert::SplitFrame> frames;
   for (int s = 0; s < 40; ++s) {
-    for (int i = 0; i < 5; ++i)
-      frames.push_back({s * 5 + i, "seq_" + std::to_string(s)});
+    for (int i = 0; i < 5; ++i) frames.push_back({s * 5 + i, "seq_" + std::to_string(s)});
   }
   const auto parts = convert::ParseSplit("train=0.8,val=0.2");
   const convert::SplitPlan plan = convert::PlanSplits(parts, frames);
   EXPECT_FALSE(plan.blocks);
   for (const auto& f : frames) {
-    EXPECT_EQ(plan.split_of_frame.at(f.index),
-              convert::AssignSplit(parts, f.group));
+    EXPECT_EQ(plan.split_of_frame.at(f.index), convert::AssignSplit(parts, f.group));
   }
   // Too few frames for the splits: a loud error naming the split.
   const auto three = convert::ParseSplit("train=0.5,val=0.3,test=0.2");
@@ -606,8 +571,7 @@ TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
     convert::PlanSplits(three, {{0, "a"}, {1, "a"}});
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot fill split 'test'"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("cannot fill split 'test'"), std::string::npos)
         << e.what();
   }
   // A zero fraction may stay empty.
@@ -616,8 +580,7 @@ TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
 }
 
 TEST(ClassMap, OnlyUsedKeepsOrderReindexesAndKeepsMergedClassesWhole) {
-  const std::vector<ClassInfo> classes = {
-      {1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
+  const std::vector<ClassInfo> classes = {{1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
   const auto all = convert::ClassMap::All(classes);
   const auto used = all.OnlyUsed({4, 2});
   ASSERT_EQ(used.classes().size(), 2u);
@@ -628,9 +591,8 @@ TEST(ClassMap, OnlyUsedKeepsOrderReindexesAndKeepsMergedClassesWhole) {
   EXPECT_FALSE(used.Map(1).has_value());
   EXPECT_FALSE(used.Map(3).has_value());
   // A merged class is kept when any of its sources occurs, with all of them.
-  const auto merged = convert::ClassMap::Parse("car=vehicle,truck=vehicle,person",
-                                               classes)
-                          .OnlyUsed({3});
+  const auto merged =
+      convert::ClassMap::Parse("car=vehicle,truck=vehicle,person", classes).OnlyUsed({3});
   ASSERT_EQ(merged.classes().size(), 1u);
   EXPECT_EQ(merged.Map(2), 0);
   EXPECT_EQ(merged.Map(3), 0);
@@ -638,10 +600,8 @@ TEST(ClassMap, OnlyUsedKeepsOrderReindexesAndKeepsMergedClassesWhole) {
 }
 
 TEST(ClassMap, SubsetRenameMergeAndErrors) {
-  const std::vector<ClassInfo> classes = {
-      {1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
-  const auto map =
-      convert::ClassMap::Parse("person, car=vehicle, 3=vehicle", classes);
+  const std::vector<ClassInfo> classes = {{1, "ground"}, {2, "car"}, {3, "truck"}, {4, "person"}};
+  const auto map = convert::ClassMap::Parse("person, car=vehicle, 3=vehicle", classes);
   ASSERT_EQ(map.classes().size(), 2u);
   EXPECT_EQ(map.classes()[0].name, "person");
   EXPECT_EQ(map.classes()[1].name, "vehicle");
@@ -653,9 +613,7 @@ TEST(ClassMap, SubsetRenameMergeAndErrors) {
     convert::ClassMap::Parse("persn", classes);
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("did you mean 'person'"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("did you mean 'person'"), std::string::npos) << e.what();
   }
   EXPECT_THROW(convert::ClassMap::Parse("car,car=x", classes), Error);
 }
@@ -672,10 +630,7 @@ TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
   TempDir dir;
   synth::Spec spec = synth::DefaultSpec();
   spec.boxes.clear();
-  auto add = [&](uint32_t class_id,
-                 uint32_t id,
-                 Eigen::Vector3d center,
-                 Eigen::Vector3d half) {
+  auto add = [&](uint32_t class_id, uint32_t id, Eigen::Vector3d center, Eigen::Vector3d half) {
     synth::Box box;
     box.class_id = class_id, box.instance_id = id;
     box.name = "b" + std::to_string(id);
@@ -697,8 +652,7 @@ TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
   EXPECT_EQ(seg.loss.Count(convert::loss::kPiecesMerged, "crate"), 1);
   EXPECT_EQ(seg.loss.Count(convert::loss::kHolesFilled, "crate"), 1);
   // The bridged polygon, filled, covers both pieces of the crate.
-  std::istringstream labels(
-      ReadText(dir.path() / "seg" / "labels" / "train" / "000000.txt"));
+  std::istringstream labels(ReadText(dir.path() / "seg" / "labels" / "train" / "000000.txt"));
   std::string line;
   bool checked = false;
   size_t k = 0;
@@ -722,29 +676,26 @@ TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
   }
   EXPECT_TRUE(checked);
 
-  convert::ConvertOptions options =
-      Options(collection, dir.path() / "poly", {"coco"});
+  convert::ConvertOptions options = Options(collection, dir.path() / "poly", {"coco"});
   options.segmentation = "polygon";
   const convert::ConvertResult poly = convert::Convert(options);
   EXPECT_EQ(poly.loss.Count(convert::loss::kPiecesSplit, "crate"), 1);
   // The loss report gives the IoU the filled hole costs: crate pixels over
   // crate pixels plus the pillar's.
-  const int64_t crate_pixels =
-      cv::countNonZero(InstanceMask(collection, frame, 21)) +
-      cv::countNonZero(InstanceMask(collection, frame, 23));
-  const int64_t hole_pixels =
-      cv::countNonZero(InstanceMask(collection, frame, 24));
+  const int64_t crate_pixels = cv::countNonZero(InstanceMask(collection, frame, 21)) +
+                               cv::countNonZero(InstanceMask(collection, frame, 23));
+  const int64_t hole_pixels = cv::countNonZero(InstanceMask(collection, frame, 24));
   EXPECT_NEAR(poly.loss.PolygonIou().at("crate"),
               double(crate_pixels) / double(crate_pixels + hole_pixels),
               1e-12);
   EXPECT_LT(poly.loss.PolygonIou().at("crate"), 1.0);
-  const json coco = json::parse(
-      ReadText(dir.path() / "poly" / "annotations" / "instances_train.json"));
+  const json coco =
+      json::parse(ReadText(dir.path() / "poly" / "annotations" / "instances_train.json"));
   for (const json& a : coco["annotations"]) {
     const uint32_t id = a["lsds"]["instance_id"];
     // pycocotools' rasterization of the polygons (frPyObjects + decode).
-    const cv::Mat decoded = CocoPolygonsToMask(
-        a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
+    const cv::Mat decoded =
+        CocoPolygonsToMask(a["segmentation"].get<std::vector<std::vector<double>>>(), 48, 64);
     const cv::Mat mask = InstanceMask(collection, frame, id) != 0;
     if (id == 21) {
       EXPECT_EQ(a["segmentation"].size(), 2u);

@@ -31,8 +31,7 @@ synth::Spec TinySpec() {
 std::vector<fs::path> FilesUnder(const fs::path& root) {
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(root)) {
-    if (entry.is_regular_file())
-      files.push_back(fs::relative(entry.path(), root));
+    if (entry.is_regular_file()) files.push_back(fs::relative(entry.path(), root));
   }
   std::sort(files.begin(), files.end());
   return files;
@@ -53,8 +52,7 @@ TEST_P(GoldenTest, ExactFiles) {
   TempDir dir;
   synth::WriteCollection(dir.path() / "collection", TinySpec());
   const fs::path out = dir.path() / "out";
-  convert::ConvertOptions options =
-      Options(dir.path() / "collection", out, c.formats);
+  convert::ConvertOptions options = Options(dir.path() / "collection", out, c.formats);
   options.segmentation = c.segmentation;
   options.split = "train=0.5,val=0.5";
   convert::Convert(options);
@@ -71,8 +69,7 @@ TEST_P(GoldenTest, ExactFiles) {
     fs::copy(out, golden, fs::copy_options::recursive);
     GTEST_SKIP() << "golden files written to " << golden;
   }
-  ASSERT_TRUE(fs::is_directory(golden))
-      << golden << " missing: run with LSDS_UPDATE_GOLDEN=1";
+  ASSERT_TRUE(fs::is_directory(golden)) << golden << " missing: run with LSDS_UPDATE_GOLDEN=1";
   ASSERT_EQ(FilesUnder(out), FilesUnder(golden));
   for (const fs::path& file : FilesUnder(golden)) {
     EXPECT_EQ(ReadText(out / file), ReadText(golden / file))
@@ -80,20 +77,19 @@ TEST_P(GoldenTest, ExactFiles) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Formats,
-    GoldenTest,
-    ::testing::Values(Case{"yolo", {"yolo"}},
-                      Case{"yolo-seg", {"yolo-seg"}},
-                      Case{"coco", {"coco"}},
-                      Case{"coco-polygon", {"coco"}, "polygon"},
-                      Case{"cvat", {"cvat"}},
-                      Case{"cvat-video", {"cvat-video"}}),
-    [](const auto& info) {
-      std::string name = info.param.name;
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(Formats,
+                         GoldenTest,
+                         ::testing::Values(Case{"yolo", {"yolo"}},
+                                           Case{"yolo-seg", {"yolo-seg"}},
+                                           Case{"coco", {"coco"}},
+                                           Case{"coco-polygon", {"coco"}, "polygon"},
+                                           Case{"cvat", {"cvat"}},
+                                           Case{"cvat-video", {"cvat-video"}}),
+                         [](const auto& info) {
+                           std::string name = info.param.name;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace lsds::testing

@@ -26,8 +26,7 @@ BoxMask MaskOf(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
   BoxMask empty;
   empty.image_width = w;
   empty.image_height = h;
-  return it == bounds.end() ? empty
-                            : ExtractMask(ids.data(), w, h, id, it->second);
+  return it == bounds.end() ? empty : ExtractMask(ids.data(), w, h, id, it->second);
 }
 
 cv::Mat FullMask(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
@@ -38,10 +37,7 @@ cv::Mat FullMask(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
   return m;
 }
 
-void ExpectRoundTrips(const std::vector<uint32_t>& ids,
-                      int w,
-                      int h,
-                      uint32_t id) {
+void ExpectRoundTrips(const std::vector<uint32_t>& ids, int w, int h, uint32_t id) {
   const BoxMask mask = MaskOf(ids, w, h, id);
   const cv::Mat truth = FullMask(ids, w, h, id);
   EXPECT_EQ(mask.pixel_count, cv::countNonZero(truth));
@@ -51,8 +47,7 @@ void ExpectRoundTrips(const std::vector<uint32_t>& ids,
   const std::string coco = CocoRleToString(counts);
   EXPECT_EQ(CocoCountsFromString(coco), counts);
   int64_t total = 0;
-  EXPECT_TRUE(
-      SameMask(CocoDecode(CocoCountsFromString(coco), h, w, &total), truth));
+  EXPECT_TRUE(SameMask(CocoDecode(CocoCountsFromString(coco), h, w, &total), truth));
   EXPECT_EQ(total, int64_t{w} * h);
 
   if (!mask.empty()) {
@@ -79,8 +74,7 @@ TEST(CocoRle, KnownEncodingOfTheCocoApi) {
   EXPECT_EQ(CocoRleToString({1, 3}), "13");
   // Foreground first: a leading background run of 0.
   ids = {5, 0, 0, 0};
-  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 2, 2, 5)),
-            (std::vector<uint32_t>{0, 1, 3}));
+  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 2, 2, 5)), (std::vector<uint32_t>{0, 1, 3}));
   // Large counts and negative deltas ("i > 2" quirk of rleToString).
   const std::vector<uint32_t> counts = {100000, 3, 7, 1, 99999, 2, 0};
   EXPECT_EQ(CocoCountsFromString(CocoRleToString(counts)), counts);
@@ -90,8 +84,7 @@ TEST(CocoRle, ColumnMajorNotRowMajor) {
   // A horizontal 3-pixel line in a 3x3 image: column-major runs are
   // 1,1,2,1,2,1,1.
   std::vector<uint32_t> ids = {0, 0, 0, 7, 7, 7, 0, 0, 0};
-  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 3, 3, 7)),
-            (std::vector<uint32_t>{1, 1, 2, 1, 2, 1, 1}));
+  EXPECT_EQ(CocoRleCounts(MaskOf(ids, 3, 3, 7)), (std::vector<uint32_t>{1, 1, 2, 1, 2, 1, 1}));
   // CVAT: row-major inside the tight box (1 row of 3): no background, one run
   // of 3.
   EXPECT_EQ(CvatRleCounts(MaskOf(ids, 3, 3, 7)), (std::vector<uint32_t>{0, 3}));
@@ -114,8 +107,7 @@ TEST(CocoRle, SinglePixelAndBorderObjects) {
 TEST(CocoRle, RandomMasksRoundTrip) {
   std::mt19937 rng(42);
   for (int trial = 0; trial < 200; ++trial) {
-    const int w = 1 + static_cast<int>(rng() % 40),
-              h = 1 + static_cast<int>(rng() % 40);
+    const int w = 1 + static_cast<int>(rng() % 40), h = 1 + static_cast<int>(rng() % 40);
     std::vector<uint32_t> ids(w * h);
     // Blobs of a few ids, some pixels noise: several pieces, holes, border
     // contact.
@@ -127,8 +119,7 @@ TEST(CocoRle, RandomMasksRoundTrip) {
 TEST(Polygons, InsideTheBoxAndCoverTheMask) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 100; ++trial) {
-    const int w = 2 + static_cast<int>(rng() % 30),
-              h = 2 + static_cast<int>(rng() % 30);
+    const int w = 2 + static_cast<int>(rng() % 30), h = 2 + static_cast<int>(rng() % 30);
     std::vector<uint32_t> ids(w * h);
     for (uint32_t& id : ids) id = (rng() % 3 == 0) ? 1 : 0;
     const BoxMask mask = MaskOf(ids, w, h, 1);
@@ -230,10 +221,7 @@ TEST(PolygonsPycocotools, DiagonalStaircaseIsExact) {
   ExpectCocoExact(Shape(6, 6, {{0, 0}, {1, 1}, {2, 2}, {3, 3}, {4, 4}}), 6, 6);
   ExpectCocoExact(Shape(6, 6, {{4, 0}, {3, 1}, {2, 2}, {1, 3}, {0, 4}}), 6, 6);
   // A two-pixel-thick staircase.
-  ExpectCocoExact(
-      Shape(6, 6, {{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {3, 2}, {3, 3}}),
-      6,
-      6);
+  ExpectCocoExact(Shape(6, 6, {{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {3, 2}, {3, 3}}), 6, 6);
 }
 
 TEST(PolygonsPycocotools, DiscIsExact) {
@@ -251,8 +239,7 @@ TEST(PolygonsPycocotools, DiscIsExact) {
 TEST(PolygonsPycocotools, RandomMasksAreExactUpToFilledHoles) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 200; ++trial) {
-    const int w = 1 + static_cast<int>(rng() % 30),
-              h = 1 + static_cast<int>(rng() % 30);
+    const int w = 1 + static_cast<int>(rng() % 30), h = 1 + static_cast<int>(rng() % 30);
     std::vector<uint32_t> ids(w * h);
     for (uint32_t& id : ids) id = (rng() % 3 == 0) ? 1 : 0;
     if (std::count(ids.begin(), ids.end(), 1u) == 0) continue;
@@ -263,16 +250,14 @@ TEST(PolygonsPycocotools, RandomMasksAreExactUpToFilledHoles) {
 TEST(PolygonsUltralytics, SegmentBoxIsThePixelEdgeBox) {
   std::mt19937 rng(5);
   for (int trial = 0; trial < 100; ++trial) {
-    const int w = 1 + static_cast<int>(rng() % 30),
-              h = 1 + static_cast<int>(rng() % 30);
+    const int w = 1 + static_cast<int>(rng() % 30), h = 1 + static_cast<int>(rng() % 30);
     std::vector<uint32_t> ids(w * h);
     for (uint32_t& id : ids) id = (rng() % 4 == 0) ? 1 : 0;
     const BoxMask mask = MaskOf(ids, w, h, 1);
     if (mask.empty()) continue;
     const Polygon merged = MergePieces(ExtractPolygons(mask).pieces);
     const cv::Rect2d box = testing::UltralyticsSegmentToBox(merged, w, h);
-    EXPECT_EQ(box,
-              cv::Rect2d(mask.left, mask.top, mask.width(), mask.height()));
+    EXPECT_EQ(box, cv::Rect2d(mask.left, mask.top, mask.width(), mask.height()));
   }
 }
 

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <set>
 #include <sstream>
 #include <string>
-#include <set>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -55,11 +55,8 @@ inline cv::Mat CocoDecode(const std::vector<uint32_t>& counts,
   }
   *total = static_cast<int64_t>(column_major.size());
   cv::Mat mask = cv::Mat::zeros(height, width, CV_8U);
-  for (size_t i = 0;
-       i < column_major.size() && i < static_cast<size_t>(height) * width;
-       ++i) {
-    mask.at<uint8_t>(static_cast<int>(i % height),
-                     static_cast<int>(i / height)) = column_major[i];
+  for (size_t i = 0; i < column_major.size() && i < static_cast<size_t>(height) * width; ++i) {
+    mask.at<uint8_t>(static_cast<int>(i % height), static_cast<int>(i / height)) = column_major[i];
   }
   return mask;
 }
@@ -77,8 +74,7 @@ inline cv::Mat CvatDecode(const std::string& rle,
   std::vector<uint32_t> counts;
   std::stringstream in(rle);
   std::string token;
-  while (std::getline(in, token, ','))
-    counts.push_back(static_cast<uint32_t>(std::stoul(token)));
+  while (std::getline(in, token, ',')) counts.push_back(static_cast<uint32_t>(std::stoul(token)));
   cv::Mat mask = cv::Mat::zeros(image_height, image_width, CV_8U);
   int64_t i = 0;
   uint8_t v = 0;
@@ -104,9 +100,7 @@ inline bool SameMask(const cv::Mat& a, const cv::Mat& b) {
 // the code pycocotools 2.0.x builds; frPyObjects calls it per polygon and
 // unions the pieces with rleMerge). xy holds x0 y0 x1 y1 ...; returns the RLE
 // counts (column-major, starting with background).
-inline std::vector<uint32_t> CocoRleFrPoly(const std::vector<double>& xy,
-                                           int h,
-                                           int w) {
+inline std::vector<uint32_t> CocoRleFrPoly(const std::vector<double>& xy, int h, int w) {
   const double scale = 5;
   const size_t k = xy.size() / 2;
   std::vector<int> x(k + 1), y(k + 1);
@@ -163,8 +157,7 @@ inline std::vector<uint32_t> CocoRleFrPoly(const std::vector<double>& xy,
     by.push_back((int)yd);
   }
   std::vector<uint32_t> a;
-  for (size_t j = 0; j < bx.size(); j++)
-    a.push_back((uint32_t)(bx[j] * h + by[j]));
+  for (size_t j = 0; j < bx.size(); j++) a.push_back((uint32_t)(bx[j] * h + by[j]));
   a.push_back((uint32_t)(h * w));
   std::sort(a.begin(), a.end());
   uint32_t p = 0;
@@ -189,8 +182,7 @@ inline std::vector<uint32_t> CocoRleFrPoly(const std::vector<double>& xy,
 
 // frPyObjects + decode for a list of polygons: the union of each polygon's
 // rleFrPoly mask (rleMerge with intersect = 0), as a row-major CV_8U image.
-inline cv::Mat CocoPolygonsToMask(
-    const std::vector<std::vector<double>>& polygons, int h, int w) {
+inline cv::Mat CocoPolygonsToMask(const std::vector<std::vector<double>>& polygons, int h, int w) {
   cv::Mat mask = cv::Mat::zeros(h, w, CV_8U);
   for (const std::vector<double>& xy : polygons) {
     int64_t total = 0;
@@ -201,8 +193,9 @@ inline cv::Mat CocoPolygonsToMask(
 
 // Ultralytics' box of a polygon (ultralytics/utils/ops.py segment2box): the
 // min/max of the points inside the image, in pixels.
-inline cv::Rect2d UltralyticsSegmentToBox(
-    const std::vector<cv::Point2d>& points, int width, int height) {
+inline cv::Rect2d UltralyticsSegmentToBox(const std::vector<cv::Point2d>& points,
+                                          int width,
+                                          int height) {
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   for (const cv::Point2d& p : points) {
     if (p.x < 0 || p.y < 0 || p.x > width || p.y > height) continue;
@@ -228,8 +221,7 @@ inline std::string UltralyticsClassCheck(const std::vector<int>& names,
   for (int key : names) {
     if (key < 0 || key >= n)
       return std::to_string(n) + "-class dataset requires class indices 0-" +
-             std::to_string(n - 1) + ", but you have invalid class index " +
-             std::to_string(key);
+             std::to_string(n - 1) + ", but you have invalid class index " + std::to_string(key);
   }
   if (!label_classes.empty() && *label_classes.rbegin() >= n)
     return "Label class " + std::to_string(*label_classes.rbegin()) +

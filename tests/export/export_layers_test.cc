@@ -47,29 +47,24 @@ Npy ReadNpy(const fs::path& path) {
   Npy npy;
   EXPECT_GE(bytes.size(), 10u) << path;
   EXPECT_EQ(bytes.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8)) << path;
-  const size_t length = static_cast<unsigned char>(bytes[8]) |
-                        (static_cast<unsigned char>(bytes[9]) << 8);
+  const size_t length =
+      static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
   const std::string dict = bytes.substr(10, length);
   std::smatch m;
-  if (std::regex_search(dict, m, std::regex("'descr': '([^']+)'")))
-    npy.descr = m[1];
+  if (std::regex_search(dict, m, std::regex("'descr': '([^']+)'"))) npy.descr = m[1];
   npy.fortran_order = dict.find("'fortran_order': False") == std::string::npos;
   if (std::regex_search(dict, m, std::regex("'shape': \\(([^)]*)\\)"))) {
     for (const std::string& part : Split(m[1], ','))
-      if (part.find_first_not_of(' ') != std::string::npos)
-        npy.shape.push_back(std::stoll(part));
+      if (part.find_first_not_of(' ') != std::string::npos) npy.shape.push_back(std::stoll(part));
   }
   npy.data = bytes.substr(10 + length);
   return npy;
 }
 
 // A file of layers.json ("depth/{stem}.png") for frame `index`.
-std::string FileOfFrame(const fs::path& out,
-                        const nlohmann::json& pattern,
-                        int64_t index) {
-  return (out / std::regex_replace(pattern.get<std::string>(),
-                                   std::regex("\\{stem\\}"),
-                                   FrameStem(index)))
+std::string FileOfFrame(const fs::path& out, const nlohmann::json& pattern, int64_t index) {
+  return (out / std::regex_replace(
+                    pattern.get<std::string>(), std::regex("\\{stem\\}"), FrameStem(index)))
       .string();
 }
 
@@ -78,8 +73,7 @@ nlohmann::json ReadSidecar(const fs::path& out) {
 }
 
 // The bits of one channel of a layer's EXR as 32-bit words (floats or uints).
-std::vector<uint32_t> ExrWords(const exr::FlatImage& image,
-                               const std::string& channel) {
+std::vector<uint32_t> ExrWords(const exr::FlatImage& image, const std::string& channel) {
   const exr::FlatChannel& c = image.Get(channel);
   std::vector<uint32_t> words(image.pixel_count());
   if (!c.uints.empty())
@@ -99,8 +93,7 @@ class ExportLayers : public ::testing::Test {
   }
 
   CommandResult Run(const std::string& args) {
-    return RunCommandLine(LsdsBinary() + " export-layers " +
-                          collection_.string() + " " + args);
+    return RunCommandLine(LsdsBinary() + " export-layers " + collection_.string() + " " + args);
   }
 
   // Each frame's EXR of `layer`, by frame index.
@@ -147,8 +140,7 @@ TEST_F(ExportLayers, NpyHoldsTheExrValuesBitForBitWithTheirDtypeAndShape) {
     EXPECT_FALSE(fs::exists(out_ / layer->name / "000000.npy"));
     for (const auto& [index, image] : Exrs(layer->name)) {
       if (index < 1 || index >= 3) continue;
-      const Npy npy =
-          ReadNpy(out_ / layer->name / (FrameStem(index) + ".npy"));
+      const Npy npy = ReadNpy(out_ / layer->name / (FrameStem(index) + ".npy"));
       EXPECT_EQ(npy.descr, ids ? "<u4" : "<f4");
       EXPECT_FALSE(npy.fortran_order);
       std::vector<int64_t> shape = {image.height(), image.width()};
@@ -160,13 +152,11 @@ TEST_F(ExportLayers, NpyHoldsTheExrValuesBitForBitWithTheirDtypeAndShape) {
       std::vector<uint32_t> words(image.pixel_count() * channels);
       std::memcpy(words.data(), npy.data.data(), npy.data.size());
       for (size_t c = 0; c < channels; ++c) {
-        const std::vector<uint32_t> exr =
-            ExrWords(image, layer->channels[c].name);
+        const std::vector<uint32_t> exr = ExrWords(image, layer->channels[c].name);
         size_t differ = 0;
         for (size_t p = 0; p < exr.size(); ++p)
           if (words[p * channels + c] != exr[p]) ++differ;
-        EXPECT_EQ(differ, 0u) << "frame " << index << " channel "
-                              << layer->channels[c].name;
+        EXPECT_EQ(differ, 0u) << "frame " << index << " channel " << layer->channels[c].name;
       }
     }
   }
@@ -177,9 +167,7 @@ TEST_F(ExportLayers, NumpyLoadReadsTheSameArrays) {
   const std::string python = "/usr/bin/python3";
   if (RunCommandLine(python + " -c 'import numpy'").exit_code != 0)
     GTEST_SKIP() << "python3-numpy is not installed (scripts/install-deps.sh)";
-  ASSERT_EQ(Run("-o " + out_.string() + " --layers depth,normal,instanceid")
-                .exit_code,
-            0);
+  ASSERT_EQ(Run("-o " + out_.string() + " --layers depth,normal,instanceid").exit_code, 0);
   // numpy writes what it loaded as raw C-order bytes plus dtype and shape.
   const std::string script =
       "import numpy as np, sys\n"
@@ -188,21 +176,16 @@ TEST_F(ExportLayers, NumpyLoadReadsTheSameArrays) {
       "    open(name + '.raw', 'wb').write(np.ascontiguousarray(a).tobytes())\n"
       "    print(name, a.dtype.str, a.shape)\n";
   std::ofstream(dir_ / "load.py") << script;
-  const std::vector<std::string> files = {"depth/000002.npy",
-                                          "normal/000002.npy",
-                                          "instanceid/000002.npy"};
+  const std::vector<std::string> files = {
+      "depth/000002.npy", "normal/000002.npy", "instanceid/000002.npy"};
   std::string args;
   for (const std::string& f : files) args += " " + (out_ / f).string();
-  const CommandResult loaded =
-      RunCommandLine(python + " " + (dir_ / "load.py").string() + args);
+  const CommandResult loaded = RunCommandLine(python + " " + (dir_ / "load.py").string() + args);
   ASSERT_EQ(loaded.exit_code, 0) << loaded.output;
-  EXPECT_NE(loaded.output.find("depth/000002.npy <f4 (48, 64)"),
-            std::string::npos)
+  EXPECT_NE(loaded.output.find("depth/000002.npy <f4 (48, 64)"), std::string::npos)
       << loaded.output;
-  EXPECT_NE(loaded.output.find("normal/000002.npy <f4 (48, 64, 3)"),
-            std::string::npos);
-  EXPECT_NE(loaded.output.find("instanceid/000002.npy <u4 (48, 64)"),
-            std::string::npos);
+  EXPECT_NE(loaded.output.find("normal/000002.npy <f4 (48, 64, 3)"), std::string::npos);
+  EXPECT_NE(loaded.output.find("instanceid/000002.npy <u4 (48, 64)"), std::string::npos);
   for (const std::string& f : files) {
     const Npy npy = ReadNpy(out_ / f);
     EXPECT_EQ(Slurp(out_ / (f + ".raw")), npy.data) << f;
@@ -216,8 +199,7 @@ TEST_F(ExportLayers, Png16DecodesWithinHalfAStepWithInvalidPixelsMarked) {
   // Unbounded or HDR layers have no 16-bit encoding and are left out.
   EXPECT_FALSE(sidecar["layers"].contains("worldposition"));
   EXPECT_FALSE(sidecar["layers"].contains("rgb"));
-  for (const std::string name :
-       {"classid", "instanceid", "depth", "normal", "shadow", "motion"}) {
+  for (const std::string name : {"classid", "instanceid", "depth", "normal", "shadow", "motion"}) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(sidecar["layers"].contains(name));
     const nlohmann::json& entry = sidecar["layers"][name];
@@ -270,11 +252,9 @@ TEST_F(ExportLayers, Png16MarksSkyDepthInvalidAndClampsAndCountsFarDepth) {
   synth::Spec spec = synth::DefaultSpec();
   spec.ground = false;  // sky around the boxes: +inf depth
   Write(spec);
-  CommandResult run =
-      Run("-o " + out_.string() + " --to png16 --layers depth --frames 0");
+  CommandResult run = Run("-o " + out_.string() + " --to png16 --layers depth --frames 0");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const cv::Mat sky = cv::imread((out_ / "depth/000000.png").string(),
-                                 cv::IMREAD_UNCHANGED);
+  const cv::Mat sky = cv::imread((out_ / "depth/000000.png").string(), cv::IMREAD_UNCHANGED);
   const exr::FlatImage exr = Exrs("depth").at(0);
   int64_t invalid = 0;
   for (size_t p = 0; p < exr.pixel_count(); ++p) {
@@ -293,8 +273,7 @@ TEST_F(ExportLayers, Png16MarksSkyDepthInvalidAndClampsAndCountsFarDepth) {
   const nlohmann::json entry = ReadSidecar(out_)["layers"]["depth"];
   EXPECT_EQ(entry["clamped_pixels"], exr.pixel_count() - invalid);
   EXPECT_EQ(entry["scale"], 0.0001);
-  const cv::Mat clamped = cv::imread((out_ / "depth/000000.png").string(),
-                                     cv::IMREAD_UNCHANGED);
+  const cv::Mat clamped = cv::imread((out_ / "depth/000000.png").string(), cv::IMREAD_UNCHANGED);
   for (size_t p = 0; p < exr.pixel_count(); ++p)
     if (!std::isinf(exr.Get("Z").floats[p])) {
       EXPECT_EQ(clamped.ptr<uint16_t>()[p], 65535);
@@ -315,12 +294,10 @@ TEST_F(ExportLayers, TiffHoldsTheExrValuesBitForBitOneFilePerChannel) {
       for (const auto& [channel, file] : entry["files"].items()) {
         const std::string path = FileOfFrame(out_, file, index);
         const cv::Mat tiff = cv::imread(path, cv::IMREAD_UNCHANGED);
-        ASSERT_EQ(tiff.type(), name == "instanceid" ? CV_32SC1 : CV_32FC1)
-            << path;
+        ASSERT_EQ(tiff.type(), name == "instanceid" ? CV_32SC1 : CV_32FC1) << path;
         ASSERT_EQ(tiff.total(), image.pixel_count());
         const std::vector<uint32_t> exr = ExrWords(image, channel);
-        EXPECT_EQ(std::memcmp(tiff.data, exr.data(), exr.size() * 4), 0)
-            << path;
+        EXPECT_EQ(std::memcmp(tiff.data, exr.data(), exr.size() * 4), 0) << path;
       }
     }
   }
@@ -330,17 +307,14 @@ TEST_F(ExportLayers, RefusesBadUsageWithTheDocumentedMessages) {
   auto expect_usage = [&](const std::string& args, const std::string& says) {
     const CommandResult run = Run(args);
     EXPECT_EQ(run.exit_code, 2) << args << "\n" << run.output;
-    EXPECT_NE(run.output.find(says), std::string::npos)
-        << args << "\n" << run.output;
-    EXPECT_NE(run.output.find("lsds export-layers: error:"), std::string::npos)
-        << run.output;
+    EXPECT_NE(run.output.find(says), std::string::npos) << args << "\n" << run.output;
+    EXPECT_NE(run.output.find("lsds export-layers: error:"), std::string::npos) << run.output;
   };
   expect_usage("-o " + (collection_ / "exported").string(),
                "the output (-o) lies inside the collection folder");
   EXPECT_FALSE(fs::exists(collection_ / "exported"));
   expect_usage("-o " + dir_.path().string(), "the output (-o) contains the collection");
-  expect_usage("-o " + out_.string() + " --layers dept",
-               "did you mean 'depth'");
+  expect_usage("-o " + out_.string() + " --layers dept", "did you mean 'depth'");
   expect_usage("-o " + out_.string() + " --layers bundle", "deep layer");
   expect_usage("-o " + out_.string() + " --to png16 --layers worldposition",
                "use --to npy or --to tiff");
@@ -351,8 +325,7 @@ TEST_F(ExportLayers, RefusesBadUsageWithTheDocumentedMessages) {
   ASSERT_EQ(Run("-o " + out_.string() + " --layers depth").exit_code, 0);
   expect_usage("-o " + out_.string() + " --layers normal", "--force");
   EXPECT_TRUE(fs::exists(out_ / "depth"));
-  ASSERT_EQ(Run("-o " + out_.string() + " --layers normal --force").exit_code,
-            0);
+  ASSERT_EQ(Run("-o " + out_.string() + " --layers normal --force").exit_code, 0);
   EXPECT_FALSE(fs::exists(out_ / "depth"));
   EXPECT_TRUE(fs::exists(out_ / "normal/000003.npy"));
 }
@@ -361,8 +334,7 @@ TEST_F(ExportLayers, Png16RefusesIdsAbove65535NamingFrameAndPixel) {
   synth::Spec spec = synth::DefaultSpec();
   spec.boxes[0].instance_id = 70000;
   Write(spec);
-  const CommandResult run =
-      Run("-o " + out_.string() + " --to png16 --layers instanceid");
+  const CommandResult run = Run("-o " + out_.string() + " --to png16 --layers instanceid");
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("id 70000"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("pixel ("), std::string::npos) << run.output;

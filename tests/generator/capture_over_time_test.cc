@@ -19,9 +19,7 @@
 namespace lsds {
 namespace {
 
-Plan PlanText(const std::string& scene,
-              const std::string& capture,
-              uint64_t seed = 1) {
+Plan PlanText(const std::string& scene, const std::string& capture, uint64_t seed = 1) {
   const SourceFile s = ParseSource(scene, "s.lscene", false);
   const SourceFile c = ParseSource(capture, "c.lcap", false);
   return MakePlanFromSources(s, &c, seed, {});
@@ -39,8 +37,7 @@ TEST(CaptureOverTime, EnvironmentChangesApplyFromTheirFrame) {
   ASSERT_EQ(plan.frames.size(), 6u);
   for (const PlannedFrame& f : plan.frames) {
     const PlannedEnvironment e = EnvironmentAt(plan, f);
-    EXPECT_NEAR(
-        e.fog_density, f.index >= 2 ? 3.912 / 500 : 3.912 / 5000, 1e-12);
+    EXPECT_NEAR(e.fog_density, f.index >= 2 ? 3.912 / 500 : 3.912 / 5000, 1e-12);
     if (f.index >= 4) {
       EXPECT_GE(e.sun.azimuth_deg, 200);
       EXPECT_LE(e.sun.azimuth_deg, 300);
@@ -73,15 +70,15 @@ TEST(CaptureOverTime, TimingsReferToFramesCollectionsAndTable3Spellings) {
   // Table 3's words: `scene change`, `create path`, `increment point`; two
   // collections flown in order; changes after frame 1, during frame 4 and
   // after the first collection.
-  const Plan plan = PlanText(
-      scene,
-      "LCAP = ONE(P) ONE(Q) ONE(SCS1) ONE(CL1) ONE(CL2)\n"
-      "P = create path{waypoints:[[0,0,30],[1,0,30],[2,0,30]]}\n"
-      "Q = path{increment point:{start:[0,0,30],step:[1,1,0],count:[2,1,1]}}\n"
-      "SCS1 = scene change{O:{material:gold}}\n"
-      "CL1 = collection{CO:{move:[P]},O:{after:1,visible:false},{during:4,"
-      "material:rust}}\n"
-      "CL2 = collection{CO:{move:[Q]},SCS1:{after:CL1}}\n");
+  const Plan plan =
+      PlanText(scene,
+               "LCAP = ONE(P) ONE(Q) ONE(SCS1) ONE(CL1) ONE(CL2)\n"
+               "P = create path{waypoints:[[0,0,30],[1,0,30],[2,0,30]]}\n"
+               "Q = path{increment point:{start:[0,0,30],step:[1,1,0],count:[2,1,1]}}\n"
+               "SCS1 = scene change{O:{material:gold}}\n"
+               "CL1 = collection{CO:{move:[P]},O:{after:1,visible:false},{during:4,"
+               "material:rust}}\n"
+               "CL2 = collection{CO:{move:[Q]},SCS1:{after:CL1}}\n");
   ASSERT_EQ(plan.frames.size(), 5u);
   auto has = [&](int k, auto pred) {
     for (const ObjectChange& c : plan.frames[k].changes)
@@ -89,12 +86,8 @@ TEST(CaptureOverTime, TimingsReferToFramesCollectionsAndTable3Spellings) {
     return false;
   };
   auto hidden = [](const ObjectChange& c) { return c.visible.has_value(); };
-  auto gold = [](const ObjectChange& c) {
-    return c.material && *c.material == "gold";
-  };
-  auto rust = [](const ObjectChange& c) {
-    return c.material && *c.material == "rust";
-  };
+  auto gold = [](const ObjectChange& c) { return c.material && *c.material == "gold"; };
+  auto rust = [](const ObjectChange& c) { return c.material && *c.material == "rust"; };
   for (int k = 0; k < 5; ++k) {
     EXPECT_EQ(has(k, hidden), k >= 2) << k;  // after frame 1
     EXPECT_EQ(has(k, rust), k == 4) << k;    // during frame 4 only
@@ -106,17 +99,14 @@ TEST(CaptureOverTime, TimingsReferToFramesCollectionsAndTable3Spellings) {
 TEST(CaptureOverTime, ASmoothFlightAdvancesSpeedOverFpsPerFrame) {
   const std::string scene = "LSCENE = ONE(W)\nW = terrain{size:[300,300]}\n";
   // 10 m/s at 10 fps: 1 m per frame along a 30 m + 40 m dog-leg.
-  const Plan plan = PlanText(
-      scene,
-      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:10}}\n"
-      "P = "
-      "path{waypoints:{points:[[0,0,40],[30,0,40],[30,40,40]],speed:10}}\n");
+  const Plan plan = PlanText(scene,
+                             "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:10}}\n"
+                             "P = "
+                             "path{waypoints:{points:[[0,0,40],[30,0,40],[30,40,40]],speed:10}}\n");
   ASSERT_EQ(plan.frames.size(), 71u);
   for (size_t k = 1; k < plan.frames.size(); ++k) {
-    const Eigen::Vector3d a =
-        CameraCenterInWorld(plan.frames[k - 1].cam_from_world);
-    const Eigen::Vector3d b =
-        CameraCenterInWorld(plan.frames[k].cam_from_world);
+    const Eigen::Vector3d a = CameraCenterInWorld(plan.frames[k - 1].cam_from_world);
+    const Eigen::Vector3d b = CameraCenterInWorld(plan.frames[k].cam_from_world);
     // Along the path 1 m per frame; the corner cuts the chord below 1 m.
     EXPECT_LE((b - a).norm(), 1.0 + 1e-9);
     if (k != 30) {
@@ -127,25 +117,22 @@ TEST(CaptureOverTime, ASmoothFlightAdvancesSpeedOverFpsPerFrame) {
     EXPECT_NEAR(plan.frames[k].camera_velocity->norm(), 10.0, 1e-9);
     EXPECT_EQ(plan.frames[k].shot, 0);  // one continuous shot
   }
+  EXPECT_TRUE(plan.frames[10].camera_velocity->isApprox(Eigen::Vector3d(10, 0, 0)));
+  EXPECT_TRUE(plan.frames[50].camera_velocity->isApprox(Eigen::Vector3d(0, 10, 0)));
   EXPECT_TRUE(
-      plan.frames[10].camera_velocity->isApprox(Eigen::Vector3d(10, 0, 0)));
-  EXPECT_TRUE(
-      plan.frames[50].camera_velocity->isApprox(Eigen::Vector3d(0, 10, 0)));
-  EXPECT_TRUE(CameraCenterInWorld(plan.frames[70].cam_from_world)
-                  .isApprox(Eigen::Vector3d(30, 40, 40)));
+      CameraCenterInWorld(plan.frames[70].cam_from_world).isApprox(Eigen::Vector3d(30, 40, 40)));
   // A spline passes through its waypoints and is smooth: no corner.
-  const Plan smooth = PlanText(
-      scene,
-      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:10}}\n"
-      "P = path{waypoints:{points:[[0,0,40],[30,0,40],[30,40,40]],speed:10,"
-      "interpolation:spline}}\n");
+  const Plan smooth =
+      PlanText(scene,
+               "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:10}}\n"
+               "P = path{waypoints:{points:[[0,0,40],[30,0,40],[30,40,40]],speed:10,"
+               "interpolation:spline}}\n");
   double worst_turn = 0;
   for (size_t k = 1; k < smooth.frames.size(); ++k) {
     const Eigen::Vector3d a = *smooth.frames[k - 1].camera_velocity,
                           b = *smooth.frames[k].camera_velocity;
-    worst_turn = std::max(
-        worst_turn,
-        std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+    worst_turn =
+        std::max(worst_turn, std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
   }
   EXPECT_LT(worst_turn * 180 / M_PI, 15);  // the linear path turns 90 at once
 }
@@ -157,18 +144,17 @@ TEST(CaptureOverTime, ASmoothFlightPassesTheGateWithValidMotion) {
          "W = terrain{size:[120,120],height:{perlin:{amplitude:2}}}\n"
          "O = object{class:cube,extent:[2,2,2],position:{ON:W,within:[[-15,"
          "-15,-100],[15,15,100]]}}\n";
-  std::ofstream(dir / "c.lcap")
-      << "LCAP = ONE(CO) ONE(P)\n"
-         "CO = camera{csettings:{res:[160,120],fps:5},targets:[O]}\n"
-         "P = path{waypoints:{points:[[-20,-20,25],[0,0,30],[20,-10,25]],"
-         "speed:8,interpolation:spline}}\n";
+  std::ofstream(dir / "c.lcap") << "LCAP = ONE(CO) ONE(P)\n"
+                                   "CO = camera{csettings:{res:[160,120],fps:5},targets:[O]}\n"
+                                   "P = path{waypoints:{points:[[-20,-20,25],[0,0,30],[20,-10,25]],"
+                                   "speed:8,interpolation:spline}}\n";
   const std::string out = (dir / "out").string();
-  const auto generated = testing::RunCommandLine(
-      testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() + " " +
-      (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
+  const auto generated =
+      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
   ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated = testing::RunCommandLine(
-      testing::LsdsBinary() + " validate " + out + " --fail-on warning");
+  const auto validated =
+      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
   std::ifstream in(dir / "out" / "collection.json");
   const auto collection = nlohmann::json::parse(in);
@@ -186,14 +172,14 @@ const char* kSunScene =
 
 TEST(CaptureOverTime, TheSunFollowsTheClockOfEveryFrame) {
   // One frame an hour (fps 1/3600) from 08:00 local.
-  const Plan plan = PlanText(
-      kSunScene,
-      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:0.000277777777778}}\n"
-      "P = path{waypoints:[[0,0,60],[0,0,60],[0,0,60],[0,0,60],[0,0,60]]}\n");
+  const Plan plan =
+      PlanText(kSunScene,
+               "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{fps:0.000277777777778}}\n"
+               "P = path{waypoints:[[0,0,60],[0,0,60],[0,0,60],[0,0,60],[0,0,60]]}\n");
   ASSERT_TRUE(plan.geo.has_value());
   for (const PlannedFrame& f : plan.frames) {
-    const SolarPosition expected = SunPositionAt(
-        UnixSeconds(2026, 6, 21, 8, 0, 0, 2) + f.time, 47.3769, 8.5417);
+    const SolarPosition expected =
+        SunPositionAt(UnixSeconds(2026, 6, 21, 8, 0, 0, 2) + f.time, 47.3769, 8.5417);
     const PlannedEnvironment e = EnvironmentAt(plan, f);
     EXPECT_NEAR(e.sun.azimuth_deg, expected.azimuth_deg, 1e-9) << f.index;
     EXPECT_NEAR(e.sun.elevation_deg, expected.elevation_deg, 1e-9);
@@ -203,9 +189,8 @@ TEST(CaptureOverTime, TheSunFollowsTheClockOfEveryFrame) {
             EnvironmentAt(plan, plan.frames[0]).sun.azimuth_deg + 30);
   // A date without a place is a located error.
   try {
-    PlanText(
-        "LSCENE = ONE(DL)\nDL = light{date:\"2026-06-21\",time:\"8:00\"}\n",
-        "LCAP = ONE(P)\nP = path{waypoints:[[0,0,30]]}\n");
+    PlanText("LSCENE = ONE(DL)\nDL = light{date:\"2026-06-21\",time:\"8:00\"}\n",
+             "LCAP = ONE(P)\nP = path{waypoints:[[0,0,30]]}\n");
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(e.message().find("georeference"), std::string::npos);
@@ -218,15 +203,13 @@ Eigen::Vector2d ShadowDirection(const std::filesystem::path& root, int frame) {
   char stem[16];
   std::snprintf(stem, sizeof(stem), "%06d.exr", frame);
   const exr::FlatImage shadow = exr::ReadFlatExr(root / "shadow" / stem, {"Y"});
-  const exr::FlatImage position =
-      exr::ReadFlatExr(root / "worldposition" / stem, {"X", "Y", "Z"});
+  const exr::FlatImage position = exr::ReadFlatExr(root / "worldposition" / stem, {"X", "Y", "Z"});
   Eigen::Vector2d sum(0, 0);
   int n = 0;
   for (size_t p = 0; p < shadow.Get("Y").floats.size(); ++p) {
     const float z = position.Get("Z").floats[p];
     if (shadow.Get("Y").floats[p] > 0.5f || !(std::abs(z) < 0.01)) continue;
-    sum += Eigen::Vector2d(position.Get("X").floats[p],
-                           position.Get("Y").floats[p]);
+    sum += Eigen::Vector2d(position.Get("X").floats[p], position.Get("Y").floats[p]);
     ++n;
   }
   EXPECT_GT(n, 20) << "frame " << frame;
@@ -260,8 +243,7 @@ TEST(CaptureOverTime, ShadowsTurnWithTheSunOverAnOrbit) {
     const Eigen::Vector2d away_from_sun(-sun["direction"][0].get<double>(),
                                         -sun["direction"][1].get<double>());
     const Eigen::Vector2d shadow = ShadowDirection(dir / "out", k);
-    const double angle = std::acos(
-        std::clamp(shadow.dot(away_from_sun.normalized()), -1.0, 1.0));
+    const double angle = std::acos(std::clamp(shadow.dot(away_from_sun.normalized()), -1.0, 1.0));
     EXPECT_LT(angle * 180 / M_PI, 10) << "frame " << k;
     const double heading = std::atan2(shadow.y(), shadow.x());
     if (k > 0) {

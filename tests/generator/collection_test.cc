@@ -41,8 +41,7 @@ Plan MovingPlan(int frames = 4) {
 }
 
 fs::path TempRoot(const std::string& name) {
-  const fs::path root =
-      fs::temp_directory_path() / ("lsds_generate_test_" + name);
+  const fs::path root = fs::temp_directory_path() / ("lsds_generate_test_" + name);
   fs::remove_all(root);
   return root;
 }
@@ -57,15 +56,13 @@ GenerateOptions Options(const fs::path& root) {
 
 std::map<int64_t, Frame> FramesByIndex(const fs::path& root) {
   std::map<int64_t, Frame> frames;
-  CollectionReader(root).ForEachFrame(
-      [&](const Frame& f) { frames[f.index] = f; });
+  CollectionReader(root).ForEachFrame([&](const Frame& f) { frames[f.index] = f; });
   return frames;
 }
 
 TEST(GenerateCollection, WritesACompleteCollectionThatReadsBack) {
   const fs::path root = TempRoot("complete");
-  const GenerateSummary summary =
-      GenerateCollection(MovingPlan(), Options(root));
+  const GenerateSummary summary = GenerateCollection(MovingPlan(), Options(root));
   EXPECT_EQ(summary.frames_rendered, 4);
   EXPECT_GT(summary.rays, 0u);
   const CollectionReader reader(root);
@@ -82,14 +79,13 @@ TEST(GenerateCollection, WritesACompleteCollectionThatReadsBack) {
       // Every layer carries the frame's camera in its header.
       const exr::ExrInfo info = exr::ReadExrInfo(root / file);
       ASSERT_TRUE(info.camera) << file;
-      EXPECT_TRUE(info.camera->cam_from_world.isApprox(
-          HeaderCameraOf(frame.camera).cam_from_world, 1e-6))
+      EXPECT_TRUE(
+          info.camera->cam_from_world.isApprox(HeaderCameraOf(frame.camera).cam_from_world, 1e-6))
           << file;
     }
     ASSERT_EQ(frame.objects.size(), 2u);
     // The truth agrees with the instance layer on disk.
-    const exr::FlatImage ids =
-        exr::ReadFlatExr(reader.LayerPath(frame, "instanceid"));
+    const exr::FlatImage ids = exr::ReadFlatExr(reader.LayerPath(frame, "instanceid"));
     for (const ObjectTruth& o : frame.objects) {
       int64_t count = 0;
       for (uint32_t id : ids.Get("id").uints) count += id == o.instance_id;
@@ -134,9 +130,7 @@ TEST(GenerateCollection, RejectsBadOptionsAndPlansBeforeWriting) {
 }
 
 // Every file of `a` equals the file of the same name in `b`, byte for byte.
-void ExpectSameFrameFiles(const fs::path& a,
-                          const fs::path& b,
-                          const Frame& frame) {
+void ExpectSameFrameFiles(const fs::path& a, const fs::path& b, const Frame& frame) {
   for (const auto& [layer, file] : frame.files) {
     EXPECT_EQ(ReadFile(a / file), ReadFile(b / file)) << file;
   }
@@ -150,8 +144,7 @@ TEST(GenerateCollection, SameSeedGivesByteIdenticalOutput) {
   GenerateCollection(MovingPlan(), one_thread);
   EXPECT_EQ(ReadFile(a / kCollectionFile), ReadFile(b / kCollectionFile));
   EXPECT_EQ(ReadFile(a / kMetadataFile), ReadFile(b / kMetadataFile));
-  for (const auto& [index, frame] : FramesByIndex(a))
-    ExpectSameFrameFiles(a, b, frame);
+  for (const auto& [index, frame] : FramesByIndex(a)) ExpectSameFrameFiles(a, b, frame);
 }
 
 TEST(GenerateCollection, ShardsAndFrameRangesEqualTheSingleRun) {
@@ -182,8 +175,7 @@ TEST(GenerateCollection, ShardsAndFrameRangesEqualTheSingleRun) {
   ASSERT_EQ(part.size(), 2u);
   for (const auto& [index, frame] : part) {
     EXPECT_EQ(FrameToJson(frame).dump(), FrameToJson(all.at(index)).dump());
-    ExpectSameFrameFiles(
-        range, single, frame);  // motion of frame 2 still comes from frame 1
+    ExpectSameFrameFiles(range, single, frame);  // motion of frame 2 still comes from frame 1
   }
 }
 
@@ -197,8 +189,7 @@ TEST(GenerateCollection, ResumeRendersOnlyMissingFrames) {
   const GenerateSummary summary = GenerateCollection(MovingPlan(), resume);
   EXPECT_EQ(summary.frames_rendered, 1);
   EXPECT_EQ(summary.frames_skipped, 3);
-  EXPECT_EQ(ReadFile(root / kCollectionFile),
-            ReadFile(reference / kCollectionFile));
+  EXPECT_EQ(ReadFile(root / kCollectionFile), ReadFile(reference / kCollectionFile));
   for (const auto& [index, frame] : FramesByIndex(root))
     ExpectSameFrameFiles(root, reference, frame);
   // Other settings are refused rather than mixed into the collection.
@@ -216,37 +207,28 @@ TEST(GenerateCommand, DemoCollectionPassesInfoAndRefusesOverwrite) {
   const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
   const fs::path root = TempRoot("cli");
   const std::string generate =
-      lsds +
-      " generate --demo --demo-frames 2 --demo-size 48x32 --spp 1 -q -o " +
-      root.string();
+      lsds + " generate --demo --demo-frames 2 --demo-size 48x32 --spp 1 -q -o " + root.string();
   ASSERT_EQ(Shell(generate), 0);
   EXPECT_EQ(Shell(generate), 2);  // exists, no --force
   EXPECT_EQ(Shell(generate + " --force"), 0);
   EXPECT_EQ(Shell(lsds + " info " + root.string()), 0);
-  EXPECT_EQ(
-      Shell(lsds + " generate --demo --spp 3 -q --force -o " + root.string()),
-      2);
+  EXPECT_EQ(Shell(lsds + " generate --demo --spp 3 -q --force -o " + root.string()), 2);
   EXPECT_EQ(Shell(lsds + " generate -q -o " + root.string()), 2);  // no scene
   if (Shell("command -v exrheader") == 0) {
-    EXPECT_EQ(Shell("exrheader " + (root / "bundle" / "000001.exr").string()),
-              0);
+    EXPECT_EQ(Shell("exrheader " + (root / "bundle" / "000001.exr").string()), 0);
     EXPECT_EQ(Shell("exrheader " + (root / "rgb" / "000000.exr").string()), 0);
   }
 }
 
 TEST(GenerateCommand, PlanJsonRendersLikeThePlanInMemory) {
   const fs::path reference = TempRoot("plan_ref"), root = TempRoot("plan_cli");
-  const fs::path plan_file =
-      fs::temp_directory_path() / "lsds_generate_test_plan.json";
+  const fs::path plan_file = fs::temp_directory_path() / "lsds_generate_test_plan.json";
   const Plan plan = MovingPlan(3);
   WriteFileAtomic(plan_file, PlanToJson(plan).dump(2));
   GenerateCollection(plan, Options(reference));
   const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
-  ASSERT_EQ(Shell(lsds + " generate -q --plan " + plan_file.string() + " -o " +
-                  root.string()),
-            0);
-  EXPECT_EQ(ReadFile(root / kCollectionFile),
-            ReadFile(reference / kCollectionFile));
+  ASSERT_EQ(Shell(lsds + " generate -q --plan " + plan_file.string() + " -o " + root.string()), 0);
+  EXPECT_EQ(ReadFile(root / kCollectionFile), ReadFile(reference / kCollectionFile));
   for (const auto& [index, frame] : FramesByIndex(root))
     ExpectSameFrameFiles(root, reference, frame);
 }
@@ -254,17 +236,13 @@ TEST(GenerateCommand, PlanJsonRendersLikeThePlanInMemory) {
 TEST(GenerateCommand, RendersAnLsceneExample) {
   const fs::path root = TempRoot("lscene");
   const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
-  const std::string scene =
-      LSDS_SOURCE_DIR "/examples/rocky_sand_clutter.lscene";
-  ASSERT_EQ(Shell(lsds + " generate -q --spp 1 --seed 3 " + scene + " -o " +
-                  root.string()),
-            0);
+  const std::string scene = LSDS_SOURCE_DIR "/examples/rocky_sand_clutter.lscene";
+  ASSERT_EQ(Shell(lsds + " generate -q --spp 1 --seed 3 " + scene + " -o " + root.string()), 0);
   const std::map<int64_t, Frame> frames = FramesByIndex(root);
   ASSERT_EQ(frames.size(), 1u);
   EXPECT_FALSE(frames.begin()->second.objects.empty());
-  EXPECT_EQ(
-      Shell(lsds + " generate -q --force " + scene + "x -o " + root.string()),
-      2);  // unreadable
+  EXPECT_EQ(Shell(lsds + " generate -q --force " + scene + "x -o " + root.string()),
+            2);  // unreadable
 }
 
 }  // namespace

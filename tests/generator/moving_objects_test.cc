@@ -43,8 +43,7 @@ const char* kCarScene =
 // the car drives east at 5 m/s from x = -4 to x = 4.
 std::string CarCapture(int frames, const std::string& extra = "") {
   std::string waypoints;
-  for (int k = 0; k < frames; ++k)
-    waypoints += std::string(k ? "," : "") + "[0,0,30]";
+  for (int k = 0; k < frames; ++k) waypoints += std::string(k ? "," : "") + "[0,0,30]";
   return "LCAP = ONE(CO) ONE(P) ONE(DRIVE) ONE(CL)\n"
          "CO = camera{csettings:{fov:60,res:[120,90],fps:10},targets:[CAR]}\n"
          "P = path{waypoints:[" +
@@ -67,8 +66,7 @@ TEST(MovingObjects, PoseAndVelocityFollowThePathAtItsSpeed) {
     EXPECT_NEAR(car.position.x(), x, 1e-9) << f.index;
     EXPECT_NEAR(car.position.y(), 0, 1e-9);
     EXPECT_NEAR(car.position.z(), 0.5, 1e-9);  // its base on the ground
-    const Eigen::Vector3d v = t < 1.6 ? Eigen::Vector3d(5, 0, 0)
-                                      : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d v = t < 1.6 ? Eigen::Vector3d(5, 0, 0) : Eigen::Vector3d::Zero();
     EXPECT_TRUE(car.velocity.isApprox(v) || (v.isZero() && car.velocity.isZero()))
         << f.index << ": " << car.velocity.transpose();
     EXPECT_EQ(f.shot, 0);
@@ -113,8 +111,7 @@ TEST(MovingObjects, HeadingLapsLegsAndHillsFollowThePath) {
       const double s = std::fmod(t, 20.0) * 2;  // metres into the lap
       const int side = static_cast<int>(s / 10);
       const double u = s - 10 * side;
-      const Eigen::Vector2d corners[5] = {{0, 0}, {10, 0}, {10, 10}, {0, 10},
-                                          {0, 0}};
+      const Eigen::Vector2d corners[5] = {{0, 0}, {10, 0}, {10, 10}, {0, 10}, {0, 0}};
       direction = (corners[side + 1] - corners[side]) / 10;
       expected = corners[side] + u * direction;
       EXPECT_NEAR(walker.velocity.head<2>().norm(), 2, 1e-9) << f.index;
@@ -130,32 +127,25 @@ TEST(MovingObjects, HeadingLapsLegsAndHillsFollowThePath) {
     EXPECT_NEAR(walker.position.x(), expected.x(), 1e-9) << f.index;
     EXPECT_NEAR(walker.position.y(), expected.y(), 1e-9) << f.index;
     // Standing on the hills, base on the ground.
-    const double half_z =
-        (walker.world_from_object.cwiseAbs() * (0.5 * walker.extent)).z();
+    const double half_z = (walker.world_from_object.cwiseAbs() * (0.5 * walker.extent)).z();
     EXPECT_NEAR(walker.position.z() - half_z,
                 TerrainHeight(plan.terrain, expected.x(), expected.y()),
                 1e-9);
     // Its x axis points where it goes (at a corner either way).
     const Eigen::Vector3d forward = walker.world_from_object.col(0);
-    const bool corner =
-        t < 40 && std::abs(std::remainder(std::fmod(t, 20.0) * 2, 10.0)) <
-                      1e-9;
-    if (!corner)
-      EXPECT_NEAR(forward.head<2>().dot(direction), 1, 1e-9) << f.index;
+    const bool corner = t < 40 && std::abs(std::remainder(std::fmod(t, 20.0) * 2, 10.0)) < 1e-9;
+    if (!corner) EXPECT_NEAR(forward.head<2>().dot(direction), 1, 1e-9) << f.index;
   }
   // Before its timing the walker is where the scene put it.
-  EXPECT_EQ(gen::WorldAt(plan, plan.frames[3]).objects[0].position,
-            plan.objects[0].position);
+  EXPECT_EQ(gen::WorldAt(plan, plan.frames[3]).objects[0].position, plan.objects[0].position);
   // The vertical velocity is the slope along the motion: the numeric
   // derivative of the seated height.
   const PlannedFrame& f = plan.frames[10];
   const gen::ObjectState a = gen::WorldAt(plan, f).objects[0];
   const Eigen::Vector3d p = a.position, v = a.velocity;
   const double h = 1e-4;
-  const double dz = (TerrainHeight(plan.terrain, p.x() + h * v.x(),
-                                   p.y() + h * v.y()) -
-                     TerrainHeight(plan.terrain, p.x() - h * v.x(),
-                                   p.y() - h * v.y())) /
+  const double dz = (TerrainHeight(plan.terrain, p.x() + h * v.x(), p.y() + h * v.y()) -
+                     TerrainHeight(plan.terrain, p.x() - h * v.x(), p.y() - h * v.y())) /
                     (2 * h);
   EXPECT_NEAR(v.z(), dz, 1e-5);
 }
@@ -163,15 +153,12 @@ TEST(MovingObjects, HeadingLapsLegsAndHillsFollowThePath) {
 TEST(MovingObjects, MisuseIsALocatedError) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"CL = collection{CO:{move:[P]},CAR:{move:[NOPE]}}\n", "not a path"},
-      {"CL = collection{CO:{move:[P]},CAR:{move:[P]}}\n",
-       "an object moves along a smooth flight"},
+      {"CL = collection{CO:{move:[P]},CAR:{move:[P]}}\n", "an object moves along a smooth flight"},
       {"CL = collection{CO:{move:[P]},CAR:{heading:true}}\n", "add move"},
-      {"CL = collection{CO:{move:[P]},CAR:{move:[DRIVE],rescatter:true}}\n",
-       "either moves"},
+      {"CL = collection{CO:{move:[P]},CAR:{move:[DRIVE],rescatter:true}}\n", "either moves"},
       {"CL = collection{CO:{move:[P]},CAR:{move:[DRIVE],offset:[1,0,0]}}\n",
        "position comes from its path"},
-      {"CL = collection{CO:{move:[P]},CAR:{after:1,class:barel}}\n",
-       "did you mean 'barrel'"},
+      {"CL = collection{CO:{move:[P]},CAR:{after:1,class:barel}}\n", "did you mean 'barrel'"},
   };
   for (const auto& [collection, message] : cases) {
     try {
@@ -194,12 +181,12 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
   std::ofstream(dir / "s.lscene") << kCarScene;
   std::ofstream(dir / "c.lcap") << CarCapture(4);
   const std::string out = (dir / "out").string();
-  const auto generated = testing::RunCommandLine(
-      testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() + " " +
-      (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
+  const auto generated =
+      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
   ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated = testing::RunCommandLine(
-      testing::LsdsBinary() + " validate " + out + " --fail-on warning");
+  const auto validated =
+      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
   std::ifstream in(dir / "out" / "collection.json");
   const auto collection = nlohmann::json::parse(in);
@@ -207,8 +194,7 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
   ASSERT_EQ(frames.size(), 4u);
   const double fx = frames[0]["camera"]["fx"], cx = frames[0]["camera"]["cx"],
                cy = frames[0]["camera"]["cy"];
-  const int width = frames[0]["camera"]["width"],
-            height = frames[0]["camera"]["height"];
+  const int width = frames[0]["camera"]["width"], height = frames[0]["camera"]["height"];
   // 0.5 m per frame at 29 m.
   const double shift_px = fx * 0.5 / 29.0;
   for (int k = 0; k < 4; ++k) {
@@ -220,30 +206,24 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
     const auto& before = frames[k - 1]["objects"][0];
     // The projected box's left edge is the top face's (29 m away), its right
     // edge the bottom face's (30 m away; the car is left of the centre).
-    EXPECT_NEAR(car["bbox_projected"][0].get<double>() -
-                    before["bbox_projected"][0].get<double>(),
+    EXPECT_NEAR(car["bbox_projected"][0].get<double>() - before["bbox_projected"][0].get<double>(),
                 shift_px,
                 1e-6);
-    EXPECT_NEAR(car["bbox_projected"][2].get<double>() -
-                    before["bbox_projected"][2].get<double>(),
+    EXPECT_NEAR(car["bbox_projected"][2].get<double>() - before["bbox_projected"][2].get<double>(),
                 fx * 0.5 / 30.0,
                 1e-6);
     for (int c : {1, 3})
-      EXPECT_NEAR(car["bbox_projected"][c].get<double>(),
-                  before["bbox_projected"][c].get<double>(),
-                  1e-9);
+      EXPECT_NEAR(
+          car["bbox_projected"][c].get<double>(), before["bbox_projected"][c].get<double>(), 1e-9);
     // The tight box moves by the same amount, to within a pixel.
-    EXPECT_NEAR(car["bbox"][0].get<double>() - before["bbox"][0].get<double>(),
-                shift_px,
-                1.0);
+    EXPECT_NEAR(car["bbox"][0].get<double>() - before["bbox"][0].get<double>(), shift_px, 1.0);
     // At the pixel under the top face's centre, the motion vector is the
     // projection difference: (shift, 0) pixels.
     char stem[16];
     std::snprintf(stem, sizeof(stem), "%06d.exr", k);
-    const exr::FlatImage motion =
-        exr::ReadFlatExr(dir / "out" / "motion" / stem, {"X", "Y"});
-    const int px = static_cast<int>(
-        std::floor(cx + fx * car["obb"]["center"][0].get<double>() / 29.0));
+    const exr::FlatImage motion = exr::ReadFlatExr(dir / "out" / "motion" / stem, {"X", "Y"});
+    const int px =
+        static_cast<int>(std::floor(cx + fx * car["obb"]["center"][0].get<double>() / 29.0));
     const int py = static_cast<int>(std::floor(cy));
     const size_t p = static_cast<size_t>(py) * width + px;
     EXPECT_NEAR(motion.Get("X").floats[p], 0.5 + 0.5 * shift_px / width, 1e-5);
@@ -260,18 +240,17 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
 // disagree).
 TEST(MovingObjects, ALargeMovingObjectPassesTheMotionCrossCheck) {
   testing::TempDir dir;
-  std::ofstream(dir / "s.lscene")
-      << "LSCENE = ONE(W) ONE(CAR)\n"
-         "W = terrain{size:[100,100]}\n"
-         "CAR = object{class:cube,extent:[12,12,1],position:{ON:W}}\n";
+  std::ofstream(dir / "s.lscene") << "LSCENE = ONE(W) ONE(CAR)\n"
+                                     "W = terrain{size:[100,100]}\n"
+                                     "CAR = object{class:cube,extent:[12,12,1],position:{ON:W}}\n";
   std::ofstream(dir / "c.lcap") << CarCapture(3);
   const std::string out = (dir / "out").string();
-  const auto generated = testing::RunCommandLine(
-      testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() + " " +
-      (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
+  const auto generated =
+      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
   ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated = testing::RunCommandLine(
-      testing::LsdsBinary() + " validate " + out + " --fail-on warning");
+  const auto validated =
+      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
   std::ifstream in(dir / "out" / "collection.json");
   const auto collection = nlohmann::json::parse(in);
@@ -310,12 +289,12 @@ TEST(ClassSwaps, AnObjectTakesAnotherClassFromAFrameOn) {
   std::ofstream(dir / "s.lscene") << scene;
   std::ofstream(dir / "c.lcap") << capture;
   const std::string out = (dir / "out").string();
-  const auto generated = testing::RunCommandLine(
-      testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() + " " +
-      (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
+  const auto generated =
+      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
   ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated = testing::RunCommandLine(
-      testing::LsdsBinary() + " validate " + out + " --fail-on warning");
+  const auto validated =
+      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
   std::ifstream in(dir / "out" / "collection.json");
   const auto collection = nlohmann::json::parse(in);
@@ -323,12 +302,10 @@ TEST(ClassSwaps, AnObjectTakesAnotherClassFromAFrameOn) {
     for (const auto& object : collection["frames"][k]["objects"]) {
       if (object["name"] != "O#1") continue;
       EXPECT_EQ(object["asset"], k >= 2 ? "tire" : "barrel");
-      EXPECT_EQ(object["class_id"].get<uint32_t>(),
-                k >= 2 ? ids["debris"] : ids["barrel"]);
+      EXPECT_EQ(object["class_id"].get<uint32_t>(), k >= 2 ? ids["debris"] : ids["barrel"]);
       char stem[16];
       std::snprintf(stem, sizeof(stem), "%06d.exr", k);
-      const exr::FlatImage classes =
-          exr::ReadFlatExr(dir / "out" / "classid" / stem, {"id"});
+      const exr::FlatImage classes = exr::ReadFlatExr(dir / "out" / "classid" / stem, {"id"});
       int64_t pixels = 0;
       for (uint32_t id : classes.Get("id").uints)
         pixels += id == object["class_id"].get<uint32_t>();
@@ -366,15 +343,14 @@ TEST(Rescatter, EveryFrameDrawsNewPlacesThatKeepTheConstraints) {
       EXPECT_LE(o.position.x() + 1, 10 + 1e-9);
       EXPECT_GE(o.position.y() - 1, -10 - 1e-9);
       EXPECT_LE(o.position.y() + 1, 10 + 1e-9);
-      EXPECT_NEAR(o.position.z() - 1,
-                  TerrainHeight(plan.terrain, o.position.x(), o.position.y()),
-                  1e-9);
+      EXPECT_NEAR(
+          o.position.z() - 1, TerrainHeight(plan.terrain, o.position.x(), o.position.y()), 1e-9);
       // overlap:false (the default) still holds, against everything
       for (size_t j = 0; j < world.objects.size(); ++j)
         if (j != i && world.objects[j].visible && o.visible)
           EXPECT_FALSE(o.Box().Intersects(world.objects[j].Box()))
-              << o.planned->name << " and " << world.objects[j].planned->name
-              << " frame " << f.index;
+              << o.planned->name << " and " << world.objects[j].planned->name << " frame "
+              << f.index;
     }
   }
   EXPECT_EQ(xs.size(), 6u * 6u) << "every copy moves on every frame";
@@ -382,8 +358,7 @@ TEST(Rescatter, EveryFrameDrawsNewPlacesThatKeepTheConstraints) {
   for (int64_t b = 0; b < 6; ++b) {
     const Plan part = PlanText(kClutter, kRescatter, 5, FrameRange{b, b + 1});
     ASSERT_EQ(part.frames.size(), 1u);
-    EXPECT_EQ(PlannedFrameToJson(part.frames[0]),
-              PlannedFrameToJson(plan.frames[b]));
+    EXPECT_EQ(PlannedFrameToJson(part.frames[0]), PlannedFrameToJson(plan.frames[b]));
   }
   // Another seed, other places.
   EXPECT_NE(PlannedFrameToJson(PlanText(kClutter, kRescatter, 6).frames[2]),
@@ -408,8 +383,7 @@ TEST(Rescatter, TheOverlapPolicyHoldsWhenTheSpaceIsFull) {
       }
       for (size_t j = i + 1; j < world.objects.size(); ++j)
         if (world.objects[j].visible)
-          EXPECT_FALSE(
-              world.objects[i].Box().Intersects(world.objects[j].Box()));
+          EXPECT_FALSE(world.objects[i].Box().Intersects(world.objects[j].Box()));
     }
   }
   EXPECT_GT(hidden, 0);
@@ -445,24 +419,21 @@ TEST(ObjectsOverTime, FrameRangesAndShardsEqualTheSingleRun) {
          "interpolation:spline}}\n"
          "CL = collection{CO:{move:[P]},CAR:{move:[DRIVE],heading:true},"
          "O:{during:P,rescatter:true},{after:1,class:{tire:0.5,cone:0.5}}}\n";
-  const std::string inputs =
-      (dir / "s.lscene").string() + " " + (dir / "c.lcap").string();
+  const std::string inputs = (dir / "s.lscene").string() + " " + (dir / "c.lcap").string();
   auto generate = [&](const std::string& name, const std::string& flags) {
-    const auto result = testing::RunCommandLine(
-        testing::LsdsBinary() + " generate " + inputs + " -o " +
-        (dir / name).string() + " --spp 1 -q " + flags);
+    const auto result =
+        testing::RunCommandLine(testing::LsdsBinary() + " generate " + inputs + " -o " +
+                                (dir / name).string() + " --spp 1 -q " + flags);
     EXPECT_EQ(result.exit_code, 0) << result.output;
     std::ifstream in(dir / name / "collection.json");
     return nlohmann::json::parse(in);
   };
   const nlohmann::json single = generate("single", "");
   ASSERT_EQ(single["frames"].size(), 5u);
-  const auto validated = testing::RunCommandLine(
-      testing::LsdsBinary() + " validate " + (dir / "single").string() +
-      " --fail-on warning");
+  const auto validated = testing::RunCommandLine(testing::LsdsBinary() + " validate " +
+                                                 (dir / "single").string() + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
-  for (const auto& [name, flags] :
-       std::vector<std::pair<std::string, std::string>>{
+  for (const auto& [name, flags] : std::vector<std::pair<std::string, std::string>>{
            {"range", "--frames 2:4"}, {"shard", "--shard 1/2"}}) {
     const nlohmann::json part = generate(name, flags);
     ASSERT_FALSE(part["frames"].empty()) << name;

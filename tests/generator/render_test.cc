@@ -47,14 +47,11 @@ Rendered Render(const Plan& plan,
   }
   Rendered r{RenderFrame(scene, sky, plan.frames[k], previous, settings), {}};
   uint64_t rays = 0;
-  r.truth = ComputeObjectTruth(
-      scene, plan.frames[k], r.film, plan.fog_density, &rays);
+  r.truth = ComputeObjectTruth(scene, plan.frames[k], r.film, plan.fog_density, &rays);
   return r;
 }
 
-const std::vector<float>& F(const Film& film,
-                            const char* layer,
-                            const char* channel) {
+const std::vector<float>& F(const Film& film, const char* layer, const char* channel) {
   return film.flat.at(layer).Get(channel).floats;
 }
 const std::vector<uint32_t>& U(const Film& film, const char* layer) {
@@ -80,8 +77,7 @@ TEST(Render, NadirOverFlatGroundHasDepthAltitudeNormalUpAndZeroHeight) {
       // The first frame of a shot has no valid motion: NaN, never 0.5.
       ASSERT_TRUE(std::isnan(F(film, "motion", "X")[i]));
       ASSERT_TRUE(std::isnan(F(film, "motion", "Y")[i]));
-      for (const char* c : {"R", "G", "B"})
-        ASSERT_GT(F(film, "rgb", c)[i], 0.f);
+      for (const char* c : {"R", "G", "B"}) ASSERT_GT(F(film, "rgb", c)[i], 0.f);
     }
     // Every bundle sample sees the same plane.
     for (float z : film.bundle.Get("Z").floats) ASSERT_NEAR(z, h, 1e-5 * h);
@@ -97,8 +93,7 @@ TEST(Render, WorldPositionIsTheGroundPointUnderThePixelCentre) {
   for (int y = 0; y < 24; y += 5) {
     for (int x = 0; x < 32; x += 5) {
       const size_t i = static_cast<size_t>(y) * 32 + x;
-      const Eigen::Vector3d ray =
-          camera.RayThroughPixelCenter(x, y);  // nadir: x -> +x, y -> -y
+      const Eigen::Vector3d ray = camera.RayThroughPixelCenter(x, y);  // nadir: x -> +x, y -> -y
       EXPECT_NEAR(F(film, "worldposition", "X")[i], ray.x() * h, 1e-4);
       EXPECT_NEAR(F(film, "worldposition", "Y")[i], -ray.y() * h, 1e-4);
     }
@@ -117,9 +112,7 @@ TEST(Render, PerspectiveDepthIsPlanarOverCosine) {
       const size_t i = static_cast<size_t>(y) * camera.width + x;
       const Eigen::Vector3d ray = camera.RayThroughPixelCenter(x, y);
       const double cos_angle = 1.0 / ray.norm();
-      ASSERT_NEAR(perspective.flat.at("depth").Get("Z").floats[i],
-                  h / cos_angle,
-                  1e-5 * h);
+      ASSERT_NEAR(perspective.flat.at("depth").Get("Z").floats[i], h / cos_angle, 1e-5 * h);
       ASSERT_NEAR(planar.flat.at("depth").Get("Z").floats[i], h, 1e-5 * h);
     }
   }
@@ -128,8 +121,7 @@ TEST(Render, PerspectiveDepthIsPlanarOverCosine) {
 TEST(Render, SkyHasInfiniteDepthAndBackgroundIds) {
   Plan plan = FlatPlan();
   plan.terrain.present = false;
-  plan.frames[0].cam_from_world =
-      LookAt({0, 0, 10}, {0, 100, 20});  // looking up at the sky
+  plan.frames[0].cam_from_world = LookAt({0, 0, 10}, {0, 100, 20});  // looking up at the sky
   const Film film = Render(plan, 0).film;
   for (size_t i = 0; i < film.centre_sample.size(); ++i) {
     ASSERT_TRUE(std::isinf(F(film, "depth", "Z")[i]));
@@ -173,10 +165,8 @@ TEST(Render, OccludedBoxHasVisibilityBelowOneAndTruncatedBoxInFrameBelowOne) {
   const double h = 30;
   Plan plan = FlatPlan(96, 96, 50);
   plan.objects.push_back(Box("low", 1, {0, 0, 0.5}, {4, 4, 1}));
-  plan.objects.push_back(
-      Box("high", 2, {1.5, 0, 6}, {3, 6, 0.5}));  // a slab above half of it
-  plan.objects.push_back(
-      Box("edge", 3, {14, 0, 1}, {4, 4, 2}));  // beyond the image's right edge
+  plan.objects.push_back(Box("high", 2, {1.5, 0, 6}, {3, 6, 0.5}));  // a slab above half of it
+  plan.objects.push_back(Box("edge", 3, {14, 0, 1}, {4, 4, 2}));  // beyond the image's right edge
   plan.frames[0].cam_from_world = Nadir({0, 0, h});
   const Rendered r = Render(plan, 0);
   ASSERT_EQ(r.truth.size(), 3u);
@@ -197,12 +187,11 @@ TEST(Render, ShadowIsOneInTheSunAndBelowOneBehindABox) {
   plan.frames[0].cam_from_world = Nadir({0, 0, h});
   const Film film = Render(plan, 0).film;
   const PinholeCamera& camera = plan.frames[0].camera;
-  auto pixel_of =
-      [&](double x, double y) {  // nadir: u = cx + fx x / h, v = cy - fy y / h
-        const int u = static_cast<int>(camera.cx + camera.fx * x / h);
-        const int v = static_cast<int>(camera.cy - camera.fy * y / h);
-        return static_cast<size_t>(v) * camera.width + u;
-      };
+  auto pixel_of = [&](double x, double y) {  // nadir: u = cx + fx x / h, v = cy - fy y / h
+    const int u = static_cast<int>(camera.cx + camera.fx * x / h);
+    const int v = static_cast<int>(camera.cy - camera.fy * y / h);
+    return static_cast<size_t>(v) * camera.width + u;
+  };
   EXPECT_LT(F(film, "shadow", "Y")[pixel_of(-1.8, 0)],
             0.5);  // in the shadow, on the ground
   EXPECT_EQ(U(film, "instanceid")[pixel_of(-1.8, 0)], 1000u);
@@ -211,8 +200,7 @@ TEST(Render, ShadowIsOneInTheSunAndBelowOneBehindABox) {
   EXPECT_EQ(F(film, "shadow", "Y")[pixel_of(-1.8, 4)],
             1.f);  // beside the shadow
   // The shadowed ground is darker than the lit ground.
-  EXPECT_LT(F(film, "rgb", "G")[pixel_of(-1.8, 0)],
-            F(film, "rgb", "G")[pixel_of(2.5, 0)]);
+  EXPECT_LT(F(film, "rgb", "G")[pixel_of(-1.8, 0)], F(film, "rgb", "G")[pixel_of(2.5, 0)]);
 }
 
 TEST(Render, MotionIsStillForAStillCameraAndMatchesATranslation) {
@@ -317,8 +305,7 @@ TEST(Render, TransmittanceIsTheFogsExtinctionOverTheDistance) {
   const Rendered r = Render(plan, 0);
   ASSERT_EQ(r.truth.size(), 1u);
   ASSERT_TRUE(r.truth[0].transmittance.has_value());
-  const double distance =
-      (Eigen::Vector3d(1, 2, 1) - Eigen::Vector3d(0, 0, 30)).norm();
+  const double distance = (Eigen::Vector3d(1, 2, 1) - Eigen::Vector3d(0, 0, 30)).norm();
   EXPECT_NEAR(*r.truth[0].transmittance, std::exp(-0.015 * distance), 1e-12);
 }
 
@@ -335,12 +322,9 @@ TEST(Render, MovingObjectHasItsOwnMotion) {
   plan.frames[1].changes.push_back(change);
   const Film film = Render(plan, 1).film;
   const PinholeCamera& camera = plan.frames[0].camera;
-  const size_t on_top =
-      static_cast<size_t>(32) * 64 + 34;  // on the box's top face, now at x = 1
+  const size_t on_top = static_cast<size_t>(32) * 64 + 34;  // on the box's top face, now at x = 1
   ASSERT_EQ(U(film, "instanceid")[on_top], 1u);
-  EXPECT_NEAR(F(film, "motion", "X")[on_top],
-              0.5 + 0.5 * camera.fx * 1.0 / (h - 2) / 64,
-              1e-5);
+  EXPECT_NEAR(F(film, "motion", "X")[on_top], 0.5 + 0.5 * camera.fx * 1.0 / (h - 2) / 64, 1e-5);
   EXPECT_FLOAT_EQ(F(film, "motion", "X")[0], 0.5f);  // the ground does not move
 }
 
@@ -407,10 +391,7 @@ TEST(Render, SameSeedGivesIdenticalFilmsAndThreadsDoNotMatter) {
       ASSERT_EQ(c.floats.size(), other.size()) << name;
       // (An id channel has no floats: memcmp may not be given null.)
       if (!c.floats.empty()) {
-        EXPECT_EQ(std::memcmp(c.floats.data(),
-                              other.data(),
-                              c.floats.size() * sizeof(float)),
-                  0)
+        EXPECT_EQ(std::memcmp(c.floats.data(), other.data(), c.floats.size() * sizeof(float)), 0)
             << name;
       }
       EXPECT_EQ(c.uints, b.flat.at(name).Get(c.name).uints) << name;

@@ -37,8 +37,7 @@ TEST(ObjectLibrary, EveryBuiltinClassFillsTheUnitBox) {
 }
 
 TEST(ObjectLibrary, RandomClassesDependOnTheSeedOnly) {
-  const ClassShape a = MakeClassShape("rock", 1, "t"),
-                   b = MakeClassShape("rock", 1, "t");
+  const ClassShape a = MakeClassShape("rock", 1, "t"), b = MakeClassShape("rock", 1, "t");
   const ClassShape c = MakeClassShape("rock", 2, "t");
   EXPECT_EQ(a.mesh.positions, b.mesh.positions);
   EXPECT_NE(a.mesh.positions, c.mesh.positions);
@@ -50,10 +49,8 @@ TEST(ObjectLibrary, UnknownClassIsRejectedWithASuggestion) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("unknown object class 'barel'"), std::string::npos)
-        << message;
-    EXPECT_NE(message.find("did you mean 'barrel'"), std::string::npos)
-        << message;
+    EXPECT_NE(message.find("unknown object class 'barel'"), std::string::npos) << message;
+    EXPECT_NE(message.find("did you mean 'barrel'"), std::string::npos) << message;
     EXPECT_NE(message.find("O1#0"), std::string::npos) << message;
   }
   EXPECT_THROW(MakeClassShape("missing/file.obj", 0, "o"), Error);
@@ -146,8 +143,7 @@ TEST(World, ChangesApplyToTheirFrameOnly) {
   const WorldState world = WorldAt(plan, frame);
   EXPECT_EQ(world.objects[0].position, Eigen::Vector3d(1, 2, 3));
   EXPECT_FALSE(world.objects[0].visible);
-  EXPECT_EQ(WorldAt(plan, PlannedFrame{}).objects[0].position,
-            Eigen::Vector3d::Zero());
+  EXPECT_EQ(WorldAt(plan, PlannedFrame{}).objects[0].position, Eigen::Vector3d::Zero());
   frame.changes[0].object = "nobody";
   EXPECT_THROW(WorldAt(plan, frame), Error);
 }

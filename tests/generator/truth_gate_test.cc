@@ -49,10 +49,8 @@ const std::vector<CaptureCase>& Cases() {
       {"hemi",
        "create hemi:{cam radius:[25,25,1],obj angle:[0,360,4],cam angle:[40,"
        "60,2],center:[0,0,0]}"},
-      {"grid",
-       "grid:{x:[-10,10,3],y:[-10,10,2],altitude:[25,35,2],perturb:[1,1,0.3]}"},
-      {"increment_points",
-       "increment points:{start:[-8,-8,30],step:[8,8,0],count:[3,2,1]}"},
+      {"grid", "grid:{x:[-10,10,3],y:[-10,10,2],altitude:[25,35,2],perturb:[1,1,0.3]}"},
+      {"increment_points", "increment points:{start:[-8,-8,30],step:[8,8,0],count:[3,2,1]}"},
       {"random",
        "random:{count:[3,6],x:[-10,10],y:[-10,10],altitude:[20,40],off_nadir:["
        "0,"
@@ -102,70 +100,60 @@ testing::CommandResult GenerateAndValidate(const TempDir& dir,
                                            const std::string& scene,
                                            const std::string& capture) {
   const std::string out = (dir / "collection").string();
-  const auto generated =
-      RunCommandLine(LsdsBinary() + " generate " + scene + " " + capture +
-                     " -o " + out + " --spp 1 --seed 3 -q");
+  const auto generated = RunCommandLine(LsdsBinary() + " generate " + scene + " " + capture +
+                                        " -o " + out + " --spp 1 --seed 3 -q");
   if (generated.exit_code != 0) return generated;
-  return RunCommandLine(LsdsBinary() + " validate " + out +
-                        " --fail-on warning");
+  return RunCommandLine(LsdsBinary() + " validate " + out + " --fail-on warning");
 }
 
-class CaptureMatrix
-    : public ::testing::TestWithParam<std::tuple<CaptureCase, bool>> {};
+class CaptureMatrix : public ::testing::TestWithParam<std::tuple<CaptureCase, bool>> {};
 
 TEST_P(CaptureMatrix, GeneratedCollectionPassesTheGate) {
   const auto& [c, changes] = GetParam();
   TempDir dir;
   WriteText(dir / "s.lscene", kScene);
   WriteText(dir / "c.lcap", Capture(c, changes));
-  const auto result = GenerateAndValidate(
-      dir, (dir / "s.lscene").string(), (dir / "c.lcap").string());
+  const auto result =
+      GenerateAndValidate(dir, (dir / "s.lscene").string(), (dir / "c.lcap").string());
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_NE(result.output.find("PASS: 0 error(s), 0 warning(s)"),
-            std::string::npos)
+  EXPECT_NE(result.output.find("PASS: 0 error(s), 0 warning(s)"), std::string::npos)
       << result.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(Captures,
                          CaptureMatrix,
-                         ::testing::Combine(::testing::ValuesIn(Cases()),
-                                            ::testing::Bool()),
+                         ::testing::Combine(::testing::ValuesIn(Cases()), ::testing::Bool()),
                          [](const auto& info) {
                            return std::get<0>(info.param).name +
-                                  (std::get<1>(info.param) ? "_with_changes"
-                                                           : "_static");
+                                  (std::get<1>(info.param) ? "_with_changes" : "_static");
                          });
 
 // The examples, at 160x120 (their resolution rewritten, nothing else).
-class ExampleGate
-    : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+class ExampleGate : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
 
 TEST_P(ExampleGate, GeneratedCollectionPassesTheGate) {
   const auto& [scene, capture] = GetParam();
   TempDir dir;
   std::ifstream in(kExamples + "/" + capture);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
-  const std::string small = std::regex_replace(
-      text, std::regex(R"(res(olution)?:\[[0-9]+,[0-9]+\])"), "res:[160,120]");
+  const std::string small =
+      std::regex_replace(text, std::regex(R"(res(olution)?:\[[0-9]+,[0-9]+\])"), "res:[160,120]");
   ASSERT_NE(small, text) << capture << " declares no resolution";
   WriteText(dir / capture, small);
-  const auto result = GenerateAndValidate(
-      dir, kExamples + "/" + scene, (dir / capture).string());
+  const auto result = GenerateAndValidate(dir, kExamples + "/" + scene, (dir / capture).string());
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_NE(result.output.find("PASS: 0 error(s), 0 warning(s)"),
-            std::string::npos)
+  EXPECT_NE(result.output.find("PASS: 0 error(s), 0 warning(s)"), std::string::npos)
       << result.output;
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Examples,
     ExampleGate,
-    ::testing::Values(
-        std::make_pair("uav_survey.lscene", "uav_survey.lcap"),
-        std::make_pair("uav_survey.lscene", "demo_survey.lcap"),
-        std::make_pair("paper_example1.lscene", "paper_example1.lcap"),
-        std::make_pair("rocky_sand_clutter.lscene", "rocky_sand_random.lcap"),
-        std::make_pair("field_day.lscene", "field_day.lcap")),
+    ::testing::Values(std::make_pair("uav_survey.lscene", "uav_survey.lcap"),
+                      std::make_pair("uav_survey.lscene", "demo_survey.lcap"),
+                      std::make_pair("paper_example1.lscene", "paper_example1.lcap"),
+                      std::make_pair("rocky_sand_clutter.lscene", "rocky_sand_random.lcap"),
+                      std::make_pair("field_day.lscene", "field_day.lcap")),
     [](const auto& info) {
       std::string name = info.param.second;
       return name.substr(0, name.find('.'));
@@ -175,13 +163,11 @@ TEST(TruthGate, FramesPastTheEndAreAnErrorNotAnEmptyCollection) {
   TempDir dir;
   WriteText(dir / "s.lscene", kScene);
   WriteText(dir / "c.lcap", Capture(Cases()[0], false));
-  const auto result =
-      RunCommandLine(LsdsBinary() + " generate " + (dir / "s.lscene").string() +
-                     " " + (dir / "c.lcap").string() + " -o " +
-                     (dir / "out").string() + " --frames 100:200 -q");
+  const auto result = RunCommandLine(LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                                     " " + (dir / "c.lcap").string() + " -o " +
+                                     (dir / "out").string() + " --frames 100:200 -q");
   EXPECT_EQ(result.exit_code, 2) << result.output;
-  EXPECT_NE(result.output.find("--frames 100:200: out of range"),
-            std::string::npos)
+  EXPECT_NE(result.output.find("--frames 100:200: out of range"), std::string::npos)
       << result.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
@@ -194,9 +180,8 @@ TEST(TruthGate, CaptureSettingsChooseTheLayersAndTheFolder) {
             "CO = camera{csettings:{res:[160,120]},targets:[O1,O2],"
             "capture:{layers:[rgb,depth,instanceid],folder:survey_a}}\n"
             "P = path{waypoints:[[0,0,30],[1,0,30]]}\n");
-  const auto generated =
-      RunCommandLine("cd " + dir.path().string() + " && " + LsdsBinary() +
-                     " generate s.lscene c.lcap --spp 1 -q");
+  const auto generated = RunCommandLine("cd " + dir.path().string() + " && " + LsdsBinary() +
+                                        " generate s.lscene c.lcap --spp 1 -q");
   ASSERT_EQ(generated.exit_code, 0) << generated.output;
   const std::filesystem::path out = dir / "survey_a";
   std::set<std::string> folders;
@@ -208,21 +193,19 @@ TEST(TruthGate, CaptureSettingsChooseTheLayersAndTheFolder) {
   EXPECT_EQ(collection["layers"].size(), 3u);
   EXPECT_EQ(collection["provenance"]["render"]["capture_settings"]["layers"],
             nlohmann::json({"rgb", "depth", "instanceid"}));
-  const auto validated = RunCommandLine(LsdsBinary() + " validate " +
-                                        out.string() + " --fail-on warning");
+  const auto validated =
+      RunCommandLine(LsdsBinary() + " validate " + out.string() + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
   // An unknown layer is a located error with a suggestion.
   WriteText(dir / "bad.lcap",
             "LCAP = ONE(CO) ONE(P)\n"
             "CO = camera{capture:{layers:[rgb,dept]}}\n"
             "P = path{waypoints:[[0,0,30]]}\n");
-  const auto bad =
-      RunCommandLine(LsdsBinary() + " plan " + (dir / "s.lscene").string() +
-                     " " + (dir / "bad.lcap").string());
+  const auto bad = RunCommandLine(LsdsBinary() + " plan " + (dir / "s.lscene").string() + " " +
+                                  (dir / "bad.lcap").string());
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("bad.lcap:2:"), std::string::npos) << bad.output;
-  EXPECT_NE(bad.output.find("did you mean 'depth'"), std::string::npos)
-      << bad.output;
+  EXPECT_NE(bad.output.find("did you mean 'depth'"), std::string::npos) << bad.output;
 }
 
 TEST(TruthGate, FogTransmittanceIsTruthAndConvertFiltersOnIt) {
@@ -237,13 +220,12 @@ TEST(TruthGate, FogTransmittanceIsTruthAndConvertFiltersOnIt) {
             "CO = camera{csettings:{fov:90,res:[160,120]}}\n"
             "P = path{waypoints:[[0,0,60],[0,-80,40,0,-20,0],"
             "[0,80,40,0,-20,180]]}\n");
-  const auto result = GenerateAndValidate(
-      dir, (dir / "s.lscene").string(), (dir / "c.lcap").string());
+  const auto result =
+      GenerateAndValidate(dir, (dir / "s.lscene").string(), (dir / "c.lcap").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   std::ifstream in(dir / "collection" / "collection.json");
   const auto collection = nlohmann::json::parse(in);
-  const double extinction =
-      collection["frames"][0]["scene"]["atmosphere"]["extinction_per_m"];
+  const double extinction = collection["frames"][0]["scene"]["atmosphere"]["extinction_per_m"];
   EXPECT_NEAR(extinction, 3.912 / 400, 1e-12);
   int64_t clear = 0, hazy = 0;
   for (const auto& frame : collection["frames"]) {
@@ -257,9 +239,8 @@ TEST(TruthGate, FogTransmittanceIsTruthAndConvertFiltersOnIt) {
     }
     const Eigen::Vector3d eye = -r.transpose() * t;
     for (const auto& object : frame["objects"]) {
-      const Eigen::Vector3d centre(object["obb"]["center"][0],
-                                   object["obb"]["center"][1],
-                                   object["obb"]["center"][2]);
+      const Eigen::Vector3d centre(
+          object["obb"]["center"][0], object["obb"]["center"][1], object["obb"]["center"][2]);
       const double expected = std::exp(-extinction * (centre - eye).norm());
       EXPECT_NEAR(object["transmittance"].get<double>(), expected, 1e-9);
       if (object["visible_pixels"].get<int64_t>() == 0) continue;
@@ -268,14 +249,12 @@ TEST(TruthGate, FogTransmittanceIsTruthAndConvertFiltersOnIt) {
   }
   ASSERT_GT(clear, 0);
   ASSERT_GT(hazy, 0);
-  const auto converted = RunCommandLine(
-      LsdsBinary() + " convert " + (dir / "collection").string() +
-      " --to coco --images none --min-transmittance 0.45 -o " +
-      (dir / "coco").string());
+  const auto converted = RunCommandLine(LsdsBinary() + " convert " + (dir / "collection").string() +
+                                        " --to coco --images none --min-transmittance 0.45 -o " +
+                                        (dir / "coco").string());
   ASSERT_EQ(converted.exit_code, 0) << converted.output;
   int64_t annotations = 0;
-  for (const auto& entry :
-       std::filesystem::recursive_directory_iterator(dir / "coco")) {
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir / "coco")) {
     if (entry.path().extension() != ".json" ||
         entry.path().filename().string().rfind("instances", 0) != 0)
       continue;

@@ -23,10 +23,7 @@ return mount;
 }  // namespace lsds::testing
 
 std::map<uint32_t, std::array<uint8_t, 3>> AirSimFixtureColours() {
-  return {{1000, {153, 108, 6}},
-          {1, {112, 105, 191}},
-          {2, {89, 121, 72}},
-          {3, {190, 225, 64}}};
+  return {{1000, {153, 108, 6}}, {1, {112, 105, 191}}, {2, {89, 121, 72}}, {3, {190, 225, 64}}};
 }
 
 void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
@@ -58,8 +55,7 @@ void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
   std::ofstream(folder / "settings.json") << settings.dump(2);
   // The sidecar: colours -> ids, OBBs in NED.
   json classes = json::array();
-  for (const ClassInfo& c : spec.classes)
-    classes.push_back({{"id", c.id}, {"name", c.name}});
+  for (const ClassInfo& c : spec.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
   json objects = json::array();
   const auto& ground = colours.at(1000);
   objects.push_back({{"name", "Ground"},
@@ -69,11 +65,9 @@ void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
   for (const synth::Box& box : spec.boxes) {
     const OrientedBox obb = box.Obb();
     const Eigen::Vector3d centre = ned.WorldFromEnuMetres(obb.center);
-    const Eigen::Matrix3d axes =
-        ned.enu_from_frame.transpose() * obb.world_from_box;
+    const Eigen::Matrix3d axes = ned.enu_from_frame.transpose() * obb.world_from_box;
     json rotation = json::array();
-    for (int r = 0; r < 3; ++r)
-      rotation.push_back({axes(r, 0), axes(r, 1), axes(r, 2)});
+    for (int r = 0; r < 3; ++r) rotation.push_back({axes(r, 0), axes(r, 1), axes(r, 2)});
     const auto& colour = colours.at(box.instance_id);
     objects.push_back(
         {{"name", box.name},
@@ -83,8 +77,7 @@ void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
          {"class_id", box.class_id},
          {"obb",
           {{"center", {centre.x(), centre.y(), centre.z()}},
-           {"half_extents",
-            {obb.half_extents.x(), obb.half_extents.y(), obb.half_extents.z()}},
+           {"half_extents", {obb.half_extents.x(), obb.half_extents.y(), obb.half_extents.z()}},
            {"rotation", rotation}}}});
   }
   std::ofstream(folder / "lsds_objects.json") << json{
@@ -112,8 +105,7 @@ void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
     const exr::FlatImage& rgb = frame.flat.at("rgb");
     const cv::Mat scene = SrgbPng(rgb, false);
     cv::Mat seg(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
-    const std::vector<uint32_t>& ids =
-        frame.flat.at("instanceid").Get("id").uints;
+    const std::vector<uint32_t>& ids = frame.flat.at("instanceid").Get("id").uints;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = rgb.Index(i, j);
@@ -127,25 +119,22 @@ void WriteAirSimFixture(const fs::path& folder, const synth::Spec& spec) {
     import::PfmImage depth{w, h, 1, frame.flat.at("depth").Get("Z").floats};
     for (float& v : depth.values)
       if (std::isinf(v)) v = 1e6f;  // the sky: far, finite (sky_depth_m)
-    import::WritePfm(
-        folder / "images" / depth_name, depth, import::PfmRows::kTopFirst);
+    import::WritePfm(folder / "images" / depth_name, depth, import::PfmRows::kTopFirst);
     Eigen::Vector3d position;
     Eigen::Quaterniond q;
-    import::AirSimVehicleOfCamFromEnu(
-        spec.cam_from_world[k], mount, &position, &q);
+    import::AirSimVehicleOfCamFromEnu(spec.cam_from_world[k], mount, &position, &q);
     char line[512];
-    std::snprintf(
-        line,
-        sizeof line,
-        "Drone1\t%lld\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t",
-        stamp,
-        position.x(),
-        position.y(),
-        position.z(),
-        q.w(),
-        q.x(),
-        q.y(),
-        q.z());
+    std::snprintf(line,
+                  sizeof line,
+                  "Drone1\t%lld\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t",
+                  stamp,
+                  position.x(),
+                  position.y(),
+                  position.z(),
+                  q.w(),
+                  q.x(),
+                  q.y(),
+                  q.z());
     rec << line << scene_name << ";" << depth_name << ";" << seg_name << "\n";
   }
 }

@@ -21,7 +21,6 @@ import::AirSimMount AirSimFixtureMount();
 // Segmentation colours of the scene's instances (the ground, the boxes).
 std::map<uint32_t, std::array<uint8_t, 3>> AirSimFixtureColours();
 
-void WriteAirSimFixture(const std::filesystem::path& folder,
-                        const synth::Spec& spec);
+void WriteAirSimFixture(const std::filesystem::path& folder, const synth::Spec& spec);
 
 }  // namespace lsds::testing

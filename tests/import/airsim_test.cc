@@ -28,8 +28,7 @@ synth::Spec FixtureSpec() {
   synth::Spec spec = synth::DefaultSpec();
   spec.samples_per_axis = 1;
   const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
-  const Eigen::Quaterniond roll(
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
+  const Eigen::Quaterniond roll(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
   spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
   return spec;
 }
@@ -45,16 +44,13 @@ TEST(Pfm, RowOrderIsTheCallersToState) {
   import::WritePfm(dir / "top.pfm", image, import::PfmRows::kTopFirst);
   // The file holds the top row first: read as the specification says (bottom
   // first), the image comes out upside down.
-  EXPECT_EQ(import::ReadPfm(dir / "top.pfm", import::PfmRows::kTopFirst).values,
-            image.values);
-  EXPECT_EQ(
-      import::ReadPfm(dir / "top.pfm", import::PfmRows::kBottomFirst).values,
-      (std::vector<float>{4, 5, 6, 1, 2, 3}));
+  EXPECT_EQ(import::ReadPfm(dir / "top.pfm", import::PfmRows::kTopFirst).values, image.values);
+  EXPECT_EQ(import::ReadPfm(dir / "top.pfm", import::PfmRows::kBottomFirst).values,
+            (std::vector<float>{4, 5, 6, 1, 2, 3}));
   const std::string text = ReadText(dir / "top.pfm");
   EXPECT_EQ(text.substr(0, 10), "Pf\n3 2\n-1\n");
   std::ofstream(dir / "short.pfm") << "Pf\n3 2\n-1\n1234";
-  EXPECT_THROW(import::ReadPfm(dir / "short.pfm", import::PfmRows::kTopFirst),
-               Error);
+  EXPECT_THROW(import::ReadPfm(dir / "short.pfm", import::PfmRows::kTopFirst), Error);
 }
 
 TEST(AirSimPose, VehiclePoseAndMountRoundTrip) {
@@ -62,23 +58,14 @@ TEST(AirSimPose, VehiclePoseAndMountRoundTrip) {
   Eigen::Vector3d position;
   Eigen::Quaterniond q;
   import::AirSimVehicleOfCamFromEnu(pose, AirSimFixtureMount(), &position, &q);
-  const Rigid3d back =
-      import::CamFromEnuOfAirSim(position, q, AirSimFixtureMount());
+  const Rigid3d back = import::CamFromEnuOfAirSim(position, q, AirSimFixtureMount());
   EXPECT_LT((back.ToMatrix() - pose.ToMatrix()).cwiseAbs().maxCoeff(), 1e-12);
   // A level vehicle with a forward camera looks north (NED x), image right
   // east, at altitude -z.
-  const Rigid3d level = import::CamFromEnuOfAirSim(
-      {0, 0, -10}, Eigen::Quaterniond::Identity(), {});
-  EXPECT_LT(
-      (level.rotation * Eigen::Vector3d(0, 1, 0) - Eigen::Vector3d(0, 0, 1))
-          .norm(),
-      1e-12);
-  EXPECT_LT(
-      (level.rotation * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(1, 0, 0))
-          .norm(),
-      1e-12);
-  EXPECT_LT((CameraCenterInWorld(level) - Eigen::Vector3d(0, 0, 10)).norm(),
-            1e-12);
+  const Rigid3d level = import::CamFromEnuOfAirSim({0, 0, -10}, Eigen::Quaterniond::Identity(), {});
+  EXPECT_LT((level.rotation * Eigen::Vector3d(0, 1, 0) - Eigen::Vector3d(0, 0, 1)).norm(), 1e-12);
+  EXPECT_LT((level.rotation * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(1, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((CameraCenterInWorld(level) - Eigen::Vector3d(0, 0, 10)).norm(), 1e-12);
 }
 
 class AirSimImportTest : public ::testing::Test {
@@ -98,21 +85,19 @@ TEST_F(AirSimImportTest, TruthEqualsTheAnalyticScene) {
   reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
   for (size_t k = 0; k < frames.size(); ++k) {
-    const synth::RenderedFrame truth =
-        synth::RenderFrame(spec_, static_cast<int>(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
     const Frame& frame = frames[k];
     SCOPED_TRACE("frame " + std::to_string(k));
     EXPECT_NEAR(frame.time, truth.truth.time, 1e-9);
     EXPECT_EQ(frame.camera.intrinsics, truth.truth.camera.intrinsics);
-    EXPECT_LT((frame.camera.cam_from_world_rotation -
-               truth.truth.camera.cam_from_world_rotation)
+    EXPECT_LT((frame.camera.cam_from_world_rotation - truth.truth.camera.cam_from_world_rotation)
                   .cwiseAbs()
                   .maxCoeff(),
               1e-12);
-    EXPECT_LT((frame.camera.cam_from_world_translation -
-               truth.truth.camera.cam_from_world_translation)
-                  .norm(),
-              1e-9);
+    EXPECT_LT(
+        (frame.camera.cam_from_world_translation - truth.truth.camera.cam_from_world_translation)
+            .norm(),
+        1e-9);
     ASSERT_EQ(frame.objects.size(), truth.truth.objects.size());
     for (size_t i = 0; i < frame.objects.size(); ++i) {
       const ObjectTruth& got = frame.objects[i];
@@ -125,52 +110,42 @@ TEST_F(AirSimImportTest, TruthEqualsTheAnalyticScene) {
       EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9);
       EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-9);
       EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), 1e-12);
-      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box)
-                    .cwiseAbs()
-                    .maxCoeff(),
-                1e-12);
+      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), 1e-12);
     }
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
     };
-    EXPECT_EQ(read("instanceid").Get("id").uints,
-              truth.flat.at("instanceid").Get("id").uints);
-    EXPECT_EQ(read("classid").Get("id").uints,
-              truth.flat.at("classid").Get("id").uints);
+    EXPECT_EQ(read("instanceid").Get("id").uints, truth.flat.at("instanceid").Get("id").uints);
+    EXPECT_EQ(read("classid").Get("id").uints, truth.flat.at("classid").Get("id").uints);
     // Depth in metres, float to float: exact; the PFM's top row is row 0.
-    EXPECT_EQ(read("depth").Get("Z").floats,
-              truth.flat.at("depth").Get("Z").floats);
+    EXPECT_EQ(read("depth").Get("Z").floats, truth.flat.at("depth").Get("Z").floats);
     const exr::FlatImage position = read("worldposition");
     const exr::FlatImage& want = truth.flat.at("worldposition");
     const std::vector<float>& depth = truth.flat.at("depth").Get("Z").floats;
     for (size_t p = 0; p < depth.size(); ++p) {
       if (std::isinf(depth[p])) continue;
       for (const char* c : {"X", "Y", "Z"})
-        EXPECT_NEAR(position.Get(c).floats[p],
-                    want.Get(c).floats[p],
-                    1e-6 * depth[p] + 2e-6);
+        EXPECT_NEAR(position.Get(c).floats[p], want.Get(c).floats[p], 1e-6 * depth[p] + 2e-6);
     }
   }
 }
 
-TEST_F(AirSimImportTest,
-       ValidatesCleanAndConvertsToCocoMasksOfTheSegmentation) {
+TEST_F(AirSimImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheSegmentation) {
   const fs::path source = dir_ / "rec";
   WriteAirSimFixture(source, spec_);
   const fs::path settings = dir_ / "settings.json";
   fs::rename(source / "settings.json", settings);  // as in ~/Documents/AirSim
   const fs::path out = dir_ / "collection";
-  const CommandResult imported = RunCommandLine(
-      LsdsBinary() + " import airsim " + source.string() + " -o " +
-      out.string() + " --settings " + settings.string());
+  const CommandResult imported =
+      RunCommandLine(LsdsBinary() + " import airsim " + source.string() + " -o " + out.string() +
+                     " --settings " + settings.string());
   ASSERT_EQ(imported.exit_code, 0) << imported.output;
-  const CommandResult validate = RunCommandLine(
-      LsdsBinary() + " validate --fail-on warning " + out.string());
+  const CommandResult validate =
+      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
   EXPECT_EQ(validate.exit_code, 0) << validate.output;
   const fs::path coco = dir_ / "coco";
-  const CommandResult convert =
-      RunCommandLine(LsdsBinary() + " convert " + out.string() +
-                     " --to coco --images none -o " + coco.string());
+  const CommandResult convert = RunCommandLine(LsdsBinary() + " convert " + out.string() +
+                                               " --to coco --images none -o " + coco.string());
   ASSERT_EQ(convert.exit_code, 0) << convert.output;
   fs::path annotations;
   for (const auto& entry : fs::recursive_directory_iterator(coco)) {
@@ -186,20 +161,18 @@ TEST_F(AirSimImportTest,
   ASSERT_GT(doc["annotations"].size(), 0u);
   const int w = spec_.width, h = spec_.height;
   for (const json& a : doc["annotations"]) {
-    const int k = std::stoi(
-        fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string());
+    const int k = std::stoi(fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string());
     const synth::RenderedFrame truth = synth::RenderFrame(spec_, k);
     const uint32_t instance = a["lsds"]["instance_id"];
-    const std::vector<uint32_t>& ids =
-        truth.flat.at("instanceid").Get("id").uints;
+    const std::vector<uint32_t>& ids = truth.flat.at("instanceid").Get("id").uints;
     int64_t total = 0;
-    const cv::Mat mask = CocoDecode(
-        CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
+    const cv::Mat mask =
+        CocoDecode(CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
     int64_t differing = 0;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i)
-        differing += (mask.at<uint8_t>(j, i) != 0) !=
-                     (ids[static_cast<size_t>(j) * w + i] == instance);
+        differing +=
+            (mask.at<uint8_t>(j, i) != 0) != (ids[static_cast<size_t>(j) * w + i] == instance);
     EXPECT_EQ(differing, 0) << "instance " << instance << " frame " << k;
   }
 }
@@ -215,8 +188,7 @@ TEST_F(AirSimImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {
     import::ImportCollection("airsim", source, dir_ / "out", {}, false);
     FAIL() << "accepted a shared colour";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("/objects/2/color"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("/objects/2/color"), std::string::npos) << e.what();
   }
   WriteAirSimFixture(dir_ / "rec2", spec_);
   // A row whose position is not a number: file and line.
@@ -225,12 +197,11 @@ TEST_F(AirSimImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {
   const size_t x = rec.find('\t', rec.find('\t', second_row) + 1) + 1;
   rec.replace(x, rec.find('\t', x) - x, "north");
   std::ofstream(dir_ / "rec2" / "airsim_rec.txt") << rec;
-  const CommandResult result = RunCommandLine(LsdsBinary() + " import airsim " +
-                                              (dir_ / "rec2").string() +
-                                              " -o " + (dir_ / "out").string());
+  const CommandResult result =
+      RunCommandLine(LsdsBinary() + " import airsim " + (dir_ / "rec2").string() + " -o " +
+                     (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("airsim_rec.txt:3"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("airsim_rec.txt:3"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("POS_X"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }

@@ -31,8 +31,7 @@ json Flat(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
   const fs::path scene = dataset / "train_pbr" / "000000";
-  for (const char* sub : {"rgb", "depth", "mask_visib"})
-    fs::create_directories(scene / sub);
+  for (const char* sub : {"rgb", "depth", "mask_visib"}) fs::create_directories(scene / sub);
   fs::create_directories(dataset / "models");
   json models = json::object();
   for (size_t b = 0; b < spec.boxes.size(); ++b) {
@@ -59,39 +58,32 @@ fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
     K(0, 2) = in.cx - 0.5, K(1, 2) = in.cy - 0.5;  // pixel-centre convention
     const Eigen::Matrix3d& R = camera.cam_from_world_rotation;
     const Eigen::Vector3d& t = camera.cam_from_world_translation;
-    cameras[std::to_string(k)] = {
-        {"cam_K", Flat(K)},
-        {"cam_R_w2c", Flat(R)},
-        {"cam_t_w2c", Flat(Eigen::Vector3d(t * 1000.0))},
-        {"depth_scale", kBopDepthScale}};
+    cameras[std::to_string(k)] = {{"cam_K", Flat(K)},
+                                  {"cam_R_w2c", Flat(R)},
+                                  {"cam_t_w2c", Flat(Eigen::Vector3d(t * 1000.0))},
+                                  {"depth_scale", kBopDepthScale}};
     json gt = json::array(), info = json::array();
-    const std::vector<uint32_t>& ids =
-        frame.flat.at("instanceid").Get("id").uints;
+    const std::vector<uint32_t>& ids = frame.flat.at("instanceid").Get("id").uints;
     for (size_t b = 0; b < spec.boxes.size(); ++b) {
       const OrientedBox obb = spec.boxes[b].Obb();
-      gt.push_back(
-          {{"cam_R_m2c", Flat(Eigen::Matrix3d(R * obb.world_from_box))},
-           {"cam_t_m2c", Flat(Eigen::Vector3d((R * obb.center + t) * 1000.0))},
-           {"obj_id", b + 1}});
+      gt.push_back({{"cam_R_m2c", Flat(Eigen::Matrix3d(R * obb.world_from_box))},
+                    {"cam_t_m2c", Flat(Eigen::Vector3d((R * obb.center + t) * 1000.0))},
+                    {"obj_id", b + 1}});
       cv::Mat mask(h, w, CV_8UC1, cv::Scalar(0));
       int visible = 0;
       for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i)
-          if (ids[static_cast<size_t>(j) * w + i] ==
-              spec.boxes[b].instance_id) {
+          if (ids[static_cast<size_t>(j) * w + i] == spec.boxes[b].instance_id) {
             mask.at<uint8_t>(j, i) = 255;
             ++visible;
           }
-      cv::imwrite((scene / "mask_visib" /
-                   (Stem(k) + "_" + Stem(static_cast<int>(b)) + ".png"))
-                      .string(),
-                  mask);
+      cv::imwrite(
+          (scene / "mask_visib" / (Stem(k) + "_" + Stem(static_cast<int>(b)) + ".png")).string(),
+          mask);
       double visib_fract = 0;
       for (const ObjectTruth& o : frame.truth.objects)
-        if (o.instance_id == spec.boxes[b].instance_id)
-          visib_fract = o.visibility;
-      info.push_back(
-          {{"px_count_visib", visible}, {"visib_fract", visib_fract}});
+        if (o.instance_id == spec.boxes[b].instance_id) visib_fract = o.visibility;
+      info.push_back({{"px_count_visib", visible}, {"visib_fract", visib_fract}});
     }
     gts[std::to_string(k)] = gt;
     infos[std::to_string(k)] = info;
@@ -103,9 +95,8 @@ fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
         const double units = std::round(z[p] * 1000.0 / kBopDepthScale);
-        depth.at<uint16_t>(j, i) = std::isfinite(units) && units <= 65535
-                                       ? static_cast<uint16_t>(units)
-                                       : 0;
+        depth.at<uint16_t>(j, i) =
+            std::isfinite(units) && units <= 65535 ? static_cast<uint16_t>(units) : 0;
       }
     cv::imwrite((scene / "rgb" / (Stem(k) + ".png")).string(), rgb);
     cv::imwrite((scene / "depth" / (Stem(k) + ".png")).string(), depth);

@@ -23,7 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-
 class BopImportTest : public ::testing::Test {
  protected:
   TempDir dir_;
@@ -39,18 +38,16 @@ TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
   reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
   for (size_t k = 0; k < frames.size(); ++k) {
-    const synth::RenderedFrame truth =
-        synth::RenderFrame(spec_, static_cast<int>(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
     const Frame& frame = frames[k];
     SCOPED_TRACE("frame " + std::to_string(k));
     // Pixel-centre cx, cy + 0.5: the edge-convention intrinsics exactly.
     EXPECT_EQ(frame.camera.intrinsics, truth.truth.camera.intrinsics);
-    EXPECT_EQ(frame.camera.cam_from_world_rotation,
-              truth.truth.camera.cam_from_world_rotation);
-    EXPECT_LT((frame.camera.cam_from_world_translation -
-               truth.truth.camera.cam_from_world_translation)
-                  .norm(),
-              1e-12);
+    EXPECT_EQ(frame.camera.cam_from_world_rotation, truth.truth.camera.cam_from_world_rotation);
+    EXPECT_LT(
+        (frame.camera.cam_from_world_translation - truth.truth.camera.cam_from_world_translation)
+            .norm(),
+        1e-12);
     ASSERT_EQ(frame.objects.size(), truth.truth.objects.size());
     for (size_t i = 0; i < frame.objects.size(); ++i) {
       const ObjectTruth& got = frame.objects[i];
@@ -62,10 +59,7 @@ TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
       EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9);
       EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-9);
       EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), 1e-12);
-      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box)
-                    .cwiseAbs()
-                    .maxCoeff(),
-                1e-12);
+      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), 1e-12);
     }
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
@@ -86,9 +80,8 @@ TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
       }
       EXPECT_NEAR(depth[p], want[p], 0.25e-3 + 1e-6 * want[p]);
       for (const char* c : {"X", "Y", "Z"})
-        EXPECT_NEAR(position.Get(c).floats[p],
-                    want_position.Get(c).floats[p],
-                    0.5e-3 + 1e-6 * want[p]);
+        EXPECT_NEAR(
+            position.Get(c).floats[p], want_position.Get(c).floats[p], 0.5e-3 + 1e-6 * want[p]);
     }
     if (k == frames.size() - 1) {
       EXPECT_GT(beyond, 0);
@@ -99,8 +92,9 @@ TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
 TEST_F(BopImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheVisibleMasks) {
   const fs::path scene = WriteBopFixture(dir_ / "bop", spec_);
   ExpectImportValidatesAndConverts(
-      "bop", scene, dir_.path(), spec_.width, spec_.height,
-      [&](int k) { return TargetIds(synth::RenderFrame(spec_, k)); });
+      "bop", scene, dir_.path(), spec_.width, spec_.height, [&](int k) {
+        return TargetIds(synth::RenderFrame(spec_, k));
+      });
 }
 
 TEST_F(BopImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {
@@ -108,12 +102,10 @@ TEST_F(BopImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {
   json gt = json::parse(ReadText(scene / "scene_gt.json"));
   gt["2"][1]["obj_id"] = 9;
   std::ofstream(scene / "scene_gt.json") << gt.dump();
-  const CommandResult result =
-      RunCommandLine(LsdsBinary() + " import bop " + scene.string() + " -o " +
-                     (dir_ / "out").string());
+  const CommandResult result = RunCommandLine(LsdsBinary() + " import bop " + scene.string() +
+                                              " -o " + (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("scene_gt.json#/2/1/obj_id"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("scene_gt.json#/2/1/obj_id"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 

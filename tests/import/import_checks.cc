@@ -21,8 +21,7 @@ synth::Spec ObliqueImportSpec() {
   synth::Spec spec = synth::DefaultSpec();
   spec.samples_per_axis = 1;
   const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
-  const Eigen::Quaterniond roll(
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
+  const Eigen::Quaterniond roll(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
   spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
   return spec;
 }
@@ -51,28 +50,19 @@ void ExpectCameraNear(const CameraTruth& got,
   EXPECT_NEAR(a.fy, b.fy, relative * b.fy);
   EXPECT_NEAR(a.cx, b.cx, relative * b.cx);
   EXPECT_NEAR(a.cy, b.cy, relative * b.cy);
-  EXPECT_LT((got.cam_from_world_rotation - want.cam_from_world_rotation)
-                .cwiseAbs()
-                .maxCoeff(),
+  EXPECT_LT((got.cam_from_world_rotation - want.cam_from_world_rotation).cwiseAbs().maxCoeff(),
             pose);
-  EXPECT_LT(
-      (got.cam_from_world_translation - want.cam_from_world_translation).norm(),
-      pose);
+  EXPECT_LT((got.cam_from_world_translation - want.cam_from_world_translation).norm(), pose);
 }
 
-void ExpectObjectNear(const ObjectTruth& got,
-                      const ObjectTruth& want,
-                      double obb) {
+void ExpectObjectNear(const ObjectTruth& got, const ObjectTruth& want, double obb) {
   EXPECT_EQ(got.bbox, want.bbox);  // exact
   EXPECT_EQ(got.visible_pixels, want.visible_pixels);
   EXPECT_NEAR(got.visibility, want.visibility, 1e-12);
   EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9 + 10 * obb);
   EXPECT_LT((got.obb.center - want.obb.center).norm(), obb);
   EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), obb);
-  EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box)
-                .cwiseAbs()
-                .maxCoeff(),
-            obb);
+  EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), obb);
 }
 
 fs::path ExpectImportValidatesAndConverts(const std::string& format,
@@ -84,19 +74,18 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
                                           const std::string& flags) {
   const fs::path out = dir / "collection";
   const CommandResult imported =
-      RunCommandLine(LsdsBinary() + " import " + format + " " +
-                     source.string() + " -o " + out.string() + " " + flags);
+      RunCommandLine(LsdsBinary() + " import " + format + " " + source.string() + " -o " +
+                     out.string() + " " + flags);
   EXPECT_EQ(imported.exit_code, 0) << imported.output;
   if (imported.exit_code != 0) return out;
-  const CommandResult validate = RunCommandLine(
-      LsdsBinary() + " validate --fail-on warning " + out.string());
+  const CommandResult validate =
+      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
   EXPECT_EQ(validate.exit_code, 0) << validate.output;
 
   // COCO: every annotation's RLE mask is the fixture's mask of its instance.
   const fs::path coco = dir / "coco";
-  const CommandResult convert =
-      RunCommandLine(LsdsBinary() + " convert " + out.string() +
-                     " --to coco --images none -o " + coco.string());
+  const CommandResult convert = RunCommandLine(LsdsBinary() + " convert " + out.string() +
+                                               " --to coco --images none -o " + coco.string());
   EXPECT_EQ(convert.exit_code, 0) << convert.output;
   fs::path annotations;
   for (const auto& entry : fs::recursive_directory_iterator(coco))
@@ -111,27 +100,25 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
     image_names[image["id"].get<int64_t>()] = image["file_name"];
   EXPECT_GT(doc["annotations"].size(), 0u);
   for (const json& a : doc["annotations"]) {
-    const int k = std::stoi(
-        fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string());
+    const int k = std::stoi(fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string());
     const std::vector<uint32_t> ids = fixture_ids(k);
     const uint32_t instance = a["lsds"]["instance_id"];
     int64_t total = 0;
-    const cv::Mat mask = CocoDecode(
-        CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
+    const cv::Mat mask =
+        CocoDecode(CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
     int64_t differing = 0;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i)
-        differing += (mask.at<uint8_t>(j, i) != 0) !=
-                     (ids[static_cast<size_t>(j) * w + i] == instance);
+        differing +=
+            (mask.at<uint8_t>(j, i) != 0) != (ids[static_cast<size_t>(j) * w + i] == instance);
     EXPECT_EQ(differing, 0) << "instance " << instance << " frame " << k;
   }
 
   // YOLO: one line per visible object, in truth order, whose normalised box
   // denormalises to the truth's pixel box (Ultralytics' label rule).
   const fs::path yolo = dir / "yolo";
-  const CommandResult to_yolo =
-      RunCommandLine(LsdsBinary() + " convert " + out.string() +
-                     " --to yolo --images none -o " + yolo.string());
+  const CommandResult to_yolo = RunCommandLine(LsdsBinary() + " convert " + out.string() +
+                                               " --to yolo --images none -o " + yolo.string());
   EXPECT_EQ(to_yolo.exit_code, 0) << to_yolo.output;
   // A label's class index names, in data.yaml, the object's class.
   const CollectionReader reader(out);

@@ -37,22 +37,19 @@ void ExpectCameraNear(const CameraTruth& got,
 // The per-object truth an importer derives (tight box and pixel counts exact,
 // visibility and in-frame fraction) and the OBB within `obb` (centre and half
 // extents in metres, rotation entries). Ids are the caller's to compare.
-void ExpectObjectNear(const ObjectTruth& got,
-                      const ObjectTruth& want,
-                      double obb);
+void ExpectObjectNear(const ObjectTruth& got, const ObjectTruth& want, double obb);
 
 // The fixture's id layer of frame k (what the source's masks hold).
 using FixtureIds = std::function<std::vector<uint32_t>(int frame)>;
 
 // Imports `source` with `lsds import FORMAT SOURCE -o DIR/collection FLAGS`,
 // then validates and converts it; returns the collection path.
-std::filesystem::path ExpectImportValidatesAndConverts(
-    const std::string& format,
-    const std::filesystem::path& source,
-    const std::filesystem::path& dir,
-    int width,
-    int height,
-    const FixtureIds& fixture_ids,
-    const std::string& flags = "");
+std::filesystem::path ExpectImportValidatesAndConverts(const std::string& format,
+                                                       const std::filesystem::path& source,
+                                                       const std::filesystem::path& dir,
+                                                       int width,
+                                                       int height,
+                                                       const FixtureIds& fixture_ids,
+                                                       const std::string& flags = "");
 
 }  // namespace lsds::testing

@@ -46,8 +46,8 @@ void WriteKubricFixture(const fs::path& scene, const synth::Spec& spec) {
         camera.cam_from_world_rotation.transpose() *
         Eigen::Vector3d(1, -1, -1).asDiagonal().toDenseMatrix();
     const Eigen::Quaterniond q(world_from_blender_cam);
-    positions.push_back(Row(-(camera.cam_from_world_rotation.transpose() *
-                              camera.cam_from_world_translation)));
+    positions.push_back(
+        Row(-(camera.cam_from_world_rotation.transpose() * camera.cam_from_world_translation)));
     quaternions.push_back({q.w(), q.x(), q.y(), q.z()});
     // core/objects.py bbox_3d: itertools.product over (min, max) of x, y, z.
     for (size_t b = 0; b < spec.boxes.size(); ++b) {
@@ -57,9 +57,8 @@ void WriteKubricFixture(const fs::path& scene, const synth::Spec& spec) {
         for (int iy = 0; iy < 2; ++iy)
           for (int iz = 0; iz < 2; ++iz) {
             const Eigen::Vector3d local(ix ? 1 : -1, iy ? 1 : -1, iz ? 1 : -1);
-            corners.push_back(Row(obb.center + obb.world_from_box *
-                                                   local.cwiseProduct(
-                                                       obb.half_extents)));
+            corners.push_back(
+                Row(obb.center + obb.world_from_box * local.cwiseProduct(obb.half_extents)));
           }
       instances[b]["bboxes_3d"].push_back(corners);
     }
@@ -69,28 +68,23 @@ void WriteKubricFixture(const fs::path& scene, const synth::Spec& spec) {
     segmentation.index.assign(static_cast<size_t>(w) * h, 0);
     const exr::FlatImage& colour = frame.flat.at("rgb");
     const std::vector<float>& z = frame.flat.at("depth").Get("Z").floats;
-    const std::vector<uint32_t>& ids =
-        frame.flat.at("instanceid").Get("id").uints;
+    const std::vector<uint32_t>& ids = frame.flat.at("instanceid").Get("id").uints;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
         depth.at<float>(j, i) = std::isfinite(z[p]) ? z[p] : 1e10f;
         for (size_t b = 0; b < spec.boxes.size(); ++b)
           if (ids[p] == spec.boxes[b].instance_id)
-            segmentation.index[static_cast<size_t>(j) * w + i] =
-                static_cast<uint8_t>(b + 1);
+            segmentation.index[static_cast<size_t>(j) * w + i] = static_cast<uint8_t>(b + 1);
       }
-    cv::imwrite((scene / Name("rgba", k, "png")).string(),
-                SrgbPng(frame.flat.at("rgb"), true));
+    cv::imwrite((scene / Name("rgba", k, "png")).string(), SrgbPng(frame.flat.at("rgb"), true));
     cv::imwrite((scene / Name("depth", k, "tiff")).string(), depth);
     // kb.write_palette_png with plotting.hls_palette(max + 1): any distinct
     // colours; the importer reads indices.
     std::vector<uint8_t> palette;
     for (size_t n = 0; n <= spec.boxes.size(); ++n)
-      for (int c = 0; c < 3; ++c)
-        palette.push_back(static_cast<uint8_t>((n * 67 + c * 101) % 256));
-    import::WriteIndexedPng(scene / Name("segmentation", k, "png"),
-                            segmentation, palette);
+      for (int c = 0; c < 3; ++c) palette.push_back(static_cast<uint8_t>((n * 67 + c * 101) % 256));
+    import::WriteIndexedPng(scene / Name("segmentation", k, "png"), segmentation, palette);
   }
   json metadata = {
       {"flags", {{"resolution", w}, {"frame_end", frames}}},
@@ -109,9 +103,7 @@ void WriteKubricFixture(const fs::path& scene, const synth::Spec& spec) {
         {"quaternions", quaternions},
         // PerspectiveCamera.intrinsics with width = height = 1.
         {"K",
-         {{intrinsics.fx / w, 0.0, -0.5},
-          {0.0, -intrinsics.fy / h, -0.5},
-          {0.0, 0.0, -1.0}}}}},
+         {{intrinsics.fx / w, 0.0, -0.5}, {0.0, -intrinsics.fy / h, -0.5}, {0.0, 0.0, -1.0}}}}},
       {"instances", instances}};
   std::ofstream(scene / "metadata.json") << metadata.dump(2);
   std::ofstream(scene / "data_ranges.json")

@@ -15,7 +15,6 @@
 namespace lsds::testing {
 
 // The spec must render perspective depth (spec.depth_kind), as Kubric does.
-void WriteKubricFixture(const std::filesystem::path& scene,
-                        const synth::Spec& spec);
+void WriteKubricFixture(const std::filesystem::path& scene, const synth::Spec& spec);
 
 }  // namespace lsds::testing

@@ -29,7 +29,6 @@ synth::Spec KubricSpec() {
   return spec;
 }
 
-
 class KubricImportTest : public ::testing::Test {
  protected:
   TempDir dir_;
@@ -47,8 +46,7 @@ TEST_F(KubricImportTest, TruthEqualsTheAnalyticScene) {
   reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
   for (size_t k = 0; k < frames.size(); ++k) {
-    const synth::RenderedFrame truth =
-        synth::RenderFrame(spec_, static_cast<int>(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
     const Frame& frame = frames[k];
     SCOPED_TRACE("frame " + std::to_string(k));
     EXPECT_NEAR(frame.time, k * spec_.frame_interval, 1e-12);
@@ -81,9 +79,7 @@ TEST_F(KubricImportTest, TruthEqualsTheAnalyticScene) {
       }
       EXPECT_EQ(depth[p], want[p]);
       for (const char* c : {"X", "Y", "Z"})
-        EXPECT_NEAR(position.Get(c).floats[p],
-                    want_position.Get(c).floats[p],
-                    2e-6 * want[p]);
+        EXPECT_NEAR(position.Get(c).floats[p], want_position.Get(c).floats[p], 2e-6 * want[p]);
     }
     if (k == frames.size() - 1) {
       EXPECT_GT(sky, 0);
@@ -111,12 +107,10 @@ TEST_F(KubricImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {
   json metadata = json::parse(ReadText(scene / "metadata.json"));
   metadata["instances"][1]["bboxes_3d"][2][5] = {1, 2};
   std::ofstream(scene / "metadata.json") << metadata.dump();
-  const CommandResult result =
-      RunCommandLine(LsdsBinary() + " import kubric " + scene.string() +
-                     " -o " + (dir_ / "out").string());
+  const CommandResult result = RunCommandLine(LsdsBinary() + " import kubric " + scene.string() +
+                                              " -o " + (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("metadata.json#/instances/1/bboxes_3d/2"),
-            std::string::npos)
+  EXPECT_NE(result.output.find("metadata.json#/instances/1/bboxes_3d/2"), std::string::npos)
       << result.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
@@ -130,14 +124,11 @@ TEST_F(KubricImportTest, ASegmentationIndexWithoutInstanceNamesThePixel) {
   metadata["instances"].erase(2);  // the crate's pixels now name no instance
   metadata["metadata"]["num_instances"] = 2;
   std::ofstream(scene / "metadata.json") << metadata.dump();
-  const CommandResult result =
-      RunCommandLine(LsdsBinary() + " import kubric " + scene.string() +
-                     " -o " + (dir_ / "out").string());
+  const CommandResult result = RunCommandLine(LsdsBinary() + " import kubric " + scene.string() +
+                                              " -o " + (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("segmentation_00000.png"), std::string::npos)
-      << result.output;
-  EXPECT_NE(result.output.find("segmentation index 3"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("segmentation_00000.png"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("segmentation index 3"), std::string::npos) << result.output;
 }
 
 }  // namespace
@@ -169,26 +160,27 @@ TEST_F(KubricImportTest, ValidateReportsTheAbsentTruthAsInformation) {
     for (const json& finding : check["findings"])
       pointers.insert(finding["location"]["json_pointer"].get<std::string>());
   }
-  const std::set<std::string> want = {
-      "/provenance/import/truth_origin/bundle",
-      "/provenance/import/truth_origin/motion",
-      "/provenance/import/truth_origin/normal",
-      "/provenance/import/truth_origin/shadow",
-      "/provenance/import/truth_origin/visibility"};
+  const std::set<std::string> want = {"/provenance/import/truth_origin/bundle",
+                                      "/provenance/import/truth_origin/motion",
+                                      "/provenance/import/truth_origin/normal",
+                                      "/provenance/import/truth_origin/shadow",
+                                      "/provenance/import/truth_origin/visibility"};
   for (const std::string& p : want) EXPECT_EQ(pointers.count(p), 1u) << p;
   // Only absent fields and the estimated visibility: not depth (imported) nor
   // bbox (derived exactly from the id layer).
   EXPECT_EQ(pointers.count("/provenance/import/truth_origin/depth"), 0u);
   EXPECT_EQ(pointers.count("/provenance/import/truth_origin/bbox"), 0u);
-  const CommandResult warning = RunCommandLine(
-      LsdsBinary() + " validate --fail-on warning " + out.string());
+  const CommandResult warning =
+      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
   EXPECT_EQ(warning.exit_code, 0) << warning.output;
 
   const fs::path rendered = dir_ / "rendered";
   synth::WriteCollection(rendered, spec);
-  const CommandResult clean = RunCommandLine(
-      LsdsBinary() + " validate --format json --checks structure.truth-origin "
-                     "--fail-on info " + rendered.string());
+  const CommandResult clean =
+      RunCommandLine(LsdsBinary() +
+                     " validate --format json --checks structure.truth-origin "
+                     "--fail-on info " +
+                     rendered.string());
   EXPECT_EQ(clean.exit_code, 0) << clean.output;
 }
 

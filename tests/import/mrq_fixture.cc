@@ -46,8 +46,7 @@ Imf::Header MakeHeader(int w, int h, const Part& part) {
   Imf::Header header(w, h);
   header.compression() = Imf::ZIP_COMPRESSION;
   for (const Channel& c : part.channels)
-    header.channels().insert(c.name,
-                             Imf::Channel(c.half ? Imf::HALF : Imf::FLOAT));
+    header.channels().insert(c.name, Imf::Channel(c.half ? Imf::HALF : Imf::FLOAT));
   for (const auto& [name, value] : part.attributes)
     header.insert(name, Imf::StringAttribute(value));
   return header;
@@ -67,23 +66,17 @@ Imf::FrameBuffer MakeBuffer(int w,
                                sizeof(half),
                                sizeof(half) * w));
     } else {
-      buffer.insert(
-          c.name,
-          Imf::Slice(
-              Imf::FLOAT,
-              const_cast<char*>(reinterpret_cast<const char*>(c.values.data())),
-              sizeof(float),
-              sizeof(float) * w));
+      buffer.insert(c.name,
+                    Imf::Slice(Imf::FLOAT,
+                               const_cast<char*>(reinterpret_cast<const char*>(c.values.data())),
+                               sizeof(float),
+                               sizeof(float) * w));
     }
   }
   return buffer;
 }
 
-void WriteExr(const fs::path& path,
-              int w,
-              int h,
-              const std::vector<Part>& parts,
-              bool multipart) {
+void WriteExr(const fs::path& path, int w, int h, const std::vector<Part>& parts, bool multipart) {
   if (multipart) {
     std::vector<Imf::Header> headers;
     for (const Part& part : parts) {
@@ -91,8 +84,7 @@ void WriteExr(const fs::path& path,
       headers.back().setName(part.name);
       headers.back().setType(Imf::SCANLINEIMAGE);
     }
-    Imf::MultiPartOutputFile file(
-        path.c_str(), headers.data(), static_cast<int>(headers.size()));
+    Imf::MultiPartOutputFile file(path.c_str(), headers.data(), static_cast<int>(headers.size()));
     for (size_t i = 0; i < parts.size(); ++i) {
       std::vector<std::vector<half>> halves;
       halves.reserve(parts[i].channels.size());
@@ -104,8 +96,7 @@ void WriteExr(const fs::path& path,
   }
   Part merged;
   for (const Part& part : parts) {
-    merged.channels.insert(
-        merged.channels.end(), part.channels.begin(), part.channels.end());
+    merged.channels.insert(merged.channels.end(), part.channels.begin(), part.channels.end());
     merged.attributes.insert(part.attributes.begin(), part.attributes.end());
   }
   Imf::OutputFile file(path.c_str(), MakeHeader(w, h, merged));
@@ -118,8 +109,7 @@ void WriteExr(const fs::path& path,
 }  // namespace
 
 std::string MrqActorName(uint32_t instance_id) {
-  return instance_id == 1000 ? "Landscape"
-                             : "BP_Target_C_" + std::to_string(instance_id);
+  return instance_id == 1000 ? "Landscape" : "BP_Target_C_" + std::to_string(instance_id);
 }
 
 void WriteMrqFixture(const fs::path& folder,
@@ -128,29 +118,26 @@ void WriteMrqFixture(const fs::path& folder,
   fs::create_directories(folder);
   // The sidecar, as the UE script of docs/import.md writes it.
   json classes = json::array();
-  for (const ClassInfo& c : spec.classes)
-    classes.push_back({{"id", c.id}, {"name", c.name}});
+  for (const ClassInfo& c : spec.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
   json actors = json::array();
   std::vector<std::string> names = {MrqActorName(1000)};
-  actors.push_back(
-      {{"name", MrqActorName(1000)}, {"instance_id", 1000}, {"class_id", 1}});
+  actors.push_back({{"name", MrqActorName(1000)}, {"instance_id", 1000}, {"class_id", 1}});
   for (const synth::Box& box : spec.boxes) {
     Eigen::Vector3d center, extent;
     import::UnrealRotator rotation;
     import::UnrealBoxOfEnuBox(box.Obb(), &center, &extent, &rotation);
     names.push_back(MrqActorName(box.instance_id));
-    actors.push_back({{"name", MrqActorName(box.instance_id)},
-                      {"object", box.name},
-                      {"asset", "box"},
-                      {"instance_id", box.instance_id},
-                      {"class_id", box.class_id},
-                      {"obb",
-                       {{"center", {center.x(), center.y(), center.z()}},
-                        {"extent", {extent.x(), extent.y(), extent.z()}},
-                        {"rotation",
-                         {{"pitch", rotation.pitch},
-                          {"yaw", rotation.yaw},
-                          {"roll", rotation.roll}}}}}});
+    actors.push_back(
+        {{"name", MrqActorName(box.instance_id)},
+         {"object", box.name},
+         {"asset", "box"},
+         {"instance_id", box.instance_id},
+         {"class_id", box.class_id},
+         {"obb",
+          {{"center", {center.x(), center.y(), center.z()}},
+           {"extent", {extent.x(), extent.y(), extent.z()}},
+           {"rotation",
+            {{"pitch", rotation.pitch}, {"yaw", rotation.yaw}, {"roll", rotation.roll}}}}}});
   }
   std::ofstream(folder / "lsds_objects.json") << json{
       {"format", "lsds-ue-objects"},
@@ -161,11 +148,11 @@ void WriteMrqFixture(const fs::path& folder,
   const std::string layer = "CryptoActor";
   std::map<uint32_t, float> id_of_instance = {{0, 0.0f}};
   for (uint32_t instance : {1000u, 1u, 2u, 3u})
-    id_of_instance[instance] = import::CryptomatteFloatFromHash(
-        import::MurmurHash3_32(MrqActorName(instance)));
+    id_of_instance[instance] =
+        import::CryptomatteFloatFromHash(import::MurmurHash3_32(MrqActorName(instance)));
   for (const synth::Box& box : spec.boxes)
-    id_of_instance[box.instance_id] = import::CryptomatteFloatFromHash(
-        import::MurmurHash3_32(MrqActorName(box.instance_id)));
+    id_of_instance[box.instance_id] =
+        import::CryptomatteFloatFromHash(import::MurmurHash3_32(MrqActorName(box.instance_id)));
 
   for (int k = 0; k < static_cast<int>(spec.cam_from_world.size()); ++k) {
     const synth::RenderedFrame frame = synth::RenderFrame(spec, k);
@@ -177,8 +164,7 @@ void WriteMrqFixture(const fs::path& folder,
     rgba.channels.push_back({"A", true, std::vector<float>(n, 1.0f)});
     Eigen::Vector3d location;
     import::UnrealRotator rotation;
-    import::UnrealCameraOfCamFromEnu(
-        spec.cam_from_world[k], &location, &rotation);
+    import::UnrealCameraOfCamFromEnu(spec.cam_from_world[k], &location, &rotation);
     rgba.attributes = {{"unreal/camera/curPos/x", Text(location.x())},
                        {"unreal/camera/curPos/y", Text(location.y())},
                        {"unreal/camera/curPos/z", Text(location.z())},
@@ -191,16 +177,13 @@ void WriteMrqFixture(const fs::path& folder,
     for (float& v : cm) v *= 100.0f;  // m -> cm (inf stays inf: the sky)
     for (const char* c : {"R", "G", "B"})
       depth.channels.push_back(
-          {"FinalImageMovieRenderQueue_WorldDepth." + std::string(c),
-           options.half_depth,
-           cm});
+          {"FinalImageMovieRenderQueue_WorldDepth." + std::string(c), options.half_depth, cm});
     depth.channels.push_back({"FinalImageMovieRenderQueue_WorldDepth.A",
                               options.half_depth,
                               std::vector<float>(n, 1.0f)});
     Part crypto{layer, {}, {}};
     std::vector<float> id(n), coverage(n), zero(n, 0.0f);
-    const std::vector<uint32_t>& instances =
-        frame.flat.at("instanceid").Get("id").uints;
+    const std::vector<uint32_t>& instances = frame.flat.at("instanceid").Get("id").uints;
     for (size_t p = 0; p < n; ++p) {
       id[p] = id_of_instance.at(instances[p]);
       coverage[p] = instances[p] == 0 ? 0.0f : 1.0f;  // one sample per pixel
@@ -216,13 +199,10 @@ void WriteMrqFixture(const fs::path& folder,
     crypto.attributes = {
         {import::CryptomatteAttribute(layer, "name"), layer},
         {import::CryptomatteAttribute(layer, "hash"), "MurmurHash3_32"},
-        {import::CryptomatteAttribute(layer, "conversion"),
-         "uint32_to_float32"},
-        {import::CryptomatteAttribute(layer, "manifest"),
-         import::CryptomatteManifest(names)}};
+        {import::CryptomatteAttribute(layer, "conversion"), "uint32_to_float32"},
+        {import::CryptomatteAttribute(layer, "manifest"), import::CryptomatteManifest(names)}};
     char name[64];
-    std::snprintf(
-        name, sizeof name, "%s.%04d.exr", options.sequence.c_str(), k);
+    std::snprintf(name, sizeof name, "%s.%04d.exr", options.sequence.c_str(), k);
     WriteExr(folder / name, w, h, {rgba, depth, crypto}, options.multipart);
   }
 }

@@ -38,8 +38,8 @@ json RowMajorTransposed(const Eigen::Matrix4d& m) {
   return out;
 }
 std::string ColourKey(const cv::Vec4b& rgba) {
-  return "(" + std::to_string(rgba[0]) + ", " + std::to_string(rgba[1]) +
-         ", " + std::to_string(rgba[2]) + ", " + std::to_string(rgba[3]) + ")";
+  return "(" + std::to_string(rgba[0]) + ", " + std::to_string(rgba[1]) + ", " +
+         std::to_string(rgba[2]) + ", " + std::to_string(rgba[3]) + ")";
 }
 }  // namespace
 
@@ -62,8 +62,7 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
     return std::string();
   };
   auto semantic_id = [&](const std::string& label) {
-    return static_cast<uint32_t>(
-        std::find(labels.begin(), labels.end(), label) - labels.begin());
+    return static_cast<uint32_t>(std::find(labels.begin(), labels.end(), label) - labels.begin());
   };
   json labels_json = json::object();
   for (size_t s = 0; s < labels.size(); ++s)
@@ -75,10 +74,8 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
     const CameraTruth& camera = frame.truth.camera;
     const PinholeCamera& in = camera.intrinsics;
     Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
-    view.topLeftCorner<3, 3>() =
-        gl_from_cv * camera.cam_from_world_rotation * enu_from_stage;
-    view.topRightCorner<3, 1>() =
-        gl_from_cv * camera.cam_from_world_translation / mpu;
+    view.topLeftCorner<3, 3>() = gl_from_cv * camera.cam_from_world_rotation * enu_from_stage;
+    view.topRightCorner<3, 1>() = gl_from_cv * camera.cam_from_world_translation / mpu;
     const double n = 1, f = 1e6;
     Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();
     projection(0, 0) = 2 * in.fx / w;
@@ -90,33 +87,31 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
     projection(3, 2) = -1;
     const double focal_mm = 18.15;
     const double aperture_mm = focal_mm * w / in.fx;
-    const json params = {
-        {"cameraAperture", {aperture_mm, aperture_mm * h / w}},
-        {"cameraApertureOffset", {0.0, 0.0}},
-        {"cameraFisheyeLensP", json::array()},
-        {"cameraFisheyeLensS", json::array()},
-        {"cameraFisheyeMaxFOV", 0.0},
-        {"cameraFisheyeNominalHeight", 0},
-        {"cameraFisheyeNominalWidth", 0},
-        {"cameraFisheyeOpticalCentre", {0.0, 0.0}},
-        {"cameraFisheyePolynomial", {0.0, 0.0, 0.0, 0.0, 0.0}},
-        {"cameraFocalLength", focal_mm},
-        {"cameraFocusDistance", 400.0},
-        {"cameraFStop", 0.0},
-        {"cameraModel", "pinhole"},
-        {"cameraNearFar", {n, f}},
-        {"cameraProjection", RowMajorTransposed(projection)},
-        {"cameraViewTransform", RowMajorTransposed(view)},
-        {"metersPerSceneUnit", mpu},
-        {"renderProductResolution", {w, h}}};
+    const json params = {{"cameraAperture", {aperture_mm, aperture_mm * h / w}},
+                         {"cameraApertureOffset", {0.0, 0.0}},
+                         {"cameraFisheyeLensP", json::array()},
+                         {"cameraFisheyeLensS", json::array()},
+                         {"cameraFisheyeMaxFOV", 0.0},
+                         {"cameraFisheyeNominalHeight", 0},
+                         {"cameraFisheyeNominalWidth", 0},
+                         {"cameraFisheyeOpticalCentre", {0.0, 0.0}},
+                         {"cameraFisheyePolynomial", {0.0, 0.0, 0.0, 0.0, 0.0}},
+                         {"cameraFocalLength", focal_mm},
+                         {"cameraFocusDistance", 400.0},
+                         {"cameraFStop", 0.0},
+                         {"cameraModel", "pinhole"},
+                         {"cameraNearFar", {n, f}},
+                         {"cameraProjection", RowMajorTransposed(projection)},
+                         {"cameraViewTransform", RowMajorTransposed(view)},
+                         {"metersPerSceneUnit", mpu},
+                         {"renderProductResolution", {w, h}}};
     std::ofstream(folder / Name("camera_params", k, "json")) << params.dump(2);
 
     // RGB, distance to the image plane (scene units), instance colours.
     cv::Mat colours(h, w, CV_8UC4);
     const exr::FlatImage& colour = frame.flat.at("rgb");
     const std::vector<float>& z = frame.flat.at("depth").Get("Z").floats;
-    const std::vector<uint32_t>& ids =
-        frame.flat.at("instanceid").Get("id").uints;
+    const std::vector<uint32_t>& ids = frame.flat.at("instanceid").Get("id").uints;
     std::string depth_bytes;
     json mapping = json::object(), semantics = json::object();
     mapping[ColourKey(background)] = "BACKGROUND";
@@ -126,31 +121,27 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const size_t p = colour.Index(i, j);
-        Put(&depth_bytes, std::isfinite(z[p])
-                              ? static_cast<float>(z[p] / mpu)
-                              : std::numeric_limits<float>::infinity());
+        Put(&depth_bytes,
+            std::isfinite(z[p]) ? static_cast<float>(z[p] / mpu)
+                                : std::numeric_limits<float>::infinity());
         cv::Vec4b c = std::isfinite(z[p]) ? unlabelled : background;
         for (const synth::Box& box : spec.boxes)
           if (ids[p] == box.instance_id) {
             c = cv::Vec4b(static_cast<uint8_t>(40 * box.instance_id),
                           static_cast<uint8_t>(255 - 30 * box.instance_id),
-                          static_cast<uint8_t>(90 + box.instance_id), 255);
+                          static_cast<uint8_t>(90 + box.instance_id),
+                          255);
             mapping[ColourKey(c)] = "/World/" + box.name;
             semantics[ColourKey(c)] = {{"class", label_of(box.class_id)}};
           }
         colours.at<cv::Vec4b>(j, i) = {c[2], c[1], c[0], c[3]};  // BGRA
       }
-    cv::imwrite((folder / Name("rgb", k, "png")).string(),
-                SrgbPng(colour, true));
-    cv::imwrite((folder / Name("instance_segmentation", k, "png")).string(),
-                colours);
-    std::ofstream(folder / Name("instance_segmentation_mapping", k, "json"))
-        << mapping.dump();
-    std::ofstream(
-        folder / Name("instance_segmentation_semantics_mapping", k, "json"))
+    cv::imwrite((folder / Name("rgb", k, "png")).string(), SrgbPng(colour, true));
+    cv::imwrite((folder / Name("instance_segmentation", k, "png")).string(), colours);
+    std::ofstream(folder / Name("instance_segmentation_mapping", k, "json")) << mapping.dump();
+    std::ofstream(folder / Name("instance_segmentation_semantics_mapping", k, "json"))
         << semantics.dump();
-    WriteNpy(folder / Name("distance_to_image_plane", k, "npy"), "'<f4'",
-             {h, w}, depth_bytes);
+    WriteNpy(folder / Name("distance_to_image_plane", k, "npy"), "'<f4'", {h, w}, depth_bytes);
 
     // 3D boxes: a unit cube mesh (local extents +-0.5) scaled, rotated and
     // moved by the prim's row-vector local-to-world transform.
@@ -160,15 +151,12 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
       const OrientedBox obb = box.Obb();
       Eigen::Matrix4d world_from_local = Eigen::Matrix4d::Identity();
       world_from_local.topLeftCorner<3, 3>() =
-          stage_from_enu * obb.world_from_box *
-          (2 * obb.half_extents / mpu).asDiagonal();
-      world_from_local.topRightCorner<3, 1>() =
-          stage_from_enu * obb.center / mpu;
+          stage_from_enu * obb.world_from_box * (2 * obb.half_extents / mpu).asDiagonal();
+      world_from_local.topRightCorner<3, 1>() = stage_from_enu * obb.center / mpu;
       Put(&boxes3d, semantic_id(label_of(box.class_id)));
       for (float v : {-0.5f, -0.5f, -0.5f, 0.5f, 0.5f, 0.5f}) Put(&boxes3d, v);
       for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c)
-          Put(&boxes3d, static_cast<float>(world_from_local(c, r)));
+        for (int c = 0; c < 4; ++c) Put(&boxes3d, static_cast<float>(world_from_local(c, r)));
       Put(&boxes3d, 0.0f);  // occlusionRatio
       prim_paths.push_back("/World/" + box.name);
       // bounding_box_2d_tight: inclusive pixel indices of the visible pixels.
@@ -188,17 +176,16 @@ void WriteReplicatorFixture(const fs::path& folder, const synth::Spec& spec) {
              "('z_min', '<f4'), ('x_max', '<f4'), ('y_max', '<f4'), "
              "('z_max', '<f4'), ('transform', '<f4', (4, 4)), "
              "('occlusionRatio', '<f4')]",
-             {static_cast<int64_t>(spec.boxes.size())}, boxes3d);
-    std::ofstream(folder / Name("bounding_box_3d_labels", k, "json"))
-        << labels_json.dump();
-    std::ofstream(folder / Name("bounding_box_3d_prim_paths", k, "json"))
-        << prim_paths.dump();
+             {static_cast<int64_t>(spec.boxes.size())},
+             boxes3d);
+    std::ofstream(folder / Name("bounding_box_3d_labels", k, "json")) << labels_json.dump();
+    std::ofstream(folder / Name("bounding_box_3d_prim_paths", k, "json")) << prim_paths.dump();
     WriteNpy(folder / Name("bounding_box_2d_tight", k, "npy"),
              "[('semanticId', '<u4'), ('x_min', '<i4'), ('y_min', '<i4'), "
              "('x_max', '<i4'), ('y_max', '<i4'), ('occlusionRatio', '<f4')]",
-             {static_cast<int64_t>(prim_paths_2d.size())}, boxes2d);
-    std::ofstream(folder / Name("bounding_box_2d_tight_labels", k, "json"))
-        << labels_json.dump();
+             {static_cast<int64_t>(prim_paths_2d.size())},
+             boxes2d);
+    std::ofstream(folder / Name("bounding_box_2d_tight_labels", k, "json")) << labels_json.dump();
     std::ofstream(folder / Name("bounding_box_2d_tight_prim_paths", k, "json"))
         << prim_paths_2d.dump();
   }

@@ -16,7 +16,6 @@ namespace lsds::testing {
 
 inline constexpr double kReplicatorMetersPerUnit = 0.01;
 
-void WriteReplicatorFixture(const std::filesystem::path& folder,
-                            const synth::Spec& spec);
+void WriteReplicatorFixture(const std::filesystem::path& folder, const synth::Spec& spec);
 
 }  // namespace lsds::testing

@@ -26,7 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-
 std::string FrameName(const char* stem, size_t k, const char* ext) {
   char text[96];
   std::snprintf(text, sizeof text, "%s_%04zu.%s", stem, k, ext);
@@ -51,8 +50,7 @@ TEST_F(ReplicatorImportTest, TruthEqualsTheAnalyticScene) {
   reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
   for (size_t k = 0; k < frames.size(); ++k) {
-    const synth::RenderedFrame truth =
-        synth::RenderFrame(spec_, static_cast<int>(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
     const Frame& frame = frames[k];
     SCOPED_TRACE("frame " + std::to_string(k));
     // Row-vector view matrix, OpenGL camera, y-up stage in cm -> OpenCV, ENU m.
@@ -70,14 +68,14 @@ TEST_F(ReplicatorImportTest, TruthEqualsTheAnalyticScene) {
     // imported boxes, derived again from the instance layer.
     const fs::path tight = folder / FrameName("bounding_box_2d_tight", k, "npy");
     const NpyArray boxes = ReadNpy(tight);
-    ASSERT_EQ(boxes.size(), static_cast<int64_t>(std::count_if(
-                                frame.objects.begin(), frame.objects.end(),
-                                [](const ObjectTruth& o) { return o.bbox; })));
+    ASSERT_EQ(boxes.size(),
+              static_cast<int64_t>(std::count_if(frame.objects.begin(),
+                                                 frame.objects.end(),
+                                                 [](const ObjectTruth& o) { return o.bbox; })));
     for (int64_t row = 0; row < boxes.size(); ++row) {
       const ObjectTruth* object = nullptr;
       for (const ObjectTruth& o : frame.objects)
-        if (o.bbox && object == nullptr &&
-            o.bbox->x0 == boxes.Get(row, boxes.Field("x_min", "")) &&
+        if (o.bbox && object == nullptr && o.bbox->x0 == boxes.Get(row, boxes.Field("x_min", "")) &&
             o.bbox->y0 == boxes.Get(row, boxes.Field("y_min", "")))
           object = &o;
       ASSERT_NE(object, nullptr) << "row " << row;
@@ -100,9 +98,7 @@ TEST_F(ReplicatorImportTest, TruthEqualsTheAnalyticScene) {
       }
       EXPECT_NEAR(depth[p], want[p], 2e-7 * want[p]);
       for (const char* c : {"X", "Y", "Z"})
-        EXPECT_NEAR(position.Get(c).floats[p],
-                    want_position.Get(c).floats[p],
-                    4e-6 * want[p]);
+        EXPECT_NEAR(position.Get(c).floats[p], want_position.Get(c).floats[p], 4e-6 * want[p]);
     }
   }
   const json header = json::parse(ReadText(out / "collection.json"));
@@ -115,7 +111,11 @@ TEST_F(ReplicatorImportTest, ValidatesCleanAndConverts) {
   const fs::path folder = dir_ / "replicator";
   WriteReplicatorFixture(folder, spec_);
   ExpectImportValidatesAndConverts(
-      "replicator", folder, dir_.path(), spec_.width, spec_.height,
+      "replicator",
+      folder,
+      dir_.path(),
+      spec_.width,
+      spec_.height,
       [&](int k) { return TargetIds(synth::RenderFrame(spec_, k)); },
       "--up-axis y");
 }
@@ -143,20 +143,16 @@ TEST_F(ReplicatorImportTest, AColourMissingFromTheMappingNamesThePixel) {
   spec.cam_from_world.resize(1);
   const fs::path folder = dir_ / "replicator";
   WriteReplicatorFixture(folder, spec);
-  json mapping =
-      json::parse(ReadText(folder / "instance_segmentation_mapping_0000.json"));
+  json mapping = json::parse(ReadText(folder / "instance_segmentation_mapping_0000.json"));
   mapping.erase("(0, 0, 0, 255)");
-  std::ofstream(folder / "instance_segmentation_mapping_0000.json")
-      << mapping.dump();
-  const CommandResult result = RunCommandLine(
-      LsdsBinary() + " import replicator " + folder.string() +
-      " --up-axis y -o " + (dir_ / "out").string());
+  std::ofstream(folder / "instance_segmentation_mapping_0000.json") << mapping.dump();
+  const CommandResult result =
+      RunCommandLine(LsdsBinary() + " import replicator " + folder.string() + " --up-axis y -o " +
+                     (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("instance_segmentation_0000.png"),
-            std::string::npos)
+  EXPECT_NE(result.output.find("instance_segmentation_0000.png"), std::string::npos)
       << result.output;
-  EXPECT_NE(result.output.find("(0, 0, 0, 255)"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("(0, 0, 0, 255)"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
@@ -168,15 +164,13 @@ TEST_F(ReplicatorImportTest, ATruncatedNpyIsALocatedError) {
   const fs::path depth = folder / "distance_to_image_plane_0000.npy";
   const std::string bytes = ReadText(depth);
   std::ofstream(depth, std::ios::binary) << bytes.substr(0, bytes.size() - 7);
-  const CommandResult result = RunCommandLine(
-      LsdsBinary() + " import replicator " + folder.string() +
-      " --up-axis y -o " + (dir_ / "out").string());
+  const CommandResult result =
+      RunCommandLine(LsdsBinary() + " import replicator " + folder.string() + " --up-axis y -o " +
+                     (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("distance_to_image_plane_0000.npy"),
-            std::string::npos)
+  EXPECT_NE(result.output.find("distance_to_image_plane_0000.npy"), std::string::npos)
       << result.output;
-  EXPECT_NE(result.output.find("header says"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("header says"), std::string::npos) << result.output;
 }
 
 }  // namespace

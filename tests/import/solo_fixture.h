@@ -19,8 +19,6 @@ namespace lsds::testing {
 
 inline constexpr uint32_t kSoloInstanceBase = 100;
 
-void WriteSoloFixture(const std::filesystem::path& dataset,
-                      const synth::Spec& spec,
-                      int split);
+void WriteSoloFixture(const std::filesystem::path& dataset, const synth::Spec& spec, int split);
 
 }  // namespace lsds::testing

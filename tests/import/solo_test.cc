@@ -26,14 +26,12 @@ using nlohmann::json;
 constexpr int kSplit = 3;  // frames [0, 3) in sequence.0, the rest sequence.1
 
 // The fixture's ids: box b is Unity instance 100 + b; the ground is black.
-std::vector<uint32_t> SoloIds(const synth::Spec& spec,
-                              const synth::RenderedFrame& truth) {
+std::vector<uint32_t> SoloIds(const synth::Spec& spec, const synth::RenderedFrame& truth) {
   std::vector<uint32_t> ids = truth.flat.at("instanceid").Get("id").uints;
   for (uint32_t& id : ids) {
     uint32_t mapped = 0;
     for (size_t b = 0; b < spec.boxes.size(); ++b)
-      if (id == spec.boxes[b].instance_id)
-        mapped = kSoloInstanceBase + static_cast<uint32_t>(b);
+      if (id == spec.boxes[b].instance_id) mapped = kSoloInstanceBase + static_cast<uint32_t>(b);
     id = mapped;
   }
   return ids;
@@ -55,8 +53,7 @@ TEST_F(SoloImportTest, TruthEqualsTheAnalyticScene) {
   reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
   for (size_t k = 0; k < frames.size(); ++k) {
-    const synth::RenderedFrame truth =
-        synth::RenderFrame(spec_, static_cast<int>(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
     const Frame& frame = frames[k];
     SCOPED_TRACE("frame " + std::to_string(k));
     const int step = k < kSplit ? static_cast<int>(k) : static_cast<int>(k) - kSplit;
@@ -89,9 +86,7 @@ TEST_F(SoloImportTest, TruthEqualsTheAnalyticScene) {
       }
       EXPECT_EQ(depth[p], want[p]);
       for (const char* c : {"X", "Y", "Z"})
-        EXPECT_NEAR(position.Get(c).floats[p],
-                    want_position.Get(c).floats[p],
-                    2e-6 * want[p]);
+        EXPECT_NEAR(position.Get(c).floats[p], want_position.Get(c).floats[p], 2e-6 * want[p]);
     }
   }
 }
@@ -100,8 +95,9 @@ TEST_F(SoloImportTest, ValidatesCleanAndConverts) {
   const fs::path dataset = dir_ / "solo";
   WriteSoloFixture(dataset, spec_, kSplit);
   ExpectImportValidatesAndConverts(
-      "solo", dataset, dir_.path(), spec_.width, spec_.height,
-      [&](int k) { return SoloIds(spec_, synth::RenderFrame(spec_, k)); });
+      "solo", dataset, dir_.path(), spec_.width, spec_.height, [&](int k) {
+        return SoloIds(spec_, synth::RenderFrame(spec_, k));
+      });
 }
 
 TEST_F(SoloImportTest, ABadQuaternionIsALocatedError) {
@@ -113,14 +109,11 @@ TEST_F(SoloImportTest, ABadQuaternionIsALocatedError) {
   json data = json::parse(ReadText(step));
   data["captures"][0]["annotations"][1]["values"][2]["rotation"] = {0, 0, 0, 2};
   std::ofstream(step) << data.dump();
-  const CommandResult result =
-      RunCommandLine(LsdsBinary() + " import solo " + dataset.string() +
-                     " -o " + (dir_ / "out").string());
+  const CommandResult result = RunCommandLine(LsdsBinary() + " import solo " + dataset.string() +
+                                              " -o " + (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(
-      result.output.find(
-          "step0.frame_data.json#/captures/0/annotations/1/values/2/rotation"),
-      std::string::npos)
+  EXPECT_NE(result.output.find("step0.frame_data.json#/captures/0/annotations/1/values/2/rotation"),
+            std::string::npos)
       << result.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }

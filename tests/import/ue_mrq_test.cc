@@ -32,16 +32,14 @@ synth::Spec FixtureSpec() {
   synth::Spec spec = synth::DefaultSpec();
   spec.samples_per_axis = 1;
   const Rigid3d look = LookAt({-14, -9, 6}, {0, 0, 1});
-  const Eigen::Quaterniond roll(
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
+  const Eigen::Quaterniond roll(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()));
   spec.cam_from_world.push_back(Rigid3d(roll, Eigen::Vector3d::Zero()) * look);
   return spec;
 }
 
 std::vector<Frame> Frames(const fs::path& root) {
   std::vector<Frame> frames;
-  CollectionReader(root).ForEachFrame(
-      [&](const Frame& f) { frames.push_back(f); });
+  CollectionReader(root).ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   return frames;
 }
 
@@ -87,14 +85,8 @@ TEST(UnrealFrame, CameraAndBoxRoundTripThroughRotators) {
   EXPECT_LT((back.ToMatrix() - pose.ToMatrix()).cwiseAbs().maxCoeff(), 1e-12);
   // A camera with rotator 0 looks north, image right is east.
   const Rigid3d north = import::CamFromEnuOfUnrealCamera({0, 0, 0}, {});
-  EXPECT_LT(
-      (north.rotation * Eigen::Vector3d(0, 1, 0) - Eigen::Vector3d(0, 0, 1))
-          .norm(),
-      1e-12);
-  EXPECT_LT(
-      (north.rotation * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(1, 0, 0))
-          .norm(),
-      1e-12);
+  EXPECT_LT((north.rotation * Eigen::Vector3d(0, 1, 0) - Eigen::Vector3d(0, 0, 1)).norm(), 1e-12);
+  EXPECT_LT((north.rotation * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(1, 0, 0)).norm(), 1e-12);
 }
 
 TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
@@ -104,24 +96,21 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
   const CollectionReader reader(out);
   EXPECT_EQ(reader.header().conventions.world.name, "ENU");
   EXPECT_EQ(reader.header().provenance.import["format"], "ue-mrq");
-  EXPECT_EQ(reader.header().provenance.import["truth_origin"]["worldposition"],
-            "derived");
+  EXPECT_EQ(reader.header().provenance.import["truth_origin"]["worldposition"], "derived");
   for (size_t k = 0; k < frames.size(); ++k) {
-    const synth::RenderedFrame truth =
-        synth::RenderFrame(spec_, static_cast<int>(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
     const Frame& frame = frames[k];
     SCOPED_TRACE("frame " + std::to_string(k));
     EXPECT_NEAR(frame.time, truth.truth.time, 1e-12);
     EXPECT_EQ(frame.camera.intrinsics, truth.truth.camera.intrinsics);
-    EXPECT_LT((frame.camera.cam_from_world_rotation -
-               truth.truth.camera.cam_from_world_rotation)
+    EXPECT_LT((frame.camera.cam_from_world_rotation - truth.truth.camera.cam_from_world_rotation)
                   .cwiseAbs()
                   .maxCoeff(),
               1e-12);
-    EXPECT_LT((frame.camera.cam_from_world_translation -
-               truth.truth.camera.cam_from_world_translation)
-                  .norm(),
-              1e-9);
+    EXPECT_LT(
+        (frame.camera.cam_from_world_translation - truth.truth.camera.cam_from_world_translation)
+            .norm(),
+        1e-9);
     ASSERT_EQ(frame.objects.size(), truth.truth.objects.size());
     for (size_t i = 0; i < frame.objects.size(); ++i) {
       const ObjectTruth& got = frame.objects[i];
@@ -136,22 +125,16 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
       EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9);
       EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-9);
       EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), 1e-9);
-      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box)
-                    .cwiseAbs()
-                    .maxCoeff(),
-                1e-12);
+      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), 1e-12);
     }
     // Layers: ids exact, depth and world position within float precision.
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
     };
-    EXPECT_EQ(read("instanceid").Get("id").uints,
-              truth.flat.at("instanceid").Get("id").uints);
-    EXPECT_EQ(read("classid").Get("id").uints,
-              truth.flat.at("classid").Get("id").uints);
+    EXPECT_EQ(read("instanceid").Get("id").uints, truth.flat.at("instanceid").Get("id").uints);
+    EXPECT_EQ(read("classid").Get("id").uints, truth.flat.at("classid").Get("id").uints);
     const std::vector<float> depth = read("depth").Get("Z").floats;
-    const std::vector<float>& want_depth =
-        truth.flat.at("depth").Get("Z").floats;
+    const std::vector<float>& want_depth = truth.flat.at("depth").Get("Z").floats;
     const exr::FlatImage position = read("worldposition");
     const exr::FlatImage& want_position = truth.flat.at("worldposition");
     int sky = 0;
@@ -164,9 +147,8 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
       }
       EXPECT_NEAR(depth[p], want_depth[p], 2e-7 * want_depth[p]);
       for (const char* c : {"X", "Y", "Z"})
-        EXPECT_NEAR(position.Get(c).floats[p],
-                    want_position.Get(c).floats[p],
-                    1e-6 * want_depth[p] + 2e-6)
+        EXPECT_NEAR(
+            position.Get(c).floats[p], want_position.Get(c).floats[p], 1e-6 * want_depth[p] + 2e-6)
             << c << " pixel " << p;
     }
     if (k == frames.size() - 1) EXPECT_GT(sky, 0);  // the oblique view
@@ -181,8 +163,7 @@ TEST_F(UeMrqImportTest, SinglePartMultilayerAndHalfDepthImportAlike) {
   const std::vector<Frame> frames = Frames(out);
   const CollectionReader reader(out);
   for (size_t k = 0; k < frames.size(); ++k) {
-    const synth::RenderedFrame truth =
-        synth::RenderFrame(spec_, static_cast<int>(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
     ASSERT_EQ(frames[k].objects.size(), truth.truth.objects.size());
     for (size_t i = 0; i < frames[k].objects.size(); ++i)
       EXPECT_EQ(frames[k].objects[i].bbox, truth.truth.objects[i].bbox);
@@ -214,22 +195,20 @@ TEST_F(UeMrqImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheIdLayers) {
   fs::rename(source / "lsds_objects.json", objects);
   const fs::path out = dir_ / "cli-collection";
   const CommandResult imported =
-      RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() +
-                     " -o " + out.string() + " --objects " + objects.string());
+      RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() + " -o " + out.string() +
+                     " --objects " + objects.string());
   ASSERT_EQ(imported.exit_code, 0) << imported.output;
-  EXPECT_NE(imported.output.find("imported 5 frames"), std::string::npos)
-      << imported.output;
+  EXPECT_NE(imported.output.find("imported 5 frames"), std::string::npos) << imported.output;
   const CommandResult again =
-      RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() +
-                     " -o " + out.string() + " --objects " + objects.string());
+      RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() + " -o " + out.string() +
+                     " --objects " + objects.string());
   EXPECT_EQ(again.exit_code, 2) << again.output;  // exists, no --force
-  const CommandResult validate = RunCommandLine(
-      LsdsBinary() + " validate --fail-on warning " + out.string());
+  const CommandResult validate =
+      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
   EXPECT_EQ(validate.exit_code, 0) << validate.output;
   const fs::path coco = dir_ / "coco";
-  const CommandResult convert =
-      RunCommandLine(LsdsBinary() + " convert " + out.string() +
-                     " --to coco --images none -o " + coco.string());
+  const CommandResult convert = RunCommandLine(LsdsBinary() + " convert " + out.string() +
+                                               " --to coco --images none -o " + coco.string());
   ASSERT_EQ(convert.exit_code, 0) << convert.output;
   fs::path annotations;
   for (const auto& entry : fs::recursive_directory_iterator(coco)) {
@@ -246,22 +225,20 @@ TEST_F(UeMrqImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheIdLayers) {
   const int w = spec_.width, h = spec_.height;
   for (const json& a : doc["annotations"]) {
     // The frame index is the image's file stem.
-    const std::string stem =
-        fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string();
+    const std::string stem = fs::path(image_names.at(a["image_id"].get<int64_t>())).stem().string();
     const int k = std::stoi(stem);
     const synth::RenderedFrame truth = synth::RenderFrame(spec_, k);
     const uint32_t instance = a["lsds"]["instance_id"];
-    const std::vector<uint32_t>& ids =
-        truth.flat.at("instanceid").Get("id").uints;
+    const std::vector<uint32_t>& ids = truth.flat.at("instanceid").Get("id").uints;
     int64_t total = 0;
-    const cv::Mat mask = CocoDecode(
-        CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
+    const cv::Mat mask =
+        CocoDecode(CocoCountsFromString(a["segmentation"]["counts"]), h, w, &total);
     ASSERT_EQ(total, int64_t{w} * h);
     int64_t differing = 0;
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i)
-        differing += (mask.at<uint8_t>(j, i) != 0) !=
-                     (ids[static_cast<size_t>(j) * w + i] == instance);
+        differing +=
+            (mask.at<uint8_t>(j, i) != 0) != (ids[static_cast<size_t>(j) * w + i] == instance);
     EXPECT_EQ(differing, 0) << "instance " << instance << " frame " << k;
   }
 }
@@ -271,17 +248,12 @@ TEST_F(UeMrqImportTest, RefusesExistingOutputAndOutputInsideTheSource) {
   WriteMrqFixture(source, spec_, {});
   const fs::path out = dir_ / "out";
   fs::create_directories(out);
-  EXPECT_THROW(import::ImportCollection("ue-mrq", source, out, {}, false),
-               Error);
-  EXPECT_THROW(
-      import::ImportCollection("ue-mrq", source, source / "inside", {}, true),
-      Error);
-  const CommandResult unknown =
-      RunCommandLine(LsdsBinary() + " import ue-mrqq " + source.string() +
-                     " -o " + (dir_ / "x").string());
+  EXPECT_THROW(import::ImportCollection("ue-mrq", source, out, {}, false), Error);
+  EXPECT_THROW(import::ImportCollection("ue-mrq", source, source / "inside", {}, true), Error);
+  const CommandResult unknown = RunCommandLine(LsdsBinary() + " import ue-mrqq " + source.string() +
+                                               " -o " + (dir_ / "x").string());
   EXPECT_EQ(unknown.exit_code, 2);
-  EXPECT_NE(unknown.output.find("did you mean 'ue-mrq'"), std::string::npos)
-      << unknown.output;
+  EXPECT_NE(unknown.output.find("did you mean 'ue-mrq'"), std::string::npos) << unknown.output;
   EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
@@ -296,23 +268,17 @@ TEST_F(UeMrqImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {
     import::ImportCollection("ue-mrq", source, dir_ / "out", {}, false);
     FAIL() << "accepted an unknown class";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("lsds_objects.json"),
-              std::string::npos)
-        << e.what();
-    EXPECT_NE(std::string(e.what()).find("/actors/1/class_id"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("lsds_objects.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/actors/1/class_id"), std::string::npos) << e.what();
   }
   // A frame whose EXR is not an EXR: the file is named; nothing is written.
   objects["actors"][1]["class_id"] = 2;
   std::ofstream(source / "lsds_objects.json") << objects.dump();
   std::ofstream(source / "Shot.0002.exr") << "not an exr";
-  const CommandResult result =
-      RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() +
-                     " -o " + (dir_ / "out").string());
+  const CommandResult result = RunCommandLine(LsdsBinary() + " import ue-mrq " + source.string() +
+                                              " -o " + (dir_ / "out").string());
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.output.find("Shot.0002.exr"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("Shot.0002.exr"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 

@@ -26,8 +26,7 @@ std::string Lsds() { return testing::LsdsBinary(); }
 std::string Q(const fs::path& path) { return "'" + path.string() + "'"; }
 
 // A small synthetic collection (4 frames of 32x24, every layer).
-fs::path MakeCollection(const testing::TempDir& dir,
-                        const std::string& name = "c") {
+fs::path MakeCollection(const testing::TempDir& dir, const std::string& name = "c") {
   synth::Spec spec = synth::DefaultSpec();
   spec.width = 32;
   spec.height = 24;
@@ -55,8 +54,7 @@ std::vector<std::string> Temporaries(const fs::path& root) {
   std::vector<std::string> found;
   if (!fs::exists(root)) return found;
   for (const auto& entry : fs::recursive_directory_iterator(root))
-    if (IsTempName(entry.path().filename().string()))
-      found.push_back(entry.path().string());
+    if (IsTempName(entry.path().filename().string())) found.push_back(entry.path().string());
   return found;
 }
 
@@ -69,31 +67,28 @@ TEST(FullDisk, InjectedWriteFailureLeavesNothingUnderTheFinalName) {
   fs::create_directory(out);
   // Fused cloud: the issue's case (a truncated PLY under its final name).
   const CommandResult fused =
-      RunCommandLine("LSDS_FAULT_WRITE_BYTES=2000 " + Lsds() +
-                     " backproject --fuse -o " + Q(out / "cloud.ply") + " " +
-                     Q(c));
+      RunCommandLine("LSDS_FAULT_WRITE_BYTES=2000 " + Lsds() + " backproject --fuse -o " +
+                     Q(out / "cloud.ply") + " " + Q(c));
   EXPECT_NE(fused.exit_code, 0) << fused.output;
-  EXPECT_NE(fused.output.find("No space left on device"), std::string::npos)
-      << fused.output;
+  EXPECT_NE(fused.output.find("No space left on device"), std::string::npos) << fused.output;
   EXPECT_NE(fused.output.find("cloud.ply"), std::string::npos) << fused.output;
   EXPECT_FALSE(fs::exists(out / "cloud.ply"));
   EXPECT_TRUE(fs::is_empty(out)) << "leftovers in " << out;
   // The same command with room to write succeeds: the failure was the disk.
-  const CommandResult ok = RunCommandLine(
-      Lsds() + " backproject --fuse -o " + Q(out / "cloud.ply") + " " + Q(c));
+  const CommandResult ok =
+      RunCommandLine(Lsds() + " backproject --fuse -o " + Q(out / "cloud.ply") + " " + Q(c));
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_GT(fs::file_size(out / "cloud.ply"), 2000u);
 
   // A converter (a folder of files) and a report (one file).
-  for (const std::string& command :
-       {"convert --to coco,yolo -o " + Q(dir / "conv") + " " + Q(c),
-        "report -o " + Q(dir / "report.html") + " " + Q(c),
-        "bundles --write-layers majority " + Q(c)}) {
+  for (const std::string& command : {"convert --to coco,yolo -o " + Q(dir / "conv") + " " + Q(c),
+                                     "report -o " + Q(dir / "report.html") + " " + Q(c),
+                                     "bundles --write-layers majority " + Q(c)}) {
     const CommandResult failed =
         RunCommandLine("LSDS_FAULT_WRITE_BYTES=3000 " + Lsds() + " " + command);
     EXPECT_NE(failed.exit_code, 0) << command << "\n" << failed.output;
-    EXPECT_NE(failed.output.find("No space left on device"), std::string::npos)
-        << command << "\n" << failed.output;
+    EXPECT_NE(failed.output.find("No space left on device"), std::string::npos) << command << "\n"
+                                                                                << failed.output;
   }
   EXPECT_FALSE(fs::exists(dir / "conv"));
   EXPECT_FALSE(fs::exists(dir / "report.html"));
@@ -107,26 +102,26 @@ TEST(FullDisk, SmallTmpfs) {
   const fs::path c = MakeCollection(dir);
   const fs::path mount = dir / "small";
   fs::create_directory(mount);
-  const std::string probe = "unshare -r -m sh -c 'mount -t tmpfs -o size=256k "
-                            "tmpfs " + Q(mount).substr(1, Q(mount).size() - 2) +
-                            "' >/dev/null 2>&1";
+  const std::string probe =
+      "unshare -r -m sh -c 'mount -t tmpfs -o size=256k "
+      "tmpfs " +
+      Q(mount).substr(1, Q(mount).size() - 2) + "' >/dev/null 2>&1";
   if (RunCommandLine(probe).exit_code != 0)
     GTEST_SKIP() << "unprivileged tmpfs mounts are not permitted here";
   // 4 frames of every layer back-projected at full density: about 100 KiB
   // per frame as PLY; fused, several times the 256 KiB.
-  const std::string script =
-      "mount -t tmpfs -o size=256k tmpfs " + mount.string() + " && " +
-      "dd if=/dev/zero of=" + mount.string() + "/fill bs=1k count=200 " +
-      "2>/dev/null; " + Lsds() + " backproject --fuse -o " + mount.string() +
-      "/cloud.ply " + c.string() + "; echo exit=\\$?; ls -a " + mount.string();
-  const CommandResult result =
-      RunCommandLine("unshare -r -m sh -c \"" + script + "\"");
+  const std::string script = "mount -t tmpfs -o size=256k tmpfs " + mount.string() + " && " +
+                             "dd if=/dev/zero of=" + mount.string() + "/fill bs=1k count=200 " +
+                             "2>/dev/null; " + Lsds() + " backproject --fuse -o " + mount.string() +
+                             "/cloud.ply " + c.string() + "; echo exit=\\$?; ls -a " +
+                             mount.string();
+  const CommandResult result = RunCommandLine("unshare -r -m sh -c \"" + script + "\"");
   EXPECT_EQ(result.output.find("exit=0"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("exit="), std::string::npos) << result.output;
   EXPECT_EQ(result.output.find("cloud.ply"), result.output.rfind("cloud.ply"))
-      << "the listing must not show cloud.ply\n" << result.output;
-  EXPECT_EQ(result.output.find("lsds-tmp"), std::string::npos)
+      << "the listing must not show cloud.ply\n"
       << result.output;
+  EXPECT_EQ(result.output.find("lsds-tmp"), std::string::npos) << result.output;
 }
 
 // ---- wrong-size layers ----
@@ -135,17 +130,14 @@ TEST(LayerSize, WrongSizeLayerIsAnErrorNamingFrameAndLayer) {
   testing::TempDir dir;
   const fs::path c = MakeCollection(dir);
   const nlohmann::json collection = ReadJson(c / "collection.json");
-  const std::string ids_file =
-      collection["frames"][1]["files"]["instanceid"].get<std::string>();
-  const std::string rgb_file =
-      collection["frames"][1]["files"]["rgb"].get<std::string>();
+  const std::string ids_file = collection["frames"][1]["files"]["instanceid"].get<std::string>();
+  const std::string rgb_file = collection["frames"][1]["files"]["rgb"].get<std::string>();
   // 8x6 layers where the camera says 32x24.
   exr::FlatImage ids(8, 6);
   ids.AddChannel("id", exr::PixelType::kUint);
   exr::WriteFlatExr(c / ids_file, ids);
   exr::FlatImage rgb(8, 6);
-  for (const char* channel : {"R", "G", "B"})
-    rgb.AddChannel(channel, exr::PixelType::kHalf);
+  for (const char* channel : {"R", "G", "B"}) rgb.AddChannel(channel, exr::PixelType::kHalf);
   exr::WriteFlatExr(c / rgb_file, rgb);
   const std::vector<std::string> commands = {
       "convert --to yolo -o " + Q(dir / "y") + " " + Q(c),
@@ -153,13 +145,11 @@ TEST(LayerSize, WrongSizeLayerIsAnErrorNamingFrameAndLayer) {
   };
   for (const std::string& command : commands) {
     const CommandResult result = RunCommandLine(Lsds() + " " + command);
-    EXPECT_TRUE(result.exit_code == 1 || result.exit_code == 2)
-        << command << "\n" << result.output;
-    EXPECT_NE(result.output.find("frame 1"), std::string::npos)
-        << command << "\n" << result.output;
-    EXPECT_NE(result.output.find("is 8x6 but the frame's camera is 32x24"),
-              std::string::npos)
-        << command << "\n" << result.output;
+    EXPECT_TRUE(result.exit_code == 1 || result.exit_code == 2) << command << "\n" << result.output;
+    EXPECT_NE(result.output.find("frame 1"), std::string::npos) << command << "\n" << result.output;
+    EXPECT_NE(result.output.find("is 8x6 but the frame's camera is 32x24"), std::string::npos)
+        << command << "\n"
+        << result.output;
   }
   EXPECT_FALSE(fs::exists(dir / "y"));
   EXPECT_FALSE(fs::exists(dir / "k"));
@@ -178,17 +168,15 @@ TEST(LayerSize, BundlesAndBackprojectCheckToo) {
   const fs::path c = MakeCollection(dir);
   const nlohmann::json collection = ReadJson(c / "collection.json");
   // A depth layer of the wrong size.
-  const std::string depth_file =
-      collection["frames"][2]["files"]["depth"].get<std::string>();
+  const std::string depth_file = collection["frames"][2]["files"]["depth"].get<std::string>();
   exr::FlatImage depth(16, 12);
   depth.AddChannel("Z", exr::PixelType::kFloat);
   exr::WriteFlatExr(c / depth_file, depth);
-  const CommandResult back = RunCommandLine(
-      Lsds() + " backproject -o " + Q(dir / "clouds") + " " + Q(c));
+  const CommandResult back =
+      RunCommandLine(Lsds() + " backproject -o " + Q(dir / "clouds") + " " + Q(c));
   EXPECT_TRUE(back.exit_code == 1 || back.exit_code == 2) << back.output;
   EXPECT_NE(back.output.find("frame 2"), std::string::npos) << back.output;
-  EXPECT_NE(back.output.find("layer 'depth'"), std::string::npos)
-      << back.output;
+  EXPECT_NE(back.output.find("layer 'depth'"), std::string::npos) << back.output;
   // A bundle layer from another frame size.
   const fs::path small = [&] {
     synth::Spec spec = synth::DefaultSpec();
@@ -197,18 +185,13 @@ TEST(LayerSize, BundlesAndBackprojectCheckToo) {
     synth::WriteCollection(dir / "small", spec);
     return dir / "small";
   }();
-  const std::string bundle_file =
-      collection["frames"][0]["files"]["bundle"].get<std::string>();
-  fs::copy_file(small / bundle_file, c / bundle_file,
-                fs::copy_options::overwrite_existing);
-  const CommandResult bundles = RunCommandLine(
-      Lsds() + " bundles --write-layers majority --force " + Q(c));
-  EXPECT_TRUE(bundles.exit_code == 1 || bundles.exit_code == 2)
-      << bundles.output;
-  EXPECT_NE(bundles.output.find("frame 0"), std::string::npos)
-      << bundles.output;
-  EXPECT_NE(bundles.output.find("layer 'bundle' is 16x12"), std::string::npos)
-      << bundles.output;
+  const std::string bundle_file = collection["frames"][0]["files"]["bundle"].get<std::string>();
+  fs::copy_file(small / bundle_file, c / bundle_file, fs::copy_options::overwrite_existing);
+  const CommandResult bundles =
+      RunCommandLine(Lsds() + " bundles --write-layers majority --force " + Q(c));
+  EXPECT_TRUE(bundles.exit_code == 1 || bundles.exit_code == 2) << bundles.output;
+  EXPECT_NE(bundles.output.find("frame 0"), std::string::npos) << bundles.output;
+  EXPECT_NE(bundles.output.find("layer 'bundle' is 16x12"), std::string::npos) << bundles.output;
 }
 
 // ---- leftovers of killed runs ----
@@ -223,14 +206,11 @@ TEST(Leftovers, ResumeRemovesTemporariesOfAKilledRunAndNeverCountsThem) {
   ASSERT_EQ(RunCommandLine(generate).exit_code, 0);
   // A killed run's leftovers: temporaries of a process that is gone, one in
   // a layer folder and one beside collection.json.
-  const std::string own = TempPathBeside(out / "rgb" / "000000.exr")
-                              .filename()
-                              .string();
+  const std::string own = TempPathBeside(out / "rgb" / "000000.exr").filename().string();
   const size_t last = own.rfind('-'), before = own.rfind('-', last - 1);
   const std::string dead_suffix = "2147483646" + own.substr(last);
   const fs::path left1 = out / "rgb" / (own.substr(0, before + 1) + dead_suffix);
-  const std::string own2 =
-      TempPathBeside(out / "collection.json").filename().string();
+  const std::string own2 = TempPathBeside(out / "collection.json").filename().string();
   const size_t before2 = own2.rfind('-', own2.rfind('-') - 1);
   const fs::path left2 = out / (own2.substr(0, before2 + 1) + dead_suffix);
   WriteText(left1, "half an EXR");
@@ -238,9 +218,11 @@ TEST(Leftovers, ResumeRemovesTemporariesOfAKilledRunAndNeverCountsThem) {
   // The user also deletes one frame's rgb file: --resume renders it again.
   const nlohmann::json before_json = ReadJson(out / "collection.json");
   fs::remove(out / before_json["frames"][1]["files"]["rgb"].get<std::string>());
-  const CommandResult resumed = RunCommandLine(
-      Lsds() + " generate --demo --demo-frames 2 --demo-size 24x16 --spp 1 "
-               "--resume -o " + Q(out));
+  const CommandResult resumed =
+      RunCommandLine(Lsds() +
+                     " generate --demo --demo-frames 2 --demo-size 24x16 --spp 1 "
+                     "--resume -o " +
+                     Q(out));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_FALSE(fs::exists(left1));
   EXPECT_FALSE(fs::exists(left2));
@@ -250,10 +232,8 @@ TEST(Leftovers, ResumeRemovesTemporariesOfAKilledRunAndNeverCountsThem) {
   EXPECT_EQ(after["frames"].size(), 2u);
   for (const auto& frame : after["frames"])
     for (const auto& [layer, file] : frame["files"].items())
-      EXPECT_FALSE(IsTempName(fs::path(file.get<std::string>()).filename()))
-          << file;
-  const CommandResult valid =
-      RunCommandLine(Lsds() + " validate " + Q(out));
+      EXPECT_FALSE(IsTempName(fs::path(file.get<std::string>()).filename())) << file;
+  const CommandResult valid = RunCommandLine(Lsds() + " validate " + Q(out));
   EXPECT_EQ(valid.exit_code, 0) << valid.output;
 }
 
@@ -285,14 +265,11 @@ TEST(Leftovers, AFailedResumeDoesNotLeaveTheFolderPresentedAsComplete) {
 // ---- numbers ----
 
 // Writes collection.json with `edit` applied to its text.
-void EditCollection(const fs::path& c,
-                    const std::function<std::string(std::string)>& edit) {
+void EditCollection(const fs::path& c, const std::function<std::string(std::string)>& edit) {
   WriteText(c / "collection.json", edit(ReadText(c / "collection.json")));
 }
 
-std::string ReplaceFirst(std::string text,
-                         const std::string& from,
-                         const std::string& to) {
+std::string ReplaceFirst(std::string text, const std::string& from, const std::string& to) {
   const size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
@@ -312,21 +289,15 @@ TEST(Numbers, MalformedNumbersInCollectionJsonAreLocated) {
     testing::TempDir dir;
     const fs::path root = MakeCollection(dir);
     // collection.json is written one frame per line without spaces.
-    EditCollection(root, [&](std::string text) {
-      return ReplaceFirst(text, c.from, c.to);
-    });
+    EditCollection(root, [&](std::string text) { return ReplaceFirst(text, c.from, c.to); });
     for (const std::string& command : {"info", "validate"}) {
-      const CommandResult result =
-          RunCommandLine(Lsds() + " " + command + " " + Q(root));
-      EXPECT_TRUE(result.exit_code == 1 || result.exit_code == 2)
-          << c.to << "\n" << result.output;
-      EXPECT_NE(result.output.find("collection.json"), std::string::npos)
-          << result.output;
-      EXPECT_NE(result.output.find(c.expect), std::string::npos)
-          << result.output;
+      const CommandResult result = RunCommandLine(Lsds() + " " + command + " " + Q(root));
+      EXPECT_TRUE(result.exit_code == 1 || result.exit_code == 2) << c.to << "\n" << result.output;
+      EXPECT_NE(result.output.find("collection.json"), std::string::npos) << result.output;
+      EXPECT_NE(result.output.find(c.expect), std::string::npos) << result.output;
       // Located: a line:column or a JSON pointer.
-      EXPECT_TRUE(std::regex_search(result.output,
-                                    std::regex("collection\\.json(:[0-9]+:[0-9]+|#/)")))
+      EXPECT_TRUE(
+          std::regex_search(result.output, std::regex("collection\\.json(:[0-9]+:[0-9]+|#/)")))
           << result.output;
     }
   }
@@ -342,8 +313,7 @@ TEST(Numbers, NulByteEndsNothing) {
   });
   const CommandResult result = RunCommandLine(Lsds() + " info " + Q(root));
   EXPECT_EQ(result.exit_code, 2) << result.output;
-  EXPECT_TRUE(std::regex_search(result.output,
-                                std::regex("collection\\.json:[0-9]+:[0-9]+")))
+  EXPECT_TRUE(std::regex_search(result.output, std::regex("collection\\.json:[0-9]+:[0-9]+")))
       << result.output;
 }
 
@@ -351,22 +321,17 @@ TEST(Numbers, FlagsAreRangeChecked) {
   testing::TempDir dir;
   const fs::path c = MakeCollection(dir);
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"backproject --fuse --voxel nan -o " + Q(dir / "a.ply") + " " + Q(c),
-       "--voxel"},
-      {"backproject --fuse --voxel 1e999 -o " + Q(dir / "a.ply") + " " + Q(c),
-       "--voxel"},
-      {"backproject --check --tolerance NaN -o " + Q(dir / "b") + " " + Q(c),
-       "--tolerance"},
-      {"perturb-metadata --model gaussian --sigma 1 --seed -1 -o " +
-           Q(dir / "m.json") + " " + Q(c),
+      {"backproject --fuse --voxel nan -o " + Q(dir / "a.ply") + " " + Q(c), "--voxel"},
+      {"backproject --fuse --voxel 1e999 -o " + Q(dir / "a.ply") + " " + Q(c), "--voxel"},
+      {"backproject --check --tolerance NaN -o " + Q(dir / "b") + " " + Q(c), "--tolerance"},
+      {"perturb-metadata --model gaussian --sigma 1 --seed -1 -o " + Q(dir / "m.json") + " " + Q(c),
        "--seed"},
       {"generate --demo --seed -1 -o " + Q(dir / "g"), "--seed"},
   };
   for (const auto& [command, flag] : cases) {
     const CommandResult result = RunCommandLine(Lsds() + " " + command);
     EXPECT_EQ(result.exit_code, 2) << command << "\n" << result.output;
-    EXPECT_NE(result.output.find(flag), std::string::npos)
-        << command << "\n" << result.output;
+    EXPECT_NE(result.output.find(flag), std::string::npos) << command << "\n" << result.output;
   }
   EXPECT_FALSE(fs::exists(dir / "a.ply"));
   EXPECT_FALSE(fs::exists(dir / "g"));
@@ -381,15 +346,13 @@ TEST(Text, Latin1ByteInAnLsceneCommentIsLocated) {
   // Line 1 is a comment: put a Latin-1 'é' (0xE9) at its column 5.
   scene = scene.substr(0, 4) + "\xE9" + scene.substr(4);
   WriteText(dir / "s.lscene", scene);
-  const CommandResult result = RunCommandLine(
-      Lsds() + " plan " + Q(dir / "s.lscene") + " " +
-      Q(examples / "uav_survey.lcap") + " -o " + Q(dir / "plan.json"));
+  const CommandResult result =
+      RunCommandLine(Lsds() + " plan " + Q(dir / "s.lscene") + " " +
+                     Q(examples / "uav_survey.lcap") + " -o " + Q(dir / "plan.json"));
   EXPECT_EQ(result.exit_code, 2) << result.output;
-  EXPECT_NE(result.output.find("s.lscene:1:5"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("s.lscene:1:5"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("UTF-8"), std::string::npos) << result.output;
-  EXPECT_EQ(result.output.find("type_error"), std::string::npos)
-      << result.output;
+  EXPECT_EQ(result.output.find("type_error"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(dir / "plan.json"));
 }
 
@@ -399,17 +362,13 @@ TEST(Text, NonUtf8FolderNameIsCarriedEscaped) {
   const CommandResult info = RunCommandLine(Lsds() + " info --json " + Q(c));
   ASSERT_EQ(info.exit_code, 0) << info.output;
   const nlohmann::json summary = nlohmann::json::parse(info.output);
-  EXPECT_NE(summary["path"].get<std::string>().find("caf\\xE9"),
-            std::string::npos);
+  EXPECT_NE(summary["path"].get<std::string>().find("caf\\xE9"), std::string::npos);
   const CommandResult bundles =
-      RunCommandLine(Lsds() + " bundles -o " + Q(dir / "stats.json") + " " +
-                     Q(c));
+      RunCommandLine(Lsds() + " bundles -o " + Q(dir / "stats.json") + " " + Q(c));
   ASSERT_EQ(bundles.exit_code, 0) << bundles.output;
   EXPECT_NE(ReadText(dir / "stats.json").find("caf\\\\xE9"), std::string::npos);
-  const CommandResult validate =
-      RunCommandLine(Lsds() + " validate --format json " + Q(c));
-  EXPECT_EQ(validate.output.find("type_error"), std::string::npos)
-      << validate.output;
+  const CommandResult validate = RunCommandLine(Lsds() + " validate --format json " + Q(c));
+  EXPECT_EQ(validate.output.find("type_error"), std::string::npos) << validate.output;
 }
 
 TEST(Text, PerturbMetadataErrorsCarryLineColumnAndAnExcerpt) {
@@ -425,42 +384,38 @@ TEST(Text, PerturbMetadataErrorsCarryLineColumnAndAnExcerpt) {
   WriteText(c / "metadata.json", metadata);
   int line = 1;
   for (size_t i = 0; i < line_start; ++i) line += metadata[i] == '\n';
-  const CommandResult result = RunCommandLine(
-      Lsds() + " perturb-metadata --model gaussian --sigma 1 --seed 1 -o " +
-      Q(dir / "m.json") + " " + Q(c));
+  const CommandResult result =
+      RunCommandLine(Lsds() + " perturb-metadata --model gaussian --sigma 1 --seed 1 -o " +
+                     Q(dir / "m.json") + " " + Q(c));
   EXPECT_EQ(result.exit_code, 2) << result.output;
-  EXPECT_NE(result.output.find("metadata.json:" + std::to_string(line) + ":"),
-            std::string::npos)
-      << "line " << line << "\n" << result.output;
-  EXPECT_NE(result.output.find("near '"), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("\"index\": 2,,"), std::string::npos)
+  EXPECT_NE(result.output.find("metadata.json:" + std::to_string(line) + ":"), std::string::npos)
+      << "line " << line << "\n"
       << result.output;
+  EXPECT_NE(result.output.find("near '"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("\"index\": 2,,"), std::string::npos) << result.output;
 }
 
 TEST(Text, PlanErrorsAndMessagesAreReadable) {
   testing::TempDir dir;
   // generate --plan: a syntax error at line:column.
   WriteText(dir / "plan.json", "{\n  \"seed\": 1,\n  \"frames\": [}\n");
-  const CommandResult plan = RunCommandLine(
-      Lsds() + " generate --plan " + Q(dir / "plan.json") + " -o " +
-      Q(dir / "out"));
+  const CommandResult plan =
+      RunCommandLine(Lsds() + " generate --plan " + Q(dir / "plan.json") + " -o " + Q(dir / "out"));
   EXPECT_EQ(plan.exit_code, 2) << plan.output;
-  EXPECT_NE(plan.output.find("plan.json:3:14"), std::string::npos)
-      << plan.output;
+  EXPECT_NE(plan.output.find("plan.json:3:14"), std::string::npos) << plan.output;
   // `lsds plan DIR`: says that it is a folder.
-  const CommandResult folder = RunCommandLine(
-      Lsds() + " plan " + Q(dir.path()) + " -o " + Q(dir / "p.json"));
+  const CommandResult folder =
+      RunCommandLine(Lsds() + " plan " + Q(dir.path()) + " -o " + Q(dir / "p.json"));
   EXPECT_EQ(folder.exit_code, 2) << folder.output;
-  EXPECT_NE(folder.output.find("is a folder"), std::string::npos)
-      << folder.output;
+  EXPECT_NE(folder.output.find("is a folder"), std::string::npos) << folder.output;
   // A 10 MB identifier gives a short message.
   const fs::path examples = LSDS_EXAMPLES_DIR;
   std::string scene = ReadText(examples / "uav_survey.lscene");
   scene += "\n" + std::string(10 << 20, 'Q') + " = box{size:[1,1,1]}\n";
   WriteText(dir / "big.lscene", scene);
-  const CommandResult big = RunCommandLine(
-      Lsds() + " plan " + Q(dir / "big.lscene") + " " +
-      Q(examples / "uav_survey.lcap") + " -o " + Q(dir / "q.json"));
+  const CommandResult big =
+      RunCommandLine(Lsds() + " plan " + Q(dir / "big.lscene") + " " +
+                     Q(examples / "uav_survey.lcap") + " -o " + Q(dir / "q.json"));
   EXPECT_NE(big.exit_code, 0);
   EXPECT_LT(big.output.size(), 5000u) << big.output.substr(0, 500);
 }
@@ -468,23 +423,23 @@ TEST(Text, PlanErrorsAndMessagesAreReadable) {
 // ---- paths ----
 
 TEST(Paths, FileReferencesStayInsideTheCollection) {
-  for (const std::string& reference :
-       {std::string("../outside.exr"), std::string("/etc/passwd"),
-        std::string("rgb/../../x.exr")}) {
+  for (const std::string& reference : {std::string("../outside.exr"),
+                                       std::string("/etc/passwd"),
+                                       std::string("rgb/../../x.exr")}) {
     testing::TempDir dir;
     const fs::path c = MakeCollection(dir);
     WriteText(dir / "outside.exr", "not ours");
     nlohmann::json collection = ReadJson(c / "collection.json");
     collection["frames"][1]["files"]["rgb"] = reference;
     WriteText(c / "collection.json", collection.dump());
-    for (const std::string& command :
-         {"info " + Q(c), "validate " + Q(c),
-          "convert --to yolo -o " + Q(dir / "y") + " " + Q(c)}) {
+    for (const std::string& command : {"info " + Q(c),
+                                       "validate " + Q(c),
+                                       "convert --to yolo -o " + Q(dir / "y") + " " + Q(c)}) {
       const CommandResult result = RunCommandLine(Lsds() + " " + command);
-      EXPECT_TRUE(result.exit_code == 1 || result.exit_code == 2)
-          << command << "\n" << result.output;
-      EXPECT_NE(result.output.find("#/frames/1/files/rgb"), std::string::npos)
-          << command << "\n" << result.output;
+      EXPECT_TRUE(result.exit_code == 1 || result.exit_code == 2) << command << "\n"
+                                                                  << result.output;
+      EXPECT_NE(result.output.find("#/frames/1/files/rgb"), std::string::npos) << command << "\n"
+                                                                               << result.output;
     }
   }
   // A metadata variant outside.
@@ -495,8 +450,7 @@ TEST(Paths, FileReferencesStayInsideTheCollection) {
   WriteText(c / "collection.json", collection.dump());
   const CommandResult result = RunCommandLine(Lsds() + " info " + Q(c));
   EXPECT_EQ(result.exit_code, 2) << result.output;
-  EXPECT_NE(result.output.find("#/metadata/0/file"), std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("#/metadata/0/file"), std::string::npos) << result.output;
 }
 
 }  // namespace

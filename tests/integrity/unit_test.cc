@@ -41,8 +41,7 @@ TEST(AtomicFile, TempNamesAreRecognizable) {
   EXPECT_EQ(temp.parent_path(), fs::path("/x"));
   const std::string name = temp.filename().string();
   EXPECT_EQ(name.rfind(".out.ply.lsds-tmp-", 0), 0u) << name;
-  EXPECT_NE(name.find("-" + std::to_string(::getpid()) + "-"),
-            std::string::npos);
+  EXPECT_NE(name.find("-" + std::to_string(::getpid()) + "-"), std::string::npos);
   EXPECT_TRUE(IsTempName(name));
   EXPECT_FALSE(IsTempName("out.ply"));
   EXPECT_FALSE(IsTempName(".hidden"));
@@ -97,8 +96,7 @@ TEST(AtomicFile, JsonArrayWriterLeavesNoTemporaryWhenItsConstructorThrows) {
   // A header that cannot be written as JSON (not UTF-8): the constructor
   // throws after the temporary file exists.
   const nlohmann::json header = {{"name", std::string("caf\xE9")}};
-  EXPECT_THROW(JsonArrayWriter(dir / "c.json", header, "frames"),
-               nlohmann::json::exception);
+  EXPECT_THROW(JsonArrayWriter(dir / "c.json", header, "frames"), nlohmann::json::exception);
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
@@ -108,18 +106,17 @@ TEST(AtomicFile, ReadingAFolderSaysSo) {
     ReadFile(dir.path());
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
   }
 }
 
 TEST(TextCheck, Utf8) {
   EXPECT_FALSE(FindInvalidUtf8("plain, caf\xC3\xA9, \xF0\x9F\x99\x82"));
-  EXPECT_EQ(FindInvalidUtf8("caf\xE9"), 3u);         // Latin-1
-  EXPECT_EQ(FindInvalidUtf8("ab\xC0\xAF"), 2u);      // overlong
-  EXPECT_EQ(FindInvalidUtf8("\xED\xA0\x80"), 0u);    // surrogate
+  EXPECT_EQ(FindInvalidUtf8("caf\xE9"), 3u);            // Latin-1
+  EXPECT_EQ(FindInvalidUtf8("ab\xC0\xAF"), 2u);         // overlong
+  EXPECT_EQ(FindInvalidUtf8("\xED\xA0\x80"), 0u);       // surrogate
   EXPECT_EQ(FindInvalidUtf8("x\xF4\x90\x80\x80"), 1u);  // > U+10FFFF
-  EXPECT_EQ(FindInvalidUtf8("ok\xE2\x82"), 2u);      // cut sequence
+  EXPECT_EQ(FindInvalidUtf8("ok\xE2\x82"), 2u);         // cut sequence
   try {
     CheckUtf8("a\nb # caf\xE9\n", "s.lscene");
     FAIL();
@@ -127,8 +124,7 @@ TEST(TextCheck, Utf8) {
     EXPECT_EQ(e.location().line, 2);
     EXPECT_EQ(e.location().column, 8);
     EXPECT_NE(e.message().find("0xE9"), std::string::npos) << e.what();
-    EXPECT_NE(e.message().find("byte offset 9"), std::string::npos)
-        << e.what();
+    EXPECT_NE(e.message().find("byte offset 9"), std::string::npos) << e.what();
   }
   EXPECT_EQ(Utf8Escaped("dir\xFFname"), "dir\\xFFname");
 }
@@ -138,7 +134,9 @@ TEST(TextCheck, MessagesStayReadable) {
   const Error error("unknown identifier '" + huge + "'", Location("s.lscene"));
   EXPECT_LT(std::string(error.what()).size(), 3000u);
   EXPECT_NE(std::string(error.what()).find("more bytes"), std::string::npos);
-  EXPECT_EQ(Excerpt("a\x01" "b"), "a\\x01b");
+  EXPECT_EQ(Excerpt("a\x01"
+                    "b"),
+            "a\\x01b");
 }
 
 TEST(JsonErrors, OverflowAndSyntaxAreLocated) {
@@ -165,8 +163,8 @@ TEST(JsonErrors, OverflowAndSyntaxAreLocated) {
 }
 
 TEST(JsonErrors, IntegersAreRangeChecked) {
-  const nlohmann::json j = nlohmann::json::parse(
-      R"({"w": 4294967297, "n": -1, "f": 2.5, "ok": 32, "big": 4294967295})");
+  const nlohmann::json j =
+      nlohmann::json::parse(R"({"w": 4294967297, "n": -1, "f": 2.5, "ok": 32, "big": 4294967295})");
   EXPECT_THROW(GetInteger<int>(j, "w"), nlohmann::json::out_of_range);
   EXPECT_THROW(GetInteger<uint32_t>(j, "n"), nlohmann::json::out_of_range);
   EXPECT_THROW(GetInteger<int>(j, "f"), nlohmann::json::out_of_range);
@@ -176,8 +174,7 @@ TEST(JsonErrors, IntegersAreRangeChecked) {
   try {
     GetInteger<int>(j, "w");
   } catch (const nlohmann::json::out_of_range& e) {
-    EXPECT_NE(std::string(e.what()).find("w: 4294967297"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("w: 4294967297"), std::string::npos) << e.what();
   }
 }
 

@@ -30,10 +30,8 @@ std::string ErrorOf(const std::string& scene, const std::string& capture = "") {
 }
 
 TEST(LangParser, PaperVerbatimExamplesParseWithTypoWarnings) {
-  const SourceFile scene =
-      LoadSource(kExamples + "/paper_example1_verbatim.lscene");
-  const SourceFile capture =
-      LoadSource(kExamples + "/paper_example1_verbatim.lcap");
+  const SourceFile scene = LoadSource(kExamples + "/paper_example1_verbatim.lscene");
+  const SourceFile capture = LoadSource(kExamples + "/paper_example1_verbatim.lcap");
   // The two stray '}' and the "extent[" of the paper are accepted and reported.
   EXPECT_EQ(scene.warnings.size(), 3u);
   const OJson& io1 = scene.doc["IO1"]["object"];
@@ -41,46 +39,39 @@ TEST(LangParser, PaperVerbatimExamplesParseWithTypoWarnings) {
   EXPECT_EQ(io1["position"]["ON"], "W");
   EXPECT_EQ(io1["position"]["AROUND"], "O1");
   EXPECT_EQ(scene.doc["O2"]["object"]["overlap"], true);
-  EXPECT_EQ(scene.doc["O1"]["object"]["rotation"]["range"],
-            OJson({{0, 0, 0}, {360, 360, 360}}));
+  EXPECT_EQ(scene.doc["O1"]["object"]["rotation"]["range"], OJson({{0, 0, 0}, {360, 360, 360}}));
   const OJson& cl = capture.doc["CL1"]["collection"];
   EXPECT_EQ(cl["C1"]["move"], OJson({"P1:3"}));
   ASSERT_TRUE(cl["O1"].is_array());
   EXPECT_EQ(cl["O1"][0]["when"]["after"], "P1:1");
   EXPECT_EQ(cl["O1"][1]["when"]["after"], "P1:2");
-  EXPECT_EQ(capture.doc["P1"]["path"]["create_hemi"]["cam_radius"],
-            OJson({1000, 2000, 5}));
+  EXPECT_EQ(capture.doc["P1"]["path"]["create_hemi"]["cam_radius"], OJson({1000, 2000, 5}));
   EXPECT_EQ(capture.doc["CO"]["camera"]["targets"], OJson({"O1:5"}));
 }
 
 TEST(LangParser, PaperVerbatimSceneNeedsItsUserClassesDeclared) {
   const std::string message =
       ErrorOf(LoadSource(kExamples + "/paper_example1_verbatim.lscene").text);
-  EXPECT_NE(message.find("s.lscene:4:20: unknown class 'A'"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("s.lscene:4:20: unknown class 'A'"), std::string::npos) << message;
   EXPECT_NE(message.find("classes{...}"), std::string::npos) << message;
 }
 
 TEST(LangParser, PaperVerbatimCaptureAcceptsCategoriesAndCameraAlias) {
   // The fixed scene with the verbatim capture (ONE(P), ONE(SCS), C1 for the
   // camera) plans.
-  const Plan plan = MakePlan(kExamples + "/paper_example1.lscene",
-                             kExamples + "/paper_example1_verbatim.lcap",
-                             4);
+  const Plan plan = MakePlan(
+      kExamples + "/paper_example1.lscene", kExamples + "/paper_example1_verbatim.lcap", 4);
   EXPECT_EQ(plan.frames.size(),
             60u);  // 5 radii x 4 object angles x 1 camera angle x 3 repetitions
 }
 
 TEST(LangParser, FixedPaperExamplesPlan) {
-  const Plan plan = MakePlan(kExamples + "/paper_example1.lscene",
-                             kExamples + "/paper_example1.lcap",
-                             7);
+  const Plan plan =
+      MakePlan(kExamples + "/paper_example1.lscene", kExamples + "/paper_example1.lcap", 7);
   EXPECT_EQ(plan.frames.size(), 60u);
-  EXPECT_EQ(plan.post_process,
-            (std::vector<std::string>{"EdgeBlur", "CartoonStyle"}));
+  EXPECT_EQ(plan.post_process, (std::vector<std::string>{"EdgeBlur", "CartoonStyle"}));
   EXPECT_EQ(plan.sky.color, Eigen::Vector3d(1, 1, 1));
-  EXPECT_TRUE(plan.sky.cloud_type == "cumulus" ||
-              plan.sky.cloud_type == "nimbostratus");
+  EXPECT_TRUE(plan.sky.cloud_type == "cumulus" || plan.sky.cloud_type == "nimbostratus");
   EXPECT_GE(plan.sky.cloud_density, 0.1);
   EXPECT_LE(plan.sky.cloud_density, 0.2);
   EXPECT_TRUE(plan.terrain.present);
@@ -93,11 +84,9 @@ TEST(LangParser, FixedPaperExamplesPlan) {
   EXPECT_EQ(plan.objects[0].symbol, "O1");
   EXPECT_EQ(plan.objects[0].class_id, 5u);
   EXPECT_TRUE(plan.objects[0].target);
-  EXPECT_TRUE(plan.objects[0].class_name == "jerrycan" ||
-              plan.objects[0].class_name == "barrel");
+  EXPECT_TRUE(plan.objects[0].class_name == "jerrycan" || plan.objects[0].class_name == "barrel");
   bool found = false;
-  for (const ClassInfo& c : plan.classes)
-    found = found || (c.id == 5 && c.name == "A|B");
+  for (const ClassInfo& c : plan.classes) found = found || (c.id == 5 && c.name == "A|B");
   EXPECT_TRUE(found);
   EXPECT_EQ(plan.classes.front().name, "terrain");
   EXPECT_FALSE(plan.objects[1].visible);  // IO1, the invisible placement zone
@@ -116,8 +105,7 @@ TEST(LangParser, FixedPaperExamplesPlan) {
   EXPECT_EQ(plan.frames[59].sequence, "P1(3)");
   // Instance ids unique, from 1 (terrain) on.
   EXPECT_EQ(plan.terrain.instance_id, 1u);
-  for (size_t i = 0; i < plan.objects.size(); ++i)
-    EXPECT_EQ(plan.objects[i].instance_id, i + 2);
+  for (size_t i = 0; i < plan.objects.size(); ++i) EXPECT_EQ(plan.objects[i].instance_id, i + 2);
 }
 
 nlohmann::json WithoutSources(const Plan& plan) {
@@ -131,20 +119,17 @@ TEST(LangParser, TextAndJsonFormsGiveIdenticalPlans) {
   for (const std::string name : {"paper_example1", "uav_survey"}) {
     const SourceFile scene = LoadSource(kExamples + "/" + name + ".lscene");
     const SourceFile capture = LoadSource(kExamples + "/" + name + ".lcap");
-    const SourceFile scene_json =
-        ParseSource(SourceToJson(scene).dump(2), "scene.json", true);
+    const SourceFile scene_json = ParseSource(SourceToJson(scene).dump(2), "scene.json", true);
     const SourceFile capture_json =
         ParseSource(SourceToJson(capture).dump(2), "capture.json", true);
     for (uint64_t seed : {0ull, 1ull, 99ull}) {
-      EXPECT_EQ(
-          WithoutSources(MakePlanFromSources(scene, &capture, seed)),
-          WithoutSources(MakePlanFromSources(scene_json, &capture_json, seed)))
+      EXPECT_EQ(WithoutSources(MakePlanFromSources(scene, &capture, seed)),
+                WithoutSources(MakePlanFromSources(scene_json, &capture_json, seed)))
           << name << " seed " << seed;
     }
   }
   const SourceFile rocky = LoadSource(kExamples + "/rocky_sand_clutter.lscene");
-  const SourceFile rocky_json =
-      ParseSource(SourceToJson(rocky).dump(), "rocky.json", true);
+  const SourceFile rocky_json = ParseSource(SourceToJson(rocky).dump(), "rocky.json", true);
   EXPECT_EQ(WithoutSources(MakePlanFromSources(rocky, nullptr, 5)),
             WithoutSources(MakePlanFromSources(rocky_json, nullptr, 5)));
 }
@@ -219,9 +204,7 @@ TEST(LangParser, BadInputsNameTheExactPlace) {
       {"LSCENE = ONE(S)\nS = skybox{intensity:[2,1]}\n",
        "",
        "s.lscene:2:22: interval [lo, hi] needs lo <= hi"},
-      {"LSCENE = ONE(S)\nS = skybox{intensity:@}\n",
-       "",
-       "s.lscene:2:22: unexpected character '@'"},
+      {"LSCENE = ONE(S)\nS = skybox{intensity:@}\n", "", "s.lscene:2:22: unexpected character '@'"},
       {ok_scene,
        "LCAP = ONE(CO)\nCO = camera{csettings:{fov:30,rez:[10,10]}}\n",
        "c.lcap:2:31: unknown key 'rez' in camera settings (did you mean "
@@ -257,33 +240,24 @@ TEST(LangParser, BadInputsNameTheExactPlace) {
 
 TEST(LangParser, JsonErrorsNameThePointer) {
   const SourceFile s =
-      ParseSource(R"({"LSCENE":[{"ONE":"S"}],"S":{"skybox":{"colr":"white"}}})",
-                  "s.json",
-                  true);
+      ParseSource(R"({"LSCENE":[{"ONE":"S"}],"S":{"skybox":{"colr":"white"}}})", "s.json", true);
   try {
     MakePlanFromSources(s, nullptr, 0);
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("s.json#/S/skybox/colr"),
-              std::string::npos)
-        << e.what();
-    EXPECT_NE(std::string(e.what()).find("did you mean 'color'"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("s.json#/S/skybox/colr"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("did you mean 'color'"), std::string::npos) << e.what();
   }
   const std::string schema_error = [] {
     try {
       MakePlanFromSources(
-          ParseSource(R"({"LSCENE":[{"ONE":"S","count":3}]})", "t.json", true),
-          nullptr,
-          0);
+          ParseSource(R"({"LSCENE":[{"ONE":"S","count":3}]})", "t.json", true), nullptr, 0);
     } catch (const Error& e) {
       return std::string(e.what());
     }
     return std::string();
   }();
-  EXPECT_NE(schema_error.find("t.json#/LSCENE/0"), std::string::npos)
-      << schema_error;
+  EXPECT_NE(schema_error.find("t.json#/LSCENE/0"), std::string::npos) << schema_error;
   EXPECT_THROW(ParseSource("{\"LSCENE\": [", "u.json", true), Error);
 }
 
@@ -294,8 +268,7 @@ TEST(LangParser, GarbageNeverCrashes) {
     std::string text;
     const int n = static_cast<int>(rng.UniformInt(0, 80));
     for (int j = 0; j < n; ++j)
-      text +=
-          alphabet[static_cast<size_t>(rng.UniformInt(0, alphabet.size() - 1))];
+      text += alphabet[static_cast<size_t>(rng.UniformInt(0, alphabet.size() - 1))];
     try {
       const SourceFile s = ParseSource(text, "g", false);
       MakePlanFromSources(s, nullptr, 0);

@@ -68,9 +68,7 @@ TEST(LangPlan, OnPutsTheBaseOnTheTerrainSurface) {
             << o.name << " seed " << seed;
         EXPECT_LE(std::abs(o.position.x() - box->position.x()), 3 + 1e-9);
       } else {
-        EXPECT_NEAR(base,
-                    TerrainHeight(plan.terrain, o.position.x(), o.position.y()),
-                    1e-9)
+        EXPECT_NEAR(base, TerrainHeight(plan.terrain, o.position.x(), o.position.y()), 1e-9)
             << o.name << " seed " << seed;
         EXPECT_LE(std::abs(o.position.x()) + HalfAabb(o).x(), 40 + 1e-9);
         EXPECT_LE(std::abs(o.position.y()) + HalfAabb(o).y(), 40 + 1e-9);
@@ -100,13 +98,10 @@ TEST(LangPlan, InAndAroundKeepObjectsInsideTheirBoxes) {
     const PlannedObject& zone = *Find(plan, "ZONE#1");
     const Eigen::Vector3d zlo = zone.position - HalfAabb(zone),
                           zhi = zone.position + HalfAabb(zone);
-    const Eigen::Vector3d tlo = t.position - HalfAabb(t),
-                          thi = t.position + HalfAabb(t);
-    EXPECT_LE((zone.position - t.position).head<2>().cwiseAbs().maxCoeff(),
-              20 + 6 + 0.5);
+    const Eigen::Vector3d tlo = t.position - HalfAabb(t), thi = t.position + HalfAabb(t);
+    EXPECT_LE((zone.position - t.position).head<2>().cwiseAbs().maxCoeff(), 20 + 6 + 0.5);
     for (const PlannedObject& o : plan.objects) {
-      const Eigen::Vector3d lo = o.position - HalfAabb(o),
-                            hi = o.position + HalfAabb(o);
+      const Eigen::Vector3d lo = o.position - HalfAabb(o), hi = o.position + HalfAabb(o);
       if (o.symbol == "INSIDE") {
         EXPECT_TRUE((lo.array() >= zlo.array() - 1e-9).all() &&
                     (hi.array() <= zhi.array() + 1e-9).all())
@@ -119,9 +114,7 @@ TEST(LangPlan, InAndAroundKeepObjectsInsideTheirBoxes) {
       } else if (o.symbol == "ONZONE") {
         // ON an invisible zone: stands on the terrain, inside the zone's
         // footprint.
-        EXPECT_NEAR(lo.z(),
-                    TerrainHeight(plan.terrain, o.position.x(), o.position.y()),
-                    1e-9);
+        EXPECT_NEAR(lo.z(), TerrainHeight(plan.terrain, o.position.x(), o.position.y()), 1e-9);
         EXPECT_GE(lo.x(), zlo.x() - 1e-9);
         EXPECT_LE(hi.y(), zhi.y() + 1e-9);
       }
@@ -141,16 +134,14 @@ TEST(LangPlan, OverlapFalseLeavesNoIntersectingBoxes) {
       "overlap:delete,position:{ON:W}}\n";
   for (uint64_t seed = 0; seed < 30; ++seed) {
     const Plan plan = PlanText(scene, "", seed);
-    EXPECT_EQ(
-        std::count_if(plan.objects.begin(),
-                      plan.objects.end(),
-                      [](const PlannedObject& o) { return o.symbol == "A"; }),
-        25);
+    EXPECT_EQ(std::count_if(plan.objects.begin(),
+                            plan.objects.end(),
+                            [](const PlannedObject& o) { return o.symbol == "A"; }),
+              25);
     for (size_t i = 0; i < plan.objects.size(); ++i)
       for (size_t j = i + 1; j < plan.objects.size(); ++j)
         EXPECT_FALSE(Obb(plan.objects[i]).Intersects(Obb(plan.objects[j])))
-            << plan.objects[i].name << " " << plan.objects[j].name << " seed "
-            << seed;
+            << plan.objects[i].name << " " << plan.objects[j].name << " seed " << seed;
   }
 }
 
@@ -163,8 +154,7 @@ TEST(LangPlan, DiscreteChoicesConvergeToTheirWeights) {
       "true,position:{ON:W}}\n";
   const Plan plan = PlanText(scene, "", 11);
   std::map<std::string, int> classes, materials;
-  for (const PlannedObject& o : plan.objects)
-    ++classes[o.class_name], ++materials[o.material];
+  for (const PlannedObject& o : plan.objects) ++classes[o.class_name], ++materials[o.material];
   EXPECT_NEAR(classes["cube"] / 4000.0, 0.2, 0.025);
   EXPECT_NEAR(classes["sphere"] / 4000.0, 0.5, 0.025);
   EXPECT_NEAR(classes["cone"] / 4000.0, 0.3, 0.025);
@@ -196,16 +186,13 @@ TEST(LangPlan, HemiPosesLieOnTheSphereLookingAtTheTarget) {
     const Plan plan = PlanText(scene, capture, seed);
     ASSERT_EQ(plan.frames.size(), 2u * 3 * 4 * 2);
     const Eigen::Vector3d target = plan.objects[0].position;
-    const double radii[] = {10, 15, 20}, elevations[] = {30, 60},
-                 azimuths[] = {0, 90, 180, 270};
+    const double radii[] = {10, 15, 20}, elevations[] = {30, 60}, azimuths[] = {0, 90, 180, 270};
     for (const PlannedFrame& f : plan.frames) {
       const int i = static_cast<int>(f.index % 24);
       const Eigen::Vector3d eye = CameraCenterInWorld(f.cam_from_world);
       const Eigen::Vector3d d = eye - target;
       EXPECT_NEAR(d.norm(), radii[i / 8], 1e-9);
-      EXPECT_NEAR(std::asin(d.z() / d.norm()) * 180 / M_PI,
-                  elevations[(i / 4) % 2],
-                  1e-9);
+      EXPECT_NEAR(std::asin(d.z() / d.norm()) * 180 / M_PI, elevations[(i / 4) % 2], 1e-9);
       double az = std::atan2(d.y(), d.x()) * 180 / M_PI;
       if (az < -1e-9) az += 360;
       EXPECT_NEAR(az, azimuths[i % 4], 1e-9);
@@ -221,8 +208,7 @@ TEST(LangPlan, HemiPosesLieOnTheSphereLookingAtTheTarget) {
 }
 
 TEST(LangPlan, GridAndRandomPosesRespectTheirRanges) {
-  const Plan plan = MakePlan(
-      kExamples + "/uav_survey.lscene", kExamples + "/uav_survey.lcap", 2);
+  const Plan plan = MakePlan(kExamples + "/uav_survey.lscene", kExamples + "/uav_survey.lcap", 2);
   ASSERT_EQ(plan.frames.size(), 49u + 2u);
   for (int k = 0; k < 49; ++k) {
     const PlannedFrame& f = plan.frames[k];
@@ -230,11 +216,9 @@ TEST(LangPlan, GridAndRandomPosesRespectTheirRanges) {
     const int row = k / 7, col = row % 2 ? 6 - k % 7 : k % 7;  // serpentine
     EXPECT_NEAR(c.x(), -60 + 20 * col, 1.5 + 1e-9);
     EXPECT_NEAR(c.y(), -60 + 20 * row, 1.5 + 1e-9);
-    EXPECT_NEAR(
-        c.z() - TerrainHeight(plan.terrain, c.x(), c.y()), 40, 0.5 + 1e-9);
+    EXPECT_NEAR(c.z() - TerrainHeight(plan.terrain, c.x(), c.y()), 40, 0.5 + 1e-9);
     // Nadir: the optical axis points down.
-    const Eigen::Vector3d axis =
-        f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d axis = f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
     EXPECT_NEAR(axis.z(), -1, 1e-9);
   }
   // The walker is hidden from the first frame after the grid on.
@@ -247,17 +231,15 @@ TEST(LangPlan, GridAndRandomPosesRespectTheirRanges) {
   const Eigen::Vector3d w_in_cam = plan.frames[50].cam_from_world * walker;
   EXPECT_NEAR(w_in_cam.head<2>().norm(), 0, 1e-9);
 
-  const Plan random = MakePlan(kExamples + "/rocky_sand_clutter.lscene",
-                               kExamples + "/rocky_sand_random.lcap",
-                               3);
+  const Plan random =
+      MakePlan(kExamples + "/rocky_sand_clutter.lscene", kExamples + "/rocky_sand_random.lcap", 3);
   ASSERT_EQ(random.frames.size(), 100u);
   for (const PlannedFrame& f : random.frames) {
     const Eigen::Vector3d c = CameraCenterInWorld(f.cam_from_world);
     const double agl = c.z() - TerrainHeight(random.terrain, c.x(), c.y());
     EXPECT_GE(agl, 15 - 1e-9);
     EXPECT_LE(agl, 60 + 1e-9);
-    const Eigen::Vector3d axis =
-        f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d axis = f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
     EXPECT_LE(std::acos(std::min(1.0, -axis.z())) * 180 / M_PI, 40 + 1e-6);
     // `during:R:2` re-draws the clutter materials on every frame of R(2) only.
     EXPECT_EQ(f.changes.empty(), f.index < 50);
@@ -270,44 +252,32 @@ TEST(LangPlan, SameSeedSamePlanAndFrameSubsetsMatch) {
       {"rocky_sand_clutter.lscene", "rocky_sand_random.lcap"},
       {"uav_survey.lscene", "uav_survey.lcap"}};
   for (const auto& [scene, capture] : inputs) {
-    const Plan full =
-        MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42);
+    const Plan full = MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42);
     const std::string full_text = PlanToJson(full).dump();
-    EXPECT_EQ(
-        PlanToJson(
-            MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42))
-            .dump(),
-        full_text);
-    EXPECT_NE(
-        PlanToJson(
-            MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 43))
-            .dump(),
-        full_text);
+    EXPECT_EQ(PlanToJson(MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42)).dump(),
+              full_text);
+    EXPECT_NE(PlanToJson(MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 43)).dump(),
+              full_text);
     const int64_t n = static_cast<int64_t>(full.frames.size());
     for (const auto& [b, e] : std::vector<std::pair<int64_t, int64_t>>{
              {0, 1}, {n / 3, n / 2}, {n - 5, n}, {n - 1, -1}}) {
-      const Plan part = MakePlan(kExamples + "/" + scene,
-                                 kExamples + "/" + capture,
-                                 42,
-                                 FrameRange{b, e});
+      const Plan part =
+          MakePlan(kExamples + "/" + scene, kExamples + "/" + capture, 42, FrameRange{b, e});
       const int64_t end = e < 0 ? n : e;
       ASSERT_EQ(static_cast<int64_t>(part.frames.size()), end - b) << scene;
       EXPECT_EQ(PlanToJson(part)["objects"], PlanToJson(full)["objects"]);
       for (int64_t k = b; k < end; ++k)
-        EXPECT_EQ(PlannedFrameToJson(part.frames[k - b]),
-                  PlannedFrameToJson(full.frames[k]))
+        EXPECT_EQ(PlannedFrameToJson(part.frames[k - b]), PlannedFrameToJson(full.frames[k]))
             << scene << " frame " << k;
     }
   }
 }
 
 TEST(LangPlan, PlanJsonMatchesItsSchemaAndRoundTrips) {
-  const Plan plan = MakePlan(kExamples + "/paper_example1.lscene",
-                             kExamples + "/paper_example1.lcap",
-                             9);
+  const Plan plan =
+      MakePlan(kExamples + "/paper_example1.lscene", kExamples + "/paper_example1.lcap", 9);
   const nlohmann::json j = PlanToJson(plan);
-  for (const SchemaIssue& issue :
-       JsonSchema::Get("plan.schema.json").Validate(j))
+  for (const SchemaIssue& issue : JsonSchema::Get("plan.schema.json").Validate(j))
     ADD_FAILURE() << issue.pointer << ": " << issue.message;
   const Plan back = PlanFromJson(j, "plan.json");
   ASSERT_EQ(back.frames.size(), plan.frames.size());
@@ -327,22 +297,19 @@ TEST(LangPlan, PlanJsonMatchesItsSchemaAndRoundTrips) {
     PlanFromJson(bad, "plan.json");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("plan.json#/frames/2/camera/fx"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("plan.json#/frames/2/camera/fx"), std::string::npos)
         << e.what();
   }
 }
 
 TEST(LangPlan, DefaultCaptureIsOneNadirFrameOverTheScene) {
-  const Plan plan =
-      PlanText("LSCENE = ONE(W)\nW = terrain{size:[100,60]}\n", "", 0);
+  const Plan plan = PlanText("LSCENE = ONE(W)\nW = terrain{size:[100,60]}\n", "", 0);
   ASSERT_EQ(plan.frames.size(), 1u);
   const Eigen::Vector3d c = CameraCenterInWorld(plan.frames[0].cam_from_world);
   EXPECT_NEAR(c.head<2>().norm(), 0, 1e-9);
   EXPECT_NEAR(c.z(), 50 / std::tan(M_PI / 6), 1e-9);
   const Eigen::Vector3d axis =
-      plan.frames[0].cam_from_world.rotation.conjugate() *
-      Eigen::Vector3d::UnitZ();
+      plan.frames[0].cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
   EXPECT_NEAR(axis.z(), -1, 1e-12);
 }
 
@@ -365,8 +332,7 @@ TEST(LangPlan, SizeAfterPositionIsAppliedAfterTheCollisionTest) {
     for (size_t i = 0; i < plan.objects.size(); ++i) {
       EXPECT_EQ(plan.objects[i].extent, Eigen::Vector3d(1, 1, 1));
       for (size_t j = i + 1; j < plan.objects.size(); ++j) {
-        const Eigen::Vector3d d =
-            (plan.objects[i].position - plan.objects[j].position).cwiseAbs();
+        const Eigen::Vector3d d = (plan.objects[i].position - plan.objects[j].position).cwiseAbs();
         EXPECT_TRUE(d.x() >= 2.5 - 1e-9 || d.y() >= 2.5 - 1e-9);
       }
     }
@@ -391,14 +357,10 @@ TEST(LangPlan, SceneChangeSetsFramesAndDuringTimings) {
     return std::count_if(f.changes.begin(), f.changes.end(), pred);
   };
   for (const PlannedFrame& f : plan.frames) {
-    const auto material =
-        count(f, [](const ObjectChange& c) { return c.material.has_value(); });
-    const auto hidden =
-        count(f, [](const ObjectChange& c) { return c.visible.has_value(); });
-    const auto moved =
-        count(f, [](const ObjectChange& c) { return c.position.has_value(); });
-    const auto scaled =
-        count(f, [](const ObjectChange& c) { return c.extent.has_value(); });
+    const auto material = count(f, [](const ObjectChange& c) { return c.material.has_value(); });
+    const auto hidden = count(f, [](const ObjectChange& c) { return c.visible.has_value(); });
+    const auto moved = count(f, [](const ObjectChange& c) { return c.position.has_value(); });
+    const auto scaled = count(f, [](const ObjectChange& c) { return c.extent.has_value(); });
     EXPECT_EQ(material, f.index >= 2 ? 3 : 0) << f.index;
     EXPECT_EQ(hidden, f.index >= 5 ? 3 : 0) << f.index;
     // Three offsets, then three re-seats that keep each cube ON the terrain.
@@ -410,8 +372,7 @@ TEST(LangPlan, SceneChangeSetsFramesAndDuringTimings) {
       }
   }
   // `during` offsets are drawn anew on every frame.
-  EXPECT_NE(*plan.frames[0].changes[0].position,
-            *plan.frames[1].changes[0].position);
+  EXPECT_NE(*plan.frames[0].changes[0].position, *plan.frames[1].changes[0].position);
 }
 
 TEST(LangPlan, InTheTerrainMeansOnIt) {
@@ -421,9 +382,8 @@ TEST(LangPlan, InTheTerrainMeansOnIt) {
       "",
       4);
   const PlannedObject& x = plan.objects[0];
-  EXPECT_NEAR(x.position.z() - 0.5,
-              TerrainHeight(plan.terrain, x.position.x(), x.position.y()),
-              1e-9);
+  EXPECT_NEAR(
+      x.position.z() - 0.5, TerrainHeight(plan.terrain, x.position.x(), x.position.y()), 1e-9);
 }
 
 TEST(LangPlan, TerrainHeightIsBoundedAndDeterministic) {
@@ -458,25 +418,22 @@ const char* kHills =
     "position:{ON:W,within:[[-20,-20,-100],[20,20,100]]}}\n";
 
 TEST(LangGate, ADoubledObjectOnHillsKeepsItsBaseOnTheSurfaceInEveryFrame) {
-  const Plan plan = PlanText(
-      kHills,
-      "LCAP = ONE(P) ONE(CL)\n"
-      "P = path{waypoints:[[0,0,40],[1,0,40],[2,0,40],[3,0,40]]}\n"
-      "CL = collection{CO:{move:[P:2]},O:{after:P:1,scale:[2,2,2]},"
-      "{during:P:2,rotation:[[0,30],0,[0,360]]},{during:P:2,offset:[[-3,-3,0],"
-      "[3,3,0]]}}\n",
-      11);
+  const Plan plan =
+      PlanText(kHills,
+               "LCAP = ONE(P) ONE(CL)\n"
+               "P = path{waypoints:[[0,0,40],[1,0,40],[2,0,40],[3,0,40]]}\n"
+               "CL = collection{CO:{move:[P:2]},O:{after:P:1,scale:[2,2,2]},"
+               "{during:P:2,rotation:[[0,30],0,[0,360]]},{during:P:2,offset:[[-3,-3,0],"
+               "[3,3,0]]}}\n",
+               11);
   ASSERT_EQ(plan.frames.size(), 8u);
   for (const PlannedFrame& frame : plan.frames) {
     const gen::WorldState world = gen::WorldAt(plan, frame);
     for (const gen::ObjectState& o : world.objects) {
-      const double half_z =
-          (o.world_from_object.cwiseAbs() * (0.5 * o.extent)).z();
+      const double half_z = (o.world_from_object.cwiseAbs() * (0.5 * o.extent)).z();
       const double base = o.position.z() - half_z;
-      const double ground =
-          TerrainHeight(plan.terrain, o.position.x(), o.position.y());
-      EXPECT_NEAR(base, ground, 1e-3)
-          << o.planned->name << " frame " << frame.index;
+      const double ground = TerrainHeight(plan.terrain, o.position.x(), o.position.y());
+      EXPECT_NEAR(base, ground, 1e-3) << o.planned->name << " frame " << frame.index;
       if (frame.index >= 4) {
         EXPECT_EQ(o.extent, Eigen::Vector3d(2, 2, 2));
       }
@@ -512,16 +469,12 @@ TEST(LangGate, AnUndergroundCameraIsAPlanErrorNamingPathAndPose) {
     FAIL() << "expected a clearance error";
   } catch (const Error& e) {
     EXPECT_NE(e.message().find("P(1) pose "), std::string::npos) << e.message();
-    EXPECT_NE(e.message().find("above the terrain (height "), std::string::npos)
-        << e.message();
+    EXPECT_NE(e.message().find("above the terrain (height "), std::string::npos) << e.message();
     EXPECT_EQ(e.location().line, 3) << e.location().ToString();
   }
   // The explicit opt-out plans the same orbit.
   const Plan plan = PlanText(
-      scene,
-      "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{clearance:off}}\n" +
-          low_orbit,
-      3);
+      scene, "LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{clearance:off}}\n" + low_orbit, 3);
   EXPECT_EQ(plan.frames.size(), 8u);
 }
 
@@ -531,22 +484,17 @@ TEST(LangGate, WaypointHeightsAboveGroundFollowTheTerrain) {
       "P = path{waypoints:[[-10,3,12],[0,0,12],{position:[7,-4,20]}]}\n";
   const Plan plan = PlanText(kHills, capture, 11);
   ASSERT_EQ(plan.frames.size(), 3u);
-  const std::vector<Eigen::Vector3d> asked = {
-      {-10, 3, 12}, {0, 0, 12}, {7, -4, 20}};
+  const std::vector<Eigen::Vector3d> asked = {{-10, 3, 12}, {0, 0, 12}, {7, -4, 20}};
   for (size_t k = 0; k < 3; ++k) {
-    const Eigen::Vector3d eye =
-        CameraCenterInWorld(plan.frames[k].cam_from_world);
-    EXPECT_NEAR(eye.z() - TerrainHeight(plan.terrain, eye.x(), eye.y()),
-                asked[k].z(),
-                1e-9);
+    const Eigen::Vector3d eye = CameraCenterInWorld(plan.frames[k].cam_from_world);
+    EXPECT_NEAR(eye.z() - TerrainHeight(plan.terrain, eye.x(), eye.y()), asked[k].z(), 1e-9);
     EXPECT_NEAR(eye.x(), asked[k].x(), 1e-9);
   }
 }
 
 TEST(LangGate, CountIntervalsAreDrawnFromTheSeed) {
   const std::string scene = "LSCENE = ONE(W)\nW = terrain{size:[100,100]}\n";
-  const std::string capture =
-      "LCAP = ONE(P)\nP = path{random:{count:[5,50],altitude:30}}\n";
+  const std::string capture = "LCAP = ONE(P)\nP = path{random:{count:[5,50],altitude:30}}\n";
   std::set<size_t> counts;
   for (uint64_t seed = 1; seed <= 6; ++seed) {
     const Plan plan = PlanText(scene, capture, seed);
@@ -589,8 +537,7 @@ TEST(LangGate, AMeshKeepsItsNativeSize) {
   // A 4 x 2 x 1.5 m box as an OBJ file (metres, z up).
   std::ofstream obj(dir / "crate.obj");
   for (int k = 0; k < 8; ++k)
-    obj << "v " << (k & 1 ? 2 : -2) << " " << (k & 2 ? 1 : -1) << " "
-        << (k & 4 ? 1.5 : 0) << "\n";
+    obj << "v " << (k & 1 ? 2 : -2) << " " << (k & 2 ? 1 : -1) << " " << (k & 4 ? 1.5 : 0) << "\n";
   obj << "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\nf 1 5 6\nf 1 6 2\n"
          "f 3 4 8\nf 3 8 7\nf 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n";
   obj.close();
@@ -607,13 +554,11 @@ TEST(LangGate, AMeshKeepsItsNativeSize) {
   ASSERT_EQ(plan.objects.size(), 2u);
   EXPECT_TRUE(plan.objects[0].extent.isApprox(Eigen::Vector3d(4, 2, 1.5)))
       << plan.objects[0].extent.transpose();
-  EXPECT_TRUE(
-      plan.objects[1].extent.isApprox(Eigen::Vector3d(0.04, 0.02, 0.015)))
+  EXPECT_TRUE(plan.objects[1].extent.isApprox(Eigen::Vector3d(0.04, 0.02, 0.015)))
       << plan.objects[1].extent.transpose();
   // The truth OBB is the mesh's bounds after the transform.
   const gen::WorldState world = gen::WorldAt(plan, plan.frames[0]);
-  EXPECT_TRUE(world.objects[0].Box().half_extents.isApprox(
-      Eigen::Vector3d(2, 1, 0.75)));
+  EXPECT_TRUE(world.objects[0].Box().half_extents.isApprox(Eigen::Vector3d(2, 1, 0.75)));
 }
 
 // Every key this wave added to LCAP and LSCENE, in the text notation and in
@@ -655,10 +600,8 @@ TEST(LangGate, TheKeysOfLcapOverTimePlanTheSameInTextAndJson) {
       "DL:{after:F:1,time:\"16:00\"}}\n";
   const SourceFile text_scene = ParseSource(scene, "s.lscene", false);
   const SourceFile text_capture = ParseSource(capture, "c.lcap", false);
-  const SourceFile json_scene =
-      ParseSource(SourceToJson(text_scene).dump(2), "s.json", true);
-  const SourceFile json_capture =
-      ParseSource(SourceToJson(text_capture).dump(2), "c.json", true);
+  const SourceFile json_scene = ParseSource(SourceToJson(text_scene).dump(2), "s.json", true);
+  const SourceFile json_capture = ParseSource(SourceToJson(text_capture).dump(2), "c.json", true);
   auto without_sources = [](const Plan& plan) {
     nlohmann::json j = PlanToJson(plan);
     j.erase("scene_source");
@@ -666,12 +609,9 @@ TEST(LangGate, TheKeysOfLcapOverTimePlanTheSameInTextAndJson) {
     return j;
   };
   for (uint64_t seed : {0ull, 7ull}) {
-    const Plan from_text =
-        MakePlanFromSources(text_scene, &text_capture, seed);
-    const Plan from_json =
-        MakePlanFromSources(json_scene, &json_capture, seed);
-    EXPECT_EQ(without_sources(from_text), without_sources(from_json))
-        << "seed " << seed;
+    const Plan from_text = MakePlanFromSources(text_scene, &text_capture, seed);
+    const Plan from_json = MakePlanFromSources(json_scene, &json_capture, seed);
+    EXPECT_EQ(without_sources(from_text), without_sources(from_json)) << "seed " << seed;
     // The keys took effect (the comparison is not between two empty plans).
     ASSERT_GT(from_text.frames.size(), 10u);
     EXPECT_EQ(from_text.capture_settings["folder"], "run_a");
@@ -686,8 +626,7 @@ TEST(LangGate, TheKeysOfLcapOverTimePlanTheSameInTextAndJson) {
     EXPECT_TRUE(from_text.frames.back().environment.has_value());
     // The plan's JSON form declares the new change fields and reads back.
     const nlohmann::json j = PlanToJson(from_text);
-    for (const SchemaIssue& issue :
-         JsonSchema::Get("plan.schema.json").Validate(j))
+    for (const SchemaIssue& issue : JsonSchema::Get("plan.schema.json").Validate(j))
       ADD_FAILURE() << issue.pointer << ": " << issue.message;
     const nlohmann::json back = PlanToJson(PlanFromJson(j, "plan.json"));
     for (size_t k = 0; k < j["frames"].size(); ++k)

@@ -27,8 +27,8 @@ TEST(Cli, InfoSummarizesACollection) {
   synth::Spec spec = synth::DefaultSpec();
   spec.width = 32, spec.height = 24;
   synth::WriteCollection(dir / "c", spec);
-  const auto result = RunCommandLine(testing::LsdsBinary() + " info --json " +
-                                     (dir / "c").string());
+  const auto result =
+      RunCommandLine(testing::LsdsBinary() + " info --json " + (dir / "c").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const nlohmann::json info = nlohmann::json::parse(result.output);
   EXPECT_EQ(info["frames"], 4);
@@ -40,16 +40,14 @@ TEST(Cli, InfoSummarizesACollection) {
   }
   EXPECT_EQ(boxes, 2);
   EXPECT_GT(info["bytes"].get<int64_t>(), 0);
-  const auto text =
-      RunCommandLine(testing::LsdsBinary() + " info " + (dir / "c").string());
+  const auto text = RunCommandLine(testing::LsdsBinary() + " info " + (dir / "c").string());
   EXPECT_EQ(text.exit_code, 0);
   EXPECT_NE(text.output.find("bundle"), std::string::npos);
 }
 
 TEST(Cli, InfoFailsCleanlyOnANonCollection) {
   testing::TempDir dir;
-  const auto result =
-      RunCommandLine(testing::LsdsBinary() + " info " + dir.path().string());
+  const auto result = RunCommandLine(testing::LsdsBinary() + " info " + dir.path().string());
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find(dir.path().string()), std::string::npos);
   EXPECT_NE(result.output.find("collection.json"), std::string::npos);

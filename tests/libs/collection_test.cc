@@ -23,8 +23,7 @@ CollectionHeader SampleHeader(int64_t frames) {
   header.provenance.seed = 42;
   header.provenance.scene_source = "LSCENE = ONE(S)";
   header.classes = {{1, "ground"}, {7, "barrel"}};
-  header.layers = {StandardLayer("depth", DepthKind::kPerspective),
-                   StandardLayer("bundle")};
+  header.layers = {StandardLayer("depth", DepthKind::kPerspective), StandardLayer("bundle")};
   header.metadata = {{"metadata.json", false, ""}};
   header.frame_count = frames;
   return header;
@@ -37,8 +36,7 @@ Frame SampleFrame(int64_t index) {
   frame.sequence = "P1(1)";
   frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(64, 48, 50);
   frame.camera.cam_from_world_rotation =
-      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())
-          .toRotationMatrix();
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   frame.camera.cam_from_world_translation = {1.25, -2.5, 30.125};
   frame.files = {{"depth", "depth/" + std::to_string(index) + ".exr"}};
   ObjectTruth object;
@@ -98,8 +96,7 @@ TEST(CollectionJson, WriterRefusesWrongFrameCount) {
 TEST(Schema, RejectsUnknownKeyWithPointer) {
   json header = HeaderToJson(SampleHeader(0));
   header["conventions"]["handednes"] = "right";
-  const auto issues =
-      JsonSchema::Get("collection.schema.json").Validate(header);
+  const auto issues = JsonSchema::Get("collection.schema.json").Validate(header);
   ASSERT_FALSE(issues.empty());
   EXPECT_EQ(issues[0].pointer, "/conventions/handednes");
 }
@@ -107,8 +104,8 @@ TEST(Schema, RejectsUnknownKeyWithPointer) {
 TEST(Schema, RejectsWrongTypeInFrameWithPointer) {
   json frame = FrameToJson(SampleFrame(0));
   frame["objects"][1]["visibility"] = 1.5;
-  const auto issues = JsonSchema::Get("collection.schema.json", "frame")
-                          .Validate(frame, "/frames/9");
+  const auto issues =
+      JsonSchema::Get("collection.schema.json", "frame").Validate(frame, "/frames/9");
   ASSERT_FALSE(issues.empty());
   EXPECT_EQ(issues[0].pointer, "/frames/9/objects/1/visibility");
 }
@@ -126,8 +123,7 @@ TEST(Schema, ReaderNamesFileAndPointer) {
     FAIL() << "expected a schema error";
   } catch (const Error& e) {
     EXPECT_EQ(e.location().json_pointer, "/frames/0/camera/fx");
-    EXPECT_NE(std::string(e.what()).find("collection.json#/frames/0/camera/fx"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("collection.json#/frames/0/camera/fx"), std::string::npos);
   }
 }
 
@@ -158,12 +154,10 @@ TEST(CollectionJson, StreamingVisitsFramesInOrderWithoutHoldingThem) {
   writer.Commit();
   const CollectionReader reader(dir.path());
   int64_t expected = 0;
-  reader.ForEachFrame(
-      [&](const Frame& frame) { EXPECT_EQ(frame.index, expected++); });
+  reader.ForEachFrame([&](const Frame& frame) { EXPECT_EQ(frame.index, expected++); });
   EXPECT_EQ(expected, frames);
   std::atomic<int64_t> sum{0};
-  reader.ParallelForEachFrame([&](const Frame& frame) { sum += frame.index; },
-                              16);
+  reader.ParallelForEachFrame([&](const Frame& frame) { sum += frame.index; }, 16);
   EXPECT_EQ(sum.load(), int64_t{frames} * (frames - 1) / 2);
 }
 
@@ -182,8 +176,8 @@ TEST(MetadataJson, SyntheticCollectionMetadataEqualsTruth) {
     const Rigid3d cam_from_enu = CamFromEnu(m.position, m.attitude);
     EXPECT_TRUE(cam_from_enu.rotation.toRotationMatrix().isApprox(
         frames[k].camera.cam_from_world_rotation, 1e-12));
-    EXPECT_TRUE(cam_from_enu.translation.isApprox(
-        frames[k].camera.cam_from_world_translation, 1e-12));
+    EXPECT_TRUE(
+        cam_from_enu.translation.isApprox(frames[k].camera.cam_from_world_translation, 1e-12));
     EXPECT_EQ(m.camera, frames[k].camera.intrinsics);
     ++k;
   });

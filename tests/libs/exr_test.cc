@@ -21,8 +21,7 @@ FlatImage MakeFlat(int w, int h) {
   for (size_t i = 0; i < image.pixel_count(); ++i) {
     id.uints[i] = static_cast<uint32_t>(i * 2654435761u);  // all 32 bits used
     z.floats[i] = 0.1f * static_cast<float>(i) + 1e-7f;
-    r.floats[i] =
-        0.25f * static_cast<float>(i % 7);  // exactly representable in HALF
+    r.floats[i] = 0.25f * static_cast<float>(i % 7);  // exactly representable in HALF
   }
   z.floats[3] = std::numeric_limits<float>::infinity();
   return image;
@@ -147,8 +146,7 @@ TEST(DeepExr, SampleLimits) {
   WriteOptions options;
   options.compression = Compression::kZips;
   WriteDeepExr(dir / "d.exr", written, options);
-  options.compression =
-      Compression::kZip;  // not valid for deep data: a clear error
+  options.compression = Compression::kZip;  // not valid for deep data: a clear error
   EXPECT_THROW(WriteDeepExr(dir / "e.exr", written, options), Error);
   EXPECT_FALSE(std::filesystem::exists(dir / "e.exr"));
   ReadLimits limits;

@@ -35,8 +35,7 @@ TEST(Npy, WritesNumpysVersion1HeaderAndReadsItBack) {
   const std::string bytes = Bytes(dir / "a.npy");
   // numpy.save(np.zeros((2, 3), np.float32)): magic, 1.0, header length 118,
   // the dict padded with spaces to 128 bytes in all, ending in '\n'.
-  const std::string dict =
-      "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }";
+  const std::string dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }";
   ASSERT_EQ(bytes.size(), 128u + data.size());
   EXPECT_EQ(bytes.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8));
   EXPECT_EQ(static_cast<unsigned char>(bytes[8]), 118);
@@ -59,7 +58,8 @@ TEST(Npy, ReadsStructuredRecordsWithSubArraysByName) {
   WriteNpy(dir / "r.npy",
            "[('semanticId', '<u4'), ('transform', '<f4', (4, 4)), "
            "('occlusionRatio', '<f8')]",
-           {2}, data);
+           {2},
+           data);
   // A one-element tuple as Python spells it.
   EXPECT_NE(Bytes(dir / "r.npy").find("'shape': (2,), }"), std::string::npos);
   const NpyArray array = ReadNpy(dir / "r.npy");
@@ -100,8 +100,7 @@ TEST(Npy, UnsupportedOrBrokenFilesAreLocatedErrors) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message("magic.npy", "PK\x03\x04 not numpy").find("magic"),
-            std::string::npos);
+  EXPECT_NE(message("magic.npy", "PK\x03\x04 not numpy").find("magic"), std::string::npos);
   std::string data(8, '\0');
   WriteNpy(dir / "big.npy", "'>f8'", {1}, data);
   EXPECT_NE(message("big2.npy", Bytes(dir / "big.npy")).find("unsupported dtype"),

@@ -41,18 +41,15 @@ TEST(OutputGuard, RefusesIsContainsAndInside) {
   std::ofstream(dir / "C" / "collection.json") << "{}";
   OutputGuard guard("lsds test");
   guard.AddInput(dir / "C", "collection folder");
-  EXPECT_NE(Refusal(guard, dir / "C").find(" is the collection folder"),
-            std::string::npos);
-  EXPECT_NE(Refusal(guard, dir / "C" / "x" / ".." / "rgb" / "a.exr")
-                .find("lies inside"),
+  EXPECT_NE(Refusal(guard, dir / "C").find(" is the collection folder"), std::string::npos);
+  EXPECT_NE(Refusal(guard, dir / "C" / "x" / ".." / "rgb" / "a.exr").find("lies inside"),
             std::string::npos);
   EXPECT_NE(Refusal(guard, dir.path()).find("contains"), std::string::npos);
   EXPECT_EQ(Refusal(guard, dir / "out"), "");
   EXPECT_EQ(Refusal(guard, dir / "C2"), "");  // a prefix of a name is not inside
   // The message names both paths.
   const std::string message = Refusal(guard, dir / "C" / "collection.json");
-  EXPECT_NE(message.find((dir / "C" / "collection.json").string()),
-            std::string::npos);
+  EXPECT_NE(message.find((dir / "C" / "collection.json").string()), std::string::npos);
   EXPECT_NE(message.find("even with --force"), std::string::npos);
 }
 
@@ -65,10 +62,8 @@ TEST(OutputGuard, SeesThroughSymlinks) {
   OutputGuard guard("lsds test");
   guard.AddInput(dir / "C", "collection folder");
   guard.AddSymlinkTargetsIn(dir / "C");
-  EXPECT_NE(Refusal(guard, dir / "L" / "out").find("lies inside"),
-            std::string::npos);
-  EXPECT_NE(Refusal(guard, dir / "data" / "rgb" / "x.exr")
-                .find("target of the symlink"),
+  EXPECT_NE(Refusal(guard, dir / "L" / "out").find("lies inside"), std::string::npos);
+  EXPECT_NE(Refusal(guard, dir / "data" / "rgb" / "x.exr").find("target of the symlink"),
             std::string::npos);
   EXPECT_EQ(Refusal(guard, dir / "data" / "other"), "");
 }
@@ -145,8 +140,7 @@ TEST(Limits, ImageBudgetBeforeAllocation) {
     EXPECT_NE(e.message().find("--memory-budget"), std::string::npos);
   }
   // Hostile factors do not wrap around.
-  EXPECT_THROW(CheckImageBudget(int64_t{1} << 40, int64_t{1} << 40, 1 << 20,
-                                8, "image", "--size"),
+  EXPECT_THROW(CheckImageBudget(int64_t{1} << 40, int64_t{1} << 40, 1 << 20, 8, "image", "--size"),
                Error);
   EXPECT_THROW(SetMemoryBudget("lots"), Error);
   EXPECT_EQ(ParseByteSize("2G", "x"), uint64_t{2} << 30);
@@ -170,8 +164,7 @@ TEST(Check, FailedCheckIsAnInternalError) {
   try {
     LSDS_CHECK_MSG(false, "detail");
   } catch (const InternalError& e) {
-    EXPECT_NE(std::string(e.what()).find("reliability_test.cc"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("reliability_test.cc"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("detail"), std::string::npos);
   }
 }

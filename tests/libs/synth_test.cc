@@ -15,8 +15,7 @@ Spec OneBoxUnderCamera() {
   box.class_id = 2, box.instance_id = 1, box.name = "box#0";
   box.center = {0, 0, 1}, box.half_extents = {1, 1, 1};
   spec.boxes = {box};
-  spec.cam_from_world = {NadirCamFromWorld({0, 0, 20}),
-                         NadirCamFromWorld({1, 0, 20})};
+  spec.cam_from_world = {NadirCamFromWorld({0, 0, 20}), NadirCamFromWorld({1, 0, 20})};
   return spec;
 }
 
@@ -36,8 +35,7 @@ TEST(Synth, NadirCameraOverFlatGround) {
       ++ground;
     } else {
       EXPECT_EQ(ids[p], 1u);
-      EXPECT_FLOAT_EQ(
-          depth[p], 18.0f);  // only the top face is visible from straight above
+      EXPECT_FLOAT_EQ(depth[p], 18.0f);  // only the top face is visible from straight above
     }
   }
   EXPECT_GT(ground, 0);
@@ -54,8 +52,7 @@ TEST(Synth, BoxCoversTheAnalyticPixels) {
   int expected = 0, x0 = 1 << 20, x1 = -1, y0 = 1 << 20, y1 = -1;
   for (int j = 0; j < spec.height; ++j) {
     for (int i = 0; i < spec.width; ++i) {
-      if (std::abs(i + 0.5 - camera.cx) < half &&
-          std::abs(j + 0.5 - camera.cy) < half) {
+      if (std::abs(i + 0.5 - camera.cx) < half && std::abs(j + 0.5 - camera.cy) < half) {
         ++expected;
         x0 = std::min(x0, i), x1 = std::max(x1, i + 1), y0 = std::min(y0, j),
         y1 = std::max(y1, j + 1);
@@ -66,8 +63,7 @@ TEST(Synth, BoxCoversTheAnalyticPixels) {
   const ObjectTruth& object = frame.truth.objects[0];
   EXPECT_EQ(object.visible_pixels, expected);
   ASSERT_TRUE(object.bbox);
-  EXPECT_EQ(*object.bbox,
-            (Box2d{double(x0), double(y0), double(x1), double(y1)}));
+  EXPECT_EQ(*object.bbox, (Box2d{double(x0), double(y0), double(x1), double(y1)}));
   EXPECT_DOUBLE_EQ(object.visibility, 1.0);
   EXPECT_DOUBLE_EQ(object.in_frame, 1.0);
   ASSERT_TRUE(object.bbox_projected);
@@ -93,12 +89,10 @@ TEST(Synth, ShadowBehindTheBoxAndNoneInTheOpen) {
     // Shadow of the 2 m box for this sun: x in (-1 - 2 * sx / sz, -1), away
     // from the y edges.
     if (point.x() > -1.5 && point.x() < -1.05 && std::abs(point.y()) < 0.6) {
-      EXPECT_NEAR(shadow[p], 0.3 / (0.3 + cosine), 1e-6)
-          << "at " << point.transpose();
+      EXPECT_NEAR(shadow[p], 0.3 / (0.3 + cosine), 1e-6) << "at " << point.transpose();
       ++shadowed;
     }
-    if (point.x() > 2 || point.y() > 2 ||
-        tip.x() < -1.5) {  // the sun ray climbs away from the box
+    if (point.x() > 2 || point.y() > 2 || tip.x() < -1.5) {  // the sun ray climbs away from the box
       EXPECT_FLOAT_EQ(shadow[p], 1.0f);
       ++open;
     }
@@ -114,15 +108,13 @@ TEST(Synth, MotionMatchesTheCameraStep) {
   const RenderedFrame first = RenderFrame(spec, 0);
   const RenderedFrame second = RenderFrame(spec, 1);
   // The first frame of the shot has no valid motion: NaN, never 0.5.
-  for (float m : first.flat.at("motion").Get("X").floats)
-    EXPECT_TRUE(std::isnan(m));
+  for (float m : first.flat.at("motion").Get("X").floats) EXPECT_TRUE(std::isnan(m));
   // The camera moved 1 m east at 20 m: ground points moved fx / 20 pixels to
   // the left.
   const auto& ids = second.flat.at("instanceid").Get("id").uints;
   const auto& mx = second.flat.at("motion").Get("X").floats;
   const auto& my = second.flat.at("motion").Get("Y").floats;
-  const float expected =
-      static_cast<float>(0.5 - 0.5 * (camera.fx / 20.0) / spec.width);
+  const float expected = static_cast<float>(0.5 - 0.5 * (camera.fx / 20.0) / spec.width);
   for (size_t p = 0; p < ids.size(); ++p) {
     if (ids[p] != 1000) continue;
     // Ground entering on the right was outside the previous image: NaN.
@@ -171,15 +163,13 @@ TEST(Synth, BundleCentreSampleEqualsSingleValueLayers) {
       ASSERT_EQ(bundle.SampleCount(i, j), 9u);
       EXPECT_EQ(bundle.Get("instanceid").uints[first],
                 frame.flat.at("instanceid").Get("id").uints[p]);
-      EXPECT_EQ(bundle.Get("classid").uints[first],
-                frame.flat.at("classid").Get("id").uints[p]);
-      EXPECT_EQ(bundle.Get("Z").floats[first],
-                frame.flat.at("depth").Get("Z").floats[p]);
+      EXPECT_EQ(bundle.Get("classid").uints[first], frame.flat.at("classid").Get("id").uints[p]);
+      EXPECT_EQ(bundle.Get("Z").floats[first], frame.flat.at("depth").Get("Z").floats[p]);
       EXPECT_EQ(bundle.Get("SX").floats[first], 0.5f);
       bool is_mixed = false;
       for (uint32_t k = 1; k < 9; ++k) {
-        is_mixed |= bundle.Get("instanceid").uints[first + k] !=
-                    bundle.Get("instanceid").uints[first];
+        is_mixed |=
+            bundle.Get("instanceid").uints[first + k] != bundle.Get("instanceid").uints[first];
       }
       mixed += is_mixed;
     }

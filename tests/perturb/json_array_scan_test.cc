@@ -18,19 +18,17 @@ TEST(JsonArrayScan, HandsOutElementsRawBytesAndTheHeader) {
   const std::string frames =
       "\n  {\"s\": \"a],[\\\"}{\", \"v\": [1, [2, 3]]} ,\n  7,\"x\\\\\" , [], "
       "{\"frames\": [9]}\n";
-  WriteFileAtomic(path,
-                  "{\"before\": {\"frames\": 1}, \"frames\": [" + frames +
-                      "], \"after\": [\"]\"]}\n");
+  WriteFileAtomic(
+      path, "{\"before\": {\"frames\": 1}, \"frames\": [" + frames + "], \"after\": [\"]\"]}\n");
   std::vector<std::string> elements;
   std::string raw;
-  const ArrayScanResult result =
-      ScanJsonArrayMember(path,
-                          "frames",
-                          {[&](std::string_view bytes) { raw += bytes; },
-                           [&](std::string_view text, size_t index) {
-                             EXPECT_EQ(index, elements.size());
-                             elements.emplace_back(text);
-                           }});
+  const ArrayScanResult result = ScanJsonArrayMember(path,
+                                                     "frames",
+                                                     {[&](std::string_view bytes) { raw += bytes; },
+                                                      [&](std::string_view text, size_t index) {
+                                                        EXPECT_EQ(index, elements.size());
+                                                        elements.emplace_back(text);
+                                                      }});
   EXPECT_TRUE(result.found);
   EXPECT_EQ(result.elements, 5u);
   EXPECT_EQ(raw, frames);
@@ -41,8 +39,7 @@ TEST(JsonArrayScan, HandsOutElementsRawBytesAndTheHeader) {
   EXPECT_EQ(elements[3], "[]");
   EXPECT_EQ(elements[4], "{\"frames\": [9]}");
   EXPECT_EQ(result.header,
-            nlohmann::json::parse(
-                R"({"before": {"frames": 1}, "frames": [], "after": ["]"]})"));
+            nlohmann::json::parse(R"({"before": {"frames": 1}, "frames": [], "after": ["]"]})"));
 }
 
 TEST(JsonArrayScan, ElementsCrossingReadChunksAreWhole) {
@@ -53,24 +50,21 @@ TEST(JsonArrayScan, ElementsCrossingReadChunksAreWhole) {
   std::string frames;
   const int count = 3000;  // ~1.5 MB: several chunk boundaries
   for (int k = 0; k < count; ++k) {
-    frames +=
-        (k == 0 ? "\n    " : ",\n    ") +
-        nlohmann::json({{"index", k}, {"pad", std::string(500, 'a' + k % 26)}})
-            .dump();
+    frames += (k == 0 ? "\n    " : ",\n    ") +
+              nlohmann::json({{"index", k}, {"pad", std::string(500, 'a' + k % 26)}}).dump();
   }
   WriteFileAtomic(path, text + frames + "\n  ]\n}\n");
   int seen = 0;
   std::string raw;
-  ScanJsonArrayMember(
-      path,
-      "frames",
-      {[&](std::string_view bytes) { raw += bytes; },
-       [&](std::string_view element, size_t index) {
-         const nlohmann::json json = ParseElement(element, path, "/frames");
-         EXPECT_EQ(json["index"].get<int>(), static_cast<int>(index));
-         EXPECT_EQ(json["pad"].get<std::string>().size(), 500u);
-         ++seen;
-       }});
+  ScanJsonArrayMember(path,
+                      "frames",
+                      {[&](std::string_view bytes) { raw += bytes; },
+                       [&](std::string_view element, size_t index) {
+                         const nlohmann::json json = ParseElement(element, path, "/frames");
+                         EXPECT_EQ(json["index"].get<int>(), static_cast<int>(index));
+                         EXPECT_EQ(json["pad"].get<std::string>().size(), 500u);
+                         ++seen;
+                       }});
   EXPECT_EQ(seen, count);
   EXPECT_EQ(raw, frames + "\n  ");
 }
@@ -88,8 +82,7 @@ TEST(JsonArrayScan, BadJsonIsAnErrorNamingTheFile) {
     ParseElement("{\"a\": ", path, "/frames/3");
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("#/frames/3"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("#/frames/3"), std::string::npos) << e.what();
   }
 }
 

@@ -48,8 +48,7 @@ Moments Measure(const std::vector<double>& x) {
 // kurtosis k: Var(s^2) ~ (k - 1) sigma^4 / n, so sd(s) ~ sigma sqrt((k - 1) /
 // n) / 2.
 double StdTolerance(double sigma, double kurtosis, size_t n) {
-  return kZ * sigma * std::sqrt((kurtosis - 1.0) / static_cast<double>(n)) /
-         2.0;
+  return kZ * sigma * std::sqrt((kurtosis - 1.0) / static_cast<double>(n)) / 2.0;
 }
 
 MetadataFrame NadirTruth(int64_t index, double time) {
@@ -102,9 +101,7 @@ TEST(ScalarProcess, ModelNamesParseAndUnknownNamesAreRefused) {
     ParseNoiseModel("gausian");
     FAIL() << "no error for an unknown model";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("did you mean 'gaussian'"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("did you mean 'gaussian'"), std::string::npos) << e.what();
   }
 }
 
@@ -116,49 +113,36 @@ TEST_P(FieldStd, SampleStdOfEveryFieldIsWithinItsConfidenceInterval) {
   NoiseSpec spec;
   spec.model = GetParam();
   spec.seed = 2024;
-  spec.sigma = {1.5,
-                1.5,
-                3.0,
-                0.2,
-                0.3,
-                0.5,
-                0.01,
-                0.05};  // east north up roll pitch yaw time hfov
+  spec.sigma = {
+      1.5, 1.5, 3.0, 0.2, 0.3, 0.5, 0.01, 0.05};  // east north up roll pitch yaw time hfov
   MetadataPerturber perturber(spec, WorldFrame::Make("ENU", "m"));
   const size_t n = 20000;
   std::vector<std::vector<double>> draws(kFieldCount);
   for (size_t k = 0; k < n; ++k) {
-    const RealizedError error =
-        perturber.NextError(static_cast<int64_t>(k), 0.1 * k);
+    const RealizedError error = perturber.NextError(static_cast<int64_t>(k), 0.1 * k);
     for (int f = 0; f < kFieldCount; ++f) draws[f].push_back(error.value[f]);
   }
   // Kurtosis of the model's law: 3 for the normal, 1.8 for the uniform.
   const double kurtosis = spec.model == NoiseModel::kUniform ? 1.8 : 3.0;
   for (int f = 0; f < kFieldCount; ++f) {
     const Moments m = Measure(draws[f]);
-    EXPECT_NEAR(m.std, spec.sigma[f], StdTolerance(spec.sigma[f], kurtosis, n))
-        << FieldName(f);
-    EXPECT_NEAR(m.mean, 0.0, kZ * spec.sigma[f] / std::sqrt(double(n)))
-        << FieldName(f);
+    EXPECT_NEAR(m.std, spec.sigma[f], StdTolerance(spec.sigma[f], kurtosis, n)) << FieldName(f);
+    EXPECT_NEAR(m.mean, 0.0, kZ * spec.sigma[f] / std::sqrt(double(n))) << FieldName(f);
     if (spec.model == NoiseModel::kUniform) {
       const double half_width = std::sqrt(3.0) * spec.sigma[f];
-      for (double v : draws[f])
-        ASSERT_LE(std::abs(v), half_width) << FieldName(f);
+      for (double v : draws[f]) ASSERT_LE(std::abs(v), half_width) << FieldName(f);
       EXPECT_NEAR(m.kurtosis, 1.8, 0.05) << FieldName(f);
     }
   }
   // Fields are independent: correlation of east and north within its interval.
   double cross = 0;
   for (size_t k = 0; k < n; ++k) cross += draws[kEast][k] * draws[kNorth][k];
-  EXPECT_NEAR(cross / n / (spec.sigma[kEast] * spec.sigma[kNorth]),
-              0.0,
-              kZ / std::sqrt(double(n)));
+  EXPECT_NEAR(cross / n / (spec.sigma[kEast] * spec.sigma[kNorth]), 0.0, kZ / std::sqrt(double(n)));
 }
 
 INSTANTIATE_TEST_SUITE_P(Models,
                          FieldStd,
-                         ::testing::Values(NoiseModel::kGaussian,
-                                           NoiseModel::kUniform));
+                         ::testing::Values(NoiseModel::kGaussian, NoiseModel::kUniform));
 
 // Lag-k sample autocorrelation.
 double Autocorrelation(const std::vector<double>& x, size_t lag) {
@@ -176,22 +160,18 @@ TEST(GaussMarkov, AutocorrelationAtLagDtIsExpMinusDtOverTau) {
   const size_t n = 50000;
   ScalarProcess process(NoiseModel::kGaussMarkov, sigma, tau, 99, 0);
   std::vector<double> x;
-  for (size_t k = 0; k < n; ++k)
-    x.push_back(process.Next(static_cast<int64_t>(k), dt * k));
+  for (size_t k = 0; k < n; ++k) x.push_back(process.Next(static_cast<int64_t>(k), dt * k));
   const double phi = std::exp(-dt / tau);
   for (size_t lag : {1, 2, 5, 10, 20}) {
     const double expected = std::pow(phi, double(lag));
     // Bartlett's variance of the lag-k autocorrelation of an AR(1) process.
     const double p2 = phi * phi, p2k = std::pow(phi, 2.0 * lag);
-    const double variance =
-        ((1 + p2) * (1 - p2k) / (1 - p2) - 2.0 * lag * p2k) / n;
-    EXPECT_NEAR(Autocorrelation(x, lag), expected, kZ * std::sqrt(variance))
-        << "lag " << lag;
+    const double variance = ((1 + p2) * (1 - p2k) / (1 - p2) - 2.0 * lag * p2k) / n;
+    EXPECT_NEAR(Autocorrelation(x, lag), expected, kZ * std::sqrt(variance)) << "lag " << lag;
   }
   // Stationary: std sigma. Correlated samples: Var(s^2) ~ 2 sigma^4 (1 + phi^2)
   // / (n (1 - phi^2)).
-  const double sd_of_std =
-      sigma * std::sqrt(2.0 * (1 + phi * phi) / (n * (1 - phi * phi))) / 2.0;
+  const double sd_of_std = sigma * std::sqrt(2.0 * (1 + phi * phi) / (n * (1 - phi * phi))) / 2.0;
   EXPECT_NEAR(Measure(x).std, sigma, kZ * sd_of_std);
 }
 
@@ -210,8 +190,7 @@ TEST(GaussMarkov, IrregularStepsUseTheirOwnDt) {
     t += 10 * tau;  // decorrelates the pairs
   }
   double ab = 0, aa = 0, bb = 0;
-  for (size_t k = 0; k < pairs; ++k)
-    ab += a[k] * b[k], aa += a[k] * a[k], bb += b[k] * b[k];
+  for (size_t k = 0; k < pairs; ++k) ab += a[k] * b[k], aa += a[k] * a[k], bb += b[k] * b[k];
   const double r = ab / std::sqrt(aa * bb), rho = std::exp(-0.5);
   EXPECT_NEAR(r, rho, kZ * (1 - rho * rho) / std::sqrt(double(pairs)));
 }
@@ -242,16 +221,14 @@ TEST(RotationNoise, AnglesFollowTheMaxwellLawAndAreTheTrueAngularDistance) {
   std::vector<double> angles;
   for (size_t k = 0; k < n; ++k) {
     MetadataFrame truth = NadirTruth(static_cast<int64_t>(k), 0.1 * k);
-    truth.attitude = {3.0 * std::sin(0.01 * k),
-                      -90.0 + 60.0 * (k % 7) / 7.0,
-                      -170.0 + 0.07 * k};
+    truth.attitude = {3.0 * std::sin(0.01 * k), -90.0 + 60.0 * (k % 7) / 7.0, -170.0 + 0.07 * k};
     const MetadataFrame measured = perturber.Perturb(truth);
     const double angle = measured.error["rotation_deg"].get<double>();
     angles.push_back(angle);
     // The recorded angle is the angle between the true and the measured
     // attitudes.
-    const double actual = NedFromBody(truth.attitude)
-                              .angularDistance(NedFromBody(measured.attitude));
+    const double actual =
+        NedFromBody(truth.attitude).angularDistance(NedFromBody(measured.attitude));
     ASSERT_NEAR(actual * 180.0 / kPi, angle, 1e-6) << "frame " << k;
   }
   // Kolmogorov-Smirnov against Maxwell(s): D < 1.95 / sqrt(n) at the 0.1 %
@@ -294,9 +271,7 @@ TEST(RotationNoise, AxesAreHeadingLevelForwardRightDown) {
 }
 
 TEST(Perturber, ZeroSigmaLeavesTheTruthBitIdentical) {
-  for (NoiseModel model : {NoiseModel::kGaussian,
-                           NoiseModel::kUniform,
-                           NoiseModel::kGaussMarkov}) {
+  for (NoiseModel model : {NoiseModel::kGaussian, NoiseModel::kUniform, NoiseModel::kGaussMarkov}) {
     NoiseSpec spec;
     spec.model = model;
     spec.tau = model == NoiseModel::kGaussMarkov ? 1.0 : 0.0;
@@ -315,8 +290,7 @@ TEST(Perturber, ZeroSigmaLeavesTheTruthBitIdentical) {
                     .dump());
       EXPECT_TRUE(std::signbit(measured.position.x()));
       EXPECT_EQ(measured.error["rotation_deg"].get<double>(), 0.0);
-      EXPECT_EQ(measured.error["position"],
-                nlohmann::json::array({0.0, 0.0, 0.0}));
+      EXPECT_EQ(measured.error["position"], nlohmann::json::array({0.0, 0.0, 0.0}));
     }
   }
 }
@@ -340,17 +314,13 @@ TEST(Perturber, BiasIsAddedExactlyAndMappedIntoTheDeclaredFrame) {
     const MetadataFrame m = ned.Perturb(truth);
     EXPECT_EQ(m.position - truth.position, Eigen::Vector3d(2, 1, -3));
     EXPECT_EQ(m.error["position"], nlohmann::json::array({2.0, 1.0, -3.0}));
-    EXPECT_EQ(m.error["position_enu_m"],
-              nlohmann::json::array({1.0, 2.0, 3.0}));
+    EXPECT_EQ(m.error["position_enu_m"], nlohmann::json::array({1.0, 2.0, 3.0}));
   }
   {
     // Unreal: x north, y east, z up, centimetres.
     MetadataPerturber unreal(spec, WorldFrame::Make("unreal", "cm"));
     const MetadataFrame m = unreal.Perturb(truth);
-    EXPECT_NEAR(
-        (m.position - truth.position - Eigen::Vector3d(200, 100, 300)).norm(),
-        0,
-        1e-9);
+    EXPECT_NEAR((m.position - truth.position - Eigen::Vector3d(200, 100, 300)).norm(), 0, 1e-9);
   }
 }
 

@@ -27,8 +27,7 @@ struct CliRun {
 };
 
 CliRun Lsds(const std::string& args) {
-  const std::string command =
-      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>&1";
+  const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>&1";
   CliRun run;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -59,11 +58,9 @@ class PerturbCli : public ::testing::Test {
   void ExpectRefused(const std::string& args, const std::string& words) {
     const CliRun run = Lsds("perturb-metadata " + root_.string() + " " + args);
     EXPECT_EQ(run.exit_code, 2) << args << "\n" << run.output;
-    EXPECT_NE(run.output.find(words), std::string::npos) << args << "\n"
-                                                         << run.output;
+    EXPECT_NE(run.output.find(words), std::string::npos) << args << "\n" << run.output;
     EXPECT_EQ(Listing(dir_.path()), before_) << args;
-    EXPECT_TRUE(ReadText(root_ / "collection.json") == collection_before_)
-        << args;
+    EXPECT_TRUE(ReadText(root_ / "collection.json") == collection_before_) << args;
   }
   TempDir dir_;
   fs::path root_;
@@ -76,8 +73,7 @@ TEST_F(PerturbCli, WritesRegistersAndReports) {
                           " --sigma 1.5,0.2 --sigma-alt 3 --sigma-rot "
                           "0.1,0.1,0.5 --seed 7 --report");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_NE(run.output.find("registered in collection.json"), std::string::npos)
-      << run.output;
+  EXPECT_NE(run.output.find("registered in collection.json"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("p95"), std::string::npos) << run.output;
   EXPECT_TRUE(fs::exists(root_ / "metadata.perturbed-7.json"));
   EXPECT_TRUE(fs::exists(root_ / "metadata.perturbed-7.report.json"));
@@ -93,24 +89,21 @@ TEST_F(PerturbCli, WritesRegistersAndReports) {
   // (--bias before COLLECTION: each --bias takes exactly one value.)
   const CliRun gm =
       Lsds("perturb-metadata --bias pos=1,2 --bias yaw=0.5 " + root_.string() +
-           " --sigma 0 --model gauss-markov --tau 2 --seed 1 -o " +
-           (root_ / "gm.json").string());
+           " --sigma 0 --model gauss-markov --tau 2 --seed 1 -o " + (root_ / "gm.json").string());
   ASSERT_EQ(gm.exit_code, 0) << gm.output;
-  StreamJsonArrayMember(
-      root_ / "gm.json", "frames", nullptr, [](nlohmann::json&& frame, size_t) {
-        EXPECT_EQ(frame["error"]["position_enu_m"],
-                  nlohmann::json::array({1.0, 2.0, 0.0}));
-        EXPECT_EQ(frame["error"]["rotation_deg"].get<double>(), 0.5);
-      });
+  StreamJsonArrayMember(root_ / "gm.json", "frames", nullptr, [](nlohmann::json&& frame, size_t) {
+    EXPECT_EQ(frame["error"]["position_enu_m"], nlohmann::json::array({1.0, 2.0, 0.0}));
+    EXPECT_EQ(frame["error"]["rotation_deg"].get<double>(), 0.5);
+  });
 }
 
 TEST_F(PerturbCli, SameSeedTwiceIsByteIdentical) {
-  ASSERT_EQ(Lsds("perturb-metadata " + root_.string() +
-                 " --sigma 2,1 --seed 5 -o " + (root_ / "a.json").string())
+  ASSERT_EQ(Lsds("perturb-metadata " + root_.string() + " --sigma 2,1 --seed 5 -o " +
+                 (root_ / "a.json").string())
                 .exit_code,
             0);
-  ASSERT_EQ(Lsds("perturb-metadata " + root_.string() +
-                 " --sigma 2,1 --seed 5 -o " + (root_ / "b.json").string())
+  ASSERT_EQ(Lsds("perturb-metadata " + root_.string() + " --sigma 2,1 --seed 5 -o " +
+                 (root_ / "b.json").string())
                 .exit_code,
             0);
   std::string a = ReadText(root_ / "a.json"), b = ReadText(root_ / "b.json");
@@ -124,8 +117,7 @@ TEST_F(PerturbCli, NegativeSigmaIsRefused) {
 }
 
 TEST_F(PerturbCli, UnknownModelIsRefusedWithASuggestion) {
-  ExpectRefused("--sigma 1 --seed 1 --model gausian",
-                "did you mean 'gaussian'");
+  ExpectRefused("--sigma 1 --seed 1 --model gausian", "did you mean 'gaussian'");
 }
 
 TEST_F(PerturbCli, OtherBadUsageIsRefused) {
@@ -160,24 +152,20 @@ TEST_F(PerturbCli, MissingMetadataFileIsRefused) {
 }
 
 TEST_F(PerturbCli, ExistingOutputIsRefusedWithoutForce) {
-  ASSERT_EQ(Lsds("perturb-metadata " + root_.string() + " --sigma 1 --seed 3")
-                .exit_code,
-            0);
+  ASSERT_EQ(Lsds("perturb-metadata " + root_.string() + " --sigma 1 --seed 3").exit_code, 0);
   before_ = Listing(dir_.path());
   collection_before_ = ReadText(root_ / "collection.json");
   const std::string first = ReadText(root_ / "metadata.perturbed-3.json");
   ExpectRefused("--sigma 5 --seed 3", "--force");
   EXPECT_TRUE(ReadText(root_ / "metadata.perturbed-3.json") == first);
-  const CliRun forced = Lsds("perturb-metadata " + root_.string() +
-                             " --sigma 5 --seed 3 --force");
+  const CliRun forced = Lsds("perturb-metadata " + root_.string() + " --sigma 5 --seed 3 --force");
   EXPECT_EQ(forced.exit_code, 0) << forced.output;
   EXPECT_TRUE(ReadText(root_ / "metadata.perturbed-3.json") != first);
 }
 
 TEST_F(PerturbCli, NotACollectionIsRefused) {
   const CliRun run =
-      Lsds("perturb-metadata " + (dir_.path() / "nothing").string() +
-           " --sigma 1 --seed 1");
+      Lsds("perturb-metadata " + (dir_.path() / "nothing").string() + " --sigma 1 --seed 1");
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.output.find("does not exist"), std::string::npos) << run.output;
 }
@@ -188,31 +176,24 @@ TEST_F(PerturbCli, NotACollectionIsRefused) {
 TEST_F(PerturbCli, ConcurrentWritersAllRegister) {
   std::string script;
   for (int seed = 1; seed <= 8; ++seed) {
-    script += std::string(LSDS_BINARY_DIR) + "/tools/lsds perturb-metadata " +
-              root_.string() + " --sigma 1 --seed " + std::to_string(seed) +
-              " >/dev/null 2>&1 & ";
+    script += std::string(LSDS_BINARY_DIR) + "/tools/lsds perturb-metadata " + root_.string() +
+              " --sigma 1 --seed " + std::to_string(seed) + " >/dev/null 2>&1 & ";
   }
   script += "wait";
   ASSERT_EQ(std::system(("sh -c '" + script + "'").c_str()), 0);
   const CollectionReader reader(root_);
   std::set<std::string> files;
-  for (const MetadataVariant& variant : reader.header().metadata)
-    files.insert(variant.file);
+  for (const MetadataVariant& variant : reader.header().metadata) files.insert(variant.file);
   EXPECT_EQ(files.size(), 9u);  // the truth and eight variants
   for (int seed = 1; seed <= 8; ++seed) {
-    EXPECT_EQ(files.count("metadata.perturbed-" + std::to_string(seed) +
-                          ".json"),
-              1u)
-        << seed;
+    EXPECT_EQ(files.count("metadata.perturbed-" + std::to_string(seed) + ".json"), 1u) << seed;
   }
 }
 
 TEST_F(PerturbCli, RefusesOutputsOntoInputsEvenWithForce) {
-  ExpectRefused("--sigma 1 --seed 3 -o " + (root_ / "collection.json").string() +
-                    " --force",
+  ExpectRefused("--sigma 1 --seed 3 -o " + (root_ / "collection.json").string() + " --force",
                 "is the collection file");
-  ExpectRefused("--sigma 1 --seed 3 -o " + (root_ / "metadata.json").string() +
-                    " --force",
+  ExpectRefused("--sigma 1 --seed 3 -o " + (root_ / "metadata.json").string() + " --force",
                 "is the truth metadata");
   ExpectRefused("--sigma 1 --seed 3 -o " + root_.string() + " --force",
                 "an input of lsds perturb-metadata");

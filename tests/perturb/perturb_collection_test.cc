@@ -34,18 +34,14 @@ PerturbOptions Options(const fs::path& collection, uint64_t seed) {
 }
 
 // Whole-document schema check (the file is small in these tests).
-std::vector<SchemaIssue> SchemaIssues(const fs::path& path,
-                                      const std::string& schema) {
-  return JsonSchema::Get(schema).Validate(
-      nlohmann::json::parse(ReadText(path)));
+std::vector<SchemaIssue> SchemaIssues(const fs::path& path, const std::string& schema) {
+  return JsonSchema::Get(schema).Validate(nlohmann::json::parse(ReadText(path)));
 }
 
 std::vector<nlohmann::json> Frames(const fs::path& path) {
   std::vector<nlohmann::json> frames;
   StreamJsonArrayMember(
-      path, "frames", nullptr, [&](nlohmann::json&& frame, size_t) {
-        frames.push_back(frame);
-      });
+      path, "frames", nullptr, [&](nlohmann::json&& frame, size_t) { frames.push_back(frame); });
   return frames;
 }
 
@@ -64,8 +60,7 @@ TEST(PerturbCollection, WritesAValidRegisteredVariantAndLeavesTheTruthAlone) {
   EXPECT_EQ(result.registered_as, "metadata.perturbed-7.json");
   EXPECT_EQ(result.frames, 20);
   EXPECT_TRUE(SchemaIssues(result.output, "metadata.schema.json").empty());
-  EXPECT_TRUE(
-      SchemaIssues(root / "collection.json", "collection.schema.json").empty());
+  EXPECT_TRUE(SchemaIssues(root / "collection.json", "collection.schema.json").empty());
 
   // Inputs: metadata.json and the layers byte-identical; collection.json frames
   // byte-identical.
@@ -86,8 +81,7 @@ TEST(PerturbCollection, WritesAValidRegisteredVariantAndLeavesTheTruthAlone) {
   EXPECT_FALSE(reader.header().metadata[0].perturbed);
   EXPECT_EQ(reader.header().metadata[1].file, "metadata.perturbed-7.json");
   EXPECT_TRUE(reader.header().metadata[1].perturbed);
-  EXPECT_NE(reader.header().metadata[1].description.find("gaussian, seed 7"),
-            std::string::npos);
+  EXPECT_NE(reader.header().metadata[1].description.find("gaussian, seed 7"), std::string::npos);
 
   // The header records model, parameters, seed, source and the summary.
   const MetadataReader perturbed(result.output);
@@ -95,8 +89,7 @@ TEST(PerturbCollection, WritesAValidRegisteredVariantAndLeavesTheTruthAlone) {
   ASSERT_TRUE(perturbed.header().noise);
   EXPECT_EQ(perturbed.header().noise->model, "gaussian");
   EXPECT_EQ(perturbed.header().noise->seed, 7u);
-  EXPECT_EQ(perturbed.header().noise->parameters["sigma"]["up_m"].get<double>(),
-            2.0);
+  EXPECT_EQ(perturbed.header().noise->parameters["sigma"]["up_m"].get<double>(), 2.0);
   EXPECT_EQ(perturbed.header().source, "metadata.json");
 
   // Every frame passes the reader's own checks; the tightened schema knows the
@@ -109,9 +102,7 @@ TEST(PerturbCollection, WritesAValidRegisteredVariantAndLeavesTheTruthAlone) {
   EXPECT_EQ(read, 20);
   nlohmann::json bad_frame = Frames(result.output).front();
   bad_frame["error"]["rotation"] = 1.0;
-  EXPECT_FALSE(JsonSchema::Get("metadata.schema.json", "frame")
-                   .Validate(bad_frame)
-                   .empty());
+  EXPECT_FALSE(JsonSchema::Get("metadata.schema.json", "frame").Validate(bad_frame).empty());
 
   // A second variant with --force replaces its own entry instead of adding a
   // duplicate.
@@ -139,12 +130,10 @@ TEST(PerturbCollection, RecordedErrorsAreTheDifferenceBetweenMeasuredAndTrue) {
     const nlohmann::json& e = m.error;
     EXPECT_EQ(m.index, t.index);
     for (int i = 0; i < 3; ++i) {
-      EXPECT_NEAR(
-          m.position[i] - t.position[i], e["position"][i].get<double>(), 1e-9);
+      EXPECT_NEAR(m.position[i] - t.position[i], e["position"][i].get<double>(), 1e-9);
     }
     const double angle =
-        NedFromBody(t.attitude).angularDistance(NedFromBody(m.attitude)) * 180 /
-        M_PI;
+        NedFromBody(t.attitude).angularDistance(NedFromBody(m.attitude)) * 180 / M_PI;
     EXPECT_NEAR(angle, e["rotation_deg"].get<double>(), 1e-6);
     EXPECT_NEAR(m.time - t.time, e["time_s"].get<double>(), 1e-12);
     EXPECT_NEAR(m.camera.HorizontalFovDeg() - t.camera.HorizontalFovDeg(),
@@ -156,8 +145,7 @@ TEST(PerturbCollection, RecordedErrorsAreTheDifferenceBetweenMeasuredAndTrue) {
 
 TEST(PerturbCollection, SampleStdOverTwoThousandFramesMatchesSigmaPerField) {
   TempDir dir;
-  const fs::path root =
-      WriteNadirCollection(dir.path() / "c", 2000, 8, 8, false);
+  const fs::path root = WriteNadirCollection(dir.path() / "c", 2000, 8, 8, false);
   PerturbOptions options = Options(root, 12345);
   options.spec.sigma = {0.8, 0.8, 2.5, 0.1, 0.2, 0.4, 0.005, 0.3};
   const PerturbResult result = PerturbCollection(options);
@@ -165,8 +153,7 @@ TEST(PerturbCollection, SampleStdOverTwoThousandFramesMatchesSigmaPerField) {
   std::vector<std::vector<double>> values(kFieldCount);
   for (const nlohmann::json& frame : Frames(result.output)) {
     const nlohmann::json& e = frame.at("error");
-    for (int i = 0; i < 3; ++i)
-      values[kEast + i].push_back(e["position_enu_m"][i].get<double>());
+    for (int i = 0; i < 3; ++i) values[kEast + i].push_back(e["position_enu_m"][i].get<double>());
     for (int i = 0; i < 3; ++i)
       values[kRoll + i].push_back(e["rotation_vector_deg"][i].get<double>());
     values[kTime].push_back(e["time_s"].get<double>());
@@ -182,12 +169,9 @@ TEST(PerturbCollection, SampleStdOverTwoThousandFramesMatchesSigmaPerField) {
     const double std_dev = std::sqrt(m2 / (n - 1));
     const double sigma = options.spec.sigma[f];
     // Normal law: sd(s) ~ sigma / sqrt(2 (n - 1)).
-    EXPECT_NEAR(std_dev, sigma, kZ * sigma / std::sqrt(2 * (n - 1)))
-        << FieldName(f);
+    EXPECT_NEAR(std_dev, sigma, kZ * sigma / std::sqrt(2 * (n - 1))) << FieldName(f);
     // The header's summary states the same statistics.
-    EXPECT_NEAR(result.summary["fields"][FieldName(f)]["std"].get<double>(),
-                std_dev,
-                1e-9 * sigma)
+    EXPECT_NEAR(result.summary["fields"][FieldName(f)]["std"].get<double>(), std_dev, 1e-9 * sigma)
         << FieldName(f);
   }
   // The realized positions in the file are the truth plus these errors (ENU
@@ -196,8 +180,8 @@ TEST(PerturbCollection, SampleStdOverTwoThousandFramesMatchesSigmaPerField) {
   const std::vector<nlohmann::json> measured = Frames(result.output);
   double vertical = 0;
   for (size_t k = 0; k < truth.size(); ++k) {
-    const double dz = measured[k]["position"][2].get<double>() -
-                      truth[k]["position"][2].get<double>();
+    const double dz =
+        measured[k]["position"][2].get<double>() - truth[k]["position"][2].get<double>();
     vertical += dz * dz;
   }
   EXPECT_NEAR(std::sqrt(vertical / n), 2.5, kZ * 2.5 / std::sqrt(2 * n));
@@ -206,9 +190,7 @@ TEST(PerturbCollection, SampleStdOverTwoThousandFramesMatchesSigmaPerField) {
 TEST(PerturbCollection, ZeroSigmaGivesTheTruthExactly) {
   TempDir dir;
   const fs::path root = WriteNadirCollection(dir.path() / "c", 50);
-  for (NoiseModel model : {NoiseModel::kGaussian,
-                           NoiseModel::kUniform,
-                           NoiseModel::kGaussMarkov}) {
+  for (NoiseModel model : {NoiseModel::kGaussian, NoiseModel::kUniform, NoiseModel::kGaussMarkov}) {
     PerturbOptions options = Options(root, 1);
     options.force = true;
     options.spec.model = model;
@@ -220,8 +202,7 @@ TEST(PerturbCollection, ZeroSigmaGivesTheTruthExactly) {
     for (size_t k = 0; k < truth.size(); ++k) {
       EXPECT_EQ(measured[k].at("error").at("rotation_deg").get<double>(), 0.0);
       measured[k].erase("error");
-      EXPECT_EQ(measured[k].dump(), truth[k].dump())
-          << NoiseModelName(model) << " frame " << k;
+      EXPECT_EQ(measured[k].dump(), truth[k].dump()) << NoiseModelName(model) << " frame " << k;
     }
   }
 }
@@ -230,9 +211,7 @@ TEST(PerturbCollection, SameSeedIsByteIdenticalAndAnotherSeedIsNot) {
   TempDir dir;
   const fs::path a = WriteNadirCollection(dir.path() / "a", 40);
   fs::copy(a, dir.path() / "b", fs::copy_options::recursive);
-  for (NoiseModel model : {NoiseModel::kGaussian,
-                           NoiseModel::kUniform,
-                           NoiseModel::kGaussMarkov}) {
+  for (NoiseModel model : {NoiseModel::kGaussian, NoiseModel::kUniform, NoiseModel::kGaussMarkov}) {
     PerturbOptions options = Options(a, 99);
     options.force = true;
     options.report = true;
@@ -242,18 +221,13 @@ TEST(PerturbCollection, SameSeedIsByteIdenticalAndAnotherSeedIsNot) {
     const PerturbResult first = PerturbCollection(options);
     options.collection = dir.path() / "b";
     const PerturbResult second = PerturbCollection(options);
-    EXPECT_TRUE(ReadText(first.output) == ReadText(second.output))
-        << NoiseModelName(model);
-    EXPECT_TRUE(ReadText(*first.report) == ReadText(*second.report))
-        << NoiseModelName(model);
-    EXPECT_TRUE(ReadText(a / "collection.json") ==
-                ReadText(dir.path() / "b" / "collection.json"));
+    EXPECT_TRUE(ReadText(first.output) == ReadText(second.output)) << NoiseModelName(model);
+    EXPECT_TRUE(ReadText(*first.report) == ReadText(*second.report)) << NoiseModelName(model);
+    EXPECT_TRUE(ReadText(a / "collection.json") == ReadText(dir.path() / "b" / "collection.json"));
     options.spec.seed = 100;
-    options.output =
-        dir.path() / "other.json";  // outside: b's collection.json stays as a's
+    options.output = dir.path() / "other.json";  // outside: b's collection.json stays as a's
     options.report = false;
-    EXPECT_TRUE(ReadText(PerturbCollection(options).output) !=
-                ReadText(first.output));
+    EXPECT_TRUE(ReadText(PerturbCollection(options).output) != ReadText(first.output));
   }
 }
 
@@ -274,8 +248,7 @@ TEST(PerturbCollection, BadInputIsRefusedAndNothingIsWritten) {
       PerturbCollection(options);
       ADD_FAILURE() << "accepted; expected an error with '" << words << "'";
     } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(words), std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
     }
     EXPECT_EQ(listing(), before);
     EXPECT_TRUE(ReadText(root / "collection.json") == collection_before);
@@ -310,8 +283,7 @@ TEST(PerturbCollection, BadInputIsRefusedAndNothingIsWritten) {
     PerturbCollection(existing);
     ADD_FAILURE() << "overwrote an existing output";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
   }
   EXPECT_EQ(ReadText(root / "metadata.perturbed-1.json"), "precious");
   EXPECT_EQ(listing(), with_existing);
@@ -362,10 +334,8 @@ TEST(PerturbReport, PixelMotionMatchesTheGeometry) {
   // and 1.34 f theta.
   EXPECT_GE(rotation["mean_px"].get<double>(), f * theta * 0.999);
   EXPECT_LE(rotation["max_px"].get<double>(), f * theta * 1.34);
-  EXPECT_GE(rotation["p95_px"].get<double>(),
-            rotation["mean_px"].get<double>() * 0.99);
-  EXPECT_LE(rotation["p95_px"].get<double>(),
-            rotation["max_px"].get<double>() * 1.002);
+  EXPECT_GE(rotation["p95_px"].get<double>(), rotation["mean_px"].get<double>() * 0.99);
+  EXPECT_LE(rotation["p95_px"].get<double>(), rotation["max_px"].get<double>() * 1.002);
 
   options.spec.bias[kPitch] = 0;
   options.spec.bias[kEast] = 1.0;

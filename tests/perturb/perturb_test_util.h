@@ -23,10 +23,7 @@ using TempDir = lsds::testing::TempDir;
 // A synthetic collection (ground + the default boxes) seen by a nadir camera at
 // 20 m moving +x by `step` metres per frame, 0.1 s apart; only the instance
 // layer is written so that thousands of frames stay cheap.
-inline synth::Spec NadirSpec(int frames,
-                             int width = 8,
-                             int height = 8,
-                             double step = 0.01) {
+inline synth::Spec NadirSpec(int frames, int width = 8, int height = 8, double step = 0.01) {
   synth::Spec spec = synth::DefaultSpec();
   spec.width = width;
   spec.height = height;
@@ -34,20 +31,15 @@ inline synth::Spec NadirSpec(int frames,
   spec.layers = {"instanceid"};
   spec.cam_from_world.clear();
   for (int k = 0; k < frames; ++k) {
-    spec.cam_from_world.push_back(
-        synth::NadirCamFromWorld({-1.5 + step * k, 0.0, 20.0}));
+    spec.cam_from_world.push_back(synth::NadirCamFromWorld({-1.5 + step * k, 0.0, 20.0}));
   }
   return spec;
 }
 
-inline fs::path WriteNadirCollection(const fs::path& root,
-                                     int frames,
-                                     int width = 8,
-                                     int height = 8,
-                                     bool targets = true) {
+inline fs::path WriteNadirCollection(
+    const fs::path& root, int frames, int width = 8, int height = 8, bool targets = true) {
   synth::Spec spec = NadirSpec(frames, width, height);
-  if (!targets)
-    spec.boxes.clear();  // ground only: much cheaper truth for long collections
+  if (!targets) spec.boxes.clear();  // ground only: much cheaper truth for long collections
   synth::WriteCollection(root, spec);
   return root;
 }

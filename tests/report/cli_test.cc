@@ -36,23 +36,19 @@ std::map<std::string, std::string> Snapshot(const fs::path& root) {
 
 size_t Count(const std::string& text, const std::string& what) {
   size_t n = 0;
-  for (size_t at = text.find(what); at != std::string::npos;
-       at = text.find(what, at + 1))
-    ++n;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
 }
 
 class ReportCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto synth =
-        RunCommandLine(testing::LsdsBinary() + " synth " +
-                       (dir_ / "c").string() + " --count 12 --size 160x120");
+    const auto synth = RunCommandLine(testing::LsdsBinary() + " synth " + (dir_ / "c").string() +
+                                      " --count 12 --size 160x120");
     ASSERT_EQ(synth.exit_code, 0) << synth.output;
   }
   std::string Report(const std::string& args) {
-    return testing::LsdsBinary() + " report " + (dir_ / "c").string() + " " +
-           args;
+    return testing::LsdsBinary() + " report " + (dir_ / "c").string() + " " + args;
   }
   testing::TempDir dir_;
 };
@@ -60,8 +56,8 @@ class ReportCli : public ::testing::Test {
 TEST_F(ReportCli, WritesOnePageAndLeavesTheInputAlone) {
   const auto before = Snapshot(dir_ / "c");
   const fs::path page = dir_ / "report.html";
-  const auto result = RunCommandLine(Report(
-      "-o " + page.string() + " --sample 5 --layer-frames 2 --validate"));
+  const auto result =
+      RunCommandLine(Report("-o " + page.string() + " --sample 5 --layer-frames 2 --validate"));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_EQ(Snapshot(dir_ / "c"), before);
   const std::string html = Slurp(page);
@@ -87,21 +83,18 @@ TEST_F(ReportCli, RefusesExistingOutputAndOutputInsideTheCollection) {
   const auto again = RunCommandLine(Report("-o " + page.string()));
   EXPECT_EQ(again.exit_code, 2);
   EXPECT_NE(again.output.find(page.string()), std::string::npos);
-  EXPECT_EQ(
-      RunCommandLine(Report("-o " + page.string() + " --force")).exit_code, 0);
-  const auto inside =
-      RunCommandLine(Report("-o " + (dir_ / "c" / "r.html").string()));
+  EXPECT_EQ(RunCommandLine(Report("-o " + page.string() + " --force")).exit_code, 0);
+  const auto inside = RunCommandLine(Report("-o " + (dir_ / "c" / "r.html").string()));
   EXPECT_EQ(inside.exit_code, 2);
-  EXPECT_NE(inside.output.find("lies inside the collection folder"),
-            std::string::npos);
+  EXPECT_NE(inside.output.find("lies inside the collection folder"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "c" / "r.html"));
-  const auto bad_range = RunCommandLine(
-      Report("-o " + (dir_ / "x.html").string() + " --frames 99"));
+  const auto bad_range =
+      RunCommandLine(Report("-o " + (dir_ / "x.html").string() + " --frames 99"));
   EXPECT_EQ(bad_range.exit_code, 2);
   EXPECT_NE(bad_range.output.find("--frames"), std::string::npos);
   const auto not_a_collection =
-      RunCommandLine(testing::LsdsBinary() + " report " + dir_.path().string() +
-                     " -o " + (dir_ / "y.html").string());
+      RunCommandLine(testing::LsdsBinary() + " report " + dir_.path().string() + " -o " +
+                     (dir_ / "y.html").string());
   EXPECT_EQ(not_a_collection.exit_code, 2);
   EXPECT_NE(not_a_collection.output.find("collection.json"), std::string::npos);
 }
@@ -112,13 +105,12 @@ TEST_F(ReportCli, AnUnreadableLayerIsShownNotFatal) {
   std::ofstream(dir_ / "c" / "rgb" / "000000.exr") << "not an EXR";
   std::ofstream(dir_ / "c" / "depth" / "000000.exr") << "not an EXR";
   const fs::path page = dir_ / "report.html";
-  const auto result = RunCommandLine(
-      Report("-o " + page.string() + " --sample 12 --layer-frames 12"));
+  const auto result =
+      RunCommandLine(Report("-o " + page.string() + " --sample 12 --layer-frames 12"));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const std::string html = Slurp(page);
   EXPECT_EQ(Count(html, "<figure class=\"card\""), 12u);
-  EXPECT_NE(html.find("cannot show rgb: " +
-                      (dir_ / "c" / "rgb" / "000000.exr").string()),
+  EXPECT_NE(html.find("cannot show rgb: " + (dir_ / "c" / "rgb" / "000000.exr").string()),
             std::string::npos);
   EXPECT_NE(html.find("cannot show depth: "), std::string::npos);
   // Frame 0's altitude and GSD need its depth: unknown, not made up.
@@ -131,8 +123,7 @@ TEST_F(ReportCli, FindingsLinkToTheirFrames) {
   // A validation report whose finding points at frame 7: the page links it and
   // puts frame 7 on the contact sheet even though the sample would skip it.
   const fs::path json = dir_ / "validation.json";
-  std::ofstream(json)
-      << R"({"format": "lsds-validate-report", "format_version": "1.0",
+  std::ofstream(json) << R"({"format": "lsds-validate-report", "format_version": "1.0",
     "collection": "c", "verdict": "fail", "fail_on": "error", "frames": 12,
     "files_decoded": 0, "bytes_decoded": 0, "seconds": 0,
     "counts": {"error": 1, "warning": 0, "info": 0},
@@ -142,9 +133,8 @@ TEST_F(ReportCli, FindingsLinkToTheirFrames) {
       "message": "depth is NaN"}]}],
     "statistics": {}})";
   const fs::path page = dir_ / "report.html";
-  const auto result = RunCommandLine(Report("-o " + page.string() +
-                                            " --sample 2 --validation-report " +
-                                            json.string()));
+  const auto result = RunCommandLine(
+      Report("-o " + page.string() + " --sample 2 --validation-report " + json.string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const std::string html = Slurp(page);
   EXPECT_NE(html.find("<a href=\"#frame-7\""), std::string::npos);
@@ -155,13 +145,12 @@ TEST_F(ReportCli, FindingsLinkToTheirFrames) {
 
 TEST_F(ReportCli, BundleStatisticsFromLsdsBundles) {
   const fs::path stats = dir_ / "stats.json";
-  const auto bundles =
-      RunCommandLine(testing::LsdsBinary() + " bundles " +
-                     (dir_ / "c").string() + " -o " + stats.string());
+  const auto bundles = RunCommandLine(testing::LsdsBinary() + " bundles " + (dir_ / "c").string() +
+                                      " -o " + stats.string());
   ASSERT_EQ(bundles.exit_code, 0) << bundles.output;
   const fs::path page = dir_ / "report.html";
-  const auto result = RunCommandLine(
-      Report("-o " + page.string() + " --bundle-stats " + stats.string()));
+  const auto result =
+      RunCommandLine(Report("-o " + page.string() + " --bundle-stats " + stats.string()));
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const std::string html = Slurp(page);
   ASSERT_NE(html.find("id=\"bundles\""), std::string::npos);
@@ -181,21 +170,20 @@ TEST_F(ReportCli, BundleStatisticsFromLsdsBundles) {
   const std::string sizes = html.substr(html.find("class=\"sizes\""));
   at = 0;
   for (const nlohmann::json& band : json["summary"]["by_object_size"]) {
-    at = sizes.find("<td>" + band["objects"].dump() + "</td><td>" +
-                        band["pixels"].dump() + "</td><td>" +
-                        band["mixed_pixels"].dump() + "</td>",
+    at = sizes.find("<td>" + band["objects"].dump() + "</td><td>" + band["pixels"].dump() +
+                        "</td><td>" + band["mixed_pixels"].dump() + "</td>",
                     at);
     ASSERT_NE(at, std::string::npos) << band;
   }
   // The page never replaces an input, even with --force.
-  const auto same = RunCommandLine(Report(
-      "-o " + stats.string() + " --force --bundle-stats " + stats.string()));
+  const auto same =
+      RunCommandLine(Report("-o " + stats.string() + " --force --bundle-stats " + stats.string()));
   EXPECT_EQ(same.exit_code, 2);
   EXPECT_EQ(nlohmann::json::parse(Slurp(stats)), json);
   // Any other JSON file is refused, naming it.
   const fs::path other = dir_ / "c" / "collection.json";
-  const auto bad = RunCommandLine(Report("-o " + (dir_ / "x.html").string() +
-                                         " --bundle-stats " + other.string()));
+  const auto bad = RunCommandLine(
+      Report("-o " + (dir_ / "x.html").string() + " --bundle-stats " + other.string()));
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find(other.string()), std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "x.html"));
@@ -211,17 +199,15 @@ void CheckInChromium(const fs::path& page, const fs::path& scratch) {
       "--user-data-dir=" +
       (scratch / "profile").string() + " ";
   const fs::path shot = scratch / "shot.png";
-  const auto screenshot =
-      RunCommandLine(chromium +
-                     "--enable-logging=stderr --v=0 --window-size=1200,900 "
-                     "--screenshot=" +
-                     shot.string() + " file://" + page.string());
+  const auto screenshot = RunCommandLine(chromium +
+                                         "--enable-logging=stderr --v=0 --window-size=1200,900 "
+                                         "--screenshot=" +
+                                         shot.string() + " file://" + page.string());
   ASSERT_TRUE(fs::exists(shot)) << screenshot.output;
   // Console messages from the page (the page itself logs nothing).
   const std::regex console(R"(CONSOLE[(:]\d+[)\]].*)");
   std::smatch match;
-  EXPECT_FALSE(std::regex_search(screenshot.output, match, console))
-      << match.str();
+  EXPECT_FALSE(std::regex_search(screenshot.output, match, console)) << match.str();
 
   // Not blank: the contact sheet region (below the header) varies strongly.
   const cv::Mat image = cv::imread(shot.string(), cv::IMREAD_GRAYSCALE);
@@ -232,16 +218,14 @@ void CheckInChromium(const fs::path& page, const fs::path& scratch) {
   cv::meanStdDev(sheet, mean, stddev);
   EXPECT_GT(stddev[0], 20.0) << "the page looks blank";
 
-  const auto dom =
-      RunCommandLine(chromium + "--dump-dom file://" + page.string());
+  const auto dom = RunCommandLine(chromium + "--dump-dom file://" + page.string());
   EXPECT_NE(dom.output.find("data-report-ready=\"1\""), std::string::npos)
       << dom.output.substr(0, 2000);
   EXPECT_EQ(dom.output.find("data-js-error=\""), std::string::npos);
 
   // Control: the same page with a failing script trips both probes.
   std::string broken = Slurp(page);
-  broken.insert(broken.rfind("</body>"),
-                "<script>no_such_function();</script>");
+  broken.insert(broken.rfind("</body>"), "<script>no_such_function();</script>");
   const fs::path bad = scratch / "broken.html";
   std::ofstream(bad, std::ios::binary) << broken;
   const auto bad_dom = RunCommandLine(chromium +
@@ -252,9 +236,7 @@ void CheckInChromium(const fs::path& page, const fs::path& scratch) {
   EXPECT_TRUE(std::regex_search(bad_dom.output, match, console));
 }
 
-bool HaveChromium() {
-  return RunCommandLine("command -v chromium").exit_code == 0;
-}
+bool HaveChromium() { return RunCommandLine("command -v chromium").exit_code == 0; }
 constexpr const char* kNoChromium =
     "chromium is not installed (Debian package `chromium`, "
     "scripts/install-deps.sh): the page was not rendered";
@@ -262,10 +244,10 @@ constexpr const char* kNoChromium =
 TEST_F(ReportCli, ChromiumShowsTheSynthReport) {
   if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
   const fs::path page = dir_ / "report.html";
-  ASSERT_EQ(RunCommandLine(Report("-o " + page.string() +
-                                  " --sample 8 --layer-frames 2 --validate"))
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      RunCommandLine(Report("-o " + page.string() + " --sample 8 --layer-frames 2 --validate"))
+          .exit_code,
+      0);
   CheckInChromium(page, dir_.path());
 }
 
@@ -275,15 +257,12 @@ TEST_F(ReportCli, ChromiumShowsTheSynthReport) {
 TEST_F(ReportCli, ChromiumClassFilterAndFrameDetail) {
   if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
   const fs::path page = dir_ / "report.html";
-  ASSERT_EQ(RunCommandLine(
-                Report("-o " + page.string() + " --sample 8 --layer-frames 2"))
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      RunCommandLine(Report("-o " + page.string() + " --sample 8 --layer-frames 2")).exit_code, 0);
   std::string html = Slurp(page);
   // Expected from the page's own data: cards without visible objects, cards
   // with a crate (class 3), and the first card tagged with layers.
-  const std::regex card_re(
-      R"re(id="frame-(\d+)" data-frame="\d+" data-classes="([^"]*)")re");
+  const std::regex card_re(R"re(id="frame-(\d+)" data-frame="\d+" data-classes="([^"]*)")re");
   int empty = 0, with_crate = 0, cards = 0, first_layers = -1;
   for (auto it = std::sregex_iterator(html.begin(), html.end(), card_re);
        it != std::sregex_iterator();
@@ -292,8 +271,9 @@ TEST_F(ReportCli, ChromiumClassFilterAndFrameDetail) {
     empty += classes.empty();
     with_crate += (" " + classes + " ").find(" c3 ") != std::string::npos;
     const size_t end = html.find("</figure>", it->position());
-    if (first_layers < 0 && html.substr(it->position(), end - it->position())
-                                    .find("class=\"tag\"") != std::string::npos)
+    if (first_layers < 0 &&
+        html.substr(it->position(), end - it->position()).find("class=\"tag\"") !=
+            std::string::npos)
       first_layers = cards;
   }
   ASSERT_EQ(cards, 8);
@@ -318,16 +298,14 @@ document.body.setAttribute('data-probe',r.join(','));
 </script>)");
   const fs::path probe = dir_ / "probe.html";
   std::ofstream(probe, std::ios::binary) << html;
-  const auto dom = RunCommandLine(
-      "chromium --headless --no-sandbox --disable-gpu --user-data-dir=" +
-      (dir_ / "profile").string() + " --dump-dom file://" + probe.string());
+  const auto dom =
+      RunCommandLine("chromium --headless --no-sandbox --disable-gpu --user-data-dir=" +
+                     (dir_ / "profile").string() + " --dump-dom file://" + probe.string());
   // rgb, classid, instanceid, depth, normal, shadow, motion, bundle.
   const std::string expected =
       std::to_string(empty) + "," + std::to_string(with_crate) + ",open,1,8";
-  EXPECT_NE(dom.output.find("data-probe=\"" + expected + "\""),
-            std::string::npos)
-      << "expected " << expected << " in "
-      << dom.output.substr(0, dom.output.find("<header>"));
+  EXPECT_NE(dom.output.find("data-probe=\"" + expected + "\""), std::string::npos)
+      << "expected " << expected << " in " << dom.output.substr(0, dom.output.find("<header>"));
 }
 
 // The demo scene (`lsds generate --demo`, the scene of `make demo`) at a
@@ -335,26 +313,23 @@ document.body.setAttribute('data-probe',r.join(','));
 TEST(ReportDemo, ChromiumShowsTheGeneratedDemoReport) {
   if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
   testing::TempDir dir;
-  const auto generate = RunCommandLine(
-      testing::LsdsBinary() + " generate --demo --demo-frames 4 " +
-      "--demo-size 192x144 --spp 4 -q -o " + (dir / "demo").string());
+  const auto generate =
+      RunCommandLine(testing::LsdsBinary() + " generate --demo --demo-frames 4 " +
+                     "--demo-size 192x144 --spp 4 -q -o " + (dir / "demo").string());
   ASSERT_EQ(generate.exit_code, 0) << generate.output;
   const fs::path page = dir / "report.html";
-  const auto report = RunCommandLine(
-      testing::LsdsBinary() + " report " + (dir / "demo").string() + " -o " +
-      page.string() + " --validate --layer-frames 1");
+  const auto report = RunCommandLine(testing::LsdsBinary() + " report " + (dir / "demo").string() +
+                                     " -o " + page.string() + " --validate --layer-frames 1");
   ASSERT_EQ(report.exit_code, 0) << report.output;
   const std::string html = Slurp(page);
   EXPECT_EQ(Count(html, "<figure class=\"card\""), 4u);
   // Every layer the collection declares is pictured; the bundle as its
   // mixed-pixel map.
-  const nlohmann::json collection =
-      nlohmann::json::parse(Slurp(dir / "demo" / "collection.json"));
+  const nlohmann::json collection = nlohmann::json::parse(Slurp(dir / "demo" / "collection.json"));
   for (const nlohmann::json& layer : collection["layers"]) {
     const std::string semantic = layer["semantic"];
     if (semantic == "worldposition" || semantic == "derived") continue;
-    EXPECT_NE(html.find("<figcaption>" + layer["name"].get<std::string>()),
-              std::string::npos)
+    EXPECT_NE(html.find("<figcaption>" + layer["name"].get<std::string>()), std::string::npos)
         << semantic;
     if (semantic == "bundle") {
       EXPECT_NE(html.find("mixed pixels"), std::string::npos);

@@ -22,8 +22,7 @@ int BinOf(const std::vector<double>& edges, double value) {
   if (value < edges.front()) return -1;
   for (size_t i = 0; i + 1 < edges.size(); ++i) {
     const bool last = i + 2 == edges.size();
-    if (value >= edges[i] &&
-        (value < edges[i + 1] || (last && value == edges[i + 1])))
+    if (value >= edges[i] && (value < edges[i + 1] || (last && value == edges[i + 1])))
       return static_cast<int>(i);
   }
   return -2;
@@ -54,8 +53,7 @@ void ExpectSame(const Histogram& actual, const Expected& expected) {
 synth::Spec TestSpec() {
   synth::Spec spec = synth::DefaultSpec();
   spec.width = 96, spec.height = 72;
-  spec.cam_from_world.push_back(
-      LookAt({0, -10, 20}, {0, 0, 0}, Eigen::Vector3d::UnitY()));
+  spec.cam_from_world.push_back(LookAt({0, -10, 20}, {0, 0, 0}, Eigen::Vector3d::UnitY()));
   spec.cam_from_world.push_back(synth::NadirCamFromWorld({0, 0, 12}));
   return spec;
 }
@@ -74,9 +72,7 @@ TEST(Distributions, CountsEqualTheCollectionTruth) {
 
   std::map<std::string, Expected> e;
   for (const Histogram& h : d.histograms) e.emplace(h.id, Expected(h));
-  const auto add = [&](const std::string& id, double v) {
-    e.at(id).Add(d.Get(id), v);
-  };
+  const auto add = [&](const std::string& id, double v) { e.at(id).Add(d.Get(id), v); };
   const PinholeCamera camera =
       PinholeCamera::FromHorizontalFov(spec.width, spec.height, spec.hfov_deg);
   const synth::AnalyticScene scene = spec.Scene();
@@ -100,16 +96,14 @@ TEST(Distributions, CountsEqualTheCollectionTruth) {
     // The ray through the pixel that holds the principal point.
     const Eigen::Vector3d ray =
         (world_from_cam.rotation *
-         camera.CamFromImage(
-             {std::floor(camera.cx) + 0.5, std::floor(camera.cy) + 0.5}))
+         camera.CamFromImage({std::floor(camera.cx) + 0.5, std::floor(camera.cy) + 0.5}))
             .normalized();
     const synth::Hit hit = scene.Intersect(centre, ray);
     ASSERT_TRUE(hit.hit);
     const Eigen::Vector3d point = centre + hit.t * ray;
     add("altitude", centre.z() - point.z());
     add("gsd", 100.0 * hit.t / camera.fx);
-    const Eigen::Vector3d axis =
-        world_from_cam.rotation * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d axis = world_from_cam.rotation * Eigen::Vector3d::UnitZ();
     add("off-nadir", std::acos(-axis.normalized().z()) * 180.0 / M_PI);
     add("sun-elevation", 0.0 / 0.0);  // synth frames carry no scene state
   }
@@ -145,18 +139,15 @@ TEST(Distributions, MetadataErrorsEqualTheRealizedErrors) {
   const ReportData data = CollectReportData(reader, ReportOptions());
   const Distributions& d = data.distributions;
   EXPECT_EQ(d.metadata_variant, perturbed.registered_as);
-  Expected position(d.Get("metadata-position")),
-      rotation(d.Get("metadata-rotation"));
+  Expected position(d.Get("metadata-position")), rotation(d.Get("metadata-rotation"));
   // The realized errors as the perturbed file records them.
-  const nlohmann::json file =
-      nlohmann::json::parse(std::ifstream(perturbed.output));
+  const nlohmann::json file = nlohmann::json::parse(std::ifstream(perturbed.output));
   int frames = 0;
   for (const nlohmann::json& frame : file.at("frames")) {
     const nlohmann::json& e = frame.at("error");
     const double de = e["position_enu_m"][0], dn = e["position_enu_m"][1],
                  du = e["position_enu_m"][2];
-    position.Add(d.Get("metadata-position"),
-                 std::sqrt(de * de + dn * dn + du * du));
+    position.Add(d.Get("metadata-position"), std::sqrt(de * de + dn * dn + du * du));
     rotation.Add(d.Get("metadata-rotation"), e["rotation_deg"].get<double>());
     ++frames;
   }
@@ -181,11 +172,9 @@ TEST(Distributions, FrameRangeSelectsByIndex) {
 }
 
 TEST(Histogram, BinsEdgesAndOutliers) {
-  Histogram h =
-      MakeNumeric("v", "V", "v", "", "things", LinearEdges(0, 1, 0.1));
+  Histogram h = MakeNumeric("v", "V", "v", "", "things", LinearEdges(0, 1, 0.1));
   ASSERT_EQ(h.bins(), 10u);
-  h.Add(0.0), h.Add(0.1), h.Add(0.95), h.Add(1.0), h.Add(-0.5), h.Add(1.5),
-      h.Add(0.0 / 0.0);
+  h.Add(0.0), h.Add(0.1), h.Add(0.95), h.Add(1.0), h.Add(-0.5), h.Add(1.5), h.Add(0.0 / 0.0);
   EXPECT_EQ(h.counts[0], 1);
   EXPECT_EQ(h.counts[1], 1);
   EXPECT_EQ(h.counts[9], 2);  // 1.0 closes the last bin
@@ -193,8 +182,7 @@ TEST(Histogram, BinsEdgesAndOutliers) {
   EXPECT_EQ(h.above, 1);
   EXPECT_EQ(h.invalid, 1);
   EXPECT_EQ(h.total(), 6);
-  EXPECT_EQ(OneTwoFiveEdges(0.1, 10),
-            (std::vector<double>{0.1, 0.2, 0.5, 1, 2, 5, 10}));
+  EXPECT_EQ(OneTwoFiveEdges(0.1, 10), (std::vector<double>{0.1, 0.2, 0.5, 1, 2, 5, 10}));
 }
 
 TEST(FrameSampler, EvenSpreadInOnePassPlusForcedFrames) {

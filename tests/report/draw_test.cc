@@ -104,8 +104,8 @@ TEST(Draw, OutlinesLieOnTheBoundaryOfTheInstanceMask) {
       for (int x = 0; x < spec.width; ++x) {
         const uint32_t id = id_at(x, y);
         if (id != object.instance_id) continue;
-        if (id_at(x - 1, y) != id || id_at(x + 1, y) != id ||
-            id_at(x, y - 1) != id || id_at(x, y + 1) != id) {
+        if (id_at(x - 1, y) != id || id_at(x + 1, y) != id || id_at(x, y - 1) != id ||
+            id_at(x, y + 1) != id) {
           boundary.insert({x, y});
         }
       }

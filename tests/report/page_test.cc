@@ -24,8 +24,7 @@ TEST(Page, Base64MatchesRfc4648Vectors) {
 
 // Inverse of Base64, here only to read the data URI back.
 std::string Unbase64(const std::string& text) {
-  const std::string alphabet =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   uint32_t bits = 0;
   int count = 0;
@@ -47,18 +46,17 @@ TEST(Page, PngDataUriDecodesToTheSamePixels) {
   const std::string prefix = "data:image/png;base64,";
   ASSERT_EQ(uri.rfind(prefix, 0), 0u);
   const std::string bytes = Unbase64(uri.substr(prefix.size()));
-  const cv::Mat decoded = cv::imdecode(
-      std::vector<uchar>(bytes.begin(), bytes.end()), cv::IMREAD_COLOR);
+  const cv::Mat decoded =
+      cv::imdecode(std::vector<uchar>(bytes.begin(), bytes.end()), cv::IMREAD_COLOR);
   ASSERT_EQ(decoded.size(), image.size());
   EXPECT_EQ(cv::norm(decoded, image, cv::NORM_INF), 0);
 }
 
 TEST(Page, SvgBarsCarryTheHistogramCounts) {
-  Histogram h = MakeNumeric(
-      "size", "Size", "longer side", "px", "objects", GeometricEdges(1, 64, 2));
+  Histogram h =
+      MakeNumeric("size", "Size", "longer side", "px", "objects", GeometricEdges(1, 64, 2));
   h.warn_below = 8;
-  for (double v : {3.0, 3.5, 5.0, 20.0, 20.0, 20.0, 0.5, 100.0, 200.0})
-    h.Add(v);
+  for (double v : {3.0, 3.5, 5.0, 20.0, 20.0, 20.0, 0.5, 100.0, 200.0}) h.Add(v);
   const std::string svg = HistogramSvg(h);
   // One tooltip per bar: "[a, b) px: n", plus "<" and ">" bars.
   std::map<std::string, std::string> bars;
@@ -80,8 +78,7 @@ TEST(Page, SvgBarsCarryTheHistogramCounts) {
   // least), ">". Those under 8 px and the outliers are warnings: "<", [2, 4),
   // [4, 8), ">".
   size_t warn = 0;
-  for (size_t at = svg.find("bar warn"); at != std::string::npos;
-       at = svg.find("bar warn", at + 1))
+  for (size_t at = svg.find("bar warn"); at != std::string::npos; at = svg.find("bar warn", at + 1))
     ++warn;
   EXPECT_EQ(warn, 4u);
   EXPECT_EQ(bars.count("[1, 2) px"), 0u);

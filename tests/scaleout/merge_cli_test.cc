@@ -40,40 +40,29 @@ class MergeCliTest : public ::testing::Test {
   // 12 frames (a 4 x 3 grid) at 64x48, one sample per pixel.
   static void SetUpTestSuite() {
     dir_ = new testing::TempDir();
-    std::string capture =
-        Slurp(fs::path(LSDS_SOURCE_DIR) / "examples" / "demo_survey.lcap");
-    capture = std::regex_replace(
-        capture, std::regex(R"(res:\[512,512\])"), "res:[64,48]");
-    capture = std::regex_replace(
-        capture, std::regex(R"(x:\[-40,40,6\])"), "x:[-40,40,4]");
-    capture = std::regex_replace(
-        capture, std::regex(R"(y:\[-25,25,4\])"), "y:[-25,25,3]");
+    std::string capture = Slurp(fs::path(LSDS_SOURCE_DIR) / "examples" / "demo_survey.lcap");
+    capture = std::regex_replace(capture, std::regex(R"(res:\[512,512\])"), "res:[64,48]");
+    capture = std::regex_replace(capture, std::regex(R"(x:\[-40,40,6\])"), "x:[-40,40,4]");
+    capture = std::regex_replace(capture, std::regex(R"(y:\[-25,25,4\])"), "y:[-25,25,3]");
     std::ofstream(*dir_ / "small.lcap") << capture;
     ASSERT_EQ(Generate("whole", ""), 0);
     for (int i = 0; i < 3; ++i)
-      ASSERT_EQ(Generate("s" + std::to_string(i),
-                         "--shard " + std::to_string(i) + "/3"),
-                0);
+      ASSERT_EQ(Generate("s" + std::to_string(i), "--shard " + std::to_string(i) + "/3"), 0);
   }
   static void TearDownTestSuite() { delete dir_; }
 
-  static int Generate(const std::string& out,
-                      const std::string& extra,
-                      int seed = 3) {
+  static int Generate(const std::string& out, const std::string& extra, int seed = 3) {
     const testing::CommandResult r = RunCommandLine(
         "CI=true " + LsdsBinary() + " generate " + LSDS_SOURCE_DIR +
-        "/examples/uav_survey.lscene " + (*dir_ / "small.lcap").string() +
-        " --spp 1 -q --seed " + std::to_string(seed) + " " + extra + " -o " +
-        (*dir_ / out).string());
+        "/examples/uav_survey.lscene " + (*dir_ / "small.lcap").string() + " --spp 1 -q --seed " +
+        std::to_string(seed) + " " + extra + " -o " + (*dir_ / out).string());
     if (r.exit_code != 0) ADD_FAILURE() << r.output;
     return r.exit_code;
   }
-  static testing::CommandResult Merge(const std::string& shards,
-                                      const std::string& out) {
+  static testing::CommandResult Merge(const std::string& shards, const std::string& out) {
     std::string args;
     std::istringstream names(shards);
-    for (std::string name; names >> name;)
-      args += " " + (*dir_ / name).string();
+    for (std::string name; names >> name;) args += " " + (*dir_ / name).string();
     return RunCommandLine("CI=true " + LsdsBinary() + " merge" + args + " -o " +
                           (*dir_ / out).string());
   }
@@ -98,10 +87,9 @@ TEST_F(MergeCliTest, MergedShardsEqualTheSingleRunByteForByte) {
   }
   EXPECT_EQ(Tree(Path("s1")), before);  // the shards are only read
   // A shard is a partial collection and says so; the merged one does not.
-  EXPECT_NE(Slurp(Path("s1") / "collection.json").find("\"shard\""),
-            std::string::npos);
-  const testing::CommandResult v = RunCommandLine(
-      "CI=true " + LsdsBinary() + " validate " + Path("merged").string());
+  EXPECT_NE(Slurp(Path("s1") / "collection.json").find("\"shard\""), std::string::npos);
+  const testing::CommandResult v =
+      RunCommandLine("CI=true " + LsdsBinary() + " validate " + Path("merged").string());
   EXPECT_EQ(v.exit_code, 0) << v.output;
 }
 
@@ -118,8 +106,7 @@ TEST_F(MergeCliTest, AMissingShardNamesItsFrames) {
 TEST_F(MergeCliTest, ADoubledShardNamesItsFrames) {
   const testing::CommandResult r = Merge("s0 s1 s2 s1", "doubled");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("frames 1, 4, 7 and 10 are in more than one shard"),
-            std::string::npos)
+  EXPECT_NE(r.output.find("frames 1, 4, 7 and 10 are in more than one shard"), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(Path("doubled")));
 }
@@ -139,8 +126,7 @@ TEST_F(MergeCliTest, ShardsOfAnotherShardCountAreRefused) {
   ASSERT_EQ(Generate("half1", "--shard 1/2"), 0);
   const testing::CommandResult r = Merge("s0 half1", "counts");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("#/provenance/shard/count"), std::string::npos)
-      << r.output;
+  EXPECT_NE(r.output.find("#/provenance/shard/count"), std::string::npos) << r.output;
 }
 
 TEST_F(MergeCliTest, AWholeRunOrAnUnfinishedShardIsNotMerged) {
@@ -151,8 +137,7 @@ TEST_F(MergeCliTest, AWholeRunOrAnUnfinishedShardIsNotMerged) {
   fs::create_directory(Path("s2_unfinished") / ".lsds-generate");
   r = Merge("s0 s1 s2_unfinished", "unfinished");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("the shard is unfinished"), std::string::npos)
-      << r.output;
+  EXPECT_NE(r.output.find("the shard is unfinished"), std::string::npos) << r.output;
 }
 
 TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
@@ -171,23 +156,21 @@ TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
 // #SBATCH lines, so running each array task by hand and then the merge must
 // give the single run.
 TEST_F(MergeCliTest, SubmitScriptsRunByHandGiveTheSingleRun) {
-  const std::string submit =
-      "CI=true " + LsdsBinary() + " submit slurm " + LSDS_SOURCE_DIR +
-      "/examples/uav_survey.lscene " + Path("small.lcap").string() +
-      " --spp 1 --seed 3 -o " + Path("slurm_run").string();
+  const std::string submit = "CI=true " + LsdsBinary() + " submit slurm " + LSDS_SOURCE_DIR +
+                             "/examples/uav_survey.lscene " + Path("small.lcap").string() +
+                             " --spp 1 --seed 3 -o " + Path("slurm_run").string();
   testing::CommandResult r = RunCommandLine(submit + " --shards 3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const fs::path work = Path("slurm_run.shards");
   for (const char* script : {"generate.sbatch", "merge.sbatch", "submit.sh"})
     EXPECT_TRUE(fs::is_regular_file(work / script)) << script;
   for (int task = 0; task < 3; ++task) {
-    r = RunCommandLine("SLURM_ARRAY_TASK_ID=" + std::to_string(task) +
-                       " bash " + (work / "generate.sbatch").string());
+    r = RunCommandLine("SLURM_ARRAY_TASK_ID=" + std::to_string(task) + " bash " +
+                       (work / "generate.sbatch").string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   // A task run again (a requeue) keeps its shard: --resume.
-  r = RunCommandLine("SLURM_ARRAY_TASK_ID=1 bash " +
-                     (work / "generate.sbatch").string());
+  r = RunCommandLine("SLURM_ARRAY_TASK_ID=1 bash " + (work / "generate.sbatch").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = RunCommandLine("bash " + (work / "merge.sbatch").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -201,11 +184,9 @@ TEST_F(MergeCliTest, SubmitScriptsRunByHandGiveTheSingleRun) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
   // More shards than frames: a task would have nothing to render.
-  r = RunCommandLine(submit + " --shards 13 --work-dir " +
-                     Path("too_many").string());
+  r = RunCommandLine(submit + " --shards 13 --work-dir " + Path("too_many").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("the run has 12 frames"), std::string::npos)
-      << r.output;
+  EXPECT_NE(r.output.find("the run has 12 frames"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(Path("too_many")));
   // --submit where there is no Slurm.
   r = RunCommandLine("PATH=/nonexistent " + submit + " --shards 3 --submit");

@@ -47,8 +47,7 @@ TEST(SlurmScriptsTest, TheArrayRendersShardTaskIdOfNWithResume) {
   EXPECT_TRUE(Has(g, "-o \"$WORK/shard-${SLURM_ARRAY_TASK_ID}\""));
   EXPECT_TRUE(Has(g, "--seed 42 --spp 4 --frames '0:800'")) << g;
   // Paths are single-quoted for the shell, a quote inside written '\''.
-  EXPECT_TRUE(Has(g, "'/data/field.lscene' '/data/flight'\\''s plan.lcap'"))
-      << g;
+  EXPECT_TRUE(Has(g, "'/data/field.lscene' '/data/flight'\\''s plan.lcap'")) << g;
   EXPECT_TRUE(Has(g, "LSDS='/opt/lsds/bin/lsds'\n"));
   // #SBATCH lines come before the first command, or Slurm ignores them.
   EXPECT_LT(g.rfind("#SBATCH"), g.find("set -euo pipefail"));
@@ -64,9 +63,7 @@ TEST(SlurmScriptsTest, TheMergeDependsOnTheWholeArrayAndDiesWithIt) {
   const std::string& s = scripts.submit;
   EXPECT_TRUE(Has(s, "array=$(sbatch --parsable")) << s;
   EXPECT_TRUE(Has(s, "\"$WORK/generate.sbatch\")")) << s;
-  EXPECT_TRUE(Has(
-      s, "sbatch --dependency=afterok:\"$array\" --kill-on-invalid-dep=yes"))
-      << s;
+  EXPECT_TRUE(Has(s, "sbatch --dependency=afterok:\"$array\" --kill-on-invalid-dep=yes")) << s;
   EXPECT_TRUE(Has(s, "\"$WORK/merge.sbatch\"\n")) << s;
   EXPECT_TRUE(Has(s, "mkdir -p \"$WORK/logs\""));
   // The default: no throttle, no resources the cluster did not ask for.

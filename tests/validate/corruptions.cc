@@ -25,12 +25,9 @@ json ReadJson(const fs::path& path) {
   std::ifstream in(path);
   return json::parse(in);
 }
-void WriteJson(const fs::path& path, const json& j) {
-  WriteFileAtomic(path, j.dump(1) + "\n");
-}
+void WriteJson(const fs::path& path, const json& j) { WriteFileAtomic(path, j.dump(1) + "\n"); }
 
-void EditCollection(const fs::path& root,
-                    const std::function<void(json&)>& edit) {
+void EditCollection(const fs::path& root, const std::function<void(json&)>& edit) {
   json j = ReadJson(root / "collection.json");
   edit(j);
   WriteJson(root / "collection.json", j);
@@ -67,8 +64,7 @@ void RetypeChannel(const fs::path& root,
     const exr::FlatChannel old = image.Get(channel);
     exr::FlatChannel& fresh = image.AddChannel(channel, type);
     for (size_t p = 0; p < image.pixel_count(); ++p) {
-      const double v =
-          old.type == exr::PixelType::kUint ? old.uints[p] : old.floats[p];
+      const double v = old.type == exr::PixelType::kUint ? old.uints[p] : old.floats[p];
       if (type == exr::PixelType::kUint) {
         fresh.uints[p] = static_cast<uint32_t>(v);
       } else {
@@ -89,8 +85,7 @@ Expected At(std::string check,
   e.json_pointer = std::move(pointer);
   return e;
 }
-Expected AtPixel(
-    std::string check, std::string file, int64_t frame, int x, int y) {
+Expected AtPixel(std::string check, std::string file, int64_t frame, int x, int y) {
   Expected e = At(std::move(check), std::move(file), frame);
   e.pixel_x = x, e.pixel_y = y;
   return e;
@@ -100,8 +95,7 @@ Expected AtPixel(
 void SetFov(json& j, double hfov_deg) {
   for (json& frame : j["frames"]) {
     const int w = frame["camera"]["width"], h = frame["camera"]["height"];
-    const PinholeCamera camera =
-        PinholeCamera::FromHorizontalFov(w, h, hfov_deg);
+    const PinholeCamera camera = PinholeCamera::FromHorizontalFov(w, h, hfov_deg);
     frame["camera"]["fx"] = camera.fx;
     frame["camera"]["fy"] = camera.fy;
   }
@@ -116,29 +110,22 @@ std::vector<Corruption> MakeCorruptions() {
   };
   // --- schema and structure ---
   add("schema-violation", "a frame's fx is a string", [](const fs::path& root) {
-    EditCollection(root,
-                   [](json& j) { j["frames"][1]["camera"]["fx"] = "wide"; });
+    EditCollection(root, [](json& j) { j["frames"][1]["camera"]["fx"] = "wide"; });
     return At("schema", "collection.json", 1, "/frames/1/camera/fx");
   });
-  add("schema-unknown-key",
-      "an unknown key in the header",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) { j["colour"] = "blue"; });
-        return At("schema", "collection.json", std::nullopt, "/colour");
-      });
-  add("schema-missing-layers",
-      "the header has no layer table",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) { j.erase("layers"); });
-        return At("schema", "collection.json", std::nullopt, "/");
-      });
-  add("metadata-not-json",
-      "metadata.json cut in the middle",
-      [](const fs::path& root) {
-        const fs::path path = root / "metadata.json";
-        fs::resize_file(path, fs::file_size(path) / 2);
-        return At("schema", "metadata.json", std::nullopt);
-      });
+  add("schema-unknown-key", "an unknown key in the header", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { j["colour"] = "blue"; });
+    return At("schema", "collection.json", std::nullopt, "/colour");
+  });
+  add("schema-missing-layers", "the header has no layer table", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { j.erase("layers"); });
+    return At("schema", "collection.json", std::nullopt, "/");
+  });
+  add("metadata-not-json", "metadata.json cut in the middle", [](const fs::path& root) {
+    const fs::path path = root / "metadata.json";
+    fs::resize_file(path, fs::file_size(path) / 2);
+    return At("schema", "metadata.json", std::nullopt);
+  });
   add("metadata-schema-violation",
       "metadata.json frame without position",
       [](const fs::path& root) {
@@ -147,76 +134,43 @@ std::vector<Corruption> MakeCorruptions() {
         WriteJson(root / "metadata.json", j);
         return At("schema", "metadata.json", std::nullopt, "/frames/2");
       });
-  add("frame-count",
-      "frame_count says 5, the file has 4",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) { j["frame_count"] = 5; });
-        return At("structure.frame-count",
-                  "collection.json",
-                  std::nullopt,
-                  "/frame_count");
-      });
+  add("frame-count", "frame_count says 5, the file has 4", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { j["frame_count"] = 5; });
+    return At("structure.frame-count", "collection.json", std::nullopt, "/frame_count");
+  });
   add("frame-order", "frames 1 and 2 swapped", [](const fs::path& root) {
-    EditCollection(root,
-                   [](json& j) { std::swap(j["frames"][1], j["frames"][2]); });
+    EditCollection(root, [](json& j) { std::swap(j["frames"][1], j["frames"][2]); });
     return At("structure.frame-order", "collection.json", 1, "/frames/2/index");
   });
   add("duplicate-frame", "frame 2 also says index 1", [](const fs::path& root) {
     EditCollection(root, [](json& j) { j["frames"][2]["index"] = 1; });
-    return At(
-        "structure.duplicate-frame", "collection.json", 1, "/frames/2/index");
+    return At("structure.duplicate-frame", "collection.json", 1, "/frames/2/index");
   });
-  add("duplicate-class-id",
-      "class id 2 twice in the class table",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) {
-          j["classes"].push_back({{"id", 2}, {"name", "box2"}});
-        });
-        return At("structure.tables",
-                  "collection.json",
-                  std::nullopt,
-                  "/classes/3/id");
-      });
-  add("missing-layer-file",
-      "depth/000002.exr deleted",
-      [](const fs::path& root) {
-        fs::remove(root / File("depth", 2));
-        return At("structure.missing-file", File("depth", 2), 2);
-      });
-  add("unknown-layer",
-      "frame 0 names a layer 'depht'",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) {
-          j["frames"][0]["files"]["depht"] = "depth/000000.exr";
-        });
-        return At("structure.unknown-layer",
-                  "collection.json",
-                  0,
-                  "/frames/0/files/depht");
-      });
-  add("stray-file",
-      "rgb/000099.exr that no frame references",
-      [](const fs::path& root) {
-        fs::copy_file(root / File("rgb", 0), root / File("rgb", 99));
-        return At("structure.stray-file", File("rgb", 99), std::nullopt);
-      });
-  add("unknown-class-id",
-      "an object of class 7, not in the class table",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) {
-          j["frames"][1]["objects"][0]["class_id"] = 7;
-        });
-        return At("structure.class-id",
-                  "collection.json",
-                  1,
-                  "/frames/1/objects/0/class_id");
-      });
+  add("duplicate-class-id", "class id 2 twice in the class table", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { j["classes"].push_back({{"id", 2}, {"name", "box2"}}); });
+    return At("structure.tables", "collection.json", std::nullopt, "/classes/3/id");
+  });
+  add("missing-layer-file", "depth/000002.exr deleted", [](const fs::path& root) {
+    fs::remove(root / File("depth", 2));
+    return At("structure.missing-file", File("depth", 2), 2);
+  });
+  add("unknown-layer", "frame 0 names a layer 'depht'", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { j["frames"][0]["files"]["depht"] = "depth/000000.exr"; });
+    return At("structure.unknown-layer", "collection.json", 0, "/frames/0/files/depht");
+  });
+  add("stray-file", "rgb/000099.exr that no frame references", [](const fs::path& root) {
+    fs::copy_file(root / File("rgb", 0), root / File("rgb", 99));
+    return At("structure.stray-file", File("rgb", 99), std::nullopt);
+  });
+  add("unknown-class-id", "an object of class 7, not in the class table", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { j["frames"][1]["objects"][0]["class_id"] = 7; });
+    return At("structure.class-id", "collection.json", 1, "/frames/1/objects/0/class_id");
+  });
   add("duplicate-instance",
       "two objects of frame 1 share an instance id",
       [](const fs::path& root) {
         EditCollection(root, [](json& j) {
-          j["frames"][1]["objects"][1]["instance_id"] =
-              j["frames"][1]["objects"][0]["instance_id"];
+          j["frames"][1]["objects"][1]["instance_id"] = j["frames"][1]["objects"][0]["instance_id"];
         });
         return At("structure.duplicate-instance",
                   "collection.json",
@@ -225,10 +179,7 @@ std::vector<Corruption> MakeCorruptions() {
       });
   add("missing-metadata", "metadata.json deleted", [](const fs::path& root) {
     fs::remove(root / "metadata.json");
-    return At("structure.metadata",
-              "collection.json",
-              std::nullopt,
-              "/metadata/0/file");
+    return At("structure.metadata", "collection.json", std::nullopt, "/metadata/0/file");
   });
   add("left-handed-rotation",
       "frame 0's rotation has determinant -1 in a right-handed world",
@@ -247,8 +198,7 @@ std::vector<Corruption> MakeCorruptions() {
       [](const fs::path& root) {
         EditCollection(root, [](json& j) {
           j["provenance"]["import"] = {
-              {"format", "bop"},
-              {"truth_origin", {{"camera", "imported"}, {"shadow", "absent"}}}};
+              {"format", "bop"}, {"truth_origin", {{"camera", "imported"}, {"shadow", "absent"}}}};
         });
         return At("structure.truth-origin",
                   "collection.json",
@@ -256,79 +206,55 @@ std::vector<Corruption> MakeCorruptions() {
                   "/provenance/import/truth_origin/shadow");
       });
   // --- per layer ---
-  add("truncated-exr",
-      "normal/000001.exr cut to 60% of its size",
-      [](const fs::path& root) {
-        const fs::path path = root / File("normal", 1);
-        fs::resize_file(path, fs::file_size(path) * 6 / 10);
-        return At("layer.readable", File("normal", 1), 1);
-      });
-  add("wrong-size",
-      "shadow/000001.exr one column narrower",
-      [](const fs::path& root) {
-        const exr::FlatImage image = exr::ReadFlatExr(root / File("shadow", 1));
-        exr::FlatImage narrow(image.width() - 1, image.height());
-        exr::FlatChannel& y = narrow.AddChannel("Y", exr::PixelType::kFloat);
-        for (int j = 0; j < narrow.height(); ++j) {
-          for (int i = 0; i < narrow.width(); ++i)
-            y.floats[narrow.Index(i, j)] =
-                image.Get("Y").floats[image.Index(i, j)];
-        }
-        exr::WriteFlatExr(root / File("shadow", 1), narrow);
-        return At("layer.dimensions", File("shadow", 1), 1);
-      });
-  add("wrong-channel-type",
-      "depth/000001.exr Z stored as half",
-      [](const fs::path& root) {
-        RetypeChannel(root, "depth", 1, "Z", exr::PixelType::kHalf);
-        return At("layer.channels", File("depth", 1), 1);
-      });
-  add("float-ids",
-      "instanceid/000002.exr stored as float",
-      [](const fs::path& root) {
-        RetypeChannel(root, "instanceid", 2, "id", exr::PixelType::kFloat);
-        return At("layer.id-type", File("instanceid", 2), 2);
-      });
-  add("negative-rgb",
-      "rgb/000000.exr pixel (5, 6) R = -1",
-      [](const fs::path& root) {
-        EditFlat(
-            root, "rgb", 0, [](exr::FlatImage& im) { im.F("R", 5, 6) = -1; });
-        return AtPixel("layer.rgb-range", File("rgb", 0), 0, 5, 6);
-      });
-  add("nan-depth",
-      "depth/000002.exr pixel (10, 7) = NaN",
-      [](const fs::path& root) {
-        EditFlat(root, "depth", 2, [](exr::FlatImage& im) {
-          im.F("Z", 10, 7) = std::nanf("");
-        });
-        return AtPixel("layer.depth-finite", File("depth", 2), 2, 10, 7);
-      });
-  add("non-unit-normals",
-      "normal/000001.exr pixel (3, 4) scaled by 1.1",
-      [](const fs::path& root) {
-        EditFlat(root, "normal", 1, [](exr::FlatImage& im) {
-          for (const char* c : {"X", "Y", "Z"}) im.F(c, 3, 4) *= 1.1f;
-        });
-        return AtPixel("layer.normal-unit", File("normal", 1), 1, 3, 4);
-      });
+  add("truncated-exr", "normal/000001.exr cut to 60% of its size", [](const fs::path& root) {
+    const fs::path path = root / File("normal", 1);
+    fs::resize_file(path, fs::file_size(path) * 6 / 10);
+    return At("layer.readable", File("normal", 1), 1);
+  });
+  add("wrong-size", "shadow/000001.exr one column narrower", [](const fs::path& root) {
+    const exr::FlatImage image = exr::ReadFlatExr(root / File("shadow", 1));
+    exr::FlatImage narrow(image.width() - 1, image.height());
+    exr::FlatChannel& y = narrow.AddChannel("Y", exr::PixelType::kFloat);
+    for (int j = 0; j < narrow.height(); ++j) {
+      for (int i = 0; i < narrow.width(); ++i)
+        y.floats[narrow.Index(i, j)] = image.Get("Y").floats[image.Index(i, j)];
+    }
+    exr::WriteFlatExr(root / File("shadow", 1), narrow);
+    return At("layer.dimensions", File("shadow", 1), 1);
+  });
+  add("wrong-channel-type", "depth/000001.exr Z stored as half", [](const fs::path& root) {
+    RetypeChannel(root, "depth", 1, "Z", exr::PixelType::kHalf);
+    return At("layer.channels", File("depth", 1), 1);
+  });
+  add("float-ids", "instanceid/000002.exr stored as float", [](const fs::path& root) {
+    RetypeChannel(root, "instanceid", 2, "id", exr::PixelType::kFloat);
+    return At("layer.id-type", File("instanceid", 2), 2);
+  });
+  add("negative-rgb", "rgb/000000.exr pixel (5, 6) R = -1", [](const fs::path& root) {
+    EditFlat(root, "rgb", 0, [](exr::FlatImage& im) { im.F("R", 5, 6) = -1; });
+    return AtPixel("layer.rgb-range", File("rgb", 0), 0, 5, 6);
+  });
+  add("nan-depth", "depth/000002.exr pixel (10, 7) = NaN", [](const fs::path& root) {
+    EditFlat(root, "depth", 2, [](exr::FlatImage& im) { im.F("Z", 10, 7) = std::nanf(""); });
+    return AtPixel("layer.depth-finite", File("depth", 2), 2, 10, 7);
+  });
+  add("non-unit-normals", "normal/000001.exr pixel (3, 4) scaled by 1.1", [](const fs::path& root) {
+    EditFlat(root, "normal", 1, [](exr::FlatImage& im) {
+      for (const char* c : {"X", "Y", "Z"}) im.F(c, 3, 4) *= 1.1f;
+    });
+    return AtPixel("layer.normal-unit", File("normal", 1), 1, 3, 4);
+  });
   add("nan-worldposition",
       "worldposition/000000.exr pixel (1, 1) X = NaN",
       [](const fs::path& root) {
-        EditFlat(root, "worldposition", 0, [](exr::FlatImage& im) {
-          im.F("X", 1, 1) = std::nanf("");
-        });
-        return AtPixel(
-            "layer.worldposition-finite", File("worldposition", 0), 0, 1, 1);
+        EditFlat(
+            root, "worldposition", 0, [](exr::FlatImage& im) { im.F("X", 1, 1) = std::nanf(""); });
+        return AtPixel("layer.worldposition-finite", File("worldposition", 0), 0, 1, 1);
       });
-  add("shadow-out-of-range",
-      "shadow/000003.exr pixel (2, 3) = 1.5",
-      [](const fs::path& root) {
-        EditFlat(root, "shadow", 3, [](exr::FlatImage& im) {
-          im.F("Y", 2, 3) = 1.5f;
-        });
-        return AtPixel("layer.shadow-range", File("shadow", 3), 3, 2, 3);
-      });
+  add("shadow-out-of-range", "shadow/000003.exr pixel (2, 3) = 1.5", [](const fs::path& root) {
+    EditFlat(root, "shadow", 3, [](exr::FlatImage& im) { im.F("Y", 2, 3) = 1.5f; });
+    return AtPixel("layer.shadow-range", File("shadow", 3), 3, 2, 3);
+  });
   add("motion-half-invalid",
       "motion/000001.exr pixel (4, 4) X = NaN while Y has a value",
       [](const fs::path& root) {
@@ -337,14 +263,10 @@ std::vector<Corruption> MakeCorruptions() {
         });
         return AtPixel("layer.motion-range", File("motion", 1), 1, 4, 4);
       });
-  add("unknown-class-pixel",
-      "classid/000000.exr pixel (0, 0) = 9",
-      [](const fs::path& root) {
-        EditFlat(root, "classid", 0, [](exr::FlatImage& im) {
-          im.U("id", 0, 0) = 9;
-        });
-        return AtPixel("layer.classid-known", File("classid", 0), 0, 0, 0);
-      });
+  add("unknown-class-pixel", "classid/000000.exr pixel (0, 0) = 9", [](const fs::path& root) {
+    EditFlat(root, "classid", 0, [](exr::FlatImage& im) { im.U("id", 0, 0) = 9; });
+    return AtPixel("layer.classid-known", File("classid", 0), 0, 0, 0);
+  });
   add("bundle-sample-position",
       "bundle/000001.exr pixel (6, 2) sample 1 at SX = 2",
       [](const fs::path& root) {
@@ -356,42 +278,27 @@ std::vector<Corruption> MakeCorruptions() {
         return AtPixel("layer.bundle", File("bundle", 1), 1, 6, 2);
       });
   // --- cross-layer ---
-  add("bbox-off-by-one",
-      "frame 1 object 0: bbox x1 one pixel too far",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) {
-          json& bbox = j["frames"][1]["objects"][0]["bbox"];
-          bbox[2] = bbox[2].get<double>() + 1;
-        });
-        return At("cross.bbox-tight",
-                  "collection.json",
-                  1,
-                  "/frames/1/objects/0/bbox");
-      });
-  add("visible-pixels",
-      "frame 2 object 1: visible_pixels + 1",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) {
-          json& n = j["frames"][2]["objects"][1]["visible_pixels"];
-          n = n.get<int64_t>() + 1;
-        });
-        return At("cross.visible-pixels",
-                  "collection.json",
-                  2,
-                  "/frames/2/objects/1/visible_pixels");
-      });
-  add("obb-moved",
-      "frame 1 object 0: OBB centre moved 10 m",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) {
-          json& centre = j["frames"][1]["objects"][0]["obb"]["center"];
-          centre[0] = centre[0].get<double>() + 10;
-        });
-        return At("cross.obb-contains-bbox",
-                  "collection.json",
-                  1,
-                  "/frames/1/objects/0/bbox");
-      });
+  add("bbox-off-by-one", "frame 1 object 0: bbox x1 one pixel too far", [](const fs::path& root) {
+    EditCollection(root, [](json& j) {
+      json& bbox = j["frames"][1]["objects"][0]["bbox"];
+      bbox[2] = bbox[2].get<double>() + 1;
+    });
+    return At("cross.bbox-tight", "collection.json", 1, "/frames/1/objects/0/bbox");
+  });
+  add("visible-pixels", "frame 2 object 1: visible_pixels + 1", [](const fs::path& root) {
+    EditCollection(root, [](json& j) {
+      json& n = j["frames"][2]["objects"][1]["visible_pixels"];
+      n = n.get<int64_t>() + 1;
+    });
+    return At("cross.visible-pixels", "collection.json", 2, "/frames/2/objects/1/visible_pixels");
+  });
+  add("obb-moved", "frame 1 object 0: OBB centre moved 10 m", [](const fs::path& root) {
+    EditCollection(root, [](json& j) {
+      json& centre = j["frames"][1]["objects"][0]["obb"]["center"];
+      centre[0] = centre[0].get<double>() + 10;
+    });
+    return At("cross.obb-contains-bbox", "collection.json", 1, "/frames/1/objects/0/bbox");
+  });
   add("wrong-object-class",
       "frame 1 object 0 declared a crate, its pixels say box",
       [](const fs::path& root) {
@@ -400,12 +307,10 @@ std::vector<Corruption> MakeCorruptions() {
           json& object = j["frames"][1]["objects"][0];
           object["class_id"] = object["class_id"].get<int>() == 3 ? 2 : 3;
           const uint32_t instance = object["instance_id"];
-          const exr::FlatImage ids =
-              exr::ReadFlatExr(root / File("instanceid", 1));
+          const exr::FlatImage ids = exr::ReadFlatExr(root / File("instanceid", 1));
           for (int b = 0; b < ids.height() && x < 0; ++b) {
             for (int a = 0; a < ids.width() && x < 0; ++a) {
-              if (ids.Get("id").uints[ids.Index(a, b)] == instance)
-                x = a, y = b;
+              if (ids.Get("id").uints[ids.Index(a, b)] == instance) x = a, y = b;
             }
           }
         });
@@ -414,11 +319,8 @@ std::vector<Corruption> MakeCorruptions() {
   add("worldposition-off",
       "worldposition/000002.exr pixel (7, 5) moved 0.5 m",
       [](const fs::path& root) {
-        EditFlat(root, "worldposition", 2, [](exr::FlatImage& im) {
-          im.F("X", 7, 5) += 0.5f;
-        });
-        return AtPixel(
-            "cross.worldpos-depth", File("worldposition", 2), 2, 7, 5);
+        EditFlat(root, "worldposition", 2, [](exr::FlatImage& im) { im.F("X", 7, 5) += 0.5f; });
+        return AtPixel("cross.worldpos-depth", File("worldposition", 2), 2, 7, 5);
       });
   add("bundle-centre",
       "bundle/000002.exr pixel (9, 9) sample 0 instance id changed",
@@ -458,12 +360,10 @@ std::vector<Corruption> MakeCorruptions() {
         return At("cross.metadata-pose", "metadata.json", 2, "/frames");
       });
   // --- camera geometry ---
-  add("fov-plus-10",
-      "declared FOV 70 degrees, rendered with 60",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) { SetFov(j, 70); });
-        return At("camera.fov", File("worldposition", 0), 0);
-      });
+  add("fov-plus-10", "declared FOV 70 degrees, rendered with 60", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { SetFov(j, 70); });
+    return At("camera.fov", File("worldposition", 0), 0);
+  });
   add("principal-point", "declared cx 3 px off", [](const fs::path& root) {
     EditCollection(root, [](json& j) {
       for (json& frame : j["frames"])
@@ -486,8 +386,7 @@ std::vector<Corruption> MakeCorruptions() {
       [](const fs::path& root) {
         EditCollection(root, [](json& j) {
           for (json& layer : j["layers"]) {
-            if (layer.contains("depth_kind"))
-              layer["depth_kind"] = "perspective";
+            if (layer.contains("depth_kind")) layer["depth_kind"] = "perspective";
           }
         });
         return At("camera.depth-kind", File("depth", 0), 0);
@@ -509,8 +408,7 @@ std::vector<Corruption> MakeCorruptions() {
           for (const char* c : {"X", "Y", "Z"}) {
             std::vector<float>& v = im.Get(c).floats;
             for (int j = 0; j < im.height(); ++j) {
-              std::reverse(v.begin() + im.Index(0, j),
-                           v.begin() + im.Index(0, j) + im.width());
+              std::reverse(v.begin() + im.Index(0, j), v.begin() + im.Index(0, j) + im.width());
             }
           }
         });
@@ -528,8 +426,7 @@ std::vector<Corruption> MakeCorruptions() {
             for (int b = 0; b < 3; ++b) r(a, b) = camera["rotation"][a][b];
           }
           const Eigen::Matrix3d roll =
-              Eigen::AngleAxisd(5 * M_PI / 180, Eigen::Vector3d::UnitZ())
-                  .toRotationMatrix();
+              Eigen::AngleAxisd(5 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
           r = roll * r, t = roll * t;
           for (int a = 0; a < 3; ++a) {
             camera["translation"][a] = t[a];
@@ -539,17 +436,10 @@ std::vector<Corruption> MakeCorruptions() {
         return At("camera.pose", File("worldposition", 1), 1);
       });
   // --- statistics ---
-  add("unused-class",
-      "class 4 'tree' has no object and no pixel",
-      [](const fs::path& root) {
-        EditCollection(root, [](json& j) {
-          j["classes"].push_back({{"id", 4}, {"name", "tree"}});
-        });
-        return At("stats.class-unused",
-                  "collection.json",
-                  std::nullopt,
-                  "/classes/3");
-      });
+  add("unused-class", "class 4 'tree' has no object and no pixel", [](const fs::path& root) {
+    EditCollection(root, [](json& j) { j["classes"].push_back({{"id", 4}, {"name", "tree"}}); });
+    return At("stats.class-unused", "collection.json", std::nullopt, "/classes/3");
+  });
   add("zero-visible-target",
       "frame 3 object 0 declared with no visible pixels",
       [](const fs::path& root) {
@@ -558,10 +448,7 @@ std::vector<Corruption> MakeCorruptions() {
           object["visible_pixels"] = 0;
           object["bbox"] = nullptr;
         });
-        return At("stats.zero-visible-target",
-                  "collection.json",
-                  3,
-                  "/frames/3/objects/0");
+        return At("stats.zero-visible-target", "collection.json", 3, "/frames/3/objects/0");
       });
   add("class-imbalance",
       "100 extra (hidden) boxes per frame against one crate",
@@ -579,14 +466,10 @@ std::vector<Corruption> MakeCorruptions() {
             }
           }
         });
-        return At("stats.class-imbalance",
-                  "collection.json",
-                  std::nullopt,
-                  "/classes");
+        return At("stats.class-imbalance", "collection.json", std::nullopt, "/classes");
       });
   add("empty-frame", "frame 3 has no objects", [](const fs::path& root) {
-    EditCollection(root,
-                   [](json& j) { j["frames"][3]["objects"] = json::array(); });
+    EditCollection(root, [](json& j) { j["frames"][3]["objects"] = json::array(); });
     return At("stats.empty-frame", "collection.json", 3, "/frames/3/objects");
   });
   return c;
@@ -612,9 +495,7 @@ void WriteGoodCollection(const fs::path& root) {
 
 void CopyCollection(const fs::path& from, const fs::path& to) {
   fs::create_directories(to);
-  fs::copy(from,
-           to,
-           fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  fs::copy(from, to, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
 }
 
 }  // namespace lsds::validate::corpus

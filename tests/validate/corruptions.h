@@ -37,7 +37,6 @@ const Corruption& FindCorruption(const std::string& name);
 void WriteGoodCollection(const std::filesystem::path& root);
 
 // Copies a collection folder.
-void CopyCollection(const std::filesystem::path& from,
-                    const std::filesystem::path& to);
+void CopyCollection(const std::filesystem::path& from, const std::filesystem::path& to);
 
 }  // namespace lsds::validate::corpus

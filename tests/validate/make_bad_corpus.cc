@@ -27,8 +27,7 @@ int main(int argc, char** argv) {
     } else if (out.empty() && argv[i][0] != '-') {
       out = argv[i];
     } else {
-      std::cerr
-          << "usage: lsds_make_bad_corpus OUT [--only NAME ...] [--list]\n";
+      std::cerr << "usage: lsds_make_bad_corpus OUT [--only NAME ...] [--list]\n";
       return 2;
     }
   }
@@ -53,12 +52,10 @@ int main(int argc, char** argv) {
       if (e.frame) expected["frame"] = *e.frame;
       if (!e.json_pointer.empty()) expected["json_pointer"] = e.json_pointer;
       if (e.pixel_x) expected["pixel"] = {*e.pixel_x, *e.pixel_y};
-      manifest.push_back({{"name", c.name},
-                          {"description", c.description},
-                          {"expected", expected}});
+      manifest.push_back(
+          {{"name", c.name}, {"description", c.description}, {"expected", expected}});
     }
-    lsds::WriteFileAtomic(fs::path(out) / "manifest.json",
-                          manifest.dump(2) + "\n");
+    lsds::WriteFileAtomic(fs::path(out) / "manifest.json", manifest.dump(2) + "\n");
   } catch (const std::exception& e) {
     std::cerr << "lsds_make_bad_corpus: " << e.what() << "\n";
     return 2;

@@ -25,14 +25,12 @@ struct CliRun {
 };
 
 CliRun Lsds(const std::string& args) {
-  const std::string command =
-      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>/dev/null";
+  const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>/dev/null";
   CliRun run;
   FILE* pipe = popen(command.c_str(), "r");
   char buffer[4096];
   size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0)
-    run.out.append(buffer, n);
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
   const int status = pclose(pipe);
   run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
@@ -41,8 +39,7 @@ CliRun Lsds(const std::string& args) {
 class ValidateCli : public ::testing::Test {
  protected:
   static fs::path Root() {
-    return fs::temp_directory_path() /
-           ("lsds_validate_cli_" + std::to_string(getpid()));
+    return fs::temp_directory_path() / ("lsds_validate_cli_" + std::to_string(getpid()));
   }
   static void SetUpTestSuite() {
     fs::remove_all(Root());
@@ -53,28 +50,21 @@ class ValidateCli : public ::testing::Test {
     }
   }
   static void TearDownTestSuite() { fs::remove_all(Root()); }
-  static std::string Path(const std::string& name) {
-    return (Root() / name).string();
-  }
+  static std::string Path(const std::string& name) { return (Root() / name).string(); }
 };
 
 TEST_F(ValidateCli, GoodCollectionExitsZero) {
   const CliRun run = Lsds("validate " + Path("good"));
   EXPECT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(run.out.find("PASS: 0 error(s), 0 warning(s) in 4 frame(s)"),
-            std::string::npos)
+  EXPECT_NE(run.out.find("PASS: 0 error(s), 0 warning(s) in 4 frame(s)"), std::string::npos)
       << run.out;
 }
 
 TEST_F(ValidateCli, FindingsExitOneWithLocation) {
   const CliRun run = Lsds("validate " + Path("nan-depth"));
   EXPECT_EQ(run.code, 1);
-  EXPECT_NE(run.out.find("error layer.depth-finite: 1 finding(s)"),
-            std::string::npos)
-      << run.out;
-  EXPECT_NE(run.out.find("depth/000002.exr frame 2 pixel (10, 7)"),
-            std::string::npos)
-      << run.out;
+  EXPECT_NE(run.out.find("error layer.depth-finite: 1 finding(s)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("depth/000002.exr frame 2 pixel (10, 7)"), std::string::npos) << run.out;
   // The NaN also disagrees with the bundle's centre sample: a second, genuine
   // finding.
   EXPECT_NE(run.out.find("FAIL: 2 error(s)"), std::string::npos) << run.out;
@@ -84,9 +74,7 @@ TEST_F(ValidateCli, JsonReportMatchesItsSchema) {
   const CliRun run = Lsds("validate --format json " + Path("nan-depth"));
   EXPECT_EQ(run.code, 1);
   const nlohmann::json report = nlohmann::json::parse(run.out);
-  EXPECT_TRUE(
-      JsonSchema::Get("validate-report.schema.json").Validate(report).empty())
-      << run.out;
+  EXPECT_TRUE(JsonSchema::Get("validate-report.schema.json").Validate(report).empty()) << run.out;
   EXPECT_EQ(report["verdict"], "fail");
   bool found = false;
   for (const auto& check : report["checks"]) {
@@ -102,8 +90,7 @@ TEST_F(ValidateCli, JsonReportMatchesItsSchema) {
 }
 
 TEST_F(ValidateCli, JUnitHasOneTestCasePerCheck) {
-  const CliRun run =
-      Lsds("validate --format junit --checks layer " + Path("nan-depth"));
+  const CliRun run = Lsds("validate --format junit --checks layer " + Path("nan-depth"));
   EXPECT_EQ(run.code, 1);
   size_t testcases = 0, failures = 0;
   for (size_t at = run.out.find("<testcase "); at != std::string::npos;
@@ -121,8 +108,8 @@ TEST_F(ValidateCli, JUnitHasOneTestCasePerCheck) {
 
 TEST_F(ValidateCli, AnUnreadableInputStillWritesAJUnitReport) {
   const std::string report = Path("unreadable.xml");
-  const CliRun run = Lsds("validate --format junit -o " + report + " " +
-                          Path("no-such-collection"));
+  const CliRun run =
+      Lsds("validate --format junit -o " + report + " " + Path("no-such-collection"));
   EXPECT_EQ(run.code, 2);
   std::ifstream in(report);
   ASSERT_TRUE(in.good()) << "no JUnit report for an unreadable input";
@@ -130,8 +117,7 @@ TEST_F(ValidateCli, AnUnreadableInputStillWritesAJUnitReport) {
   EXPECT_NE(xml.find("failures=\"1\""), std::string::npos) << xml;
   EXPECT_NE(xml.find("name=\"collection readable\""), std::string::npos);
   EXPECT_NE(xml.find("no-such-collection"), std::string::npos) << xml;
-  EXPECT_NE(xml.find("<testcase classname=\"lsds.validate.input\""),
-            std::string::npos);
+  EXPECT_NE(xml.find("<testcase classname=\"lsds.validate.input\""), std::string::npos);
 }
 
 TEST_F(ValidateCli, FailOnWarning) {
@@ -147,15 +133,10 @@ TEST_F(ValidateCli, UnreadableInputOrBadUsageExitsTwo) {
 
 TEST_F(ValidateCli, ReportFileIsNotOverwrittenWithoutForce) {
   const std::string report = Path("report.json");
-  EXPECT_EQ(
-      Lsds("validate --format json -o " + report + " " + Path("good")).code, 0);
+  EXPECT_EQ(Lsds("validate --format json -o " + report + " " + Path("good")).code, 0);
   EXPECT_TRUE(fs::exists(report));
-  EXPECT_EQ(
-      Lsds("validate --format json -o " + report + " " + Path("good")).code, 2);
-  EXPECT_EQ(
-      Lsds("validate --format json --force -o " + report + " " + Path("good"))
-          .code,
-      0);
+  EXPECT_EQ(Lsds("validate --format json -o " + report + " " + Path("good")).code, 2);
+  EXPECT_EQ(Lsds("validate --format json --force -o " + report + " " + Path("good")).code, 0);
 }
 
 // What a CI job array does: each task validates one shard, a last job joins
@@ -166,8 +147,8 @@ TEST_F(ValidateCli, ShardsJoinedByMergeReportsEqualTheSingleRun) {
     std::string parts;
     for (int i = 0; i < 3; ++i) {
       const std::string part = Path(name + "-part" + std::to_string(i) + ".json");
-      const CliRun shard = Lsds("validate --shard " + std::to_string(i) +
-                                "/3 -o " + part + " " + Path(name));
+      const CliRun shard =
+          Lsds("validate --shard " + std::to_string(i) + "/3 -o " + part + " " + Path(name));
       EXPECT_EQ(shard.code, 0) << "a shard exits 0 once its report is written";
       parts += " " + part;
     }
@@ -176,8 +157,7 @@ TEST_F(ValidateCli, ShardsJoinedByMergeReportsEqualTheSingleRun) {
     EXPECT_EQ(merged.code, single.code) << name;
     EXPECT_EQ(merged.code, name == "good" ? 0 : 1);
     const std::regex time(R"( time="[^"]*")");
-    EXPECT_EQ(std::regex_replace(merged.out, time, ""),
-              std::regex_replace(single.out, time, ""))
+    EXPECT_EQ(std::regex_replace(merged.out, time, ""), std::regex_replace(single.out, time, ""))
         << name;
     EXPECT_EQ(Lsds("merge-reports" + parts).out, Lsds("validate " + Path(name)).out)
         << "text reports differ for " << name;
@@ -188,9 +168,9 @@ TEST_F(ValidateCli, ShardUsageErrorsExitTwo) {
   EXPECT_EQ(Lsds("validate --shard 3/3 -o " + Path("p.json") + " " + Path("good")).code, 2);
   EXPECT_EQ(Lsds("validate --shard 1/x -o " + Path("p.json") + " " + Path("good")).code, 2);
   EXPECT_EQ(Lsds("validate --shard 0/2 " + Path("good")).code, 2);  // no -o
-  EXPECT_EQ(Lsds("validate --shard 0/2 --format junit -o " + Path("p.json") + " " +
-                 Path("good")).code,
-            2);
+  EXPECT_EQ(
+      Lsds("validate --shard 0/2 --format junit -o " + Path("p.json") + " " + Path("good")).code,
+      2);
   EXPECT_EQ(Lsds("merge-reports " + Path("no-such-part.json")).code, 2);
   // The report may not replace a partial report it is made from.
   const std::string part = Path("only-part.json");

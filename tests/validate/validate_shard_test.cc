@@ -24,8 +24,7 @@ namespace fs = std::filesystem;
 
 fs::path TestRoot() {
   static const fs::path root =
-      fs::temp_directory_path() /
-      ("lsds_validate_shard_test_" + std::to_string(getpid()));
+      fs::temp_directory_path() / ("lsds_validate_shard_test_" + std::to_string(getpid()));
   return root;
 }
 
@@ -37,13 +36,13 @@ std::string WithoutTimes(const std::string& format, std::string text) {
     for (nlohmann::json& check : j["checks"]) check.erase("seconds");
     return j.dump(2);
   }
-  if (format == "junit")
-    return std::regex_replace(text, std::regex(R"( time="[^"]*")"), "");
+  if (format == "junit") return std::regex_replace(text, std::regex(R"( time="[^"]*")"), "");
   return text;
 }
 
 std::vector<fs::path> WriteShards(const fs::path& collection,
-                                  const ValidateOptions& base, int count,
+                                  const ValidateOptions& base,
+                                  int count,
                                   const fs::path& folder) {
   fs::create_directories(folder);
   std::vector<fs::path> files;
@@ -60,18 +59,17 @@ std::vector<fs::path> WriteShards(const fs::path& collection,
 }
 
 void ExpectMergeEqualsSingleRun(const fs::path& collection,
-                                const ValidateOptions& options, int count) {
+                                const ValidateOptions& options,
+                                int count) {
   const Report single = ValidateCollection(collection, options);
   const Report merged = MergePartialReports(WriteShards(
-      collection, options, count,
-      TestRoot() / ("parts_" + collection.filename().string())));
+      collection, options, count, TestRoot() / ("parts_" + collection.filename().string())));
   EXPECT_EQ(merged.frames, single.frames);
   EXPECT_EQ(merged.files_decoded, single.files_decoded);
   for (const char* format : {"text", "json", "junit"}) {
     for (Severity fail_on : {Severity::kError, Severity::kInfo}) {
-      EXPECT_EQ(
-          WithoutTimes(format, RenderReport(merged, format, fail_on)),
-          WithoutTimes(format, RenderReport(single, format, fail_on)))
+      EXPECT_EQ(WithoutTimes(format, RenderReport(merged, format, fail_on)),
+                WithoutTimes(format, RenderReport(single, format, fail_on)))
           << collection << " in " << format << " with " << count << " shards";
     }
   }
@@ -115,8 +113,7 @@ TEST_F(ShardTest, ChecksTimesAreMeasured) {
   EXPECT_GT(report.check_seconds().at("layer.readable"), 0);
   EXPECT_GT(sum, 0);
   const std::string junit = RenderReport(report, "junit", Severity::kError);
-  EXPECT_EQ(std::regex_search(junit, std::regex(R"(<testcase [^>]*time="[0-9.]+")")),
-            true);
+  EXPECT_EQ(std::regex_search(junit, std::regex(R"(<testcase [^>]*time="[0-9.]+")")), true);
 }
 
 TEST_F(ShardTest, IncompleteOrMixedShardsAreRefusedWithTheFile) {
@@ -131,8 +128,7 @@ TEST_F(ShardTest, IncompleteOrMixedShardsAreRefusedWithTheFile) {
     return std::string("no error");
   };
   // One missing (files[0] is shard 2: written in reverse).
-  EXPECT_NE(message({files[1], files[2]}).find("shard(s) 2/3 missing"),
-            std::string::npos)
+  EXPECT_NE(message({files[1], files[2]}).find("shard(s) 2/3 missing"), std::string::npos)
       << message({files[1], files[2]});
   // One twice.
   const std::string twice = message({files[0], files[1], files[2], files[1]});

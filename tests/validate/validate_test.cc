@@ -24,8 +24,7 @@ namespace fs = std::filesystem;
 
 fs::path TestRoot() {
   static const fs::path root =
-      fs::temp_directory_path() /
-      ("lsds_validate_test_" + std::to_string(getpid()));
+      fs::temp_directory_path() / ("lsds_validate_test_" + std::to_string(getpid()));
   return root;
 }
 
@@ -37,8 +36,7 @@ class ValidateTest : public ::testing::Test {
   }
   static void TearDownTestSuite() { fs::remove_all(TestRoot()); }
   static fs::path Good() { return TestRoot() / "good"; }
-  static fs::path Corrupted(const std::string& name,
-                            corpus::Expected* expected) {
+  static fs::path Corrupted(const std::string& name, corpus::Expected* expected) {
     const fs::path target = TestRoot() / name;
     fs::remove_all(target);
     corpus::CopyCollection(Good(), target);
@@ -47,9 +45,7 @@ class ValidateTest : public ::testing::Test {
   }
 };
 
-std::string Dump(const Report& report) {
-  return ReportToText(report, Severity::kInfo, 10);
-}
+std::string Dump(const Report& report) { return ReportToText(report, Severity::kInfo, 10); }
 
 TEST_F(ValidateTest, GoodCollectionPassesClean) {
   const Report report = ValidateCollection(Good());
@@ -64,10 +60,7 @@ TEST_F(ValidateTest, GoodCollectionPassesClean) {
   EXPECT_LT(report.statistics().at("cross.worldpos-depth.error").max, 1e-3);
   ASSERT_TRUE(report.statistics().count("camera.reprojection_rms_px"));
   EXPECT_LT(report.statistics().at("camera.reprojection_rms_px").max, 0.01);
-  EXPECT_EQ(report.statistics()
-                .at("cross.metadata-pose.metadata.json.position_error")
-                .max,
-            0.0);
+  EXPECT_EQ(report.statistics().at("cross.metadata-pose.metadata.json.position_error").max, 0.0);
 }
 
 // A collection written before format 1.1 (no shots, no scene state or new
@@ -88,8 +81,7 @@ TEST_F(ValidateTest, Format10CollectionStillValidates) {
     frame.erase("shot");
     frame.erase("scene");
     for (auto& object : frame["objects"])
-      for (const char* key : {"asset", "material", "transmittance", "changes"})
-        object.erase(key);
+      for (const char* key : {"asset", "material", "transmittance", "changes"}) object.erase(key);
   }
   std::ofstream(old / "collection.json") << collection.dump();
   nlohmann::json metadata;
@@ -113,47 +105,41 @@ TEST_F(ValidateTest, Format10CollectionStillValidates) {
   EXPECT_EQ(report.frames, 4);
 }
 
-class CorpusTest : public ValidateTest,
-                   public ::testing::WithParamInterface<std::string> {};
+class CorpusTest : public ValidateTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(CorpusTest, ReportsCheckAndLocation) {
   corpus::Expected expected;
   const fs::path root = Corrupted(GetParam(), &expected);
   const Report report = ValidateCollection(root);
   const std::vector<Finding> findings = report.Examples(expected.check);
-  ASSERT_FALSE(findings.empty()) << "no " << expected.check << " finding\n"
-                                 << Dump(report);
+  ASSERT_FALSE(findings.empty()) << "no " << expected.check << " finding\n" << Dump(report);
   bool found = false;
   for (const Finding& f : findings) {
     EXPECT_EQ(f.check_id, expected.check);
     if (f.location.file != expected.file) continue;
     if (expected.frame && f.location.frame != expected.frame) continue;
-    if (!expected.json_pointer.empty() &&
-        f.location.json_pointer != expected.json_pointer)
+    if (!expected.json_pointer.empty() && f.location.json_pointer != expected.json_pointer)
       continue;
-    if (expected.pixel_x && (f.location.pixel_x != expected.pixel_x ||
-                             f.location.pixel_y != expected.pixel_y)) {
+    if (expected.pixel_x &&
+        (f.location.pixel_x != expected.pixel_x || f.location.pixel_y != expected.pixel_y)) {
       continue;
     }
     found = true;
   }
-  std::string want =
-      expected.file +
-      (expected.frame ? " frame " + std::to_string(*expected.frame) : "") +
-      (expected.json_pointer.empty() ? "" : " #" + expected.json_pointer) +
-      (expected.pixel_x ? " pixel (" + std::to_string(*expected.pixel_x) +
-                              ", " + std::to_string(*expected.pixel_y) + ")"
-                        : "");
-  EXPECT_TRUE(found) << expected.check << " not reported at " << want << "\n"
-                     << Dump(report);
+  std::string want = expected.file +
+                     (expected.frame ? " frame " + std::to_string(*expected.frame) : "") +
+                     (expected.json_pointer.empty() ? "" : " #" + expected.json_pointer) +
+                     (expected.pixel_x ? " pixel (" + std::to_string(*expected.pixel_x) + ", " +
+                                             std::to_string(*expected.pixel_y) + ")"
+                                       : "");
+  EXPECT_TRUE(found) << expected.check << " not reported at " << want << "\n" << Dump(report);
   // Statistics (info) are reported but fail nothing at the warning level.
   EXPECT_TRUE(report.Fails(GetCheck(expected.check).severity));
 }
 
 std::vector<std::string> CorruptionNames() {
   std::vector<std::string> names;
-  for (const corpus::Corruption& c : corpus::Corruptions())
-    names.push_back(c.name);
+  for (const corpus::Corruption& c : corpus::Corruptions()) names.push_back(c.name);
   return names;
 }
 
@@ -163,8 +149,7 @@ INSTANTIATE_TEST_SUITE_P(Corpus,
                          [](const ::testing::TestParamInfo<std::string>& info) {
                            std::string name = info.param;
                            for (char& ch : name) {
-                             if (!isalnum(static_cast<unsigned char>(ch)))
-                               ch = '_';
+                             if (!isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            }
                            return name;
                          });
@@ -178,15 +163,13 @@ TEST_F(ValidateTest, CorpusCoversEveryCheck) {
     fs::remove_all(root);
   }
   for (const CheckInfo& check : AllChecks()) {
-    EXPECT_TRUE(covered.count(check.id))
-        << check.id << " has no corruption in the corpus";
+    EXPECT_TRUE(covered.count(check.id)) << check.id << " has no corruption in the corpus";
   }
 }
 
 TEST_F(ValidateTest, DeclaredPerturbedMetadataIsAStatisticNotAFinding) {
   corpus::Expected expected;
-  const fs::path root =
-      Corrupted("metadata-pose", &expected);  // frame 2 off by 0.5 m
+  const fs::path root = Corrupted("metadata-pose", &expected);  // frame 2 off by 0.5 m
   {
     std::ifstream in(root / "collection.json");
     nlohmann::json j = nlohmann::json::parse(in);
@@ -195,8 +178,8 @@ TEST_F(ValidateTest, DeclaredPerturbedMetadataIsAStatisticNotAFinding) {
   }
   const Report report = ValidateCollection(root);
   EXPECT_EQ(report.CountOf("cross.metadata-pose"), 0) << Dump(report);
-  const Statistic& position = report.statistics().at(
-      "cross.metadata-pose.metadata.json.position_error");
+  const Statistic& position =
+      report.statistics().at("cross.metadata-pose.metadata.json.position_error");
   EXPECT_NEAR(position.max, 0.5, 1e-9);
   EXPECT_EQ(position.count, 4);
 }
@@ -241,8 +224,7 @@ TEST(CheckSelectionTest, GroupsAndSuggestions) {
     CheckSelection::Parse("layer.depth-finit");
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("did you mean 'layer.depth-finite'"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("did you mean 'layer.depth-finite'"), std::string::npos)
         << e.what();
   }
 }
@@ -253,8 +235,7 @@ TEST(DocsTest, DocsListEveryCheck) {
   std::stringstream text;
   text << in.rdbuf();
   for (const CheckInfo& check : AllChecks()) {
-    EXPECT_NE(text.str().find("| `" + check.id + "` | " +
-                              SeverityName(check.severity) + " |"),
+    EXPECT_NE(text.str().find("| `" + check.id + "` | " + SeverityName(check.severity) + " |"),
               std::string::npos)
         << check.id << " is not in docs/validate.md's table";
   }
@@ -280,17 +261,14 @@ TEST(CameraSolveTest, RecoversFocalLengthFromWrongStart) {
   std::vector<Eigen::Vector2d> pixels;
   std::vector<Eigen::Vector3d> points;
   for (int k = 0; k < 200; ++k) {
-    const Eigen::Vector3d in_cam(
-        (k % 20 - 10) * 0.7, (k / 20 - 5) * 0.6, 15 + (k % 7));
+    const Eigen::Vector3d in_cam((k % 20 - 10) * 0.7, (k / 20 - 5) * 0.6, 15 + (k % 7));
     pixels.push_back(truth.ImageFromCam(in_cam));
     points.push_back(in_cam);  // cam_from_world = identity
   }
   const PinholeCamera wrong = PinholeCamera::FromHorizontalFov(640, 480, 70);
   CameraSolution initial;
-  initial.fx = wrong.fx, initial.fy = wrong.fy, initial.cx = wrong.cx,
-  initial.cy = wrong.cy;
-  const CameraSolution solved =
-      SolveCamera(pixels, points, initial, /*solve_pose=*/true);
+  initial.fx = wrong.fx, initial.fy = wrong.fy, initial.cx = wrong.cx, initial.cy = wrong.cy;
+  const CameraSolution solved = SolveCamera(pixels, points, initial, /*solve_pose=*/true);
   ASSERT_TRUE(solved.solved);
   EXPECT_NEAR(solved.fx, truth.fx, 1e-3 * truth.fx);
   EXPECT_NEAR(solved.fy, truth.fy, 1e-3 * truth.fy);

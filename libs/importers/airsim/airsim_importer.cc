@@ -46,8 +46,7 @@ auto AtField(const std::string& file, const std::string& pointer, F&& body) {
   try {
     return body();
   } catch (const json::exception& e) {
-    throw Error(std::string("malformed field: ") + e.what(),
-                Location(file, pointer));
+    throw Error(std::string("malformed field: ") + e.what(), Location(file, pointer));
   }
 }
 
@@ -72,29 +71,25 @@ Rigid3d CamFromEnuOfAirSim(const Eigen::Vector3d& vehicle_in_ned,
                            const Eigen::Quaterniond& ned_from_body,
                            const AirSimMount& mount) {
   const Eigen::Matrix3d ned_from_body_m = ned_from_body.toRotationMatrix();
-  const Eigen::Matrix3d enu_from_cam = Ned().enu_from_frame * ned_from_body_m *
-                                       mount.BodyFromCamera() * FrdFromOpenCv();
-  const Eigen::Vector3d centre = Ned().EnuMetresFromWorld(
-      vehicle_in_ned + ned_from_body_m * mount.position_in_body);
-  const Eigen::Quaterniond cam_from_enu(
-      Eigen::Matrix3d(enu_from_cam.transpose()));
-  return Rigid3d(cam_from_enu.normalized(),
-                 -(cam_from_enu.normalized() * centre));
+  const Eigen::Matrix3d enu_from_cam =
+      Ned().enu_from_frame * ned_from_body_m * mount.BodyFromCamera() * FrdFromOpenCv();
+  const Eigen::Vector3d centre =
+      Ned().EnuMetresFromWorld(vehicle_in_ned + ned_from_body_m * mount.position_in_body);
+  const Eigen::Quaterniond cam_from_enu(Eigen::Matrix3d(enu_from_cam.transpose()));
+  return Rigid3d(cam_from_enu.normalized(), -(cam_from_enu.normalized() * centre));
 }
 
 void AirSimVehicleOfCamFromEnu(const Rigid3d& cam_from_enu,
                                const AirSimMount& mount,
                                Eigen::Vector3d* vehicle_in_ned,
                                Eigen::Quaterniond* ned_from_body) {
-  const Eigen::Matrix3d enu_from_cam =
-      cam_from_enu.rotation.toRotationMatrix().transpose();
-  const Eigen::Matrix3d ned_from_body_m =
-      Ned().enu_from_frame.transpose() * enu_from_cam *
-      FrdFromOpenCv().transpose() * mount.BodyFromCamera().transpose();
+  const Eigen::Matrix3d enu_from_cam = cam_from_enu.rotation.toRotationMatrix().transpose();
+  const Eigen::Matrix3d ned_from_body_m = Ned().enu_from_frame.transpose() * enu_from_cam *
+                                          FrdFromOpenCv().transpose() *
+                                          mount.BodyFromCamera().transpose();
   *ned_from_body = Eigen::Quaterniond(ned_from_body_m).normalized();
-  *vehicle_in_ned =
-      Ned().WorldFromEnuMetres(CameraCenterInWorld(cam_from_enu)) -
-      ned_from_body_m * mount.position_in_body;
+  *vehicle_in_ned = Ned().WorldFromEnuMetres(CameraCenterInWorld(cam_from_enu)) -
+                    ned_from_body_m * mount.position_in_body;
 }
 
 void AirSimImporter::ReadObjects(const fs::path& path) {
@@ -102,33 +97,26 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
   const json root = ParseJsonFile(path);
   AtField(file, "/format", [&] {
     if (root.at("format").get<std::string>() != "lsds-airsim-objects")
-      throw Error("'format' must be \"lsds-airsim-objects\"",
-                  Location(file, "/format"));
+      throw Error("'format' must be \"lsds-airsim-objects\"", Location(file, "/format"));
     return 0;
   });
-  vehicle_ = AtField(file, "/vehicle", [&] {
-    return root.value("vehicle", std::string("Drone1"));
-  });
-  camera_ = AtField(
-      file, "/camera", [&] { return root.value("camera", std::string("0")); });
-  const std::string depth = AtField(file, "/depth", [&] {
-    return root.value("depth", std::string("DepthPlanar"));
-  });
+  vehicle_ =
+      AtField(file, "/vehicle", [&] { return root.value("vehicle", std::string("Drone1")); });
+  camera_ = AtField(file, "/camera", [&] { return root.value("camera", std::string("0")); });
+  const std::string depth =
+      AtField(file, "/depth", [&] { return root.value("depth", std::string("DepthPlanar")); });
   if (depth == "DepthPlanar")
     depth_kind_ = DepthKind::kPlanar;
   else if (depth == "DepthPerspective")
     depth_kind_ = DepthKind::kPerspective;
   else
-    throw Error("'depth' must be DepthPlanar or DepthPerspective",
-                Location(file, "/depth"));
-  sky_depth_m_ = AtField(
-      file, "/sky_depth_m", [&] { return root.value("sky_depth_m", 1e4); });
+    throw Error("'depth' must be DepthPlanar or DepthPerspective", Location(file, "/depth"));
+  sky_depth_m_ = AtField(file, "/sky_depth_m", [&] { return root.value("sky_depth_m", 1e4); });
   std::set<uint32_t> class_ids, instance_ids;
   AtField(file, "/classes", [&] {
     for (size_t i = 0; i < root.at("classes").size(); ++i) {
       const json& c = root.at("classes").at(i);
-      const ClassInfo info{c.at("id").get<uint32_t>(),
-                           c.at("name").get<std::string>()};
+      const ClassInfo info{c.at("id").get<uint32_t>(), c.at("name").get<std::string>()};
       if (info.id == 0 || !class_ids.insert(info.id).second)
         throw Error("class ids must be > 0 and unique",
                     Location(file, "/classes/" + std::to_string(i) + "/id"));
@@ -141,18 +129,13 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
       const json& o = root.at("objects").at(i);
       const std::string where = "/objects/" + std::to_string(i);
       const json& rgb = o.at("color");
-      const std::array<uint8_t, 3> colour = {rgb.at(0).get<uint8_t>(),
-                                             rgb.at(1).get<uint8_t>(),
-                                             rgb.at(2).get<uint8_t>()};
-      Labelled label{o.at("instance_id").get<uint32_t>(),
-                     o.at("class_id").get<uint32_t>()};
-      if (label.instance_id == 0 ||
-          !instance_ids.insert(label.instance_id).second)
-        throw Error("instance ids must be > 0 and unique",
-                    Location(file, where + "/instance_id"));
+      const std::array<uint8_t, 3> colour = {
+          rgb.at(0).get<uint8_t>(), rgb.at(1).get<uint8_t>(), rgb.at(2).get<uint8_t>()};
+      Labelled label{o.at("instance_id").get<uint32_t>(), o.at("class_id").get<uint32_t>()};
+      if (label.instance_id == 0 || !instance_ids.insert(label.instance_id).second)
+        throw Error("instance ids must be > 0 and unique", Location(file, where + "/instance_id"));
       if (!class_ids.count(label.class_id))
-        throw Error("class_id " + std::to_string(label.class_id) +
-                        " is not in 'classes'",
+        throw Error("class_id " + std::to_string(label.class_id) + " is not in 'classes'",
                     Location(file, where + "/class_id"));
       // AirSim's palette has 256 colours for ids hashed from names: two
       // objects on one colour cannot be told apart.
@@ -172,8 +155,7 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
           ned_from_box(r, c) = obb.at("rotation").at(r).at(c).get<double>();
-      if ((ned_from_box.transpose() * ned_from_box -
-           Eigen::Matrix3d::Identity())
+      if ((ned_from_box.transpose() * ned_from_box - Eigen::Matrix3d::Identity())
                   .cwiseAbs()
                   .maxCoeff() > 1e-6 ||
           ned_from_box.determinant() < 0)
@@ -181,9 +163,8 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
                     Location(file, where + "/obb/rotation"));
       const json& c = obb.at("center");
       const json& h = obb.at("half_extents");
-      target.obb.center = Ned().EnuMetresFromWorld({c.at(0).get<double>(),
-                                                    c.at(1).get<double>(),
-                                                    c.at(2).get<double>()});
+      target.obb.center = Ned().EnuMetresFromWorld(
+          {c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>()});
       // NED and ENU are both right-handed: the box axes map as they are.
       target.obb.world_from_box = Ned().enu_from_frame * ned_from_box;
       target.obb.half_extents = {
@@ -199,8 +180,7 @@ void AirSimImporter::ReadSettings(const fs::path& path) {
   const json root = ParseJsonFile(path);
   const std::string where = "/Vehicles/" + vehicle_ + "/Cameras/" + camera_;
   AtField(file, where, [&] {
-    const json& camera =
-        root.at("Vehicles").at(vehicle_).at("Cameras").at(camera_);
+    const json& camera = root.at("Vehicles").at(vehicle_).at("Cameras").at(camera_);
     mount_.position_in_body = {
         camera.value("X", 0.0), camera.value("Y", 0.0), camera.value("Z", 0.0)};
     mount_.roll = camera.value("Roll", 0.0);
@@ -232,18 +212,14 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
     for (size_t i = 0; i < header.size(); ++i)
       if (header[i] == name) return static_cast<int>(i);
     if (required)
-      throw Error("column '" + name + "' missing from the header",
-                  Location::Text(file, 1, 1));
+      throw Error("column '" + name + "' missing from the header", Location::Text(file, 1, 1));
     return -1;
   };
   const int vehicle = column("VehicleName", false);
   const int stamp = column("TimeStamp", true);
-  const int pos[3] = {
-      column("POS_X", true), column("POS_Y", true), column("POS_Z", true)};
-  const int q[4] = {column("Q_W", true),
-                    column("Q_X", true),
-                    column("Q_Y", true),
-                    column("Q_Z", true)};
+  const int pos[3] = {column("POS_X", true), column("POS_Y", true), column("POS_Z", true)};
+  const int q[4] = {
+      column("Q_W", true), column("Q_X", true), column("Q_Y", true), column("Q_Z", true)};
   const int images = column("ImageFile", true);
   const fs::path folder = source / "images";
   double first_stamp = std::numeric_limits<double>::quiet_NaN();
@@ -262,9 +238,8 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
       char* end = nullptr;
       const double value = std::strtod(cells[c].c_str(), &end);
       if (end == cells[c].c_str() || *end != '\0')
-        throw Error(
-            "column '" + header[c] + "' is '" + cells[c] + "', not a number",
-            Location::Text(file, number, 1));
+        throw Error("column '" + header[c] + "' is '" + cells[c] + "', not a number",
+                    Location::Text(file, number, 1));
       return value;
     };
     Row row;
@@ -273,49 +248,40 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
     if (std::isnan(first_stamp)) first_stamp = ms;
     row.time = (ms - first_stamp) / 1000.0;
     row.position = {number_at(pos[0]), number_at(pos[1]), number_at(pos[2])};
-    row.orientation = Eigen::Quaterniond(
-        number_at(q[0]), number_at(q[1]), number_at(q[2]), number_at(q[3]));
+    row.orientation =
+        Eigen::Quaterniond(number_at(q[0]), number_at(q[1]), number_at(q[2]), number_at(q[3]));
     if (std::abs(row.orientation.norm() - 1) > 1e-3)
       throw Error("quaternion (Q_W, Q_X, Q_Y, Q_Z) is not unit length",
                   Location::Text(file, number, 1));
     row.orientation.normalize();
     // img_[vehicle_]camera_type_stamp.ext; camera names may hold '_'.
     for (const std::string& name : Split(cells[images], ';')) {
-      for (const auto& [type, target] :
-           {std::pair<int, fs::path*>{0, &row.scene},
-            {depth_kind_ == DepthKind::kPlanar ? 1 : 2, &row.depth},
-            {5, &row.segmentation}}) {
-        if (name.find("_" + camera_ + "_" + std::to_string(type) + "_") !=
-            std::string::npos)
+      for (const auto& [type, target] : {std::pair<int, fs::path*>{0, &row.scene},
+                                         {depth_kind_ == DepthKind::kPlanar ? 1 : 2, &row.depth},
+                                         {5, &row.segmentation}}) {
+        if (name.find("_" + camera_ + "_" + std::to_string(type) + "_") != std::string::npos)
           *target = folder / name;
       }
     }
     for (const auto& [what, path] :
          {std::pair<const char*, const fs::path*>{"Scene (type 0)", &row.scene},
-          {depth_kind_ == DepthKind::kPlanar ? "DepthPlanar (type 1)"
-                                             : "DepthPerspective (type 2)",
+          {depth_kind_ == DepthKind::kPlanar ? "DepthPlanar (type 1)" : "DepthPerspective (type 2)",
            &row.depth},
           {"Segmentation (type 5)", &row.segmentation}}) {
       if (path->empty())
-        throw Error(std::string("no ") + what + " image of camera '" + camera_ +
-                        "' in ImageFile",
+        throw Error(std::string("no ") + what + " image of camera '" + camera_ + "' in ImageFile",
                     Location::Text(file, number, 1));
     }
     rows_.push_back(row);
   }
-  if (rows_.empty())
-    throw Error("no rows of vehicle '" + vehicle_ + "'", Location(file));
+  if (rows_.empty()) throw Error("no rows of vehicle '" + vehicle_ + "'", Location(file));
 }
 
-SourceDescription AirSimImporter::Open(const fs::path& source,
-                                       const ImportOptions& options) {
+SourceDescription AirSimImporter::Open(const fs::path& source, const ImportOptions& options) {
   if (!fs::is_directory(source))
-    throw Error("an AirSim recording folder was expected",
-                Location(source.string()));
-  ReadObjects(options.objects.empty() ? source / "lsds_objects.json"
-                                      : options.objects);
-  ReadSettings(options.settings.empty() ? source / "settings.json"
-                                        : options.settings);
+    throw Error("an AirSim recording folder was expected", Location(source.string()));
+  ReadObjects(options.objects.empty() ? source / "lsds_objects.json" : options.objects);
+  ReadSettings(options.settings.empty() ? source / "settings.json" : options.settings);
   ReadRecord(source);
   SourceDescription description;
   description.classes = classes_;
@@ -333,8 +299,7 @@ SourceDescription AirSimImporter::Open(const fs::path& source,
       {"length_unit", "m"},
       {"pose", "vehicle body (FRD) in NED + settings.json camera mount"},
       {"depth",
-       depth_kind_ == DepthKind::kPlanar ? "DepthPlanar PFM, m"
-                                         : "DepthPerspective PFM, m"},
+       depth_kind_ == DepthKind::kPlanar ? "DepthPlanar PFM, m" : "DepthPerspective PFM, m"},
       {"pfm_rows", "top row first (AirSim), not the PFM specification's"},
       {"converted_to", "ENU m"}};
   return description;
@@ -346,62 +311,51 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   frame.time = row.time;
   frame.sequence = "airsim-" + vehicle_;
   frame.shot = 0;
-  frame.camera.intrinsics =
-      PinholeCamera::FromHorizontalFov(width_, height_, fov_deg_);
-  const Rigid3d cam_from_world =
-      CamFromEnuOfAirSim(row.position, row.orientation, mount_);
-  frame.camera.cam_from_world_rotation =
-      cam_from_world.rotation.toRotationMatrix();
+  frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(width_, height_, fov_deg_);
+  const Rigid3d cam_from_world = CamFromEnuOfAirSim(row.position, row.orientation, mount_);
+  frame.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
   frame.camera.cam_from_world_translation = cam_from_world.translation;
 
   auto read_png = [&](const fs::path& path) {
     const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
-    if (image.empty())
-      throw Error("not a readable PNG", Location(path.string()));
+    if (image.empty()) throw Error("not a readable PNG", Location(path.string()));
     if (image.cols != width_ || image.rows != height_)
-      throw Error("image is " + std::to_string(image.cols) + "x" +
-                      std::to_string(image.rows) + ", settings.json says " +
-                      std::to_string(width_) + "x" + std::to_string(height_),
+      throw Error("image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                      ", settings.json says " + std::to_string(width_) + "x" +
+                      std::to_string(height_),
                   Location(path.string()));
     return image;
   };
   const cv::Mat scene = read_png(row.scene);
   exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width_, height_);
-  float* channel[3] = {
-      rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
-      rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
+  float* channel[3] = {rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
+                       rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
+                       rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
       const cv::Vec3b bgr = scene.at<cv::Vec3b>(j, i);
-      for (int c = 0; c < 3; ++c)
-        channel[c][rgb.Index(i, j)] = LinearFromSrgb8(bgr[2 - c]);
+      for (int c = 0; c < 3; ++c) channel[c][rgb.Index(i, j)] = LinearFromSrgb8(bgr[2 - c]);
     }
 
   const PfmImage pfm = ReadPfm(row.depth, PfmRows::kTopFirst);
   if (pfm.width != width_ || pfm.height != height_ || pfm.channels != 1)
-    throw Error("depth PFM is not " + std::to_string(width_) + "x" +
-                    std::to_string(height_) + " greyscale",
-                Location(row.depth.string()));
+    throw Error(
+        "depth PFM is not " + std::to_string(width_) + "x" + std::to_string(height_) + " greyscale",
+        Location(row.depth.string()));
   exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
   std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
   z = pfm.values;
   for (float& value : z) {
     if (std::isnan(value) || value < 0)
-      throw Error("depth holds a negative or NaN value",
-                  Location(row.depth.string()));
+      throw Error("depth holds a negative or NaN value", Location(row.depth.string()));
     if (value >= sky_depth_m_) value = std::numeric_limits<float>::infinity();
   }
 
   const cv::Mat segmentation = read_png(row.segmentation);
-  exr::FlatImage& instances = frame.flat["instanceid"] =
-      exr::FlatImage(width_, height_);
-  exr::FlatImage& classes = frame.flat["classid"] =
-      exr::FlatImage(width_, height_);
-  std::vector<uint32_t>& instance =
-      instances.AddChannel("id", exr::PixelType::kUint).uints;
-  std::vector<uint32_t>& klass =
-      classes.AddChannel("id", exr::PixelType::kUint).uints;
+  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
+  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
+  std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
+  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
       const cv::Vec3b bgr = segmentation.at<cv::Vec3b>(j, i);

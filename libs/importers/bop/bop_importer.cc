@@ -26,8 +26,7 @@ Eigen::Matrix3d Matrix3(const json& j) {
   return m;
 }
 Eigen::Vector3d Vector3(const json& j) {
-  if (!j.is_array() || j.size() != 3)
-    throw json::type_error::create(302, "expected 3 numbers", &j);
+  if (!j.is_array() || j.size() != 3) throw json::type_error::create(302, "expected 3 numbers", &j);
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
 }
 
@@ -38,38 +37,31 @@ std::string Stem(int64_t id) {
 }
 
 bool IsRotation(const Eigen::Matrix3d& r) {
-  return (r.transpose() * r - Eigen::Matrix3d::Identity())
-                 .cwiseAbs()
-                 .maxCoeff() < 1e-5 &&
+  return (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-5 &&
          r.determinant() > 0;
 }
 
 }  // namespace
 
-SourceDescription BopImporter::Open(const fs::path& source,
-                                    const ImportOptions& options) {
+SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions& options) {
   scene_ = source;
   camera_file_ = (source / "scene_camera.json").string();
   gt_file_ = (source / "scene_gt.json").string();
   if (!fs::is_regular_file(camera_file_))
-    throw Error("not a BOP scene folder: no scene_camera.json",
-                Location(source.string()));
+    throw Error("not a BOP scene folder: no scene_camera.json", Location(source.string()));
   cameras_ = ParseJsonFile(camera_file_);
   gts_ = ParseJsonFile(gt_file_);
   if (!cameras_.is_object() || cameras_.empty())
     throw Error("expected an object of image ids", Location(camera_file_));
   for (const auto& [key, value] : cameras_.items()) image_ids_.push_back(key);
-  std::sort(image_ids_.begin(),
-            image_ids_.end(),
-            [](const std::string& a, const std::string& b) {
-              return std::stoll(a) < std::stoll(b);
-            });
+  std::sort(image_ids_.begin(), image_ids_.end(), [](const std::string& a, const std::string& b) {
+    return std::stoll(a) < std::stoll(b);
+  });
   // The dataset's models (default: ../../models/models_info.json of a split's
   // scene folder).
   const fs::path models_file =
-      options.objects.empty()
-          ? source.parent_path().parent_path() / "models" / "models_info.json"
-          : options.objects;
+      options.objects.empty() ? source.parent_path().parent_path() / "models" / "models_info.json"
+                              : options.objects;
   const json models = ParseJsonFile(models_file);
   for (const auto& [key, info] : models.items()) {
     const std::string where = "/" + key;
@@ -85,14 +77,12 @@ SourceDescription BopImporter::Open(const fs::path& source,
     });
     const uint32_t obj_id = static_cast<uint32_t>(std::stoul(key));
     if (obj_id == 0 || !(box.size_mm.minCoeff() >= 0))
-      throw Error("obj_id must be > 0 and sizes >= 0",
-                  Location(models_file.string(), where));
+      throw Error("obj_id must be > 0 and sizes >= 0", Location(models_file.string(), where));
     models_[obj_id] = box;
     classes_.push_back({obj_id, "obj_" + Stem(obj_id)});
   }
   // The image size, from the first depth image.
-  const fs::path first =
-      source / "depth" / (Stem(std::stoll(image_ids_[0])) + ".png");
+  const fs::path first = source / "depth" / (Stem(std::stoll(image_ids_[0])) + ".png");
   const cv::Mat depth = cv::imread(first.string(), cv::IMREAD_UNCHANGED);
   if (depth.empty() || depth.type() != CV_16UC1)
     throw Error("not a 16-bit greyscale depth PNG", Location(first.string()));
@@ -138,8 +128,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
     return 0;
   });
   if (!IsRotation(r_w2c))
-    throw Error("cam_R_w2c is not a rotation",
-                Location(camera_file_, where + "/cam_R_w2c"));
+    throw Error("cam_R_w2c is not a rotation", Location(camera_file_, where + "/cam_R_w2c"));
   PinholeCamera& camera = frame.camera.intrinsics;
   camera.width = width_, camera.height = height_;
   camera.fx = k(0, 0), camera.fy = k(1, 1);
@@ -151,56 +140,45 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
   const Eigen::Matrix3d world_from_cam = r_w2c.transpose();
   const Eigen::Vector3d centre_mm = -(world_from_cam * t_w2c_mm);
 
-  frame.flat["rgb"] = ReadSrgbLayer(scene_ / "rgb" / (Stem(id) + ".png"),
-                                    width_, height_, "the depth images' size");
+  frame.flat["rgb"] = ReadSrgbLayer(
+      scene_ / "rgb" / (Stem(id) + ".png"), width_, height_, "the depth images' size");
 
   const fs::path depth_path = scene_ / "depth" / (Stem(id) + ".png");
-  const cv::Mat depth_png =
-      cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
-  if (depth_png.empty() || depth_png.type() != CV_16UC1 ||
-      depth_png.cols != width_ || depth_png.rows != height_)
-    throw Error("not a " + std::to_string(width_) + "x" +
-                    std::to_string(height_) + " 16-bit depth PNG",
-                Location(depth_path.string()));
+  const cv::Mat depth_png = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
+  if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width_ ||
+      depth_png.rows != height_)
+    throw Error(
+        "not a " + std::to_string(width_) + "x" + std::to_string(height_) + " 16-bit depth PNG",
+        Location(depth_path.string()));
   exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
   std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
       const uint16_t v = depth_png.at<uint16_t>(j, i);
-      z[depth.Index(i, j)] = v == 0
-                                 ? std::numeric_limits<float>::infinity()
-                                 : static_cast<float>(v * depth_scale / 1000.0);
+      z[depth.Index(i, j)] = v == 0 ? std::numeric_limits<float>::infinity()
+                                    : static_cast<float>(v * depth_scale / 1000.0);
     }
 
-  exr::FlatImage& instances = frame.flat["instanceid"] =
-      exr::FlatImage(width_, height_);
-  exr::FlatImage& classes = frame.flat["classid"] =
-      exr::FlatImage(width_, height_);
-  std::vector<uint32_t>& instance =
-      instances.AddChannel("id", exr::PixelType::kUint).uints;
-  std::vector<uint32_t>& klass =
-      classes.AddChannel("id", exr::PixelType::kUint).uints;
+  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
+  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
+  std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
+  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
   const json gts = AtField(gt_file_, where, [&] { return gts_.at(key); });
   for (size_t g = 0; g < gts.size(); ++g) {
     const std::string at = where + "/" + std::to_string(g);
     const json& gt = gts.at(g);
-    const uint32_t obj_id = AtField(gt_file_, at + "/obj_id", [&] {
-      return gt.at("obj_id").get<uint32_t>();
-    });
+    const uint32_t obj_id =
+        AtField(gt_file_, at + "/obj_id", [&] { return gt.at("obj_id").get<uint32_t>(); });
     const auto model = models_.find(obj_id);
     if (model == models_.end())
-      throw Error(
-          "obj_id " + std::to_string(obj_id) + " is not in models_info.json",
-          Location(gt_file_, at + "/obj_id"));
-    const Eigen::Matrix3d r_m2c = AtField(gt_file_, at + "/cam_R_m2c", [&] {
-      return Matrix3(gt.at("cam_R_m2c"));
-    });
-    const Eigen::Vector3d t_m2c = AtField(gt_file_, at + "/cam_t_m2c", [&] {
-      return Vector3(gt.at("cam_t_m2c"));
-    });
+      throw Error("obj_id " + std::to_string(obj_id) + " is not in models_info.json",
+                  Location(gt_file_, at + "/obj_id"));
+    const Eigen::Matrix3d r_m2c =
+        AtField(gt_file_, at + "/cam_R_m2c", [&] { return Matrix3(gt.at("cam_R_m2c")); });
+    const Eigen::Vector3d t_m2c =
+        AtField(gt_file_, at + "/cam_t_m2c", [&] { return Vector3(gt.at("cam_t_m2c")); });
     if (!IsRotation(r_m2c))
-      throw Error("cam_R_m2c is not a rotation",
-                  Location(gt_file_, at + "/cam_R_m2c"));
+      throw Error("cam_R_m2c is not a rotation", Location(gt_file_, at + "/cam_R_m2c"));
     // Instance g + 1: BlenderProc writes a scene's objects in the same order
     // in every image. The class is the model.
     ObjectIdentity target;
@@ -216,20 +194,18 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
     frame.targets.push_back(target);
 
     const fs::path mask_path =
-        scene_ / "mask_visib" /
-        (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png");
+        scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png");
     const cv::Mat mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
     if (mask.empty() || mask.cols != width_ || mask.rows != height_)
-      throw Error("missing, unreadable or not " + std::to_string(width_) + "x" +
-                      std::to_string(height_),
-                  Location(mask_path.string()));
+      throw Error(
+          "missing, unreadable or not " + std::to_string(width_) + "x" + std::to_string(height_),
+          Location(mask_path.string()));
     for (int j = 0; j < height_; ++j)
       for (int i = 0; i < width_; ++i) {
         if (mask.at<uint8_t>(j, i) == 0) continue;
         const size_t p = instances.Index(i, j);
         if (instance[p] != 0)
-          throw Error("visible masks of objects " +
-                          std::to_string(instance[p] - 1) + " and " +
+          throw Error("visible masks of objects " + std::to_string(instance[p] - 1) + " and " +
                           std::to_string(g) + " overlap",
                       Location::Pixel(mask_path.string(), index, i, j));
         instance[p] = target.instance_id;

@@ -22,8 +22,7 @@ namespace {
 
 std::string FrameFile(const char* stem, int64_t frame, const char* ext) {
   char text[64];
-  std::snprintf(text, sizeof text, "%s_%05lld.%s", stem,
-                static_cast<long long>(frame), ext);
+  std::snprintf(text, sizeof text, "%s_%05lld.%s", stem, static_cast<long long>(frame), ext);
   return text;
 }
 
@@ -34,8 +33,7 @@ std::string ClassName(const json& instance) {
     const auto it = instance.find(key);
     if (it == instance.end()) continue;
     if (it->is_string()) return it->get<std::string>();
-    if (it->is_number_integer())
-      return std::string(key) + "_" + std::to_string(it->get<int64_t>());
+    if (it->is_number_integer()) return std::string(key) + "_" + std::to_string(it->get<int64_t>());
   }
   return "object";
 }
@@ -47,9 +45,7 @@ constexpr float kBackgroundDepth = 1e9f;
 // The OBB of Kubric's 8 corners, itertools.product(x, y, z bounds) order:
 // corner 4*ix + 2*iy + iz, each rotated by the object's quaternion and moved
 // to its position (core/objects.py bbox_3d).
-OrientedBox ObbFromCorners(const json& corners,
-                           const std::string& file,
-                           const std::string& where) {
+OrientedBox ObbFromCorners(const json& corners, const std::string& file, const std::string& where) {
   Eigen::Vector3d c[8];
   AtField(file, where, [&] {
     if (!corners.is_array() || corners.size() != 8)
@@ -63,29 +59,24 @@ OrientedBox ObbFromCorners(const json& corners,
   const Eigen::Vector3d edge[3] = {c[4] - c[0], c[2] - c[0], c[1] - c[0]};
   for (int a = 0; a < 3; ++a) {
     const double length = edge[a].norm();
-    if (!(length > 0))
-      throw Error("degenerate box (zero edge)", Location(file, where));
+    if (!(length > 0)) throw Error("degenerate box (zero edge)", Location(file, where));
     box.half_extents[a] = 0.5 * length;
     box.world_from_box.col(a) = edge[a] / length;
   }
   const Eigen::Matrix3d& r = box.world_from_box;
-  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() >
-          1e-4 ||
+  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4 ||
       r.determinant() < 0)
-    throw Error("the 8 corners are not a box in product(x, y, z) order",
-                Location(file, where));
+    throw Error("the 8 corners are not a box in product(x, y, z) order", Location(file, where));
   return box;
 }
 
 }  // namespace
 
-SourceDescription KubricImporter::Open(const fs::path& source,
-                                       const ImportOptions&) {
+SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptions&) {
   scene_ = source;
   metadata_file_ = (source / "metadata.json").string();
   if (!fs::is_regular_file(metadata_file_))
-    throw Error("not a Kubric scene folder: no metadata.json",
-                Location(source.string()));
+    throw Error("not a Kubric scene folder: no metadata.json", Location(source.string()));
   const json metadata = ParseJsonFile(metadata_file_);
   int64_t frames = 0;
   AtField(metadata_file_, "/metadata", [&] {
@@ -100,10 +91,9 @@ SourceDescription KubricImporter::Open(const fs::path& source,
   if (width_ < 1 || height_ < 1 || frames < 1 || !(frame_rate_ > 0))
     throw Error("resolution, num_frames and frame_rate must be positive",
                 Location(metadata_file_, "/metadata"));
-  camera_ = AtField(metadata_file_, "/camera",
-                    [&] { return metadata.at("camera"); });
-  const Eigen::Matrix<double, 9, 1> k = AtField(
-      metadata_file_, "/camera/K", [&] { return JsonNumbers<9>(camera_.at("K")); });
+  camera_ = AtField(metadata_file_, "/camera", [&] { return metadata.at("camera"); });
+  const Eigen::Matrix<double, 9, 1> k =
+      AtField(metadata_file_, "/camera/K", [&] { return JsonNumbers<9>(camera_.at("K")); });
   for (int r = 0; r < 9; ++r) normalised_k_(r / 3, r % 3) = k[r];
   for (const char* key : {"positions", "quaternions"}) {
     const std::string where = std::string("/camera/") + key;
@@ -114,14 +104,14 @@ SourceDescription KubricImporter::Open(const fs::path& source,
       return 0;
     });
   }
-  instances_ = AtField(metadata_file_, "/instances",
-                       [&] { return metadata.at("instances"); });
+  instances_ = AtField(metadata_file_, "/instances", [&] { return metadata.at("instances"); });
   // The segmentation PNG is 8-bit: kb.write_palette_png casts the index to
   // uint8, so instance 256 would read as 0.
   if (instances_.size() > 255)
-    throw Error("more than 255 instances: Kubric's 8-bit segmentation wraps "
-                "and cannot tell them apart",
-                Location(metadata_file_, "/instances"));
+    throw Error(
+        "more than 255 instances: Kubric's 8-bit segmentation wraps "
+        "and cannot tell them apart",
+        Location(metadata_file_, "/instances"));
   std::set<std::string> names;
   for (const json& instance : instances_) names.insert(ClassName(instance));
   SourceDescription description;
@@ -136,8 +126,8 @@ SourceDescription KubricImporter::Open(const fs::path& source,
     const std::string where = "/instances/" + std::to_string(i) + "/bboxes_3d";
     AtField(metadata_file_, where, [&] {
       if (instance.at("bboxes_3d").size() != static_cast<size_t>(frames))
-        throw json::type_error::create(302, "expected one box per frame",
-                                       &instance.at("bboxes_3d"));
+        throw json::type_error::create(
+            302, "expected one box per frame", &instance.at("bboxes_3d"));
       return 0;
     });
     Instance identity;
@@ -191,64 +181,51 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
     return 0;
   });
   if (!(std::abs(wxyz.norm() - 1) < 1e-3))
-    throw Error("not a unit quaternion",
-                Location(metadata_file_, "/camera/quaternions" + at));
+    throw Error("not a unit quaternion", Location(metadata_file_, "/camera/quaternions" + at));
   const Eigen::Matrix3d world_from_blender_cam =
-      Eigen::Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3])
-          .normalized()
-          .toRotationMatrix();
+      Eigen::Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3]).normalized().toRotationMatrix();
   // The Blender camera's x, y, z are the OpenCV camera's x, -y, -z.
   const Eigen::Matrix3d world_from_cam =
-      world_from_blender_cam *
-      Eigen::Vector3d(1, -1, -1).asDiagonal().toDenseMatrix();
+      world_from_blender_cam * Eigen::Vector3d(1, -1, -1).asDiagonal().toDenseMatrix();
   frame.camera.cam_from_world_rotation = world_from_cam.transpose();
   frame.camera.cam_from_world_translation = -(world_from_cam.transpose() * position);
 
-  frame.flat["rgb"] = ReadSrgbLayer(scene_ / FrameFile("rgba", index, "png"),
-                                    width_, height_, "metadata.json resolution");
+  frame.flat["rgb"] = ReadSrgbLayer(
+      scene_ / FrameFile("rgba", index, "png"), width_, height_, "metadata.json resolution");
 
   const fs::path depth_path = scene_ / FrameFile("depth", index, "tiff");
   const cv::Mat depth_tiff = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
-  if (depth_tiff.empty() || depth_tiff.type() != CV_32FC1 ||
-      depth_tiff.cols != width_ || depth_tiff.rows != height_)
-    throw Error("not a " + std::to_string(width_) + "x" +
-                    std::to_string(height_) + " float32 depth TIFF",
-                Location(depth_path.string()));
+  if (depth_tiff.empty() || depth_tiff.type() != CV_32FC1 || depth_tiff.cols != width_ ||
+      depth_tiff.rows != height_)
+    throw Error(
+        "not a " + std::to_string(width_) + "x" + std::to_string(height_) + " float32 depth TIFF",
+        Location(depth_path.string()));
   exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
   std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
       const float d = depth_tiff.at<float>(j, i);
-      if (d < 0)
-        throw Error("negative depth", Location::Pixel(depth_path.string(), index, i, j));
-      z[depth.Index(i, j)] = d >= kBackgroundDepth || std::isnan(d)
-                                 ? std::numeric_limits<float>::infinity()
-                                 : d;
+      if (d < 0) throw Error("negative depth", Location::Pixel(depth_path.string(), index, i, j));
+      z[depth.Index(i, j)] =
+          d >= kBackgroundDepth || std::isnan(d) ? std::numeric_limits<float>::infinity() : d;
     }
 
-  const fs::path segmentation_path =
-      scene_ / FrameFile("segmentation", index, "png");
+  const fs::path segmentation_path = scene_ / FrameFile("segmentation", index, "png");
   const IndexImage segmentation = ReadIndexedPng(segmentation_path);
   if (segmentation.width != width_ || segmentation.height != height_)
     throw Error("not " + std::to_string(width_) + "x" + std::to_string(height_),
                 Location(segmentation_path.string()));
-  exr::FlatImage& instances = frame.flat["instanceid"] =
-      exr::FlatImage(width_, height_);
-  exr::FlatImage& classes = frame.flat["classid"] =
-      exr::FlatImage(width_, height_);
-  std::vector<uint32_t>& instance =
-      instances.AddChannel("id", exr::PixelType::kUint).uints;
-  std::vector<uint32_t>& klass =
-      classes.AddChannel("id", exr::PixelType::kUint).uints;
+  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
+  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
+  std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
+  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
-      const uint8_t v =
-          segmentation.index[static_cast<size_t>(j) * width_ + i];
+      const uint8_t v = segmentation.index[static_cast<size_t>(j) * width_ + i];
       if (v == 0) continue;
       if (v > identities_.size())
         throw Error("segmentation index " + std::to_string(v) + " but only " +
-                        std::to_string(identities_.size()) +
-                        " instances in metadata.json",
+                        std::to_string(identities_.size()) + " instances in metadata.json",
                     Location::Pixel(segmentation_path.string(), index, i, j));
       instance[instances.Index(i, j)] = v;
       klass[classes.Index(i, j)] = identities_[v - 1].class_id;
@@ -260,9 +237,9 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
     target.class_id = identities_[n].class_id;
     target.name = identities_[n].name;
     target.asset = identities_[n].asset;
-    target.obb = ObbFromCorners(
-        instances_[n].at("bboxes_3d").at(index), metadata_file_,
-        "/instances/" + std::to_string(n) + "/bboxes_3d" + at);
+    target.obb = ObbFromCorners(instances_[n].at("bboxes_3d").at(index),
+                                metadata_file_,
+                                "/instances/" + std::to_string(n) + "/bboxes_3d" + at);
     frame.targets.push_back(target);
   }
   return frame;

@@ -31,8 +31,8 @@ class KubricImporter : public Importer {
   };
   std::filesystem::path scene_;
   std::string metadata_file_;
-  nlohmann::json camera_;      // metadata.json "camera"
-  nlohmann::json instances_;   // metadata.json "instances"
+  nlohmann::json camera_;     // metadata.json "camera"
+  nlohmann::json instances_;  // metadata.json "instances"
   std::vector<Instance> identities_;
   int width_ = 0, height_ = 0;
   double frame_rate_ = 1;

@@ -28,8 +28,7 @@ class ReplicatorImporter : public Importer {
   SourceFrame ReadFrame(int64_t index) override;
 
  private:
-  std::filesystem::path Path(const std::string& stem, int64_t index,
-                             const std::string& ext) const;
+  std::filesystem::path Path(const std::string& stem, int64_t index, const std::string& ext) const;
   std::filesystem::path folder_;
   std::vector<std::string> frame_ids_;  // "0000", ... in numeric order
   std::string depth_stem_;              // distance_to_image_plane | _camera

@@ -44,19 +44,15 @@ Eigen::Matrix3d RotationXyzw(const Eigen::Matrix<double, 4, 1>& q,
                              const std::string& where) {
   if (!(std::abs(q.norm() - 1) < 1e-3))
     throw Error("not a unit quaternion [x, y, z, w]", Location(file, where));
-  return Eigen::Quaterniond(q[3], q[0], q[1], q[2])
-      .normalized()
-      .toRotationMatrix();
+  return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
 }
 
 }  // namespace
 
-SourceDescription SoloImporter::Open(const fs::path& source,
-                                     const ImportOptions&) {
+SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions&) {
   const fs::path definitions_path = source / "annotation_definitions.json";
   if (!fs::is_regular_file(definitions_path))
-    throw Error("not a SOLO dataset: no annotation_definitions.json",
-                Location(source.string()));
+    throw Error("not a SOLO dataset: no annotation_definitions.json", Location(source.string()));
   const json definitions = ParseJsonFile(definitions_path);
   const std::string definitions_file = definitions_path.string();
   SourceDescription description;
@@ -68,25 +64,26 @@ SourceDescription SoloImporter::Open(const fs::path& source,
       for (size_t s = 0; s < list[d].at("spec").size(); ++s) {
         const json& spec = list[d].at("spec").at(s);
         if (!spec.contains("label_id")) continue;
-        const std::string where = "/annotationDefinitions/" +
-                                  std::to_string(d) + "/spec/" +
-                                  std::to_string(s);
-        const int64_t id = AtField(definitions_file, where + "/label_id",
-                                   [&] { return spec.at("label_id").get<int64_t>(); });
+        const std::string where =
+            "/annotationDefinitions/" + std::to_string(d) + "/spec/" + std::to_string(s);
+        const int64_t id = AtField(definitions_file, where + "/label_id", [&] {
+          return spec.at("label_id").get<int64_t>();
+        });
         if (id < 1 || id > std::numeric_limits<uint32_t>::max())
           throw Error("label_id must be >= 1 (0 is background in lsds)",
                       Location(definitions_file, where + "/label_id"));
-        labels[static_cast<uint32_t>(id)] = AtField(
-            definitions_file, where + "/label_name",
-            [&] { return spec.at("label_name").get<std::string>(); });
+        labels[static_cast<uint32_t>(id)] = AtField(definitions_file, where + "/label_name", [&] {
+          return spec.at("label_name").get<std::string>();
+        });
       }
     }
     return 0;
   });
   if (labels.empty())
-    throw Error("no label spec (label_id, label_name) in any annotation "
-                "definition",
-                Location(definitions_file, "/annotationDefinitions"));
+    throw Error(
+        "no label spec (label_id, label_name) in any annotation "
+        "definition",
+        Location(definitions_file, "/annotationDefinitions"));
   for (const auto& [id, name] : labels) {
     description.classes.push_back({id, name});
     class_ids_.push_back(id);
@@ -97,8 +94,7 @@ SourceDescription SoloImporter::Open(const fs::path& source,
   for (const auto& folder : fs::directory_iterator(source)) {
     std::smatch m;
     const std::string name = folder.path().filename().string();
-    if (!folder.is_directory() || !std::regex_match(name, m, sequence_name))
-      continue;
+    if (!folder.is_directory() || !std::regex_match(name, m, sequence_name)) continue;
     const int64_t sequence = std::stoll(m[1].str());
     for (const auto& file : fs::directory_iterator(folder.path())) {
       std::smatch s;
@@ -107,8 +103,7 @@ SourceDescription SoloImporter::Open(const fs::path& source,
         steps_.push_back({sequence, std::stoll(s[1].str()), file.path()});
     }
   }
-  if (steps_.empty())
-    throw Error("no sequence.N/stepK.frame_data.json", Location(source.string()));
+  if (steps_.empty()) throw Error("no sequence.N/stepK.frame_data.json", Location(source.string()));
   std::sort(steps_.begin(), steps_.end(), [](const Step& a, const Step& b) {
     return std::tie(a.sequence, a.step) < std::tie(b.sequence, b.step);
   });
@@ -164,15 +159,13 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   frame.sequence = "sequence." + std::to_string(step.sequence);
   frame.shot = shot_of_step_.at(static_cast<size_t>(index));
   // Milliseconds since the sequence started.
-  frame.time = AtField(file, "/timestamp",
-                       [&] { return data.at("timestamp").get<double>(); }) /
-               1000.0;
+  frame.time =
+      AtField(file, "/timestamp", [&] { return data.at("timestamp").get<double>(); }) / 1000.0;
   size_t c = 0;
   const json& captures =
       AtField(file, "/captures", [&]() -> const json& { return data.at("captures"); });
   while (c < captures.size() && !HasType(captures[c], "RGBCamera")) ++c;
-  if (c == captures.size())
-    throw Error("no RGBCamera capture", Location(file, "/captures"));
+  if (c == captures.size()) throw Error("no RGBCamera capture", Location(file, "/captures"));
   const json& capture = captures[c];
   const std::string at = "/captures/" + std::to_string(c);
   Eigen::Vector3d position;
@@ -199,12 +192,10 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   if (width < 1 || height < 1)
     throw Error("dimension must be positive", Location(file, at + "/dimension"));
   const Eigen::Matrix3d enu_from_unity = EnuFromUnity();
-  const Eigen::Matrix3d world_from_unity_cam =
-      RotationXyzw(xyzw, file, at + "/rotation");
+  const Eigen::Matrix3d world_from_unity_cam = RotationXyzw(xyzw, file, at + "/rotation");
   // The Unity camera's y is up, OpenCV's down; both look down +z.
   const Eigen::Matrix3d unity_cam_from_cv = Eigen::Vector3d(1, -1, 1).asDiagonal();
-  const Eigen::Matrix3d world_from_cam =
-      enu_from_unity * world_from_unity_cam * unity_cam_from_cv;
+  const Eigen::Matrix3d world_from_cam = enu_from_unity * world_from_unity_cam * unity_cam_from_cv;
   frame.camera.cam_from_world_rotation = world_from_cam.transpose();
   frame.camera.cam_from_world_translation =
       -(world_from_cam.transpose() * (enu_from_unity * position));
@@ -221,13 +212,12 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
     throw Error("not a perspective projection", Location(file, at + "/matrix"));
 
   const auto named_file = [&](const json& element, const std::string& where) {
-    const std::string name = AtField(file, where + "/filename", [&] {
-      return element.at("filename").get<std::string>();
-    });
+    const std::string name = AtField(
+        file, where + "/filename", [&] { return element.at("filename").get<std::string>(); });
     return folder / name;
   };
-  frame.flat["rgb"] = ReadSrgbLayer(named_file(capture, at), width, height,
-                                    "the capture's dimension");
+  frame.flat["rgb"] =
+      ReadSrgbLayer(named_file(capture, at), width, height, "the capture's dimension");
 
   bool have_instances = false;
   const json annotations = capture.value("annotations", json::array());
@@ -237,10 +227,8 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
     if (HasType(annotation, "InstanceSegmentationAnnotation")) {
       have_instances = true;
       std::map<uint32_t, std::pair<uint32_t, uint32_t>> of_colour;  // rgba
-      const json& instances = AtField(file, where + "/instances",
-                                      [&]() -> const json& {
-                                        return annotation.at("instances");
-                                      });
+      const json& instances = AtField(
+          file, where + "/instances", [&]() -> const json& { return annotation.at("instances"); });
       for (size_t n = 0; n < instances.size(); ++n) {
         const std::string w = where + "/instances/" + std::to_string(n);
         uint32_t instance = 0, label = 0, rgba = 0;
@@ -248,27 +236,22 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
           instance = instances[n].at("instanceId").get<uint32_t>();
           label = instances[n].at("labelId").get<uint32_t>();
           const json& colour = instances[n].at("color");
-          for (int ch = 0; ch < 4; ++ch)
-            rgba = (rgba << 8) | colour.at(ch).get<uint8_t>();
+          for (int ch = 0; ch < 4; ++ch) rgba = (rgba << 8) | colour.at(ch).get<uint8_t>();
           return 0;
         });
-        if (instance == 0 ||
-            !std::binary_search(class_ids_.begin(), class_ids_.end(), label))
-          throw Error("instanceId must be >= 1 and labelId in "
-                      "annotation_definitions.json",
-                      Location(file, w));
+        if (instance == 0 || !std::binary_search(class_ids_.begin(), class_ids_.end(), label))
+          throw Error(
+              "instanceId must be >= 1 and labelId in "
+              "annotation_definitions.json",
+              Location(file, w));
         of_colour[rgba] = {instance, label};
       }
       const fs::path path = named_file(annotation, where);
       const cv::Mat colours = ReadRgbaPng(path, width, height);
-      exr::FlatImage& ids = frame.flat["instanceid"] =
-          exr::FlatImage(width, height);
-      exr::FlatImage& classes = frame.flat["classid"] =
-          exr::FlatImage(width, height);
-      std::vector<uint32_t>& instance =
-          ids.AddChannel("id", exr::PixelType::kUint).uints;
-      std::vector<uint32_t>& klass =
-          classes.AddChannel("id", exr::PixelType::kUint).uints;
+      exr::FlatImage& ids = frame.flat["instanceid"] = exr::FlatImage(width, height);
+      exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width, height);
+      std::vector<uint32_t>& instance = ids.AddChannel("id", exr::PixelType::kUint).uints;
+      std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
       for (int j = 0; j < height; ++j)
         for (int i = 0; i < width; ++i) {
           const uint32_t rgba = PackedRgba(colours.at<cv::Vec4b>(j, i));
@@ -276,18 +259,16 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
           if (found == of_colour.end()) {
             // Unlabelled surfaces and the sky are black.
             if ((rgba >> 8) == 0) continue;
-            throw Error("colour " + RgbaText(rgba) + " is not in " + file +
-                            "#" + where + "/instances",
-                        Location::Pixel(path.string(), index, i, j));
+            throw Error(
+                "colour " + RgbaText(rgba) + " is not in " + file + "#" + where + "/instances",
+                Location::Pixel(path.string(), index, i, j));
           }
           instance[ids.Index(i, j)] = found->second.first;
           klass[classes.Index(i, j)] = found->second.second;
         }
     } else if (HasType(annotation, "BoundingBox3DAnnotation")) {
-      const json& values = AtField(file, where + "/values",
-                                   [&]() -> const json& {
-                                     return annotation.at("values");
-                                   });
+      const json& values = AtField(
+          file, where + "/values", [&]() -> const json& { return annotation.at("values"); });
       for (size_t n = 0; n < values.size(); ++n) {
         const std::string w = where + "/values/" + std::to_string(n);
         ObjectIdentity target;
@@ -303,17 +284,13 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
           q = JsonNumbers<4>(values[n].at("rotation"));
           return 0;
         });
-        if (!(size.minCoeff() >= 0))
-          throw Error("size must be >= 0", Location(file, w + "/size"));
+        if (!(size.minCoeff() >= 0)) throw Error("size must be >= 0", Location(file, w + "/size"));
         // In the camera's (Unity, left-handed) frame. Its axes, taken to ENU,
         // are a left-handed triple: negating the box's z keeps the same box.
-        const Eigen::Matrix3d cam_from_box =
-            RotationXyzw(q, file, w + "/rotation");
-        target.obb.center =
-            enu_from_unity * (world_from_unity_cam * translation + position);
+        const Eigen::Matrix3d cam_from_box = RotationXyzw(q, file, w + "/rotation");
+        target.obb.center = enu_from_unity * (world_from_unity_cam * translation + position);
         target.obb.half_extents = 0.5 * size;
-        target.obb.world_from_box = enu_from_unity * world_from_unity_cam *
-                                    cam_from_box *
+        target.obb.world_from_box = enu_from_unity * world_from_unity_cam * cam_from_box *
                                     Eigen::Vector3d(1, 1, -1).asDiagonal();
         frame.targets.push_back(target);
       }
@@ -328,14 +305,12 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
       const std::vector<float>& r = depth_exr.Get("R").floats;
       for (size_t p = 0; p < z.size(); ++p) {
         if (r[p] < 0)
-          throw Error("negative depth",
-                      Location::Pixel(path.string(), index,
-                                      static_cast<int>(p % width),
-                                      static_cast<int>(p / width)));
+          throw Error(
+              "negative depth",
+              Location::Pixel(
+                  path.string(), index, static_cast<int>(p % width), static_cast<int>(p / width)));
         // 0 where nothing was rendered (the sky).
-        z[p] = r[p] > 0 && std::isfinite(r[p])
-                   ? r[p]
-                   : std::numeric_limits<float>::infinity();
+        z[p] = r[p] > 0 && std::isfinite(r[p]) ? r[p] : std::numeric_limits<float>::infinity();
       }
     }
   }

@@ -30,23 +30,18 @@ std::vector<std::string> CameraKeys(const std::string& field) {
   return {"unreal/camera/" + field, "unreal/layerData/rgba/" + field};
 }
 std::vector<std::string> LensKeys(const std::string& field) {
-  return {"unreal/camera/FinalImage/" + field,
-          "unreal/layerData/rgba/" + field};
+  return {"unreal/camera/FinalImage/" + field, "unreal/layerData/rgba/" + field};
 }
 
 // "Shot.0042" -> ("Shot", 42).
-bool SplitFrameName(const std::string& stem,
-                    std::string* sequence,
-                    int64_t* number) {
+bool SplitFrameName(const std::string& stem, std::string* sequence, int64_t* number) {
   size_t end = stem.size();
   size_t begin = end;
-  while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1])))
-    --begin;
+  while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) --begin;
   if (begin == end || end - begin > 12) return false;
   *number = std::stoll(stem.substr(begin));
   std::string prefix = stem.substr(0, begin);
-  while (!prefix.empty() &&
-         (prefix.back() == '.' || prefix.back() == '_' || prefix.back() == '-'))
+  while (!prefix.empty() && (prefix.back() == '.' || prefix.back() == '_' || prefix.back() == '-'))
     prefix.pop_back();
   *sequence = prefix.empty() ? "sequence" : prefix;
   return true;
@@ -57,14 +52,12 @@ auto AtField(const std::string& file, const std::string& pointer, F&& body) {
   try {
     return body();
   } catch (const json::exception& e) {
-    throw Error(std::string("malformed field: ") + e.what(),
-                Location(file, pointer));
+    throw Error(std::string("malformed field: ") + e.what(), Location(file, pointer));
   }
 }
 
 Eigen::Vector3d Vector3(const json& j) {
-  if (!j.is_array() || j.size() != 3)
-    throw json::type_error::create(302, "expected [x, y, z]", &j);
+  if (!j.is_array() || j.size() != 3) throw json::type_error::create(302, "expected [x, y, z]", &j);
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
 }
 
@@ -80,28 +73,22 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
   }
   AtField(file, "/format", [&] {
     if (root.at("format").get<std::string>() != "lsds-ue-objects")
-      throw Error("'format' must be \"lsds-ue-objects\"",
-                  Location(file, "/format"));
+      throw Error("'format' must be \"lsds-ue-objects\"", Location(file, "/format"));
     return 0;
   });
   fps_ = AtField(file, "/fps", [&] { return root.value("fps", 24.0); });
   if (!(fps_ > 0)) throw Error("fps must be > 0", Location(file, "/fps"));
-  sky_depth_cm_ = AtField(
-      file, "/sky_depth_cm", [&] { return root.value("sky_depth_cm", 1e7); });
+  sky_depth_cm_ = AtField(file, "/sky_depth_cm", [&] { return root.value("sky_depth_cm", 1e7); });
   std::set<uint32_t> class_ids;
   AtField(file, "/classes", [&] {
     for (size_t i = 0; i < root.at("classes").size(); ++i) {
       const json& c = root.at("classes").at(i);
       const std::string where = "/classes/" + std::to_string(i);
       ClassInfo info{
-          AtField(
-              file, where + "/id", [&] { return c.at("id").get<uint32_t>(); }),
-          AtField(file, where + "/name", [&] {
-            return c.at("name").get<std::string>();
-          })};
+          AtField(file, where + "/id", [&] { return c.at("id").get<uint32_t>(); }),
+          AtField(file, where + "/name", [&] { return c.at("name").get<std::string>(); })};
       if (info.id == 0 || !class_ids.insert(info.id).second)
-        throw Error("class ids must be > 0 and unique",
-                    Location(file, where + "/id"));
+        throw Error("class ids must be > 0 and unique", Location(file, where + "/id"));
       classes_.push_back(info);
     }
     return 0;
@@ -111,27 +98,20 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
     for (size_t i = 0; i < root.at("actors").size(); ++i) {
       const json& a = root.at("actors").at(i);
       const std::string where = "/actors/" + std::to_string(i);
-      const std::string name = AtField(file, where + "/name", [&] {
-        return a.at("name").get<std::string>();
-      });
+      const std::string name =
+          AtField(file, where + "/name", [&] { return a.at("name").get<std::string>(); });
       Actor actor;
-      actor.instance_id = AtField(file, where + "/instance_id", [&] {
-        return a.at("instance_id").get<uint32_t>();
-      });
-      actor.class_id = AtField(file, where + "/class_id", [&] {
-        return a.at("class_id").get<uint32_t>();
-      });
-      if (actor.instance_id == 0 ||
-          !instance_ids.insert(actor.instance_id).second)
-        throw Error("instance ids must be > 0 and unique",
-                    Location(file, where + "/instance_id"));
+      actor.instance_id = AtField(
+          file, where + "/instance_id", [&] { return a.at("instance_id").get<uint32_t>(); });
+      actor.class_id =
+          AtField(file, where + "/class_id", [&] { return a.at("class_id").get<uint32_t>(); });
+      if (actor.instance_id == 0 || !instance_ids.insert(actor.instance_id).second)
+        throw Error("instance ids must be > 0 and unique", Location(file, where + "/instance_id"));
       if (!class_ids.count(actor.class_id))
-        throw Error("class_id " + std::to_string(actor.class_id) +
-                        " is not in 'classes'",
+        throw Error("class_id " + std::to_string(actor.class_id) + " is not in 'classes'",
                     Location(file, where + "/class_id"));
       if (!actors_.emplace(name, actor).second)
-        throw Error("actor '" + name + "' listed twice",
-                    Location(file, where + "/name"));
+        throw Error("actor '" + name + "' listed twice", Location(file, where + "/name"));
       if (!a.contains("obb")) continue;  // not an object of interest
       ObjectIdentity target;
       target.instance_id = actor.instance_id;
@@ -143,13 +123,11 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
         const json& r = obb.at("rotation");
         const Eigen::Vector3d extent = Vector3(obb.at("extent"));
         if (!(extent.minCoeff() >= 0))
-          throw Error("extent must be >= 0",
-                      Location(file, where + "/obb/extent"));
-        return EnuBoxOfUnrealBox(Vector3(obb.at("center")),
-                                 extent,
-                                 {r.at("pitch").get<double>(),
-                                  r.at("yaw").get<double>(),
-                                  r.at("roll").get<double>()});
+          throw Error("extent must be >= 0", Location(file, where + "/obb/extent"));
+        return EnuBoxOfUnrealBox(
+            Vector3(obb.at("center")),
+            extent,
+            {r.at("pitch").get<double>(), r.at("yaw").get<double>(), r.at("roll").get<double>()});
       });
       targets_.push_back(target);
     }
@@ -157,32 +135,27 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
   });
 }
 
-SourceDescription UeMrqImporter::Open(const fs::path& source,
-                                      const ImportOptions& options) {
+SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOptions& options) {
   if (!fs::is_directory(source))
-    throw Error("a Movie Render Queue output folder was expected",
-                Location(source.string()));
+    throw Error("a Movie Render Queue output folder was expected", Location(source.string()));
   for (const fs::directory_entry& entry : fs::directory_iterator(source)) {
     if (!entry.is_regular_file()) continue;
     std::string ext = entry.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
     if (ext != ".exr") continue;
     FrameFile frame{entry.path(), "", 0};
-    if (!SplitFrameName(
-            entry.path().stem().string(), &frame.sequence, &frame.number))
+    if (!SplitFrameName(entry.path().stem().string(), &frame.sequence, &frame.number))
       throw Error(
           "EXR name has no frame number (MRQ names frames "
           "{sequence_name}.{frame_number})",
           Location(entry.path().string()));
     files_.push_back(frame);
   }
-  if (files_.empty())
-    throw Error("no .exr frames in the folder", Location(source.string()));
+  if (files_.empty()) throw Error("no .exr frames in the folder", Location(source.string()));
   std::sort(files_.begin(), files_.end(), [](const auto& a, const auto& b) {
     return std::tie(a.sequence, a.number) < std::tie(b.sequence, b.number);
   });
-  ReadObjects(options.objects.empty() ? source / kUeObjectsFile
-                                      : options.objects);
+  ReadObjects(options.objects.empty() ? source / kUeObjectsFile : options.objects);
 
   // The layout, from the first frame; every frame must have it.
   const SourceExr first(files_.front().path);
@@ -204,8 +177,7 @@ SourceDescription UeMrqImporter::Open(const fs::path& source,
     for (const char* suffix : {"WorldDepth.R", "SceneDepth.R"}) {
       const std::string s = suffix;
       if (channel.size() >= s.size() &&
-          channel.compare(channel.size() - s.size(), s.size(), s) == 0 &&
-          depth_channel_.empty())
+          channel.compare(channel.size() - s.size(), s.size(), s) == 0 && depth_channel_.empty())
         depth_channel_ = channel;
     }
   }
@@ -216,8 +188,7 @@ SourceDescription UeMrqImporter::Open(const fs::path& source,
         Location(first.file()));
   const auto layers = ParseCryptomatteLayers(first.attributes(), first.file());
   for (const CryptomatteLayer& layer : layers) {
-    if (layer.name.find("Actor") != std::string::npos || layers.size() == 1)
-      id_layer_ = layer.name;
+    if (layer.name.find("Actor") != std::string::npos || layers.size() == 1) id_layer_ = layer.name;
   }
   if (id_layer_.empty())
     throw Error(
@@ -236,12 +207,11 @@ SourceDescription UeMrqImporter::Open(const fs::path& source,
                               {"depth", "imported"},
                               {"camera", "imported"},
                               {"obb", "imported"}};
-  description.source_conventions = {
-      {"world_frame", "unreal"},
-      {"length_unit", "cm"},
-      {"depth", "planar (SceneDepth), cm"},
-      {"ids", "Cryptomatte layer " + id_layer_ + ", rank 0"},
-      {"converted_to", "ENU m"}};
+  description.source_conventions = {{"world_frame", "unreal"},
+                                    {"length_unit", "cm"},
+                                    {"depth", "planar (SceneDepth), cm"},
+                                    {"ids", "Cryptomatte layer " + id_layer_ + ", rank 0"},
+                                    {"converted_to", "ENU m"}};
   return description;
 }
 
@@ -250,16 +220,14 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
   const SourceExr exr(frame_file.path);
   const std::string& file = exr.file();
   if (exr.width() != width_ || exr.height() != height_)
-    throw Error("frame " + std::to_string(index) + " is " +
-                    std::to_string(exr.width()) + "x" +
-                    std::to_string(exr.height()) + ", the first frame " +
-                    std::to_string(width_) + "x" + std::to_string(height_),
+    throw Error("frame " + std::to_string(index) + " is " + std::to_string(exr.width()) + "x" +
+                    std::to_string(exr.height()) + ", the first frame " + std::to_string(width_) +
+                    "x" + std::to_string(height_),
                 Location(file));
   SourceFrame frame;
   if (index > 0) {
     const FrameFile& previous = files_.at(static_cast<size_t>(index - 1));
-    if (previous.sequence != frame_file.sequence ||
-        previous.number + 1 != frame_file.number)
+    if (previous.sequence != frame_file.sequence || previous.number + 1 != frame_file.number)
       shot_ = index;  // a new sequence or a gap: not flown continuously
   }
   frame.shot = shot_;
@@ -269,10 +237,8 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
   // Camera: horizontal FOV, location (cm), rotation (FRotator degrees).
   const double fov = exr.Number(LensKeys("fov"));
   if (!(fov > 0 && fov < 180))
-    throw Error("horizontal fov " + std::to_string(fov) + " is not in (0, 180)",
-                Location(file));
-  frame.camera.intrinsics =
-      PinholeCamera::FromHorizontalFov(width_, height_, fov);
+    throw Error("horizontal fov " + std::to_string(fov) + " is not in (0, 180)", Location(file));
+  frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(width_, height_, fov);
   const Eigen::Vector3d location(exr.Number(CameraKeys("curPos/x")),
                                  exr.Number(CameraKeys("curPos/y")),
                                  exr.Number(CameraKeys("curPos/z")));
@@ -280,15 +246,13 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
                                exr.Number(CameraKeys("curRot/yaw")),
                                exr.Number(CameraKeys("curRot/roll"))};
   const Rigid3d cam_from_world = CamFromEnuOfUnrealCamera(location, rotation);
-  frame.camera.cam_from_world_rotation =
-      cam_from_world.rotation.toRotationMatrix();
+  frame.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
   frame.camera.cam_from_world_translation = cam_from_world.translation;
 
   // Final image.
   exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width_, height_);
   for (const char* c : {"R", "G", "B"})
-    rgb.AddChannel(c, exr::PixelType::kHalf).floats =
-        exr.ReadFloat(rgb_prefix_ + c);
+    rgb.AddChannel(c, exr::PixelType::kHalf).floats = exr.ReadFloat(rgb_prefix_ + c);
 
   // Depth: planar cm -> m; the sky (beyond sky_depth_cm) -> +inf.
   exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
@@ -296,22 +260,18 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
   z = exr.ReadFloat(depth_channel_);
   for (float& value : z) {
     if (std::isnan(value) || value < 0)
-      throw Error("depth channel '" + depth_channel_ +
-                      "' holds a negative or NaN value",
+      throw Error("depth channel '" + depth_channel_ + "' holds a negative or NaN value",
                   Location(file));
-    value = (std::isinf(value) || value >= sky_depth_cm_)
-                ? std::numeric_limits<float>::infinity()
-                : static_cast<float>(value * 0.01);
+    value = (std::isinf(value) || value >= sky_depth_cm_) ? std::numeric_limits<float>::infinity()
+                                                          : static_cast<float>(value * 0.01);
   }
 
   // Ids: the rank-0 Cryptomatte id (the largest coverage) of each pixel.
   const auto layers = ParseCryptomatteLayers(exr.attributes(), file);
-  const auto layer = std::find_if(layers.begin(), layers.end(), [&](auto& l) {
-    return l.name == id_layer_;
-  });
+  const auto layer =
+      std::find_if(layers.begin(), layers.end(), [&](auto& l) { return l.name == id_layer_; });
   if (layer == layers.end())
-    throw Error("no Cryptomatte layer '" + id_layer_ + "' in the header",
-                Location(file));
+    throw Error("no Cryptomatte layer '" + id_layer_ + "' in the header", Location(file));
   const std::string id_channel = id_layer_ + "00.R";
   if (exr.ChannelType(id_channel) != exr::PixelType::kFloat)
     throw Error("Cryptomatte channel '" + id_channel +
@@ -320,27 +280,19 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
                 Location(file));
   const std::vector<float> ids = exr.ReadFloat(id_channel);
   const std::vector<float> coverage = exr.ReadFloat(id_layer_ + "00.G");
-  exr::FlatImage& instances = frame.flat["instanceid"] =
-      exr::FlatImage(width_, height_);
-  exr::FlatImage& classes = frame.flat["classid"] =
-      exr::FlatImage(width_, height_);
-  std::vector<uint32_t>& instance =
-      instances.AddChannel("id", exr::PixelType::kUint).uints;
-  std::vector<uint32_t>& klass =
-      classes.AddChannel("id", exr::PixelType::kUint).uints;
+  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
+  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
+  std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
+  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
   for (size_t p = 0; p < ids.size(); ++p) {
     uint32_t bits;
     std::memcpy(&bits, &ids[p], sizeof bits);
     if (bits == 0 || !(coverage[p] > 0)) continue;  // nothing: background
     const auto named = layer->names_by_bits.find(bits);
     if (named == layer->names_by_bits.end()) {
-      Location where = Location::Pixel(file,
-                                       index,
-                                       static_cast<int>(p % width_),
-                                       static_cast<int>(p / width_));
-      throw Error("Cryptomatte id in '" + id_channel +
-                      "' is not in the layer's manifest",
-                  where);
+      Location where =
+          Location::Pixel(file, index, static_cast<int>(p % width_), static_cast<int>(p / width_));
+      throw Error("Cryptomatte id in '" + id_channel + "' is not in the layer's manifest", where);
     }
     const auto actor = actors_.find(named->second);
     if (actor == actors_.end()) continue;  // not listed: background

@@ -114,6 +114,13 @@ int RunReport(int argc, char** argv) {
     const report::ReportResult result = report::WriteReport(options);
     std::cout << "wrote " << output << " (" << result.frames << " frames, " << result.sampled
               << " on the contact sheet, " << (result.bytes + 512) / 1024 << " KiB)\n";
+    // The page shows a broken file where its picture would be; say so here
+    // too, so that a script reading only the terminal is not misled.
+    if (!result.unshown.empty()) {
+      std::cerr << "warning: " << result.unshown.size()
+                << " picture(s) could not be shown; the first: " << result.unshown.front()
+                << "\n(lsds validate names every problem)\n";
+    }
     return kExitOk;
   });
 }

@@ -148,7 +148,8 @@ std::string Failed(const std::string& layer, const std::string& message) {
 
 std::string LayerStrip(const CollectionReader& reader,
                        const SampledFrame& sample,
-                       const ReportOptions& options) {
+                       const ReportOptions& options,
+                       std::vector<std::string>* problems) {
   const CollectionHeader& header = reader.header();
   const Frame& frame = sample.frame;
   const std::string unit = header.conventions.world.length_unit;
@@ -223,8 +224,12 @@ std::string LayerStrip(const CollectionReader& reader,
       }
     } catch (const Error& e) {
       s << Failed(layer.name, e.what());
+      problems->push_back(layer.name + " of frame " + std::to_string(frame.index) + ": " +
+                          e.what());
     } catch (const cv::Exception& e) {
       s << Failed(layer.name, e.what());
+      problems->push_back(layer.name + " of frame " + std::to_string(frame.index) + ": " +
+                          e.what());
     }
   }
   s << "</div></section>";
@@ -234,7 +239,8 @@ std::string LayerStrip(const CollectionReader& reader,
 std::string FrameCard(const CollectionReader& reader,
                       const SampledFrame& sample,
                       bool has_layers,
-                      const ReportOptions& options) {
+                      const ReportOptions& options,
+                      std::vector<std::string>* problems) {
   const CollectionHeader& header = reader.header();
   const Frame& frame = sample.frame;
   std::ostringstream s;
@@ -257,6 +263,7 @@ std::string FrameCard(const CollectionReader& reader,
       << image.rows << "\" alt=\"frame " << frame.index << "\">";
   } catch (const Error& e) {
     s << "<div class=\"failed\">" << HtmlEscape(e.what()) << "</div>";
+    problems->push_back("image of frame " + std::to_string(frame.index) + ": " + e.what());
   }
   int visible = 0;
   for (const ObjectTruth& o : frame.objects) visible += o.visible_pixels > 0;

@@ -112,7 +112,8 @@ ReportData CollectReportData(const CollectionReader& reader,
 
 std::string RenderReportHtml(const CollectionReader& reader,
                              const ReportData& data,
-                             const ReportOptions& options) {
+                             const ReportOptions& options,
+                             std::vector<std::string>* problems) {
   const CollectionHeader& header = reader.header();
   const size_t n = data.samples.size();
   // The frames shown with every layer: spread evenly over the sample.
@@ -120,11 +121,16 @@ std::string RenderReportHtml(const CollectionReader& reader,
   const size_t k = std::min(options.layer_frames, n);
   for (size_t i = 0; i < k; ++i) layer_samples.insert((2 * i + 1) * n / (2 * k));
   std::vector<std::string> cards(n), strips(n);
+  std::vector<std::vector<std::string>> sample_problems(n);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
     const bool layers = layer_samples.count(i) > 0;
-    cards[i] = FrameCard(reader, data.samples[i], layers, options);
-    if (layers) strips[i] = LayerStrip(reader, data.samples[i], options);
+    cards[i] = FrameCard(reader, data.samples[i], layers, options, &sample_problems[i]);
+    if (layers) strips[i] = LayerStrip(reader, data.samples[i], options, &sample_problems[i]);
   });
+  // In frame order, whatever order the threads finished in.
+  for (std::vector<std::string>& p : sample_problems) {
+    problems->insert(problems->end(), p.begin(), p.end());
+  }
   std::set<int64_t> on_sheet;
   for (const SampledFrame& s : data.samples) on_sheet.insert(s.frame.index);
 
@@ -241,9 +247,13 @@ ReportResult WriteReport(const ReportOptions& options) {
   const CollectionReader reader(options.collection);
   const ReportData data =
       CollectReportData(reader, options, FramesWithFindings(options.validation, 12));
-  const std::string html = RenderReportHtml(reader, data, options);
+  ReportResult result;
+  const std::string html = RenderReportHtml(reader, data, options, &result.unshown);
   WriteFileAtomic(options.output, html);
-  return {data.distributions.frames, data.samples.size(), html.size()};
+  result.frames = data.distributions.frames;
+  result.sampled = data.samples.size();
+  result.bytes = html.size();
+  return result;
 }
 
 }  // namespace lsds::report

@@ -61,15 +61,19 @@ ReportData CollectReportData(const CollectionReader& reader,
 // Frame indices the findings of a validation report point to (at most `max`).
 std::set<int64_t> FramesWithFindings(const nlohmann::json& validation, size_t max);
 
-// The page. Decodes the layers of the sampled frames only.
+// The page. Decodes the layers of the sampled frames only. What could not be
+// shown is a message on the page and a line in `problems` (frame order).
 std::string RenderReportHtml(const CollectionReader& reader,
                              const ReportData& data,
-                             const ReportOptions& options);
+                             const ReportOptions& options,
+                             std::vector<std::string>* problems);
 
 struct ReportResult {
   int64_t frames = 0;  // frames in the distributions
   size_t sampled = 0;  // frames on the contact sheet
   size_t bytes = 0;    // size of the page
+  // "rgb of frame 0: <file>: <why>" for every picture the page could not show.
+  std::vector<std::string> unshown;
 };
 
 // Checks the output (refuses an existing one without `force`, and one inside

@@ -113,6 +113,12 @@ TEST_F(ReportCli, AnUnreadableLayerIsShownNotFatal) {
   EXPECT_NE(html.find("cannot show rgb: " + (dir_ / "c" / "rgb" / "000000.exr").string()),
             std::string::npos);
   EXPECT_NE(html.find("cannot show depth: "), std::string::npos);
+  // The terminal says so too, naming the first file.
+  EXPECT_NE(result.output.find("warning: "), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("could not be shown; the first: image of frame 0: " +
+                               (dir_ / "c" / "rgb" / "000000.exr").string()),
+            std::string::npos)
+      << result.output;
   // Frame 0's altitude and GSD need its depth: unknown, not made up.
   const std::string card = html.substr(html.find("id=\"frame-0\""), 20000);
   EXPECT_NE(card.find("alt n/a"), std::string::npos);

@@ -285,7 +285,8 @@ TEST(Clouds, CloudShadowsDarkenTheGroundAsTheShadowLayerSays) {
   EXPECT_LT(shaded, shadow.size());
   // A clear sky casts none.
   plan.sky.cloud_type = "none";
-  for (float v : RenderK(plan, 0).flat.at("shadow").Get("Y").floats) ASSERT_EQ(v, 1.f);
+  const Film clear = RenderK(plan, 0);
+  for (float v : clear.flat.at("shadow").Get("Y").floats) ASSERT_EQ(v, 1.f);
 }
 
 // Metals reflect: seen from above with the sun behind, a flat MetalGold ground

@@ -95,6 +95,7 @@ uint64_t CastRaysOnly(const RenderScene& scene,
 int main(int argc, char** argv) {
   int frames = 4, spp = 4, threads = 0;
   std::vector<int> sizes = {512, 1024};
+  std::vector<std::string> post_process;  // LCAP PPMaterial effects, to measure their cost
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--frames")
@@ -103,20 +104,25 @@ int main(int argc, char** argv) {
       spp = std::atoi(argv[i + 1]);
     else if (flag == "--threads")
       threads = std::atoi(argv[i + 1]);
+    else if (flag == "--post-process")
+      post_process = Split(argv[i + 1], ',');
     else if (flag == "--sizes") {
       sizes.clear();
       for (const std::string& s : Split(argv[i + 1], ',')) sizes.push_back(std::atoi(s.c_str()));
     } else {
       std::fprintf(stderr,
                    "usage: bench_generate [--frames N] [--sizes 512,1024] "
-                   "[--spp S] [--threads T]\n");
+                   "[--spp S] [--threads T] [--post-process EdgeBlur,...]\n");
       return 2;
     }
   }
   std::optional<tbb::global_control> control;
   if (threads > 0) control.emplace(tbb::global_control::max_allowed_parallelism, threads);
   const fs::path root = fs::temp_directory_path() / "lsds_bench_generate";
-  std::printf("lsds generate benchmark: demo scene, %d frames, spp %d\n", frames, spp);
+  std::printf("lsds generate benchmark: demo scene, %d frames, spp %d, post-process [%s]\n",
+              frames,
+              spp,
+              Join(post_process, ",").c_str());
   std::printf("%6s %9s %9s %10s %10s %10s %7s\n",
               "size",
               "s/frame",
@@ -129,7 +135,8 @@ int main(int argc, char** argv) {
     DemoOptions demo;
     demo.frames = frames;
     demo.width = demo.height = size;
-    const Plan plan = MakeDemoPlan(demo);
+    Plan plan = MakeDemoPlan(demo);
+    plan.post_process = post_process;
     GenerateOptions options;
     options.output = root / "full";
     options.force = true;

@@ -17,6 +17,7 @@
 #include "generator/render/embree_scene.h"
 #include "generator/render/film.h"
 #include "generator/render/integrator.h"
+#include "generator/render/post_process.h"
 #include "generator/render/sky.h"
 #include "generator/render/truth.h"
 #include "generator/survey.h"
@@ -360,7 +361,10 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       }
       const PlannedEnvironment environment = EnvironmentAt(plan, frame);
       const Sky sky(plan, environment);  // LCAP may change it per frame
-      auto film = std::make_shared<const Film>(RenderFrame(*scene, sky, frame, previous, render));
+      Film rendered = RenderFrame(*scene, sky, frame, previous, render);
+      // LCAP post-process materials: RGB only, after the truth is final.
+      ApplyPostProcess(plan.post_process, plan.seed, frame, &rendered);
+      auto film = std::make_shared<const Film>(std::move(rendered));
       auto truth = std::make_shared<Frame>();
       truth->index = frame.index;
       truth->time = frame.time;

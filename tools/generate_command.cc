@@ -12,6 +12,7 @@
 #include "generator/generate.h"
 #include "generator/plan_source.h"
 #include "generator/render/film.h"
+#include "generator/render/post_process.h"
 #include "libs/util/error.h"
 #include "libs/util/limits.h"
 #include "libs/util/output_guard.h"
@@ -154,6 +155,10 @@ int RunGenerate(int argc, char** argv) {
         command_line += std::string(" ") + argv[i];
     }
     InstallResumeHint(command_line);
+    // Post-process names that are no effect are recorded, not applied: say so.
+    if (!quiet)
+      for (const std::string& w : gen::UnknownPostProcess(plan.post_process))
+        std::cerr << "lsds generate: warning: " << w << "\n";
     const gen::GenerateSummary summary = gen::GenerateCollection(plan, options);
     if (!quiet) {
       const double per_frame =

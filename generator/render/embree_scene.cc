@@ -1,7 +1,9 @@
 #include "generator/render/embree_scene.h"
 
 #include "generator/scene/perlin.h"
+#include "generator/scene/smooth_normals.h"
 #include "generator/scene/terrain.h"
+#include "generator/scene/world_ground.h"
 #include "libs/util/error.h"
 
 namespace lsds::gen {
@@ -79,6 +81,7 @@ RenderScene::RenderScene(const EmbreeDevice& device,
   scene_ = rtcNewScene(device.get());
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
   object_scenes_.assign(world.objects.size(), nullptr);
+  int skirt_id = -1;
   if (plan.terrain.present) {
     Surface s;
     s.class_id = plan.terrain.class_id;
@@ -86,7 +89,15 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     // The terrain's material may change per frame (LCAP): the world's.
     s.material = world.terrain_material.empty() ? assets.terrain_material
                                                 : &FindMaterial(world.terrain_material, "terrain");
-    AddMesh(device, MakeTerrainMesh(plan.terrain), s);
+    TriangleMesh terrain = MakeTerrainMesh(plan.terrain);
+    // The unbounded world: background ground of the same material past the
+    // terrain's edge, then the plane itself (docs/generator.md).
+    Surface beyond = s;
+    beyond.class_id = 0;
+    beyond.instance_id = 0;
+    TriangleMesh skirt = MakeGroundSkirt(plan.terrain, terrain);
+    AddMesh(device, std::move(terrain), s);
+    skirt_id = static_cast<int>(AddMesh(device, std::move(skirt), beyond));
   }
   for (size_t i = 0; i < world.objects.size(); ++i) {
     const ObjectState& o = world.objects[i];
@@ -96,6 +107,7 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     const Eigen::Matrix3f linear = (o.world_from_object * o.extent.asDiagonal()).cast<float>();
     const Eigen::Vector3f offset = o.position.cast<float>();
     for (Eigen::Vector3f& p : mesh.positions) p = linear * p + offset;
+    mesh.corner_normals = CreaseCornerNormals(mesh);  // smooth shading, sharp creases
     Surface s;
     s.object = static_cast<int>(i);
     s.class_id = o.class_id;
@@ -107,6 +119,13 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     rtcAttachGeometry(own, geometries_[id]);
     rtcCommitScene(own);
     object_scenes_[i] = own;
+  }
+  if (skirt_id >= 0) {  // after every Embree geometry id
+    ground_plane_ = static_cast<int>(surfaces_.size());
+    surfaces_.push_back(surfaces_[skirt_id]);  // the skirt's: background
+    surfaces_.back().positions = nullptr;
+    surfaces_.back().triangles = nullptr;
+    surfaces_.back().corner_normals = nullptr;
   }
   rtcCommitScene(scene_);
   CheckDevice(device.get());
@@ -145,6 +164,7 @@ unsigned RenderScene::AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Sur
   geometries_[id] = geometry;
   surface.positions = m.positions.data();
   surface.triangles = m.triangles.data();
+  surface.corner_normals = m.corner_normals.empty() ? nullptr : m.corner_normals.data();
   surfaces_[id] = surface;
   return id;
 }

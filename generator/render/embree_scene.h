@@ -50,6 +50,8 @@ struct Surface {
   const Material* material = nullptr;
   const Eigen::Vector3f* positions = nullptr;  // world-space vertices of the geometry
   const Eigen::Vector3i* triangles = nullptr;
+  // Shading normals, 3 per triangle (TriangleMesh::corner_normals); null: flat.
+  const Eigen::Vector3f* corner_normals = nullptr;
 };
 
 class RenderScene {
@@ -67,6 +69,11 @@ class RenderScene {
   RTCScene ObjectScene(int object) const { return object_scenes_[object]; }
   const Surface& surface(unsigned geom_id) const { return surfaces_[geom_id]; }
   const WorldState& world() const { return world_; }
+  // The plane z = kWorldGroundZ past the world ground's skirt
+  // (generator/scene/world_ground.h): the surface id a ray that misses every
+  // geometry but meets that plane reports (no Embree geometry), or -1 when
+  // the plan has no terrain.
+  int ground_plane() const { return ground_plane_; }
 
  private:
   unsigned AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Surface surface);
@@ -77,6 +84,7 @@ class RenderScene {
   std::vector<RTCGeometry> geometries_;
   std::vector<std::unique_ptr<TriangleMesh>> meshes_;  // world-space copies, owned
   std::vector<Surface> surfaces_;                      // by geometry id
+  int ground_plane_ = -1;
 };
 
 }  // namespace lsds::gen

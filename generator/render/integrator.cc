@@ -8,6 +8,8 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
+#include "generator/render/shading.h"
+#include "generator/scene/world_ground.h"
 #include "libs/util/error.h"
 
 namespace lsds::gen {
@@ -21,6 +23,9 @@ struct Hit {
   double t = 0;            // along the ray whose camera-frame direction has z == 1: planar depth
   Eigen::Vector3d point;   // world
   Eigen::Vector3d normal;  // world, unit, facing the camera
+  // Interpolated corner normal (smooth shading), on the camera's side; used
+  // for lighting only, the normal layer keeps `normal`.
+  Eigen::Vector3d shading_normal;
 };
 
 // The ray's exact hit: Embree finds the triangle, the plane of its (float)
@@ -47,7 +52,19 @@ Hit Trace(const RenderScene& scene,
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(rtc_scene, context, &rh);
   Hit hit;
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    // Past the world ground's skirt: the plane it settles to
+    // (generator/scene/world_ground.h), exact in double.
+    if (scene.ground_plane() >= 0 && direction.z() < 0 && origin.z() > kWorldGroundZ) {
+      hit.hit = true;
+      hit.geom = static_cast<unsigned>(scene.ground_plane());
+      hit.t = (kWorldGroundZ - origin.z()) / direction.z();
+      hit.point = origin + hit.t * direction;
+      hit.point.z() = kWorldGroundZ;
+      hit.normal = hit.shading_normal = Eigen::Vector3d::UnitZ();
+    }
+    return hit;
+  }
   hit.hit = true;
   hit.geom = rh.hit.geomID;
   const Surface& s = scene.surface(rh.hit.geomID);
@@ -64,6 +81,14 @@ Hit Trace(const RenderScene& scene,
   if (nd > 0) n = -n;
   hit.normal = n;
   hit.point = origin + hit.t * direction;
+  hit.shading_normal = n;
+  if (s.corner_normals != nullptr) {
+    const Eigen::Vector3f* c = s.corner_normals + 3 * static_cast<size_t>(rh.hit.primID);
+    const float u = rh.hit.u, v = rh.hit.v;
+    const Eigen::Vector3d smooth = ((1 - u - v) * c[0] + u * c[1] + v * c[2]).cast<double>();
+    const double len = smooth.norm();
+    if (len > 0) hit.shading_normal = (smooth.dot(n) < 0 ? -smooth : smooth) / len;
+  }
   return hit;
 }
 
@@ -217,12 +242,14 @@ Film RenderFrame(const RenderScene& scene,
                 const Surface& s = scene.surface(hit.geom);
                 const Eigen::Vector3f albedo =
                     Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>());
-                const double cos_sun = hit.normal.dot(sky.to_sun());
+                const double cos_sun = hit.shading_normal.dot(sky.to_sun());
                 float lit = 0.f;
                 if (cos_sun > 0) {
                   const Eigen::Vector3d origin =
                       hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
-                  lit = Occluded(scene.scene(), origin, sky.to_sun(), &context) ? 0.f : 1.f;
+                  lit = Occluded(scene.scene(), origin, sky.to_sun(), &context)
+                            ? 0.f
+                            : static_cast<float>(sky.CloudTransmittance(hit.point));
                   ++rays;
                 }
                 const Eigen::Vector3f direct =
@@ -232,7 +259,13 @@ Film RenderFrame(const RenderScene& scene,
                 const float denominator = Luminance(unshadowed);
                 shadow_ratio =
                     denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
-                radiance = albedo.cwiseProduct(shaded);
+                radiance = Shade(*s.material,
+                                 albedo,
+                                 hit.shading_normal,
+                                 -direction.normalized(),
+                                 sky,
+                                 shaded,
+                                 lit);
                 const double distance = hit.t * ray_in_cam.norm();
                 if (sky.fog_density() > 0) {
                   const float f = static_cast<float>(std::exp(-sky.fog_density() * distance));

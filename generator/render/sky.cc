@@ -7,6 +7,12 @@
 #include "libs/util/strings.h"
 
 namespace lsds::gen {
+namespace {
+
+constexpr double kCloudDeckM = 1000;   // the deck's height above z = 0
+constexpr double kCloudOpacity = 0.8;  // direct sunlight a full cloud stops
+
+}  // namespace
 
 const std::vector<std::string>& CloudTypes() {
   static const std::vector<std::string> types = {
@@ -43,22 +49,36 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
     cloud_frequency_ = 0.3, cloud_stretch_ = 3, cloud_softness_ = 0.6;
   if (sky.cloud_type == "cirrus") cloud_frequency_ = 2.0, cloud_stretch_ = 6, cloud_softness_ = 0.3;
   if (cloud_density_ > 0) {
-    // Clouds dim the sun and whiten the skylight.
-    sun_irradiance_ *= static_cast<float>(1 - 0.7 * cloud_density_);
+    // Clouds dim the sun (haze; the clouds themselves cast shadows,
+    // CloudTransmittance) and whiten the skylight.
+    sun_irradiance_ *= static_cast<float>(1 - 0.3 * cloud_density_);
     ambient_ = ambient_ * static_cast<float>(1 - 0.3 * cloud_density_) +
                Eigen::Vector3f::Constant(
                    0.15f * static_cast<float>(cloud_density_ * environment.skylight_intensity));
   }
 }
 
+double Sky::CloudCoverAt(double x, double y) const {
+  const double n = noise_.Fbm(x * cloud_frequency_, y * cloud_frequency_ * cloud_stretch_, 5);
+  const double threshold = 0.6 - 1.2 * cloud_density_;
+  return std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);
+}
+
 double Sky::CloudCover(const Eigen::Vector3d& d) const {
   if (cloud_density_ <= 0 || d.z() <= 0.01) return 0;
   // Where the ray meets a cloud deck 1 km up, in km.
-  const double x = d.x() / d.z(), y = d.y() / d.z();
-  const double n = noise_.Fbm(x * cloud_frequency_, y * cloud_frequency_ * cloud_stretch_, 5);
-  const double threshold = 0.6 - 1.2 * cloud_density_;
-  const double cover = std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);
+  const double cover = CloudCoverAt(d.x() / d.z(), d.y() / d.z());
   return cover * std::min(1.0, d.z() * 4);  // thin out towards the horizon
+}
+
+double Sky::CloudTransmittance(const Eigen::Vector3d& p) const {
+  if (cloud_density_ <= 0 || to_sun_.z() <= 0.01) return 1;
+  // Where the ray towards the sun crosses the deck, in km.
+  const double t = (kCloudDeckM - p.z()) / to_sun_.z();
+  if (!(t > 0)) return 1;
+  const double cover =
+      CloudCoverAt((p.x() + t * to_sun_.x()) / 1000, (p.y() + t * to_sun_.y()) / 1000);
+  return 1 - kCloudOpacity * cover;
 }
 
 Eigen::Vector3f Sky::Radiance(const Eigen::Vector3d& d) const {

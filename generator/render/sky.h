@@ -25,11 +25,18 @@ class Sky {
   const Eigen::Vector3f& ambient() const { return ambient_; }
   const Eigen::Vector3f& horizon() const { return horizon_; }
   double fog_density() const { return fog_density_; }
+  // The share of direct sunlight that reaches world point `p` through the
+  // cloud deck (1 km above z = 0): 1 under a clear sky, down to
+  // 1 - kCloudOpacity under a full cloud. The same cloud field the sky shows
+  // (CloudCoverAt), so cloud shadows on the ground match the clouds above.
+  double CloudTransmittance(const Eigen::Vector3d& p) const;
   // The noise field of procedural material textures.
   const Perlin& texture_noise() const { return texture_noise_; }
 
  private:
   double CloudCover(const Eigen::Vector3d& direction) const;
+  // Cover of the deck at (x, y) kilometres, [0, 1].
+  double CloudCoverAt(double x_km, double y_km) const;
 
   Eigen::Vector3f zenith_, horizon_, sun_irradiance_, ambient_;
   Eigen::Vector3d to_sun_;

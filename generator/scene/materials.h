@@ -18,6 +18,11 @@ struct Material {
   Eigen::Vector3f secondary;  // mixed in by the pattern
   float frequency = 1.f;      // pattern cycles per metre
   float contrast = 0.5f;      // [0, 1] share of `secondary` at the pattern's peaks
+  // Specular lobe (generator/render/shading.h): 0 = pure Lambertian (the
+  // terrain families, so that their radiance stays albedo * irradiance).
+  float specular = 0.f;   // [0, 1] weight of the specular term
+  float metallic = 0.f;   // [0, 1]: 1 tints the reflection by the albedo and has no diffuse
+  float roughness = 1.f;  // GGX roughness (alpha = roughness^2)
 };
 
 // The built-in material table (grassy, sandy, rocky, snowy, soil, asphalt,

@@ -9,6 +9,7 @@ namespace lsds::gen {
 void TriangleMesh::Append(const TriangleMesh& other,
                           const Eigen::Matrix3f& linear,
                           const Eigen::Vector3f& offset) {
+  corner_normals.clear();  // no longer matches the triangles
   const int base = static_cast<int>(positions.size());
   for (const Eigen::Vector3f& p : other.positions) positions.push_back(linear * p + offset);
   const bool flip = linear.determinant() < 0;

@@ -14,6 +14,12 @@ namespace lsds::gen {
 struct TriangleMesh {
   std::vector<Eigen::Vector3f> positions;
   std::vector<Eigen::Vector3i> triangles;  // counter-clockwise seen from outside
+  // Optional shading normals, three per triangle (one per corner, so that a
+  // crease keeps its edge without splitting vertices: the ray-tracing geometry,
+  // and with it every truth layer, is the same with or without them). Empty:
+  // flat shading. Filled in world space (terrain, RenderScene); Append drops
+  // them.
+  std::vector<Eigen::Vector3f> corner_normals;
 
   void Append(const TriangleMesh& other,
               const Eigen::Matrix3f& linear = Eigen::Matrix3f::Identity(),

@@ -3,19 +3,32 @@
 #include <algorithm>
 #include <cmath>
 
+#include "generator/scene/smooth_normals.h"
+#include "generator/scene/world_ground.h"
+
 namespace lsds::gen {
 
-TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells) {
-  TriangleMesh mesh;
-  const double sx = terrain.size.x(), sy = terrain.size.y();
+Eigen::Vector2i TerrainGrid(const PlannedTerrain& terrain, int max_cells) {
   int nx = 1, ny = 1;
   if (terrain.perlin_amplitude != 0) {
     // About four vertices per noise period on the finest octave we show,
     // bounded.
     const double spacing = std::max(0.25, 0.125 / std::max(1e-6, terrain.perlin_frequency));
-    nx = std::clamp(static_cast<int>(std::ceil(sx / spacing)), 1, max_cells);
-    ny = std::clamp(static_cast<int>(std::ceil(sy / spacing)), 1, max_cells);
+    nx = std::clamp(static_cast<int>(std::ceil(terrain.size.x() / spacing)), 1, max_cells);
+    ny = std::clamp(static_cast<int>(std::ceil(terrain.size.y() / spacing)), 1, max_cells);
   }
+  return {nx, ny};
+}
+
+double TerrainNormalStep(const PlannedTerrain& terrain) {
+  return 1e-3 / std::max(1e-6, terrain.perlin_frequency);
+}
+
+TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells) {
+  TriangleMesh mesh;
+  const double sx = terrain.size.x(), sy = terrain.size.y();
+  const Eigen::Vector2i grid = TerrainGrid(terrain, max_cells);
+  const int nx = grid.x(), ny = grid.y();
   for (int j = 0; j <= ny; ++j) {
     for (int i = 0; i <= nx; ++i) {
       const double x = -sx / 2 + sx * i / nx, y = -sy / 2 + sy * j / ny;
@@ -31,6 +44,11 @@ TriangleMesh MakeTerrainMesh(const PlannedTerrain& terrain, int max_cells) {
       mesh.triangles.emplace_back(a, d, c);
     }
   }
+  // Shading normals of the true surface, not of the facets.
+  mesh.corner_normals = HeightfieldCornerNormals(
+      mesh,
+      [&terrain](double x, double y) { return GroundHeight(terrain, x, y); },
+      TerrainNormalStep(terrain));
   return mesh;
 }
 

@@ -2,6 +2,8 @@
 // refusal, determinism,
 // --frames, --shard byte-identical to a single run, --resume, and the `lsds
 // generate` command.
+#include <unistd.h>
+
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -41,7 +43,8 @@ Plan MovingPlan(int frames = 4) {
 }
 
 fs::path TempRoot(const std::string& name) {
-  const fs::path root = fs::temp_directory_path() / ("lsds_generate_test_" + name);
+  const fs::path root =
+      fs::temp_directory_path() / ("lsds_generate_test_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(root);
   return root;
 }
@@ -222,7 +225,7 @@ TEST(GenerateCommand, DemoCollectionPassesInfoAndRefusesOverwrite) {
 
 TEST(GenerateCommand, PlanJsonRendersLikeThePlanInMemory) {
   const fs::path reference = TempRoot("plan_ref"), root = TempRoot("plan_cli");
-  const fs::path plan_file = fs::temp_directory_path() / "lsds_generate_test_plan.json";
+  const fs::path plan_file = TempRoot("plan.json");
   const Plan plan = MovingPlan(3);
   WriteFileAtomic(plan_file, PlanToJson(plan).dump(2));
   GenerateCollection(plan, Options(reference));

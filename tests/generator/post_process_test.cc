@@ -1,6 +1,8 @@
 // Post-process materials (docs/generator.md "Post-process materials"): each
 // effect changes the RGB as documented, is deterministic, and leaves every
 // truth layer byte for byte as it was, end to end through GenerateCollection.
+#include <unistd.h>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -128,8 +130,10 @@ TEST(PostProcess, UnknownNamesAreReportedWithASuggestion) {
 }
 
 TEST(PostProcess, GeneratedTruthIsByteEqualWithAndWithoutEffects) {
-  const fs::path a = fs::temp_directory_path() / "lsds_pp_test_plain";
-  const fs::path b = fs::temp_directory_path() / "lsds_pp_test_effects";
+  const fs::path a =
+      fs::temp_directory_path() / ("lsds_pp_test_plain_" + std::to_string(::getpid()));
+  const fs::path b =
+      fs::temp_directory_path() / ("lsds_pp_test_effects_" + std::to_string(::getpid()));
   fs::remove_all(a);
   fs::remove_all(b);
   GenerateOptions options;

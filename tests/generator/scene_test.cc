@@ -1,4 +1,6 @@
 // Scene entities: the class factory, materials, meshes, terrain, world state.
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -58,7 +60,8 @@ TEST(ObjectLibrary, UnknownClassIsRejectedWithASuggestion) {
 
 TEST(ObjectLibrary, UserMeshesLoadThroughAssimpNormalized) {
   const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "lsds_scene_test_tetra.obj";
+      std::filesystem::temp_directory_path() /
+      ("lsds_scene_test_tetra_" + std::to_string(::getpid()) + ".obj");
   {
     std::ofstream obj(path);
     obj << "v 0 0 0\nv 2 0 0\nv 0 4 0\nv 0 0 6\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 "

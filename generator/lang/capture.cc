@@ -1283,6 +1283,10 @@ class CaptureEvaluator {
         const auto& supports = s.planned->supports;
         if (std::find(supports.begin(), supports.end(), t.planned->symbol) != supports.end())
           continue;
+        // Nor with what stands on it (its riders touch its top).
+        const auto& theirs_on = t.planned->supports;
+        if (std::find(theirs_on.begin(), theirs_on.end(), s.planned->symbol) != theirs_on.end())
+          continue;
         const OrientedBox theirs{t.position, 0.5 * t.extent, t.world_from_object};
         if (mine.Intersects(theirs))
           s.rule->block.Fail("frame " + std::to_string(f->index) + ": this change makes " + name +

@@ -298,18 +298,18 @@ TEST(Rig, StereoCollectionEndToEnd) {
 
   // backproject: per-frame clouds named per camera; the cube's top points
   // of the left and right camera coincide.
-  const auto clouds = testing::RunCommandLine(lsds + " backproject " + out + " --check -o " +
-                                              (dir / "clouds").string());
+  const auto clouds = testing::RunCommandLine(
+      lsds + " backproject " + out + " --check --format ply -o " + (dir / "clouds").string());
   ASSERT_EQ(clouds.exit_code, 0) << clouds.output;
-  const PointCloud left = ReadCloud(dir / "clouds" / "000000_left.ply");
-  const PointCloud right = ReadCloud(dir / "clouds" / "000001_right.ply");
+  const pointcloud::PointCloud left = pointcloud::ReadCloud(dir / "clouds" / "000000_left.ply");
+  const pointcloud::PointCloud right = pointcloud::ReadCloud(dir / "clouds" / "000001_right.ply");
   std::vector<Eigen::Vector3d> right_top;
-  for (const CloudPoint& p : right.points)
+  for (const pointcloud::CloudPoint& p : right.points)
     if (std::abs(p.z - 2.0f) < 1e-3f) right_top.emplace_back(p.x, p.y, p.z);
   ASSERT_FALSE(right_top.empty());
   const double footprint = 18.0 / frames[0]["camera"]["fx"].get<double>();
   int matched = 0, tested = 0;
-  for (const CloudPoint& p : left.points) {
+  for (const pointcloud::CloudPoint& p : left.points) {
     if (std::abs(p.z - 2.0f) > 1e-3f || std::abs(p.x) > 0.8 || std::abs(p.y) > 0.8) continue;
     ++tested;
     double best = 1e9;

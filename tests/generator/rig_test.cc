@@ -123,7 +123,7 @@ TEST(Rig, NadirAndObliqueCamerasKeepTheirAnglesOnTheFlight) {
       kCubeScene,
       "LCAP = ONE(CO) ONE(P)\n"
       "CO = camera{csettings:{res:[64,48],fps:1},rig:{nadir:{},oblique:{attitude:[0,35,0]},"
-      "side:{attitude:[0,0,90]}}}\n"
+      "side:{attitude:[90,0,0]}}}\n"
       "P = path{waypoints:{points:[[0,-20,40],[0,20,40]],speed:20}}\n");
   ASSERT_EQ(plan.frames.size(), 9u);
   for (size_t k = 0; k < plan.frames.size(); k += 3) {
@@ -134,8 +134,8 @@ TEST(Rig, NadirAndObliqueCamerasKeepTheirAnglesOnTheFlight) {
     EXPECT_NEAR(std::acos(-axis(k).z()) * deg, 0, 1e-9);       // nadir
     EXPECT_NEAR(std::acos(-axis(k + 1).z()) * deg, 35, 1e-9);  // 35 deg off nadir...
     EXPECT_GT(axis(k + 1).y(), 0);                             // ... towards the image top (north)
-    EXPECT_NEAR(std::acos(axis(k).dot(axis(k + 2))) * deg, 0, 1e-9);  // yaw about the view
-    // The side camera's image x is the nadir camera's image y (turned 90).
+    EXPECT_NEAR(std::acos(axis(k).dot(axis(k + 2))) * deg, 0, 1e-9);  // roll: about the view
+    // The rolled camera's image x is the nadir camera's image y.
     const Eigen::Vector3d side_x =
         plan.frames[k + 2].cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitX();
     const Eigen::Vector3d nadir_y =
@@ -197,7 +197,8 @@ TEST(Rig, ObjectsOnAMovedObjectRideWithIt) {
     EXPECT_TRUE(crate.world_from_object.isApprox(turn * crate0.world_from_object, 1e-9));
     EXPECT_TRUE(crate.velocity.isApprox(car.velocity) || car.velocity.isZero()) << f.index;
     if (f.index >= 2) {
-      EXPECT_NEAR(car.position.y(), (f.index - 1) * 1.0, 1e-9);  // 10 m/s at 10 fps
+      // From frame 2 (after frame 1), 10 m/s at 10 fps: 1 m per frame.
+      EXPECT_NEAR(car.position.y(), (f.index - 2) * 1.0, 1e-9);
       EXPECT_NEAR(crate.velocity.y(), 10, 1e-9);
     }
   }
@@ -239,7 +240,7 @@ TEST(Rig, StereoCollectionEndToEnd) {
   for (int step = 0; step < 3; ++step) {
     const auto& left = frames[3 * step];
     const auto& right = frames[3 * step + 1];
-    const double fx = left["camera"]["fx"], cx = left["camera"]["cx"];
+    const double fx = left["camera"]["fx"];
     const int width = left["camera"]["width"], height = left["camera"]["height"];
     const exr::FlatImage lw = exr::ReadFlatExr(
         dir / "out" / left["files"]["worldposition"].get<std::string>(), {"X", "Y", "Z"});

@@ -97,7 +97,8 @@ nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSum
   if (h.rig) {
     rig = nlohmann::json::array();
     for (const RigCamera& c : h.rig->cameras) {
-      const Eigen::Vector3d centre = c.cam_from_rig.Inverse().translation;
+      // + 0: no "-0" in print.
+      const Eigen::Vector3d centre = c.cam_from_rig.Inverse().translation + Eigen::Vector3d::Zero();
       rig.push_back(
           {{"name", c.name},
            {"resolution",
@@ -170,7 +171,8 @@ std::string SummaryToText(const CollectionReader& reader, const CollectionSummar
   if (h.rig) {
     out << "rig         ";
     for (const RigCamera& c : h.rig->cameras) {
-      const Eigen::Vector3d centre = c.cam_from_rig.Inverse().translation;
+      // + 0: no "-0" in print.
+      const Eigen::Vector3d centre = c.cam_from_rig.Inverse().translation + Eigen::Vector3d::Zero();
       const auto frames = s.rig_frames.find(c.name);
       std::snprintf(line,
                     sizeof(line),

@@ -11,6 +11,7 @@
 #include "converters/registry.h"
 #include "converters/split.h"
 #include "libs/collection/collection_reader.h"
+#include "libs/collection/rig.h"
 #include "libs/exr/flat_image.h"
 #include "libs/imaging/srgb_image.h"
 #include "libs/masks/instance_masks.h"
@@ -62,7 +63,7 @@ struct Driver {
   void Prepare(const Frame& frame, FrameContext* ctx, LossReport* loss) {
     ctx->frame = &frame;
     ctx->split = split_plan.split_of_frame.at(frame.index);
-    ctx->stem = FrameStem(frame.index);
+    ctx->stem = FrameFileStem(frame);  // "000004_left" in a rig: unique per camera
     ctx->image_name = ctx->stem + options.ImageExtension();
     ctx->width = frame.camera.intrinsics.width;
     ctx->height = frame.camera.intrinsics.height;

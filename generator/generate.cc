@@ -202,6 +202,22 @@ nlohmann::json SceneStateJson(const PlannedEnvironment& environment) {
       {"skylight_intensity", environment.skylight_intensity}};
 }
 
+// The frame motion of plan frame k is measured against: the previous frame of
+// its shot seen by the same camera (the frame before it, or in a rig the same
+// camera one time step earlier), if planned.
+const PlannedFrame* PreviousInShot(const Plan& plan, size_t k) {
+  const PlannedFrame& frame = plan.frames[k];
+  const size_t n = plan.rig ? plan.rig->cameras.size() : 1;
+  for (size_t back = 1; back <= n && back <= k; ++back) {
+    const PlannedFrame& before = plan.frames[k - back];
+    if (before.rig_camera != frame.rig_camera) continue;
+    const bool next =
+        frame.step >= 0 ? before.step + 1 == frame.step : before.index + 1 == frame.index;
+    return before.shot == frame.shot && next ? &before : nullptr;
+  }
+  return nullptr;
+}
+
 // Each object's LCAP changes in effect at the frame, as the plan states them.
 void RecordObjectChanges(const PlannedFrame& frame, std::vector<ObjectTruth>* objects) {
   for (ObjectTruth& object : *objects) {
@@ -239,6 +255,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   if (!plan.post_process.empty()) header.provenance.render["post_process"] = plan.post_process;
   header.classes = plan.classes;
   header.conventions.geo_origin = plan.geo;
+  header.rig = plan.rig;
   // Capture Settings `layers` choose the layers written (rgb always); the
   // table keeps the standard order.
   const nlohmann::json& asked = plan.capture_settings.value("layers", nlohmann::json());
@@ -345,10 +362,9 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       PreviousView previous;
       std::optional<WorldState> previous_world;
       std::unique_ptr<RenderScene> built_previous;
-      if (k > 0 && plan.frames[k - 1].shot == frame.shot &&
-          plan.frames[k - 1].index + 1 == frame.index) {
-        previous.frame = &plan.frames[k - 1];
-        previous_world = WorldAt(plan, plan.frames[k - 1]);
+      if (const PlannedFrame* before = PreviousInShot(plan, k)) {
+        previous.frame = before;
+        previous_world = WorldAt(plan, *before);
         previous.world = &*previous_world;
         if (scene->world() == *previous_world) {
           previous.scene = scene.get();
@@ -371,6 +387,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       truth->sequence = frame.sequence;
       truth->shot = frame.shot;
       truth->camera_velocity = frame.camera_velocity;
+      truth->rig_camera = frame.rig_camera;
+      if (frame.step >= 0) truth->step = frame.step;
       truth->scene = SceneStateJson(EnvironmentAt(plan, frame));
       truth->camera.intrinsics = frame.camera;
       truth->camera.cam_from_world_rotation = frame.cam_from_world.rotation.toRotationMatrix();
@@ -386,8 +404,12 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       writer.wait();  // rethrows a failed write
       writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
         const Clock::time_point w0 = Clock::now();
-        truth->files = WriteFrameLayers(
-            root, base_header, truth->index, truth->camera, {&film->flat, &film->bundle});
+        truth->files = WriteFrameLayers(root,
+                                        base_header,
+                                        truth->index,
+                                        truth->camera,
+                                        {&film->flat, &film->bundle},
+                                        truth->rig_camera);
         // The truth part comes last: its presence marks the frame complete.
         WriteFileAtomic(TruthPartPath(root, truth->index), FrameToJson(*truth).dump() + "\n");
         std::lock_guard<std::mutex> lock(write_mutex);

@@ -1,6 +1,7 @@
 // lsds generate: render a plan (from LSCENE/LCAP, a plan JSON, or the built-in
 // demo) into a collection. The work lives in generator/generate.h; this file
 // parses flags.
+#include <algorithm>
 #include <csignal>
 #include <cstring>
 #include <iostream>
@@ -130,6 +131,12 @@ int RunGenerate(int argc, char** argv) {
       std::optional<FrameSelection> planned = selection;
       if (planned && planned->begin > 0) --planned->begin;
       plan = PlanSelectedFrames(scene, capture, seed.value_or(0), planned);
+      // In a rig the frame before in the same camera is one time step back.
+      if (planned && plan.rig && plan.rig->cameras.size() > 1 && planned->begin > 0) {
+        const int64_t n = static_cast<int64_t>(plan.rig->cameras.size());
+        planned->begin = std::max<int64_t>(0, selection->begin - n);
+        plan = PlanSelectedFrames(scene, capture, seed.value_or(0), planned);
+      }
     }
     // Before the output is touched: an out-of-range --frames never empties
     // (or, with --force, wipes) an existing collection.

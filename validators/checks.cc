@@ -44,6 +44,11 @@ const std::vector<CheckInfo>& AllChecks() {
        "frame indices strictly increase and times do not decrease",
        "exact"},
       {"structure.duplicate-frame", S::kError, "no frame index appears twice", "exact"},
+      {"structure.rig",
+       S::kError,
+       "in a rig collection every frame names a rig camera and a time step, has that camera's "
+       "intrinsics, and the cameras of one step share one platform pose (cam_from_rig)",
+       "1e-6 relative / 1e-6 rad"},
       {"structure.tables",
        S::kError,
        "class ids and layer names are unique; layer declarations are "

@@ -15,6 +15,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
+#include "libs/collection/rig.h"
 #include "libs/collection/schema.h"
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
@@ -82,8 +83,16 @@ class Validator {
   // bytes per file) and the compact metadata poses (one per frame), both
   // documented in docs/validate.md.
   std::vector<FrameInput> batch_;
-  std::optional<Frame> previous_;
-  std::map<uint32_t, OrientedBox> previous_boxes_;  // of previous_'s objects
+  std::optional<Frame> previous_;  // the frame before, for order checks
+  // The last frame of each camera stream (libs/collection/rig.h) and its
+  // object boxes, for the frame-to-frame checks (motion).
+  struct PreviousFrame {
+    Frame frame;
+    std::map<uint32_t, OrientedBox> boxes;
+  };
+  std::map<std::string, PreviousFrame> previous_by_camera_;
+  std::optional<std::pair<int64_t, Rigid3d>> rig_pose_;  // the current step's platform pose
+  void CheckRigFrame(const Frame& frame, const std::string& pointer);
   std::unordered_set<uint64_t> referenced_;
   std::set<std::string> layer_folders_;
   struct MetadataPose {
@@ -229,8 +238,62 @@ uint64_t HashPath(const std::string& path) {
   return std::hash<std::string>()(fs::path(path).lexically_normal().string());
 }
 
+// A rig frame (docs/format.md, "Camera rigs"): a rig camera of the header, a
+// time step, that camera's intrinsics, and the platform pose
+// rig_from_world = inverse(cam_from_rig) * cam_from_world the same for every
+// camera of the step.
+void Validator::CheckRigFrame(const Frame& frame, const std::string& pointer) {
+  if (!Selected("structure.rig")) return;
+  const bool rig = header_.rig.has_value();
+  if (!rig) {
+    if (frame.rig_camera || frame.step)
+      Emit(
+          "structure.rig",
+          Json(
+              kCollectionFile, pointer + (frame.rig_camera ? "/rig_camera" : "/step"), frame.index),
+          "the frame names a rig camera or step but collection.json has no rig");
+    return;
+  }
+  const RigCamera* camera = frame.rig_camera ? header_.rig->Find(*frame.rig_camera) : nullptr;
+  if (!camera || !frame.step) {
+    Emit("structure.rig",
+         Json(kCollectionFile, pointer + (camera ? "/step" : "/rig_camera"), frame.index),
+         camera ? "a rig frame needs its time step"
+                : "the frame names no camera of the rig ('" + frame.rig_camera.value_or("") + "')");
+    return;
+  }
+  const PinholeCamera& k = frame.camera.intrinsics;
+  const PinholeCamera& r = camera->intrinsics;
+  auto close = [](double a, double b) {
+    return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b));
+  };
+  if (k.width != r.width || k.height != r.height || !close(k.fx, r.fx) || !close(k.fy, r.fy) ||
+      !close(k.cx, r.cx) || !close(k.cy, r.cy))
+    Emit("structure.rig",
+         Json(kCollectionFile, pointer + "/camera", frame.index),
+         "the frame's intrinsics differ from rig camera '" + camera->name + "'");
+  Rigid3d cam_from_world(Eigen::Quaterniond(frame.camera.cam_from_world_rotation).normalized(),
+                         frame.camera.cam_from_world_translation);
+  const Rigid3d rig_from_world = camera->cam_from_rig.Inverse() * cam_from_world;
+  if (!rig_pose_ || rig_pose_->first != *frame.step) {
+    rig_pose_ = std::make_pair(*frame.step, rig_from_world);
+    return;
+  }
+  const Rigid3d& first = rig_pose_->second;
+  const double angle = first.rotation.angularDistance(rig_from_world.rotation);
+  const double scale = std::max(1.0, first.translation.norm());
+  if (angle > 1e-6 || (first.translation - rig_from_world.translation).norm() > 1e-6 * scale)
+    Emit("structure.rig",
+         Json(kCollectionFile, pointer + "/camera/cam_from_world", frame.index),
+         "rig camera '" + camera->name + "' at step " + std::to_string(*frame.step) +
+             " puts the platform elsewhere than the step's first camera (" +
+             FormatNumber(angle * 180 / M_PI) + " deg, " +
+             FormatNumber((first.translation - rig_from_world.translation).norm()) + " apart)");
+}
+
 void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
   const std::string pointer = "/frames/" + std::to_string(position);
+  CheckRigFrame(frame, pointer);
   if (previous_) {
     if (frame.index == previous_->index) {
       Emit("structure.duplicate-frame",
@@ -401,6 +464,7 @@ void Validator::StreamFrames() {
         if (options_.progress) progress.Add();
         if (!issues.empty()) {
           previous_.reset();
+          previous_by_camera_.clear();
           return;
         }
         Frame frame;
@@ -409,15 +473,18 @@ void Validator::StreamFrames() {
         } catch (const Error& e) {
           Emit("schema", Json(file, e.location().json_pointer, index), e.message());
           previous_.reset();
+          previous_by_camera_.clear();
           return;
         } catch (const std::exception& e) {
           Emit("schema", Json(file, pointer, index), e.what());
           previous_.reset();
+          previous_by_camera_.clear();
           return;
         }
         {
           CheckTimer timer(&check_seconds_,
                            owned ? SelectedOf({"structure.duplicate-frame",
+                                               "structure.rig",
                                                "structure.frame-order",
                                                "structure.missing-file",
                                                "structure.unknown-layer",
@@ -435,19 +502,23 @@ void Validator::StreamFrames() {
         input.position = position;
         // Motion continues within a shot (format 1.1), or within a sequence
         // in 1.0 collections, which have no shots.
-        const bool same_shot =
-            previous_ && (frame.shot && previous_->shot ? *frame.shot == *previous_->shot
-                                                        : previous_->sequence == frame.sequence);
-        if (previous_ && previous_->index + 1 == frame.index && same_shot) {
-          input.previous_camera = previous_->camera;
-          input.previous_boxes = previous_boxes_;
+        // In a rig, against the previous frame of the same camera.
+        const std::string stream = CameraStreamOf(frame);
+        const auto before = previous_by_camera_.find(stream);
+        if (before != previous_by_camera_.end() && ContinuesShot(before->second.frame, frame)) {
+          input.previous_camera = before->second.frame.camera;
+          input.previous_boxes = before->second.boxes;
         }
         input.shot_start = frame.shot && *frame.shot == frame.index;
         previous_ = frame;
-        previous_boxes_.clear();
-        for (const ObjectTruth& o : frame.objects) previous_boxes_[o.instance_id] = o.obb;
         previous_->objects.clear();
         previous_->files.clear();
+        PreviousFrame& remembered = previous_by_camera_[stream];
+        remembered.frame = frame;
+        remembered.boxes.clear();
+        for (const ObjectTruth& o : frame.objects) remembered.boxes[o.instance_id] = o.obb;
+        remembered.frame.objects.clear();
+        remembered.frame.files.clear();
         if (!owned) return;  // another shard decodes its layers
         input.frame = std::move(frame);
         batch_.push_back(std::move(input));

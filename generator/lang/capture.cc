@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "generator/lang/environment.h"
+#include "generator/lang/rig.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/geometry/attitude.h"
 #include "libs/util/strings.h"
@@ -22,7 +23,8 @@ const std::vector<std::string> kCameraKeys = {"csettings",
                                               "ppmaterial",
                                               "post_process",
                                               "capture",
-                                              "capture_settings"};
+                                              "capture_settings",
+                                              "rig"};
 const std::vector<std::string> kSettingsKeys = {
     "fov", "res", "resolution", "focal_length", "sensor_width", "fps", "clearance", "heights"};
 
@@ -205,7 +207,9 @@ class CaptureEvaluator {
         if (CanonicalKey(key) == "visible" || CanonicalKey(key) == "visibility")
           made_visible.insert(rule.object_symbol);
     DropHelperClasses(made_visible, plan_, swapped_in_);
-    const int64_t total = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
+    // Paths give time steps; a rig has one frame per camera per step.
+    const int64_t steps = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
+    const int64_t total = steps * RigSize();
     if (end < 0 || end > total) end = total;
     for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k) plan_->frames.push_back(Frame(k));
   }
@@ -215,7 +219,10 @@ class CaptureEvaluator {
     int cameras = 0;
     for (const Definition& d : cap_.definitions) {
       if (d.kind == "camera") {
-        if (++cameras > 1) d.statement.Fail("only one camera per capture");
+        if (++cameras > 1)
+          d.statement.Fail(
+              "one camera per capture; several cameras on one platform are a rig: "
+              "camera{rig:{left:{position:[-0.1,0,0]},right:{position:[0.1,0,0]}}}");
         camera_ = &d;
         d.body.CheckKeys(kCameraKeys, "camera " + d.symbol);
       } else if (d.kind == "path") {
@@ -249,36 +256,14 @@ class CaptureEvaluator {
     camera_model_ = PinholeCamera::FromHorizontalFov(1024, 1024, 60);
     if (!camera_) return;
     const Node& b = camera_->body;
+    IntrinsicSettings intrinsics;
     Node settings;
     for (const char* key : {"csettings", "camerasettings", "settings"})
       if (const Node n = b.Find(key)) settings = n;
     if (settings) {
       settings.CheckKeys(kSettingsKeys, "camera settings");
-      int w = 1024, h = 1024;
-      for (const char* key : {"res", "resolution"}) {
-        if (const Node r = settings.Find(key)) {
-          if (!r->is_array() || r->size() != 2) r.Fail("resolution is [width, height]");
-          const double rw = ReadNumber(r.Item(0)), rh = ReadNumber(r.Item(1));
-          if (rw < 1 || rh < 1 || rw > 65536 || rh > 65536 || rw != std::floor(rw) ||
-              rh != std::floor(rh))
-            r.Fail("resolution must be whole numbers in [1, 65536]");
-          w = static_cast<int>(rw);
-          h = static_cast<int>(rh);
-        }
-      }
-      double fov = 60;
-      if (const Node f = settings.Find("fov")) {
-        fov = ReadNumber(f);
-        if (fov <= 0 || fov >= 180) f.Fail("fov must be in (0, 180) degrees");
-      }
-      camera_model_ = PinholeCamera::FromHorizontalFov(w, h, fov);
-      if (const Node f = settings.Find("focallength")) {
-        double sensor = 36;
-        if (const Node s = settings.Find("sensorwidth")) sensor = ReadNumber(s);
-        const double mm = ReadNumber(f);
-        if (mm <= 0 || sensor <= 0) f.Fail("focal_length and sensor_width must be > 0 (mm)");
-        camera_model_.fx = camera_model_.fy = mm / sensor * w;
-      }
+      intrinsics.Read(settings);
+      camera_model_ = intrinsics.Camera();
       if (const Node f = settings.Find("fps")) {
         fps_ = ReadNumber(f);
         if (fps_ <= 0) f.Fail("fps must be > 0");
@@ -299,6 +284,9 @@ class CaptureEvaluator {
         }
       }
     }
+    // Several cameras on the platform: each frame of the paths becomes one
+    // time step with a frame per rig camera (docs/languages.md, "Camera rigs").
+    if (const Node r = b.Find("rig")) plan_->rig = ReadRig(r, intrinsics);
     for (const char* key : {"ppmaterial", "postprocess"}) {
       if (const Node n = b.Find(key)) {
         if (!n->is_array()) n.Fail("post-process materials are a list [Name, ...]");
@@ -881,6 +869,22 @@ class CaptureEvaluator {
     return PointPose(g, rng);
   }
 
+  // A rig camera's velocity on a smooth flight: the platform's velocity plus
+  // the lever arm turning with the attitude, by a central difference of the
+  // camera centre along the curve.
+  Eigen::Vector3d RigCameraVelocity(const Segment& seg, int64_t i, const Rigid3d& cam_from_rig) {
+    const auto [kind, g] = seg.path->body.Members().front();
+    const Flight& flight = FlightOf(g, static_cast<uint64_t>(&seg - segments_.data()));
+    const double s = static_cast<double>(i) * flight.spacing;
+    const double h = std::min(0.01, 0.5 * flight.length);
+    const double lo = std::max(0.0, s - h), hi = std::min(flight.length, s + h);
+    if (!(hi > lo)) return Eigen::Vector3d::Zero();
+    auto centre = [&](double at) {
+      return CameraCenterInWorld(cam_from_rig * flight.At(at).cam_from_world);
+    };
+    return (centre(hi) - centre(lo)) * (flight.speed / (hi - lo));
+  }
+
   // The first frame of the shot of pose `i` of a path instance starting at
   // frame `first` (docs/format.md, "Motion"): waypoints are flown in one shot,
   // a grid in one shot per altitude level (its rows are flown serpentine, the
@@ -937,15 +941,25 @@ class CaptureEvaluator {
     return CamFromEnu(p, att);
   }
 
-  PlannedFrame Frame(int64_t k) {
+  int64_t RigSize() const {
+    return plan_->rig ? static_cast<int64_t>(plan_->rig->cameras.size()) : 1;
+  }
+
+  // Frame k: time step k / n of the paths, seen by rig camera k % n (n = 1
+  // without a rig, so that the step is the frame). Everything drawn is keyed
+  // by the step, so the cameras of one step see one world.
+  PlannedFrame Frame(int64_t frame_index) {
+    const int64_t n = RigSize();
+    const int64_t k = frame_index / n;  // the time step
+    const int64_t c = frame_index % n;  // the rig camera
     const Segment* seg = nullptr;
     for (const Segment& s : segments_)
       if (k >= s.first && k < s.first + s.count) seg = &s;
     PlannedFrame f;
-    f.index = k;
+    f.index = frame_index;
     f.time = static_cast<double>(k) / fps_;
     f.sequence = seg->path->symbol + "(" + std::to_string(seg->repetition) + ")";
-    f.shot = ShotStart(*seg->path, seg->first, k - seg->first);
+    f.shot = ShotStart(*seg->path, seg->first, k - seg->first) * n + c;
     f.camera = camera_model_;
     Rng rng = Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k));
     f.cam_from_world = Pose(*seg->path,
@@ -953,7 +967,17 @@ class CaptureEvaluator {
                             rng,
                             static_cast<uint64_t>(seg - segments_.data()),
                             &f.camera_velocity);
-    CheckClearance(*seg, k, f.cam_from_world);
+    if (plan_->rig) {
+      const RigCamera& camera = plan_->rig->cameras[static_cast<size_t>(c)];
+      const Rigid3d rig_from_world = f.cam_from_world;
+      f.rig_camera = camera.name;
+      f.step = k;
+      f.camera = camera.intrinsics;
+      f.cam_from_world = camera.cam_from_rig * rig_from_world;
+      if (f.camera_velocity)
+        f.camera_velocity = RigCameraVelocity(*seg, k - seg->first, camera.cam_from_rig);
+    }
+    CheckClearance(*seg, k, f, f.cam_from_world);
     std::vector<const Rule*> change_rules;  // the rule of each change
     for (const Rule& rule : rules_) {
       if (k < rule.begin || k >= rule.end) continue;
@@ -1118,11 +1142,15 @@ class CaptureEvaluator {
   // terrain under it and outside every rendered object grown by it.
   // A violation is a plan error naming the path instance, the pose and the
   // terrain height there; `clearance:off` opts out.
-  void CheckClearance(const Segment& seg, int64_t k, const Rigid3d& cam_from_world) const {
+  void CheckClearance(const Segment& seg,
+                      int64_t k,
+                      const PlannedFrame& f,
+                      const Rigid3d& cam_from_world) const {
     if (!clearance_) return;
     const Eigen::Vector3d eye = CameraCenterInWorld(cam_from_world);
     const std::string who = seg.path->symbol + "(" + std::to_string(seg.repetition) + ") pose " +
-                            std::to_string(k - seg.first) + " (frame " + std::to_string(k) + ")";
+                            std::to_string(k - seg.first) + " (frame " + std::to_string(f.index) +
+                            (f.rig_camera ? ", rig camera " + *f.rig_camera : std::string()) + ")";
     const std::string fix = "; raise the path, or set camera settings clearance:" +
                             std::string("N (metres) or clearance:off");
     if (plan_->terrain.present) {
@@ -1151,14 +1179,65 @@ class CaptureEvaluator {
   // and an object that may not overlap must not overlap another after the
   // change. The re-seated position is appended as a final change of the
   // frame; an overlap is a plan error at the change that caused it.
+  struct State {
+    const PlannedObject* planned = nullptr;
+    Eigen::Vector3d position, extent;
+    Eigen::Matrix3d world_from_object;
+    bool visible = true, moved = false;
+    const Rule* rule = nullptr;  // the last geometry change, for errors
+  };
+
+  // Objects standing ON (or placed IN) a moved object ride with it
+  // (docs/languages.md, "Scene changes keep the placement"): the carrier's
+  // rigid displacement since the plan (translation and turn; its top's
+  // rise when it grew) is applied to each rider that has no geometry change
+  // of its own, in placement order so that a stack moves as one. The rider
+  // is the copy whose planned footprint holds the rider's planned centre.
+  // Each rider's new pose is appended as a change of the frame, with the
+  // carrier's velocity. Returns the riders moved.
+  std::set<std::string> CarryRiders(PlannedFrame* f, std::map<std::string, State>* states) const {
+    std::set<std::string> carried;
+    std::map<std::string, Eigen::Vector3d> velocities;
+    for (const ObjectChange& c : f->changes)
+      if (c.velocity) velocities[c.object] = *c.velocity;
+    for (const PlannedObject& rider : plan_->objects) {
+      State& r = states->at(rider.name);
+      if (r.moved || rider.supports.empty()) continue;
+      for (const PlannedObject& carrier : plan_->objects) {
+        if (&carrier == &rider ||
+            std::find(rider.supports.begin(), rider.supports.end(), carrier.symbol) ==
+                rider.supports.end())
+          continue;
+        const Eigen::Vector3d half = carrier.world_from_object.cwiseAbs() * (0.5 * carrier.extent);
+        const Eigen::Vector3d d = (rider.position - carrier.position).cwiseAbs();
+        if (d.x() > half.x() + 1e-9 || d.y() > half.y() + 1e-9) continue;  // not this copy
+        const State& c = states->at(carrier.name);
+        if (!c.moved) break;
+        const Eigen::Matrix3d turn = c.world_from_object * carrier.world_from_object.transpose();
+        const double rise = (c.world_from_object.cwiseAbs() * (0.5 * c.extent)).z() - half.z();
+        r.position =
+            c.position + turn * (rider.position - carrier.position) + Eigen::Vector3d(0, 0, rise);
+        r.world_from_object = turn * rider.world_from_object;
+        r.moved = true;
+        r.rule = c.rule;
+        carried.insert(rider.name);
+        ObjectChange ride;
+        ride.object = rider.name;
+        ride.position = r.position;
+        if (!turn.isIdentity(1e-12)) ride.world_from_object = r.world_from_object;
+        const auto v = velocities.find(carrier.name);
+        if (v != velocities.end()) {
+          ride.velocity = v->second;
+          velocities[rider.name] = v->second;
+        }
+        f->changes.push_back(ride);
+        break;
+      }
+    }
+    return carried;
+  }
+
   void KeepPlacement(const std::vector<const Rule*>& change_rules, PlannedFrame* f) const {
-    struct State {
-      const PlannedObject* planned = nullptr;
-      Eigen::Vector3d position, extent;
-      Eigen::Matrix3d world_from_object;
-      bool visible = true, moved = false;
-      const Rule* rule = nullptr;  // the last geometry change, for errors
-    };
     std::map<std::string, State> states;
     for (const PlannedObject& o : plan_->objects)
       states[o.name] = {&o, o.position, o.extent, o.world_from_object, o.visible, false, nullptr};
@@ -1194,6 +1273,8 @@ class CaptureEvaluator {
       seat.position = s.position;
       f->changes.push_back(seat);
     }
+    // Riders follow their carriers' final (re-seated) poses.
+    CarryRiders(f, &states);
     for (const auto& [name, s] : states) {
       if (!s.moved || !s.visible || s.planned->overlap_allowed) continue;
       const OrientedBox mine{s.position, 0.5 * s.extent, s.world_from_object};
@@ -1201,6 +1282,10 @@ class CaptureEvaluator {
         if (other_name == name || !t.visible) continue;
         const auto& supports = s.planned->supports;
         if (std::find(supports.begin(), supports.end(), t.planned->symbol) != supports.end())
+          continue;
+        // Nor with what stands on it (its riders touch its top).
+        const auto& theirs_on = t.planned->supports;
+        if (std::find(theirs_on.begin(), theirs_on.end(), s.planned->symbol) != theirs_on.end())
           continue;
         const OrientedBox theirs{t.position, 0.5 * t.extent, t.world_from_object};
         if (mine.Intersects(theirs))

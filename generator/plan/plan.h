@@ -125,6 +125,10 @@ struct PlannedFrame {
   // The environment in effect when LCAP changes it (sky, sun, atmosphere,
   // skylight, terrain material); absent: the plan's.
   std::optional<PlannedEnvironment> environment;
+  // A rig capture (Plan::rig): the rig camera of this frame and the time step
+  // it shares with the rig's other cameras (docs/languages.md, "Camera rigs").
+  std::optional<std::string> rig_camera;
+  int64_t step = -1;  // -1: not a rig frame
 };
 
 struct Plan {
@@ -144,6 +148,9 @@ struct Plan {
   // LCAP capture settings other than post-process materials (e.g. "layers",
   // "output"), as written.
   nlohmann::json capture_settings = nlohmann::json::object();
+  // Several cameras on one platform (LCAP camera `rig`): frames of one time
+  // step are consecutive, in this order.
+  std::optional<Rig> rig;
   std::vector<PlannedFrame> frames;
 };
 

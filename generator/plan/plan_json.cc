@@ -1,5 +1,6 @@
 #include "generator/plan/plan_json.h"
 
+#include "libs/collection/json_io.h"
 #include "libs/collection/schema.h"
 #include "libs/util/error.h"
 #include "libs/util/json_errors.h"
@@ -135,6 +136,8 @@ json PlannedFrameToJson(const PlannedFrame& f) {
             {"changes", changes}};
   if (f.environment) j["environment"] = EnvironmentJson(*f.environment);
   if (f.camera_velocity) j["camera_velocity"] = Vec3(*f.camera_velocity);
+  if (f.rig_camera) j["rig_camera"] = *f.rig_camera;
+  if (f.step >= 0) j["step"] = f.step;
   return j;
 }
 
@@ -154,6 +157,8 @@ PlannedFrame PlannedFrameFromJson(const json& j,
     for (const json& c : j.at("changes")) f.changes.push_back(ChangeFrom(c));
     if (j.contains("environment")) f.environment = EnvironmentFromJson(j.at("environment"));
     if (j.contains("camera_velocity")) f.camera_velocity = ToVec3(j.at("camera_velocity"));
+    if (j.contains("rig_camera")) f.rig_camera = j.at("rig_camera").get<std::string>();
+    f.step = j.value("step", int64_t{-1});
     return f;
   } catch (const json::exception& e) {
     throw Error(std::string("bad plan frame: ") + e.what(), Location(file, pointer));
@@ -207,6 +212,7 @@ json PlanToJson(const Plan& plan) {
     j["geo"] = {{"latitude_deg", plan.geo->latitude_deg},
                 {"longitude_deg", plan.geo->longitude_deg},
                 {"altitude_m", plan.geo->altitude_m}};
+  if (plan.rig) j["rig"] = RigToJson(*plan.rig);
   return j;
 }
 
@@ -254,6 +260,7 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     }
     plan.post_process = j.at("post_process").get<std::vector<std::string>>();
     if (j.contains("capture_settings")) plan.capture_settings = j["capture_settings"];
+    if (j.contains("rig")) plan.rig = RigFromJson(j.at("rig"));
     const json& frames = j.at("frames");
     for (size_t i = 0; i < frames.size(); ++i)
       plan.frames.push_back(PlannedFrameFromJson(frames[i], file, "/frames/" + std::to_string(i)));

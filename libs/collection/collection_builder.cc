@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include "libs/collection/json_io.h"
+#include "libs/collection/rig.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 
@@ -14,7 +15,8 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
                                                     const CollectionHeader& header,
                                                     int64_t frame_index,
                                                     const CameraTruth& camera,
-                                                    const FrameImages& images) {
+                                                    const FrameImages& images,
+                                                    const std::optional<std::string>& rig_camera) {
   std::map<std::string, std::string> files;
   for (const LayerInfo& layer : header.layers) {
     if (layer.deep && images.bundle == nullptr)
@@ -23,7 +25,7 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
     if (!layer.deep && (images.flat == nullptr || images.flat->count(layer.semantic) == 0))
       throw Error("frame " + std::to_string(frame_index) + ": no image for layer '" + layer.name +
                   "'");
-    files[layer.name] = layer.name + "/" + FrameStem(frame_index) + ".exr";
+    files[layer.name] = layer.name + "/" + FrameFileStem(frame_index, rig_camera) + ".exr";
   }
   // Layers are independent files: encode them in parallel.
   tbb::parallel_for(size_t{0}, header.layers.size(), [&](size_t i) {

@@ -24,12 +24,16 @@ struct FrameImages {
 
 // Writes every layer of `header` for frame `frame_index` under `root` (layer
 // files in parallel, each atomically) and returns their relative paths
-// (layer name -> "name/000042.exr"). A layer's image is found by its semantic.
-std::map<std::string, std::string> WriteFrameLayers(const std::filesystem::path& root,
-                                                    const CollectionHeader& header,
-                                                    int64_t frame_index,
-                                                    const CameraTruth& camera,
-                                                    const FrameImages& images);
+// (layer name -> "name/000042.exr"; "name/000042_left.exr" for a frame of rig
+// camera "left", libs/collection/rig.h). A layer's image is found by its
+// semantic.
+std::map<std::string, std::string> WriteFrameLayers(
+    const std::filesystem::path& root,
+    const CollectionHeader& header,
+    int64_t frame_index,
+    const CameraTruth& camera,
+    const FrameImages& images,
+    const std::optional<std::string>& rig_camera = std::nullopt);
 
 // collection.json and metadata.json of `header`, frame by frame, in order.
 // header.frame_count frames must be appended before Commit().

@@ -196,6 +196,43 @@ ObjectTruth ObjectFromJson(const json& j) {
 
 }  // namespace
 
+json RigToJson(const Rig& rig) {
+  json cameras = json::array();
+  for (const RigCamera& c : rig.cameras) {
+    const PinholeCamera& k = c.intrinsics;
+    cameras.push_back({{"name", c.name},
+                       {"width", k.width},
+                       {"height", k.height},
+                       {"fx", k.fx},
+                       {"fy", k.fy},
+                       {"cx", k.cx},
+                       {"cy", k.cy},
+                       {"cam_from_rig",
+                        {{"rotation", Matrix3ToJson(c.cam_from_rig.rotation.toRotationMatrix())},
+                         {"translation", Vector3ToJson(c.cam_from_rig.translation)}}}});
+  }
+  return {{"cameras", cameras}};
+}
+
+Rig RigFromJson(const json& j) {
+  Rig rig;
+  for (const json& c : j.at("cameras")) {
+    RigCamera camera;
+    camera.name = c.at("name").get<std::string>();
+    camera.intrinsics.width = GetInteger<int>(c, "width");
+    camera.intrinsics.height = GetInteger<int>(c, "height");
+    camera.intrinsics.fx = c.at("fx").get<double>();
+    camera.intrinsics.fy = c.at("fy").get<double>();
+    camera.intrinsics.cx = c.at("cx").get<double>();
+    camera.intrinsics.cy = c.at("cy").get<double>();
+    camera.cam_from_rig.rotation =
+        Eigen::Quaterniond(Matrix3FromJson(c.at("cam_from_rig").at("rotation"))).normalized();
+    camera.cam_from_rig.translation = Vector3FromJson(c.at("cam_from_rig").at("translation"));
+    rig.cameras.push_back(camera);
+  }
+  return rig;
+}
+
 json HeaderToJson(const CollectionHeader& h) {
   json provenance = {{"generator", h.provenance.generator},
                      {"generator_version", h.provenance.generator_version},
@@ -234,15 +271,17 @@ json HeaderToJson(const CollectionHeader& h) {
     if (!m.description.empty()) entry["description"] = m.description;
     metadata.push_back(entry);
   }
-  return {{"format", kCollectionFormat},
-          {"format_version", h.format_version},
-          {"provenance", provenance},
-          {"conventions", conventions},
-          {"classes", classes},
-          {"layers", layers},
-          {"metadata", metadata},
-          {"frame_count", h.frame_count},
-          {"frames", json::array()}};
+  json header = {{"format", kCollectionFormat},
+                 {"format_version", h.format_version},
+                 {"provenance", provenance},
+                 {"conventions", conventions},
+                 {"classes", classes},
+                 {"layers", layers},
+                 {"metadata", metadata},
+                 {"frame_count", h.frame_count},
+                 {"frames", json::array()}};
+  if (h.rig) header["rig"] = RigToJson(*h.rig);
+  return header;
 }
 
 CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
@@ -280,6 +319,7 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
                             m.value("description", "")});
     }
     h.frame_count = j.at("frame_count").get<int64_t>();
+    if (j.contains("rig")) h.rig = RigFromJson(j.at("rig"));
     return 0;
   });
   const json& c = j.at("conventions");
@@ -335,6 +375,8 @@ json FrameToJson(const Frame& f) {
   if (f.shot) j["shot"] = *f.shot;
   if (!f.scene.is_null()) j["scene"] = f.scene;
   if (f.camera_velocity) j["camera_velocity"] = Vector3ToJson(*f.camera_velocity);
+  if (f.rig_camera) j["rig_camera"] = *f.rig_camera;
+  if (f.step) j["step"] = *f.step;
   return j;
 }
 
@@ -347,6 +389,8 @@ Frame FrameFromJson(const json& j, const std::string& file, const std::string& p
     if (j.contains("shot")) f.shot = j.at("shot").get<int64_t>();
     if (j.contains("scene")) f.scene = j.at("scene");
     if (j.contains("camera_velocity")) f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
+    if (j.contains("rig_camera")) f.rig_camera = j.at("rig_camera").get<std::string>();
+    if (j.contains("step")) f.step = j.at("step").get<int64_t>();
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
     for (const auto& [layer, reference] : f.files)

@@ -13,6 +13,9 @@ namespace lsds {
 
 nlohmann::json HeaderToJson(const CollectionHeader& header);  // "frames" left empty
 nlohmann::json FrameToJson(const Frame& frame);
+// A camera rig ("rig" of collection.json and of plans; docs/format.md, "Camera rigs").
+nlohmann::json RigToJson(const Rig& rig);
+Rig RigFromJson(const nlohmann::json& j);
 CollectionHeader HeaderFromJson(const nlohmann::json& json, const std::string& file);
 Frame FrameFromJson(const nlohmann::json& json,
                     const std::string& file,

@@ -148,6 +148,25 @@ struct Frame {
   std::optional<Eigen::Vector3d> camera_velocity;
   std::map<std::string, std::string> files;  // layer name -> path relative to the collection root
   std::vector<ObjectTruth> objects;
+  // Format 1.1, optional: in a rig collection (CollectionHeader::rig), the
+  // camera of the rig this frame is from and the time step it shares with the
+  // other cameras of the rig (docs/format.md, "Camera rigs").
+  std::optional<std::string> rig_camera;
+  std::optional<int64_t> step;
+};
+
+// Format 1.1, optional: several cameras on one platform moving together
+// (docs/format.md, "Camera rigs"). Each camera's pose is fixed relative to
+// the rig: cam_from_world = cam_from_rig * rig_from_world.
+struct RigCamera {
+  std::string name;  // "left": frames[k].rig_camera, and the file name suffix
+  PinholeCamera intrinsics;
+  Rigid3d cam_from_rig;
+};
+
+struct Rig {
+  std::vector<RigCamera> cameras;  // in frame order within a time step
+  const RigCamera* Find(const std::string& name) const;
 };
 
 // Everything in collection.json except the frames, which are streamed.
@@ -159,6 +178,7 @@ struct CollectionHeader {
   std::vector<LayerInfo> layers;
   std::vector<MetadataVariant> metadata;
   int64_t frame_count = 0;
+  std::optional<Rig> rig;  // format 1.1: a camera rig (absent: one camera)
 
   const LayerInfo* FindLayer(const std::string& name) const;
   const LayerInfo* FindLayerBySemantic(const std::string& semantic) const;

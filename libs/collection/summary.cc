@@ -37,6 +37,7 @@ CollectionSummary Summarize(const CollectionReader& reader) {
     s.camera_height_min = std::min(s.camera_height_min, height);
     s.camera_height_max = std::max(s.camera_height_max, height);
     s.resolutions[std::to_string(k.width) + "x" + std::to_string(k.height)]++;
+    if (frame.rig_camera) s.rig_frames[*frame.rig_camera]++;
     for (const LayerInfo& layer : header.layers) {
       LayerSummary& ls = s.layers[layer.name];
       const auto it = frame.files.find(layer.name);
@@ -92,6 +93,21 @@ nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSum
                        {"objects", cs.objects},
                        {"instances", cs.instance_ids.size()}});
   }
+  nlohmann::json rig = nullptr;
+  if (h.rig) {
+    rig = nlohmann::json::array();
+    for (const RigCamera& c : h.rig->cameras) {
+      // + 0: no "-0" in print.
+      const Eigen::Vector3d centre = c.cam_from_rig.Inverse().translation + Eigen::Vector3d::Zero();
+      rig.push_back(
+          {{"name", c.name},
+           {"resolution",
+            std::to_string(c.intrinsics.width) + "x" + std::to_string(c.intrinsics.height)},
+           {"hfov_deg", c.intrinsics.HorizontalFovDeg()},
+           {"position_in_rig", {centre.x(), centre.y(), centre.z()}},
+           {"frames", s.rig_frames.count(c.name) ? s.rig_frames.at(c.name) : 0}});
+    }
+  }
   return {{"path", Utf8Escaped(reader.root().string())},
           {"format_version", h.format_version},
           {"generator", h.provenance.generator + " " + h.provenance.generator_version},
@@ -104,7 +120,8 @@ nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSum
           {"cameras",
            {{"resolutions", s.resolutions},
             {"hfov_deg", {{"min", s.hfov_min_deg}, {"max", s.hfov_max_deg}}},
-            {"height", {{"min", s.camera_height_min}, {"max", s.camera_height_max}}}}},
+            {"height", {{"min", s.camera_height_min}, {"max", s.camera_height_max}}},
+            {"rig", rig}}},
           {"layers", layers},
           {"classes", classes},
           {"objects", s.objects},
@@ -150,7 +167,28 @@ std::string SummaryToText(const CollectionReader& reader, const CollectionSummar
                 s.camera_height_min,
                 s.camera_height_max,
                 h.conventions.world.length_unit.c_str());
-  out << line << "layers\n";
+  out << line;
+  if (h.rig) {
+    out << "rig         ";
+    for (const RigCamera& c : h.rig->cameras) {
+      // + 0: no "-0" in print.
+      const Eigen::Vector3d centre = c.cam_from_rig.Inverse().translation + Eigen::Vector3d::Zero();
+      const auto frames = s.rig_frames.find(c.name);
+      std::snprintf(line,
+                    sizeof(line),
+                    "%s %dx%d at (%.3g, %.3g, %.3g) (%lld frames)  ",
+                    c.name.c_str(),
+                    c.intrinsics.width,
+                    c.intrinsics.height,
+                    centre.x(),
+                    centre.y(),
+                    centre.z(),
+                    static_cast<long long>(frames == s.rig_frames.end() ? 0 : frames->second));
+      out << line;
+    }
+    out << "\n";
+  }
+  out << "layers\n";
   for (const LayerInfo& layer : h.layers) {
     const LayerSummary& ls = s.layers.at(layer.name);
     std::string channels;

@@ -25,7 +25,8 @@ struct ClassSummary {
 struct CollectionSummary {
   int64_t frames = 0;
   double time_min = 0, time_max = 0;
-  std::map<std::string, int> resolutions;  // "1024x768" -> frames
+  std::map<std::string, int> resolutions;     // "1024x768" -> frames
+  std::map<std::string, int64_t> rig_frames;  // rig camera -> frames (rig collections)
   double hfov_min_deg = 0, hfov_max_deg = 0;
   double camera_height_min = 0,
          camera_height_max = 0;  // camera centre "up" coordinate, world units

@@ -1,5 +1,7 @@
 #include "libs/export/export_layers.h"
 
+#include "libs/collection/rig.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -174,7 +176,7 @@ class FrameWriter {
       }
       data.push_back(&c);
     }
-    const std::string stem = FrameStem(frame.index);
+    const std::string stem = FrameFileStem(frame);  // "000004_left" in a rig
     const fs::path folder = root_ / layer.name;
     int64_t bytes = 0;
     auto written = [&bytes](const fs::path& path) {

@@ -77,6 +77,28 @@ class ReportWriter {
 
 }  // namespace
 
+// The realized error of each frame. In a rig collection the cameras of one
+// time step ride one platform: one error is drawn per step (frames of a step
+// are consecutive, index = step * cameras + camera) and every camera of the
+// step gets it, as one GNSS/INS fix would.
+class FrameErrors {
+ public:
+  FrameErrors(MetadataPerturber* perturber, const CollectionHeader& header)
+      : perturber_(perturber),
+        cameras_(header.rig ? static_cast<int64_t>(header.rig->cameras.size()) : 1) {}
+  RealizedError Next(int64_t frame_index, double time) {
+    if (cameras_ == 1) return perturber_->NextError(frame_index, time);
+    const int64_t step = frame_index / cameras_;
+    if (!last_ || last_->first != step) last_.emplace(step, perturber_->NextError(step, time));
+    return last_->second;
+  }
+
+ private:
+  MetadataPerturber* perturber_;
+  int64_t cameras_;
+  std::optional<std::pair<int64_t, RealizedError>> last_;
+};
+
 PerturbResult PerturbCollection(const PerturbOptions& options) {
   options.spec.Validate();
   const fs::path& root = options.collection;
@@ -157,24 +179,26 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   AtomicFile frames_file(fs::path(result.output).concat(".frames"));
   ErrorStatistics statistics;
   MetadataPerturber perturber(options.spec, world);
+  FrameErrors errors(&perturber, header);
   std::unique_ptr<Progress> progress;
   if (options.progress)
     progress = std::make_unique<Progress>("perturb-metadata", header.frame_count);
   std::ostream& frames_out = frames_file.stream();
   const ArrayScanResult metadata_scan = ScanJsonArrayMember(
-      result.source,
-      "frames",
-      {nullptr, [&](std::string_view text, size_t index) {
-         const std::string pointer = "/frames/" + std::to_string(index);
-         const nlohmann::json json = ParseElement(text, result.source, pointer);
-         frame_schema.ValidateOrThrow(json, source_file, pointer);
-         const MetadataFrame truth = MetadataFrameFromJson(json, source_file, pointer);
-         const RealizedError error = perturber.NextError(truth.index, truth.time);
-         statistics.Add(error);
-         frames_out << (index == 0 ? "\n    " : ",\n    ")
-                    << MetadataFrameToJson(perturber.Apply(truth, error)).dump();
-         if (progress) progress->Add();
-       }});
+      result.source, "frames", {nullptr, [&](std::string_view text, size_t index) {
+                                  const std::string pointer = "/frames/" + std::to_string(index);
+                                  const nlohmann::json json =
+                                      ParseElement(text, result.source, pointer);
+                                  frame_schema.ValidateOrThrow(json, source_file, pointer);
+                                  const MetadataFrame truth =
+                                      MetadataFrameFromJson(json, source_file, pointer);
+                                  const RealizedError error = errors.Next(truth.index, truth.time);
+                                  statistics.Add(error);
+                                  frames_out
+                                      << (index == 0 ? "\n    " : ",\n    ")
+                                      << MetadataFrameToJson(perturber.Apply(truth, error)).dump();
+                                  if (progress) progress->Add();
+                                }});
   progress.reset();
   JsonSchema::Get("metadata.schema.json").ValidateOrThrow(metadata_scan.header, source_file);
   const MetadataHeader truth_header = MetadataHeaderFromJson(metadata_scan.header, source_file);
@@ -232,6 +256,7 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   std::unique_ptr<ReportWriter> report;
   DisplacementSummary displacement;
   MetadataPerturber report_perturber(options.spec, world);
+  FrameErrors report_errors(&report_perturber, header);
   if (result.report) {
     report = std::make_unique<ReportWriter>(
         *result.report,
@@ -256,7 +281,9 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
         // The measured camera, from the truth as metadata.json states it
         // (TruthMetadata) and the same realized error as the output's frame of
         // that index.
-        const MetadataFrame measured = report_perturber.Perturb(TruthMetadata(frame, world));
+        const MetadataFrame truth = TruthMetadata(frame, world);
+        const MetadataFrame measured =
+            report_perturber.Apply(truth, report_errors.Next(truth.index, truth.time));
         const FrameDisplacement moved = MeasureDisplacement(frame, world, measured);
         displacement.Add(moved);
         report->Append(moved);

@@ -1,5 +1,7 @@
 #include "libs/pointcloud/backproject_run.h"
 
+#include "libs/collection/rig.h"
+
 #include <unistd.h>
 
 #include <map>
@@ -286,6 +288,7 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
   auto process = [&](const Frame& frame) {
     FrameResult result;
     result.report.index = frame.index;
+    result.report.stem = FrameFileStem(frame);
     result.cloud.attributes = plan.attributes;
     const LoadedFrame loaded = LoadFrame(reader, frame, plan, options.check);
     FramePose pose;
@@ -348,9 +351,7 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
       summary.points_backprojected += r.report.points;
       if (r.report.checked) summary.check.Merge(r.report.check);
       if (folder) {
-        WriteCloud(folder->temp_path() / (FrameStem(r.report.index) + Extension(*format)),
-                   r.cloud,
-                   *format);
+        WriteCloud(folder->temp_path() / (r.report.stem + Extension(*format)), r.cloud, *format);
         summary.points_written += r.report.points;
       } else if (voxels) {
         voxels->Add(r.cloud);

@@ -50,6 +50,7 @@ struct BackprojectOptions {
 
 struct FrameReport {
   int64_t index = 0;
+  std::string stem;  // the frame's file stem ("000004_left" in a rig)
   int64_t points = 0;
   bool checked = false;
   ErrorStats check;  // world units

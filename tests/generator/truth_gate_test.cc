@@ -153,7 +153,8 @@ INSTANTIATE_TEST_SUITE_P(
                       std::make_pair("uav_survey.lscene", "demo_survey.lcap"),
                       std::make_pair("paper_example1.lscene", "paper_example1.lcap"),
                       std::make_pair("rocky_sand_clutter.lscene", "rocky_sand_random.lcap"),
-                      std::make_pair("field_day.lscene", "field_day.lcap")),
+                      std::make_pair("field_day.lscene", "field_day.lcap"),
+                      std::make_pair("time_of_day_movers.lscene", "time_of_day_movers.lcap")),
     [](const auto& info) {
       std::string name = info.param.second;
       return name.substr(0, name.find('.'));

@@ -146,6 +146,12 @@ std::vector<Corruption> MakeCorruptions() {
     EditCollection(root, [](json& j) { j["frames"][2]["index"] = 1; });
     return At("structure.duplicate-frame", "collection.json", 1, "/frames/2/index");
   });
+  add("rig-camera-without-rig",
+      "frame 1 names a rig camera; the collection has no rig",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) { j["frames"][1]["rig_camera"] = "left"; });
+        return At("structure.rig", "collection.json", 1, "/frames/1/rig_camera");
+      });
   add("duplicate-class-id", "class id 2 twice in the class table", [](const fs::path& root) {
     EditCollection(root, [](json& j) { j["classes"].push_back({{"id", 2}, {"name", "box2"}}); });
     return At("structure.tables", "collection.json", std::nullopt, "/classes/3/id");

@@ -40,11 +40,11 @@ fs::path Collection() {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const fs::path root = Collection();
   lsds::fuzz::WriteBytes(root / lsds::kCollectionFile, data, size);
-  lsds::ValidateOptions options;
+  lsds::validate::ValidateOptions options;
   options.jobs = 1;
   options.camera_grid = 4;  // the camera solve is fuzzed too, on a coarse grid
   try {
-    (void)lsds::ValidateCollection(root, options);
+    (void)lsds::validate::ValidateCollection(root, options);
   } catch (const lsds::Error&) {
   } catch (const fs::filesystem_error&) {
   }

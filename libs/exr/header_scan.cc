@@ -79,20 +79,68 @@ class HeaderScanner {
              " declares " + std::to_string(size) + " bytes, but the file ends " +
              std::to_string(size_ - pos_) + " bytes later");
       }
-      if (name == "dataWindow" && type == "box2i" && size == 16) {
+      // OpenEXR reads a known type by the type, not by the declared size:
+      // follow it the same way, or the attribute table diverges from its.
+      const auto fixed = FixedSize(type);
+      if (name == "dataWindow" && type == "box2i") {
         CheckWindow();
-      } else if (name == "chunkCount" && type == "int" && size == 4) {
+      } else if (name == "chunkCount" && type == "int") {
         // Every chunk has an 8-byte offset in the file.
         const int64_t chunks = static_cast<int32_t>(ReadU32());
         if (chunks < 0 || chunks > size_ / 8) {
           Fail("chunkCount " + std::to_string(chunks) + " does not fit in a file of " +
                std::to_string(size_) + " bytes");
         }
+      } else if (type == "chlist") {
+        ScanChannelList(max_name);
+      } else if (type == "preview") {
+        const int64_t width = ReadU32(), height = ReadU32();
+        if (width * height * 4 > size_ - pos_) {
+          Fail("preview image of " + std::to_string(width) + "x" + std::to_string(height) +
+               " at byte " + std::to_string(start) + " does not fit in the file");
+        }
+        Skip(width * height * 4);
+      } else if (fixed > 0) {
+        if (fixed > size_ - pos_) Fail("truncated at byte " + std::to_string(pos_));
+        Skip(fixed);
       } else {
-        in_.seekg(size, std::ios::cur);
-        pos_ += size;
+        Skip(size);  // strings, vectors and types OpenEXR does not know: `size` bytes
       }
     }
+  }
+
+  // The bytes OpenEXR reads for a fixed-size attribute type, 0 for the others.
+  static int64_t FixedSize(const std::string& type) {
+    static const std::pair<const char*, int64_t> kSizes[] = {
+        {"box2i", 16},      {"box2f", 16},   {"chromaticities", 32},
+        {"compression", 1}, {"double", 8},   {"envmap", 1},
+        {"float", 4},       {"int", 4},      {"keycode", 28},
+        {"lineOrder", 1},   {"m33f", 36},    {"m33d", 72},
+        {"m44f", 64},       {"m44d", 128},   {"rational", 8},
+        {"tiledesc", 9},    {"timecode", 8}, {"v2i", 8},
+        {"v2f", 8},         {"v2d", 16},     {"v3i", 12},
+        {"v3f", 12},        {"v3d", 24},     {"deepImageState", 1}};
+    for (const auto& [name, bytes] : kSizes) {
+      if (type == name) return bytes;
+    }
+    return 0;
+  }
+
+  // A channel list is read up to its empty name: name, then 16 bytes each.
+  void ScanChannelList(int max_name) {
+    for (int channels = 0;; ++channels) {
+      if (ReadName(max_name).empty()) return;
+      if (channels >= limits_.max_channels) {
+        Fail("more than " + std::to_string(limits_.max_channels) + " channels");
+      }
+      if (16 > size_ - pos_) Fail("truncated at byte " + std::to_string(pos_));
+      Skip(16);
+    }
+  }
+
+  void Skip(int64_t bytes) {
+    in_.seekg(bytes, std::ios::cur);
+    pos_ += bytes;
   }
 
   // The reader's size limits, before OpenEXR sizes its offset table and line

@@ -11,12 +11,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::filesystem::path path = lsds::fuzz::ScratchDir() / "bundle.exr";
   lsds::fuzz::WriteBytes(path, data, size);
-  lsds::exr::ReadLimits limits;
-  limits.max_width = limits.max_height = 4096;
-  limits.max_pixels = 1 << 20;
-  limits.max_deep_samples = 1 << 22;
   try {
-    const lsds::exr::DeepImage image = lsds::exr::ReadDeepExr(path, {}, limits);
+    const lsds::exr::DeepImage image = lsds::exr::ReadDeepExr(path, {}, lsds::fuzz::FuzzLimits());
     (void)image.width();
   } catch (const lsds::Error&) {
   }

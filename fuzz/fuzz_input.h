@@ -12,6 +12,8 @@
 #include <string>
 #include <system_error>
 
+#include "libs/exr/exr_types.h"
+
 namespace lsds::fuzz {
 
 // A scratch folder of this process, on tmpfs when there is one (every input is
@@ -36,6 +38,16 @@ inline const std::filesystem::path& ScratchDir() {
 inline void WriteBytes(const std::filesystem::path& path, const uint8_t* data, size_t size) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+}
+
+// Limits small enough that a hostile header cannot make one run slow, as the
+// readers' own limits bound a real run.
+inline exr::ReadLimits FuzzLimits() {
+  exr::ReadLimits limits;
+  limits.max_width = limits.max_height = 4096;
+  limits.max_pixels = 1 << 20;
+  limits.max_deep_samples = 1 << 22;
+  return limits;
 }
 
 }  // namespace lsds::fuzz

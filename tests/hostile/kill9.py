@@ -160,42 +160,28 @@ def main():
     print("generate: %d of %d runs killed mid-way, reference %.2f s" % (killed, args.repeats,
                                                                      duration), flush=True)
 
-    # --- convert: the collection is an input only.
+    # --- commands whose outputs lie outside the collection, an input only.
     src = at("ref")
-    conv = [lsds, "convert", src, "--to", "coco", "--images", "png"]
-    duration = timed(conv + ["-o", at("conv_ref")])
-    conv_reference = tree_hashes(at("conv_ref"))
-    killed = 0
-    for r in range(args.repeats):
-        out = at("conv%d" % r)
-        killed += kill_after(conv + ["-o", out], moment(duration))
-        check_inputs("convert", reference, src)
-        if os.path.exists(out):
-            same_tree("convert (output present after kill)", out, conv_reference)
-        rerun = run(conv + ["-o", out, "--force"])
-        if rerun.returncode != 0:
-            fail("convert rerun after kill: %s" % rerun.stderr.strip())
-        same_tree("convert rerun", out, conv_reference)
-    print("convert: %d of %d runs killed mid-way, reference %.2f s" % (killed, args.repeats,
-                                                                    duration), flush=True)
 
-    # --- backproject --fuse: one file out, the collection an input only.
-    bp = [lsds, "backproject", src, "--fuse", "--voxel", "0.5"]
-    duration = timed(bp + ["-o", at("bp_ref.ply")])
-    bp_reference = tree_hashes(at("bp_ref.ply"))
-    killed = 0
-    for r in range(args.repeats):
-        out = at("bp%d.ply" % r)
-        killed += kill_after(bp + ["-o", out], moment(duration))
-        check_inputs("backproject", reference, src)
-        if os.path.exists(out):
-            same_tree("backproject (output present after kill)", out, bp_reference)
-        rerun = run(bp + ["-o", out, "--force"])
-        if rerun.returncode != 0:
-            fail("backproject rerun after kill: %s" % rerun.stderr.strip())
-        same_tree("backproject rerun", out, bp_reference)
-    print("backproject --fuse: %d of %d runs killed mid-way, reference %.2f s" %
-          (killed, args.repeats, duration), flush=True)
+    def outside(name, cmd, suffix):
+        duration = timed(cmd + ["-o", at(name + "_ref" + suffix)])
+        done = tree_hashes(at(name + "_ref" + suffix))
+        killed = 0
+        for r in range(args.repeats):
+            out = at("%s%d%s" % (name, r, suffix))
+            killed += kill_after(cmd + ["-o", out], moment(duration))
+            check_inputs(name, reference, src)
+            if os.path.exists(out):
+                same_tree("%s (output present after kill)" % name, out, done)
+            rerun = run(cmd + ["-o", out, "--force"])
+            if rerun.returncode != 0:
+                fail("%s rerun after kill: %s" % (name, rerun.stderr.strip()))
+            same_tree("%s rerun" % name, out, done)
+        print("%s: %d of %d runs killed mid-way, reference %.2f s" % (name, killed, args.repeats,
+                                                                     duration), flush=True)
+
+    outside("convert", [lsds, "convert", src, "--to", "coco", "--images", "png"], "")
+    outside("backproject", [lsds, "backproject", src, "--fuse", "--voxel", "0.5"], ".ply")
 
     # --- commands that write into the collection: old or new collection.json, whole.
     def in_place(name, args_tail, outputs):

@@ -94,12 +94,15 @@ class HeaderScanner {
       } else if (type == "chlist") {
         ScanChannelList(max_name);
       } else if (type == "preview") {
-        const int64_t width = ReadU32(), height = ReadU32();
-        if (width * height * 4 > size_ - pos_) {
+        // Unsigned, as OpenEXR reads them; compared without a product that
+        // could overflow.
+        const uint64_t width = ReadU32(), height = ReadU32();
+        const uint64_t room = static_cast<uint64_t>(size_ - pos_) / 4;
+        if (width != 0 && height > room / width) {
           Fail("preview image of " + std::to_string(width) + "x" + std::to_string(height) +
                " at byte " + std::to_string(start) + " does not fit in the file");
         }
-        Skip(width * height * 4);
+        Skip(static_cast<int64_t>(width * height * 4));
       } else if (fixed > 0) {
         if (fixed > size_ - pos_) Fail("truncated at byte " + std::to_string(pos_));
         Skip(fixed);

@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "libs/util/error.h"
+#include "libs/util/splitmix64.h"
 #include "libs/util/strings.h"
 
 namespace lsds::convert {
@@ -59,15 +60,6 @@ uint64_t Fnv1a64(const std::string& text) {
 std::string SplitGroup(const Frame& frame, int64_t block) {
   if (!frame.sequence.empty()) return frame.sequence;
   return "#frames/" + std::to_string(frame.index / block);
-}
-
-uint64_t Mix64(uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ull;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebull;
-  x ^= x >> 31;
-  return x;
 }
 
 const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::string& group) {

@@ -29,10 +29,10 @@ uint64_t Fnv1a64(const std::string& text);
 // in blocks of `block` consecutive frame indices ("#frames/<index / block>").
 std::string SplitGroup(const Frame& frame, int64_t block = 50);
 
-// SplitMix64's finalizer: FNV-1a alone leaves its top bits poorly mixed for
-// names that differ only in their last characters ("seq_1", "seq_2"), which
-// would skew the split proportions.
-uint64_t Mix64(uint64_t x);
+// SplitMix64's finalizer (Mix64, libs/util/splitmix64.h) follows FNV-1a:
+// FNV-1a alone leaves its top bits poorly mixed for names that differ only in
+// their last characters ("seq_1", "seq_2"), which would skew the split
+// proportions.
 
 // The split of a group: u = top 53 bits of Mix64(FNV-1a(group)) / 2^53 in [0,
 // 1), the first part whose cumulative fraction exceeds u.

@@ -391,8 +391,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       if (frame.step >= 0) truth->step = frame.step;
       truth->scene = SceneStateJson(EnvironmentAt(plan, frame));
       truth->camera.intrinsics = frame.camera;
-      truth->camera.cam_from_world_rotation = frame.cam_from_world.rotation.toRotationMatrix();
-      truth->camera.cam_from_world_translation = frame.cam_from_world.translation;
+      SetCamFromWorld(frame.cam_from_world, &truth->camera);
       uint64_t rays = film->rays;
       truth->objects =
           ComputeObjectTruth(*scene, frame, *film, EnvironmentAt(plan, frame).fog_density, &rays);

@@ -11,6 +11,7 @@
 #include "libs/exr/deep_image.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
+#include "libs/geometry/instance_mask.h"
 #include "libs/geometry/oriented_box.h"
 #include "validators/camera_checks.h"
 
@@ -510,8 +511,7 @@ void FrameChecker::CheckObjects() {
   const std::vector<uint32_t>* ids = Ids("instanceid");
   const std::vector<uint32_t>* classes = Ids("classid");
   struct Mask {
-    int64_t count = 0;
-    int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+    InstanceMask extent;  // the pixel count and the tight box
     PixelTally wrong_class;
     uint32_t wrong_class_id = 0;
   };
@@ -522,24 +522,25 @@ void FrameChecker::CheckObjects() {
     class_of[object.instance_id] = object.class_id;
   }
   if (ids) {
+    for (const auto& [id, extent] : MeasureInstanceMasks(*ids, width_, height_)) {
+      const auto it = masks.find(id);
+      if (it != masks.end()) it->second.extent = extent;
+    }
+  }
+  if (ids && classes) {
     for (int y = 0; y < height_; ++y) {
       for (int x = 0; x < width_; ++x) {
         const size_t p = static_cast<size_t>(y) * width_ + x;
         const auto it = masks.find((*ids)[p]);
         if (it == masks.end()) continue;
-        Mask& m = it->second;
-        ++m.count;
-        m.x0 = std::min(m.x0, x), m.y0 = std::min(m.y0, y);
-        m.x1 = std::max(m.x1, x), m.y1 = std::max(m.y1, y);
-        if (classes && (*classes)[p] != class_of[(*ids)[p]]) {
-          m.wrong_class.Add(x, y, "classid " + std::to_string((*classes)[p]));
+        if ((*classes)[p] != class_of[(*ids)[p]]) {
+          it->second.wrong_class.Add(x, y, "classid " + std::to_string((*classes)[p]));
         }
       }
     }
   }
   const bool can_project = frame_.camera.cam_from_world_rotation.determinant() > 0;
-  const Eigen::Quaterniond rotation(frame_.camera.cam_from_world_rotation);
-  const Rigid3d cam_from_world(rotation.normalized(), frame_.camera.cam_from_world_translation);
+  const Rigid3d cam_from_world = CamFromWorld(frame_.camera);
   for (size_t k = 0; k < frame_.objects.size(); ++k) {
     const ObjectTruth& object = frame_.objects[k];
     const std::string pointer = "/objects/" + std::to_string(k);
@@ -550,8 +551,7 @@ void FrameChecker::CheckObjects() {
     if (ids) {
       const Mask& m = masks[object.instance_id];
       std::optional<Box2d> extent;
-      if (m.count > 0)
-        extent = Box2d{double(m.x0), double(m.y0), double(m.x1 + 1), double(m.y1 + 1)};
+      if (m.extent.pixels > 0) extent = m.extent.box;
       auto box_text = [](const std::optional<Box2d>& b) {
         return b ? "[" + Fmt(b->x0) + ", " + Fmt(b->y0) + ", " + Fmt(b->x1) + ", " + Fmt(b->y1) +
                        "]"
@@ -566,11 +566,11 @@ void FrameChecker::CheckObjects() {
                  FileOf("instanceid") + " spans " + box_text(extent),
              who);
       }
-      if (m.count != object.visible_pixels) {
+      if (m.extent.pixels != object.visible_pixels) {
         Emit("cross.visible-pixels",
              JsonLocation(pointer + "/visible_pixels"),
              "visible_pixels is " + std::to_string(object.visible_pixels) + " but the mask has " +
-                 std::to_string(m.count) + " pixels",
+                 std::to_string(m.extent.pixels) + " pixels",
              who);
       }
       if (m.wrong_class.count > 0 && Selected("cross.class-instance")) {

@@ -5,14 +5,9 @@
 
 #include <cstdint>
 
-namespace lsds {
+#include "libs/util/splitmix64.h"
 
-inline uint64_t SplitMix64Next(uint64_t* state) {
-  uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+namespace lsds {
 
 // Mixes values into one 64-bit key (order matters).
 inline uint64_t MixKey(uint64_t a, uint64_t b) {

@@ -6,15 +6,10 @@
 #include <mutex>
 #include <unordered_map>
 
+#include "libs/util/splitmix64.h"
+
 namespace lsds {
 namespace {
-
-uint64_t SplitMix64(uint64_t* state) {
-  uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 
 using Permutation = std::array<int, 512>;
 
@@ -23,7 +18,7 @@ Permutation MakePermutation(uint64_t seed) {
   for (int i = 0; i < 256; ++i) p[i] = i;
   uint64_t state = seed;
   for (int i = 255; i > 0; --i) {  // Fisher-Yates with an exact integer draw
-    const int j = static_cast<int>(SplitMix64(&state) % static_cast<uint64_t>(i + 1));
+    const int j = static_cast<int>(SplitMix64Next(&state) % static_cast<uint64_t>(i + 1));
     std::swap(p[i], p[j]);
   }
   Permutation out;

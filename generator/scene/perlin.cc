@@ -3,15 +3,12 @@
 #include <cmath>
 #include <string>
 
+#include "libs/util/splitmix64.h"
+
 namespace lsds::gen {
 namespace {
 
-uint64_t SplitMix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
+uint64_t SplitMix(uint64_t x) { return Mix64(x + kSplitMixGamma); }
 
 double Fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 double Lerp(double t, double a, double b) { return a + t * (b - a); }

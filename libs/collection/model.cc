@@ -40,6 +40,16 @@ exr::HeaderCamera HeaderCameraOf(const CameraTruth& camera) {
   return {cam_from_world, camera.intrinsics.NdcFromCam() * cam_from_world};
 }
 
+Rigid3d CamFromWorld(const CameraTruth& camera) {
+  return Rigid3d(Eigen::Quaterniond(camera.cam_from_world_rotation).normalized(),
+                 camera.cam_from_world_translation);
+}
+
+void SetCamFromWorld(const Rigid3d& cam_from_world, CameraTruth* camera) {
+  camera->cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
+  camera->cam_from_world_translation = cam_from_world.translation;
+}
+
 const std::vector<std::string>& StandardLayerSemantics() {
   static const std::vector<std::string> semantics = {"rgb",
                                                      "classid",

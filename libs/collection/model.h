@@ -189,6 +189,14 @@ struct CollectionHeader {
 // (docs/format.md, "EXR header camera").
 exr::HeaderCamera HeaderCameraOf(const CameraTruth& camera);
 
+// The one conversion between the camera pose's two forms: the declared
+// matrices of collection.json (CameraTruth) and the rigid transform the
+// geometry code computes with (Rigid3d). The rotation becomes a normalized
+// quaternion, which is meaningful only for a right-handed world (determinant
+// +1); callers check the determinant where a left-handed world may occur.
+Rigid3d CamFromWorld(const CameraTruth& camera);
+void SetCamFromWorld(const Rigid3d& cam_from_world, CameraTruth* camera);
+
 // The standard layer table entries of docs/format.md.
 LayerInfo StandardLayer(const std::string& semantic, DepthKind depth_kind = DepthKind::kPlanar);
 const std::vector<std::string>& StandardLayerSemantics();

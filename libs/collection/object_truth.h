@@ -13,22 +13,11 @@
 #include "libs/collection/model.h"
 #include "libs/geometry/box2d.h"
 #include "libs/geometry/camera.h"
+#include "libs/geometry/instance_mask.h"  // MeasureInstanceMasks: the box of a mask
 #include "libs/geometry/oriented_box.h"
 #include "libs/geometry/rigid3.h"
 
 namespace lsds {
-
-// The pixels of one id in an id layer.
-struct InstanceMask {
-  int64_t pixels = 0;
-  Box2d box;  // tight, pixel-edge: [x0, y0, x1, y1) of the pixels
-};
-
-// One pass over a row-major id layer of `width` x `height`: the mask of every
-// non-zero id. 0 is background.
-std::unordered_map<uint32_t, InstanceMask> MeasureInstanceMasks(const std::vector<uint32_t>& ids,
-                                                                int width,
-                                                                int height);
 
 // What the caller knows of an object besides the layers.
 struct ObjectIdentity {

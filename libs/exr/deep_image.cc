@@ -72,6 +72,7 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
   return internal::GuardExr(path, [&] {
     const Location where{path.string()};
     RequireRegularFile(path, "layer file");
+    internal::ScanHeader(path, limits);
     Imf::DeepScanLineInputFile file(path.c_str());
     const Imf::Header& header = file.header();
     internal::CheckLimits(path, header, limits);

@@ -202,6 +202,7 @@ void CheckLimits(const std::filesystem::path& path,
 ExrInfo ReadExrInfo(const std::filesystem::path& path, const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
     RequireRegularFile(path, "layer file");
+    internal::ScanHeader(path, limits);
     Imf::MultiPartInputFile file(path.c_str(), 0);  // no threads for a header
     if (file.parts() != 1)
       throw Error("multi-part EXR files are not lsds layers", Location(path.string()));

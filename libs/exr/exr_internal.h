@@ -24,6 +24,11 @@ void CheckLimits(const std::filesystem::path& path,
                  const Imf::Header& header,
                  const ReadLimits& limits);
 
+// Refuses, before OpenEXR reads the file, a header whose attributes declare
+// more bytes than the file has or whose data window is beyond `limits`:
+// OpenEXR allocates by the header first (libs/exr/header_scan.cc).
+void ScanHeader(const std::filesystem::path& path, const ReadLimits& limits);
+
 // Runs `body`, turning OpenEXR's exceptions into lsds::Error that names the
 // file.
 template <typename Body>

@@ -58,6 +58,7 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
                       const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
     RequireRegularFile(path, "layer file");
+    internal::ScanHeader(path, limits);
     Imf::InputFile file(path.c_str());
     const Imf::Header& header = file.header();
     if (header.hasType() && Imf::isDeepData(header.type())) {

@@ -7,28 +7,15 @@
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/srgb.h"
 
 namespace lsds::imaging {
 
 namespace {
 
-// The sRGB encoding of [0, 1] sampled finely enough that every 8-bit output is
-// exact except within 1/kSteps of a rounding boundary (the curve's steepest
-// slope is 12.92).
+// Fine enough that every 8-bit output is exact except within 1/kSteps of a
+// rounding boundary.
 constexpr int kSteps = 1 << 16;
-
-const std::array<uint8_t, kSteps + 1>& SrgbTable() {
-  static const std::array<uint8_t, kSteps + 1> table = [] {
-    std::array<uint8_t, kSteps + 1> t{};
-    for (int i = 0; i <= kSteps; ++i) {
-      const double v = static_cast<double>(i) / kSteps;
-      const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-      t[i] = static_cast<uint8_t>(std::lround(std::clamp(e, 0.0, 1.0) * 255.0));
-    }
-    return t;
-  }();
-  return table;
-}
 
 }  // namespace
 
@@ -44,7 +31,7 @@ bool ParseToneMap(const std::string& name, ToneMap* tonemap) {
 }
 
 cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
-  const std::array<uint8_t, kSteps + 1>& table = SrgbTable();
+  const std::array<uint8_t, kSteps + 1>& table = Srgb8Table<kSteps>();
   const float scale = static_cast<float>(std::exp2(options.exposure_ev));
   const bool reinhard = options.tonemap == ToneMap::kReinhard;
   const float* channels[3] = {

@@ -32,11 +32,6 @@ void RefuseOverlap(const fs::path& source, const fs::path& output) {
         Location(output.string()));
 }
 
-Rigid3d CamFromWorld(const CameraTruth& camera) {
-  return Rigid3d(Eigen::Quaterniond(camera.cam_from_world_rotation).normalized(),
-                 camera.cam_from_world_translation);
-}
-
 }  // namespace
 
 ImportResult ImportCollection(const std::string& format,

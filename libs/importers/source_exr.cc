@@ -21,11 +21,8 @@
 namespace lsds::import {
 
 namespace {
-std::string NumberText(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
+// All 17 significant digits: a header value read back as text loses nothing.
+std::string NumberText(double value) { return FormatNumber(value, 17); }
 }  // namespace
 
 SourceExr::SourceExr(const std::filesystem::path& path, const exr::ReadLimits& limits)

@@ -2,8 +2,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "libs/importers/srgb.h"
 #include "libs/util/error.h"
+#include "libs/util/srgb.h"
 
 namespace lsds::import {
 

@@ -2,31 +2,18 @@
 
 #include <algorithm>
 
+#include "libs/geometry/instance_mask.h"
+
 namespace lsds::masks {
 
 std::unordered_map<uint32_t, IdBounds> ComputeIdBounds(const uint32_t* ids, int width, int height) {
   std::unordered_map<uint32_t, IdBounds> bounds;
-  for (int y = 0; y < height; ++y) {
-    const uint32_t* row = ids + static_cast<size_t>(y) * width;
-    int x = 0;
-    while (x < width) {
-      // Ids come in runs along a row: update the bounds once per run, not once
-      // per pixel.
-      const uint32_t id = row[x];
-      int end = x + 1;
-      while (end < width && row[end] == id) ++end;
-      if (id != 0) {
-        auto [it, inserted] = bounds.try_emplace(id, IdBounds{x, y, end, y + 1, 0});
-        IdBounds& b = it->second;
-        if (!inserted) {
-          b.x0 = std::min(b.x0, x);
-          b.x1 = std::max(b.x1, end);
-          b.y1 = y + 1;  // rows are visited in order
-        }
-        b.count += end - x;
-      }
-      x = end;
-    }
+  for (const auto& [id, m] : MeasureInstanceMasks(ids, width, height)) {
+    bounds[id] = {static_cast<int>(m.box.x0),
+                  static_cast<int>(m.box.y0),
+                  static_cast<int>(m.box.x1),
+                  static_cast<int>(m.box.y1),
+                  m.pixels};
   }
   return bounds;
 }

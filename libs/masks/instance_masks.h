@@ -25,7 +25,7 @@ struct BoxMask {
 };
 
 // Tight bounds and pixel counts of every id != 0 of a row-major id image, in
-// one pass.
+// one pass (MeasureInstanceMasks, libs/geometry/instance_mask.h, in integers).
 struct IdBounds {
   int x0, y0, x1, y1;  // pixel-edge: pixels x0..x1-1, y0..y1-1
   int64_t count;

@@ -9,17 +9,14 @@
 #include <cmath>
 #include <cstdint>
 
+#include "libs/util/splitmix64.h"
+
 namespace lsds::noise {
 
-// The SplitMix64 finalizer: a bijective 64-bit mix with full avalanche.
-inline uint64_t Mix64(uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
+using ::lsds::Mix64;
 
 inline uint64_t CounterHash(uint64_t seed, uint64_t field, uint64_t frame, uint64_t draw) {
-  uint64_t h = Mix64(seed + 0x9E3779B97F4A7C15ULL);
+  uint64_t h = Mix64(seed + kSplitMixGamma);
   h = Mix64(h ^ ((field + 1) * 0xD1B54A32D192ED03ULL));
   h = Mix64(h ^ ((frame + 1) * 0xABC98388FB8FAC03ULL));
   return Mix64(h ^ ((draw + 1) * 0x8CB92BA72F3D8DD7ULL));

@@ -7,6 +7,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "libs/util/srgb.h"
+
 namespace lsds::pointcloud {
 
 namespace {
@@ -33,18 +35,9 @@ inline Eigen::Vector3d CamPoint(double rx, double ry, double d, DepthKind kind) 
   return {rx * z, ry * z, z};
 }
 
-const std::array<uint8_t, 4097>& ToneMapTable() {
-  static const std::array<uint8_t, 4097> table = [] {
-    std::array<uint8_t, 4097> t{};
-    for (int k = 0; k <= 4096; ++k) {
-      const double v = k / 4096.0;
-      const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-      t[k] = static_cast<uint8_t>(std::lround(std::clamp(s, 0.0, 1.0) * 255.0));
-    }
-    return t;
-  }();
-  return table;
-}
+// 4096 steps: a 4 KiB table that stays in L1 while millions of points are
+// coloured.
+const std::array<uint8_t, 4097>& ToneMapTable() { return Srgb8Table<4096>(); }
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include "libs/report/html.h"
 #include "libs/report/svg_plot.h"
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 
 namespace lsds::report {
 
@@ -120,8 +121,8 @@ std::string BundleStatsSection(const nlohmann::json& stats, const CollectionHead
   for (const nlohmann::json& b : s["by_object_size"]) {
     const double share = b["mixed_fraction"].get<double>();
     const nlohmann::json max = b.value("max_pixels", nlohmann::json());
-    out << "<tr><td>" << FormatNumber(b["min_pixels"].get<double>())
-        << (max.is_number() ? " &ndash; " + FormatNumber(max.get<double>())
+    out << "<tr><td>" << FormatAxisNumber(b["min_pixels"].get<double>())
+        << (max.is_number() ? " &ndash; " + FormatAxisNumber(max.get<double>())
                             : std::string(" and up"))
         << "</td><td>" << b["objects"].get<int64_t>() << "</td><td>" << b["pixels"].get<int64_t>()
         << "</td><td>" << b["mixed_pixels"].get<int64_t>() << "</td><td><span class=\"meter\" "

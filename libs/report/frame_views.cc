@@ -17,6 +17,7 @@
 #include "libs/report/layer_images.h"
 #include "libs/report/svg_plot.h"
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 
 namespace lsds::report {
 
@@ -183,8 +184,8 @@ std::string LayerStrip(const CollectionReader& reader,
                         ")<img class=\"bar\" src=\"" + ImageDataUri(bar, false) + "\" width=\"" +
                         std::to_string(bar.cols) +
                         "\" height=\"10\" alt=\"\"><span class=\"range\"><span>" +
-                        FormatNumber(lo) + " " + HtmlEscape(unit) + "</span><span>" +
-                        FormatNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
+                        FormatAxisNumber(lo) + " " + HtmlEscape(unit) + "</span><span>" +
+                        FormatAxisNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
       } else if (sem == "normal") {
         const cv::Mat image =
             Resized(ColorizeNormals(reader.ReadFlatLayer(frame, layer.name, {"X", "Y", "Z"})),

@@ -32,16 +32,6 @@ double NiceStep(double max, int ticks) {
 
 }  // namespace
 
-std::string FormatNumber(double value) {
-  char buffer[32];
-  if (value != 0 && (std::abs(value) >= 1e5 || std::abs(value) < 1e-3)) {
-    std::snprintf(buffer, sizeof(buffer), "%.0e", value);
-  } else {
-    std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  }
-  return buffer;
-}
-
 std::string HistogramSvg(const Histogram& h, int width, int height) {
   const std::string unit = h.unit.empty() ? "" : " " + h.unit;
   std::vector<Bar> bars;
@@ -63,27 +53,29 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
       if (last - first < 4 && first > 0) --first;
     }
     if (h.below > 0) {
-      bars.push_back({"<",
-                      "< " + FormatNumber(h.edges.front()) + unit + ": " + std::to_string(h.below),
-                      h.below,
-                      true});
+      bars.push_back(
+          {"<",
+           "< " + FormatAxisNumber(h.edges.front()) + unit + ": " + std::to_string(h.below),
+           h.below,
+           true});
       edge_labels.push_back("");
     }
     for (size_t i = first; i <= last; ++i) {
       const bool closed = i + 1 == h.bins();
       bars.push_back({"",
-                      "[" + FormatNumber(h.edges[i]) + ", " + FormatNumber(h.edges[i + 1]) +
+                      "[" + FormatAxisNumber(h.edges[i]) + ", " + FormatAxisNumber(h.edges[i + 1]) +
                           (closed ? "]" : ")") + unit + ": " + std::to_string(h.counts[i]),
                       h.counts[i],
                       !std::isnan(h.warn_below) && h.edges[i + 1] <= h.warn_below});
-      edge_labels.push_back(FormatNumber(h.edges[i]));
+      edge_labels.push_back(FormatAxisNumber(h.edges[i]));
     }
-    edge_labels.push_back(FormatNumber(h.edges[last + 1]));
+    edge_labels.push_back(FormatAxisNumber(h.edges[last + 1]));
     if (h.above > 0) {
-      bars.push_back({">",
-                      "> " + FormatNumber(h.edges.back()) + unit + ": " + std::to_string(h.above),
-                      h.above,
-                      true});
+      bars.push_back(
+          {">",
+           "> " + FormatAxisNumber(h.edges.back()) + unit + ": " + std::to_string(h.above),
+           h.above,
+           true});
       edge_labels.push_back("");
     }
   }
@@ -105,7 +97,7 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
     s << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << y << "\" y2=\"" << y
       << "\" class=\"grid\"/>";
     s << "<text x=\"" << left - 4 << "\" y=\"" << y + 3 << "\" text-anchor=\"end\">"
-      << FormatNumber(v) << "</text>";
+      << FormatAxisNumber(v) << "</text>";
   }
   s << "<text transform=\"translate(12," << top + plot_h / 2
     << ") rotate(-90)\" text-anchor=\"middle\">" << XmlEscape(h.counted) << "</text>";

@@ -15,7 +15,6 @@ namespace lsds::report {
 // warn_below) are drawn in red.
 std::string HistogramSvg(const Histogram& histogram, int width = 380, int height = 230);
 
-// "12", "0.5", "1e+04" -> "10000": short numbers for axes.
-std::string FormatNumber(double value);
+// Short numbers for axes and legends: FormatAxisNumber (libs/util/strings.h).
 
 }  // namespace lsds::report

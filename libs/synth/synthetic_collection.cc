@@ -276,8 +276,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
   truth.sequence = spec.sequence;
   truth.shot = 0;  // one continuous flight
   truth.camera.intrinsics = camera;
-  truth.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
-  truth.camera.cam_from_world_translation = cam_from_world.translation;
+  SetCamFromWorld(cam_from_world, &truth.camera);
   const auto masks = MeasureInstanceMasks(instanceid.Get("id").uints, w, h);
   for (size_t b = 0; b < spec.boxes.size(); ++b) {
     const Box& box = spec.boxes[b];

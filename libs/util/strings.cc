@@ -1,6 +1,7 @@
 #include "libs/util/strings.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -103,6 +104,13 @@ std::string FormatNumber(double value, int significant) {
   out.precision(significant);
   out << value;
   return out.str();
+}
+
+std::string FormatAxisNumber(double value) {
+  if (value == 0 || (std::abs(value) < 1e5 && std::abs(value) >= 1e-3)) return FormatNumber(value);
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.0e", value);
+  return buffer;
 }
 
 }  // namespace lsds

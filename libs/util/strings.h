@@ -26,6 +26,12 @@ std::string XmlEscape(const std::string& text);
 // Zero-padded frame file stem: 7 -> "000007".
 std::string FrameStem(int64_t index);
 // A number for a message: `significant` digits, shortest form ("1.5", "1e+06").
+// The one number formatter of the project: messages, reports and metadata
+// text all go through these two.
 std::string FormatNumber(double value, int significant = 6);
+// A short number for an axis or a legend: FormatNumber's 6 digits in
+// [1e-3, 1e5) and 0, else one significant digit in exponent form ("2e+05",
+// "5e-04") so that tick labels stay narrow.
+std::string FormatAxisNumber(double value);
 
 }  // namespace lsds

@@ -1,6 +1,8 @@
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -96,6 +98,46 @@ TEST(FlatExr, TruncatedAndGarbageFilesAreErrorsNotCrashes) {
   std::ofstream(dir / "g.exr") << "not an exr at all";
   EXPECT_THROW(ReadFlatExr(dir / "g.exr"), Error);
   EXPECT_THROW(ReadExrInfo(dir / "missing.exr"), Error);
+}
+
+// The fuzzers' findings: a header that declares more than the file holds is
+// refused by the pre-scan, naming the attribute, before OpenEXR allocates it.
+TEST(FlatExr, HeaderDeclaringMoreThanTheFileHoldsIsRefusedFirst) {
+  lsds::testing::TempDir dir;
+  WriteFlatExr(dir / "a.exr", MakeFlat(8, 8));
+  std::string bytes;
+  {
+    std::ifstream in(dir / "a.exr", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  auto patched = [&](const std::string& attribute, size_t skip, const std::string& value) {
+    std::string copy = bytes;
+    const size_t at = copy.find(attribute);
+    EXPECT_NE(at, std::string::npos) << attribute;
+    copy.replace(at + attribute.size() + skip, value.size(), value);
+    const auto path = dir / ("p" + std::to_string(at) + ".exr");
+    std::ofstream(path, std::ios::binary) << copy;
+    return path;
+  };
+  auto message = [](const std::filesystem::path& path) {
+    try {
+      ReadFlatExr(path);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  // The size field of "compression" (after its type name) set to 2^31 - 1.
+  const std::string huge("\xff\xff\xff\x7f", 4);
+  const std::string text = message(patched(std::string("compression\0compression\0", 24), 0, huge));
+  EXPECT_NE(text.find("attribute 'compression'"), std::string::npos) << text;
+  EXPECT_NE(text.find("malformed EXR header"), std::string::npos) << text;
+  // A data window of 2^30 lines in a file of a few hundred bytes.
+  const std::string lines("\x00\x00\x00\x40", 4);
+  const std::string window =
+      message(patched(std::string("dataWindow\0box2i\0", 17), 4 + 12, lines));
+  EXPECT_NE(window.find("data window"), std::string::npos) << window;
+  EXPECT_THROW(ReadExrInfo(patched(std::string("dataWindow\0box2i\0", 17), 4 + 12, lines)), Error);
 }
 
 TEST(FlatExr, WriteIsAtomic) {

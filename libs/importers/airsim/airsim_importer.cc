@@ -11,9 +11,9 @@
 
 #include "libs/geometry/world_frame.h"
 #include "libs/importers/pfm.h"
-#include "libs/importers/srgb.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/srgb.h"
 #include "libs/util/strings.h"
 
 namespace lsds::import {
@@ -33,13 +33,8 @@ const WorldFrame& Ned() {
 
 // OpenCV camera axes in the FRD camera frame: x_cv = right, y_cv = down,
 // z_cv = forward.
-Eigen::Matrix3d FrdFromOpenCv() {
-  Eigen::Matrix3d m;
-  m << 0, 0, 1,  //
-      1, 0, 0,   //
-      0, 1, 0;
-  return m;
-}
+// (the body-from-camera axes of libs/geometry/attitude.h).
+Eigen::Matrix3d FrdFromOpenCv() { return BodyFromCam(); }
 
 template <typename F>
 auto AtField(const std::string& file, const std::string& pointer, F&& body) {
@@ -313,8 +308,7 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   frame.shot = 0;
   frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(width_, height_, fov_deg_);
   const Rigid3d cam_from_world = CamFromEnuOfAirSim(row.position, row.orientation, mount_);
-  frame.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
-  frame.camera.cam_from_world_translation = cam_from_world.translation;
+  SetCamFromWorld(cam_from_world, &frame.camera);
 
   auto read_png = [&](const fs::path& path) {
     const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);

@@ -246,8 +246,7 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
                                exr.Number(CameraKeys("curRot/yaw")),
                                exr.Number(CameraKeys("curRot/roll"))};
   const Rigid3d cam_from_world = CamFromEnuOfUnrealCamera(location, rotation);
-  frame.camera.cam_from_world_rotation = cam_from_world.rotation.toRotationMatrix();
-  frame.camera.cam_from_world_translation = cam_from_world.translation;
+  SetCamFromWorld(cam_from_world, &frame.camera);
 
   // Final image.
   exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width_, height_);

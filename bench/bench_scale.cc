@@ -1,0 +1,205 @@
+// Benchmark of collection size (issue 21): `lsds info`, `lsds validate` and
+// `lsds convert` on a synthetic collection.json of 10^4, 10^5 and 10^6 small
+// frames, each a child process: frames/s and its peak memory (getrusage maxrss
+// of the child, wait4). Time must grow linearly with the frames and memory
+// must not grow with them (the collection is streamed).
+//
+// The collection: `lsds synth` writes one 4x4 frame with its layers; its entry
+// is repeated N times with indices 0..N-1, every entry naming the same layer
+// files (the page cache serves them: what is measured is the per-frame work
+// of the command, not the disk). metadata.json repeats its frame likewise.
+//
+// The floor: one streaming parse of the same collection.json with nlohmann's
+// SAX parser and no handler work, the least any reader of the file does; the
+// ratio is the command's time over it.
+//
+//   bench_scale [--sizes 10000,100000] (the issue-sized run: --sizes 10000,100000,1000000)
+//               [--commands info,validate,convert]
+//               [--validate-checks schema,structure] [--work DIR] [--keep]
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+namespace {
+
+struct ChildRun {
+  int exit_code = -1;
+  double seconds = 0;
+  double cpu_seconds = 0;  // user + system of the child
+  double peak_mib = 0;     // maxrss of the child
+};
+
+// Runs argv with stdout and stderr to /dev/null; wait4 gives the child's own
+// resource usage (not the sum of all children).
+ChildRun RunChild(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const Clock::time_point start = Clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  ChildRun run;
+  run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.peak_mib = usage.ru_maxrss / 1024.0;  // Linux: KiB
+  run.cpu_seconds = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+                    1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  return run;
+}
+
+// A SAX handler that does nothing: the floor of reading the file.
+struct NullSax : nlohmann::json_sax<json> {
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;
+  }
+};
+
+// CPU seconds, like the commands' figures.
+double ParseFloor(const fs::path& file) {
+  const std::clock_t start = std::clock();
+  std::ifstream in(file, std::ios::binary);
+  NullSax sax;
+  json::sax_parse(in, &sax);
+  return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+}
+
+// collection.json and metadata.json of `frames` copies of the template's
+// frame 0, written as a stream (a million frames never sit in memory).
+void WriteScaled(const fs::path& template_dir, const fs::path& out, int64_t frames) {
+  json collection = json::parse(std::ifstream(template_dir / "collection.json"));
+  json frame = collection["frames"][0];
+  collection.erase("frames");
+  collection["frame_count"] = frames;
+  json metadata = json::parse(std::ifstream(template_dir / "metadata.json"));
+  json meta_frame = metadata["frames"][0];
+  metadata.erase("frames");
+  metadata["frame_count"] = frames;
+
+  auto write = [&](const fs::path& path, json header, json& entry) {
+    std::string head = header.dump();
+    head.pop_back();  // the closing brace: "frames" follows
+    std::ofstream file(path, std::ios::binary);
+    file << head << ",\"frames\":[\n";
+    for (int64_t i = 0; i < frames; ++i) {
+      entry["index"] = i;
+      if (entry.contains("time")) entry["time"] = 0.1 * static_cast<double>(i);
+      file << (i ? ",\n" : "") << entry.dump();
+    }
+    file << "\n]}\n";
+  };
+  fs::create_directories(out);
+  for (const auto& entry : fs::directory_iterator(template_dir)) {
+    if (entry.is_directory() && !fs::exists(out / entry.path().filename())) {
+      fs::create_directory_symlink(fs::absolute(entry.path()), out / entry.path().filename());
+    }
+  }
+  write(out / "collection.json", collection, frame);
+  write(out / "metadata.json", metadata, meta_frame);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"lsds info/validate/convert on 10^4..10^6 small frames: frames/s and peak memory"};
+  std::vector<int64_t> sizes = {10000, 100000};  // make bench; the issue adds 1000000
+  std::vector<std::string> commands = {"info", "validate", "convert"};
+  std::string validate_checks = "all";
+  std::string work = (fs::temp_directory_path() / "lsds_bench_scale").string();
+  std::string lsds = LSDS_BINARY;
+  bool keep = false;
+  app.add_option("--sizes", sizes, "frame counts")->delimiter(',');
+  app.add_option("--commands", commands, "info, validate, convert")->delimiter(',');
+  app.add_option("--validate-checks", validate_checks, "lsds validate --checks (default all)");
+  app.add_option("--work", work, "scratch folder (removed unless --keep)");
+  app.add_option("--lsds", lsds, "the lsds binary");
+  app.add_flag("--keep", keep, "keep the scratch folder");
+  CLI11_PARSE(app, argc, argv);
+
+  fs::remove_all(work);
+  fs::create_directories(work);
+  const fs::path templ = fs::path(work) / "template";
+  if (RunChild({lsds, "synth", templ.string(), "--count", "1", "--size", "4x4"}).exit_code != 0) {
+    std::fprintf(stderr, "lsds synth failed\n");
+    return 1;
+  }
+  // CPU seconds too: on a shared machine the wall time says more about the
+  // other processes than about lsds.
+  std::printf("%-9s %9s %9s %9s %11s %10s %9s %9s %6s\n",
+              "command",
+              "frames",
+              "wall s",
+              "cpu s",
+              "frames/s",
+              "peak MiB",
+              "floor s",
+              "ratio",
+              "exit");
+  for (int64_t n : sizes) {
+    const fs::path collection = fs::path(work) / ("C" + std::to_string(n));
+    WriteScaled(templ, collection, n);
+    const double floor = ParseFloor(collection / "collection.json");
+    for (const std::string& command : commands) {
+      std::vector<std::string> args = {lsds, command, collection.string()};
+      if (command == "validate") {
+        args.insert(args.end(), {"--checks", validate_checks});
+      } else if (command == "convert") {
+        fs::remove_all(fs::path(work) / "out");
+        args.insert(args.end(),
+                    {"--to", "coco", "--images", "none", "-o", (fs::path(work) / "out").string()});
+      }
+      const ChildRun run = RunChild(args);
+      // frames/s and the ratio to the floor by CPU time (both sides single
+      // threaded where the command is).
+      std::printf("%-9s %9lld %9.2f %9.2f %11.0f %10.1f %9.3f %9.1f %6d\n",
+                  command.c_str(),
+                  static_cast<long long>(n),
+                  run.seconds,
+                  run.cpu_seconds,
+                  n / run.cpu_seconds,
+                  run.peak_mib,
+                  floor,
+                  run.cpu_seconds / floor,
+                  run.exit_code);
+      std::fflush(stdout);
+    }
+    if (!keep) fs::remove_all(collection);
+  }
+  if (!keep) fs::remove_all(work);
+  return 0;
+}

@@ -54,7 +54,8 @@ nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
           {"sampling", "stratified jittered n x n; sample 0 exactly at the pixel centre"},
           {"jitter", options.jitter},
           {"depth", DepthKindName(options.depth_kind)},
-          {"zip_level", options.zip_level}};
+          {"zip_level", options.zip_level},
+          {"bundle_layout", BundleLayoutName(options.bundle_layout)}};
 }
 
 fs::path TruthPartPath(const fs::path& root, int64_t index) {
@@ -244,7 +245,9 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   for (const std::string& semantic : StandardLayerSemantics()) {
     const bool wanted = !asked.is_array() || semantic == "rgb" ||
                         std::find(asked.begin(), asked.end(), semantic) != asked.end();
-    if (wanted) header.layers.push_back(StandardLayer(semantic, options.depth_kind));
+    if (!wanted) continue;
+    header.layers.push_back(StandardLayer(semantic, options.depth_kind));
+    if (semantic == "bundle") header.layers.back().layout = options.bundle_layout;
   }
   if (!plan.capture_settings.empty())
     header.provenance.render["capture_settings"] = plan.capture_settings;
@@ -316,7 +319,9 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   RenderSettings render;
   render.sampler = {options.spp, options.jitter, plan.seed};
   render.depth_kind = options.depth_kind;
+  // Capture Settings `layers`: no work for a layer that is not written.
   render.bundle = base_header.FindLayerBySemantic("bundle") != nullptr;
+  render.motion = base_header.FindLayerBySemantic("motion") != nullptr;
   GenerateSummary summary;
   EmbreeDevice device;
   std::unique_ptr<RenderScene> scene, previous_scene;
@@ -344,7 +349,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       PreviousView previous;
       std::optional<WorldState> previous_world;
       std::unique_ptr<RenderScene> built_previous;
-      if (k > 0 && plan.frames[k - 1].shot == frame.shot &&
+      if (render.motion && k > 0 && plan.frames[k - 1].shot == frame.shot &&
           plan.frames[k - 1].index + 1 == frame.index) {
         previous.frame = &plan.frames[k - 1];
         previous_world = WorldAt(plan, plan.frames[k - 1]);
@@ -380,10 +385,11 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
 
       // Encode this frame while the next one renders: at most two films live.
       writer.wait();  // rethrows a failed write
-      writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
+      const BundleSampling sampling{render.sampler, frame.index};
+      writer.run([&root, &base_header, &summary, &write_mutex, film, truth, sampling]() {
         const Clock::time_point w0 = Clock::now();
         truth->files = WriteFrameLayers(
-            root, base_header, truth->index, truth->camera, {&film->flat, &film->bundle});
+            root, base_header, truth->index, truth->camera, {&film->flat, &film->bundle, sampling});
         // The truth part comes last: its presence marks the frame complete.
         WriteFileAtomic(TruthPartPath(root, truth->index), FrameToJson(*truth).dump() + "\n");
         std::lock_guard<std::mutex> lock(write_mutex);

@@ -112,11 +112,12 @@ int main(int argc, char** argv) {
               "decode s",
               "decode pool");
   for (const LayerInfo& layer : header.layers) {
-    std::vector<exr::Compression> codecs = {exr::Compression::kNone,
-                                            exr::Compression::kRle,
-                                            exr::Compression::kZips,
-                                            exr::Compression::kZip};
-    if (!layer.deep) codecs.push_back(exr::Compression::kPiz);
+    std::vector<exr::Compression> codecs = {
+        exr::Compression::kNone, exr::Compression::kRle, exr::Compression::kZips};
+    if (!layer.deep) {  // OpenEXR's deep files allow only the three above
+      codecs.push_back(exr::Compression::kZip);
+      codecs.push_back(exr::Compression::kPiz);
+    }
     double raw = 0;
     for (exr::Compression codec : codecs) {
       exr::WriteOptions write;

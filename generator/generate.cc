@@ -7,8 +7,10 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <thread>
 
 #include <OpenEXR/ImfCompression.h>
+#include <OpenEXR/ImfThreading.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
@@ -279,6 +281,13 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
                     static_cast<size_t>(options.threads));
   }
   Imf::setDefaultZipCompressionLevel(options.zip_level);
+  // OpenEXR's thread pool compresses the chunks of one file in parallel: the
+  // deep bundle, the longest file, no longer encodes on one core
+  // (bench_exr_compression). Chunks are written in order: the bytes do not
+  // depend on the thread count.
+  Imf::setGlobalThreadCount(options.threads > 0
+                                ? options.threads
+                                : static_cast<int>(std::thread::hardware_concurrency()));
   // Validate the whole plan before touching the output.
   const SceneAssets assets = BuildSceneAssets(plan);
   const Sky plan_sky(plan);  // throws for a bad sky before any output

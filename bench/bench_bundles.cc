@@ -146,7 +146,7 @@ double Floor(const fs::path& root, size_t batch_size) {
   auto flush = [&] {
     tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
       const exr::DeepImage image =
-          exr::ReadDeepExr(reader.LayerPath(batch[i], "bundle"), bundle::BundleChannels());
+          ReadBundleExr(reader.LayerPath(batch[i], "bundle"), bundle::BundleChannels());
       samples += image.total_samples();
     });
     batch.clear();

@@ -1,9 +1,13 @@
-// Benchmark of `lsds generate`: renders the demo scene at several sizes and
-// prints Mrays/s, s/frame, and the floor for the same frames = the Embree ray
-// casts alone (the same primary and shadow rays, no shading, no films) + the
-// encoding of the same EXR files alone, with the ratio frame time / floor.
+// Benchmark of `lsds generate` (issues 3 and 20): renders the demo scene at
+// several sizes, before (the full bundle layout) and after (the compact one),
+// and prints s/frame, Mrays/s, bytes per frame per layer and in total, the
+// floor for the same frames = the Embree ray casts alone (the same primary and
+// shadow rays, no shading, no films) + the encoding of the same EXR files alone,
+// with the ratio frame time / floor, and, when `blender` is installed, the same
+// frames rendered by Blender Cycles (bench/peers/cycles_demo.py) with the ratio.
 //
 //   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
+//                  [--layouts full,compact] [--blender PATH|none]
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -11,8 +15,11 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/global_control.h>
@@ -35,6 +42,59 @@ namespace {
 
 double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Bytes of every file under `root`/`folder`.
+uintmax_t FolderBytes(const fs::path& folder) {
+  uintmax_t bytes = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::recursive_directory_iterator(folder, ec)) {
+    if (entry.is_regular_file()) bytes += entry.file_size();
+  }
+  return bytes;
+}
+
+double Mb(double bytes) { return bytes / 1e6; }
+
+// The path of an executable named `name` on PATH, or empty.
+std::string FindOnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  if (path == nullptr) return "";
+  for (const std::string& dir : Split(path, ':')) {
+    const fs::path candidate = fs::path(dir) / name;
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec) && access(candidate.c_str(), X_OK) == 0)
+      return candidate.string();
+  }
+  return "";
+}
+
+struct PeerRun {
+  bool ran = false;
+  double seconds = 0;  // the whole process
+  uintmax_t bytes = 0;
+};
+
+// Blender Cycles rendering the same-size scene with depth, normal, position,
+// object index and vector passes (bench/peers/cycles_demo.py).
+PeerRun RunCycles(
+    const std::string& blender, int size, int frames, int spp, int threads, const fs::path& out) {
+  PeerRun run;
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const std::string command =
+      blender + " -b --factory-startup -noaudio --python " + std::string(LSDS_SOURCE_DIR) +
+      "/bench/peers/cycles_demo.py -- " + std::to_string(size) + " " + std::to_string(size) + " " +
+      std::to_string(frames) + " " + std::to_string(spp) + " " + out.string() + " " +
+      std::to_string(threads) + " > " + (out / "blender.log").string() + " 2>&1";
+  const Clock::time_point t = Clock::now();
+  const int status = std::system(command.c_str());
+  run.seconds = Since(t);
+  run.ran = status == 0;
+  if (!run.ran) std::printf("       (blender failed: see %s)\n", (out / "blender.log").c_str());
+  fs::remove(out / "blender.log");
+  run.bytes = FolderBytes(out);
+  return run;
 }
 
 // The floor's ray casts: per pixel the same spp camera rays and, for hits
@@ -96,6 +156,8 @@ int main(int argc, char** argv) {
   int frames = 4, spp = 4, threads = 0;
   std::vector<int> sizes = {512, 1024};
   std::vector<std::string> post_process;  // LCAP PPMaterial effects, to measure their cost
+  std::vector<std::string> layouts = {"full", "compact"};
+  std::string blender = FindOnPath("blender");
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--frames")
@@ -109,53 +171,75 @@ int main(int argc, char** argv) {
     else if (flag == "--sizes") {
       sizes.clear();
       for (const std::string& s : Split(argv[i + 1], ',')) sizes.push_back(std::atoi(s.c_str()));
+    } else if (flag == "--layouts") {
+      layouts = Split(argv[i + 1], ',');
+    } else if (flag == "--blender") {
+      blender = std::string(argv[i + 1]) == "none" ? "" : argv[i + 1];
     } else {
       std::fprintf(stderr,
                    "usage: bench_generate [--frames N] [--sizes 512,1024] "
-                   "[--spp S] [--threads T] [--post-process EdgeBlur,...]\n");
+                   "[--spp S] [--threads T] [--layouts full,compact] [--blender PATH|none] "
+                   "[--post-process EdgeBlur,...]\n");
       return 2;
     }
   }
   std::optional<tbb::global_control> control;
   if (threads > 0) control.emplace(tbb::global_control::max_allowed_parallelism, threads);
   const fs::path root = fs::temp_directory_path() / "lsds_bench_generate";
-  std::printf("lsds generate benchmark: demo scene, %d frames, spp %d, post-process [%s]\n",
-              frames,
-              spp,
-              Join(post_process, ",").c_str());
-  std::printf("%6s %9s %9s %10s %10s %10s %7s\n",
-              "size",
-              "s/frame",
-              "Mrays/s",
-              "rays s/f",
-              "encode s/f",
-              "floor s/f",
-              "ratio");
+  std::printf(
+      "lsds generate benchmark: demo scene, %d frames, spp %d, threads %s, post-process [%s]\n",
+      frames,
+      spp,
+      threads > 0 ? std::to_string(threads).c_str() : "all",
+      Join(post_process, ",").c_str());
   for (int size : sizes) {
     DemoOptions demo;
     demo.frames = frames;
     demo.width = demo.height = size;
     Plan plan = MakeDemoPlan(demo);
     plan.post_process = post_process;
-    GenerateOptions options;
-    options.output = root / "full";
-    options.force = true;
-    options.progress = false;
-    options.spp = spp;
-    const GenerateSummary summary = GenerateCollection(plan, options);
-    const double per_frame = summary.total_seconds / frames;
+    struct Result {
+      std::string layout;
+      GenerateSummary summary;
+      std::map<std::string, uintmax_t> layer_bytes;
+      uintmax_t total_bytes = 0, bundle_bytes = 0;
+      double encode_seconds = 0;
+      CollectionHeader header;
+    };
+    std::vector<Result> results;
+    for (const std::string& name : layouts) {
+      Result r;
+      r.layout = name;
+      GenerateOptions options;
+      options.output = root / ("generate_" + name);
+      options.force = true;
+      options.progress = false;
+      options.spp = spp;
+      if (!ParseBundleLayout(name, &options.bundle_layout)) {
+        std::fprintf(stderr, "--layouts: %s is not full or compact\n", name.c_str());
+        return 2;
+      }
+      r.summary = GenerateCollection(plan, options);
+      r.header = MakeHeader(plan, options);
+      for (const LayerInfo& layer : r.header.layers) {
+        r.layer_bytes[layer.name] = FolderBytes(options.output / layer.name);
+        r.total_bytes += r.layer_bytes[layer.name];
+        if (layer.deep) r.bundle_bytes += r.layer_bytes[layer.name];
+      }
+      r.total_bytes += FolderBytes(options.output) - r.total_bytes;  // + JSON
+      fs::remove_all(options.output);
+      results.push_back(r);
+    }
 
-    // The floor: ray casts alone, then the encoding of the same films alone.
+    // The floor: ray casts alone, then the encoding of the same films alone
+    // (in each layout).
     EmbreeDevice device;
     const SceneAssets assets = BuildSceneAssets(plan);
     const Sky sky(plan);
     const SamplerSettings sampler{spp, 1.0, plan.seed};
-    double ray_seconds = 0, encode_seconds = 0;
+    double ray_seconds = 0;
     uint64_t floor_rays = 0;
-    const CollectionHeader header = MakeHeader(plan, options);
     const fs::path encode_root = root / "encode";
-    fs::remove_all(encode_root);
-    for (const LayerInfo& layer : header.layers) fs::create_directories(encode_root / layer.name);
     for (const PlannedFrame& frame : plan.frames) {
       const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
       Clock::time_point t = Clock::now();
@@ -164,29 +248,81 @@ int main(int argc, char** argv) {
       RenderSettings settings;
       settings.sampler = sampler;
       const Film film = RenderFrame(scene, sky, frame, {}, settings);
-      t = Clock::now();
       CameraTruth camera;
       camera.intrinsics = frame.camera;
       camera.cam_from_world_rotation = frame.cam_from_world.rotation.toRotationMatrix();
       camera.cam_from_world_translation = frame.cam_from_world.translation;
-      WriteFrameLayers(encode_root, header, frame.index, camera, {&film.flat, &film.bundle});
-      encode_seconds += Since(t);
+      for (Result& r : results) {
+        fs::remove_all(encode_root);
+        for (const LayerInfo& layer : r.header.layers)
+          fs::create_directories(encode_root / layer.name);
+        t = Clock::now();
+        WriteFrameLayers(encode_root,
+                         r.header,
+                         frame.index,
+                         camera,
+                         {&film.flat, &film.bundle, BundleSampling{sampler, frame.index}});
+        r.encode_seconds += Since(t);
+      }
     }
-    const double floor = (ray_seconds + encode_seconds) / frames;
-    std::printf("%6d %9.3f %9.2f %10.3f %10.3f %10.3f %7.2f\n",
-                size,
-                per_frame,
-                summary.rays / summary.total_seconds / 1e6,
-                ray_seconds / frames,
-                encode_seconds / frames,
-                floor,
-                per_frame / floor);
+    fs::remove_all(encode_root);
+
+    std::printf("\n%dx%d, %d frames, spp %d\n", size, size, frames, spp);
+    std::printf("%-8s %8s %8s %9s %9s %9s %10s %9s %6s %9s %11s\n",
+                "layout",
+                "s/frame",
+                "Mrays/s",
+                "render/f",
+                "write/f",
+                "rays s/f",
+                "encode s/f",
+                "floor s/f",
+                "ratio",
+                "MB/frame",
+                "w/o bundle");
+    for (const Result& r : results) {
+      const double per_frame = r.summary.total_seconds / frames;
+      const double floor = (ray_seconds + r.encode_seconds) / frames;
+      std::printf("%-8s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.2f %11.2f\n",
+                  r.layout.c_str(),
+                  per_frame,
+                  r.summary.rays / r.summary.total_seconds / 1e6,
+                  r.summary.render_seconds / frames,
+                  r.summary.write_seconds / frames,
+                  ray_seconds / frames,
+                  r.encode_seconds / frames,
+                  floor,
+                  per_frame / floor,
+                  Mb(static_cast<double>(r.total_bytes) / frames),
+                  Mb(static_cast<double>(r.total_bytes - r.bundle_bytes) / frames));
+    }
+    std::printf("floor rays: %.2f Mrays/s\n", floor_rays / ray_seconds / 1e6);
+    std::printf("MB per frame per layer:");
+    for (const Result& r : results) std::printf(" %10s", r.layout.c_str());
+    std::printf("\n");
+    for (const auto& [layer, bytes] : results.front().layer_bytes) {
+      std::printf("  %-20s", layer.c_str());
+      for (const Result& r : results)
+        std::printf(" %10.2f", Mb(static_cast<double>(r.layer_bytes.at(layer)) / frames));
+      std::printf("\n");
+    }
+    if (blender.empty()) {
+      std::printf("Blender Cycles: not installed (make bench installs it)\n");
+      continue;
+    }
+    const PeerRun cycles =
+        RunCycles(blender, size, frames, spp, threads, root / ("cycles_" + std::to_string(size)));
+    if (!cycles.ran) continue;
+    const double lsds_per_frame = results.back().summary.total_seconds / frames;
     std::printf(
-        "       (generate: render %.3f s/frame, write %.3f s/frame; floor rays "
-        "%.2f Mrays/s)\n",
-        summary.render_seconds / frames,
-        summary.write_seconds / frames,
-        floor_rays / ray_seconds / 1e6);
+        "Blender Cycles (%s, depth/normal/position/object-index/vector passes): %.3f s/frame, "
+        "%.2f MB/frame; lsds %s / Cycles time: %.2f\n",
+        blender.c_str(),
+        cycles.seconds / frames,
+        Mb(static_cast<double>(cycles.bytes) / frames),
+        results.back().layout.c_str(),
+        lsds_per_frame / (cycles.seconds / frames));
+    fs::remove_all(root / ("cycles_" + std::to_string(size)));
   }
   fs::remove_all(root);
   return 0;

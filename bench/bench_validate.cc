@@ -128,7 +128,7 @@ Pass DecodeOnly(const fs::path& dir, size_t batch_size) {
       for (const LayerInfo& layer : reader.header().layers) {
         const fs::path path = reader.LayerPath(batch[i], layer.name);
         if (layer.deep) {
-          exr::ReadDeepExr(path);
+          ReadBundleExr(path);  // either bundle layout
         } else {
           exr::ReadFlatExr(path);
         }

@@ -7,8 +7,10 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <thread>
 
 #include <OpenEXR/ImfCompression.h>
+#include <OpenEXR/ImfThreading.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
@@ -55,7 +57,8 @@ nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
           {"sampling", "stratified jittered n x n; sample 0 exactly at the pixel centre"},
           {"jitter", options.jitter},
           {"depth", DepthKindName(options.depth_kind)},
-          {"zip_level", options.zip_level}};
+          {"zip_level", options.zip_level},
+          {"bundle_layout", BundleLayoutName(options.bundle_layout)}};
 }
 
 fs::path TruthPartPath(const fs::path& root, int64_t index) {
@@ -262,7 +265,9 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   for (const std::string& semantic : StandardLayerSemantics()) {
     const bool wanted = !asked.is_array() || semantic == "rgb" ||
                         std::find(asked.begin(), asked.end(), semantic) != asked.end();
-    if (wanted) header.layers.push_back(StandardLayer(semantic, options.depth_kind));
+    if (!wanted) continue;
+    header.layers.push_back(StandardLayer(semantic, options.depth_kind));
+    if (semantic == "bundle") header.layers.back().layout = options.bundle_layout;
   }
   if (!plan.capture_settings.empty())
     header.provenance.render["capture_settings"] = plan.capture_settings;
@@ -294,6 +299,13 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
                     static_cast<size_t>(options.threads));
   }
   Imf::setDefaultZipCompressionLevel(options.zip_level);
+  // OpenEXR's thread pool compresses the chunks of one file in parallel: the
+  // deep bundle, the longest file, no longer encodes on one core
+  // (bench_exr_compression). Chunks are written in order: the bytes do not
+  // depend on the thread count.
+  Imf::setGlobalThreadCount(options.threads > 0
+                                ? options.threads
+                                : static_cast<int>(std::thread::hardware_concurrency()));
   // Validate the whole plan before touching the output.
   const SceneAssets assets = BuildSceneAssets(plan);
   const Sky plan_sky(plan);  // throws for a bad sky before any output
@@ -334,7 +346,9 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   RenderSettings render;
   render.sampler = {options.spp, options.jitter, plan.seed};
   render.depth_kind = options.depth_kind;
+  // Capture Settings `layers`: no work for a layer that is not written.
   render.bundle = base_header.FindLayerBySemantic("bundle") != nullptr;
+  render.motion = base_header.FindLayerBySemantic("motion") != nullptr;
   GenerateSummary summary;
   EmbreeDevice device;
   std::unique_ptr<RenderScene> scene, previous_scene;
@@ -362,7 +376,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       PreviousView previous;
       std::optional<WorldState> previous_world;
       std::unique_ptr<RenderScene> built_previous;
-      if (const PlannedFrame* before = PreviousInShot(plan, k)) {
+      // No motion layer: no previous view to build.
+      if (const PlannedFrame* before = render.motion ? PreviousInShot(plan, k) : nullptr) {
         previous.frame = before;
         previous_world = WorldAt(plan, *before);
         previous.world = &*previous_world;
@@ -401,13 +416,14 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
 
       // Encode this frame while the next one renders: at most two films live.
       writer.wait();  // rethrows a failed write
-      writer.run([&root, &base_header, &summary, &write_mutex, film, truth]() {
+      const BundleSampling sampling{render.sampler, frame.index};
+      writer.run([&root, &base_header, &summary, &write_mutex, film, truth, sampling]() {
         const Clock::time_point w0 = Clock::now();
         truth->files = WriteFrameLayers(root,
                                         base_header,
                                         truth->index,
                                         truth->camera,
-                                        {&film->flat, &film->bundle},
+                                        {&film->flat, &film->bundle, sampling},
                                         truth->rig_camera);
         // The truth part comes last: its presence marks the frame complete.
         WriteFileAtomic(TruthPartPath(root, truth->index), FrameToJson(*truth).dump() + "\n");

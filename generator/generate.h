@@ -34,6 +34,9 @@ struct GenerateOptions {
   // encodes about twice as fast as OpenEXR's own default 4 for files a few
   // percent larger).
   int zip_level = 1;
+  // How the deep bundle layer is stored (docs/format.md "Pixel bundles"):
+  // compact by default; full writes every channel of every sample, as before.
+  BundleLayout bundle_layout = BundleLayout::kCompact;
 
   void Check() const;  // throws lsds::Error for inconsistent options
   bool Selects(int64_t frame_index) const {

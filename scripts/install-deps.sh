@@ -29,6 +29,7 @@ packages=(
 )
 if [ "${1:-}" = "--bench" ]; then
   packages+=(python3-open3d)        # bench/backproject: Open3D create_from_depth_image side by side
+  packages+=(blender)                # bench/generate: Blender Cycles renders the demo-sized scene (bench/peers/)
 fi
 
 missing=()

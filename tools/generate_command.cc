@@ -53,7 +53,8 @@ int RunGenerate(int argc, char** argv) {
       "Render an LSCENE/LCAP scene (or a plan) into a collection with every "
       "layer and truth",
       "lsds generate"};
-  std::string scene, capture, plan_file, frames, shard, depth = "planar", demo_size = "512x512";
+  std::string scene, capture, plan_file, frames, shard, depth = "planar", demo_size = "512x512",
+                                                        bundle_layout = "compact";
   std::optional<uint64_t> seed;
   gen::GenerateOptions options;
   bool demo = false, quiet = false;
@@ -74,6 +75,10 @@ int RunGenerate(int argc, char** argv) {
   app.add_option("--depth", depth, "depth layer kind: planar (default) or perspective");
   app.add_option(
       "--zip-level", options.zip_level, "zlib level of ZIP layers, 0-9 (default 1: fast)");
+  app.add_option("--bundle-layout",
+                 bundle_layout,
+                 "storage of the deep bundle layer: compact (default; lossless, derived "
+                 "positions and classes, one sample for identical samples) or full");
   app.add_flag("--force", options.force, "replace an existing output folder");
   app.add_flag("--resume", options.resume, "keep the complete frames of an interrupted run");
   app.add_option("--plan", plan_file, "render a plan JSON file (lsds plan -o) instead of SCENE");
@@ -97,6 +102,9 @@ int RunGenerate(int argc, char** argv) {
     if (!shard.empty()) ParseShard(shard, &options.shard_index, &options.shard_count);
     if (!ParseDepthKind(depth, &options.depth_kind)) {
       throw Error("--depth " + depth + ": expected planar or perspective");
+    }
+    if (!ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
+      throw Error("--bundle-layout " + bundle_layout + ": expected compact or full");
     }
     options.progress = !quiet;
     const int sources = (demo ? 1 : 0) + (plan_file.empty() ? 0 : 1) + (scene.empty() ? 0 : 1);

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "libs/collection/bundle_layout.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
@@ -184,6 +185,8 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
     Emit("layer.readable", FileLocation(file), std::string("cannot open: ") + e.what());
     return false;
   }
+  // A compact bundle yields derived channels it does not store.
+  info.channels = ReadableChannels(info);
   bool ok = true;
   if (info.deep != layer.deep) {
     Emit("layer.channels",
@@ -258,7 +261,7 @@ void FrameChecker::LoadLayers() {
     try {
       if (layer.deep) {
         if (layer.semantic != "bundle") continue;
-        bundle_ = exr::ReadDeepExr(path, channels);
+        bundle_ = ReadBundleExr(path, channels);  // either bundle layout
       } else {
         flat_[layer.semantic] = exr::ReadFlatExr(path, channels);
       }

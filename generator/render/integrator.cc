@@ -299,7 +299,7 @@ Film RenderFrame(const RenderScene& scene,
               }
               // No previous frame in the shot: no valid motion.
               Eigen::Vector2d m(kNaN, kNaN);
-              if (previous.frame != nullptr) {
+              if (previous.frame != nullptr && settings.motion) {
                 const PlannedFrame& p = *previous.frame;
                 if (!hit.hit) {
                   const Eigen::Vector3d dir_prev = p.cam_from_world.rotation * direction;

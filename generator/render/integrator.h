@@ -20,6 +20,9 @@ struct RenderSettings {
   DepthKind depth_kind = DepthKind::kPlanar;
   int tile_size = 16;
   bool bundle = true;  // fill the film's pixel bundle (the deep layer)
+  // Compute motion vectors (their disocclusion rays); off when the capture
+  // does not write the motion layer, which then stays NaN.
+  bool motion = true;
 };
 
 // The previous frame of the same shot, for motion vectors (absent on a shot's

@@ -8,8 +8,6 @@
 namespace lsds::gen {
 namespace {
 
-uint64_t SplitMix(uint64_t x) { return Mix64(x + kSplitMixGamma); }
-
 double Fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 double Lerp(double t, double a, double b) { return a + t * (b - a); }
 
@@ -22,7 +20,7 @@ double Grad(int hash, double x, double y, double z) {
 
 }  // namespace
 
-uint64_t HashCombine(uint64_t a, uint64_t b) { return SplitMix(a ^ SplitMix(b)); }
+uint64_t HashCombine(uint64_t a, uint64_t b) { return lsds::HashCombine(a, b); }
 
 uint64_t HashString(const char* text) {
   uint64_t h = 1469598103934665603ull;  // FNV-1a
@@ -35,7 +33,7 @@ Perlin::Perlin(uint64_t seed) {
   for (int i = 0; i < 256; ++i) p[i] = static_cast<uint8_t>(i);
   uint64_t state = seed;
   for (int i = 255; i > 0; --i) {  // Fisher-Yates with a portable generator
-    state = SplitMix(state);
+    state = SplitMix64(state);
     const int j = static_cast<int>(state % static_cast<uint64_t>(i + 1));
     std::swap(p[i], p[j]);
   }

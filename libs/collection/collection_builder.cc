@@ -35,7 +35,7 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
     write.camera = HeaderCameraOf(camera);
     const fs::path path = root / files.at(layer.name);
     if (layer.deep) {
-      exr::WriteDeepExr(path, *images.bundle, write);
+      WriteBundleExr(path, *images.bundle, layer.layout, images.bundle_sampling, write);
     } else {
       exr::WriteFlatExr(path, images.flat->at(layer.semantic), write);
     }

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "libs/collection/collection_writer.h"
@@ -20,6 +21,9 @@ namespace lsds {
 struct FrameImages {
   const std::map<std::string, exr::FlatImage>* flat = nullptr;
   const exr::DeepImage* bundle = nullptr;  // required if a layer is deep
+  // How the bundle was sampled: lets a compact bundle layer derive its sample
+  // positions instead of storing them. Without it the full layout is written.
+  std::optional<BundleSampling> bundle_sampling;
 };
 
 // Writes every layer of `header` for frame `frame_index` under `root` (layer

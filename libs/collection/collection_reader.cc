@@ -97,7 +97,7 @@ exr::DeepImage CollectionReader::ReadDeepLayer(const Frame& frame,
                                                const std::string& layer,
                                                const std::vector<std::string>& channels) const {
   const fs::path path = LayerPath(frame, layer);
-  exr::DeepImage image = exr::ReadDeepExr(path, channels);
+  exr::DeepImage image = ReadBundleExr(path, channels);  // either bundle layout
   CheckLayerSize(frame, layer, path, image.width(), image.height());
   return image;
 }

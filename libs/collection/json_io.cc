@@ -98,6 +98,7 @@ json LayerToJson(const LayerInfo& layer) {
   if (!layer.unit.empty()) j["unit"] = layer.unit;
   if (layer.depth_kind) j["depth_kind"] = DepthKindName(*layer.depth_kind);
   if (!layer.description.empty()) j["description"] = layer.description;
+  if (layer.layout != BundleLayout::kFull) j["layout"] = BundleLayoutName(layer.layout);
   return j;
 }
 
@@ -121,6 +122,7 @@ LayerInfo LayerFromJson(const json& j) {
   exr::ParseCompression(j.value("compression", "zip"), &layer.compression);
   layer.required = j.at("required").get<bool>();
   layer.description = j.value("description", "");
+  if (j.contains("layout")) ParseBundleLayout(j.at("layout").get<std::string>(), &layer.layout);
   return layer;
 }
 

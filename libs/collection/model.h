@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "libs/collection/bundle_layout.h"
 #include "libs/exr/exr_types.h"
 #include "libs/geometry/attitude.h"
 #include "libs/geometry/box2d.h"
@@ -50,6 +51,9 @@ struct LayerInfo {
   std::optional<DepthKind> depth_kind;  // depth layers and deep bundles
   exr::Compression compression = exr::Compression::kZip;
   bool required = true;  // every frame has a file for it
+  // Deep bundle layers (format 1.1): how the file stores the samples
+  // (libs/collection/bundle_layout.h); readers yield the same samples either way.
+  BundleLayout layout = BundleLayout::kFull;
   std::string description;
 
   const LayerChannel* FindChannel(const std::string& channel) const;

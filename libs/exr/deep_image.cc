@@ -153,6 +153,7 @@ void WriteDeepExr(const std::filesystem::path& path,
     header.compression() = internal::ToImf(options.compression);
     header.setType(Imf::DEEPSCANLINE);
     internal::AddCamera(options, &header);
+    internal::AddAttributes(options, &header);
     Imf::DeepFrameBuffer frame_buffer;
     frame_buffer.insertSampleCountSlice(
         Imf::Slice(Imf::UINT,

@@ -4,6 +4,7 @@
 #include <ImfMultiPartInputFile.h>
 #include <ImfPartType.h>
 #include <ImfStandardAttributes.h>
+#include <ImfStringAttribute.h>
 
 #include <algorithm>
 
@@ -124,12 +125,23 @@ void AddCamera(const WriteOptions& options, Imf::Header* header) {
   Imf::addWorldToNDC(*header, ToImath(options.camera->ndc_from_world));
 }
 
+void AddAttributes(const WriteOptions& options, Imf::Header* header) {
+  for (const auto& [name, value] : options.attributes) {
+    header->insert(name, Imf::StringAttribute(value));
+  }
+}
+
 ExrInfo InfoFromHeader(const Imf::Header& header) {
   ExrInfo info;
   const Imath::Box2i window = header.dataWindow();
   info.width = window.max.x - window.min.x + 1;
   info.height = window.max.y - window.min.y + 1;
   info.deep = header.hasType() && Imf::isDeepData(header.type());
+  for (auto it = header.begin(); it != header.end(); ++it) {
+    if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) {
+      info.attributes[it.name()] = text->value();
+    }
+  }
   for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
     PixelType type = PixelType::kFloat;
     if (it.channel().type == Imf::UINT) type = PixelType::kUint;

@@ -19,6 +19,7 @@ namespace lsds::exr::internal {
 Imf::PixelType ToImf(PixelType type);
 Imf::Compression ToImf(Compression compression);
 void AddCamera(const WriteOptions& options, Imf::Header* header);
+void AddAttributes(const WriteOptions& options, Imf::Header* header);
 ExrInfo InfoFromHeader(const Imf::Header& header);
 void CheckLimits(const std::filesystem::path& path,
                  const Imf::Header& header,

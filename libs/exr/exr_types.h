@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +49,9 @@ struct HeaderCamera {
 struct WriteOptions {
   Compression compression = Compression::kZip;
   std::optional<HeaderCamera> camera;
+  // Extra string attributes for the header (e.g. the compact bundle layout's
+  // sampling parameters, docs/format.md "Pixel bundles").
+  std::map<std::string, std::string> attributes;
 };
 
 struct ExrInfo {
@@ -57,6 +61,7 @@ struct ExrInfo {
   std::vector<ChannelSpec> channels;  // sorted by name, as EXR stores them
   Compression compression = Compression::kNone;
   std::optional<HeaderCamera> camera;
+  std::map<std::string, std::string> attributes;  // the header's string attributes
 
   const ChannelSpec* Find(const std::string& name) const;
 };

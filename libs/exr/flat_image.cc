@@ -103,6 +103,7 @@ void WriteFlatExr(const std::filesystem::path& path,
     Imf::Header header(image.width(), image.height());
     header.compression() = internal::ToImf(options.compression);
     internal::AddCamera(options, &header);
+    internal::AddAttributes(options, &header);
     // HALF channels need half-typed storage for the slice.
     std::vector<std::vector<half>> halves;
     halves.reserve(image.channels().size());

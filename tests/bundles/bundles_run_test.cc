@@ -134,7 +134,7 @@ TEST(BundlesRun, WrittenLayersAreRegisteredReadableAndInputsUnchanged) {
   int frames = 0;
   reader.ForEachFrame([&](const Frame& frame) {
     ++frames;
-    const exr::DeepImage bundle = exr::ReadDeepExr(reader.LayerPath(frame, "bundle"));
+    const exr::DeepImage bundle = ReadBundleExr(reader.LayerPath(frame, "bundle"));
     const exr::FlatImage majority = exr::ReadFlatExr(reader.LayerPath(frame, "majority"));
     const exr::FlatImage purity = exr::ReadFlatExr(reader.LayerPath(frame, "purity"));
     const exr::FlatImage edge = exr::ReadFlatExr(reader.LayerPath(frame, "edge"));

@@ -1,12 +1,12 @@
-#include "generator/render/sampler.h"
+#include "libs/collection/sample_positions.h"
 
 #include <cmath>
 #include <string>
 
-#include "generator/scene/perlin.h"
 #include "libs/util/error.h"
+#include "libs/util/splitmix64.h"
 
-namespace lsds::gen {
+namespace lsds {
 namespace {
 
 int SamplesPerAxis(int spp) {
@@ -55,4 +55,4 @@ void PixelSamples(const SamplerSettings& s, int64_t frame, int x, int y, Eigen::
   out[0] = first;
 }
 
-}  // namespace lsds::gen
+}  // namespace lsds

@@ -1,0 +1,162 @@
+// Per-layer EXR compression benchmark (issue 20): renders one frame of the demo
+// scene and encodes each layer with every lossless compression OpenEXR allows
+// for it (flat: none, rle, zips, zip, piz; deep: none, rle, zips), printing the
+// bytes, the encode and decode time (median of 3), with OpenEXR's thread pool
+// off and on. docs/generator.md "Storage" keeps the table and the choice.
+//
+//   bench_exr_compression [--size 1024] [--spp 4] [--threads T] [--zip-level L]
+#include <ImfThreading.h>
+#include <OpenEXR/ImfCompression.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <tbb/global_control.h>
+
+#include "generator/demo_plan.h"
+#include "generator/generate.h"
+#include "generator/render/embree_scene.h"
+#include "generator/render/integrator.h"
+#include "generator/render/sky.h"
+#include "libs/collection/bundle_layout.h"
+#include "libs/exr/flat_image.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using namespace lsds;
+using namespace lsds::gen;
+
+namespace {
+
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+template <typename Fn>
+double Median3(Fn fn) {
+  std::vector<double> t;
+  for (int i = 0; i < 3; ++i) {
+    const Clock::time_point start = Clock::now();
+    fn();
+    t.push_back(Since(start));
+  }
+  std::sort(t.begin(), t.end());
+  return t[1];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int size = 1024, spp = 4, threads = 0, zip_level = 1;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i];
+    const int value = std::atoi(argv[i + 1]);
+    if (flag == "--size") {
+      size = value;
+    } else if (flag == "--spp") {
+      spp = value;
+    } else if (flag == "--threads") {
+      threads = value;
+    } else if (flag == "--zip-level") {
+      zip_level = value;
+    } else {
+      std::fprintf(
+          stderr,
+          "usage: bench_exr_compression [--size N] [--spp S] [--threads T] [--zip-level L]\n");
+      return 2;
+    }
+  }
+  const int pool = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
+  std::optional<tbb::global_control> control;
+  if (threads > 0) control.emplace(tbb::global_control::max_allowed_parallelism, threads);
+  Imf::setDefaultZipCompressionLevel(zip_level);
+
+  DemoOptions demo;
+  demo.frames = 1;
+  demo.width = demo.height = size;
+  const Plan plan = MakeDemoPlan(demo);
+  EmbreeDevice device;
+  const SceneAssets assets = BuildSceneAssets(plan);
+  const Sky sky(plan);
+  const PlannedFrame& frame = plan.frames.front();
+  const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
+  RenderSettings settings;
+  settings.sampler = {spp, 1.0, plan.seed};
+  const Film film = RenderFrame(scene, sky, frame, {}, settings);
+  GenerateOptions options;
+  const CollectionHeader header = MakeHeader(plan, options);
+  const BundleSampling sampling{settings.sampler, frame.index};
+
+  const fs::path dir = fs::temp_directory_path() / "lsds_bench_exr_compression";
+  fs::create_directories(dir);
+  std::printf("EXR compression per layer: demo frame %dx%d, spp %d, zip level %d\n",
+              size,
+              size,
+              spp,
+              zip_level);
+  std::printf("encode/decode: median of 3, s; pool = OpenEXR's thread pool with %d threads\n",
+              pool);
+  std::printf("%-14s %-5s %10s %9s %10s %11s %10s %11s\n",
+              "layer",
+              "codec",
+              "MB",
+              "ratio",
+              "encode s",
+              "encode pool",
+              "decode s",
+              "decode pool");
+  for (const LayerInfo& layer : header.layers) {
+    std::vector<exr::Compression> codecs = {
+        exr::Compression::kNone, exr::Compression::kRle, exr::Compression::kZips};
+    if (!layer.deep) {  // OpenEXR's deep files allow only the three above
+      codecs.push_back(exr::Compression::kZip);
+      codecs.push_back(exr::Compression::kPiz);
+    }
+    double raw = 0;
+    for (exr::Compression codec : codecs) {
+      exr::WriteOptions write;
+      write.compression = codec;
+      const fs::path path = dir / (layer.name + ".exr");
+      auto encode = [&] {
+        if (layer.deep) {
+          WriteBundleExr(path, film.bundle, layer.layout, sampling, write);
+        } else {
+          exr::WriteFlatExr(path, film.flat.at(layer.semantic), write);
+        }
+      };
+      auto decode = [&] {
+        if (layer.deep) {
+          ReadBundleExr(path);
+        } else {
+          exr::ReadFlatExr(path);
+        }
+      };
+      Imf::setGlobalThreadCount(0);
+      const double encode_serial = Median3(encode);
+      const double decode_serial = Median3(decode);
+      Imf::setGlobalThreadCount(pool);
+      const double encode_pool = Median3(encode);
+      const double decode_pool = Median3(decode);
+      const double bytes = static_cast<double>(fs::file_size(path));
+      if (codec == exr::Compression::kNone) raw = bytes;
+      std::printf("%-14s %-5s %10.2f %9.2f %10.3f %11.3f %10.3f %11.3f%s\n",
+                  layer.name.c_str(),
+                  exr::CompressionName(codec),
+                  bytes / 1e6,
+                  raw / bytes,
+                  encode_serial,
+                  encode_pool,
+                  decode_serial,
+                  decode_pool,
+                  codec == layer.compression ? "  <- chosen" : "");
+    }
+  }
+  fs::remove_all(dir);
+  return 0;
+}

@@ -125,6 +125,10 @@ struct PlannedFrame {
   // The environment in effect when LCAP changes it (sky, sun, atmosphere,
   // skylight, terrain material); absent: the plan's.
   std::optional<PlannedEnvironment> environment;
+  // LCAP requirements and quotas demanded of this frame: {attempts, met,
+  // checks: [{name, object, quantity, min, max, estimate, met}]}
+  // (generator/lang/requirements.h); absent without requirements.
+  std::optional<nlohmann::json> requirements;
 };
 
 struct Plan {
@@ -145,6 +149,10 @@ struct Plan {
   // "output"), as written.
   nlohmann::json capture_settings = nlohmann::json::object();
   std::vector<PlannedFrame> frames;
+  // What the capture's requirements and quotas ask (with the planned count of
+  // every quota bin); null without requirements. Goes to
+  // collection.json provenance.requirements.
+  nlohmann::json requirements;
 };
 
 // The plan's own environment, and the one in effect on `frame`.

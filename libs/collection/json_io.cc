@@ -205,6 +205,7 @@ json HeaderToJson(const CollectionHeader& h) {
   if (!h.provenance.capture_source.empty())
     provenance["capture_source"] = h.provenance.capture_source;
   if (!h.provenance.import.is_null()) provenance["import"] = h.provenance.import;
+  if (!h.provenance.requirements.is_null()) provenance["requirements"] = h.provenance.requirements;
   if (const auto& shard = h.provenance.shard)
     provenance["shard"] = {{"index", shard->index},
                            {"count", shard->count},
@@ -257,6 +258,7 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     h.provenance.capture_source = p.value("capture_source", "");
     h.provenance.render = p.value("render", json::object());
     if (p.contains("import")) h.provenance.import = p.at("import");
+    if (p.contains("requirements")) h.provenance.requirements = p.at("requirements");
     if (p.contains("shard")) {
       const json& s = p.at("shard");
       ShardRecord shard;
@@ -335,6 +337,7 @@ json FrameToJson(const Frame& f) {
   if (f.shot) j["shot"] = *f.shot;
   if (!f.scene.is_null()) j["scene"] = f.scene;
   if (f.camera_velocity) j["camera_velocity"] = Vector3ToJson(*f.camera_velocity);
+  if (!f.requirements.is_null()) j["requirements"] = f.requirements;
   return j;
 }
 
@@ -347,6 +350,7 @@ Frame FrameFromJson(const json& j, const std::string& file, const std::string& p
     if (j.contains("shot")) f.shot = j.at("shot").get<int64_t>();
     if (j.contains("scene")) f.scene = j.at("scene");
     if (j.contains("camera_velocity")) f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
+    if (j.contains("requirements")) f.requirements = j.at("requirements");
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
     for (const auto& [layer, reference] : f.files)

@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
+#include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
 #include "generator/render/embree_scene.h"
 #include "generator/render/film.h"
@@ -254,6 +255,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   header.provenance.seed = plan.seed;
   header.provenance.scene_source = plan.scene_source;
   header.provenance.capture_source = plan.capture_source;
+  header.provenance.requirements = plan.requirements;
   header.provenance.render = RenderSettingsJson(options);
   if (!plan.post_process.empty()) header.provenance.render["post_process"] = plan.post_process;
   header.classes = plan.classes;
@@ -411,6 +413,11 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       truth->objects =
           ComputeObjectTruth(*scene, frame, *film, EnvironmentAt(plan, frame).fog_density, &rays);
       RecordObjectChanges(frame, &truth->objects);
+      // The final truth is what was rendered: judge the frame's requirements
+      // on it.
+      if (frame.requirements)
+        truth->requirements =
+            AchievedRecord(*frame.requirements, MeasureTruth(plan, frame, truth->objects));
       summary.rays += rays;
       summary.render_seconds += Seconds(t0);
 
@@ -452,6 +459,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   for (size_t k : selected) {
     const fs::path part = TruthPartPath(root, plan.frames[k].index);
     const Frame truth = FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
+    AddRequirementSummary(plan, truth, &summary.requirements);
     MetadataFrame metadata = TruthMetadata(truth, header.conventions.world);
     AddSurveyMetadata(plan, plan.frames[k], &metadata);
     builder.Append(truth, metadata);

@@ -12,6 +12,7 @@
 
 #include "generator/plan/plan.h"
 #include "generator/render/film.h"
+#include "generator/requirement_report.h"
 #include "libs/collection/model.h"
 
 namespace lsds::gen {
@@ -46,6 +47,7 @@ struct GenerateOptions {
 };
 
 struct GenerateSummary {
+  RequirementSummary requirements;
   int64_t frames_rendered = 0;
   int64_t frames_skipped = 0;  // complete frames kept by --resume
   uint64_t rays = 0;           // primary, shadow and visibility rays

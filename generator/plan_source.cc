@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "generator/estimate.h"
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
 #include "libs/collection/json_stream.h"
@@ -25,7 +26,7 @@ Plan PlanFromScene(const std::string& scene,
   FrameRange range;
   range.begin = first_frame;
   range.end = last_frame == std::numeric_limits<int64_t>::max() ? -1 : last_frame;
-  return MakePlan(scene, capture_path, seed, range);
+  return MakePlan(scene, capture_path, seed, range, MakeFrameEstimatorFactory());
 }
 
 Plan LoadPlanJson(const std::string& path) {

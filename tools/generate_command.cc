@@ -183,7 +183,8 @@ int RunGenerate(int argc, char** argv) {
                 << per_frame << " s/frame: render " << summary.render_seconds << " s, write "
                 << summary.write_seconds << " s, "
                 << (summary.render_seconds > 0 ? summary.rays / summary.render_seconds / 1e6 : 0)
-                << " Mrays/s) -> " << options.output.string() << "\n";
+                << " Mrays/s) -> " << options.output.string() << "\n"
+                << gen::FormatRequirementSummary(plan, summary.requirements);
     }
     return kExitOk;
   });

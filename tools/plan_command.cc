@@ -5,6 +5,7 @@
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
+#include "generator/requirement_report.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/input_file.h"
 #include "libs/util/output_guard.h"
@@ -58,6 +59,7 @@ int RunPlan(int argc, char** argv) {
       if (!frames.empty()) selection = ParseFrameSelection(frames);
       const Plan plan = PlanSelectedFrames(scene, capture, seed, selection);
       text = PlanToJson(plan).dump(1);
+      std::cerr << gen::FormatPlannedRequirements(plan);
     }
     if (output.empty()) {
       std::cout << text << "\n";

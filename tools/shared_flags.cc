@@ -6,6 +6,7 @@
 
 #include <tbb/global_control.h>
 
+#include "generator/estimate.h"
 #include "generator/lang/planner.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/util/error.h"
@@ -105,7 +106,7 @@ Plan PlanSelectedFrames(const std::string& scene,
     range.begin = selection->begin;
     range.end = selection->bounded() ? selection->end : -1;
   }
-  Plan plan = MakePlan(scene, capture_path, seed, range);
+  Plan plan = MakePlan(scene, capture_path, seed, range, gen::MakeFrameEstimatorFactory());
   if (!selection) return plan;
   // Frames are planned independently, so the restricted plan holds exactly the
   // selected frames that exist; anything less means the selection reaches past
@@ -113,7 +114,9 @@ Plan PlanSelectedFrames(const std::string& scene,
   const bool complete = selection->bounded() ? static_cast<int64_t>(plan.frames.size()) ==
                                                    selection->end - selection->begin
                                              : !plan.frames.empty();
-  if (!complete) CheckPlanFrames(*selection, MakePlan(scene, capture_path, seed, {}));
+  if (!complete)
+    CheckPlanFrames(*selection,
+                    MakePlan(scene, capture_path, seed, {}, gen::MakeFrameEstimatorFactory()));
   return plan;
 }
 

@@ -211,8 +211,26 @@ class CaptureEvaluator {
     const int64_t steps = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
     const int64_t total = steps * RigSize();
     if (end < 0 || end > total) end = total;
-    for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k) plan_->frames.push_back(Frame(k));
+    if (requirements_.empty()) {
+      for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k) plan_->frames.push_back(Frame(k));
+      return;
+    }
+    // A redraw would have to move every camera of a step together; until it
+    // does, the two do not combine.
+    if (plan_->rig) {
+      camera_->statement.Fail(
+          "requirements and quotas do not work with a camera rig yet (one camera per capture)");
+    }
+    // Requirements and quotas (requirements.h): redraw each frame until the
+    // estimate meets its demand, within the budget.
+    const DemandPlanner demands(requirements_, seed_, total);
+    plan_->requirements = RequirementsProvenance(requirements_, demands);
+    for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k)
+      plan_->frames.push_back(RequiredFrame(k, demands.For(k)));
   }
+
+  RequirementSet requirements_;
+  FrameEstimatorFactory estimator_factory_;
 
  private:
   void Check() {
@@ -230,6 +248,8 @@ class CaptureEvaluator {
         if (d.body->size() != 1)
           d.body.Fail("a path has exactly one generator: " + Join(kPathKinds, ", "));
       } else if (d.kind == "collection" || d.kind == "scene_change") {
+      } else if (IsRequirementKind(d.kind)) {
+        CheckRequirementDefinition(d);
       } else {
         d.statement.Fail("'" + d.kind + "' belongs in the LSCENE scene file, not in LCAP");
       }
@@ -945,10 +965,71 @@ class CaptureEvaluator {
     return plan_->rig ? static_cast<int64_t>(plan_->rig->cameras.size()) : 1;
   }
 
+  PlannedFrame RequiredFrame(int64_t k, const FrameDemand& demand) {
+    if (demand.active.empty() && demand.bins.empty()) return Frame(k);
+    if (!estimator_) {
+      if (!estimator_factory_)
+        throw Error(
+            "this capture has requirements or quotas, which need the generator's estimator "
+            "(lsds plan / lsds generate)");
+      estimator_ = estimator_factory_();
+    }
+    std::optional<PlannedFrame> best;
+    FrameMeasure best_measure;
+    double best_violation = 0;
+    int attempts = 0;
+    std::optional<Error> unplaceable;  // a draw the camera cannot take (clearance)
+    for (int attempt = 0; attempt <= requirements_.budget; ++attempt) {
+      std::optional<PlannedFrame> drawn;
+      try {
+        drawn = Frame(k, attempt);
+      } catch (const Error& e) {
+        // A draw where the drone cannot be is rejected like one that misses
+        // the requirements; only when every draw is, the error stands.
+        ++attempts;
+        if (!unplaceable) unplaceable = e;
+        continue;
+      }
+      PlannedFrame f = std::move(*drawn);
+      FrameMeasure m = estimator_(*plan_, f);
+      m.frame = FrameMeasures(*plan_, f.cam_from_world);
+      const double violation = Violation(demand, m);
+      ++attempts;
+      if (!best || violation < best_violation) {
+        best = std::move(f);
+        best_measure = std::move(m);
+        best_violation = violation;
+      }
+      if (violation == 0) break;
+    }
+    if (!best) throw *unplaceable;
+    best->requirements = DemandRecord(demand, best_measure);
+    (*best->requirements)["attempts"] = attempts;
+    if (best_violation > 0 && requirements_.fail_on_budget)
+      throw Error(
+          "frame " + std::to_string(k) + ": no draw met the requirements in " +
+              std::to_string(attempts) + " attempts (budget " +
+              std::to_string(requirements_.budget) +
+              "): " + best->requirements->at("checks").dump(),
+          cap_.definitions.empty() ? Location{} : cap_.definitions.front().statement.Where());
+    return *best;
+  }
+
+  // Frame k's draw number `attempt`: the first from the frame's own streams,
+  // redraws from streams of (seed, redraw, attempt), so that every draw still
+  // depends only on the seed and k.
+  uint64_t FrameSeed(int attempt) const {
+    return attempt == 0 ? seed_
+                        : MixKey(MixKey(seed_, static_cast<uint64_t>(StreamTag::kRedraw)),
+                                 static_cast<uint64_t>(attempt));
+  }
+
+  FrameEstimator estimator_;
+
   // Frame k: time step k / n of the paths, seen by rig camera k % n (n = 1
   // without a rig, so that the step is the frame). Everything drawn is keyed
   // by the step, so the cameras of one step see one world.
-  PlannedFrame Frame(int64_t frame_index) {
+  PlannedFrame Frame(int64_t frame_index, int attempt = 0) {
     const int64_t n = RigSize();
     const int64_t k = frame_index / n;  // the time step
     const int64_t c = frame_index % n;  // the rig camera
@@ -961,7 +1042,8 @@ class CaptureEvaluator {
     f.sequence = seg->path->symbol + "(" + std::to_string(seg->repetition) + ")";
     f.shot = ShotStart(*seg->path, seg->first, k - seg->first) * n + c;
     f.camera = camera_model_;
-    Rng rng = Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k));
+    const uint64_t frame_seed = FrameSeed(attempt);
+    Rng rng = Rng::For(frame_seed, StreamTag::kFrame, static_cast<uint64_t>(k));
     f.cam_from_world = Pose(*seg->path,
                             k - seg->first,
                             rng,
@@ -985,7 +1067,7 @@ class CaptureEvaluator {
       // every frame.
       Rng change_rng =
           rule.during
-              ? Rng::For(seed_, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
+              ? Rng::For(frame_seed, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
               : Rng::For(seed_, StreamTag::kChange, rule.id, static_cast<uint64_t>(rule.begin));
       if (!rule.environment_kind.empty()) {
         if (!f.environment) f.environment = EnvironmentOf(*plan_);
@@ -1369,8 +1451,11 @@ void EvaluateCapture(const Program& capture,
                      uint64_t seed,
                      int64_t begin,
                      int64_t end,
-                     Plan* plan) {
+                     Plan* plan,
+                     const FrameEstimatorFactory& estimator) {
   CaptureEvaluator evaluator(capture, seed, plan);
+  evaluator.requirements_ = ReadRequirements(capture, scene);
+  evaluator.estimator_factory_ = estimator;
   evaluator.scene_ = &scene;
   evaluator.labels_ = ReadTargets(capture, scene);
   for (const Definition& d : scene.definitions)

@@ -2,6 +2,7 @@
 // of a plan.
 #pragma once
 
+#include "generator/lang/requirements.h"
 #include "generator/lang/scene.h"
 #include "generator/plan/plan.h"
 
@@ -14,14 +15,17 @@ TargetLabels ReadTargets(const Program& capture, const Program& scene);
 // Checks the whole capture (keys, references, values), then fills plan->frames
 // for the global frame indices [begin, end) (end < 0: all), plan->post_process
 // and plan->capture_settings. The world (plan objects, terrain) must already be
-// sampled. Frame k draws only from the streams of (seed, k) and of the scene
-// changes in effect, so any subset equals the same frames of a full plan.
+// sampled. Requirements and quotas of the capture are met by redrawing each
+// frame's free variables, judged by the estimators `estimator` makes. Frame k draws only from the
+// streams of (seed, k) and of the scene changes in effect, so any subset equals the same frames of
+// a full plan.
 void EvaluateCapture(const Program& capture,
                      const Program& scene,
                      uint64_t seed,
                      int64_t begin,
                      int64_t end,
-                     Plan* plan);
+                     Plan* plan,
+                     const FrameEstimatorFactory& estimator = {});
 
 // The capture used when no LCAP file is given: one nadir frame, 1024x1024
 // pixels, 60 degrees horizontal field of view, over the centre of the terrain

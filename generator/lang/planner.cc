@@ -25,7 +25,8 @@ nlohmann::ordered_json SourceToJson(const SourceFile& source) {
 Plan MakePlanFromSources(const SourceFile& scene_source,
                          const SourceFile* capture_source,
                          uint64_t seed,
-                         FrameRange frames) {
+                         FrameRange frames,
+                         const FrameEstimatorFactory& estimator) {
   ValidateSourceSchema(scene_source);
   if (capture_source) ValidateSourceSchema(*capture_source);
   Plan plan;
@@ -41,7 +42,7 @@ Plan MakePlanFromSources(const SourceFile& scene_source,
   }
   EvaluateScene(scene, seed, targets, &plan);
   if (capture)
-    EvaluateCapture(*capture, scene, seed, frames.begin, frames.end, &plan);
+    EvaluateCapture(*capture, scene, seed, frames.begin, frames.end, &plan, estimator);
   else
     DefaultCapture(frames.begin, frames.end, &plan);
   return plan;
@@ -50,11 +51,12 @@ Plan MakePlanFromSources(const SourceFile& scene_source,
 Plan MakePlan(const std::filesystem::path& scene,
               const std::optional<std::filesystem::path>& capture,
               uint64_t seed,
-              FrameRange frames) {
+              FrameRange frames,
+              const FrameEstimatorFactory& estimator) {
   const SourceFile scene_source = LoadSource(scene.string());
-  if (!capture) return MakePlanFromSources(scene_source, nullptr, seed, frames);
+  if (!capture) return MakePlanFromSources(scene_source, nullptr, seed, frames, estimator);
   const SourceFile capture_source = LoadSource(capture->string());
-  return MakePlanFromSources(scene_source, &capture_source, seed, frames);
+  return MakePlanFromSources(scene_source, &capture_source, seed, frames, estimator);
 }
 
 }  // namespace lsds

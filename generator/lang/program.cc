@@ -29,6 +29,9 @@ const std::map<std::string, std::string>& KindAliases() {
       {"scenechange", "scene_change"},
       {"scenechangeset", "scene_change"},
       {"set", "scene_change"},
+      {"require", "require"},  // LCAP requirements and quotas (requirements.h)
+      {"requirement", "require"},
+      {"quota", "quota"},
   };
   return aliases;
 }

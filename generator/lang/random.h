@@ -23,9 +23,12 @@ enum class StreamTag : uint64_t {
   kFrame = 2,
   kChange = 3,
   kTerrain = 4,
-  kCount = 5,        // frame counts of capture paths, one stream per path instance
-  kFlight = 6,       // waypoints of a smooth flight, one stream per path instance
-  kObjectFlight = 7  // an object's path, one stream per (rule, leg)
+  kCount = 5,         // frame counts of capture paths, one stream per path instance
+  kFlight = 6,        // waypoints of a smooth flight, one stream per path instance
+  kObjectFlight = 7,  // an object's path, one stream per (rule, leg)
+  kRequire = 8,       // soft requirements: (frame, requirement)
+  kQuota = 9,         // a quota's strata: one stream per quota
+  kRedraw = 10        // redraw `attempt` of frame k: (frame, attempt)
 };
 
 class Rng {

@@ -149,7 +149,8 @@ class SceneEvaluator {
     int terrains = 0, georeferences = 0;
     for (const Definition& def : scene_.definitions) {
       const std::string& k = def.kind;
-      if (k == "camera" || k == "path" || k == "collection" || k == "scene_change")
+      if (k == "camera" || k == "path" || k == "collection" || k == "scene_change" ||
+          k == "require" || k == "quota")
         def.statement.Fail("'" + k + "' belongs in the LCAP capture file, not in LSCENE");
       if (IsEnvironmentKind(k)) def.body.CheckKeys(EnvironmentKeys(k, false), def.symbol);
       if (k == "georeference") {

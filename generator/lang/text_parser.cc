@@ -252,7 +252,8 @@ class Parser {
           RelocateChildren(member_pointer);
         }
         previous.push_back(Value(PointerJoin(member_pointer, std::to_string(previous.size()))));
-      } else if (t.kind == Tok::kIdent || t.kind == Tok::kString) {
+      } else if (t.kind == Tok::kIdent || t.kind == Tok::kString ||
+                 (t.kind == Tok::kNumber && IsPunct(Peek(1), ':'))) {  // {30:0.5,60:0.5}
         const Token first = Next();
         std::string key = first.text;
         while (first.kind == Tok::kIdent && Peek().kind == Tok::kIdent)

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "generator/lang/distributions.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
@@ -129,6 +130,7 @@ double SampleScalar(const Node& node, Rng& rng) {
     if (lo > hi) node.Fail("interval [lo, hi] needs lo <= hi");
     return rng.Uniform(lo, hi);
   }
+  if (const std::optional<double> d = SampleDistribution(node, rng)) return *d;
   if (v.is_object()) {
     const std::string key = SampleChoiceKey(node, rng);
     char* end = nullptr;

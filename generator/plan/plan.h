@@ -129,6 +129,10 @@ struct PlannedFrame {
   // it shares with the rig's other cameras (docs/languages.md, "Camera rigs").
   std::optional<std::string> rig_camera;
   int64_t step = -1;  // -1: not a rig frame
+  // LCAP requirements and quotas demanded of this frame: {attempts, met,
+  // checks: [{name, object, quantity, min, max, estimate, met}]}
+  // (generator/lang/requirements.h); absent without requirements.
+  std::optional<nlohmann::json> requirements;
 };
 
 struct Plan {
@@ -152,6 +156,10 @@ struct Plan {
   // step are consecutive, in this order.
   std::optional<Rig> rig;
   std::vector<PlannedFrame> frames;
+  // What the capture's requirements and quotas ask (with the planned count of
+  // every quota bin); null without requirements. Goes to
+  // collection.json provenance.requirements.
+  nlohmann::json requirements;
 };
 
 // The plan's own environment, and the one in effect on `frame`.

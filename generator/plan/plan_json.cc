@@ -138,6 +138,7 @@ json PlannedFrameToJson(const PlannedFrame& f) {
   if (f.camera_velocity) j["camera_velocity"] = Vec3(*f.camera_velocity);
   if (f.rig_camera) j["rig_camera"] = *f.rig_camera;
   if (f.step >= 0) j["step"] = f.step;
+  if (f.requirements) j["requirements"] = *f.requirements;
   return j;
 }
 
@@ -159,6 +160,7 @@ PlannedFrame PlannedFrameFromJson(const json& j,
     if (j.contains("camera_velocity")) f.camera_velocity = ToVec3(j.at("camera_velocity"));
     if (j.contains("rig_camera")) f.rig_camera = j.at("rig_camera").get<std::string>();
     f.step = j.value("step", int64_t{-1});
+    if (j.contains("requirements")) f.requirements = j.at("requirements");
     return f;
   } catch (const json::exception& e) {
     throw Error(std::string("bad plan frame: ") + e.what(), Location(file, pointer));
@@ -208,6 +210,7 @@ json PlanToJson(const Plan& plan) {
             {"frame_count", plan.frames.size()},
             {"frames", frames}};
   j.update(environment);
+  if (!plan.requirements.is_null()) j["requirements"] = plan.requirements;
   if (plan.geo)
     j["geo"] = {{"latitude_deg", plan.geo->latitude_deg},
                 {"longitude_deg", plan.geo->longitude_deg},
@@ -261,6 +264,7 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     plan.post_process = j.at("post_process").get<std::vector<std::string>>();
     if (j.contains("capture_settings")) plan.capture_settings = j["capture_settings"];
     if (j.contains("rig")) plan.rig = RigFromJson(j.at("rig"));
+    if (j.contains("requirements")) plan.requirements = j["requirements"];
     const json& frames = j.at("frames");
     for (size_t i = 0; i < frames.size(); ++i)
       plan.frames.push_back(PlannedFrameFromJson(frames[i], file, "/frames/" + std::to_string(i)));

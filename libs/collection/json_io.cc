@@ -244,6 +244,7 @@ json HeaderToJson(const CollectionHeader& h) {
   if (!h.provenance.capture_source.empty())
     provenance["capture_source"] = h.provenance.capture_source;
   if (!h.provenance.import.is_null()) provenance["import"] = h.provenance.import;
+  if (!h.provenance.requirements.is_null()) provenance["requirements"] = h.provenance.requirements;
   if (const auto& shard = h.provenance.shard)
     provenance["shard"] = {{"index", shard->index},
                            {"count", shard->count},
@@ -298,6 +299,7 @@ CollectionHeader HeaderFromJson(const json& j, const std::string& file) {
     h.provenance.capture_source = p.value("capture_source", "");
     h.provenance.render = p.value("render", json::object());
     if (p.contains("import")) h.provenance.import = p.at("import");
+    if (p.contains("requirements")) h.provenance.requirements = p.at("requirements");
     if (p.contains("shard")) {
       const json& s = p.at("shard");
       ShardRecord shard;
@@ -379,6 +381,7 @@ json FrameToJson(const Frame& f) {
   if (f.camera_velocity) j["camera_velocity"] = Vector3ToJson(*f.camera_velocity);
   if (f.rig_camera) j["rig_camera"] = *f.rig_camera;
   if (f.step) j["step"] = *f.step;
+  if (!f.requirements.is_null()) j["requirements"] = f.requirements;
   return j;
 }
 
@@ -393,6 +396,7 @@ Frame FrameFromJson(const json& j, const std::string& file, const std::string& p
     if (j.contains("camera_velocity")) f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
     if (j.contains("rig_camera")) f.rig_camera = j.at("rig_camera").get<std::string>();
     if (j.contains("step")) f.step = j.at("step").get<int64_t>();
+    if (j.contains("requirements")) f.requirements = j.at("requirements");
     f.camera = CameraFromJson(j.at("camera"));
     f.files = j.at("files").get<std::map<std::string, std::string>>();
     for (const auto& [layer, reference] : f.files)

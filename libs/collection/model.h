@@ -85,6 +85,10 @@ struct Provenance {
   // for collections lsds rendered.
   nlohmann::json import;
   std::optional<ShardRecord> shard;  // set only in a shard of a run
+  // Format 1.1, optional: what the capture's requirements and quotas asked
+  // (docs/languages.md, "Requirements and quotas"), with the planned count of
+  // every quota bin; null without requirements.
+  nlohmann::json requirements;
 };
 
 // Declared units and frames (docs/format.md, "Units and frames").
@@ -150,6 +154,10 @@ struct Frame {
   // Format 1.1, optional: the camera centre's velocity (world units per
   // second) on a smooth flight.
   std::optional<Eigen::Vector3d> camera_velocity;
+  // Format 1.1, optional: the requirements and quota bins demanded of this
+  // frame, with the planner's estimate and the value achieved in this truth
+  // (docs/format.md); null without requirements.
+  nlohmann::json requirements;
   std::map<std::string, std::string> files;  // layer name -> path relative to the collection root
   std::vector<ObjectTruth> objects;
   // Format 1.1, optional: in a rig collection (CollectionHeader::rig), the

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include "generator/lang/environment.h"
+#include "generator/lang/relations.h"
 #include "generator/plan/terrain_height.h"
 #include "generator/scene/object_library.h"
 #include "libs/geometry/oriented_box.h"
@@ -52,7 +54,14 @@ const std::vector<std::string> kObjectKeys = {"class",
                                               "target",
                                               "count",
                                               "unit"};
-const std::vector<std::string> kPositionKeys = {"ON", "IN", "AROUND", "within"};
+const std::vector<std::string> kPositionKeys = {
+    "ON", "IN", "AROUND", "within", "NEAR", "BEHIND", "in_front_of", "FACING"};
+
+// The relations with a reference object and an optional distance
+// (relations.h): `NEAR:X`, `NEAR:{X:5}`, `BEHIND:{X:[5,20]}`.
+bool IsRelationKey(const std::string& canonical) {
+  return canonical == "near" || canonical == "behind" || canonical == "infrontof";
+}
 
 struct Box {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(-kHuge);
@@ -250,12 +259,18 @@ class SceneEvaluator {
       for (const auto& [key, c] : pos.Members()) {
         const std::string k = CanonicalKey(key);
         if (k == "within") continue;
-        if (k == "around" && c->is_object()) {
+        if ((k == "around" || IsRelationKey(k)) && c->is_object()) {
           for (const auto& [ref, margin] : c.Members())
             CheckReferenceName(ref, margin, defined, def.symbol, true);
           continue;
         }
-        CheckReference(c, defined, def.symbol, k == "around");
+        if (k == "facing" && c->is_array()) {  // a point [x, y] or [x, y, z]
+          if (c->size() != 2 && c->size() != 3)
+            c.Fail("FACING takes an object or a point [x, y] or [x, y, z]");
+          for (size_t i = 0; i < c->size(); ++i) (void)ReadNumber(c.Item(i));
+          continue;
+        }
+        CheckReference(c, defined, def.symbol, k == "around" || k == "facing" || IsRelationKey(k));
       }
     }
     if (const Node bound = def.body.Find("bound")) CheckReference(bound, defined, def.symbol, true);
@@ -612,6 +627,8 @@ class SceneEvaluator {
     bool on = false, in = false;
     Surface surface;
     std::set<std::string> supports;
+    std::vector<std::pair<Relation, std::string>> relations;  // and their text, for messages
+    std::optional<Eigen::Vector3d> facing;                    // the point the object turns to
     auto shrink = [&](const Box& box, const Node& constraint, const std::string& what) {
       space.Intersect(box);
       if (space.Empty())
@@ -664,6 +681,42 @@ class SceneEvaluator {
             box.hi.z() = kHuge;
             shrink(box, c, "AROUND:" + ref);
           }
+        } else if (IsRelationKey(k)) {
+          std::vector<std::pair<std::string, Node>> refs;
+          if (c->is_object())
+            refs = c.Members();
+          else
+            refs.push_back({ReadString(c), Node{}});
+          for (const auto& [ref, distance_node] : refs) {
+            Relation r;
+            r.kind = k == "near"     ? Relation::Kind::kNear
+                     : k == "behind" ? Relation::Kind::kBehind
+                                     : Relation::Kind::kInFront;
+            if (k == "near") r.distance = 10;  // default: within 10 m, as AROUND
+            if (distance_node) {
+              r.distance = SampleScalar(distance_node, rng_);
+              if (!(r.distance >= 0)) distance_node.Fail(key + " distance must be >= 0 (m)");
+            }
+            const PlannedObject& x = AnyCopy(c, ref).object;
+            r.ref_xy = x.position.head<2>();
+            r.ref_heading = HeadingOf(x.world_from_object);
+            Box box;
+            Eigen::Vector2d lo, hi;
+            RelationBounds(r, &lo, &hi);
+            box.lo.head<2>() = lo.cwiseMax(box.lo.head<2>());
+            box.hi.head<2>() = hi.cwiseMin(box.hi.head<2>());
+            const std::string what = key + ":" + ref;
+            shrink(box, c, what);
+            relations.push_back({r, what});
+          }
+        } else if (k == "facing") {
+          if (c->is_array()) {
+            Eigen::Vector3d point = Eigen::Vector3d::Zero();
+            for (size_t i = 0; i < c->size(); ++i) point[i] = ReadNumber(c.Item(i));
+            facing = point;
+          } else {
+            facing = AnyCopy(c, ReadString(c)).object.position;
+          }
         } else if (k == "within") {
           if (!c->is_array() || c->size() != 2) c.Fail("within is [[x0,y0,z0],[x1,y1,z1]]");
           Box box;
@@ -689,8 +742,14 @@ class SceneEvaluator {
     o.on_overlap = policy;
     o.retries = retries;
 
+    // FACING turns the object after its centre is drawn; it is drawn with the
+    // half-width no turn exceeds, so the turned box stays in the space.
+    const Eigen::Matrix3d unturned = o.world_from_object;
+    const std::string* broken = nullptr;  // the relation the last draw broke
     for (int attempt = 0;; ++attempt) {
-      const Eigen::Vector3d half = o.world_from_object.cwiseAbs() * (0.5 * o.extent);
+      o.world_from_object = unturned;
+      Eigen::Vector3d half = o.world_from_object.cwiseAbs() * (0.5 * o.extent);
+      if (facing) half.head<2>().setConstant(HorizontalRadius(o.world_from_object, o.extent));
       for (int i = 0; i < 3; ++i) {
         if (i == 2 && on) continue;
         const double lo = space.lo[i] + half[i], hi = space.hi[i] - half[i];
@@ -706,6 +765,15 @@ class SceneEvaluator {
                                   : surface.top;
         o.position.z() = ground + half.z();
       }
+      // A turn about the vertical keeps the box's height, so the base stays.
+      if (facing) o.world_from_object = FacingRotation(unturned, o.position, *facing);
+      broken = nullptr;
+      for (const auto& [relation, what] : relations)
+        if (!RelationHolds(relation, o.position)) broken = &what;
+      if (broken) {  // a draw outside a relation's region: draw again
+        if (attempt >= retries) break;
+        continue;
+      }
       p->aabb = AabbOf(o.position, o.world_from_object, o.extent);
       o.support = !on               ? PlannedObject::Support::kNone
                   : surface.terrain ? PlannedObject::Support::kTerrain
@@ -717,6 +785,12 @@ class SceneEvaluator {
       if (attempt >= retries) break;
     }
     if (policy == "delete") return false;
+    if (broken)
+      (pos ? pos : def.body)
+          .Fail(def.symbol + ": cannot place copy " + std::to_string(copy + 1) + " of " +
+                std::to_string(count) + " satisfying " + *broken + " after " +
+                std::to_string(retries) + " retries in " + space.ToString() +
+                "; widen the relation or the space, or raise retries");
     if (policy == "hide") {
       o.visible = false;
       o.target = false;

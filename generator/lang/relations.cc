@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -55,6 +56,26 @@ double HorizontalRadius(const Eigen::Matrix3d& world_from_object, const Eigen::V
     radius = std::max(radius, (world_from_object * corner_in_object).head<2>().norm());
   }
   return radius;
+}
+
+bool SegmentCrossesBox(const OrientedBox& box, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  // Slab test in the box's frame over the segment's parameter t in [0, 1].
+  const Eigen::Vector3d a_in_box = box.world_from_box.transpose() * (a - box.center);
+  const Eigen::Vector3d d_in_box = box.world_from_box.transpose() * (b - a);
+  double t0 = 0, t1 = 1;
+  for (int i = 0; i < 3; ++i) {
+    const double h = box.half_extents[i];
+    if (std::abs(d_in_box[i]) < 1e-15) {
+      if (std::abs(a_in_box[i]) >= h) return false;
+      continue;
+    }
+    double ta = (-h - a_in_box[i]) / d_in_box[i], tb = (h - a_in_box[i]) / d_in_box[i];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 >= t1) return false;
+  }
+  return true;
 }
 
 }  // namespace lsds

@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "libs/geometry/oriented_box.h"
+
 namespace lsds {
 
 // A region of the horizontal plane the placed object's centre must lie in.
@@ -44,5 +46,10 @@ Eigen::Matrix3d FacingRotation(const Eigen::Matrix3d& world_from_object,
 // half-width a turn about the vertical can never exceed, so a FACING object
 // sampled with it stays in the space whatever way it turns.
 double HorizontalRadius(const Eigen::Matrix3d& world_from_object, const Eigen::Vector3d& extent);
+
+// Whether the segment from `a` to `b` (world) passes through the box's
+// interior: VISIBLE FROM's line of sight is blocked by it. Touching the surface
+// does not block.
+bool SegmentCrossesBox(const OrientedBox& box, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
 }  // namespace lsds

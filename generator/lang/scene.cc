@@ -55,7 +55,7 @@ const std::vector<std::string> kObjectKeys = {"class",
                                               "count",
                                               "unit"};
 const std::vector<std::string> kPositionKeys = {
-    "ON", "IN", "AROUND", "within", "NEAR", "BEHIND", "in_front_of", "FACING"};
+    "ON", "IN", "AROUND", "within", "NEAR", "BEHIND", "in_front_of", "FACING", "visible_from"};
 
 // The relations with a reference object and an optional distance
 // (relations.h): `NEAR:X`, `NEAR:{X:5}`, `BEHIND:{X:[5,20]}`.
@@ -264,13 +264,21 @@ class SceneEvaluator {
             CheckReferenceName(ref, margin, defined, def.symbol, true);
           continue;
         }
+        if (k == "visiblefrom" && c->is_array()) {  // an eye point [x, y, z]
+          if (c->size() != 3) c.Fail("VISIBLE FROM takes an object or a point [x, y, z]");
+          for (size_t i = 0; i < 3; ++i) (void)ReadNumber(c.Item(i));
+          continue;
+        }
         if (k == "facing" && c->is_array()) {  // a point [x, y] or [x, y, z]
           if (c->size() != 2 && c->size() != 3)
             c.Fail("FACING takes an object or a point [x, y] or [x, y, z]");
           for (size_t i = 0; i < c->size(); ++i) (void)ReadNumber(c.Item(i));
           continue;
         }
-        CheckReference(c, defined, def.symbol, k == "around" || k == "facing" || IsRelationKey(k));
+        CheckReference(c,
+                       defined,
+                       def.symbol,
+                       k == "around" || k == "facing" || k == "visiblefrom" || IsRelationKey(k));
       }
     }
     if (const Node bound = def.body.Find("bound")) CheckReference(bound, defined, def.symbol, true);
@@ -629,6 +637,12 @@ class SceneEvaluator {
     std::set<std::string> supports;
     std::vector<std::pair<Relation, std::string>> relations;  // and their text, for messages
     std::optional<Eigen::Vector3d> facing;                    // the point the object turns to
+    struct Sight {
+      Eigen::Vector3d eye;
+      const Placed* viewer = nullptr;  // the object seen from (never blocks its own view)
+      std::string what;
+    };
+    std::vector<Sight> sights;  // VISIBLE FROM
     auto shrink = [&](const Box& box, const Node& constraint, const std::string& what) {
       space.Intersect(box);
       if (space.Empty())
@@ -709,6 +723,17 @@ class SceneEvaluator {
             shrink(box, c, what);
             relations.push_back({r, what});
           }
+        } else if (k == "visiblefrom") {
+          Sight sight;
+          if (c->is_array()) {
+            for (size_t i = 0; i < 3; ++i) sight.eye[i] = ReadNumber(c.Item(i));
+            sight.what = key + ":" + c->dump();
+          } else {
+            sight.viewer = &AnyCopy(c, ReadString(c));
+            sight.eye = sight.viewer->object.position;
+            sight.what = key + ":" + ReadString(c);
+          }
+          sights.push_back(sight);
         } else if (k == "facing") {
           if (c->is_array()) {
             Eigen::Vector3d point = Eigen::Vector3d::Zero();
@@ -781,6 +806,12 @@ class SceneEvaluator {
       o.support_top = surface.top;
       o.supports.assign(supports.begin(), supports.end());
       o.overlap_allowed = overlap || policy == "allow";
+      for (const Sight& sight : sights)
+        if (Blocked(sight.eye, o.position, sight.viewer)) broken = &sight.what;
+      if (broken) {  // the line of sight is blocked: draw again
+        if (attempt >= retries) break;
+        continue;
+      }
       if (overlap || policy == "allow" || !Collides(*p, supports)) return true;
       if (attempt >= retries) break;
     }
@@ -802,6 +833,17 @@ class SceneEvaluator {
               " retries in " + space.ToString() +
               "; enlarge the space, lower the count, set overlap:true or "
               "on_overlap:delete");
+  }
+
+  // VISIBLE FROM: whether a visible object placed so far (other than the
+  // viewer) stands between the eye and the centre.
+  bool Blocked(const Eigen::Vector3d& eye,
+               const Eigen::Vector3d& centre,
+               const Placed* viewer) const {
+    for (const Placed& q : placed_)
+      if (q.object.visible && &q != viewer && SegmentCrossesBox(ObbOf(q.object), eye, centre))
+        return true;
+    return false;
   }
 
   bool Collides(const Placed& p, const std::set<std::string>& supports) const {

@@ -7,13 +7,15 @@
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
+#include "libs/geometry/oriented_box.h"
 
 namespace lsds {
 namespace {
 
 // A reference T turned by 30 degrees, then copies related to it.
 const std::string kScene =
-    "LSCENE = ONE(W) ONE(T) MANY(N, 15) MANY(F, 10) MANY(B, 10) MANY(FR, 10) MANY(P, 5)\n"
+    "LSCENE = ONE(W) ONE(T) MANY(N, 15) MANY(F, 10) MANY(B, 10) MANY(FR, 10) MANY(P, 5) MANY(VF, "
+    "3)\n"
     "W = terrain{size:[80,80],height:{perlin:1}}\n"
     "T = object{class:person,rotation:[0,0,30],position:{ON:W}}\n"
     "N = object{class:barrel,overlap:true,position:{ON:W,NEAR:{T:6}}}\n"
@@ -21,7 +23,8 @@ const std::string kScene =
     "position:{ON:W,NEAR:{T:[5,12]},FACING:T}}\n"
     "B = object{class:tire,overlap:true,position:{ON:W,BEHIND:{T:15}}}\n"
     "FR = object{class:rock,overlap:true,position:{ON:W,IN FRONT OF:T}}\n"
-    "P = object{class:cube,overlap:true,position:{ON:W,FACING:[10,-5]}}\n";
+    "P = object{class:cube,overlap:true,position:{ON:W,FACING:[10,-5]}}\n"
+    "VF = object{class:cone,position:{ON:W,NEAR:{T:20},VISIBLE FROM:T}}\n";
 
 Plan PlanOf(const std::string& text, uint64_t seed, bool as_json = false) {
   SourceFile s = ParseSource(text, "s.lscene", false);
@@ -82,6 +85,7 @@ TEST(LangRelations, EveryCopyHoldsItsRelation) {
     EXPECT_EQ(copies["F"], 10);
     EXPECT_EQ(copies["B"], 10);
     EXPECT_EQ(copies["FR"], 10);
+    EXPECT_EQ(copies["VF"], 3);
   }
 }
 
@@ -98,6 +102,55 @@ TEST(LangRelations, TextAndJsonGiveTheSamePlanAndTheSameSeedTheSameBytes) {
   }
 }
 
+// A 6 m wall at x = 0 between the eyes (a point, a tower) at x = -10 and the
+// space x in [1, 4]:
+// a copy is seen only round the wall's ends. The check walks the segment
+// independently of the placement's slab test.
+TEST(LangRelations, VisibleFromKeepsTheLineOfSightClearOfEarlierBoxes) {
+  const std::string scene =
+      "LSCENE = ONE(WALL) ONE(TOWER) MANY(V, 12) MANY(S, 4)\n"
+      "WALL = object{class:cube,extent:[1,20,6],position:{within:[[-0.5,-10,0],[0.5,10,6]]}}\n"
+      "TOWER = object{class:cube,extent:[2,2,12],position:{within:[[-11,-4,0],[-9,-2,12]]}}\n"
+      "V = object{class:barrel,overlap:true,retries:2000,position:{within:[[1,0,0],[4,15,1]],"
+      "VISIBLE FROM:[-10,5,3]}}\n"
+      "S = object{class:cube,overlap:true,retries:2000,position:{within:[[1,-15,0],[4,0,1]],"
+      "VISIBLE FROM:TOWER}}\n";
+  for (uint64_t seed = 0; seed < 10; ++seed) {
+    const Plan plan = PlanOf(scene, seed);
+    const PlannedObject* wall = nullptr;
+    int seen = 0, round_the_end = 0;
+    for (const PlannedObject& o : plan.objects) {
+      if (o.symbol == "WALL") wall = &o;
+      if (o.symbol != "V" && o.symbol != "S") continue;
+      ASSERT_NE(wall, nullptr);
+      OrientedBox box;
+      box.center = wall->position;
+      box.half_extents = 0.5 * wall->extent;
+      const Eigen::Vector3d eye = o.symbol == "V"
+                                      ? Eigen::Vector3d(-10, 5, 3)
+                                      : Eigen::Vector3d(-10, -3, 6);  // the tower's centre
+      for (int k = 1; k < 2000; ++k)
+        ASSERT_FALSE(box.Contains(eye + (o.position - eye) * (k / 2000.0), -1e-6)) << o.name;
+      ++seen;
+      // Where the sight line crosses the wall's plane it is beyond the wall's end.
+      const double t_at_wall = -eye.x() / (o.position.x() - eye.x());
+      const double y_at_wall = eye.y() + t_at_wall * (o.position.y() - eye.y());
+      if (std::abs(y_at_wall) >= 10 - 1e-6) ++round_the_end;
+    }
+    EXPECT_EQ(seen, 16);
+    EXPECT_EQ(round_the_end, 16);
+  }
+  // A space wholly hidden: the draws run out and say so.
+  const std::string hidden =
+      "LSCENE = ONE(WALL) ONE(V)\n"
+      "WALL = object{class:cube,extent:[1,20,6],position:{within:[[-0.5,-10,0],[0.5,10,6]]}}\n"
+      "V = object{class:barrel,retries:10,position:{within:[[2,-2,-1],[4,2,1]],"
+      "VISIBLE FROM:[-10,0,3]}}\n";
+  EXPECT_NE(ErrorOf(hidden).find("satisfying VISIBLE_FROM:[-10,0,3] after 10 retries"),
+            std::string::npos)
+      << ErrorOf(hidden);
+}
+
 TEST(LangRelations, BadUsesFailAtTheirPlace) {
   const std::string head =
       "LSCENE = ONE(W) ONE(T) ONE(X)\nW = terrain{size:[40,40]}\n"
@@ -112,6 +165,8 @@ TEST(LangRelations, BadUsesFailAtTheirPlace) {
   EXPECT_NE(e.find("BEHIND distance must be >= 0"), std::string::npos) << e;
   e = ErrorOf(head + "X = object{class:cube,position:{ON:W,FACING:[1,\"a\"]}}\n");
   EXPECT_NE(e.find("s.lscene:4:"), std::string::npos) << e;
+  e = ErrorOf(head + "X = object{class:cube,position:{ON:W,VISIBLE FROM:[1,2]}}\n");
+  EXPECT_NE(e.find("VISIBLE FROM takes an object or a point [x, y, z]"), std::string::npos) << e;
   e = ErrorOf(head + "X = object{class:cube,position:{ON:W,FACING:W}}\n");
   EXPECT_NE(e.find("expected an object"), std::string::npos) << e;
   // Nothing of the space lies behind T: the draws run out and say which relation.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
@@ -149,6 +150,38 @@ TEST(LangRelations, VisibleFromKeepsTheLineOfSightClearOfEarlierBoxes) {
   EXPECT_NE(ErrorOf(hidden).find("satisfying VISIBLE_FROM:[-10,0,3] after 10 retries"),
             std::string::npos)
       << ErrorOf(hidden);
+}
+
+// The example a user starts from plans on several seeds and keeps its relations.
+TEST(LangRelations, TheCheckpointExampleHoldsItsRelations) {
+  const SourceFile scene =
+      LoadSource(std::string(LSDS_EXAMPLES_DIR) + "/checkpoint_relations.lscene");
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    const Plan plan = MakePlanFromSources(scene, nullptr, seed);
+    const PlannedObject* truck = nullptr;
+    std::map<std::string, int> copies;
+    for (const PlannedObject& o : plan.objects) {
+      ++copies[o.symbol];
+      if (o.symbol == "TRUCK") truck = &o;
+      if (!truck) continue;
+      const Eigen::Vector2d forward = truck->world_from_object.col(0).head<2>().normalized();
+      const Eigen::Vector2d offset = (o.position - truck->position).head<2>();
+      if (o.symbol == "GUARD") {
+        EXPECT_LE(offset.norm(), 8.0);
+        EXPECT_LT(AngleGap(Heading(o), Bearing(o.position, truck->position)), 1e-9);
+      }
+      if (o.symbol == "CAN") {
+        EXPECT_LT(offset.dot(forward), 0);
+      }
+      if (o.symbol == "CONE") {
+        EXPECT_GT(offset.dot(forward), 0);
+      }
+    }
+    EXPECT_EQ(copies["GUARD"], 3);
+    EXPECT_EQ(copies["CAN"], 4);
+    EXPECT_EQ(copies["CONE"], 5);
+    EXPECT_EQ(copies["HIDDEN"], 1);
+  }
 }
 
 TEST(LangRelations, BadUsesFailAtTheirPlace) {

@@ -19,6 +19,8 @@ const std::map<std::string, std::string>& KindAliases() {
       {"terrain", "terrain"},
       {"object", "object"},
       {"classes", "classes"},
+      {"assetlibrary", "asset_library"},  // generator/scene/asset_library.h
+      {"assets", "asset_library"},
       {"georeference", "georeference"},
       {"georef", "georeference"},
       {"geo", "georeference"},

@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 
+#include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
 #include "generator/lang/relations.h"
 #include "generator/plan/terrain_height.h"
@@ -173,12 +174,16 @@ class SceneEvaluator {
       if (k == "classes") {
         for (const auto& [name, node] : def.body.Members()) {
           const std::string target = ReadString(node);
-          if (!BuiltinClasses().count(target) && !IsMeshClass(target))
+          if (!BuiltinClasses().count(gen::CanonicalClassName(target)) && !IsMeshClass(target))
             node.Fail("class alias '" + name +
                       "' must name a built-in class or a mesh file, not '" + target + "'" +
                       DidYouMean(target, BuiltinNames()));
           aliases_[name] = target;
         }
+      }
+      if (k == "asset_library") {
+        if (library_) def.statement.Fail("only one asset_library per scene");
+        library_ = LoadSceneAssetLibrary(scene_, def);
       }
       if (k == "object") CheckObject(def, defined);
       defined.insert(def.symbol);
@@ -194,8 +199,8 @@ class SceneEvaluator {
 
   std::string ResolveClass(const Node& where, const std::string& name) const {
     auto alias = aliases_.find(name);
-    if (alias != aliases_.end()) return alias->second;
-    if (BuiltinClasses().count(name)) return name;
+    if (alias != aliases_.end()) return CanonicalBuiltin(alias->second);
+    if (BuiltinClasses().count(CanonicalBuiltin(name))) return CanonicalBuiltin(name);
     if (IsMeshClass(name)) {
       const std::filesystem::path dir = std::filesystem::path(scene_.src->path).parent_path();
       return (dir / name).lexically_normal().generic_string();
@@ -207,6 +212,23 @@ class SceneEvaluator {
                "), a mesh file (.obj/.ply/.gltf/.glb) or declare it in a "
                "classes{...} definition");
   }
+
+  // A built-in's other spelling (`rocks`) is the built-in (object_library.h).
+  static std::string CanonicalBuiltin(const std::string& name) {
+    const std::string canonical = gen::CanonicalClassName(name);
+    return canonical.empty() ? name : canonical;
+  }
+
+  // The class names a class option labels its objects with: a library
+  // selection's asset classes, else ClassNameOf.
+  std::vector<std::string> ClassNamesOf(const Node& cls, const std::string& option) const {
+    std::vector<std::string> names;
+    for (const gen::LibraryAsset* a : SelectAssets(Library(), cls, option))
+      names.push_back(AssetClassName(*a));
+    if (names.empty()) names.push_back(ClassNameOf(cls, option));
+    return names;
+  }
+  const gen::AssetLibrary* Library() const { return library_ ? &*library_ : nullptr; }
 
   void CheckReference(const Node& node,
                       const std::set<std::string>& defined,
@@ -240,10 +262,13 @@ class SceneEvaluator {
     if (!cls) def.body.Fail("object " + def.symbol + " needs a class (e.g. class:cube)");
     if (!cls->is_string() && !cls->is_object())
       cls.Fail("class must be a name or a choice {name: weight}");
-    for (const auto& [key, child] :
-         cls->is_object() ? cls.Members() : std::vector<std::pair<std::string, Node>>{})
+    if (IsTagSelection(cls)) SelectAssets(Library(), cls, "tags");
+    for (const auto& [key, child] : cls->is_object() && !IsTagSelection(cls)
+                                        ? cls.Members()
+                                        : std::vector<std::pair<std::string, Node>>{})
       (void)key, ReadNumber(child);
     for (const std::string& option : StringOptions(cls)) {
+      if (!SelectAssets(Library(), cls, option).empty()) continue;  // a library selection
       if (cls->is_object()) {
         try {
           ResolveClass(cls.Child(option), option);
@@ -338,7 +363,8 @@ class SceneEvaluator {
       if (def.kind == "terrain") add("terrain");
       if (def.kind != "object" || LabelOf(def.symbol) != 0) continue;
       const Node cls = def.body.Find("class");
-      for (const std::string& option : StringOptions(cls)) add(ClassNameOf(cls, option));
+      for (const std::string& option : StringOptions(cls))
+        for (const std::string& name : ClassNamesOf(cls, option)) add(name);
     }
     // A labelled target's class is named after what it draws: the class name
     // of its options (docs/languages.md, "Class names"), joined by "|" when
@@ -348,10 +374,9 @@ class SceneEvaluator {
       if (!def || label == 0) continue;
       const Node cls = def->body.Find("class");
       std::vector<std::string> names;
-      for (const std::string& option : StringOptions(cls)) {
-        const std::string name = ClassNameOf(cls, option);
-        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-      }
+      for (const std::string& option : StringOptions(cls))
+        for (const std::string& name : ClassNamesOf(cls, option))
+          if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
       std::string name = Join(names, "|");
       // Two labels may not share a name, nor a label a name of the table.
       for (const ClassInfo& c : plan_->classes)
@@ -365,16 +390,9 @@ class SceneEvaluator {
 
   // A mesh keeps its native size: its bounds in the file's unit (`unit`,
   // metres by default, as glTF's specification says), in metres.
-  Eigen::Vector3d MeshExtent(const Definition& def, const std::string& path) {
-    double metres_per_unit = 1.0;
-    if (const Node n = def.body.Find("unit")) {
-      static const std::map<std::string, double> kUnits = {
-          {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}};
-      const std::string unit = ReadString(n);
-      const auto it = kUnits.find(unit);
-      if (it == kUnits.end()) n.Fail("unit must be one of m, cm, mm, in, ft, not '" + unit + "'");
-      metres_per_unit = it->second;
-    }
+  Eigen::Vector3d MeshExtent(const Definition& def,
+                             const std::string& path,
+                             double metres_per_unit) {
     auto cached = mesh_extents_.find(path);
     if (cached == mesh_extents_.end()) {
       Eigen::Vector3d extent;
@@ -388,6 +406,18 @@ class SceneEvaluator {
       cached = mesh_extents_.emplace(path, extent).first;
     }
     return cached->second * metres_per_unit;
+  }
+  static double MetresPerUnit(const Definition& def) {
+    double metres_per_unit = 1.0;
+    if (const Node n = def.body.Find("unit")) {
+      static const std::map<std::string, double> kUnits = {
+          {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}};
+      const std::string unit = ReadString(n);
+      const auto it = kUnits.find(unit);
+      if (it == kUnits.end()) n.Fail("unit must be one of m, cm, mm, in, ft, not '" + unit + "'");
+      metres_per_unit = it->second;
+    }
+    return metres_per_unit;
   }
 
   // The class name of a class option (docs/languages.md, "Class names"): a
@@ -511,11 +541,20 @@ class SceneEvaluator {
       PlannedObject& o = p.object;
       o.symbol = def.symbol;
       const Node cls = b.Find("class");
-      const std::string chosen = SampleString(cls, rng_);
-      o.class_name = ResolveClass(cls, chosen);  // the asset drawn
-      o.class_id = ClassIdOf(def.symbol, ClassNameOf(cls, chosen));
-      o.extent = IsMeshClass(o.class_name) ? MeshExtent(def, o.class_name)
-                                           : BuiltinClasses().at(o.class_name);
+      const std::string chosen = IsTagSelection(cls) ? "tags" : SampleString(cls, rng_);
+      const std::vector<const gen::LibraryAsset*> assets = SelectAssets(Library(), cls, chosen);
+      if (!assets.empty()) {  // one of the selected library assets, uniformly
+        const gen::LibraryAsset& a = *assets[static_cast<size_t>(
+            rng_.UniformInt(0, static_cast<int64_t>(assets.size()) - 1))];
+        o.class_name = a.file;
+        o.class_id = ClassIdOf(def.symbol, AssetClassName(a));
+        o.extent = MeshExtent(def, a.file, a.metres_per_unit);  // the manifest's unit
+      } else {
+        o.class_name = ResolveClass(cls, chosen);  // the asset drawn
+        o.class_id = ClassIdOf(def.symbol, ClassNameOf(cls, chosen));
+        o.extent = IsMeshClass(o.class_name) ? MeshExtent(def, o.class_name, MetresPerUnit(def))
+                                             : BuiltinClasses().at(o.class_name);
+      }
       for (const char* key : {"visible", "visibility"})
         if (const Node n = b.Find(key)) o.visible = SampleBool(n, rng_);
       if (const Node n = b.Find("material")) o.material = SampleString(n, rng_);
@@ -867,6 +906,7 @@ class SceneEvaluator {
   Rng rng_;
   std::string terrain_symbol_;
   std::map<std::string, std::string> aliases_;
+  std::optional<gen::AssetLibrary> library_;             // asset_library{path}
   std::map<std::string, Eigen::Vector3d> mesh_extents_;  // by file path
   std::map<std::string, Node> count_nodes_;
   std::set<std::string> many_default_;
@@ -880,9 +920,14 @@ SceneClass ResolveSceneClass(const Program& scene, const Node& where, const std:
   for (const Definition& def : scene.definitions) {
     if (def.kind != "classes") continue;
     for (const auto& [name, node] : def.body.Members())
-      if (name == option) return {ReadString(node), option};
+      if (name == option) {
+        const std::string canonical = gen::CanonicalClassName(ReadString(node));
+        return {canonical.empty() ? ReadString(node) : canonical, option};
+      }
   }
-  if (BuiltinClasses().count(option)) return {option, option};
+  if (const std::string canonical = gen::CanonicalClassName(option);
+      BuiltinClasses().count(canonical))
+    return {canonical, canonical};
   if (IsMeshClass(option)) {
     const std::string path = (std::filesystem::path(scene.src->path).parent_path() / option)
                                  .lexically_normal()

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <optional>
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 
+#include "generator/scene/asset_library.h"
 #include "generator/scene/perlin.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -93,7 +96,6 @@ TriangleMesh Person() {
 
 const std::vector<std::string>& BuiltinClassNames() {
   static const std::vector<std::string> names = {"cube",
-                                                 "box",
                                                  "sphere",
                                                  "cylinder",
                                                  "cone",
@@ -103,12 +105,30 @@ const std::vector<std::string>& BuiltinClassNames() {
                                                  "watercan",
                                                  "rock",
                                                  "bush",
-                                                 "person",
-                                                 "rocks",
-                                                 "tyre",
-                                                 "human",
-                                                 "pedestrian"};
+                                                 "person"};
   return names;
+}
+
+// The one table of other spellings: plurals (the paper writes `rocks`),
+// British spellings and synonyms. Each resolves to the same class, so both
+// spellings share one class id and one shape.
+const std::map<std::string, std::string>& ClassNameAliases() {
+  static const std::map<std::string, std::string> aliases = {
+      {"cubes", "cube"},        {"box", "cube"},           {"boxes", "cube"},
+      {"spheres", "sphere"},    {"cylinders", "cylinder"}, {"cones", "cone"},
+      {"barrels", "barrel"},    {"tires", "tire"},         {"tyre", "tire"},
+      {"tyres", "tire"},        {"jerrycans", "jerrycan"}, {"watercans", "watercan"},
+      {"rocks", "rock"},        {"bushes", "bush"},        {"persons", "person"},
+      {"people", "person"},     {"human", "person"},       {"humans", "person"},
+      {"pedestrian", "person"}, {"pedestrians", "person"}};
+  return aliases;
+}
+
+std::string CanonicalClassName(const std::string& name) {
+  const auto alias = ClassNameAliases().find(name);
+  if (alias != ClassNameAliases().end()) return alias->second;
+  const auto& names = BuiltinClassNames();
+  return std::find(names.begin(), names.end(), name) != names.end() ? name : std::string();
 }
 
 bool IsMeshPath(const std::string& class_name) {
@@ -133,11 +153,13 @@ TriangleMesh LoadMeshFileNative(const std::string& path, const std::string& wher
     throw Error(where + ": cannot read mesh: " + importer.GetErrorString(), Location(path));
   }
   // glTF is y-up by its specification; the world is z-up: (x, y, z) ->
-  // (x, -z, y). Other formats carry no axis convention and are taken as z-up.
+  // (x, -z, y). Other formats carry no axis convention and are taken as z-up,
+  // unless an asset library's manifest lists the file with its own up axis.
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(
       ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  const bool y_up = ext == ".gltf" || ext == ".glb";
+  const std::optional<LibraryAsset> listed = LibraryAssetOf(path);
+  const bool y_up = listed ? listed->y_up : ext == ".gltf" || ext == ".glb";
   TriangleMesh mesh;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* in = scene->mMeshes[m];
@@ -178,10 +200,9 @@ Eigen::Vector3d MeshFileExtent(const std::string& path, const std::string& where
 
 ClassShape MakeClassShape(const std::string& name, uint64_t seed, const std::string& where) {
   ClassShape shape;
-  if (name == "rocks") return MakeClassShape("rock", seed, where);
-  if (name == "tyre") return MakeClassShape("tire", seed, where);
-  if (name == "human" || name == "pedestrian") return MakeClassShape("person", seed, where);
-  if (name == "cube" || name == "box") {
+  const std::string canonical = CanonicalClassName(name);
+  if (!canonical.empty() && canonical != name) return MakeClassShape(canonical, seed, where);
+  if (name == "cube") {
     shape = {MakeBoxMesh(), "concrete", {1, 1, 1}};
   } else if (name == "sphere") {
     shape = {MakeSphereMesh(32, 16), "white", {1, 1, 1}};

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,11 @@ struct ClassShape {
   Eigen::Vector3d default_extent = Eigen::Vector3d::Ones();  // plausible size in metres
 };
 
-const std::vector<std::string>& BuiltinClassNames();
+const std::vector<std::string>& BuiltinClassNames();  // canonical names
+// Other spellings (plurals, `tyre`, `human`, ...) -> canonical name: one table.
+const std::map<std::string, std::string>& ClassNameAliases();
+// The canonical built-in class `name` spells, or "" when it names none.
+std::string CanonicalClassName(const std::string& name);
 bool IsMeshPath(const std::string& class_name);  // ends in a mesh file extension assimp reads
 
 // The shape of `class_name`; `seed` varies the random classes (rock, bush).

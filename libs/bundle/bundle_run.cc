@@ -103,6 +103,14 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   for (const LayerInfo& layer : header.layers) {
     if (layer.semantic == "derived") replaceable.insert(layer.name);
   }
+  // Folders an interrupted run renamed into place before it registered them.
+  std::set<std::string> unregistered;
+  for (const std::string& name : options.write_layers) {
+    if (!header.FindLayer(name) && IsUnregisteredDerivedFolder(root / name, name)) {
+      unregistered.insert(name);
+      if (options.force) replaceable.insert(name);
+    }
+  }
   OutputGuard layer_guard("lsds bundles");
   GuardCollection(&layer_guard, root, CollectionAccess::kAddsOutputs, replaceable);
   for (const std::string& name : options.write_layers) {
@@ -124,7 +132,13 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
       *it = layer;
     } else {
       std::error_code ec;
-      if (fs::exists(root / name, ec)) {
+      if (unregistered.count(name) && !options.force) {
+        throw Error("the collection holds a '" + name +
+                        "' folder left by an interrupted `lsds bundles --write-layers` run "
+                        "(not registered in collection.json); use --force to replace it",
+                    Location((root / name).string()));
+      }
+      if (!unregistered.count(name) && fs::exists(root / name, ec)) {
         // --force replaces only what an earlier `lsds bundles` wrote.
         throw Error("the collection holds a '" + name +
                         "' that is not one of its derived layers; lsds never "

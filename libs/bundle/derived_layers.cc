@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "libs/exr/deep_image.h"
+#include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -87,6 +88,7 @@ void WriteDerivedLayer(const std::string& name,
   exr::WriteOptions options;
   const LayerInfo layer = DerivedLayer(name, true);
   options.compression = layer.compression;
+  options.attributes[kDerivedLayerAttribute] = name;
   if (name == "coverage") {
     exr::DeepImage image(width, height, maps.coverage_counts);
     image.AddChannel("instanceid", PixelType::kUint).uints = maps.coverage_instance;
@@ -107,6 +109,22 @@ void WriteDerivedLayer(const std::string& name,
     throw Error("unknown derived layer '" + name + "'");
   }
   exr::WriteFlatExr(path, image, options);
+}
+
+bool IsUnregisteredDerivedFolder(const std::filesystem::path& folder, const std::string& name) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec)) return false;
+  for (std::filesystem::directory_iterator it(folder, ec), end; it != end; it.increment(ec)) {
+    if (ec || !it->is_regular_file(ec) || it->path().extension() != ".exr") return false;
+    try {
+      const exr::ExrInfo info = exr::ReadExrInfo(it->path());
+      const auto found = info.attributes.find(kDerivedLayerAttribute);
+      if (found == info.attributes.end() || found->second != name) return false;
+    } catch (const Error&) {
+      return false;  // not an EXR lsds wrote: never replaced
+    }
+  }
+  return !ec;
 }
 
 }  // namespace lsds::bundle

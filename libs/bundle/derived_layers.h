@@ -22,6 +22,11 @@ std::vector<std::string> ParseDerivedLayerList(const std::string& list);
 // The layer table entry of a derived layer.
 LayerInfo DerivedLayer(const std::string& name, bool required);
 
+// The EXR string attribute naming the derived layer a file belongs to. It lets
+// a rerun recognise a folder that an interrupted run renamed into place but
+// did not register (docs/reliability.md, kill -9).
+inline constexpr const char* kDerivedLayerAttribute = "lsdsDerivedLayer";
+
 // Writes the file of derived layer `name` for one frame, from the maps of
 // AnalyzeFrame.
 void WriteDerivedLayer(const std::string& name,
@@ -29,5 +34,11 @@ void WriteDerivedLayer(const std::string& name,
                        int width,
                        int height,
                        const std::filesystem::path& path);
+
+// True when every entry of `folder` is an EXR file of derived layer `name`
+// (by its kDerivedLayerAttribute): what an interrupted `--write-layers` run
+// leaves, and so what `--force` may replace although collection.json does not
+// list it.
+bool IsUnregisteredDerivedFolder(const std::filesystem::path& folder, const std::string& name);
 
 }  // namespace lsds::bundle

@@ -187,6 +187,38 @@ TEST(BundlesRun, RefusesToReplaceLayersWithoutForce) {
             CollectionReader(root).header().layers.size());
 }
 
+TEST(BundlesRun, ForceReplacesTheFolderOfAnInterruptedRunAndNothingElse) {
+  TempDir dir;
+  const fs::path root = dir.path() / "c";
+  synth::WriteCollection(root, SmallSpec());
+  const std::string before = ReadFile(root / "collection.json");
+  RunOptions options;
+  options.write_layers = {"purity"};
+  RunBundles(root, options);
+  const std::map<std::string, std::string> complete = Snapshot(root);
+  // A kill -9 between renaming the folder into place and registering it:
+  // the folder is there, collection.json is the old one.
+  WriteFileAtomic(root / "collection.json", before);
+  try {
+    RunBundles(root, options);
+    ADD_FAILURE() << "an unregistered folder was replaced without --force";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("interrupted"), std::string::npos) << e.what();
+  }
+  options.force = true;
+  RunBundles(root, options);
+  EXPECT_EQ(Snapshot(root), complete);
+
+  // A folder of that name that lsds did not write is never replaced: here an
+  // EXR of another layer.
+  fs::create_directories(root / "edge");
+  fs::copy_file(root / "purity" / fs::directory_iterator(root / "purity")->path().filename(),
+                root / "edge" / "000000.exr");
+  options.write_layers = {"edge"};
+  EXPECT_THROW(RunBundles(root, options), Error);
+  EXPECT_TRUE(fs::exists(root / "edge" / "000000.exr"));
+}
+
 TEST(BundlesRun, FrameRangeWritesOptionalLayers) {
   TempDir dir;
   const fs::path root = dir.path() / "c";

@@ -29,7 +29,6 @@ import sys
 import time
 
 TEMP_MARKER = ".lsds-tmp-"
-KNOWN_ORPHAN = "that is not one of its derived layers"
 FAILURES = []
 
 
@@ -209,12 +208,6 @@ def main():
             if now == new_json:  # registered: the outputs must be complete
                 same_tree("%s (registered after kill)" % name, target, done)
             rerun = run(this + ["--force"])
-            if rerun.returncode != 0 and KNOWN_ORPHAN in rerun.stderr:
-                # Left open (docs/reliability.md): killed between renaming a derived layer
-                # folder into place and registering it, the folder is an orphan that --force
-                # does not replace. Counted, not failed, until the fix lands.
-                print("KNOWN (left open): %s rerun after kill: %s" % (name, rerun.stderr.strip()))
-                continue
             if rerun.returncode != 0:
                 fail("%s rerun after kill: %s" % (name, rerun.stderr.strip()))
             same_tree("%s rerun" % name, target, done)

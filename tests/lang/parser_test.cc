@@ -181,9 +181,9 @@ TEST(LangParser, BadInputsNameTheExactPlace) {
        "",
        "s.lscene:2:37: O1 refers to itself"},
       {"LSCENE = ONE(W) MANY(O2)\nW = terrain{size:[10,10]}\nO2 = "
-       "object{class:{bush:0.5,rocks:0.5}}\n",
+       "object{class:{bush:0.5,rok:0.5}}\n",
        "",
-       "s.lscene:3:29: unknown class 'rocks' (did you mean 'rock'?)"},
+       "s.lscene:3:29: unknown class 'rok' (did you mean 'rock'?)"},
       {"LSCENE = ONE(W) ONE(Q)\nW = terrain{size:[10,10]}\n",
        "",
        "s.lscene:1:21: the start rule names undefined symbol 'Q'"},

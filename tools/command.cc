@@ -9,6 +9,7 @@
 
 #include "libs/util/check.h"
 #include "libs/util/error.h"
+#include "libs/util/limits.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
@@ -121,6 +122,13 @@ void CheckNumericFlags(const CLI::App& app) {
 }  // namespace
 
 int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+  // Every command's image-shaped allocations (films, decoded layers) are
+  // checked against one budget (libs/util/limits.h) before they are made.
+  std::string memory_budget;
+  app.add_option("--memory-budget",
+                 memory_budget,
+                 "memory one image, film or decoded layer may take, e.g. 16G "
+                 "(default: LSDS_MEMORY_BUDGET or 8G)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -137,6 +145,7 @@ int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>&
   // (everything else, exit 70 with a request for a bug report).
   try {
     CheckNumericFlags(app);
+    if (!memory_budget.empty()) SetMemoryBudget(memory_budget);
   } catch (const Error& e) {
     std::cerr << app.get_name() << ": error: " << e.what() << "; run '" << app.get_name()
               << " --help' for the options\n";

@@ -86,13 +86,7 @@ int RunGenerate(int argc, char** argv) {
   app.add_option("--demo-frames", demo_frames, "frames of the demo scene (default 24)");
   app.add_option("--demo-size", demo_size, "image size of the demo scene, WxH (default 512x512)");
   app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
-  std::string memory_budget;
-  app.add_option("--memory-budget",
-                 memory_budget,
-                 "memory one frame's film may take, e.g. 16G (default: "
-                 "LSDS_MEMORY_BUDGET or 8G)");
   return RunCommand(app, argc, argv, [&]() {
-    if (!memory_budget.empty()) SetMemoryBudget(memory_budget);
     std::optional<FrameSelection> selection;
     if (!frames.empty()) {
       selection = ParseFrameSelection(frames);

@@ -36,7 +36,7 @@ struct FrameOutcome {
   int64_t files_decoded = 0;
   int64_t bytes_decoded = 0;
   std::vector<std::pair<std::string, Statistic>> statistics;
-  std::vector<std::pair<std::string, double>> check_seconds;  // CheckTimer
+  CheckSeconds check_seconds;  // CheckTimer
 };
 
 struct FrameCheckContext {

@@ -88,8 +88,7 @@ void Report::Restore(const std::string& id,
   result.examples = std::move(examples);
 }
 
-CheckTimer::CheckTimer(std::vector<std::pair<std::string, double>>* sink,
-                       std::vector<std::string> ids)
+CheckTimer::CheckTimer(CheckSeconds* sink, std::vector<std::string> ids)
     : sink_(sink), ids_(std::move(ids)), start_(std::chrono::steady_clock::now()) {}
 
 CheckTimer::~CheckTimer() {
@@ -97,7 +96,7 @@ CheckTimer::~CheckTimer() {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() /
       static_cast<double>(ids_.size());
-  for (std::string& id : ids_) sink_->emplace_back(std::move(id), seconds);
+  for (const std::string& id : ids_) (*sink_)[id] += seconds;
 }
 
 int64_t Report::Count(Severity severity) const {

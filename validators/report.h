@@ -83,19 +83,23 @@ class Report {
   std::map<std::string, double> check_seconds_;
 };
 
+// Seconds per check id of one thread or frame. A map, not a list of blocks:
+// its size is bounded by the number of checks, so the streaming state of
+// `validate` does not grow with the frames (docs/reliability.md, "Scale").
+using CheckSeconds = std::map<std::string, double>;
+
 // Charges the wall time of a block of one thread to one or more checks (split
 // evenly when a block serves several, e.g. the camera solve). Adds to `sink`,
-// a per-frame list merged into the report later, so no lock is taken per
-// block.
+// merged into the report later, so no lock is taken per block.
 class CheckTimer {
  public:
-  CheckTimer(std::vector<std::pair<std::string, double>>* sink, std::vector<std::string> ids);
+  CheckTimer(CheckSeconds* sink, std::vector<std::string> ids);
   ~CheckTimer();
   CheckTimer(const CheckTimer&) = delete;
   CheckTimer& operator=(const CheckTimer&) = delete;
 
  private:
-  std::vector<std::pair<std::string, double>>* sink_;
+  CheckSeconds* sink_;
   std::vector<std::string> ids_;
   std::chrono::steady_clock::time_point start_;
 };

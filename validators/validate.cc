@@ -6,7 +6,6 @@
 #include <functional>
 #include <map>
 #include <set>
-#include <unordered_set>
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -19,6 +18,7 @@
 #include "libs/collection/schema.h"
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
+#include "validators/compact_tables.h"
 #include "validators/frame_checks.h"
 #include "validators/truth_origin_check.h"
 
@@ -77,7 +77,7 @@ class Validator {
   // about the collection as a whole; a single run is shard 0 of 1.
   bool emitting_ = true;
   bool shard_zero_ = true;
-  std::vector<std::pair<std::string, double>> check_seconds_;  // this thread
+  CheckSeconds check_seconds_;  // this thread
 
   // Streaming state: O(1) per frame except the hashes of referenced files (8
   // bytes per file) and the compact metadata poses (one per frame), both
@@ -93,7 +93,7 @@ class Validator {
   std::map<std::string, PreviousFrame> previous_by_camera_;
   std::optional<std::pair<int64_t, Rigid3d>> rig_pose_;  // the current step's platform pose
   void CheckRigFrame(const Frame& frame, const std::string& pointer);
-  std::unordered_set<uint64_t> referenced_;
+  HashSet64 referenced_;  // hashes of the files frames reference
   std::set<std::string> layer_folders_;
   struct MetadataPose {
     Eigen::Vector3d position;
@@ -101,7 +101,7 @@ class Validator {
   };
   struct MetadataFile {
     std::string file;
-    std::map<int64_t, MetadataPose> poses;
+    FrameTable<MetadataPose> poses;
     size_t tally = 0;  // its entry in tallies_.metadata
   };
   std::vector<MetadataFile> metadata_;
@@ -207,7 +207,7 @@ void Validator::ReadMetadata() {
             if (!issues.empty()) return;
             const MetadataFrame m = MetadataFrameFromJson(json, variant.file, pointer);
             if (Selected("cross.metadata-pose") || Selected("structure.metadata"))
-              file.poses[m.index] = {m.position, m.attitude};
+              file.poses.Add(m.index, {m.position, m.attitude});
           });
       for (const SchemaIssue& issue :
            JsonSchema::Get("metadata.schema.json").Validate(header_json)) {
@@ -333,7 +333,7 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
     }
   }
   for (const auto& [layer, file] : frame.files) {
-    referenced_.insert(HashPath(file));
+    referenced_.Insert(HashPath(file));
     layer_folders_.insert(fs::path(file).parent_path().string());
     if (header_.FindLayer(layer) == nullptr) {
       std::vector<std::string> names;
@@ -384,21 +384,18 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
          "frame has no objects");
   }
   for (MetadataFile& file : metadata_) {
-    const auto it = file.poses.find(frame.index);
-    if (it == file.poses.end()) {
+    const MetadataPose* pose = file.poses.Take(frame.index);  // each pose is needed once
+    if (pose == nullptr) {
       Emit("structure.metadata",
            Json(file.file, "/frames", frame.index),
            "has no entry for frame " + std::to_string(frame.index));
       continue;
     }
-    if (!emitting_) {  // another shard's frame: its pose is compared there
-      file.poses.erase(it);
-      continue;
-    }
+    if (!emitting_) continue;  // another shard's frame: its pose is compared there
     CollectionTallies::Metadata& tally = tallies_.metadata[file.tally];
     const MetadataFrame truth = TruthMetadata(frame, header_.conventions.world);
-    const double position_error = (truth.position - it->second.position).norm();
-    const Eigen::Quaterniond a = NedFromBody(truth.attitude), b = NedFromBody(it->second.attitude);
+    const double position_error = (truth.position - pose->position).norm();
+    const Eigen::Quaterniond a = NedFromBody(truth.attitude), b = NedFromBody(pose->attitude);
     const double angle_error = a.angularDistance(b) * 180 / M_PI;
     for (auto [stat, value] :
          {std::pair{&tally.position_error, position_error}, {&tally.angle_error, angle_error}}) {
@@ -411,7 +408,6 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
       if (!tally.first_mismatch || frame.index < *tally.first_mismatch)
         tally.first_mismatch = frame.index;
     }
-    file.poses.erase(it);  // each pose is needed once
   }
 }
 
@@ -536,7 +532,7 @@ void Validator::CheckStrayFiles() {
     for (const auto& entry : fs::directory_iterator(root_ / folder, ec)) {
       if (!entry.is_regular_file()) continue;
       const std::string relative = (fs::path(folder) / entry.path().filename()).string();
-      if (referenced_.count(HashPath(relative)) == 0) {
+      if (!referenced_.Contains(HashPath(relative))) {
         Emit("structure.stray-file", Location(relative), "no frame references this file");
       }
     }

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "libs/geometry/world_frame.h"
+#include "libs/util/strings.h"
 #include "libs/util/text_check.h"
 
 namespace lsds {
@@ -129,21 +130,6 @@ nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSum
           {"bytes", s.total_bytes}};
 }
 
-namespace {
-std::string HumanBytes(int64_t bytes) {
-  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
-  double value = static_cast<double>(bytes);
-  int unit = 0;
-  while (value >= 1024 && unit < 4) {
-    value /= 1024;
-    ++unit;
-  }
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), unit == 0 ? "%.0f %s" : "%.1f %s", value, units[unit]);
-  return buffer;
-}
-}  // namespace
-
 std::string SummaryToText(const CollectionReader& reader, const CollectionSummary& s) {
   const CollectionHeader& h = reader.header();
   std::ostringstream out;
@@ -202,7 +188,7 @@ std::string SummaryToText(const CollectionReader& reader, const CollectionSummar
                   layer.deep ? "deep" : "flat",
                   channels.c_str(),
                   static_cast<long long>(ls.files),
-                  HumanBytes(ls.bytes).c_str());
+                  FormatBytes(static_cast<double>(ls.bytes)).c_str());
     out << line;
     if (layer.depth_kind) out << "  " << DepthKindName(*layer.depth_kind);
     if (ls.missing_files > 0) out << "  MISSING " << ls.missing_files;
@@ -221,7 +207,7 @@ std::string SummaryToText(const CollectionReader& reader, const CollectionSummar
     out << line;
   }
   out << "metadata    " << h.metadata.size() << " variant(s)\n";
-  out << "total       " << HumanBytes(s.total_bytes) << "\n";
+  out << "total       " << FormatBytes(static_cast<double>(s.total_bytes)) << "\n";
   return out.str();
 }
 

@@ -11,6 +11,7 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
+#include "libs/util/limits.h"
 
 namespace lsds::exr {
 
@@ -79,6 +80,8 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
     const ExrInfo info = internal::InfoFromHeader(header);
     const int width = info.width, height = info.height;
 
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    CheckMemoryBudget(4.0 * width * height, "decoding the sample counts of " + size, path.string());
     Imf::DeepFrameBuffer counts_buffer;
     std::vector<uint32_t> sample_counts(static_cast<size_t>(width) * height);
     counts_buffer.insertSampleCountSlice(Imf::Slice(Imf::UINT,
@@ -100,7 +103,6 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
       throw Error(std::to_string(total) + " deep samples exceed the reader's limit", where);
     }
 
-    DeepImage image(width, height, std::move(sample_counts));
     std::vector<ChannelSpec> wanted;
     if (channels.empty()) {
       wanted = info.channels;
@@ -111,6 +113,14 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
         wanted.push_back(*spec);
       }
     }
+    // 4 bytes per sample and channel, a pointer per pixel and channel for
+    // OpenEXR's deep slices, and the pixel offsets.
+    CheckMemoryBudget(4.0 * static_cast<double>(total) * static_cast<double>(wanted.size()) +
+                          8.0 * width * height * static_cast<double>(wanted.size() + 1),
+                      "decoding " + std::to_string(total) + " deep samples of " +
+                          std::to_string(wanted.size()) + " channel(s) in " + size,
+                      path.string());
+    DeepImage image(width, height, std::move(sample_counts));
     Imf::DeepFrameBuffer frame_buffer;
     frame_buffer.insertSampleCountSlice(
         Imf::Slice(Imf::UINT,

@@ -11,6 +11,7 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
+#include "libs/util/limits.h"
 
 namespace lsds::exr {
 
@@ -66,7 +67,6 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
     }
     internal::CheckLimits(path, header, limits);
     const ExrInfo info = internal::InfoFromHeader(header);
-    FlatImage image(info.width, info.height);
     std::vector<ChannelSpec> wanted;
     if (channels.empty()) {
       wanted = info.channels;
@@ -77,6 +77,12 @@ FlatImage ReadFlatExr(const std::filesystem::path& path,
         wanted.push_back(*spec);
       }
     }
+    // Every channel decodes to 4 bytes per pixel (HALF to float).
+    CheckMemoryBudget(4.0 * info.width * info.height * static_cast<double>(wanted.size()),
+                      "decoding " + std::to_string(wanted.size()) + " channel(s) of " +
+                          std::to_string(info.width) + "x" + std::to_string(info.height),
+                      path.string());
+    FlatImage image(info.width, info.height);
     // HALF decodes to float; the frame buffer converts while decoding, without
     // a second pass.
     Imf::FrameBuffer frame_buffer;

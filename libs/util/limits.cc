@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 
 namespace lsds {
 
@@ -12,13 +13,6 @@ namespace {
 std::optional<uint64_t>& BudgetOverride() {
   static std::optional<uint64_t> budget;
   return budget;
-}
-
-std::string Gib(uint64_t bytes) {
-  char text[64];
-  std::snprintf(
-      text, sizeof(text), "%.2f GiB", static_cast<double>(bytes) / (1024.0 * 1024.0 * 1024.0));
-  return text;
 }
 
 }  // namespace
@@ -111,13 +105,16 @@ void CheckImageBudget(int64_t width,
   const double need = static_cast<double>(width) * static_cast<double>(height) *
                       static_cast<double>(std::max<int64_t>(1, values_per_pixel)) *
                       static_cast<double>(std::max<int64_t>(1, bytes_per_value));
+  CheckMemoryBudget(
+      need, what + ": " + std::to_string(width) + "x" + std::to_string(height), where);
+}
+
+void CheckMemoryBudget(double bytes, const std::string& what, const std::string& where) {
   const uint64_t budget = MemoryBudgetBytes();
-  if (need > static_cast<double>(budget)) {
-    throw Error(what + ": " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
-                    Gib(static_cast<uint64_t>(std::min(need, 1.8e19))) +
-                    ", over the memory budget of " + Gib(budget) +
-                    " (raise it with --memory-budget or LSDS_MEMORY_BUDGET, "
-                    "e.g. 32G)",
+  if (bytes > static_cast<double>(budget)) {
+    throw Error(what + " needs " + FormatBytes(bytes) + ", over the memory budget of " +
+                    FormatBytes(static_cast<double>(budget)) +
+                    " (raise it with --memory-budget or LSDS_MEMORY_BUDGET, e.g. 32G)",
                 Location(where));
   }
 }

@@ -32,6 +32,11 @@ uint64_t MemoryBudgetBytes();
 void SetMemoryBudget(const std::string& text);  // from --memory-budget
 uint64_t ParseByteSize(const std::string& text, const std::string& where);
 
+// Throws lsds::Error naming `what` and `where` when `bytes` exceed the budget:
+// the one budget check, called before the allocation it guards; the message
+// states the need, the budget and how to raise it.
+void CheckMemoryBudget(double bytes, const std::string& what, const std::string& where);
+
 // Throws lsds::Error naming `what` and `where` when width x height x
 // values_per_pixel x bytes_per_value exceeds the budget, before anything is
 // allocated; the message states the need, the budget and how to raise it.

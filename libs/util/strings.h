@@ -33,5 +33,7 @@ std::string FormatNumber(double value, int significant = 6);
 // [1e-3, 1e5) and 0, else one significant digit in exponent form ("2e+05",
 // "5e-04") so that tick labels stay narrow.
 std::string FormatAxisNumber(double value);
+// A byte count for people: "512 B", "1.5 KiB", "8.0 GiB" (powers of 1024).
+std::string FormatBytes(double bytes);
 
 }  // namespace lsds

@@ -25,9 +25,6 @@ import sys
 import time
 
 TIME_LIMIT_S = 60
-# Cases that fail until issue 22 (numbers, UTF-8, paths, layer sizes) is
-# merged: the lead flips them by emptying this list.
-EXPECTED_TO_BE_FIXED_BY_ISSUE_22 = set()
 
 DEEP = 100000  # the depth of the nesting cases (the limit is 256)
 
@@ -310,6 +307,13 @@ def build_cases(lsds, work):
     add(Case("limits/memory-budget-flag-bad",
              "generate --demo --memory-budget lots -o {d}/out -q".split(),
              names="--memory-budget"))
+    # Every command that decodes layers checks the decode against the budget
+    # (--memory-budget is a flag of every command), naming the layer file (the
+    # first one decoded, whichever frame and layer that is).
+    for command, (line, expect) in layer_readers.items():
+        add(Case("limits/layer-over-budget/%s" % command,
+                 (line + " --memory-budget 1K").split(), expect=expect,
+                 names=".exr", place=r"/\d{6}\.exr: decoding .* over the memory budget"))
     add(Case("limits/capture-resolution-huge",
              "generate {d}/s.lscene {d}/c.lcap -o {d}/out -q --memory-budget 1K".split(),
              names="frame", place="memory budget"))
@@ -377,23 +381,14 @@ def main():
             print(c.name)
         print("%d cases" % len(cases))
         return 0
-    failed, fixed = [], []
+    failed = []
     for case in cases:
         problem, last = run_case(lsds, work, case)
-        pending = case.name in EXPECTED_TO_BE_FIXED_BY_ISSUE_22
-        if problem and not pending:
+        if problem:
             failed.append(case.name)
             print("FAIL %s: %s\n     %s" % (case.name, problem, last))
-        elif problem:
-            print("xfail %s (issue 22): %s" % (case.name, problem))
-        elif pending:
-            fixed.append(case.name)
-            print("XPASS %s: remove it from EXPECTED_TO_BE_FIXED_BY_ISSUE_22" % case.name)
-    print("%d cases, %d failed, %d expected to be fixed by issue 22, %d of those pass"
-          % (len(cases), len(failed),
-             len([c for c in cases if c.name in EXPECTED_TO_BE_FIXED_BY_ISSUE_22]),
-             len(fixed)))
-    return 1 if failed or fixed else 0
+    print("%d cases, %d failed" % (len(cases), len(failed)))
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 // and decoding the same bundle channels with the same frame batching. Prints
 // both and their ratio (the issue aims at <= 1.3x).
 //
-//   bench_bundles [--frames 10] [--width 512] [--height 512]
+//   bench_bundles [--frames 10] [--width 512] [--height 512] [--layout compact|full]
 //                 [--samples-per-axis 2] [--discs 400] [--dir PATH] [--keep]
 //                 [--with-layers] [--repeats N] [--picture PNG]
 // Issue-sized run: --frames 100 --width 1024 --height 1024 (4 samples/pixel).
@@ -18,6 +18,7 @@
 
 #include "libs/bundle/bundle_run.h"
 #include "libs/bundle/bundle_stats.h"
+#include "libs/collection/bundle_layout.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/exr/deep_image.h"
@@ -35,8 +36,14 @@ struct Disc {
 
 // A tilted ground (instance 1000, class 1) under discs that bulge towards the
 // camera: many sizes, so that small objects and edges are plentiful. n x n
-// stratified samples, sample 0 at the centre.
-exr::DeepImage MakeFrame(int width, int height, int n, int discs, uint64_t seed) {
+// stratified samples placed by the sampling rule (docs/format.md "Pixel
+// bundles"), sample 0 at the centre, so that a compact bundle derives them.
+exr::DeepImage MakeFrame(int width,
+                         int height,
+                         const SamplerSettings& sampler,
+                         int64_t frame,
+                         int discs,
+                         uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uni(0, 1);
   std::vector<Disc> scene;
@@ -50,12 +57,9 @@ exr::DeepImage MakeFrame(int width, int height, int n, int discs, uint64_t seed)
                      static_cast<uint32_t>(2 + i % 4)});
   }
   std::sort(scene.begin(), scene.end(), [](const Disc& a, const Disc& b) { return a.z > b.z; });
-  const int spp = n * n;
+  const int spp = sampler.spp;
+  std::vector<Eigen::Vector2d> positions(spp);
   std::vector<float> sx(spp), sy(spp);
-  for (int s = 0; s < spp; ++s) {
-    sx[s] = (s % n + 0.25f + 0.5f * static_cast<float>(uni(rng))) / n;
-    sy[s] = (s / n + 0.25f + 0.5f * static_cast<float>(uni(rng))) / n;
-  }
   sx[0] = sy[0] = 0.5f;
   exr::DeepImage image(
       width, height, std::vector<uint32_t>(static_cast<size_t>(width) * height, spp));
@@ -70,7 +74,10 @@ exr::DeepImage MakeFrame(int width, int height, int n, int discs, uint64_t seed)
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const uint64_t first = image.FirstSample(x, y);
+      PixelSamples(sampler, frame, x, y, positions.data());
       for (int s = 0; s < spp; ++s) {
+        sx[s] = static_cast<float>(positions[s].x() - x);  // as the generator stores them
+        sy[s] = static_cast<float>(positions[s].y() - y);
         inst[first + s] = 1000;
         cls[first + s] = 1;
         zs[first + s] = static_cast<float>(20.0 + 0.01 * (y + sy[s]));
@@ -89,7 +96,7 @@ exr::DeepImage MakeFrame(int width, int height, int n, int discs, uint64_t seed)
       for (int x = x0; x <= x1; ++x) {
         const uint64_t first = image.FirstSample(x, y);
         for (int s = 0; s < spp; ++s) {
-          const double dx = (x + sx[s] - d.cx) / d.r, dy = (y + sy[s] - d.cy) / d.r;
+          const double dx = (x + px[first + s] - d.cx) / d.r, dy = (y + py[first + s] - d.cy) / d.r;
           const double q = dx * dx + dy * dy;
           if (q >= 1) continue;
           const double h = std::sqrt(1 - q);
@@ -106,19 +113,29 @@ exr::DeepImage MakeFrame(int width, int height, int n, int discs, uint64_t seed)
   return image;
 }
 
-void Generate(const fs::path& root, int frames, int width, int height, int n, int discs) {
+void Generate(const fs::path& root,
+              int frames,
+              int width,
+              int height,
+              int n,
+              int discs,
+              BundleLayout layout) {
   fs::create_directories(root / "bundle");
+  const SamplerSettings sampler{n * n, 1.0, 1234};
   CollectionHeader header;
   header.provenance.generator = "bench_bundles";
   header.classes = {{1, "ground"}, {2, "a"}, {3, "b"}, {4, "c"}, {5, "d"}};
   header.layers = {StandardLayer("bundle")};
+  header.layers[0].layout = layout;
   header.frame_count = frames;
   exr::WriteOptions write;
   write.compression = exr::Compression::kZips;
   tbb::parallel_for(0, frames, [&](int i) {
-    exr::WriteDeepExr(root / "bundle" / (FrameStem(i) + ".exr"),
-                      MakeFrame(width, height, n, discs, 1234 + i),
-                      write);
+    WriteBundleExr(root / "bundle" / (FrameStem(i) + ".exr"),
+                   MakeFrame(width, height, sampler, i, discs, 1234 + i),
+                   layout,
+                   BundleSampling{sampler, i},
+                   write);
   });
   CollectionWriter writer(root, header);
   for (int i = 0; i < frames; ++i) {
@@ -180,21 +197,32 @@ int main(int argc, char** argv) {
   app.add_flag(
       "--with-layers", with_layers, "also time --write-layers majority,purity,coverage,edge");
   app.add_option("--picture", picture, "write the mixed-pixel map of frame 0 (PNG)");
+  std::string layout_name = "compact";
+  app.add_option("--layout", layout_name, "bundle layout written: compact (default) or full")
+      ->check(CLI::IsMember({"compact", "full"}));
   CLI11_PARSE(app, argc, argv);
+  BundleLayout layout = BundleLayout::kCompact;
+  ParseBundleLayout(layout_name, &layout);
 
   const fs::path root =
       dir.empty() ? fs::temp_directory_path() / "lsds_bundles_bench" : fs::path(dir);
   fs::remove_all(root);
+  const fs::path stats = root.parent_path() / (root.filename().string() + "_stats.json");
   auto start = std::chrono::steady_clock::now();
-  Generate(root, frames, width, height, n, discs);
+  Generate(root, frames, width, height, n, discs, layout);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  std::printf("generated %d frames %dx%d, %d samples per pixel in %.1f s (%s)\n",
-              frames,
-              width,
-              height,
-              n * n,
-              Seconds(start),
-              root.c_str());
+  uint64_t bytes = 0;
+  for (const auto& e : fs::directory_iterator(root / "bundle")) bytes += fs::file_size(e.path());
+  std::printf(
+      "generated %d frames %dx%d, %d samples per pixel, %s layout, %.2f MB/frame in %.1f s (%s)\n",
+      frames,
+      width,
+      height,
+      n * n,
+      layout_name.c_str(),
+      bytes / 1e6 / frames,
+      Seconds(start),
+      root.c_str());
 
   const size_t batch = static_cast<size_t>(std::max(1, tbb::info::default_concurrency()));
   Floor(root,
@@ -204,7 +232,8 @@ int main(int argc, char** argv) {
   for (int r = 0; r < repeats; ++r) {
     floor_s = std::min(floor_s, Floor(root, batch));
     bundle::RunOptions options;
-    options.output = root / "stats.json";
+    // Outside the collection: an output may not lie inside an input.
+    options.output = stats;
     options.force = true;
     if (r == 0 && !picture.empty()) options.mixed_map = picture;
     start = std::chrono::steady_clock::now();
@@ -234,5 +263,6 @@ int main(int argc, char** argv) {
                 layers_s / floor_s);
   }
   if (!keep) fs::remove_all(root);
+  fs::remove(stats);
   return 0;
 }

@@ -24,6 +24,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include "libs/collection/bundle_layout.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
@@ -57,11 +58,18 @@ double Now() {
 // k is a copy of unique frame k % unique, each cycle its own sequence (motion
 // is checked within a sequence only). Every file is a real copy, so the I/O is
 // that of a collection of `frames` distinct files.
-void Generate(
-    const fs::path& dir, int frames, int width, int height, int samples_per_axis, int unique) {
+void Generate(const fs::path& dir,
+              int frames,
+              int width,
+              int height,
+              int samples_per_axis,
+              int unique,
+              BundleLayout layout) {
   if (fs::exists(dir / "collection.json")) {
     const CollectionReader reader(dir);
-    bool same = static_cast<int>(reader.frames_in_file()) == frames;
+    const LayerInfo* bundle = reader.header().FindLayerBySemantic("bundle");
+    bool same = static_cast<int>(reader.frames_in_file()) == frames && bundle != nullptr &&
+                bundle->layout == layout;
     reader.ForEachFrame([&](const Frame& f) {
       same = same && f.camera.intrinsics.width == width && f.camera.intrinsics.height == height;
     });
@@ -71,6 +79,7 @@ void Generate(
   unique = std::max(1, std::min(unique, frames));
   synth::Spec spec = synth::CircleSpec(unique, width, height);
   spec.samples_per_axis = samples_per_axis;
+  spec.bundle_layout = layout;
   const double start = Now();
   const fs::path source = dir / "unique";
   synth::WriteCollection(source, spec);
@@ -202,6 +211,7 @@ int main(int argc, char** argv) {
   //   --rss-size 256x256
   int frames = 24, width = 256, height = 256, samples = 1, jobs = 0, unique = 8, rss_w = 128,
       rss_h = 128;
+  BundleLayout layout = BundleLayout::kCompact;  // what the generator writes
   std::vector<int> rss_frames = {25, 100};
   fs::path dir = fs::temp_directory_path() / "lsds_bench_validate";
   if (argc == 4 && (std::strcmp(argv[1], "--child-validate") == 0 ||
@@ -246,9 +256,13 @@ int main(int argc, char** argv) {
       ++i;
     } else if (arg == "--dir") {
       dir = value, ++i;
+    } else if (arg == "--bundle-layout") {
+      if (!ParseBundleLayout(value, &layout)) return 2;
+      ++i;
     } else {
       std::cerr << "usage: bench_validate [--frames N] [--size WxH] "
                    "[--samples-per-axis N] [--jobs N] [--unique N]\n"
+                   "                      [--bundle-layout compact|full]\n"
                    "                      [--rss-frames A,B] [--rss-size WxH] "
                    "[--dir PATH]\n";
       return arg == "--help" ? 0 : 2;
@@ -263,17 +277,19 @@ int main(int argc, char** argv) {
   options.jobs = jobs;
 
   std::printf(
-      "bench_validate: %d frames at %dx%d, %d bundle sample(s) per pixel, %s "
+      "bench_validate: %d frames at %dx%d, %d bundle sample(s) per pixel, %s bundle layout, %s "
       "threads\n",
       frames,
       width,
       height,
       samples * samples,
+      BundleLayoutName(layout),
       jobs > 0 ? std::to_string(jobs).c_str() : "all");
   const fs::path main_dir = dir / ("throughput_" + std::to_string(frames) + "_" +
-                                   std::to_string(width) + "x" + std::to_string(height));
+                                   std::to_string(width) + "x" + std::to_string(height) + "_" +
+                                   std::to_string(samples) + "_" + BundleLayoutName(layout));
   if (frames > 0) {  // --frames 0: memory figures only
-    Generate(main_dir, frames, width, height, samples, unique);
+    Generate(main_dir, frames, width, height, samples, unique, layout);
     DecodeOnly(main_dir,
                options.batch_size);  // warm the page cache for both timed passes
     const Pass floor = DecodeOnly(main_dir, options.batch_size);
@@ -312,8 +328,9 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
   for (int n : rss_frames) {
     const fs::path rss_dir = dir / ("rss_" + std::to_string(n) + "_" + std::to_string(rss_w) + "x" +
-                                    std::to_string(rss_h));
-    Generate(rss_dir, n, rss_w, rss_h, samples, unique);
+                                    std::to_string(rss_h) + "_" + std::to_string(samples) + "_" +
+                                    BundleLayoutName(layout));
+    Generate(rss_dir, n, rss_w, rss_h, samples, unique, layout);
     const double floor_rss = PeakRssMb("--child-decode", rss_dir, jobs);
     const double rss = PeakRssMb("--child-validate", rss_dir, jobs);
     std::printf("  peak RSS, %4d frames at %dx%d: validate %7.1f MB, floor %7.1f MB\n",

@@ -68,6 +68,9 @@ class RenderScene {
   // The scene holding only object `object` (nullptr when it is not rendered).
   RTCScene ObjectScene(int object) const { return object_scenes_[object]; }
   const Surface& surface(unsigned geom_id) const { return surfaces_[geom_id]; }
+  // Surface ids run from 0 to surface_count() - 1 (Embree geometries, then the
+  // ground plane).
+  size_t surface_count() const { return surfaces_.size(); }
   const WorldState& world() const { return world_; }
   // The plane z = kWorldGroundZ past the world ground's skirt
   // (generator/scene/world_ground.h): the surface id a ray that misses every

@@ -28,14 +28,78 @@ struct Hit {
   Eigen::Vector3d shading_normal;
 };
 
-// The ray's exact hit: Embree finds the triangle, the plane of its (float)
-// vertices gives t in double, so a flat terrain at z = 0 yields z == 0 and
-// depth == altitude to double precision.
-Hit Trace(const RenderScene& scene,
-          RTCScene rtc_scene,
-          const Eigen::Vector3d& origin,
-          const Eigen::Vector3d& direction,
-          RTCIntersectContext* context) {
+// What Embree reports for one ray: the closest triangle and where on it.
+struct EmbreeHit {
+  unsigned geom = RTC_INVALID_GEOMETRY_ID;
+  unsigned prim = 0;
+  float u = 0, v = 0, tfar = kInf;
+};
+
+// Up to kPacket camera rays of one pixel traced together (rtcIntersect4/8):
+// the samples of a pixel are the most coherent rays there are. Each lane is
+// the same float ray rtcIntersect1 would get.
+constexpr int kPacket = 8;
+void TracePacket(RTCScene rtc_scene,
+                 const Eigen::Vector3d& origin,
+                 const Eigen::Vector3d* directions,
+                 int count,
+                 RTCIntersectContext* context,
+                 EmbreeHit* out) {
+  alignas(32) RTCRayHit8 rh;
+  alignas(32) int valid[kPacket];
+  for (int i = 0; i < kPacket; ++i) {
+    valid[i] = i < count ? -1 : 0;
+    const Eigen::Vector3d& d = directions[i < count ? i : 0];
+    rh.ray.org_x[i] = static_cast<float>(origin.x());
+    rh.ray.org_y[i] = static_cast<float>(origin.y());
+    rh.ray.org_z[i] = static_cast<float>(origin.z());
+    rh.ray.dir_x[i] = static_cast<float>(d.x());
+    rh.ray.dir_y[i] = static_cast<float>(d.y());
+    rh.ray.dir_z[i] = static_cast<float>(d.z());
+    rh.ray.tnear[i] = 0.f;
+    rh.ray.tfar[i] = kInf;
+    rh.ray.mask[i] = 0xffffffffu;
+    rh.ray.flags[i] = 0;
+    rh.ray.time[i] = 0.f;
+    rh.ray.id[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  if (count <= 4) {
+    // The first four lanes of an RTCRayHit8 are not an RTCRayHit4: copy.
+    alignas(16) RTCRayHit4 rh4;
+    alignas(16) int valid4[4];
+    for (int i = 0; i < 4; ++i) {
+      valid4[i] = valid[i];
+      rh4.ray.org_x[i] = rh.ray.org_x[i];
+      rh4.ray.org_y[i] = rh.ray.org_y[i];
+      rh4.ray.org_z[i] = rh.ray.org_z[i];
+      rh4.ray.dir_x[i] = rh.ray.dir_x[i];
+      rh4.ray.dir_y[i] = rh.ray.dir_y[i];
+      rh4.ray.dir_z[i] = rh.ray.dir_z[i];
+      rh4.ray.tnear[i] = 0.f;
+      rh4.ray.tfar[i] = kInf;
+      rh4.ray.mask[i] = 0xffffffffu;
+      rh4.ray.flags[i] = 0;
+      rh4.ray.time[i] = 0.f;
+      rh4.ray.id[i] = 0;
+      rh4.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh4.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect4(valid4, rtc_scene, context, &rh4);
+    for (int i = 0; i < count; ++i)
+      out[i] = {rh4.hit.geomID[i], rh4.hit.primID[i], rh4.hit.u[i], rh4.hit.v[i], rh4.ray.tfar[i]};
+    return;
+  }
+  rtcIntersect8(valid, rtc_scene, context, &rh);
+  for (int i = 0; i < count; ++i)
+    out[i] = {rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], rh.ray.tfar[i]};
+}
+
+EmbreeHit TraceOne(RTCScene rtc_scene,
+                   const Eigen::Vector3d& origin,
+                   const Eigen::Vector3d& direction,
+                   RTCIntersectContext* context) {
   RTCRayHit rh;
   rh.ray.org_x = static_cast<float>(origin.x());
   rh.ray.org_y = static_cast<float>(origin.y());
@@ -51,8 +115,18 @@ Hit Trace(const RenderScene& scene,
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(rtc_scene, context, &rh);
+  return {rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar};
+}
+
+// The ray's exact hit: Embree finds the triangle, the plane of its (float)
+// vertices gives t in double, so a flat terrain at z = 0 yields z == 0 and
+// depth == altitude to double precision.
+Hit Resolve(const RenderScene& scene,
+            const EmbreeHit& rh,
+            const Eigen::Vector3d& origin,
+            const Eigen::Vector3d& direction) {
   Hit hit;
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+  if (rh.geom == RTC_INVALID_GEOMETRY_ID) {
     // Past the world ground's skirt: the plane it settles to
     // (generator/scene/world_ground.h), exact in double.
     if (scene.ground_plane() >= 0 && direction.z() < 0 && origin.z() > kWorldGroundZ) {
@@ -66,9 +140,9 @@ Hit Trace(const RenderScene& scene,
     return hit;
   }
   hit.hit = true;
-  hit.geom = rh.hit.geomID;
-  const Surface& s = scene.surface(rh.hit.geomID);
-  const Eigen::Vector3i& tri = s.triangles[rh.hit.primID];
+  hit.geom = rh.geom;
+  const Surface& s = scene.surface(rh.geom);
+  const Eigen::Vector3i& tri = s.triangles[rh.prim];
   const Eigen::Vector3d v0 = s.positions[tri[0]].cast<double>();
   const Eigen::Vector3d v1 = s.positions[tri[1]].cast<double>();
   const Eigen::Vector3d v2 = s.positions[tri[2]].cast<double>();
@@ -76,15 +150,15 @@ Hit Trace(const RenderScene& scene,
   const double nn = n.norm();
   n = nn > 0 ? Eigen::Vector3d(n / nn) : Eigen::Vector3d(0, 0, 1);
   const double nd = n.dot(direction);
-  hit.t = std::abs(nd) > 1e-12 ? n.dot(v0 - origin) / nd : rh.ray.tfar;
-  if (!(hit.t > 0)) hit.t = rh.ray.tfar;
+  hit.t = std::abs(nd) > 1e-12 ? n.dot(v0 - origin) / nd : rh.tfar;
+  if (!(hit.t > 0)) hit.t = rh.tfar;
   if (nd > 0) n = -n;
   hit.normal = n;
   hit.point = origin + hit.t * direction;
   hit.shading_normal = n;
   if (s.corner_normals != nullptr) {
-    const Eigen::Vector3f* c = s.corner_normals + 3 * static_cast<size_t>(rh.hit.primID);
-    const float u = rh.hit.u, v = rh.hit.v;
+    const Eigen::Vector3f* c = s.corner_normals + 3 * static_cast<size_t>(rh.prim);
+    const float u = rh.u, v = rh.v;
     const Eigen::Vector3d smooth = ((1 - u - v) * c[0] + u * c[1] + v * c[2]).cast<double>();
     const double len = smooth.norm();
     if (len > 0) hit.shading_normal = (smooth.dot(n) < 0 ? -smooth : smooth) / len;
@@ -219,17 +293,33 @@ Film RenderFrame(const RenderScene& scene,
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         std::vector<Eigen::Vector2d> samples(spp);
+        std::vector<Eigen::Vector3d> rays_in_cam(spp), directions(spp);
+        std::vector<EmbreeHit> embree_hits(spp);
         uint64_t rays = 0;
         for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
           for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
             const size_t pixel = static_cast<size_t>(y) * width + x;
             PixelSamples(settings.sampler, frame.index, x, y, samples.data());
+            for (int k = 0; k < spp; ++k) {
+              rays_in_cam[k] = camera.CamFromImage(samples[k]);  // z == 1
+              directions[k] = world_from_cam * rays_in_cam[k];
+            }
+            for (int k = 0; k < spp; k += kPacket) {
+              const int count = std::min(kPacket, spp - k);
+              if (settings.packets) {
+                TracePacket(
+                    scene.scene(), centre, &directions[k], count, &context, &embree_hits[k]);
+              } else {
+                for (int i = k; i < k + count; ++i)
+                  embree_hits[i] = TraceOne(scene.scene(), centre, directions[i], &context);
+              }
+            }
+            rays += spp;
             Eigen::Vector3f sum = Eigen::Vector3f::Zero();
             for (int k = 0; k < spp; ++k) {
-              const Eigen::Vector3d ray_in_cam = camera.CamFromImage(samples[k]);  // z == 1
-              const Eigen::Vector3d direction = world_from_cam * ray_in_cam;
-              const Hit hit = Trace(scene, scene.scene(), centre, direction, &context);
-              ++rays;
+              const Eigen::Vector3d& ray_in_cam = rays_in_cam[k];
+              const Eigen::Vector3d& direction = directions[k];
+              const Hit hit = Resolve(scene, embree_hits[k], centre, direction);
               Eigen::Vector3f radiance;
               float shadow_ratio = 1.f;
               const size_t b = static_cast<size_t>(pixel) * spp + k;

@@ -23,6 +23,10 @@ struct RenderSettings {
   // Compute motion vectors (their disocclusion rays); off when the capture
   // does not write the motion layer, which then stays NaN.
   bool motion = true;
+  // Trace the camera rays of a pixel as one Embree packet (rtcIntersect4/8);
+  // off traces them one by one (rtcIntersect1). Same hits either way
+  // (tests/generator/render_test.cc).
+  bool packets = true;
 };
 
 // The previous frame of the same shot, for motion vectors (absent on a shot's

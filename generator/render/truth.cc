@@ -15,10 +15,15 @@ namespace lsds::gen {
 namespace {
 
 // Pixels whose centre sample hits the object when it is alone in the scene,
-// inside `bounds`.
+// inside `bounds`. A pixel whose centre sample already hit the object in the
+// full scene (instance id layer == `visible_id`) hits it alone too: the same
+// float ray meets the same triangle, occluders only remove hits. Those pixels
+// are counted without a ray; `visible_id` 0 casts every ray (an id shared by
+// several geometries cannot tell which one was hit).
 int64_t UnoccludedPixels(RTCScene own,
                          const PlannedFrame& frame,
                          const Film& film,
+                         uint32_t visible_id,
                          const Box2d& bounds,
                          uint64_t* rays) {
   const PinholeCamera& camera = frame.camera;
@@ -32,12 +37,20 @@ int64_t UnoccludedPixels(RTCScene own,
   const int x1 = std::min(camera.width, static_cast<int>(std::ceil(bounds.x1)) + 1);
   const int y1 = std::min(camera.height, static_cast<int>(std::ceil(bounds.y1)) + 1);
   if (x1 <= x0 || y1 <= y0) return 0;
+  const std::vector<uint32_t>& ids = film.flat.at("instanceid").Get("id").uints;
   std::atomic<int64_t> count{0};
+  std::atomic<uint64_t> cast{0};
   tbb::parallel_for(y0, y1, [&](int y) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     int64_t row = 0;
+    uint64_t row_rays = 0;
     for (int x = x0; x < x1; ++x) {
+      if (visible_id != 0 && ids[static_cast<size_t>(y) * camera.width + x] == visible_id) {
+        ++row;
+        continue;
+      }
+      ++row_rays;
       const Eigen::Vector2f s = film.centre_sample[static_cast<size_t>(y) * camera.width + x];
       const Eigen::Vector3d d = world_from_cam * camera.CamFromImage(s.cast<double>());
       RTCRay ray;
@@ -56,8 +69,9 @@ int64_t UnoccludedPixels(RTCScene own,
       if (ray.tfar < 0) ++row;
     }
     count += row;
+    cast += row_rays;
   });
-  *rays += static_cast<uint64_t>(x1 - x0) * (y1 - y0);
+  *rays += cast;
   return count;
 }
 
@@ -67,8 +81,11 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
                                             const PlannedFrame& frame,
                                             const Film& film,
                                             double extinction_per_m,
-                                            uint64_t* rays) {
+                                            uint64_t* rays,
+                                            const TruthOptions& options) {
   const WorldState& world = scene.world();
+  std::map<uint32_t, int> geometries_of;  // instance id -> geometries carrying it
+  for (size_t g = 0; g < scene.surface_count(); ++g) ++geometries_of[scene.surface(g).instance_id];
   const PinholeCamera& camera = frame.camera;
   const auto masks =
       MeasureInstanceMasks(film.flat.at("instanceid").Get("id").uints, camera.width, camera.height);
@@ -85,12 +102,16 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
     identity.obb = o.Box();
     const auto mask = masks.find(p.instance_id);
     const RTCScene own = scene.ObjectScene(static_cast<int>(i));
-    std::optional<ObjectTruth> t = MeasureObjectTruth(
-        identity,
-        camera,
-        frame.cam_from_world,
-        mask == masks.end() ? nullptr : &mask->second,
-        [&](const Box2d& bounds) { return UnoccludedPixels(own, frame, film, bounds, rays); });
+    const uint32_t visible_id =
+        options.reuse_visible_pixels && geometries_of[p.instance_id] == 1 ? p.instance_id : 0;
+    std::optional<ObjectTruth> t =
+        MeasureObjectTruth(identity,
+                           camera,
+                           frame.cam_from_world,
+                           mask == masks.end() ? nullptr : &mask->second,
+                           [&](const Box2d& bounds) {
+                             return UnoccludedPixels(own, frame, film, visible_id, bounds, rays);
+                           });
     if (!t) continue;  // nowhere near the image
     t->material = o.material;
     t->velocity = o.velocity;

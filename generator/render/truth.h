@@ -18,10 +18,17 @@ namespace lsds::gen {
 // projected box meets the image or that have visible pixels, in plan order.
 // The transmittance is that of the atmosphere (extinction per metre) from the
 // camera centre to the OBB centre. Adds the rays it casts to `rays`.
+struct TruthOptions {
+  // Count the pixels where the object is visible as unoccluded without casting
+  // their rays again (exact, see truth.cc); off casts every ray of the
+  // object's bounds, the reference the tests compare against.
+  bool reuse_visible_pixels = true;
+};
 std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
                                             const PlannedFrame& frame,
                                             const Film& film,
                                             double extinction_per_m,
-                                            uint64_t* rays);
+                                            uint64_t* rays,
+                                            const TruthOptions& options = {});
 
 }  // namespace lsds::gen

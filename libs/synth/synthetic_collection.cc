@@ -329,6 +329,7 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
   header.classes = spec.classes;
   for (const std::string& semantic : semantics) {
     header.layers.push_back(StandardLayer(semantic, spec.depth_kind));
+    if (header.layers.back().deep) header.layers.back().layout = spec.bundle_layout;
     fs::create_directories(root / semantic);
   }
   header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
@@ -337,8 +338,14 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
   CollectionBuilder builder(root, header);
   for (int k = 0; k < static_cast<int>(spec.cam_from_world.size()); ++k) {
     RenderedFrame rendered = RenderFrame(spec, k);
-    rendered.truth.files = WriteFrameLayers(
-        root, header, k, rendered.truth.camera, {&rendered.flat, &rendered.bundle});
+    // Centre sample first, then strata centres: jitter 0.
+    const int spp = static_cast<int>(SamplePattern(spec.samples_per_axis).size());
+    rendered.truth.files =
+        WriteFrameLayers(root,
+                         header,
+                         k,
+                         rendered.truth.camera,
+                         {&rendered.flat, &rendered.bundle, BundleSampling{{spp, 0.0, 0}, k}});
     builder.Append(rendered.truth);
   }
   builder.Commit();

@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 #include <vector>
+#include "libs/collection/bundle_layout.h"
 
 #include "libs/collection/model.h"
 #include "libs/exr/deep_image.h"
@@ -27,6 +28,10 @@ struct Spec {
   std::string sequence = "S1";
   int samples_per_axis = 2;  // bundle: n*n stratified samples, one moved to the pixel centre
   DepthKind depth_kind = DepthKind::kPlanar;
+  // Storage of the bundle layer (docs/format.md "Pixel bundles"). compact
+  // derives the positions only at 1 sample per pixel (the pattern here is not
+  // the generator's rule beyond that) and stores them otherwise.
+  BundleLayout bundle_layout = BundleLayout::kFull;
   std::vector<std::string> layers;  // semantics to write; empty = every standard layer
   Eigen::Vector3d direction_to_sun = Eigen::Vector3d(0.3, 0.2, 1.0).normalized();
 

@@ -2,10 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "libs/collection/bundle_layout.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/schema.h"
+#include "libs/exr/exr_info.h"
 #include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -159,6 +161,40 @@ TEST(CollectionJson, StreamingVisitsFramesInOrderWithoutHoldingThem) {
   std::atomic<int64_t> sum{0};
   reader.ParallelForEachFrame([&](const Frame& frame) { sum += frame.index; }, 16);
   EXPECT_EQ(sum.load(), int64_t{frames} * (frames - 1) / 2);
+}
+
+// synth::Spec::bundle_layout: at 1 sample per pixel the synthetic positions
+// are the sampling rule's, so compact is written (marked in the file) and
+// reads back the samples of the full layout; at 4 the pattern is not the
+// rule's and the writer keeps the full layout, still declared compact-readable.
+TEST(SyntheticCollection, CompactBundleReadsBackTheFullSamples) {
+  testing::TempDir dir;
+  for (int n : {1, 2}) {
+    synth::Spec spec = synth::DefaultSpec();
+    spec.width = 16, spec.height = 12;
+    spec.samples_per_axis = n;
+    const std::filesystem::path full = dir / ("full" + std::to_string(n)),
+                                compact = dir / ("compact" + std::to_string(n));
+    synth::WriteCollection(full, spec);
+    spec.bundle_layout = BundleLayout::kCompact;
+    synth::WriteCollection(compact, spec);
+    const CollectionReader rf(full), rc(compact);
+    EXPECT_EQ(rc.header().FindLayerBySemantic("bundle")->layout, BundleLayout::kCompact);
+    std::vector<Frame> frames;
+    rf.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+    ASSERT_EQ(frames.size(), 4u);
+    for (const Frame& frame : frames) {
+      const exr::ExrInfo info = exr::ReadExrInfo(rc.LayerPath(frame, "bundle"));
+      EXPECT_EQ(info.attributes.count(kBundleLayoutAttribute), n == 1 ? 1u : 0u) << n;
+      const exr::DeepImage a = rf.ReadDeepLayer(frame, "bundle", {});
+      const exr::DeepImage b = rc.ReadDeepLayer(frame, "bundle", {});
+      ASSERT_EQ(a.sample_counts(), b.sample_counts());
+      for (const exr::ChannelSpec& c : FullBundleChannels()) {
+        EXPECT_EQ(a.Get(c.name).uints, b.Get(c.name).uints) << c.name;
+        EXPECT_EQ(a.Get(c.name).floats, b.Get(c.name).floats) << c.name;
+      }
+    }
+  }
 }
 
 TEST(MetadataJson, SyntheticCollectionMetadataEqualsTruth) {

@@ -200,18 +200,12 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
     if (sink < 0) std::printf(" ");  // keeps the loop
     return seconds;
   };
-  std::printf("
-              feature costs(issue 16),
-              % zu frames
-              : frame render % .3f s /
-                    frame ",
-                    plan.frames.size(),
-                render_s / plan.frames.size());
-  std::printf("  %-34s %10s %8s
-", "feature", "s/frame", "ratio");
+  std::printf("\nfeature costs (issue 16), %zu frames: frame render %.3f s/frame\n",
+              plan.frames.size(),
+              render_s / plan.frames.size());
+  std::printf("  %-34s %10s %8s\n", "feature", "s/frame", "ratio");
   const double frame_s = render_s / plan.frames.size();
-  std::printf("  %-34s %10.4f %8.3f
-",
+  std::printf("  %-34s %10.4f %8.3f\n",
               "auto exposure (meter + scale)",
               exposure_s / plan.frames.size(),
               (frame_s + exposure_s / plan.frames.size()) / frame_s);
@@ -222,16 +216,12 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
     plain.patches = 0;
     const double extra =
         (time_albedo(m) - time_albedo(plain)) * shading_points / plan.frames.size();
-    std::printf(
-        "  %-34s %10.4f %8.3f
-        ",
-        ("material variation: " + std::string(name))
-            .c_str(),
-        extra,
-        (frame_s + extra) / frame_s);
+    std::printf("  %-34s %10.4f %8.3f\n",
+                ("material variation: " + std::string(name)).c_str(),
+                extra,
+                (frame_s + extra) / frame_s);
   }
-  std::printf("  %-34s %10.4f %8.3f  (of the clamp encoding, %.4f s/frame)
-",
+  std::printf("  %-34s %10.4f %8.3f  (of the clamp encoding, %.4f s/frame)\n",
               "filmic tone curve (8-bit export)",
               filmic_s / plan.frames.size(),
               filmic_s / clamp_s,

@@ -180,6 +180,8 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
     exposure_s += Since(t);
     imaging::DisplayOptions display;
     display.tonemap = imaging::ToneMap::kClamp;
+    // The sRGB table is built on first use: not part of either timing.
+    if (&frame == &plan.frames.front()) imaging::ToSrgb8(film.flat.at("rgb"), display);
     t = Clock::now();
     const cv::Mat plain = imaging::ToSrgb8(film.flat.at("rgb"), display);
     clamp_s += Since(t);
@@ -190,15 +192,19 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
   }
   // Albedo evaluations: the families' patterns against plain mottling.
   const Perlin noise(3);
-  const int kCalls = 400000;
+  // The fastest of 7 runs of each: the machine's load only ever adds time.
+  const int kCalls = 200000;
   auto time_albedo = [&](const Material& m) {
+    double best = 1e30;
     float sink = 0;
-    const Clock::time_point t = Clock::now();
-    for (int i = 0; i < kCalls; ++i)
-      sink += Albedo(m, noise, Eigen::Vector3f(i * 0.37f, i * 0.11f, 0.5f)).x();
-    const double seconds = Since(t) / kCalls;
+    for (int run = 0; run < 7; ++run) {
+      const Clock::time_point t = Clock::now();
+      for (int i = 0; i < kCalls; ++i)
+        sink += Albedo(m, noise, Eigen::Vector3f(i * 0.37f, i * 0.11f, 0.5f)).x();
+      best = std::min(best, Since(t) / kCalls);
+    }
     if (sink < 0) std::printf(" ");  // keeps the loop
-    return seconds;
+    return best;
   };
   std::printf("\nfeature costs (issue 16), %zu frames: frame render %.3f s/frame\n",
               plan.frames.size(),

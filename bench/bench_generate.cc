@@ -28,9 +28,12 @@
 #include "generator/demo_plan.h"
 #include "generator/generate.h"
 #include "generator/render/embree_scene.h"
+#include "generator/render/exposure.h"
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
+#include "generator/scene/materials.h"
 #include "libs/collection/collection_builder.h"
+#include "libs/imaging/srgb_image.h"
 #include "libs/util/strings.h"
 
 namespace fs = std::filesystem;
@@ -148,6 +151,87 @@ uint64_t CastRaysOnly(const RenderScene& scene,
         total += rays;
       });
   return total;
+}
+
+// The cost of issue 16's light, camera and material features, each as the
+// ratio of the frame time with it to the frame time without it: auto exposure
+// (metering + scaling the rgb, after RenderFrame), the procedural material
+// variation (patterns and patches over a plain mottled albedo, measured per
+// albedo evaluation times the frame's spp * pixels shading points), and the
+// filmic tone curve of the 8-bit export against the plain encoding (clamp).
+// The photometric units cost nothing at render time (constants per frame).
+void PrintFeatureCosts(const Plan& plan, int spp) {
+  EmbreeDevice device;
+  const SceneAssets assets = BuildSceneAssets(plan);
+  const Sky sky(plan);
+  RenderSettings settings;
+  settings.sampler = {spp, 1.0, plan.seed};
+  double render_s = 0, exposure_s = 0, clamp_s = 0, filmic_s = 0;
+  size_t shading_points = 0;
+  for (const PlannedFrame& frame : plan.frames) {
+    const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
+    Clock::time_point t = Clock::now();
+    Film film = RenderFrame(scene, sky, frame, {}, settings);
+    render_s += Since(t);
+    shading_points += static_cast<size_t>(frame.camera.width) * frame.camera.height * spp;
+    t = Clock::now();
+    const FrameExposure e = MeterExposure(PlannedExposure(), film);
+    ApplyExposure(e, &film);
+    exposure_s += Since(t);
+    imaging::DisplayOptions display;
+    display.tonemap = imaging::ToneMap::kClamp;
+    // The sRGB table is built on first use: not part of either timing.
+    if (&frame == &plan.frames.front()) imaging::ToSrgb8(film.flat.at("rgb"), display);
+    t = Clock::now();
+    const cv::Mat plain = imaging::ToSrgb8(film.flat.at("rgb"), display);
+    clamp_s += Since(t);
+    display.tonemap = imaging::ToneMap::kFilmic;
+    t = Clock::now();
+    const cv::Mat filmic = imaging::ToSrgb8(film.flat.at("rgb"), display);
+    filmic_s += Since(t);
+  }
+  // Albedo evaluations: the families' patterns against plain mottling.
+  const Perlin noise(3);
+  // The fastest of 7 runs of each: the machine's load only ever adds time.
+  const int kCalls = 200000;
+  auto time_albedo = [&](const Material& m) {
+    double best = 1e30;
+    float sink = 0;
+    for (int run = 0; run < 7; ++run) {
+      const Clock::time_point t = Clock::now();
+      for (int i = 0; i < kCalls; ++i)
+        sink += Albedo(m, noise, Eigen::Vector3f(i * 0.37f, i * 0.11f, 0.5f)).x();
+      best = std::min(best, Since(t) / kCalls);
+    }
+    if (sink < 0) std::printf(" ");  // keeps the loop
+    return best;
+  };
+  std::printf("\nfeature costs (issue 16), %zu frames: frame render %.3f s/frame\n",
+              plan.frames.size(),
+              render_s / plan.frames.size());
+  std::printf("  %-34s %10s %8s\n", "feature", "s/frame", "ratio");
+  const double frame_s = render_s / plan.frames.size();
+  std::printf("  %-34s %10.4f %8.3f\n",
+              "auto exposure (meter + scale)",
+              exposure_s / plan.frames.size(),
+              (frame_s + exposure_s / plan.frames.size()) / frame_s);
+  for (const char* name : {"grassy", "sandy", "rocky", "asphalt", "metal", "painted_red"}) {
+    const Material& m = FindMaterial(name, "bench");
+    Material plain = m;
+    plain.pattern = Pattern::kMottled;
+    plain.patches = 0;
+    const double extra =
+        (time_albedo(m) - time_albedo(plain)) * shading_points / plan.frames.size();
+    std::printf("  %-34s %10.4f %8.3f\n",
+                ("material variation: " + std::string(name)).c_str(),
+                extra,
+                (frame_s + extra) / frame_s);
+  }
+  std::printf("  %-34s %10.4f %8.3f  (of the clamp encoding, %.4f s/frame)\n",
+              "filmic tone curve (8-bit export)",
+              filmic_s / plan.frames.size(),
+              filmic_s / clamp_s,
+              clamp_s / plan.frames.size());
 }
 
 }  // namespace
@@ -297,6 +381,7 @@ int main(int argc, char** argv) {
                   Mb(static_cast<double>(r.total_bytes - r.bundle_bytes) / frames));
     }
     std::printf("floor rays: %.2f Mrays/s\n", floor_rays / ray_seconds / 1e6);
+    PrintFeatureCosts(plan, spp);
     std::printf("MB per frame per layer:");
     for (const Result& r : results) std::printf(" %10s", r.layout.c_str());
     std::printf("\n");

@@ -18,6 +18,7 @@
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
 #include "generator/render/embree_scene.h"
+#include "generator/render/exposure.h"
 #include "generator/render/film.h"
 #include "generator/render/integrator.h"
 #include "generator/render/post_process.h"
@@ -195,11 +196,11 @@ nlohmann::json SceneStateJson(const PlannedEnvironment& environment) {
        {{"azimuth_deg", environment.sun.azimuth_deg},
         {"elevation_deg", environment.sun.elevation_deg},
         {"direction", {to_sun.x(), to_sun.y(), to_sun.z()}},
-        {"intensity", environment.sun.intensity}}},
+        {"illuminance_lux", environment.sun.illuminance_lux}}},
       {"sky",
        {{"color",
          {environment.sky.color.x(), environment.sky.color.y(), environment.sky.color.z()}},
-        {"intensity", environment.sky.intensity},
+        {"luminance_cd_m2", environment.sky.luminance_cd_m2},
         {"cloud_type", environment.sky.cloud_type},
         {"cloud_density", environment.sky.cloud_density}}},
       {"atmosphere", {{"extinction_per_m", environment.fog_density}, {"visibility_m", visibility}}},
@@ -395,6 +396,9 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       const PlannedEnvironment environment = EnvironmentAt(plan, frame);
       const Sky sky(plan, environment);  // LCAP may change it per frame
       Film rendered = RenderFrame(*scene, sky, frame, previous, render);
+      // The camera's exposure: photometric radiance to the sensor's scale.
+      const FrameExposure exposure = MeterExposure(plan.exposure, rendered);
+      ApplyExposure(exposure, &rendered);
       // LCAP post-process materials: RGB only, after the truth is final.
       ApplyPostProcess(plan.post_process, plan.seed, frame, &rendered);
       auto film = std::make_shared<const Film>(std::move(rendered));
@@ -407,6 +411,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       truth->rig_camera = frame.rig_camera;
       if (frame.step >= 0) truth->step = frame.step;
       truth->scene = SceneStateJson(EnvironmentAt(plan, frame));
+      truth->exposure = ExposureJson(exposure);
       truth->camera.intrinsics = frame.camera;
       SetCamFromWorld(frame.cam_from_world, &truth->camera);
       uint64_t rays = film->rays;

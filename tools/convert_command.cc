@@ -20,7 +20,7 @@ int RunConvert(int argc, char** argv) {
       "(docs/convert.md).",
       "lsds convert");
   convert::ConvertOptions options;
-  std::string collection, output, formats, tonemap = "clamp";
+  std::string collection, output, formats, tonemap = "filmic";
   bool clip_truncated = false, quiet = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("--to",
@@ -32,7 +32,8 @@ int RunConvert(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--exposure", options.display.exposure_ev, "exposure in EV: linear * 2^EV")
       ->capture_default_str();
-  app.add_option("--tonemap", tonemap, "clamp or reinhard")->capture_default_str();
+  app.add_option("--tonemap", tonemap, "filmic (ACES fit, default), reinhard or clamp")
+      ->capture_default_str();
   app.add_option("--jpeg-quality", options.display.jpeg_quality, "JPEG quality 1..100")
       ->capture_default_str();
   app.add_option(
@@ -79,7 +80,8 @@ int RunConvert(int argc, char** argv) {
                   Location("--drop-truncated"));
     }
     if (!imaging::ParseToneMap(tonemap, &options.display.tonemap)) {
-      throw Error("expected clamp or reinhard, got '" + tonemap + "'", Location("--tonemap"));
+      throw Error("expected filmic, reinhard or clamp, got '" + tonemap + "'",
+                  Location("--tonemap"));
     }
     if (options.display.jpeg_quality < 1 || options.display.jpeg_quality > 100) {
       throw Error("must be in 1..100", Location("--jpeg-quality"));

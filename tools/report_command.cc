@@ -24,7 +24,7 @@ int RunReport(int argc, char** argv) {
       "distributions, validation summary (docs/report.md).",
       "lsds report");
   report::ReportOptions options;
-  std::string collection, output, frames, validation_report, bundle_stats, tonemap = "clamp";
+  std::string collection, output, frames, validation_report, bundle_stats, tonemap = "filmic";
   bool validate = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("-o,--output", output, "the HTML file (written atomically)")->required();
@@ -45,7 +45,8 @@ int RunReport(int argc, char** argv) {
                  options.display.exposure_ev,
                  "exposure in EV for the colour images: linear * 2^EV")
       ->capture_default_str();
-  app.add_option("--tonemap", tonemap, "clamp or reinhard")->capture_default_str();
+  app.add_option("--tonemap", tonemap, "filmic (ACES fit, default), reinhard or clamp")
+      ->capture_default_str();
   app.add_flag("--validate",
                validate,
                "run lsds validate (all checks) and add its summary, with links "
@@ -64,7 +65,8 @@ int RunReport(int argc, char** argv) {
                   Location("--validation-report"));
     }
     if (!imaging::ParseToneMap(tonemap, &options.display.tonemap)) {
-      throw Error("expected clamp or reinhard, got '" + tonemap + "'", Location("--tonemap"));
+      throw Error("expected filmic, reinhard or clamp, got '" + tonemap + "'",
+                  Location("--tonemap"));
     }
     if (!frames.empty()) {
       const FrameSelection selection = SelectCollectionFrames(frames, collection);

@@ -25,8 +25,49 @@ const std::vector<std::string> kCameraKeys = {"csettings",
                                               "capture",
                                               "capture_settings",
                                               "rig"};
-const std::vector<std::string> kSettingsKeys = {
-    "fov", "res", "resolution", "focal_length", "sensor_width", "fps", "clearance", "heights"};
+const std::vector<std::string> kSettingsKeys = {"fov",
+                                                "res",
+                                                "resolution",
+                                                "focal_length",
+                                                "sensor_width",
+                                                "fps",
+                                                "clearance",
+                                                "heights",
+                                                "iso",
+                                                "shutter",
+                                                "f_number",
+                                                "ev100",
+                                                "exposure_compensation"};
+
+// The camera's exposure (docs/languages.md, "Exposure"): `ev100`, or
+// `shutter` (s) with `f_number` and `iso` (default 100); neither: auto
+// exposure, with `iso` and `f_number` fixed if given.
+PlannedExposure ReadExposure(const Node& settings) {
+  PlannedExposure e;
+  auto positive = [](const Node& n, const char* what) {
+    const double v = ReadNumber(n);
+    if (!(v > 0) || !std::isfinite(v)) n.Fail(std::string(what) + " must be > 0");
+    return v;
+  };
+  if (const Node n = settings.Find("iso")) e.iso = positive(n, "iso");
+  if (const Node n = settings.Find("fnumber")) e.f_number = positive(n, "f_number");
+  if (const Node n = settings.Find("shutter")) {
+    e.shutter_s = positive(n, "shutter (seconds)");
+    if (!e.f_number) n.Fail("a manual exposure by shutter needs f_number too (or give ev100)");
+  }
+  if (const Node n = settings.Find("ev100")) {
+    if (e.shutter_s || e.iso || e.f_number)
+      n.Fail("give ev100 or shutter, f_number and iso, not both");
+    e.ev100 = ReadNumber(n);
+    if (!(std::abs(*e.ev100) <= 30)) n.Fail("ev100 must be within [-30, 30]");
+  }
+  if (const Node n = settings.Find("exposurecompensation")) {
+    e.compensation_ev = ReadNumber(n);
+    if (!(std::abs(e.compensation_ev) <= 10))
+      n.Fail("exposure_compensation is in EV, within [-10, 10]");
+  }
+  return e;
+}
 
 // Default minimum clearance of a camera above the terrain and objects
 // (docs/languages.md, "Cameras where a drone can be").
@@ -283,6 +324,7 @@ class CaptureEvaluator {
     if (settings) {
       settings.CheckKeys(kSettingsKeys, "camera settings");
       intrinsics.Read(settings);
+      plan_->exposure = ReadExposure(settings);
       camera_model_ = intrinsics.Camera();
       if (const Node f = settings.Find("fps")) {
         fps_ = ReadNumber(f);

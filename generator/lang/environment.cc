@@ -159,8 +159,8 @@ bool IsEnvironmentKind(const std::string& kind) {
 
 const std::vector<std::string>& EnvironmentKeys(const std::string& kind, bool in_change) {
   static const std::map<std::string, std::vector<std::string>> kKeys = {
-      {"skybox", {"color", "clouds", "cloud_type", "cloud_density", "intensity"}},
-      {"light", {"elevation", "azimuth", "intensity", "date", "time", "utc_offset"}},
+      {"skybox", {"color", "clouds", "cloud_type", "cloud_density", "intensity", "luminance"}},
+      {"light", {"elevation", "azimuth", "intensity", "illuminance", "date", "time", "utc_offset"}},
       {"atmosphere", {"fog", "fog_density", "density", "visibility"}},
       {"skylight", {"intensity"}},
       {"terrain", {"size", "height", "perlin", "frequency", "material", "seed"}}};
@@ -179,7 +179,15 @@ void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedE
     }
     if (const Node n = b.Find("cloudtype")) env->sky.cloud_type = CloudType(n, rng);
     if (const Node n = b.Find("clouddensity")) env->sky.cloud_density = Fraction(n, rng);
-    if (const Node n = b.Find("intensity")) env->sky.intensity = NonNegative(n, rng);
+    // `luminance`: the zenith's, cd/m^2. `intensity`: the legacy unitless
+    // scale of the colour (docs/languages.md, "Light units").
+    const Node luminance = b.Find("luminance"), intensity = b.Find("intensity");
+    if (luminance && intensity)
+      b.Fail("give the sky's luminance (cd/m^2) or its intensity, not both");
+    if (luminance) env->sky.luminance_cd_m2 = NonNegative(luminance, rng);
+    if (intensity)
+      env->sky.luminance_cd_m2 =
+          NonNegative(intensity, rng) * RelativeLuminance(env->sky.color) * kLegacyNitsPerUnit;
   } else if (kind == "light") {
     SunClock(b, rng, &env->sun);
     if (const Node n = b.Find("elevation")) {
@@ -188,7 +196,12 @@ void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedE
         n.Fail("sun elevation must be within [-90, 90] degrees");
     }
     if (const Node n = b.Find("azimuth")) env->sun.azimuth_deg = SampleScalar(n, rng);
-    if (const Node n = b.Find("intensity")) env->sun.intensity = NonNegative(n, rng);
+    // Lux (the paper's Table 2); a legacy `intensity` below 100 is the old
+    // unitless scale (docs/languages.md, "Light units").
+    const Node illuminance = b.Find("illuminance"), intensity = b.Find("intensity");
+    if (illuminance && intensity) b.Fail("give the sun's illuminance or its intensity, not both");
+    if (illuminance) env->sun.illuminance_lux = NonNegative(illuminance, rng);
+    if (intensity) env->sun.illuminance_lux = SunLuxFromIntensity(NonNegative(intensity, rng));
   } else if (kind == "atmosphere") {
     env->fog_density = AtmosphereExtinction(b, rng);
   } else if (kind == "skylight") {

@@ -1,12 +1,27 @@
 #include "generator/plan/plan.h"
 
+#include <cmath>
+
 namespace lsds {
+
+double SunLuxFromIntensity(double intensity) {
+  return intensity < kLegacySunIntensityLimit ? M_PI * intensity * kLegacyNitsPerUnit : intensity;
+}
+
+double RelativeLuminance(const Eigen::Vector3d& rgb) {
+  return 0.2126 * rgb.x() + 0.7152 * rgb.y() + 0.0722 * rgb.z();
+}
+
+bool PlannedExposure::operator==(const PlannedExposure& o) const {
+  return ev100 == o.ev100 && shutter_s == o.shutter_s && f_number == o.f_number && iso == o.iso &&
+         compensation_ev == o.compensation_ev;
+}
 
 bool PlannedEnvironment::operator==(const PlannedEnvironment& o) const {
   return sky.color == o.sky.color && sky.cloud_type == o.sky.cloud_type &&
-         sky.cloud_density == o.sky.cloud_density && sky.intensity == o.sky.intensity &&
+         sky.cloud_density == o.sky.cloud_density && sky.luminance_cd_m2 == o.sky.luminance_cd_m2 &&
          sun.elevation_deg == o.sun.elevation_deg && sun.azimuth_deg == o.sun.azimuth_deg &&
-         sun.intensity == o.sun.intensity && sun.clock_utc_s == o.sun.clock_utc_s &&
+         sun.illuminance_lux == o.sun.illuminance_lux && sun.clock_utc_s == o.sun.clock_utc_s &&
          sun.utc_offset_h == o.sun.utc_offset_h && fog_density == o.fog_density &&
          skylight_intensity == o.skylight_intensity && terrain_material == o.terrain_material;
 }

@@ -19,17 +19,31 @@
 
 namespace lsds {
 
+// Photometric units of the light (docs/generator.md, "Physical light and
+// camera"). Before them, the sun's `intensity` and the sky's were unitless
+// scales of a renderer whose radiance 1 was display white; such a legacy value
+// v means v * kLegacyNitsPerUnit cd/m^2 of radiance (sky) and
+// pi * v * kLegacyNitsPerUnit lux (sun), so old plans keep their look up to
+// the camera's exposure.
+constexpr double kLegacyNitsPerUnit = 10000;
+// A sun `intensity` below this is a legacy unitless value, not lux (real
+// daylight is 1000 lux and more; a sun of less than 100 lux is twilight).
+constexpr double kLegacySunIntensityLimit = 100;
+double SunLuxFromIntensity(double intensity);
+// The relative luminance (Rec. 709 / sRGB primaries) of a linear RGB colour.
+double RelativeLuminance(const Eigen::Vector3d& rgb);
+
 struct PlannedSky {
-  Eigen::Vector3d color = {0.55, 0.7, 0.95};  // linear RGB at the zenith
+  Eigen::Vector3d color = {0.55, 0.7, 0.95};  // linear RGB at the zenith: its chromaticity
   std::string cloud_type = "none";            // none | cumulus | nimbostratus | cirrus | stratus
   double cloud_density = 0.0;                 // [0, 1]
-  double intensity = 1.0;                     // sky radiance scale
+  double luminance_cd_m2 = 7000;              // the clear sky's luminance at the zenith
 };
 
 struct PlannedSun {
-  double elevation_deg = 50.0;  // above the horizon
-  double azimuth_deg = 135.0;   // from north, clockwise
-  double intensity = 3.0;       // irradiance scale
+  double elevation_deg = 50.0;      // above the horizon
+  double azimuth_deg = 135.0;       // from north, clockwise
+  double illuminance_lux = 100000;  // on a plane facing the sun, above the clouds
   // Given by date and time (geo-referenced scenes): the UTC clock at capture
   // time 0 (seconds since 1970) and the local offset it was written in. Each
   // frame's sun is then the solar position at clock + frame time.
@@ -46,6 +60,19 @@ struct PlannedEnvironment {
   double skylight_intensity = 0.3;  // ambient
   std::string terrain_material = "grassy";
   bool operator==(const PlannedEnvironment& o) const;
+};
+
+// The camera's exposure (LCAP csettings `ev100`, `iso`, `shutter`,
+// `f_number`, `exposure_compensation`; docs/generator.md "Physical light and
+// camera"). Manual when `ev100` or `shutter` is set, else metered per frame.
+struct PlannedExposure {
+  std::optional<double> ev100;      // manual, given directly
+  std::optional<double> shutter_s;  // manual with f_number
+  std::optional<double> f_number;   // manual with shutter_s; auto: fixed aperture (default 8)
+  std::optional<double> iso;        // default 100
+  double compensation_ev = 0;       // scales the exposure by 2^EV
+  bool Manual() const { return ev100.has_value() || shutter_s.has_value(); }
+  bool operator==(const PlannedExposure& o) const;
 };
 
 struct PlannedTerrain {
@@ -148,7 +175,8 @@ struct Plan {
   PlannedTerrain terrain;
   std::vector<PlannedObject> objects;
   std::vector<std::string>
-      post_process;  // PP materials named in LCAP, recorded as capture settings
+      post_process;          // PP materials named in LCAP, recorded as capture settings
+  PlannedExposure exposure;  // LCAP csettings, the same for every frame
   // LCAP capture settings other than post-process materials (e.g. "layers",
   // "output"), as written.
   nlohmann::json capture_settings = nlohmann::json::object();

@@ -77,10 +77,32 @@ ObjectChange ChangeFrom(const json& j) {
 
 json ObjectChangeToJson(const ObjectChange& change) { return ChangeJson(change); }
 
+json ExposureToJson(const PlannedExposure& e) {
+  json j = {{"mode", e.Manual() ? "manual" : "auto"}, {"compensation_ev", e.compensation_ev}};
+  if (e.ev100) j["ev100"] = *e.ev100;
+  if (e.shutter_s) j["shutter_s"] = *e.shutter_s;
+  if (e.f_number) j["f_number"] = *e.f_number;
+  if (e.iso) j["iso"] = *e.iso;
+  return j;
+}
+
+PlannedExposure ExposureFromJson(const json& j) {
+  PlannedExposure e;
+  auto get = [&j](const char* key) {
+    return j.contains(key) ? std::optional<double>(j.at(key).get<double>()) : std::nullopt;
+  };
+  e.ev100 = get("ev100");
+  e.shutter_s = get("shutter_s");
+  e.f_number = get("f_number");
+  e.iso = get("iso");
+  e.compensation_ev = j.value("compensation_ev", 0.0);
+  return e;
+}
+
 json SunJson(const PlannedSun& sun) {
   json j = {{"elevation_deg", sun.elevation_deg},
             {"azimuth_deg", sun.azimuth_deg},
-            {"intensity", sun.intensity}};
+            {"illuminance_lux", sun.illuminance_lux}};
   if (sun.clock_utc_s) {
     j["clock_utc_s"] = *sun.clock_utc_s;
     j["utc_offset_h"] = sun.utc_offset_h;
@@ -94,7 +116,7 @@ json EnvironmentJson(const PlannedEnvironment& e) {
            {{"color", Vec3(e.sky.color)},
             {"cloud_type", e.sky.cloud_type},
             {"cloud_density", e.sky.cloud_density},
-            {"intensity", e.sky.intensity}}},
+            {"luminance_cd_m2", e.sky.luminance_cd_m2}}},
           {"sun", SunJson(e.sun)},
           {"fog_density", e.fog_density},
           {"skylight_intensity", e.skylight_intensity},
@@ -107,11 +129,18 @@ PlannedEnvironment EnvironmentFromJson(const json& j) {
   e.sky.color = ToVec3(sky.at("color"));
   e.sky.cloud_type = sky.at("cloud_type").get<std::string>();
   e.sky.cloud_density = sky.at("cloud_density").get<double>();
-  e.sky.intensity = sky.at("intensity").get<double>();
+  // Plans written before the photometric units: the unitless scales
+  // (kLegacyNitsPerUnit).
+  e.sky.luminance_cd_m2 =
+      sky.contains("luminance_cd_m2")
+          ? sky.at("luminance_cd_m2").get<double>()
+          : sky.at("intensity").get<double>() * RelativeLuminance(e.sky.color) * kLegacyNitsPerUnit;
   const json& sun = j.at("sun");
   e.sun.elevation_deg = sun.at("elevation_deg").get<double>();
   e.sun.azimuth_deg = sun.at("azimuth_deg").get<double>();
-  e.sun.intensity = sun.at("intensity").get<double>();
+  e.sun.illuminance_lux = sun.contains("illuminance_lux")
+                              ? sun.at("illuminance_lux").get<double>()
+                              : SunLuxFromIntensity(sun.at("intensity").get<double>());
   if (sun.contains("clock_utc_s")) {
     e.sun.clock_utc_s = sun.at("clock_utc_s").get<double>();
     e.sun.utc_offset_h = sun.value("utc_offset_h", 0.0);
@@ -207,6 +236,7 @@ json PlanToJson(const Plan& plan) {
             {"objects", objects},
             {"post_process", plan.post_process},
             {"capture_settings", plan.capture_settings},
+            {"exposure", ExposureToJson(plan.exposure)},
             {"frame_count", plan.frames.size()},
             {"frames", frames}};
   j.update(environment);
@@ -263,6 +293,7 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     }
     plan.post_process = j.at("post_process").get<std::vector<std::string>>();
     if (j.contains("capture_settings")) plan.capture_settings = j["capture_settings"];
+    if (j.contains("exposure")) plan.exposure = ExposureFromJson(j["exposure"]);
     if (j.contains("rig")) plan.rig = RigFromJson(j.at("rig"));
     if (j.contains("requirements")) plan.requirements = j["requirements"];
     const json& frames = j.at("frames");

@@ -22,6 +22,10 @@ Plan PlanFromJson(const nlohmann::json& json, const std::string& file);
 nlohmann::json PlannedFrameToJson(const PlannedFrame& frame);
 // One scene change as the plan writes it ({"object": ..., "extent": ...}).
 nlohmann::json ObjectChangeToJson(const ObjectChange& change);
+// The camera exposure of a plan (`exposure`: mode, ev100, shutter_s, f_number,
+// iso, compensation_ev).
+nlohmann::json ExposureToJson(const PlannedExposure& exposure);
+PlannedExposure ExposureFromJson(const nlohmann::json& json);
 PlannedFrame PlannedFrameFromJson(const nlohmann::json& json,
                                   const std::string& file,
                                   const std::string& pointer);

@@ -25,14 +25,21 @@ Sky::Sky(const Plan& plan) : Sky(plan, EnvironmentOf(plan)) {}
 Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
     : noise_(HashCombine(plan.seed, 0xc10d)), texture_noise_(HashCombine(plan.seed, 0x7e47)) {
   const PlannedSky& sky = environment.sky;
-  const float intensity = static_cast<float>(sky.intensity);
-  zenith_ = sky.color.cast<float>() * intensity;
-  horizon_ = (0.5f * sky.color.cast<float>() + Eigen::Vector3f(0.45f, 0.45f, 0.45f)) * intensity;
+  // Photometric radiance: RGB whose relative luminance is cd/m^2
+  // (docs/generator.md, "Physical light and camera"). The colour gives the
+  // zenith's chromaticity, `luminance_cd_m2` its luminance.
+  const double color_luminance = RelativeLuminance(sky.color);
+  const float sky_scale =
+      color_luminance > 0 ? static_cast<float>(sky.luminance_cd_m2 / color_luminance) : 0.f;
+  zenith_ = sky.color.cast<float>() * sky_scale;
+  horizon_ = (0.5f * sky.color.cast<float>() + Eigen::Vector3f(0.45f, 0.45f, 0.45f)) * sky_scale;
   const double el = environment.sun.elevation_deg * M_PI / 180,
                az = environment.sun.azimuth_deg * M_PI / 180;
   to_sun_ = Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
-  sun_irradiance_ =
-      Eigen::Vector3f(1.0f, 0.96f, 0.9f) * static_cast<float>(environment.sun.intensity);
+  // Stored as E / pi, so that a Lambertian surface of albedo a facing the sun
+  // has radiance a * sun_irradiance_ (cd/m^2); the tint has luminance 1.
+  const Eigen::Vector3f sun_tint = Eigen::Vector3f(1.0f, 0.96f, 0.9f) / 0.96432f;
+  sun_irradiance_ = sun_tint * static_cast<float>(environment.sun.illuminance_lux / M_PI);
   ambient_ =
       (0.6f * zenith_ + 0.4f * horizon_) * static_cast<float>(environment.skylight_intensity);
   fog_density_ = environment.fog_density;
@@ -53,8 +60,8 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
     // CloudTransmittance) and whiten the skylight.
     sun_irradiance_ *= static_cast<float>(1 - 0.3 * cloud_density_);
     ambient_ = ambient_ * static_cast<float>(1 - 0.3 * cloud_density_) +
-               Eigen::Vector3f::Constant(
-                   0.15f * static_cast<float>(cloud_density_ * environment.skylight_intensity));
+               Eigen::Vector3f::Constant(static_cast<float>(
+                   0.2 * sky.luminance_cd_m2 * cloud_density_ * environment.skylight_intensity));
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -36,6 +37,43 @@ void SetSpecular(std::vector<Material>* table) {
         m.specular = g.specular, m.metallic = g.metallic, m.roughness = g.roughness;
 }
 
+// The spatial variation of the built-in families: (pattern, patches).
+void SetPatterns(std::vector<Material>* table) {
+  struct Variation {
+    const char* name;
+    Pattern pattern;
+    float patches;
+  };
+  static const Variation variation[] = {
+      {"grassy", Pattern::kMottled, 0.35f},
+      {"sandy", Pattern::kSpeckle, 0.15f},
+      {"sand", Pattern::kSpeckle, 0.15f},
+      {"rocky_sand", Pattern::kSpeckle, 0.2f},
+      {"rocky", Pattern::kStrata, 0.25f},
+      {"granite", Pattern::kSpeckle, 0.15f},
+      {"stone", Pattern::kStrata, 0.2f},
+      {"sandstone", Pattern::kStrata, 0.2f},
+      {"snowy", Pattern::kMottled, 0.05f},
+      {"soil", Pattern::kMottled, 0.3f},
+      {"mud", Pattern::kMottled, 0.3f},
+      {"asphalt", Pattern::kSpeckle, 0.25f},
+      {"concrete", Pattern::kSpeckle, 0.15f},
+      {"metal", Pattern::kBrushed, 0.1f},
+      {"metal_gold", Pattern::kBrushed, 0.05f},
+      {"rust", Pattern::kMottled, 0.3f},
+      {"painted", Pattern::kMottled, 0.1f},
+      {"painted_red", Pattern::kMottled, 0.1f},
+      {"painted_green", Pattern::kMottled, 0.1f},
+      {"painted_blue", Pattern::kMottled, 0.1f},
+      {"painted_yellow", Pattern::kMottled, 0.1f},
+      {"wood", Pattern::kBrushed, 0.15f},
+      {"foliage", Pattern::kMottled, 0.3f},
+  };
+  for (Material& m : *table)
+    for (const Variation& v : variation)
+      if (m.name == v.name) m.pattern = v.pattern, m.patches = v.patches;
+}
+
 }  // namespace
 
 const std::vector<Material>& MaterialTable() {
@@ -43,7 +81,8 @@ const std::vector<Material>& MaterialTable() {
     std::vector<Material> t = {
         // Terrain.
         {"grassy", {0.10f, 0.20f, 0.05f}, {0.22f, 0.26f, 0.09f}, 0.15f, 0.7f},
-        {"sandy", {0.55f, 0.45f, 0.30f}, {0.45f, 0.36f, 0.24f}, 0.3f, 0.5f},
+        // Dry sand: albedo 0.3-0.4 (luminance 0.37 and 0.30).
+        {"sandy", {0.44f, 0.36f, 0.25f}, {0.36f, 0.29f, 0.20f}, 0.3f, 0.5f},
         {"rocky", {0.28f, 0.26f, 0.24f}, {0.45f, 0.43f, 0.40f}, 0.4f, 0.8f},
         {"snowy", {0.80f, 0.82f, 0.85f}, {0.65f, 0.68f, 0.74f}, 0.2f, 0.4f},
         {"soil", {0.20f, 0.13f, 0.08f}, {0.30f, 0.22f, 0.14f}, 0.5f, 0.6f},
@@ -66,7 +105,7 @@ const std::vector<Material>& MaterialTable() {
         {"white", {0.80f, 0.80f, 0.80f}, {0.75f, 0.75f, 0.75f}, 1.0f, 0.0f},
         {"orange", {0.80f, 0.30f, 0.03f}, {0.70f, 0.25f, 0.03f}, 1.0f, 0.1f},
         // Names used by the LSCENE examples (docs/languages.md).
-        {"sand", {0.58f, 0.48f, 0.32f}, {0.48f, 0.39f, 0.26f}, 0.3f, 0.5f},
+        {"sand", {0.46f, 0.38f, 0.26f}, {0.37f, 0.30f, 0.21f}, 0.3f, 0.5f},
         {"rocky_sand", {0.45f, 0.39f, 0.30f}, {0.30f, 0.28f, 0.25f}, 0.6f, 0.7f},
         {"granite", {0.35f, 0.33f, 0.32f}, {0.55f, 0.52f, 0.50f}, 5.0f, 0.6f},
         {"sandstone", {0.55f, 0.38f, 0.22f}, {0.45f, 0.30f, 0.18f}, 3.0f, 0.5f},
@@ -81,6 +120,7 @@ const std::vector<Material>& MaterialTable() {
         {"metal_gold", {1.00f, 0.71f, 0.29f}, {0.90f, 0.62f, 0.24f}, 4.0f, 0.2f},
     };
     SetSpecular(&t);
+    SetPatterns(&t);
     return t;
   }();
   return table;
@@ -120,11 +160,39 @@ const Material& FindMaterial(const std::string& name, const std::string& where) 
 }
 
 Eigen::Vector3f Albedo(const Material& material, const Perlin& noise, const Eigen::Vector3f& p) {
-  if (material.contrast <= 0) return material.base;
+  if (material.contrast <= 0 && material.patches <= 0) return material.base;
   const double f = material.frequency;
-  const double n = noise.Fbm(p.x() * f, p.y() * f, p.z() * f, 3);
+  double n = 0;
+  switch (material.pattern) {
+    case Pattern::kMottled:
+      n = noise.Fbm(p.x() * f, p.y() * f, p.z() * f, 3);
+      break;
+    case Pattern::kSpeckle: {
+      // Mottling plus grains: a fine noise, thresholded, at 8x the frequency.
+      const double grain = noise.Noise(p.x() * f * 8 + 31.7, p.y() * f * 8, p.z() * f * 8);
+      n = 0.6 * noise.Fbm(p.x() * f, p.y() * f, p.z() * f, 2) + (grain > 0.25 ? 0.8 : -0.1);
+      break;
+    }
+    case Pattern::kStrata: {
+      // Bedding planes: bands along z, bent by noise.
+      const double warp = noise.Fbm(p.x() * f * 0.5, p.y() * f * 0.5, p.z() * f * 0.5, 2);
+      n = 0.7 * std::sin((p.z() * f * 3 + 2.5 * warp) * M_PI) +
+          0.4 * noise.Noise(p.x() * f * 4, p.y() * f * 4, p.z() * f * 4);
+      break;
+    }
+    case Pattern::kBrushed:
+      // Streaks: noise stretched 40 times along x.
+      n = noise.Fbm(p.x() * f * 0.1, p.y() * f * 4, p.z() * f * 4, 2);
+      break;
+  }
   const float mix = std::clamp(static_cast<float>(0.5 + 0.8 * n), 0.f, 1.f) * material.contrast;
-  return (1 - mix) * material.base + mix * material.secondary;
+  Eigen::Vector3f albedo = (1 - mix) * material.base + mix * material.secondary;
+  if (material.patches > 0) {
+    const double g = f / 8;
+    const double patch = noise.Fbm(p.x() * g + 113.1, p.y() * g + 71.3, p.z() * g, 2);
+    albedo *= std::clamp(1.f + material.patches * static_cast<float>(patch) * 1.5f, 0.f, 2.f);
+  }
+  return albedo.cwiseMin(1.f);
 }
 
 }  // namespace lsds::gen

@@ -1,6 +1,8 @@
-// Procedural materials: a named albedo with a noise pattern, evaluated at a
-// world point. Simple and fast (Lambertian); the names are what LSCENE's
-// `material` properties and the terrain refer to.
+// Procedural materials: a named albedo with a spatial pattern, evaluated at a
+// world point (docs/generator.md, "Materials"), and a specular/metallic lobe
+// (generator/render/shading.h). The names are what LSCENE's `material`
+// properties and the terrain refer to. Albedos are linear and measured-like:
+// dry sand 0.3-0.4, grass 0.1-0.2, asphalt 0.05-0.1, fresh snow 0.8.
 #pragma once
 
 #include <string>
@@ -11,6 +13,15 @@
 #include "generator/scene/perlin.h"
 
 namespace lsds::gen {
+
+// The spatial pattern of a material family, on top of the two-scale mottling
+// every material has.
+enum class Pattern {
+  kMottled,  // fractal noise only (grass, soil, paint, ...)
+  kSpeckle,  // small grains of `secondary` (asphalt aggregate, sand grains, concrete)
+  kStrata,   // bands along the height, warped by noise (rock)
+  kBrushed,  // streaks along the world x axis (brushed metal)
+};
 
 struct Material {
   std::string name;
@@ -23,6 +34,10 @@ struct Material {
   float specular = 0.f;   // [0, 1] weight of the specular term
   float metallic = 0.f;   // [0, 1]: 1 tints the reflection by the albedo and has no diffuse
   float roughness = 1.f;  // GGX roughness (alpha = roughness^2)
+  Pattern pattern = Pattern::kMottled;
+  // Large patches (at frequency / 8): the albedo is scaled by 1 +- patches
+  // (dry and damp ground, wear, dirt), so no two stretches look the same.
+  float patches = 0.f;
 };
 
 // The built-in material table (grassy, sandy, rocky, snowy, soil, asphalt,

@@ -378,6 +378,7 @@ json FrameToJson(const Frame& f) {
   if (!f.sequence.empty()) j["sequence"] = f.sequence;
   if (f.shot) j["shot"] = *f.shot;
   if (!f.scene.is_null()) j["scene"] = f.scene;
+  if (!f.exposure.is_null()) j["exposure"] = f.exposure;
   if (f.camera_velocity) j["camera_velocity"] = Vector3ToJson(*f.camera_velocity);
   if (f.rig_camera) j["rig_camera"] = *f.rig_camera;
   if (f.step) j["step"] = *f.step;
@@ -393,6 +394,7 @@ Frame FrameFromJson(const json& j, const std::string& file, const std::string& p
     f.sequence = j.value("sequence", "");
     if (j.contains("shot")) f.shot = j.at("shot").get<int64_t>();
     if (j.contains("scene")) f.scene = j.at("scene");
+    if (j.contains("exposure")) f.exposure = j.at("exposure");
     if (j.contains("camera_velocity")) f.camera_velocity = Vector3FromJson(j.at("camera_velocity"));
     if (j.contains("rig_camera")) f.rig_camera = j.at("rig_camera").get<std::string>();
     if (j.contains("step")) f.step = j.at("step").get<int64_t>();

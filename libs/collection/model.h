@@ -150,6 +150,9 @@ struct Frame {
   // Format 1.1: the scene state the frame shows (sun, sky, atmosphere), as
   // written by the generator; null when unknown.
   nlohmann::json scene;
+  // Format 1.1, optional: the camera exposure the rgb layer was exposed with
+  // (docs/format.md, "Exposure"); null when unknown.
+  nlohmann::json exposure;
   CameraTruth camera;
   // Format 1.1, optional: the camera centre's velocity (world units per
   // second) on a smooth flight.

@@ -24,16 +24,24 @@ bool ParseToneMap(const std::string& name, ToneMap* tonemap) {
     *tonemap = ToneMap::kClamp;
   } else if (name == "reinhard") {
     *tonemap = ToneMap::kReinhard;
+  } else if (name == "filmic") {
+    *tonemap = ToneMap::kFilmic;
   } else {
     return false;
   }
   return true;
 }
 
+float ToneCurve(ToneMap tonemap, float v) {
+  if (!(v > 0.f)) return 0.f;  // negatives and NaN
+  if (tonemap == ToneMap::kReinhard) v = v / (1.f + v);
+  if (tonemap == ToneMap::kFilmic) v = v * (2.51f * v + 0.03f) / (v * (2.43f * v + 0.59f) + 0.14f);
+  return v < 1.f ? v : 1.f;
+}
+
 cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
   const std::array<uint8_t, kSteps + 1>& table = Srgb8Table<kSteps>();
   const float scale = static_cast<float>(std::exp2(options.exposure_ev));
-  const bool reinhard = options.tonemap == ToneMap::kReinhard;
   const float* channels[3] = {
       rgb.Get("B").floats.data(), rgb.Get("G").floats.data(), rgb.Get("R").floats.data()};
   cv::Mat out(rgb.height(), rgb.width(), CV_8UC3);
@@ -42,10 +50,7 @@ cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
     const size_t row = static_cast<size_t>(y) * rgb.width();
     for (int x = 0; x < rgb.width(); ++x) {
       for (int c = 0; c < 3; ++c) {
-        float v = channels[c][row + x] * scale;
-        if (!(v > 0.f)) v = 0.f;  // negatives and NaN
-        if (reinhard) v = v / (1.f + v);
-        if (v > 1.f) v = 1.f;
+        const float v = ToneCurve(options.tonemap, channels[c][row + x] * scale);
         dst[3 * x + c] = table[static_cast<int>(v * kSteps + 0.5f)];
       }
     }

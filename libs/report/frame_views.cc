@@ -94,6 +94,14 @@ std::string SceneLine(const Frame& frame) {
         out += ", az " + Fixed(sun["azimuth_deg"].get<double>(), 0) + "&deg;";
       }
     }
+    if (sun.value("illuminance_lux", nlohmann::json()).is_number())
+      out += ", " + Fixed(sun["illuminance_lux"].get<double>(), 0) + " lx";
+  }
+  // The camera's exposure (docs/format.md, "Exposure").
+  if (frame.exposure.is_object() && frame.exposure.value("ev100", nlohmann::json()).is_number()) {
+    out += (out.empty() ? "" : " &middot; ") + std::string("EV100 ") +
+           Fixed(frame.exposure["ev100"].get<double>(), 1) + " (" +
+           HtmlEscape(frame.exposure.value("mode", std::string("?"))) + ")";
   }
   if (scene.contains("atmosphere") && scene["atmosphere"].is_object() &&
       scene["atmosphere"].value("visibility_m", nlohmann::json()).is_number()) {

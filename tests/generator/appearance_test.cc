@@ -185,7 +185,7 @@ TEST(Smooth, TerrainShadingFollowsTheSmoothSurface) {
   plan.terrain.perlin_amplitude = 6;
   plan.terrain.perlin_frequency = 0.03;
   plan.terrain.material = "white";
-  plan.sun = {90.0, 0.0, 1.0};
+  plan.sun = {90.0, 0.0, 100000.0};
   plan.skylight_intensity = 0;
   AddFrame(&plan, testing::Nadir({0, 0, 40}), 96, 72);
   const Film film = RenderK(plan, 0);
@@ -193,7 +193,8 @@ TEST(Smooth, TerrainShadingFollowsTheSmoothSurface) {
   const auto& x = film.flat.at("worldposition").Get("X").floats;
   const auto& y = film.flat.at("worldposition").Get("Y").floats;
   const auto& nz = film.flat.at("normal").Get("Z").floats;
-  const float albedo_sun = 0.80f * 1.0f;  // "white", sun colour R = 1
+  // "white" under the sun: radiance albedo * E / pi (times the sun's tint).
+  const float albedo_sun = 0.80f * Sky(plan).sun_irradiance().x();
   const double step = TerrainNormalStep(plan.terrain);
   double worst = 0, worst_jump = 0, worst_geometric_jump = 0, worst_geometric = 0;
   const int w = 96, h = 72;
@@ -296,7 +297,7 @@ TEST(Materials, MetalGoldHasATintedHighlightLambertianDoesNot) {
   auto spread = [](const std::string& material, Eigen::Vector3f* brightest) {
     Plan plan = testing::FlatPlan(64, 48, 90);
     plan.terrain.material = material;
-    plan.sun = {60.0, 180.0, 3.0};  // from the south
+    plan.sun = {60.0, 180.0, 100000.0};  // from the south
     plan.frames[0].cam_from_world = testing::Nadir({0, 0, 10});
     const Film film = RenderK(plan, 0);
     const auto& r = film.flat.at("rgb").Get("R").floats;

@@ -19,7 +19,7 @@ inline Plan FlatPlan(int width = 64, int height = 48, double hfov_deg = 60) {
   plan.terrain.material = "sandy";
   plan.terrain.class_id = 1;
   plan.terrain.instance_id = 1000;
-  plan.sun = {60.0, 90.0, 3.0};  // from the east (+x), 60 degrees up
+  plan.sun = {60.0, 90.0, SunLuxFromIntensity(3.0)};  // from the east (+x), 60 degrees up
   PlannedFrame frame;
   frame.camera = PinholeCamera::FromHorizontalFov(width, height, hfov_deg);
   frame.sequence = "P1(1)";

@@ -13,7 +13,9 @@
 namespace lsds::testing {
 
 inline cv::Mat SrgbPng(const exr::FlatImage& rgb, bool alpha) {
-  cv::Mat bgr = imaging::ToSrgb8(rgb, {});
+  imaging::DisplayOptions display;
+  display.tonemap = imaging::ToneMap::kClamp;  // a simulator's PNG: no tone curve
+  cv::Mat bgr = imaging::ToSrgb8(rgb, display);
   if (!alpha) return bgr;
   std::vector<cv::Mat> planes;
   cv::split(bgr, planes);

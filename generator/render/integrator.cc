@@ -26,6 +26,8 @@ struct Hit {
   // Interpolated corner normal (smooth shading), on the camera's side; used
   // for lighting only, the normal layer keeps `normal`.
   Eigen::Vector3d shading_normal;
+  unsigned prim = 0;  // Embree's triangle and barycentrics: texture lookups
+  float u = 0, v = 0;
 };
 
 // The ray's exact hit: Embree finds the triangle, the plane of its (float)
@@ -67,6 +69,9 @@ Hit Trace(const RenderScene& scene,
   }
   hit.hit = true;
   hit.geom = rh.hit.geomID;
+  hit.prim = rh.hit.primID;
+  hit.u = rh.hit.u;
+  hit.v = rh.hit.v;
   const Surface& s = scene.surface(rh.hit.geomID);
   const Eigen::Vector3i& tri = s.triangles[rh.hit.primID];
   const Eigen::Vector3d v0 = s.positions[tri[0]].cast<double>();
@@ -241,7 +246,9 @@ Film RenderFrame(const RenderScene& scene,
               } else {
                 const Surface& s = scene.surface(hit.geom);
                 const Eigen::Vector3f albedo =
-                    Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>());
+                    s.MappedAlbedo(hit.prim, hit.u, hit.v)
+                        .value_or(
+                            Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>()));
                 const double cos_sun = hit.shading_normal.dot(sky.to_sun());
                 float lit = 0.f;
                 if (cos_sun > 0) {

@@ -128,9 +128,9 @@ TriangleMesh CarMesh() {
 
 TriangleMesh TruckMesh() {
   TriangleMesh mesh;
-  AddBox(&mesh, {7.6f, 1.1f, 0.35f}, {0, 0, 0.75f});    // chassis
-  AddBox(&mesh, {5.6f, 2.5f, 2.6f}, {-1.3f, 0, 1.9f});  // cargo box, z 0.6 .. 3.2
-  const Frustum cab{{1.0f, 1.2f}, {0.8f, 1.15f}, 2.9f, 2.75f, 0.8f, 3.0f};
+  AddBox(&mesh, {7.6f, 1.1f, 0.35f}, {0, 0, 0.9f});        // chassis
+  AddBox(&mesh, {5.6f, 2.5f, 2.15f}, {-1.3f, 0, 2.125f});  // cargo box above the wheels
+  const Frustum cab{{1.0f, 1.2f}, {0.8f, 1.15f}, 2.9f, 2.75f, 1.0f, 3.0f};
   mesh.Append(cab.Mesh());
   mesh.Append(Tinted(cab.Section(2.1f, 2.8f, 0.015f).Mesh(), 30, 38, 48));
   for (float x : {-3.0f, -1.9f, 2.7f})
@@ -240,7 +240,7 @@ TriangleMesh TreeMesh(uint64_t seed) {
       }
       case 'X': {  // a bud left at the end: a clump of leaves
         const float r = static_cast<float>(uniform.In(0.55, 0.8));
-        TriangleMesh clump = MakeSphereMesh(10, 6);
+        TriangleMesh clump = MakeSphereMesh(14, 8);
         const Perlin noise(HashCombine(seed, crown.positions.size()));
         for (Eigen::Vector3f& p : clump.positions)
           p *= static_cast<float>(1 + 0.3 * noise.Fbm(3 * p.x(), 3 * p.y(), 3 * p.z(), 3));

@@ -91,6 +91,24 @@ TEST(BuiltinClasses, EveryClassFillsItsUnitBoxAndIsDeterministicPerSeed) {
   }
 }
 
+TEST(BuiltinClasses, IcosphereIsClosedAndWoundOutward) {
+  const TriangleMesh sphere = MakeIcosphereMesh(2);
+  EXPECT_EQ(sphere.positions.size(), 162u);  // 10 * 4^2 + 2
+  EXPECT_EQ(sphere.triangles.size(), 320u);
+  std::map<std::pair<int, int>, int> edges;  // each directed edge once: closed, consistent
+  for (const Eigen::Vector3i& t : sphere.triangles) {
+    const Eigen::Vector3f a = sphere.positions[t[0]], b = sphere.positions[t[1]],
+                          c = sphere.positions[t[2]];
+    EXPECT_GT((b - a).cross(c - a).dot(a + b + c), 0);
+    for (int k = 0; k < 3; ++k) ++edges[{t[k], t[(k + 1) % 3]}];
+  }
+  for (const auto& [edge, count] : edges) {
+    EXPECT_EQ(count, 1);
+    EXPECT_EQ(edges.count({edge.second, edge.first}), 1u);
+  }
+  for (const Eigen::Vector3f& p : sphere.positions) EXPECT_NEAR(p.norm(), 0.5f, 1e-6f);
+}
+
 TEST(BuiltinClasses, PluralsAndSynonymsNameTheSameClass) {
   const std::map<std::string, std::string> spellings = {{"cars", "car"},
                                                         {"trucks", "truck"},
@@ -201,16 +219,31 @@ void WriteChecker(const fs::path& png) {
 
 // A 2 m quad, y-up as glTF 2.0 requires, texture coordinates (0, 0) at the
 // image's top-left (glTF's convention) on the corner that lands at world
-// (-1, +1): the red quadrants are world (-x, +y) and (+x, -y).
-void WriteGltfQuad(const fs::path& dir) {
+// (-1, +1): the red quadrants are world (-x, +y) and (+x, -y). `embedded`:
+// a binary .glb holding the PNG in its buffer, else quad.gltf + quad.bin +
+// checker.png.
+void WriteGltfQuad(const fs::path& dir, bool embedded = false) {
   WriteChecker(dir / "checker.png");
   const float positions[4][3] = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
   const float uvs[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  const uint16_t indices[6] = {0, 2, 1, 0, 3, 2};
+  const uint16_t indices[8] = {0, 2, 1, 0, 3, 2, 0, 0};  // padded to 4 bytes
   std::string bin(reinterpret_cast<const char*>(positions), sizeof positions);
   bin.append(reinterpret_cast<const char*>(uvs), sizeof uvs);
   bin.append(reinterpret_cast<const char*>(indices), sizeof indices);
-  std::ofstream(dir / "quad.bin", std::ios::binary) << bin;
+  nlohmann::json views = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
+                          {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 32}},
+                          {{"buffer", 0}, {"byteOffset", 80}, {"byteLength", 12}}};
+  nlohmann::json image = {{"uri", "checker.png"}};
+  if (embedded) {
+    std::ifstream in(dir / "checker.png", std::ios::binary);
+    const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", png.size()}});
+    image = {{"bufferView", 3}, {"mimeType", "image/png"}};
+    bin += png;
+    while (bin.size() % 4) bin.push_back('\0');
+  }
+  nlohmann::json buffer = {{"byteLength", bin.size()}};
+  if (!embedded) buffer["uri"] = "quad.bin";
   const nlohmann::json gltf = {
       {"asset", {{"version", "2.0"}}},
       {"scene", 0},
@@ -223,12 +256,9 @@ void WriteGltfQuad(const fs::path& dir) {
             {"material", 0}}}}}}},
       {"materials", {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}}},
       {"textures", {{{"source", 0}}}},
-      {"images", {{{"uri", "checker.png"}}}},
-      {"buffers", {{{"uri", "quad.bin"}, {"byteLength", bin.size()}}}},
-      {"bufferViews",
-       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
-        {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 32}},
-        {{"buffer", 0}, {"byteOffset", 80}, {"byteLength", 12}}}},
+      {"images", {image}},
+      {"buffers", {buffer}},
+      {"bufferViews", views},
       {"accessors",
        {{{"bufferView", 0},
          {"componentType", 5126},
@@ -238,7 +268,20 @@ void WriteGltfQuad(const fs::path& dir) {
          {"max", {1, 0, 1}}},
         {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
         {{"bufferView", 2}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}}};
-  std::ofstream(dir / "quad.gltf") << gltf.dump(1);
+  if (!embedded) {
+    std::ofstream(dir / "quad.bin", std::ios::binary) << bin;
+    std::ofstream(dir / "quad.gltf") << gltf.dump(1);
+    return;
+  }
+  fs::remove(dir / "checker.png");  // the .glb must not need it
+  std::string json = gltf.dump();
+  while (json.size() % 4) json.push_back(' ');
+  auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const std::string glb = "glTF" + u32(2) +
+                          u32(static_cast<uint32_t>(12 + 8 + json.size() + 8 + bin.size())) +
+                          u32(static_cast<uint32_t>(json.size())) + "JSON" + json +
+                          u32(static_cast<uint32_t>(bin.size())) + std::string("BIN\0", 4) + bin;
+  std::ofstream(dir / "quad.glb", std::ios::binary) << glb;
 }
 
 // The same quad as OBJ (z-up, OBJ's texture origin at the image's
@@ -299,6 +342,13 @@ TEST(ImageTextures, GltfBaseColourTextureRenders) {
   lsds::testing::TempDir dir;
   WriteGltfQuad(dir.path());
   ExpectCheckerRendered((dir.path() / "quad.gltf").string());
+}
+
+TEST(ImageTextures, GlbEmbeddedTextureRenders) {
+  lsds::testing::TempDir dir;
+  WriteGltfQuad(dir.path(), true);
+  ASSERT_FALSE(fs::exists(dir.path() / "checker.png"));
+  ExpectCheckerRendered((dir.path() / "quad.glb").string());
 }
 
 TEST(ImageTextures, ObjDiffuseMapRenders) {

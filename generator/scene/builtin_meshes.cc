@@ -240,7 +240,7 @@ TriangleMesh TreeMesh(uint64_t seed) {
       }
       case 'X': {  // a bud left at the end: a clump of leaves
         const float r = static_cast<float>(uniform.In(0.55, 0.8));
-        TriangleMesh clump = MakeSphereMesh(14, 8);
+        TriangleMesh clump = MakeSphereMesh(10, 6);
         const Perlin noise(HashCombine(seed, crown.positions.size()));
         for (Eigen::Vector3f& p : clump.positions)
           p *= static_cast<float>(1 + 0.3 * noise.Fbm(3 * p.x(), 3 * p.y(), 3 * p.z(), 3));

@@ -6,13 +6,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "libs/util/error.h"
+#include "libs/util/srgb.h"
 
 namespace lsds::gen {
 namespace {
-
-float LinearFromSrgb(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 // OpenCV's BGR(A) image of any depth -> linear RGB texels.
 std::shared_ptr<const ImageTexture> FromMat(const cv::Mat& image, const std::string& what) {

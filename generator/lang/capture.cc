@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 #include <tuple>
 
+#include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
 #include "generator/lang/rig.h"
 #include "generator/plan/terrain_height.h"
@@ -725,8 +727,9 @@ class CaptureEvaluator {
     if (const Node cls = block.Find("class")) {
       if (!cls->is_string() && !cls->is_object())
         cls.Fail("class must be a name or a choice {name: weight}");
-      for (const std::string& option : StringOptions(cls))
-        swapped_in_.insert(SwapClass(cls, object, option).second);
+      for (const std::string& option : SwapOptions(cls))
+        for (const SceneClass& candidate : SwapCandidates(cls, option))
+          swapped_in_.insert(SwapClass(object, candidate).second);
     }
     // Sample once with a throwaway stream so that bad values are reported now,
     // not on some frame.
@@ -775,14 +778,40 @@ class CaptureEvaluator {
     }
   }
 
+  // The options of a class change: its names or choice keys, or "tags" for a
+  // library tag selection (`class:{tags:[desert,rock]}`).
+  static std::vector<std::string> SwapOptions(const Node& cls) {
+    if (IsTagSelection(cls)) return {"tags"};
+    return StringOptions(cls);
+  }
+
+  // What option `option` of class node `cls` may draw: the scene's asset
+  // library's assets it selects (by name, tags or pattern, as in LSCENE), or
+  // else the one class it resolves to.
+  std::vector<SceneClass> SwapCandidates(const Node& cls, const std::string& option) {
+    std::vector<SceneClass> out;
+    for (const gen::LibraryAsset* a : SelectAssets(Library(), cls, option))
+      out.push_back({a->file, AssetClassName(*a)});
+    if (out.empty()) out.push_back(ResolveSceneClass(*scene_, cls, option));
+    return out;
+  }
+
+  // The scene's asset_library, loaded once (null when it has none).
+  const gen::AssetLibrary* Library() {
+    if (!library_loaded_) {
+      library_loaded_ = true;
+      for (const Definition& d : scene_->definitions)
+        if (d.kind == "asset_library") library_ = LoadSceneAssetLibrary(*scene_, d);
+    }
+    return library_ ? &*library_ : nullptr;
+  }
+
   // The asset and class id a class change draws for an object of `symbol`:
   // a labelled target keeps its label; another object takes the class of
   // that name, added to the class table if the scene has none (after the
   // scene's ids, so that the scene's ids never change).
-  std::pair<std::string, uint32_t> SwapClass(const Node& where,
-                                             const std::string& symbol,
-                                             const std::string& option) {
-    const SceneClass resolved = ResolveSceneClass(*scene_, where, option);
+  std::pair<std::string, uint32_t> SwapClass(const std::string& symbol,
+                                             const SceneClass& resolved) {
     const auto label = labels_.find(symbol);
     if (label != labels_.end() && label->second != 0) return {resolved.asset, label->second};
     uint32_t next = 1;
@@ -840,7 +869,14 @@ class CaptureEvaluator {
       }
       if (k == "offset") c.position = o.position + SampleVec3(v, rng);
       if (k == "class") {
-        const auto [asset, id] = SwapClass(v, o.symbol, SampleString(v, rng));
+        // A library selection draws one of its assets, uniformly.
+        const std::vector<SceneClass> candidates =
+            SwapCandidates(v, IsTagSelection(v) ? std::string("tags") : SampleString(v, rng));
+        const SceneClass& drawn = candidates.size() == 1
+                                      ? candidates[0]
+                                      : candidates[static_cast<size_t>(rng.UniformInt(
+                                            0, static_cast<int64_t>(candidates.size()) - 1))];
+        const auto [asset, id] = SwapClass(o.symbol, drawn);
         c.asset = asset;
         c.class_id = id;
       }
@@ -1426,6 +1462,8 @@ class CaptureEvaluator {
   std::map<std::string, std::string> environment_symbols_;  // symbol -> kind
   std::string first_target_;
   const Program* scene_ = nullptr;
+  std::optional<gen::AssetLibrary> library_;  // the scene's asset_library, if any
+  bool library_loaded_ = false;
   TargetLabels labels_;
   std::set<uint32_t> swapped_in_;  // class ids class changes may draw
 

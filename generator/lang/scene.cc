@@ -18,16 +18,13 @@
 namespace lsds {
 
 const std::map<std::string, Eigen::Vector3d>& BuiltinClasses() {
-  static const std::map<std::string, Eigen::Vector3d> classes = {{"cube", {1, 1, 1}},
-                                                                 {"sphere", {1, 1, 1}},
-                                                                 {"cylinder", {1, 1, 1}},
-                                                                 {"cone", {1, 1, 1}},
-                                                                 {"barrel", {0.6, 0.6, 0.9}},
-                                                                 {"tire", {0.7, 0.7, 0.25}},
-                                                                 {"jerrycan", {0.35, 0.17, 0.47}},
-                                                                 {"rock", {1.0, 0.8, 0.6}},
-                                                                 {"bush", {1.2, 1.2, 1.0}},
-                                                                 {"person", {0.5, 0.3, 1.8}}};
+  // Read from the object library's one table (generator/scene/object_library.h).
+  static const std::map<std::string, Eigen::Vector3d> classes = [] {
+    std::map<std::string, Eigen::Vector3d> out;
+    for (const gen::BuiltinClass& c : gen::BuiltinClassTable())
+      out.emplace(c.name, c.default_extent);
+    return out;
+  }();
   return classes;
 }
 

@@ -73,6 +73,17 @@ SceneAssets BuildSceneAssets(const Plan& plan) {
   return assets;
 }
 
+std::optional<Eigen::Vector3f> Surface::MappedAlbedo(unsigned prim, float u, float v) const {
+  if (mesh == nullptr || prim >= mesh->triangle_map.size() || mesh->uvs.empty())
+    return std::nullopt;
+  const int map = mesh->triangle_map[prim];
+  if (map < 0) return std::nullopt;
+  const Eigen::Vector3i& t = mesh->triangles[prim];
+  const Eigen::Vector2f uv =
+      (1 - u - v) * mesh->uvs[t[0]] + u * mesh->uvs[t[1]] + v * mesh->uvs[t[2]];
+  return mesh->albedo_maps[map]->Sample(uv);
+}
+
 RenderScene::RenderScene(const EmbreeDevice& device,
                          const Plan& plan,
                          const SceneAssets& assets,
@@ -126,6 +137,7 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     surfaces_.back().positions = nullptr;
     surfaces_.back().triangles = nullptr;
     surfaces_.back().corner_normals = nullptr;
+    surfaces_.back().mesh = nullptr;
   }
   rtcCommitScene(scene_);
   CheckDevice(device.get());
@@ -165,6 +177,7 @@ unsigned RenderScene::AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Sur
   surface.positions = m.positions.data();
   surface.triangles = m.triangles.data();
   surface.corner_normals = m.corner_normals.empty() ? nullptr : m.corner_normals.data();
+  surface.mesh = &m;
   surfaces_[id] = surface;
   return id;
 }

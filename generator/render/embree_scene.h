@@ -6,6 +6,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,12 @@ struct Surface {
   const Eigen::Vector3i* triangles = nullptr;
   // Shading normals, 3 per triangle (TriangleMesh::corner_normals); null: flat.
   const Eigen::Vector3f* corner_normals = nullptr;
+  const TriangleMesh* mesh = nullptr;  // the geometry's mesh (null: the ground plane)
+
+  // The base-colour map's bilinear texel at barycentrics (u, v) of triangle
+  // `prim` (Embree's convention: (1-u-v) v0 + u v1 + v v2), or nullopt when
+  // the triangle has no image texture (then the material's albedo holds).
+  std::optional<Eigen::Vector3f> MappedAlbedo(unsigned prim, float u, float v) const;
 };
 
 class RenderScene {

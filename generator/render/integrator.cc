@@ -26,6 +26,8 @@ struct Hit {
   // Interpolated corner normal (smooth shading), on the camera's side; used
   // for lighting only, the normal layer keeps `normal`.
   Eigen::Vector3d shading_normal;
+  unsigned prim = 0;  // Embree's triangle and barycentrics: texture lookups
+  float u = 0, v = 0;
 };
 
 // What Embree reports for one ray: the closest triangle and where on it.
@@ -141,6 +143,9 @@ Hit Resolve(const RenderScene& scene,
   }
   hit.hit = true;
   hit.geom = rh.geom;
+  hit.prim = rh.prim;
+  hit.u = rh.u;
+  hit.v = rh.v;
   const Surface& s = scene.surface(rh.geom);
   const Eigen::Vector3i& tri = s.triangles[rh.prim];
   const Eigen::Vector3d v0 = s.positions[tri[0]].cast<double>();
@@ -331,7 +336,9 @@ Film RenderFrame(const RenderScene& scene,
               } else {
                 const Surface& s = scene.surface(hit.geom);
                 const Eigen::Vector3f albedo =
-                    Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>());
+                    s.MappedAlbedo(hit.prim, hit.u, hit.v)
+                        .value_or(
+                            Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>()));
                 const double cos_sun = hit.shading_normal.dot(sky.to_sun());
                 float lit = 0.f;
                 if (cos_sun > 0) {

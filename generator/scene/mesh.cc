@@ -1,6 +1,8 @@
 #include "generator/scene/mesh.h"
 
 #include <cmath>
+#include <map>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -11,6 +13,25 @@ void TriangleMesh::Append(const TriangleMesh& other,
                           const Eigen::Vector3f& offset) {
   corner_normals.clear();  // no longer matches the triangles
   const int base = static_cast<int>(positions.size());
+  const size_t base_triangles = triangles.size();
+  // Texture coordinates and maps follow their triangles; the side without
+  // them gets (0, 0) and no map.
+  if (!uvs.empty() || !other.uvs.empty()) {
+    uvs.resize(positions.size(), Eigen::Vector2f::Zero());
+    if (other.uvs.empty())
+      uvs.resize(positions.size() + other.positions.size(), Eigen::Vector2f::Zero());
+    else
+      uvs.insert(uvs.end(), other.uvs.begin(), other.uvs.end());
+  }
+  if (!triangle_map.empty() || !other.triangle_map.empty()) {
+    triangle_map.resize(base_triangles, -1);
+    const int map_base = static_cast<int>(albedo_maps.size());
+    for (size_t t = 0; t < other.triangles.size(); ++t) {
+      const int m = t < other.triangle_map.size() ? other.triangle_map[t] : -1;
+      triangle_map.push_back(m < 0 ? -1 : m + map_base);
+    }
+    albedo_maps.insert(albedo_maps.end(), other.albedo_maps.begin(), other.albedo_maps.end());
+  }
   for (const Eigen::Vector3f& p : other.positions) positions.push_back(linear * p + offset);
   const bool flip = linear.determinant() < 0;
   for (const Eigen::Vector3i& t : other.triangles) {
@@ -83,6 +104,48 @@ TriangleMesh MakeCylinderMesh(int segments) {
 
 TriangleMesh MakeConeMesh(int segments) {
   return MakeLatheMesh(segments, 1, [](double t) { return 0.5 * (1 - t); });
+}
+
+TriangleMesh MakeIcosphereMesh(int subdivisions) {
+  TriangleMesh mesh;
+  const float g = (1 + std::sqrt(5.f)) / 2;
+  const float corners[12][3] = {{-1, g, 0},
+                                {1, g, 0},
+                                {-1, -g, 0},
+                                {1, -g, 0},
+                                {0, -1, g},
+                                {0, 1, g},
+                                {0, -1, -g},
+                                {0, 1, -g},
+                                {g, 0, -1},
+                                {g, 0, 1},
+                                {-g, 0, -1},
+                                {-g, 0, 1}};
+  for (const auto& c : corners)
+    mesh.positions.push_back(0.5f * Eigen::Vector3f(c[0], c[1], c[2]).normalized());
+  mesh.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < subdivisions; ++level) {
+    std::map<std::pair<int, int>, int> midpoints;  // each edge split once
+    auto midpoint = [&](int a, int b) {
+      const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+      const auto found = midpoints.find(key);
+      if (found != midpoints.end()) return found->second;
+      const int index = static_cast<int>(mesh.positions.size());
+      mesh.positions.push_back(0.5f * (mesh.positions[a] + mesh.positions[b]).normalized());
+      midpoints.emplace(key, index);
+      return index;
+    };
+    std::vector<Eigen::Vector3i> finer;
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const int ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+      finer.insert(finer.end(), {{t[0], ab, ca}, {t[1], bc, ab}, {t[2], ca, bc}, {ab, bc, ca}});
+    }
+    mesh.triangles = std::move(finer);
+  }
+  return mesh;
 }
 
 TriangleMesh MakeTorusMesh(int segments, int sides, double minor_over_major) {

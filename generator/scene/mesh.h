@@ -5,9 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "generator/scene/texture.h"
 
 namespace lsds::gen {
 
@@ -20,6 +23,12 @@ struct TriangleMesh {
   // flat shading. Filled in world space (terrain, RenderScene); Append drops
   // them.
   std::vector<Eigen::Vector3f> corner_normals;
+  // Optional image textures (loaded assets): texture coordinates, one per
+  // vertex (empty: none), and per triangle the index of its base-colour map
+  // in `albedo_maps` (-1: the material's procedural albedo). Shading only.
+  std::vector<Eigen::Vector2f> uvs;
+  std::vector<int> triangle_map;
+  std::vector<std::shared_ptr<const ImageTexture>> albedo_maps;
 
   void Append(const TriangleMesh& other,
               const Eigen::Matrix3f& linear = Eigen::Matrix3f::Identity(),
@@ -34,6 +43,9 @@ TriangleMesh MakeLatheMesh(int segments, int rings, double (*radius)(double t));
 TriangleMesh MakeSphereMesh(int segments, int rings);  // radius 0.5
 TriangleMesh MakeCylinderMesh(int segments);           // radius 0.5, height 1
 TriangleMesh MakeConeMesh(int segments);               // base radius 0.5 at z = -0.5
+// An icosahedron subdivided `subdivisions` times, vertices on the sphere of
+// radius 0.5: evenly spread vertices (no poles), for irregular rocks.
+TriangleMesh MakeIcosphereMesh(int subdivisions);
 TriangleMesh MakeTorusMesh(int segments, int sides,
                            double minor_over_major);  // axis z
 

@@ -11,6 +11,7 @@
 #include <assimp/Importer.hpp>
 
 #include "generator/scene/asset_library.h"
+#include "generator/scene/builtin_meshes.h"
 #include "generator/scene/perlin.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -27,13 +28,6 @@ void DisplaceRadially(TriangleMesh* mesh, uint64_t seed, double amplitude, doubl
         noise.Fbm(p.x() * frequency + 11.3, p.y() * frequency + 7.1, p.z() * frequency + 3.7, 4);
     p *= static_cast<float>(1 + amplitude * n);
   }
-}
-
-TriangleMesh Rock(uint64_t seed) {
-  TriangleMesh mesh = MakeSphereMesh(24, 12);
-  DisplaceRadially(&mesh, seed, 0.45, 2.0);
-  for (Eigen::Vector3f& p : mesh.positions) p.z() *= 0.6f;  // rocks are flatter than tall
-  return mesh;
 }
 
 TriangleMesh Bush(uint64_t seed) {
@@ -81,31 +75,81 @@ TriangleMesh Tire() {
   return mesh;
 }
 
-TriangleMesh Person() {
-  // A capsule: a cylinder with hemispherical ends (radius 0.5 of the normalized
-  // width).
-  return MakeLatheMesh(16, 16, [](double t) {
-    const double cap = 0.18;  // share of the height taken by each hemisphere
-    if (t < cap) return 0.5 * std::sqrt(std::max(0.0, 1 - std::pow((cap - t) / cap, 2)));
-    if (t > 1 - cap) return 0.5 * std::sqrt(std::max(0.0, 1 - std::pow((t - 1 + cap) / cap, 2)));
-    return 0.5;
-  });
+// The base-colour map of an assimp material: glTF's baseColorTexture or the
+// diffuse map (OBJ's map_Kd), a file next to the mesh or embedded in it
+// ("*0"); null when it has none. The colour factors are not applied: the map
+// is the albedo (docs/generator.md, "Image textures").
+std::shared_ptr<const ImageTexture> AlbedoMapOf(const aiScene& scene,
+                                                const aiMaterial& material,
+                                                const std::string& mesh_path,
+                                                const std::string& where) {
+  aiString name;
+  if (material.GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS &&
+      material.GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS)
+    return nullptr;
+  const std::string file = name.C_Str();
+  if (file.empty()) return nullptr;
+  const std::string context = where + ": mesh '" + mesh_path + "'";
+  if (const aiTexture* embedded = scene.GetEmbeddedTexture(name.C_Str())) {
+    if (embedded->mHeight == 0)  // compressed (PNG, JPEG): mWidth bytes
+      return DecodeImageTexture(
+          reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, context);
+    std::vector<unsigned char> rgb;
+    rgb.reserve(size_t{3} * embedded->mWidth * embedded->mHeight);
+    for (size_t i = 0; i < size_t{embedded->mWidth} * embedded->mHeight; ++i) {
+      const aiTexel& t = embedded->pcData[i];
+      rgb.insert(rgb.end(), {t.r, t.g, t.b});
+    }
+    return MakeImageTexture(
+        static_cast<int>(embedded->mWidth), static_cast<int>(embedded->mHeight), rgb.data());
+  }
+  const std::filesystem::path image = std::filesystem::path(mesh_path).parent_path() / file;
+  if (!std::filesystem::is_regular_file(image))
+    throw Error(context + ": texture image '" + file + "' not found", Location(image.string()));
+  return LoadImageTexture(image.string(), context);
 }
 
 }  // namespace
 
+// The one table of built-in classes: each class's default size (what an
+// object gets when the plan gives no extent; LSCENE reads it from here),
+// default material and mesh. Sizes are the meshes' own proportions, so the
+// default draws them undistorted.
+const std::vector<BuiltinClass>& BuiltinClassTable() {
+  using V = Eigen::Vector3d;
+  static const std::vector<BuiltinClass> table = {
+      {"cube", V(1, 1, 1), "concrete", [](uint64_t) { return MakeBoxMesh(); }},
+      {"sphere", V(1, 1, 1), "white", [](uint64_t) { return MakeSphereMesh(32, 16); }},
+      {"cylinder", V(1, 1, 1), "metal", [](uint64_t) { return MakeCylinderMesh(32); }},
+      {"cone", V(1, 1, 1), "orange", [](uint64_t) { return MakeConeMesh(32); }},
+      {"barrel", V(0.6, 0.6, 0.9), "painted_blue", [](uint64_t) { return BarrelMesh(); }},
+      {"tire", V(0.7, 0.25, 0.7), "rubber", [](uint64_t) { return Tire(); }},
+      {"jerrycan", V(0.17, 0.35, 0.47), "painted_green", [](uint64_t) { return Jerrycan(); }},
+      {"watercan", V(0.17, 0.35, 0.47), "painted_blue", [](uint64_t) { return Jerrycan(); }},
+      {"crate", V(1.0, 0.8, 0.8), "wood", [](uint64_t) { return CrateMesh(); }},
+      {"rock", V(1.0, 0.8, 0.6), "stone", RockMesh},
+      {"bush", V(1.2, 1.2, 1.0), "foliage", Bush},
+      {"tree", V(4.5, 4.5, 7.0), "foliage", TreeMesh},
+      {"person", V(0.5, 0.3, 1.8), "fabric", HumanMesh},
+      {"car", V(4.2, 1.8, 1.5), "painted_red", [](uint64_t) { return CarMesh(); }},
+      {"truck", V(8.0, 2.5, 3.2), "painted", [](uint64_t) { return TruckMesh(); }},
+  };
+  return table;
+}
+
+const BuiltinClass* FindBuiltinClass(const std::string& name) {
+  const std::string canonical = CanonicalClassName(name);
+  for (const BuiltinClass& c : BuiltinClassTable())
+    if (c.name == canonical) return &c;
+  return nullptr;
+}
+
 const std::vector<std::string>& BuiltinClassNames() {
-  static const std::vector<std::string> names = {"cube",
-                                                 "sphere",
-                                                 "cylinder",
-                                                 "cone",
-                                                 "barrel",
-                                                 "tire",
-                                                 "jerrycan",
-                                                 "watercan",
-                                                 "rock",
-                                                 "bush",
-                                                 "person"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const BuiltinClass& c : BuiltinClassTable()) out.push_back(c.name);
+    return out;
+  }();
   return names;
 }
 
@@ -120,7 +164,10 @@ const std::map<std::string, std::string>& ClassNameAliases() {
       {"tyres", "tire"},        {"jerrycans", "jerrycan"}, {"watercans", "watercan"},
       {"rocks", "rock"},        {"bushes", "bush"},        {"persons", "person"},
       {"people", "person"},     {"human", "person"},       {"humans", "person"},
-      {"pedestrian", "person"}, {"pedestrians", "person"}};
+      {"pedestrian", "person"}, {"pedestrians", "person"}, {"crates", "crate"},
+      {"trees", "tree"},        {"cars", "car"},           {"automobile", "car"},
+      {"automobiles", "car"},   {"trucks", "truck"},       {"lorry", "truck"},
+      {"lorries", "truck"}};
   return aliases;
 }
 
@@ -161,21 +208,38 @@ TriangleMesh LoadMeshFileNative(const std::string& path, const std::string& wher
   const std::optional<LibraryAsset> listed = LibraryAssetOf(path);
   const bool y_up = listed ? listed->y_up : ext == ".gltf" || ext == ".glb";
   TriangleMesh mesh;
+  // The base-colour map of each assimp material (-1: none), read once.
+  std::vector<int> material_map(scene->mNumMaterials, -1);
+  for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
+    if (auto map = AlbedoMapOf(*scene, *scene->mMaterials[i], path, where)) {
+      material_map[i] = static_cast<int>(mesh.albedo_maps.size());
+      mesh.albedo_maps.push_back(std::move(map));
+    }
+  }
+  const bool textured = !mesh.albedo_maps.empty();
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* in = scene->mMeshes[m];
     const int base = static_cast<int>(mesh.positions.size());
+    const int map = in->mMaterialIndex < material_map.size() && in->HasTextureCoords(0)
+                        ? material_map[in->mMaterialIndex]
+                        : -1;
     for (unsigned v = 0; v < in->mNumVertices; ++v) {
       const aiVector3D& p = in->mVertices[v];
       if (y_up)
         mesh.positions.emplace_back(p.x, -p.z, p.y);
       else
         mesh.positions.emplace_back(p.x, p.y, p.z);
+      if (textured) {
+        const aiVector3D uv = map >= 0 ? in->mTextureCoords[0][v] : aiVector3D(0, 0, 0);
+        mesh.uvs.emplace_back(uv.x, uv.y);
+      }
     }
     for (unsigned f = 0; f < in->mNumFaces; ++f) {
       const aiFace& face = in->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines carry no surface
       mesh.triangles.emplace_back(
           base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
+      if (textured) mesh.triangle_map.push_back(map);
     }
   }
   if (mesh.empty()) throw Error(where + ": the mesh file has no triangles", Location(path));
@@ -200,30 +264,8 @@ Eigen::Vector3d MeshFileExtent(const std::string& path, const std::string& where
 
 ClassShape MakeClassShape(const std::string& name, uint64_t seed, const std::string& where) {
   ClassShape shape;
-  const std::string canonical = CanonicalClassName(name);
-  if (!canonical.empty() && canonical != name) return MakeClassShape(canonical, seed, where);
-  if (name == "cube") {
-    shape = {MakeBoxMesh(), "concrete", {1, 1, 1}};
-  } else if (name == "sphere") {
-    shape = {MakeSphereMesh(32, 16), "white", {1, 1, 1}};
-  } else if (name == "cylinder") {
-    shape = {MakeCylinderMesh(32), "metal", {0.6, 0.6, 1.2}};
-  } else if (name == "cone") {
-    shape = {MakeConeMesh(32), "orange", {0.4, 0.4, 0.7}};
-  } else if (name == "barrel") {
-    shape = {MakeLatheMesh(24, 8, [](double t) { return 0.44 + 0.06 * std::sin(M_PI * t); }),
-             "painted_blue",
-             {0.6, 0.6, 0.9}};
-  } else if (name == "tire") {
-    shape = {Tire(), "rubber", {0.65, 0.22, 0.65}};
-  } else if (name == "jerrycan" || name == "watercan") {
-    shape = {Jerrycan(), name == "jerrycan" ? "painted_green" : "painted_blue", {0.17, 0.35, 0.47}};
-  } else if (name == "rock") {
-    shape = {Rock(seed), "stone", {1.0, 0.8, 0.5}};
-  } else if (name == "bush") {
-    shape = {Bush(seed), "foliage", {1.5, 1.5, 1.2}};
-  } else if (name == "person") {
-    shape = {Person(), "fabric", {0.45, 0.3, 1.75}};
+  if (const BuiltinClass* builtin = FindBuiltinClass(name)) {
+    shape = {builtin->make(seed), builtin->default_material, builtin->default_extent};
   } else if (IsMeshPath(name)) {
     shape = {LoadMeshFile(name, where), "plastic", {1, 1, 1}};
     return shape;

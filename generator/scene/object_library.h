@@ -1,7 +1,8 @@
-// The object class factory: built-in procedural meshes in metres (cube, sphere,
-// cylinder, cone, barrel, tire, jerrycan, rock, bush, person) and user meshes
-// (OBJ, PLY, glTF, ... through assimp) named by file path. Unknown class names
-// are rejected with a clear error.
+// The object class factory: built-in procedural meshes in metres (one table,
+// BuiltinClassTable: primitives, barrel, tire, jerrycan, crate, rock, bush,
+// tree, person, car, truck; builtin_meshes.h) and user meshes (OBJ, PLY,
+// glTF, ... through assimp, with their base-colour textures) named by file
+// path. Unknown class names are rejected with a clear error.
 #pragma once
 
 #include <cstdint>
@@ -21,14 +22,25 @@ struct ClassShape {
   Eigen::Vector3d default_extent = Eigen::Vector3d::Ones();  // plausible size in metres
 };
 
-const std::vector<std::string>& BuiltinClassNames();  // canonical names
+struct BuiltinClass {
+  std::string name;                     // canonical
+  Eigen::Vector3d default_extent;       // metres: the size an object gets when the plan gives none
+  std::string default_material;         // when the plan leaves the material empty
+  TriangleMesh (*make)(uint64_t seed);  // in metres; the seed varies rocks, bushes, trees, people
+};
+// The one home of the built-in classes (LSCENE's defaults read it too).
+const std::vector<BuiltinClass>& BuiltinClassTable();
+// The built-in class `name` (or an alias of it) spells; null when none.
+const BuiltinClass* FindBuiltinClass(const std::string& name);
+const std::vector<std::string>& BuiltinClassNames();  // canonical names, table order
 // Other spellings (plurals, `tyre`, `human`, ...) -> canonical name: one table.
 const std::map<std::string, std::string>& ClassNameAliases();
 // The canonical built-in class `name` spells, or "" when it names none.
 std::string CanonicalClassName(const std::string& name);
 bool IsMeshPath(const std::string& class_name);  // ends in a mesh file extension assimp reads
 
-// The shape of `class_name`; `seed` varies the random classes (rock, bush).
+// The shape of `class_name`; `seed` varies the random classes (rock, bush,
+// tree, person).
 // `where` names the plan object for error messages. Throws lsds::Error for
 // unknown classes and unreadable meshes.
 ClassShape MakeClassShape(const std::string& class_name, uint64_t seed, const std::string& where);

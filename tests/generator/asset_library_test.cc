@@ -189,6 +189,48 @@ TEST_F(AssetLibraryTest, GeneratedCollectionValidatesAndRecordsTheAsset) {
   EXPECT_GT(object["visible_pixels"].get<int64_t>(), 0);
 }
 
+// An LCAP class swap draws from the scene's library by tags and by pattern,
+// per frame with `during`, the same draws for the same seed.
+TEST_F(AssetLibraryTest, CaptureClassSwapsDrawFromTheLibrary) {
+  std::ofstream(dir_ / "s.lscene") << "LSCENE = ONE(W) MANY(O, 8)\n"
+                                      "L = asset_library{path:lib}\n"
+                                      "W = terrain{size:[100,100]}\n"
+                                      "O = object{class:cube,overlap:true}\n";
+  auto swaps = [this](const std::string& cls, uint64_t seed) {
+    std::ofstream(dir_ / "c.lcap") << "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
+                                      "CO = camera{csettings:{fov:60,res:[32,24],fps:1}}\n"
+                                      "P = path{waypoints:[[0,0,30,0,-90,0],[6,0,30,0,-90,0]]}\n"
+                                      "CL = collection{CO:{move:[P]},O:{during:P,class:"
+                                   << cls << "}}\n";
+    const Plan plan = MakePlan(dir_ / "s.lscene", dir_ / "c.lcap", seed);
+    std::vector<std::pair<std::string, std::string>> drawn;  // (file name, class)
+    for (const PlannedFrame& f : plan.frames)
+      for (const ObjectChange& c : f.changes) {
+        if (!c.asset) continue;
+        std::string name;
+        for (const ClassInfo& k : plan.classes)
+          if (c.class_id && k.id == *c.class_id) name = k.name;
+        drawn.emplace_back(fs::path(*c.asset).filename().string(), name);
+      }
+    return drawn;
+  };
+  const auto rocks = swaps("{tags:[desert,rock]}", 5);
+  ASSERT_FALSE(rocks.empty());
+  for (const auto& [file, cls] : rocks) {
+    EXPECT_EQ(file, "slab_y.obj");
+    EXPECT_EQ(cls, "rock");
+  }
+  const auto clutter = swaps(R"({"clutter/.*\\.obj":1})", 5);
+  std::set<std::string> files;
+  for (const auto& [file, cls] : clutter) {
+    files.insert(file);
+    EXPECT_EQ(cls, file == "slab_y.obj" ? "rock" : "crate");
+  }
+  EXPECT_EQ(files, (std::set<std::string>{"cube_cm.obj", "slab_y.obj"}));
+  EXPECT_EQ(swaps(R"({"clutter/.*\\.obj":1})", 5), clutter);  // deterministic
+  EXPECT_NE(swaps(R"({"clutter/.*\\.obj":1})", 6), clutter);
+}
+
 // The paper writes `rocks`: the same class as `rock`, one class id.
 TEST(ClassSpellings, PluralAndSingularResolveToOneClass) {
   const SourceFile scene = ParseSource(

@@ -67,6 +67,7 @@ class Estimator {
       TargetMeasure t;
       t.object = p.name;
       t.values = GeometricMeasures(box, frame.camera, frame.cam_from_world);
+      t.values["class"] = o.class_id;
       if (t.values["in_frame"] <= 0) continue;  // nowhere near the image
       const double visibility = Visibility(static_cast<int>(i), frame, *bounds, &rays);
       t.values["visibility"] = visibility;

@@ -150,12 +150,12 @@ TEST(SunQuota, SunElevationBinsAreMetByADuringLightChange) {
 }
 
 TEST(SunQuota, TimeOfDayBinsAreMetByADuringTimeChange) {
-  const Plan plan = PlanText(
-      kGeoScene,
-      Capture(80,
-              kPose,
-              ",DL:{during:R,time:{\"07:00\":1,\"10:00\":1,\"13:00\":1,\"16:00\":1}}",
-              "Q = quota{quantity:time_of_day,bins:[6,9,12,15,18],weights:[1,1,1,1]}\n"));
+  const Plan plan =
+      PlanText(kGeoScene,
+               Capture(80,
+                       kPose,
+                       ",DL:{during:R,time:{\"07:00\":1,\"10:00\":1,\"13:00\":1,\"16:00\":1}}",
+                       "Q = quota{quantity:time_of_day,bins:[6,9,12,15,18],weights:[1,1,1,1]}\n"));
   std::map<int, int> bins;
   for (const PlannedFrame& f : plan.frames) {
     const auto& check = f.requirements->at("checks")[0];
@@ -172,8 +172,7 @@ TEST(SunQuota, TimeOfDayBinsAreMetByADuringTimeChange) {
   // Without a clock the time of day is not measured: every frame misses.
   const Plan no_clock = PlanText(
       kScene, Capture(2, kPose, "", "Q = quota{quantity:time_of_day,bins:[0,24],budget:2}\n"));
-  for (const PlannedFrame& f : no_clock.frames)
-    EXPECT_FALSE(f.requirements->at("met").get<bool>());
+  for (const PlannedFrame& f : no_clock.frames) EXPECT_FALSE(f.requirements->at("met").get<bool>());
 }
 
 TEST(ImportanceSampling, OffNadirAndAltitudeBinsAreDrawnWithinTheBin) {
@@ -181,8 +180,7 @@ TEST(ImportanceSampling, OffNadirAndAltitudeBinsAreDrawnWithinTheBin) {
       "Q = quota{quantity:off_nadir,bins:[0,10,20,30]}\n"
       "Q2 = quota{quantity:altitude,bins:[20,30,60],weights:[3,1]}\n";
   const Plan plan = PlanText(
-      kScene,
-      Capture(120, "altitude:{normal:[40,10,20,60]},off_nadir:[0,30],yaw:0", "", demand));
+      kScene, Capture(120, "altitude:{normal:[40,10,20,60]},off_nadir:[0,30],yaw:0", "", demand));
   // One draw per frame: the pose is drawn inside both bins at once.
   EXPECT_EQ(Attempts(plan), 120);
   for (const PlannedFrame& f : plan.frames) EXPECT_TRUE(f.requirements->at("met").get<bool>());
@@ -191,8 +189,7 @@ TEST(ImportanceSampling, OffNadirAndAltitudeBinsAreDrawnWithinTheBin) {
   // Rejection needs several draws per frame for the same demand.
   std::string rejection = demand;
   const std::string key = "sampling:rejection,";
-  for (size_t at = 0; (at = rejection.find("bins:", at)) != std::string::npos;
-       at += key.size() + 5)
+  for (size_t at = 0; (at = rejection.find("bins:", at)) != std::string::npos; at += key.size() + 5)
     rejection.insert(at, key);
   const Plan rejected = PlanText(
       kScene,
@@ -203,12 +200,12 @@ TEST(ImportanceSampling, OffNadirAndAltitudeBinsAreDrawnWithinTheBin) {
 TEST(ClassQuota, GeneratedTruthReportsAchievedSharesAndShardsEqualTheSingleRun) {
   testing::TempDir dir;
   std::ofstream(dir / "s.lscene") << kScene;
-  std::ofstream(dir / "c.lcap")
-      << Capture(8,
-                 kPose,
-                 ",T:{during:R,class:{barrel:1,cube:1}},DL:{during:R,elevation:[10,80]}",
-                 "Q = quota{target:T,quantity:class,classes:{barrel:1,cube:1}}\n"
-                 "SUN = quota{quantity:sun_elevation,bins:[10,45,80]}\n");
+  std::ofstream(dir / "c.lcap") << Capture(
+      8,
+      kPose,
+      ",T:{during:R,class:{barrel:1,cube:1}},DL:{during:R,elevation:[10,80]}",
+      "Q = quota{target:T,quantity:class,classes:{barrel:1,cube:1}}\n"
+      "SUN = quota{quantity:sun_elevation,bins:[10,45,80]}\n");
   auto generate = [&](const std::string& name, const std::string& flags) {
     const auto r = testing::RunCommandLine(
         testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() + " " +
@@ -218,8 +215,9 @@ TEST(ClassQuota, GeneratedTruthReportsAchievedSharesAndShardsEqualTheSingleRun) 
     return std::make_pair(r.output, nlohmann::json::parse(in));
   };
   const auto [output, single] = generate("single", "");
-  EXPECT_NE(output.find("quota Q class classes [\"barrel\",\"cube\"]: planned [4,4] achieved [4,4]"),
-            std::string::npos)
+  EXPECT_NE(
+      output.find("quota Q class classes [\"barrel\",\"cube\"]: planned [4,4] achieved [4,4]"),
+      std::string::npos)
       << output;
   EXPECT_NE(output.find("quota SUN sun_elevation bins [10.0,45.0,80.0]: planned [4,4] achieved "
                         "[4,4]"),

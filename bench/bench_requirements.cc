@@ -48,8 +48,8 @@ std::string Capture(int frames, int w, int h, const std::string& demand) {
          "CO = camera{csettings:{fov:60,res:[" + std::to_string(w) + "," + std::to_string(h) +
          "]},targets:[T]}\n"
          "R = path{random:{count:" +
-         std::to_string(frames) + ",x:[-12,12],y:[-12,12],altitude:30,off_nadir:" +
-         (sampling ? "[0,40]" : "0") +
+         std::to_string(frames) +
+         ",x:[-12,12],y:[-12,12],altitude:30,off_nadir:" + (sampling ? "[0,40]" : "0") +
          ",yaw:0}}\n"
          "CL = collection{CO:{move:[R]}" +
          (sampling ? ",T:{during:R,class:{cube:1,barrel:1,tire:1,rock:1}}" : "") + "}\n" + demand;

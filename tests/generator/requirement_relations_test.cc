@@ -43,10 +43,10 @@ std::pair<std::string, nlohmann::json> Generate(const testing::TempDir& dir,
                                                 const std::string& flags = "") {
   std::ofstream(dir / (name + ".lscene")) << scene;
   std::ofstream(dir / (name + ".lcap")) << capture;
-  const auto r = testing::RunCommandLine(
-      testing::LsdsBinary() + " generate " + (dir / (name + ".lscene")).string() + " " +
-      (dir / (name + ".lcap")).string() + " -o " + (dir / name).string() + " --spp 1 --seed 3 " +
-      flags);
+  const auto r = testing::RunCommandLine(testing::LsdsBinary() + " generate " +
+                                         (dir / (name + ".lscene")).string() + " " +
+                                         (dir / (name + ".lcap")).string() + " -o " +
+                                         (dir / name).string() + " --spp 1 --seed 3 " + flags);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   if (r.exit_code != 0) return {r.output, nullptr};
   std::ifstream in(dir / name / "collection.json");
@@ -59,7 +59,8 @@ Rigid3d PoseOf(const nlohmann::json& frame) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) r(i, j) = frame["camera"]["cam_from_world"]["rotation"][i][j];
   pose.rotation = Eigen::Quaterniond(r);
-  for (int i = 0; i < 3; ++i) pose.translation[i] = frame["camera"]["cam_from_world"]["translation"][i];
+  for (int i = 0; i < 3; ++i)
+    pose.translation[i] = frame["camera"]["cam_from_world"]["translation"][i];
   return pose;
 }
 
@@ -113,8 +114,8 @@ TEST(CameraRelations, InFrontOfAndBehindTheCameraHoldInTheTruth) {
       EXPECT_TRUE(frame["requirements"]["achieved_met"].get<bool>());
       EXPECT_EQ(frame["requirements"]["checks"][0]["quantity"], "ahead_of_camera");
     }
-    const auto validated = testing::RunCommandLine(
-        testing::LsdsBinary() + " validate " + (dir / name).string() + " --fail-on warning");
+    const auto validated = testing::RunCommandLine(testing::LsdsBinary() + " validate " +
+                                                   (dir / name).string() + " --fail-on warning");
     EXPECT_EQ(validated.exit_code, 0) << validated.output;
   }
 }
@@ -146,7 +147,8 @@ TEST(CameraRelations, FacingTheCameraTurnsNothingButPicksTheViews) {
   EXPECT_LT(facing, 10);
   // VISIBLE FROM:CAMERA and NEAR:{CAMERA:m} are bounds too.
   const Plan near = PlanText(
-      kScene, capture + "REQ = require{target:T,NEAR:{CAMERA:22},VISIBLE FROM:CAMERA,budget:200}\n");
+      kScene,
+      capture + "REQ = require{target:T,NEAR:{CAMERA:22},VISIBLE FROM:CAMERA,budget:200}\n");
   for (const PlannedFrame& f : near.frames) {
     EXPECT_LE((CameraCenterInWorld(f.cam_from_world) - near.objects[0].position).norm(), 22);
     EXPECT_TRUE(f.requirements->at("met").get<bool>());
@@ -264,8 +266,7 @@ std::string RigCapture(int count, const std::string& demand) {
 
 TEST(RigRequirements, EveryCameraOfAStepMeetsTheDemandInTheTruth) {
   testing::TempDir dir;
-  const std::string capture =
-      RigCapture(5, "REQ = require{target:T,in_frame:[1,1],budget:300}\n");
+  const std::string capture = RigCapture(5, "REQ = require{target:T,in_frame:[1,1],budget:300}\n");
   const auto [output, single] = Generate(dir, kScene, capture, "all");
   ASSERT_FALSE(single.is_null());
   ASSERT_EQ(single["frames"].size(), 10u);
@@ -309,8 +310,8 @@ TEST(RigRequirements, EveryCameraOfAStepMeetsTheDemandInTheTruth) {
 
 TEST(RigRequirements, AnyCameraIsEnoughWithCamerasAny) {
   const Plan all = PlanText(kScene, RigCapture(40, "REQ = require{target:T,in_frame:[1,1]}\n"));
-  const Plan any = PlanText(
-      kScene, RigCapture(40, "REQ = require{target:T,in_frame:[1,1],cameras:any}\n"));
+  const Plan any =
+      PlanText(kScene, RigCapture(40, "REQ = require{target:T,in_frame:[1,1],cameras:any}\n"));
   EXPECT_EQ(any.requirements["cameras"], "any");
   EXPECT_EQ(any.requirements["unit"], "step");
   int64_t all_attempts = 0, any_attempts = 0, one_camera_only = 0;
@@ -325,7 +326,7 @@ TEST(RigRequirements, AnyCameraIsEnoughWithCamerasAny) {
     EXPECT_TRUE(all.frames[k + 1].requirements->at("met").get<bool>());
     all_attempts += all.frames[k].requirements->at("attempts").get<int64_t>();
   }
-  EXPECT_GT(one_camera_only, 0);  // any is weaker than all ...
+  EXPECT_GT(one_camera_only, 0);          // any is weaker than all ...
   EXPECT_LT(any_attempts, all_attempts);  // ... and cheaper
 }
 

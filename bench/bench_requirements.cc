@@ -3,7 +3,10 @@
 // to the render time of the same frames, and the acceptance rate (draws kept /
 // draws estimated). The scene is a target half under a plate among clutter,
 // seen from random nadir poses; the demands are 40-60 % occlusion, and (second
-// run) a quota of four equal visibility bins.
+// run) a quota of four equal visibility bins. The last two runs are the same
+// quotas on the off-nadir angle and the target's class (a class swap) drawn by
+// rejection and by importance sampling (the bin drawn at once): the
+// acceptance rate before and after.
 //
 //   bench_requirements [--frames N] [--size WxH] [--spp S]
 #include <chrono>
@@ -38,13 +41,18 @@ const char* kScene =
     "position:{ON:W,within:[[-35,-35,-9],[35,35,9]]},on_overlap:delete}\n";
 
 std::string Capture(int frames, int w, int h, const std::string& demand) {
+  // The sampling runs draw an off-nadir angle and the target's class per frame.
+  const bool sampling = demand.find("sampling") != std::string::npos;
   return std::string(demand.empty() ? "LCAP = ONE(CO) ONE(R)\n"
-                                    : "LCAP = ONE(CO) ONE(R) ONE(REQ)\n") +
+                                    : "LCAP = ONE(CO) ONE(R) ONE(REQ) ONE(CL)\n") +
          "CO = camera{csettings:{fov:60,res:[" + std::to_string(w) + "," + std::to_string(h) +
          "]},targets:[T]}\n"
          "R = path{random:{count:" +
-         std::to_string(frames) + ",x:[-12,12],y:[-12,12],altitude:30,off_nadir:0,yaw:0}}\n" +
-         demand;
+         std::to_string(frames) +
+         ",x:[-12,12],y:[-12,12],altitude:30,off_nadir:" + (sampling ? "[0,40]" : "0") +
+         ",yaw:0}}\n"
+         "CL = collection{CO:{move:[R]}" +
+         (sampling ? ",T:{during:R,class:{cube:1,barrel:1,tire:1,rock:1}}" : "") + "}\n" + demand;
 }
 
 void Run(const fs::path& dir,
@@ -130,6 +138,19 @@ int main(int argc, char** argv) {
       w,
       h,
       spp);
+  // Off-nadir bins of 5 degrees out of 0-40 and a class out of four: about
+  // 1/8 * 1/4 of the unconstrained draws hit a frame's two bins.
+  for (const std::string sampling : {"rejection", "importance"})
+    Run(dir,
+        sampling,
+        "REQ = quota{quantity:off_nadir,bins:[0,5,10,15,20,25,30,35,40],sampling:" + sampling +
+            ",budget:400}\nQ2 = quota{target:T,quantity:class,classes:[cube,barrel,tire,rock],"
+            "sampling:" +
+            sampling + "}\n",
+        frames,
+        w,
+        h,
+        spp);
   fs::remove_all(dir);
   return 0;
 }

@@ -5,8 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 
 #include "generator/render/embree_scene.h"
 #include "generator/scene/world.h"
@@ -40,14 +42,29 @@ class Estimator {
   FrameMeasure operator()(const Plan& plan, const PlannedFrame& frame) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!device_) device_ = std::make_unique<EmbreeDevice>();
-    bool swaps = false;
-    for (const ObjectChange& c : frame.changes) swaps = swaps || c.asset.has_value();
-    if (!assets_ || swaps) {
-      // Class swaps of this frame need their shapes: build them with it.
-      Plan with_frame = plan;
-      with_frame.frames = {frame};
-      assets_ = std::make_unique<SceneAssets>(BuildSceneAssets(with_frame));
-      scene_.reset();
+    // Class swaps of this frame need their shapes: the assets are built with
+    // the frame, and kept per set of swaps (a class quota's redraws come back
+    // to the same few sets).
+    std::string swaps;
+    for (const ObjectChange& c : frame.changes)
+      if (c.asset) swaps += c.object + "=" + *c.asset + ";";
+    if (!assets_ || swaps != assets_key_) {
+      scene_.reset();  // it refers to the assets it was built with
+      auto& cached = assets_cache_[swaps];
+      if (!cached) {
+        if (assets_cache_.size() > kMaxCachedAssets) {
+          assets_cache_.clear();  // bounded memory; rebuilt on demand
+          assets_ = nullptr;
+        }
+        Plan with_frame = plan;
+        with_frame.frames = {frame};
+        auto& slot = assets_cache_[swaps];
+        slot = std::make_shared<SceneAssets>(BuildSceneAssets(with_frame));
+        assets_ = slot;
+      } else {
+        assets_ = cached;
+      }
+      assets_key_ = swaps;
     }
     WorldState world = WorldAt(plan, frame);
     if (!scene_ || !(world_ == world)) {
@@ -67,6 +84,7 @@ class Estimator {
       TargetMeasure t;
       t.object = p.name;
       t.values = GeometricMeasures(box, frame.camera, frame.cam_from_world);
+      t.values["class"] = o.class_id;
       if (t.values["in_frame"] <= 0) continue;  // nowhere near the image
       const double visibility = Visibility(static_cast<int>(i), frame, *bounds, &rays);
       t.values["visibility"] = visibility;
@@ -122,8 +140,11 @@ class Estimator {
     return denominator == 0 ? 0.0 : static_cast<double>(visible) / denominator;
   }
 
+  static constexpr size_t kMaxCachedAssets = 32;
   std::unique_ptr<EmbreeDevice> device_;
-  std::unique_ptr<SceneAssets> assets_;
+  std::map<std::string, std::shared_ptr<SceneAssets>> assets_cache_;
+  std::shared_ptr<SceneAssets> assets_;
+  std::string assets_key_;
   std::unique_ptr<RenderScene> scene_;
   WorldState world_;
 };

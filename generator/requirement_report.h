@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,6 +23,16 @@ struct RequirementSummary {
   std::vector<int64_t> missed;  // frames whose truth missed the demand
   // Per quota: its name and the achieved count per bin (-1 index: no bin).
   std::vector<std::pair<std::string, std::vector<int64_t>>> achieved;
+  // A rig capture's unit is the time step: its frames are gathered here and
+  // counted once per step when the summary is formatted.
+  struct Step {
+    int64_t attempts = 1;
+    bool estimate_met = false;
+    int cameras = 0, cameras_met = 0;  // frames seen, frames whose truth met
+    // Per quota: (demanded bin, achieved bin) of each camera.
+    std::vector<std::vector<std::pair<size_t, size_t>>> bins;
+  };
+  std::map<int64_t, Step> steps;
 };
 // Adds one written frame to the summary.
 void AddRequirementSummary(const Plan& plan, const Frame& truth, RequirementSummary* summary);

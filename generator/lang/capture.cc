@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "generator/lang/asset_choice.h"
+#include "generator/lang/distributions.h"
 #include "generator/lang/environment.h"
 #include "generator/lang/rig.h"
 #include "generator/plan/terrain_height.h"
@@ -250,6 +251,7 @@ class CaptureEvaluator {
         if (CanonicalKey(key) == "visible" || CanonicalKey(key) == "visibility")
           made_visible.insert(rule.object_symbol);
     DropHelperClasses(made_visible, plan_, swapped_in_);
+    ResolveQuotaClasses(plan_->classes, &requirements_);
     // Paths give time steps; a rig has one frame per camera per step.
     const int64_t steps = segments_.empty() ? 0 : segments_.back().first + segments_.back().count;
     const int64_t total = steps * RigSize();
@@ -258,18 +260,17 @@ class CaptureEvaluator {
       for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k) plan_->frames.push_back(Frame(k));
       return;
     }
-    // A redraw would have to move every camera of a step together; until it
-    // does, the two do not combine.
-    if (plan_->rig) {
-      camera_->statement.Fail(
-          "requirements and quotas do not work with a camera rig yet (one camera per capture)");
-    }
     // Requirements and quotas (requirements.h): redraw each frame until the
-    // estimate meets its demand, within the budget.
-    const DemandPlanner demands(requirements_, seed_, total);
+    // estimate meets its demand, within the budget. With a rig the unit of
+    // redraw is the time step: its cameras move together, and the demand
+    // holds in every camera (cameras:all) or in one at least (cameras:any).
+    const int64_t n = RigSize();
+    const DemandPlanner demands(requirements_, seed_, steps);
     plan_->requirements = RequirementsProvenance(requirements_, demands);
-    for (int64_t k = std::max<int64_t>(0, begin); k < end; ++k)
-      plan_->frames.push_back(RequiredFrame(k, demands.For(k)));
+    if (plan_->rig) plan_->requirements["unit"] = "step";
+    for (int64_t step = std::max<int64_t>(0, begin) / n; step * n < end; ++step)
+      for (PlannedFrame& f : RequiredStep(step, demands.For(step)))
+        if (f.index >= begin && f.index < end) plan_->frames.push_back(std::move(f));
   }
 
   RequirementSet requirements_;
@@ -869,9 +870,19 @@ class CaptureEvaluator {
       }
       if (k == "offset") c.position = o.position + SampleVec3(v, rng);
       if (k == "class") {
+        std::string option = IsTagSelection(v) ? std::string("tags") : SampleString(v, rng);
+        // Importance sampling of a class quota: the option of the frame's
+        // class bin, when the swap can draw it (a name that resolves to one
+        // class, not a library selection of several).
+        if (const auto bin = DemandedBin("class", o); bin && !IsTagSelection(v)) {
+          for (const std::string& candidate : StringOptions(v)) {
+            const std::vector<SceneClass> resolved = SwapCandidates(v, candidate);
+            if (resolved.size() == 1 && SwapClass(o.symbol, resolved[0]).second == bin->first)
+              option = candidate;
+          }
+        }
         // A library selection draws one of its assets, uniformly.
-        const std::vector<SceneClass> candidates =
-            SwapCandidates(v, IsTagSelection(v) ? std::string("tags") : SampleString(v, rng));
+        const std::vector<SceneClass> candidates = SwapCandidates(v, option);
         const SceneClass& drawn = candidates.size() == 1
                                       ? candidates[0]
                                       : candidates[static_cast<size_t>(rng.UniformInt(
@@ -948,10 +959,10 @@ class CaptureEvaluator {
       Eigen::Vector3d p(rng.Uniform(-half.x(), half.x()), rng.Uniform(-half.y(), half.y()), 50);
       if (const Node n = g.Find("x")) p.x() = SampleScalar(n, rng);
       if (const Node n = g.Find("y")) p.y() = SampleScalar(n, rng);
-      if (const Node n = g.Find("altitude")) p.z() = SampleScalar(n, rng);
+      if (const Node n = g.Find("altitude")) p.z() = SampleWithinBin(n, "altitude", rng);
       p.z() += TerrainHeight(plan_->terrain, p.x(), p.y());
       double off_nadir = 0, yaw = rng.Uniform(0, 360);
-      if (const Node n = g.Find("offnadir")) off_nadir = SampleScalar(n, rng);
+      if (const Node n = g.Find("offnadir")) off_nadir = SampleWithinBin(n, "off_nadir", rng);
       if (const Node n = g.Find("yaw")) yaw = SampleScalar(n, rng);
       if (off_nadir < 0 || off_nadir > 90)
         g.Find("offnadir").Fail("off_nadir must be within [0, 90] degrees");
@@ -1039,12 +1050,57 @@ class CaptureEvaluator {
     return CamFromEnu(p, att);
   }
 
+  // Importance sampling (docs/languages.md, "Requirements and quotas"): the
+  // bin [lo, hi] the frame being drawn must hit in a quota over `quantity`
+  // with sampling:importance, if any. For a target quantity, only a quota on
+  // `object`'s symbol (or, for class, on every target) counts. Depends only on
+  // the frame's demand, so draws stay functions of (seed, frame, frame count).
+  std::optional<std::pair<double, double>> DemandedBin(
+      const std::string& quantity, const PlannedObject* object = nullptr) const {
+    if (!demand_) return std::nullopt;
+    for (const auto& [q, bin] : demand_->bins) {
+      if (!q->importance || q->quantity != quantity) continue;
+      if (object && !(q->target == object->symbol || (q->target.empty() && object->target)))
+        continue;
+      auto range = BinRange(*q, bin);
+      // A bin other than the last excludes its upper edge.
+      if (!q->categorical() && bin + 2 < static_cast<int>(q->edges.size()))
+        range.second = std::nextafter(range.second, -std::numeric_limits<double>::infinity());
+      return range;
+    }
+    return std::nullopt;
+  }
+  std::optional<std::pair<double, double>> DemandedBin(const std::string& quantity,
+                                                       const PlannedObject& object) const {
+    return DemandedBin(quantity, &object);
+  }
+
+  // A path's scalar that sets a frame quantity (a random pose's altitude
+  // above the terrain or off-nadir angle), drawn within the frame's bin when
+  // a quota asks for importance sampling of it.
+  double SampleWithinBin(const Node& n, const std::string& quantity, Rng& rng) const {
+    if (const auto bin = DemandedBin(quantity))
+      if (const auto v = SampleScalarWithin(n, bin->first, bin->second, rng)) return *v;
+    return SampleScalar(n, rng);
+  }
+
   int64_t RigSize() const {
     return plan_->rig ? static_cast<int64_t>(plan_->rig->cameras.size()) : 1;
   }
 
-  PlannedFrame RequiredFrame(int64_t k, const FrameDemand& demand) {
-    if (demand.active.empty() && demand.bins.empty()) return Frame(k);
+  // The frames of time step `step` (one per rig camera; the frame itself
+  // without a rig), drawn until the estimate meets the demand in every camera
+  // (or, with cameras:any, in one), within the budget; else the draw that came
+  // closest (the smallest violation: summed over the cameras, or the least of
+  // them with cameras:any).
+  std::vector<PlannedFrame> RequiredStep(int64_t step, const FrameDemand& demand) {
+    const int64_t n = RigSize();
+    auto draw = [&](int attempt) {
+      std::vector<PlannedFrame> frames;
+      for (int64_t c = 0; c < n; ++c) frames.push_back(Frame(step * n + c, attempt));
+      return frames;
+    };
+    if (demand.active.empty() && demand.bins.empty()) return draw(0);
     if (!estimator_) {
       if (!estimator_factory_)
         throw Error(
@@ -1052,15 +1108,16 @@ class CaptureEvaluator {
             "(lsds plan / lsds generate)");
       estimator_ = estimator_factory_();
     }
-    std::optional<PlannedFrame> best;
-    FrameMeasure best_measure;
+    std::vector<PlannedFrame> best;
+    std::vector<FrameMeasure> best_measures;
     double best_violation = 0;
     int attempts = 0;
     std::optional<Error> unplaceable;  // a draw the camera cannot take (clearance)
+    demand_ = &demand;
     for (int attempt = 0; attempt <= requirements_.budget; ++attempt) {
-      std::optional<PlannedFrame> drawn;
+      std::vector<PlannedFrame> frames;
       try {
-        drawn = Frame(k, attempt);
+        frames = draw(attempt);
       } catch (const Error& e) {
         // A draw where the drone cannot be is rejected like one that misses
         // the requirements; only when every draw is, the error stands.
@@ -1068,29 +1125,45 @@ class CaptureEvaluator {
         if (!unplaceable) unplaceable = e;
         continue;
       }
-      PlannedFrame f = std::move(*drawn);
-      FrameMeasure m = estimator_(*plan_, f);
-      m.frame = FrameMeasures(*plan_, f.cam_from_world);
-      const double violation = Violation(demand, m);
+      std::vector<FrameMeasure> measures;
+      double violation = 0;
+      for (size_t c = 0; c < frames.size(); ++c) {
+        FrameMeasure m = estimator_(*plan_, frames[c]);
+        m.frame = FrameMeasures(*plan_, frames[c]);
+        const double v = Violation(demand, m);
+        violation = c == 0 ? v : requirements_.rig_any ? std::min(violation, v) : violation + v;
+        measures.push_back(std::move(m));
+      }
       ++attempts;
-      if (!best || violation < best_violation) {
-        best = std::move(f);
-        best_measure = std::move(m);
+      if (best.empty() || violation < best_violation) {
+        best = std::move(frames);
+        best_measures = std::move(measures);
         best_violation = violation;
       }
       if (violation == 0) break;
     }
-    if (!best) throw *unplaceable;
-    best->requirements = DemandRecord(demand, best_measure);
-    (*best->requirements)["attempts"] = attempts;
+    demand_ = nullptr;
+    if (best.empty()) throw *unplaceable;
+    for (size_t c = 0; c < best.size(); ++c) {
+      PlannedFrame& f = best[c];
+      f.requirements = DemandRecord(demand, best_measures[c]);
+      (*f.requirements)["attempts"] = attempts;
+      if (plan_->rig) {
+        // The step is the unit: the report counts it once.
+        (*f.requirements)["step"] = step;
+        (*f.requirements)["step_met"] = best_violation == 0;
+      }
+    }
     if (best_violation > 0 && requirements_.fail_on_budget)
       throw Error(
-          "frame " + std::to_string(k) + ": no draw met the requirements in " +
-              std::to_string(attempts) + " attempts (budget " +
-              std::to_string(requirements_.budget) +
-              "): " + best->requirements->at("checks").dump(),
+          (plan_->rig ? "step " + std::to_string(step) + " (frames " + std::to_string(step * n) +
+                            "-" + std::to_string(step * n + n - 1) + ")"
+                      : "frame " + std::to_string(step)) +
+              ": no draw met the requirements in " + std::to_string(attempts) +
+              " attempts (budget " + std::to_string(requirements_.budget) +
+              "): " + best.front().requirements->at("checks").dump(),
           cap_.definitions.empty() ? Location{} : cap_.definitions.front().statement.Where());
-    return *best;
+    return best;
   }
 
   // Frame k's draw number `attempt`: the first from the frame's own streams,
@@ -1103,6 +1176,7 @@ class CaptureEvaluator {
   }
 
   FrameEstimator estimator_;
+  const FrameDemand* demand_ = nullptr;  // of the frame being drawn (importance sampling)
 
   // Frame k: time step k / n of the paths, seen by rig camera k % n (n = 1
   // without a rig, so that the step is the frame). Everything drawn is keyed
@@ -1259,8 +1333,15 @@ class CaptureEvaluator {
     if (c->extent) me.extent = *c->extent;
     if (c->world_from_object) me.world_from_object = *c->world_from_object;
     if (c->visible) me.visible = *c->visible;
-    const Eigen::Vector3d half = me.world_from_object.cwiseAbs() * (0.5 * me.extent);
+    // Its LSCENE relations hold on the new place too (the references where
+    // the scene put them): a draw outside NEAR / BEHIND / IN FRONT OF or with
+    // a blocked VISIBLE FROM line of sight is drawn again; FACING turns it to
+    // its point from the new place (drawn with the half-width no turn exceeds).
+    const Eigen::Matrix3d unturned = me.world_from_object;
+    Eigen::Vector3d half = me.world_from_object.cwiseAbs() * (0.5 * me.extent);
+    if (o.facing) half.head<2>().setConstant(HorizontalRadius(unturned, me.extent));
     const bool on = o.support != PlannedObject::Support::kNone;
+    const std::string* broken = nullptr;  // the relation the last draw broke
     for (int attempt = 0;; ++attempt) {
       Eigen::Vector3d p;
       for (int i = 0; i < 3; ++i) {
@@ -1273,13 +1354,32 @@ class CaptureEvaluator {
       else if (o.support == PlannedObject::Support::kTop)
         p.z() = o.support_top + half.z();
       c->position = p;
+      if (o.facing) {
+        me.world_from_object = FacingRotation(unturned, p, *o.facing);
+        c->world_from_object = me.world_from_object;
+      }
+      broken = nullptr;
+      for (const auto& [relation, what] : o.relations)
+        if (!RelationHolds(relation, p)) broken = &what;
+      for (const PlannedObject::Sight& sight : o.sights)
+        for (const auto& [name, t] : states)
+          if (name != o.name && name != sight.viewer && t.visible &&
+              SegmentCrossesBox({t.position, 0.5 * t.extent, t.world_from_object}, sight.eye, p))
+            broken = &sight.what;
+      if (broken) {
+        if (attempt >= o.retries) break;
+        continue;
+      }
       if (o.overlap_allowed || !me.visible) return;
-      const OrientedBox mine{p, 0.5 * me.extent, me.world_from_object};
       bool collides = false;
       for (const auto& [name, t] : states) {
         if (name == o.name || !t.visible) continue;
         if (std::find(o.supports.begin(), o.supports.end(), t.planned->symbol) != o.supports.end())
           continue;
+        // LSCENE separation: the larger gap of the two is kept free.
+        const double gap = std::max(o.separation, t.planned->separation);
+        const OrientedBox mine{
+            p, 0.5 * me.extent + Eigen::Vector3d::Constant(gap), me.world_from_object};
         if (mine.Intersects({t.position, 0.5 * t.extent, t.world_from_object})) {
           collides = true;
           break;
@@ -1292,6 +1392,10 @@ class CaptureEvaluator {
       c->visible = false;  // a frame cannot delete it: it is hidden there
       return;
     }
+    if (broken)
+      rule.block.Fail("frame " + std::to_string(f.index) + ": cannot re-scatter " + o.name +
+                      " satisfying " + *broken + " after " + std::to_string(o.retries) +
+                      " retries; widen the relation or its space, or raise retries");
     rule.block.Fail("frame " + std::to_string(f.index) + ": cannot re-scatter " + o.name +
                     " without overlap after " + std::to_string(o.retries) +
                     " retries; lower the count, enlarge its space, or allow "

@@ -1,7 +1,10 @@
 #include "generator/lang/distributions.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <vector>
 
 namespace lsds {
 
@@ -79,6 +82,48 @@ std::optional<double> SampleDistribution(const Node& node, Rng& rng) {
     if (!(lo < hi)) value.Fail("a truncated normal needs min < max");
   }
   return SampleTruncatedNormal(mean, sd, lo, hi, rng);
+}
+
+std::optional<double> SampleScalarWithin(const Node& node, double lo, double hi, Rng& rng) {
+  if (!node.value || !(lo <= hi)) return std::nullopt;
+  const OJson& v = *node;
+  if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()) {
+    const double a = std::max(lo, ReadNumber(node.Item(0)));
+    const double b = std::min(hi, ReadNumber(node.Item(1)));
+    if (!(a < b)) return std::nullopt;
+    return rng.Uniform(a, b);
+  }
+  if (!v.is_object() || v.empty()) return std::nullopt;
+  if (v.size() == 1) {
+    const auto [key, value] = node.Members().front();
+    const std::string k = CanonicalKey(key);
+    if (k == "normal" || k == "truncatednormal" || k == "gaussian") {
+      // Checked by SampleDistribution when the capture was read.
+      const double mean = ReadNumber(value.Item(0)), sd = ReadNumber(value.Item(1));
+      double a = lo, b = hi;
+      if (value->size() == 4) {
+        a = std::max(a, ReadNumber(value.Item(2)));
+        b = std::min(b, ReadNumber(value.Item(3)));
+      }
+      // No mass to speak of in [a, b]: leave it to rejection.
+      if (!(a < b) || (sd > 0 && NormalCdf((b - mean) / sd) - NormalCdf((a - mean) / sd) < 1e-12))
+        return std::nullopt;
+      return SampleTruncatedNormal(mean, sd, a, b, rng);
+    }
+  }
+  // A numeric choice {30:0.5, 60:0.5}: its options inside [lo, hi].
+  std::vector<double> values, weights;
+  for (const auto& [key, child] : node.Members()) {
+    char* end = nullptr;
+    const double d = std::strtod(key.c_str(), &end);
+    if (end == key.c_str() || *end != '\0' || !child->is_number()) return std::nullopt;
+    if (d >= lo && d <= hi && ReadNumber(child) > 0) {
+      values.push_back(d);
+      weights.push_back(ReadNumber(child));
+    }
+  }
+  if (values.empty()) return std::nullopt;
+  return values[SampleWeighted(weights, rng)];
 }
 
 }  // namespace lsds

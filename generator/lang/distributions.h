@@ -24,4 +24,12 @@ double SampleTruncatedNormal(double mean, double sd, double lo, double hi, Rng& 
 // every other value (then it is a choice or something else).
 std::optional<double> SampleDistribution(const Node& node, Rng& rng);
 
+// Importance sampling of a quota bin (docs/languages.md, "Requirements and
+// quotas"): a draw of the scalar `node` conditioned on lying in [lo, hi] -
+// an interval's uniform on its intersection with [lo, hi], a normal truncated
+// to it, a numeric choice among its options inside it (weights renormalised).
+// nullopt when the value cannot be conditioned (a fixed number, another form)
+// or has no probability in [lo, hi]; then the caller draws as usual.
+std::optional<double> SampleScalarWithin(const Node& node, double lo, double hi, Rng& rng);
+
 }  // namespace lsds

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "generator/lang/random.h"
+#include "generator/lang/relations.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/util/error.h"
@@ -15,9 +16,18 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-const std::vector<std::string> kTargetQuantities = {
-    "visibility", "occlusion", "in_frame", "size_px", "gsd", "distance", "view_angle"};
-const std::vector<std::string> kFrameQuantities = {"altitude", "off_nadir"};
+const std::vector<std::string> kTargetQuantities = {"visibility",
+                                                    "occlusion",
+                                                    "in_frame",
+                                                    "size_px",
+                                                    "gsd",
+                                                    "distance",
+                                                    "view_angle",
+                                                    "facing_angle",
+                                                    "ahead_of_camera",
+                                                    "class"};
+const std::vector<std::string> kFrameQuantities = {
+    "altitude", "off_nadir", "sun_elevation", "time_of_day"};
 
 std::string QuantityOf(const Node& where, const std::string& key) {
   const std::string canonical = CanonicalKey(key);
@@ -51,22 +61,58 @@ std::string ReadTarget(const Definition& d, const Program& scene) {
   return name;
 }
 
-const std::vector<std::string> kRequireKeys = {"target",
-                                               "visibility",
-                                               "occlusion",
-                                               "in_frame",
-                                               "size_px",
-                                               "gsd",
-                                               "distance",
-                                               "view_angle",
-                                               "altitude",
-                                               "off_nadir",
-                                               "probability",
-                                               "p",
-                                               "budget",
-                                               "on_budget"};
-const std::vector<std::string> kQuotaKeys = {
-    "target", "quantity", "bins", "weights", "tolerance", "budget", "on_budget"};
+const std::vector<std::string> kRequireKeys = {
+    "target",       "visibility",      "occlusion",   "in_frame",  "size_px",       "gsd",
+    "distance",     "view_angle",      "altitude",    "off_nadir", "sun_elevation", "time_of_day",
+    "facing_angle", "ahead_of_camera", "class",       "facing",    "in_front_of",   "behind",
+    "near",         "visible_from",    "probability", "p",         "budget",        "on_budget",
+    "cameras"};
+// The relations relative to the camera a requirement may state, as bounds.
+bool IsCameraRelation(const std::string& canonical) {
+  return canonical == "facing" || canonical == "infrontof" || canonical == "behind" ||
+         canonical == "near" || canonical == "visiblefrom";
+}
+
+// How far ahead (or behind, negative) a camera relation reaches by default.
+constexpr double kCameraRelationReachM = 10000;
+
+// `FACING:CAMERA` (`{CAMERA: deg}`), `IN FRONT OF:CAMERA` / `BEHIND:CAMERA`
+// (`{CAMERA: m}`), `NEAR:{CAMERA: m}`, `VISIBLE FROM:CAMERA`: the bound each
+// stands for (docs/languages.md, "Relations to the camera").
+Bound CameraRelationBound(const Node& n, const std::string& canonical, const std::string& camera) {
+  std::string ref;
+  std::optional<double> amount;
+  if (n->is_object() && n->size() == 1) {
+    const auto [key, value] = n.Members().front();
+    ref = key;
+    amount = ReadNumber(value);
+    if (!(*amount >= 0)) value.Fail("a relation's angle or distance is >= 0");
+  } else {
+    ref = ReadString(n);
+  }
+  if (ref != "CAMERA" && ref != camera)
+    n.Fail("a requirement's relation is to the camera: CAMERA" +
+           (camera.empty() ? std::string() : " (or " + camera + ")") +
+           "; relations between objects belong in LSCENE");
+  if (canonical == "facing") return {"facing_angle", 0, amount.value_or(30)};
+  if (canonical == "infrontof")
+    return {"ahead_of_camera", 0, amount.value_or(kCameraRelationReachM)};
+  if (canonical == "behind") return {"ahead_of_camera", -amount.value_or(kCameraRelationReachM), 0};
+  if (canonical == "near") return {"distance", 0, amount.value_or(10)};
+  if (amount) n.Fail("VISIBLE FROM:CAMERA takes no number");
+  return {"visibility", 1e-9, 1};  // some of it seen
+}
+
+const std::vector<std::string> kQuotaKeys = {"target",
+                                             "quantity",
+                                             "bins",
+                                             "classes",
+                                             "weights",
+                                             "tolerance",
+                                             "sampling",
+                                             "budget",
+                                             "on_budget",
+                                             "cameras"};
 
 void ReadBudget(const Definition& d, RequirementSet* set) {
   if (const Node b = d.body.Find("budget")) {
@@ -79,6 +125,11 @@ void ReadBudget(const Definition& d, RequirementSet* set) {
     const std::string v = ReadString(o);
     if (v != "keep" && v != "fail") o.Fail("on_budget is keep (the default) or fail");
     if (v == "fail") set->fail_on_budget = true;
+  }
+  if (const Node c = d.body.Find("cameras")) {
+    const std::string v = ReadString(c);
+    if (v != "all" && v != "any") c.Fail("cameras is all (the default) or any");
+    if (v == "any") set->rig_any = true;
   }
 }
 
@@ -115,6 +166,23 @@ std::map<std::string, double> GeometricMeasures(const OrientedBox& box,
       std::acos(std::clamp(to_camera.z() / std::max(1e-12, to_camera.norm()), -1.0, 1.0)) *
       kRadToDeg;
   m["gsd"] = m["distance"] / camera.fx;
+  // Relations to the camera, horizontal as LSCENE's: the angle between the
+  // target's heading and its direction to the camera (0: it faces the
+  // camera), and how far ahead of the camera it lies along the camera's
+  // heading (the optical axis on the ground; the image top when looking
+  // straight down).
+  const Eigen::Vector2d heading = HeadingOf(box.world_from_box);
+  const Eigen::Vector2d to_camera_xy = to_camera.head<2>();
+  m["facing_angle"] =
+      to_camera_xy.norm() > 1e-12
+          ? std::acos(std::clamp(heading.dot(to_camera_xy.normalized()), -1.0, 1.0)) * kRadToDeg
+          : 0.0;
+  const Eigen::Matrix3d world_from_cam = cam_from_world.rotation.conjugate().toRotationMatrix();
+  Eigen::Vector2d camera_heading = world_from_cam.col(2).head<2>();
+  if (camera_heading.norm() < 1e-6) camera_heading = -world_from_cam.col(1).head<2>();
+  m["ahead_of_camera"] = camera_heading.norm() > 1e-12
+                             ? (box.center - centre).head<2>().dot(camera_heading.normalized())
+                             : 0.0;
   m["in_frame"] = InFrameFraction(box, camera, cam_from_world);
   double size = 0;
   if (const auto b = ProjectedBounds(box, camera, cam_from_world)) {
@@ -126,24 +194,36 @@ std::map<std::string, double> GeometricMeasures(const OrientedBox& box,
   return m;
 }
 
-std::map<std::string, double> FrameMeasures(const Plan& plan, const Rigid3d& cam_from_world) {
+std::map<std::string, double> FrameMeasures(const Plan& plan, const PlannedFrame& frame) {
+  const Rigid3d& cam_from_world = frame.cam_from_world;
   const Eigen::Vector3d c = CameraCenterInWorld(cam_from_world);
   const double ground = plan.terrain.present ? TerrainHeight(plan.terrain, c.x(), c.y()) : 0.0;
   // The optical axis (camera +z) in the world.
   const Eigen::Vector3d axis = cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
-  return {{"altitude", c.z() - ground},
-          {"off_nadir", std::acos(std::clamp(-axis.z(), -1.0, 1.0)) * kRadToDeg}};
+  std::map<std::string, double> m = {
+      {"altitude", c.z() - ground},
+      {"off_nadir", std::acos(std::clamp(-axis.z(), -1.0, 1.0)) * kRadToDeg}};
+  // The frame's sun (an LCAP change may set it per frame); its clock, when it
+  // has one, runs with the frame time.
+  const PlannedSun sun = EnvironmentAt(plan, frame).sun;
+  m["sun_elevation"] = sun.elevation_deg;
+  if (sun.clock_utc_s) {
+    const double hours = (*sun.clock_utc_s + frame.time) / 3600.0 + sun.utc_offset_h;
+    m["time_of_day"] = hours - 24.0 * std::floor(hours / 24.0);
+  }
+  return m;
 }
 
 FrameMeasure MeasureTruth(const Plan& plan,
                           const PlannedFrame& frame,
                           const std::vector<ObjectTruth>& objects) {
   FrameMeasure m;
-  m.frame = FrameMeasures(plan, frame.cam_from_world);
+  m.frame = FrameMeasures(plan, frame);
   for (const ObjectTruth& o : objects) {
     TargetMeasure t;
     t.object = o.name;
     t.values = GeometricMeasures(o.obb, frame.camera, frame.cam_from_world);
+    t.values["class"] = o.class_id;
     t.values["in_frame"] = o.in_frame;
     t.values["visibility"] = o.visibility;
     t.values["occlusion"] = 1.0 - o.visibility;
@@ -154,6 +234,9 @@ FrameMeasure MeasureTruth(const Plan& plan,
 
 RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
   RequirementSet set;
+  std::string camera;
+  for (const Definition& d : capture.definitions)
+    if (d.kind == "camera") camera = d.symbol;
   bool budget_given = false;
   for (const Definition& d : capture.definitions) {
     if (!IsRequirementKind(d.kind)) continue;
@@ -170,13 +253,20 @@ RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
       r.target = target;
       for (const auto& [key, node] : d.body.Members()) {
         const std::string k = CanonicalKey(key);
-        if (k == "target" || k == "budget" || k == "onbudget") continue;
+        if (k == "target" || k == "budget" || k == "onbudget" || k == "cameras") continue;
         if (k == "probability" || k == "p") {
           r.probability = ReadNumber(node);
           if (!(r.probability >= 0 && r.probability <= 1)) node.Fail("a probability is in [0, 1]");
           continue;
         }
+        if (IsCameraRelation(k)) {
+          if (target.empty()) node.FailKey("a relation to the camera needs target:OBJECT");
+          r.bounds.push_back(CameraRelationBound(node, k, camera));
+          continue;
+        }
         const std::string q = QuantityOf(node, key);
+        if (q == "class")
+          node.FailKey("class is a quota quantity: quota{target:T,quantity:class,classes:{...}}");
         if (!IsFrameQuantity(q) && target.empty())
           node.FailKey("'" + q + "' is a quantity of a target: add target:OBJECT");
         r.bounds.push_back(ReadBound(node, q));
@@ -191,18 +281,46 @@ RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
       if (!quantity)
         d.body.Fail("a quota needs quantity:NAME (" + Join(RequirementQuantities(), ", ") + ")");
       q.quantity = QuantityOf(quantity, ReadString(quantity));
-      if (!IsFrameQuantity(q.quantity) && target.empty())
+      // A class quota without a target is over every target in view.
+      if (!IsFrameQuantity(q.quantity) && q.quantity != "class" && target.empty())
         quantity.Fail("'" + q.quantity + "' is a quantity of a target: add target:OBJECT");
-      const Node bins = d.body.Find("bins");
-      if (!bins || !bins->is_array() || bins->size() < 2)
-        (bins ? bins : d.body)
-            .Fail("a quota needs bins:[e0, e1, ..., en] (n bins, edges ascending)");
-      for (size_t i = 0; i < bins->size(); ++i) {
-        q.edges.push_back(ReadNumber(bins.Item(i)));
-        if (i > 0 && q.edges[i] <= q.edges[i - 1]) bins.Item(i).Fail("bin edges must ascend");
+      const Node bins = d.body.Find("bins"), classes = d.body.Find("classes");
+      if (q.quantity == "class") {
+        // Bins are class names: classes:{car:1,truck:1} (the shares) or
+        // classes:[car,truck] (equal shares, or weights:[...]).
+        if (bins) bins.FailKey("a class quota's bins are classes:{name: share, ...}");
+        if (!classes || !(classes->is_object() || classes->is_array()) || classes->empty())
+          (classes ? classes : d.body)
+              .Fail("a class quota needs classes:{name: share, ...} or classes:[name, ...]");
+        q.classes_node = classes;
+        if (classes->is_object()) {
+          if (d.body.Find("weights"))
+            d.body.Find("weights").FailKey("the shares are the values of classes:{name: share}");
+          for (const auto& [name, share] : classes.Members()) {
+            q.classes.push_back(name);
+            q.weights.push_back(ReadNumber(share));
+            if (q.weights.back() < 0) share.Fail("a share is >= 0");
+          }
+        } else {
+          for (size_t i = 0; i < classes->size(); ++i)
+            q.classes.push_back(ReadString(classes.Item(i)));
+        }
+        for (size_t i = 0; i < q.classes.size(); ++i)
+          for (size_t j = 0; j < i; ++j)
+            if (q.classes[i] == q.classes[j])
+              classes.Fail("class '" + q.classes[i] + "' is listed twice");
+      } else {
+        if (classes) classes.FailKey("classes belong to a quota over quantity:class");
+        if (!bins || !bins->is_array() || bins->size() < 2)
+          (bins ? bins : d.body)
+              .Fail("a quota needs bins:[e0, e1, ..., en] (n bins, edges ascending)");
+        for (size_t i = 0; i < bins->size(); ++i) {
+          q.edges.push_back(ReadNumber(bins.Item(i)));
+          if (i > 0 && q.edges[i] <= q.edges[i - 1]) bins.Item(i).Fail("bin edges must ascend");
+        }
       }
-      const size_t n = q.edges.size() - 1;
-      q.weights.assign(n, 1.0);
+      const size_t n = q.categorical() ? q.classes.size() : q.edges.size() - 1;
+      if (q.weights.empty()) q.weights.assign(n, 1.0);
       if (const Node w = d.body.Find("weights")) {
         if (!w->is_array() || w->size() != n)
           w.Fail("weights:[...] needs one weight per bin (" + std::to_string(n) + ")");
@@ -218,10 +336,35 @@ RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
         q.tolerance = ReadNumber(t);
         if (!(q.tolerance >= 0 && q.tolerance <= 1)) t.Fail("tolerance is a share in [0, 1]");
       }
+      if (const Node s = d.body.Find("sampling")) {
+        const std::string v = ReadString(s);
+        if (v != "importance" && v != "rejection")
+          s.Fail("sampling is importance (the default) or rejection");
+        q.importance = v == "importance";
+      }
       set.quotas.push_back(q);
     }
   }
   return set;
+}
+
+void ResolveQuotaClasses(const std::vector<ClassInfo>& classes, RequirementSet* set) {
+  for (Quota& q : set->quotas) {
+    q.class_ids.clear();
+    for (const std::string& name : q.classes) {
+      const ClassInfo* found = nullptr;
+      for (const ClassInfo& c : classes)
+        if (c.name == name) found = &c;
+      if (!found) {
+        std::vector<std::string> names;
+        for (const ClassInfo& c : classes) names.push_back(c.name);
+        q.classes_node.Fail("quota " + q.name + ": no class '" + name +
+                            "' in the scene or the capture's class swaps" +
+                            DidYouMean(name, names) + "; classes: " + Join(names, ", "));
+      }
+      q.class_ids.push_back(found->id);
+    }
+  }
 }
 
 DemandPlanner::DemandPlanner(const RequirementSet& set, uint64_t seed, int64_t total_frames)
@@ -279,7 +422,18 @@ std::vector<int64_t> DemandPlanner::PlannedCounts(size_t q) const {
   return counts;
 }
 
+std::pair<double, double> BinRange(const Quota& quota, int bin) {
+  const size_t b = static_cast<size_t>(bin);
+  if (quota.categorical()) return {quota.class_ids.at(b), quota.class_ids.at(b)};
+  return {quota.edges.at(b), quota.edges.at(b + 1)};
+}
+
 int QuotaBin(const Quota& quota, double value) {
+  if (quota.categorical()) {
+    for (size_t b = 0; b < quota.class_ids.size(); ++b)
+      if (quota.class_ids[b] == value) return static_cast<int>(b);
+    return -1;
+  }
   const size_t n = quota.edges.size() - 1;
   for (size_t b = 0; b < n; ++b)
     if (value >= quota.edges[b] &&
@@ -296,7 +450,8 @@ struct Check {
   std::string target;  // object symbol, empty for frame quantities
   std::string quantity;
   double lo, hi;
-  bool half_open;  // a quota bin other than the last: [lo, hi)
+  bool half_open;               // a quota bin other than the last: [lo, hi)
+  std::string class_name = "";  // a class quota's bin
 };
 
 std::vector<Check> ChecksOf(const FrameDemand& demand) {
@@ -305,13 +460,18 @@ std::vector<Check> ChecksOf(const FrameDemand& demand) {
     for (const Bound& b : r->bounds)
       checks.push_back(
           {r->name, IsFrameQuantity(b.quantity) ? "" : r->target, b.quantity, b.lo, b.hi, false});
-  for (const auto& [q, bin] : demand.bins)
+  for (const auto& [q, bin] : demand.bins) {
+    const auto [lo, hi] = BinRange(*q, bin);
     checks.push_back({q->name,
-                      IsFrameQuantity(q->quantity) ? "" : q->target,
+                      IsFrameQuantity(q->quantity) ? ""
+                      : q->target.empty()          ? "*"
+                                                   : q->target,
                       q->quantity,
-                      q->edges[bin],
-                      q->edges[bin + 1],
-                      bin + 2 < static_cast<int>(q->edges.size())});
+                      lo,
+                      hi,
+                      !q->categorical() && bin + 2 < static_cast<int>(q->edges.size()),
+                      q->categorical() ? q->classes[static_cast<size_t>(bin)] : ""});
+  }
   return checks;
 }
 
@@ -321,30 +481,39 @@ double Outside(const Check& c, double v) {
   return 0;
 }
 
-// The copies of `symbol` in the measure ("O1#1", "O1#2", ...).
+// The copies of `symbol` in the measure ("O1#1", "O1#2", ...); "*": every
+// target in view.
 std::vector<const TargetMeasure*> CopiesOf(const FrameMeasure& m, const std::string& symbol) {
   std::vector<const TargetMeasure*> copies;
   for (const TargetMeasure& t : m.targets)
-    if (t.object.substr(0, t.object.rfind('#')) == symbol) copies.push_back(&t);
+    if (symbol == "*" || t.object.substr(0, t.object.rfind('#')) == symbol) copies.push_back(&t);
   return copies;
 }
 
-// Scale of each quantity so that violations of different units add up.
-double Scale(double lo, double hi) { return std::max({1e-6, hi - lo, std::abs(hi) * 0.1}); }
+// Scale of each quantity so that violations of different units add up (a
+// class is right or wrong: 1).
+double Scale(const Check& c) { return std::max({1e-6, c.hi - c.lo, std::abs(c.hi) * 0.1}); }
+
+// How far a value misses the check, in units of the check (a wrong class: 1).
+double Miss(const Check& c, double v) {
+  if (!c.class_name.empty()) return v == c.lo ? 0.0 : 1.0;
+  return Outside(c, v) / Scale(c);
+}
 
 }  // namespace
 
 double Violation(const FrameDemand& demand, const FrameMeasure& measure) {
   double total = 0;
   for (const Check& c : ChecksOf(demand)) {
-    const double scale = Scale(c.lo, c.hi);
     if (c.target.empty()) {
-      total += Outside(c, measure.frame.at(c.quantity)) / scale;
+      // A quantity the frame does not have (time_of_day without a clock).
+      const auto it = measure.frame.find(c.quantity);
+      total += it == measure.frame.end() ? 1.0 : Miss(c, it->second);
       continue;
     }
     const auto copies = CopiesOf(measure, c.target);
     if (copies.empty()) total += 1;  // out of view: every bound fails
-    for (const TargetMeasure* t : copies) total += Outside(c, t->values.at(c.quantity)) / scale;
+    for (const TargetMeasure* t : copies) total += Miss(c, t->values.at(c.quantity));
   }
   return total;
 }
@@ -356,6 +525,7 @@ nlohmann::json DemandRecord(const FrameDemand& demand, const FrameMeasure& measu
     auto add = [&](const std::string& object, std::optional<double> v) {
       nlohmann::json j = {{"name", c.name}, {"quantity", c.quantity}};
       if (!object.empty()) j["object"] = object;
+      if (!c.class_name.empty()) j["class"] = c.class_name;
       j["min"] = c.lo;
       j["max"] = c.hi;
       const bool ok = v && Outside(c, *v) == 0;
@@ -366,7 +536,8 @@ nlohmann::json DemandRecord(const FrameDemand& demand, const FrameMeasure& measu
       checks.push_back(j);
     };
     if (c.target.empty()) {
-      add("", measure.frame.at(c.quantity));
+      const auto it = measure.frame.find(c.quantity);
+      add("", it == measure.frame.end() ? std::nullopt : std::optional<double>(it->second));
       continue;
     }
     const auto copies = CopiesOf(measure, c.target);
@@ -420,7 +591,13 @@ nlohmann::json RequirementsProvenance(const RequirementSet& set, const DemandPla
     nlohmann::json j = {{"name", quota.name}};
     if (!quota.target.empty()) j["target"] = quota.target;
     j["quantity"] = quota.quantity;
-    j["bins"] = quota.edges;
+    if (quota.categorical()) {
+      j["classes"] = quota.classes;
+      j["class_ids"] = quota.class_ids;
+    } else {
+      j["bins"] = quota.edges;
+    }
+    j["sampling"] = quota.importance ? "importance" : "rejection";
     j["weights"] = quota.weights;
     j["tolerance"] = quota.tolerance;
     j["planned"] = planner.PlannedCounts(q);
@@ -429,7 +606,8 @@ nlohmann::json RequirementsProvenance(const RequirementSet& set, const DemandPla
   return {{"requirements", requirements},
           {"quotas", quotas},
           {"budget", set.budget},
-          {"on_budget", set.fail_on_budget ? "fail" : "keep"}};
+          {"on_budget", set.fail_on_budget ? "fail" : "keep"},
+          {"cameras", set.rig_any ? "any" : "all"}};
 }
 
 }  // namespace lsds

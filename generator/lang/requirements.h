@@ -26,9 +26,11 @@ namespace lsds {
 // occlusion (1 - visibility), in_frame, size_px (larger side of the projected
 // box clipped to the image), gsd (metres per pixel at the target), distance
 // (m, camera centre to box centre), view_angle (deg between the line of sight
-// and the vertical: 0 = seen from straight above). Per frame: altitude (m
-// above the terrain under the camera), off_nadir (deg of the optical axis from
-// straight down).
+// and the vertical: 0 = seen from straight above), class (the class id the
+// target is drawn with: quota only, bins are class names). Per frame: altitude
+// (m above the terrain under the camera), off_nadir (deg of the optical axis
+// from straight down), sun_elevation (deg above the horizon), time_of_day
+// (local hours of the sun's clock; only for a sun given by date and time).
 const std::vector<std::string>& RequirementQuantities();
 bool IsFrameQuantity(const std::string& quantity);
 
@@ -49,8 +51,9 @@ struct FrameMeasure {
 std::map<std::string, double> GeometricMeasures(const OrientedBox& box,
                                                 const PinholeCamera& camera,
                                                 const Rigid3d& cam_from_world);
-// The frame quantities (altitude above the terrain, off-nadir angle).
-std::map<std::string, double> FrameMeasures(const Plan& plan, const Rigid3d& cam_from_world);
+// The frame quantities (altitude above the terrain, off-nadir angle, the sun's
+// elevation and the local time of day when the sun has a clock).
+std::map<std::string, double> FrameMeasures(const Plan& plan, const PlannedFrame& frame);
 // Measures from rendered truth: the achieved values of a frame.
 FrameMeasure MeasureTruth(const Plan& plan,
                           const PlannedFrame& frame,
@@ -75,22 +78,38 @@ struct Requirement {
 
 struct Quota {
   std::string name;
-  std::string target;
+  std::string target;  // empty for frame quantities and for a class quota over every target
   std::string quantity;
   std::vector<double> edges;    // bin i = [edges[i], edges[i+1]) (last bin closed)
   std::vector<double> weights;  // target share of each bin, normalised
   double tolerance = 0.05;      // allowed |achieved - target| share per bin
+  // A class quota (quantity:class): bin i is the class classes[i], whose id
+  // (class_ids[i]) ResolveQuotaClasses finds in the plan's class table.
+  std::vector<std::string> classes;
+  std::vector<double> class_ids;
+  Node classes_node;  // for messages
+  // Importance sampling (docs/languages.md): the free variable that sets the
+  // quantity is drawn within the frame's bin where the capture allows it.
+  bool importance = true;
+  bool categorical() const { return !classes.empty(); }
+  size_t bins() const { return weights.size(); }
 };
 
 // The requirements and quotas of a capture, checked (keys, targets, bounds).
 struct RequirementSet {
   std::vector<Requirement> requirements;
   std::vector<Quota> quotas;
-  int budget = 50;              // redraws per frame before giving up
+  int budget = 50;  // redraws per frame before giving up
+  // With a camera rig, whether every camera of a step (all) or at least one
+  // (any) must meet the step's demand.
+  bool rig_any = false;
   bool fail_on_budget = false;  // on_budget:fail makes a missed frame a plan error
   bool empty() const { return requirements.empty() && quotas.empty(); }
 };
 RequirementSet ReadRequirements(const Program& capture, const Program& scene);
+// Class quotas: the ids of their class names in the plan's class table (after
+// the capture's class swaps joined it); an unknown name is a located error.
+void ResolveQuotaClasses(const std::vector<ClassInfo>& classes, RequirementSet* set);
 bool IsRequirementKind(const std::string& kind);
 void CheckRequirementDefinition(const Definition& d);
 
@@ -118,6 +137,9 @@ class DemandPlanner {
 // that is not measured (out of view) counts as a violation of 1 per bound.
 double Violation(const FrameDemand& demand, const FrameMeasure& measure);
 int QuotaBin(const Quota& quota, double value);  // -1 when outside every bin
+// The [lo, hi] a frame's bin of a quota allows (hi exclusive but for the last
+// bin; lo == hi == the class id for a class quota).
+std::pair<double, double> BinRange(const Quota& quota, int bin);
 
 // The frame's record (plan and collection): attempts, whether it is met, and
 // the values of every demanded quantity.

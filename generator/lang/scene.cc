@@ -47,6 +47,7 @@ const std::vector<std::string> kObjectKeys = {"class",
                                               "overlap",
                                               "on_overlap",
                                               "retries",
+                                              "separation",
                                               "material",
                                               "bound",
                                               "target",
@@ -532,11 +533,20 @@ class SceneEvaluator {
         n.Fail("retries must be a whole number in [0, 100000]");
       retries = static_cast<int>(r);
     }
+    // A placement requirement: a free margin around the object (metres).
+    double separation = 0;
+    if (const Node n = b.Find("separation")) {
+      separation = ReadNumber(n);
+      if (!(separation >= 0) || separation > 1e4)
+        n.Fail("separation is a gap in metres within [0, 10000]");
+      if (overlap) n.Fail("separation keeps objects apart; it needs overlap:false");
+    }
     int64_t copy_number = 0;
     for (int64_t copy = 0; copy < count; ++copy) {
       Placed p;
       PlannedObject& o = p.object;
       o.symbol = def.symbol;
+      o.separation = separation;
       const Node cls = b.Find("class");
       const std::string chosen = IsTagSelection(cls) ? "tags" : SampleString(cls, rng_);
       const std::vector<const gen::LibraryAsset*> assets = SelectAssets(Library(), cls, chosen);
@@ -802,6 +812,12 @@ class SceneEvaluator {
     o.placement_hi = space.hi;
     o.on_overlap = policy;
     o.retries = retries;
+    o.relations = relations;
+    o.facing = facing;
+    o.sights.clear();
+    for (const Sight& sight : sights)
+      o.sights.push_back(
+          {sight.eye, sight.viewer ? sight.viewer->object.name : std::string(), sight.what});
 
     // FACING turns the object after its centre is drawn; it is drawn with the
     // half-width no turn exceeds, so the turned box stays in the space.
@@ -884,13 +900,16 @@ class SceneEvaluator {
 
   bool Collides(const Placed& p, const std::set<std::string>& supports) const {
     if (!p.object.visible) return false;
-    const OrientedBox mine = ObbOf(p.object);
     for (const Placed& q : placed_) {
       if (!q.object.visible || supports.count(q.object.symbol)) continue;
-      if (q.aabb.hi.x() <= p.aabb.lo.x() || p.aabb.hi.x() <= q.aabb.lo.x() ||
-          q.aabb.hi.y() <= p.aabb.lo.y() || p.aabb.hi.y() <= q.aabb.lo.y() ||
-          q.aabb.hi.z() <= p.aabb.lo.z() || p.aabb.hi.z() <= q.aabb.lo.z())
+      // The larger separation of the two: the gap either asks for.
+      const double gap = std::max(p.object.separation, q.object.separation);
+      if (q.aabb.hi.x() + gap <= p.aabb.lo.x() || p.aabb.hi.x() + gap <= q.aabb.lo.x() ||
+          q.aabb.hi.y() + gap <= p.aabb.lo.y() || p.aabb.hi.y() + gap <= q.aabb.lo.y() ||
+          q.aabb.hi.z() + gap <= p.aabb.lo.z() || p.aabb.hi.z() + gap <= q.aabb.lo.z())
         continue;
+      OrientedBox mine = ObbOf(p.object);
+      mine.half_extents.array() += gap;
       if (mine.Intersects(ObbOf(q.object))) return true;
     }
     return false;

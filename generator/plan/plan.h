@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "generator/lang/relations.h"
 #include "libs/collection/model.h"
 #include "libs/geometry/camera.h"
 #include "libs/geometry/geodesy.h"
@@ -116,6 +117,21 @@ struct PlannedObject {
   Eigen::Vector3d placement_hi = Eigen::Vector3d::Zero();
   std::string on_overlap = "move";  // move | delete | hide | allow
   int retries = 100;
+  // LSCENE `separation`: no other visible object's box within its box grown
+  // by this many metres on every side (the larger of two objects' counts).
+  double separation = 0;
+  // Its LSCENE relations (NEAR, BEHIND, IN FRONT OF with their text), the
+  // point FACING turns it to, and the eyes VISIBLE FROM must see it from (with
+  // the viewer's name, which never blocks its own view): a re-scatter keeps
+  // them.
+  std::vector<std::pair<Relation, std::string>> relations;
+  std::optional<Eigen::Vector3d> facing;
+  struct Sight {
+    Eigen::Vector3d eye = Eigen::Vector3d::Zero();
+    std::string viewer;  // PlannedObject::name, empty for a point
+    std::string what;
+  };
+  std::vector<Sight> sights;
 };
 
 // A change to an object in effect on a frame (LCAP scene changes:

@@ -62,7 +62,7 @@ struct Driver {
 
   void Prepare(const Frame& frame, FrameContext* ctx, LossReport* loss) {
     ctx->frame = &frame;
-    ctx->split = split_plan.split_of_frame.at(frame.index);
+    ctx->split = split_plan.SplitOf(frame.index);
     ctx->stem = FrameFileStem(frame);  // "000004_left" in a rig: unique per camera
     ctx->image_name = ctx->stem + options.ImageExtension();
     ctx->width = frame.camera.intrinsics.width;

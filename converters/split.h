@@ -4,8 +4,8 @@
 #pragma once
 
 #include <cstdint>
-#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libs/collection/model.h"
@@ -37,6 +37,8 @@ std::string SplitGroup(const Frame& frame, int64_t block = 50);
 // The split of a group: u = top 53 bits of Mix64(FNV-1a(group)) / 2^53 in [0,
 // 1), the first part whose cumulative fraction exceeds u.
 const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::string& group);
+// The same, as the position of the part in `parts`.
+size_t AssignSplitIndex(const std::vector<SplitPart>& parts, const std::string& group);
 
 // The split of every frame of a conversion. The hash rule above (whole groups)
 // is used when it fills every split with a non-zero fraction; otherwise (few
@@ -46,8 +48,15 @@ const std::string& AssignSplit(const std::vector<SplitPart>& parts, const std::s
 // together. Fewer frames than such splits is an error naming the split that
 // cannot be filled.
 struct SplitPlan {
-  std::map<int64_t, std::string> split_of_frame;  // frame index -> split
-  bool blocks = false;                            // true when the block rule was needed
+  std::vector<std::string> names;  // the parts' names, in --split order
+  // (frame index, position in `names`), sorted by index: 16 bytes a frame,
+  // where a map of names took about 100 (a million-frame conversion keeps
+  // one entry per frame).
+  std::vector<std::pair<int64_t, uint32_t>> split_of_frame;
+  bool blocks = false;  // true when the block rule was needed
+
+  // The split of frame `index` (std::out_of_range for a frame not planned).
+  const std::string& SplitOf(int64_t index) const;
 };
 struct SplitFrame {
   int64_t index;

@@ -47,6 +47,7 @@ class HashSet64 {
 template <typename Value>
 class FrameTable {
  public:
+  void Reserve(size_t n) { entries_.reserve(n); }  // no doubling past the frame count
   void Add(int64_t index, Value value) { entries_.push_back({index, std::move(value), false}); }
 
   // The value of `index` not taken yet, or nullptr; marks it taken.
@@ -68,18 +69,23 @@ class FrameTable {
     bool taken;
   };
   void Seal() {
-    std::stable_sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
-      return a.index < b.index;
-    });
-    // Keep the last of equal indices (stable sort kept their file order).
-    std::vector<Entry> kept;
-    kept.reserve(entries_.size());
+    const auto by_index = [](const Entry& a, const Entry& b) { return a.index < b.index; };
+    // Files list frames in order as a rule; stable_sort's buffer (one more
+    // table) is only paid when they do not.
+    if (!std::is_sorted(entries_.begin(), entries_.end(), by_index))
+      std::stable_sort(entries_.begin(), entries_.end(), by_index);
+    // Keep the last of equal indices (stable sort kept their file order), in
+    // place: a copy would double the table's peak.
+    size_t kept = 0;
     for (size_t i = 0; i < entries_.size(); ++i) {
-      if (i + 1 < entries_.size() && entries_[i + 1].index == entries_[i].index) continue;
-      kept.push_back(std::move(entries_[i]));
+      if (kept > 0 && entries_[kept - 1].index == entries_[i].index)
+        entries_[kept - 1] = std::move(entries_[i]);
+      else if (kept != i)
+        entries_[kept++] = std::move(entries_[i]);
+      else
+        ++kept;
     }
-    kept.shrink_to_fit();
-    entries_ = std::move(kept);
+    entries_.resize(kept);
     sealed_ = true;
   }
   std::vector<Entry> entries_;

@@ -192,6 +192,8 @@ void Validator::ReadMetadata() {
     }
     MetadataFile file;
     file.file = variant.file;
+    if (Selected("cross.metadata-pose") || Selected("structure.metadata"))
+      file.poses.Reserve(frames_in_file_);  // metadata.json has a pose per frame
     CollectionTallies::Metadata tally;
     tally.file = variant.file;
     tally.perturbed = variant.perturbed;

@@ -564,7 +564,7 @@ TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
   const convert::SplitPlan plan = convert::PlanSplits(parts, frames);
   EXPECT_FALSE(plan.blocks);
   for (const auto& f : frames) {
-    EXPECT_EQ(plan.split_of_frame.at(f.index), convert::AssignSplit(parts, f.group));
+    EXPECT_EQ(plan.SplitOf(f.index), convert::AssignSplit(parts, f.group));
   }
   // Too few frames for the splits: a loud error naming the split.
   const auto three = convert::ParseSplit("train=0.5,val=0.3,test=0.2");
@@ -578,6 +578,34 @@ TEST(Splits, WholeSequencesWhenTheyFillEverySplit) {
   // A zero fraction may stay empty.
   const auto zero = convert::ParseSplit("train=1,val=0");
   EXPECT_FALSE(convert::PlanSplits(zero, {{0, "a"}}).blocks);
+}
+
+TEST(Splits, PlanAnswersPerFrameInAnyOrderAndARepeatedIndexTakesItsLastGroup) {
+  const auto parts = convert::ParseSplit("train=0.5,val=0.5");
+  // Groups whose hash lands in different splits: a repeated frame index
+  // takes the split of its last entry.
+  std::string in_train, in_val;
+  for (int g = 0; in_train.empty() || in_val.empty(); ++g) {
+    const std::string group = "g" + std::to_string(g);
+    (convert::AssignSplit(parts, group) == "train" ? in_train : in_val) = group;
+  }
+  const std::vector<convert::SplitFrame> frames = {
+      {9, in_val}, {-3, in_train}, {4, in_val}, {9, in_train}, {100, in_val}};
+  const convert::SplitPlan plan = convert::PlanSplits(parts, frames);
+  EXPECT_FALSE(plan.blocks);
+  EXPECT_EQ(plan.SplitOf(9), "train");
+  EXPECT_EQ(plan.SplitOf(-3), "train");
+  EXPECT_EQ(plan.SplitOf(4), "val");
+  EXPECT_EQ(plan.SplitOf(100), "val");
+  EXPECT_THROW(plan.SplitOf(5), std::out_of_range);
+  // The block rule (one group cannot fill two splits) answers the same way.
+  const convert::SplitPlan blocks =
+      convert::PlanSplits(parts, {{7, "one"}, {2, "one"}, {5, "one"}, {3, "one"}});
+  EXPECT_TRUE(blocks.blocks);
+  EXPECT_EQ(blocks.SplitOf(2), "train");
+  EXPECT_EQ(blocks.SplitOf(3), "train");
+  EXPECT_EQ(blocks.SplitOf(5), "val");
+  EXPECT_EQ(blocks.SplitOf(7), "val");
 }
 
 TEST(ClassMap, OnlyUsedKeepsOrderReindexesAndKeepsMergedClassesWhole) {

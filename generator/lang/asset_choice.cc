@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "generator/lang/vocabulary.h"
 #include "generator/scene/object_library.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
 
 gen::AssetLibrary LoadSceneAssetLibrary(const Program& scene, const Definition& def) {
-  def.body.CheckKeys({"path"}, def.symbol);
+  CheckKeys(def.body, KindVocabulary("asset_library"), def.symbol);
   const Node path = def.body.Find("path");
   if (!path) def.body.Fail("asset_library needs a path (the library folder)");
   const std::string dir = (std::filesystem::path(scene.src->path).parent_path() / ReadString(path))

@@ -12,6 +12,7 @@
 #include "generator/lang/distributions.h"
 #include "generator/lang/environment.h"
 #include "generator/lang/rig.h"
+#include "generator/lang/vocabulary.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/geometry/attitude.h"
 #include "libs/util/strings.h"
@@ -19,56 +20,26 @@
 namespace lsds {
 namespace {
 
-const std::vector<std::string> kCameraKeys = {"csettings",
-                                              "camera_settings",
-                                              "settings",
-                                              "targets",
-                                              "ppmaterial",
-                                              "post_process",
-                                              "capture",
-                                              "capture_settings",
-                                              "rig"};
-const std::vector<std::string> kSettingsKeys = {"fov",
-                                                "res",
-                                                "resolution",
-                                                "focal_length",
-                                                "sensor_width",
-                                                "fps",
-                                                "clearance",
-                                                "heights",
-                                                "iso",
-                                                "shutter",
-                                                "f_number",
-                                                "ev100",
-                                                "exposure_compensation"};
-
 // The camera's exposure (docs/languages.md, "Exposure"): `ev100`, or
 // `shutter` (s) with `f_number` and `iso` (default 100); neither: auto
 // exposure, with `iso` and `f_number` fixed if given.
 PlannedExposure ReadExposure(const Node& settings) {
   PlannedExposure e;
-  auto positive = [](const Node& n, const char* what) {
-    const double v = ReadNumber(n);
-    if (!(v > 0) || !std::isfinite(v)) n.Fail(std::string(what) + " must be > 0");
-    return v;
-  };
-  if (const Node n = settings.Find("iso")) e.iso = positive(n, "iso");
-  if (const Node n = settings.Find("fnumber")) e.f_number = positive(n, "f_number");
+  const KindSpec& vocabulary = KindVocabulary("camera_settings");
+  auto read = [&](const Node& n, const char* key) { return ReadInRange(n, vocabulary.Key(key)); };
+  if (const Node n = settings.Find("iso")) e.iso = read(n, "iso");
+  if (const Node n = settings.Find("fnumber")) e.f_number = read(n, "f_number");
   if (const Node n = settings.Find("shutter")) {
-    e.shutter_s = positive(n, "shutter (seconds)");
+    e.shutter_s = read(n, "shutter");
     if (!e.f_number) n.Fail("a manual exposure by shutter needs f_number too (or give ev100)");
   }
   if (const Node n = settings.Find("ev100")) {
     if (e.shutter_s || e.iso || e.f_number)
       n.Fail("give ev100 or shutter, f_number and iso, not both");
-    e.ev100 = ReadNumber(n);
-    if (!(std::abs(*e.ev100) <= 30)) n.Fail("ev100 must be within [-30, 30]");
+    e.ev100 = read(n, "ev100");
   }
-  if (const Node n = settings.Find("exposurecompensation")) {
-    e.compensation_ev = ReadNumber(n);
-    if (!(std::abs(e.compensation_ev) <= 10))
-      n.Fail("exposure_compensation is in EV, within [-10, 10]");
-  }
+  if (const Node n = settings.Find("exposurecompensation"))
+    e.compensation_ev = read(n, "exposure_compensation");
   return e;
 }
 
@@ -286,7 +257,7 @@ class CaptureEvaluator {
               "one camera per capture; several cameras on one platform are a rig: "
               "camera{rig:{left:{position:[-0.1,0,0]},right:{position:[0.1,0,0]}}}");
         camera_ = &d;
-        d.body.CheckKeys(kCameraKeys, "camera " + d.symbol);
+        lsds::CheckKeys(d.body, KindVocabulary("camera"), "camera " + d.symbol);
       } else if (d.kind == "path") {
         d.body.CheckKeys(kPathKinds, "path " + d.symbol);
         if (d.body->size() != 1)
@@ -321,17 +292,14 @@ class CaptureEvaluator {
     if (!camera_) return;
     const Node& b = camera_->body;
     IntrinsicSettings intrinsics;
-    Node settings;
-    for (const char* key : {"csettings", "camerasettings", "settings"})
-      if (const Node n = b.Find(key)) settings = n;
-    if (settings) {
-      settings.CheckKeys(kSettingsKeys, "camera settings");
+    const KindSpec& camera = KindVocabulary("camera");
+    if (const Node settings = FindKey(b, camera, "csettings")) {
+      lsds::CheckKeys(settings, KindVocabulary("camera_settings"), "camera settings");
       intrinsics.Read(settings);
       plan_->exposure = ReadExposure(settings);
       camera_model_ = intrinsics.Camera();
       if (const Node f = settings.Find("fps")) {
-        fps_ = ReadNumber(f);
-        if (fps_ <= 0) f.Fail("fps must be > 0");
+        fps_ = ReadInRange(f, KindVocabulary("camera_settings").Key("fps"));
       }
       if (const Node h = settings.Find("heights")) {
         const std::string v = ReadString(h);
@@ -352,15 +320,15 @@ class CaptureEvaluator {
     // Several cameras on the platform: each frame of the paths becomes one
     // time step with a frame per rig camera (docs/languages.md, "Camera rigs").
     if (const Node r = b.Find("rig")) plan_->rig = ReadRig(r, intrinsics);
-    for (const char* key : {"ppmaterial", "postprocess"}) {
-      if (const Node n = b.Find(key)) {
+    {
+      if (const Node n = FindKey(b, camera, "ppmaterial")) {
         if (!n->is_array()) n.Fail("post-process materials are a list [Name, ...]");
         for (size_t i = 0; i < n->size(); ++i) plan_->post_process.push_back(ReadString(n.Item(i)));
       }
     }
-    for (const char* key : {"capture", "capturesettings"}) {
-      if (const Node n = b.Find(key)) {
-        n.CheckKeys({"layers", "output", "folder"}, "capture settings");
+    {
+      if (const Node n = FindKey(b, camera, "capture")) {
+        lsds::CheckKeys(n, KindVocabulary("capture_settings"), "capture settings");
         plan_->capture_settings = nlohmann::json::object();
         if (const Node layers = n.Find("layers")) {
           if (!layers->is_array() || layers->empty())

@@ -5,22 +5,16 @@
 #include <cstdio>
 #include <map>
 
+#include "generator/lang/vocabulary.h"
 #include "libs/geometry/solar_position.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
 namespace {
 
-double NonNegative(const Node& n, Rng& rng) {
-  const double v = SampleScalar(n, rng);
-  if (v < 0) n.Fail("expected a value >= 0, sampled " + FormatNumber(v));
-  return v;
-}
-
-double Fraction(const Node& n, Rng& rng) {
-  const double v = SampleScalar(n, rng);
-  if (v < 0 || v > 1) n.Fail("expected a value in [0, 1], sampled " + FormatNumber(v));
-  return v;
+// A sampled number of `kind`'s key `key`, within the table's range.
+double Sampled(const Node& n, const char* kind, const char* key, Rng& rng) {
+  return SampleInRange(n, KindVocabulary(kind).Key(key), rng);
 }
 
 std::string CloudType(const Node& n, Rng& rng) {
@@ -68,35 +62,19 @@ Eigen::Vector3d Color(const Node& n, Rng& rng) {
 double AtmosphereExtinction(const Node& b, Rng& rng) {
   constexpr double kKoschmieder = 3.912;
   constexpr double kDensestVisibilityM = 100;  // density 1
-  constexpr double kMinVisibilityM = 10;       // anything denser is absurd
+  const KindSpec& kind = KindVocabulary("atmosphere");
   double extinction = 0;
   int given = 0;
-  for (const char* key : {"fog", "fogdensity"})
-    if (const Node n = b.Find(key)) {
-      extinction = NonNegative(n, rng);
-      if (extinction > kKoschmieder / kMinVisibilityM)
-        n.Fail("fog is an extinction per metre; " + FormatNumber(extinction) +
-               " /m means a visibility of " + FormatNumber(kKoschmieder / extinction) +
-               " m. Use at most " + FormatNumber(kKoschmieder / kMinVisibilityM) +
-               " /m, or density (a fraction) or visibility (metres)");
-      ++given;
-    }
-  if (const Node n = b.Find("density")) {
-    const double d = NonNegative(n, rng);
-    if (d > 1)
-      n.Fail(
-          "density is a fraction in [0, 1] (1: a fog of 100 m visibility); "
-          "write 10 % as 0.1");
-    extinction = d * kKoschmieder / kDensestVisibilityM;
+  if (const Node n = FindKey(b, kind, "fog")) {
+    extinction = SampleInRange(n, kind.Key("fog"), rng);
     ++given;
   }
-  if (const Node n = b.Find("visibility")) {
-    const double v = SampleScalar(n, rng);
-    if (!(v >= kMinVisibilityM))
-      n.Fail(
-          "visibility is the meteorological visibility in metres, at least "
-          "10");
-    extinction = kKoschmieder / v;
+  if (const Node n = FindKey(b, kind, "density")) {
+    extinction = SampleInRange(n, kind.Key("density"), rng) * kKoschmieder / kDensestVisibilityM;
+    ++given;
+  }
+  if (const Node n = FindKey(b, kind, "visibility")) {
+    extinction = kKoschmieder / SampleInRange(n, kind.Key("visibility"), rng);
     ++given;
   }
   if (given > 1)
@@ -112,8 +90,7 @@ void SunClock(const Node& b, Rng& rng, PlannedSun* sun) {
   const Node date = b.Find("date"), time = b.Find("time"), offset = b.Find("utcoffset");
   if (!date && !time && !offset) return;
   if (offset) {
-    sun->utc_offset_h = SampleScalar(offset, rng);
-    if (std::abs(sun->utc_offset_h) > 14) offset.Fail("utc_offset is in hours, within [-14, 14]");
+    sun->utc_offset_h = Sampled(offset, "light", "utc_offset", rng);
   }
   int year = 0, month = 0, day = 0;
   if (date) {
@@ -157,55 +134,49 @@ bool IsEnvironmentKind(const std::string& kind) {
          kind == "terrain";
 }
 
-const std::vector<std::string>& EnvironmentKeys(const std::string& kind, bool in_change) {
-  static const std::map<std::string, std::vector<std::string>> kKeys = {
-      {"skybox", {"color", "clouds", "cloud_type", "cloud_density", "intensity", "luminance"}},
-      {"light", {"elevation", "azimuth", "intensity", "illuminance", "date", "time", "utc_offset"}},
-      {"atmosphere", {"fog", "fog_density", "density", "visibility"}},
-      {"skylight", {"intensity"}},
-      {"terrain", {"size", "height", "perlin", "frequency", "material", "seed"}}};
-  static const std::vector<std::string> kTerrainChange = {"material"};
-  if (in_change && kind == "terrain") return kTerrainChange;
-  return kKeys.at(kind);
+std::vector<std::string> EnvironmentKeys(const std::string& kind, bool in_change) {
+  return KindVocabulary(kind).Spellings(in_change);
 }
 
 void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedEnvironment* env) {
   if (kind == "skybox") {
     if (const Node n = b.Find("color")) env->sky.color = Color(n, rng);
     if (const Node n = b.Find("clouds")) {
-      n.CheckKeys({"type", "density"}, "clouds");
+      CheckKeys(n, KindVocabulary("clouds"), "clouds");
       if (const Node t = n.Find("type")) env->sky.cloud_type = CloudType(t, rng);
-      if (const Node d = n.Find("density")) env->sky.cloud_density = Fraction(d, rng);
+      if (const Node d = n.Find("density"))
+        env->sky.cloud_density = Sampled(d, "clouds", "density", rng);
     }
     if (const Node n = b.Find("cloudtype")) env->sky.cloud_type = CloudType(n, rng);
-    if (const Node n = b.Find("clouddensity")) env->sky.cloud_density = Fraction(n, rng);
+    if (const Node n = b.Find("clouddensity"))
+      env->sky.cloud_density = Sampled(n, "skybox", "cloud_density", rng);
     // `luminance`: the zenith's, cd/m^2. `intensity`: the legacy unitless
     // scale of the colour (docs/languages.md, "Light units").
     const Node luminance = b.Find("luminance"), intensity = b.Find("intensity");
     if (luminance && intensity)
       b.Fail("give the sky's luminance (cd/m^2) or its intensity, not both");
-    if (luminance) env->sky.luminance_cd_m2 = NonNegative(luminance, rng);
+    if (luminance) env->sky.luminance_cd_m2 = Sampled(luminance, "skybox", "luminance", rng);
     if (intensity)
-      env->sky.luminance_cd_m2 =
-          NonNegative(intensity, rng) * RelativeLuminance(env->sky.color) * kLegacyNitsPerUnit;
+      env->sky.luminance_cd_m2 = Sampled(intensity, "skybox", "intensity", rng) *
+                                 RelativeLuminance(env->sky.color) * kLegacyNitsPerUnit;
   } else if (kind == "light") {
     SunClock(b, rng, &env->sun);
     if (const Node n = b.Find("elevation")) {
-      env->sun.elevation_deg = SampleScalar(n, rng);
-      if (std::abs(env->sun.elevation_deg) > 90)
-        n.Fail("sun elevation must be within [-90, 90] degrees");
+      env->sun.elevation_deg = Sampled(n, "light", "elevation", rng);
     }
     if (const Node n = b.Find("azimuth")) env->sun.azimuth_deg = SampleScalar(n, rng);
     // Lux (the paper's Table 2); a legacy `intensity` below 100 is the old
     // unitless scale (docs/languages.md, "Light units").
     const Node illuminance = b.Find("illuminance"), intensity = b.Find("intensity");
     if (illuminance && intensity) b.Fail("give the sun's illuminance or its intensity, not both");
-    if (illuminance) env->sun.illuminance_lux = NonNegative(illuminance, rng);
-    if (intensity) env->sun.illuminance_lux = SunLuxFromIntensity(NonNegative(intensity, rng));
+    if (illuminance) env->sun.illuminance_lux = Sampled(illuminance, "light", "illuminance", rng);
+    if (intensity)
+      env->sun.illuminance_lux = SunLuxFromIntensity(Sampled(intensity, "light", "intensity", rng));
   } else if (kind == "atmosphere") {
     env->fog_density = AtmosphereExtinction(b, rng);
   } else if (kind == "skylight") {
-    if (const Node n = b.Find("intensity")) env->skylight_intensity = NonNegative(n, rng);
+    if (const Node n = b.Find("intensity"))
+      env->skylight_intensity = Sampled(n, "skylight", "intensity", rng);
   } else if (kind == "terrain") {
     if (const Node m = b.Find("material")) env->terrain_material = SampleString(m, rng);
   }

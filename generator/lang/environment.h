@@ -16,9 +16,9 @@ namespace lsds {
 // skybox, light, atmosphere, skylight (terrain: its material only).
 bool IsEnvironmentKind(const std::string& kind);
 
-// The keys a definition of `kind` accepts; `in_change` for an LCAP change
-// (a terrain's shape cannot change, only its material).
-const std::vector<std::string>& EnvironmentKeys(const std::string& kind, bool in_change);
+// The keys a definition of `kind` accepts (vocabulary.h); `in_change` for an
+// LCAP change (a terrain's shape cannot change, only its material).
+std::vector<std::string> EnvironmentKeys(const std::string& kind, bool in_change);
 
 // Samples the keys of `body` (a definition or change of `kind`) into
 // `environment`, with located errors for bad values.

@@ -2,55 +2,18 @@
 
 #include <cctype>
 
+#include "generator/lang/vocabulary.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
-namespace {
-
-const std::map<std::string, std::string>& KindAliases() {
-  static const std::map<std::string, std::string> aliases = {
-      {"skybox", "skybox"},
-      {"sky", "skybox"},
-      {"light", "light"},
-      {"directionallight", "light"},
-      {"sun", "light"},
-      {"atmosphere", "atmosphere"},
-      {"skylight", "skylight"},
-      {"terrain", "terrain"},
-      {"object", "object"},
-      {"classes", "classes"},
-      {"assetlibrary", "asset_library"},  // generator/scene/asset_library.h
-      {"assets", "asset_library"},
-      {"georeference", "georeference"},
-      {"georef", "georeference"},
-      {"geo", "georeference"},
-      {"camera", "camera"},
-      {"path", "path"},
-      {"createpath", "path"},
-      {"collection", "collection"},
-      {"scenechange", "scene_change"},
-      {"scenechangeset", "scene_change"},
-      {"set", "scene_change"},
-      {"require", "require"},  // LCAP requirements and quotas (requirements.h)
-      {"requirement", "require"},
-      {"quota", "quota"},
-  };
-  return aliases;
-}
-
-}  // namespace
 
 const std::map<std::string, std::string>& CategoryKinds() {
-  static const std::map<std::string, std::string> kinds = {{"S", "skybox"},
-                                                           {"DL", "light"},
-                                                           {"A", "atmosphere"},
-                                                           {"SL", "skylight"},
-                                                           {"W", "terrain"},
-                                                           {"O", "object"},
-                                                           {"CO", "camera"},
-                                                           {"P", "path"},
-                                                           {"CL", "collection"},
-                                                           {"SCS", "scene_change"}};
+  static const std::map<std::string, std::string> kinds = [] {
+    std::map<std::string, std::string> out;
+    for (const KindSpec& k : Vocabulary())
+      if (!k.category.empty()) out[k.category] = k.id;
+    return out;
+  }();
   return kinds;
 }
 
@@ -66,8 +29,7 @@ Program ReadProgram(const SourceFile& src, const std::string& start) {
   program.start = start;
   const Node root{&src, &src.doc, ""};
   const std::string other = start == "LSCENE" ? "LCAP" : "LSCENE";
-  std::vector<std::string> kind_names;
-  for (const auto& [alias, kind] : KindAliases()) kind_names.push_back(alias);
+  const std::vector<std::string> kind_names = KindSpellings();
   for (const auto& [key, node] : root.Members()) {
     if (key == start) {
       if (!node->is_array()) node.Fail(start + " must be a list of ONE(...)/MANY(...) entries");
@@ -85,14 +47,14 @@ Program ReadProgram(const SourceFile& src, const std::string& start) {
           "a definition is {\"KIND\": {...}} with exactly one kind (skybox, "
           "terrain, object, camera, path, ...)");
     const auto [kind_key, body] = node.Members().front();
-    auto alias = KindAliases().find(CanonicalKey(kind_key));
-    if (alias == KindAliases().end())
+    const std::string kind = KindOfSpelling(CanonicalKey(kind_key));
+    if (kind.empty())
       body.Fail("unknown kind '" + kind_key + "' for " + key +
                 DidYouMean(CanonicalKey(kind_key), kind_names));
     if (!body->is_object()) body.Fail("the body of " + key + " must be {key: value, ...}");
     Definition def;
     def.symbol = key;
-    def.kind = alias->second;
+    def.kind = kind;
     def.body = body;
     def.statement = node;
     def.order = program.definitions.size();

@@ -10,6 +10,7 @@
 #include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
 #include "generator/lang/relations.h"
+#include "generator/lang/vocabulary.h"
 #include "generator/plan/terrain_height.h"
 #include "generator/scene/object_library.h"
 #include "libs/geometry/oriented_box.h"
@@ -36,25 +37,6 @@ bool IsMeshClass(const std::string& name) {
 namespace {
 
 constexpr double kHuge = 1e7;  // the "max sized 3D bounding box" of Algorithm 1
-
-const std::vector<std::string> kObjectKeys = {"class",
-                                              "rotation",
-                                              "position",
-                                              "extent",
-                                              "scale",
-                                              "visible",
-                                              "visibility",
-                                              "overlap",
-                                              "on_overlap",
-                                              "retries",
-                                              "separation",
-                                              "material",
-                                              "bound",
-                                              "target",
-                                              "count",
-                                              "unit"};
-const std::vector<std::string> kPositionKeys = {
-    "ON", "IN", "AROUND", "within", "NEAR", "BEHIND", "in_front_of", "FACING", "visible_from"};
 
 // The relations with a reference object and an optional distance
 // (relations.h): `NEAR:X`, `NEAR:{X:5}`, `BEHIND:{X:[5,20]}`.
@@ -160,9 +142,9 @@ class SceneEvaluator {
       if (k == "camera" || k == "path" || k == "collection" || k == "scene_change" ||
           k == "require" || k == "quota")
         def.statement.Fail("'" + k + "' belongs in the LCAP capture file, not in LSCENE");
-      if (IsEnvironmentKind(k)) def.body.CheckKeys(EnvironmentKeys(k, false), def.symbol);
+      if (IsEnvironmentKind(k)) CheckKeys(def.body, KindVocabulary(k), def.symbol);
       if (k == "georeference") {
-        def.body.CheckKeys({"latitude", "longitude", "altitude"}, def.symbol);
+        CheckKeys(def.body, KindVocabulary(k), def.symbol);
         if (++georeferences > 1) def.statement.Fail("only one georeference per scene");
       }
       if (k == "terrain") {
@@ -255,7 +237,7 @@ class SceneEvaluator {
   }
 
   void CheckObject(const Definition& def, const std::set<std::string>& defined) {
-    def.body.CheckKeys(kObjectKeys, "object " + def.symbol);
+    CheckKeys(def.body, KindVocabulary("object"), "object " + def.symbol);
     const Node cls = def.body.Find("class");
     if (!cls) def.body.Fail("object " + def.symbol + " needs a class (e.g. class:cube)");
     if (!cls->is_string() && !cls->is_object())
@@ -278,7 +260,7 @@ class SceneEvaluator {
       }
     }
     if (const Node pos = def.body.Find("position")) {
-      pos.CheckKeys(kPositionKeys, "position of " + def.symbol);
+      CheckKeys(pos, KindVocabulary("position"), "position of " + def.symbol);
       for (const auto& [key, c] : pos.Members()) {
         const std::string k = CanonicalKey(key);
         if (k == "within") continue;
@@ -448,16 +430,14 @@ class SceneEvaluator {
       SetEnvironment(environment, plan_);
     } else if (def.kind == "georeference") {
       GeoOrigin geo;
+      const KindSpec& vocabulary = KindVocabulary("georeference");
       if (const Node n = b.Find("latitude")) {
-        geo.latitude_deg = SampleScalar(n, rng_);
-        if (std::abs(geo.latitude_deg) > 90) n.Fail("latitude must be within [-90, 90] degrees");
+        geo.latitude_deg = SampleInRange(n, vocabulary.Key("latitude"), rng_);
       } else {
         b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
       }
       if (const Node n = b.Find("longitude")) {
-        geo.longitude_deg = SampleScalar(n, rng_);
-        if (std::abs(geo.longitude_deg) > 180)
-          n.Fail("longitude must be within [-180, 180] degrees");
+        geo.longitude_deg = SampleInRange(n, vocabulary.Key("longitude"), rng_);
       } else {
         b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
       }
@@ -470,10 +450,9 @@ class SceneEvaluator {
     }
   }
 
-  double NonNegative(const Node& n) {
-    const double v = SampleScalar(n, rng_);
-    if (v < 0) n.Fail("expected a value >= 0, sampled " + std::to_string(v));
-    return v;
+  // A sampled number of the key `key` of the table `kind`, within its range.
+  double Sampled(const Node& n, const char* kind, const char* key) {
+    return SampleInRange(n, KindVocabulary(kind).Key(key), rng_);
   }
   void EvaluateTerrain(const Node& b) {
     PlannedTerrain& t = plan_->terrain;
@@ -482,32 +461,32 @@ class SceneEvaluator {
         MixKey(seed_, static_cast<uint64_t>(StreamTag::kTerrain)) >> 11;  // 53 bits: exact in JSON
     if (const Node n = b.Find("size")) {
       t.size = SampleVec2(n, rng_);
-      if (t.size.minCoeff() <= 0) n.Fail("terrain size must be > 0");
+      CheckRange(n, KindVocabulary("terrain").Key("size"), t.size.minCoeff());
     }
     if (const Node n = b.Find("height")) {
-      n.CheckKeys({"perlin", "frequency"}, "terrain height");
+      CheckKeys(n, KindVocabulary("terrain_height"), "terrain height");
       if (const Node p = n.Find("perlin")) Perlin(p);
-      if (const Node f = n.Find("frequency")) t.perlin_frequency = NonNegative(f);
+      if (const Node f = n.Find("frequency"))
+        t.perlin_frequency = Sampled(f, "terrain_height", "frequency");
     }
     if (const Node p = b.Find("perlin")) Perlin(p);
-    if (const Node f = b.Find("frequency")) t.perlin_frequency = NonNegative(f);
+    if (const Node f = b.Find("frequency")) t.perlin_frequency = Sampled(f, "terrain", "frequency");
     if (const Node m = b.Find("material")) t.material = SampleString(m, rng_);
     if (const Node s = b.Find("seed")) {
-      const double v = ReadNumber(s);
-      if (v < 0 || v > 9007199254740992.0 || v != std::floor(v))
-        s.Fail("terrain seed must be a whole number in [0, 2^53]");
-      t.perlin_seed = static_cast<uint64_t>(v);
+      t.perlin_seed = static_cast<uint64_t>(ReadInRange(s, KindVocabulary("terrain").Key("seed")));
     }
     for (const ClassInfo& c : plan_->classes)
       if (c.name == "terrain") t.class_id = c.id;
   }
   void Perlin(const Node& p) {
     if (p->is_object()) {
-      p.CheckKeys({"amplitude", "frequency"}, "Perlin");
-      if (const Node a = p.Find("amplitude")) plan_->terrain.perlin_amplitude = NonNegative(a);
-      if (const Node f = p.Find("frequency")) plan_->terrain.perlin_frequency = NonNegative(f);
+      CheckKeys(p, KindVocabulary("perlin"), "Perlin");
+      if (const Node a = p.Find("amplitude"))
+        plan_->terrain.perlin_amplitude = Sampled(a, "perlin", "amplitude");
+      if (const Node f = p.Find("frequency"))
+        plan_->terrain.perlin_frequency = Sampled(f, "perlin", "frequency");
     } else {
-      plan_->terrain.perlin_amplitude = NonNegative(p);
+      plan_->terrain.perlin_amplitude = Sampled(p, "perlin", "amplitude");
     }
   }
 
@@ -528,17 +507,12 @@ class SceneEvaluator {
     if (const Node n = b.Find("overlap")) overlap = SampleBool(n, rng_);
     if (const Node n = b.Find("onoverlap")) policy = ReadString(n);
     if (const Node n = b.Find("retries")) {
-      const double r = ReadNumber(n);
-      if (r < 0 || r > 100000 || r != std::floor(r))
-        n.Fail("retries must be a whole number in [0, 100000]");
-      retries = static_cast<int>(r);
+      retries = static_cast<int>(ReadInRange(n, KindVocabulary("object").Key("retries")));
     }
     // A placement requirement: a free margin around the object (metres).
     double separation = 0;
     if (const Node n = b.Find("separation")) {
-      separation = ReadNumber(n);
-      if (!(separation >= 0) || separation > 1e4)
-        n.Fail("separation is a gap in metres within [0, 10000]");
+      separation = ReadInRange(n, KindVocabulary("object").Key("separation"));
       if (overlap) n.Fail("separation keeps objects apart; it needs overlap:false");
     }
     int64_t copy_number = 0;
@@ -562,8 +536,8 @@ class SceneEvaluator {
         o.extent = IsMeshClass(o.class_name) ? MeshExtent(def, o.class_name, MetresPerUnit(def))
                                              : BuiltinClasses().at(o.class_name);
       }
-      for (const char* key : {"visible", "visibility"})
-        if (const Node n = b.Find(key)) o.visible = SampleBool(n, rng_);
+      if (const Node n = FindKey(b, KindVocabulary("object"), "visible"))
+        o.visible = SampleBool(n, rng_);
       if (const Node n = b.Find("material")) o.material = SampleString(n, rng_);
       o.target = o.visible && (targets_.empty() || targets_.count(def.symbol) > 0);
       if (const Node n = b.Find("target")) o.target = SampleBool(n, rng_);
@@ -577,7 +551,7 @@ class SceneEvaluator {
         if (k == "bound") Resize(&p, FirstCopy(ReadString(n)).object.extent, positioned);
         if (k == "scale") {
           const Eigen::Vector3d s = SampleScale(n, rng_);
-          if (s.minCoeff() <= 0) n.Fail("scale must be > 0");
+          CheckRange(n, KindVocabulary("object").Key("scale"), s.minCoeff());
           Resize(&p, o.extent.cwiseProduct(s), positioned);
         }
         if (k == "rotation") {
@@ -601,7 +575,7 @@ class SceneEvaluator {
 
   Eigen::Vector3d SizeVec(const Node& n) {
     Eigen::Vector3d e = SampleVec3(n, rng_);
-    if (e.minCoeff() <= 0) n.Fail("extent components must be > 0");
+    CheckRange(n, KindVocabulary("object").Key("extent"), e.minCoeff());
     return e;
   }
 

@@ -47,16 +47,6 @@ PlannedExposure ReadExposure(const Node& settings) {
 // (docs/languages.md, "Cameras where a drone can be").
 constexpr double kDefaultClearanceM = 1.0;
 // Table 3's spellings are accepted too: `increment point` (singular).
-const std::vector<std::string> kPathKinds = {"create_hemi",
-                                             "hemi",
-                                             "grid",
-                                             "increment_points",
-                                             "increment_point",
-                                             "random",
-                                             "random_poses",
-                                             "waypoints",
-                                             "create_point",
-                                             "point"};
 const std::vector<std::string> kTimingKeys = {"when", "after", "during", "frame"};
 const std::vector<std::string> kChangeKeys = {"material",
                                               "rotation",
@@ -259,9 +249,10 @@ class CaptureEvaluator {
         camera_ = &d;
         lsds::CheckKeys(d.body, KindVocabulary("camera"), "camera " + d.symbol);
       } else if (d.kind == "path") {
-        d.body.CheckKeys(kPathKinds, "path " + d.symbol);
+        const KindSpec& path = KindVocabulary("path");
+        d.body.CheckKeys(path.Spellings(), "path " + d.symbol);
         if (d.body->size() != 1)
-          d.body.Fail("a path has exactly one generator: " + Join(kPathKinds, ", "));
+          d.body.Fail("a path has exactly one generator: " + Join(path.Spellings(), ", "));
       } else if (d.kind == "collection" || d.kind == "scene_change") {
       } else if (IsRequirementKind(d.kind)) {
         CheckRequirementDefinition(d);
@@ -381,14 +372,12 @@ class CaptureEvaluator {
   // The keys every flight shares (points, speed, interpolation), checked;
   // fills the speed and spacing and returns whether it is a spline.
   bool ReadFlightSettings(const Node& g, Rng& rng, Flight* flight) const {
-    g.CheckKeys({"points", "speed", "interpolation"}, "waypoints");
+    lsds::CheckKeys(g, KindVocabulary("flight"), "waypoints");
     const Node points = g.Find("points"), speed = g.Find("speed");
     if (!points || !points->is_array() || points->size() < 2)
       (points ? points : g).Fail("a flight needs points: at least two waypoints");
     if (!speed) g.Fail("a flight needs a speed (m/s)");
-    flight->speed = SampleScalar(speed, rng);
-    if (!(flight->speed > 0) || flight->speed > 1000)
-      speed.Fail("speed is in m/s, within (0, 1000]");
+    flight->speed = SampleInRange(speed, KindVocabulary("flight").Key("speed"), rng);
     flight->spacing = flight->speed / fps_;
     if (const Node n = g.Find("interpolation")) {
       const std::string v = ReadString(n);
@@ -440,7 +429,7 @@ class CaptureEvaluator {
     const auto [kind, g] = path.body.Members().front();
     const std::string k = PathKind(kind);
     if (k == "createhemi" || k == "hemi") {
-      g.CheckKeys({"cam_radius", "obj_angle", "cam_angle", "center", "target"}, "create hemi");
+      lsds::CheckKeys(g, KindVocabulary("create_hemi"), "create hemi");
       for (const char* key : {"camradius", "objangle", "camangle"})
         if (!g.Find(key))
           g.Fail(
@@ -451,14 +440,12 @@ class CaptureEvaluator {
                                   ExpandRange(g.Find("camangle")).size());
     }
     if (k == "grid" || k == "incrementpoints") {
-      g.CheckKeys(
-          {"x", "y", "altitude", "start", "step", "count", "perturb", "roll", "pitch", "yaw"},
-          "grid");
+      lsds::CheckKeys(g, KindVocabulary("grid"), "grid");
       const auto axes = GridAxes(g);
       return static_cast<int64_t>(axes[0].size() * axes[1].size() * axes[2].size());
     }
     if (k == "random" || k == "randomposes") {
-      g.CheckKeys({"count", "x", "y", "altitude", "off_nadir", "yaw"}, "random poses");
+      lsds::CheckKeys(g, KindVocabulary("random"), "random poses");
       if (!g.Find("count")) g.Fail("random poses need a count");
       return SampleCount(g.Find("count"), count_rng);
     }
@@ -467,7 +454,7 @@ class CaptureEvaluator {
       if (!g->is_array() || g->empty()) g.Fail("waypoints are a non-empty list");
       return static_cast<int64_t>(g->size());
     }
-    g.CheckKeys({"position", "rotation", "look_at", "count"}, "create point");
+    lsds::CheckKeys(g, KindVocabulary("create_point"), "create point");
     if (!g.Find("position")) g.Fail("create point needs a position");
     if (const Node c = g.Find("count")) return SampleCount(c, count_rng);
     return 1;
@@ -889,8 +876,7 @@ class CaptureEvaluator {
       const size_t e = (static_cast<size_t>(i) / az.size()) % el.size();
       const size_t r = static_cast<size_t>(i) / (az.size() * el.size());
       Eigen::Vector3d center = Eigen::Vector3d::Zero();
-      Node c = g.Find("center");
-      if (!c) c = g.Find("target");
+      const Node c = FindKey(g, KindVocabulary("create_hemi"), "center");
       if (c)
         center = Point(c, rng);
       else if (!first_target_.empty())
@@ -932,8 +918,8 @@ class CaptureEvaluator {
       double off_nadir = 0, yaw = rng.Uniform(0, 360);
       if (const Node n = g.Find("offnadir")) off_nadir = SampleWithinBin(n, "off_nadir", rng);
       if (const Node n = g.Find("yaw")) yaw = SampleScalar(n, rng);
-      if (off_nadir < 0 || off_nadir > 90)
-        g.Find("offnadir").Fail("off_nadir must be within [0, 90] degrees");
+      if (const Node n = g.Find("offnadir"))
+        CheckRange(n, KindVocabulary("random").Key("off_nadir"), off_nadir);
       return CamFromEnu(p, Attitude{0, -90 + off_nadir, yaw});
     }
     if (k == "waypoints" && g->is_object()) {
@@ -992,7 +978,7 @@ class CaptureEvaluator {
       const Attitude att = v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
       return CamFromEnu(Datum({v[0], v[1], v[2]}), att);
     }
-    w.CheckKeys({"position", "attitude", "look_at"}, "waypoint");
+    lsds::CheckKeys(w, KindVocabulary("waypoint"), "waypoint");
     return PointPose(w, rng);
   }
 
@@ -1009,9 +995,7 @@ class CaptureEvaluator {
     const Eigen::Vector3d p = Datum(SampleVec3(pos, rng));
     if (const Node l = g.Find("lookat")) return LookAt(p, Point(l, rng));
     Attitude att{0, -90, 0};
-    Node r = g.Find("rotation");
-    if (!r) r = g.Find("attitude");
-    if (r) {
+    if (const Node r = FindKey(g, KindVocabulary("create_point"), "rotation")) {
       const Eigen::Vector3d rpy = SampleVec3(r, rng);
       att = Attitude{rpy.x(), rpy.y(), rpy.z()};
     }

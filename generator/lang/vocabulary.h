@@ -21,23 +21,23 @@ namespace lsds {
 // What a key's value is (docs/languages.md, "Values"); `sampled` types take
 // every value form (crisp, choice, interval, distribution).
 enum class ValueType {
-  kNumber,     // sampled number
-  kWhole,      // crisp whole number
-  kCount,      // whole number >= 0, sampled (interval inclusive)
-  kBool,       // sampled true/false
-  kName,       // sampled name
-  kColor,      // colour name or [r, g, b]
-  kVector2,    // [x, y], sampled per component
-  kVector3,    // [x, y, z], sampled per component, or a vector range
-  kScale,      // a scalar for all axes or a vector
-  kReference,  // the symbol of another definition
-  kClass,      // a class, a choice of classes or an asset selection
-  kDate,       // "YYYY-MM-DD"
-  kTime,       // "HH:MM" or "HH:MM:SS"
-  kList,       // [a, b, ...]
-  kBlock,      // {key: value, ...}: a nested table (KeySpec::block)
+  kNumber,         // sampled number
+  kWhole,          // crisp whole number
+  kCount,          // whole number >= 0, sampled (interval inclusive)
+  kBool,           // sampled true/false
+  kName,           // sampled name
+  kColor,          // colour name or [r, g, b]
+  kVector2,        // [x, y], sampled per component
+  kVector3,        // [x, y, z], sampled per component, or a vector range
+  kScale,          // a scalar for all axes or a vector
+  kReference,      // the symbol of another definition
+  kClass,          // a class, a choice of classes or an asset selection
+  kDate,           // "YYYY-MM-DD"
+  kTime,           // "HH:MM" or "HH:MM:SS"
+  kList,           // [a, b, ...]
+  kBlock,          // {key: value, ...}: a nested table (KeySpec::block)
   kNumberOrBlock,  // a number or a nested table
-  kAny,        // several forms, described in the doc line
+  kAny,            // several forms, described in the doc line
 };
 const char* ValueTypeName(ValueType type);
 
@@ -45,10 +45,10 @@ const char* ValueTypeName(ValueType type);
 // naming the range ("elevation must be within [-90, 90] degrees, sampled 95").
 struct Range {
   double lo = 0;
-  double hi = 0;            // +infinity: no upper bound
-  bool lo_open = false;     // (lo, hi]: lo itself refused
-  bool whole = false;       // whole numbers only
-  std::string note;         // appended to the message ("write 10 % as 0.1")
+  double hi = 0;         // +infinity: no upper bound
+  bool lo_open = false;  // (lo, hi]: lo itself refused
+  bool whole = false;    // whole numbers only
+  std::string note;      // appended to the message ("write 10 % as 0.1")
   bool Contains(double v) const;
   // "within [-90, 90]", ">= 0", "> 0", "a whole number within [0, 10]"
   // (`say_whole`: false leaves out "a whole number").
@@ -60,10 +60,10 @@ struct KeySpec {
   std::vector<std::string> aliases;  // other spellings of the same function
   ValueType type = ValueType::kAny;
   std::optional<Range> range;
-  std::string unit;     // of the range and value ("degrees", "m", "lux")
-  std::string doc;      // the doc line (markdown)
-  std::string example;  // for the docs' key tables (markdown, optional)
-  std::string block;    // kBlock / kNumberOrBlock: the id of the nested table
+  std::string unit;       // of the range and value ("degrees", "m", "lux")
+  std::string doc;        // the doc line (markdown)
+  std::string example;    // for the docs' key tables (markdown, optional)
+  std::string block;      // kBlock / kNumberOrBlock: the id of the nested table
   bool in_change = true;  // environment kinds: also callable in an LCAP scene change
 
   std::vector<std::string> Spellings() const;  // name, then aliases
@@ -79,6 +79,7 @@ struct KindSpec {
   std::string example;               // markdown
   bool keys_listed = true;           // false: the keys are checked in the kind's code
   std::vector<KeySpec> keys;
+  std::string paper;  // the paper's name of a generator block ("Create Hemi")
 
   // nullptr when `canonical` (CanonicalKey form) names no key of the kind.
   const KeySpec* Find(const std::string& canonical) const;
@@ -99,7 +100,9 @@ std::vector<std::string> KindSpellings();
 // Checks the members of `body` against `kind`: an unknown key is a located
 // error with a suggestion (did you mean ...?), two spellings of one key given
 // together are a located error. `what` names the place ("object O1").
-void CheckKeys(const Node& body, const KindSpec& kind, const std::string& what,
+void CheckKeys(const Node& body,
+               const KindSpec& kind,
+               const std::string& what,
                bool in_change = false);
 
 // The member giving `key` of `kind` under any of its spellings (a null Node

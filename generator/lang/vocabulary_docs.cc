@@ -74,6 +74,17 @@ std::string KeysTable(const std::string& id, bool with_examples) {
   return out;
 }
 
+// LCAP's Path generators: generator (the paper's name) | its keys | its frames.
+std::string GeneratorsTable() {
+  std::string out = "| generator | keys | frames |\n|---|---|---|\n";
+  for (const KeySpec& k : KindVocabulary("path").keys) {
+    const KindSpec& block = KindVocabulary(k.block);
+    out += "| " + SpellingsCell(k) + (block.paper.empty() ? "" : " (" + block.paper + ")") + " | " +
+           KeysCell(block) + " | " + k.doc + " |\n";
+  }
+  return out;
+}
+
 // The nested blocks reachable from the kinds of `language`, in table order.
 std::set<std::string> BlocksOf(const std::string& language) {
   std::set<std::string> blocks;
@@ -117,7 +128,12 @@ nlohmann::ordered_json KindSchema(const KindSpec& kind) {
 }  // namespace
 
 std::vector<std::string> VocabularyDocTables() {
-  return {"lscene-symbols", "object-keys", "lcap-symbols", "camera-settings", "capture-settings"};
+  return {"lscene-symbols",
+          "object-keys",
+          "lcap-symbols",
+          "camera-settings",
+          "capture-settings",
+          "path-generators"};
 }
 
 std::string VocabularyMarkdown(const std::string& table) {
@@ -126,6 +142,7 @@ std::string VocabularyMarkdown(const std::string& table) {
   if (table == "lcap-symbols") return SymbolsTable("LCAP");
   if (table == "camera-settings") return KeysTable("camera_settings", false);
   if (table == "capture-settings") return KeysTable("capture_settings", false);
+  if (table == "path-generators") return GeneratorsTable();
   throw Error("no vocabulary table '" + table + "'; known: " + Join(VocabularyDocTables(), ", "));
 }
 
@@ -156,8 +173,7 @@ std::string UpdateVocabularySchema(const std::string& schema_text, const std::st
   nlohmann::ordered_json properties = nlohmann::ordered_json::object();
   const std::set<std::string> blocks = BlocksOf(language);
   for (const KindSpec& kind : Vocabulary())
-    if (kind.language == language || blocks.count(kind.id))
-      properties[kind.id] = KindSchema(kind);
+    if (kind.language == language || blocks.count(kind.id)) properties[kind.id] = KindSchema(kind);
   kinds["properties"] = properties;
   schema["definitions"]["kinds"] = kinds;
   return schema.dump(2) + "\n";

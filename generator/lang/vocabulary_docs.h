@@ -11,7 +11,7 @@ namespace lsds {
 
 // The ids of the generated docs tables, in the order they appear.
 std::vector<std::string> VocabularyDocTables();
-// One table as markdown ("lscene-symbols", "object-keys", "lcap-symbols",
+// One table as markdown ("lscene-symbols", "object-keys", "lcap-symbols", "path-generators",
 // "camera-settings", "capture-settings"); throws lsds::Error for another id.
 std::string VocabularyMarkdown(const std::string& table);
 // `doc` (docs/languages.md) with every generated section - the lines between

@@ -22,9 +22,8 @@ namespace lsds {
 namespace {
 
 const std::string kRoot = LSDS_SOURCE_DIR;
-const std::string kRegenerate =
-    "regenerate with: " + std::string(LSDS_BINARY_DIR) + "/tests/generator/vocabulary_print --write " +
-    kRoot;
+const std::string kRegenerate = "regenerate with: " + std::string(LSDS_BINARY_DIR) +
+                                "/tests/generator/vocabulary_print --write " + kRoot;
 
 std::string ErrorOf(const std::string& scene, const std::string& capture = "") {
   try {
@@ -165,11 +164,9 @@ TEST(Vocabulary, OutOfRangeValuesAreLocatedErrorsNamingTheRange) {
       if (!key.range || (key.type != ValueType::kNumber && key.type != ValueType::kWhole)) continue;
       std::string body;
       if (kind.id == "object") body = "class:cube,";
-      if (kind.id == "georeference")
-        body = key.name == "latitude" ? "longitude:0," : "latitude:0,";
+      if (kind.id == "georeference") body = key.name == "latitude" ? "longitude:0," : "latitude:0,";
       const std::string prefix = "X = " + kind.id + "{" + body + key.name + ":";
-      const std::string scene =
-          "LSCENE = ONE(X)\n" + prefix + Outside(*key.range) + "}\n";
+      const std::string scene = "LSCENE = ONE(X)\n" + prefix + Outside(*key.range) + "}\n";
       const std::string message = ErrorOf(scene);
       const std::string where = "s.lscene:2:" + std::to_string(prefix.size() + 1) + ": ";
       const std::string expected = where + key.name + " must be " + key.range->Text();
@@ -190,6 +187,44 @@ TEST(Vocabulary, OutOfRangeValuesAreLocatedErrorsNamingTheRange) {
   EXPECT_EQ(ErrorOf("LSCENE = ONE(L) ONE(G)\nL = light{elevation:90}\nG = "
                     "georeference{latitude:-90,longitude:180}\n"),
             "");
+}
+
+// The frames of a capture over a small scene, without the source texts.
+std::string FramesOf(const std::string& capture) {
+  const SourceFile scene = ParseSource(
+      "LSCENE = ONE(W) ONE(T)\nW = terrain{size:[40,40]}\nT = object{class:cube,position:{ON:W}}\n",
+      "s.lscene",
+      false);
+  const SourceFile cap = ParseSource(capture, "c.lcap", false);
+  return PlanToJson(MakePlanFromSources(scene, &cap, 3))["frames"].dump();
+}
+
+TEST(Vocabulary, LcapAliasesAndRangesComeFromTheTable) {
+  // create point: `attitude` is `rotation`; create hemi: `target` is `center`.
+  EXPECT_EQ(FramesOf("LCAP = ONE(P)\nP = path{point:{position:[0,0,20],rotation:[0,-60,30]}}\n"),
+            FramesOf("LCAP = ONE(P)\nP = path{point:{position:[0,0,20],Attitude:[0,-60,30]}}\n"));
+  EXPECT_EQ(FramesOf("LCAP = ONE(P)\nP = path{hemi:{cam_radius:10,obj_angle:[0,360,4],cam_angle:"
+                     "45,center:[1,2,0]}}\n"),
+            FramesOf("LCAP = ONE(P)\nP = path{hemi:{cam_radius:10,obj_angle:[0,360,4],cam_angle:"
+                     "45,target:[1,2,0]}}\n"));
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(T)\nW = terrain{size:[40,40]}\nT = object{class:cube,position:{ON:W}}\n";
+  const std::string random = "P = path{random:{count:2,off_nadir:";
+  EXPECT_NE(ErrorOf(scene, "LCAP = ONE(P)\n" + random + "95}}\n")
+                .find("c.lcap:2:" + std::to_string(random.size() + 1) +
+                      ": off_nadir must be within [0, 90] degrees, found 95"),
+            std::string::npos)
+      << ErrorOf(scene, "LCAP = ONE(P)\n" + random + "95}}\n");
+  const std::string flight = "P = path{waypoints:{points:[[0,0,40],[30,0,40]],speed:";
+  EXPECT_NE(ErrorOf(scene, "LCAP = ONE(P)\n" + flight + "0}}\n")
+                .find("c.lcap:2:" + std::to_string(flight.size() + 1) +
+                      ": speed must be within (0, 1000] m/s"),
+            std::string::npos)
+      << ErrorOf(scene, "LCAP = ONE(P)\n" + flight + "0}}\n");
+  EXPECT_NE(ErrorOf(scene, "LCAP = ONE(C)\nC = camera{csettings:{fps:0}}\n")
+                .find("c.lcap:2:27: fps must be > 0, found 0"),
+            std::string::npos)
+      << ErrorOf(scene, "LCAP = ONE(C)\nC = camera{csettings:{fps:0}}\n");
 }
 
 TEST(Vocabulary, RangeTextAndMembership) {
@@ -245,7 +280,8 @@ TEST(Vocabulary, SchemasListTheTableKeys) {
       if (kind.language != language) continue;
       ASSERT_TRUE(kinds.contains(kind.id)) << file << ": " << kind.id;
       for (const std::string& s : kind.Spellings())
-        EXPECT_TRUE(kinds[kind.id]["properties"].contains(s)) << file << ": " << kind.id << "." << s;
+        EXPECT_TRUE(kinds[kind.id]["properties"].contains(s))
+            << file << ": " << kind.id << "." << s;
     }
     // ... and every schema key is a spelling of the table, with the table's value type.
     for (const auto& [id, kind_schema] : kinds.items()) {

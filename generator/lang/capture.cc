@@ -46,19 +46,8 @@ PlannedExposure ReadExposure(const Node& settings) {
 // Default minimum clearance of a camera above the terrain and objects
 // (docs/languages.md, "Cameras where a drone can be").
 constexpr double kDefaultClearanceM = 1.0;
-// Table 3's spellings are accepted too: `increment point` (singular).
-const std::vector<std::string> kTimingKeys = {"when", "after", "during", "frame"};
-const std::vector<std::string> kChangeKeys = {"material",
-                                              "rotation",
-                                              "scale",
-                                              "extent",
-                                              "visible",
-                                              "visibility",
-                                              "offset",
-                                              "class",
-                                              "rescatter",
-                                              "move",
-                                              "heading"};
+// The timing keys of a collection entry (vocabulary.h).
+std::vector<std::string> TimingKeys() { return KindVocabulary("timing").Spellings(); }
 
 // "P1:3" / "P1" / {"P1": 3} -> (symbol, number or -1).
 std::pair<std::string, int64_t> RefWithNumber(const Node& n) {
@@ -642,14 +631,15 @@ class CaptureEvaluator {
                 const Node& block,
                 const Node& timing_block,
                 const std::string& where) {
-    std::vector<std::string> keys = kChangeKeys;
-    keys.insert(keys.end(), kTimingKeys.begin(), kTimingKeys.end());
+    std::vector<std::string> keys = KindVocabulary("object_change").Spellings();
+    const std::vector<std::string> timing = TimingKeys();
+    keys.insert(keys.end(), timing.begin(), timing.end());
     const auto environment = environment_symbols_.find(object);
     if (environment != environment_symbols_.end()) {
       // Any LSCENE function of the sky, light, atmosphere, skylight or
       // terrain material, as in the scene (docs/languages.md).
       std::vector<std::string> env_keys = EnvironmentKeys(environment->second, true);
-      env_keys.insert(env_keys.end(), kTimingKeys.begin(), kTimingKeys.end());
+      env_keys.insert(env_keys.end(), timing.begin(), timing.end());
       block.CheckKeys(env_keys, where);
       Rule rule;
       rule.object_symbol = object;
@@ -790,7 +780,7 @@ class CaptureEvaluator {
           if (!block->is_object()) block.Fail("expected {when:{...}, change...} for " + key);
           if (set && set->kind == "scene_change") {  // SCS1:{after:P1:1} applies the
                                                      // set with that timing
-            block.CheckKeys(kTimingKeys, "scene change set entry " + key);
+            block.CheckKeys(TimingKeys(), "scene change set entry " + key);
             for (const auto& [object, changes] : set->body.Members())
               for (const Node& change : Blocks(changes))
                 AddRules(object, change, block, "scene change set " + key);

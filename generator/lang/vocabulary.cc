@@ -668,6 +668,39 @@ std::vector<KindSpec> BuildVocabulary() {
        Key("count", {}, T::kCount, {}, "", "default 1; drawn per frame")}};
   point.paper = "Create Point";
   v.push_back(point);
+  // The blocks of a collection entry (docs/languages.md, "Collections: move, when, after,
+  // during", "Objects that move", "Class swaps and re-scatters").
+  v.push_back(
+      KindSpec{"object_change",
+               "",
+               {},
+               "",
+               "object change",
+               "",
+               "",
+               true,
+               {Key("material", {}, T::kName, {}, "", "a new material"),
+                Key("rotation", {}, T::kVector3, {}, "degrees", "a new rotation"),
+                Key("scale", {}, T::kScale, {}, "", "a factor on the extent"),
+                Key("extent", {}, T::kVector3, {}, "m", "a new extent"),
+                Key("visible", {"visibility"}, T::kBool, {}, "", "shown or hidden"),
+                Key("offset", {}, T::kVector3, {}, "m", "a move of the object by [dx,dy,dz]"),
+                Key("class", {}, T::kClass, {}, "", "a class swap"),
+                Key("rescatter", {}, T::kBool, {}, "", "a new place drawn by Algorithm 1"),
+                Key("move", {}, T::kList, {}, "", "a smooth flight the object moves along"),
+                Key("heading", {}, T::kName, {}, "", "how a moving object turns")}});
+  v.push_back(KindSpec{"timing",
+                       "",
+                       {},
+                       "",
+                       "timing",
+                       "",
+                       "",
+                       true,
+                       {Key("when", {}, T::kBlock, {}, "", "`{after, during, frame}`"),
+                        Key("after", {}, T::kAny, {}, "", "from a path repetition on"),
+                        Key("during", {}, T::kAny, {}, "", "during a path repetition"),
+                        Key("frame", {}, T::kAny, {}, "", "from a frame on")}});
   v.push_back(KindSpec{
       "camera_settings",
       "",

@@ -171,7 +171,10 @@ std::string UpdateVocabularySchema(const std::string& schema_text, const std::st
       "value and range. Keys match in any spelling of case, '_', ' ' and '-'; the compiler "
       "checks them with did-you-mean suggestions.";
   nlohmann::ordered_json properties = nlohmann::ordered_json::object();
-  const std::set<std::string> blocks = BlocksOf(language);
+  std::set<std::string> blocks = BlocksOf(language);
+  if (language == "LCAP")  // the blocks of collection entries, which no key names
+    for (const KindSpec& kind : Vocabulary())
+      if (kind.language.empty() && !BlocksOf("LSCENE").count(kind.id)) blocks.insert(kind.id);
   for (const KindSpec& kind : Vocabulary())
     if (kind.language == language || blocks.count(kind.id)) properties[kind.id] = KindSchema(kind);
   kinds["properties"] = properties;

@@ -22,747 +22,605 @@ Range Within(double lo, double hi, std::string note = "") {
 }
 Range WholeWithin(double lo, double hi) { return Range{lo, hi, false, true, ""}; }
 
-// One row: name, aliases, type, range, unit, doc, example.
-KeySpec Key(std::string name,
-            std::vector<std::string> aliases,
-            ValueType type,
-            std::optional<Range> range,
-            std::string unit,
-            std::string doc,
-            std::string example = "") {
-  KeySpec k;
-  k.name = std::move(name);
-  k.aliases = std::move(aliases);
-  k.type = type;
-  k.range = std::move(range);
-  k.unit = std::move(unit);
-  k.doc = std::move(doc);
-  k.example = std::move(example);
-  return k;
-}
-KeySpec Block(KeySpec k, std::string block) {
-  k.block = std::move(block);
-  return k;
-}
-KeySpec NotInChange(KeySpec k) {
-  k.in_change = false;
-  return k;
-}
+// A row of a table: Row("elevation").Is(T::kNumber).Range(Within(-90, 90)).Unit("degrees")
+// .Doc("deg above horizon").
+struct Row : KeySpec {
+  explicit Row(std::string canonical) { name = std::move(canonical); }
+  Row& Aliases(std::vector<std::string> spellings) {
+    aliases = std::move(spellings);
+    return *this;
+  }
+  Row& Is(ValueType t) {
+    type = t;
+    return *this;
+  }
+  Row& Range(lsds::Range r) {
+    range = std::move(r);
+    return *this;
+  }
+  Row& Unit(std::string u) {
+    unit = std::move(u);
+    return *this;
+  }
+  Row& Doc(std::string d) {
+    doc = std::move(d);
+    return *this;
+  }
+  Row& Example(std::string e) {
+    example = std::move(e);
+    return *this;
+  }
+  Row& Block(std::string id) {  // the nested table of a kBlock / kNumberOrBlock value
+    block = std::move(id);
+    return *this;
+  }
+  Row& NotInChange() {  // an environment key an LCAP scene change may not call
+    in_change = false;
+    return *this;
+  }
+};
+
+// A table: Kind("skybox", "LSCENE").Aliases({"sky"}).Category("S").Keys({...}); a nested
+// block has no language. `what` (for messages) defaults to the id with spaces.
+struct Kind : KindSpec {
+  explicit Kind(std::string kind_id, std::string kind_language = "") {
+    id = std::move(kind_id);
+    language = std::move(kind_language);
+    what = id;
+    for (char& c : what)
+      if (c == '_') c = ' ';
+  }
+  Kind& Aliases(std::vector<std::string> spellings) {
+    aliases = std::move(spellings);
+    return *this;
+  }
+  Kind& Category(std::string symbol) {
+    category = std::move(symbol);
+    return *this;
+  }
+  Kind& What(std::string w) {
+    what = std::move(w);
+    return *this;
+  }
+  Kind& Doc(std::string d) {
+    doc = std::move(d);
+    return *this;
+  }
+  Kind& Example(std::string e) {
+    example = std::move(e);
+    return *this;
+  }
+  Kind& Paper(std::string p) {
+    paper = std::move(p);
+    return *this;
+  }
+  Kind& KeysInCode() {  // the kind's own code checks its keys (free names, generators)
+    keys_listed = false;
+    return *this;
+  }
+  Kind& Keys(std::vector<KeySpec> rows) {
+    keys = std::move(rows);
+    return *this;
+  }
+};
 
 std::vector<KindSpec> BuildVocabulary() {
   std::vector<KindSpec> v;
   // ---- LSCENE (docs/languages.md, Table 1 and Table 2) ----
-  v.push_back(KindSpec{
-      "skybox",
-      "LSCENE",
-      {"sky"},
-      "S",
-      "skybox",
-      "",
-      "`S = skybox{color=white,clouds:{type={cumulus:0.5,nimbostratus:0.5},density=[0.1,0.2]}}`, "
-      "`S = skybox{color:blue,luminance:[5000,8000]}`",
-      true,
-      {Key("color",
-           {},
-           T::kColor,
-           {},
-           "",
-           "name: white black gray grey blue red green orange yellow, or `[r,g,b]` in 0-1 or "
-           "0-255"),
-       Block(Key("clouds", {}, T::kBlock, {}, "", "`{type, density}`: Cloud, Density"), "clouds"),
-       Key("cloud_type", {}, T::kName, {}, "", "none, cumulus, nimbostratus, cirrus, stratus"),
-       Key("cloud_density", {}, T::kNumber, Within(0, 1), "", "the cloud cover"),
-       Key("intensity",
-           {},
-           T::kNumber,
-           AtLeast(0),
-           "",
-           "Intensity: a unitless scale of the colour, see \"Light units\"; not with `luminance`"),
-       Key("luminance",
-           {},
-           T::kNumber,
-           AtLeast(0),
-           "cd/m^2",
-           "zenith luminance, cd/m^2, default 7000")}});
-  v.push_back(KindSpec{
-      "light",
-      "LSCENE",
-      {"directional_light", "sun"},
-      "DL",
-      "light",
-      "",
-      "`DL = light{elevation:[20,70],azimuth:[0,360],intensity:100000}`, "
-      "`DL = light{date:\"2026-06-21\",time:\"08:00\",utc_offset:2}`",
-      true,
-      {Key("elevation", {}, T::kNumber, Within(-90, 90), "degrees", "deg above horizon"),
-       Key("azimuth", {}, T::kNumber, {}, "degrees", "deg from north, clockwise"),
-       Key("intensity",
-           {},
-           T::kNumber,
-           AtLeast(0),
-           "",
-           "lux, the paper's unit; below 100 the legacy unitless scale, see \"Light units\"; "
-           "not with `illuminance`"),
-       Key("illuminance", {}, T::kNumber, AtLeast(0), "lux", "lux, always; default 100000"),
-       Key("date",
-           {},
-           T::kDate,
-           {},
-           "",
-           "`\"YYYY-MM-DD\"`: the sun by date, time and UTC offset at the georeference, see "
-           "\"Time of day and place\""),
-       Key("time", {}, T::kTime, {}, "", "local `\"HH:MM[:SS]\"`"),
-       Key("utc_offset", {}, T::kNumber, Within(-14, 14), "hours", "hours")}});
-  v.push_back(KindSpec{
-      "atmosphere",
-      "LSCENE",
-      {},
-      "A",
-      "atmosphere",
-      "",
-      "`A = atmosphere{density:0.1}` (1 km visibility), `A = atmosphere{visibility:[2000,8000]}`",
-      true,
-      {Key("fog",
-           {"fog_density"},
-           T::kNumber,
-           Within(0,
-                  0.3912,
-                  "fog is an extinction per metre (0.3912 /m: a visibility of 10 m); or give "
-                  "density (a fraction) or visibility (metres)"),
-           "/m",
-           "extinction per metre; give one of fog, density, visibility"),
-       Key("density",
-           {},
-           T::kNumber,
-           Within(0, 1, "density is a fraction (1: a fog of 100 m visibility); write 10 % as 0.1"),
-           "",
-           "the paper's fraction of the range from clear air to a fog of 100 m visibility: "
-           "extinction = density x 0.03912 /m"),
-       Key("visibility",
-           {},
-           T::kNumber,
-           AtLeast(10, "visibility is the meteorological visibility in metres"),
-           "m",
-           "meteorological visibility in metres: extinction = 3.912 / visibility, Koschmieder's "
-           "2 % contrast; see \"Atmosphere\"")}});
-  v.push_back(KindSpec{"skylight",
-                       "LSCENE",
-                       {},
-                       "SL",
-                       "skylight",
-                       "",
-                       "`SL = skylight{intensity:0.3}`",
-                       true,
-                       {Key("intensity",
-                            {},
-                            T::kNumber,
-                            AtLeast(0),
-                            "",
-                            "ambient: unitless, times the sky's mean luminance; default 0.3")}});
-  v.push_back(KindSpec{
-      "terrain",
-      "LSCENE",
-      {},
-      "W",
-      "terrain",
-      "",
-      "`W = terrain{size=[201,201],height:{Perlin:0.2},material:grassy}`",
-      true,
-      {NotInChange(Key("size", {}, T::kVector2, Above(0), "m", "`[x,y]`, metres")),
-       NotInChange(Block(Key("height",
-                             {},
-                             T::kBlock,
-                             {},
-                             "",
-                             "`{Perlin: amplitude}` or `{perlin:{amplitude, frequency}}` (Perlin)"),
-                         "terrain_height")),
-       NotInChange(Block(Key("perlin",
-                             {},
-                             T::kNumberOrBlock,
-                             {},
-                             "",
-                             "the Perlin amplitude (m), or `{amplitude, frequency}`"),
-                         "perlin")),
-       NotInChange(
-           Key("frequency", {}, T::kNumber, AtLeast(0), "cycles/m", "cycles/m, default 0.05")),
-       Key("material", {}, T::kName, {}, "", "a name (or choice) recorded for the renderer"),
-       NotInChange(Key("seed",
-                       {},
-                       T::kWhole,
-                       WholeWithin(0, 9007199254740992.0),
-                       "",
-                       "Perlin seed; default derived from `--seed`"))}});
-  v.push_back(KindSpec{
-      "object",
-      "LSCENE",
-      {},
-      "O",
-      "object",
-      "see \"Object keys (Table 2)\" below",
-      "`O1 = object{class:{A:0.5,B:0.5},position:{ON:W}}`",
-      true,
-      {Key("class",
-           {},
-           T::kClass,
-           {},
-           "",
-           "Class: a built-in (`cube sphere cylinder cone barrel tire jerrycan watercan crate rock "
-           "bush tree person car truck`, each also in its plural or other spelling, below; sizes "
-           "and shapes: docs/generator.md \"Built-in classes\"), a mesh file (`.obj .ply .gltf "
-           ".glb`, relative to the scene file), a `classes` alias, or assets of the scene's asset "
-           "library by name, tags or pattern (\"Asset library\"); or a choice of them",
-           "`class:{bush:0.2,rocks:0.8}`, `class:{tags:[desert,rock]}`, "
-           "`class:{\"clutter/.*\\\\.obj\":1}`"),
-       Key("rotation",
-           {},
-           T::kVector3,
-           {},
-           "degrees",
-           "Rotation: roll, pitch, yaw in degrees about x, y, z; `R = Rz(yaw) Ry(pitch) Rx(roll)`",
-           "`rotation:{range:[0,0,0],[360,360,360]}`"),
-       Block(Key("position",
-                 {},
-                 T::kBlock,
-                 {},
-                 "",
-                 "Position (Algorithm 1) with constraints `ON`, `IN`, `AROUND`, `within` and the "
-                 "relations `NEAR`, `BEHIND`, `IN FRONT OF`, `FACING` in order",
-                 "`position:{ON:W,AROUND:O1}`, `position:{ON:W,NEAR:{T:8},FACING:T}`"),
-             "position"),
-       Key("extent",
-           {},
-           T::kVector3,
-           Above(0),
-           "m",
-           "Extent: full box size in metres (default: the class's size; a mesh keeps its native "
-           "size, see `unit`)",
-           "`extent:[20,20,1]`"),
-       Key("scale",
-           {},
-           T::kScale,
-           Above(0),
-           "",
-           "Scale: a scalar (all axes) or per-axis factor on the extent",
-           "`scale:[1.0,1.5]`, `scale:[[0.3,0.3,0.3],[2.5,2,1.5]]`"),
-       Key("visible",
-           {"visibility"},
-           T::kBool,
-           {},
-           "",
-           "Visible: false = an invisible helper (placement zone), placed but not rendered",
-           "`visibility:false`"),
-       Key("overlap",
-           {},
-           T::kBool,
-           {},
-           "",
-           "Overlap: true allows this object to overlap others",
-           "`overlap:true`"),
-       Key("on_overlap",
-           {},
-           T::kName,
-           {},
-           "",
-           "what to do when no overlap-free place is found after `retries` (default 100) draws: "
-           "`move` (default: report an error), `delete` (drop the copy), `hide` (keep it "
-           "invisible), `allow` (keep it overlapping)",
-           "`on_overlap:delete,retries:20`"),
-       Key("retries",
-           {},
-           T::kWhole,
-           WholeWithin(0, 100000),
-           "",
-           "draws of a place before `on_overlap` applies (default 100)",
-           "`retries:20`"),
-       Key("separation",
-           {},
-           T::kNumber,
-           Within(0, 10000),
-           "m",
-           "a placement requirement: metres kept free around the object - no other visible "
-           "object's box may enter its box grown by this much on every side (the larger "
-           "separation of two objects counts; the objects it stands on or is in excepted). "
-           "Enforced by the overlap test of step 4 (same `retries` and `on_overlap`) and by LCAP "
-           "re-scatters; needs `overlap:false` (the default). For UAV scenes: vehicles parked "
-           "apart, targets that do not touch clutter, so that their boxes and masks stay separate",
-           "`separation:2.5`"),
-       Key("material",
-           {},
-           T::kName,
-           {},
-           "",
-           "Material: a name (or choice) recorded for the renderer",
-           "`material:{rust:0.5,paint:0.5}`"),
-       Key("bound",
-           {},
-           T::kReference,
-           {},
-           "",
-           "Bound: the extent of (the first copy of) another object",
-           "`bound:O1`"),
-       Key("target",
-           {},
-           T::kBool,
-           {},
-           "",
-           "whether the object gets truth entries (default: visible, and listed in the LCAP "
-           "`targets` if there are any)",
-           "`target:false`"),
-       Key("count",
-           {},
-           T::kCount,
-           {},
-           "",
-           "the number of copies (overrides the start rule)",
-           "`count:[10,20]`"),
-       Key("unit",
-           {},
-           T::kName,
-           {},
-           "",
-           "the length unit of a mesh file: `m` (default; glTF's own), `cm`, `mm`, `in`, `ft`. "
-           "glTF/GLB are y-up by their specification and turned z-up; OBJ/PLY are read as z-up",
-           "`unit:cm`")}});
-  v.push_back(KindSpec{"classes",
-                       "LSCENE",
-                       {},
-                       "",
-                       "classes",
-                       "`NAME: builtin-or-mesh` aliases (user class names like the paper's A, B)",
-                       "`K = classes{A:jerrycan,B:\"meshes/b.obj\"}`",
-                       false,
-                       {}});
-  v.push_back(KindSpec{
-      "asset_library",
-      "LSCENE",
-      {"assets"},
-      "",
-      "asset library",
-      "",
-      "`L = asset_library{path:\"assets\"}`",
-      true,
-      {Key("path",
-           {},
-           T::kName,
-           {},
-           "",
-           "a folder of meshes with a manifest, relative to the scene file (one per scene); see "
-           "\"Asset library\"")}});
-  v.push_back(KindSpec{
-      "georeference",
-      "LSCENE",
-      {"georef", "geo"},
-      "",
-      "georeference",
-      "",
-      "`G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}`",
-      true,
-      {Key("latitude", {}, T::kNumber, Within(-90, 90), "degrees", "WGS84, degrees"),
-       Key("longitude", {}, T::kNumber, Within(-180, 180), "degrees", "WGS84, degrees"),
-       Key("altitude",
-           {},
-           T::kNumber,
-           {},
-           "m",
-           "of the world origin, m above mean sea level: the world frame is local ENU (x east, "
-           "y north, z up) at that point; see \"Time of day and place\"")}});
-  // ---- LCAP (docs/languages.md, Table 3) ----
-  v.push_back(KindSpec{
-      "camera",
-      "LCAP",
-      {},
-      "CO",
-      "camera",
-      "",
-      "`CO = camera{csettings{fov:30,res:[2048,2048]},targets:[O1:5],"
-      "PPMaterial:[EdgeBlur,CartoonStyle]}`",
-      true,
-      {Block(Key("csettings",
-                 {"camera_settings", "settings"},
-                 T::kBlock,
-                 {},
-                 "",
-                 "Camera Settings, see \"Camera settings\""),
-             "camera_settings"),
-       Key("targets",
-           {},
-           T::kList,
-           {},
-           "",
-           "Target `[O1:5, O2]` (label ids optional, see \"Class names\")"),
-       Key("PPMaterial",
-           {"post_process"},
-           T::kList,
-           {},
-           "",
-           "PP Material names, recorded in the plan and applied by `lsds generate` to the RGB "
-           "only, in order ([generator.md](generator.md#post-process-materials): EdgeBlur/Defocus, "
-           "MotionBlur, SensorNoise, Vignetting, JpegCompression, CartoonStyle; other names are "
-           "recorded with a warning and not applied)"),
-       Block(Key("capture",
-                 {"capture_settings"},
-                 T::kBlock,
-                 {},
-                 "",
-                 "Capture Settings `{layers:[...], folder:...}`, see \"Capture settings\""),
-             "capture_settings"),
-       Key("rig", {}, T::kBlock, {}, "", "several cameras on the platform, see \"Camera rigs\"")}});
-  v.push_back(KindSpec{
-      "path",
-      "LCAP",
-      {"create_path"},
-      "P",
-      "path",
-      "exactly one generator, see \"Path generators\"",
-      "`P1 = path{create hemi:{...}}`",
-      true,
-      {Block(
-           Key("create_hemi",
-               {"hemi"},
-               T::kBlock,
-               {},
-               "",
-               "radius-major, then elevation, then azimuth. The camera sits at `center + r (cos e "
-               "cos a, cos e sin a, sin e)` looking at the centre. `create hemi:{cam "
-               "radius:[10,20,5],obj angle:[0,360,4],cam angle:[45,45,1]}` = 20 frames"),
-           "create_hemi"),
-       Block(Key("grid",
-                 {"increment_points", "increment_point"},
-                 T::kBlock,
-                 {},
-                 "",
-                 "serpentine rows (lawnmower), "
-                 "`grid:{x:[-60,60,7],y:[-60,60,7],altitude:40,perturb:[1.5,1.5,0.5]}` = 49; by "
-                 "`start`, `step`, `count`: nx ny nz"),
-             "grid"),
-       Block(Key("random",
-                 {"random_poses"},
-                 T::kBlock,
-                 {},
-                 "",
-                 "`random:{count:50,altitude:[15,60],off_nadir:[0,40]}`"),
-             "random"),
-       Block(Key("waypoints",
-                 {},
-                 T::kAny,
-                 {},
-                 "",
-                 "`waypoints:[[0,-50,30,0,-30,0],{position:[50,0,25],look_at:WALKER}]`, "
-                 "`waypoints:{points:[[0,0,40],[30,0,40]],speed:10,interpolation:spline}`"),
-             "flight"),
-       Block(
-           Key("create_point",
-               {"point"},
-               T::kBlock,
-               {},
-               "",
-               "`point:{position:[[-5,-5,20],[5,5,30]],rotation:[0,[-90,-60],[0,360]],count:10}`"),
-           "create_point")}});
-  v.push_back(KindSpec{"collection",
-                       "LCAP",
-                       {},
-                       "CL",
-                       "collection",
-                       "Create Set: camera moves and scene changes, below",
-                       "`CL1 = collection{CO:{move:[P1:3]}}`",
-                       false,
-                       {}});
-  v.push_back(KindSpec{"scene_change",
-                       "LCAP",
-                       {"scene_change_set", "set"},
-                       "SCS",
-                       "scene change",
-                       "Scene Change: named change blocks per object, applied from a collection",
-                       "`SCS1 = scene_change{O1:{material:MetalGold}}`",
-                       false,
-                       {}});
-  v.push_back(KindSpec{"require",
-                       "LCAP",
-                       {"requirement"},
-                       "",
-                       "requirement",
-                       "per-frame bounds on how a target (or the frame) is seen, hard or soft; see "
-                       "\"Requirements and quotas\"",
-                       "`REQ = require{target:T,occlusion:[0.4,0.6]}`",
-                       false,
-                       {}});
-  v.push_back(KindSpec{"quota",
-                       "LCAP",
-                       {},
-                       "",
-                       "quota",
-                       "a target distribution of a quantity over the collection; see "
-                       "\"Requirements and quotas\"",
-                       "`Q = quota{target:T,quantity:visibility,bins:[0,0.5,1]}`",
-                       false,
-                       {}});
-  // ---- nested blocks ----
-  v.push_back(KindSpec{"clouds",
-                       "",
-                       {},
-                       "",
-                       "clouds",
-                       "",
-                       "",
-                       true,
-                       {Key("type", {}, T::kName, {}, "", "Cloud: the cloud type, as `cloud_type`"),
-                        Key("density",
-                            {},
-                            T::kNumber,
-                            Within(0, 1),
-                            "",
-                            "Density: the cloud cover, as `cloud_density`")}});
-  v.push_back(KindSpec{
-      "terrain_height",
-      "",
-      {},
-      "",
-      "terrain height",
-      "",
-      "",
-      true,
-      {Block(Key("perlin", {}, T::kNumberOrBlock, {}, "", "as the terrain's `perlin`"), "perlin"),
-       Key("frequency", {}, T::kNumber, AtLeast(0), "cycles/m", "as the terrain's `frequency`")}});
-  v.push_back(KindSpec{"perlin",
-                       "",
-                       {},
-                       "",
-                       "Perlin",
-                       "",
-                       "",
-                       true,
-                       {Key("amplitude", {}, T::kNumber, AtLeast(0), "m", "metres"),
-                        Key("frequency", {}, T::kNumber, AtLeast(0), "cycles/m", "cycles/m")}});
   v.push_back(
-      KindSpec{"position",
-               "",
-               {},
-               "",
-               "position",
-               "",
-               "",
-               true,
-               {Key("ON", {}, T::kReference, {}, "", "stand on the terrain or an object's top"),
-                Key("IN", {}, T::kReference, {}, "", "inside an object's box"),
-                Key("AROUND", {}, T::kAny, {}, "", "around an object (`{X: margin}` optional)"),
-                Key("within", {}, T::kVector3, {}, "m", "a box `[[x0,y0,z0],[x1,y1,z1]]`"),
-                Key("NEAR", {}, T::kAny, {}, "m", "near an object, `{X: distance}` optional"),
-                Key("BEHIND", {}, T::kAny, {}, "m", "behind an object"),
-                Key("in_front_of", {}, T::kAny, {}, "m", "in front of an object"),
-                Key("FACING", {}, T::kAny, {}, "", "turned towards an object or a point"),
-                Key("visible_from", {}, T::kAny, {}, "", "seen from an object or a point")}});
-  KindSpec hemi{"create_hemi",
-                "",
-                {},
-                "",
-                "create hemi",
-                "",
-                "",
-                true,
-                {Key("cam_radius", {}, T::kAny, {}, "m", "LCAP range `[start, stop, count]`"),
-                 Key("obj_angle", {}, T::kAny, {}, "degrees", "azimuth, LCAP range"),
-                 Key("cam_angle",
-                     {},
-                     T::kAny,
-                     {},
-                     "degrees",
-                     "elevation above the target's horizontal plane, LCAP range"),
-                 Key("center",
-                     {"target"},
-                     T::kAny,
-                     {},
-                     "",
-                     "`[x,y,z]` or an object (default: the first camera target, else the "
-                     "origin)")}};
-  hemi.paper = "Create Hemi";
-  v.push_back(hemi);
-  KindSpec grid{"grid",
-                "",
-                {},
-                "",
-                "grid",
-                "",
-                "",
-                true,
-                {Key("x", {}, T::kAny, {}, "m", "LCAP range"),
-                 Key("y", {}, T::kAny, {}, "m", "LCAP range"),
-                 Key("altitude", {}, T::kAny, {}, "m", "above the terrain, LCAP range"),
-                 Key("start",
-                     {},
-                     T::kVector3,
-                     {},
-                     "m",
-                     "`[x,y,alt]`, with `step` and `count` instead of x, y, altitude"),
-                 Key("step", {}, T::kVector3, {}, "m", "`[dx,dy,dz]`"),
-                 Key("count", {}, T::kList, {}, "", "`[nx,ny,nz]`"),
-                 Key("perturb",
-                     {},
-                     T::kVector3,
-                     {},
-                     "m",
-                     "`[dx,dy,dz]`: uniform noise in +-d per axis, drawn per frame"),
-                 Key("roll", {}, T::kNumber, {}, "degrees", "crisp or interval, per frame"),
-                 Key("pitch", {}, T::kNumber, {}, "degrees", "default -90, nadir"),
-                 Key("yaw", {}, T::kNumber, {}, "degrees", "crisp or interval, per frame")}};
-  grid.paper = "Increment Points, UC3";
-  v.push_back(grid);
-  KindSpec random{
-      "random",
-      "",
-      {},
-      "",
-      "random poses",
-      "",
-      "",
-      true,
-      {Key("count", {}, T::kCount, {}, "", "the number of frames"),
-       Key("x", {}, T::kNumber, {}, "m", "default: the terrain"),
-       Key("y", {}, T::kNumber, {}, "m", "default: the terrain"),
-       Key("altitude", {}, T::kNumber, {}, "m", "above the terrain (default 50)"),
-       Key("off_nadir",
-           {},
-           T::kNumber,
-           Within(0, 90),
-           "degrees",
-           "deg from straight down, default 0"),
-       Key("yaw", {}, T::kNumber, {}, "degrees", "default [0,360]; all drawn per frame")}};
-  random.paper = "UC2";
-  v.push_back(random);
-  v.push_back(KindSpec{
-      "flight",
-      "",
-      {},
-      "",
-      "waypoints",
-      "a list of `[x,y,z]` (nadir), `[x,y,z,roll,pitch,yaw]`, or `{position, attitude:[r,p,y] or "
-      "look_at:[x,y,z] or an object}`: one frame per waypoint; or a **smooth flight** "
-      "`{points:[...], speed: m/s, interpolation: linear or spline}` (see \"Smooth flights\")",
-      "",
-      true,
-      {Key("points", {}, T::kList, {}, "", "at least two waypoints"),
-       Key("speed", {}, T::kNumber, Range{0, 1000, true, false, ""}, "m/s", "m/s"),
-       Key("interpolation", {}, T::kName, {}, "", "`linear` (default) or `spline`")}});
-  v.push_back(KindSpec{"waypoint",
-                       "",
-                       {},
-                       "",
-                       "waypoint",
-                       "",
-                       "",
-                       true,
-                       {Key("position", {}, T::kVector3, {}, "m", "`[x,y,z]`"),
-                        Key("attitude", {}, T::kVector3, {}, "degrees", "`[roll,pitch,yaw]`"),
-                        Key("look_at", {}, T::kAny, {}, "", "`[x,y,z]` or an object")}});
-  KindSpec point{
-      "create_point",
-      "",
-      {},
-      "",
-      "create point",
-      "",
-      "",
-      true,
-      {Key("position", {}, T::kVector3, {}, "m", "vector or vector range"),
-       Key("rotation", {"attitude"}, T::kVector3, {}, "degrees", "roll, pitch, yaw; default nadir"),
-       Key("look_at", {}, T::kAny, {}, "", "instead of `rotation`"),
-       Key("count", {}, T::kCount, {}, "", "default 1; drawn per frame")}};
-  point.paper = "Create Point";
-  v.push_back(point);
+      Kind("skybox", "LSCENE")
+          .Aliases({"sky"})
+          .Category("S")
+          .Example("`S = "
+                   "skybox{color=white,clouds:{type={cumulus:0.5,nimbostratus:0.5},density=[0.1,0."
+                   "2]}}`, `S = skybox{color:blue,luminance:[5000,8000]}`")
+          .Keys(
+              {Row("color").Is(T::kColor).Doc("name: white black gray grey blue red green orange "
+                                              "yellow, or `[r,g,b]` in 0-1 or 0-255"),
+               Row("clouds").Is(T::kBlock).Doc("`{type, density}`: Cloud, Density").Block("clouds"),
+               Row("cloud_type").Is(T::kName).Doc("none, cumulus, nimbostratus, cirrus, stratus"),
+               Row("cloud_density").Is(T::kNumber).Range(Within(0, 1)).Doc("the cloud cover"),
+               Row("intensity")
+                   .Is(T::kNumber)
+                   .Range(AtLeast(0))
+                   .Doc("Intensity: a unitless scale of the colour, see \"Light units\"; not with "
+                        "`luminance`"),
+               Row("luminance")
+                   .Is(T::kNumber)
+                   .Range(AtLeast(0))
+                   .Unit("cd/m^2")
+                   .Doc("zenith luminance, cd/m^2, default 7000")}));
+  v.push_back(
+      Kind("light", "LSCENE")
+          .Aliases({"directional_light", "sun"})
+          .Category("DL")
+          .Example("`DL = light{elevation:[20,70],azimuth:[0,360],intensity:100000}`, `DL = "
+                   "light{date:\"2026-06-21\",time:\"08:00\",utc_offset:2}`")
+          .Keys({Row("elevation")
+                     .Is(T::kNumber)
+                     .Range(Within(-90, 90))
+                     .Unit("degrees")
+                     .Doc("deg above horizon"),
+                 Row("azimuth").Is(T::kNumber).Unit("degrees").Doc("deg from north, clockwise"),
+                 Row("intensity")
+                     .Is(T::kNumber)
+                     .Range(AtLeast(0))
+                     .Doc("lux, the paper's unit; below 100 the legacy unitless scale, see \"Light "
+                          "units\"; not with `illuminance`"),
+                 Row("illuminance")
+                     .Is(T::kNumber)
+                     .Range(AtLeast(0))
+                     .Unit("lux")
+                     .Doc("lux, always; default 100000"),
+                 Row("date").Is(T::kDate).Doc(
+                     "`\"YYYY-MM-DD\"`: the sun by date, time and UTC offset at the georeference, "
+                     "see \"Time of day and place\""),
+                 Row("time").Is(T::kTime).Doc("local `\"HH:MM[:SS]\"`"),
+                 Row("utc_offset")
+                     .Is(T::kNumber)
+                     .Range(Within(-14, 14))
+                     .Unit("hours")
+                     .Doc("hours")}));
+  v.push_back(
+      Kind("atmosphere", "LSCENE")
+          .Category("A")
+          .Example("`A = atmosphere{density:0.1}` (1 km visibility), `A = "
+                   "atmosphere{visibility:[2000,8000]}`")
+          .Keys({Row("fog")
+                     .Aliases({"fog_density"})
+                     .Is(T::kNumber)
+                     .Range(Within(0,
+                                   0.3912,
+                                   "fog is an extinction per metre (0.3912 /m: a visibility of 10 "
+                                   "m); or give density (a fraction) or visibility (metres)"))
+                     .Unit("/m")
+                     .Doc("extinction per metre; give one of fog, density, visibility"),
+                 Row("density")
+                     .Is(T::kNumber)
+                     .Range(Within(
+                         0,
+                         1,
+                         "density is a fraction (1: a fog of 100 m visibility); write 10 % as 0.1"))
+                     .Doc("the paper's fraction of the range from clear air to a fog of 100 m "
+                          "visibility: extinction = density x 0.03912 /m"),
+                 Row("visibility")
+                     .Is(T::kNumber)
+                     .Range(AtLeast(10, "visibility is the meteorological visibility in metres"))
+                     .Unit("m")
+                     .Doc("meteorological visibility in metres: extinction = 3.912 / visibility, "
+                          "Koschmieder's 2 % contrast; see \"Atmosphere\"")}));
+  v.push_back(
+      Kind("skylight", "LSCENE")
+          .Category("SL")
+          .Example("`SL = skylight{intensity:0.3}`")
+          .Keys({Row("intensity")
+                     .Is(T::kNumber)
+                     .Range(AtLeast(0))
+                     .Doc("ambient: unitless, times the sky's mean luminance; default 0.3")}));
+  v.push_back(
+      Kind("terrain", "LSCENE")
+          .Category("W")
+          .Example("`W = terrain{size=[201,201],height:{Perlin:0.2},material:grassy}`")
+          .Keys({Row("size")
+                     .Is(T::kVector2)
+                     .Range(Above(0))
+                     .Unit("m")
+                     .Doc("`[x,y]`, metres")
+                     .NotInChange(),
+                 Row("height")
+                     .Is(T::kBlock)
+                     .Doc("`{Perlin: amplitude}` or `{perlin:{amplitude, frequency}}` (Perlin)")
+                     .Block("terrain_height")
+                     .NotInChange(),
+                 Row("perlin")
+                     .Is(T::kNumberOrBlock)
+                     .Doc("the Perlin amplitude (m), or `{amplitude, frequency}`")
+                     .Block("perlin")
+                     .NotInChange(),
+                 Row("frequency")
+                     .Is(T::kNumber)
+                     .Range(AtLeast(0))
+                     .Unit("cycles/m")
+                     .Doc("cycles/m, default 0.05")
+                     .NotInChange(),
+                 Row("material").Is(T::kName).Doc("a name (or choice) recorded for the renderer"),
+                 Row("seed")
+                     .Is(T::kWhole)
+                     .Range(WholeWithin(0, 9007199254740992.0))
+                     .Doc("Perlin seed; default derived from `--seed`")
+                     .NotInChange()}));
+  v.push_back(
+      Kind("object", "LSCENE")
+          .Category("O")
+          .Doc("see \"Object keys (Table 2)\" below")
+          .Example("`O1 = object{class:{A:0.5,B:0.5},position:{ON:W}}`")
+          .Keys(
+              {Row("class")
+                   .Is(T::kClass)
+                   .Doc("Class: a built-in (`cube sphere cylinder cone barrel tire jerrycan "
+                        "watercan crate rock bush tree person car truck`, each also in its plural "
+                        "or other spelling, below; sizes and shapes: docs/generator.md \"Built-in "
+                        "classes\"), a mesh file (`.obj .ply .gltf .glb`, relative to the scene "
+                        "file), a `classes` alias, or assets of the scene's asset library by name, "
+                        "tags or pattern (\"Asset library\"); or a choice of them")
+                   .Example("`class:{bush:0.2,rocks:0.8}`, `class:{tags:[desert,rock]}`, "
+                            "`class:{\"clutter/.*\\\\.obj\":1}`"),
+               Row("rotation")
+                   .Is(T::kVector3)
+                   .Unit("degrees")
+                   .Doc("Rotation: roll, pitch, yaw in degrees about x, y, z; `R = Rz(yaw) "
+                        "Ry(pitch) Rx(roll)`")
+                   .Example("`rotation:{range:[0,0,0],[360,360,360]}`"),
+               Row("position")
+                   .Is(T::kBlock)
+                   .Doc("Position (Algorithm 1) with constraints `ON`, `IN`, `AROUND`, `within` "
+                        "and the relations `NEAR`, `BEHIND`, `IN FRONT OF`, `FACING` in order")
+                   .Example("`position:{ON:W,AROUND:O1}`, `position:{ON:W,NEAR:{T:8},FACING:T}`")
+                   .Block("position"),
+               Row("extent")
+                   .Is(T::kVector3)
+                   .Range(Above(0))
+                   .Unit("m")
+                   .Doc("Extent: full box size in metres (default: the class's size; a mesh keeps "
+                        "its native size, see `unit`)")
+                   .Example("`extent:[20,20,1]`"),
+               Row("scale")
+                   .Is(T::kScale)
+                   .Range(Above(0))
+                   .Doc("Scale: a scalar (all axes) or per-axis factor on the extent")
+                   .Example("`scale:[1.0,1.5]`, `scale:[[0.3,0.3,0.3],[2.5,2,1.5]]`"),
+               Row("visible")
+                   .Aliases({"visibility"})
+                   .Is(T::kBool)
+                   .Doc("Visible: false = an invisible helper (placement zone), placed but not "
+                        "rendered")
+                   .Example("`visibility:false`"),
+               Row("overlap")
+                   .Is(T::kBool)
+                   .Doc("Overlap: true allows this object to overlap others")
+                   .Example("`overlap:true`"),
+               Row("on_overlap")
+                   .Is(T::kName)
+                   .Doc("what to do when no overlap-free place is found after `retries` (default "
+                        "100) draws: `move` (default: report an error), `delete` (drop the copy), "
+                        "`hide` (keep it invisible), `allow` (keep it overlapping)")
+                   .Example("`on_overlap:delete,retries:20`"),
+               Row("retries")
+                   .Is(T::kWhole)
+                   .Range(WholeWithin(0, 100000))
+                   .Doc("draws of a place before `on_overlap` applies (default 100)")
+                   .Example("`retries:20`"),
+               Row("separation")
+                   .Is(T::kNumber)
+                   .Range(Within(0, 10000))
+                   .Unit("m")
+                   .Doc("a placement requirement: metres kept free around the object - no other "
+                        "visible object's box may enter its box grown by this much on every side "
+                        "(the larger separation of two objects counts; the objects it stands on or "
+                        "is in excepted). Enforced by the overlap test of step 4 (same `retries` "
+                        "and `on_overlap`) and by LCAP re-scatters; needs `overlap:false` (the "
+                        "default). For UAV scenes: vehicles parked apart, targets that do not "
+                        "touch clutter, so that their boxes and masks stay separate")
+                   .Example("`separation:2.5`"),
+               Row("material")
+                   .Is(T::kName)
+                   .Doc("Material: a name (or choice) recorded for the renderer")
+                   .Example("`material:{rust:0.5,paint:0.5}`"),
+               Row("bound")
+                   .Is(T::kReference)
+                   .Doc("Bound: the extent of (the first copy of) another object")
+                   .Example("`bound:O1`"),
+               Row("target")
+                   .Is(T::kBool)
+                   .Doc("whether the object gets truth entries (default: visible, and listed in "
+                        "the LCAP `targets` if there are any)")
+                   .Example("`target:false`"),
+               Row("count")
+                   .Is(T::kCount)
+                   .Doc("the number of copies (overrides the start rule)")
+                   .Example("`count:[10,20]`"),
+               Row("unit")
+                   .Is(T::kName)
+                   .Doc("the length unit of a mesh file: `m` (default; glTF's own), `cm`, `mm`, "
+                        "`in`, `ft`. glTF/GLB are y-up by their specification and turned z-up; "
+                        "OBJ/PLY are read as z-up")
+                   .Example("`unit:cm`")}));
+  v.push_back(Kind("classes", "LSCENE")
+                  .Doc("`NAME: builtin-or-mesh` aliases (user class names like the paper's A, B)")
+                  .Example("`K = classes{A:jerrycan,B:\"meshes/b.obj\"}`")
+                  .KeysInCode());
+  v.push_back(Kind("asset_library", "LSCENE")
+                  .Aliases({"assets"})
+                  .Example("`L = asset_library{path:\"assets\"}`")
+                  .Keys({Row("path").Is(T::kName).Doc(
+                      "a folder of meshes with a manifest, relative to the scene file (one per "
+                      "scene); see \"Asset library\"")}));
+  v.push_back(
+      Kind("georeference", "LSCENE")
+          .Aliases({"georef", "geo"})
+          .Example("`G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}`")
+          .Keys(
+              {Row("latitude")
+                   .Is(T::kNumber)
+                   .Range(Within(-90, 90))
+                   .Unit("degrees")
+                   .Doc("WGS84, degrees"),
+               Row("longitude")
+                   .Is(T::kNumber)
+                   .Range(Within(-180, 180))
+                   .Unit("degrees")
+                   .Doc("WGS84, degrees"),
+               Row("altitude")
+                   .Is(T::kNumber)
+                   .Unit("m")
+                   .Doc("of the world origin, m above mean sea level: the world frame is local ENU "
+                        "(x east, y north, z up) at that point; see \"Time of day and place\"")}));
+  // ---- LCAP (docs/languages.md, Table 3) ----
+  v.push_back(
+      Kind("camera", "LCAP")
+          .Category("CO")
+          .Example("`CO = "
+                   "camera{csettings{fov:30,res:[2048,2048]},targets:[O1:5],PPMaterial:[EdgeBlur,"
+                   "CartoonStyle]}`")
+          .Keys({Row("csettings")
+                     .Aliases({"camera_settings", "settings"})
+                     .Is(T::kBlock)
+                     .Doc("Camera Settings, see \"Camera settings\"")
+                     .Block("camera_settings"),
+                 Row("targets").Is(T::kList).Doc(
+                     "Target `[O1:5, O2]` (label ids optional, see \"Class names\")"),
+                 Row("PPMaterial")
+                     .Aliases({"post_process"})
+                     .Is(T::kList)
+                     .Doc("PP Material names, recorded in the plan and applied by `lsds generate` "
+                          "to the RGB only, in order "
+                          "([generator.md](generator.md#post-process-materials): EdgeBlur/Defocus, "
+                          "MotionBlur, SensorNoise, Vignetting, JpegCompression, CartoonStyle; "
+                          "other names are recorded with a warning and not applied)"),
+                 Row("capture")
+                     .Aliases({"capture_settings"})
+                     .Is(T::kBlock)
+                     .Doc("Capture Settings `{layers:[...], folder:...}`, see \"Capture settings\"")
+                     .Block("capture_settings"),
+                 Row("rig").Is(T::kBlock).Doc(
+                     "several cameras on the platform, see \"Camera rigs\"")}));
+  v.push_back(
+      Kind("path", "LCAP")
+          .Aliases({"create_path"})
+          .Category("P")
+          .Doc("exactly one generator, see \"Path generators\"")
+          .Example("`P1 = path{create hemi:{...}}`")
+          .Keys({Row("create_hemi")
+                     .Aliases({"hemi"})
+                     .Is(T::kBlock)
+                     .Doc("radius-major, then elevation, then azimuth. The camera sits at `center "
+                          "+ r (cos e cos a, cos e sin a, sin e)` looking at the centre. `create "
+                          "hemi:{cam radius:[10,20,5],obj angle:[0,360,4],cam angle:[45,45,1]}` = "
+                          "20 frames")
+                     .Block("create_hemi"),
+                 Row("grid")
+                     .Aliases({"increment_points", "increment_point"})
+                     .Is(T::kBlock)
+                     .Doc("serpentine rows (lawnmower), "
+                          "`grid:{x:[-60,60,7],y:[-60,60,7],altitude:40,perturb:[1.5,1.5,0.5]}` = "
+                          "49; by `start`, `step`, `count`: nx ny nz")
+                     .Block("grid"),
+                 Row("random")
+                     .Aliases({"random_poses"})
+                     .Is(T::kBlock)
+                     .Doc("`random:{count:50,altitude:[15,60],off_nadir:[0,40]}`")
+                     .Block("random"),
+                 Row("waypoints")
+                     .Is(T::kAny)
+                     .Doc("`waypoints:[[0,-50,30,0,-30,0],{position:[50,0,25],look_at:WALKER}]`, "
+                          "`waypoints:{points:[[0,0,40],[30,0,40]],speed:10,interpolation:spline}`")
+                     .Block("flight"),
+                 Row("create_point")
+                     .Aliases({"point"})
+                     .Is(T::kBlock)
+                     .Doc("`point:{position:[[-5,-5,20],[5,5,30]],rotation:[0,[-90,-60],[0,360]],"
+                          "count:10}`")
+                     .Block("create_point")}));
+  v.push_back(Kind("collection", "LCAP")
+                  .Category("CL")
+                  .Doc("Create Set: camera moves and scene changes, below")
+                  .Example("`CL1 = collection{CO:{move:[P1:3]}}`")
+                  .KeysInCode());
+  v.push_back(Kind("scene_change", "LCAP")
+                  .Aliases({"scene_change_set", "set"})
+                  .Category("SCS")
+                  .Doc("Scene Change: named change blocks per object, applied from a collection")
+                  .Example("`SCS1 = scene_change{O1:{material:MetalGold}}`")
+                  .KeysInCode());
+  v.push_back(Kind("require", "LCAP")
+                  .Aliases({"requirement"})
+                  .What("requirement")
+                  .Doc("per-frame bounds on how a target (or the frame) is seen, hard or soft; see "
+                       "\"Requirements and quotas\"")
+                  .Example("`REQ = require{target:T,occlusion:[0.4,0.6]}`")
+                  .KeysInCode());
+  v.push_back(Kind("quota", "LCAP")
+                  .Doc("a target distribution of a quantity over the collection; see "
+                       "\"Requirements and quotas\"")
+                  .Example("`Q = quota{target:T,quantity:visibility,bins:[0,0.5,1]}`")
+                  .KeysInCode());
+  // ---- nested blocks ----
+  v.push_back(
+      Kind("clouds").Keys({Row("type").Is(T::kName).Doc("Cloud: the cloud type, as `cloud_type`"),
+                           Row("density")
+                               .Is(T::kNumber)
+                               .Range(Within(0, 1))
+                               .Doc("Density: the cloud cover, as `cloud_density`")}));
+  v.push_back(
+      Kind("terrain_height")
+          .Keys(
+              {Row("perlin").Is(T::kNumberOrBlock).Doc("as the terrain's `perlin`").Block("perlin"),
+               Row("frequency")
+                   .Is(T::kNumber)
+                   .Range(AtLeast(0))
+                   .Unit("cycles/m")
+                   .Doc("as the terrain's `frequency`")}));
+  v.push_back(Kind("perlin").What("Perlin").Keys(
+      {Row("amplitude").Is(T::kNumber).Range(AtLeast(0)).Unit("m").Doc("metres"),
+       Row("frequency").Is(T::kNumber).Range(AtLeast(0)).Unit("cycles/m").Doc("cycles/m")}));
+  v.push_back(
+      Kind("position")
+          .Keys({Row("ON").Is(T::kReference).Doc("stand on the terrain or an object's top"),
+                 Row("IN").Is(T::kReference).Doc("inside an object's box"),
+                 Row("AROUND").Is(T::kAny).Doc("around an object (`{X: margin}` optional)"),
+                 Row("within").Is(T::kVector3).Unit("m").Doc("a box `[[x0,y0,z0],[x1,y1,z1]]`"),
+                 Row("NEAR").Is(T::kAny).Unit("m").Doc("near an object, `{X: distance}` optional"),
+                 Row("BEHIND").Is(T::kAny).Unit("m").Doc("behind an object"),
+                 Row("in_front_of").Is(T::kAny).Unit("m").Doc("in front of an object"),
+                 Row("FACING").Is(T::kAny).Doc("turned towards an object or a point"),
+                 Row("visible_from").Is(T::kAny).Doc("seen from an object or a point")}));
+  v.push_back(
+      Kind("create_hemi")
+          .Paper("Create Hemi")
+          .Keys({Row("cam_radius").Is(T::kAny).Unit("m").Doc("LCAP range `[start, stop, count]`"),
+                 Row("obj_angle").Is(T::kAny).Unit("degrees").Doc("azimuth, LCAP range"),
+                 Row("cam_angle")
+                     .Is(T::kAny)
+                     .Unit("degrees")
+                     .Doc("elevation above the target's horizontal plane, LCAP range"),
+                 Row("center")
+                     .Aliases({"target"})
+                     .Is(T::kAny)
+                     .Doc("`[x,y,z]` or an object (default: the first camera target, else the "
+                          "origin)")}));
+  v.push_back(
+      Kind("grid")
+          .Paper("Increment Points, UC3")
+          .Keys({Row("x").Is(T::kAny).Unit("m").Doc("LCAP range"),
+                 Row("y").Is(T::kAny).Unit("m").Doc("LCAP range"),
+                 Row("altitude").Is(T::kAny).Unit("m").Doc("above the terrain, LCAP range"),
+                 Row("start")
+                     .Is(T::kVector3)
+                     .Unit("m")
+                     .Doc("`[x,y,alt]`, with `step` and `count` instead of x, y, altitude"),
+                 Row("step").Is(T::kVector3).Unit("m").Doc("`[dx,dy,dz]`"),
+                 Row("count").Is(T::kList).Doc("`[nx,ny,nz]`"),
+                 Row("perturb")
+                     .Is(T::kVector3)
+                     .Unit("m")
+                     .Doc("`[dx,dy,dz]`: uniform noise in +-d per axis, drawn per frame"),
+                 Row("roll").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame"),
+                 Row("pitch").Is(T::kNumber).Unit("degrees").Doc("default -90, nadir"),
+                 Row("yaw").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame")}));
+  v.push_back(
+      Kind("random")
+          .Paper("UC2")
+          .What("random poses")
+          .Keys({Row("count").Is(T::kCount).Doc("the number of frames"),
+                 Row("x").Is(T::kNumber).Unit("m").Doc("default: the terrain"),
+                 Row("y").Is(T::kNumber).Unit("m").Doc("default: the terrain"),
+                 Row("altitude").Is(T::kNumber).Unit("m").Doc("above the terrain (default 50)"),
+                 Row("off_nadir")
+                     .Is(T::kNumber)
+                     .Range(Within(0, 90))
+                     .Unit("degrees")
+                     .Doc("deg from straight down, default 0"),
+                 Row("yaw")
+                     .Is(T::kNumber)
+                     .Unit("degrees")
+                     .Doc("default [0,360]; all drawn per frame")}));
+  v.push_back(Kind("flight")
+                  .What("waypoints")
+                  .Doc("a list of `[x,y,z]` (nadir), `[x,y,z,roll,pitch,yaw]`, or `{position, "
+                       "attitude:[r,p,y] or look_at:[x,y,z] or an object}`: one frame per "
+                       "waypoint; or a **smooth flight** `{points:[...], speed: m/s, "
+                       "interpolation: linear or spline}` (see \"Smooth flights\")")
+                  .Keys({Row("points").Is(T::kList).Doc("at least two waypoints"),
+                         Row("speed")
+                             .Is(T::kNumber)
+                             .Range(Range{0, 1000, true, false, ""})
+                             .Unit("m/s")
+                             .Doc("m/s"),
+                         Row("interpolation").Is(T::kName).Doc("`linear` (default) or `spline`")}));
+  v.push_back(Kind("waypoint")
+                  .Keys({Row("position").Is(T::kVector3).Unit("m").Doc("`[x,y,z]`"),
+                         Row("attitude").Is(T::kVector3).Unit("degrees").Doc("`[roll,pitch,yaw]`"),
+                         Row("look_at").Is(T::kAny).Doc("`[x,y,z]` or an object")}));
+  v.push_back(Kind("create_point")
+                  .Paper("Create Point")
+                  .Keys({Row("position").Is(T::kVector3).Unit("m").Doc("vector or vector range"),
+                         Row("rotation")
+                             .Aliases({"attitude"})
+                             .Is(T::kVector3)
+                             .Unit("degrees")
+                             .Doc("roll, pitch, yaw; default nadir"),
+                         Row("look_at").Is(T::kAny).Doc("instead of `rotation`"),
+                         Row("count").Is(T::kCount).Doc("default 1; drawn per frame")}));
   // The blocks of a collection entry (docs/languages.md, "Collections: move, when, after,
   // during", "Objects that move", "Class swaps and re-scatters").
   v.push_back(
-      KindSpec{"object_change",
-               "",
-               {},
-               "",
-               "object change",
-               "",
-               "",
-               true,
-               {Key("material", {}, T::kName, {}, "", "a new material"),
-                Key("rotation", {}, T::kVector3, {}, "degrees", "a new rotation"),
-                Key("scale", {}, T::kScale, {}, "", "a factor on the extent"),
-                Key("extent", {}, T::kVector3, {}, "m", "a new extent"),
-                Key("visible", {"visibility"}, T::kBool, {}, "", "shown or hidden"),
-                Key("offset", {}, T::kVector3, {}, "m", "a move of the object by [dx,dy,dz]"),
-                Key("class", {}, T::kClass, {}, "", "a class swap"),
-                Key("rescatter", {}, T::kBool, {}, "", "a new place drawn by Algorithm 1"),
-                Key("move", {}, T::kList, {}, "", "a smooth flight the object moves along"),
-                Key("heading", {}, T::kName, {}, "", "how a moving object turns")}});
-  v.push_back(KindSpec{"timing",
-                       "",
-                       {},
-                       "",
-                       "timing",
-                       "",
-                       "",
-                       true,
-                       {Key("when", {}, T::kBlock, {}, "", "`{after, during, frame}`"),
-                        Key("after", {}, T::kAny, {}, "", "from a path repetition on"),
-                        Key("during", {}, T::kAny, {}, "", "during a path repetition"),
-                        Key("frame", {}, T::kAny, {}, "", "from a frame on")}});
-  v.push_back(KindSpec{
-      "camera_settings",
-      "",
-      {},
-      "",
-      "camera settings",
-      "",
-      "",
-      true,
-      {Key("fov", {}, T::kNumber, {}, "degrees", "horizontal, deg, default 60"),
-       Key("res", {"resolution"}, T::kVector2, {}, "px", "`[w,h]` (default 1024 x 1024)"),
-       Key("focal_length", {}, T::kNumber, {}, "mm", "mm, with `sensor_width`; overrides fov"),
-       Key("sensor_width", {}, T::kNumber, {}, "mm", "mm"),
-       Key("fps", {}, T::kNumber, Above(0), "", "frame time step, default 10"),
-       Key("clearance",
-           {},
-           T::kAny,
-           {},
-           "m",
-           "metres in [0, 10000], default 1; `off` opts out; see \"Cameras where a drone can "
-           "be\""),
-       Key("heights",
-           {},
-           T::kName,
-           {},
-           "",
-           "`datum` default, or `agl` for waypoint and point z above the terrain"),
-       Key("iso", {}, T::kNumber, Above(0), "", "the exposure by `shutter` + `f_number` + `iso`"),
-       Key("shutter", {}, T::kNumber, Above(0), "s", "seconds; needs `f_number`"),
-       Key("f_number", {}, T::kNumber, Above(0), "", "also `fnumber`"),
-       Key("ev100", {}, T::kNumber, Within(-30, 30), "", "the exposure value; not with `shutter`"),
-       Key("exposure_compensation",
-           {},
-           T::kNumber,
-           Within(-10, 10),
-           "EV",
-           "EV; see \"Exposure\"; default: auto exposure")}});
-  v.push_back(KindSpec{
-      "capture_settings",
-      "",
-      {},
-      "",
-      "capture settings",
-      "",
-      "",
-      true,
-      {Key("layers",
-           {},
-           T::kList,
-           {},
-           "",
-           "the layers written (`rgb` always; names from docs/format.md, a misspelt one is a "
-           "located error with a suggestion); the generator does no work for a bundle not asked "
-           "for, and `lsds validate` checks only the declared layers"),
-       Key("folder",
-           {"output"},
-           T::kName,
-           {},
-           "",
-           "the output folder when `lsds generate` gets no `-o` (relative to the current "
-           "directory; `-o` wins). Both keys are recorded in `collection.json` "
-           "(`provenance.render.capture_settings`)")}});
+      Kind("object_change")
+          .Keys({Row("material").Is(T::kName).Doc("a new material"),
+                 Row("rotation").Is(T::kVector3).Unit("degrees").Doc("a new rotation"),
+                 Row("scale").Is(T::kScale).Doc("a factor on the extent"),
+                 Row("extent").Is(T::kVector3).Unit("m").Doc("a new extent"),
+                 Row("visible").Aliases({"visibility"}).Is(T::kBool).Doc("shown or hidden"),
+                 Row("offset").Is(T::kVector3).Unit("m").Doc("a move of the object by [dx,dy,dz]"),
+                 Row("class").Is(T::kClass).Doc("a class swap"),
+                 Row("rescatter").Is(T::kBool).Doc("a new place drawn by Algorithm 1"),
+                 Row("move").Is(T::kList).Doc("a smooth flight the object moves along"),
+                 Row("heading").Is(T::kName).Doc("how a moving object turns")}));
+  v.push_back(Kind("timing").Keys({Row("when").Is(T::kBlock).Doc("`{after, during, frame}`"),
+                                   Row("after").Is(T::kAny).Doc("from a path repetition on"),
+                                   Row("during").Is(T::kAny).Doc("during a path repetition"),
+                                   Row("frame").Is(T::kAny).Doc("from a frame on")}));
+  v.push_back(
+      Kind("camera_settings")
+          .Keys({Row("fov").Is(T::kNumber).Unit("degrees").Doc("horizontal, deg, default 60"),
+                 Row("res")
+                     .Aliases({"resolution"})
+                     .Is(T::kVector2)
+                     .Unit("px")
+                     .Doc("`[w,h]` (default 1024 x 1024)"),
+                 Row("focal_length")
+                     .Is(T::kNumber)
+                     .Unit("mm")
+                     .Doc("mm, with `sensor_width`; overrides fov"),
+                 Row("sensor_width").Is(T::kNumber).Unit("mm").Doc("mm"),
+                 Row("fps").Is(T::kNumber).Range(Above(0)).Doc("frame time step, default 10"),
+                 Row("clearance")
+                     .Is(T::kAny)
+                     .Unit("m")
+                     .Doc("metres in [0, 10000], default 1; `off` opts out; see \"Cameras where a "
+                          "drone can be\""),
+                 Row("heights").Is(T::kName).Doc(
+                     "`datum` default, or `agl` for waypoint and point z above the terrain"),
+                 Row("iso")
+                     .Is(T::kNumber)
+                     .Range(Above(0))
+                     .Doc("the exposure by `shutter` + `f_number` + `iso`"),
+                 Row("shutter")
+                     .Is(T::kNumber)
+                     .Range(Above(0))
+                     .Unit("s")
+                     .Doc("seconds; needs `f_number`"),
+                 Row("f_number").Is(T::kNumber).Range(Above(0)).Doc("also `fnumber`"),
+                 Row("ev100")
+                     .Is(T::kNumber)
+                     .Range(Within(-30, 30))
+                     .Doc("the exposure value; not with `shutter`"),
+                 Row("exposure_compensation")
+                     .Is(T::kNumber)
+                     .Range(Within(-10, 10))
+                     .Unit("EV")
+                     .Doc("EV; see \"Exposure\"; default: auto exposure")}));
+  v.push_back(
+      Kind("capture_settings")
+          .Keys({Row("layers").Is(T::kList).Doc(
+                     "the layers written (`rgb` always; names from docs/format.md, a misspelt one "
+                     "is a located error with a suggestion); the generator does no work for a "
+                     "bundle not asked for, and `lsds validate` checks only the declared layers"),
+                 Row("folder")
+                     .Aliases({"output"})
+                     .Is(T::kName)
+                     .Doc("the output folder when `lsds generate` gets no `-o` (relative to the "
+                          "current directory; `-o` wins). Both keys are recorded in "
+                          "`collection.json` (`provenance.render.capture_settings`)")}));
   return v;
 }
 

@@ -6,6 +6,7 @@
 
 #include "generator/lang/random.h"
 #include "generator/lang/relations.h"
+#include "generator/lang/vocabulary.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/util/error.h"
@@ -16,18 +17,17 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-const std::vector<std::string> kTargetQuantities = {"visibility",
-                                                    "occlusion",
-                                                    "in_frame",
-                                                    "size_px",
-                                                    "gsd",
-                                                    "distance",
-                                                    "view_angle",
-                                                    "facing_angle",
-                                                    "ahead_of_camera",
-                                                    "class"};
-const std::vector<std::string> kFrameQuantities = {
-    "altitude", "off_nadir", "sun_elevation", "time_of_day"};
+// The quantities a requirement bounds, from the vocabulary's require table.
+const std::vector<std::string>& TargetQuantities() {
+  static const std::vector<std::string> q =
+      KindVocabulary("require").KeysWithRole("target quantity");
+  return q;
+}
+const std::vector<std::string>& FrameQuantities() {
+  static const std::vector<std::string> q =
+      KindVocabulary("require").KeysWithRole("frame quantity");
+  return q;
+}
 
 std::string QuantityOf(const Node& where, const std::string& key) {
   const std::string canonical = CanonicalKey(key);
@@ -61,12 +61,6 @@ std::string ReadTarget(const Definition& d, const Program& scene) {
   return name;
 }
 
-const std::vector<std::string> kRequireKeys = {
-    "target",       "visibility",      "occlusion",   "in_frame",  "size_px",       "gsd",
-    "distance",     "view_angle",      "altitude",    "off_nadir", "sun_elevation", "time_of_day",
-    "facing_angle", "ahead_of_camera", "class",       "facing",    "in_front_of",   "behind",
-    "near",         "visible_from",    "probability", "p",         "budget",        "on_budget",
-    "cameras"};
 // The relations relative to the camera a requirement may state, as bounds.
 bool IsCameraRelation(const std::string& canonical) {
   return canonical == "facing" || canonical == "infrontof" || canonical == "behind" ||
@@ -103,22 +97,9 @@ Bound CameraRelationBound(const Node& n, const std::string& canonical, const std
   return {"visibility", 1e-9, 1};  // some of it seen
 }
 
-const std::vector<std::string> kQuotaKeys = {"target",
-                                             "quantity",
-                                             "bins",
-                                             "classes",
-                                             "weights",
-                                             "tolerance",
-                                             "sampling",
-                                             "budget",
-                                             "on_budget",
-                                             "cameras"};
-
 void ReadBudget(const Definition& d, RequirementSet* set) {
   if (const Node b = d.body.Find("budget")) {
-    const double v = ReadNumber(b);
-    if (v < 0 || v > 100000 || v != std::floor(v))
-      b.Fail("budget is a whole number in [0, 100000]");
+    const double v = ReadInRange(b, KindVocabulary(d.kind).Key("budget"));
     set->budget = std::max(set->budget, static_cast<int>(v));
   }
   if (const Node o = d.body.Find("onbudget")) {
@@ -137,22 +118,22 @@ void ReadBudget(const Definition& d, RequirementSet* set) {
 
 const std::vector<std::string>& RequirementQuantities() {
   static const std::vector<std::string> all = [] {
-    std::vector<std::string> v = kTargetQuantities;
-    v.insert(v.end(), kFrameQuantities.begin(), kFrameQuantities.end());
+    std::vector<std::string> v = TargetQuantities();
+    v.insert(v.end(), FrameQuantities().begin(), FrameQuantities().end());
     return v;
   }();
   return all;
 }
 
 bool IsFrameQuantity(const std::string& quantity) {
-  return std::find(kFrameQuantities.begin(), kFrameQuantities.end(), quantity) !=
-         kFrameQuantities.end();
+  return std::find(FrameQuantities().begin(), FrameQuantities().end(), quantity) !=
+         FrameQuantities().end();
 }
 
 bool IsRequirementKind(const std::string& kind) { return kind == "require" || kind == "quota"; }
 
 void CheckRequirementDefinition(const Definition& d) {
-  d.body.CheckKeys(d.kind == "require" ? kRequireKeys : kQuotaKeys, d.kind + " " + d.symbol);
+  CheckKeys(d.body, KindVocabulary(d.kind), d.kind + " " + d.symbol);
 }
 
 std::map<std::string, double> GeometricMeasures(const OrientedBox& box,
@@ -255,8 +236,7 @@ RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
         const std::string k = CanonicalKey(key);
         if (k == "target" || k == "budget" || k == "onbudget" || k == "cameras") continue;
         if (k == "probability" || k == "p") {
-          r.probability = ReadNumber(node);
-          if (!(r.probability >= 0 && r.probability <= 1)) node.Fail("a probability is in [0, 1]");
+          r.probability = ReadInRange(node, KindVocabulary("require").Key("probability"));
           continue;
         }
         if (IsCameraRelation(k)) {
@@ -333,8 +313,7 @@ RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
       if (sum <= 0) d.body.Fail("the quota's weights sum to 0");
       for (double& w : q.weights) w /= sum;
       if (const Node t = d.body.Find("tolerance")) {
-        q.tolerance = ReadNumber(t);
-        if (!(q.tolerance >= 0 && q.tolerance <= 1)) t.Fail("tolerance is a share in [0, 1]");
+        q.tolerance = ReadInRange(t, KindVocabulary("quota").Key("tolerance"));
       }
       if (const Node s = d.body.Find("sampling")) {
         const std::string v = ReadString(s);

@@ -54,6 +54,10 @@ struct Row : KeySpec {
     block = std::move(id);
     return *this;
   }
+  Row& Role(std::string group) {
+    role = std::move(group);
+    return *this;
+  }
   Row& NotInChange() {  // an environment key an LCAP scene change may not call
     in_change = false;
     return *this;
@@ -432,18 +436,80 @@ std::vector<KindSpec> BuildVocabulary() {
                   .Doc("Scene Change: named change blocks per object, applied from a collection")
                   .Example("`SCS1 = scene_change{O1:{material:MetalGold}}`")
                   .KeysInCode());
+  // Requirements and quotas (docs/languages.md, "Requirements and quotas"): the keys both
+  // kinds share, a require's bounds (`quantity:[min, max]`) and relations to the camera.
+  const auto target =
+      Row("target")
+          .Is(T::kReference)
+          .Doc(
+              "an LSCENE object symbol; the bounds hold for every copy of it in the camera's view");
+  const std::vector<KeySpec> shared = {
+      Row("budget")
+          .Is(T::kWhole)
+          .Range(WholeWithin(0, 100000))
+          .Doc("draws per frame after the first before giving up (default 50; the largest given "
+               "counts)"),
+      Row("on_budget").Is(T::kName).Doc("`keep` (default) or `fail`"),
+      Row("cameras").Is(T::kName).Doc("with a camera rig: `all` (default) or `any`")};
+  auto bound = [](const char* name, const char* role, const char* doc) {
+    return Row(name).Is(T::kAny).Role(role).Doc(std::string("`[min, max]`: ") + doc);
+  };
+  auto relation = [](const char* name, const char* doc) {
+    return Row(name).Is(T::kAny).Role("camera relation").Doc(doc);
+  };
+  std::vector<KeySpec> require = {
+      target,
+      bound("visibility", "target quantity", "the visible share of the target"),
+      bound("occlusion", "target quantity", "1 - visibility"),
+      bound("in_frame", "target quantity", "the share of the target inside the image"),
+      bound("size_px", "target quantity", "the larger side of the projected box, pixels"),
+      bound("gsd", "target quantity", "m/px at the target"),
+      bound("distance", "target quantity", "m, camera centre to box centre"),
+      bound("view_angle", "target quantity", "degrees from the vertical"),
+      bound("altitude", "frame quantity", "m above the terrain under the camera"),
+      bound("off_nadir", "frame quantity", "degrees"),
+      bound("sun_elevation", "frame quantity", "degrees above the horizon"),
+      bound("time_of_day", "frame quantity", "local hours of the sun's clock"),
+      bound("facing_angle",
+            "target quantity",
+            "degrees between the target's heading and its direction to the camera"),
+      bound("ahead_of_camera", "target quantity", "m along the camera's heading"),
+      Row("class").Is(T::kAny).Role("target quantity").Doc("a quota quantity only"),
+      relation("FACING", "`FACING:CAMERA` or `{CAMERA: degrees}`"),
+      relation("in_front_of", "`IN FRONT OF:CAMERA` or `{CAMERA: m}`"),
+      relation("BEHIND", "`BEHIND:CAMERA` or `{CAMERA: m}`"),
+      relation("NEAR", "`NEAR:{CAMERA: m}`"),
+      relation("visible_from", "`VISIBLE FROM:CAMERA`"),
+      Row("probability")
+          .Aliases({"p"})
+          .Is(T::kNumber)
+          .Range(Within(0, 1))
+          .Doc("soft requirement: demanded of a frame with this probability (default 1: hard)")};
+  require.insert(require.end(), shared.begin(), shared.end());
   v.push_back(Kind("require", "LCAP")
                   .Aliases({"requirement"})
                   .What("requirement")
                   .Doc("per-frame bounds on how a target (or the frame) is seen, hard or soft; see "
                        "\"Requirements and quotas\"")
                   .Example("`REQ = require{target:T,occlusion:[0.4,0.6]}`")
-                  .KeysInCode());
+                  .Keys(require));
+  std::vector<KeySpec> quota = {
+      target,
+      Row("quantity").Is(T::kName).Doc("one quantity of `require`, or `class`"),
+      Row("bins").Is(T::kList).Doc("bin edges ascending"),
+      Row("classes").Is(T::kAny).Doc("the bins of `quantity:class`: `{name: share}` or `[name]`"),
+      Row("weights").Is(T::kList).Doc("the target share of each bin (default equal)"),
+      Row("tolerance")
+          .Is(T::kNumber)
+          .Range(Within(0, 1))
+          .Doc("the share by which a bin may miss its target in the report (default 0.05)"),
+      Row("sampling").Is(T::kName).Doc("`importance` (default) or `rejection`")};
+  quota.insert(quota.end(), shared.begin(), shared.end());
   v.push_back(Kind("quota", "LCAP")
                   .Doc("a target distribution of a quantity over the collection; see "
                        "\"Requirements and quotas\"")
                   .Example("`Q = quota{target:T,quantity:visibility,bins:[0,0.5,1]}`")
-                  .KeysInCode());
+                  .Keys(quota));
   // ---- nested blocks ----
   v.push_back(
       Kind("clouds").Keys({Row("type").Is(T::kName).Doc("Cloud: the cloud type, as `cloud_type`"),
@@ -705,6 +771,13 @@ const KeySpec* KindSpec::Find(const std::string& canonical) const {
 const KeySpec& KindSpec::Key(const std::string& name) const {
   if (const KeySpec* k = Find(CanonicalKey(name))) return *k;
   throw std::out_of_range("no key '" + name + "' in the vocabulary of " + id);
+}
+
+std::vector<std::string> KindSpec::KeysWithRole(const std::string& wanted) const {
+  std::vector<std::string> out;
+  for (const KeySpec& k : keys)
+    if (k.role == wanted) out.push_back(k.name);
+  return out;
 }
 
 std::vector<std::string> KindSpec::Spellings(bool in_change) const {

@@ -65,6 +65,7 @@ struct KeySpec {
   std::string example;    // for the docs' key tables (markdown, optional)
   std::string block;      // kBlock / kNumberOrBlock: the id of the nested table
   bool in_change = true;  // environment kinds: also callable in an LCAP scene change
+  std::string role;       // a group within the kind ("target quantity", "frame quantity")
 
   std::vector<std::string> Spellings() const;  // name, then aliases
 };
@@ -84,6 +85,8 @@ struct KindSpec {
   // nullptr when `canonical` (CanonicalKey form) names no key of the kind.
   const KeySpec* Find(const std::string& canonical) const;
   const KeySpec& Key(const std::string& name) const;  // by canonical name; must exist
+  // The canonical names of the keys with `role`, in table order.
+  std::vector<std::string> KeysWithRole(const std::string& role) const;
   // Every key's spellings in table order (for the unknown-key check).
   std::vector<std::string> Spellings(bool in_change = false) const;
 };

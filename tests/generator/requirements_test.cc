@@ -264,7 +264,8 @@ TEST(Requirements, BadInputIsALocatedError) {
   fails("REQ = require{target:NOPE,occlusion:[0.4,0.6]}\n", "'NOPE' is not an object of the scene");
   fails("REQ = require{target:T,occlusion:[0.6,0.4]}\n", "min <= max");
   fails("REQ = require{occlusion:[0.4,0.6]}\n", "add target:OBJECT");
-  fails("REQ = require{target:T,occlusion:[0.4,0.6],p:2}\n", "a probability is in [0, 1]");
+  fails("REQ = require{target:T,occlusion:[0.4,0.6],p:2}\n",
+        "probability must be within [0, 1], found 2");
   fails("REQ = quota{target:T,quantity:visibility,bins:[0,0.5,0.4]}\n", "bin edges must ascend");
   fails("REQ = quota{target:T,quantity:visibility,bins:[0,0.5,1],weights:[1]}\n",
         "one weight per bin");

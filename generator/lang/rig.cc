@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "generator/lang/vocabulary.h"
 #include "libs/collection/rig.h"
 #include "libs/geometry/attitude.h"
 #include "libs/util/strings.h"
@@ -9,8 +10,13 @@
 namespace lsds {
 
 const std::vector<std::string>& IntrinsicSettingKeys() {
-  static const std::vector<std::string> keys = {
-      "fov", "res", "resolution", "focal_length", "sensor_width"};
+  static const std::vector<std::string> keys = [] {
+    const KindSpec& settings = KindVocabulary("camera_settings");
+    std::vector<std::string> out;
+    for (const std::string& name : settings.KeysWithRole("intrinsic"))
+      for (const std::string& spelling : settings.Key(name).Spellings()) out.push_back(spelling);
+    return out;
+  }();
   return keys;
 }
 
@@ -62,8 +68,8 @@ Rig ReadRig(const Node& rig_node, const IntrinsicSettings& platform) {
     if (rig.Find(name)) body.FailKey("rig camera '" + name + "' is defined twice");
     if (!body->is_object())
       body.Fail("a rig camera is {position:[x,y,z], attitude:[roll,pitch,yaw], csettings:{...}}");
-    body.CheckKeys({"position", "attitude", "rotation", "csettings", "camera_settings", "settings"},
-                   "rig camera " + name);
+    const KindSpec& vocabulary = KindVocabulary("rig_camera");
+    CheckKeys(body, vocabulary, "rig camera " + name);
     Rng crisp(0);  // rig poses are fixed: intervals are not allowed
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     if (const Node p = body.Find("position")) {
@@ -73,9 +79,7 @@ Rig ReadRig(const Node& rig_node, const IntrinsicSettings& platform) {
       position = SampleVec3(p, crisp);
     }
     Attitude attitude;
-    Node a = body.Find("attitude");
-    if (!a) a = body.Find("rotation");
-    if (a) {
+    if (const Node a = FindKey(body, vocabulary, "attitude")) {
       if (!a->is_array() || a->size() != 3) a.Fail("attitude is [roll, pitch, yaw] in degrees");
       for (size_t i = 0; i < 3; ++i)
         if (!a.Item(i)->is_number()) a.Item(i).Fail("a rig attitude is a number (degrees)");
@@ -83,13 +87,12 @@ Rig ReadRig(const Node& rig_node, const IntrinsicSettings& platform) {
       attitude = Attitude{rpy.x(), rpy.y(), rpy.z()};
     }
     IntrinsicSettings settings = platform;
-    for (const char* key : {"csettings", "camerasettings", "settings"})
-      if (const Node s = body.Find(key)) {
-        s.CheckKeys(
-            IntrinsicSettingKeys(),
-            "settings of rig camera " + name + " (fps, clearance and heights are the platform's)");
-        settings.Read(s);
-      }
+    if (const Node s = FindKey(body, vocabulary, "csettings")) {
+      s.CheckKeys(
+          IntrinsicSettingKeys(),
+          "settings of rig camera " + name + " (fps, clearance and heights are the platform's)");
+      settings.Read(s);
+    }
     RigCamera camera;
     camera.name = name;
     camera.intrinsics = settings.Camera();

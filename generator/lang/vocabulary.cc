@@ -635,19 +635,39 @@ std::vector<KindSpec> BuildVocabulary() {
                                    Row("after").Is(T::kAny).Doc("from a path repetition on"),
                                    Row("during").Is(T::kAny).Doc("during a path repetition"),
                                    Row("frame").Is(T::kAny).Doc("from a frame on")}));
+  // One camera of a rig (docs/languages.md, "Camera rigs"): `rig:{NAME:{...}, ...}`.
+  v.push_back(
+      Kind("rig_camera")
+          .Keys({Row("position").Is(T::kVector3).Unit("m").Doc("offset on the platform, metres"),
+                 Row("attitude")
+                     .Aliases({"rotation"})
+                     .Is(T::kVector3)
+                     .Unit("degrees")
+                     .Doc("`[roll, pitch, yaw]` relative to the platform"),
+                 Row("csettings")
+                     .Aliases({"camera_settings", "settings"})
+                     .Is(T::kBlock)
+                     .Doc("the camera settings with role intrinsic only")
+                     .Block("camera_settings")}));
   v.push_back(
       Kind("camera_settings")
-          .Keys({Row("fov").Is(T::kNumber).Unit("degrees").Doc("horizontal, deg, default 60"),
+          .Keys({Row("fov")
+                     .Role("intrinsic")
+                     .Is(T::kNumber)
+                     .Unit("degrees")
+                     .Doc("horizontal, deg, default 60"),
                  Row("res")
+                     .Role("intrinsic")
                      .Aliases({"resolution"})
                      .Is(T::kVector2)
                      .Unit("px")
                      .Doc("`[w,h]` (default 1024 x 1024)"),
                  Row("focal_length")
+                     .Role("intrinsic")
                      .Is(T::kNumber)
                      .Unit("mm")
                      .Doc("mm, with `sensor_width`; overrides fov"),
-                 Row("sensor_width").Is(T::kNumber).Unit("mm").Doc("mm"),
+                 Row("sensor_width").Role("intrinsic").Is(T::kNumber).Unit("mm").Doc("mm"),
                  Row("fps").Is(T::kNumber).Range(Above(0)).Doc("frame time step, default 10"),
                  Row("clearance")
                      .Is(T::kAny)

@@ -191,6 +191,15 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
   info.channels = ReadableWorldPositionChannels(info);
   info.channels = ReadableChannels(info);
   bool ok = true;
+  if (layer.semantic == "worldposition" &&
+      (layer.position_layout == WorldPositionLayout::kResidual) != IsResidualWorldPosition(info)) {
+    // Readers follow the file, so the values are right; the table is wrong.
+    Emit("layer.channels",
+         FileLocation(file),
+         std::string("is stored in the ") + (IsResidualWorldPosition(info) ? "residual" : "float") +
+             " layout but layer '" + layer.name + "' declares layout '" +
+             WorldPositionLayoutName(layer.position_layout) + "'");
+  }
   if (info.deep != layer.deep) {
     Emit("layer.channels",
          FileLocation(file),

@@ -305,6 +305,16 @@ TEST(WorldPositionLayout, ValidateLocatesACorruptResidualFile) {
   EXPECT_EQ(v.exit_code, 1) << v.output;
   EXPECT_NE(v.output.find(file), std::string::npos) << v.output;
   EXPECT_NE(v.output.find("no channel 'Y'"), std::string::npos) << v.output;
+
+  // Float values where the table says residual: read right, reported.
+  exr::WriteFlatExr(
+      path, PredictWorldPosition(PredictionOfFrame(root, reader.header(), frames.at(1), "depth")));
+  v = Lsds("validate " + root.string());
+  EXPECT_EQ(v.exit_code, 1) << v.output;
+  EXPECT_NE(v.output.find("stored in the float layout but layer 'worldposition' declares "
+                          "layout 'residual'"),
+            std::string::npos)
+      << v.output;
 }
 
 }  // namespace

@@ -279,6 +279,12 @@ void FrameChecker::LoadLayers() {
             path,
             channels,
             [&](const std::string& depth_layer) {
+              // The depth this frame already decoded, else its file.
+              const LayerInfo* depth = Layer("depth");
+              const FlatImage* decoded = Flat("depth");
+              if (depth != nullptr && depth->name == depth_layer && decoded != nullptr) {
+                return PredictionFromDepth(*decoded, *depth, frame_.camera);
+              }
               return PredictionOfFrame(context_.root, header_, frame_, depth_layer);
             });
       } else {

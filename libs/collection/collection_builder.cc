@@ -42,13 +42,7 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
       throw Error("frame " + std::to_string(frame_index) + ": layer '" + layer.name +
                   "' is residual but the collection has no flat depth layer to predict from");
     }
-    const exr::FlatImage& z = images.flat->at("depth");
-    prediction.emplace();
-    prediction->depth = z.Get(depth->channels.at(0).name).floats;
-    prediction->width = z.width();
-    prediction->height = z.height();
-    prediction->depth_kind = depth->depth_kind.value_or(DepthKind::kPlanar);
-    prediction->camera = camera;
+    prediction = PredictionFromDepth(images.flat->at("depth"), *depth, camera);
     depth_layer = depth->name;
   }
   // Layers are independent files: encode them in parallel.

@@ -129,8 +129,11 @@ LayerInfo LayerFromJson(const json& j) {
   // float | residual (the schema allows both).
   if (j.contains("layout")) {
     const std::string layout = j.at("layout").get<std::string>();
-    if (!ParseWorldPositionLayout(layout, &layer.position_layout))
+    if (layer.semantic == "worldposition") {
+      ParseWorldPositionLayout(layout, &layer.position_layout);
+    } else {
       ParseBundleLayout(layout, &layer.layout);
+    }
   }
   return layer;
 }

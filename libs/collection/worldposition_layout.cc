@@ -226,19 +226,33 @@ WorldPositionPrediction PredictionOfFrame(const fs::path& root,
                     "', but the frame has no file for it",
                 where);
   }
-  const std::string& channel = layer->channels[0].name;
-  exr::FlatImage depth = exr::ReadFlatExr(root / file->second, {channel});
-  exr::FlatChannel& z = depth.Get(channel);
+  const fs::path path = root / file->second;
+  try {
+    return PredictionFromDepth(
+        exr::ReadFlatExr(path, {layer->channels[0].name}), *layer, frame.camera);
+  } catch (const Error& e) {
+    if (!e.location().file.empty()) throw;
+    throw Error(e.message(), Location(path.string()));
+  }
+}
+
+WorldPositionPrediction PredictionFromDepth(const exr::FlatImage& depth,
+                                            const LayerInfo& depth_layer,
+                                            const CameraTruth& camera) {
+  if (depth_layer.channels.empty()) {
+    throw Error("depth layer '" + depth_layer.name + "' declares no channel");
+  }
+  const std::string& channel = depth_layer.channels[0].name;
+  const exr::FlatChannel& z = depth.Get(channel);
   if (z.floats.size() != depth.pixel_count()) {
-    throw Error("depth channel '" + channel + "' is not HALF or FLOAT",
-                Location((root / file->second).string()));
+    throw Error("depth channel '" + channel + "' is not HALF or FLOAT");
   }
   WorldPositionPrediction input;
-  input.depth = std::move(z.floats);
+  input.depth = z.floats;
   input.width = depth.width();
   input.height = depth.height();
-  input.depth_kind = layer->depth_kind.value_or(DepthKind::kPlanar);
-  input.camera = frame.camera;
+  input.depth_kind = depth_layer.depth_kind.value_or(DepthKind::kPlanar);
+  input.camera = camera;
   return input;
 }
 

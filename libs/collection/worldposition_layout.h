@@ -84,6 +84,13 @@ bool IsResidualWorldPosition(const exr::ExrInfo& info);
 // name; other files: their channels.
 std::vector<exr::ChannelSpec> ReadableWorldPositionChannels(const exr::ExrInfo& info);
 
+// The prediction inputs from a decoded image of depth layer `depth_layer` (its
+// first channel, HALF or FLOAT, and its depth_kind) and the frame's camera.
+// Throws lsds::Error for a layer without channels or a channel of another type.
+WorldPositionPrediction PredictionFromDepth(const exr::FlatImage& depth,
+                                            const LayerInfo& depth_layer,
+                                            const CameraTruth& camera);
+
 // The prediction inputs of `frame` from a collection folder: the frame's file
 // of layer `depth_layer` (its first channel), that layer's depth_kind and the
 // frame's camera. Throws lsds::Error naming collection.json when the header has

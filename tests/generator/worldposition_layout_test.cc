@@ -212,6 +212,16 @@ void ExpectLayoutsAgree(const TempDir& dir, const std::string& source) {
     EXPECT_EQ(c.exit_code, 0) << c.output;
   }
   EXPECT_EQ(FileBytes(f.string() + ".ply"), FileBytes(r.string() + ".ply"));
+  // export-layers decodes too: the same .npy bytes from both.
+  for (const fs::path& root : {f, r}) {
+    const auto e = Lsds("export-layers " + root.string() + " --layers worldposition -o " +
+                        root.string() + "_npy");
+    ASSERT_EQ(e.exit_code, 0) << e.output;
+  }
+  for (const auto& entry : fs::directory_iterator(f.string() + "_npy/worldposition")) {
+    const fs::path other = r.string() + "_npy/worldposition/" + entry.path().filename().string();
+    EXPECT_EQ(FileBytes(entry.path()), FileBytes(other)) << other;
+  }
   EXPECT_GT(FileBytes(f.string() + ".ply").size(), 1000u);
 
   const CollectionReader rf(f), rr(r);

@@ -2,7 +2,10 @@
 // scene and encodes each layer with every lossless compression OpenEXR allows
 // for it (flat: none, rle, zips, zip, piz; deep: none, rle, zips), printing the
 // bytes, the encode and decode time (median of 3), with OpenEXR's thread pool
-// off and on. docs/generator.md "Storage" keeps the table and the choice.
+// off and on. The worldposition layer is measured in both layouts (float;
+// residual, libs/collection/worldposition_layout.h), with a histogram of the
+// residuals' magnitude (how close the depth's prediction is to the renderer's
+// value). docs/generator.md "Storage" keeps the table and the choice.
 //
 //   bench_exr_compression [--size 1024] [--spp 4] [--threads T] [--zip-level L]
 #include <ImfThreading.h>
@@ -12,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -25,6 +29,7 @@
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
 #include "libs/collection/bundle_layout.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/exr/flat_image.h"
 
 namespace fs = std::filesystem;
@@ -36,6 +41,32 @@ namespace {
 
 double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Residual magnitudes (|dX| as a signed 32-bit difference of float bits) in
+// bins 0, 1, 2-3, 4-15, 16-255, >= 256 ulps, over all three channels.
+void PrintResidualHistogram(const exr::FlatImage& truth, const WorldPositionPrediction& input) {
+  const exr::FlatImage predicted = PredictWorldPosition(input);
+  const char* names[] = {"0", "1", "2-3", "4-15", "16-255", ">=256"};
+  int64_t bins[6] = {0, 0, 0, 0, 0, 0};
+  int64_t total = 0;
+  for (const char* axis : {"X", "Y", "Z"}) {
+    const std::vector<float>& t = truth.Get(axis).floats;
+    const std::vector<float>& p = predicted.Get(axis).floats;
+    for (size_t k = 0; k < t.size(); ++k) {
+      uint32_t a, b;
+      std::memcpy(&a, &t[k], 4);
+      std::memcpy(&b, &p[k], 4);
+      const int64_t d = std::llabs(static_cast<int64_t>(static_cast<int32_t>(a - b)));
+      const int bin = d == 0 ? 0 : d == 1 ? 1 : d < 4 ? 2 : d < 16 ? 3 : d < 256 ? 4 : 5;
+      ++bins[bin];
+      ++total;
+    }
+  }
+  std::printf("worldposition residual |d| in ulps (X, Y, Z together, %lld values):",
+              static_cast<long long>(total));
+  for (int i = 0; i < 6; ++i) std::printf(" %s: %.2f%%", names[i], 100.0 * bins[i] / total);
+  std::printf("\n");
 }
 
 template <typename Fn>
@@ -92,6 +123,13 @@ int main(int argc, char** argv) {
   GenerateOptions options;
   const CollectionHeader header = MakeHeader(plan, options);
   const BundleSampling sampling{settings.sampler, frame.index};
+  // The residual layout's prediction inputs, as the generator passes them.
+  WorldPositionPrediction prediction;
+  prediction.depth = film.flat.at("depth").Get("Z").floats;
+  prediction.width = prediction.height = size;
+  prediction.depth_kind = options.depth_kind;
+  prediction.camera.intrinsics = frame.camera;
+  SetCamFromWorld(frame.cam_from_world, &prediction.camera);
 
   const fs::path dir = fs::temp_directory_path() / "lsds_bench_exr_compression";
   fs::create_directories(dir);
@@ -111,7 +149,17 @@ int main(int argc, char** argv) {
               "encode pool",
               "decode s",
               "decode pool");
+  std::vector<LayerInfo> layers;
   for (const LayerInfo& layer : header.layers) {
+    layers.push_back(layer);
+    if (layer.semantic != "worldposition") continue;
+    layers.back().position_layout = WorldPositionLayout::kFloat;
+    layers.push_back(layer);
+    layers.back().position_layout = WorldPositionLayout::kResidual;
+  }
+  for (const LayerInfo& layer : layers) {
+    const bool residual = layer.position_layout == WorldPositionLayout::kResidual;
+    const std::string label = residual ? layer.name + "/res" : layer.name;
     std::vector<exr::Compression> codecs = {
         exr::Compression::kNone, exr::Compression::kRle, exr::Compression::kZips};
     if (!layer.deep) {  // OpenEXR's deep files allow only the three above
@@ -126,6 +174,13 @@ int main(int argc, char** argv) {
       auto encode = [&] {
         if (layer.deep) {
           WriteBundleExr(path, film.bundle, layer.layout, sampling, write);
+        } else if (layer.semantic == "worldposition") {
+          WriteWorldPositionExr(path,
+                                film.flat.at(layer.semantic),
+                                layer.position_layout,
+                                &prediction,
+                                "depth",
+                                write);
         } else {
           exr::WriteFlatExr(path, film.flat.at(layer.semantic), write);
         }
@@ -133,6 +188,8 @@ int main(int argc, char** argv) {
       auto decode = [&] {
         if (layer.deep) {
           ReadBundleExr(path);
+        } else if (layer.semantic == "worldposition") {  // decoding includes the prediction
+          ReadWorldPositionExr(path, {}, [&](const std::string&) { return prediction; });
         } else {
           exr::ReadFlatExr(path);
         }
@@ -145,18 +202,23 @@ int main(int argc, char** argv) {
       const double decode_pool = Median3(decode);
       const double bytes = static_cast<double>(fs::file_size(path));
       if (codec == exr::Compression::kNone) raw = bytes;
-      std::printf("%-14s %-5s %10.2f %9.2f %10.3f %11.3f %10.3f %11.3f%s\n",
-                  layer.name.c_str(),
-                  exr::CompressionName(codec),
-                  bytes / 1e6,
-                  raw / bytes,
-                  encode_serial,
-                  encode_pool,
-                  decode_serial,
-                  decode_pool,
-                  codec == layer.compression ? "  <- chosen" : "");
+      std::printf(
+          "%-14s %-5s %10.2f %9.2f %10.3f %11.3f %10.3f %11.3f%s\n",
+          label.c_str(),
+          exr::CompressionName(codec),
+          bytes / 1e6,
+          raw / bytes,
+          encode_serial,
+          encode_pool,
+          decode_serial,
+          decode_pool,
+          codec == layer.compression && (layer.semantic != "worldposition" ||
+                                         layer.position_layout == options.worldposition_layout)
+              ? "  <- chosen"
+              : "");
     }
   }
+  PrintResidualHistogram(film.flat.at("worldposition"), prediction);
   fs::remove_all(dir);
   return 0;
 }

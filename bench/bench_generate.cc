@@ -1,5 +1,6 @@
 // Benchmark of `lsds generate` (issues 3 and 20): renders the demo scene at
-// several sizes, before (the full bundle layout) and after (the compact one),
+// several sizes in several storage layouts (BUNDLE/WORLDPOSITION: full/float
+// as up to 0.1, compact/float, compact/residual, the generator's default),
 // and prints s/frame, Mrays/s, bytes per frame per layer and in total, the
 // floor for the same frames = the Embree ray casts alone (the same primary and
 // shadow rays, no shading, no films) + the encoding of the same EXR files alone,
@@ -7,7 +8,8 @@
 // frames rendered by Blender Cycles (bench/peers/cycles_demo.py) with the ratio.
 //
 //   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
-//                  [--layouts full,compact] [--blender PATH|none]
+//                  [--layouts full/float,compact/float,compact/residual]
+//                  [--blender PATH|none]
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -33,6 +35,7 @@
 #include "generator/render/sky.h"
 #include "generator/scene/materials.h"
 #include "libs/collection/collection_builder.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/imaging/srgb_image.h"
 #include "libs/util/strings.h"
 
@@ -240,7 +243,7 @@ int main(int argc, char** argv) {
   int frames = 4, spp = 4, threads = 0;
   std::vector<int> sizes = {512, 1024};
   std::vector<std::string> post_process;  // LCAP PPMaterial effects, to measure their cost
-  std::vector<std::string> layouts = {"full", "compact"};
+  std::vector<std::string> layouts = {"full/float", "compact/float", "compact/residual"};
   std::string blender = FindOnPath("blender");
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
@@ -262,7 +265,8 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: bench_generate [--frames N] [--sizes 512,1024] "
-                   "[--spp S] [--threads T] [--layouts full,compact] [--blender PATH|none] "
+                   "[--spp S] [--threads T] [--layouts full/float,compact/residual,...] "
+                   "[--blender PATH|none] "
                    "[--post-process EdgeBlur,...]\n");
       return 2;
     }
@@ -299,8 +303,13 @@ int main(int argc, char** argv) {
       options.force = true;
       options.progress = false;
       options.spp = spp;
-      if (!ParseBundleLayout(name, &options.bundle_layout)) {
-        std::fprintf(stderr, "--layouts: %s is not full or compact\n", name.c_str());
+      // BUNDLE[/WORLDPOSITION]: e.g. compact/residual.
+      const std::vector<std::string> parts = Split(name, '/');
+      if (!ParseBundleLayout(parts[0], &options.bundle_layout) ||
+          (parts.size() > 1 &&
+           !ParseWorldPositionLayout(parts[1], &options.worldposition_layout)) ||
+          parts.size() > 2) {
+        std::fprintf(stderr, "--layouts: %s is not full|compact[/float|residual]\n", name.c_str());
         return 2;
       }
       r.summary = GenerateCollection(plan, options);
@@ -332,10 +341,9 @@ int main(int argc, char** argv) {
       RenderSettings settings;
       settings.sampler = sampler;
       const Film film = RenderFrame(scene, sky, frame, {}, settings);
-      CameraTruth camera;
+      CameraTruth camera;  // as the generator records it
       camera.intrinsics = frame.camera;
-      camera.cam_from_world_rotation = frame.cam_from_world.rotation.toRotationMatrix();
-      camera.cam_from_world_translation = frame.cam_from_world.translation;
+      SetCamFromWorld(frame.cam_from_world, &camera);
       for (Result& r : results) {
         fs::remove_all(encode_root);
         for (const LayerInfo& layer : r.header.layers)
@@ -352,7 +360,7 @@ int main(int argc, char** argv) {
     fs::remove_all(encode_root);
 
     std::printf("\n%dx%d, %d frames, spp %d\n", size, size, frames, spp);
-    std::printf("%-8s %8s %8s %9s %9s %9s %10s %9s %6s %9s %11s\n",
+    std::printf("%-16s %8s %8s %9s %9s %9s %10s %9s %6s %9s %11s\n",
                 "layout",
                 "s/frame",
                 "Mrays/s",
@@ -367,7 +375,7 @@ int main(int argc, char** argv) {
     for (const Result& r : results) {
       const double per_frame = r.summary.total_seconds / frames;
       const double floor = (ray_seconds + r.encode_seconds) / frames;
-      std::printf("%-8s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.2f %11.2f\n",
+      std::printf("%-16s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.2f %11.2f\n",
                   r.layout.c_str(),
                   per_frame,
                   r.summary.rays / r.summary.total_seconds / 1e6,
@@ -383,12 +391,12 @@ int main(int argc, char** argv) {
     std::printf("floor rays: %.2f Mrays/s\n", floor_rays / ray_seconds / 1e6);
     PrintFeatureCosts(plan, spp);
     std::printf("MB per frame per layer:");
-    for (const Result& r : results) std::printf(" %10s", r.layout.c_str());
+    for (const Result& r : results) std::printf(" %16s", r.layout.c_str());
     std::printf("\n");
     for (const auto& [layer, bytes] : results.front().layer_bytes) {
       std::printf("  %-20s", layer.c_str());
       for (const Result& r : results)
-        std::printf(" %10.2f", Mb(static_cast<double>(r.layer_bytes.at(layer)) / frames));
+        std::printf(" %16.2f", Mb(static_cast<double>(r.layer_bytes.at(layer)) / frames));
       std::printf("\n");
     }
     if (blender.empty()) {

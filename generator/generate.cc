@@ -29,6 +29,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
@@ -60,7 +61,8 @@ nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
           {"jitter", options.jitter},
           {"depth", DepthKindName(options.depth_kind)},
           {"zip_level", options.zip_level},
-          {"bundle_layout", BundleLayoutName(options.bundle_layout)}};
+          {"bundle_layout", BundleLayoutName(options.bundle_layout)},
+          {"worldposition_layout", WorldPositionLayoutName(options.worldposition_layout)}};
 }
 
 fs::path TruthPartPath(const fs::path& root, int64_t index) {
@@ -271,6 +273,13 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
     if (!wanted) continue;
     header.layers.push_back(StandardLayer(semantic, options.depth_kind));
     if (semantic == "bundle") header.layers.back().layout = options.bundle_layout;
+  }
+  // The residual worldposition layout predicts from the depth layer: without
+  // one (Capture Settings may leave it out) the layer stays float.
+  if (header.FindLayerBySemantic("depth") != nullptr) {
+    for (LayerInfo& layer : header.layers) {
+      if (layer.semantic == "worldposition") layer.position_layout = options.worldposition_layout;
+    }
   }
   if (!plan.capture_settings.empty())
     header.provenance.render["capture_settings"] = plan.capture_settings;

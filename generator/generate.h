@@ -38,6 +38,11 @@ struct GenerateOptions {
   // How the deep bundle layer is stored (docs/format.md "Pixel bundles"):
   // compact by default; full writes every channel of every sample, as before.
   BundleLayout bundle_layout = BundleLayout::kCompact;
+  // How the worldposition layer is stored (docs/format.md "Worldposition
+  // layouts"): residual by default (UINT differences from the depth's
+  // prediction, every lsds reader decodes them); float for tools that read the
+  // EXR directly.
+  WorldPositionLayout worldposition_layout = WorldPositionLayout::kResidual;
 
   void Check() const;  // throws lsds::Error for inconsistent options
   bool Selects(int64_t frame_index) const {

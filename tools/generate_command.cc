@@ -14,6 +14,7 @@
 #include "generator/plan_source.h"
 #include "generator/render/film.h"
 #include "generator/render/post_process.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/util/error.h"
 #include "libs/util/limits.h"
 #include "libs/util/output_guard.h"
@@ -54,7 +55,8 @@ int RunGenerate(int argc, char** argv) {
       "layer and truth",
       "lsds generate"};
   std::string scene, capture, plan_file, frames, shard, depth = "planar", demo_size = "512x512",
-                                                        bundle_layout = "compact";
+                                                        bundle_layout = "compact",
+                                                        worldposition_layout = "residual";
   std::optional<uint64_t> seed;
   gen::GenerateOptions options;
   bool demo = false, quiet = false;
@@ -79,6 +81,11 @@ int RunGenerate(int argc, char** argv) {
                  bundle_layout,
                  "storage of the deep bundle layer: compact (default; lossless, derived "
                  "positions and classes, one sample for identical samples) or full");
+  app.add_option("--worldposition-layout",
+                 worldposition_layout,
+                 "storage of the worldposition layer: residual (default; lossless, UINT "
+                 "differences from the position predicted by depth and camera, decoded by every "
+                 "lsds command) or float (plain X, Y, Z for tools that read the EXR directly)");
   app.add_flag("--force", options.force, "replace an existing output folder");
   app.add_flag("--resume", options.resume, "keep the complete frames of an interrupted run");
   app.add_option("--plan", plan_file, "render a plan JSON file (lsds plan -o) instead of SCENE");
@@ -99,6 +106,10 @@ int RunGenerate(int argc, char** argv) {
     }
     if (!ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
       throw Error("--bundle-layout " + bundle_layout + ": expected compact or full");
+    }
+    if (!ParseWorldPositionLayout(worldposition_layout, &options.worldposition_layout)) {
+      throw Error("--worldposition-layout " + worldposition_layout +
+                  ": expected residual or float");
     }
     options.progress = !quiet;
     const int sources = (demo ? 1 : 0) + (plan_file.empty() ? 0 : 1) + (scene.empty() ? 0 : 1);

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "libs/collection/bundle_layout.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
@@ -185,9 +186,20 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
     Emit("layer.readable", FileLocation(file), std::string("cannot open: ") + e.what());
     return false;
   }
-  // A compact bundle yields derived channels it does not store.
+  // A compact bundle yields derived channels it does not store; a residual
+  // worldposition yields X, Y, Z from its stored dX, dY, dZ.
+  info.channels = ReadableWorldPositionChannels(info);
   info.channels = ReadableChannels(info);
   bool ok = true;
+  if (layer.semantic == "worldposition" &&
+      (layer.position_layout == WorldPositionLayout::kResidual) != IsResidualWorldPosition(info)) {
+    // Readers follow the file, so the values are right; the table is wrong.
+    Emit("layer.channels",
+         FileLocation(file),
+         std::string("is stored in the ") + (IsResidualWorldPosition(info) ? "residual" : "float") +
+             " layout but layer '" + layer.name + "' declares layout '" +
+             WorldPositionLayoutName(layer.position_layout) + "'");
+  }
   if (info.deep != layer.deep) {
     Emit("layer.channels",
          FileLocation(file),
@@ -262,6 +274,19 @@ void FrameChecker::LoadLayers() {
       if (layer.deep) {
         if (layer.semantic != "bundle") continue;
         bundle_ = ReadBundleExr(path, channels);  // either bundle layout
+      } else if (layer.semantic == "worldposition") {
+        flat_[layer.semantic] = ReadWorldPositionExr(  // either layout
+            path,
+            channels,
+            [&](const std::string& depth_layer) {
+              // The depth this frame already decoded, else its file.
+              const LayerInfo* depth = Layer("depth");
+              const FlatImage* decoded = Flat("depth");
+              if (depth != nullptr && depth->name == depth_layer && decoded != nullptr) {
+                return PredictionFromDepth(*decoded, *depth, frame_.camera);
+              }
+              return PredictionOfFrame(context_.root, header_, frame_, depth_layer);
+            });
       } else {
         flat_[layer.semantic] = exr::ReadFlatExr(path, channels);
       }

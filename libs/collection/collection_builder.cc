@@ -4,6 +4,7 @@
 
 #include "libs/collection/json_io.h"
 #include "libs/collection/rig.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 
@@ -27,6 +28,23 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
                   "'");
     files[layer.name] = layer.name + "/" + FrameFileStem(frame_index, rig_camera) + ".exr";
   }
+  // A residual worldposition layer predicts from the depth as stored and the
+  // camera as collection.json holds it (nlohmann writes doubles in their
+  // shortest round-trip form, so every reader parses these very bits).
+  std::optional<WorldPositionPrediction> prediction;
+  std::string depth_layer;
+  for (const LayerInfo& layer : header.layers) {
+    if (layer.semantic != "worldposition" ||
+        layer.position_layout != WorldPositionLayout::kResidual)
+      continue;
+    const LayerInfo* depth = header.FindLayerBySemantic("depth");
+    if (depth == nullptr || depth->deep || images.flat->count("depth") == 0) {
+      throw Error("frame " + std::to_string(frame_index) + ": layer '" + layer.name +
+                  "' is residual but the collection has no flat depth layer to predict from");
+    }
+    prediction = PredictionFromDepth(images.flat->at("depth"), *depth, camera);
+    depth_layer = depth->name;
+  }
   // Layers are independent files: encode them in parallel.
   tbb::parallel_for(size_t{0}, header.layers.size(), [&](size_t i) {
     const LayerInfo& layer = header.layers[i];
@@ -36,6 +54,13 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
     const fs::path path = root / files.at(layer.name);
     if (layer.deep) {
       WriteBundleExr(path, *images.bundle, layer.layout, images.bundle_sampling, write);
+    } else if (layer.semantic == "worldposition") {
+      WriteWorldPositionExr(path,
+                            images.flat->at(layer.semantic),
+                            layer.position_layout,
+                            prediction ? &*prediction : nullptr,
+                            depth_layer,
+                            write);
     } else {
       exr::WriteFlatExr(path, images.flat->at(layer.semantic), write);
     }

@@ -7,6 +7,7 @@
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/schema.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/util/error.h"
 
 namespace lsds {
@@ -88,7 +89,15 @@ exr::FlatImage CollectionReader::ReadFlatLayer(const Frame& frame,
                                                const std::string& layer,
                                                const std::vector<std::string>& channels) const {
   const fs::path path = LayerPath(frame, layer);
-  exr::FlatImage image = exr::ReadFlatExr(path, channels);
+  const LayerInfo* info = header_.FindLayer(layer);
+  exr::FlatImage image =
+      info != nullptr && info->semantic == "worldposition"
+          ? ReadWorldPositionExr(path,
+                                 channels,
+                                 [&](const std::string& depth_layer) {  // either layout
+                                   return PredictionOfFrame(root_, header_, frame, depth_layer);
+                                 })
+          : exr::ReadFlatExr(path, channels);
   CheckLayerSize(frame, layer, path, image.width(), image.height());
   return image;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "libs/collection/worldposition_layout.h"
 #include "libs/util/error.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/strings.h"
@@ -99,6 +100,8 @@ json LayerToJson(const LayerInfo& layer) {
   if (layer.depth_kind) j["depth_kind"] = DepthKindName(*layer.depth_kind);
   if (!layer.description.empty()) j["description"] = layer.description;
   if (layer.layout != BundleLayout::kFull) j["layout"] = BundleLayoutName(layer.layout);
+  if (layer.position_layout != WorldPositionLayout::kFloat)
+    j["layout"] = WorldPositionLayoutName(layer.position_layout);
   return j;
 }
 
@@ -122,7 +125,16 @@ LayerInfo LayerFromJson(const json& j) {
   exr::ParseCompression(j.value("compression", "zip"), &layer.compression);
   layer.required = j.at("required").get<bool>();
   layer.description = j.value("description", "");
-  if (j.contains("layout")) ParseBundleLayout(j.at("layout").get<std::string>(), &layer.layout);
+  // One key, two vocabularies: the bundle's full | compact, the worldposition's
+  // float | residual (the schema allows both).
+  if (j.contains("layout")) {
+    const std::string layout = j.at("layout").get<std::string>();
+    if (layer.semantic == "worldposition") {
+      ParseWorldPositionLayout(layout, &layer.position_layout);
+    } else {
+      ParseBundleLayout(layout, &layer.layout);
+    }
+  }
   return layer;
 }
 

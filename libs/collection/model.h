@@ -39,6 +39,10 @@ struct LayerChannel {
   exr::PixelType type = exr::PixelType::kFloat;
 };
 
+// How a worldposition layer stores its values (format 1.1; the codec and the one
+// reader are in libs/collection/worldposition_layout.h).
+enum class WorldPositionLayout { kFloat, kResidual };
+
 // One entry of the layer table: a folder of one EXR per frame.
 struct LayerInfo {
   std::string name;      // folder name, e.g. "depth"
@@ -54,6 +58,9 @@ struct LayerInfo {
   // Deep bundle layers (format 1.1): how the file stores the samples
   // (libs/collection/bundle_layout.h); readers yield the same samples either way.
   BundleLayout layout = BundleLayout::kFull;
+  // Worldposition layers (format 1.1, the same `layout` key): float or
+  // residual; readers yield the same X, Y, Z either way.
+  WorldPositionLayout position_layout = WorldPositionLayout::kFloat;
   std::string description;
 
   const LayerChannel* FindChannel(const std::string& channel) const;

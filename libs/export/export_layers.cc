@@ -162,7 +162,8 @@ class FrameWriter {
     const fs::path source = reader.LayerPath(frame, layer.name);
     std::vector<std::string> channels;
     for (const LayerChannel& c : layer.channels) channels.push_back(c.name);
-    const exr::FlatImage image = exr::ReadFlatExr(source, channels);
+    // Through the reader: a residual worldposition layer decodes to X, Y, Z.
+    const exr::FlatImage image = reader.ReadFlatLayer(frame, layer.name, channels);
     const int w = image.width(), h = image.height();
     const size_t n = image.pixel_count();
     std::vector<const exr::FlatChannel*> data;

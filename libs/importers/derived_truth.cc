@@ -8,7 +8,6 @@
 namespace lsds::import {
 
 namespace {
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Whether the ray origin + t * direction (t > 0) meets the box: slab test in
 // the box frame.
@@ -35,32 +34,6 @@ bool RayHitsBox(const OrientedBox& box,
   return t_near <= t_far && t_near > 1e-9;
 }
 }  // namespace
-
-exr::FlatImage WorldPositionFromDepth(const exr::FlatImage& depth,
-                                      DepthKind kind,
-                                      const PinholeCamera& camera,
-                                      const Rigid3d& cam_from_world) {
-  const int w = depth.width(), h = depth.height();
-  exr::FlatImage out(w, h);
-  float* xyz[3] = {out.AddChannel("X", exr::PixelType::kFloat).floats.data(),
-                   out.AddChannel("Y", exr::PixelType::kFloat).floats.data(),
-                   out.AddChannel("Z", exr::PixelType::kFloat).floats.data()};
-  const std::vector<float>& z = depth.Get("Z").floats;
-  const Rigid3d world_from_cam = cam_from_world.Inverse();
-  tbb::parallel_for(0, h, [&](int j) {
-    for (int i = 0; i < w; ++i) {
-      const size_t p = depth.Index(i, j);
-      if (!std::isfinite(z[p])) {
-        for (float* c : xyz) c[p] = kInf;
-        continue;
-      }
-      const Eigen::Vector3d point =
-          world_from_cam * UnprojectDepth(camera, {i + 0.5, j + 0.5}, z[p], kind);
-      for (int c = 0; c < 3; ++c) xyz[c][p] = static_cast<float>(point[c]);
-    }
-  });
-  return out;
-}
 
 exr::FlatImage ConvertDepthKind(const exr::FlatImage& depth,
                                 DepthKind from,

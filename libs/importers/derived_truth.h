@@ -15,13 +15,8 @@
 
 namespace lsds::import {
 
-// The worldposition layer (channels X, Y, Z) of a depth layer (channel Z) of
-// `kind`: point_in_world = world_from_cam * UnprojectDepth(pixel centre); +inf
-// where the depth is not finite (sky).
-exr::FlatImage WorldPositionFromDepth(const exr::FlatImage& depth,
-                                      DepthKind kind,
-                                      const PinholeCamera& camera,
-                                      const Rigid3d& cam_from_world);
+// The worldposition layer of a depth layer is PredictWorldPosition
+// (libs/collection/worldposition_layout.h).
 
 // A depth layer of `kind` from one of the other kind (planar <-> perspective).
 exr::FlatImage ConvertDepthKind(const exr::FlatImage& depth,

@@ -4,6 +4,7 @@
 
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/object_truth.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/importers/derived_truth.h"
 #include "libs/importers/registry.h"
 #include "libs/util/atomic_file.h"
@@ -88,8 +89,17 @@ ImportResult ImportCollection(const std::string& format,
     const Rigid3d cam_from_world = CamFromWorld(source_frame.camera);
     const PinholeCamera& camera = source_frame.camera.intrinsics;
     if (has_depth && !source_frame.flat.count("worldposition")) {
-      source_frame.flat["worldposition"] = WorldPositionFromDepth(
-          source_frame.flat.at("depth"), description.depth_kind, camera, cam_from_world);
+      // The rule of the residual worldposition layout
+      // (libs/collection/worldposition_layout.h), so a derived layer stores as
+      // zeros there.
+      const exr::FlatImage& depth = source_frame.flat.at("depth");
+      WorldPositionPrediction prediction;
+      prediction.depth = depth.Get("Z").floats;
+      prediction.width = depth.width();
+      prediction.height = depth.height();
+      prediction.depth_kind = description.depth_kind;
+      prediction.camera = source_frame.camera;
+      source_frame.flat["worldposition"] = PredictWorldPosition(prediction);
     }
     Frame frame;
     frame.index = k;

@@ -12,6 +12,7 @@
 #include "generator/lang/planner.h"
 #include "generator/plan_source.h"
 #include "generator/survey.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/solar_position.h"
 #include "tests/test_util.h"
@@ -203,7 +204,12 @@ Eigen::Vector2d ShadowDirection(const std::filesystem::path& root, int frame) {
   char stem[16];
   std::snprintf(stem, sizeof(stem), "%06d.exr", frame);
   const exr::FlatImage shadow = exr::ReadFlatExr(root / "shadow" / stem, {"Y"});
-  const exr::FlatImage position = exr::ReadFlatExr(root / "worldposition" / stem, {"X", "Y", "Z"});
+  // World position through the collection reader: either storage layout.
+  const CollectionReader reader(root);
+  exr::FlatImage position;
+  reader.ForEachFrame([&](const Frame& f) {
+    if (f.index == frame) position = reader.ReadFlatLayer(f, "worldposition", {"X", "Y", "Z"});
+  });
   Eigen::Vector2d sum(0, 0);
   int n = 0;
   for (size_t p = 0; p < shadow.Get("Y").floats.size(); ++p) {

@@ -16,6 +16,7 @@
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
 #include "generator/scene/world.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/collection/json_io.h"
 #include "libs/exr/flat_image.h"
 #include "libs/pointcloud/cloud_io.h"
@@ -242,12 +243,14 @@ TEST(Rig, StereoCollectionEndToEnd) {
     const auto& right = frames[3 * step + 1];
     const double fx = left["camera"]["fx"];
     const int width = left["camera"]["width"], height = left["camera"]["height"];
-    const exr::FlatImage lw = exr::ReadFlatExr(
-        dir / "out" / left["files"]["worldposition"].get<std::string>(), {"X", "Y", "Z"});
+    // World position through the collection reader: either storage layout.
+    const CollectionReader reader(dir / "out");
+    const exr::FlatImage lw = reader.ReadFlatLayer(
+        FrameFromJson(left, "collection.json", ""), "worldposition", {"X", "Y", "Z"});
     const exr::FlatImage ld =
         exr::ReadFlatExr(dir / "out" / left["files"]["depth"].get<std::string>(), {"Z"});
-    const exr::FlatImage rw = exr::ReadFlatExr(
-        dir / "out" / right["files"]["worldposition"].get<std::string>(), {"X", "Y", "Z"});
+    const exr::FlatImage rw = reader.ReadFlatLayer(
+        FrameFromJson(right, "collection.json", ""), "worldposition", {"X", "Y", "Z"});
     const Frame right_frame = FrameFromJson(right, "collection.json", "");
     const Eigen::Vector3d right_centre =
         CameraCenterInWorld(Rigid3d(Eigen::Quaterniond(right_frame.camera.cam_from_world_rotation),

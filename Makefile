@@ -7,7 +7,7 @@ BUILD_DIR := build/$(PRESET)
 JOBS ?= $(shell nproc)
 PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test test-asan tidy demo install format format-check clean bench
+.PHONY: all deps configure build test test-asan tidy tidy-all demo install format format-check clean bench
 
 all: build
 
@@ -33,9 +33,13 @@ test-asan: deps
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --preset debug -j $(JOBS)
 
-# clang-tidy (.clang-tidy) over the C++ files that differ from main.
+# clang-tidy (.clang-tidy) over the product files changed since the last clean full pass (the
+# commit in .ci/tidy-clean; CI runs this); `make tidy-all` checks every product file.
 tidy: configure
-	@git diff --name-only --diff-filter=AM main -- '*.cc' | xargs -r clang-tidy -p $(BUILD_DIR) --quiet
+	@./scripts/tidy.sh $(BUILD_DIR)
+
+tidy-all: configure
+	@./scripts/tidy.sh $(BUILD_DIR) --all
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/tools/lsds

@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
     layers.push_back(layer);
     if (layer.semantic != "worldposition") continue;
     layers.back().position_layout = WorldPositionLayout::kFloat;
+    layers.back().compression = StandardLayer("worldposition").compression;
     layers.push_back(layer);
     layers.back().position_layout = WorldPositionLayout::kResidual;
   }

@@ -49,6 +49,7 @@ ClassMap ClassMap::Parse(const std::string& spec, const std::vector<ClassInfo>& 
   }
   if (entries.empty()) throw Error("no classes selected", Location(where));
   std::vector<std::string> names;
+  names.reserve(classes.size());
   for (const ClassInfo& c : classes) names.push_back(c.name);
 
   ClassMap map;

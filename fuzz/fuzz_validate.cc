@@ -20,9 +20,10 @@ namespace {
 
 fs::path Collection() {
   static const fs::path root = [] {
-    const fs::path dir = lsds::fuzz::ScratchDir() / "C";
+    fs::path dir = lsds::fuzz::ScratchDir() / "C";
     fs::create_directories(dir);
     // The layers of the seed collection, when given (fuzz/README.md).
+    // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
     if (const char* layers = std::getenv("LSDS_FUZZ_LAYERS")) {
       for (const fs::directory_entry& entry : fs::directory_iterator(layers)) {
         if (entry.is_directory()) {

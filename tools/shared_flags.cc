@@ -82,7 +82,7 @@ std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root) {
 }
 
 FrameSelection SelectCollectionFrames(const std::string& text, const std::filesystem::path& root) {
-  const FrameSelection selection = ParseFrameSelection(text);
+  FrameSelection selection = ParseFrameSelection(text);
   CheckFrameSelection(selection, CollectionFrameIndices(root), "the collection " + root.string());
   return selection;
 }

@@ -118,9 +118,11 @@ int RunSubmit(int argc, char** argv) {
       std::cerr << "submit with: sh " << ShellQuote((job.work / "submit.sh").string()) << "\n";
       return kExitOk;
     }
+    // NOLINTNEXTLINE(concurrency-mt-unsafe): the command is single-threaded here
     if (std::system("command -v sbatch >/dev/null 2>&1") != 0)
       throw Error("sbatch not found on PATH: submit from a Slurm login node");
     std::cout.flush();
+    // NOLINTNEXTLINE(concurrency-mt-unsafe): the command is single-threaded here
     const int status = std::system(
         ("sh " + ShellQuote((job.work / "submit.sh").string()) + (wait ? " --wait" : "")).c_str());
     bool ok = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;

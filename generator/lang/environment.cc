@@ -39,6 +39,7 @@ Eigen::Vector3d Color(const Node& n, Rng& rng) {
                                                                  {"yellow", {1.0, 0.9, 0.3}}};
   if (n->is_string() || n->is_object()) {
     std::vector<std::string> names;
+    names.reserve(kColors.size());
     for (const auto& [name, c] : kColors) names.push_back(name);
     for (const std::string& option : StringOptions(n))
       if (!kColors.count(option))

@@ -50,7 +50,7 @@ Bound ReadBound(const Node& n, const std::string& quantity) {
 std::string ReadTarget(const Definition& d, const Program& scene) {
   const Node t = d.body.Find("target");
   if (!t) return "";
-  const std::string name = ReadString(t);
+  std::string name = ReadString(t);
   const Definition* o = scene.Find(name);
   if (!o || o->kind != "object") {
     std::vector<std::string> names;
@@ -336,6 +336,7 @@ void ResolveQuotaClasses(const std::vector<ClassInfo>& classes, RequirementSet* 
         if (c.name == name) found = &c;
       if (!found) {
         std::vector<std::string> names;
+        names.reserve(classes.size());
         for (const ClassInfo& c : classes) names.push_back(c.name);
         q.classes_node.Fail("quota " + q.name + ": no class '" + name +
                             "' in the scene or the capture's class swaps" +

@@ -54,6 +54,7 @@ std::vector<std::pair<std::string, Node>> Node::Members() const {
 void Node::CheckKeys(const std::vector<std::string>& known, const std::string& what) const {
   if (!value || !value->is_object()) Fail("expected {key: value, ...} for " + what);
   std::vector<std::string> canon;
+  canon.reserve(known.size());
   for (const std::string& k : known) canon.push_back(CanonicalKey(k));
   for (auto it = value->begin(); it != value->end(); ++it) {
     const std::string c = CanonicalKey(it.key());
@@ -249,6 +250,7 @@ std::vector<double> ExpandRange(const Node& node) {
   const bool full_turn = std::abs(std::abs(stop - start) - 360.0) < 1e-9;
   const int divisions = full_turn ? count : count - 1;
   std::vector<double> out;
+  out.reserve(count);
   for (int i = 0; i < count; ++i) out.push_back(start + (stop - start) * i / divisions);
   return out;
 }

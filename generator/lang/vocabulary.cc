@@ -15,10 +15,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using T = ValueType;
 
-Range AtLeast(double lo, std::string note = "") { return Range{lo, kInf, false, false, note}; }
+Range AtLeast(double lo, std::string note = "") {
+  return Range{lo, kInf, false, false, std::move(note)};
+}
 Range Above(double lo) { return Range{lo, kInf, true, false, ""}; }
 Range Within(double lo, double hi, std::string note = "") {
-  return Range{lo, hi, false, false, note};
+  return Range{lo, hi, false, false, std::move(note)};
 }
 Range WholeWithin(double lo, double hi) { return Range{lo, hi, false, true, ""}; }
 
@@ -762,7 +764,7 @@ namespace {
 // The shortest text that reads back as `v` (0.3912, not 0.39119999999999999).
 std::string Shortest(double v) {
   for (int digits = 6; digits < 17; ++digits) {
-    const std::string text = FormatNumber(v, digits);
+    std::string text = FormatNumber(v, digits);
     if (std::strtod(text.c_str(), nullptr) == v) return text;
   }
   return FormatNumber(v, 17);
@@ -863,7 +865,7 @@ void CheckKeys(const Node& body, const KindSpec& kind, const std::string& what, 
 Node FindKey(const Node& body, const KindSpec& kind, const std::string& key) {
   const KeySpec& spec = kind.Key(key);
   for (const std::string& s : spec.Spellings())
-    if (const Node n = body.Find(CanonicalKey(s))) return n;
+    if (Node n = body.Find(CanonicalKey(s))) return n;
   return Node{body.src, nullptr, body.pointer};
 }
 

@@ -205,7 +205,7 @@ Eigen::Vector2d Motion(const PinholeCamera& camera,
                        const Eigen::Vector2d& pixel_now,
                        const PinholeCamera& previous_camera,
                        const Eigen::Vector3d& point_in_previous_cam) {
-  const Eigen::Vector2d invalid(kNaN, kNaN);
+  Eigen::Vector2d invalid(kNaN, kNaN);
   if (!(point_in_previous_cam.z() > 1e-9)) return invalid;
   const Eigen::Vector2d before = previous_camera.ImageFromCam(point_in_previous_cam);
   if (!(before.x() >= 0 && before.x() < previous_camera.width && before.y() >= 0 &&

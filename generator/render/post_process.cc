@@ -69,12 +69,9 @@ void EdgeBlur(const Film& film, cv::Mat* image) {
           const int u = x + dx, v = y + dy;
           if (u < 0 || v < 0 || u >= w || v >= h) continue;
           const size_t q = static_cast<size_t>(v) * w + u;
-          if (id[q] != id[p])
-            edge = true;
-          else if (std::isfinite(z[p]) != std::isfinite(z[q]))
-            edge = true;
-          else if (std::isfinite(z[p]) && std::abs(z[q] - z[p]) > 0.05f * std::min(z[p], z[q]))
-            edge = true;
+          // An edge: another instance, sky against surface, or a depth step over 5 %.
+          edge = id[q] != id[p] || std::isfinite(z[p]) != std::isfinite(z[q]) ||
+                 (std::isfinite(z[p]) && std::abs(z[q] - z[p]) > 0.05f * std::min(z[p], z[q]));
         }
       if (edge) out.at<cv::Vec3f>(y, x) = blurred.at<cv::Vec3f>(y, x);
     }

@@ -36,6 +36,7 @@ TriangleMesh MakeGroundSkirt(const PlannedTerrain& terrain,
   const int nx = grid.x(), ny = grid.y();
   // The terrain's boundary, counter-clockwise seen from above.
   std::vector<int> loop;
+  loop.reserve(size_t{2} * (nx + ny));
   for (int i = 0; i < nx; ++i) loop.push_back(i);
   for (int j = 0; j < ny; ++j) loop.push_back(j * (nx + 1) + nx);
   for (int i = nx; i > 0; --i) loop.push_back(ny * (nx + 1) + i);

@@ -266,7 +266,7 @@ Coverage CheckCoverage(const std::vector<Shard>& shards) {
 
 // A frame's layer file path must stay inside the collection.
 fs::path CheckedRelative(const std::string& file, const fs::path& collection_file, int64_t frame) {
-  const fs::path relative = fs::path(file).lexically_normal();
+  fs::path relative = fs::path(file).lexically_normal();
   if (relative.empty() || relative.is_absolute() || *relative.begin() == "..") {
     Location where(collection_file.string());
     where.frame = frame;
@@ -327,6 +327,7 @@ MergeSummary MergeShards(const MergeOptions& options) {
   auto for_each_in_run_order = [&](const char* file_name,
                                    const std::function<void(json&&, const Shard&, int64_t)>& fn) {
     std::vector<std::unique_ptr<ElementStream>> streams;
+    streams.reserve(shards.size());
     for (const Shard& shard : shards)
       streams.push_back(std::make_unique<ElementStream>(shard.root / file_name));
     for (size_t k = 0; k < coverage.owner.size(); ++k) {

@@ -357,7 +357,7 @@ ExportSummary ExportLayers(const ExportOptions& options) {
   std::atomic<int64_t> bytes{0};
   const int64_t in_file = static_cast<int64_t>(reader.frames_in_file());
   Progress progress("export-layers", in_file);
-  const size_t batch = std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
+  const size_t batch = std::max<size_t>(2, size_t{2} * std::thread::hardware_concurrency());
   reader.ParallelForEachFrame(
       [&](const Frame& frame) {
         if (!options.frames.Contains(frame.index)) return;

@@ -133,7 +133,7 @@ void AddAttributes(const WriteOptions& options, Imf::Header* header) {
 
 ExrInfo InfoFromHeader(const Imf::Header& header) {
   ExrInfo info;
-  const Imath::Box2i window = header.dataWindow();
+  const Imath::Box2i& window = header.dataWindow();
   info.width = window.max.x - window.min.x + 1;
   info.height = window.max.y - window.min.y + 1;
   info.deep = header.hasType() && Imf::isDeepData(header.type());
@@ -178,7 +178,7 @@ ExrInfo InfoFromHeader(const Imf::Header& header) {
 void CheckLimits(const std::filesystem::path& path,
                  const Imf::Header& header,
                  const ReadLimits& limits) {
-  const Imath::Box2i window = header.dataWindow();
+  const Imath::Box2i& window = header.dataWindow();
   const int64_t width = int64_t{window.max.x} - window.min.x + 1;
   const int64_t height = int64_t{window.max.y} - window.min.y + 1;
   const Location where{path.string()};

@@ -24,6 +24,7 @@ bool OrientedBox::Intersects(const OrientedBox& other) const {
   const Eigen::Matrix3d& b = other.world_from_box;
   const Eigen::Vector3d d = other.center - center;
   std::vector<Eigen::Vector3d> axes;
+  axes.reserve(15);  // 3 + 3 face normals, 9 edge cross products
   for (int i = 0; i < 3; ++i) axes.push_back(a.col(i));
   for (int i = 0; i < 3; ++i) axes.push_back(b.col(i));
   for (int i = 0; i < 3; ++i) {

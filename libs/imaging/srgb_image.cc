@@ -51,6 +51,8 @@ cv::Mat ToSrgb8(const exr::FlatImage& rgb, const DisplayOptions& options) {
     for (int x = 0; x < rgb.width(); ++x) {
       for (int c = 0; c < 3; ++c) {
         const float v = ToneCurve(options.tonemap, channels[c][row + x] * scale);
+        // v >= 0 (a tone curve), so truncating v + 0.5 rounds half up, as intended.
+        // NOLINTNEXTLINE(bugprone-incorrect-roundings)
         dst[3 * x + c] = table[static_cast<int>(v * kSteps + 0.5f)];
       }
     }

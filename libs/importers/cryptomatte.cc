@@ -100,7 +100,7 @@ std::vector<CryptomatteLayer> ParseCryptomatteLayers(
   std::vector<CryptomatteLayer> layers;
   for (const auto& [key, fields] : by_key) {
     const std::string where = prefix + key + "/";
-    auto field = [&](const std::string& f) -> const std::string& {
+    auto field = [&, &fields = fields](const std::string& f) -> const std::string& {
       const auto it = fields.find(f);
       if (it == fields.end())
         throw Error("cryptomatte layer without header attribute '" + where + f + "'",

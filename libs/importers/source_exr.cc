@@ -35,7 +35,7 @@ SourceExr::SourceExr(const std::filesystem::path& path, const exr::ReadLimits& l
           header.type() != Imf::TILEDIMAGE)
         throw Error("part " + std::to_string(part) + " is deep; a flat EXR was expected",
                     Location(file_));
-      const Imath::Box2i window = header.dataWindow();
+      const Imath::Box2i& window = header.dataWindow();
       const int64_t w = int64_t{window.max.x} - window.min.x + 1;
       const int64_t h = int64_t{window.max.y} - window.min.y + 1;
       if (w < 1 || h < 1 || w > limits.max_width || h > limits.max_height ||

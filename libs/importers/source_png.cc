@@ -36,7 +36,7 @@ exr::FlatImage ReadSrgbLayer(const std::filesystem::path& path,
 }
 
 cv::Mat ReadRgbaPng(const std::filesystem::path& path, int width, int height) {
-  const cv::Mat colours = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  cv::Mat colours = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
   if (colours.empty() || colours.type() != CV_8UC4 || colours.cols != width ||
       colours.rows != height)
     throw Error("missing, unreadable or not a " + std::to_string(width) + "x" +

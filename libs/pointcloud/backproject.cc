@@ -44,6 +44,8 @@ const std::array<uint8_t, 4097>& ToneMapTable() { return Srgb8Table<4096>(); }
 uint8_t ToneMap(float linear) {
   if (!(linear > 0.0f)) return 0;  // also NaN
   if (linear >= 1.0f) return 255;
+  // v > 0: truncating v + 0.5 rounds half up, as intended.
+  // NOLINTNEXTLINE(bugprone-incorrect-roundings)
   return ToneMapTable()[static_cast<int>(linear * 4096.0f + 0.5f)];
 }
 
@@ -62,6 +64,7 @@ void BackprojectFrame(const FrameLayers& layers,
   auto tone_map = [&tone](float v) -> uint32_t {
     if (!(v > 0.0f)) return 0;
     if (v >= 1.0f) return 255;
+    // NOLINTNEXTLINE(bugprone-incorrect-roundings): v > 0
     return tone[static_cast<int>(v * 4096.0f + 0.5f)];
   };
 

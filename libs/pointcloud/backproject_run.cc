@@ -339,9 +339,10 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
   // Frames are streamed in batches back-projected in parallel, then merged in
   // file order, so the output is deterministic and memory holds one batch of
   // frames plus the output cloud.
-  const size_t batch_size = options.batch_frames > 0
-                                ? options.batch_frames
-                                : std::max<size_t>(2, 2 * std::thread::hardware_concurrency());
+  const size_t batch_size =
+      options.batch_frames > 0
+          ? options.batch_frames
+          : std::max<size_t>(2, size_t{2} * std::thread::hardware_concurrency());
   std::vector<Frame> batch;
   auto flush = [&] {
     std::vector<FrameResult> results(batch.size());

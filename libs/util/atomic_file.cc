@@ -44,13 +44,15 @@ const std::string& HostName() {
 // bytes through them.
 std::atomic<int64_t>& FaultBudget() {
   static std::atomic<int64_t> budget = [] {
+    // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
     const char* value = std::getenv("LSDS_FAULT_WRITE_BYTES");
     return value == nullptr ? int64_t{-1} : std::atoll(value);
   }();
   return budget;
 }
 
-std::string ErrnoText(int error) { return std::strerror(error); }
+// std::strerror may share a buffer between threads; the category message does not.
+std::string ErrnoText(int error) { return std::generic_category().message(error); }
 
 // Makes a rename durable (best effort: not every file system can sync a
 // folder).

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <system_error>
 #include <thread>
 
 #include "libs/util/error.h"
@@ -16,6 +17,7 @@
 namespace lsds {
 
 double LockTimeoutSeconds() {
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
   const char* text = std::getenv("LSDS_LOCK_TIMEOUT");
   if (text == nullptr || *text == '\0') return 600;
   char* end = nullptr;
@@ -29,7 +31,7 @@ double LockTimeoutSeconds() {
 FolderLock::FolderLock(const std::filesystem::path& folder, const std::string& command) {
   fd_ = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd_ < 0) {
-    throw Error(std::string("cannot open the folder to lock it: ") + std::strerror(errno),
+    throw Error("cannot open the folder to lock it: " + std::generic_category().message(errno),
                 Location(folder.string()));
   }
   if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;

@@ -85,6 +85,7 @@ void SetMemoryBudget(const std::string& text) {
 
 uint64_t MemoryBudgetBytes() {
   if (BudgetOverride()) return *BudgetOverride();
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
   const char* env = std::getenv("LSDS_MEMORY_BUDGET");
   if (env != nullptr && *env != '\0') return ParseByteSize(env, "LSDS_MEMORY_BUDGET");
   return uint64_t{8} << 30;

@@ -9,6 +9,7 @@
 namespace lsds {
 
 bool Progress::Enabled() {
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
   const char* ci = std::getenv("CI");
   if (ci != nullptr && std::strcmp(ci, "") != 0 && std::strcmp(ci, "0") != 0 &&
       std::strcmp(ci, "false") != 0) {

@@ -311,7 +311,7 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   SetCamFromWorld(cam_from_world, &frame.camera);
 
   auto read_png = [&](const fs::path& path) {
-    const cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+    cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
     if (image.empty()) throw Error("not a readable PNG", Location(path.string()));
     if (image.cols != width_ || image.rows != height_)
       throw Error("image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +

@@ -66,7 +66,7 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
   for (const auto& [key, info] : models.items()) {
     const std::string where = "/" + key;
     ModelBox box;
-    AtField(models_file.string(), where, [&] {
+    AtField(models_file.string(), where, [&, &info = info] {  // clang < 16: no bindings in [&]
       box.min_mm = {info.at("min_x").get<double>(),
                     info.at("min_y").get<double>(),
                     info.at("min_z").get<double>()};

@@ -105,10 +105,11 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
     for (const auto& [key, prim] : mapping.items()) {
       const std::string where = (json::json_pointer() / key).to_string();
       const std::string path =
-          AtField(mapping_path.string(), where, [&] { return prim.get<std::string>(); });
+          AtField(mapping_path.string(), where, [&prim = prim] { return prim.get<std::string>(); });
       if (IsBackgroundLabel(path)) continue;
-      const std::string label =
-          AtField(semantics_path.string(), where, [&] { return ClassLabel(semantics.at(key)); });
+      const std::string label = AtField(semantics_path.string(), where, [&, &key = key] {
+        return ClassLabel(semantics.at(key));
+      });
       prims.insert(path);
       if (!label.empty()) {
         classes.insert(label);

@@ -130,11 +130,16 @@ void Generate(const fs::path& root,
   header.frame_count = frames;
   exr::WriteOptions write;
   write.compression = exr::Compression::kZips;
+  // The residual layout's view: a camera looking straight down, as a survey
+  // drone's (the synthetic depths are not its exact renders; the layout is
+  // lossless whatever the prediction).
+  BundleView view;
+  view.intrinsics = PinholeCamera::FromHorizontalFov(width, height, 60);
   tbb::parallel_for(0, frames, [&](int i) {
     WriteBundleExr(root / "bundle" / (FrameStem(i) + ".exr"),
                    MakeFrame(width, height, sampler, i, discs, 1234 + i),
                    layout,
-                   BundleSampling{sampler, i},
+                   BundleSampling{sampler, i, view},
                    write);
   });
   CollectionWriter writer(root, header);
@@ -197,11 +202,12 @@ int main(int argc, char** argv) {
   app.add_flag(
       "--with-layers", with_layers, "also time --write-layers majority,purity,coverage,edge");
   app.add_option("--picture", picture, "write the mixed-pixel map of frame 0 (PNG)");
-  std::string layout_name = "compact";
-  app.add_option("--layout", layout_name, "bundle layout written: compact (default) or full")
-      ->check(CLI::IsMember({"compact", "full"}));
+  std::string layout_name = "residual";
+  app.add_option(
+         "--layout", layout_name, "bundle layout written: residual (default), compact or full")
+      ->check(CLI::IsMember({"residual", "compact", "full"}));
   CLI11_PARSE(app, argc, argv);
-  BundleLayout layout = BundleLayout::kCompact;
+  BundleLayout layout = BundleLayout::kResidual;
   ParseBundleLayout(layout_name, &layout);
 
   const fs::path root =

@@ -122,7 +122,6 @@ int main(int argc, char** argv) {
   const Film film = RenderFrame(scene, sky, frame, {}, settings);
   GenerateOptions options;
   const CollectionHeader header = MakeHeader(plan, options);
-  const BundleSampling sampling{settings.sampler, frame.index};
   // The residual layout's prediction inputs, as the generator passes them.
   WorldPositionPrediction prediction;
   prediction.depth = film.flat.at("depth").Get("Z").floats;
@@ -130,6 +129,12 @@ int main(int argc, char** argv) {
   prediction.depth_kind = options.depth_kind;
   prediction.camera.intrinsics = frame.camera;
   SetCamFromWorld(frame.cam_from_world, &prediction.camera);
+  // The residual bundle's view, as the generator's collection builder passes it.
+  const BundleSampling sampling{settings.sampler,
+                                frame.index,
+                                BundleView{prediction.camera.intrinsics,
+                                           prediction.camera.cam_from_world_rotation,
+                                           options.depth_kind}};
 
   const fs::path dir = fs::temp_directory_path() / "lsds_bench_exr_compression";
   fs::create_directories(dir);
@@ -152,6 +157,12 @@ int main(int argc, char** argv) {
   std::vector<LayerInfo> layers;
   for (const LayerInfo& layer : header.layers) {
     layers.push_back(layer);
+    if (layer.deep) {
+      layers.back().layout = BundleLayout::kCompact;
+      layers.push_back(layer);
+      layers.back().layout = BundleLayout::kResidual;
+      continue;
+    }
     if (layer.semantic != "worldposition") continue;
     layers.back().position_layout = WorldPositionLayout::kFloat;
     layers.back().compression = StandardLayer("worldposition").compression;
@@ -159,7 +170,8 @@ int main(int argc, char** argv) {
     layers.back().position_layout = WorldPositionLayout::kResidual;
   }
   for (const LayerInfo& layer : layers) {
-    const bool residual = layer.position_layout == WorldPositionLayout::kResidual;
+    const bool residual = layer.position_layout == WorldPositionLayout::kResidual ||
+                          (layer.deep && layer.layout == BundleLayout::kResidual);
     const std::string label = residual ? layer.name + "/res" : layer.name;
     std::vector<exr::Compression> codecs = {
         exr::Compression::kNone, exr::Compression::kRle, exr::Compression::kZips};
@@ -203,20 +215,21 @@ int main(int argc, char** argv) {
       const double decode_pool = Median3(decode);
       const double bytes = static_cast<double>(fs::file_size(path));
       if (codec == exr::Compression::kNone) raw = bytes;
-      std::printf(
-          "%-14s %-5s %10.2f %9.2f %10.3f %11.3f %10.3f %11.3f%s\n",
-          label.c_str(),
-          exr::CompressionName(codec),
-          bytes / 1e6,
-          raw / bytes,
-          encode_serial,
-          encode_pool,
-          decode_serial,
-          decode_pool,
-          codec == layer.compression && (layer.semantic != "worldposition" ||
-                                         layer.position_layout == options.worldposition_layout)
-              ? "  <- chosen"
-              : "");
+      std::printf("%-14s %-5s %10.2f %9.2f %10.3f %11.3f %10.3f %11.3f%s\n",
+                  label.c_str(),
+                  exr::CompressionName(codec),
+                  bytes / 1e6,
+                  raw / bytes,
+                  encode_serial,
+                  encode_pool,
+                  decode_serial,
+                  decode_pool,
+                  codec == layer.compression &&
+                          (layer.semantic != "worldposition" ||
+                           layer.position_layout == options.worldposition_layout) &&
+                          (!layer.deep || layer.layout == options.bundle_layout)
+                      ? "  <- chosen"
+                      : "");
     }
   }
   PrintResidualHistogram(film.flat.at("worldposition"), prediction);

@@ -1,6 +1,7 @@
 // Benchmark of `lsds generate` (issues 3 and 20): renders the demo scene at
 // several sizes in several storage layouts (BUNDLE/WORLDPOSITION: full/float
-// as up to 0.1, compact/float, compact/residual, the generator's default),
+// as up to 0.1, compact/float, compact/residual, residual/residual, the
+// generator's default),
 // and prints s/frame, Mrays/s, bytes per frame per layer and in total, the
 // floor for the same frames = the Embree ray casts alone (the same primary and
 // shadow rays, no shading, no films) + the encoding of the same EXR files alone,
@@ -8,7 +9,7 @@
 // frames rendered by Blender Cycles (bench/peers/cycles_demo.py) with the ratio.
 //
 //   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
-//                  [--layouts full/float,compact/float,compact/residual]
+//                  [--layouts full/float,compact/float,compact/residual,residual/residual]
 //                  [--blender PATH|none]
 #include <atomic>
 #include <chrono>
@@ -243,7 +244,8 @@ int main(int argc, char** argv) {
   int frames = 4, spp = 4, threads = 0;
   std::vector<int> sizes = {512, 1024};
   std::vector<std::string> post_process;  // LCAP PPMaterial effects, to measure their cost
-  std::vector<std::string> layouts = {"full/float", "compact/float", "compact/residual"};
+  std::vector<std::string> layouts = {
+      "full/float", "compact/float", "compact/residual", "residual/residual"};
   std::string blender = FindOnPath("blender");
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
@@ -309,7 +311,8 @@ int main(int argc, char** argv) {
           (parts.size() > 1 &&
            !ParseWorldPositionLayout(parts[1], &options.worldposition_layout)) ||
           parts.size() > 2) {
-        std::fprintf(stderr, "--layouts: %s is not full|compact[/float|residual]\n", name.c_str());
+        std::fprintf(
+            stderr, "--layouts: %s is not full|compact|residual[/float|residual]\n", name.c_str());
         return 2;
       }
       r.summary = GenerateCollection(plan, options);

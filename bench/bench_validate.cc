@@ -211,7 +211,7 @@ int main(int argc, char** argv) {
   //   --rss-size 256x256
   int frames = 24, width = 256, height = 256, samples = 1, jobs = 0, unique = 8, rss_w = 128,
       rss_h = 128;
-  BundleLayout layout = BundleLayout::kCompact;  // what the generator writes
+  BundleLayout layout = BundleLayout::kResidual;  // what the generator writes
   std::vector<int> rss_frames = {25, 100};
   fs::path dir = fs::temp_directory_path() / "lsds_bench_validate";
   if (argc == 4 && (std::strcmp(argv[1], "--child-validate") == 0 ||
@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
     } else {
       std::cerr << "usage: bench_validate [--frames N] [--size WxH] "
                    "[--samples-per-axis N] [--jobs N] [--unique N]\n"
-                   "                      [--bundle-layout compact|full]\n"
+                   "                      [--bundle-layout residual|compact|full]\n"
                    "                      [--rss-frames A,B] [--rss-size WxH] "
                    "[--dir PATH]\n";
       return arg == "--help" ? 0 : 2;

@@ -442,7 +442,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
 
       // Encode this frame while the next one renders: at most two films live.
       writer.wait();  // rethrows a failed write
-      const BundleSampling sampling{render.sampler, frame.index};
+      const BundleSampling sampling{render.sampler, frame.index, std::nullopt};
       writer.run([&root, &base_header, &summary, &write_mutex, film, truth, sampling]() {
         const Clock::time_point w0 = Clock::now();
         truth->files = WriteFrameLayers(root,

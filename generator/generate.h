@@ -36,8 +36,9 @@ struct GenerateOptions {
   // percent larger).
   int zip_level = 1;
   // How the deep bundle layer is stored (docs/format.md "Pixel bundles"):
-  // compact by default; full writes every channel of every sample, as before.
-  BundleLayout bundle_layout = BundleLayout::kCompact;
+  // residual by default; compact stores depths and normals as floats; full
+  // writes every channel of every sample, as format 1.0 did.
+  BundleLayout bundle_layout = BundleLayout::kResidual;
   // How the worldposition layer is stored (docs/format.md "Worldposition
   // layouts"): residual by default (UINT differences from the depth's
   // prediction, every lsds reader decodes them); float for tools that read the

@@ -55,7 +55,7 @@ int RunGenerate(int argc, char** argv) {
       "layer and truth",
       "lsds generate"};
   std::string scene, capture, plan_file, frames, shard, depth = "planar", demo_size = "512x512",
-                                                        bundle_layout = "compact",
+                                                        bundle_layout = "residual",
                                                         worldposition_layout = "residual";
   std::optional<uint64_t> seed;
   gen::GenerateOptions options;
@@ -79,8 +79,10 @@ int RunGenerate(int argc, char** argv) {
       "--zip-level", options.zip_level, "zlib level of ZIP layers, 0-9 (default 1: fast)");
   app.add_option("--bundle-layout",
                  bundle_layout,
-                 "storage of the deep bundle layer: compact (default; lossless, derived "
-                 "positions and classes, one sample for identical samples) or full");
+                 "storage of the deep bundle layer: residual (default; lossless, derived "
+                 "positions and classes, depths and normals as UINT differences from their "
+                 "prediction, decoded by every lsds command), compact (derived positions and "
+                 "classes, float depths and normals) or full (every channel of every sample)");
   app.add_option("--worldposition-layout",
                  worldposition_layout,
                  "storage of the worldposition layer: residual (default; lossless, UINT "
@@ -105,7 +107,7 @@ int RunGenerate(int argc, char** argv) {
       throw Error("--depth " + depth + ": expected planar or perspective");
     }
     if (!ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
-      throw Error("--bundle-layout " + bundle_layout + ": expected compact or full");
+      throw Error("--bundle-layout " + bundle_layout + ": expected residual, compact or full");
     }
     if (!ParseWorldPositionLayout(worldposition_layout, &options.worldposition_layout)) {
       throw Error("--worldposition-layout " + worldposition_layout +

@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "libs/collection/bundle_residual.h"
 #include "libs/exr/exr_info.h"
 #include "libs/util/error.h"
 
@@ -27,6 +28,10 @@ constexpr const char* kSeedAttribute = "lsdsSamplingSeed";
 constexpr const char* kFrameAttribute = "lsdsSamplingFrame";
 constexpr const char* kJitterAttribute = "lsdsSamplingJitter";
 constexpr const char* kClassTableAttribute = "lsdsClassOfInstance";
+// Residual bundles: the view the depths are predicted with.
+constexpr const char* kIntrinsicsAttribute = "lsdsBundleIntrinsics";  // "fx fy cx cy"
+constexpr const char* kRotationAttribute = "lsdsBundleRotation";      // cam_from_world, row-major
+constexpr const char* kDepthKindAttribute = "lsdsBundleDepthKind";    // planar | perspective
 
 uint32_t Bits(float f) {
   uint32_t u;
@@ -84,7 +89,7 @@ std::string FormatDouble(double v) {
 std::string Attribute(const exr::ExrInfo& info, const char* name, const fs::path& path) {
   const auto it = info.attributes.find(name);
   if (it == info.attributes.end()) {
-    throw Error(std::string("compact bundle has no header attribute '") + name + "'",
+    throw Error(std::string("bundle has no header attribute '") + name + "'",
                 Location(path.string()));
   }
   return it->second;
@@ -97,9 +102,9 @@ T ParseAttribute(const exr::ExrInfo& info, const char* name, const fs::path& pat
   T value{};
   in >> value;
   if (!in || !in.eof()) {
-    throw Error(std::string("compact bundle header attribute '") + name + "' = '" + text +
-                    "' is not a number",
-                Location(path.string()));
+    throw Error(
+        std::string("bundle header attribute '") + name + "' = '" + text + "' is not a number",
+        Location(path.string()));
   }
   return value;
 }
@@ -121,23 +126,190 @@ std::map<uint32_t, uint32_t> ParseClassTable(const exr::ExrInfo& info, const fs:
       }
       table[static_cast<uint32_t>(instance)] = static_cast<uint32_t>(cls);
     } catch (const std::exception&) {
-      throw Error(std::string("compact bundle header attribute '") + kClassTableAttribute +
-                      "': entry '" + entry + "' is not 'instance:class'",
+      throw Error(std::string("bundle header attribute '") + kClassTableAttribute + "': entry '" +
+                      entry + "' is not 'instance:class'",
                   Location(path.string()));
     }
   }
   return table;
 }
 
-bool IsCompact(const exr::ExrInfo& info) {
-  const auto it = info.attributes.find(kBundleLayoutAttribute);
-  return it != info.attributes.end() && it->second == "compact";
+// The numbers of a header attribute holding `count` of them, separated by spaces.
+std::vector<double> ParseNumbers(const exr::ExrInfo& info,
+                                 const char* name,
+                                 size_t count,
+                                 const fs::path& path) {
+  const std::string text = Attribute(info, name, path);
+  std::istringstream in(text);
+  std::vector<double> numbers;
+  double v = 0;
+  while (in >> v) numbers.push_back(v);
+  if (!in.eof() || numbers.size() != count) {
+    throw Error(std::string("bundle header attribute '") + name + "' = '" + text + "' is not " +
+                    std::to_string(count) + " numbers",
+                Location(path.string()));
+  }
+  return numbers;
+}
+
+void AddViewAttributes(const BundleView& view, std::map<std::string, std::string>* attributes) {
+  const PinholeCamera& k = view.intrinsics;
+  (*attributes)[kIntrinsicsAttribute] = FormatDouble(k.fx) + ' ' + FormatDouble(k.fy) + ' ' +
+                                        FormatDouble(k.cx) + ' ' + FormatDouble(k.cy);
+  std::string rotation;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      if (!rotation.empty()) rotation += ' ';
+      rotation += FormatDouble(view.cam_from_world_rotation(r, c));
+    }
+  }
+  (*attributes)[kRotationAttribute] = rotation;
+  (*attributes)[kDepthKindAttribute] =
+      view.depth_kind == DepthKind::kPerspective ? "perspective" : "planar";
+}
+
+BundleView ParseViewAttributes(const exr::ExrInfo& info, const fs::path& path) {
+  BundleView view;
+  const std::vector<double> k = ParseNumbers(info, kIntrinsicsAttribute, 4, path);
+  view.intrinsics.width = info.width;
+  view.intrinsics.height = info.height;
+  view.intrinsics.fx = k[0];
+  view.intrinsics.fy = k[1];
+  view.intrinsics.cx = k[2];
+  view.intrinsics.cy = k[3];
+  const std::vector<double> r = ParseNumbers(info, kRotationAttribute, 9, path);
+  for (int i = 0; i < 9; ++i) view.cam_from_world_rotation(i / 3, i % 3) = r[i];
+  const std::string kind = Attribute(info, kDepthKindAttribute, path);
+  if (kind != "planar" && kind != "perspective") {
+    throw Error(std::string("bundle header attribute '") + kDepthKindAttribute + "' = '" + kind +
+                    "' is not planar or perspective",
+                Location(path.string()));
+  }
+  view.depth_kind = kind == "perspective" ? DepthKind::kPerspective : DepthKind::kPlanar;
+  return view;
+}
+
+// True when `full` can be stored compact or residual: every channel of the full
+// layout with its type, `spp` samples in every pixel, and the sampling rule's
+// positions.
+bool Derivable(const DeepImage& full, const BundleSampling& sampling) {
+  for (const exr::ChannelSpec& spec : FullBundleChannels()) {
+    const DeepChannel* c = full.Find(spec.name);
+    if (c == nullptr || c->type != spec.type) return false;
+  }
+  const uint32_t spp = static_cast<uint32_t>(sampling.sampler.spp);
+  for (uint32_t n : full.sample_counts()) {
+    if (n != spp) return false;
+  }
+  // Positions that are not the rule's must be stored.
+  return PositionsDerivable(full, sampling);
+}
+
+// The class of each instance in `full`, or nothing when one instance has two.
+std::optional<std::map<uint32_t, uint32_t>> ClassOfInstance(const DeepImage& full) {
+  const std::vector<uint32_t>& inst = full.Get("instanceid").uints;
+  const std::vector<uint32_t>& cls = full.Get("classid").uints;
+  std::map<uint32_t, uint32_t> class_of;
+  uint32_t last_instance = 0, last_class = 0;
+  bool have_last = false;
+  for (uint64_t s = 0; s < full.total_samples(); ++s) {
+    if (have_last && inst[s] == last_instance && cls[s] == last_class) continue;
+    const auto [it, inserted] = class_of.emplace(inst[s], cls[s]);
+    if (!inserted && it->second != cls[s]) return std::nullopt;
+    last_instance = inst[s];
+    last_class = cls[s];
+    have_last = true;
+  }
+  return class_of;
+}
+
+// Copies channel `name` of `from` into `to` (same pixels; `to` holds
+// 1 or all of each pixel's samples).
+void CopySamples(const DeepImage& from, const std::string& name, DeepImage* to) {
+  const DeepChannel& source = from.Get(name);
+  DeepChannel& target = to->AddChannel(name, source.type);
+  tbb::parallel_for(size_t{0}, from.pixel_count(), [&](size_t p) {
+    const uint64_t a = from.offsets()[p], b = to->offsets()[p];
+    for (uint32_t k = 0; k < to->sample_counts()[p]; ++k) {
+      if (source.type == PixelType::kUint) {
+        target.uints[b + k] = source.uints[a + k];
+      } else {
+        target.floats[b + k] = source.floats[a + k];
+      }
+    }
+  });
+}
+
+// Compact: a pixel whose samples are all identical keeps one.
+DeepImage CompactSamples(const DeepImage& full, int spp, bool store_class) {
+  const uint32_t* inst = full.Get("instanceid").uints.data();
+  const uint32_t* cls = full.Get("classid").uints.data();
+  const float* value[4] = {full.Get("Z").floats.data(),
+                           full.Get("NX").floats.data(),
+                           full.Get("NY").floats.data(),
+                           full.Get("NZ").floats.data()};
+  std::vector<uint32_t> counts(full.pixel_count());
+  tbb::parallel_for(size_t{0}, full.pixel_count(), [&](size_t p) {
+    const uint64_t first = full.offsets()[p];
+    bool same = true;
+    for (int k = 1; k < spp && same; ++k) {
+      same = inst[first + k] == inst[first] && cls[first + k] == cls[first];
+      for (int c = 0; c < 4 && same; ++c) {
+        same = Bits(value[c][first + k]) == Bits(value[c][first]);
+      }
+    }
+    counts[p] = same ? 1 : spp;
+  });
+  DeepImage out(full.width(), full.height(), counts);
+  std::vector<std::string> stored = {"instanceid", "Z", "NX", "NY", "NZ"};
+  if (store_class) stored.insert(stored.begin() + 1, "classid");
+  for (const std::string& name : stored) CopySamples(full, name, &out);
+  return out;
+}
+
+// Residual: every sample; depths and normals as residuals of their prediction.
+DeepImage ResidualSamples(const DeepImage& full,
+                          const BundleView& view,
+                          int spp,
+                          bool store_class) {
+  DeepImage out(full.width(), full.height(), full.sample_counts());
+  CopySamples(full, "instanceid", &out);
+  if (store_class) CopySamples(full, "classid", &out);
+  const float* value[4];
+  uint32_t* residual[4];
+  for (int c = 0; c < 4; ++c) {
+    value[c] = full.Get(kBundleValueChannels[c]).floats.data();
+    residual[c] = out.AddChannel(kBundleResidualChannels[c], PixelType::kUint).uints.data();
+  }
+  const float* sx = full.Get("SX").floats.data();
+  const float* sy = full.Get("SY").floats.data();
+  const PlaneDepthPredictor predictor(view);
+  tbb::parallel_for(0, full.height(), [&](int y) {
+    const uint64_t first = full.FirstSample(0, y);
+    const BundleRow row{y, full.width(), spp, sx + first, sy + first};
+    const float* row_value[4];
+    uint32_t* row_residual[4];
+    for (int c = 0; c < 4; ++c) {
+      row_value[c] = value[c] + first;
+      row_residual[c] = residual[c] + first;
+    }
+    EncodeBundleRow(predictor, row, row_value, row_residual);
+  });
+  return out;
 }
 
 }  // namespace
 
 const char* BundleLayoutName(BundleLayout layout) {
-  return layout == BundleLayout::kCompact ? "compact" : "full";
+  switch (layout) {
+    case BundleLayout::kCompact:
+      return "compact";
+    case BundleLayout::kResidual:
+      return "residual";
+    case BundleLayout::kFull:
+      break;
+  }
+  return "full";
 }
 
 bool ParseBundleLayout(const std::string& name, BundleLayout* layout) {
@@ -145,6 +317,8 @@ bool ParseBundleLayout(const std::string& name, BundleLayout* layout) {
     *layout = BundleLayout::kFull;
   } else if (name == "compact") {
     *layout = BundleLayout::kCompact;
+  } else if (name == "residual") {
+    *layout = BundleLayout::kResidual;
   } else {
     return false;
   }
@@ -168,98 +342,60 @@ void WriteBundleExr(const fs::path& path,
                     BundleLayout layout,
                     const std::optional<BundleSampling>& sampling,
                     const exr::WriteOptions& options) {
-  bool compact = layout == BundleLayout::kCompact && sampling.has_value();
-  const int spp = compact ? sampling->sampler.spp : 0;
-  for (const exr::ChannelSpec& spec : FullBundleChannels()) {
-    const DeepChannel* c = full.Find(spec.name);
-    compact = compact && c != nullptr && c->type == spec.type;
+  if (layout == BundleLayout::kResidual && !(sampling && sampling->view)) {
+    layout = BundleLayout::kCompact;
   }
-  if (compact) {
-    for (uint32_t n : full.sample_counts()) {
-      if (n != static_cast<uint32_t>(spp)) {
-        compact = false;
-        break;
-      }
-    }
+  if (layout != BundleLayout::kFull && !(sampling && Derivable(full, *sampling))) {
+    layout = BundleLayout::kFull;
   }
-  // Positions that are not the rule's must be stored; then nothing collapses.
-  if (compact) compact = PositionsDerivable(full, *sampling);
-  if (!compact) {
+  if (layout == BundleLayout::kFull) {
     exr::WriteDeepExr(path, full, options);
     return;
   }
-
-  const uint32_t* inst = full.Get("instanceid").uints.data();
-  const uint32_t* cls = full.Get("classid").uints.data();
-  const float* value[4] = {full.Get("Z").floats.data(),
-                           full.Get("NX").floats.data(),
-                           full.Get("NY").floats.data(),
-                           full.Get("NZ").floats.data()};
-  // The class of each instance, if the frame has one.
-  std::map<uint32_t, uint32_t> class_of;
-  bool class_is_function = true;
-  {
-    uint32_t last_instance = 0, last_class = 0;
-    bool have_last = false;
-    for (uint64_t s = 0; s < full.total_samples() && class_is_function; ++s) {
-      if (have_last && inst[s] == last_instance && cls[s] == last_class) continue;
-      const auto [it, inserted] = class_of.emplace(inst[s], cls[s]);
-      if (!inserted && it->second != cls[s]) class_is_function = false;
-      last_instance = inst[s];
-      last_class = cls[s];
-      have_last = true;
-    }
-  }
-  // A pixel collapses to one sample when all its samples are identical.
-  std::vector<uint32_t> counts(full.pixel_count());
-  tbb::parallel_for(size_t{0}, full.pixel_count(), [&](size_t p) {
-    const uint64_t first = full.offsets()[p];
-    bool same = true;
-    for (int k = 1; k < spp && same; ++k) {
-      same = inst[first + k] == inst[first] && cls[first + k] == cls[first];
-      for (int c = 0; c < 4 && same; ++c) {
-        same = Bits(value[c][first + k]) == Bits(value[c][first]);
-      }
-    }
-    counts[p] = same ? 1 : spp;
-  });
-  DeepImage out(full.width(), full.height(), counts);
-  std::vector<std::string> stored = {"instanceid", "Z", "NX", "NY", "NZ"};
-  if (!class_is_function) stored.insert(stored.begin() + 1, "classid");
-  for (const std::string& name : stored) {
-    const DeepChannel& from = full.Get(name);
-    DeepChannel& to = out.AddChannel(name, from.type);
-    tbb::parallel_for(size_t{0}, full.pixel_count(), [&](size_t p) {
-      const uint64_t a = full.offsets()[p], b = out.offsets()[p];
-      for (uint32_t k = 0; k < counts[p]; ++k) {
-        if (from.type == PixelType::kUint) {
-          to.uints[b + k] = from.uints[a + k];
-        } else {
-          to.floats[b + k] = from.floats[a + k];
-        }
-      }
-    });
-  }
+  const int spp = sampling->sampler.spp;
+  const std::optional<std::map<uint32_t, uint32_t>> class_of = ClassOfInstance(full);
   exr::WriteOptions write = options;
-  write.attributes[kBundleLayoutAttribute] = "compact";
+  write.attributes[kBundleLayoutAttribute] = BundleLayoutName(layout);
   write.attributes[kSppAttribute] = std::to_string(spp);
   write.attributes[kSeedAttribute] = std::to_string(sampling->sampler.seed);
   write.attributes[kFrameAttribute] = std::to_string(sampling->frame);
   write.attributes[kJitterAttribute] = FormatDouble(sampling->sampler.jitter);
-  if (class_is_function) {
+  if (class_of) {
     std::string table;
-    for (const auto& [instance, c] : class_of) {
+    for (const auto& [instance, c] : *class_of) {
       if (!table.empty()) table += ' ';
       table += std::to_string(instance) + ':' + std::to_string(c);
     }
     write.attributes[kClassTableAttribute] = table;
   }
-  exr::WriteDeepExr(path, out, write);
+  if (layout == BundleLayout::kCompact) {
+    exr::WriteDeepExr(path, CompactSamples(full, spp, !class_of), write);
+    return;
+  }
+  AddViewAttributes(*sampling->view, &write.attributes);
+  exr::WriteDeepExr(path, ResidualSamples(full, *sampling->view, spp, !class_of), write);
+}
+
+BundleLayout BundleLayoutOf(const exr::ExrInfo& info) {
+  BundleLayout layout = BundleLayout::kFull;
+  const auto it = info.attributes.find(kBundleLayoutAttribute);
+  if (it != info.attributes.end()) ParseBundleLayout(it->second, &layout);
+  return layout;
 }
 
 std::vector<exr::ChannelSpec> ReadableChannels(const exr::ExrInfo& info) {
-  if (!IsCompact(info)) return info.channels;
-  std::vector<exr::ChannelSpec> channels = info.channels;
+  const BundleLayout layout = BundleLayoutOf(info);
+  if (layout == BundleLayout::kFull) return info.channels;
+  std::vector<exr::ChannelSpec> channels;
+  for (const exr::ChannelSpec& stored : info.channels) {
+    exr::ChannelSpec readable = stored;
+    for (int c = 0; c < 4 && layout == BundleLayout::kResidual; ++c) {
+      if (stored.name == kBundleResidualChannels[c] && stored.type == PixelType::kUint) {
+        readable = {kBundleValueChannels[c], PixelType::kFloat};
+      }
+    }
+    channels.push_back(readable);
+  }
   for (const char* derived : {"classid", "SX", "SY"}) {
     if (info.Find(derived) != nullptr) continue;
     if (std::string(derived) == "classid" && info.attributes.count(kClassTableAttribute) == 0) {
@@ -274,11 +410,44 @@ std::vector<exr::ChannelSpec> ReadableChannels(const exr::ExrInfo& info) {
   return channels;
 }
 
+namespace {
+
+// The stored residual channel of value channel `name` ("Z" -> 0), or -1.
+int ResidualIndex(const std::string& name) {
+  for (int c = 0; c < 4; ++c) {
+    if (name == kBundleValueChannels[c]) return c;
+  }
+  return -1;
+}
+
+// Sample positions of row y (all pixels, spp each) by the sampling rule.
+void RowPositions(const BundleSampling& sampling,
+                  int y,
+                  int width,
+                  std::vector<Eigen::Vector2d>* scratch,
+                  float* sx,
+                  float* sy) {
+  const int spp = sampling.sampler.spp;
+  for (int x = 0; x < width; ++x) {
+    PositionsOf(sampling.sampler,
+                sampling.frame,
+                x,
+                y,
+                scratch->data(),
+                sx + static_cast<size_t>(x) * spp,
+                sy + static_cast<size_t>(x) * spp);
+  }
+}
+
+}  // namespace
+
 DeepImage ReadBundleExr(const fs::path& path,
                         const std::vector<std::string>& channels,
                         const exr::ReadLimits& limits) {
   const exr::ExrInfo info = exr::ReadExrInfo(path, limits);
-  if (!IsCompact(info)) return exr::ReadDeepExr(path, channels, limits);
+  const BundleLayout layout = BundleLayoutOf(info);
+  if (layout == BundleLayout::kFull) return exr::ReadDeepExr(path, channels, limits);
+  const bool residual = layout == BundleLayout::kResidual;
   const Location where(path.string());
   BundleSampling sampling;
   sampling.sampler.spp = ParseAttribute<int>(info, kSppAttribute, path);
@@ -288,8 +457,9 @@ DeepImage ReadBundleExr(const fs::path& path,
   try {
     CheckSamplerSettings(sampling.sampler);
   } catch (const Error& e) {
-    throw Error("compact bundle header: " + e.message(), where);
+    throw Error("bundle header: " + e.message(), where);
   }
+  if (residual) sampling.view = ParseViewAttributes(info, path);
   const int spp = sampling.sampler.spp;
   const bool class_derived = info.Find("classid") == nullptr;
   const std::map<uint32_t, uint32_t> class_of =
@@ -303,8 +473,21 @@ DeepImage ReadBundleExr(const fs::path& path,
   auto need = [&](const std::string& name) {
     if (std::find(stored.begin(), stored.end(), name) == stored.end()) stored.push_back(name);
   };
+  // Residual depths and normals: which values to decode (the depth needs the
+  // normals).
+  bool decode[4] = {false, false, false, false};
   for (const std::string& name : wanted) {
-    if (info.Find(name) != nullptr) {
+    const int c = residual ? ResidualIndex(name) : -1;
+    if (c >= 0) {
+      const exr::ChannelSpec* spec = info.Find(kBundleResidualChannels[c]);
+      if (spec == nullptr || spec->type != PixelType::kUint) {
+        throw Error(std::string("residual bundle has no uint channel '") +
+                        kBundleResidualChannels[c] + "' (for " + name + ")",
+                    where);
+      }
+      decode[c] = true;
+      if (c == 0) decode[1] = decode[2] = decode[3] = true;
+    } else if (info.Find(name) != nullptr) {
       need(name);
     } else if (name == "classid" && class_derived) {
       need("instanceid");
@@ -312,17 +495,27 @@ DeepImage ReadBundleExr(const fs::path& path,
       throw Error("has no channel '" + name + "'", where);
     }
   }
+  for (int c = 0; c < 4; ++c) {
+    if (!decode[c]) continue;
+    if (info.Find(kBundleResidualChannels[c]) == nullptr) {
+      throw Error(std::string("residual bundle has no channel '") + kBundleResidualChannels[c] +
+                      "' (the depth's prediction needs every normal)",
+                  where);
+    }
+    need(kBundleResidualChannels[c]);
+  }
   const DeepImage packed = exr::ReadDeepExr(path, stored, limits);
 
-  // Every pixel holds spp samples: stored in full, or one standing for all.
+  // Every pixel holds spp samples: stored in full, or (compact) one standing for all.
   std::vector<uint32_t> counts(packed.pixel_count());
   uint64_t total = 0;
   for (size_t p = 0; p < counts.size(); ++p) {
     const uint32_t n = packed.sample_counts()[p];
-    if (n != 1 && n != static_cast<uint32_t>(spp)) {
+    if (n != static_cast<uint32_t>(spp) && (residual || n != 1)) {
       throw Error("pixel (" + std::to_string(p % packed.width()) + ", " +
-                      std::to_string(p / packed.width()) + ") of a compact bundle stores " +
-                      std::to_string(n) + " samples; the layout allows 1 or " + std::to_string(spp),
+                      std::to_string(p / packed.width()) + ") of a " + BundleLayoutName(layout) +
+                      " bundle stores " + std::to_string(n) + " samples; the layout allows " +
+                      (residual ? "" : "1 or ") + std::to_string(spp),
                   where);
     }
     counts[p] = spp;
@@ -333,6 +526,35 @@ DeepImage ReadBundleExr(const fs::path& path,
   }
   DeepImage image(packed.width(), packed.height(), std::move(counts));
   const int width = image.width();
+  // Residual values decode into scratch arrays (the normals a depth needs may
+  // not be wanted), then move into the image.
+  std::vector<float> decoded[4];
+  if (decode[0] || decode[1] || decode[2] || decode[3]) {
+    const uint32_t* residual_of[4] = {};
+    float* value_of[4] = {};
+    for (int c = 0; c < 4; ++c) {
+      if (!decode[c]) continue;
+      residual_of[c] = packed.Get(kBundleResidualChannels[c]).uints.data();
+      decoded[c].resize(image.total_samples());
+      value_of[c] = decoded[c].data();
+    }
+    const PlaneDepthPredictor predictor(*sampling.view);
+    tbb::parallel_for(0, image.height(), [&](int y) {
+      const size_t row_samples = static_cast<size_t>(width) * spp;
+      std::vector<Eigen::Vector2d> scratch(spp);
+      std::vector<float> sx(row_samples), sy(row_samples);
+      RowPositions(sampling, y, width, &scratch, sx.data(), sy.data());
+      const uint64_t first = image.FirstSample(0, y);
+      const BundleRow row{y, width, spp, sx.data(), sy.data()};
+      const uint32_t* row_residual[4];
+      float* row_value[4];
+      for (int c = 0; c < 4; ++c) {
+        row_residual[c] = residual_of[c] ? residual_of[c] + first : nullptr;
+        row_value[c] = value_of[c] ? value_of[c] + first : nullptr;
+      }
+      DecodeBundleRow(predictor, row, row_residual, row_value);
+    });
+  }
   for (const std::string& name : wanted) {
     if (name == "SX" || name == "SY") {
       DeepChannel& out = image.AddChannel(name, PixelType::kFloat);
@@ -345,6 +567,11 @@ DeepImage ReadBundleExr(const fs::path& path,
           std::copy_n(is_x ? px.data() : py.data(), spp, &out.floats[image.FirstSample(x, y)]);
         }
       });
+      continue;
+    }
+    const int c = residual ? ResidualIndex(name) : -1;
+    if (c >= 0) {
+      image.AddChannel(name, PixelType::kFloat).floats = std::move(decoded[c]);
       continue;
     }
     const bool derive_class = name == "classid" && class_derived;

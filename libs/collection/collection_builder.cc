@@ -53,7 +53,14 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
     write.camera = HeaderCameraOf(camera);
     const fs::path path = root / files.at(layer.name);
     if (layer.deep) {
-      WriteBundleExr(path, *images.bundle, layer.layout, images.bundle_sampling, write);
+      // A residual bundle predicts depths with the frame's camera.
+      std::optional<BundleSampling> sampling = images.bundle_sampling;
+      if (sampling) {
+        sampling->view = BundleView{camera.intrinsics,
+                                    camera.cam_from_world_rotation,
+                                    layer.depth_kind.value_or(DepthKind::kPlanar)};
+      }
+      WriteBundleExr(path, *images.bundle, layer.layout, sampling, write);
     } else if (layer.semantic == "worldposition") {
       WriteWorldPositionExr(path,
                             images.flat->at(layer.semantic),

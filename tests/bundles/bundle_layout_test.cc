@@ -1,9 +1,11 @@
-// The compact bundle layout (docs/format.md "Pixel bundles"): lossless against
-// the full layout sample for sample, read by the one reader for both, and, end
-// to end, `lsds bundles` statistics identical for a collection generated in
-// either layout.
+// The compact and residual bundle layouts (docs/format.md "Pixel bundles"):
+// lossless against the full layout sample for sample, read by the one reader
+// for all, and, end to end, `lsds bundles` statistics identical for a
+// collection generated in any layout.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <random>
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/collection/bundle_layout.h"
+#include "libs/collection/bundle_residual.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/exr_info.h"
 #include "libs/util/atomic_file.h"
@@ -123,7 +126,7 @@ DeepImage FullBundle(int w, int h, const BundleSampling& sampling) {
 
 TEST(BundleLayout, CompactReadsBackExactlyTheFullSamples) {
   TempDir dir;
-  const BundleSampling sampling{{4, 1.0, 99}, 5};
+  const BundleSampling sampling{{4, 1.0, 99}, 5, std::nullopt};
   const DeepImage full = FullBundle(12, 6, sampling);
   WriteBundleExr(dir.path() / "full.exr", full, BundleLayout::kFull, sampling, Zips());
   WriteBundleExr(dir.path() / "compact.exr", full, BundleLayout::kCompact, sampling, Zips());
@@ -150,7 +153,7 @@ TEST(BundleLayout, CompactReadsBackExactlyTheFullSamples) {
 
 TEST(BundleLayout, KeepsWhatItCannotDerive) {
   TempDir dir;
-  const BundleSampling sampling{{4, 0.5, 3}, 0};
+  const BundleSampling sampling{{4, 0.5, 3}, 0, std::nullopt};
   DeepImage full = FullBundle(8, 4, sampling);
   // Instance 7 of two classes: classid must stay a channel.
   full.Get("classid").uints[full.FirstSample(5, 3)] = 4;
@@ -167,9 +170,151 @@ TEST(BundleLayout, KeepsWhatItCannotDerive) {
   ExpectSameSamples(ReadBundleExr(dir.path() / "b.exr"), full);
 }
 
+// A camera looking down at 30 degrees from vertical, for the residual layout.
+BundleView TestView(int w, int h, DepthKind kind) {
+  BundleView view;
+  view.intrinsics = PinholeCamera::FromHorizontalFov(w, h, 60);
+  const double a = 150 * M_PI / 180;  // optical axis 30 degrees off straight down
+  view.cam_from_world_rotation << 1, 0, 0, 0, std::cos(a), -std::sin(a), 0, std::sin(a),
+      std::cos(a);
+  view.depth_kind = kind;
+  return view;
+}
+
+TEST(BundleLayout, ResidualReadsBackExactlyTheFullSamples) {
+  TempDir dir;
+  BundleSampling sampling{{4, 1.0, 99}, 5, std::nullopt};
+  const DeepImage full = FullBundle(12, 6, sampling);
+  WriteBundleExr(dir.path() / "full.exr", full, BundleLayout::kFull, sampling, Zips());
+  for (const DepthKind kind : {DepthKind::kPlanar, DepthKind::kPerspective}) {
+    sampling.view = TestView(12, 6, kind);
+    WriteBundleExr(dir.path() / "residual.exr", full, BundleLayout::kResidual, sampling, Zips());
+    const exr::ExrInfo info = exr::ReadExrInfo(dir.path() / "residual.exr");
+    EXPECT_EQ(info.attributes.at(kBundleLayoutAttribute), "residual");
+    for (const char* stored : {"dZ", "dNX", "dNY", "dNZ", "instanceid"}) {
+      ASSERT_NE(info.Find(stored), nullptr) << stored;
+      EXPECT_EQ(info.Find(stored)->type, PixelType::kUint) << stored;
+    }
+    EXPECT_EQ(info.Find("Z"), nullptr);
+    EXPECT_EQ(info.Find("SX"), nullptr);
+    EXPECT_EQ(info.Find("classid"), nullptr);
+    // What a reader gets: the full layout's channels and types.
+    std::vector<exr::ChannelSpec> expected = FullBundleChannels();
+    std::sort(expected.begin(), expected.end(), [](const auto& a, const auto& b) {
+      return a.name < b.name;
+    });
+    const std::vector<exr::ChannelSpec> readable = ReadableChannels(info);
+    ASSERT_EQ(readable.size(), expected.size());
+    for (size_t i = 0; i < readable.size(); ++i) {
+      EXPECT_EQ(readable[i].name, expected[i].name);
+      EXPECT_EQ(readable[i].type, expected[i].type) << readable[i].name;
+    }
+    // Every pixel keeps its samples (no collapse), and all of them read back.
+    EXPECT_EQ(exr::ReadDeepExr(dir.path() / "residual.exr").SampleCount(0, 0), 4u);
+    ExpectSameSamples(ReadBundleExr(dir.path() / "residual.exr"), full);
+    // Subsets: the depth alone (its prediction decodes the normals it needs
+    // without returning them), one normal alone.
+    for (const std::vector<std::string>& some :
+         {std::vector<std::string>{"Z"}, {"NY"}, {"classid", "SY", "Z", "NX"}}) {
+      ExpectSameSamples(ReadBundleExr(dir.path() / "residual.exr", some),
+                        ReadBundleExr(dir.path() / "full.exr", some));
+    }
+  }
+}
+
+// The prediction the layout relies on: on a plane, the depth of any position
+// follows from one sample's depth and normal, to float rounding.
+TEST(BundleLayout, PlanePredictionIsExactOnAPlane) {
+  for (const DepthKind kind : {DepthKind::kPlanar, DepthKind::kPerspective}) {
+    const BundleView view = TestView(640, 480, kind);
+    const PlaneDepthPredictor predictor(view);
+    // The ground plane z = 0 seen from (0, -20, 30).
+    const Eigen::Vector3d centre(0, -20, 30), normal(0, 0, 1);
+    const Eigen::Matrix3d world_from_cam = view.cam_from_world_rotation.transpose();
+    auto depth_at = [&](const Eigen::Vector2d& pixel) {
+      const Eigen::Vector3d ray = view.intrinsics.CamFromImage(pixel);  // z == 1
+      const Eigen::Vector3d dir = world_from_cam * ray;
+      const double t = -centre.z() / dir.z();  // planar depth: the z == 1 ray's scale
+      return kind == DepthKind::kPlanar ? t : t * ray.norm();
+    };
+    const float n[3] = {0, 0, 1};
+    for (const auto& [from, to] : std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>{
+             {{320.5, 300.5}, {321.5, 300.5}},
+             {{10.5, 470.5}, {10.9, 470.1}},
+             {{600.5, 250.5}, {600.5, 251.5}}}) {
+      const double truth = depth_at(to);
+      const float predicted = predictor.Predict(static_cast<float>(depth_at(from)), n, from, to);
+      EXPECT_NEAR(predicted, truth, 4e-7 * truth) << from.transpose() << " -> " << to.transpose();
+    }
+    // Undefined predictions fall back to the reference depth.
+    const float zero[3] = {0, 0, 0};
+    EXPECT_EQ(predictor.Predict(12.5f, zero, {1.5, 1.5}, {2.5, 1.5}), 12.5f);
+    EXPECT_TRUE(std::isinf(predictor.Predict(INFINITY, n, {1.5, 1.5}, {2.5, 1.5})));
+  }
+}
+
+TEST(BundleLayout, ResidualWithoutAViewWritesCompact) {
+  TempDir dir;
+  const BundleSampling sampling{{4, 1.0, 2}, 0, std::nullopt};
+  const DeepImage full = FullBundle(8, 4, sampling);
+  WriteBundleExr(dir.path() / "a.exr", full, BundleLayout::kResidual, sampling, Zips());
+  EXPECT_EQ(exr::ReadExrInfo(dir.path() / "a.exr").attributes.at(kBundleLayoutAttribute),
+            "compact");
+  ExpectSameSamples(ReadBundleExr(dir.path() / "a.exr"), full);
+}
+
+TEST(BundleLayout, BadResidualHeadersAreErrorsNamingTheFileAndAttribute) {
+  TempDir dir;
+  BundleSampling sampling{{4, 1.0, 1}, 0, TestView(8, 4, DepthKind::kPlanar)};
+  const DeepImage full = FullBundle(8, 4, sampling);
+  WriteBundleExr(dir.path() / "good.exr", full, BundleLayout::kResidual, sampling, Zips());
+  const exr::ExrInfo info = exr::ReadExrInfo(dir.path() / "good.exr");
+  const DeepImage stored = exr::ReadDeepExr(dir.path() / "good.exr");
+  struct Case {
+    std::string attribute, value;  // empty value: removed
+  };
+  for (const Case& c : std::vector<Case>{{"lsdsBundleRotation", ""},
+                                         {"lsdsBundleRotation", "1 0 0 0 1 0 0 0"},
+                                         {"lsdsBundleIntrinsics", "100 100 4 x"},
+                                         {"lsdsBundleDepthKind", "radial"}}) {
+    exr::WriteOptions options = Zips();
+    options.attributes = info.attributes;
+    if (c.value.empty()) {
+      options.attributes.erase(c.attribute);
+    } else {
+      options.attributes[c.attribute] = c.value;
+    }
+    exr::WriteDeepExr(dir.path() / "bad.exr", stored, options);
+    try {
+      ReadBundleExr(dir.path() / "bad.exr");
+      FAIL() << "expected an error for " << c.attribute << " = '" << c.value << "'";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.exr"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.attribute), std::string::npos) << e.what();
+    }
+  }
+  // A pixel with another sample count than the header's.
+  std::vector<uint32_t> counts(32, 4);
+  counts[9] = 1;
+  DeepImage uneven(8, 4, counts);
+  for (const char* c : {"instanceid", "dZ", "dNX", "dNY", "dNZ"}) {
+    uneven.AddChannel(c, PixelType::kUint);
+  }
+  exr::WriteOptions options = Zips();
+  options.attributes = info.attributes;
+  exr::WriteDeepExr(dir.path() / "uneven.exr", uneven, options);
+  try {
+    ReadBundleExr(dir.path() / "uneven.exr");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("uneven.exr"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("pixel (1, 1)"), std::string::npos) << e.what();
+  }
+}
+
 TEST(BundleLayout, BadCompactHeadersAreErrorsNamingTheFile) {
   TempDir dir;
-  const BundleSampling sampling{{4, 1.0, 1}, 0};
+  const BundleSampling sampling{{4, 1.0, 1}, 0, std::nullopt};
   const DeepImage full = FullBundle(8, 4, sampling);
   // A compact file whose class table lacks an instance it holds.
   DeepImage packed(8, 4, std::vector<uint32_t>(32, 1));
@@ -195,40 +340,51 @@ TEST(BundleLayout, BadCompactHeadersAreErrorsNamingTheFile) {
   EXPECT_THROW(ReadBundleExr(dir.path() / "bad2.exr"), Error);
 }
 
-// End to end as a user meets it: the demo scene generated in the old (full)
-// and the compact layout; both validate, read the same samples and give the
-// same `lsds bundles` statistics, and the compact bundle files are smaller.
+// End to end as a user meets it: the demo scene generated in the full, the
+// compact and the default (residual) layout; all validate, read the same
+// samples and give the same `lsds bundles` statistics, and each layout's
+// bundle files are smaller than the one before.
 TEST(BundleLayout, GeneratedCollectionsGiveIdenticalStatistics) {
   TempDir dir;
   std::string out;
   const std::string common = " --demo --demo-size 64x48 --demo-frames 3 --seed 4 --quiet -o ";
-  const fs::path full = dir.path() / "full", compact = dir.path() / "compact";
+  const fs::path full = dir.path() / "full", compact = dir.path() / "compact",
+                 residual = dir.path() / "residual";
   ASSERT_EQ(RunLsds("generate --bundle-layout full" + common + full.string(), &out), 0) << out;
-  ASSERT_EQ(RunLsds("generate" + common + compact.string(), &out), 0) << out;
-  for (const fs::path& root : {full, compact}) {
-    EXPECT_EQ(RunLsds("validate " + root.string(), &out), 0) << root << "\n" << out;
+  ASSERT_EQ(RunLsds("generate --bundle-layout compact" + common + compact.string(), &out), 0)
+      << out;
+  ASSERT_EQ(RunLsds("generate" + common + residual.string(), &out), 0) << out;
+  nlohmann::json stats[3];
+  int i = 0;
+  for (const fs::path& root : {full, compact, residual}) {
+    EXPECT_EQ(RunLsds("validate --fail-on warning " + root.string(), &out), 0) << root << "\n"
+                                                                               << out;
     EXPECT_EQ(RunLsds("bundles " + root.string() + " -o " + root.string() + ".json", &out), 0)
         << out;
+    stats[i] = nlohmann::json::parse(ReadFile(root.string() + ".json"));
+    stats[i++].erase("collection");
   }
-  nlohmann::json a = nlohmann::json::parse(ReadFile(full.string() + ".json"));
-  nlohmann::json b = nlohmann::json::parse(ReadFile(compact.string() + ".json"));
-  a.erase("collection");
-  b.erase("collection");
-  EXPECT_GT(a["summary"]["mixed_pixels"].get<uint64_t>(), 0u);
-  EXPECT_EQ(a, b);
+  EXPECT_GT(stats[0]["summary"]["mixed_pixels"].get<uint64_t>(), 0u);
+  EXPECT_EQ(stats[0], stats[1]);
+  EXPECT_EQ(stats[0], stats[2]);
 
-  const CollectionReader rf(full), rc(compact);
-  EXPECT_EQ(rc.header().FindLayerBySemantic("bundle")->layout, BundleLayout::kCompact);
+  const CollectionReader rf(full), rc(compact), rr(residual);
   EXPECT_EQ(rf.header().FindLayerBySemantic("bundle")->layout, BundleLayout::kFull);
-  uintmax_t full_bytes = 0, compact_bytes = 0;
+  EXPECT_EQ(rc.header().FindLayerBySemantic("bundle")->layout, BundleLayout::kCompact);
+  EXPECT_EQ(rr.header().FindLayerBySemantic("bundle")->layout, BundleLayout::kResidual);
+  uintmax_t full_bytes = 0, compact_bytes = 0, residual_bytes = 0;
   std::vector<Frame> frames;
   rf.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   for (const Frame& frame : frames) {
-    ExpectSameSamples(rc.ReadDeepLayer(frame, "bundle", {}), rf.ReadDeepLayer(frame, "bundle", {}));
+    const DeepImage expected = rf.ReadDeepLayer(frame, "bundle", {});
+    ExpectSameSamples(rc.ReadDeepLayer(frame, "bundle", {}), expected);
+    ExpectSameSamples(rr.ReadDeepLayer(frame, "bundle", {}), expected);
     full_bytes += fs::file_size(rf.LayerPath(frame, "bundle"));
     compact_bytes += fs::file_size(rc.LayerPath(frame, "bundle"));
+    residual_bytes += fs::file_size(rr.LayerPath(frame, "bundle"));
   }
   EXPECT_LT(compact_bytes, full_bytes);
+  EXPECT_LT(residual_bytes, compact_bytes);
 }
 
 }  // namespace

@@ -1,11 +1,14 @@
-// Per-layer EXR compression benchmark (issue 20): renders one frame of the demo
-// scene and encodes each layer with every lossless compression OpenEXR allows
-// for it (flat: none, rle, zips, zip, piz; deep: none, rle, zips), printing the
-// bytes, the encode and decode time (median of 3), with OpenEXR's thread pool
-// off and on. The worldposition layer is measured in both layouts (float;
-// residual, libs/collection/worldposition_layout.h), with a histogram of the
-// residuals' magnitude (how close the depth's prediction is to the renderer's
-// value). docs/generator.md "Storage" keeps the table and the choice.
+// Per-layer EXR compression benchmark (issue 20): renders frame 1 of the demo
+// scene (its motion measured against frame 0) and encodes each layer with every
+// lossless compression OpenEXR allows for it (flat: none, rle, zips, zip, piz;
+// deep: none, rle, zips), printing the bytes, the encode and decode time
+// (median of 3), with OpenEXR's thread pool off and on. The bundle is measured
+// in the compact and residual layouts (libs/collection/bundle_layout.h), the
+// worldposition and motion layers in the float and residual ones
+// (libs/collection/worldposition_layout.h, motion_layout.h), with a histogram
+// of the worldposition residuals' magnitude (how close the depth's prediction
+// is to the renderer's value). docs/generator.md "Storage" keeps the table and
+// the choice.
 //
 //   bench_exr_compression [--size 1024] [--spp 4] [--threads T] [--zip-level L]
 #include <ImfThreading.h>
@@ -29,6 +32,7 @@
 #include "generator/render/integrator.h"
 #include "generator/render/sky.h"
 #include "libs/collection/bundle_layout.h"
+#include "libs/collection/motion_layout.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/flat_image.h"
 
@@ -108,18 +112,27 @@ int main(int argc, char** argv) {
   if (threads > 0) control.emplace(tbb::global_control::max_allowed_parallelism, threads);
   Imf::setDefaultZipCompressionLevel(zip_level);
 
+  // Frame 1 of the demo, its motion measured against frame 0 (a shot's first
+  // frame has no motion: all NaN).
   DemoOptions demo;
-  demo.frames = 1;
+  demo.frames = 2;
   demo.width = demo.height = size;
   const Plan plan = MakeDemoPlan(demo);
   EmbreeDevice device;
   const SceneAssets assets = BuildSceneAssets(plan);
   const Sky sky(plan);
-  const PlannedFrame& frame = plan.frames.front();
+  const PlannedFrame& before = plan.frames.at(0);
+  const PlannedFrame& frame = plan.frames.at(1);
+  const WorldState world_before = WorldAt(plan, before);
+  const RenderScene scene_before(device, plan, assets, world_before);
   const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
   RenderSettings settings;
   settings.sampler = {spp, 1.0, plan.seed};
-  const Film film = RenderFrame(scene, sky, frame, {}, settings);
+  const Film film =
+      RenderFrame(scene, sky, frame, {&before, &world_before, &scene_before}, settings);
+  CameraTruth previous_camera;
+  previous_camera.intrinsics = before.camera;
+  SetCamFromWorld(before.cam_from_world, &previous_camera);
   GenerateOptions options;
   const CollectionHeader header = MakeHeader(plan, options);
   // The residual layout's prediction inputs, as the generator passes them.
@@ -163,14 +176,14 @@ int main(int argc, char** argv) {
       layers.back().layout = BundleLayout::kResidual;
       continue;
     }
-    if (layer.semantic != "worldposition") continue;
-    layers.back().position_layout = WorldPositionLayout::kFloat;
-    layers.back().compression = StandardLayer("worldposition").compression;
+    if (layer.semantic != "worldposition" && layer.semantic != "motion") continue;
+    layers.back().flat_layout = FlatLayout::kFloat;
+    layers.back().compression = StandardLayer(layer.semantic).compression;
     layers.push_back(layer);
-    layers.back().position_layout = WorldPositionLayout::kResidual;
+    layers.back().flat_layout = FlatLayout::kResidual;
   }
   for (const LayerInfo& layer : layers) {
-    const bool residual = layer.position_layout == WorldPositionLayout::kResidual ||
+    const bool residual = (!layer.deep && layer.flat_layout == FlatLayout::kResidual) ||
                           (layer.deep && layer.layout == BundleLayout::kResidual);
     const std::string label = residual ? layer.name + "/res" : layer.name;
     std::vector<exr::Compression> codecs = {
@@ -188,12 +201,16 @@ int main(int argc, char** argv) {
         if (layer.deep) {
           WriteBundleExr(path, film.bundle, layer.layout, sampling, write);
         } else if (layer.semantic == "worldposition") {
-          WriteWorldPositionExr(path,
-                                film.flat.at(layer.semantic),
-                                layer.position_layout,
-                                &prediction,
-                                "depth",
-                                write);
+          WriteWorldPositionExr(
+              path, film.flat.at(layer.semantic), layer.flat_layout, &prediction, "depth", write);
+        } else if (layer.semantic == "motion") {
+          WriteMotionExr(path,
+                         film.flat.at(layer.semantic),
+                         layer.flat_layout,
+                         &prediction,
+                         previous_camera,
+                         "depth",
+                         write);
         } else {
           exr::WriteFlatExr(path, film.flat.at(layer.semantic), write);
         }
@@ -203,6 +220,8 @@ int main(int argc, char** argv) {
           ReadBundleExr(path);
         } else if (layer.semantic == "worldposition") {  // decoding includes the prediction
           ReadWorldPositionExr(path, {}, [&](const std::string&) { return prediction; });
+        } else if (layer.semantic == "motion") {
+          ReadMotionExr(path, {}, [&](const std::string&) { return prediction; });
         } else {
           exr::ReadFlatExr(path);
         }
@@ -215,21 +234,23 @@ int main(int argc, char** argv) {
       const double decode_pool = Median3(decode);
       const double bytes = static_cast<double>(fs::file_size(path));
       if (codec == exr::Compression::kNone) raw = bytes;
-      std::printf("%-14s %-5s %10.2f %9.2f %10.3f %11.3f %10.3f %11.3f%s\n",
-                  label.c_str(),
-                  exr::CompressionName(codec),
-                  bytes / 1e6,
-                  raw / bytes,
-                  encode_serial,
-                  encode_pool,
-                  decode_serial,
-                  decode_pool,
-                  codec == layer.compression &&
-                          (layer.semantic != "worldposition" ||
-                           layer.position_layout == options.worldposition_layout) &&
-                          (!layer.deep || layer.layout == options.bundle_layout)
-                      ? "  <- chosen"
-                      : "");
+      std::printf(
+          "%-14s %-5s %10.2f %9.2f %10.3f %11.3f %10.3f %11.3f%s\n",
+          label.c_str(),
+          exr::CompressionName(codec),
+          bytes / 1e6,
+          raw / bytes,
+          encode_serial,
+          encode_pool,
+          decode_serial,
+          decode_pool,
+          codec == layer.compression &&
+                  (layer.semantic != "worldposition" ||
+                   layer.flat_layout == options.worldposition_layout) &&
+                  (layer.semantic != "motion" || layer.flat_layout == options.motion_layout) &&
+                  (!layer.deep || layer.layout == options.bundle_layout)
+              ? "  <- chosen"
+              : "");
     }
   }
   PrintResidualHistogram(film.flat.at("worldposition"), prediction);

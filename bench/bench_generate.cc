@@ -1,7 +1,7 @@
 // Benchmark of `lsds generate` (issues 3 and 20): renders the demo scene at
-// several sizes in several storage layouts (BUNDLE/WORLDPOSITION: full/float
-// as up to 0.1, compact/float, compact/residual, residual/residual, the
-// generator's default),
+// several sizes in several storage layouts (BUNDLE/WORLDPOSITION[/MOTION],
+// motion float when left out: full/float as in format 1.0, compact/float,
+// compact/residual, residual/residual/residual, the generator's default),
 // and prints s/frame, Mrays/s, bytes per frame per layer and in total, the
 // floor for the same frames = the Embree ray casts alone (the same primary and
 // shadow rays, no shading, no films) + the encoding of the same EXR files alone,
@@ -9,7 +9,7 @@
 // frames rendered by Blender Cycles (bench/peers/cycles_demo.py) with the ratio.
 //
 //   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
-//                  [--layouts full/float,compact/float,compact/residual,residual/residual]
+//                  [--layouts full/float,compact/float,compact/residual,residual/residual/residual]
 //                  [--blender PATH|none]
 #include <atomic>
 #include <chrono>
@@ -19,6 +19,8 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -245,7 +247,7 @@ int main(int argc, char** argv) {
   std::vector<int> sizes = {512, 1024};
   std::vector<std::string> post_process;  // LCAP PPMaterial effects, to measure their cost
   std::vector<std::string> layouts = {
-      "full/float", "compact/float", "compact/residual", "residual/residual"};
+      "full/float", "compact/float", "compact/residual", "residual/residual/residual"};
   std::string blender = FindOnPath("blender");
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
@@ -305,14 +307,17 @@ int main(int argc, char** argv) {
       options.force = true;
       options.progress = false;
       options.spp = spp;
-      // BUNDLE[/WORLDPOSITION]: e.g. compact/residual.
+      // BUNDLE[/WORLDPOSITION[/MOTION]]: e.g. compact/residual (motion float).
       const std::vector<std::string> parts = Split(name, '/');
+      options.motion_layout = FlatLayout::kFloat;
       if (!ParseBundleLayout(parts[0], &options.bundle_layout) ||
-          (parts.size() > 1 &&
-           !ParseWorldPositionLayout(parts[1], &options.worldposition_layout)) ||
-          parts.size() > 2) {
+          (parts.size() > 1 && !ParseFlatLayout(parts[1], &options.worldposition_layout)) ||
+          (parts.size() > 2 && !ParseFlatLayout(parts[2], &options.motion_layout)) ||
+          parts.size() > 3) {
         std::fprintf(
-            stderr, "--layouts: %s is not full|compact|residual[/float|residual]\n", name.c_str());
+            stderr,
+            "--layouts: %s is not full|compact|residual[/float|residual[/float|residual]]\n",
+            name.c_str());
         return 2;
       }
       r.summary = GenerateCollection(plan, options);
@@ -336,14 +341,28 @@ int main(int argc, char** argv) {
     double ray_seconds = 0;
     uint64_t floor_rays = 0;
     const fs::path encode_root = root / "encode";
+    // The films the generator encodes: motion against the previous frame (the
+    // demo is one shot), so that the floor encodes the same content.
+    std::unique_ptr<RenderScene> previous_scene;
+    std::optional<WorldState> previous_world;
+    const PlannedFrame* previous_frame = nullptr;
     for (const PlannedFrame& frame : plan.frames) {
-      const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
+      WorldState world = WorldAt(plan, frame);
+      auto scene = std::make_unique<RenderScene>(device, plan, assets, world);
       Clock::time_point t = Clock::now();
-      floor_rays += CastRaysOnly(scene, sky, frame, sampler);
+      floor_rays += CastRaysOnly(*scene, sky, frame, sampler);
       ray_seconds += Since(t);
       RenderSettings settings;
       settings.sampler = sampler;
-      const Film film = RenderFrame(scene, sky, frame, {}, settings);
+      PreviousView previous;
+      FrameImages::MotionReference motion;
+      if (previous_frame != nullptr) {
+        previous = {previous_frame, &*previous_world, previous_scene.get()};
+        CameraTruth& before = motion.previous_camera.emplace();
+        before.intrinsics = previous_frame->camera;
+        SetCamFromWorld(previous_frame->cam_from_world, &before);
+      }
+      const Film film = RenderFrame(*scene, sky, frame, previous, settings);
       CameraTruth camera;  // as the generator records it
       camera.intrinsics = frame.camera;
       SetCamFromWorld(frame.cam_from_world, &camera);
@@ -352,18 +371,22 @@ int main(int argc, char** argv) {
         for (const LayerInfo& layer : r.header.layers)
           fs::create_directories(encode_root / layer.name);
         t = Clock::now();
-        WriteFrameLayers(encode_root,
-                         r.header,
-                         frame.index,
-                         camera,
-                         {&film.flat, &film.bundle, BundleSampling{sampler, frame.index}});
+        WriteFrameLayers(
+            encode_root,
+            r.header,
+            frame.index,
+            camera,
+            {&film.flat, &film.bundle, BundleSampling{sampler, frame.index, std::nullopt}, motion});
         r.encode_seconds += Since(t);
       }
+      previous_scene = std::move(scene);
+      previous_world = std::move(world);
+      previous_frame = &frame;
     }
     fs::remove_all(encode_root);
 
     std::printf("\n%dx%d, %d frames, spp %d\n", size, size, frames, spp);
-    std::printf("%-16s %8s %8s %9s %9s %9s %10s %9s %6s %9s %11s\n",
+    std::printf("%-26s %8s %8s %9s %9s %9s %10s %9s %6s %9s %11s\n",
                 "layout",
                 "s/frame",
                 "Mrays/s",
@@ -378,7 +401,7 @@ int main(int argc, char** argv) {
     for (const Result& r : results) {
       const double per_frame = r.summary.total_seconds / frames;
       const double floor = (ray_seconds + r.encode_seconds) / frames;
-      std::printf("%-16s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.2f %11.2f\n",
+      std::printf("%-26s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.2f %11.2f\n",
                   r.layout.c_str(),
                   per_frame,
                   r.summary.rays / r.summary.total_seconds / 1e6,
@@ -394,12 +417,12 @@ int main(int argc, char** argv) {
     std::printf("floor rays: %.2f Mrays/s\n", floor_rays / ray_seconds / 1e6);
     PrintFeatureCosts(plan, spp);
     std::printf("MB per frame per layer:");
-    for (const Result& r : results) std::printf(" %16s", r.layout.c_str());
+    for (const Result& r : results) std::printf(" %26s", r.layout.c_str());
     std::printf("\n");
     for (const auto& [layer, bytes] : results.front().layer_bytes) {
       std::printf("  %-20s", layer.c_str());
       for (const Result& r : results)
-        std::printf(" %16.2f", Mb(static_cast<double>(r.layer_bytes.at(layer)) / frames));
+        std::printf(" %26.2f", Mb(static_cast<double>(r.layer_bytes.at(layer)) / frames));
       std::printf("\n");
     }
     if (blender.empty()) {

@@ -62,7 +62,8 @@ nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
           {"depth", DepthKindName(options.depth_kind)},
           {"zip_level", options.zip_level},
           {"bundle_layout", BundleLayoutName(options.bundle_layout)},
-          {"worldposition_layout", WorldPositionLayoutName(options.worldposition_layout)}};
+          {"worldposition_layout", FlatLayoutName(options.worldposition_layout)},
+          {"motion_layout", FlatLayoutName(options.motion_layout)}};
 }
 
 fs::path TruthPartPath(const fs::path& root, int64_t index) {
@@ -274,15 +275,21 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
     header.layers.push_back(StandardLayer(semantic, options.depth_kind));
     if (semantic == "bundle") header.layers.back().layout = options.bundle_layout;
   }
-  // The residual worldposition layout predicts from the depth layer: without
-  // one (Capture Settings may leave it out) the layer stays float.
+  // The residual worldposition and motion layouts predict from the depth layer:
+  // without one (Capture Settings may leave it out) the layers stay float.
   if (header.FindLayerBySemantic("depth") != nullptr) {
     for (LayerInfo& layer : header.layers) {
-      if (layer.semantic != "worldposition") continue;
-      layer.position_layout = options.worldposition_layout;
-      // Small integers: piz beats zip here, 2.41 vs 2.73 MB and faster to encode
-      // (docs/generator.md "Storage"); still lossless.
-      if (layer.position_layout == WorldPositionLayout::kResidual)
+      if (layer.semantic == "worldposition") {
+        layer.flat_layout = options.worldposition_layout;
+      } else if (layer.semantic == "motion") {
+        layer.flat_layout = options.motion_layout;
+      } else {
+        continue;
+      }
+      // Small integers: piz beats zip on worldposition's (2.41 vs 2.73 MB, and
+      // faster to encode); motion's are nearly all 0, where zip wins by far
+      // (0.08 vs 0.27 MB; docs/generator.md "Storage"). Both lossless.
+      if (layer.flat_layout == FlatLayout::kResidual && layer.semantic == "worldposition")
         layer.compression = exr::Compression::kPiz;
     }
   }
@@ -443,13 +450,23 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       // Encode this frame while the next one renders: at most two films live.
       writer.wait();  // rethrows a failed write
       const BundleSampling sampling{render.sampler, frame.index, std::nullopt};
-      writer.run([&root, &base_header, &summary, &write_mutex, film, truth, sampling]() {
+      // The camera motion was measured against, for the residual motion layout.
+      std::optional<FrameImages::MotionReference> motion;
+      if (render.motion) {
+        motion.emplace();
+        if (previous.frame != nullptr) {
+          CameraTruth& camera = motion->previous_camera.emplace();
+          camera.intrinsics = previous.frame->camera;
+          SetCamFromWorld(previous.frame->cam_from_world, &camera);
+        }
+      }
+      writer.run([&root, &base_header, &summary, &write_mutex, film, truth, sampling, motion]() {
         const Clock::time_point w0 = Clock::now();
         truth->files = WriteFrameLayers(root,
                                         base_header,
                                         truth->index,
                                         truth->camera,
-                                        {&film->flat, &film->bundle, sampling},
+                                        {&film->flat, &film->bundle, sampling, motion},
                                         truth->rig_camera);
         // The truth part comes last: its presence marks the frame complete.
         WriteFileAtomic(TruthPartPath(root, truth->index), FrameToJson(*truth).dump() + "\n");

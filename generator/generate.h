@@ -43,7 +43,11 @@ struct GenerateOptions {
   // layouts"): residual by default (UINT differences from the depth's
   // prediction, every lsds reader decodes them); float for tools that read the
   // EXR directly.
-  WorldPositionLayout worldposition_layout = WorldPositionLayout::kResidual;
+  FlatLayout worldposition_layout = FlatLayout::kResidual;
+  // How the motion layer is stored (docs/format.md "Motion layouts"): residual
+  // by default (UINT differences from the motion of a static world seen by the
+  // previous camera of the shot); float for tools that read the EXR directly.
+  FlatLayout motion_layout = FlatLayout::kResidual;
 
   void Check() const;  // throws lsds::Error for inconsistent options
   bool Selects(int64_t frame_index) const {

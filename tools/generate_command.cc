@@ -54,9 +54,9 @@ int RunGenerate(int argc, char** argv) {
       "Render an LSCENE/LCAP scene (or a plan) into a collection with every "
       "layer and truth",
       "lsds generate"};
-  std::string scene, capture, plan_file, frames, shard, depth = "planar", demo_size = "512x512",
-                                                        bundle_layout = "residual",
-                                                        worldposition_layout = "residual";
+  std::string scene, capture, plan_file, frames, shard,
+      depth = "planar", demo_size = "512x512", bundle_layout = "residual",
+      worldposition_layout = "residual", motion_layout = "residual";
   std::optional<uint64_t> seed;
   gen::GenerateOptions options;
   bool demo = false, quiet = false;
@@ -88,6 +88,12 @@ int RunGenerate(int argc, char** argv) {
                  "storage of the worldposition layer: residual (default; lossless, UINT "
                  "differences from the position predicted by depth and camera, decoded by every "
                  "lsds command) or float (plain X, Y, Z for tools that read the EXR directly)");
+  app.add_option(
+      "--motion-layout",
+      motion_layout,
+      "storage of the motion layer: residual (default; lossless, UINT differences "
+      "from the motion of a static world seen by the shot's previous camera, decoded "
+      "by every lsds command) or float (plain X, Y for tools that read the EXR directly)");
   app.add_flag("--force", options.force, "replace an existing output folder");
   app.add_flag("--resume", options.resume, "keep the complete frames of an interrupted run");
   app.add_option("--plan", plan_file, "render a plan JSON file (lsds plan -o) instead of SCENE");
@@ -109,9 +115,12 @@ int RunGenerate(int argc, char** argv) {
     if (!ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
       throw Error("--bundle-layout " + bundle_layout + ": expected residual, compact or full");
     }
-    if (!ParseWorldPositionLayout(worldposition_layout, &options.worldposition_layout)) {
+    if (!ParseFlatLayout(worldposition_layout, &options.worldposition_layout)) {
       throw Error("--worldposition-layout " + worldposition_layout +
                   ": expected residual or float");
+    }
+    if (!ParseFlatLayout(motion_layout, &options.motion_layout)) {
+      throw Error("--motion-layout " + motion_layout + ": expected residual or float");
     }
     options.progress = !quiet;
     const int sources = (demo ? 1 : 0) + (plan_file.empty() ? 0 : 1) + (scene.empty() ? 0 : 1);

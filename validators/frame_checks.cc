@@ -9,6 +9,8 @@
 #include <unordered_map>
 
 #include "libs/collection/bundle_layout.h"
+#include "libs/collection/collection_reader.h"
+#include "libs/collection/motion_layout.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/exr_info.h"
@@ -186,19 +188,22 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
     Emit("layer.readable", FileLocation(file), std::string("cannot open: ") + e.what());
     return false;
   }
-  // A compact bundle yields derived channels it does not store; a residual
-  // worldposition yields X, Y, Z from its stored dX, dY, dZ.
-  info.channels = ReadableWorldPositionChannels(info);
+  // Compact and residual bundles yield channels they do not store; residual
+  // worldposition and motion yield X, Y[, Z] from their stored dX, dY[, dZ].
+  const bool residual =
+      layer.semantic == "motion" ? IsResidualMotion(info) : IsResidualWorldPosition(info);
+  info.channels = layer.semantic == "motion" ? ReadableMotionChannels(info)
+                                             : ReadableWorldPositionChannels(info);
   info.channels = ReadableChannels(info);
   bool ok = true;
-  if (layer.semantic == "worldposition" &&
-      (layer.position_layout == WorldPositionLayout::kResidual) != IsResidualWorldPosition(info)) {
+  if ((layer.semantic == "worldposition" || layer.semantic == "motion") &&
+      (layer.flat_layout == FlatLayout::kResidual) != residual) {
     // Readers follow the file, so the values are right; the table is wrong.
     Emit("layer.channels",
          FileLocation(file),
-         std::string("is stored in the ") + (IsResidualWorldPosition(info) ? "residual" : "float") +
+         std::string("is stored in the ") + (residual ? "residual" : "float") +
              " layout but layer '" + layer.name + "' declares layout '" +
-             WorldPositionLayoutName(layer.position_layout) + "'");
+             FlatLayoutName(layer.flat_layout) + "'");
   }
   if (info.deep != layer.deep) {
     Emit("layer.channels",
@@ -274,9 +279,10 @@ void FrameChecker::LoadLayers() {
       if (layer.deep) {
         if (layer.semantic != "bundle") continue;
         bundle_ = ReadBundleExr(path, channels);  // either bundle layout
-      } else if (layer.semantic == "worldposition") {
-        flat_[layer.semantic] = ReadWorldPositionExr(  // either layout
+      } else {
+        flat_[layer.semantic] = ReadFlatLayerFile(  // any layout
             path,
+            layer.semantic,
             channels,
             [&](const std::string& depth_layer) {
               // The depth this frame already decoded, else its file.
@@ -287,8 +293,6 @@ void FrameChecker::LoadLayers() {
               }
               return PredictionOfFrame(context_.root, header_, frame_, depth_layer);
             });
-      } else {
-        flat_[layer.semantic] = exr::ReadFlatExr(path, channels);
       }
       file_of_[layer.semantic] = it->second;
       ++outcome_.files_decoded;

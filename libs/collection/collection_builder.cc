@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include "libs/collection/json_io.h"
+#include "libs/collection/motion_layout.h"
 #include "libs/collection/rig.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/util/error.h"
@@ -28,21 +29,25 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
                   "'");
     files[layer.name] = layer.name + "/" + FrameFileStem(frame_index, rig_camera) + ".exr";
   }
-  // A residual worldposition layer predicts from the depth as stored and the
-  // camera as collection.json holds it (nlohmann writes doubles in their
-  // shortest round-trip form, so every reader parses these very bits).
+  // Residual worldposition and motion layers predict from the depth as stored
+  // and the camera as collection.json holds it (nlohmann writes doubles in
+  // their shortest round-trip form, so every reader parses these very bits).
   std::optional<WorldPositionPrediction> prediction;
   std::string depth_layer;
   for (const LayerInfo& layer : header.layers) {
-    if (layer.semantic != "worldposition" ||
-        layer.position_layout != WorldPositionLayout::kResidual)
+    if ((layer.semantic != "worldposition" && layer.semantic != "motion") ||
+        layer.flat_layout != FlatLayout::kResidual)
       continue;
     const LayerInfo* depth = header.FindLayerBySemantic("depth");
     if (depth == nullptr || depth->deep || images.flat->count("depth") == 0) {
       throw Error("frame " + std::to_string(frame_index) + ": layer '" + layer.name +
                   "' is residual but the collection has no flat depth layer to predict from");
     }
-    prediction = PredictionFromDepth(images.flat->at("depth"), *depth, camera);
+    if (layer.semantic == "motion" && !images.motion_reference) {
+      throw Error("frame " + std::to_string(frame_index) + ": layer '" + layer.name +
+                  "' is residual but the frame's previous camera is not known");
+    }
+    if (!prediction) prediction = PredictionFromDepth(images.flat->at("depth"), *depth, camera);
     depth_layer = depth->name;
   }
   // Layers are independent files: encode them in parallel.
@@ -64,10 +69,19 @@ std::map<std::string, std::string> WriteFrameLayers(const fs::path& root,
     } else if (layer.semantic == "worldposition") {
       WriteWorldPositionExr(path,
                             images.flat->at(layer.semantic),
-                            layer.position_layout,
+                            layer.flat_layout,
                             prediction ? &*prediction : nullptr,
                             depth_layer,
                             write);
+    } else if (layer.semantic == "motion") {
+      WriteMotionExr(
+          path,
+          images.flat->at(layer.semantic),
+          layer.flat_layout,
+          prediction ? &*prediction : nullptr,
+          images.motion_reference ? images.motion_reference->previous_camera : std::nullopt,
+          depth_layer,
+          write);
     } else {
       exr::WriteFlatExr(path, images.flat->at(layer.semantic), write);
     }

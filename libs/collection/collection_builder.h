@@ -24,6 +24,14 @@ struct FrameImages {
   // How the bundle was sampled: lets a compact bundle layer derive its sample
   // positions instead of storing them. Without it the full layout is written.
   std::optional<BundleSampling> bundle_sampling;
+  // What a residual motion layer predicts from besides the depth: the camera
+  // motion is measured against (the previous frame of the shot; none on a
+  // shot's first frame). Unset: not known, and a residual motion layer is an
+  // error.
+  struct MotionReference {
+    std::optional<CameraTruth> previous_camera;
+  };
+  std::optional<MotionReference> motion_reference;
 };
 
 // Writes every layer of `header` for frame `frame_index` under `root` (layer

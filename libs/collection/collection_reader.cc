@@ -6,6 +6,7 @@
 
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
+#include "libs/collection/motion_layout.h"
 #include "libs/collection/schema.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/util/error.h"
@@ -90,14 +91,10 @@ exr::FlatImage CollectionReader::ReadFlatLayer(const Frame& frame,
                                                const std::vector<std::string>& channels) const {
   const fs::path path = LayerPath(frame, layer);
   const LayerInfo* info = header_.FindLayer(layer);
-  exr::FlatImage image =
-      info != nullptr && info->semantic == "worldposition"
-          ? ReadWorldPositionExr(path,
-                                 channels,
-                                 [&](const std::string& depth_layer) {  // either layout
-                                   return PredictionOfFrame(root_, header_, frame, depth_layer);
-                                 })
-          : exr::ReadFlatExr(path, channels);
+  exr::FlatImage image = ReadFlatLayerFile(
+      path, info != nullptr ? info->semantic : "", channels, [&](const std::string& depth_layer) {
+        return PredictionOfFrame(root_, header_, frame, depth_layer);
+      });
   CheckLayerSize(frame, layer, path, image.width(), image.height());
   return image;
 }
@@ -145,6 +142,15 @@ void MetadataReader::ForEachFrame(const std::function<void(const MetadataFrame&)
     if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
     fn(MetadataFrameFromJson(json, file, pointer));
   });
+}
+
+exr::FlatImage ReadFlatLayerFile(const fs::path& path,
+                                 const std::string& semantic,
+                                 const std::vector<std::string>& channels,
+                                 const PredictionSource& prediction) {
+  if (semantic == "worldposition") return ReadWorldPositionExr(path, channels, prediction);
+  if (semantic == "motion") return ReadMotionExr(path, channels, prediction);
+  return exr::ReadFlatExr(path, channels);
 }
 
 }  // namespace lsds

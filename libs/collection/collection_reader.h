@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/collection/model.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/flat_image.h"
 
@@ -90,5 +91,14 @@ class MetadataReader {
   ReaderOptions options_;
   MetadataHeader header_;
 };
+
+// Reads one flat layer file of semantic `semantic` in whichever layout it is
+// stored: worldposition and motion float or residual (the prediction inputs
+// asked from `prediction` only for residual files), every other layer as
+// stored. The one dispatch of CollectionReader and the validator.
+exr::FlatImage ReadFlatLayerFile(const std::filesystem::path& path,
+                                 const std::string& semantic,
+                                 const std::vector<std::string>& channels,
+                                 const PredictionSource& prediction);
 
 }  // namespace lsds

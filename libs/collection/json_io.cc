@@ -100,8 +100,7 @@ json LayerToJson(const LayerInfo& layer) {
   if (layer.depth_kind) j["depth_kind"] = DepthKindName(*layer.depth_kind);
   if (!layer.description.empty()) j["description"] = layer.description;
   if (layer.layout != BundleLayout::kFull) j["layout"] = BundleLayoutName(layer.layout);
-  if (layer.position_layout != WorldPositionLayout::kFloat)
-    j["layout"] = WorldPositionLayoutName(layer.position_layout);
+  if (layer.flat_layout != FlatLayout::kFloat) j["layout"] = FlatLayoutName(layer.flat_layout);
   return j;
 }
 
@@ -125,12 +124,12 @@ LayerInfo LayerFromJson(const json& j) {
   exr::ParseCompression(j.value("compression", "zip"), &layer.compression);
   layer.required = j.at("required").get<bool>();
   layer.description = j.value("description", "");
-  // One key, two vocabularies: the bundle's full | compact, the worldposition's
-  // float | residual (the schema allows both).
+  // One key, two vocabularies: the bundle's full | compact | residual, the
+  // worldposition's and motion's float | residual (the schema allows all).
   if (j.contains("layout")) {
     const std::string layout = j.at("layout").get<std::string>();
-    if (layer.semantic == "worldposition") {
-      ParseWorldPositionLayout(layout, &layer.position_layout);
+    if (layer.semantic == "worldposition" || layer.semantic == "motion") {
+      ParseFlatLayout(layout, &layer.flat_layout);
     } else {
       ParseBundleLayout(layout, &layer.layout);
     }

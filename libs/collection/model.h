@@ -41,7 +41,7 @@ struct LayerChannel {
 
 // How a worldposition layer stores its values (format 1.1; the codec and the one
 // reader are in libs/collection/worldposition_layout.h).
-enum class WorldPositionLayout { kFloat, kResidual };
+enum class FlatLayout { kFloat, kResidual };
 
 // One entry of the layer table: a folder of one EXR per frame.
 struct LayerInfo {
@@ -60,7 +60,7 @@ struct LayerInfo {
   BundleLayout layout = BundleLayout::kFull;
   // Worldposition layers (format 1.1, the same `layout` key): float or
   // residual; readers yield the same X, Y, Z either way.
-  WorldPositionLayout position_layout = WorldPositionLayout::kFloat;
+  FlatLayout flat_layout = FlatLayout::kFloat;
   std::string description;
 
   const LayerChannel* FindChannel(const std::string& channel) const;

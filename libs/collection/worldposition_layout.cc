@@ -6,7 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "libs/collection/float_residual.h"
+#include "libs/collection/residual_layer.h"
 #include "libs/exr/exr_info.h"
 #include "libs/util/error.h"
 
@@ -17,28 +17,25 @@ using exr::PixelType;
 
 namespace {
 
-constexpr const char* kAxes[3] = {"X", "Y", "Z"};
-constexpr const char* kResiduals[3] = {"dX", "dY", "dZ"};
-
-// The stored channel of an axis ("X" -> "dX"), or empty for other names.
-std::string ResidualOf(const std::string& axis) {
-  for (int a = 0; a < 3; ++a) {
-    if (axis == kAxes[a]) return kResiduals[a];
-  }
-  return "";
+const ResidualLayerKind& Kind() {
+  static const ResidualLayerKind kind{"worldposition",
+                                      {"X", "Y", "Z"},
+                                      kWorldPositionLayoutAttribute,
+                                      kWorldPositionDepthAttribute};
+  return kind;
 }
 
 }  // namespace
 
-const char* WorldPositionLayoutName(WorldPositionLayout layout) {
-  return layout == WorldPositionLayout::kResidual ? "residual" : "float";
+const char* FlatLayoutName(FlatLayout layout) {
+  return layout == FlatLayout::kResidual ? "residual" : "float";
 }
 
-bool ParseWorldPositionLayout(const std::string& name, WorldPositionLayout* layout) {
+bool ParseFlatLayout(const std::string& name, FlatLayout* layout) {
   if (name == "float") {
-    *layout = WorldPositionLayout::kFloat;
+    *layout = FlatLayout::kFloat;
   } else if (name == "residual") {
-    *layout = WorldPositionLayout::kResidual;
+    *layout = FlatLayout::kResidual;
   } else {
     return false;
   }
@@ -81,11 +78,11 @@ exr::FlatImage PredictWorldPosition(const WorldPositionPrediction& input) {
 
 void WriteWorldPositionExr(const fs::path& path,
                            const exr::FlatImage& image,
-                           WorldPositionLayout layout,
+                           FlatLayout layout,
                            const WorldPositionPrediction* prediction,
                            const std::string& depth_layer,
                            const exr::WriteOptions& options) {
-  if (layout == WorldPositionLayout::kFloat) {
+  if (layout == FlatLayout::kFloat) {
     exr::WriteFlatExr(path, image, options);
     return;
   }
@@ -99,45 +96,13 @@ void WriteWorldPositionExr(const fs::path& path,
                     std::to_string(image.width()) + "x" + std::to_string(image.height()),
                 where);
   }
-  const exr::FlatImage predicted = PredictWorldPosition(*prediction);
-  exr::FlatImage out(image.width(), image.height());
-  for (int a = 0; a < 3; ++a) {
-    const exr::FlatChannel& truth = image.Get(kAxes[a]);
-    if (truth.floats.size() != image.pixel_count() || truth.type != PixelType::kFloat) {
-      throw Error(std::string("residual worldposition: channel ") + kAxes[a] + " is not FLOAT",
-                  where);
-    }
-    const std::vector<float>& guess = predicted.Get(kAxes[a]).floats;
-    std::vector<uint32_t>& residual = out.AddChannel(kResiduals[a], PixelType::kUint).uints;
-    for (size_t p = 0; p < residual.size(); ++p) {
-      residual[p] = FoldedDifference(FloatBits(truth.floats[p]), FloatBits(guess[p]));
-    }
-  }
-  exr::WriteOptions write = options;
-  write.attributes[kWorldPositionLayoutAttribute] = "residual";
-  write.attributes[kWorldPositionDepthAttribute] = depth_layer;
-  exr::WriteFlatExr(path, out, write);
+  WriteResidualLayer(path, image, PredictWorldPosition(*prediction), Kind(), depth_layer, options);
 }
 
-bool IsResidualWorldPosition(const exr::ExrInfo& info) {
-  const auto it = info.attributes.find(kWorldPositionLayoutAttribute);
-  return it != info.attributes.end() && it->second == "residual";
-}
+bool IsResidualWorldPosition(const exr::ExrInfo& info) { return IsResidualLayer(info, Kind()); }
 
 std::vector<exr::ChannelSpec> ReadableWorldPositionChannels(const exr::ExrInfo& info) {
-  if (!IsResidualWorldPosition(info)) return info.channels;
-  std::vector<exr::ChannelSpec> channels;
-  for (const exr::ChannelSpec& stored : info.channels) {
-    std::string axis;
-    for (int a = 0; a < 3; ++a) {
-      if (stored.name == kResiduals[a] && stored.type == PixelType::kUint) axis = kAxes[a];
-    }
-    channels.push_back(axis.empty() ? stored : exr::ChannelSpec{axis, PixelType::kFloat});
-  }
-  std::sort(channels.begin(), channels.end(), [](const auto& a, const auto& b) {
-    return a.name < b.name;
-  });
-  return channels;
+  return ReadableResidualLayerChannels(info, Kind());
 }
 
 exr::FlatImage ReadWorldPositionExr(const fs::path& path,
@@ -146,55 +111,13 @@ exr::FlatImage ReadWorldPositionExr(const fs::path& path,
                                     const exr::ReadLimits& limits) {
   const exr::ExrInfo info = exr::ReadExrInfo(path, limits);
   if (!IsResidualWorldPosition(info)) return exr::ReadFlatExr(path, channels, limits);
-  const Location where(path.string());
-  const std::vector<std::string> wanted =
-      channels.empty() ? std::vector<std::string>{"X", "Y", "Z"} : channels;
-  std::vector<std::string> stored;
-  for (const std::string& name : wanted) {
-    const std::string residual = ResidualOf(name);
-    if (residual.empty())
-      throw Error("residual worldposition has no channel '" + name + "'", where);
-    const exr::ChannelSpec* spec = info.Find(residual);
-    if (spec == nullptr) {
-      throw Error("residual worldposition has no channel '" + residual + "' (for " + name + ")",
-                  where);
-    }
-    if (spec->type != PixelType::kUint) {
-      throw Error("residual worldposition channel '" + residual + "' is " +
-                      exr::PixelTypeName(spec->type) + ", expected uint",
-                  where);
-    }
-    stored.push_back(residual);
+  ResidualPrediction predict;
+  if (prediction) {
+    predict = [&](const std::string& depth_layer) {
+      return PredictWorldPosition(prediction(depth_layer));
+    };
   }
-  const auto depth_attribute = info.attributes.find(kWorldPositionDepthAttribute);
-  if (depth_attribute == info.attributes.end() || depth_attribute->second.empty()) {
-    throw Error(std::string("residual worldposition has no header attribute '") +
-                    kWorldPositionDepthAttribute + "' naming its depth layer",
-                where);
-  }
-  if (!prediction) {
-    throw Error("residual worldposition: the reader has no depth and camera to predict from",
-                where);
-  }
-  const exr::FlatImage residuals = exr::ReadFlatExr(path, stored, limits);
-  const WorldPositionPrediction input = prediction(depth_attribute->second);
-  if (input.width != residuals.width() || input.height != residuals.height()) {
-    throw Error("residual worldposition is " + std::to_string(residuals.width()) + "x" +
-                    std::to_string(residuals.height()) + " but its depth layer '" +
-                    depth_attribute->second + "' is " + std::to_string(input.width) + "x" +
-                    std::to_string(input.height),
-                where);
-  }
-  const exr::FlatImage predicted = PredictWorldPosition(input);
-  exr::FlatImage out(residuals.width(), residuals.height());
-  for (const std::string& name : wanted) {
-    const std::vector<uint32_t>& d = residuals.Get(ResidualOf(name)).uints;
-    const std::vector<float>& guess = predicted.Get(name).floats;
-    std::vector<float>& value = out.AddChannel(name, PixelType::kFloat).floats;
-    for (size_t p = 0; p < value.size(); ++p)
-      value[p] = FloatFromBits(UnfoldedSum(FloatBits(guess[p]), d[p]));
-  }
-  return out;
+  return ReadResidualLayer(path, info, channels, Kind(), predict, limits);
 }
 
 WorldPositionPrediction PredictionOfFrame(const fs::path& root,
@@ -205,13 +128,13 @@ WorldPositionPrediction PredictionOfFrame(const fs::path& root,
   where.frame = frame.index;
   const LayerInfo* layer = header.FindLayer(depth_layer);
   if (layer == nullptr || layer->deep || layer->channels.empty()) {
-    throw Error("residual worldposition predicts from layer '" + depth_layer +
+    throw Error("a residual layer predicts from layer '" + depth_layer +
                     "', which is not a flat layer of the collection",
                 where);
   }
   const auto file = frame.files.find(depth_layer);
   if (file == frame.files.end()) {
-    throw Error("residual worldposition predicts from layer '" + depth_layer +
+    throw Error("a residual layer predicts from layer '" + depth_layer +
                     "', but the frame has no file for it",
                 where);
   }

@@ -23,8 +23,8 @@
 
 namespace lsds {
 
-const char* WorldPositionLayoutName(WorldPositionLayout layout);  // "float" | "residual"
-bool ParseWorldPositionLayout(const std::string& name, WorldPositionLayout* layout);
+const char* FlatLayoutName(FlatLayout layout);  // "float" | "residual"
+bool ParseFlatLayout(const std::string& name, FlatLayout* layout);
 
 // Header attributes of a residual file: the layout ("residual"; absent in float
 // files) and the name of the collection's depth layer the prediction reads.
@@ -61,7 +61,7 @@ using PredictionSource = std::function<WorldPositionPrediction(const std::string
 // `depth_layer`.
 void WriteWorldPositionExr(const std::filesystem::path& path,
                            const exr::FlatImage& image,
-                           WorldPositionLayout layout,
+                           FlatLayout layout,
                            const WorldPositionPrediction* prediction,
                            const std::string& depth_layer,
                            const exr::WriteOptions& options);

@@ -123,7 +123,8 @@ ImportResult ImportCollection(const std::string& format,
                                  count_unoccluded))
         frame.objects.push_back(std::move(*object));
     }
-    frame.files = WriteFrameLayers(root, header, k, frame.camera, {&source_frame.flat, nullptr});
+    frame.files = WriteFrameLayers(
+        root, header, k, frame.camera, {&source_frame.flat, nullptr, std::nullopt, std::nullopt});
     result.objects += static_cast<int64_t>(frame.objects.size());
     builder.Append(frame);
   }

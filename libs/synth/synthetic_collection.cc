@@ -340,12 +340,14 @@ void WriteCollection(const fs::path& root, const Spec& spec) {
     RenderedFrame rendered = RenderFrame(spec, k);
     // Centre sample first, then strata centres: jitter 0.
     const int spp = static_cast<int>(SamplePattern(spec.samples_per_axis).size());
-    rendered.truth.files = WriteFrameLayers(
-        root,
-        header,
-        k,
-        rendered.truth.camera,
-        {&rendered.flat, &rendered.bundle, BundleSampling{{spp, 0.0, 0}, k, std::nullopt}});
+    rendered.truth.files = WriteFrameLayers(root,
+                                            header,
+                                            k,
+                                            rendered.truth.camera,
+                                            {&rendered.flat,
+                                             &rendered.bundle,
+                                             BundleSampling{{spp, 0.0, 0}, k, std::nullopt},
+                                             std::nullopt});
     builder.Append(rendered.truth);
   }
   builder.Commit();

@@ -16,6 +16,7 @@
 #include "generator/plan/terrain_height.h"
 #include "generator/plan_source.h"
 #include "generator/scene/world.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/oriented_box.h"
 #include "tests/test_util.h"
@@ -197,6 +198,11 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
   const int width = frames[0]["camera"]["width"], height = frames[0]["camera"]["height"];
   // 0.5 m per frame at 29 m.
   const double shift_px = fx * 0.5 / 29.0;
+  // Motion through the collection reader: the generator stores it as residuals.
+  const CollectionReader reader(dir / "out");
+  std::vector<Frame> truth;
+  reader.ForEachFrame([&](const Frame& frame) { truth.push_back(frame); });
+  ASSERT_EQ(truth.size(), 4u);
   for (int k = 0; k < 4; ++k) {
     ASSERT_EQ(frames[k]["objects"].size(), 1u);
     const auto& car = frames[k]["objects"][0];
@@ -219,9 +225,7 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
     EXPECT_NEAR(car["bbox"][0].get<double>() - before["bbox"][0].get<double>(), shift_px, 1.0);
     // At the pixel under the top face's centre, the motion vector is the
     // projection difference: (shift, 0) pixels.
-    char stem[16];
-    std::snprintf(stem, sizeof(stem), "%06d.exr", k);
-    const exr::FlatImage motion = exr::ReadFlatExr(dir / "out" / "motion" / stem, {"X", "Y"});
+    const exr::FlatImage motion = reader.ReadFlatLayer(truth[k], "motion", {"X", "Y"});
     const int px =
         static_cast<int>(std::floor(cx + fx * car["obb"]["center"][0].get<double>() / 29.0));
     const int py = static_cast<int>(std::floor(cy));

@@ -84,7 +84,7 @@ TEST(WorldPositionLayout, ResidualReadsBackExactlyTheFloats) {
   truth.Get("Z").floats[7] = -std::numeric_limits<float>::infinity();
   truth.Get("Z").floats[8] = 3e38f;
   exr::WriteOptions zip;
-  WriteWorldPositionExr(dir / "r.exr", truth, WorldPositionLayout::kResidual, &input, "depth", zip);
+  WriteWorldPositionExr(dir / "r.exr", truth, FlatLayout::kResidual, &input, "depth", zip);
 
   const exr::ExrInfo info = exr::ReadExrInfo(dir / "r.exr");
   EXPECT_EQ(info.attributes.at(kWorldPositionLayoutAttribute), "residual");
@@ -116,7 +116,7 @@ TEST(WorldPositionLayout, ResidualReadsBackExactlyTheFloats) {
   EXPECT_EQ(Bits(z.Get("Z").floats[8]), Bits(3e38f));
 
   // The float layout writes the floats as they are, the reader passes them on.
-  WriteWorldPositionExr(dir / "f.exr", truth, WorldPositionLayout::kFloat, nullptr, "", zip);
+  WriteWorldPositionExr(dir / "f.exr", truth, FlatLayout::kFloat, nullptr, "", zip);
   EXPECT_EQ(exr::ReadExrInfo(dir / "f.exr").attributes.count(kWorldPositionLayoutAttribute), 0u);
   EXPECT_EQ(DifferingBits(ReadWorldPositionExr(dir / "f.exr", {}, nullptr), truth), 0u);
 }
@@ -167,12 +167,8 @@ TEST(WorldPositionLayout, CorruptResidualFilesAreErrorsNamingTheFile) {
   WorldPositionPrediction small = input;
   small.width = 8;
   small.depth.resize(8 * 12);
-  WriteWorldPositionExr(dir / "size.exr",
-                        PredictWorldPosition(input),
-                        WorldPositionLayout::kResidual,
-                        &input,
-                        "depth",
-                        {});
+  WriteWorldPositionExr(
+      dir / "size.exr", PredictWorldPosition(input), FlatLayout::kResidual, &input, "depth", {});
   ExpectErrorNaming(
       [&] {
         ReadWorldPositionExr(dir / "size.exr", {}, [&](const std::string&) { return small; });
@@ -225,10 +221,8 @@ void ExpectLayoutsAgree(const TempDir& dir, const std::string& source) {
   EXPECT_GT(FileBytes(f.string() + ".ply").size(), 1000u);
 
   const CollectionReader rf(f), rr(r);
-  EXPECT_EQ(rf.header().FindLayerBySemantic("worldposition")->position_layout,
-            WorldPositionLayout::kFloat);
-  EXPECT_EQ(rr.header().FindLayerBySemantic("worldposition")->position_layout,
-            WorldPositionLayout::kResidual);
+  EXPECT_EQ(rf.header().FindLayerBySemantic("worldposition")->flat_layout, FlatLayout::kFloat);
+  EXPECT_EQ(rr.header().FindLayerBySemantic("worldposition")->flat_layout, FlatLayout::kResidual);
   std::vector<Frame> frames;
   rf.ForEachFrame([&](const Frame& frame) { frames.push_back(frame); });
   std::vector<Frame> residual_frames;

@@ -62,6 +62,33 @@ double Perlin::Noise(double x, double y, double z) const {
            Lerp(u, Grad(P[AB + 1], x, y - 1, z - 1), Grad(P[BB + 1], x - 1, y - 1, z - 1))));
 }
 
+double Perlin::Noise(double x, double y) const {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const int X = static_cast<int>(static_cast<int64_t>(fx) & 255);
+  const int Y = static_cast<int>(static_cast<int64_t>(fy) & 255);
+  x -= fx;
+  y -= fy;
+  const double u = Fade(x), v = Fade(y);
+  const auto& P = permutation_;
+  const int A = P[X] + Y, AA = P[A], AB = P[A + 1];
+  const int B = P[X + 1] + Y, BA = P[B], BB = P[B + 1];
+  return Lerp(v,
+              Lerp(u, Grad(P[AA], x, y, 0.0), Grad(P[BA], x - 1, y, 0.0)),
+              Lerp(u, Grad(P[AB], x, y - 1, 0.0), Grad(P[BB], x - 1, y - 1, 0.0)));
+}
+
+double Perlin::Fbm(double x, double y, int octaves) const {
+  double sum = 0, amplitude = 1, norm = 0;
+  for (int i = 0; i < octaves; ++i) {
+    sum += amplitude * Noise(x, y);
+    norm += amplitude;
+    amplitude *= 0.5;
+    x *= 2;
+    y *= 2;
+  }
+  return norm > 0 ? sum / norm : 0;
+}
+
 double Perlin::Fbm(double x, double y, double z, int octaves) const {
   double sum = 0, amplitude = 1, norm = 0;
   for (int i = 0; i < octaves; ++i) {

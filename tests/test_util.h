@@ -54,4 +54,9 @@ inline CommandResult RunCommandLine(const std::string& command_line) {
 // The lsds binary of this build.
 inline std::string LsdsBinary() { return std::string(LSDS_BINARY_DIR) + "/tools/lsds"; }
 
+// Runs `lsds ARGS`, capturing its output.
+inline CommandResult RunLsds(const std::string& args) {
+  return RunCommandLine(LsdsBinary() + " " + args);
+}
+
 }  // namespace lsds::testing

@@ -4,7 +4,6 @@
 // collections generated in either layout validate and decode to the same
 // motion, and the residual files are a fraction of the floats.
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -14,9 +13,11 @@
 #include <gtest/gtest.h>
 
 #include "libs/collection/collection_reader.h"
+#include "libs/collection/float_residual.h"
 #include "libs/collection/motion_layout.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tests/test_util.h"
 
@@ -26,14 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 using exr::FlatImage;
 using exr::PixelType;
-using testing::RunCommandLine;
+using testing::RunLsds;
 using testing::TempDir;
-
-uint32_t Bits(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
 
 // How many values of channels X, Y differ in their bits (NaN, -0 included).
 size_t DifferingBits(const FlatImage& a, const FlatImage& b) {
@@ -43,7 +38,7 @@ size_t DifferingBits(const FlatImage& a, const FlatImage& b) {
     const std::vector<float>& vb = b.Get(axis).floats;
     EXPECT_EQ(va.size(), vb.size()) << axis;
     for (size_t i = 0; i < std::min(va.size(), vb.size()); ++i)
-      differ += Bits(va[i]) != Bits(vb[i]);
+      differ += FloatBits(va[i]) != FloatBits(vb[i]);
   }
   return differ;
 }
@@ -171,15 +166,6 @@ TEST(MotionLayout, BadPreviousCameraIsAnErrorNamingTheFileAndAttribute) {
 
 // --- End to end, the way a user meets it. ---
 
-testing::CommandResult Lsds(const std::string& args) {
-  return RunCommandLine(testing::LsdsBinary() + " " + args);
-}
-
-std::string FileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // Generates `source` with float and residual (the default) motion, same seed:
 // both validate with --fail-on warning, every decoded motion value is
 // bit-identical, export-layers writes the same .npy bytes, and the residual
@@ -187,21 +173,21 @@ std::string FileBytes(const fs::path& path) {
 void ExpectLayoutsAgree(const TempDir& dir, const std::string& source) {
   const fs::path f = dir / "float", r = dir / "residual";
   const std::string common = source + " --seed 4 --quiet -o ";
-  auto g = Lsds("generate --motion-layout float " + common + f.string());
+  auto g = RunLsds("generate --motion-layout float " + common + f.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
-  g = Lsds("generate " + common + r.string());
+  g = RunLsds("generate " + common + r.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   for (const fs::path& root : {f, r}) {
-    const auto v = Lsds("validate " + root.string() + " --fail-on warning");
+    const auto v = RunLsds("validate " + root.string() + " --fail-on warning");
     EXPECT_EQ(v.exit_code, 0) << root << "\n" << v.output;
     const auto e =
-        Lsds("export-layers " + root.string() + " --layers motion -o " + root.string() + "_npy");
+        RunLsds("export-layers " + root.string() + " --layers motion -o " + root.string() + "_npy");
     ASSERT_EQ(e.exit_code, 0) << e.output;
   }
   size_t exported = 0;
   for (const auto& entry : fs::directory_iterator(f.string() + "_npy/motion")) {
     const fs::path other = r.string() + "_npy/motion/" + entry.path().filename().string();
-    EXPECT_EQ(FileBytes(entry.path()), FileBytes(other)) << other;
+    EXPECT_EQ(ReadFile(entry.path()), ReadFile(other)) << other;
     ++exported;
   }
   EXPECT_GT(exported, 0u);
@@ -259,15 +245,15 @@ TEST(MotionLayout, GeneratedRigWithMoversLayoutsAgree) {
 TEST(MotionLayout, ValidateReportsAFloatFileDeclaredResidual) {
   TempDir dir;
   const fs::path root = dir / "c";
-  auto g = Lsds("generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --quiet -o " +
-                root.string());
+  auto g = RunLsds("generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --quiet -o " +
+                   root.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   const CollectionReader reader(root);
   std::vector<Frame> frames;
   reader.ForEachFrame([&](const Frame& frame) { frames.push_back(frame); });
   const FlatImage motion = reader.ReadFlatLayer(frames.at(1), "motion", {"X", "Y"});
   exr::WriteFlatExr(reader.LayerPath(frames.at(1), "motion"), motion);
-  const auto v = Lsds("validate " + root.string());
+  const auto v = RunLsds("validate " + root.string());
   EXPECT_EQ(v.exit_code, 1) << v.output;
   EXPECT_NE(v.output.find("stored in the float layout but layer 'motion' declares layout "
                           "'residual'"),

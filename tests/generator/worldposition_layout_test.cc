@@ -4,7 +4,6 @@
 // back-project to byte-identical clouds; a corrupt residual file is an error
 // naming the file.
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -14,9 +13,11 @@
 #include <gtest/gtest.h>
 
 #include "libs/collection/collection_reader.h"
+#include "libs/collection/float_residual.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tests/test_util.h"
 
@@ -26,14 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 using exr::FlatImage;
 using exr::PixelType;
-using testing::RunCommandLine;
+using testing::RunLsds;
 using testing::TempDir;
-
-uint32_t Bits(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
-}
 
 // How many values of channels X, Y, Z differ in their bits (NaN, -0 included).
 size_t DifferingBits(const FlatImage& a, const FlatImage& b) {
@@ -43,7 +38,7 @@ size_t DifferingBits(const FlatImage& a, const FlatImage& b) {
     const std::vector<float>& vb = b.Get(axis).floats;
     EXPECT_EQ(va.size(), vb.size()) << axis;
     for (size_t i = 0; i < std::min(va.size(), vb.size()); ++i)
-      differ += Bits(va[i]) != Bits(vb[i]);
+      differ += FloatBits(va[i]) != FloatBits(vb[i]);
   }
   return differ;
 }
@@ -113,7 +108,7 @@ TEST(WorldPositionLayout, ResidualReadsBackExactlyTheFloats) {
   const FlatImage z =
       ReadWorldPositionExr(dir / "r.exr", {"Z"}, [&](const std::string&) { return input; });
   ASSERT_EQ(z.channels().size(), 1u);
-  EXPECT_EQ(Bits(z.Get("Z").floats[8]), Bits(3e38f));
+  EXPECT_EQ(FloatBits(z.Get("Z").floats[8]), FloatBits(3e38f));
 
   // The float layout writes the floats as they are, the reader passes them on.
   WriteWorldPositionExr(dir / "f.exr", truth, FlatLayout::kFloat, nullptr, "", zip);
@@ -179,15 +174,6 @@ TEST(WorldPositionLayout, CorruptResidualFilesAreErrorsNamingTheFile) {
 
 // --- End to end, the way a user meets it. ---
 
-testing::CommandResult Lsds(const std::string& args) {
-  return RunCommandLine(testing::LsdsBinary() + " " + args);
-}
-
-std::string FileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // Generates `source` twice (float and residual layout, same seed) and checks:
 // the layer tables say which layout; every decoded worldposition value is
 // bit-identical; `lsds validate --fail-on warning` passes on both; backproject
@@ -195,30 +181,30 @@ std::string FileBytes(const fs::path& path) {
 void ExpectLayoutsAgree(const TempDir& dir, const std::string& source) {
   const fs::path f = dir / "float", r = dir / "residual";
   const std::string common = source + " --seed 4 --quiet -o ";
-  auto g = Lsds("generate --worldposition-layout float " + common + f.string());
+  auto g = RunLsds("generate --worldposition-layout float " + common + f.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
-  g = Lsds("generate " + common + r.string());  // residual: the default
+  g = RunLsds("generate " + common + r.string());  // residual: the default
   ASSERT_EQ(g.exit_code, 0) << g.output;
   for (const fs::path& root : {f, r}) {
-    const auto v = Lsds("validate " + root.string() + " --fail-on warning");
+    const auto v = RunLsds("validate " + root.string() + " --fail-on warning");
     EXPECT_EQ(v.exit_code, 0) << root << "\n" << v.output;
-    const auto b = Lsds("backproject " + root.string() + " --fuse -o " + root.string() + ".ply");
+    const auto b = RunLsds("backproject " + root.string() + " --fuse -o " + root.string() + ".ply");
     EXPECT_EQ(b.exit_code, 0) << b.output;
-    const auto c = Lsds("backproject " + root.string() + " --check");
+    const auto c = RunLsds("backproject " + root.string() + " --check");
     EXPECT_EQ(c.exit_code, 0) << c.output;
   }
-  EXPECT_EQ(FileBytes(f.string() + ".ply"), FileBytes(r.string() + ".ply"));
+  EXPECT_EQ(ReadFile(f.string() + ".ply"), ReadFile(r.string() + ".ply"));
   // export-layers decodes too: the same .npy bytes from both.
   for (const fs::path& root : {f, r}) {
-    const auto e = Lsds("export-layers " + root.string() + " --layers worldposition -o " +
-                        root.string() + "_npy");
+    const auto e = RunLsds("export-layers " + root.string() + " --layers worldposition -o " +
+                           root.string() + "_npy");
     ASSERT_EQ(e.exit_code, 0) << e.output;
   }
   for (const auto& entry : fs::directory_iterator(f.string() + "_npy/worldposition")) {
     const fs::path other = r.string() + "_npy/worldposition/" + entry.path().filename().string();
-    EXPECT_EQ(FileBytes(entry.path()), FileBytes(other)) << other;
+    EXPECT_EQ(ReadFile(entry.path()), ReadFile(other)) << other;
   }
-  EXPECT_GT(FileBytes(f.string() + ".ply").size(), 1000u);
+  EXPECT_GT(ReadFile(f.string() + ".ply").size(), 1000u);
 
   const CollectionReader rf(f), rr(r);
   EXPECT_EQ(rf.header().FindLayerBySemantic("worldposition")->flat_layout, FlatLayout::kFloat);
@@ -273,8 +259,8 @@ TEST(WorldPositionLayout, GeneratedObliqueRigPerspectiveLayoutsAgree) {
 TEST(WorldPositionLayout, ValidateLocatesACorruptResidualFile) {
   TempDir dir;
   const fs::path root = dir / "c";
-  auto g = Lsds("generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --quiet -o " +
-                root.string());
+  auto g = RunLsds("generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --quiet -o " +
+                   root.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   const CollectionReader reader(root);
   std::vector<Frame> frames;
@@ -291,11 +277,11 @@ TEST(WorldPositionLayout, ValidateLocatesACorruptResidualFile) {
   exr::WriteOptions options;
   options.attributes = info.attributes;
   exr::WriteFlatExr(path, broken, options);
-  auto v = Lsds("validate " + root.string());
+  auto v = RunLsds("validate " + root.string());
   EXPECT_EQ(v.exit_code, 1) << v.output;
   EXPECT_NE(v.output.find(file), std::string::npos) << v.output;
   EXPECT_NE(v.output.find("channel 'Z'"), std::string::npos) << v.output;
-  auto b = Lsds("backproject " + root.string() + " --check");
+  auto b = RunLsds("backproject " + root.string() + " --check");
   EXPECT_NE(b.exit_code, 0) << b.output;
   EXPECT_NE(b.output.find(file), std::string::npos) << b.output;
   EXPECT_NE(b.output.find("'dZ' is float, expected uint"), std::string::npos) << b.output;
@@ -305,7 +291,7 @@ TEST(WorldPositionLayout, ValidateLocatesACorruptResidualFile) {
   broken.AddChannel("dX", PixelType::kUint).uints = stored.Get("dX").uints;
   broken.AddChannel("dZ", PixelType::kUint).uints = stored.Get("dZ").uints;
   exr::WriteFlatExr(path, broken, options);
-  v = Lsds("validate " + root.string());
+  v = RunLsds("validate " + root.string());
   EXPECT_EQ(v.exit_code, 1) << v.output;
   EXPECT_NE(v.output.find(file), std::string::npos) << v.output;
   EXPECT_NE(v.output.find("no channel 'Y'"), std::string::npos) << v.output;
@@ -313,7 +299,7 @@ TEST(WorldPositionLayout, ValidateLocatesACorruptResidualFile) {
   // Float values where the table says residual: read right, reported.
   exr::WriteFlatExr(
       path, PredictWorldPosition(PredictionOfFrame(root, reader.header(), frames.at(1), "depth")));
-  v = Lsds("validate " + root.string());
+  v = RunLsds("validate " + root.string());
   EXPECT_EQ(v.exit_code, 1) << v.output;
   EXPECT_NE(v.output.find("stored in the float layout but layer 'worldposition' declares "
                           "layout 'residual'"),

@@ -1,6 +1,7 @@
 #include "generator/generate.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -377,6 +378,10 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   EmbreeDevice device;
   std::unique_ptr<RenderScene> scene, previous_scene;
   std::optional<Progress> progress;
+  // Two films take turns: one renders while the other is written, and each is
+  // reused (RenderFrame) instead of allocated per frame.
+  std::array<Film, 2> films;
+  size_t rendering = 0;
   tbb::task_group writer;
   std::mutex write_mutex;
   if (options.progress) progress.emplace("generate", static_cast<int64_t>(selected.size()));
@@ -415,14 +420,15 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
         }
       }
       const PlannedEnvironment environment = EnvironmentAt(plan, frame);
-      const Sky sky(plan, environment);  // LCAP may change it per frame
-      Film rendered = RenderFrame(*scene, sky, frame, previous, render);
+      const Sky sky(plan, environment);   // LCAP may change it per frame
+      Film& rendered = films[rendering];  // its last write ended (writer.wait below)
+      RenderFrame(*scene, sky, frame, previous, render, &rendered);
       // The camera's exposure: photometric radiance to the sensor's scale.
       const FrameExposure exposure = MeterExposure(plan.exposure, rendered);
       ApplyExposure(exposure, &rendered);
       // LCAP post-process materials: RGB only, after the truth is final.
       ApplyPostProcess(plan.post_process, plan.seed, frame, &rendered);
-      auto film = std::make_shared<const Film>(std::move(rendered));
+      const Film* film = &rendered;
       auto truth = std::make_shared<Frame>();
       truth->index = frame.index;
       truth->time = frame.time;
@@ -473,6 +479,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
         std::lock_guard<std::mutex> lock(write_mutex);
         summary.write_seconds += Seconds(w0);
       });
+      rendering = 1 - rendering;
       ++summary.frames_rendered;
       if (progress) progress->Add();
     }

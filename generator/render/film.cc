@@ -41,4 +41,17 @@ Film Film::Make(int width, int height, int spp, bool with_bundle) {
   return film;
 }
 
+void Film::Reshape(int width, int height, int spp, bool with_bundle, Film* film) {
+  const auto rgb = film->flat.find("rgb");
+  const bool same_flat =
+      rgb != film->flat.end() && rgb->second.width() == width && rgb->second.height() == height;
+  const uint64_t samples = static_cast<uint64_t>(width) * height * std::max(1, spp);
+  const bool same_bundle = with_bundle
+                               ? film->bundle.width() == width && film->bundle.height() == height &&
+                                     film->bundle.total_samples() == samples
+                               : film->bundle.pixel_count() == 0;
+  if (!same_flat || !same_bundle) *film = Make(width, height, spp, with_bundle);
+  film->rays = 0;
+}
+
 }  // namespace lsds::gen

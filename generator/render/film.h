@@ -26,6 +26,11 @@ struct Film {
   // Without `with_bundle` the bundle stays empty (0 x 0).
   static Film Make(int width, int height, int spp, bool with_bundle = true);
 
+  // Makes `film` such a film. When it already has this shape its buffers are
+  // kept, values included: for RenderFrame, which writes every value, a
+  // reused film costs no allocation and no page faults.
+  static void Reshape(int width, int height, int spp, bool with_bundle, Film* film);
+
   // The bytes one pixel of such a film takes: checked against the memory
   // budget (libs/util/limits.h) before a frame is rendered.
   static uint64_t BytesPerPixel(int spp, bool with_bundle = true);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
@@ -252,13 +253,25 @@ Film RenderFrame(const RenderScene& scene,
                  const PlannedFrame& frame,
                  const PreviousView& previous,
                  const RenderSettings& settings) {
+  Film film;
+  RenderFrame(scene, sky, frame, previous, settings, &film);
+  return film;
+}
+
+void RenderFrame(const RenderScene& scene,
+                 const Sky& sky,
+                 const PlannedFrame& frame,
+                 const PreviousView& previous,
+                 const RenderSettings& settings,
+                 Film* out) {
   CheckSamplerSettings(settings.sampler);
   const PinholeCamera& camera = frame.camera;
   if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0)) {
     throw Error("frame " + std::to_string(frame.index) + ": the camera has no valid intrinsics");
   }
   const int width = camera.width, height = camera.height, spp = settings.sampler.spp;
-  Film film = Film::Make(width, height, spp, settings.bundle);
+  Film::Reshape(width, height, spp, settings.bundle, out);
+  Film& film = *out;
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
   const Eigen::Vector3d centre = CameraCenterInWorld(frame.cam_from_world);
@@ -335,10 +348,12 @@ Film RenderFrame(const RenderScene& scene,
                 radiance = sky.Radiance(direction.normalized());
               } else {
                 const Surface& s = scene.surface(hit.geom);
+                // (Not value_or: the procedural albedo only where no map applies.)
+                const std::optional<Eigen::Vector3f> mapped =
+                    s.MappedAlbedo(hit.prim, hit.u, hit.v);
                 const Eigen::Vector3f albedo =
-                    s.MappedAlbedo(hit.prim, hit.u, hit.v)
-                        .value_or(
-                            Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>()));
+                    mapped ? *mapped
+                           : Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>());
                 const double cos_sun = hit.shading_normal.dot(sky.to_sun());
                 float lit = 0.f;
                 if (cos_sun > 0) {
@@ -430,7 +445,6 @@ Film RenderFrame(const RenderScene& scene,
         total_rays += rays;
       });
   film.rays = total_rays;
-  return film;
 }
 
 }  // namespace lsds::gen

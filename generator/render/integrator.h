@@ -44,4 +44,14 @@ Film RenderFrame(const RenderScene& scene,
                  const PreviousView& previous,
                  const RenderSettings& settings);
 
+// The same, into `film`: an earlier frame's film of the same size is reused
+// (Film::Reshape), so a run of frames allocates (and page-faults) its films
+// once. Every value of every channel is rewritten.
+void RenderFrame(const RenderScene& scene,
+                 const Sky& sky,
+                 const PlannedFrame& frame,
+                 const PreviousView& previous,
+                 const RenderSettings& settings,
+                 Film* film);
+
 }  // namespace lsds::gen

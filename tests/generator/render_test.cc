@@ -423,38 +423,93 @@ TEST(Render, BundleCentreSampleIsTheFlatLayerAndEdgesAreMixed) {
 // one, bit for bit: every flat layer and every bundle channel, on a demo frame
 // (hilly terrain, 60 objects, a previous frame for motion) with 4 samples (one
 // packet of 4) and 9 (a packet of 8 and a single ray).
-TEST(Render, PacketsGiveTheFilmsOfSingleRays) {
+// Every channel of `a` is `b`'s, bit for bit (NaN, no valid motion, included);
+// names the first that is not.
+::testing::AssertionResult SameFilms(const Film& a, const Film& b) {
+  auto same = [](const auto& x, const auto& y) {
+    return x.uints == y.uints && x.floats.size() == y.floats.size() &&
+           (x.floats.empty() ||  // memcmp may not be given null
+            std::memcmp(x.floats.data(), y.floats.data(), x.floats.size() * sizeof(float)) == 0);
+  };
+  if (a.rays != b.rays) return ::testing::AssertionFailure() << "rays " << a.rays << " " << b.rays;
+  for (const auto& [name, image] : a.flat)
+    for (const auto& c : image.channels())
+      if (!same(c, b.flat.at(name).Get(c.name)))
+        return ::testing::AssertionFailure() << name << "." << c.name;
+  if (a.bundle.sample_counts() != b.bundle.sample_counts())
+    return ::testing::AssertionFailure() << "bundle sample counts";
+  for (const auto& c : a.bundle.channels())
+    if (!same(c, b.bundle.Get(c.name))) return ::testing::AssertionFailure() << "bundle." << c.name;
+  return ::testing::AssertionSuccess();
+}
+
+struct DemoFrames {
+  Plan plan;
+  SceneAssets assets;
+  Sky sky;
+  WorldState before, world;
+  RenderScene previous_scene, scene;
+  PreviousView previous{&plan.frames[0], &before, &previous_scene};
+
+  static EmbreeDevice& Device() {
+    static EmbreeDevice device;
+    return device;
+  }
+  explicit DemoFrames(const Plan& p)
+      : plan(p),
+        assets(BuildSceneAssets(plan)),
+        sky(plan),
+        before(WorldAt(plan, plan.frames[0])),
+        world(WorldAt(plan, plan.frames[1])),
+        previous_scene(Device(), plan, assets, before),
+        scene(Device(), plan, assets, world) {}
+};
+
+Plan SmallDemo() {
   DemoOptions demo_options;
   demo_options.frames = 2;
   demo_options.width = 96;
   demo_options.height = 72;
-  const Plan plan = MakeDemoPlan(demo_options);
-  static EmbreeDevice device;
-  const SceneAssets assets = BuildSceneAssets(plan);
-  const Sky sky(plan);
-  const WorldState world = WorldAt(plan, plan.frames[1]), before = WorldAt(plan, plan.frames[0]);
-  const RenderScene scene(device, plan, assets, world);
-  const RenderScene previous_scene(device, plan, assets, before);
-  const PreviousView previous{&plan.frames[0], &before, &previous_scene};
+  return MakeDemoPlan(demo_options);
+}
+
+TEST(Render, PacketsGiveTheFilmsOfSingleRays) {
+  const DemoFrames demo(SmallDemo());
   for (int spp : {4, 9}) {
     RenderSettings settings;
-    settings.sampler = {spp, 1.0, plan.seed};
-    const Film packets = RenderFrame(scene, sky, plan.frames[1], previous, settings);
+    settings.sampler = {spp, 1.0, demo.plan.seed};
+    const Film packets =
+        RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
     settings.packets = false;
-    const Film single = RenderFrame(scene, sky, plan.frames[1], previous, settings);
-    EXPECT_EQ(packets.rays, single.rays);
-    auto same = [](const auto& a, const auto& b) {
-      return a.uints == b.uints && a.floats.size() == b.floats.size() &&
-             (a.floats.empty() ||
-              std::memcmp(a.floats.data(), b.floats.data(), a.floats.size() * sizeof(float)) == 0);
-    };
-    for (const auto& [name, image] : packets.flat)
-      for (const auto& c : image.channels())
-        EXPECT_TRUE(same(c, single.flat.at(name).Get(c.name)))
-            << spp << " " << name << "." << c.name;
-    for (const auto& c : packets.bundle.channels())
-      EXPECT_TRUE(same(c, single.bundle.Get(c.name))) << spp << " bundle." << c.name;
+    const Film single =
+        RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+    EXPECT_TRUE(SameFilms(packets, single)) << spp;
   }
+}
+
+// The generator renders each frame into the film of the frame before last:
+// nothing of that frame may show through.
+TEST(Render, AReusedFilmIsAFreshOne) {
+  const DemoFrames demo(SmallDemo());
+  RenderSettings settings;
+  settings.sampler = {4, 1.0, demo.plan.seed};
+  const Film fresh =
+      RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+  // The first frame (no motion, another view) leaves other values behind.
+  Film reused = RenderFrame(demo.previous_scene, demo.sky, demo.plan.frames[0], {}, settings);
+  ASSERT_FALSE(SameFilms(reused, fresh));
+  const float* rgb = reused.flat.at("rgb").Get("R").floats.data();
+  RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings, &reused);
+  EXPECT_EQ(reused.flat.at("rgb").Get("R").floats.data(), rgb);  // the same buffers
+  EXPECT_TRUE(SameFilms(reused, fresh));
+
+  // Another shape is a new film.
+  settings.sampler.spp = 9;
+  settings.bundle = false;
+  RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings, &reused);
+  EXPECT_EQ(reused.bundle.pixel_count(), 0u);
+  EXPECT_TRUE(SameFilms(
+      reused, RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings)));
 }
 
 TEST(Render, SameSeedGivesIdenticalFilmsAndThreadsDoNotMatter) {
@@ -466,20 +521,7 @@ TEST(Render, SameSeedGivesIdenticalFilmsAndThreadsDoNotMatter) {
   plan.frames[0].cam_from_world = LookAt({-20, -20, 15}, {0, 0, 0});
   const Film a = Render(plan, 0, 4).film;
   const Film b = Render(plan, 0, 4).film;
-  for (const auto& [name, image] : a.flat) {
-    for (const auto& c : image.channels()) {
-      // Bitwise, so that NaN (no valid motion) compares equal to itself.
-      const auto& other = b.flat.at(name).Get(c.name).floats;
-      ASSERT_EQ(c.floats.size(), other.size()) << name;
-      // (An id channel has no floats: memcmp may not be given null.)
-      if (!c.floats.empty()) {
-        EXPECT_EQ(std::memcmp(c.floats.data(), other.data(), c.floats.size() * sizeof(float)), 0)
-            << name;
-      }
-      EXPECT_EQ(c.uints, b.flat.at(name).Get(c.name).uints) << name;
-    }
-  }
-  EXPECT_EQ(a.bundle.Get("Z").floats, b.bundle.Get("Z").floats);
+  EXPECT_TRUE(SameFilms(a, b));
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "generator/lang/relations.h"
 #include "generator/lang/vocabulary.h"
 #include "generator/plan/terrain_height.h"
+#include "generator/scene/mesh_formats.h"
 #include "generator/scene/object_library.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/util/strings.h"
@@ -27,11 +28,6 @@ const std::map<std::string, Eigen::Vector3d>& BuiltinClasses() {
     return out;
   }();
   return classes;
-}
-
-bool IsMeshClass(const std::string& name) {
-  const std::string ext = std::filesystem::path(name).extension().string();
-  return ext == ".obj" || ext == ".ply" || ext == ".gltf" || ext == ".glb";
 }
 
 namespace {
@@ -154,7 +150,7 @@ class SceneEvaluator {
       if (k == "classes") {
         for (const auto& [name, node] : def.body.Members()) {
           const std::string target = ReadString(node);
-          if (!BuiltinClasses().count(gen::CanonicalClassName(target)) && !IsMeshClass(target))
+          if (!BuiltinClasses().count(gen::CanonicalClassName(target)) && !gen::IsMeshPath(target))
             node.Fail("class alias '" + name +
                       "' must name a built-in class or a mesh file, not '" + target + "'" +
                       DidYouMean(target, BuiltinNames()));
@@ -181,16 +177,15 @@ class SceneEvaluator {
     auto alias = aliases_.find(name);
     if (alias != aliases_.end()) return CanonicalBuiltin(alias->second);
     if (BuiltinClasses().count(CanonicalBuiltin(name))) return CanonicalBuiltin(name);
-    if (IsMeshClass(name)) {
+    if (gen::IsMeshPath(name)) {
       const std::filesystem::path dir = std::filesystem::path(scene_.src->path).parent_path();
       return (dir / name).lexically_normal().generic_string();
     }
     std::vector<std::string> names = BuiltinNames();
     for (const auto& [a, t] : aliases_) names.push_back(a);
     where.Fail("unknown class '" + name + "'" + DidYouMean(name, names) +
-               "; use a built-in class (" + Join(BuiltinNames(), ", ") +
-               "), a mesh file (.obj/.ply/.gltf/.glb) or declare it in a "
-               "classes{...} definition");
+               "; use a built-in class (" + Join(BuiltinNames(), ", ") + "), a mesh file (" +
+               Join(gen::MeshExtensions(), " ") + ") or declare it in a classes{...} definition");
   }
 
   // A built-in's other spelling (`rocks`) is the built-in (object_library.h).
@@ -533,8 +528,8 @@ class SceneEvaluator {
       } else {
         o.class_name = ResolveClass(cls, chosen);  // the asset drawn
         o.class_id = ClassIdOf(def.symbol, ClassNameOf(cls, chosen));
-        o.extent = IsMeshClass(o.class_name) ? MeshExtent(def, o.class_name, MetresPerUnit(def))
-                                             : BuiltinClasses().at(o.class_name);
+        o.extent = gen::IsMeshPath(o.class_name) ? MeshExtent(def, o.class_name, MetresPerUnit(def))
+                                                 : BuiltinClasses().at(o.class_name);
       }
       if (const Node n = FindKey(b, KindVocabulary("object"), "visible"))
         o.visible = SampleBool(n, rng_);
@@ -918,7 +913,7 @@ SceneClass ResolveSceneClass(const Program& scene, const Node& where, const std:
   if (const std::string canonical = gen::CanonicalClassName(option);
       BuiltinClasses().count(canonical))
     return {canonical, canonical};
-  if (IsMeshClass(option)) {
+  if (gen::IsMeshPath(option)) {
     const std::string path = (std::filesystem::path(scene.src->path).parent_path() / option)
                                  .lexically_normal()
                                  .generic_string();
@@ -927,9 +922,8 @@ SceneClass ResolveSceneClass(const Program& scene, const Node& where, const std:
   std::vector<std::string> names;
   for (const auto& [name, extent] : BuiltinClasses()) names.push_back(name);
   where.Fail("unknown class '" + option + "'" + DidYouMean(option, names) +
-             "; use a built-in class, a mesh file (.obj/.ply/.gltf/.glb, "
-             "relative to the scene file) or a classes{...} alias of the "
-             "scene");
+             "; use a built-in class, a mesh file (" + Join(gen::MeshExtensions(), " ") +
+             ", relative to the scene file) or a classes{...} alias of the scene");
 }
 
 void EvaluateScene(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan) {

@@ -42,7 +42,6 @@ const std::map<std::string, std::string>& CategoryKinds();
 // Built-in procedural classes the renderer supports and their default extents
 // (metres).
 const std::map<std::string, Eigen::Vector3d>& BuiltinClasses();
-bool IsMeshClass(const std::string& name);
 
 // LCAP targets: symbol -> label id ("O1:5"), 0 when listed without a label
 // ("O1").

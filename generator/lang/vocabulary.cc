@@ -246,7 +246,8 @@ std::vector<KindSpec> BuildVocabulary() {
                    .Doc("Class: a built-in (`cube sphere cylinder cone barrel tire jerrycan "
                         "watercan crate rock bush tree person car truck`, each also in its plural "
                         "or other spelling, below; sizes and shapes: docs/generator.md \"Built-in "
-                        "classes\"), a mesh file (`.obj .ply .gltf .glb`, relative to the scene "
+                        "classes\"), a mesh file (`.obj .ply .gltf .glb .fbx .stl .dae .3ds .off`, "
+                        "any case, relative to the scene "
                         "file), a `classes` alias, or assets of the scene's asset library by name, "
                         "tags or pattern (\"Asset library\"); or a choice of them")
                    .Example("`class:{bush:0.2,rocks:0.8}`, `class:{tags:[desert,rock]}`, "

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "generator/scene/mesh_formats.h"
 #include "libs/util/error.h"
 
 namespace lsds::gen {
@@ -73,9 +74,8 @@ LibraryAsset ReadEntry(const nlohmann::json& e,
     if (up != "y" && up != "z")
       throw Error("up must be y or z, not '" + up + "'", Location(manifest, pointer + "/up"));
     a.y_up = up == "y";
-  } else {  // glTF is y-up by its specification; other formats default to z-up
-    const std::string ext = fs::path(a.path).extension().string();
-    a.y_up = ext == ".gltf" || ext == ".glb";
+  } else {
+    a.y_up = IsYUpByFormat(a.path);
   }
   return a;
 }

@@ -12,6 +12,7 @@
 
 #include "generator/scene/asset_library.h"
 #include "generator/scene/builtin_meshes.h"
+#include "generator/scene/mesh_formats.h"
 #include "generator/scene/perlin.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -178,15 +179,6 @@ std::string CanonicalClassName(const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end() ? name : std::string();
 }
 
-bool IsMeshPath(const std::string& class_name) {
-  std::string ext = std::filesystem::path(class_name).extension().string();
-  std::transform(
-      ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  static const std::vector<std::string> known = {
-      ".obj", ".ply", ".gltf", ".glb", ".fbx", ".stl", ".dae", ".3ds", ".off"};
-  return std::find(known.begin(), known.end(), ext) != known.end();
-}
-
 TriangleMesh LoadMeshFileNative(const std::string& path, const std::string& where) {
   if (!std::filesystem::is_regular_file(path)) {
     throw Error(where + ": mesh file not found", Location(path));
@@ -199,14 +191,10 @@ TriangleMesh LoadMeshFileNative(const std::string& path, const std::string& wher
   if (scene == nullptr) {
     throw Error(where + ": cannot read mesh: " + importer.GetErrorString(), Location(path));
   }
-  // glTF is y-up by its specification; the world is z-up: (x, y, z) ->
-  // (x, -z, y). Other formats carry no axis convention and are taken as z-up,
-  // unless an asset library's manifest lists the file with its own up axis.
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(
-      ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  // A y-up file turns into the z-up world: (x, y, z) -> (x, -z, y). An asset
+  // library's manifest may give a file its own up axis.
   const std::optional<LibraryAsset> listed = LibraryAssetOf(path);
-  const bool y_up = listed ? listed->y_up : ext == ".gltf" || ext == ".glb";
+  const bool y_up = listed ? listed->y_up : IsYUpByFormat(path);
   TriangleMesh mesh;
   // The base-colour map of each assimp material (-1: none), read once.
   std::vector<int> material_map(scene->mNumMaterials, -1);

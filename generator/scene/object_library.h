@@ -37,7 +37,6 @@ const std::vector<std::string>& BuiltinClassNames();  // canonical names, table 
 const std::map<std::string, std::string>& ClassNameAliases();
 // The canonical built-in class `name` spells, or "" when it names none.
 std::string CanonicalClassName(const std::string& name);
-bool IsMeshPath(const std::string& class_name);  // ends in a mesh file extension assimp reads
 
 // The shape of `class_name`; `seed` varies the random classes (rock, bush,
 // tree, person).

@@ -8,6 +8,7 @@
 
 #include "generator/render/sky.h"
 #include "generator/scene/materials.h"
+#include "generator/scene/mesh_formats.h"
 #include "generator/scene/object_library.h"
 #include "generator/scene/perlin.h"
 #include "generator/scene/terrain.h"

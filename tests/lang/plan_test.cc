@@ -561,6 +561,68 @@ TEST(LangGate, AMeshKeepsItsNativeSize) {
   EXPECT_TRUE(world.objects[0].Box().half_extents.isApprox(Eigen::Vector3d(2, 1, 0.75)));
 }
 
+// Every format the mesh loader reads is a class, whatever the extension's
+// case: the same 4 x 2 x 1.5 m box as an upper-case OBJ and as an ASCII STL.
+TEST(LangGate, EveryMeshFormatTheLoaderReadsIsAClass) {
+  testing::TempDir dir;
+  std::vector<Eigen::Vector3d> corners;
+  for (int k = 0; k < 8; ++k) corners.emplace_back(k & 1 ? 2 : -2, k & 2 ? 1 : -1, k & 4 ? 1.5 : 0);
+  const int faces[12][3] = {{1, 2, 4},
+                            {1, 4, 3},
+                            {5, 7, 8},
+                            {5, 8, 6},
+                            {1, 5, 6},
+                            {1, 6, 2},
+                            {3, 4, 8},
+                            {3, 8, 7},
+                            {1, 3, 7},
+                            {1, 7, 5},
+                            {2, 6, 8},
+                            {2, 8, 4}};
+  std::ofstream obj(dir / "Crate.OBJ"), stl(dir / "crate.stl");
+  for (const Eigen::Vector3d& c : corners)
+    obj << "v " << c.x() << " " << c.y() << " " << c.z() << "\n";
+  stl << "solid crate\n";
+  for (const auto& f : faces) {
+    obj << "f " << f[0] << " " << f[1] << " " << f[2] << "\n";
+    stl << "facet normal 0 0 0\nouter loop\n";
+    for (int v : f) {
+      const Eigen::Vector3d& c = corners[v - 1];
+      stl << "vertex " << c.x() << " " << c.y() << " " << c.z() << "\n";
+    }
+    stl << "endloop\nendfacet\n";
+  }
+  stl << "endsolid crate\n";
+  obj.close();
+  stl.close();
+  for (const char* name : {"Crate.OBJ", "crate.stl"}) {
+    const std::string path = (dir / name).string();
+    const Plan plan = PlanText(
+        "LSCENE = ONE(W) ONE(C)\nW = terrain{size:[60,60]}\n"
+        "C = object{class:\"" +
+            path + "\",position:{ON:W}}\n",
+        "",
+        1);
+    ASSERT_EQ(plan.objects.size(), 1u) << name;
+    EXPECT_EQ(plan.objects[0].class_name, path) << name;
+    EXPECT_TRUE(plan.objects[0].extent.isApprox(Eigen::Vector3d(4, 2, 1.5)))
+        << name << ": " << plan.objects[0].extent.transpose();
+  }
+  // Not a mesh: the message lists every format.
+  try {
+    PlanText(
+        "LSCENE = ONE(W) ONE(C)\nW = terrain{size:[60,60]}\n"
+        "C = object{class:\"crate.txt\",position:{ON:W}}\n",
+        "",
+        1);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(".obj .ply .gltf .glb .fbx .stl .dae .3ds .off"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // Every key this wave added to LCAP and LSCENE, in the text notation and in
 // the JSON form `--emit-json` prints: the plans are identical.
 TEST(LangGate, TheKeysOfLcapOverTimePlanTheSameInTextAndJson) {

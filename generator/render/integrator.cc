@@ -42,15 +42,20 @@ struct EmbreeHit {
 // the samples of a pixel are the most coherent rays there are. Each lane is
 // the same float ray rtcIntersect1 would get.
 constexpr int kPacket = 8;
-void TracePacket(RTCScene rtc_scene,
-                 const Eigen::Vector3d& origin,
-                 const Eigen::Vector3d* directions,
-                 int count,
-                 RTCIntersectContext* context,
-                 EmbreeHit* out) {
-  alignas(32) RTCRayHit8 rh;
-  alignas(32) int valid[kPacket];
-  for (int i = 0; i < kPacket; ++i) {
+
+// One packet of N lanes (RTCRayHit4 with rtcIntersect4, RTCRayHit8 with
+// rtcIntersect8); lanes past `count` are invalid.
+template <int N, class RayHitN, class Intersect>
+void TraceLanes(RTCScene rtc_scene,
+                const Eigen::Vector3d& origin,
+                const Eigen::Vector3d* directions,
+                int count,
+                RTCIntersectContext* context,
+                Intersect intersect,
+                EmbreeHit* out) {
+  alignas(32) RayHitN rh;
+  alignas(32) int valid[N];
+  for (int i = 0; i < N; ++i) {
     valid[i] = i < count ? -1 : 0;
     const Eigen::Vector3d& d = directions[i < count ? i : 0];
     rh.ray.org_x[i] = static_cast<float>(origin.x());
@@ -68,35 +73,22 @@ void TracePacket(RTCScene rtc_scene,
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
   }
-  if (count <= 4) {
-    // The first four lanes of an RTCRayHit8 are not an RTCRayHit4: copy.
-    alignas(16) RTCRayHit4 rh4;
-    alignas(16) int valid4[4];
-    for (int i = 0; i < 4; ++i) {
-      valid4[i] = valid[i];
-      rh4.ray.org_x[i] = rh.ray.org_x[i];
-      rh4.ray.org_y[i] = rh.ray.org_y[i];
-      rh4.ray.org_z[i] = rh.ray.org_z[i];
-      rh4.ray.dir_x[i] = rh.ray.dir_x[i];
-      rh4.ray.dir_y[i] = rh.ray.dir_y[i];
-      rh4.ray.dir_z[i] = rh.ray.dir_z[i];
-      rh4.ray.tnear[i] = 0.f;
-      rh4.ray.tfar[i] = kInf;
-      rh4.ray.mask[i] = 0xffffffffu;
-      rh4.ray.flags[i] = 0;
-      rh4.ray.time[i] = 0.f;
-      rh4.ray.id[i] = 0;
-      rh4.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-      rh4.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    }
-    rtcIntersect4(valid4, rtc_scene, context, &rh4);
-    for (int i = 0; i < count; ++i)
-      out[i] = {rh4.hit.geomID[i], rh4.hit.primID[i], rh4.hit.u[i], rh4.hit.v[i], rh4.ray.tfar[i]};
-    return;
-  }
-  rtcIntersect8(valid, rtc_scene, context, &rh);
+  intersect(valid, rtc_scene, context, &rh);
   for (int i = 0; i < count; ++i)
     out[i] = {rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], rh.ray.tfar[i]};
+}
+
+void TracePacket(RTCScene rtc_scene,
+                 const Eigen::Vector3d& origin,
+                 const Eigen::Vector3d* directions,
+                 int count,
+                 RTCIntersectContext* context,
+                 EmbreeHit* out) {
+  if (count <= 4) {
+    TraceLanes<4, RTCRayHit4>(rtc_scene, origin, directions, count, context, rtcIntersect4, out);
+  } else {
+    TraceLanes<8, RTCRayHit8>(rtc_scene, origin, directions, count, context, rtcIntersect8, out);
+  }
 }
 
 EmbreeHit TraceOne(RTCScene rtc_scene,

@@ -11,6 +11,7 @@
 //   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
 //                  [--layouts full/float,compact/float,compact/residual,residual/residual/residual]
 //                  [--blender PATH|none]
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -35,6 +36,7 @@
 #include "generator/render/embree_scene.h"
 #include "generator/render/exposure.h"
 #include "generator/render/integrator.h"
+#include "generator/render/ray_casts.h"
 #include "generator/render/sky.h"
 #include "generator/scene/materials.h"
 #include "libs/collection/collection_builder.h"
@@ -107,7 +109,8 @@ PeerRun RunCycles(
 }
 
 // The floor's ray casts: per pixel the same spp camera rays and, for hits
-// facing the sun, one shadow ray.
+// facing the sun, one shadow ray, cast as the renderer casts them (a packet
+// of camera rays and a packet of shadow rays per pixel, ray_casts.h).
 uint64_t CastRaysOnly(const RenderScene& scene,
                       const Sky& sky,
                       const PlannedFrame& frame,
@@ -115,47 +118,60 @@ uint64_t CastRaysOnly(const RenderScene& scene,
   const PinholeCamera& camera = frame.camera;
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
-  const Eigen::Vector3f origin = CameraCenterInWorld(frame.cam_from_world).cast<float>();
-  const Eigen::Vector3f to_sun = sky.to_sun().cast<float>();
+  const Eigen::Vector3d origin = CameraCenterInWorld(frame.cam_from_world);
+  const int spp = sampler.spp;
   std::atomic<uint64_t> total{0};
-  tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, camera.height, 16, 0, camera.width, 16),
-      [&](const tbb::blocked_range2d<int>& r) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        std::vector<Eigen::Vector2d> samples(sampler.spp);
-        uint64_t rays = 0;
-        for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
-          for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
-            PixelSamples(sampler, frame.index, x, y, samples.data());
-            for (const Eigen::Vector2d& s : samples) {
-              const Eigen::Vector3f d = (world_from_cam * camera.CamFromImage(s)).cast<float>();
-              RTCRayHit rh;
-              rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
-              rh.ray.dir_x = d.x(), rh.ray.dir_y = d.y(), rh.ray.dir_z = d.z();
-              rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity();
-              rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0;
-              rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-              rtcIntersect1(scene.scene(), &context, &rh);
-              ++rays;
-              if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-              Eigen::Vector3f n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-              n.normalize();
-              if (n.dot(d) > 0) n = -n;
-              if (n.dot(to_sun) <= 0) continue;
-              const Eigen::Vector3f p = origin + rh.ray.tfar * d + 1e-3f * n;
-              RTCRay ray;
-              ray.org_x = p.x(), ray.org_y = p.y(), ray.org_z = p.z();
-              ray.dir_x = to_sun.x(), ray.dir_y = to_sun.y(), ray.dir_z = to_sun.z();
-              ray.tnear = 0, ray.tfar = std::numeric_limits<float>::infinity();
-              ray.mask = ~0u, ray.flags = 0, ray.time = 0;
-              rtcOccluded1(scene.scene(), &context, &ray);
-              ++rays;
-            }
-          }
-        }
-        total += rays;
-      });
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, camera.height, 16, 0, camera.width, 16),
+                    [&](const tbb::blocked_range2d<int>& r) {
+                      RTCIntersectContext context;
+                      rtcInitIntersectContext(&context);
+                      std::vector<Eigen::Vector2d> samples(spp);
+                      std::vector<Eigen::Vector3d> directions(spp), shadow_origins(spp);
+                      std::vector<EmbreeHit> hits(spp);
+                      std::vector<uint8_t> facing_sun(spp), occluded(spp);
+                      uint64_t rays = 0;
+                      for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
+                        for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
+                          PixelSamples(sampler, frame.index, x, y, samples.data());
+                          for (int k = 0; k < spp; ++k)
+                            directions[k] = world_from_cam * camera.CamFromImage(samples[k]);
+                          for (int k = 0; k < spp; k += kPacket)
+                            TracePacket(scene.scene(),
+                                        origin,
+                                        &directions[k],
+                                        std::min(kPacket, spp - k),
+                                        &context,
+                                        &hits[k]);
+                          rays += spp;
+                          for (int k = 0; k < spp; ++k) {
+                            facing_sun[k] = 0;
+                            if (hits[k].geom == RTC_INVALID_GEOMETRY_ID) continue;
+                            // The triangle's normal, without the renderer's exact hit.
+                            const Surface& s = scene.surface(hits[k].geom);
+                            const Eigen::Vector3i& tri = s.triangles[hits[k].prim];
+                            Eigen::Vector3d n =
+                                (s.positions[tri[1]] - s.positions[tri[0]])
+                                    .cross(s.positions[tri[2]] - s.positions[tri[0]])
+                                    .cast<double>()
+                                    .normalized();
+                            if (n.dot(directions[k]) > 0) n = -n;
+                            if (n.dot(sky.to_sun()) <= 0) continue;
+                            facing_sun[k] = 1;
+                            shadow_origins[k] = origin + hits[k].tfar * directions[k] + 1e-3 * n;
+                            ++rays;
+                          }
+                          for (int k = 0; k < spp; k += kPacket)
+                            OccludedPacket(scene.scene(),
+                                           &shadow_origins[k],
+                                           sky.to_sun(),
+                                           &facing_sun[k],
+                                           std::min(kPacket, spp - k),
+                                           &context,
+                                           &occluded[k]);
+                        }
+                      }
+                      total += rays;
+                    });
   return total;
 }
 

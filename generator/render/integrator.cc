@@ -9,6 +9,7 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
+#include "generator/render/ray_casts.h"
 #include "generator/render/shading.h"
 #include "generator/scene/world_ground.h"
 #include "libs/util/error.h"
@@ -30,88 +31,6 @@ struct Hit {
   unsigned prim = 0;  // Embree's triangle and barycentrics: texture lookups
   float u = 0, v = 0;
 };
-
-// What Embree reports for one ray: the closest triangle and where on it.
-struct EmbreeHit {
-  unsigned geom = RTC_INVALID_GEOMETRY_ID;
-  unsigned prim = 0;
-  float u = 0, v = 0, tfar = kInf;
-};
-
-// Up to kPacket camera rays of one pixel traced together (rtcIntersect4/8):
-// the samples of a pixel are the most coherent rays there are. Each lane is
-// the same float ray rtcIntersect1 would get.
-constexpr int kPacket = 8;
-
-// One packet of N lanes (RTCRayHit4 with rtcIntersect4, RTCRayHit8 with
-// rtcIntersect8); lanes past `count` are invalid.
-template <int N, class RayHitN, class Intersect>
-void TraceLanes(RTCScene rtc_scene,
-                const Eigen::Vector3d& origin,
-                const Eigen::Vector3d* directions,
-                int count,
-                RTCIntersectContext* context,
-                Intersect intersect,
-                EmbreeHit* out) {
-  alignas(32) RayHitN rh;
-  alignas(32) int valid[N];
-  for (int i = 0; i < N; ++i) {
-    valid[i] = i < count ? -1 : 0;
-    const Eigen::Vector3d& d = directions[i < count ? i : 0];
-    rh.ray.org_x[i] = static_cast<float>(origin.x());
-    rh.ray.org_y[i] = static_cast<float>(origin.y());
-    rh.ray.org_z[i] = static_cast<float>(origin.z());
-    rh.ray.dir_x[i] = static_cast<float>(d.x());
-    rh.ray.dir_y[i] = static_cast<float>(d.y());
-    rh.ray.dir_z[i] = static_cast<float>(d.z());
-    rh.ray.tnear[i] = 0.f;
-    rh.ray.tfar[i] = kInf;
-    rh.ray.mask[i] = 0xffffffffu;
-    rh.ray.flags[i] = 0;
-    rh.ray.time[i] = 0.f;
-    rh.ray.id[i] = 0;
-    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-  }
-  intersect(valid, rtc_scene, context, &rh);
-  for (int i = 0; i < count; ++i)
-    out[i] = {rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], rh.ray.tfar[i]};
-}
-
-void TracePacket(RTCScene rtc_scene,
-                 const Eigen::Vector3d& origin,
-                 const Eigen::Vector3d* directions,
-                 int count,
-                 RTCIntersectContext* context,
-                 EmbreeHit* out) {
-  if (count <= 4) {
-    TraceLanes<4, RTCRayHit4>(rtc_scene, origin, directions, count, context, rtcIntersect4, out);
-  } else {
-    TraceLanes<8, RTCRayHit8>(rtc_scene, origin, directions, count, context, rtcIntersect8, out);
-  }
-}
-
-EmbreeHit TraceOne(RTCScene rtc_scene,
-                   const Eigen::Vector3d& origin,
-                   const Eigen::Vector3d& direction,
-                   RTCIntersectContext* context) {
-  RTCRayHit rh;
-  rh.ray.org_x = static_cast<float>(origin.x());
-  rh.ray.org_y = static_cast<float>(origin.y());
-  rh.ray.org_z = static_cast<float>(origin.z());
-  rh.ray.dir_x = static_cast<float>(direction.x());
-  rh.ray.dir_y = static_cast<float>(direction.y());
-  rh.ray.dir_z = static_cast<float>(direction.z());
-  rh.ray.tnear = 0.f;
-  rh.ray.tfar = kInf;
-  rh.ray.mask = 0xffffffffu;
-  rh.ray.flags = 0;
-  rh.ray.time = 0.f;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(rtc_scene, context, &rh);
-  return {rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar};
-}
 
 // The ray's exact hit: Embree finds the triangle, the plane of its (float)
 // vertices gives t in double, so a flat terrain at z = 0 yields z == 0 and
@@ -162,26 +81,6 @@ Hit Resolve(const RenderScene& scene,
     if (len > 0) hit.shading_normal = (smooth.dot(n) < 0 ? -smooth : smooth) / len;
   }
   return hit;
-}
-
-bool Occluded(RTCScene scene,
-              const Eigen::Vector3d& origin,
-              const Eigen::Vector3d& direction,
-              RTCIntersectContext* context) {
-  RTCRay ray;
-  ray.org_x = static_cast<float>(origin.x());
-  ray.org_y = static_cast<float>(origin.y());
-  ray.org_z = static_cast<float>(origin.z());
-  ray.dir_x = static_cast<float>(direction.x());
-  ray.dir_y = static_cast<float>(direction.y());
-  ray.dir_z = static_cast<float>(direction.z());
-  ray.tnear = 0.f;
-  ray.tfar = kInf;
-  ray.mask = 0xffffffffu;
-  ray.flags = 0;
-  ray.time = 0.f;
-  rtcOccluded1(scene, context, &ray);
-  return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
 float Luminance(const Eigen::Vector3f& c) {
@@ -305,6 +204,10 @@ void RenderFrame(const RenderScene& scene,
         std::vector<Eigen::Vector2d> samples(spp);
         std::vector<Eigen::Vector3d> rays_in_cam(spp), directions(spp);
         std::vector<EmbreeHit> embree_hits(spp);
+        std::vector<Hit> hits(spp);
+        std::vector<double> cos_suns(spp);
+        std::vector<Eigen::Vector3d> shadow_origins(spp);
+        std::vector<uint8_t> facing_sun(spp), occluded(spp);
         uint64_t rays = 0;
         for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
           for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
@@ -325,11 +228,38 @@ void RenderFrame(const RenderScene& scene,
               }
             }
             rays += spp;
+            // The shadow rays of the samples that face the sun, again a pixel
+            // at a time.
+            for (int k = 0; k < spp; ++k) {
+              hits[k] = Resolve(scene, embree_hits[k], centre, directions[k]);
+              const Hit& hit = hits[k];
+              cos_suns[k] = hit.hit ? hit.shading_normal.dot(sky.to_sun()) : 0;
+              facing_sun[k] = cos_suns[k] > 0;
+              if (!facing_sun[k]) continue;
+              shadow_origins[k] = hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
+              ++rays;
+            }
+            for (int k = 0; k < spp; k += kPacket) {
+              const int count = std::min(kPacket, spp - k);
+              if (settings.packets) {
+                OccludedPacket(scene.scene(),
+                               &shadow_origins[k],
+                               sky.to_sun(),
+                               &facing_sun[k],
+                               count,
+                               &context,
+                               &occluded[k]);
+              } else {
+                for (int i = k; i < k + count; ++i)
+                  occluded[i] = facing_sun[i] &&
+                                Occluded(scene.scene(), shadow_origins[i], sky.to_sun(), &context);
+              }
+            }
             Eigen::Vector3f sum = Eigen::Vector3f::Zero();
             for (int k = 0; k < spp; ++k) {
               const Eigen::Vector3d& ray_in_cam = rays_in_cam[k];
               const Eigen::Vector3d& direction = directions[k];
-              const Hit hit = Resolve(scene, embree_hits[k], centre, direction);
+              const Hit& hit = hits[k];
               Eigen::Vector3f radiance;
               float shadow_ratio = 1.f;
               const size_t b = static_cast<size_t>(pixel) * spp + k;
@@ -346,16 +276,10 @@ void RenderFrame(const RenderScene& scene,
                 const Eigen::Vector3f albedo =
                     mapped ? *mapped
                            : Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>());
-                const double cos_sun = hit.shading_normal.dot(sky.to_sun());
-                float lit = 0.f;
-                if (cos_sun > 0) {
-                  const Eigen::Vector3d origin =
-                      hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
-                  lit = Occluded(scene.scene(), origin, sky.to_sun(), &context)
-                            ? 0.f
-                            : static_cast<float>(sky.CloudTransmittance(hit.point));
-                  ++rays;
-                }
+                const double cos_sun = cos_suns[k];
+                const float lit = !facing_sun[k] || occluded[k]
+                                      ? 0.f
+                                      : static_cast<float>(sky.CloudTransmittance(hit.point));
                 const Eigen::Vector3f direct =
                     sky.sun_irradiance() * static_cast<float>(std::max(0.0, cos_sun));
                 const Eigen::Vector3f unshadowed = sky.ambient() + direct;

@@ -23,8 +23,9 @@ struct RenderSettings {
   // Compute motion vectors (their disocclusion rays); off when the capture
   // does not write the motion layer, which then stays NaN.
   bool motion = true;
-  // Trace the camera rays of a pixel as one Embree packet (rtcIntersect4/8);
-  // off traces them one by one (rtcIntersect1). Same hits either way
+  // Trace the camera rays of a pixel as one Embree packet (rtcIntersect4/8),
+  // and their shadow rays as another (rtcOccluded4/8); off traces them one by
+  // one (rtcIntersect1, rtcOccluded1). Same films either way
   // (tests/generator/render_test.cc).
   bool packets = true;
 };

@@ -223,25 +223,45 @@ std::optional<std::map<uint32_t, uint32_t>> ClassOfInstance(const DeepImage& ful
   return class_of;
 }
 
-// Copies channel `name` of `from` into `to` (same pixels; `to` holds
-// 1 or all of each pixel's samples).
-void CopySamples(const DeepImage& from, const std::string& name, DeepImage* to) {
-  const DeepChannel& source = from.Get(name);
-  DeepChannel& target = to->AddChannel(name, source.type);
-  tbb::parallel_for(size_t{0}, from.pixel_count(), [&](size_t p) {
-    const uint64_t a = from.offsets()[p], b = to->offsets()[p];
-    for (uint32_t k = 0; k < to->sample_counts()[p]; ++k) {
-      if (source.type == PixelType::kUint) {
-        target.uints[b + k] = source.uints[a + k];
-      } else {
-        target.floats[b + k] = source.floats[a + k];
-      }
+// Fills channel `name` of `band`, rows [first_row, ...) of a file whose
+// pixels hold 1 or all of `full`'s samples, from `full`.
+void CopyBand(const DeepImage& full, const std::string& name, int first_row, DeepImage* band) {
+  const DeepChannel& source = full.Get(name);
+  DeepChannel& target = band->Get(name);
+  const size_t first_pixel = static_cast<size_t>(first_row) * full.width();
+  tbb::parallel_for(size_t{0}, band->pixel_count(), [&](size_t p) {
+    const uint64_t a = full.offsets()[first_pixel + p], b = band->offsets()[p];
+    const uint32_t n = band->sample_counts()[p];
+    if (source.type == PixelType::kUint) {
+      std::copy_n(source.uints.begin() + static_cast<ptrdiff_t>(a),
+                  n,
+                  target.uints.begin() + static_cast<ptrdiff_t>(b));
+    } else {
+      std::copy_n(source.floats.begin() + static_cast<ptrdiff_t>(a),
+                  n,
+                  target.floats.begin() + static_cast<ptrdiff_t>(b));
     }
   });
 }
 
-// Compact: a pixel whose samples are all identical keeps one.
-DeepImage CompactSamples(const DeepImage& full, int spp, bool store_class) {
+// The stored channels' specs: `names` with `full`'s types, `residuals` UINT.
+std::vector<exr::ChannelSpec> StoredChannels(const DeepImage& full,
+                                             const std::vector<std::string>& names,
+                                             const std::vector<std::string>& residuals = {}) {
+  std::vector<exr::ChannelSpec> specs;
+  specs.reserve(names.size() + residuals.size());
+  for (const std::string& name : names) specs.push_back({name, full.Get(name).type});
+  for (const std::string& name : residuals) specs.push_back({name, PixelType::kUint});
+  return specs;
+}
+
+// Compact: a pixel whose samples are all identical keeps one. Written a band
+// of rows at a time: the writer never holds a second copy of the bundle.
+void WriteCompactSamples(const fs::path& path,
+                         const DeepImage& full,
+                         int spp,
+                         bool store_class,
+                         const exr::WriteOptions& write) {
   const uint32_t* inst = full.Get("instanceid").uints.data();
   const uint32_t* cls = full.Get("classid").uints.data();
   const float* value[4] = {full.Get("Z").floats.data(),
@@ -260,42 +280,59 @@ DeepImage CompactSamples(const DeepImage& full, int spp, bool store_class) {
     }
     counts[p] = same ? 1 : spp;
   });
-  DeepImage out(full.width(), full.height(), counts);
   std::vector<std::string> stored = {"instanceid", "Z", "NX", "NY", "NZ"};
   if (store_class) stored.insert(stored.begin() + 1, "classid");
-  for (const std::string& name : stored) CopySamples(full, name, &out);
-  return out;
+  exr::WriteDeepExrInBands(
+      path,
+      full.width(),
+      counts,
+      StoredChannels(full, stored),
+      [&](int first_row, DeepImage* band) {
+        for (const std::string& name : stored) CopyBand(full, name, first_row, band);
+      },
+      write);
 }
 
-// Residual: every sample; depths and normals as residuals of their prediction.
-DeepImage ResidualSamples(const DeepImage& full,
+// Residual: every sample; depths and normals as residuals of their
+// prediction. Written a band of rows at a time, as compact.
+void WriteResidualSamples(const fs::path& path,
+                          const DeepImage& full,
                           const BundleView& view,
                           int spp,
-                          bool store_class) {
-  DeepImage out(full.width(), full.height(), full.sample_counts());
-  CopySamples(full, "instanceid", &out);
-  if (store_class) CopySamples(full, "classid", &out);
+                          bool store_class,
+                          const exr::WriteOptions& write) {
+  std::vector<std::string> copied = {"instanceid"};
+  if (store_class) copied.push_back("classid");
+  const std::vector<std::string> residuals(std::begin(kBundleResidualChannels),
+                                           std::end(kBundleResidualChannels));
   const float* value[4];
-  uint32_t* residual[4];
-  for (int c = 0; c < 4; ++c) {
-    value[c] = full.Get(kBundleValueChannels[c]).floats.data();
-    residual[c] = out.AddChannel(kBundleResidualChannels[c], PixelType::kUint).uints.data();
-  }
+  for (int c = 0; c < 4; ++c) value[c] = full.Get(kBundleValueChannels[c]).floats.data();
   const float* sx = full.Get("SX").floats.data();
   const float* sy = full.Get("SY").floats.data();
   const PlaneDepthPredictor predictor(view);
-  tbb::parallel_for(0, full.height(), [&](int y) {
-    const uint64_t first = full.FirstSample(0, y);
-    const BundleRow row{y, full.width(), spp, sx + first, sy + first};
-    const float* row_value[4];
-    uint32_t* row_residual[4];
-    for (int c = 0; c < 4; ++c) {
-      row_value[c] = value[c] + first;
-      row_residual[c] = residual[c] + first;
-    }
-    EncodeBundleRow(predictor, row, row_value, row_residual);
-  });
-  return out;
+  exr::WriteDeepExrInBands(
+      path,
+      full.width(),
+      full.sample_counts(),
+      StoredChannels(full, copied, residuals),
+      [&](int first_row, DeepImage* band) {
+        for (const std::string& name : copied) CopyBand(full, name, first_row, band);
+        uint32_t* residual[4];
+        for (int c = 0; c < 4; ++c) residual[c] = band->Get(residuals[c]).uints.data();
+        tbb::parallel_for(0, band->height(), [&](int r) {
+          const int y = first_row + r;
+          const uint64_t first = full.FirstSample(0, y), band_first = band->FirstSample(0, r);
+          const BundleRow row{y, full.width(), spp, sx + first, sy + first};
+          const float* row_value[4];
+          uint32_t* row_residual[4];
+          for (int c = 0; c < 4; ++c) {
+            row_value[c] = value[c] + first;
+            row_residual[c] = residual[c] + band_first;
+          }
+          EncodeBundleRow(predictor, row, row_value, row_residual);
+        });
+      },
+      write);
 }
 
 }  // namespace
@@ -369,11 +406,11 @@ void WriteBundleExr(const fs::path& path,
     write.attributes[kClassTableAttribute] = table;
   }
   if (layout == BundleLayout::kCompact) {
-    exr::WriteDeepExr(path, CompactSamples(full, spp, !class_of), write);
+    WriteCompactSamples(path, full, spp, !class_of, write);
     return;
   }
   AddViewAttributes(*sampling->view, &write.attributes);
-  exr::WriteDeepExr(path, ResidualSamples(full, *sampling->view, spp, !class_of), write);
+  WriteResidualSamples(path, full, *sampling->view, spp, !class_of, write);
 }
 
 BundleLayout BundleLayoutOf(const exr::ExrInfo& info) {

@@ -6,6 +6,9 @@
 #include <ImfDeepScanLineOutputFile.h>
 #include <ImfPartType.h>
 #include <half.h>
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
 
 #include "libs/exr/exr_internal.h"
 #include "libs/util/atomic_file.h"
@@ -15,13 +18,29 @@
 
 namespace lsds::exr {
 
-DeepImage::DeepImage(int width, int height, std::vector<uint32_t> sample_counts)
-    : width_(width), height_(height), sample_counts_(std::move(sample_counts)) {
+DeepImage::DeepImage(int width, int height, std::vector<uint32_t> sample_counts) {
+  Reshape(width, height, sample_counts.begin(), sample_counts.end());
+}
+
+void DeepImage::Reshape(int width,
+                        int height,
+                        std::vector<uint32_t>::const_iterator first_count,
+                        std::vector<uint32_t>::const_iterator last_count) {
+  width_ = width;
+  height_ = height;
+  sample_counts_.assign(first_count, last_count);
   if (sample_counts_.size() != pixel_count())
     throw Error("deep image: sample count array size mismatch");
   offsets_.resize(pixel_count() + 1);
   offsets_[0] = 0;
   for (size_t i = 0; i < pixel_count(); ++i) offsets_[i + 1] = offsets_[i] + sample_counts_[i];
+  for (DeepChannel& channel : channels_) {
+    if (channel.type == PixelType::kUint) {
+      channel.uints.assign(total_samples(), 0u);
+    } else {
+      channel.floats.assign(total_samples(), 0.0f);
+    }
+  }
 }
 
 DeepChannel& DeepImage::AddChannel(const std::string& name, PixelType type) {
@@ -57,11 +76,17 @@ namespace {
 // OpenEXR's deep frame buffers take one pointer per pixel into each channel's
 // sample storage.
 template <typename T>
-std::vector<char*> PixelPointers(T* samples, const std::vector<uint64_t>& offsets) {
-  std::vector<char*> pointers(offsets.size() - 1);
+void PixelPointers(T* samples, const std::vector<uint64_t>& offsets, std::vector<char*>* pointers) {
+  pointers->resize(offsets.size() - 1);
   for (size_t i = 0; i + 1 < offsets.size(); ++i) {
-    pointers[i] = reinterpret_cast<char*>(samples + offsets[i]);
+    (*pointers)[i] = reinterpret_cast<char*>(samples + offsets[i]);
   }
+}
+
+template <typename T>
+std::vector<char*> PixelPointers(T* samples, const std::vector<uint64_t>& offsets) {
+  std::vector<char*> pointers;
+  PixelPointers(samples, offsets, &pointers);
   return pointers;
 }
 
@@ -149,55 +174,127 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
   });
 }
 
-void WriteDeepExr(const std::filesystem::path& path,
-                  const DeepImage& image,
-                  const WriteOptions& options) {
+namespace {
+
+void CheckDeepCompression(const std::filesystem::path& path, const WriteOptions& options) {
   if (options.compression != Compression::kNone && options.compression != Compression::kRle &&
       options.compression != Compression::kZips) {
     throw Error(std::string("deep EXR files allow only none, rle or zips compression, not ") +
                     CompressionName(options.compression),
                 Location(path.string()));
   }
-  internal::WriteAtomicExr(path, [&](Imf::OStream& stream) {
-    Imf::Header header(image.width(), image.height());
-    header.compression() = internal::ToImf(options.compression);
-    header.setType(Imf::DEEPSCANLINE);
-    internal::AddCamera(options, &header);
-    internal::AddAttributes(options, &header);
-    Imf::DeepFrameBuffer frame_buffer;
-    frame_buffer.insertSampleCountSlice(
-        Imf::Slice(Imf::UINT,
-                   reinterpret_cast<char*>(const_cast<uint32_t*>(image.sample_counts().data())),
-                   sizeof(uint32_t),
-                   sizeof(uint32_t) * image.width()));
-    std::vector<std::vector<half>> halves;
-    halves.reserve(image.channels().size());
-    std::vector<std::vector<char*>> pointers;
-    pointers.reserve(image.channels().size());
-    for (const DeepChannel& channel : image.channels()) {
-      header.channels().insert(channel.name, Imf::Channel(internal::ToImf(channel.type)));
-      size_t element = 4;
-      if (channel.type == PixelType::kUint) {
-        pointers.push_back(
-            PixelPointers(const_cast<uint32_t*>(channel.uints.data()), image.offsets()));
-      } else if (channel.type == PixelType::kFloat) {
-        pointers.push_back(
-            PixelPointers(const_cast<float*>(channel.floats.data()), image.offsets()));
-      } else {
-        halves.emplace_back(channel.floats.begin(), channel.floats.end());
-        pointers.push_back(PixelPointers(halves.back().data(), image.offsets()));
-        element = sizeof(half);
-      }
-      frame_buffer.insert(channel.name,
-                          Imf::DeepSlice(internal::ToImf(channel.type),
-                                         reinterpret_cast<char*>(pointers.back().data()),
-                                         sizeof(char*),
-                                         sizeof(char*) * image.width(),
-                                         element));
+}
+
+Imf::Header DeepHeader(int width,
+                       int height,
+                       const std::vector<ChannelSpec>& channels,
+                       const WriteOptions& options) {
+  Imf::Header header(width, height);
+  header.compression() = internal::ToImf(options.compression);
+  header.setType(Imf::DEEPSCANLINE);
+  internal::AddCamera(options, &header);
+  internal::AddAttributes(options, &header);
+  for (const ChannelSpec& channel : channels)
+    header.channels().insert(channel.name, Imf::Channel(internal::ToImf(channel.type)));
+  return header;
+}
+
+// A frame buffer address for row `first_row` onwards: OpenEXR addresses pixel
+// (x, y) at base + y * y_stride, so a band that starts at `first_row` passes
+// its storage moved back by that many rows, as OpenEXR's own Slice::Make does
+// for a data window that does not start at 0. Only rows of the band are
+// dereferenced.
+char* RowOrigin(const void* band, int first_row, size_t y_stride) {
+  return static_cast<char*>(const_cast<void*>(band)) -
+         static_cast<ptrdiff_t>(first_row) * static_cast<ptrdiff_t>(y_stride);
+}
+
+// Writes `band`, rows [first_row, first_row + band.height()) of the file;
+// `pointers` is scratch for the per-pixel pointers, kept from band to band.
+void WriteBand(Imf::DeepScanLineOutputFile* file,
+               const DeepImage& band,
+               int first_row,
+               std::vector<std::vector<char*>>* pointers) {
+  const int width = band.width();
+  Imf::DeepFrameBuffer frame_buffer;
+  frame_buffer.insertSampleCountSlice(
+      Imf::Slice(Imf::UINT,
+                 RowOrigin(band.sample_counts().data(), first_row, sizeof(uint32_t) * width),
+                 sizeof(uint32_t),
+                 sizeof(uint32_t) * width));
+  std::vector<std::vector<half>> halves;
+  halves.reserve(band.channels().size());
+  pointers->resize(band.channels().size());
+  for (size_t c = 0; c < band.channels().size(); ++c) {
+    const DeepChannel& channel = band.channels()[c];
+    std::vector<char*>& pixel_pointers = (*pointers)[c];
+    size_t element = 4;
+    if (channel.type == PixelType::kUint) {
+      PixelPointers(const_cast<uint32_t*>(channel.uints.data()), band.offsets(), &pixel_pointers);
+    } else if (channel.type == PixelType::kFloat) {
+      PixelPointers(const_cast<float*>(channel.floats.data()), band.offsets(), &pixel_pointers);
+    } else {
+      halves.emplace_back(channel.floats.begin(), channel.floats.end());
+      PixelPointers(halves.back().data(), band.offsets(), &pixel_pointers);
+      element = sizeof(half);
     }
-    Imf::DeepScanLineOutputFile file(stream, header);
-    file.setFrameBuffer(frame_buffer);
-    file.writePixels(image.height());
+    frame_buffer.insert(
+        channel.name,
+        Imf::DeepSlice(internal::ToImf(channel.type),
+                       RowOrigin(pixel_pointers.data(), first_row, sizeof(char*) * width),
+                       sizeof(char*),
+                       sizeof(char*) * width,
+                       element));
+  }
+  file->setFrameBuffer(frame_buffer);
+  file->writePixels(band.height());
+}
+
+std::vector<ChannelSpec> SpecsOf(const DeepImage& image) {
+  std::vector<ChannelSpec> specs;
+  for (const DeepChannel& channel : image.channels()) specs.push_back({channel.name, channel.type});
+  return specs;
+}
+
+}  // namespace
+
+void WriteDeepExr(const std::filesystem::path& path,
+                  const DeepImage& image,
+                  const WriteOptions& options) {
+  CheckDeepCompression(path, options);
+  internal::WriteAtomicExr(path, [&](Imf::OStream& stream) {
+    Imf::DeepScanLineOutputFile file(
+        stream, DeepHeader(image.width(), image.height(), SpecsOf(image), options));
+    std::vector<std::vector<char*>> pointers;
+    WriteBand(&file, image, 0, &pointers);
+  });
+}
+
+void WriteDeepExrInBands(const std::filesystem::path& path,
+                         int width,
+                         const std::vector<uint32_t>& sample_counts,
+                         const std::vector<ChannelSpec>& channels,
+                         const DeepBandFiller& fill,
+                         const WriteOptions& options,
+                         int band_rows) {
+  CheckDeepCompression(path, options);
+  if (width <= 0 || sample_counts.size() % static_cast<size_t>(width) != 0 || band_rows <= 0)
+    throw Error("deep image: sample count array size mismatch", Location(path.string()));
+  const int height = static_cast<int>(sample_counts.size() / static_cast<size_t>(width));
+  internal::WriteAtomicExr(path, [&](Imf::OStream& stream) {
+    Imf::DeepScanLineOutputFile file(stream, DeepHeader(width, height, channels, options));
+    // One band's storage, reused: memory stays one band's, and its pages
+    // are touched once per file, not once per band.
+    DeepImage band;
+    for (const ChannelSpec& channel : channels) band.AddChannel(channel.name, channel.type);
+    std::vector<std::vector<char*>> pointers;
+    for (int first_row = 0; first_row < height; first_row += band_rows) {
+      const int rows = std::min(band_rows, height - first_row);
+      const auto counts = sample_counts.begin() + static_cast<ptrdiff_t>(first_row) * width;
+      band.Reshape(width, rows, counts, counts + static_cast<ptrdiff_t>(rows) * width);
+      fill(first_row, &band);
+      WriteBand(&file, band, first_row, &pointers);
+    }
   });
 }
 

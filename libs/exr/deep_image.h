@@ -4,6 +4,7 @@
 
 #include <deque>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,12 @@ class DeepImage {
   const std::vector<uint32_t>& sample_counts() const { return sample_counts_; }
   const std::vector<uint64_t>& offsets() const { return offsets_; }
 
+  // Another size and sample counts ([first_count, last_count), width * height
+  // of them) for the same channels, zero-filled again; their storage is kept.
+  void Reshape(int width,
+               int height,
+               std::vector<uint32_t>::const_iterator first_count,
+               std::vector<uint32_t>::const_iterator last_count);
   DeepChannel& AddChannel(const std::string& name,
                           PixelType type);  // zero-filled
   const DeepChannel* Find(const std::string& name) const;
@@ -63,5 +70,23 @@ DeepImage ReadDeepExr(const std::filesystem::path& path,
 void WriteDeepExr(const std::filesystem::path& path,
                   const DeepImage& image,
                   const WriteOptions& options = {});
+
+// Fills `band`, rows [first_row, first_row + band->height()) of a deep image:
+// the band comes with its sample counts and zeroed channels.
+using DeepBandFiller = std::function<void(int first_row, DeepImage* band)>;
+
+// Writes a deep image that is produced a band of `band_rows` rows at a time,
+// so that the writer holds one band, not the whole image (an encoder writing
+// a layout, libs/collection/bundle_layout.cc). `sample_counts` are the whole
+// image's, width * height of them, row-major; `channels` are the file's.
+// Atomic and compressed as WriteDeepExr; the file is the one WriteDeepExr
+// writes for the same samples.
+void WriteDeepExrInBands(const std::filesystem::path& path,
+                         int width,
+                         const std::vector<uint32_t>& sample_counts,
+                         const std::vector<ChannelSpec>& channels,
+                         const DeepBandFiller& fill,
+                         const WriteOptions& options = {},
+                         int band_rows = 64);
 
 }  // namespace lsds::exr

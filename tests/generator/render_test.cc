@@ -419,7 +419,7 @@ TEST(Render, BundleCentreSampleIsTheFlatLayerAndEdgesAreMixed) {
   }
 }
 
-// Camera rays traced as Embree packets give the films of rays traced one by
+// Camera and shadow rays traced as Embree packets give the films of rays traced one by
 // one, bit for bit: every flat layer and every bundle channel, on a demo frame
 // (hilly terrain, 60 objects, a previous frame for motion) with 4 samples (one
 // packet of 4) and 9 (a packet of 8 and a single ray).

@@ -3,12 +3,14 @@
 #include <iterator>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "libs/exr/deep_image.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tests/test_util.h"
 
@@ -197,6 +199,73 @@ TEST(DeepExr, SampleLimits) {
   limits = ReadLimits();
   limits.max_deep_samples = 11;
   EXPECT_THROW(ReadDeepExr(dir / "d.exr", {}, limits), Error);
+}
+
+// A deep image written a band of rows at a time is the file WriteDeepExr
+// writes for the same samples, byte for byte, whatever the band height (one
+// row, a band that does not divide the height, more rows than the image), in
+// every pixel type; the band it is handed holds that band's counts and the
+// samples come back in place.
+TEST(DeepExr, WrittenInBandsIsTheFileWrittenWhole) {
+  lsds::testing::TempDir dir;
+  const int width = 5, height = 7;
+  std::vector<uint32_t> counts(width * height);
+  for (size_t p = 0; p < counts.size(); ++p) counts[p] = static_cast<uint32_t>((p * 7) % 4);
+  DeepImage whole(width, height, counts);
+  DeepChannel& id = whole.AddChannel("instanceid", PixelType::kUint);
+  DeepChannel& z = whole.AddChannel("Z", PixelType::kFloat);
+  DeepChannel& h = whole.AddChannel("H", PixelType::kHalf);
+  for (uint64_t s = 0; s < whole.total_samples(); ++s) {
+    id.uints[s] = static_cast<uint32_t>(1000 + s);
+    z.floats[s] = 0.5f + static_cast<float>(s);
+    h.floats[s] = 0.25f * static_cast<float>(s);
+  }
+  WriteOptions options;
+  options.compression = Compression::kZips;
+  options.attributes["note"] = "banded";
+  WriteDeepExr(dir / "whole.exr", whole, options);
+  const std::vector<ChannelSpec> specs = {
+      {"instanceid", PixelType::kUint}, {"Z", PixelType::kFloat}, {"H", PixelType::kHalf}};
+  for (int band_rows : {1, 3, 7, 64}) {
+    const std::filesystem::path banded = dir / ("banded_" + std::to_string(band_rows) + ".exr");
+    WriteDeepExrInBands(
+        banded,
+        width,
+        counts,
+        specs,
+        [&](int first_row, DeepImage* band) {
+          ASSERT_EQ(band->width(), width);
+          ASSERT_LE(band->height(), band_rows);
+          for (int y = 0; y < band->height(); ++y) {
+            for (int x = 0; x < width; ++x) {
+              ASSERT_EQ(band->SampleCount(x, y), whole.SampleCount(x, first_row + y));
+              const uint64_t from = whole.FirstSample(x, first_row + y),
+                             to = band->FirstSample(x, y);
+              for (uint32_t k = 0; k < band->SampleCount(x, y); ++k) {
+                for (const ChannelSpec& spec : specs) {
+                  if (spec.type == PixelType::kUint) {
+                    band->Get(spec.name).uints[to + k] = whole.Get(spec.name).uints[from + k];
+                  } else {
+                    band->Get(spec.name).floats[to + k] = whole.Get(spec.name).floats[from + k];
+                  }
+                }
+              }
+            }
+          }
+        },
+        options,
+        band_rows);
+    EXPECT_EQ(ReadFile(banded), ReadFile(dir / "whole.exr")) << band_rows;
+  }
+  const DeepImage read = ReadDeepExr(dir / "banded_3.exr");
+  EXPECT_EQ(read.sample_counts(), counts);
+  EXPECT_EQ(read.Get("instanceid").uints, id.uints);
+  EXPECT_EQ(read.Get("Z").floats, z.floats);
+  // Bad input is refused before a file appears.
+  EXPECT_THROW(WriteDeepExrInBands(
+                   dir / "bad.exr", 3, counts, specs, [](int, DeepImage*) {}, options),
+               Error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.exr"));
 }
 
 }  // namespace

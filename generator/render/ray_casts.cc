@@ -1,0 +1,145 @@
+#include "generator/render/ray_casts.h"
+
+#include <limits>
+
+namespace lsds::gen {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Lane i of a packet (RTCRay4/8) as the float ray the one-ray calls trace.
+template <class RayN>
+void SetLane(RayN* ray, int i, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
+  ray->org_x[i] = static_cast<float>(origin.x());
+  ray->org_y[i] = static_cast<float>(origin.y());
+  ray->org_z[i] = static_cast<float>(origin.z());
+  ray->dir_x[i] = static_cast<float>(direction.x());
+  ray->dir_y[i] = static_cast<float>(direction.y());
+  ray->dir_z[i] = static_cast<float>(direction.z());
+  ray->tnear[i] = 0.f;
+  ray->tfar[i] = kInf;
+  ray->mask[i] = 0xffffffffu;
+  ray->flags[i] = 0;
+  ray->time[i] = 0.f;
+  ray->id[i] = 0;
+}
+
+// One packet of N lanes (RTCRayHit4 with rtcIntersect4, RTCRayHit8 with
+// rtcIntersect8); lanes past `count` are invalid.
+template <int N, class RayHitN, class Intersect>
+void TraceLanes(RTCScene rtc_scene,
+                const Eigen::Vector3d& origin,
+                const Eigen::Vector3d* directions,
+                int count,
+                RTCIntersectContext* context,
+                Intersect intersect,
+                EmbreeHit* out) {
+  alignas(32) RayHitN rh;
+  alignas(32) int valid[N];
+  for (int i = 0; i < N; ++i) {
+    valid[i] = i < count ? -1 : 0;
+    SetLane(&rh.ray, i, origin, directions[i < count ? i : 0]);
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  intersect(valid, rtc_scene, context, &rh);
+  for (int i = 0; i < count; ++i)
+    out[i] = {rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], rh.ray.tfar[i]};
+}
+
+// One shadow packet of N lanes (RTCRay4 with rtcOccluded4, RTCRay8 with
+// rtcOccluded8); lanes past `count` or not wanted are invalid.
+template <int N, class RayN, class OccludedN>
+void OccludedLanes(RTCScene rtc_scene,
+                   const Eigen::Vector3d* origins,
+                   const Eigen::Vector3d& direction,
+                   const uint8_t* wanted,
+                   int count,
+                   RTCIntersectContext* context,
+                   OccludedN occluded,
+                   uint8_t* out) {
+  alignas(32) RayN ray;
+  alignas(32) int valid[N];
+  for (int i = 0; i < N; ++i) {
+    valid[i] = i < count && wanted[i] ? -1 : 0;
+    // An invalid lane's origin may never have been set: it gets zeros.
+    SetLane(&ray, i, valid[i] ? origins[i] : Eigen::Vector3d::Zero().eval(), direction);
+  }
+  occluded(valid, rtc_scene, context, &ray);
+  for (int i = 0; i < count; ++i) out[i] = valid[i] && ray.tfar[i] < 0;
+}
+
+}  // namespace
+
+void TracePacket(RTCScene rtc_scene,
+                 const Eigen::Vector3d& origin,
+                 const Eigen::Vector3d* directions,
+                 int count,
+                 RTCIntersectContext* context,
+                 EmbreeHit* out) {
+  if (count <= 4) {
+    TraceLanes<4, RTCRayHit4>(rtc_scene, origin, directions, count, context, rtcIntersect4, out);
+  } else {
+    TraceLanes<8, RTCRayHit8>(rtc_scene, origin, directions, count, context, rtcIntersect8, out);
+  }
+}
+
+EmbreeHit TraceOne(RTCScene rtc_scene,
+                   const Eigen::Vector3d& origin,
+                   const Eigen::Vector3d& direction,
+                   RTCIntersectContext* context) {
+  RTCRayHit rh;
+  rh.ray.org_x = static_cast<float>(origin.x());
+  rh.ray.org_y = static_cast<float>(origin.y());
+  rh.ray.org_z = static_cast<float>(origin.z());
+  rh.ray.dir_x = static_cast<float>(direction.x());
+  rh.ray.dir_y = static_cast<float>(direction.y());
+  rh.ray.dir_z = static_cast<float>(direction.z());
+  rh.ray.tnear = 0.f;
+  rh.ray.tfar = kInf;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.flags = 0;
+  rh.ray.time = 0.f;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc_scene, context, &rh);
+  return {rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar};
+}
+
+bool Occluded(RTCScene rtc_scene,
+              const Eigen::Vector3d& origin,
+              const Eigen::Vector3d& direction,
+              RTCIntersectContext* context) {
+  RTCRay ray;
+  ray.org_x = static_cast<float>(origin.x());
+  ray.org_y = static_cast<float>(origin.y());
+  ray.org_z = static_cast<float>(origin.z());
+  ray.dir_x = static_cast<float>(direction.x());
+  ray.dir_y = static_cast<float>(direction.y());
+  ray.dir_z = static_cast<float>(direction.z());
+  ray.tnear = 0.f;
+  ray.tfar = kInf;
+  ray.mask = 0xffffffffu;
+  ray.flags = 0;
+  ray.time = 0.f;
+  rtcOccluded1(rtc_scene, context, &ray);
+  return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+void OccludedPacket(RTCScene rtc_scene,
+                    const Eigen::Vector3d* origins,
+                    const Eigen::Vector3d& direction,
+                    const uint8_t* wanted,
+                    int count,
+                    RTCIntersectContext* context,
+                    uint8_t* out) {
+  if (count <= 4) {
+    OccludedLanes<4, RTCRay4>(
+        rtc_scene, origins, direction, wanted, count, context, rtcOccluded4, out);
+  } else {
+    OccludedLanes<8, RTCRay8>(
+        rtc_scene, origins, direction, wanted, count, context, rtcOccluded8, out);
+  }
+}
+
+}  // namespace lsds::gen

@@ -17,7 +17,9 @@ Plan MakeDemoPlan(const DemoOptions& options) {
   for (uint32_t i = 0; i < 8; ++i) plan.classes.push_back({i + 1, classes[i]});
   plan.sky.cloud_type = "cumulus";
   plan.sky.cloud_density = 0.4;
-  plan.sun = {45.0, 150.0, 100000.0};  // lux
+  plan.sun.elevation_deg = 45.0;
+  plan.sun.azimuth_deg = 150.0;
+  plan.sun.illuminance_lux = 100000.0;  // lux
   plan.fog_density = 0.002;
   plan.terrain.present = true;
   plan.terrain.size = {300, 300};

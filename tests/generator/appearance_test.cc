@@ -185,7 +185,9 @@ TEST(Smooth, TerrainShadingFollowsTheSmoothSurface) {
   plan.terrain.perlin_amplitude = 6;
   plan.terrain.perlin_frequency = 0.03;
   plan.terrain.material = "white";
-  plan.sun = {90.0, 0.0, 100000.0};
+  plan.sun.elevation_deg = 90.0;
+  plan.sun.azimuth_deg = 0.0;
+  plan.sun.illuminance_lux = 100000.0;
   plan.skylight_intensity = 0;
   AddFrame(&plan, testing::Nadir({0, 0, 40}), 96, 72);
   const Film film = RenderK(plan, 0);
@@ -297,7 +299,9 @@ TEST(Materials, MetalGoldHasATintedHighlightLambertianDoesNot) {
   auto spread = [](const std::string& material, Eigen::Vector3f* brightest) {
     Plan plan = testing::FlatPlan(64, 48, 90);
     plan.terrain.material = material;
-    plan.sun = {60.0, 180.0, 100000.0};  // from the south
+    plan.sun.elevation_deg = 60.0;
+    plan.sun.azimuth_deg = 180.0;  // from the south
+    plan.sun.illuminance_lux = 100000.0;
     plan.frames[0].cam_from_world = testing::Nadir({0, 0, 10});
     const Film film = RenderK(plan, 0);
     const auto& r = film.flat.at("rgb").Get("R").floats;

@@ -334,7 +334,9 @@ void ExpectCheckerRendered(const std::string& mesh) {
   EXPECT_GT(blue.z() / blue.x(), 5);
   // The truth layers see the quad, not its texture: one class, one normal.
   for (size_t p = 0; p < instance.size(); ++p) {
-    if (instance[p] == 1) ASSERT_EQ(F(r.film, "normal", "Z")[p], 1.f);
+    if (instance[p] == 1) {
+      ASSERT_EQ(F(r.film, "normal", "Z")[p], 1.f);
+    }
   }
 }
 

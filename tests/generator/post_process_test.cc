@@ -68,9 +68,10 @@ void ExpectTruthUnchanged(const Film& a, const Film& b) {
       // Bit-equal floats (NaN == NaN); a uint channel has no floats, and
       // memcmp must not see its null data pointer.
       ASSERT_EQ(c.floats.size(), d.floats.size()) << semantic;
-      if (!c.floats.empty())
+      if (!c.floats.empty()) {
         EXPECT_EQ(0, std::memcmp(c.floats.data(), d.floats.data(), c.floats.size() * 4))
             << semantic;
+      }
     }
   }
 }

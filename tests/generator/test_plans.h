@@ -19,7 +19,9 @@ inline Plan FlatPlan(int width = 64, int height = 48, double hfov_deg = 60) {
   plan.terrain.material = "sandy";
   plan.terrain.class_id = 1;
   plan.terrain.instance_id = 1000;
-  plan.sun = {60.0, 90.0, SunLuxFromIntensity(3.0)};  // from the east (+x), 60 degrees up
+  plan.sun.elevation_deg = 60.0;
+  plan.sun.azimuth_deg = 90.0;  // from the east (+x), 60 degrees up
+  plan.sun.illuminance_lux = SunLuxFromIntensity(3.0);
   PlannedFrame frame;
   frame.camera = PinholeCamera::FromHorizontalFov(width, height, hfov_deg);
   frame.sequence = "P1(1)";

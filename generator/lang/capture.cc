@@ -79,9 +79,9 @@ std::string PathKind(const std::string& key) {
 // interpolated between the waypoints, and the velocity.
 struct FlightSample {
   Rigid3d cam_from_world;
-  Eigen::Vector3d centre;    // the point on the curve
-  Eigen::Vector3d velocity;  // world m/s
-  Eigen::Vector3d tangent;   // unit direction of travel
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();    // the point on the curve
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // world m/s
+  Eigen::Vector3d tangent = Eigen::Vector3d::Zero();   // unit direction of travel
 };
 
 struct Flight {

@@ -12,7 +12,11 @@ namespace {
 // An AVX2 clone, picked at load time, rounds with vroundsd and needs fewer
 // moves; "avx2" does not enable FMA, so nothing is contracted and the clone
 // returns the baseline's bits (tests/generator/scene_test.cc).
+#if defined(__x86_64__)
 #define LSDS_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
+#else
+#define LSDS_AVX2_CLONE
+#endif
 
 double Fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 double Lerp(double t, double a, double b) { return a + t * (b - a); }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "libs/util/error.h"
 
@@ -26,6 +27,68 @@ void OnPngError(png_structp png, png_const_charp message) {
   std::longjmp(png_jmpbuf(png), 1);
 }
 void OnPngWarning(png_structp, png_const_charp) {}
+
+// libpng reports errors by longjmp to the setjmp in Guarded(): that function
+// holds no object with a destructor and changes no local after setjmp, and the
+// work runs in functions that are never inlined into it (a longjmp out of
+// them skips no destructor of theirs: they only fill the caller's objects).
+template <typename Work>
+bool Guarded(png_structp png, const Work& work) {
+  if (setjmp(png_jmpbuf(png)) != 0) return false;
+  work();
+  return true;
+}
+
+// Reads the image into `image` through `rows`; `wrong_kind` when it is not
+// 8-bit (or less) palette or greyscale.
+[[gnu::noinline]] void ReadPixels(png_structp png,
+                                  png_infop info,
+                                  std::FILE* file,
+                                  IndexImage* image,
+                                  std::vector<png_bytep>* rows,
+                                  bool* wrong_kind) {
+  png_init_io(png, file);
+  png_read_info(png, info);
+  const int colour = png_get_color_type(png, info);
+  const int depth = png_get_bit_depth(png, info);
+  if ((colour != PNG_COLOR_TYPE_PALETTE && colour != PNG_COLOR_TYPE_GRAY) || depth > 8) {
+    *wrong_kind = true;
+    return;
+  }
+  if (depth < 8) png_set_packing(png);
+  png_read_update_info(png, info);
+  image->width = static_cast<int>(png_get_image_width(png, info));
+  image->height = static_cast<int>(png_get_image_height(png, info));
+  image->index.resize(static_cast<size_t>(image->width) * image->height);
+  rows->resize(static_cast<size_t>(image->height));
+  for (int j = 0; j < image->height; ++j)
+    (*rows)[j] = image->index.data() + static_cast<size_t>(j) * image->width;
+  png_read_image(png, rows->data());
+  png_read_end(png, nullptr);
+}
+
+[[gnu::noinline]] void WritePixels(png_structp png,
+                                   png_infop info,
+                                   std::FILE* file,
+                                   const IndexImage& image,
+                                   std::vector<png_color>* palette,
+                                   std::vector<png_bytep>* rows) {
+  png_init_io(png, file);
+  png_set_IHDR(png,
+               info,
+               image.width,
+               image.height,
+               8,
+               PNG_COLOR_TYPE_PALETTE,
+               PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_set_PLTE(png, info, palette->data(), static_cast<int>(palette->size()));
+  png_write_info(png, info);
+  png_write_image(png, rows->data());
+  png_write_end(png, nullptr);
+}
+
 }  // namespace
 
 IndexImage ReadIndexedPng(const fs::path& path) {
@@ -38,32 +101,10 @@ IndexImage ReadIndexedPng(const fs::path& path) {
   IndexImage image;
   std::vector<png_bytep> rows;
   bool wrong_kind = false;
-  // libpng reports errors by longjmp: nothing with a destructor may be
-  // created between here and the end of the guarded block.
-  if (setjmp(png_jmpbuf(png)) == 0) {
-    png_init_io(png, file.get());
-    png_read_info(png, info);
-    const int colour = png_get_color_type(png, info);
-    const int depth = png_get_bit_depth(png, info);
-    if ((colour != PNG_COLOR_TYPE_PALETTE && colour != PNG_COLOR_TYPE_GRAY) || depth > 8) {
-      wrong_kind = true;
-    } else {
-      if (depth < 8) png_set_packing(png);
-      png_read_update_info(png, info);
-      image.width = static_cast<int>(png_get_image_width(png, info));
-      image.height = static_cast<int>(png_get_image_height(png, info));
-      image.index.resize(static_cast<size_t>(image.width) * image.height);
-      rows.resize(static_cast<size_t>(image.height));
-      for (int j = 0; j < image.height; ++j)
-        rows[j] = image.index.data() + static_cast<size_t>(j) * image.width;
-      png_read_image(png, rows.data());
-      png_read_end(png, nullptr);
-    }
-  } else {
-    png_destroy_read_struct(&png, &info, nullptr);
-    throw Error("not a readable PNG: " + message, Location(path.string()));
-  }
+  const bool read =
+      Guarded(png, [&] { ReadPixels(png, info, file.get(), &image, &rows, &wrong_kind); });
   png_destroy_read_struct(&png, &info, nullptr);
+  if (!read) throw Error("not a readable PNG: " + message, Location(path.string()));
   if (wrong_kind)
     throw Error("expected an 8-bit indexed (palette) or greyscale PNG", Location(path.string()));
   return image;
@@ -84,26 +125,10 @@ void WriteIndexedPng(const fs::path& path,
   std::vector<png_bytep> rows(static_cast<size_t>(image.height));
   for (int j = 0; j < image.height; ++j)
     rows[j] = const_cast<png_bytep>(image.index.data() + static_cast<size_t>(j) * image.width);
-  if (setjmp(png_jmpbuf(png)) == 0) {
-    png_init_io(png, file.get());
-    png_set_IHDR(png,
-                 info,
-                 image.width,
-                 image.height,
-                 8,
-                 PNG_COLOR_TYPE_PALETTE,
-                 PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
-    png_write_info(png, info);
-    png_write_image(png, rows.data());
-    png_write_end(png, nullptr);
-  } else {
-    png_destroy_write_struct(&png, &info);
-    throw Error("cannot write PNG: " + message, Location(path.string()));
-  }
+  const bool written =
+      Guarded(png, [&] { WritePixels(png, info, file.get(), image, &palette, &rows); });
   png_destroy_write_struct(&png, &info);
+  if (!written) throw Error("cannot write PNG: " + message, Location(path.string()));
 }
 
 }  // namespace lsds::import

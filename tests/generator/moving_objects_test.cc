@@ -19,6 +19,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/oriented_box.h"
+#include "libs/util/atomic_file.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -135,7 +136,9 @@ TEST(MovingObjects, HeadingLapsLegsAndHillsFollowThePath) {
     // Its x axis points where it goes (at a corner either way).
     const Eigen::Vector3d forward = walker.world_from_object.col(0);
     const bool corner = t < 40 && std::abs(std::remainder(std::fmod(t, 20.0) * 2, 10.0)) < 1e-9;
-    if (!corner) EXPECT_NEAR(forward.head<2>().dot(direction), 1, 1e-9) << f.index;
+    if (!corner) {
+      EXPECT_NEAR(forward.head<2>().dot(direction), 1, 1e-9) << f.index;
+    }
   }
   // Before its timing the walker is where the scene put it.
   EXPECT_EQ(gen::WorldAt(plan, plan.frames[3]).objects[0].position, plan.objects[0].position);
@@ -351,10 +354,11 @@ TEST(Rescatter, EveryFrameDrawsNewPlacesThatKeepTheConstraints) {
           o.position.z() - 1, TerrainHeight(plan.terrain, o.position.x(), o.position.y()), 1e-9);
       // overlap:false (the default) still holds, against everything
       for (size_t j = 0; j < world.objects.size(); ++j)
-        if (j != i && world.objects[j].visible && o.visible)
+        if (j != i && world.objects[j].visible && o.visible) {
           EXPECT_FALSE(o.Box().Intersects(world.objects[j].Box()))
               << o.planned->name << " and " << world.objects[j].planned->name << " frame "
               << f.index;
+        }
     }
   }
   EXPECT_EQ(xs.size(), 6u * 6u) << "every copy moves on every frame";
@@ -386,8 +390,9 @@ TEST(Rescatter, TheOverlapPolicyHoldsWhenTheSpaceIsFull) {
         continue;
       }
       for (size_t j = i + 1; j < world.objects.size(); ++j)
-        if (world.objects[j].visible)
+        if (world.objects[j].visible) {
           EXPECT_FALSE(world.objects[i].Box().Intersects(world.objects[j].Box()));
+        }
     }
   }
   EXPECT_GT(hidden, 0);
@@ -397,11 +402,6 @@ TEST(Rescatter, TheOverlapPolicyHoldsWhenTheSpaceIsFull) {
       "O = object{class:cube,extent:[2,2,2],position:{ON:W,within:[[-2.1,-2.1,"
       "-9],[2.1,2.1,9]]},on_overlap:allow,retries:3}\n";
   EXPECT_NO_THROW(PlanText(strict, kRescatter, 2));  // allow: overlaps kept
-}
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 // Moving objects, class swaps and re-scatters in one capture: `--frames` and
@@ -445,8 +445,8 @@ TEST(ObjectsOverTime, FrameRangesAndShardsEqualTheSingleRun) {
       const int64_t k = frame["index"];
       EXPECT_EQ(frame, single["frames"][k]) << name << " frame " << k;
       for (const auto& [layer, file] : frame["files"].items())
-        EXPECT_TRUE(ReadAll(dir / name / file.get<std::string>()) ==
-                    ReadAll(dir / "single" / file.get<std::string>()))
+        EXPECT_TRUE(ReadFile(dir / name / file.get<std::string>()) ==
+                    ReadFile(dir / "single" / file.get<std::string>()))
             << name << " " << file;
     }
   }

@@ -165,8 +165,12 @@ TEST(SunQuota, TimeOfDayBinsAreMetByADuringTimeChange) {
     EXPECT_TRUE(f.requirements->at("met").get<bool>()) << f.index;
     // The sun follows the time: morning and afternoon are lower than noon.
     const double elevation = EnvironmentAt(plan, f).sun.elevation_deg;
-    if (hours < 9) EXPECT_LT(elevation, 40) << hours;
-    if (hours >= 12 && hours < 15) EXPECT_GT(elevation, 55) << hours;
+    if (hours < 9) {
+      EXPECT_LT(elevation, 40) << hours;
+    }
+    if (hours >= 12 && hours < 15) {
+      EXPECT_GT(elevation, 55) << hours;
+    }
   }
   for (int b = 0; b < 4; ++b) EXPECT_EQ(bins[b], 20) << b;
   // Without a clock the time of day is not measured: every frame misses.

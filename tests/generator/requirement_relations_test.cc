@@ -16,6 +16,7 @@
 #include "generator/lang/relations.h"
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
+#include "libs/util/atomic_file.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -28,11 +29,6 @@ Plan PlanText(const std::string& scene,
   const SourceFile s = ParseSource(scene, "s.lscene", false);
   const SourceFile c = ParseSource(capture, "c.lcap", false);
   return MakePlanFromSources(s, &c, seed, frames, gen::MakeFrameEstimatorFactory());
-}
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 // Runs `lsds generate` and returns its output and collection.
@@ -301,8 +297,8 @@ TEST(RigRequirements, EveryCameraOfAStepMeetsTheDemandInTheTruth) {
       const size_t k = frame["index"];
       EXPECT_EQ(frame, single["frames"][k]) << name << " frame " << k;
       for (const auto& [layer, file] : frame["files"].items())
-        EXPECT_TRUE(ReadAll(dir / name / file.get<std::string>()) ==
-                    ReadAll(dir / "all" / file.get<std::string>()))
+        EXPECT_TRUE(ReadFile(dir / name / file.get<std::string>()) ==
+                    ReadFile(dir / "all" / file.get<std::string>()))
             << name << " " << file;
     }
   }
@@ -335,8 +331,8 @@ TEST(RigRequirements, TheRigExampleTakesRequirementsAndAQuota) {
   // (no pose to redraw); the quota over the sun's elevation is met by the
   // light change the capture makes after step 2.
   const std::string dir = LSDS_EXAMPLES_DIR;
-  const std::string lcap = ReadAll(dir + "/time_of_day_movers.lcap");
-  const std::string lscene = ReadAll(dir + "/time_of_day_movers.lscene");
+  const std::string lcap = ReadFile(dir + "/time_of_day_movers.lcap");
+  const std::string lscene = ReadFile(dir + "/time_of_day_movers.lscene");
   std::string capture = lcap;
   capture.replace(capture.find("ONE(CL)"), 7, "ONE(CL) ONE(REQ) ONE(Q)");
   capture +=

@@ -14,6 +14,7 @@
 #include "generator/lang/planner.h"
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
+#include "libs/util/atomic_file.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -50,11 +51,6 @@ Plan PlanText(const std::string& scene,
   const SourceFile s = ParseSource(scene, "s.lscene", false);
   const SourceFile c = ParseSource(capture, "c.lcap", false);
   return MakePlanFromSources(s, &c, seed, frames, gen::MakeFrameEstimatorFactory());
-}
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 struct Generated {
@@ -231,8 +227,8 @@ TEST(Requirements, DeterministicAndShardsEqualTheSingleRun) {
   const Generated single = Generate(dir, capture, "single");
   ASSERT_EQ(single.exit_code, 0) << single.output;
   const Generated again = Generate(dir, capture, "again");
-  EXPECT_EQ(ReadAll(dir / "single" / "collection.json"),
-            ReadAll(dir / "again" / "collection.json"));
+  EXPECT_EQ(ReadFile(dir / "single" / "collection.json"),
+            ReadFile(dir / "again" / "collection.json"));
   for (const auto& [name, flags] : std::vector<std::pair<std::string, std::string>>{
            {"range", "--frames 2:5"}, {"shard", "--shard 1/2"}}) {
     const Generated part = Generate(dir, capture, name, flags);
@@ -244,8 +240,8 @@ TEST(Requirements, DeterministicAndShardsEqualTheSingleRun) {
       const int64_t k = frame["index"];
       EXPECT_EQ(frame, single.collection["frames"][k]) << name << " frame " << k;
       for (const auto& [layer, file] : frame["files"].items())
-        EXPECT_TRUE(ReadAll(dir / name / file.get<std::string>()) ==
-                    ReadAll(dir / "single" / file.get<std::string>()))
+        EXPECT_TRUE(ReadFile(dir / name / file.get<std::string>()) ==
+                    ReadFile(dir / "single" / file.get<std::string>()))
             << name << " " << file;
     }
   }

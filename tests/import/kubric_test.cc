@@ -8,10 +8,14 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
 #include "libs/importers/import_collection.h"
+#include "libs/importers/indexed_png.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tests/import/import_checks.h"
 #include "tests/import/kubric_fixture.h"
@@ -34,6 +38,45 @@ class KubricImportTest : public ::testing::Test {
   TempDir dir_;
   synth::Spec spec_ = KubricSpec();
 };
+
+// Kubric's segmentation PNGs through libpng: a palette image reads back its
+// indices; a colour PNG and a truncated one are errors naming the file (the
+// second through libpng's longjmp), and reading goes on working afterwards.
+TEST(IndexedPng, RoundTripAndErrorsNameTheFile) {
+  TempDir dir;
+  import::IndexImage image;
+  image.width = 5;
+  image.height = 3;
+  for (int i = 0; i < 15; ++i) image.index.push_back(static_cast<uint8_t>(i % 4));
+  const std::vector<uint8_t> palette = {0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0, 255};
+  import::WriteIndexedPng(dir / "seg.png", image, palette);
+  const import::IndexImage read = import::ReadIndexedPng(dir / "seg.png");
+  EXPECT_EQ(read.width, 5);
+  EXPECT_EQ(read.height, 3);
+  EXPECT_EQ(read.index, image.index);
+
+  cv::imwrite((dir / "colour.png").string(), cv::Mat(3, 5, CV_8UC3, cv::Scalar(1, 2, 3)));
+  // The message of the lsds::Error that reading `path` throws.
+  auto error_of = [](const fs::path& path) -> std::string {
+    try {
+      import::ReadIndexedPng(path);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  std::string error = error_of(dir / "colour.png");
+  EXPECT_NE(error.find("colour.png"), std::string::npos) << error;
+  EXPECT_NE(error.find("indexed"), std::string::npos) << error;
+
+  const std::string bytes = ReadFile(dir / "seg.png");
+  WriteFileAtomic(dir / "truncated.png", bytes.substr(0, bytes.size() / 2));
+  error = error_of(dir / "truncated.png");
+  EXPECT_NE(error.find("truncated.png"), std::string::npos) << error;
+  EXPECT_NE(error.find("not a readable PNG"), std::string::npos) << error;
+
+  EXPECT_EQ(import::ReadIndexedPng(dir / "seg.png").index, image.index);
+}
 
 TEST_F(KubricImportTest, TruthEqualsTheAnalyticScene) {
   const fs::path scene = dir_ / "kubric" / "0";

@@ -119,7 +119,9 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
       EXPECT_EQ(got.class_id, want.class_id);
       EXPECT_EQ(got.name, want.name);
       ASSERT_EQ(got.bbox.has_value(), want.bbox.has_value());
-      if (got.bbox) EXPECT_EQ(*got.bbox, *want.bbox);  // exact
+      if (got.bbox) {
+        EXPECT_EQ(*got.bbox, *want.bbox);  // exact
+      }
       EXPECT_EQ(got.visible_pixels, want.visible_pixels);
       EXPECT_NEAR(got.visibility, want.visibility, 1e-12);
       EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9);
@@ -151,7 +153,9 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
             position.Get(c).floats[p], want_position.Get(c).floats[p], 1e-6 * want_depth[p] + 2e-6)
             << c << " pixel " << p;
     }
-    if (k == frames.size() - 1) EXPECT_GT(sky, 0);  // the oblique view
+    if (k == frames.size() - 1) {
+      EXPECT_GT(sky, 0);  // the oblique view
+    }
   }
 }
 
@@ -183,7 +187,9 @@ TEST_F(UeMrqImportTest, SinglePartMultilayerAndHalfDepthImportAlike) {
       }
       EXPECT_NEAR(depth[p], want[p], want[p] / 2048.0);
     }
-    if (k == frames.size() - 1) EXPECT_GT(saturated, 0);
+    if (k == frames.size() - 1) {
+      EXPECT_GT(saturated, 0);
+    }
   }
 }
 

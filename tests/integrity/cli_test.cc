@@ -290,7 +290,7 @@ TEST(Numbers, MalformedNumbersInCollectionJsonAreLocated) {
     const fs::path root = MakeCollection(dir);
     // collection.json is written one frame per line without spaces.
     EditCollection(root, [&](std::string text) { return ReplaceFirst(text, c.from, c.to); });
-    for (const std::string& command : {"info", "validate"}) {
+    for (const char* command : {"info", "validate"}) {
       const CommandResult result = RunCommandLine(Lsds() + " " + command + " " + Q(root));
       EXPECT_TRUE(result.exit_code == 1 || result.exit_code == 2) << c.to << "\n" << result.output;
       EXPECT_NE(result.output.find("collection.json"), std::string::npos) << result.output;

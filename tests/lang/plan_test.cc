@@ -524,7 +524,9 @@ TEST(LangGate, TargetsTakeOptionalLabelsAndClassesSayWhatWasDrawn) {
       EXPECT_EQ(o.class_id, 5u);
       EXPECT_EQ(names[o.class_id], "barrel");  // the label names the drawn
     }
-    if (o.symbol == "O2") EXPECT_EQ(names[o.class_id], "cube");
+    if (o.symbol == "O2") {
+      EXPECT_EQ(names[o.class_id], "cube");
+    }
     if (o.symbol == "O3") {
       EXPECT_EQ(names[o.class_id], "debris");  // the user's alias
       EXPECT_EQ(o.class_name, "tire");         // what is drawn

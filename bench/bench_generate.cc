@@ -188,13 +188,19 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
   const Sky sky(plan);
   RenderSettings settings;
   settings.sampler = {spp, 1.0, plan.seed};
-  double render_s = 0, exposure_s = 0, clamp_s = 0, filmic_s = 0;
+  double render_s = 0, per_sample_s = 0, exposure_s = 0, clamp_s = 0, filmic_s = 0;
   size_t shading_points = 0;
   for (const PlannedFrame& frame : plan.frames) {
     const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
     Clock::time_point t = Clock::now();
     Film film = RenderFrame(scene, sky, frame, {}, settings);
     render_s += Since(t);
+    // The same frame with the albedo and cloud shadow at every sample.
+    RenderSettings per_sample = settings;
+    per_sample.reuse_smooth_fields = false;
+    t = Clock::now();
+    RenderFrame(scene, sky, frame, {}, per_sample);
+    per_sample_s += Since(t);
     shading_points += static_cast<size_t>(frame.camera.width) * frame.camera.height * spp;
     t = Clock::now();
     const FrameExposure e = MeterExposure(PlannedExposure(), film);
@@ -237,6 +243,10 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
               "auto exposure (meter + scale)",
               exposure_s / plan.frames.size(),
               (frame_s + exposure_s / plan.frames.size()) / frame_s);
+  std::printf("  %-34s %10.4f %8.3f\n",
+              "smooth fields per sample, not pixel",
+              (per_sample_s - render_s) / plan.frames.size(),
+              per_sample_s / render_s);
   for (const char* name : {"grassy", "sandy", "rocky", "asphalt", "metal", "painted_red"}) {
     const Material& m = FindMaterial(name, "bench");
     Material plain = m;

@@ -9,6 +9,7 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
+#include "generator/render/pixel_field.h"
 #include "generator/render/ray_casts.h"
 #include "generator/render/shading.h"
 #include "generator/scene/world_ground.h"
@@ -194,6 +195,11 @@ void RenderFrame(const RenderScene& scene,
   float* b_n[3] = {f("NX"), f("NY"), f("NZ")};
   float* b_s[2] = {f("SX"), f("SY")};
 
+  // Smooth fields once per pixel (PixelField); 0 evaluates them per sample.
+  const double cloud_reuse = settings.reuse_smooth_fields ? sky.CloudReuseDistance() : 0;
+  auto albedo_reuse = [&settings](const Material& material) {
+    return settings.reuse_smooth_fields ? AlbedoReuseDistance(material) : 0;
+  };
   std::atomic<uint64_t> total_rays{0};
   const int tile = settings.tile_size;
   tbb::parallel_for(
@@ -208,6 +214,8 @@ void RenderFrame(const RenderScene& scene,
         std::vector<double> cos_suns(spp);
         std::vector<Eigen::Vector3d> shadow_origins(spp);
         std::vector<uint8_t> facing_sun(spp), occluded(spp);
+        PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
+        PixelField<float> cloud_field(0.f);
         uint64_t rays = 0;
         for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
           for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
@@ -256,6 +264,8 @@ void RenderFrame(const RenderScene& scene,
               }
             }
             Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+            albedo_field.Reset();
+            cloud_field.Reset();
             for (int k = 0; k < spp; ++k) {
               const Eigen::Vector3d& ray_in_cam = rays_in_cam[k];
               const Eigen::Vector3d& direction = directions[k];
@@ -275,11 +285,17 @@ void RenderFrame(const RenderScene& scene,
                     s.MappedAlbedo(hit.prim, hit.u, hit.v);
                 const Eigen::Vector3f albedo =
                     mapped ? *mapped
-                           : Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>());
+                           : albedo_field.At(hit.geom, hit.point, albedo_reuse(*s.material), [&] {
+                               return Albedo(
+                                   *s.material, sky.texture_noise(), hit.point.cast<float>());
+                             });
                 const double cos_sun = cos_suns[k];
-                const float lit = !facing_sun[k] || occluded[k]
-                                      ? 0.f
-                                      : static_cast<float>(sky.CloudTransmittance(hit.point));
+                const float lit =
+                    !facing_sun[k] || occluded[k]
+                        ? 0.f
+                        : cloud_field.At(hit.geom, hit.point, cloud_reuse, [&] {
+                            return static_cast<float>(sky.CloudTransmittance(hit.point));
+                          });
                 const Eigen::Vector3f direct =
                     sky.sun_irradiance() * static_cast<float>(std::max(0.0, cos_sun));
                 const Eigen::Vector3f unshadowed = sky.ambient() + direct;

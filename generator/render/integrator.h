@@ -28,6 +28,10 @@ struct RenderSettings {
   // one (rtcIntersect1, rtcOccluded1). Same films either way
   // (tests/generator/render_test.cc).
   bool packets = true;
+  // Evaluate the procedural albedo and the cloud shadow once per pixel where
+  // they are smooth over it (PixelField); off evaluates them at every sample.
+  // Only the RGB can change; every truth layer is the same either way.
+  bool reuse_smooth_fields = true;
 };
 
 // The previous frame of the same shot, for motion vectors (absent on a shot's

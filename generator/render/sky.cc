@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -55,7 +56,9 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
   if (sky.cloud_type == "stratus")
     cloud_frequency_ = 0.3, cloud_stretch_ = 3, cloud_softness_ = 0.6;
   if (sky.cloud_type == "cirrus") cloud_frequency_ = 2.0, cloud_stretch_ = 6, cloud_softness_ = 0.3;
+  cloud_reuse_distance_ = std::numeric_limits<double>::infinity();
   if (cloud_density_ > 0) {
+    cloud_reuse_distance_ = ReuseDistance();
     // Clouds dim the sun (haze; the clouds themselves cast shadows,
     // CloudTransmittance) and whiten the skylight.
     sun_irradiance_ *= static_cast<float>(1 - 0.3 * cloud_density_);
@@ -63,6 +66,19 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
                Eigen::Vector3f::Constant(static_cast<float>(
                    0.2 * sky.luminance_cd_m2 * cloud_density_ * environment.skylight_intensity));
   }
+}
+
+double Sky::ReuseDistance() const {
+  // The deck's finest wavelength (m): five octaves from cloud_frequency_
+  // cycles/km, stretch times finer across y.
+  const double finest = 1000 / (cloud_frequency_ * 16 * std::max(1.0, cloud_stretch_));
+  // A step of d on the ground moves the sun ray's crossing of the deck by up
+  // to d * (1 + cot(elevation)).
+  const double along_sun = 1 + std::hypot(to_sun_.x(), to_sun_.y()) / std::max(to_sun_.z(), 0.01);
+  // The cover ramps from clear to full over a noise change of
+  // cloud_softness_, so the transmittance is kCloudOpacity / cloud_softness_
+  // times steeper than the noise.
+  return finest / 64 * cloud_softness_ / kCloudOpacity / along_sun;
 }
 
 double Sky::CloudCoverAt(double x, double y) const {

@@ -30,11 +30,16 @@ class Sky {
   // 1 - kCloudOpacity under a full cloud. The same cloud field the sky shows
   // (CloudCoverAt), so cloud shadows on the ground match the clouds above.
   double CloudTransmittance(const Eigen::Vector3d& p) const;
+  // How far (m) CloudTransmittance may be taken as constant around a point:
+  // 1/32 of the deck's finest wavelength, as seen along the sun's rays.
+  // Infinite without clouds.
+  double CloudReuseDistance() const { return cloud_reuse_distance_; }
   // The noise field of procedural material textures.
   const Perlin& texture_noise() const { return texture_noise_; }
 
  private:
   double CloudCover(const Eigen::Vector3d& direction) const;
+  double ReuseDistance() const;
   // Cover of the deck at (x, y) kilometres, [0, 1].
   double CloudCoverAt(double x_km, double y_km) const;
 
@@ -43,6 +48,7 @@ class Sky {
   double fog_density_ = 0;
   double cloud_density_ = 0;
   double cloud_frequency_ = 1, cloud_stretch_ = 1, cloud_softness_ = 0.2;
+  double cloud_reuse_distance_ = 0;
   Perlin noise_;
   Perlin texture_noise_;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -193,6 +194,30 @@ Eigen::Vector3f Albedo(const Material& material, const Perlin& noise, const Eige
     albedo *= std::clamp(1.f + material.patches * static_cast<float>(patch) * 1.5f, 0.f, 2.f);
   }
   return albedo.cwiseMin(1.f);
+}
+
+double AlbedoReuseDistance(const Material& material) {
+  const double f = material.frequency;
+  // The highest frequency (cycles/m) of each term of Albedo above.
+  double finest = 0;
+  if (material.contrast > 0) {
+    switch (material.pattern) {
+      case Pattern::kMottled:
+        finest = 4 * f;  // three octaves from f
+        break;
+      case Pattern::kSpeckle:
+        return 0;  // the grains are a step function
+      case Pattern::kStrata:
+        finest = 16 * f;  // detail at 4f, bands whose warp makes them up to 4x steeper
+        break;
+      case Pattern::kBrushed:
+        finest = 8 * f;  // two octaves from 4f across the streaks
+        break;
+    }
+  }
+  if (material.patches > 0) finest = std::max(finest, f / 4);  // two octaves from f / 8
+  if (finest <= 0) return std::numeric_limits<double>::infinity();
+  return 1 / (32 * finest);
 }
 
 }  // namespace lsds::gen

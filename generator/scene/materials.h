@@ -54,4 +54,12 @@ Eigen::Vector3f Albedo(const Material& material,
                        const Perlin& noise,
                        const Eigen::Vector3f& point_in_world);
 
+// How far (m) the procedural albedo may be taken as constant: 1/32 of the
+// finest wavelength of its pattern and patches, over which it changes by well
+// under an 8-bit step (tests/generator/scene_test.cc). Infinite for a plain
+// albedo; 0 for speckle, whose thresholded grains have hard edges. The renderer
+// reuses a pixel's albedo within this distance (docs/generator.md, "Smooth
+// fields once per pixel").
+double AlbedoReuseDistance(const Material& material);
+
 }  // namespace lsds::gen

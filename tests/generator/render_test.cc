@@ -487,6 +487,46 @@ TEST(Render, PacketsGiveTheFilmsOfSingleRays) {
   }
 }
 
+// Smooth fields once per pixel (PixelField): with a pixel footprint of a few
+// centimetres (a 6-degree view from 25 m), the albedo and cloud shadow of most
+// pixels are evaluated once. Only the RGB may change, and by less than the
+// fields change within their reuse distances; every truth layer and the bundle
+// stay bit for bit those of per-sample shading.
+TEST(Render, SmoothFieldsOncePerPixelChangeOnlyTheRgbAndBarely) {
+  Plan plan = SmallDemo();
+  for (PlannedFrame& frame : plan.frames)
+    frame.camera = PinholeCamera::FromHorizontalFov(frame.camera.width, frame.camera.height, 6.0);
+  const DemoFrames demo(plan);
+  RenderSettings settings;
+  settings.sampler = {4, 1.0, demo.plan.seed};
+  const Film once = RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+  settings.reuse_smooth_fields = false;
+  const Film per_sample =
+      RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+
+  Film truth_of_once = once;
+  truth_of_once.flat.at("rgb") = per_sample.flat.at("rgb");
+  EXPECT_TRUE(SameFilms(truth_of_once, per_sample));
+
+  int changed = 0;
+  double worst = 0, sum = 0;
+  const size_t pixels = once.flat.at("rgb").Get("R").floats.size();
+  for (const char* c : {"R", "G", "B"}) {
+    const std::vector<float>& a = once.flat.at("rgb").Get(c).floats;
+    const std::vector<float>& b = per_sample.flat.at("rgb").Get(c).floats;
+    for (size_t i = 0; i < pixels; ++i) {
+      const double relative = std::abs(a[i] - b[i]) / std::max(b[i], 1e-6f);
+      changed += a[i] != b[i];
+      worst = std::max(worst, relative);
+      sum += relative;
+    }
+  }
+  EXPECT_GT(changed, static_cast<int>(pixels));  // the fields were reused
+  // Measured: worst 0.1 %, mean 0.01 %.
+  EXPECT_LT(worst, 1 / 255.0);
+  EXPECT_LT(sum / (3 * pixels), 0.1 / 255);
+}
+
 // The generator renders each frame into the film of the frame before last:
 // nothing of that frame may show through.
 TEST(Render, AReusedFilmIsAFreshOne) {

@@ -1,0 +1,51 @@
+// A smooth field evaluated once per pixel. The procedural albedo and the cloud
+// shadow change by under an 8-bit step within their reuse distances
+// (AlbedoReuseDistance, Sky::CloudReuseDistance), and a pixel's footprint is
+// usually smaller than that, so a pixel's samples that hit the same surface
+// near the point the field was evaluated at take that value instead of
+// evaluating the noise again (docs/generator.md, "Smooth fields once per
+// pixel"). Samples are visited in order, the centre sample first, so the value
+// is the centre sample's wherever it applies: the single-value truth layers
+// (shadow) keep their exact per-sample values.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace lsds::gen {
+
+template <typename Value>
+class PixelField {
+ public:
+  // `unset` is never returned; it only keeps the storage initialized.
+  explicit PixelField(const Value& unset) : value_(unset) {}
+
+  // At each pixel's first sample: the pixel has no value yet.
+  void Reset() { valid_ = false; }
+
+  // The field at `point` on surface `geom`: the value kept for this pixel if
+  // it was evaluated on the same surface within `reuse_distance`, else
+  // `evaluate()`, which is then kept.
+  template <typename Evaluate>
+  Value At(unsigned geom,
+           const Eigen::Vector3d& point,
+           double reuse_distance,
+           Evaluate&& evaluate) {
+    if (valid_ && geom == geom_ &&
+        (point - point_).squaredNorm() <= reuse_distance * reuse_distance) {
+      return value_;
+    }
+    value_ = evaluate();
+    geom_ = geom;
+    point_ = point;
+    valid_ = true;
+    return value_;
+  }
+
+ private:
+  bool valid_ = false;
+  unsigned geom_ = 0;
+  Eigen::Vector3d point_ = Eigen::Vector3d::Zero();
+  Value value_;
+};
+
+}  // namespace lsds::gen

@@ -195,11 +195,8 @@ void RenderFrame(const RenderScene& scene,
   float* b_n[3] = {f("NX"), f("NY"), f("NZ")};
   float* b_s[2] = {f("SX"), f("SY")};
 
-  // Smooth fields once per pixel (PixelField); 0 evaluates them per sample.
-  const double cloud_reuse = settings.reuse_smooth_fields ? sky.CloudReuseDistance() : 0;
-  auto albedo_reuse = [&settings](const Material& material) {
-    return settings.reuse_smooth_fields ? AlbedoReuseDistance(material) : 0;
-  };
+  // Smooth fields once per pixel (PixelField), or at every sample.
+  const bool reuse = settings.reuse_smooth_fields;
   std::atomic<uint64_t> total_rays{0};
   const int tile = settings.tile_size;
   tbb::parallel_for(
@@ -284,18 +281,20 @@ void RenderFrame(const RenderScene& scene,
                 const std::optional<Eigen::Vector3f> mapped =
                     s.MappedAlbedo(hit.prim, hit.u, hit.v);
                 const Eigen::Vector3f albedo =
-                    mapped ? *mapped
-                           : albedo_field.At(hit.geom, hit.point, albedo_reuse(*s.material), [&] {
-                               return Albedo(
-                                   *s.material, sky.texture_noise(), hit.point.cast<float>());
-                             });
+                    mapped ? *mapped : albedo_field.At(hit.geom, hit.point, [&] {
+                      return FieldValue<Eigen::Vector3f>{
+                          Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>()),
+                          reuse ? AlbedoReuseDistance(*s.material) : 0};
+                    });
                 const double cos_sun = cos_suns[k];
                 const float lit =
-                    !facing_sun[k] || occluded[k]
-                        ? 0.f
-                        : cloud_field.At(hit.geom, hit.point, cloud_reuse, [&] {
-                            return static_cast<float>(sky.CloudTransmittance(hit.point));
-                          });
+                    !facing_sun[k] || occluded[k] ? 0.f : cloud_field.At(hit.geom, hit.point, [&] {
+                      FieldValue<float> lit;
+                      lit.value = static_cast<float>(
+                          sky.CloudTransmittance(hit.point, &lit.reuse_distance));
+                      if (!reuse) lit.reuse_distance = 0;
+                      return lit;
+                    });
                 const Eigen::Vector3f direct =
                     sky.sun_irradiance() * static_cast<float>(std::max(0.0, cos_sun));
                 const Eigen::Vector3f unshadowed = sky.ambient() + direct;

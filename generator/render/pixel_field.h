@@ -13,39 +13,43 @@
 
 namespace lsds::gen {
 
+// A field's value at a point, and how far (m) around the point it holds.
+template <typename Value>
+struct FieldValue {
+  Value value;
+  double reuse_distance = 0;
+};
+
 template <typename Value>
 class PixelField {
  public:
   // `unset` is never returned; it only keeps the storage initialized.
-  explicit PixelField(const Value& unset) : value_(unset) {}
+  explicit PixelField(const Value& unset) : kept_{unset, 0} {}
 
   // At each pixel's first sample: the pixel has no value yet.
   void Reset() { valid_ = false; }
 
   // The field at `point` on surface `geom`: the value kept for this pixel if
-  // it was evaluated on the same surface within `reuse_distance`, else
-  // `evaluate()`, which is then kept.
+  // it was evaluated on the same surface within its reuse distance, else
+  // `evaluate()` (a FieldValue<Value>), which is then kept.
   template <typename Evaluate>
-  Value At(unsigned geom,
-           const Eigen::Vector3d& point,
-           double reuse_distance,
-           Evaluate&& evaluate) {
+  Value At(unsigned geom, const Eigen::Vector3d& point, Evaluate&& evaluate) {
     if (valid_ && geom == geom_ &&
-        (point - point_).squaredNorm() <= reuse_distance * reuse_distance) {
-      return value_;
+        (point - point_).squaredNorm() <= kept_.reuse_distance * kept_.reuse_distance) {
+      return kept_.value;
     }
-    value_ = evaluate();
+    kept_ = evaluate();
     geom_ = geom;
     point_ = point;
     valid_ = true;
-    return value_;
+    return kept_.value;
   }
 
  private:
   bool valid_ = false;
   unsigned geom_ = 0;
   Eigen::Vector3d point_ = Eigen::Vector3d::Zero();
-  Value value_;
+  FieldValue<Value> kept_;
 };
 
 }  // namespace lsds::gen

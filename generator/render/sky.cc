@@ -58,7 +58,7 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
   if (sky.cloud_type == "cirrus") cloud_frequency_ = 2.0, cloud_stretch_ = 6, cloud_softness_ = 0.3;
   cloud_reuse_distance_ = std::numeric_limits<double>::infinity();
   if (cloud_density_ > 0) {
-    cloud_reuse_distance_ = ReuseDistance();
+    InitCloudReuse();
     // Clouds dim the sun (haze; the clouds themselves cast shadows,
     // CloudTransmittance) and whiten the skylight.
     sun_irradiance_ *= static_cast<float>(1 - 0.3 * cloud_density_);
@@ -68,7 +68,7 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
   }
 }
 
-double Sky::ReuseDistance() const {
+void Sky::InitCloudReuse() {
   // The deck's finest wavelength (m): five octaves from cloud_frequency_
   // cycles/km, stretch times finer across y.
   const double finest = 1000 / (cloud_frequency_ * 16 * std::max(1.0, cloud_stretch_));
@@ -78,13 +78,23 @@ double Sky::ReuseDistance() const {
   // The cover ramps from clear to full over a noise change of
   // cloud_softness_, so the transmittance is kCloudOpacity / cloud_softness_
   // times steeper than the noise.
-  return finest / 64 * cloud_softness_ / kCloudOpacity / along_sun;
+  cloud_reuse_distance_ = finest / 64 * cloud_softness_ / kCloudOpacity / along_sun;
+  // The steepest the deck's noise gets per metre on the ground: each of the
+  // five octaves adds the noise's slope bound times its amplitude times its
+  // frequency, which is 1 for every octave, over Fbm's norm 1 + 1/2 + ... +
+  // 1/16.
+  cloud_noise_slope_ = Perlin::kSlopeBound2D * 5 / 1.9375 * cloud_frequency_ *
+                       std::max(1.0, cloud_stretch_) / 1000 * along_sun;
 }
 
+double Sky::CloudNoiseAt(double x, double y) const {
+  return noise_.Fbm(x * cloud_frequency_, y * cloud_frequency_ * cloud_stretch_, 5);
+}
+
+double Sky::CloudThreshold() const { return 0.6 - 1.2 * cloud_density_; }
+
 double Sky::CloudCoverAt(double x, double y) const {
-  const double n = noise_.Fbm(x * cloud_frequency_, y * cloud_frequency_ * cloud_stretch_, 5);
-  const double threshold = 0.6 - 1.2 * cloud_density_;
-  return std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);
+  return std::clamp((CloudNoiseAt(x, y) - CloudThreshold()) / cloud_softness_, 0.0, 1.0);
 }
 
 double Sky::CloudCover(const Eigen::Vector3d& d) const {
@@ -94,14 +104,23 @@ double Sky::CloudCover(const Eigen::Vector3d& d) const {
   return cover * std::min(1.0, d.z() * 4);  // thin out towards the horizon
 }
 
-double Sky::CloudTransmittance(const Eigen::Vector3d& p) const {
+double Sky::CloudTransmittance(const Eigen::Vector3d& p, double* reuse_distance) const {
+  double unused;
+  double& reuse = reuse_distance != nullptr ? *reuse_distance : unused;
+  reuse = std::numeric_limits<double>::infinity();
   if (cloud_density_ <= 0 || to_sun_.z() <= 0.01) return 1;
   // Where the ray towards the sun crosses the deck, in km.
   const double t = (kCloudDeckM - p.z()) / to_sun_.z();
+  reuse = 0;  // at and above the deck: a step in the field
   if (!(t > 0)) return 1;
-  const double cover =
-      CloudCoverAt((p.x() + t * to_sun_.x()) / 1000, (p.y() + t * to_sun_.y()) / 1000);
-  return 1 - kCloudOpacity * cover;
+  const double n = CloudNoiseAt((p.x() + t * to_sun_.x()) / 1000, (p.y() + t * to_sun_.y()) / 1000);
+  const double threshold = CloudThreshold();
+  // Where the deck is clear (n <= threshold) or full (n >= threshold +
+  // softness) with a margin, it stays so, exactly, until the noise has changed
+  // by that margin.
+  const double margin = std::max(threshold - n, n - threshold - cloud_softness_);
+  reuse = std::max(cloud_reuse_distance_, margin / cloud_noise_slope_);
+  return 1 - kCloudOpacity * std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);
 }
 
 Eigen::Vector3f Sky::Radiance(const Eigen::Vector3d& d) const {

@@ -29,17 +29,24 @@ class Sky {
   // cloud deck (1 km above z = 0): 1 under a clear sky, down to
   // 1 - kCloudOpacity under a full cloud. The same cloud field the sky shows
   // (CloudCoverAt), so cloud shadows on the ground match the clouds above.
-  double CloudTransmittance(const Eigen::Vector3d& p) const;
-  // How far (m) CloudTransmittance may be taken as constant around a point:
-  // 1/32 of the deck's finest wavelength, as seen along the sun's rays.
-  // Infinite without clouds.
+  // `reuse_distance` (optional) receives how far (m) around `p` the value may
+  // be taken as constant (PixelField): CloudReuseDistance() where the cover
+  // ramps; where the deck is clear or full, as far as it stays so, within which
+  // the value is exact. Infinite without clouds.
+  double CloudTransmittance(const Eigen::Vector3d& p, double* reuse_distance = nullptr) const;
+  // The reuse distance where the cover ramps: 1/64 of the deck's finest
+  // wavelength as seen along the sun's rays, scaled by the ramp's softness.
   double CloudReuseDistance() const { return cloud_reuse_distance_; }
   // The noise field of procedural material textures.
   const Perlin& texture_noise() const { return texture_noise_; }
 
  private:
   double CloudCover(const Eigen::Vector3d& direction) const;
-  double ReuseDistance() const;
+  void InitCloudReuse();
+  // The deck's noise at (x, y) kilometres, and the noise above which it has
+  // clouds.
+  double CloudNoiseAt(double x_km, double y_km) const;
+  double CloudThreshold() const;
   // Cover of the deck at (x, y) kilometres, [0, 1].
   double CloudCoverAt(double x_km, double y_km) const;
 
@@ -49,6 +56,7 @@ class Sky {
   double cloud_density_ = 0;
   double cloud_frequency_ = 1, cloud_stretch_ = 1, cloud_softness_ = 0.2;
   double cloud_reuse_distance_ = 0;
+  double cloud_noise_slope_ = 0;  // per metre on the ground
   Perlin noise_;
   Perlin texture_noise_;
 };

@@ -119,7 +119,9 @@ double Sky::CloudTransmittance(const Eigen::Vector3d& p, double* reuse_distance)
   // softness) with a margin, it stays so, exactly, until the noise has changed
   // by that margin.
   const double margin = std::max(threshold - n, n - threshold - cloud_softness_);
-  reuse = std::max(cloud_reuse_distance_, margin / cloud_noise_slope_);
+  // Not past the deck's height, above which the transmittance is 1.
+  reuse =
+      std::min(std::max(cloud_reuse_distance_, margin / cloud_noise_slope_), kCloudDeckM - p.z());
   return 1 - kCloudOpacity * std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);
 }
 

@@ -109,69 +109,71 @@ PeerRun RunCycles(
 }
 
 // The floor's ray casts: per pixel the same spp camera rays and, for hits
-// facing the sun, one shadow ray, cast as the renderer casts them (a packet
-// of camera rays and a packet of shadow rays per pixel, ray_casts.h).
+// facing the sun, one shadow ray, cast as the renderer casts them (the camera
+// rays of a 2x2 block of pixels in packets, their shadow rays in packets, in a
+// coherent context: ray_casts.h).
 uint64_t CastRaysOnly(const RenderScene& scene,
                       const Sky& sky,
                       const PlannedFrame& frame,
                       const SamplerSettings& sampler) {
+  constexpr int kBlock = 2;  // as generator/render/integrator.cc
   const PinholeCamera& camera = frame.camera;
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
   const Eigen::Vector3d origin = CameraCenterInWorld(frame.cam_from_world);
   const int spp = sampler.spp;
   std::atomic<uint64_t> total{0};
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, camera.height, 16, 0, camera.width, 16),
-                    [&](const tbb::blocked_range2d<int>& r) {
-                      RTCIntersectContext context;
-                      rtcInitIntersectContext(&context);
-                      std::vector<Eigen::Vector2d> samples(spp);
-                      std::vector<Eigen::Vector3d> directions(spp), shadow_origins(spp);
-                      std::vector<EmbreeHit> hits(spp);
-                      std::vector<uint8_t> facing_sun(spp), occluded(spp);
-                      uint64_t rays = 0;
-                      for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
-                        for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
-                          PixelSamples(sampler, frame.index, x, y, samples.data());
-                          for (int k = 0; k < spp; ++k)
-                            directions[k] = world_from_cam * camera.CamFromImage(samples[k]);
-                          for (int k = 0; k < spp; k += kPacket)
-                            TracePacket(scene.scene(),
-                                        origin,
-                                        &directions[k],
-                                        std::min(kPacket, spp - k),
-                                        &context,
-                                        &hits[k]);
-                          rays += spp;
-                          for (int k = 0; k < spp; ++k) {
-                            facing_sun[k] = 0;
-                            if (hits[k].geom == RTC_INVALID_GEOMETRY_ID) continue;
-                            // The triangle's normal, without the renderer's exact hit.
-                            const Surface& s = scene.surface(hits[k].geom);
-                            const Eigen::Vector3i& tri = s.triangles[hits[k].prim];
-                            Eigen::Vector3d n =
-                                (s.positions[tri[1]] - s.positions[tri[0]])
-                                    .cross(s.positions[tri[2]] - s.positions[tri[0]])
-                                    .cast<double>()
-                                    .normalized();
-                            if (n.dot(directions[k]) > 0) n = -n;
-                            if (n.dot(sky.to_sun()) <= 0) continue;
-                            facing_sun[k] = 1;
-                            shadow_origins[k] = origin + hits[k].tfar * directions[k] + 1e-3 * n;
-                            ++rays;
-                          }
-                          for (int k = 0; k < spp; k += kPacket)
-                            OccludedPacket(scene.scene(),
-                                           &shadow_origins[k],
-                                           sky.to_sun(),
-                                           &facing_sun[k],
-                                           std::min(kPacket, spp - k),
-                                           &context,
-                                           &occluded[k]);
-                        }
-                      }
-                      total += rays;
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range2d<int>(0, camera.height, 16, 0, camera.width, 16),
+      [&](const tbb::blocked_range2d<int>& r) {
+        RTCIntersectContext context;
+        InitCoherentContext(&context);
+        const int block_rays = kBlock * kBlock * spp;
+        std::vector<Eigen::Vector2d> samples(block_rays);
+        std::vector<Eigen::Vector3d> directions(block_rays), shadow_origins(block_rays);
+        std::vector<EmbreeHit> hits(block_rays);
+        std::vector<uint8_t> facing_sun(block_rays), occluded(block_rays);
+        uint64_t rays = 0;
+        for (int y0 = r.rows().begin(); y0 < r.rows().end(); y0 += kBlock) {
+          for (int x0 = r.cols().begin(); x0 < r.cols().end(); x0 += kBlock) {
+            int count = 0;
+            for (int y = y0; y < std::min(y0 + kBlock, r.rows().end()); ++y) {
+              for (int x = x0; x < std::min(x0 + kBlock, r.cols().end()); ++x) {
+                PixelSamples(sampler, frame.index, x, y, &samples[count]);
+                count += spp;
+              }
+            }
+            for (int i = 0; i < count; ++i)
+              directions[i] = world_from_cam * camera.CamFromImage(samples[i]);
+            TraceRays(scene.scene(), origin, directions.data(), count, &context, hits.data());
+            rays += count;
+            for (int i = 0; i < count; ++i) {
+              facing_sun[i] = 0;
+              if (hits[i].geom == RTC_INVALID_GEOMETRY_ID) continue;
+              // The triangle's normal, without the renderer's exact hit.
+              const Surface& s = scene.surface(hits[i].geom);
+              const Eigen::Vector3i& tri = s.triangles[hits[i].prim];
+              Eigen::Vector3d n = (s.positions[tri[1]] - s.positions[tri[0]])
+                                      .cross(s.positions[tri[2]] - s.positions[tri[0]])
+                                      .cast<double>()
+                                      .normalized();
+              if (n.dot(directions[i]) > 0) n = -n;
+              if (n.dot(sky.to_sun()) <= 0) continue;
+              facing_sun[i] = 1;
+              shadow_origins[i] = origin + hits[i].tfar * directions[i] + 1e-3 * n;
+              ++rays;
+            }
+            OccludedRays(scene.scene(),
+                         shadow_origins.data(),
+                         sky.to_sun(),
+                         facing_sun.data(),
+                         count,
+                         &context,
+                         occluded.data());
+          }
+        }
+        total += rays;
+      });
   return total;
 }
 

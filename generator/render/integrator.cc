@@ -20,6 +20,10 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
+// Pixels per side of the block whose camera and shadow rays are cast together:
+// 2 x 2 pixels at 4 samples are one 16-lane packet (ray_casts.h).
+constexpr int kBlock = 2;
+
 struct Hit {
   bool hit = false;
   unsigned geom = 0;
@@ -203,174 +207,193 @@ void RenderFrame(const RenderScene& scene,
       tbb::blocked_range2d<int>(0, height, tile, 0, width, tile),
       [&](const tbb::blocked_range2d<int>& r) {
         RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        std::vector<Eigen::Vector2d> samples(spp);
-        std::vector<Eigen::Vector3d> rays_in_cam(spp), directions(spp);
-        std::vector<EmbreeHit> embree_hits(spp);
-        std::vector<Hit> hits(spp);
-        std::vector<double> cos_suns(spp);
-        std::vector<Eigen::Vector3d> shadow_origins(spp);
-        std::vector<uint8_t> facing_sun(spp), occluded(spp);
+        InitCoherentContext(&context);
+        // A block of up to kBlock x kBlock pixels casts its rays together.
+        const int block_rays = kBlock * kBlock * spp;
+        std::vector<Eigen::Vector2d> samples(block_rays);
+        std::vector<Eigen::Vector3d> rays_in_cam(block_rays), directions(block_rays);
+        std::vector<EmbreeHit> embree_hits(block_rays);
+        std::vector<Hit> hits(block_rays);
+        std::vector<double> cos_suns(block_rays);
+        std::vector<Eigen::Vector3d> shadow_origins(block_rays);
+        std::vector<uint8_t> facing_sun(block_rays), occluded(block_rays);
         PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
         PixelField<float> cloud_field(0.f);
         uint64_t rays = 0;
-        for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
-          for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
-            const size_t pixel = static_cast<size_t>(y) * width + x;
-            PixelSamples(settings.sampler, frame.index, x, y, samples.data());
-            for (int k = 0; k < spp; ++k) {
-              rays_in_cam[k] = camera.CamFromImage(samples[k]);  // z == 1
-              directions[k] = world_from_cam * rays_in_cam[k];
-            }
-            for (int k = 0; k < spp; k += kPacket) {
-              const int count = std::min(kPacket, spp - k);
-              if (settings.packets) {
-                TracePacket(
-                    scene.scene(), centre, &directions[k], count, &context, &embree_hits[k]);
-              } else {
-                for (int i = k; i < k + count; ++i)
-                  embree_hits[i] = TraceOne(scene.scene(), centre, directions[i], &context);
+        for (int y0 = r.rows().begin(); y0 < r.rows().end(); y0 += kBlock) {
+          for (int x0 = r.cols().begin(); x0 < r.cols().end(); x0 += kBlock) {
+            // The block's pixels (fewer at the tile's edge), row by row.
+            int block_x[kBlock * kBlock], block_y[kBlock * kBlock];
+            int pixels = 0;
+            for (int y = y0; y < std::min(y0 + kBlock, r.rows().end()); ++y) {
+              for (int x = x0; x < std::min(x0 + kBlock, r.cols().end()); ++x) {
+                block_x[pixels] = x;
+                block_y[pixels] = y;
+                ++pixels;
               }
             }
-            rays += spp;
-            // The shadow rays of the samples that face the sun, again a pixel
-            // at a time.
-            for (int k = 0; k < spp; ++k) {
-              hits[k] = Resolve(scene, embree_hits[k], centre, directions[k]);
-              const Hit& hit = hits[k];
-              cos_suns[k] = hit.hit ? hit.shading_normal.dot(sky.to_sun()) : 0;
-              facing_sun[k] = cos_suns[k] > 0;
-              if (!facing_sun[k]) continue;
-              shadow_origins[k] = hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
+            // Pixel p's samples are block rays p * spp to (p + 1) * spp - 1.
+            const int count = pixels * spp;
+            for (int p = 0; p < pixels; ++p)
+              PixelSamples(
+                  settings.sampler, frame.index, block_x[p], block_y[p], &samples[p * spp]);
+            for (int i = 0; i < count; ++i) {
+              rays_in_cam[i] = camera.CamFromImage(samples[i]);  // z == 1
+              directions[i] = world_from_cam * rays_in_cam[i];
+            }
+            if (settings.packets) {
+              TraceRays(
+                  scene.scene(), centre, directions.data(), count, &context, embree_hits.data());
+            } else {
+              for (int i = 0; i < count; ++i)
+                embree_hits[i] = TraceOne(scene.scene(), centre, directions[i], &context);
+            }
+            rays += count;
+            // The shadow rays of the samples that face the sun, again the
+            // block's together.
+            for (int i = 0; i < count; ++i) {
+              hits[i] = Resolve(scene, embree_hits[i], centre, directions[i]);
+              const Hit& hit = hits[i];
+              cos_suns[i] = hit.hit ? hit.shading_normal.dot(sky.to_sun()) : 0;
+              facing_sun[i] = cos_suns[i] > 0;
+              if (!facing_sun[i]) continue;
+              shadow_origins[i] = hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
               ++rays;
             }
-            for (int k = 0; k < spp; k += kPacket) {
-              const int count = std::min(kPacket, spp - k);
-              if (settings.packets) {
-                OccludedPacket(scene.scene(),
-                               &shadow_origins[k],
-                               sky.to_sun(),
-                               &facing_sun[k],
-                               count,
-                               &context,
-                               &occluded[k]);
-              } else {
-                for (int i = k; i < k + count; ++i)
-                  occluded[i] = facing_sun[i] &&
-                                Occluded(scene.scene(), shadow_origins[i], sky.to_sun(), &context);
-              }
+            if (settings.packets) {
+              OccludedRays(scene.scene(),
+                           shadow_origins.data(),
+                           sky.to_sun(),
+                           facing_sun.data(),
+                           count,
+                           &context,
+                           occluded.data());
+            } else {
+              for (int i = 0; i < count; ++i)
+                occluded[i] = facing_sun[i] &&
+                              Occluded(scene.scene(), shadow_origins[i], sky.to_sun(), &context);
             }
-            Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-            albedo_field.Reset();
-            cloud_field.Reset();
-            for (int k = 0; k < spp; ++k) {
-              const Eigen::Vector3d& ray_in_cam = rays_in_cam[k];
-              const Eigen::Vector3d& direction = directions[k];
-              const Hit& hit = hits[k];
-              Eigen::Vector3f radiance;
-              float shadow_ratio = 1.f;
-              const size_t b = static_cast<size_t>(pixel) * spp + k;
-              double z_value = kInf;
-              uint32_t sample_instance = 0, sample_class = 0;
-              Eigen::Vector3f sample_normal = Eigen::Vector3f::Zero();
-              if (!hit.hit) {
-                radiance = sky.Radiance(direction.normalized());
-              } else {
-                const Surface& s = scene.surface(hit.geom);
-                // (Not value_or: the procedural albedo only where no map applies.)
-                const std::optional<Eigen::Vector3f> mapped =
-                    s.MappedAlbedo(hit.prim, hit.u, hit.v);
-                const Eigen::Vector3f albedo =
-                    mapped ? *mapped : albedo_field.At(hit.geom, hit.point, [&] {
-                      return FieldValue<Eigen::Vector3f>{
-                          Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>()),
-                          reuse ? AlbedoReuseDistance(*s.material) : 0};
-                    });
-                const double cos_sun = cos_suns[k];
-                const float lit =
-                    !facing_sun[k] || occluded[k] ? 0.f : cloud_field.At(hit.geom, hit.point, [&] {
-                      FieldValue<float> lit;
-                      lit.value = static_cast<float>(
-                          sky.CloudTransmittance(hit.point, &lit.reuse_distance));
-                      if (!reuse) lit.reuse_distance = 0;
-                      return lit;
-                    });
-                const Eigen::Vector3f direct =
-                    sky.sun_irradiance() * static_cast<float>(std::max(0.0, cos_sun));
-                const Eigen::Vector3f unshadowed = sky.ambient() + direct;
-                const Eigen::Vector3f shaded = sky.ambient() + direct * lit;
-                const float denominator = Luminance(unshadowed);
-                shadow_ratio =
-                    denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
-                radiance = Shade(*s.material,
-                                 albedo,
-                                 hit.shading_normal,
-                                 -direction.normalized(),
-                                 sky,
-                                 shaded,
-                                 lit);
-                const double distance = hit.t * ray_in_cam.norm();
-                if (sky.fog_density() > 0) {
-                  const float f = static_cast<float>(std::exp(-sky.fog_density() * distance));
-                  radiance = radiance * f + sky.horizon() * (1 - f);
-                }
-                z_value = settings.depth_kind == DepthKind::kPlanar ? hit.t : distance;
-                sample_instance = s.instance_id;
-                sample_class = s.class_id;
-                sample_normal = hit.normal.cast<float>();
-              }
-              if (with_bundle) {
-                b_s[0][b] = static_cast<float>(samples[k].x() - x);  // [0, 1)
-                b_s[1][b] = static_cast<float>(samples[k].y() - y);
-                b_instance[b] = sample_instance;
-                b_class[b] = sample_class;
-                for (int a = 0; a < 3; ++a) b_n[a][b] = sample_normal[a];
-                b_z[b] = static_cast<float>(z_value);
-              }
-              sum += radiance;
-              if (k != 0) continue;
-              // The flat truth layers: the single, non-mixed value of the
-              // centre sample.
-              film.centre_sample[pixel] = samples[0].cast<float>();
-              class_id[pixel] = sample_class;
-              instance_id[pixel] = sample_instance;
-              depth[pixel] = static_cast<float>(z_value);
-              shadow[pixel] = shadow_ratio;
-              for (int a = 0; a < 3; ++a) {
-                normal[a][pixel] = sample_normal[a];
-                position[a][pixel] = hit.hit ? static_cast<float>(hit.point[a]) : kInf;
-              }
-              // No previous frame in the shot: no valid motion.
-              Eigen::Vector2d m(kNaN, kNaN);
-              if (previous.frame != nullptr && settings.motion) {
-                const PlannedFrame& p = *previous.frame;
+            for (int p = 0; p < pixels; ++p) {
+              const int x = block_x[p], y = block_y[p];
+              const size_t pixel = static_cast<size_t>(y) * width + x;
+              Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+              albedo_field.Reset();
+              cloud_field.Reset();
+              for (int k = 0; k < spp; ++k) {
+                const int i = p * spp + k;  // in the block
+                const Eigen::Vector3d& ray_in_cam = rays_in_cam[i];
+                const Eigen::Vector3d& direction = directions[i];
+                const Hit& hit = hits[i];
+                Eigen::Vector3f radiance;
+                float shadow_ratio = 1.f;
+                const size_t b = static_cast<size_t>(pixel) * spp + k;
+                double z_value = kInf;
+                uint32_t sample_instance = 0, sample_class = 0;
+                Eigen::Vector3f sample_normal = Eigen::Vector3f::Zero();
                 if (!hit.hit) {
-                  const Eigen::Vector3d dir_prev = p.cam_from_world.rotation * direction;
-                  m = Motion(camera, samples[0], p.camera, dir_prev);
+                  radiance = sky.Radiance(direction.normalized());
                 } else {
-                  Eigen::Vector3d point_before = hit.point;
-                  const int object = scene.surface(hit.geom).object;
-                  if (object >= 0 && previous.world != nullptr) {
-                    const ObjectState& now = scene.world().objects[object];
-                    const ObjectState& before = previous.world->objects[object];
-                    point_before = before.WorldFromUnit(now.UnitFromWorld(hit.point));
+                  const Surface& s = scene.surface(hit.geom);
+                  // (Not value_or: the procedural albedo only where no map applies.)
+                  const std::optional<Eigen::Vector3f> mapped =
+                      s.MappedAlbedo(hit.prim, hit.u, hit.v);
+                  const Eigen::Vector3f albedo =
+                      mapped ? *mapped : albedo_field.At(hit.geom, hit.point, [&] {
+                        return FieldValue<Eigen::Vector3f>{
+                            Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>()),
+                            reuse ? AlbedoReuseDistance(*s.material) : 0};
+                      });
+                  const double cos_sun = cos_suns[i];
+                  const float lit = !facing_sun[i] || occluded[i]
+                                        ? 0.f
+                                        : cloud_field.At(hit.geom, hit.point, [&] {
+                                            FieldValue<float> lit;
+                                            lit.value = static_cast<float>(sky.CloudTransmittance(
+                                                hit.point, &lit.reuse_distance));
+                                            if (!reuse) lit.reuse_distance = 0;
+                                            return lit;
+                                          });
+                  const Eigen::Vector3f direct =
+                      sky.sun_irradiance() * static_cast<float>(std::max(0.0, cos_sun));
+                  const Eigen::Vector3f unshadowed = sky.ambient() + direct;
+                  const Eigen::Vector3f shaded = sky.ambient() + direct * lit;
+                  const float denominator = Luminance(unshadowed);
+                  shadow_ratio =
+                      denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
+                  radiance = Shade(*s.material,
+                                   albedo,
+                                   hit.shading_normal,
+                                   -direction.normalized(),
+                                   sky,
+                                   shaded,
+                                   lit);
+                  const double distance = hit.t * ray_in_cam.norm();
+                  if (sky.fog_density() > 0) {
+                    const float f = static_cast<float>(std::exp(-sky.fog_density() * distance));
+                    radiance = radiance * f + sky.horizon() * (1 - f);
                   }
-                  m = Motion(camera, samples[0], p.camera, p.cam_from_world * point_before);
-                  if (std::isfinite(m.x()) && previous.scene != nullptr &&
-                      HiddenBefore(previous.scene->scene(),
-                                   CameraCenterInWorld(p.cam_from_world),
-                                   point_before,
-                                   &context)) {
-                    m = Eigen::Vector2d(kNaN, kNaN);
-                  }
-                  ++rays;
+                  z_value = settings.depth_kind == DepthKind::kPlanar ? hit.t : distance;
+                  sample_instance = s.instance_id;
+                  sample_class = s.class_id;
+                  sample_normal = hit.normal.cast<float>();
                 }
+                if (with_bundle) {
+                  b_s[0][b] = static_cast<float>(samples[i].x() - x);  // [0, 1)
+                  b_s[1][b] = static_cast<float>(samples[i].y() - y);
+                  b_instance[b] = sample_instance;
+                  b_class[b] = sample_class;
+                  for (int a = 0; a < 3; ++a) b_n[a][b] = sample_normal[a];
+                  b_z[b] = static_cast<float>(z_value);
+                }
+                sum += radiance;
+                if (k != 0) continue;
+                // The flat truth layers: the single, non-mixed value of the
+                // centre sample.
+                film.centre_sample[pixel] = samples[i].cast<float>();
+                class_id[pixel] = sample_class;
+                instance_id[pixel] = sample_instance;
+                depth[pixel] = static_cast<float>(z_value);
+                shadow[pixel] = shadow_ratio;
+                for (int a = 0; a < 3; ++a) {
+                  normal[a][pixel] = sample_normal[a];
+                  position[a][pixel] = hit.hit ? static_cast<float>(hit.point[a]) : kInf;
+                }
+                // No previous frame in the shot: no valid motion.
+                Eigen::Vector2d m(kNaN, kNaN);
+                if (previous.frame != nullptr && settings.motion) {
+                  const PlannedFrame& previous_frame = *previous.frame;
+                  if (!hit.hit) {
+                    const Eigen::Vector3d dir_prev =
+                        previous_frame.cam_from_world.rotation * direction;
+                    m = Motion(camera, samples[i], previous_frame.camera, dir_prev);
+                  } else {
+                    Eigen::Vector3d point_before = hit.point;
+                    const int object = scene.surface(hit.geom).object;
+                    if (object >= 0 && previous.world != nullptr) {
+                      const ObjectState& now = scene.world().objects[object];
+                      const ObjectState& before = previous.world->objects[object];
+                      point_before = before.WorldFromUnit(now.UnitFromWorld(hit.point));
+                    }
+                    m = Motion(camera,
+                               samples[i],
+                               previous_frame.camera,
+                               previous_frame.cam_from_world * point_before);
+                    if (std::isfinite(m.x()) && previous.scene != nullptr &&
+                        HiddenBefore(previous.scene->scene(),
+                                     CameraCenterInWorld(previous_frame.cam_from_world),
+                                     point_before,
+                                     &context)) {
+                      m = Eigen::Vector2d(kNaN, kNaN);
+                    }
+                    ++rays;
+                  }
+                }
+                motion[0][pixel] = static_cast<float>(m.x());
+                motion[1][pixel] = static_cast<float>(m.y());
               }
-              motion[0][pixel] = static_cast<float>(m.x());
-              motion[1][pixel] = static_cast<float>(m.y());
+              sum /= static_cast<float>(spp);
+              for (int a = 0; a < 3; ++a) rgb[a][pixel] = sum[a];
             }
-            sum /= static_cast<float>(spp);
-            for (int a = 0; a < 3; ++a) rgb[a][pixel] = sum[a];
           }
         }
         total_rays += rays;

@@ -1,5 +1,6 @@
 #include "generator/render/ray_casts.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace lsds::gen {
@@ -24,8 +25,8 @@ void SetLane(RayN* ray, int i, const Eigen::Vector3d& origin, const Eigen::Vecto
   ray->id[i] = 0;
 }
 
-// One packet of N lanes (RTCRayHit4 with rtcIntersect4, RTCRayHit8 with
-// rtcIntersect8); lanes past `count` are invalid.
+// One packet of N lanes (RTCRayHitN with rtcIntersectN, N = 4, 8, 16); lanes
+// past `count` are invalid.
 template <int N, class RayHitN, class Intersect>
 void TraceLanes(RTCScene rtc_scene,
                 const Eigen::Vector3d& origin,
@@ -34,8 +35,8 @@ void TraceLanes(RTCScene rtc_scene,
                 RTCIntersectContext* context,
                 Intersect intersect,
                 EmbreeHit* out) {
-  alignas(32) RayHitN rh;
-  alignas(32) int valid[N];
+  alignas(64) RayHitN rh;
+  alignas(64) int valid[N];
   for (int i = 0; i < N; ++i) {
     valid[i] = i < count ? -1 : 0;
     SetLane(&rh.ray, i, origin, directions[i < count ? i : 0]);
@@ -47,8 +48,8 @@ void TraceLanes(RTCScene rtc_scene,
     out[i] = {rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], rh.ray.tfar[i]};
 }
 
-// One shadow packet of N lanes (RTCRay4 with rtcOccluded4, RTCRay8 with
-// rtcOccluded8); lanes past `count` or not wanted are invalid.
+// One shadow packet of N lanes (RTCRayN with rtcOccludedN, N = 4, 8, 16);
+// lanes past `count` or not wanted are invalid.
 template <int N, class RayN, class OccludedN>
 void OccludedLanes(RTCScene rtc_scene,
                    const Eigen::Vector3d* origins,
@@ -58,8 +59,8 @@ void OccludedLanes(RTCScene rtc_scene,
                    RTCIntersectContext* context,
                    OccludedN occluded,
                    uint8_t* out) {
-  alignas(32) RayN ray;
-  alignas(32) int valid[N];
+  alignas(64) RayN ray;
+  alignas(64) int valid[N];
   for (int i = 0; i < N; ++i) {
     valid[i] = i < count && wanted[i] ? -1 : 0;
     // An invalid lane's origin may never have been set: it gets zeros.
@@ -71,16 +72,29 @@ void OccludedLanes(RTCScene rtc_scene,
 
 }  // namespace
 
-void TracePacket(RTCScene rtc_scene,
-                 const Eigen::Vector3d& origin,
-                 const Eigen::Vector3d* directions,
-                 int count,
-                 RTCIntersectContext* context,
-                 EmbreeHit* out) {
-  if (count <= 4) {
-    TraceLanes<4, RTCRayHit4>(rtc_scene, origin, directions, count, context, rtcIntersect4, out);
-  } else {
-    TraceLanes<8, RTCRayHit8>(rtc_scene, origin, directions, count, context, rtcIntersect8, out);
+void InitCoherentContext(RTCIntersectContext* context) {
+  rtcInitIntersectContext(context);
+  context->flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+}
+
+void TraceRays(RTCScene rtc_scene,
+               const Eigen::Vector3d& origin,
+               const Eigen::Vector3d* directions,
+               int count,
+               RTCIntersectContext* context,
+               EmbreeHit* out) {
+  for (int k = 0; k < count; k += kPacket) {
+    const int n = std::min(kPacket, count - k);
+    if (n <= 4) {
+      TraceLanes<4, RTCRayHit4>(
+          rtc_scene, origin, directions + k, n, context, rtcIntersect4, out + k);
+    } else if (n <= 8) {
+      TraceLanes<8, RTCRayHit8>(
+          rtc_scene, origin, directions + k, n, context, rtcIntersect8, out + k);
+    } else {
+      TraceLanes<16, RTCRayHit16>(
+          rtc_scene, origin, directions + k, n, context, rtcIntersect16, out + k);
+    }
   }
 }
 
@@ -126,19 +140,25 @@ bool Occluded(RTCScene rtc_scene,
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-void OccludedPacket(RTCScene rtc_scene,
-                    const Eigen::Vector3d* origins,
-                    const Eigen::Vector3d& direction,
-                    const uint8_t* wanted,
-                    int count,
-                    RTCIntersectContext* context,
-                    uint8_t* out) {
-  if (count <= 4) {
-    OccludedLanes<4, RTCRay4>(
-        rtc_scene, origins, direction, wanted, count, context, rtcOccluded4, out);
-  } else {
-    OccludedLanes<8, RTCRay8>(
-        rtc_scene, origins, direction, wanted, count, context, rtcOccluded8, out);
+void OccludedRays(RTCScene rtc_scene,
+                  const Eigen::Vector3d* origins,
+                  const Eigen::Vector3d& direction,
+                  const uint8_t* wanted,
+                  int count,
+                  RTCIntersectContext* context,
+                  uint8_t* out) {
+  for (int k = 0; k < count; k += kPacket) {
+    const int n = std::min(kPacket, count - k);
+    if (n <= 4) {
+      OccludedLanes<4, RTCRay4>(
+          rtc_scene, origins + k, direction, wanted + k, n, context, rtcOccluded4, out + k);
+    } else if (n <= 8) {
+      OccludedLanes<8, RTCRay8>(
+          rtc_scene, origins + k, direction, wanted + k, n, context, rtcOccluded8, out + k);
+    } else {
+      OccludedLanes<16, RTCRay16>(
+          rtc_scene, origins + k, direction, wanted + k, n, context, rtcOccluded16, out + k);
+    }
   }
 }
 

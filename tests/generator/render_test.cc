@@ -421,8 +421,10 @@ TEST(Render, BundleCentreSampleIsTheFlatLayerAndEdgesAreMixed) {
 
 // Camera and shadow rays traced as Embree packets give the films of rays traced one by
 // one, bit for bit: every flat layer and every bundle channel, on a demo frame
-// (hilly terrain, 60 objects, a previous frame for motion) with 4 samples (one
-// packet of 4) and 9 (a packet of 8 and a single ray).
+// (hilly terrain, 60 objects, a previous frame for motion) with 1 sample (a
+// 2x2 block of pixels is one packet of 4), 4 (one packet of 16) and 9 (two of
+// 16 and one of 4); and tiles of 5 pixels, whose blocks are cut at the tile's
+// edge, give the films of tiles of 16.
 // Every channel of `a` is `b`'s, bit for bit (NaN, no valid motion, included);
 // names the first that is not.
 ::testing::AssertionResult SameFilms(const Film& a, const Film& b) {
@@ -475,15 +477,19 @@ Plan SmallDemo() {
 
 TEST(Render, PacketsGiveTheFilmsOfSingleRays) {
   const DemoFrames demo(SmallDemo());
-  for (int spp : {4, 9}) {
+  for (int spp : {1, 4, 9}) {
     RenderSettings settings;
     settings.sampler = {spp, 1.0, demo.plan.seed};
     const Film packets =
+        RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+    settings.tile_size = 5;
+    const Film odd_tiles =
         RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
     settings.packets = false;
     const Film single =
         RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
     EXPECT_TRUE(SameFilms(packets, single)) << spp;
+    EXPECT_TRUE(SameFilms(packets, odd_tiles)) << spp;
   }
 }
 

@@ -68,8 +68,8 @@ class Estimator {
     }
     WorldState world = WorldAt(plan, frame);
     if (!scene_ || !(world_ == world)) {
-      scene_.reset();
-      scene_ = std::make_unique<RenderScene>(*device_, plan, *assets_, world);
+      // The objects that did not change are shared with the scene before.
+      scene_ = std::make_unique<RenderScene>(*device_, plan, *assets_, world, scene_.get());
       world_ = std::move(world);
     }
     FrameMeasure measure;

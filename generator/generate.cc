@@ -398,7 +398,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       WorldState world = WorldAt(plan, frame);
       if (!scene || !(scene->world() == world)) {  // one scene per world state
         previous_scene = std::move(scene);
-        scene = std::make_unique<RenderScene>(device, plan, assets, world);
+        // The objects that did not change are shared, not rebuilt.
+        scene = std::make_unique<RenderScene>(device, plan, assets, world, previous_scene.get());
       }
       // Motion is measured against the previous frame of the same shot, seen
       // in that frame's world (for moved objects and disocclusions).
@@ -415,7 +416,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
         } else if (previous_scene && previous_scene->world() == *previous_world) {
           previous.scene = previous_scene.get();
         } else {
-          built_previous = std::make_unique<RenderScene>(device, plan, assets, *previous_world);
+          built_previous =
+              std::make_unique<RenderScene>(device, plan, assets, *previous_world, scene.get());
           previous.scene = built_previous.get();
         }
       }

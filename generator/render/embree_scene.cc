@@ -87,11 +87,13 @@ std::optional<Eigen::Vector3f> Surface::MappedAlbedo(unsigned prim, float u, flo
 RenderScene::RenderScene(const EmbreeDevice& device,
                          const Plan& plan,
                          const SceneAssets& assets,
-                         const WorldState& world)
+                         const WorldState& world,
+                         const RenderScene* earlier)
     : world_(world) {
   scene_ = rtcNewScene(device.get());
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
   object_scenes_.assign(world.objects.size(), nullptr);
+  object_geometry_.assign(world.objects.size(), -1);
   int skirt_id = -1;
   if (plan.terrain.present) {
     Surface s;
@@ -113,6 +115,17 @@ RenderScene::RenderScene(const EmbreeDevice& device,
   for (size_t i = 0; i < world.objects.size(); ++i) {
     const ObjectState& o = world.objects[i];
     if (!o.visible) continue;  // invisible helpers are placed but not rendered
+    if (earlier != nullptr && i < earlier->world_.objects.size() &&
+        earlier->world_.objects[i] == o && earlier->object_geometry_[i] >= 0) {
+      // Unchanged since `earlier`: its mesh, geometry and own scene as they are.
+      const int from = earlier->object_geometry_[i];
+      rtcRetainGeometry(earlier->geometries_[from]);
+      object_geometry_[i] = static_cast<int>(
+          AttachMesh(earlier->meshes_[from], earlier->geometries_[from], earlier->surfaces_[from]));
+      rtcRetainScene(earlier->object_scenes_[i]);
+      object_scenes_[i] = earlier->object_scenes_[i];
+      continue;
+    }
     const ClassShape& shape = assets.ShapeOf(i, o.asset);
     TriangleMesh mesh = shape.mesh;
     const Eigen::Matrix3f linear = (o.world_from_object * o.extent.asDiagonal()).cast<float>();
@@ -126,6 +139,7 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     s.material = &FindMaterial(o.material.empty() ? shape.default_material : o.material,
                                "object '" + o.planned->name + "'");
     const unsigned id = AddMesh(device, std::move(mesh), s);
+    object_geometry_[i] = static_cast<int>(id);
     RTCScene own = rtcNewScene(device.get());
     rtcAttachGeometry(own, geometries_[id]);
     rtcCommitScene(own);
@@ -143,14 +157,15 @@ RenderScene::RenderScene(const EmbreeDevice& device,
   CheckDevice(device.get());
 }
 
-unsigned RenderScene::AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Surface surface) {
-  meshes_.push_back(std::make_unique<TriangleMesh>(std::move(mesh)));
-  const TriangleMesh& m = *meshes_.back();
+unsigned RenderScene::AddMesh(const EmbreeDevice& device,
+                              TriangleMesh mesh,
+                              const Surface& surface) {
+  // Embree reads the arrays in place (Vector3f is 3 packed floats); the last
+  // vertex needs 4 readable bytes past it, so the positions are padded by one.
+  mesh.positions.reserve(mesh.positions.size() + 1);
+  auto shared = std::make_shared<const TriangleMesh>(std::move(mesh));
+  const TriangleMesh& m = *shared;
   RTCGeometry geometry = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-  // Shared buffers: Embree reads our arrays in place (Vector3f is 3 packed
-  // floats; the last vertex needs 4 readable bytes past it, so the positions
-  // are padded by one).
-  meshes_.back()->positions.reserve(m.positions.size() + 1);
   rtcSetSharedGeometryBuffer(geometry,
                              RTC_BUFFER_TYPE_VERTEX,
                              0,
@@ -168,16 +183,25 @@ unsigned RenderScene::AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Sur
                              sizeof(Eigen::Vector3i),
                              m.triangles.size());
   rtcCommitGeometry(geometry);
+  return AttachMesh(std::move(shared), geometry, surface);
+}
+
+unsigned RenderScene::AttachMesh(std::shared_ptr<const TriangleMesh> mesh,
+                                 RTCGeometry geometry,
+                                 Surface surface) {
   const unsigned id = rtcAttachGeometry(scene_, geometry);
   if (geometries_.size() <= id) {
     geometries_.resize(id + 1, nullptr);
+    meshes_.resize(id + 1);
     surfaces_.resize(id + 1);
   }
-  geometries_[id] = geometry;
+  const TriangleMesh& m = *mesh;
   surface.positions = m.positions.data();
   surface.triangles = m.triangles.data();
   surface.corner_normals = m.corner_normals.empty() ? nullptr : m.corner_normals.data();
   surface.mesh = &m;
+  geometries_[id] = geometry;
+  meshes_[id] = std::move(mesh);
   surfaces_[id] = surface;
   return id;
 }

@@ -1,7 +1,9 @@
 // The Embree device and the ray-tracing scene of one world state: terrain plus
 // every rendered object, transformed to world coordinates once. Each rendered
 // object also gets a scene of its own (sharing its geometry) for the unoccluded
-// coverage that visibility fractions need.
+// coverage that visibility fractions need. An object in the same state as in
+// an earlier frame's scene shares that scene's world-space mesh, geometry and
+// own scene instead of building them again.
 #pragma once
 
 #include <map>
@@ -63,10 +65,14 @@ struct Surface {
 
 class RenderScene {
  public:
+  // `earlier`, when given, is another world state's scene (usually the
+  // previous frame's): its objects whose ObjectState is unchanged are shared,
+  // not rebuilt. The scene is the same either way.
   RenderScene(const EmbreeDevice& device,
               const Plan& plan,
               const SceneAssets& assets,
-              const WorldState& world);
+              const WorldState& world,
+              const RenderScene* earlier = nullptr);
   ~RenderScene();
   RenderScene(const RenderScene&) = delete;
   RenderScene& operator=(const RenderScene&) = delete;
@@ -86,14 +92,23 @@ class RenderScene {
   int ground_plane() const { return ground_plane_; }
 
  private:
-  unsigned AddMesh(const EmbreeDevice& device, TriangleMesh mesh, Surface surface);
+  // A new Embree geometry reading `mesh` in place, attached (AttachMesh).
+  unsigned AddMesh(const EmbreeDevice& device, TriangleMesh mesh, const Surface& surface);
+  // Attaches `geometry` (one reference of it passes to this scene) reading
+  // `mesh`; returns its geometry id.
+  unsigned AttachMesh(std::shared_ptr<const TriangleMesh> mesh,
+                      RTCGeometry geometry,
+                      Surface surface);
 
   WorldState world_;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> object_scenes_;
+  std::vector<int> object_geometry_;  // per object: its geometry id, -1 when not rendered
+  // By geometry id: the geometry, its world-space mesh (shared with the scenes
+  // that reuse it) and what a hit on it means.
   std::vector<RTCGeometry> geometries_;
-  std::vector<std::unique_ptr<TriangleMesh>> meshes_;  // world-space copies, owned
-  std::vector<Surface> surfaces_;                      // by geometry id
+  std::vector<std::shared_ptr<const TriangleMesh>> meshes_;
+  std::vector<Surface> surfaces_;
   int ground_plane_ = -1;
 };
 

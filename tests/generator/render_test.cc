@@ -3,6 +3,7 @@
 // depth, the pixel bundle and per-object truth.
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -491,6 +492,36 @@ TEST(Render, PacketsGiveTheFilmsOfSingleRays) {
     EXPECT_TRUE(SameFilms(packets, single)) << spp;
     EXPECT_TRUE(SameFilms(packets, odd_tiles)) << spp;
   }
+}
+
+// A scene built after an earlier one shares the objects that did not change
+// (their world-space mesh and own scene) and rebuilds the one that moved; it
+// outlives the earlier scene and renders the films of a scene built afresh.
+TEST(Render, AnEarlierScenesUnchangedObjectsAreSharedWithTheSameFilms) {
+  const DemoFrames demo(SmallDemo());
+  ASSERT_FALSE(demo.before.objects[0] == demo.world.objects[0]);  // the demo's mover
+  std::optional<RenderScene> earlier;
+  earlier.emplace(DemoFrames::Device(), demo.plan, demo.assets, demo.before);
+  const RenderScene later(DemoFrames::Device(), demo.plan, demo.assets, demo.world, &*earlier);
+  ASSERT_EQ(later.surface_count(), earlier->surface_count());
+  int shared = 0, rebuilt = 0;
+  for (size_t g = 0; g < later.surface_count(); ++g) {
+    const int object = later.surface(g).object;
+    if (object < 0) continue;  // the terrain
+    ASSERT_EQ(earlier->surface(g).object, object);
+    const bool same_state = demo.before.objects[object] == demo.world.objects[object];
+    EXPECT_EQ(later.surface(g).positions == earlier->surface(g).positions, same_state) << object;
+    EXPECT_EQ(later.ObjectScene(object) == earlier->ObjectScene(object), same_state) << object;
+    ++(same_state ? shared : rebuilt);
+  }
+  EXPECT_EQ(rebuilt, 1);
+  EXPECT_GT(shared, 10);
+  earlier.reset();  // what `later` shares stays alive
+  RenderSettings settings;
+  settings.sampler = {4, 1.0, demo.plan.seed};
+  EXPECT_TRUE(
+      SameFilms(RenderFrame(later, demo.sky, demo.plan.frames[1], demo.previous, settings),
+                RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings)));
 }
 
 // Smooth fields once per pixel (PixelField): with a pixel footprint of a few

@@ -108,14 +108,19 @@ PeerRun RunCycles(
   return run;
 }
 
-// The floor's ray casts: per pixel the same spp camera rays and, for hits
-// facing the sun, one shadow ray, cast as the renderer casts them (the camera
-// rays of a 2x2 block of pixels in packets, their shadow rays in packets, in a
-// coherent context: ray_casts.h).
+// The floor's ray casts: per pixel the same spp camera rays, for hits facing
+// the sun one shadow ray, and, when there is a previous frame, the centre
+// sample's disocclusion ray into the previous scene (motion truth), cast as
+// the renderer casts them (a 2x2 block of pixels' rays of each kind in
+// packets, in a coherent context: ray_casts.h). The disocclusion ray goes to
+// the point seen now (the renderer maps a moved object's point back to where
+// it was first: the same count of rays).
 uint64_t CastRaysOnly(const RenderScene& scene,
                       const Sky& sky,
                       const PlannedFrame& frame,
-                      const SamplerSettings& sampler) {
+                      const SamplerSettings& sampler,
+                      const PlannedFrame* previous_frame,
+                      const RenderScene* previous_scene) {
   constexpr int kBlock = 2;  // as generator/render/integrator.cc
   const PinholeCamera& camera = frame.camera;
   const Eigen::Matrix3d world_from_cam =
@@ -133,6 +138,12 @@ uint64_t CastRaysOnly(const RenderScene& scene,
         std::vector<Eigen::Vector3d> directions(block_rays), shadow_origins(block_rays);
         std::vector<EmbreeHit> hits(block_rays);
         std::vector<uint8_t> facing_sun(block_rays), occluded(block_rays);
+        Eigen::Vector3d to_before[kBlock * kBlock];
+        float length_to_before[kBlock * kBlock];
+        uint8_t test_before[kBlock * kBlock], hidden_before[kBlock * kBlock];
+        const Eigen::Vector3d previous_centre =
+            previous_frame != nullptr ? CameraCenterInWorld(previous_frame->cam_from_world)
+                                      : Eigen::Vector3d::Zero();
         uint64_t rays = 0;
         for (int y0 = r.rows().begin(); y0 < r.rows().end(); y0 += kBlock) {
           for (int x0 = r.cols().begin(); x0 < r.cols().end(); x0 += kBlock) {
@@ -170,6 +181,25 @@ uint64_t CastRaysOnly(const RenderScene& scene,
                          count,
                          &context,
                          occluded.data());
+            if (previous_scene == nullptr) continue;
+            const int pixels = count / spp;
+            for (int p = 0; p < pixels; ++p) {
+              const EmbreeHit& centre = hits[p * spp];
+              test_before[p] = centre.geom != RTC_INVALID_GEOMETRY_ID &&
+                               DisocclusionRay(previous_centre,
+                                               origin + centre.tfar * directions[p * spp],
+                                               &to_before[p],
+                                               &length_to_before[p]);
+              rays += test_before[p];
+            }
+            OccludedSegments(previous_scene->scene(),
+                             previous_centre,
+                             to_before,
+                             length_to_before,
+                             test_before,
+                             pixels,
+                             &context,
+                             hidden_before);
           }
         }
         total += rays;
@@ -378,7 +408,7 @@ int main(int argc, char** argv) {
       WorldState world = WorldAt(plan, frame);
       auto scene = std::make_unique<RenderScene>(device, plan, assets, world);
       Clock::time_point t = Clock::now();
-      floor_rays += CastRaysOnly(*scene, sky, frame, sampler);
+      floor_rays += CastRaysOnly(*scene, sky, frame, sampler, previous_frame, previous_scene.get());
       ray_seconds += Since(t);
       RenderSettings settings;
       settings.sampler = sampler;

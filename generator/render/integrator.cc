@@ -112,36 +112,6 @@ Eigen::Vector2d Motion(const PinholeCamera& camera,
           0.5 + 0.5 * (pixel_now.y() - before.y()) / camera.height};
 }
 
-// Whether `point` (in the previous world) was hidden from the previous camera
-// centre by another surface: then the pixel was disoccluded and has no motion.
-bool HiddenBefore(RTCScene previous_scene,
-                  const Eigen::Vector3d& previous_centre,
-                  const Eigen::Vector3d& point,
-                  RTCIntersectContext* context) {
-  const Eigen::Vector3d to_point = point - previous_centre;
-  const double distance = to_point.norm();
-  if (!(distance > 0)) return false;
-  // Stop short of the surface itself: a relative and an absolute margin cover
-  // the float precision of the Embree hit.
-  const double margin = 1e-4 * distance + 1e-3;
-  if (distance <= margin) return false;
-  RTCRay ray;
-  ray.org_x = static_cast<float>(previous_centre.x());
-  ray.org_y = static_cast<float>(previous_centre.y());
-  ray.org_z = static_cast<float>(previous_centre.z());
-  const Eigen::Vector3d d = to_point / distance;
-  ray.dir_x = static_cast<float>(d.x());
-  ray.dir_y = static_cast<float>(d.y());
-  ray.dir_z = static_cast<float>(d.z());
-  ray.tnear = 0.f;
-  ray.tfar = static_cast<float>(distance - margin);
-  ray.mask = 0xffffffffu;
-  ray.flags = 0;
-  ray.time = 0.f;
-  rtcOccluded1(previous_scene, context, &ray);
-  return ray.tfar < 0;
-}
-
 }  // namespace
 
 Film RenderFrame(const RenderScene& scene,
@@ -199,6 +169,10 @@ void RenderFrame(const RenderScene& scene,
   float* b_n[3] = {f("NX"), f("NY"), f("NZ")};
   float* b_s[2] = {f("SX"), f("SY")};
 
+  // Motion: the previous camera's centre, where disocclusion rays start.
+  const Eigen::Vector3d previous_centre = previous.frame != nullptr
+                                              ? CameraCenterInWorld(previous.frame->cam_from_world)
+                                              : Eigen::Vector3d::Zero();
   // Smooth fields once per pixel (PixelField), or at every sample.
   const bool reuse = settings.reuse_smooth_fields;
   std::atomic<uint64_t> total_rays{0};
@@ -217,6 +191,10 @@ void RenderFrame(const RenderScene& scene,
         std::vector<double> cos_suns(block_rays);
         std::vector<Eigen::Vector3d> shadow_origins(block_rays);
         std::vector<uint8_t> facing_sun(block_rays), occluded(block_rays);
+        // Per pixel of the block: its disocclusion ray (DisocclusionRay).
+        Eigen::Vector3d to_before[kBlock * kBlock];
+        float length_to_before[kBlock * kBlock];
+        uint8_t test_before[kBlock * kBlock], hidden_before[kBlock * kBlock];
         PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
         PixelField<float> cloud_field(0.f);
         uint64_t rays = 0;
@@ -275,6 +253,7 @@ void RenderFrame(const RenderScene& scene,
             }
             for (int p = 0; p < pixels; ++p) {
               const int x = block_x[p], y = block_y[p];
+              test_before[p] = 0;
               const size_t pixel = static_cast<size_t>(y) * width + x;
               Eigen::Vector3f sum = Eigen::Vector3f::Zero();
               albedo_field.Reset();
@@ -378,13 +357,11 @@ void RenderFrame(const RenderScene& scene,
                                samples[i],
                                previous_frame.camera,
                                previous_frame.cam_from_world * point_before);
-                    if (std::isfinite(m.x()) && previous.scene != nullptr &&
-                        HiddenBefore(previous.scene->scene(),
-                                     CameraCenterInWorld(previous_frame.cam_from_world),
-                                     point_before,
-                                     &context)) {
-                      m = Eigen::Vector2d(kNaN, kNaN);
-                    }
+                    // Cast with the block's others below.
+                    test_before[p] =
+                        std::isfinite(m.x()) && previous.scene != nullptr &&
+                        DisocclusionRay(
+                            previous_centre, point_before, &to_before[p], &length_to_before[p]);
                     ++rays;
                   }
                 }
@@ -393,6 +370,32 @@ void RenderFrame(const RenderScene& scene,
               }
               sum /= static_cast<float>(spp);
               for (int a = 0; a < 3; ++a) rgb[a][pixel] = sum[a];
+            }
+            // The block's disocclusion rays: a point the previous camera did
+            // not see has no motion.
+            if (std::find(test_before, test_before + pixels, 1) != test_before + pixels) {
+              if (settings.packets) {
+                OccludedSegments(previous.scene->scene(),
+                                 previous_centre,
+                                 to_before,
+                                 length_to_before,
+                                 test_before,
+                                 pixels,
+                                 &context,
+                                 hidden_before);
+              } else {
+                for (int p = 0; p < pixels; ++p)
+                  hidden_before[p] = test_before[p] && Occluded(previous.scene->scene(),
+                                                                previous_centre,
+                                                                to_before[p],
+                                                                &context,
+                                                                length_to_before[p]);
+              }
+              for (int p = 0; p < pixels; ++p) {
+                if (!hidden_before[p]) continue;
+                const size_t pixel = static_cast<size_t>(block_y[p]) * width + block_x[p];
+                motion[0][pixel] = motion[1][pixel] = kNaN;
+              }
             }
           }
         }

@@ -8,9 +8,13 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Lane i of a packet (RTCRay4/8) as the float ray the one-ray calls trace.
+// Lane i of a packet (RTCRay4/8/16) as the float ray the one-ray calls trace.
 template <class RayN>
-void SetLane(RayN* ray, int i, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
+void SetLane(RayN* ray,
+             int i,
+             const Eigen::Vector3d& origin,
+             const Eigen::Vector3d& direction,
+             float tfar = kInf) {
   ray->org_x[i] = static_cast<float>(origin.x());
   ray->org_y[i] = static_cast<float>(origin.y());
   ray->org_z[i] = static_cast<float>(origin.z());
@@ -18,7 +22,7 @@ void SetLane(RayN* ray, int i, const Eigen::Vector3d& origin, const Eigen::Vecto
   ray->dir_y[i] = static_cast<float>(direction.y());
   ray->dir_z[i] = static_cast<float>(direction.z());
   ray->tnear[i] = 0.f;
-  ray->tfar[i] = kInf;
+  ray->tfar[i] = tfar;
   ray->mask[i] = 0xffffffffu;
   ray->flags[i] = 0;
   ray->time[i] = 0.f;
@@ -48,12 +52,11 @@ void TraceLanes(RTCScene rtc_scene,
     out[i] = {rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], rh.ray.tfar[i]};
 }
 
-// One shadow packet of N lanes (RTCRayN with rtcOccludedN, N = 4, 8, 16);
-// lanes past `count` or not wanted are invalid.
-template <int N, class RayN, class OccludedN>
+// One occlusion packet of N lanes (RTCRayN with rtcOccludedN, N = 4, 8, 16);
+// lanes past `count` or not wanted are invalid. Lane i is rays.Lane(i).
+template <int N, class RayN, class Rays, class OccludedN>
 void OccludedLanes(RTCScene rtc_scene,
-                   const Eigen::Vector3d* origins,
-                   const Eigen::Vector3d& direction,
+                   const Rays& rays,
                    const uint8_t* wanted,
                    int count,
                    RTCIntersectContext* context,
@@ -63,12 +66,60 @@ void OccludedLanes(RTCScene rtc_scene,
   alignas(64) int valid[N];
   for (int i = 0; i < N; ++i) {
     valid[i] = i < count && wanted[i] ? -1 : 0;
-    // An invalid lane's origin may never have been set: it gets zeros.
-    SetLane(&ray, i, valid[i] ? origins[i] : Eigen::Vector3d::Zero().eval(), direction);
+    // An invalid lane's ray may never have been set: it gets zeros.
+    if (valid[i]) {
+      rays.Lane(&ray, i);
+    } else {
+      SetLane(&ray, i, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
+    }
   }
   occluded(valid, rtc_scene, context, &ray);
   for (int i = 0; i < count; ++i) out[i] = valid[i] && ray.tfar[i] < 0;
 }
+
+// `count` occlusion rays, kPacket at a time (rtcOccluded4/8/16).
+template <class Rays>
+void OccludedInPackets(RTCScene rtc_scene,
+                       const Rays& rays,
+                       const uint8_t* wanted,
+                       int count,
+                       RTCIntersectContext* context,
+                       uint8_t* out) {
+  for (int k = 0; k < count; k += kPacket) {
+    const int n = std::min(kPacket, count - k);
+    const auto from = rays.From(k);
+    if (n <= 4) {
+      OccludedLanes<4, RTCRay4>(rtc_scene, from, wanted + k, n, context, rtcOccluded4, out + k);
+    } else if (n <= 8) {
+      OccludedLanes<8, RTCRay8>(rtc_scene, from, wanted + k, n, context, rtcOccluded8, out + k);
+    } else {
+      OccludedLanes<16, RTCRay16>(rtc_scene, from, wanted + k, n, context, rtcOccluded16, out + k);
+    }
+  }
+}
+
+// Rays from `origins` in one direction, unbounded (shadow rays).
+struct ParallelRays {
+  const Eigen::Vector3d* origins;
+  const Eigen::Vector3d& direction;
+  ParallelRays From(int k) const { return {origins + k, direction}; }
+  template <class RayN>
+  void Lane(RayN* ray, int i) const {
+    SetLane(ray, i, origins[i], direction);
+  }
+};
+
+// Rays from one origin along `directions`, each `lengths` long.
+struct Segments {
+  const Eigen::Vector3d& origin;
+  const Eigen::Vector3d* directions;
+  const float* lengths;
+  Segments From(int k) const { return {origin, directions + k, lengths + k}; }
+  template <class RayN>
+  void Lane(RayN* ray, int i) const {
+    SetLane(ray, i, origin, directions[i], lengths[i]);
+  }
+};
 
 }  // namespace
 
@@ -123,7 +174,8 @@ EmbreeHit TraceOne(RTCScene rtc_scene,
 bool Occluded(RTCScene rtc_scene,
               const Eigen::Vector3d& origin,
               const Eigen::Vector3d& direction,
-              RTCIntersectContext* context) {
+              RTCIntersectContext* context,
+              float length) {
   RTCRay ray;
   ray.org_x = static_cast<float>(origin.x());
   ray.org_y = static_cast<float>(origin.y());
@@ -132,7 +184,7 @@ bool Occluded(RTCScene rtc_scene,
   ray.dir_y = static_cast<float>(direction.y());
   ray.dir_z = static_cast<float>(direction.z());
   ray.tnear = 0.f;
-  ray.tfar = kInf;
+  ray.tfar = length;
   ray.mask = 0xffffffffu;
   ray.flags = 0;
   ray.time = 0.f;
@@ -147,19 +199,32 @@ void OccludedRays(RTCScene rtc_scene,
                   int count,
                   RTCIntersectContext* context,
                   uint8_t* out) {
-  for (int k = 0; k < count; k += kPacket) {
-    const int n = std::min(kPacket, count - k);
-    if (n <= 4) {
-      OccludedLanes<4, RTCRay4>(
-          rtc_scene, origins + k, direction, wanted + k, n, context, rtcOccluded4, out + k);
-    } else if (n <= 8) {
-      OccludedLanes<8, RTCRay8>(
-          rtc_scene, origins + k, direction, wanted + k, n, context, rtcOccluded8, out + k);
-    } else {
-      OccludedLanes<16, RTCRay16>(
-          rtc_scene, origins + k, direction, wanted + k, n, context, rtcOccluded16, out + k);
-    }
-  }
+  OccludedInPackets(rtc_scene, ParallelRays{origins, direction}, wanted, count, context, out);
+}
+
+bool DisocclusionRay(const Eigen::Vector3d& previous_centre,
+                     const Eigen::Vector3d& point,
+                     Eigen::Vector3d* direction,
+                     float* length) {
+  const Eigen::Vector3d to_point = point - previous_centre;
+  const double distance = to_point.norm();
+  if (!(distance > 0)) return false;
+  const double margin = 1e-4 * distance + 1e-3;
+  if (distance <= margin) return false;
+  *direction = to_point / distance;
+  *length = static_cast<float>(distance - margin);
+  return true;
+}
+
+void OccludedSegments(RTCScene rtc_scene,
+                      const Eigen::Vector3d& origin,
+                      const Eigen::Vector3d* directions,
+                      const float* lengths,
+                      const uint8_t* wanted,
+                      int count,
+                      RTCIntersectContext* context,
+                      uint8_t* out) {
+  OccludedInPackets(rtc_scene, Segments{origin, directions, lengths}, wanted, count, context, out);
 }
 
 }  // namespace lsds::gen

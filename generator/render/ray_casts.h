@@ -55,9 +55,36 @@ void OccludedRays(RTCScene rtc_scene,
                   int count,
                   RTCIntersectContext* context,
                   uint8_t* out);
+// One ray, blocked within `length` of its origin (unbounded by default).
 bool Occluded(RTCScene rtc_scene,
               const Eigen::Vector3d& origin,
               const Eigen::Vector3d& direction,
-              RTCIntersectContext* context);
+              RTCIntersectContext* context,
+              float length = std::numeric_limits<float>::infinity());
+
+// The ray that tells whether `point` (in the previous world) was hidden from
+// the previous camera centre by another surface, in which case the pixel was
+// disoccluded and has no motion: from the centre towards the point, stopping
+// short of the surface itself (a relative and an absolute margin cover the
+// float precision of the Embree hit). False when there is nothing to test.
+bool DisocclusionRay(const Eigen::Vector3d& previous_centre,
+                     const Eigen::Vector3d& point,
+                     Eigen::Vector3d* direction,
+                     float* length);
+
+// `count` rays from one origin (the disocclusion rays of a block of pixels:
+// from the previous camera centre towards the points it saw), ray i along
+// unit directions[i] for lengths[i]; tested kPacket at a time, out[i] =
+// whether ray i is blocked. Rays whose wanted[i] is 0 are not traced (out[i]
+// = 0). Each traced lane is the float ray Occluded(origin, directions[i],
+// context, lengths[i]) would trace.
+void OccludedSegments(RTCScene rtc_scene,
+                      const Eigen::Vector3d& origin,
+                      const Eigen::Vector3d* directions,
+                      const float* lengths,
+                      const uint8_t* wanted,
+                      int count,
+                      RTCIntersectContext* context,
+                      uint8_t* out);
 
 }  // namespace lsds::gen

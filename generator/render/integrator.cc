@@ -37,13 +37,24 @@ struct Hit {
   float u = 0, v = 0;
 };
 
+// The plane of the triangle a tile last resolved, for rays from one origin:
+// neighbouring samples mostly hit the same triangle, whose unit normal (a
+// cross product and a square root) is then computed once. The same doubles
+// either way.
+struct TrianglePlane {
+  unsigned geom = RTC_INVALID_GEOMETRY_ID, prim = 0;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, as the vertices wind
+  double offset = 0;                                  // normal . (v0 - origin)
+};
+
 // The ray's exact hit: Embree finds the triangle, the plane of its (float)
 // vertices gives t in double, so a flat terrain at z = 0 yields z == 0 and
 // depth == altitude to double precision.
 Hit Resolve(const RenderScene& scene,
             const EmbreeHit& rh,
             const Eigen::Vector3d& origin,
-            const Eigen::Vector3d& direction) {
+            const Eigen::Vector3d& direction,
+            TrianglePlane* plane) {
   Hit hit;
   if (rh.geom == RTC_INVALID_GEOMETRY_ID) {
     // Past the world ground's skirt: the plane it settles to
@@ -64,15 +75,21 @@ Hit Resolve(const RenderScene& scene,
   hit.u = rh.u;
   hit.v = rh.v;
   const Surface& s = scene.surface(rh.geom);
-  const Eigen::Vector3i& tri = s.triangles[rh.prim];
-  const Eigen::Vector3d v0 = s.positions[tri[0]].cast<double>();
-  const Eigen::Vector3d v1 = s.positions[tri[1]].cast<double>();
-  const Eigen::Vector3d v2 = s.positions[tri[2]].cast<double>();
-  Eigen::Vector3d n = (v1 - v0).cross(v2 - v0);
-  const double nn = n.norm();
-  n = nn > 0 ? Eigen::Vector3d(n / nn) : Eigen::Vector3d(0, 0, 1);
+  if (plane->geom != rh.geom || plane->prim != rh.prim) {
+    const Eigen::Vector3i& tri = s.triangles[rh.prim];
+    const Eigen::Vector3d v0 = s.positions[tri[0]].cast<double>();
+    const Eigen::Vector3d v1 = s.positions[tri[1]].cast<double>();
+    const Eigen::Vector3d v2 = s.positions[tri[2]].cast<double>();
+    const Eigen::Vector3d n = (v1 - v0).cross(v2 - v0);
+    const double nn = n.norm();
+    plane->geom = rh.geom;
+    plane->prim = rh.prim;
+    plane->normal = nn > 0 ? Eigen::Vector3d(n / nn) : Eigen::Vector3d(0, 0, 1);
+    plane->offset = plane->normal.dot(v0 - origin);
+  }
+  Eigen::Vector3d n = plane->normal;
   const double nd = n.dot(direction);
-  hit.t = std::abs(nd) > 1e-12 ? n.dot(v0 - origin) / nd : rh.tfar;
+  hit.t = std::abs(nd) > 1e-12 ? plane->offset / nd : rh.tfar;
   if (!(hit.t > 0)) hit.t = rh.tfar;
   if (nd > 0) n = -n;
   hit.normal = n;
@@ -195,6 +212,7 @@ void RenderFrame(const RenderScene& scene,
         Eigen::Vector3d to_before[kBlock * kBlock];
         float length_to_before[kBlock * kBlock];
         uint8_t test_before[kBlock * kBlock], hidden_before[kBlock * kBlock];
+        TrianglePlane plane;
         PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
         PixelField<float> cloud_field(0.f);
         uint64_t rays = 0;
@@ -230,7 +248,7 @@ void RenderFrame(const RenderScene& scene,
             // The shadow rays of the samples that face the sun, again the
             // block's together.
             for (int i = 0; i < count; ++i) {
-              hits[i] = Resolve(scene, embree_hits[i], centre, directions[i]);
+              hits[i] = Resolve(scene, embree_hits[i], centre, directions[i], &plane);
               const Hit& hit = hits[i];
               cos_suns[i] = hit.hit ? hit.shading_normal.dot(sky.to_sun()) : 0;
               facing_sun[i] = cos_suns[i] > 0;

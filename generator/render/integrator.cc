@@ -317,13 +317,8 @@ void RenderFrame(const RenderScene& scene,
                   const float denominator = Luminance(unshadowed);
                   shadow_ratio =
                       denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
-                  radiance = Shade(*s.material,
-                                   albedo,
-                                   hit.shading_normal,
-                                   -direction.normalized(),
-                                   sky,
-                                   shaded,
-                                   lit);
+                  radiance =
+                      Shade(*s.material, albedo, hit.shading_normal, direction, sky, shaded, lit);
                   const double distance = hit.t * ray_in_cam.norm();
                   if (sky.fog_density() > 0) {
                     const float f = static_cast<float>(std::exp(-sky.fog_density() * distance));

@@ -8,13 +8,14 @@ namespace lsds::gen {
 Eigen::Vector3f Shade(const Material& material,
                       const Eigen::Vector3f& albedo,
                       const Eigen::Vector3d& n,
-                      const Eigen::Vector3d& to_camera,
+                      const Eigen::Vector3d& ray_direction,
                       const Sky& sky,
                       const Eigen::Vector3f& irradiance,
                       float sun_visible) {
   const float metallic = material.metallic;
   Eigen::Vector3f radiance = (1 - metallic) * albedo.cwiseProduct(irradiance);
   if (material.specular <= 0) return radiance;
+  const Eigen::Vector3d to_camera = -ray_direction.normalized();
   // Reflectance at normal incidence: 4 % for dielectrics, the albedo for metals.
   const Eigen::Vector3f f0 = (1 - metallic) * Eigen::Vector3f::Constant(0.04f) + metallic * albedo;
   const double n_v = std::max(1e-4, n.dot(to_camera));

@@ -12,14 +12,15 @@
 
 namespace lsds::gen {
 
-// Radiance leaving a surface towards the camera. `n` the shading normal and
-// `to_camera` unit world vectors; `irradiance` = ambient + sun * cos * visible
-// (the diffuse lighting the shadow layer is defined on); `sun_visible` in
-// [0, 1].
+// Radiance leaving a surface towards the camera. `n` the shading normal, a
+// unit world vector; `ray_direction` the camera ray's world direction, of any
+// length (normalized only for a specular material, the rest do not need it);
+// `irradiance` = ambient + sun * cos * visible (the diffuse lighting the
+// shadow layer is defined on); `sun_visible` in [0, 1].
 Eigen::Vector3f Shade(const Material& material,
                       const Eigen::Vector3f& albedo,
                       const Eigen::Vector3d& n,
-                      const Eigen::Vector3d& to_camera,
+                      const Eigen::Vector3d& ray_direction,
                       const Sky& sky,
                       const Eigen::Vector3f& irradiance,
                       float sun_visible);

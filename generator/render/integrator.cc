@@ -195,7 +195,13 @@ void RenderFrame(const RenderScene& scene,
   std::atomic<uint64_t> total_rays{0};
   const int tile = settings.tile_size;
   tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, height, tile, 0, width, tile),
+      // Over blocks, so that a block is always the same pixels.
+      tbb::blocked_range2d<int>(0,
+                                (height + kBlock - 1) / kBlock,
+                                std::max(1, tile / kBlock),
+                                0,
+                                (width + kBlock - 1) / kBlock,
+                                std::max(1, tile / kBlock)),
       [&](const tbb::blocked_range2d<int>& r) {
         RTCIntersectContext context;
         InitCoherentContext(&context);
@@ -216,13 +222,14 @@ void RenderFrame(const RenderScene& scene,
         PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
         PixelField<float> cloud_field(0.f);
         uint64_t rays = 0;
-        for (int y0 = r.rows().begin(); y0 < r.rows().end(); y0 += kBlock) {
-          for (int x0 = r.cols().begin(); x0 < r.cols().end(); x0 += kBlock) {
-            // The block's pixels (fewer at the tile's edge), row by row.
+        for (int block_row = r.rows().begin(); block_row < r.rows().end(); ++block_row) {
+          for (int block_col = r.cols().begin(); block_col < r.cols().end(); ++block_col) {
+            // The block's pixels (fewer at the image's edge), row by row.
             int block_x[kBlock * kBlock], block_y[kBlock * kBlock];
             int pixels = 0;
-            for (int y = y0; y < std::min(y0 + kBlock, r.rows().end()); ++y) {
-              for (int x = x0; x < std::min(x0 + kBlock, r.cols().end()); ++x) {
+            const int y0 = block_row * kBlock, x0 = block_col * kBlock;
+            for (int y = y0; y < std::min(y0 + kBlock, height); ++y) {
+              for (int x = x0; x < std::min(x0 + kBlock, width); ++x) {
                 block_x[pixels] = x;
                 block_y[pixels] = y;
                 ++pixels;

@@ -121,7 +121,6 @@ uint64_t CastRaysOnly(const RenderScene& scene,
                       const SamplerSettings& sampler,
                       const PlannedFrame* previous_frame,
                       const RenderScene* previous_scene) {
-  constexpr int kBlock = 2;  // as generator/render/integrator.cc
   const PinholeCamera& camera = frame.camera;
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
@@ -129,7 +128,12 @@ uint64_t CastRaysOnly(const RenderScene& scene,
   const int spp = sampler.spp;
   std::atomic<uint64_t> total{0};
   tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, camera.height, 16, 0, camera.width, 16),
+      tbb::blocked_range2d<int>(0,
+                                (camera.height + kBlock - 1) / kBlock,
+                                16 / kBlock,
+                                0,
+                                (camera.width + kBlock - 1) / kBlock,
+                                16 / kBlock),
       [&](const tbb::blocked_range2d<int>& r) {
         RTCIntersectContext context;
         InitCoherentContext(&context);
@@ -145,15 +149,13 @@ uint64_t CastRaysOnly(const RenderScene& scene,
             previous_frame != nullptr ? CameraCenterInWorld(previous_frame->cam_from_world)
                                       : Eigen::Vector3d::Zero();
         uint64_t rays = 0;
-        for (int y0 = r.rows().begin(); y0 < r.rows().end(); y0 += kBlock) {
-          for (int x0 = r.cols().begin(); x0 < r.cols().end(); x0 += kBlock) {
-            int count = 0;
-            for (int y = y0; y < std::min(y0 + kBlock, r.rows().end()); ++y) {
-              for (int x = x0; x < std::min(x0 + kBlock, r.cols().end()); ++x) {
-                PixelSamples(sampler, frame.index, x, y, &samples[count]);
-                count += spp;
-              }
-            }
+        for (int row = r.rows().begin(); row < r.rows().end(); ++row) {
+          for (int col = r.cols().begin(); col < r.cols().end(); ++col) {
+            int x[kBlock * kBlock], y[kBlock * kBlock];
+            const int pixels = BlockPixels(row, col, camera.width, camera.height, x, y);
+            const int count = pixels * spp;
+            for (int p = 0; p < pixels; ++p)
+              PixelSamples(sampler, frame.index, x[p], y[p], &samples[p * spp]);
             for (int i = 0; i < count; ++i)
               directions[i] = world_from_cam * camera.CamFromImage(samples[i]);
             TraceRays(scene.scene(), origin, directions.data(), count, &context, hits.data());
@@ -182,7 +184,6 @@ uint64_t CastRaysOnly(const RenderScene& scene,
                          &context,
                          occluded.data());
             if (previous_scene == nullptr) continue;
-            const int pixels = count / spp;
             for (int p = 0; p < pixels; ++p) {
               const EmbreeHit& centre = hits[p * spp];
               test_before[p] = centre.geom != RTC_INVALID_GEOMETRY_ID &&

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
@@ -19,10 +21,6 @@ namespace lsds::gen {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// Pixels per side of the block whose camera and shadow rays are cast together:
-// 2 x 2 pixels at 4 samples are one 16-lane packet (ray_casts.h).
-constexpr int kBlock = 2;
 
 struct Hit {
   bool hit = false;
@@ -129,6 +127,349 @@ Eigen::Vector2d Motion(const PinholeCamera& camera,
           0.5 + 0.5 * (pixel_now.y() - before.y()) / camera.height};
 }
 
+// Where RenderFrame writes: the film's channels as plain arrays. The bundle's
+// are null when the film has no bundle.
+struct FilmTargets {
+  float* rgb[3];
+  uint32_t* class_id;
+  uint32_t* instance_id;
+  float* depth;
+  float* normal[3];
+  float* position[3];
+  float* shadow;
+  float* motion[2];
+  Eigen::Vector2f* centre_sample;
+  uint32_t* bundle_instance = nullptr;
+  uint32_t* bundle_class = nullptr;
+  float* bundle_z = nullptr;
+  float* bundle_normal[3] = {nullptr, nullptr, nullptr};
+  float* bundle_position[2] = {nullptr, nullptr};  // SX, SY
+
+  FilmTargets(Film* film, bool with_bundle) {
+    auto flat = [film](const char* layer, const char* channel) {
+      return &film->flat.at(layer).Get(channel);
+    };
+    for (int a = 0; a < 3; ++a) {
+      rgb[a] = flat("rgb", std::string(1, "RGB"[a]).c_str())->floats.data();
+      normal[a] = flat("normal", std::string(1, "XYZ"[a]).c_str())->floats.data();
+      position[a] = flat("worldposition", std::string(1, "XYZ"[a]).c_str())->floats.data();
+    }
+    class_id = flat("classid", "id")->uints.data();
+    instance_id = flat("instanceid", "id")->uints.data();
+    depth = flat("depth", "Z")->floats.data();
+    shadow = flat("shadow", "Y")->floats.data();
+    motion[0] = flat("motion", "X")->floats.data();
+    motion[1] = flat("motion", "Y")->floats.data();
+    centre_sample = film->centre_sample.data();
+    if (!with_bundle) return;
+    exr::DeepImage& bundle = film->bundle;
+    bundle_instance = bundle.Get("instanceid").uints.data();
+    bundle_class = bundle.Get("classid").uints.data();
+    bundle_z = bundle.Get("Z").floats.data();
+    bundle_normal[0] = bundle.Get("NX").floats.data();
+    bundle_normal[1] = bundle.Get("NY").floats.data();
+    bundle_normal[2] = bundle.Get("NZ").floats.data();
+    bundle_position[0] = bundle.Get("SX").floats.data();
+    bundle_position[1] = bundle.Get("SY").floats.data();
+  }
+};
+
+// The samples of a block of pixels (ray_casts.h, kBlock), their rays and
+// hits; pixel p's samples are block rays p * spp to (p + 1) * spp - 1.
+struct BlockRays {
+  explicit BlockRays(int spp)
+      : samples(kBlock * kBlock * spp),
+        rays_in_cam(samples.size()),
+        directions(samples.size()),
+        embree_hits(samples.size()),
+        hits(samples.size()),
+        cos_suns(samples.size()),
+        shadow_origins(samples.size()),
+        facing_sun(samples.size()),
+        occluded(samples.size()) {}
+
+  int pixels = 0;
+  int x[kBlock * kBlock], y[kBlock * kBlock];
+  std::vector<Eigen::Vector2d> samples;      // image coordinates
+  std::vector<Eigen::Vector3d> rays_in_cam;  // z == 1
+  std::vector<Eigen::Vector3d> directions;   // world
+  std::vector<EmbreeHit> embree_hits;
+  std::vector<Hit> hits;
+  std::vector<double> cos_suns;  // shading normal . to the sun
+  std::vector<Eigen::Vector3d> shadow_origins;
+  std::vector<uint8_t> facing_sun, occluded;
+};
+
+// A block's disocclusion rays (DisocclusionRay), one per pixel.
+struct BlockDisocclusions {
+  Eigen::Vector3d direction[kBlock * kBlock];
+  float length[kBlock * kBlock];
+  uint8_t test[kBlock * kBlock];
+  uint8_t hidden[kBlock * kBlock];
+};
+
+// What one sample contributes: its radiance and its values of the truth
+// layers (sky: infinite depth, ids 0, normal 0).
+struct SampleValue {
+  Eigen::Vector3f radiance;
+  float shadow_ratio = 1.f;
+  double z = kInf;
+  uint32_t instance = 0, class_id = 0;
+  Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+};
+
+// One frame being rendered: what every block needs, and the steps of a block.
+class FrameRenderer {
+ public:
+  FrameRenderer(const RenderScene& scene,
+                const Sky& sky,
+                const PlannedFrame& frame,
+                const PreviousView& previous,
+                const RenderSettings& settings,
+                Film* film)
+      : scene_(scene),
+        sky_(sky),
+        frame_(frame),
+        previous_(previous),
+        settings_(settings),
+        spp_(settings.sampler.spp),
+        with_motion_(previous.frame != nullptr && settings.motion),
+        world_from_cam_(frame.cam_from_world.rotation.conjugate().toRotationMatrix()),
+        centre_(CameraCenterInWorld(frame.cam_from_world)),
+        previous_centre_(previous.frame != nullptr
+                             ? CameraCenterInWorld(previous.frame->cam_from_world)
+                             : Eigen::Vector3d::Zero()),
+        film_(film, settings.bundle) {}
+
+  // The samples of block (block_row, block_col), their camera rays and, for
+  // the hits that face the sun, their shadow rays: each kind as packets.
+  void CastBlock(int block_row,
+                 int block_col,
+                 BlockRays* block,
+                 TrianglePlane* plane,
+                 RTCIntersectContext* context,
+                 uint64_t* rays) const {
+    const PinholeCamera& camera = frame_.camera;
+    block->pixels =
+        BlockPixels(block_row, block_col, camera.width, camera.height, block->x, block->y);
+    const int count = block->pixels * spp_;
+    for (int p = 0; p < block->pixels; ++p)
+      PixelSamples(
+          settings_.sampler, frame_.index, block->x[p], block->y[p], &block->samples[p * spp_]);
+    for (int i = 0; i < count; ++i) {
+      block->rays_in_cam[i] = camera.CamFromImage(block->samples[i]);
+      block->directions[i] = world_from_cam_ * block->rays_in_cam[i];
+    }
+    if (settings_.packets) {
+      TraceRays(scene_.scene(),
+                centre_,
+                block->directions.data(),
+                count,
+                context,
+                block->embree_hits.data());
+    } else {
+      for (int i = 0; i < count; ++i)
+        block->embree_hits[i] = TraceOne(scene_.scene(), centre_, block->directions[i], context);
+    }
+    *rays += count;
+    for (int i = 0; i < count; ++i) {
+      block->hits[i] = Resolve(scene_, block->embree_hits[i], centre_, block->directions[i], plane);
+      const Hit& hit = block->hits[i];
+      block->cos_suns[i] = hit.hit ? hit.shading_normal.dot(sky_.to_sun()) : 0;
+      block->facing_sun[i] = block->cos_suns[i] > 0;
+      if (!block->facing_sun[i]) continue;
+      block->shadow_origins[i] = hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
+      ++*rays;
+    }
+    if (settings_.packets) {
+      OccludedRays(scene_.scene(),
+                   block->shadow_origins.data(),
+                   sky_.to_sun(),
+                   block->facing_sun.data(),
+                   count,
+                   context,
+                   block->occluded.data());
+    } else {
+      for (int i = 0; i < count; ++i)
+        block->occluded[i] =
+            block->facing_sun[i] &&
+            Occluded(scene_.scene(), block->shadow_origins[i], sky_.to_sun(), context);
+    }
+  }
+
+  // Pixel p of the block: its RGB (the mean of its samples' radiance), its
+  // bundle samples, and its flat truth layers (the centre sample's values).
+  // Its motion waits for the block's disocclusion rays (`disocclusions`).
+  void RenderPixel(const BlockRays& block,
+                   int p,
+                   PixelField<Eigen::Vector3f>* albedo_field,
+                   PixelField<float>* cloud_field,
+                   BlockDisocclusions* disocclusions,
+                   uint64_t* rays) const {
+    const int x = block.x[p], y = block.y[p];
+    const size_t pixel = static_cast<size_t>(y) * frame_.camera.width + x;
+    albedo_field->Reset();
+    cloud_field->Reset();
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    for (int k = 0; k < spp_; ++k) {
+      const int i = p * spp_ + k;  // in the block
+      const SampleValue v = ShadeSample(block, i, albedo_field, cloud_field);
+      sum += v.radiance;
+      if (film_.bundle_z != nullptr) {
+        const size_t b = pixel * spp_ + k;
+        film_.bundle_position[0][b] = static_cast<float>(block.samples[i].x() - x);  // [0, 1)
+        film_.bundle_position[1][b] = static_cast<float>(block.samples[i].y() - y);
+        film_.bundle_instance[b] = v.instance;
+        film_.bundle_class[b] = v.class_id;
+        for (int a = 0; a < 3; ++a) film_.bundle_normal[a][b] = v.normal[a];
+        film_.bundle_z[b] = static_cast<float>(v.z);
+      }
+      if (k != 0) continue;
+      // The flat truth layers: the single, non-mixed value of the centre
+      // sample.
+      const Hit& hit = block.hits[i];
+      film_.centre_sample[pixel] = block.samples[i].cast<float>();
+      film_.class_id[pixel] = v.class_id;
+      film_.instance_id[pixel] = v.instance;
+      film_.depth[pixel] = static_cast<float>(v.z);
+      film_.shadow[pixel] = v.shadow_ratio;
+      for (int a = 0; a < 3; ++a) {
+        film_.normal[a][pixel] = v.normal[a];
+        film_.position[a][pixel] = hit.hit ? static_cast<float>(hit.point[a]) : kInf;
+      }
+      const Eigen::Vector2d m = CentreMotion(block, i, disocclusions, p, rays);
+      film_.motion[0][pixel] = static_cast<float>(m.x());
+      film_.motion[1][pixel] = static_cast<float>(m.y());
+    }
+    sum /= static_cast<float>(spp_);
+    for (int a = 0; a < 3; ++a) film_.rgb[a][pixel] = sum[a];
+  }
+
+  // The block's disocclusion rays, as one packet: a point the previous camera
+  // did not see has no motion.
+  void DropDisoccludedMotion(const BlockRays& block,
+                             BlockDisocclusions* d,
+                             RTCIntersectContext* context) const {
+    if (std::find(d->test, d->test + block.pixels, 1) == d->test + block.pixels) return;
+    if (settings_.packets) {
+      OccludedSegments(previous_.scene->scene(),
+                       previous_centre_,
+                       d->direction,
+                       d->length,
+                       d->test,
+                       block.pixels,
+                       context,
+                       d->hidden);
+    } else {
+      for (int p = 0; p < block.pixels; ++p)
+        d->hidden[p] =
+            d->test[p] &&
+            Occluded(
+                previous_.scene->scene(), previous_centre_, d->direction[p], context, d->length[p]);
+    }
+    for (int p = 0; p < block.pixels; ++p) {
+      if (!d->hidden[p]) continue;
+      const size_t pixel = static_cast<size_t>(block.y[p]) * frame_.camera.width + block.x[p];
+      film_.motion[0][pixel] = film_.motion[1][pixel] = kNaN;
+    }
+  }
+
+ private:
+  // Block sample i: the sky, or the shaded surface it hits (the procedural
+  // albedo and the cloud shadow through the pixel's fields).
+  SampleValue ShadeSample(const BlockRays& block,
+                          int i,
+                          PixelField<Eigen::Vector3f>* albedo_field,
+                          PixelField<float>* cloud_field) const {
+    const Eigen::Vector3d& direction = block.directions[i];
+    const Hit& hit = block.hits[i];
+    SampleValue v;
+    if (!hit.hit) {
+      v.radiance = sky_.Radiance(direction.normalized());
+      return v;
+    }
+    const bool reuse = settings_.reuse_smooth_fields;
+    const Surface& s = scene_.surface(hit.geom);
+    // (Not value_or: the procedural albedo only where no map applies.)
+    const std::optional<Eigen::Vector3f> mapped = s.MappedAlbedo(hit.prim, hit.u, hit.v);
+    const Eigen::Vector3f albedo = mapped ? *mapped : albedo_field->At(hit.geom, hit.point, [&] {
+      return FieldValue<Eigen::Vector3f>{
+          Albedo(*s.material, sky_.texture_noise(), hit.point.cast<float>()),
+          reuse ? AlbedoReuseDistance(*s.material) : 0};
+    });
+    const float lit =
+        !block.facing_sun[i] || block.occluded[i] ? 0.f : cloud_field->At(hit.geom, hit.point, [&] {
+          FieldValue<float> lit;
+          lit.value = static_cast<float>(sky_.CloudTransmittance(hit.point, &lit.reuse_distance));
+          if (!reuse) lit.reuse_distance = 0;
+          return lit;
+        });
+    const Eigen::Vector3f direct =
+        sky_.sun_irradiance() * static_cast<float>(std::max(0.0, block.cos_suns[i]));
+    const Eigen::Vector3f unshadowed = sky_.ambient() + direct;
+    const Eigen::Vector3f shaded = sky_.ambient() + direct * lit;
+    const float denominator = Luminance(unshadowed);
+    v.shadow_ratio = denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
+    v.radiance = Shade(*s.material, albedo, hit.shading_normal, direction, sky_, shaded, lit);
+    const double distance = hit.t * block.rays_in_cam[i].norm();
+    if (sky_.fog_density() > 0) {
+      const float f = static_cast<float>(std::exp(-sky_.fog_density() * distance));
+      v.radiance = v.radiance * f + sky_.horizon() * (1 - f);
+    }
+    v.z = settings_.depth_kind == DepthKind::kPlanar ? hit.t : distance;
+    v.instance = s.instance_id;
+    v.class_id = s.class_id;
+    v.normal = hit.normal.cast<float>();
+    return v;
+  }
+
+  // The motion of block sample i, pixel p's centre sample, against the
+  // previous frame (NaN without one). A surface point the previous camera
+  // saw in its image also gets a disocclusion ray in `disocclusions`.
+  Eigen::Vector2d CentreMotion(const BlockRays& block,
+                               int i,
+                               BlockDisocclusions* disocclusions,
+                               int p,
+                               uint64_t* rays) const {
+    disocclusions->test[p] = 0;
+    if (!with_motion_) return {kNaN, kNaN};
+    const PlannedFrame& previous_frame = *previous_.frame;
+    const Hit& hit = block.hits[i];
+    const Eigen::Vector2d& sample = block.samples[i];
+    if (!hit.hit) {
+      const Eigen::Vector3d dir_prev = previous_frame.cam_from_world.rotation * block.directions[i];
+      return Motion(frame_.camera, sample, previous_frame.camera, dir_prev);
+    }
+    Eigen::Vector3d point_before = hit.point;
+    const int object = scene_.surface(hit.geom).object;
+    if (object >= 0 && previous_.world != nullptr) {
+      const ObjectState& now = scene_.world().objects[object];
+      const ObjectState& before = previous_.world->objects[object];
+      point_before = before.WorldFromUnit(now.UnitFromWorld(hit.point));
+    }
+    const Eigen::Vector2d m = Motion(
+        frame_.camera, sample, previous_frame.camera, previous_frame.cam_from_world * point_before);
+    disocclusions->test[p] = std::isfinite(m.x()) && previous_.scene != nullptr &&
+                             DisocclusionRay(previous_centre_,
+                                             point_before,
+                                             &disocclusions->direction[p],
+                                             &disocclusions->length[p]);
+    ++*rays;
+    return m;
+  }
+
+  const RenderScene& scene_;
+  const Sky& sky_;
+  const PlannedFrame& frame_;
+  const PreviousView& previous_;
+  const RenderSettings& settings_;
+  const int spp_;
+  const bool with_motion_;
+  const Eigen::Matrix3d world_from_cam_;
+  const Eigen::Vector3d centre_, previous_centre_;
+  FilmTargets film_;
+};
+
 }  // namespace
 
 Film RenderFrame(const RenderScene& scene,
@@ -152,276 +493,38 @@ void RenderFrame(const RenderScene& scene,
   if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0)) {
     throw Error("frame " + std::to_string(frame.index) + ": the camera has no valid intrinsics");
   }
-  const int width = camera.width, height = camera.height, spp = settings.sampler.spp;
-  Film::Reshape(width, height, spp, settings.bundle, out);
-  Film& film = *out;
-  const Eigen::Matrix3d world_from_cam =
-      frame.cam_from_world.rotation.conjugate().toRotationMatrix();
-  const Eigen::Vector3d centre = CameraCenterInWorld(frame.cam_from_world);
-
-  auto ch = [&film](const std::string& layer, const std::string& channel) {
-    return &film.flat.at(layer).Get(channel);
-  };
-  float* rgb[3] = {
-      ch("rgb", "R")->floats.data(), ch("rgb", "G")->floats.data(), ch("rgb", "B")->floats.data()};
-  uint32_t* class_id = ch("classid", "id")->uints.data();
-  uint32_t* instance_id = ch("instanceid", "id")->uints.data();
-  float* depth = ch("depth", "Z")->floats.data();
-  float* normal[3] = {ch("normal", "X")->floats.data(),
-                      ch("normal", "Y")->floats.data(),
-                      ch("normal", "Z")->floats.data()};
-  float* position[3] = {ch("worldposition", "X")->floats.data(),
-                        ch("worldposition", "Y")->floats.data(),
-                        ch("worldposition", "Z")->floats.data()};
-  float* shadow = ch("shadow", "Y")->floats.data();
-  float* motion[2] = {ch("motion", "X")->floats.data(), ch("motion", "Y")->floats.data()};
-  // The bundle is written only when the capture asks for it (null: skip).
-  exr::DeepImage& bundle = film.bundle;
-  const bool with_bundle = settings.bundle;
-  auto u = [&](const char* c) { return with_bundle ? bundle.Get(c).uints.data() : nullptr; };
-  auto f = [&](const char* c) { return with_bundle ? bundle.Get(c).floats.data() : nullptr; };
-  uint32_t* b_instance = u("instanceid");
-  uint32_t* b_class = u("classid");
-  float* b_z = f("Z");
-  float* b_n[3] = {f("NX"), f("NY"), f("NZ")};
-  float* b_s[2] = {f("SX"), f("SY")};
-
-  // Motion: the previous camera's centre, where disocclusion rays start.
-  const Eigen::Vector3d previous_centre = previous.frame != nullptr
-                                              ? CameraCenterInWorld(previous.frame->cam_from_world)
-                                              : Eigen::Vector3d::Zero();
-  // Smooth fields once per pixel (PixelField), or at every sample.
-  const bool reuse = settings.reuse_smooth_fields;
+  Film::Reshape(camera.width, camera.height, settings.sampler.spp, settings.bundle, out);
+  const FrameRenderer renderer(scene, sky, frame, previous, settings, out);
   std::atomic<uint64_t> total_rays{0};
-  const int tile = settings.tile_size;
-  tbb::parallel_for(
-      // Over blocks, so that a block is always the same pixels.
-      tbb::blocked_range2d<int>(0,
-                                (height + kBlock - 1) / kBlock,
-                                std::max(1, tile / kBlock),
-                                0,
-                                (width + kBlock - 1) / kBlock,
-                                std::max(1, tile / kBlock)),
-      [&](const tbb::blocked_range2d<int>& r) {
-        RTCIntersectContext context;
-        InitCoherentContext(&context);
-        // A block of up to kBlock x kBlock pixels casts its rays together.
-        const int block_rays = kBlock * kBlock * spp;
-        std::vector<Eigen::Vector2d> samples(block_rays);
-        std::vector<Eigen::Vector3d> rays_in_cam(block_rays), directions(block_rays);
-        std::vector<EmbreeHit> embree_hits(block_rays);
-        std::vector<Hit> hits(block_rays);
-        std::vector<double> cos_suns(block_rays);
-        std::vector<Eigen::Vector3d> shadow_origins(block_rays);
-        std::vector<uint8_t> facing_sun(block_rays), occluded(block_rays);
-        // Per pixel of the block: its disocclusion ray (DisocclusionRay).
-        Eigen::Vector3d to_before[kBlock * kBlock];
-        float length_to_before[kBlock * kBlock];
-        uint8_t test_before[kBlock * kBlock], hidden_before[kBlock * kBlock];
-        TrianglePlane plane;
-        PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
-        PixelField<float> cloud_field(0.f);
-        uint64_t rays = 0;
-        for (int block_row = r.rows().begin(); block_row < r.rows().end(); ++block_row) {
-          for (int block_col = r.cols().begin(); block_col < r.cols().end(); ++block_col) {
-            // The block's pixels (fewer at the image's edge), row by row.
-            int block_x[kBlock * kBlock], block_y[kBlock * kBlock];
-            int pixels = 0;
-            const int y0 = block_row * kBlock, x0 = block_col * kBlock;
-            for (int y = y0; y < std::min(y0 + kBlock, height); ++y) {
-              for (int x = x0; x < std::min(x0 + kBlock, width); ++x) {
-                block_x[pixels] = x;
-                block_y[pixels] = y;
-                ++pixels;
-              }
-            }
-            // Pixel p's samples are block rays p * spp to (p + 1) * spp - 1.
-            const int count = pixels * spp;
-            for (int p = 0; p < pixels; ++p)
-              PixelSamples(
-                  settings.sampler, frame.index, block_x[p], block_y[p], &samples[p * spp]);
-            for (int i = 0; i < count; ++i) {
-              rays_in_cam[i] = camera.CamFromImage(samples[i]);  // z == 1
-              directions[i] = world_from_cam * rays_in_cam[i];
-            }
-            if (settings.packets) {
-              TraceRays(
-                  scene.scene(), centre, directions.data(), count, &context, embree_hits.data());
-            } else {
-              for (int i = 0; i < count; ++i)
-                embree_hits[i] = TraceOne(scene.scene(), centre, directions[i], &context);
-            }
-            rays += count;
-            // The shadow rays of the samples that face the sun, again the
-            // block's together.
-            for (int i = 0; i < count; ++i) {
-              hits[i] = Resolve(scene, embree_hits[i], centre, directions[i], &plane);
-              const Hit& hit = hits[i];
-              cos_suns[i] = hit.hit ? hit.shading_normal.dot(sky.to_sun()) : 0;
-              facing_sun[i] = cos_suns[i] > 0;
-              if (!facing_sun[i]) continue;
-              shadow_origins[i] = hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
-              ++rays;
-            }
-            if (settings.packets) {
-              OccludedRays(scene.scene(),
-                           shadow_origins.data(),
-                           sky.to_sun(),
-                           facing_sun.data(),
-                           count,
-                           &context,
-                           occluded.data());
-            } else {
-              for (int i = 0; i < count; ++i)
-                occluded[i] = facing_sun[i] &&
-                              Occluded(scene.scene(), shadow_origins[i], sky.to_sun(), &context);
-            }
-            for (int p = 0; p < pixels; ++p) {
-              const int x = block_x[p], y = block_y[p];
-              test_before[p] = 0;
-              const size_t pixel = static_cast<size_t>(y) * width + x;
-              Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-              albedo_field.Reset();
-              cloud_field.Reset();
-              for (int k = 0; k < spp; ++k) {
-                const int i = p * spp + k;  // in the block
-                const Eigen::Vector3d& ray_in_cam = rays_in_cam[i];
-                const Eigen::Vector3d& direction = directions[i];
-                const Hit& hit = hits[i];
-                Eigen::Vector3f radiance;
-                float shadow_ratio = 1.f;
-                const size_t b = static_cast<size_t>(pixel) * spp + k;
-                double z_value = kInf;
-                uint32_t sample_instance = 0, sample_class = 0;
-                Eigen::Vector3f sample_normal = Eigen::Vector3f::Zero();
-                if (!hit.hit) {
-                  radiance = sky.Radiance(direction.normalized());
-                } else {
-                  const Surface& s = scene.surface(hit.geom);
-                  // (Not value_or: the procedural albedo only where no map applies.)
-                  const std::optional<Eigen::Vector3f> mapped =
-                      s.MappedAlbedo(hit.prim, hit.u, hit.v);
-                  const Eigen::Vector3f albedo =
-                      mapped ? *mapped : albedo_field.At(hit.geom, hit.point, [&] {
-                        return FieldValue<Eigen::Vector3f>{
-                            Albedo(*s.material, sky.texture_noise(), hit.point.cast<float>()),
-                            reuse ? AlbedoReuseDistance(*s.material) : 0};
-                      });
-                  const double cos_sun = cos_suns[i];
-                  const float lit = !facing_sun[i] || occluded[i]
-                                        ? 0.f
-                                        : cloud_field.At(hit.geom, hit.point, [&] {
-                                            FieldValue<float> lit;
-                                            lit.value = static_cast<float>(sky.CloudTransmittance(
-                                                hit.point, &lit.reuse_distance));
-                                            if (!reuse) lit.reuse_distance = 0;
-                                            return lit;
-                                          });
-                  const Eigen::Vector3f direct =
-                      sky.sun_irradiance() * static_cast<float>(std::max(0.0, cos_sun));
-                  const Eigen::Vector3f unshadowed = sky.ambient() + direct;
-                  const Eigen::Vector3f shaded = sky.ambient() + direct * lit;
-                  const float denominator = Luminance(unshadowed);
-                  shadow_ratio =
-                      denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
-                  radiance =
-                      Shade(*s.material, albedo, hit.shading_normal, direction, sky, shaded, lit);
-                  const double distance = hit.t * ray_in_cam.norm();
-                  if (sky.fog_density() > 0) {
-                    const float f = static_cast<float>(std::exp(-sky.fog_density() * distance));
-                    radiance = radiance * f + sky.horizon() * (1 - f);
-                  }
-                  z_value = settings.depth_kind == DepthKind::kPlanar ? hit.t : distance;
-                  sample_instance = s.instance_id;
-                  sample_class = s.class_id;
-                  sample_normal = hit.normal.cast<float>();
-                }
-                if (with_bundle) {
-                  b_s[0][b] = static_cast<float>(samples[i].x() - x);  // [0, 1)
-                  b_s[1][b] = static_cast<float>(samples[i].y() - y);
-                  b_instance[b] = sample_instance;
-                  b_class[b] = sample_class;
-                  for (int a = 0; a < 3; ++a) b_n[a][b] = sample_normal[a];
-                  b_z[b] = static_cast<float>(z_value);
-                }
-                sum += radiance;
-                if (k != 0) continue;
-                // The flat truth layers: the single, non-mixed value of the
-                // centre sample.
-                film.centre_sample[pixel] = samples[i].cast<float>();
-                class_id[pixel] = sample_class;
-                instance_id[pixel] = sample_instance;
-                depth[pixel] = static_cast<float>(z_value);
-                shadow[pixel] = shadow_ratio;
-                for (int a = 0; a < 3; ++a) {
-                  normal[a][pixel] = sample_normal[a];
-                  position[a][pixel] = hit.hit ? static_cast<float>(hit.point[a]) : kInf;
-                }
-                // No previous frame in the shot: no valid motion.
-                Eigen::Vector2d m(kNaN, kNaN);
-                if (previous.frame != nullptr && settings.motion) {
-                  const PlannedFrame& previous_frame = *previous.frame;
-                  if (!hit.hit) {
-                    const Eigen::Vector3d dir_prev =
-                        previous_frame.cam_from_world.rotation * direction;
-                    m = Motion(camera, samples[i], previous_frame.camera, dir_prev);
-                  } else {
-                    Eigen::Vector3d point_before = hit.point;
-                    const int object = scene.surface(hit.geom).object;
-                    if (object >= 0 && previous.world != nullptr) {
-                      const ObjectState& now = scene.world().objects[object];
-                      const ObjectState& before = previous.world->objects[object];
-                      point_before = before.WorldFromUnit(now.UnitFromWorld(hit.point));
-                    }
-                    m = Motion(camera,
-                               samples[i],
-                               previous_frame.camera,
-                               previous_frame.cam_from_world * point_before);
-                    // Cast with the block's others below.
-                    test_before[p] =
-                        std::isfinite(m.x()) && previous.scene != nullptr &&
-                        DisocclusionRay(
-                            previous_centre, point_before, &to_before[p], &length_to_before[p]);
-                    ++rays;
-                  }
-                }
-                motion[0][pixel] = static_cast<float>(m.x());
-                motion[1][pixel] = static_cast<float>(m.y());
-              }
-              sum /= static_cast<float>(spp);
-              for (int a = 0; a < 3; ++a) rgb[a][pixel] = sum[a];
-            }
-            // The block's disocclusion rays: a point the previous camera did
-            // not see has no motion.
-            if (std::find(test_before, test_before + pixels, 1) != test_before + pixels) {
-              if (settings.packets) {
-                OccludedSegments(previous.scene->scene(),
-                                 previous_centre,
-                                 to_before,
-                                 length_to_before,
-                                 test_before,
-                                 pixels,
-                                 &context,
-                                 hidden_before);
-              } else {
-                for (int p = 0; p < pixels; ++p)
-                  hidden_before[p] = test_before[p] && Occluded(previous.scene->scene(),
-                                                                previous_centre,
-                                                                to_before[p],
-                                                                &context,
-                                                                length_to_before[p]);
-              }
-              for (int p = 0; p < pixels; ++p) {
-                if (!hidden_before[p]) continue;
-                const size_t pixel = static_cast<size_t>(block_y[p]) * width + block_x[p];
-                motion[0][pixel] = motion[1][pixel] = kNaN;
-              }
-            }
-          }
-        }
-        total_rays += rays;
-      });
-  film.rays = total_rays;
+  // Tiles of whole blocks (a block is always the same pixels).
+  const int tile = std::max(1, settings.tile_size / kBlock);
+  tbb::parallel_for(tbb::blocked_range2d<int>(0,
+                                              (camera.height + kBlock - 1) / kBlock,
+                                              tile,
+                                              0,
+                                              (camera.width + kBlock - 1) / kBlock,
+                                              tile),
+                    [&](const tbb::blocked_range2d<int>& r) {
+                      RTCIntersectContext context;
+                      InitCoherentContext(&context);
+                      BlockRays block(settings.sampler.spp);
+                      BlockDisocclusions disocclusions;
+                      TrianglePlane plane;
+                      PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
+                      PixelField<float> cloud_field(0.f);
+                      uint64_t rays = 0;
+                      for (int row = r.rows().begin(); row < r.rows().end(); ++row) {
+                        for (int col = r.cols().begin(); col < r.cols().end(); ++col) {
+                          renderer.CastBlock(row, col, &block, &plane, &context, &rays);
+                          for (int p = 0; p < block.pixels; ++p)
+                            renderer.RenderPixel(
+                                block, p, &albedo_field, &cloud_field, &disocclusions, &rays);
+                          renderer.DropDisoccludedMotion(block, &disocclusions, &context);
+                        }
+                      }
+                      total_rays += rays;
+                    });
+  out->rays = total_rays;
 }
 
 }  // namespace lsds::gen

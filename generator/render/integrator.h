@@ -1,6 +1,10 @@
-// The tile integrator: renders one frame of a world state into the film of
-// every standard layer. Tiles run in parallel over TBB; every pixel depends
-// only on its own samples, so the result is the same for any thread count.
+// The integrator: renders one frame of a world state into the film of every
+// standard layer. The image is cut into blocks of 2x2 pixels whose camera,
+// shadow and disocclusion rays are cast together as Embree packets
+// (ray_casts.h); tiles of blocks run in parallel over TBB. A pixel's values
+// depend only on its own samples (and its block's packets, which are always
+// the same rays), so the result is the same for any thread count or tile
+// size.
 #pragma once
 
 #include <cstdint>
@@ -18,15 +22,16 @@ namespace lsds::gen {
 struct RenderSettings {
   SamplerSettings sampler;
   DepthKind depth_kind = DepthKind::kPlanar;
-  int tile_size = 16;
+  int tile_size = 16;  // pixels per side of a tile (whole blocks)
   bool bundle = true;  // fill the film's pixel bundle (the deep layer)
   // Compute motion vectors (their disocclusion rays); off when the capture
   // does not write the motion layer, which then stays NaN.
   bool motion = true;
-  // Trace the camera rays of a pixel as one Embree packet (rtcIntersect4/8),
-  // and their shadow rays as another (rtcOccluded4/8); off traces them one by
-  // one (rtcIntersect1, rtcOccluded1). Same films either way
-  // (tests/generator/render_test.cc).
+  // Trace the rays of a block of pixels as coherent Embree packets
+  // (rtcIntersect16, rtcOccluded16, ...); off traces them one by one
+  // (rtcIntersect1, rtcOccluded1). Same films either way, except where a ray
+  // passes exactly through an edge two triangles share: then either
+  // triangle may be reported (tests/generator/render_test.cc).
   bool packets = true;
   // Evaluate the procedural albedo and the cloud shadow once per pixel where
   // they are smooth over it (PixelField); off evaluates them at every sample.

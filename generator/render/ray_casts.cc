@@ -123,6 +123,19 @@ struct Segments {
 
 }  // namespace
 
+int BlockPixels(int block_row, int block_col, int width, int height, int* x, int* y) {
+  int count = 0;
+  const int y0 = block_row * kBlock, x0 = block_col * kBlock;
+  for (int row = y0; row < std::min(y0 + kBlock, height); ++row) {
+    for (int col = x0; col < std::min(x0 + kBlock, width); ++col) {
+      x[count] = col;
+      y[count] = row;
+      ++count;
+    }
+  }
+  return count;
+}
+
 void InitCoherentContext(RTCIntersectContext* context) {
   rtcInitIntersectContext(context);
   context->flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;

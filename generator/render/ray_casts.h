@@ -30,6 +30,16 @@ void InitCoherentContext(RTCIntersectContext* context);
 // rays of a 2x2 block of pixels at 4 samples per pixel.
 constexpr int kPacket = 16;
 
+// Pixels per side of the blocks whose rays are cast together. Blocks are
+// aligned to the image, so a block is always the same pixels (and its packets
+// the same rays) whatever the tiles.
+constexpr int kBlock = 2;
+
+// The pixels of block (block_row, block_col) of a width x height image, row
+// by row: x[i], y[i] for i < the returned count (kBlock * kBlock, fewer in the
+// image's last block column and row).
+int BlockPixels(int block_row, int block_col, int width, int height, int* x, int* y);
+
 // `count` rays from one origin (the camera rays of a block of pixels, the
 // most coherent rays there are), traced kPacket at a time with
 // rtcIntersect4/8/16. Each lane is the same float ray TraceOne would trace.

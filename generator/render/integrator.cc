@@ -178,7 +178,7 @@ struct FilmTargets {
 // hits; pixel p's samples are block rays p * spp to (p + 1) * spp - 1.
 struct BlockRays {
   explicit BlockRays(int spp)
-      : samples(kBlock * kBlock * spp),
+      : samples(static_cast<size_t>(kBlock * kBlock) * spp),
         rays_in_cam(samples.size()),
         directions(samples.size()),
         embree_hits(samples.size()),
@@ -254,8 +254,11 @@ class FrameRenderer {
         BlockPixels(block_row, block_col, camera.width, camera.height, block->x, block->y);
     const int count = block->pixels * spp_;
     for (int p = 0; p < block->pixels; ++p)
-      PixelSamples(
-          settings_.sampler, frame_.index, block->x[p], block->y[p], &block->samples[p * spp_]);
+      PixelSamples(settings_.sampler,
+                   frame_.index,
+                   block->x[p],
+                   block->y[p],
+                   &block->samples[static_cast<size_t>(p) * spp_]);
     for (int i = 0; i < count; ++i) {
       block->rays_in_cam[i] = camera.CamFromImage(block->samples[i]);
       block->directions[i] = world_from_cam_ * block->rays_in_cam[i];
@@ -447,7 +450,7 @@ class FrameRenderer {
       const ObjectState& before = previous_.world->objects[object];
       point_before = before.WorldFromUnit(now.UnitFromWorld(hit.point));
     }
-    const Eigen::Vector2d m = Motion(
+    Eigen::Vector2d m = Motion(
         frame_.camera, sample, previous_frame.camera, previous_frame.cam_from_world * point_before);
     disocclusions->test[p] = std::isfinite(m.x()) && previous_.scene != nullptr &&
                              DisocclusionRay(previous_centre_,

@@ -111,6 +111,12 @@ const std::vector<CheckInfo>& AllChecks() {
        "screen-normalized motion is finite (it may exceed [0, 1]), or NaN on "
        "both channels (no valid motion)",
        "exact"},
+      {"layer.motion-reference",
+       S::kError,
+       "a residual motion file was measured against the shot's previous frame: "
+       "the previous camera its header names is that frame's camera (none on a "
+       "shot's first frame)",
+       "1e-9, relative to 1 or the value"},
       {"layer.classid-known",
        S::kError,
        "classid layer values are 0 or in the class table",

@@ -89,6 +89,9 @@ class FrameChecker {
 
   void LoadLayers();
   bool CheckHeader(const LayerInfo& layer, const std::string& file, const fs::path& path);
+  void CheckMotionReference(const exr::ExrInfo& info,
+                            const std::string& file,
+                            const fs::path& path);
   void CheckValues();
   void CheckBundle();
   void CheckObjects();
@@ -205,6 +208,7 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
              " layout but layer '" + layer.name + "' declares layout '" +
              FlatLayoutName(layer.flat_layout) + "'");
   }
+  if (layer.semantic == "motion" && residual) CheckMotionReference(info, file, path);
   if (info.deep != layer.deep) {
     Emit("layer.channels",
          FileLocation(file),
@@ -254,6 +258,55 @@ bool FrameChecker::CheckHeader(const LayerInfo& layer,
     ok = false;
   }
   return ok;
+}
+
+// A residual motion file decodes against the previous camera its header
+// names: a file measured against another frame (or none) would read as that
+// frame's motion, so the camera must be the one collection.json says came
+// before.
+void FrameChecker::CheckMotionReference(const exr::ExrInfo& info,
+                                        const std::string& file,
+                                        const fs::path& path) {
+  if (!Selected("layer.motion-reference")) return;
+  std::optional<CameraTruth> reference;
+  try {
+    reference = ResidualMotionReference(info, path);
+  } catch (const std::exception& e) {
+    Emit("layer.motion-reference", FileLocation(file), e.what());
+    return;
+  }
+  const std::optional<CameraTruth>& expected = input_.previous_camera;
+  if (!reference || !expected) {
+    if (reference.has_value() != expected.has_value()) {
+      Emit("layer.motion-reference",
+           FileLocation(file),
+           reference ? "names a previous camera, but the frame has no previous frame in its shot"
+                     : "names no previous camera (\"none\"), but the frame continues a shot");
+    }
+    return;
+  }
+  const PinholeCamera &a = reference->intrinsics, &b = expected->intrinsics;
+  auto close = [](double x, double y) {
+    return std::abs(x - y) <= 1e-9 * std::max({1.0, std::abs(x), std::abs(y)});
+  };
+  bool same = a.width == b.width && a.height == b.height && close(a.fx, b.fx) &&
+              close(a.fy, b.fy) && close(a.cx, b.cx) && close(a.cy, b.cy);
+  for (int i = 0; i < 9 && same; ++i)
+    same = close(reference->cam_from_world_rotation(i / 3, i % 3),
+                 expected->cam_from_world_rotation(i / 3, i % 3));
+  for (int i = 0; i < 3 && same; ++i)
+    same = close(reference->cam_from_world_translation[i], expected->cam_from_world_translation[i]);
+  if (!same) {
+    const Eigen::Vector3d at =
+        -reference->cam_from_world_rotation.transpose() * reference->cam_from_world_translation;
+    const Eigen::Vector3d want =
+        -expected->cam_from_world_rotation.transpose() * expected->cam_from_world_translation;
+    Emit("layer.motion-reference",
+         FileLocation(file),
+         "was measured against a camera at (" + Fmt(at.x()) + ", " + Fmt(at.y()) + ", " +
+             Fmt(at.z()) + "), not the previous frame's camera at (" + Fmt(want.x()) + ", " +
+             Fmt(want.y()) + ", " + Fmt(want.z()) + ") (or other intrinsics or orientation)");
+  }
 }
 
 void FrameChecker::LoadLayers() {

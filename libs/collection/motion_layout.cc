@@ -41,37 +41,6 @@ std::string FormatCamera(const std::optional<CameraTruth>& camera) {
   return text;
 }
 
-std::optional<CameraTruth> ParseCamera(const exr::ExrInfo& info, const fs::path& path) {
-  const auto it = info.attributes.find(kMotionPreviousCameraAttribute);
-  if (it == info.attributes.end()) {
-    throw Error(std::string("residual motion has no header attribute '") +
-                    kMotionPreviousCameraAttribute + "'",
-                Location(path.string()));
-  }
-  if (it->second == "none") return std::nullopt;
-  std::istringstream in(it->second);
-  std::vector<double> v;
-  double x = 0;
-  while (in >> x) v.push_back(x);
-  if (!in.eof() || v.size() != 18 || !(v[0] >= 1 && v[1] >= 1 && v[0] <= 1e6 && v[1] <= 1e6)) {
-    throw Error(std::string("residual motion header attribute '") + kMotionPreviousCameraAttribute +
-                    "' = '" + it->second +
-                    "' is not 'none' or 18 numbers (width height fx fy cx cy, rotation, "
-                    "translation)",
-                Location(path.string()));
-  }
-  CameraTruth camera;
-  camera.intrinsics.width = static_cast<int>(v[0]);
-  camera.intrinsics.height = static_cast<int>(v[1]);
-  camera.intrinsics.fx = v[2];
-  camera.intrinsics.fy = v[3];
-  camera.intrinsics.cx = v[4];
-  camera.intrinsics.cy = v[5];
-  for (int i = 0; i < 9; ++i) camera.cam_from_world_rotation(i / 3, i % 3) = v[6 + i];
-  for (int a = 0; a < 3; ++a) camera.cam_from_world_translation[a] = v[15 + a];
-  return camera;
-}
-
 }  // namespace
 
 exr::FlatImage PredictMotion(const WorldPositionPrediction& input,
@@ -144,6 +113,37 @@ void WriteMotionExr(const fs::path& path,
 
 bool IsResidualMotion(const exr::ExrInfo& info) { return IsResidualLayer(info, Kind()); }
 
+std::optional<CameraTruth> ResidualMotionReference(const exr::ExrInfo& info, const fs::path& path) {
+  const auto it = info.attributes.find(kMotionPreviousCameraAttribute);
+  if (it == info.attributes.end()) {
+    throw Error(std::string("residual motion has no header attribute '") +
+                    kMotionPreviousCameraAttribute + "'",
+                Location(path.string()));
+  }
+  if (it->second == "none") return std::nullopt;
+  std::istringstream in(it->second);
+  std::vector<double> v;
+  double x = 0;
+  while (in >> x) v.push_back(x);
+  if (!in.eof() || v.size() != 18 || !(v[0] >= 1 && v[1] >= 1 && v[0] <= 1e6 && v[1] <= 1e6)) {
+    throw Error(std::string("residual motion header attribute '") + kMotionPreviousCameraAttribute +
+                    "' = '" + it->second +
+                    "' is not 'none' or 18 numbers (width height fx fy cx cy, rotation, "
+                    "translation)",
+                Location(path.string()));
+  }
+  CameraTruth camera;
+  camera.intrinsics.width = static_cast<int>(v[0]);
+  camera.intrinsics.height = static_cast<int>(v[1]);
+  camera.intrinsics.fx = v[2];
+  camera.intrinsics.fy = v[3];
+  camera.intrinsics.cx = v[4];
+  camera.intrinsics.cy = v[5];
+  for (int i = 0; i < 9; ++i) camera.cam_from_world_rotation(i / 3, i % 3) = v[6 + i];
+  for (int a = 0; a < 3; ++a) camera.cam_from_world_translation[a] = v[15 + a];
+  return camera;
+}
+
 std::vector<exr::ChannelSpec> ReadableMotionChannels(const exr::ExrInfo& info) {
   return ReadableResidualLayerChannels(info, Kind());
 }
@@ -154,7 +154,7 @@ exr::FlatImage ReadMotionExr(const fs::path& path,
                              const exr::ReadLimits& limits) {
   const exr::ExrInfo info = exr::ReadExrInfo(path, limits);
   if (!IsResidualMotion(info)) return exr::ReadFlatExr(path, channels, limits);
-  const std::optional<CameraTruth> previous_camera = ParseCamera(info, path);
+  const std::optional<CameraTruth> previous_camera = ResidualMotionReference(info, path);
   ResidualPrediction predict;
   if (prediction) {
     predict = [&](const std::string& depth_layer) {

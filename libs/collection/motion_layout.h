@@ -67,6 +67,13 @@ exr::FlatImage ReadMotionExr(const std::filesystem::path& path,
 
 bool IsResidualMotion(const exr::ExrInfo& info);
 
+// The previous camera a residual motion file (header `info`, file `path`) was
+// measured against: nullopt when its header says "none" (a shot's first
+// frame). Throws lsds::Error naming the file when the attribute is missing or
+// malformed.
+std::optional<CameraTruth> ResidualMotionReference(const exr::ExrInfo& info,
+                                                   const std::filesystem::path& path);
+
 // The channels a reader gets from a motion file with header `info`, sorted by
 // name.
 std::vector<exr::ChannelSpec> ReadableMotionChannels(const exr::ExrInfo& info);

@@ -7,7 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libs/collection/json_io.h"
 #include "libs/collection/model.h"
+#include "libs/collection/motion_layout.h"
+#include "libs/collection/worldposition_layout.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/flat_image.h"
 #include "libs/synth/synthetic_collection.h"
@@ -355,6 +358,26 @@ std::vector<Corruption> MakeCorruptions() {
           im.F("Y", 3, 2) = 0.5f;
         });
         return AtPixel("cross.motion-invalid", File("motion", 0), 0, 3, 2);
+      });
+  add("motion-reference-none",
+      "motion/000002.exr rewritten in the residual layout against no previous camera, "
+      "although frame 2 continues the shot",
+      [](const fs::path& root) {
+        const json j = ReadJson(root / "collection.json");
+        const CollectionHeader header = HeaderFromJson(j, "collection.json");
+        const Frame frame = FrameFromJson(j.at("frames").at(2), "collection.json", "/frames/2");
+        const exr::FlatImage motion = exr::ReadFlatExr(root / File("motion", 2));
+        const WorldPositionPrediction prediction = PredictionOfFrame(root, header, frame, "depth");
+        exr::WriteOptions options;
+        options.compression = CompressionOf("motion");
+        WriteMotionExr(root / File("motion", 2),
+                       motion,
+                       FlatLayout::kResidual,
+                       &prediction,
+                       std::nullopt,
+                       "depth",
+                       options);
+        return At("layer.motion-reference", File("motion", 2), 2);
       });
   add("metadata-pose",
       "metadata.json frame 2 position off by 0.5 m, not declared perturbed",

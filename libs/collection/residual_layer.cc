@@ -113,7 +113,17 @@ exr::FlatImage ReadResidualLayer(const fs::path& path,
                 where);
   }
   const exr::FlatImage residuals = exr::ReadFlatExr(path, stored, limits);
-  const exr::FlatImage predicted = predict(depth_attribute->second);
+  exr::FlatImage predicted;
+  try {
+    predicted = predict(depth_attribute->second);
+  } catch (const Error& e) {
+    // The depth layer is the one this file's header names: name the file too.
+    const std::string inner = e.location().file.empty() ? "" : e.location().ToString() + ": ";
+    throw Error("its header attribute '" + kind.depth_attribute + "' names depth layer '" +
+                    depth_attribute->second + "', which cannot predict it: " + inner +
+                    e.message(),
+                where);
+  }
   if (predicted.width() != residuals.width() || predicted.height() != residuals.height()) {
     throw Error("residual " + kind.layer + " is " + Size(residuals.width(), residuals.height()) +
                     " but its depth layer '" + depth_attribute->second + "' is " +

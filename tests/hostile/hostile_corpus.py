@@ -317,6 +317,72 @@ def build_cases(lsds, work):
     add(Case("limits/capture-resolution-huge",
              "generate {d}/s.lscene {d}/c.lcap -o {d}/out -q --memory-budget 1K".split(),
              names="frame", place="memory budget"))
+
+    # --- 8. the residual layers of a generated collection -----------------------
+    # lsds generate writes the bundle, worldposition and motion in the residual
+    # layouts, which decode from header attributes and another layer.
+    generated = os.path.join(base, "G")
+    if not os.path.isdir(generated):
+        subprocess.run([lsds, "generate", "--demo", "--demo-size", "32x24",
+                        "--demo-frames", "3", "-o", generated, "-q"], check=True,
+                       stdout=subprocess.DEVNULL)
+
+    def add_generated(case, *setups):
+        case.setup = [lambda d: shutil.copytree(generated, os.path.join(d, "C"),
+                                                symlinks=True)] + list(setups)
+        cases.append(case)
+
+    def patch_attribute(path, key, change):
+        # A header string attribute's value, changed in place (same length).
+        data = bytearray(open(path, "rb").read())
+        at = data.find(key + b"\x00string\x00")
+        assert at >= 0, key
+        value = at + len(key) + len(b"\x00string\x00") + 4
+        size = int.from_bytes(data[value - 4:value], "little")
+        data[value:value + size] = change(bytes(data[value:value + size]))
+        write(path, bytes(data))
+
+    residual_readers = {
+        "bundle": {"validate": ("validate {d}/C", (1,)),
+                   "bundles": ("bundles {d}/C -o {d}/stats.json", (2,))},
+        "worldposition": {"validate": ("validate {d}/C", (1,)),
+                          "export-layers": ("export-layers {d}/C -o {d}/out", (2,))},
+        "motion": {"validate": ("validate {d}/C", (1,)),
+                   "export-layers": ("export-layers {d}/C -o {d}/out", (2,))},
+    }
+    first_letter_x = lambda v: b"x" + v[1:]
+    residual_mutations = [
+        ("truncated", None, lambda p: write(p, open(p, "rb").read()[:300])),
+        ("garbage", None, lambda p: write(p, b"v/1\x01" + bytes(range(256)) * 8)),
+        ("layout-attribute", {"bundle": b"lsdsBundleLayout",
+                              "worldposition": b"lsdsWorldPositionLayout",
+                              "motion": b"lsdsMotionLayout"}, None),
+        ("depth-attribute", {"worldposition": b"lsdsWorldPositionDepthLayer",
+                             "motion": b"lsdsMotionDepthLayer"}, None),
+        ("camera-attribute", {"motion": b"lsdsMotionPreviousCamera"}, None),
+    ]
+    for label, keys, mutate in residual_mutations:
+        for layer, commands in residual_readers.items():
+            if keys is not None and layer not in keys:
+                continue
+            path = lambda d, layer=layer: os.path.join(d, "C", layer, "000001.exr")
+            if mutate is None:
+                mutate_layer = (lambda d, key=keys[layer], path=path:
+                                patch_attribute(path(d), key, first_letter_x))
+            else:
+                mutate_layer = lambda d, mutate=mutate, path=path: mutate(path(d))
+            for command, (line, expect) in commands.items():
+                add_generated(Case("residual/%s/%s/%s" % (label, layer, command),
+                                   line.split(), expect=expect,
+                                   names="%s/000001.exr" % layer), mutate_layer)
+    # Another frame's motion: read against the wrong previous camera.
+    for source in ("000000.exr", "000002.exr"):
+        add_generated(Case("residual/motion-of-frame-%s/validate" % source[5],
+                           "validate {d}/C".split(), expect=(1,),
+                           names="motion/000001.exr", place="layer.motion-reference"),
+                      lambda d, source=source: shutil.copyfile(
+                          os.path.join(d, "C", "motion", source),
+                          os.path.join(d, "C", "motion", "000001.exr")))
     return cases
 
 

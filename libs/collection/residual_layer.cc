@@ -120,8 +120,7 @@ exr::FlatImage ReadResidualLayer(const fs::path& path,
     // The depth layer is the one this file's header names: name the file too.
     const std::string inner = e.location().file.empty() ? "" : e.location().ToString() + ": ";
     throw Error("its header attribute '" + kind.depth_attribute + "' names depth layer '" +
-                    depth_attribute->second + "', which cannot predict it: " + inner +
-                    e.message(),
+                    depth_attribute->second + "', which cannot predict it: " + inner + e.message(),
                 where);
   }
   if (predicted.width() != residuals.width() || predicted.height() != residuals.height()) {

@@ -208,6 +208,15 @@ struct BlockDisocclusions {
   uint8_t hidden[kBlock * kBlock];
 };
 
+// The smooth fields a task keeps while it shades: the albedo and cloud shadow
+// of the pixel (reset per pixel), and the cloud shadow's last exactly constant
+// stretch (kept across pixels).
+struct ShadingFields {
+  PixelField<Eigen::Vector3f> albedo{Eigen::Vector3f::Zero()};
+  PixelField<float> cloud{0.f};
+  ExactBall<float> exact_cloud;
+};
+
 // What one sample contributes: its radiance and its values of the truth
 // layers (sky: infinite depth, ids 0, normal 0).
 struct SampleValue {
@@ -305,18 +314,17 @@ class FrameRenderer {
   // Its motion waits for the block's disocclusion rays (`disocclusions`).
   void RenderPixel(const BlockRays& block,
                    int p,
-                   PixelField<Eigen::Vector3f>* albedo_field,
-                   PixelField<float>* cloud_field,
+                   ShadingFields* fields,
                    BlockDisocclusions* disocclusions,
                    uint64_t* rays) const {
     const int x = block.x[p], y = block.y[p];
     const size_t pixel = static_cast<size_t>(y) * frame_.camera.width + x;
-    albedo_field->Reset();
-    cloud_field->Reset();
+    fields->albedo.Reset();
+    fields->cloud.Reset();
     Eigen::Vector3f sum = Eigen::Vector3f::Zero();
     for (int k = 0; k < spp_; ++k) {
       const int i = p * spp_ + k;  // in the block
-      const SampleValue v = ShadeSample(block, i, albedo_field, cloud_field);
+      const SampleValue v = ShadeSample(block, i, fields);
       sum += v.radiance;
       if (film_.bundle_z != nullptr) {
         const size_t b = pixel * spp_ + k;
@@ -380,10 +388,7 @@ class FrameRenderer {
  private:
   // Block sample i: the sky, or the shaded surface it hits (the procedural
   // albedo and the cloud shadow through the pixel's fields).
-  SampleValue ShadeSample(const BlockRays& block,
-                          int i,
-                          PixelField<Eigen::Vector3f>* albedo_field,
-                          PixelField<float>* cloud_field) const {
+  SampleValue ShadeSample(const BlockRays& block, int i, ShadingFields* fields) const {
     const Eigen::Vector3d& direction = block.directions[i];
     const Hit& hit = block.hits[i];
     SampleValue v;
@@ -395,18 +400,12 @@ class FrameRenderer {
     const Surface& s = scene_.surface(hit.geom);
     // (Not value_or: the procedural albedo only where no map applies.)
     const std::optional<Eigen::Vector3f> mapped = s.MappedAlbedo(hit.prim, hit.u, hit.v);
-    const Eigen::Vector3f albedo = mapped ? *mapped : albedo_field->At(hit.geom, hit.point, [&] {
+    const Eigen::Vector3f albedo = mapped ? *mapped : fields->albedo.At(hit.geom, hit.point, [&] {
       return FieldValue<Eigen::Vector3f>{
           Albedo(*s.material, sky_.texture_noise(), hit.point.cast<float>()),
           reuse ? AlbedoReuseDistance(*s.material) : 0};
     });
-    const float lit =
-        !block.facing_sun[i] || block.occluded[i] ? 0.f : cloud_field->At(hit.geom, hit.point, [&] {
-          FieldValue<float> lit;
-          lit.value = static_cast<float>(sky_.CloudTransmittance(hit.point, &lit.reuse_distance));
-          if (!reuse) lit.reuse_distance = 0;
-          return lit;
-        });
+    const float lit = !block.facing_sun[i] || block.occluded[i] ? 0.f : CloudShadow(hit, fields);
     const Eigen::Vector3f direct =
         sky_.sun_irradiance() * static_cast<float>(std::max(0.0, block.cos_suns[i]));
     const Eigen::Vector3f unshadowed = sky_.ambient() + direct;
@@ -424,6 +423,31 @@ class FrameRenderer {
     v.class_id = s.class_id;
     v.normal = hit.normal.cast<float>();
     return v;
+  }
+
+  // The share of sunlight through the clouds at a hit facing the sun: the
+  // pixel's value where it applies (PixelField); else, inside the task's last
+  // clear or full stretch of the deck (ExactBall), the bits a fresh evaluation
+  // gives, without the noise; else evaluated.
+  float CloudShadow(const Hit& hit, ShadingFields* fields) const {
+    const bool reuse = settings_.reuse_smooth_fields;
+    return fields->cloud.At(hit.geom, hit.point, [&] {
+      FieldValue<float> lit;
+      double remaining = 0, exact = 0;
+      if (reuse && fields->exact_cloud.Find(hit.point, &lit.value, &remaining)) {
+        // At least the ramp's reuse distance, as a fresh evaluation's.
+        lit.reuse_distance = std::max(sky_.CloudReuseDistance(), remaining);
+        return lit;
+      }
+      lit.value =
+          static_cast<float>(sky_.CloudTransmittance(hit.point, &lit.reuse_distance, &exact));
+      if (!reuse) {
+        lit.reuse_distance = 0;  // per sample
+        return lit;
+      }
+      fields->exact_cloud.Keep(hit.point, lit.value, exact);
+      return lit;
+    });
   }
 
   // The motion of block sample i, pixel p's centre sample, against the
@@ -513,15 +537,13 @@ void RenderFrame(const RenderScene& scene,
                       BlockRays block(settings.sampler.spp);
                       BlockDisocclusions disocclusions;
                       TrianglePlane plane;
-                      PixelField<Eigen::Vector3f> albedo_field(Eigen::Vector3f::Zero());
-                      PixelField<float> cloud_field(0.f);
+                      ShadingFields fields;
                       uint64_t rays = 0;
                       for (int row = r.rows().begin(); row < r.rows().end(); ++row) {
                         for (int col = r.cols().begin(); col < r.cols().end(); ++col) {
                           renderer.CastBlock(row, col, &block, &plane, &context, &rays);
                           for (int p = 0; p < block.pixels; ++p)
-                            renderer.RenderPixel(
-                                block, p, &albedo_field, &cloud_field, &disocclusions, &rays);
+                            renderer.RenderPixel(block, p, &fields, &disocclusions, &rays);
                           renderer.DropDisoccludedMotion(block, &disocclusions, &context);
                         }
                       }

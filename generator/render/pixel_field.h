@@ -52,4 +52,39 @@ class PixelField {
   FieldValue<Value> kept_;
 };
 
+// A value that is exactly the same, bit for bit, everywhere within a ball
+// around the point it was evaluated at (the cloud shadow where the deck is
+// clear or full: Sky::CloudTransmittance's exact distance). Unlike a
+// PixelField it may be kept across pixels and blocks: whichever point it came
+// from, a fresh evaluation would give the same bits, so the images do not
+// depend on the order pixels are visited in.
+template <typename Value>
+class ExactBall {
+ public:
+  // The kept value if `point` is inside the ball, and how far around `point`
+  // it still holds.
+  bool Find(const Eigen::Vector3d& point, Value* value, double* remaining) const {
+    if (!(radius_ > 0)) return false;
+    const double distance = (point - centre_).norm();
+    if (distance > radius_) return false;
+    *value = value_;
+    *remaining = radius_ - distance;
+    return true;
+  }
+
+  // Keeps `value` for the ball of `radius` around `point`; a radius of 0
+  // keeps the ball it had.
+  void Keep(const Eigen::Vector3d& point, const Value& value, double radius) {
+    if (!(radius > 0)) return;
+    centre_ = point;
+    value_ = value;
+    radius_ = radius;
+  }
+
+ private:
+  Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
+  Value value_{};
+  double radius_ = 0;
+};
+
 }  // namespace lsds::gen

@@ -104,22 +104,26 @@ double Sky::CloudCover(const Eigen::Vector3d& d) const {
   return cover * std::min(1.0, d.z() * 4);  // thin out towards the horizon
 }
 
-double Sky::CloudTransmittance(const Eigen::Vector3d& p, double* reuse_distance) const {
-  double unused;
-  double& reuse = reuse_distance != nullptr ? *reuse_distance : unused;
-  reuse = std::numeric_limits<double>::infinity();
+double Sky::CloudTransmittance(const Eigen::Vector3d& p,
+                               double* reuse_distance,
+                               double* exact_distance) const {
+  double unused_reuse, unused_exact;
+  double& reuse = reuse_distance != nullptr ? *reuse_distance : unused_reuse;
+  double& exact = exact_distance != nullptr ? *exact_distance : unused_exact;
+  reuse = exact = std::numeric_limits<double>::infinity();
   if (cloud_density_ <= 0 || to_sun_.z() <= 0.01) return 1;
   // Where the ray towards the sun crosses the deck, in km.
   const double t = (kCloudDeckM - p.z()) / to_sun_.z();
-  reuse = 0;  // at and above the deck: a step in the field
+  reuse = exact = 0;  // at and above the deck: a step in the field
   if (!(t > 0)) return 1;
   const double n = CloudNoiseAt((p.x() + t * to_sun_.x()) / 1000, (p.y() + t * to_sun_.y()) / 1000);
   const double threshold = CloudThreshold();
   // Where the deck is clear (n <= threshold) or full (n >= threshold +
   // softness) with a margin, it stays so, exactly, until the noise has changed
-  // by that margin.
+  // by that margin; not past the deck's height, above which the
+  // transmittance is 1.
   const double margin = std::max(threshold - n, n - threshold - cloud_softness_);
-  // Not past the deck's height, above which the transmittance is 1.
+  if (margin > 0) exact = std::min(margin / cloud_noise_slope_, kCloudDeckM - p.z());
   reuse =
       std::min(std::max(cloud_reuse_distance_, margin / cloud_noise_slope_), kCloudDeckM - p.z());
   return 1 - kCloudOpacity * std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);

@@ -32,8 +32,12 @@ class Sky {
   // `reuse_distance` (optional) receives how far (m) around `p` the value may
   // be taken as constant (PixelField): CloudReuseDistance() where the cover
   // ramps; where the deck is clear or full, as far as it stays so, within which
-  // the value is exact. Infinite without clouds.
-  double CloudTransmittance(const Eigen::Vector3d& p, double* reuse_distance = nullptr) const;
+  // the value is exact. Infinite without clouds. `exact_distance` (optional)
+  // receives how far the value is exactly the same: that last distance, 0
+  // where the cover ramps.
+  double CloudTransmittance(const Eigen::Vector3d& p,
+                            double* reuse_distance = nullptr,
+                            double* exact_distance = nullptr) const;
   // The reuse distance where the cover ramps: 1/64 of the deck's finest
   // wavelength as seen along the sun's rays, scaled by the ramp's softness.
   double CloudReuseDistance() const { return cloud_reuse_distance_; }

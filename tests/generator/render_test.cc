@@ -583,6 +583,40 @@ TEST(Render, SmoothFieldsOncePerPixelChangeOnlyTheRgbAndBarely) {
   EXPECT_LT(sum / (3 * pixels), 0.1 / 255);
 }
 
+// Where the cloud deck is clear or full, its shadow is exactly constant over
+// a distance (Sky::CloudTransmittance), and the renderer keeps that value
+// across pixels (ExactBall). Seen from 400 m, the view spans cloud edges:
+// lit, shadowed and ramping pixels; the truth still is per-sample shading's,
+// bit for bit, whatever the tiles.
+TEST(Render, TheCloudShadowKeptAcrossPixelsIsExact) {
+  Plan plan = SmallDemo(160, 120);
+  plan.sky.cloud_density = 0.5;  // half the deck
+  plan.frames[0].cam_from_world = LookAt({-150, -150, 400}, {0, 0, 0});
+  plan.frames[1].cam_from_world = LookAt({-140, -150, 400}, {10, 0, 0});
+  const DemoFrames demo(plan);
+  RenderSettings settings;
+  settings.sampler = {4, 1.0, demo.plan.seed};
+  const Film kept = RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+  // The shadow ratio: 1 in the sun, about 0.28 under a full cloud (or an
+  // object's shadow), in between where the cloud's edge ramps.
+  int lit = 0, shadowed = 0, ramp = 0;
+  for (const float s : kept.flat.at("shadow").Get("Y").floats)
+    ++(s == 1 ? lit : s < 0.3f ? shadowed : ramp);
+  EXPECT_GT(lit, 1000);
+  EXPECT_GT(shadowed, 300);
+  EXPECT_GT(ramp, 1000);
+
+  settings.tile_size = 3;
+  EXPECT_TRUE(SameFilms(
+      kept, RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings)));
+  settings.reuse_smooth_fields = false;
+  const Film per_sample =
+      RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+  Film truth_of_kept = kept;
+  truth_of_kept.flat.at("rgb") = per_sample.flat.at("rgb");
+  EXPECT_TRUE(SameFilms(truth_of_kept, per_sample));
+}
+
 // The generator renders each frame into the film of the frame before last:
 // nothing of that frame may show through.
 TEST(Render, AReusedFilmIsAFreshOne) {

@@ -252,6 +252,14 @@ TEST(Sky, TheCloudShadowIsConstantWithinItsReuseDistance) {
       EXPECT_LT(c.p999, 1 / 255.0) << type << " " << elevation;
       EXPECT_LT(c.max, 3 / 255.0) << type << " " << elevation;
       EXPECT_EQ(c.max_where_exact, 0) << type << " " << elevation;
+      // Within the exact distance (which the renderer keeps across pixels,
+      // ExactBall) nothing changes at all.
+      auto exact_at = [&](const Eigen::Vector3d& p) {
+        double reuse, exact;
+        sky.CloudTransmittance(p, &reuse, &exact);
+        return exact;
+      };
+      EXPECT_EQ(ChangesWithin(exact_at, field).max, 0) << type << " " << elevation;
     }
   }
 }

@@ -5,8 +5,10 @@
 // and prints s/frame, Mrays/s, bytes per frame per layer and in total, the
 // floor for the same frames = the Embree ray casts alone (the same primary and
 // shadow rays, no shading, no films) + the encoding of the same EXR files alone,
-// with the ratio frame time / floor, and, when `blender` is installed, the same
-// frames rendered by Blender Cycles (bench/peers/cycles_demo.py) with the ratio.
+// with the ratio frame time / floor (over the whole collection, and per frame
+// once the render-while-write pipeline is full), and, when `blender` is
+// installed, the same frames rendered by Blender Cycles
+// (bench/peers/cycles_demo.py) with the ratio.
 //
 //   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
 //                  [--layouts full/float,compact/float,compact/residual,residual/residual/residual]
@@ -445,7 +447,7 @@ int main(int argc, char** argv) {
     fs::remove_all(encode_root);
 
     std::printf("\n%dx%d, %d frames, spp %d\n", size, size, frames, spp);
-    std::printf("%-26s %8s %8s %9s %9s %9s %10s %9s %6s %9s %11s\n",
+    std::printf("%-26s %8s %8s %9s %9s %9s %10s %9s %6s %9s %6s %9s %11s\n",
                 "layout",
                 "s/frame",
                 "Mrays/s",
@@ -455,23 +457,32 @@ int main(int argc, char** argv) {
                 "encode s/f",
                 "floor s/f",
                 "ratio",
+                "steady/f",
+                "ratio",
                 "MB/frame",
                 "w/o bundle");
     for (const Result& r : results) {
       const double per_frame = r.summary.total_seconds / frames;
       const double floor = (ray_seconds + r.encode_seconds) / frames;
-      std::printf("%-26s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.2f %11.2f\n",
-                  r.layout.c_str(),
-                  per_frame,
-                  r.summary.rays / r.summary.total_seconds / 1e6,
-                  r.summary.render_seconds / frames,
-                  r.summary.write_seconds / frames,
-                  ray_seconds / frames,
-                  r.encode_seconds / frames,
-                  floor,
-                  per_frame / floor,
-                  Mb(static_cast<double>(r.total_bytes) / frames),
-                  Mb(static_cast<double>(r.total_bytes - r.bundle_bytes) / frames));
+      // steady/f: a frame once the render-while-write pipeline is full
+      // (GenerateSummary::steady_seconds_per_frame), the throughput of a long
+      // collection; s/frame also carries the first render and the last write.
+      const double steady = r.summary.steady_seconds_per_frame;
+      std::printf(
+          "%-26s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.3f %6.2f %9.2f %11.2f\n",
+          r.layout.c_str(),
+          per_frame,
+          r.summary.rays / r.summary.total_seconds / 1e6,
+          r.summary.render_seconds / frames,
+          r.summary.write_seconds / frames,
+          ray_seconds / frames,
+          r.encode_seconds / frames,
+          floor,
+          per_frame / floor,
+          steady,
+          steady / floor,
+          Mb(static_cast<double>(r.total_bytes) / frames),
+          Mb(static_cast<double>(r.total_bytes - r.bundle_bytes) / frames));
     }
     std::printf("floor rays: %.2f Mrays/s\n", floor_rays / ray_seconds / 1e6);
     PrintFeatureCosts(plan, spp);

@@ -384,6 +384,8 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   size_t rendering = 0;
   tbb::task_group writer;
   std::mutex write_mutex;
+  // Where the pipeline is full: summary.steady_seconds_per_frame.
+  Clock::time_point first_overlap_start, last_overlap_end;
   if (options.progress) progress.emplace("generate", static_cast<int64_t>(selected.size()));
   // A failure while a write runs must not leave the task group unwaited.
   try {
@@ -457,6 +459,7 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
 
       // Encode this frame while the next one renders: at most two films live.
       writer.wait();  // rethrows a failed write
+      (summary.frames_rendered == 0 ? first_overlap_start : last_overlap_end) = Clock::now();
       const BundleSampling sampling{render.sampler, frame.index, std::nullopt};
       // The camera motion was measured against, for the residual motion layout.
       std::optional<FrameImages::MotionReference> motion;
@@ -513,6 +516,11 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   fs::remove_all(root / kWorkFolder);
   summary.write_seconds += Seconds(t0);
   summary.total_seconds = Seconds(start);
+  if (summary.frames_rendered >= 2) {
+    summary.steady_seconds_per_frame =
+        std::chrono::duration<double>(last_overlap_end - first_overlap_start).count() /
+        static_cast<double>(summary.frames_rendered - 1);
+  }
   return summary;
 }
 

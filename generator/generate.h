@@ -64,6 +64,13 @@ struct GenerateSummary {
   double render_seconds = 0;   // scene builds, ray casting, shading and truth
   double write_seconds = 0;    // EXR encoding and JSON
   double total_seconds = 0;
+  // A frame's cost once the pipeline is full (with 2 or more frames
+  // rendered): frame k renders while frame k - 1 is written, so from the end
+  // of the first render to the end of the last frame's render and the write
+  // before it, N - 1 frames were rendered and N - 1 written. Leaves out the
+  // first render, which nothing overlaps, and the last write (the pipeline's
+  // fill and drain), which a long collection amortizes. 0 with fewer frames.
+  double steady_seconds_per_frame = 0;
 };
 
 GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options);

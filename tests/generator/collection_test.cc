@@ -68,6 +68,9 @@ TEST(GenerateCollection, WritesACompleteCollectionThatReadsBack) {
   const GenerateSummary summary = GenerateCollection(MovingPlan(), Options(root));
   EXPECT_EQ(summary.frames_rendered, 4);
   EXPECT_GT(summary.rays, 0u);
+  // The steady state leaves out the first render and the last write.
+  EXPECT_GT(summary.steady_seconds_per_frame, 0);
+  EXPECT_LT(summary.steady_seconds_per_frame * 3, summary.total_seconds);
   const CollectionReader reader(root);
   EXPECT_EQ(reader.header().frame_count, 4);
   EXPECT_EQ(reader.header().layers.size(), StandardLayerSemantics().size());
@@ -192,6 +195,7 @@ TEST(GenerateCollection, ResumeRendersOnlyMissingFrames) {
   const GenerateSummary summary = GenerateCollection(MovingPlan(), resume);
   EXPECT_EQ(summary.frames_rendered, 1);
   EXPECT_EQ(summary.frames_skipped, 3);
+  EXPECT_EQ(summary.steady_seconds_per_frame, 0);  // one frame: no steady state
   EXPECT_EQ(ReadFile(root / kCollectionFile), ReadFile(reference / kCollectionFile));
   for (const auto& [index, frame] : FramesByIndex(root))
     ExpectSameFrameFiles(root, reference, frame);

@@ -435,8 +435,7 @@ class FrameRenderer {
       FieldValue<float> lit;
       double remaining = 0, exact = 0;
       if (reuse && fields->exact_cloud.Find(hit.point, &lit.value, &remaining)) {
-        // At least the ramp's reuse distance, as a fresh evaluation's.
-        lit.reuse_distance = std::max(sky_.CloudReuseDistance(), remaining);
+        lit.reuse_distance = sky_.CloudReuseDistanceInside(hit.point, remaining);
         return lit;
       }
       lit.value =

@@ -129,6 +129,10 @@ double Sky::CloudTransmittance(const Eigen::Vector3d& p,
   return 1 - kCloudOpacity * std::clamp((n - threshold) / cloud_softness_, 0.0, 1.0);
 }
 
+double Sky::CloudReuseDistanceInside(const Eigen::Vector3d& p, double remaining) const {
+  return std::min(std::max(cloud_reuse_distance_, remaining), kCloudDeckM - p.z());
+}
+
 Eigen::Vector3f Sky::Radiance(const Eigen::Vector3d& d) const {
   const float up = static_cast<float>(std::clamp(d.z(), 0.0, 1.0));
   const float t = std::sqrt(up);

@@ -41,6 +41,10 @@ class Sky {
   // The reuse distance where the cover ramps: 1/64 of the deck's finest
   // wavelength as seen along the sun's rays, scaled by the ramp's softness.
   double CloudReuseDistance() const { return cloud_reuse_distance_; }
+  // The reuse distance at `p` when `p` lies `remaining` metres inside a
+  // stretch where the transmittance is exactly constant: that far, and at
+  // least the ramp's, as CloudTransmittance gives it; not past the deck.
+  double CloudReuseDistanceInside(const Eigen::Vector3d& p, double remaining) const;
   // The noise field of procedural material textures.
   const Perlin& texture_noise() const { return texture_noise_; }
 

@@ -260,6 +260,11 @@ TEST(Sky, TheCloudShadowIsConstantWithinItsReuseDistance) {
         return exact;
       };
       EXPECT_EQ(ChangesWithin(exact_at, field).max, 0) << type << " " << elevation;
+      // Inside such a stretch: at least the ramp's distance, not past the deck.
+      const Eigen::Vector3d low(3, 4, 5), near_deck(3, 4, 999.95);
+      EXPECT_EQ(sky.CloudReuseDistanceInside(low, 0), sky.CloudReuseDistance());
+      EXPECT_EQ(sky.CloudReuseDistanceInside(low, 7), std::max(7.0, sky.CloudReuseDistance()));
+      EXPECT_NEAR(sky.CloudReuseDistanceInside(near_deck, 7), 0.05, 1e-9);
     }
   }
 }

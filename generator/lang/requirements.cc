@@ -5,8 +5,8 @@
 #include <numeric>
 
 #include "generator/lang/random.h"
-#include "generator/lang/relations.h"
 #include "generator/lang/vocabulary.h"
+#include "generator/plan/relations.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/util/error.h"

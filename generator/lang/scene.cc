@@ -9,8 +9,8 @@
 
 #include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
-#include "generator/lang/relations.h"
 #include "generator/lang/vocabulary.h"
+#include "generator/plan/relations.h"
 #include "generator/plan/terrain_height.h"
 #include "generator/scene/mesh_formats.h"
 #include "generator/scene/object_library.h"

@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "generator/lang/relations.h"
+#include "generator/plan/relations.h"
 #include "libs/collection/model.h"
 #include "libs/geometry/camera.h"
 #include "libs/geometry/geodesy.h"

@@ -13,9 +13,9 @@
 
 #include "generator/estimate.h"
 #include "generator/lang/planner.h"
-#include "generator/lang/relations.h"
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
+#include "generator/plan/relations.h"
 #include "libs/util/atomic_file.h"
 #include "tests/test_util.h"
 

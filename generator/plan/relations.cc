@@ -1,4 +1,4 @@
-#include "generator/lang/relations.h"
+#include "generator/plan/relations.h"
 
 #include <algorithm>
 #include <cmath>

@@ -15,16 +15,13 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/solar_position.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
 namespace {
 
-Plan PlanText(const std::string& scene, const std::string& capture, uint64_t seed = 1) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, seed, {});
-}
+using testing::PlanText;
 
 TEST(CaptureOverTime, EnvironmentChangesApplyFromTheirFrame) {
   const Plan plan = PlanText(

@@ -21,6 +21,7 @@
 #include "libs/imaging/srgb_image.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -28,11 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Plan PlanText(const std::string& scene, const std::string& capture, uint64_t seed = 1) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, seed, {});
-}
+using testing::PlanText;
 
 // A noon sun (elevation 85 degrees) of 100000 lux over sand, a clear sky of
 // 7000 cd/m^2; a nadir view and an oblique one that sees the horizon and sky.

@@ -20,19 +20,13 @@
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/util/atomic_file.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
 namespace {
 
-Plan PlanText(const std::string& scene,
-              const std::string& capture,
-              uint64_t seed = 1,
-              FrameRange frames = {}) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, seed, frames);
-}
+using testing::PlanText;
 
 // A 2 x 1 x 1 m cube on flat ground, first at the origin.
 const char* kCarScene =

@@ -13,6 +13,7 @@
 #include "generator/lang/planner.h"
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -46,13 +47,12 @@ std::string Capture(int count,
          changes + "}\n" + demand;
 }
 
+// Planned with the frame estimator (requirements need it).
 Plan PlanText(const std::string& scene,
               const std::string& capture,
               uint64_t seed = 5,
               FrameRange frames = {}) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, seed, frames, gen::MakeFrameEstimatorFactory());
+  return testing::PlanText(scene, capture, seed, frames, gen::MakeFrameEstimatorFactory());
 }
 
 int64_t Attempts(const Plan& plan) {

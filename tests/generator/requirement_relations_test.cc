@@ -17,18 +17,18 @@
 #include "generator/plan/plan_json.h"
 #include "generator/plan/relations.h"
 #include "libs/util/atomic_file.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
 namespace {
 
+// Planned with the frame estimator (requirements need it).
 Plan PlanText(const std::string& scene,
               const std::string& capture,
               uint64_t seed = 7,
               FrameRange frames = {}) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, seed, frames, gen::MakeFrameEstimatorFactory());
+  return testing::PlanText(scene, capture, seed, frames, gen::MakeFrameEstimatorFactory());
 }
 
 // Runs `lsds generate` and returns its output and collection.

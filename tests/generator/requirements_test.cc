@@ -15,6 +15,7 @@
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
 #include "libs/util/atomic_file.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -44,13 +45,12 @@ std::string Capture(const std::string& count,
          extra;
 }
 
+// Planned with the frame estimator (requirements need it).
 Plan PlanText(const std::string& scene,
               const std::string& capture,
               uint64_t seed = 3,
               FrameRange frames = {}) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, seed, frames, gen::MakeFrameEstimatorFactory());
+  return testing::PlanText(scene, capture, seed, frames, gen::MakeFrameEstimatorFactory());
 }
 
 struct Generated {

@@ -20,16 +20,13 @@
 #include "libs/collection/json_io.h"
 #include "libs/exr/flat_image.h"
 #include "libs/pointcloud/cloud_io.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
 namespace {
 
-Plan PlanText(const std::string& scene, const std::string& capture, FrameRange frames = {}) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, 1, frames);
-}
+using testing::PlanText;
 
 // A 2 m cube centred on the origin on flat ground: its top face is z = 2.
 const char* kCubeScene =
@@ -90,7 +87,7 @@ TEST(Rig, PlanHasAFramePerCameraPerStepSharingTimeAndWorld) {
         plan.frames[3 * step + 1].camera_velocity->isApprox(Eigen::Vector3d(5, 0, 0), 1e-6));
   }
   // --frames: a sub-range is the same frames.
-  const Plan part = PlanText(kCubeScene, kStereoCapture, FrameRange{4, 7});
+  const Plan part = PlanText(kCubeScene, kStereoCapture, 1, FrameRange{4, 7});
   ASSERT_EQ(part.frames.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
     EXPECT_EQ(part.frames[i].index, plan.frames[4 + i].index);

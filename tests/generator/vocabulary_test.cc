@@ -17,6 +17,7 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
+#include "tests/lang/plan_text.h"
 
 namespace lsds {
 namespace {
@@ -25,20 +26,7 @@ const std::string kRoot = LSDS_SOURCE_DIR;
 const std::string kRegenerate = "regenerate with: " + std::string(LSDS_BINARY_DIR) +
                                 "/tests/generator/vocabulary_print --write " + kRoot;
 
-std::string ErrorOf(const std::string& scene, const std::string& capture = "") {
-  try {
-    const SourceFile s = ParseSource(scene, "s.lscene", false);
-    if (capture.empty()) {
-      MakePlanFromSources(s, nullptr, 1);
-    } else {
-      const SourceFile c = ParseSource(capture, "c.lcap", false);
-      MakePlanFromSources(s, &c, 1);
-    }
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::PlanErrorOf;
 
 // The plan without its copy of the scene text.
 std::string PlanOf(const std::string& scene) {
@@ -111,7 +99,7 @@ TEST(Vocabulary, KindSpellingsParseToTheKind) {
     std::vector<std::string> spellings = {kind.id};
     spellings.insert(spellings.end(), kind.aliases.begin(), kind.aliases.end());
     for (const std::string& s : spellings) {
-      const std::string message = ErrorOf("LSCENE = ONE(X)\nX = " + s + "{zzqq:1}\n");
+      const std::string message = PlanErrorOf("LSCENE = ONE(X)\nX = " + s + "{zzqq:1}\n");
       EXPECT_NE(message.find("unknown key 'zzqq'"), std::string::npos) << s << ": " << message;
       EXPECT_NE(message.find("known keys: " + Join(kind.Spellings(), ", ")), std::string::npos)
           << s << ": " << message;
@@ -133,17 +121,17 @@ TEST(Vocabulary, AliasesGiveTheSamePlan) {
 TEST(Vocabulary, TwoSpellingsOfOneKeyAreALocatedError) {
   const std::string line = "O = object{class:cube,visible:true,visibility:false}";
   const std::string message =
-      ErrorOf("LSCENE = ONE(W) ONE(O)\nW = terrain{size:[40,40]}\n" + line + "\n");
+      PlanErrorOf("LSCENE = ONE(W) ONE(O)\nW = terrain{size:[40,40]}\n" + line + "\n");
   const std::string expected = "s.lscene:3:" + std::to_string(line.find("visibility") + 1) +
                                ": 'visibility' and 'visible' are two spellings of visible";
   EXPECT_NE(message.find(expected), std::string::npos) << message;
 }
 
 TEST(Vocabulary, UnknownKeysSuggestFromTheTable) {
-  EXPECT_NE(ErrorOf("LSCENE = ONE(G)\nG = georeference{latitude:1,longitud:2}\n")
+  EXPECT_NE(PlanErrorOf("LSCENE = ONE(G)\nG = georeference{latitude:1,longitud:2}\n")
                 .find("s.lscene:2:29: unknown key 'longitud' in G (did you mean 'longitude'?)"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("LSCENE = ONE(W)\nW = terrain{height:{perlinn:1}}\n")
+  EXPECT_NE(PlanErrorOf("LSCENE = ONE(W)\nW = terrain{height:{perlinn:1}}\n")
                 .find("s.lscene:2:21: unknown key 'perlinn' in terrain height (did you mean "
                       "'perlin'?)"),
             std::string::npos);
@@ -167,7 +155,7 @@ TEST(Vocabulary, OutOfRangeValuesAreLocatedErrorsNamingTheRange) {
       if (kind.id == "georeference") body = key.name == "latitude" ? "longitude:0," : "latitude:0,";
       const std::string prefix = "X = " + kind.id + "{" + body + key.name + ":";
       const std::string scene = "LSCENE = ONE(X)\n" + prefix + Outside(*key.range) + "}\n";
-      const std::string message = ErrorOf(scene);
+      const std::string message = PlanErrorOf(scene);
       const std::string where = "s.lscene:2:" + std::to_string(prefix.size() + 1) + ": ";
       const std::string expected = where + key.name + " must be " + key.range->Text();
       EXPECT_NE(message.find(expected), std::string::npos)
@@ -177,15 +165,15 @@ TEST(Vocabulary, OutOfRangeValuesAreLocatedErrorsNamingTheRange) {
   }
   EXPECT_GE(checked, 15u);
   // Sampled values too: an interval reaching outside is caught where it is drawn.
-  EXPECT_NE(ErrorOf("LSCENE = ONE(L)\nL = light{elevation:[91,95]}\n")
+  EXPECT_NE(PlanErrorOf("LSCENE = ONE(L)\nL = light{elevation:[91,95]}\n")
                 .find("s.lscene:2:21: elevation must be within [-90, 90] degrees, sampled 9"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("LSCENE = ONE(W)\nW = terrain{size:[0,10]}\n")
+  EXPECT_NE(PlanErrorOf("LSCENE = ONE(W)\nW = terrain{size:[0,10]}\n")
                 .find("s.lscene:2:18: size must be > 0 m"),
             std::string::npos);
   // And inside the range the same keys are fine.
-  EXPECT_EQ(ErrorOf("LSCENE = ONE(L) ONE(G)\nL = light{elevation:90}\nG = "
-                    "georeference{latitude:-90,longitude:180}\n"),
+  EXPECT_EQ(PlanErrorOf("LSCENE = ONE(L) ONE(G)\nL = light{elevation:90}\nG = "
+                        "georeference{latitude:-90,longitude:180}\n"),
             "");
 }
 
@@ -210,21 +198,21 @@ TEST(Vocabulary, LcapAliasesAndRangesComeFromTheTable) {
   const std::string scene =
       "LSCENE = ONE(W) ONE(T)\nW = terrain{size:[40,40]}\nT = object{class:cube,position:{ON:W}}\n";
   const std::string random = "P = path{random:{count:2,off_nadir:";
-  EXPECT_NE(ErrorOf(scene, "LCAP = ONE(P)\n" + random + "95}}\n")
+  EXPECT_NE(PlanErrorOf(scene, "LCAP = ONE(P)\n" + random + "95}}\n")
                 .find("c.lcap:2:" + std::to_string(random.size() + 1) +
                       ": off_nadir must be within [0, 90] degrees, found 95"),
             std::string::npos)
-      << ErrorOf(scene, "LCAP = ONE(P)\n" + random + "95}}\n");
+      << PlanErrorOf(scene, "LCAP = ONE(P)\n" + random + "95}}\n");
   const std::string flight = "P = path{waypoints:{points:[[0,0,40],[30,0,40]],speed:";
-  EXPECT_NE(ErrorOf(scene, "LCAP = ONE(P)\n" + flight + "0}}\n")
+  EXPECT_NE(PlanErrorOf(scene, "LCAP = ONE(P)\n" + flight + "0}}\n")
                 .find("c.lcap:2:" + std::to_string(flight.size() + 1) +
                       ": speed must be within (0, 1000] m/s"),
             std::string::npos)
-      << ErrorOf(scene, "LCAP = ONE(P)\n" + flight + "0}}\n");
-  EXPECT_NE(ErrorOf(scene, "LCAP = ONE(C)\nC = camera{csettings:{fps:0}}\n")
+      << PlanErrorOf(scene, "LCAP = ONE(P)\n" + flight + "0}}\n");
+  EXPECT_NE(PlanErrorOf(scene, "LCAP = ONE(C)\nC = camera{csettings:{fps:0}}\n")
                 .find("c.lcap:2:27: fps must be > 0, found 0"),
             std::string::npos)
-      << ErrorOf(scene, "LCAP = ONE(C)\nC = camera{csettings:{fps:0}}\n");
+      << PlanErrorOf(scene, "LCAP = ONE(C)\nC = camera{csettings:{fps:0}}\n");
 }
 
 TEST(Vocabulary, RangeTextAndMembership) {

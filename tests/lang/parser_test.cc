@@ -6,28 +6,14 @@
 #include "generator/lang/random.h"
 #include "generator/lang/source.h"
 #include "generator/plan/plan_json.h"
+#include "tests/lang/plan_text.h"
 
 namespace lsds {
 namespace {
 
 const std::string kExamples = LSDS_EXAMPLES_DIR;
 
-// The error message (with location) of parsing+planning `scene` (and
-// `capture`), "" when it works.
-std::string ErrorOf(const std::string& scene, const std::string& capture = "") {
-  try {
-    const SourceFile s = ParseSource(scene, "s.lscene", false);
-    if (capture.empty()) {
-      MakePlanFromSources(s, nullptr, 1);
-    } else {
-      const SourceFile c = ParseSource(capture, "c.lcap", false);
-      MakePlanFromSources(s, &c, 1);
-    }
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::PlanErrorOf;
 
 TEST(LangParser, PaperVerbatimExamplesParseWithTypoWarnings) {
   const SourceFile scene = LoadSource(kExamples + "/paper_example1_verbatim.lscene");
@@ -51,7 +37,7 @@ TEST(LangParser, PaperVerbatimExamplesParseWithTypoWarnings) {
 
 TEST(LangParser, PaperVerbatimSceneNeedsItsUserClassesDeclared) {
   const std::string message =
-      ErrorOf(LoadSource(kExamples + "/paper_example1_verbatim.lscene").text);
+      PlanErrorOf(LoadSource(kExamples + "/paper_example1_verbatim.lscene").text);
   EXPECT_NE(message.find("s.lscene:4:20: unknown class 'A'"), std::string::npos) << message;
   EXPECT_NE(message.find("classes{...}"), std::string::npos) << message;
 }
@@ -232,7 +218,7 @@ TEST(LangParser, BadInputsNameTheExactPlace) {
        "c.lcap:2:11: unknown key 'gride' in path P1 (did you mean 'grid'?)"},
   };
   for (const BadInput& c : cases) {
-    const std::string message = ErrorOf(c.scene, c.capture);
+    const std::string message = PlanErrorOf(c.scene, c.capture);
     EXPECT_NE(message.find(c.expected), std::string::npos)
         << "got: " << message << "\nexpected: " << c.expected;
   }

@@ -128,6 +128,7 @@ uint64_t CastRaysOnly(const RenderScene& scene,
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
   const Eigen::Vector3d origin = CameraCenterInWorld(frame.cam_from_world);
   const int spp = sampler.spp;
+  const FrameSampler frame_sampler(sampler, frame.index);
   std::atomic<uint64_t> total{0};
   tbb::parallel_for(
       tbb::blocked_range2d<int>(0,
@@ -157,7 +158,7 @@ uint64_t CastRaysOnly(const RenderScene& scene,
             const int pixels = BlockPixels(row, col, camera.width, camera.height, x, y);
             const int count = pixels * spp;
             for (int p = 0; p < pixels; ++p)
-              PixelSamples(sampler, frame.index, x[p], y[p], &samples[p * spp]);
+              frame_sampler.PixelSamples(x[p], y[p], &samples[p * spp]);
             for (int i = 0; i < count; ++i)
               directions[i] = world_from_cam * camera.CamFromImage(samples[i]);
             TraceRays(scene.scene(), origin, directions.data(), count, &context, hits.data());

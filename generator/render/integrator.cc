@@ -242,6 +242,7 @@ class FrameRenderer {
         previous_(previous),
         settings_(settings),
         spp_(settings.sampler.spp),
+        sampler_(settings.sampler, frame.index),
         with_motion_(previous.frame != nullptr && settings.motion),
         world_from_cam_(frame.cam_from_world.rotation.conjugate().toRotationMatrix()),
         centre_(CameraCenterInWorld(frame.cam_from_world)),
@@ -263,11 +264,8 @@ class FrameRenderer {
         BlockPixels(block_row, block_col, camera.width, camera.height, block->x, block->y);
     const int count = block->pixels * spp_;
     for (int p = 0; p < block->pixels; ++p)
-      PixelSamples(settings_.sampler,
-                   frame_.index,
-                   block->x[p],
-                   block->y[p],
-                   &block->samples[static_cast<size_t>(p) * spp_]);
+      sampler_.PixelSamples(
+          block->x[p], block->y[p], &block->samples[static_cast<size_t>(p) * spp_]);
     for (int i = 0; i < count; ++i) {
       block->rays_in_cam[i] = camera.CamFromImage(block->samples[i]);
       block->directions[i] = world_from_cam_ * block->rays_in_cam[i];
@@ -490,6 +488,7 @@ class FrameRenderer {
   const PreviousView& previous_;
   const RenderSettings& settings_;
   const int spp_;
+  const FrameSampler sampler_;
   const bool with_motion_;
   const Eigen::Matrix3d world_from_cam_;
   const Eigen::Vector3d centre_, previous_centre_;

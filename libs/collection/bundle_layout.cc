@@ -40,15 +40,10 @@ uint32_t Bits(float f) {
 }
 
 // Sample k's position inside pixel (x, y) exactly as the generator stores it.
-void PositionsOf(const SamplerSettings& sampler,
-                 int64_t frame,
-                 int x,
-                 int y,
-                 Eigen::Vector2d* scratch,
-                 float* sx,
-                 float* sy) {
-  PixelSamples(sampler, frame, x, y, scratch);
-  for (int k = 0; k < sampler.spp; ++k) {
+void PositionsOf(
+    const FrameSampler& sampler, int x, int y, Eigen::Vector2d* scratch, float* sx, float* sy) {
+  sampler.PixelSamples(x, y, scratch);
+  for (int k = 0; k < sampler.spp(); ++k) {
     sx[k] = static_cast<float>(scratch[k].x() - x);
     sy[k] = static_cast<float>(scratch[k].y() - y);
   }
@@ -61,12 +56,13 @@ bool PositionsDerivable(const DeepImage& full, const BundleSampling& sampling) {
   const DeepChannel* sy = full.Find("SY");
   if (sx == nullptr || sy == nullptr) return false;
   const int spp = sampling.sampler.spp;
+  const FrameSampler sampler(sampling.sampler, sampling.frame);
   std::atomic<bool> ok{true};
   tbb::parallel_for(0, full.height(), [&](int y) {
     std::vector<Eigen::Vector2d> scratch(spp);
     std::vector<float> px(spp), py(spp);
     for (int x = 0; x < full.width() && ok.load(std::memory_order_relaxed); ++x) {
-      PositionsOf(sampling.sampler, sampling.frame, x, y, scratch.data(), px.data(), py.data());
+      PositionsOf(sampler, x, y, scratch.data(), px.data(), py.data());
       const uint64_t first = full.FirstSample(x, y);
       for (int k = 0; k < spp; ++k) {
         if (Bits(sx->floats[first + k]) != Bits(px[k]) ||
@@ -458,16 +454,15 @@ int ResidualIndex(const std::string& name) {
 }
 
 // Sample positions of row y (all pixels, spp each) by the sampling rule.
-void RowPositions(const BundleSampling& sampling,
+void RowPositions(const FrameSampler& sampler,
                   int y,
                   int width,
                   std::vector<Eigen::Vector2d>* scratch,
                   float* sx,
                   float* sy) {
-  const int spp = sampling.sampler.spp;
+  const int spp = sampler.spp();
   for (int x = 0; x < width; ++x) {
-    PositionsOf(sampling.sampler,
-                sampling.frame,
+    PositionsOf(sampler,
                 x,
                 y,
                 scratch->data(),
@@ -498,6 +493,7 @@ DeepImage ReadBundleExr(const fs::path& path,
   }
   if (residual) sampling.view = ParseViewAttributes(info, path);
   const int spp = sampling.sampler.spp;
+  const FrameSampler sampler(sampling.sampler, sampling.frame);
   const bool class_derived = info.Find("classid") == nullptr;
   const std::map<uint32_t, uint32_t> class_of =
       class_derived ? ParseClassTable(info, path) : std::map<uint32_t, uint32_t>{};
@@ -580,7 +576,7 @@ DeepImage ReadBundleExr(const fs::path& path,
       const size_t row_samples = static_cast<size_t>(width) * spp;
       std::vector<Eigen::Vector2d> scratch(spp);
       std::vector<float> sx(row_samples), sy(row_samples);
-      RowPositions(sampling, y, width, &scratch, sx.data(), sy.data());
+      RowPositions(sampler, y, width, &scratch, sx.data(), sy.data());
       const uint64_t first = image.FirstSample(0, y);
       const BundleRow row{y, width, spp, sx.data(), sy.data()};
       const uint32_t* row_residual[4];
@@ -600,7 +596,7 @@ DeepImage ReadBundleExr(const fs::path& path,
         std::vector<Eigen::Vector2d> scratch(spp);
         std::vector<float> px(spp), py(spp);
         for (int x = 0; x < width; ++x) {
-          PositionsOf(sampling.sampler, sampling.frame, x, y, scratch.data(), px.data(), py.data());
+          PositionsOf(sampler, x, y, scratch.data(), px.data(), py.data());
           std::copy_n(is_x ? px.data() : py.data(), spp, &out.floats[image.FirstSample(x, y)]);
         }
       });

@@ -1,5 +1,6 @@
 #include "libs/collection/sample_positions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -26,26 +27,39 @@ void CheckSamplerSettings(const SamplerSettings& s) {
   if (!(s.jitter >= 0 && s.jitter <= 1)) throw Error("--jitter must be in [0, 1]");
 }
 
-void PixelSamples(const SamplerSettings& s, int64_t frame, int x, int y, Eigen::Vector2d* out) {
-  const int n = SamplesPerAxis(s.spp);
-  const uint64_t pixel_seed = HashCombine(HashCombine(s.seed, static_cast<uint64_t>(frame)),
-                                          (static_cast<uint64_t>(y) << 32) | x);
+FrameSampler::FrameSampler(const SamplerSettings& settings, int64_t frame)
+    : per_axis_(SamplesPerAxis(settings.spp)),
+      jitter_(settings.jitter),
+      frame_seed_(HashCombine(settings.seed, static_cast<uint64_t>(frame))),
+      sample_hashes_(static_cast<size_t>(std::max(settings.spp, 0))) {
+  for (size_t k = 0; k < sample_hashes_.size(); ++k) sample_hashes_[k] = SplitMix64(k);
+}
+
+void FrameSampler::PixelSamples(int x, int y, Eigen::Vector2d* out) const {
+  // Locals, not members: the stores to `out` may alias them.
+  const int n = per_axis_;
+  const double jitter = jitter_;
+  const uint64_t* sample_hashes = sample_hashes_.data();
+  // HashCombine(frame seed, pixel), then HashCombine(pixel seed, k) with k's
+  // half of the mix precomputed: the same bits as the rule's definition.
+  const uint64_t pixel_seed = HashCombine(frame_seed_, (static_cast<uint64_t>(y) << 32) | x);
   int nearest = 0;
   double nearest_d2 = 1e9;
-  for (int k = 0; k < s.spp; ++k) {
-    const int cx = k % n, cy = k / n;
-    double jx = 0, jy = 0;
-    if (s.jitter > 0) {
-      const uint64_t h = HashCombine(pixel_seed, static_cast<uint64_t>(k));
-      jx = s.jitter * (Uniform(h) - 0.5);
-      jy = s.jitter * (Uniform(HashCombine(h, 1)) - 0.5);
-    }
-    const double ox = (cx + 0.5 + jx) / n, oy = (cy + 0.5 + jy) / n;
-    out[k] = Eigen::Vector2d(x + ox, y + oy);
-    const double d2 = (ox - 0.5) * (ox - 0.5) + (oy - 0.5) * (oy - 0.5);
-    if (d2 < nearest_d2) {
-      nearest_d2 = d2;
-      nearest = k;
+  for (int cy = 0, k = 0; cy < n; ++cy) {
+    for (int cx = 0; cx < n; ++cx, ++k) {
+      double jx = 0, jy = 0;
+      if (jitter > 0) {
+        const uint64_t h = SplitMix64(pixel_seed ^ sample_hashes[k]);
+        jx = jitter * (Uniform(h) - 0.5);
+        jy = jitter * (Uniform(HashCombine(h, 1)) - 0.5);
+      }
+      const double ox = (cx + 0.5 + jx) / n, oy = (cy + 0.5 + jy) / n;
+      out[k] = Eigen::Vector2d(x + ox, y + oy);
+      const double d2 = (ox - 0.5) * (ox - 0.5) + (oy - 0.5) * (oy - 0.5);
+      if (d2 < nearest_d2) {
+        nearest_d2 = d2;
+        nearest = k;
+      }
     }
   }
   // The nearest sample becomes the exact centre and moves to the front; the
@@ -53,6 +67,10 @@ void PixelSamples(const SamplerSettings& s, int64_t frame, int x, int y, Eigen::
   const Eigen::Vector2d first(x + 0.5, y + 0.5);
   for (int k = nearest; k > 0; --k) out[k] = out[k - 1];
   out[0] = first;
+}
+
+void PixelSamples(const SamplerSettings& s, int64_t frame, int x, int y, Eigen::Vector2d* out) {
+  FrameSampler(s, frame).PixelSamples(x, y, out);
 }
 
 }  // namespace lsds

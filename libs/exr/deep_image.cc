@@ -6,6 +6,8 @@
 #include <ImfDeepScanLineOutputFile.h>
 #include <ImfPartType.h>
 #include <half.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -52,6 +54,19 @@ DeepChannel& DeepImage::AddChannel(const std::string& name, PixelType type) {
     channel.floats.assign(total_samples(), 0.0f);
   }
   return channel;
+}
+
+void DeepImage::AddChannels(const std::vector<ChannelSpec>& specs) {
+  const size_t first = channels_.size();
+  for (const ChannelSpec& spec : specs) channels_.push_back({spec.name, spec.type, {}, {}});
+  tbb::parallel_for(first, channels_.size(), [&](size_t c) {
+    DeepChannel& channel = channels_[c];
+    if (channel.type == PixelType::kUint) {
+      channel.uints.assign(total_samples(), 0u);
+    } else {
+      channel.floats.assign(total_samples(), 0.0f);
+    }
+  });
 }
 
 const DeepChannel* DeepImage::Find(const std::string& name) const {

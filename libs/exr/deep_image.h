@@ -46,6 +46,9 @@ class DeepImage {
                std::vector<uint32_t>::const_iterator last_count);
   DeepChannel& AddChannel(const std::string& name,
                           PixelType type);  // zero-filled
+  // Adds zero-filled channels, filled in parallel: a large image's fresh pages
+  // are first touched (faulted in and zeroed) by every core, not one.
+  void AddChannels(const std::vector<ChannelSpec>& specs);
   const DeepChannel* Find(const std::string& name) const;
   const DeepChannel& Get(const std::string& name) const;  // throws lsds::Error when missing
   DeepChannel& Get(const std::string& name);

@@ -7,6 +7,9 @@
 #include <ImfPartType.h>
 #include <half.h>
 
+#include <tbb/parallel_for.h>
+#include <algorithm>
+
 #include "libs/exr/exr_internal.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -14,6 +17,20 @@
 #include "libs/util/limits.h"
 
 namespace lsds::exr {
+
+namespace {
+
+void ZeroFill(size_t pixels, FlatChannel* channel) {
+  channel->floats.clear();
+  channel->uints.clear();
+  if (channel->type == PixelType::kUint) {
+    channel->uints.assign(pixels, 0u);
+  } else {
+    channel->floats.assign(pixels, 0.0f);
+  }
+}
+
+}  // namespace
 
 FlatChannel& FlatImage::AddChannel(const std::string& name, PixelType type) {
   FlatChannel* channel = Find(name);
@@ -23,14 +40,23 @@ FlatChannel& FlatImage::AddChannel(const std::string& name, PixelType type) {
   }
   channel->name = name;
   channel->type = type;
-  channel->floats.clear();
-  channel->uints.clear();
-  if (type == PixelType::kUint) {
-    channel->uints.assign(pixel_count(), 0u);
-  } else {
-    channel->floats.assign(pixel_count(), 0.0f);
-  }
+  ZeroFill(pixel_count(), channel);
   return *channel;
+}
+
+void FlatImage::AddChannels(const std::vector<ChannelSpec>& specs) {
+  std::vector<FlatChannel*> added;
+  for (const ChannelSpec& spec : specs) {
+    FlatChannel* channel = Find(spec.name);
+    if (channel == nullptr) {
+      channels_.emplace_back();
+      channel = &channels_.back();
+    }
+    channel->name = spec.name;
+    channel->type = spec.type;
+    if (std::find(added.begin(), added.end(), channel) == added.end()) added.push_back(channel);
+  }
+  tbb::parallel_for(size_t{0}, added.size(), [&](size_t c) { ZeroFill(pixel_count(), added[c]); });
 }
 
 const FlatChannel* FlatImage::Find(const std::string& name) const {

@@ -32,6 +32,9 @@ class FlatImage {
   // Adds a zero-filled channel (replacing one with the same name) and returns
   // it.
   FlatChannel& AddChannel(const std::string& name, PixelType type);
+  // The same for several channels, filled in parallel: a large image's fresh
+  // pages are first touched (faulted in and zeroed) by every core, not one.
+  void AddChannels(const std::vector<ChannelSpec>& specs);
   const FlatChannel* Find(const std::string& name) const;
   FlatChannel* Find(const std::string& name);
   const FlatChannel& Get(const std::string& name) const;  // throws lsds::Error when missing

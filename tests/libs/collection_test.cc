@@ -6,6 +6,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
+#include "libs/collection/sample_positions.h"
 #include "libs/collection/schema.h"
 #include "libs/exr/exr_info.h"
 #include "libs/synth/synthetic_collection.h"
@@ -218,6 +219,74 @@ TEST(MetadataJson, SyntheticCollectionMetadataEqualsTruth) {
     ++k;
   });
   EXPECT_EQ(k, 4);
+}
+
+// docs/format.md's sample-position rule, transcribed from the text with its
+// own splitmix64: the compact and residual layouts store no positions, so a
+// collection written today must decode the same under any later code.
+uint64_t DocSplitMix64(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ull;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebull;
+  x ^= x >> 31;
+  return x;
+}
+uint64_t DocH(uint64_t a, uint64_t b) { return DocSplitMix64(a ^ DocSplitMix64(b)); }
+double DocU(uint64_t h) { return static_cast<double>(h >> 11) / 9007199254740992.0; }
+
+std::vector<Eigen::Vector2d> DocPositions(
+    int spp, double jitter, uint64_t seed, int64_t f, int x, int y) {
+  int n = 1;
+  while (n * n < spp) ++n;
+  const uint64_t p =
+      DocH(DocH(seed, static_cast<uint64_t>(f)), (static_cast<uint64_t>(y) << 32) | x);
+  std::vector<Eigen::Vector2d> cells;
+  for (int k = 0; k < spp; ++k) {
+    const int cx = k % n, cy = k / n;
+    const uint64_t hk = DocH(p, static_cast<uint64_t>(k));
+    const double jx = jitter > 0 ? jitter * (DocU(hk) - 0.5) : 0;
+    const double jy = jitter > 0 ? jitter * (DocU(DocH(hk, 1)) - 0.5) : 0;
+    cells.emplace_back((cx + 0.5 + jx) / n, (cy + 0.5 + jy) / n);
+  }
+  size_t nearest = 0;
+  for (size_t k = 1; k < cells.size(); ++k) {
+    if ((cells[k] - Eigen::Vector2d(0.5, 0.5)).squaredNorm() <
+        (cells[nearest] - Eigen::Vector2d(0.5, 0.5)).squaredNorm())
+      nearest = k;
+  }
+  std::vector<Eigen::Vector2d> out = {Eigen::Vector2d(x + 0.5, y + 0.5)};
+  for (size_t k = 0; k < cells.size(); ++k) {
+    if (k != nearest) out.emplace_back(x + cells[k].x(), y + cells[k].y());
+  }
+  return out;
+}
+
+TEST(SamplePositions, FollowTheDocumentedRuleBitForBit) {
+  for (int spp : {1, 4, 9, 16}) {
+    for (double jitter : {0.0, 0.5, 1.0}) {
+      for (int64_t frame : {int64_t{0}, int64_t{7}, int64_t{123456789}}) {
+        const SamplerSettings settings{spp, jitter, 0xfeedbeefull};
+        const FrameSampler sampler(settings, frame);
+        ASSERT_EQ(sampler.spp(), spp);
+        std::vector<Eigen::Vector2d> got(spp), single(spp);
+        for (const auto& [x, y] : {std::pair{0, 0}, {1, 0}, {0, 1}, {37, 911}, {4095, 4095}}) {
+          const std::vector<Eigen::Vector2d> want =
+              DocPositions(spp, jitter, 0xfeedbeefull, frame, x, y);
+          sampler.PixelSamples(x, y, got.data());
+          PixelSamples(settings, frame, x, y, single.data());
+          for (int k = 0; k < spp; ++k) {
+            // Bits, not closeness: EXPECT_EQ on doubles.
+            EXPECT_EQ(got[k].x(), want[k].x()) << "spp " << spp << " jitter " << jitter << " frame "
+                                               << frame << " pixel " << x << "," << y << " k " << k;
+            EXPECT_EQ(got[k].y(), want[k].y());
+            EXPECT_EQ(single[k], got[k]);
+          }
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -268,5 +268,40 @@ TEST(DeepExr, WrittenInBandsIsTheFileWrittenWhole) {
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.exr"));
 }
 
+TEST(FlatImage, AddChannelsZeroFillsReplacesAndKeepsOthers) {
+  FlatImage image(64, 33);
+  FlatChannel& kept = image.AddChannel("kept", PixelType::kFloat);
+  kept.floats.assign(image.pixel_count(), 2.5f);
+  FlatChannel& replaced = image.AddChannel("Z", PixelType::kFloat);
+  replaced.floats.assign(image.pixel_count(), 9.f);
+  image.AddChannels({{"Z", PixelType::kUint}, {"R", PixelType::kHalf}, {"R", PixelType::kHalf}});
+  ASSERT_EQ(image.channels().size(), 3u);
+  EXPECT_EQ(image.Get("kept").floats, std::vector<float>(image.pixel_count(), 2.5f));
+  EXPECT_EQ(image.Get("Z").type, PixelType::kUint);
+  EXPECT_TRUE(image.Get("Z").floats.empty());
+  EXPECT_EQ(image.Get("Z").uints, std::vector<uint32_t>(image.pixel_count(), 0u));
+  EXPECT_EQ(image.Get("R").floats, std::vector<float>(image.pixel_count(), 0.f));
+}
+
+TEST(DeepImage, AddChannelsEqualsAddChannelOneByOne) {
+  std::vector<uint32_t> counts(40 * 17);
+  for (size_t i = 0; i < counts.size(); ++i) counts[i] = static_cast<uint32_t>(i % 5);
+  DeepImage one_by_one(40, 17, counts), together(40, 17, counts);
+  const std::vector<ChannelSpec> specs = {
+      {"id", PixelType::kUint}, {"Z", PixelType::kFloat}, {"NX", PixelType::kHalf}};
+  for (const ChannelSpec& spec : specs) one_by_one.AddChannel(spec.name, spec.type);
+  together.AddChannels(specs);
+  ASSERT_EQ(together.channels().size(), specs.size());
+  for (size_t c = 0; c < specs.size(); ++c) {
+    const DeepChannel& a = one_by_one.channels()[c];
+    const DeepChannel& b = together.channels()[c];
+    EXPECT_EQ(b.name, a.name);
+    EXPECT_EQ(b.type, a.type);
+    EXPECT_EQ(b.floats, a.floats);
+    EXPECT_EQ(b.uints, a.uints);
+    EXPECT_EQ(std::max(b.floats.size(), b.uints.size()), together.total_samples());
+  }
+}
+
 }  // namespace
 }  // namespace lsds::exr

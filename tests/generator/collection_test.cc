@@ -2,8 +2,6 @@
 // refusal, determinism,
 // --frames, --shard byte-identical to a single run, --resume, and the `lsds
 // generate` command.
-#include <unistd.h>
-
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -19,6 +17,7 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tests/generator/test_plans.h"
+#include "tests/test_util.h"
 
 namespace lsds::gen {
 namespace {
@@ -42,11 +41,10 @@ Plan MovingPlan(int frames = 4) {
   return plan;
 }
 
+// A path that does not exist yet, in a folder removed when the test process ends.
 fs::path TempRoot(const std::string& name) {
-  const fs::path root =
-      fs::temp_directory_path() / ("lsds_generate_test_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(root);
-  return root;
+  static const lsds::testing::TempDir process_dir;
+  return process_dir / name;
 }
 
 GenerateOptions Options(const fs::path& root) {

@@ -1,8 +1,6 @@
 // Post-process materials (docs/generator.md "Post-process materials"): each
 // effect changes the RGB as documented, is deterministic, and leaves every
 // truth layer byte for byte as it was, end to end through GenerateCollection.
-#include <unistd.h>
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include "libs/collection/json_io.h"
 #include "libs/util/atomic_file.h"
 #include "tests/generator/test_plans.h"
+#include "tests/test_util.h"
 
 namespace lsds::gen {
 namespace {
@@ -136,12 +135,9 @@ TEST(PostProcess, UnknownNamesAreReportedWithASuggestion) {
 }
 
 TEST(PostProcess, GeneratedTruthIsByteEqualWithAndWithoutEffects) {
-  const fs::path a =
-      fs::temp_directory_path() / ("lsds_pp_test_plain_" + std::to_string(::getpid()));
-  const fs::path b =
-      fs::temp_directory_path() / ("lsds_pp_test_effects_" + std::to_string(::getpid()));
-  fs::remove_all(a);
-  fs::remove_all(b);
+  const lsds::testing::TempDir dir;
+  const fs::path a = dir / "plain";
+  const fs::path b = dir / "effects";
   GenerateOptions options;
   options.progress = false;
   options.threads = 2;
@@ -163,8 +159,6 @@ TEST(PostProcess, GeneratedTruthIsByteEqualWithAndWithoutEffects) {
     }
   });
   EXPECT_GE(compared, 16u);
-  fs::remove_all(a);
-  fs::remove_all(b);
 }
 
 }  // namespace

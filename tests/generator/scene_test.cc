@@ -1,6 +1,4 @@
 // Scene entities: the class factory, materials, meshes, terrain, world state.
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -20,6 +18,7 @@
 #include "generator/scene/world.h"
 #include "libs/util/error.h"
 #include "libs/util/splitmix64.h"
+#include "tests/test_util.h"
 
 namespace lsds::gen {
 namespace {
@@ -66,9 +65,8 @@ TEST(ObjectLibrary, UnknownClassIsRejectedWithASuggestion) {
 }
 
 TEST(ObjectLibrary, UserMeshesLoadThroughAssimpNormalized) {
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("lsds_scene_test_tetra_" + std::to_string(::getpid()) + ".obj");
+  const lsds::testing::TempDir dir;
+  const std::filesystem::path path = dir / "tetra.obj";
   {
     std::ofstream obj(path);
     obj << "v 0 0 0\nv 2 0 0\nv 0 4 0\nv 0 0 6\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 "

@@ -8,9 +8,10 @@
 // with the ratio frame time / floor (over the whole collection, and per frame
 // once the render-while-write pipeline is full), and, when `blender` is
 // installed, the same frames rendered by Blender Cycles
-// (bench/peers/cycles_demo.py) with the ratio.
+// (bench/peers/cycles_demo.py) with the ratio. Each figure is the median of
+// --repeats runs (3), lsds, its floor and Cycles taking turns.
 //
-//   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T]
+//   bench_generate [--frames N] [--sizes 512,1024] [--spp S] [--threads T] [--repeats R]
 //                  [--layouts full/float,compact/float,compact/residual,residual/residual/residual]
 //                  [--blender PATH|none]
 #include <algorithm>
@@ -211,6 +212,114 @@ uint64_t CastRaysOnly(const RenderScene& scene,
   return total;
 }
 
+// A storage layout under test: BUNDLE[/WORLDPOSITION[/MOTION]], motion float
+// when left out (e.g. compact/residual), with the generator's options for it.
+struct Layout {
+  std::string name;
+  GenerateOptions options;
+  CollectionHeader header;
+};
+
+bool ParseLayout(
+    const std::string& name, const Plan& plan, int spp, const fs::path& root, Layout* layout) {
+  layout->name = name;
+  GenerateOptions& options = layout->options;
+  options.output = root / ("generate_" + name);
+  options.force = true;
+  options.progress = false;
+  options.spp = spp;
+  const std::vector<std::string> parts = Split(name, '/');
+  options.motion_layout = FlatLayout::kFloat;
+  if (!ParseBundleLayout(parts[0], &options.bundle_layout) ||
+      (parts.size() > 1 && !ParseFlatLayout(parts[1], &options.worldposition_layout)) ||
+      (parts.size() > 2 && !ParseFlatLayout(parts[2], &options.motion_layout)) ||
+      parts.size() > 3) {
+    return false;
+  }
+  layout->header = MakeHeader(plan, options);
+  return true;
+}
+
+// What one repeat measures: each layout's generate run, the floor (the same
+// rays alone, then each layout's encoding of the same films alone) and
+// Blender Cycles.
+struct Repeat {
+  std::vector<GenerateSummary> generate;  // per layout
+  double ray_seconds = 0;
+  uint64_t floor_rays = 0;
+  std::vector<double> encode_seconds;  // per layout
+  std::optional<double> cycles_seconds;
+};
+
+// The floor for `plan`'s frames: ray casts alone, then the encoding of the
+// same films alone in each layout.
+void MeasureFloor(const Plan& plan,
+                  int spp,
+                  const std::vector<Layout>& layouts,
+                  const fs::path& root,
+                  Repeat* repeat) {
+  EmbreeDevice device;
+  const SceneAssets assets = BuildSceneAssets(plan);
+  const Sky sky(plan);
+  const SamplerSettings sampler{spp, 1.0, plan.seed};
+  const fs::path encode_root = root / "encode";
+  repeat->encode_seconds.assign(layouts.size(), 0.0);
+  // The films the generator encodes: motion against the previous frame (the
+  // demo is one shot), so that the floor encodes the same content.
+  std::unique_ptr<RenderScene> previous_scene;
+  std::optional<WorldState> previous_world;
+  const PlannedFrame* previous_frame = nullptr;
+  for (const PlannedFrame& frame : plan.frames) {
+    WorldState world = WorldAt(plan, frame);
+    auto scene = std::make_unique<RenderScene>(device, plan, assets, world);
+    Clock::time_point t = Clock::now();
+    repeat->floor_rays +=
+        CastRaysOnly(*scene, sky, frame, sampler, previous_frame, previous_scene.get());
+    repeat->ray_seconds += Since(t);
+    RenderSettings settings;
+    settings.sampler = sampler;
+    PreviousView previous;
+    FrameImages::MotionReference motion;
+    if (previous_frame != nullptr) {
+      previous = {previous_frame, &*previous_world, previous_scene.get()};
+      CameraTruth& before = motion.previous_camera.emplace();
+      before.intrinsics = previous_frame->camera;
+      SetCamFromWorld(previous_frame->cam_from_world, &before);
+    }
+    const Film film = RenderFrame(*scene, sky, frame, previous, settings);
+    CameraTruth camera;  // as the generator records it
+    camera.intrinsics = frame.camera;
+    SetCamFromWorld(frame.cam_from_world, &camera);
+    for (size_t i = 0; i < layouts.size(); ++i) {
+      fs::remove_all(encode_root);
+      for (const LayerInfo& layer : layouts[i].header.layers)
+        fs::create_directories(encode_root / layer.name);
+      t = Clock::now();
+      WriteFrameLayers(
+          encode_root,
+          layouts[i].header,
+          frame.index,
+          camera,
+          {&film.flat, &film.bundle, BundleSampling{sampler, frame.index, std::nullopt}, motion});
+      repeat->encode_seconds[i] += Since(t);
+    }
+    previous_scene = std::move(scene);
+    previous_world = std::move(world);
+    previous_frame = &frame;
+  }
+  fs::remove_all(encode_root);
+}
+
+// The median of what `value` gives for each repeat.
+template <typename Fn>
+double MedianOver(const std::vector<Repeat>& repeats, Fn value) {
+  std::vector<double> values;
+  for (const Repeat& r : repeats) values.push_back(value(r));
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 // The cost of issue 16's light, camera and material features, each as the
 // ratio of the frame time with it to the frame time without it: auto exposure
 // (metering + scaling the rgb, after RenderFrame), the procedural material
@@ -226,16 +335,23 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
   settings.sampler = {spp, 1.0, plan.seed};
   double render_s = 0, per_sample_s = 0, exposure_s = 0, clamp_s = 0, filmic_s = 0;
   size_t shading_points = 0;
+  // Reused films, as the generator reuses them: the timings leave out the
+  // page faults of fresh ones.
+  Film film, per_sample_film;
   for (const PlannedFrame& frame : plan.frames) {
     const RenderScene scene(device, plan, assets, WorldAt(plan, frame));
+    if (&frame == &plan.frames.front()) {
+      RenderFrame(scene, sky, frame, {}, settings, &film);
+      RenderFrame(scene, sky, frame, {}, settings, &per_sample_film);
+    }
     Clock::time_point t = Clock::now();
-    Film film = RenderFrame(scene, sky, frame, {}, settings);
+    RenderFrame(scene, sky, frame, {}, settings, &film);
     render_s += Since(t);
     // The same frame with the albedo and cloud shadow at every sample.
     RenderSettings per_sample = settings;
     per_sample.reuse_smooth_fields = false;
     t = Clock::now();
-    RenderFrame(scene, sky, frame, {}, per_sample);
+    RenderFrame(scene, sky, frame, {}, per_sample, &per_sample_film);
     per_sample_s += Since(t);
     shading_points += static_cast<size_t>(frame.camera.width) * frame.camera.height * spp;
     t = Clock::now();
@@ -305,7 +421,7 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int frames = 4, spp = 4, threads = 0;
+  int frames = 4, spp = 4, threads = 0, repeats = 3;
   std::vector<int> sizes = {512, 1024};
   std::vector<std::string> post_process;  // LCAP PPMaterial effects, to measure their cost
   std::vector<std::string> layouts = {
@@ -319,6 +435,8 @@ int main(int argc, char** argv) {
       spp = std::atoi(argv[i + 1]);
     else if (flag == "--threads")
       threads = std::atoi(argv[i + 1]);
+    else if (flag == "--repeats")
+      repeats = std::max(1, std::atoi(argv[i + 1]));
     else if (flag == "--post-process")
       post_process = Split(argv[i + 1], ',');
     else if (flag == "--sizes") {
@@ -331,7 +449,8 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: bench_generate [--frames N] [--sizes 512,1024] "
-                   "[--spp S] [--threads T] [--layouts full/float,compact/residual,...] "
+                   "[--spp S] [--threads T] [--repeats R] "
+                   "[--layouts full/float,compact/residual,...] "
                    "[--blender PATH|none] "
                    "[--post-process EdgeBlur,...]\n");
       return 2;
@@ -352,100 +471,51 @@ int main(int argc, char** argv) {
     demo.width = demo.height = size;
     Plan plan = MakeDemoPlan(demo);
     plan.post_process = post_process;
-    struct Result {
-      std::string layout;
-      GenerateSummary summary;
-      std::map<std::string, uintmax_t> layer_bytes;
-      uintmax_t total_bytes = 0, bundle_bytes = 0;
-      double encode_seconds = 0;
-      CollectionHeader header;
-    };
-    std::vector<Result> results;
-    for (const std::string& name : layouts) {
-      Result r;
-      r.layout = name;
-      GenerateOptions options;
-      options.output = root / ("generate_" + name);
-      options.force = true;
-      options.progress = false;
-      options.spp = spp;
-      // BUNDLE[/WORLDPOSITION[/MOTION]]: e.g. compact/residual (motion float).
-      const std::vector<std::string> parts = Split(name, '/');
-      options.motion_layout = FlatLayout::kFloat;
-      if (!ParseBundleLayout(parts[0], &options.bundle_layout) ||
-          (parts.size() > 1 && !ParseFlatLayout(parts[1], &options.worldposition_layout)) ||
-          (parts.size() > 2 && !ParseFlatLayout(parts[2], &options.motion_layout)) ||
-          parts.size() > 3) {
+    std::vector<Layout> runs(layouts.size());
+    for (size_t i = 0; i < layouts.size(); ++i) {
+      if (!ParseLayout(layouts[i], plan, spp, root, &runs[i])) {
         std::fprintf(
             stderr,
             "--layouts: %s is not full|compact|residual[/float|residual[/float|residual]]\n",
-            name.c_str());
+            layouts[i].c_str());
         return 2;
       }
-      r.summary = GenerateCollection(plan, options);
-      r.header = MakeHeader(plan, options);
-      for (const LayerInfo& layer : r.header.layers) {
-        r.layer_bytes[layer.name] = FolderBytes(options.output / layer.name);
-        r.total_bytes += r.layer_bytes[layer.name];
-        if (layer.deep) r.bundle_bytes += r.layer_bytes[layer.name];
-      }
-      r.total_bytes += FolderBytes(options.output) - r.total_bytes;  // + JSON
-      fs::remove_all(options.output);
-      results.push_back(r);
     }
-
-    // The floor: ray casts alone, then the encoding of the same films alone
-    // (in each layout).
-    EmbreeDevice device;
-    const SceneAssets assets = BuildSceneAssets(plan);
-    const Sky sky(plan);
-    const SamplerSettings sampler{spp, 1.0, plan.seed};
-    double ray_seconds = 0;
-    uint64_t floor_rays = 0;
-    const fs::path encode_root = root / "encode";
-    // The films the generator encodes: motion against the previous frame (the
-    // demo is one shot), so that the floor encodes the same content.
-    std::unique_ptr<RenderScene> previous_scene;
-    std::optional<WorldState> previous_world;
-    const PlannedFrame* previous_frame = nullptr;
-    for (const PlannedFrame& frame : plan.frames) {
-      WorldState world = WorldAt(plan, frame);
-      auto scene = std::make_unique<RenderScene>(device, plan, assets, world);
-      Clock::time_point t = Clock::now();
-      floor_rays += CastRaysOnly(*scene, sky, frame, sampler, previous_frame, previous_scene.get());
-      ray_seconds += Since(t);
-      RenderSettings settings;
-      settings.sampler = sampler;
-      PreviousView previous;
-      FrameImages::MotionReference motion;
-      if (previous_frame != nullptr) {
-        previous = {previous_frame, &*previous_world, previous_scene.get()};
-        CameraTruth& before = motion.previous_camera.emplace();
-        before.intrinsics = previous_frame->camera;
-        SetCamFromWorld(previous_frame->cam_from_world, &before);
+    // Bytes, from the first repeat (the files are the same in every repeat).
+    struct Bytes {
+      std::map<std::string, uintmax_t> per_layer;
+      uintmax_t total = 0, bundle = 0;
+    };
+    std::vector<Bytes> bytes(runs.size());
+    // The repeats interleave lsds, its floor and Cycles, so that a change in
+    // the machine's load lands on all of them; the table gives medians.
+    std::vector<Repeat> measured(repeats);
+    const fs::path cycles_out = root / ("cycles_" + std::to_string(size));
+    uintmax_t cycles_bytes = 0;
+    for (int k = 0; k < repeats; ++k) {
+      Repeat& repeat = measured[k];
+      for (size_t i = 0; i < runs.size(); ++i) {
+        const Layout& run = runs[i];
+        repeat.generate.push_back(GenerateCollection(plan, run.options));
+        if (k == 0) {
+          for (const LayerInfo& layer : run.header.layers) {
+            bytes[i].per_layer[layer.name] = FolderBytes(run.options.output / layer.name);
+            bytes[i].total += bytes[i].per_layer[layer.name];
+            if (layer.deep) bytes[i].bundle += bytes[i].per_layer[layer.name];
+          }
+          bytes[i].total += FolderBytes(run.options.output) - bytes[i].total;  // + JSON
+        }
+        fs::remove_all(run.options.output);
       }
-      const Film film = RenderFrame(*scene, sky, frame, previous, settings);
-      CameraTruth camera;  // as the generator records it
-      camera.intrinsics = frame.camera;
-      SetCamFromWorld(frame.cam_from_world, &camera);
-      for (Result& r : results) {
-        fs::remove_all(encode_root);
-        for (const LayerInfo& layer : r.header.layers)
-          fs::create_directories(encode_root / layer.name);
-        t = Clock::now();
-        WriteFrameLayers(
-            encode_root,
-            r.header,
-            frame.index,
-            camera,
-            {&film.flat, &film.bundle, BundleSampling{sampler, frame.index, std::nullopt}, motion});
-        r.encode_seconds += Since(t);
+      MeasureFloor(plan, spp, runs, root, &repeat);
+      if (!blender.empty()) {
+        const PeerRun cycles = RunCycles(blender, size, frames, spp, threads, cycles_out);
+        if (cycles.ran) repeat.cycles_seconds = cycles.seconds;
+        if (k == 0) cycles_bytes = cycles.bytes;
+        fs::remove_all(cycles_out);
       }
-      previous_scene = std::move(scene);
-      previous_world = std::move(world);
-      previous_frame = &frame;
     }
-    fs::remove_all(encode_root);
+    const double ray_seconds = MedianOver(measured, [](const Repeat& r) { return r.ray_seconds; });
 
     std::printf("\n%dx%d, %d frames, spp %d\n", size, size, frames, spp);
     std::printf("%-26s %8s %8s %9s %9s %9s %10s %9s %6s %9s %6s %9s %11s\n",
@@ -462,57 +532,87 @@ int main(int argc, char** argv) {
                 "ratio",
                 "MB/frame",
                 "w/o bundle");
-    for (const Result& r : results) {
-      const double per_frame = r.summary.total_seconds / frames;
-      const double floor = (ray_seconds + r.encode_seconds) / frames;
+    std::vector<std::string> paired;  // each repeat's ratio, s/frame / floor
+    for (size_t i = 0; i < runs.size(); ++i) {
+      auto median = [&](auto value) { return MedianOver(measured, value); };
+      const double total = median([&](const Repeat& r) { return r.generate[i].total_seconds; });
+      const double encode = median([&](const Repeat& r) { return r.encode_seconds[i]; });
+      const double per_frame = total / frames;
+      const double floor = (ray_seconds + encode) / frames;
       // steady/f: a frame once the render-while-write pipeline is full
       // (GenerateSummary::steady_seconds_per_frame), the throughput of a long
       // collection; s/frame also carries the first render and the last write.
-      const double steady = r.summary.steady_seconds_per_frame;
+      const double steady =
+          median([&](const Repeat& r) { return r.generate[i].steady_seconds_per_frame; });
       std::printf(
           "%-26s %8.3f %8.2f %9.3f %9.3f %9.3f %10.3f %9.3f %6.2f %9.3f %6.2f %9.2f %11.2f\n",
-          r.layout.c_str(),
+          runs[i].name.c_str(),
           per_frame,
-          r.summary.rays / r.summary.total_seconds / 1e6,
-          r.summary.render_seconds / frames,
-          r.summary.write_seconds / frames,
+          median([&](const Repeat& r) {
+            return r.generate[i].rays / r.generate[i].total_seconds;
+          }) / 1e6,
+          median([&](const Repeat& r) { return r.generate[i].render_seconds; }) / frames,
+          median([&](const Repeat& r) { return r.generate[i].write_seconds; }) / frames,
           ray_seconds / frames,
-          r.encode_seconds / frames,
+          encode / frames,
           floor,
           per_frame / floor,
           steady,
           steady / floor,
-          Mb(static_cast<double>(r.total_bytes) / frames),
-          Mb(static_cast<double>(r.total_bytes - r.bundle_bytes) / frames));
+          Mb(static_cast<double>(bytes[i].total) / frames),
+          Mb(static_cast<double>(bytes[i].total - bytes[i].bundle) / frames));
+      std::string line = runs[i].name + ":";
+      for (const Repeat& r : measured) {
+        const double floor_seconds = r.ray_seconds + r.encode_seconds[i];
+        char ratio[64];
+        std::snprintf(ratio,
+                      sizeof ratio,
+                      " %.2f (%.2f s / %.2f s)",
+                      r.generate[i].total_seconds / floor_seconds,
+                      r.generate[i].total_seconds,
+                      floor_seconds);
+        line += ratio;
+      }
+      paired.push_back(line);
     }
-    std::printf("floor rays: %.2f Mrays/s\n", floor_rays / ray_seconds / 1e6);
+    std::printf("medians of %d repeats; each repeat's s/frame / floor: %s\n",
+                repeats,
+                Join(paired, ", ").c_str());
+    std::printf("floor rays: %.2f Mrays/s\n", MedianOver(measured, [](const Repeat& r) {
+                                                return r.floor_rays / r.ray_seconds;
+                                              }) / 1e6);
     PrintFeatureCosts(plan, spp);
     std::printf("MB per frame per layer:");
-    for (const Result& r : results) std::printf(" %26s", r.layout.c_str());
+    for (const Layout& run : runs) std::printf(" %26s", run.name.c_str());
     std::printf("\n");
-    for (const auto& [layer, bytes] : results.front().layer_bytes) {
+    for (const auto& [layer, layer_bytes] : bytes.front().per_layer) {
       std::printf("  %-20s", layer.c_str());
-      for (const Result& r : results)
-        std::printf(" %26.2f", Mb(static_cast<double>(r.layer_bytes.at(layer)) / frames));
+      for (const Bytes& b : bytes)
+        std::printf(" %26.2f", Mb(static_cast<double>(b.per_layer.at(layer)) / frames));
       std::printf("\n");
     }
     if (blender.empty()) {
       std::printf("Blender Cycles: not installed (make bench installs it)\n");
       continue;
     }
-    const PeerRun cycles =
-        RunCycles(blender, size, frames, spp, threads, root / ("cycles_" + std::to_string(size)));
-    if (!cycles.ran) continue;
-    const double lsds_per_frame = results.back().summary.total_seconds / frames;
+    std::vector<Repeat> cycles_ran;
+    for (const Repeat& r : measured)
+      if (r.cycles_seconds) cycles_ran.push_back(r);
+    if (cycles_ran.empty()) continue;
+    const double cycles_per_frame =
+        MedianOver(cycles_ran, [](const Repeat& r) { return *r.cycles_seconds; }) / frames;
+    const double lsds_per_frame =
+        MedianOver(measured, [](const Repeat& r) { return r.generate.back().total_seconds; }) /
+        frames;
     std::printf(
-        "Blender Cycles (%s, depth/normal/position/object-index/vector passes): %.3f s/frame, "
-        "%.2f MB/frame; lsds %s / Cycles time: %.2f\n",
+        "Blender Cycles (%s, depth/normal/position/object-index/vector passes, median of %zu): "
+        "%.3f s/frame, %.2f MB/frame; lsds %s / Cycles time: %.2f\n",
         blender.c_str(),
-        cycles.seconds / frames,
-        Mb(static_cast<double>(cycles.bytes) / frames),
-        results.back().layout.c_str(),
-        lsds_per_frame / (cycles.seconds / frames));
-    fs::remove_all(root / ("cycles_" + std::to_string(size)));
+        cycles_ran.size(),
+        cycles_per_frame,
+        Mb(static_cast<double>(cycles_bytes) / frames),
+        runs.back().name.c_str(),
+        lsds_per_frame / cycles_per_frame);
   }
   fs::remove_all(root);
   return 0;

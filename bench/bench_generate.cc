@@ -333,7 +333,7 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
   const Sky sky(plan);
   RenderSettings settings;
   settings.sampler = {spp, 1.0, plan.seed};
-  double render_s = 0, per_sample_s = 0, exposure_s = 0, clamp_s = 0, filmic_s = 0;
+  double render_s = 0, per_sample_s = 0, shaded_s = 0, exposure_s = 0, clamp_s = 0, filmic_s = 0;
   size_t shading_points = 0;
   // Reused films, as the generator reuses them: the timings leave out the
   // page faults of fresh ones.
@@ -353,6 +353,12 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
     t = Clock::now();
     RenderFrame(scene, sky, frame, {}, per_sample, &per_sample_film);
     per_sample_s += Since(t);
+    // The same frame with every sample shaded, not diffuse pixels once.
+    RenderSettings every_sample = settings;
+    every_sample.shade_pixels_once = false;
+    t = Clock::now();
+    RenderFrame(scene, sky, frame, {}, every_sample, &per_sample_film);
+    shaded_s += Since(t);
     shading_points += static_cast<size_t>(frame.camera.width) * frame.camera.height * spp;
     t = Clock::now();
     const FrameExposure e = MeterExposure(PlannedExposure(), film);
@@ -399,6 +405,10 @@ void PrintFeatureCosts(const Plan& plan, int spp) {
               "smooth fields per sample, not pixel",
               (per_sample_s - render_s) / plan.frames.size(),
               per_sample_s / render_s);
+  std::printf("  %-34s %10.4f %8.3f\n",
+              "every sample shaded, not once",
+              (shaded_s - render_s) / plan.frames.size(),
+              shaded_s / render_s);
   for (const char* name : {"grassy", "sandy", "rocky", "asphalt", "metal", "painted_red"}) {
     const Material& m = FindMaterial(name, "bench");
     Material plain = m;

@@ -227,6 +227,16 @@ struct SampleValue {
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();
 };
 
+// How a pixel's centre sample was shaded, for the pixel's other samples that
+// take its radiance (RenderSettings::shade_pixels_once): the smooth fields as
+// the centre left them (a later sample may replace the pixel's own), and the
+// radiance.
+struct CentreShading {
+  PixelField<Eigen::Vector3f> albedo;
+  PixelField<float> cloud;
+  Eigen::Vector3f radiance;
+};
+
 // One frame being rendered: what every block needs, and the steps of a block.
 class FrameRenderer {
  public:
@@ -320,9 +330,19 @@ class FrameRenderer {
     fields->albedo.Reset();
     fields->cloud.Reset();
     Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    const int c = p * spp_;  // the centre sample, in the block
+    std::optional<CentreShading> centre;
     for (int k = 0; k < spp_; ++k) {
-      const int i = p * spp_ + k;  // in the block
-      const SampleValue v = ShadeSample(block, i, fields);
+      const int i = c + k;  // in the block
+      SampleValue v;
+      if (centre && ShadesAsCentre(block, c, i, *centre)) {
+        v = SampleTruth(block, i);
+        v.radiance = centre->radiance;
+      } else {
+        v = ShadeSample(block, i, fields);
+      }
+      if (k == 0 && settings_.shade_pixels_once)
+        centre = CentreShading{fields->albedo, fields->cloud, v.radiance};
       sum += v.radiance;
       if (film_.bundle_z != nullptr) {
         const size_t b = pixel * spp_ + k;
@@ -384,12 +404,57 @@ class FrameRenderer {
   }
 
  private:
+  // The distance from the camera to block sample i's hit.
+  double Distance(const BlockRays& block, int i) const {
+    return block.hits[i].t * block.rays_in_cam[i].norm();
+  }
+
+  // Block sample i's values of the truth layers, without its radiance.
+  SampleValue SampleTruth(const BlockRays& block, int i) const {
+    const Hit& hit = block.hits[i];
+    SampleValue v;
+    if (!hit.hit) return v;
+    const Surface& s = scene_.surface(hit.geom);
+    v.z = settings_.depth_kind == DepthKind::kPlanar ? hit.t : Distance(block, i);
+    v.instance = s.instance_id;
+    v.class_id = s.class_id;
+    v.normal = hit.normal.cast<float>();
+    return v;
+  }
+
+  // Whether block sample i takes the radiance of its pixel's centre sample c
+  // (RenderSettings::shade_pixels_once). On a diffuse surface the radiance is
+  // albedo x (ambient + sun x cos x cloud), seen through the fog: the sample
+  // must hit the centre's triangle within the reuse distances of the
+  // centre's procedural albedo (so never where an image texture applies: the
+  // centre then evaluated none) and cloud shadow, in or out of the sun as the
+  // centre is, with its cosine to the sun and its fog within
+  // kShadeOnceTolerance of the centre's.
+  bool ShadesAsCentre(const BlockRays& block, int c, int i, const CentreShading& centre) const {
+    const Hit& hit = block.hits[i];
+    const Hit& centre_hit = block.hits[c];
+    if (!hit.hit || !centre_hit.hit || hit.geom != centre_hit.geom || hit.prim != centre_hit.prim) {
+      return false;
+    }
+    const Surface& s = scene_.surface(hit.geom);
+    if (s.material->specular > 0 || !centre.albedo.Holds(hit.geom, hit.point)) return false;
+    const bool sunlit = block.facing_sun[i] && !block.occluded[i];
+    if (sunlit != (block.facing_sun[c] && !block.occluded[c])) return false;
+    if (sunlit && (!centre.cloud.Holds(hit.geom, hit.point) ||
+                   std::abs(block.cos_suns[i] - block.cos_suns[c]) >
+                       kShadeOnceTolerance * block.cos_suns[c])) {
+      return false;
+    }
+    return sky_.fog_density() * std::abs(Distance(block, i) - Distance(block, c)) <=
+           kShadeOnceTolerance;
+  }
+
   // Block sample i: the sky, or the shaded surface it hits (the procedural
   // albedo and the cloud shadow through the pixel's fields).
   SampleValue ShadeSample(const BlockRays& block, int i, ShadingFields* fields) const {
     const Eigen::Vector3d& direction = block.directions[i];
     const Hit& hit = block.hits[i];
-    SampleValue v;
+    SampleValue v = SampleTruth(block, i);
     if (!hit.hit) {
       v.radiance = sky_.Radiance(direction.normalized());
       return v;
@@ -411,15 +476,10 @@ class FrameRenderer {
     const float denominator = Luminance(unshadowed);
     v.shadow_ratio = denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
     v.radiance = Shade(*s.material, albedo, hit.shading_normal, direction, sky_, shaded, lit);
-    const double distance = hit.t * block.rays_in_cam[i].norm();
     if (sky_.fog_density() > 0) {
-      const float f = static_cast<float>(std::exp(-sky_.fog_density() * distance));
+      const float f = static_cast<float>(std::exp(-sky_.fog_density() * Distance(block, i)));
       v.radiance = v.radiance * f + sky_.horizon() * (1 - f);
     }
-    v.z = settings_.depth_kind == DepthKind::kPlanar ? hit.t : distance;
-    v.instance = s.instance_id;
-    v.class_id = s.class_id;
-    v.normal = hit.normal.cast<float>();
     return v;
   }
 

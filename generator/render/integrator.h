@@ -37,7 +37,18 @@ struct RenderSettings {
   // they are smooth over it (PixelField); off evaluates them at every sample.
   // Only the RGB can change; every truth layer is the same either way.
   bool reuse_smooth_fields = true;
+  // Shade a pixel's diffuse samples once, at its centre sample, where its
+  // other samples see the same triangle under the same light to within
+  // kShadeOnceTolerance (docs/generator.md, "Diffuse pixels shaded once");
+  // off shades every sample. Only the RGB can change; every truth layer is
+  // the same either way.
+  bool shade_pixels_once = true;
 };
+
+// How far apart a sample's direct sunlight and fog may be from its pixel's
+// centre sample's, relative, for the sample to take the centre's radiance
+// (RenderSettings::shade_pixels_once): a quarter of an 8-bit step.
+constexpr double kShadeOnceTolerance = 1.0 / 1024;
 
 // The previous frame of the same shot, for motion vectors (absent on a shot's
 // first frame, whose motion is all NaN). `scene` is the previous world's ray

@@ -29,15 +29,19 @@ class PixelField {
   // At each pixel's first sample: the pixel has no value yet.
   void Reset() { valid_ = false; }
 
-  // The field at `point` on surface `geom`: the value kept for this pixel if
-  // it was evaluated on the same surface within its reuse distance, else
-  // `evaluate()` (a FieldValue<Value>), which is then kept.
+  // Whether the value kept for this pixel holds at `point` on surface `geom`:
+  // it was evaluated on the same surface within its reuse distance.
+  bool Holds(unsigned geom, const Eigen::Vector3d& point) const {
+    return valid_ && geom == geom_ &&
+           (point - point_).squaredNorm() <= kept_.reuse_distance * kept_.reuse_distance;
+  }
+
+  // The field at `point` on surface `geom`: the value kept for this pixel
+  // where it holds, else `evaluate()` (a FieldValue<Value>), which is then
+  // kept.
   template <typename Evaluate>
   Value At(unsigned geom, const Eigen::Vector3d& point, Evaluate&& evaluate) {
-    if (valid_ && geom == geom_ &&
-        (point - point_).squaredNorm() <= kept_.reuse_distance * kept_.reuse_distance) {
-      return kept_.value;
-    }
+    if (Holds(geom, point)) return kept_.value;
     kept_ = evaluate();
     geom_ = geom;
     point_ = point;

@@ -32,13 +32,14 @@ struct Rendered {
   std::vector<ObjectTruth> truth;
 };
 
-Rendered Render(const Plan& plan, int spp = 1) {
+Rendered Render(const Plan& plan, int spp = 1, bool shade_pixels_once = true) {
   static EmbreeDevice device;
   const SceneAssets assets = BuildSceneAssets(plan);
   const WorldState world = WorldAt(plan, plan.frames[0]);
   const RenderScene scene(device, plan, assets, world);
   RenderSettings settings;
   settings.sampler = {spp, 1.0, plan.seed};
+  settings.shade_pixels_once = shade_pixels_once;
   Rendered r{RenderFrame(scene, Sky(plan), plan.frames[0], PreviousView(), settings), {}};
   uint64_t rays = 0;
   r.truth = ComputeObjectTruth(scene, plan.frames[0], r.film, 0.0, &rays);
@@ -357,6 +358,39 @@ TEST(ImageTextures, ObjDiffuseMapRenders) {
   lsds::testing::TempDir dir;
   WriteObjQuad(dir.path());
   ExpectCheckerRendered((dir.path() / "quad.obj").string());
+}
+
+// An image texture changes within a pixel: its pixels are shaded at every
+// sample, where the smooth grass around it is shaded once per pixel
+// (RenderSettings::shade_pixels_once; in fog, whose depth varies across a
+// pixel, that changes the grass's RGB).
+TEST(ImageTextures, TexturedPixelsAreShadedAtEverySample) {
+  lsds::testing::TempDir dir;
+  WriteObjQuad(dir.path());
+  Plan plan = FlatPlan(96, 96, 40);
+  plan.terrain.material = "grassy";
+  plan.sun.elevation_deg = 90;
+  plan.fog_density = 0.01;
+  plan.objects.push_back(Object((dir.path() / "quad.obj").string(), 1, {0, 0, 0.5}, {2, 2, 1}));
+  plan.objects.back().material = "fabric";
+  plan.frames[0].cam_from_world = Nadir({0, 0, 6});
+  const Rendered once = Render(plan, 4);
+  const Rendered per_sample = Render(plan, 4, false);
+  const auto& instance = Ids(once.film, "instanceid");
+  int quad = 0, ground_changed = 0;
+  for (size_t p = 0; p < instance.size(); ++p) {
+    for (const char* c : {"R", "G", "B"}) {
+      const bool same = F(once.film, "rgb", c)[p] == F(per_sample.film, "rgb", c)[p];
+      if (instance[p] == 1) {
+        ASSERT_TRUE(same) << "pixel " << p;
+      } else {
+        ground_changed += !same;
+      }
+    }
+    quad += instance[p] == 1;
+  }
+  EXPECT_GT(quad, 1000);
+  EXPECT_GT(ground_changed, 100);
 }
 
 TEST(ImageTextures, MissingTextureImageIsNamed) {

@@ -512,8 +512,15 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
     AddSurveyMetadata(plan, plan.frames[k], &metadata);
     builder.Append(truth, metadata);
   }
+  // A folder with collection.json never holds a work folder, even if the run
+  // is killed here: the work folder is renamed to a temporary name before
+  // collection.json appears (a kill leaves a stale temporary, which the next
+  // write removes). A kill between the two leaves neither, and --resume
+  // renders the frames again.
+  const fs::path retired = TempPathBeside(root / kWorkFolder);
+  fs::rename(root / kWorkFolder, retired);
   builder.Commit();
-  fs::remove_all(root / kWorkFolder);
+  fs::remove_all(retired);
   summary.write_seconds += Seconds(t0);
   summary.total_seconds = Seconds(start);
   if (summary.frames_rendered >= 2) {

@@ -51,6 +51,15 @@ std::atomic<int64_t>& FaultBudget() {
   return budget;
 }
 
+// Test hook for kills at the worst moment: with LSDS_FAULT_KILL_AFTER=NAME in
+// the environment, the process kills itself (SIGKILL, no clean-up) right
+// after a file named NAME is renamed into place.
+void MaybeKillAfter(const fs::path& committed) {
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
+  static const char* const name = std::getenv("LSDS_FAULT_KILL_AFTER");
+  if (name != nullptr && committed.filename() == name) ::raise(SIGKILL);
+}
+
 // std::strerror may share a buffer between threads; the category message does not.
 std::string ErrnoText(int error) { return std::generic_category().message(error); }
 
@@ -320,6 +329,7 @@ void AtomicFile::Commit() {
   }
   committed_ = true;
   SyncFolder(path_.parent_path());
+  MaybeKillAfter(path_);
 }
 
 // ---- AtomicDirectory ----

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 
 #include <gtest/gtest.h>
@@ -260,6 +261,54 @@ TEST(Leftovers, AFailedResumeDoesNotLeaveTheFolderPresentedAsComplete) {
   const CommandResult resumed = RunCommandLine(generate + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_EQ(RunCommandLine(Lsds() + " validate " + Q(out)).exit_code, 0);
+}
+
+// Every file under `root` that is not a temporary, with a hash of its bytes
+// (a failure then lists names, not EXR bytes).
+std::map<std::string, size_t> FilesWithoutTemporaries(const fs::path& root) {
+  std::map<std::string, size_t> files;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    const std::string rel = fs::relative(entry.path(), root).string();
+    if (rel.find(".lsds-tmp-") != std::string::npos) continue;
+    files[rel] = entry.is_directory() ? 0 : std::hash<std::string>()(ReadText(entry.path()));
+  }
+  return files;
+}
+
+// The instant collection.json appears is the one a kill can split: before
+// it the folder is an interrupted run, after it a finished collection, and
+// never a finished collection that still holds the work folder.
+TEST(Leftovers, AKillAsTheCollectionIsAssembledLeavesItFinishedOrResumable) {
+  testing::TempDir dir;
+  const std::string generate = Lsds() +
+                               " generate --demo --demo-frames 2 "
+                               "--demo-size 24x16 --spp 4 -q -o ";
+  ASSERT_EQ(RunCommandLine(generate + Q(dir / "reference")).exit_code, 0);
+  const auto reference = FilesWithoutTemporaries(dir / "reference");
+
+  // Killed right after collection.json appears: finished, and the same as a
+  // run that was not killed; the retired work folder is only a temporary.
+  const fs::path after = dir / "after";
+  EXPECT_NE(
+      RunCommandLine("LSDS_FAULT_KILL_AFTER=collection.json " + generate + Q(after)).exit_code, 0);
+  ASSERT_TRUE(fs::exists(after / "collection.json"));
+  EXPECT_FALSE(fs::exists(after / ".lsds-generate"));
+  EXPECT_FALSE(Temporaries(after).empty()) << "the kill came before the work folder was removed";
+  EXPECT_EQ(FilesWithoutTemporaries(after), reference);
+  const CommandResult valid = RunCommandLine(Lsds() + " validate --fail-on warning " + Q(after));
+  EXPECT_EQ(valid.exit_code, 0) << valid.output;
+
+  // Killed just before (metadata.json is committed right before it): not a
+  // collection, and --resume finishes it byte for byte.
+  const fs::path before = dir / "before";
+  EXPECT_NE(RunCommandLine("LSDS_FAULT_KILL_AFTER=metadata.json " + generate + Q(before)).exit_code,
+            0);
+  EXPECT_FALSE(fs::exists(before / "collection.json"));
+  EXPECT_NE(RunCommandLine(Lsds() + " validate " + Q(before)).exit_code, 0);
+  const CommandResult resumed = RunCommandLine(generate + Q(before) + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_TRUE(Temporaries(before).empty());
+  EXPECT_EQ(FilesWithoutTemporaries(before), reference);
 }
 
 // ---- numbers ----

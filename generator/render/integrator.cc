@@ -10,6 +10,7 @@
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include "generator/render/pixel_field.h"
 #include "generator/render/ray_casts.h"
@@ -581,32 +582,38 @@ void RenderFrame(const RenderScene& scene,
   Film::Reshape(camera.width, camera.height, settings.sampler.spp, settings.bundle, out);
   const FrameRenderer renderer(scene, sky, frame, previous, settings, out);
   std::atomic<uint64_t> total_rays{0};
-  // Tiles of whole blocks (a block is always the same pixels).
+  // Tiles of whole blocks (a block is always the same pixels). A task's
+  // smooth fields carry over from pixel to pixel, and which of them a sample
+  // reuses decides its last bits: the simple partitioner cuts the frame into
+  // the same tiles whatever the threads and their timing, so a frame's bits
+  // depend only on its tiles, never on the run.
   const int tile = std::max(1, settings.tile_size / kBlock);
-  tbb::parallel_for(tbb::blocked_range2d<int>(0,
-                                              (camera.height + kBlock - 1) / kBlock,
-                                              tile,
-                                              0,
-                                              (camera.width + kBlock - 1) / kBlock,
-                                              tile),
-                    [&](const tbb::blocked_range2d<int>& r) {
-                      RTCIntersectContext context;
-                      InitCoherentContext(&context);
-                      BlockRays block(settings.sampler.spp);
-                      BlockDisocclusions disocclusions;
-                      TrianglePlane plane;
-                      ShadingFields fields;
-                      uint64_t rays = 0;
-                      for (int row = r.rows().begin(); row < r.rows().end(); ++row) {
-                        for (int col = r.cols().begin(); col < r.cols().end(); ++col) {
-                          renderer.CastBlock(row, col, &block, &plane, &context, &rays);
-                          for (int p = 0; p < block.pixels; ++p)
-                            renderer.RenderPixel(block, p, &fields, &disocclusions, &rays);
-                          renderer.DropDisoccludedMotion(block, &disocclusions, &context);
-                        }
-                      }
-                      total_rays += rays;
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range2d<int>(0,
+                                (camera.height + kBlock - 1) / kBlock,
+                                tile,
+                                0,
+                                (camera.width + kBlock - 1) / kBlock,
+                                tile),
+      [&](const tbb::blocked_range2d<int>& r) {
+        RTCIntersectContext context;
+        InitCoherentContext(&context);
+        BlockRays block(settings.sampler.spp);
+        BlockDisocclusions disocclusions;
+        TrianglePlane plane;
+        ShadingFields fields;
+        uint64_t rays = 0;
+        for (int row = r.rows().begin(); row < r.rows().end(); ++row) {
+          for (int col = r.cols().begin(); col < r.cols().end(); ++col) {
+            renderer.CastBlock(row, col, &block, &plane, &context, &rays);
+            for (int p = 0; p < block.pixels; ++p)
+              renderer.RenderPixel(block, p, &fields, &disocclusions, &rays);
+            renderer.DropDisoccludedMotion(block, &disocclusions, &context);
+          }
+        }
+        total_rays += rays;
+      },
+      tbb::simple_partitioner());
   out->rays = total_rays;
 }
 

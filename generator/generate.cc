@@ -399,9 +399,17 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
       Clock::time_point t0 = Clock::now();
       WorldState world = WorldAt(plan, frame);
       if (!scene || !(scene->world() == world)) {  // one scene per world state
+        // The scene two world states back is updated in place: its objects
+        // that did not change keep their BVHs; those of the state before are
+        // shared, not rebuilt.
+        std::unique_ptr<RenderScene> recycled = std::move(previous_scene);
         previous_scene = std::move(scene);
-        // The objects that did not change are shared, not rebuilt.
-        scene = std::make_unique<RenderScene>(device, plan, assets, world, previous_scene.get());
+        if (recycled) {
+          recycled->Update(device, assets, world, previous_scene.get());
+          scene = std::move(recycled);
+        } else {
+          scene = std::make_unique<RenderScene>(device, plan, assets, world, previous_scene.get());
+        }
       }
       // Motion is measured against the previous frame of the same shot, seen
       // in that frame's world (for moved objects and disocclusions).

@@ -3,7 +3,8 @@
 // object also gets a scene of its own (sharing its geometry) for the unoccluded
 // coverage that visibility fractions need. An object in the same state as in
 // an earlier frame's scene shares that scene's world-space mesh, geometry and
-// own scene instead of building them again.
+// own scene instead of building them again, and a scene can be moved to
+// another world state in place (Update), rebuilding only what changed.
 #pragma once
 
 #include <map>
@@ -77,12 +78,25 @@ class RenderScene {
   RenderScene(const RenderScene&) = delete;
   RenderScene& operator=(const RenderScene&) = delete;
 
+  // Makes this the scene of `world` (a world state of the same plan), as if
+  // built afresh with `earlier`: the objects whose state did not change keep
+  // their geometry and its BVH, so Embree rebuilds only the changed objects'
+  // BVHs and the level above them; changed objects are shared from
+  // `earlier` where it has them in their new state, else built. The terrain
+  // stays as it is (only its material follows the world).
+  void Update(const EmbreeDevice& device,
+              const SceneAssets& assets,
+              const WorldState& world,
+              const RenderScene* earlier = nullptr);
+
   RTCScene scene() const { return scene_; }
   // The scene holding only object `object` (nullptr when it is not rendered).
   RTCScene ObjectScene(int object) const { return object_scenes_[object]; }
   const Surface& surface(unsigned geom_id) const { return surfaces_[geom_id]; }
-  // Surface ids run from 0 to surface_count() - 1 (Embree geometries, then the
-  // ground plane).
+  // Surface ids run from 0 to surface_count() - 1: the terrain and its skirt
+  // (0 and 1, when the plan has terrain), one per object of the world in its
+  // order (a default Surface, with no mesh, while the object is not
+  // rendered), then the ground plane.
   size_t surface_count() const { return surfaces_.size(); }
   const WorldState& world() const { return world_; }
   // The plane z = kWorldGroundZ past the world ground's skirt
@@ -92,20 +106,36 @@ class RenderScene {
   int ground_plane() const { return ground_plane_; }
 
  private:
-  // A new Embree geometry reading `mesh` in place, attached (AttachMesh).
-  unsigned AddMesh(const EmbreeDevice& device, TriangleMesh mesh, const Surface& surface);
+  // The geometry id of object `i` (fixed: an object keeps its id across
+  // updates, which keeps the ids, and so the BVH, those of a fresh scene).
+  unsigned ObjectGeometryId(size_t i) const { return first_object_id_ + static_cast<unsigned>(i); }
+  // Object `i` in state `o`: kept when this scene has it so already, else
+  // shared from `earlier` or built, or removed when `o` is not rendered.
+  void PlaceObject(const EmbreeDevice& device,
+                   const SceneAssets& assets,
+                   size_t i,
+                   const ObjectState& o,
+                   const RenderScene* earlier);
+  void RemoveObject(size_t i);
+  // The terrain's material in `world` (LCAP may change it per frame).
+  void SetTerrainMaterial(const SceneAssets& assets, const WorldState& world);
+  // A new Embree geometry reading `mesh` in place, attached as `id`
+  // (AttachMesh).
+  void AddMesh(const EmbreeDevice& device, unsigned id, TriangleMesh mesh, const Surface& surface);
   // Attaches `geometry` (one reference of it passes to this scene) reading
-  // `mesh`; returns its geometry id.
-  unsigned AttachMesh(std::shared_ptr<const TriangleMesh> mesh,
-                      RTCGeometry geometry,
-                      Surface surface);
+  // `mesh`, as geometry id `id`.
+  void AttachMesh(unsigned id,
+                  std::shared_ptr<const TriangleMesh> mesh,
+                  RTCGeometry geometry,
+                  Surface surface);
 
   WorldState world_;
   RTCScene scene_ = nullptr;
-  std::vector<RTCScene> object_scenes_;
-  std::vector<int> object_geometry_;  // per object: its geometry id, -1 when not rendered
-  // By geometry id: the geometry, its world-space mesh (shared with the scenes
-  // that reuse it) and what a hit on it means.
+  unsigned first_object_id_ = 0;         // 2 with terrain (terrain, skirt), else 0
+  std::vector<RTCScene> object_scenes_;  // per object, nullptr when not rendered
+  // By geometry id: the geometry (nullptr where none is attached), its
+  // world-space mesh (shared with the scenes that reuse it) and what a hit on
+  // it means.
   std::vector<RTCGeometry> geometries_;
   std::vector<std::shared_ptr<const TriangleMesh>> meshes_;
   std::vector<Surface> surfaces_;

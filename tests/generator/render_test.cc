@@ -544,6 +544,73 @@ TEST(Render, AnEarlierScenesUnchangedObjectsAreSharedWithTheSameFilms) {
                 RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings)));
 }
 
+// A scene moved to other world states in place (RenderScene::Update) is the
+// scene built afresh for each: objects in view moved, hidden, shown again and
+// repainted, the terrain repainted, and the objects shared from an earlier
+// scene, all render the same films bit for bit.
+TEST(Render, AScenesUpdatedInPlaceRenderTheFilmsOfFreshScenes) {
+  const DemoFrames demo(SmallDemo());
+  RenderSettings settings;
+  settings.sampler = {4, 1.0, demo.plan.seed};
+  const PlannedFrame& frame = demo.plan.frames[1];
+  auto render = [&](const RenderScene& scene) {
+    return RenderFrame(scene, demo.sky, frame, demo.previous, settings);
+  };
+  // Three objects in view, besides the mover (object 0).
+  const Film seen = render(demo.scene);
+  const std::vector<uint32_t>& ids = seen.flat.at("instanceid").Get("id").uints;
+  std::vector<size_t> in_view;
+  for (size_t i = 1; i < demo.world.objects.size() && in_view.size() < 3; ++i) {
+    const uint32_t id = demo.plan.objects[i].instance_id;
+    if (std::count(ids.begin(), ids.end(), id) > 20) in_view.push_back(i);
+  }
+  ASSERT_EQ(in_view.size(), 3u);
+  WorldState changed = demo.world;
+  changed.objects[in_view[0]].visible = false;
+  changed.objects[in_view[1]].material = "painted_red";
+  changed.objects[in_view[2]].position.x() += 0.5;
+  changed.terrain_material = "sandy";
+
+  RenderScene updated(DemoFrames::Device(), demo.plan, demo.assets, demo.before);
+  struct Step {
+    const WorldState* world;
+    const RenderScene* earlier;
+  };
+  for (const Step& step : {Step{&demo.world, nullptr},
+                           Step{&changed, nullptr},
+                           Step{&demo.before, nullptr},  // shown again, moved back
+                           Step{&demo.world, &demo.scene}}) {
+    const WorldState from = updated.world();
+    std::vector<const Eigen::Vector3f*> positions;
+    for (size_t g = 0; g < updated.surface_count(); ++g)
+      positions.push_back(updated.surface(g).positions);
+    updated.Update(DemoFrames::Device(), demo.assets, *step.world, step.earlier);
+    ASSERT_TRUE(updated.world() == *step.world);
+    // The objects that did not change keep their geometry (and its BVH).
+    for (size_t g = 0; g < updated.surface_count(); ++g) {
+      const int object = updated.surface(g).object;
+      if (object >= 0 && from.objects[object] == step.world->objects[object]) {
+        EXPECT_EQ(updated.surface(g).positions, positions[g]) << object;
+      }
+    }
+    const RenderScene fresh(DemoFrames::Device(), demo.plan, demo.assets, *step.world);
+    ASSERT_EQ(updated.surface_count(), fresh.surface_count());
+    const Film films = render(updated);
+    EXPECT_TRUE(SameFilms(films, render(fresh)));
+    // Each step changes what the camera sees.
+    EXPECT_EQ(SameFilms(films, seen), step.world == &demo.world);
+    if (step.earlier == nullptr) continue;
+    // The mover, the one object that changed, is shared, not rebuilt.
+    int shared = 0;
+    for (size_t g = 0; g < updated.surface_count(); ++g) {
+      if (updated.surface(g).object != 0) continue;
+      EXPECT_EQ(updated.surface(g).positions, step.earlier->surface(g).positions);
+      ++shared;
+    }
+    EXPECT_EQ(shared, 1);
+  }
+}
+
 // Smooth fields once per pixel (PixelField): with a pixel footprint of a few
 // centimetres (a 6-degree view from 25 m), the albedo and cloud shadow of most
 // pixels are evaluated once. Only the RGB may change, and by less than the

@@ -49,7 +49,6 @@ class Estimator {
     for (const ObjectChange& c : frame.changes)
       if (c.asset) swaps += c.object + "=" + *c.asset + ";";
     if (!assets_ || swaps != assets_key_) {
-      scene_.reset();  // it refers to the assets it was built with
       auto& cached = assets_cache_[swaps];
       if (!cached) {
         if (assets_cache_.size() > kMaxCachedAssets) {
@@ -67,9 +66,13 @@ class Estimator {
       assets_key_ = swaps;
     }
     WorldState world = WorldAt(plan, frame);
-    if (!scene_ || !(world_ == world)) {
-      // The objects that did not change are shared with the scene before.
-      scene_ = std::make_unique<RenderScene>(*device_, plan, *assets_, world, scene_.get());
+    if (!scene_) {
+      scene_ = std::make_unique<RenderScene>(*device_, plan, *assets_, world);
+      world_ = std::move(world);
+    } else if (!(world_ == world)) {
+      // In place: the objects that did not change keep their BVHs (the
+      // scene holds its own meshes, so it outlives a change of assets).
+      scene_->Update(*device_, *assets_, world);
       world_ = std::move(world);
     }
     FrameMeasure measure;

@@ -123,6 +123,38 @@ TEST(ClassQuota, SharesLandOnTheirTargetOver200Frames) {
   EXPECT_LT(cubes, 85);
 }
 
+// The estimator keeps one scene and updates it in place from draw to draw,
+// class swaps included (RenderScene::Update): frame by frame, its measures
+// are those of a fresh estimator.
+TEST(ClassQuota, AnEstimatorUpdatedFromDrawToDrawMeasuresAsAFreshOne) {
+  // The target half under a plate: its visibility depends on its shape.
+  const char* scene =
+      "LSCENE = ONE(W) ONE(T) ONE(DL) ONE(PLATE)\n"
+      "W = terrain{size:[80,80]}\n"
+      "T = object{class:cube,extent:[2,2,1],position:{ON:W,within:[[-1,-1,-9],[1,1,9]]}}\n"
+      "DL = light{elevation:50,azimuth:135}\n"
+      "PLATE = object{class:cube,extent:[3,1.5,0.1],target:false,"
+      "position:{within:[[-0.01,0.99,3],[0.01,1.01,3.01]]}}\n";
+  const Plan plan = PlanText(scene, Capture(30, kPose, kSwap, "Q = require{altitude:[0,99]}\n"));
+  const FrameEstimatorFactory factory = gen::MakeFrameEstimatorFactory();
+  const FrameEstimator kept = factory();
+  int swaps = 0, partly_hidden = 0;
+  uint32_t last = 0;
+  for (const PlannedFrame& f : plan.frames) {
+    const FrameMeasure updated = kept(plan, f);
+    const FrameMeasure fresh = factory()(plan, f);
+    ASSERT_EQ(updated.targets.size(), 1u);
+    ASSERT_EQ(fresh.targets.size(), 1u);
+    EXPECT_EQ(updated.targets[0].values, fresh.targets[0].values) << f.index;
+    const double visibility = updated.targets[0].values.at("visibility");
+    partly_hidden += visibility > 0.05 && visibility < 0.95;
+    swaps += TargetClass(plan, f) != last;
+    last = TargetClass(plan, f);
+  }
+  EXPECT_GT(swaps, 10);
+  EXPECT_GT(partly_hidden, 10);
+}
+
 TEST(ClassQuota, WithoutATargetItCountsEveryTargetInView) {
   const Plan plan = PlanText(
       kScene, Capture(40, kPose, kSwap, "Q = quota{quantity:class,classes:[barrel,rock]}\n"));

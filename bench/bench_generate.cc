@@ -46,6 +46,7 @@
 #include "libs/collection/worldposition_layout.h"
 #include "libs/imaging/srgb_image.h"
 #include "libs/util/strings.h"
+#include "tests/build_paths.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -97,7 +98,7 @@ PeerRun RunCycles(
   fs::remove_all(out);
   fs::create_directories(out);
   const std::string command =
-      blender + " -b --factory-startup -noaudio --python " + std::string(LSDS_SOURCE_DIR) +
+      blender + " -b --factory-startup -noaudio --python " + ::lsds::testing::SourceDir() +
       "/bench/peers/cycles_demo.py -- " + std::to_string(size) + " " + std::to_string(size) + " " +
       std::to_string(frames) + " " + std::to_string(spp) + " " + out.string() + " " +
       std::to_string(threads) + " > " + (out / "blender.log").string() + " 2>&1";

@@ -31,6 +31,7 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include "tests/build_paths.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -141,7 +142,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> commands = {"info", "validate", "convert"};
   std::string validate_checks = "all";
   std::string work = (fs::temp_directory_path() / "lsds_bench_scale").string();
-  std::string lsds = LSDS_BINARY;
+  std::string lsds = ::lsds::testing::BinaryDir() + "/tools/lsds";
   bool keep = false;
   app.add_option("--sizes", sizes, "frame counts")->delimiter(',');
   app.add_option("--commands", commands, "info, validate, convert")->delimiter(',');

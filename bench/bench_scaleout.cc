@@ -21,6 +21,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include "tests/build_paths.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -64,7 +65,7 @@ int main(int argc, char** argv) {
   app.add_option("--spp", spp, "samples per pixel (default 1)");
   app.add_option("--shards", shards, "N shard processes (default 2)");
   CLI11_PARSE(app, argc, argv);
-  const std::string lsds = std::string(LSDS_BINARY_DIR) + "/tools/lsds";
+  const std::string lsds = ::lsds::testing::BinaryDir() + "/tools/lsds";
   const fs::path dir =
       fs::temp_directory_path() / ("lsds_bench_scaleout_" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -72,7 +73,7 @@ int main(int argc, char** argv) {
   const int threads_per_shard = std::max(1, cores / shards);
 
   // The capture: the demo survey with the grid and size asked for.
-  std::ifstream in(std::string(LSDS_SOURCE_DIR) + "/examples/demo_survey.lcap");
+  std::ifstream in(::lsds::testing::SourceDir() + "/examples/demo_survey.lcap");
   std::string capture((std::istreambuf_iterator<char>(in)), {});
   const size_t x = grid.find('x'), w = size.find('x');
   capture = std::regex_replace(capture,
@@ -83,7 +84,7 @@ int main(int argc, char** argv) {
   capture = std::regex_replace(
       capture, std::regex(R"(y:\[-25,25,4\])"), "y:[-25,25," + grid.substr(x + 1) + "]");
   std::ofstream(dir / "bench.lcap") << capture;
-  const std::string generate = "CI=true " + lsds + " generate " + LSDS_SOURCE_DIR +
+  const std::string generate = "CI=true " + lsds + " generate " + ::lsds::testing::SourceDir() +
                                "/examples/uav_survey.lscene " + Quote(dir / "bench.lcap") +
                                " -q --seed 1 --spp " + std::to_string(spp);
 

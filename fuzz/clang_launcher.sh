@@ -14,6 +14,9 @@ else
   flags="-O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
 fi
 if [ "$mode" = compile ] && command -v ccache >/dev/null 2>&1; then
+  # As for the project's own compiles (CMakeLists.txt): shared between checkouts.
+  CCACHE_BASEDIR="$(cd "$(dirname "$0")/.." && pwd)"
+  export CCACHE_BASEDIR CCACHE_NOHASHDIR=1
   exec ccache "$clang" "$@" $flags
 fi
 exec "$clang" "$@" $flags

@@ -7,6 +7,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config ninja-build
+  ccache                            # compiles shared between checkouts and runs (CMakeLists.txt)
   libopenexr-dev openexr            # EXR layers (flat + deep) and exrheader/exrinfo for tests
   libopencv-dev                     # images, contours
   libeigen3-dev                     # geometry

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include "tests/build_paths.h"
 
 namespace lsds::testing {
 
@@ -52,7 +53,7 @@ inline CommandResult RunCommandLine(const std::string& command_line) {
 }
 
 // The lsds binary of this build.
-inline std::string LsdsBinary() { return std::string(LSDS_BINARY_DIR) + "/tools/lsds"; }
+inline std::string LsdsBinary() { return ::lsds::testing::BinaryDir() + "/tools/lsds"; }
 
 // Runs `lsds ARGS`, capturing its output.
 inline CommandResult RunLsds(const std::string& args) {

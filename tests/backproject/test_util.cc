@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <vector>
+#include "tests/build_paths.h"
 
 namespace lsds::testing {
 
@@ -31,7 +32,7 @@ fs::path WriteSynth(const fs::path& root, const synth::Spec& spec) {
 int RunLsds(const std::string& args, std::string* output) {
   const fs::path log = fs::temp_directory_path() / ("lsds_bp_log_" + std::to_string(::getpid()));
   const std::string command =
-      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " > " + log.string() + " 2>&1";
+      ::lsds::testing::BinaryDir() + "/tools/lsds " + args + " > " + log.string() + " 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream in(log);
   std::stringstream text;

@@ -19,6 +19,7 @@
 #include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "tests/build_paths.h"
 
 namespace lsds::bundle {
 namespace {
@@ -63,7 +64,7 @@ int RunLsds(const std::string& args, std::string* output) {
       (fs::temp_directory_path() / ("lsds_bundles_cli_out_" + std::to_string(getpid()) + ".txt"))
           .string();
   const std::string command =
-      std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " > " + out_file + " 2>&1";
+      ::lsds::testing::BinaryDir() + "/tools/lsds " + args + " > " + out_file + " 2>&1";
   const int status = std::system(command.c_str());
   *output = ReadFile(out_file);
   fs::remove(out_file);

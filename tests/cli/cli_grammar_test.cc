@@ -13,6 +13,7 @@
 
 #include "libs/synth/synthetic_collection.h"
 #include "tests/test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 using testing::CommandResult;
 using testing::RunCommandLine;
 
-const std::string kExamples = LSDS_EXAMPLES_DIR;
+const std::string kExamples = ::lsds::testing::ExamplesDir();
 
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream in(path);

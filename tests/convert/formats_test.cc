@@ -13,6 +13,7 @@
 #include "libs/util/error.h"
 #include "tests/convert/convert_test_util.h"
 #include "tests/convert/reference_decoders.h"
+#include "tests/build_paths.h"
 
 namespace lsds::testing {
 namespace {
@@ -485,7 +486,7 @@ TEST_F(ConvertTest, OutputIsDeterministic) {
 }
 
 TEST_F(ConvertTest, CommandLineExitCodes) {
-  const std::string lsds = std::string(LSDS_BINARY_DIR) + "/tools/lsds";
+  const std::string lsds = ::lsds::testing::BinaryDir() + "/tools/lsds";
   const std::string out = (Out("cli")).string();
   const std::string ok =
       lsds + " convert " + Collection().string() + " --to yolo --images none -q -o " + out;

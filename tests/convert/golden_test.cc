@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/convert/convert_test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds::testing {
 namespace {
@@ -62,7 +63,7 @@ TEST_P(GoldenTest, ExactFiles) {
     const std::string path = fs::absolute(out).lexically_normal().string();
     EXPECT_EQ(ReadText(out / "data.yaml").find(path), std::string::npos);
   }
-  const fs::path golden = fs::path(LSDS_GOLDEN_DIR) / c.name;
+  const fs::path golden = fs::path(::lsds::testing::SourceDir()) / "tests" / "convert" / "golden" / c.name;
   if (std::getenv("LSDS_UPDATE_GOLDEN") != nullptr) {
     fs::remove_all(golden);
     fs::create_directories(golden.parent_path());

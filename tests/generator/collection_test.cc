@@ -18,6 +18,7 @@
 #include "libs/util/error.h"
 #include "tests/generator/test_plans.h"
 #include "tests/test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds::gen {
 namespace {
@@ -209,7 +210,7 @@ int Shell(const std::string& command) {
 }
 
 TEST(GenerateCommand, DemoCollectionPassesInfoAndRefusesOverwrite) {
-  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
+  const std::string lsds = ::lsds::testing::BinaryDir() + "/tools/lsds";
   const fs::path root = TempRoot("cli");
   const std::string generate =
       lsds + " generate --demo --demo-frames 2 --demo-size 48x32 --spp 1 -q -o " + root.string();
@@ -231,7 +232,7 @@ TEST(GenerateCommand, PlanJsonRendersLikeThePlanInMemory) {
   const Plan plan = MovingPlan(3);
   WriteFileAtomic(plan_file, PlanToJson(plan).dump(2));
   GenerateCollection(plan, Options(reference));
-  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
+  const std::string lsds = ::lsds::testing::BinaryDir() + "/tools/lsds";
   ASSERT_EQ(Shell(lsds + " generate -q --plan " + plan_file.string() + " -o " + root.string()), 0);
   EXPECT_EQ(ReadFile(root / kCollectionFile), ReadFile(reference / kCollectionFile));
   for (const auto& [index, frame] : FramesByIndex(root))
@@ -240,8 +241,8 @@ TEST(GenerateCommand, PlanJsonRendersLikeThePlanInMemory) {
 
 TEST(GenerateCommand, RendersAnLsceneExample) {
   const fs::path root = TempRoot("lscene");
-  const std::string lsds = LSDS_BINARY_DIR "/tools/lsds";
-  const std::string scene = LSDS_SOURCE_DIR "/examples/rocky_sand_clutter.lscene";
+  const std::string lsds = ::lsds::testing::BinaryDir() + "/tools/lsds";
+  const std::string scene = ::lsds::testing::ExamplesDir() + "/rocky_sand_clutter.lscene";
   ASSERT_EQ(Shell(lsds + " generate -q --spp 1 --seed 3 " + scene + " -o " + root.string()), 0);
   const std::map<int64_t, Frame> frames = FramesByIndex(root);
   ASSERT_EQ(frames.size(), 1u);

@@ -20,6 +20,7 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tests/test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -237,7 +238,7 @@ TEST(MotionLayout, GeneratedRigWithMoversLayoutsAgree) {
          "P = path{waypoints:{points:[[-10,0,45],[0,0,45]],speed:5}}\n"
          "CL = collection{CO:{move:[P]}}\n";
   ExpectLayoutsAgree(dir,
-                     std::string(LSDS_EXAMPLES_DIR) + "/time_of_day_movers.lscene " +
+                     ::lsds::testing::ExamplesDir() + "/time_of_day_movers.lscene " +
                          (dir / "rig.lcap").string() + " --depth perspective");
 }
 

@@ -19,6 +19,7 @@
 #include "libs/util/atomic_file.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -330,7 +331,7 @@ TEST(RigRequirements, TheRigExampleTakesRequirementsAndAQuota) {
   // examples/time_of_day_movers: a nadir + oblique rig on a smooth flight
   // (no pose to redraw); the quota over the sun's elevation is met by the
   // light change the capture makes after step 2.
-  const std::string dir = LSDS_EXAMPLES_DIR;
+  const std::string dir = ::lsds::testing::ExamplesDir();
   const std::string lcap = ReadFile(dir + "/time_of_day_movers.lcap");
   const std::string lscene = ReadFile(dir + "/time_of_day_movers.lscene");
   std::string capture = lcap;

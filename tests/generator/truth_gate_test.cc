@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -22,7 +23,7 @@ using testing::LsdsBinary;
 using testing::RunCommandLine;
 using testing::TempDir;
 
-const std::string kExamples = LSDS_EXAMPLES_DIR;
+const std::string kExamples = ::lsds::testing::ExamplesDir();
 
 // Hilly terrain, objects ON it (a mixed-class symbol, a cube) and an
 // invisible helper, as UAV scenes have them.

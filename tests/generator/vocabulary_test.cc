@@ -18,12 +18,13 @@
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 #include "tests/lang/plan_text.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
 
-const std::string kRoot = LSDS_SOURCE_DIR;
-const std::string kRegenerate = "regenerate with: " + std::string(LSDS_BINARY_DIR) +
+const std::string kRoot = ::lsds::testing::SourceDir();
+const std::string kRegenerate = "regenerate with: " + ::lsds::testing::BinaryDir() +
                                 "/tests/generator/vocabulary_print --write " + kRoot;
 
 using testing::PlanErrorOf;
@@ -294,7 +295,7 @@ TEST(Vocabulary, SchemasListTheTableKeys) {
 }
 
 TEST(Vocabulary, CheckModeOfThePrinterPassesOnTheRepository) {
-  const std::string printer = std::string(LSDS_BINARY_DIR) + "/tests/generator/vocabulary_print";
+  const std::string printer = ::lsds::testing::BinaryDir() + "/tests/generator/vocabulary_print";
   EXPECT_EQ(std::system((printer + " --check " + kRoot).c_str()), 0) << kRegenerate;
 }
 

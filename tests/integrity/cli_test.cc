@@ -14,6 +14,7 @@
 #include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
 #include "tests/test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -390,7 +391,7 @@ TEST(Numbers, FlagsAreRangeChecked) {
 
 TEST(Text, Latin1ByteInAnLsceneCommentIsLocated) {
   testing::TempDir dir;
-  const fs::path examples = LSDS_EXAMPLES_DIR;
+  const fs::path examples = ::lsds::testing::ExamplesDir();
   std::string scene = ReadText(examples / "uav_survey.lscene");
   // Line 1 is a comment: put a Latin-1 'é' (0xE9) at its column 5.
   scene = scene.substr(0, 4) + "\xE9" + scene.substr(4);
@@ -458,7 +459,7 @@ TEST(Text, PlanErrorsAndMessagesAreReadable) {
   EXPECT_EQ(folder.exit_code, 2) << folder.output;
   EXPECT_NE(folder.output.find("is a folder"), std::string::npos) << folder.output;
   // A 10 MB identifier gives a short message.
-  const fs::path examples = LSDS_EXAMPLES_DIR;
+  const fs::path examples = ::lsds::testing::ExamplesDir();
   std::string scene = ReadText(examples / "uav_survey.lscene");
   scene += "\n" + std::string(10 << 20, 'Q') + " = box{size:[1,1,1]}\n";
   WriteText(dir / "big.lscene", scene);

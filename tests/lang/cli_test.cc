@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -14,7 +15,7 @@ using testing::LsdsBinary;
 using testing::RunCommandLine;
 using testing::TempDir;
 
-const std::string kExamples = LSDS_EXAMPLES_DIR;
+const std::string kExamples = ::lsds::testing::ExamplesDir();
 
 TEST(LangCli, PlanWritesTheSameFileForTheSameSeed) {
   TempDir dir;

@@ -7,11 +7,12 @@
 #include "generator/lang/source.h"
 #include "generator/plan/plan_json.h"
 #include "tests/lang/plan_text.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
 
-const std::string kExamples = LSDS_EXAMPLES_DIR;
+const std::string kExamples = ::lsds::testing::ExamplesDir();
 
 using testing::PlanErrorOf;
 

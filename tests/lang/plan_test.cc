@@ -14,11 +14,12 @@
 #include "libs/collection/schema.h"
 #include "libs/geometry/oriented_box.h"
 #include "tests/test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
 
-const std::string kExamples = LSDS_EXAMPLES_DIR;
+const std::string kExamples = ::lsds::testing::ExamplesDir();
 
 Plan PlanText(const std::string& scene,
               const std::string& capture,

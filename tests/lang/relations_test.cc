@@ -9,6 +9,7 @@
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
 #include "libs/geometry/oriented_box.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -155,7 +156,7 @@ TEST(LangRelations, VisibleFromKeepsTheLineOfSightClearOfEarlierBoxes) {
 // The example a user starts from plans on several seeds and keeps its relations.
 TEST(LangRelations, TheCheckpointExampleHoldsItsRelations) {
   const SourceFile scene =
-      LoadSource(std::string(LSDS_EXAMPLES_DIR) + "/checkpoint_relations.lscene");
+      LoadSource(::lsds::testing::ExamplesDir() + "/checkpoint_relations.lscene");
   for (uint64_t seed = 0; seed < 6; ++seed) {
     const Plan plan = MakePlanFromSources(scene, nullptr, seed);
     const PlannedObject* truck = nullptr;

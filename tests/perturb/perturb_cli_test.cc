@@ -12,6 +12,7 @@
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_stream.h"
 #include "tests/perturb/perturb_test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -27,7 +28,7 @@ struct CliRun {
 };
 
 CliRun Lsds(const std::string& args) {
-  const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>&1";
+  const std::string command = ::lsds::testing::BinaryDir() + "/tools/lsds " + args + " 2>&1";
   CliRun run;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -176,7 +177,7 @@ TEST_F(PerturbCli, NotACollectionIsRefused) {
 TEST_F(PerturbCli, ConcurrentWritersAllRegister) {
   std::string script;
   for (int seed = 1; seed <= 8; ++seed) {
-    script += std::string(LSDS_BINARY_DIR) + "/tools/lsds perturb-metadata " + root_.string() +
+    script += ::lsds::testing::BinaryDir() + "/tools/lsds perturb-metadata " + root_.string() +
               " --sigma 1 --seed " + std::to_string(seed) + " >/dev/null 2>&1 & ";
   }
   script += "wait";

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "tests/test_util.h"
+#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {
@@ -40,7 +41,7 @@ class MergeCliTest : public ::testing::Test {
   // 12 frames (a 4 x 3 grid) at 64x48, one sample per pixel.
   static void SetUpTestSuite() {
     dir_ = new testing::TempDir();
-    std::string capture = Slurp(fs::path(LSDS_SOURCE_DIR) / "examples" / "demo_survey.lcap");
+    std::string capture = Slurp(fs::path(::lsds::testing::SourceDir()) / "examples" / "demo_survey.lcap");
     capture = std::regex_replace(capture, std::regex(R"(res:\[512,512\])"), "res:[64,48]");
     capture = std::regex_replace(capture, std::regex(R"(x:\[-40,40,6\])"), "x:[-40,40,4]");
     capture = std::regex_replace(capture, std::regex(R"(y:\[-25,25,4\])"), "y:[-25,25,3]");
@@ -53,7 +54,7 @@ class MergeCliTest : public ::testing::Test {
 
   static int Generate(const std::string& out, const std::string& extra, int seed = 3) {
     const testing::CommandResult r = RunCommandLine(
-        "CI=true " + LsdsBinary() + " generate " + LSDS_SOURCE_DIR +
+        "CI=true " + LsdsBinary() + " generate " + ::lsds::testing::SourceDir() +
         "/examples/uav_survey.lscene " + (*dir_ / "small.lcap").string() + " --spp 1 -q --seed " +
         std::to_string(seed) + " " + extra + " -o " + (*dir_ / out).string());
     if (r.exit_code != 0) ADD_FAILURE() << r.output;
@@ -156,7 +157,7 @@ TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
 // #SBATCH lines, so running each array task by hand and then the merge must
 // give the single run.
 TEST_F(MergeCliTest, SubmitScriptsRunByHandGiveTheSingleRun) {
-  const std::string submit = "CI=true " + LsdsBinary() + " submit slurm " + LSDS_SOURCE_DIR +
+  const std::string submit = "CI=true " + LsdsBinary() + " submit slurm " + ::lsds::testing::SourceDir() +
                              "/examples/uav_survey.lscene " + Path("small.lcap").string() +
                              " --spp 1 --seed 3 -o " + Path("slurm_run").string();
   testing::CommandResult r = RunCommandLine(submit + " --shards 3");

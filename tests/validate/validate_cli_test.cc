@@ -14,6 +14,7 @@
 #include "libs/collection/schema.h"
 #include "tests/validate/corruptions.h"
 #include "validators/checks.h"
+#include "tests/build_paths.h"
 
 namespace lsds::validate {
 namespace {
@@ -26,7 +27,7 @@ struct CliRun {
 };
 
 CliRun Lsds(const std::string& args) {
-  const std::string command = std::string(LSDS_BINARY_DIR) + "/tools/lsds " + args + " 2>/dev/null";
+  const std::string command = ::lsds::testing::BinaryDir() + "/tools/lsds " + args + " 2>/dev/null";
   CliRun run;
   FILE* pipe = popen(command.c_str(), "r");
   char buffer[4096];

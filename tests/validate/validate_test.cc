@@ -16,6 +16,7 @@
 #include "validators/checks.h"
 #include "validators/report_writers.h"
 #include "validators/validate.h"
+#include "tests/build_paths.h"
 
 namespace lsds::validate {
 namespace {
@@ -230,7 +231,7 @@ TEST(CheckSelectionTest, GroupsAndSuggestions) {
 }
 
 TEST(DocsTest, DocsListEveryCheck) {
-  std::ifstream in(std::string(LSDS_SOURCE_DIR) + "/docs/validate.md");
+  std::ifstream in(::lsds::testing::SourceDir() + "/docs/validate.md");
   ASSERT_TRUE(in.good());
   std::stringstream text;
   text << in.rdbuf();

@@ -9,6 +9,7 @@
 
 #include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
+#include "generator/lang/placement_grid.h"
 #include "generator/lang/vocabulary.h"
 #include "generator/plan/relations.h"
 #include "generator/plan/terrain_height.h"
@@ -33,6 +34,9 @@ const std::map<std::string, Eigen::Vector3d>& BuiltinClasses() {
 namespace {
 
 constexpr double kHuge = 1e7;  // the "max sized 3D bounding box" of Algorithm 1
+// The placement grid's cell, metres: about the size of the clutter it is for (bushes, rocks,
+// vehicles); a building spans a few cells, anything over 64 cells goes on the grid's short list.
+constexpr double kPlacementCellM = 4.0;
 
 // The relations with a reference object and an optional distance
 // (relations.h): `NEAR:X`, `NEAR:{X:5}`, `BEHIND:{X:[5,20]}`.
@@ -564,6 +568,8 @@ class SceneEvaluator {
       if (!keep) continue;
       o.name = def.symbol + "#" + std::to_string(++copy_number);
       by_symbol_[def.symbol].push_back(placed_.size());
+      if (o.visible)
+        grid_.Insert(static_cast<uint32_t>(placed_.size()), FootprintOf(p.aabb, o.separation));
       placed_.push_back(p);
     }
   }
@@ -867,9 +873,22 @@ class SceneEvaluator {
     return false;
   }
 
-  bool Collides(const Placed& p, const std::set<std::string>& supports) const {
+  // A footprint on the ground grown by a separation, for the placement grid.
+  static PlacementGrid::Rect FootprintOf(const Box& aabb, double separation) {
+    return {aabb.lo.x() - separation,
+            aabb.lo.y() - separation,
+            aabb.hi.x() + separation,
+            aabb.hi.y() + separation};
+  }
+
+  // Whether p overlaps a visible object placed before it. Each footprint is in the grid grown by
+  // its own separation and the query by p's, so the pairs within the larger of the two gaps are
+  // among the neighbours the grid returns.
+  bool Collides(const Placed& p, const std::set<std::string>& supports) {
     if (!p.object.visible) return false;
-    for (const Placed& q : placed_) {
+    grid_.Near(FootprintOf(p.aabb, p.object.separation), &near_);
+    for (const uint32_t index : near_) {
+      const Placed& q = placed_[index];
       if (!q.object.visible || supports.count(q.object.symbol)) continue;
       // The larger separation of the two: the gap either asks for.
       const double gap = std::max(p.object.separation, q.object.separation);
@@ -896,6 +915,8 @@ class SceneEvaluator {
   std::map<std::string, Node> count_nodes_;
   std::set<std::string> many_default_;
   std::vector<Placed> placed_;
+  PlacementGrid grid_{kPlacementCellM};  // the visible ones among placed_, by ground cell
+  std::vector<uint32_t> near_;           // Collides' scratch list
   std::map<std::string, std::vector<size_t>> by_symbol_;
 };
 

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/synth/synthetic_collection.h"
-#include "tests/test_util.h"
 #include "tests/build_paths.h"
+#include "tests/test_util.h"
 
 namespace lsds {
 namespace {

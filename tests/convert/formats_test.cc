@@ -11,9 +11,9 @@
 #include "converters/class_map.h"
 #include "converters/split.h"
 #include "libs/util/error.h"
+#include "tests/build_paths.h"
 #include "tests/convert/convert_test_util.h"
 #include "tests/convert/reference_decoders.h"
-#include "tests/build_paths.h"
 
 namespace lsds::testing {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/convert/convert_test_util.h"
 #include "tests/build_paths.h"
+#include "tests/convert/convert_test_util.h"
 
 namespace lsds::testing {
 namespace {
@@ -63,7 +63,8 @@ TEST_P(GoldenTest, ExactFiles) {
     const std::string path = fs::absolute(out).lexically_normal().string();
     EXPECT_EQ(ReadText(out / "data.yaml").find(path), std::string::npos);
   }
-  const fs::path golden = fs::path(::lsds::testing::SourceDir()) / "tests" / "convert" / "golden" / c.name;
+  const fs::path golden =
+      fs::path(::lsds::testing::SourceDir()) / "tests" / "convert" / "golden" / c.name;
   if (std::getenv("LSDS_UPDATE_GOLDEN") != nullptr) {
     fs::remove_all(golden);
     fs::create_directories(golden.parent_path());

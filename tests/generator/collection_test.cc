@@ -16,9 +16,9 @@
 #include "libs/exr/flat_image.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "tests/build_paths.h"
 #include "tests/generator/test_plans.h"
 #include "tests/test_util.h"
-#include "tests/build_paths.h"
 
 namespace lsds::gen {
 namespace {

@@ -17,9 +17,9 @@
 #include "generator/plan/plan_json.h"
 #include "generator/plan/relations.h"
 #include "libs/util/atomic_file.h"
+#include "tests/build_paths.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
-#include "tests/build_paths.h"
 
 namespace lsds {
 namespace {

@@ -17,8 +17,8 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
-#include "tests/lang/plan_text.h"
 #include "tests/build_paths.h"
+#include "tests/lang/plan_text.h"
 
 namespace lsds {
 namespace {

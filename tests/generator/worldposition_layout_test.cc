@@ -19,8 +19,8 @@
 #include "libs/exr/flat_image.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
-#include "tests/test_util.h"
 #include "tests/build_paths.h"
+#include "tests/test_util.h"
 
 namespace lsds {
 namespace {

@@ -13,8 +13,8 @@
 #include "libs/exr/flat_image.h"
 #include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
-#include "tests/test_util.h"
 #include "tests/build_paths.h"
+#include "tests/test_util.h"
 
 namespace lsds {
 namespace {

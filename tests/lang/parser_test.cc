@@ -6,8 +6,8 @@
 #include "generator/lang/random.h"
 #include "generator/lang/source.h"
 #include "generator/plan/plan_json.h"
-#include "tests/lang/plan_text.h"
 #include "tests/build_paths.h"
+#include "tests/lang/plan_text.h"
 
 namespace lsds {
 namespace {

@@ -13,8 +13,8 @@
 #include "generator/scene/world.h"
 #include "libs/collection/schema.h"
 #include "libs/geometry/oriented_box.h"
-#include "tests/test_util.h"
 #include "tests/build_paths.h"
+#include "tests/test_util.h"
 
 namespace lsds {
 namespace {
@@ -143,6 +143,37 @@ TEST(LangPlan, OverlapFalseLeavesNoIntersectingBoxes) {
       for (size_t j = i + 1; j < plan.objects.size(); ++j)
         EXPECT_FALSE(Obb(plan.objects[i]).Intersects(Obb(plan.objects[j])))
             << plan.objects[i].name << " " << plan.objects[j].name << " seed " << seed;
+  }
+}
+
+// The placement grid (generator/lang/placement_grid.h) across its cases: clutter in cells,
+// walls wider than the grid takes, separations larger than a cell.
+TEST(LangPlan, OverlapFalseHoldsForWallsAndSeparations) {
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(WALL) MANY(A, 150) MANY(B, 150)\n"
+      "W = terrain{size:[400,400]}\n"
+      "WALL = object{class:cube,extent:[380,2,3],position:{ON:W,within:[[-1,-1,-9],[1,1,9]]}}\n"
+      "A = object{class:cube,extent:[1,1,1],rotation:[0,0,[0,360]],separation:6,"
+      "on_overlap:delete,position:{ON:W,within:[[-60,-60,-9],[60,60,9]]}}\n"
+      "B = "
+      "object{class:barrel,on_overlap:delete,position:{ON:W,within:[[-60,-60,-9],[60,60,9]]}}\n";
+  for (uint64_t seed = 0; seed < 5; ++seed) {
+    const Plan plan = PlanText(scene, "", seed);
+    ASSERT_GT(plan.objects.size(), 100u);
+    for (size_t i = 0; i < plan.objects.size(); ++i)
+      for (size_t j = i + 1; j < plan.objects.size(); ++j) {
+        // As the planner tests it: the world boxes within the larger separation on every
+        // axis and the later object's box, grown by it, meeting the earlier one.
+        const PlannedObject& earlier = plan.objects[i];
+        const PlannedObject& later = plan.objects[j];
+        const double gap = std::max(earlier.separation, later.separation);
+        const Eigen::Vector3d apart =
+            (later.position - earlier.position).cwiseAbs() - HalfAabb(later) - HalfAabb(earlier);
+        OrientedBox grown = Obb(later);
+        grown.half_extents.array() += gap;
+        EXPECT_FALSE((apart.array() < gap).all() && grown.Intersects(Obb(earlier)))
+            << earlier.name << " " << later.name << " seed " << seed;
+      }
   }
 }
 

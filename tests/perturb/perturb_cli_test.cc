@@ -11,8 +11,8 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_stream.h"
-#include "tests/perturb/perturb_test_util.h"
 #include "tests/build_paths.h"
+#include "tests/perturb/perturb_test_util.h"
 
 namespace lsds {
 namespace {

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <string>
 
-#include "tests/test_util.h"
 #include "tests/build_paths.h"
+#include "tests/test_util.h"
 
 namespace lsds {
 namespace {
@@ -41,7 +41,8 @@ class MergeCliTest : public ::testing::Test {
   // 12 frames (a 4 x 3 grid) at 64x48, one sample per pixel.
   static void SetUpTestSuite() {
     dir_ = new testing::TempDir();
-    std::string capture = Slurp(fs::path(::lsds::testing::SourceDir()) / "examples" / "demo_survey.lcap");
+    std::string capture =
+        Slurp(fs::path(::lsds::testing::SourceDir()) / "examples" / "demo_survey.lcap");
     capture = std::regex_replace(capture, std::regex(R"(res:\[512,512\])"), "res:[64,48]");
     capture = std::regex_replace(capture, std::regex(R"(x:\[-40,40,6\])"), "x:[-40,40,4]");
     capture = std::regex_replace(capture, std::regex(R"(y:\[-25,25,4\])"), "y:[-25,25,3]");
@@ -157,9 +158,10 @@ TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
 // #SBATCH lines, so running each array task by hand and then the merge must
 // give the single run.
 TEST_F(MergeCliTest, SubmitScriptsRunByHandGiveTheSingleRun) {
-  const std::string submit = "CI=true " + LsdsBinary() + " submit slurm " + ::lsds::testing::SourceDir() +
-                             "/examples/uav_survey.lscene " + Path("small.lcap").string() +
-                             " --spp 1 --seed 3 -o " + Path("slurm_run").string();
+  const std::string submit = "CI=true " + LsdsBinary() + " submit slurm " +
+                             ::lsds::testing::SourceDir() + "/examples/uav_survey.lscene " +
+                             Path("small.lcap").string() + " --spp 1 --seed 3 -o " +
+                             Path("slurm_run").string();
   testing::CommandResult r = RunCommandLine(submit + " --shards 3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const fs::path work = Path("slurm_run.shards");

@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/collection/schema.h"
+#include "tests/build_paths.h"
 #include "tests/validate/corruptions.h"
 #include "validators/checks.h"
-#include "tests/build_paths.h"
 
 namespace lsds::validate {
 namespace {

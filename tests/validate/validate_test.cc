@@ -11,12 +11,12 @@
 
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/camera.h"
+#include "tests/build_paths.h"
 #include "tests/validate/corruptions.h"
 #include "validators/camera_checks.h"
 #include "validators/checks.h"
 #include "validators/report_writers.h"
 #include "validators/validate.h"
-#include "tests/build_paths.h"
 
 namespace lsds::validate {
 namespace {

@@ -360,6 +360,11 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
                          std::to_string(options.spp) + " samples per pixel)",
                      "");
   }
+  // And a scene whose meshes and BVHs cannot fit (10^5 detailed objects) is the same kind of
+  // error, before any output, rather than an out-of-memory halfway through the first frame.
+  CheckMemoryBudget(RenderSceneBytes(assets),
+                    "the render scene of " + std::to_string(plan.objects.size()) + " objects",
+                    "");
   const CollectionHeader base_header = MakeHeader(plan, options);
   nlohmann::json settings = RenderSettingsJson(options);
   settings["seed"] = plan.seed;

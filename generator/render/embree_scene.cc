@@ -35,6 +35,16 @@ const ClassShape& SceneAssets::ShapeOf(size_t i, const std::string& asset) const
   return swap == swapped.end() ? shapes[i] : swap->second;
 }
 
+double RenderSceneBytes(const SceneAssets& assets) {
+  constexpr double kBytesPerTriangle = 280;
+  double triangles = 0;
+  for (const ClassShape& shape : assets.shapes)
+    triangles += static_cast<double>(shape.mesh.triangles.size());
+  for (const auto& [key, shape] : assets.swapped)
+    triangles += static_cast<double>(shape.mesh.triangles.size());
+  return kBytesPerTriangle * triangles;
+}
+
 SceneAssets BuildSceneAssets(const Plan& plan) {
   SceneAssets assets;
   assets.shapes.reserve(plan.objects.size());

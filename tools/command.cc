@@ -7,6 +7,8 @@
 #include <iostream>
 #include <new>
 
+#include "converters/registry.h"
+#include "libs/importers/registry.h"
 #include "libs/util/check.h"
 #include "libs/util/error.h"
 #include "libs/util/limits.h"
@@ -25,7 +27,10 @@ const std::vector<Command>& Commands() {
        "check a collection: schemas, structure, layers, cross-layer truth, "
        "camera geometry",
        RunValidate},
-      {"convert", "truth into YOLO, COCO or CVAT files with a loss report", RunConvert},
+      // The formats come from the registries, so that help never lists fewer than there are.
+      {"convert",
+       "truth into " + Join(convert::ConverterNames(), ", ") + " with a loss report",
+       RunConvert},
       {"perturb-metadata",
        "write a perturbed copy of the metadata with the noise and errors "
        "recorded",
@@ -48,7 +53,9 @@ const std::vector<Command>& Commands() {
        RunMergeReports},
       {"submit", "write and submit a Slurm job array of generate shards and its merge", RunSubmit},
       {"synth", "write a synthetic collection with exact analytic truth (for tests)", RunSynth},
-      {"import", "another simulator's output (ue-mrq, airsim, bop) into a collection", RunImport},
+      {"import",
+       "another simulator's output (" + Join(import::ImporterNames(), ", ") + ") into a collection",
+       RunImport},
   };
   return commands;
 }

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "converters/registry.h"
+#include "libs/importers/registry.h"
 #include "libs/synth/synthetic_collection.h"
 #include "tests/build_paths.h"
 #include "tests/test_util.h"
@@ -343,6 +345,16 @@ TEST(CliResumeHint, ARerunAfterAnInterruptPointsToResume) {
   const testing::CommandResult resumed = testing::RunCommandLine(base + " --resume");
   EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_TRUE(std::filesystem::exists(out / "g" / "collection.json"));
+}
+
+// `lsds help` takes the formats from the registries: every one is listed.
+TEST(CliHelp, ListsEveryConverterAndImporter) {
+  const testing::CommandResult help = testing::RunLsds("help");
+  ASSERT_EQ(help.exit_code, 0) << help.output;
+  for (const std::string& name : convert::ConverterNames())
+    EXPECT_NE(help.output.find(" " + name), std::string::npos) << name;
+  for (const std::string& name : import::ImporterNames())
+    EXPECT_NE(help.output.find(" " + name), std::string::npos) << name;
 }
 
 }  // namespace

@@ -347,14 +347,17 @@ TEST(CliResumeHint, ARerunAfterAnInterruptPointsToResume) {
   EXPECT_TRUE(std::filesystem::exists(out / "g" / "collection.json"));
 }
 
-// `lsds help` takes the formats from the registries: every one is listed.
+// `lsds help` takes the formats from the registries: every one is listed, as a whole word.
 TEST(CliHelp, ListsEveryConverterAndImporter) {
   const testing::CommandResult help = testing::RunLsds("help");
   ASSERT_EQ(help.exit_code, 0) << help.output;
-  for (const std::string& name : convert::ConverterNames())
-    EXPECT_NE(help.output.find(" " + name), std::string::npos) << name;
-  for (const std::string& name : import::ImporterNames())
-    EXPECT_NE(help.output.find(" " + name), std::string::npos) << name;
+  const auto listed = [&](const std::string& name) {
+    for (const char* after : {",", ")", " "})
+      if (help.output.find(name + after) != std::string::npos) return true;
+    return false;
+  };
+  for (const std::string& name : convert::ConverterNames()) EXPECT_TRUE(listed(name)) << name;
+  for (const std::string& name : import::ImporterNames()) EXPECT_TRUE(listed(name)) << name;
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // lsds export-layers COLLECTION -o OUT [--to npy|png16|tiff] [--layers A,B]
-//                    [--frames A:B] [--depth-step S] [--threads T] [--force]
+//                    [--frames A:B] [--depth-step S] [--clamp-depth] [--threads T] [--force]
 #include <iostream>
 
 #include "libs/export/export_layers.h"
@@ -37,6 +37,9 @@ int RunExportLayers(int argc, char** argv) {
                  options.depth_step,
                  "png16: depth quantum in the collection's length unit "
                  "(default 0.001, mm for metres; 65535 steps)");
+  app.add_flag("--clamp-depth",
+               options.clamp_depth,
+               "png16: clamp depths beyond 65535 steps instead of failing");
   AddFramesOption(app, &frames);
   AddThreadsOption(app, &threads);
   app.add_flag("--force", options.force, "replace an existing output folder");

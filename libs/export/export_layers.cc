@@ -147,6 +147,14 @@ std::vector<LayerPlan> PlanLayers(const CollectionHeader& header,
   return plans;
 }
 
+// Why a depth cannot be stored at this step, and the step that would store it.
+std::string BeyondRangeMessage(const LayerInfo& layer, const Png16Encoding& encoding, float value) {
+  return layer.name + " " + FormatNumber(value) +
+         " is beyond the 16-bit PNG range of --depth-step " + FormatNumber(encoding.scale) +
+         " (up to " + FormatNumber(65535 * encoding.scale) + "); use --depth-step " +
+         FormatNumber(Png16StepFor(value)) + " or more, or --clamp-depth to clamp it";
+}
+
 // One frame of one layer into the temporary output folder.
 class FrameWriter {
  public:
@@ -248,9 +256,18 @@ class FrameWriter {
             continue;
           }
           EncodeOutcome outcome;
-          out[p] = EncodeFloat(encoding, data[c]->floats[p], &outcome);
+          const float value = data[c]->floats[p];
+          out[p] = EncodeFloat(encoding, value, &outcome);
           if (outcome == EncodeOutcome::kInvalid) ++counts->invalid_pixels;
-          if (outcome == EncodeOutcome::kClamped) ++counts->clamped_pixels;
+          if (outcome == EncodeOutcome::kClamped) {
+            if (encoding.beyond_range_is_error && !options_.clamp_depth && value > 0)
+              throw Error(BeyondRangeMessage(layer, encoding, value),
+                          Location::Pixel(source.string(),
+                                          frame.index,
+                                          static_cast<int>(p % w),
+                                          static_cast<int>(p / w)));
+            ++counts->clamped_pixels;
+          }
         }
       }
       if (!cv::imwrite(path.string(), mat))

@@ -29,7 +29,10 @@ struct ExportOptions {
   std::vector<std::string> layers;
   FrameSelection frames;
   double depth_step = 0.001;  // png16: depth quantum in world length units
-  bool force = false;         // replace an existing output folder
+  // png16: clamp depth beyond 65535 steps to the last one; otherwise such a depth is an error
+  // naming the frame, the pixel and a step that holds it (a clamped depth is a wrong depth).
+  bool clamp_depth = false;
+  bool force = false;  // replace an existing output folder
 };
 
 struct LayerSummary {

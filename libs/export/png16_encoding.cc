@@ -30,6 +30,7 @@ std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic, double
     e.scale = depth_step;
     e.invalid_stored = 0;
     e.invalid_meaning = "no surface: +inf (sky) in the EXR";
+    e.beyond_range_is_error = true;
     return e;
   }
   if (semantic == "normal")
@@ -40,6 +41,14 @@ std::optional<Png16Encoding> Png16EncodingOf(const std::string& semantic, double
     return e;
   }
   return std::nullopt;
+}
+
+double Png16StepFor(double value) {
+  const double needed = value / 65535.0;
+  double decade = std::pow(10.0, std::floor(std::log10(needed)));
+  for (;; decade *= 10)
+    for (const double mantissa : {1.0, 2.0, 5.0})
+      if (mantissa * decade * 65535.0 >= value) return mantissa * decade;
 }
 
 uint16_t EncodeFloat(const Png16Encoding& encoding, float value, EncodeOutcome* outcome) {

@@ -20,6 +20,9 @@ struct Png16Encoding {
   std::optional<uint16_t> invalid_stored;
   std::string invalid_meaning;  // what such a pixel is in the EXR
   bool integer = false;         // ids: copied, never rounded; > 65535 is an error
+  // A finite value beyond the range is an error rather than clamped (depth: a clamped depth is a
+  // wrong distance, where a clamped motion or normal only saturates).
+  bool beyond_range_is_error = false;
 
   uint16_t lowest_valid() const { return invalid_stored ? 1 : 0; }
 };
@@ -36,6 +39,10 @@ enum class EncodeOutcome { kValue, kInvalid, kClamped };
 // values outside the range are clamped to it (kClamped). A non-finite value in a
 // layer without an invalid code is clamped to 0 and reported as kClamped.
 uint16_t EncodeFloat(const Png16Encoding& encoding, float value, EncodeOutcome* outcome);
+
+// The smallest step of 1, 2 or 5 times a power of ten whose 65535 steps reach `value`: what
+// `--depth-step` needs for a depth of `value`.
+double Png16StepFor(double value);
 
 inline double DecodePng16(const Png16Encoding& encoding, uint16_t stored) {
   return stored * encoding.scale + encoding.offset;

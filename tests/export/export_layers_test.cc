@@ -265,9 +265,20 @@ TEST_F(ExportLayers, Png16MarksSkyDepthInvalidAndClampsAndCountsFarDepth) {
   EXPECT_GT(invalid, 0);
   EXPECT_EQ(ReadSidecar(out_)["layers"]["depth"]["invalid_pixels"], invalid);
 
-  // 0.1 mm steps reach 6.55 m only: the boxes' tops at ~18 m are clamped.
+  // 0.1 mm steps reach 6.55 m only: the boxes' tops at ~18 m do not fit. That is an error naming
+  // the frame, the pixel and a step that fits, and the output of the run before stays.
   run = Run("-o " + out_.string() +
             " --to png16 --layers depth --frames 0 --depth-step 0.0001 --force");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("is beyond the 16-bit PNG range of --depth-step 0.0001"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("use --depth-step 0.0005 or more"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("frame 0"), std::string::npos) << run.output;
+  EXPECT_EQ(ReadSidecar(out_)["layers"]["depth"]["scale"], 0.001);
+  // --clamp-depth clamps them to the last step, counted and warned about.
+  run = Run("-o " + out_.string() +
+            " --to png16 --layers depth --frames 0 --depth-step 0.0001 --clamp-depth --force");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("clamped"), std::string::npos) << run.output;
   const nlohmann::json entry = ReadSidecar(out_)["layers"]["depth"];

@@ -62,10 +62,17 @@ int RunBackproject(int argc, char** argv) {
   app.add_option(
          "--format", options.per_frame_format, "per-frame file format: pcd (default) or ply")
       ->check(CLI::IsMember({"pcd", "ply"}));
+  std::string ply_ids = "int";
+  app.add_option("--ply-ids",
+                 ply_ids,
+                 "PLY label and instance type: int (default; Open3D reads it) or uint "
+                 "(PCL's point types read it)")
+      ->check(CLI::IsMember({"int", "uint"}));
   app.add_flag("--no-color", no_color, "leave out the rgb field");
   app.add_flag("--no-labels", no_labels, "leave out the label (class) and instance fields");
   app.add_flag("--force", options.force, "replace an existing output");
   return RunCommand(app, argc, argv, [&] {
+    options.ply_ids = pointcloud::PlyIdsFromName(ply_ids);
     options.frame =
         frame == "camera" ? pointcloud::OutputFrame::kCamera : pointcloud::OutputFrame::kWorld;
     if (!frames.empty()) {

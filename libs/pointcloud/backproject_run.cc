@@ -352,7 +352,10 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
       summary.points_backprojected += r.report.points;
       if (r.report.checked) summary.check.Merge(r.report.check);
       if (folder) {
-        WriteCloud(folder->temp_path() / (r.report.stem + Extension(*format)), r.cloud, *format);
+        WriteCloud(folder->temp_path() / (r.report.stem + Extension(*format)),
+                   r.cloud,
+                   *format,
+                   options.ply_ids);
         summary.points_written += r.report.points;
       } else if (voxels) {
         voxels->Add(r.cloud);
@@ -383,7 +386,7 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
   if (options.fuse && !options.output.empty()) {
     if (voxels) fused = voxels->Finish();
     summary.points_written = static_cast<int64_t>(fused.points.size());
-    WriteCloud(options.output, fused, *format);
+    WriteCloud(options.output, fused, *format, options.ply_ids);
   }
   if (folder) folder->Commit();
   return summary;

@@ -10,6 +10,7 @@
 
 #include "libs/collection/model.h"
 #include "libs/pointcloud/backproject.h"
+#include "libs/pointcloud/cloud_io.h"
 
 namespace lsds::pointcloud {
 
@@ -34,6 +35,7 @@ struct BackprojectOptions {
   // FRAME.pcd|ply files; fused: one file whose extension picks the format.
   std::filesystem::path output;
   std::string per_frame_format = "pcd";  // per-frame mode only
+  PlyIds ply_ids = PlyIds::kInt;         // PLY outputs: the type of label and instance
   bool fuse = false;
   double voxel = 0;  // fused only; world units of the output frame; 0 = no downsampling
   OutputFrame frame = OutputFrame::kWorld;

@@ -47,9 +47,10 @@ std::vector<FieldSpec> FieldsFor(const Attributes& a, uint8_t ids_type = Field::
   return fields;
 }
 
-pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud, CloudFormat format) {
+pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud, CloudFormat format, PlyIds ply_ids) {
+  const bool signed_ids = format == CloudFormat::kPly && ply_ids == PlyIds::kInt;
   const std::vector<FieldSpec> specs =
-      FieldsFor(cloud.attributes, format == CloudFormat::kPly ? Field::INT32 : Field::UINT32);
+      FieldsFor(cloud.attributes, signed_ids ? Field::INT32 : Field::UINT32);
   pcl::PCLPointCloud2 out;
   uint32_t offset = 0;
   for (const FieldSpec& spec : specs) {
@@ -112,8 +113,17 @@ CloudFormat FormatFromName(const std::string& name) {
 
 const char* Extension(CloudFormat format) { return format == CloudFormat::kPcd ? ".pcd" : ".ply"; }
 
-void WriteCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format) {
-  const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud, format);
+PlyIds PlyIdsFromName(const std::string& name) {
+  if (name == "int") return PlyIds::kInt;
+  if (name == "uint") return PlyIds::kUint;
+  throw Error("--ply-ids must be int (Open3D) or uint (PCL point types), got '" + name + "'");
+}
+
+void WriteCloud(const std::filesystem::path& path,
+                const PointCloud& cloud,
+                CloudFormat format,
+                PlyIds ply_ids) {
+  const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud, format, ply_ids);
   // PCL writes by file name and ignores write errors: it writes into memory
   // and the bytes reach `path` through the checked atomic path.
   WriteFileAtomicVia(path, [&](const std::filesystem::path& scratch) {

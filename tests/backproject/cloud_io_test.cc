@@ -149,6 +149,30 @@ TEST(CloudIo, PlyIdsAreIntPropertiesThatPclKeeps) {
   EXPECT_NE(ReadFileText(dir / "c.pcd").find("TYPE F F F F U U"), std::string::npos);
 }
 
+// --ply-ids uint: the type pcl::PointXYZRGBL's label has, so PCL's typed reader fills it.
+TEST(CloudIo, UintPlyIdsAreReadByPclPointTypes) {
+  testing::ScratchDir dir("ply_uint");
+  const PointCloud cloud = LabelledCloud();
+  WriteCloud(dir / "c.ply", cloud, CloudFormat::kPly, PlyIds::kUint);
+  const std::string header = PlyHeader(dir / "c.ply");
+  EXPECT_NE(header.find("property uint label\n"), std::string::npos) << header;
+  pcl::PointCloud<pcl::PointXYZRGBL> labelled;
+  ASSERT_EQ(pcl::io::loadPLYFile((dir / "c.ply").string(), labelled), 0);
+  ASSERT_EQ(labelled.size(), cloud.points.size());
+  for (size_t i = 0; i < cloud.points.size(); ++i)
+    ASSERT_EQ(labelled[i].label, cloud.points[i].label) << i;
+  // With the default int ids the same typed read loses them: why the flag exists.
+  WriteCloud(dir / "d.ply", cloud, CloudFormat::kPly);
+  pcl::PointCloud<pcl::PointXYZRGBL> dropped;
+  ASSERT_EQ(pcl::io::loadPLYFile((dir / "d.ply").string(), dropped), 0);
+  size_t kept = 0;
+  for (size_t i = 0; i < cloud.points.size(); ++i)
+    kept += dropped[i].label == cloud.points[i].label && cloud.points[i].label != 0;
+  EXPECT_EQ(kept, 0u);
+  EXPECT_EQ(PlyIdsFromName("uint"), PlyIds::kUint);
+  EXPECT_THROW(PlyIdsFromName("u32"), Error);
+}
+
 TEST(CloudIo, Open3dTensorReaderKeepsPlyLabels) {
   // Debian's python3 with python3-open3d (scripts/install-deps.sh --bench).
   const std::string python = "/usr/bin/python3";

@@ -14,7 +14,7 @@ trap 'rm -rf "$work"' EXIT
 "$lsds" generate --demo --demo-frames 1 --demo-size 8x6 --spp 4 -o "$work/demo" -q
 rm -rf "$here/corpus" "$here/seed_collection"
 mkdir -p "$here/corpus/flat_exr" "$here/corpus/deep_exr" "$here/corpus/collection" \
-         "$here/corpus/validate"
+         "$here/corpus/validate" "$here/corpus/report"
 for source in synth demo; do
   for layer in "$work/$source"/*/; do
     name=$(basename "$layer")
@@ -29,5 +29,23 @@ for source in synth demo; do
   cp "$work/$source/metadata.json" "$here/corpus/collection/$source-metadata.json"
 done
 cp "$work/synth/collection.json" "$here/corpus/validate/synth-collection.json"
+# report_fuzzer: what lsds validate and lsds bundles write, and a report with a
+# finding of every location field.
+mkdir -p "$here/corpus/report"
+"$lsds" bundles "$work/synth" -o "$here/corpus/report/synth-bundle-stats.json" >/dev/null
+"$lsds" validate "$work/synth" --format json -o "$here/corpus/report/synth-validate-report.json" \
+  2>/dev/null || [ $? -eq 1 ]
+cat > "$here/corpus/report/findings-validate-report.json" <<'JSON'
+{"format": "lsds-validate-report", "format_version": "1.0", "collection": "C",
+ "verdict": "fail", "fail_on": "error", "frames": 2, "files_decoded": 0,
+ "bytes_decoded": 0, "seconds": 0, "counts": {"error": 2, "warning": 0, "info": 0},
+ "checks": [{"id": "layer.depth-finite", "severity": "error", "tolerance": "", "count": 3,
+   "findings": [{"severity": "error", "check": "layer.depth-finite", "object": "box#0",
+     "location": {"file": "depth/000001.exr", "json_pointer": "/frames/1", "line": 3,
+       "column": 4, "frame": 1, "pixel": [3, 4]}, "message": "depth is NaN <&>"},
+     {"severity": "error", "check": "layer.depth-finite", "location": {"frame": 0},
+      "message": "m"}]}],
+ "statistics": {"depth-error": {"max": 1, "rms": 0.5, "count": 2}}}
+JSON
 cp -r "$work/synth" "$here/seed_collection"
 du -sh "$here/corpus" "$here/seed_collection"

@@ -10,6 +10,8 @@
 #include "libs/report/report.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
+#include "libs/util/limits.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
 #include "validators/report_writers.h"
@@ -85,32 +87,23 @@ int RunReport(int argc, char** argv) {
     guard.CheckOutput(output, "-o");
     // Refuse before the long validation run, not after it.
     RefuseToOverwrite(output, options.force, "report");
+    // Both JSON inputs are read whole and typed before the long run: a
+    // malformed one is refused at its line:column or JSON pointer.
     if (!bundle_stats.empty()) {
-      try {
-        options.bundle_stats = nlohmann::json::parse(ReadFile(bundle_stats));
-      } catch (const nlohmann::json::exception& e) {
-        throw Error(std::string("not JSON: ") + e.what(), Location(bundle_stats));
-      }
+      const std::string text = ReadFile(bundle_stats);
+      CheckJsonNesting(text, bundle_stats);
+      options.bundle_stats = ParseJsonText(text, bundle_stats);
       report::CheckBundleStats(options.bundle_stats, bundle_stats);
     }
     if (!validation_report.empty()) {
-      try {
-        options.validation = nlohmann::json::parse(ReadFile(validation_report));
-      } catch (const nlohmann::json::exception& e) {
-        throw Error(std::string("not JSON: ") + e.what(), Location(validation_report));
-      }
-      if (!options.validation.is_object() ||
-          options.validation.value("format", "") != "lsds-validate-report") {
-        throw Error(
-            "not an lsds validate JSON report (format "
-            "lsds-validate-report)",
-            Location(validation_report));
-      }
+      options.validation =
+          report::ParseValidationReport(ReadFile(validation_report), validation_report);
     } else if (validate) {
       validate::ValidateOptions validate_options;
       validate_options.progress = true;
       const validate::Report result = validate::ValidateCollection(collection, validate_options);
-      options.validation = validate::ReportToJson(result, validate::Severity::kError);
+      options.validation = report::ReadValidationReport(
+          validate::ReportToJson(result, validate::Severity::kError), "lsds validate");
       std::cerr << validate::Verdict(result, validate::Severity::kError) << "\n";
     }
     const report::ReportResult result = report::WriteReport(options);

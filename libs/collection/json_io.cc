@@ -70,21 +70,6 @@ void CheckInsideReference(const std::string& reference,
               Location(file, pointer));
 }
 
-// Runs `body`, turning nlohmann's type and range errors into lsds::Error at
-// `file#pointer`.
-template <typename Body>
-auto AtPointer(const std::string& file, const std::string& pointer, Body&& body)
-    -> decltype(body()) {
-  try {
-    return body();
-  } catch (const json::exception& e) {
-    Location where;
-    where.file = file;
-    where.json_pointer = pointer.empty() ? "/" : pointer;
-    throw Error(std::string("malformed value: ") + e.what(), where);
-  }
-}
-
 json LayerToJson(const LayerInfo& layer) {
   json channels = json::array();
   for (const LayerChannel& c : layer.channels) {

@@ -2,9 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
-#include "libs/report/html.h"
+#include "libs/report/html_text.h"
 #include "libs/report/svg_plot.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -30,10 +29,23 @@ void CheckBundleStats(const nlohmann::json& stats, const std::string& file) {
   const auto fail = [&](const std::string& pointer, const std::string& what) {
     throw Error(what, Location(file, pointer));
   };
-  if (!stats.is_object() || stats.value("format", "") != "lsds-bundle-stats") {
+  if (!stats.is_object() || !stats.contains("format") || stats["format"] != "lsds-bundle-stats") {
     fail("/format",
          "not an lsds bundles statistics file (format "
          "lsds-bundle-stats; write one with lsds bundles -o)");
+  }
+  // What the section shows besides the summary: typed here, so that the
+  // writer meets no value of another type.
+  if (stats.contains("bundle_layer") && !stats["bundle_layer"].is_string()) {
+    fail("/bundle_layer", "not a string");
+  }
+  if (stats.contains("frame_range")) {
+    const nlohmann::json& range = stats["frame_range"];
+    for (const char* key : {"first", "end"}) {
+      if (!range.is_object() || !range.contains(key) || !range[key].is_number_integer()) {
+        fail(std::string("/frame_range/") + key, "missing or not an integer");
+      }
+    }
   }
   if (!stats.contains("summary") || !stats["summary"].is_object()) {
     fail("/summary", "missing");
@@ -66,22 +78,32 @@ void CheckBundleStats(const nlohmann::json& stats, const std::string& file) {
   }
   for (size_t i = 0; i < s["by_object_size"].size(); ++i) {
     const nlohmann::json& b = s["by_object_size"][i];
-    for (const char* key : {"min_pixels", "objects", "pixels", "mixed_pixels", "mixed_fraction"}) {
+    for (const char* key : {"min_pixels", "mixed_fraction"}) {
       if (!b.is_object() || !b.contains(key) || !b[key].is_number()) {
         fail("/summary/by_object_size/" + std::to_string(i) + "/" + key, "missing or not a number");
       }
     }
+    // Counts: integers (a float beyond int64 would not convert).
+    for (const char* key : {"objects", "pixels", "mixed_pixels"}) {
+      if (!b.contains(key) || !b[key].is_number_integer()) {
+        fail("/summary/by_object_size/" + std::to_string(i) + "/" + key,
+             "missing or not an integer");
+      }
+    }
+    if (b.contains("max_pixels") && !b["max_pixels"].is_number() && !b["max_pixels"].is_null()) {
+      fail("/summary/by_object_size/" + std::to_string(i) + "/max_pixels", "not a number");
+    }
   }
 }
 
-std::string BundleStatsSection(const nlohmann::json& stats, const CollectionHeader& header) {
+Html BundleStatsSection(const nlohmann::json& stats, const CollectionHeader& header) {
   const nlohmann::json& s = stats["summary"];
-  std::ostringstream out;
+  Html out;
   out << "<section id=\"bundles\"><h2>Mixed pixels (pixel bundles)</h2>"
       << "<p class=\"help\">From <code>lsds bundles</code> over layer '"
-      << HtmlEscape(stats.value("bundle_layer", "bundle")) << "', frame positions ["
-      << stats.value("frame_range", nlohmann::json::object()).value("first", 0) << ", "
-      << stats.value("frame_range", nlohmann::json::object()).value("end", 0) << ")"
+      << stats.value("bundle_layer", std::string("bundle")) << "', frame positions ["
+      << stats.value("frame_range", nlohmann::json::object()).value("first", int64_t{0}) << ", "
+      << stats.value("frame_range", nlohmann::json::object()).value("end", int64_t{0}) << ")"
       << " (docs/bundles.md).";
   if (s.contains("class_mixed_fraction") && s["class_mixed_fraction"].is_number())
     out << " Pixels holding more than one class: "
@@ -92,13 +114,13 @@ std::string BundleStatsSection(const nlohmann::json& stats, const CollectionHead
   const nlohmann::json& classes = s["class_mixing"]["classes"];
   const nlohmann::json& samples = s["class_mixing"]["samples"];
   for (const nlohmann::json& c : classes) {
-    out << "<th>" << HtmlEscape(ClassName(header, c.get<uint32_t>())) << "</th>";
+    out << "<th>" << ClassName(header, c.get<uint32_t>()) << "</th>";
   }
   out << "</tr>";
   for (size_t a = 0; a < classes.size(); ++a) {
     double row = 0;
     for (const nlohmann::json& v : samples[a]) row += v.get<double>();
-    out << "<tr><th>" << HtmlEscape(ClassName(header, classes[a].get<uint32_t>())) << "</th>";
+    out << "<tr><th>" << ClassName(header, classes[a].get<uint32_t>()) << "</th>";
     for (size_t b = 0; b < classes.size(); ++b) {
       const uint64_t v = samples[a][b].get<uint64_t>();
       const double share = row > 0 ? v / row : 0;
@@ -121,10 +143,13 @@ std::string BundleStatsSection(const nlohmann::json& stats, const CollectionHead
   for (const nlohmann::json& b : s["by_object_size"]) {
     const double share = b["mixed_fraction"].get<double>();
     const nlohmann::json max = b.value("max_pixels", nlohmann::json());
-    out << "<tr><td>" << FormatAxisNumber(b["min_pixels"].get<double>())
-        << (max.is_number() ? " &ndash; " + FormatAxisNumber(max.get<double>())
-                            : std::string(" and up"))
-        << "</td><td>" << b["objects"].get<int64_t>() << "</td><td>" << b["pixels"].get<int64_t>()
+    out << "<tr><td>" << FormatAxisNumber(b["min_pixels"].get<double>());
+    if (max.is_number()) {
+      out << " &ndash; " << FormatAxisNumber(max.get<double>());
+    } else {
+      out << " and up";
+    }
+    out << "</td><td>" << b["objects"].get<int64_t>() << "</td><td>" << b["pixels"].get<int64_t>()
         << "</td><td>" << b["mixed_pixels"].get<int64_t>() << "</td><td><span class=\"meter\" "
         << "style=\"width:" << std::lround(std::min(1.0, share) * 120) << "px\"></span> "
         << Percent(share) << "</td></tr>";
@@ -132,7 +157,7 @@ std::string BundleStatsSection(const nlohmann::json& stats, const CollectionHead
   out << "</table><p class=\"note\">objects: (object, frame) pairs whose "
          "pixel count falls in the band; mixed share: their mixed pixels / "
          "their pixels</p></div></div></section>";
-  return out.str();
+  return out;
 }
 
 }  // namespace lsds::report

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/collection/model.h"
+#include "libs/report/html_text.h"
 
 namespace lsds::report {
 
@@ -19,6 +20,6 @@ void CheckBundleStats(const nlohmann::json& stats, const std::string& file);
 // The HTML section. Matrix rows are the class a sample belongs to, columns the
 // class it shares pixels with (the diagonal: samples in pixels holding no other
 // class); each cell shows the samples and their share of the row.
-std::string BundleStatsSection(const nlohmann::json& stats, const CollectionHeader& header);
+Html BundleStatsSection(const nlohmann::json& stats, const CollectionHeader& header);
 
 }  // namespace lsds::report

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include <opencv2/imgproc.hpp>
 
@@ -82,50 +81,54 @@ std::string ClassList(const Frame& frame) {
   return out;
 }
 
-std::string SceneLine(const Frame& frame) {
+// The frame's scene state and exposure; numbers only where numbers are
+// expected, names (exposure mode, cloud type) as escaped text.
+Html SceneLine(const Frame& frame) {
   const nlohmann::json& scene = frame.scene;
-  if (!scene.is_object()) return "";
-  std::string out;
+  if (!scene.is_object()) return {};
+  Html out;
+  const auto next = [&]() -> Html& {
+    if (!out.empty()) out << " &middot; ";
+    return out;
+  };
   if (scene.contains("sun") && scene["sun"].is_object()) {
     const nlohmann::json& sun = scene["sun"];
     if (sun.value("elevation_deg", nlohmann::json()).is_number()) {
-      out += "sun " + Fixed(sun["elevation_deg"].get<double>(), 0) + "&deg; up";
+      next() << "sun " << Fixed(sun["elevation_deg"].get<double>(), 0) << "&deg; up";
       if (sun.value("azimuth_deg", nlohmann::json()).is_number()) {
-        out += ", az " + Fixed(sun["azimuth_deg"].get<double>(), 0) + "&deg;";
+        out << ", az " << Fixed(sun["azimuth_deg"].get<double>(), 0) << "&deg;";
       }
     }
-    if (sun.value("illuminance_lux", nlohmann::json()).is_number())
-      out += ", " + Fixed(sun["illuminance_lux"].get<double>(), 0) + " lx";
+    if (sun.value("illuminance_lux", nlohmann::json()).is_number()) {
+      out << ", " << Fixed(sun["illuminance_lux"].get<double>(), 0) << " lx";
+    }
   }
   // The camera's exposure (docs/format.md, "Exposure").
   if (frame.exposure.is_object() && frame.exposure.value("ev100", nlohmann::json()).is_number()) {
-    out += (out.empty() ? "" : " &middot; ") + std::string("EV100 ") +
-           Fixed(frame.exposure["ev100"].get<double>(), 1) + " (" +
-           HtmlEscape(frame.exposure.value("mode", std::string("?"))) + ")";
+    const nlohmann::json mode = frame.exposure.value("mode", nlohmann::json());
+    next() << "EV100 " << Fixed(frame.exposure["ev100"].get<double>(), 1) << " ("
+           << (mode.is_string() ? mode.get<std::string>() : std::string("?")) << ")";
   }
   if (scene.contains("atmosphere") && scene["atmosphere"].is_object() &&
       scene["atmosphere"].value("visibility_m", nlohmann::json()).is_number()) {
-    out += (out.empty() ? "" : " &middot; ") + std::string("visibility ") +
-           Fixed(scene["atmosphere"]["visibility_m"].get<double>(), 0) + " m";
+    next() << "visibility " << Fixed(scene["atmosphere"]["visibility_m"].get<double>(), 0) << " m";
   }
   if (scene.contains("sky") && scene["sky"].is_object() &&
       scene["sky"].value("cloud_type", nlohmann::json()).is_string()) {
-    out += (out.empty() ? "" : " &middot; ") +
-           HtmlEscape(scene["sky"]["cloud_type"].get<std::string>());
+    next() << scene["sky"]["cloud_type"].get<std::string>();
   }
   return out;
 }
 
-std::string ObjectsTable(const CollectionHeader& header, const SampledFrame& sample) {
-  std::ostringstream s;
+Html ObjectsTable(const CollectionHeader& header, const SampledFrame& sample) {
+  Html s;
   s << "<table class=\"objects\"><tr><th>instance</th><th>class</th>"
        "<th>name</th><th>box (px)</th><th>visible px</th><th>visibility</th>"
        "<th>in frame</th><th>distance (m)</th></tr>";
   for (const ObjectTruth& o : sample.frame.objects) {
     const ClassInfo* c = header.FindClass(o.class_id);
-    s << "<tr><td>" << o.instance_id << "</td><td>"
-      << HtmlEscape(c ? c->name : std::to_string(o.class_id)) << "</td><td>" << HtmlEscape(o.name)
-      << "</td><td>";
+    s << "<tr><td>" << o.instance_id << "</td><td>" << (c ? c->name : std::to_string(o.class_id))
+      << "</td><td>" << o.name << "</td><td>";
     if (o.bbox) {
       s << Fixed(o.bbox->x0, 0) << ", " << Fixed(o.bbox->y0, 0) << " &ndash; "
         << Fixed(o.bbox->x1, 0) << ", " << Fixed(o.bbox->y1, 0);
@@ -137,38 +140,41 @@ std::string ObjectsTable(const CollectionHeader& header, const SampledFrame& sam
       << "</td></tr>";
   }
   s << "</table>";
-  return s.str();
+  return s;
 }
 
-std::string Figure(const std::string& uri, const cv::Size& size, const std::string& caption) {
-  std::ostringstream s;
+Html Figure(const std::string& uri, const cv::Size& size, const Html& caption) {
+  Html s;
   s << "<figure><img src=\"" << uri << "\" width=\"" << size.width << "\" height=\"" << size.height
     << "\" alt=\"\"><figcaption>" << caption << "</figcaption></figure>";
-  return s.str();
+  return s;
 }
 
-std::string Failed(const std::string& layer, const std::string& message) {
-  return "<figure class=\"failed\"><div>cannot show " + HtmlEscape(layer) + ": " +
-         HtmlEscape(message) + "</div><figcaption>" + HtmlEscape(layer) + "</figcaption></figure>";
+Html Failed(const std::string& layer, const std::string& message) {
+  Html s;
+  s << "<figure class=\"failed\"><div>cannot show " << layer << ": " << message
+    << "</div><figcaption>" << layer << "</figcaption></figure>";
+  return s;
 }
 
 // Every displayable layer of one frame, side by side.
 }  // namespace
 
-std::string LayerStrip(const CollectionReader& reader,
-                       const SampledFrame& sample,
-                       const ReportOptions& options,
-                       std::vector<std::string>* problems) {
+Html LayerStrip(const CollectionReader& reader,
+                const SampledFrame& sample,
+                const ReportOptions& options,
+                std::vector<std::string>* problems) {
   const CollectionHeader& header = reader.header();
   const Frame& frame = sample.frame;
   const std::string unit = header.conventions.world.length_unit;
-  std::ostringstream s;
+  Html s;
   s << "<section class=\"layers\" id=\"layers-" << frame.index << "\"><h3>frame " << frame.index
     << "</h3><div class=\"strip\">";
   for (const LayerInfo& layer : header.layers) {
     if (!HasFile(frame, &layer)) continue;
     const std::string& sem = layer.semantic;
-    const std::string title = HtmlEscape(layer.name);
+    // The caption starts with the layer's name, as text.
+    Html title = Html::Text(layer.name);
     try {
       if (sem == "rgb") {
         const cv::Mat image =
@@ -178,7 +184,7 @@ std::string LayerStrip(const CollectionReader& reader,
         const cv::Mat image = Resized(ColorizeIds(reader.ReadFlatLayer(frame, layer.name, {"id"})),
                                       options.layer_width,
                                       false);
-        s << Figure(ImageDataUri(image, false), image.size(), title + " (a stable colour per id)");
+        s << Figure(ImageDataUri(image, false), image.size(), title << " (a stable colour per id)");
       } else if (sem == "depth" && !layer.deep) {
         double lo = 0, hi = 0;
         const cv::Mat image =
@@ -186,26 +192,25 @@ std::string LayerStrip(const CollectionReader& reader,
                     options.layer_width,
                     true);
         const cv::Mat bar = DepthScaleBar(image.cols, 10);
-        s << Figure(ImageDataUri(image, false),
-                    image.size(),
-                    title + " (" + (layer.depth_kind ? DepthKindName(*layer.depth_kind) : "") +
-                        ")<img class=\"bar\" src=\"" + ImageDataUri(bar, false) + "\" width=\"" +
-                        std::to_string(bar.cols) +
-                        "\" height=\"10\" alt=\"\"><span class=\"range\"><span>" +
-                        FormatAxisNumber(lo) + " " + HtmlEscape(unit) + "</span><span>" +
-                        FormatAxisNumber(hi) + " " + HtmlEscape(unit) + "</span></span>");
+        title << " (" << (layer.depth_kind ? DepthKindName(*layer.depth_kind) : std::string())
+              << ")<img class=\"bar\" src=\"" << ImageDataUri(bar, false) << "\" width=\""
+              << bar.cols << "\" height=\"10\" alt=\"\"><span class=\"range\"><span>"
+              << FormatAxisNumber(lo) << " " << unit << "</span><span>" << FormatAxisNumber(hi)
+              << " " << unit << "</span></span>";
+        s << Figure(ImageDataUri(image, false), image.size(), title);
       } else if (sem == "normal") {
         const cv::Mat image =
             Resized(ColorizeNormals(reader.ReadFlatLayer(frame, layer.name, {"X", "Y", "Z"})),
                     options.layer_width,
                     false);
-        s << Figure(ImageDataUri(image, false), image.size(), title + " (world RGB = (n + 1) / 2)");
+        s << Figure(
+            ImageDataUri(image, false), image.size(), title << " (world RGB = (n + 1) / 2)");
       } else if (sem == "shadow") {
         const cv::Mat image =
             Resized(ColorizeShadow(reader.ReadFlatLayer(frame, layer.name, {"Y"})),
                     options.layer_width,
                     true);
-        s << Figure(ImageDataUri(image, false), image.size(), title + " (black: full shadow)");
+        s << Figure(ImageDataUri(image, false), image.size(), title << " (black: full shadow)");
       } else if (sem == "motion") {
         double max_px = 0;
         int64_t invalid = 0;
@@ -213,11 +218,10 @@ std::string LayerStrip(const CollectionReader& reader,
         const cv::Mat image =
             Resized(ColorizeMotion(motion, &max_px, &invalid), options.layer_width, false);
         const double share = 100.0 * invalid / std::max<size_t>(1, motion.pixel_count());
-        s << Figure(ImageDataUri(image, false),
-                    image.size(),
-                    title + "<img class=\"wheel\" src=\"" + ImageDataUri(FlowWheel(40), false) +
-                        "\" width=\"40\" height=\"40\" alt=\"\"> max " + Fixed(max_px, 1) +
-                        " px; invalid (checkered) " + Fixed(share, 1) + " %");
+        title << "<img class=\"wheel\" src=\"" << ImageDataUri(FlowWheel(40), false)
+              << "\" width=\"40\" height=\"40\" alt=\"\"> max " << Fixed(max_px, 1)
+              << " px; invalid (checkered) " << Fixed(share, 1) << " %";
+        s << Figure(ImageDataUri(image, false), image.size(), title);
       } else if (sem == "bundle" && layer.deep) {
         const exr::DeepImage deep = reader.ReadDeepLayer(frame, layer.name, {});
         bundle::PixelMaps maps;
@@ -226,10 +230,9 @@ std::string LayerStrip(const CollectionReader& reader,
         const cv::Mat full(deep.height(), deep.width(), CV_8UC3, bgr.data());
         const cv::Mat image = Resized(full, options.layer_width, false);
         const double share = 100.0 * stats.mixed_pixels / std::max<uint64_t>(1, stats.pixels);
-        s << Figure(ImageDataUri(image, false),
-                    image.size(),
-                    title + " mixed pixels " + Fixed(share, 2) +
-                        " % (yellow &rarr; red &rarr; magenta: less pure)");
+        title << " mixed pixels " << Fixed(share, 2)
+              << " % (yellow &rarr; red &rarr; magenta: less pure)";
+        s << Figure(ImageDataUri(image, false), image.size(), title);
       }
     } catch (const Error& e) {
       s << Failed(layer.name, e.what());
@@ -242,17 +245,17 @@ std::string LayerStrip(const CollectionReader& reader,
     }
   }
   s << "</div></section>";
-  return s.str();
+  return s;
 }
 
-std::string FrameCard(const CollectionReader& reader,
-                      const SampledFrame& sample,
-                      bool has_layers,
-                      const ReportOptions& options,
-                      std::vector<std::string>* problems) {
+Html FrameCard(const CollectionReader& reader,
+               const SampledFrame& sample,
+               bool has_layers,
+               const ReportOptions& options,
+               std::vector<std::string>* problems) {
   const CollectionHeader& header = reader.header();
   const Frame& frame = sample.frame;
-  std::ostringstream s;
+  Html s;
   s << "<figure class=\"card\" id=\"frame-" << frame.index << "\" data-frame=\"" << frame.index
     << "\" data-classes=\"" << ClassList(frame) << "\">";
   try {
@@ -271,24 +274,23 @@ std::string FrameCard(const CollectionReader& reader,
     s << "<img src=\"" << ImageDataUri(image, true) << "\" width=\"" << image.cols << "\" height=\""
       << image.rows << "\" alt=\"frame " << frame.index << "\">";
   } catch (const Error& e) {
-    s << "<div class=\"failed\">" << HtmlEscape(e.what()) << "</div>";
+    s << "<div class=\"failed\">" << e.what() << "</div>";
     problems->push_back("image of frame " + std::to_string(frame.index) + ": " + e.what());
   }
   int visible = 0;
   for (const ObjectTruth& o : frame.objects) visible += o.visible_pixels > 0;
   const FrameCamera& c = sample.camera;
-  s << "<figcaption><b>frame " << frame.index << "</b> t " << Fixed(frame.time, 2) << " s"
-    << (frame.sequence.empty() ? "" : " &middot; " + HtmlEscape(frame.sequence))
-    << (has_layers ? " <span class=\"tag\">layers</span>" : "") << "<br>alt "
-    << WithUnit(c.altitude_m, 1, " m") << " &middot; off-nadir "
-    << WithUnit(c.off_nadir_deg, 1, "&deg;") << " &middot; GSD "
-    << WithUnit(c.gsd_m * 100, 2, " cm/px") << "<br>" << visible << " visible of "
-    << frame.objects.size() << " objects";
-  const std::string scene = SceneLine(frame);
+  s << "<figcaption><b>frame " << frame.index << "</b> t " << Fixed(frame.time, 2) << " s";
+  if (!frame.sequence.empty()) s << " &middot; " << frame.sequence;
+  if (has_layers) s << " <span class=\"tag\">layers</span>";
+  s << "<br>alt " << WithUnit(c.altitude_m, 1, " m") << " &middot; off-nadir "
+    << WithUnit(c.off_nadir_deg, 1, "°") << " &middot; GSD " << WithUnit(c.gsd_m * 100, 2, " cm/px")
+    << "<br>" << visible << " visible of " << frame.objects.size() << " objects";
+  const Html scene = SceneLine(frame);
   if (!scene.empty()) s << "<br>" << scene;
   s << "</figcaption><div class=\"detail\" hidden>" << ObjectsTable(header, sample)
     << "</div></figure>";
-  return s.str();
+  return s;
 }
 
 }  // namespace lsds::report

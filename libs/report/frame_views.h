@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "libs/collection/collection_reader.h"
+#include "libs/report/html_text.h"
 #include "libs/report/report.h"
 
 namespace lsds::report {
@@ -14,16 +15,16 @@ namespace lsds::report {
 // `has_layers` tags the card as one whose layers the page shows. A picture
 // that cannot be shown becomes a message on the page, and the same message
 // (naming the file) is appended to `problems`.
-std::string FrameCard(const CollectionReader& reader,
-                      const SampledFrame& sample,
-                      bool has_layers,
-                      const ReportOptions& options,
-                      std::vector<std::string>* problems);
+Html FrameCard(const CollectionReader& reader,
+               const SampledFrame& sample,
+               bool has_layers,
+               const ReportOptions& options,
+               std::vector<std::string>* problems);
 
-std::string LayerStrip(const CollectionReader& reader,
-                       const SampledFrame& sample,
-                       const ReportOptions& options,
-                       std::vector<std::string>* problems);
+Html LayerStrip(const CollectionReader& reader,
+                const SampledFrame& sample,
+                const ReportOptions& options,
+                std::vector<std::string>* problems);
 
 // "12.35" with `digits` decimals, "n/a" for NaN and infinities.
 std::string Fixed(double value, int digits);

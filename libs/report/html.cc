@@ -5,7 +5,6 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "libs/util/error.h"
-#include "libs/util/strings.h"
 
 namespace lsds::report {
 
@@ -48,7 +47,5 @@ std::string ImageDataUri(const cv::Mat& bgr, bool jpeg, int jpeg_quality) {
   return std::string(jpeg ? "data:image/jpeg;base64," : "data:image/png;base64,") +
          Base64(std::string(encoded.begin(), encoded.end()));
 }
-
-std::string HtmlEscape(const std::string& text) { return XmlEscape(text); }
 
 }  // namespace lsds::report

@@ -2,8 +2,8 @@
 
 namespace lsds::report {
 
-const char* PageStyle() {
-  return R"CSS(
+Html PageStyle() {
+  return Html::Markup(R"CSS(
 body{font:13px/1.4 system-ui,sans-serif;margin:0 16px 32px;background:#f4f4f2;color:#222}
 h1{font-size:20px;margin:14px 0 4px}h2{font-size:16px;margin:22px 0 6px;border-bottom:1px solid #ccc}
 h3{font-size:13px;margin:8px 0 4px}nav a{margin-right:12px}
@@ -32,11 +32,11 @@ table{border-collapse:collapse;font-size:12px;background:#fff}td,th{border:1px s
 #overlay img.big{width:640px;max-width:90vw;height:auto;image-rendering:pixelated}
 table.mixing td{text-align:right}.meter{display:inline-block;height:9px;background:#d04a4a;vertical-align:middle}
 footer{margin-top:28px;color:#777}
-)CSS";
+)CSS");
 }
 
-const char* PageScript() {
-  return R"JS(
+Html PageScript() {
+  return Html::Markup(R"JS(
 (function(){
   var boxes=Array.prototype.slice.call(document.querySelectorAll('.filter input'));
   var cards=Array.prototype.slice.call(document.querySelectorAll('.card'));
@@ -85,7 +85,7 @@ const char* PageScript() {
   });
   document.body.setAttribute('data-report-ready','1');
 })();
-)JS";
+)JS");
 }
 
 }  // namespace lsds::report

@@ -3,9 +3,11 @@
 // marks the page when any script fails (tests read it).
 #pragma once
 
+#include "libs/report/html_text.h"
+
 namespace lsds::report {
 
-const char* PageStyle();
-const char* PageScript();
+Html PageStyle();
+Html PageScript();
 
 }  // namespace lsds::report

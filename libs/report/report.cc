@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include <tbb/parallel_for.h>
 
@@ -44,25 +43,6 @@ FrameCamera CameraOf(const CollectionReader& reader, const Frame& frame) {
 }
 
 }  // namespace
-
-std::set<int64_t> FramesWithFindings(const nlohmann::json& validation, size_t max) {
-  std::set<int64_t> frames;
-  if (!validation.is_object() || !validation.contains("checks") ||
-      !validation["checks"].is_array()) {
-    return frames;
-  }
-  for (const nlohmann::json& check : validation["checks"]) {
-    if (!check.is_object() || !check.contains("findings")) continue;
-    for (const nlohmann::json& f : check["findings"]) {
-      if (frames.size() >= max) return frames;
-      if (f.is_object() && f.contains("location") && f["location"].is_object() &&
-          f["location"].contains("frame") && f["location"]["frame"].is_number_integer()) {
-        frames.insert(f["location"]["frame"].get<int64_t>());
-      }
-    }
-  }
-  return frames;
-}
 
 ReportData CollectReportData(const CollectionReader& reader,
                              const ReportOptions& options,
@@ -120,7 +100,7 @@ std::string RenderReportHtml(const CollectionReader& reader,
   std::set<size_t> layer_samples;
   const size_t k = std::min(options.layer_frames, n);
   for (size_t i = 0; i < k; ++i) layer_samples.insert((2 * i + 1) * n / (2 * k));
-  std::vector<std::string> cards(n), strips(n);
+  std::vector<Html> cards(n), strips(n);
   std::vector<std::vector<std::string>> sample_problems(n);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
     const bool layers = layer_samples.count(i) > 0;
@@ -136,33 +116,31 @@ std::string RenderReportHtml(const CollectionReader& reader,
 
   const Distributions& d = data.distributions;
   const std::string name = fs::absolute(reader.root()).lexically_normal().filename().string();
-  std::ostringstream s;
+  // Every string below that is not a literal comes from an input (the folder
+  // name, collection.json, metadata.json, the validation report, the bundle
+  // statistics) and is escaped by Html.
+  Html s;
   s << "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">"
-    << "<title>lsds report: " << HtmlEscape(name) << "</title><style>" << PageStyle()
-    << "</style></head><body>"
+    << "<title>lsds report: " << name << "</title><style>" << PageStyle() << "</style></head><body>"
     << "<script>window.onerror=function(m){document.body.setAttribute("
        "'data-js-error',String(m));};</script>"
-    << "<header><h1>lsds report: " << HtmlEscape(name) << "</h1><p>" << d.frames << " frames";
+    << "<header><h1>lsds report: " << name << "</h1><p>" << d.frames << " frames";
   if (reader.frames_in_file() != static_cast<size_t>(d.frames)) {
     s << " selected of " << reader.frames_in_file();
   }
   s << " &middot; " << n << " on the contact sheet &middot; " << d.objects << " objects listed, "
     << d.visible_objects << " visible &middot; " << header.classes.size() << " classes &middot; "
-    << header.layers.size() << " layers &middot; world "
-    << HtmlEscape(header.conventions.world.name) << ", "
-    << HtmlEscape(header.conventions.world.length_unit) << " &middot; format "
-    << HtmlEscape(header.format_version) << " &middot; " << HtmlEscape(header.provenance.generator)
-    << " " << HtmlEscape(header.provenance.generator_version) << "</p>"
-    << "<nav><a href=\"#sheet\">contact sheet</a> "
-    << (layer_samples.empty() ? "" : "<a href=\"#layers\">layers</a> ")
-    << "<a href=\"#distributions\">distributions</a>"
-    << (options.validation.is_object() ? " <a href=\"#validation\">validation</a>" : "")
-    << (options.bundle_stats.is_null() ? "" : " <a href=\"#bundles\">mixed pixels</a>")
-    << "</nav></header>";
+    << header.layers.size() << " layers &middot; world " << header.conventions.world.name << ", "
+    << header.conventions.world.length_unit << " &middot; format " << header.format_version
+    << " &middot; " << header.provenance.generator << " " << header.provenance.generator_version
+    << "</p><nav><a href=\"#sheet\">contact sheet</a> ";
+  if (!layer_samples.empty()) s << "<a href=\"#layers\">layers</a> ";
+  s << "<a href=\"#distributions\">distributions</a>";
+  if (options.validation) s << " <a href=\"#validation\">validation</a>";
+  if (!options.bundle_stats.is_null()) s << " <a href=\"#bundles\">mixed pixels</a>";
+  s << "</nav></header>";
 
-  if (options.validation.is_object()) {
-    s << ValidationSection(options.validation, on_sheet);
-  }
+  if (options.validation) s << ValidationSection(*options.validation, on_sheet);
 
   s << "<section id=\"sheet\"><h2>Contact sheet</h2><p class=\"help\">Tight "
        "boxes in the class colour, mask outlines in the instance colour. Click "
@@ -173,12 +151,12 @@ std::string RenderReportHtml(const CollectionReader& reader,
     char swatch[16];
     std::snprintf(swatch, sizeof(swatch), "#%02x%02x%02x", col[2], col[1], col[0]);
     s << "<label><input type=\"checkbox\" checked data-class=\"c" << c.id
-      << "\"><span class=\"swatch\" style=\"background:" << swatch << "\"></span>"
-      << HtmlEscape(c.name) << "</label>";
+      << "\"><span class=\"swatch\" style=\"background:" << std::string(swatch) << "\"></span>"
+      << c.name << "</label>";
   }
   s << "<label><input type=\"checkbox\" checked data-class=\"\">frames with no "
        "visible object</label></div><div class=\"sheet\">";
-  for (const std::string& card : cards) s << card;
+  for (const Html& card : cards) s << card;
   s << "</div></section>";
 
   if (!layer_samples.empty()) {
@@ -191,7 +169,7 @@ std::string RenderReportHtml(const CollectionReader& reader,
          "Motion: "
          "hue is the direction (wheel), saturation the speed, white no motion, "
          "checkered grey no valid motion.</p>";
-    for (const std::string& strip : strips) s << strip;
+    for (const Html& strip : strips) s << strip;
     s << "</section>";
   }
 
@@ -203,17 +181,19 @@ std::string RenderReportHtml(const CollectionReader& reader,
        "count.</p><div class=\"plots\">";
   for (const Histogram& h : d.histograms) {
     if (h.total() == 0) continue;  // e.g. no sun elevation in the scene state
-    s << "<div class=\"plot\" id=\"dist-" << HtmlEscape(h.id) << "\"><h3>" << HtmlEscape(h.title)
-      << "</h3>" << HistogramSvg(h);
+    s << "<div class=\"plot\" id=\"dist-" << h.id << "\"><h3>" << h.title << "</h3>"
+      << HistogramSvg(h);
     if (h.id.rfind("metadata-", 0) == 0) {
-      s << "<p class=\"note\">variant " << HtmlEscape(d.metadata_variant) << "</p>";
+      s << "<p class=\"note\">variant " << d.metadata_variant << "</p>";
     }
     if (h.invalid > 0) {
-      s << "<p class=\"note\">" << h.invalid << " " << HtmlEscape(h.counted) << " without a value"
-        << (h.id == "class"
-                ? " (class id not in the class table)"
-                : (h.id == "altitude" || h.id == "gsd" ? " (sky at the image centre)" : ""))
-        << "</p>";
+      s << "<p class=\"note\">" << h.invalid << " " << h.counted << " without a value";
+      if (h.id == "class") {
+        s << " (class id not in the class table)";
+      } else if (h.id == "altitude" || h.id == "gsd") {
+        s << " (sky at the image centre)";
+      }
+      s << "</p>";
     }
     s << "</div>";
   }
@@ -245,8 +225,10 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   RefuseToOverwrite(options.output, options.force, "report");
   const CollectionReader reader(options.collection);
-  const ReportData data =
-      CollectReportData(reader, options, FramesWithFindings(options.validation, 12));
+  const ReportData data = CollectReportData(
+      reader,
+      options,
+      options.validation ? FramesWithFindings(*options.validation, 12) : std::set<int64_t>());
   ReportResult result;
   const std::string html = RenderReportHtml(reader, data, options, &result.unshown);
   WriteFileAtomic(options.output, html);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "libs/imaging/srgb_image.h"
 #include "libs/report/distributions.h"
 #include "libs/report/frame_camera.h"
+#include "libs/report/validation_section.h"
 
 namespace lsds::report {
 
@@ -33,9 +35,10 @@ struct ReportOptions {
   int thumb_width = 320;    // contact sheet image width, px (never upscaled)
   int layer_width = 320;    // layer image width, px (never upscaled)
   bool force = false;       // replace an existing output
-  // A validation report (`lsds validate --format json`); null: none. The frames
-  // its findings point to join the contact sheet so that links have targets.
-  nlohmann::json validation;
+  // A validation report (`lsds validate --format json`, read with
+  // ReadValidationReport); none: no validation section. The frames its
+  // findings point to join the contact sheet so that links have targets.
+  std::optional<ValidationSummary> validation;
   // Statistics from `lsds bundles -o` (checked with CheckBundleStats); null:
   // no mixed-pixel section.
   nlohmann::json bundle_stats;
@@ -57,9 +60,6 @@ struct ReportData {
 ReportData CollectReportData(const CollectionReader& reader,
                              const ReportOptions& options,
                              const std::set<int64_t>& always = {});
-
-// Frame indices the findings of a validation report point to (at most `max`).
-std::set<int64_t> FramesWithFindings(const nlohmann::json& validation, size_t max);
 
 // The page. Decodes the layers of the sampled frames only. What could not be
 // shown is a message on the page and a line in `problems` (frame order).

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 #include <vector>
 
 #include "libs/util/strings.h"
@@ -32,7 +31,7 @@ double NiceStep(double max, int ticks) {
 
 }  // namespace
 
-std::string HistogramSvg(const Histogram& h, int width, int height) {
+Html HistogramSvg(const Histogram& h, int width, int height) {
   const std::string unit = h.unit.empty() ? "" : " " + h.unit;
   std::vector<Bar> bars;
   std::vector<std::string> edge_labels;  // numeric: one more than the bars
@@ -87,10 +86,10 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
   const int left = 52, right = 24, top = 10, bottom = 48;
   const double plot_w = width - left - right, plot_h = height - top - bottom;
   const double bar_w = plot_w / std::max<size_t>(1, bars.size());
-  std::ostringstream s;
+  Html s;
   s << "<svg class=\"hist\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width
     << "\" height=\"" << height << "\" viewBox=\"0 0 " << width << " " << height << "\" data-id=\""
-    << XmlEscape(h.id) << "\">";
+    << h.id << "\">";
   // Count axis with grid lines.
   for (double v = 0; v <= top_value + 1e-9; v += step) {
     const double y = top + plot_h * (1 - v / top_value);
@@ -100,17 +99,17 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
       << FormatAxisNumber(v) << "</text>";
   }
   s << "<text transform=\"translate(12," << top + plot_h / 2
-    << ") rotate(-90)\" text-anchor=\"middle\">" << XmlEscape(h.counted) << "</text>";
+    << ") rotate(-90)\" text-anchor=\"middle\">" << h.counted << "</text>";
   for (size_t i = 0; i < bars.size(); ++i) {
     const Bar& b = bars[i];
     const double bh = plot_h * b.count / top_value;
     const double x = left + i * bar_w;
-    s << "<rect class=\"bar" << (b.warn ? " warn" : "") << "\" x=\"" << x + 1 << "\" y=\""
-      << top + plot_h - bh << "\" width=\"" << std::max(1.0, bar_w - 2) << "\" height=\"" << bh
-      << "\"><title>" << XmlEscape(b.tooltip) << "</title></rect>";
+    s << "<rect class=\"" << (b.warn ? Html::Markup("bar warn") : Html::Markup("bar")) << "\" x=\""
+      << x + 1 << "\" y=\"" << top + plot_h - bh << "\" width=\"" << std::max(1.0, bar_w - 2)
+      << "\" height=\"" << bh << "\"><title>" << b.tooltip << "</title></rect>";
     if (!b.label.empty()) {
       s << "<text x=\"" << x + bar_w / 2 << "\" y=\"" << top + plot_h + 13
-        << "\" text-anchor=\"middle\">" << XmlEscape(b.label) << "</text>";
+        << "\" text-anchor=\"middle\">" << b.label << "</text>";
     }
   }
   // Numeric: edge values at the bar boundaries, thinned to fit.
@@ -119,7 +118,7 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
     for (size_t i = 0; i < edge_labels.size(); i += every) {
       if (edge_labels[i].empty()) continue;
       s << "<text x=\"" << left + i * bar_w << "\" y=\"" << top + plot_h + 13
-        << "\" text-anchor=\"middle\">" << XmlEscape(edge_labels[i]) << "</text>";
+        << "\" text-anchor=\"middle\">" << edge_labels[i] << "</text>";
     }
   }
   s << "<line x1=\"" << left << "\" x2=\"" << left + plot_w << "\" y1=\"" << top + plot_h
@@ -127,9 +126,11 @@ std::string HistogramSvg(const Histogram& h, int width, int height) {
   s << "<line x1=\"" << left << "\" x2=\"" << left << "\" y1=\"" << top << "\" y2=\""
     << top + plot_h << "\" class=\"axis\"/>";
   s << "<text x=\"" << left + plot_w / 2 << "\" y=\"" << height - 8 << "\" text-anchor=\"middle\">"
-    << XmlEscape(h.x_label) << (h.unit.empty() ? "" : " (" + XmlEscape(h.unit) + ")") << "</text>";
+    << h.x_label;
+  if (!h.unit.empty()) s << " (" << h.unit << ")";
+  s << "</text>";
   s << "</svg>";
-  return s.str();
+  return s;
 }
 
 }  // namespace lsds::report

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "libs/report/histogram.h"
+#include "libs/report/html_text.h"
 
 namespace lsds::report {
 
@@ -13,7 +14,7 @@ namespace lsds::report {
 // bins from the first to the last non-empty one, plus "<" and ">" bars for
 // values outside the bins when there are any. Warning bins (Histogram::
 // warn_below) are drawn in red.
-std::string HistogramSvg(const Histogram& histogram, int width = 380, int height = 230);
+Html HistogramSvg(const Histogram& histogram, int width = 380, int height = 230);
 
 // Short numbers for axes and legends: FormatAxisNumber (libs/util/strings.h).
 

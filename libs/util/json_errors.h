@@ -24,14 +24,14 @@ Error JsonParseError(std::string_view text,
                      const nlohmann::json::exception& e,
                      int first_line = 1);
 
-// The integer member `key` of `object`, range-checked: nlohmann converts
-// silently (2^32+1 becomes 1 as int, -1 becomes 4294967295 as uint32, 2.5
-// becomes 2). Throws nlohmann's out_of_range naming the key and the value, which
-// the readers turn into an error at the JSON pointer.
+// The integer `value` (named `what` in the message), range-checked: nlohmann
+// converts silently (2^32+1 becomes 1 as int, -1 becomes 4294967295 as uint32,
+// 2.5 becomes 2). Throws nlohmann's type_error for a value that is not a
+// number and out_of_range naming `what` and the value otherwise, which the
+// readers turn into an error at the JSON pointer (AtPointer).
 template <typename T>
-T GetInteger(const nlohmann::json& object, const char* key) {
+T IntegerValue(const nlohmann::json& value, const std::string& what) {
   static_assert(std::is_integral_v<T>);
-  const nlohmann::json& value = object.at(key);
   if (!value.is_number()) return value.get<T>();  // nlohmann's type_error
   constexpr T lo = std::numeric_limits<T>::min();
   constexpr T hi = std::numeric_limits<T>::max();
@@ -49,12 +49,33 @@ T GetInteger(const nlohmann::json& object, const char* key) {
   }
   if (!ok) {
     throw nlohmann::json::out_of_range::create(406,
-                                               std::string(key) + ": " + value.dump() +
+                                               what + ": " + value.dump() +
                                                    " is not an integer in [" + std::to_string(lo) +
                                                    ", " + std::to_string(hi) + "]",
                                                nullptr);
   }
   return value.get<T>();
+}
+
+// The integer member `key` of `object`, range-checked as IntegerValue.
+template <typename T>
+T GetInteger(const nlohmann::json& object, const char* key) {
+  return IntegerValue<T>(object.at(key), key);
+}
+
+// Runs `body`, turning nlohmann's type and range errors (a string where a
+// number belongs, GetInteger's range check) into lsds::Error at
+// `file#pointer`: the readers of JSON inputs report a wrong type where it is,
+// never as an internal error.
+template <typename Body>
+auto AtPointer(const std::string& file, const std::string& pointer, Body&& body)
+    -> decltype(body()) {
+  try {
+    return body();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string("malformed value: ") + e.what(),
+                Location(file, pointer.empty() ? "/" : pointer));
+  }
 }
 
 // Parses a whole document with located errors.

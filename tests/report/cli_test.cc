@@ -3,12 +3,14 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "libs/report/html_text.h"
 #include "libs/synth/synthetic_collection.h"
 #include "tests/test_util.h"
 
@@ -342,6 +344,193 @@ TEST(ReportDemo, ChromiumShowsTheGeneratedDemoReport) {
     }
   }
   CheckInChromium(page, dir.path());
+}
+
+// Script planted in every string of every input the report reads: the folder
+// name, collection.json (provenance, class names, layer descriptions and
+// units, metadata variants, sequences, scene state, object names, assets and
+// materials), the perturbed metadata variant's file name, the validation
+// report and the bundle statistics. In the page they are text: no element,
+// attribute or script of theirs exists in the browser's DOM, the title stays
+// the page's, and the payload is shown as text. A control page with the same
+// payload inserted raw must trip the probe.
+const std::string kPayload =
+    "<script>document.title='PWNED'</script><img src=x onerror=\"document.title='PWNED'\">"
+    "</style></title></textarea>\" onmouseover=\"document.title='PWNED'\" x='";
+// Folder and file names cannot hold '/'.
+const std::string kNamePayload = "<img src=x onerror=\"document.title='PWNED'\">";
+
+// A shell word for any text (the folder name of this test holds quotes).
+std::string Quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Every string value under `value`, except the members named in `keep`.
+void PlantStrings(nlohmann::json* value,
+                  const std::string& payload,
+                  const std::set<std::string>& keep) {
+  if (value->is_string()) {
+    *value = payload;
+  } else if (value->is_array()) {
+    for (nlohmann::json& item : *value) PlantStrings(&item, payload, keep);
+  } else if (value->is_object()) {
+    for (auto& [key, member] : value->items()) {
+      if (keep.count(key) == 0) PlantStrings(&member, payload, keep);
+    }
+  }
+}
+
+// How Chromium's --dump-dom serializes `text` in a text node.
+std::string DomText(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '&') {
+      out += "&amp;";
+    } else if (c == '<') {
+      out += "&lt;";
+    } else if (c == '>') {
+      out += "&gt;";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+TEST(ReportHostile, ChromiumRunsNoScriptPlantedInAnyInput) {
+  testing::TempDir dir;
+  const fs::path c = dir / kNamePayload;
+  const std::string lsds = testing::LsdsBinary() + " ";
+  auto run = [&](const std::string& args) {
+    const auto result = RunCommandLine(lsds + args);
+    EXPECT_EQ(result.exit_code, 0) << args << "\n" << result.output;
+    return result;
+  };
+  run("synth " + Quote(c.string()) + " --count 6 --size 64x48");
+  // A perturbed metadata variant, then given a hostile file name.
+  run("perturb-metadata " + Quote(c.string()) + " --sigma 1 --seed 3 -o " +
+      Quote((c / "m.json").string()));
+  const fs::path stats = dir / "stats.json";
+  run("bundles " + Quote(c.string()) + " -o " + Quote(stats.string()));
+  ASSERT_FALSE(HasFailure());
+  const std::string variant = kNamePayload + ".json";
+  fs::rename(c / "m.json", c / variant);
+
+  nlohmann::json collection = nlohmann::json::parse(Slurp(c / "collection.json"));
+  nlohmann::json& provenance = collection["provenance"];
+  provenance["generator"] = provenance["generator_version"] = kPayload;
+  provenance["scene_source"] = provenance["capture_source"] = kPayload;
+  provenance["render"] = {{"renderer", kPayload}};
+  for (nlohmann::json& cls : collection["classes"]) {
+    cls["name"] = kPayload + " " + cls["id"].dump();
+  }
+  for (nlohmann::json& layer : collection["layers"])
+    layer["description"] = layer["unit"] = kPayload;
+  for (nlohmann::json& metadata : collection["metadata"]) {
+    metadata["description"] = kPayload;
+    if (metadata["file"] == "m.json") metadata["file"] = variant;
+  }
+  for (nlohmann::json& frame : collection["frames"]) {
+    frame["sequence"] = kPayload;
+    frame["scene"] = {{"sky", {{"cloud_type", kPayload}}}, {"terrain_material", kPayload}};
+    for (nlohmann::json& object : frame["objects"]) {
+      object["name"] = object["asset"] = object["material"] = kPayload;
+    }
+  }
+  std::ofstream(c / "collection.json", std::ios::binary) << collection.dump(1);
+
+  nlohmann::json bundle_stats = nlohmann::json::parse(Slurp(stats));
+  PlantStrings(&bundle_stats, kPayload, {"format", "format_version"});
+  std::ofstream(stats, std::ios::binary) << bundle_stats.dump();
+
+  // Every string the validation report schema leaves free.
+  const fs::path validation = dir / "validation.json";
+  nlohmann::json finding = {
+      {"severity", "error"},
+      {"check", kPayload},
+      {"object", kPayload},
+      {"message", kPayload},
+      {"location",
+       {{"file", kPayload}, {"json_pointer", kPayload}, {"frame", 1}, {"pixel", {3, 4}}}}};
+  const nlohmann::json report = {
+      {"format", "lsds-validate-report"},
+      {"format_version", "1.0"},
+      {"collection", kPayload},
+      {"verdict", "fail"},
+      {"fail_on", "error"},
+      {"frames", 6},
+      {"files_decoded", 0},
+      {"bytes_decoded", 0},
+      {"seconds", 0},
+      {"counts", {{"error", 1}, {"warning", 0}, {"info", 0}}},
+      {"checks",
+       {{{"id", "layer.depth-finite"},
+         {"severity", "error"},
+         {"tolerance", kPayload},
+         {"count", 1},
+         {"findings", {finding}}}}},
+      {"statistics", {{kPayload, {{"max", 1}, {"rms", 1}, {"count", 1}}}}}};
+  std::ofstream(validation, std::ios::binary) << report.dump();
+
+  const auto before = Snapshot(dir.path());
+  const fs::path page = dir / "out" / "report.html";
+  fs::create_directories(page.parent_path());
+  const auto result =
+      RunCommandLine(lsds + "report " + Quote(c.string()) + " -o " + Quote(page.string()) +
+                     " --sample 6 --layer-frames 2" + " --validation-report " +
+                     Quote(validation.string()) + " --bundle-stats " + Quote(stats.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(Snapshot(dir.path()).size(), before.size() + 1);
+  for (const auto& [file, content] : before) {
+    EXPECT_EQ(Slurp(dir / file), content) << file;
+  }
+
+  // The page as written: the payload only as escaped text, shown where each
+  // planted field is shown.
+  const std::string html = Slurp(page);
+  EXPECT_EQ(html.find("<script>document.title"), std::string::npos);
+  EXPECT_EQ(html.find("<img src=x"), std::string::npos);
+  EXPECT_EQ(html.find("\" onmouseover"), std::string::npos);
+  const std::string escaped = report::HtmlEscape(kPayload);
+  // generator, version, class names (filter, histogram), sequences, cloud
+  // types, object names, the finding's file, pointer, object and message, the
+  // bundle layer: far more than 10.
+  EXPECT_GT(Count(html, escaped), 10u);
+  EXPECT_NE(html.find("<title>lsds report: " + report::HtmlEscape(kNamePayload) + "</title>"),
+            std::string::npos);
+  EXPECT_NE(html.find("variant " + report::HtmlEscape(variant) + "</p>"), std::string::npos);
+
+  if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
+  // The virtual time budget lets a planted onerror or timer run before the
+  // DOM is dumped.
+  const std::string chromium =
+      "chromium --headless --no-sandbox --disable-gpu --disable-background-networking "
+      "--disable-component-update --disable-sync --no-first-run --virtual-time-budget=3000 "
+      "--user-data-dir=" +
+      Quote((dir / "profile").string()) + " --dump-dom ";
+  const auto dom = RunCommandLine(chromium + Quote("file://" + page.string()));
+  ASSERT_NE(dom.output.find("data-report-ready=\"1\""), std::string::npos)
+      << dom.output.substr(0, 2000);
+  EXPECT_EQ(dom.output.find("data-js-error=\""), std::string::npos);
+  EXPECT_NE(dom.output.find("<title>lsds report: " + DomText(kNamePayload) + "</title>"),
+            std::string::npos)
+      << dom.output.substr(0, 2000);
+  EXPECT_EQ(dom.output.find("PWNED</title>"), std::string::npos);
+  EXPECT_EQ(dom.output.find("<img src=\"x\""), std::string::npos);
+  EXPECT_EQ(dom.output.find("<script>document.title"), std::string::npos);
+  EXPECT_GT(Count(dom.output, DomText(kPayload)), 10u);
+
+  // Control: the payload inserted raw runs, and the probe sees it.
+  std::string raw = html;
+  raw.insert(raw.rfind("</body>"), kPayload);
+  const fs::path control = dir / "out" / "control.html";
+  std::ofstream(control, std::ios::binary) << raw;
+  const auto bad = RunCommandLine(chromium + Quote("file://" + control.string()));
+  EXPECT_NE(bad.output.find("<title>PWNED</title>"), std::string::npos)
+      << bad.output.substr(0, 2000);
+  EXPECT_NE(bad.output.find("<img src=\"x\""), std::string::npos);
 }
 
 }  // namespace

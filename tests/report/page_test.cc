@@ -57,7 +57,7 @@ TEST(Page, SvgBarsCarryTheHistogramCounts) {
       MakeNumeric("size", "Size", "longer side", "px", "objects", GeometricEdges(1, 64, 2));
   h.warn_below = 8;
   for (double v : {3.0, 3.5, 5.0, 20.0, 20.0, 20.0, 0.5, 100.0, 200.0}) h.Add(v);
-  const std::string svg = HistogramSvg(h);
+  const std::string svg = HistogramSvg(h).str();
   // One tooltip per bar: "[a, b) px: n", plus "<" and ">" bars.
   std::map<std::string, std::string> bars;
   const std::regex tooltip(R"(<title>([^<]*): (\d+)</title>)");

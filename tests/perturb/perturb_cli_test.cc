@@ -183,6 +183,7 @@ TEST_F(PerturbCli, ConcurrentWritersAllRegister) {
               " --sigma 1 --seed " + std::to_string(seed) + " >/dev/null 2>&1 & ";
   }
   script += "wait";
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): the test starts no threads
   ASSERT_EQ(std::system(("sh -c '" + script + "'").c_str()), 0);
   const CollectionReader reader(root_);
   std::set<std::string> files;

@@ -158,7 +158,7 @@ TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
 // A copy of shard `name` in which `mutate` changes one thing; the merge of
 // s0, the copy (in place of s1) and s2 must be refused naming the file.
 fs::path MutatedShard(const fs::path& shard, const std::string& name) {
-  const fs::path copy = shard.parent_path() / name;
+  fs::path copy = shard.parent_path() / name;
   fs::remove_all(copy);
   fs::copy(shard, copy, fs::copy_options::recursive | fs::copy_options::copy_symlinks);
   return copy;

@@ -1,6 +1,7 @@
 #include "generator/demo_plan.h"
 
 #include <cmath>
+#include <string>
 
 #include "generator/scene/perlin.h"
 #include "generator/scene/terrain.h"
@@ -11,7 +12,13 @@ namespace lsds::gen {
 Plan MakeDemoPlan(const DemoOptions& options) {
   Plan plan;
   plan.seed = options.seed;
-  plan.scene_source = "# built-in demo scene (lsds generate --demo)";
+  // The demo has no scene text: its source is the command that makes it,
+  // with every parameter, so that two demos differ in their provenance (lsds
+  // merge refuses shards of different runs by it).
+  plan.scene_source = "# built-in demo scene: lsds generate --demo --demo-frames " +
+                      std::to_string(options.frames) + " --demo-size " +
+                      std::to_string(options.width) + "x" + std::to_string(options.height) + " (" +
+                      std::to_string(options.objects) + " objects)";
   const char* classes[] = {
       "terrain", "barrel", "tire", "jerrycan", "rock", "bush", "person", "cube"};
   for (uint32_t i = 0; i < 8; ++i) plan.classes.push_back({i + 1, classes[i]});

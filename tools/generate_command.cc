@@ -109,9 +109,7 @@ int RunGenerate(int argc, char** argv) {
       options.last_frame = selection->end;
     }
     if (!shard.empty()) ParseShard(shard, &options.shard_index, &options.shard_count);
-    if (!ParseDepthKind(depth, &options.depth_kind)) {
-      throw Error("--depth " + depth + ": expected planar or perspective");
-    }
+    options.depth_kind = ParseDepthFlag(depth);
     if (!ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
       throw Error("--bundle-layout " + bundle_layout + ": expected residual, compact or full");
     }

@@ -40,6 +40,13 @@ void ParseShard(const std::string& text, int* index, int* count) {
   }
 }
 
+DepthKind ParseDepthFlag(const std::string& text) {
+  DepthKind kind = DepthKind::kPlanar;
+  if (!ParseDepthKind(text, &kind))
+    throw Error("--depth " + text + ": expected planar or perspective");
+  return kind;
+}
+
 void AddThreadsOption(CLI::App& app, int* threads, bool jobs_alias) {
   app.add_option("--threads", *threads, "worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber);

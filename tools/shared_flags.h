@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "generator/plan/plan.h"
+#include "libs/geometry/camera.h"
 #include "libs/util/frame_selection.h"
 
 namespace lsds {
@@ -31,6 +32,9 @@ CLI::Option* AddShardOption(CLI::App& app, std::string* text, const std::string&
 
 // Parses --shard I/N: exit 2 unless 0 <= I < N.
 void ParseShard(const std::string& text, int* index, int* count);
+
+// Parses --depth planar|perspective: exit 2 naming the flag otherwise.
+DepthKind ParseDepthFlag(const std::string& text);
 
 // Caps TBB's worker threads for its lifetime (0: no cap).
 class ThreadLimit {

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <optional>
 
+#include "generator/generate.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/scaleout/slurm_job.h"
 #include "libs/util/atomic_file.h"
@@ -92,6 +93,14 @@ int RunSubmit(int argc, char** argv) {
     job.depth = depth;
     job.force_merge = force;
     job.Check();
+    // Every value the tasks pass to lsds generate goes through generate's own
+    // checks here: a bad one fails now, not in each of N tasks on the cluster.
+    gen::GenerateOptions task;
+    task.output = job.work / "shard-0";
+    task.shard_count = job.shards;
+    if (spp) task.spp = *spp;
+    if (!depth.empty()) task.depth_kind = ParseDepthFlag(depth);
+    task.Check();
     // The plan is made here so that a bad scene or too many shards fail now,
     // not in every task on the cluster.
     std::optional<FrameSelection> selection;

@@ -1,5 +1,10 @@
 #include "libs/collection/shard_merge.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -8,16 +13,23 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <thread>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 #include <nlohmann/json.hpp>
 
+#include "libs/collection/bundle_layout.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
+#include "libs/collection/motion_layout.h"
 #include "libs/collection/schema.h"
+#include "libs/collection/worldposition_layout.h"
+#include "libs/exr/exr_chunks.h"
+#include "libs/exr/exr_info.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/progress.h"
@@ -145,8 +157,27 @@ void RequireSame(const json& first,
   if (patch.empty()) return;
   const std::string pointer = patch[0].at("path").get<std::string>();
   const json::json_pointer at(pointer);
+  // Two long texts (scene sources) are shown from a little before the first
+  // byte where they differ, so that the message shows the difference.
+  size_t from = 0;
+  if (first.contains(at) && other.contains(at) && first.at(at).is_string() &&
+      other.at(at).is_string()) {
+    const auto& a = first.at(at).get_ref<const std::string&>();
+    const auto& b = other.at(at).get_ref<const std::string&>();
+    size_t k = 0;
+    while (k < a.size() && k < b.size() && a[k] == b[k]) ++k;
+    from = k > 20 ? k - 20 : 0;
+    while (from > 0 && k - from < 40 && a[from - 1] != ' ') --from;  // from a word's start
+  }
   auto shown = [&](const json& j) {
     if (!j.contains(at)) return std::string("nothing");
+    if (from > 0) {
+      const auto& value = j.at(at).get_ref<const std::string&>();
+      // The cut may split a UTF-8 sequence: replaced, not thrown on.
+      const std::string part =
+          json(value.substr(from, 50)).dump(-1, ' ', false, json::error_handler_t::replace);
+      return "..." + part + (from + 50 < value.size() ? "..." : "");
+    }
     std::string text = j.at(at).dump();
     if (text.size() > 60) text = text.substr(0, 57) + "...";
     return text;
@@ -275,6 +306,166 @@ fs::path CheckedRelative(const std::string& file, const fs::path& collection_fil
   return relative;
 }
 
+// A file descriptor closed on every path out.
+struct Descriptor {
+  int fd = -1;
+  Descriptor() = default;
+  explicit Descriptor(int value) : fd(value) {}
+  Descriptor(Descriptor&& other) noexcept : fd(other.fd) { other.fd = -1; }
+  Descriptor(const Descriptor&) = delete;
+  Descriptor& operator=(const Descriptor&) = delete;
+  Descriptor& operator=(Descriptor&&) = delete;
+  ~Descriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+std::string ErrnoText(int error) { return std::generic_category().message(error); }
+
+// What lstat says an entry is, for messages about entries merge refuses.
+std::string KindOf(int dir_fd, const std::string& name) {
+  struct stat st {};
+  if (::fstatat(dir_fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return "";
+  if (S_ISLNK(st.st_mode)) {
+    std::string target(4096, '\0');
+    const ssize_t n = ::readlinkat(dir_fd, name.c_str(), target.data(), target.size());
+    target.resize(n > 0 ? static_cast<size_t>(n) : 0);
+    return "a symbolic link (to " + target + ")";
+  }
+  if (S_ISFIFO(st.st_mode)) return "a FIFO";
+  if (S_ISSOCK(st.st_mode)) return "a socket";
+  if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return "a device";
+  if (S_ISDIR(st.st_mode)) return "a folder";
+  if (S_ISREG(st.st_mode)) return "a regular file";
+  return "not a regular file";
+}
+
+// Opens a frame's layer file for reading only if it is a regular file reached
+// through real folders of the shard. A symbolic link (to /etc/passwd, to
+// another run's file) would copy bytes from outside the shard into the merged
+// collection, and a FIFO or device would block the merge or read without end;
+// each is refused. Every component is looked up relative to the one before
+// without following links (lstat, then O_NOFOLLOW), so nothing outside the
+// shard is opened, and the type is checked before anything is opened.
+Descriptor OpenLayerInShard(const fs::path& root,
+                            const fs::path& relative,
+                            const Location& where,
+                            struct stat* st) {
+  Descriptor dir(::open(root.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+  if (dir.fd < 0)
+    throw Error("cannot open the shard: " + ErrnoText(errno), Location(root.string()));
+  fs::path reached = root;
+  // The location names the layer file; a folder on its way is named too.
+  const std::vector<fs::path> parts(relative.begin(), relative.end());
+  auto refuse = [&](const std::string& name, const std::string& expected) {
+    const std::string kind = KindOf(dir.fd, name);
+    const std::string what = reached / name == root / relative
+                                 ? "the layer file"
+                                 : "its folder " + (reached / name).string();
+    throw Error(what + " is " + (kind.empty() ? "missing" : kind) + ": merge copies only " +
+                    expected + " inside the shard",
+                where);
+  };
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    const std::string name = parts[i].string();
+    Descriptor next(
+        ::openat(dir.fd, name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
+    if (next.fd < 0) refuse(name, "layer files in real folders");
+    std::swap(dir.fd, next.fd);
+    reached /= name;
+  }
+  const std::string name = parts.back().string();
+  struct stat entry {};
+  if (::fstatat(dir.fd, name.c_str(), &entry, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(entry.st_mode))
+    refuse(name, "regular files");
+  Descriptor file(::openat(dir.fd, name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC));
+  if (file.fd < 0 || ::fstat(file.fd, st) != 0 || !S_ISREG(st->st_mode) ||
+      st->st_ino != entry.st_ino || st->st_dev != entry.st_dev)
+    throw Error("the layer file changed while it was opened (is the shard being written?)", where);
+  return file;
+}
+
+// A shard's layer file must be what its frame says: the header of the
+// declared layer (deep or flat, the declared channels and types) at the
+// frame's image size, and every chunk of pixel data inside the file. A
+// truncated or foreign layer would otherwise be copied silently into a
+// collection that fails validation.
+void CheckLayerFile(const fs::path& path,
+                    uint64_t size,
+                    const LayerInfo& layer,
+                    const Frame& frame,
+                    const Location& where) {
+  exr::ExrInfo info;
+  try {
+    info = exr::ReadExrInfo(path);
+    exr::CheckChunksWithinFile(path, size);
+  } catch (const Error& e) {
+    throw Error("layer '" + layer.name + "': " + e.message(), where);
+  }
+  const std::string of = "layer '" + layer.name + "'";
+  if (info.deep != layer.deep)
+    throw Error(of + ": the file is " + (info.deep ? "deep" : "flat") + " but the layer is " +
+                    (layer.deep ? "deep" : "flat"),
+                where);
+  const PinholeCamera& camera = frame.camera.intrinsics;
+  if (info.width != camera.width || info.height != camera.height)
+    throw Error(of + ": the file is " + std::to_string(info.width) + "x" +
+                    std::to_string(info.height) + " but the frame's camera is " +
+                    std::to_string(camera.width) + "x" + std::to_string(camera.height),
+                where);
+  // The channels a reader gets (residual and compact layouts decode to the
+  // declared ones), as validate compares them.
+  info.channels = layer.semantic == "motion" ? ReadableMotionChannels(info)
+                                             : ReadableWorldPositionChannels(info);
+  info.channels = ReadableChannels(info);
+  for (const LayerChannel& declared : layer.channels) {
+    const exr::ChannelSpec* found = info.Find(declared.name);
+    if (found == nullptr)
+      throw Error(of + ": the file has no channel '" + declared.name + "'", where);
+    if (found->type != declared.type)
+      throw Error(of + ": channel '" + declared.name + "' is " + exr::PixelTypeName(found->type) +
+                      " but the layer declares " + exr::PixelTypeName(declared.type),
+                  where);
+  }
+}
+
+// Copies a checked layer file from its open descriptor (the file that was
+// checked, whatever happens to the path meanwhile) through the checked atomic
+// output path; returns the bytes copied.
+uint64_t CopyLayerFile(int fd, uint64_t size, const fs::path& to, const Location& from) {
+  AtomicFile out(to);
+  std::vector<char> chunk(1 << 20);
+  uint64_t copied = 0;
+  while (true) {
+    const ssize_t n = ::pread(fd, chunk.data(), chunk.size(), static_cast<off_t>(copied));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw Error("cannot read the layer file: " + ErrnoText(errno), from);
+    }
+    if (n == 0) break;
+    out.stream().write(chunk.data(), n);
+    copied += static_cast<uint64_t>(n);
+  }
+  if (copied != size)
+    throw Error("the layer file changed size during the merge (" + std::to_string(size) + " -> " +
+                    std::to_string(copied) + " bytes)",
+                from);
+  out.Commit();
+  return copied;
+}
+
+// The writers name the files they write in the temporary folder the output
+// is built in; the user knows the output by the name given with -o.
+[[noreturn]] void RethrowNamingOutput(const Error& error,
+                                      const fs::path& temp,
+                                      const fs::path& output) {
+  Location location = error.location();
+  const std::string prefix = temp.string();
+  if (location.file.compare(0, prefix.size(), prefix) == 0)
+    location.file = output.string() + location.file.substr(prefix.size());
+  throw Error(error.message(), location);
+}
+
 }  // namespace
 
 MergeSummary MergeShards(const MergeOptions& options) {
@@ -312,89 +503,123 @@ MergeSummary MergeShards(const MergeOptions& options) {
   // The run's collection, built under a temporary name.
   AtomicDirectory directory(options.output, options.force);
   const fs::path& out = directory.temp_path();
-  CollectionHeader header = shards[0].header;
-  header.provenance.shard.reset();
-  header.frame_count = coverage.frames;
-  for (const LayerInfo& layer : header.layers) fs::create_directories(out / layer.name);
-  MetadataHeader metadata_header = shards[0].metadata;
-  metadata_header.frame_count = coverage.frames;
   MergeSummary summary;
   summary.shards = static_cast<int>(shards.size());
   summary.frames = coverage.frames;
-
-  // Runs `fn` on every frame of `file_name` in run order, the elements taken
-  // from the shard streams that hold them.
-  auto for_each_in_run_order = [&](const char* file_name,
-                                   const std::function<void(json&&, const Shard&, int64_t)>& fn) {
-    std::vector<std::unique_ptr<ElementStream>> streams;
-    streams.reserve(shards.size());
-    for (const Shard& shard : shards)
-      streams.push_back(std::make_unique<ElementStream>(shard.root / file_name));
-    for (size_t k = 0; k < coverage.owner.size(); ++k) {
-      const int owner = coverage.owner[k];
-      if (owner < 0) continue;
-      json element;
-      if (!streams[owner]->Next(&element))
-        throw Error("the file ended early (was it changed during the merge?)",
-                    Location((shards[owner].root / file_name).string()));
-      fn(std::move(element), shards[owner], coverage.first + static_cast<int64_t>(k));
+  try {
+    CollectionHeader header = shards[0].header;
+    header.provenance.shard.reset();
+    header.frame_count = coverage.frames;
+    for (const LayerInfo& layer : header.layers) {
+      std::error_code ec;
+      fs::create_directory(out / layer.name, ec);
+      if (ec)
+        throw Error("cannot create the layer folder: " + ec.message(),
+                    Location((out / layer.name).string()));
     }
-  };
+    MetadataHeader metadata_header = shards[0].metadata;
+    metadata_header.frame_count = coverage.frames;
 
-  {
-    std::optional<Progress> progress;
-    if (options.progress) progress.emplace("merge", coverage.frames);
-    const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
-    CollectionWriter writer(out, header);
-    std::vector<int64_t> frame_in_shard(shards.size(), 0);
-    for_each_in_run_order(kCollectionFile, [&](json&& element, const Shard& shard, int64_t index) {
-      const fs::path file = shard.root / kCollectionFile;
-      const size_t s = static_cast<size_t>(&shard - shards.data());
-      const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
-      schema.ValidateOrThrow(element, file.string(), pointer);
-      const Frame frame = FrameFromJson(element, file.string(), pointer);
-      if (frame.index != index)
-        throw Error("expected frame " + std::to_string(index) +
-                        " here (was the shard changed during the merge?)",
-                    Location(file.string(), pointer));
-      std::vector<fs::path> files;
-      for (const auto& [layer, name] : frame.files)
-        files.push_back(CheckedRelative(name, file, index));
-      // Layer files are independent: copy them in parallel.
-      std::vector<uint64_t> bytes(files.size(), 0);
-      tbb::parallel_for(size_t{0}, files.size(), [&](size_t i) {
-        const fs::path from = shard.root / files[i];
-        const fs::path to = out / files[i];
-        std::error_code ec;
-        fs::create_directories(to.parent_path(), ec);
-        fs::copy_file(from, to, ec);
-        if (ec) throw Error("cannot copy the layer file: " + ec.message(), Location(from.string()));
-        bytes[i] = fs::file_size(to);
+    // Runs `fn` on every frame of `file_name` in run order, the elements taken
+    // from the shard streams that hold them.
+    auto for_each_in_run_order = [&](const char* file_name,
+                                     const std::function<void(json&&, const Shard&, int64_t)>& fn) {
+      std::vector<std::unique_ptr<ElementStream>> streams;
+      streams.reserve(shards.size());
+      for (const Shard& shard : shards)
+        streams.push_back(std::make_unique<ElementStream>(shard.root / file_name));
+      for (size_t k = 0; k < coverage.owner.size(); ++k) {
+        const int owner = coverage.owner[k];
+        if (owner < 0) continue;
+        json element;
+        if (!streams[owner]->Next(&element))
+          throw Error("the file ended early (was it changed during the merge?)",
+                      Location((shards[owner].root / file_name).string()));
+        fn(std::move(element), shards[owner], coverage.first + static_cast<int64_t>(k));
+      }
+    };
+
+    {
+      std::optional<Progress> progress;
+      if (options.progress) progress.emplace("merge", coverage.frames);
+      const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
+      CollectionWriter writer(out, header);
+      std::vector<int64_t> frame_in_shard(shards.size(), 0);
+      for_each_in_run_order(
+          kCollectionFile, [&](json&& element, const Shard& shard, int64_t index) {
+            const fs::path file = shard.root / kCollectionFile;
+            const size_t s = static_cast<size_t>(&shard - shards.data());
+            const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
+            schema.ValidateOrThrow(element, file.string(), pointer);
+            const Frame frame = FrameFromJson(element, file.string(), pointer);
+            if (frame.index != index)
+              throw Error("expected frame " + std::to_string(index) +
+                              " here (was the shard changed during the merge?)",
+                          Location(file.string(), pointer));
+            struct LayerFile {
+              const LayerInfo* layer;
+              fs::path relative;
+            };
+            std::vector<LayerFile> files;
+            for (const auto& [layer_name, name] : frame.files) {
+              const LayerInfo* layer = shard.header.FindLayer(layer_name);
+              if (layer == nullptr)
+                throw Error("frame " + std::to_string(index) + " lists a file for layer '" +
+                                layer_name + "', which the layer table does not declare",
+                            Location(file.string(), pointer + "/files/" + layer_name));
+              files.push_back({layer, CheckedRelative(name, file, index)});
+            }
+            // Layer files are independent: check and copy them in parallel.
+            std::vector<uint64_t> bytes(files.size(), 0);
+            tbb::parallel_for(size_t{0}, files.size(), [&](size_t i) {
+              const fs::path from = shard.root / files[i].relative;
+              const fs::path to = out / files[i].relative;
+              Location where(from.string());
+              where.frame = index;
+              struct stat st {};
+              const Descriptor layer_file =
+                  OpenLayerInShard(shard.root, files[i].relative, where, &st);
+              const uint64_t size = static_cast<uint64_t>(st.st_size);
+              CheckLayerFile(from, size, *files[i].layer, frame, where);
+              // The header was read by name: it must be the file that is copied.
+              struct stat now {};
+              if (::lstat(from.c_str(), &now) != 0 || now.st_ino != st.st_ino ||
+                  now.st_dev != st.st_dev)
+                throw Error("the layer file was replaced during the merge", where);
+              std::error_code ec;
+              fs::create_directories(to.parent_path(), ec);
+              if (ec)
+                throw Error("cannot create the folder: " + ec.message(),
+                            Location(to.parent_path().string()));
+              bytes[i] = CopyLayerFile(layer_file.fd, size, to, where);
+            });
+            for (uint64_t b : bytes) summary.bytes += b;
+            summary.files += static_cast<int64_t>(files.size());
+            writer.Append(frame);
+            if (progress) progress->Add();
+          });
+      writer.Commit();
+    }
+    {
+      const JsonSchema& schema = JsonSchema::Get("metadata.schema.json", "frame");
+      MetadataWriter writer(out / kMetadataFile, metadata_header);
+      std::vector<int64_t> frame_in_shard(shards.size(), 0);
+      for_each_in_run_order(kMetadataFile, [&](json&& element, const Shard& shard, int64_t index) {
+        const fs::path file = shard.root / kMetadataFile;
+        const size_t s = static_cast<size_t>(&shard - shards.data());
+        const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
+        schema.ValidateOrThrow(element, file.string(), pointer);
+        const MetadataFrame frame = MetadataFrameFromJson(element, file.string(), pointer);
+        if (frame.index != index)
+          throw Error("metadata of frame " + std::to_string(frame.index) +
+                          " where collection.json has frame " + std::to_string(index),
+                      Location(file.string(), pointer));
+        writer.Append(frame);
       });
-      for (uint64_t b : bytes) summary.bytes += b;
-      summary.files += static_cast<int64_t>(files.size());
-      writer.Append(frame);
-      if (progress) progress->Add();
-    });
-    writer.Commit();
-  }
-  {
-    const JsonSchema& schema = JsonSchema::Get("metadata.schema.json", "frame");
-    MetadataWriter writer(out / kMetadataFile, metadata_header);
-    std::vector<int64_t> frame_in_shard(shards.size(), 0);
-    for_each_in_run_order(kMetadataFile, [&](json&& element, const Shard& shard, int64_t index) {
-      const fs::path file = shard.root / kMetadataFile;
-      const size_t s = static_cast<size_t>(&shard - shards.data());
-      const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
-      schema.ValidateOrThrow(element, file.string(), pointer);
-      const MetadataFrame frame = MetadataFrameFromJson(element, file.string(), pointer);
-      if (frame.index != index)
-        throw Error("metadata of frame " + std::to_string(frame.index) +
-                        " where collection.json has frame " + std::to_string(index),
-                    Location(file.string(), pointer));
-      writer.Append(frame);
-    });
-    writer.Commit();
+      writer.Commit();
+    }
+  } catch (const Error& e) {
+    RethrowNamingOutput(e, out, options.output);
   }
   directory.Commit();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "libs/collection/collection_guard.h"
 #include "libs/collection/collection_reader.h"
@@ -68,6 +69,7 @@ class ReportWriter {
     file_.stream() << (count_ == 0 ? "],\n" : "\n  ],\n") << "  \"summary\": " << indented
                    << "\n}\n";
   }
+  void Check() { file_.Check(); }
   void Commit() { file_.Commit(); }
 
  private:
@@ -165,6 +167,9 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
                   Location(report.string()));
     }
     guard.CheckOutput(report, "--report");
+    if (fs::is_directory(report, ec)) {
+      throw Error("the report is a folder; --report takes a file name", Location(report.string()));
+    }
     RefuseToOverwrite(report, options.force, "report");
     result.report = report;
   }
@@ -293,13 +298,33 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
     if (registry) registry->stream() << "]\n}\n";
   }
 
-  output.Commit();
+  // Every file is complete and flushed before any is renamed into place: a
+  // full disk or a failing report is met while nothing is visible yet.
   if (report) {
     result.report_summary = displacement.ToJson();
     report->Finish(*result.report_summary);
-    report->Commit();
+    report->Check();
   }
-  if (registry) registry->Commit();
+  output.Check();
+  if (registry) registry->Check();
+  // Then the report and the variant go into place before collection.json
+  // registers the variant, so that a registered variant always has its files;
+  // a rename that fails removes the files this run created before it (files
+  // replaced with --force keep their new content).
+  std::vector<fs::path> created;
+  try {
+    const auto commit = [&created, &ec](auto& file, const fs::path& path) {
+      const bool existed = fs::exists(path, ec);
+      file.Commit();
+      if (!existed) created.push_back(path);
+    };
+    if (report) commit(*report, *result.report);
+    commit(output, result.output);
+    if (registry) registry->Commit();
+  } catch (const Error&) {
+    for (const fs::path& path : created) fs::remove(path, ec);
+    throw;
+  }
   return result;
 }
 

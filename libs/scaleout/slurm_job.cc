@@ -3,16 +3,21 @@
 #include <sstream>
 
 #include "libs/util/error.h"
+#include "libs/util/text_check.h"
 
 namespace lsds {
 
 namespace {
 
-// Values that land in #SBATCH lines must not break the line or the option.
+// Values that land in #SBATCH lines must not break the line or the option: a
+// carriage return or another control character reaches sbatch as part of the
+// value, and every task is refused on the cluster.
 void CheckSbatchValue(const std::string& flag, const std::string& value) {
   for (char c : value) {
-    if (c == '\n' || c == ' ' || c == '\t' || c == '#' || c == '\'' || c == '"')
-      throw Error(flag + " '" + value + "': spaces, quotes and '#' are not allowed");
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f || c == ' ' || c == '#' || c == '\'' || c == '"')
+      throw Error(flag + " '" + Excerpt(value) +
+                  "': control characters, spaces, quotes and '#' are not allowed");
   }
 }
 
@@ -49,7 +54,6 @@ void SlurmJob::Check() const {
                 ": at least 2 (one shard is a plain lsds generate)");
   if (throttle < 0) throw Error("--throttle must be >= 0 (0: no limit)");
   if (cpus_per_task < 0) throw Error("--cpus-per-task must be >= 0");
-  if (spp && *spp < 1) throw Error("--spp must be >= 1");
   CheckSbatchValue("--partition", partition);
   CheckSbatchValue("--account", account);
   CheckSbatchValue("--time", time);

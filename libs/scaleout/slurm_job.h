@@ -32,7 +32,10 @@ struct SlurmJob {
   std::string job_name = "lsds";
   std::string account;
 
-  void Check() const;  // throws lsds::Error for inconsistent settings
+  // Throws lsds::Error for inconsistent settings and values that would break
+  // a script line. The values passed on to lsds generate (spp, depth, frames)
+  // are generate's to check: `lsds submit` runs GenerateOptions::Check.
+  void Check() const;
 };
 
 struct SlurmScripts {

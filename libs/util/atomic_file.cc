@@ -301,7 +301,17 @@ void AtomicFile::Fail(const std::string& what, int error) {
 }
 
 void AtomicFile::Check() {
-  if (fd_ < 0) throw Error("already committed", Location(path_.string()));
+  if (fd_ < 0) {
+    // A write that failed closed the file (Fail): a later check, such as
+    // OpenEXR's writer flushing once more after the error, reports that
+    // failure again rather than a misuse.
+    if (!committed_) {
+      const int error = buffer_->error() != 0 ? buffer_->error() : EIO;
+      throw Error("cannot write (an earlier write failed): " + ErrnoText(error),
+                  Location(path_.string()));
+    }
+    throw Error("already committed", Location(path_.string()));
+  }
   buffer_->Flush();
   if (buffer_->error() != 0) Fail("cannot write", buffer_->error());
   if (!*stream_) Fail("cannot write", EIO);
@@ -367,9 +377,21 @@ void AtomicDirectory::Commit() {
   }
   SyncFolder(temp_path_);
   ec.clear();
-  if (fs::exists(path_, ec)) {
-    // Either empty or --force: move the old folder aside first so that a failed
-    // rename loses nothing.
+  if (!force_) {
+    // One rename, no look first: it replaces at most an empty folder, so when
+    // another run wrote the same new output meanwhile, the later one fails
+    // here instead of replacing the first one's folder.
+    fs::rename(temp_path_, path_, ec);
+    if (ec == std::errc::directory_not_empty || ec == std::errc::file_exists ||
+        ec == std::errc::not_a_directory)
+      throw Error(
+          "the output was created by another run while this one was writing; nothing "
+          "was replaced (pass --force to replace it)",
+          Location(path_.string()));
+    if (ec) throw Error("cannot rename into place: " + ec.message(), Location(path_.string()));
+  } else if (fs::exists(path_, ec)) {
+    // --force: move the old folder aside first so that a failed rename loses
+    // nothing.
     const fs::path old = TempPathBeside(path_);
     fs::rename(path_, old, ec);
     if (ec) throw Error("cannot replace: " + ec.message(), Location(path_.string()));

@@ -27,8 +27,10 @@ struct CliRun {
   std::string output;  // stdout and stderr
 };
 
-CliRun Lsds(const std::string& args) {
-  const std::string command = ::lsds::testing::BinaryDir() + "/tools/lsds " + args + " 2>&1";
+// `env`: VAR=VALUE assignments for the command's environment.
+CliRun Lsds(const std::string& args, const std::string& env = "") {
+  const std::string command =
+      env + " " + ::lsds::testing::BinaryDir() + "/tools/lsds " + args + " 2>&1";
   CliRun run;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -181,6 +183,7 @@ TEST_F(PerturbCli, ConcurrentWritersAllRegister) {
               " --sigma 1 --seed " + std::to_string(seed) + " >/dev/null 2>&1 & ";
   }
   script += "wait";
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): the test starts no threads
   ASSERT_EQ(std::system(("sh -c '" + script + "'").c_str()), 0);
   const CollectionReader reader(root_);
   std::set<std::string> files;
@@ -198,6 +201,46 @@ TEST_F(PerturbCli, RefusesOutputsOntoInputsEvenWithForce) {
                 "is the truth metadata");
   ExpectRefused("--sigma 1 --seed 3 -o " + root_.string() + " --force",
                 "an input of lsds perturb-metadata");
+}
+
+// A report that cannot be written is found before anything is renamed into
+// place: no variant is left behind, unregistered, without its report.
+TEST_F(PerturbCli, AReportThatCannotBeWrittenLeavesNoVariant) {
+  fs::create_directories(dir_.path() / "taken" / "inside");
+  before_ = Listing(dir_.path());
+  ExpectRefused("--sigma 1 --seed 3 --force --report=" + (dir_.path() / "taken").string(),
+                "the report is a folder");
+}
+
+// A full disk at any moment (simulated: checked writes fail with ENOSPC after
+// N bytes) leaves all or nothing: never a variant without its report, nor a
+// registered variant without its file.
+TEST_F(PerturbCli, AFullDiskAtAnyMomentLeavesAllOrNothing) {
+  const std::string args =
+      "perturb-metadata " + root_.string() + " --sigma 1,0.5 --seed 4 --report";
+  int failures = 0;
+  bool written = false;
+  for (int budget = 0; budget < 1000000 && !written; budget += 1000) {
+    const CliRun run = Lsds(args, "LSDS_FAULT_WRITE_BYTES=" + std::to_string(budget));
+    if (run.exit_code == 0) {
+      written = true;
+      break;
+    }
+    ++failures;
+    EXPECT_EQ(run.exit_code, 2) << budget << "\n" << run.output;
+    EXPECT_NE(run.output.find("error: " + root_.string() + "/"), std::string::npos)
+        << budget << "\n"
+        << run.output;
+    EXPECT_NE(run.output.find("No space left on device"), std::string::npos) << budget << "\n"
+                                                                             << run.output;
+    EXPECT_EQ(Listing(dir_.path()), before_) << budget;
+    EXPECT_TRUE(ReadText(root_ / "collection.json") == collection_before_) << budget;
+  }
+  ASSERT_TRUE(written);
+  EXPECT_GT(failures, 3);  // the budgets reached every file, the report last
+  EXPECT_TRUE(fs::exists(root_ / "metadata.perturbed-4.json"));
+  EXPECT_TRUE(fs::exists(root_ / "metadata.perturbed-4.report.json"));
+  EXPECT_EQ(CollectionReader(root_).header().metadata.size(), 2u);
 }
 
 }  // namespace

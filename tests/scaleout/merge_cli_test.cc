@@ -2,6 +2,7 @@
 // shards; the merged shards must equal the whole run byte for byte, and shard
 // sets that are not one run must be refused naming the frames.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -152,6 +153,151 @@ TEST_F(MergeCliTest, OutputsAreNeverInsideInputsNorReplacedWithoutForce) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(Path("taken") / "keep.txt"));
+}
+
+// A copy of shard `name` in which `mutate` changes one thing; the merge of
+// s0, the copy (in place of s1) and s2 must be refused naming the file.
+fs::path MutatedShard(const fs::path& shard, const std::string& name) {
+  fs::path copy = shard.parent_path() / name;
+  fs::remove_all(copy);
+  fs::copy(shard, copy, fs::copy_options::recursive | fs::copy_options::copy_symlinks);
+  return copy;
+}
+
+TEST_F(MergeCliTest, ALayerLinkedOutsideTheShardIsNotCopied) {
+  const fs::path shard = MutatedShard(Path("s1"), "s1_link");
+  std::ofstream(Path("secret.txt")) << "not a layer\n";
+  fs::remove(shard / "depth" / "000004.exr");
+  fs::create_symlink(Path("secret.txt"), shard / "depth" / "000004.exr");
+  const testing::CommandResult r = Merge("s0 s1_link s2", "linked");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(
+      r.output.find("s1_link/depth/000004.exr frame 4: the layer file is a symbolic link (to " +
+                    Path("secret.txt").string() + ")"),
+      std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("linked")));
+  // A linked layer folder is refused the same way.
+  fs::remove(shard / "depth" / "000004.exr");
+  fs::copy_file(Path("s1") / "depth" / "000004.exr", shard / "depth" / "000004.exr");
+  fs::rename(shard / "normal", Path("s1_normal"));
+  fs::create_directory_symlink(Path("s1_normal"), shard / "normal");
+  const testing::CommandResult folder = Merge("s0 s1_link s2", "linked");
+  EXPECT_EQ(folder.exit_code, 2) << folder.output;
+  EXPECT_NE(folder.output.find("its folder " + (shard / "normal").string() + " is a symbolic link"),
+            std::string::npos)
+      << folder.output;
+  EXPECT_FALSE(fs::exists(Path("linked")));
+}
+
+TEST_F(MergeCliTest, AFifoInAShardIsRefusedWithoutBlocking) {
+  const fs::path shard = MutatedShard(Path("s1"), "s1_fifo");
+  fs::remove(shard / "rgb" / "000007.exr");
+  ASSERT_EQ(::mkfifo((shard / "rgb" / "000007.exr").c_str(), 0644), 0);
+  const testing::CommandResult r = Merge("s0 s1_fifo s2", "fifo");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("s1_fifo/rgb/000007.exr frame 7: the layer file is a FIFO"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("fifo")));
+}
+
+TEST_F(MergeCliTest, ATruncatedLayerIsRefusedNamingFileAndFrame) {
+  const fs::path shard = MutatedShard(Path("s1"), "s1_cut");
+  const fs::path layer = shard / "depth" / "000010.exr";
+  fs::resize_file(layer, fs::file_size(layer) - 100);
+  const testing::CommandResult r = Merge("s0 s1_cut s2", "cut");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("s1_cut/depth/000010.exr frame 10: layer 'depth': truncated"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("cut")));
+}
+
+TEST_F(MergeCliTest, ALayerThatIsNotTheDeclaredOneIsRefused) {
+  const fs::path shard = MutatedShard(Path("s1"), "s1_swapped");
+  fs::copy_file(Path("s1") / "rgb" / "000001.exr",
+                shard / "depth" / "000001.exr",
+                fs::copy_options::overwrite_existing);
+  const testing::CommandResult r = Merge("s0 s1_swapped s2", "swapped");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("s1_swapped/depth/000001.exr frame 1: layer 'depth': the file has "
+                          "no channel"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(Path("swapped")));
+}
+
+// The demo's scene has no text: its parameters are its source, so shards of
+// demos of two sizes are two runs.
+TEST_F(MergeCliTest, ShardsOfDemosOfDifferentSizesAreRefused) {
+  auto demo = [](const std::string& size, const std::string& shard, const std::string& out) {
+    const testing::CommandResult r =
+        RunCommandLine("CI=true " + LsdsBinary() + " generate --demo --demo-frames 4 --demo-size " +
+                       size + " --spp 1 -q --shard " + shard + " -o " + Path(out).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+  };
+  demo("32x24", "0/2", "demo_a0");
+  demo("40x24", "1/2", "demo_b1");
+  const testing::CommandResult r = Merge("demo_a0 demo_b1", "demos");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("demo_b1/collection.json#/provenance/scene_source: not a shard of the "
+                          "same run"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("--demo-size 40x24"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--demo-size 32x24"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(Path("demos")));
+  // Shards of one demo still merge into its single run.
+  demo("32x24", "1/2", "demo_a1");
+  const testing::CommandResult same = Merge("demo_a1 demo_a0", "demo_merged");
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+}
+
+// A full disk (simulated: writes fail with ENOSPC after N bytes) is reported
+// naming the merged output, never a shard's file, and leaves no output.
+TEST_F(MergeCliTest, AFullDiskNamesTheOutput) {
+  for (const int budget : {0, 20000, 200000}) {
+    const testing::CommandResult r =
+        RunCommandLine("LSDS_FAULT_WRITE_BYTES=" + std::to_string(budget) + " CI=true " +
+                       LsdsBinary() + " merge " + Path("s0").string() + " " + Path("s1").string() +
+                       " " + Path("s2").string() + " -o " + Path("full").string());
+    EXPECT_EQ(r.exit_code, 2) << budget << ": " << r.output;
+    EXPECT_NE(r.output.find("error: " + Path("full").string() + "/"), std::string::npos)
+        << budget << ": " << r.output;
+    EXPECT_NE(r.output.find("No space left on device"), std::string::npos)
+        << budget << ": " << r.output;
+    EXPECT_EQ(r.output.find("already committed"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("lsds-tmp"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(Path("full")));
+  }
+  for (const auto& entry : fs::directory_iterator(dir_->path()))
+    EXPECT_EQ(entry.path().filename().string().find("lsds-tmp"), std::string::npos) << entry.path();
+}
+
+// Every value the tasks pass to lsds generate is checked by generate's own
+// checks before a script is written; every value in an #SBATCH line must
+// keep to its line.
+TEST_F(MergeCliTest, SubmitRefusesValuesEveryTaskWouldFailOn) {
+  const std::string submit = "CI=true " + LsdsBinary() + " submit slurm " +
+                             ::lsds::testing::SourceDir() + "/examples/uav_survey.lscene " +
+                             Path("small.lcap").string() + " --shards 3 -o " +
+                             Path("bad_submit").string() + " ";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--depth sideways", "--depth sideways: expected planar or perspective"},
+      {"--spp 3", "--spp 3: samples per pixel must be a square number"},
+      {"--spp 0", "--spp 0: samples per pixel must be a square number"},
+      {"--mem $'8G\\r'", "--mem '8G\\x0D': control characters"},
+      {"--time $'1:00:00\\r'", "--time '1:00:00\\x0D': control characters"},
+      {"--partition $'cpu\\x01'", "--partition 'cpu\\x01': control characters"},
+      {"--account $'a\\tb'", "--account 'a\\x09b': control characters"},
+  };
+  for (const auto& [flags, message] : cases) {
+    const testing::CommandResult r = RunCommandLine("bash -c \"" + submit + flags + "\"");
+    EXPECT_EQ(r.exit_code, 2) << flags << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << flags << ": " << r.output;
+    EXPECT_FALSE(fs::exists(Path("bad_submit.shards"))) << flags;
+  }
 }
 
 // The scripts of `lsds submit slurm` run without Slurm: bash ignores the

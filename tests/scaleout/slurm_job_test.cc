@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 
 #include "libs/scaleout/slurm_job.h"
 #include "libs/util/error.h"
@@ -85,6 +86,30 @@ TEST(SlurmScriptsTest, BadSettingsAreRefused) {
   job = Job();
   job.work = "/scratch/100%";  // Slurm would expand % in the log names
   EXPECT_THROW(MakeSlurmScripts(job), Error);
+}
+
+// A control character in an #SBATCH value reaches sbatch as part of the value
+// (a carriage return from a script edited on Windows): every task would fail.
+TEST(SlurmScriptsTest, ControlCharactersInSbatchValuesAreRefusedNamingTheFlag) {
+  const std::pair<std::string SlurmJob::*, const char*> fields[] = {
+      {&SlurmJob::mem, "--mem"},
+      {&SlurmJob::time, "--time"},
+      {&SlurmJob::partition, "--partition"},
+      {&SlurmJob::account, "--account"},
+      {&SlurmJob::job_name, "--job-name"}};
+  for (const auto& [field, flag] : fields) {
+    for (const char* bad : {"8G\r", "a\nb", "a\x01", "a\x7f"}) {
+      SlurmJob job = Job();
+      job.*field = bad;
+      try {
+        MakeSlurmScripts(job);
+        ADD_FAILURE() << flag << " accepted a control character";
+      } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(std::string(flag) + " '", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("control characters"), std::string::npos) << e.what();
+      }
+    }
+  }
 }
 
 TEST(SlurmScriptsTest, ShellQuoteSurvivesQuotes) {

@@ -406,7 +406,6 @@ TEST(ReportHostile, ChromiumRunsNoScriptPlantedInAnyInput) {
   auto run = [&](const std::string& args) {
     const auto result = RunCommandLine(lsds + args);
     EXPECT_EQ(result.exit_code, 0) << args << "\n" << result.output;
-    return result;
   };
   run("synth " + Quote(c.string()) + " --count 6 --size 64x48");
   // A perturbed metadata variant, then given a hostile file name.

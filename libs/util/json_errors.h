@@ -24,14 +24,14 @@ Error JsonParseError(std::string_view text,
                      const nlohmann::json::exception& e,
                      int first_line = 1);
 
-// The integer member `key` of `object`, range-checked: nlohmann converts
-// silently (2^32+1 becomes 1 as int, -1 becomes 4294967295 as uint32, 2.5
-// becomes 2). Throws nlohmann's out_of_range naming the key and the value, which
-// the readers turn into an error at the JSON pointer.
+// `value` as an integer of type T, range-checked: nlohmann converts silently
+// (2^32+1 becomes 1 as int, -1 becomes 4294967295 as uint32, 2.5 becomes 2).
+// Throws nlohmann's out_of_range naming `what` and the value (or its
+// type_error for a non-number), which the readers turn into an error at the
+// JSON pointer.
 template <typename T>
-T GetInteger(const nlohmann::json& object, const char* key) {
+T JsonInteger(const nlohmann::json& value, const std::string& what) {
   static_assert(std::is_integral_v<T>);
-  const nlohmann::json& value = object.at(key);
   if (!value.is_number()) return value.get<T>();  // nlohmann's type_error
   constexpr T lo = std::numeric_limits<T>::min();
   constexpr T hi = std::numeric_limits<T>::max();
@@ -44,17 +44,24 @@ T GetInteger(const nlohmann::json& object, const char* key) {
          (v < 0 || static_cast<uint64_t>(v) <= static_cast<uint64_t>(hi));
   } else {
     const double v = value.get<double>();
+    // hi + 1 = 2^digits exactly: the double of hi itself may round up past it.
     ok = std::isfinite(v) && v == std::floor(v) && v >= static_cast<double>(lo) &&
-         v <= static_cast<double>(hi);
+         v < std::ldexp(1.0, std::numeric_limits<T>::digits);
   }
   if (!ok) {
     throw nlohmann::json::out_of_range::create(406,
-                                               std::string(key) + ": " + value.dump() +
+                                               what + ": " + value.dump() +
                                                    " is not an integer in [" + std::to_string(lo) +
                                                    ", " + std::to_string(hi) + "]",
                                                nullptr);
   }
   return value.get<T>();
+}
+
+// The integer member `key` of `object`, range-checked (JsonInteger).
+template <typename T>
+T GetInteger(const nlohmann::json& object, const char* key) {
+  return JsonInteger<T>(object.at(key), key);
 }
 
 // Parses a whole document with located errors.

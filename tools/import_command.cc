@@ -1,5 +1,5 @@
 // lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE] [--up-axis z|y]
-// [--force]
+// [--allow-links-outside] [--force]
 #include <iostream>
 
 #include "libs/importers/import_collection.h"
@@ -37,6 +37,11 @@ int RunImport(int argc, char** argv) {
                  "the USD stage's up axis, which Replicator does not write "
                  "(replicator: z or y; default z)")
       ->check(CLI::IsMember({"z", "y"}));
+  app.add_flag("--allow-links-outside",
+               options.allow_links_outside,
+               "read files of the source that are symbolic links to places outside it "
+               "(deliberately linked data); names in the source's data must still be "
+               "relative paths inside it");
   app.add_flag("--force", force, "replace the output if it exists");
   return RunCommand(app, argc, argv, [&] {
     OutputGuard guard("lsds import");

@@ -3,9 +3,11 @@
 #include <algorithm>
 
 #include "libs/collection/worldposition_layout.h"
+#include "libs/util/confined_path.h"
 #include "libs/util/error.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/strings.h"
+#include "libs/util/text_check.h"
 
 namespace lsds {
 
@@ -50,22 +52,9 @@ std::optional<Box2d> Box2dFromJson(const json& j) {
 void CheckInsideReference(const std::string& reference,
                           const std::string& file,
                           const std::string& pointer) {
-  std::string problem;
-  if (reference.empty()) {
-    problem = "is empty";
-  } else if (reference[0] == '/' || reference[0] == '\\' ||
-             (reference.size() > 2 && std::isalpha(static_cast<unsigned char>(reference[0])) &&
-              reference[1] == ':' && (reference[2] == '/' || reference[2] == '\\'))) {
-    problem = "is absolute";
-  } else {
-    std::string slashes = reference;  // "a\\..\\b" leaves it as well
-    std::replace(slashes.begin(), slashes.end(), '\\', '/');
-    for (const std::string& part : Split(slashes, '/')) {
-      if (part == "..") problem = "leaves the collection (\"..\")";
-    }
-  }
+  const std::string problem = ReferenceProblem(reference, "the collection");
   if (problem.empty()) return;
-  throw Error("file reference '" + reference + "' " + problem +
+  throw Error("file reference '" + Excerpt(reference) + "' " + problem +
                   "; references must be relative paths inside the collection",
               Location(file, pointer));
 }

@@ -1,6 +1,7 @@
 #include "libs/importers/import_collection.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/object_truth.h"
@@ -33,6 +34,21 @@ void RefuseOverlap(const fs::path& source, const fs::path& output) {
         Location(output.string()));
 }
 
+// Runs an importer's step. The importers read every field through the checked
+// accessors of source_json.h; a JSON access they missed (a value of another
+// type deep in a structure) still stops the import as bad input at the source
+// and frame, not as an internal error.
+template <typename F>
+auto Guarded(const fs::path& source, std::optional<int64_t> frame, F&& step) {
+  try {
+    return step();
+  } catch (const nlohmann::json::exception& e) {
+    Location where(source.string());
+    where.frame = frame;
+    throw Error(std::string("malformed source data: ") + e.what(), where);
+  }
+}
+
 }  // namespace
 
 ImportResult ImportCollection(const std::string& format,
@@ -45,7 +61,8 @@ ImportResult ImportCollection(const std::string& format,
   if (!fs::exists(source, ec)) throw Error("source does not exist", Location(source.string()));
   RefuseOverlap(source, output);
   RefuseToOverwrite(output, force);
-  const SourceDescription description = importer->Open(source, options);
+  const SourceDescription description =
+      Guarded(source, std::nullopt, [&] { return importer->Open(source, options); });
   if (description.frame_count < 1)
     throw Error("the source has no frames", Location(source.string()));
 
@@ -85,7 +102,7 @@ ImportResult ImportCollection(const std::string& format,
   CollectionBuilder builder(root, header);
   ImportResult result;
   for (int64_t k = 0; k < description.frame_count; ++k) {
-    SourceFrame source_frame = importer->ReadFrame(k);
+    SourceFrame source_frame = Guarded(source, k, [&] { return importer->ReadFrame(k); });
     const Rigid3d cam_from_world = CamFromWorld(source_frame.camera);
     const PinholeCamera& camera = source_frame.camera.intrinsics;
     if (has_depth && !source_frame.flat.count("worldposition")) {

@@ -29,6 +29,10 @@ struct ImportOptions {
   // The world's up axis where the source does not say (Replicator: the USD
   // stage's upAxis, "z" or "y"); converted to ENU's z up.
   std::string up_axis = "z";
+  // Whether files of the source may be symbolic links that resolve outside it
+  // (--allow-links-outside): deliberately linked data. Names in the source's
+  // data must be relative and inside it either way (libs/util/confined_path.h).
+  bool allow_links_outside = false;
 };
 
 // What the whole source holds, known before the first frame is read.

@@ -1,8 +1,11 @@
 // Reading a source's JSON files with located errors: every importer names the
-// file and the JSON pointer of a field that is missing or malformed.
+// file and the JSON pointer of a field that is missing or malformed, and reads
+// ids, integers and strings through the checked accessors below (never a bare
+// get<uint32_t>(), which wraps 2^32 + 2 to 2 and -1 to 4294967295).
 #pragma once
 
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include <Eigen/Core>
@@ -10,16 +13,18 @@
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
+#include "libs/util/limits.h"
+#include "libs/util/text_check.h"
 
 namespace lsds::import {
 
+// `path` must already be confined (ConfinedFolder::File) or given by the user.
 inline nlohmann::json ParseJsonFile(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw Error("missing file", Location(path.string()));
-  try {
-    return nlohmann::json::parse(ReadFile(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), Location(path.string()));
-  }
+  const std::string text = ReadFile(path);
+  CheckJsonNesting(text, path.string());
+  return ParseJsonText(text, path.string());
 }
 
 // Runs `body`, turning a JSON access error into one located at file#pointer.
@@ -30,6 +35,48 @@ auto AtField(const std::string& file, const std::string& pointer, F&& body) {
   } catch (const nlohmann::json::exception& e) {
     throw Error(std::string("malformed field: ") + e.what(), Location(file, pointer));
   }
+}
+
+// A JSON value for a message: its text, shortened.
+inline std::string ValueText(const nlohmann::json& value) { return Excerpt(value.dump(), 60); }
+
+// The integer `value` at file#pointer, in [lo, hi]; a located error naming the
+// value otherwise (a string, a fraction, a number out of range).
+template <typename T>
+T IntegerAt(const nlohmann::json& value,
+            const std::string& file,
+            const std::string& pointer,
+            T lo = std::numeric_limits<T>::min(),
+            T hi = std::numeric_limits<T>::max()) {
+  T result{};
+  bool ok = true;
+  try {
+    result = JsonInteger<T>(value, pointer);
+  } catch (const nlohmann::json::exception&) {
+    ok = false;
+  }
+  if (!ok || result < lo || result > hi)
+    throw Error("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                    "], got " + ValueText(value),
+                Location(file, pointer));
+  return result;
+}
+
+// An id (class, instance, label, model): lsds' id layers are 32-bit unsigned,
+// so an id outside [0, 2^32) is refused rather than wrapped onto another id.
+inline uint32_t IdAt(const nlohmann::json& value,
+                     const std::string& file,
+                     const std::string& pointer) {
+  return IntegerAt<uint32_t>(value, file, pointer);
+}
+
+// The string `value` at file#pointer; a located error for any other type.
+inline std::string StringAt(const nlohmann::json& value,
+                            const std::string& file,
+                            const std::string& pointer) {
+  if (!value.is_string())
+    throw Error("expected a string, got " + ValueText(value), Location(file, pointer));
+  return value.get<std::string>();
 }
 
 // A fixed-size array of numbers (nested arrays are flattened row by row).

@@ -30,7 +30,7 @@ class Reader {
   }
   int64_t Integer(const json& object, const std::string& pointer, const char* key) const {
     return AtPointer(
-        file_, pointer + "/" + key, [&] { return IntegerValue<int64_t>(object.at(key), key); });
+        file_, pointer + "/" + key, [&] { return JsonInteger<int64_t>(object.at(key), key); });
   }
   const json& Member(const json& object, const std::string& pointer, const char* key) const {
     return AtPointer(file_, pointer + "/" + key, [&]() -> const json& { return object.at(key); });
@@ -66,7 +66,7 @@ class Reader {
       for (size_t i = 0; i < 2; ++i) {
         const std::string name = "pixel/" + std::to_string(i);
         xy[i] = AtPointer(
-            file_, where + "/" + name, [&] { return IntegerValue<int64_t>(pixel[i], name); });
+            file_, where + "/" + name, [&] { return JsonInteger<int64_t>(pixel[i], name); });
       }
       finding.pixel = xy;
     }

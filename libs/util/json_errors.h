@@ -24,13 +24,13 @@ Error JsonParseError(std::string_view text,
                      const nlohmann::json::exception& e,
                      int first_line = 1);
 
-// The integer `value` (named `what` in the message), range-checked: nlohmann
-// converts silently (2^32+1 becomes 1 as int, -1 becomes 4294967295 as uint32,
-// 2.5 becomes 2). Throws nlohmann's type_error for a value that is not a
-// number and out_of_range naming `what` and the value otherwise, which the
-// readers turn into an error at the JSON pointer (AtPointer).
+// `value` as an integer of type T, range-checked: nlohmann converts silently
+// (2^32+1 becomes 1 as int, -1 becomes 4294967295 as uint32, 2.5 becomes 2).
+// Throws nlohmann's out_of_range naming `what` and the value (or its
+// type_error for a non-number), which the readers turn into an error at the
+// JSON pointer.
 template <typename T>
-T IntegerValue(const nlohmann::json& value, const std::string& what) {
+T JsonInteger(const nlohmann::json& value, const std::string& what) {
   static_assert(std::is_integral_v<T>);
   if (!value.is_number()) return value.get<T>();  // nlohmann's type_error
   constexpr T lo = std::numeric_limits<T>::min();
@@ -44,8 +44,9 @@ T IntegerValue(const nlohmann::json& value, const std::string& what) {
          (v < 0 || static_cast<uint64_t>(v) <= static_cast<uint64_t>(hi));
   } else {
     const double v = value.get<double>();
+    // hi + 1 = 2^digits exactly: the double of hi itself may round up past it.
     ok = std::isfinite(v) && v == std::floor(v) && v >= static_cast<double>(lo) &&
-         v <= static_cast<double>(hi);
+         v < std::ldexp(1.0, std::numeric_limits<T>::digits);
   }
   if (!ok) {
     throw nlohmann::json::out_of_range::create(406,
@@ -57,10 +58,10 @@ T IntegerValue(const nlohmann::json& value, const std::string& what) {
   return value.get<T>();
 }
 
-// The integer member `key` of `object`, range-checked as IntegerValue.
+// The integer member `key` of `object`, range-checked (JsonInteger).
 template <typename T>
 T GetInteger(const nlohmann::json& object, const char* key) {
-  return IntegerValue<T>(object.at(key), key);
+  return JsonInteger<T>(object.at(key), key);
 }
 
 // Runs `body`, turning nlohmann's type and range errors (a string where a

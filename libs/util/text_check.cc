@@ -1,5 +1,6 @@
 #include "libs/util/text_check.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 
@@ -108,6 +109,16 @@ double CheckFinite(double value, const std::string& what) {
 
 int64_t CheckNonNegative(int64_t value, const std::string& what) {
   if (value < 0) throw Error(what + ": expected a number >= 0, got " + std::to_string(value));
+  return value;
+}
+
+std::optional<int64_t> ParseInteger(std::string_view text, int64_t lo, int64_t hi) {
+  int64_t value = 0;
+  const char* end = text.data() + text.size();
+  // from_chars takes no '+', no spaces and no "0x"; a lone '-' fails.
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (text.empty() || ec != std::errc() || ptr != end || value < lo || value > hi)
+    return std::nullopt;
   return value;
 }
 

@@ -34,4 +34,10 @@ std::string Utf8Escaped(std::string_view text);
 double CheckFinite(double value, const std::string& what);
 int64_t CheckNonNegative(int64_t value, const std::string& what);
 
+// The decimal integer `text` (ASCII digits with an optional leading '-',
+// nothing else) when it lies in [lo, hi], else nullopt: no wrap, no exception,
+// no locale. The one parser of integers written as text in inputs (file names,
+// JSON keys, CSV cells); the caller reports a nullopt with its location.
+std::optional<int64_t> ParseInteger(std::string_view text, int64_t lo, int64_t hi);
+
 }  // namespace lsds

@@ -11,10 +11,11 @@
 
 #include "libs/geometry/world_frame.h"
 #include "libs/importers/pfm.h"
-#include "libs/util/atomic_file.h"
+#include "libs/importers/source_json.h"
 #include "libs/util/error.h"
 #include "libs/util/srgb.h"
 #include "libs/util/strings.h"
+#include "libs/util/text_check.h"
 
 namespace lsds::import {
 
@@ -35,23 +36,6 @@ const WorldFrame& Ned() {
 // z_cv = forward.
 // (the body-from-camera axes of libs/geometry/attitude.h).
 Eigen::Matrix3d FrdFromOpenCv() { return BodyFromCam(); }
-
-template <typename F>
-auto AtField(const std::string& file, const std::string& pointer, F&& body) {
-  try {
-    return body();
-  } catch (const json::exception& e) {
-    throw Error(std::string("malformed field: ") + e.what(), Location(file, pointer));
-  }
-}
-
-json ParseJsonFile(const fs::path& path) {
-  try {
-    return json::parse(ReadFile(path));
-  } catch (const json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), Location(path.string()));
-  }
-}
 
 }  // namespace
 
@@ -111,7 +95,9 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
   AtField(file, "/classes", [&] {
     for (size_t i = 0; i < root.at("classes").size(); ++i) {
       const json& c = root.at("classes").at(i);
-      const ClassInfo info{c.at("id").get<uint32_t>(), c.at("name").get<std::string>()};
+      const std::string where = "/classes/" + std::to_string(i);
+      const ClassInfo info{IdAt(c.at("id"), file, where + "/id"),
+                           StringAt(c.at("name"), file, where + "/name")};
       if (info.id == 0 || !class_ids.insert(info.id).second)
         throw Error("class ids must be > 0 and unique",
                     Location(file, "/classes/" + std::to_string(i) + "/id"));
@@ -124,9 +110,11 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
       const json& o = root.at("objects").at(i);
       const std::string where = "/objects/" + std::to_string(i);
       const json& rgb = o.at("color");
-      const std::array<uint8_t, 3> colour = {
-          rgb.at(0).get<uint8_t>(), rgb.at(1).get<uint8_t>(), rgb.at(2).get<uint8_t>()};
-      Labelled label{o.at("instance_id").get<uint32_t>(), o.at("class_id").get<uint32_t>()};
+      std::array<uint8_t, 3> colour{};
+      for (int ch = 0; ch < 3; ++ch)
+        colour[ch] = IntegerAt<uint8_t>(rgb.at(ch), file, where + "/color/" + std::to_string(ch));
+      const Labelled label{IdAt(o.at("instance_id"), file, where + "/instance_id"),
+                           IdAt(o.at("class_id"), file, where + "/class_id")};
       if (label.instance_id == 0 || !instance_ids.insert(label.instance_id).second)
         throw Error("instance ids must be > 0 and unique", Location(file, where + "/instance_id"));
       if (!class_ids.count(label.class_id))
@@ -183,10 +171,14 @@ void AirSimImporter::ReadSettings(const fs::path& path) {
     mount_.yaw = camera.value("Yaw", 0.0);
     // AirSim's defaults when CaptureSettings does not say.
     width_ = 256, height_ = 144, fov_deg_ = 90;
-    for (const json& capture : camera.value("CaptureSettings", json::array())) {
-      if (capture.value("ImageType", -1) != 0) continue;  // Scene
-      width_ = capture.value("Width", width_);
-      height_ = capture.value("Height", height_);
+    const json captures = camera.value("CaptureSettings", json::array());
+    for (size_t i = 0; i < captures.size(); ++i) {
+      const json& capture = captures.at(i);
+      const std::string at = where + "/CaptureSettings/" + std::to_string(i);
+      if (IntegerAt<int64_t>(capture.value("ImageType", json(-1)), file, at + "/ImageType") != 0)
+        continue;  // Scene
+      width_ = IntegerAt<int>(capture.value("Width", json(width_)), file, at + "/Width", 1);
+      height_ = IntegerAt<int>(capture.value("Height", json(height_)), file, at + "/Height", 1);
       fov_deg_ = capture.value("FOV_Degrees", fov_deg_);
     }
     return 0;
@@ -196,7 +188,7 @@ void AirSimImporter::ReadSettings(const fs::path& path) {
 }
 
 void AirSimImporter::ReadRecord(const fs::path& source) {
-  rec_file_ = source / "airsim_rec.txt";
+  rec_file_ = root_->File(source / "airsim_rec.txt");
   const std::string file = rec_file_.string();
   std::ifstream in(rec_file_);
   if (!in) throw Error("cannot open the recording", Location(file));
@@ -229,12 +221,19 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
                       std::to_string(header.size()),
                   Location::Text(file, number, 1));
     if (vehicle >= 0 && cells[vehicle] != vehicle_) continue;
+    // The 1-based column of cell c: the row's text is the cells joined by tabs.
+    auto column_of = [&](int c) {
+      int at = 1;
+      for (int k = 0; k < c; ++k) at += static_cast<int>(cells[k].size()) + 1;
+      return at;
+    };
     auto number_at = [&](int c) {
       char* end = nullptr;
       const double value = std::strtod(cells[c].c_str(), &end);
-      if (end == cells[c].c_str() || *end != '\0')
-        throw Error("column '" + header[c] + "' is '" + cells[c] + "', not a number",
-                    Location::Text(file, number, 1));
+      if (end == cells[c].c_str() || *end != '\0' || !std::isfinite(value))
+        throw Error(
+            "column '" + header[c] + "' is '" + Excerpt(cells[c]) + "', not a finite number",
+            Location::Text(file, number, column_of(c)));
       return value;
     };
     Row row;
@@ -255,7 +254,7 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
                                          {depth_kind_ == DepthKind::kPlanar ? 1 : 2, &row.depth},
                                          {5, &row.segmentation}}) {
         if (name.find("_" + camera_ + "_" + std::to_string(type) + "_") != std::string::npos)
-          *target = folder / name;
+          *target = root_->Reference(folder, name, Location::Text(file, number, column_of(images)));
       }
     }
     for (const auto& [what, path] :
@@ -275,8 +274,11 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
 SourceDescription AirSimImporter::Open(const fs::path& source, const ImportOptions& options) {
   if (!fs::is_directory(source))
     throw Error("an AirSim recording folder was expected", Location(source.string()));
-  ReadObjects(options.objects.empty() ? source / "lsds_objects.json" : options.objects);
-  ReadSettings(options.settings.empty() ? source / "settings.json" : options.settings);
+  root_.emplace(source, options.allow_links_outside);
+  // Files given by a flag are the user's choice; the defaults are the source's.
+  ReadObjects(options.objects.empty() ? root_->File(source / "lsds_objects.json")
+                                      : options.objects);
+  ReadSettings(options.settings.empty() ? root_->File(source / "settings.json") : options.settings);
   ReadRecord(source);
   SourceDescription description;
   description.classes = classes_;
@@ -339,9 +341,14 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
   std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
   z = pfm.values;
-  for (float& value : z) {
+  for (size_t p = 0; p < z.size(); ++p) {
+    float& value = z[p];
     if (std::isnan(value) || value < 0)
-      throw Error("depth holds a negative or NaN value", Location(row.depth.string()));
+      throw Error(std::isnan(value) ? "NaN depth" : "negative depth",
+                  Location::Pixel(row.depth.string(),
+                                  index,
+                                  static_cast<int>(p % width_),
+                                  static_cast<int>(p / width_)));
     if (value >= sky_depth_m_) value = std::numeric_limits<float>::infinity();
   }
 

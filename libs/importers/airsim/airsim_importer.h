@@ -10,6 +10,7 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 
 #include "libs/geometry/rigid3.h"
 #include "libs/importers/importer.h"
+#include "libs/util/confined_path.h"
 
 namespace lsds::import {
 
@@ -62,6 +64,7 @@ class AirSimImporter : public Importer {
   void ReadSettings(const std::filesystem::path& file);
   void ReadRecord(const std::filesystem::path& source);
 
+  std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::filesystem::path rec_file_;
   std::vector<Row> rows_;
   std::string vehicle_ = "Drone1", camera_ = "0";

@@ -10,6 +10,7 @@
 #include "libs/importers/source_json.h"
 #include "libs/importers/source_png.h"
 #include "libs/util/error.h"
+#include "libs/util/output_guard.h"
 
 namespace lsds::import {
 
@@ -45,26 +46,34 @@ bool IsRotation(const Eigen::Matrix3d& r) {
 
 SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions& options) {
   scene_ = source;
-  camera_file_ = (source / "scene_camera.json").string();
-  gt_file_ = (source / "scene_gt.json").string();
+  root_.emplace(source, options.allow_links_outside);
+  camera_file_ = root_->File(source / "scene_camera.json").string();
+  gt_file_ = root_->File(source / "scene_gt.json").string();
   if (!fs::is_regular_file(camera_file_))
     throw Error("not a BOP scene folder: no scene_camera.json", Location(source.string()));
   cameras_ = ParseJsonFile(camera_file_);
   gts_ = ParseJsonFile(gt_file_);
   if (!cameras_.is_object() || cameras_.empty())
     throw Error("expected an object of image ids", Location(camera_file_));
-  for (const auto& [key, value] : cameras_.items()) image_ids_.push_back(key);
-  std::sort(image_ids_.begin(), image_ids_.end(), [](const std::string& a, const std::string& b) {
-    return std::stoll(a) < std::stoll(b);
-  });
+  for (const auto& [key, value] : cameras_.items()) {
+    const std::optional<int64_t> id = ParseInteger(key, 0, std::numeric_limits<int64_t>::max());
+    if (!id)
+      throw Error("key '" + Excerpt(key, 40) + "' is not an image id (an integer >= 0)",
+                  Location(camera_file_, (json::json_pointer() / key).to_string()));
+    image_ids_.emplace_back(*id, key);
+  }
+  std::sort(image_ids_.begin(), image_ids_.end());
   // The dataset's models (default: ../../models/models_info.json of a split's
-  // scene folder).
-  const fs::path models_file =
-      options.objects.empty() ? source.parent_path().parent_path() / "models" / "models_info.json"
-                              : options.objects;
+  // scene folder), confined to the dataset's folder.
+  std::optional<ConfinedFolder> dataset;
+  if (options.objects.empty())
+    dataset.emplace(CanonicalPath(source).parent_path().parent_path(), options.allow_links_outside);
+  const fs::path models_file = options.objects.empty()
+                                   ? dataset->File(dataset->root() / "models" / "models_info.json")
+                                   : options.objects;
   const json models = ParseJsonFile(models_file);
   for (const auto& [key, info] : models.items()) {
-    const std::string where = "/" + key;
+    const std::string where = (json::json_pointer() / key).to_string();
     ModelBox box;
     AtField(models_file.string(), where, [&, &info = info] {  // clang < 16: no bindings in [&]
       box.min_mm = {info.at("min_x").get<double>(),
@@ -75,14 +84,20 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
                      info.at("size_z").get<double>()};
       return 0;
     });
-    const uint32_t obj_id = static_cast<uint32_t>(std::stoul(key));
-    if (obj_id == 0 || !(box.size_mm.minCoeff() >= 0))
-      throw Error("obj_id must be > 0 and sizes >= 0", Location(models_file.string(), where));
-    models_[obj_id] = box;
-    classes_.push_back({obj_id, "obj_" + Stem(obj_id)});
+    // Keys are obj_ids, ids of lsds' 32-bit classes: 4294967297 must not wrap
+    // onto class 1.
+    const std::optional<int64_t> obj_id =
+        ParseInteger(key, 1, std::numeric_limits<uint32_t>::max());
+    if (!obj_id)
+      throw Error("key '" + Excerpt(key, 40) + "' is not an obj_id in [1, 4294967295]",
+                  Location(models_file.string(), where));
+    if (!(box.size_mm.minCoeff() >= 0))
+      throw Error("sizes must be >= 0", Location(models_file.string(), where));
+    models_[static_cast<uint32_t>(*obj_id)] = box;
+    classes_.push_back({static_cast<uint32_t>(*obj_id), "obj_" + Stem(*obj_id)});
   }
   // The image size, from the first depth image.
-  const fs::path first = source / "depth" / (Stem(std::stoll(image_ids_[0])) + ".png");
+  const fs::path first = root_->File(source / "depth" / (Stem(image_ids_[0].first) + ".png"));
   const cv::Mat depth = cv::imread(first.string(), cv::IMREAD_UNCHANGED);
   if (depth.empty() || depth.type() != CV_16UC1)
     throw Error("not a 16-bit greyscale depth PNG", Location(first.string()));
@@ -109,9 +124,9 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
 }
 
 SourceFrame BopImporter::ReadFrame(int64_t index) {
-  const std::string& key = image_ids_.at(static_cast<size_t>(index));
-  const int64_t id = std::stoll(key);
-  const std::string where = "/" + key;
+  const int64_t id = image_ids_.at(static_cast<size_t>(index)).first;
+  const std::string& key = image_ids_.at(static_cast<size_t>(index)).second;
+  const std::string where = (json::json_pointer() / key).to_string();
   SourceFrame frame;
   frame.time = static_cast<double>(index);  // BOP images are independent views
   frame.sequence = scene_.filename().string();
@@ -141,9 +156,9 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
   const Eigen::Vector3d centre_mm = -(world_from_cam * t_w2c_mm);
 
   frame.flat["rgb"] = ReadSrgbLayer(
-      scene_ / "rgb" / (Stem(id) + ".png"), width_, height_, "the depth images' size");
+      root_->File(scene_ / "rgb" / (Stem(id) + ".png")), width_, height_, "the depth images' size");
 
-  const fs::path depth_path = scene_ / "depth" / (Stem(id) + ".png");
+  const fs::path depth_path = root_->File(scene_ / "depth" / (Stem(id) + ".png"));
   const cv::Mat depth_png = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
   if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width_ ||
       depth_png.rows != height_)
@@ -164,11 +179,12 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
   std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
   std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
   const json gts = AtField(gt_file_, where, [&] { return gts_.at(key); });
+  if (!gts.is_array()) throw Error("expected an array of objects", Location(gt_file_, where));
   for (size_t g = 0; g < gts.size(); ++g) {
     const std::string at = where + "/" + std::to_string(g);
     const json& gt = gts.at(g);
-    const uint32_t obj_id =
-        AtField(gt_file_, at + "/obj_id", [&] { return gt.at("obj_id").get<uint32_t>(); });
+    const uint32_t obj_id = AtField(
+        gt_file_, at + "/obj_id", [&] { return IdAt(gt.at("obj_id"), gt_file_, at + "/obj_id"); });
     const auto model = models_.find(obj_id);
     if (model == models_.end())
       throw Error("obj_id " + std::to_string(obj_id) + " is not in models_info.json",
@@ -193,8 +209,8 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
     target.obb.world_from_box = world_from_cam * r_m2c;
     frame.targets.push_back(target);
 
-    const fs::path mask_path =
-        scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png");
+    const fs::path mask_path = root_->File(
+        scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png"));
     const cv::Mat mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
     if (mask.empty() || mask.cols != width_ || mask.rows != height_)
       throw Error(

@@ -9,12 +9,15 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "libs/importers/importer.h"
+#include "libs/util/confined_path.h"
 
 namespace lsds::import {
 
@@ -30,10 +33,12 @@ class BopImporter : public Importer {
     Eigen::Vector3d min_mm = Eigen::Vector3d::Zero();
     Eigen::Vector3d size_mm = Eigen::Vector3d::Zero();
   };
+  std::optional<ConfinedFolder> root_;  // the scene folder: every file read is confined to it
   std::filesystem::path scene_;
   std::string camera_file_, gt_file_;
   nlohmann::json cameras_, gts_;
-  std::vector<std::string> image_ids_;  // keys, in numeric order
+  // (image id, its key in scene_camera.json), in numeric order.
+  std::vector<std::pair<int64_t, std::string>> image_ids_;
   std::map<uint32_t, ModelBox> models_;
   std::vector<ClassInfo> classes_;
   int width_ = 0, height_ = 0;

@@ -72,9 +72,10 @@ OrientedBox ObbFromCorners(const json& corners, const std::string& file, const s
 
 }  // namespace
 
-SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptions&) {
+SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptions& options) {
   scene_ = source;
-  metadata_file_ = (source / "metadata.json").string();
+  root_.emplace(source, options.allow_links_outside);
+  metadata_file_ = root_->File(source / "metadata.json").string();
   if (!fs::is_regular_file(metadata_file_))
     throw Error("not a Kubric scene folder: no metadata.json", Location(source.string()));
   const json metadata = ParseJsonFile(metadata_file_);
@@ -82,9 +83,9 @@ SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptio
   AtField(metadata_file_, "/metadata", [&] {
     const json& m = metadata.at("metadata");
     const json& resolution = m.at("resolution");
-    width_ = resolution.at(0).get<int>();
-    height_ = resolution.at(1).get<int>();
-    frames = m.at("num_frames").get<int64_t>();
+    width_ = IntegerAt<int>(resolution.at(0), metadata_file_, "/metadata/resolution/0");
+    height_ = IntegerAt<int>(resolution.at(1), metadata_file_, "/metadata/resolution/1");
+    frames = IntegerAt<int64_t>(m.at("num_frames"), metadata_file_, "/metadata/num_frames");
     frame_rate_ = m.value("frame_rate", 1.0);
     return 0;
   });
@@ -105,6 +106,8 @@ SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptio
     });
   }
   instances_ = AtField(metadata_file_, "/instances", [&] { return metadata.at("instances"); });
+  if (!instances_.is_array())
+    throw Error("expected an array of instances", Location(metadata_file_, "/instances"));
   // The segmentation PNG is 8-bit: kb.write_palette_png casts the index to
   // uint8, so instance 256 would read as 0.
   if (instances_.size() > 255)
@@ -132,7 +135,8 @@ SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptio
     });
     Instance identity;
     identity.class_id = class_ids.at(ClassName(instance));
-    identity.asset = instance.value("asset_id", std::string());
+    const auto asset = instance.find("asset_id");
+    if (asset != instance.end() && asset->is_string()) identity.asset = asset->get<std::string>();
     identity.name = ClassName(instance) + "#" + std::to_string(i);
     identities_.push_back(identity);
   }
@@ -190,10 +194,12 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
   frame.camera.cam_from_world_rotation = world_from_cam.transpose();
   frame.camera.cam_from_world_translation = -(world_from_cam.transpose() * position);
 
-  frame.flat["rgb"] = ReadSrgbLayer(
-      scene_ / FrameFile("rgba", index, "png"), width_, height_, "metadata.json resolution");
+  frame.flat["rgb"] = ReadSrgbLayer(root_->File(scene_ / FrameFile("rgba", index, "png")),
+                                    width_,
+                                    height_,
+                                    "metadata.json resolution");
 
-  const fs::path depth_path = scene_ / FrameFile("depth", index, "tiff");
+  const fs::path depth_path = root_->File(scene_ / FrameFile("depth", index, "tiff"));
   const cv::Mat depth_tiff = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
   if (depth_tiff.empty() || depth_tiff.type() != CV_32FC1 || depth_tiff.cols != width_ ||
       depth_tiff.rows != height_)
@@ -205,12 +211,15 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
       const float d = depth_tiff.at<float>(j, i);
-      if (d < 0) throw Error("negative depth", Location::Pixel(depth_path.string(), index, i, j));
-      z[depth.Index(i, j)] =
-          d >= kBackgroundDepth || std::isnan(d) ? std::numeric_limits<float>::infinity() : d;
+      // Blender writes its far value for the background, never NaN: a NaN is
+      // a broken file, not sky.
+      if (d < 0 || std::isnan(d))
+        throw Error(std::isnan(d) ? "NaN depth" : "negative depth",
+                    Location::Pixel(depth_path.string(), index, i, j));
+      z[depth.Index(i, j)] = d >= kBackgroundDepth ? std::numeric_limits<float>::infinity() : d;
     }
 
-  const fs::path segmentation_path = scene_ / FrameFile("segmentation", index, "png");
+  const fs::path segmentation_path = root_->File(scene_ / FrameFile("segmentation", index, "png"));
   const IndexImage segmentation = ReadIndexedPng(segmentation_path);
   if (segmentation.width != width_ || segmentation.height != height_)
     throw Error("not " + std::to_string(width_) + "x" + std::to_string(height_),

@@ -10,10 +10,12 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "libs/importers/importer.h"
+#include "libs/util/confined_path.h"
 
 namespace lsds::import {
 
@@ -29,6 +31,7 @@ class KubricImporter : public Importer {
     uint32_t class_id = 0;
     std::string name, asset;
   };
+  std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::filesystem::path scene_;
   std::string metadata_file_;
   nlohmann::json camera_;     // metadata.json "camera"

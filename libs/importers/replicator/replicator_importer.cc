@@ -12,6 +12,7 @@
 #include "libs/importers/source_png.h"
 #include "libs/util/error.h"
 #include "libs/util/npy.h"
+#include "libs/util/strings.h"
 
 namespace lsds::import {
 
@@ -32,9 +33,9 @@ bool ParseColourKey(const std::string& key, uint32_t* rgba) {
   if (!std::regex_match(key, m, pattern)) return false;
   uint32_t packed = 0;
   for (int c = 1; c <= 4; ++c) {
-    const int v = std::stoi(m[c].str());
-    if (v > 255) return false;
-    packed = (packed << 8) | static_cast<uint32_t>(v);
+    const std::optional<int64_t> v = ParseInteger(m[c].str(), 0, 255);
+    if (!v) return false;
+    packed = (packed << 8) | static_cast<uint32_t>(*v);
   }
   *rgba = packed;
   return true;
@@ -61,11 +62,13 @@ Eigen::Matrix4d ColumnMatrix(const Eigen::Matrix<double, 16, 1>& row_major) {
 fs::path ReplicatorImporter::Path(const std::string& stem,
                                   int64_t index,
                                   const std::string& ext) const {
-  return folder_ / (stem + "_" + frame_ids_.at(static_cast<size_t>(index)) + "." + ext);
+  return root_->File(folder_ /
+                     (stem + "_" + frame_ids_.at(static_cast<size_t>(index)).second + "." + ext));
 }
 
 SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportOptions& options) {
   folder_ = source;
+  root_.emplace(source, options.allow_links_outside);
   if (options.up_axis == "y") {
     // Y-up stage to ENU: x stays, stage -z is north, stage y is up.
     enu_from_stage_ << 1, 0, 0, 0, 0, -1, 0, 1, 0;
@@ -76,16 +79,19 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
   for (const auto& entry : fs::directory_iterator(source)) {
     std::smatch m;
     const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, m, rgb_name)) frame_ids_.push_back(m[1].str());
+    if (!std::regex_match(name, m, rgb_name)) continue;
+    const std::optional<int64_t> number =
+        ParseInteger(m[1].str(), 0, std::numeric_limits<int64_t>::max());
+    if (!number)
+      throw Error("the frame number is beyond 2^63 - 1", Location(entry.path().string()));
+    frame_ids_.emplace_back(*number, m[1].str());
   }
   if (frame_ids_.empty())
     throw Error(
         "not a Replicator BasicWriter folder: no rgb_NNNN.png "
         "(for several render products, import each product's folder)",
         Location(source.string()));
-  std::sort(frame_ids_.begin(), frame_ids_.end(), [](const std::string& a, const std::string& b) {
-    return std::stoll(a) < std::stoll(b);
-  });
+  std::sort(frame_ids_.begin(), frame_ids_.end());
   if (fs::exists(Path("distance_to_image_plane", 0, "npy"))) {
     depth_stem_ = "distance_to_image_plane", depth_kind_ = DepthKind::kPlanar;
   } else if (fs::exists(Path("distance_to_camera", 0, "npy"))) {
@@ -104,8 +110,7 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
     const json semantics = ParseJsonFile(semantics_path);
     for (const auto& [key, prim] : mapping.items()) {
       const std::string where = (json::json_pointer() / key).to_string();
-      const std::string path =
-          AtField(mapping_path.string(), where, [&prim = prim] { return prim.get<std::string>(); });
+      const std::string path = StringAt(prim, mapping_path.string(), where);
       if (IsBackgroundLabel(path)) continue;
       const std::string label = AtField(semantics_path.string(), where, [&, &key = key] {
         return ClassLabel(semantics.at(key));
@@ -129,8 +134,15 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
       throw Error("expected one prim path per box (" + std::to_string(boxes.size()) + ")",
                   Location(prim_paths_file.string()));
     for (int64_t row = 0; row < boxes.size(); ++row) {
-      const std::string path = prim_paths.at(row).get<std::string>();
-      const std::string id = std::to_string(static_cast<int64_t>(boxes.Get(row, semantic_id)));
+      const std::string path =
+          StringAt(prim_paths.at(row), prim_paths_file.string(), "/" + std::to_string(row));
+      const double semantic = boxes.Get(row, semantic_id);
+      if (!(semantic >= 0 && semantic <= std::numeric_limits<uint32_t>::max()) ||
+          semantic != std::floor(semantic))
+        throw Error("semanticId of row " + std::to_string(row) + " is " + FormatNumber(semantic) +
+                        ", not an id in [0, 4294967295]",
+                    Location(Path("bounding_box_3d", static_cast<int64_t>(k), "npy").string()));
+      const std::string id = std::to_string(static_cast<int64_t>(semantic));
       const std::string label =
           AtField(boxes_labels.string(), "/" + id, [&] { return ClassLabel(labels.at(id)); });
       prims.insert(path);
@@ -196,8 +208,9 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
     return 0;
   });
   AtField(camera_file, "/renderProductResolution", [&] {
-    width = params.at("renderProductResolution").at(0).get<int>();
-    height = params.at("renderProductResolution").at(1).get<int>();
+    const json& resolution = params.at("renderProductResolution");
+    width = IntegerAt<int>(resolution.at(0), camera_file, "/renderProductResolution/0");
+    height = IntegerAt<int>(resolution.at(1), camera_file, "/renderProductResolution/1");
     return 0;
   });
   AtField(camera_file, "/metersPerSceneUnit", [&] {
@@ -252,7 +265,9 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
         const double d = distance.Get(static_cast<int64_t>(j) * width + i, field);
         if (d < 0)
           throw Error("negative distance", Location::Pixel(depth_path.string(), index, i, j));
-        // +inf (or NaN) where no surface: the sky.
+        if (std::isnan(d))
+          throw Error("NaN distance", Location::Pixel(depth_path.string(), index, i, j));
+        // +inf where no surface: the sky.
         z[depth.Index(i, j)] = std::isfinite(d) ? static_cast<float>(d * meters_per_unit)
                                                 : std::numeric_limits<float>::infinity();
       }
@@ -268,7 +283,8 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
     if (!ParseColourKey(key, &rgba))
       throw Error("expected a colour key \"(r, g, b, a)\"",
                   Location(mapping_path.string(), (json::json_pointer() / key).to_string()));
-    const std::string path = prim.get<std::string>();
+    const std::string path =
+        StringAt(prim, mapping_path.string(), (json::json_pointer() / key).to_string());
     instance_of_colour[rgba] = IsBackgroundLabel(path) ? 0 : instance_of_prim_.at(path);
   }
   const cv::Mat colours = ReadRgbaPng(segmentation_path, width, height);
@@ -326,7 +342,9 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
       const Eigen::Vector3d centre_in_stage =
           linear * (0.5 * (local_min + local_max)) + stage_from_local.topRightCorner<3, 1>();
       obb.center = meters_per_unit * (enu_from_stage_ * centre_in_stage);
-      const std::string path = prim_paths.at(row).get<std::string>();
+      const std::string path = StringAt(prim_paths.at(row),
+                                        Path("bounding_box_3d_prim_paths", index, "json").string(),
+                                        "/" + std::to_string(row));
       ObjectIdentity target;
       target.instance_id = instance_of_prim_.at(path);
       target.class_id = class_of_prim_.at(path);

@@ -13,10 +13,13 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libs/importers/importer.h"
+#include "libs/util/confined_path.h"
 
 namespace lsds::import {
 
@@ -29,9 +32,11 @@ class ReplicatorImporter : public Importer {
 
  private:
   std::filesystem::path Path(const std::string& stem, int64_t index, const std::string& ext) const;
+  std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::filesystem::path folder_;
-  std::vector<std::string> frame_ids_;  // "0000", ... in numeric order
-  std::string depth_stem_;              // distance_to_image_plane | _camera
+  // (number, its digits as written: "0000", ...) in numeric order.
+  std::vector<std::pair<int64_t, std::string>> frame_ids_;
+  std::string depth_stem_;  // distance_to_image_plane | _camera
   DepthKind depth_kind_ = DepthKind::kPlanar;
   std::map<std::string, uint32_t> instance_of_prim_;  // prim path -> id
   std::map<std::string, uint32_t> class_of_prim_;     // prim path -> class

@@ -49,8 +49,9 @@ Eigen::Matrix3d RotationXyzw(const Eigen::Matrix<double, 4, 1>& q,
 
 }  // namespace
 
-SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions&) {
-  const fs::path definitions_path = source / "annotation_definitions.json";
+SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions& options) {
+  root_.emplace(source, options.allow_links_outside);
+  const fs::path definitions_path = root_->File(source / "annotation_definitions.json");
   if (!fs::is_regular_file(definitions_path))
     throw Error("not a SOLO dataset: no annotation_definitions.json", Location(source.string()));
   const json definitions = ParseJsonFile(definitions_path);
@@ -66,14 +67,12 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
         if (!spec.contains("label_id")) continue;
         const std::string where =
             "/annotationDefinitions/" + std::to_string(d) + "/spec/" + std::to_string(s);
-        const int64_t id = AtField(definitions_file, where + "/label_id", [&] {
-          return spec.at("label_id").get<int64_t>();
-        });
-        if (id < 1 || id > std::numeric_limits<uint32_t>::max())
+        const uint32_t id = IdAt(spec.at("label_id"), definitions_file, where + "/label_id");
+        if (id < 1)
           throw Error("label_id must be >= 1 (0 is background in lsds)",
                       Location(definitions_file, where + "/label_id"));
-        labels[static_cast<uint32_t>(id)] = AtField(definitions_file, where + "/label_name", [&] {
-          return spec.at("label_name").get<std::string>();
+        labels[id] = AtField(definitions_file, where + "/label_name", [&] {
+          return StringAt(spec.at("label_name"), definitions_file, where + "/label_name");
         });
       }
     }
@@ -95,12 +94,18 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
     std::smatch m;
     const std::string name = folder.path().filename().string();
     if (!folder.is_directory() || !std::regex_match(name, m, sequence_name)) continue;
-    const int64_t sequence = std::stoll(m[1].str());
+    const std::optional<int64_t> sequence =
+        ParseInteger(m[1].str(), 0, std::numeric_limits<int64_t>::max());
+    if (!sequence)
+      throw Error("the sequence number is beyond 2^63 - 1", Location(folder.path().string()));
     for (const auto& file : fs::directory_iterator(folder.path())) {
       std::smatch s;
       const std::string file_name = file.path().filename().string();
-      if (std::regex_match(file_name, s, step_name))
-        steps_.push_back({sequence, std::stoll(s[1].str()), file.path()});
+      if (!std::regex_match(file_name, s, step_name)) continue;
+      const std::optional<int64_t> step =
+          ParseInteger(s[1].str(), 0, std::numeric_limits<int64_t>::max());
+      if (!step) throw Error("the step number is beyond 2^63 - 1", Location(file.path().string()));
+      steps_.push_back({*sequence, *step, root_->File(file.path())});
     }
   }
   if (steps_.empty()) throw Error("no sequence.N/stepK.frame_data.json", Location(source.string()));
@@ -185,8 +190,9 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
     return 0;
   });
   AtField(file, at + "/dimension", [&] {
-    width = static_cast<int>(capture.at("dimension").at(0).get<double>());
-    height = static_cast<int>(capture.at("dimension").at(1).get<double>());
+    const json& dimension = capture.at("dimension");
+    width = IntegerAt<int>(dimension.at(0), file, at + "/dimension/0");
+    height = IntegerAt<int>(dimension.at(1), file, at + "/dimension/1");
     return 0;
   });
   if (width < 1 || height < 1)
@@ -211,10 +217,13 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   if (!(camera.fx > 0 && camera.fy > 0))
     throw Error("not a perspective projection", Location(file, at + "/matrix"));
 
+  // Names in the capture are relative to the step's folder and confined to
+  // the dataset.
   const auto named_file = [&](const json& element, const std::string& where) {
-    const std::string name = AtField(
-        file, where + "/filename", [&] { return element.at("filename").get<std::string>(); });
-    return folder / name;
+    const std::string pointer = where + "/filename";
+    const json& name =
+        AtField(file, pointer, [&]() -> const json& { return element.at("filename"); });
+    return root_->Reference(folder, StringAt(name, file, pointer), Location(file, pointer));
   };
   frame.flat["rgb"] =
       ReadSrgbLayer(named_file(capture, at), width, height, "the capture's dimension");
@@ -233,10 +242,12 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
         const std::string w = where + "/instances/" + std::to_string(n);
         uint32_t instance = 0, label = 0, rgba = 0;
         AtField(file, w, [&] {
-          instance = instances[n].at("instanceId").get<uint32_t>();
-          label = instances[n].at("labelId").get<uint32_t>();
+          instance = IdAt(instances[n].at("instanceId"), file, w + "/instanceId");
+          label = IdAt(instances[n].at("labelId"), file, w + "/labelId");
           const json& colour = instances[n].at("color");
-          for (int ch = 0; ch < 4; ++ch) rgba = (rgba << 8) | colour.at(ch).get<uint8_t>();
+          for (int ch = 0; ch < 4; ++ch)
+            rgba = (rgba << 8) |
+                   IntegerAt<uint8_t>(colour.at(ch), file, w + "/color/" + std::to_string(ch));
           return 0;
         });
         if (instance == 0 || !std::binary_search(class_ids_.begin(), class_ids_.end(), label))
@@ -275,8 +286,8 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
         Eigen::Vector3d translation, size;
         Eigen::Matrix<double, 4, 1> q;
         AtField(file, w, [&] {
-          target.instance_id = values[n].at("instanceId").get<uint32_t>();
-          target.class_id = values[n].at("labelId").get<uint32_t>();
+          target.instance_id = IdAt(values[n].at("instanceId"), file, w + "/instanceId");
+          target.class_id = IdAt(values[n].at("labelId"), file, w + "/labelId");
           target.name = values[n].value("labelName", std::string()) + "#" +
                         std::to_string(target.instance_id);
           translation = JsonNumbers<3>(values[n].at("translation"));
@@ -304,9 +315,10 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
       std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
       const std::vector<float>& r = depth_exr.Get("R").floats;
       for (size_t p = 0; p < z.size(); ++p) {
-        if (r[p] < 0)
+        // NaN is no surface anyone rendered: an error, not sky.
+        if (r[p] < 0 || std::isnan(r[p]))
           throw Error(
-              "negative depth",
+              std::isnan(r[p]) ? "NaN depth" : "negative depth",
               Location::Pixel(
                   path.string(), index, static_cast<int>(p % width), static_cast<int>(p / width)));
         // 0 where nothing was rendered (the sky).

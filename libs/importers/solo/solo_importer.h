@@ -12,10 +12,12 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "libs/importers/importer.h"
+#include "libs/util/confined_path.h"
 
 namespace lsds::import {
 
@@ -31,7 +33,8 @@ class SoloImporter : public Importer {
     int64_t sequence = 0, step = 0;
     std::filesystem::path file;
   };
-  std::vector<Step> steps_;  // by sequence, then step
+  std::optional<ConfinedFolder> root_;  // every file read is confined to it
+  std::vector<Step> steps_;             // by sequence, then step
   std::vector<int64_t> shot_of_step_;
   std::vector<uint32_t> class_ids_;
   bool has_depth_ = false;

@@ -12,8 +12,8 @@
 #include "libs/geometry/camera.h"
 #include "libs/importers/cryptomatte.h"
 #include "libs/importers/source_exr.h"
+#include "libs/importers/source_json.h"
 #include "libs/importers/unreal_frame.h"
-#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 
@@ -39,21 +39,15 @@ bool SplitFrameName(const std::string& stem, std::string* sequence, int64_t* num
   size_t begin = end;
   while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) --begin;
   if (begin == end || end - begin > 12) return false;
-  *number = std::stoll(stem.substr(begin));
+  const std::optional<int64_t> parsed =
+      ParseInteger(stem.substr(begin), 0, std::numeric_limits<int64_t>::max());
+  if (!parsed) return false;
+  *number = *parsed;
   std::string prefix = stem.substr(0, begin);
   while (!prefix.empty() && (prefix.back() == '.' || prefix.back() == '_' || prefix.back() == '-'))
     prefix.pop_back();
   *sequence = prefix.empty() ? "sequence" : prefix;
   return true;
-}
-
-template <typename F>
-auto AtField(const std::string& file, const std::string& pointer, F&& body) {
-  try {
-    return body();
-  } catch (const json::exception& e) {
-    throw Error(std::string("malformed field: ") + e.what(), Location(file, pointer));
-  }
 }
 
 Eigen::Vector3d Vector3(const json& j) {
@@ -65,12 +59,7 @@ Eigen::Vector3d Vector3(const json& j) {
 
 void UeMrqImporter::ReadObjects(const fs::path& path) {
   const std::string file = path.string();
-  json root;
-  try {
-    root = json::parse(ReadFile(path));
-  } catch (const json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), Location(file));
-  }
+  const json root = ParseJsonFile(path);
   AtField(file, "/format", [&] {
     if (root.at("format").get<std::string>() != "lsds-ue-objects")
       throw Error("'format' must be \"lsds-ue-objects\"", Location(file, "/format"));
@@ -85,8 +74,10 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
       const json& c = root.at("classes").at(i);
       const std::string where = "/classes/" + std::to_string(i);
       ClassInfo info{
-          AtField(file, where + "/id", [&] { return c.at("id").get<uint32_t>(); }),
-          AtField(file, where + "/name", [&] { return c.at("name").get<std::string>(); })};
+          AtField(file, where + "/id", [&] { return IdAt(c.at("id"), file, where + "/id"); }),
+          AtField(file, where + "/name", [&] {
+            return StringAt(c.at("name"), file, where + "/name");
+          })};
       if (info.id == 0 || !class_ids.insert(info.id).second)
         throw Error("class ids must be > 0 and unique", Location(file, where + "/id"));
       classes_.push_back(info);
@@ -98,13 +89,15 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
     for (size_t i = 0; i < root.at("actors").size(); ++i) {
       const json& a = root.at("actors").at(i);
       const std::string where = "/actors/" + std::to_string(i);
-      const std::string name =
-          AtField(file, where + "/name", [&] { return a.at("name").get<std::string>(); });
+      const std::string name = AtField(
+          file, where + "/name", [&] { return StringAt(a.at("name"), file, where + "/name"); });
       Actor actor;
-      actor.instance_id = AtField(
-          file, where + "/instance_id", [&] { return a.at("instance_id").get<uint32_t>(); });
-      actor.class_id =
-          AtField(file, where + "/class_id", [&] { return a.at("class_id").get<uint32_t>(); });
+      actor.instance_id = AtField(file, where + "/instance_id", [&] {
+        return IdAt(a.at("instance_id"), file, where + "/instance_id");
+      });
+      actor.class_id = AtField(file, where + "/class_id", [&] {
+        return IdAt(a.at("class_id"), file, where + "/class_id");
+      });
       if (actor.instance_id == 0 || !instance_ids.insert(actor.instance_id).second)
         throw Error("instance ids must be > 0 and unique", Location(file, where + "/instance_id"));
       if (!class_ids.count(actor.class_id))
@@ -138,12 +131,15 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
 SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOptions& options) {
   if (!fs::is_directory(source))
     throw Error("a Movie Render Queue output folder was expected", Location(source.string()));
+  root_.emplace(source, options.allow_links_outside);
   for (const fs::directory_entry& entry : fs::directory_iterator(source)) {
-    if (!entry.is_regular_file()) continue;
     std::string ext = entry.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
     if (ext != ".exr") continue;
-    FrameFile frame{entry.path(), "", 0};
+    if (entry.is_directory()) continue;
+    // A link out of the folder or a FIFO named .exr is refused, not skipped.
+    FrameFile frame{root_->File(entry.path()), "", 0};
+    if (!entry.is_regular_file()) continue;  // a dangling link
     if (!SplitFrameName(entry.path().stem().string(), &frame.sequence, &frame.number))
       throw Error(
           "EXR name has no frame number (MRQ names frames "
@@ -155,7 +151,7 @@ SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOption
   std::sort(files_.begin(), files_.end(), [](const auto& a, const auto& b) {
     return std::tie(a.sequence, a.number) < std::tie(b.sequence, b.number);
   });
-  ReadObjects(options.objects.empty() ? source / kUeObjectsFile : options.objects);
+  ReadObjects(options.objects.empty() ? root_->File(source / kUeObjectsFile) : options.objects);
 
   // The layout, from the first frame; every frame must have it.
   const SourceExr first(files_.front().path);

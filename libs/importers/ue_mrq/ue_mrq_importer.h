@@ -9,10 +9,12 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "libs/importers/importer.h"
+#include "libs/util/confined_path.h"
 
 namespace lsds::import {
 
@@ -37,6 +39,7 @@ class UeMrqImporter : public Importer {
   };
   void ReadObjects(const std::filesystem::path& file);
 
+  std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::vector<FrameFile> files_;
   std::map<std::string, Actor> actors_;  // by Cryptomatte manifest name
   std::vector<ObjectIdentity> targets_;

@@ -10,6 +10,7 @@
 #include "libs/report/report.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
 #include "validators/report_writers.h"
@@ -86,19 +87,11 @@ int RunReport(int argc, char** argv) {
     // Refuse before the long validation run, not after it.
     RefuseToOverwrite(output, options.force, "report");
     if (!bundle_stats.empty()) {
-      try {
-        options.bundle_stats = nlohmann::json::parse(ReadFile(bundle_stats));
-      } catch (const nlohmann::json::exception& e) {
-        throw Error(std::string("not JSON: ") + e.what(), Location(bundle_stats));
-      }
+      options.bundle_stats = ReadJsonFile(bundle_stats);
       report::CheckBundleStats(options.bundle_stats, bundle_stats);
     }
     if (!validation_report.empty()) {
-      try {
-        options.validation = nlohmann::json::parse(ReadFile(validation_report));
-      } catch (const nlohmann::json::exception& e) {
-        throw Error(std::string("not JSON: ") + e.what(), Location(validation_report));
-      }
+      options.validation = ReadJsonFile(validation_report);
       if (!options.validation.is_object() ||
           options.validation.value("format", "") != "lsds-validate-report") {
         throw Error(

@@ -10,16 +10,13 @@
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 
 namespace lsds::import {
 
 inline nlohmann::json ParseJsonFile(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw Error("missing file", Location(path.string()));
-  try {
-    return nlohmann::json::parse(ReadFile(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), Location(path.string()));
-  }
+  return ReadJsonFile(path);
 }
 
 // Runs `body`, turning a JSON access error into one located at file#pointer.

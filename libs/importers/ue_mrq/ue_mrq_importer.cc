@@ -15,6 +15,7 @@
 #include "libs/importers/unreal_frame.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/strings.h"
 
 namespace lsds::import {
@@ -65,12 +66,7 @@ Eigen::Vector3d Vector3(const json& j) {
 
 void UeMrqImporter::ReadObjects(const fs::path& path) {
   const std::string file = path.string();
-  json root;
-  try {
-    root = json::parse(ReadFile(path));
-  } catch (const json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), Location(file));
-  }
+  const json root = ReadJsonFile(path);
   AtField(file, "/format", [&] {
     if (root.at("format").get<std::string>() != "lsds-ue-objects")
       throw Error("'format' must be \"lsds-ue-objects\"", Location(file, "/format"));

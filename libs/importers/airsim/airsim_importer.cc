@@ -11,8 +11,10 @@
 
 #include "libs/geometry/world_frame.h"
 #include "libs/importers/pfm.h"
+#include "libs/importers/source_png.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/srgb.h"
 #include "libs/util/strings.h"
 
@@ -45,13 +47,7 @@ auto AtField(const std::string& file, const std::string& pointer, F&& body) {
   }
 }
 
-json ParseJsonFile(const fs::path& path) {
-  try {
-    return json::parse(ReadFile(path));
-  } catch (const json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), Location(path.string()));
-  }
-}
+json ParseJsonFile(const fs::path& path) { return ReadJsonFile(path); }
 
 }  // namespace
 
@@ -311,7 +307,7 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   SetCamFromWorld(cam_from_world, &frame.camera);
 
   auto read_png = [&](const fs::path& path) {
-    cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+    cv::Mat image = ReadImage(path, cv::IMREAD_COLOR);
     if (image.empty()) throw Error("not a readable PNG", Location(path.string()));
     if (image.cols != width_ || image.rows != height_)
       throw Error("image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +

@@ -83,7 +83,7 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
   }
   // The image size, from the first depth image.
   const fs::path first = source / "depth" / (Stem(std::stoll(image_ids_[0])) + ".png");
-  const cv::Mat depth = cv::imread(first.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat depth = ReadImage(first, cv::IMREAD_UNCHANGED);
   if (depth.empty() || depth.type() != CV_16UC1)
     throw Error("not a 16-bit greyscale depth PNG", Location(first.string()));
   width_ = depth.cols, height_ = depth.rows;
@@ -144,7 +144,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
       scene_ / "rgb" / (Stem(id) + ".png"), width_, height_, "the depth images' size");
 
   const fs::path depth_path = scene_ / "depth" / (Stem(id) + ".png");
-  const cv::Mat depth_png = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat depth_png = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
   if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width_ ||
       depth_png.rows != height_)
     throw Error(
@@ -195,7 +195,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
 
     const fs::path mask_path =
         scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png");
-    const cv::Mat mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat mask = ReadImage(mask_path, cv::IMREAD_GRAYSCALE);
     if (mask.empty() || mask.cols != width_ || mask.rows != height_)
       throw Error(
           "missing, unreadable or not " + std::to_string(width_) + "x" + std::to_string(height_),

@@ -194,7 +194,7 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
       scene_ / FrameFile("rgba", index, "png"), width_, height_, "metadata.json resolution");
 
   const fs::path depth_path = scene_ / FrameFile("depth", index, "tiff");
-  const cv::Mat depth_tiff = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat depth_tiff = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
   if (depth_tiff.empty() || depth_tiff.type() != CV_32FC1 || depth_tiff.cols != width_ ||
       depth_tiff.rows != height_)
     throw Error(

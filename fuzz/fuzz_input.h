@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "libs/exr/exr_types.h"
+#include "libs/util/limits.h"
 
 namespace lsds::fuzz {
 
@@ -38,6 +39,16 @@ inline const std::filesystem::path& ScratchDir() {
 inline void WriteBytes(const std::filesystem::path& path, const uint8_t* data, size_t size) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+}
+
+// A memory budget of 256 MiB (the CLI's --memory-budget), well under the
+// fuzzers' -rss_limit_mb: a decode the budget allows must fit the limit.
+inline void SmallBudget() {
+  static const bool set = [] {
+    SetMemoryBudget("256M");
+    return true;
+  }();
+  (void)set;
 }
 
 // Limits small enough that a hostile header cannot make one run slow, as the

@@ -29,10 +29,6 @@ Plan PlanFromScene(const std::string& scene,
   return MakePlan(scene, capture_path, seed, range, MakeFrameEstimatorFactory());
 }
 
-Plan LoadPlanJson(const std::string& path) {
-  const std::string text = ReadFile(path);
-  CheckJsonNesting(text, path);
-  return PlanFromJson(ParseJsonText(text, path), path);
-}
+Plan LoadPlanJson(const std::string& path) { return PlanFromJson(ReadJsonFile(path), path); }
 
 }  // namespace lsds::gen

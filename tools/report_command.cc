@@ -11,7 +11,6 @@
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/json_errors.h"
-#include "libs/util/limits.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
 #include "validators/report_writers.h"
@@ -90,9 +89,7 @@ int RunReport(int argc, char** argv) {
     // Both JSON inputs are read whole and typed before the long run: a
     // malformed one is refused at its line:column or JSON pointer.
     if (!bundle_stats.empty()) {
-      const std::string text = ReadFile(bundle_stats);
-      CheckJsonNesting(text, bundle_stats);
-      options.bundle_stats = ParseJsonText(text, bundle_stats);
+      options.bundle_stats = ReadJsonFile(bundle_stats);
       report::CheckBundleStats(options.bundle_stats, bundle_stats);
     }
     if (!validation_report.empty()) {

@@ -5,6 +5,7 @@
 #include "generator/lang/text_parser.h"
 #include "libs/collection/json_stream.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
 #include "libs/util/text_check.h"
@@ -54,6 +55,7 @@ SourceFile ParseSource(const std::string& text,
   // Comments too: the text ends up in JSON (plans, provenance), which holds
   // UTF-8 only.
   CheckUtf8(text, path_for_messages);
+  CheckNoNulBytes(text, path_for_messages);
   if (is_json) {
     CheckJsonNesting(text, path_for_messages);
     try {
@@ -72,7 +74,7 @@ SourceFile ParseSource(const std::string& text,
 }
 
 SourceFile LoadSource(const std::string& path) {
-  const std::string text = ReadFile(path);
+  const std::string text = ReadTextFile(path);
   bool is_json = std::filesystem::path(path).extension() == ".json";
   if (!is_json) {
     const size_t first = text.find_first_not_of(" \t\r\n");

@@ -1,7 +1,9 @@
 #include "libs/collection/json_stream.h"
 
 #include <algorithm>
+#include <cstring>
 #include <fstream>
+#include <streambuf>
 #include <vector>
 
 #include "libs/util/atomic_file.h"
@@ -9,6 +11,7 @@
 #include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
+#include "libs/util/text_check.h"
 
 namespace lsds {
 
@@ -45,6 +48,46 @@ Error SyntaxError(const std::filesystem::path& path,
   if (colon != std::string::npos) message = message.substr(colon + 2);
   return Error("invalid JSON: " + message, where);
 }
+
+// The file as the parser reads it, cut at its first NUL byte. nlohmann takes a
+// NUL outside a string for the end of the input, so a document followed by a
+// NUL and anything at all would parse as if the rest were not there; cut here,
+// the parse stops at the NUL and the reader reports it at its line and column,
+// whether the text before it parsed or not.
+class NulStopBuf : public std::streambuf {
+ public:
+  explicit NulStopBuf(std::filebuf* file) : file_(file), buffer_(size_t{1} << 16) {}
+  bool stopped() const { return stopped_; }
+  // The offset of the NUL in the file, once stopped().
+  uint64_t nul_offset() const { return start_ + static_cast<uint64_t>(egptr() - eback()); }
+
+ protected:
+  int_type underflow() override {
+    if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+    if (stopped_) return traits_type::eof();
+    start_ += static_cast<uint64_t>(egptr() - eback());
+    const std::streamsize got =
+        file_->sgetn(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    size_t n = got > 0 ? static_cast<size_t>(got) : 0;
+    if (const void* nul = std::memchr(buffer_.data(), '\0', n)) {
+      n = static_cast<size_t>(static_cast<const char*>(nul) - buffer_.data());
+      stopped_ = true;
+    }
+    setg(buffer_.data(), buffer_.data(), buffer_.data() + n);
+    return n == 0 ? traits_type::eof() : traits_type::to_int_type(*gptr());
+  }
+  // Only where the reader is (tellg), for messages.
+  pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+    if (off != 0 || dir != std::ios_base::cur) return pos_type(off_type(-1));
+    return pos_type(static_cast<off_type>(start_ + static_cast<uint64_t>(gptr() - eback())));
+  }
+
+ private:
+  std::filebuf* file_;
+  std::vector<char> buffer_;
+  uint64_t start_ = 0;  // the file offset of buffer_'s first byte
+  bool stopped_ = false;
+};
 
 // Builds the document like nlohmann's DOM parser, except that the elements of
 // the root's `array_key` array are handed out one at a time and not kept.
@@ -162,18 +205,26 @@ size_t StreamJsonArrayMember(const std::filesystem::path& path,
                              nlohmann::json* header,
                              const std::function<void(nlohmann::json&&, size_t)>& on_element) {
   RequireRegularFile(path, "JSON file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open for reading", Location(path.string()));
+  std::filebuf file;
+  if (file.open(path, std::ios::in | std::ios::binary) == nullptr)
+    throw Error("cannot open for reading", Location(path.string()));
+  NulStopBuf cut(&file);
+  std::istream in(&cut);
   ArrayMemberSax sax(array_key, on_element, path, in);
+  const auto nul_error = [&] {
+    return Error(NulByteMessage(cut.nul_offset()), TextLocationInFile(path, cut.nul_offset()));
+  };
   try {
     nlohmann::json::sax_parse(in, &sax);
   } catch (const nlohmann::json::parse_error& e) {
+    if (cut.stopped()) throw nul_error();
     throw SyntaxError(path, e, static_cast<std::streamoff>(in.tellg()));
   } catch (const nlohmann::json::out_of_range& e) {
     // A number beyond double (1e999): nlohmann gives no position; the error
     // path reads the file again to find it.
     throw JsonParseError(ReadFile(path), path.string(), e);
   }
+  if (cut.stopped()) throw nul_error();
   nlohmann::json& root = sax.root;
   const size_t count = sax.count;
   if (!root.is_object())

@@ -211,6 +211,14 @@ void CheckLimits(const std::filesystem::path& path,
 
 }  // namespace internal
 
+void CheckExrHeader(const std::filesystem::path& path, const ReadLimits& limits) {
+  internal::GuardExr(path, [&] {
+    RequireRegularFile(path, "EXR file");
+    internal::ScanHeader(path, limits);
+    return 0;
+  });
+}
+
 ExrInfo ReadExrInfo(const std::filesystem::path& path, const ReadLimits& limits) {
   return internal::GuardExr(path, [&] {
     RequireRegularFile(path, "layer file");

@@ -5,9 +5,11 @@
 #include <csetjmp>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "libs/importers/source_png.h"
 #include "libs/util/error.h"
 
 namespace lsds::import {
@@ -92,6 +94,11 @@ bool Guarded(png_structp png, const Work& work) {
 }  // namespace
 
 IndexImage ReadIndexedPng(const fs::path& path) {
+  // The header first: libpng would size the image by it (a 100-byte file
+  // can declare 40000 x 40000) before its data turns out to be missing.
+  const std::optional<PngHeader> header = ReadPngHeader(path);
+  if (!header) throw Error("not a PNG file (no PNG signature)", Location(path.string()));
+  CheckPngSize(path, *header, 1);
   File file(std::fopen(path.string().c_str(), "rb"));
   if (!file) throw Error("cannot open", Location(path.string()));
   std::string message;

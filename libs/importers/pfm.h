@@ -16,8 +16,10 @@ struct PfmImage {
 
 enum class PfmRows { kBottomFirst, kTopFirst };
 
-// Throws lsds::Error naming the file for a malformed header, a size beyond
-// 32768 x 32768, or too few bytes.
+// Throws lsds::Error naming the file (and the header's line:column) for a
+// malformed header or a size beyond 32768 x 32768, and, before anything is
+// allocated, for data shorter than the header declares or an image beyond the
+// memory budget.
 PfmImage ReadPfm(const std::filesystem::path& path, PfmRows rows);
 // Greyscale, little-endian, atomically.
 void WritePfm(const std::filesystem::path& path, const PfmImage& image, PfmRows rows);

@@ -15,7 +15,9 @@
 #include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 
+#include "libs/exr/exr_info.h"
 #include "libs/util/error.h"
+#include "libs/util/limits.h"
 #include "libs/util/strings.h"
 
 namespace lsds::import {
@@ -27,6 +29,8 @@ std::string NumberText(double value) { return FormatNumber(value, 17); }
 
 SourceExr::SourceExr(const std::filesystem::path& path, const exr::ReadLimits& limits)
     : path_(path), file_(path.string()) {
+  // OpenEXR allocates what the header declares while it opens the file.
+  exr::CheckExrHeader(path, limits);
   try {
     Imf::MultiPartInputFile input(file_.c_str());
     for (int part = 0; part < input.parts(); ++part) {
@@ -114,6 +118,7 @@ std::vector<float> SourceExr::ReadFloat(const std::string& channel) const {
                 Location(file_));
   if (it->second.type == exr::PixelType::kUint)
     throw Error("channel '" + channel + "' is UINT; a float was expected", Location(file_));
+  CheckImageBudget(width_, height_, 1, sizeof(float), "decoding channel '" + channel + "'", file_);
   std::vector<float> pixels(static_cast<size_t>(width_) * height_);
   try {
     Imf::MultiPartInputFile input(file_.c_str());

@@ -22,19 +22,7 @@ namespace lsds::import {
 // `path` must already be confined (ConfinedFolder::File) or given by the user.
 inline nlohmann::json ParseJsonFile(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw Error("missing file", Location(path.string()));
-  const std::string text = ReadFile(path);
-  CheckJsonNesting(text, path.string());
-  return ParseJsonText(text, path.string());
-}
-
-// Runs `body`, turning a JSON access error into one located at file#pointer.
-template <typename F>
-auto AtField(const std::string& file, const std::string& pointer, F&& body) {
-  try {
-    return body();
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(std::string("malformed field: ") + e.what(), Location(file, pointer));
-  }
+  return ReadJsonFile(path);
 }
 
 // A JSON value for a message: its text, shortened.

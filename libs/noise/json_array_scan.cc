@@ -1,5 +1,6 @@
 #include "libs/noise/json_array_scan.h"
 
+#include <cstring>
 #include <fstream>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
+#include "libs/util/text_check.h"
 
 namespace lsds::noise {
 
@@ -45,10 +47,19 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
   const bool want_elements = static_cast<bool>(callbacks.on_element);
 
   std::vector<char> buffer(1 << 20);
+  uint64_t chunk_start = 0;  // the file offset of buffer[0]
   while (in) {
     in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
     const size_t got = static_cast<size_t>(in.gcount());
     if (got == 0) break;
+    // No NUL anywhere: the header and element parses would take one for the
+    // end of their text.
+    if (const void* nul = std::memchr(buffer.data(), '\0', got)) {
+      const uint64_t offset =
+          chunk_start + static_cast<uint64_t>(static_cast<const char*>(nul) - buffer.data());
+      throw Error(NulByteMessage(offset), TextLocationInFile(path, offset));
+    }
+    chunk_start += got;
     size_t raw_start = 0;  // the array bytes of this chunk not handed out yet
     for (size_t i = 0; i < got; ++i) {
       const char c = buffer[i];

@@ -409,14 +409,8 @@ void AtomicDirectory::Commit() {
   SyncFolder(path_.parent_path());
 }
 
-std::string ReadFile(const fs::path& path) {
-  RequireRegularFile(path, "file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open for reading", Location(path.string()));
-  std::ostringstream content;
-  content << in.rdbuf();
-  if (in.bad()) throw Error("read failed", Location(path.string()));
-  return content.str();
-}
+// One buffer, sized as it is read, after the budget check: the one reader of
+// whole files (ReadWholeFile, libs/util/input_file.h).
+std::string ReadFile(const fs::path& path) { return ReadWholeFile(path, false); }
 
 }  // namespace lsds

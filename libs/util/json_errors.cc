@@ -2,6 +2,8 @@
 
 #include <cctype>
 
+#include "libs/util/input_file.h"
+#include "libs/util/limits.h"
 #include "libs/util/text_check.h"
 
 namespace lsds {
@@ -86,6 +88,7 @@ Error JsonParseError(std::string_view text,
 }
 
 nlohmann::json ParseJsonText(std::string_view text, const std::string& file) {
+  CheckNoNulBytes(text, file);
   try {
     return nlohmann::json::parse(text.begin(), text.end());
   } catch (const nlohmann::json::parse_error& e) {
@@ -93,6 +96,12 @@ nlohmann::json ParseJsonText(std::string_view text, const std::string& file) {
   } catch (const nlohmann::json::out_of_range& e) {
     throw JsonParseError(text, file, e);
   }
+}
+
+nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
+  const std::string text = ReadTextFile(path);
+  CheckJsonNesting(text, path.string());
+  return ParseJsonText(text, path.string());
 }
 
 }  // namespace lsds

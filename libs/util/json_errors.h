@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -79,7 +80,13 @@ auto AtPointer(const std::string& file, const std::string& pointer, Body&& body)
   }
 }
 
-// Parses a whole document with located errors.
+// Parses a whole document with located errors; a NUL byte anywhere is one
+// (nlohmann would take it for the end of the input).
 nlohmann::json ParseJsonText(std::string_view text, const std::string& file);
+
+// A whole JSON input file (reports, settings, importers' JSON): read with
+// ReadTextFile (the memory budget, a NUL byte refused where it is), nesting
+// bounded (CheckJsonNesting), parsed with located errors.
+nlohmann::json ReadJsonFile(const std::filesystem::path& path);
 
 }  // namespace lsds

@@ -1,14 +1,17 @@
 #include "libs/util/npy.h"
 
 #include <cctype>
+#include <charconv>
 #include <cstring>
 #include <fstream>
 #include <memory>
-#include <sstream>
-#include <variant>
+#include <string_view>
 
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
+#include "libs/util/limits.h"
+#include "libs/util/text_check.h"
 
 namespace lsds {
 
@@ -30,18 +33,24 @@ struct PyValue {
   }
 };
 
+// Recursive descent over the header's literal, bounded: the nesting depth by
+// kMaxNestingDepth (a header of 10^5 '(' would otherwise overflow the stack),
+// every step linear (numbers read in place, never from a copy of the rest).
 class PyParser {
  public:
-  PyParser(const std::string& text, const std::string& file) : text_(text), file_(file) {}
+  PyParser(const std::string& text, const std::string& file, size_t file_offset)
+      : text_(text), file_(file), file_offset_(file_offset) {}
   PyValue Parse() {
-    PyValue v = Value();
+    PyValue v = Value(0);
     Skip();
+    if (at_ < text_.size() && text_[at_] != '\n' && text_[at_] != '\0')
+      Fail("unexpected text after the header's dictionary");
     return v;
   }
 
  private:
-  [[noreturn]] void Fail(const std::string& what) {
-    throw Error("bad .npy header at character " + std::to_string(at_ + 1) + ": " + what,
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw Error("bad .npy header at byte " + std::to_string(file_offset_ + at_) + ": " + what,
                 Location(file_));
   }
   void Skip() {
@@ -52,7 +61,7 @@ class PyParser {
     if (at_ < text_.size() && text_[at_] == c) return ++at_, true;
     return false;
   }
-  PyValue Value() {
+  PyValue Value(int depth) {
     Skip();
     if (at_ >= text_.size()) Fail("unexpected end");
     const char c = text_[at_];
@@ -63,22 +72,21 @@ class PyParser {
       if (end == std::string::npos) Fail("unterminated string");
       v.text = text_.substr(at_ + 1, end - at_ - 1);
       at_ = end + 1;
-    } else if (c == '{') {
+    } else if (c == '{' || c == '(' || c == '[') {
+      if (depth >= kMaxNestingDepth)
+        Fail("nesting deeper than " + std::to_string(kMaxNestingDepth) + " levels");
+      const char close = c == '{' ? '}' : c == '(' ? ')' : ']';
       ++at_;
-      v.kind = PyValue::kDict;
-      while (!Eat('}')) {
-        PyValue key = Value();
-        if (key.kind != PyValue::kString) Fail("expected a string key");
-        if (!Eat(':')) Fail("expected ':'");
-        v.entries.emplace_back(key.text, Value());
-        if (!Eat(',') && (Skip(), text_[at_] != '}')) Fail("expected ',' or '}'");
-      }
-    } else if (c == '(' || c == '[') {
-      const char close = c == '(' ? ')' : ']';
-      ++at_;
-      v.kind = PyValue::kSequence;
+      v.kind = c == '{' ? PyValue::kDict : PyValue::kSequence;
       while (!Eat(close)) {
-        v.items.push_back(Value());
+        if (v.kind == PyValue::kDict) {
+          PyValue key = Value(depth + 1);
+          if (key.kind != PyValue::kString) Fail("expected a string key");
+          if (!Eat(':')) Fail("expected ':'");
+          v.entries.emplace_back(std::move(key.text), Value(depth + 1));
+        } else {
+          v.items.push_back(Value(depth + 1));
+        }
         if (!Eat(',') && (Skip(), at_ >= text_.size() || text_[at_] != close))
           Fail("expected ',' or '" + std::string(1, close) + "'");
       }
@@ -87,18 +95,32 @@ class PyParser {
     } else if (text_.compare(at_, 5, "False") == 0) {
       v.kind = PyValue::kBool, v.number = 0, at_ += 5;
     } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-') {
-      size_t used = 0;
-      v.number = std::stoll(text_.substr(at_), &used);
-      at_ += used;
+      const char* first = text_.data() + at_;
+      const auto [end, ec] = std::from_chars(first, text_.data() + text_.size(), v.number);
+      if (ec != std::errc()) Fail("not an integer in the range of int64");
+      at_ += static_cast<size_t>(end - first);
     } else {
-      Fail(std::string("unexpected '") + c + "'");
+      Fail(std::string("unexpected '") + Excerpt(std::string_view(&text_[at_], 1)) + "'");
     }
     return v;
   }
   const std::string& text_;
   const std::string& file_;
+  size_t file_offset_;  // of text_[0] in the file, for messages
   size_t at_ = 0;
 };
+
+// a * b, or an error naming `what` when it leaves int64 (a hostile shape
+// would wrap to a small size that the payload then "matches").
+int64_t CheckedProduct(int64_t a, int64_t b, const std::string& what, const std::string& file) {
+  int64_t product = 0;
+  if (a < 0 || b < 0 || __builtin_mul_overflow(a, b, &product))
+    throw Error(what + " overflows a 64-bit size", Location(file));
+  return product;
+}
+
+// numpy itself refuses headers over 10,000 bytes unless told otherwise.
+constexpr size_t kMaxHeaderBytes = size_t{1} << 20;
 
 NpyField ParseType(const std::string& type, const std::string& file) {
   // '<f4', '|u1', '|b1': byte order, kind, size.
@@ -107,11 +129,12 @@ NpyField ParseType(const std::string& type, const std::string& file) {
                 Location(file));
   NpyField field;
   field.kind = type[1];
-  field.size = std::atoi(type.c_str() + 2);
-  const bool ok = (field.kind == 'f' && (field.size == 4 || field.size == 8)) ||
-                  ((field.kind == 'u' || field.kind == 'i') &&
-                   (field.size == 1 || field.size == 2 || field.size == 4 || field.size == 8)) ||
-                  (field.kind == 'b' && field.size == 1);
+  const auto [end, ec] = std::from_chars(type.data() + 2, type.data() + type.size(), field.size);
+  const bool ok = ec == std::errc() && end == type.data() + type.size() &&
+                  ((field.kind == 'f' && (field.size == 4 || field.size == 8)) ||
+                   ((field.kind == 'u' || field.kind == 'i') &&
+                    (field.size == 1 || field.size == 2 || field.size == 4 || field.size == 8)) ||
+                   (field.kind == 'b' && field.size == 1));
   if (!ok) throw Error("unsupported dtype '" + type + "'", Location(file));
   return field;
 }
@@ -158,27 +181,52 @@ double NpyArray::Get(int64_t record, const NpyField& field, int64_t element) con
 
 NpyArray ReadNpy(const std::filesystem::path& path) {
   const std::string file = path.string();
-  if (!std::filesystem::is_regular_file(path)) throw Error("missing file", Location(file));
-  const std::string bytes = ReadFile(path);
-  if (bytes.size() < 10 || bytes.compare(0, 6, "\x93NUMPY") != 0)
+  if (!std::filesystem::exists(path)) throw Error("missing file", Location(file));
+  RequireRegularFile(path, ".npy file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open for reading", Location(file));
+  std::error_code ec;
+  const uint64_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) throw Error("cannot read: " + ec.message(), Location(file));
+  // The header is streamed: the magic, its length, then just its bytes; the
+  // payload is read only once its size is known to match the file.
+  char lead[12] = {};
+  in.read(lead, sizeof lead);
+  const auto got = static_cast<size_t>(in.gcount());
+  if (got < 10 || std::memcmp(lead, "\x93NUMPY", 6) != 0)
     throw Error("not a .npy file (no \\x93NUMPY magic)", Location(file));
-  const int major = static_cast<unsigned char>(bytes[6]);
-  size_t header_length = 0, start = 0;
+  const int major = static_cast<unsigned char>(lead[6]);
+  uint64_t header_length = 0;
+  size_t start = 0;
   if (major == 1) {
     header_length =
-        static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
+        static_cast<unsigned char>(lead[8]) | (static_cast<unsigned char>(lead[9]) << 8);
     start = 10;
   } else if (major == 2 || major == 3) {
-    if (bytes.size() < 12) throw Error("truncated .npy header", Location(file));
+    if (got < 12) throw Error("truncated .npy header", Location(file));
     for (int b = 3; b >= 0; --b)
-      header_length = (header_length << 8) | static_cast<unsigned char>(bytes[8 + b]);
+      header_length = (header_length << 8) | static_cast<unsigned char>(lead[8 + b]);
     start = 12;
   } else {
     throw Error("unsupported .npy version " + std::to_string(major), Location(file));
   }
-  if (start + header_length > bytes.size()) throw Error("truncated .npy header", Location(file));
-  const std::string header = bytes.substr(start, header_length);
-  const PyValue dict = PyParser(header, file).Parse();
+  if (start + header_length > file_size) {
+    throw Error("truncated .npy header: it declares " + std::to_string(header_length) +
+                    " bytes, the file has " + std::to_string(file_size - start) + " after byte " +
+                    std::to_string(start),
+                Location(file));
+  }
+  if (header_length > kMaxHeaderBytes) {
+    throw Error("the .npy header declares " + std::to_string(header_length) +
+                    " bytes, over lsds's limit of " + std::to_string(kMaxHeaderBytes),
+                Location(file));
+  }
+  std::string header(static_cast<size_t>(header_length), '\0');
+  in.seekg(static_cast<std::streamoff>(start));
+  in.read(header.data(), static_cast<std::streamsize>(header.size()));
+  if (static_cast<uint64_t>(in.gcount()) != header_length)
+    throw Error("truncated .npy header", Location(file));
+  const PyValue dict = PyParser(header, file, start).Parse();
   const PyValue* descr = dict.Find("descr");
   const PyValue* fortran = dict.Find("fortran_order");
   const PyValue* shape = dict.Find("shape");
@@ -188,39 +236,63 @@ NpyArray ReadNpy(const std::filesystem::path& path) {
   if (fortran->number != 0)
     throw Error("Fortran-order .npy arrays are not supported", Location(file));
   NpyArray array;
+  int64_t elements = 1;
   for (const PyValue& d : shape->items) {
     if (d.kind != PyValue::kInt || d.number < 0)
-      throw Error("bad shape in the .npy header", Location(file));
+      throw Error("bad shape in the .npy header: dimensions must be integers >= 0", Location(file));
     array.shape.push_back(d.number);
+    elements = CheckedProduct(elements, d.number, "the .npy shape", file);
   }
+  int64_t record_size = 0;
   if (descr->kind == PyValue::kString) {
     array.fields.push_back(ParseType(descr->text, file));
-    array.record_size = array.fields[0].size;
+    record_size = array.fields[0].size;
   } else if (descr->kind == PyValue::kSequence) {
     for (const PyValue& item : descr->items) {
-      if (item.kind != PyValue::kSequence || item.items.size() < 2 ||
+      if (item.kind != PyValue::kSequence || item.items.size() < 2 || item.items.size() > 3 ||
           item.items[0].kind != PyValue::kString || item.items[1].kind != PyValue::kString)
-        throw Error("bad structured dtype in the .npy header", Location(file));
+        throw Error("bad structured dtype in the .npy header (a field is (name, type[, shape]))",
+                    Location(file));
       NpyField field = ParseType(item.items[1].text, file);
       field.name = item.items[0].text;
       if (item.items.size() > 2) {
         const PyValue& sub = item.items[2];
-        if (sub.kind == PyValue::kInt) field.count = sub.number;
-        for (const PyValue& d : sub.items) field.count *= d.number;
+        const std::string what = "the shape of field '" + field.name + "'";
+        if (sub.kind == PyValue::kInt && sub.number >= 0) {
+          field.count = sub.number;
+        } else if (sub.kind == PyValue::kSequence) {
+          for (const PyValue& d : sub.items) {
+            if (d.kind != PyValue::kInt || d.number < 0)
+              throw Error(what + " in the .npy header must hold integers >= 0", Location(file));
+            field.count = CheckedProduct(field.count, d.number, what, file);
+          }
+        } else {
+          throw Error(what + " in the .npy header must be an integer >= 0 or a tuple of them",
+                      Location(file));
+        }
       }
-      field.offset = array.record_size;
-      array.record_size += static_cast<size_t>(field.size * field.count);
+      field.offset = static_cast<size_t>(record_size);
+      const int64_t bytes =
+          CheckedProduct(field.count, field.size, "the size of field '" + field.name + "'", file);
+      if (__builtin_add_overflow(record_size, bytes, &record_size))
+        throw Error("the .npy record size overflows a 64-bit size", Location(file));
       array.fields.push_back(field);
     }
   } else {
     throw Error("bad descr in the .npy header", Location(file));
   }
-  array.data = bytes.substr(start + header_length);
-  const size_t want = static_cast<size_t>(array.size()) * array.record_size;
-  if (array.data.size() != want)
-    throw Error("the .npy payload holds " + std::to_string(array.data.size()) +
-                    " bytes, its header says " + std::to_string(want),
+  array.record_size = static_cast<size_t>(record_size);
+  const int64_t want = CheckedProduct(elements, record_size, "the .npy payload size", file);
+  const uint64_t have = file_size - start - header_length;
+  if (have != static_cast<uint64_t>(want))
+    throw Error("the .npy payload holds " + std::to_string(have) + " bytes, its header says " +
+                    std::to_string(want),
                 Location(file));
+  CheckMemoryBudget(static_cast<double>(want), "the .npy payload", file);
+  array.data.resize(static_cast<size_t>(want));
+  in.read(array.data.data(), static_cast<std::streamsize>(want));
+  if (in.gcount() != static_cast<std::streamsize>(want))
+    throw Error("the .npy payload is shorter than the file's size said", Location(file));
   return array;
 }
 

@@ -66,6 +66,19 @@ void CheckUtf8(std::string_view text, const std::string& file) {
               Location::Text(file, line, column));
 }
 
+std::string NulByteMessage(uint64_t offset) {
+  return "a NUL byte (0x00) at byte offset " + std::to_string(offset) +
+         "; a text input holds none (a binary or damaged file?)";
+}
+
+void CheckNoNulBytes(std::string_view text, const std::string& file) {
+  const size_t nul = text.find('\0');
+  if (nul == std::string_view::npos) return;
+  int line = 0, column = 0;
+  LineColumnFromOffset(std::string(text.substr(0, nul)), nul, &line, &column);
+  throw Error(NulByteMessage(nul), Location::Text(file, line, column));
+}
+
 std::string Utf8Escaped(std::string_view text) {
   std::string out;
   out.reserve(text.size());

@@ -19,6 +19,15 @@ std::optional<size_t> FindInvalidUtf8(std::string_view text);
 // `file:line:column` when `text` is not valid UTF-8.
 void CheckUtf8(std::string_view text, const std::string& file);
 
+// A NUL byte is never part of a text input (JSON escapes it as \u0000), and
+// nlohmann's parser takes one outside a string for the end of the input: a
+// document followed by a NUL and anything at all would parse as if the rest
+// were not there. Throws lsds::Error at `file:line:column` of the first NUL of
+// `text`.
+void CheckNoNulBytes(std::string_view text, const std::string& file);
+// The message of that error, for readers that find the NUL themselves.
+std::string NulByteMessage(uint64_t offset);
+
 // `text` fit for a message: invalid UTF-8 bytes and control characters shown
 // as \xNN (line breaks kept with `keep_lines`), and cut to about `max_bytes`
 // with a note of how much was left out.

@@ -72,8 +72,11 @@ def tree_state(root):
             elif stat.S_ISFIFO(st.st_mode):
                 state[p] = "fifo"
             else:
-                with open(p, "rb") as fh:
-                    state[p] = hashlib.sha256(fh.read()).hexdigest()
+                digest = hashlib.sha256()
+                with open(p, "rb") as fh:  # in chunks: sparse 1 GiB inputs
+                    for block in iter(lambda: fh.read(1 << 20), b""):
+                        digest.update(block)
+                state[p] = digest.hexdigest()
     return state
 
 

@@ -12,7 +12,9 @@
 #include "libs/geometry/world_frame.h"
 #include "libs/importers/pfm.h"
 #include "libs/importers/source_json.h"
+#include "libs/importers/source_png.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/srgb.h"
 #include "libs/util/strings.h"
 #include "libs/util/text_check.h"
@@ -74,25 +76,25 @@ void AirSimVehicleOfCamFromEnu(const Rigid3d& cam_from_enu,
 void AirSimImporter::ReadObjects(const fs::path& path) {
   const std::string file = path.string();
   const json root = ParseJsonFile(path);
-  AtField(file, "/format", [&] {
+  AtPointer(file, "/format", [&] {
     if (root.at("format").get<std::string>() != "lsds-airsim-objects")
       throw Error("'format' must be \"lsds-airsim-objects\"", Location(file, "/format"));
     return 0;
   });
   vehicle_ =
-      AtField(file, "/vehicle", [&] { return root.value("vehicle", std::string("Drone1")); });
-  camera_ = AtField(file, "/camera", [&] { return root.value("camera", std::string("0")); });
+      AtPointer(file, "/vehicle", [&] { return root.value("vehicle", std::string("Drone1")); });
+  camera_ = AtPointer(file, "/camera", [&] { return root.value("camera", std::string("0")); });
   const std::string depth =
-      AtField(file, "/depth", [&] { return root.value("depth", std::string("DepthPlanar")); });
+      AtPointer(file, "/depth", [&] { return root.value("depth", std::string("DepthPlanar")); });
   if (depth == "DepthPlanar")
     depth_kind_ = DepthKind::kPlanar;
   else if (depth == "DepthPerspective")
     depth_kind_ = DepthKind::kPerspective;
   else
     throw Error("'depth' must be DepthPlanar or DepthPerspective", Location(file, "/depth"));
-  sky_depth_m_ = AtField(file, "/sky_depth_m", [&] { return root.value("sky_depth_m", 1e4); });
+  sky_depth_m_ = AtPointer(file, "/sky_depth_m", [&] { return root.value("sky_depth_m", 1e4); });
   std::set<uint32_t> class_ids, instance_ids;
-  AtField(file, "/classes", [&] {
+  AtPointer(file, "/classes", [&] {
     for (size_t i = 0; i < root.at("classes").size(); ++i) {
       const json& c = root.at("classes").at(i);
       const std::string where = "/classes/" + std::to_string(i);
@@ -105,7 +107,7 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
     }
     return 0;
   });
-  AtField(file, "/objects", [&] {
+  AtPointer(file, "/objects", [&] {
     for (size_t i = 0; i < root.at("objects").size(); ++i) {
       const json& o = root.at("objects").at(i);
       const std::string where = "/objects/" + std::to_string(i);
@@ -162,7 +164,7 @@ void AirSimImporter::ReadSettings(const fs::path& path) {
   const std::string file = path.string();
   const json root = ParseJsonFile(path);
   const std::string where = "/Vehicles/" + vehicle_ + "/Cameras/" + camera_;
-  AtField(file, where, [&] {
+  AtPointer(file, where, [&] {
     const json& camera = root.at("Vehicles").at(vehicle_).at("Cameras").at(camera_);
     mount_.position_in_body = {
         camera.value("X", 0.0), camera.value("Y", 0.0), camera.value("Z", 0.0)};
@@ -313,7 +315,7 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   SetCamFromWorld(cam_from_world, &frame.camera);
 
   auto read_png = [&](const fs::path& path) {
-    cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+    cv::Mat image = ReadImage(path, cv::IMREAD_COLOR);
     if (image.empty()) throw Error("not a readable PNG", Location(path.string()));
     if (image.cols != width_ || image.rows != height_)
       throw Error("image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +

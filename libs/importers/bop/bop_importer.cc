@@ -75,7 +75,7 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
   for (const auto& [key, info] : models.items()) {
     const std::string where = (json::json_pointer() / key).to_string();
     ModelBox box;
-    AtField(models_file.string(), where, [&, &info = info] {  // clang < 16: no bindings in [&]
+    AtPointer(models_file.string(), where, [&, &info = info] {  // clang < 16: no bindings in [&]
       box.min_mm = {info.at("min_x").get<double>(),
                     info.at("min_y").get<double>(),
                     info.at("min_z").get<double>()};
@@ -98,7 +98,7 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
   }
   // The image size, from the first depth image.
   const fs::path first = root_->File(source / "depth" / (Stem(image_ids_[0].first) + ".png"));
-  const cv::Mat depth = cv::imread(first.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat depth = ReadImage(first, cv::IMREAD_UNCHANGED);
   if (depth.empty() || depth.type() != CV_16UC1)
     throw Error("not a 16-bit greyscale depth PNG", Location(first.string()));
   width_ = depth.cols, height_ = depth.rows;
@@ -134,7 +134,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
   Eigen::Matrix3d k, r_w2c;
   Eigen::Vector3d t_w2c_mm;
   double depth_scale = 1;
-  AtField(camera_file_, where, [&] {
+  AtPointer(camera_file_, where, [&] {
     const json& c = cameras_.at(key);
     k = Matrix3(c.at("cam_K"));
     r_w2c = Matrix3(c.at("cam_R_w2c"));
@@ -159,7 +159,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
       root_->File(scene_ / "rgb" / (Stem(id) + ".png")), width_, height_, "the depth images' size");
 
   const fs::path depth_path = root_->File(scene_ / "depth" / (Stem(id) + ".png"));
-  const cv::Mat depth_png = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat depth_png = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
   if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width_ ||
       depth_png.rows != height_)
     throw Error(
@@ -178,21 +178,21 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
   exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
   std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
   std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
-  const json gts = AtField(gt_file_, where, [&] { return gts_.at(key); });
+  const json gts = AtPointer(gt_file_, where, [&] { return gts_.at(key); });
   if (!gts.is_array()) throw Error("expected an array of objects", Location(gt_file_, where));
   for (size_t g = 0; g < gts.size(); ++g) {
     const std::string at = where + "/" + std::to_string(g);
     const json& gt = gts.at(g);
-    const uint32_t obj_id = AtField(
+    const uint32_t obj_id = AtPointer(
         gt_file_, at + "/obj_id", [&] { return IdAt(gt.at("obj_id"), gt_file_, at + "/obj_id"); });
     const auto model = models_.find(obj_id);
     if (model == models_.end())
       throw Error("obj_id " + std::to_string(obj_id) + " is not in models_info.json",
                   Location(gt_file_, at + "/obj_id"));
     const Eigen::Matrix3d r_m2c =
-        AtField(gt_file_, at + "/cam_R_m2c", [&] { return Matrix3(gt.at("cam_R_m2c")); });
+        AtPointer(gt_file_, at + "/cam_R_m2c", [&] { return Matrix3(gt.at("cam_R_m2c")); });
     const Eigen::Vector3d t_m2c =
-        AtField(gt_file_, at + "/cam_t_m2c", [&] { return Vector3(gt.at("cam_t_m2c")); });
+        AtPointer(gt_file_, at + "/cam_t_m2c", [&] { return Vector3(gt.at("cam_t_m2c")); });
     if (!IsRotation(r_m2c))
       throw Error("cam_R_m2c is not a rotation", Location(gt_file_, at + "/cam_R_m2c"));
     // Instance g + 1: BlenderProc writes a scene's objects in the same order
@@ -211,7 +211,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
 
     const fs::path mask_path = root_->File(
         scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png"));
-    const cv::Mat mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat mask = ReadImage(mask_path, cv::IMREAD_GRAYSCALE);
     if (mask.empty() || mask.cols != width_ || mask.rows != height_)
       throw Error(
           "missing, unreadable or not " + std::to_string(width_) + "x" + std::to_string(height_),

@@ -47,7 +47,7 @@ constexpr float kBackgroundDepth = 1e9f;
 // to its position (core/objects.py bbox_3d).
 OrientedBox ObbFromCorners(const json& corners, const std::string& file, const std::string& where) {
   Eigen::Vector3d c[8];
-  AtField(file, where, [&] {
+  AtPointer(file, where, [&] {
     if (!corners.is_array() || corners.size() != 8)
       throw json::type_error::create(302, "expected 8 corners", &corners);
     for (int k = 0; k < 8; ++k) c[k] = JsonNumbers<3>(corners.at(k));
@@ -80,7 +80,7 @@ SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptio
     throw Error("not a Kubric scene folder: no metadata.json", Location(source.string()));
   const json metadata = ParseJsonFile(metadata_file_);
   int64_t frames = 0;
-  AtField(metadata_file_, "/metadata", [&] {
+  AtPointer(metadata_file_, "/metadata", [&] {
     const json& m = metadata.at("metadata");
     const json& resolution = m.at("resolution");
     width_ = IntegerAt<int>(resolution.at(0), metadata_file_, "/metadata/resolution/0");
@@ -92,20 +92,20 @@ SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptio
   if (width_ < 1 || height_ < 1 || frames < 1 || !(frame_rate_ > 0))
     throw Error("resolution, num_frames and frame_rate must be positive",
                 Location(metadata_file_, "/metadata"));
-  camera_ = AtField(metadata_file_, "/camera", [&] { return metadata.at("camera"); });
+  camera_ = AtPointer(metadata_file_, "/camera", [&] { return metadata.at("camera"); });
   const Eigen::Matrix<double, 9, 1> k =
-      AtField(metadata_file_, "/camera/K", [&] { return JsonNumbers<9>(camera_.at("K")); });
+      AtPointer(metadata_file_, "/camera/K", [&] { return JsonNumbers<9>(camera_.at("K")); });
   for (int r = 0; r < 9; ++r) normalised_k_(r / 3, r % 3) = k[r];
   for (const char* key : {"positions", "quaternions"}) {
     const std::string where = std::string("/camera/") + key;
-    AtField(metadata_file_, where, [&] {
+    AtPointer(metadata_file_, where, [&] {
       if (camera_.at(key).size() != static_cast<size_t>(frames))
         throw json::type_error::create(
             302, "expected one entry per frame (num_frames)", &camera_.at(key));
       return 0;
     });
   }
-  instances_ = AtField(metadata_file_, "/instances", [&] { return metadata.at("instances"); });
+  instances_ = AtPointer(metadata_file_, "/instances", [&] { return metadata.at("instances"); });
   if (!instances_.is_array())
     throw Error("expected an array of instances", Location(metadata_file_, "/instances"));
   // The segmentation PNG is 8-bit: kb.write_palette_png casts the index to
@@ -127,7 +127,7 @@ SourceDescription KubricImporter::Open(const fs::path& source, const ImportOptio
   for (size_t i = 0; i < instances_.size(); ++i) {
     const json& instance = instances_[i];
     const std::string where = "/instances/" + std::to_string(i) + "/bboxes_3d";
-    AtField(metadata_file_, where, [&] {
+    AtPointer(metadata_file_, where, [&] {
       if (instance.at("bboxes_3d").size() != static_cast<size_t>(frames))
         throw json::type_error::create(
             302, "expected one box per frame", &instance.at("bboxes_3d"));
@@ -176,11 +176,11 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
   camera.cy = std::abs(normalised_k_(1, 2)) * height_;
   Eigen::Vector3d position;
   Eigen::Matrix<double, 4, 1> wxyz;
-  AtField(metadata_file_, "/camera/positions" + at, [&] {
+  AtPointer(metadata_file_, "/camera/positions" + at, [&] {
     position = JsonNumbers<3>(camera_.at("positions").at(index));
     return 0;
   });
-  AtField(metadata_file_, "/camera/quaternions" + at, [&] {
+  AtPointer(metadata_file_, "/camera/quaternions" + at, [&] {
     wxyz = JsonNumbers<4>(camera_.at("quaternions").at(index));
     return 0;
   });
@@ -200,7 +200,7 @@ SourceFrame KubricImporter::ReadFrame(int64_t index) {
                                     "metadata.json resolution");
 
   const fs::path depth_path = root_->File(scene_ / FrameFile("depth", index, "tiff"));
-  const cv::Mat depth_tiff = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat depth_tiff = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
   if (depth_tiff.empty() || depth_tiff.type() != CV_32FC1 || depth_tiff.cols != width_ ||
       depth_tiff.rows != height_)
     throw Error(

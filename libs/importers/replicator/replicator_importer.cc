@@ -112,7 +112,7 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
       const std::string where = (json::json_pointer() / key).to_string();
       const std::string path = StringAt(prim, mapping_path.string(), where);
       if (IsBackgroundLabel(path)) continue;
-      const std::string label = AtField(semantics_path.string(), where, [&, &key = key] {
+      const std::string label = AtPointer(semantics_path.string(), where, [&, &key = key] {
         return ClassLabel(semantics.at(key));
       });
       prims.insert(path);
@@ -144,7 +144,7 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
                     Location(Path("bounding_box_3d", static_cast<int64_t>(k), "npy").string()));
       const std::string id = std::to_string(static_cast<int64_t>(semantic));
       const std::string label =
-          AtField(boxes_labels.string(), "/" + id, [&] { return ClassLabel(labels.at(id)); });
+          AtPointer(boxes_labels.string(), "/" + id, [&] { return ClassLabel(labels.at(id)); });
       prims.insert(path);
       if (!label.empty()) {
         classes.insert(label);
@@ -199,21 +199,21 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
   Eigen::Matrix<double, 16, 1> view, projection;
   int width = 0, height = 0;
   double meters_per_unit = 1;
-  AtField(camera_file, "/cameraViewTransform", [&] {
+  AtPointer(camera_file, "/cameraViewTransform", [&] {
     view = JsonNumbers<16>(params.at("cameraViewTransform"));
     return 0;
   });
-  AtField(camera_file, "/cameraProjection", [&] {
+  AtPointer(camera_file, "/cameraProjection", [&] {
     projection = JsonNumbers<16>(params.at("cameraProjection"));
     return 0;
   });
-  AtField(camera_file, "/renderProductResolution", [&] {
+  AtPointer(camera_file, "/renderProductResolution", [&] {
     const json& resolution = params.at("renderProductResolution");
     width = IntegerAt<int>(resolution.at(0), camera_file, "/renderProductResolution/0");
     height = IntegerAt<int>(resolution.at(1), camera_file, "/renderProductResolution/1");
     return 0;
   });
-  AtField(camera_file, "/metersPerSceneUnit", [&] {
+  AtPointer(camera_file, "/metersPerSceneUnit", [&] {
     meters_per_unit = params.value("metersPerSceneUnit", 1.0);
     return 0;
   });

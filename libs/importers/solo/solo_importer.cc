@@ -58,7 +58,7 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
   const std::string definitions_file = definitions_path.string();
   SourceDescription description;
   std::map<uint32_t, std::string> labels;
-  AtField(definitions_file, "/annotationDefinitions", [&] {
+  AtPointer(definitions_file, "/annotationDefinitions", [&] {
     const json& list = definitions.at("annotationDefinitions");
     for (size_t d = 0; d < list.size(); ++d) {
       if (!list[d].contains("spec")) continue;
@@ -71,7 +71,7 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
         if (id < 1)
           throw Error("label_id must be >= 1 (0 is background in lsds)",
                       Location(definitions_file, where + "/label_id"));
-        labels[id] = AtField(definitions_file, where + "/label_name", [&] {
+        labels[id] = AtPointer(definitions_file, where + "/label_name", [&] {
           return StringAt(spec.at("label_name"), definitions_file, where + "/label_name");
         });
       }
@@ -121,7 +121,7 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
   // Whether there is depth, and of which kind: from the first frame.
   const json first = ParseJsonFile(steps_[0].file);
   const std::string first_file = steps_[0].file.string();
-  AtField(first_file, "/captures", [&] {
+  AtPointer(first_file, "/captures", [&] {
     for (const json& capture : first.at("captures")) {
       if (!HasType(capture, "RGBCamera")) continue;
       for (const json& annotation : capture.value("annotations", json::array()))
@@ -165,10 +165,10 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   frame.shot = shot_of_step_.at(static_cast<size_t>(index));
   // Milliseconds since the sequence started.
   frame.time =
-      AtField(file, "/timestamp", [&] { return data.at("timestamp").get<double>(); }) / 1000.0;
+      AtPointer(file, "/timestamp", [&] { return data.at("timestamp").get<double>(); }) / 1000.0;
   size_t c = 0;
   const json& captures =
-      AtField(file, "/captures", [&]() -> const json& { return data.at("captures"); });
+      AtPointer(file, "/captures", [&]() -> const json& { return data.at("captures"); });
   while (c < captures.size() && !HasType(captures[c], "RGBCamera")) ++c;
   if (c == captures.size()) throw Error("no RGBCamera capture", Location(file, "/captures"));
   const json& capture = captures[c];
@@ -177,19 +177,19 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   Eigen::Matrix<double, 4, 1> xyzw;
   Eigen::Matrix<double, 9, 1> matrix;
   int width = 0, height = 0;
-  AtField(file, at + "/position", [&] {
+  AtPointer(file, at + "/position", [&] {
     position = JsonNumbers<3>(capture.at("position"));
     return 0;
   });
-  AtField(file, at + "/rotation", [&] {
+  AtPointer(file, at + "/rotation", [&] {
     xyzw = JsonNumbers<4>(capture.at("rotation"));
     return 0;
   });
-  AtField(file, at + "/matrix", [&] {
+  AtPointer(file, at + "/matrix", [&] {
     matrix = JsonNumbers<9>(capture.at("matrix"));
     return 0;
   });
-  AtField(file, at + "/dimension", [&] {
+  AtPointer(file, at + "/dimension", [&] {
     const json& dimension = capture.at("dimension");
     width = IntegerAt<int>(dimension.at(0), file, at + "/dimension/0");
     height = IntegerAt<int>(dimension.at(1), file, at + "/dimension/1");
@@ -222,7 +222,7 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   const auto named_file = [&](const json& element, const std::string& where) {
     const std::string pointer = where + "/filename";
     const json& name =
-        AtField(file, pointer, [&]() -> const json& { return element.at("filename"); });
+        AtPointer(file, pointer, [&]() -> const json& { return element.at("filename"); });
     return root_->Reference(folder, StringAt(name, file, pointer), Location(file, pointer));
   };
   frame.flat["rgb"] =
@@ -236,12 +236,12 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
     if (HasType(annotation, "InstanceSegmentationAnnotation")) {
       have_instances = true;
       std::map<uint32_t, std::pair<uint32_t, uint32_t>> of_colour;  // rgba
-      const json& instances = AtField(
+      const json& instances = AtPointer(
           file, where + "/instances", [&]() -> const json& { return annotation.at("instances"); });
       for (size_t n = 0; n < instances.size(); ++n) {
         const std::string w = where + "/instances/" + std::to_string(n);
         uint32_t instance = 0, label = 0, rgba = 0;
-        AtField(file, w, [&] {
+        AtPointer(file, w, [&] {
           instance = IdAt(instances[n].at("instanceId"), file, w + "/instanceId");
           label = IdAt(instances[n].at("labelId"), file, w + "/labelId");
           const json& colour = instances[n].at("color");
@@ -278,14 +278,14 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
           klass[classes.Index(i, j)] = found->second.second;
         }
     } else if (HasType(annotation, "BoundingBox3DAnnotation")) {
-      const json& values = AtField(
+      const json& values = AtPointer(
           file, where + "/values", [&]() -> const json& { return annotation.at("values"); });
       for (size_t n = 0; n < values.size(); ++n) {
         const std::string w = where + "/values/" + std::to_string(n);
         ObjectIdentity target;
         Eigen::Vector3d translation, size;
         Eigen::Matrix<double, 4, 1> q;
-        AtField(file, w, [&] {
+        AtPointer(file, w, [&] {
           target.instance_id = IdAt(values[n].at("instanceId"), file, w + "/instanceId");
           target.class_id = IdAt(values[n].at("labelId"), file, w + "/labelId");
           target.name = values[n].value("labelName", std::string()) + "#" +

@@ -15,6 +15,7 @@
 #include "libs/importers/source_json.h"
 #include "libs/importers/unreal_frame.h"
 #include "libs/util/error.h"
+#include "libs/util/json_errors.h"
 #include "libs/util/strings.h"
 
 namespace lsds::import {
@@ -60,22 +61,22 @@ Eigen::Vector3d Vector3(const json& j) {
 void UeMrqImporter::ReadObjects(const fs::path& path) {
   const std::string file = path.string();
   const json root = ParseJsonFile(path);
-  AtField(file, "/format", [&] {
+  AtPointer(file, "/format", [&] {
     if (root.at("format").get<std::string>() != "lsds-ue-objects")
       throw Error("'format' must be \"lsds-ue-objects\"", Location(file, "/format"));
     return 0;
   });
-  fps_ = AtField(file, "/fps", [&] { return root.value("fps", 24.0); });
+  fps_ = AtPointer(file, "/fps", [&] { return root.value("fps", 24.0); });
   if (!(fps_ > 0)) throw Error("fps must be > 0", Location(file, "/fps"));
-  sky_depth_cm_ = AtField(file, "/sky_depth_cm", [&] { return root.value("sky_depth_cm", 1e7); });
+  sky_depth_cm_ = AtPointer(file, "/sky_depth_cm", [&] { return root.value("sky_depth_cm", 1e7); });
   std::set<uint32_t> class_ids;
-  AtField(file, "/classes", [&] {
+  AtPointer(file, "/classes", [&] {
     for (size_t i = 0; i < root.at("classes").size(); ++i) {
       const json& c = root.at("classes").at(i);
       const std::string where = "/classes/" + std::to_string(i);
       ClassInfo info{
-          AtField(file, where + "/id", [&] { return IdAt(c.at("id"), file, where + "/id"); }),
-          AtField(file, where + "/name", [&] {
+          AtPointer(file, where + "/id", [&] { return IdAt(c.at("id"), file, where + "/id"); }),
+          AtPointer(file, where + "/name", [&] {
             return StringAt(c.at("name"), file, where + "/name");
           })};
       if (info.id == 0 || !class_ids.insert(info.id).second)
@@ -85,17 +86,17 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
     return 0;
   });
   std::set<uint32_t> instance_ids;
-  AtField(file, "/actors", [&] {
+  AtPointer(file, "/actors", [&] {
     for (size_t i = 0; i < root.at("actors").size(); ++i) {
       const json& a = root.at("actors").at(i);
       const std::string where = "/actors/" + std::to_string(i);
-      const std::string name = AtField(
+      const std::string name = AtPointer(
           file, where + "/name", [&] { return StringAt(a.at("name"), file, where + "/name"); });
       Actor actor;
-      actor.instance_id = AtField(file, where + "/instance_id", [&] {
+      actor.instance_id = AtPointer(file, where + "/instance_id", [&] {
         return IdAt(a.at("instance_id"), file, where + "/instance_id");
       });
-      actor.class_id = AtField(file, where + "/class_id", [&] {
+      actor.class_id = AtPointer(file, where + "/class_id", [&] {
         return IdAt(a.at("class_id"), file, where + "/class_id");
       });
       if (actor.instance_id == 0 || !instance_ids.insert(actor.instance_id).second)
@@ -111,7 +112,7 @@ void UeMrqImporter::ReadObjects(const fs::path& path) {
       target.class_id = actor.class_id;
       target.name = a.value("object", name);
       target.asset = a.value("asset", "");
-      target.obb = AtField(file, where + "/obb", [&] {
+      target.obb = AtPointer(file, where + "/obb", [&] {
         const json& obb = a.at("obb");
         const json& r = obb.at("rotation");
         const Eigen::Vector3d extent = Vector3(obb.at("extent"));

@@ -21,7 +21,7 @@ import sys
 import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hostile_corpus import Case, run_case, write  # noqa: E402
+from hostile_corpus import Case, corpus_main, write  # noqa: E402
 
 FORMATS = ("ue-mrq", "airsim", "bop", "kubric", "replicator", "solo")
 DEEP = 100000
@@ -255,26 +255,8 @@ def build_cases(lsds, fixtures, work):
 
 
 def main():
-    if len(sys.argv) < 4:
-        print(__doc__)
-        return 2
-    lsds, fixtures, work = (os.path.abspath(a) for a in sys.argv[1:4])
-    only = sys.argv[sys.argv.index("--filter") + 1] if "--filter" in sys.argv else ""
-    os.makedirs(work, exist_ok=True)
-    cases = [c for c in build_cases(lsds, fixtures, work) if only in c.name]
-    if "--list" in sys.argv:
-        for c in cases:
-            print(c.name)
-        print("%d cases" % len(cases))
-        return 0
-    failed = []
-    for case in cases:
-        problem, last = run_case(lsds, work, case)
-        if problem:
-            failed.append(case.name)
-            print("FAIL %s: %s\n     %s" % (case.name, problem, last))
-    print("%d cases, %d failed" % (len(cases), len(failed)))
-    return 1 if failed else 0
+    return corpus_main(__doc__, build_cases, tools=1)
+
 
 
 if __name__ == "__main__":

@@ -437,27 +437,53 @@ def run_case(lsds, work, case):
     return "; ".join(problems), stderr.strip().splitlines()[-1:] and stderr.strip().splitlines()[-1]
 
 
-def main():
-    if len(sys.argv) < 3:
-        print(__doc__)
+def corpus_main(doc, build, tools=0, run=run_case, prepare=None, finish=None):
+    """The command line every corpus script shares:
+        SCRIPT LSDS [TOOL...] WORK [--filter TEXT] [--list]
+    `tools` paths stand between the lsds binary and WORK (the fixture writers a corpus builds its
+    sources with). build(lsds, *tools, work) returns the cases; prepare(lsds, work), when given,
+    runs once before them and returns a state, or a text that fails the run at once;
+    run(lsds, work, case) runs one case (run_case); finish(state) returns the failures found after
+    them (files outside the case folders that changed, ...). Returns the exit code."""
+    argv = [a for a in sys.argv[1:]]
+    filter_text = ""
+    if "--filter" in argv:
+        i = argv.index("--filter")
+        filter_text = argv[i + 1]
+        del argv[i:i + 2]
+    listing = "--list" in argv
+    argv = [a for a in argv if a != "--list"]
+    if len(argv) < tools + 2:
+        print(doc)
         return 2
-    lsds, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-    only = sys.argv[sys.argv.index("--filter") + 1] if "--filter" in sys.argv else ""
+    paths = [os.path.abspath(a) for a in argv[:tools + 2]]
+    lsds, work = paths[0], paths[-1]
     os.makedirs(work, exist_ok=True)
-    cases = [c for c in build_cases(lsds, work) if only in c.name]
-    if "--list" in sys.argv:
+    cases = [c for c in build(*paths) if filter_text in c.name]
+    if listing:
         for c in cases:
             print(c.name)
         print("%d cases" % len(cases))
         return 0
+    state = prepare(lsds, work) if prepare else None
+    if isinstance(state, str):
+        print("FAIL %s" % state)
+        return 1
     failed = []
     for case in cases:
-        problem, last = run_case(lsds, work, case)
+        problem, last = run(lsds, work, case)
         if problem:
             failed.append(case.name)
             print("FAIL %s: %s\n     %s" % (case.name, problem, last))
+    for problem in (finish(state) if finish else []):
+        failed.append(problem)
+        print("FAIL %s" % problem)
     print("%d cases, %d failed" % (len(cases), len(failed)))
     return 1 if failed else 0
+
+
+def main():
+    return corpus_main(__doc__, build_cases)
 
 
 if __name__ == "__main__":

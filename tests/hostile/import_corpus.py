@@ -23,7 +23,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hostile_corpus import Case, run_case, tree_state  # noqa: E402
+from hostile_corpus import Case, corpus_main, tree_state  # noqa: E402
 
 FORMATS = ["ue-mrq", "airsim", "bop", "kubric", "replicator", "solo"]
 BIG_ID = 2 ** 32 + 2
@@ -250,31 +250,17 @@ def replace_in(path, old, new):
 
 
 def main():
-    if len(sys.argv) < 4:
-        print(__doc__)
-        return 2
-    lsds, writer, work = (os.path.abspath(a) for a in sys.argv[1:4])
-    only = sys.argv[sys.argv.index("--filter") + 1] if "--filter" in sys.argv else ""
-    os.makedirs(work, exist_ok=True)
-    cases = [c for c in build_cases(lsds, writer, work) if only in c.name]
-    if "--list" in sys.argv:
-        for c in cases:
-            print(c.name)
-        print("%d cases" % len(cases))
-        return 0
-    outside_before = snapshot(os.path.join(work, "outside"))
-    failed = []
-    for case in cases:
-        problem, last = run_case(lsds, work, case)
-        if problem:
-            failed.append(case.name)
-            print("FAIL %s: %s\n     %s" % (case.name, problem, last))
+    outside = []
+
+    def prepare(lsds, work):
+        outside.append(os.path.join(work, "outside"))
+        return snapshot(outside[0])
+
     # The files the links point at are inputs too.
-    if snapshot(os.path.join(work, "outside")) != outside_before:
-        failed.append("outside files changed")
-        print("FAIL: the files outside the sources changed")
-    print("%d cases, %d failed" % (len(cases), len(failed)))
-    return 1 if failed else 0
+    def finish(before):
+        return [] if snapshot(outside[0]) == before else ["the files outside the sources changed"]
+
+    return corpus_main(__doc__, build_cases, tools=1, prepare=prepare, finish=finish)
 
 
 def snapshot(folder):

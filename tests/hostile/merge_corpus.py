@@ -18,7 +18,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hostile_corpus import Case, fifo, run_case, write  # noqa: E402
+from hostile_corpus import Case, corpus_main, fifo, write  # noqa: E402
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples")
 
@@ -183,36 +183,24 @@ def build_cases(lsds, work):
 
 
 def main():
-    if len(sys.argv) < 3:
-        print(__doc__)
-        return 2
-    lsds, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-    only = sys.argv[sys.argv.index("--filter") + 1] if "--filter" in sys.argv else ""
-    os.makedirs(work, exist_ok=True)
-    cases, outside_files, outside_fifo = build_cases(lsds, work)
-    cases = [c for c in cases if only in c.name]
-    if "--list" in sys.argv:
-        for c in cases:
-            print(c.name)
-        print("%d cases" % len(cases))
-        return 0
-    outside_before = {p: sha256(p) for p in outside_files + ["/etc/passwd"]}
-    failed = []
-    for case in cases:
-        problem, last = run_case(lsds, work, case)
-        if problem:
-            failed.append(case.name)
-            print("FAIL %s: %s\n     %s" % (case.name, problem, last))
+    outside = {}
+
+    def build(lsds, work):
+        cases, outside["files"], outside["fifo"] = build_cases(lsds, work)
+        return cases
+
+    def prepare(lsds, work):
+        return {p: sha256(p) for p in outside["files"] + ["/etc/passwd"]}
+
     # Nothing outside the case folders was written to (or replaced).
-    for path, digest in outside_before.items():
-        if sha256(path) != digest:
-            failed.append(path)
-            print("FAIL %s changed" % path)
-    if not stat.S_ISFIFO(os.lstat(outside_fifo).st_mode):
-        failed.append(outside_fifo)
-        print("FAIL %s is no longer a FIFO" % outside_fifo)
-    print("%d cases, %d failed" % (len(cases), len(failed)))
-    return 1 if failed else 0
+    def finish(before):
+        changed = ["%s changed" % p for p, digest in before.items() if sha256(p) != digest]
+        if not stat.S_ISFIFO(os.lstat(outside["fifo"]).st_mode):
+            changed.append("%s is no longer a FIFO" % outside["fifo"])
+        return changed
+
+    return corpus_main(__doc__, build, prepare=prepare, finish=finish)
+
 
 
 if __name__ == "__main__":

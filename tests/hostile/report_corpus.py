@@ -21,7 +21,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hostile_corpus import (Case, DEEP, fifo, json_mutations, run_case,  # noqa: E402
+from hostile_corpus import (Case, DEEP, corpus_main, fifo, json_mutations, run_case,  # noqa: E402
                             write)
 
 SCRIPT = "<script>document.title='PWNED'</script>"
@@ -209,37 +209,26 @@ def outside(trace, case_dir, lsds):
 
 
 def main():
-    if len(sys.argv) < 3:
-        print(__doc__)
-        return 2
-    lsds, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-    only = sys.argv[sys.argv.index("--filter") + 1] if "--filter" in sys.argv else ""
-    os.makedirs(work, exist_ok=True)
-    cases = [c for c in build_cases(lsds, work) if only in c.name]
-    if "--list" in sys.argv:
-        for c in cases:
-            print(c.name)
-        print("%d cases" % len(cases))
-        return 0
-    # The unmutated inputs make a page: the cases fail for their mutation.
-    base = os.path.join(work, "base")
-    page = os.path.join(work, "baseline.html")
-    valid = os.path.join(work, "valid.json")
-    write(valid, json.dumps(VALIDATION))
-    baseline = subprocess.run([lsds, "report", os.path.join(base, "C"), "-o", page, "--force",
-                               "--validation-report", valid, "--bundle-stats",
-                               os.path.join(base, "stats.json")], capture_output=True)
-    if baseline.returncode != 0:
-        print("FAIL baseline: exit %d\n%s" % (baseline.returncode, baseline.stderr.decode()))
-        return 1
     strace = shutil.which("strace")
-    if not strace:
-        print("note: strace is not installed: paths outside the case folders are not checked")
-    traces = os.path.join(work, "traces")
-    os.makedirs(traces, exist_ok=True)
-    failed = []
-    for case in cases:
-        trace = os.path.join(traces, case.name.replace("/", "__") + ".log")
+
+    # The unmutated inputs make a page: the cases fail for their mutation.
+    def prepare(lsds, work):
+        base = os.path.join(work, "base")
+        page = os.path.join(work, "baseline.html")
+        valid = os.path.join(work, "valid.json")
+        write(valid, json.dumps(VALIDATION))
+        baseline = subprocess.run([lsds, "report", os.path.join(base, "C"), "-o", page, "--force",
+                                   "--validation-report", valid, "--bundle-stats",
+                                   os.path.join(base, "stats.json")], capture_output=True)
+        if baseline.returncode != 0:
+            return "baseline: exit %d\n%s" % (baseline.returncode, baseline.stderr.decode())
+        if not strace:
+            print("note: strace is not installed: paths outside the case folders are not checked")
+        os.makedirs(os.path.join(work, "traces"), exist_ok=True)
+        return None
+
+    def run(lsds, work, case):
+        trace = os.path.join(work, "traces", case.name.replace("/", "__") + ".log")
         runner = lsds
         if strace:
             # strace exits with the command's code (and its signal).
@@ -254,11 +243,9 @@ def main():
                                                   ", ".join(touched[:5])]))
             elif not problem:
                 os.remove(trace)
-        if problem:
-            failed.append(case.name)
-            print("FAIL %s: %s\n     %s" % (case.name, problem, last))
-    print("%d cases, %d failed" % (len(cases), len(failed)))
-    return 1 if failed else 0
+        return problem, last
+
+    return corpus_main(__doc__, build_cases, run=run, prepare=prepare)
 
 
 if __name__ == "__main__":

@@ -32,6 +32,15 @@ namespace fs = std::filesystem;
 
 constexpr uint64_t kGiB = uint64_t{1} << 30;
 
+// Under AddressSanitizer (make test-asan) the shadow of a large reservation is resident, an eighth
+// of it, whether or not the buffer is touched: the resident-memory bounds are checked by the
+// release suite only.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kResidentMemoryMeasured = false;
+#else
+constexpr bool kResidentMemoryMeasured = true;
+#endif
+
 // Peak resident memory of this process so far, bytes.
 int64_t PeakRss() {
   rusage usage{};
@@ -48,7 +57,7 @@ Error Refusal(Read&& read) {
   try {
     read();
   } catch (const Error& e) {
-    EXPECT_LT(PeakRss() - before, int64_t{64} << 20) << e.what();
+    if (kResidentMemoryMeasured) EXPECT_LT(PeakRss() - before, int64_t{64} << 20) << e.what();
     return e;
   }
   ADD_FAILURE() << "no error";
@@ -274,7 +283,7 @@ TEST(DecoderLimits, ReadFileChecksTheBudgetAndReadsOnce) {
   Sparse(dir / "z.bin", uint64_t{64} << 20);
   const int64_t before = PeakRss();
   EXPECT_EQ(ReadFile(dir / "z.bin").size(), size_t{64} << 20);
-  EXPECT_LT(PeakRss() - before, int64_t{100} << 20);
+  if (kResidentMemoryMeasured) EXPECT_LT(PeakRss() - before, int64_t{100} << 20);
 }
 
 TEST(DecoderLimits, NulBytesInJsonAreErrorsWhereTheyAre) {

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "converters/split.h"
 #include "libs/collection/model.h"
 #include "libs/geometry/box2d.h"
+#include "libs/geometry/oriented_box2d.h"
 #include "libs/masks/instance_masks.h"
 
 namespace lsds::convert {
@@ -31,6 +33,10 @@ struct KeptObject {
                         // clipped
   const masks::BoxMask* mask =
       nullptr;  // from the instanceid layer; null when no format needs masks
+  // The visible oriented box in this image (docs/format.md, "Oriented boxes"):
+  // from the truth (format 1.2) or measured on the mask; set only when a
+  // format NeedsOrientedBoxes().
+  std::optional<OrientedBox2d> oriented;
 };
 
 struct FrameContext {
@@ -62,6 +68,7 @@ class Converter {
   virtual ~Converter() = default;
   virtual std::string name() const = 0;
   virtual bool NeedsMasks() const = 0;
+  virtual bool NeedsOrientedBoxes() const { return false; }
   virtual void Begin(const ConvertSetup& setup) = 0;
   // Thread-safe (called for several frames at once); counts its own losses into
   // `loss`.

@@ -18,6 +18,7 @@
 #include "libs/geometry/camera.h"
 #include "libs/geometry/geodesy.h"
 #include "libs/geometry/oriented_box.h"
+#include "libs/geometry/oriented_box2d.h"
 #include "libs/geometry/rigid3.h"
 #include "libs/geometry/world_frame.h"
 
@@ -134,6 +135,13 @@ struct ObjectTruth {
                                         // none when not visible
   std::optional<Box2d> bbox_projected;  // loose: bounds of the projected OBB
                                         // clipped to the image
+  // Format 1.2, optional (docs/format.md, "Oriented boxes"): the visible
+  // oriented box, the minimum-area rectangle of the instance mask on pixel
+  // edges (none when not visible), and the amodal one, the minimum-area
+  // rectangle of the projected 3D OBB (clipped at the near plane, not to the
+  // image). Heading corner first where the object's heading is known.
+  std::optional<OrientedBox2d> bbox_oriented;
+  std::optional<OrientedBox2d> bbox_oriented_projected;
   int64_t visible_pixels = 0;
   double visibility = 0;  // visible pixels / pixels covered with no occluders, in [0, 1]
   double in_frame = 0;    // share of the projected silhouette inside the image, in [0, 1]

@@ -34,6 +34,12 @@ inline constexpr const char* kHolesFilled = "polygon: holes filled";
 // ToText and ToJson report per class.
 inline constexpr const char* kPolygonMaskPixels = "polygon: mask pixels written as polygons";
 inline constexpr const char* kPolygonHolePixels = "polygon: hole pixels added by filling";
+// yolo-seg: what Ultralytics' polygon2mask rasterizes differently from the
+// instance mask (filled holes, bridges between pieces).
+inline constexpr const char* kPolygon2maskObjects =
+    "polygon: Ultralytics' polygon2mask differs from the mask (yolo-seg)";
+inline constexpr const char* kPolygon2maskPixels =
+    "polygon: pixels where Ultralytics' polygon2mask differs from the mask (yolo-seg)";
 inline constexpr const char* kMaskBoxMismatch = "mask extends beyond the truth box (box kept)";
 }  // namespace loss
 

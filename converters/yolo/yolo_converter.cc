@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "converters/format_util.h"
-#include "libs/masks/contours.h"
+#include "converters/yolo/yolo_segment.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/strings.h"
 
@@ -53,19 +53,7 @@ class YoloConverter : public Converter {
       if (!segmentation_) {
         text += YoloBoxLine(object.class_index, object.box, frame.width, frame.height, &clipped);
       } else {
-        const masks::MaskPolygons polygons = masks::ExtractPolygons(*object.mask);
-        if (polygons.pieces.size() > 1) loss->Add(loss::kPiecesMerged, name);
-        if (polygons.holes > 0) loss->Add(loss::kHolesFilled, name);
-        loss->Add(loss::kPolygonMaskPixels, name, object.mask->pixel_count);
-        loss->Add(loss::kPolygonHolePixels, name, polygons.hole_pixels);
-        const masks::Polygon polygon = masks::MergePieces(polygons.pieces);
-        text += std::to_string(object.class_index);
-        for (const cv::Point2d& p : polygon) {
-          text += Format(" %.6f %.6f",
-                         Clip01(p.x / frame.width, &clipped),
-                         Clip01(p.y / frame.height, &clipped));
-        }
-        text += "\n";
+        text += YoloSegmentLine(object.class_index, name, *object.mask, loss, &clipped);
       }
       if (clipped > 0) loss->Add(loss::kBoxClipped, name);
     }

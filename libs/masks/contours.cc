@@ -72,9 +72,48 @@ std::vector<std::vector<cv::Point>> TraceEdgeLoops(const cv::Mat& filled) {
   return loops;
 }
 
+// The pixels of the piece a corner vertex stands for (padded coordinates):
+// the only piece pixel at a convex corner, the one diagonal to the missing
+// pixel at a concave corner. At a corner where two pixels touch only
+// diagonally (passed twice), the pixel on the right of the arriving edge and
+// then the one on the right of the leaving edge, so that every edge between
+// two vertices runs along one row or column of boundary pixels.
+std::vector<cv::Point> CornerPixels(const cv::Mat& filled,
+                                    const cv::Point& previous,
+                                    const cv::Point& corner,
+                                    const cv::Point& next) {
+  const cv::Point around[4] = {corner + cv::Point(-1, -1),
+                               corner + cv::Point(0, -1),
+                               corner + cv::Point(-1, 0),
+                               corner};  // NW NE SW SE
+  int inside = 0, last_in = 0, last_out = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (filled.at<uint8_t>(around[k]) != 0) {
+      ++inside;
+      last_in = k;
+    } else {
+      last_out = k;
+    }
+  }
+  if (inside == 1) return {around[last_in]};
+  if (inside == 3) return {around[3 - last_out]};  // NW<->SE, NE<->SW
+  // Arriving right, down, left or up, the piece is on the right: SW, NW, NE,
+  // SE; leaving right, down, left or up: SE, SW, NW, NE.
+  const cv::Point in = corner - previous, out = next - corner;
+  const cv::Point arriving = in.x > 0   ? around[2]
+                             : in.y > 0 ? around[0]
+                             : in.x < 0 ? around[1]
+                                        : around[3];
+  const cv::Point leaving = out.x > 0   ? around[3]
+                            : out.y > 0 ? around[2]
+                            : out.x < 0 ? around[0]
+                                        : around[1];
+  return {arriving, leaving};
+}
+
 }  // namespace
 
-MaskPolygons ExtractPolygons(const BoxMask& mask) {
+MaskPolygons ExtractPolygons(const BoxMask& mask, PolygonVertices vertices) {
   MaskPolygons out;
   if (mask.empty()) return out;
   // A background border so that pieces touching the box edge are traced like
@@ -101,7 +140,21 @@ MaskPolygons ExtractPolygons(const BoxMask& mask) {
     for (const std::vector<cv::Point>& loop : TraceEdgeLoops(filled)) {
       Polygon polygon;
       polygon.reserve(loop.size());
-      for (const cv::Point& p : loop) polygon.emplace_back(mask.left + p.x - 1, mask.top + p.y - 1);
+      const size_t n = loop.size();
+      for (size_t i = 0; i < n; ++i) {
+        const cv::Point2d corner(mask.left + loop[i].x - 1, mask.top + loop[i].y - 1);
+        if (vertices == PolygonVertices::kPixelCorners) {
+          polygon.push_back(corner);
+          continue;
+        }
+        for (const cv::Point& pixel :
+             CornerPixels(filled, loop[(i + n - 1) % n], loop[i], loop[(i + 1) % n])) {
+          // Towards the pixel: +inset when it lies right of (below) the
+          // corner, -inset when left of (above) it.
+          polygon.emplace_back(corner.x + (pixel.x == loop[i].x ? kCornerInset : -kCornerInset),
+                               corner.y + (pixel.y == loop[i].y ? kCornerInset : -kCornerInset));
+        }
+      }
       pieces.emplace_back(pixels, std::move(polygon));
     }
   }

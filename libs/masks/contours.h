@@ -29,7 +29,26 @@ struct MaskPolygons {
                                 // cover pixel_count + hole_pixels pixels
 };
 
-MaskPolygons ExtractPolygons(const BoxMask& mask);
+// Where the vertices lie.
+enum class PolygonVertices {
+  // On pixel corners: exact for rasterizers that sample pixel centres
+  // (pycocotools, CVAT).
+  kPixelCorners,
+  // Each corner moved kCornerInset pixels into the piece's pixel at that
+  // corner (at a concave corner, the pixel diagonal to the missing one), for
+  // rasterizers that truncate vertices to pixel indices and fill the polygon
+  // with its boundary (Ultralytics' polygon2mask: an int32 cast, then
+  // cv2.fillPoly): truncation then gives the boundary pixels, whose polygon
+  // fills exactly the piece, while the polygon and its min/max stay within
+  // kCornerInset of the pixel-edge ones.
+  kInsetCorners,
+};
+// Larger than the rounding of 6-decimal normalized coordinates and of
+// float32 (Ultralytics reads labels as float32) on images up to 25,000 pixels.
+inline constexpr double kCornerInset = 1.0 / 64;
+
+MaskPolygons ExtractPolygons(const BoxMask& mask,
+                             PolygonVertices vertices = PolygonVertices::kPixelCorners);
 
 // One polygon for an instance in several pieces: the pieces joined by
 // zero-width bridges (there and back along the shortest segment between a

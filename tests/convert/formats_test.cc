@@ -10,6 +10,7 @@
 
 #include "converters/class_map.h"
 #include "converters/split.h"
+#include "libs/masks/contours.h"
 #include "libs/util/error.h"
 #include "tests/build_paths.h"
 #include "tests/convert/convert_test_util.h"
@@ -286,23 +287,37 @@ TEST_F(ConvertTest, YoloSegPolygonsLieInsideTheirBoxes) {
         EXPECT_GE(v[k + 1] * 48, o.bbox->y0 - 1e-4);
         EXPECT_LE(v[k + 1] * 48, o.bbox->y1 + 1e-4);
       }
+      // Ultralytics' polygon2mask (ultralytics/data/utils.py: the float32
+      // label values times the image size, cast to int32, cv2.fillPoly with
+      // the boundary) gives back exactly the instance mask.
+      std::vector<cv::Point> truncated;
+      for (size_t k = 0; k < v.size(); k += 2) {
+        truncated.emplace_back(static_cast<int32_t>(static_cast<float>(v[k]) * 64.0f),
+                               static_cast<int32_t>(static_cast<float>(v[k + 1]) * 48.0f));
+      }
+      cv::Mat rasterized = cv::Mat::zeros(48, 64, CV_8U);
+      cv::fillPoly(rasterized, std::vector<std::vector<cv::Point>>{truncated}, 1);
+      const cv::Mat mask = InstanceMask(Collection(), frame, o.instance_id) != 0;
+      EXPECT_EQ(cv::countNonZero(mask != (rasterized != 0)), 0)
+          << "frame " << frame.index << " instance " << o.instance_id;
       if (o.instance_id == kSinglePixel && o.visible_pixels == 1) {
         // A single pixel is its pixel-edge square.
         EXPECT_EQ(v.size(), 8u);
       }
       // Ultralytics derives the box from the polygon (segment2box): it is the
-      // object's pixel-edge box, not one pixel smaller.
+      // object's pixel-edge box within the corner inset, not one pixel smaller.
       std::vector<cv::Point2d> points;
       for (size_t k = 0; k < v.size(); k += 2) points.emplace_back(v[k] * 64, v[k + 1] * 48);
       const cv::Rect2d box = UltralyticsSegmentToBox(points, 64, 48);
-      EXPECT_NEAR(box.x, o.bbox->x0, 1e-4);
-      EXPECT_NEAR(box.y, o.bbox->y0, 1e-4);
-      EXPECT_NEAR(box.x + box.width, o.bbox->x1, 1e-4);
-      EXPECT_NEAR(box.y + box.height, o.bbox->y1, 1e-4);
+      EXPECT_NEAR(box.x, o.bbox->x0, masks::kCornerInset + 1e-4);
+      EXPECT_NEAR(box.y, o.bbox->y0, masks::kCornerInset + 1e-4);
+      EXPECT_NEAR(box.x + box.width, o.bbox->x1, masks::kCornerInset + 1e-4);
+      EXPECT_NEAR(box.y + box.height, o.bbox->y1, masks::kCornerInset + 1e-4);
     }
     EXPECT_EQ(n, visible.size());
   }
   EXPECT_EQ(result.loss.Total(convert::loss::kPiecesMerged), 0);
+  EXPECT_EQ(result.loss.Total(convert::loss::kPolygon2maskObjects), 0);
 }
 
 TEST_F(ConvertTest, CvatVideoHasOneTrackPerInstance) {
@@ -681,6 +696,12 @@ TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
       convert::Convert(Options(collection, dir.path() / "seg", {"yolo-seg"}));
   EXPECT_EQ(seg.loss.Count(convert::loss::kPiecesMerged, "crate"), 1);
   EXPECT_EQ(seg.loss.Count(convert::loss::kHolesFilled, "crate"), 1);
+  // Ultralytics' polygon2mask draws the bridge across the pole and fills the
+  // pillar's hole: both crates are reported, with at least the hole's pixels
+  // and one bridge pixel wrong.
+  EXPECT_EQ(seg.loss.Count(convert::loss::kPolygon2maskObjects, "crate"), 2);
+  EXPECT_GT(seg.loss.Count(convert::loss::kPolygon2maskPixels, "crate"),
+            cv::countNonZero(InstanceMask(collection, frame, 24)));
   // The bridged polygon, filled, covers both pieces of the crate.
   std::istringstream labels(ReadText(dir.path() / "seg" / "labels" / "train" / "000000.txt"));
   std::string line;
@@ -695,8 +716,9 @@ TEST(ConvertPolygons, PiecesAreBridgedAndHolesFilled) {
     std::vector<cv::Point> points;
     double x, y;
     while (in >> x >> y) {
-      points.emplace_back(static_cast<int>(std::lround(x * 64 - 0.5)),
-                          static_cast<int>(std::lround(y * 48 - 0.5)));
+      // Ultralytics' polygon2mask: float32 times the size, cast to int32.
+      points.emplace_back(static_cast<int32_t>(static_cast<float>(x) * 64.0f),
+                          static_cast<int32_t>(static_cast<float>(y) * 48.0f));
     }
     cv::Mat filled = cv::Mat::zeros(48, 64, CV_8U);
     cv::fillPoly(filled, std::vector<std::vector<cv::Point>>{points}, 1);

@@ -261,5 +261,88 @@ TEST(PolygonsUltralytics, SegmentBoxIsThePixelEdgeBox) {
   }
 }
 
+// Ultralytics' own rule (ultralytics/data/utils.py, polygon2mask): the label
+// values, float32, times the image size, cast to int32, filled by
+// cv2.fillPoly with the boundary. Each piece's inset polygon, written with 6
+// decimals as yolo-seg writes it, gives back that piece with its holes filled.
+cv::Mat UltralyticsRasterized(const MaskPolygons& polygons, int w, int h) {
+  cv::Mat out = cv::Mat::zeros(h, w, CV_8U);
+  for (const Polygon& polygon : polygons.pieces) {
+    std::vector<cv::Point> points;
+    for (const cv::Point2d& p : polygon) {
+      const float x = std::stof(cv::format("%.6f", p.x / w));
+      const float y = std::stof(cv::format("%.6f", p.y / h));
+      points.emplace_back(static_cast<int32_t>(x * static_cast<float>(w)),
+                          static_cast<int32_t>(y * static_cast<float>(h)));
+    }
+    cv::Mat piece = cv::Mat::zeros(h, w, CV_8U);
+    cv::fillPoly(piece, std::vector<std::vector<cv::Point>>{points}, 1);
+    out |= piece;
+  }
+  return out;
+}
+
+void ExpectUltralyticsExact(const std::vector<uint32_t>& ids, int w, int h) {
+  const MaskPolygons polygons =
+      ExtractPolygons(MaskOf(ids, w, h, 1), PolygonVertices::kInsetCorners);
+  const cv::Mat expected = HolesFilled(FullMask(ids, w, h, 1));
+  const cv::Mat got = UltralyticsRasterized(polygons, w, h);
+  EXPECT_EQ(cv::countNonZero(got != expected), 0)
+      << "polygon2mask rasterizes " << cv::countNonZero(got) << " pixels for "
+      << cv::countNonZero(expected);
+}
+
+TEST(PolygonsUltralytics, InsetCornersAreExactOnShapes) {
+  ExpectUltralyticsExact(Shape(5, 4, {{0, 0}}), 5, 4);
+  ExpectUltralyticsExact(Shape(5, 4, {{4, 3}}), 5, 4);
+  ExpectUltralyticsExact(Shape(6, 6, {{1, 1}, {1, 2}, {1, 3}, {2, 3}, {3, 3}}), 6, 6);
+  ExpectUltralyticsExact(Shape(6, 6, {{0, 0}, {1, 1}, {2, 2}, {3, 3}, {4, 4}}), 6, 6);
+  ExpectUltralyticsExact(Shape(6, 6, {{4, 0}, {3, 1}, {2, 2}, {1, 3}, {0, 4}}), 6, 6);
+  ExpectUltralyticsExact(
+      Shape(6, 6, {{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {3, 2}, {3, 3}}), 6, 6);
+  const int w = 40, h = 36;
+  cv::Mat disc = cv::Mat::zeros(h, w, CV_8U);
+  cv::circle(disc, {19, 17}, 13, 1, cv::FILLED);
+  std::vector<uint32_t> ids(w * h);
+  for (int i = 0; i < w * h; ++i) ids[i] = disc.data[i];
+  ExpectUltralyticsExact(ids, w, h);
+}
+
+TEST(PolygonsUltralytics, InsetCornersAreExactOnRandomMasks) {
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int w = 1 + static_cast<int>(rng() % 30), h = 1 + static_cast<int>(rng() % 30);
+    std::vector<uint32_t> ids(w * h);
+    for (uint32_t& id : ids) id = (rng() % 3 == 0) ? 1 : 0;
+    if (std::count(ids.begin(), ids.end(), 1u) == 0) continue;
+    ExpectUltralyticsExact(ids, w, h);
+  }
+}
+
+// The inset outlasts 6-decimal rounding and float32 on a wide image: an
+// object at the far right of a 25,000-pixel-wide frame.
+TEST(PolygonsUltralytics, InsetCornersAreExactOnAWideImage) {
+  const int w = 25000, h = 3;
+  ExpectUltralyticsExact(Shape(w, h, {{w - 1, 0}, {w - 2, 1}, {w - 3, 1}, {12345, 2}}), w, h);
+}
+
+TEST(PolygonsUltralytics, InsetSegmentBoxIsThePixelEdgeBox) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int w = 1 + static_cast<int>(rng() % 30), h = 1 + static_cast<int>(rng() % 30);
+    std::vector<uint32_t> ids(w * h);
+    for (uint32_t& id : ids) id = (rng() % 4 == 0) ? 1 : 0;
+    const BoxMask mask = MaskOf(ids, w, h, 1);
+    if (mask.empty()) continue;
+    const Polygon merged =
+        MergePieces(ExtractPolygons(mask, PolygonVertices::kInsetCorners).pieces);
+    const cv::Rect2d box = testing::UltralyticsSegmentToBox(merged, w, h);
+    EXPECT_NEAR(box.x, mask.left, kCornerInset + 1e-12);
+    EXPECT_NEAR(box.y, mask.top, kCornerInset + 1e-12);
+    EXPECT_NEAR(box.x + box.width, mask.left + mask.width(), kCornerInset + 1e-9);
+    EXPECT_NEAR(box.y + box.height, mask.top + mask.height(), kCornerInset + 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace lsds::masks

@@ -140,6 +140,12 @@ const std::vector<CheckInfo>& AllChecks() {
        "the projection of the object's OBB through the declared camera "
        "contains its tight bbox",
        "1 px"},
+      {"cross.oriented-box",
+       S::kError,
+       "an object's visible oriented box (format 1.2) covers every pixel of its "
+       "instance mask with the minimal area, and is absent without pixels; both "
+       "oriented boxes are rectangles with clockwise corners",
+       "1e-6 px; area 1e-6 relative"},
       {"cross.worldpos-depth",
        S::kError,
        "world position equals the depth back-projected through the declared "

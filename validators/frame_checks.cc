@@ -17,6 +17,7 @@
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/instance_mask.h"
 #include "libs/geometry/oriented_box.h"
+#include "libs/geometry/oriented_box2d.h"
 #include "validators/camera_checks.h"
 
 namespace lsds::validate {
@@ -43,6 +44,29 @@ struct PixelTally {
 };
 
 std::string Fmt(double v) { return FormatNumber(v); }
+
+std::string PointText(const Eigen::Vector2d& p) {
+  return "(" + Fmt(p.x()) + ", " + Fmt(p.y()) + ")";
+}
+
+// Why `box` is not a rectangle with clockwise corners on the image (y down),
+// or "" when it is. Sides may have zero length (the amodal box of an OBB seen
+// edge-on); tolerances are 1e-6 relative to the box's size.
+std::string RectangleProblem(const OrientedBox2d& box) {
+  const auto& c = box.corners;
+  for (const Eigen::Vector2d& corner : c)
+    if (!corner.allFinite()) return "a corner is not finite";
+  const double size = std::max(1.0, (c[2] - c[0]).norm());
+  if ((c[0] + c[2] - c[1] - c[3]).norm() > 1e-6 * size)
+    return "its corners are not a parallelogram (corner 3 is not corner 0 + corner 2 - corner 1)";
+  const Eigen::Vector2d side_a = c[1] - c[0], side_b = c[2] - c[1];
+  if (std::abs(side_a.dot(side_b)) > 1e-6 * size * size) return "its sides are not perpendicular";
+  // The z of side_a x side_b: positive when the turn is clockwise as seen on
+  // the image, y pointing down.
+  if (side_a.x() * side_b.y() - side_a.y() * side_b.x() < -1e-6 * size * size)
+    return "its corners run counter-clockwise on the image";
+  return "";
+}
 
 class FrameChecker {
  public:
@@ -95,6 +119,10 @@ class FrameChecker {
   void CheckValues();
   void CheckBundle();
   void CheckObjects();
+  void CheckOrientedBoxes(const ObjectTruth& object,
+                          const std::string& pointer,
+                          const std::string& who,
+                          const InstanceMask& extent);
   void CheckWorldPositionVsDepth();
   void CheckMotion();
   void CheckCamera();
@@ -154,7 +182,8 @@ FrameOutcome FrameChecker::Run() {
                      Chosen({"cross.bbox-tight",
                              "cross.visible-pixels",
                              "cross.class-instance",
-                             "cross.obb-contains-bbox"}));
+                             "cross.obb-contains-bbox",
+                             "cross.oriented-box"}));
     CheckObjects();
   }
   {
@@ -667,6 +696,10 @@ void FrameChecker::CheckObjects() {
              who);
       }
     }
+    if (Selected("cross.oriented-box")) {
+      CheckOrientedBoxes(
+          object, pointer, who, ids ? masks[object.instance_id].extent : InstanceMask{});
+    }
     if (object.bbox && can_project && Selected("cross.obb-contains-bbox")) {
       const auto projected = ProjectedBounds(object.obb, frame_.camera.intrinsics, cam_from_world);
       const Box2d clipped = projected ? projected->ClippedTo(width_, height_) : Box2d{};
@@ -681,6 +714,76 @@ void FrameChecker::CheckObjects() {
              who);
       }
     }
+  }
+}
+
+// The oriented boxes of format 1.2 (docs/format.md, "Oriented boxes"); an
+// object without them (older collections) has nothing to check.
+void FrameChecker::CheckOrientedBoxes(const ObjectTruth& object,
+                                      const std::string& pointer,
+                                      const std::string& who,
+                                      const InstanceMask& extent) {
+  for (const auto& [key, box] :
+       {std::pair{"bbox_oriented", &object.bbox_oriented},
+        std::pair{"bbox_oriented_projected", &object.bbox_oriented_projected}}) {
+    if (!*box) continue;
+    if (const std::string problem = RectangleProblem(**box); !problem.empty())
+      Emit("cross.oriented-box",
+           JsonLocation(pointer + "/" + key),
+           std::string(key) + " is not a rectangle with clockwise corners: " + problem,
+           who);
+  }
+  const std::vector<uint32_t>* ids = Ids("instanceid");
+  if (!ids || !object.bbox_oriented) return;
+  const OrientedBox2d& box = *object.bbox_oriented;
+  const Location where = JsonLocation(pointer + "/bbox_oriented");
+  if (extent.pixels == 0) {
+    Emit("cross.oriented-box",
+         where,
+         "bbox_oriented is given but the instance mask in " + FileOf("instanceid") +
+             " has no pixel (it is absent for an object that is not visible)",
+         who);
+    return;
+  }
+  // Coverage: a rectangle is convex, so it covers a row's pixels when it
+  // covers the outer corners of the row's first and last pixel.
+  const int x0 = static_cast<int>(extent.box.x0), x1 = static_cast<int>(extent.box.x1);
+  for (int y = static_cast<int>(extent.box.y0); y < static_cast<int>(extent.box.y1); ++y) {
+    const uint32_t* row = ids->data() + static_cast<size_t>(y) * width_;
+    int first = -1, last = -1;
+    for (int x = x0; x < x1; ++x) {
+      if (row[x] != object.instance_id) continue;
+      if (first < 0) first = x;
+      last = x;
+    }
+    if (first < 0) continue;
+    for (const int x : {first, last}) {
+      for (const Eigen::Vector2d& corner : {Eigen::Vector2d(x, y),
+                                            Eigen::Vector2d(x + 1, y),
+                                            Eigen::Vector2d(x, y + 1),
+                                            Eigen::Vector2d(x + 1, y + 1)}) {
+        if (box.Contains(corner, 1e-6)) continue;
+        Emit("cross.oriented-box",
+             where,
+             "bbox_oriented does not cover pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                 ") of the instance mask in " + FileOf("instanceid") + ": its corner " +
+                 PointText(corner) + " lies outside",
+             who);
+        return;
+      }
+    }
+  }
+  // Minimal area: that of the minimum-area rectangle of the mask (a covering
+  // box is never smaller, up to rounding).
+  const std::optional<OrientedBox2d> minimal =
+      MaskOrientedBox(ids->data(), width_, height_, object.instance_id, extent.box);
+  if (minimal && std::abs(box.Area() - minimal->Area()) > 1e-6 * minimal->Area()) {
+    Emit("cross.oriented-box",
+         where,
+         "bbox_oriented has area " + Fmt(box.Area()) +
+             " px^2 but the minimum-area rectangle of the instance mask in " +
+             FileOf("instanceid") + " has " + Fmt(minimal->Area()),
+         who);
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "generator/scene/object_library.h"  // FrontOfBuiltinClass
 #include "libs/collection/object_truth.h"
 #include "libs/geometry/oriented_box.h"
 
@@ -87,8 +88,8 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
   std::map<uint32_t, int> geometries_of;  // instance id -> geometries carrying it
   for (size_t g = 0; g < scene.surface_count(); ++g) ++geometries_of[scene.surface(g).instance_id];
   const PinholeCamera& camera = frame.camera;
-  const auto masks =
-      MeasureInstanceMasks(film.flat.at("instanceid").Get("id").uints, camera.width, camera.height);
+  const std::vector<uint32_t>& ids = film.flat.at("instanceid").Get("id").uints;
+  const auto masks = MeasureInstanceMasks(ids, camera.width, camera.height);
   std::vector<ObjectTruth> truths;
   for (size_t i = 0; i < world.objects.size(); ++i) {
     const ObjectState& o = world.objects[i];
@@ -100,6 +101,7 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
     identity.name = p.name;
     identity.asset = o.asset;
     identity.obb = o.Box();
+    identity.heading_in_box = FrontOfBuiltinClass(o.asset);
     const auto mask = masks.find(p.instance_id);
     const RTCScene own = scene.ObjectScene(static_cast<int>(i));
     const uint32_t visible_id =
@@ -108,6 +110,7 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
         MeasureObjectTruth(identity,
                            camera,
                            frame.cam_from_world,
+                           {ids.data(), camera.width, camera.height},
                            mask == masks.end() ? nullptr : &mask->second,
                            [&](const Box2d& bounds) {
                              return UnoccludedPixels(own, frame, film, visible_id, bounds, rays);

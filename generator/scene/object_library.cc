@@ -179,6 +179,13 @@ std::string CanonicalClassName(const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end() ? name : std::string();
 }
 
+std::optional<Eigen::Vector3d> FrontOfBuiltinClass(const std::string& name) {
+  const std::string canonical = CanonicalClassName(name);
+  if (canonical == "car" || canonical == "truck") return Eigen::Vector3d::UnitX();
+  if (canonical == "person") return Eigen::Vector3d::UnitY();
+  return std::nullopt;
+}
+
 TriangleMesh LoadMeshFileNative(const std::string& path, const std::string& where) {
   if (!std::filesystem::is_regular_file(path)) {
     throw Error(where + ": mesh file not found", Location(path));

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,13 @@ const std::vector<std::string>& BuiltinClassNames();  // canonical names, table 
 const std::map<std::string, std::string>& ClassNameAliases();
 // The canonical built-in class `name` spells, or "" when it names none.
 std::string CanonicalClassName(const std::string& name);
+
+// The front of a built-in class as a unit direction of the object frame (the
+// OBB's box frame), for the classes whose meshes have one: +x for car and
+// truck (builtin_meshes.h), +y for person (the figure faces +y). nullopt for
+// the symmetric classes and for mesh files, whose front nobody declared. The
+// object truth puts its oriented boxes' heading corner there.
+std::optional<Eigen::Vector3d> FrontOfBuiltinClass(const std::string& name);
 
 // The shape of `class_name`; `seed` varies the random classes (rock, bush,
 // tree, person).

@@ -46,6 +46,21 @@ std::optional<Box2d> Box2dFromJson(const json& j) {
       j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>(), j.at(3).get<double>()};
 }
 
+// An oriented box as its four [x, y] corners, in order (docs/format.md,
+// "Oriented boxes").
+json OrientedBox2dToJson(const OrientedBox2d& box) {
+  json corners = json::array();
+  for (const Eigen::Vector2d& c : box.corners) corners.push_back(json::array({c.x(), c.y()}));
+  return corners;
+}
+
+OrientedBox2d OrientedBox2dFromJson(const json& j) {
+  OrientedBox2d box;
+  for (size_t i = 0; i < box.corners.size(); ++i)
+    box.corners[i] = {j.at(i).at(0).get<double>(), j.at(i).at(1).get<double>()};
+  return box;
+}
+
 // File references in a collection resolve strictly inside it: relative, with no
 // ".." component (docs/format.md, "File references"). Throws lsds::Error at
 // `file#pointer`.
@@ -151,6 +166,9 @@ json ObjectToJson(const ObjectTruth& o) {
             {"visibility", o.visibility},
             {"in_frame", o.in_frame}};
   if (!o.name.empty()) j["name"] = o.name;
+  if (o.bbox_oriented) j["bbox_oriented"] = OrientedBox2dToJson(*o.bbox_oriented);
+  if (o.bbox_oriented_projected)
+    j["bbox_oriented_projected"] = OrientedBox2dToJson(*o.bbox_oriented_projected);
   if (!o.asset.empty()) j["asset"] = o.asset;
   if (!o.material.empty()) j["material"] = o.material;
   if (o.transmittance) j["transmittance"] = *o.transmittance;
@@ -170,6 +188,9 @@ ObjectTruth ObjectFromJson(const json& j) {
   o.bbox = Box2dFromJson(j.at("bbox"));
   o.bbox_projected =
       j.contains("bbox_projected") ? Box2dFromJson(j.at("bbox_projected")) : std::nullopt;
+  if (j.contains("bbox_oriented")) o.bbox_oriented = OrientedBox2dFromJson(j.at("bbox_oriented"));
+  if (j.contains("bbox_oriented_projected"))
+    o.bbox_oriented_projected = OrientedBox2dFromJson(j.at("bbox_oriented_projected"));
   o.visible_pixels = j.at("visible_pixels").get<int64_t>();
   o.visibility = j.at("visibility").get<double>();
   o.in_frame = j.at("in_frame").get<double>();

@@ -26,7 +26,7 @@ namespace lsds {
 
 inline constexpr const char* kCollectionFormat = "lsds-collection";
 inline constexpr const char* kMetadataFormat = "lsds-metadata";
-inline constexpr const char* kFormatVersion = "1.1";
+inline constexpr const char* kFormatVersion = "1.2";
 inline constexpr const char* kCollectionFile = "collection.json";
 inline constexpr const char* kMetadataFile = "metadata.json";
 

@@ -15,6 +15,7 @@
 #include "libs/geometry/camera.h"
 #include "libs/geometry/instance_mask.h"  // MeasureInstanceMasks: the box of a mask
 #include "libs/geometry/oriented_box.h"
+#include "libs/geometry/oriented_box2d.h"
 #include "libs/geometry/rigid3.h"
 
 namespace lsds {
@@ -26,6 +27,18 @@ struct ObjectIdentity {
   std::string name;
   std::string asset;
   OrientedBox obb;
+  // The object's front as a unit direction in the box frame (a column
+  // combination of obb.world_from_box), when its kind has one: +x for the
+  // generator's vehicles. None for objects with no heading (rocks, barrels,
+  // imported objects): their oriented boxes keep the canonical corner order.
+  std::optional<Eigen::Vector3d> heading_in_box;
+};
+
+// The instanceid layer the masks were measured on: row-major, width x height.
+struct IdLayerView {
+  const uint32_t* ids = nullptr;
+  int width = 0;
+  int height = 0;
 };
 
 // Counts the pixels inside `bounds` (clipped to the image) that the object
@@ -38,9 +51,19 @@ using UnoccludedCounter = std::function<int64_t(const Box2d& bounds)>;
 // the max keeps it in [0, 1] where a sample position differs by a hair between
 // the two passes. `count_unoccluded` may be empty when the caller cannot
 // count; the visibility is then 1 for a visible object and 0 otherwise.
+//
+// Oriented boxes (docs/format.md, "Oriented boxes"): the visible one is the
+// minimum-area rectangle of the object's pixels in `instance_ids` (none when
+// it has no pixel or no layer is given), the amodal one that of the projected
+// OBB's silhouette points (clipped at the near plane, not to the image). When
+// the object has a heading, both put the heading corner first, for the
+// heading projected into the image at the OBB centre (canonical order when
+// the centre is behind the camera or the heading points along the line of
+// sight).
 std::optional<ObjectTruth> MeasureObjectTruth(const ObjectIdentity& object,
                                               const PinholeCamera& camera,
                                               const Rigid3d& cam_from_world,
+                                              const IdLayerView& instance_ids,
                                               const InstanceMask* mask,
                                               const UnoccludedCounter& count_unoccluded);
 

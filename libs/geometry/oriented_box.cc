@@ -44,14 +44,10 @@ bool OrientedBox::Intersects(const OrientedBox& other) const {
   return true;
 }
 
-namespace {
-
-// Corners in front of the near plane plus the points where box edges cross it,
-// projected.
-std::vector<Eigen::Vector2d> ProjectClipped(const OrientedBox& box,
-                                            const PinholeCamera& camera,
-                                            const Rigid3d& cam_from_world,
-                                            double near) {
+std::vector<Eigen::Vector2d> ProjectedSilhouettePoints(const OrientedBox& box,
+                                                       const PinholeCamera& camera,
+                                                       const Rigid3d& cam_from_world,
+                                                       double near) {
   const auto corners = box.Corners();
   std::array<Eigen::Vector3d, 8> in_cam;
   for (int k = 0; k < 8; ++k) in_cam[k] = cam_from_world * corners[k];
@@ -70,6 +66,8 @@ std::vector<Eigen::Vector2d> ProjectClipped(const OrientedBox& box,
   }
   return points;
 }
+
+namespace {
 
 double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
@@ -128,7 +126,7 @@ std::optional<Box2d> ProjectedBounds(const OrientedBox& box,
                                      const PinholeCamera& camera,
                                      const Rigid3d& cam_from_world,
                                      double near) {
-  const auto points = ProjectClipped(box, camera, cam_from_world, near);
+  const auto points = ProjectedSilhouettePoints(box, camera, cam_from_world, near);
   if (points.empty()) return std::nullopt;
   Box2d bounds{points[0].x(), points[0].y(), points[0].x(), points[0].y()};
   for (const auto& p : points) {
@@ -144,7 +142,7 @@ double InFrameFraction(const OrientedBox& box,
                        const PinholeCamera& camera,
                        const Rigid3d& cam_from_world,
                        double near) {
-  const auto hull = ConvexHull(ProjectClipped(box, camera, cam_from_world, near));
+  const auto hull = ConvexHull(ProjectedSilhouettePoints(box, camera, cam_from_world, near));
   const double total = hull.size() >= 3 ? PolygonArea(hull) : 0.0;
   if (total <= 0) return 0.0;
   auto clipped = ClipHalfPlane(hull, 0, 0.0, -1.0);

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <optional>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -23,6 +24,17 @@ struct OrientedBox {
   // Separating-axis test; touching boxes do not intersect.
   bool Intersects(const OrientedBox& other) const;
 };
+
+// The image points of the box's projected silhouette: the corners in front of
+// the near plane z = `near` and the points where the box's edges cross it
+// (unclipped to the image; empty when the box is entirely behind the plane).
+// Their bounds are ProjectedBounds, their convex hull the silhouette of
+// InFrameFraction, their minimum-area rectangle the amodal oriented box of the
+// object truth.
+std::vector<Eigen::Vector2d> ProjectedSilhouettePoints(const OrientedBox& box,
+                                                       const PinholeCamera& camera,
+                                                       const Rigid3d& cam_from_world,
+                                                       double near = 1e-3);
 
 // The pixel-edge bounding box of the box's projection, clipped at the near
 // plane z = `near` (unclipped to the image). Empty when the box is entirely

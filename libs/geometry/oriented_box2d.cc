@@ -63,14 +63,24 @@ Box2d OrientedBox2d::Bounds() const {
 }
 
 bool OrientedBox2d::Contains(const Eigen::Vector2d& point, double tolerance) const {
-  // Inside when the point lies within both slabs of the rectangle.
-  for (int axis = 0; axis < 2; ++axis) {
-    const Eigen::Vector2d edge = corners[axis + 1] - corners[axis];
-    const double length = edge.norm();
-    const double along = length > 0 ? (point - corners[axis]).dot(edge / length) : 0.0;
-    const double reach = length > 0 ? length : (point - corners[axis]).norm();
-    if (length > 0 && (along < -tolerance || along > length + tolerance)) return false;
-    if (length == 0 && reach > tolerance) return false;
+  // Inside when the point lies within both slabs of the rectangle. A side of
+  // zero length (the box of collinear points) has no slab: the point must then
+  // lie on the line of the other side (or on the point, when both are zero).
+  const Eigen::Vector2d offset = point - corners[0];
+  const std::array<Eigen::Vector2d, 2> sides = {corners[1] - corners[0], corners[3] - corners[0]};
+  for (int k = 0; k < 2; ++k) {
+    const double length = sides[k].norm();
+    if (length > 0) {
+      const double along = offset.dot(sides[k]) / length;
+      if (along < -tolerance || along > length + tolerance) return false;
+      continue;
+    }
+    const Eigen::Vector2d& other = sides[1 - k];
+    const double other_length = other.norm();
+    const double across =
+        other_length > 0 ? std::abs(offset.x() * other.y() - offset.y() * other.x()) / other_length
+                         : offset.norm();
+    if (across > tolerance) return false;
   }
   return true;
 }

@@ -46,9 +46,10 @@ std::optional<OrientedBox2d> MaskOrientedBox(
     const uint32_t* ids, int width, int height, uint32_t id, const Box2d& box);
 
 // Reorders `box`'s corners (keeping them clockwise) so that corners[0] is the
-// heading corner: of the two corners on the edge the image-plane heading
-// `heading_in_image` points through, the one on the left when looking along
-// the heading (docs/format.md). Unchanged when the heading has zero length.
+// heading corner: of the two corners of the front edge (the edge whose outward
+// normal makes the smallest angle with the image-plane heading
+// `heading_in_image`), the one on the left when looking along the heading
+// (docs/format.md). Unchanged when the heading has zero length.
 OrientedBox2d WithHeadingCornerFirst(const OrientedBox2d& box,
                                      const Eigen::Vector2d& heading_in_image);
 

@@ -132,12 +132,13 @@ ImportResult ImportCollection(const std::string& format,
       auto count_unoccluded = [&](const Box2d& bounds) {
         return CountObbPixels(target.obb, camera, cam_from_world, bounds);
       };
-      if (std::optional<ObjectTruth> object =
-              MeasureObjectTruth(target,
-                                 camera,
-                                 cam_from_world,
-                                 mask == masks.end() ? nullptr : &mask->second,
-                                 count_unoccluded))
+      if (std::optional<ObjectTruth> object = MeasureObjectTruth(
+              target,
+              camera,
+              cam_from_world,
+              {instances.Get("id").uints.data(), instances.width(), instances.height()},
+              mask == masks.end() ? nullptr : &mask->second,
+              count_unoccluded))
         frame.objects.push_back(std::move(*object));
     }
     frame.files = WriteFrameLayers(

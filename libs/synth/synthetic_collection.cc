@@ -304,6 +304,7 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
             MeasureObjectTruth(identity,
                                camera,
                                cam_from_world,
+                               {instanceid.Get("id").uints.data(), w, h},
                                mask == masks.end() ? nullptr : &mask->second,
                                count_unoccluded)) {
       object->transmittance = 1.0;  // no atmosphere

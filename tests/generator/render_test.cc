@@ -182,6 +182,60 @@ TEST(Render, OccludedBoxHasVisibilityBelowOneAndTruncatedBoxInFrameBelowOne) {
   EXPECT_DOUBLE_EQ(r.truth[2].visibility, 1.0);  // truncated is not occluded
 }
 
+// Oriented boxes of rendered objects (docs/format.md, "Oriented boxes"): a car
+// turned 60 degrees puts its front-left corner first (its heading, the mesh's
+// +x, projected by two points independently of the truth code); a cube, which
+// has no front, keeps the canonical order; both visible boxes cover the mask.
+TEST(Render, OrientedBoxesPutACarsHeadingCornerFirst) {
+  const double h = 40;
+  Plan plan = FlatPlan(128, 128, 50);
+  PlannedObject car = Box("car", 1, {-3, 0, 0.75}, {4.2, 1.8, 1.5});
+  car.class_name = "car";
+  const double yaw = 60 * std::acos(-1.0) / 180;
+  car.world_from_object = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  plan.objects.push_back(car);
+  PlannedObject cube = Box("cube", 2, {5, 2, 1}, {2, 3, 2});
+  cube.world_from_object = car.world_from_object;
+  plan.objects.push_back(cube);
+  plan.frames[0].cam_from_world = Nadir({0, 0, h});
+  const Rendered r = Render(plan, 0);
+  ASSERT_EQ(r.truth.size(), 2u);
+  const PinholeCamera& camera = plan.frames[0].camera;
+  const std::vector<uint32_t>& ids = U(r.film, "instanceid");
+  for (const ObjectTruth& t : r.truth) {
+    ASSERT_TRUE(t.bbox_oriented && t.bbox_oriented_projected) << t.name;
+    for (int y = 0; y < camera.height; ++y)
+      for (int x = 0; x < camera.width; ++x)
+        if (ids[static_cast<size_t>(y) * camera.width + x] == t.instance_id)
+          for (int d = 0; d < 4; ++d)
+            ASSERT_TRUE(t.bbox_oriented->Contains({x + d % 2, y + d / 2}, 1e-9)) << t.name;
+  }
+  const ObjectTruth& c = r.truth[0].instance_id == 1 ? r.truth[0] : r.truth[1];
+  const Rigid3d& cam_from_world = plan.frames[0].cam_from_world;
+  const Eigen::Vector3d ahead = c.obb.center + 1e-3 * c.obb.world_from_box.col(0);
+  const Eigen::Vector2d heading = (camera.ImageFromCam(cam_from_world * ahead) -
+                                   camera.ImageFromCam(cam_from_world * c.obb.center))
+                                      .normalized();
+  for (const OrientedBox2d& box : {*c.bbox_oriented, *c.bbox_oriented_projected}) {
+    // The front side (corners 0 -> 1) faces the heading better than the
+    // others, and corner 0 is its left end looking along the heading (y down).
+    auto normal = [&](int i) {
+      return ((box.corners[i] + box.corners[(i + 1) % 4]) / 2 - box.Center()).normalized();
+    };
+    for (int i = 1; i < 4; ++i) EXPECT_GT(normal(0).dot(heading), normal(i).dot(heading));
+    const Eigen::Vector2d mid = (box.corners[0] + box.corners[1]) / 2;
+    EXPECT_GT((box.corners[0] - mid).dot(Eigen::Vector2d(heading.y(), -heading.x())), 0);
+  }
+  const ObjectTruth& b = r.truth[0].instance_id == 2 ? r.truth[0] : r.truth[1];
+  for (const OrientedBox2d& box : {*b.bbox_oriented, *b.bbox_oriented_projected}) {
+    for (int i = 1; i < 4; ++i) {
+      EXPECT_TRUE(
+          box.corners[0].y() < box.corners[i].y() ||
+          (box.corners[0].y() == box.corners[i].y() && box.corners[0].x() <= box.corners[i].x()));
+    }
+  }
+}
+
 // The visibility shortcut (visible pixels counted as unoccluded without a ray)
 // gives exactly the truth of casting every ray of the object's bounds, and
 // casts fewer rays: on the occluded boxes above and on a demo frame with 60

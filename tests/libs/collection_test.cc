@@ -49,6 +49,15 @@ Frame SampleFrame(int64_t index) {
   object.obb.center = {1, 2, 0.5};
   object.obb.half_extents = {0.3, 0.3, 0.5};
   object.bbox = Box2d{10, 11, 20, 31};
+  // Format 1.2's oriented boxes, with doubles that need every digit.
+  object.bbox_oriented = OrientedBox2d{{Eigen::Vector2d(10.1, 11),
+                                        Eigen::Vector2d(20, 12.3),
+                                        Eigen::Vector2d(18.7, 31),
+                                        Eigen::Vector2d(8.8, 29.7)}};
+  object.bbox_oriented_projected = OrientedBox2d{{Eigen::Vector2d(1.0 / 3, -2.5),
+                                                  Eigen::Vector2d(21.25, 0.1),
+                                                  Eigen::Vector2d(19.0, 33.0 / 7),
+                                                  Eigen::Vector2d(-1e-7, 30)}};
   object.visible_pixels = 150;
   object.visibility = 0.75;
   object.in_frame = 1.0;
@@ -56,6 +65,7 @@ Frame SampleFrame(int64_t index) {
   ObjectTruth hidden = object;
   hidden.instance_id = 4;
   hidden.bbox.reset();
+  hidden.bbox_oriented.reset();
   hidden.visible_pixels = 0;
   hidden.visibility = 0;
   frame.objects.push_back(hidden);
@@ -83,6 +93,14 @@ TEST(CollectionJson, WriteReadRoundTrip) {
               FrameToJson(expected));  // exact doubles survive
     EXPECT_EQ(frame.objects[0].bbox->x1, 20);
     EXPECT_FALSE(frame.objects[1].bbox);
+    ASSERT_TRUE(frame.objects[0].bbox_oriented && frame.objects[0].bbox_oriented_projected);
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_EQ(frame.objects[0].bbox_oriented->corners[i],
+                expected.objects[0].bbox_oriented->corners[i]);
+      EXPECT_EQ(frame.objects[0].bbox_oriented_projected->corners[i],
+                expected.objects[0].bbox_oriented_projected->corners[i]);
+    }
+    EXPECT_FALSE(frame.objects[1].bbox_oriented);  // absent, not null
     ++seen;
   });
   EXPECT_EQ(seen, 3);
@@ -111,6 +129,23 @@ TEST(Schema, RejectsWrongTypeInFrameWithPointer) {
       JsonSchema::Get("collection.schema.json", "frame").Validate(frame, "/frames/9");
   ASSERT_FALSE(issues.empty());
   EXPECT_EQ(issues[0].pointer, "/frames/9/objects/1/visibility");
+}
+
+TEST(Schema, OrientedBoxesAreFourPointPairs) {
+  json frame = FrameToJson(SampleFrame(0));
+  const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
+  EXPECT_TRUE(schema.Validate(frame, "/frames/0").empty());
+  EXPECT_EQ(frame["objects"][0]["bbox_oriented"].size(), 4u);
+  EXPECT_FALSE(frame["objects"][1].contains("bbox_oriented"));
+  frame["objects"][0]["bbox_oriented"].erase(3);
+  const auto three = schema.Validate(frame, "/frames/0");
+  ASSERT_FALSE(three.empty());
+  EXPECT_EQ(three[0].pointer, "/frames/0/objects/0/bbox_oriented");
+  frame = FrameToJson(SampleFrame(0));
+  frame["objects"][0]["bbox_oriented_projected"][2] = json::array({1, 2, 3});
+  const auto triple = schema.Validate(frame, "/frames/0");
+  ASSERT_FALSE(triple.empty());
+  EXPECT_EQ(triple[0].pointer, "/frames/0/objects/0/bbox_oriented_projected/2");
 }
 
 TEST(Schema, ReaderNamesFileAndPointer) {

@@ -308,6 +308,43 @@ std::vector<Corruption> MakeCorruptions() {
     });
     return At("cross.obb-contains-bbox", "collection.json", 1, "/frames/1/objects/0/bbox");
   });
+  // The oriented boxes of format 1.2 (docs/format.md, "Oriented boxes"); each
+  // edit keeps a rectangle unless it means to break one.
+  add("oriented-box-too-large",
+      "frame 1 object 0: bbox_oriented grown by 10% about its centre (covers, not minimal)",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) {
+          json& box = j["frames"][1]["objects"][0].at("bbox_oriented");
+          const double cx = (box[0][0].get<double>() + box[2][0].get<double>()) / 2;
+          const double cy = (box[0][1].get<double>() + box[2][1].get<double>()) / 2;
+          for (json& corner : box) {
+            corner[0] = cx + 1.1 * (corner[0].get<double>() - cx);
+            corner[1] = cy + 1.1 * (corner[1].get<double>() - cy);
+          }
+        });
+        return At("cross.oriented-box", "collection.json", 1, "/frames/1/objects/0/bbox_oriented");
+      });
+  add("oriented-box-shifted",
+      "frame 2 object 1: bbox_oriented moved 1.5 px right (misses the mask's left column)",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) {
+          for (json& corner : j["frames"][2]["objects"][1].at("bbox_oriented"))
+            corner[0] = corner[0].get<double>() + 1.5;
+        });
+        return At("cross.oriented-box", "collection.json", 2, "/frames/2/objects/1/bbox_oriented");
+      });
+  add("oriented-box-counter-clockwise",
+      "frame 3 object 0: bbox_oriented_projected corners listed counter-clockwise",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) {
+          json& box = j["frames"][3]["objects"][0].at("bbox_oriented_projected");
+          std::swap(box[1], box[3]);
+        });
+        return At("cross.oriented-box",
+                  "collection.json",
+                  3,
+                  "/frames/3/objects/0/bbox_oriented_projected");
+      });
   add("wrong-object-class",
       "frame 1 object 0 declared a crate, its pixels say box",
       [](const fs::path& root) {

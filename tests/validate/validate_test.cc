@@ -82,7 +82,13 @@ TEST_F(ValidateTest, Format10CollectionStillValidates) {
     frame.erase("shot");
     frame.erase("scene");
     for (auto& object : frame["objects"])
-      for (const char* key : {"asset", "material", "transmittance", "changes"}) object.erase(key);
+      for (const char* key : {"asset",
+                              "material",
+                              "transmittance",
+                              "changes",
+                              "bbox_oriented",
+                              "bbox_oriented_projected"})
+        object.erase(key);
   }
   std::ofstream(old / "collection.json") << collection.dump();
   nlohmann::json metadata;

@@ -372,6 +372,130 @@ TEST_F(TilesTest, EveryFormatWorksOnTiles) {
   EXPECT_EQ(tracks.size(), positions.size());
 }
 
+// Oriented boxes of a rotated object cut by a tile border are measured on the
+// id layer cut to the tile (MaskOrientedBox, here on the id layer itself); an
+// object whole in a tile keeps its frame box, moved. Amodal boxes move.
+TEST(TileCut, OrientedBoxesAreMeasuredOnTheCutMask) {
+  constexpr int kWidth = 60, kHeight = 40;
+  constexpr uint32_t kRotated = 5, kSmall = 6;
+  cv::Mat ids = cv::Mat::zeros(kHeight, kWidth, CV_32S);
+  // A rotated rectangle straddling x = 30, and a small square left of it.
+  const std::vector<cv::Point> rotated = {{20, 8}, {44, 16}, {40, 28}, {16, 20}};
+  cv::fillConvexPoly(ids, rotated, cv::Scalar(kRotated));
+  cv::rectangle(ids, cv::Rect(4, 30, 5, 4), cv::Scalar(kSmall), cv::FILLED);
+  std::vector<uint32_t> layer(ids.begin<int32_t>(), ids.end<int32_t>());
+
+  Frame frame;
+  frame.index = 3;
+  frame.sequence = "S";
+  frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(kWidth, kHeight, 60);
+  for (uint32_t id : {kRotated, kSmall}) {
+    ObjectTruth o;
+    o.instance_id = id;
+    o.class_id = 1;
+    o.in_frame = 1;
+    o.visibility = 1;
+    const cv::Rect r = cv::boundingRect(ids == static_cast<int>(id));
+    o.bbox = Box2d{double(r.x), double(r.y), double(r.x + r.width), double(r.y + r.height)};
+    o.bbox_projected = Box2d{o.bbox->x0 - 2, o.bbox->y0 - 2, o.bbox->x1 + 2, o.bbox->y1 + 2};
+    o.bbox_oriented =
+        MaskOrientedBox(layer.data(), kWidth, kHeight, id, Box2d{0, 0, kWidth, kHeight});
+    ASSERT_TRUE(o.bbox_oriented);
+    o.bbox_oriented_projected = o.bbox_oriented;
+    o.visible_pixels = cv::countNonZero(ids == static_cast<int>(id));
+    frame.objects.push_back(o);
+  }
+  convert::FrameContext ctx;
+  ctx.frame = &frame;
+  ctx.split = "train";
+  ctx.stem = "000003";
+  ctx.width = kWidth, ctx.height = kHeight;
+  const auto bounds = masks::ComputeIdBounds(layer.data(), kWidth, kHeight);
+  for (const ObjectTruth& o : frame.objects) {
+    ctx.mask_storage.push_back(
+        masks::ExtractMask(layer.data(), kWidth, kHeight, o.instance_id, bounds.at(o.instance_id)));
+  }
+  for (size_t i = 0; i < frame.objects.size(); ++i) {
+    convert::KeptObject k;
+    k.truth = &frame.objects[i];
+    k.box = *frame.objects[i].bbox;
+    k.mask = &ctx.mask_storage[i];
+    k.oriented = frame.objects[i].bbox_oriented;
+    ctx.objects.push_back(k);
+  }
+
+  TempDir dir;
+  convert::ConvertOptions options;
+  options.tile = "30x40";
+  options.tile_min_fraction = 0.01;
+  const convert::ClassMap classes = convert::ClassMap::All({{1, "thing"}});
+  convert::Tiler tiler(options, classes, dir.path());
+  convert::LossReport loss;
+  const auto tiles = tiler.Cut(ctx, cv::Mat(), 10, &loss);
+  ASSERT_EQ(tiles.size(), 2u);  // x = 0 and x = 30
+  bool saw_cut = false, saw_whole = false;
+  for (const auto& tile : tiles) {
+    const int x = tile->rect.x;
+    EXPECT_EQ(tile->context.image_index, 10 + (x == 0 ? 0 : 1));
+    EXPECT_EQ(tile->frame.camera.intrinsics.width, 30);
+    EXPECT_DOUBLE_EQ(tile->frame.camera.intrinsics.cx, frame.camera.intrinsics.cx - x);
+    // The id layer cut to the tile.
+    std::vector<uint32_t> cut;
+    for (int row = 0; row < kHeight; ++row) {
+      for (int col = x; col < x + 30; ++col) cut.push_back(layer[row * kWidth + col]);
+    }
+    for (size_t k = 0; k < tile->context.objects.size(); ++k) {
+      const convert::KeptObject& object = tile->context.objects[k];
+      const ObjectTruth& source = frame.objects[object.truth->instance_id == kRotated ? 0 : 1];
+      ASSERT_TRUE(object.oriented);
+      ASSERT_TRUE(object.truth->bbox_oriented);
+      EXPECT_EQ(object.truth->bbox_oriented_projected->corners[0],
+                source.bbox_oriented_projected->corners[0] - Eigen::Vector2d(x, 0));
+      EXPECT_EQ(object.truth->bbox_projected->x0, std::max(0.0, source.bbox_projected->x0 - x));
+      EXPECT_LE(object.truth->bbox_projected->x1, 30.0);
+      if (tile->tile_fractions[k] == 1.0) {
+        saw_whole = true;
+        for (int c = 0; c < 4; ++c) {
+          EXPECT_EQ(object.oriented->corners[c],
+                    source.bbox_oriented->corners[c] - Eigen::Vector2d(x, 0));
+        }
+        continue;
+      }
+      saw_cut = true;
+      const std::optional<OrientedBox2d> expected = MaskOrientedBox(
+          cut.data(), 30, kHeight, object.truth->instance_id, Box2d{0, 0, 30, kHeight});
+      ASSERT_TRUE(expected);
+      // The same rectangle (corners as a set), first corner on the side of the
+      // frame box's first corner.
+      for (const Eigen::Vector2d& corner : object.oriented->corners) {
+        double nearest = 1e9;
+        for (const Eigen::Vector2d& e : expected->corners)
+          nearest = std::min(nearest, (corner - e).norm());
+        EXPECT_LT(nearest, 1e-9);
+      }
+      for (int c = 0; c < 4; ++c)
+        EXPECT_EQ(object.truth->bbox_oriented->corners[c], object.oriented->corners[c]);
+      const Eigen::Vector2d frame_side =
+          (source.bbox_oriented->corners[0] + source.bbox_oriented->corners[1]) / 2 -
+          source.bbox_oriented->Center();
+      const Eigen::Vector2d tile_side =
+          (object.oriented->corners[0] + object.oriented->corners[1]) / 2 -
+          object.oriented->Center();
+      EXPECT_GT(frame_side.dot(tile_side), 0);
+      // Its box is the tight box of the cut mask.
+      cv::Mat cut_mask(kHeight, 30, CV_8U);
+      for (int i = 0; i < kHeight * 30; ++i) cut_mask.data[i] = cut[i] == object.truth->instance_id;
+      const cv::Rect r = cv::boundingRect(cut_mask);
+      EXPECT_EQ(object.box,
+                (Box2d{double(r.x), double(r.y), double(r.x + r.width), double(r.y + r.height)}));
+      EXPECT_EQ(object.truth->visible_pixels, cv::countNonZero(cut_mask));
+    }
+  }
+  EXPECT_TRUE(saw_cut);
+  EXPECT_TRUE(saw_whole);
+  EXPECT_EQ(loss.Total(convert::loss::kTileTruncated), 2);  // the rotated box, in both tiles
+}
+
 TEST_F(TilesTest, BadTileFlagsWriteNothing) {
   convert::ConvertOptions options = Tiled("bad", {"coco"});
   options.overlap = std::to_string(kTile);

@@ -10,6 +10,7 @@
 #include "converters/converter.h"
 #include "converters/registry.h"
 #include "converters/split.h"
+#include "converters/tiles.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/rig.h"
 #include "libs/exr/flat_image.h"
@@ -60,21 +61,28 @@ struct Driver {
     return c ? c->name : "class " + std::to_string(id);
   }
 
-  void Prepare(const Frame& frame, FrameContext* ctx, LossReport* loss) {
+  // With `display`, the frame's sRGB image is left there (for the tiles)
+  // instead of written.
+  void Prepare(const Frame& frame, FrameContext* ctx, LossReport* loss, cv::Mat* display) {
     ctx->frame = &frame;
     ctx->split = split_plan.SplitOf(frame.index);
     ctx->stem = FrameFileStem(frame);  // "000004_left" in a rig: unique per camera
     ctx->image_name = ctx->stem + options.ImageExtension();
     ctx->width = frame.camera.intrinsics.width;
     ctx->height = frame.camera.intrinsics.height;
+    ctx->image_index = frame.index;
     loss->CountFrame(ctx->split);
 
     if (!rgb_layer.empty()) {
       const exr::FlatImage rgb = reader.ReadFlatLayer(frame, rgb_layer, {"R", "G", "B"});
-      imaging::WriteImage(root / "images" / ctx->split / ctx->image_name,
-                          imaging::ToSrgb8(rgb, options.display),
-                          options.display);
-      ++images_written;
+      if (display != nullptr) {
+        *display = imaging::ToSrgb8(rgb, options.display);
+      } else {
+        imaging::WriteImage(root / "images" / ctx->split / ctx->image_name,
+                            imaging::ToSrgb8(rgb, options.display),
+                            options.display);
+        ++images_written;
+      }
     }
 
     // Filters, in the order the loss report lists them; an object is counted
@@ -151,6 +159,8 @@ ConvertResult Convert(const ConvertOptions& options) {
     converters.push_back(MakeConverter(format));
     needs_masks = needs_masks || converters.back()->NeedsMasks();
   }
+  // Tiles measure each object's share in a tile on its mask.
+  needs_masks = needs_masks || !options.tile.empty();
 
   auto in_range = [&](const Frame& frame) {
     return frame.index >= options.frame_begin &&
@@ -202,6 +212,16 @@ ConvertResult Convert(const ConvertOptions& options) {
   setup.splits = splits;
   setup.options = &options;
   for (auto& converter : converters) converter->Begin(setup);
+  std::unique_ptr<Tiler> tiler;
+  if (!options.tile.empty()) tiler = std::make_unique<Tiler>(options, classes, out.temp_path());
+  int64_t next_tile_index = 0;
+  // The images of a prepared frame: the frame itself, or its tiles.
+  auto images_of = [&](const FrameContext& frame, const std::vector<std::unique_ptr<Tile>>& tiles) {
+    std::vector<const FrameContext*> images;
+    if (!tiler) images.push_back(&frame);
+    for (const auto& tile : tiles) images.push_back(&tile->context);
+    return images;
+  };
 
   ConvertResult result;
   Progress progress("convert", static_cast<int64_t>(reader.frames_in_file()));
@@ -212,18 +232,35 @@ ConvertResult Convert(const ConvertOptions& options) {
     std::vector<FrameContext> contexts(n);
     std::vector<LossReport> losses(n);
     std::vector<std::vector<std::unique_ptr<FramePiece>>> pieces(n);
+    std::vector<std::vector<std::unique_ptr<Tile>>> tiles(n);
+    std::vector<int64_t> first_tile(n, 0);  // tile numbers in output order, known before cutting
+    for (size_t i = 0; tiler && i < n; ++i) {
+      first_tile[i] = next_tile_index;
+      next_tile_index += tiler->CountTiles(batch[i]);
+    }
     tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-      driver.Prepare(batch[i], &contexts[i], &losses[i]);
-      for (const auto& converter : converters) {
-        pieces[i].push_back(converter->EncodeFrame(contexts[i], &losses[i]));
+      cv::Mat display;
+      driver.Prepare(batch[i], &contexts[i], &losses[i], tiler ? &display : nullptr);
+      if (tiler) {
+        tiles[i] = tiler->Cut(contexts[i], display, first_tile[i], &losses[i]);
+        if (!display.empty()) driver.images_written += static_cast<int64_t>(tiles[i].size());
+      }
+      for (const FrameContext* image : images_of(contexts[i], tiles[i])) {
+        for (const auto& converter : converters) {
+          pieces[i].push_back(converter->EncodeFrame(*image, &losses[i]));
+        }
       }
       if (options.progress) progress.Add();
     });
     for (size_t i = 0; i < n; ++i) {
       result.loss.Merge(losses[i]);
-      for (size_t c = 0; c < converters.size(); ++c) {
-        converters[c]->AddFrame(contexts[i], std::move(pieces[i][c]));
+      size_t piece = 0;
+      for (const FrameContext* image : images_of(contexts[i], tiles[i])) {
+        for (auto& converter : converters) {
+          converter->AddFrame(*image, std::move(pieces[i][piece++]));
+        }
       }
+      for (const auto& tile : tiles[i]) tiler->Record(contexts[i], *tile);
     }
     result.frames += static_cast<int64_t>(n);
     batch.clear();
@@ -238,6 +275,7 @@ ConvertResult Convert(const ConvertOptions& options) {
   });
   flush();
   for (auto& converter : converters) converter->Finish();
+  if (tiler) tiler->Finish();
 
   WriteFileAtomic(out.temp_path() / "loss_report.txt", result.loss.ToText());
   WriteFileAtomic(out.temp_path() / "loss_report.json", result.loss.ToJson().dump(2) + "\n");

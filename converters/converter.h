@@ -45,6 +45,9 @@ struct FrameContext {
   std::string stem;        // "000007": file names of the image and the label files
   std::string image_name;  // "000007.png" (the name is written even with --images none)
   int width = 0, height = 0;
+  // Unique per output image, in output order: the frame index, or with --tile
+  // the running number of the tile (the COCO image id is this + 1).
+  int64_t image_index = 0;
   std::vector<KeptObject> objects;  // in the collection's order
   std::vector<masks::BoxMask> mask_storage;
 };

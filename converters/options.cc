@@ -4,6 +4,7 @@
 
 #include "converters/registry.h"
 #include "converters/split.h"
+#include "converters/tiles.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 
@@ -50,6 +51,7 @@ void ConvertOptions::Check() const {
   }
   if (batch_size < 1) throw Error("must be >= 1", Location("--batch"));
   ParseSplit(split);
+  ParseTileGrid(*this);
   if (output.empty()) throw Error("no output folder", Location("-o"));
 }
 

@@ -34,6 +34,13 @@ struct ConvertOptions {
   size_t batch_size = 64;  // frames in flight: bounds memory
   bool progress = true;
 
+  // Tiles (docs/convert.md, "Tiles"): --tile W[xH] cuts every frame into
+  // tiles of W x H pixels, neighbours sharing --overlap pixels ("P") or a
+  // percentage of the tile size ("P%"); empty: no tiles.
+  std::string tile;
+  std::string overlap = "0";
+  double tile_min_fraction = 0.5;  // keep an object in a tile holding >= this share of its pixels
+
   // Throws lsds::Error (exit 2) naming the flag at fault.
   void Check() const;
   std::string ImageExtension() const { return images == "jpg" ? ".jpg" : ".png"; }

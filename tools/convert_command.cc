@@ -66,6 +66,18 @@ int RunConvert(int argc, char** argv) {
                  options.occluded_below,
                  "cvat: occluded=\"1\" when visibility is below this")
       ->capture_default_str();
+  app.add_option(
+      "--tile",
+      options.tile,
+      "cut every frame into tiles of W x H pixels (W: square), each an image of its own");
+  app.add_option("--overlap",
+                 options.overlap,
+                 "with --tile: pixels shared by neighbouring tiles, P or P% of the tile size")
+      ->capture_default_str();
+  app.add_option("--tile-min-fraction",
+                 options.tile_min_fraction,
+                 "with --tile: keep an object in a tile holding at least this share of its pixels")
+      ->capture_default_str();
   std::string frames;
   AddFramesOption(app, &frames);
   int threads = 0;

@@ -43,7 +43,7 @@ class CocoConverter : public Converter {
   std::unique_ptr<FramePiece> EncodeFrame(const FrameContext& frame,
                                           LossReport* loss) const override {
     auto piece = std::make_unique<CocoPiece>();
-    const int64_t image_id = frame.frame->index + 1;
+    const int64_t image_id = frame.image_index + 1;
     json image = {{"id", image_id},
                   {"file_name", frame.image_name},
                   {"width", frame.width},

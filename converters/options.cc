@@ -46,6 +46,12 @@ void ConvertOptions::Check() const {
   if (!(occluded_below >= 0 && occluded_below <= 1)) {
     throw Error("must be in [0, 1]", Location("--occluded-below"));
   }
+  if (mot_classes != "order" && mot_classes != "mot17") {
+    throw Error("expected order or mot17, got '" + mot_classes + "'", Location("--mot-classes"));
+  }
+  if (mot_box != "projected" && mot_box != "visible") {
+    throw Error("expected projected or visible, got '" + mot_box + "'", Location("--mot-box"));
+  }
   if (frame_begin < 0 || (frame_end >= 0 && frame_end < frame_begin)) {
     throw Error("expected 0 <= A <= B", Location("--frames"));
   }

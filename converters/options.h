@@ -25,11 +25,13 @@ struct ConvertOptions {
   // List every selected class, also those no kept object has (default: only
   // the classes that occur, re-indexed 0..K-1).
   bool keep_classes = false;
-  bool drop_truncated = false;       // drop objects cut by the image border (in_frame < 1)
-  std::string segmentation = "rle";  // coco: rle | polygon
-  double occluded_below = 1.0;       // cvat: occluded="1" when visibility < this
-  int64_t frame_begin = 0;           // convert the frames with index in [frame_begin, frame_end)
-  int64_t frame_end = -1;            // -1: to the last frame
+  bool drop_truncated = false;        // drop objects cut by the image border (in_frame < 1)
+  std::string segmentation = "rle";   // coco: rle | polygon
+  double occluded_below = 1.0;        // cvat: occluded="1" when visibility < this
+  std::string mot_classes = "order";  // mot: order (output index + 1) | mot17 (MOT17 ids by name)
+  std::string mot_box = "projected";  // mot: projected (amodal) | visible
+  int64_t frame_begin = 0;            // convert the frames with index in [frame_begin, frame_end)
+  int64_t frame_end = -1;             // -1: to the last frame
   bool force = false;
   size_t batch_size = 64;  // frames in flight: bounds memory
   bool progress = true;

@@ -4,6 +4,8 @@
 
 #include "converters/coco/coco_converter.h"
 #include "converters/cvat/cvat_converter.h"
+#include "converters/mot/mot_converter.h"
+#include "converters/visdrone/visdrone_converter.h"
 #include "converters/yolo/yolo_converter.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -24,6 +26,9 @@ const std::vector<Entry>& Entries() {
       {"coco", [] { return MakeCocoConverter(); }},
       {"cvat", [] { return MakeCvatImagesConverter(); }},
       {"cvat-video", [] { return MakeCvatVideoConverter(); }},
+      {"mot", [] { return MakeMotConverter(); }},
+      {"visdrone", [] { return MakeVisDroneConverter(); }},
+      {"visdrone-vid", [] { return MakeVisDroneVidConverter(); }},
   };
   return entries;
 }

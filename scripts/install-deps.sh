@@ -22,6 +22,7 @@ packages=(
   libgtest-dev libgmock-dev         # tests
   python3                           # bad-input corpus scripts (tests/validate, tests/hostile)
   python3-numpy                     # export-layers test: numpy.load reads the .npy files
+  python3-scipy                     # convert tracking test: TrackEval's Hungarian matching (linear_sum_assignment)
   clang libclang-rt-14-dev          # libFuzzer targets and their smoke tests (docs/reliability.md)
   clang-tidy                        # make tidy (.clang-tidy)
   clang-format                      # make format-check in CI (.clang-format)

@@ -1,4 +1,5 @@
-// lsds convert COLLECTION --to yolo|yolo-seg|coco|cvat|cvat-video -o OUT [...]
+// lsds convert COLLECTION --to yolo|yolo-seg|coco|cvat|cvat-video|mot|visdrone|visdrone-vid
+// -o OUT [...]
 // (docs/convert.md)
 #include <iostream>
 
@@ -16,7 +17,7 @@ namespace lsds {
 
 int RunConvert(int argc, char** argv) {
   CLI::App app(
-      "Convert a collection's truth into YOLO, COCO or CVAT files "
+      "Convert a collection's truth into YOLO, COCO, CVAT, MOT or VisDrone files "
       "(docs/convert.md).",
       "lsds convert");
   convert::ConvertOptions options;
@@ -77,6 +78,14 @@ int RunConvert(int argc, char** argv) {
   app.add_option("--tile-min-fraction",
                  options.tile_min_fraction,
                  "with --tile: keep an object in a tile holding at least this share of its pixels")
+      ->capture_default_str();
+  app.add_option("--mot-classes",
+                 options.mot_classes,
+                 "mot: order (class = output index + 1) or mot17 (MOT17 ids by class name)")
+      ->capture_default_str();
+  app.add_option("--mot-box",
+                 options.mot_box,
+                 "mot: projected (amodal, clipped to the image) or visible (tight) boxes")
       ->capture_default_str();
   std::string frames;
   AddFramesOption(app, &frames);

@@ -86,7 +86,10 @@ INSTANTIATE_TEST_SUITE_P(Formats,
                                            Case{"coco", {"coco"}},
                                            Case{"coco-polygon", {"coco"}, "polygon"},
                                            Case{"cvat", {"cvat"}},
-                                           Case{"cvat-video", {"cvat-video"}}),
+                                           Case{"cvat-video", {"cvat-video"}},
+                                           Case{"mot", {"mot"}},
+                                           Case{"visdrone", {"visdrone"}},
+                                           Case{"visdrone-vid", {"visdrone-vid"}}),
                          [](const auto& info) {
                            std::string name = info.param.name;
                            std::replace(name.begin(), name.end(), '-', '_');

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <new>
 
+#include "converters/check/registry.h"
 #include "converters/registry.h"
 #include "libs/importers/registry.h"
 #include "libs/util/check.h"
@@ -31,6 +32,11 @@ const std::vector<Command>& Commands() {
       {"convert",
        "truth into " + Join(convert::ConverterNames(), ", ") + " with a loss report",
        RunConvert},
+      {"check-export",
+       "predict what each consumer (Ultralytics, MMRotate, Datumaro, DOTA devkit, TrackEval, "
+       "pycocotools) drops or rejects of an export of " +
+           Join(check::CheckedFormats(), ", "),
+       RunCheckExport},
       {"perturb-metadata",
        "write a perturbed copy of the metadata with the noise and errors "
        "recorded",

@@ -32,6 +32,7 @@ int RunPlan(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunValidate(int argc, char** argv);
 int RunConvert(int argc, char** argv);
+int RunCheckExport(int argc, char** argv);
 int RunPerturbMetadata(int argc, char** argv);
 int RunBundles(int argc, char** argv);
 int RunBackproject(int argc, char** argv);

@@ -1,5 +1,6 @@
 #include "validators/report_writers.h"
 
+#include "libs/util/junit.h"
 #include "libs/util/strings.h"
 #include "libs/util/text_check.h"
 
@@ -14,6 +15,14 @@ namespace {
 double SecondsOf(const Report& report, const std::string& id) {
   const auto it = report.check_seconds().find(id);
   return it == report.check_seconds().end() ? 0.0 : it->second;
+}
+
+// A number as an ostream writes it by default (the JUnit times of earlier
+// reports).
+std::string DefaultFormat(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
 }
 
 std::string FindingLine(const Finding& f) {
@@ -130,30 +139,17 @@ nlohmann::json ReportToJson(const Report& report, Severity fail_on) {
 }
 
 std::string ReportToJUnit(const Report& report, Severity fail_on) {
-  std::ostringstream out;
-  int64_t failures = 0;
+  JUnitSuite suite;
+  suite.suites_name = "lsds validate";
+  suite.name = report.collection;
+  suite.time = DefaultFormat(report.seconds);
   for (const std::string& id : report.checks) {
-    const auto it = report.results().find(id);
-    if (it == report.results().end()) continue;
-    for (int s = static_cast<int>(fail_on); s <= 2; ++s) {
-      if (it->second.counts[s] > 0) {
-        ++failures;
-        break;
-      }
-    }
-  }
-  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  out << "<testsuites name=\"lsds validate\" tests=\"" << report.checks.size() << "\" failures=\""
-      << failures << "\" time=\"" << report.seconds << "\">\n";
-  out << "  <testsuite name=\"" << XmlEscape(report.collection) << "\" tests=\""
-      << report.checks.size() << "\" failures=\"" << failures << "\" errors=\"0\" time=\""
-      << report.seconds << "\">\n";
-  for (const std::string& id : report.checks) {
-    const std::string group = id.substr(0, id.find('.'));
+    JUnitCase c;
+    c.classname = "lsds.validate." + id.substr(0, id.find('.'));
+    c.name = id;
     char time[32];
     std::snprintf(time, sizeof(time), "%.3f", SecondsOf(report, id));
-    out << "    <testcase classname=\"lsds.validate." << group << "\" name=\"" << id << "\" time=\""
-        << time << "\">\n";
+    c.time = time;
     const auto it = report.results().find(id);
     if (it != report.results().end()) {
       const CheckResult& r = it->second;
@@ -165,20 +161,19 @@ std::string ReportToJUnit(const Report& report, Severity fail_on) {
       if (r.total() > static_cast<int64_t>(r.examples.size())) {
         body << "... and " << r.total() - static_cast<int64_t>(r.examples.size()) << " more\n";
       }
-      const std::string summary = std::to_string(r.total()) + " finding(s)";
+      c.body = body.str();
       if (failing) {
-        out << "      <failure message=\""
-            << XmlEscape(summary + ": " + (r.examples.empty() ? "" : r.examples.front().message))
-            << "\" type=\"" << SeverityName(GetCheck(id).severity) << "\">" << XmlEscape(body.str())
-            << "</failure>\n";
+        const std::string summary = std::to_string(r.total()) + " finding(s)";
+        c.outcome = JUnitCase::Outcome::kFailure;
+        c.failure_message = summary + ": " + (r.examples.empty() ? "" : r.examples.front().message);
+        c.failure_type = SeverityName(GetCheck(id).severity);
       } else {
-        out << "      <system-out>" << XmlEscape(body.str()) << "</system-out>\n";
+        c.outcome = JUnitCase::Outcome::kOutput;
       }
     }
-    out << "    </testcase>\n";
+    suite.cases.push_back(c);
   }
-  out << "  </testsuite>\n</testsuites>\n";
-  return out.str();
+  return JUnitXml(suite);
 }
 
 std::string RenderReport(const Report& report, const std::string& format, Severity fail_on) {
@@ -194,20 +189,20 @@ std::string RenderReport(const Report& report, const std::string& format, Severi
 std::string UnreadableInputToJUnit(const std::string& collection,
                                    const std::string& message,
                                    double seconds) {
-  std::ostringstream out;
-  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  out << "<testsuites name=\"lsds validate\" tests=\"1\" failures=\"1\" "
-         "time=\""
-      << seconds << "\">\n";
-  out << "  <testsuite name=\"" << XmlEscape(collection)
-      << "\" tests=\"1\" failures=\"1\" errors=\"0\" time=\"" << seconds << "\">\n";
-  out << "    <testcase classname=\"lsds.validate.input\" "
-         "name=\"collection readable\" time=\""
-      << seconds << "\">\n";
-  out << "      <failure message=\"" << XmlEscape(message) << "\" type=\"error\">"
-      << XmlEscape(collection + ": " + message) << "</failure>\n";
-  out << "    </testcase>\n  </testsuite>\n</testsuites>\n";
-  return out.str();
+  JUnitSuite suite;
+  suite.suites_name = "lsds validate";
+  suite.name = collection;
+  suite.time = DefaultFormat(seconds);
+  JUnitCase c;
+  c.classname = "lsds.validate.input";
+  c.name = "collection readable";
+  c.time = suite.time;
+  c.outcome = JUnitCase::Outcome::kFailure;
+  c.failure_message = message;
+  c.failure_type = "error";
+  c.body = collection + ": " + message;
+  suite.cases.push_back(c);
+  return JUnitXml(suite);
 }
 
 }  // namespace lsds::validate

@@ -199,7 +199,11 @@ std::vector<std::unique_ptr<Tile>> Tiler::Cut(const FrameContext& frame,
       if (count < mask.pixel_count) loss->Add(loss::kTileTruncated, name);
 
       // The mask cut to the tile, tight again, in tile coordinates.
-      const cv::Rect tight = cv::boundingRect(part);
+      // From the points: OpenCV 4.6's boundingRect of an 8-bit image is short
+      // for some narrow images (a 2 x 1 image of two 1s gives width 1).
+      std::vector<cv::Point> points;
+      cv::findNonZero(part, points);
+      const cv::Rect tight = cv::boundingRect(points);
       masks::BoxMask cut;
       cut.left = overlap.x + tight.x - rect.x;
       cut.top = overlap.y + tight.y - rect.y;

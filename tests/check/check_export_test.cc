@@ -7,11 +7,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "converters/check/registry.h"
+#include "libs/collection/schema.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -164,6 +168,7 @@ TEST(CheckExport, CocoUnknownCategoryIsNamedWithFileAndLine) {
   EXPECT_EQ(f["line"], line);
   EXPECT_EQ(f["severity"], "dropped-box");
   EXPECT_EQ(report["verdict"], "fail");
+  EXPECT_TRUE(JsonSchema::Get("check-export-report.schema.json").Validate(report).empty());
 }
 
 // Exports of lsds convert load whole: every image and box is kept.
@@ -181,6 +186,25 @@ TEST(CheckExport, CleanExportsOfConvertPass) {
     const testing::CommandResult r = RunLsds("check-export " + format + " " + out.string());
     EXPECT_EQ(r.exit_code, 0) << format << ": " << r.output;
     EXPECT_TRUE(Has(r.output, "PASS: 0 finding(s)")) << r.output;
+  }
+}
+
+// Every rule is documented with its severity and names the consumer's source
+// file and line; rule ids are unique and start with their consumer's name.
+TEST(CheckExport, EveryRuleIsDocumentedWithItsSeverity) {
+  std::ifstream in(testing::SourceDir() + "/docs/check-export.md");
+  const std::string docs((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(docs.empty());
+  std::set<std::string> ids;
+  for (const check::Consumer& consumer : check::Consumers()) {
+    for (const check::Rule& rule : consumer.rules()) {
+      EXPECT_TRUE(ids.insert(rule.id).second) << rule.id;
+      EXPECT_EQ(std::string(rule.id).rfind(std::string(consumer.name) + ".", 0), 0u) << rule.id;
+      EXPECT_TRUE(Has(
+          docs, "| `" + std::string(rule.id) + "` | " + check::SeverityName(rule.severity) + " |"))
+          << rule.id;
+      EXPECT_TRUE(std::regex_search(rule.source, std::regex(R"(\.(py|pyx):[0-9]+)"))) << rule.id;
+    }
   }
 }
 

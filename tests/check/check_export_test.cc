@@ -141,6 +141,40 @@ TEST(CheckExport, MotFrameZeroIsNamedWithFileAndLine) {
   EXPECT_FALSE(Has(r.output, "gt.txt:3:")) << r.output;
 }
 
+// TrackEval scores class 1 only and not the zero-marked lines
+// (mot_challenge_2d_box.py:389-393), refuses an id twice in one frame
+// (_base_dataset.py:316-326) and evaluates only the sequences a seqmap lists
+// (mot_challenge_2d_box.py:159-165). Zero-marked lines are the format's own
+// ignore flag: reported, never a failure by themselves.
+TEST(CheckExport, MotClassesZeroMarksDuplicateIdsAndUnlistedSequences) {
+  const testing::TempDir dir;
+  const fs::path root = dir / "mot";
+  Write(root / "seqmaps/MOT17-train.txt", "name\nS1\n");
+  for (const char* seq : {"S1", "S2"}) {
+    Write(root / "MOT17-train" / seq / "seqinfo.ini", "[Sequence]\nseqLength=2\n");
+    Write(root / "MOT17-train" / seq / "gt/gt.txt",
+          "1,1,1,1,5,5,1,3,1\n1,1,2,2,5,5,0,3,1\n2,2,1,1,5,5,1,1,1\n");
+  }
+  const testing::CommandResult r = RunLsds("check-export mot " + root.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S1/gt/gt.txt:2: trackeval: trackeval.duplicate-id: "))
+      << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S1/gt/gt.txt:1: trackeval: trackeval.class-scored: 2 "))
+      << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S1/gt/gt.txt:2: trackeval: trackeval.zero-marked: 1 "))
+      << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S2: trackeval: trackeval.unlisted-sequence: "))
+      << r.output;
+  EXPECT_FALSE(Has(r.output, "S2/gt/gt.txt")) << r.output;
+  // A sequence of class-1 lines, one of them zero-marked: nothing lost
+  // that the format did not mean to leave out.
+  Write(root / "MOT17-train/S1/gt/gt.txt", "1,1,1,1,5,5,1,1,1\n2,1,1,1,5,5,0,1,1\n");
+  fs::remove_all(root / "MOT17-train/S2");
+  const testing::CommandResult clean = RunLsds("check-export mot " + root.string());
+  EXPECT_EQ(clean.exit_code, 0) << clean.output;
+  EXPECT_TRUE(Has(clean.output, "trackeval.zero-marked")) << clean.output;
+}
+
 // pycocotools: an annotation whose category_id no category has is never
 // evaluated (cocoeval.py:81 takes catIds from the categories; coco.py:149
 // filters by them). The line is the annotation's own.

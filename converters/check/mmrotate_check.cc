@@ -145,7 +145,7 @@ void CheckMmrotate(const std::string& /*format*/,
               "mmrotate.tokens",
               file,
               line,
-              std::to_string(tokens.size()) + " tokens (10 needed): IndexError, loading stops");
+              std::to_string(tokens.size()) + " token(s) (10 needed): IndexError, loading stops");
           continue;
         }
         long long difficulty = 0;

@@ -30,8 +30,8 @@ std::string Verdict(const ExportReport& report) {
     counts.push_back(std::to_string(report.Count(s)) + " " + SeverityName(s));
   return std::string(report.Fails() ? "FAIL" : "PASS") + ": " +
          std::to_string(report.findings.size()) + " finding(s) (" + Join(counts, ", ") + ") in " +
-         std::to_string(report.files) + " file(s), read as " + Join(report.consumers, ", ") +
-         " read " + report.format;
+         std::to_string(report.files) + " file(s) of " + report.format + " read as " +
+         Join(report.consumers, ", ") + " read them";
 }
 
 std::string ReportToText(const ExportReport& report) {

@@ -7,11 +7,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "converters/check/registry.h"
+#include "libs/collection/schema.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -137,6 +141,40 @@ TEST(CheckExport, MotFrameZeroIsNamedWithFileAndLine) {
   EXPECT_FALSE(Has(r.output, "gt.txt:3:")) << r.output;
 }
 
+// TrackEval scores class 1 only and not the zero-marked lines
+// (mot_challenge_2d_box.py:389-393), refuses an id twice in one frame
+// (_base_dataset.py:316-326) and evaluates only the sequences a seqmap lists
+// (mot_challenge_2d_box.py:159-165). Zero-marked lines are the format's own
+// ignore flag: reported, never a failure by themselves.
+TEST(CheckExport, MotClassesZeroMarksDuplicateIdsAndUnlistedSequences) {
+  const testing::TempDir dir;
+  const fs::path root = dir / "mot";
+  Write(root / "seqmaps/MOT17-train.txt", "name\nS1\n");
+  for (const char* seq : {"S1", "S2"}) {
+    Write(root / "MOT17-train" / seq / "seqinfo.ini", "[Sequence]\nseqLength=2\n");
+    Write(root / "MOT17-train" / seq / "gt/gt.txt",
+          "1,1,1,1,5,5,1,3,1\n1,1,2,2,5,5,0,3,1\n2,2,1,1,5,5,1,1,1\n");
+  }
+  const testing::CommandResult r = RunLsds("check-export mot " + root.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S1/gt/gt.txt:2: trackeval: trackeval.duplicate-id: "))
+      << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S1/gt/gt.txt:1: trackeval: trackeval.class-scored: 2 "))
+      << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S1/gt/gt.txt:2: trackeval: trackeval.zero-marked: 1 "))
+      << r.output;
+  EXPECT_TRUE(Has(r.output, "MOT17-train/S2: trackeval: trackeval.unlisted-sequence: "))
+      << r.output;
+  EXPECT_FALSE(Has(r.output, "S2/gt/gt.txt")) << r.output;
+  // A sequence of class-1 lines, one of them zero-marked: nothing lost
+  // that the format did not mean to leave out.
+  Write(root / "MOT17-train/S1/gt/gt.txt", "1,1,1,1,5,5,1,1,1\n2,1,1,1,5,5,0,1,1\n");
+  fs::remove_all(root / "MOT17-train/S2");
+  const testing::CommandResult clean = RunLsds("check-export mot " + root.string());
+  EXPECT_EQ(clean.exit_code, 0) << clean.output;
+  EXPECT_TRUE(Has(clean.output, "trackeval.zero-marked")) << clean.output;
+}
+
 // pycocotools: an annotation whose category_id no category has is never
 // evaluated (cocoeval.py:81 takes catIds from the categories; coco.py:149
 // filters by them). The line is the annotation's own.
@@ -164,6 +202,7 @@ TEST(CheckExport, CocoUnknownCategoryIsNamedWithFileAndLine) {
   EXPECT_EQ(f["line"], line);
   EXPECT_EQ(f["severity"], "dropped-box");
   EXPECT_EQ(report["verdict"], "fail");
+  EXPECT_TRUE(JsonSchema::Get("check-export-report.schema.json").Validate(report).empty());
 }
 
 // Exports of lsds convert load whole: every image and box is kept.
@@ -181,6 +220,25 @@ TEST(CheckExport, CleanExportsOfConvertPass) {
     const testing::CommandResult r = RunLsds("check-export " + format + " " + out.string());
     EXPECT_EQ(r.exit_code, 0) << format << ": " << r.output;
     EXPECT_TRUE(Has(r.output, "PASS: 0 finding(s)")) << r.output;
+  }
+}
+
+// Every rule is documented with its severity and names the consumer's source
+// file and line; rule ids are unique and start with their consumer's name.
+TEST(CheckExport, EveryRuleIsDocumentedWithItsSeverity) {
+  std::ifstream in(testing::SourceDir() + "/docs/check-export.md");
+  const std::string docs((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(docs.empty());
+  std::set<std::string> ids;
+  for (const check::Consumer& consumer : check::Consumers()) {
+    for (const check::Rule& rule : consumer.rules()) {
+      EXPECT_TRUE(ids.insert(rule.id).second) << rule.id;
+      EXPECT_EQ(std::string(rule.id).rfind(std::string(consumer.name) + ".", 0), 0u) << rule.id;
+      EXPECT_TRUE(Has(
+          docs, "| `" + std::string(rule.id) + "` | " + check::SeverityName(rule.severity) + " |"))
+          << rule.id;
+      EXPECT_TRUE(std::regex_search(rule.source, std::regex(R"(\.(py|pyx):[0-9]+)"))) << rule.id;
+    }
   }
 }
 

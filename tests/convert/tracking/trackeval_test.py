@@ -22,7 +22,11 @@ import sys
 
 try:
     import trackeval_rules as te
-except ImportError as error:  # numpy or scipy missing: scripts/install-deps.sh installs them
+except ImportError as error:
+    # numpy or scipy missing: scripts/install-deps.sh installs Debian's, for the system python,
+    # which may not be the first python3 on the PATH (pyenv).
+    if os.path.exists('/usr/bin/python3') and os.path.realpath(sys.executable) != '/usr/bin/python3':
+        os.execv('/usr/bin/python3', ['/usr/bin/python3'] + sys.argv)
     print('skipped: %s' % error)
     sys.exit(77)
 
@@ -94,8 +98,8 @@ def check_mot_rows(out, frames, classes, mot_class_of, split='train'):
         first = frames[numbers[1]]
         check(s['name'] == seq and s['imDir'] == 'img1' and s['imExt'] == '.png',
               seq + ': seqinfo name/imDir/imExt')
-        check(int(s['imWidth']) == first['camera']['intrinsics']['width'] and
-              int(s['imHeight']) == first['camera']['intrinsics']['height'], seq + ': image size')
+        check(int(s['imWidth']) == first['camera']['width'] and
+              int(s['imHeight']) == first['camera']['height'], seq + ': image size')
         if length > 1:
             step = frames[numbers[2]]['time'] - frames[numbers[1]]['time']
             check(abs(float(s['frameRate']) - 1 / step) < 1e-3, seq + ': frameRate %s' % s['frameRate'])

@@ -10,6 +10,7 @@
 
 #include "converters/class_map.h"
 #include "converters/split.h"
+#include "converters/track_sequences.h"
 #include "libs/masks/contours.h"
 #include "libs/util/error.h"
 #include "tests/build_paths.h"
@@ -515,6 +516,66 @@ TEST_F(ConvertTest, CommandLineExitCodes) {
   const std::string split = lsds + " convert " + Collection().string() +
                             " --to coco --split train=0.5,val=0.4 -o " + out + "y 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(split.c_str())), 2);
+}
+
+// The tracking formats' sequences (docs/convert.md, "Sequences"): one per
+// sequence, shot and rig camera, frames numbered 1.. in order, track ids 1.. by
+// first appearance, file names made unique.
+TEST(TrackSequences, OnePerShotAndRigCameraNumberedFromOne) {
+  std::vector<Frame> frames;
+  for (int step = 0; step < 3; ++step) {
+    for (const char* camera : {"left", "right"}) {
+      Frame f;
+      f.index = static_cast<int64_t>(frames.size());
+      f.time = 0.5 * step;
+      f.sequence = "P1(1)";
+      f.shot = step < 2 ? 0 : 4;  // a new shot at step 2 (frame 4)
+      f.rig_camera = camera;
+      f.step = step;
+      frames.push_back(f);
+    }
+  }
+  convert::TrackSequences sequences;
+  std::vector<std::pair<std::string, int64_t>> added;  // (name, number) per frame
+  for (const Frame& f : frames) {
+    convert::FrameContext ctx;
+    ctx.frame = &f;
+    ctx.split = "train";
+    ctx.width = 8;
+    ctx.height = 6;
+    const convert::TrackSequence& s = sequences.Add(ctx);
+    added.emplace_back(s.name, s.frames());
+  }
+  const std::vector<std::pair<std::string, int64_t>> expected = {{"P1_1_-shot0-left", 1},
+                                                                 {"P1_1_-shot0-right", 1},
+                                                                 {"P1_1_-shot0-left", 2},
+                                                                 {"P1_1_-shot0-right", 2},
+                                                                 {"P1_1_-shot4-left", 1},
+                                                                 {"P1_1_-shot4-right", 1}};
+  EXPECT_EQ(added, expected);
+  const auto train = sequences.OfSplit("train");
+  ASSERT_EQ(train.size(), 4u);
+  EXPECT_EQ(train[1]->frame_indices, (std::vector<int64_t>{1, 3}));
+  EXPECT_DOUBLE_EQ(train[0]->FrameRate(), 2.0);  // 0.5 s steps
+  EXPECT_DOUBLE_EQ(train[2]->FrameRate(), 1.0);  // one frame
+  EXPECT_TRUE(sequences.OfSplit("val").empty());
+
+  convert::TrackSequence s;
+  EXPECT_EQ(s.TrackId(17), 1);
+  EXPECT_EQ(s.TrackId(5), 2);
+  EXPECT_EQ(s.TrackId(17), 1);
+
+  // Two sequence names that make the same file name.
+  Frame a, b;
+  a.sequence = "a b";
+  b.sequence = "a_b";
+  convert::FrameContext ca, cb;
+  ca.frame = &a;
+  cb.frame = &b;
+  ca.split = cb.split = "train";
+  convert::TrackSequences clash;
+  EXPECT_EQ(clash.Add(ca).name, "a_b");
+  EXPECT_EQ(clash.Add(cb).name, "a_b-2");
 }
 
 TEST(Splits, DeterministicGroupedAndProportional) {

@@ -22,7 +22,11 @@ import sys
 
 try:
     import trackeval_rules as te
-except ImportError as error:  # numpy or scipy missing: scripts/install-deps.sh installs them
+except ImportError as error:
+    # numpy or scipy missing: scripts/install-deps.sh installs Debian's, for the system python,
+    # which may not be the first python3 on the PATH (pyenv).
+    if os.path.exists('/usr/bin/python3') and os.path.realpath(sys.executable) != '/usr/bin/python3':
+        os.execv('/usr/bin/python3', ['/usr/bin/python3'] + sys.argv)
     print('skipped: %s' % error)
     sys.exit(77)
 
@@ -79,8 +83,9 @@ def visdrone_columns(obj, category):
 VISDRONE = {'car': 4, 'truck': 6, 'person': 1}  # VisDrone readme: 1 pedestrian, 4 car, 6 truck
 
 
-def check_mot_rows(out, frames, classes, mot_class_of, split='train'):
-    """Every visible object of a selected class is one row of its sequence; returns the sequences."""
+def check_mot_rows(out, frames, classes, mot_class_of, min_visibility=0, split='train'):
+    """Every visible object of a selected class is one row of its sequence, conf 0 (ignore) when
+    --min-visibility dropped it; returns the sequences."""
     root = os.path.join(out, 'mot')
     lengths = te.sequences(root, 'LSDS', split)
     check(len(lengths) > 0, 'no MOT sequence')
@@ -94,8 +99,8 @@ def check_mot_rows(out, frames, classes, mot_class_of, split='train'):
         first = frames[numbers[1]]
         check(s['name'] == seq and s['imDir'] == 'img1' and s['imExt'] == '.png',
               seq + ': seqinfo name/imDir/imExt')
-        check(int(s['imWidth']) == first['camera']['intrinsics']['width'] and
-              int(s['imHeight']) == first['camera']['intrinsics']['height'], seq + ': image size')
+        check(int(s['imWidth']) == first['camera']['width'] and
+              int(s['imHeight']) == first['camera']['height'], seq + ': image size')
         if length > 1:
             step = frames[numbers[2]]['time'] - frames[numbers[1]]['time']
             check(abs(float(s['frameRate']) - 1 / step) < 1e-3, seq + ': frameRate %s' % s['frameRate'])
@@ -117,7 +122,8 @@ def check_mot_rows(out, frames, classes, mot_class_of, split='train'):
                 x0, y0, x1, y1 = obj.get('bbox_projected') or obj['bbox']
                 expected[(n, obj['instance_id'])] = (
                     [x0 + 1, y0 + 1, x1 - x0, y1 - y0], mot_class_of(name),
-                    obj['visibility'] * obj['in_frame'])
+                    obj['visibility'] * obj['in_frame'],
+                    '1' if obj['visibility'] >= min_visibility else '0')
         # Track ids 1.. by first appearance in the sequence.
         check([ids[i] for i in order] == list(range(1, len(order) + 1)),
               seq + ': track ids are not 1.. by first appearance')
@@ -130,11 +136,11 @@ def check_mot_rows(out, frames, classes, mot_class_of, split='train'):
             if want is None:
                 check(False, seq + ': unexpected row ' + ','.join(r))
                 continue
-            box, cls, vis = want
+            box, cls, vis, conf = want
             check(all(abs(float(a) - b) < 0.006 for a, b in zip(r[2:6], box)),
                   seq + ': box %s, expected %s' % (r[2:6], box))
-            check(r[6] == '1' and int(r[7]) == cls and abs(float(r[8]) - vis) < 6e-6,
-                  seq + ': conf/class/visibility %s, expected 1,%d,%f' % (r[6:9], cls, vis))
+            check(r[6] == conf and int(r[7]) == cls and abs(float(r[8]) - vis) < 6e-6,
+                  seq + ': conf/class/visibility %s, expected %s,%d,%f' % (r[6:9], conf, cls, vis))
     return lengths
 
 
@@ -251,6 +257,21 @@ def main():
           'loss report: %s trucks not written, expected %d' %
           (report['counts'].get(reason, {}).get('total'), trucks))
     score_sequences(out17, lengths17, perturb=False)  # class 1: the walker alone
+
+    # Objects below --min-visibility: conf 0 rows (TrackEval drops them from the ground truth, so
+    # the considered rows as the tracker still score 1), counted in the loss report.
+    out_min = os.path.join(work, 'out_min')
+    run(lsds, 'convert', collection, '--to', 'mot', '-o', out_min, '-q',
+        '--classes', 'car,truck,person', '--min-visibility', '0.5')
+    lengths_min = check_mot_rows(out_min, frames, classes, order.get, min_visibility=0.5)
+    score_sequences(out_min, lengths_min, perturb=False)
+    hidden = sum(1 for fr in frames.values() for o in fr['objects']
+                 if visible(o) and o['visibility'] < 0.5)
+    with open(os.path.join(out_min, 'loss_report.json')) as f:
+        counts = json.load(f)['counts']
+    ignored = counts.get('mot: written with conf 0 (ignored by TrackEval): dropped by a filter', {})
+    check(hidden > 0 and ignored.get('total') == hidden,
+          'conf 0 rows: %s counted, %d objects below 0.5' % (ignored.get('total'), hidden))
 
     if FAILURES:
         print('%d failure(s)' % len(FAILURES))

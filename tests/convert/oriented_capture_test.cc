@@ -11,7 +11,7 @@ namespace {
 // End to end: `lsds generate` renders a nadir capture of a truck driving a
 // diagonal road (turning to its heading, carrying a crate that hides part of
 // it, leaving the view at the end) past a parked car at yaw 30;
-// `lsds convert --to dota,yolo-obb` writes both, and both pass the
+// convert to dota,yolo-obb writes both, and both pass the
 // consumers' rules with every box covering its object's mask.
 TEST(OrientedFormatsCapture, GeneratedCaptureConvertsToDotaAndYoloObb) {
   const TempDir dir;
@@ -22,7 +22,7 @@ TEST(OrientedFormatsCapture, GeneratedCaptureConvertsToDotaAndYoloObb) {
       "TRUCK = object{class:cube,extent:[4,2,1.5],position:{ON:W,within:[[-9,-1,-10],[-7,1,10]]}}\n"
       "CRATE = object{class:cube,extent:[1,1,1],position:{ON:TRUCK}}\n"
       "PARKED = object{class:cube,extent:[4,2,1.5],rotation:[0,0,30],"
-      "position:{ON:W,within:[[3,5,-10],[5,7,10]]}}\n");
+      "position:{ON:W,within:[[3,-9,-10],[5,-7,10]]}}\n");
   std::string waypoints;
   for (int k = 0; k < 7; ++k) waypoints += std::string(k ? "," : "") + "[0,0,30]";
   WriteFileAtomic(dir / "c.lcap",
@@ -39,10 +39,9 @@ TEST(OrientedFormatsCapture, GeneratedCaptureConvertsToDotaAndYoloObb) {
                      (dir / "c.lcap").string() + " -o " + collection.string() + " 2>&1");
   ASSERT_EQ(generated.exit_code, 0) << generated.output;
   const fs::path out = dir / "out";
-  const CommandResult converted =
-      RunCommandLine(LsdsBinary() + " convert " + collection.string() +
-                     " --to dota,yolo-obb --images png -q -o " + out.string() + " 2>&1");
-  ASSERT_EQ(converted.exit_code, 0) << converted.output;
+  convert::ConvertOptions options = Options(collection, out, {"dota", "yolo-obb"});
+  options.images = "png";
+  convert::Convert(options);
   const DotaFindings dota = CheckDota(collection, out);
   EXPECT_GE(dota.lines, 7);
   CheckYoloObb(collection, out);

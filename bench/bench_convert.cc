@@ -132,7 +132,7 @@ double Floor(const fs::path& collection,
 int main(int argc, char** argv) {
   CLI::App app("frames/s of lsds convert per format, next to its floor", "bench_convert");
   int frames = 40, size = 256, distinct = 4;
-  std::string formats = "yolo,yolo-seg,coco,cvat,cvat-video,mot,visdrone,visdrone-vid",
+  std::string formats = "yolo,yolo-seg,yolo-obb,dota,coco,cvat,cvat-video,mot,visdrone,visdrone-vid",
               images = "png", work;
   std::string child;  // internal: run one conversion and print "seconds peak_mb"
   int64_t child_frames = 0;
@@ -209,8 +209,17 @@ int main(int argc, char** argv) {
     }
     pclose(pipe);
   };
+  // Oriented boxes are read from the truth (format 1.2) or measured on the
+  // instanceid layer, whose decoding then belongs to the floor.
+  bool truth_has_oriented = true;
+  CollectionReader(collection).ForEachFrame([&](const Frame& frame) {
+    for (const ObjectTruth& object : frame.objects)
+      if (object.bbox && !object.bbox_oriented) truth_has_oriented = false;
+  });
   for (const std::string& format : Split(formats, ',')) {
-    const bool masks = convert::MakeConverter(format)->NeedsMasks();
+    const std::unique_ptr<convert::Converter> converter = convert::MakeConverter(format);
+    const bool masks =
+        converter->NeedsMasks() || (converter->NeedsOrientedBoxes() && !truth_has_oriented);
     const double floor_seconds = masks ? floor_masks : floor_images;
     double seconds = 0, quarter_seconds = 0;
     long mb = 0, quarter_mb = 0;

@@ -1,5 +1,6 @@
 #include "converters/convert.h"
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <set>
@@ -53,7 +54,9 @@ struct Driver {
   const SplitPlan& split_plan;
   fs::path root;
   std::string rgb_layer;       // empty with --images none
-  std::string instance_layer;  // empty when no format needs masks
+  std::string instance_layer;  // empty when no format needs masks or oriented boxes, or absent
+  bool needs_masks = false;
+  bool needs_oriented = false;
   std::atomic<int64_t> images_written{0};
 
   std::string ClassName(uint32_t id) const {
@@ -96,25 +99,56 @@ struct Driver {
       }
     }
 
+    // The instanceid layer is read for masks, and for oriented boxes the
+    // truth does not hold (collections before format 1.2).
+    const bool measure_oriented =
+        needs_oriented && std::any_of(kept.begin(), kept.end(), [](const auto& k) {
+          return !k.first->bbox_oriented.has_value();
+        });
+    exr::FlatImage ids;
+    const uint32_t* id_data = nullptr;
+    if ((needs_masks || measure_oriented) && !kept.empty()) {
+      if (instance_layer.empty()) {
+        throw Error("frame " + std::to_string(frame.index) +
+                        " has objects without bbox_oriented and the collection has no instanceid "
+                        "layer to measure them on",
+                    Location(reader.collection_path().string()));
+      }
+      ids = reader.ReadFlatLayer(frame, instance_layer, {"id"});
+      id_data = ids.Get("id").uints.data();
+    }
+
     std::vector<const masks::BoxMask*> object_masks(kept.size(), nullptr);
-    if (!instance_layer.empty() && !kept.empty()) {
-      const exr::FlatImage ids = reader.ReadFlatLayer(frame, instance_layer, {"id"});
-      const uint32_t* data = ids.Get("id").uints.data();
-      const auto bounds = masks::ComputeIdBounds(data, ids.width(), ids.height());
+    if (needs_masks && !kept.empty()) {
+      const auto bounds = masks::ComputeIdBounds(id_data, ids.width(), ids.height());
       ctx->mask_storage.resize(kept.size());
       for (size_t i = 0; i < kept.size(); ++i) {
         const auto it = bounds.find(kept[i].first->instance_id);
         if (it == bounds.end()) continue;
         ctx->mask_storage[i] = masks::ExtractMask(
-            data, ids.width(), ids.height(), kept[i].first->instance_id, it->second);
+            id_data, ids.width(), ids.height(), kept[i].first->instance_id, it->second);
         object_masks[i] = &ctx->mask_storage[i];
+      }
+    }
+
+    // The visible oriented box: the truth's (heading corner first where
+    // known), else the minimum-area rectangle of the instance's pixels.
+    std::vector<std::optional<OrientedBox2d>> oriented(kept.size());
+    if (needs_oriented) {
+      for (size_t i = 0; i < kept.size(); ++i) {
+        const ObjectTruth& object = *kept[i].first;
+        oriented[i] =
+            object.bbox_oriented
+                ? object.bbox_oriented
+                : MaskOrientedBox(
+                      id_data, ids.width(), ids.height(), object.instance_id, *object.bbox);
       }
     }
 
     for (size_t i = 0; i < kept.size(); ++i) {
       const ObjectTruth& object = *kept[i].first;
       const std::string& name = classes.classes()[kept[i].second].name;
-      if (!instance_layer.empty() && object_masks[i] == nullptr) {
+      if ((needs_masks && object_masks[i] == nullptr) || (needs_oriented && !oriented[i])) {
         loss->Add(loss::kNoMask, ClassName(object.class_id));
         continue;
       }
@@ -128,6 +162,7 @@ struct Driver {
         continue;
       }
       out.mask = object_masks[i];
+      out.oriented = oriented[i];
       if (out.mask != nullptr) {
         const Box2d mask_box{double(out.mask->left),
                              double(out.mask->top),
@@ -154,10 +189,11 @@ ConvertResult Convert(const ConvertOptions& options) {
   const std::vector<SplitPart> splits = ParseSplit(options.split);
 
   std::vector<std::unique_ptr<Converter>> converters;
-  bool needs_masks = false;
+  bool needs_masks = false, needs_oriented = false;
   for (const std::string& format : options.formats) {
     converters.push_back(MakeConverter(format));
     needs_masks = needs_masks || converters.back()->NeedsMasks();
+    needs_oriented = needs_oriented || converters.back()->NeedsOrientedBoxes();
   }
   // Tiles measure each object's share in a tile on its mask.
   needs_masks = needs_masks || !options.tile.empty();
@@ -184,7 +220,16 @@ ConvertResult Convert(const ConvertOptions& options) {
 
   // Refuse early (before any work) and build under a temporary name.
   AtomicDirectory out(options.output, options.force);
-  Driver driver{options, reader, classes, splits, split_plan, out.temp_path(), "", ""};
+  Driver driver{options,
+                reader,
+                classes,
+                splits,
+                split_plan,
+                out.temp_path(),
+                "",
+                "",
+                needs_masks,
+                needs_oriented};
   if (options.images != "none") {
     const LayerInfo* rgb = header.FindLayerBySemantic("rgb");
     if (rgb == nullptr) {
@@ -195,13 +240,11 @@ ConvertResult Convert(const ConvertOptions& options) {
     for (const SplitPart& split : splits)
       fs::create_directories(out.temp_path() / "images" / split.name);
   }
-  if (needs_masks) {
-    const LayerInfo* ids = header.FindLayerBySemantic("instanceid");
-    if (ids == nullptr) {
-      throw Error("the collection has no instanceid layer, which masks are made from",
-                  Location(reader.collection_path().string()));
-    }
-    driver.instance_layer = ids->name;
+  if (const LayerInfo* ids = header.FindLayerBySemantic("instanceid")) {
+    if (needs_masks || needs_oriented) driver.instance_layer = ids->name;
+  } else if (needs_masks) {
+    throw Error("the collection has no instanceid layer, which masks are made from",
+                Location(reader.collection_path().string()));
   }
 
   ConvertSetup setup;

@@ -40,6 +40,18 @@ inline constexpr const char* kPolygon2maskObjects =
     "polygon: Ultralytics' polygon2mask differs from the mask (yolo-seg)";
 inline constexpr const char* kPolygon2maskPixels =
     "polygon: pixels where Ultralytics' polygon2mask differs from the mask (yolo-seg)";
+// What the oriented-box formats lose (docs/convert.md, "dota", "yolo-obb").
+inline constexpr const char* kDotaUnderMinSize =
+    "dota: dropped, oriented box side under --dota-min-size px (MMRotate drops it)";
+inline constexpr const char* kDotaDifficult = "dota: written with difficult 1";
+// Counted under the class name kImages.
+inline constexpr const char* kDotaEmptyImages =
+    "dota: images without objects (MMRotate skips them when training)";
+inline constexpr const char* kObbClipped =
+    "yolo-obb: oriented box clipped to the image (minimum-area rectangle of the clipped polygon)";
+inline constexpr const char* kObbDuplicate =
+    "yolo-obb: rows Ultralytics removes as duplicates (same class and corner bounds)";
+inline constexpr const char* kImages = "images";
 inline constexpr const char* kMaskBoxMismatch = "mask extends beyond the truth box (box kept)";
 }  // namespace loss
 

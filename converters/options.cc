@@ -1,5 +1,6 @@
 #include "converters/options.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "converters/registry.h"
@@ -51,6 +52,21 @@ void ConvertOptions::Check() const {
   }
   if (mot_box != "projected" && mot_box != "visible") {
     throw Error("expected projected or visible, got '" + mot_box + "'", Location("--mot-box"));
+  }
+  if (!(dota_difficult_below >= 0 && dota_difficult_below <= 1)) {
+    throw Error("must be in [0, 1]", Location("--dota-difficult-below"));
+  }
+  if (!(dota_difficult_size >= 0 && std::isfinite(dota_difficult_size))) {
+    throw Error("must be >= 0", Location("--dota-difficult-size"));
+  }
+  if (!(dota_min_size >= 0 && std::isfinite(dota_min_size))) {
+    throw Error("must be >= 0", Location("--dota-min-size"));
+  }
+  // MMRotate 0.x builds the image name as <stem>.png whatever the files are
+  // (mmrotate/datasets/dota.py:82-84), and DOTA's own images are PNG.
+  if (images == "jpg" && std::find(formats.begin(), formats.end(), "dota") != formats.end()) {
+    throw Error("dota images are png (MMRotate reads <stem>.png); use --images png or none",
+                Location("--images"));
   }
   if (frame_begin < 0 || (frame_end >= 0 && frame_end < frame_begin)) {
     throw Error("expected 0 <= A <= B", Location("--frames"));

@@ -30,8 +30,15 @@ struct ConvertOptions {
   double occluded_below = 1.0;        // cvat: occluded="1" when visibility < this
   std::string mot_classes = "order";  // mot: order (output index + 1) | mot17 (MOT17 ids by name)
   std::string mot_box = "projected";  // mot: projected (amodal) | visible
-  int64_t frame_begin = 0;            // convert the frames with index in [frame_begin, frame_end)
-  int64_t frame_end = -1;             // -1: to the last frame
+  // dota (docs/convert.md, "dota"): `difficult` = 1 when visibility < this or
+  // the oriented box's longer side < dota_difficult_size pixels; boxes with a
+  // side under dota_min_size pixels are dropped (MMRotate drops them).
+  double dota_difficult_below = 0.5;
+  double dota_difficult_size = 15;
+  double dota_min_size = 2;
+  bool dota_header = false;  // write the `imagesource:` / `gsd:` lines
+  int64_t frame_begin = 0;   // convert the frames with index in [frame_begin, frame_end)
+  int64_t frame_end = -1;    // -1: to the last frame
   bool force = false;
   size_t batch_size = 64;  // frames in flight: bounds memory
   bool progress = true;

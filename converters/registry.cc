@@ -6,6 +6,7 @@
 #include "converters/cvat/cvat_converter.h"
 #include "converters/mot/mot_converter.h"
 #include "converters/visdrone/visdrone_converter.h"
+#include "converters/dota/dota_converter.h"
 #include "converters/yolo/yolo_converter.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -21,8 +22,10 @@ struct Entry {
 
 const std::vector<Entry>& Entries() {
   static const std::vector<Entry> entries = {
-      {"yolo", [] { return MakeYoloConverter(/*segmentation=*/false); }},
-      {"yolo-seg", [] { return MakeYoloConverter(/*segmentation=*/true); }},
+      {"yolo", [] { return MakeYoloConverter(YoloTask::kDetect); }},
+      {"yolo-seg", [] { return MakeYoloConverter(YoloTask::kSegment); }},
+      {"yolo-obb", [] { return MakeYoloConverter(YoloTask::kOriented); }},
+      {"dota", [] { return MakeDotaConverter(); }},
       {"coco", [] { return MakeCocoConverter(); }},
       {"cvat", [] { return MakeCvatImagesConverter(); }},
       {"cvat-video", [] { return MakeCvatVideoConverter(); }},

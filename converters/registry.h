@@ -9,7 +9,8 @@
 
 namespace lsds::convert {
 
-std::vector<std::string> ConverterNames();  // yolo, yolo-seg, coco, cvat, cvat-video
+std::vector<std::string>
+ConverterNames();  // yolo, yolo-seg, yolo-obb, dota, coco, cvat, cvat-video
 // Throws lsds::Error for an unknown name.
 std::unique_ptr<Converter> MakeConverter(const std::string& name);
 

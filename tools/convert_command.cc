@@ -1,5 +1,5 @@
-// lsds convert COLLECTION --to yolo|yolo-seg|coco|cvat|cvat-video|mot|visdrone|visdrone-vid
-// -o OUT [...]
+// lsds convert COLLECTION --to
+// yolo|yolo-seg|yolo-obb|dota|coco|cvat|cvat-video|mot|visdrone|visdrone-vid -o OUT [...]
 // (docs/convert.md)
 #include <iostream>
 
@@ -17,7 +17,7 @@ namespace lsds {
 
 int RunConvert(int argc, char** argv) {
   CLI::App app(
-      "Convert a collection's truth into YOLO, COCO, CVAT, MOT or VisDrone files "
+      "Convert a collection's truth into YOLO, DOTA, COCO, CVAT, MOT or VisDrone files "
       "(docs/convert.md).",
       "lsds convert");
   convert::ConvertOptions options;
@@ -87,6 +87,21 @@ int RunConvert(int argc, char** argv) {
                  options.mot_box,
                  "mot: projected (amodal, clipped to the image) or visible (tight) boxes")
       ->capture_default_str();
+  app.add_option("--dota-difficult-below",
+                 options.dota_difficult_below,
+                 "dota: difficult 1 when visibility is below this")
+      ->capture_default_str();
+  app.add_option("--dota-difficult-size",
+                 options.dota_difficult_size,
+                 "dota: difficult 1 when the box's longer side is below this (px)")
+      ->capture_default_str();
+  app.add_option("--dota-min-size",
+                 options.dota_min_size,
+                 "dota: drop boxes with a side below this (px; MMRotate drops them under 2)")
+      ->capture_default_str();
+  app.add_flag("--dota-header",
+               options.dota_header,
+               "dota: write the imagesource:/gsd: lines (MMRotate cannot read them)");
   std::string frames;
   AddFramesOption(app, &frames);
   int threads = 0;

@@ -1,7 +1,10 @@
 #include "converters/yolo/yolo_converter.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdlib>
 #include <fstream>
+#include <set>
 
 #include "converters/format_util.h"
 #include "converters/yolo/yolo_segment.h"
@@ -30,11 +33,41 @@ std::string Quote(const std::string& s) {
   return out + "\"";
 }
 
+// Ultralytics' duplicate-row key of an OBB line: the class and the xywh of
+// the corners' bounds, as float32 (ultralytics/data/utils.py:206-209 turns
+// the corners into segments2boxes, :228-229 drops repeated rows).
+std::array<float, 5> UltralyticsRow(const std::string& line) {
+  std::array<float, 9> v{};
+  const char* p = line.c_str();
+  for (float& value : v) {
+    char* end = nullptr;
+    value = std::strtof(p, &end);
+    p = end;
+  }
+  float x0 = v[1], x1 = v[1], y0 = v[2], y1 = v[2];
+  for (int i = 1; i < 4; ++i) {
+    x0 = std::min(x0, v[1 + 2 * i]), x1 = std::max(x1, v[1 + 2 * i]);
+    y0 = std::min(y0, v[2 + 2 * i]), y1 = std::max(y1, v[2 + 2 * i]);
+  }
+  return {v[0], (x0 + x1) / 2, (y0 + y1) / 2, x1 - x0, y1 - y0};
+}
+
 class YoloConverter : public Converter {
  public:
-  explicit YoloConverter(bool segmentation) : segmentation_(segmentation) {}
-  std::string name() const override { return segmentation_ ? "yolo-seg" : "yolo"; }
-  bool NeedsMasks() const override { return segmentation_; }
+  explicit YoloConverter(YoloTask task) : task_(task) {}
+  std::string name() const override {
+    switch (task_) {
+      case YoloTask::kDetect:
+        return "yolo";
+      case YoloTask::kSegment:
+        return "yolo-seg";
+      case YoloTask::kOriented:
+        return "yolo-obb";
+    }
+    return "yolo";
+  }
+  bool NeedsMasks() const override { return task_ == YoloTask::kSegment; }
+  bool NeedsOrientedBoxes() const override { return task_ == YoloTask::kOriented; }
 
   void Begin(const ConvertSetup& setup) override {
     setup_ = setup;
@@ -47,11 +80,19 @@ class YoloConverter : public Converter {
                                           LossReport* loss) const override {
     std::string text;
     const std::vector<OutputClass>& classes = setup_.classes->classes();
+    std::set<std::array<float, 5>> rows;  // yolo-obb: Ultralytics' duplicate keys
     for (const KeptObject& object : frame.objects) {
       const std::string& name = classes[object.class_index].name;
       int clipped = 0;
-      if (!segmentation_) {
+      if (task_ == YoloTask::kDetect) {
         text += YoloBoxLine(object.class_index, object.box, frame.width, frame.height, &clipped);
+      } else if (task_ == YoloTask::kOriented) {
+        bool obb_clipped = false;
+        const std::string line = YoloObbLine(
+            object.class_index, *object.oriented, frame.width, frame.height, &obb_clipped);
+        if (obb_clipped) loss->Add(loss::kObbClipped, name);
+        if (!rows.insert(UltralyticsRow(line)).second) loss->Add(loss::kObbDuplicate, name);
+        text += line;
       } else {
         text += YoloSegmentLine(object.class_index, name, *object.mask, loss, &clipped);
       }
@@ -103,7 +144,7 @@ class YoloConverter : public Converter {
   }
 
  private:
-  bool segmentation_;
+  YoloTask task_;
   ConvertSetup setup_;
 };
 
@@ -117,8 +158,24 @@ std::string YoloBoxLine(int class_index, const Box2d& box, int width, int height
   return std::to_string(class_index) + Format(" %.6f %.6f %.6f %.6f\n", xc, yc, w, h);
 }
 
-std::unique_ptr<Converter> MakeYoloConverter(bool segmentation) {
-  return std::make_unique<YoloConverter>(segmentation);
+std::string YoloObbLine(
+    int class_index, const OrientedBox2d& box, int width, int height, bool* clipped) {
+  const Box2d image{0, 0, double(width), double(height)};
+  const std::optional<OrientedBox2d> inside = ClippedTo(box, image);
+  // Nothing of a visible box lies outside the image but its own corners:
+  // with no area inside, the box is kept as it is and only clamped.
+  const OrientedBox2d& written = inside ? *inside : box;
+  int clamped = 0;
+  std::string line = std::to_string(class_index);
+  for (const Eigen::Vector2d& c : written.corners) {
+    line += Format(" %.6f %.6f", Clip01(c.x() / width, &clamped), Clip01(c.y() / height, &clamped));
+  }
+  *clipped = !inside || clamped > 0 || inside->corners != box.corners;
+  return line + "\n";
+}
+
+std::unique_ptr<Converter> MakeYoloConverter(YoloTask task) {
+  return std::make_unique<YoloConverter>(task);
 }
 
 }  // namespace lsds::convert

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace lsds {
@@ -142,6 +143,37 @@ std::optional<OrientedBox2d> MaskOrientedBox(
                     Eigen::Vector2d(last + 1, y + 1)});
   }
   return MinimumAreaRectangle(corners);
+}
+
+std::optional<OrientedBox2d> ClippedTo(const OrientedBox2d& box, const Box2d& region) {
+  const bool inside = std::all_of(box.corners.begin(), box.corners.end(), [&](const auto& c) {
+    return c.x() >= region.x0 && c.x() <= region.x1 && c.y() >= region.y0 && c.y() <= region.y1;
+  });
+  if (inside) return box;
+  // Sutherland-Hodgman against the four half-planes of `region`; `along`
+  // gives a point's signed distance inside one of them.
+  std::vector<Eigen::Vector2d> polygon(box.corners.begin(), box.corners.end());
+  const std::array<std::function<double(const Eigen::Vector2d&)>, 4> inside_by = {
+      [&](const Eigen::Vector2d& p) { return p.x() - region.x0; },
+      [&](const Eigen::Vector2d& p) { return region.x1 - p.x(); },
+      [&](const Eigen::Vector2d& p) { return p.y() - region.y0; },
+      [&](const Eigen::Vector2d& p) { return region.y1 - p.y(); }};
+  for (const auto& along : inside_by) {
+    std::vector<Eigen::Vector2d> out;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      const Eigen::Vector2d& a = polygon[i];
+      const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+      const double da = along(a), db = along(b);
+      if (da >= 0) out.push_back(a);
+      if ((da >= 0) != (db >= 0)) out.push_back(a + (b - a) * (da / (da - db)));
+    }
+    polygon = std::move(out);
+    if (polygon.empty()) return std::nullopt;
+  }
+  std::optional<OrientedBox2d> clipped = MinimumAreaRectangle(polygon);
+  if (!clipped || clipped->Area() <= 0) return std::nullopt;
+  const Eigen::Vector2d front = (box.corners[0] + box.corners[1]) / 2 - box.Center();
+  return WithHeadingCornerFirst(*clipped, front);
 }
 
 OrientedBox2d WithHeadingCornerFirst(const OrientedBox2d& box,

@@ -45,6 +45,15 @@ std::optional<OrientedBox2d> MinimumAreaRectangle(const std::vector<Eigen::Vecto
 std::optional<OrientedBox2d> MaskOrientedBox(
     const uint32_t* ids, int width, int height, uint32_t id, const Box2d& box);
 
+// `box` cut to `region` (an image or a tile): `box` itself when its corners
+// are inside `region`, else the minimum-area rectangle of the polygon
+// box ∩ region (Sutherland-Hodgman), which may reach slightly out of `region`
+// again (callers that need every corner inside clamp them); its first corner
+// is the one on the side of `box`'s first edge (WithHeadingCornerFirst with
+// that edge's outward normal), so a heading order survives. nullopt when the
+// intersection has no area.
+std::optional<OrientedBox2d> ClippedTo(const OrientedBox2d& box, const Box2d& region);
+
 // Reorders `box`'s corners (keeping them clockwise) so that corners[0] is the
 // heading corner: of the two corners of the front edge (the edge whose outward
 // normal makes the smallest angle with the image-plane heading

@@ -66,8 +66,11 @@ void CheckMmrotate(const std::string& /*format*/,
                    const fs::path& dir,
                    const CheckOptions& options,
                    FindingSink* sink) {
-  const std::vector<std::string>& classes =
-      options.dota_classes.empty() ? DotaV1Classes() : options.dota_classes;
+  // The classes the user configures MMRotate with: given, else those the
+  // export lists, else MMRotate's default (DOTA v1.0).
+  std::vector<std::string> classes = options.dota_classes;
+  if (classes.empty()) classes = DotaExportClasses(dir);
+  if (classes.empty()) classes = DotaV1Classes();
   std::error_code error;
   for (const DotaFolder& folder : DotaFolders(dir)) {
     std::vector<fs::path> annotations;

@@ -6,8 +6,10 @@
 #include <cstdlib>
 #include <map>
 
+#include "converters/check/dota_layout.h"
 #include "converters/format_util.h"
 #include "libs/collection/collection_reader.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 
 namespace lsds::convert {
@@ -109,7 +111,13 @@ class DotaConverter : public Converter {
   }
 
   void AddFrame(const FrameContext&, std::unique_ptr<FramePiece>) override {}
-  void Finish() override {}
+  // The names to set as `classes` in MMRotate's dataset config, in order
+  // (check-export reads them as that configuration).
+  void Finish() override {
+    std::string text;
+    for (const std::string& name : names_) text += name + "\n";
+    WriteFileAtomic(setup_.root / check::kDotaClassesFile, text);
+  }
 
  private:
   ConvertSetup setup_;

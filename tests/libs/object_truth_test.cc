@@ -10,9 +10,12 @@
 #include <gtest/gtest.h>
 
 #include "libs/collection/object_truth.h"
+#include "tests/libs/brute_force_rectangle.h"
 
 namespace lsds {
 namespace {
+
+using testing::BruteForceMinimumArea;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -72,21 +75,6 @@ ObjectTruth Measure(const Scene& scene,
                          nullptr);
   EXPECT_TRUE(t);
   return t ? *t : ObjectTruth{};
-}
-
-double BruteForceMinimumArea(const std::vector<Eigen::Vector2d>& points) {
-  double best = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < 9000; ++k) {
-    const double a = k * 0.01 * kPi / 180;
-    const Eigen::Vector2d u(std::cos(a), std::sin(a)), v(-std::sin(a), std::cos(a));
-    double u0 = std::numeric_limits<double>::infinity(), u1 = -u0, v0 = u0, v1 = -u0;
-    for (const Eigen::Vector2d& p : points) {
-      u0 = std::min(u0, p.dot(u)), u1 = std::max(u1, p.dot(u));
-      v0 = std::min(v0, p.dot(v)), v1 = std::max(v1, p.dot(v));
-    }
-    best = std::min(best, (u1 - u0) * (v1 - v0));
-  }
-  return best;
 }
 
 std::vector<Eigen::Vector2d> ProjectedCorners(const Scene& scene, const OrientedBox& box) {

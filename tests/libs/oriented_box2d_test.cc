@@ -11,28 +11,14 @@
 #include <gtest/gtest.h>
 
 #include "libs/geometry/oriented_box2d.h"
+#include "tests/libs/brute_force_rectangle.h"
 
 namespace lsds {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using testing::BruteForceMinimumArea;
 
-// The smallest area of a rectangle enclosing `points` at any angle in [0, 90)
-// degrees in steps of `step_deg`: an upper bound of the true minimum.
-double BruteForceMinimumArea(const std::vector<Eigen::Vector2d>& points, double step_deg = 0.01) {
-  double best = std::numeric_limits<double>::infinity();
-  for (int k = 0; k * step_deg < 90.0; ++k) {
-    const double angle = k * step_deg * kPi / 180.0;
-    const Eigen::Vector2d u(std::cos(angle), std::sin(angle)), v(-std::sin(angle), std::cos(angle));
-    double u0 = std::numeric_limits<double>::infinity(), u1 = -u0, v0 = u0, v1 = -u0;
-    for (const Eigen::Vector2d& p : points) {
-      u0 = std::min(u0, p.dot(u)), u1 = std::max(u1, p.dot(u));
-      v0 = std::min(v0, p.dot(v)), v1 = std::max(v1, p.dot(v));
-    }
-    best = std::min(best, (u1 - u0) * (v1 - v0));
-  }
-  return best;
-}
+constexpr double kPi = 3.14159265358979323846;
 
 // Twice the signed area by the shoelace formula in image coordinates: positive
 // when the corners run clockwise as seen on the image (x right, y down).

@@ -132,7 +132,8 @@ double Floor(const fs::path& collection,
 int main(int argc, char** argv) {
   CLI::App app("frames/s of lsds convert per format, next to its floor", "bench_convert");
   int frames = 40, size = 256, distinct = 4;
-  std::string formats = "yolo,yolo-seg,yolo-obb,dota,coco,cvat,cvat-video,mot,visdrone,visdrone-vid",
+  std::string formats =
+                  "yolo,yolo-seg,yolo-obb,dota,coco,cvat,cvat-video,mot,visdrone,visdrone-vid",
               images = "png", work;
   std::string child;  // internal: run one conversion and print "seconds peak_mb"
   int64_t child_frames = 0;

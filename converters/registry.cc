@@ -4,9 +4,9 @@
 
 #include "converters/coco/coco_converter.h"
 #include "converters/cvat/cvat_converter.h"
+#include "converters/dota/dota_converter.h"
 #include "converters/mot/mot_converter.h"
 #include "converters/visdrone/visdrone_converter.h"
-#include "converters/dota/dota_converter.h"
 #include "converters/yolo/yolo_converter.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"

@@ -9,8 +9,8 @@
 
 namespace lsds::convert {
 
-std::vector<std::string>
-ConverterNames();  // yolo, yolo-seg, yolo-obb, dota, coco, cvat, cvat-video
+// yolo, yolo-seg, yolo-obb, dota, coco, cvat, cvat-video, mot, visdrone, visdrone-vid
+std::vector<std::string> ConverterNames();
 // Throws lsds::Error for an unknown name.
 std::unique_ptr<Converter> MakeConverter(const std::string& name);
 

@@ -72,9 +72,12 @@ TEST_P(EveryFormat, NoConsumerDropsAnything) {
     // The one loss a consumer may see is the one the loss report already
     // names: MMRotate leaves images without objects out of training.
     int64_t empty_images = 0;
-    for (const nlohmann::json& finding : ReadJson(report).at("findings")) {
-      if (finding.at("severity") == "ignored") continue;
-      if (format == "dota" && finding.at("rule") == "mmrotate.empty-image") {
+    const nlohmann::json findings = ReadJson(report).at("findings");
+    for (const nlohmann::json& finding : findings) {
+      const std::string severity = finding.at("severity").get<std::string>();
+      const std::string rule = finding.at("rule").get<std::string>();
+      if (severity == "ignored") continue;
+      if (format == "dota" && rule == "mmrotate.empty-image") {
         ++empty_images;
         continue;
       }

@@ -171,9 +171,10 @@ ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
     element_start = 0;
   }
   if (in.bad()) throw Error("read error", Location(path.string()));
+  // The place is the end of the file, where the closing ']' was expected.
   if (in_array)
     throw Error("invalid JSON: the \"" + array_key + "\" array is not closed",
-                Location(path.string()));
+                TextLocationInFile(path, chunk_start));
   if (FindExcessJsonNesting(header_text) != std::string_view::npos)
     throw Error(NestingMessage(), Location(path.string()));
   // Lines and columns are exact up to the array (the header text lacks its

@@ -86,5 +86,20 @@ TEST(JsonArrayScan, BadJsonIsAnErrorNamingTheFile) {
   }
 }
 
+// A file cut between two elements: the message names the end of the file,
+// where the closing ']' was expected.
+TEST(JsonArrayScan, AnArrayCutBetweenElementsNamesTheEndOfTheFile) {
+  TempDir dir;
+  const auto path = dir.path() / "cut.json";
+  WriteFileAtomic(path, "{\"frames\": [\n  {\"index\": 0},\n  {\"index\": 1},\n");
+  try {
+    ScanJsonArrayMember(path, "frames");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cut.json:4:1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not closed"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace lsds::noise

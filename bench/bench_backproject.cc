@@ -22,11 +22,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include "backproject/backproject.h"
+#include "backproject/backproject_run.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/pointcloud/backproject.h"
-#include "libs/pointcloud/backproject_run.h"
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 
 namespace fs = std::filesystem;
 using namespace lsds;

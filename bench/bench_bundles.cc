@@ -16,8 +16,8 @@
 #include <tbb/parallel_for.h>
 #include <CLI/CLI.hpp>
 
-#include "libs/bundle/bundle_run.h"
-#include "libs/bundle/bundle_stats.h"
+#include "bundles/bundle_run.h"
+#include "bundles/bundle_stats.h"
 #include "libs/collection/bundle_layout.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"

@@ -7,7 +7,7 @@
 //   bench_convert --frames 200 --size 1024  the size
 //   [--distinct K] [--formats yolo,coco,...] [--images png|jpg|none]
 //
-// The collection is K distinct analytic frames (libs/synth) repeated under N
+// The collection is K distinct analytic frames (synth) repeated under N
 // frame indices (each a real file of its own), so that setting up N large
 // frames stays cheap.
 #include <sys/resource.h>
@@ -27,8 +27,8 @@
 #include "libs/collection/collection_writer.h"
 #include "libs/exr/flat_image.h"
 #include "libs/imaging/srgb_image.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/strings.h"
+#include "synth/synthetic_collection.h"
 
 namespace fs = std::filesystem;
 using namespace lsds;

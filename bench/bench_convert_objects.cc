@@ -24,8 +24,8 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/exr/flat_image.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/strings.h"
+#include "synth/synthetic_collection.h"
 
 namespace fs = std::filesystem;
 using namespace lsds;

@@ -17,10 +17,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "export_layers/export_layers.h"
 #include "libs/collection/collection_reader.h"
-#include "libs/export/export_layers.h"
 #include "libs/exr/flat_image.h"
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 
 namespace fs = std::filesystem;
 using namespace lsds;

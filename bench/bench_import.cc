@@ -23,13 +23,13 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "importers/import_collection.h"
+#include "importers/indexed_png.h"
+#include "importers/source_exr.h"
 #include "libs/exr/flat_image.h"
-#include "libs/importers/import_collection.h"
-#include "libs/importers/indexed_png.h"
-#include "libs/importers/source_exr.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/npy.h"
+#include "synth/synthetic_collection.h"
 #include "tests/import/kubric_fixture.h"
 #include "tests/import/mrq_fixture.h"
 #include "tests/import/replicator_fixture.h"

@@ -17,8 +17,8 @@
 
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/report/report.h"
-#include "libs/synth/synthetic_collection.h"
+#include "report/report.h"
+#include "synth/synthetic_collection.h"
 
 namespace fs = std::filesystem;
 using namespace lsds;

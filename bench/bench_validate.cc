@@ -30,8 +30,8 @@
 #include "libs/collection/json_io.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/flat_image.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/strings.h"
+#include "synth/synthetic_collection.h"
 #include "validators/report_writers.h"
 #include "validators/validate.h"
 

@@ -16,7 +16,7 @@
 
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
-#include "libs/noise/perturb_collection.h"
+#include "perturb/perturb_collection.h"
 
 namespace fs = std::filesystem;
 using namespace lsds;

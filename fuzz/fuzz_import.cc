@@ -12,7 +12,7 @@
 #include <filesystem>
 
 #include "fuzz/fuzz_input.h"
-#include "libs/importers/import_collection.h"
+#include "importers/import_collection.h"
 #include "libs/util/error.h"
 
 namespace fs = std::filesystem;

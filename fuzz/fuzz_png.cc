@@ -10,8 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "fuzz/fuzz_input.h"
-#include "libs/importers/indexed_png.h"
-#include "libs/importers/source_png.h"
+#include "importers/indexed_png.h"
+#include "importers/source_png.h"
 #include "libs/util/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

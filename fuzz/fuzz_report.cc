@@ -14,11 +14,11 @@
 #include <string_view>
 
 #include "libs/collection/model.h"
-#include "libs/report/bundle_section.h"
-#include "libs/report/validation_section.h"
 #include "libs/util/error.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
+#include "report/bundle_section.h"
+#include "report/validation_section.h"
 
 namespace {
 

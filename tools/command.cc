@@ -9,7 +9,7 @@
 
 #include "converters/check/registry.h"
 #include "converters/registry.h"
-#include "libs/importers/registry.h"
+#include "importers/registry.h"
 #include "libs/util/check.h"
 #include "libs/util/error.h"
 #include "libs/util/limits.h"

@@ -26,7 +26,8 @@ const std::vector<Command>& Commands();
 // for a mistyped option).
 int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
-// Command entry points, one per file (tools/<name>_command.cc).
+// Command entry points, one per file, each in its feature's folder
+// (<feature>/<name>_command.cc, docs/architecture.md).
 int RunGenerate(int argc, char** argv);
 int RunPlan(int argc, char** argv);
 int RunInfo(int argc, char** argv);

@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "libs/noise/counter_rng.h"
+#include "libs/util/counter_rng.h"
 #include "libs/util/strings.h"
 
 namespace lsds::gen {
@@ -120,7 +120,7 @@ void SensorNoise(uint64_t seed, int64_t frame, cv::Mat* image) {
       cv::Vec3f& v = image->at<cv::Vec3f>(y, x);
       for (int a = 0; a < 3; ++a) {
         const double sigma = std::sqrt(shot * std::max(0.f, v[a]) + read * read);
-        const double n = noise::StandardNormal(seed, 0x5e7, static_cast<uint64_t>(frame), draw++);
+        const double n = StandardNormal(seed, 0x5e7, static_cast<uint64_t>(frame), draw++);
         v[a] = static_cast<float>(std::max(0.0, v[a] + sigma * n));
       }
     }

@@ -1,7 +1,7 @@
 // The one path by which rendered or imported frames become a collection: layer
 // files written under their standard names with the frame's camera in their
 // headers, then collection.json and metadata.json (equal to truth) streamed
-// frame by frame and committed atomically. The generator, libs/synth and the
+// frame by frame and committed atomically. The generator, synth and the
 // importers write through it.
 #pragma once
 

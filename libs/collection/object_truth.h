@@ -1,6 +1,6 @@
 // Per-object truth measured on rendered layers: the one definition of the 2D
 // box, the visible pixel count, the visibility and the in-frame fraction
-// (docs/format.md, "collection.json"). The generator, libs/synth and the
+// (docs/format.md, "collection.json"). The generator, synth and the
 // importers all call these, so the definitions cannot drift apart.
 #pragma once
 

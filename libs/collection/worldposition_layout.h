@@ -42,7 +42,7 @@ struct WorldPositionPrediction {
 };
 
 // The one prediction rule, shared by the writer, the reader and the importers'
-// derived worldposition (libs/importers/derived_truth.h): channels X, Y, Z
+// derived worldposition (importers/derived_truth.h): channels X, Y, Z
 // (FLOAT) with
 //   point = centre + (world_from_cam_rotation * ray) * t,
 //   ray = camera.intrinsics.CamFromImage(i + 0.5, j + 0.5)   (z == 1),

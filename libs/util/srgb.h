@@ -1,6 +1,6 @@
 // The sRGB transfer function (IEC 61966-2-1), the one home of both directions
 // and of the 8-bit encoding table: display images (libs/imaging), point-cloud
-// colours (libs/pointcloud) and imported PNGs (libs/importers) all use it.
+// colours (backproject) and imported PNGs (importers) all use it.
 #pragma once
 
 #include <algorithm>

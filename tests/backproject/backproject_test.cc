@@ -3,11 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include "backproject/backproject_run.h"
+#include "backproject/cloud_io.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/collection_writer.h"
 #include "libs/collection/json_io.h"
-#include "libs/pointcloud/backproject_run.h"
-#include "libs/pointcloud/cloud_io.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 #include "tests/backproject/test_util.h"

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/pointcloud/cloud_io.h"
+#include "backproject/cloud_io.h"
 #include "tests/backproject/test_util.h"
 
 namespace lsds::pointcloud {

@@ -11,7 +11,7 @@
 #include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
 
-#include "libs/pointcloud/cloud_io.h"
+#include "backproject/cloud_io.h"
 #include "libs/util/error.h"
 #include "tests/backproject/test_util.h"
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 
 namespace lsds::testing {
 

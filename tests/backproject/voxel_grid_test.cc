@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/pointcloud/backproject_run.h"
-#include "libs/pointcloud/cloud_io.h"
-#include "libs/pointcloud/voxel_grid.h"
+#include "backproject/backproject_run.h"
+#include "backproject/cloud_io.h"
+#include "backproject/voxel_grid.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
 #include "tests/backproject/test_util.h"

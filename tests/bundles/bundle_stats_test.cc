@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/bundle/bundle_stats.h"
+#include "bundles/bundle_stats.h"
 #include "libs/exr/deep_image.h"
 #include "libs/util/error.h"
 

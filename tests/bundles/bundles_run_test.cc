@@ -1,4 +1,4 @@
-// lsds bundles on synthetic collections (libs/synth): statistics JSON, derived
+// lsds bundles on synthetic collections (synth): statistics JSON, derived
 // layers registered and readable, inputs unchanged, clear errors.
 #include <unistd.h>
 
@@ -11,14 +11,14 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/bundle/bundle_run.h"
+#include "bundles/bundle_run.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/schema.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/flat_image.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "synth/synthetic_collection.h"
 #include "tests/build_paths.h"
 
 namespace lsds::bundle {

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "converters/registry.h"
-#include "libs/importers/registry.h"
-#include "libs/synth/synthetic_collection.h"
+#include "importers/registry.h"
+#include "synth/synthetic_collection.h"
 #include "tests/build_paths.h"
 #include "tests/test_util.h"
 

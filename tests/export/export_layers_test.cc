@@ -18,8 +18,8 @@
 
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/strings.h"
+#include "synth/synthetic_collection.h"
 #include "tests/test_util.h"
 
 namespace lsds::testing {

@@ -12,7 +12,7 @@
 #include "generator/scene/smooth_normals.h"
 #include "generator/scene/terrain.h"
 #include "generator/scene/world_ground.h"
-#include "libs/noise/counter_rng.h"
+#include "libs/util/counter_rng.h"
 #include "tests/generator/test_plans.h"
 
 namespace lsds::gen {
@@ -123,7 +123,7 @@ TEST(World, OrbitAndObliqueGridSeeNoVoid) {
 TEST(World, RandomPosesSeeNoVoid) {
   Plan plan = HillyPlan(64, 48);
   for (int k = 0; k < 12; ++k) {
-    auto u = [k](int draw) { return noise::Uniform01(5, 16, k, draw); };
+    auto u = [k](int draw) { return Uniform01(5, 16, k, draw); };
     const double x = -60 + 120 * u(0), y = -60 + 120 * u(1);
     const Eigen::Vector3d eye(x, y, 6 + 60 * u(2));
     const double yaw = 2 * M_PI * u(3), pitch = (-80 + 95 * u(4)) * M_PI / 180;

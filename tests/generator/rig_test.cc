@@ -13,13 +13,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "backproject/cloud_io.h"
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
 #include "generator/scene/world.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_io.h"
 #include "libs/exr/flat_image.h"
-#include "libs/pointcloud/cloud_io.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 

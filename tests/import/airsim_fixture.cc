@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "importers/pfm.h"
 #include "libs/geometry/world_frame.h"
-#include "libs/importers/pfm.h"
 #include "tests/import/fixture_images.h"
 
 namespace lsds::testing {

@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <map>
 
-#include "libs/importers/airsim/airsim_importer.h"
-#include "libs/synth/synthetic_collection.h"
+#include "importers/airsim/airsim_importer.h"
+#include "synth/synthetic_collection.h"
 
 namespace lsds::testing {
 

@@ -9,10 +9,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "importers/import_collection.h"
+#include "importers/pfm.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/importers/import_collection.h"
-#include "libs/importers/pfm.h"
 #include "libs/util/error.h"
 #include "tests/convert/reference_decoders.h"
 #include "tests/import/airsim_fixture.h"

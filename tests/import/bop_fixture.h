@@ -8,7 +8,7 @@
 
 #include <filesystem>
 
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 
 namespace lsds::testing {
 

@@ -14,9 +14,9 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "importers/import_collection.h"
+#include "importers/source_json.h"
 #include "libs/exr/flat_image.h"
-#include "libs/importers/import_collection.h"
-#include "libs/importers/source_json.h"
 #include "libs/util/confined_path.h"
 #include "libs/util/error.h"
 #include "libs/util/text_check.h"

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "libs/collection/model.h"
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 
 namespace lsds::testing {
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "libs/importers/indexed_png.h"
+#include "importers/indexed_png.h"
 #include "tests/import/fixture_images.h"
 
 namespace lsds::testing {

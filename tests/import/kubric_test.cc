@@ -11,10 +11,10 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "importers/import_collection.h"
+#include "importers/indexed_png.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/importers/import_collection.h"
-#include "libs/importers/indexed_png.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "tests/import/import_checks.h"

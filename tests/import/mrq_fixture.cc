@@ -15,8 +15,8 @@
 #include <half.h>
 #include <nlohmann/json.hpp>
 
-#include "libs/importers/cryptomatte.h"
-#include "libs/importers/unreal_frame.h"
+#include "importers/cryptomatte.h"
+#include "importers/unreal_frame.h"
 
 namespace lsds::testing {
 

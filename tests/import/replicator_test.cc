@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "importers/import_collection.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/importers/import_collection.h"
 #include "libs/util/error.h"
 #include "libs/util/npy.h"
 #include "tests/import/import_checks.h"

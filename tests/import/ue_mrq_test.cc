@@ -9,13 +9,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "importers/cryptomatte.h"
+#include "importers/import_collection.h"
+#include "importers/unreal_frame.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
-#include "libs/importers/cryptomatte.h"
-#include "libs/importers/import_collection.h"
-#include "libs/importers/unreal_frame.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/error.h"
+#include "synth/synthetic_collection.h"
 #include "tests/convert/reference_decoders.h"
 #include "tests/import/mrq_fixture.h"
 #include "tests/test_util.h"

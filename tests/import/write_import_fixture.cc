@@ -12,7 +12,7 @@
 
 #include "libs/exr/flat_image.h"
 
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 #include "tests/import/airsim_fixture.h"
 #include "tests/import/bop_fixture.h"
 #include "tests/import/kubric_fixture.h"

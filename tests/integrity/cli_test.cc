@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/exr/flat_image.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
+#include "synth/synthetic_collection.h"
 #include "tests/build_paths.h"
 #include "tests/test_util.h"
 

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 #include "tests/test_util.h"
 
 namespace lsds {

@@ -9,9 +9,9 @@
 #include "libs/collection/sample_positions.h"
 #include "libs/collection/schema.h"
 #include "libs/exr/exr_info.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "synth/synthetic_collection.h"
 #include "tests/test_util.h"
 
 namespace lsds {

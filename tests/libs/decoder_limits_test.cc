@@ -11,18 +11,18 @@
 
 #include <gtest/gtest.h>
 
+#include "importers/indexed_png.h"
+#include "importers/pfm.h"
+#include "importers/source_exr.h"
+#include "importers/source_png.h"
 #include "libs/collection/json_stream.h"
-#include "libs/importers/indexed_png.h"
-#include "libs/importers/pfm.h"
-#include "libs/importers/source_exr.h"
-#include "libs/importers/source_png.h"
-#include "libs/noise/json_array_scan.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/limits.h"
 #include "libs/util/npy.h"
+#include "perturb/json_array_scan.h"
 #include "tests/test_util.h"
 
 namespace lsds {

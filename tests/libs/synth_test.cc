@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "libs/synth/synthetic_collection.h"
+#include "synth/synthetic_collection.h"
 
 namespace lsds::synth {
 namespace {

@@ -2,9 +2,9 @@
 // whatever the strings hold and wherever the 1 MiB read chunks cut.
 #include <gtest/gtest.h>
 
-#include "libs/noise/json_array_scan.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "perturb/json_array_scan.h"
 #include "tests/perturb/perturb_test_util.h"
 
 namespace lsds::noise {

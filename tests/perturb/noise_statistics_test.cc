@@ -13,10 +13,10 @@
 #include <Eigen/Geometry>
 
 #include "libs/collection/json_io.h"
-#include "libs/noise/counter_rng.h"
-#include "libs/noise/metadata_perturber.h"
-#include "libs/noise/noise_process.h"
+#include "libs/util/counter_rng.h"
 #include "libs/util/error.h"
+#include "perturb/metadata_perturber.h"
+#include "perturb/noise_process.h"
 
 namespace lsds::noise {
 namespace {

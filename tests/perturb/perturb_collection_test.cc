@@ -11,8 +11,8 @@
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/schema.h"
-#include "libs/noise/perturb_collection.h"
 #include "libs/util/error.h"
+#include "perturb/perturb_collection.h"
 #include "tests/perturb/perturb_test_util.h"
 
 namespace lsds::noise {

@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <string>
 
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
+#include "synth/synthetic_collection.h"
 #include "tests/test_util.h"
 
 namespace lsds::testing_perturb {

@@ -10,8 +10,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "libs/report/html_text.h"
-#include "libs/synth/synthetic_collection.h"
+#include "report/html_text.h"
+#include "synth/synthetic_collection.h"
 #include "tests/test_util.h"
 
 namespace lsds {

@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 
 #include "libs/collection/collection_reader.h"
-#include "libs/noise/perturb_collection.h"
-#include "libs/report/frame_sampler.h"
-#include "libs/report/report.h"
-#include "libs/synth/synthetic_collection.h"
+#include "perturb/perturb_collection.h"
+#include "report/frame_sampler.h"
+#include "report/report.h"
+#include "synth/synthetic_collection.h"
 #include "tests/test_util.h"
 
 namespace lsds::report {

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
-#include "libs/report/draw.h"
-#include "libs/synth/synthetic_collection.h"
+#include "report/draw.h"
+#include "synth/synthetic_collection.h"
 
 namespace lsds::report {
 namespace {

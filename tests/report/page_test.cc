@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "libs/report/histogram.h"
-#include "libs/report/html.h"
-#include "libs/report/svg_plot.h"
+#include "report/histogram.h"
+#include "report/html.h"
+#include "report/svg_plot.h"
 
 namespace lsds::report {
 namespace {

@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "libs/report/html_text.h"
-#include "libs/report/validation_section.h"
 #include "libs/util/error.h"
+#include "report/html_text.h"
+#include "report/validation_section.h"
 
 namespace lsds::report {
 namespace {

@@ -4,8 +4,8 @@
 #include <string>
 #include <utility>
 
-#include "libs/scaleout/slurm_job.h"
 #include "libs/util/error.h"
+#include "scaleout/slurm_job.h"
 
 namespace lsds {
 namespace {

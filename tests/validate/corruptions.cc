@@ -13,9 +13,9 @@
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/deep_image.h"
 #include "libs/exr/flat_image.h"
-#include "libs/synth/synthetic_collection.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "synth/synthetic_collection.h"
 
 namespace lsds::validate::corpus {
 

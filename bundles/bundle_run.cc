@@ -1,0 +1,275 @@
+#include "bundles/bundle_run.h"
+
+#include <algorithm>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+
+#include "bundles/derived_layers.h"
+#include "bundles/mixed_map.h"
+#include "bundles/stats_json.h"
+#include "libs/collection/collection_guard.h"
+#include "libs/collection/collection_reader.h"
+#include "libs/collection/collection_writer.h"
+#include "libs/collection/json_stream.h"
+#include "libs/exr/deep_image.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/check.h"
+#include "libs/util/error.h"
+#include "libs/util/folder_lock.h"
+#include "libs/util/output_guard.h"
+#include "libs/util/progress.h"
+#include "libs/util/text_check.h"
+
+namespace lsds::bundle {
+
+namespace fs = std::filesystem;
+
+const LayerInfo& FindBundleLayer(const CollectionHeader& header,
+                                 const std::string& collection_file) {
+  const LayerInfo* layer = header.FindLayerBySemantic("bundle");
+  if (layer == nullptr) {
+    throw Error(
+        "the collection has no bundle layer (a deep layer with semantic "
+        "\"bundle\": several samples "
+        "per pixel); produce one with `lsds generate --spp N` (N > 1 samples "
+        "per pixel)",
+        Location(collection_file, "/layers"));
+  }
+  if (!layer->deep) {
+    throw Error("the bundle layer '" + layer->name + "' is not deep",
+                Location(collection_file, "/layers"));
+  }
+  for (const char* channel : {"instanceid", "classid", "Z"}) {
+    if (layer->FindChannel(channel) == nullptr) {
+      throw Error("the bundle layer '" + layer->name + "' has no channel '" + channel + "'",
+                  Location(collection_file, "/layers"));
+    }
+  }
+  return *layer;
+}
+
+namespace {
+
+struct Task {
+  Frame frame;
+  bool analyse = false;
+  bool picture = false;
+  std::optional<BundleStats> stats;
+};
+
+}  // namespace
+
+RunResult RunBundles(const fs::path& root, const RunOptions& options) {
+  // Writers of one collection take turns, and the header is read under the
+  // lock, so that no other writer's change to collection.json is lost.
+  std::optional<FolderLock> lock;
+  if (!options.write_layers.empty()) {
+    CheckCollectionFolder(root);
+    lock.emplace(root, "lsds bundles");
+  }
+  const CollectionReader reader(root);
+  const std::string collection_file = reader.collection_path().string();
+  const CollectionHeader& header = reader.header();
+  const LayerInfo& bundle_layer = FindBundleLayer(header, collection_file);
+  const int64_t count = static_cast<int64_t>(reader.frames_in_file());
+  const int64_t first = options.first;
+  const int64_t end = options.end < 0 ? count : std::min(options.end, count);
+  if (first >= count) {
+    throw Error("--frames: the collection has " + std::to_string(count) +
+                    " frames (positions 0 to " + std::to_string(count - 1) + ")",
+                Location(collection_file));
+  }
+  // No output may be, contain or lie inside an input (libs/util/output_guard.h):
+  // the statistics and the picture go outside the collection; derived layers
+  // go into their own folders only.
+  OutputGuard read_guard("lsds bundles");
+  GuardCollection(&read_guard, root, CollectionAccess::kReadOnly);
+  read_guard.CheckOutput(options.output, "-o");
+  read_guard.CheckOutput(options.mixed_map, "--mixed-map");
+  if (!options.output.empty()) RefuseToOverwrite(options.output, options.force, "statistics file");
+  if (!options.mixed_map.empty()) RefuseToOverwrite(options.mixed_map, options.force, "picture");
+
+  // New layers: refuse to touch existing ones, except earlier derived layers
+  // with --force.
+  CollectionHeader new_header = header;
+  std::vector<std::unique_ptr<AtomicDirectory>> folders;
+  const bool all_frames = first == 0 && end == count;
+  std::set<std::string> replaceable;  // derived layers of an earlier run
+  for (const LayerInfo& layer : header.layers) {
+    if (layer.semantic == "derived") replaceable.insert(layer.name);
+  }
+  // Folders an interrupted run renamed into place before it registered them.
+  std::set<std::string> unregistered;
+  for (const std::string& name : options.write_layers) {
+    if (!header.FindLayer(name) && IsUnregisteredDerivedFolder(root / name, name)) {
+      unregistered.insert(name);
+      if (options.force) replaceable.insert(name);
+    }
+  }
+  OutputGuard layer_guard("lsds bundles");
+  GuardCollection(&layer_guard, root, CollectionAccess::kAddsOutputs, replaceable);
+  for (const std::string& name : options.write_layers) {
+    const LayerInfo layer = DerivedLayer(name, all_frames);
+    auto it = std::find_if(new_header.layers.begin(),
+                           new_header.layers.end(),
+                           [&](const LayerInfo& l) { return l.name == name; });
+    if (it != new_header.layers.end()) {
+      if (it->semantic != "derived") {
+        throw Error("the collection already has a layer '" + name + "' (semantic \"" +
+                        it->semantic + "\"); existing layers are never modified",
+                    Location(collection_file, "/layers"));
+      }
+      if (!options.force) {
+        throw Error("the collection already has a derived layer '" + name +
+                        "' (written by an earlier run); use --force to replace it",
+                    Location(collection_file, "/layers"));
+      }
+      *it = layer;
+    } else {
+      std::error_code ec;
+      if (unregistered.count(name) && !options.force) {
+        throw Error("the collection holds a '" + name +
+                        "' folder left by an interrupted `lsds bundles --write-layers` run "
+                        "(not registered in collection.json); use --force to replace it",
+                    Location((root / name).string()));
+      }
+      if (!unregistered.count(name) && fs::exists(root / name, ec)) {
+        // --force replaces only what an earlier `lsds bundles` wrote.
+        throw Error("the collection holds a '" + name +
+                        "' that is not one of its derived layers; lsds never "
+                        "replaces it, even with --force",
+                    Location((root / name).string()));
+      }
+      new_header.layers.push_back(layer);
+    }
+    layer_guard.CheckOutput(root / name, "--write-layers");
+    folders.push_back(std::make_unique<AtomicDirectory>(root / name, options.force));
+  }
+  // One folder per requested layer, in order: process() indexes both alike.
+  LSDS_CHECK(folders.size() == options.write_layers.size());
+  std::optional<CollectionWriter> writer;
+  if (!options.write_layers.empty()) writer.emplace(root, new_header);
+
+  // Per-frame records go to a spool beside the output, so that memory does not
+  // grow with frames.
+  std::optional<AtomicFile> spool;
+  if (!options.output.empty()) spool.emplace(TempPathBeside(options.output));
+
+  std::vector<std::string> channels = {"instanceid", "classid", "Z"};
+  if (bundle_layer.FindChannel("NX") && bundle_layer.FindChannel("NY") &&
+      bundle_layer.FindChannel("NZ")) {
+    channels.insert(channels.end(), {"NX", "NY", "NZ"});
+  }
+
+  RunResult result{BundleStats(options.stats), 0, bundle_layer.name};
+  const size_t batch_size =
+      options.batch > 0 ? options.batch
+                        : static_cast<size_t>(std::max(1, tbb::info::default_concurrency()));
+  Progress progress("bundles", end - first);
+  std::vector<Task> batch;
+  batch.reserve(batch_size);
+
+  auto process = [&](Task& task) {
+    const fs::path path = reader.LayerPath(task.frame, bundle_layer.name);
+    const exr::DeepImage image = reader.ReadDeepLayer(task.frame, bundle_layer.name, channels);
+    const bool need_maps = !options.write_layers.empty() || task.picture;
+    PixelMaps maps;
+    try {
+      task.stats = AnalyzeFrame(image, options.stats, need_maps ? &maps : nullptr);
+    } catch (const Error& e) {
+      Location where(path.string());
+      where.frame = task.frame.index;
+      throw Error(e.message(), where);
+    }
+    const std::string file_name = path.filename().string();
+    for (size_t i = 0; i < options.write_layers.size(); ++i) {
+      WriteDerivedLayer(options.write_layers[i],
+                        maps,
+                        image.width(),
+                        image.height(),
+                        folders[i]->temp_path() / file_name);
+    }
+    if (task.picture) WriteMixedMapPng(options.mixed_map, maps, image.width(), image.height());
+    progress.Add();
+  };
+
+  auto flush = [&] {
+    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
+      if (batch[i].analyse) process(batch[i]);
+    });
+    for (Task& task : batch) {
+      if (task.analyse) {
+        result.total.Merge(*task.stats);
+        ++result.frames_analyzed;
+        if (spool) {
+          const nlohmann::json record = {
+              {"index", task.frame.index},
+              {"file", task.frame.files.at(bundle_layer.name)},
+              {"stats", StatsToJson(*task.stats, options.stats, header)}};
+          spool->stream() << record.dump() << "\n";
+        }
+      }
+      if (writer) {
+        const std::string file_name = fs::path(task.frame.files.count(bundle_layer.name)
+                                                   ? task.frame.files.at(bundle_layer.name)
+                                                   : std::string())
+                                          .filename()
+                                          .string();
+        for (const std::string& name : options.write_layers) {
+          if (task.analyse) {
+            task.frame.files[name] = name + "/" + file_name;
+          } else {
+            task.frame.files.erase(name);  // a replaced derived layer keeps no stale entry
+          }
+        }
+        writer->Append(task.frame);
+      }
+    }
+    batch.clear();
+  };
+
+  int64_t position = 0;
+  reader.ForEachFrame([&](const Frame& frame) {
+    const bool analyse = position >= first && position < end;
+    const bool picture = analyse && position == first && !options.mixed_map.empty();
+    ++position;
+    if (!analyse && !writer) return;
+    batch.push_back({frame, analyse, picture, std::nullopt});
+    if (batch.size() == batch_size) flush();
+  });
+  flush();
+
+  // Layers first, then the table that registers them: a failure never leaves a
+  // table pointing at missing files.
+  for (auto& folder : folders) folder->Commit();
+  if (writer) writer->Commit();
+
+  if (spool) {
+    spool->stream().flush();
+    nlohmann::json top = {
+        {"format", kStatsFormat},
+        {"format_version", kStatsFormatVersion},
+        {"collection", Utf8Escaped(fs::absolute(root).lexically_normal().string())},
+        {"bundle_layer", bundle_layer.name},
+        {"frame_range", {{"first", first}, {"end", end}}},
+        {"options", OptionsToJson(options.stats)},
+        {"layers_written", options.write_layers},
+        {"summary", StatsToJson(result.total, options.stats, header)},
+        {"objects", ObjectsToJson(result.total)}};
+    JsonArrayWriter out(options.output, top, "frames");
+    std::ifstream in(spool->temp_path());
+    std::string line;
+    while (std::getline(in, line)) {
+      if (!line.empty()) out.Append(nlohmann::json::parse(line));
+    }
+    out.Commit();
+  }
+  return result;
+}
+
+}  // namespace lsds::bundle

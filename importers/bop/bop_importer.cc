@@ -1,0 +1,234 @@
+#include "importers/bop/bop_importer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "importers/source_json.h"
+#include "importers/source_png.h"
+#include "libs/util/error.h"
+#include "libs/util/output_guard.h"
+
+namespace lsds::import {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+Eigen::Matrix3d Matrix3(const json& j) {
+  if (!j.is_array() || j.size() != 9)
+    throw json::type_error::create(302, "expected 9 numbers, row-major", &j);
+  Eigen::Matrix3d m;
+  for (int k = 0; k < 9; ++k) m(k / 3, k % 3) = j.at(k).get<double>();
+  return m;
+}
+Eigen::Vector3d Vector3(const json& j) {
+  if (!j.is_array() || j.size() != 3) throw json::type_error::create(302, "expected 3 numbers", &j);
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+
+std::string Stem(int64_t id) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%06lld", static_cast<long long>(id));
+  return text;
+}
+
+bool IsRotation(const Eigen::Matrix3d& r) {
+  return (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-5 &&
+         r.determinant() > 0;
+}
+
+}  // namespace
+
+SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions& options) {
+  scene_ = source;
+  root_.emplace(source, options.allow_links_outside);
+  camera_file_ = root_->File(source / "scene_camera.json").string();
+  gt_file_ = root_->File(source / "scene_gt.json").string();
+  if (!fs::is_regular_file(camera_file_))
+    throw Error("not a BOP scene folder: no scene_camera.json", Location(source.string()));
+  cameras_ = ParseJsonFile(camera_file_);
+  gts_ = ParseJsonFile(gt_file_);
+  if (!cameras_.is_object() || cameras_.empty())
+    throw Error("expected an object of image ids", Location(camera_file_));
+  for (const auto& [key, value] : cameras_.items()) {
+    const std::optional<int64_t> id = ParseInteger(key, 0, std::numeric_limits<int64_t>::max());
+    if (!id)
+      throw Error("key '" + Excerpt(key, 40) + "' is not an image id (an integer >= 0)",
+                  Location(camera_file_, (json::json_pointer() / key).to_string()));
+    image_ids_.emplace_back(*id, key);
+  }
+  std::sort(image_ids_.begin(), image_ids_.end());
+  // The dataset's models (default: ../../models/models_info.json of a split's
+  // scene folder), confined to the dataset's folder.
+  std::optional<ConfinedFolder> dataset;
+  if (options.objects.empty())
+    dataset.emplace(CanonicalPath(source).parent_path().parent_path(), options.allow_links_outside);
+  const fs::path models_file = options.objects.empty()
+                                   ? dataset->File(dataset->root() / "models" / "models_info.json")
+                                   : options.objects;
+  const json models = ParseJsonFile(models_file);
+  for (const auto& [key, info] : models.items()) {
+    const std::string where = (json::json_pointer() / key).to_string();
+    ModelBox box;
+    AtPointer(models_file.string(), where, [&, &info = info] {  // clang < 16: no bindings in [&]
+      box.min_mm = {info.at("min_x").get<double>(),
+                    info.at("min_y").get<double>(),
+                    info.at("min_z").get<double>()};
+      box.size_mm = {info.at("size_x").get<double>(),
+                     info.at("size_y").get<double>(),
+                     info.at("size_z").get<double>()};
+      return 0;
+    });
+    // Keys are obj_ids, ids of lsds' 32-bit classes: 4294967297 must not wrap
+    // onto class 1.
+    const std::optional<int64_t> obj_id =
+        ParseInteger(key, 1, std::numeric_limits<uint32_t>::max());
+    if (!obj_id)
+      throw Error("key '" + Excerpt(key, 40) + "' is not an obj_id in [1, 4294967295]",
+                  Location(models_file.string(), where));
+    if (!(box.size_mm.minCoeff() >= 0))
+      throw Error("sizes must be >= 0", Location(models_file.string(), where));
+    models_[static_cast<uint32_t>(*obj_id)] = box;
+    classes_.push_back({static_cast<uint32_t>(*obj_id), "obj_" + Stem(*obj_id)});
+  }
+  // The image size, from the first depth image.
+  const fs::path first = root_->File(source / "depth" / (Stem(image_ids_[0].first) + ".png"));
+  const cv::Mat depth = ReadImage(first, cv::IMREAD_UNCHANGED);
+  if (depth.empty() || depth.type() != CV_16UC1)
+    throw Error("not a 16-bit greyscale depth PNG", Location(first.string()));
+  width_ = depth.cols, height_ = depth.rows;
+
+  SourceDescription description;
+  description.classes = classes_;
+  description.frame_count = static_cast<int64_t>(image_ids_.size());
+  description.semantics = {"rgb", "classid", "instanceid", "depth"};
+  description.depth_kind = DepthKind::kPlanar;
+  description.truth_origin = {{"rgb", "imported"},
+                              {"instanceid", "imported"},
+                              {"classid", "imported"},
+                              {"depth", "imported"},
+                              {"camera", "imported"},
+                              {"obb", "derived"}};
+  description.source_conventions = {
+      {"world_frame", "Blender world (z up), declared ENU"},
+      {"length_unit", "mm"},
+      {"principal_point", "pixel-centre (cx = (W-1)/2 centred), +0.5 to edge"},
+      {"depth", "16-bit PNG, mm = value * depth_scale, 0 = none"},
+      {"converted_to", "ENU m"}};
+  return description;
+}
+
+SourceFrame BopImporter::ReadFrame(int64_t index) {
+  const int64_t id = image_ids_.at(static_cast<size_t>(index)).first;
+  const std::string& key = image_ids_.at(static_cast<size_t>(index)).second;
+  const std::string where = (json::json_pointer() / key).to_string();
+  SourceFrame frame;
+  frame.time = static_cast<double>(index);  // BOP images are independent views
+  frame.sequence = scene_.filename().string();
+  frame.shot = index;
+  Eigen::Matrix3d k, r_w2c;
+  Eigen::Vector3d t_w2c_mm;
+  double depth_scale = 1;
+  AtPointer(camera_file_, where, [&] {
+    const json& c = cameras_.at(key);
+    k = Matrix3(c.at("cam_K"));
+    r_w2c = Matrix3(c.at("cam_R_w2c"));
+    t_w2c_mm = Vector3(c.at("cam_t_w2c"));
+    depth_scale = c.value("depth_scale", 1.0);
+    return 0;
+  });
+  if (!IsRotation(r_w2c))
+    throw Error("cam_R_w2c is not a rotation", Location(camera_file_, where + "/cam_R_w2c"));
+  PinholeCamera& camera = frame.camera.intrinsics;
+  camera.width = width_, camera.height = height_;
+  camera.fx = k(0, 0), camera.fy = k(1, 1);
+  // BOP's principal point is in pixel-centre coordinates (pixel i's centre is
+  // i); lsds's in pixel-edge ones (its centre is i + 0.5).
+  camera.cx = k(0, 2) + 0.5, camera.cy = k(1, 2) + 0.5;
+  frame.camera.cam_from_world_rotation = r_w2c;
+  frame.camera.cam_from_world_translation = t_w2c_mm / 1000.0;
+  const Eigen::Matrix3d world_from_cam = r_w2c.transpose();
+  const Eigen::Vector3d centre_mm = -(world_from_cam * t_w2c_mm);
+
+  frame.flat["rgb"] = ReadSrgbLayer(
+      root_->File(scene_ / "rgb" / (Stem(id) + ".png")), width_, height_, "the depth images' size");
+
+  const fs::path depth_path = root_->File(scene_ / "depth" / (Stem(id) + ".png"));
+  const cv::Mat depth_png = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
+  if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width_ ||
+      depth_png.rows != height_)
+    throw Error(
+        "not a " + std::to_string(width_) + "x" + std::to_string(height_) + " 16-bit depth PNG",
+        Location(depth_path.string()));
+  exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
+  std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
+  for (int j = 0; j < height_; ++j)
+    for (int i = 0; i < width_; ++i) {
+      const uint16_t v = depth_png.at<uint16_t>(j, i);
+      z[depth.Index(i, j)] = v == 0 ? std::numeric_limits<float>::infinity()
+                                    : static_cast<float>(v * depth_scale / 1000.0);
+    }
+
+  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
+  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
+  std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
+  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
+  const json gts = AtPointer(gt_file_, where, [&] { return gts_.at(key); });
+  if (!gts.is_array()) throw Error("expected an array of objects", Location(gt_file_, where));
+  for (size_t g = 0; g < gts.size(); ++g) {
+    const std::string at = where + "/" + std::to_string(g);
+    const json& gt = gts.at(g);
+    const uint32_t obj_id = AtPointer(
+        gt_file_, at + "/obj_id", [&] { return IdAt(gt.at("obj_id"), gt_file_, at + "/obj_id"); });
+    const auto model = models_.find(obj_id);
+    if (model == models_.end())
+      throw Error("obj_id " + std::to_string(obj_id) + " is not in models_info.json",
+                  Location(gt_file_, at + "/obj_id"));
+    const Eigen::Matrix3d r_m2c =
+        AtPointer(gt_file_, at + "/cam_R_m2c", [&] { return Matrix3(gt.at("cam_R_m2c")); });
+    const Eigen::Vector3d t_m2c =
+        AtPointer(gt_file_, at + "/cam_t_m2c", [&] { return Vector3(gt.at("cam_t_m2c")); });
+    if (!IsRotation(r_m2c))
+      throw Error("cam_R_m2c is not a rotation", Location(gt_file_, at + "/cam_R_m2c"));
+    // Instance g + 1: BlenderProc writes a scene's objects in the same order
+    // in every image. The class is the model.
+    ObjectIdentity target;
+    target.instance_id = static_cast<uint32_t>(g + 1);
+    target.class_id = obj_id;
+    target.name = "obj_" + Stem(obj_id) + "#" + std::to_string(g);
+    target.asset = "obj_" + Stem(obj_id);
+    const Eigen::Vector3d centre_in_cam =
+        r_m2c * (model->second.min_mm + 0.5 * model->second.size_mm) + t_m2c;
+    target.obb.center = (world_from_cam * centre_in_cam + centre_mm) / 1000.0;
+    target.obb.half_extents = 0.5 * model->second.size_mm / 1000.0;
+    target.obb.world_from_box = world_from_cam * r_m2c;
+    frame.targets.push_back(target);
+
+    const fs::path mask_path = root_->File(
+        scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png"));
+    const cv::Mat mask = ReadImage(mask_path, cv::IMREAD_GRAYSCALE);
+    if (mask.empty() || mask.cols != width_ || mask.rows != height_)
+      throw Error(
+          "missing, unreadable or not " + std::to_string(width_) + "x" + std::to_string(height_),
+          Location(mask_path.string()));
+    for (int j = 0; j < height_; ++j)
+      for (int i = 0; i < width_; ++i) {
+        if (mask.at<uint8_t>(j, i) == 0) continue;
+        const size_t p = instances.Index(i, j);
+        if (instance[p] != 0)
+          throw Error("visible masks of objects " + std::to_string(instance[p] - 1) + " and " +
+                          std::to_string(g) + " overlap",
+                      Location::Pixel(mask_path.string(), index, i, j));
+        instance[p] = target.instance_id;
+        klass[p] = obj_id;
+      }
+  }
+  return frame;
+}
+
+}  // namespace lsds::import

@@ -1,0 +1,155 @@
+#include "importers/import_collection.h"
+
+#include <algorithm>
+#include <optional>
+
+#include "importers/derived_truth.h"
+#include "importers/registry.h"
+#include "libs/collection/collection_builder.h"
+#include "libs/collection/object_truth.h"
+#include "libs/collection/worldposition_layout.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "libs/util/text_check.h"
+
+namespace lsds::import {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool IsWithin(const fs::path& inner, const fs::path& outer) {
+  const auto mismatch = std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
+  return mismatch.first == outer.end();
+}
+
+void RefuseOverlap(const fs::path& source, const fs::path& output) {
+  const fs::path s = fs::weakly_canonical(source);
+  const fs::path o = fs::weakly_canonical(output);
+  if (IsWithin(o, s) || IsWithin(s, o))
+    throw Error(
+        "the output must neither be, lie inside nor contain the "
+        "source '" +
+            source.string() + "'",
+        Location(output.string()));
+}
+
+// Runs an importer's step. The importers read every field through the checked
+// accessors of source_json.h; a JSON access they missed (a value of another
+// type deep in a structure) still stops the import as bad input at the source
+// and frame, not as an internal error.
+template <typename F>
+auto Guarded(const fs::path& source, std::optional<int64_t> frame, F&& step) {
+  try {
+    return step();
+  } catch (const nlohmann::json::exception& e) {
+    Location where(source.string());
+    where.frame = frame;
+    throw Error(std::string("malformed source data: ") + e.what(), where);
+  }
+}
+
+}  // namespace
+
+ImportResult ImportCollection(const std::string& format,
+                              const fs::path& source,
+                              const fs::path& output,
+                              const ImportOptions& options,
+                              bool force) {
+  std::unique_ptr<Importer> importer = MakeImporter(format);
+  std::error_code ec;
+  if (!fs::exists(source, ec)) throw Error("source does not exist", Location(source.string()));
+  RefuseOverlap(source, output);
+  RefuseToOverwrite(output, force);
+  const SourceDescription description =
+      Guarded(source, std::nullopt, [&] { return importer->Open(source, options); });
+  if (description.frame_count < 1)
+    throw Error("the source has no frames", Location(source.string()));
+
+  const bool has_depth =
+      std::count(description.semantics.begin(), description.semantics.end(), "depth") != 0;
+  std::vector<std::string> semantics = description.semantics;
+  std::map<std::string, std::string> origin = description.truth_origin;
+  if (has_depth && !std::count(semantics.begin(), semantics.end(), "worldposition")) {
+    semantics.push_back("worldposition");
+    origin["worldposition"] = "derived";
+  }
+  // Per-object truth measured here on the imported id layer
+  // (object_truth.h); the unoccluded pixels are those of the OBB.
+  for (const char* field : {"bbox", "visible_pixels", "bbox_projected", "in_frame", "visibility"})
+    origin.emplace(field, "derived");
+  for (const std::string& semantic : StandardLayerSemantics()) {
+    if (!std::count(semantics.begin(), semantics.end(), semantic))
+      origin.emplace(semantic, "absent");
+  }
+
+  CollectionHeader header;
+  header.provenance.generator = "lsds import";
+  header.provenance.generator_version = LSDS_VERSION;
+  header.provenance.import = {{"format", importer->name()},
+                              {"source", Utf8Escaped(fs::absolute(source).string())},
+                              {"source_conventions", description.source_conventions},
+                              {"truth_origin", origin}};
+  header.classes = description.classes;
+  for (const std::string& semantic : semantics)
+    header.layers.push_back(StandardLayer(semantic, description.depth_kind));
+  header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
+  header.frame_count = description.frame_count;
+
+  AtomicDirectory out(output, force);
+  const fs::path& root = out.temp_path();
+  for (const LayerInfo& layer : header.layers) fs::create_directories(root / layer.name);
+  CollectionBuilder builder(root, header);
+  ImportResult result;
+  for (int64_t k = 0; k < description.frame_count; ++k) {
+    SourceFrame source_frame = Guarded(source, k, [&] { return importer->ReadFrame(k); });
+    const Rigid3d cam_from_world = CamFromWorld(source_frame.camera);
+    const PinholeCamera& camera = source_frame.camera.intrinsics;
+    if (has_depth && !source_frame.flat.count("worldposition")) {
+      // The rule of the residual worldposition layout
+      // (libs/collection/worldposition_layout.h), so a derived layer stores as
+      // zeros there.
+      const exr::FlatImage& depth = source_frame.flat.at("depth");
+      WorldPositionPrediction prediction;
+      prediction.depth = depth.Get("Z").floats;
+      prediction.width = depth.width();
+      prediction.height = depth.height();
+      prediction.depth_kind = description.depth_kind;
+      prediction.camera = source_frame.camera;
+      source_frame.flat["worldposition"] = PredictWorldPosition(prediction);
+    }
+    Frame frame;
+    frame.index = k;
+    frame.time = source_frame.time;
+    frame.sequence = source_frame.sequence;
+    frame.shot = source_frame.shot;
+    frame.camera = source_frame.camera;
+    const exr::FlatImage& instances = source_frame.flat.at("instanceid");
+    const auto masks =
+        MeasureInstanceMasks(instances.Get("id").uints, instances.width(), instances.height());
+    for (const ObjectIdentity& target : source_frame.targets) {
+      const auto mask = masks.find(target.instance_id);
+      auto count_unoccluded = [&](const Box2d& bounds) {
+        return CountObbPixels(target.obb, camera, cam_from_world, bounds);
+      };
+      if (std::optional<ObjectTruth> object = MeasureObjectTruth(
+              target,
+              camera,
+              cam_from_world,
+              {instances.Get("id").uints.data(), instances.width(), instances.height()},
+              mask == masks.end() ? nullptr : &mask->second,
+              count_unoccluded))
+        frame.objects.push_back(std::move(*object));
+    }
+    frame.files = WriteFrameLayers(
+        root, header, k, frame.camera, {&source_frame.flat, nullptr, std::nullopt, std::nullopt});
+    result.objects += static_cast<int64_t>(frame.objects.size());
+    builder.Append(frame);
+  }
+  builder.Commit();
+  out.Commit();
+  result.frames = description.frame_count;
+  return result;
+}
+
+}  // namespace lsds::import

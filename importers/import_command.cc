@@ -1,0 +1,62 @@
+// lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE] [--up-axis z|y]
+// [--allow-links-outside] [--force]
+#include <iostream>
+
+#include "importers/import_collection.h"
+#include "importers/registry.h"
+#include "libs/util/output_guard.h"
+#include "libs/util/strings.h"
+#include "tools/command.h"
+
+namespace lsds {
+
+int RunImport(int argc, char** argv) {
+  CLI::App app(
+      "Bring another simulator's output into a collection (docs/import.md): "
+      "layers converted to the collection's units and frames, missing truth "
+      "derived from the layers. Formats: " +
+          Join(import::ImporterNames(), ", ") + ".",
+      "lsds import");
+  std::string format, source, output;
+  import::ImportOptions options;
+  std::string objects, settings;
+  bool force = false;
+  app.add_option("FORMAT", format, "source format")->required();
+  app.add_option("SOURCE", source, "the simulator's output folder")->required();
+  app.add_option("-o,--output", output, "the collection folder to write")->required();
+  app.add_option("--objects",
+                 objects,
+                 "sidecar with the objects' classes, ids and 3D boxes "
+                 "(default SOURCE/lsds_objects.json)");
+  app.add_option("--settings",
+                 settings,
+                 "the simulator's settings (airsim: settings.json with the "
+                 "camera mount; default SOURCE/settings.json)");
+  app.add_option("--up-axis",
+                 options.up_axis,
+                 "the USD stage's up axis, which Replicator does not write "
+                 "(replicator: z or y; default z)")
+      ->check(CLI::IsMember({"z", "y"}));
+  app.add_flag("--allow-links-outside",
+               options.allow_links_outside,
+               "read files of the source that are symbolic links to places outside it "
+               "(deliberately linked data); names in the source's data must still be "
+               "relative paths inside it");
+  app.add_flag("--force", force, "replace the output if it exists");
+  return RunCommand(app, argc, argv, [&] {
+    OutputGuard guard("lsds import");
+    guard.AddInput(source, "source folder");
+    guard.AddInput(objects, "objects file");
+    guard.AddInput(settings, "settings file");
+    guard.CheckOutput(output, "-o");
+    options.objects = objects;
+    options.settings = settings;
+    const import::ImportResult result =
+        import::ImportCollection(format, source, output, options, force);
+    std::cout << "imported " << result.frames << " frames, " << result.objects
+              << " object entries from " << source << " (" << format << ") to " << output << "\n";
+    return 0;
+  });
+}
+
+}  // namespace lsds

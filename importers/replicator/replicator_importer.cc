@@ -1,0 +1,359 @@
+#include "importers/replicator/replicator_importer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <regex>
+#include <set>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "importers/source_json.h"
+#include "importers/source_png.h"
+#include "libs/util/error.h"
+#include "libs/util/npy.h"
+#include "libs/util/strings.h"
+
+namespace lsds::import {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// Labels Replicator gives to pixels of no labelled prim.
+bool IsBackgroundLabel(const std::string& label) {
+  return label == "BACKGROUND" || label == "UNLABELLED" || label.empty();
+}
+
+// "(r, g, b, a)" -> packed RGBA.
+bool ParseColourKey(const std::string& key, uint32_t* rgba) {
+  static const std::regex pattern(R"(\(\s*(\d+)\s*,\s*(\d+)\s*,\s*(\d+)\s*,\s*(\d+)\s*\))");
+  std::smatch m;
+  if (!std::regex_match(key, m, pattern)) return false;
+  uint32_t packed = 0;
+  for (int c = 1; c <= 4; ++c) {
+    const std::optional<int64_t> v = ParseInteger(m[c].str(), 0, 255);
+    if (!v) return false;
+    packed = (packed << 8) | static_cast<uint32_t>(*v);
+  }
+  *rgba = packed;
+  return true;
+}
+
+// The class of a semantics entry {"class": "a,b"}: its first label.
+std::string ClassLabel(const json& semantics) {
+  if (!semantics.is_object() || !semantics.contains("class")) return "";
+  std::string label = semantics.at("class").get<std::string>();
+  return label.substr(0, label.find(','));
+}
+
+// A row-major 4x4 USD matrix (row vectors: p_row * M) as the column-vector
+// matrix, its transpose.
+Eigen::Matrix4d ColumnMatrix(const Eigen::Matrix<double, 16, 1>& row_major) {
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = row_major[c * 4 + r];
+  return m;
+}
+
+}  // namespace
+
+fs::path ReplicatorImporter::Path(const std::string& stem,
+                                  int64_t index,
+                                  const std::string& ext) const {
+  return root_->File(folder_ /
+                     (stem + "_" + frame_ids_.at(static_cast<size_t>(index)).second + "." + ext));
+}
+
+SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportOptions& options) {
+  folder_ = source;
+  root_.emplace(source, options.allow_links_outside);
+  if (options.up_axis == "y") {
+    // Y-up stage to ENU: x stays, stage -z is north, stage y is up.
+    enu_from_stage_ << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  } else if (options.up_axis != "z" && !options.up_axis.empty()) {
+    throw Error("--up-axis must be z or y, not '" + options.up_axis + "'");
+  }
+  static const std::regex rgb_name(R"(rgb_(\d+)\.png)");
+  for (const auto& entry : fs::directory_iterator(source)) {
+    std::smatch m;
+    const std::string name = entry.path().filename().string();
+    if (!std::regex_match(name, m, rgb_name)) continue;
+    const std::optional<int64_t> number =
+        ParseInteger(m[1].str(), 0, std::numeric_limits<int64_t>::max());
+    if (!number)
+      throw Error("the frame number is beyond 2^63 - 1", Location(entry.path().string()));
+    frame_ids_.emplace_back(*number, m[1].str());
+  }
+  if (frame_ids_.empty())
+    throw Error(
+        "not a Replicator BasicWriter folder: no rgb_NNNN.png "
+        "(for several render products, import each product's folder)",
+        Location(source.string()));
+  std::sort(frame_ids_.begin(), frame_ids_.end());
+  if (fs::exists(Path("distance_to_image_plane", 0, "npy"))) {
+    depth_stem_ = "distance_to_image_plane", depth_kind_ = DepthKind::kPlanar;
+  } else if (fs::exists(Path("distance_to_camera", 0, "npy"))) {
+    depth_stem_ = "distance_to_camera", depth_kind_ = DepthKind::kPerspective;
+  }
+  // Instance ids and classes hold across frames: prim paths and class labels
+  // of every frame's mappings, numbered in sorted order.
+  std::set<std::string> prims, classes;
+  std::map<std::string, std::string> class_label_of_prim;
+  for (size_t k = 0; k < frame_ids_.size(); ++k) {
+    const fs::path mapping_path =
+        Path("instance_segmentation_mapping", static_cast<int64_t>(k), "json");
+    const fs::path semantics_path =
+        Path("instance_segmentation_semantics_mapping", static_cast<int64_t>(k), "json");
+    const json mapping = ParseJsonFile(mapping_path);
+    const json semantics = ParseJsonFile(semantics_path);
+    for (const auto& [key, prim] : mapping.items()) {
+      const std::string where = (json::json_pointer() / key).to_string();
+      const std::string path = StringAt(prim, mapping_path.string(), where);
+      if (IsBackgroundLabel(path)) continue;
+      const std::string label = AtPointer(semantics_path.string(), where, [&, &key = key] {
+        return ClassLabel(semantics.at(key));
+      });
+      prims.insert(path);
+      if (!label.empty()) {
+        classes.insert(label);
+        class_label_of_prim[path] = label;
+      }
+    }
+    const fs::path boxes_labels = Path("bounding_box_3d_labels", static_cast<int64_t>(k), "json");
+    if (!fs::exists(boxes_labels)) continue;
+    const json labels = ParseJsonFile(boxes_labels);
+    const fs::path prim_paths_file =
+        Path("bounding_box_3d_prim_paths", static_cast<int64_t>(k), "json");
+    const json prim_paths = ParseJsonFile(prim_paths_file);
+    const NpyArray boxes = ReadNpy(Path("bounding_box_3d", static_cast<int64_t>(k), "npy"));
+    const NpyField& semantic_id =
+        boxes.Field("semanticId", Path("bounding_box_3d", static_cast<int64_t>(k), "npy").string());
+    if (!prim_paths.is_array() || prim_paths.size() != static_cast<size_t>(boxes.size()))
+      throw Error("expected one prim path per box (" + std::to_string(boxes.size()) + ")",
+                  Location(prim_paths_file.string()));
+    for (int64_t row = 0; row < boxes.size(); ++row) {
+      const std::string path =
+          StringAt(prim_paths.at(row), prim_paths_file.string(), "/" + std::to_string(row));
+      const double semantic = boxes.Get(row, semantic_id);
+      if (!(semantic >= 0 && semantic <= std::numeric_limits<uint32_t>::max()) ||
+          semantic != std::floor(semantic))
+        throw Error("semanticId of row " + std::to_string(row) + " is " + FormatNumber(semantic) +
+                        ", not an id in [0, 4294967295]",
+                    Location(Path("bounding_box_3d", static_cast<int64_t>(k), "npy").string()));
+      const std::string id = std::to_string(static_cast<int64_t>(semantic));
+      const std::string label =
+          AtPointer(boxes_labels.string(), "/" + id, [&] { return ClassLabel(labels.at(id)); });
+      prims.insert(path);
+      if (!label.empty()) {
+        classes.insert(label);
+        class_label_of_prim[path] = label;
+      }
+    }
+  }
+  SourceDescription description;
+  uint32_t next = 1;
+  for (const std::string& c : classes) {
+    class_ids_[c] = next;
+    description.classes.push_back({next++, c});
+  }
+  next = 1;
+  for (const std::string& p : prims) {
+    instance_of_prim_[p] = next++;
+    const auto label = class_label_of_prim.find(p);
+    class_of_prim_[p] = label == class_label_of_prim.end() ? 0 : class_ids_.at(label->second);
+  }
+  description.frame_count = static_cast<int64_t>(frame_ids_.size());
+  description.semantics = {"rgb", "classid", "instanceid"};
+  if (!depth_stem_.empty()) description.semantics.push_back("depth");
+  description.depth_kind = depth_kind_;
+  description.truth_origin = {{"rgb", "imported"},
+                              {"instanceid", "imported"},
+                              {"classid", "imported"},
+                              {"camera", "imported"},
+                              {"obb", "imported"}};
+  if (!depth_stem_.empty()) description.truth_origin["depth"] = "imported";
+  description.source_conventions = {
+      {"world_frame",
+       options.up_axis == "y" ? "USD stage, y up (--up-axis y), to ENU (x, -z, y)"
+                              : "USD stage, z up, declared ENU"},
+      {"length_unit", "scene units * metersPerSceneUnit"},
+      {"camera_frame", "USD/OpenGL camera: looks down -Z, +Y up"},
+      {"matrices", "row-major, row vectors (p_row * M)"},
+      {"depth", depth_stem_.empty() ? "none" : depth_stem_ + " (.npy float32)"},
+      {"converted_to", "ENU m, OpenCV camera, pixel-edge intrinsics"}};
+  return description;
+}
+
+SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
+  SourceFrame frame;
+  // BasicWriter writes no timestamps; randomised frames are independent.
+  frame.time = static_cast<double>(index);
+  frame.sequence = folder_.filename().string();
+  frame.shot = index;
+
+  const fs::path camera_path = Path("camera_params", index, "json");
+  const json params = ParseJsonFile(camera_path);
+  const std::string camera_file = camera_path.string();
+  Eigen::Matrix<double, 16, 1> view, projection;
+  int width = 0, height = 0;
+  double meters_per_unit = 1;
+  AtPointer(camera_file, "/cameraViewTransform", [&] {
+    view = JsonNumbers<16>(params.at("cameraViewTransform"));
+    return 0;
+  });
+  AtPointer(camera_file, "/cameraProjection", [&] {
+    projection = JsonNumbers<16>(params.at("cameraProjection"));
+    return 0;
+  });
+  AtPointer(camera_file, "/renderProductResolution", [&] {
+    const json& resolution = params.at("renderProductResolution");
+    width = IntegerAt<int>(resolution.at(0), camera_file, "/renderProductResolution/0");
+    height = IntegerAt<int>(resolution.at(1), camera_file, "/renderProductResolution/1");
+    return 0;
+  });
+  AtPointer(camera_file, "/metersPerSceneUnit", [&] {
+    meters_per_unit = params.value("metersPerSceneUnit", 1.0);
+    return 0;
+  });
+  if (width < 1 || height < 1 || !(meters_per_unit > 0))
+    throw Error("resolution and metersPerSceneUnit must be positive", Location(camera_file));
+  const Eigen::Matrix4d gl_cam_from_stage = ColumnMatrix(view);
+  const Eigen::Matrix3d r = gl_cam_from_stage.topLeftCorner<3, 3>();
+  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 ||
+      r.determinant() < 0)
+    throw Error("not a rigid view matrix", Location(camera_file, "/cameraViewTransform"));
+  // OpenGL camera (x right, y up, looking down -z) to OpenCV: y, z negated;
+  // the stage to ENU and scene units to metres.
+  const Eigen::Matrix3d cv_from_gl = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  frame.camera.cam_from_world_rotation = cv_from_gl * r * enu_from_stage_.transpose();
+  frame.camera.cam_from_world_translation =
+      meters_per_unit * (cv_from_gl * gl_cam_from_stage.topRightCorner<3, 1>());
+  // The OpenGL projection: x_ndc = P00 x / -z - P02 and u = (x_ndc + 1) W / 2
+  // (u from the left edge), y_ndc = P11 y / -z - P12 and v = (1 - y_ndc) H / 2
+  // (v from the top edge).
+  const Eigen::Matrix4d p = ColumnMatrix(projection);
+  PinholeCamera& camera = frame.camera.intrinsics;
+  camera.width = width, camera.height = height;
+  camera.fx = 0.5 * width * p(0, 0);
+  camera.fy = 0.5 * height * p(1, 1);
+  camera.cx = 0.5 * width * (1 - p(0, 2));
+  camera.cy = 0.5 * height * (1 + p(1, 2));
+  if (!(camera.fx > 0 && camera.fy > 0))
+    throw Error("not a perspective projection", Location(camera_file, "/cameraProjection"));
+
+  frame.flat["rgb"] =
+      ReadSrgbLayer(Path("rgb", index, "png"), width, height, "renderProductResolution");
+
+  if (!depth_stem_.empty()) {
+    const fs::path depth_path = Path(depth_stem_, index, "npy");
+    const NpyArray distance = ReadNpy(depth_path);
+    const bool shape_ok =
+        (distance.shape.size() == 2 || (distance.shape.size() == 3 && distance.shape[2] == 1)) &&
+        distance.shape[0] == height && distance.shape[1] == width && distance.fields.size() == 1 &&
+        distance.fields[0].kind == 'f';
+    if (!shape_ok)
+      throw Error("expected a float array of shape (" + std::to_string(height) + ", " +
+                      std::to_string(width) + ")",
+                  Location(depth_path.string()));
+    exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width, height);
+    std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
+    const NpyField& field = distance.fields[0];
+    for (int j = 0; j < height; ++j)
+      for (int i = 0; i < width; ++i) {
+        const double d = distance.Get(static_cast<int64_t>(j) * width + i, field);
+        if (d < 0)
+          throw Error("negative distance", Location::Pixel(depth_path.string(), index, i, j));
+        if (std::isnan(d))
+          throw Error("NaN distance", Location::Pixel(depth_path.string(), index, i, j));
+        // +inf where no surface: the sky.
+        z[depth.Index(i, j)] = std::isfinite(d) ? static_cast<float>(d * meters_per_unit)
+                                                : std::numeric_limits<float>::infinity();
+      }
+  }
+
+  // Instance segmentation: colour -> prim path -> instance id.
+  const fs::path segmentation_path = Path("instance_segmentation", index, "png");
+  const fs::path mapping_path = Path("instance_segmentation_mapping", index, "json");
+  const json mapping = ParseJsonFile(mapping_path);
+  std::map<uint32_t, uint32_t> instance_of_colour;
+  for (const auto& [key, prim] : mapping.items()) {
+    uint32_t rgba = 0;
+    if (!ParseColourKey(key, &rgba))
+      throw Error("expected a colour key \"(r, g, b, a)\"",
+                  Location(mapping_path.string(), (json::json_pointer() / key).to_string()));
+    const std::string path =
+        StringAt(prim, mapping_path.string(), (json::json_pointer() / key).to_string());
+    instance_of_colour[rgba] = IsBackgroundLabel(path) ? 0 : instance_of_prim_.at(path);
+  }
+  const cv::Mat colours = ReadRgbaPng(segmentation_path, width, height);
+  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width, height);
+  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width, height);
+  std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
+  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
+  std::map<uint32_t, uint32_t> class_of_instance;
+  for (const auto& [prim, id] : instance_of_prim_) class_of_instance[id] = class_of_prim_.at(prim);
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      const uint32_t rgba = PackedRgba(colours.at<cv::Vec4b>(j, i));
+      const auto found = instance_of_colour.find(rgba);
+      if (found == instance_of_colour.end()) {
+        throw Error("colour " + RgbaText(rgba) + " is not in " + mapping_path.filename().string(),
+                    Location::Pixel(segmentation_path.string(), index, i, j));
+      }
+      instance[instances.Index(i, j)] = found->second;
+      klass[classes.Index(i, j)] = found->second ? class_of_instance.at(found->second) : 0;
+    }
+
+  // 3D boxes: local extents and a row-vector local-to-world transform.
+  const fs::path boxes_path = Path("bounding_box_3d", index, "npy");
+  if (fs::exists(boxes_path)) {
+    const std::string file = boxes_path.string();
+    const NpyArray boxes = ReadNpy(boxes_path);
+    const json prim_paths = ParseJsonFile(Path("bounding_box_3d_prim_paths", index, "json"));
+    const char* names[6] = {"x_min", "y_min", "z_min", "x_max", "y_max", "z_max"};
+    const NpyField& transform_field = boxes.Field("transform", file);
+    if (transform_field.count != 16) throw Error("field 'transform' is not 4x4", Location(file));
+    for (int64_t row = 0; row < boxes.size(); ++row) {
+      double extent[6];
+      for (int e = 0; e < 6; ++e) extent[e] = boxes.Get(row, boxes.Field(names[e], file));
+      Eigen::Matrix<double, 16, 1> t;
+      for (int e = 0; e < 16; ++e) t[e] = boxes.Get(row, transform_field, e);
+      const Eigen::Matrix4d stage_from_local = ColumnMatrix(t);
+      const Eigen::Matrix3d linear = stage_from_local.topLeftCorner<3, 3>();
+      const Eigen::Vector3d local_min(extent[0], extent[1], extent[2]);
+      const Eigen::Vector3d local_max(extent[3], extent[4], extent[5]);
+      OrientedBox obb;
+      Eigen::Matrix3d axes;
+      for (int a = 0; a < 3; ++a) {
+        const double scale = linear.col(a).norm();
+        if (!(scale > 0) || !(local_max[a] >= local_min[a]))
+          throw Error("degenerate box in row " + std::to_string(row), Location(file));
+        axes.col(a) = linear.col(a) / scale;
+        obb.half_extents[a] = 0.5 * (local_max[a] - local_min[a]) * scale * meters_per_unit;
+      }
+      // float32 records: the axes are orthonormal to 1e-7; make them exactly
+      // a rotation.
+      if (axes.determinant() < 0)
+        throw Error("mirrored box transform in row " + std::to_string(row), Location(file));
+      obb.world_from_box =
+          enu_from_stage_ * Eigen::Quaterniond(axes).normalized().toRotationMatrix();
+      const Eigen::Vector3d centre_in_stage =
+          linear * (0.5 * (local_min + local_max)) + stage_from_local.topRightCorner<3, 1>();
+      obb.center = meters_per_unit * (enu_from_stage_ * centre_in_stage);
+      const std::string path = StringAt(prim_paths.at(row),
+                                        Path("bounding_box_3d_prim_paths", index, "json").string(),
+                                        "/" + std::to_string(row));
+      ObjectIdentity target;
+      target.instance_id = instance_of_prim_.at(path);
+      target.class_id = class_of_prim_.at(path);
+      target.name = path;
+      target.obb = obb;
+      frame.targets.push_back(target);
+    }
+  }
+  return frame;
+}
+
+}  // namespace lsds::import

@@ -1,0 +1,44 @@
+// Unity Perception's SOLO dataset (docs/import.md, "Unity Perception SOLO"):
+// annotation_definitions.json (the label specs: label_id, label_name) and
+// sequence.N/stepK.frame_data.json, each with captures[] of which the first
+// RGBCamera is read: position (m, Unity world: left-handed, y up), rotation
+// serialized [x, y, z, w], the 3x3 of Unity's OpenGL projection matrix
+// (column-major), the PNG it names, and its annotations: InstanceSegmentation
+// (colour PNG + instances[] with instanceId, labelId, color), BoundingBox3D
+// (translation, size, [x, y, z, w] rotation in the camera's frame) and Depth
+// (EXR, channel R, metres; `measurementStrategy` Depth = planar, Range = along
+// the ray). Converted to ENU (x, z, y), the OpenCV camera and pixel-edge
+// intrinsics.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "importers/importer.h"
+#include "libs/util/confined_path.h"
+
+namespace lsds::import {
+
+class SoloImporter : public Importer {
+ public:
+  std::string name() const override { return "solo"; }
+  SourceDescription Open(const std::filesystem::path& source,
+                         const ImportOptions& options) override;
+  SourceFrame ReadFrame(int64_t index) override;
+
+ private:
+  struct Step {
+    int64_t sequence = 0, step = 0;
+    std::filesystem::path file;
+  };
+  std::optional<ConfinedFolder> root_;  // every file read is confined to it
+  std::vector<Step> steps_;             // by sequence, then step
+  std::vector<int64_t> shot_of_step_;
+  std::vector<uint32_t> class_ids_;
+  bool has_depth_ = false;
+  DepthKind depth_kind_ = DepthKind::kPlanar;
+};
+
+}  // namespace lsds::import

@@ -17,12 +17,12 @@ import pathlib
 import re
 import sys
 
-PAGES = ["README.md", "CHANGELOG.md", "bench/README.md"]
+PAGES = ["README.md", "CHANGELOG.md", "bench/README.md", "fuzz/README.md"]
 SOURCE_SUFFIXES = {".cc", ".h", ".py", ".sh", ".cmake", ".txt", ".json", ".lcap", ".lscene"}
 SOURCE_DIRS = ["libs", "generator", "converters", "validators", "tools", "tests", "bench", "fuzz",
                "scripts", "cmake", "schemas", "examples", ".ci"]
 LINK = re.compile(r"\[(?:[^\]\[]|\[[^\]]*\])*\]\(([^)\s]+)\)")
-NAMED = re.compile(r"\b((?:docs/[A-Za-z0-9_.-]+|bench/README)\.md)\b")
+NAMED = re.compile(r"\b((?:docs/[A-Za-z0-9_.-]+|[a-z]+/README)\.md)\b")
 # A page named with the sections it cites: docs/languages.md, "Requirements and quotas", "Rigs".
 CITED = re.compile(r'\b(docs/[A-Za-z0-9_.-]+\.md)(?:[,:]\s*|\s+)\(?((?:"[^"\n]{1,80}"(?:,\s*|\s+and\s+|\s+)?)+)')
 COMMENT_BREAK = re.compile(r"\n\s*(?://|#|\*)?\s*")

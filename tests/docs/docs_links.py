@@ -8,7 +8,8 @@ Checks README.md, CHANGELOG.md, bench/README.md and docs/*.md:
   the N-th repeat);
 - a `docs/<page>.md` or `bench/README.md` named in the text of those pages, or in a comment of the
   sources (C++, CMake, Python, shell), exists, and a section cited after it in quotes
-  (`docs/format.md, "Oriented boxes"`) is named in that page (a heading, a bold lead or its text).
+  (`docs/format.md, "Oriented boxes"`, or `format.md "Camera rigs"` between pages) is named in
+  that page (a heading, a bold lead or its text).
 
 Usage: docs_links.py SOURCE_DIR. Exit 0 when every link resolves, 1 with one line per broken link
 (file:line: target).
@@ -24,7 +25,7 @@ SOURCE_DIRS = ["libs", "generator", "converters", "validators", "tools", "tests"
 LINK = re.compile(r"\[(?:[^\]\[]|\[[^\]]*\])*\]\(([^)\s]+)\)")
 NAMED = re.compile(r"\b((?:docs/[A-Za-z0-9_.-]+|[a-z]+/README)\.md)\b")
 # A page named with the sections it cites: docs/languages.md, "Requirements and quotas", "Rigs".
-CITED = re.compile(r'\b(docs/[A-Za-z0-9_.-]+\.md)(?:[,:]\s*|\s+)\(?((?:"[^"\n]{1,80}"(?:,\s*|\s+and\s+|\s+)?)+)')
+CITED = re.compile(r'(?<![\w/.-])((?:docs/)?[A-Za-z0-9_-]+\.md)(?:[,:]\s*|\s+)\(?((?:"[^"\n]{1,80}"(?:,\s*|\s+and\s+|\s+)?)+)')
 COMMENT_BREAK = re.compile(r"\n\s*(?://|#|\*)?\s*")
 FENCE = re.compile(r"^\s*(```|~~~)")
 
@@ -81,9 +82,10 @@ def check_citations(root, path, text, problems):
     """Sections cited in quotes after a page name are named in that page (comments may wrap)."""
     flat = COMMENT_BREAK.sub(" ", text)
     for m in CITED.finditer(flat):
-        page = root / m.group(1)
-        if not page.exists():
-            continue  # reported as a missing page
+        # docs/<page>.md, or <page>.md of docs/ (as the pages name each other) or of the root.
+        page = next((p for p in (root / m.group(1), root / "docs" / m.group(1)) if p.exists()), None)
+        if page is None:
+            continue  # a missing docs/ page is reported by check_page and check_sources
         words = page.read_text(encoding="utf-8").lower().replace("`", "")
         for section in re.findall(r'"([^"]+)"', m.group(2)):
             if section.lower().replace("`", "") not in words:

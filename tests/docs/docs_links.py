@@ -14,14 +14,15 @@ Checks README.md, CHANGELOG.md, bench/README.md and docs/*.md:
 Usage: docs_links.py SOURCE_DIR. Exit 0 when every link resolves, 1 with one line per broken link
 (file:line: target).
 """
+import os
 import pathlib
 import re
 import sys
 
 PAGES = ["README.md", "CHANGELOG.md", "bench/README.md", "fuzz/README.md"]
 SOURCE_SUFFIXES = {".cc", ".h", ".py", ".sh", ".cmake", ".txt", ".json", ".lcap", ".lscene"}
-SOURCE_DIRS = ["libs", "generator", "converters", "validators", "tools", "tests", "bench", "fuzz",
-               "scripts", "cmake", "schemas", "examples", ".ci"]
+# Every folder of the checkout is scanned (so a moved folder stays covered) except these.
+SKIPPED_DIRS = {".git", "build", "demo", "golden", "__pycache__", "corpus"}
 LINK = re.compile(r"\[(?:[^\]\[]|\[[^\]]*\])*\]\(([^)\s]+)\)")
 NAMED = re.compile(r"\b((?:docs/[A-Za-z0-9_.-]+|[a-z]+/README)\.md)\b")
 # A page named with the sections it cites: docs/languages.md, "Requirements and quotas", "Rigs".
@@ -94,18 +95,19 @@ def check_citations(root, path, text, problems):
 
 
 def check_sources(root, problems):
-    for top in SOURCE_DIRS:
-        for path in sorted((root / top).rglob("*")):
-            if path.suffix not in SOURCE_SUFFIXES or not path.is_file():
-                continue
-            if "golden" in path.parts or "__pycache__" in path.parts:
+    for folder, dirs, files in os.walk(root):
+        dirs[:] = sorted(d for d in dirs if d not in SKIPPED_DIRS and not d.startswith("build"))
+        for name in sorted(files):
+            path = pathlib.Path(folder) / name
+            if path.suffix not in SOURCE_SUFFIXES:
                 continue
             text = path.read_text(encoding="utf-8", errors="replace")
             check_citations(root, path, text, problems)
             for number, line in enumerate(text.splitlines(), 1):
-                for name in NAMED.findall(line):
-                    if not (root / name).exists():
-                        problems.append(f"{path.relative_to(root)}:{number}: names a missing page: {name}")
+                for page in NAMED.findall(line):
+                    if not (root / page).exists():
+                        problems.append(f"{path.relative_to(root)}:{number}: "
+                                        f"names a missing page: {page}")
 
 
 def main():

@@ -1,4 +1,4 @@
-// Per-layer EXR compression benchmark (issue 20): renders frame 1 of the demo
+// Per-layer EXR compression benchmark (docs/generator.md, "Storage"): renders frame 1 of the demo
 // scene (its motion measured against frame 0) and encodes each layer with every
 // lossless compression OpenEXR allows for it (flat: none, rle, zips, zip, piz;
 // deep: none, rle, zips), printing the bytes, the encode and decode time

@@ -321,7 +321,7 @@ double MedianOver(const std::vector<Repeat>& repeats, Fn value) {
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-// The cost of issue 16's light, camera and material features, each as the
+// The cost of the light, camera and material features, each as the
 // ratio of the frame time with it to the frame time without it: auto exposure
 // (metering + scaling the rgb, after RenderFrame), the procedural material
 // variation (patterns and patches over a plain mottled albedo, measured per

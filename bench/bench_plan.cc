@@ -1,6 +1,6 @@
-// Benchmark of planning scenes of many objects (docs/languages.md, "Performance"): N boxes
-// placed ON a terrain whose area grows with N (the same density at every size: about 2 % of the
-// ground covered, overlaps moved), planned without a capture. Prints, per size, the plan time,
+// Benchmark of planning scenes of many objects (docs/languages.md, "Position: Algorithm 1"): N
+// boxes placed ON a terrain whose area grows with N (the same density at every size: about 2 % of
+// the ground covered, overlaps moved), planned without a capture. Prints, per size, the plan time,
 // the time per object, the growth exponent against the size before (1 = linear; n log n shows
 // as a little over 1), and the process's peak memory.
 //

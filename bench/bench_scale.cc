@@ -1,4 +1,4 @@
-// Benchmark of collection size (issue 21): `lsds info`, `lsds validate` and
+// Benchmark of collection size (bench/README.md): `lsds info`, `lsds validate` and
 // `lsds convert` on a synthetic collection.json of 10^4, 10^5 and 10^6 small
 // frames, each a child process: frames/s and its peak memory (getrusage maxrss
 // of the child, wait4). Time must grow linearly with the frames and memory

@@ -1,4 +1,4 @@
-// Benchmark of scaling a generate run out (issue 17): the same frames rendered
+// Benchmark of scaling a generate run out (docs/scale-out.md): the same frames rendered
 // by one `lsds generate` process and by N shard processes side by side
 // (`--shard I/N`, each with cores/N threads), the speedup on this machine, and
 // `lsds merge` of the shards next to copying the same bytes (its floor); then

@@ -1,5 +1,5 @@
 // Truth derived from layers, for sources that do not store it (docs/import.md,
-// "What is derived"). 2D boxes and pixel counts come from the id layer through
+// "Derived truth"). 2D boxes and pixel counts come from the id layer through
 // libs/collection/object_truth.h; depth conversions and unprojection are those
 // of libs/geometry/camera.h.
 #pragma once

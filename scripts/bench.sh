@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `make bench`: run every benchmark of bench/ with its default sizes and print their figures.
 # Benchmarks are not tests: they assert nothing, they measure. Pass sizes to each binary directly for
-# the issue-sized runs (see bench/README.md).
+# the full-size runs (see bench/README.md).
 set -euo pipefail
 build="${1:?usage: scripts/bench.sh BUILD_DIR}"
 shopt -s nullglob

@@ -1,4 +1,4 @@
-"""Blender Cycles peer of `lsds generate --demo` for bench_generate (issue 20).
+"""Blender Cycles peer of `lsds generate --demo` for bench_generate (bench/README.md).
 
 Renders a scene of the demo's size and kind with Cycles, the engine BlenderProc
 and Kubric drive: a 300 m x 300 m displaced terrain, 24 objects of box, cylinder

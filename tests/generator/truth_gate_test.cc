@@ -1,4 +1,4 @@
-// The truth gate (docs/generator.md, "Every capture passes the validator"):
+// The truth gate (docs/generator.md, "The truth gate"):
 // every capture kind the languages can express, with and without timed scene
 // changes, and every example, generated small and run through
 // `lsds validate --fail-on warning`, the way a team gates training in CI.

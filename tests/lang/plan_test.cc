@@ -1,4 +1,4 @@
-// Property tests of the planner over many seeds (issue 3, "Must show"),
+// Property tests of the planner over many seeds (docs/languages.md, "Determinism"),
 // determinism and frame subsets, the plan's JSON form.
 #include <gtest/gtest.h>
 
@@ -657,7 +657,7 @@ TEST(LangGate, EveryMeshFormatTheLoaderReadsIsAClass) {
   }
 }
 
-// Every key this wave added to LCAP and LSCENE, in the text notation and in
+// Every key of LCAP and LSCENE over time, in the text notation and in
 // the JSON form `--emit-json` prints: the plans are identical.
 TEST(LangGate, TheKeysOfLcapOverTimePlanTheSameInTextAndJson) {
   const std::string scene =

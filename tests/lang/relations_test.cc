@@ -1,6 +1,6 @@
-// Spatial relations of LSCENE placement (issue 15): NEAR, FACING, BEHIND and
-// IN FRONT OF hold on every placed copy, in text and JSON alike, and bad uses
-// fail at their place.
+// Spatial relations of LSCENE placement (docs/languages.md, "Position: Algorithm 1"): NEAR, FACING,
+// BEHIND and IN FRONT OF hold on every placed copy, in text and JSON alike, and bad uses fail at
+// their place.
 #include <gtest/gtest.h>
 
 #include <cmath>

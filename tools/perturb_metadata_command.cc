@@ -97,7 +97,6 @@ int RunPerturbMetadata(int argc, char** argv) {
   std::vector<std::string> biases;
   double sigma_pos = -1, sigma_alt = -1, sigma_time = 0, sigma_fov = 0, tau = 0;
   uint64_t seed = 0;
-  bool force = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("--sigma",
                  sigma,
@@ -130,7 +129,13 @@ int RunPerturbMetadata(int argc, char** argv) {
                  output,
                  "output metadata file (default "
                  "COLLECTION/metadata.perturbed-<seed>.json)");
-  app.add_flag("--force", force, "overwrite an existing output and report");
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "overwrite an existing output and report",
+                 {{"--frames",
+                   "a metadata variant covers every frame of the collection (lsds validate "
+                   "and the consumers expect one entry per frame)"}});
   auto* report_flag =
       app.add_option("--report",
                      report_path,
@@ -138,11 +143,11 @@ int RunPerturbMetadata(int argc, char** argv) {
                      "and write "
                      "the per-frame report (default: the output with .report.json)")
           ->expected(0, 1);
-  return RunCommand(app, argc, argv, [&] {
+  return RunCommand(app, common, argc, argv, [&] {
     noise::PerturbOptions options;
     options.collection = collection;
     options.output = output;
-    options.force = force;
+    options.force = common.force;
     options.report = report_flag->count() > 0;
     options.report_path = report_path;
     noise::NoiseSpec& spec = options.spec;

@@ -48,12 +48,11 @@ int RunBundles(int argc, char** argv) {
       const FrameSelection selection = ParseFrameSelection(common.frames);
       const std::vector<int64_t> indices = CollectionFrameIndices(collection);
       CheckFrameSelection(selection, indices, "the collection " + collection);
-      options.first =
+      options.positions.begin =
           std::lower_bound(indices.begin(), indices.end(), selection.begin) - indices.begin();
-      options.end =
-          selection.bounded()
-              ? std::lower_bound(indices.begin(), indices.end(), selection.end) - indices.begin()
-              : -1;
+      if (selection.bounded())
+        options.positions.end =
+            std::lower_bound(indices.begin(), indices.end(), selection.end) - indices.begin();
     }
     options.output = output;
     options.mixed_map = mixed_map;

@@ -1,7 +1,6 @@
 // lsds generate: render a plan (from LSCENE/LCAP, a plan JSON, or the built-in
 // demo) into a collection. The work lives in generator/generate.h; this file
 // parses flags.
-#include <algorithm>
 #include <csignal>
 #include <cstring>
 #include <iostream>

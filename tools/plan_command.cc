@@ -1,7 +1,6 @@
 // lsds plan SCENE [CAPTURE] [-o plan.json] [--seed N] [--frames A:B]
 // [--emit-json] [--force]
 #include <iostream>
-#include <optional>
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"

@@ -109,7 +109,7 @@ std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root) {
 
 FrameRange SelectCollectionFrames(const std::string& text, const std::filesystem::path& root) {
   if (text.empty()) return {};
-  const FrameSelection selection = ParseFrameSelection(text);
+  FrameSelection selection = ParseFrameSelection(text);
   CheckFrameSelection(selection, CollectionFrameIndices(root), "the collection " + root.string());
   return selection;
 }

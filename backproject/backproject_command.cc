@@ -23,7 +23,6 @@ int RunBackproject(int argc, char** argv) {
       "lsds backproject");
   pointcloud::BackprojectOptions options;
   std::string frame = "world";
-  std::string frames;
   double tolerance = -1;
   bool no_color = false, no_labels = false;
   app.add_option("COLLECTION", options.collection, "collection folder (holds collection.json)")
@@ -56,9 +55,6 @@ int RunBackproject(int argc, char** argv) {
   app.add_flag("--normals", options.normals, "add per-point normals from the normal layer");
   app.add_option("--stride", options.stride, "use every K-th pixel in x and y (quick previews)")
       ->check(CLI::PositiveNumber);
-  AddFramesOption(app, &frames);
-  int threads = 0;
-  AddThreadsOption(app, &threads);
   app.add_option(
          "--format", options.per_frame_format, "per-frame file format: pcd (default) or ply")
       ->check(CLI::IsMember({"pcd", "ply"}));
@@ -70,16 +66,14 @@ int RunBackproject(int argc, char** argv) {
       ->check(CLI::IsMember({"int", "uint"}));
   app.add_flag("--no-color", no_color, "leave out the rgb field");
   app.add_flag("--no-labels", no_labels, "leave out the label (class) and instance fields");
-  app.add_flag("--force", options.force, "replace an existing output");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app, &common, "replace an existing output");
+  return RunCommand(app, common, argc, argv, [&] {
     options.ply_ids = pointcloud::PlyIdsFromName(ply_ids);
     options.frame =
         frame == "camera" ? pointcloud::OutputFrame::kCamera : pointcloud::OutputFrame::kWorld;
-    if (!frames.empty()) {
-      const FrameSelection selection = SelectCollectionFrames(frames, options.collection);
-      options.frames.begin = selection.begin;
-      options.frames.end = selection.end;
-    }
+    options.frames = SelectCollectionFrames(common.frames, options.collection);
+    options.force = common.force;
     // `-o f0.pcd` without --fuse: a file, not a folder. One selected frame is
     // written to it (its cloud is the fused cloud of that frame); several are
     // a usage error in the library that says what to do.
@@ -99,7 +93,6 @@ int RunBackproject(int argc, char** argv) {
     if (!options.metadata.empty())
       guard.AddInput(options.collection / options.metadata, "metadata file");
     guard.CheckOutput(options.output, "-o");
-    const ThreadLimit thread_limit(threads);
     options.colors = !no_color;
     options.labels = !no_labels;
     if (tolerance >= 0 && !options.check) options.check = true;
@@ -124,7 +117,7 @@ int RunBackproject(int argc, char** argv) {
                   summary.check.rms(),
                   summary.world_unit.c_str());
     }
-    if (!options.output.empty()) {
+    if (!options.output.empty() && !common.quiet) {
       std::cerr << "backproject: " << summary.frames << " frames, " << summary.points_backprojected
                 << " points back-projected, " << summary.points_written << " written to "
                 << options.output.string() << "\n";

@@ -11,17 +11,11 @@
 #include "backproject/backproject.h"
 #include "backproject/cloud_io.h"
 #include "libs/collection/model.h"
+#include "libs/util/frame_selection.h"
 
 namespace lsds::pointcloud {
 
 enum class OutputFrame { kWorld, kCamera };
-
-// Frame indices [begin, end): the --frames of libs/util/frame_selection.h.
-struct FrameRange {
-  int64_t begin = 0;
-  int64_t end = std::numeric_limits<int64_t>::max();
-  bool Contains(int64_t index) const { return index >= begin && index < end; }
-};
 
 // The map from a frame's camera (OpenCV, world units) to the declared world
 // frame (world units): from the declared truth pose, or from a metadata frame's

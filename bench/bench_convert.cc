@@ -156,7 +156,7 @@ int main(int argc, char** argv) {
     options.images = images;
     options.progress = false;
     options.force = true;
-    options.frame_end = child_frames;
+    options.frames.end = child_frames;
     const auto start = std::chrono::steady_clock::now();
     const convert::ConvertResult result = convert::Convert(options);
     std::printf(

@@ -24,8 +24,6 @@
 #include <thread>
 #include <vector>
 
-#include <tbb/global_control.h>
-
 #include "generator/demo_plan.h"
 #include "generator/generate.h"
 #include "generator/render/embree_scene.h"
@@ -35,6 +33,7 @@
 #include "libs/collection/motion_layout.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/flat_image.h"
+#include "libs/util/thread_limit.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -108,8 +107,7 @@ int main(int argc, char** argv) {
     }
   }
   const int pool = threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency());
-  std::optional<tbb::global_control> control;
-  if (threads > 0) control.emplace(tbb::global_control::max_allowed_parallelism, threads);
+  const ThreadLimit control(threads);
   Imf::setDefaultZipCompressionLevel(zip_level);
 
   // Frame 1 of the demo, its motion measured against frame 0 (a shot's first

@@ -31,7 +31,6 @@
 #include <unistd.h>
 
 #include <tbb/blocked_range2d.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include "generator/demo_plan.h"
@@ -46,6 +45,7 @@
 #include "libs/collection/worldposition_layout.h"
 #include "libs/imaging/srgb_image.h"
 #include "libs/util/strings.h"
+#include "libs/util/thread_limit.h"
 #include "tests/build_paths.h"
 
 namespace fs = std::filesystem;
@@ -467,8 +467,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::optional<tbb::global_control> control;
-  if (threads > 0) control.emplace(tbb::global_control::max_allowed_parallelism, threads);
+  const ThreadLimit control(threads);
   const fs::path root = fs::temp_directory_path() / "lsds_bench_generate";
   std::printf(
       "lsds generate benchmark: demo scene, %d frames, spp %d, threads %s, post-process [%s]\n",

@@ -21,7 +21,6 @@
 #include <iostream>
 #include <string>
 
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include "libs/collection/bundle_layout.h"
@@ -31,6 +30,7 @@
 #include "libs/exr/deep_image.h"
 #include "libs/exr/flat_image.h"
 #include "libs/util/strings.h"
+#include "libs/util/thread_limit.h"
 #include "synth/synthetic_collection.h"
 #include "validators/report_writers.h"
 #include "validators/validate.h"
@@ -217,11 +217,7 @@ int main(int argc, char** argv) {
   if (argc == 4 && (std::strcmp(argv[1], "--child-validate") == 0 ||
                     std::strcmp(argv[1], "--child-decode") == 0)) {
     const int child_jobs = std::atoi(argv[3]);
-    std::unique_ptr<tbb::global_control> child_threads;
-    if (child_jobs > 0) {
-      child_threads = std::make_unique<tbb::global_control>(
-          tbb::global_control::max_allowed_parallelism, child_jobs);
-    }
+    const ThreadLimit child_threads(child_jobs);
     validate::ValidateOptions child_options;
     child_options.jobs = child_jobs;
     if (std::strcmp(argv[1], "--child-validate") == 0) {
@@ -268,11 +264,7 @@ int main(int argc, char** argv) {
       return arg == "--help" ? 0 : 2;
     }
   }
-  std::unique_ptr<tbb::global_control> threads;
-  if (jobs > 0) {
-    threads =
-        std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, jobs);
-  }
+  const ThreadLimit threads(jobs);
   validate::ValidateOptions options;
   options.jobs = jobs;
 

@@ -77,8 +77,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   const CollectionHeader& header = reader.header();
   const LayerInfo& bundle_layer = FindBundleLayer(header, collection_file);
   const int64_t count = static_cast<int64_t>(reader.frames_in_file());
-  const int64_t first = options.first;
-  const int64_t end = options.end < 0 ? count : std::min(options.end, count);
+  const int64_t first = options.positions.begin;
+  const int64_t end = std::min(options.positions.end, count);
   if (first >= count) {
     throw Error("--frames: the collection has " + std::to_string(count) +
                     " frames (positions 0 to " + std::to_string(count - 1) + ")",

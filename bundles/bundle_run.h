@@ -9,6 +9,7 @@
 
 #include "bundles/bundle_stats.h"
 #include "libs/collection/model.h"
+#include "libs/util/frame_selection.h"
 
 namespace lsds::bundle {
 
@@ -16,11 +17,12 @@ struct RunOptions {
   StatsOptions stats;
   std::filesystem::path output;           // statistics JSON; empty: none
   std::vector<std::string> write_layers;  // DerivedLayerNames()
-  int64_t first = 0;                      // positions in collection.json's frame list: [first, end)
-  int64_t end = -1;                       // -1: to the last frame
-  bool force = false;                     // replace the output and earlier derived layers
-  std::filesystem::path mixed_map;        // PNG of the first analysed frame; empty: none
-  size_t batch = 0;                       // frames decoded at once; 0: the TBB concurrency
+  // Positions in collection.json's frame list (not frame indices: the command
+  // maps --frames onto them).
+  FrameRange positions;
+  bool force = false;               // replace the output and earlier derived layers
+  std::filesystem::path mixed_map;  // PNG of the first analysed frame; empty: none
+  size_t batch = 0;                 // frames decoded at once; 0: the TBB concurrency
 };
 
 struct RunResult {

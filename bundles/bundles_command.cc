@@ -17,7 +17,7 @@ int RunBundles(int argc, char** argv) {
       "collection, and "
       "bundle-derived truth layers (docs/bundles.md).",
       "lsds bundles");
-  std::string collection, output, layers, frames, mixed_map;
+  std::string collection, output, layers, mixed_map;
   bundle::RunOptions options;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option(
@@ -26,10 +26,6 @@ int RunBundles(int argc, char** argv) {
                  layers,
                  "comma-separated derived layers to add to the collection: "
                  "majority,purity,coverage,edge");
-  AddFramesOption(app, &frames);
-  int threads = 0;
-  AddThreadsOption(app, &threads);
-  app.add_flag("--force", options.force, "replace the output files and earlier derived layers");
   app.add_option("--flying-abs",
                  options.stats.flying_absolute,
                  "flying-pixel threshold, world length units (default 0.05)")
@@ -41,22 +37,23 @@ int RunBundles(int argc, char** argv) {
   app.add_option(
       "--mixed-map", mixed_map, "write a PNG of the mixed pixels of the first analysed frame");
   app.add_option("--batch", options.batch, "frames decoded at once (default: one per core)");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app, &common, "replace the output files and earlier derived layers");
+  return RunCommand(app, common, argc, argv, [&] {
     if (!layers.empty()) options.write_layers = bundle::ParseDerivedLayerList(layers);
-    if (!frames.empty()) {
+    options.force = common.force;
+    if (!common.frames.empty()) {
       // The library walks positions in the frame list; --frames names indices
       // (increasing, docs/format.md), so map one onto the other.
-      const FrameSelection selection = ParseFrameSelection(frames);
+      const FrameSelection selection = ParseFrameSelection(common.frames);
       const std::vector<int64_t> indices = CollectionFrameIndices(collection);
       CheckFrameSelection(selection, indices, "the collection " + collection);
-      options.first =
+      options.positions.begin =
           std::lower_bound(indices.begin(), indices.end(), selection.begin) - indices.begin();
-      options.end =
-          selection.bounded()
-              ? std::lower_bound(indices.begin(), indices.end(), selection.end) - indices.begin()
-              : -1;
+      if (selection.bounded())
+        options.positions.end =
+            std::lower_bound(indices.begin(), indices.end(), selection.end) - indices.begin();
     }
-    const ThreadLimit thread_limit(threads);
     options.output = output;
     options.mixed_map = mixed_map;
     const bundle::RunResult result = bundle::RunBundles(collection, options);

@@ -198,10 +198,7 @@ ConvertResult Convert(const ConvertOptions& options) {
   // Tiles measure each object's share in a tile on its mask.
   needs_masks = needs_masks || !options.tile.empty();
 
-  auto in_range = [&](const Frame& frame) {
-    return frame.index >= options.frame_begin &&
-           (options.frame_end < 0 || frame.index < options.frame_end);
-  };
+  auto in_range = [&](const Frame& frame) { return options.frames.Contains(frame.index); };
   // Splits are planned over all the frames first, so that no requested split
   // is left empty (docs/convert.md, "Splits").
   // The same pass finds the classes some kept object has: the others are not
@@ -309,10 +306,7 @@ ConvertResult Convert(const ConvertOptions& options) {
     batch.clear();
   };
   reader.ForEachFrame([&](const Frame& frame) {
-    if (frame.index < options.frame_begin ||
-        (options.frame_end >= 0 && frame.index >= options.frame_end)) {
-      return;
-    }
+    if (!options.frames.Contains(frame.index)) return;
     batch.push_back(frame);
     if (batch.size() == options.batch_size) flush();
   });

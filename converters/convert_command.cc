@@ -22,7 +22,7 @@ int RunConvert(int argc, char** argv) {
       "lsds convert");
   convert::ConvertOptions options;
   std::string collection, output, formats, tonemap = "filmic";
-  bool clip_truncated = false, quiet = false;
+  bool clip_truncated = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("--to",
                  formats,
@@ -102,15 +102,11 @@ int RunConvert(int argc, char** argv) {
   app.add_flag("--dota-header",
                options.dota_header,
                "dota: write the imagesource:/gsd: lines (MMRotate cannot read them)");
-  std::string frames;
-  AddFramesOption(app, &frames);
-  int threads = 0;
-  AddThreadsOption(app, &threads);
   app.add_option("--batch", options.batch_size, "frames in flight (bounds memory)")
       ->capture_default_str();
-  app.add_flag("--force", options.force, "replace a non-empty output folder");
-  app.add_flag("-q,--quiet", quiet, "do not print the loss report");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app, &common, "replace a non-empty output folder");
+  return RunCommand(app, common, argc, argv, [&] {
     if (clip_truncated && options.drop_truncated) {
       throw Error("--clip-truncated and --drop-truncated exclude each other",
                   Location("--drop-truncated"));
@@ -122,11 +118,8 @@ int RunConvert(int argc, char** argv) {
     if (options.display.jpeg_quality < 1 || options.display.jpeg_quality > 100) {
       throw Error("must be in 1..100", Location("--jpeg-quality"));
     }
-    if (!frames.empty()) {
-      const FrameSelection selection = SelectCollectionFrames(frames, collection);
-      options.frame_begin = selection.begin;
-      options.frame_end = selection.bounded() ? selection.end : -1;
-    }
+    options.frames = SelectCollectionFrames(common.frames, collection);
+    options.force = common.force;
     OutputGuard guard("lsds convert");
     // "Not a collection" says more than "the output lies inside the folder".
     CheckCollectionFolder(collection);
@@ -134,12 +127,11 @@ int RunConvert(int argc, char** argv) {
     if (std::filesystem::is_regular_file(options.classes))
       guard.AddInput(options.classes, "classes file");
     guard.CheckOutput(output, "-o");
-    const ThreadLimit thread_limit(threads);
     options.collection = collection;
     options.output = output;
     options.formats = Split(formats, ',');
     const convert::ConvertResult result = convert::Convert(options);
-    if (!quiet) {
+    if (!common.quiet) {
       std::cout << "converted " << result.frames << " frames to " << formats << " in " << output
                 << " (" << result.images_written << " images)\n"
                 << result.loss.ToText();

@@ -68,7 +68,7 @@ void ConvertOptions::Check() const {
     throw Error("dota images are png (MMRotate reads <stem>.png); use --images png or none",
                 Location("--images"));
   }
-  if (frame_begin < 0 || (frame_end >= 0 && frame_end < frame_begin)) {
+  if (frames.begin < 0 || frames.end < frames.begin) {
     throw Error("expected 0 <= A <= B", Location("--frames"));
   }
   if (batch_size < 1) throw Error("must be >= 1", Location("--batch"));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "libs/imaging/srgb_image.h"
+#include "libs/util/frame_selection.h"
 
 namespace lsds::convert {
 
@@ -37,8 +38,7 @@ struct ConvertOptions {
   double dota_difficult_size = 15;
   double dota_min_size = 2;
   bool dota_header = false;  // write the `imagesource:` / `gsd:` lines
-  int64_t frame_begin = 0;   // convert the frames with index in [frame_begin, frame_end)
-  int64_t frame_end = -1;    // -1: to the last frame
+  FrameRange frames;         // convert the frames with index in this range
   bool force = false;
   size_t batch_size = 64;  // frames in flight: bounds memory
   bool progress = true;

@@ -27,7 +27,7 @@ struct ExportOptions {
   // Layer names (folders of the layer table). Empty: every flat layer the
   // target can hold (png16 leaves out worldposition, rgb and derived layers).
   std::vector<std::string> layers;
-  FrameSelection frames;
+  FrameRange frames;
   double depth_step = 0.001;  // png16: depth quantum in world length units
   // png16: clamp depth beyond 65535 steps to the last one; otherwise such a depth is an error
   // naming the frame, the pixel and a step that holds it (a clamped depth is a wrong depth).

@@ -17,8 +17,7 @@ int RunExportLayers(int argc, char** argv) {
       "scale, offset and invalid value (docs/export-layers.md).",
       "lsds export-layers");
   layer_export::ExportOptions options;
-  std::string to = "npy", layers, frames;
-  int threads = 0;
+  std::string to = "npy", layers;
   app.add_option("COLLECTION", options.collection, "collection folder (holds collection.json)")
       ->required();
   app.add_option(
@@ -40,19 +39,19 @@ int RunExportLayers(int argc, char** argv) {
   app.add_flag("--clamp-depth",
                options.clamp_depth,
                "png16: clamp depths beyond 65535 steps instead of failing");
-  AddFramesOption(app, &frames);
-  AddThreadsOption(app, &threads);
-  app.add_flag("--force", options.force, "replace an existing output folder");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app, &common, "replace an existing output folder");
+  return RunCommand(app, common, argc, argv, [&] {
     options.target = layer_export::ParseTarget(to);
     for (const std::string& name : Split(layers, ','))
       if (!name.empty()) options.layers.push_back(name);
-    if (!frames.empty()) options.frames = SelectCollectionFrames(frames, options.collection);
-    const ThreadLimit thread_limit(threads);
+    options.frames = SelectCollectionFrames(common.frames, options.collection);
+    options.force = common.force;
     const layer_export::ExportSummary summary = layer_export::ExportLayers(options);
-    std::cerr << "export-layers: " << summary.frames << " frames, " << summary.files << " files ("
-              << FormatNumber(summary.bytes / 1e6, 4) << " MB) written to "
-              << options.output.string() << "\n";
+    if (!common.quiet)
+      std::cerr << "export-layers: " << summary.frames << " frames, " << summary.files << " files ("
+                << FormatNumber(summary.bytes / 1e6, 4) << " MB) written to "
+                << options.output.string() << "\n";
     for (const layer_export::LayerSummary& layer : summary.layers) {
       if (layer.clamped_pixels > 0) {
         std::cerr << "export-layers: warning: " << layer.clamped_pixels << " pixels of '"

@@ -12,7 +12,6 @@
 
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfThreading.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
@@ -39,6 +38,7 @@
 #include "libs/util/limits.h"
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
+#include "libs/util/thread_limit.h"
 
 namespace lsds::gen {
 namespace {
@@ -246,7 +246,7 @@ void GenerateOptions::Check() const {
     throw Error("--shard " + std::to_string(shard_index) + "/" + std::to_string(shard_count) +
                 ": expected I/N with 0 <= I < N");
   }
-  if (first_frame > last_frame) throw Error("--frames A:B needs A <= B");
+  if (frames.begin > frames.end) throw Error("--frames A:B needs A <= B");
   if (threads < 0) throw Error("--threads must be >= 0 (0: all cores)");
   if (force && resume) throw Error("--force and --resume exclude each other");
   if (zip_level < 0 || zip_level > 9) throw Error("--zip-level must be in [0, 9]");
@@ -304,7 +304,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
     shard.index = options.shard_index;
     shard.count = options.shard_count;
     for (const PlannedFrame& frame : plan.frames) {
-      if (frame.index < options.first_frame || frame.index >= options.last_frame) continue;
+      if (!options.frames.Contains(frame.index)) continue;
       if (shard.run_frame_count == 0) shard.run_first_frame = frame.index;
       shard.run_first_frame = std::min(shard.run_first_frame, frame.index);
       shard.run_last_frame = std::max(shard.run_last_frame, frame.index);
@@ -318,11 +318,7 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
 GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options) {
   const Clock::time_point start = Clock::now();
   options.Check();
-  std::optional<tbb::global_control> threads;
-  if (options.threads > 0) {
-    threads.emplace(tbb::global_control::max_allowed_parallelism,
-                    static_cast<size_t>(options.threads));
-  }
+  const ThreadLimit thread_limit(options.threads);
   Imf::setDefaultZipCompressionLevel(options.zip_level);
   // OpenEXR's thread pool compresses the chunks of one file in parallel: the
   // deep bundle, the longest file, no longer encodes on one core

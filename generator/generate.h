@@ -14,6 +14,7 @@
 #include "generator/render/film.h"
 #include "generator/requirement_report.h"
 #include "libs/collection/model.h"
+#include "libs/util/frame_selection.h"
 
 namespace lsds::gen {
 
@@ -25,9 +26,8 @@ struct GenerateOptions {
   bool force = false;   // replace an existing output
   bool resume = false;  // keep the complete frames of an interrupted run
   bool progress = true;
-  // Frames with first <= index < last, and index % shard_count == shard_index.
-  int64_t first_frame = 0;
-  int64_t last_frame = std::numeric_limits<int64_t>::max();
+  // Frames with index in `frames`, and index % shard_count == shard_index.
+  FrameRange frames;
   int shard_index = 0;
   int shard_count = 1;
   DepthKind depth_kind = DepthKind::kPlanar;
@@ -51,8 +51,7 @@ struct GenerateOptions {
 
   void Check() const;  // throws lsds::Error for inconsistent options
   bool Selects(int64_t frame_index) const {
-    return frame_index >= first_frame && frame_index < last_frame &&
-           frame_index % shard_count == shard_index;
+    return frames.Contains(frame_index) && frame_index % shard_count == shard_index;
   }
 };
 

@@ -1,7 +1,6 @@
 // lsds generate: render a plan (from LSCENE/LCAP, a plan JSON, or the built-in
 // demo) into a collection. The work lives in generator/generate.h; this file
 // parses flags.
-#include <algorithm>
 #include <csignal>
 #include <cstring>
 #include <iostream>
@@ -54,12 +53,12 @@ int RunGenerate(int argc, char** argv) {
       "Render an LSCENE/LCAP scene (or a plan) into a collection with every "
       "layer and truth",
       "lsds generate"};
-  std::string scene, capture, plan_file, frames, shard,
+  std::string scene, capture, plan_file, shard,
       depth = "planar", demo_size = "512x512", bundle_layout = "residual",
       worldposition_layout = "residual", motion_layout = "residual";
   std::optional<uint64_t> seed;
   gen::GenerateOptions options;
-  bool demo = false, quiet = false;
+  bool demo = false;
   int demo_frames = 24;
   app.add_option("SCENE", scene, "LSCENE file (text or JSON)");
   app.add_option("CAPTURE", capture, "LCAP file (text or JSON)");
@@ -68,12 +67,10 @@ int RunGenerate(int argc, char** argv) {
                  "output collection folder (default: the capture's Capture "
                  "Settings folder)");
   app.add_option("--seed", seed, "random seed of the plan and of the sampler (default 0)");
-  AddFramesOption(app, &frames);
   AddShardOption(app, &shard, "render only the frames whose index % N == I (I/N)");
   app.add_option("--spp", options.spp, "samples per pixel, a square: 1, 4, 9, 16, ... (default 4)");
   app.add_option(
       "--jitter", options.jitter, "jitter of each stratified sample in its cell, [0, 1]");
-  AddThreadsOption(app, &options.threads);
   app.add_option("--depth", depth, "depth layer kind: planar (default) or perspective");
   app.add_option(
       "--zip-level", options.zip_level, "zlib level of ZIP layers, 0-9 (default 1: fast)");
@@ -94,20 +91,23 @@ int RunGenerate(int argc, char** argv) {
       "storage of the motion layer: residual (default; lossless, UINT differences "
       "from the motion of a static world seen by the shot's previous camera, decoded "
       "by every lsds command) or float (plain X, Y for tools that read the EXR directly)");
-  app.add_flag("--force", options.force, "replace an existing output folder");
   app.add_flag("--resume", options.resume, "keep the complete frames of an interrupted run");
   app.add_option("--plan", plan_file, "render a plan JSON file (lsds plan -o) instead of SCENE");
   app.add_flag("--demo", demo, "render the built-in demo scene instead of SCENE");
   app.add_option("--demo-frames", demo_frames, "frames of the demo scene (default 24)");
   app.add_option("--demo-size", demo_size, "image size of the demo scene, WxH (default 512x512)");
-  app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
-  return RunCommand(app, argc, argv, [&]() {
-    std::optional<FrameSelection> selection;
-    if (!frames.empty()) {
-      selection = ParseFrameSelection(frames);
-      options.first_frame = selection->begin;
-      options.last_frame = selection->end;
-    }
+  CommonFlags common;
+  AddCommonFlags(app, &common, "replace an existing output folder");
+  return RunCommand(app, common, argc, argv, [&]() {
+    gen::PlanRequest request;
+    request.scene = scene;
+    request.capture = capture;
+    request.plan_file = plan_file;
+    request.seed = seed;
+    request.frames = FramesFlag(common);
+    options.frames = request.frames;
+    options.threads = common.threads;
+    options.force = common.force;
     if (!shard.empty()) ParseShard(shard, &options.shard_index, &options.shard_count);
     options.depth_kind = ParseDepthFlag(depth);
     if (!ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
@@ -120,14 +120,10 @@ int RunGenerate(int argc, char** argv) {
     if (!ParseFlatLayout(motion_layout, &options.motion_layout)) {
       throw Error("--motion-layout " + motion_layout + ": expected residual or float");
     }
-    options.progress = !quiet;
-    const int sources = (demo ? 1 : 0) + (plan_file.empty() ? 0 : 1) + (scene.empty() ? 0 : 1);
-    if (sources != 1) throw Error("give exactly one of SCENE [CAPTURE], --plan FILE or --demo");
-    Plan plan;
+    options.progress = !common.quiet;
     if (demo) {
       gen::DemoOptions demo_options;
       demo_options.frames = demo_frames;
-      demo_options.seed = seed.value_or(0);
       const std::vector<std::string> size = Split(demo_size, 'x');
       try {
         if (size.size() != 2) throw std::invalid_argument("size");
@@ -142,27 +138,9 @@ int RunGenerate(int argc, char** argv) {
                        1,
                        "the demo image",
                        "--demo-size");
-      plan = gen::MakeDemoPlan(demo_options);
-    } else if (!plan_file.empty()) {
-      plan = gen::LoadPlanJson(plan_file);
-      if (seed) plan.seed = *seed;
-    } else {
-      // The frame before the first selected one is planned too (not
-      // rendered): the first frame's motion is measured against it, so that
-      // --frames gives the bytes of the single run.
-      std::optional<FrameSelection> planned = selection;
-      if (planned && planned->begin > 0) --planned->begin;
-      plan = PlanSelectedFrames(scene, capture, seed.value_or(0), planned);
-      // In a rig the frame before in the same camera is one time step back.
-      if (planned && plan.rig && plan.rig->cameras.size() > 1 && planned->begin > 0) {
-        const int64_t n = static_cast<int64_t>(plan.rig->cameras.size());
-        planned->begin = std::max<int64_t>(0, selection->begin - n);
-        plan = PlanSelectedFrames(scene, capture, seed.value_or(0), planned);
-      }
+      request.demo = demo_options;
     }
-    // Before the output is touched: an out-of-range --frames never empties
-    // (or, with --force, wipes) an existing collection.
-    if (selection) CheckPlanFrames(*selection, plan);
+    const Plan plan = gen::PlanForRendering(request);
     if (options.output.empty()) {
       // LCAP Capture Settings may name the output folder (relative to the
       // current directory); -o wins when both are given.
@@ -185,11 +163,11 @@ int RunGenerate(int argc, char** argv) {
     }
     InstallResumeHint(command_line);
     // Post-process names that are no effect are recorded, not applied: say so.
-    if (!quiet)
+    if (!common.quiet)
       for (const std::string& w : gen::UnknownPostProcess(plan.post_process))
         std::cerr << "lsds generate: warning: " << w << "\n";
     const gen::GenerateSummary summary = gen::GenerateCollection(plan, options);
-    if (!quiet) {
+    if (!common.quiet) {
       const double per_frame =
           summary.frames_rendered > 0 ? summary.total_seconds / summary.frames_rendered : 0;
       std::cerr << "lsds generate: " << summary.frames_rendered << " frames rendered, "

@@ -1,10 +1,10 @@
 // lsds plan SCENE [CAPTURE] [-o plan.json] [--seed N] [--frames A:B]
 // [--emit-json] [--force]
 #include <iostream>
-#include <optional>
 
 #include "generator/lang/planner.h"
 #include "generator/plan/plan_json.h"
+#include "generator/plan_source.h"
 #include "generator/requirement_report.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/input_file.h"
@@ -19,20 +19,20 @@ int RunPlan(int argc, char** argv) {
       "Expand an LSCENE scene (and an LCAP capture) into the frame plan the "
       "renderer consumes.",
       "lsds plan");
-  std::string scene, capture, output, frames;
+  std::string scene, capture, output;
   uint64_t seed = 0;
-  bool emit_json = false, force = false;
+  bool emit_json = false;
   app.add_option("SCENE", scene, "LSCENE file (text notation or .json)")->required();
   app.add_option(
       "CAPTURE", capture, "LCAP file (text notation or .json); default: one nadir frame");
   app.add_option("-o,--output", output, "write the plan (or the JSON form) here instead of stdout");
   app.add_option("--seed", seed, "random seed (same files + seed = same plan, byte for byte)");
-  AddFramesOption(app, &frames);
   app.add_flag("--emit-json",
                emit_json,
                "print the JSON form of the scene (and capture) instead of the plan");
-  app.add_flag("--force", force, "overwrite the output file");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app, &common, "overwrite the output file");
+  return RunCommand(app, common, argc, argv, [&] {
     // What the inputs are first: `lsds plan DIR` is told DIR is a folder.
     RequireRegularFile(scene, "scene file");
     if (!capture.empty()) RequireRegularFile(capture, "capture file");
@@ -40,7 +40,7 @@ int RunPlan(int argc, char** argv) {
     guard.AddInput(scene, "scene file");
     guard.AddInput(capture, "capture file");
     guard.CheckOutput(output, "-o");
-    if (!output.empty()) RefuseToOverwrite(output, force, "plan");
+    if (!output.empty()) RefuseToOverwrite(output, common.force, "plan");
     std::string text;
     if (emit_json) {
       const SourceFile s = LoadSource(scene);
@@ -55,11 +55,9 @@ int RunPlan(int argc, char** argv) {
                 2);
       }
     } else {
-      std::optional<FrameSelection> selection;
-      if (!frames.empty()) selection = ParseFrameSelection(frames);
-      const Plan plan = PlanSelectedFrames(scene, capture, seed, selection);
+      const Plan plan = gen::PlanFromScene(scene, capture, seed, FramesFlag(common));
       text = PlanToJson(plan).dump(1);
-      std::cerr << gen::FormatPlannedRequirements(plan);
+      if (!common.quiet) std::cerr << gen::FormatPlannedRequirements(plan);
     }
     if (output.empty()) {
       std::cout << text << "\n";

@@ -20,7 +20,6 @@ int RunImport(int argc, char** argv) {
   std::string format, source, output;
   import::ImportOptions options;
   std::string objects, settings;
-  bool force = false;
   app.add_option("FORMAT", format, "source format")->required();
   app.add_option("SOURCE", source, "the simulator's output folder")->required();
   app.add_option("-o,--output", output, "the collection folder to write")->required();
@@ -42,8 +41,14 @@ int RunImport(int argc, char** argv) {
                "read files of the source that are symbolic links to places outside it "
                "(deliberately linked data); names in the source's data must still be "
                "relative paths inside it");
-  app.add_flag("--force", force, "replace the output if it exists");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "replace the output if it exists",
+                 {{"--frames",
+                   "lsds import brings every frame of the source; select frames of the "
+                   "collection afterwards (e.g. lsds convert --frames)"}});
+  return RunCommand(app, common, argc, argv, [&] {
     OutputGuard guard("lsds import");
     guard.AddInput(source, "source folder");
     guard.AddInput(objects, "objects file");
@@ -52,9 +57,10 @@ int RunImport(int argc, char** argv) {
     options.objects = objects;
     options.settings = settings;
     const import::ImportResult result =
-        import::ImportCollection(format, source, output, options, force);
-    std::cout << "imported " << result.frames << " frames, " << result.objects
-              << " object entries from " << source << " (" << format << ") to " << output << "\n";
+        import::ImportCollection(format, source, output, options, common.force);
+    if (!common.quiet)
+      std::cout << "imported " << result.frames << " frames, " << result.objects
+                << " object entries from " << source << " (" << format << ") to " << output << "\n";
     return 0;
   });
 }

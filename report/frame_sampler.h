@@ -14,15 +14,16 @@ namespace lsds::report {
 template <typename T>
 class FrameSampler {
  public:
-  // `target` frames spread evenly, plus every frame whose index is in `always`
-  // (frames that validation findings point to).
+  // At most `target` frames (--sample): those whose index is in `always`
+  // (frames that validation findings point to; the first `target` of them in
+  // stream order), and the rest of the target spread evenly.
   explicit FrameSampler(size_t target, std::set<int64_t> always = {})
       : target_(target), always_(std::move(always)) {}
 
   // Offer the frames in stream order; `index` is the frame's index.
   void Offer(int64_t index, const T& item) {
     const int64_t position = seen_++;
-    if (always_.count(index) > 0) {
+    if (always_.count(index) > 0 && forced_.size() < target_) {
       forced_.emplace_back(position, item);
       return;
     }
@@ -40,16 +41,17 @@ class FrameSampler {
 
   int64_t seen() const { return seen_; }
 
-  // At most `target` evenly spaced frames plus the forced ones, in stream
-  // order.
+  // The forced frames and evenly spaced ones, at most `target` in all, in
+  // stream order.
   std::vector<T> Take() {
     std::vector<std::pair<int64_t, T>> out;
     const size_t n = kept_.size();
-    if (n <= target_) {
+    const size_t spread = target_ - forced_.size();
+    if (n <= spread) {
       out = std::move(kept_);
     } else {
-      for (size_t k = 0; k < target_; ++k) {
-        out.push_back(std::move(kept_[(2 * k + 1) * n / (2 * target_)]));
+      for (size_t k = 0; k < spread; ++k) {
+        out.push_back(std::move(kept_[(2 * k + 1) * n / (2 * spread)]));
       }
     }
     for (auto& entry : forced_) out.push_back(std::move(entry));

@@ -24,6 +24,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Without --frames every frame is shown, also one whose index is invalid
+// (negative: lsds validate names it), so the page still shows it.
+bool Selected(const FrameRange& frames, int64_t index) {
+  return frames.all() || frames.Contains(index);
+}
+
 FrameCamera CameraOf(const CollectionReader& reader, const Frame& frame) {
   const CollectionHeader& header = reader.header();
   const LayerInfo* depth = header.FindLayerBySemantic("depth");
@@ -67,7 +73,7 @@ ReportData CollectReportData(const CollectionReader& reader,
     batch.clear();
   };
   reader.ForEachFrame([&](const Frame& frame) {
-    if (frame.index < options.frame_begin || frame.index >= options.frame_end) {
+    if (!Selected(options.frames, frame.index)) {
       progress.Add();
       return;
     }
@@ -81,7 +87,7 @@ ReportData CollectReportData(const CollectionReader& reader,
     if (!variant.perturbed) continue;
     const MetadataReader metadata(reader.root() / variant.file);
     metadata.ForEachFrame([&](const MetadataFrame& frame) {
-      if (frame.index < options.frame_begin || frame.index >= options.frame_end) return;
+      if (!Selected(options.frames, frame.index)) return;
       AddMetadataError(frame, &data.distributions);
     });
     data.distributions.metadata_variant = variant.file;

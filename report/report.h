@@ -18,6 +18,7 @@
 
 #include "libs/collection/collection_reader.h"
 #include "libs/imaging/srgb_image.h"
+#include "libs/util/frame_selection.h"
 #include "report/distributions.h"
 #include "report/frame_camera.h"
 #include "report/validation_section.h"
@@ -27,14 +28,12 @@ namespace lsds::report {
 struct ReportOptions {
   std::filesystem::path collection;
   std::filesystem::path output;  // the HTML file, written atomically
-  // Frames with index in [frame_begin, frame_end).
-  int64_t frame_begin = std::numeric_limits<int64_t>::min();
-  int64_t frame_end = std::numeric_limits<int64_t>::max();
-  size_t sample = 24;       // frames on the contact sheet
-  size_t layer_frames = 4;  // of those, frames shown with every layer
-  int thumb_width = 320;    // contact sheet image width, px (never upscaled)
-  int layer_width = 320;    // layer image width, px (never upscaled)
-  bool force = false;       // replace an existing output
+  FrameRange frames;             // the frames with index in this range
+  size_t sample = 24;            // frames on the contact sheet
+  size_t layer_frames = 4;       // of those, frames shown with every layer
+  int thumb_width = 320;         // contact sheet image width, px (never upscaled)
+  int layer_width = 320;         // layer image width, px (never upscaled)
+  bool force = false;            // replace an existing output
   // A validation report (`lsds validate --format json`, read with
   // ReadValidationReport); none: no validation section. The frames its
   // findings point to join the contact sheet so that links have targets.

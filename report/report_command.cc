@@ -25,11 +25,10 @@ int RunReport(int argc, char** argv) {
       "distributions, validation summary (docs/report.md).",
       "lsds report");
   report::ReportOptions options;
-  std::string collection, output, frames, validation_report, bundle_stats, tonemap = "filmic";
+  std::string collection, output, validation_report, bundle_stats, tonemap = "filmic";
   bool validate = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("-o,--output", output, "the HTML file (written atomically)")->required();
-  AddFramesOption(app, &frames);
   app.add_option("--sample", options.sample, "frames on the contact sheet, spread evenly")
       ->capture_default_str()
       ->check(CLI::Range(size_t{1}, size_t{10000}));
@@ -59,8 +58,9 @@ int RunReport(int argc, char** argv) {
                  bundle_stats,
                  "add the class-mixing matrix and mixed pixels by object size "
                  "from this `lsds bundles -o` file");
-  app.add_flag("--force", options.force, "replace an existing output file");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app, &common, "replace an existing output file");
+  return RunCommand(app, common, argc, argv, [&] {
     if (validate && !validation_report.empty()) {
       throw Error("--validate and --validation-report exclude each other",
                   Location("--validation-report"));
@@ -69,11 +69,8 @@ int RunReport(int argc, char** argv) {
       throw Error("expected filmic, reinhard or clamp, got '" + tonemap + "'",
                   Location("--tonemap"));
     }
-    if (!frames.empty()) {
-      const FrameSelection selection = SelectCollectionFrames(frames, collection);
-      options.frame_begin = selection.begin;
-      options.frame_end = selection.end;
-    }
+    options.frames = SelectCollectionFrames(common.frames, collection);
+    options.force = common.force;
     options.collection = collection;
     options.output = output;
     // The page never replaces one of its inputs, even with --force.
@@ -101,11 +98,12 @@ int RunReport(int argc, char** argv) {
       const validate::Report result = validate::ValidateCollection(collection, validate_options);
       options.validation = report::ReadValidationReport(
           validate::ReportToJson(result, validate::Severity::kError), "lsds validate");
-      std::cerr << validate::Verdict(result, validate::Severity::kError) << "\n";
+      if (!common.quiet) std::cerr << validate::Verdict(result, validate::Severity::kError) << "\n";
     }
     const report::ReportResult result = report::WriteReport(options);
-    std::cout << "wrote " << output << " (" << result.frames << " frames, " << result.sampled
-              << " on the contact sheet, " << (result.bytes + 512) / 1024 << " KiB)\n";
+    if (!common.quiet)
+      std::cout << "wrote " << output << " (" << result.frames << " frames, " << result.sampled
+                << " on the contact sheet, " << (result.bytes + 512) / 1024 << " KiB)\n";
     // The page shows a broken file where its picture would be; say so here
     // too, so that a script reading only the terminal is not misled.
     if (!result.unshown.empty()) {

@@ -18,12 +18,16 @@ int RunMerge(int argc, char** argv) {
   MergeOptions options;
   std::vector<std::string> shards;
   std::string output;
-  bool quiet = false;
   app.add_option("SHARD_DIR", shards, "shard collections, any order")->required();
   app.add_option("-o,--output", output, "the merged collection folder")->required();
-  app.add_flag("--force", options.force, "replace an existing output folder");
-  app.add_flag("-q,--quiet", quiet, "no progress bar and no summary");
-  return RunCommand(app, argc, argv, [&]() {
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "replace an existing output folder",
+                 {{"--frames",
+                   "lsds merge joins whole shards into the run's collection; select frames "
+                   "when generating (lsds generate --frames)"}});
+  return RunCommand(app, common, argc, argv, [&]() {
     OutputGuard guard("lsds merge");
     for (const std::string& shard : shards) {
       GuardCollection(&guard, shard, CollectionAccess::kReadOnly);
@@ -31,9 +35,10 @@ int RunMerge(int argc, char** argv) {
     }
     guard.CheckOutput(output, "-o");
     options.output = output;
-    options.progress = !quiet;
+    options.force = common.force;
+    options.progress = !common.quiet;
     const MergeSummary summary = MergeShards(options);
-    if (!quiet) {
+    if (!common.quiet) {
       std::cerr << "lsds merge: " << summary.shards << " shards, " << summary.frames << " frames, "
                 << summary.files << " layer files (" << summary.bytes / 1e6 << " MB) in "
                 << summary.seconds << " s -> " << output << "\n";

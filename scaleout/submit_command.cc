@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "generator/generate.h"
+#include "generator/plan_source.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -42,12 +43,12 @@ int RunSubmit(int argc, char** argv) {
       "Write (and with --submit, submit) a Slurm job array that renders a "
       "run in N shards and a merge job that joins them",
       "lsds submit"};
-  std::string scheduler, scene, capture, output, work, frames, lsds_binary;
+  std::string scheduler, scene, capture, output, work, lsds_binary;
   std::optional<uint64_t> seed;
   std::optional<int> spp;
   std::string depth;
   SlurmJob job;
-  bool submit = false, wait = false, force = false;
+  bool submit = false, wait = false;
   app.add_option("SCHEDULER", scheduler, "slurm (the only one so far)")->required();
   app.add_option("SCENE", scene, "LSCENE file (text or JSON)")->required();
   app.add_option("CAPTURE", capture, "LCAP file (text or JSON)");
@@ -56,7 +57,6 @@ int RunSubmit(int argc, char** argv) {
   app.add_option("--work-dir", work, "shards, logs and scripts (default: OUT.shards beside OUT)");
   app.add_option("--seed", seed, "random seed (as lsds generate)");
   app.add_option("--spp", spp, "samples per pixel (as lsds generate)");
-  AddFramesOption(app, &frames);
   app.add_option("--depth", depth, "planar or perspective (as lsds generate)");
   app.add_option("--partition", job.partition, "Slurm partition");
   app.add_option("--account", job.account, "Slurm account");
@@ -71,11 +71,14 @@ int RunSubmit(int argc, char** argv) {
                wait,
                "with --submit: wait for the merge; exit 1 if a task or the "
                "merge failed");
-  app.add_flag("--force",
-               force,
-               "replace other scripts in the work folder and an existing "
-               "output");
-  return RunCommand(app, argc, argv, [&]() {
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "replace other scripts in the work folder and an existing output",
+                 {{"--threads",
+                   "each task renders with the CPUs Slurm gives it: set them with "
+                   "--cpus-per-task"}});
+  return RunCommand(app, common, argc, argv, [&]() {
     if (scheduler != "slurm")
       throw Error("unknown scheduler '" + scheduler +
                   "': only slurm (docs/scale-out.md shows a Kubernetes "
@@ -89,9 +92,9 @@ int RunSubmit(int argc, char** argv) {
     job.lsds = lsds_binary.empty() ? fs::read_symlink("/proc/self/exe") : fs::absolute(lsds_binary);
     job.seed = seed;
     job.spp = spp;
-    job.frames = frames;
+    job.frames = common.frames;
     job.depth = depth;
-    job.force_merge = force;
+    job.force_merge = common.force;
     job.Check();
     // Every value the tasks pass to lsds generate goes through generate's own
     // checks here: a bad one fails now, not in each of N tasks on the cluster.
@@ -103,9 +106,7 @@ int RunSubmit(int argc, char** argv) {
     task.Check();
     // The plan is made here so that a bad scene or too many shards fail now,
     // not in every task on the cluster.
-    std::optional<FrameSelection> selection;
-    if (!frames.empty()) selection = ParseFrameSelection(frames);
-    const Plan plan = PlanSelectedFrames(scene, capture, seed.value_or(0), selection);
+    const Plan plan = gen::PlanFromScene(scene, capture, seed.value_or(0), FramesFlag(common));
     if (static_cast<int64_t>(plan.frames.size()) < job.shards)
       throw Error("--shards " + std::to_string(job.shards) + ": the run has " +
                   std::to_string(plan.frames.size()) + " frames; every shard needs at least one");
@@ -115,14 +116,15 @@ int RunSubmit(int argc, char** argv) {
     guard.CheckOutput(job.output, "-o");
     for (const char* script : {"generate.sbatch", "merge.sbatch", "submit.sh"})
       guard.CheckOutput(job.work / script, "--work-dir");
-    if (fs::exists(job.output)) RefuseToOverwrite(job.output, force);
+    if (fs::exists(job.output)) RefuseToOverwrite(job.output, common.force);
     const SlurmScripts scripts = MakeSlurmScripts(job);
     fs::create_directories(job.work / "logs");
-    WriteScript(job.work / "generate.sbatch", scripts.generate, force);
-    WriteScript(job.work / "merge.sbatch", scripts.merge, force);
-    WriteScript(job.work / "submit.sh", scripts.submit, force);
-    std::cerr << "lsds submit: " << plan.frames.size() << " frames in " << job.shards
-              << " shards; scripts in " << job.work.string() << "\n";
+    WriteScript(job.work / "generate.sbatch", scripts.generate, common.force);
+    WriteScript(job.work / "merge.sbatch", scripts.merge, common.force);
+    WriteScript(job.work / "submit.sh", scripts.submit, common.force);
+    if (!common.quiet)
+      std::cerr << "lsds submit: " << plan.frames.size() << " frames in " << job.shards
+                << " shards; scripts in " << job.work.string() << "\n";
     if (!submit) {
       std::cerr << "submit with: sh " << ShellQuote((job.work / "submit.sh").string()) << "\n";
       return kExitOk;

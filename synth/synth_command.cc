@@ -23,35 +23,25 @@ int RunSynth(int argc, char** argv) {
   std::string size = "640x480";
   int samples_per_axis = 2;
   std::string depth = "planar";
-  bool force = false;
   app.add_option("OUT", out, "output collection folder")->required();
   app.add_option("--count", frames, "number of frames to write (default 4)")
       ->check(CLI::Range(1, 1000000));
-  // --frames selects frame indices in every command (docs/cli.md); synth makes
-  // a new collection, so it takes a count and says so instead of guessing.
-  std::string frames_text;
-  app.add_option("--frames",
-                 frames_text,
-                 "not a count here: use --count N (--frames selects frame "
-                 "indices of existing collections and plans)")
-      ->group("");
-  int threads = 0;
-  AddThreadsOption(app, &threads);
   app.add_option("--size", size, "image size WIDTHxHEIGHT");
   app.add_option("--samples-per-axis", samples_per_axis, "bundle samples per pixel = N*N")
       ->check(CLI::Range(1, 16));
   app.add_option("--depth", depth, "declared depth kind")
       ->check(CLI::IsMember({"planar", "perspective"}));
-  app.add_flag("--force", force, "replace OUT if it exists");
-  return RunCommand(app, argc, argv, [&] {
-    if (!frames_text.empty()) {
-      throw Error(
-          "synth writes a new collection: give its number of frames with "
-          "--count N (--frames selects frame indices of an existing "
-          "collection or plan in the other commands)",
-          Location("--frames " + frames_text));
-    }
-    const ThreadLimit thread_limit(threads);
+  // --frames selects frame indices in every command (docs/cli.md); synth makes
+  // a new collection, so it takes a count and says so instead of guessing.
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "replace OUT if it exists",
+                 {{"--frames",
+                   "synth writes a new collection: give its number of frames with "
+                   "--count N (--frames selects frame indices of an existing "
+                   "collection or plan in the other commands)"}});
+  return RunCommand(app, common, argc, argv, [&] {
     int width = 0, height = 0;
     if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 || height < 1 ||
         width > 16384 || height > 16384) {
@@ -60,11 +50,12 @@ int RunSynth(int argc, char** argv) {
     synth::Spec spec = synth::CircleSpec(frames, width, height);
     spec.samples_per_axis = samples_per_axis;
     ParseDepthKind(depth, &spec.depth_kind);
-    AtomicDirectory output(out, force);
+    AtomicDirectory output(out, common.force);
     synth::WriteCollection(output.temp_path(), spec);
     output.Commit();
-    std::cout << "wrote " << frames << " frames (" << width << "x" << height << ") to " << out
-              << "\n";
+    if (!common.quiet)
+      std::cout << "wrote " << frames << " frames (" << width << "x" << height << ") to " << out
+                << "\n";
     return 0;
   });
 }

@@ -13,7 +13,9 @@
 #include "libs/util/check.h"
 #include "libs/util/error.h"
 #include "libs/util/limits.h"
+#include "libs/util/progress.h"
 #include "libs/util/strings.h"
+#include "libs/util/thread_limit.h"
 
 namespace lsds {
 
@@ -134,14 +136,11 @@ void CheckNumericFlags(const CLI::App& app) {
 
 }  // namespace
 
-int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
-  // Every command's image-shaped allocations (films, decoded layers) are
-  // checked against one budget (libs/util/limits.h) before they are made.
-  std::string memory_budget;
-  app.add_option("--memory-budget",
-                 memory_budget,
-                 "memory one image, film or decoded layer may take, e.g. 16G "
-                 "(default: LSDS_MEMORY_BUDGET or 8G)");
+int RunCommand(CLI::App& app,
+               const CommonFlags& common,
+               int argc,
+               char** argv,
+               const std::function<int()>& body) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -158,13 +157,18 @@ int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>&
   // (everything else, exit 70 with a request for a bug report).
   try {
     CheckNumericFlags(app);
-    if (!memory_budget.empty()) SetMemoryBudget(memory_budget);
+    // Every command's image-shaped allocations (films, decoded layers) are
+    // checked against one budget (libs/util/limits.h) before they are made.
+    if (!common.memory_budget.empty()) SetMemoryBudget(common.memory_budget);
   } catch (const Error& e) {
     std::cerr << app.get_name() << ": error: " << e.what() << "; run '" << app.get_name()
               << " --help' for the options\n";
     return kExitUsage;
   }
   try {
+    RefuseUnusedFlags(app, common);
+    if (common.quiet) Progress::Silence();
+    const ThreadLimit thread_limit(common.threads);
     return body();
   } catch (const Error& e) {
     std::cerr << app.get_name() << ": error: " << e.what() << "\n";

@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "tools/shared_flags.h"
+
 namespace lsds {
 
 struct Command {
@@ -23,8 +25,15 @@ const std::vector<Command>& Commands();
 // codes of the brief: 0 success, 1 findings (returned by `body`), 2 bad usage
 // or unreadable input (lsds::Error, printed as "lsds NAME: error: WHERE: WHAT",
 // and CLI11 errors, printed as "lsds NAME: error: WHAT" with a did-you-mean
-// for a mistyped option).
-int RunCommand(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+// for a mistyped option). The common flags (tools/shared_flags.h, added to
+// `app` with AddCommonFlags) are applied here for the whole command: unused
+// ones refused, --memory-budget set, -q silencing the progress line, and
+// --threads capping TBB's workers while `body` runs.
+int RunCommand(CLI::App& app,
+               const CommonFlags& common,
+               int argc,
+               char** argv,
+               const std::function<int()>& body);
 
 // Command entry points, one per file, each in its feature's folder
 // (<feature>/<name>_command.cc, docs/architecture.md).

@@ -14,7 +14,13 @@ int RunInfo(int argc, char** argv) {
   bool json = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_flag("--json", json, "print the summary as JSON");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "",
+                 {{"--frames", "lsds info summarizes every frame of the collection"},
+                  {"--force", "lsds info writes no file"}});
+  return RunCommand(app, common, argc, argv, [&] {
     const CollectionReader reader(collection);
     const CollectionSummary summary = Summarize(reader);
     if (json) {

@@ -1,23 +1,65 @@
 #include "tools/shared_flags.h"
 
-#include "libs/util/strings.h"
-
+#include <algorithm>
 #include <iostream>
 
-#include <tbb/global_control.h>
-
-#include "generator/estimate.h"
-#include "generator/lang/planner.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 
 namespace lsds {
 
-CLI::Option* AddFramesOption(CLI::App& app, std::string* text) {
-  return app.add_option("--frames",
-                        *text,
-                        "frame indices: A:B (A to B-1), A: (A to the last), :B (the first to "
-                        "B-1) or N (frame N alone)");
+void AddCommonFlags(CLI::App& app,
+                    CommonFlags* flags,
+                    const std::string& force_help,
+                    std::vector<UnusedFlag> unused) {
+  // A flag the command has no use for says so in its help too.
+  auto help = [&](const std::string& flag, const std::string& text) {
+    for (const UnusedFlag& u : unused)
+      if (u.flag == flag) return "not used here: " + u.reason;
+    return text;
+  };
+  app.add_option("--frames",
+                 flags->frames,
+                 help("--frames",
+                      "frame indices: A:B (A to B-1), A: (A to the last), :B (the first to "
+                      "B-1) or N (frame N alone)"));
+  app.add_option("--threads", flags->threads, help("--threads", "worker threads (0: all cores)"))
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("-q,--quiet",
+               flags->quiet,
+               help("-q", "no progress line and no summary (the command's own output stays)"));
+  app.add_flag("--force", flags->force, help("--force", force_help));
+  app.add_option("--memory-budget",
+                 flags->memory_budget,
+                 "memory one image, film or decoded layer may take, e.g. 16G "
+                 "(default: LSDS_MEMORY_BUDGET or 8G)");
+  flags->unused = std::move(unused);
+}
+
+void AddJobsAlias(CLI::App& app, CommonFlags* flags) {
+  // Hidden (empty group): kept so that older scripts still run.
+  app.add_option("--jobs", flags->threads, "deprecated: use --threads")
+      ->check(CLI::NonNegativeNumber)
+      ->group("");
+}
+
+void WarnIfJobsUsed(const CLI::App& app) {
+  const CLI::Option* jobs = app.get_option_no_throw("--jobs");
+  if (jobs != nullptr && jobs->count() > 0) {
+    std::cerr << app.get_name() << ": warning: --jobs is deprecated; use --threads\n";
+  }
+}
+
+void RefuseUnusedFlags(const CLI::App& app, const CommonFlags& flags) {
+  for (const UnusedFlag& unused : flags.unused) {
+    const CLI::Option* option = app.get_option_no_throw(unused.flag);
+    if (option == nullptr || option->count() == 0) continue;
+    std::string where = unused.flag;
+    if (option->get_expected_min() > 0 && !option->results().empty())
+      where += " " + option->results().front();
+    throw Error(unused.reason, Location(where));
+  }
 }
 
 CLI::Option* AddShardOption(CLI::App& app, std::string* text, const std::string& description) {
@@ -47,32 +89,9 @@ DepthKind ParseDepthFlag(const std::string& text) {
   return kind;
 }
 
-void AddThreadsOption(CLI::App& app, int* threads, bool jobs_alias) {
-  app.add_option("--threads", *threads, "worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
-  if (jobs_alias) {
-    // Hidden (empty group): kept so that older scripts still run.
-    app.add_option("--jobs", *threads, "deprecated: use --threads")
-        ->check(CLI::NonNegativeNumber)
-        ->group("");
-  }
+FrameSelection FramesFlag(const CommonFlags& flags) {
+  return flags.frames.empty() ? FrameSelection{} : ParseFrameSelection(flags.frames);
 }
-
-void WarnIfJobsUsed(const CLI::App& app) {
-  const CLI::Option* jobs = app.get_option_no_throw("--jobs");
-  if (jobs != nullptr && jobs->count() > 0) {
-    std::cerr << app.get_name() << ": warning: --jobs is deprecated; use --threads\n";
-  }
-}
-
-ThreadLimit::ThreadLimit(int threads) {
-  if (threads > 0) {
-    control_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                     static_cast<size_t>(threads));
-  }
-}
-
-ThreadLimit::~ThreadLimit() = default;
 
 std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root) {
   const CollectionReader reader(root);
@@ -88,43 +107,11 @@ std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root) {
   return indices;
 }
 
-FrameSelection SelectCollectionFrames(const std::string& text, const std::filesystem::path& root) {
+FrameRange SelectCollectionFrames(const std::string& text, const std::filesystem::path& root) {
+  if (text.empty()) return {};
   FrameSelection selection = ParseFrameSelection(text);
   CheckFrameSelection(selection, CollectionFrameIndices(root), "the collection " + root.string());
   return selection;
-}
-
-void CheckPlanFrames(const FrameSelection& selection, const Plan& plan) {
-  std::vector<int64_t> indices;
-  indices.reserve(plan.frames.size());
-  for (const PlannedFrame& frame : plan.frames) indices.push_back(frame.index);
-  std::sort(indices.begin(), indices.end());
-  CheckFrameSelection(selection, indices, "the plan");
-}
-
-Plan PlanSelectedFrames(const std::string& scene,
-                        const std::string& capture,
-                        uint64_t seed,
-                        const std::optional<FrameSelection>& selection) {
-  std::optional<std::filesystem::path> capture_path;
-  if (!capture.empty()) capture_path = capture;
-  FrameRange range;
-  if (selection) {
-    range.begin = selection->begin;
-    range.end = selection->bounded() ? selection->end : -1;
-  }
-  Plan plan = MakePlan(scene, capture_path, seed, range, gen::MakeFrameEstimatorFactory());
-  if (!selection) return plan;
-  // Frames are planned independently, so the restricted plan holds exactly the
-  // selected frames that exist; anything less means the selection reaches past
-  // the plan.
-  const bool complete = selection->bounded() ? static_cast<int64_t>(plan.frames.size()) ==
-                                                   selection->end - selection->begin
-                                             : !plan.frames.empty();
-  if (!complete)
-    CheckPlanFrames(*selection,
-                    MakePlan(scene, capture_path, seed, {}, gen::MakeFrameEstimatorFactory()));
-  return plan;
 }
 
 }  // namespace lsds

@@ -1,31 +1,56 @@
-// Flags every lsds command spells the same way (docs/cli.md): --frames (one
-// grammar, libs/util/frame_selection.h), --threads, and the frame-range checks
-// against a collection or a plan.
+// The flags every lsds command takes, spelled and parsed the same way
+// (docs/cli.md, "Flags shared by every command"): --frames (one grammar,
+// libs/util/frame_selection.h), --threads, -q, --force and --memory-budget, and
+// the few other flags several commands share (--shard, --depth).
 #pragma once
 
 #include <filesystem>
-#include <memory>
-#include <optional>
 #include <string>
+#include <vector>
 
-#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 
-#include "generator/plan/plan.h"
 #include "libs/geometry/camera.h"
 #include "libs/util/frame_selection.h"
 
 namespace lsds {
 
-// --frames with the shared help text.
-CLI::Option* AddFramesOption(CLI::App& app, std::string* text);
+// A common flag a command has no use for (e.g. --frames for `lsds merge`,
+// which joins whole shards): listed in its help like every command's, refused
+// when given with exit 2, naming the flag and `reason`.
+struct UnusedFlag {
+  std::string flag;  // "--frames", "--threads", "-q", "--force"
+  std::string reason;
+};
 
-// --threads T (0: all cores). With `jobs_alias`, also the hidden, deprecated
-// --jobs of older releases.
-void AddThreadsOption(CLI::App& app, int* threads, bool jobs_alias = false);
+// The values of the common flags. RunCommand (tools/command.h) applies
+// --threads (a cap on TBB's workers), -q (no progress line) and
+// --memory-budget for the whole command, and refuses the unused ones; the
+// command reads `frames`, `quiet` (its own summary lines) and `force`.
+struct CommonFlags {
+  std::string frames;  // --frames as given; empty: every frame
+  int threads = 0;     // 0: every core
+  bool quiet = false;
+  bool force = false;
+  std::string memory_budget;  // empty: LSDS_MEMORY_BUDGET or 8G
+  std::vector<UnusedFlag> unused;
+};
+
+// Adds the common flags to `app`, bound to `flags`. `force_help` says what
+// --force replaces in this command.
+void AddCommonFlags(CLI::App& app,
+                    CommonFlags* flags,
+                    const std::string& force_help,
+                    std::vector<UnusedFlag> unused = {});
+
+// The hidden, deprecated --jobs of older releases, an alias of --threads.
+void AddJobsAlias(CLI::App& app, CommonFlags* flags);
 
 // Warns once on stderr when the deprecated --jobs was used.
 void WarnIfJobsUsed(const CLI::App& app);
+
+// Throws lsds::Error (exit 2) naming the first unused flag that was given.
+void RefuseUnusedFlags(const CLI::App& app, const CommonFlags& flags);
 
 // --shard I/N: the frames whose index % N == I (parse with ParseShard).
 CLI::Option* AddShardOption(CLI::App& app, std::string* text, const std::string& description);
@@ -36,32 +61,14 @@ void ParseShard(const std::string& text, int* index, int* count);
 // Parses --depth planar|perspective: exit 2 naming the flag otherwise.
 DepthKind ParseDepthFlag(const std::string& text);
 
-// Caps TBB's worker threads for its lifetime (0: no cap).
-class ThreadLimit {
- public:
-  explicit ThreadLimit(int threads);
-  ~ThreadLimit();
+// The parsed --frames (every frame when not given; its text is then empty).
+FrameSelection FramesFlag(const CommonFlags& flags);
 
- private:
-  std::unique_ptr<tbb::global_control> control_;
-};
-
-// The frame indices of the collection at `root`, in file order.
+// The frame indices of the collection at `root`, in increasing order.
 std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root);
 
 // Parses --frames and checks it against the collection's frames: exit 2 naming
-// the valid range when it reaches outside them.
-FrameSelection SelectCollectionFrames(const std::string& text, const std::filesystem::path& root);
-
-// Checks --frames against the frames of a full plan.
-void CheckPlanFrames(const FrameSelection& selection, const Plan& plan);
-
-// The plan of SCENE [CAPTURE] for `seed`, restricted to `selection` when set.
-// An out-of-range selection is an error naming the plan's frames (the full
-// plan is only made to say so).
-Plan PlanSelectedFrames(const std::string& scene,
-                        const std::string& capture,
-                        uint64_t seed,
-                        const std::optional<FrameSelection>& selection);
+// the valid range when it reaches outside them. Empty text: every frame.
+FrameRange SelectCollectionFrames(const std::string& text, const std::filesystem::path& root);
 
 }  // namespace lsds

@@ -22,7 +22,6 @@ int RunMergeReports(int argc, char** argv) {
       "lsds merge-reports");
   std::vector<std::string> partials;
   std::string format = "text", output, fail_on = "error";
-  bool force = false;
   app.add_option(
          "PARTIAL", partials, "partial reports (lsds validate --shard I/N -o FILE), any order")
       ->required();
@@ -32,8 +31,14 @@ int RunMergeReports(int argc, char** argv) {
       "-o,--output", output, "write the report to this file (atomically) instead of stdout");
   app.add_option("--fail-on", fail_on, "lowest severity that makes the run fail (exit 1)")
       ->check(CLI::IsMember({"error", "warning", "info"}));
-  app.add_flag("--force", force, "overwrite an existing report file");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "overwrite an existing report file",
+                 {{"--frames",
+                   "the partial reports hold the frames each shard checked; select frames "
+                   "with lsds validate --frames"}});
+  return RunCommand(app, common, argc, argv, [&] {
     validate::Severity threshold;
     validate::ParseSeverity(fail_on, &threshold);
     std::vector<std::filesystem::path> files(partials.begin(), partials.end());
@@ -41,7 +46,7 @@ int RunMergeReports(int argc, char** argv) {
       OutputGuard guard("lsds merge-reports");
       for (const std::filesystem::path& file : files) guard.AddInput(file, "partial report");
       guard.CheckOutput(output, "-o");
-      RefuseToOverwrite(output, force, "report");
+      RefuseToOverwrite(output, common.force, "report");
     }
     const validate::Report report = validate::MergePartialReports(files);
     const std::string text = validate::RenderReport(report, format, threshold);
@@ -49,7 +54,7 @@ int RunMergeReports(int argc, char** argv) {
       std::cout << text;
     } else {
       WriteFileAtomic(output, text);
-      std::cerr << validate::Verdict(report, threshold) << "\n";
+      if (!common.quiet) std::cerr << validate::Verdict(report, threshold) << "\n";
     }
     return report.Fails(threshold) ? kExitFindings : kExitOk;
   });

@@ -7,7 +7,6 @@
 #include <map>
 #include <set>
 
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -18,6 +17,7 @@
 #include "libs/collection/schema.h"
 #include "libs/util/progress.h"
 #include "libs/util/strings.h"
+#include "libs/util/thread_limit.h"
 #include "validators/compact_tables.h"
 #include "validators/frame_checks.h"
 #include "validators/truth_origin_check.h"
@@ -546,7 +546,7 @@ bool Validator::OwnsFrame(std::optional<int64_t> index) const {
   // about the collection as a whole.
   if (!index) return shard_zero_;
   const int64_t n = options_.shard_count;
-  return ((*index % n) + n) % n == options_.shard_index;
+  return ((*index % n) + n) % n == options_.shard_index && options_.frames.Contains(*index);
 }
 
 std::vector<std::string> Validator::SelectedOf(std::vector<std::string> ids) const {
@@ -616,11 +616,7 @@ Report Validator::Run(bool finish) {
 }  // namespace
 
 Report ValidateCollection(const fs::path& root, const ValidateOptions& options) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (options.jobs > 0) {
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    static_cast<size_t>(options.jobs));
-  }
+  const ThreadLimit thread_limit(options.jobs);
   if (options.shard_count != 1 || options.shard_index != 0)
     throw Error("ValidateCollection runs one whole run; use ValidateShard");
   return Validator(root, options).Run(/*finish=*/true);
@@ -632,11 +628,7 @@ PartialReport ValidateShard(const fs::path& root, const ValidateOptions& options
     throw Error("shard " + std::to_string(options.shard_index) + "/" +
                 std::to_string(options.shard_count) + " is not a shard: I/N needs 0 <= I < N");
   }
-  std::unique_ptr<tbb::global_control> threads;
-  if (options.jobs > 0) {
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    static_cast<size_t>(options.jobs));
-  }
+  const ThreadLimit thread_limit(options.jobs);
   Validator validator(root, options);
   PartialReport partial;
   partial.report = validator.Run(/*finish=*/false);

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include "libs/util/frame_selection.h"
+
 #include "validators/checks.h"
 #include "validators/partial_report.h"
 #include "validators/report.h"
@@ -22,6 +24,10 @@ struct ValidateOptions {
   // report; `lsds merge-reports` joins N of them into the single run's report.
   int shard_index = 0;
   int shard_count = 1;
+  // `--frames`: check only the frames with index in this range (with --shard,
+  // those of the shard among them). The header, the tables and stray files are
+  // still checked; the statistics checks (stats.*) count the frames checked.
+  FrameRange frames;
 };
 
 // Throws lsds::Error (exit code 2) when `root` cannot be read as a collection

@@ -1,6 +1,6 @@
 // lsds validate COLLECTION [--format text|json|junit] [-o REPORT]
 //                          [--fail-on error|warning|info] [--checks LIST]
-//                          [--threads N] [--max-examples N] [--force]
+//                          [--frames A:B] [--threads N] [--max-examples N] [--force]
 //                          [--shard I/N (writes a partial report to -o)]
 #include <chrono>
 #include <iostream>
@@ -24,9 +24,7 @@ int RunValidate(int argc, char** argv) {
       "input cannot be read as a collection.",
       "lsds validate");
   std::string collection, format = "text", output, fail_on = "error", checks = "all";
-  int jobs = 0;
   size_t max_examples = 20;
-  bool force = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("--format", format, "report format")
       ->check(CLI::IsMember({"text", "json", "junit"}));
@@ -39,30 +37,32 @@ int RunValidate(int argc, char** argv) {
                  "comma-separated check ids or groups (schema, structure, layer, "
                  "cross, camera, stats), or all; -ID excludes one (all,-camera; a list "
                  "that starts with -ID means all but it); default all");
-  AddThreadsOption(app, &jobs, /*jobs_alias=*/true);
   app.add_option(
          "--max-examples", max_examples, "findings kept and shown per check (all are counted)")
       ->check(CLI::PositiveNumber);
-  app.add_flag("--force", force, "overwrite an existing report file");
+  CommonFlags common;
+  AddCommonFlags(app, &common, "overwrite an existing report file");
+  AddJobsAlias(app, &common);
   std::string shard;
   AddShardOption(app,
                  &shard,
                  "check only the frames whose index % N == I (I/N) and write a "
                  "partial report to -o; lsds merge-reports joins the N partial "
                  "reports into the report of a single run");
-  return RunCommand(app, argc, argv, [&] {
+  return RunCommand(app, common, argc, argv, [&] {
     WarnIfJobsUsed(app);
     validate::Severity threshold;
     validate::ParseSeverity(fail_on, &threshold);
     validate::ValidateOptions options;
     options.checks = validate::CheckSelection::Parse(checks);
-    options.jobs = jobs;
+    options.jobs = common.threads;
     options.max_examples = max_examples;
-    options.progress = true;  // on a terminal only; silent in CI
+    options.progress = true;  // on a terminal only; silent in CI and with -q
     OutputGuard guard("lsds validate");
     GuardCollection(&guard, collection, CollectionAccess::kReadOnly);
     guard.CheckOutput(output, "-o");
-    if (!output.empty()) RefuseToOverwrite(output, force, "report");
+    if (!output.empty()) RefuseToOverwrite(output, common.force, "report");
+    options.frames = SelectCollectionFrames(common.frames, collection);
     if (!shard.empty()) {
       ParseShard(shard, &options.shard_index, &options.shard_count);
       if (output.empty()) throw Error("--shard writes a partial report: give its file with -o");
@@ -72,8 +72,10 @@ int RunValidate(int argc, char** argv) {
             "to lsds merge-reports");
       const validate::PartialReport partial = validate::ValidateShard(collection, options);
       WriteFileAtomic(output, validate::PartialReportToJson(partial).dump(1) + "\n");
-      std::cerr << "lsds validate: shard " << shard << ": " << partial.report.frames
-                << " frame(s) checked -> " << output << " (lsds merge-reports gives the verdict)\n";
+      if (!common.quiet)
+        std::cerr << "lsds validate: shard " << shard << ": " << partial.report.frames
+                  << " frame(s) checked -> " << output
+                  << " (lsds merge-reports gives the verdict)\n";
       // The shard's job is done: the verdict needs every shard (exit 0 lets
       // the merge job of a Slurm array run).
       return kExitOk;
@@ -103,7 +105,7 @@ int RunValidate(int argc, char** argv) {
       std::cout << text;
     } else {
       WriteFileAtomic(output, text);
-      std::cerr << validate::Verdict(report, threshold) << "\n";
+      if (!common.quiet) std::cerr << validate::Verdict(report, threshold) << "\n";
     }
     return report.Fails(threshold) ? kExitFindings : kExitOk;
   });

@@ -17,7 +17,6 @@ int RunCheckExport(int argc, char** argv) {
                    "reject. Exit 0 when nothing is, 1 otherwise, 2 when the folder cannot be read.",
                "lsds check-export");
   std::string format, dir, consumer, classes, report_format = "text", output;
-  bool force = false;
   app.add_option("FORMAT", format, "the lsds convert format of the export")->required();
   app.add_option("DIR", dir, "the export folder (lsds convert -o)")->required();
   app.add_option("--consumer",
@@ -30,18 +29,24 @@ int RunCheckExport(int argc, char** argv) {
   app.add_option("--format", report_format, "report format")
       ->check(CLI::IsMember({"text", "json", "junit"}));
   app.add_option("-o,--output", output, "write the report to this file (atomically)");
-  app.add_flag("--force", force, "overwrite an existing report file");
-  return RunCommand(app, argc, argv, [&] {
+  CommonFlags common;
+  AddCommonFlags(app,
+                 &common,
+                 "overwrite an existing report file",
+                 {{"--frames",
+                   "an export has no lsds frame indices: check-export reads every image of it "
+                   "(export part of a collection with lsds convert --frames)"}});
+  return RunCommand(app, common, argc, argv, [&] {
     check::CheckOptions options;
     if (!classes.empty()) options.dota_classes = Split(classes, ',');
-    if (!output.empty()) RefuseToOverwrite(output, force, "report");
+    if (!output.empty()) RefuseToOverwrite(output, common.force, "report");
     const check::ExportReport report = check::CheckExport(format, dir, consumer, options);
     const std::string text = check::RenderReport(report, report_format);
     if (output.empty()) {
       std::cout << text;
     } else {
       WriteFileAtomic(output, text);
-      std::cerr << check::Verdict(report) << "\n";
+      if (!common.quiet) std::cerr << check::Verdict(report) << "\n";
     }
     return report.Fails() ? kExitFindings : kExitOk;
   });

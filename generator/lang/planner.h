@@ -9,13 +9,9 @@
 #include "generator/lang/requirements.h"
 #include "generator/lang/source.h"
 #include "generator/plan/plan.h"
+#include "libs/util/frame_selection.h"
 
 namespace lsds {
-
-struct FrameRange {
-  int64_t begin = 0;
-  int64_t end = -1;
-};  // [begin, end), end -1 = all
 
 // Reads the scene (and the capture) in either notation and samples the plan for
 // `seed`. Without a capture file the plan has one default frame (capture.h,

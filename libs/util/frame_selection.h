@@ -11,14 +11,22 @@
 
 namespace lsds {
 
-struct FrameSelection {
+// Frame indices [begin, end): the one frame-range type of lsds, taken by every
+// library function that works on part of a collection or a plan. "To the
+// last frame" is end == kToTheEnd, never a second sentinel.
+struct FrameRange {
   static constexpr int64_t kToTheEnd = std::numeric_limits<int64_t>::max();
   int64_t begin = 0;
   int64_t end = kToTheEnd;  // exclusive
-  std::string text;         // as the user gave it, for messages
 
   bool Contains(int64_t index) const { return index >= begin && index < end; }
   bool bounded() const { return end != kToTheEnd; }
+  bool all() const { return begin <= 0 && !bounded(); }  // every frame index (all are >= 0)
+};
+
+// A parsed --frames: the range and the text the user gave, for messages.
+struct FrameSelection : FrameRange {
+  std::string text;
 };
 
 // Parses the text of `flag`; throws lsds::Error located at the flag ("--frames

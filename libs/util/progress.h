@@ -1,5 +1,5 @@
-// A progress line with rate and ETA on a terminal; silent in CI (CI=true) or
-// when stderr is not a TTY.
+// A progress line with rate and ETA on a terminal; silent in CI (CI=true),
+// when stderr is not a TTY, or after Silence() (-q).
 #pragma once
 
 #include <atomic>
@@ -16,7 +16,9 @@ class Progress {
   ~Progress();                 // finishes the line
   void Add(int64_t done = 1);  // thread-safe
 
-  static bool Enabled();  // a terminal and not CI
+  static bool Enabled();  // a terminal, not CI, and not silenced
+  // -q of every command: no progress line for the rest of the process.
+  static void Silence();
 
  private:
   void Draw(bool final);

@@ -226,8 +226,7 @@ TEST(BundlesRun, FrameRangeWritesOptionalLayers) {
   synth::WriteCollection(root, SmallSpec());
   RunOptions options;
   options.write_layers = {"edge"};
-  options.first = 1;
-  options.end = 3;
+  options.positions = FrameRange{1, 3};
   const RunResult result = RunBundles(root, options);
   EXPECT_EQ(result.frames_analyzed, 2);
   const CollectionReader reader(root);

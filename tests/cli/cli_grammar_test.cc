@@ -1,4 +1,5 @@
-// The CLI table test of docs/cli.md: every command that takes --frames accepts
+// The CLI table test of docs/cli.md: every command lists the common flags in
+// its help and refuses those it has no use for; every command that takes --frames accepts
 // the same forms with the same meaning (checked on the frames each command
 // actually produced), an out-of-range --frames is exit 2 naming the valid
 // range and leaves an existing output alone, and the same bad flag gives the
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -345,6 +347,107 @@ TEST(CliResumeHint, ARerunAfterAnInterruptPointsToResume) {
   const testing::CommandResult resumed = testing::RunCommandLine(base + " --resume");
   EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_TRUE(std::filesystem::exists(out / "g" / "collection.json"));
+}
+
+// The frames of the error findings of a `lsds validate --format json` report.
+std::set<int64_t> FramesWithErrors(const nlohmann::json& report) {
+  std::set<int64_t> frames;
+  for (const auto& check : report["checks"])
+    for (const auto& finding : check["findings"])
+      if (finding["severity"] == "error" && finding["location"].contains("frame"))
+        frames.insert(finding["location"]["frame"].get<int64_t>());
+  return frames;
+}
+
+// validate --frames checks the selected frames only: a defect planted in frame
+// 2 (a layer file removed) is found exactly when frame 2 is selected, and the
+// report counts the selected frames.
+TEST_F(CliGrammar, ValidateChecksTheSelectedFrames) {
+  testing::TempDir out;
+  synth::Spec spec = synth::DefaultSpec();  // frames 0..3
+  spec.width = 32, spec.height = 24;
+  synth::WriteCollection(out / "c", spec);
+  const nlohmann::json header = ReadJson(out / "c" / "collection.json");
+  const nlohmann::json& files = header["frames"][2]["files"];
+  ASSERT_FALSE(files.empty());
+  fs::remove(out / "c" / files.begin()->get<std::string>());
+  const std::string base = Lsds() + " validate " + (out / "c").string() + " --format json -o ";
+  struct Case {
+    std::string frames;
+    int64_t count;
+    bool finds_frame_2;
+  };
+  for (const Case& c : {Case{"0:2", 2, false}, Case{"2", 1, true}, Case{"1:", 3, true}}) {
+    const fs::path report = out / ("r" + c.frames.substr(0, 1) + ".json");
+    const CommandResult result =
+        RunCommandLine(base + report.string() + " --frames " + c.frames + " --force");
+    const nlohmann::json json = ReadJson(report);
+    EXPECT_EQ(json["frames"].get<int64_t>(), c.count) << c.frames << "\n" << result.output;
+    EXPECT_EQ(FramesWithErrors(json).count(2) > 0, c.finds_frame_2) << c.frames;
+    EXPECT_EQ(result.exit_code, c.finds_frame_2 ? 1 : 0) << c.frames << "\n" << result.output;
+  }
+}
+
+// The common flags of docs/cli.md ("Flags shared by every command"), as the
+// help of every command must list them.
+const char* const kCommonFlags[] = {
+    "--frames", "--threads", "-q,--quiet", "--force", "--memory-budget"};
+
+// The commands `lsds help` lists (two spaces, then the name).
+std::vector<std::string> ListedCommands() {
+  const testing::CommandResult help = testing::RunLsds("help");
+  std::vector<std::string> names;
+  std::istringstream lines(help.output);
+  bool in_list = false;
+  for (std::string line; std::getline(lines, line);) {
+    if (line == "commands:")
+      in_list = true;
+    else if (in_list && line.rfind("  ", 0) == 0)
+      names.push_back(line.substr(2, line.find(' ', 2) - 2));
+    else if (in_list && !names.empty())
+      break;
+  }
+  return names;
+}
+
+TEST(CliHelp, EveryCommandListsTheCommonFlags) {
+  const std::vector<std::string> commands = ListedCommands();
+  ASSERT_GE(commands.size(), 16u);
+  for (const std::string& command : commands) {
+    const testing::CommandResult help = testing::RunLsds(command + " --help");
+    ASSERT_EQ(help.exit_code, 0) << command << "\n" << help.output;
+    for (const char* flag : kCommonFlags) {
+      // An option line of CLI11's help: the flag, then its value or help text.
+      const bool listed = help.output.find("  " + std::string(flag) + " ") != std::string::npos;
+      EXPECT_TRUE(listed) << "lsds " << command << " --help does not list " << flag << "\n"
+                          << help.output;
+    }
+  }
+}
+
+// A common flag a command has no use for is refused, naming the flag and why,
+// never silently ignored; the same flag works where it means something.
+TEST_F(CliGrammar, AnUnusedCommonFlagIsExit2NamingIt) {
+  struct Case {
+    std::string args;
+    std::string prefix;
+  };
+  testing::TempDir out;
+  for (const Case& c : {Case{"info " + C() + " --frames 1", "lsds info: error: --frames 1: "},
+                        Case{"info " + C() + " --force", "lsds info: error: --force: "},
+                        Case{"merge " + C() + " -o " + (out / "m").string() + " --frames 0:2",
+                             "lsds merge: error: --frames 0:2: "},
+                        Case{"import kubric " + C() + " -o " + (out / "i").string() + " --frames 0",
+                             "lsds import: error: --frames 0: "}}) {
+    const testing::CommandResult result = testing::RunLsds(c.args);
+    EXPECT_EQ(result.exit_code, 2) << c.args << "\n" << result.output;
+    EXPECT_EQ(result.output.rfind(c.prefix, 0), 0u) << c.args << "\n" << result.output;
+  }
+  EXPECT_FALSE(fs::exists(out / "m"));
+  EXPECT_FALSE(fs::exists(out / "i"));
+  // -q and --threads are taken by every command, also by those that run on one thread.
+  const testing::CommandResult info = testing::RunLsds("info " + C() + " -q --threads 1");
+  EXPECT_EQ(info.exit_code, 0) << info.output;
 }
 
 // `lsds help` takes the formats from the registries: every one is listed, as a whole word.

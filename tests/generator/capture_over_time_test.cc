@@ -228,11 +228,7 @@ TEST(CaptureOverTime, ShadowsTurnWithTheSunOverAnOrbit) {
          "CO = camera{csettings:{fov:70,res:[160,120],fps:0.000138888888889}}\n"
          "P = path{create hemi:{cam radius:[45,45,1],obj angle:[0,360,4],"
          "cam angle:[70,70,1],center:[0,0,0]}}\n";
-  const Plan plan = gen::PlanFromScene((dir / "s.lscene").string(),
-                                       (dir / "c.lcap").string(),
-                                       1,
-                                       0,
-                                       std::numeric_limits<int64_t>::max());
+  const Plan plan = gen::PlanFromScene((dir / "s.lscene").string(), (dir / "c.lcap").string(), 1);
   gen::GenerateOptions options;
   options.output = dir / "out";
   options.spp = 1;

@@ -173,8 +173,7 @@ TEST(GenerateCollection, ShardsAndFrameRangesEqualTheSingleRun) {
   EXPECT_EQ(covered.size(), 5u);
   const fs::path range = TempRoot("range");
   GenerateOptions options = Options(range);
-  options.first_frame = 2;
-  options.last_frame = 4;
+  options.frames = FrameRange{2, 4};
   GenerateCollection(MovingPlan(5), options);
   const std::map<int64_t, Frame> part = FramesByIndex(range);
   ASSERT_EQ(part.size(), 2u);

@@ -163,7 +163,7 @@ TEST(Distributions, FrameRangeSelectsByIndex) {
   synth::WriteCollection(dir / "c", spec);
   const CollectionReader reader(dir / "c");
   ReportOptions options;
-  options.frame_begin = 1, options.frame_end = 3;
+  options.frames = FrameRange{1, 3};
   const ReportData data = CollectReportData(reader, options);
   EXPECT_EQ(data.distributions.frames, 2);
   ASSERT_EQ(data.samples.size(), 2u);
@@ -185,25 +185,35 @@ TEST(Histogram, BinsEdgesAndOutliers) {
   EXPECT_EQ(OneTwoFiveEdges(0.1, 10), (std::vector<double>{0.1, 0.2, 0.5, 1, 2, 5, 10}));
 }
 
-TEST(FrameSampler, EvenSpreadInOnePassPlusForcedFrames) {
+TEST(FrameSampler, EvenSpreadInOnePassWithForcedFramesWithinTheTarget) {
   FrameSampler<int> sampler(10, {503});
   for (int i = 0; i < 1000; ++i) sampler.Offer(i, i);
   const std::vector<int> taken = sampler.Take();
-  ASSERT_EQ(taken.size(), 11u);
+  // --sample 10 is 10 frames, the forced one among them.
+  ASSERT_EQ(taken.size(), 10u);
   EXPECT_TRUE(std::is_sorted(taken.begin(), taken.end()));
   EXPECT_NE(std::find(taken.begin(), taken.end(), 503), taken.end());
   std::vector<int> even;
   for (int t : taken) {
     if (t != 503) even.push_back(t);
   }
-  // 10 frames, one per tenth of the stream.
+  // The other 9, one per ninth of the stream.
+  ASSERT_EQ(even.size(), 9u);
   for (size_t k = 0; k < even.size(); ++k) {
-    EXPECT_GE(even[k], static_cast<int>(k) * 100) << k;
-    EXPECT_LT(even[k], static_cast<int>(k + 1) * 100) << k;
+    EXPECT_GE(even[k], static_cast<int>(k) * 1000 / 9) << k;
+    EXPECT_LT(even[k], static_cast<int>(k + 1) * 1000 / 9) << k;
   }
   FrameSampler<int> few(10);
   for (int i = 0; i < 4; ++i) few.Offer(i, i);
   EXPECT_EQ(few.Take(), (std::vector<int>{0, 1, 2, 3}));
+}
+
+// More frames with findings than --sample: the sheet still holds --sample
+// frames, the first ones with findings.
+TEST(FrameSampler, ForcedFramesNeverExceedTheTarget) {
+  FrameSampler<int> sampler(3, {10, 20, 30, 40, 50});
+  for (int i = 0; i < 100; ++i) sampler.Offer(i, i);
+  EXPECT_EQ(sampler.Take(), (std::vector<int>{10, 20, 30}));
 }
 
 }  // namespace

@@ -57,7 +57,9 @@ Error Refusal(Read&& read) {
   try {
     read();
   } catch (const Error& e) {
-    if (kResidentMemoryMeasured) EXPECT_LT(PeakRss() - before, int64_t{64} << 20) << e.what();
+    if (kResidentMemoryMeasured) {
+      EXPECT_LT(PeakRss() - before, int64_t{64} << 20) << e.what();
+    }
     return e;
   }
   ADD_FAILURE() << "no error";
@@ -283,7 +285,9 @@ TEST(DecoderLimits, ReadFileChecksTheBudgetAndReadsOnce) {
   Sparse(dir / "z.bin", uint64_t{64} << 20);
   const int64_t before = PeakRss();
   EXPECT_EQ(ReadFile(dir / "z.bin").size(), size_t{64} << 20);
-  if (kResidentMemoryMeasured) EXPECT_LT(PeakRss() - before, int64_t{100} << 20);
+  if (kResidentMemoryMeasured) {
+    EXPECT_LT(PeakRss() - before, int64_t{100} << 20);
+  }
 }
 
 TEST(DecoderLimits, NulBytesInJsonAreErrorsWhereTheyAre) {

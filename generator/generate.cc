@@ -96,6 +96,8 @@ bool FrameComplete(const fs::path& root,
   return true;
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-cognitive-complexity)
 void PrepareOutput(const GenerateOptions& options, const nlohmann::json& settings) {
   const fs::path& root = options.output;
   const fs::path settings_path = root / kWorkFolder / "settings.json";

@@ -78,6 +78,8 @@ bool SeenBy(const CameraTruth& previous, const Eigen::Vector3d& point, Eigen::Ve
 
 }  // namespace
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-cognitive-complexity)
 void FrameChecker::CheckObjects() {
   const std::vector<uint32_t>* ids = Ids("instanceid");
   const std::vector<uint32_t>* classes = Ids("classid");

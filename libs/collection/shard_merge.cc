@@ -468,6 +468,8 @@ uint64_t CopyLayerFile(int fd, uint64_t size, const fs::path& to, const Location
 
 }  // namespace
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 MergeSummary MergeShards(const MergeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (options.shards.empty()) throw Error("no shard to merge");

@@ -123,6 +123,8 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
   return description;
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceFrame BopImporter::ReadFrame(int64_t index) {
   const int64_t id = image_ids_.at(static_cast<size_t>(index)).first;
   const std::string& key = image_ids_.at(static_cast<size_t>(index)).second;

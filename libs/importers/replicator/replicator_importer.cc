@@ -66,6 +66,8 @@ fs::path ReplicatorImporter::Path(const std::string& stem,
                      (stem + "_" + frame_ids_.at(static_cast<size_t>(index)).second + "." + ext));
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportOptions& options) {
   folder_ = source;
   root_.emplace(source, options.allow_links_outside);
@@ -186,6 +188,8 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
   return description;
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
   SourceFrame frame;
   // BasicWriter writes no timestamps; randomised frames are independent.

@@ -49,6 +49,8 @@ Eigen::Matrix3d RotationXyzw(const Eigen::Matrix<double, 4, 1>& q,
 
 }  // namespace
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions& options) {
   root_.emplace(source, options.allow_links_outside);
   const fs::path definitions_path = root_->File(source / "annotation_definitions.json");
@@ -155,6 +157,8 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
   return description;
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceFrame SoloImporter::ReadFrame(int64_t index) {
   const Step& step = steps_.at(static_cast<size_t>(index));
   const std::string file = step.file.string();

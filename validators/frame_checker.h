@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "libs/collection/model.h"
@@ -38,6 +39,13 @@ struct PixelTally {
 };
 
 inline std::string Fmt(double v) { return FormatNumber(v); }
+
+// One object's mask in the instance id layer, and its pixels of another class.
+struct ObjectMask {
+  InstanceMask extent;  // the pixel count and the tight box
+  PixelTally wrong_class;
+  uint32_t wrong_class_id = 0;
+};
 
 // One frame's checks: every EXR of the frame is opened and decoded once (LoadLayers), then
 // each check reads the decoded images. The checks are methods grouped by kind in
@@ -101,8 +109,21 @@ class FrameChecker {
   void CheckMotionRange();
   void CheckClassIdKnown();
   void CheckBundle();
+  void CheckBundleSamples();
+  void CheckBundleCentreIds(const char* bundle_channel, const char* semantic);
+  void CheckBundleCentreDepth();
   // Cross-layer and camera checks (frame_cross_checks.cc).
   void CheckObjects();
+  std::unordered_map<uint32_t, ObjectMask> MeasureObjectMasks(
+      const std::vector<uint32_t>* ids, const std::vector<uint32_t>* classes) const;
+  void CheckObjectMask(const ObjectTruth& object,
+                       const std::string& pointer,
+                       const std::string& who,
+                       const ObjectMask& mask);
+  void CheckObbContainsBbox(const ObjectTruth& object,
+                            const std::string& pointer,
+                            const std::string& who,
+                            const Rigid3d& cam_from_world);
   void CheckOrientedBoxes(const ObjectTruth& object,
                           const std::string& pointer,
                           const std::string& who,

@@ -78,17 +78,36 @@ bool SeenBy(const CameraTruth& previous, const Eigen::Vector3d& point, Eigen::Ve
 
 }  // namespace
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
+// Each object's truth against the id layers (its mask: tight bbox, visible pixels, one class),
+// its oriented boxes, and its OBB projected through the declared camera.
 void FrameChecker::CheckObjects() {
   const std::vector<uint32_t>* ids = Ids("instanceid");
-  const std::vector<uint32_t>* classes = Ids("classid");
-  struct Mask {
-    InstanceMask extent;  // the pixel count and the tight box
-    PixelTally wrong_class;
-    uint32_t wrong_class_id = 0;
-  };
-  std::unordered_map<uint32_t, Mask> masks;
+  std::unordered_map<uint32_t, ObjectMask> masks = MeasureObjectMasks(ids, Ids("classid"));
+  const bool can_project = frame_.camera.cam_from_world_rotation.determinant() > 0;
+  const Rigid3d cam_from_world = CamFromWorld(frame_.camera);
+  for (size_t k = 0; k < frame_.objects.size(); ++k) {
+    const ObjectTruth& object = frame_.objects[k];
+    const std::string pointer = "/objects/" + std::to_string(k);
+    const ClassInfo* info = header_.FindClass(object.class_id);
+    const std::string who = "instance " + std::to_string(object.instance_id) +
+                            (object.name.empty() ? "" : " '" + object.name + "'") +
+                            (info ? " (" + info->name + ")" : "");
+    if (ids) CheckObjectMask(object, pointer, who, masks[object.instance_id]);
+    if (Selected("cross.oriented-box")) {
+      CheckOrientedBoxes(
+          object, pointer, who, ids ? masks[object.instance_id].extent : InstanceMask{});
+    }
+    if (object.bbox && can_project && Selected("cross.obb-contains-bbox")) {
+      CheckObbContainsBbox(object, pointer, who, cam_from_world);
+    }
+  }
+}
+
+// Every object's mask in the instance id layer, with the pixels whose class is not the
+// object's (when the class id layer is there too).
+std::unordered_map<uint32_t, ObjectMask> FrameChecker::MeasureObjectMasks(
+    const std::vector<uint32_t>* ids, const std::vector<uint32_t>* classes) const {
+  std::unordered_map<uint32_t, ObjectMask> masks;
   std::unordered_map<uint32_t, uint32_t> class_of;
   for (const ObjectTruth& object : frame_.objects) {
     masks[object.instance_id];
@@ -100,79 +119,72 @@ void FrameChecker::CheckObjects() {
       if (it != masks.end()) it->second.extent = extent;
     }
   }
-  if (ids && classes) {
-    for (int y = 0; y < height_; ++y) {
-      for (int x = 0; x < width_; ++x) {
-        const size_t p = static_cast<size_t>(y) * width_ + x;
-        const auto it = masks.find((*ids)[p]);
-        if (it == masks.end()) continue;
-        if ((*classes)[p] != class_of[(*ids)[p]]) {
-          it->second.wrong_class.Add(x, y, "classid " + std::to_string((*classes)[p]));
-        }
+  if (!ids || !classes) return masks;
+  for (int y = 0; y < height_; ++y) {
+    for (int x = 0; x < width_; ++x) {
+      const size_t p = static_cast<size_t>(y) * width_ + x;
+      const auto it = masks.find((*ids)[p]);
+      if (it == masks.end()) continue;
+      if ((*classes)[p] != class_of[(*ids)[p]]) {
+        it->second.wrong_class.Add(x, y, "classid " + std::to_string((*classes)[p]));
       }
     }
   }
-  const bool can_project = frame_.camera.cam_from_world_rotation.determinant() > 0;
-  const Rigid3d cam_from_world = CamFromWorld(frame_.camera);
-  for (size_t k = 0; k < frame_.objects.size(); ++k) {
-    const ObjectTruth& object = frame_.objects[k];
-    const std::string pointer = "/objects/" + std::to_string(k);
-    const ClassInfo* info = header_.FindClass(object.class_id);
-    const std::string who = "instance " + std::to_string(object.instance_id) +
-                            (object.name.empty() ? "" : " '" + object.name + "'") +
-                            (info ? " (" + info->name + ")" : "");
-    if (ids) {
-      const Mask& m = masks[object.instance_id];
-      std::optional<Box2d> extent;
-      if (m.extent.pixels > 0) extent = m.extent.box;
-      auto box_text = [](const std::optional<Box2d>& b) {
-        return b ? "[" + Fmt(b->x0) + ", " + Fmt(b->y0) + ", " + Fmt(b->x1) + ", " + Fmt(b->y1) +
-                       "]"
-                 : std::string("null");
-      };
-      const bool equal =
-          extent.has_value() == object.bbox.has_value() && (!extent || *extent == *object.bbox);
-      if (!equal) {
-        Emit("cross.bbox-tight",
-             JsonLocation(pointer + "/bbox"),
-             "bbox is " + box_text(object.bbox) + " but the instance mask in " +
-                 FileOf("instanceid") + " spans " + box_text(extent),
-             who);
-      }
-      if (m.extent.pixels != object.visible_pixels) {
-        Emit("cross.visible-pixels",
-             JsonLocation(pointer + "/visible_pixels"),
-             "visible_pixels is " + std::to_string(object.visible_pixels) + " but the mask has " +
-                 std::to_string(m.extent.pixels) + " pixels",
-             who);
-      }
-      if (m.wrong_class.count > 0 && Selected("cross.class-instance")) {
-        Emit("cross.class-instance",
-             Location::Pixel(FileOf("classid"), frame_.index, m.wrong_class.x, m.wrong_class.y),
-             std::to_string(m.wrong_class.count) +
-                 " pixel(s) of the instance carry another class than " +
-                 std::to_string(object.class_id) + "; first: " + m.wrong_class.first_detail,
-             who);
-      }
-    }
-    if (Selected("cross.oriented-box")) {
-      CheckOrientedBoxes(
-          object, pointer, who, ids ? masks[object.instance_id].extent : InstanceMask{});
-    }
-    if (object.bbox && can_project && Selected("cross.obb-contains-bbox")) {
-      const auto projected = ProjectedBounds(object.obb, frame_.camera.intrinsics, cam_from_world);
-      const Box2d clipped = projected ? projected->ClippedTo(width_, height_) : Box2d{};
-      if (!projected || !clipped.Contains(*object.bbox, 1.0)) {
-        Emit("cross.obb-contains-bbox",
-             JsonLocation(pointer + "/bbox"),
-             "the OBB projected through the declared camera covers [" + Fmt(clipped.x0) + ", " +
-                 Fmt(clipped.y0) + ", " + Fmt(clipped.x1) + ", " + Fmt(clipped.y1) +
-                 "], which does not contain the tight bbox [" + Fmt(object.bbox->x0) + ", " +
-                 Fmt(object.bbox->y0) + ", " + Fmt(object.bbox->x1) + ", " + Fmt(object.bbox->y1) +
-                 "]",
-             who);
-      }
-    }
+  return masks;
+}
+
+// The object's bbox and visible pixels are its mask's; the mask's pixels are of its class.
+void FrameChecker::CheckObjectMask(const ObjectTruth& object,
+                                   const std::string& pointer,
+                                   const std::string& who,
+                                   const ObjectMask& m) {
+  std::optional<Box2d> extent;
+  if (m.extent.pixels > 0) extent = m.extent.box;
+  auto box_text = [](const std::optional<Box2d>& b) {
+    return b ? "[" + Fmt(b->x0) + ", " + Fmt(b->y0) + ", " + Fmt(b->x1) + ", " + Fmt(b->y1) + "]"
+             : std::string("null");
+  };
+  const bool equal =
+      extent.has_value() == object.bbox.has_value() && (!extent || *extent == *object.bbox);
+  if (!equal) {
+    Emit("cross.bbox-tight",
+         JsonLocation(pointer + "/bbox"),
+         "bbox is " + box_text(object.bbox) + " but the instance mask in " + FileOf("instanceid") +
+             " spans " + box_text(extent),
+         who);
+  }
+  if (m.extent.pixels != object.visible_pixels) {
+    Emit("cross.visible-pixels",
+         JsonLocation(pointer + "/visible_pixels"),
+         "visible_pixels is " + std::to_string(object.visible_pixels) + " but the mask has " +
+             std::to_string(m.extent.pixels) + " pixels",
+         who);
+  }
+  if (m.wrong_class.count > 0 && Selected("cross.class-instance")) {
+    Emit("cross.class-instance",
+         Location::Pixel(FileOf("classid"), frame_.index, m.wrong_class.x, m.wrong_class.y),
+         std::to_string(m.wrong_class.count) +
+             " pixel(s) of the instance carry another class than " +
+             std::to_string(object.class_id) + "; first: " + m.wrong_class.first_detail,
+         who);
+  }
+}
+
+// The OBB projected through the declared camera (clipped to the image) contains the bbox.
+void FrameChecker::CheckObbContainsBbox(const ObjectTruth& object,
+                                        const std::string& pointer,
+                                        const std::string& who,
+                                        const Rigid3d& cam_from_world) {
+  const auto projected = ProjectedBounds(object.obb, frame_.camera.intrinsics, cam_from_world);
+  const Box2d clipped = projected ? projected->ClippedTo(width_, height_) : Box2d{};
+  if (!projected || !clipped.Contains(*object.bbox, 1.0)) {
+    Emit("cross.obb-contains-bbox",
+         JsonLocation(pointer + "/bbox"),
+         "the OBB projected through the declared camera covers [" + Fmt(clipped.x0) + ", " +
+             Fmt(clipped.y0) + ", " + Fmt(clipped.x1) + ", " + Fmt(clipped.y1) +
+             "], which does not contain the tight bbox [" + Fmt(object.bbox->x0) + ", " +
+             Fmt(object.bbox->y0) + ", " + Fmt(object.bbox->x1) + ", " + Fmt(object.bbox->y1) + "]",
+         who);
   }
 }
 

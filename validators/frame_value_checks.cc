@@ -171,95 +171,111 @@ void FrameChecker::CheckClassIdKnown() {
   }
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
+// The deep bundle: its samples on their own (layer.bundle), and its centre sample against
+// the flat id and depth layers (cross.bundle-centre).
 void FrameChecker::CheckBundle() {
   if (!bundle_) return;
+  if (Selected("layer.bundle")) {
+    CheckTimer timer(&outcome_.check_seconds, {"layer.bundle"});
+    CheckBundleSamples();
+  }
+  if (Selected("cross.bundle-centre")) {
+    CheckTimer timer(&outcome_.check_seconds, {"cross.bundle-centre"});
+    CheckBundleCentreIds("instanceid", "instanceid");
+    CheckBundleCentreIds("classid", "classid");
+    CheckBundleCentreDepth();
+  }
+}
+
+// Every pixel has a sample; sample depths are not NaN or negative; positions lie in the pixel.
+void FrameChecker::CheckBundleSamples() {
   const DeepImage& deep = *bundle_;
   const std::string file = FileOf("bundle");
   const exr::DeepChannel* z = deep.Find("Z");
   const exr::DeepChannel* sx = deep.Find("SX");
   const exr::DeepChannel* sy = deep.Find("SY");
-  if (Selected("layer.bundle")) {
-    CheckTimer timer(&outcome_.check_seconds, {"layer.bundle"});
-    PixelTally empty, bad_z, bad_position;
-    for (int y = 0; y < deep.height(); ++y) {
-      for (int x = 0; x < deep.width(); ++x) {
-        const uint32_t count = deep.SampleCount(x, y);
-        if (count == 0) empty.Add(x, y);
-        const uint64_t first = deep.FirstSample(x, y);
-        for (uint32_t s = 0; s < count; ++s) {
-          if (z && z->floats.size() == deep.total_samples()) {
-            const float d = z->floats[first + s];
-            if (std::isnan(d) || d < 0)
-              bad_z.Add(x, y, "sample " + std::to_string(s) + " Z = " + Fmt(d));
-          }
-          if (sx && sy && sx->floats.size() == deep.total_samples()) {
-            const float a = sx->floats[first + s], b = sy->floats[first + s];
-            if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1)) {
-              bad_position.Add(x, y, "sample " + std::to_string(s));
-            }
+  PixelTally empty, bad_z, bad_position;
+  for (int y = 0; y < deep.height(); ++y) {
+    for (int x = 0; x < deep.width(); ++x) {
+      const uint32_t count = deep.SampleCount(x, y);
+      if (count == 0) empty.Add(x, y);
+      const uint64_t first = deep.FirstSample(x, y);
+      for (uint32_t s = 0; s < count; ++s) {
+        if (z && z->floats.size() == deep.total_samples()) {
+          const float d = z->floats[first + s];
+          if (std::isnan(d) || d < 0)
+            bad_z.Add(x, y, "sample " + std::to_string(s) + " Z = " + Fmt(d));
+        }
+        if (sx && sy && sx->floats.size() == deep.total_samples()) {
+          const float a = sx->floats[first + s], b = sy->floats[first + s];
+          if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1)) {
+            bad_position.Add(x, y, "sample " + std::to_string(s));
           }
         }
       }
     }
-    EmitTally("layer.bundle", file, empty, "with no sample");
-    EmitTally("layer.bundle", file, bad_z, "with a NaN or negative sample depth");
-    EmitTally("layer.bundle", file, bad_position, "with a sample position outside [0, 1]");
   }
-  if (Selected("cross.bundle-centre")) {
-    CheckTimer timer(&outcome_.check_seconds, {"cross.bundle-centre"});
-    struct Pair {
-      const char* bundle_channel;
-      const char* semantic;
-    };
-    for (const Pair& pair : {Pair{"instanceid", "instanceid"}, Pair{"classid", "classid"}}) {
-      const exr::DeepChannel* samples = deep.Find(pair.bundle_channel);
-      const std::vector<uint32_t>* ids = Ids(pair.semantic);
-      if (!samples || !ids || samples->uints.size() != deep.total_samples() ||
-          deep.width() != width_ || deep.height() != height_) {
-        continue;
+  EmitTally("layer.bundle", file, empty, "with no sample");
+  EmitTally("layer.bundle", file, bad_z, "with a NaN or negative sample depth");
+  EmitTally("layer.bundle", file, bad_position, "with a sample position outside [0, 1]");
+}
+
+// Sample 0 (the pixel centre) of the bundle's id channel equals the flat id layer.
+void FrameChecker::CheckBundleCentreIds(const char* bundle_channel, const char* semantic) {
+  const DeepImage& deep = *bundle_;
+  const exr::DeepChannel* samples = deep.Find(bundle_channel);
+  const std::vector<uint32_t>* ids = Ids(semantic);
+  if (!samples || !ids || samples->uints.size() != deep.total_samples() || deep.width() != width_ ||
+      deep.height() != height_) {
+    return;
+  }
+  PixelTally bad;
+  for (int y = 0; y < height_; ++y) {
+    for (int x = 0; x < width_; ++x) {
+      if (deep.SampleCount(x, y) == 0) continue;
+      const uint32_t centre = samples->uints[deep.FirstSample(x, y)];
+      const uint32_t single = (*ids)[deep.Index(x, y)];
+      if (centre != single) {
+        bad.Add(x,
+                y,
+                std::string(bundle_channel) + " sample 0 = " + std::to_string(centre) + ", " +
+                    semantic + " layer = " + std::to_string(single));
       }
-      PixelTally bad;
-      for (int y = 0; y < height_; ++y) {
-        for (int x = 0; x < width_; ++x) {
-          if (deep.SampleCount(x, y) == 0) continue;
-          const uint32_t centre = samples->uints[deep.FirstSample(x, y)];
-          const uint32_t single = (*ids)[deep.Index(x, y)];
-          if (centre != single) {
-            bad.Add(x,
-                    y,
-                    std::string(pair.bundle_channel) + " sample 0 = " + std::to_string(centre) +
-                        ", " + pair.semantic + " layer = " + std::to_string(single));
-          }
-        }
-      }
-      EmitTally("cross.bundle-centre",
-                file,
-                bad,
-                std::string("whose sample 0 disagrees with the ") + pair.semantic + " layer");
     }
-    const std::vector<float>* depth = Channel("depth", 0);
-    const LayerInfo* bundle_layer = Layer("bundle");
-    const LayerInfo* depth_layer = Layer("depth");
-    if (z && depth && z->floats.size() == deep.total_samples() && bundle_layer && depth_layer &&
+  }
+  EmitTally("cross.bundle-centre",
+            FileOf("bundle"),
+            bad,
+            std::string("whose sample 0 disagrees with the ") + semantic + " layer");
+}
+
+// Sample 0's depth equals the depth layer's (relative 1e-6), when both are of one kind.
+void FrameChecker::CheckBundleCentreDepth() {
+  const DeepImage& deep = *bundle_;
+  const exr::DeepChannel* z = deep.Find("Z");
+  const std::vector<float>* depth = Channel("depth", 0);
+  const LayerInfo* bundle_layer = Layer("bundle");
+  const LayerInfo* depth_layer = Layer("depth");
+  if (!(z && depth && z->floats.size() == deep.total_samples() && bundle_layer && depth_layer &&
         bundle_layer->depth_kind == depth_layer->depth_kind && deep.width() == width_ &&
-        deep.height() == height_) {
-      PixelTally bad;
-      for (int y = 0; y < height_; ++y) {
-        for (int x = 0; x < width_; ++x) {
-          if (deep.SampleCount(x, y) == 0) continue;
-          const float centre = z->floats[deep.FirstSample(x, y)];
-          const float single = (*depth)[deep.Index(x, y)];
-          if (centre == single) continue;
-          if (std::abs(centre - single) <= 1e-6 * std::abs(single)) continue;
-          bad.Add(x, y, "Z sample 0 = " + Fmt(centre) + ", depth = " + Fmt(single));
-        }
-      }
-      EmitTally(
-          "cross.bundle-centre", file, bad, "whose sample 0 depth disagrees with the depth layer");
+        deep.height() == height_)) {
+    return;
+  }
+  PixelTally bad;
+  for (int y = 0; y < height_; ++y) {
+    for (int x = 0; x < width_; ++x) {
+      if (deep.SampleCount(x, y) == 0) continue;
+      const float centre = z->floats[deep.FirstSample(x, y)];
+      const float single = (*depth)[deep.Index(x, y)];
+      if (centre == single) continue;
+      if (std::abs(centre - single) <= 1e-6 * std::abs(single)) continue;
+      bad.Add(x, y, "Z sample 0 = " + Fmt(centre) + ", depth = " + Fmt(single));
     }
   }
+  EmitTally("cross.bundle-centre",
+            FileOf("bundle"),
+            bad,
+            "whose sample 0 depth disagrees with the depth layer");
 }
 
 }  // namespace lsds::validate::detail

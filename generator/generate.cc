@@ -96,95 +96,107 @@ bool FrameComplete(const fs::path& root,
   return true;
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
+// An existing output: --resume needs the same settings, --force deletes only what a generator
+// wrote, and without either only an interrupted run is named (to be resumed or replaced).
+void CheckExistingOutput(const GenerateOptions& options, const nlohmann::json& settings) {
+  const fs::path& root = options.output;
+  const fs::path settings_path = root / kWorkFolder / "settings.json";
+  if (!fs::exists(root)) return;
+  if (options.resume) {
+    if (fs::exists(settings_path)) {
+      const nlohmann::json previous =
+          nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
+      if (previous != settings) {
+        throw Error("--resume: the existing output was made with other settings (" +
+                        previous.dump() + "); use --force to start over",
+                    Location(root.string()));
+      }
+    }
+  } else if (options.force) {
+    // Only ever delete what a generator wrote: a collection or an interrupted
+    // run.
+    const bool ours = !fs::is_directory(root) || fs::is_empty(root) || LooksLikeCollection(root) ||
+                      fs::exists(root / kWorkFolder);
+    if (!ours) {
+      throw Error(
+          "--force: the output exists and is not a collection; refusing to "
+          "delete it",
+          Location(root.string()));
+    }
+    fs::remove_all(root);
+  } else if (fs::exists(root / kWorkFolder)) {
+    // An interrupted run: --resume keeps its frames, --force deletes them.
+    throw Error(
+        "the output holds an interrupted run; pass --resume to finish it "
+        "(--force deletes its frames and starts over)",
+        Location(root.string()));
+  } else {
+    RefuseToOverwrite(root, false, "output collection");
+  }
+}
+
+// Resuming a finished collection: its collection.json moves into the work
+// folder first (one rename), so that from here until the run ends the
+// folder is an interrupted run, never a finished collection describing
+// frames that are being rewritten; a failure or a kill leaves it resumable.
+void ReopenFinishedCollection(const fs::path& root,
+                              const nlohmann::json& settings,
+                              const fs::path& finished) {
+  std::optional<Provenance> provenance;
+  try {
+    provenance = CollectionReader(root).header().provenance;
+  } catch (const Error&) {
+    // An unreadable collection.json is rebuilt from the frames.
+  }
+  if (provenance) {
+    bool same = provenance->seed == settings["seed"].get<uint64_t>();
+    for (const auto& [key, value] : settings.items()) {
+      if (key != "seed" && provenance->render.value(key, nlohmann::json()) != value) same = false;
+    }
+    if (!same) {
+      throw Error(
+          "--resume: the existing collection was made with other settings "
+          "(seed " +
+              std::to_string(provenance->seed.value_or(0)) + ", " + provenance->render.dump() +
+              "); use --force to start over",
+          Location((root / kCollectionFile).string()));
+    }
+  }
+  fs::create_directories(finished);
+  fs::rename(root / kCollectionFile, finished / kCollectionFile);
+}
+
+// The finished collection's frames become truth parts again, so that only frames whose files
+// are missing or broken are rendered.
+void RestoreTruthParts(const fs::path& root, const fs::path& finished) {
+  bool writing = false;  // a failed write is an error; a bad read is not
+  try {
+    const CollectionReader reader(finished);
+    reader.ForEachFrame([&root, &writing](const Frame& frame) {
+      const fs::path part = TruthPartPath(root, frame.index);
+      if (fs::exists(part)) return;
+      writing = true;
+      WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
+      writing = false;
+    });
+  } catch (const Error&) {
+    if (writing) throw;
+    // An unreadable collection.json is rebuilt from the frames.
+  }
+}
+
 void PrepareOutput(const GenerateOptions& options, const nlohmann::json& settings) {
   const fs::path& root = options.output;
   const fs::path settings_path = root / kWorkFolder / "settings.json";
-  if (fs::exists(root)) {
-    if (options.resume) {
-      if (fs::exists(settings_path)) {
-        const nlohmann::json previous =
-            nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
-        if (previous != settings) {
-          throw Error("--resume: the existing output was made with other settings (" +
-                          previous.dump() + "); use --force to start over",
-                      Location(root.string()));
-        }
-      }
-    } else if (options.force) {
-      // Only ever delete what a generator wrote: a collection or an interrupted
-      // run.
-      const bool ours = !fs::is_directory(root) || fs::is_empty(root) ||
-                        LooksLikeCollection(root) || fs::exists(root / kWorkFolder);
-      if (!ours) {
-        throw Error(
-            "--force: the output exists and is not a collection; refusing to "
-            "delete it",
-            Location(root.string()));
-      }
-      fs::remove_all(root);
-    } else if (fs::exists(root / kWorkFolder)) {
-      // An interrupted run: --resume keeps its frames, --force deletes them.
-      throw Error(
-          "the output holds an interrupted run; pass --resume to finish it "
-          "(--force deletes its frames and starts over)",
-          Location(root.string()));
-    } else {
-      RefuseToOverwrite(root, false, "output collection");
-    }
-  }
+  CheckExistingOutput(options, settings);
   // Temporaries of a killed earlier run are removed, never taken for frames.
   if (options.resume) RemoveStaleTemps(root, /*recursive=*/true);
-  // Resuming a finished collection: its collection.json moves into the work
-  // folder first (one rename), so that from here until the run ends the
-  // folder is an interrupted run, never a finished collection describing
-  // frames that are being rewritten; a failure or a kill leaves it resumable.
   const fs::path finished = root / kWorkFolder / "finished";
-  if (options.resume && LooksLikeCollection(root)) {
-    std::optional<Provenance> provenance;
-    try {
-      provenance = CollectionReader(root).header().provenance;
-    } catch (const Error&) {
-      // An unreadable collection.json is rebuilt from the frames.
-    }
-    if (provenance) {
-      bool same = provenance->seed == settings["seed"].get<uint64_t>();
-      for (const auto& [key, value] : settings.items()) {
-        if (key != "seed" && provenance->render.value(key, nlohmann::json()) != value) same = false;
-      }
-      if (!same) {
-        throw Error(
-            "--resume: the existing collection was made with other settings "
-            "(seed " +
-                std::to_string(provenance->seed.value_or(0)) + ", " + provenance->render.dump() +
-                "); use --force to start over",
-            Location((root / kCollectionFile).string()));
-      }
-    }
-    fs::create_directories(finished);
-    fs::rename(root / kCollectionFile, finished / kCollectionFile);
-  }
+  if (options.resume && LooksLikeCollection(root))
+    ReopenFinishedCollection(root, settings, finished);
   fs::create_directories(root / kWorkFolder);
   WriteFileAtomic(settings_path, settings.dump(2) + "\n");
-  // Its frames become truth parts again, so that only frames whose files are
-  // missing or broken are rendered.
-  if (options.resume && LooksLikeCollection(finished)) {
-    bool writing = false;  // a failed write is an error; a bad read is not
-    try {
-      const CollectionReader reader(finished);
-      reader.ForEachFrame([&root, &writing](const Frame& frame) {
-        const fs::path part = TruthPartPath(root, frame.index);
-        if (fs::exists(part)) return;
-        writing = true;
-        WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
-        writing = false;
-      });
-    } catch (const Error&) {
-      if (writing) throw;
-      // An unreadable collection.json is rebuilt from the frames.
-    }
-  }
+  if (options.resume && LooksLikeCollection(finished)) RestoreTruthParts(root, finished);
 }
 
 // The scene state a frame shows (docs/format.md, "Scene state").

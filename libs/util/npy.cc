@@ -61,6 +61,8 @@ class PyParser {
     if (at_ < text_.size() && text_[at_] == c) return ++at_, true;
     return false;
   }
+  // One recursive-descent step of the .npy header parser (a Python literal).
+  // NOLINTNEXTLINE(readability-function-cognitive-complexity)
   PyValue Value(int depth) {
     Skip();
     if (at_ >= text_.size()) Fail("unexpected end");

@@ -66,6 +66,8 @@ struct Driver {
 
   // With `display`, the frame's sRGB image is left there (for the tiles)
   // instead of written.
+  // Not yet cut at its seams (docs/architecture.md, "Long functions").
+  // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
   void Prepare(const Frame& frame, FrameContext* ctx, LossReport* loss, cv::Mat* display) {
     ctx->frame = &frame;
     ctx->split = split_plan.SplitOf(frame.index);
@@ -179,6 +181,8 @@ struct Driver {
 
 }  // namespace
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 ConvertResult Convert(const ConvertOptions& options) {
   options.Check();
   const CollectionReader reader(options.collection);

@@ -11,6 +11,8 @@
 
 namespace lsds::convert {
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-cognitive-complexity)
 void ConvertOptions::Check() const {
   if (formats.empty()) throw Error("no target format", Location("--to"));
   const std::vector<std::string> names = ConverterNames();

@@ -161,7 +161,9 @@ class FrameWriter {
   FrameWriter(const ExportOptions& options, const fs::path& root)
       : options_(options), root_(root) {}
 
-  // Returns the bytes written; counts invalid/clamped pixels into `counts`.
+  // Returns the bytes written; counts invalid/clamped pixels into `counts`. Stages: decode the
+  // layer and check its channels' types, then write one .npy (channels interleaved) or one
+  // TIFF or 16-bit PNG per channel.
   int64_t Write(const CollectionReader& reader,
                 const Frame& frame,
                 const LayerPlan& plan,
@@ -172,7 +174,6 @@ class FrameWriter {
     for (const LayerChannel& c : layer.channels) channels.push_back(c.name);
     // Through the reader: a residual worldposition layer decodes to X, Y, Z.
     const exr::FlatImage image = reader.ReadFlatLayer(frame, layer.name, channels);
-    const int w = image.width(), h = image.height();
     const size_t n = image.pixel_count();
     std::vector<const exr::FlatChannel*> data;
     for (const std::string& name : channels) {
@@ -187,97 +188,122 @@ class FrameWriter {
     }
     const std::string stem = FrameFileStem(frame);  // "000004_left" in a rig
     const fs::path folder = root_ / layer.name;
-    int64_t bytes = 0;
-    auto written = [&bytes](const fs::path& path) {
-      std::error_code ec;
-      bytes += static_cast<int64_t>(fs::file_size(path, ec));
-    };
-
     if (options_.target == Target::kNpy) {
-      // Channels interleaved, as numpy's (height, width, channels).
-      const size_t c_count = data.size();
-      std::vector<int64_t> shape = {h, w};
-      if (c_count > 1) shape.push_back(static_cast<int64_t>(c_count));
       const fs::path path = folder / FileName(stem, layer, 0, Target::kNpy);
-      if (plan.integer) {
-        std::vector<uint32_t> out(n * c_count);
-        for (size_t c = 0; c < c_count; ++c)
-          for (size_t p = 0; p < n; ++p) out[p * c_count + c] = data[c]->uints[p];
-        WriteNpy(path,
-                 "'<u4'",
-                 shape,
-                 std::string(reinterpret_cast<const char*>(out.data()), out.size() * 4));
-      } else {
-        std::vector<float> out(n * c_count);
-        for (size_t c = 0; c < c_count; ++c)
-          for (size_t p = 0; p < n; ++p) out[p * c_count + c] = data[c]->floats[p];
-        for (float v : out)
-          if (!std::isfinite(v)) ++counts->invalid_pixels;
-        WriteNpy(path,
-                 "'<f4'",
-                 shape,
-                 std::string(reinterpret_cast<const char*>(out.data()), out.size() * 4));
-      }
-      written(path);
-      return bytes;
+      WriteNpyLayer(image, data, plan, path, counts);
+      return FileSize(path);
     }
-
+    int64_t bytes = 0;
     for (size_t c = 0; c < data.size(); ++c) {
       const fs::path path = folder / FileName(stem, layer, c, options_.target);
-      cv::Mat mat;
-      if (options_.target == Target::kTiff) {
-        // OpenCV has no 32-bit unsigned type: ids go as int32 with the same
-        // bits (exact; numpy: .view(np.uint32)).
-        mat = cv::Mat(h, w, plan.integer ? CV_32SC1 : CV_32FC1);
-        if (plan.integer) {
-          std::memcpy(mat.data, data[c]->uints.data(), n * 4);
-        } else {
-          std::memcpy(mat.data, data[c]->floats.data(), n * 4);
-          for (float v : data[c]->floats)
-            if (!std::isfinite(v)) ++counts->invalid_pixels;
-        }
-      } else {
-        mat = cv::Mat(h, w, CV_16UC1);
-        uint16_t* out = mat.ptr<uint16_t>();
-        const Png16Encoding& encoding = *plan.png16;
-        for (size_t p = 0; p < n; ++p) {
-          if (plan.integer) {
-            const uint32_t id = data[c]->uints[p];
-            if (id > 65535) {
-              throw Error("id " + std::to_string(id) + " of layer '" + layer.name +
-                              "' does not fit a 16-bit PNG (max 65535); use --to npy "
-                              "or --to tiff",
-                          Location::Pixel(source.string(),
-                                          frame.index,
-                                          static_cast<int>(p % w),
-                                          static_cast<int>(p / w)));
-            }
-            out[p] = static_cast<uint16_t>(id);
-            continue;
-          }
-          EncodeOutcome outcome;
-          const float value = data[c]->floats[p];
-          out[p] = EncodeFloat(encoding, value, &outcome);
-          if (outcome == EncodeOutcome::kInvalid) ++counts->invalid_pixels;
-          if (outcome == EncodeOutcome::kClamped) {
-            if (encoding.beyond_range_is_error && !options_.clamp_depth && value > 0)
-              throw Error(BeyondRangeMessage(layer, encoding, value),
-                          Location::Pixel(source.string(),
-                                          frame.index,
-                                          static_cast<int>(p % w),
-                                          static_cast<int>(p / w)));
-            ++counts->clamped_pixels;
-          }
-        }
-      }
+      const cv::Mat mat = options_.target == Target::kTiff
+                              ? TiffMat(image, *data[c], plan, counts)
+                              : Png16Mat(image, *data[c], plan, source, frame.index, counts);
       if (!cv::imwrite(path.string(), mat))
         throw Error("OpenCV could not write the file", Location(path.string()));
-      written(path);
+      bytes += FileSize(path);
     }
     return bytes;
   }
 
  private:
+  static int64_t FileSize(const fs::path& path) {
+    std::error_code ec;
+    return static_cast<int64_t>(fs::file_size(path, ec));
+  }
+
+  // Channels interleaved, as numpy's (height, width, channels).
+  static void WriteNpyLayer(const exr::FlatImage& image,
+                            const std::vector<const exr::FlatChannel*>& data,
+                            const LayerPlan& plan,
+                            const fs::path& path,
+                            LayerSummary* counts) {
+    const size_t n = image.pixel_count();
+    const size_t c_count = data.size();
+    std::vector<int64_t> shape = {image.height(), image.width()};
+    if (c_count > 1) shape.push_back(static_cast<int64_t>(c_count));
+    if (plan.integer) {
+      std::vector<uint32_t> out(n * c_count);
+      for (size_t c = 0; c < c_count; ++c)
+        for (size_t p = 0; p < n; ++p) out[p * c_count + c] = data[c]->uints[p];
+      WriteNpy(path,
+               "'<u4'",
+               shape,
+               std::string(reinterpret_cast<const char*>(out.data()), out.size() * 4));
+    } else {
+      std::vector<float> out(n * c_count);
+      for (size_t c = 0; c < c_count; ++c)
+        for (size_t p = 0; p < n; ++p) out[p * c_count + c] = data[c]->floats[p];
+      for (float v : out)
+        if (!std::isfinite(v)) ++counts->invalid_pixels;
+      WriteNpy(path,
+               "'<f4'",
+               shape,
+               std::string(reinterpret_cast<const char*>(out.data()), out.size() * 4));
+    }
+  }
+
+  // OpenCV has no 32-bit unsigned type: ids go as int32 with the same
+  // bits (exact; numpy: .view(np.uint32)).
+  static cv::Mat TiffMat(const exr::FlatImage& image,
+                         const exr::FlatChannel& channel,
+                         const LayerPlan& plan,
+                         LayerSummary* counts) {
+    const size_t n = image.pixel_count();
+    cv::Mat mat(image.height(), image.width(), plan.integer ? CV_32SC1 : CV_32FC1);
+    if (plan.integer) {
+      std::memcpy(mat.data, channel.uints.data(), n * 4);
+    } else {
+      std::memcpy(mat.data, channel.floats.data(), n * 4);
+      for (float v : channel.floats)
+        if (!std::isfinite(v)) ++counts->invalid_pixels;
+    }
+    return mat;
+  }
+
+  // Ids as they are (at most 65535); floats by the layer's 16-bit encoding, out-of-range
+  // depths an error unless --clamp-depth.
+  cv::Mat Png16Mat(const exr::FlatImage& image,
+                   const exr::FlatChannel& channel,
+                   const LayerPlan& plan,
+                   const fs::path& source,
+                   int64_t frame_index,
+                   LayerSummary* counts) const {
+    const LayerInfo& layer = *plan.info;
+    const int w = image.width(), h = image.height();
+    const size_t n = image.pixel_count();
+    cv::Mat mat(h, w, CV_16UC1);
+    uint16_t* out = mat.ptr<uint16_t>();
+    const Png16Encoding& encoding = *plan.png16;
+    const auto where = [&](size_t p) {
+      return Location::Pixel(
+          source.string(), frame_index, static_cast<int>(p % w), static_cast<int>(p / w));
+    };
+    for (size_t p = 0; p < n; ++p) {
+      if (plan.integer) {
+        const uint32_t id = channel.uints[p];
+        if (id > 65535) {
+          throw Error("id " + std::to_string(id) + " of layer '" + layer.name +
+                          "' does not fit a 16-bit PNG (max 65535); use --to npy "
+                          "or --to tiff",
+                      where(p));
+        }
+        out[p] = static_cast<uint16_t>(id);
+        continue;
+      }
+      EncodeOutcome outcome;
+      const float value = channel.floats[p];
+      out[p] = EncodeFloat(encoding, value, &outcome);
+      if (outcome == EncodeOutcome::kInvalid) ++counts->invalid_pixels;
+      if (outcome == EncodeOutcome::kClamped) {
+        if (encoding.beyond_range_is_error && !options_.clamp_depth && value > 0)
+          throw Error(BeyondRangeMessage(layer, encoding, value), where(p));
+        ++counts->clamped_pixels;
+      }
+    }
+    return mat;
+  }
+
   const ExportOptions& options_;
   fs::path root_;
 };

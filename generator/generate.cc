@@ -96,93 +96,107 @@ bool FrameComplete(const fs::path& root,
   return true;
 }
 
+// An existing output: --resume needs the same settings, --force deletes only what a generator
+// wrote, and without either only an interrupted run is named (to be resumed or replaced).
+void CheckExistingOutput(const GenerateOptions& options, const nlohmann::json& settings) {
+  const fs::path& root = options.output;
+  const fs::path settings_path = root / kWorkFolder / "settings.json";
+  if (!fs::exists(root)) return;
+  if (options.resume) {
+    if (fs::exists(settings_path)) {
+      const nlohmann::json previous =
+          nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
+      if (previous != settings) {
+        throw Error("--resume: the existing output was made with other settings (" +
+                        previous.dump() + "); use --force to start over",
+                    Location(root.string()));
+      }
+    }
+  } else if (options.force) {
+    // Only ever delete what a generator wrote: a collection or an interrupted
+    // run.
+    const bool ours = !fs::is_directory(root) || fs::is_empty(root) || LooksLikeCollection(root) ||
+                      fs::exists(root / kWorkFolder);
+    if (!ours) {
+      throw Error(
+          "--force: the output exists and is not a collection; refusing to "
+          "delete it",
+          Location(root.string()));
+    }
+    fs::remove_all(root);
+  } else if (fs::exists(root / kWorkFolder)) {
+    // An interrupted run: --resume keeps its frames, --force deletes them.
+    throw Error(
+        "the output holds an interrupted run; pass --resume to finish it "
+        "(--force deletes its frames and starts over)",
+        Location(root.string()));
+  } else {
+    RefuseToOverwrite(root, false, "output collection");
+  }
+}
+
+// Resuming a finished collection: its collection.json moves into the work
+// folder first (one rename), so that from here until the run ends the
+// folder is an interrupted run, never a finished collection describing
+// frames that are being rewritten; a failure or a kill leaves it resumable.
+void ReopenFinishedCollection(const fs::path& root,
+                              const nlohmann::json& settings,
+                              const fs::path& finished) {
+  std::optional<Provenance> provenance;
+  try {
+    provenance = CollectionReader(root).header().provenance;
+  } catch (const Error&) {
+    // An unreadable collection.json is rebuilt from the frames.
+  }
+  if (provenance) {
+    bool same = provenance->seed == settings["seed"].get<uint64_t>();
+    for (const auto& [key, value] : settings.items()) {
+      if (key != "seed" && provenance->render.value(key, nlohmann::json()) != value) same = false;
+    }
+    if (!same) {
+      throw Error(
+          "--resume: the existing collection was made with other settings "
+          "(seed " +
+              std::to_string(provenance->seed.value_or(0)) + ", " + provenance->render.dump() +
+              "); use --force to start over",
+          Location((root / kCollectionFile).string()));
+    }
+  }
+  fs::create_directories(finished);
+  fs::rename(root / kCollectionFile, finished / kCollectionFile);
+}
+
+// The finished collection's frames become truth parts again, so that only frames whose files
+// are missing or broken are rendered.
+void RestoreTruthParts(const fs::path& root, const fs::path& finished) {
+  bool writing = false;  // a failed write is an error; a bad read is not
+  try {
+    const CollectionReader reader(finished);
+    reader.ForEachFrame([&root, &writing](const Frame& frame) {
+      const fs::path part = TruthPartPath(root, frame.index);
+      if (fs::exists(part)) return;
+      writing = true;
+      WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
+      writing = false;
+    });
+  } catch (const Error&) {
+    if (writing) throw;
+    // An unreadable collection.json is rebuilt from the frames.
+  }
+}
+
 void PrepareOutput(const GenerateOptions& options, const nlohmann::json& settings) {
   const fs::path& root = options.output;
   const fs::path settings_path = root / kWorkFolder / "settings.json";
-  if (fs::exists(root)) {
-    if (options.resume) {
-      if (fs::exists(settings_path)) {
-        const nlohmann::json previous =
-            nlohmann::json::parse(ReadFile(settings_path), nullptr, false);
-        if (previous != settings) {
-          throw Error("--resume: the existing output was made with other settings (" +
-                          previous.dump() + "); use --force to start over",
-                      Location(root.string()));
-        }
-      }
-    } else if (options.force) {
-      // Only ever delete what a generator wrote: a collection or an interrupted
-      // run.
-      const bool ours = !fs::is_directory(root) || fs::is_empty(root) ||
-                        LooksLikeCollection(root) || fs::exists(root / kWorkFolder);
-      if (!ours) {
-        throw Error(
-            "--force: the output exists and is not a collection; refusing to "
-            "delete it",
-            Location(root.string()));
-      }
-      fs::remove_all(root);
-    } else if (fs::exists(root / kWorkFolder)) {
-      // An interrupted run: --resume keeps its frames, --force deletes them.
-      throw Error(
-          "the output holds an interrupted run; pass --resume to finish it "
-          "(--force deletes its frames and starts over)",
-          Location(root.string()));
-    } else {
-      RefuseToOverwrite(root, false, "output collection");
-    }
-  }
+  CheckExistingOutput(options, settings);
   // Temporaries of a killed earlier run are removed, never taken for frames.
   if (options.resume) RemoveStaleTemps(root, /*recursive=*/true);
-  // Resuming a finished collection: its collection.json moves into the work
-  // folder first (one rename), so that from here until the run ends the
-  // folder is an interrupted run, never a finished collection describing
-  // frames that are being rewritten; a failure or a kill leaves it resumable.
   const fs::path finished = root / kWorkFolder / "finished";
-  if (options.resume && LooksLikeCollection(root)) {
-    std::optional<Provenance> provenance;
-    try {
-      provenance = CollectionReader(root).header().provenance;
-    } catch (const Error&) {
-      // An unreadable collection.json is rebuilt from the frames.
-    }
-    if (provenance) {
-      bool same = provenance->seed == settings["seed"].get<uint64_t>();
-      for (const auto& [key, value] : settings.items()) {
-        if (key != "seed" && provenance->render.value(key, nlohmann::json()) != value) same = false;
-      }
-      if (!same) {
-        throw Error(
-            "--resume: the existing collection was made with other settings "
-            "(seed " +
-                std::to_string(provenance->seed.value_or(0)) + ", " + provenance->render.dump() +
-                "); use --force to start over",
-            Location((root / kCollectionFile).string()));
-      }
-    }
-    fs::create_directories(finished);
-    fs::rename(root / kCollectionFile, finished / kCollectionFile);
-  }
+  if (options.resume && LooksLikeCollection(root))
+    ReopenFinishedCollection(root, settings, finished);
   fs::create_directories(root / kWorkFolder);
   WriteFileAtomic(settings_path, settings.dump(2) + "\n");
-  // Its frames become truth parts again, so that only frames whose files are
-  // missing or broken are rendered.
-  if (options.resume && LooksLikeCollection(finished)) {
-    bool writing = false;  // a failed write is an error; a bad read is not
-    try {
-      const CollectionReader reader(finished);
-      reader.ForEachFrame([&root, &writing](const Frame& frame) {
-        const fs::path part = TruthPartPath(root, frame.index);
-        if (fs::exists(part)) return;
-        writing = true;
-        WriteFileAtomic(part, FrameToJson(frame).dump() + "\n");
-        writing = false;
-      });
-    } catch (const Error&) {
-      if (writing) throw;
-      // An unreadable collection.json is rebuilt from the frames.
-    }
-  }
+  if (options.resume && LooksLikeCollection(finished)) RestoreTruthParts(root, finished);
 }
 
 // The scene state a frame shows (docs/format.md, "Scene state").
@@ -315,6 +329,305 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   return header;
 }
 
+namespace {
+
+// The stages of GenerateCollection, in order: check the plan and select its frames (nothing
+// written yet), prepare the output, render and write the frames (FramePipeline), then assemble
+// collection.json from the frames' truth parts.
+
+// The plan's frames the options select (--frames, --shard), as indices into plan.frames.
+std::vector<size_t> SelectFrames(const Plan& plan, const GenerateOptions& options) {
+  std::vector<size_t> selected;
+  for (size_t k = 0; k < plan.frames.size(); ++k) {
+    if (options.Selects(plan.frames[k].index)) selected.push_back(k);
+  }
+  if (selected.empty()) {
+    // An empty collection is never a success: say which frames exist.
+    const std::string range =
+        plan.frames.empty() ? std::string("the plan has no frames")
+                            : "the plan has frames " + std::to_string(plan.frames.front().index) +
+                                  " to " + std::to_string(plan.frames.back().index);
+    throw Error("no frame to render: --frames/--shard select none (" + range + ")");
+  }
+  return selected;
+}
+
+// Before the output is touched: a frame whose film cannot fit in memory is a
+// usage error naming the budget, not a 40 GB allocation.
+void CheckMemoryBudgets(const Plan& plan,
+                        const SceneAssets& assets,
+                        const std::vector<size_t>& selected,
+                        const GenerateOptions& options) {
+  for (size_t k : selected) {
+    const PlannedFrame& frame = plan.frames[k];
+    CheckImageBudget(frame.camera.width,
+                     frame.camera.height,
+                     static_cast<int64_t>(Film::BytesPerPixel(options.spp)),
+                     1,
+                     "frame " + std::to_string(frame.index) + " (camera of the capture, " +
+                         std::to_string(options.spp) + " samples per pixel)",
+                     "");
+  }
+  // And a scene whose meshes and BVHs cannot fit (10^5 detailed objects) is the same kind of
+  // error, before any output, rather than an out-of-memory halfway through the first frame.
+  CheckMemoryBudget(RenderSceneBytes(assets),
+                    "the render scene of " + std::to_string(plan.objects.size()) + " objects",
+                    "");
+}
+
+// The output folder (PrepareOutput: --force, --resume) with one folder per written layer.
+void PrepareOutputFolders(const Plan& plan,
+                          const GenerateOptions& options,
+                          const CollectionHeader& base_header) {
+  nlohmann::json settings = RenderSettingsJson(options);
+  settings["seed"] = plan.seed;
+  if (!plan.capture_settings.empty()) settings["capture_settings"] = plan.capture_settings;
+  PrepareOutput(options, settings);
+  for (const LayerInfo& layer : base_header.layers) {
+    fs::create_directories(options.output / layer.name);
+  }
+}
+
+// The view motion is measured against (PreviousInShot), with the world and scene it is seen
+// in; `view` points into this struct, which therefore stays where it was built.
+struct PreviousFrame {
+  PreviousView view;
+  std::optional<WorldState> world;
+  std::unique_ptr<RenderScene> built;  // when neither live scene shows that world
+};
+
+// Renders the selected frames and writes each one's layers and truth part. Two films take
+// turns: one renders while the other is written on a task, and each is reused (RenderFrame)
+// instead of allocated per frame. Scenes are kept per world state: the current one, the one
+// before (often the previous frame's), and the one before that is recycled in place.
+class FramePipeline {
+ public:
+  FramePipeline(const Plan& plan,
+                const GenerateOptions& options,
+                const SceneAssets& assets,
+                const CollectionHeader& base_header,
+                GenerateSummary* summary)
+      : plan_(plan),
+        options_(options),
+        assets_(assets),
+        base_header_(base_header),
+        root_(options.output),
+        summary_(*summary) {
+    render_.sampler = {options.spp, options.jitter, plan.seed};
+    render_.depth_kind = options.depth_kind;
+    // Capture Settings `layers`: no work for a layer that is not written.
+    render_.bundle = base_header.FindLayerBySemantic("bundle") != nullptr;
+    render_.motion = base_header.FindLayerBySemantic("motion") != nullptr;
+  }
+
+  void Run(const std::vector<size_t>& selected) {
+    std::optional<Progress> progress;
+    if (options_.progress) progress.emplace("generate", static_cast<int64_t>(selected.size()));
+    // A failure while a write runs must not leave the task group unwaited.
+    try {
+      for (size_t k : selected) {
+        const PlannedFrame& frame = plan_.frames[k];
+        if (options_.resume && FrameComplete(root_, base_header_, frame)) {
+          ++summary_.frames_skipped;
+          if (progress) progress->Add();
+          continue;
+        }
+        RenderAndQueue(k);
+        if (progress) progress->Add();
+      }
+    } catch (...) {
+      try {
+        writer_.wait();
+      } catch (...) {
+      }
+      throw;
+    }
+    writer_.wait();
+  }
+
+  // summary.steady_seconds_per_frame: the time the pipeline was full, per frame.
+  double SteadySecondsPerFrame() const {
+    if (summary_.frames_rendered < 2) return 0;
+    return std::chrono::duration<double>(last_overlap_end_ - first_overlap_start_).count() /
+           static_cast<double>(summary_.frames_rendered - 1);
+  }
+
+ private:
+  // Plan frame k: render it and its truth, then queue its write once the last write ended.
+  void RenderAndQueue(size_t k) {
+    const PlannedFrame& frame = plan_.frames[k];
+    const Clock::time_point t0 = Clock::now();
+    UpdateScene(WorldAt(plan_, frame));
+    PreviousFrame previous;
+    FindPrevious(k, &previous);
+    const PlannedEnvironment environment = EnvironmentAt(plan_, frame);
+    const Sky sky(plan_, environment);    // LCAP may change it per frame
+    Film& rendered = films_[rendering_];  // its last write ended (writer_.wait below)
+    RenderFrame(*scene_, sky, frame, previous.view, render_, &rendered);
+    // The camera's exposure: photometric radiance to the sensor's scale.
+    const FrameExposure exposure = MeterExposure(plan_.exposure, rendered);
+    ApplyExposure(exposure, &rendered);
+    // LCAP post-process materials: RGB only, after the truth is final.
+    ApplyPostProcess(plan_.post_process, plan_.seed, frame, &rendered);
+    uint64_t rays = rendered.rays;
+    std::shared_ptr<Frame> truth = MakeTruth(frame, rendered, exposure, &rays);
+    summary_.rays += rays;
+    summary_.render_seconds += Seconds(t0);
+
+    // Encode this frame while the next one renders: at most two films live.
+    writer_.wait();  // rethrows a failed write
+    (summary_.frames_rendered == 0 ? first_overlap_start_ : last_overlap_end_) = Clock::now();
+    QueueWrite(rendered, truth, MotionReference(previous.view));
+    rendering_ = 1 - rendering_;
+    ++summary_.frames_rendered;
+  }
+
+  // One scene per world state. The scene two world states back is updated in place: its
+  // objects that did not change keep their BVHs; those of the state before are shared, not
+  // rebuilt.
+  void UpdateScene(const WorldState& world) {
+    if (scene_ && scene_->world() == world) return;
+    std::unique_ptr<RenderScene> recycled = std::move(previous_scene_);
+    previous_scene_ = std::move(scene_);
+    if (recycled) {
+      recycled->Update(device_, assets_, world, previous_scene_.get());
+      scene_ = std::move(recycled);
+    } else {
+      scene_ = std::make_unique<RenderScene>(device_, plan_, assets_, world, previous_scene_.get());
+    }
+  }
+
+  // Motion is measured against the previous frame of the same shot, seen
+  // in that frame's world (for moved objects and disocclusions). No motion layer: no
+  // previous view to build.
+  void FindPrevious(size_t k, PreviousFrame* previous) {
+    const PlannedFrame* before = render_.motion ? PreviousInShot(plan_, k) : nullptr;
+    if (before == nullptr) return;
+    previous->view.frame = before;
+    previous->world = WorldAt(plan_, *before);
+    previous->view.world = &*previous->world;
+    if (scene_->world() == *previous->world) {
+      previous->view.scene = scene_.get();
+    } else if (previous_scene_ && previous_scene_->world() == *previous->world) {
+      previous->view.scene = previous_scene_.get();
+    } else {
+      previous->built =
+          std::make_unique<RenderScene>(device_, plan_, assets_, *previous->world, scene_.get());
+      previous->view.scene = previous->built.get();
+    }
+  }
+
+  // The frame's truth from what was rendered; adds the truth rays to `rays`.
+  std::shared_ptr<Frame> MakeTruth(const PlannedFrame& frame,
+                                   const Film& film,
+                                   const FrameExposure& exposure,
+                                   uint64_t* rays) const {
+    auto truth = std::make_shared<Frame>();
+    truth->index = frame.index;
+    truth->time = frame.time;
+    truth->sequence = frame.sequence;
+    truth->shot = frame.shot;
+    truth->camera_velocity = frame.camera_velocity;
+    truth->rig_camera = frame.rig_camera;
+    if (frame.step >= 0) truth->step = frame.step;
+    truth->scene = SceneStateJson(EnvironmentAt(plan_, frame));
+    truth->exposure = ExposureJson(exposure);
+    truth->camera.intrinsics = frame.camera;
+    SetCamFromWorld(frame.cam_from_world, &truth->camera);
+    truth->objects =
+        ComputeObjectTruth(*scene_, frame, film, EnvironmentAt(plan_, frame).fog_density, rays);
+    RecordObjectChanges(frame, &truth->objects);
+    // The final truth is what was rendered: judge the frame's requirements
+    // on it.
+    if (frame.requirements)
+      truth->requirements =
+          AchievedRecord(*frame.requirements, MeasureTruth(plan_, frame, truth->objects));
+    return truth;
+  }
+
+  // The camera motion was measured against, for the residual motion layout.
+  std::optional<FrameImages::MotionReference> MotionReference(const PreviousView& previous) const {
+    std::optional<FrameImages::MotionReference> motion;
+    if (render_.motion) {
+      motion.emplace();
+      if (previous.frame != nullptr) {
+        CameraTruth& camera = motion->previous_camera.emplace();
+        camera.intrinsics = previous.frame->camera;
+        SetCamFromWorld(previous.frame->cam_from_world, &camera);
+      }
+    }
+    return motion;
+  }
+
+  void QueueWrite(const Film& rendered,
+                  const std::shared_ptr<Frame>& truth,
+                  const std::optional<FrameImages::MotionReference>& motion) {
+    const Film* film = &rendered;
+    const BundleSampling sampling{render_.sampler, truth->index, std::nullopt};
+    writer_.run([this, film, truth, sampling, motion]() {
+      const Clock::time_point w0 = Clock::now();
+      truth->files = WriteFrameLayers(root_,
+                                      base_header_,
+                                      truth->index,
+                                      truth->camera,
+                                      {&film->flat, &film->bundle, sampling, motion},
+                                      truth->rig_camera);
+      // The truth part comes last: its presence marks the frame complete.
+      WriteFileAtomic(TruthPartPath(root_, truth->index), FrameToJson(*truth).dump() + "\n");
+      std::lock_guard<std::mutex> lock(write_mutex_);
+      summary_.write_seconds += Seconds(w0);
+    });
+  }
+
+  const Plan& plan_;
+  const GenerateOptions& options_;
+  const SceneAssets& assets_;
+  const CollectionHeader& base_header_;
+  const fs::path& root_;
+  GenerateSummary& summary_;
+  RenderSettings render_;
+  EmbreeDevice device_;
+  std::unique_ptr<RenderScene> scene_, previous_scene_;
+  std::array<Film, 2> films_;
+  size_t rendering_ = 0;
+  tbb::task_group writer_;
+  std::mutex write_mutex_;
+  // Where the pipeline is full: summary.steady_seconds_per_frame.
+  Clock::time_point first_overlap_start_, last_overlap_end_;
+};
+
+// Assemble collection.json and metadata.json from the truth parts, in frame
+// order.
+void AssembleCollection(const Plan& plan,
+                        const GenerateOptions& options,
+                        const CollectionHeader& base_header,
+                        const std::vector<size_t>& selected,
+                        GenerateSummary* summary) {
+  const fs::path& root = options.output;
+  CollectionHeader header = base_header;
+  header.frame_count = static_cast<int64_t>(selected.size());
+  CollectionBuilder builder(root, header);
+  for (size_t k : selected) {
+    const fs::path part = TruthPartPath(root, plan.frames[k].index);
+    const Frame truth = FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
+    AddRequirementSummary(plan, truth, &summary->requirements);
+    MetadataFrame metadata = TruthMetadata(truth, header.conventions.world);
+    AddSurveyMetadata(plan, plan.frames[k], &metadata);
+    builder.Append(truth, metadata);
+  }
+  // A folder with collection.json never holds a work folder, even if the run
+  // is killed here: the work folder is renamed to a temporary name before
+  // collection.json appears (a kill leaves a stale temporary, which the next
+  // write removes). A kill between the two leaves neither, and --resume
+  // renders the frames again.
+  const fs::path retired = TempPathBeside(root / kWorkFolder);
+  fs::rename(root / kWorkFolder, retired);
+  builder.Commit();
+  fs::remove_all(retired);
+}
+
+}  // namespace
+
 GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options) {
   const Clock::time_point start = Clock::now();
   options.Check();
@@ -332,211 +645,20 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   const Sky plan_sky(plan);  // throws for a bad sky before any output
   for (const PlannedFrame& f : plan.frames)
     if (f.environment) Sky(plan, *f.environment);
-  std::vector<size_t> selected;
-  for (size_t k = 0; k < plan.frames.size(); ++k) {
-    if (options.Selects(plan.frames[k].index)) selected.push_back(k);
-  }
-  if (selected.empty()) {
-    // An empty collection is never a success: say which frames exist.
-    const std::string range =
-        plan.frames.empty() ? std::string("the plan has no frames")
-                            : "the plan has frames " + std::to_string(plan.frames.front().index) +
-                                  " to " + std::to_string(plan.frames.back().index);
-    throw Error("no frame to render: --frames/--shard select none (" + range + ")");
-  }
-  // Before the output is touched: a frame whose film cannot fit in memory is a
-  // usage error naming the budget, not a 40 GB allocation.
-  for (size_t k : selected) {
-    const PlannedFrame& frame = plan.frames[k];
-    CheckImageBudget(frame.camera.width,
-                     frame.camera.height,
-                     static_cast<int64_t>(Film::BytesPerPixel(options.spp)),
-                     1,
-                     "frame " + std::to_string(frame.index) + " (camera of the capture, " +
-                         std::to_string(options.spp) + " samples per pixel)",
-                     "");
-  }
-  // And a scene whose meshes and BVHs cannot fit (10^5 detailed objects) is the same kind of
-  // error, before any output, rather than an out-of-memory halfway through the first frame.
-  CheckMemoryBudget(RenderSceneBytes(assets),
-                    "the render scene of " + std::to_string(plan.objects.size()) + " objects",
-                    "");
+  const std::vector<size_t> selected = SelectFrames(plan, options);
+  CheckMemoryBudgets(plan, assets, selected, options);
   const CollectionHeader base_header = MakeHeader(plan, options);
-  nlohmann::json settings = RenderSettingsJson(options);
-  settings["seed"] = plan.seed;
-  if (!plan.capture_settings.empty()) settings["capture_settings"] = plan.capture_settings;
-  PrepareOutput(options, settings);
-  const fs::path& root = options.output;
-  for (const LayerInfo& layer : base_header.layers) fs::create_directories(root / layer.name);
+  PrepareOutputFolders(plan, options, base_header);
 
-  RenderSettings render;
-  render.sampler = {options.spp, options.jitter, plan.seed};
-  render.depth_kind = options.depth_kind;
-  // Capture Settings `layers`: no work for a layer that is not written.
-  render.bundle = base_header.FindLayerBySemantic("bundle") != nullptr;
-  render.motion = base_header.FindLayerBySemantic("motion") != nullptr;
   GenerateSummary summary;
-  EmbreeDevice device;
-  std::unique_ptr<RenderScene> scene, previous_scene;
-  std::optional<Progress> progress;
-  // Two films take turns: one renders while the other is written, and each is
-  // reused (RenderFrame) instead of allocated per frame.
-  std::array<Film, 2> films;
-  size_t rendering = 0;
-  tbb::task_group writer;
-  std::mutex write_mutex;
-  // Where the pipeline is full: summary.steady_seconds_per_frame.
-  Clock::time_point first_overlap_start, last_overlap_end;
-  if (options.progress) progress.emplace("generate", static_cast<int64_t>(selected.size()));
-  // A failure while a write runs must not leave the task group unwaited.
-  try {
-    for (size_t k : selected) {
-      const PlannedFrame& frame = plan.frames[k];
-      if (options.resume && FrameComplete(root, base_header, frame)) {
-        ++summary.frames_skipped;
-        if (progress) progress->Add();
-        continue;
-      }
-      Clock::time_point t0 = Clock::now();
-      WorldState world = WorldAt(plan, frame);
-      if (!scene || !(scene->world() == world)) {  // one scene per world state
-        // The scene two world states back is updated in place: its objects
-        // that did not change keep their BVHs; those of the state before are
-        // shared, not rebuilt.
-        std::unique_ptr<RenderScene> recycled = std::move(previous_scene);
-        previous_scene = std::move(scene);
-        if (recycled) {
-          recycled->Update(device, assets, world, previous_scene.get());
-          scene = std::move(recycled);
-        } else {
-          scene = std::make_unique<RenderScene>(device, plan, assets, world, previous_scene.get());
-        }
-      }
-      // Motion is measured against the previous frame of the same shot, seen
-      // in that frame's world (for moved objects and disocclusions).
-      PreviousView previous;
-      std::optional<WorldState> previous_world;
-      std::unique_ptr<RenderScene> built_previous;
-      // No motion layer: no previous view to build.
-      if (const PlannedFrame* before = render.motion ? PreviousInShot(plan, k) : nullptr) {
-        previous.frame = before;
-        previous_world = WorldAt(plan, *before);
-        previous.world = &*previous_world;
-        if (scene->world() == *previous_world) {
-          previous.scene = scene.get();
-        } else if (previous_scene && previous_scene->world() == *previous_world) {
-          previous.scene = previous_scene.get();
-        } else {
-          built_previous =
-              std::make_unique<RenderScene>(device, plan, assets, *previous_world, scene.get());
-          previous.scene = built_previous.get();
-        }
-      }
-      const PlannedEnvironment environment = EnvironmentAt(plan, frame);
-      const Sky sky(plan, environment);   // LCAP may change it per frame
-      Film& rendered = films[rendering];  // its last write ended (writer.wait below)
-      RenderFrame(*scene, sky, frame, previous, render, &rendered);
-      // The camera's exposure: photometric radiance to the sensor's scale.
-      const FrameExposure exposure = MeterExposure(plan.exposure, rendered);
-      ApplyExposure(exposure, &rendered);
-      // LCAP post-process materials: RGB only, after the truth is final.
-      ApplyPostProcess(plan.post_process, plan.seed, frame, &rendered);
-      const Film* film = &rendered;
-      auto truth = std::make_shared<Frame>();
-      truth->index = frame.index;
-      truth->time = frame.time;
-      truth->sequence = frame.sequence;
-      truth->shot = frame.shot;
-      truth->camera_velocity = frame.camera_velocity;
-      truth->rig_camera = frame.rig_camera;
-      if (frame.step >= 0) truth->step = frame.step;
-      truth->scene = SceneStateJson(EnvironmentAt(plan, frame));
-      truth->exposure = ExposureJson(exposure);
-      truth->camera.intrinsics = frame.camera;
-      SetCamFromWorld(frame.cam_from_world, &truth->camera);
-      uint64_t rays = film->rays;
-      truth->objects =
-          ComputeObjectTruth(*scene, frame, *film, EnvironmentAt(plan, frame).fog_density, &rays);
-      RecordObjectChanges(frame, &truth->objects);
-      // The final truth is what was rendered: judge the frame's requirements
-      // on it.
-      if (frame.requirements)
-        truth->requirements =
-            AchievedRecord(*frame.requirements, MeasureTruth(plan, frame, truth->objects));
-      summary.rays += rays;
-      summary.render_seconds += Seconds(t0);
+  FramePipeline pipeline(plan, options, assets, base_header, &summary);
+  pipeline.Run(selected);
 
-      // Encode this frame while the next one renders: at most two films live.
-      writer.wait();  // rethrows a failed write
-      (summary.frames_rendered == 0 ? first_overlap_start : last_overlap_end) = Clock::now();
-      const BundleSampling sampling{render.sampler, frame.index, std::nullopt};
-      // The camera motion was measured against, for the residual motion layout.
-      std::optional<FrameImages::MotionReference> motion;
-      if (render.motion) {
-        motion.emplace();
-        if (previous.frame != nullptr) {
-          CameraTruth& camera = motion->previous_camera.emplace();
-          camera.intrinsics = previous.frame->camera;
-          SetCamFromWorld(previous.frame->cam_from_world, &camera);
-        }
-      }
-      writer.run([&root, &base_header, &summary, &write_mutex, film, truth, sampling, motion]() {
-        const Clock::time_point w0 = Clock::now();
-        truth->files = WriteFrameLayers(root,
-                                        base_header,
-                                        truth->index,
-                                        truth->camera,
-                                        {&film->flat, &film->bundle, sampling, motion},
-                                        truth->rig_camera);
-        // The truth part comes last: its presence marks the frame complete.
-        WriteFileAtomic(TruthPartPath(root, truth->index), FrameToJson(*truth).dump() + "\n");
-        std::lock_guard<std::mutex> lock(write_mutex);
-        summary.write_seconds += Seconds(w0);
-      });
-      rendering = 1 - rendering;
-      ++summary.frames_rendered;
-      if (progress) progress->Add();
-    }
-  } catch (...) {
-    try {
-      writer.wait();
-    } catch (...) {
-    }
-    throw;
-  }
-  writer.wait();
-  progress.reset();
-
-  // Assemble collection.json and metadata.json from the truth parts, in frame
-  // order.
   const Clock::time_point t0 = Clock::now();
-  CollectionHeader header = base_header;
-  header.frame_count = static_cast<int64_t>(selected.size());
-  CollectionBuilder builder(root, header);
-  for (size_t k : selected) {
-    const fs::path part = TruthPartPath(root, plan.frames[k].index);
-    const Frame truth = FrameFromJson(nlohmann::json::parse(ReadFile(part)), part.string(), "");
-    AddRequirementSummary(plan, truth, &summary.requirements);
-    MetadataFrame metadata = TruthMetadata(truth, header.conventions.world);
-    AddSurveyMetadata(plan, plan.frames[k], &metadata);
-    builder.Append(truth, metadata);
-  }
-  // A folder with collection.json never holds a work folder, even if the run
-  // is killed here: the work folder is renamed to a temporary name before
-  // collection.json appears (a kill leaves a stale temporary, which the next
-  // write removes). A kill between the two leaves neither, and --resume
-  // renders the frames again.
-  const fs::path retired = TempPathBeside(root / kWorkFolder);
-  fs::rename(root / kWorkFolder, retired);
-  builder.Commit();
-  fs::remove_all(retired);
+  AssembleCollection(plan, options, base_header, selected, &summary);
   summary.write_seconds += Seconds(t0);
   summary.total_seconds = Seconds(start);
-  if (summary.frames_rendered >= 2) {
-    summary.steady_seconds_per_frame =
-        std::chrono::duration<double>(last_overlap_end - first_overlap_start).count() /
-        static_cast<double>(summary.frames_rendered - 1);
-  }
+  summary.steady_seconds_per_frame = pipeline.SteadySecondsPerFrame();
   return summary;
 }
 

@@ -24,6 +24,8 @@ std::string_view TrimRight(std::string_view text) {
 
 }  // namespace
 
+// One byte-level scanner loop (a parser state machine).
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 ArrayScanResult ScanJsonArrayMember(const std::filesystem::path& path,
                                     const std::string& array_key,
                                     const ArrayScanCallbacks& callbacks) {

@@ -101,6 +101,203 @@ class FrameErrors {
   std::optional<std::pair<int64_t, RealizedError>> last_;
 };
 
+namespace {
+
+// The stages of PerturbCollection, in order: read and check the collection's header, check
+// the outputs (nothing written yet), write the perturbed variant (one pass over the truth
+// metadata), rewrite collection.json and measure the report (one pass over its frames), then
+// commit every file. Each file stays temporary until all are complete.
+
+// The output and the report: refuse to overwrite the inputs ever, and anything else without
+// --force. Fills result.output, result.report and result.registered_as.
+void CheckOutputs(const PerturbOptions& options,
+                  const fs::path& planned_output,
+                  PerturbResult* result) {
+  const fs::path& root = options.collection;
+  std::error_code ec;
+  result->output = planned_output;
+  const fs::path output_canonical = fs::weakly_canonical(result->output);
+  // The variant may go into the collection (where it is registered), but never
+  // onto collection.json, the truth metadata or into a layer folder.
+  OutputGuard guard("lsds perturb-metadata");
+  guard.AddInput(result->source, "truth metadata");
+  GuardCollection(&guard, root, CollectionAccess::kAddsOutputs);
+  guard.CheckOutput(result->output, "-o");
+  if (!fs::is_directory(fs::absolute(result->output).parent_path(), ec)) {
+    throw Error("the output's folder does not exist", Location(result->output.string()));
+  }
+  if (fs::is_directory(result->output, ec)) {
+    throw Error("the output is a folder; -o takes a file name", Location(result->output.string()));
+  }
+  RefuseToOverwrite(result->output, options.force, "output metadata");
+  if (options.report) {
+    fs::path report = options.report_path;
+    if (report.empty()) {
+      report = result->output;
+      report.replace_extension(".report.json");
+    }
+    if (fs::weakly_canonical(report) == output_canonical) {
+      throw Error("the report and the output metadata are the same file",
+                  Location(report.string()));
+    }
+    guard.CheckOutput(report, "--report");
+    if (fs::is_directory(report, ec)) {
+      throw Error("the report is a folder; --report takes a file name", Location(report.string()));
+    }
+    RefuseToOverwrite(report, options.force, "report");
+    result->report = report;
+  }
+  result->registered_as = RelativeInside(result->output, root);
+}
+
+// One pass over the truth metadata: each frame parsed, checked, perturbed and
+// written to a temporary file, the statistics accumulated; the output is then
+// the header (which states the statistics) followed by those frames.
+// Returns the output, complete but not committed; fills result.summary and result.frames.
+std::unique_ptr<AtomicFile> WritePerturbedVariant(const PerturbOptions& options,
+                                                  const CollectionHeader& header,
+                                                  const MetadataVariant& truth_variant,
+                                                  PerturbResult* result) {
+  const WorldFrame& world = header.conventions.world;
+  const std::string source_file = result->source.string();
+  const JsonSchema& frame_schema = JsonSchema::Get("metadata.schema.json", "frame");
+  AtomicFile frames_file(fs::path(result->output).concat(".frames"));
+  ErrorStatistics statistics;
+  MetadataPerturber perturber(options.spec, world);
+  FrameErrors errors(&perturber, header);
+  std::unique_ptr<Progress> progress;
+  if (options.progress)
+    progress = std::make_unique<Progress>("perturb-metadata", header.frame_count);
+  std::ostream& frames_out = frames_file.stream();
+  const ArrayScanResult metadata_scan = ScanJsonArrayMember(
+      result->source, "frames", {nullptr, [&](std::string_view text, size_t index) {
+                                   const std::string pointer = "/frames/" + std::to_string(index);
+                                   const nlohmann::json json =
+                                       ParseElement(text, result->source, pointer);
+                                   frame_schema.ValidateOrThrow(json, source_file, pointer);
+                                   const MetadataFrame truth =
+                                       MetadataFrameFromJson(json, source_file, pointer);
+                                   const RealizedError error = errors.Next(truth.index, truth.time);
+                                   statistics.Add(error);
+                                   frames_out
+                                       << (index == 0 ? "\n    " : ",\n    ")
+                                       << MetadataFrameToJson(perturber.Apply(truth, error)).dump();
+                                   if (progress) progress->Add();
+                                 }});
+  progress.reset();
+  JsonSchema::Get("metadata.schema.json").ValidateOrThrow(metadata_scan.header, source_file);
+  const MetadataHeader truth_header = MetadataHeaderFromJson(metadata_scan.header, source_file);
+  if (truth_header.perturbed) {
+    throw Error("the metadata registered as truth is itself perturbed",
+                Location(source_file, "/perturbed"));
+  }
+  if (truth_header.frame_count != static_cast<int64_t>(metadata_scan.elements)) {
+    throw Error("frame_count is " + std::to_string(truth_header.frame_count) +
+                    " but the file has " + std::to_string(metadata_scan.elements) + " frames",
+                Location(source_file, "/frame_count"));
+  }
+  result->summary = statistics.ToJson();
+  result->frames = statistics.count();
+
+  MetadataHeader out_header;
+  out_header.format_version = truth_header.format_version;
+  out_header.perturbed = true;
+  out_header.noise = NoiseRecord{
+      NoiseModelName(options.spec.model), options.spec.ParametersJson(world), options.spec.seed};
+  out_header.source = truth_variant.file;
+  out_header.frame_count = truth_header.frame_count;
+  nlohmann::json out_header_json = MetadataHeaderToJson(out_header);
+  out_header_json["summary"] = result->summary;
+  auto output = std::make_unique<AtomicFile>(result->output);
+  output->stream() << ArrayFileHead(out_header_json, "frames");
+  frames_file.Check();  // the scratch frames were all written
+  if (result->frames > 0) {
+    std::ifstream frames_in(frames_file.temp_path(), std::ios::binary);
+    output->stream() << frames_in.rdbuf();
+  }
+  output->stream() << (result->frames == 0 ? "]\n}\n" : "\n  ]\n}\n");
+  return output;
+}
+
+// collection.json's new header, with the variant registered (replacing an entry of the same
+// file), written up to its frames; nullptr when the variant lies outside the collection.
+std::unique_ptr<AtomicFile> StartRegistry(const PerturbOptions& options,
+                                          const PerturbResult& result,
+                                          nlohmann::json* collection_json) {
+  if (result.registered_as.empty()) return nullptr;
+  nlohmann::json entry = {{"file", result.registered_as},
+                          {"perturbed", true},
+                          {"description", options.spec.Describe()}};
+  nlohmann::json& variants = (*collection_json)["metadata"];
+  bool replaced = false;
+  for (nlohmann::json& variant : variants) {
+    if (variant.value("file", "") == result.registered_as) {
+      variant = entry;
+      replaced = true;
+    }
+  }
+  if (!replaced) variants.push_back(entry);
+  auto registry = std::make_unique<AtomicFile>(options.collection / kCollectionFile);
+  registry->stream() << ArrayFileHead(*collection_json, "frames");
+  return registry;
+}
+
+// The report's writer, its head written; nullptr without --report.
+std::unique_ptr<ReportWriter> StartReport(const PerturbOptions& options,
+                                          const PerturbResult& result) {
+  if (!result.report) return nullptr;
+  return std::make_unique<ReportWriter>(
+      *result.report,
+      nlohmann::json{{"format", "lsds-perturb-report"},
+                     {"metadata", result.output.filename().string()},
+                     {"model", NoiseModelName(options.spec.model)},
+                     {"seed", options.spec.seed}});
+}
+
+// Pass over collection.json: the frames' bytes copied verbatim after the registry's new
+// header, and each frame's displacement measured for the report, when either is written.
+// Returns the displacement summary.
+DisplacementSummary CopyFramesAndMeasure(const PerturbOptions& options,
+                                         const CollectionHeader& header,
+                                         AtomicFile* registry,
+                                         ReportWriter* report) {
+  const fs::path collection_path = options.collection / kCollectionFile;
+  const std::string collection_file = collection_path.string();
+  const WorldFrame& world = header.conventions.world;
+  DisplacementSummary displacement;
+  MetadataPerturber report_perturber(options.spec, world);
+  FrameErrors report_errors(&report_perturber, header);
+  if (registry == nullptr && report == nullptr) return displacement;
+  ArrayScanCallbacks callbacks;
+  if (registry != nullptr) {
+    std::ostream& out = registry->stream();
+    callbacks.on_raw = [&out](std::string_view bytes) {
+      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    };
+  }
+  if (report != nullptr) {
+    callbacks.on_element = [&](std::string_view text, size_t index) {
+      const std::string pointer = "/frames/" + std::to_string(index);
+      const Frame frame =
+          FrameFromJson(ParseElement(text, collection_path, pointer), collection_file, pointer);
+      // The measured camera, from the truth as metadata.json states it
+      // (TruthMetadata) and the same realized error as the output's frame of
+      // that index.
+      const MetadataFrame truth = TruthMetadata(frame, world);
+      const MetadataFrame measured =
+          report_perturber.Apply(truth, report_errors.Next(truth.index, truth.time));
+      const FrameDisplacement moved = MeasureDisplacement(frame, world, measured);
+      displacement.Add(moved);
+      report->Append(moved);
+    };
+  }
+  ScanJsonArrayMember(collection_path, "frames", callbacks);
+  if (registry != nullptr) registry->stream() << "]\n}\n";
+  return displacement;
+}
+
+}  // namespace
+
 PerturbResult PerturbCollection(const PerturbOptions& options) {
   options.spec.Validate();
   const fs::path& root = options.collection;
@@ -121,7 +318,6 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
   JsonSchema::Get("collection.schema.json")
       .ValidateOrThrow(collection_scan.header, collection_file);
   const CollectionHeader header = HeaderFromJson(collection_scan.header, collection_file);
-  const WorldFrame& world = header.conventions.world;
 
   // The truth to perturb: the collection's unperturbed metadata variant.
   const MetadataVariant* truth_variant = FindTruthVariant(header);
@@ -138,165 +334,14 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
     throw Error("the truth metadata registered in " + collection_file + " does not exist",
                 Location(result.source.string()));
   }
+  CheckOutputs(options, planned_output, &result);
 
-  // Outputs: refuse to overwrite the inputs ever, and anything else without
-  // --force.
-  result.output = planned_output;
-  const fs::path output_canonical = fs::weakly_canonical(result.output);
-  // The variant may go into the collection (where it is registered), but never
-  // onto collection.json, the truth metadata or into a layer folder.
-  OutputGuard guard("lsds perturb-metadata");
-  guard.AddInput(result.source, "truth metadata");
-  GuardCollection(&guard, root, CollectionAccess::kAddsOutputs);
-  guard.CheckOutput(result.output, "-o");
-  if (!fs::is_directory(fs::absolute(result.output).parent_path(), ec)) {
-    throw Error("the output's folder does not exist", Location(result.output.string()));
-  }
-  if (fs::is_directory(result.output, ec)) {
-    throw Error("the output is a folder; -o takes a file name", Location(result.output.string()));
-  }
-  RefuseToOverwrite(result.output, options.force, "output metadata");
-  if (options.report) {
-    fs::path report = options.report_path;
-    if (report.empty()) {
-      report = result.output;
-      report.replace_extension(".report.json");
-    }
-    if (fs::weakly_canonical(report) == output_canonical) {
-      throw Error("the report and the output metadata are the same file",
-                  Location(report.string()));
-    }
-    guard.CheckOutput(report, "--report");
-    if (fs::is_directory(report, ec)) {
-      throw Error("the report is a folder; --report takes a file name", Location(report.string()));
-    }
-    RefuseToOverwrite(report, options.force, "report");
-    result.report = report;
-  }
-  result.registered_as = RelativeInside(result.output, root);
-
-  // One pass over the truth metadata: each frame parsed, checked, perturbed and
-  // written to a temporary file, the statistics accumulated; the output is then
-  // the header (which states the statistics) followed by those frames.
-  // Temporary files vanish unless committed.
-  const std::string source_file = result.source.string();
-  const JsonSchema& frame_schema = JsonSchema::Get("metadata.schema.json", "frame");
-  AtomicFile frames_file(fs::path(result.output).concat(".frames"));
-  ErrorStatistics statistics;
-  MetadataPerturber perturber(options.spec, world);
-  FrameErrors errors(&perturber, header);
-  std::unique_ptr<Progress> progress;
-  if (options.progress)
-    progress = std::make_unique<Progress>("perturb-metadata", header.frame_count);
-  std::ostream& frames_out = frames_file.stream();
-  const ArrayScanResult metadata_scan = ScanJsonArrayMember(
-      result.source, "frames", {nullptr, [&](std::string_view text, size_t index) {
-                                  const std::string pointer = "/frames/" + std::to_string(index);
-                                  const nlohmann::json json =
-                                      ParseElement(text, result.source, pointer);
-                                  frame_schema.ValidateOrThrow(json, source_file, pointer);
-                                  const MetadataFrame truth =
-                                      MetadataFrameFromJson(json, source_file, pointer);
-                                  const RealizedError error = errors.Next(truth.index, truth.time);
-                                  statistics.Add(error);
-                                  frames_out
-                                      << (index == 0 ? "\n    " : ",\n    ")
-                                      << MetadataFrameToJson(perturber.Apply(truth, error)).dump();
-                                  if (progress) progress->Add();
-                                }});
-  progress.reset();
-  JsonSchema::Get("metadata.schema.json").ValidateOrThrow(metadata_scan.header, source_file);
-  const MetadataHeader truth_header = MetadataHeaderFromJson(metadata_scan.header, source_file);
-  if (truth_header.perturbed) {
-    throw Error("the metadata registered as truth is itself perturbed",
-                Location(source_file, "/perturbed"));
-  }
-  if (truth_header.frame_count != static_cast<int64_t>(metadata_scan.elements)) {
-    throw Error("frame_count is " + std::to_string(truth_header.frame_count) +
-                    " but the file has " + std::to_string(metadata_scan.elements) + " frames",
-                Location(source_file, "/frame_count"));
-  }
-  result.summary = statistics.ToJson();
-  result.frames = statistics.count();
-
-  MetadataHeader out_header;
-  out_header.format_version = truth_header.format_version;
-  out_header.perturbed = true;
-  out_header.noise = NoiseRecord{
-      NoiseModelName(options.spec.model), options.spec.ParametersJson(world), options.spec.seed};
-  out_header.source = truth_variant->file;
-  out_header.frame_count = truth_header.frame_count;
-  nlohmann::json out_header_json = MetadataHeaderToJson(out_header);
-  out_header_json["summary"] = result.summary;
-  AtomicFile output(result.output);
-  output.stream() << ArrayFileHead(out_header_json, "frames");
-  frames_file.Check();  // the scratch frames were all written
-  if (result.frames > 0) {
-    std::ifstream frames_in(frames_file.temp_path(), std::ios::binary);
-    output.stream() << frames_in.rdbuf();
-  }
-  output.stream() << (result.frames == 0 ? "]\n}\n" : "\n  ]\n}\n");
-
-  // Pass over collection.json: the header rewritten with the new variant, the
-  // frames' bytes copied verbatim, and the report measured on the way.
-  // Everything stays temporary until all succeeded.
-  std::unique_ptr<AtomicFile> registry;
-  if (!result.registered_as.empty()) {
-    nlohmann::json& collection_json = collection_scan.header;
-    nlohmann::json entry = {{"file", result.registered_as},
-                            {"perturbed", true},
-                            {"description", options.spec.Describe()}};
-    nlohmann::json& variants = collection_json["metadata"];
-    bool replaced = false;
-    for (nlohmann::json& variant : variants) {
-      if (variant.value("file", "") == result.registered_as) {
-        variant = entry;
-        replaced = true;
-      }
-    }
-    if (!replaced) variants.push_back(entry);
-    registry = std::make_unique<AtomicFile>(collection_path);
-    registry->stream() << ArrayFileHead(collection_json, "frames");
-  }
-  std::unique_ptr<ReportWriter> report;
-  DisplacementSummary displacement;
-  MetadataPerturber report_perturber(options.spec, world);
-  FrameErrors report_errors(&report_perturber, header);
-  if (result.report) {
-    report = std::make_unique<ReportWriter>(
-        *result.report,
-        nlohmann::json{{"format", "lsds-perturb-report"},
-                       {"metadata", result.output.filename().string()},
-                       {"model", NoiseModelName(options.spec.model)},
-                       {"seed", options.spec.seed}});
-  }
-  if (registry || report) {
-    ArrayScanCallbacks callbacks;
-    if (registry) {
-      std::ostream& out = registry->stream();
-      callbacks.on_raw = [&out](std::string_view bytes) {
-        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-      };
-    }
-    if (report) {
-      callbacks.on_element = [&](std::string_view text, size_t index) {
-        const std::string pointer = "/frames/" + std::to_string(index);
-        const Frame frame =
-            FrameFromJson(ParseElement(text, collection_path, pointer), collection_file, pointer);
-        // The measured camera, from the truth as metadata.json states it
-        // (TruthMetadata) and the same realized error as the output's frame of
-        // that index.
-        const MetadataFrame truth = TruthMetadata(frame, world);
-        const MetadataFrame measured =
-            report_perturber.Apply(truth, report_errors.Next(truth.index, truth.time));
-        const FrameDisplacement moved = MeasureDisplacement(frame, world, measured);
-        displacement.Add(moved);
-        report->Append(moved);
-      };
-    }
-    ScanJsonArrayMember(collection_path, "frames", callbacks);
-    if (registry) registry->stream() << "]\n}\n";
-  }
+  std::unique_ptr<AtomicFile> output =
+      WritePerturbedVariant(options, header, *truth_variant, &result);
+  std::unique_ptr<AtomicFile> registry = StartRegistry(options, result, &collection_scan.header);
+  std::unique_ptr<ReportWriter> report = StartReport(options, result);
+  const DisplacementSummary displacement =
+      CopyFramesAndMeasure(options, header, registry.get(), report.get());
 
   // Every file is complete and flushed before any is renamed into place: a
   // full disk or a failing report is met while nothing is visible yet.
@@ -305,7 +350,7 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
     report->Finish(*result.report_summary);
     report->Check();
   }
-  output.Check();
+  output->Check();
   if (registry) registry->Check();
   // Then the report and the variant go into place before collection.json
   // registers the variant, so that a registered variant always has its files;
@@ -319,7 +364,7 @@ PerturbResult PerturbCollection(const PerturbOptions& options) {
       if (!existed) created.push_back(path);
     };
     if (report) commit(*report, *result.report);
-    commit(output, result.output);
+    commit(*output, result.output);
     if (registry) registry->Commit();
   } catch (const Error&) {
     for (const fs::path& path : created) fs::remove(path, ec);

@@ -220,6 +220,8 @@ struct Coverage {
 };
 
 // Pass 1: the frame indices of every shard, checked against the run.
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-cognitive-complexity)
 Coverage CheckCoverage(const std::vector<Shard>& shards) {
   const ShardRecord& run = *shards[0].header.provenance.shard;
   Coverage coverage;
@@ -468,14 +470,15 @@ uint64_t CopyLayerFile(int fd, uint64_t size, const fs::path& to, const Location
 
 }  // namespace
 
-MergeSummary MergeShards(const MergeOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  if (options.shards.empty()) throw Error("no shard to merge");
-  if (options.output.empty()) throw Error("no output folder (-o COLLECTION)");
-  std::vector<Shard> shards;
-  for (const fs::path& root : options.shards) shards.push_back(OpenShard(root));
+namespace {
 
-  // The output is neither an input nor inside one, and holds none.
+// The stages of MergeShards: open the shards and check they are one run's (same headers,
+// frames covered once, the output apart from them), then write the run's collection.json
+// with every frame's layer files copied, and its metadata.json, in run order.
+
+// The output is neither an input nor inside one, and holds none; the shards share one run's
+// collection and metadata headers.
+void CheckShardsOfOneRun(const std::vector<Shard>& shards, const MergeOptions& options) {
   const fs::path output = fs::weakly_canonical(options.output);
   for (const Shard& shard : shards) {
     const fs::path root = fs::weakly_canonical(shard.root);
@@ -484,7 +487,6 @@ MergeSummary MergeShards(const MergeOptions& options) {
                       " is, contains or lies inside the shard " + shard.Name(),
                   Location(options.output.string()));
   }
-
   const json run_header = RunHeaderJson(shards[0].header);
   json run_metadata = MetadataHeaderToJson(shards[0].metadata);
   run_metadata.erase("frame_count");
@@ -498,6 +500,140 @@ MergeSummary MergeShards(const MergeOptions& options) {
     RequireSame(
         run_metadata, metadata, shards[0].root / kMetadataFile, shards[s].root / kMetadataFile);
   }
+}
+
+// Runs `fn` on every frame of `file_name` in run order, the elements taken
+// from the shard streams that hold them.
+void ForEachInRunOrder(const std::vector<Shard>& shards,
+                       const Coverage& coverage,
+                       const char* file_name,
+                       const std::function<void(json&&, const Shard&, int64_t)>& fn) {
+  std::vector<std::unique_ptr<ElementStream>> streams;
+  streams.reserve(shards.size());
+  for (const Shard& shard : shards)
+    streams.push_back(std::make_unique<ElementStream>(shard.root / file_name));
+  for (size_t k = 0; k < coverage.owner.size(); ++k) {
+    const int owner = coverage.owner[k];
+    if (owner < 0) continue;
+    json element;
+    if (!streams[owner]->Next(&element))
+      throw Error("the file ended early (was it changed during the merge?)",
+                  Location((shards[owner].root / file_name).string()));
+    fn(std::move(element), shards[owner], coverage.first + static_cast<int64_t>(k));
+  }
+}
+
+// A frame's layer files, checked against the layer table.
+struct LayerFile {
+  const LayerInfo* layer;
+  fs::path relative;
+};
+
+// Checks and copies a frame's layer files into `out`; they are independent, so in parallel.
+// Returns the bytes copied.
+uint64_t CopyFrameFiles(const Shard& shard,
+                        const Frame& frame,
+                        int64_t index,
+                        const std::vector<LayerFile>& files,
+                        const fs::path& out) {
+  std::vector<uint64_t> bytes(files.size(), 0);
+  tbb::parallel_for(size_t{0}, files.size(), [&](size_t i) {
+    const fs::path from = shard.root / files[i].relative;
+    const fs::path to = out / files[i].relative;
+    Location where(from.string());
+    where.frame = index;
+    struct stat st {};
+    const Descriptor layer_file = OpenLayerInShard(shard.root, files[i].relative, where, &st);
+    const uint64_t size = static_cast<uint64_t>(st.st_size);
+    CheckLayerFile(from, size, *files[i].layer, frame, where);
+    // The header was read by name: it must be the file that is copied.
+    struct stat now {};
+    if (::lstat(from.c_str(), &now) != 0 || now.st_ino != st.st_ino || now.st_dev != st.st_dev)
+      throw Error("the layer file was replaced during the merge", where);
+    std::error_code ec;
+    fs::create_directories(to.parent_path(), ec);
+    if (ec)
+      throw Error("cannot create the folder: " + ec.message(), Location(to.parent_path().string()));
+    bytes[i] = CopyLayerFile(layer_file.fd, size, to, where);
+  });
+  uint64_t total = 0;
+  for (uint64_t b : bytes) total += b;
+  return total;
+}
+
+// collection.json of the run: every frame checked (schema, index, layers) with its files copied.
+void MergeCollectionFrames(const std::vector<Shard>& shards,
+                           const Coverage& coverage,
+                           const CollectionHeader& header,
+                           const fs::path& out,
+                           const MergeOptions& options,
+                           MergeSummary* summary) {
+  std::optional<Progress> progress;
+  if (options.progress) progress.emplace("merge", coverage.frames);
+  const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
+  CollectionWriter writer(out, header);
+  std::vector<int64_t> frame_in_shard(shards.size(), 0);
+  ForEachInRunOrder(
+      shards, coverage, kCollectionFile, [&](json&& element, const Shard& shard, int64_t index) {
+        const fs::path file = shard.root / kCollectionFile;
+        const size_t s = static_cast<size_t>(&shard - shards.data());
+        const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
+        schema.ValidateOrThrow(element, file.string(), pointer);
+        const Frame frame = FrameFromJson(element, file.string(), pointer);
+        if (frame.index != index)
+          throw Error("expected frame " + std::to_string(index) +
+                          " here (was the shard changed during the merge?)",
+                      Location(file.string(), pointer));
+        std::vector<LayerFile> files;
+        for (const auto& [layer_name, name] : frame.files) {
+          const LayerInfo* layer = shard.header.FindLayer(layer_name);
+          if (layer == nullptr)
+            throw Error("frame " + std::to_string(index) + " lists a file for layer '" +
+                            layer_name + "', which the layer table does not declare",
+                        Location(file.string(), pointer + "/files/" + layer_name));
+          files.push_back({layer, CheckedRelative(name, file, index)});
+        }
+        summary->bytes += CopyFrameFiles(shard, frame, index, files, out);
+        summary->files += static_cast<int64_t>(files.size());
+        writer.Append(frame);
+        if (progress) progress->Add();
+      });
+  writer.Commit();
+}
+
+// metadata.json of the run: each frame checked against the schema and collection.json's order.
+void MergeMetadataFrames(const std::vector<Shard>& shards,
+                         const Coverage& coverage,
+                         const MetadataHeader& metadata_header,
+                         const fs::path& out) {
+  const JsonSchema& schema = JsonSchema::Get("metadata.schema.json", "frame");
+  MetadataWriter writer(out / kMetadataFile, metadata_header);
+  std::vector<int64_t> frame_in_shard(shards.size(), 0);
+  ForEachInRunOrder(
+      shards, coverage, kMetadataFile, [&](json&& element, const Shard& shard, int64_t index) {
+        const fs::path file = shard.root / kMetadataFile;
+        const size_t s = static_cast<size_t>(&shard - shards.data());
+        const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
+        schema.ValidateOrThrow(element, file.string(), pointer);
+        const MetadataFrame frame = MetadataFrameFromJson(element, file.string(), pointer);
+        if (frame.index != index)
+          throw Error("metadata of frame " + std::to_string(frame.index) +
+                          " where collection.json has frame " + std::to_string(index),
+                      Location(file.string(), pointer));
+        writer.Append(frame);
+      });
+  writer.Commit();
+}
+
+}  // namespace
+
+MergeSummary MergeShards(const MergeOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (options.shards.empty()) throw Error("no shard to merge");
+  if (options.output.empty()) throw Error("no output folder (-o COLLECTION)");
+  std::vector<Shard> shards;
+  for (const fs::path& root : options.shards) shards.push_back(OpenShard(root));
+  CheckShardsOfOneRun(shards, options);
   const Coverage coverage = CheckCoverage(shards);
 
   // The run's collection, built under a temporary name.
@@ -519,105 +655,8 @@ MergeSummary MergeShards(const MergeOptions& options) {
     }
     MetadataHeader metadata_header = shards[0].metadata;
     metadata_header.frame_count = coverage.frames;
-
-    // Runs `fn` on every frame of `file_name` in run order, the elements taken
-    // from the shard streams that hold them.
-    auto for_each_in_run_order = [&](const char* file_name,
-                                     const std::function<void(json&&, const Shard&, int64_t)>& fn) {
-      std::vector<std::unique_ptr<ElementStream>> streams;
-      streams.reserve(shards.size());
-      for (const Shard& shard : shards)
-        streams.push_back(std::make_unique<ElementStream>(shard.root / file_name));
-      for (size_t k = 0; k < coverage.owner.size(); ++k) {
-        const int owner = coverage.owner[k];
-        if (owner < 0) continue;
-        json element;
-        if (!streams[owner]->Next(&element))
-          throw Error("the file ended early (was it changed during the merge?)",
-                      Location((shards[owner].root / file_name).string()));
-        fn(std::move(element), shards[owner], coverage.first + static_cast<int64_t>(k));
-      }
-    };
-
-    {
-      std::optional<Progress> progress;
-      if (options.progress) progress.emplace("merge", coverage.frames);
-      const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
-      CollectionWriter writer(out, header);
-      std::vector<int64_t> frame_in_shard(shards.size(), 0);
-      for_each_in_run_order(
-          kCollectionFile, [&](json&& element, const Shard& shard, int64_t index) {
-            const fs::path file = shard.root / kCollectionFile;
-            const size_t s = static_cast<size_t>(&shard - shards.data());
-            const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
-            schema.ValidateOrThrow(element, file.string(), pointer);
-            const Frame frame = FrameFromJson(element, file.string(), pointer);
-            if (frame.index != index)
-              throw Error("expected frame " + std::to_string(index) +
-                              " here (was the shard changed during the merge?)",
-                          Location(file.string(), pointer));
-            struct LayerFile {
-              const LayerInfo* layer;
-              fs::path relative;
-            };
-            std::vector<LayerFile> files;
-            for (const auto& [layer_name, name] : frame.files) {
-              const LayerInfo* layer = shard.header.FindLayer(layer_name);
-              if (layer == nullptr)
-                throw Error("frame " + std::to_string(index) + " lists a file for layer '" +
-                                layer_name + "', which the layer table does not declare",
-                            Location(file.string(), pointer + "/files/" + layer_name));
-              files.push_back({layer, CheckedRelative(name, file, index)});
-            }
-            // Layer files are independent: check and copy them in parallel.
-            std::vector<uint64_t> bytes(files.size(), 0);
-            tbb::parallel_for(size_t{0}, files.size(), [&](size_t i) {
-              const fs::path from = shard.root / files[i].relative;
-              const fs::path to = out / files[i].relative;
-              Location where(from.string());
-              where.frame = index;
-              struct stat st {};
-              const Descriptor layer_file =
-                  OpenLayerInShard(shard.root, files[i].relative, where, &st);
-              const uint64_t size = static_cast<uint64_t>(st.st_size);
-              CheckLayerFile(from, size, *files[i].layer, frame, where);
-              // The header was read by name: it must be the file that is copied.
-              struct stat now {};
-              if (::lstat(from.c_str(), &now) != 0 || now.st_ino != st.st_ino ||
-                  now.st_dev != st.st_dev)
-                throw Error("the layer file was replaced during the merge", where);
-              std::error_code ec;
-              fs::create_directories(to.parent_path(), ec);
-              if (ec)
-                throw Error("cannot create the folder: " + ec.message(),
-                            Location(to.parent_path().string()));
-              bytes[i] = CopyLayerFile(layer_file.fd, size, to, where);
-            });
-            for (uint64_t b : bytes) summary.bytes += b;
-            summary.files += static_cast<int64_t>(files.size());
-            writer.Append(frame);
-            if (progress) progress->Add();
-          });
-      writer.Commit();
-    }
-    {
-      const JsonSchema& schema = JsonSchema::Get("metadata.schema.json", "frame");
-      MetadataWriter writer(out / kMetadataFile, metadata_header);
-      std::vector<int64_t> frame_in_shard(shards.size(), 0);
-      for_each_in_run_order(kMetadataFile, [&](json&& element, const Shard& shard, int64_t index) {
-        const fs::path file = shard.root / kMetadataFile;
-        const size_t s = static_cast<size_t>(&shard - shards.data());
-        const std::string pointer = "/frames/" + std::to_string(frame_in_shard[s]++);
-        schema.ValidateOrThrow(element, file.string(), pointer);
-        const MetadataFrame frame = MetadataFrameFromJson(element, file.string(), pointer);
-        if (frame.index != index)
-          throw Error("metadata of frame " + std::to_string(frame.index) +
-                          " where collection.json has frame " + std::to_string(index),
-                      Location(file.string(), pointer));
-        writer.Append(frame);
-      });
-      writer.Commit();
-    }
+    MergeCollectionFrames(shards, coverage, header, out, options, &summary);
+    MergeMetadataFrames(shards, coverage, metadata_header, out);
   } catch (const Error& e) {
     RethrowNamingOutput(e, out, options.output);
   }

@@ -156,29 +156,43 @@ Spec CircleSpec(int frames, int width, int height) {
   return spec;
 }
 
-RenderedFrame RenderFrame(const Spec& spec, int frame) {
-  const AnalyticScene scene = spec.Scene();
-  const PinholeCamera camera = Camera(spec);
-  const Rigid3d& cam_from_world = spec.cam_from_world.at(frame);
-  const Rigid3d world_from_cam = cam_from_world.Inverse();
-  const std::optional<Rigid3d> previous_cam_from_world =
-      frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1]) : std::nullopt;
-  const Eigen::Vector3d previous_centre = previous_cam_from_world
-                                              ? previous_cam_from_world->Inverse().translation
-                                              : Eigen::Vector3d::Zero();
-  const int w = spec.width, h = spec.height;
-  const std::vector<Eigen::Vector2d> pattern = SamplePattern(spec.samples_per_axis);
-  const size_t samples_per_pixel = pattern.size();
+namespace {
 
+// The stages of RenderFrame: allocate the layers, shade every sample into the bundle and its
+// centre sample into the flat layers (with the motion since the previous camera), then
+// measure the truth on the rendered id layer.
+
+// What one frame is rendered from.
+struct SynthView {
+  AnalyticScene scene;
+  PinholeCamera camera;
+  Rigid3d cam_from_world;
+  Rigid3d world_from_cam;
+  std::optional<Rigid3d> previous_cam_from_world;
+  Eigen::Vector3d previous_centre;  // the previous camera's centre (zero without one)
+  int w = 0, h = 0;
+};
+
+SynthView ViewOf(const Spec& spec, int frame) {
+  SynthView view;
+  view.scene = spec.Scene();
+  view.camera = Camera(spec);
+  view.cam_from_world = spec.cam_from_world.at(frame);
+  view.world_from_cam = view.cam_from_world.Inverse();
+  view.previous_cam_from_world =
+      frame > 0 ? std::optional<Rigid3d>(spec.cam_from_world[frame - 1]) : std::nullopt;
+  view.previous_centre = view.previous_cam_from_world
+                             ? view.previous_cam_from_world->Inverse().translation
+                             : Eigen::Vector3d::Zero();
+  view.w = spec.width;
+  view.h = spec.height;
+  return view;
+}
+
+// Every standard layer of a w x h frame with its channels, and the bundle of
+// samples_per_pixel samples per pixel.
+RenderedFrame AllocateLayers(int w, int h, size_t samples_per_pixel) {
   RenderedFrame out;
-  FlatImage& rgb = out.flat["rgb"] = FlatImage(w, h);
-  FlatImage& classid = out.flat["classid"] = FlatImage(w, h);
-  FlatImage& instanceid = out.flat["instanceid"] = FlatImage(w, h);
-  FlatImage& depth = out.flat["depth"] = FlatImage(w, h);
-  FlatImage& normal = out.flat["normal"] = FlatImage(w, h);
-  FlatImage& position = out.flat["worldposition"] = FlatImage(w, h);
-  FlatImage& shadow = out.flat["shadow"] = FlatImage(w, h);
-  FlatImage& motion = out.flat["motion"] = FlatImage(w, h);
   for (const LayerInfo& layer : {StandardLayer("rgb"),
                                  StandardLayer("classid"),
                                  StandardLayer("instanceid"),
@@ -187,96 +201,104 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
                                  StandardLayer("worldposition"),
                                  StandardLayer("shadow"),
                                  StandardLayer("motion")}) {
-    for (const LayerChannel& c : layer.channels)
-      out.flat[layer.semantic].AddChannel(c.name, c.type);
+    FlatImage& image = out.flat[layer.semantic] = FlatImage(w, h);
+    for (const LayerChannel& c : layer.channels) image.AddChannel(c.name, c.type);
   }
   out.bundle =
       DeepImage(w, h, std::vector<uint32_t>(static_cast<size_t>(w) * h, samples_per_pixel));
   for (const LayerChannel& c : StandardLayer("bundle").channels)
     out.bundle.AddChannel(c.name, c.type);
+  return out;
+}
 
-  // Channel storage looked up once, not per sample.
-  uint32_t* bundle_instance = out.bundle.Get("instanceid").uints.data();
-  uint32_t* bundle_class = out.bundle.Get("classid").uints.data();
-  float* bundle_depth = out.bundle.Get("Z").floats.data();
-  float* bundle_normal[3] = {out.bundle.Get("NX").floats.data(),
-                             out.bundle.Get("NY").floats.data(),
-                             out.bundle.Get("NZ").floats.data()};
-  float* bundle_sx = out.bundle.Get("SX").floats.data();
-  float* bundle_sy = out.bundle.Get("SY").floats.data();
-  float* rgb_channel[3] = {
-      rgb.Get("R").floats.data(), rgb.Get("G").floats.data(), rgb.Get("B").floats.data()};
-  uint32_t* class_pixels = classid.Get("id").uints.data();
-  uint32_t* instance_pixels = instanceid.Get("id").uints.data();
-  float* depth_pixels = depth.Get("Z").floats.data();
-  float* normal_pixels[3] = {
-      normal.Get("X").floats.data(), normal.Get("Y").floats.data(), normal.Get("Z").floats.data()};
-  float* position_pixels[3] = {position.Get("X").floats.data(),
-                               position.Get("Y").floats.data(),
-                               position.Get("Z").floats.data()};
-  float* shadow_pixels = shadow.Get("Y").floats.data();
-  float* motion_pixels[2] = {motion.Get("X").floats.data(), motion.Get("Y").floats.data()};
-  const bool planar = spec.depth_kind == DepthKind::kPlanar;
+// Channel storage looked up once, not per sample.
+struct LayerStorage {
+  explicit LayerStorage(RenderedFrame& out)
+      : bundle_instance(out.bundle.Get("instanceid").uints.data()),
+        bundle_class(out.bundle.Get("classid").uints.data()),
+        bundle_depth(out.bundle.Get("Z").floats.data()),
+        bundle_normal{out.bundle.Get("NX").floats.data(),
+                      out.bundle.Get("NY").floats.data(),
+                      out.bundle.Get("NZ").floats.data()},
+        bundle_sx(out.bundle.Get("SX").floats.data()),
+        bundle_sy(out.bundle.Get("SY").floats.data()),
+        rgb{Floats(out, "rgb", "R"), Floats(out, "rgb", "G"), Floats(out, "rgb", "B")},
+        class_pixels(out.flat["classid"].Get("id").uints.data()),
+        instance_pixels(out.flat["instanceid"].Get("id").uints.data()),
+        depth_pixels(Floats(out, "depth", "Z")),
+        normal_pixels{
+            Floats(out, "normal", "X"), Floats(out, "normal", "Y"), Floats(out, "normal", "Z")},
+        position_pixels{Floats(out, "worldposition", "X"),
+                        Floats(out, "worldposition", "Y"),
+                        Floats(out, "worldposition", "Z")},
+        shadow_pixels(Floats(out, "shadow", "Y")),
+        motion_pixels{Floats(out, "motion", "X"), Floats(out, "motion", "Y")} {}
+  static float* Floats(RenderedFrame& out, const char* semantic, const char* channel) {
+    return out.flat[semantic].Get(channel).floats.data();
+  }
+  uint32_t* bundle_instance;
+  uint32_t* bundle_class;
+  float* bundle_depth;
+  float* bundle_normal[3];
+  float* bundle_sx;
+  float* bundle_sy;
+  float* rgb[3];
+  uint32_t* class_pixels;
+  uint32_t* instance_pixels;
+  float* depth_pixels;
+  float* normal_pixels[3];
+  float* position_pixels[3];
+  float* shadow_pixels;
+  float* motion_pixels[2];
+};
 
-  tbb::parallel_for(0, h, [&](int j) {
-    for (int i = 0; i < w; ++i) {
-      const size_t p = rgb.Index(i, j);
-      Eigen::Vector3d radiance = Eigen::Vector3d::Zero();
-      for (size_t k = 0; k < samples_per_pixel; ++k) {
-        const Eigen::Vector2d at(i + pattern[k].x(), j + pattern[k].y());
-        const Sample s = Shade(scene, spec, camera, world_from_cam, at);
-        radiance += s.radiance;
-        const uint64_t q = out.bundle.FirstSample(i, j) + k;
-        bundle_instance[q] = s.hit.instance_id;
-        bundle_class[q] = s.hit.class_id;
-        bundle_depth[q] = static_cast<float>(planar ? s.planar : s.perspective);
-        for (int c = 0; c < 3; ++c) bundle_normal[c][q] = static_cast<float>(s.hit.normal[c]);
-        bundle_sx[q] = static_cast<float>(pattern[k].x());
-        bundle_sy[q] = static_cast<float>(pattern[k].y());
-        if (k != 0) continue;
-        // The centre sample is the single value of every truth layer.
-        class_pixels[p] = s.hit.class_id;
-        instance_pixels[p] = s.hit.instance_id;
-        depth_pixels[p] = bundle_depth[q];
-        for (int c = 0; c < 3; ++c) {
-          normal_pixels[c][p] = static_cast<float>(s.hit.normal[c]);
-          position_pixels[c][p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
-        }
-        shadow_pixels[p] = static_cast<float>(s.shadow);
-        // Motion against the previous frame (one shot: a static world seen
-        // by a moving camera); NaN where there is none (docs/format.md).
-        Eigen::Vector2d shift(kNaN, kNaN);
-        if (previous_cam_from_world) {
-          // Where this surface point (or, for sky, this direction) was last
-          // frame, if that camera saw it.
-          const Eigen::Vector3d in_previous =
-              s.hit.hit ? Eigen::Vector3d(*previous_cam_from_world * s.point)
-                        : Eigen::Vector3d(previous_cam_from_world->rotation *
-                                          (world_from_cam.rotation * camera.CamFromImage(at)));
-          if (in_previous.z() > 0) {
-            const Eigen::Vector2d before = camera.ImageFromCam(in_previous);
-            const bool inside =
-                before.x() >= 0 && before.x() < w && before.y() >= 0 && before.y() < h;
-            if (inside && !(s.hit.hit && HiddenFrom(scene, previous_centre, s.point)))
-              shift = at - before;
-          }
-        }
-        motion_pixels[0][p] = static_cast<float>(0.5 + 0.5 * shift.x() / w);
-        motion_pixels[1][p] = static_cast<float>(0.5 + 0.5 * shift.y() / h);
-      }
-      radiance /= static_cast<double>(samples_per_pixel);
-      for (int c = 0; c < 3; ++c) rgb_channel[c][p] = static_cast<float>(radiance[c]);
-    }
-  });
+// Motion against the previous frame (one shot: a static world seen
+// by a moving camera); NaN where there is none (docs/format.md).
+Eigen::Vector2d MotionShift(const SynthView& view, const Sample& s, const Eigen::Vector2d& at) {
+  Eigen::Vector2d shift(kNaN, kNaN);
+  if (!view.previous_cam_from_world) return shift;
+  // Where this surface point (or, for sky, this direction) was last
+  // frame, if that camera saw it.
+  const Eigen::Vector3d in_previous =
+      s.hit.hit ? Eigen::Vector3d(*view.previous_cam_from_world * s.point)
+                : Eigen::Vector3d(view.previous_cam_from_world->rotation *
+                                  (view.world_from_cam.rotation * view.camera.CamFromImage(at)));
+  if (in_previous.z() > 0) {
+    const Eigen::Vector2d before = view.camera.ImageFromCam(in_previous);
+    const bool inside =
+        before.x() >= 0 && before.x() < view.w && before.y() >= 0 && before.y() < view.h;
+    if (inside && !(s.hit.hit && HiddenFrom(view.scene, view.previous_centre, s.point)))
+      shift = at - before;
+  }
+  return shift;
+}
 
-  // Truth, measured on the rendered layers.
-  Frame& truth = out.truth;
-  truth.index = frame;
-  truth.time = frame * spec.frame_interval;
-  truth.sequence = spec.sequence;
-  truth.shot = 0;  // one continuous flight
-  truth.camera.intrinsics = camera;
-  SetCamFromWorld(cam_from_world, &truth.camera);
+// The centre sample is the single value of every truth layer.
+void WriteCentreSample(const SynthView& view,
+                       const Sample& s,
+                       const Eigen::Vector2d& at,
+                       size_t p,
+                       float depth,
+                       const LayerStorage& to) {
+  to.class_pixels[p] = s.hit.class_id;
+  to.instance_pixels[p] = s.hit.instance_id;
+  to.depth_pixels[p] = depth;
+  for (int c = 0; c < 3; ++c) {
+    to.normal_pixels[c][p] = static_cast<float>(s.hit.normal[c]);
+    to.position_pixels[c][p] = s.hit.hit ? static_cast<float>(s.point[c]) : kInf;
+  }
+  to.shadow_pixels[p] = static_cast<float>(s.shadow);
+  const Eigen::Vector2d shift = MotionShift(view, s, at);
+  to.motion_pixels[0][p] = static_cast<float>(0.5 + 0.5 * shift.x() / view.w);
+  to.motion_pixels[1][p] = static_cast<float>(0.5 + 0.5 * shift.y() / view.h);
+}
+
+// Each box's truth, measured on the rendered id layer like the generator's.
+void MeasureBoxes(const Spec& spec,
+                  const SynthView& view,
+                  const FlatImage& instanceid,
+                  Frame* truth) {
+  const int w = view.w, h = view.h;
   const auto masks = MeasureInstanceMasks(instanceid.Get("id").uints, w, h);
   for (size_t b = 0; b < spec.boxes.size(); ++b) {
     const Box& box = spec.boxes[b];
@@ -293,8 +315,10 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
       for (int j = static_cast<int>(bounds.y0); j < static_cast<int>(std::ceil(bounds.y1)); ++j) {
         for (int i = static_cast<int>(bounds.x0); i < static_cast<int>(std::ceil(bounds.x1)); ++i) {
           const Eigen::Vector3d direction =
-              world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
-          if (scene.Intersect(world_from_cam.translation, direction, 1e-9, static_cast<int>(b)).hit)
+              view.world_from_cam.rotation * view.camera.RayThroughPixelCenter(i, j);
+          if (view.scene
+                  .Intersect(view.world_from_cam.translation, direction, 1e-9, static_cast<int>(b))
+                  .hit)
             ++unoccluded;
         }
       }
@@ -302,15 +326,60 @@ RenderedFrame RenderFrame(const Spec& spec, int frame) {
     };
     if (std::optional<ObjectTruth> object =
             MeasureObjectTruth(identity,
-                               camera,
-                               cam_from_world,
+                               view.camera,
+                               view.cam_from_world,
                                {instanceid.Get("id").uints.data(), w, h},
                                mask == masks.end() ? nullptr : &mask->second,
                                count_unoccluded)) {
       object->transmittance = 1.0;  // no atmosphere
-      truth.objects.push_back(std::move(*object));
+      truth->objects.push_back(std::move(*object));
     }
   }
+}
+
+}  // namespace
+
+RenderedFrame RenderFrame(const Spec& spec, int frame) {
+  const SynthView view = ViewOf(spec, frame);
+  const int w = view.w, h = view.h;
+  const std::vector<Eigen::Vector2d> pattern = SamplePattern(spec.samples_per_axis);
+  const size_t samples_per_pixel = pattern.size();
+  RenderedFrame out = AllocateLayers(w, h, samples_per_pixel);
+  const LayerStorage to(out);
+  const FlatImage& rgb = out.flat["rgb"];
+  const bool planar = spec.depth_kind == DepthKind::kPlanar;
+
+  tbb::parallel_for(0, h, [&](int j) {
+    for (int i = 0; i < w; ++i) {
+      const size_t p = rgb.Index(i, j);
+      Eigen::Vector3d radiance = Eigen::Vector3d::Zero();
+      for (size_t k = 0; k < samples_per_pixel; ++k) {
+        const Eigen::Vector2d at(i + pattern[k].x(), j + pattern[k].y());
+        const Sample s = Shade(view.scene, spec, view.camera, view.world_from_cam, at);
+        radiance += s.radiance;
+        const uint64_t q = out.bundle.FirstSample(i, j) + k;
+        to.bundle_instance[q] = s.hit.instance_id;
+        to.bundle_class[q] = s.hit.class_id;
+        to.bundle_depth[q] = static_cast<float>(planar ? s.planar : s.perspective);
+        for (int c = 0; c < 3; ++c) to.bundle_normal[c][q] = static_cast<float>(s.hit.normal[c]);
+        to.bundle_sx[q] = static_cast<float>(pattern[k].x());
+        to.bundle_sy[q] = static_cast<float>(pattern[k].y());
+        if (k == 0) WriteCentreSample(view, s, at, p, to.bundle_depth[q], to);
+      }
+      radiance /= static_cast<double>(samples_per_pixel);
+      for (int c = 0; c < 3; ++c) to.rgb[c][p] = static_cast<float>(radiance[c]);
+    }
+  });
+
+  // Truth, measured on the rendered layers.
+  Frame& truth = out.truth;
+  truth.index = frame;
+  truth.time = frame * spec.frame_interval;
+  truth.sequence = spec.sequence;
+  truth.shot = 0;  // one continuous flight
+  truth.camera.intrinsics = view.camera;
+  SetCamFromWorld(view.cam_from_world, &truth.camera);
+  MeasureBoxes(spec, view, out.flat["instanceid"], &truth);
   return out;
 }
 

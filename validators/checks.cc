@@ -31,6 +31,8 @@ bool ParseSeverity(const std::string& name, Severity* severity) {
   return true;
 }
 
+// A declarative table: the check registry, one entry per check.
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 const std::vector<CheckInfo>& AllChecks() {
   using S = Severity;
   static const std::vector<CheckInfo> checks = {

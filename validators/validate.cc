@@ -61,6 +61,11 @@ class Validator {
   void ReadMetadata();
   void StreamFrames();
   void CheckFrameStructure(const Frame& frame, size_t position);
+  void CheckFrameOrder(const Frame& frame, const std::string& pointer);
+  void CheckFrameFiles(const Frame& frame, const std::string& pointer);
+  void CheckFrameHandedness(const Frame& frame, const std::string& pointer);
+  void CheckFrameObjects(const Frame& frame, const std::string& pointer);
+  void CheckFrameMetadata(const Frame& frame);
   void FlushBatch();
   void CheckStrayFiles();
   bool OwnsFrame(std::optional<int64_t> index) const;
@@ -293,9 +298,20 @@ void Validator::CheckRigFrame(const Frame& frame, const std::string& pointer) {
              FormatNumber((first.translation - rig_from_world.translation).norm()) + " apart)");
 }
 
+// One frame's entry in collection.json, each aspect a method: its order after the previous
+// frame, its layer files, its camera's handedness, its objects, and its metadata poses.
 void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
   const std::string pointer = "/frames/" + std::to_string(position);
   CheckRigFrame(frame, pointer);
+  CheckFrameOrder(frame, pointer);
+  CheckFrameFiles(frame, pointer);
+  CheckFrameHandedness(frame, pointer);
+  CheckFrameObjects(frame, pointer);
+  CheckFrameMetadata(frame);
+}
+
+// Frame indices strictly increase; time does not go back within a sequence.
+void Validator::CheckFrameOrder(const Frame& frame, const std::string& pointer) {
   if (previous_) {
     if (frame.index == previous_->index) {
       Emit("structure.duplicate-frame",
@@ -314,6 +330,10 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
                std::to_string(previous_->time));
     }
   }
+}
+
+// Every required layer has a file, every file exists, every file's layer is in the table.
+void Validator::CheckFrameFiles(const Frame& frame, const std::string& pointer) {
   for (const LayerInfo& layer : header_.layers) {
     const auto it = frame.files.find(layer.name);
     if (it == frame.files.end()) {
@@ -345,6 +365,10 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
            "layer '" + layer + "' is not in the layer table" + DidYouMean(layer, names));
     }
   }
+}
+
+// The camera's rotation is proper and of the world's handedness.
+void Validator::CheckFrameHandedness(const Frame& frame, const std::string& pointer) {
   const double det = frame.camera.cam_from_world_rotation.determinant();
   const bool right = header_.conventions.world.right_handed();
   if (std::abs(std::abs(det) - 1) > 1e-6 || (det > 0) != right) {
@@ -353,6 +377,10 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
          "rotation determinant is " + std::to_string(det) + " but the world is declared " +
              (right ? "right" : "left") + "-handed (expected " + (right ? "+1" : "-1") + ")");
   }
+}
+
+// Known classes, unique instance ids, visible targets, at least one object.
+void Validator::CheckFrameObjects(const Frame& frame, const std::string& pointer) {
   std::set<uint32_t> instances;
   for (size_t k = 0; k < frame.objects.size(); ++k) {
     const ObjectTruth& object = frame.objects[k];
@@ -385,6 +413,10 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
          Json(kCollectionFile, pointer + "/objects", frame.index),
          "frame has no objects");
   }
+}
+
+// Each metadata file has the frame's pose; its error against the truth is tallied.
+void Validator::CheckFrameMetadata(const Frame& frame) {
   for (MetadataFile& file : metadata_) {
     const MetadataPose* pose = file.poses.Take(frame.index);  // each pose is needed once
     if (pose == nullptr) {

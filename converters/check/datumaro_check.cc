@@ -35,6 +35,8 @@ const std::vector<Rule>& DatumaroRules() {
   return rules;
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-cognitive-complexity)
 void CheckDatumaro(const std::string& /*format*/,
                    const fs::path& dir,
                    const CheckOptions& /*options*/,

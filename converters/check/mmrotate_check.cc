@@ -62,6 +62,8 @@ const std::vector<Rule>& MmrotateRules() {
   return rules;
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 void CheckMmrotate(const std::string& /*format*/,
                    const fs::path& dir,
                    const CheckOptions& options,

@@ -179,6 +179,8 @@ void CheckSegmentation(const json& segmentation,
   }
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 void CheckCocoFile(const fs::path& file, FindingSink* sink) {
   std::string text;
   ReadBytes(file, &text);

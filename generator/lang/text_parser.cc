@@ -55,6 +55,8 @@ class Parser {
 
  private:
   // --- lexer ---
+  // A lexer: one switch over the next character.
+  // NOLINTNEXTLINE(readability-function-cognitive-complexity)
   void Lex() {
     size_t i = 0;
     const size_t n = text_.size();
@@ -230,6 +232,8 @@ class Parser {
   // member  = key (":" | "=") value | key "{" members "}" | key "[" items "]"
   //         | "{" members "}" | "[" items "]"          (keyless: continues the
   //         previous member)
+  // One recursive-descent step: a member list and its errors.
+  // NOLINTNEXTLINE(readability-function-cognitive-complexity)
   OJson Members(const std::string& pointer, char close) {
     OJson object = OJson::object();
     std::string last_key;

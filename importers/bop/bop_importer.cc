@@ -123,6 +123,58 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
   return description;
 }
 
+namespace {
+
+// The depth layer from BOP's 16-bit PNG: depth_scale millimetres per unit; 0 is no surface
+// (the sky, +inf).
+exr::FlatImage ReadBopDepth(const fs::path& depth_path, int width, int height, double depth_scale) {
+  const cv::Mat depth_png = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
+  if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width ||
+      depth_png.rows != height)
+    throw Error(
+        "not a " + std::to_string(width) + "x" + std::to_string(height) + " 16-bit depth PNG",
+        Location(depth_path.string()));
+  exr::FlatImage depth(width, height);
+  std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      const uint16_t v = depth_png.at<uint16_t>(j, i);
+      z[depth.Index(i, j)] = v == 0 ? std::numeric_limits<float>::infinity()
+                                    : static_cast<float>(v * depth_scale / 1000.0);
+    }
+  return depth;
+}
+
+// Object g's visible mask into the id layers; visible masks never overlap.
+void PaintVisibleMask(const fs::path& mask_path,
+                      int64_t index,
+                      size_t g,
+                      const ObjectIdentity& target,
+                      exr::FlatImage* instances,
+                      exr::FlatImage* classes) {
+  const int width = instances->width(), height = instances->height();
+  std::vector<uint32_t>& instance = instances->Get("id").uints;
+  std::vector<uint32_t>& klass = classes->Get("id").uints;
+  const cv::Mat mask = ReadImage(mask_path, cv::IMREAD_GRAYSCALE);
+  if (mask.empty() || mask.cols != width || mask.rows != height)
+    throw Error(
+        "missing, unreadable or not " + std::to_string(width) + "x" + std::to_string(height),
+        Location(mask_path.string()));
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      if (mask.at<uint8_t>(j, i) == 0) continue;
+      const size_t p = instances->Index(i, j);
+      if (instance[p] != 0)
+        throw Error("visible masks of objects " + std::to_string(instance[p] - 1) + " and " +
+                        std::to_string(g) + " overlap",
+                    Location::Pixel(mask_path.string(), index, i, j));
+      instance[p] = target.instance_id;
+      klass[p] = target.class_id;
+    }
+}
+
+}  // namespace
+
 SourceFrame BopImporter::ReadFrame(int64_t index) {
   const int64_t id = image_ids_.at(static_cast<size_t>(index)).first;
   const std::string& key = image_ids_.at(static_cast<size_t>(index)).second;
@@ -159,25 +211,12 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
       root_->File(scene_ / "rgb" / (Stem(id) + ".png")), width_, height_, "the depth images' size");
 
   const fs::path depth_path = root_->File(scene_ / "depth" / (Stem(id) + ".png"));
-  const cv::Mat depth_png = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
-  if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width_ ||
-      depth_png.rows != height_)
-    throw Error(
-        "not a " + std::to_string(width_) + "x" + std::to_string(height_) + " 16-bit depth PNG",
-        Location(depth_path.string()));
-  exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
-  std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
-  for (int j = 0; j < height_; ++j)
-    for (int i = 0; i < width_; ++i) {
-      const uint16_t v = depth_png.at<uint16_t>(j, i);
-      z[depth.Index(i, j)] = v == 0 ? std::numeric_limits<float>::infinity()
-                                    : static_cast<float>(v * depth_scale / 1000.0);
-    }
+  frame.flat["depth"] = ReadBopDepth(depth_path, width_, height_, depth_scale);
 
   exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
   exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
-  std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
-  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
+  instances.AddChannel("id", exr::PixelType::kUint);
+  classes.AddChannel("id", exr::PixelType::kUint);
   const json gts = AtPointer(gt_file_, where, [&] { return gts_.at(key); });
   if (!gts.is_array()) throw Error("expected an array of objects", Location(gt_file_, where));
   for (size_t g = 0; g < gts.size(); ++g) {
@@ -211,22 +250,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
 
     const fs::path mask_path = root_->File(
         scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png"));
-    const cv::Mat mask = ReadImage(mask_path, cv::IMREAD_GRAYSCALE);
-    if (mask.empty() || mask.cols != width_ || mask.rows != height_)
-      throw Error(
-          "missing, unreadable or not " + std::to_string(width_) + "x" + std::to_string(height_),
-          Location(mask_path.string()));
-    for (int j = 0; j < height_; ++j)
-      for (int i = 0; i < width_; ++i) {
-        if (mask.at<uint8_t>(j, i) == 0) continue;
-        const size_t p = instances.Index(i, j);
-        if (instance[p] != 0)
-          throw Error("visible masks of objects " + std::to_string(instance[p] - 1) + " and " +
-                          std::to_string(g) + " overlap",
-                      Location::Pixel(mask_path.string(), index, i, j));
-        instance[p] = target.instance_id;
-        klass[p] = obj_id;
-      }
+    PaintVisibleMask(mask_path, index, g, target, &instances, &classes);
   }
   return frame;
 }

@@ -66,6 +66,8 @@ fs::path ReplicatorImporter::Path(const std::string& stem,
                      (stem + "_" + frame_ids_.at(static_cast<size_t>(index)).second + "." + ext));
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportOptions& options) {
   folder_ = source;
   root_.emplace(source, options.allow_links_outside);
@@ -186,14 +188,17 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
   return description;
 }
 
-SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
-  SourceFrame frame;
-  // BasicWriter writes no timestamps; randomised frames are independent.
-  frame.time = static_cast<double>(index);
-  frame.sequence = folder_.filename().string();
-  frame.shot = index;
+namespace {
 
-  const fs::path camera_path = Path("camera_params", index, "json");
+// The stages of ReplicatorImporter::ReadFrame: the camera (pose and intrinsics), the RGB, the
+// depth from the distance array, the id layers from the instance segmentation, and the
+// targets from the 3D boxes.
+
+// The frame's camera from camera_params: the OpenGL view and projection to an OpenCV camera
+// in ENU metres. Returns the scene's metres per unit.
+double ReadCamera(const fs::path& camera_path,
+                  const Eigen::Matrix3d& enu_from_stage,
+                  CameraTruth* camera_truth) {
   const json params = ParseJsonFile(camera_path);
   const std::string camera_file = camera_path.string();
   Eigen::Matrix<double, 16, 1> view, projection;
@@ -227,14 +232,14 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
   // OpenGL camera (x right, y up, looking down -z) to OpenCV: y, z negated;
   // the stage to ENU and scene units to metres.
   const Eigen::Matrix3d cv_from_gl = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  frame.camera.cam_from_world_rotation = cv_from_gl * r * enu_from_stage_.transpose();
-  frame.camera.cam_from_world_translation =
+  camera_truth->cam_from_world_rotation = cv_from_gl * r * enu_from_stage.transpose();
+  camera_truth->cam_from_world_translation =
       meters_per_unit * (cv_from_gl * gl_cam_from_stage.topRightCorner<3, 1>());
   // The OpenGL projection: x_ndc = P00 x / -z - P02 and u = (x_ndc + 1) W / 2
   // (u from the left edge), y_ndc = P11 y / -z - P12 and v = (1 - y_ndc) H / 2
   // (v from the top edge).
   const Eigen::Matrix4d p = ColumnMatrix(projection);
-  PinholeCamera& camera = frame.camera.intrinsics;
+  PinholeCamera& camera = camera_truth->intrinsics;
   camera.width = width, camera.height = height;
   camera.fx = 0.5 * width * p(0, 0);
   camera.fy = 0.5 * height * p(1, 1);
@@ -242,40 +247,47 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
   camera.cy = 0.5 * height * (1 + p(1, 2));
   if (!(camera.fx > 0 && camera.fy > 0))
     throw Error("not a perspective projection", Location(camera_file, "/cameraProjection"));
+  return meters_per_unit;
+}
 
-  frame.flat["rgb"] =
-      ReadSrgbLayer(Path("rgb", index, "png"), width, height, "renderProductResolution");
+// The depth layer from the distance array (scene units to metres; +inf, the sky, stays).
+exr::FlatImage ReadDistanceDepth(
+    const fs::path& depth_path, int64_t index, int width, int height, double meters_per_unit) {
+  const NpyArray distance = ReadNpy(depth_path);
+  const bool shape_ok =
+      (distance.shape.size() == 2 || (distance.shape.size() == 3 && distance.shape[2] == 1)) &&
+      distance.shape[0] == height && distance.shape[1] == width && distance.fields.size() == 1 &&
+      distance.fields[0].kind == 'f';
+  if (!shape_ok)
+    throw Error("expected a float array of shape (" + std::to_string(height) + ", " +
+                    std::to_string(width) + ")",
+                Location(depth_path.string()));
+  exr::FlatImage depth(width, height);
+  std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
+  const NpyField& field = distance.fields[0];
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      const double d = distance.Get(static_cast<int64_t>(j) * width + i, field);
+      if (d < 0)
+        throw Error("negative distance", Location::Pixel(depth_path.string(), index, i, j));
+      if (std::isnan(d))
+        throw Error("NaN distance", Location::Pixel(depth_path.string(), index, i, j));
+      // +inf where no surface: the sky.
+      z[depth.Index(i, j)] = std::isfinite(d) ? static_cast<float>(d * meters_per_unit)
+                                              : std::numeric_limits<float>::infinity();
+    }
+  return depth;
+}
 
-  if (!depth_stem_.empty()) {
-    const fs::path depth_path = Path(depth_stem_, index, "npy");
-    const NpyArray distance = ReadNpy(depth_path);
-    const bool shape_ok =
-        (distance.shape.size() == 2 || (distance.shape.size() == 3 && distance.shape[2] == 1)) &&
-        distance.shape[0] == height && distance.shape[1] == width && distance.fields.size() == 1 &&
-        distance.fields[0].kind == 'f';
-    if (!shape_ok)
-      throw Error("expected a float array of shape (" + std::to_string(height) + ", " +
-                      std::to_string(width) + ")",
-                  Location(depth_path.string()));
-    exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width, height);
-    std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
-    const NpyField& field = distance.fields[0];
-    for (int j = 0; j < height; ++j)
-      for (int i = 0; i < width; ++i) {
-        const double d = distance.Get(static_cast<int64_t>(j) * width + i, field);
-        if (d < 0)
-          throw Error("negative distance", Location::Pixel(depth_path.string(), index, i, j));
-        if (std::isnan(d))
-          throw Error("NaN distance", Location::Pixel(depth_path.string(), index, i, j));
-        // +inf where no surface: the sky.
-        z[depth.Index(i, j)] = std::isfinite(d) ? static_cast<float>(d * meters_per_unit)
-                                                : std::numeric_limits<float>::infinity();
-      }
-  }
-
-  // Instance segmentation: colour -> prim path -> instance id.
-  const fs::path segmentation_path = Path("instance_segmentation", index, "png");
-  const fs::path mapping_path = Path("instance_segmentation_mapping", index, "json");
+// Instance segmentation: colour -> prim path -> instance id, and the instance's class.
+void ReadInstanceLayers(const fs::path& segmentation_path,
+                        const fs::path& mapping_path,
+                        int64_t index,
+                        const PinholeCamera& camera,
+                        const std::map<std::string, uint32_t>& instance_of_prim,
+                        const std::map<std::string, uint32_t>& class_of_prim,
+                        SourceFrame* frame) {
+  const int width = camera.width, height = camera.height;
   const json mapping = ParseJsonFile(mapping_path);
   std::map<uint32_t, uint32_t> instance_of_colour;
   for (const auto& [key, prim] : mapping.items()) {
@@ -285,15 +297,15 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
                   Location(mapping_path.string(), (json::json_pointer() / key).to_string()));
     const std::string path =
         StringAt(prim, mapping_path.string(), (json::json_pointer() / key).to_string());
-    instance_of_colour[rgba] = IsBackgroundLabel(path) ? 0 : instance_of_prim_.at(path);
+    instance_of_colour[rgba] = IsBackgroundLabel(path) ? 0 : instance_of_prim.at(path);
   }
   const cv::Mat colours = ReadRgbaPng(segmentation_path, width, height);
-  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width, height);
-  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width, height);
+  exr::FlatImage& instances = frame->flat["instanceid"] = exr::FlatImage(width, height);
+  exr::FlatImage& classes = frame->flat["classid"] = exr::FlatImage(width, height);
   std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
   std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
   std::map<uint32_t, uint32_t> class_of_instance;
-  for (const auto& [prim, id] : instance_of_prim_) class_of_instance[id] = class_of_prim_.at(prim);
+  for (const auto& [prim, id] : instance_of_prim) class_of_instance[id] = class_of_prim.at(prim);
   for (int j = 0; j < height; ++j)
     for (int i = 0; i < width; ++i) {
       const uint32_t rgba = PackedRgba(colours.at<cv::Vec4b>(j, i));
@@ -305,43 +317,80 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
       instance[instances.Index(i, j)] = found->second;
       klass[classes.Index(i, j)] = found->second ? class_of_instance.at(found->second) : 0;
     }
+}
 
-  // 3D boxes: local extents and a row-vector local-to-world transform.
+// One row of bounding_box_3d: local extents and a row-vector local-to-world transform, as an
+// OBB in ENU metres.
+OrientedBox BoxOfRow(const NpyArray& boxes,
+                     int64_t row,
+                     const std::string& file,
+                     const Eigen::Matrix3d& enu_from_stage,
+                     double meters_per_unit) {
+  const char* names[6] = {"x_min", "y_min", "z_min", "x_max", "y_max", "z_max"};
+  const NpyField& transform_field = boxes.Field("transform", file);
+  double extent[6];
+  for (int e = 0; e < 6; ++e) extent[e] = boxes.Get(row, boxes.Field(names[e], file));
+  Eigen::Matrix<double, 16, 1> t;
+  for (int e = 0; e < 16; ++e) t[e] = boxes.Get(row, transform_field, e);
+  const Eigen::Matrix4d stage_from_local = ColumnMatrix(t);
+  const Eigen::Matrix3d linear = stage_from_local.topLeftCorner<3, 3>();
+  const Eigen::Vector3d local_min(extent[0], extent[1], extent[2]);
+  const Eigen::Vector3d local_max(extent[3], extent[4], extent[5]);
+  OrientedBox obb;
+  Eigen::Matrix3d axes;
+  for (int a = 0; a < 3; ++a) {
+    const double scale = linear.col(a).norm();
+    if (!(scale > 0) || !(local_max[a] >= local_min[a]))
+      throw Error("degenerate box in row " + std::to_string(row), Location(file));
+    axes.col(a) = linear.col(a) / scale;
+    obb.half_extents[a] = 0.5 * (local_max[a] - local_min[a]) * scale * meters_per_unit;
+  }
+  // float32 records: the axes are orthonormal to 1e-7; make them exactly
+  // a rotation.
+  if (axes.determinant() < 0)
+    throw Error("mirrored box transform in row " + std::to_string(row), Location(file));
+  obb.world_from_box = enu_from_stage * Eigen::Quaterniond(axes).normalized().toRotationMatrix();
+  const Eigen::Vector3d centre_in_stage =
+      linear * (0.5 * (local_min + local_max)) + stage_from_local.topRightCorner<3, 1>();
+  obb.center = meters_per_unit * (enu_from_stage * centre_in_stage);
+  return obb;
+}
+
+}  // namespace
+
+SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
+  SourceFrame frame;
+  // BasicWriter writes no timestamps; randomised frames are independent.
+  frame.time = static_cast<double>(index);
+  frame.sequence = folder_.filename().string();
+  frame.shot = index;
+  const double meters_per_unit =
+      ReadCamera(Path("camera_params", index, "json"), enu_from_stage_, &frame.camera);
+  const int width = frame.camera.intrinsics.width, height = frame.camera.intrinsics.height;
+  frame.flat["rgb"] =
+      ReadSrgbLayer(Path("rgb", index, "png"), width, height, "renderProductResolution");
+  if (!depth_stem_.empty()) {
+    frame.flat["depth"] =
+        ReadDistanceDepth(Path(depth_stem_, index, "npy"), index, width, height, meters_per_unit);
+  }
+  ReadInstanceLayers(Path("instance_segmentation", index, "png"),
+                     Path("instance_segmentation_mapping", index, "json"),
+                     index,
+                     frame.camera.intrinsics,
+                     instance_of_prim_,
+                     class_of_prim_,
+                     &frame);
+
+  // 3D boxes, when written, are the targets.
   const fs::path boxes_path = Path("bounding_box_3d", index, "npy");
   if (fs::exists(boxes_path)) {
     const std::string file = boxes_path.string();
     const NpyArray boxes = ReadNpy(boxes_path);
     const json prim_paths = ParseJsonFile(Path("bounding_box_3d_prim_paths", index, "json"));
-    const char* names[6] = {"x_min", "y_min", "z_min", "x_max", "y_max", "z_max"};
     const NpyField& transform_field = boxes.Field("transform", file);
     if (transform_field.count != 16) throw Error("field 'transform' is not 4x4", Location(file));
     for (int64_t row = 0; row < boxes.size(); ++row) {
-      double extent[6];
-      for (int e = 0; e < 6; ++e) extent[e] = boxes.Get(row, boxes.Field(names[e], file));
-      Eigen::Matrix<double, 16, 1> t;
-      for (int e = 0; e < 16; ++e) t[e] = boxes.Get(row, transform_field, e);
-      const Eigen::Matrix4d stage_from_local = ColumnMatrix(t);
-      const Eigen::Matrix3d linear = stage_from_local.topLeftCorner<3, 3>();
-      const Eigen::Vector3d local_min(extent[0], extent[1], extent[2]);
-      const Eigen::Vector3d local_max(extent[3], extent[4], extent[5]);
-      OrientedBox obb;
-      Eigen::Matrix3d axes;
-      for (int a = 0; a < 3; ++a) {
-        const double scale = linear.col(a).norm();
-        if (!(scale > 0) || !(local_max[a] >= local_min[a]))
-          throw Error("degenerate box in row " + std::to_string(row), Location(file));
-        axes.col(a) = linear.col(a) / scale;
-        obb.half_extents[a] = 0.5 * (local_max[a] - local_min[a]) * scale * meters_per_unit;
-      }
-      // float32 records: the axes are orthonormal to 1e-7; make them exactly
-      // a rotation.
-      if (axes.determinant() < 0)
-        throw Error("mirrored box transform in row " + std::to_string(row), Location(file));
-      obb.world_from_box =
-          enu_from_stage_ * Eigen::Quaterniond(axes).normalized().toRotationMatrix();
-      const Eigen::Vector3d centre_in_stage =
-          linear * (0.5 * (local_min + local_max)) + stage_from_local.topRightCorner<3, 1>();
-      obb.center = meters_per_unit * (enu_from_stage_ * centre_in_stage);
+      const OrientedBox obb = BoxOfRow(boxes, row, file, enu_from_stage_, meters_per_unit);
       const std::string path = StringAt(prim_paths.at(row),
                                         Path("bounding_box_3d_prim_paths", index, "json").string(),
                                         "/" + std::to_string(row));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <regex>
@@ -49,6 +50,8 @@ Eigen::Matrix3d RotationXyzw(const Eigen::Matrix<double, 4, 1>& q,
 
 }  // namespace
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions& options) {
   root_.emplace(source, options.allow_links_outside);
   const fs::path definitions_path = root_->File(source / "annotation_definitions.json");
@@ -155,30 +158,30 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
   return description;
 }
 
-SourceFrame SoloImporter::ReadFrame(int64_t index) {
-  const Step& step = steps_.at(static_cast<size_t>(index));
-  const std::string file = step.file.string();
-  const fs::path folder = step.file.parent_path();
-  const json data = ParseJsonFile(step.file);
-  SourceFrame frame;
-  frame.sequence = "sequence." + std::to_string(step.sequence);
-  frame.shot = shot_of_step_.at(static_cast<size_t>(index));
-  // Milliseconds since the sequence started.
-  frame.time =
-      AtPointer(file, "/timestamp", [&] { return data.at("timestamp").get<double>(); }) / 1000.0;
-  size_t c = 0;
-  const json& captures =
-      AtPointer(file, "/captures", [&]() -> const json& { return data.at("captures"); });
-  while (c < captures.size() && !HasType(captures[c], "RGBCamera")) ++c;
-  if (c == captures.size()) throw Error("no RGBCamera capture", Location(file, "/captures"));
-  const json& capture = captures[c];
-  const std::string at = "/captures/" + std::to_string(c);
+namespace {
+
+// The stages of SoloImporter::ReadFrame: the step's time and RGB capture, the capture's camera
+// (pose and intrinsics), then each annotation of the capture by type: instance segmentation
+// (the id layers), 3D bounding boxes (the targets) and depth.
+
+// The RGB capture's pose in Unity's frame and its image size.
+struct CaptureGeometry {
   Eigen::Vector3d position;
+  Eigen::Matrix3d world_from_unity_cam;
+  int width = 0, height = 0;
+};
+
+// The capture's camera: pose (to ENU and OpenCV's camera axes) and intrinsics.
+CaptureGeometry ReadCaptureCamera(const json& capture,
+                                  const std::string& file,
+                                  const std::string& at,
+                                  CameraTruth* camera_truth) {
+  CaptureGeometry geometry;
   Eigen::Matrix<double, 4, 1> xyzw;
   Eigen::Matrix<double, 9, 1> matrix;
   int width = 0, height = 0;
   AtPointer(file, at + "/position", [&] {
-    position = JsonNumbers<3>(capture.at("position"));
+    geometry.position = JsonNumbers<3>(capture.at("position"));
     return 0;
   });
   AtPointer(file, at + "/rotation", [&] {
@@ -197,18 +200,21 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   });
   if (width < 1 || height < 1)
     throw Error("dimension must be positive", Location(file, at + "/dimension"));
+  geometry.width = width;
+  geometry.height = height;
   const Eigen::Matrix3d enu_from_unity = EnuFromUnity();
-  const Eigen::Matrix3d world_from_unity_cam = RotationXyzw(xyzw, file, at + "/rotation");
+  geometry.world_from_unity_cam = RotationXyzw(xyzw, file, at + "/rotation");
   // The Unity camera's y is up, OpenCV's down; both look down +z.
   const Eigen::Matrix3d unity_cam_from_cv = Eigen::Vector3d(1, -1, 1).asDiagonal();
-  const Eigen::Matrix3d world_from_cam = enu_from_unity * world_from_unity_cam * unity_cam_from_cv;
-  frame.camera.cam_from_world_rotation = world_from_cam.transpose();
-  frame.camera.cam_from_world_translation =
-      -(world_from_cam.transpose() * (enu_from_unity * position));
+  const Eigen::Matrix3d world_from_cam =
+      enu_from_unity * geometry.world_from_unity_cam * unity_cam_from_cv;
+  camera_truth->cam_from_world_rotation = world_from_cam.transpose();
+  camera_truth->cam_from_world_translation =
+      -(world_from_cam.transpose() * (enu_from_unity * geometry.position));
   // Column-major 3x3 of the OpenGL projection: P00 at 0, P11 at 4, P02 at 6,
   // P12 at 7. x_ndc = P00 x / -z - P02 with u = (x_ndc + 1) W / 2 from the left
   // edge; y_ndc = P11 y / -z - P12 with v = (1 - y_ndc) H / 2 from the top.
-  PinholeCamera& camera = frame.camera.intrinsics;
+  PinholeCamera& camera = camera_truth->intrinsics;
   camera.width = width, camera.height = height;
   camera.fx = 0.5 * width * matrix[0];
   camera.fy = 0.5 * height * matrix[4];
@@ -216,17 +222,170 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   camera.cy = 0.5 * height * (1 + matrix[7]);
   if (!(camera.fx > 0 && camera.fy > 0))
     throw Error("not a perspective projection", Location(file, at + "/matrix"));
+  return geometry;
+}
+
+// What an annotation reader needs of the step: its JSON file, frame index, image size and
+// the files its annotations name (confined to the dataset).
+struct StepContext {
+  const std::string& file;
+  int64_t index;
+  int width, height;
+  std::function<fs::path(const json& element, const std::string& where)> named_file;
+};
+
+// The instance and class id layers from the segmentation PNG's colours, which the
+// annotation's instances map to ids.
+void ReadInstanceSegmentation(const json& annotation,
+                              const std::string& where,
+                              const StepContext& step,
+                              const std::vector<uint32_t>& class_ids,
+                              SourceFrame* frame) {
+  const std::string& file = step.file;
+  const int width = step.width, height = step.height;
+  std::map<uint32_t, std::pair<uint32_t, uint32_t>> of_colour;  // rgba
+  const json& instances = AtPointer(
+      file, where + "/instances", [&]() -> const json& { return annotation.at("instances"); });
+  for (size_t n = 0; n < instances.size(); ++n) {
+    const std::string w = where + "/instances/" + std::to_string(n);
+    uint32_t instance = 0, label = 0, rgba = 0;
+    AtPointer(file, w, [&] {
+      instance = IdAt(instances[n].at("instanceId"), file, w + "/instanceId");
+      label = IdAt(instances[n].at("labelId"), file, w + "/labelId");
+      const json& colour = instances[n].at("color");
+      for (int ch = 0; ch < 4; ++ch)
+        rgba = (rgba << 8) |
+               IntegerAt<uint8_t>(colour.at(ch), file, w + "/color/" + std::to_string(ch));
+      return 0;
+    });
+    if (instance == 0 || !std::binary_search(class_ids.begin(), class_ids.end(), label))
+      throw Error(
+          "instanceId must be >= 1 and labelId in "
+          "annotation_definitions.json",
+          Location(file, w));
+    of_colour[rgba] = {instance, label};
+  }
+  const fs::path path = step.named_file(annotation, where);
+  const cv::Mat colours = ReadRgbaPng(path, width, height);
+  exr::FlatImage& ids = frame->flat["instanceid"] = exr::FlatImage(width, height);
+  exr::FlatImage& classes = frame->flat["classid"] = exr::FlatImage(width, height);
+  std::vector<uint32_t>& instance = ids.AddChannel("id", exr::PixelType::kUint).uints;
+  std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      const uint32_t rgba = PackedRgba(colours.at<cv::Vec4b>(j, i));
+      const auto found = of_colour.find(rgba);
+      if (found == of_colour.end()) {
+        // Unlabelled surfaces and the sky are black.
+        if ((rgba >> 8) == 0) continue;
+        throw Error("colour " + RgbaText(rgba) + " is not in " + file + "#" + where + "/instances",
+                    Location::Pixel(path.string(), step.index, i, j));
+      }
+      instance[ids.Index(i, j)] = found->second.first;
+      klass[classes.Index(i, j)] = found->second.second;
+    }
+}
+
+// The targets: each 3D bounding box, from the capture's camera frame to ENU.
+void ReadBoundingBoxes3d(const json& annotation,
+                         const std::string& where,
+                         const std::string& file,
+                         const CaptureGeometry& geometry,
+                         SourceFrame* frame) {
+  const Eigen::Matrix3d enu_from_unity = EnuFromUnity();
+  const json& values =
+      AtPointer(file, where + "/values", [&]() -> const json& { return annotation.at("values"); });
+  for (size_t n = 0; n < values.size(); ++n) {
+    const std::string w = where + "/values/" + std::to_string(n);
+    ObjectIdentity target;
+    Eigen::Vector3d translation, size;
+    Eigen::Matrix<double, 4, 1> q;
+    AtPointer(file, w, [&] {
+      target.instance_id = IdAt(values[n].at("instanceId"), file, w + "/instanceId");
+      target.class_id = IdAt(values[n].at("labelId"), file, w + "/labelId");
+      target.name =
+          values[n].value("labelName", std::string()) + "#" + std::to_string(target.instance_id);
+      translation = JsonNumbers<3>(values[n].at("translation"));
+      size = JsonNumbers<3>(values[n].at("size"));
+      q = JsonNumbers<4>(values[n].at("rotation"));
+      return 0;
+    });
+    if (!(size.minCoeff() >= 0)) throw Error("size must be >= 0", Location(file, w + "/size"));
+    // In the camera's (Unity, left-handed) frame. Its axes, taken to ENU,
+    // are a left-handed triple: negating the box's z keeps the same box.
+    const Eigen::Matrix3d cam_from_box = RotationXyzw(q, file, w + "/rotation");
+    target.obb.center =
+        enu_from_unity * (geometry.world_from_unity_cam * translation + geometry.position);
+    target.obb.half_extents = 0.5 * size;
+    target.obb.world_from_box = enu_from_unity * geometry.world_from_unity_cam * cam_from_box *
+                                Eigen::Vector3d(1, 1, -1).asDiagonal();
+    frame->targets.push_back(target);
+  }
+}
+
+// The depth layer from the annotation's EXR: 0 (nothing rendered) is sky.
+void ReadDepthAnnotation(const json& annotation,
+                         const std::string& where,
+                         const StepContext& step,
+                         SourceFrame* frame) {
+  const int width = step.width, height = step.height;
+  const fs::path path = step.named_file(annotation, where);
+  const exr::FlatImage depth_exr = exr::ReadFlatExr(path, {"R"});
+  if (depth_exr.width() != width || depth_exr.height() != height)
+    throw Error("not " + std::to_string(width) + "x" + std::to_string(height),
+                Location(path.string()));
+  exr::FlatImage& depth = frame->flat["depth"] = exr::FlatImage(width, height);
+  std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
+  const std::vector<float>& r = depth_exr.Get("R").floats;
+  for (size_t p = 0; p < z.size(); ++p) {
+    // NaN is no surface anyone rendered: an error, not sky.
+    if (r[p] < 0 || std::isnan(r[p]))
+      throw Error(
+          std::isnan(r[p]) ? "NaN depth" : "negative depth",
+          Location::Pixel(
+              path.string(), step.index, static_cast<int>(p % width), static_cast<int>(p / width)));
+    // 0 where nothing was rendered (the sky).
+    z[p] = r[p] > 0 && std::isfinite(r[p]) ? r[p] : std::numeric_limits<float>::infinity();
+  }
+}
+
+}  // namespace
+
+SourceFrame SoloImporter::ReadFrame(int64_t index) {
+  const Step& step = steps_.at(static_cast<size_t>(index));
+  const std::string file = step.file.string();
+  const fs::path folder = step.file.parent_path();
+  const json data = ParseJsonFile(step.file);
+  SourceFrame frame;
+  frame.sequence = "sequence." + std::to_string(step.sequence);
+  frame.shot = shot_of_step_.at(static_cast<size_t>(index));
+  // Milliseconds since the sequence started.
+  frame.time =
+      AtPointer(file, "/timestamp", [&] { return data.at("timestamp").get<double>(); }) / 1000.0;
+  size_t c = 0;
+  const json& captures =
+      AtPointer(file, "/captures", [&]() -> const json& { return data.at("captures"); });
+  while (c < captures.size() && !HasType(captures[c], "RGBCamera")) ++c;
+  if (c == captures.size()) throw Error("no RGBCamera capture", Location(file, "/captures"));
+  const json& capture = captures[c];
+  const std::string at = "/captures/" + std::to_string(c);
+  const CaptureGeometry geometry = ReadCaptureCamera(capture, file, at, &frame.camera);
 
   // Names in the capture are relative to the step's folder and confined to
   // the dataset.
-  const auto named_file = [&](const json& element, const std::string& where) {
-    const std::string pointer = where + "/filename";
-    const json& name =
-        AtPointer(file, pointer, [&]() -> const json& { return element.at("filename"); });
-    return root_->Reference(folder, StringAt(name, file, pointer), Location(file, pointer));
-  };
-  frame.flat["rgb"] =
-      ReadSrgbLayer(named_file(capture, at), width, height, "the capture's dimension");
+  const StepContext context{
+      file,
+      index,
+      geometry.width,
+      geometry.height,
+      [&](const json& element, const std::string& where) {
+        const std::string pointer = where + "/filename";
+        const json& name =
+            AtPointer(file, pointer, [&]() -> const json& { return element.at("filename"); });
+        return root_->Reference(folder, StringAt(name, file, pointer), Location(file, pointer));
+      }};
+  frame.flat["rgb"] = ReadSrgbLayer(
+      context.named_file(capture, at), geometry.width, geometry.height, "the capture's dimension");
 
   bool have_instances = false;
   const json annotations = capture.value("annotations", json::array());
@@ -235,95 +394,11 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
     const std::string where = at + "/annotations/" + std::to_string(a);
     if (HasType(annotation, "InstanceSegmentationAnnotation")) {
       have_instances = true;
-      std::map<uint32_t, std::pair<uint32_t, uint32_t>> of_colour;  // rgba
-      const json& instances = AtPointer(
-          file, where + "/instances", [&]() -> const json& { return annotation.at("instances"); });
-      for (size_t n = 0; n < instances.size(); ++n) {
-        const std::string w = where + "/instances/" + std::to_string(n);
-        uint32_t instance = 0, label = 0, rgba = 0;
-        AtPointer(file, w, [&] {
-          instance = IdAt(instances[n].at("instanceId"), file, w + "/instanceId");
-          label = IdAt(instances[n].at("labelId"), file, w + "/labelId");
-          const json& colour = instances[n].at("color");
-          for (int ch = 0; ch < 4; ++ch)
-            rgba = (rgba << 8) |
-                   IntegerAt<uint8_t>(colour.at(ch), file, w + "/color/" + std::to_string(ch));
-          return 0;
-        });
-        if (instance == 0 || !std::binary_search(class_ids_.begin(), class_ids_.end(), label))
-          throw Error(
-              "instanceId must be >= 1 and labelId in "
-              "annotation_definitions.json",
-              Location(file, w));
-        of_colour[rgba] = {instance, label};
-      }
-      const fs::path path = named_file(annotation, where);
-      const cv::Mat colours = ReadRgbaPng(path, width, height);
-      exr::FlatImage& ids = frame.flat["instanceid"] = exr::FlatImage(width, height);
-      exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width, height);
-      std::vector<uint32_t>& instance = ids.AddChannel("id", exr::PixelType::kUint).uints;
-      std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
-      for (int j = 0; j < height; ++j)
-        for (int i = 0; i < width; ++i) {
-          const uint32_t rgba = PackedRgba(colours.at<cv::Vec4b>(j, i));
-          const auto found = of_colour.find(rgba);
-          if (found == of_colour.end()) {
-            // Unlabelled surfaces and the sky are black.
-            if ((rgba >> 8) == 0) continue;
-            throw Error(
-                "colour " + RgbaText(rgba) + " is not in " + file + "#" + where + "/instances",
-                Location::Pixel(path.string(), index, i, j));
-          }
-          instance[ids.Index(i, j)] = found->second.first;
-          klass[classes.Index(i, j)] = found->second.second;
-        }
+      ReadInstanceSegmentation(annotation, where, context, class_ids_, &frame);
     } else if (HasType(annotation, "BoundingBox3DAnnotation")) {
-      const json& values = AtPointer(
-          file, where + "/values", [&]() -> const json& { return annotation.at("values"); });
-      for (size_t n = 0; n < values.size(); ++n) {
-        const std::string w = where + "/values/" + std::to_string(n);
-        ObjectIdentity target;
-        Eigen::Vector3d translation, size;
-        Eigen::Matrix<double, 4, 1> q;
-        AtPointer(file, w, [&] {
-          target.instance_id = IdAt(values[n].at("instanceId"), file, w + "/instanceId");
-          target.class_id = IdAt(values[n].at("labelId"), file, w + "/labelId");
-          target.name = values[n].value("labelName", std::string()) + "#" +
-                        std::to_string(target.instance_id);
-          translation = JsonNumbers<3>(values[n].at("translation"));
-          size = JsonNumbers<3>(values[n].at("size"));
-          q = JsonNumbers<4>(values[n].at("rotation"));
-          return 0;
-        });
-        if (!(size.minCoeff() >= 0)) throw Error("size must be >= 0", Location(file, w + "/size"));
-        // In the camera's (Unity, left-handed) frame. Its axes, taken to ENU,
-        // are a left-handed triple: negating the box's z keeps the same box.
-        const Eigen::Matrix3d cam_from_box = RotationXyzw(q, file, w + "/rotation");
-        target.obb.center = enu_from_unity * (world_from_unity_cam * translation + position);
-        target.obb.half_extents = 0.5 * size;
-        target.obb.world_from_box = enu_from_unity * world_from_unity_cam * cam_from_box *
-                                    Eigen::Vector3d(1, 1, -1).asDiagonal();
-        frame.targets.push_back(target);
-      }
+      ReadBoundingBoxes3d(annotation, where, file, geometry, &frame);
     } else if (HasType(annotation, "DepthAnnotation") && has_depth_) {
-      const fs::path path = named_file(annotation, where);
-      const exr::FlatImage depth_exr = exr::ReadFlatExr(path, {"R"});
-      if (depth_exr.width() != width || depth_exr.height() != height)
-        throw Error("not " + std::to_string(width) + "x" + std::to_string(height),
-                    Location(path.string()));
-      exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width, height);
-      std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
-      const std::vector<float>& r = depth_exr.Get("R").floats;
-      for (size_t p = 0; p < z.size(); ++p) {
-        // NaN is no surface anyone rendered: an error, not sky.
-        if (r[p] < 0 || std::isnan(r[p]))
-          throw Error(
-              std::isnan(r[p]) ? "NaN depth" : "negative depth",
-              Location::Pixel(
-                  path.string(), index, static_cast<int>(p % width), static_cast<int>(p / width)));
-        // 0 where nothing was rendered (the sky).
-        z[p] = r[p] > 0 && std::isfinite(r[p]) ? r[p] : std::numeric_limits<float>::infinity();
-      }
+      ReadDepthAnnotation(annotation, where, context, &frame);
     }
   }
   if (!have_instances)

@@ -471,16 +471,13 @@ void RowPositions(const FrameSampler& sampler,
   }
 }
 
-}  // namespace
+// The stages of ReadBundleExr: read the sampling from the header, choose the stored channels
+// to decode, expand every pixel to spp samples, decode the residual values, then fill each
+// wanted channel (positions from the sampling rule, decoded values, stored channels and the
+// class ids derived from the instance ids).
 
-DeepImage ReadBundleExr(const fs::path& path,
-                        const std::vector<std::string>& channels,
-                        const exr::ReadLimits& limits) {
-  const exr::ExrInfo info = exr::ReadExrInfo(path, limits);
-  const BundleLayout layout = BundleLayoutOf(info);
-  if (layout == BundleLayout::kFull) return exr::ReadDeepExr(path, channels, limits);
-  const bool residual = layout == BundleLayout::kResidual;
-  const Location where(path.string());
+// The sampling rule a compact or residual bundle's header records.
+BundleSampling ReadSampling(const exr::ExrInfo& info, const fs::path& path, bool residual) {
   BundleSampling sampling;
   sampling.sampler.spp = ParseAttribute<int>(info, kSppAttribute, path);
   sampling.sampler.seed = ParseAttribute<uint64_t>(info, kSeedAttribute, path);
@@ -489,26 +486,31 @@ DeepImage ReadBundleExr(const fs::path& path,
   try {
     CheckSamplerSettings(sampling.sampler);
   } catch (const Error& e) {
-    throw Error("bundle header: " + e.message(), where);
+    throw Error("bundle header: " + e.message(), Location(path.string()));
   }
   if (residual) sampling.view = ParseViewAttributes(info, path);
-  const int spp = sampling.sampler.spp;
-  const FrameSampler sampler(sampling.sampler, sampling.frame);
-  const bool class_derived = info.Find("classid") == nullptr;
-  const std::map<uint32_t, uint32_t> class_of =
-      class_derived ? ParseClassTable(info, path) : std::map<uint32_t, uint32_t>{};
+  return sampling;
+}
 
-  std::vector<std::string> wanted = channels;
-  if (wanted.empty()) {
-    for (const exr::ChannelSpec& spec : ReadableChannels(info)) wanted.push_back(spec.name);
-  }
-  std::vector<std::string> stored;
+// The stored channels to read for the wanted ones, and which residual values to decode.
+struct DecodePlan {
+  std::vector<std::string> names;
+  bool decode[4] = {false, false, false, false};
+  bool any_decoded() const { return decode[0] || decode[1] || decode[2] || decode[3]; }
+};
+
+DecodePlan PlanDecode(const exr::ExrInfo& info,
+                      const std::vector<std::string>& wanted,
+                      bool residual,
+                      bool class_derived,
+                      const Location& where) {
+  DecodePlan stored;
   auto need = [&](const std::string& name) {
-    if (std::find(stored.begin(), stored.end(), name) == stored.end()) stored.push_back(name);
+    if (std::find(stored.names.begin(), stored.names.end(), name) == stored.names.end())
+      stored.names.push_back(name);
   };
   // Residual depths and normals: which values to decode (the depth needs the
   // normals).
-  bool decode[4] = {false, false, false, false};
   for (const std::string& name : wanted) {
     const int c = residual ? ResidualIndex(name) : -1;
     if (c >= 0) {
@@ -518,8 +520,8 @@ DeepImage ReadBundleExr(const fs::path& path,
                         kBundleResidualChannels[c] + "' (for " + name + ")",
                     where);
       }
-      decode[c] = true;
-      if (c == 0) decode[1] = decode[2] = decode[3] = true;
+      stored.decode[c] = true;
+      if (c == 0) stored.decode[1] = stored.decode[2] = stored.decode[3] = true;
     } else if (info.Find(name) != nullptr) {
       need(name);
     } else if (name == "classid" && class_derived) {
@@ -529,7 +531,7 @@ DeepImage ReadBundleExr(const fs::path& path,
     }
   }
   for (int c = 0; c < 4; ++c) {
-    if (!decode[c]) continue;
+    if (!stored.decode[c]) continue;
     if (info.Find(kBundleResidualChannels[c]) == nullptr) {
       throw Error(std::string("residual bundle has no channel '") + kBundleResidualChannels[c] +
                       "' (the depth's prediction needs every normal)",
@@ -537,9 +539,17 @@ DeepImage ReadBundleExr(const fs::path& path,
     }
     need(kBundleResidualChannels[c]);
   }
-  const DeepImage packed = exr::ReadDeepExr(path, stored, limits);
+  return stored;
+}
 
-  // Every pixel holds spp samples: stored in full, or (compact) one standing for all.
+// An image of the packed one's size with spp samples per pixel. Every pixel holds spp
+// samples: stored in full, or (compact) one standing for all.
+DeepImage ExpandedImage(const DeepImage& packed,
+                        int spp,
+                        BundleLayout layout,
+                        const exr::ReadLimits& limits,
+                        const Location& where) {
+  const bool residual = layout == BundleLayout::kResidual;
   std::vector<uint32_t> counts(packed.pixel_count());
   uint64_t total = 0;
   for (size_t p = 0; p < counts.size(); ++p) {
@@ -557,49 +567,138 @@ DeepImage ReadBundleExr(const fs::path& path,
   if (total > static_cast<uint64_t>(limits.max_deep_samples)) {
     throw Error(std::to_string(total) + " deep samples exceed the reader's limit", where);
   }
-  DeepImage image(packed.width(), packed.height(), std::move(counts));
+  return DeepImage(packed.width(), packed.height(), std::move(counts));
+}
+
+// Residual values decode into scratch arrays (the normals a depth needs may
+// not be wanted), which then move into the image.
+void DecodeResiduals(const DeepImage& packed,
+                     const DeepImage& image,
+                     const FrameSampler& sampler,
+                     const BundleView& view,
+                     const DecodePlan& stored,
+                     std::vector<float> (&decoded)[4]) {
   const int width = image.width();
-  // Residual values decode into scratch arrays (the normals a depth needs may
-  // not be wanted), then move into the image.
-  std::vector<float> decoded[4];
-  if (decode[0] || decode[1] || decode[2] || decode[3]) {
-    const uint32_t* residual_of[4] = {};
-    float* value_of[4] = {};
-    for (int c = 0; c < 4; ++c) {
-      if (!decode[c]) continue;
-      residual_of[c] = packed.Get(kBundleResidualChannels[c]).uints.data();
-      decoded[c].resize(image.total_samples());
-      value_of[c] = decoded[c].data();
-    }
-    const PlaneDepthPredictor predictor(*sampling.view);
-    tbb::parallel_for(0, image.height(), [&](int y) {
-      const size_t row_samples = static_cast<size_t>(width) * spp;
-      std::vector<Eigen::Vector2d> scratch(spp);
-      std::vector<float> sx(row_samples), sy(row_samples);
-      RowPositions(sampler, y, width, &scratch, sx.data(), sy.data());
-      const uint64_t first = image.FirstSample(0, y);
-      const BundleRow row{y, width, spp, sx.data(), sy.data()};
-      const uint32_t* row_residual[4];
-      float* row_value[4];
-      for (int c = 0; c < 4; ++c) {
-        row_residual[c] = residual_of[c] ? residual_of[c] + first : nullptr;
-        row_value[c] = value_of[c] ? value_of[c] + first : nullptr;
-      }
-      DecodeBundleRow(predictor, row, row_residual, row_value);
-    });
+  const int spp = sampler.spp();
+  const uint32_t* residual_of[4] = {};
+  float* value_of[4] = {};
+  for (int c = 0; c < 4; ++c) {
+    if (!stored.decode[c]) continue;
+    residual_of[c] = packed.Get(kBundleResidualChannels[c]).uints.data();
+    decoded[c].resize(image.total_samples());
+    value_of[c] = decoded[c].data();
   }
+  const PlaneDepthPredictor predictor(view);
+  tbb::parallel_for(0, image.height(), [&](int y) {
+    const size_t row_samples = static_cast<size_t>(width) * spp;
+    std::vector<Eigen::Vector2d> scratch(spp);
+    std::vector<float> sx(row_samples), sy(row_samples);
+    RowPositions(sampler, y, width, &scratch, sx.data(), sy.data());
+    const uint64_t first = image.FirstSample(0, y);
+    const BundleRow row{y, width, spp, sx.data(), sy.data()};
+    const uint32_t* row_residual[4];
+    float* row_value[4];
+    for (int c = 0; c < 4; ++c) {
+      row_residual[c] = residual_of[c] ? residual_of[c] + first : nullptr;
+      row_value[c] = value_of[c] ? value_of[c] + first : nullptr;
+    }
+    DecodeBundleRow(predictor, row, row_residual, row_value);
+  });
+}
+
+// SX or SY: the sample positions, by the sampling rule.
+void AddPositionChannel(const std::string& name, const FrameSampler& sampler, DeepImage* image) {
+  const int width = image->width();
+  const int spp = sampler.spp();
+  DeepChannel& out = image->AddChannel(name, PixelType::kFloat);
+  const bool is_x = name == "SX";
+  tbb::parallel_for(0, image->height(), [&](int y) {
+    std::vector<Eigen::Vector2d> scratch(spp);
+    std::vector<float> px(spp), py(spp);
+    for (int x = 0; x < width; ++x) {
+      PositionsOf(sampler, x, y, scratch.data(), px.data(), py.data());
+      std::copy_n(is_x ? px.data() : py.data(), spp, &out.floats[image->FirstSample(x, y)]);
+    }
+  });
+}
+
+// A stored channel spread to spp samples per pixel, or (`class_of` given) the class ids of
+// the stored instance ids.
+void AddStoredChannel(const std::string& name,
+                      const DeepImage& packed,
+                      int spp,
+                      const std::map<uint32_t, uint32_t>* class_of,
+                      const Location& where,
+                      DeepImage* image) {
+  const bool derive_class = class_of != nullptr;
+  const DeepChannel& from = packed.Get(derive_class ? "instanceid" : name);
+  DeepChannel& out = image->AddChannel(name, derive_class ? PixelType::kUint : from.type);
+  std::atomic<bool> unknown{false};
+  tbb::parallel_for(size_t{0}, image->pixel_count(), [&](size_t p) {
+    const uint64_t a = packed.offsets()[p], b = image->offsets()[p];
+    const uint32_t n = packed.sample_counts()[p];
+    for (int k = 0; k < spp; ++k) {
+      const uint64_t s = a + (n == 1 ? 0 : k);
+      if (derive_class) {
+        const auto it = class_of->find(from.uints[s]);
+        if (it == class_of->end()) {
+          unknown = true;
+          return;
+        }
+        out.uints[b + k] = it->second;
+      } else if (from.type == PixelType::kUint) {
+        out.uints[b + k] = from.uints[s];
+      } else {
+        out.floats[b + k] = from.floats[s];
+      }
+    }
+  });
+  if (!unknown) return;
+  size_t p = 0;  // the first such pixel, for the message
+  while (class_of->count(from.uints[packed.offsets()[p]]) != 0 &&
+         (packed.sample_counts()[p] == 1 ||
+          std::all_of(&from.uints[packed.offsets()[p]],
+                      &from.uints[packed.offsets()[p + 1]],
+                      [&](uint32_t id) { return class_of->count(id) != 0; }))) {
+    ++p;
+  }
+  const int width = image->width();
+  throw Error("pixel (" + std::to_string(p % width) + ", " + std::to_string(p / width) +
+                  ") holds an instance id missing from the header's '" + kClassTableAttribute +
+                  "' table",
+              where);
+}
+
+}  // namespace
+
+DeepImage ReadBundleExr(const fs::path& path,
+                        const std::vector<std::string>& channels,
+                        const exr::ReadLimits& limits) {
+  const exr::ExrInfo info = exr::ReadExrInfo(path, limits);
+  const BundleLayout layout = BundleLayoutOf(info);
+  if (layout == BundleLayout::kFull) return exr::ReadDeepExr(path, channels, limits);
+  const bool residual = layout == BundleLayout::kResidual;
+  const Location where(path.string());
+  const BundleSampling sampling = ReadSampling(info, path, residual);
+  const int spp = sampling.sampler.spp;
+  const FrameSampler sampler(sampling.sampler, sampling.frame);
+  const bool class_derived = info.Find("classid") == nullptr;
+  const std::map<uint32_t, uint32_t> class_of =
+      class_derived ? ParseClassTable(info, path) : std::map<uint32_t, uint32_t>{};
+
+  std::vector<std::string> wanted = channels;
+  if (wanted.empty()) {
+    for (const exr::ChannelSpec& spec : ReadableChannels(info)) wanted.push_back(spec.name);
+  }
+  const DecodePlan stored = PlanDecode(info, wanted, residual, class_derived, where);
+  const DeepImage packed = exr::ReadDeepExr(path, stored.names, limits);
+  DeepImage image = ExpandedImage(packed, spp, layout, limits, where);
+  std::vector<float> decoded[4];
+  if (stored.any_decoded())
+    DecodeResiduals(packed, image, sampler, *sampling.view, stored, decoded);
   for (const std::string& name : wanted) {
     if (name == "SX" || name == "SY") {
-      DeepChannel& out = image.AddChannel(name, PixelType::kFloat);
-      const bool is_x = name == "SX";
-      tbb::parallel_for(0, image.height(), [&](int y) {
-        std::vector<Eigen::Vector2d> scratch(spp);
-        std::vector<float> px(spp), py(spp);
-        for (int x = 0; x < width; ++x) {
-          PositionsOf(sampler, x, y, scratch.data(), px.data(), py.data());
-          std::copy_n(is_x ? px.data() : py.data(), spp, &out.floats[image.FirstSample(x, y)]);
-        }
-      });
+      AddPositionChannel(name, sampler, &image);
       continue;
     }
     const int c = residual ? ResidualIndex(name) : -1;
@@ -608,42 +707,7 @@ DeepImage ReadBundleExr(const fs::path& path,
       continue;
     }
     const bool derive_class = name == "classid" && class_derived;
-    const DeepChannel& from = packed.Get(derive_class ? "instanceid" : name);
-    DeepChannel& out = image.AddChannel(name, derive_class ? PixelType::kUint : from.type);
-    std::atomic<bool> unknown{false};
-    tbb::parallel_for(size_t{0}, image.pixel_count(), [&](size_t p) {
-      const uint64_t a = packed.offsets()[p], b = image.offsets()[p];
-      const uint32_t n = packed.sample_counts()[p];
-      for (int k = 0; k < spp; ++k) {
-        const uint64_t s = a + (n == 1 ? 0 : k);
-        if (derive_class) {
-          const auto it = class_of.find(from.uints[s]);
-          if (it == class_of.end()) {
-            unknown = true;
-            return;
-          }
-          out.uints[b + k] = it->second;
-        } else if (from.type == PixelType::kUint) {
-          out.uints[b + k] = from.uints[s];
-        } else {
-          out.floats[b + k] = from.floats[s];
-        }
-      }
-    });
-    if (unknown) {
-      size_t p = 0;  // the first such pixel, for the message
-      while (class_of.count(from.uints[packed.offsets()[p]]) != 0 &&
-             (packed.sample_counts()[p] == 1 ||
-              std::all_of(&from.uints[packed.offsets()[p]],
-                          &from.uints[packed.offsets()[p + 1]],
-                          [&](uint32_t id) { return class_of.count(id) != 0; }))) {
-        ++p;
-      }
-      throw Error("pixel (" + std::to_string(p % width) + ", " + std::to_string(p / width) +
-                      ") holds an instance id missing from the header's '" + kClassTableAttribute +
-                      "' table",
-                  where);
-    }
+    AddStoredChannel(name, packed, spp, derive_class ? &class_of : nullptr, where, &image);
   }
   return image;
 }

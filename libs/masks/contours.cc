@@ -21,6 +21,8 @@ const int kDy[4] = {0, 1, 0, -1};
 // left, into the other pixel, so that an 8-connected piece is one loop (it
 // passes that corner twice, which rasterizers count twice and so cancel).
 // Only corners are kept as vertices.
+// One edge-walking loop over the mask (a tracer state machine).
+// NOLINTNEXTLINE(readability-function-cognitive-complexity)
 std::vector<std::vector<cv::Point>> TraceEdgeLoops(const cv::Mat& filled) {
   auto at = [&](int x, int y) {
     return x >= 0 && y >= 0 && x < filled.cols && y < filled.rows && filled.at<uint8_t>(y, x) != 0;

@@ -61,6 +61,8 @@ class PyParser {
     if (at_ < text_.size() && text_[at_] == c) return ++at_, true;
     return false;
   }
+  // One recursive-descent step of the .npy header parser (a Python literal).
+  // NOLINTNEXTLINE(readability-function-cognitive-complexity)
   PyValue Value(int depth) {
     Skip();
     if (at_ >= text_.size()) Fail("unexpected end");
@@ -179,6 +181,8 @@ double NpyArray::Get(int64_t record, const NpyField& field, int64_t element) con
   }
 }
 
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 NpyArray ReadNpy(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (!std::filesystem::exists(path)) throw Error("missing file", Location(file));

@@ -267,6 +267,8 @@ class CaptureEvaluator {
     }
   }
 
+  // Over the bound until the evaluators are split (docs/architecture.md, "Long functions").
+  // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
   void ReadCamera() {
     camera_model_ = PinholeCamera::FromHorizontalFov(1024, 1024, 60);
     if (!camera_) return;
@@ -476,6 +478,8 @@ class CaptureEvaluator {
     return axes;
   }
 
+  // Over the bound until the evaluators are split (docs/architecture.md, "Long functions").
+  // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
   void BuildTimeline() {
     std::vector<const Definition*> collections;
     for (const Definition& d : cap_.definitions)
@@ -796,6 +800,8 @@ class CaptureEvaluator {
     }
   }
 
+  // Over the bound until the evaluators are split (docs/architecture.md, "Long functions").
+  // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
   ObjectChange Change(const Rule& rule, const PlannedObject& o, Rng& rng) {
     ObjectChange c;
     c.object = o.name;
@@ -851,6 +857,8 @@ class CaptureEvaluator {
     return SampleVec3(n, rng);
   }
 
+  // Over the bound until the evaluators are split (docs/architecture.md, "Long functions").
+  // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
   Rigid3d Pose(const Definition& path,
                int64_t i,
                Rng& rng,
@@ -1250,6 +1258,8 @@ class CaptureEvaluator {
   // against the objects as they are on this frame (their changes so far);
   // its overlap policy holds: after `retries` overlapping draws it is hidden
   // on this frame (on_overlap delete or hide) or the plan fails (move).
+  // Over the bound until the evaluators are split (docs/architecture.md, "Long functions").
+  // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
   void Rescatter(const Rule& rule,
                  const PlannedObject& o,
                  const PlannedFrame& f,
@@ -1443,6 +1453,8 @@ class CaptureEvaluator {
     return carried;
   }
 
+  // Over the bound until the evaluators are split (docs/architecture.md, "Long functions").
+  // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
   void KeepPlacement(const std::vector<const Rule*>& change_rules, PlannedFrame* f) const {
     std::map<std::string, State> states;
     for (const PlannedObject& o : plan_->objects)
@@ -1530,6 +1542,8 @@ class CaptureEvaluator {
 
 }  // namespace
 
+// Over the bound until the evaluators are split (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 TargetLabels ReadTargets(const Program& capture, const Program& scene) {
   TargetLabels labels;
   for (const Definition& d : capture.definitions) {

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -190,20 +191,25 @@ bool CheckedFileBuf::WriteAll(const char* data, size_t n) {
   if (error_ != 0) return false;
   std::atomic<int64_t>& budget = FaultBudget();
   while (n > 0) {
+    // With the test hook on, each chunk reserves its bytes from the budget
+    // first, so that writers on several threads never spend more than it
+    // holds (the budget stays >= 0; -1 means no hook).
     size_t chunk = n;
-    bool inject = false;
-    if (budget.load() >= 0) {
-      const int64_t left = budget.load();
-      if (static_cast<int64_t>(chunk) > left) {
-        chunk = static_cast<size_t>(left);
-        inject = true;
+    bool hooked = false;
+    int64_t left = budget.load();
+    while (left >= 0) {
+      chunk = static_cast<size_t>(std::min<int64_t>(left, static_cast<int64_t>(n)));
+      if (budget.compare_exchange_weak(left, left - static_cast<int64_t>(chunk))) {
+        hooked = true;
+        break;
       }
     }
-    if (chunk == 0 && inject) {
+    if (hooked && chunk == 0) {
       error_ = ENOSPC;
       return false;
     }
     const ssize_t written = ::write(fd_, data, chunk);
+    if (hooked) budget += static_cast<int64_t>(chunk) - std::max<ssize_t>(written, 0);
     if (written < 0) {
       if (errno == EINTR) continue;
       error_ = errno;
@@ -213,7 +219,6 @@ bool CheckedFileBuf::WriteAll(const char* data, size_t n) {
       error_ = EIO;
       return false;
     }
-    if (budget.load() >= 0) budget -= written;
     data += written;
     n -= static_cast<size_t>(written);
   }

@@ -15,6 +15,8 @@
 
 namespace lsds {
 
+// The flag declarations, one statement per flag (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 int RunBackproject(int argc, char** argv) {
   CLI::App app(
       "Back-project depth layers into point clouds (PCD or PLY): one per frame "

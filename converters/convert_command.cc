@@ -15,6 +15,8 @@
 
 namespace lsds {
 
+// The flag declarations, one statement per flag (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 int RunConvert(int argc, char** argv) {
   CLI::App app(
       "Convert a collection's truth into YOLO, DOTA, COCO, CVAT, MOT or VisDrone files "

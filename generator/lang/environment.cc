@@ -139,6 +139,8 @@ std::vector<std::string> EnvironmentKeys(const std::string& kind, bool in_change
   return KindVocabulary(kind).Spellings(in_change);
 }
 
+// One branch per environment kind (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedEnvironment* env) {
   if (kind == "skybox") {
     if (const Node n = b.Find("color")) env->sky.color = Color(n, rng);

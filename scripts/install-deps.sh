@@ -23,7 +23,7 @@ packages=(
   python3                           # bad-input corpus scripts (tests/validate, tests/hostile)
   python3-numpy                     # export-layers test: numpy.load reads the .npy files
   python3-scipy                     # convert tracking test: TrackEval's Hungarian matching (linear_sum_assignment)
-  clang libclang-rt-14-dev          # libFuzzer targets and their smoke tests (docs/reliability.md)
+  clang libclang-rt-14-dev          # the sanitizer build and its fuzz targets (make test-asan)
   clang-tidy                        # make tidy (.clang-tidy)
   clang-format                      # make format-check in CI (.clang-format)
   chromium                          # lsds report end-to-end test: headless screenshot of the page

@@ -35,7 +35,7 @@ else
     esac
   done
 fi
-# Only files the build compiles (the libFuzzer harnesses are built by clang builds alone).
+# Only files the build compiles (the libFuzzer harnesses are built by the sanitizer build alone).
 mapfile -t files < <(printf '%s\n' "${files[@]}" | sort -u | python3 -c '
 import json, os, sys
 known = {os.path.relpath(e["file"]) for e in json.load(open(sys.argv[1]))}

@@ -35,7 +35,14 @@ constexpr uint64_t kGiB = uint64_t{1} << 30;
 // Under AddressSanitizer (make test-asan) the shadow of a large reservation is resident, an eighth
 // of it, whether or not the buffer is touched: the resident-memory bounds are checked by the
 // release suite only.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__)  // gcc
+#define LSDS_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)  // clang (the sanitizer preset)
+#define LSDS_UNDER_ASAN 1
+#endif
+#endif
+#if defined(LSDS_UNDER_ASAN)
 constexpr bool kResidentMemoryMeasured = false;
 #else
 constexpr bool kResidentMemoryMeasured = true;

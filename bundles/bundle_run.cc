@@ -299,15 +299,8 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   const CollectionHeader& header = reader.header();
   const LayerInfo& bundle_layer = FindBundleLayer(header, collection_file);
   const int64_t count = static_cast<int64_t>(reader.frames_in_file());
-  const int64_t first = options.positions.begin;
-  const int64_t end = std::min(options.positions.end, count);
-  if (first >= count) {
-    throw Error("--frames: the collection has " + std::to_string(count) +
-                    " frames (positions 0 to " + std::to_string(count - 1) + ")",
-                Location(collection_file));
-  }
   CheckOutputFiles(root, options);
-  const bool all_frames = first == 0 && end == count;
+  const bool all_frames = options.frames.all();
   DerivedLayersPlan layers = PlanDerivedLayers(root, options, header, collection_file, all_frames);
   std::optional<CollectionWriter> writer;
   if (!options.write_layers.empty()) writer.emplace(root, layers.new_header);
@@ -321,15 +314,19 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   const size_t batch_size =
       options.batch > 0 ? options.batch
                         : static_cast<size_t>(std::max(1, tbb::info::default_concurrency()));
-  Progress progress("bundles", end - first);
+  // Indices are unique (docs/format.md): a range holds at most end - begin frames.
+  const int64_t at_most = options.frames.end - std::max<int64_t>(0, options.frames.begin);
+  Progress progress("bundles", std::min(count, at_most));
   BatchRunner runner(reader, options, bundle_layer, &layers, &writer, &spool, &progress, &result);
   std::vector<Task> batch;
   batch.reserve(batch_size);
-  int64_t position = 0;
+  bool first_analysed = true;
+  int64_t index_end = 0;  // one past the collection's last frame index
   reader.ForEachFrame([&](const Frame& frame) {
-    const bool analyse = position >= first && position < end;
-    const bool picture = analyse && position == first && !options.mixed_map.empty();
-    ++position;
+    index_end = std::max(index_end, frame.index + 1);
+    const bool analyse = options.frames.Contains(frame.index);
+    const bool picture = analyse && first_analysed && !options.mixed_map.empty();
+    if (analyse) first_analysed = false;
     if (!analyse && !writer) return;
     batch.push_back({frame, analyse, picture, std::nullopt});
     if (batch.size() == batch_size) runner.Flush(&batch);
@@ -341,7 +338,11 @@ RunResult RunBundles(const fs::path& root, const RunOptions& options) {
   for (auto& folder : layers.folders) folder->Commit();
   if (writer) writer->Commit();
 
-  if (spool) WriteStatsFile(root, options, header, bundle_layer, first, end, result, &*spool);
+  if (spool) {
+    const int64_t first = options.frames.begin;
+    const int64_t end = options.frames.bounded() ? options.frames.end : index_end;
+    WriteStatsFile(root, options, header, bundle_layer, first, end, result, &*spool);
+  }
   return result;
 }
 

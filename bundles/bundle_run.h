@@ -17,10 +17,8 @@ struct RunOptions {
   StatsOptions stats;
   std::filesystem::path output;           // statistics JSON; empty: none
   std::vector<std::string> write_layers;  // DerivedLayerNames()
-  // Positions in collection.json's frame list (not frame indices: the command
-  // maps --frames onto them).
-  FrameRange positions;
-  bool force = false;               // replace the output and earlier derived layers
+  FrameRange frames;   // the frame indices analysed (--frames); the others keep their layers
+  bool force = false;  // replace the output and earlier derived layers
   std::filesystem::path mixed_map;  // PNG of the first analysed frame; empty: none
   size_t batch = 0;                 // frames decoded at once; 0: the TBB concurrency
 };

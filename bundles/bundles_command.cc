@@ -42,18 +42,7 @@ int RunBundles(int argc, char** argv) {
   return RunCommand(app, common, argc, argv, [&] {
     if (!layers.empty()) options.write_layers = bundle::ParseDerivedLayerList(layers);
     options.force = common.force;
-    if (!common.frames.empty()) {
-      // The library walks positions in the frame list; --frames names indices
-      // (increasing, docs/format.md), so map one onto the other.
-      const FrameSelection selection = ParseFrameSelection(common.frames);
-      const std::vector<int64_t> indices = CollectionFrameIndices(collection);
-      CheckFrameSelection(selection, indices, "the collection " + collection);
-      options.positions.begin =
-          std::lower_bound(indices.begin(), indices.end(), selection.begin) - indices.begin();
-      if (selection.bounded())
-        options.positions.end =
-            std::lower_bound(indices.begin(), indices.end(), selection.end) - indices.begin();
-    }
+    options.frames = SelectCollectionFrames(common.frames, collection);
     options.output = output;
     options.mixed_map = mixed_map;
     const bundle::RunResult result = bundle::RunBundles(collection, options);

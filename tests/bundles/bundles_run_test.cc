@@ -226,7 +226,7 @@ TEST(BundlesRun, FrameRangeWritesOptionalLayers) {
   synth::WriteCollection(root, SmallSpec());
   RunOptions options;
   options.write_layers = {"edge"};
-  options.positions = FrameRange{1, 3};
+  options.frames = FrameRange{1, 3};
   const RunResult result = RunBundles(root, options);
   EXPECT_EQ(result.frames_analyzed, 2);
   const CollectionReader reader(root);

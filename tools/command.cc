@@ -25,6 +25,9 @@ const std::vector<Command>& Commands() {
        "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection",
        RunGenerate},
       {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
+      {"language",
+       "the LSCENE/LCAP vocabulary: kinds, keys, spellings, types, units, ranges (--json)",
+       RunLanguage},
       {"info", "summarize a collection: frames, layers, classes, cameras, size", RunInfo},
       {"validate",
        "check a collection: schemas, structure, layers, cross-layer truth, "

@@ -20,10 +20,19 @@ std::string ExecutableDir() {
   return ec ? std::string() : exe.parent_path().string();
 }
 
+// The loader's last message. glibc keeps dlerror()'s state per thread, so this is safe to call
+// from any thread.
+std::string LastDlError() {
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): per-thread state in glibc
+  const char* why = dlerror();
+  return why != nullptr ? why : "no reason given";
+}
+
 }  // namespace
 
 std::vector<std::string> PluginSearchDirs() {
   std::vector<std::string> dirs;
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
   if (const char* env = std::getenv("LSDS_PLUGIN_DIR"); env != nullptr && *env != '\0')
     dirs.emplace_back(env);
   if (const std::string exe_dir = ExecutableDir(); !exe_dir.empty())
@@ -44,16 +53,10 @@ void* LoadPluginSymbol(const std::string& file_name, const std::string& symbol) 
     // A plug-in that is present but does not open (missing dependency, wrong architecture,
     // missing symbol) is reported rather than skipped: a later folder's copy would hide it.
     void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (handle == nullptr) {
-      const char* why = dlerror();
-      throw Error("cannot load the plug-in " + path + ": " + (why ? why : "unknown error"));
-    }
-    dlerror();
+    if (handle == nullptr) throw Error("cannot load the plug-in " + path + ": " + LastDlError());
     void* address = dlsym(handle, symbol.c_str());
     if (address == nullptr) {
-      const char* why = dlerror();
-      throw Error("the plug-in " + path + " does not export " + symbol + ": " +
-                  (why ? why : "null symbol"));
+      throw Error("the plug-in " + path + " does not export " + symbol + ": " + LastDlError());
     }
     return address;
   }

@@ -38,6 +38,17 @@ std::string FileBytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// LSDS_PLUGIN_DIR set for the life of the object. The tests of this binary run on one thread.
+class ScopedPluginDir {
+ public:
+  explicit ScopedPluginDir(const std::string& dir) {
+    setenv("LSDS_PLUGIN_DIR", dir.c_str(), 1);  // NOLINT(concurrency-mt-unsafe): one thread
+  }
+  ~ScopedPluginDir() { unsetenv("LSDS_PLUGIN_DIR"); }  // NOLINT(concurrency-mt-unsafe)
+  ScopedPluginDir(const ScopedPluginDir&) = delete;
+  ScopedPluginDir& operator=(const ScopedPluginDir&) = delete;
+};
+
 bool SameMat(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0;
 }
@@ -97,9 +108,11 @@ TEST(ImageCodecs, OpenCvExceptionsCrossThePlugIn) {
 }
 
 TEST(Plugin, SearchOrderIsEnvironmentThenBesideTheBinaryThenTheBuildTree) {
-  ASSERT_EQ(setenv("LSDS_PLUGIN_DIR", "/nonexistent/plugins", 1), 0);
-  const std::vector<std::string> dirs = PluginSearchDirs();
-  unsetenv("LSDS_PLUGIN_DIR");
+  std::vector<std::string> dirs;
+  {
+    const ScopedPluginDir plugin_dir("/nonexistent/plugins");
+    dirs = PluginSearchDirs();
+  }
   ASSERT_EQ(dirs.size(), 3u);
   EXPECT_EQ(dirs[0], "/nonexistent/plugins");
   // This test binary lives in <build>/tests/libs: beside it is <build>/tests/lib/lsds.
@@ -125,13 +138,11 @@ TEST(Plugin, ABrokenPlugInIsReportedWithTheLoadersReason) {
   testing::TempDir dir;
   const std::string path = (dir / imaging::kImageCodecsPlugin).string();
   std::ofstream(path) << "not a shared library\n";
-  ASSERT_EQ(setenv("LSDS_PLUGIN_DIR", dir.path().c_str(), 1), 0);
+  const ScopedPluginDir plugin_dir(dir.path().string());
   try {
     LoadPluginSymbol(imaging::kImageCodecsPlugin, imaging::kImageCodecsEntry);
-    unsetenv("LSDS_PLUGIN_DIR");
     FAIL() << "no error";
   } catch (const Error& e) {
-    unsetenv("LSDS_PLUGIN_DIR");
     const std::string message = e.what();
     EXPECT_NE(message.find("cannot load the plug-in " + path), std::string::npos) << message;
     // dlerror()'s reason for a file that is not ELF.

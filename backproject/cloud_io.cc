@@ -1,23 +1,22 @@
-// The only PCL includes of lsds (PCL is heavy to compile; keep it here).
+// Point cloud files: the point layout here, PCL's writers and readers in the plug-in
+// lsds_cloud_io.so (cloud_io_plugin.cc), opened on first use so that only `lsds backproject`
+// loads PCL's io library and VTK.
 #include "backproject/cloud_io.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cstring>
 
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/console/print.h>
-#include <pcl/io/pcd_io.h>
-#include <pcl/io/ply_io.h>
-
+#include "backproject/cloud_io_abi.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/plugin.h"
 
 namespace lsds::pointcloud {
 
 namespace {
 
-using Field = pcl::PCLPointField;
+using Field = CloudField;
 
 struct FieldSpec {
   const char* name;
@@ -28,30 +27,30 @@ struct FieldSpec {
 // `ids_type`: UINT32 for PCD (pcl::PointXYZRGBL's label), INT32 for PLY
 // ("int"): Open3D's tensor PLY reader keeps only uchar, uint16, int, float and
 // double properties and silently drops "uint" ones. Same bits either way.
-std::vector<FieldSpec> FieldsFor(const Attributes& a, uint8_t ids_type = Field::UINT32) {
-  std::vector<FieldSpec> fields = {{"x", Field::FLOAT32, offsetof(CloudPoint, x)},
-                                   {"y", Field::FLOAT32, offsetof(CloudPoint, y)},
-                                   {"z", Field::FLOAT32, offsetof(CloudPoint, z)}};
+std::vector<FieldSpec> FieldsFor(const Attributes& a, uint8_t ids_type = kCloudUint32) {
+  std::vector<FieldSpec> fields = {{"x", kCloudFloat32, offsetof(CloudPoint, x)},
+                                   {"y", kCloudFloat32, offsetof(CloudPoint, y)},
+                                   {"z", kCloudFloat32, offsetof(CloudPoint, z)}};
   // PCL stores colour as a FLOAT32 field holding the packed bits
   // (pcl::PointXYZRGB::rgb).
-  if (a.rgb) fields.push_back({"rgb", Field::FLOAT32, offsetof(CloudPoint, rgb)});
+  if (a.rgb) fields.push_back({"rgb", kCloudFloat32, offsetof(CloudPoint, rgb)});
   if (a.labels) {
     fields.push_back({"label", ids_type, offsetof(CloudPoint, label)});
     fields.push_back({"instance", ids_type, offsetof(CloudPoint, instance)});
   }
   if (a.normals) {
-    fields.push_back({"normal_x", Field::FLOAT32, offsetof(CloudPoint, normal_x)});
-    fields.push_back({"normal_y", Field::FLOAT32, offsetof(CloudPoint, normal_y)});
-    fields.push_back({"normal_z", Field::FLOAT32, offsetof(CloudPoint, normal_z)});
+    fields.push_back({"normal_x", kCloudFloat32, offsetof(CloudPoint, normal_x)});
+    fields.push_back({"normal_y", kCloudFloat32, offsetof(CloudPoint, normal_y)});
+    fields.push_back({"normal_z", kCloudFloat32, offsetof(CloudPoint, normal_z)});
   }
   return fields;
 }
 
-pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud, CloudFormat format, PlyIds ply_ids) {
+PackedCloud Pack(const PointCloud& cloud, CloudFormat format, PlyIds ply_ids) {
   const bool signed_ids = format == CloudFormat::kPly && ply_ids == PlyIds::kInt;
   const std::vector<FieldSpec> specs =
-      FieldsFor(cloud.attributes, signed_ids ? Field::INT32 : Field::UINT32);
-  pcl::PCLPointCloud2 out;
+      FieldsFor(cloud.attributes, signed_ids ? kCloudInt32 : kCloudUint32);
+  PackedCloud out;
   uint32_t offset = 0;
   for (const FieldSpec& spec : specs) {
     Field field;
@@ -65,9 +64,7 @@ pcl::PCLPointCloud2 ToPcl(const PointCloud& cloud, CloudFormat format, PlyIds pl
   out.point_step = offset;
   out.width = static_cast<uint32_t>(cloud.points.size());
   out.height = 1;
-  out.row_step = out.point_step * out.width;
-  out.is_dense = true;
-  out.data.resize(static_cast<size_t>(out.row_step));
+  out.data.resize(static_cast<size_t>(out.point_step) * out.width);
   uint8_t* dst = out.data.data();
   for (const CloudPoint& p : cloud.points) {
     const auto* src = reinterpret_cast<const uint8_t*>(&p);
@@ -84,14 +81,22 @@ std::string Lower(std::string s) {
   return s;
 }
 
-// PCL prints its own errors to stderr; ours name the file instead.
-struct QuietPcl {
-  QuietPcl() : previous(pcl::console::getVerbosityLevel()) {
-    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  }
-  ~QuietPcl() { pcl::console::setVerbosityLevel(previous); }
-  pcl::console::VERBOSITY_LEVEL previous;
-};
+// The plug-in's table, opened once per process on first use (thread-safe static
+// initialisation). A failure is not cached: the next call retries and throws the same error.
+const CloudIoTable& CloudIo() {
+  static const CloudIoTable* const table = [] {
+    using Entry = const CloudIoTable* (*)();
+    const auto entry = reinterpret_cast<Entry>(LoadPluginSymbol(kCloudIoPlugin, kCloudIoEntry));
+    const CloudIoTable* loaded = entry();
+    if (loaded == nullptr || loaded->abi_version != kCloudIoAbiVersion) {
+      throw Error(std::string("the plug-in ") + kCloudIoPlugin + " has ABI version " +
+                  (loaded ? std::to_string(loaded->abi_version) : "none") + ", lsds needs " +
+                  std::to_string(kCloudIoAbiVersion) + ": reinstall lsds");
+    }
+    return loaded;
+  }();
+  return *table;
+}
 
 }  // namespace
 
@@ -123,30 +128,13 @@ void WriteCloud(const std::filesystem::path& path,
                 const PointCloud& cloud,
                 CloudFormat format,
                 PlyIds ply_ids) {
-  const pcl::PCLPointCloud2 pcl_cloud = ToPcl(cloud, format, ply_ids);
+  const CloudIoTable& io = CloudIo();
+  const PackedCloud packed = Pack(cloud, format, ply_ids);
   // PCL writes by file name and ignores write errors: it writes into memory
   // and the bytes reach `path` through the checked atomic path.
   WriteFileAtomicVia(path, [&](const std::filesystem::path& scratch) {
-    int status = -1;
     std::string detail;
-    {
-      QuietPcl quiet;
-      try {
-        if (format == CloudFormat::kPcd) {
-          pcl::PCDWriter writer;
-          status = writer.writeBinary(scratch.string(), pcl_cloud);
-        } else {
-          pcl::PLYWriter writer;
-          status = writer.writeBinary(scratch.string(),
-                                      pcl_cloud,
-                                      Eigen::Vector4f::Zero(),
-                                      Eigen::Quaternionf::Identity(),
-                                      /*use_camera=*/false);
-        }
-      } catch (const std::exception& e) {
-        detail = e.what();
-      }
-    }
+    const int status = io.write(scratch.string(), format == CloudFormat::kPly, packed, detail);
     if (status != 0) {
       throw Error("cannot write point cloud" + (detail.empty() ? std::string() : ": " + detail),
                   Location(path.string()));
@@ -156,17 +144,8 @@ void WriteCloud(const std::filesystem::path& path,
 
 PointCloud ReadCloud(const std::filesystem::path& path) {
   const CloudFormat format = FormatFromPath(path);
-  pcl::PCLPointCloud2 in;
-  int status = -1;
-  {
-    QuietPcl quiet;
-    try {
-      status = format == CloudFormat::kPcd ? pcl::io::loadPCDFile(path.string(), in)
-                                           : pcl::io::loadPLYFile(path.string(), in);
-    } catch (const std::exception&) {
-      status = -1;
-    }
-  }
+  PackedCloud in;
+  const int status = CloudIo().read(path.string(), format == CloudFormat::kPly, in);
   if (status < 0) throw Error("cannot read point cloud", Location(path.string()));
   auto find = [&in](const char* name) -> const Field* {
     for (const Field& f : in.fields)

@@ -1,5 +1,7 @@
-// Point cloud files, written and read with PCL. PCL stays inside cloud_io.cc:
-// this header is PCL-free.
+// Point cloud files, written and read with PCL. PCL stays inside the plug-in lsds_cloud_io.so
+// (cloud_io_plugin.cc), opened on first use: this header and this library are PCL-free. When the
+// plug-in cannot be found or opened, WriteCloud and ReadCloud throw lsds::Error naming the paths
+// tried (libs/util/plugin.h).
 #pragma once
 
 #include <filesystem>

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 
@@ -52,7 +52,8 @@ void WriteMixedMapPng(const std::filesystem::path& path,
   std::vector<uint8_t> bgr = MixedMapBgr(maps, width, height);
   const cv::Mat image(height, width, CV_8UC3, bgr.data());
   std::vector<uchar> png;
-  if (!cv::imencode(".png", image, png)) throw Error("cannot encode PNG", Location(path.string()));
+  if (!imaging::ImEncode(".png", image, png))
+    throw Error("cannot encode PNG", Location(path.string()));
   WriteFileAtomic(path, std::string(png.begin(), png.end()));
 }
 

@@ -12,12 +12,12 @@
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "export_layers/png16_encoding.h"
 #include "libs/collection/collection_guard.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/npy.h"
@@ -199,7 +199,7 @@ class FrameWriter {
       const cv::Mat mat = options_.target == Target::kTiff
                               ? TiffMat(image, *data[c], plan, counts)
                               : Png16Mat(image, *data[c], plan, source, frame.index, counts);
-      if (!cv::imwrite(path.string(), mat))
+      if (!imaging::ImWrite(path.string(), mat))
         throw Error("OpenCV could not write the file", Location(path.string()));
       bytes += FileSize(path);
     }

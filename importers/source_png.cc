@@ -3,8 +3,7 @@
 #include <cstring>
 #include <fstream>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
 #include "libs/util/limits.h"
@@ -112,7 +111,7 @@ cv::Mat ReadImage(const std::filesystem::path& path, int flags) {
   if (const std::optional<PngHeader> header = ReadPngHeader(path))
     CheckPngSize(path, *header, DecodedBytesPerPixel(*header, flags));
   try {
-    return cv::imread(path.string(), flags);
+    return imaging::ImRead(path.string(), flags);
   } catch (const cv::Exception& e) {
     throw Error("cannot decode the image: " + e.msg, Location(path.string()));
   }

@@ -2,8 +2,7 @@
 
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/error.h"
 
 namespace lsds::report {
@@ -41,7 +40,7 @@ std::string ImageDataUri(const cv::Mat& bgr, bool jpeg, int jpeg_quality) {
   std::vector<uchar> encoded;
   const std::vector<int> params = jpeg ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, jpeg_quality}
                                        : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 6};
-  if (!cv::imencode(jpeg ? ".jpg" : ".png", bgr, encoded, params)) {
+  if (!imaging::ImEncode(jpeg ? ".jpg" : ".png", bgr, encoded, params)) {
     throw Error("report: cannot encode an image");
   }
   return std::string(jpeg ? "data:image/jpeg;base64," : "data:image/png;base64,") +

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <system_error>
 
-#include <opencv2/imgcodecs.hpp>
+#include "libs/imaging/image_codecs.h"
 
 namespace lsds::check {
 
@@ -123,7 +123,7 @@ std::string LowerExtension(const std::filesystem::path& path) {
 bool DecodeImageSize(const std::filesystem::path& path, int* width, int* height) {
   // The header alone would not find a truncated file; the consumers decode
   // the whole image (PIL's verify, OpenCV's imread), so this does too.
-  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat image = imaging::ImRead(path.string(), cv::IMREAD_UNCHANGED);
   if (image.empty()) return false;
   *width = image.cols;
   *height = image.rows;

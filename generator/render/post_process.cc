@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/counter_rng.h"
 #include "libs/util/strings.h"
 
@@ -160,8 +160,8 @@ void JpegCompression(cv::Mat* image) {
                                           static_cast<uint8_t>(std::lround(255 * encode(v[0]))));
     }
   std::vector<uint8_t> bytes;
-  cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, 75});
-  const cv::Mat decoded = cv::imdecode(bytes, cv::IMREAD_COLOR);
+  imaging::ImEncode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, 75});
+  const cv::Mat decoded = imaging::ImDecode(bytes, cv::IMREAD_COLOR);
   for (int y = 0; y < image->rows; ++y)
     for (int x = 0; x < image->cols; ++x) {
       cv::Vec3f& v = image->at<cv::Vec3f>(y, x);

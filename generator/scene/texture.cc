@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/error.h"
 #include "libs/util/srgb.h"
 
@@ -64,7 +63,7 @@ Eigen::Vector3f ImageTexture::Sample(const Eigen::Vector2f& uv) const {
 
 std::shared_ptr<const ImageTexture> LoadImageTexture(const std::string& path,
                                                      const std::string& where) {
-  const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
+  const cv::Mat image = imaging::ImRead(path, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
   if (image.empty()) throw Error(where + ": cannot read the texture image '" + path + "'");
   return FromMat(image, where + ": texture '" + path + "'");
 }
@@ -73,7 +72,7 @@ std::shared_ptr<const ImageTexture> DecodeImageTexture(const unsigned char* byte
                                                        size_t size,
                                                        const std::string& where) {
   const cv::Mat buffer(1, static_cast<int>(size), CV_8U, const_cast<unsigned char*>(bytes));
-  const cv::Mat image = cv::imdecode(buffer, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
+  const cv::Mat image = imaging::ImDecode(buffer, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
   if (image.empty()) throw Error(where + ": cannot decode the embedded texture image");
   return FromMat(image, where + ": embedded texture");
 }

@@ -7,12 +7,12 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "importers/pfm.h"
 #include "importers/source_json.h"
 #include "importers/source_png.h"
 #include "libs/geometry/world_frame.h"
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/error.h"
 #include "libs/util/json_errors.h"
 #include "libs/util/srgb.h"

@@ -5,10 +5,9 @@
 #include <cstdio>
 #include <limits>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "importers/source_json.h"
 #include "importers/source_png.h"
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/error.h"
 #include "libs/util/output_guard.h"
 

@@ -6,11 +6,10 @@
 #include <limits>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "importers/indexed_png.h"
 #include "importers/source_json.h"
 #include "importers/source_png.h"
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/error.h"
 
 namespace lsds::import {

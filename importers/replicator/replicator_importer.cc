@@ -6,7 +6,7 @@
 #include <regex>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
 #include "importers/source_json.h"
 #include "importers/source_png.h"

@@ -8,7 +8,7 @@
 #include <regex>
 #include <tuple>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
 #include "importers/source_json.h"
 #include "importers/source_png.h"

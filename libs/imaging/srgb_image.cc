@@ -3,8 +3,7 @@
 #include <array>
 #include <cmath>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "libs/imaging/image_codecs.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/srgb.h"
@@ -73,7 +72,7 @@ void WriteImage(const std::filesystem::path& path,
   bool ok = false;
   std::vector<uchar> encoded;
   try {
-    ok = cv::imencode(ext.empty() ? std::string(".png") : ext, bgr, encoded, params);
+    ok = imaging::ImEncode(ext.empty() ? std::string(".png") : ext, bgr, encoded, params);
   } catch (const cv::Exception& e) {
     throw Error(std::string("cannot write image: ") + e.what(), Location(path.string()));
   }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "backproject/cloud_io.h"
+#include "backproject/cloud_io_abi.h"
 #include "tests/backproject/test_util.h"
 
 namespace lsds::pointcloud {
@@ -125,6 +126,27 @@ TEST_F(BackprojectCli, AnErrorMidwayLeavesNothingBehind) {
                         (dir / "out" / "f.ply").string(),
                     &log),
             2);
+  EXPECT_EQ(ListDir(dir / "out"), "");
+}
+
+// PCL is a plug-in (cloud_io_abi.h): one that does not load stops the command with exit code 2,
+// the plug-in's path and the loader's reason, and nothing written.
+TEST_F(BackprojectCli, ABrokenCloudPlugInIsAnErrorNotACrash) {
+  ScratchDir dir("cli_plugin");
+  fs::create_directory(dir / "plugins");
+  std::ofstream((dir / "plugins" / kCloudIoPlugin).string()) << "not a shared library\n";
+  fs::create_directory(dir / "out");
+  std::string log;
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): the tests of this binary run on one thread
+  setenv("LSDS_PLUGIN_DIR", (dir / "plugins").c_str(), 1);
+  const int code = RunLsds(
+      "backproject " + Collection().string() + " --fuse -o " + (dir / "out" / "f.ply").string(),
+      &log);
+  unsetenv("LSDS_PLUGIN_DIR");  // NOLINT(concurrency-mt-unsafe)
+  EXPECT_EQ(code, 2) << log;
+  EXPECT_NE(log.find("cannot load the plug-in " + (dir / "plugins" / kCloudIoPlugin).string()),
+            std::string::npos)
+      << log;
   EXPECT_EQ(ListDir(dir / "out"), "");
 }
 

@@ -1,0 +1,67 @@
+#include "libs/util/plugin.h"
+
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <system_error>
+
+#include "libs/util/error.h"
+#include "libs/util/plugin_build_dir.h"
+
+namespace lsds {
+
+namespace {
+
+// The folder of the running executable (not of the working directory), from /proc/self/exe.
+std::string ExecutableDir() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string() : exe.parent_path().string();
+}
+
+// The loader's last message. glibc keeps dlerror()'s state per thread, so this is safe to call
+// from any thread.
+std::string LastDlError() {
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): per-thread state in glibc
+  const char* why = dlerror();
+  return why != nullptr ? why : "no reason given";
+}
+
+}  // namespace
+
+std::vector<std::string> PluginSearchDirs() {
+  std::vector<std::string> dirs;
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): lsds never sets the environment
+  if (const char* env = std::getenv("LSDS_PLUGIN_DIR"); env != nullptr && *env != '\0')
+    dirs.emplace_back(env);
+  if (const std::string exe_dir = ExecutableDir(); !exe_dir.empty())
+    dirs.push_back((std::filesystem::path(exe_dir) / ".." / "lib" / "lsds").lexically_normal());
+  dirs.emplace_back(PluginBuildDir());
+  return dirs;
+}
+
+void* LoadPluginSymbol(const std::string& file_name, const std::string& symbol) {
+  std::string tried;
+  for (const std::string& dir : PluginSearchDirs()) {
+    const std::string path = (std::filesystem::path(dir) / file_name).string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+      tried += "\n  " + path + ": not found";
+      continue;
+    }
+    // A plug-in that is present but does not open (missing dependency, wrong architecture,
+    // missing symbol) is reported rather than skipped: a later folder's copy would hide it.
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (handle == nullptr) throw Error("cannot load the plug-in " + path + ": " + LastDlError());
+    void* address = dlsym(handle, symbol.c_str());
+    if (address == nullptr) {
+      throw Error("the plug-in " + path + " does not export " + symbol + ": " + LastDlError());
+    }
+    return address;
+  }
+  throw Error("cannot find the plug-in " + file_name +
+              " (set LSDS_PLUGIN_DIR to the folder that holds it); tried:" + tried);
+}
+
+}  // namespace lsds

@@ -1,0 +1,29 @@
+#!/usr/bin/env python3
+"""The lsds binary links none of the libraries that only plug-ins may load (docs/architecture.md,
+"Plug-ins"): OpenCV's imgcodecs (GDAL and ~140 libraries) and PCL's io (VTK). A product library
+that links one again would make every command load them at start-up; this names it.
+
+Usage: linked_libraries.py LSDS_BINARY
+"""
+import re
+import subprocess
+import sys
+
+# Only the plug-ins lsds_image_codecs.so and lsds_cloud_io.so may load these.
+PLUGIN_ONLY = re.compile(r"libopencv_imgcodecs|libgdal|libpcl_io|libvtk")
+
+
+def main():
+    binary = sys.argv[1]
+    listing = subprocess.run(["ldd", binary], capture_output=True, text=True, check=True).stdout
+    found = sorted({line.split()[0] for line in listing.splitlines() if PLUGIN_ONLY.search(line)})
+    count = len(listing.splitlines())
+    if found:
+        print(f"{binary} links libraries that only plug-ins may load: {', '.join(found)}")
+        return 1
+    print(f"{binary}: {count} shared libraries, none of them plug-in-only")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

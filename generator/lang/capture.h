@@ -1,5 +1,8 @@
 // LCAP: camera, paths, collections and scene changes, expanded into the frames
-// of a plan.
+// of a plan. The evaluator composes the units of generator/lang/capture/: the
+// camera setup, its paths, the timeline, the scene change rules, the class
+// swaps, the placement kept across changes, the clearance check and the
+// quota redraws.
 #pragma once
 
 #include "generator/lang/requirements.h"
@@ -7,10 +10,6 @@
 #include "generator/plan/plan.h"
 
 namespace lsds {
-
-// The targets named by the capture's camera ("targets:[O1:5]"), checked against
-// the scene.
-TargetLabels ReadTargets(const Program& capture, const Program& scene);
 
 // Checks the whole capture (keys, references, values), then fills plan->frames
 // for the global frame indices [begin, end) (end < 0: all), plan->post_process

@@ -1,6 +1,7 @@
 #include "generator/lang/planner.h"
 
 #include "generator/lang/capture.h"
+#include "generator/lang/capture/targets.h"
 #include "generator/lang/scene.h"
 #include "libs/collection/schema.h"
 

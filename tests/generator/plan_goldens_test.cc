@@ -1,8 +1,8 @@
 // Every example scene and capture plans to the
-// same bytes, or is refused with the same message, as recorded in plan_goldens.txt: a digest of `lsds plan`'s JSON per (scene, capture,
-// seed). A change meant to keep plans (a refactor of the evaluators) must leave every digest; a
-// change meant to alter them (a defect fix) updates the file with LSDS_UPDATE_GOLDEN=1 and shows
-// in its diff which inputs it touched.
+// same bytes, or is refused with the same message, as recorded in plan_goldens.txt: a digest of
+// `lsds plan`'s JSON per (scene, capture, seed). A change meant to keep plans (a refactor of the
+// evaluators) must leave every digest; a change meant to alter them (a defect fix) updates the file
+// with LSDS_UPDATE_GOLDEN=1 and shows in its diff which inputs it touched.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -78,7 +78,8 @@ TEST(PlanGoldens, EveryExamplePlansToItsRecordedBytes) {
   for (const Input& in : kInputs) digests[Key(in)] = PlanDigest(in);
   if (std::getenv("LSDS_UPDATE_GOLDEN") != nullptr) {
     std::ofstream out(path);
-    out << "# scene capture seed -> FNV-1a of the plan JSON (tests/generator/plan_goldens_test.cc)\n";
+    out << "# scene capture seed -> FNV-1a of the plan JSON "
+           "(tests/generator/plan_goldens_test.cc)\n";
     for (const auto& [key, digest] : digests) out << key << " " << digest << "\n";
     GTEST_SKIP() << "rewrote " << path;
   }

@@ -10,8 +10,8 @@
 #include <string>
 
 #include "generator/lang/planner.h"
-#include "generator/plan/plan_json.h"
 #include "generator/lang/source.h"
+#include "generator/plan/plan_json.h"
 #include "libs/util/error.h"
 
 namespace lsds::testing {
@@ -32,8 +32,7 @@ inline void RecordPlan(const std::string& scene,
   };
   mix(scene);
   mix(capture);
-  mix(std::to_string(seed) + ":" + std::to_string(frames.begin) + ":" +
-      std::to_string(frames.end));
+  mix(std::to_string(seed) + ":" + std::to_string(frames.begin) + ":" + std::to_string(frames.end));
   char name[32];
   std::snprintf(name, sizeof name, "%016llx.txt", static_cast<unsigned long long>(h));
   std::ofstream(std::string(dir) + "/" + name) << outcome;

@@ -1,0 +1,267 @@
+#include "generator/lang/capture/camera_paths.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "generator/lang/capture/quota_draws.h"
+#include "generator/lang/distributions.h"
+#include "generator/lang/vocabulary.h"
+#include "generator/plan/terrain_height.h"
+#include "libs/geometry/attitude.h"
+#include "libs/util/strings.h"
+
+namespace lsds {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A path's scalar that sets a frame quantity (a random pose's altitude above the terrain or
+// off-nadir angle), drawn within the frame's bin when a quota asks for importance sampling of it.
+double SampleWithinBin(const Node& n,
+                       const std::string& quantity,
+                       const FrameDemand* demand,
+                       Rng& rng) {
+  if (const auto bin = DemandedBin(demand, quantity))
+    if (const auto v = SampleScalarWithin(n, bin->first, bin->second, rng)) return *v;
+  return SampleScalar(n, rng);
+}
+
+}  // namespace
+
+std::string PathKind(const std::string& key) {
+  const std::string k = CanonicalKey(key);
+  return k == "incrementpoint" ? "incrementpoints" : k;
+}
+
+std::array<std::vector<double>, 3> GridAxes(const Node& g) {
+  std::array<std::vector<double>, 3> axes;
+  if (g.Find("x") || g.Find("y")) {
+    if (!g.Find("x") || !g.Find("y") || !g.Find("altitude"))
+      g.Fail("a grid needs x, y and altitude ranges [start, stop, count]");
+    axes[0] = ExpandRange(g.Find("x"));
+    axes[1] = ExpandRange(g.Find("y"));
+    axes[2] = ExpandRange(g.Find("altitude"));
+    return axes;
+  }
+  const Node start = g.Find("start"), step = g.Find("step"), count = g.Find("count");
+  if (!start || !step || !count)
+    g.Fail("increment points need start [x,y,z], step [dx,dy,dz] and count [nx,ny,nz]");
+  Rng dummy(0);
+  const Eigen::Vector3d s = SampleVec3(start, dummy), d = SampleVec3(step, dummy),
+                        n = SampleVec3(count, dummy);
+  for (int i = 0; i < 3; ++i) {
+    if (n[i] < 1 || n[i] > 100000 || n[i] != std::floor(n[i]))
+      count.Fail("counts must be whole numbers >= 1");
+    for (int j = 0; j < static_cast<int>(n[i]); ++j) axes[i].push_back(s[i] + j * d[i]);
+  }
+  return axes;
+}
+
+int64_t CameraPaths::FrameCount(const Definition& path, uint64_t segment) {
+  Rng count_rng = Rng::For(seed_, StreamTag::kCount, segment);
+  const auto [kind, g] = path.body.Members().front();
+  const std::string k = PathKind(kind);
+  if (k == "createhemi" || k == "hemi") {
+    lsds::CheckKeys(g, KindVocabulary("create_hemi"), "create hemi");
+    for (const char* key : {"camradius", "objangle", "camangle"})
+      if (!g.Find(key))
+        g.Fail("create hemi needs cam_radius, obj_angle and cam_angle ([start, stop, count])");
+    return static_cast<int64_t>(ExpandRange(g.Find("camradius")).size() *
+                                ExpandRange(g.Find("objangle")).size() *
+                                ExpandRange(g.Find("camangle")).size());
+  }
+  if (k == "grid" || k == "incrementpoints") {
+    lsds::CheckKeys(g, KindVocabulary("grid"), "grid");
+    const auto axes = GridAxes(g);
+    return static_cast<int64_t>(axes[0].size() * axes[1].size() * axes[2].size());
+  }
+  if (k == "random" || k == "randomposes") {
+    lsds::CheckKeys(g, KindVocabulary("random"), "random poses");
+    if (!g.Find("count")) g.Fail("random poses need a count");
+    return SampleCount(g.Find("count"), count_rng);
+  }
+  if (k == "waypoints") {
+    if (g->is_object()) return FlightOf(g, segment).frame_count;
+    if (!g->is_array() || g->empty()) g.Fail("waypoints are a non-empty list");
+    return static_cast<int64_t>(g->size());
+  }
+  lsds::CheckKeys(g, KindVocabulary("create_point"), "create point");
+  if (!g.Find("position")) g.Fail("create point needs a position");
+  if (const Node c = g.Find("count")) return SampleCount(c, count_rng);
+  return 1;
+}
+
+// A smooth flight (docs/languages.md, "Smooth flights"): `waypoints:{points: [...], speed: m/s,
+// interpolation: linear | spline}` is flown at `speed`, one frame every speed / fps metres along
+// the polyline or a Catmull-Rom spline through the waypoints; the attitude is interpolated (slerp)
+// between the waypoints' attitudes. Waypoint intervals are drawn once per path instance.
+const Flight& CameraPaths::FlightOf(const Node& g, uint64_t segment) {
+  const auto cached = flights_.find(segment);
+  if (cached != flights_.end()) return cached->second;
+  Rng rng = Rng::For(seed_, StreamTag::kFlight, segment);
+  Flight flight;
+  const bool spline = ReadFlightSettings(g, setup_.fps, rng, &flight);
+  const Node points = g.Find("points");
+  std::vector<Rigid3d> poses;
+  for (size_t j = 0; j < points->size(); ++j) poses.push_back(WaypointPose(points.Item(j), rng));
+  flight.Build(poses, spline);
+  const double frames = std::floor(flight.length / flight.spacing + 1e-9) + 1;
+  if (frames > 1e6)
+    g.Fail("the flight has " + FormatNumber(frames) + " frames; lower the fps or raise the speed");
+  flight.frame_count = static_cast<int64_t>(frames);
+  return flights_.emplace(segment, std::move(flight)).first->second;
+}
+
+Rigid3d CameraPaths::Pose(const Definition& path,
+                          int64_t i,
+                          Rng& rng,
+                          uint64_t segment,
+                          std::optional<Eigen::Vector3d>* velocity,
+                          const FrameDemand* demand) {
+  const auto [kind, g] = path.body.Members().front();
+  const std::string k = PathKind(kind);
+  if (k == "createhemi" || k == "hemi") return HemiPose(g, i, rng);
+  if (k == "grid" || k == "incrementpoints") return GridPose(g, i, rng);
+  if (k == "random" || k == "randomposes") return RandomPose(g, rng, demand);
+  if (k == "waypoints" && g->is_object()) {
+    const Flight& flight = FlightOf(g, segment);
+    const FlightSample at = flight.At(static_cast<double>(i) * flight.spacing);
+    if (velocity) *velocity = at.velocity;
+    return at.cam_from_world;
+  }
+  if (k == "waypoints") return WaypointPose(g.Item(static_cast<size_t>(i)), rng);
+  return PointPose(g, rng);
+}
+
+// Radius, then elevation, then azimuth vary slowest to fastest; the camera looks at the centre
+// (the `center` key, else the camera's first target, else the origin).
+Rigid3d CameraPaths::HemiPose(const Node& g, int64_t i, Rng& rng) const {
+  const auto radii = ExpandRange(g.Find("camradius")), az = ExpandRange(g.Find("objangle")),
+             el = ExpandRange(g.Find("camangle"));
+  const size_t a = static_cast<size_t>(i) % az.size();
+  const size_t e = (static_cast<size_t>(i) / az.size()) % el.size();
+  const size_t r = static_cast<size_t>(i) / (az.size() * el.size());
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  const Node c = FindKey(g, KindVocabulary("create_hemi"), "center");
+  if (c)
+    center = Point(c, rng);
+  else if (!first_target_.empty())
+    center = ObjectCenter(setup_.camera->body, first_target_);
+  const Eigen::Vector3d eye =
+      center + radii[r] * Eigen::Vector3d(std::cos(el[e] * kDeg) * std::cos(az[a] * kDeg),
+                                          std::cos(el[e] * kDeg) * std::sin(az[a] * kDeg),
+                                          std::sin(el[e] * kDeg));
+  return LookAt(eye, center);
+}
+
+Rigid3d CameraPaths::GridPose(const Node& g, int64_t i, Rng& rng) const {
+  const auto axes = GridAxes(g);
+  const size_t nx = axes[0].size(), ny = axes[1].size();
+  const size_t z = static_cast<size_t>(i) / (nx * ny);
+  const size_t y = (static_cast<size_t>(i) / nx) % ny;
+  size_t x = static_cast<size_t>(i) % nx;
+  if (y % 2 == 1) x = nx - 1 - x;  // serpentine (lawnmower) order
+  Eigen::Vector3d p(axes[0][x], axes[1][y], axes[2][z]);
+  if (const Node n = g.Find("perturb")) {
+    const Eigen::Vector3d amp = SampleVec3(n, rng);
+    for (int j = 0; j < 3; ++j) p[j] += rng.Uniform(-amp[j], amp[j]);
+  }
+  p.z() += TerrainHeight(plan_.terrain, p.x(), p.y());
+  Attitude att{0, -90, 0};
+  if (const Node n = g.Find("roll")) att.roll_deg = SampleScalar(n, rng);
+  if (const Node n = g.Find("pitch")) att.pitch_deg = SampleScalar(n, rng);
+  if (const Node n = g.Find("yaw")) att.yaw_deg = SampleScalar(n, rng);
+  return CamFromEnu(p, att);
+}
+
+Rigid3d CameraPaths::RandomPose(const Node& g, Rng& rng, const FrameDemand* demand) const {
+  const Eigen::Vector2d half =
+      plan_.terrain.present ? Eigen::Vector2d(0.5 * plan_.terrain.size) : Eigen::Vector2d(50, 50);
+  Eigen::Vector3d p(rng.Uniform(-half.x(), half.x()), rng.Uniform(-half.y(), half.y()), 50);
+  if (const Node n = g.Find("x")) p.x() = SampleScalar(n, rng);
+  if (const Node n = g.Find("y")) p.y() = SampleScalar(n, rng);
+  if (const Node n = g.Find("altitude")) p.z() = SampleWithinBin(n, "altitude", demand, rng);
+  p.z() += TerrainHeight(plan_.terrain, p.x(), p.y());
+  double off_nadir = 0, yaw = rng.Uniform(0, 360);
+  if (const Node n = g.Find("offnadir")) off_nadir = SampleWithinBin(n, "off_nadir", demand, rng);
+  if (const Node n = g.Find("yaw")) yaw = SampleScalar(n, rng);
+  if (const Node n = g.Find("offnadir"))
+    CheckRange(n, KindVocabulary("random").Key("off_nadir"), off_nadir);
+  return CamFromEnu(p, Attitude{0, -90 + off_nadir, yaw});
+}
+
+int64_t CameraPaths::ShotStart(const Definition& path, int64_t first, int64_t i) const {
+  const auto [kind, g] = path.body.Members().front();
+  const std::string k = PathKind(kind);
+  if (k == "waypoints") return first;
+  if (k == "grid" || k == "incrementpoints") {
+    const auto axes = GridAxes(g);
+    const int64_t level = static_cast<int64_t>(axes[0].size() * axes[1].size());
+    return first + (i / level) * level;
+  }
+  return first + i;
+}
+
+Eigen::Vector3d CameraPaths::RigCameraVelocity(const Definition& path,
+                                               uint64_t segment,
+                                               int64_t i,
+                                               const Rigid3d& cam_from_rig) {
+  const auto [kind, g] = path.body.Members().front();
+  const Flight& flight = FlightOf(g, segment);
+  const double s = static_cast<double>(i) * flight.spacing;
+  const double h = std::min(0.01, 0.5 * flight.length);
+  const double lo = std::max(0.0, s - h), hi = std::min(flight.length, s + h);
+  if (!(hi > lo)) return Eigen::Vector3d::Zero();
+  auto centre = [&](double at) {
+    return CameraCenterInWorld(cam_from_rig * flight.At(at).cam_from_world);
+  };
+  return (centre(hi) - centre(lo)) * (flight.speed / (hi - lo));
+}
+
+// One waypoint: [x,y,z] (nadir), [x,y,z,roll,pitch,yaw] or {position, attitude | look_at}.
+Rigid3d CameraPaths::WaypointPose(const Node& w, Rng& rng) const {
+  if (w->is_array()) {
+    if (w->size() != 3 && w->size() != 6)
+      w.Fail("a waypoint is [x,y,z] (nadir) or [x,y,z,roll,pitch,yaw]");
+    std::vector<double> v;
+    for (size_t j = 0; j < w->size(); ++j) v.push_back(SampleScalar(w.Item(j), rng));
+    const Attitude att = v.size() == 6 ? Attitude{v[3], v[4], v[5]} : Attitude{0, -90, 0};
+    return CamFromEnu(Datum({v[0], v[1], v[2]}), att);
+  }
+  lsds::CheckKeys(w, KindVocabulary("waypoint"), "waypoint");
+  return PointPose(w, rng);
+}
+
+// A waypoint or point position in the world frame: with camera settings `heights:agl`, its z is
+// above the terrain under it.
+Eigen::Vector3d CameraPaths::Datum(Eigen::Vector3d p) const {
+  if (setup_.heights_agl) p.z() += TerrainHeight(plan_.terrain, p.x(), p.y());
+  return p;
+}
+
+// {position, rotation|attitude: [roll,pitch,yaw] | look_at: [x,y,z] or an object}
+Rigid3d CameraPaths::PointPose(const Node& g, Rng& rng) const {
+  const Node pos = g.Find("position");
+  if (!pos) g.Fail("expected a position");
+  const Eigen::Vector3d p = Datum(SampleVec3(pos, rng));
+  if (const Node l = g.Find("lookat")) return LookAt(p, Point(l, rng));
+  Attitude att{0, -90, 0};
+  if (const Node r = FindKey(g, KindVocabulary("create_point"), "rotation")) {
+    const Eigen::Vector3d rpy = SampleVec3(r, rng);
+    att = Attitude{rpy.x(), rpy.y(), rpy.z()};
+  }
+  return CamFromEnu(p, att);
+}
+
+Eigen::Vector3d CameraPaths::Point(const Node& n, Rng& rng) const {
+  if (n->is_string()) return ObjectCenter(n, ReadString(n));
+  return SampleVec3(n, rng);
+}
+
+Eigen::Vector3d CameraPaths::ObjectCenter(const Node& where, const std::string& symbol) const {
+  for (const PlannedObject& o : plan_.objects)
+    if (o.symbol == symbol) return o.position;
+  where.Fail("'" + symbol + "' is not a placed object of the scene");
+}
+
+}  // namespace lsds

@@ -629,7 +629,9 @@ class SceneEvaluator {
   // footprint.
   Surface SurfaceOf(const Node& where, const std::string& symbol) {
     if (symbol == terrain_symbol_) return TerrainSurface();
-    const Placed& x = AnyCopy(where, symbol);
+    return SurfaceOf(AnyCopy(where, symbol));
+  }
+  Surface SurfaceOf(const Placed& x) const {
     Surface s;
     s.footprint = x.aabb;
     if (!x.object.visible && x.has_support) {
@@ -688,12 +690,15 @@ class SceneEvaluator {
           supports.insert(ref);
         } else if (k == "in") {
           const std::string ref = ReadString(c);
-          if (ref == terrain_symbol_) {  // IN the terrain = standing on it
-            surface = TerrainSurface();
+          const Placed* x = ref == terrain_symbol_ ? nullptr : &AnyCopy(c, ref);
+          if (!x || (!x->object.visible && x->has_support)) {
+            // IN the terrain, or IN a zone (an invisible object standing on something), is
+            // standing on that ground: within the zone's footprint, its base on the ground.
+            surface = x ? SurfaceOf(*x) : TerrainSurface();
             shrink(surface.footprint, c, "IN:" + ref);
             on = true;
           } else {
-            shrink(AnyCopy(c, ref).aabb, c, "IN:" + ref);
+            shrink(x->aabb, c, "IN:" + ref);
             in = true;
           }
           supports.insert(ref);
@@ -788,7 +793,9 @@ class SceneEvaluator {
     }
     p->has_support = on;
     p->support = surface;
-    p->support.footprint = space;
+    // What stands ON (or IN) this object, when it is a zone, stands on this surface within the
+    // zone's own box: the surface's footprint, not the space the zone's centre was drawn in
+    // (a zone placed at one point has a one-point space).
     o.placement_lo = space.lo;
     o.placement_hi = space.hi;
     o.on_overlap = policy;

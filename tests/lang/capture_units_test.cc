@@ -189,6 +189,24 @@ TEST(CaptureTimeline, SegmentsFollowTheCameraMoves) {
       << error;
 }
 
+TEST(CaptureTimeline, SequenceNamesAreUniqueAcrossMovesAndCollections) {
+  const auto c = Lcap(
+      "LCAP = ONE(CO) ONE(W1) ONE(CL1) ONE(CL2)\nCO = camera{}\n"
+      "W1 = path{create point:{position:[0,0,30],count:2}}\n"
+      "CL1 = collection{CO:{move:[W1:2]}}\nCL2 = collection{CO:{move:[W1]}}\n");
+  Plan plan = FlatPlan();
+  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
+  CameraPaths paths(setup, plan, 1, "");
+  const Timeline timeline(
+      c->program,
+      [](const std::string& key, const Node&) { return key == "CO"; },
+      [&](const Definition& path, uint64_t segment) { return paths.FrameCount(path, segment); });
+  ASSERT_EQ(timeline.segments().size(), 3u);
+  EXPECT_EQ(timeline.segments()[2].repetition, 3);  // CL2's flight of W1 is W1(3), not W1(1)
+  EXPECT_EQ(timeline.segments()[2].collection, &c->Def("CL2"));
+  EXPECT_EQ(timeline.Span(c->Def("CL2").body, "W1", 3), std::make_pair(int64_t{4}, int64_t{6}));
+}
+
 TEST(CaptureTimeline, TimingResolvesAgainstTheSpans) {
   TimelineFixture t;
   const auto w = Lcap(

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <tuple>
 
 #include "generator/lang/vocabulary.h"
@@ -57,11 +58,14 @@ Timeline::Timeline(const Program& capture,
                    const FrameCount& count)
     : capture_(capture) {
   const Definition* current_collection = nullptr;
+  // Instances are numbered along the whole timeline, so that every sequence name is unique: a path
+  // flown by two moves (or two collections) is P(1) then P(2).
+  std::map<const Definition*, int64_t> flown;
   auto append = [&](const Definition& path, int64_t repetitions) {
     for (int64_t r = 1; r <= repetitions; ++r) {
       Segment s;
       s.path = &path;
-      s.repetition = r;
+      s.repetition = ++flown[&path];
       s.first = steps();
       s.count = count(path, segments_.size());
       s.collection = current_collection;

@@ -14,8 +14,8 @@
 
 namespace lsds {
 
-// One path instance of the timeline: repetition `repetition` of `path`, frames [first, first +
-// count) (time steps, with a rig).
+// One path instance of the timeline: the `repetition`-th flight of `path` along the whole timeline
+// (its sequence name is PATH(repetition)), frames [first, first + count) (time steps, with a rig).
 struct Segment {
   const Definition* path = nullptr;
   const Definition* collection = nullptr;  // whose move flies it, if any

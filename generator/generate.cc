@@ -199,8 +199,9 @@ void PrepareOutput(const GenerateOptions& options, const nlohmann::json& setting
   if (options.resume && LooksLikeCollection(finished)) RestoreTruthParts(root, finished);
 }
 
-// The scene state a frame shows (docs/format.md, "Scene state").
-nlohmann::json SceneStateJson(const PlannedEnvironment& environment) {
+// The scene state a frame shows (docs/format.md, "Scene state"); the terrain's material when the
+// scene has a terrain.
+nlohmann::json SceneStateJson(const PlannedEnvironment& environment, bool terrain) {
   const double el = environment.sun.elevation_deg * M_PI / 180.0,
                az = environment.sun.azimuth_deg * M_PI / 180.0;
   // Azimuth from north (+y), clockwise (towards east, +x), in the ENU world.
@@ -209,7 +210,7 @@ nlohmann::json SceneStateJson(const PlannedEnvironment& environment) {
   nlohmann::json visibility = nullptr;
   // Meteorological visibility (Koschmieder, 2 % contrast threshold).
   if (environment.fog_density > 0) visibility = 3.912 / environment.fog_density;
-  return {
+  nlohmann::json state = {
       {"sun",
        {{"azimuth_deg", environment.sun.azimuth_deg},
         {"elevation_deg", environment.sun.elevation_deg},
@@ -223,6 +224,8 @@ nlohmann::json SceneStateJson(const PlannedEnvironment& environment) {
         {"cloud_density", environment.sky.cloud_density}}},
       {"atmosphere", {{"extinction_per_m", environment.fog_density}, {"visibility_m", visibility}}},
       {"skylight_intensity", environment.skylight_intensity}};
+  if (terrain) state["terrain_material"] = environment.terrain_material;
+  return state;
 }
 
 // The frame motion of plan frame k is measured against: the previous frame of
@@ -530,7 +533,7 @@ class FramePipeline {
     truth->camera_velocity = frame.camera_velocity;
     truth->rig_camera = frame.rig_camera;
     if (frame.step >= 0) truth->step = frame.step;
-    truth->scene = SceneStateJson(EnvironmentAt(plan_, frame));
+    truth->scene = SceneStateJson(EnvironmentAt(plan_, frame), plan_.terrain.present);
     truth->exposure = ExposureJson(exposure);
     truth->camera.intrinsics = frame.camera;
     SetCamFromWorld(frame.cam_from_world, &truth->camera);

@@ -160,6 +160,29 @@ TEST(CaptureOverTime, ASmoothFlightPassesTheGateWithValidMotion) {
   EXPECT_TRUE(collection["frames"][3].contains("camera_velocity"));
 }
 
+TEST(CaptureOverTime, TheSceneRecordNamesTheTerrainMaterialOfEveryFrame) {
+  testing::TempDir dir;
+  std::ofstream(dir / "s.lscene") << "LSCENE = ONE(W)\nW = terrain{size:[60,60],material:sandy}\n";
+  std::ofstream(dir / "c.lcap") << "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
+                                   "CO = camera{csettings:{res:[64,48]}}\n"
+                                   "P = path{waypoints:[[0,0,30],[0,0,30],[0,0,30]]}\n"
+                                   "CL = collection{CO:{move:[P]},W:{after:0,material:grassy}}\n";
+  const std::string out = (dir / "out").string();
+  const auto generated =
+      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
+  ASSERT_EQ(generated.exit_code, 0) << generated.output;
+  const auto validated =
+      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
+  EXPECT_EQ(validated.exit_code, 0) << validated.output;
+  std::ifstream in(dir / "out" / "collection.json");
+  const auto frames = nlohmann::json::parse(in)["frames"];
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0]["scene"]["terrain_material"], "sandy");
+  EXPECT_EQ(frames[1]["scene"]["terrain_material"], "grassy");  // after frame 0
+  EXPECT_EQ(frames[2]["scene"]["terrain_material"], "grassy");
+}
+
 const char* kSunScene =
     "LSCENE = ONE(G) ONE(DL) ONE(W) ONE(POLE)\n"
     "G = georeference{latitude:47.3769,longitude:8.5417,altitude:408}\n"

@@ -183,9 +183,12 @@ class CaptureEvaluator {
     f.shot = paths_->ShotStart(*seg.path, seg.first, k - seg.first) * n + c;
     f.camera = setup_.intrinsics;
     const uint64_t frame_seed = RedrawSeed(seed_, attempt);
+    // The scene changes first: a camera that looks at an object aims where it is on this frame.
+    // Every draw has its own stream, so the order changes no value.
+    ApplyRules(k, frame_seed, demand, &f);
     Rng rng = Rng::For(frame_seed, StreamTag::kFrame, static_cast<uint64_t>(k));
     f.cam_from_world =
-        paths_->Pose(*seg.path, k - seg.first, rng, segment, &f.camera_velocity, demand);
+        paths_->Pose(*seg.path, k - seg.first, rng, segment, &f.camera_velocity, demand, f.changes);
     if (plan_->rig) SeeFromRigCamera(seg, segment, k, c, &f);
     if (setup_.clearance_m) {
       const auto pose = [&] {
@@ -195,7 +198,6 @@ class CaptureEvaluator {
       };
       CheckClearance(*plan_, *setup_.clearance_m, f.cam_from_world, pose, seg.path->body);
     }
-    ApplyRules(k, frame_seed, demand, &f);
     MoveSun(&f);
     return f;
   }

@@ -50,6 +50,40 @@ std::string CarCapture(int frames, const std::string& extra = "") {
          extra + "}}\n";
 }
 
+// A truck driving 160 m along a road at 2 m/s, filmed for 81 frames at 1 fps from a fixed point
+// 40 m up beside the road (look_at) and from a hemi around it (its centre is the first target).
+TEST(MovingObjects, LookAtAndHemiCentresFollowTheTargetOnEveryFrame) {
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(TRUCK)\n"
+      "W = terrain{size:[400,400]}\n"
+      "TRUCK = object{class:truck,extent:[8,2.5,3],position:{ON:W,within:[[-84,-1.25,-10],"
+      "[-76,1.25,10]]}}\n";
+  const std::string road = "ROAD = path{waypoints:{points:[[-80,0,1.5],[80,0,1.5]],speed:2}}\n";
+  for (const std::string& camera_path :
+       {std::string("P = path{create point:{position:[0,-30,40],look_at:TRUCK,count:81}}\n"),
+        std::string("P = path{create hemi:{cam radius:[60,60,1],obj angle:[0,360,81],"
+                    "cam angle:[50,50,1]}}\n")}) {
+    const Plan plan =
+        PlanText(scene,
+                 "LCAP = ONE(CO) ONE(P) ONE(ROAD) ONE(CL)\n"
+                 "CO = camera{csettings:{fov:40,res:[320,240],fps:1},targets:[TRUCK]}\n" +
+                     camera_path + road + "CL = collection{CO:{move:[P]},TRUCK:{move:[ROAD]}}\n");
+    ASSERT_EQ(plan.frames.size(), 81u);
+    double travelled = 0;
+    for (const PlannedFrame& f : plan.frames) {
+      const gen::ObjectState truck = gen::WorldAt(plan, f).objects[0];
+      travelled = truck.position.x() - plan.objects[0].position.x();
+      const Eigen::Vector3d in_cam = f.cam_from_world * truck.position;
+      ASSERT_GT(in_cam.z(), 0) << camera_path << " frame " << f.index;
+      const Eigen::Vector2d pixel = f.camera.ImageFromCam(in_cam);
+      // The camera aims at the truck's centre: it projects to the principal point.
+      EXPECT_NEAR(pixel.x(), f.camera.cx, 1e-6) << camera_path << " frame " << f.index;
+      EXPECT_NEAR(pixel.y(), f.camera.cy, 1e-6) << camera_path << " frame " << f.index;
+    }
+    EXPECT_NEAR(travelled, 160, 1e-6);  // it did drive the whole road
+  }
+}
+
 TEST(MovingObjects, PoseAndVelocityFollowThePathAtItsSpeed) {
   const Plan plan = PlanText(kCarScene, CarCapture(20));
   ASSERT_EQ(plan.frames.size(), 20u);

@@ -103,7 +103,8 @@ const Flight& CameraPaths::FlightOf(const Node& g, uint64_t segment) {
   const bool spline = ReadFlightSettings(g, setup_.fps, rng, &flight);
   const Node points = g.Find("points");
   std::vector<Rigid3d> poses;
-  for (size_t j = 0; j < points->size(); ++j) poses.push_back(WaypointPose(points.Item(j), rng));
+  for (size_t j = 0; j < points->size(); ++j)
+    poses.push_back(WaypointPose(points.Item(j), rng, {}));  // before any frame: as planned
   flight.Build(poses, spline);
   const double frames = std::floor(flight.length / flight.spacing + 1e-9) + 1;
   if (frames > 1e6)
@@ -117,10 +118,11 @@ Rigid3d CameraPaths::Pose(const Definition& path,
                           Rng& rng,
                           uint64_t segment,
                           std::optional<Eigen::Vector3d>* velocity,
-                          const FrameDemand* demand) {
+                          const FrameDemand* demand,
+                          const std::vector<ObjectChange>& moved) {
   const auto [kind, g] = path.body.Members().front();
   const std::string k = PathKind(kind);
-  if (k == "createhemi" || k == "hemi") return HemiPose(g, i, rng);
+  if (k == "createhemi" || k == "hemi") return HemiPose(g, i, rng, moved);
   if (k == "grid" || k == "incrementpoints") return GridPose(g, i, rng);
   if (k == "random" || k == "randomposes") return RandomPose(g, rng, demand);
   if (k == "waypoints" && g->is_object()) {
@@ -129,13 +131,16 @@ Rigid3d CameraPaths::Pose(const Definition& path,
     if (velocity) *velocity = at.velocity;
     return at.cam_from_world;
   }
-  if (k == "waypoints") return WaypointPose(g.Item(static_cast<size_t>(i)), rng);
-  return PointPose(g, rng);
+  if (k == "waypoints") return WaypointPose(g.Item(static_cast<size_t>(i)), rng, moved);
+  return PointPose(g, rng, moved);
 }
 
 // Radius, then elevation, then azimuth vary slowest to fastest; the camera looks at the centre
 // (the `center` key, else the camera's first target, else the origin).
-Rigid3d CameraPaths::HemiPose(const Node& g, int64_t i, Rng& rng) const {
+Rigid3d CameraPaths::HemiPose(const Node& g,
+                              int64_t i,
+                              Rng& rng,
+                              const std::vector<ObjectChange>& moved) const {
   const auto radii = ExpandRange(g.Find("camradius")), az = ExpandRange(g.Find("objangle")),
              el = ExpandRange(g.Find("camangle"));
   const size_t a = static_cast<size_t>(i) % az.size();
@@ -144,9 +149,9 @@ Rigid3d CameraPaths::HemiPose(const Node& g, int64_t i, Rng& rng) const {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   const Node c = FindKey(g, KindVocabulary("create_hemi"), "center");
   if (c)
-    center = Point(c, rng);
+    center = Point(c, rng, moved);
   else if (!first_target_.empty())
-    center = ObjectCenter(setup_.camera->body, first_target_);
+    center = ObjectCenter(setup_.camera->body, first_target_, moved);
   const Eigen::Vector3d eye =
       center + radii[r] * Eigen::Vector3d(std::cos(el[e] * kDeg) * std::cos(az[a] * kDeg),
                                           std::cos(el[e] * kDeg) * std::sin(az[a] * kDeg),
@@ -219,7 +224,9 @@ Eigen::Vector3d CameraPaths::RigCameraVelocity(const Definition& path,
 }
 
 // One waypoint: [x,y,z] (nadir), [x,y,z,roll,pitch,yaw] or {position, attitude | look_at}.
-Rigid3d CameraPaths::WaypointPose(const Node& w, Rng& rng) const {
+Rigid3d CameraPaths::WaypointPose(const Node& w,
+                                  Rng& rng,
+                                  const std::vector<ObjectChange>& moved) const {
   if (w->is_array()) {
     if (w->size() != 3 && w->size() != 6)
       w.Fail("a waypoint is [x,y,z] (nadir) or [x,y,z,roll,pitch,yaw]");
@@ -229,7 +236,7 @@ Rigid3d CameraPaths::WaypointPose(const Node& w, Rng& rng) const {
     return CamFromEnu(Datum({v[0], v[1], v[2]}), att);
   }
   lsds::CheckKeys(w, KindVocabulary("waypoint"), "waypoint");
-  return PointPose(w, rng);
+  return PointPose(w, rng, moved);
 }
 
 // A waypoint or point position in the world frame: with camera settings `heights:agl`, its z is
@@ -240,11 +247,13 @@ Eigen::Vector3d CameraPaths::Datum(Eigen::Vector3d p) const {
 }
 
 // {position, rotation|attitude: [roll,pitch,yaw] | look_at: [x,y,z] or an object}
-Rigid3d CameraPaths::PointPose(const Node& g, Rng& rng) const {
+Rigid3d CameraPaths::PointPose(const Node& g,
+                               Rng& rng,
+                               const std::vector<ObjectChange>& moved) const {
   const Node pos = g.Find("position");
   if (!pos) g.Fail("expected a position");
   const Eigen::Vector3d p = Datum(SampleVec3(pos, rng));
-  if (const Node l = g.Find("lookat")) return LookAt(p, Point(l, rng));
+  if (const Node l = g.Find("lookat")) return LookAt(p, Point(l, rng, moved));
   Attitude att{0, -90, 0};
   if (const Node r = FindKey(g, KindVocabulary("create_point"), "rotation")) {
     const Eigen::Vector3d rpy = SampleVec3(r, rng);
@@ -253,14 +262,23 @@ Rigid3d CameraPaths::PointPose(const Node& g, Rng& rng) const {
   return CamFromEnu(p, att);
 }
 
-Eigen::Vector3d CameraPaths::Point(const Node& n, Rng& rng) const {
-  if (n->is_string()) return ObjectCenter(n, ReadString(n));
+Eigen::Vector3d CameraPaths::Point(const Node& n,
+                                   Rng& rng,
+                                   const std::vector<ObjectChange>& moved) const {
+  if (n->is_string()) return ObjectCenter(n, ReadString(n), moved);
   return SampleVec3(n, rng);
 }
 
-Eigen::Vector3d CameraPaths::ObjectCenter(const Node& where, const std::string& symbol) const {
-  for (const PlannedObject& o : plan_.objects)
-    if (o.symbol == symbol) return o.position;
+Eigen::Vector3d CameraPaths::ObjectCenter(const Node& where,
+                                          const std::string& symbol,
+                                          const std::vector<ObjectChange>& moved) const {
+  for (const PlannedObject& o : plan_.objects) {
+    if (o.symbol != symbol) continue;
+    Eigen::Vector3d centre = o.position;
+    for (const ObjectChange& c : moved)  // the frame's changes in order: the last place counts
+      if (c.object == o.name && c.position) centre = *c.position;
+    return centre;
+  }
   where.Fail("'" + symbol + "' is not a placed object of the scene");
 }
 

@@ -32,13 +32,15 @@ class CameraPaths {
 
   // Pose `i` of the path instance at place `segment`, drawn from `rng`; `velocity` is set on a
   // smooth flight. `demand` (may be null) is the frame's quota demand: a random pose's altitude
-  // and off-nadir angle are drawn within its bins (importance sampling).
+  // and off-nadir angle are drawn within its bins (importance sampling). `moved` are the frame's
+  // scene changes: a look_at or hemi centre on an object aims where the object is on this frame.
   Rigid3d Pose(const Definition& path,
                int64_t i,
                Rng& rng,
                uint64_t segment,
                std::optional<Eigen::Vector3d>* velocity,
-               const FrameDemand* demand);
+               const FrameDemand* demand,
+               const std::vector<ObjectChange>& moved = {});
 
   // The first frame of the shot of pose `i` of a path instance starting at frame `first`
   // (docs/format.md, "Motion"): waypoints are flown in one shot, a grid in one shot per altitude
@@ -56,14 +58,20 @@ class CameraPaths {
 
  private:
   const Flight& FlightOf(const Node& g, uint64_t segment);
-  Rigid3d HemiPose(const Node& g, int64_t i, Rng& rng) const;
+  Rigid3d HemiPose(const Node& g,
+                   int64_t i,
+                   Rng& rng,
+                   const std::vector<ObjectChange>& moved) const;
   Rigid3d GridPose(const Node& g, int64_t i, Rng& rng) const;
   Rigid3d RandomPose(const Node& g, Rng& rng, const FrameDemand* demand) const;
-  Rigid3d WaypointPose(const Node& w, Rng& rng) const;
-  Rigid3d PointPose(const Node& g, Rng& rng) const;
+  Rigid3d WaypointPose(const Node& w, Rng& rng, const std::vector<ObjectChange>& moved) const;
+  Rigid3d PointPose(const Node& g, Rng& rng, const std::vector<ObjectChange>& moved) const;
   Eigen::Vector3d Datum(Eigen::Vector3d p) const;
-  Eigen::Vector3d Point(const Node& n, Rng& rng) const;
-  Eigen::Vector3d ObjectCenter(const Node& where, const std::string& symbol) const;
+  Eigen::Vector3d Point(const Node& n, Rng& rng, const std::vector<ObjectChange>& moved) const;
+  // Where the (first copy of the) object `symbol` is: planned, or as `moved` last placed it.
+  Eigen::Vector3d ObjectCenter(const Node& where,
+                               const std::string& symbol,
+                               const std::vector<ObjectChange>& moved) const;
 
   const CameraSetup& setup_;
   const Plan& plan_;

@@ -213,6 +213,15 @@ const std::vector<CheckInfo>& AllChecks() {
        "the declared camera reprojects the world-position layer onto its pixel "
        "centres",
        "0.5 px RMS"},
+      {"requirements.met",
+       S::kError,
+       "every frame (time step, with a rig) with an LCAP demand met it in the rendered truth",
+       "exact"},
+      {"requirements.quota",
+       S::kError,
+       "each LCAP quota's achieved count per bin is its planned count, within the quota's "
+       "tolerance",
+       "the quota's tolerance x frames"},
       {"stats.class-unused",
        S::kWarning,
        "every class of the table has instances or pixels",

@@ -8,6 +8,7 @@
 #include "libs/collection/json_stream.h"
 #include "libs/collection/schema.h"
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 #include "validators/report_writers.h"
 
 namespace lsds::validate {
@@ -15,6 +16,7 @@ namespace lsds::validate {
 namespace fs = std::filesystem;
 
 void CollectionTallies::MergeFrom(const CollectionTallies& other) {
+  MergeRequirementSummary(other.requirements, &requirements);
   for (const auto& [id, n] : other.objects_per_class) objects_per_class[id] += n;
   pixel_classes.insert(other.pixel_classes.begin(), other.pixel_classes.end());
   for (size_t k = 0; k < metadata.size() && k < other.metadata.size(); ++k) {
@@ -32,6 +34,64 @@ void CollectionTallies::MergeFrom(const CollectionTallies& other) {
       mine.first_mismatch = theirs.first_mismatch;
   }
 }
+
+namespace {
+
+std::string CountList(const std::vector<int64_t>& counts) {
+  std::string s = "[";
+  for (size_t i = 0; i < counts.size(); ++i) s += (i ? "," : "") + std::to_string(counts[i]);
+  return s + "]";
+}
+
+// requirements.met and requirements.quota (docs/validate.md): the demands the rendered truth
+// missed, and each quota's achieved counts against its planned ones. A collection that holds part
+// of a run (other frames than the quota's planned counts add up to) is not judged by its quotas.
+template <typename Emit>
+void CheckRequirements(const CollectionTallies& tallies, const Emit& emit) {
+  const nlohmann::json& asked = tallies.requirements_asked;
+  if (asked.is_null()) return;
+  const RequirementSummary summary = FoldSteps(asked, tallies.requirements);
+  const std::string unit = asked.value("unit", "frame") == "step" ? "step" : "frame";
+  if (!summary.missed.empty()) {
+    std::string list;
+    for (size_t i = 0; i < summary.missed.size() && i < 10; ++i)
+      list += (i ? ", " : "") + std::to_string(summary.missed[i]);
+    if (summary.missed.size() > 10) list += ", ...";
+    Location where(kCollectionFile, "/frames");
+    if (unit == "frame") where.frame = summary.missed.front();
+    emit("requirements.met",
+         where,
+         std::to_string(summary.missed.size()) + " of " + std::to_string(summary.frames) + " " +
+             unit + "s missed their requirements in the rendered truth (" + unit + "s " + list +
+             ")");
+  }
+  const nlohmann::json& quotas = asked.at("quotas");
+  for (size_t q = 0; q < quotas.size() && q < summary.achieved.size(); ++q) {
+    const std::vector<int64_t> planned = quotas[q].at("planned").get<std::vector<int64_t>>();
+    int64_t total = 0;
+    for (const int64_t n : planned) total += n;
+    if (total != summary.frames) continue;
+    std::vector<int64_t> achieved = summary.achieved[q].second;
+    const int64_t outside = achieved.back();
+    achieved.pop_back();
+    const double tolerance = quotas[q].value("tolerance", 0.05);
+    int64_t worst = 0;
+    for (size_t b = 0; b < planned.size() && b < achieved.size(); ++b)
+      worst = std::max(worst, std::abs(achieved[b] - planned[b]));
+    if (static_cast<double>(worst) <= tolerance * static_cast<double>(total)) continue;
+    emit("requirements.quota",
+         Location(kCollectionFile, "/provenance/requirements/quotas/" + std::to_string(q)),
+         "quota " + quotas[q].at("name").get<std::string>() + " (" +
+             quotas[q].at("quantity").get<std::string>() + ", " + QuotaBinsText(quotas[q]) +
+             "): planned " + CountList(planned) + " " + unit + "s, achieved " +
+             CountList(achieved) +
+             (outside ? " (" + std::to_string(outside) + " outside every bin)" : "") +
+             "; a bin is off by " + std::to_string(worst) + ", over the tolerance " +
+             FormatNumber(tolerance) + " x " + std::to_string(total));
+  }
+}
+
+}  // namespace
 
 void FinishCollectionChecks(const CollectionTallies& tallies,
                             const CheckSelection& checks,
@@ -57,6 +117,7 @@ void FinishCollectionChecks(const CollectionTallies& tallies,
                " deg) but the file is not declared perturbed");
     }
   }
+  CheckRequirements(tallies, emit);
   int64_t most = 0, least = -1;
   std::string most_name, least_name;
   for (size_t k = 0; k < tallies.classes.size(); ++k) {
@@ -175,6 +236,10 @@ nlohmann::json PartialReportToJson(const PartialReport& partial) {
                   {"objects_per_class", objects},
                   {"pixel_classes", t.pixel_classes},
                   {"metadata", metadata}};
+  if (!t.requirements_asked.is_null()) {
+    j["tallies"]["requirements_asked"] = t.requirements_asked;
+    j["tallies"]["requirements"] = RequirementSummaryToJson(t.requirements);
+  }
   return j;
 }
 
@@ -241,6 +306,10 @@ PartialReport PartialReportFromJson(const nlohmann::json& json, const std::strin
     tallies.objects_per_class[pair[0].get<uint32_t>()] = pair[1].get<int64_t>();
   for (const nlohmann::json& id : t["pixel_classes"])
     tallies.pixel_classes.insert(id.get<uint32_t>());
+  if (t.contains("requirements_asked")) {
+    tallies.requirements_asked = t["requirements_asked"];
+    tallies.requirements = RequirementSummaryFromJson(t.at("requirements"));
+  }
   for (const nlohmann::json& m : t["metadata"]) {
     CollectionTallies::Metadata metadata;
     metadata.file = m["file"].get<std::string>();

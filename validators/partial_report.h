@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/collection/model.h"
+#include "libs/collection/requirement_summary.h"
 #include "validators/checks.h"
 #include "validators/report.h"
 
@@ -41,6 +42,10 @@ struct CollectionTallies {
     std::optional<int64_t> first_mismatch;  // the smallest frame index
   };
   std::vector<Metadata> metadata;
+  // The LCAP requirements asked (provenance.requirements; null without) and what the frames
+  // achieved of them.
+  nlohmann::json requirements_asked;
+  RequirementSummary requirements;
 
   // Adds another shard's frame tallies (the header parts must agree).
   void MergeFrom(const CollectionTallies& other);

@@ -308,6 +308,10 @@ void Validator::CheckFrameStructure(const Frame& frame, size_t position) {
   CheckFrameHandedness(frame, pointer);
   CheckFrameObjects(frame, pointer);
   CheckFrameMetadata(frame);
+  if (emitting_ && !header_.provenance.requirements.is_null()) {
+    std::lock_guard<std::mutex> lock(tally_mutex_);
+    AddRequirementSummary(header_.provenance.requirements, frame, &tallies_.requirements);
+  }
 }
 
 // Frame indices strictly increase; time does not go back within a sequence.
@@ -620,6 +624,7 @@ Report Validator::Run(bool finish) {
     tallies_.header_read = true;
     tallies_.classes = header_.classes;
     tallies_.has_classid_layer = header_.FindLayerBySemantic("classid") != nullptr;
+    tallies_.requirements_asked = header_.provenance.requirements;
     {
       CheckTimer timer(
           &check_seconds_,

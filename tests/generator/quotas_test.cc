@@ -283,6 +283,48 @@ TEST(ClassQuota, GeneratedTruthReportsAchievedSharesAndShardsEqualTheSingleRun) 
   }
 }
 
+// The case: a quota the scene cannot give (the lone target is never hidden, so no frame
+// reaches the low-visibility bin) is a validate error naming the quota, its bins, the planned and
+// the achieved counts, and the frames that missed it; `--checks` can leave it out.
+TEST(QuotaGate, AMissedQuotaFailsValidate) {
+  testing::TempDir dir;
+  std::ofstream(dir / "s.lscene") << kScene;
+  std::ofstream(dir / "c.lcap") << Capture(
+      8, kPose, "", "Q = quota{target:T,quantity:visibility,bins:[0,0.5,1],budget:2}\n");
+  const std::string out = (dir / "out").string();
+  const auto generated =
+      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 --seed 3");
+  ASSERT_EQ(generated.exit_code, 0) << generated.output;
+  EXPECT_NE(generated.output.find("planned [4,4] achieved [0,8]"), std::string::npos)
+      << generated.output;
+  const auto validated = testing::RunCommandLine(testing::LsdsBinary() + " validate " + out);
+  EXPECT_EQ(validated.exit_code, 1) << validated.output;
+  EXPECT_NE(validated.output.find("quota Q (visibility, bins [0.0,0.5,1.0]): planned [4,4] frames, "
+                                  "achieved [0,8]; a bin is off by 4, over the tolerance 0.05 x 8"),
+            std::string::npos)
+      << validated.output;
+  EXPECT_NE(validated.output.find("4 of 8 frames missed their requirements in the rendered truth"),
+            std::string::npos)
+      << validated.output;
+  // Two shards validated apart and merged give the same verdict.
+  for (const char* shard : {"0/2", "1/2"}) {
+    const auto part = testing::RunCommandLine(
+        testing::LsdsBinary() + " validate " + out + " --shard " + shard + " -o " +
+        (dir / ("part" + std::string(1, shard[0]) + ".json")).string());
+    EXPECT_EQ(part.exit_code, 0) << part.output;
+  }
+  const auto merged =
+      testing::RunCommandLine(testing::LsdsBinary() + " merge-reports " +
+                              (dir / "part0.json").string() + " " + (dir / "part1.json").string());
+  EXPECT_EQ(merged.exit_code, 1) << merged.output;
+  EXPECT_NE(merged.output.find("planned [4,4] frames, achieved [0,8]"), std::string::npos)
+      << merged.output;
+  const auto without = testing::RunCommandLine(testing::LsdsBinary() + " validate " + out +
+                                               " --checks schema,structure,layer,cross,camera");
+  EXPECT_EQ(without.exit_code, 0) << without.output;
+}
+
 TEST(ClassQuota, BadInputIsALocatedError) {
   const auto fails = [](const std::string& demand, const std::string& expected) {
     try {

@@ -104,8 +104,11 @@ TEST(LangPlan, InAndAroundKeepObjectsInsideTheirBoxes) {
     for (const PlannedObject& o : plan.objects) {
       const Eigen::Vector3d lo = o.position - HalfAabb(o), hi = o.position + HalfAabb(o);
       if (o.symbol == "INSIDE") {
-        EXPECT_TRUE((lo.array() >= zlo.array() - 1e-9).all() &&
-                    (hi.array() <= zhi.array() + 1e-9).all())
+        // IN an invisible zone: on the terrain inside the zone's footprint (not in its height).
+        EXPECT_TRUE((lo.head<2>().array() >= zlo.head<2>().array() - 1e-9).all() &&
+                    (hi.head<2>().array() <= zhi.head<2>().array() + 1e-9).all())
+            << o.name;
+        EXPECT_NEAR(lo.z(), TerrainHeight(plan.terrain, o.position.x(), o.position.y()), 1e-9)
             << o.name;
       } else if (o.symbol == "NEAR") {
         EXPECT_GE(lo.x(), tlo.x() - 3 - 1e-9);

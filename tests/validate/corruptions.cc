@@ -88,6 +88,38 @@ Expected At(std::string check,
   e.json_pointer = std::move(pointer);
   return e;
 }
+
+// A quota Q over the visibility of the first object, bins [0, 0.5, 1], planned [2, 2]: frames 0-1
+// demanded the lower bin, 2-3 the upper; each frame's truth achieved `achieved[k]`, all recorded
+// as met.
+void AddVisibilityQuota(json* j, const std::vector<double>& achieved) {
+  (*j)["provenance"]["requirements"] = {{"requirements", json::array()},
+                                        {"quotas",
+                                         {{{"name", "Q"},
+                                           {"quantity", "visibility"},
+                                           {"bins", {0, 0.5, 1}},
+                                           {"weights", {0.5, 0.5}},
+                                           {"tolerance", 0.05},
+                                           {"planned", {2, 2}},
+                                           {"sampling", "rejection"}}}},
+                                        {"budget", 50},
+                                        {"on_budget", "keep"}};
+  for (size_t k = 0; k < achieved.size(); ++k) {
+    const bool low = k < 2;
+    (*j)["frames"][k]["requirements"] = {{"attempts", 1},
+                                         {"met", true},
+                                         {"achieved_met", true},
+                                         {"checks",
+                                          {{{"name", "Q"},
+                                            {"quantity", "visibility"},
+                                            {"min", low ? 0.0 : 0.5},
+                                            {"max", low ? 0.5 : 1.0},
+                                            {"met", true},
+                                            {"achieved", achieved[k]},
+                                            {"achieved_met", true}}}}};
+  }
+}
+
 Expected AtPixel(std::string check, std::string file, int64_t frame, int x, int y) {
   Expected e = At(std::move(check), std::move(file), frame);
   e.pixel_x = x, e.pixel_y = y;
@@ -515,6 +547,25 @@ std::vector<Corruption> MakeCorruptions() {
           object["bbox"] = nullptr;
         });
         return At("stats.zero-visible-target", "collection.json", 3, "/frames/3/objects/0");
+      });
+  // --- LCAP requirements (a quota of two visibility bins over the 4 frames) ---
+  add("requirements-missed",
+      "frame 2's rendered truth missed its demand (achieved_met false)",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) {
+          AddVisibilityQuota(&j, {0.2, 0.2, 0.9, 0.9});
+          j["frames"][2]["requirements"]["achieved_met"] = false;
+        });
+        return At("requirements.met", "collection.json", 2, "/frames");
+      });
+  add("requirements-quota",
+      "every frame's achieved visibility in the upper bin of a [2,2] quota",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) { AddVisibilityQuota(&j, {0.9, 0.9, 0.9, 0.9}); });
+        return At("requirements.quota",
+                  "collection.json",
+                  std::nullopt,
+                  "/provenance/requirements/quotas/0");
       });
   add("class-imbalance",
       "100 extra (hidden) boxes per frame against one crate",

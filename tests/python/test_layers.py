@@ -99,3 +99,17 @@ def test_bundle_arrays(demo_residual):
     assert (samples == ids[..., None]).any(axis=2).mean() > 0.9
     with pytest.raises(IndexError):
         bundle.pixel(24, 0)
+
+
+def test_mixed_pixels_example_of_the_docs(demo_residual):
+    """docs/python.md's example: the pixels whose samples see two surfaces."""
+    b = lsds.open(demo_residual)[0].bundle()
+    ids = b.samples["instanceid"]
+    pixel = np.repeat(np.arange(b.width * b.height), b.counts.ravel())
+    first = ids[b.offsets[:-1][pixel]]
+    mixed = np.zeros(b.width * b.height, bool)
+    mixed[pixel[ids != first]] = True
+    mixed = mixed.reshape(b.height, b.width)
+    slow = [[len(set(b.pixel(x, y)["instanceid"].tolist())) > 1 for x in range(b.width)]
+            for y in range(b.height)]
+    assert (mixed == np.array(slow)).all() and mixed.any()

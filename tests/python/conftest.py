@@ -59,6 +59,11 @@ def demo_float(workdir):
 
 
 @pytest.fixture(scope="session")
+def demo_compact(workdir):
+    return _made(workdir, "demo_compact", *DEMO, "--bundle-layout", "compact")
+
+
+@pytest.fixture(scope="session")
 def rig(workdir):
     scene = workdir / "cube.lscene"
     capture = workdir / "stereo.lcap"

@@ -27,8 +27,9 @@ def check_layers_against_export(collection, workdir):
     return c, compared
 
 
-def layout_of(c, name):
-    return next(layer.get("layout", "float") for layer in c.layers if layer["name"] == name)
+def layout_of(c, name, absent="float"):
+    """The layer table's `layout` of layer `name` (absent: the format's first layout)."""
+    return next(layer.get("layout", absent) for layer in c.layers if layer["name"] == name)
 
 
 def test_synth_layers_equal_the_npy_export(synth, workdir):
@@ -57,15 +58,18 @@ def test_rig_layers_equal_the_npy_export(rig, workdir):
     assert compared > 0
 
 
-def test_layouts_decode_to_the_same_values(demo_residual, demo_float):
-    """The same render stored residual and float: the decoded layers and bundles are identical."""
-    residual, plain = lsds.open(demo_residual), lsds.open(demo_float)
-    for a, b in zip(residual, plain):
+def test_layouts_decode_to_the_same_values(demo_residual, demo_float, demo_compact):
+    """The same render stored residual, float/full and compact: the decoded layers and bundles
+    are identical."""
+    residual, plain, compact = lsds.open(demo_residual), lsds.open(demo_float), lsds.open(demo_compact)
+    layouts = [layout_of(c, "bundle", absent="full") for c in (residual, plain, compact)]
+    assert layouts == ["residual", "full", "compact"]
+    for a, b, c in zip(residual, plain, compact):
         for name in ("worldposition", "motion", "depth", "instanceid"):
             assert same_array(a.layer(name), b.layer(name)), name
-        ba, bb = a.bundle(), b.bundle()
-        assert same_array(ba.samples, bb.samples)
-        assert same_array(ba.offsets, bb.offsets)
+        ba, bb, bc = a.bundle(), b.bundle(), c.bundle()
+        assert same_array(ba.samples, bb.samples) and same_array(bc.samples, bb.samples)
+        assert same_array(ba.offsets, bb.offsets) and same_array(bc.offsets, bb.offsets)
 
 
 def test_layer_shapes_and_channel_order(synth):

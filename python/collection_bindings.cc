@@ -11,6 +11,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 #include "python/json_to_python.h"
 #include "python/open_collection.h"
 #include "python/usage_error.h"
@@ -151,7 +152,7 @@ class PyFrame {
     const Frame& f = frame();
     std::string repr = "<lsds.Frame " + std::to_string(f.index);
     if (f.rig_camera) repr += " (" + *f.rig_camera + ")";
-    return repr + " t=" + std::to_string(f.time) + "s, " + std::to_string(f.objects.size()) +
+    return repr + " t=" + FormatNumber(f.time) + " s, " + std::to_string(f.objects.size()) +
            " objects>";
   }
 

@@ -23,6 +23,9 @@ packages=(
   python3                           # bad-input corpus scripts (tests/validate, tests/hostile)
   python3-numpy                     # export-layers test: numpy.load reads the .npy files
   python3-scipy                     # convert tracking test: TrackEval's Hungarian matching (linear_sum_assignment)
+  pybind11-dev python3-pybind11 python3-dev  # the Python module `import lsds` (python/, LSDS_BUILD_PYTHON)
+  python3-pytest                    # the Python module's tests (tests/python)
+  python3-torch                     # lsds.torch (python/lsds/torch.py) and its tests; ~45 packages, ~1 GB
   clang libclang-rt-14-dev          # the sanitizer build and its fuzz targets (make test-asan)
   clang-tidy                        # make tidy (.clang-tidy)
   clang-format                      # make format-check in CI (.clang-format)

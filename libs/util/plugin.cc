@@ -20,6 +20,23 @@ std::string ExecutableDir() {
   return ec ? std::string() : exe.parent_path().string();
 }
 
+// The folder of the shared object that holds this code when that is not the running executable
+// (the Python module, loaded by python3), from dladdr; empty in the lsds binary and its tests.
+std::string SharedObjectDir() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&PluginSearchDirs), &info) == 0 ||
+      info.dli_fname == nullptr || *info.dli_fname == '\0') {
+    return {};
+  }
+  std::error_code ec;
+  const std::filesystem::path object = std::filesystem::absolute(info.dli_fname, ec);
+  if (ec) return {};
+  // For the executable itself glibc names argv[0]; equivalent() fails (ec) when that is not a
+  // path from here, and either way the executable is rule 2's business.
+  if (std::filesystem::equivalent(object, "/proc/self/exe", ec) || ec) return {};
+  return object.parent_path().string();
+}
+
 // The loader's last message. glibc keeps dlerror()'s state per thread, so this is safe to call
 // from any thread.
 std::string LastDlError() {
@@ -37,6 +54,10 @@ std::vector<std::string> PluginSearchDirs() {
     dirs.emplace_back(env);
   if (const std::string exe_dir = ExecutableDir(); !exe_dir.empty())
     dirs.push_back((std::filesystem::path(exe_dir) / ".." / "lib" / "lsds").lexically_normal());
+  if (const std::string object_dir = SharedObjectDir(); !object_dir.empty()) {
+    dirs.push_back(
+        (std::filesystem::path(object_dir) / PluginDirFromPythonPackage()).lexically_normal());
+  }
   dirs.emplace_back(PluginBuildDir());
   return dirs;
 }

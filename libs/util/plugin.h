@@ -11,8 +11,12 @@ namespace lsds {
 // The folders searched for a plug-in, in order:
 //   1. $LSDS_PLUGIN_DIR, when set and not empty;
 //   2. <folder of the running executable>/../lib/lsds (where `cmake --install` puts them);
-//   3. the build tree's plug-in folder (compiled in from one generated file,
-//      libs/util/plugin_build_dir.cc.in, so that test binaries anywhere in the build find it).
+//   3. when lsds's code runs from a shared object rather than the executable (the Python module
+//      PREFIX/lib/python3/dist-packages/lsds/_lsds*.so, which python3 loads): the installed
+//      plug-in folder relative to that object's folder, PREFIX/lib/lsds (found with dladdr);
+//   4. the build tree's plug-in folder (compiled in from one generated file,
+//      libs/util/plugin_build_dir.cc.in, so that test binaries anywhere in the build, and the
+//      Python module in the build tree, find it).
 std::vector<std::string> PluginSearchDirs();
 
 // The address of `symbol` in the plug-in `file_name` (e.g. "lsds_image_codecs.so"), opened from

@@ -154,17 +154,54 @@ CocoEvaluator::CocoEvaluator(CocoData data) : data_(std::move(data)) {
 
 CocoEvaluator::~CocoEvaluator() = default;
 
+namespace {
+
+// evaluateImg's matching at one IoU threshold (cocoeval.py:273-296): each
+// detection, best score first, takes the ground truth of highest IoU at or
+// above the threshold that is not yet matched (crowd regions may be matched
+// again), preferring boxes that are not ignored. `order` is the ground truth
+// with the ignored last; `matched` and `ignored` are the detections' flags.
+void MatchAtThreshold(double threshold,
+                      const std::vector<double>& ious,
+                      const std::vector<uint8_t>& crowd,
+                      const std::vector<uint8_t>& ignore,
+                      const std::vector<size_t>& order,
+                      uint8_t* matched,
+                      uint8_t* ignored) {
+  const size_t G = order.size(), D = G ? ious.size() / G : 0;
+  std::vector<uint8_t> gt_matched(G, 0);  // gtm[t] > 0, in the sorted order
+  for (size_t d = 0; d < D; ++d) {
+    double best = std::min(threshold, 1 - 1e-10);  // :276
+    int m = -1;
+    for (size_t s = 0; s < G; ++s) {
+      const size_t g = order[s];
+      if (gt_matched[s] && !crowd[g]) continue;             // :280-281
+      if (m > -1 && !ignore[order[m]] && ignore[g]) break;  // :283-284
+      const double iou = ious[d * G + g];
+      if (iou < best) continue;  // :286-287
+      best = iou;
+      m = static_cast<int>(s);
+    }
+    if (m == -1) continue;
+    ignored[d] = ignore[order[m]];  // :294-296
+    matched[d] = 1;
+    gt_matched[m] = 1;
+  }
+}
+
+}  // namespace
+
 // COCOeval.evaluateImg (cocoeval.py:235-313) with maxDet = 100.
 CocoEvaluator::CellResult CocoEvaluator::EvaluateCell(const Cell& cell,
                                                       const Selection& selection) const {
   const size_t G = cell.gts.size(), D = cell.dts.size();
   // _ignore: crowd, or outside the selection (cocoeval.py:250-254); ignored
   // ground truth sorted last, stably (:257-258).
-  std::vector<uint8_t> ignore(G);
+  std::vector<uint8_t> ignore(G), crowd(G);
   for (size_t g = 0; g < G; ++g) {
     const size_t index = cell.gts[g];
-    ignore[g] = data_.ground_truth[index].iscrowd ||
-                (selection.ground_truth && !selection.ground_truth(index));
+    crowd[g] = data_.ground_truth[index].iscrowd;
+    ignore[g] = crowd[g] || (selection.ground_truth && !selection.ground_truth(index));
   }
   std::vector<size_t> order(G);
   std::iota(order.begin(), order.end(), size_t{0});
@@ -176,27 +213,15 @@ CocoEvaluator::CellResult CocoEvaluator::EvaluateCell(const Cell& cell,
   result.ignored.assign(kT * D, 0);
   for (size_t d = 0; d < D; ++d) result.scores[d] = data_.detections[cell.dts[d]].score;
   for (size_t g = 0; g < G; ++g) result.ground_truth_counted += ignore[g] ? 0 : 1;
-  const bool any_iou = G > 0 && D > 0;  // maskUtils.iou returns [] otherwise (:263, :272)
-  for (int t = 0; any_iou && t < kT; ++t) {
-    std::vector<uint8_t> gt_matched(G, 0);  // gtm[t] > 0, in the sorted order
-    for (size_t d = 0; d < D; ++d) {
-      double best = std::min(IouThresholds()[t], 1 - 1e-10);  // :276
-      int m = -1;
-      for (size_t s = 0; s < G; ++s) {
-        const size_t g = order[s];
-        const bool crowd = data_.ground_truth[cell.gts[g]].iscrowd;
-        if (gt_matched[s] && !crowd) continue;                // :280-281
-        if (m > -1 && !ignore[order[m]] && ignore[g]) break;  // :283-284
-        const double iou = cell.ious[d * G + g];
-        if (iou < best) continue;  // :286-287
-        best = iou;
-        m = static_cast<int>(s);
-      }
-      if (m == -1) continue;
-      result.ignored[t * D + d] = ignore[order[m]];  // :294-296
-      result.matched[t * D + d] = 1;
-      gt_matched[m] = 1;
-    }
+  // maskUtils.iou returns [] without ground truth or detections (:263, :272).
+  for (int t = 0; G > 0 && D > 0 && t < kT; ++t) {
+    MatchAtThreshold(IouThresholds()[t],
+                     cell.ious,
+                     crowd,
+                     ignore,
+                     order,
+                     &result.matched[t * D],
+                     &result.ignored[t * D]);
   }
   // Unmatched detections outside the selection are ignored (:297-299).
   for (size_t d = 0; d < D; ++d) {
@@ -240,6 +265,48 @@ void PrecisionRecall(const std::vector<uint8_t>& tps,
 
 }  // namespace
 
+// accumulate for one category (cocoeval.py:353-410): `E` holds its images'
+// results in image order.
+void CocoEvaluator::AccumulateCategory(size_t k,
+                                       const std::vector<CellResult>& E,
+                                       Accumulation* a) {
+  const size_t K = a->categories;
+  int64_t npig = 0;
+  for (const CellResult& e : E) npig += e.ground_truth_counted;
+  a->ground_truth += npig;
+  if (E.empty() || npig == 0) return;  // :360-361, :372-374
+  for (int m = 0; m < kM; ++m) {
+    // Concatenated in image order, each image cut to maxDet, then sorted
+    // stably by score (:362-371).
+    std::vector<std::pair<const CellResult*, size_t>> dets;
+    for (const CellResult& e : E)
+      for (size_t d = 0; d < std::min(e.scores.size(), size_t(kMaxDetections[m])); ++d)
+        dets.emplace_back(&e, d);
+    std::stable_sort(dets.begin(), dets.end(), [](const auto& x, const auto& y) {
+      return x.first->scores[x.second] > y.first->scores[y.second];
+    });
+    for (int t = 0; t < kT; ++t) {
+      std::vector<uint8_t> tps(dets.size()), fps(dets.size());
+      for (size_t i = 0; i < dets.size(); ++i) {
+        const CellResult& e = *dets[i].first;
+        const size_t at = t * e.scores.size() + dets[i].second;
+        tps[i] = e.matched[at] && !e.ignored[at];
+        fps[i] = !e.matched[at] && !e.ignored[at];
+      }
+      std::array<double, kR> q{};
+      double recall = 0;
+      PrecisionRecall(tps, fps, npig, &q, &recall);
+      a->recall[(static_cast<size_t>(t) * K + k) * kM + m] = recall;
+      for (int r = 0; r < kR; ++r)
+        a->precision[((static_cast<size_t>(t) * kR + r) * K + k) * kM + m] = q[r];
+      if (t == 0 && m == kM - 1) {
+        a->matched_50 += std::accumulate(tps.begin(), tps.end(), int64_t{0});
+        a->false_positives_50 += std::accumulate(fps.begin(), fps.end(), int64_t{0});
+      }
+    }
+  }
+}
+
 // COCOeval.accumulate (cocoeval.py:315-418) over the selected images.
 Accumulation CocoEvaluator::Accumulate(const Selection& selection) const {
   const size_t K = data_.category_ids.size();
@@ -253,44 +320,7 @@ Accumulation CocoEvaluator::Accumulate(const Selection& selection) const {
     if (selection.image && !selection.image(cell.image_id)) continue;
     per_category[cell.category].push_back(EvaluateCell(cell, selection));
   }
-  for (size_t k = 0; k < K; ++k) {
-    const std::vector<CellResult>& E = per_category[k];
-    if (E.empty()) continue;  // :360-361
-    int64_t npig = 0;
-    for (const CellResult& e : E) npig += e.ground_truth_counted;
-    for (int m = 0; m < kM; ++m) {
-      // Concatenated in image order, each image cut to maxDet, then sorted
-      // stably by score (:362-371).
-      std::vector<std::pair<const CellResult*, size_t>> dets;
-      for (const CellResult& e : E)
-        for (size_t d = 0; d < std::min(e.scores.size(), size_t(kMaxDetections[m])); ++d)
-          dets.emplace_back(&e, d);
-      std::stable_sort(dets.begin(), dets.end(), [](const auto& x, const auto& y) {
-        return x.first->scores[x.second] > y.first->scores[y.second];
-      });
-      if (npig == 0) continue;  // :372-374
-      for (int t = 0; t < kT; ++t) {
-        std::vector<uint8_t> tps(dets.size()), fps(dets.size());
-        for (size_t i = 0; i < dets.size(); ++i) {
-          const CellResult& e = *dets[i].first;
-          const size_t at = t * e.scores.size() + dets[i].second;
-          tps[i] = e.matched[at] && !e.ignored[at];
-          fps[i] = !e.matched[at] && !e.ignored[at];
-        }
-        std::array<double, kR> q{};
-        double recall = 0;
-        PrecisionRecall(tps, fps, npig, &q, &recall);
-        a.recall[(static_cast<size_t>(t) * K + k) * kM + m] = recall;
-        for (int r = 0; r < kR; ++r)
-          a.precision[((static_cast<size_t>(t) * kR + r) * K + k) * kM + m] = q[r];
-        if (t == 0 && m == kM - 1) {
-          a.matched_50 += std::accumulate(tps.begin(), tps.end(), int64_t{0});
-          a.false_positives_50 += std::accumulate(fps.begin(), fps.end(), int64_t{0});
-        }
-      }
-    }
-    a.ground_truth += npig;
-  }
+  for (size_t k = 0; k < K; ++k) AccumulateCategory(k, per_category[k], &a);
   return a;
 }
 

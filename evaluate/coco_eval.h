@@ -114,6 +114,7 @@ class CocoEvaluator {
   struct Cell;
   struct CellResult;
   CellResult EvaluateCell(const Cell& cell, const Selection& selection) const;
+  static void AccumulateCategory(size_t k, const std::vector<CellResult>& E, Accumulation* a);
 
   CocoData data_;
   std::vector<Cell> cells_;  // category, then image order

@@ -137,7 +137,7 @@ class EntryReader {
 
 }  // namespace
 
-std::vector<DetectionBox> ParseCocoPredictions(std::string text,
+std::vector<DetectionBox> ParseCocoPredictions(const std::string& text,
                                                const std::string& file,
                                                const EvaluationTruth& truth) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)

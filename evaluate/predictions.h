@@ -20,7 +20,7 @@ std::vector<DetectionBox> ReadCocoPredictions(const std::filesystem::path& file,
                                               const EvaluationTruth& truth);
 
 // The same for a document in memory (`file` names it in messages).
-std::vector<DetectionBox> ParseCocoPredictions(std::string text,
+std::vector<DetectionBox> ParseCocoPredictions(const std::string& text,
                                                const std::string& file,
                                                const EvaluationTruth& truth);
 

@@ -10,9 +10,7 @@
 #include "evaluate/ground_truth.h"
 #include "evaluate/predictions.h"
 #include "libs/util/json_errors.h"
-#include "tests/build_paths.h"
-#include "tests/evaluate/golden_collection.h"
-#include "tests/test_util.h"
+#include "tests/evaluate/golden_fixture.h"
 
 namespace lsds::evaluate {
 namespace {
@@ -81,33 +79,11 @@ const Golden kGoldens[] = {
       0.59999999999999998}},
 };
 
-std::filesystem::path Data(const std::string& name) {
-  return std::filesystem::path(testing::SourceDir()) / "tests" / "evaluate" / "data" / name;
-}
-
-class CocoEvalGolden : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new testing::TempDir();
-    synth::WriteCollection(*dir_ / "c", testing::EvaluateGoldenSpec());
-    TruthOptions options;
-    options.collection = *dir_ / "c";
-    truth_ = new EvaluationTruth(ReadCollectionTruth(options));
-  }
-  static void TearDownTestSuite() {
-    delete truth_;
-    delete dir_;
-  }
-  static testing::TempDir* dir_;
-  static EvaluationTruth* truth_;
-};
-
-testing::TempDir* CocoEvalGolden::dir_ = nullptr;
-EvaluationTruth* CocoEvalGolden::truth_ = nullptr;
+using CocoEvalGolden = GoldenCollection;
 
 // The crowd regions of data/crowd_regions.json added to the ground truth.
 void AddCrowdRegions(EvaluationTruth* truth) {
-  for (const nlohmann::json& a : ReadJsonFile(Data("crowd_regions.json"))) {
+  for (const nlohmann::json& a : ReadJsonFile(GoldenData("crowd_regions.json"))) {
     GroundTruthBox g;
     g.id = a["id"].get<int64_t>();
     g.image_id = a["image_id"].get<int64_t>();
@@ -126,7 +102,7 @@ TEST_F(CocoEvalGolden, TheTwelveStatsAreThoseOfPycocotools) {
     EvaluationTruth truth = *truth_;
     if (std::string(golden.name) == "crowd") AddCrowdRegions(&truth);
     CocoData data = truth.coco;
-    data.detections = ReadCocoPredictions(Data(std::string(golden.name) + ".json"), truth);
+    data.detections = ReadCocoPredictions(GoldenData(std::string(golden.name) + ".json"), truth);
     const CocoStats stats = CocoEvaluator(data).Stats();
     for (size_t i = 0; i < stats.size(); ++i)
       EXPECT_NEAR(stats[i], golden.stats[i], 1e-9) << golden.name << " " << CocoStatNames()[i];

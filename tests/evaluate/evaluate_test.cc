@@ -11,47 +11,24 @@
 #include "libs/collection/schema.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/json_errors.h"
-#include "tests/build_paths.h"
-#include "tests/evaluate/golden_collection.h"
-#include "tests/test_util.h"
+#include "tests/evaluate/golden_fixture.h"
 
 namespace lsds::evaluate {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Data(const std::string& name) {
-  return fs::path(testing::SourceDir()) / "tests" / "evaluate" / "data" / name;
-}
-
-class EvaluateOnGolden : public ::testing::Test {
+class EvaluateOnGolden : public GoldenCollection {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new testing::TempDir();
-    synth::WriteCollection(*dir_ / "c", testing::EvaluateGoldenSpec());
-    TruthOptions options;
-    options.collection = *dir_ / "c";
-    truth_ = new EvaluationTruth(ReadCollectionTruth(options));
-  }
-  static void TearDownTestSuite() {
-    delete truth_;
-    delete dir_;
-  }
-  static std::string C() { return (*dir_ / "c").string(); }
   static EvaluationReport Report(const std::string& predictions) {
-    return Evaluate(*truth_, ReadCocoPredictions(Data(predictions), *truth_), 30);
+    return Evaluate(*truth_, ReadCocoPredictions(GoldenData(predictions), *truth_), 30);
   }
   static const ConditionMetrics& Condition(const EvaluationReport& r, const std::string& name) {
     for (const ConditionMetrics& c : r.strata)
       if (c.name == name) return c;
     throw std::runtime_error("no condition " + name);
   }
-  static testing::TempDir* dir_;
-  static EvaluationTruth* truth_;
 };
-
-testing::TempDir* EvaluateOnGolden::dir_ = nullptr;
-EvaluationTruth* EvaluateOnGolden::truth_ = nullptr;
 
 TEST_F(EvaluateOnGolden, AModelBlindToSmallObjectsHasItsSmallStrataRankedWorst) {
   // missing_small.json: every object of 16 px and more, none smaller.
@@ -179,7 +156,8 @@ TEST_F(EvaluateOnGolden, BadPredictionsAreNamedAtTheirEntry) {
 TEST_F(EvaluateOnGolden, TheCommandWritesItsOutputsAndExitsByTheThresholds) {
   testing::TempDir out;
   const std::string json = (out / "eval.json").string(), junit = (out / "eval.xml").string();
-  const std::string base = "evaluate " + C() + " --predictions " + Data("jittered.json").string();
+  const std::string base =
+      "evaluate " + C() + " --predictions " + GoldenData("jittered.json").string();
   const testing::CommandResult run =
       testing::RunLsds(base + " -o " + json + " --junit " + junit + " --fail-under AP50=0.1");
   ASSERT_EQ(run.exit_code, 0) << run.output;

@@ -6,9 +6,13 @@
 // every stratum of every condition), against the floor: parsing the same JSON text with
 // nlohmann alone, which any evaluator of the file does.
 //
-//   bench_evaluate [--images 2000,10000]
+// --write DIR also writes DIR/gt_N.json (a COCO dataset) and DIR/dt_N.json (the results) for a
+// peer: pycocotools' COCOeval on the same data (bench/README.md, "lsds evaluate").
+//
+//   bench_evaluate [--images 2000,10000] [--write DIR]
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -74,12 +78,37 @@ EvaluationTruth Truth(int64_t images, std::mt19937_64* rng, std::string* predict
   return truth;
 }
 
+// The ground truth as a COCO dataset, for pycocotools.
+void WriteCoco(const EvaluationTruth& truth,
+               const std::string& predictions,
+               const std::string& folder,
+               int64_t images) {
+  nlohmann::json gt = {{"images", nlohmann::json::array()},
+                       {"annotations", nlohmann::json::array()},
+                       {"categories", nlohmann::json::array()}};
+  for (int64_t id : truth.coco.image_ids) gt["images"].push_back({{"id", id}});
+  for (int64_t id : truth.coco.category_ids) gt["categories"].push_back({{"id", id}});
+  for (const GroundTruthBox& g : truth.coco.ground_truth) {
+    gt["annotations"].push_back({{"id", g.id},
+                                 {"image_id", g.image_id},
+                                 {"category_id", g.category_id},
+                                 {"bbox", {g.bbox.x, g.bbox.y, g.bbox.w, g.bbox.h}},
+                                 {"area", g.area},
+                                 {"iscrowd", 0}});
+  }
+  const std::string n = std::to_string(images);
+  std::ofstream(folder + "/gt_" + n + ".json") << gt.dump();
+  std::ofstream(folder + "/dt_" + n + ".json") << predictions;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"lsds evaluate: COCO metrics and strata of a large synthetic prediction set"};
   std::vector<int64_t> sizes = {2000, 10000};
   app.add_option("--images", sizes, "image counts")->delimiter(',');
+  std::string write;
+  app.add_option("--write", write, "also write the data as COCO files into this folder");
   CLI11_PARSE(app, argc, argv);
   std::printf("%8s %10s %9s %9s %9s %9s %9s %7s\n",
               "images",
@@ -94,6 +123,7 @@ int main(int argc, char** argv) {
     std::mt19937_64 rng(44);
     std::string text;
     const EvaluationTruth truth = Truth(images, &rng, &text);
+    if (!write.empty()) WriteCoco(truth, text, write, images);
     auto t = Clock::now();
     const nlohmann::json parsed = nlohmann::json::parse(text);
     const double floor = Seconds(t);
@@ -108,6 +138,11 @@ int main(int argc, char** argv) {
     t = Clock::now();
     const EvaluationReport report = Evaluate(truth, std::move(detections), 30);
     const double whole = Seconds(t);
+    if (!write.empty()) {  // for comparison with the peer's stats
+      std::printf("stats %lld:", static_cast<long long>(images));
+      for (const double v : stats) std::printf(" %.17g", v);
+      std::printf("\n");
+    }
     std::printf("%8lld %10zu %9.3f %9.3f %9.3f %9.3f %9.3f %7.1f   (AP %.3f, %zu conditions)\n",
                 static_cast<long long>(images),
                 parsed.size(),

@@ -256,6 +256,7 @@ std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth,
     NumericBins numeric;
     if (d.level == Level::kObject) {
       c.object_bin = Bin(d, ObjectValues(d, truth), &c.bins, &numeric);
+      c.edges = numeric.edges;
       if (std::none_of(c.object_bin.begin(), c.object_bin.end(), [](int b) { return b >= 0; }))
         continue;
       if (c.name == "size_px") {
@@ -264,6 +265,7 @@ std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth,
       }
     } else {
       const std::vector<int> per_image = Bin(d, ImageValues(d, truth), &c.bins, &numeric);
+      c.edges = numeric.edges;
       for (size_t i = 0; i < per_image.size(); ++i)
         if (per_image[i] >= 0) c.image_bin[truth.coco.image_ids[i]] = per_image[i];
       if (c.image_bin.empty()) continue;

@@ -22,6 +22,7 @@ struct ConditionBins {
   std::string description;
   Level level = Level::kObject;
   std::vector<std::string> bins;     // bin labels, in the condition's order
+  std::vector<double> edges;         // numeric: bins.size() + 1 edges; categorical: empty
   std::vector<int> object_bin;       // per ground-truth annotation; -1: not recorded
   std::map<int64_t, int> image_bin;  // frame conditions: per COCO image id (absent: not recorded)
   // Per detection, for a condition a box also has (size_px); empty otherwise:

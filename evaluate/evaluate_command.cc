@@ -4,6 +4,7 @@
 
 #include "evaluate/evaluate_run.h"
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
 
@@ -28,6 +29,11 @@ int RunEvaluate(int argc, char** argv) {
   app.add_option(
       "-o,--output", output, "write the evaluation JSON here (schemas/evaluate.schema.json)");
   app.add_option("--junit", junit, "write a JUnit XML report here");
+  std::string suggest;
+  app.add_option("--suggest",
+                 suggest,
+                 "write the collection's LCAP capture with quotas asking for more frames where the "
+                 "model did worst (for lsds plan / generate with the collection's scene)");
   app.add_option("--fail-under",
                  options.fail_under,
                  "METRIC=VALUE: exit 1 when the metric (AP, AP50, AP75, APs, APm, APl, AR1, AR10, "
@@ -57,9 +63,17 @@ int RunEvaluate(int argc, char** argv) {
     options.predictions = predictions;
     options.output = output;
     options.junit = junit;
+    options.suggest = suggest;
     options.force = common.force;
     const evaluate::EvaluateResult result = evaluate::RunEvaluate(options);
-    if (!common.quiet) std::cout << evaluate::ReportText(result.report);
+    if (!common.quiet) {
+      std::cout << evaluate::ReportText(result.report);
+      if (!suggest.empty())
+        std::cout << "suggested capture: " << suggest << " (quotas: "
+                  << (result.suggested_quotas.empty() ? "none"
+                                                      : Join(result.suggested_quotas, ", "))
+                  << ")\n";
+    }
     return result.thresholds_passed ? 0 : 1;
   });
 }

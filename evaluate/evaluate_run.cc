@@ -2,6 +2,7 @@
 
 #include "evaluate/conditions.h"
 #include "evaluate/predictions.h"
+#include "evaluate/suggest.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -30,6 +31,8 @@ void EvaluateOptions::Check() const {
   if (thin_below < 0) throw Error("--thin must be >= 0");
   if (predictions.empty() && !fail_under.empty())
     throw Error("--fail-under needs --predictions (coverage has no metrics)");
+  if (predictions.empty() && !suggest.empty())
+    throw Error("--suggest needs --predictions (it asks for frames where the model did worst)");
   for (const std::string& t : fail_under) ParseThreshold(t);
 }
 
@@ -65,10 +68,18 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
   guard.AddInput(options.predictions, "predictions file");
   guard.CheckOutput(options.output, "-o");
   guard.CheckOutput(options.junit, "--junit");
-  if (!options.output.empty() && options.output == options.junit)
-    throw Error("-o and --junit name the same file", Location(options.output.string()));
-  if (!options.output.empty()) RefuseToOverwrite(options.output, options.force, "evaluation");
-  if (!options.junit.empty()) RefuseToOverwrite(options.junit, options.force, "JUnit report");
+  guard.CheckOutput(options.suggest, "--suggest");
+  const std::vector<std::pair<std::filesystem::path, const char*>> outputs = {
+      {options.output, "evaluation"},
+      {options.junit, "JUnit report"},
+      {options.suggest, "capture"}};
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].first.empty()) continue;
+    for (size_t j = 0; j < i; ++j)
+      if (CanonicalPath(outputs[i].first) == CanonicalPath(outputs[j].first))
+        throw Error("two outputs name the same file", Location(outputs[i].first.string()));
+    RefuseToOverwrite(outputs[i].first, options.force, outputs[i].second);
+  }
 
   const EvaluationTruth truth = ReadCollectionTruth(options.truth);
   EvaluateResult result;
@@ -82,10 +93,17 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
       result.report.thresholds.push_back(ParseThreshold(t));
     result.thresholds_passed = CheckThresholds(*result.report.stats, &result.report.thresholds);
   }
+  std::string capture;
+  if (!options.suggest.empty()) {
+    Suggestion suggestion = SuggestCapture(truth, BinConditions(truth, {}), result.report);
+    capture = std::move(suggestion.lcap);
+    result.suggested_quotas = std::move(suggestion.quotas);
+  }
   result.report.collection = Utf8Escaped(options.truth.collection.string());
   if (!options.output.empty())
     WriteFileAtomic(options.output, ReportJson(result.report).dump(2) + "\n");
   if (!options.junit.empty()) WriteFileAtomic(options.junit, ReportJUnit(result.report));
+  if (!options.suggest.empty()) WriteFileAtomic(options.suggest, capture);
   return result;
 }
 

@@ -16,8 +16,9 @@ struct EvaluateOptions {
   TruthOptions truth;
   std::filesystem::path predictions;  // empty: coverage only
   std::string format = "coco";
-  std::filesystem::path output;  // JSON; empty: none
-  std::filesystem::path junit;   // JUnit XML; empty: none
+  std::filesystem::path output;   // JSON; empty: none
+  std::filesystem::path junit;    // JUnit XML; empty: none
+  std::filesystem::path suggest;  // the next LCAP capture; empty: none (needs predictions)
   bool force = false;
   int64_t thin_below = 30;
   std::vector<std::string> fail_under;  // METRIC=VALUE
@@ -28,7 +29,8 @@ struct EvaluateOptions {
 
 struct EvaluateResult {
   EvaluationReport report;
-  bool thresholds_passed = true;  // false: exit 1
+  bool thresholds_passed = true;              // false: exit 1
+  std::vector<std::string> suggested_quotas;  // with --suggest
 };
 
 // Reads everything and computes the report before writing anything; then

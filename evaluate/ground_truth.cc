@@ -94,6 +94,7 @@ void ReadFrameFacts(const TruthOptions& options,
                     std::map<std::pair<int64_t, uint32_t>, double>* distances) {
   const CollectionReader reader(options.collection);
   const WorldFrame& world = reader.header().conventions.world;
+  truth->capture_source = reader.header().provenance.capture_source;
   reader.ForEachFrame([&](const Frame& frame) {
     if (!options.frames.Contains(frame.index)) return;
     truth->frames[frame.index] = FactsOf(frame, world);
@@ -146,6 +147,7 @@ void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTr
       facts.size_px = std::max(g.bbox.w, g.bbox.h);
       if (const auto lsds = a.find("lsds"); lsds != a.end()) {
         facts.instance_id = lsds->at("instance_id").get<uint32_t>();
+        facts.name = lsds->value("name", "");
         facts.visibility = lsds->at("visibility").get<double>();
         facts.in_frame = lsds->at("in_frame").get<double>();
       }

@@ -34,6 +34,7 @@ struct TruthOptions {
 struct ObjectFacts {
   int64_t frame = 0;
   uint32_t instance_id = 0;
+  std::string name;  // the LSCENE symbol and copy, "T#2"
   double visibility = 0;
   double in_frame = 0;
   double size_px = 0;                // the larger side of the COCO box
@@ -59,6 +60,7 @@ struct EvaluationTruth {
   std::map<int64_t, int64_t> frame_of_image;  // COCO image id -> frame index
   std::vector<ObjectFacts> objects;           // parallel to coco.ground_truth
   std::map<int64_t, FrameFacts> frames;       // by frame index
+  std::string capture_source;                 // provenance.capture_source (LCAP text)
 };
 
 // Throws lsds::Error (exit 2) for an unreadable collection or bad options.

@@ -5,6 +5,8 @@
 #include <set>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+
 namespace lsds::evaluate {
 
 namespace {
@@ -77,20 +79,30 @@ Interval WilsonInterval(int64_t k, int64_t n) {
 std::vector<ConditionMetrics> EvaluateStrata(const CocoEvaluator& evaluator,
                                              const std::vector<ConditionBins>& conditions,
                                              int64_t thin_below) {
+  // Every stratum is one accumulation over the evaluator's cells, which it
+  // only reads: all of them at once (TBB), each into its own slot.
+  std::vector<std::pair<size_t, int>> strata;
+  for (size_t c = 0; c < conditions.size(); ++c)
+    for (int bin = 0; bin < static_cast<int>(conditions[c].bins.size()); ++bin)
+      strata.emplace_back(c, bin);
+  std::vector<StratumMetrics> measured(strata.size());
+  tbb::parallel_for(size_t{0}, strata.size(), [&](size_t i) {
+    measured[i] = Measure(evaluator, conditions[strata[i].first], strata[i].second, thin_below);
+  });
   std::vector<ConditionMetrics> out;
-  for (const ConditionBins& c : conditions) {
-    ConditionMetrics metrics{c.name, c.description, c.level, {}};
-    for (int bin = 0; bin < static_cast<int>(c.bins.size()); ++bin) {
-      StratumMetrics m = Measure(evaluator, c, bin, thin_below);
-      if (m.objects > 0 || m.frames > 0) metrics.strata.push_back(std::move(m));
-    }
-    // Worst first; strata without objects (no recall to rank) last.
+  for (const ConditionBins& c : conditions)
+    out.push_back(ConditionMetrics{c.name, c.description, c.level, {}});
+  for (size_t i = 0; i < strata.size(); ++i) {
+    if (measured[i].objects > 0 || measured[i].frames > 0)
+      out[strata[i].first].strata.push_back(std::move(measured[i]));
+  }
+  // Worst first; strata without objects (no recall to rank) last.
+  for (ConditionMetrics& metrics : out) {
     std::stable_sort(
         metrics.strata.begin(), metrics.strata.end(), [](const auto& x, const auto& y) {
           return std::make_tuple(x.objects == 0, x.recall_50, x.recall_50_ci.high) <
                  std::make_tuple(y.objects == 0, y.recall_50, y.recall_50_ci.high);
         });
-    out.push_back(std::move(metrics));
   }
   return out;
 }

@@ -90,6 +90,7 @@ std::vector<ConditionMetrics> EvaluateStrata(const CocoEvaluator& evaluator,
     measured[i] = Measure(evaluator, conditions[strata[i].first], strata[i].second, thin_below);
   });
   std::vector<ConditionMetrics> out;
+  out.reserve(conditions.size());
   for (const ConditionBins& c : conditions)
     out.push_back(ConditionMetrics{c.name, c.description, c.level, {}});
   for (size_t i = 0; i < strata.size(); ++i) {

@@ -16,7 +16,7 @@ cd "$(dirname "$0")/.."
 [ -f "$build/compile_commands.json" ] || { echo "tidy: no $build/compile_commands.json (configure first)" >&2; exit 2; }
 
 # The product folders: the core, the features, the binary (docs/architecture.md), the fuzz harnesses.
-product=(libs generator validators importers converters report bundles backproject export_layers perturb scaleout synth tools python fuzz)
+product=(libs generator validators importers converters report bundles backproject export_layers perturb scaleout synth evaluate tools python fuzz)
 if [ "$mode" = "--all" ]; then
   mapfile -t files < <(git ls-files "${product[@]/%//*.cc}")
 else

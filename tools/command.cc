@@ -42,6 +42,9 @@ const std::vector<Command>& Commands() {
        "pycocotools) drops or rejects of an export of " +
            Join(check::CheckedFormats(), ", "),
        RunCheckExport},
+      {"evaluate",
+       "detection metrics of predictions (COCOeval) per condition of the collection; --coverage",
+       RunEvaluate},
       {"perturb-metadata",
        "write a perturbed copy of the metadata with the noise and errors "
        "recorded",

@@ -54,5 +54,6 @@ int RunImport(int argc, char** argv);
 int RunMerge(int argc, char** argv);
 int RunMergeReports(int argc, char** argv);
 int RunSubmit(int argc, char** argv);
+int RunEvaluate(int argc, char** argv);
 
 }  // namespace lsds

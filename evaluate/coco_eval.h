@@ -1,0 +1,127 @@
+// Box detection metrics computed exactly as the reference COCO API's COCOeval
+// does for iouType "bbox" (cocodataset/cocoapi, PythonAPI/pycocotools/
+// cocoeval.py and common/maskApi.c at commit 8c9bcc3, the source of every rule
+// cited as cocoeval.py:LINE below; docs/evaluate.md).
+//
+// COCOeval's area ranges are one case of a Selection: which images count,
+// which ground-truth boxes count (the others are ignored, like crowd regions)
+// and which unmatched detections count. The strata of docs/evaluate.md are
+// other selections evaluated by the same code.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace lsds::evaluate {
+
+// COCO's [x, y, width, height], pixel-edge.
+struct BoxXywh {
+  double x = 0, y = 0, w = 0, h = 0;
+};
+
+struct GroundTruthBox {
+  int64_t id = 0;  // > 0: COCOeval records a match by the annotation id (cocoeval.py:295)
+  int64_t image_id = 0;
+  int64_t category_id = 0;
+  BoxXywh bbox;
+  double area = 0;  // the annotation's `area` (the mask pixel count from lsds convert)
+  bool iscrowd = false;
+};
+
+// One entry of a COCO results list. Its id is its position + 1 and its area
+// w * h, as COCO.loadRes sets them (coco.py:333-340).
+struct DetectionBox {
+  int64_t image_id = 0;
+  int64_t category_id = 0;
+  BoxXywh bbox;
+  double score = 0;
+};
+
+struct CocoData {
+  std::vector<int64_t> image_ids;     // every image of the ground truth
+  std::vector<int64_t> category_ids;  // every category of the ground truth
+  std::vector<GroundTruthBox> ground_truth;
+  std::vector<DetectionBox> detections;  // for images and categories listed above
+};
+
+// What one evaluation counts (empty functions: everything). A ground-truth box
+// that is not selected is ignored as COCOeval ignores one outside the area
+// range (cocoeval.py:250-254); an unmatched detection that is not selected is
+// ignored as one outside the area range (cocoeval.py:297-299). Crowd regions
+// are always ignored (cocoeval.py:107-109).
+struct Selection {
+  std::function<bool(int64_t image_id)> image;
+  std::function<bool(size_t ground_truth_index)> ground_truth;
+  std::function<bool(size_t detection_index)> detection;
+};
+
+inline constexpr int kIouThresholdCount = 10;      // .50:.05:.95
+inline constexpr int kRecallThresholdCount = 101;  // 0:.01:1
+inline constexpr std::array<int, 3> kMaxDetections = {1, 10, 100};
+
+// np.linspace(.5, 0.95, 10) and np.linspace(.0, 1.00, 101) bit for bit
+// (cocoeval.py:506-507).
+const std::array<double, kIouThresholdCount>& IouThresholds();
+const std::array<double, kRecallThresholdCount>& RecallThresholds();
+
+// COCOeval.accumulate's arrays for one selection, plus counts at IoU .5 and
+// 100 detections per image.
+struct Accumulation {
+  size_t categories = 0;
+  std::vector<double> precision;   // [t][r][k][m], -1 where nothing was counted
+  std::vector<double> recall;      // [t][k][m], -1 where nothing was counted
+  int64_t images = 0;              // images selected
+  int64_t ground_truth = 0;        // ground-truth boxes counted (not ignored)
+  int64_t matched_50 = 0;          // of them, matched at IoU .5
+  int64_t false_positives_50 = 0;  // detections counted and unmatched at IoU .5
+
+  double Precision(int t, int r, size_t k, int m) const;
+  double Recall(int t, size_t k, int m) const;
+};
+
+// COCOeval's _summarize (cocoeval.py:427-457): the mean of the entries > -1
+// at one IoU threshold (index) or all of them, for maxDets index `m`; -1 when
+// there is none.
+double MeanPrecision(const Accumulation& a, std::optional<int> iou_index, int m);
+double MeanRecall(const Accumulation& a, std::optional<int> iou_index, int m);
+// The index of an IoU threshold compared for equality with the linspace
+// values, as np.where(iouThr == p.iouThrs) does (cocoeval.py:442); none when
+// no threshold is equal.
+std::optional<int> IouIndex(double threshold);
+
+// COCOeval.stats (cocoeval.py:458-472): AP, AP50, AP75, APs, APm, APl, AR1,
+// AR10, AR100, ARs, ARm, ARl.
+using CocoStats = std::array<double, 12>;
+const std::array<const char*, 12>& CocoStatNames();
+
+class CocoEvaluator {
+ public:
+  // Groups the boxes per image and category and computes their IoUs once
+  // (COCOeval.evaluate and computeIoU, cocoeval.py:121-190).
+  explicit CocoEvaluator(CocoData data);
+  ~CocoEvaluator();
+  CocoEvaluator(const CocoEvaluator&) = delete;
+  CocoEvaluator& operator=(const CocoEvaluator&) = delete;
+
+  const CocoData& data() const { return data_; }
+  Accumulation Accumulate(const Selection& selection) const;
+  CocoStats Stats() const;
+
+ private:
+  struct Cell;
+  struct CellResult;
+  CellResult EvaluateCell(const Cell& cell, const Selection& selection) const;
+  static void AccumulateCategory(size_t k, const std::vector<CellResult>& E, Accumulation* a);
+
+  CocoData data_;
+  std::vector<Cell> cells_;  // category, then image order
+};
+
+// COCO's area ranges as selections: all, small, medium, large
+// (cocoeval.py:509-510).
+Selection AreaRange(const CocoData& data, double low, double high);
+
+}  // namespace lsds::evaluate

@@ -1,0 +1,81 @@
+// lsds evaluate COLLECTION --predictions FILE [--format coco] [-o eval.json]
+// [--junit FILE] [--fail-under METRIC=VALUE]... | --coverage
+#include <iostream>
+
+#include "evaluate/evaluate_run.h"
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+#include "tools/command.h"
+#include "tools/shared_flags.h"
+
+namespace lsds {
+
+int RunEvaluate(int argc, char** argv) {
+  CLI::App app(
+      "Detection metrics of predictions against the collection's own truth, computed as "
+      "pycocotools' COCOeval does, and broken down by every condition the collection records; "
+      "or, with --coverage, how the collection fills that condition space (docs/evaluate.md).",
+      "lsds evaluate");
+  evaluate::EvaluateOptions options;
+  std::string collection, predictions, output, junit;
+  bool coverage = false;
+  app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
+  app.add_option(
+      "--predictions", predictions, "COCO results file: [{image_id, category_id, bbox, score}]");
+  app.add_option("--format", options.format, "format of the predictions (coco)")
+      ->check(CLI::IsMember({"coco"}));
+  app.add_flag(
+      "--coverage", coverage, "no predictions: how the collection fills the condition space");
+  app.add_option(
+      "-o,--output", output, "write the evaluation JSON here (schemas/evaluate.schema.json)");
+  app.add_option("--junit", junit, "write a JUnit XML report here");
+  std::string suggest;
+  app.add_option("--suggest",
+                 suggest,
+                 "write the collection's LCAP capture with quotas asking for more frames where the "
+                 "model did worst (for lsds plan / generate with the collection's scene)");
+  app.add_option("--fail-under",
+                 options.fail_under,
+                 "METRIC=VALUE: exit 1 when the metric (AP, AP50, AP75, APs, APm, APl, AR1, AR10, "
+                 "AR100, ARs, ARm, ARl) is under VALUE; repeatable");
+  app.add_option(
+         "--thin",
+         options.thin_below,
+         "strata and coverage cells with fewer objects (frames) are flagged thin (default 30)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option(
+      "--classes", options.truth.classes, "as lsds convert: keep, rename, merge classes");
+  app.add_flag("--keep-classes", options.truth.keep_classes, "as lsds convert: list every class");
+  app.add_option("--min-visibility",
+                 options.truth.min_visibility,
+                 "as lsds convert: leave out objects less visible than this");
+  app.add_option("--min-pixels",
+                 options.truth.min_pixels,
+                 "as lsds convert: leave out objects with fewer visible pixels");
+  CommonFlags common;
+  AddCommonFlags(app, &common, "replace existing output files");
+  return RunCommand(app, common, argc, argv, [&] {
+    if (coverage == !predictions.empty())
+      throw Error(coverage ? "--coverage evaluates no predictions: leave out --predictions"
+                           : "give --predictions FILE, or --coverage");
+    options.truth.collection = collection;
+    options.truth.frames = SelectCollectionFrames(common.frames, collection);
+    options.predictions = predictions;
+    options.output = output;
+    options.junit = junit;
+    options.suggest = suggest;
+    options.force = common.force;
+    const evaluate::EvaluateResult result = evaluate::RunEvaluate(options);
+    if (!common.quiet) {
+      std::cout << evaluate::ReportText(result.report);
+      if (!suggest.empty())
+        std::cout << "suggested capture: " << suggest << " (quotas: "
+                  << (result.suggested_quotas.empty() ? "none"
+                                                      : Join(result.suggested_quotas, ", "))
+                  << ")\n";
+    }
+    return result.thresholds_passed ? 0 : 1;
+  });
+}
+
+}  // namespace lsds

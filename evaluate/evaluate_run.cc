@@ -1,0 +1,110 @@
+#include "evaluate/evaluate_run.h"
+
+#include "evaluate/conditions.h"
+#include "evaluate/predictions.h"
+#include "evaluate/suggest.h"
+#include "libs/collection/collection_reader.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "libs/util/output_guard.h"
+#include "libs/util/text_check.h"
+
+namespace lsds::evaluate {
+
+namespace {
+
+EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
+  EvaluationReport report;
+  report.images = static_cast<int64_t>(truth.coco.image_ids.size());
+  report.annotations = static_cast<int64_t>(truth.coco.ground_truth.size());
+  for (size_t k = 0; k < truth.coco.category_ids.size(); ++k)
+    report.categories.emplace_back(truth.coco.category_ids[k], truth.category_names[k]);
+  report.thin_below = thin_below;
+  return report;
+}
+
+}  // namespace
+
+void EvaluateOptions::Check() const {
+  if (format != "coco")
+    throw Error("--format " + format + ": only coco results files are read so far");
+  if (thin_below < 0) throw Error("--thin must be >= 0");
+  if (predictions.empty() && !fail_under.empty())
+    throw Error("--fail-under needs --predictions (coverage has no metrics)");
+  if (predictions.empty() && !suggest.empty())
+    throw Error("--suggest needs --predictions (it asks for frames where the model did worst)");
+  for (const std::string& t : fail_under) ParseThreshold(t);
+}
+
+EvaluationReport CoverageReport(const EvaluationTruth& truth, int64_t thin_below) {
+  EvaluationReport report = BaseReport(truth, thin_below);
+  report.coverage = Coverage(truth, BinConditions(truth, {}), thin_below);
+  return report;
+}
+
+EvaluationReport Evaluate(const EvaluationTruth& truth,
+                          std::vector<DetectionBox> detections,
+                          int64_t thin_below) {
+  EvaluationReport report = BaseReport(truth, thin_below);
+  report.detections = static_cast<int64_t>(detections.size());
+  const std::vector<ConditionBins> conditions = BinConditions(truth, detections);
+  CocoData data = truth.coco;
+  data.detections = std::move(detections);
+  const CocoEvaluator evaluator(std::move(data));
+  report.stats = evaluator.Stats();
+  report.all = evaluator.Accumulate(Selection{});
+  report.strata = EvaluateStrata(evaluator, conditions, thin_below);
+  report.coverage = Coverage(truth, conditions, thin_below);
+  return report;
+}
+
+EvaluateResult RunEvaluate(const EvaluateOptions& options) {
+  options.Check();
+  CheckCollectionFolder(options.truth.collection);
+  // No output may be, contain or lie inside an input; existing outputs only
+  // with --force; all refused before any work.
+  OutputGuard guard("lsds evaluate");
+  guard.AddInput(options.truth.collection, "collection folder");
+  guard.AddInput(options.predictions, "predictions file");
+  guard.CheckOutput(options.output, "-o");
+  guard.CheckOutput(options.junit, "--junit");
+  guard.CheckOutput(options.suggest, "--suggest");
+  const std::vector<std::pair<std::filesystem::path, const char*>> outputs = {
+      {options.output, "evaluation"},
+      {options.junit, "JUnit report"},
+      {options.suggest, "capture"}};
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].first.empty()) continue;
+    for (size_t j = 0; j < i; ++j)
+      if (CanonicalPath(outputs[i].first) == CanonicalPath(outputs[j].first))
+        throw Error("two outputs name the same file", Location(outputs[i].first.string()));
+    RefuseToOverwrite(outputs[i].first, options.force, outputs[i].second);
+  }
+
+  const EvaluationTruth truth = ReadCollectionTruth(options.truth);
+  EvaluateResult result;
+  if (options.predictions.empty()) {
+    result.report = CoverageReport(truth, options.thin_below);
+  } else {
+    result.report =
+        Evaluate(truth, ReadCocoPredictions(options.predictions, truth), options.thin_below);
+    result.report.predictions = Utf8Escaped(options.predictions.string());
+    for (const std::string& t : options.fail_under)
+      result.report.thresholds.push_back(ParseThreshold(t));
+    result.thresholds_passed = CheckThresholds(*result.report.stats, &result.report.thresholds);
+  }
+  std::string capture;
+  if (!options.suggest.empty()) {
+    Suggestion suggestion = SuggestCapture(truth, BinConditions(truth, {}), result.report);
+    capture = std::move(suggestion.lcap);
+    result.suggested_quotas = std::move(suggestion.quotas);
+  }
+  result.report.collection = Utf8Escaped(options.truth.collection.string());
+  if (!options.output.empty())
+    WriteFileAtomic(options.output, ReportJson(result.report).dump(2) + "\n");
+  if (!options.junit.empty()) WriteFileAtomic(options.junit, ReportJUnit(result.report));
+  if (!options.suggest.empty()) WriteFileAtomic(options.suggest, capture);
+  return result;
+}
+
+}  // namespace lsds::evaluate

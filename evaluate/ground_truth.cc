@@ -1,0 +1,187 @@
+#include "evaluate/ground_truth.h"
+
+#include <stdlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <system_error>
+
+#include "converters/convert.h"
+#include "libs/collection/collection_reader.h"
+#include "libs/collection/model.h"
+#include "libs/geometry/world_frame.h"
+#include "libs/util/error.h"
+#include "libs/util/json_errors.h"
+
+namespace lsds::evaluate {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// A private scratch folder under the system's temporary folder, removed with
+// everything in it when the object goes.
+class ScratchFolder {
+ public:
+  ScratchFolder() {
+    std::string pattern = (fs::temp_directory_path() / "lsds-evaluate-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr)
+      throw Error("cannot make a scratch folder", Location(pattern));
+    path_ = pattern;
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+BoxXywh ReadBox(const json& box) {
+  return {box.at(0).get<double>(),
+          box.at(1).get<double>(),
+          box.at(2).get<double>(),
+          box.at(3).get<double>()};
+}
+
+std::optional<double> OptionalNumber(const json& object, const char* key) {
+  if (!object.is_object()) return std::nullopt;
+  const auto it = object.find(key);
+  if (it == object.end() || !it->is_number()) return std::nullopt;
+  return it->get<double>();
+}
+
+std::optional<std::string> OptionalString(const json& object, const char* key) {
+  if (!object.is_object()) return std::nullopt;
+  const auto it = object.find(key);
+  if (it == object.end() || !it->is_string()) return std::nullopt;
+  return it->get<std::string>();
+}
+
+// What a frame record says about its conditions (docs/format.md, "Scene
+// state"); the camera's optical axis in ENU gives the off-nadir angle.
+FrameFacts FactsOf(const Frame& frame, const WorldFrame& world) {
+  FrameFacts facts;
+  const Eigen::Vector3d axis_in_world = frame.camera.cam_from_world_rotation.row(2).transpose();
+  const Eigen::Vector3d axis = (world.enu_from_frame * axis_in_world).normalized();
+  facts.off_nadir_deg = std::acos(std::clamp(-axis.z(), -1.0, 1.0)) * 180.0 / M_PI;
+  const json& scene = frame.scene;
+  if (!scene.is_object()) return facts;
+  if (scene.contains("sun"))
+    facts.sun_elevation_deg = OptionalNumber(scene["sun"], "elevation_deg");
+  if (scene.contains("atmosphere")) {
+    facts.atmosphere_recorded = true;
+    facts.fog_visibility_m = OptionalNumber(scene["atmosphere"], "visibility_m");
+  }
+  if (scene.contains("sky")) {
+    const json& sky = scene["sky"];
+    facts.clouds = OptionalString(sky, "cloud_type");
+    if (OptionalNumber(sky, "cloud_density").value_or(1.0) <= 0) facts.clouds = "none";
+  }
+  facts.terrain_material = OptionalString(scene, "terrain_material");
+  return facts;
+}
+
+// The frames' conditions and every object's distance, keyed by frame and
+// instance id.
+void ReadFrameFacts(const TruthOptions& options,
+                    EvaluationTruth* truth,
+                    std::map<std::pair<int64_t, uint32_t>, double>* distances) {
+  const CollectionReader reader(options.collection);
+  const WorldFrame& world = reader.header().conventions.world;
+  truth->capture_source = reader.header().provenance.capture_source;
+  reader.ForEachFrame([&](const Frame& frame) {
+    if (!options.frames.Contains(frame.index)) return;
+    truth->frames[frame.index] = FactsOf(frame, world);
+    const Eigen::Matrix3d& r = frame.camera.cam_from_world_rotation;
+    const Eigen::Vector3d centre = -(r.transpose() * frame.camera.cam_from_world_translation);
+    for (const ObjectTruth& object : frame.objects) {
+      (*distances)[{frame.index, object.instance_id}] =
+          world.metres_per_unit * (object.obb.center - centre).norm();
+    }
+  });
+  const fs::path metadata = options.collection / kMetadataFile;
+  if (!fs::exists(metadata)) return;
+  MetadataReader(metadata).ForEachFrame([&](const MetadataFrame& frame) {
+    const auto it = truth->frames.find(frame.index);
+    if (it == truth->frames.end()) return;
+    it->second.altitude_agl_m = frame.altitude_agl_m;
+    it->second.gsd_m = frame.gsd_m;
+  });
+}
+
+}  // namespace
+
+void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTruth* truth) {
+  AtPointer(file, "/images", [&] {
+    for (const json& image : coco.at("images")) {
+      const int64_t id = image.at("id").get<int64_t>();
+      truth->coco.image_ids.push_back(id);
+      truth->image_by_file_name[image.at("file_name").get<std::string>()] = id;
+      truth->frame_of_image[id] = image.at("lsds").at("frame").get<int64_t>();
+    }
+  });
+  AtPointer(file, "/categories", [&] {
+    for (const json& category : coco.at("categories")) {
+      truth->coco.category_ids.push_back(category.at("id").get<int64_t>());
+      truth->category_names.push_back(category.at("name").get<std::string>());
+    }
+  });
+  AtPointer(file, "/annotations", [&] {
+    for (const json& a : coco.at("annotations")) {
+      GroundTruthBox g;
+      g.id = a.at("id").get<int64_t>();
+      g.image_id = a.at("image_id").get<int64_t>();
+      g.category_id = a.at("category_id").get<int64_t>();
+      g.bbox = ReadBox(a.at("bbox"));
+      g.area = a.at("area").get<double>();
+      g.iscrowd = a.at("iscrowd").get<int>() != 0;
+      truth->coco.ground_truth.push_back(g);
+      ObjectFacts facts;
+      facts.frame = truth->frame_of_image.at(g.image_id);
+      facts.size_px = std::max(g.bbox.w, g.bbox.h);
+      if (const auto lsds = a.find("lsds"); lsds != a.end()) {
+        facts.instance_id = lsds->at("instance_id").get<uint32_t>();
+        facts.name = lsds->value("name", "");
+        facts.visibility = lsds->at("visibility").get<double>();
+        facts.in_frame = lsds->at("in_frame").get<double>();
+      }
+      truth->objects.push_back(facts);
+    }
+  });
+}
+
+EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
+  // The converter, run as `lsds convert COLLECTION --to coco --images none`.
+  const ScratchFolder scratch;
+  convert::ConvertOptions coco;
+  coco.collection = options.collection;
+  coco.output = scratch.path() / "coco";
+  coco.formats = {"coco"};
+  coco.images = "none";
+  coco.frames = options.frames;
+  coco.classes = options.classes;
+  coco.keep_classes = options.keep_classes;
+  coco.min_visibility = options.min_visibility;
+  coco.min_pixels = options.min_pixels;
+  coco.progress = false;
+  convert::Convert(coco);
+  const fs::path file = coco.output / "annotations" / "instances_train.json";
+  EvaluationTruth truth;
+  ReadCocoGroundTruth(ReadJsonFile(file), file.string(), &truth);
+
+  std::map<std::pair<int64_t, uint32_t>, double> distances;
+  ReadFrameFacts(options, &truth, &distances);
+  for (ObjectFacts& object : truth.objects) {
+    const auto it = distances.find({object.frame, object.instance_id});
+    if (it != distances.end()) object.distance_m = it->second;
+  }
+  return truth;
+}
+
+}  // namespace lsds::evaluate

@@ -1,0 +1,179 @@
+#include "evaluate/predictions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "libs/util/error.h"
+#include "libs/util/input_file.h"
+#include "libs/util/json_errors.h"
+#include "libs/util/limits.h"
+
+namespace lsds::evaluate {
+
+using nlohmann::json;
+
+namespace {
+
+// The spellings Python's json.dump gives non-finite floats. They are not
+// JSON; each one outside a string is quoted, so that the entry holding it is
+// reported at its JSON pointer rather than as a syntax error.
+const char* const kNonFinite[] = {"-Infinity", "Infinity", "NaN"};
+
+std::string QuoteNonFiniteTokens(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      out += c;
+      if (c == '\\' && i + 1 < text.size()) {
+        out += text[++i];
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    if (c == '"') in_string = true;
+    bool quoted = false;
+    for (const char* token : kNonFinite) {
+      const size_t n = std::strlen(token);
+      if (text.compare(i, n, token) == 0) {
+        out += '"' + std::string(token) + '"';
+        i += n - 1;
+        quoted = true;
+        break;
+      }
+    }
+    if (!quoted) out += c;
+  }
+  return out;
+}
+
+class EntryReader {
+ public:
+  EntryReader(const std::string& file, const EvaluationTruth& truth) : file_(file), truth_(truth) {
+    for (int64_t id : truth.coco.image_ids) images_.push_back(id);
+    std::sort(images_.begin(), images_.end());
+    for (int64_t id : truth.coco.category_ids) categories_.push_back(id);
+    std::sort(categories_.begin(), categories_.end());
+  }
+
+  DetectionBox Read(const json& entry, const std::string& at) const {
+    if (!entry.is_object()) Fail(at, "expected an object {image_id, category_id, bbox, score}");
+    DetectionBox d;
+    d.image_id = Image(entry, at);
+    d.category_id = Id(entry, at, "category_id");
+    if (!std::binary_search(categories_.begin(), categories_.end(), d.category_id))
+      Fail(at + "/category_id",
+           "category " + std::to_string(d.category_id) + " is not a category of the ground truth");
+    const json* bbox = Member(entry, at, "bbox");
+    if (!bbox->is_array() || bbox->size() != 4)
+      Fail(at + "/bbox", "expected [x, y, width, height], got " + bbox->dump());
+    double* values[] = {&d.bbox.x, &d.bbox.y, &d.bbox.w, &d.bbox.h};
+    for (size_t i = 0; i < 4; ++i) {
+      *values[i] = Number((*bbox)[i], at + "/bbox/" + std::to_string(i));
+      if (i >= 2 && *values[i] < 0)
+        Fail(at + "/bbox/" + std::to_string(i),
+             std::string(i == 2 ? "width" : "height") + " is negative: " + (*bbox)[i].dump());
+    }
+    d.score = Number(*Member(entry, at, "score"), at + "/score");
+    return d;
+  }
+
+  [[noreturn]] void Fail(const std::string& at, const std::string& what) const {
+    throw Error(what, Location(file_, at));
+  }
+
+ private:
+  const json* Member(const json& entry, const std::string& at, const char* key) const {
+    const auto it = entry.find(key);
+    if (it == entry.end()) Fail(at, std::string("missing '") + key + "'");
+    return &*it;
+  }
+
+  double Number(const json& value, const std::string& at) const {
+    if (value.is_string()) {
+      for (const char* token : kNonFinite)
+        if (value.get<std::string>() == token)
+          Fail(at, std::string(token) + " is not a finite number");
+    }
+    if (!value.is_number()) Fail(at, "expected a number, got " + value.dump());
+    const double number = value.get<double>();
+    if (!std::isfinite(number)) Fail(at, "not a finite number: " + value.dump());
+    return number;
+  }
+
+  int64_t Id(const json& entry, const std::string& at, const char* key) const {
+    const json* value = Member(entry, at, key);
+    return AtPointer(file_, at + "/" + key, [&] { return JsonInteger<int64_t>(*value, key); });
+  }
+
+  // image_id, or file_name as `lsds convert` names the image.
+  int64_t Image(const json& entry, const std::string& at) const {
+    if (!entry.contains("image_id") && entry.contains("file_name")) {
+      const json& name = entry["file_name"];
+      const auto it = name.is_string() ? truth_.image_by_file_name.find(name.get<std::string>())
+                                       : truth_.image_by_file_name.end();
+      if (it == truth_.image_by_file_name.end())
+        Fail(at + "/file_name", "image " + name.dump() + " is not an image of the ground truth");
+      return it->second;
+    }
+    const int64_t id = Id(entry, at, "image_id");
+    if (!std::binary_search(images_.begin(), images_.end(), id))
+      Fail(at + "/image_id",
+           "image " + std::to_string(id) +
+               " is not an image of the ground truth (ids are frame index + 1, as lsds convert "
+               "--to coco assigns them)");
+    return id;
+  }
+
+  std::string file_;
+  const EvaluationTruth& truth_;
+  std::vector<int64_t> images_, categories_;
+};
+
+}  // namespace
+
+std::vector<DetectionBox> ParseCocoPredictions(const std::string& text,
+                                               const std::string& file,
+                                               const EvaluationTruth& truth) {
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw Error("the predictions file is empty (expected a JSON list, [] for none)",
+                Location(file));
+  CheckJsonNesting(text, file);
+  json document;
+  try {
+    document = ParseJsonText(text, file);
+  } catch (const Error&) {
+    // NaN / Infinity tokens: parsed quoted, then reported at their entry; any
+    // other syntax error at its own line and column.
+    const std::string quoted = QuoteNonFiniteTokens(text);
+    if (quoted == text) throw;
+    try {
+      document = ParseJsonText(quoted, file);
+    } catch (const Error&) {
+      ParseJsonText(text, file);  // throws the error of the text as given
+      throw;
+    }
+  }
+  if (!document.is_array())
+    throw Error("expected a JSON list of detections (a COCO results file), got a " +
+                    std::string(document.type_name()),
+                Location(file, "/"));
+  const EntryReader reader(file, truth);
+  std::vector<DetectionBox> detections;
+  detections.reserve(document.size());
+  for (size_t i = 0; i < document.size(); ++i)
+    detections.push_back(reader.Read(document[i], "/" + std::to_string(i)));
+  return detections;
+}
+
+std::vector<DetectionBox> ReadCocoPredictions(const std::filesystem::path& file,
+                                              const EvaluationTruth& truth) {
+  return ParseCocoPredictions(ReadTextFile(file), file.string(), truth);
+}
+
+}  // namespace lsds::evaluate

@@ -1,0 +1,63 @@
+// Metrics per stratum of every condition, ranked worst to best, and the
+// coverage of the condition space (docs/evaluate.md, "Strata", "Coverage").
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "evaluate/coco_eval.h"
+#include "evaluate/conditions.h"
+
+namespace lsds::evaluate {
+
+// 95 % Wilson score interval of a binomial proportion k / n ([0, 1] for n = 0).
+struct Interval {
+  double low = 0, high = 1;
+};
+Interval WilsonInterval(int64_t k, int64_t n);
+
+struct StratumMetrics {
+  std::string label;
+  int64_t objects = 0;  // ground-truth boxes counted (crowd regions are not)
+  int64_t frames = 0;   // images holding them (frame conditions: images in the stratum)
+  int64_t matched_50 = 0;
+  int64_t false_positives_50 = 0;
+  double ap = -1, ap50 = -1, ar100 = -1;  // COCO's means; -1: nothing to average
+  double recall_50 = 0;                   // matched_50 / objects (0 without objects)
+  Interval recall_50_ci;
+  bool thin = false;  // objects < the thin threshold
+};
+
+struct ConditionMetrics {
+  std::string name, description;
+  Level level = Level::kObject;
+  std::vector<StratumMetrics> strata;  // worst first: recall_50, then CI upper bound, then label
+};
+
+std::vector<ConditionMetrics> EvaluateStrata(const CocoEvaluator& evaluator,
+                                             const std::vector<ConditionBins>& conditions,
+                                             int64_t thin_below);
+
+// One bin of the coverage histogram.
+struct CoverageCell {
+  std::string label;
+  int64_t objects = 0;  // ground-truth boxes in the bin
+  int64_t frames = 0;   // frames in the bin (object conditions: frames holding such an object)
+  std::string flag;     // "empty", "thin" or ""
+};
+
+struct ConditionCoverage {
+  std::string name, description;
+  Level level = Level::kObject;
+  int64_t unrecorded = 0;           // objects (frames) whose value the collection does not record
+  std::vector<CoverageCell> cells;  // in the condition's bin order
+};
+
+// Flags: a cell is "empty" with no object (frame conditions: no frame) and
+// "thin" with fewer than `thin_below`.
+std::vector<ConditionCoverage> Coverage(const EvaluationTruth& truth,
+                                        const std::vector<ConditionBins>& conditions,
+                                        int64_t thin_below);
+
+}  // namespace lsds::evaluate

@@ -1,0 +1,130 @@
+// lsds evaluate's COCOeval port against the reference COCO API: the 12 stats of
+// pycocotools' COCOeval (iouType bbox) for five prediction sets on the golden
+// collection, equal to 1e-9. Provenance of the numbers: the README.md of tests/evaluate.
+#include <array>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "evaluate/coco_eval.h"
+#include "evaluate/ground_truth.h"
+#include "evaluate/predictions.h"
+#include "libs/util/json_errors.h"
+#include "tests/evaluate/golden_fixture.h"
+
+namespace lsds::evaluate {
+namespace {
+
+struct Golden {
+  const char* name;
+  std::array<double, 12>
+      stats;  // COCOeval.stats: AP AP50 AP75 APs APm APl AR1 AR10 AR100 ARs ARm ARl
+};
+
+// Written by tests/evaluate/make_goldens.py (pycocotools at cocodataset/cocoapi
+// 8c9bcc3cf640524c4c20a9c40e89cb6a2f2fa0e9, numpy 1.24.2, Debian 12).
+const Golden kGoldens[] = {
+    {"perfect", {1, 1, 1, 1, 1, 1, 0.17083333333333331, 1, 1, 1, 1, 1}},
+    {"jittered",
+     {0.28678031051121944,
+      0.77251641204220689,
+      0.11157864189438688,
+      0.26491120278659192,
+      0.35031038818167531,
+      0.50099009900990099,
+      0.059880952380952368,
+      0.38244047619047616,
+      0.38244047619047616,
+      0.36869747899159661,
+      0.40750000000000003,
+      0.5}},
+    {"missing_small",
+     {0.52046099246458188,
+      0.64356435643564358,
+      0.64356435643564358,
+      0.43134517297883634,
+      0.79382602545968883,
+      0.95049504950495045,
+      0.14624999999999999,
+      0.54398809523809533,
+      0.54398809523809533,
+      0.44810924369747901,
+      0.82499999999999996,
+      0.94999999999999996}},
+    {"false_positives",
+     {0.49985444797851514,
+      0.77974787109969823,
+      0.60227256350952518,
+      0.55002603427972918,
+      0.47378261933336185,
+      0.7504950495049505,
+      0.092321428571428568,
+      0.71398809523809526,
+      0.71398809523809526,
+      0.70420168067226896,
+      0.73250000000000004,
+      0.80000000000000004}},
+    {"crowd",
+     {0.64699110691161255,
+      1,
+      0.82438860245471546,
+      0.64467481024874207,
+      0.69271570014144268,
+      0.60099009900990097,
+      0.11845238095238093,
+      0.69000000000000006,
+      0.70750000000000002,
+      0.69999999999999996,
+      0.73999999999999999,
+      0.59999999999999998}},
+};
+
+using CocoEvalGolden = GoldenCollection;
+
+// The crowd regions of data/crowd_regions.json added to the ground truth.
+void AddCrowdRegions(EvaluationTruth* truth) {
+  for (const nlohmann::json& a : ReadJsonFile(GoldenData("crowd_regions.json"))) {
+    GroundTruthBox g;
+    g.id = a["id"].get<int64_t>();
+    g.image_id = a["image_id"].get<int64_t>();
+    g.category_id = a["category_id"].get<int64_t>();
+    const nlohmann::json& b = a["bbox"];
+    g.bbox = {b[0].get<double>(), b[1].get<double>(), b[2].get<double>(), b[3].get<double>()};
+    g.area = a["area"].get<double>();
+    g.iscrowd = a["iscrowd"].get<int>() != 0;
+    truth->coco.ground_truth.push_back(g);
+  }
+}
+
+TEST_F(CocoEvalGolden, TheTwelveStatsAreThoseOfPycocotools) {
+  ASSERT_GT(std::size(kGoldens), 0u);
+  for (const Golden& golden : kGoldens) {
+    EvaluationTruth truth = *truth_;
+    if (std::string(golden.name) == "crowd") AddCrowdRegions(&truth);
+    CocoData data = truth.coco;
+    data.detections = ReadCocoPredictions(GoldenData(std::string(golden.name) + ".json"), truth);
+    const CocoStats stats = CocoEvaluator(data).Stats();
+    for (size_t i = 0; i < stats.size(); ++i)
+      EXPECT_NEAR(stats[i], golden.stats[i], 1e-9) << golden.name << " " << CocoStatNames()[i];
+  }
+}
+
+TEST_F(CocoEvalGolden, TheCollectionCoversEveryAreaRangeAndBothClasses) {
+  // The goldens mean something only if the truth reaches every COCO area range.
+  int small = 0, medium = 0, large = 0;
+  for (const GroundTruthBox& g : truth_->coco.ground_truth) {
+    small += g.area < 32 * 32;
+    medium += g.area >= 32 * 32 && g.area <= 96 * 96;
+    large += g.area > 96 * 96;
+  }
+  EXPECT_GE(small, 10);
+  EXPECT_GE(medium, 10);
+  EXPECT_GE(large, 2);
+  EXPECT_EQ(truth_->category_names, (std::vector<std::string>{"box", "crate"}));
+  // Image ids are frame index + 1 (lsds convert --to coco).
+  EXPECT_EQ(truth_->coco.image_ids.front(), 1);
+  EXPECT_EQ(truth_->frame_of_image.at(7), 6);
+}
+
+}  // namespace
+}  // namespace lsds::evaluate

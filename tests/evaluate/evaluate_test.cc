@@ -1,0 +1,214 @@
+// lsds evaluate on the golden collection: strata ranked by what the model
+// misses, coverage of the condition space, bad predictions named at their
+// entry, and the command end to end (outputs, exit codes, thresholds).
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "evaluate/evaluate_run.h"
+#include "evaluate/predictions.h"
+#include "libs/collection/schema.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/json_errors.h"
+#include "tests/evaluate/golden_fixture.h"
+
+namespace lsds::evaluate {
+namespace {
+
+namespace fs = std::filesystem;
+
+class EvaluateOnGolden : public GoldenCollection {
+ protected:
+  static EvaluationReport Report(const std::string& predictions) {
+    return Evaluate(*truth_, ReadCocoPredictions(GoldenData(predictions), *truth_), 30);
+  }
+  static const ConditionMetrics& Condition(const EvaluationReport& r, const std::string& name) {
+    for (const ConditionMetrics& c : r.strata)
+      if (c.name == name) return c;
+    throw std::runtime_error("no condition " + name);
+  }
+};
+
+TEST_F(EvaluateOnGolden, AModelBlindToSmallObjectsHasItsSmallStrataRankedWorst) {
+  // missing_small.json: every object of 16 px and more, none smaller.
+  const EvaluationReport r = Report("missing_small.json");
+  const ConditionMetrics& size = Condition(r, "size_px");
+  ASSERT_GE(size.strata.size(), 3u);
+  int64_t small = 0;
+  for (const StratumMetrics& s : size.strata) {
+    const bool below_16 = s.label == "[0, 8)" || s.label == "[8, 16)";
+    EXPECT_EQ(s.recall_50, below_16 ? 0.0 : 1.0) << s.label;
+    if (below_16) small += s.objects;
+    EXPECT_LE(s.recall_50_ci.low, s.recall_50);
+    EXPECT_GE(s.recall_50_ci.high, s.recall_50);
+  }
+  ASSERT_GT(small, 0);
+  EXPECT_TRUE(size.strata.front().label == "[0, 8)" || size.strata.front().label == "[8, 16)");
+  EXPECT_EQ(size.strata.back().recall_50, 1.0);
+  // The overall counts: every object of 16 px and more matched.
+  EXPECT_EQ(r.all.matched_50, r.all.ground_truth - small);
+}
+
+TEST_F(EvaluateOnGolden, EveryRecordedConditionIsBrokenDown) {
+  const EvaluationReport r = Report("jittered.json");
+  std::vector<std::string> names;
+  for (const ConditionMetrics& c : r.strata) names.push_back(c.name);
+  for (const char* expected :
+       {"size_px", "visibility", "in_frame", "class", "distance_m", "off_nadir_deg"})
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+  // Objects of an object condition add up to all objects counted.
+  for (const char* name : {"size_px", "class", "in_frame"}) {
+    int64_t objects = 0;
+    for (const StratumMetrics& s : Condition(r, name).strata) objects += s.objects;
+    EXPECT_EQ(objects, r.all.ground_truth) << name;
+  }
+  const ConditionMetrics& in_frame = Condition(r, "in_frame");
+  EXPECT_EQ(in_frame.strata.size(), 2u);  // frame 1 cuts objects at the border
+}
+
+TEST(EvaluateWilson, TheIntervalOfTheWilsonScore) {
+  const Interval half = WilsonInterval(5, 10);
+  EXPECT_NEAR(half.low, 0.23659309, 1e-7);
+  EXPECT_NEAR(half.high, 0.76340691, 1e-7);
+  const Interval none = WilsonInterval(0, 20);
+  EXPECT_EQ(none.low, 0);
+  EXPECT_NEAR(none.high, 0.16112516, 1e-7);
+}
+
+TEST_F(EvaluateOnGolden, CoverageCountsEveryObjectAndFlagsTheHoles) {
+  const EvaluationReport r = CoverageReport(*truth_, 30);
+  ASSERT_FALSE(r.coverage.empty());
+  for (const ConditionCoverage& c : r.coverage) {
+    int64_t objects = 0;
+    for (const CoverageCell& cell : c.cells) objects += cell.objects;
+    EXPECT_EQ(objects + (c.level == Level::kObject ? c.unrecorded : 0), r.annotations) << c.name;
+  }
+  const ConditionCoverage* off_nadir = nullptr;
+  for (const ConditionCoverage& c : r.coverage)
+    if (c.name == "off_nadir_deg") off_nadir = &c;
+  ASSERT_NE(off_nadir, nullptr);
+  EXPECT_EQ(off_nadir->cells.front().frames, 6);  // the nadir frames
+  EXPECT_EQ(off_nadir->cells.front().flag, "thin");
+  EXPECT_EQ(off_nadir->cells[1].flag, "empty");  // [10, 20): no frame
+}
+
+struct BadCase {
+  std::string text;
+  std::string where;  // the location the message must name
+  std::string what;
+};
+
+TEST_F(EvaluateOnGolden, BadPredictionsAreNamedAtTheirEntry) {
+  const std::string ok = R"({"image_id":1,"category_id":1,"bbox":[1,2,3,4],"score":0.5})";
+  const BadCase cases[] = {
+      {"", "p.json", "empty"},
+      {"{}", "p.json#/", "expected a JSON list"},
+      {"[" + ok + ",3]", "p.json#/1", "expected an object"},
+      {R"([{"image_id":999,"category_id":1,"bbox":[1,2,3,4],"score":0.5}])",
+       "#/0/image_id",
+       "not an image of the ground truth"},
+      {R"([{"file_name":"x.png","category_id":1,"bbox":[1,2,3,4],"score":0.5}])",
+       "#/0/file_name",
+       "not an image"},
+      {R"([{"image_id":1,"category_id":9,"bbox":[1,2,3,4],"score":0.5}])",
+       "#/0/category_id",
+       "not a category"},
+      {"[" + ok + R"(,{"image_id":1,"category_id":1,"bbox":[1,2,3,4],"score":NaN}])",
+       "#/1/score",
+       "NaN"},
+      {R"([{"image_id":1,"category_id":1,"bbox":[1,2,-3,4],"score":0.5}])",
+       "#/0/bbox/2",
+       "negative"},
+      {R"([{"image_id":1,"category_id":1,"bbox":[1,Infinity,3,4],"score":0.5}])",
+       "#/0/bbox/1",
+       "Infinity"},
+      {R"([{"image_id":1,"category_id":1,"bbox":[1,2,3],"score":0.5}])",
+       "#/0/bbox",
+       "expected [x, y, width, height]"},
+      {R"([{"image_id":1,"category_id":1,"bbox":[1,"2",3,4],"score":0.5}])",
+       "#/0/bbox/1",
+       "expected a number"},
+      {R"([{"image_id":1.5,"category_id":1,"bbox":[1,2,3,4],"score":0.5}])",
+       "#/0/image_id",
+       "not an integer"},
+      {R"([{"image_id":1,"category_id":1,"bbox":[1,2,3,4]}])", "#/0", "missing 'score'"},
+      {"[" + ok + ",", "p.json:1:", "syntax error"},
+  };
+  for (const BadCase& c : cases) {
+    try {
+      ParseCocoPredictions(c.text, "p.json", *truth_);
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(c.where), std::string::npos) << c.text << "\n" << message;
+      EXPECT_NE(message.find(c.what), std::string::npos) << c.text << "\n" << message;
+    }
+  }
+  // file_name instead of image_id: the name lsds convert gives the image.
+  const auto by_name = ParseCocoPredictions(
+      R"([{"file_name":"000002.png","category_id":2,"bbox":[1,2,3,4],"score":0.5}])",
+      "p.json",
+      *truth_);
+  EXPECT_EQ(by_name.at(0).image_id, 3);
+}
+
+TEST_F(EvaluateOnGolden, TheCommandWritesItsOutputsAndExitsByTheThresholds) {
+  testing::TempDir out;
+  const std::string json = (out / "eval.json").string(), junit = (out / "eval.xml").string();
+  const std::string base =
+      "evaluate " + C() + " --predictions " + GoldenData("jittered.json").string();
+  const testing::CommandResult run =
+      testing::RunLsds(base + " -o " + json + " --junit " + junit + " --fail-under AP50=0.1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("Average Precision  (AP) @[ IoU=0.50:0.95 | area=   all"),
+            std::string::npos)
+      << run.output;
+  const nlohmann::json doc = ReadJsonFile(json);
+  EXPECT_TRUE(JsonSchema::Get("evaluate.schema.json").Validate(doc).empty());
+  EXPECT_EQ(doc["thresholds"][0]["passed"], true);
+  EXPECT_NE(ReadFile(junit).find("<testsuites"), std::string::npos);
+
+  // An existing output is not replaced without --force, and not touched.
+  const std::string before = ReadFile(json);
+  const testing::CommandResult again = testing::RunLsds(base + " -o " + json + " -q");
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_EQ(ReadFile(json), before);
+
+  // A threshold above the metric: exit 1, the failure in the JUnit report.
+  const testing::CommandResult fail = testing::RunLsds(base + " -o " + json + " --junit " + junit +
+                                                       " --force -q --fail-under AP=0.99");
+  EXPECT_EQ(fail.exit_code, 1) << fail.output;
+  EXPECT_TRUE(fail.output.empty()) << fail.output;  // -q
+  EXPECT_NE(ReadFile(junit).find("<failure"), std::string::npos);
+  EXPECT_EQ(ReadJsonFile(json)["thresholds"][0]["passed"], false);
+
+  const testing::CommandResult unknown = testing::RunLsds(base + " --fail-under mAP=0.5");
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
+}
+
+TEST_F(EvaluateOnGolden, BadPredictionsWriteNothingAndExit2) {
+  testing::TempDir out;
+  const fs::path bad = out / "bad.json";
+  WriteFileAtomic(bad, R"([{"image_id":1,"category_id":1,"bbox":[1,2,3,-4],"score":0.5}])");
+  const testing::CommandResult run = testing::RunLsds(
+      "evaluate " + C() + " --predictions " + bad.string() + " -o " + (out / "e.json").string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("bad.json#/0/bbox/3"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out / "e.json"));
+}
+
+TEST_F(EvaluateOnGolden, CoverageNeedsNoPredictions) {
+  testing::TempDir out;
+  const testing::CommandResult run =
+      testing::RunLsds("evaluate " + C() + " --coverage -o " + (out / "cov.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("empty"), std::string::npos) << run.output;
+  const nlohmann::json doc = ReadJsonFile(out / "cov.json");
+  EXPECT_TRUE(JsonSchema::Get("evaluate.schema.json").Validate(doc).empty());
+  EXPECT_FALSE(doc.contains("coco"));
+  EXPECT_EQ(testing::RunLsds("evaluate " + C()).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace lsds::evaluate

@@ -23,6 +23,25 @@ namespace {
 
 using testing::PlanText;
 
+// Writes `scene` and `capture` into `dir`, generates them into dir/out (--spp 1) and validates the
+// result with --fail-on warning (test failures otherwise); the collection.json.
+nlohmann::json GenerateValidated(const testing::TempDir& dir,
+                                 const std::string& scene,
+                                 const std::string& capture) {
+  std::ofstream(dir / "s.lscene") << scene;
+  std::ofstream(dir / "c.lcap") << capture;
+  const std::string out = (dir / "out").string();
+  const auto generated =
+      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
+                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
+  EXPECT_EQ(generated.exit_code, 0) << generated.output;
+  const auto validated =
+      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
+  EXPECT_EQ(validated.exit_code, 0) << validated.output;
+  std::ifstream in(dir / "out" / "collection.json");
+  return in ? nlohmann::json::parse(in) : nlohmann::json();
+}
+
 TEST(CaptureOverTime, EnvironmentChangesApplyFromTheirFrame) {
   const Plan plan = PlanText(
       "LSCENE = ONE(S) ONE(DL) ONE(A) ONE(W)\nS = skybox{color:blue}\n"
@@ -137,46 +156,29 @@ TEST(CaptureOverTime, ASmoothFlightAdvancesSpeedOverFpsPerFrame) {
 
 TEST(CaptureOverTime, ASmoothFlightPassesTheGateWithValidMotion) {
   testing::TempDir dir;
-  std::ofstream(dir / "s.lscene")
-      << "LSCENE = ONE(W) MANY(O, 6)\n"
-         "W = terrain{size:[120,120],height:{perlin:{amplitude:2}}}\n"
-         "O = object{class:cube,extent:[2,2,2],position:{ON:W,within:[[-15,"
-         "-15,-100],[15,15,100]]}}\n";
-  std::ofstream(dir / "c.lcap") << "LCAP = ONE(CO) ONE(P)\n"
-                                   "CO = camera{csettings:{res:[160,120],fps:5},targets:[O]}\n"
-                                   "P = path{waypoints:{points:[[-20,-20,25],[0,0,30],[20,-10,25]],"
-                                   "speed:8,interpolation:spline}}\n";
-  const std::string out = (dir / "out").string();
-  const auto generated =
-      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
-                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
-  ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated =
-      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
-  EXPECT_EQ(validated.exit_code, 0) << validated.output;
-  std::ifstream in(dir / "out" / "collection.json");
-  const auto collection = nlohmann::json::parse(in);
+  const auto collection = GenerateValidated(
+      dir,
+      "LSCENE = ONE(W) MANY(O, 6)\n"
+      "W = terrain{size:[120,120],height:{perlin:{amplitude:2}}}\n"
+      "O = object{class:cube,extent:[2,2,2],position:{ON:W,within:[[-15,-15,-100],[15,15,100]]}}\n",
+      "LCAP = ONE(CO) ONE(P)\n"
+      "CO = camera{csettings:{res:[160,120],fps:5},targets:[O]}\n"
+      "P = path{waypoints:{points:[[-20,-20,25],[0,0,30],[20,-10,25]],"
+      "speed:8,interpolation:spline}}\n");
   EXPECT_GT(collection["frames"].size(), 8u);
   EXPECT_TRUE(collection["frames"][3].contains("camera_velocity"));
 }
 
 TEST(CaptureOverTime, TheSceneRecordNamesTheTerrainMaterialOfEveryFrame) {
   testing::TempDir dir;
-  std::ofstream(dir / "s.lscene") << "LSCENE = ONE(W)\nW = terrain{size:[60,60],material:sandy}\n";
-  std::ofstream(dir / "c.lcap") << "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
-                                   "CO = camera{csettings:{res:[64,48]}}\n"
-                                   "P = path{waypoints:[[0,0,30],[0,0,30],[0,0,30]]}\n"
-                                   "CL = collection{CO:{move:[P]},W:{after:0,material:grassy}}\n";
-  const std::string out = (dir / "out").string();
-  const auto generated =
-      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
-                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
-  ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated =
-      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
-  EXPECT_EQ(validated.exit_code, 0) << validated.output;
-  std::ifstream in(dir / "out" / "collection.json");
-  const auto frames = nlohmann::json::parse(in)["frames"];
+  const auto collection =
+      GenerateValidated(dir,
+                        "LSCENE = ONE(W)\nW = terrain{size:[60,60],material:sandy}\n",
+                        "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
+                        "CO = camera{csettings:{res:[64,48]}}\n"
+                        "P = path{waypoints:[[0,0,30],[0,0,30],[0,0,30]]}\n"
+                        "CL = collection{CO:{move:[P]},W:{after:0,material:grassy}}\n");
+  const auto& frames = collection["frames"];
   ASSERT_EQ(frames.size(), 3u);
   EXPECT_EQ(frames[0]["scene"]["terrain_material"], "sandy");
   EXPECT_EQ(frames[1]["scene"]["terrain_material"], "grassy");  // after frame 0

@@ -39,6 +39,17 @@ step "lsds backproject: one fused point cloud, checked against the world-positio
 step "lsds perturb-metadata: GNSS-like noise, 0.5 m and 1 degree, with its effect in pixels"
 "$lsds" perturb-metadata "$collection" --sigma 0.5,1 --seed 1 --report
 
+step "lsds evaluate --coverage: how the collection fills the conditions a model is scored by"
+"$lsds" evaluate "$collection" --coverage -o "$out/demo-coverage.json" >"$out/demo-coverage.txt"
+head -n 12 "$out/demo-coverage.txt"
+
+step "Python: import lsds (docs/python.md) reads the same frames as NumPy arrays"
+PYTHONPATH="$(dirname "$lsds")/../python" /usr/bin/python3 -c '
+import sys, lsds
+c = lsds.open(sys.argv[1]); f = c[0]
+print(len(c), "frames; frame 0:", f.layer("depth").shape, f.layer("depth").dtype, "depth,",
+      len(f.objects), "objects")' "$collection"
+
 step "lsds report: one offline page with the contact sheet, layers, distributions and validation"
 "$lsds" report "$collection" -o "$out/demo-report.html" --validate --bundle-stats "$out/demo-bundle-stats.json"
 

@@ -159,6 +159,10 @@ def build_cases(lsds, work):
         ("merge-onto-shard", "merge {d}/C -o {d}/C --force"),
         ("merge-inside-shard", "merge {d}/C -o {d}/C/merged"),
         ("import-onto-source", "import airsim {d}/C -o {d}/C --force"),
+        ("evaluate-onto-collection-json", "evaluate {d}/C --coverage -o {d}/C/collection.json --force"),
+        ("evaluate-inside-collection", "evaluate {d}/C --coverage -o {d}/C/eval.json"),
+        ("evaluate-onto-predictions", "evaluate {d}/C --predictions {d}/p.json -o {d}/p.json --force"),
+        ("evaluate-suggest-onto-collection", "evaluate {d}/C --predictions {d}/p.json -o {d}/e.json --suggest {d}/C/next.lcap"),
         ("convert-through-symlink", "convert {d}/L --to coco -o {d}/C --force"),
         ("convert-into-symlinked-collection", "convert {d}/C --to coco -o {d}/L/out"),
     ]
@@ -168,6 +172,8 @@ def build_cases(lsds, work):
             setups.append(lambda d: os.symlink("C", os.path.join(d, "L")))
         if "unregistered-folder" in name:
             setups.append(lambda d: write(os.path.join(d, "C", "majority", "notes.txt"), "mine\n"))
+        if name.startswith("evaluate") and "predictions" in line:
+            setups.append(lambda d: write(os.path.join(d, "p.json"), "[]\n"))
         names = "an input of lsds"
         if "unregistered-folder" in name:
             names = "not one of its derived layers"
@@ -182,6 +188,7 @@ def build_cases(lsds, work):
         "backproject": "backproject {d}/C -o {d}/cloud.ply --fuse",
         "report": "report {d}/C -o {d}/report.html",
         "perturb": "perturb-metadata {d}/C --sigma 1 --seed 3 -o {d}/m.json",
+        "evaluate": "evaluate {d}/C --coverage -o {d}/e.json",
     }
     collection_json = open(os.path.join(collection, "collection.json"), "rb").read()
     for label, mutate, place in json_mutations():
@@ -204,6 +211,22 @@ def build_cases(lsds, work):
                  names="collection.json"),
             lambda d: (os.remove(os.path.join(d, "C", "collection.json")),
                        os.mkdir(os.path.join(d, "C", "collection.json"))))
+
+    # lsds evaluate's predictions file: the JSON mutations, a FIFO, a folder.
+    predictions = (b'[{"image_id": 1, "category_id": 1, "bbox": [1, 2, 3, 4], "score": 0.9},\n'
+                   b' {"image_id": 2, "category_id": 1, "bbox": [5, 6, 7, 8], "score": 0.5}]\n')
+    evaluate_line = "evaluate {d}/C --predictions {d}/p.json -o {d}/e.json".split()
+    for label, mutate, place in json_mutations():
+        if label in ("deep-inside-frames", "number-overflow", "frames-not-array"):
+            continue  # about collection.json's frames
+        add(Case("predictions/" + label, evaluate_line, names="p.json", place=place),
+            lambda d, data=mutate(predictions): write(os.path.join(d, "p.json"), data))
+    add(Case("predictions/fifo", evaluate_line, names="p.json"),
+        lambda d: fifo(os.path.join(d, "p.json")))
+    add(Case("predictions/folder", evaluate_line, names="p.json"),
+        lambda d: os.mkdir(os.path.join(d, "p.json")))
+    add(Case("predictions/nan-score", evaluate_line, names="p.json", place=r"#/0/score"),
+        lambda d: write(os.path.join(d, "p.json"), predictions.replace(b"0.9", b"NaN")))
 
     # --- 3. layer files broken -------------------------------------------------
     layer_readers = {

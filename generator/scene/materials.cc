@@ -46,29 +46,18 @@ void SetPatterns(std::vector<Material>* table) {
     float patches;
   };
   static const Variation variation[] = {
-      {"grassy", Pattern::kMottled, 0.35f},
-      {"sandy", Pattern::kSpeckle, 0.15f},
-      {"sand", Pattern::kSpeckle, 0.15f},
-      {"rocky_sand", Pattern::kSpeckle, 0.2f},
-      {"rocky", Pattern::kStrata, 0.25f},
-      {"granite", Pattern::kSpeckle, 0.15f},
-      {"stone", Pattern::kStrata, 0.2f},
-      {"sandstone", Pattern::kStrata, 0.2f},
-      {"snowy", Pattern::kMottled, 0.05f},
-      {"soil", Pattern::kMottled, 0.3f},
-      {"mud", Pattern::kMottled, 0.3f},
-      {"asphalt", Pattern::kSpeckle, 0.25f},
-      {"concrete", Pattern::kSpeckle, 0.15f},
-      {"metal", Pattern::kBrushed, 0.1f},
-      {"metal_gold", Pattern::kBrushed, 0.05f},
-      {"rust", Pattern::kMottled, 0.3f},
-      {"painted", Pattern::kMottled, 0.1f},
-      {"painted_red", Pattern::kMottled, 0.1f},
-      {"painted_green", Pattern::kMottled, 0.1f},
-      {"painted_blue", Pattern::kMottled, 0.1f},
-      {"painted_yellow", Pattern::kMottled, 0.1f},
-      {"wood", Pattern::kBrushed, 0.15f},
-      {"foliage", Pattern::kMottled, 0.3f},
+      {"grassy", Pattern::kMottled, 0.35f},      {"grass", Pattern::kMottled, 0.35f},
+      {"sandy", Pattern::kSpeckle, 0.15f},       {"sand", Pattern::kSpeckle, 0.15f},
+      {"rocky_sand", Pattern::kSpeckle, 0.2f},   {"rocky", Pattern::kStrata, 0.25f},
+      {"granite", Pattern::kSpeckle, 0.15f},     {"stone", Pattern::kStrata, 0.2f},
+      {"sandstone", Pattern::kStrata, 0.2f},     {"snowy", Pattern::kMottled, 0.05f},
+      {"soil", Pattern::kMottled, 0.3f},         {"mud", Pattern::kMottled, 0.3f},
+      {"asphalt", Pattern::kSpeckle, 0.25f},     {"concrete", Pattern::kSpeckle, 0.15f},
+      {"metal", Pattern::kBrushed, 0.1f},        {"metal_gold", Pattern::kBrushed, 0.05f},
+      {"rust", Pattern::kMottled, 0.3f},         {"painted", Pattern::kMottled, 0.1f},
+      {"painted_red", Pattern::kMottled, 0.1f},  {"painted_green", Pattern::kMottled, 0.1f},
+      {"painted_blue", Pattern::kMottled, 0.1f}, {"painted_yellow", Pattern::kMottled, 0.1f},
+      {"wood", Pattern::kBrushed, 0.15f},        {"foliage", Pattern::kMottled, 0.3f},
   };
   for (Material& m : *table)
     for (const Variation& v : variation)
@@ -105,7 +94,8 @@ const std::vector<Material>& MaterialTable() {
         {"painted_yellow", {0.70f, 0.55f, 0.05f}, {0.60f, 0.45f, 0.04f}, 4.0f, 0.2f},
         {"white", {0.80f, 0.80f, 0.80f}, {0.75f, 0.75f, 0.75f}, 1.0f, 0.0f},
         {"orange", {0.80f, 0.30f, 0.03f}, {0.70f, 0.25f, 0.03f}, 1.0f, 0.1f},
-        // Names used by the LSCENE examples (docs/languages.md).
+        // Names used by the LSCENE examples (docs/languages.md) and the paper's text ("grass").
+        {"grass", {0.10f, 0.20f, 0.05f}, {0.22f, 0.26f, 0.09f}, 0.15f, 0.7f},
         {"sand", {0.46f, 0.38f, 0.26f}, {0.37f, 0.30f, 0.21f}, 0.3f, 0.5f},
         {"rocky_sand", {0.45f, 0.39f, 0.30f}, {0.30f, 0.28f, 0.25f}, 0.6f, 0.7f},
         {"granite", {0.35f, 0.33f, 0.32f}, {0.55f, 0.52f, 0.50f}, 5.0f, 0.6f},

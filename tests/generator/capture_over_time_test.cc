@@ -171,18 +171,18 @@ TEST(CaptureOverTime, ASmoothFlightPassesTheGateWithValidMotion) {
 
 TEST(CaptureOverTime, TheSceneRecordNamesTheTerrainMaterialOfEveryFrame) {
   testing::TempDir dir;
-  const auto collection =
-      GenerateValidated(dir,
-                        "LSCENE = ONE(W)\nW = terrain{size:[60,60],material:sandy}\n",
-                        "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
-                        "CO = camera{csettings:{res:[64,48]}}\n"
-                        "P = path{waypoints:[[0,0,30],[0,0,30],[0,0,30]]}\n"
-                        "CL = collection{CO:{move:[P]},W:{after:0,material:grassy}}\n");
+  const auto collection = GenerateValidated(
+      dir,
+      "LSCENE = ONE(W)\nW = terrain{size:[60,60],material:sandy}\n",
+      "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
+      "CO = camera{csettings:{res:[64,48]}}\n"
+      "P = path{waypoints:[[0,0,30],[0,0,30],[0,0,30]]}\n"
+      "CL = collection{CO:{move:[P]},W:{after:0,material:grass}}\n");  // the paper's word
   const auto& frames = collection["frames"];
   ASSERT_EQ(frames.size(), 3u);
   EXPECT_EQ(frames[0]["scene"]["terrain_material"], "sandy");
-  EXPECT_EQ(frames[1]["scene"]["terrain_material"], "grassy");  // after frame 0
-  EXPECT_EQ(frames[2]["scene"]["terrain_material"], "grassy");
+  EXPECT_EQ(frames[1]["scene"]["terrain_material"], "grass");  // after frame 0
+  EXPECT_EQ(frames[2]["scene"]["terrain_material"], "grass");
 }
 
 const char* kSunScene =

@@ -120,6 +120,17 @@ TEST(CaptureCameraSetup, SettingsAndWhatTheyWriteInThePlan) {
   EXPECT_EQ(plan.exposure.ev100, 12);
 }
 
+TEST(CaptureCameraSetup, ThePapersLayerNamesNameTheirLayers) {
+  const auto c = Lcap(
+      "LCAP = ONE(CO)\nCO = camera{capture:{layers:[rgb,worlddepth,\"object IDs\",shadows,"
+      "\"surface normals\",\"motion vectors\",\"world locations\"]}}\n");
+  Plan plan;
+  ReadCameraSetup(&c->Def("CO"), &plan);
+  EXPECT_EQ(
+      plan.capture_settings["layers"],
+      nlohmann::json({"rgb", "depth", "classid", "shadow", "normal", "motion", "worldposition"}));
+}
+
 TEST(CaptureCameraSetup, NoCameraGivesTheDefaults) {
   Plan plan;
   const CameraSetup setup = ReadCameraSetup(nullptr, &plan);

@@ -1,6 +1,7 @@
 #include "generator/lang/capture/camera_setup.h"
 
 #include <algorithm>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,24 @@ void ReadPlatformSettings(const Node& settings, CameraSetup* setup) {
   }
 }
 
+// The paper's names of the layers it always writes (section 6: "object IDs, depth, shadows, surface
+// normals, motion vectors, and world locations"; folders named like "worlddepth"), by canonical
+// key.
+const std::map<std::string, std::string>& PaperLayerNames() {
+  static const std::map<std::string, std::string> names = {{"worlddepth", "depth"},
+                                                           {"objectids", "classid"},
+                                                           {"objectid", "classid"},
+                                                           {"shadows", "shadow"},
+                                                           {"surfacenormals", "normal"},
+                                                           {"normals", "normal"},
+                                                           {"motionvectors", "motion"},
+                                                           {"worldlocations", "worldposition"},
+                                                           {"worldlocation", "worldposition"}};
+  return names;
+}
+
 // `capture:{layers:[...], folder: name}`: the layers to write, each a known layer once.
+// A paper name stands for its layer.
 nlohmann::json ReadCaptureSettings(const Node& n) {
   lsds::CheckKeys(n, KindVocabulary("capture_settings"), "capture settings");
   nlohmann::json settings = nlohmann::json::object();
@@ -43,7 +61,9 @@ nlohmann::json ReadCaptureSettings(const Node& n) {
     std::vector<std::string> names;
     const auto& known = StandardLayerSemantics();
     for (size_t i = 0; i < layers->size(); ++i) {
-      const std::string name = ReadString(layers.Item(i));
+      std::string name = ReadString(layers.Item(i));
+      const auto paper = PaperLayerNames().find(CanonicalKey(name));
+      if (paper != PaperLayerNames().end()) name = paper->second;
       if (std::find(known.begin(), known.end(), name) == known.end())
         layers.Item(i).Fail("unknown layer '" + name + "'" + DidYouMean(name, known) +
                             "; layers: " + Join(known, ", "));

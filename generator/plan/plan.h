@@ -144,7 +144,7 @@ struct ObjectChange {
   std::optional<std::string> material;
   std::optional<bool> visible;
   // A class or asset swap: the asset drawn from this frame on (built-in
-  // class or mesh path, fitted to the object's box) and its class id.
+  // class or mesh path, at its own size: the change's extent) and its class id.
   std::optional<std::string> asset;
   std::optional<uint32_t> class_id;
   // The object's velocity (world m/s) when it moves along a path.

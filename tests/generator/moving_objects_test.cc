@@ -293,6 +293,25 @@ TEST(MovingObjects, ALargeMovingObjectPassesTheMotionCrossCheck) {
   EXPECT_GT(car["visible_pixels"].get<double>(), 0.15 * 120 * 90);
 }
 
+// The case: cars swapped for trucks are truck-sized (8 x 2.5 x 3.2 m), not car-sized.
+TEST(ClassSwaps, EachDrawnClassHasItsOwnBox) {
+  const Plan plan = PlanText(
+      "LSCENE = ONE(W) MANY(V, 12)\nW = terrain{size:[200,200]}\n"
+      "V = object{class:car,overlap:true,position:{ON:W}}\n",
+      "LCAP = ONE(CO) ONE(P) ONE(CL)\nCO = camera{}\n"
+      "P = path{waypoints:[[0,0,150],[0,0,150]]}\n"
+      "CL = collection{CO:{move:[P]},V:{after:0,class:{truck:0.5,car:0.5}}}\n");
+  const gen::WorldState world = gen::WorldAt(plan, plan.frames[1]);
+  std::map<std::string, int> drawn;
+  for (const gen::ObjectState& v : world.objects) {
+    ++drawn[v.asset];
+    EXPECT_EQ(v.extent, BuiltinClasses().at(v.asset)) << v.planned->name << " " << v.asset;
+    EXPECT_NEAR(v.position.z() - 0.5 * v.extent.z(), 0, 1e-9) << v.planned->name;  // grounded
+  }
+  EXPECT_GT(drawn["truck"], 0);
+  EXPECT_GT(drawn["car"], 0);
+}
+
 TEST(ClassSwaps, AnObjectTakesAnotherClassFromAFrameOn) {
   const std::string scene =
       "LSCENE = ONE(W) ONE(K) ONE(O) ONE(B)\n"
@@ -315,7 +334,13 @@ TEST(ClassSwaps, AnObjectTakesAnotherClassFromAFrameOn) {
     const gen::ObjectState& b = world.objects[1];
     EXPECT_EQ(o.asset, f.index >= 2 ? "tire" : "barrel") << f.index;
     EXPECT_EQ(o.class_id, f.index >= 2 ? ids["debris"] : ids["barrel"]);
-    EXPECT_EQ(o.extent, plan.objects[0].extent);  // the box is kept
+    // A swapped-in asset has its own size (the tire's 0.7 x 0.25 x 0.7 m, not the barrel's box),
+    // its base still on the ground.
+    const Eigen::Vector3d o_extent =
+        f.index >= 2 ? BuiltinClasses().at("tire") : plan.objects[0].extent;
+    EXPECT_EQ(o.extent, o_extent) << f.index;
+    EXPECT_NEAR(o.position.z() - 0.5 * o.extent.z(), 0, 1e-9) << f.index;
+    EXPECT_EQ(b.extent, f.index >= 3 ? BuiltinClasses().at("sphere") : plan.objects[1].extent);
     EXPECT_EQ(b.asset, f.index >= 3 ? "sphere" : "cube");
     EXPECT_EQ(b.class_id, 9u);  // a labelled target keeps its label
   }

@@ -3,6 +3,9 @@
 #include <algorithm>
 
 #include "generator/lang/asset_choice.h"
+#include "generator/scene/mesh_formats.h"
+#include "generator/scene/object_library.h"
+#include "libs/util/error.h"
 
 namespace lsds {
 
@@ -40,6 +43,30 @@ std::pair<std::string, uint32_t> ClassSwaps::Class(const std::string& symbol,
   for (const auto& [s, l] : labels_) next = std::max(next, l + 1);
   plan_->classes.push_back({next, resolved.name});
   return {resolved.asset, next};
+}
+
+Eigen::Vector3d ClassSwaps::NaturalExtent(const SceneClass& drawn, const Node& where) {
+  double metres_per_unit = 1.0;
+  if (const gen::AssetLibrary* library = Library())
+    for (const gen::LibraryAsset& a : library->assets())
+      if (a.file == drawn.asset) metres_per_unit = a.metres_per_unit;
+  if (!gen::IsMeshPath(drawn.asset)) {
+    const auto builtin = BuiltinClasses().find(drawn.asset);
+    if (builtin != BuiltinClasses().end()) return builtin->second;
+  }
+  auto cached = mesh_extents_.find(drawn.asset);
+  if (cached == mesh_extents_.end()) {
+    Eigen::Vector3d extent;
+    try {
+      extent = gen::MeshFileExtent(drawn.asset, "class change");
+    } catch (const Error& e) {
+      where.Fail(e.message() + " (" + drawn.asset + ")");
+    }
+    // A flat mesh (a plane) still needs a box: 1 mm thick, as LSCENE places it.
+    cached =
+        mesh_extents_.emplace(drawn.asset, extent.cwiseMax(Eigen::Vector3d::Constant(1e-3))).first;
+  }
+  return cached->second * metres_per_unit;
 }
 
 void ClassSwaps::Declare(const std::string& symbol, const Node& cls) {

@@ -4,11 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "generator/lang/scene.h"
 #include "generator/scene/asset_library.h"
@@ -34,6 +37,11 @@ class ClassSwaps {
   // has none (after the scene's ids, so that the scene's ids never change).
   std::pair<std::string, uint32_t> Class(const std::string& symbol, const SceneClass& resolved);
 
+  // The size a drawn class has of its own (docs/languages.md, "Class swaps and re-scatters"): a
+  // built-in's box, a mesh's native bounds in metres (a library asset's in its manifest's unit).
+  // The mesh's location names `where` when it cannot be read.
+  Eigen::Vector3d NaturalExtent(const SceneClass& drawn, const Node& where);
+
   // Every class a change of `symbol`'s class to `cls` may draw joins the table now, and is kept
   // shown (DropHelperClasses).
   void Declare(const std::string& symbol, const Node& cls);
@@ -48,7 +56,8 @@ class ClassSwaps {
   Plan* plan_;
   std::optional<gen::AssetLibrary> library_;
   bool library_loaded_ = false;
-  std::set<uint32_t> swapped_in_;  // class ids class changes may draw
+  std::set<uint32_t> swapped_in_;                        // class ids class changes may draw
+  std::map<std::string, Eigen::Vector3d> mesh_extents_;  // native bounds, by file
 };
 
 }  // namespace lsds

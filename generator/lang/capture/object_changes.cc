@@ -13,7 +13,7 @@ namespace {
 
 // `class:` of a change: one of its options (the frame's class bin's, under importance sampling,
 // when the swap can draw it: a name that resolves to one class, not a library selection of
-// several), then one of the option's assets, uniformly.
+// several), then one of the option's assets, uniformly, at its own size.
 void DrawClass(const Node& v,
                const PlannedObject& o,
                Rng& rng,
@@ -36,6 +36,9 @@ void DrawClass(const Node& v,
   const auto [asset, id] = swaps->Class(o.symbol, drawn);
   c->asset = asset;
   c->class_id = id;
+  // The drawn asset keeps its own proportions and size; its base stays on the support
+  // (KeepPlacement re-seats it). An `extent` later in the block still wins.
+  c->extent = swaps->NaturalExtent(drawn, v);
 }
 
 // The vertical velocity of an object standing on the terrain: the slope along its motion, by a

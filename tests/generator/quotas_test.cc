@@ -135,7 +135,13 @@ TEST(ClassQuota, AnEstimatorUpdatedFromDrawToDrawMeasuresAsAFreshOne) {
       "DL = light{elevation:50,azimuth:135}\n"
       "PLATE = object{class:cube,extent:[3,1.5,0.1],target:false,"
       "position:{within:[[-0.01,0.99,3],[0.01,1.01,3.01]]}}\n";
-  const Plan plan = PlanText(scene, Capture(30, kPose, kSwap, "Q = require{altitude:[0,99]}\n"));
+  // The swapped-in shapes keep T's 2 x 2 x 1 m box (an extent after the class), so that each stays
+  // half under the plate.
+  const Plan plan = PlanText(scene,
+                             Capture(30,
+                                     kPose,
+                                     ",T:{during:R,class:{barrel:1,rock:1,cube:1},extent:[2,2,1]}",
+                                     "Q = require{altitude:[0,99]}\n"));
   const FrameEstimatorFactory factory = gen::MakeFrameEstimatorFactory();
   const FrameEstimator kept = factory();
   int swaps = 0, partly_hidden = 0;

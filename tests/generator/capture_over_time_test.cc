@@ -15,6 +15,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/solar_position.h"
+#include "tests/generator/generate_validated.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
@@ -22,25 +23,6 @@ namespace lsds {
 namespace {
 
 using testing::PlanText;
-
-// Writes `scene` and `capture` into `dir`, generates them into dir/out (--spp 1) and validates the
-// result with --fail-on warning (test failures otherwise); the collection.json.
-nlohmann::json GenerateValidated(const testing::TempDir& dir,
-                                 const std::string& scene,
-                                 const std::string& capture) {
-  std::ofstream(dir / "s.lscene") << scene;
-  std::ofstream(dir / "c.lcap") << capture;
-  const std::string out = (dir / "out").string();
-  const auto generated =
-      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
-                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
-  EXPECT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated =
-      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
-  EXPECT_EQ(validated.exit_code, 0) << validated.output;
-  std::ifstream in(dir / "out" / "collection.json");
-  return in ? nlohmann::json::parse(in) : nlohmann::json();
-}
 
 TEST(CaptureOverTime, EnvironmentChangesApplyFromTheirFrame) {
   const Plan plan = PlanText(
@@ -156,7 +138,7 @@ TEST(CaptureOverTime, ASmoothFlightAdvancesSpeedOverFpsPerFrame) {
 
 TEST(CaptureOverTime, ASmoothFlightPassesTheGateWithValidMotion) {
   testing::TempDir dir;
-  const auto collection = GenerateValidated(
+  const auto collection = testing::GenerateValidated(
       dir,
       "LSCENE = ONE(W) MANY(O, 6)\n"
       "W = terrain{size:[120,120],height:{perlin:{amplitude:2}}}\n"
@@ -171,7 +153,7 @@ TEST(CaptureOverTime, ASmoothFlightPassesTheGateWithValidMotion) {
 
 TEST(CaptureOverTime, TheSceneRecordNamesTheTerrainMaterialOfEveryFrame) {
   testing::TempDir dir;
-  const auto collection = GenerateValidated(
+  const auto collection = testing::GenerateValidated(
       dir,
       "LSCENE = ONE(W)\nW = terrain{size:[60,60],material:sandy}\n",
       "LCAP = ONE(CO) ONE(P) ONE(CL)\n"

@@ -20,6 +20,7 @@
 #include "libs/exr/flat_image.h"
 #include "libs/geometry/oriented_box.h"
 #include "libs/util/atomic_file.h"
+#include "tests/generator/generate_validated.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
@@ -210,18 +211,7 @@ TEST(MovingObjects, MisuseIsALocatedError) {
 // The camera sees the car at 30 m: its top face (z = 1) is 29 m away.
 TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
   testing::TempDir dir;
-  std::ofstream(dir / "s.lscene") << kCarScene;
-  std::ofstream(dir / "c.lcap") << CarCapture(4);
-  const std::string out = (dir / "out").string();
-  const auto generated =
-      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
-                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
-  ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated =
-      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
-  EXPECT_EQ(validated.exit_code, 0) << validated.output;
-  std::ifstream in(dir / "out" / "collection.json");
-  const auto collection = nlohmann::json::parse(in);
+  const auto collection = testing::GenerateValidated(dir, kCarScene, CarCapture(4));
   const auto& frames = collection["frames"];
   ASSERT_EQ(frames.size(), 4u);
   const double fx = frames[0]["camera"]["fx"], cx = frames[0]["camera"]["cx"],
@@ -275,20 +265,12 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
 // disagree).
 TEST(MovingObjects, ALargeMovingObjectPassesTheMotionCrossCheck) {
   testing::TempDir dir;
-  std::ofstream(dir / "s.lscene") << "LSCENE = ONE(W) ONE(CAR)\n"
-                                     "W = terrain{size:[100,100]}\n"
-                                     "CAR = object{class:cube,extent:[12,12,1],position:{ON:W}}\n";
-  std::ofstream(dir / "c.lcap") << CarCapture(3);
-  const std::string out = (dir / "out").string();
-  const auto generated =
-      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
-                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
-  ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated =
-      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
-  EXPECT_EQ(validated.exit_code, 0) << validated.output;
-  std::ifstream in(dir / "out" / "collection.json");
-  const auto collection = nlohmann::json::parse(in);
+  const auto collection =
+      testing::GenerateValidated(dir,
+                                 "LSCENE = ONE(W) ONE(CAR)\n"
+                                 "W = terrain{size:[100,100]}\n"
+                                 "CAR = object{class:cube,extent:[12,12,1],position:{ON:W}}\n",
+                                 CarCapture(3));
   const auto& car = collection["frames"][1]["objects"][0];
   EXPECT_GT(car["visible_pixels"].get<double>(), 0.15 * 120 * 90);
 }
@@ -346,18 +328,8 @@ TEST(ClassSwaps, AnObjectTakesAnotherClassFromAFrameOn) {
   }
   // Rendered: the class id layer shows the new class, and the gate passes.
   testing::TempDir dir;
-  std::ofstream(dir / "s.lscene") << scene;
-  std::ofstream(dir / "c.lcap") << capture;
-  const std::string out = (dir / "out").string();
-  const auto generated =
-      testing::RunCommandLine(testing::LsdsBinary() + " generate " + (dir / "s.lscene").string() +
-                              " " + (dir / "c.lcap").string() + " -o " + out + " --spp 1 -q");
-  ASSERT_EQ(generated.exit_code, 0) << generated.output;
-  const auto validated =
-      testing::RunCommandLine(testing::LsdsBinary() + " validate " + out + " --fail-on warning");
-  EXPECT_EQ(validated.exit_code, 0) << validated.output;
-  std::ifstream in(dir / "out" / "collection.json");
-  const auto collection = nlohmann::json::parse(in);
+  const auto collection = testing::GenerateValidated(dir, scene, capture);
+  ASSERT_EQ(collection["frames"].size(), 4u);
   for (int k = 0; k < 4; ++k) {
     for (const auto& object : collection["frames"][k]["objects"]) {
       if (object["name"] != "O#1") continue;

@@ -85,8 +85,30 @@ double AtmosphereExtinction(const Node& b, Rng& rng) {
   return extinction;
 }
 
-// `date:"2026-06-21"`, `time:"14:30"` (or "14:30:15"), `utc_offset:2`: the sun
-// by date and local time. A time alone keeps the date of the clock in force.
+// "HH:MM" or "HH:MM:SS" (local) as seconds since midnight, checked at `where`; the parts too.
+double LocalSeconds(const Node& where,
+                    const std::string& text,
+                    int* hour_out = nullptr,
+                    int* minute_out = nullptr,
+                    double* second_out = nullptr) {
+  int hour = 0, minute = 0;
+  double second = 0;
+  const int n = std::sscanf(text.c_str(), "%d:%d:%lf", &hour, &minute, &second);
+  if (n < 2 || hour < 0 || hour > 24 || minute < 0 || minute > 59 || second < 0 || second >= 61)
+    where.Fail("time is \"HH:MM\" or \"HH:MM:SS\" (local), not '" + text + "'");
+  if (hour_out) *hour_out = hour, *minute_out = minute, *second_out = second;
+  return hour * 3600.0 + minute * 60.0 + second;
+}
+
+// `time:["08:00", "17:00"]`: two local times, an interval of the time of day.
+bool IsTimeInterval(const Node& time) {
+  return time->is_array() && time->size() == 2 && time.Item(0)->is_string() &&
+         time.Item(1)->is_string();
+}
+
+// `date:"2026-06-21"`, `time:"14:30"` (or "14:30:15", or an interval ["08:00","17:00"]),
+// `utc_offset:2`: the sun by date and local time. A time alone keeps the date of the clock in
+// force.
 void SunClock(const Node& b, Rng& rng, PlannedSun* sun) {
   const Node date = b.Find("date"), time = b.Find("time"), offset = b.Find("utcoffset");
   if (!date && !time && !offset) return;
@@ -119,11 +141,16 @@ void SunClock(const Node& b, Rng& rng, PlannedSun* sun) {
   }
   int hour = 12, minute = 0;
   double second = 0;
-  if (time) {
+  if (time && IsTimeInterval(time)) {
+    // A time-of-day interval ["HH:MM", "HH:MM"]: a local time drawn uniformly between the two.
+    const double lo = LocalSeconds(time.Item(0), ReadString(time.Item(0)));
+    const double hi = LocalSeconds(time.Item(1), ReadString(time.Item(1)));
+    if (hi < lo) time.Fail("a time interval runs forward in one day: [\"06:00\", \"18:00\"]");
+    hour = minute = 0;
+    second = rng.Uniform(lo, hi);
+  } else if (time) {
     const std::string text = SampleString(time, rng);
-    const int n = std::sscanf(text.c_str(), "%d:%d:%lf", &hour, &minute, &second);
-    if (n < 2 || hour < 0 || hour > 24 || minute < 0 || minute > 59 || second < 0 || second >= 61)
-      time.Fail("time is \"HH:MM\" or \"HH:MM:SS\" (local), not '" + text + "'");
+    LocalSeconds(time, text, &hour, &minute, &second);
   }
   sun->clock_utc_s = UnixSeconds(year, month, day, hour, minute, second, sun->utc_offset_h);
 }

@@ -163,7 +163,8 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("date").Is(T::kDate).Doc(
                      "`\"YYYY-MM-DD\"`: the sun by date, time and UTC offset at the georeference, "
                      "see \"Time of day and place\""),
-                 Row("time").Is(T::kTime).Doc("local `\"HH:MM[:SS]\"`"),
+                 Row("time").Is(T::kTime).Doc("local `\"HH:MM[:SS]\"`, or an interval "
+                                              "`[\"08:00\",\"17:00\"]` drawn uniformly"),
                  Row("utc_offset")
                      .Is(T::kNumber)
                      .Range(Within(-14, 14))

@@ -203,6 +203,34 @@ TEST(CaptureOverTime, TheSunFollowsTheClockOfEveryFrame) {
   }
 }
 
+// A time-of-day interval (the paper's LCAP "interval of ... times of day"): drawn per frame under
+// `during`, every local time within it.
+TEST(CaptureOverTime, ATimeOfDayIntervalIsDrawnWithinItsBounds) {
+  const Plan plan =
+      PlanText(kSunScene,
+               "LCAP = ONE(CO) ONE(P) ONE(CL)\nCO = camera{}\n"
+               "P = path{waypoints:[[0,0,60],[0,0,60],[0,0,60],[0,0,60],[0,0,60],[0,0,60],"
+               "[0,0,60],[0,0,60],[0,0,60],[0,0,60]]}\n"
+               "CL = collection{CO:{move:[P]},DL:{during:P,time:[\"08:00\",\"17:00\"]}}\n");
+  double earliest = 24, latest = 0;
+  for (const PlannedFrame& f : plan.frames) {
+    const PlannedEnvironment e = EnvironmentAt(plan, f);
+    ASSERT_TRUE(e.sun.clock_utc_s);
+    const double local = *e.sun.clock_utc_s - UnixSeconds(2026, 6, 21, 0, 0, 0, e.sun.utc_offset_h);
+    EXPECT_GE(local / 3600, 8) << f.index;
+    EXPECT_LE(local / 3600, 17) << f.index;
+    earliest = std::min(earliest, local / 3600);
+    latest = std::max(latest, local / 3600);
+  }
+  EXPECT_GT(latest - earliest, 3);  // ten uniform draws over 9 hours
+  const std::string error =
+      testing::PlanErrorOf(kSunScene,
+                           "LCAP = ONE(P) ONE(CL)\nP = path{waypoints:[[0,0,60]]}\n"
+                           "CL = collection{DL:{time:[\"17:00\",\"08:00\"]}}\n");
+  EXPECT_NE(error.find("c.lcap:3:"), std::string::npos) << error;
+  EXPECT_NE(error.find("a time interval runs forward in one day"), std::string::npos) << error;
+}
+
 // The direction (xy) from the pole's foot to the centroid of its shadow.
 Eigen::Vector2d ShadowDirection(const std::filesystem::path& root, int frame) {
   char stem[16];

@@ -1,6 +1,6 @@
-// LSCENE: the definitions of a scene file and their evaluation into the world
-// state of a plan (sky, sun, atmosphere, skylight, terrain, objects). Algorithm
-// 1 (Position) lives here.
+// LSCENE: the definitions of a scene file and their evaluation into the world state of a plan
+// (sky, sun, atmosphere, skylight, terrain, objects). The evaluator's units are in scene/: the
+// check, the class table, the assets, the ground, the placed objects and Algorithm 1 (position).
 #pragma once
 
 #include <map>
@@ -54,15 +54,13 @@ using TargetLabels = std::map<std::string, uint32_t>;
 // whose symbol is listed are the targets and their class id is the given label.
 void EvaluateScene(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan);
 
-// A class option as the scene resolves it: the asset drawn (a built-in class
-// or a mesh path relative to the scene file) and the class name it is
-// labelled with (a classes{} alias keeps the user's name). For LCAP class
-// swaps; an unknown option is an error at `where`.
+// A class option as the scene resolves it (scene/scene_assets.h): the asset drawn (a built-in
+// class or a mesh path relative to the scene file) and the class name it is labelled with (a
+// classes{} alias keeps the user's name).
 struct SceneClass {
   std::string asset;
   std::string name;
 };
-SceneClass ResolveSceneClass(const Program& scene, const Node& where, const std::string& option);
 
 // Removes from the class table the classes that no rendered object can show:
 // classes whose objects are all invisible helpers, unless a capture change may

@@ -1,6 +1,6 @@
 // The placement grid returns every placed footprint that shares ground with a query (a superset
 // of the true overlaps, each once, in placement order), at every size.
-#include "generator/lang/placement_grid.h"
+#include "generator/lang/scene/placement_grid.h"
 
 #include <gtest/gtest.h>
 

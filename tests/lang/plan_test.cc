@@ -149,7 +149,7 @@ TEST(LangPlan, OverlapFalseLeavesNoIntersectingBoxes) {
   }
 }
 
-// The placement grid (generator/lang/placement_grid.h) across its cases: clutter in cells,
+// The placement grid (generator/lang/scene/placement_grid.h) across its cases: clutter in cells,
 // walls wider than the grid takes, separations larger than a cell.
 TEST(LangPlan, OverlapFalseHoldsForWallsAndSeparations) {
   const std::string scene =

@@ -3,9 +3,6 @@
 #include <algorithm>
 
 #include "generator/lang/asset_choice.h"
-#include "generator/scene/mesh_formats.h"
-#include "generator/scene/object_library.h"
-#include "libs/util/error.h"
 
 namespace lsds {
 
@@ -15,20 +12,12 @@ std::vector<std::string> ClassSwaps::Options(const Node& cls) {
 }
 
 std::vector<SceneClass> ClassSwaps::Candidates(const Node& cls, const std::string& option) {
-  std::vector<SceneClass> out;
-  for (const gen::LibraryAsset* a : SelectAssets(Library(), cls, option))
-    out.push_back({a->file, AssetClassName(*a)});
-  if (out.empty()) out.push_back(ResolveSceneClass(scene_, cls, option));
-  return out;
+  return Assets().Candidates(cls, option);
 }
 
-const gen::AssetLibrary* ClassSwaps::Library() {
-  if (!library_loaded_) {
-    library_loaded_ = true;
-    for (const Definition& d : scene_.definitions)
-      if (d.kind == "asset_library") library_ = LoadSceneAssetLibrary(scene_, d);
-  }
-  return library_ ? &*library_ : nullptr;
+SceneAssets& ClassSwaps::Assets() {
+  if (!assets_) assets_ = SceneAssets::OfCheckedScene(scene_);
+  return *assets_;
 }
 
 std::pair<std::string, uint32_t> ClassSwaps::Class(const std::string& symbol,
@@ -46,27 +35,8 @@ std::pair<std::string, uint32_t> ClassSwaps::Class(const std::string& symbol,
 }
 
 Eigen::Vector3d ClassSwaps::NaturalExtent(const SceneClass& drawn, const Node& where) {
-  double metres_per_unit = 1.0;
-  if (const gen::AssetLibrary* library = Library())
-    for (const gen::LibraryAsset& a : library->assets())
-      if (a.file == drawn.asset) metres_per_unit = a.metres_per_unit;
-  if (!gen::IsMeshPath(drawn.asset)) {
-    const auto builtin = BuiltinClasses().find(drawn.asset);
-    if (builtin != BuiltinClasses().end()) return builtin->second;
-  }
-  auto cached = mesh_extents_.find(drawn.asset);
-  if (cached == mesh_extents_.end()) {
-    Eigen::Vector3d extent;
-    try {
-      extent = gen::MeshFileExtent(drawn.asset, "class change");
-    } catch (const Error& e) {
-      where.Fail(e.message() + " (" + drawn.asset + ")");
-    }
-    // A flat mesh (a plane) still needs a box: 1 mm thick, as LSCENE places it.
-    cached =
-        mesh_extents_.emplace(drawn.asset, extent.cwiseMax(Eigen::Vector3d::Constant(1e-3))).first;
-  }
-  return cached->second * metres_per_unit;
+  return Assets().NaturalExtent(
+      drawn.asset, Assets().LibraryMetresPerUnit(drawn.asset), where, "class change");
 }
 
 void ClassSwaps::Declare(const std::string& symbol, const Node& cls) {

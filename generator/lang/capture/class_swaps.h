@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -14,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "generator/lang/scene.h"
-#include "generator/scene/asset_library.h"
+#include "generator/lang/scene/scene_assets.h"
 
 namespace lsds {
 
@@ -48,16 +47,14 @@ class ClassSwaps {
   const std::set<uint32_t>& swapped_in() const { return swapped_in_; }
 
  private:
-  // The scene's asset_library, loaded once (null when it has none).
-  const gen::AssetLibrary* Library();
+  // The scene's aliases and asset library, read once on first use.
+  SceneAssets& Assets();
 
   const Program& scene_;
   TargetLabels labels_;
   Plan* plan_;
-  std::optional<gen::AssetLibrary> library_;
-  bool library_loaded_ = false;
-  std::set<uint32_t> swapped_in_;                        // class ids class changes may draw
-  std::map<std::string, Eigen::Vector3d> mesh_extents_;  // native bounds, by file
+  std::optional<SceneAssets> assets_;
+  std::set<uint32_t> swapped_in_;  // class ids class changes may draw
 };
 
 }  // namespace lsds

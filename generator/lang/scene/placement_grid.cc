@@ -1,4 +1,4 @@
-#include "generator/lang/placement_grid.h"
+#include "generator/lang/scene/placement_grid.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,64 @@
+#include "generator/lang/scene/ground.h"
+
+#include "generator/lang/vocabulary.h"
+
+namespace lsds {
+namespace {
+
+// A sampled number of the key `key` of the table `kind`, within its range.
+double Sampled(const Node& n, const char* kind, const char* key, Rng& rng) {
+  return SampleInRange(n, KindVocabulary(kind).Key(key), rng);
+}
+
+// `perlin:A` or `perlin:{amplitude, frequency}`.
+void ReadPerlin(const Node& p, Rng& rng, PlannedTerrain* t) {
+  if (p->is_object()) {
+    CheckKeys(p, KindVocabulary("perlin"), "Perlin");
+    if (const Node a = p.Find("amplitude"))
+      t->perlin_amplitude = Sampled(a, "perlin", "amplitude", rng);
+    if (const Node f = p.Find("frequency"))
+      t->perlin_frequency = Sampled(f, "perlin", "frequency", rng);
+  } else {
+    t->perlin_amplitude = Sampled(p, "perlin", "amplitude", rng);
+  }
+}
+
+}  // namespace
+
+void EvaluateTerrain(const Node& b, uint64_t seed, Rng& rng, Plan* plan) {
+  PlannedTerrain& t = plan->terrain;
+  t.present = true;
+  t.perlin_seed =
+      MixKey(seed, static_cast<uint64_t>(StreamTag::kTerrain)) >> 11;  // 53 bits: exact in JSON
+  if (const Node n = b.Find("size")) {
+    t.size = SampleVec2(n, rng);
+    CheckRange(n, KindVocabulary("terrain").Key("size"), t.size.minCoeff());
+  }
+  if (const Node n = b.Find("height")) {
+    CheckKeys(n, KindVocabulary("terrain_height"), "terrain height");
+    if (const Node p = n.Find("perlin")) ReadPerlin(p, rng, &t);
+    if (const Node f = n.Find("frequency"))
+      t.perlin_frequency = Sampled(f, "terrain_height", "frequency", rng);
+  }
+  if (const Node p = b.Find("perlin")) ReadPerlin(p, rng, &t);
+  if (const Node f = b.Find("frequency"))
+    t.perlin_frequency = Sampled(f, "terrain", "frequency", rng);
+  if (const Node m = b.Find("material")) t.material = SampleString(m, rng);
+  if (const Node s = b.Find("seed"))
+    t.perlin_seed = static_cast<uint64_t>(ReadInRange(s, KindVocabulary("terrain").Key("seed")));
+  for (const ClassInfo& c : plan->classes)
+    if (c.name == "terrain") t.class_id = c.id;
+}
+
+GeoOrigin EvaluateGeoreference(const Node& b, Rng& rng) {
+  GeoOrigin geo;
+  const Node latitude = b.Find("latitude"), longitude = b.Find("longitude");
+  if (!latitude) b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
+  geo.latitude_deg = Sampled(latitude, "georeference", "latitude", rng);
+  if (!longitude) b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
+  geo.longitude_deg = Sampled(longitude, "georeference", "longitude", rng);
+  if (const Node n = b.Find("altitude")) geo.altitude_m = SampleScalar(n, rng);
+  return geo;
+}
+
+}  // namespace lsds

@@ -1,0 +1,62 @@
+// What a class option of a scene names (docs/languages.md, "Class names"): a classes{} alias, a
+// built-in class, a mesh file relative to the scene, or assets of the scene's asset library; and
+// the natural size of what it draws. One home for LSCENE objects and LCAP class swaps.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "generator/lang/scene.h"
+#include "generator/scene/asset_library.h"
+
+namespace lsds {
+
+class SceneAssets {
+ public:
+  // Knows the scene's folder only; the scene check adds the aliases and the library as it meets
+  // them (scene/scene_check.h).
+  explicit SceneAssets(const Program& scene);
+  // The assets of a checked scene: its classes{} aliases and asset_library, read without checks.
+  static SceneAssets OfCheckedScene(const Program& scene);
+
+  void AddAlias(const std::string& name, const std::string& target) { aliases_[name] = target; }
+  void SetLibrary(gen::AssetLibrary library) { library_ = std::move(library); }
+  bool HasLibrary() const { return library_.has_value(); }
+  const gen::AssetLibrary* Library() const { return library_ ? &*library_ : nullptr; }
+
+  // The asset class option `option` draws (a built-in's canonical name or a mesh path relative to
+  // the scene file) and the class name it is labelled with (an alias keeps the user's name). An
+  // unknown option is an error at `where`.
+  SceneClass Resolve(const Node& where, const std::string& option) const;
+
+  // What option `option` of class node `cls` may draw: the library assets it selects (by name,
+  // tags or pattern), else the one class it resolves to.
+  std::vector<SceneClass> Candidates(const Node& cls, const std::string& option) const;
+
+  // The size an asset has of its own, metres: a built-in's box, a mesh's native bounds times
+  // `metres_per_unit` (a mesh file is read once; a flat mesh is 1 mm thick). A mesh that cannot
+  // be read is an error at `where`, `what` naming the object or change.
+  Eigen::Vector3d NaturalExtent(const std::string& asset,
+                                double metres_per_unit,
+                                const Node& where,
+                                const std::string& what);
+  // The unit of a library asset's file (its manifest's), 1 for any other asset.
+  double LibraryMetresPerUnit(const std::string& asset) const;
+
+  static std::vector<std::string> BuiltinNames();
+
+ private:
+  std::string scene_dir_;
+  std::map<std::string, std::string> aliases_;  // classes{}: name -> built-in or mesh file
+  std::optional<gen::AssetLibrary> library_;
+  std::map<std::string, Eigen::Vector3d> mesh_extents_;  // native units, by file path
+};
+
+// An object's `unit` (the unit its mesh file is modelled in): metres per unit, 1 without one.
+double MetresPerUnit(const Definition& object);
+
+}  // namespace lsds

@@ -180,28 +180,30 @@ void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedE
     if (const Node n = b.Find("cloudtype")) env->sky.cloud_type = CloudType(n, rng);
     if (const Node n = b.Find("clouddensity"))
       env->sky.cloud_density = Sampled(n, "skybox", "cloud_density", rng);
-    // `luminance`: the zenith's, cd/m^2. `intensity`: the legacy unitless
-    // scale of the colour (docs/languages.md, "Light units").
+    // `luminance`: the zenith's, cd/m^2. `intensity`: lux on the ground from the sky, as the
+    // paper's Table 2 (docs/languages.md, "Light units").
     const Node luminance = b.Find("luminance"), intensity = b.Find("intensity");
     if (luminance && intensity)
-      b.Fail("give the sky's luminance (cd/m^2) or its intensity, not both");
+      b.Fail("give the sky's luminance (cd/m^2) or its intensity (lux), not both");
     if (luminance) env->sky.luminance_cd_m2 = Sampled(luminance, "skybox", "luminance", rng);
-    if (intensity)
-      env->sky.luminance_cd_m2 = Sampled(intensity, "skybox", "intensity", rng) *
-                                 RelativeLuminance(env->sky.color) * kLegacyNitsPerUnit;
+    if (intensity) {
+      const double lux = Sampled(intensity, "skybox", "intensity", rng);
+      const double lux_per_nit = SkyLuxPerZenithNit(env->sky.color);
+      if (lux > 0 && !(lux_per_nit > 0))
+        intensity.Fail("a black sky gives no light: give it a colour, or intensity 0");
+      env->sky.luminance_cd_m2 = lux > 0 ? lux / lux_per_nit : 0;
+    }
   } else if (kind == "light") {
     SunClock(b, rng, &env->sun);
     if (const Node n = b.Find("elevation")) {
       env->sun.elevation_deg = Sampled(n, "light", "elevation", rng);
     }
     if (const Node n = b.Find("azimuth")) env->sun.azimuth_deg = SampleScalar(n, rng);
-    // Lux (the paper's Table 2); a legacy `intensity` below 100 is the old
-    // unitless scale (docs/languages.md, "Light units").
+    // Lux, both (the paper's Table 2): a dusk sun of 50 lux is 50 lux.
     const Node illuminance = b.Find("illuminance"), intensity = b.Find("intensity");
     if (illuminance && intensity) b.Fail("give the sun's illuminance or its intensity, not both");
     if (illuminance) env->sun.illuminance_lux = Sampled(illuminance, "light", "illuminance", rng);
-    if (intensity)
-      env->sun.illuminance_lux = SunLuxFromIntensity(Sampled(intensity, "light", "intensity", rng));
+    if (intensity) env->sun.illuminance_lux = Sampled(intensity, "light", "intensity", rng);
   } else if (kind == "atmosphere") {
     env->fog_density = AtmosphereExtinction(b, rng);
   } else if (kind == "skylight") {

@@ -131,8 +131,9 @@ std::vector<KindSpec> BuildVocabulary() {
                Row("intensity")
                    .Is(T::kNumber)
                    .Range(AtLeast(0))
-                   .Doc("Intensity: a unitless scale of the colour, see \"Light units\"; not with "
-                        "`luminance`"),
+                   .Unit("lux")
+                   .Doc("Intensity: the sky's illuminance on the ground, lux (a clear sky "
+                        "10000-25000), see \"Light units\"; not with `luminance`"),
                Row("luminance")
                    .Is(T::kNumber)
                    .Range(AtLeast(0))
@@ -153,8 +154,9 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("intensity")
                      .Is(T::kNumber)
                      .Range(AtLeast(0))
-                     .Doc("lux, the paper's unit; below 100 the legacy unitless scale, see \"Light "
-                          "units\"; not with `illuminance`"),
+                     .Unit("lux")
+                     .Doc("lux, the paper's unit (a clear noon 100000, dusk 10-400); not with "
+                          "`illuminance`"),
                  Row("illuminance")
                      .Is(T::kNumber)
                      .Range(AtLeast(0))
@@ -332,8 +334,8 @@ std::vector<KindSpec> BuildVocabulary() {
                Row("unit")
                    .Is(T::kName)
                    .Doc("the length unit of a mesh file: `m` (default; glTF's own), `cm`, `mm`, "
-                        "`in`, `ft`. glTF/GLB are y-up by their specification and turned z-up; "
-                        "OBJ/PLY are read as z-up")
+                        "`in`, `ft`; a mesh over 100 m on a side needs it said. glTF/GLB are y-up "
+                        "by their specification and turned z-up; OBJ/PLY are read as z-up")
                    .Example("`unit:cm`")}));
   v.push_back(Kind("classes", "LSCENE")
                   .Doc("`NAME: builtin-or-mesh` aliases (user class names like the paper's A, B)")

@@ -12,6 +12,15 @@ double RelativeLuminance(const Eigen::Vector3d& rgb) {
   return 0.2126 * rgb.x() + 0.7152 * rgb.y() + 0.0722 * rgb.z();
 }
 
+double SkyLuxPerZenithNit(const Eigen::Vector3d& color) {
+  const double zenith = RelativeLuminance(color);
+  if (!(zenith > 0)) return 0;
+  const Eigen::Vector3d horizon_color = 0.5 * color + Eigen::Vector3d::Constant(kSkyHorizonWhite);
+  const double horizon = RelativeLuminance(horizon_color) / zenith;  // per zenith cd/m^2
+  // A uniform radiance L over the hemisphere gives a horizontal plane pi * L.
+  return M_PI * (kSkyZenithWeight + kSkyHorizonWeight * horizon);
+}
+
 bool PlannedExposure::operator==(const PlannedExposure& o) const {
   return ev100 == o.ev100 && shutter_s == o.shutter_s && f_number == o.f_number && iso == o.iso &&
          compensation_ev == o.compensation_ev;

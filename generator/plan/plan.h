@@ -20,19 +20,28 @@
 
 namespace lsds {
 
-// Photometric units of the light (docs/generator.md, "Physical light and
-// camera"). Before them, the sun's `intensity` and the sky's were unitless
-// scales of a renderer whose radiance 1 was display white; such a legacy value
-// v means v * kLegacyNitsPerUnit cd/m^2 of radiance (sky) and
-// pi * v * kLegacyNitsPerUnit lux (sun), so old plans keep their look up to
-// the camera's exposure.
+// Photometric units of the light (docs/generator.md, "Physical light and camera"). Plans written
+// before them hold the sun's `intensity` and the sky's as unitless scales of a renderer whose
+// radiance 1 was display white; such a legacy value v means v * kLegacyNitsPerUnit cd/m^2 of
+// radiance (sky) and pi * v * kLegacyNitsPerUnit lux (sun), so old plans keep their look up to the
+// camera's exposure. LSCENE itself gives lux.
 constexpr double kLegacyNitsPerUnit = 10000;
-// A sun `intensity` below this is a legacy unitless value, not lux (real
-// daylight is 1000 lux and more; a sun of less than 100 lux is twilight).
+// A legacy plan's sun `intensity` below this is a unitless value, not lux.
 constexpr double kLegacySunIntensityLimit = 100;
 double SunLuxFromIntensity(double intensity);
 // The relative luminance (Rec. 709 / sRGB primaries) of a linear RGB colour.
 double RelativeLuminance(const Eigen::Vector3d& rgb);
+
+// The sky model (generator/render/sky.cc draws it): a gradient from the horizon's colour,
+// 0.5 x the zenith's + kSkyHorizonWhite grey, to the zenith's; the light it gives a surface is the
+// ambient radiance kSkyZenithWeight x zenith + kSkyHorizonWeight x horizon, times the skylight
+// intensity.
+constexpr double kSkyHorizonWhite = 0.45;
+constexpr double kSkyZenithWeight = 0.6;
+constexpr double kSkyHorizonWeight = 0.4;
+// The illuminance (lux) on a horizontal plane, at skylight intensity 1, from a sky of colour
+// `color` per cd/m^2 of zenith luminance: how a skybox `intensity` in lux becomes a luminance.
+double SkyLuxPerZenithNit(const Eigen::Vector3d& color);
 
 struct PlannedSky {
   Eigen::Vector3d color = {0.55, 0.7, 0.95};  // linear RGB at the zenith: its chromaticity

@@ -33,7 +33,9 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
   const float sky_scale =
       color_luminance > 0 ? static_cast<float>(sky.luminance_cd_m2 / color_luminance) : 0.f;
   zenith_ = sky.color.cast<float>() * sky_scale;
-  horizon_ = (0.5f * sky.color.cast<float>() + Eigen::Vector3f(0.45f, 0.45f, 0.45f)) * sky_scale;
+  horizon_ = (0.5f * sky.color.cast<float>() +
+              Eigen::Vector3f::Constant(static_cast<float>(kSkyHorizonWhite))) *
+             sky_scale;
   const double el = environment.sun.elevation_deg * M_PI / 180,
                az = environment.sun.azimuth_deg * M_PI / 180;
   to_sun_ = Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
@@ -41,8 +43,9 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
   // has radiance a * sun_irradiance_ (cd/m^2); the tint has luminance 1.
   const Eigen::Vector3f sun_tint = Eigen::Vector3f(1.0f, 0.96f, 0.9f) / 0.96432f;
   sun_irradiance_ = sun_tint * static_cast<float>(environment.sun.illuminance_lux / M_PI);
-  ambient_ =
-      (0.6f * zenith_ + 0.4f * horizon_) * static_cast<float>(environment.skylight_intensity);
+  ambient_ = (static_cast<float>(kSkyZenithWeight) * zenith_ +
+              static_cast<float>(kSkyHorizonWeight) * horizon_) *
+             static_cast<float>(environment.skylight_intensity);
   fog_density_ = environment.fog_density;
   cloud_density_ = std::clamp(sky.cloud_density, 0.0, 1.0);
   const auto& types = CloudTypes();

@@ -16,6 +16,7 @@
 #include "generator/plan/plan_json.h"
 #include "generator/plan_source.h"
 #include "generator/render/exposure.h"
+#include "generator/render/sky.h"
 #include "generator/scene/materials.h"
 #include "libs/exr/flat_image.h"
 #include "libs/imaging/srgb_image.h"
@@ -208,23 +209,30 @@ TEST(Exposure, CompensationScalesByPowersOfTwo) {
   EXPECT_DOUBLE_EQ(e.shutter_s, 64.0 / 4096);
 }
 
-TEST(LightUnits, SunIsInLuxSkyInCandelasAndLegacyScalesKeepTheirLook) {
-  // The paper's lux, and the explicit key.
+TEST(LightUnits, SunAndSkyAreInLuxAndLegacyPlansKeepTheirLook) {
+  // The paper's lux, and the explicit key; a dusk sun of 50 lux is 50 lux.
   EXPECT_DOUBLE_EQ(PlanText(NoonScene("intensity:50000"), Capture("")).sun.illuminance_lux, 50000);
   EXPECT_DOUBLE_EQ(PlanText(NoonScene("illuminance:20"), Capture("")).sun.illuminance_lux, 20);
-  // A legacy unitless intensity (< 100): pi * 10^4 lux per unit.
-  EXPECT_NEAR(
-      PlanText(NoonScene("intensity:3"), Capture("")).sun.illuminance_lux, 3 * M_PI * 1e4, 1e-6);
-  // The sky: luminance in cd/m^2, or the legacy scale of its colour.
+  EXPECT_DOUBLE_EQ(PlanText(NoonScene("intensity:50"), Capture("")).sun.illuminance_lux, 50);
+  // The sky's intensity is the lux it gives the ground: what the renderer's skylight term gives a
+  // horizontal surface at skylight 1 (pi x the ambient radiance's luminance).
   const Plan sky = PlanText(
-      "LSCENE = ONE(S) ONE(W)\nS = skybox{color:[0.5,0.5,0.5],intensity:2}\n"
+      "LSCENE = ONE(S) ONE(W)\nS = skybox{color:[0.5,0.5,0.5],intensity:20000}\n"
       "W = terrain{size:[10,10]}\n",
       Capture(""));
-  EXPECT_NEAR(sky.sky.luminance_cd_m2, 2 * 0.5 * 1e4, 1e-6);
+  // Grey 0.5 at the zenith, 0.25 + 0.45 = 0.7 at the horizon: 20000 / (pi (0.6 + 0.4 x 1.4)).
+  EXPECT_NEAR(sky.sky.luminance_cd_m2, 20000 / (M_PI * 1.16), 1e-9);
+  PlannedEnvironment unit_skylight = EnvironmentOf(sky);
+  unit_skylight.skylight_intensity = 1;
+  const gen::Sky rendered(sky, unit_skylight);
+  EXPECT_NEAR(M_PI * RelativeLuminance(rendered.ambient().cast<double>()), 20000, 20000 * 1e-6);
   const Plan nits =
       PlanText("LSCENE = ONE(S) ONE(W)\nS = skybox{luminance:4000}\nW = terrain{size:[10,10]}\n",
                Capture(""));
   EXPECT_DOUBLE_EQ(nits.sky.luminance_cd_m2, 4000);
+  EXPECT_NE(PlanErrorOf("LSCENE = ONE(S)\nS = skybox{color:[0,0,0],intensity:5000}\n")
+                .find("s.lscene:2:"),
+            std::string::npos);
   // Plans written before the units read as they were meant.
   nlohmann::json old = PlanToJson(nits);
   old["sun"].erase("illuminance_lux");

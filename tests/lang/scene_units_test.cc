@@ -18,6 +18,7 @@
 #include "generator/lang/source.h"
 #include "generator/plan/terrain_height.h"
 #include "libs/util/error.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -93,6 +94,21 @@ TEST(SceneAssets, NaturalExtentOfABuiltinAndOfAMeshInItsUnit) {
   EXPECT_EQ(assets.NaturalExtent("car", 1.0, where, "A"), BuiltinClasses().at("car"));
   const Eigen::Vector3d in_cm = assets.NaturalExtent(mesh, 0.01, where, "A");
   EXPECT_NEAR((in_cm - Eigen::Vector3d(3, 0.2, 0.4)).norm(), 0, 1e-12);
+  // Read as metres without a unit, 300 m is no object: the unit is asked for.
+  const std::string undeclared =
+      ErrorOf([&] { assets.NaturalExtent(mesh, std::nullopt, where, "A"); });
+  EXPECT_NE(undeclared.find("s.lscene:2:"), std::string::npos) << undeclared;
+  EXPECT_NE(undeclared.find("is 300 x 20 x 40 in its own units"), std::string::npos) << undeclared;
+  EXPECT_NE(undeclared.find("unit:cm"), std::string::npos) << undeclared;
+  // Through the language: unit:cm gives the 3 m pipe.
+  const Plan plan = testing::PlanText("LSCENE = ONE(P)\nP = object{class:\"" + mesh +
+                                          "\",unit:cm,position:{within:[[0,0,0],[10,10,10]]}}\n",
+                                      "");
+  ASSERT_EQ(plan.objects.size(), 1u);
+  EXPECT_NEAR((plan.objects[0].extent - Eigen::Vector3d(3, 0.2, 0.4)).norm(), 0, 1e-12);
+  EXPECT_NE(testing::PlanErrorOf("LSCENE = ONE(P)\nP = object{class:\"" + mesh + "\"}\n")
+                .find("give the unit it is modelled in"),
+            std::string::npos);
   const std::string e =
       ErrorOf([&] { assets.NaturalExtent(mesh + ".missing.obj", 1, where, "A"); });
   EXPECT_NE(e.find("s.lscene:2:"), std::string::npos) << e;

@@ -1,5 +1,6 @@
 #include "generator/lang/scene/scene_assets.h"
 
+#include <cstdio>
 #include <filesystem>
 
 #include "generator/lang/asset_choice.h"
@@ -63,7 +64,7 @@ std::vector<SceneClass> SceneAssets::Candidates(const Node& cls, const std::stri
 }
 
 Eigen::Vector3d SceneAssets::NaturalExtent(const std::string& asset,
-                                           double metres_per_unit,
+                                           std::optional<double> metres_per_unit,
                                            const Node& where,
                                            const std::string& what) {
   if (!gen::IsMeshPath(asset)) {
@@ -81,19 +82,27 @@ Eigen::Vector3d SceneAssets::NaturalExtent(const std::string& asset,
     // A flat mesh (a plane) still needs a box: 1 mm thick.
     cached = mesh_extents_.emplace(asset, extent.cwiseMax(Eigen::Vector3d::Constant(1e-3))).first;
   }
-  return cached->second * metres_per_unit;
+  const Eigen::Vector3d& native = cached->second;
+  if (!metres_per_unit && native.maxCoeff() > kLargestUndeclaredMeshM) {
+    char size[96];
+    std::snprintf(size, sizeof size, "%.4g x %.4g x %.4g", native.x(), native.y(), native.z());
+    where.Fail(what + ": the mesh " + asset + " is " + size +
+               " in its own units, which would be metres; give the unit it is modelled in "
+               "(unit:cm, mm, in, ft, or unit:m if it really is that large)");
+  }
+  return native * metres_per_unit.value_or(1.0);
 }
 
-double SceneAssets::LibraryMetresPerUnit(const std::string& asset) const {
+std::optional<double> SceneAssets::LibraryMetresPerUnit(const std::string& asset) const {
   if (const gen::AssetLibrary* library = Library())
     for (const gen::LibraryAsset& a : library->assets())
       if (a.file == asset) return a.metres_per_unit;
-  return 1.0;
+  return std::nullopt;
 }
 
-double MetresPerUnit(const Definition& object) {
+std::optional<double> MetresPerUnit(const Definition& object) {
   const Node n = object.body.Find("unit");
-  if (!n) return 1.0;
+  if (!n) return std::nullopt;
   static const std::map<std::string, double> kUnits = {
       {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}};
   const std::string unit = ReadString(n);

@@ -39,13 +39,16 @@ class SceneAssets {
 
   // The size an asset has of its own, metres: a built-in's box, a mesh's native bounds times
   // `metres_per_unit` (a mesh file is read once; a flat mesh is 1 mm thick). A mesh that cannot
-  // be read is an error at `where`, `what` naming the object or change.
+  // be read is an error at `where`, `what` naming the object or change. A mesh whose unit nobody
+  // declared (nullopt: read as metres) over kLargestUndeclaredMeshM on a side is an error asking
+  // for its unit: a model in centimetres would otherwise become a 300 m pipe.
   Eigen::Vector3d NaturalExtent(const std::string& asset,
-                                double metres_per_unit,
+                                std::optional<double> metres_per_unit,
                                 const Node& where,
                                 const std::string& what);
-  // The unit of a library asset's file (its manifest's), 1 for any other asset.
-  double LibraryMetresPerUnit(const std::string& asset) const;
+  static constexpr double kLargestUndeclaredMeshM = 100;
+  // The unit of a library asset's file (its manifest's); nullopt for any other asset.
+  std::optional<double> LibraryMetresPerUnit(const std::string& asset) const;
 
   static std::vector<std::string> BuiltinNames();
 
@@ -56,7 +59,7 @@ class SceneAssets {
   std::map<std::string, Eigen::Vector3d> mesh_extents_;  // native units, by file path
 };
 
-// An object's `unit` (the unit its mesh file is modelled in): metres per unit, 1 without one.
-double MetresPerUnit(const Definition& object);
+// An object's `unit` (the unit its mesh file is modelled in): metres per unit; nullopt without one.
+std::optional<double> MetresPerUnit(const Definition& object);
 
 }  // namespace lsds

@@ -230,7 +230,7 @@ TEST(LightUnits, SunAndSkyAreInLuxAndLegacyPlansKeepTheirLook) {
       PlanText("LSCENE = ONE(S) ONE(W)\nS = skybox{luminance:4000}\nW = terrain{size:[10,10]}\n",
                Capture(""));
   EXPECT_DOUBLE_EQ(nits.sky.luminance_cd_m2, 4000);
-  EXPECT_NE(PlanErrorOf("LSCENE = ONE(S)\nS = skybox{color:[0,0,0],intensity:5000}\n")
+  EXPECT_NE(testing::PlanErrorOf("LSCENE = ONE(S)\nS = skybox{color:[0,0,0],intensity:5000}\n")
                 .find("s.lscene:2:"),
             std::string::npos);
   // Plans written before the units read as they were meant.

@@ -44,7 +44,7 @@ class SceneEvaluator {
 
   void Run() {
     symbols_ = CheckScene(scene_, &assets_);
-    AssignClassIds(scene_, assets_, targets_, plan_);
+    labelled_ = AssignClassIds(scene_, assets_, targets_, plan_);
     for (const Definition& def : scene_.definitions) Evaluate(def);
     PlaceSunByClock();
     uint32_t instance = 1;
@@ -137,12 +137,12 @@ class SceneEvaluator {
       const gen::LibraryAsset& a = *selected[static_cast<size_t>(
           rng_.UniformInt(0, static_cast<int64_t>(selected.size()) - 1))];
       o->class_name = a.file;
-      o->class_id = ClassIdOf(*plan_, targets_, def.symbol, AssetClassName(a));
+      o->class_id = ClassIdOf(*plan_, labelled_, def.symbol, AssetClassName(a));
       o->extent = assets_.NaturalExtent(a.file, a.metres_per_unit, cls, what);  // manifest's unit
     } else {
       const SceneClass drawn = assets_.Resolve(cls, chosen);
       o->class_name = drawn.asset;
-      o->class_id = ClassIdOf(*plan_, targets_, def.symbol, drawn.name);
+      o->class_id = ClassIdOf(*plan_, labelled_, def.symbol, drawn.name);
       o->extent = assets_.NaturalExtent(drawn.asset, MetresPerUnit(def), cls, what);
     }
   }
@@ -216,6 +216,7 @@ class SceneEvaluator {
   Plan* plan_;
   SceneAssets assets_;
   SceneSymbols symbols_;
+  TargetClassIds labelled_;  // the labelled targets' class ids
   Rng rng_;
   PlacedObjects placed_;
 };

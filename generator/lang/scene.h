@@ -43,9 +43,20 @@ const std::map<std::string, std::string>& CategoryKinds();
 // (metres).
 const std::map<std::string, Eigen::Vector3d>& BuiltinClasses();
 
-// LCAP targets: symbol -> label id ("O1:5"), 0 when listed without a label
-// ("O1").
-using TargetLabels = std::map<std::string, uint32_t>;
+// An LCAP target's label (docs/languages.md, "Class names"): none (its classes come from the
+// scene), one id (`O1:5`; a symbol that draws several classes takes consecutive ids from it, one
+// per class), or one id per class it draws (`V1:{car:1,truck:2}`).
+struct TargetLabel {
+  uint32_t first_id = 0;
+  std::map<std::string, uint32_t> by_class;
+  Node where;  // the label in the capture, for messages
+  bool labelled() const { return first_id != 0 || !by_class.empty(); }
+  bool operator==(const TargetLabel& o) const {
+    return first_id == o.first_id && by_class == o.by_class;
+  }
+};
+// LCAP targets by symbol.
+using TargetLabels = std::map<std::string, TargetLabel>;
 
 // Checks every key of every definition (unknown keys, undefined or forward
 // references, unknown classes) without sampling, then samples the world state

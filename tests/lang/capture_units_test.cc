@@ -382,13 +382,16 @@ constexpr const char* kScene =
 TEST(CaptureClassSwaps, ADrawnClassJoinsTheTableAfterTheScenesIds) {
   const Text scene(kScene, "LSCENE");
   Plan plan;
-  plan.classes = {{1, "ground"}, {2, "car"}};
-  ClassSwaps swaps(scene.program, {{"O2", 7}, {"O1", 0}}, &plan);
-  // A labelled target keeps its label; O1 (no label) takes the class of the name.
-  EXPECT_EQ(swaps.Class("O2", {"truck", "truck"}).second, 7u);
+  plan.classes = {{1, "ground"}, {2, "car"}, {7, "cube"}};  // O2 labelled 7, as the scene made it
+  const auto targets = Lcap("LCAP = ONE(CO)\nCO = camera{targets:[O2:7,O1]}\n");
+  ClassSwaps swaps(scene.program, ReadTargets(targets->program, scene.program), &plan);
+  // A labelled target keeps its label for the class it labels; another class it swaps to, and
+  // O1 (no label), take the class of the name.
+  EXPECT_EQ(swaps.Class("O2", {"cube", "cube"}).second, 7u);
   EXPECT_EQ(swaps.Class("O1", {"car", "car"}).second, 2u);
-  EXPECT_EQ(swaps.Class("O1", {"truck", "truck"}).second, 8u);  // after every id and label
-  ASSERT_EQ(plan.classes.size(), 3u);
+  EXPECT_EQ(swaps.Class("O2", {"truck", "truck"}).second, 8u);  // after every id and label
+  EXPECT_EQ(swaps.Class("O1", {"truck", "truck"}).second, 8u);
+  ASSERT_EQ(plan.classes.size(), 4u);
   EXPECT_EQ(plan.classes.back().name, "truck");
   const auto c = Lcap("LCAP = ONE(A)\nA = collection{O1:{class:{truck:0.5,barrel:0.5}}}\n");
   const Node cls = c->Def("A").body.Members().front().second.Find("class");
@@ -400,7 +403,18 @@ TEST(CaptureClassSwaps, ADrawnClassJoinsTheTableAfterTheScenesIds) {
 TEST(CaptureTargets, LabelsAndTheFirstTarget) {
   const Text scene(kScene, "LSCENE");
   const auto c = Lcap("LCAP = ONE(CO)\nCO = camera{targets:[O2:5,O1]}\n");
-  EXPECT_EQ(ReadTargets(c->program, scene.program), (TargetLabels{{"O2", 5}, {"O1", 0}}));
+  TargetLabels expected;
+  expected["O2"].first_id = 5;
+  expected["O1"];
+  EXPECT_EQ(ReadTargets(c->program, scene.program), expected);
+  // A label per class, in the list and in the object form.
+  const auto per_class = Lcap("LCAP = ONE(CO)\nCO = camera{targets:[O2:{car:3,truck:4}]}\n");
+  const TargetLabels labels = ReadTargets(per_class->program, scene.program);
+  EXPECT_EQ(labels.at("O2").by_class, (std::map<std::string, uint32_t>{{"car", 3}, {"truck", 4}}));
+  EXPECT_TRUE(labels.at("O2").labelled());
+  const auto zero = Lcap("LCAP = ONE(CO)\nCO = camera{targets:[O2:0]}\n");
+  EXPECT_NE(ErrorOf([&] { ReadTargets(zero->program, scene.program); }).find("c.lcap:2:"),
+            std::string::npos);
   EXPECT_EQ(FirstTarget(c->program), "O2");
   const auto bad = Lcap("LCAP = ONE(CO)\nCO = camera{targets:[O3:1]}\n");
   EXPECT_NE(ErrorOf([&] {

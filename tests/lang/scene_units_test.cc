@@ -8,7 +8,9 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "generator/lang/capture/targets.h"
 #include "generator/lang/scene/class_table.h"
 #include "generator/lang/scene/ground.h"
 #include "generator/lang/scene/placed_objects.h"
@@ -123,24 +125,60 @@ TEST(SceneAssets, MetresPerUnitOfAnObject) {
 
 // ---- class_table.h
 
-TEST(SceneClassTable, TerrainFirstLabelsReservedAndALabelledChoiceNamed) {
+// Targets as the capture reads them (`targets:[...]`), against the scene. The capture is kept:
+// the labels point into it.
+TargetLabels Targets(const Scene& scene, const std::string& targets) {
+  struct Capture {
+    explicit Capture(const std::string& text)
+        : src(ParseSource(text, "c.lcap", false)), program(ReadProgram(src, "LCAP")) {}
+    SourceFile src;
+    Program program;
+  };
+  static std::vector<std::unique_ptr<Capture>> captures;
+  captures.push_back(
+      std::make_unique<Capture>("LCAP = ONE(CO)\nCO = camera{targets:" + targets + "}\n"));
+  return ReadTargets(captures.back()->program, scene.program);
+}
+
+TEST(SceneClassTable, TerrainFirstLabelsReservedAndAChoiceLabelledPerClass) {
   Scene s(
       "LSCENE = ONE(T) ONE(A) ONE(V)\nT = terrain{size:[100,100]}\nA = "
       "object{class:{bush:1,rock:1}}\n"
       "V = object{class:{car:0.5,truck:0.5}}\n");
   SceneAssets assets(s.program);
   Plan plan;
-  AssignClassIds(s.program, assets, {{"V", 2}}, &plan);
-  ASSERT_EQ(plan.classes.size(), 4u);
-  EXPECT_EQ(plan.classes[0].name, "terrain");
-  EXPECT_EQ(plan.classes[0].id, 1u);
-  EXPECT_EQ(plan.classes[1].name, "car|truck");  // the label V:2, reserved
-  EXPECT_EQ(plan.classes[1].id, 2u);
-  EXPECT_EQ(plan.classes[2].name, "bush");
-  EXPECT_EQ(plan.classes[2].id, 3u);
-  EXPECT_EQ(ClassIdOf(plan, {{"V", 2}}, "V", "truck"), 2u);
-  EXPECT_EQ(ClassIdOf(plan, {{"V", 2}}, "A", "rock"), 4u);
-  EXPECT_EQ(ClassIdOf(plan, {{"V", 2}}, "A", "tire"), 0u);
+  // V:2 draws car or truck: car 2, truck 3, each its own class; the scene's ids skip them.
+  const TargetClassIds labelled = AssignClassIds(s.program, assets, Targets(s, "[V:2]"), &plan);
+  ASSERT_EQ(plan.classes.size(), 5u);
+  const std::vector<std::pair<uint32_t, std::string>> expected = {
+      {1, "terrain"}, {2, "car"}, {3, "truck"}, {4, "bush"}, {5, "rock"}};
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(plan.classes[i].id, expected[i].first);
+    EXPECT_EQ(plan.classes[i].name, expected[i].second);
+  }
+  EXPECT_EQ(ClassIdOf(plan, labelled, "V", "truck"), 3u);
+  EXPECT_EQ(ClassIdOf(plan, labelled, "A", "rock"), 5u);
+  EXPECT_EQ(ClassIdOf(plan, labelled, "A", "tire"), 0u);
+  // Labels per class, as listed.
+  Plan per_class;
+  const TargetClassIds listed =
+      AssignClassIds(s.program, assets, Targets(s, "[V:{truck:7,car:9}]"), &per_class);
+  EXPECT_EQ(ClassIdOf(per_class, listed, "V", "truck"), 7u);
+  EXPECT_EQ(ClassIdOf(per_class, listed, "V", "car"), 9u);
+  // A class the label misses, a class the symbol never draws, an id two targets share.
+  Plan bad;
+  EXPECT_NE(ErrorOf([&] {
+              AssignClassIds(s.program, assets, Targets(s, "[V:{car:1}]"), &bad);
+            }).find("V may draw 'truck', which its label does not name"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              AssignClassIds(s.program, assets, Targets(s, "[V:{car:1,truck:2,bus:3}]"), &bad);
+            }).find("V never draws 'bus'"),
+            std::string::npos);
+  const std::string shared =
+      ErrorOf([&] { AssignClassIds(s.program, assets, Targets(s, "[V:2,A:3]"), &bad); });
+  EXPECT_NE(shared.find("c.lcap:2:"), std::string::npos) << shared;
+  EXPECT_NE(shared.find("label id 3"), std::string::npos) << shared;
 }
 
 // ---- ground.h

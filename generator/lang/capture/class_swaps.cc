@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "generator/lang/asset_choice.h"
+#include "generator/lang/scene/class_table.h"
 
 namespace lsds {
 
@@ -22,14 +23,20 @@ SceneAssets& ClassSwaps::Assets() {
 
 std::pair<std::string, uint32_t> ClassSwaps::Class(const std::string& symbol,
                                                    const SceneClass& resolved) {
+  // A labelled target drawing a class its label names keeps that id (scene/class_table.h).
   const auto label = labels_.find(symbol);
-  if (label != labels_.end() && label->second != 0) return {resolved.asset, label->second};
+  if (label != labels_.end() && label->second.labelled()) {
+    auto ids = label_ids_.find(symbol);
+    if (ids == label_ids_.end())
+      ids = label_ids_.emplace(symbol, LabelIdsOf(scene_, Assets(), symbol, label->second)).first;
+    if (const auto id = ids->second.find(resolved.name); id != ids->second.end())
+      return {resolved.asset, id->second};
+  }
   uint32_t next = 1;
   for (const ClassInfo& c : plan_->classes) {
     if (c.name == resolved.name) return {resolved.asset, c.id};
     next = std::max(next, c.id + 1);
   }
-  for (const auto& [s, l] : labels_) next = std::max(next, l + 1);
   plan_->classes.push_back({next, resolved.name});
   return {resolved.asset, next};
 }

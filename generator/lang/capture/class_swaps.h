@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -32,8 +33,9 @@ class ClassSwaps {
   std::vector<SceneClass> Candidates(const Node& cls, const std::string& option);
 
   // The asset and class id a class change draws for an object of `symbol`: a labelled target keeps
-  // its label; another object takes the class of that name, added to the class table if the scene
-  // has none (after the scene's ids, so that the scene's ids never change).
+  // its label's id for a class the label names; otherwise the object takes the class of that name,
+  // added to the class table if the scene has none (after the scene's ids and labels, so that
+  // those never change).
   std::pair<std::string, uint32_t> Class(const std::string& symbol, const SceneClass& resolved);
 
   // The size a drawn class has of its own (docs/languages.md, "Class swaps and re-scatters"): a
@@ -54,6 +56,7 @@ class ClassSwaps {
   TargetLabels labels_;
   Plan* plan_;
   std::optional<SceneAssets> assets_;
+  std::map<std::string, std::map<std::string, uint32_t>> label_ids_;  // labelled targets, by class
   std::set<uint32_t> swapped_in_;  // class ids class changes may draw
 };
 

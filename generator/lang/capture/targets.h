@@ -8,8 +8,8 @@
 
 namespace lsds {
 
-// The targets named by the capture's camera, checked against the scene. A target listed without a
-// label ("O2") maps to 0: its class comes from the scene.
+// The targets named by the capture's camera, checked against the scene: `[O1:5, V1:{car:1,
+// truck:2}, O2]` (a target listed without a label, O2, keeps its classes from the scene).
 TargetLabels ReadTargets(const Program& capture, const Program& scene);
 
 // The symbol of the camera's first target (what a hemi without a centre circles); "" when none.

@@ -1,8 +1,9 @@
 // The scene's class table (docs/languages.md, "Class names"): which id each class an object may
-// draw takes, and the id of a drawn object.
+// draw takes, the ids of the capture's labelled targets, and the id of a drawn object.
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 
 #include "generator/lang/scene.h"
@@ -10,18 +11,31 @@
 
 namespace lsds {
 
-// Ids in order of first appearance in the file, the terrain's first, skipping the ids the capture's
-// targets take as labels. A labelled target's class is named after what it draws: the class names
-// of its options joined by "|" ("#label" added when another class has that name).
-void AssignClassIds(const Program& scene,
+// A labelled target's ids by the class names it may draw: consecutive from `O1:5`'s id in the
+// order its class options name them, or as `V1:{car:1,truck:2}` lists them (every class it draws
+// listed, no other: else an error at the label).
+using LabelIds = std::map<std::string, uint32_t>;
+LabelIds LabelIdsOf(const Program& scene,
                     const SceneAssets& assets,
-                    const TargetLabels& targets,
-                    Plan* plan);
+                    const std::string& symbol,
+                    const TargetLabel& label);
 
-// The class id of an object of `symbol` that drew the class `class_name`: its target label if it
-// has one, else the table's id of that name (0 when none).
+// The labelled targets' ids, by symbol.
+using TargetClassIds = std::map<std::string, LabelIds>;
+
+// Fills plan->classes: the labelled targets' ids, each named after the class it labels ("#id"
+// added when another class has that name); then, skipping those ids, the other objects' classes
+// in order of first appearance in the file, the terrain's first. Two targets may not share an id.
+// Returns the labelled targets' ids.
+TargetClassIds AssignClassIds(const Program& scene,
+                              const SceneAssets& assets,
+                              const TargetLabels& targets,
+                              Plan* plan);
+
+// The class id of an object of `symbol` that drew the class `class_name`: its label's id for that
+// class if it is a labelled target, else the table's id of that name (0 when none).
 uint32_t ClassIdOf(const Plan& plan,
-                   const TargetLabels& targets,
+                   const TargetClassIds& labelled,
                    const std::string& symbol,
                    const std::string& class_name);
 

@@ -380,7 +380,8 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Doc("Camera Settings, see \"Camera settings\"")
                      .Block("camera_settings"),
                  Row("targets").Is(T::kList).Doc(
-                     "Target `[O1:5, O2]` (label ids optional, see \"Class names\")"),
+                     "Target `[O1:5, V1:{car:1,truck:2}, O2]` (label ids optional, one per class "
+                     "drawn, see \"Class names\")"),
                  Row("PPMaterial")
                      .Aliases({"post_process"})
                      .Is(T::kList)

@@ -164,10 +164,14 @@ int RunGenerate(int argc, char** argv) {
         command_line += std::string(" ") + argv[i];
     }
     InstallResumeHint(command_line);
-    // Post-process names that are no effect are recorded, not applied: say so.
-    if (!common.quiet)
+    // Post-process names that are no effect are recorded, not applied: say so; and what planning
+    // found doubtful.
+    if (!common.quiet) {
       for (const std::string& w : gen::UnknownPostProcess(plan.post_process))
         std::cerr << "lsds generate: warning: " << w << "\n";
+      for (const std::string& w : plan.warnings)
+        std::cerr << "lsds generate: warning: " << w << "\n";
+    }
     const gen::GenerateSummary summary = gen::GenerateCollection(plan, options);
     if (!common.quiet) {
       const double per_frame =

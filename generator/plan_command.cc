@@ -56,6 +56,7 @@ int RunPlan(int argc, char** argv) {
       }
     } else {
       const Plan plan = gen::PlanFromScene(scene, capture, seed, FramesFlag(common));
+      for (const std::string& w : plan.warnings) std::cerr << "lsds plan: warning: " << w << "\n";
       text = PlanToJson(plan).dump(1);
       if (!common.quiet) std::cerr << gen::FormatPlannedRequirements(plan);
     }

@@ -214,6 +214,41 @@ void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedE
   }
 }
 
+std::vector<std::string> ImplausibleLight(const std::string& kind,
+                                          const Node& b,
+                                          const PlannedEnvironment& env) {
+  std::vector<std::string> out;
+  auto warn = [&](const char* key, const std::string& message) {
+    const Node n = b.Find(key);
+    out.push_back(n.Where().ToString() + ": " + message);
+  };
+  char value[64];
+  if (kind == "light" && (b.Find("intensity") || b.Find("illuminance"))) {
+    const char* key = b.Find("intensity") ? "intensity" : "illuminance";
+    const double lux = env.sun.illuminance_lux;
+    std::snprintf(value, sizeof value, "%.6g lux", lux);
+    if (lux < 100 && env.sun.elevation_deg > 10)
+      warn(key,
+           std::string("a sun of ") + value +
+               " high in the sky is darker than dusk; light is in lux (a clear noon 100000); "
+               "scenes written for the old unitless scale meant pi x 10^4 lux per unit");
+    if (lux > 150000)
+      warn(key,
+           std::string("a sun of ") + value +
+               " is brighter than sunlight above the atmosphere (about 130000 lux)");
+  }
+  if (kind == "skybox" && (b.Find("intensity") || b.Find("luminance"))) {
+    const double nits = env.sky.luminance_cd_m2;
+    const double lux = nits * SkyLuxPerZenithNit(env.sky.color);
+    std::snprintf(value, sizeof value, "%.6g lux (zenith %.6g cd/m^2)", lux, nits);
+    if (lux > 60000 || nits > 30000)
+      warn(b.Find("intensity") ? "intensity" : "luminance",
+           std::string("a sky giving ") + value +
+               " is brighter than any daylight sky (a clear sky gives 10000-25000 lux)");
+  }
+  return out;
+}
+
 void PlaceSun(const GeoOrigin& geo, double time_s, PlannedSun* sun) {
   if (!sun->clock_utc_s) return;
   const SolarPosition at =

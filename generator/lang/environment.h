@@ -27,6 +27,14 @@ void ApplyEnvironment(const std::string& kind,
                       Rng& rng,
                       PlannedEnvironment* environment);
 
+// The light values of a `kind` block that no daylight has (docs/languages.md, "Light units"), each
+// a message located at `body`: a sun under 100 lux more than 10 degrees up (a value of the old
+// unitless scale?), a sun over 150000 lux (above the solar constant), a sky over 60000 lux or
+// 30000 cd/m^2. Values kept; nothing for blocks that set no light.
+std::vector<std::string> ImplausibleLight(const std::string& kind,
+                                          const Node& body,
+                                          const PlannedEnvironment& environment);
+
 // A sun given by date and time (`clock_utc_s`) gets the solar position of
 // `geo` at `time_s` seconds after capture time 0; otherwise nothing changes.
 void PlaceSun(const GeoOrigin& geo, double time_s, PlannedSun* sun);

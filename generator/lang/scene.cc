@@ -61,6 +61,8 @@ class SceneEvaluator {
         def.kind == "skylight") {
       PlannedEnvironment environment = EnvironmentOf(*plan_);
       ApplyEnvironment(def.kind, def.body, rng_, &environment);
+      for (std::string& w : ImplausibleLight(def.kind, def.body, environment))
+        plan_->warnings.push_back(std::move(w));
       SetEnvironment(environment, plan_);
     } else if (def.kind == "georeference") {
       plan_->geo = EvaluateGeoreference(def.body, rng_);

@@ -189,6 +189,9 @@ struct PlannedFrame {
 
 struct Plan {
   uint64_t seed = 0;
+  // What planning found doubtful but kept (implausible light values), located; printed by `lsds
+  // plan` and `lsds generate`, not part of the plan's JSON.
+  std::vector<std::string> warnings;
   std::optional<GeoOrigin> geo;  // LSCENE georeference: the world is ENU there
   std::string scene_source;      // LSCENE text, verbatim
   std::string capture_source;    // LCAP text, verbatim

@@ -213,7 +213,24 @@ TEST(LightUnits, SunAndSkyAreInLuxAndLegacyPlansKeepTheirLook) {
   // The paper's lux, and the explicit key; a dusk sun of 50 lux is 50 lux.
   EXPECT_DOUBLE_EQ(PlanText(NoonScene("intensity:50000"), Capture("")).sun.illuminance_lux, 50000);
   EXPECT_DOUBLE_EQ(PlanText(NoonScene("illuminance:20"), Capture("")).sun.illuminance_lux, 20);
-  EXPECT_DOUBLE_EQ(PlanText(NoonScene("intensity:50"), Capture("")).sun.illuminance_lux, 50);
+  const Plan dusk = PlanText(NoonScene("intensity:50"), Capture(""));
+  EXPECT_DOUBLE_EQ(dusk.sun.illuminance_lux, 50);
+  // 50 lux at 85 degrees up is no daylight: kept, with a located warning naming the old scale.
+  ASSERT_EQ(dusk.warnings.size(), 1u);
+  EXPECT_NE(dusk.warnings[0].find("s.lscene:3:"), std::string::npos) << dusk.warnings[0];
+  EXPECT_NE(dusk.warnings[0].find("a sun of 50 lux high in the sky is darker than dusk"),
+            std::string::npos)
+      << dusk.warnings[0];
+  EXPECT_TRUE(PlanText(NoonScene(), Capture("")).warnings.empty());
+  EXPECT_EQ(PlanText(NoonScene("intensity:400000"), Capture("")).warnings.size(), 1u);
+  // A sky change in the capture is judged too.
+  const Plan bright_sky =
+      PlanText(NoonScene(),
+               "LCAP = ONE(CO) ONE(P) ONE(A)\nCO = camera{csettings:{res:[96,72]}}\n"
+               "P = path{create point:{position:[0,0,50],count:1}}\n"
+               "A = collection{S:{frame:0,intensity:500000}}\n");
+  ASSERT_EQ(bright_sky.warnings.size(), 1u);
+  EXPECT_NE(bright_sky.warnings[0].find("c.lcap:4:"), std::string::npos) << bright_sky.warnings[0];
   // The sky's intensity is the lux it gives the ground: what the renderer's skylight term gives a
   // horizontal surface at skylight 1 (pi x the ambient radiance's luminance).
   const Plan sky = PlanText(

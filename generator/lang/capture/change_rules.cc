@@ -75,6 +75,8 @@ class RuleReader {
     Rng probe(0);  // bad values are reported now, not on some frame
     PlannedEnvironment scratch = EnvironmentOf(*plan_);
     ApplyEnvironment(rule.environment_kind, block, probe, &scratch);
+    for (std::string& w : ImplausibleLight(rule.environment_kind, block, scratch))
+      plan_->warnings.push_back(std::move(w));
     if (scratch.sun.clock_utc_s && !plan_->geo)
       block.Fail(
           "a sun given by date and time needs a place: add a georeference{latitude, longitude, "

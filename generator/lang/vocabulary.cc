@@ -56,6 +56,10 @@ struct Row : KeySpec {
     block = std::move(id);
     return *this;
   }
+  Row& Default(nlohmann::json value) {
+    default_value = std::move(value);
+    return *this;
+  }
   Row& Role(std::string group) {
     role = std::move(group);
     return *this;
@@ -138,7 +142,8 @@ std::vector<KindSpec> BuildVocabulary() {
                    .Is(T::kNumber)
                    .Range(AtLeast(0))
                    .Unit("cd/m^2")
-                   .Doc("zenith luminance, cd/m^2, default 7000")}));
+                   .Default(7000)
+                   .Doc("zenith luminance, cd/m^2")}));
   v.push_back(
       Kind("light", "LSCENE")
           .Aliases({"directional_light", "sun"})
@@ -149,8 +154,13 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Is(T::kNumber)
                      .Range(Within(-90, 90))
                      .Unit("degrees")
+                     .Default(50)
                      .Doc("deg above horizon"),
-                 Row("azimuth").Is(T::kNumber).Unit("degrees").Doc("deg from north, clockwise"),
+                 Row("azimuth")
+                     .Is(T::kNumber)
+                     .Unit("degrees")
+                     .Default(135)
+                     .Doc("deg from north, clockwise"),
                  Row("intensity")
                      .Is(T::kNumber)
                      .Range(AtLeast(0))
@@ -161,7 +171,8 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Is(T::kNumber)
                      .Range(AtLeast(0))
                      .Unit("lux")
-                     .Doc("lux, always; default 100000"),
+                     .Default(100000)
+                     .Doc("lux, always"),
                  Row("date").Is(T::kDate).Doc(
                      "`\"YYYY-MM-DD\"`: the sun by date, time and UTC offset at the georeference, "
                      "see \"Time of day and place\""),
@@ -200,14 +211,14 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Unit("m")
                      .Doc("meteorological visibility in metres: extinction = 3.912 / visibility, "
                           "Koschmieder's 2 % contrast; see \"Atmosphere\"")}));
-  v.push_back(
-      Kind("skylight", "LSCENE")
-          .Category("SL")
-          .Example("`SL = skylight{intensity:0.3}`")
-          .Keys({Row("intensity")
-                     .Is(T::kNumber)
-                     .Range(AtLeast(0))
-                     .Doc("ambient: unitless, times the sky's mean luminance; default 0.3")}));
+  v.push_back(Kind("skylight", "LSCENE")
+                  .Category("SL")
+                  .Example("`SL = skylight{intensity:0.3}`")
+                  .Keys({Row("intensity")
+                             .Is(T::kNumber)
+                             .Range(AtLeast(0))
+                             .Default(0.3)
+                             .Doc("ambient: unitless, times the sky's mean luminance")}));
   v.push_back(
       Kind("terrain", "LSCENE")
           .Category("W")
@@ -232,7 +243,8 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Is(T::kNumber)
                      .Range(AtLeast(0))
                      .Unit("cycles/m")
-                     .Doc("cycles/m, default 0.05")
+                     .Default(0.05)
+                     .Doc("cycles/m")
                      .NotInChange(),
                  Row("material").Is(T::kName).Doc("a name (or choice) recorded for the renderer"),
                  Row("seed")
@@ -300,7 +312,8 @@ std::vector<KindSpec> BuildVocabulary() {
                Row("retries")
                    .Is(T::kWhole)
                    .Range(WholeWithin(0, 100000))
-                   .Doc("draws of a place before `on_overlap` applies (default 100)")
+                   .Default(100)
+                   .Doc("draws of a place before `on_overlap` applies")
                    .Example("`retries:20`"),
                Row("separation")
                    .Is(T::kNumber)
@@ -580,7 +593,7 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Unit("m")
                      .Doc("`[dx,dy,dz]`: uniform noise in +-d per axis, drawn per frame"),
                  Row("roll").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame"),
-                 Row("pitch").Is(T::kNumber).Unit("degrees").Doc("default -90, nadir"),
+                 Row("pitch").Is(T::kNumber).Unit("degrees").Default(-90).Doc("-90: nadir"),
                  Row("yaw").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame")}));
   v.push_back(
       Kind("random")
@@ -589,16 +602,18 @@ std::vector<KindSpec> BuildVocabulary() {
           .Keys({Row("count").Is(T::kCount).Doc("the number of frames"),
                  Row("x").Is(T::kNumber).Unit("m").Doc("default: the terrain"),
                  Row("y").Is(T::kNumber).Unit("m").Doc("default: the terrain"),
-                 Row("altitude").Is(T::kNumber).Unit("m").Doc("above the terrain (default 50)"),
+                 Row("altitude").Is(T::kNumber).Unit("m").Default(50).Doc("above the terrain"),
                  Row("off_nadir")
                      .Is(T::kNumber)
                      .Range(Within(0, 90))
                      .Unit("degrees")
-                     .Doc("deg from straight down, default 0"),
+                     .Default(0)
+                     .Doc("deg from straight down"),
                  Row("yaw")
                      .Is(T::kNumber)
                      .Unit("degrees")
-                     .Doc("default [0,360]; all drawn per frame")}));
+                     .Default({0, 360})
+                     .Doc("all drawn per frame")}));
   v.push_back(Kind("flight")
                   .What("waypoints")
                   .Doc("a list of `[x,y,z]` (nadir), `[x,y,z,roll,pitch,yaw]`, or `{position, "
@@ -625,7 +640,7 @@ std::vector<KindSpec> BuildVocabulary() {
                              .Unit("degrees")
                              .Doc("roll, pitch, yaw; default nadir"),
                          Row("look_at").Is(T::kAny).Doc("instead of `rotation`"),
-                         Row("count").Is(T::kCount).Doc("default 1; drawn per frame")}));
+                         Row("count").Is(T::kCount).Default(1).Doc("drawn per frame")}));
   // The blocks of a collection entry (docs/languages.md, "Collections: move, when, after,
   // during", "Objects that move", "Class swaps and re-scatters").
   v.push_back(
@@ -664,20 +679,26 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Role("intrinsic")
                      .Is(T::kNumber)
                      .Unit("degrees")
-                     .Doc("horizontal, deg, default 60"),
+                     .Default(60)
+                     .Doc("horizontal, deg"),
                  Row("res")
                      .Role("intrinsic")
                      .Aliases({"resolution"})
                      .Is(T::kVector2)
                      .Unit("px")
-                     .Doc("`[w,h]` (default 1024 x 1024)"),
+                     .Default({1024, 1024})
+                     .Doc("`[w,h]`"),
                  Row("focal_length")
                      .Role("intrinsic")
                      .Is(T::kNumber)
                      .Unit("mm")
                      .Doc("mm, with `sensor_width`; overrides fov"),
                  Row("sensor_width").Role("intrinsic").Is(T::kNumber).Unit("mm").Doc("mm"),
-                 Row("fps").Is(T::kNumber).Range(Above(0)).Doc("frame time step, default 10"),
+                 Row("fps")
+                     .Is(T::kNumber)
+                     .Range(Above(0))
+                     .Default(10)
+                     .Doc("frames per second: the time step is 1 / fps"),
                  Row("clearance")
                      .Is(T::kAny)
                      .Unit("m")

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "generator/lang/random.h"
 #include "generator/lang/values.h"
 
@@ -66,6 +68,10 @@ struct KeySpec {
   std::string block;      // kBlock / kNumberOrBlock: the id of the nested table
   bool in_change = true;  // environment kinds: also callable in an LCAP scene change
   std::string role;       // a group within the kind ("target quantity", "frame quantity")
+  // The value without the key, when it is a literal (null otherwise: a default that depends on
+  // other values is said in `doc`). Docs, schemas and `lsds language --json` print it;
+  // tests/lang/vocabulary_defaults_test.cc holds it equal to the evaluators' own.
+  nlohmann::json default_value;
 
   std::vector<std::string> Spellings() const;  // name, then aliases
 };

@@ -20,6 +20,18 @@ std::string SpellingsCell(const KeySpec& key) {
   return Join(parts, " / ");
 }
 
+// "default 100000", "default [0,360]"
+std::string DefaultText(const KeySpec& key) {
+  return "default " + (key.default_value.is_string() ? key.default_value.get<std::string>()
+                                                     : key.default_value.dump());
+}
+
+// The doc line with the default after it.
+std::string DocWithDefault(const KeySpec& key) {
+  if (key.default_value.is_null()) return key.doc;
+  return key.doc.empty() ? DefaultText(key) : key.doc + "; " + DefaultText(key);
+}
+
 std::string RangeText(const KeySpec& key, bool say_whole = true) {
   if (!key.range) return "";
   return key.range->Text(say_whole) + (key.unit.empty() ? "" : " " + key.unit);
@@ -29,6 +41,7 @@ std::string RangeText(const KeySpec& key, bool say_whole = true) {
 std::string KeyItem(const KeySpec& key) {
   std::vector<std::string> notes;
   if (!key.doc.empty()) notes.push_back(key.doc);
+  if (!key.default_value.is_null()) notes.push_back(DefaultText(key));
   if (key.range) notes.push_back(RangeText(key));
   return SpellingsCell(key) + (notes.empty() ? "" : " (" + Join(notes, "; ") + ")");
 }
@@ -67,7 +80,7 @@ std::string KeysTable(const std::string& id, bool with_examples) {
   std::string out = with_examples ? "| key | value | function | example |\n|---|---|---|---|\n"
                                   : "| key | value | meaning |\n|---|---|---|\n";
   for (const KeySpec& k : KindVocabulary(id).keys) {
-    out += "| " + SpellingsCell(k) + " | " + ValueCell(k) + " | " + k.doc;
+    out += "| " + SpellingsCell(k) + " | " + ValueCell(k) + " | " + DocWithDefault(k);
     if (with_examples) out += " | " + k.example;
     out += " |\n";
   }
@@ -113,6 +126,7 @@ nlohmann::ordered_json KindSchema(const KindSpec& kind) {
   for (const KeySpec& key : kind.keys) {
     nlohmann::ordered_json p;
     p["description"] = key.doc;
+    if (!key.default_value.is_null()) p["default"] = key.default_value;
     std::string value = ValueTypeName(key.type);
     if (key.range) value += ", " + RangeText(key, key.type != ValueType::kWhole);
     if (!key.block.empty()) value += " (definitions/kinds/" + key.block + ")";

@@ -49,6 +49,7 @@ nlohmann::ordered_json KeyJson(const KeySpec& key) {
   if (key.range) out["range"] = RangeJson(*key.range);
   PutIfSet(out, "block", key.block);
   PutIfSet(out, "role", key.role);
+  if (!key.default_value.is_null()) out["default"] = key.default_value;
   // An environment key an LCAP scene change may not set (the others may).
   if (!key.in_change) out["in_change"] = false;
   PutIfSet(out, "doc", key.doc);
@@ -91,6 +92,7 @@ std::string VocabularyText() {
       out << "  " << key.name << ": " << ValueTypeName(key.type);
       if (key.range) out << ", " << key.range->Text();
       if (!key.unit.empty()) out << " " << key.unit;
+      if (!key.default_value.is_null()) out << ", default " << key.default_value.dump();
       if (!key.aliases.empty()) out << " (also " << Join(key.aliases, ", ") << ")";
       out << "\n";
     }

@@ -70,6 +70,9 @@ class Parser {
         const size_t start = i;
         while (i < n && IsIdentChar(text_[i])) ++i;
         tokens_.push_back({Tok::kIdent, text_.substr(start, i - start), start});
+      } else if (IsUnquotedDate(i)) {  // 2026-06-21: read as the string "2026-06-21"
+        tokens_.push_back({Tok::kString, text_.substr(i, 10), i});
+        i += 10;
       } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' ||
                  (c == '.' && i + 1 < n &&
                   std::isdigit(static_cast<unsigned char>(text_[i + 1])))) {
@@ -110,6 +113,18 @@ class Parser {
       }
     }
     tokens_.push_back({Tok::kEnd, "", n});
+  }
+
+  // A date YYYY-MM-DD at `i` (the paper's values have no arithmetic, so digits, '-', digits is no
+  // number).
+  bool IsUnquotedDate(size_t i) const {
+    if (i + 10 > text_.size()) return false;
+    for (size_t k = 0; k < 10; ++k) {
+      const bool dash = k == 4 || k == 7;
+      if (dash ? text_[i + k] != '-' : !std::isdigit(static_cast<unsigned char>(text_[i + k])))
+        return false;
+    }
+    return i + 10 == text_.size() || !IsIdentChar(text_[i + 10]);
   }
 
   // --- helpers ---
@@ -279,6 +294,9 @@ class Parser {
         Fail(t.offset, "expected a key or '" + std::string(1, close) + "', found " + Describe(t));
       }
       if (Peek().kind == Tok::kEnd) Unclosed(open_offset, close);
+      if (IsPunct(Peek(), ':') && pos_ > 0 && tokens_[pos_ - 1].kind == Tok::kNumber)
+        Fail(tokens_[pos_ - 1].offset,
+             "a value with ':' in it is written in quotes, e.g. a time of day time:\"08:00\"");
       if (!IsPunct(Peek(), close) && !AcceptPunct(','))
         Fail(Peek().offset,
              std::string("expected ',' or '") + close + "', found " + Describe(Peek()));

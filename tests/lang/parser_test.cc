@@ -133,6 +133,19 @@ TEST(LangParser, KeysAcceptBothSeparatorsAndSpellings) {
   EXPECT_EQ(pa.objects[0].position, pb.objects[0].position);
 }
 
+TEST(LangParser, AnUnquotedDateIsTheDate) {
+  const std::string quoted =
+      "LSCENE = ONE(G) ONE(DL)\nG = georeference{latitude:48,longitude:11}\n"
+      "DL = light{date:\"2026-06-21\",time:\"09:00\",utc_offset:2}\n";
+  std::string unquoted = quoted;
+  unquoted.replace(unquoted.find("\"2026-06-21\""), 12, "2026-06-21");
+  const Plan a = MakePlanFromSources(ParseSource(quoted, "a", false), nullptr, 3);
+  const Plan b = MakePlanFromSources(ParseSource(unquoted, "b", false), nullptr, 3);
+  ASSERT_TRUE(b.sun.clock_utc_s.has_value());
+  EXPECT_EQ(*a.sun.clock_utc_s, *b.sun.clock_utc_s);
+  EXPECT_EQ(a.sun.elevation_deg, b.sun.elevation_deg);
+}
+
 struct BadInput {
   std::string scene, capture, expected;
 };
@@ -192,6 +205,10 @@ TEST(LangParser, BadInputsNameTheExactPlace) {
        "",
        "s.lscene:2:22: interval [lo, hi] needs lo <= hi"},
       {"LSCENE = ONE(S)\nS = skybox{intensity:@}\n", "", "s.lscene:2:22: unexpected character '@'"},
+      {"LSCENE = ONE(S)\nS = light{time:08:00}\n",
+       "",
+       "s.lscene:2:16: a value with ':' in it is written in quotes, e.g. a time of day "
+       "time:\"08:00\""},
       {ok_scene,
        "LCAP = ONE(CO)\nCO = camera{csettings:{fov:30,rez:[10,10]}}\n",
        "c.lcap:2:31: unknown key 'rez' in camera settings (did you mean "

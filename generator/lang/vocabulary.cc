@@ -612,8 +612,7 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("yaw")
                      .Is(T::kNumber)
                      .Unit("degrees")
-                     .Default({0, 360})
-                     .Doc("all drawn per frame")}));
+                     .Doc("uniform in [0, 360] without it; drawn per frame")}));
   v.push_back(Kind("flight")
                   .What("waypoints")
                   .Doc("a list of `[x,y,z]` (nadir), `[x,y,z,roll,pitch,yaw]`, or `{position, "

@@ -78,7 +78,6 @@ const std::map<std::pair<std::string, std::string>, Program>& Programs() {
        CaptureKey("LCAP = ONE(P)\nP = path{grid:{x:[0,10,5],y:[0,10,5],altitude:20%}}\n", true)},
       {{"random", "altitude"}, CaptureKey("LCAP = ONE(P)\nP = path{random:{count:4%}}\n", true)},
       {{"random", "off_nadir"}, CaptureKey("LCAP = ONE(P)\nP = path{random:{count:4%}}\n", true)},
-      {{"random", "yaw"}, CaptureKey("LCAP = ONE(P)\nP = path{random:{count:4%}}\n", true)},
       {{"create_point", "count"},
        CaptureKey("LCAP = ONE(P)\nP = path{create point:{position:[0,0,30]%}}\n", true)},
   };

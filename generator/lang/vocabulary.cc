@@ -446,7 +446,13 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Is(T::kBlock)
                      .Doc("`point:{position:[[-5,-5,20],[5,5,30]],rotation:[0,[-90,-60],[0,360]],"
                           "count:10}`")
-                     .Block("create_point")}));
+                     .Block("create_point"),
+                 Row("create_path")
+                     .Is(T::kBlock)
+                     .Doc("`create path:{space:[[-50,-50,30],[50,50,60]],points:20}`: the paper's "
+                          "Create Path, `points` camera positions drawn uniformly in the box "
+                          "`space`, one frame each, looking straight down (or by `rotation`)")
+                     .Block("create_path")}));
   v.push_back(Kind("collection", "LCAP")
                   .Category("CL")
                   .Doc("Create Set: camera moves and scene changes, below")
@@ -630,6 +636,17 @@ std::vector<KindSpec> BuildVocabulary() {
                   .Keys({Row("position").Is(T::kVector3).Unit("m").Doc("`[x,y,z]`"),
                          Row("attitude").Is(T::kVector3).Unit("degrees").Doc("`[roll,pitch,yaw]`"),
                          Row("look_at").Is(T::kAny).Doc("`[x,y,z]` or an object")}));
+  v.push_back(Kind("create_path")
+                  .Paper("Create Path")
+                  .Keys({Row("space").Is(T::kList).Unit("m").Doc(
+                             "`[[x0,y0,z0],[x1,y1,z1]]`: the box the points are drawn in (z as "
+                             "waypoints: `heights:agl` makes it above the terrain)"),
+                         Row("points").Is(T::kCount).Doc("the number of points (frames)"),
+                         Row("rotation")
+                             .Aliases({"attitude"})
+                             .Is(T::kVector3)
+                             .Unit("degrees")
+                             .Doc("roll, pitch, yaw; default nadir; drawn per frame")}));
   v.push_back(Kind("create_point")
                   .Paper("Create Point")
                   .Keys({Row("position").Is(T::kVector3).Unit("m").Doc("vector or vector range"),

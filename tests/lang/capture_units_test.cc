@@ -292,6 +292,38 @@ TEST(CaptureCameraPaths, RandomAltitudeIsDrawnWithinTheDemandedBin) {
   }
 }
 
+TEST(CaptureCameraPaths, CreatePathDrawsItsPointsInItsSpaceLookingDown) {
+  const auto c = Lcap(
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n"
+      "P = path{create path:{space:[[-10,-20,30],[10,20,60]],points:7}}\n"
+      "Q = path{create path:{space:[[0,0,0],[1,1]],points:2}}\n");
+  Plan plan = FlatPlan();
+  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
+  CameraPaths paths(setup, plan, 1, "");
+  EXPECT_EQ(paths.FrameCount(c->Def("P"), 0), 7);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  for (uint64_t k = 0; k < 200; ++k) {
+    Rng rng = Rng::For(3, StreamTag::kFrame, k);
+    const Rigid3d pose = paths.Pose(c->Def("P"), 0, rng, 0, nullptr, nullptr);
+    const Eigen::Vector3d eye = CameraCenterInWorld(pose);
+    lo = lo.cwiseMin(eye);
+    hi = hi.cwiseMax(eye);
+    // Looking straight down: the optical axis (camera +z) is the world's -z.
+    EXPECT_NEAR(
+        (pose.rotation.inverse() * Eigen::Vector3d::UnitZ() - Eigen::Vector3d(0, 0, -1)).norm(),
+        0,
+        1e-9);
+  }
+  EXPECT_GE(lo.minCoeff(), -20);
+  EXPECT_LE(hi.x(), 10);
+  EXPECT_LE(hi.y(), 20);
+  EXPECT_GE(lo.z(), 30);
+  EXPECT_LE(hi.z(), 60);
+  EXPECT_GT(hi.y() - lo.y(), 30);  // spread over the space, not one point
+  EXPECT_NE(ErrorOf([&] { paths.FrameCount(c->Def("Q"), 0); }).find("c.lcap:4:"),
+            std::string::npos);
+}
+
 // ---- quota_draws.h
 
 TEST(CaptureQuotaDraws, DemandedBinExcludesTheUpperEdgeButOfTheLastBin) {

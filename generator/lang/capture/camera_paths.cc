@@ -33,6 +33,20 @@ std::string PathKind(const std::string& key) {
   return k == "incrementpoint" ? "incrementpoints" : k;
 }
 
+std::pair<Eigen::Vector3d, Eigen::Vector3d> SpaceOf(const Node& g) {
+  const Node space = g.Find("space");
+  if (!space || !space->is_array() || space->size() != 2 || !space->at(0).is_array() ||
+      space->at(0).size() != 3 || !space->at(1).is_array() || space->at(1).size() != 3)
+    (space ? space : g).Fail("create path needs a space [[x0,y0,z0],[x1,y1,z1]]");
+  Eigen::Vector3d lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = ReadNumber(space.Item(0).Item(static_cast<size_t>(a)));
+    hi[a] = ReadNumber(space.Item(1).Item(static_cast<size_t>(a)));
+    if (lo[a] > hi[a]) space.Fail("a space is [[x0,y0,z0],[x1,y1,z1]] with each lo <= hi");
+  }
+  return {lo, hi};
+}
+
 std::array<std::vector<double>, 3> GridAxes(const Node& g) {
   std::array<std::vector<double>, 3> axes;
   if (g.Find("x") || g.Find("y")) {
@@ -85,6 +99,12 @@ int64_t CameraPaths::FrameCount(const Definition& path, uint64_t segment) {
     if (!g->is_array() || g->empty()) g.Fail("waypoints are a non-empty list");
     return static_cast<int64_t>(g->size());
   }
+  if (k == "createpath") {
+    lsds::CheckKeys(g, KindVocabulary("create_path"), "create path");
+    SpaceOf(g);
+    if (!g.Find("points")) g.Fail("create path needs points (how many) and a space");
+    return SampleCount(g.Find("points"), count_rng);
+  }
   lsds::CheckKeys(g, KindVocabulary("create_point"), "create point");
   if (!g.Find("position")) g.Fail("create point needs a position");
   if (const Node c = g.Find("count")) return SampleCount(c, count_rng);
@@ -132,6 +152,7 @@ Rigid3d CameraPaths::Pose(const Definition& path,
     return at.cam_from_world;
   }
   if (k == "waypoints") return WaypointPose(g.Item(static_cast<size_t>(i)), rng, moved);
+  if (k == "createpath") return SpacePose(g, rng);
   return PointPose(g, rng, moved);
 }
 
@@ -260,6 +281,19 @@ Rigid3d CameraPaths::PointPose(const Node& g,
     att = Attitude{rpy.x(), rpy.y(), rpy.z()};
   }
   return CamFromEnu(p, att);
+}
+
+// Create Path: a point drawn uniformly in the space, looking down (or by `rotation`).
+Rigid3d CameraPaths::SpacePose(const Node& g, Rng& rng) const {
+  const auto [lo, hi] = SpaceOf(g);
+  Eigen::Vector3d p;
+  for (int a = 0; a < 3; ++a) p[a] = rng.Uniform(lo[a], hi[a]);
+  Attitude att{0, -90, 0};
+  if (const Node r = FindKey(g, KindVocabulary("create_path"), "rotation")) {
+    const Eigen::Vector3d rpy = SampleVec3(r, rng);
+    att = Attitude{rpy.x(), rpy.y(), rpy.z()};
+  }
+  return CamFromEnu(Datum(p), att);
 }
 
 Eigen::Vector3d CameraPaths::Point(const Node& n,

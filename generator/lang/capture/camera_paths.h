@@ -1,5 +1,6 @@
 // The camera's path generators (docs/languages.md, "Paths"): create hemi, grid and increment
-// points, random poses, waypoints (a list of poses or a smooth flight) and create point; how many
+// points, random poses, waypoints (a list of poses or a smooth flight), create point and create
+// path; how many
 // frames a path instance has and the camera pose of each.
 #pragma once
 
@@ -8,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "generator/lang/capture/camera_setup.h"
@@ -66,6 +68,7 @@ class CameraPaths {
   Rigid3d RandomPose(const Node& g, Rng& rng, const FrameDemand* demand) const;
   Rigid3d WaypointPose(const Node& w, Rng& rng, const std::vector<ObjectChange>& moved) const;
   Rigid3d PointPose(const Node& g, Rng& rng, const std::vector<ObjectChange>& moved) const;
+  Rigid3d SpacePose(const Node& g, Rng& rng) const;
   Eigen::Vector3d Datum(Eigen::Vector3d p) const;
   Eigen::Vector3d Point(const Node& n, Rng& rng, const std::vector<ObjectChange>& moved) const;
   // Where the (first copy of the) object `symbol` is: planned, or as `moved` last placed it.
@@ -79,6 +82,9 @@ class CameraPaths {
   std::string first_target_;
   std::map<uint64_t, Flight> flights_;  // by path instance (segment)
 };
+
+// A create path's space, checked: its low and high corners.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> SpaceOf(const Node& g);
 
 // Grid axes: x and y positions and altitudes above the terrain (grid), or the points of
 // `increment points` (start, step, count).

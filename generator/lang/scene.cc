@@ -140,7 +140,7 @@ class SceneEvaluator {
           rng_.UniformInt(0, static_cast<int64_t>(selected.size()) - 1))];
       o->class_name = a.file;
       o->class_id = ClassIdOf(*plan_, labelled_, def.symbol, AssetClassName(a));
-      o->extent = assets_.NaturalExtent(a.file, a.metres_per_unit, cls, what);  // manifest's unit
+      o->extent = assets_.NaturalExtent(a.file, a.DeclaredMetresPerUnit(), cls, what);
     } else {
       const SceneClass drawn = assets_.Resolve(cls, chosen);
       o->class_name = drawn.asset;

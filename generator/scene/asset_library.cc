@@ -68,6 +68,7 @@ LibraryAsset ReadEntry(const nlohmann::json& e,
       throw Error("unit must be m, cm or mm, not '" + unit + "'",
                   Location(manifest, pointer + "/unit"));
     a.metres_per_unit = it->second;
+    a.unit_declared = true;
   }
   if (e.contains("up")) {
     const std::string up = ReadString(e["up"], manifest, pointer + "/up", "up");
@@ -82,10 +83,44 @@ LibraryAsset ReadEntry(const nlohmann::json& e,
 
 }  // namespace
 
+// A library without a manifest: every mesh file under the folder, in path order; its class the
+// folder it lies in (the file's name for a file at the root), its tags every folder on its path.
+static std::vector<LibraryAsset> ScanLibraryFolder(const std::string& root) {
+  std::vector<std::string> paths;
+  std::error_code error;
+  for (fs::recursive_directory_iterator it(root, error), end; !error && it != end;
+       it.increment(error))
+    if (it->is_regular_file() && IsMeshPath(it->path().string()))
+      paths.push_back(fs::relative(it->path(), root).lexically_normal().generic_string());
+  if (error) throw Error("cannot list the asset library: " + error.message(), Location(root));
+  if (paths.empty())
+    throw Error(std::string("the asset library has neither a manifest (") + kAssetManifestName +
+                    ") nor mesh files",
+                Location(root));
+  std::sort(paths.begin(), paths.end());
+  std::vector<LibraryAsset> assets;
+  for (const std::string& path : paths) {
+    LibraryAsset a;
+    a.path = path;
+    a.file = (fs::path(root) / path).lexically_normal().generic_string();
+    const fs::path folder = fs::path(path).parent_path();
+    a.class_name = folder.empty() ? fs::path(path).stem().string() : folder.filename().string();
+    for (const fs::path& part : folder) a.tags.push_back(part.string());
+    a.unit_declared = false;
+    a.y_up = IsYUpByFormat(a.path);
+    assets.push_back(std::move(a));
+  }
+  return assets;
+}
+
 AssetLibrary AssetLibrary::Load(const std::string& root) {
   AssetLibrary library;
   library.root_ = fs::path(root).lexically_normal().generic_string();
   const std::string manifest = (fs::path(library.root_) / kAssetManifestName).generic_string();
+  if (!fs::exists(manifest)) {
+    library.assets_ = ScanLibraryFolder(library.root_);
+    return library;
+  }
   std::ifstream in(manifest);
   if (!in) throw Error("cannot read the asset library's manifest", Location(manifest));
   std::stringstream text;

@@ -20,13 +20,21 @@ struct LibraryAsset {
   std::string class_name;
   std::vector<std::string> tags;
   double metres_per_unit = 1.0;
+  bool unit_declared = false;  // the manifest gives `unit` (else metres, checked for plausibility)
   bool y_up = false;
+
+  std::optional<double> DeclaredMetresPerUnit() const {
+    return unit_declared ? std::optional<double>(metres_per_unit) : std::nullopt;
+  }
 };
 
 class AssetLibrary {
  public:
   // Reads `root`/lsds_assets.json. Throws lsds::Error naming the manifest and
   // the JSON pointer of a malformed entry, or a listed file that is missing.
+  // Without a manifest, every mesh file under `root` is an asset: its class the
+  // folder it lies in (the file name's stem at the root), its tags the folders
+  // on its path, its unit undeclared (metres), its up axis its format's.
   static AssetLibrary Load(const std::string& root);
 
   const std::string& root() const { return root_; }

@@ -155,6 +155,49 @@ TEST_F(AssetLibraryTest, BadSelectionsAndManifestsAreLocated) {
             std::string::npos);
 }
 
+TEST_F(AssetLibraryTest, AFolderWithoutAManifestIsALibraryByItsFolders) {
+  const fs::path lib = dir_ / "plain";
+  WriteBoxObj(lib / "vehicles" / "car_a.obj", 4, 2, 1.5);
+  WriteBoxObj(lib / "vehicles" / "van_b.obj", 5, 2, 2);
+  WriteBoxObj(lib / "nature" / "rocks" / "boulder.obj", 1, 1, 0.8);
+  WriteBoxObj(lib / "sign.obj", 0.1, 0.6, 2);
+  std::ofstream(lib / "readme.txt") << "not a mesh\n";
+  auto plan_with = [&](const std::string& objects) {
+    std::ofstream(dir_ / "p.lscene") << "LSCENE = ONE(W) MANY(O, 12)\n"
+                                        "L = asset_library{path:plain}\n"
+                                        "W = terrain{size:[100,100]}\n"
+                                     << objects << "\n";
+    return MakePlan(dir_ / "p.lscene", std::nullopt, 4);
+  };
+  // Tags are the folders on the path; the class is the folder a file lies in.
+  const Plan vehicles = plan_with("O = object{class:{tags:[vehicles]}}");
+  std::set<std::string> files;
+  for (const PlannedObject& o : vehicles.objects) {
+    if (o.symbol != "O") continue;
+    files.insert(fs::path(o.class_name).filename().string());
+    EXPECT_EQ(ClassOf(vehicles, o.class_id), "vehicles");
+  }
+  EXPECT_EQ(files, (std::set<std::string>{"car_a.obj", "van_b.obj"}));
+  const Plan rocks = plan_with("O = object{class:{tags:[nature,rocks]}}");
+  EXPECT_EQ(ClassOf(rocks, rocks.objects.back().class_id), "rocks");
+  EXPECT_NEAR((rocks.objects.back().extent - Eigen::Vector3d(1, 1, 0.8)).norm(), 0, 1e-6);
+  // A pattern over the relative paths, and a file at the root named by its stem.
+  const Plan pattern = plan_with(R"(O = object{class:{"vehicles/van_.*":1}})");
+  EXPECT_EQ(fs::path(pattern.objects.back().class_name).filename(), "van_b.obj");
+  const Plan sign = plan_with("O = object{class:sign}");
+  EXPECT_EQ(ClassOf(sign, sign.objects.back().class_id), "sign");
+  // An empty folder is neither kind of library.
+  fs::create_directories(dir_ / "empty");
+  std::ofstream(dir_ / "e.lscene") << "LSCENE = ONE(O)\nL = asset_library{path:empty}\n"
+                                      "O = object{class:cube}\n";
+  try {
+    MakePlan(dir_ / "e.lscene", std::nullopt, 1);
+    ADD_FAILURE() << "an empty library folder planned";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("neither a manifest"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(AssetLibraryTest, GeneratedCollectionValidatesAndRecordsTheAsset) {
   std::ofstream(dir_ / "s.lscene") << "LSCENE = ONE(W) ONE(O)\n"
                                       "L = asset_library{path:lib}\n"

@@ -96,7 +96,7 @@ Eigen::Vector3d SceneAssets::NaturalExtent(const std::string& asset,
 std::optional<double> SceneAssets::LibraryMetresPerUnit(const std::string& asset) const {
   if (const gen::AssetLibrary* library = Library())
     for (const gen::LibraryAsset& a : library->assets())
-      if (a.file == asset) return a.metres_per_unit;
+      if (a.file == asset) return a.DeclaredMetresPerUnit();
   return std::nullopt;
 }
 

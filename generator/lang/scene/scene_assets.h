@@ -47,7 +47,7 @@ class SceneAssets {
                                 const Node& where,
                                 const std::string& what);
   static constexpr double kLargestUndeclaredMeshM = 100;
-  // The unit of a library asset's file (its manifest's); nullopt for any other asset.
+  // The unit a library manifest declares for an asset's file; nullopt when none does.
   std::optional<double> LibraryMetresPerUnit(const std::string& asset) const;
 
   static std::vector<std::string> BuiltinNames();

@@ -471,9 +471,11 @@ class FramePipeline {
     const FrameExposure exposure = MeterExposure(plan_.exposure, rendered);
     ApplyExposure(exposure, &rendered);
     // LCAP post-process materials: RGB only, after the truth is final.
-    ApplyPostProcess(plan_.post_process, plan_.seed, frame, &rendered);
+    const std::optional<double> focused =
+        ApplyPostProcess(plan_.post_process, plan_.seed, frame, plan_.exposure, &rendered);
     uint64_t rays = rendered.rays;
     std::shared_ptr<Frame> truth = MakeTruth(frame, rendered, exposure, &rays);
+    if (focused) truth->exposure["focus_distance_m"] = *focused;
     summary_.rays += rays;
     summary_.render_seconds += Seconds(t0);
 

@@ -691,56 +691,70 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Block("camera_settings")}));
   v.push_back(
       Kind("camera_settings")
-          .Keys({Row("fov")
-                     .Role("intrinsic")
-                     .Is(T::kNumber)
-                     .Unit("degrees")
-                     .Default(60)
-                     .Doc("horizontal, deg"),
-                 Row("res")
-                     .Role("intrinsic")
-                     .Aliases({"resolution"})
-                     .Is(T::kVector2)
-                     .Unit("px")
-                     .Default({1024, 1024})
-                     .Doc("`[w,h]`"),
-                 Row("focal_length")
-                     .Role("intrinsic")
-                     .Is(T::kNumber)
-                     .Unit("mm")
-                     .Doc("mm, with `sensor_width`; overrides fov"),
-                 Row("sensor_width").Role("intrinsic").Is(T::kNumber).Unit("mm").Doc("mm"),
-                 Row("fps")
-                     .Is(T::kNumber)
-                     .Range(Above(0))
-                     .Default(10)
-                     .Doc("frames per second: the time step is 1 / fps"),
-                 Row("clearance")
-                     .Is(T::kAny)
-                     .Unit("m")
-                     .Doc("metres in [0, 10000], default 1; `off` opts out; see \"Cameras where a "
-                          "drone can be\""),
-                 Row("heights").Is(T::kName).Doc(
-                     "`datum` default, or `agl` for waypoint and point z above the terrain"),
-                 Row("iso")
-                     .Is(T::kNumber)
-                     .Range(Above(0))
-                     .Doc("the exposure by `shutter` + `f_number` + `iso`"),
-                 Row("shutter")
-                     .Is(T::kNumber)
-                     .Range(Above(0))
-                     .Unit("s")
-                     .Doc("seconds; needs `f_number`"),
-                 Row("f_number").Is(T::kNumber).Range(Above(0)).Doc("also `fnumber`"),
-                 Row("ev100")
-                     .Is(T::kNumber)
-                     .Range(Within(-30, 30))
-                     .Doc("the exposure value; not with `shutter`"),
-                 Row("exposure_compensation")
-                     .Is(T::kNumber)
-                     .Range(Within(-10, 10))
-                     .Unit("EV")
-                     .Doc("EV; see \"Exposure\"; default: auto exposure")}));
+          .Keys(
+              {Row("fov")
+                   .Role("intrinsic")
+                   .Is(T::kNumber)
+                   .Unit("degrees")
+                   .Default(60)
+                   .Doc("horizontal, deg"),
+               Row("res")
+                   .Role("intrinsic")
+                   .Aliases({"resolution"})
+                   .Is(T::kVector2)
+                   .Unit("px")
+                   .Default({1024, 1024})
+                   .Doc("`[w,h]`"),
+               Row("focal_length")
+                   .Role("intrinsic")
+                   .Is(T::kNumber)
+                   .Unit("mm")
+                   .Doc("mm, with `sensor_width`; overrides fov"),
+               Row("sensor_width")
+                   .Role("intrinsic")
+                   .Is(T::kNumber)
+                   .Range(Above(0))
+                   .Unit("mm")
+                   .Doc("mm (without it, depth of field takes 36 mm, a full-frame sensor)"),
+               Row("focus_distance")
+                   .Aliases({"focal_distance"})
+                   .Is(T::kNumber)
+                   .Range(Above(0))
+                   .Unit("m")
+                   .Doc("the distance in focus (the paper's focal distance): recorded, and used by "
+                        "the DepthOfField post-process (without it, it focuses at the centre "
+                        "pixel); see generator.md \"Post-process materials\""),
+               Row("fps")
+                   .Is(T::kNumber)
+                   .Range(Above(0))
+                   .Default(10)
+                   .Doc("frames per second: the time step is 1 / fps"),
+               Row("clearance")
+                   .Is(T::kAny)
+                   .Unit("m")
+                   .Doc("metres in [0, 10000], default 1; `off` opts out; see \"Cameras where a "
+                        "drone can be\""),
+               Row("heights").Is(T::kName).Doc(
+                   "`datum` default, or `agl` for waypoint and point z above the terrain"),
+               Row("iso")
+                   .Is(T::kNumber)
+                   .Range(Above(0))
+                   .Doc("the exposure by `shutter` + `f_number` + `iso`"),
+               Row("shutter")
+                   .Is(T::kNumber)
+                   .Range(Above(0))
+                   .Unit("s")
+                   .Doc("seconds; needs `f_number`"),
+               Row("f_number").Is(T::kNumber).Range(Above(0)).Doc("also `fnumber`"),
+               Row("ev100")
+                   .Is(T::kNumber)
+                   .Range(Within(-30, 30))
+                   .Doc("the exposure value; not with `shutter`"),
+               Row("exposure_compensation")
+                   .Is(T::kNumber)
+                   .Range(Within(-10, 10))
+                   .Unit("EV")
+                   .Doc("EV; see \"Exposure\"; default: auto exposure")}));
   v.push_back(
       Kind("capture_settings")
           .Keys({Row("layers").Is(T::kList).Doc(

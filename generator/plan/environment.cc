@@ -23,7 +23,8 @@ double SkyLuxPerZenithNit(const Eigen::Vector3d& color) {
 
 bool PlannedExposure::operator==(const PlannedExposure& o) const {
   return ev100 == o.ev100 && shutter_s == o.shutter_s && f_number == o.f_number && iso == o.iso &&
-         compensation_ev == o.compensation_ev;
+         compensation_ev == o.compensation_ev && focus_distance_m == o.focus_distance_m &&
+         sensor_width_mm == o.sensor_width_mm;
 }
 
 bool PlannedEnvironment::operator==(const PlannedEnvironment& o) const {

@@ -81,6 +81,10 @@ struct PlannedExposure {
   std::optional<double> f_number;   // manual with shutter_s; auto: fixed aperture (default 8)
   std::optional<double> iso;        // default 100
   double compensation_ev = 0;       // scales the exposure by 2^EV
+  // The lens beside the exposure: where it focuses (the paper's focal distance; the DepthOfField
+  // post-process blurs by it) and the sensor width that makes focal length and pixels metres.
+  std::optional<double> focus_distance_m;
+  std::optional<double> sensor_width_mm;
   bool Manual() const { return ev100.has_value() || shutter_s.has_value(); }
   bool operator==(const PlannedExposure& o) const;
 };

@@ -83,6 +83,8 @@ json ExposureToJson(const PlannedExposure& e) {
   if (e.shutter_s) j["shutter_s"] = *e.shutter_s;
   if (e.f_number) j["f_number"] = *e.f_number;
   if (e.iso) j["iso"] = *e.iso;
+  if (e.focus_distance_m) j["focus_distance_m"] = *e.focus_distance_m;
+  if (e.sensor_width_mm) j["sensor_width_mm"] = *e.sensor_width_mm;
   return j;
 }
 
@@ -95,6 +97,8 @@ PlannedExposure ExposureFromJson(const json& j) {
   e.shutter_s = get("shutter_s");
   e.f_number = get("f_number");
   e.iso = get("iso");
+  e.focus_distance_m = get("focus_distance_m");
+  e.sensor_width_mm = get("sensor_width_mm");
   e.compensation_ev = j.value("compensation_ev", 0.0);
   return e;
 }

@@ -194,6 +194,57 @@ void CartoonStyle(const Film& film, cv::Mat* image) {
     }
 }
 
+// Depth of field by the thin-lens model: a point at depth z, with the lens of focal length f at
+// f-number N focused at s, images as a disc of diameter c = f^2 / (N (s - f)) |z - s| / z on the
+// sensor. f comes from fx and the sensor width (36 mm, full frame, unless given), N from the
+// exposure (8 by default), s from `focus_distance` (else the depth at the centre pixel, an
+// autofocus). Each pixel takes the colour of the image blurred by its own disc, interpolated
+// between discs of 0, 1, 2, 4, 8 and 16 px (a disc over 16 px is 16 px). Where nothing was hit
+// (the sky) is at infinity. Returns the distance focused at.
+double DepthOfField(const Film& film,
+                    const PlannedFrame& frame,
+                    const PlannedExposure& lens,
+                    cv::Mat* image) {
+  const std::vector<float>& z = film.flat.at("depth").Get("Z").floats;
+  const int w = image->cols, h = image->rows;
+  double focus = lens.focus_distance_m.value_or(0);
+  if (!(focus > 0)) {
+    const float centre = z[static_cast<size_t>(h / 2) * w + w / 2];
+    focus = std::isfinite(centre) && centre > 0 ? centre : 1e9;
+  }
+  const double pitch_m = lens.sensor_width_mm.value_or(36) * 1e-3 / frame.camera.width;
+  const double f_m = frame.camera.fx * pitch_m;
+  const double n = lens.f_number.value_or(8);
+  // The disc in pixels per unit of |z - s| / z.
+  const double disc_px = f_m * f_m / (n * std::max(focus - f_m, 1e-6)) / pitch_m;
+  static constexpr double kRadii[] = {0, 1, 2, 4, 8, 16};  // disc diameters, px
+  std::vector<cv::Mat> levels;
+  for (const double d : kRadii) {
+    if (d == 0) {
+      levels.push_back(*image);
+      continue;
+    }
+    cv::Mat blurred;
+    const int size = 2 * static_cast<int>(std::ceil(d)) + 1;
+    cv::GaussianBlur(*image, blurred, cv::Size(size, size), d / 2.355 * 1.0, 0, cv::BORDER_REFLECT);
+    levels.push_back(blurred);
+  }
+  cv::Mat out(image->size(), CV_32FC3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float depth = z[static_cast<size_t>(y) * w + x];
+      const double off = std::isfinite(depth) && depth > 0 ? std::abs(depth - focus) / depth : 1.0;
+      const double d = std::min(disc_px * off, 16.0);
+      size_t i = 0;
+      while (i + 2 < std::size(kRadii) && kRadii[i + 1] < d) ++i;
+      const double t = std::clamp((d - kRadii[i]) / (kRadii[i + 1] - kRadii[i]), 0.0, 1.0);
+      out.at<cv::Vec3f>(y, x) = levels[i].at<cv::Vec3f>(y, x) * static_cast<float>(1 - t) +
+                                levels[i + 1].at<cv::Vec3f>(y, x) * static_cast<float>(t);
+    }
+  *image = out;
+  return focus;
+}
+
 struct Effect {
   const char* name;
   std::vector<const char*> aliases;
@@ -206,6 +257,7 @@ const std::vector<Effect>& Effects() {
       {"Vignetting", {"vignette"}},
       {"JpegCompression", {"jpeg", "jpg"}},
       {"CartoonStyle", {"cartoon"}},
+      {"DepthOfField", {"dof", "bokeh"}},
   };
   return effects;
 }
@@ -241,11 +293,13 @@ std::vector<std::string> UnknownPostProcess(const std::vector<std::string>& name
   return out;
 }
 
-void ApplyPostProcess(const std::vector<std::string>& names,
-                      uint64_t seed,
-                      const PlannedFrame& frame,
-                      Film* film) {
-  if (names.empty()) return;
+std::optional<double> ApplyPostProcess(const std::vector<std::string>& names,
+                                       uint64_t seed,
+                                       const PlannedFrame& frame,
+                                       const PlannedExposure& lens,
+                                       Film* film) {
+  std::optional<double> focused;
+  if (names.empty()) return focused;
   cv::Mat image = ReadRgb(*film);
   for (const std::string& name : names) {
     const std::string effect = CanonicalPostProcess(name);
@@ -255,8 +309,10 @@ void ApplyPostProcess(const std::vector<std::string>& names,
     if (effect == "Vignetting") Vignetting(frame.camera, &image);
     if (effect == "JpegCompression") JpegCompression(&image);
     if (effect == "CartoonStyle") CartoonStyle(*film, &image);
+    if (effect == "DepthOfField") focused = DepthOfField(*film, frame, lens, &image);
   }
   WriteRgb(image, film);
+  return focused;
 }
 
 }  // namespace lsds::gen

@@ -5,6 +5,7 @@
 // for byte the same with and without them.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,10 +24,13 @@ std::string CanonicalPostProcess(const std::string& name);
 std::vector<std::string> UnknownPostProcess(const std::vector<std::string>& names);
 
 // Applies `names` in order to the film's rgb layer. Deterministic: noise draws
-// depend only on (seed, frame, pixel).
-void ApplyPostProcess(const std::vector<std::string>& names,
-                      uint64_t seed,
-                      const PlannedFrame& frame,
-                      Film* film);
+// depend only on (seed, frame, pixel). `lens`: the aperture, focus and sensor
+// width DepthOfField uses. Returns the distance DepthOfField focused at, if it
+// ran.
+std::optional<double> ApplyPostProcess(const std::vector<std::string>& names,
+                                       uint64_t seed,
+                                       const PlannedFrame& frame,
+                                       const PlannedExposure& lens,
+                                       Film* film);
 
 }  // namespace lsds::gen

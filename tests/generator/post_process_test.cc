@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -80,8 +81,8 @@ TEST(PostProcess, EachEffectChangesRgbOnlyAndIsDeterministic) {
   const Film plain = Render(plan, 1);
   for (const std::string& name : PostProcessNames()) {
     Film a = Render(plan, 1), b = Render(plan, 1);
-    ApplyPostProcess({name}, plan.seed, plan.frames[1], &a);
-    ApplyPostProcess({name}, plan.seed, plan.frames[1], &b);
+    ApplyPostProcess({name}, plan.seed, plan.frames[1], plan.exposure, &a);
+    ApplyPostProcess({name}, plan.seed, plan.frames[1], plan.exposure, &b);
     ExpectTruthUnchanged(plain, a);
     EXPECT_EQ(R(a), R(b)) << name;  // deterministic
     EXPECT_NE(R(a), R(plain)) << name;
@@ -92,7 +93,7 @@ TEST(PostProcess, EdgeBlurTouchesOnlySilhouettes) {
   const Plan plan = TwoFramePlan();
   const Film plain = Render(plan, 0);
   Film blurred = Render(plan, 0);
-  ApplyPostProcess({"edge_blur"}, plan.seed, plan.frames[0], &blurred);
+  ApplyPostProcess({"edge_blur"}, plan.seed, plan.frames[0], plan.exposure, &blurred);
   const auto& id = plain.flat.at("instanceid").Get("id").uints;
   const int w = 48, h = 36;
   size_t changed = 0;
@@ -113,7 +114,7 @@ TEST(PostProcess, VignettingIsCosineToTheFourth) {
   const Plan plan = TwoFramePlan();
   const Film plain = Render(plan, 0);
   Film v = Render(plan, 0);
-  ApplyPostProcess({"Vignetting"}, plan.seed, plan.frames[0], &v);
+  ApplyPostProcess({"Vignetting"}, plan.seed, plan.frames[0], plan.exposure, &v);
   const PinholeCamera& cam = plan.frames[0].camera;
   const double c = 1 / cam.RayThroughPixelCenter(0, 0).norm();
   EXPECT_NEAR(R(v)[0] / R(plain)[0], std::pow(c, 4), 1e-5);
@@ -122,7 +123,7 @@ TEST(PostProcess, VignettingIsCosineToTheFourth) {
 TEST(PostProcess, MotionBlurOnlyWhereThereIsMotion) {
   const Plan plan = TwoFramePlan();
   Film first = Render(plan, 0), first_plain = Render(plan, 0);
-  ApplyPostProcess({"MotionBlur"}, plan.seed, plan.frames[0], &first);
+  ApplyPostProcess({"MotionBlur"}, plan.seed, plan.frames[0], plan.exposure, &first);
   EXPECT_EQ(R(first), R(first_plain));  // frame 0 has no valid motion
 }
 
@@ -132,6 +133,63 @@ TEST(PostProcess, UnknownNamesAreReportedWithASuggestion) {
   const std::vector<std::string> unknown = UnknownPostProcess({"EdgeBlur", "CartoonStlye"});
   ASSERT_EQ(unknown.size(), 1u);
   EXPECT_NE(unknown[0].find("did you mean 'CartoonStyle'"), std::string::npos) << unknown[0];
+}
+
+// A 200 x 100 checkerboard film whose left half lies at `left_m` and right half at `right_m`.
+Film TwoDepthFilm(float left_m, float right_m) {
+  Film film;
+  exr::FlatImage rgb(200, 100), depth(200, 100);
+  for (const char* c : {"R", "G", "B"}) rgb.AddChannel(c, exr::PixelType::kFloat);
+  depth.AddChannel("Z", exr::PixelType::kFloat);
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 200; ++x) {
+      const float v = ((x / 2 + y / 2) % 2) ? 1.f : 0.f;
+      for (const char* c : {"R", "G", "B"}) rgb.F(c, x, y) = v;
+      depth.F("Z", x, y) = x < 100 ? left_m : right_m;
+    }
+  film.flat.emplace("rgb", std::move(rgb));
+  film.flat.emplace("depth", std::move(depth));
+  return film;
+}
+
+// The variance of R over the columns [x0, x1), rows away from the borders.
+double Variance(const Film& film, int x0, int x1) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int y = 20; y < 80; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const double v = film.flat.at("rgb").Get("R").floats[static_cast<size_t>(y) * 200 + x];
+      sum += v, sum2 += v * v, ++n;
+    }
+  return sum2 / n - (sum / n) * (sum / n);
+}
+
+TEST(PostProcess, DepthOfFieldKeepsTheFocusSharpAndBlursByTheThinLens) {
+  PlannedFrame frame;
+  frame.camera.width = 200;
+  frame.camera.height = 100;
+  frame.camera.fx = 200;  // a 36 mm sensor: f = 36 mm (200 px of 0.18 mm)
+  PlannedExposure lens;
+  lens.focus_distance_m = 2;
+  lens.f_number = 1.4;
+  Film film = TwoDepthFilm(2, 20);
+  Film sharp = film;
+  const std::optional<double> focused = ApplyPostProcess({"DepthOfField"}, 1, frame, lens, &film);
+  ASSERT_TRUE(focused.has_value());
+  EXPECT_EQ(*focused, 2);
+  // In focus: the pixels are the rendered ones, bit for bit (away from the depth edge).
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 80; ++x)
+      EXPECT_EQ(film.flat.at("rgb").F("R", x, y), sharp.flat.at("rgb").F("R", x, y));
+  // At 20 m: c = f^2 / (N (s - f)) |z - s| / z = 0.036^2 / (1.4 x 1.964) x 0.9 = 0.424 mm, 2.4 px
+  // of 0.18 mm: the 2 px checkerboard is mostly averaged away.
+  EXPECT_LT(Variance(film, 120, 200), 0.5 * Variance(sharp, 120, 200));
+  // Without a focus distance it focuses at the centre pixel (x 100: the far half).
+  lens.focus_distance_m.reset();
+  Film autofocus = TwoDepthFilm(2, 20);
+  EXPECT_EQ(*ApplyPostProcess({"dof"}, 1, frame, lens, &autofocus), 20);
+  EXPECT_LT(Variance(autofocus, 0, 80), 0.5 * Variance(sharp, 0, 80));
+  EXPECT_GT(Variance(autofocus, 120, 200), 0.99 * Variance(sharp, 120, 200));
 }
 
 TEST(PostProcess, GeneratedTruthIsByteEqualWithAndWithoutEffects) {

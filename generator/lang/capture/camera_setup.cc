@@ -99,6 +99,9 @@ PlannedExposure ReadExposure(const Node& settings) {
   }
   if (const Node n = settings.Find("exposurecompensation"))
     e.compensation_ev = read(n, "exposure_compensation");
+  if (const Node n = FindKey(settings, vocabulary, "focus_distance"))
+    e.focus_distance_m = read(n, "focus_distance");
+  if (const Node n = settings.Find("sensorwidth")) e.sensor_width_mm = read(n, "sensor_width");
   return e;
 }
 

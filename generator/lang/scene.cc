@@ -5,11 +5,11 @@
 
 #include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
+#include "generator/lang/scene/class_catalog.h"
 #include "generator/lang/scene/class_table.h"
 #include "generator/lang/scene/ground.h"
 #include "generator/lang/scene/placed_objects.h"
 #include "generator/lang/scene/position.h"
-#include "generator/lang/scene/scene_assets.h"
 #include "generator/lang/scene/scene_check.h"
 #include "generator/lang/vocabulary.h"
 #include "generator/scene/object_library.h"
@@ -216,7 +216,7 @@ class SceneEvaluator {
   uint64_t seed_;
   const TargetLabels& targets_;
   Plan* plan_;
-  SceneAssets assets_;
+  ClassCatalog assets_;
   SceneSymbols symbols_;
   TargetClassIds labelled_;  // the labelled targets' class ids
   Rng rng_;

@@ -65,7 +65,7 @@ using TargetLabels = std::map<std::string, TargetLabel>;
 // whose symbol is listed are the targets and their class id is the given label.
 void EvaluateScene(const Program& scene, uint64_t seed, const TargetLabels& targets, Plan* plan);
 
-// A class option as the scene resolves it (scene/scene_assets.h): the asset drawn (a built-in
+// A class option as the scene resolves it (scene/class_catalog.h): the asset drawn (a built-in
 // class or a mesh path relative to the scene file) and the class name it is labelled with (a
 // classes{} alias keeps the user's name).
 struct SceneClass {

@@ -11,11 +11,11 @@
 #include <vector>
 
 #include "generator/lang/capture/targets.h"
+#include "generator/lang/scene/class_catalog.h"
 #include "generator/lang/scene/class_table.h"
 #include "generator/lang/scene/ground.h"
 #include "generator/lang/scene/placed_objects.h"
 #include "generator/lang/scene/position.h"
-#include "generator/lang/scene/scene_assets.h"
 #include "generator/lang/scene/scene_check.h"
 #include "generator/lang/source.h"
 #include "generator/plan/terrain_height.h"
@@ -51,7 +51,7 @@ TEST(SceneCheck, LearnsTheTerrainAliasesAndStartRuleCounts) {
   Scene s(
       "LSCENE = ONE(T) MANY(B) MANY({MANY: C, count: 3})\nT = terrain{size:[100,100]}\n"
       "classes = classes{shrub:bush}\nB = object{class:shrub}\nC = object{class:cube}\n");
-  SceneAssets assets(s.program);
+  ClassCatalog assets(s.program);
   const SceneSymbols symbols = CheckScene(s.program, &assets);
   EXPECT_EQ(symbols.terrain, "T");
   EXPECT_EQ(symbols.many_without_count, std::set<std::string>{"B"});
@@ -63,17 +63,17 @@ TEST(SceneCheck, LearnsTheTerrainAliasesAndStartRuleCounts) {
 TEST(SceneCheck, AForwardReferenceIsALocatedError) {
   Scene s(
       "LSCENE = ONE(A) ONE(B)\nA = object{class:cube,position:{ON:B}}\nB = object{class:cube}\n");
-  SceneAssets assets(s.program);
+  ClassCatalog assets(s.program);
   const std::string e = ErrorOf([&] { CheckScene(s.program, &assets); });
   EXPECT_NE(e.find("s.lscene:2:"), std::string::npos) << e;
   EXPECT_NE(e.find("A refers to 'B' before its definition"), std::string::npos) << e;
 }
 
-// ---- scene_assets.h
+// ---- class_catalog.h
 
-TEST(SceneAssets, ResolvesBuiltinsAliasesAndMeshesNextToTheScene) {
+TEST(ClassCatalog, ResolvesBuiltinsAliasesAndMeshesNextToTheScene) {
   Scene s("LSCENE = ONE(A)\nA = object{class:cube}\n", "dir/s.lscene");
-  SceneAssets assets(s.program);
+  ClassCatalog assets(s.program);
   assets.AddAlias("V", "cars");  // a built-in's other spelling
   const Node& where = s.Def("A").body;
   EXPECT_EQ(assets.Resolve(where, "rocks").asset, "rock");
@@ -86,12 +86,12 @@ TEST(SceneAssets, ResolvesBuiltinsAliasesAndMeshesNextToTheScene) {
   EXPECT_NE(e.find("did you mean 'cube'"), std::string::npos) << e;
 }
 
-TEST(SceneAssets, NaturalExtentOfABuiltinAndOfAMeshInItsUnit) {
+TEST(ClassCatalog, NaturalExtentOfABuiltinAndOfAMeshInItsUnit) {
   const testing::TempDir dir;
   const std::string mesh = (dir / "pipe.obj").string();
   std::ofstream(mesh) << "v 0 0 0\nv 300 0 0\nv 0 20 0\nv 0 0 40\nf 1 2 3\nf 1 2 4\n";
   Scene s("LSCENE = ONE(A)\nA = object{class:cube}\n");
-  SceneAssets assets(s.program);
+  ClassCatalog assets(s.program);
   const Node& where = s.Def("A").body;
   EXPECT_EQ(assets.NaturalExtent("car", 1.0, where, "A"), BuiltinClasses().at("car"));
   const Eigen::Vector3d in_cm = assets.NaturalExtent(mesh, 0.01, where, "A");
@@ -116,7 +116,7 @@ TEST(SceneAssets, NaturalExtentOfABuiltinAndOfAMeshInItsUnit) {
   EXPECT_NE(e.find("s.lscene:2:"), std::string::npos) << e;
 }
 
-TEST(SceneAssets, MetresPerUnitOfAnObject) {
+TEST(ClassCatalog, MetresPerUnitOfAnObject) {
   Scene s("LSCENE = ONE(A)\nA = object{class:cube,unit:cm}\nB = object{class:cube,unit:yd}\n");
   EXPECT_EQ(MetresPerUnit(s.Def("A")), 0.01);
   EXPECT_NE(ErrorOf([&] { MetresPerUnit(s.Def("B")); }).find("unit must be one of"),
@@ -145,7 +145,7 @@ TEST(SceneClassTable, TerrainFirstLabelsReservedAndAChoiceLabelledPerClass) {
       "LSCENE = ONE(T) ONE(A) ONE(V)\nT = terrain{size:[100,100]}\nA = "
       "object{class:{bush:1,rock:1}}\n"
       "V = object{class:{car:0.5,truck:0.5}}\n");
-  SceneAssets assets(s.program);
+  ClassCatalog assets(s.program);
   Plan plan;
   // V:2 draws car or truck: car 2, truck 3, each its own class; the scene's ids skip them.
   const TargetClassIds labelled = AssignClassIds(s.program, assets, Targets(s, "[V:2]"), &plan);

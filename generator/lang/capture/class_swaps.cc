@@ -16,8 +16,8 @@ std::vector<SceneClass> ClassSwaps::Candidates(const Node& cls, const std::strin
   return Assets().Candidates(cls, option);
 }
 
-SceneAssets& ClassSwaps::Assets() {
-  if (!assets_) assets_ = SceneAssets::OfCheckedScene(scene_);
+ClassCatalog& ClassSwaps::Assets() {
+  if (!assets_) assets_ = ClassCatalog::OfCheckedScene(scene_);
   return *assets_;
 }
 

@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 
 #include "generator/lang/scene.h"
-#include "generator/lang/scene/scene_assets.h"
+#include "generator/lang/scene/class_catalog.h"
 
 namespace lsds {
 
@@ -50,12 +50,12 @@ class ClassSwaps {
 
  private:
   // The scene's aliases and asset library, read once on first use.
-  SceneAssets& Assets();
+  ClassCatalog& Assets();
 
   const Program& scene_;
   TargetLabels labels_;
   Plan* plan_;
-  std::optional<SceneAssets> assets_;
+  std::optional<ClassCatalog> assets_;
   std::map<std::string, std::map<std::string, uint32_t>> label_ids_;  // labelled targets, by class
   std::set<uint32_t> swapped_in_;  // class ids class changes may draw
 };

@@ -10,7 +10,7 @@ namespace lsds {
 namespace {
 
 // The class names an object's class node may label it with, each once, in order.
-std::vector<std::string> ClassNamesOf(const SceneAssets& assets, const Node& cls) {
+std::vector<std::string> ClassNamesOf(const ClassCatalog& assets, const Node& cls) {
   std::vector<std::string> names;
   for (const std::string& option : StringOptions(cls))
     for (const SceneClass& candidate : assets.Candidates(cls, option))
@@ -22,7 +22,7 @@ std::vector<std::string> ClassNamesOf(const SceneAssets& assets, const Node& cls
 }  // namespace
 
 LabelIds LabelIdsOf(const Program& scene,
-                    const SceneAssets& assets,
+                    const ClassCatalog& assets,
                     const std::string& symbol,
                     const TargetLabel& label) {
   const std::vector<std::string> names =
@@ -48,7 +48,7 @@ LabelIds LabelIdsOf(const Program& scene,
 }
 
 TargetClassIds AssignClassIds(const Program& scene,
-                              const SceneAssets& assets,
+                              const ClassCatalog& assets,
                               const TargetLabels& targets,
                               Plan* plan) {
   TargetClassIds labelled;

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "generator/lang/scene.h"
-#include "generator/lang/scene/scene_assets.h"
+#include "generator/lang/scene/class_catalog.h"
 
 namespace lsds {
 
@@ -16,7 +16,7 @@ namespace lsds {
 // listed, no other: else an error at the label).
 using LabelIds = std::map<std::string, uint32_t>;
 LabelIds LabelIdsOf(const Program& scene,
-                    const SceneAssets& assets,
+                    const ClassCatalog& assets,
                     const std::string& symbol,
                     const TargetLabel& label);
 
@@ -28,7 +28,7 @@ using TargetClassIds = std::map<std::string, LabelIds>;
 // in order of first appearance in the file, the terrain's first. Two targets may not share an id.
 // Returns the labelled targets' ids.
 TargetClassIds AssignClassIds(const Program& scene,
-                              const SceneAssets& assets,
+                              const ClassCatalog& assets,
                               const TargetLabels& targets,
                               Plan* plan);
 

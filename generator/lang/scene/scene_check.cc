@@ -15,7 +15,7 @@ namespace {
 
 class SceneChecker {
  public:
-  SceneChecker(const Program& scene, SceneAssets* assets) : scene_(scene), assets_(*assets) {}
+  SceneChecker(const Program& scene, ClassCatalog* assets) : scene_(scene), assets_(*assets) {}
 
   SceneSymbols Run() {
     std::set<std::string> defined;
@@ -52,7 +52,7 @@ class SceneChecker {
       const std::string target = ReadString(node);
       if (!BuiltinClasses().count(gen::CanonicalClassName(target)) && !gen::IsMeshPath(target))
         node.Fail("class alias '" + name + "' must name a built-in class or a mesh file, not '" +
-                  target + "'" + DidYouMean(target, SceneAssets::BuiltinNames()));
+                  target + "'" + DidYouMean(target, ClassCatalog::BuiltinNames()));
       assets_.AddAlias(name, target);
     }
   }
@@ -189,13 +189,13 @@ class SceneChecker {
   }
 
   const Program& scene_;
-  SceneAssets& assets_;
+  ClassCatalog& assets_;
   SceneSymbols symbols_;
 };
 
 }  // namespace
 
-SceneSymbols CheckScene(const Program& scene, SceneAssets* assets) {
+SceneSymbols CheckScene(const Program& scene, ClassCatalog* assets) {
   return SceneChecker(scene, assets).Run();
 }
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "generator/lang/scene.h"
-#include "generator/lang/scene/scene_assets.h"
+#include "generator/lang/scene/class_catalog.h"
 
 namespace lsds {
 
@@ -21,6 +21,6 @@ struct SceneSymbols {
 
 // Checks `scene` (the first error is thrown, located) and fills `assets` with its aliases and
 // library.
-SceneSymbols CheckScene(const Program& scene, SceneAssets* assets);
+SceneSymbols CheckScene(const Program& scene, ClassCatalog* assets);
 
 }  // namespace lsds

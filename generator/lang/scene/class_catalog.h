@@ -15,13 +15,13 @@
 
 namespace lsds {
 
-class SceneAssets {
+class ClassCatalog {
  public:
   // Knows the scene's folder only; the scene check adds the aliases and the library as it meets
   // them (scene/scene_check.h).
-  explicit SceneAssets(const Program& scene);
+  explicit ClassCatalog(const Program& scene);
   // The assets of a checked scene: its classes{} aliases and asset_library, read without checks.
-  static SceneAssets OfCheckedScene(const Program& scene);
+  static ClassCatalog OfCheckedScene(const Program& scene);
 
   void AddAlias(const std::string& name, const std::string& target) { aliases_[name] = target; }
   void SetLibrary(gen::AssetLibrary library) { library_ = std::move(library); }

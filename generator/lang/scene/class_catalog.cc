@@ -1,4 +1,4 @@
-#include "generator/lang/scene/scene_assets.h"
+#include "generator/lang/scene/class_catalog.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -19,11 +19,11 @@ std::string CanonicalBuiltin(const std::string& name) {
 
 }  // namespace
 
-SceneAssets::SceneAssets(const Program& scene)
+ClassCatalog::ClassCatalog(const Program& scene)
     : scene_dir_(std::filesystem::path(scene.src->path).parent_path().generic_string()) {}
 
-SceneAssets SceneAssets::OfCheckedScene(const Program& scene) {
-  SceneAssets assets(scene);
+ClassCatalog ClassCatalog::OfCheckedScene(const Program& scene) {
+  ClassCatalog assets(scene);
   for (const Definition& def : scene.definitions) {
     if (def.kind == "classes")
       for (const auto& [name, node] : def.body.Members()) assets.AddAlias(name, ReadString(node));
@@ -32,13 +32,13 @@ SceneAssets SceneAssets::OfCheckedScene(const Program& scene) {
   return assets;
 }
 
-std::vector<std::string> SceneAssets::BuiltinNames() {
+std::vector<std::string> ClassCatalog::BuiltinNames() {
   std::vector<std::string> names;
   for (const auto& [name, extent] : BuiltinClasses()) names.push_back(name);
   return names;
 }
 
-SceneClass SceneAssets::Resolve(const Node& where, const std::string& option) const {
+SceneClass ClassCatalog::Resolve(const Node& where, const std::string& option) const {
   if (const auto alias = aliases_.find(option); alias != aliases_.end())
     return {CanonicalBuiltin(alias->second), option};
   if (BuiltinClasses().count(CanonicalBuiltin(option)))
@@ -55,7 +55,7 @@ SceneClass SceneAssets::Resolve(const Node& where, const std::string& option) co
              Join(gen::MeshExtensions(), " ") + ") or declare it in a classes{...} definition");
 }
 
-std::vector<SceneClass> SceneAssets::Candidates(const Node& cls, const std::string& option) const {
+std::vector<SceneClass> ClassCatalog::Candidates(const Node& cls, const std::string& option) const {
   std::vector<SceneClass> out;
   for (const gen::LibraryAsset* a : SelectAssets(Library(), cls, option))
     out.push_back({a->file, AssetClassName(*a)});
@@ -63,10 +63,10 @@ std::vector<SceneClass> SceneAssets::Candidates(const Node& cls, const std::stri
   return out;
 }
 
-Eigen::Vector3d SceneAssets::NaturalExtent(const std::string& asset,
-                                           std::optional<double> metres_per_unit,
-                                           const Node& where,
-                                           const std::string& what) {
+Eigen::Vector3d ClassCatalog::NaturalExtent(const std::string& asset,
+                                            std::optional<double> metres_per_unit,
+                                            const Node& where,
+                                            const std::string& what) {
   if (!gen::IsMeshPath(asset)) {
     const auto builtin = BuiltinClasses().find(asset);
     if (builtin != BuiltinClasses().end()) return builtin->second;
@@ -93,7 +93,7 @@ Eigen::Vector3d SceneAssets::NaturalExtent(const std::string& asset,
   return native * metres_per_unit.value_or(1.0);
 }
 
-std::optional<double> SceneAssets::LibraryMetresPerUnit(const std::string& asset) const {
+std::optional<double> ClassCatalog::LibraryMetresPerUnit(const std::string& asset) const {
   if (const gen::AssetLibrary* library = Library())
     for (const gen::LibraryAsset& a : library->assets())
       if (a.file == asset) return a.DeclaredMetresPerUnit();

@@ -164,7 +164,7 @@ class SceneEvaluator {
   // deleted.
   bool ApplyGeometry(
       const Definition& def, int64_t copy, int64_t count, const OverlapRules& rules, Placed* p) {
-    const PlacementContext context{placed_, symbols_.terrain, plan_->terrain, rng_};
+    const PlacementContext context{placed_, symbols_.terrain, plan_->terrain, plan_->geo, rng_};
     PlannedObject& o = p->object;
     bool positioned = false, keep = true;
     for (const auto& [key, n] : def.body.Members()) {

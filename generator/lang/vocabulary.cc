@@ -379,7 +379,10 @@ std::vector<KindSpec> BuildVocabulary() {
                    .Is(T::kNumber)
                    .Unit("m")
                    .Doc("of the world origin, m above mean sea level: the world frame is local ENU "
-                        "(x east, y north, z up) at that point; see \"Time of day and place\"")}));
+                        "(x east, y north, z up) at that point; see \"Time of day and place\""),
+               Row("wgs84").Is(T::kList).Doc(
+                   "`[latitude, longitude]` or `[latitude, longitude, altitude]` in one key "
+                   "(degrees, metres); not with the separate keys")}));
   // ---- LCAP (docs/languages.md, Table 3) ----
   v.push_back(
       Kind("camera", "LCAP")
@@ -567,7 +570,10 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("BEHIND").Is(T::kAny).Unit("m").Doc("behind an object"),
                  Row("in_front_of").Is(T::kAny).Unit("m").Doc("in front of an object"),
                  Row("FACING").Is(T::kAny).Doc("turned towards an object or a point"),
-                 Row("visible_from").Is(T::kAny).Doc("seen from an object or a point")}));
+                 Row("visible_from").Is(T::kAny).Doc("seen from an object or a point"),
+                 Row("wgs84").Is(T::kList).Doc(
+                     "at `[latitude, longitude]` (WGS84, degrees) of a georeferenced scene: x and "
+                     "y there, z from ON, IN or the ground")}));
   v.push_back(
       Kind("create_hemi")
           .Paper("Create Hemi")

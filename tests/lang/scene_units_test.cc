@@ -19,6 +19,7 @@
 #include "generator/lang/scene/scene_check.h"
 #include "generator/lang/source.h"
 #include "generator/plan/terrain_height.h"
+#include "libs/geometry/geodesy.h"
 #include "libs/util/error.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
@@ -207,6 +208,28 @@ TEST(SceneGround, TerrainAndGeoreference) {
   EXPECT_NE(e.find("needs a latitude and a longitude"), std::string::npos) << e;
 }
 
+TEST(SceneGround, Wgs84InOneKeyAndObjectsPlacedByLatitudeAndLongitude) {
+  const Plan plan = testing::PlanText(
+      "LSCENE = ONE(G) ONE(W) ONE(O)\nG = georeference{wgs84:[47.3769,8.5417,408]}\n"
+      "W = terrain{size:[400,400]}\nO = "
+      "object{class:cube,position:{ON:W,wgs84:[47.3778,8.5430]}}\n",
+      "");
+  ASSERT_TRUE(plan.geo.has_value());
+  EXPECT_EQ(plan.geo->latitude_deg, 47.3769);
+  EXPECT_EQ(plan.geo->longitude_deg, 8.5417);
+  EXPECT_EQ(plan.geo->altitude_m, 408);
+  const Eigen::Vector3d expected = EnuOf(*plan.geo, Geodetic{47.3778, 8.5430, 408});
+  // About 98 m east and 100 m north of the origin.
+  EXPECT_NEAR(plan.objects[0].position.x(), expected.x(), 1e-9);
+  EXPECT_NEAR(plan.objects[0].position.y(), expected.y(), 1e-9);
+  EXPECT_GT(expected.x(), 90);
+  EXPECT_GT(expected.y(), 90);
+  EXPECT_NE(
+      testing::PlanErrorOf("LSCENE = ONE(O)\nO = object{class:cube,position:{wgs84:[47,8]}}\n")
+          .find("needs a georeferenced scene"),
+      std::string::npos);
+}
+
 // ---- placed_objects.h
 
 Placed PlacedBox(const std::string& symbol,
@@ -260,7 +283,7 @@ TEST(ScenePlacedObjects, ABoxBetweenEyeAndCentreBlocksTheSight) {
 struct Placing {
   explicit Placing(const std::string& text) : scene(text) {}
   bool Place(const std::string& symbol, Placed* p, const OverlapRules& rules = {}) {
-    const PlacementContext context{placed, terrain_symbol, terrain, rng};
+    const PlacementContext context{placed, terrain_symbol, terrain, geo, rng};
     const Definition& def = scene.Def(symbol);
     p->object.symbol = symbol;
     p->object.extent = Eigen::Vector3d(2, 2, 2);
@@ -270,6 +293,7 @@ struct Placing {
   PlacedObjects placed;
   std::string terrain_symbol;
   PlannedTerrain terrain;
+  std::optional<GeoOrigin> geo;
   Rng rng{3};
 };
 

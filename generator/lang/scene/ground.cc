@@ -52,6 +52,17 @@ void EvaluateTerrain(const Node& b, uint64_t seed, Rng& rng, Plan* plan) {
 
 GeoOrigin EvaluateGeoreference(const Node& b, Rng& rng) {
   GeoOrigin geo;
+  if (const Node w = b.Find("wgs84")) {
+    if (b.Find("latitude") || b.Find("longitude") || b.Find("altitude"))
+      w.Fail("give wgs84:[latitude, longitude, altitude] or the separate keys, not both");
+    if (!w->is_array() || (w->size() != 2 && w->size() != 3))
+      w.Fail("wgs84 is [latitude, longitude] or [latitude, longitude, altitude]");
+    const KindSpec& vocabulary = KindVocabulary("georeference");
+    geo.latitude_deg = SampleInRange(w.Item(0), vocabulary.Key("latitude"), rng);
+    geo.longitude_deg = SampleInRange(w.Item(1), vocabulary.Key("longitude"), rng);
+    if (w->size() == 3) geo.altitude_m = SampleScalar(w.Item(2), rng);
+    return geo;
+  }
   const Node latitude = b.Find("latitude"), longitude = b.Find("longitude");
   if (!latitude) b.Fail("a georeference needs a latitude and a longitude (WGS84, deg)");
   geo.latitude_deg = Sampled(latitude, "georeference", "latitude", rng);

@@ -9,6 +9,7 @@
 #include "generator/lang/vocabulary.h"
 #include "generator/plan/relations.h"
 #include "generator/plan/terrain_height.h"
+#include "libs/geometry/geodesy.h"
 
 namespace lsds {
 
@@ -60,6 +61,7 @@ class ConstraintReader {
         if (k == "visiblefrom") VisibleFrom(key, c);
         if (k == "facing") Facing(c);
         if (k == "within") Within(c);
+        if (k == "wgs84") Wgs84(c);
       }
     if (!out_.on && !out_.in &&
         out_.space.lo.z() <= -kHuge) {  // no vertical constraint: the ground
@@ -187,6 +189,22 @@ class ConstraintReader {
       box.hi[i] = ReadNumber(c.Item(1).Item(i));
     }
     Shrink(box, c, "within");
+  }
+
+  // WGS84: the ENU point of [latitude, longitude] pins x and y.
+  void Wgs84(const Node& c) {
+    if (!context_.geo)
+      c.Fail("a WGS84 position needs a georeferenced scene: add georeference{latitude, longitude}");
+    if (!c->is_array() || c->size() != 2) c.Fail("wgs84 is [latitude, longitude] (degrees)");
+    const double latitude = ReadNumber(c.Item(0)), longitude = ReadNumber(c.Item(1));
+    if (!(std::abs(latitude) <= 90) || !(std::abs(longitude) <= 180))
+      c.Fail("wgs84 is [latitude, longitude] within [-90, 90] and [-180, 180] degrees");
+    const Eigen::Vector3d at =
+        EnuOf(*context_.geo, Geodetic{latitude, longitude, context_.geo->altitude_m});
+    AxisBox box;
+    box.lo.head<2>() = at.head<2>();
+    box.hi.head<2>() = at.head<2>();
+    Shrink(box, c, "wgs84");
   }
 
   const PlacementContext& context_;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "generator/lang/random.h"
@@ -30,6 +31,7 @@ struct PlacementContext {
   const PlacedObjects& placed;
   const std::string& terrain_symbol;  // ON/IN this is the ground
   const PlannedTerrain& terrain;
+  const std::optional<GeoOrigin>& geo;  // where WGS84 positions are (a georeferenced scene)
   Rng& rng;
 };
 

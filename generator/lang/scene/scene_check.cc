@@ -126,7 +126,7 @@ class SceneChecker {
     CheckKeys(pos, KindVocabulary("position"), "position of " + def.symbol);
     for (const auto& [key, c] : pos.Members()) {
       const std::string k = CanonicalKey(key);
-      if (k == "within") continue;
+      if (k == "within" || k == "wgs84") continue;  // numbers, read when placing
       if ((k == "around" || IsRelationKey(k)) && c->is_object()) {
         for (const auto& [ref, margin] : c.Members())
           CheckReferenceName(ref, margin, defined, def.symbol, true);

@@ -673,6 +673,11 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("extent").Is(T::kVector3).Unit("m").Doc("a new extent"),
                  Row("visible").Aliases({"visibility"}).Is(T::kBool).Doc("shown or hidden"),
                  Row("offset").Is(T::kVector3).Unit("m").Doc("a move of the object by [dx,dy,dz]"),
+                 Row("position")
+                     .Is(T::kVector3)
+                     .Unit("m")
+                     .Doc("a new centre [x,y,z] (ranges drawn); an object standing ON something "
+                          "is set back on it there. A new place by constraints is `rescatter`"),
                  Row("class").Is(T::kClass).Doc("a class swap"),
                  Row("rescatter").Is(T::kBool).Doc("a new place drawn by Algorithm 1"),
                  Row("move").Is(T::kList).Doc("a smooth flight the object moves along"),

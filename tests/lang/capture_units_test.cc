@@ -23,6 +23,7 @@
 #include "generator/lang/source.h"
 #include "libs/util/error.h"
 #include "tests/generator/test_plans.h"
+#include "tests/lang/plan_text.h"
 
 namespace lsds {
 namespace {
@@ -479,6 +480,29 @@ TEST(CaptureObjectChanges, ScaleAndOffsetAreRelativeToThePlannedObject) {
   EXPECT_EQ(*change.position, Eigen::Vector3d(4, 4, 1.5));
   EXPECT_EQ(*change.material, "rust");
   EXPECT_FALSE(change.class_id);
+}
+
+TEST(CaptureObjectChanges, APositionChangeMovesTheObjectAndKeepsItOnItsSupport) {
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(O)\nW = terrain{size:[100,100]}\n"
+      "O = object{class:cube,extent:[1,1,1],position:{ON:W,within:[[-5,-5,0],[5,5,9]]}}\n";
+  const Plan plan =
+      testing::PlanText(scene,
+                        "LCAP = ONE(P) ONE(A)\nP = path{create point:{position:[0,0,30],count:3}}\n"
+                        "A = collection{O:{frame:1,position:[10,-5,7]}}\n");
+  ASSERT_EQ(plan.frames.size(), 3u);
+  EXPECT_TRUE(plan.frames[0].changes.empty());
+  Eigen::Vector3d last = Eigen::Vector3d::Zero();
+  for (const ObjectChange& c : plan.frames[2].changes)
+    if (c.position) last = *c.position;
+  // x and y as written; z set back on the (flat) terrain: the base at 0, the centre at 0.5.
+  EXPECT_EQ(last, Eigen::Vector3d(10, -5, 0.5));
+  EXPECT_NE(
+      testing::PlanErrorOf(scene,
+                           "LCAP = ONE(P) ONE(A)\nP = path{create point:{position:[0,0,30]}}\n"
+                           "A = collection{O:{position:{ON:W}}}\n")
+          .find("write rescatter:true"),
+      std::string::npos);
 }
 
 TEST(CaptureObjectChanges, AMovingObjectFollowsItsLegsThenRests) {

@@ -135,10 +135,13 @@ class RuleReader {
     if (const Node r = block.Find("rescatter")) {
       if (!r->is_boolean()) r.Fail("rescatter is true or false");
       if (move) r.Fail("an object either moves along a path or is re-scattered");
+      if (const Node p = block.Find("position"))
+        p.Fail("an object is either placed at a position or re-scattered, not both");
     }
     if (!move) return;
-    if (const Node n = block.Find("offset"))
-      n.Fail("a moving object's position comes from its path; offset it in another block");
+    for (const char* key : {"offset", "position"})
+      if (const Node n = block.Find(key))
+        n.Fail("a moving object's position comes from its path; set it in another block");
     const std::vector<Node> items = Blocks(move);
     if (items.empty()) move.Fail("move lists paths: move:[P2, P3:2]");
     for (const Node& item : items) {

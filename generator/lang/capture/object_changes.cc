@@ -80,6 +80,13 @@ ObjectChange DrawObjectChange(const Rule& rule,
       c.extent = o.extent.cwiseProduct(s);
     }
     if (k == "offset") c.position = o.position + SampleVec3(v, rng);
+    if (k == "position") {
+      if (v->is_object())
+        v.Fail(
+            "a position change is a point [x,y,z]; for a new place drawn by the object's "
+            "LSCENE constraints write rescatter:true");
+      c.position = SampleVec3(v, rng);
+    }
     if (k == "class") DrawClass(v, o, rng, demand, swaps, &c);
   }
   return c;

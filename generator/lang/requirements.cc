@@ -326,6 +326,19 @@ RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
       set.quotas.push_back(q);
     }
   }
+  // The paper's allowable occlusion on an LSCENE object (section 4.2): a hard requirement on every
+  // frame, as require{target:X, occlusion:[lo, hi]}.
+  for (const Definition& d : scene.definitions)
+    if (d.kind == "object")
+      if (const Node n = d.body.Find("occlusion")) {
+        Requirement r;
+        r.name = d.symbol + ":occlusion";
+        r.target = d.symbol;
+        r.bounds.push_back(ReadBound(n, "occlusion"));
+        if (r.bounds.back().lo < 0 || r.bounds.back().hi > 1)
+          n.Fail("occlusion is a share of the object hidden: [min, max] within [0, 1]");
+        set.requirements.push_back(r);
+      }
   return set;
 }
 

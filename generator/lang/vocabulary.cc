@@ -344,6 +344,13 @@ std::vector<KindSpec> BuildVocabulary() {
                    .Is(T::kCount)
                    .Doc("the number of copies (overrides the start rule)")
                    .Example("`count:[10,20]`"),
+               Row("occlusion")
+                   .Is(T::kAny)
+                   .Doc("the allowable occlusion `[min, max]` (a share in [0, 1], the paper's "
+                        "section 4.2): each frame of the capture must see the object that much "
+                        "hidden, as `require{target:X, occlusion:[min,max]}` (\"Requirements and "
+                        "quotas\")")
+                   .Example("`occlusion:[0.2,0.5]`"),
                Row("unit")
                    .Is(T::kName)
                    .Doc("the length unit of a mesh file: `m` (default; glTF's own), `cm`, `mm`, "

@@ -127,6 +127,34 @@ TEST(Requirements, WithoutThemTheSameDrawsMissTheBand) {
   EXPECT_GE(outside, 3);
 }
 
+TEST(Requirements, AnLsceneObjectsAllowableOcclusionIsARequirement) {
+  // The paper's `occlusion:[a,b]` on the object plans every frame inside the band, as the LCAP
+  // require does (the same frames: one requirement, the same draws).
+  std::string scene = kPlateScene;
+  scene.replace(
+      scene.find("T = object{class:cube,"), 22, "T = object{class:cube,occlusion:[0.4,0.6],");
+  const Plan by_scene = PlanText(scene, Capture("8", "30", "REQ = require{altitude:[0,1000]}\n"));
+  const Plan by_capture = PlanText(
+      kPlateScene,
+      Capture("8",
+              "30",
+              "REQ = require{altitude:[0,1000]}\nOCC = require{target:T,occlusion:[0.4,0.6]}\n"));
+  ASSERT_EQ(by_scene.frames.size(), 8u);
+  for (size_t k = 0; k < by_scene.frames.size(); ++k) {
+    const FrameMeasure m = gen::MakeFrameEstimatorFactory()()(by_scene, by_scene.frames[k]);
+    ASSERT_EQ(m.targets.size(), 1u);
+    EXPECT_GE(m.targets[0].values.at("occlusion"), 0.4) << k;
+    EXPECT_LE(m.targets[0].values.at("occlusion"), 0.6) << k;
+    EXPECT_EQ(by_scene.frames[k].cam_from_world.translation,
+              by_capture.frames[k].cam_from_world.translation)
+        << k;
+  }
+  EXPECT_NE(testing::PlanErrorOf("LSCENE = ONE(T)\nT = object{class:cube,occlusion:[0.5,2]}\n",
+                                 "LCAP = ONE(P)\nP = path{create point:{position:[0,0,30]}}\n")
+                .find("within [0, 1]"),
+            std::string::npos);
+}
+
 TEST(Requirements, BudgetRunningOutIsReportedOrFails) {
   testing::TempDir dir;
   // Fully hidden under the plate is impossible from these poses' heights.

@@ -14,6 +14,7 @@
 #include "libs/collection/schema.h"
 #include "libs/geometry/oriented_box.h"
 #include "tests/build_paths.h"
+#include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
 namespace lsds {
@@ -21,15 +22,7 @@ namespace {
 
 const std::string kExamples = ::lsds::testing::ExamplesDir();
 
-Plan PlanText(const std::string& scene,
-              const std::string& capture,
-              uint64_t seed,
-              FrameRange range = {}) {
-  const SourceFile s = ParseSource(scene, "s.lscene", false);
-  if (capture.empty()) return MakePlanFromSources(s, nullptr, seed, range);
-  const SourceFile c = ParseSource(capture, "c.lcap", false);
-  return MakePlanFromSources(s, &c, seed, range);
-}
+using testing::PlanText;
 
 Eigen::Vector3d HalfAabb(const PlannedObject& o) {
   return o.world_from_object.cwiseAbs() * (0.5 * o.extent);

@@ -45,8 +45,13 @@ inline Plan PlanText(const std::string& scene,
                      const FrameEstimatorFactory& estimator = {}) {
   try {
     const SourceFile s = ParseSource(scene, "s.lscene", false);
-    const SourceFile c = ParseSource(capture, "c.lcap", false);
-    Plan plan = MakePlanFromSources(s, &c, seed, frames, estimator);
+    Plan plan;
+    if (capture.empty()) {  // no capture: the default one
+      plan = MakePlanFromSources(s, nullptr, seed, frames, estimator);
+    } else {
+      const SourceFile c = ParseSource(capture, "c.lcap", false);
+      plan = MakePlanFromSources(s, &c, seed, frames, estimator);
+    }
     RecordPlan(scene, capture, seed, frames, PlanToJson(plan).dump(1));
     return plan;
   } catch (const Error& e) {

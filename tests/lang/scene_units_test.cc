@@ -50,7 +50,7 @@ std::string ErrorOf(F&& f) {
 
 TEST(SceneCheck, LearnsTheTerrainAliasesAndStartRuleCounts) {
   Scene s(
-      "LSCENE = ONE(T) MANY(B) MANY({MANY: C, count: 3})\nT = terrain{size:[100,100]}\n"
+      "LSCENE = ONE(T) MANY(B) MANY(C, 3)\nT = terrain{size:[100,100]}\n"
       "classes = classes{shrub:bush}\nB = object{class:shrub}\nC = object{class:cube}\n");
   ClassCatalog assets(s.program);
   const SceneSymbols symbols = CheckScene(s.program, &assets);

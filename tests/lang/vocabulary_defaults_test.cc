@@ -57,7 +57,7 @@ const std::map<std::pair<std::string, std::string>, Program>& Programs() {
        }},
       {{"object", "retries"},
        [](const std::string& key) {
-         return std::make_pair("LSCENE = ONE(O) MANY({MANY: C, count: 20}) ONE(W)\n" + kGround +
+         return std::make_pair("LSCENE = ONE(O) MANY(C, 20) ONE(W)\n" + kGround +
                                    "O = object{class:cube}\nC = object{class:cube" + After(key) +
                                    ",position:{ON:W,within:[[-20,-20,-100],[20,20,100]]}}\n",
                                kCamera);

@@ -52,7 +52,8 @@ SceneClass ClassCatalog::Resolve(const Node& where, const std::string& option) c
   for (const auto& [alias, target] : aliases_) names.push_back(alias);
   where.Fail("unknown class '" + option + "'" + DidYouMean(option, names) +
              "; use a built-in class (" + Join(BuiltinNames(), ", ") + "), a mesh file (" +
-             Join(gen::MeshExtensions(), " ") + ") or declare it in a classes{...} definition");
+             Join(gen::MeshExtensions(), " ") +
+             ", relative to the scene file) or declare it in a classes{...} definition");
 }
 
 std::vector<SceneClass> ClassCatalog::Candidates(const Node& cls, const std::string& option) const {

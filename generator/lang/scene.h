@@ -44,8 +44,8 @@ const std::map<std::string, std::string>& CategoryKinds();
 const std::map<std::string, Eigen::Vector3d>& BuiltinClasses();
 
 // An LCAP target's label (docs/languages.md, "Class names"): none (its classes come from the
-// scene), one id (`O1:5`; a symbol that draws several classes takes consecutive ids from it, one
-// per class), or one id per class it draws (`V1:{car:1,truck:2}`).
+// scene), one id (`O1:5`: the paper's per-pixel label, whatever class the symbol draws), or one id
+// per class it draws (`V1:{car:1,truck:2}`), which keeps the classes apart.
 struct TargetLabel {
   uint32_t first_id = 0;
   std::map<std::string, uint32_t> by_class;

@@ -368,6 +368,15 @@ class Parser {
     if (t.kind == Tok::kIdent) {
       if (t.text == "true") return OJson(true);
       if (t.text == "false") return OJson(false);
+      // A named block as a value, "V1:{car:1,truck:2}" in a list: the object {V1: {...}}.
+      if (IsPunct(Peek(), ':') && IsPunct(Peek(1), '{')) {
+        Next();
+        const std::string member_pointer = PointerJoin(pointer, t.text);
+        MarkKey(member_pointer, t.offset);
+        OJson named = OJson::object();
+        named[t.text] = Value(member_pointer);
+        return named;
+      }
       // References with a count or index: "P1:3" (3 repetitions), "O1:5" (label
       // 5), "P1:1".
       if (IsPunct(Peek(), ':') && (Peek(1).kind == Tok::kNumber || Peek(1).kind == Tok::kIdent) &&

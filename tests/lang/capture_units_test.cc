@@ -418,12 +418,11 @@ TEST(CaptureClassSwaps, ADrawnClassJoinsTheTableAfterTheScenesIds) {
   plan.classes = {{1, "ground"}, {2, "car"}, {7, "cube"}};  // O2 labelled 7, as the scene made it
   const auto targets = Lcap("LCAP = ONE(CO)\nCO = camera{targets:[O2:7,O1]}\n");
   ClassSwaps swaps(scene.program, ReadTargets(targets->program, scene.program), &plan);
-  // A labelled target keeps its label for the class it labels; another class it swaps to, and
-  // O1 (no label), take the class of the name.
+  // A target with one label keeps it whatever it draws; O1 (no label) takes the class of the name.
   EXPECT_EQ(swaps.Class("O2", {"cube", "cube"}).second, 7u);
+  EXPECT_EQ(swaps.Class("O2", {"truck", "truck"}).second, 7u);
   EXPECT_EQ(swaps.Class("O1", {"car", "car"}).second, 2u);
-  EXPECT_EQ(swaps.Class("O2", {"truck", "truck"}).second, 8u);  // after every id and label
-  EXPECT_EQ(swaps.Class("O1", {"truck", "truck"}).second, 8u);
+  EXPECT_EQ(swaps.Class("O1", {"truck", "truck"}).second, 8u);  // after every id and label
   ASSERT_EQ(plan.classes.size(), 4u);
   EXPECT_EQ(plan.classes.back().name, "truck");
   const auto c = Lcap("LCAP = ONE(A)\nA = collection{O1:{class:{truck:0.5,barrel:0.5}}}\n");

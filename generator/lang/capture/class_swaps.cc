@@ -23,8 +23,11 @@ ClassCatalog& ClassSwaps::Assets() {
 
 std::pair<std::string, uint32_t> ClassSwaps::Class(const std::string& symbol,
                                                    const SceneClass& resolved) {
-  // A labelled target drawing a class its label names keeps that id (scene/class_table.h).
+  // A target with one label keeps it whatever it draws (the paper's per-pixel label); one labelled
+  // per class keeps the id of a class its label names (scene/class_table.h).
   const auto label = labels_.find(symbol);
+  if (label != labels_.end() && label->second.first_id != 0)
+    return {resolved.asset, label->second.first_id};
   if (label != labels_.end() && label->second.labelled()) {
     auto ids = label_ids_.find(symbol);
     if (ids == label_ids_.end())

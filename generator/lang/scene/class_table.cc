@@ -22,18 +22,14 @@ std::vector<std::string> ClassNamesOf(const ClassCatalog& assets, const Node& cl
 }  // namespace
 
 LabelIds LabelIdsOf(const Program& scene,
-                    const ClassCatalog& assets,
+                    const ClassCatalog& catalog,
                     const std::string& symbol,
                     const TargetLabel& label) {
   const std::vector<std::string> names =
-      ClassNamesOf(assets, scene.Find(symbol)->body.Find("class"));
+      ClassNamesOf(catalog, scene.Find(symbol)->body.Find("class"));
   LabelIds ids;
   if (label.by_class.empty()) {
-    uint64_t id = label.first_id;
-    for (const std::string& name : names) {
-      if (id > 0xFFFFFFFFull) label.where.Fail("the label ids of " + symbol + " pass 4294967295");
-      ids[name] = static_cast<uint32_t>(id++);
-    }
+    for (const std::string& name : names) ids[name] = label.first_id;
     return ids;
   }
   for (const std::string& name : names)
@@ -48,42 +44,38 @@ LabelIds LabelIdsOf(const Program& scene,
 }
 
 TargetClassIds AssignClassIds(const Program& scene,
-                              const ClassCatalog& assets,
+                              const ClassCatalog& catalog,
                               const TargetLabels& targets,
                               Plan* plan) {
   TargetClassIds labelled;
-  std::map<uint32_t, std::string> owner;  // label id -> the target that has it
+  std::map<uint32_t, std::vector<std::string>> labelled_names;  // label id -> the classes it labels
   for (const auto& [symbol, label] : targets) {
     if (!label.labelled()) continue;
-    labelled[symbol] = LabelIdsOf(scene, assets, symbol, label);
+    labelled[symbol] = LabelIdsOf(scene, catalog, symbol, label);
     for (const auto& [name, id] : labelled[symbol]) {
-      const auto [it, added] = owner.emplace(id, symbol);
-      if (!added)
-        label.where.Fail("label id " + std::to_string(id) + " of " + symbol + " (" + name +
-                         ") is also " + it->second + "'s; give each labelled class its own id");
+      std::vector<std::string>& names = labelled_names[id];
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
   }
   uint32_t next = 1;
   auto add = [&](const std::string& name) {
     for (const ClassInfo& c : plan->classes)
       if (c.name == name) return;
-    while (owner.count(next)) ++next;
+    while (labelled_names.count(next)) ++next;
     plan->classes.push_back({next++, name});
   };
   for (const Definition& def : scene.definitions) {
     if (def.kind == "terrain") add("terrain");
     if (def.kind != "object" || labelled.count(def.symbol)) continue;
-    for (const std::string& name : ClassNamesOf(assets, def.body.Find("class"))) add(name);
+    for (const std::string& name : ClassNamesOf(catalog, def.body.Find("class"))) add(name);
   }
-  for (const auto& [id, symbol] : owner)
-    for (const auto& [class_name, class_id] : labelled.at(symbol)) {
-      if (class_id != id) continue;
-      std::string name = class_name;
-      // Two labels may not share a name, nor a label a name of the table.
-      for (const ClassInfo& c : plan->classes)
-        if (c.name == name) name += "#" + std::to_string(id);
-      plan->classes.push_back({id, name});
-    }
+  for (const auto& [id, names] : labelled_names) {
+    std::string name = Join(names, "|");
+    // A label may not take a name of the table.
+    for (const ClassInfo& c : plan->classes)
+      if (c.name == name) name += "#" + std::to_string(id);
+    plan->classes.push_back({id, name});
+  }
   std::sort(plan->classes.begin(), plan->classes.end(), [](const ClassInfo& a, const ClassInfo& b) {
     return a.id < b.id;
   });

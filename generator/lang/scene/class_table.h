@@ -11,22 +11,21 @@
 
 namespace lsds {
 
-// A labelled target's ids by the class names it may draw: consecutive from `O1:5`'s id in the
-// order its class options name them, or as `V1:{car:1,truck:2}` lists them (every class it draws
+// A labelled target's ids by the class names it may draw: `O1:5` labels all of them 5 (the paper's
+// per-pixel label of the target), `V1:{car:1,truck:2}` each as it lists them (every class it draws
 // listed, no other: else an error at the label).
 using LabelIds = std::map<std::string, uint32_t>;
 LabelIds LabelIdsOf(const Program& scene,
-                    const ClassCatalog& assets,
+                    const ClassCatalog& catalog,
                     const std::string& symbol,
                     const TargetLabel& label);
 
 // The labelled targets' ids, by symbol.
 using TargetClassIds = std::map<std::string, LabelIds>;
 
-// Fills plan->classes: the labelled targets' ids, each named after the class it labels ("#id"
-// added when another class has that name); then, skipping those ids, the other objects' classes
-// in order of first appearance in the file, the terrain's first. Two targets may not share an id.
-// Returns the labelled targets' ids.
+// Fills plan->classes: each label id, named after the classes it labels joined by "|" ("#id" added
+// when another class has that name); then, skipping those ids, the other objects' classes in
+// order of first appearance in the file, the terrain's first. Returns the labelled targets' ids.
 TargetClassIds AssignClassIds(const Program& scene,
                               const ClassCatalog& assets,
                               const TargetLabels& targets,

@@ -314,6 +314,11 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
     // The camera's images of this row, by type.
     std::map<int, fs::path> by_type;
     for (const std::string& name : Split(cells[images], ';')) {
+      // Every name in the data must be a relative path inside the source, read
+      // or not (the lexical rule of libs/util/confined_path.h; Reference throws
+      // its message).
+      if (!ReferenceProblem(name, "the source").empty())
+        root_->Reference(folder, name, Location::Text(file, number, column_of(images)));
       const std::optional<ImageName> image = ParseImageName(name, vehicle_);
       if (image && image->camera == camera_)
         by_type[image->type] =

@@ -192,12 +192,15 @@ void PaintVisibleMask(const fs::path& mask_path,
 
 // A pixel several visible masks claim goes to the object whose surface the
 // depth shows: the one whose box the pixel's ray enters nearest the measured
-// distance (with no depth, the nearest box). Exact for box-shaped models; the
-// box is the model's tight bounding box otherwise.
+// distance; boxes entered within the depth's rounding (half a unit of
+// depth_scale) of it are the same distance, and the nearest of them is in
+// front. With no depth, the nearest box. Exact for box-shaped models; the box
+// is the model's tight bounding box otherwise.
 void ResolveClaimsByDepth(const std::map<size_t, std::vector<size_t>>& claims,
                           const std::vector<ObjectIdentity>& targets,
                           const CameraTruth& camera,
                           const exr::FlatImage& depth,
+                          double depth_scale_mm,
                           exr::FlatImage* instances,
                           exr::FlatImage* classes) {
   const Rigid3d world_from_cam = CamFromWorld(camera).Inverse();
@@ -206,15 +209,19 @@ void ResolveClaimsByDepth(const std::map<size_t, std::vector<size_t>>& claims,
     const int i = static_cast<int>(p % depth.width()), j = static_cast<int>(p / depth.width());
     const Eigen::Vector3d ray = camera.intrinsics.RayThroughPixelCenter(i, j);  // z = 1
     const double measured = static_cast<double>(z[p]) * ray.norm();             // planar -> ray
+    const double rounding = 0.5e-3 * depth_scale_mm * ray.norm() + 1e-9;
     const Eigen::Vector3d direction = (world_from_cam.rotation * ray).normalized();
-    double best = std::numeric_limits<double>::infinity();
+    // (distance from the measured surface beyond the rounding, entry): the
+    // least wins, so among boxes within the rounding the nearest one.
+    std::pair<double, double> best{std::numeric_limits<double>::infinity(), 0};
     size_t owner = candidates.front();
     for (const size_t g : candidates) {
       const std::optional<double> entry =
           RayEntersBox(targets[g].obb, world_from_cam.translation, direction);
       if (!entry) continue;
-      const double miss = std::isfinite(measured) ? std::abs(*entry - measured) : *entry;
-      if (miss < best) best = miss, owner = g;
+      const double miss =
+          std::isfinite(measured) ? std::max(0.0, std::abs(*entry - measured) - rounding) : 0.0;
+      if (std::make_pair(miss, *entry) < best) best = {miss, *entry}, owner = g;
     }
     instances->Get("id").uints[p] = targets[owner].instance_id;
     classes->Get("id").uints[p] = targets[owner].class_id;
@@ -301,8 +308,13 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
         scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png"));
     PaintVisibleMask(mask_path, g, target, &instances, &classes, &claims);
   }
-  ResolveClaimsByDepth(
-      claims, frame.targets, frame.camera, frame.flat.at("depth"), &instances, &classes);
+  ResolveClaimsByDepth(claims,
+                       frame.targets,
+                       frame.camera,
+                       frame.flat.at("depth"),
+                       depth_scale,
+                       &instances,
+                       &classes);
   ReadVisibFract(key, where, &frame);
   return frame;
 }

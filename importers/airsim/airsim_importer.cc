@@ -29,9 +29,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-double Rad(double deg) { return deg * kPi / 180.0; }
-
 const WorldFrame& Ned() {
   static const WorldFrame frame = WorldFrame::Make("NED", "m");
   return frame;
@@ -41,6 +38,16 @@ const WorldFrame& Ned() {
 // z_cv = forward.
 // (the body-from-camera axes of libs/geometry/attitude.h).
 Eigen::Matrix3d FrdFromOpenCv() { return BodyFromCam(); }
+
+// Which depth type the sidecar asks for when the recording holds both; none:
+// the one recorded (DepthPlanar first).
+std::optional<DepthKind> AskedDepthType(const json& sidecar, const std::string& file) {
+  if (!sidecar.contains("depth")) return std::nullopt;
+  const std::string depth = StringAt(sidecar.at("depth"), file, "/depth");
+  if (depth == "DepthPlanar") return DepthKind::kPlanar;
+  if (depth == "DepthPerspective") return DepthKind::kPerspective;
+  throw Error("'depth' must be DepthPlanar or DepthPerspective", Location(file, "/depth"));
+}
 
 }  // namespace
 
@@ -80,17 +87,7 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
   vehicle_ =
       AtPointer(file, "/vehicle", [&] { return root.value("vehicle", std::string("Drone1")); });
   camera_ = AtPointer(file, "/camera", [&] { return root.value("camera", std::string("0")); });
-  // Which depth type to read when the recording holds both; absent: the one
-  // recorded (DepthPlanar first).
-  if (root.contains("depth")) {
-    const std::string depth = StringAt(root.at("depth"), file, "/depth");
-    if (depth == "DepthPlanar")
-      asked_depth_ = DepthKind::kPlanar;
-    else if (depth == "DepthPerspective")
-      asked_depth_ = DepthKind::kPerspective;
-    else
-      throw Error("'depth' must be DepthPlanar or DepthPerspective", Location(file, "/depth"));
-  }
+  asked_depth_ = AskedDepthType(root, file);
   sky_depth_m_ = AtPointer(file, "/sky_depth_m", [&] { return root.value("sky_depth_m", 1e4); });
   std::set<uint32_t> class_ids, instance_ids;
   AtPointer(file, "/classes", [&] {

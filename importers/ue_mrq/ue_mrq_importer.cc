@@ -185,7 +185,11 @@ SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOption
   fov_of_display_window_ = options.fov_window == "display";
 
   // The layout, from the first frame; every frame must have it.
-  const SourceExr first(files_.front().path);
+  ReadLayout(SourceExr(files_.front().path));
+  return Describe();
+}
+
+void UeMrqImporter::ReadLayout(const SourceExr& first) {
   width_ = first.width(), height_ = first.height();
   for (const char* prefix : {"", "FinalImage.", "rgba."}) {
     if (first.HasChannel(std::string(prefix) + "R") &&
@@ -202,7 +206,8 @@ SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOption
   }
   for (const std::string& channel : first.ChannelNames()) {
     // Unreal's name, and Nuke's spelling of the same channel.
-    for (const char* suffix : {"WorldDepth.R", "SceneDepth.R", "WorldDepth.red", "SceneDepth.red"}) {
+    for (const char* suffix :
+         {"WorldDepth.R", "SceneDepth.R", "WorldDepth.red", "SceneDepth.red"}) {
       const std::string s = suffix;
       if (channel.size() >= s.size() &&
           channel.compare(channel.size() - s.size(), s.size(), s) == 0 && depth_channel_.empty())
@@ -233,7 +238,9 @@ SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOption
                         "' is not read: no actor of the sidecar names its pixels");
   const bool has_ids = !id_layer_.empty() && !actors_.empty();
   if (!has_ids) id_layer_.clear();
+}
 
+SourceDescription UeMrqImporter::Describe() const {
   SourceDescription description;
   description.classes = classes_;
   description.frame_count = static_cast<int64_t>(files_.size());

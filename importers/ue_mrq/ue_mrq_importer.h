@@ -39,6 +39,9 @@ class UeMrqImporter : public Importer {
     int64_t number = 0;
   };
   void ReadObjects(const std::filesystem::path& file);
+  // The channels of the final image, depth and Cryptomatte, from the first frame.
+  void ReadLayout(const SourceExr& first);
+  SourceDescription Describe() const;
   void ReadDepth(const SourceExr& exr, SourceFrame* frame) const;
   void ReadIds(const SourceExr& exr, int64_t index, SourceFrame* frame) const;
 

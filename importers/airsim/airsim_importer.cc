@@ -165,6 +165,7 @@ void AirSimImporter::ReadSettings(const fs::path& path) {
         "capture with a 90 degree FOV and the pawn's own camera mount");
   camera_settings_ = ResolveAirSimCamera(
       root, path.empty() ? std::string("settings.json") : path.string(), vehicle_, camera_);
+  if (path.empty()) camera_settings_.capture_origin = "AirSim's defaults (no settings.json)";
 }
 
 namespace {

@@ -157,6 +157,16 @@ void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTr
 }
 
 EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
+  {
+    // The ground truth boxes and masks come from the instance layer; a
+    // collection imported from a source without ids has none
+    // (docs/import.md, "Import what is there").
+    const CollectionReader reader(options.collection);
+    if (reader.header().FindLayerBySemantic("instanceid") == nullptr)
+      throw Error(
+          "the collection has no instanceid layer, so no objects to evaluate detections against",
+          Location(reader.collection_path().string(), "/layers"));
+  }
   // The converter, run as `lsds convert COLLECTION --to coco --images none`.
   const ScratchFolder scratch;
   convert::ConvertOptions coco;

@@ -127,7 +127,8 @@ std::vector<LayerPlan> PlanLayers(const CollectionHeader& header,
     const LayerInfo* info = header.FindLayer(name);
     if (info == nullptr) {
       throw Error("--layers: the collection has no layer '" + name + "'" + DidYouMean(name, names) +
-                  " (layers: " + Join(names, ", ") + ")");
+                      " (layers: " + Join(names, ", ") + ")",
+                  Location(collection_file, "/layers"));
     }
     for (const LayerPlan& p : plans)
       if (p.info == info) throw Error("--layers: '" + name + "' given twice");

@@ -1,7 +1,9 @@
 #include "importers/cryptomatte.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -144,6 +146,21 @@ std::vector<CryptomatteLayer> ParseCryptomatteLayers(
     layers.push_back(std::move(layer));
   }
   return layers;
+}
+
+std::optional<CryptomatteRankChannels> FindRank0Channels(const std::vector<std::string>& channels,
+                                                         const std::string& name) {
+  const auto has = [&](const std::string& channel) {
+    return std::find(channels.begin(), channels.end(), channel) != channels.end();
+  };
+  for (const auto& [id, coverage] :
+       {std::pair<const char*, const char*>{"R", "G"}, {"red", "green"}, {"r", "g"}}) {
+    const std::string id_channel = name + "00." + id;
+    const std::string coverage_channel = name + "00." + coverage;
+    if (has(id_channel) && has(coverage_channel))
+      return CryptomatteRankChannels{id_channel, coverage_channel};
+  }
+  return std::nullopt;
 }
 
 }  // namespace lsds::import

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -38,6 +39,16 @@ struct CryptomatteLayer {
 // supported).
 std::vector<CryptomatteLayer> ParseCryptomatteLayers(
     const std::map<std::string, std::string>& attributes, const std::string& file);
+
+// The rank-0 (id, coverage) channels of layer `name` among `channels`, in
+// any writer's spelling: <name>00.R / .G (the specification, Arnold, V-Ray,
+// Unreal), <name>00.red / .green (Nuke's), <name>00.r / .g (Blender's);
+// none when the file has no such pair.
+struct CryptomatteRankChannels {
+  std::string id, coverage;
+};
+std::optional<CryptomatteRankChannels> FindRank0Channels(const std::vector<std::string>& channels,
+                                                         const std::string& name);
 
 // "cryptomatte/<key>/<field>" for layer `name`: key = first 7 hex digits of
 // MurmurHash3_32(name), as writers name them.

@@ -7,13 +7,10 @@
 
 namespace lsds::import {
 
-namespace {
-
-// Whether the ray origin + t * direction (t > 0) meets the box: slab test in
-// the box frame.
-bool RayHitsBox(const OrientedBox& box,
-                const Eigen::Vector3d& origin,
-                const Eigen::Vector3d& direction) {
+std::optional<double> RayEntersBox(const OrientedBox& box,
+                                   const Eigen::Vector3d& origin,
+                                   const Eigen::Vector3d& direction) {
+  // Slab test in the box frame.
   const Eigen::Vector3d o = box.world_from_box.transpose() * (origin - box.center);
   const Eigen::Vector3d d = box.world_from_box.transpose() * direction;
   double t_near = -std::numeric_limits<double>::infinity();
@@ -21,7 +18,7 @@ bool RayHitsBox(const OrientedBox& box,
   for (int axis = 0; axis < 3; ++axis) {
     const double h = box.half_extents[axis];
     if (std::abs(d[axis]) < 1e-300) {
-      if (std::abs(o[axis]) > h) return false;
+      if (std::abs(o[axis]) > h) return std::nullopt;
       continue;
     }
     double t0 = (-h - o[axis]) / d[axis];
@@ -31,9 +28,9 @@ bool RayHitsBox(const OrientedBox& box,
     t_far = std::min(t_far, t1);
   }
   // Entered from outside in front of the camera, as a renderer sees it.
-  return t_near <= t_far && t_near > 1e-9;
+  if (t_near <= t_far && t_near > 1e-9) return t_near;
+  return std::nullopt;
 }
-}  // namespace
 
 exr::FlatImage ConvertDepthKind(const exr::FlatImage& depth,
                                 DepthKind from,
@@ -72,7 +69,7 @@ int64_t CountObbPixels(const OrientedBox& box,
     for (int i = i0; i < i1; ++i) {
       const Eigen::Vector3d direction =
           world_from_cam.rotation * camera.RayThroughPixelCenter(i, j);
-      if (RayHitsBox(box, world_from_cam.translation, direction)) ++count;
+      if (RayEntersBox(box, world_from_cam.translation, direction)) ++count;
     }
   }
   return count;

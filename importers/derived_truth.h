@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "libs/collection/model.h"
 #include "libs/exr/flat_image.h"
@@ -23,6 +24,12 @@ exr::FlatImage ConvertDepthKind(const exr::FlatImage& depth,
                                 DepthKind from,
                                 DepthKind to,
                                 const PinholeCamera& camera);
+
+// Where the ray origin + t * direction (t > 0) enters `box` from outside:
+// t at the entry, or none when it misses the box or starts inside it.
+std::optional<double> RayEntersBox(const OrientedBox& box,
+                                   const Eigen::Vector3d& origin,
+                                   const Eigen::Vector3d& direction);
 
 // The pixels inside `bounds` whose centre ray hits `box` in front of the
 // camera: the pixels the object would cover with no occluder when it fills its

@@ -10,6 +10,7 @@
 #include "libs/collection/worldposition_layout.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/strings.h"
 #include "libs/util/text_check.h"
 
 namespace lsds::import {
@@ -49,6 +50,33 @@ auto Guarded(const fs::path& source, std::optional<int64_t> frame, F&& step) {
   }
 }
 
+// Per-object truth measured on the imported id layer (object_truth.h); the
+// unoccluded pixels are those of the OBB, unless the source states the
+// object's visibility itself (SourceFrame::visibility_by_instance).
+void MeasureObjects(const SourceFrame& source_frame, const Rigid3d& cam_from_world, Frame* frame) {
+  const PinholeCamera& camera = source_frame.camera.intrinsics;
+  const exr::FlatImage& instances = source_frame.flat.at("instanceid");
+  const auto masks =
+      MeasureInstanceMasks(instances.Get("id").uints, instances.width(), instances.height());
+  for (const ObjectIdentity& target : source_frame.targets) {
+    const auto mask = masks.find(target.instance_id);
+    auto count_unoccluded = [&](const Box2d& bounds) {
+      return CountObbPixels(target.obb, camera, cam_from_world, bounds);
+    };
+    std::optional<ObjectTruth> object = MeasureObjectTruth(
+        target,
+        camera,
+        cam_from_world,
+        {instances.Get("id").uints.data(), instances.width(), instances.height()},
+        mask == masks.end() ? nullptr : &mask->second,
+        count_unoccluded);
+    if (!object) continue;
+    const auto stated = source_frame.visibility_by_instance.find(target.instance_id);
+    if (stated != source_frame.visibility_by_instance.end()) object->visibility = stated->second;
+    frame->objects.push_back(std::move(*object));
+  }
+}
+
 }  // namespace
 
 ImportResult ImportCollection(const std::string& format,
@@ -66,8 +94,23 @@ ImportResult ImportCollection(const std::string& format,
   if (description.frame_count < 1)
     throw Error("the source has no frames", Location(source.string()));
 
-  const bool has_depth =
-      std::count(description.semantics.begin(), description.semantics.end(), "depth") != 0;
+  auto provides = [&](const char* semantic) {
+    return std::count(description.semantics.begin(), description.semantics.end(), semantic) != 0;
+  };
+  const bool has_depth = provides("depth");
+  // A source with only some passes imports what is there (docs/import.md,
+  // "Import what is there"); the layers it lacks are named once, here.
+  const bool has_ids = provides("instanceid");
+  ImportResult result;
+  result.warnings = description.warnings;
+  std::vector<std::string> lacking;
+  for (const char* semantic : {"rgb", "depth", "instanceid", "classid"})
+    if (!provides(semantic)) lacking.emplace_back(semantic);
+  if (!lacking.empty())
+    result.warnings.push_back(
+        "the source has no " + Join(lacking, ", ") + " pass: the collection holds the layers " +
+        "that exist (" + Join(description.semantics, ", ") + (has_depth ? ", worldposition" : "") +
+        ")" + (has_ids ? "" : " and no per-object truth (objects need the instanceid layer)"));
   std::vector<std::string> semantics = description.semantics;
   std::map<std::string, std::string> origin = description.truth_origin;
   if (has_depth && !std::count(semantics.begin(), semantics.end(), "worldposition")) {
@@ -77,7 +120,7 @@ ImportResult ImportCollection(const std::string& format,
   // Per-object truth measured here on the imported id layer
   // (object_truth.h); the unoccluded pixels are those of the OBB.
   for (const char* field : {"bbox", "visible_pixels", "bbox_projected", "in_frame", "visibility"})
-    origin.emplace(field, "derived");
+    origin.emplace(field, has_ids ? "derived" : "absent");
   for (const std::string& semantic : StandardLayerSemantics()) {
     if (!std::count(semantics.begin(), semantics.end(), semantic))
       origin.emplace(semantic, "absent");
@@ -100,11 +143,9 @@ ImportResult ImportCollection(const std::string& format,
   const fs::path& root = out.temp_path();
   for (const LayerInfo& layer : header.layers) fs::create_directories(root / layer.name);
   CollectionBuilder builder(root, header);
-  ImportResult result;
   for (int64_t k = 0; k < description.frame_count; ++k) {
     SourceFrame source_frame = Guarded(source, k, [&] { return importer->ReadFrame(k); });
     const Rigid3d cam_from_world = CamFromWorld(source_frame.camera);
-    const PinholeCamera& camera = source_frame.camera.intrinsics;
     if (has_depth && !source_frame.flat.count("worldposition")) {
       // The rule of the residual worldposition layout
       // (libs/collection/worldposition_layout.h), so a derived layer stores as
@@ -124,23 +165,7 @@ ImportResult ImportCollection(const std::string& format,
     frame.sequence = source_frame.sequence;
     frame.shot = source_frame.shot;
     frame.camera = source_frame.camera;
-    const exr::FlatImage& instances = source_frame.flat.at("instanceid");
-    const auto masks =
-        MeasureInstanceMasks(instances.Get("id").uints, instances.width(), instances.height());
-    for (const ObjectIdentity& target : source_frame.targets) {
-      const auto mask = masks.find(target.instance_id);
-      auto count_unoccluded = [&](const Box2d& bounds) {
-        return CountObbPixels(target.obb, camera, cam_from_world, bounds);
-      };
-      if (std::optional<ObjectTruth> object = MeasureObjectTruth(
-              target,
-              camera,
-              cam_from_world,
-              {instances.Get("id").uints.data(), instances.width(), instances.height()},
-              mask == masks.end() ? nullptr : &mask->second,
-              count_unoccluded))
-        frame.objects.push_back(std::move(*object));
-    }
+    if (has_ids) MeasureObjects(source_frame, cam_from_world, &frame);
     frame.files = WriteFrameLayers(
         root, header, k, frame.camera, {&source_frame.flat, nullptr, std::nullopt, std::nullopt});
     result.objects += static_cast<int64_t>(frame.objects.size());

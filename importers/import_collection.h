@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "importers/importer.h"
 
@@ -15,6 +16,9 @@ namespace lsds::import {
 struct ImportResult {
   int64_t frames = 0;
   int64_t objects = 0;  // truth entries written, over all frames
+  // What the user should know about the import (a source with only some
+  // passes: the layers it lacks), printed by `lsds import` on stderr.
+  std::vector<std::string> warnings;
 };
 
 // Throws lsds::Error when the output exists (without `force`), is or lies

@@ -1,5 +1,5 @@
 // lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE] [--up-axis z|y]
-// [--allow-links-outside] [--force]
+// [--fov-window data|display] [--allow-links-outside] [--force]
 #include <iostream>
 
 #include "importers/import_collection.h"
@@ -36,6 +36,12 @@ int RunImport(int argc, char** argv) {
                  "the USD stage's up axis, which Replicator does not write "
                  "(replicator: z or y; default z)")
       ->check(CLI::IsMember({"z", "y"}));
+  app.add_option("--fov-window",
+                 options.fov_window,
+                 "the EXR window the camera's FOV spans (ue-mrq): data (default: Movie Render "
+                 "Queue's, the rendered image with any overscan) or display (files whose FOV "
+                 "is the full frame's and whose data window is a crop)")
+      ->check(CLI::IsMember({"data", "display"}));
   app.add_flag("--allow-links-outside",
                options.allow_links_outside,
                "read files of the source that are symbolic links to places outside it "
@@ -58,6 +64,9 @@ int RunImport(int argc, char** argv) {
     options.settings = settings;
     const import::ImportResult result =
         import::ImportCollection(format, source, output, options, common.force);
+    // Warnings are printed even with -q: they say what the collection lacks.
+    for (const std::string& warning : result.warnings)
+      std::cerr << "lsds import: warning: " << warning << "\n";
     if (!common.quiet)
       std::cout << "imported " << result.frames << " frames, " << result.objects
                 << " object entries from " << source << " (" << format << ") to " << output << "\n";

@@ -29,6 +29,9 @@ struct ImportOptions {
   // The world's up axis where the source does not say (Replicator: the USD
   // stage's upAxis, "z" or "y"); converted to ENU's z up.
   std::string up_axis = "z";
+  // Which EXR window a horizontal FOV attribute spans (ue-mrq): "data" (the
+  // rendered image; Movie Render Queue's rule) or "display".
+  std::string fov_window = "data";
   // Whether files of the source may be symbolic links that resolve outside it
   // (--allow-links-outside): deliberately linked data. Names in the source's
   // data must be relative and inside it either way (libs/util/confined_path.h).
@@ -48,6 +51,9 @@ struct SourceDescription {
   std::map<std::string, std::string> truth_origin;
   // The source's own units and frames, recorded for people.
   nlohmann::json source_conventions = nlohmann::json::object();
+  // What the user should know (an assumed default, a pass not read); the
+  // driver adds them to ImportResult::warnings.
+  std::vector<std::string> warnings;
 };
 
 struct SourceFrame {
@@ -60,6 +66,9 @@ struct SourceFrame {
   // The objects of interest (OBB in ENU metres): each gets a truth entry when
   // it is near the image.
   std::vector<ObjectIdentity> targets;
+  // The visibility in [0, 1] the source itself states for a target, by
+  // instance id (BOP's visib_fract); the others' is derived from the OBB.
+  std::map<uint32_t, double> visibility_by_instance;
 };
 
 class Importer {

@@ -25,6 +25,20 @@ namespace lsds::import {
 namespace {
 // All 17 significant digits: a header value read back as text loses nothing.
 std::string NumberText(double value) { return FormatNumber(value, 17); }
+
+// Part 0's display window, checked against the limits like the data window.
+SourceExr::Window DisplayWindowOf(const Imf::Header& header,
+                                  const exr::ReadLimits& limits,
+                                  const std::string& file) {
+  const Imath::Box2i& display = header.displayWindow();
+  const int64_t w = int64_t{display.max.x} - display.min.x + 1;
+  const int64_t h = int64_t{display.max.y} - display.min.y + 1;
+  if (w < 1 || h < 1 || w > limits.max_width || h > limits.max_height)
+    throw Error("display window " + std::to_string(w) + "x" + std::to_string(h) +
+                    " is empty or beyond the limits",
+                Location(file));
+  return {display.min.x, display.min.y, static_cast<int>(w), static_cast<int>(h)};
+}
 }  // namespace
 
 SourceExr::SourceExr(const std::filesystem::path& path, const exr::ReadLimits& limits)
@@ -50,6 +64,7 @@ SourceExr::SourceExr(const std::filesystem::path& path, const exr::ReadLimits& l
       if (part == 0) {
         width_ = static_cast<int>(w), height_ = static_cast<int>(h);
         min_x_ = window.min.x, min_y_ = window.min.y;
+        display_ = DisplayWindowOf(header, limits, file_);
       } else if (w != width_ || h != height_ || window.min.x != min_x_ || window.min.y != min_y_) {
         throw Error("part " + std::to_string(part) + " has another data window than part 0",
                     Location(file_));

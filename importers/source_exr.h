@@ -22,6 +22,14 @@ class SourceExr {
 
   int width() const { return width_; }
   int height() const { return height_; }
+  // The data window's top-left pixel, and part 0's display window (origin
+  // and size), in the file's pixel coordinates.
+  int data_min_x() const { return min_x_; }
+  int data_min_y() const { return min_y_; }
+  struct Window {
+    int min_x = 0, min_y = 0, width = 0, height = 0;
+  };
+  const Window& display_window() const { return display_; }
   const std::string& file() const { return file_; }
   bool HasChannel(const std::string& name) const { return channels_.count(name) != 0; }
   std::optional<exr::PixelType> ChannelType(const std::string& name) const;
@@ -47,6 +55,7 @@ class SourceExr {
   std::string file_;
   int width_ = 0, height_ = 0;
   int min_x_ = 0, min_y_ = 0;
+  Window display_;
   std::map<std::string, ChannelPlace> channels_;
   std::map<std::string, std::string> attributes_;
 };

@@ -3,8 +3,11 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -26,9 +29,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-double Rad(double deg) { return deg * kPi / 180.0; }
-
 const WorldFrame& Ned() {
   static const WorldFrame frame = WorldFrame::Make("NED", "m");
   return frame;
@@ -39,14 +39,17 @@ const WorldFrame& Ned() {
 // (the body-from-camera axes of libs/geometry/attitude.h).
 Eigen::Matrix3d FrdFromOpenCv() { return BodyFromCam(); }
 
-}  // namespace
-
-Eigen::Matrix3d AirSimMount::BodyFromCamera() const {
-  return (Eigen::AngleAxisd(Rad(yaw), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(Rad(pitch), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(Rad(roll), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
+// Which depth type the sidecar asks for when the recording holds both; none:
+// the one recorded (DepthPlanar first).
+std::optional<DepthKind> AskedDepthType(const json& sidecar, const std::string& file) {
+  if (!sidecar.contains("depth")) return std::nullopt;
+  const std::string depth = StringAt(sidecar.at("depth"), file, "/depth");
+  if (depth == "DepthPlanar") return DepthKind::kPlanar;
+  if (depth == "DepthPerspective") return DepthKind::kPerspective;
+  throw Error("'depth' must be DepthPlanar or DepthPerspective", Location(file, "/depth"));
 }
+
+}  // namespace
 
 Rigid3d CamFromEnuOfAirSim(const Eigen::Vector3d& vehicle_in_ned,
                            const Eigen::Quaterniond& ned_from_body,
@@ -84,14 +87,7 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
   vehicle_ =
       AtPointer(file, "/vehicle", [&] { return root.value("vehicle", std::string("Drone1")); });
   camera_ = AtPointer(file, "/camera", [&] { return root.value("camera", std::string("0")); });
-  const std::string depth =
-      AtPointer(file, "/depth", [&] { return root.value("depth", std::string("DepthPlanar")); });
-  if (depth == "DepthPlanar")
-    depth_kind_ = DepthKind::kPlanar;
-  else if (depth == "DepthPerspective")
-    depth_kind_ = DepthKind::kPerspective;
-  else
-    throw Error("'depth' must be DepthPlanar or DepthPerspective", Location(file, "/depth"));
+  asked_depth_ = AskedDepthType(root, file);
   sky_depth_m_ = AtPointer(file, "/sky_depth_m", [&] { return root.value("sky_depth_m", 1e4); });
   std::set<uint32_t> class_ids, instance_ids;
   AtPointer(file, "/classes", [&] {
@@ -161,77 +157,138 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
 }
 
 void AirSimImporter::ReadSettings(const fs::path& path) {
-  const std::string file = path.string();
-  const json root = ParseJsonFile(path);
-  const std::string where = "/Vehicles/" + vehicle_ + "/Cameras/" + camera_;
-  AtPointer(file, where, [&] {
-    const json& camera = root.at("Vehicles").at(vehicle_).at("Cameras").at(camera_);
-    mount_.position_in_body = {
-        camera.value("X", 0.0), camera.value("Y", 0.0), camera.value("Z", 0.0)};
-    mount_.roll = camera.value("Roll", 0.0);
-    mount_.pitch = camera.value("Pitch", 0.0);
-    mount_.yaw = camera.value("Yaw", 0.0);
-    // AirSim's defaults when CaptureSettings does not say.
-    width_ = 256, height_ = 144, fov_deg_ = 90;
-    const json captures = camera.value("CaptureSettings", json::array());
-    for (size_t i = 0; i < captures.size(); ++i) {
-      const json& capture = captures.at(i);
-      const std::string at = where + "/CaptureSettings/" + std::to_string(i);
-      if (IntegerAt<int64_t>(capture.value("ImageType", json(-1)), file, at + "/ImageType") != 0)
-        continue;  // Scene
-      width_ = IntegerAt<int>(capture.value("Width", json(width_)), file, at + "/Width", 1);
-      height_ = IntegerAt<int>(capture.value("Height", json(height_)), file, at + "/Height", 1);
-      fov_deg_ = capture.value("FOV_Degrees", fov_deg_);
-    }
-    return 0;
-  });
-  if (!(fov_deg_ > 0 && fov_deg_ < 180))
-    throw Error("FOV_Degrees must be in (0, 180)", Location(file, where));
+  // No settings.json: AirSim's own defaults (what an empty settings file gives).
+  const json root = path.empty() ? json::object() : ParseJsonFile(path);
+  if (path.empty())
+    warnings_.push_back(
+        "no settings.json (give --settings): AirSim's defaults assumed, a 256x144 Scene "
+        "capture with a 90 degree FOV and the pawn's own camera mount");
+  camera_settings_ = ResolveAirSimCamera(
+      root, path.empty() ? std::string("settings.json") : path.string(), vehicle_, camera_);
+  if (path.empty()) camera_settings_.capture_origin = "AirSim's defaults (no settings.json)";
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
-void AirSimImporter::ReadRecord(const fs::path& source) {
-  rec_file_ = root_->File(source / "airsim_rec.txt");
-  const std::string file = rec_file_.string();
-  std::ifstream in(rec_file_);
-  if (!in) throw Error("cannot open the recording", Location(file));
-  std::string line;
-  std::getline(in, line);
-  const std::vector<std::string> header = Split(line, '\t');
-  auto column = [&](const std::string& name, bool required) {
+namespace {
+
+// One image name of an ImageFile cell, `img_[<vehicle>_]<camera>_<type>_<t>.<ext>`
+// (RecordingFile.cpp): the camera (may be "" or hold '_') and the image type.
+struct ImageName {
+  std::string camera;
+  int type = -1;
+};
+std::optional<ImageName> ParseImageName(const std::string& name, const std::string& vehicle) {
+  // The file's name: a folder before it is the confinement rule's to judge.
+  const std::string base = name.substr(name.find_last_of("/\\") + 1);
+  if (base.rfind("img_", 0) != 0) return std::nullopt;
+  std::string rest = base.substr(4);
+  const size_t dot = rest.rfind('.');
+  if (dot != std::string::npos) rest.resize(dot);
+  auto pop_number = [&]() -> std::optional<int64_t> {
+    const size_t cut = rest.rfind('_');
+    if (cut == std::string::npos) return std::nullopt;
+    const std::optional<int64_t> value =
+        ParseInteger(rest.substr(cut + 1), 0, std::numeric_limits<int64_t>::max());
+    rest.resize(cut);
+    return value;
+  };
+  if (!pop_number()) return std::nullopt;  // the time stamp
+  const std::optional<int64_t> type = pop_number();
+  if (!type || *type > 100) return std::nullopt;
+  // Newer AirSim puts the vehicle's name first.
+  if (!vehicle.empty() && rest.rfind(vehicle + "_", 0) == 0) rest = rest.substr(vehicle.size() + 1);
+  return ImageName{rest, static_cast<int>(*type)};
+}
+
+// airsim_rec.txt: the header's columns and the data rows (line numbers kept
+// for messages).
+struct RecordText {
+  std::vector<std::string> header;
+  std::vector<std::pair<int, std::vector<std::string>>> rows;
+  int Column(const std::string& name, bool required, const std::string& file) const {
     for (size_t i = 0; i < header.size(); ++i)
       if (header[i] == name) return static_cast<int>(i);
     if (required)
       throw Error("column '" + name + "' missing from the header", Location::Text(file, 1, 1));
     return -1;
-  };
-  const int vehicle = column("VehicleName", false);
-  const int stamp = column("TimeStamp", true);
-  const int pos[3] = {column("POS_X", true), column("POS_Y", true), column("POS_Z", true)};
-  const int q[4] = {
-      column("Q_W", true), column("Q_X", true), column("Q_Y", true), column("Q_Z", true)};
-  const int images = column("ImageFile", true);
-  const fs::path folder = source / "images";
-  double first_stamp = std::numeric_limits<double>::quiet_NaN();
+  }
+};
+
+RecordText ReadRecordText(const fs::path& path) {
+  const std::string file = path.string();
+  std::ifstream in(path);
+  if (!in) throw Error("cannot open the recording", Location(file));
+  RecordText text;
+  std::string line;
+  std::getline(in, line);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  text.header = Split(line, '\t');
   for (int number = 2; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    const std::vector<std::string> cells = Split(line, '\t');
-    if (cells.size() < header.size())
-      throw Error("row has " + std::to_string(cells.size()) +
-                      " columns, the "
-                      "header " +
-                      std::to_string(header.size()),
+    std::vector<std::string> cells = Split(line, '\t');
+    if (cells.size() < text.header.size())
+      throw Error("row has " + std::to_string(cells.size()) + " columns, the header " +
+                      std::to_string(text.header.size()),
                   Location::Text(file, number, 1));
+    text.rows.emplace_back(number, std::move(cells));
+  }
+  return text;
+}
+
+}  // namespace
+
+void AirSimImporter::ChooseVehicleAndCamera(const fs::path& rec_file) {
+  const std::string file = rec_file.string();
+  const RecordText text = ReadRecordText(rec_file);
+  const int vehicle = text.Column("VehicleName", false, file);
+  const int images = text.Column("ImageFile", true, file);
+  std::set<std::string> vehicles, cameras;
+  for (const auto& [number, cells] : text.rows) vehicles.insert(vehicle >= 0 ? cells[vehicle] : "");
+  if (vehicles.size() > 1)
+    throw Error("the recording holds several vehicles (" +
+                    Join(std::vector<std::string>(vehicles.begin(), vehicles.end()), ", ") +
+                    "): name one in lsds_objects.json 'vehicle'",
+                Location(file));
+  vehicle_ = vehicles.empty() ? vehicle_ : *vehicles.begin();
+  for (const auto& [number, cells] : text.rows)
+    for (const std::string& name : Split(cells[images], ';'))
+      if (const auto image = ParseImageName(name, vehicle_); image && image->type == 0)
+        cameras.insert(image->camera);
+  if (cameras.size() > 1)
+    throw Error(
+        "the recording holds Scene images of several cameras: name one in "
+        "lsds_objects.json 'camera'",
+        Location(file));
+  if (!cameras.empty()) camera_ = *cameras.begin();
+}
+
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-cognitive-complexity)
+void AirSimImporter::ReadRecord(const fs::path& source) {
+  const std::string file = rec_file_.string();
+  const RecordText text = ReadRecordText(rec_file_);
+  const int vehicle = text.Column("VehicleName", false, file);
+  const int stamp = text.Column("TimeStamp", true, file);
+  const int pos[3] = {text.Column("POS_X", true, file),
+                      text.Column("POS_Y", true, file),
+                      text.Column("POS_Z", true, file)};
+  const int q[4] = {text.Column("Q_W", true, file),
+                    text.Column("Q_X", true, file),
+                    text.Column("Q_Y", true, file),
+                    text.Column("Q_Z", true, file)};
+  const int images = text.Column("ImageFile", true, file);
+  const std::vector<std::string>& header = text.header;
+  const fs::path folder = source / "images";
+  double first_stamp = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& [number, cells] : text.rows) {
     if (vehicle >= 0 && cells[vehicle] != vehicle_) continue;
     // The 1-based column of cell c: the row's text is the cells joined by tabs.
-    auto column_of = [&](int c) {
+    auto column_of = [&, &cells = cells](int c) {
       int at = 1;
       for (int k = 0; k < c; ++k) at += static_cast<int>(cells[k].size()) + 1;
       return at;
     };
-    auto number_at = [&](int c) {
+    auto number_at = [&, &cells = cells, number = number](int c) {
       char* end = nullptr;
       const double value = std::strtod(cells[c].c_str(), &end);
       if (end == cells[c].c_str() || *end != '\0' || !std::isfinite(value))
@@ -252,23 +309,45 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
       throw Error("quaternion (Q_W, Q_X, Q_Y, Q_Z) is not unit length",
                   Location::Text(file, number, 1));
     row.orientation.normalize();
-    // img_[vehicle_]camera_type_stamp.ext; camera names may hold '_'.
+    // The camera's images of this row, by type.
+    std::map<int, fs::path> by_type;
     for (const std::string& name : Split(cells[images], ';')) {
-      for (const auto& [type, target] : {std::pair<int, fs::path*>{0, &row.scene},
-                                         {depth_kind_ == DepthKind::kPlanar ? 1 : 2, &row.depth},
-                                         {5, &row.segmentation}}) {
-        if (name.find("_" + camera_ + "_" + std::to_string(type) + "_") != std::string::npos)
-          *target = root_->Reference(folder, name, Location::Text(file, number, column_of(images)));
-      }
+      // Every name in the data must be a relative path inside the source, read
+      // or not (the lexical rule of libs/util/confined_path.h; Reference throws
+      // its message).
+      if (!ReferenceProblem(name, "the source").empty())
+        root_->Reference(folder, name, Location::Text(file, number, column_of(images)));
+      const std::optional<ImageName> image = ParseImageName(name, vehicle_);
+      if (image && image->camera == camera_)
+        by_type[image->type] =
+            root_->Reference(folder, name, Location::Text(file, number, column_of(images)));
     }
-    for (const auto& [what, path] :
-         {std::pair<const char*, const fs::path*>{"Scene (type 0)", &row.scene},
-          {depth_kind_ == DepthKind::kPlanar ? "DepthPlanar (type 1)" : "DepthPerspective (type 2)",
-           &row.depth},
-          {"Segmentation (type 5)", &row.segmentation}}) {
-      if (path->empty())
-        throw Error(std::string("no ") + what + " image of camera '" + camera_ + "' in ImageFile",
+    if (rows_.empty()) {
+      // The passes of the first row are those of the recording.
+      if (!asked_depth_)
+        asked_depth_ =
+            by_type.count(1) || !by_type.count(2) ? DepthKind::kPlanar : DepthKind::kPerspective;
+      depth_kind_ = *asked_depth_;
+      has_depth_ = by_type.count(depth_kind_ == DepthKind::kPlanar ? 1 : 2) != 0;
+      has_segmentation_ = by_type.count(5) != 0 && has_sidecar_;
+      if (by_type.count(5) && !has_sidecar_)
+        warnings_.push_back(
+            "the Segmentation (type 5) images are not read: without lsds_objects.json their "
+            "colours name no object");
+    }
+    const char* depth_name =
+        depth_kind_ == DepthKind::kPlanar ? "DepthPlanar (type 1)" : "DepthPerspective (type 2)";
+    for (const auto& [type, what, wanted, target] :
+         {std::tuple<int, const char*, bool, fs::path*>{0, "Scene (type 0)", true, &row.scene},
+          {depth_kind_ == DepthKind::kPlanar ? 1 : 2, depth_name, has_depth_, &row.depth},
+          {5, "Segmentation (type 5)", has_segmentation_, &row.segmentation}}) {
+      if (!wanted) continue;
+      const auto found = by_type.find(type);
+      if (found == by_type.end())
+        throw Error(std::string("no ") + what + " image of camera '" + camera_ + "' in ImageFile" +
+                        (rows_.empty() ? "" : " (the first row has one)"),
                     Location::Text(file, number, 1));
+      *target = found->second;
     }
     rows_.push_back(row);
   }
@@ -279,30 +358,51 @@ SourceDescription AirSimImporter::Open(const fs::path& source, const ImportOptio
   if (!fs::is_directory(source))
     throw Error("an AirSim recording folder was expected", Location(source.string()));
   root_.emplace(source, options.allow_links_outside);
+  rec_file_ = root_->File(source / "airsim_rec.txt");
   // Files given by a flag are the user's choice; the defaults are the source's.
-  ReadObjects(options.objects.empty() ? root_->File(source / "lsds_objects.json")
-                                      : options.objects);
-  ReadSettings(options.settings.empty() ? root_->File(source / "settings.json") : options.settings);
+  // Without a sidecar the recording says which vehicle and camera, and no
+  // pixel names an object.
+  const fs::path objects =
+      options.objects.empty() ? root_->File(source / "lsds_objects.json") : options.objects;
+  has_sidecar_ = !options.objects.empty() || fs::exists(objects);
+  if (has_sidecar_)
+    ReadObjects(objects);
+  else
+    ChooseVehicleAndCamera(rec_file_);
+  const fs::path settings =
+      options.settings.empty() ? root_->File(source / "settings.json") : options.settings;
+  ReadSettings(options.settings.empty() && !fs::exists(settings) ? fs::path() : settings);
   ReadRecord(source);
   SourceDescription description;
   description.classes = classes_;
   description.frame_count = static_cast<int64_t>(rows_.size());
-  description.semantics = {"rgb", "classid", "instanceid", "depth"};
+  description.semantics = {"rgb"};
+  description.truth_origin = {{"rgb", "imported"}, {"camera", "imported"}};
+  if (has_segmentation_) {
+    description.semantics.insert(description.semantics.end(), {"classid", "instanceid"});
+    description.truth_origin.insert(
+        {{"instanceid", "imported"}, {"classid", "imported"}, {"obb", "imported"}});
+  }
+  if (has_depth_) {
+    description.semantics.push_back("depth");
+    description.truth_origin["depth"] = "imported";
+  }
   description.depth_kind = depth_kind_;
-  description.truth_origin = {{"rgb", "imported"},
-                              {"instanceid", "imported"},
-                              {"classid", "imported"},
-                              {"depth", "imported"},
-                              {"camera", "imported"},
-                              {"obb", "imported"}};
+  description.warnings = warnings_;
   description.source_conventions = {
       {"world_frame", "NED"},
       {"length_unit", "m"},
-      {"pose", "vehicle body (FRD) in NED + settings.json camera mount"},
-      {"depth",
-       depth_kind_ == DepthKind::kPlanar ? "DepthPlanar PFM, m" : "DepthPerspective PFM, m"},
-      {"pfm_rows", "top row first (AirSim), not the PFM specification's"},
+      {"vehicle", vehicle_},
+      {"camera", camera_},
+      {"pose", "vehicle body (FRD) in NED + camera mount (" + camera_settings_.mount_origin + ")"},
+      {"capture", camera_settings_.capture_origin},
       {"converted_to", "ENU m"}};
+  if (has_depth_) {
+    description.source_conventions["depth"] =
+        depth_kind_ == DepthKind::kPlanar ? "DepthPlanar PFM, m" : "DepthPerspective PFM, m";
+    description.source_conventions["pfm_rows"] =
+        "top row first (AirSim), not the PFM specification's";
+  }
   return description;
 }
 
@@ -312,65 +412,78 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   frame.time = row.time;
   frame.sequence = "airsim-" + vehicle_;
   frame.shot = 0;
-  frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(width_, height_, fov_deg_);
-  const Rigid3d cam_from_world = CamFromEnuOfAirSim(row.position, row.orientation, mount_);
+  const int width = camera_settings_.width, height = camera_settings_.height;
+  frame.camera.intrinsics =
+      PinholeCamera::FromHorizontalFov(width, height, camera_settings_.fov_deg);
+  const Rigid3d cam_from_world =
+      CamFromEnuOfAirSim(row.position, row.orientation, camera_settings_.mount);
   SetCamFromWorld(cam_from_world, &frame.camera);
 
-  auto read_png = [&](const fs::path& path) {
-    cv::Mat image = ReadImage(path, cv::IMREAD_COLOR);
-    if (image.empty()) throw Error("not a readable PNG", Location(path.string()));
-    if (image.cols != width_ || image.rows != height_)
-      throw Error("image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                      ", settings.json says " + std::to_string(width_) + "x" +
-                      std::to_string(height_),
-                  Location(path.string()));
-    return image;
-  };
-  const cv::Mat scene = read_png(row.scene);
-  exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width_, height_);
+  const cv::Mat scene = ReadScenePng(row.scene);
+  exr::FlatImage& rgb = frame.flat["rgb"] = exr::FlatImage(width, height);
   float* channel[3] = {rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
                        rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
                        rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
-  for (int j = 0; j < height_; ++j)
-    for (int i = 0; i < width_; ++i) {
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
       const cv::Vec3b bgr = scene.at<cv::Vec3b>(j, i);
       for (int c = 0; c < 3; ++c) channel[c][rgb.Index(i, j)] = LinearFromSrgb8(bgr[2 - c]);
     }
 
-  const PfmImage pfm = ReadPfm(row.depth, PfmRows::kTopFirst);
-  if (pfm.width != width_ || pfm.height != height_ || pfm.channels != 1)
+  if (has_segmentation_) frame.targets = targets_;
+  if (has_depth_) ReadDepth(row.depth, index, &frame);
+  if (has_segmentation_) ReadSegmentation(row.segmentation, &frame);
+  return frame;
+}
+
+void AirSimImporter::ReadDepth(const fs::path& path, int64_t index, SourceFrame* frame) const {
+  const int width = camera_settings_.width, height = camera_settings_.height;
+  const PfmImage pfm = ReadPfm(path, PfmRows::kTopFirst);
+  if (pfm.width != width || pfm.height != height || pfm.channels != 1)
     throw Error(
-        "depth PFM is not " + std::to_string(width_) + "x" + std::to_string(height_) + " greyscale",
-        Location(row.depth.string()));
-  exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
+        "depth PFM is not " + std::to_string(width) + "x" + std::to_string(height) + " greyscale",
+        Location(path.string()));
+  exr::FlatImage& depth = frame->flat["depth"] = exr::FlatImage(width, height);
   std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
   z = pfm.values;
   for (size_t p = 0; p < z.size(); ++p) {
     float& value = z[p];
     if (std::isnan(value) || value < 0)
-      throw Error(std::isnan(value) ? "NaN depth" : "negative depth",
-                  Location::Pixel(row.depth.string(),
-                                  index,
-                                  static_cast<int>(p % width_),
-                                  static_cast<int>(p / width_)));
+      throw Error(
+          std::isnan(value) ? "NaN depth" : "negative depth",
+          Location::Pixel(
+              path.string(), index, static_cast<int>(p % width), static_cast<int>(p / width)));
     if (value >= sky_depth_m_) value = std::numeric_limits<float>::infinity();
   }
+}
 
-  const cv::Mat segmentation = read_png(row.segmentation);
-  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
-  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
+void AirSimImporter::ReadSegmentation(const fs::path& path, SourceFrame* frame) const {
+  const int width = camera_settings_.width, height = camera_settings_.height;
+  const cv::Mat segmentation = ReadScenePng(path);
+  exr::FlatImage& instances = frame->flat["instanceid"] = exr::FlatImage(width, height);
+  exr::FlatImage& classes = frame->flat["classid"] = exr::FlatImage(width, height);
   std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
   std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
-  for (int j = 0; j < height_; ++j)
-    for (int i = 0; i < width_; ++i) {
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
       const cv::Vec3b bgr = segmentation.at<cv::Vec3b>(j, i);
       const auto found = by_colour_.find({bgr[2], bgr[1], bgr[0]});
       if (found == by_colour_.end()) continue;  // not listed: background
       instance[instances.Index(i, j)] = found->second.instance_id;
       klass[classes.Index(i, j)] = found->second.class_id;
     }
-  frame.targets = targets_;
-  return frame;
+}
+
+cv::Mat AirSimImporter::ReadScenePng(const fs::path& path) const {
+  const int width = camera_settings_.width, height = camera_settings_.height;
+  cv::Mat image = ReadImage(path, cv::IMREAD_COLOR);
+  if (image.empty()) throw Error("not a readable PNG", Location(path.string()));
+  if (image.cols != width || image.rows != height)
+    throw Error("image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                    ", settings.json says " + std::to_string(width) + "x" + std::to_string(height) +
+                    " (" + camera_settings_.capture_origin + ")",
+                Location(path.string()));
+  return image;
 }
 
 }  // namespace lsds::import

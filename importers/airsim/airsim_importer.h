@@ -1,10 +1,11 @@
 // AirSim recordings (docs/import.md, "AirSim"): airsim_rec.txt (the vehicle's
 // pose in the local NED frame, metres, and the images of each row), images/
-// with the Scene PNG, a DepthPlanar or DepthPerspective PFM written top row
-// first, and the Segmentation PNG (colours of the segmentation palette), the
-// camera mount and capture settings from settings.json, and a sidecar
-// lsds_objects.json mapping segmentation colours to instance and class ids and
-// giving the objects' 3D boxes. Converted to ENU metres at import.
+// with the Scene PNG and, when recorded, a DepthPlanar or DepthPerspective PFM
+// written top row first and the Segmentation PNG (colours of the segmentation
+// palette); the camera mount and capture settings from settings.json as AirSim
+// merges them (airsim_settings.h); an optional sidecar lsds_objects.json
+// mapping segmentation colours to instance and class ids and giving the
+// objects' 3D boxes. Converted to ENU metres at import.
 #pragma once
 
 #include <array>
@@ -15,22 +16,14 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
+#include "importers/airsim/airsim_settings.h"
 #include "importers/importer.h"
 #include "libs/geometry/rigid3.h"
 #include "libs/util/confined_path.h"
 
 namespace lsds::import {
-
-// A camera's mount on the vehicle (settings.json Vehicles.V.Cameras.C): X, Y,
-// Z in metres in the body frame (FRD: forward, right, down), Roll, Pitch, Yaw
-// in degrees; body_from_camera = Rz(yaw) * Ry(pitch) * Rx(roll), the camera
-// frame FRD with x along the optical axis.
-struct AirSimMount {
-  Eigen::Vector3d position_in_body = Eigen::Vector3d::Zero();
-  double roll = 0, pitch = 0, yaw = 0;
-  Eigen::Matrix3d BodyFromCamera() const;
-};
 
 // The OpenCV cam_from_world pose (ENU metres) of the camera on a vehicle at
 // `vehicle_in_ned` with orientation `ned_from_body`, and back.
@@ -63,19 +56,28 @@ class AirSimImporter : public Importer {
   void ReadObjects(const std::filesystem::path& file);
   void ReadSettings(const std::filesystem::path& file);
   void ReadRecord(const std::filesystem::path& source);
+  // Vehicle and camera from the recording itself when there is no sidecar.
+  void ChooseVehicleAndCamera(const std::filesystem::path& rec_file);
+  void ReadDepth(const std::filesystem::path& path, int64_t index, SourceFrame* frame) const;
+  void ReadSegmentation(const std::filesystem::path& path, SourceFrame* frame) const;
+  cv::Mat ReadScenePng(const std::filesystem::path& path) const;
 
   std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::filesystem::path rec_file_;
   std::vector<Row> rows_;
   std::string vehicle_ = "Drone1", camera_ = "0";
+  bool has_sidecar_ = false;
+  // Which passes the recording holds for the camera (from its first row;
+  // every row must hold them), and which depth type was asked for.
+  bool has_depth_ = false, has_segmentation_ = false;
+  std::optional<DepthKind> asked_depth_;
+  std::vector<std::string> warnings_;
   DepthKind depth_kind_ = DepthKind::kPlanar;
   double sky_depth_m_ = 1e4;
   std::map<std::array<uint8_t, 3>, Labelled> by_colour_;
   std::vector<ObjectIdentity> targets_;
   std::vector<ClassInfo> classes_;
-  AirSimMount mount_;
-  int width_ = 0, height_ = 0;
-  double fov_deg_ = 90;
+  AirSimCamera camera_settings_;
 };
 
 }  // namespace lsds::import

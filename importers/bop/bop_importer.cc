@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 
+#include "importers/derived_truth.h"
 #include "importers/source_json.h"
 #include "importers/source_png.h"
 #include "libs/imaging/image_codecs.h"
@@ -52,6 +54,10 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
     throw Error("not a BOP scene folder: no scene_camera.json", Location(source.string()));
   cameras_ = ParseJsonFile(camera_file_);
   gts_ = ParseJsonFile(gt_file_);
+  // visib_fract, BlenderProc's visibility of each object (scene_gt_info.json,
+  // written with calc_mask_info_coco), is the collection's visibility.
+  gt_info_file_ = root_->File(source / "scene_gt_info.json").string();
+  if (fs::exists(gt_info_file_)) gt_info_ = ParseJsonFile(gt_info_file_);
   if (!cameras_.is_object() || cameras_.empty())
     throw Error("expected an object of image ids", Location(camera_file_));
   for (const auto& [key, value] : cameras_.items()) {
@@ -113,19 +119,25 @@ SourceDescription BopImporter::Open(const fs::path& source, const ImportOptions&
                               {"depth", "imported"},
                               {"camera", "imported"},
                               {"obb", "derived"}};
+  if (gt_info_) description.truth_origin["visibility"] = "imported";
   description.source_conventions = {
       {"world_frame", "Blender world (z up), declared ENU"},
       {"length_unit", "mm"},
       {"principal_point", "pixel-centre (cx = (W-1)/2 centred), +0.5 to edge"},
-      {"depth", "16-bit PNG, mm = value * depth_scale, 0 = none"},
+      {"depth", "16-bit PNG, mm = value * depth_scale, 65535 (BlenderProc's clip) and 0 = none"},
+      {"visibility", "scene_gt_info.json visib_fract"},
       {"converted_to", "ENU m"}};
   return description;
 }
 
 namespace {
 
-// The depth layer from BOP's 16-bit PNG: depth_scale millimetres per unit; 0 is no surface
-// (the sky, +inf).
+constexpr uint16_t kBopDepthClip = 65535;
+
+// The depth layer from BOP's 16-bit PNG: depth_scale millimetres per unit.
+// 65535 is BlenderProc's clip value for the sky and everything beyond the
+// range (BopWriterUtility.py save_depth: `im[im > 65535] = 65535`) and 0 BOP's
+// "no measurement" of real sensors: both are no depth (+inf), not a surface.
 exr::FlatImage ReadBopDepth(const fs::path& depth_path, int width, int height, double depth_scale) {
   const cv::Mat depth_png = ReadImage(depth_path, cv::IMREAD_UNCHANGED);
   if (depth_png.empty() || depth_png.type() != CV_16UC1 || depth_png.cols != width ||
@@ -138,19 +150,23 @@ exr::FlatImage ReadBopDepth(const fs::path& depth_path, int width, int height, d
   for (int j = 0; j < height; ++j)
     for (int i = 0; i < width; ++i) {
       const uint16_t v = depth_png.at<uint16_t>(j, i);
-      z[depth.Index(i, j)] = v == 0 ? std::numeric_limits<float>::infinity()
-                                    : static_cast<float>(v * depth_scale / 1000.0);
+      z[depth.Index(i, j)] = v == 0 || v == kBopDepthClip
+                                 ? std::numeric_limits<float>::infinity()
+                                 : static_cast<float>(v * depth_scale / 1000.0);
     }
   return depth;
 }
 
-// Object g's visible mask into the id layers; visible masks never overlap.
+// Object g's visible mask into the id layers. BlenderProc's visible masks
+// (bop_toolkit visibility.py, mode bop19: the object is visible where its own
+// distance is within `delta`, 15 mm by default, of the scene's) overlap where
+// objects touch; the pixels several masks claim are collected in `claims`.
 void PaintVisibleMask(const fs::path& mask_path,
-                      int64_t index,
                       size_t g,
                       const ObjectIdentity& target,
                       exr::FlatImage* instances,
-                      exr::FlatImage* classes) {
+                      exr::FlatImage* classes,
+                      std::map<size_t, std::vector<size_t>>* claims) {
   const int width = instances->width(), height = instances->height();
   std::vector<uint32_t>& instance = instances->Get("id").uints;
   std::vector<uint32_t>& klass = classes->Get("id").uints;
@@ -163,13 +179,53 @@ void PaintVisibleMask(const fs::path& mask_path,
     for (int i = 0; i < width; ++i) {
       if (mask.at<uint8_t>(j, i) == 0) continue;
       const size_t p = instances->Index(i, j);
-      if (instance[p] != 0)
-        throw Error("visible masks of objects " + std::to_string(instance[p] - 1) + " and " +
-                        std::to_string(g) + " overlap",
-                    Location::Pixel(mask_path.string(), index, i, j));
+      if (instance[p] != 0) {
+        std::vector<size_t>& claimed = (*claims)[p];
+        if (claimed.empty()) claimed.push_back(instance[p] - 1);
+        claimed.push_back(g);
+        continue;
+      }
       instance[p] = target.instance_id;
       klass[p] = target.class_id;
     }
+}
+
+// A pixel several visible masks claim goes to the object whose surface the
+// depth shows: the one whose box the pixel's ray enters nearest the measured
+// distance; boxes entered within the depth's rounding (half a unit of
+// depth_scale) of it are the same distance, and the nearest of them is in
+// front. With no depth, the nearest box. Exact for box-shaped models; the box
+// is the model's tight bounding box otherwise.
+void ResolveClaimsByDepth(const std::map<size_t, std::vector<size_t>>& claims,
+                          const std::vector<ObjectIdentity>& targets,
+                          const CameraTruth& camera,
+                          const exr::FlatImage& depth,
+                          double depth_scale_mm,
+                          exr::FlatImage* instances,
+                          exr::FlatImage* classes) {
+  const Rigid3d world_from_cam = CamFromWorld(camera).Inverse();
+  const std::vector<float>& z = depth.Get("Z").floats;
+  for (const auto& [p, candidates] : claims) {
+    const int i = static_cast<int>(p % depth.width()), j = static_cast<int>(p / depth.width());
+    const Eigen::Vector3d ray = camera.intrinsics.RayThroughPixelCenter(i, j);  // z = 1
+    const double measured = static_cast<double>(z[p]) * ray.norm();             // planar -> ray
+    const double rounding = 0.5e-3 * depth_scale_mm * ray.norm() + 1e-9;
+    const Eigen::Vector3d direction = (world_from_cam.rotation * ray).normalized();
+    // (distance from the measured surface beyond the rounding, entry): the
+    // least wins, so among boxes within the rounding the nearest one.
+    std::pair<double, double> best{std::numeric_limits<double>::infinity(), 0};
+    size_t owner = candidates.front();
+    for (const size_t g : candidates) {
+      const std::optional<double> entry =
+          RayEntersBox(targets[g].obb, world_from_cam.translation, direction);
+      if (!entry) continue;
+      const double miss =
+          std::isfinite(measured) ? std::max(0.0, std::abs(*entry - measured) - rounding) : 0.0;
+      if (std::make_pair(miss, *entry) < best) best = {miss, *entry}, owner = g;
+    }
+    instances->Get("id").uints[p] = targets[owner].instance_id;
+    classes->Get("id").uints[p] = targets[owner].class_id;
+  }
 }
 
 }  // namespace
@@ -216,6 +272,7 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
   exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
   instances.AddChannel("id", exr::PixelType::kUint);
   classes.AddChannel("id", exr::PixelType::kUint);
+  std::map<size_t, std::vector<size_t>> claims;  // pixel -> gt indices of its masks
   const json gts = AtPointer(gt_file_, where, [&] { return gts_.at(key); });
   if (!gts.is_array()) throw Error("expected an array of objects", Location(gt_file_, where));
   for (size_t g = 0; g < gts.size(); ++g) {
@@ -249,9 +306,43 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
 
     const fs::path mask_path = root_->File(
         scene_ / "mask_visib" / (Stem(id) + "_" + Stem(static_cast<int64_t>(g)) + ".png"));
-    PaintVisibleMask(mask_path, index, g, target, &instances, &classes);
+    PaintVisibleMask(mask_path, g, target, &instances, &classes, &claims);
   }
+  ResolveClaimsByDepth(claims,
+                       frame.targets,
+                       frame.camera,
+                       frame.flat.at("depth"),
+                       depth_scale,
+                       &instances,
+                       &classes);
+  ReadVisibFract(key, where, &frame);
   return frame;
+}
+
+}  // namespace lsds::import
+
+namespace lsds::import {
+
+void BopImporter::ReadVisibFract(const std::string& key,
+                                 const std::string& where,
+                                 SourceFrame* frame) const {
+  if (!gt_info_) return;
+  const json& infos =
+      AtPointer(gt_info_file_, where, [&]() -> const json& { return gt_info_->at(key); });
+  if (!infos.is_array() || infos.size() != frame->targets.size())
+    throw Error("expected an array of " + std::to_string(frame->targets.size()) +
+                    " entries, one per scene_gt.json entry",
+                Location(gt_info_file_, where));
+  for (size_t g = 0; g < infos.size(); ++g) {
+    const std::string at = where + "/" + std::to_string(g) + "/visib_fract";
+    const json& info = infos.at(g);
+    if (!info.is_object() || !info.contains("visib_fract") || !info.at("visib_fract").is_number())
+      throw Error("expected a number visib_fract", Location(gt_info_file_, at));
+    const double fraction = info.at("visib_fract").get<double>();
+    if (!(fraction >= 0 && fraction <= 1))
+      throw Error("visib_fract must be in [0, 1]", Location(gt_info_file_, at));
+    frame->visibility_by_instance[frame->targets[g].instance_id] = fraction;
+  }
 }
 
 }  // namespace lsds::import

@@ -35,8 +35,11 @@ class BopImporter : public Importer {
   };
   std::optional<ConfinedFolder> root_;  // the scene folder: every file read is confined to it
   std::filesystem::path scene_;
-  std::string camera_file_, gt_file_;
+  void ReadVisibFract(const std::string& key, const std::string& where, SourceFrame* frame) const;
+
+  std::string camera_file_, gt_file_, gt_info_file_;
   nlohmann::json cameras_, gts_;
+  std::optional<nlohmann::json> gt_info_;  // scene_gt_info.json when written
   // (image id, its key in scene_camera.json), in numeric order.
   std::vector<std::pair<int64_t, std::string>> image_ids_;
   std::map<uint32_t, ModelBox> models_;

@@ -56,6 +56,27 @@ Eigen::Vector3d Vector3(const json& j) {
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
 }
 
+// The camera of the data window (the collection's image) for a horizontal
+// FOV. MRQ's fov is that of the whole rendered image: the view's FOV is
+// inflated by the overscan before the projection is built and written
+// (MoviePipelineImagePassBase.cpp GetSceneViewForSampleState), and the EXR's
+// data window holds that render with the overscan, the display window the
+// target resolution (MoviePipelineCameraSetting overscan_percentage). With
+// `of_display_window` (other renderers' files, e.g. V-Ray's crop renders) the
+// FOV spans the display window and the data window is a part of it.
+PinholeCamera IntrinsicsOfFov(const SourceExr& exr, double fov_deg, bool of_display_window) {
+  if (!of_display_window)
+    return PinholeCamera::FromHorizontalFov(exr.width(), exr.height(), fov_deg);
+  const SourceExr::Window& display = exr.display_window();
+  PinholeCamera camera;
+  camera.width = exr.width(), camera.height = exr.height();
+  camera.fx = camera.fy =
+      (display.width / 2.0) / std::tan(fov_deg * 3.14159265358979323846 / 360.0);
+  camera.cx = display.min_x + display.width / 2.0 - exr.data_min_x();
+  camera.cy = display.min_y + display.height / 2.0 - exr.data_min_y();
+  return camera;
+}
+
 }  // namespace
 
 void UeMrqImporter::ReadObjects(const fs::path& path) {
@@ -152,10 +173,23 @@ SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOption
   std::sort(files_.begin(), files_.end(), [](const auto& a, const auto& b) {
     return std::tie(a.sequence, a.number) < std::tie(b.sequence, b.number);
   });
-  ReadObjects(options.objects.empty() ? root_->File(source / kUeObjectsFile) : options.objects);
+  // Without a sidecar no pixel names an object: the layers are imported, the
+  // ids are not.
+  const fs::path objects =
+      options.objects.empty() ? root_->File(source / kUeObjectsFile) : options.objects;
+  if (!options.objects.empty() || fs::exists(objects))
+    ReadObjects(objects);
+  else
+    warnings_.push_back(std::string("no ") + kUeObjectsFile +
+                        " (give --objects): frames timed at 24 fps, no object named");
+  fov_of_display_window_ = options.fov_window == "display";
 
   // The layout, from the first frame; every frame must have it.
-  const SourceExr first(files_.front().path);
+  ReadLayout(SourceExr(files_.front().path));
+  return Describe();
+}
+
+void UeMrqImporter::ReadLayout(const SourceExr& first) {
   width_ = first.width(), height_ = first.height();
   for (const char* prefix : {"", "FinalImage.", "rgba."}) {
     if (first.HasChannel(std::string(prefix) + "R") &&
@@ -171,44 +205,69 @@ SourceDescription UeMrqImporter::Open(const fs::path& source, const ImportOption
           Location(first.file()));
   }
   for (const std::string& channel : first.ChannelNames()) {
-    for (const char* suffix : {"WorldDepth.R", "SceneDepth.R"}) {
+    // Unreal's name, and Nuke's spelling of the same channel.
+    for (const char* suffix :
+         {"WorldDepth.R", "SceneDepth.R", "WorldDepth.red", "SceneDepth.red"}) {
       const std::string s = suffix;
       if (channel.size() >= s.size() &&
           channel.compare(channel.size() - s.size(), s.size(), s) == 0 && depth_channel_.empty())
         depth_channel_ = channel;
     }
   }
-  if (depth_channel_.empty())
-    throw Error(
-        "no World Depth pass (a channel ending in WorldDepth.R or "
-        "SceneDepth.R); add it to the render settings",
-        Location(first.file()));
+  // No World Depth pass: the collection has no depth (the driver says so).
   const auto layers = ParseCryptomatteLayers(first.attributes(), first.file());
   for (const CryptomatteLayer& layer : layers) {
     if (layer.name.find("Actor") != std::string::npos || layers.size() == 1) id_layer_ = layer.name;
   }
-  if (id_layer_.empty())
+  if (id_layer_.empty() && !layers.empty())
     throw Error(
-        "no Cryptomatte actor layer in the header (cryptomatte/*/name "
-        "containing 'Actor'); enable the Object Ids pass",
+        "several Cryptomatte layers and none of actors (cryptomatte/*/name "
+        "containing 'Actor')",
         Location(first.file()));
+  if (!id_layer_.empty()) {
+    const std::optional<CryptomatteRankChannels> rank0 =
+        FindRank0Channels(first.ChannelNames(), id_layer_);
+    if (!rank0)
+      throw Error("no rank-0 channels of Cryptomatte layer '" + id_layer_ + "' (" + id_layer_ +
+                      "00.R/.G, .red/.green or .r/.g)",
+                  Location(first.file()));
+    id_channel_ = rank0->id, coverage_channel_ = rank0->coverage;
+  }
+  if (!id_layer_.empty() && actors_.empty())
+    warnings_.push_back("the Cryptomatte layer '" + id_layer_ +
+                        "' is not read: no actor of the sidecar names its pixels");
+  const bool has_ids = !id_layer_.empty() && !actors_.empty();
+  if (!has_ids) id_layer_.clear();
+}
 
+SourceDescription UeMrqImporter::Describe() const {
   SourceDescription description;
   description.classes = classes_;
   description.frame_count = static_cast<int64_t>(files_.size());
-  description.semantics = {"rgb", "classid", "instanceid", "depth"};
+  description.semantics = {"rgb"};
   description.depth_kind = DepthKind::kPlanar;
-  description.truth_origin = {{"rgb", "imported"},
-                              {"instanceid", "imported"},
-                              {"classid", "imported"},
-                              {"depth", "imported"},
-                              {"camera", "imported"},
-                              {"obb", "imported"}};
-  description.source_conventions = {{"world_frame", "unreal"},
-                                    {"length_unit", "cm"},
-                                    {"depth", "planar (SceneDepth), cm"},
-                                    {"ids", "Cryptomatte layer " + id_layer_ + ", rank 0"},
-                                    {"converted_to", "ENU m"}};
+  description.truth_origin = {{"rgb", "imported"}, {"camera", "imported"}};
+  description.source_conventions = {
+      {"world_frame", "unreal"},
+      {"length_unit", "cm"},
+      {"fov",
+       std::string("unreal/camera/FinalImage/fov, horizontal, of the ") +
+           (fov_of_display_window_ ? "display window (--fov-window display)"
+                                   : "data window (the rendered image, overscan included)")},
+      {"converted_to", "ENU m"}};
+  if (!id_layer_.empty()) {
+    description.semantics.insert(description.semantics.end(), {"classid", "instanceid"});
+    description.truth_origin.insert(
+        {{"instanceid", "imported"}, {"classid", "imported"}, {"obb", "imported"}});
+    description.source_conventions["ids"] =
+        "Cryptomatte layer " + id_layer_ + ", rank 0 (" + id_channel_ + ")";
+  }
+  if (!depth_channel_.empty()) {
+    description.semantics.push_back("depth");
+    description.truth_origin["depth"] = "imported";
+    description.source_conventions["depth"] = "planar (SceneDepth), cm";
+  }
+  description.warnings = warnings_;
   return description;
 }
 
@@ -235,7 +294,7 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
   const double fov = exr.Number(LensKeys("fov"));
   if (!(fov > 0 && fov < 180))
     throw Error("horizontal fov " + std::to_string(fov) + " is not in (0, 180)", Location(file));
-  frame.camera.intrinsics = PinholeCamera::FromHorizontalFov(width_, height_, fov);
+  frame.camera.intrinsics = IntrinsicsOfFov(exr, fov, fov_of_display_window_);
   const Eigen::Vector3d location(exr.Number(CameraKeys("curPos/x")),
                                  exr.Number(CameraKeys("curPos/y")),
                                  exr.Number(CameraKeys("curPos/z")));
@@ -250,8 +309,15 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
   for (const char* c : {"R", "G", "B"})
     rgb.AddChannel(c, exr::PixelType::kHalf).floats = exr.ReadFloat(rgb_prefix_ + c);
 
+  if (!depth_channel_.empty()) ReadDepth(exr, &frame);
+  if (!id_layer_.empty()) ReadIds(exr, index, &frame);
+  return frame;
+}
+
+void UeMrqImporter::ReadDepth(const SourceExr& exr, SourceFrame* frame) const {
+  const std::string& file = exr.file();
   // Depth: planar cm -> m; the sky (beyond sky_depth_cm) -> +inf.
-  exr::FlatImage& depth = frame.flat["depth"] = exr::FlatImage(width_, height_);
+  exr::FlatImage& depth = frame->flat["depth"] = exr::FlatImage(width_, height_);
   std::vector<float>& z = depth.AddChannel("Z", exr::PixelType::kFloat).floats;
   z = exr.ReadFloat(depth_channel_);
   for (float& value : z) {
@@ -261,23 +327,26 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
     value = (std::isinf(value) || value >= sky_depth_cm_) ? std::numeric_limits<float>::infinity()
                                                           : static_cast<float>(value * 0.01);
   }
+}
 
+void UeMrqImporter::ReadIds(const SourceExr& exr, int64_t index, SourceFrame* frame) const {
+  const std::string& file = exr.file();
   // Ids: the rank-0 Cryptomatte id (the largest coverage) of each pixel.
   const auto layers = ParseCryptomatteLayers(exr.attributes(), file);
   const auto layer =
       std::find_if(layers.begin(), layers.end(), [&](auto& l) { return l.name == id_layer_; });
   if (layer == layers.end())
     throw Error("no Cryptomatte layer '" + id_layer_ + "' in the header", Location(file));
-  const std::string id_channel = id_layer_ + "00.R";
+  const std::string& id_channel = id_channel_;
   if (exr.ChannelType(id_channel) != exr::PixelType::kFloat)
     throw Error("Cryptomatte channel '" + id_channel +
                     "' is missing or not 32-bit float (ids are hashes stored "
                     "bit for bit)",
                 Location(file));
   const std::vector<float> ids = exr.ReadFloat(id_channel);
-  const std::vector<float> coverage = exr.ReadFloat(id_layer_ + "00.G");
-  exr::FlatImage& instances = frame.flat["instanceid"] = exr::FlatImage(width_, height_);
-  exr::FlatImage& classes = frame.flat["classid"] = exr::FlatImage(width_, height_);
+  const std::vector<float> coverage = exr.ReadFloat(coverage_channel_);
+  exr::FlatImage& instances = frame->flat["instanceid"] = exr::FlatImage(width_, height_);
+  exr::FlatImage& classes = frame->flat["classid"] = exr::FlatImage(width_, height_);
   std::vector<uint32_t>& instance = instances.AddChannel("id", exr::PixelType::kUint).uints;
   std::vector<uint32_t>& klass = classes.AddChannel("id", exr::PixelType::kUint).uints;
   for (size_t p = 0; p < ids.size(); ++p) {
@@ -295,8 +364,7 @@ SourceFrame UeMrqImporter::ReadFrame(int64_t index) {
     instance[p] = actor->second.instance_id;
     klass[p] = actor->second.class_id;
   }
-  frame.targets = targets_;
-  return frame;
+  frame->targets = targets_;
 }
 
 }  // namespace lsds::import

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "importers/importer.h"
+#include "importers/source_exr.h"
 #include "libs/util/confined_path.h"
 
 namespace lsds::import {
@@ -38,6 +39,11 @@ class UeMrqImporter : public Importer {
     int64_t number = 0;
   };
   void ReadObjects(const std::filesystem::path& file);
+  // The channels of the final image, depth and Cryptomatte, from the first frame.
+  void ReadLayout(const SourceExr& first);
+  SourceDescription Describe() const;
+  void ReadDepth(const SourceExr& exr, SourceFrame* frame) const;
+  void ReadIds(const SourceExr& exr, int64_t index, SourceFrame* frame) const;
 
   std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::vector<FrameFile> files_;
@@ -47,8 +53,11 @@ class UeMrqImporter : public Importer {
   double fps_ = 24;
   double sky_depth_cm_ = 1e7;
   std::string rgb_prefix_;
-  std::string depth_channel_;
-  std::string id_layer_;
+  std::string depth_channel_;  // empty: no World Depth pass
+  std::string id_layer_;       // empty: no Cryptomatte actor layer
+  std::string id_channel_, coverage_channel_;
+  bool fov_of_display_window_ = false;
+  std::vector<std::string> warnings_;
   int width_ = 0, height_ = 0;
   int64_t shot_ = 0;
 };

@@ -1,5 +1,6 @@
 #include "tests/import/bop_fixture.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -27,9 +28,19 @@ json Flat(const Eigen::Matrix3d& m) {
   return out;
 }
 json Flat(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// The depth PNG's value of pixel p as BlenderProc's writer stores it
+// (BopWriterUtility.py: depth_mm / depth_scale, then save_depth clips to
+// 65535 and rounds): the sky and everything beyond the range are 65535.
+uint16_t StoredDepthUnits(const synth::RenderedFrame& frame, size_t p) {
+  const double units = frame.flat.at("depth").Get("Z").floats[p] * 1000.0 / kBopDepthScale;
+  return static_cast<uint16_t>(std::round(std::min(units, 65535.0)));
+}
 }  // namespace
 
-fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
+fs::path WriteBopFixture(const fs::path& dataset,
+                         const synth::Spec& spec,
+                         const BopWriterRule& rule) {
   const fs::path scene = dataset / "train_pbr" / "000000";
   for (const char* sub : {"rgb", "depth", "mask_visib"}) fs::create_directories(scene / sub);
   fs::create_directories(dataset / "models");
@@ -70,19 +81,42 @@ fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
                     {"cam_t_m2c", Flat(Eigen::Vector3d((R * obb.center + t) * 1000.0))},
                     {"obj_id", b + 1}});
       cv::Mat mask(h, w, CV_8UC1, cv::Scalar(0));
-      int visible = 0;
-      for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i)
-          if (ids[static_cast<size_t>(j) * w + i] == spec.boxes[b].instance_id) {
-            mask.at<uint8_t>(j, i) = 255;
-            ++visible;
+      int visible = 0, all = 0;
+      if (rule.bop19_delta_m) {
+        // The object alone, and the bop19 test on distances along the ray.
+        synth::Spec alone = spec;
+        alone.ground = false;
+        alone.boxes = {spec.boxes[b]};
+        const synth::RenderedFrame own = synth::RenderFrame(alone, k);
+        const std::vector<float>& own_depth = own.flat.at("depth").Get("Z").floats;
+        for (int j = 0; j < h; ++j)
+          for (int i = 0; i < w; ++i) {
+            const size_t p = static_cast<size_t>(j) * w + i;
+            if (!std::isfinite(own_depth[p])) continue;
+            ++all;
+            const double scale = in.RayThroughPixelCenter(i, j).norm();
+            const double d_model = own_depth[p] * scale;
+            const double d_test = StoredDepthUnits(frame, p) * kBopDepthScale / 1000.0 * scale;
+            if (d_model - d_test <= *rule.bop19_delta_m || d_test == 0) {
+              mask.at<uint8_t>(j, i) = 255;
+              ++visible;
+            }
           }
+      } else {
+        for (int j = 0; j < h; ++j)
+          for (int i = 0; i < w; ++i)
+            if (ids[static_cast<size_t>(j) * w + i] == spec.boxes[b].instance_id) {
+              mask.at<uint8_t>(j, i) = 255;
+              ++visible;
+            }
+      }
       cv::imwrite(
           (scene / "mask_visib" / (Stem(k) + "_" + Stem(static_cast<int>(b)) + ".png")).string(),
           mask);
       double visib_fract = 0;
       for (const ObjectTruth& o : frame.truth.objects)
         if (o.instance_id == spec.boxes[b].instance_id) visib_fract = o.visibility;
+      if (rule.bop19_delta_m) visib_fract = all > 0 ? visible / static_cast<double>(all) : 0.0;
       info.push_back({{"px_count_visib", visible}, {"visib_fract", visib_fract}});
     }
     gts[std::to_string(k)] = gt;
@@ -90,14 +124,9 @@ fs::path WriteBopFixture(const fs::path& dataset, const synth::Spec& spec) {
     const exr::FlatImage& colour = frame.flat.at("rgb");
     const cv::Mat rgb = SrgbPng(colour, false);
     cv::Mat depth(h, w, CV_16UC1);
-    const std::vector<float>& z = frame.flat.at("depth").Get("Z").floats;
     for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i) {
-        const size_t p = colour.Index(i, j);
-        const double units = std::round(z[p] * 1000.0 / kBopDepthScale);
-        depth.at<uint16_t>(j, i) =
-            std::isfinite(units) && units <= 65535 ? static_cast<uint16_t>(units) : 0;
-      }
+      for (int i = 0; i < w; ++i)
+        depth.at<uint16_t>(j, i) = StoredDepthUnits(frame, colour.Index(i, j));
     cv::imwrite((scene / "rgb" / (Stem(k) + ".png")).string(), rgb);
     cv::imwrite((scene / "depth" / (Stem(k) + ".png")).string(), depth);
   }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 
 #include "synth/synthetic_collection.h"
 
@@ -15,7 +16,21 @@ namespace lsds::testing {
 inline constexpr double kBopDepthScale = 0.5;  // mm per depth unit
 
 // Writes the dataset under `dataset`; returns the scene folder.
+// How the visible masks and visib_fract are written. By default the masks
+// are the scene's instance layer (a renderer's exact visibility) and
+// visib_fract the scene's visibility. With `bop19_delta_m` set, as
+// BlenderProc's writer does (BopWriterUtility.py _calc_gt_masks_iteration,
+// _calc_gt_info_iteration through bop_toolkit visibility.estimate_visib_mask_gt,
+// mode bop19): object g is visible where its own distance (the object rendered
+// alone) is at most delta behind the scene's distance from the depth PNG, so
+// the masks of touching objects overlap; visib_fract = visible / all pixels
+// of the object alone (inside the image: the fixture's objects are not cut).
+struct BopWriterRule {
+  std::optional<double> bop19_delta_m;
+};
+
 std::filesystem::path WriteBopFixture(const std::filesystem::path& dataset,
-                                      const synth::Spec& spec);
+                                      const synth::Spec& spec,
+                                      const BopWriterRule& rule = {});
 
 }  // namespace lsds::testing

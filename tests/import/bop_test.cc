@@ -2,12 +2,16 @@
 // (bop_fixture.h) imports into a collection whose truth equals the scene's
 // known truth, validates clean and converts to COCO masks equal to the
 // fixture's visible masks.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <map>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "importers/import_collection.h"
 #include "libs/collection/collection_reader.h"
@@ -22,6 +26,40 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+// The gt indices whose visible mask holds each pixel of image k.
+std::vector<std::vector<uint32_t>> MaskClaims(const fs::path& scene,
+                                              const synth::Spec& spec,
+                                              int k) {
+  std::vector<std::vector<uint32_t>> claims(static_cast<size_t>(spec.width) * spec.height);
+  for (size_t g = 0; g < spec.boxes.size(); ++g) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d_%06d.png", k, static_cast<int>(g));
+    const cv::Mat mask = cv::imread((scene / "mask_visib" / name).string(), cv::IMREAD_GRAYSCALE);
+    for (int j = 0; j < spec.height; ++j)
+      for (int i = 0; i < spec.width; ++i)
+        if (mask.at<uint8_t>(j, i) != 0)
+          claims[static_cast<size_t>(j) * spec.width + i].push_back(static_cast<uint32_t>(g));
+  }
+  return claims;
+}
+
+// What the importer's instance layer must hold for BlenderProc's masks: the
+// one object of a pixel one mask claims, the renderer's front object where
+// several do (the depth shows it), 0 where none does.
+std::vector<uint32_t> ImportedIdsOfBlenderProcMasks(const fs::path& scene,
+                                                    const synth::Spec& spec,
+                                                    int k) {
+  const std::vector<std::vector<uint32_t>> claims = MaskClaims(scene, spec, k);
+  const std::vector<uint32_t> front = TargetIds(synth::RenderFrame(spec, k));
+  std::vector<uint32_t> ids(claims.size(), 0);
+  for (size_t p = 0; p < ids.size(); ++p)
+    if (claims[p].size() == 1)
+      ids[p] = spec.boxes[claims[p][0]].instance_id;
+    else if (claims[p].size() > 1)
+      ids[p] = front[p];
+  return ids;
+}
 
 class BopImportTest : public ::testing::Test {
  protected:
@@ -65,15 +103,15 @@ TEST_F(BopImportTest, TruthEqualsTheAnalyticScene) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
     };
     EXPECT_EQ(read("instanceid").Get("id").uints, TargetIds(truth));
-    // Depth: 16-bit units of 0.5 mm, so within 0.25 mm; beyond 32.77 m the
-    // PNG holds 0 (none), read as +inf.
+    // Depth: 16-bit units of 0.5 mm, so within 0.25 mm; the sky and beyond
+    // 32.77 m the PNG holds BlenderProc's clip 65535, read as +inf.
     const std::vector<float> depth = read("depth").Get("Z").floats;
     const std::vector<float>& want = truth.flat.at("depth").Get("Z").floats;
     const exr::FlatImage position = read("worldposition");
     const exr::FlatImage& want_position = truth.flat.at("worldposition");
     int beyond = 0;
     for (size_t p = 0; p < depth.size(); ++p) {
-      if (!(want[p] * 1000 / kBopDepthScale <= 65535.4)) {
+      if (!(want[p] * 1000 / kBopDepthScale < 65534.5)) {
         EXPECT_TRUE(std::isinf(depth[p]));
         ++beyond;
         continue;
@@ -95,6 +133,66 @@ TEST_F(BopImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheVisibleMasks) {
       "bop", scene, dir_.path(), spec_.width, spec_.height, [&](int k) {
         return TargetIds(synth::RenderFrame(spec_, k));
       });
+}
+
+// Objects at BOP's scale (centimetres, a camera half a metre away) that touch:
+// a cube on the ground, a smaller one on top of it, a slab against its side.
+synth::Spec TouchingObjectsSpec() {
+  synth::Spec spec;
+  spec.width = 320, spec.height = 240, spec.samples_per_axis = 1;
+  spec.classes = {{1, "ground"}, {2, "box"}, {3, "crate"}};
+  synth::Box cube, top, slab;
+  cube.instance_id = 1, cube.name = "cube";
+  cube.center = {0, 0, 0.03}, cube.half_extents = {0.03, 0.03, 0.03};
+  top.instance_id = 2, top.name = "top";
+  top.center = {0.01, 0, 0.08}, top.half_extents = {0.02, 0.02, 0.02}, top.yaw_deg = 20;
+  slab.class_id = 3, slab.instance_id = 3, slab.name = "slab";
+  slab.center = {0.07, 0, 0.025}, slab.half_extents = {0.04, 0.03, 0.025};
+  spec.boxes = {cube, top, slab};
+  spec.cam_from_world = {LookAt({0.35, -0.3, 0.25}, {0.02, 0, 0.04}),
+                         LookAt({-0.2, -0.35, 0.3}, {0.02, 0, 0.04})};
+  return spec;
+}
+
+TEST_F(BopImportTest, BlenderProcsOverlappingMasksGoToTheObjectTheDepthShows) {
+  const synth::Spec spec = TouchingObjectsSpec();
+  // BlenderProc's default delta (write_bop(..., delta=0.015)).
+  const fs::path scene = WriteBopFixture(dir_ / "bop", spec, {0.015});
+  const fs::path out = ExpectImportValidatesAndConverts(
+      "bop", scene, dir_.path(), spec.width, spec.height, [&](int k) {
+        return ImportedIdsOfBlenderProcMasks(scene, spec, k);
+      });
+  const CollectionReader reader(out);
+  const json infos = json::parse(ReadText(scene / "scene_gt_info.json"));
+  int64_t overlapping = 0, wrong = 0;
+  double visibility_error = 0;
+  int k = 0;
+  reader.ForEachFrame([&](const Frame& frame) {
+    const synth::RenderedFrame truth = synth::RenderFrame(spec, k);
+    const std::vector<uint32_t> ids =
+        exr::ReadFlatExr(reader.LayerPath(frame, "instanceid")).Get("id").uints;
+    const std::vector<std::vector<uint32_t>> claims = MaskClaims(scene, spec, k);
+    for (size_t p = 0; p < ids.size(); ++p) {
+      if (claims[p].size() < 2) continue;
+      ++overlapping;
+      // The renderer's front object, which the depth shows.
+      wrong += ids[p] != truth.flat.at("instanceid").Get("id").uints[p];
+    }
+    // visibility is BlenderProc's visib_fract, as written.
+    for (const ObjectTruth& object : frame.objects)
+      visibility_error = std::max(
+          visibility_error,
+          std::abs(object.visibility -
+                   infos[std::to_string(k)][object.instance_id - 1]["visib_fract"].get<double>()));
+    ++k;
+  });
+  EXPECT_GT(overlapping, 20);  // the masks of touching objects do overlap
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(visibility_error, 0);
+  std::cout << "BlenderProc BOP: " << overlapping << " pixels in two masks, " << wrong
+            << " given to another object than the renderer's front one; max |visibility - "
+               "visib_fract| "
+            << visibility_error << "\n";
 }
 
 TEST_F(BopImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <unordered_map>
 
 #include "importers/derived_truth.h"
 #include "importers/registry.h"
@@ -124,22 +125,37 @@ ImportResult ImportCollection(const std::string& format,
     frame.sequence = source_frame.sequence;
     frame.shot = source_frame.shot;
     frame.camera = source_frame.camera;
-    const exr::FlatImage& instances = source_frame.flat.at("instanceid");
-    const auto masks =
-        MeasureInstanceMasks(instances.Get("id").uints, instances.width(), instances.height());
+    // A source without an id layer (Replicator with 3D boxes only): the 2D truth is what the
+    // source states (SourceFrame::stated), the rest comes from the OBB.
+    const auto id_layer = source_frame.flat.find("instanceid");
+    IdLayerView ids;
+    std::unordered_map<uint32_t, InstanceMask> masks;
+    if (id_layer != source_frame.flat.end()) {
+      const exr::FlatImage& instances = id_layer->second;
+      ids = {instances.Get("id").uints.data(), instances.width(), instances.height()};
+      masks = MeasureInstanceMasks(ids.ids, ids.width, ids.height);
+    }
     for (const ObjectIdentity& target : source_frame.targets) {
       const auto mask = masks.find(target.instance_id);
-      auto count_unoccluded = [&](const Box2d& bounds) {
-        return CountObbPixels(target.obb, camera, cam_from_world, bounds);
-      };
-      if (std::optional<ObjectTruth> object = MeasureObjectTruth(
-              target,
-              camera,
-              cam_from_world,
-              {instances.Get("id").uints.data(), instances.width(), instances.height()},
-              mask == masks.end() ? nullptr : &mask->second,
-              count_unoccluded))
-        frame.objects.push_back(std::move(*object));
+      UnoccludedCounter count_unoccluded;
+      if (ids.ids != nullptr)
+        count_unoccluded = [&](const Box2d& bounds) {
+          return CountObbPixels(target.obb, camera, cam_from_world, bounds);
+        };
+      std::optional<ObjectTruth> object =
+          MeasureObjectTruth(target,
+                             camera,
+                             cam_from_world,
+                             ids,
+                             mask == masks.end() ? nullptr : &mask->second,
+                             count_unoccluded);
+      if (!object) continue;
+      const auto stated = source_frame.stated.find(target.instance_id);
+      if (ids.ids == nullptr && stated != source_frame.stated.end()) {
+        if (stated->second.bbox) object->bbox = stated->second.bbox;
+        if (stated->second.visibility) object->visibility = *stated->second.visibility;
+      }
+      frame.objects.push_back(std::move(*object));
     }
     frame.files = WriteFrameLayers(
         root, header, k, frame.camera, {&source_frame.flat, nullptr, std::nullopt, std::nullopt});
@@ -149,6 +165,7 @@ ImportResult ImportCollection(const std::string& format,
   builder.Commit();
   out.Commit();
   result.frames = description.frame_count;
+  result.warnings = description.warnings;
   return result;
 }
 

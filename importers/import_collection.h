@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "importers/importer.h"
 
@@ -14,7 +15,8 @@ namespace lsds::import {
 
 struct ImportResult {
   int64_t frames = 0;
-  int64_t objects = 0;  // truth entries written, over all frames
+  int64_t objects = 0;                // truth entries written, over all frames
+  std::vector<std::string> warnings;  // the importer's (SourceDescription::warnings)
 };
 
 // Throws lsds::Error when the output exists (without `force`), is or lies

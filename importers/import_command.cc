@@ -1,5 +1,5 @@
 // lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE] [--up-axis z|y]
-// [--allow-links-outside] [--force]
+// [--all-labels] [--allow-links-outside] [--force]
 #include <iostream>
 
 #include "importers/import_collection.h"
@@ -36,6 +36,10 @@ int RunImport(int argc, char** argv) {
                  "the USD stage's up axis, which Replicator does not write "
                  "(replicator: z or y; default z)")
       ->check(CLI::IsMember({"z", "y"}));
+  app.add_flag("--all-labels",
+               options.all_labels,
+               "make every label the source defines a class, also those no frame uses "
+               "(solo; default: only the labels used)");
   app.add_flag("--allow-links-outside",
                options.allow_links_outside,
                "read files of the source that are symbolic links to places outside it "
@@ -58,6 +62,8 @@ int RunImport(int argc, char** argv) {
     options.settings = settings;
     const import::ImportResult result =
         import::ImportCollection(format, source, output, options, common.force);
+    for (const std::string& warning : result.warnings)
+      std::cerr << "lsds import: warning: " << warning << "\n";
     if (!common.quiet)
       std::cout << "imported " << result.frames << " frames, " << result.objects
                 << " object entries from " << source << " (" << format << ") to " << output << "\n";

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct ImportOptions {
   // (--allow-links-outside): deliberately linked data. Names in the source's
   // data must be relative and inside it either way (libs/util/confined_path.h).
   bool allow_links_outside = false;
+  // Whether every label the source defines becomes a class (--all-labels);
+  // by default only the labels its frames use (SOLO).
+  bool all_labels = false;
 };
 
 // What the whole source holds, known before the first frame is read.
@@ -48,6 +52,9 @@ struct SourceDescription {
   std::map<std::string, std::string> truth_origin;
   // The source's own units and frames, recorded for people.
   nlohmann::json source_conventions = nlohmann::json::object();
+  // What the source holds that the collection cannot keep, for the user
+  // (printed by `lsds import`, never fatal).
+  std::vector<std::string> warnings;
 };
 
 struct SourceFrame {
@@ -60,6 +67,14 @@ struct SourceFrame {
   // The objects of interest (OBB in ENU metres): each gets a truth entry when
   // it is near the image.
   std::vector<ObjectIdentity> targets;
+  // Per-object 2D truth the source states itself, by instance id, for frames
+  // with no instanceid layer to derive it from (Replicator's
+  // bounding_box_2d_tight box and occlusionRatio).
+  struct StatedTruth {
+    std::optional<Box2d> bbox;  // pixel-edge, visible pixels
+    std::optional<double> visibility;
+  };
+  std::map<uint32_t, StatedTruth> stated;
 };
 
 class Importer {

@@ -412,10 +412,11 @@ OrientedBox BoxOfRow(const NpyArray& boxes,
     axes.col(a) = linear.col(a) / scale;
     obb.half_extents[a] = 0.5 * (local_max[a] - local_min[a]) * scale * meters_per_unit;
   }
+  // A mirrored transform (a negative scale, as on some prims of real stages): the box is the
+  // same set of points with one axis reversed, since its extent is symmetric about the centre.
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
   // float32 records: the axes are orthonormal to 1e-7; make them exactly
   // a rotation.
-  if (axes.determinant() < 0)
-    throw Error("mirrored box transform in row " + std::to_string(row), Location(file));
   obb.world_from_box = enu_from_stage * Eigen::Quaterniond(axes).normalized().toRotationMatrix();
   const Eigen::Vector3d centre_in_stage =
       linear * (0.5 * (local_min + local_max)) + stage_from_local.topRightCorner<3, 1>();

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -240,6 +241,53 @@ TEST_F(ReplicatorImportTest, WithoutInstanceSegmentationTheBoxesAreTheObjects) {
                      (dir_ / "coco").string());
   EXPECT_NE(coco.exit_code, 0);
   EXPECT_NE(coco.output.find("no instanceid layer"), std::string::npos) << coco.output;
+}
+
+// A prim with a negative scale (three wall wires of the warehouse stage in real BasicWriter
+// output): the record's transform is mirrored, the box is the same set of points.
+TEST_F(ReplicatorImportTest, AMirroredBoxTransformIsTheSameBox) {
+  synth::Spec spec = spec_;
+  spec.cam_from_world.resize(1);
+  const fs::path folder = dir_ / "replicator";
+  WriteReplicatorFixture(folder, spec);
+  import::ImportOptions options;
+  options.up_axis = "y";
+  import::ImportCollection("replicator", folder, dir_ / "plain", options, false);
+  const fs::path boxes_path = folder / "bounding_box_3d_0000.npy";
+  NpyArray boxes = ReadNpy(boxes_path);
+  const NpyField& transform = boxes.Field("transform", "");
+  for (int row = 0; row < boxes.size(); ++row)
+    for (int r = 0; r < 3; ++r) {  // the row-vector matrix's first row: local x in the stage
+      float v = 0;
+      char* at = boxes.data.data() + row * boxes.record_size + transform.offset + r * 4;
+      std::memcpy(&v, at, 4);
+      v = -v;
+      std::memcpy(at, &v, 4);
+    }
+  WriteNpy(boxes_path,
+           "[('semanticId', '<u4'), ('x_min', '<f4'), ('y_min', '<f4'), ('z_min', '<f4'), "
+           "('x_max', '<f4'), ('y_max', '<f4'), ('z_max', '<f4'), ('transform', '<f4', (4, 4)), "
+           "('occlusionRatio', '<f4')]",
+           boxes.shape,
+           boxes.data);
+  import::ImportCollection("replicator", folder, dir_ / "mirrored", options, false);
+  std::vector<Frame> plain, mirrored;
+  CollectionReader(dir_ / "plain").ForEachFrame([&](const Frame& f) { plain.push_back(f); });
+  CollectionReader(dir_ / "mirrored").ForEachFrame([&](const Frame& f) { mirrored.push_back(f); });
+  ASSERT_EQ(plain.size(), 1u);
+  ASSERT_EQ(mirrored[0].objects.size(), plain[0].objects.size());
+  for (size_t i = 0; i < plain[0].objects.size(); ++i) {
+    const OrientedBox& a = plain[0].objects[i].obb;
+    const OrientedBox& b = mirrored[0].objects[i].obb;
+    EXPECT_LT((a.center - b.center).norm(), 1e-9);
+    const auto ca = a.Corners();
+    const auto cb = b.Corners();
+    for (const Eigen::Vector3d& corner : ca) {
+      double nearest = 1e9;
+      for (const Eigen::Vector3d& other : cb) nearest = std::min(nearest, (corner - other).norm());
+      EXPECT_LT(nearest, 1e-6);
+    }
+  }
 }
 
 TEST_F(ReplicatorImportTest, TheWrongUpAxisGivesAnotherWorldNotACrash) {

@@ -172,18 +172,7 @@ TEST_F(SoloRealTest, TruthEqualsTheWritersAnnotations) {
 
 TEST_F(SoloRealTest, ValidatesCleanAndConvertsToCoco) {
   const fs::path out = Import();
-  const CommandResult validate =
-      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
-  EXPECT_EQ(validate.exit_code, 0) << validate.output;
-  const fs::path coco = dir_ / "coco";
-  const CommandResult convert = RunCommandLine(LsdsBinary() + " convert " + out.string() +
-                                               " --to coco --images none -o " + coco.string());
-  ASSERT_EQ(convert.exit_code, 0) << convert.output;
-  fs::path annotations;
-  for (const auto& entry : fs::recursive_directory_iterator(coco))
-    if (entry.path().extension() == ".json" &&
-        entry.path().filename().string().rfind("instances", 0) == 0)
-      annotations = entry.path();
+  const fs::path annotations = ExpectValidatesAndConvertsToCoco(out, dir_ / "coco");
   ASSERT_FALSE(annotations.empty());
   const json doc = json::parse(ReadText(annotations));
   // Every object (the two Crates) with the writer's 2D box as [x, y, w, h].

@@ -50,6 +50,46 @@ auto Guarded(const fs::path& source, std::optional<int64_t> frame, F&& step) {
   }
 }
 
+// The truth entries of a frame's targets, measured on its id layer (object_truth.h). A source
+// without an id layer (Replicator with 3D boxes only) gives the 2D truth it states itself
+// (SourceFrame::stated); the rest comes from the OBB.
+std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
+                                             const PinholeCamera& camera,
+                                             const Rigid3d& cam_from_world) {
+  std::vector<ObjectTruth> objects;
+  const auto id_layer = source_frame.flat.find("instanceid");
+  IdLayerView ids;
+  std::unordered_map<uint32_t, InstanceMask> masks;
+  if (id_layer != source_frame.flat.end()) {
+    const exr::FlatImage& instances = id_layer->second;
+    ids = {instances.Get("id").uints.data(), instances.width(), instances.height()};
+    masks = MeasureInstanceMasks(ids.ids, ids.width, ids.height);
+  }
+  for (const ObjectIdentity& target : source_frame.targets) {
+    const auto mask = masks.find(target.instance_id);
+    UnoccludedCounter count_unoccluded;
+    if (ids.ids != nullptr)
+      count_unoccluded = [&](const Box2d& bounds) {
+        return CountObbPixels(target.obb, camera, cam_from_world, bounds);
+      };
+    std::optional<ObjectTruth> object =
+        MeasureObjectTruth(target,
+                           camera,
+                           cam_from_world,
+                           ids,
+                           mask == masks.end() ? nullptr : &mask->second,
+                           count_unoccluded);
+    if (!object) continue;
+    const auto stated = source_frame.stated.find(target.instance_id);
+    if (ids.ids == nullptr && stated != source_frame.stated.end()) {
+      if (stated->second.bbox) object->bbox = stated->second.bbox;
+      if (stated->second.visibility) object->visibility = *stated->second.visibility;
+    }
+    objects.push_back(std::move(*object));
+  }
+  return objects;
+}
+
 }  // namespace
 
 ImportResult ImportCollection(const std::string& format,
@@ -125,38 +165,7 @@ ImportResult ImportCollection(const std::string& format,
     frame.sequence = source_frame.sequence;
     frame.shot = source_frame.shot;
     frame.camera = source_frame.camera;
-    // A source without an id layer (Replicator with 3D boxes only): the 2D truth is what the
-    // source states (SourceFrame::stated), the rest comes from the OBB.
-    const auto id_layer = source_frame.flat.find("instanceid");
-    IdLayerView ids;
-    std::unordered_map<uint32_t, InstanceMask> masks;
-    if (id_layer != source_frame.flat.end()) {
-      const exr::FlatImage& instances = id_layer->second;
-      ids = {instances.Get("id").uints.data(), instances.width(), instances.height()};
-      masks = MeasureInstanceMasks(ids.ids, ids.width, ids.height);
-    }
-    for (const ObjectIdentity& target : source_frame.targets) {
-      const auto mask = masks.find(target.instance_id);
-      UnoccludedCounter count_unoccluded;
-      if (ids.ids != nullptr)
-        count_unoccluded = [&](const Box2d& bounds) {
-          return CountObbPixels(target.obb, camera, cam_from_world, bounds);
-        };
-      std::optional<ObjectTruth> object =
-          MeasureObjectTruth(target,
-                             camera,
-                             cam_from_world,
-                             ids,
-                             mask == masks.end() ? nullptr : &mask->second,
-                             count_unoccluded);
-      if (!object) continue;
-      const auto stated = source_frame.stated.find(target.instance_id);
-      if (ids.ids == nullptr && stated != source_frame.stated.end()) {
-        if (stated->second.bbox) object->bbox = stated->second.bbox;
-        if (stated->second.visibility) object->visibility = *stated->second.visibility;
-      }
-      frame.objects.push_back(std::move(*object));
-    }
+    frame.objects = MeasureFrameObjects(source_frame, camera, cam_from_world);
     frame.files = WriteFrameLayers(
         root, header, k, frame.camera, {&source_frame.flat, nullptr, std::nullopt, std::nullopt});
     result.objects += static_cast<int64_t>(frame.objects.size());

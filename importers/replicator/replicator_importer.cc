@@ -67,7 +67,7 @@ fs::path ReplicatorImporter::Path(const std::string& annotator,
   const FrameFiles& frame = frames_.at(static_cast<size_t>(index));
   const Product& product = products_.at(frame.product);
   const fs::path folder = product.annotator_folders ? product.folder / annotator : product.folder;
-  return root_->File(folder / (stem + "_" + frame.id + "." + ext));
+  return root_->File(folder / (product.file_prefix + stem + "_" + frame.id + "." + ext));
 }
 
 // BasicWriter.write(): rgb_{sequence_id}{frame_id:0{padding}}.png, where each on_time trigger
@@ -77,7 +77,9 @@ void ReplicatorImporter::FindFrames(const Product& product, size_t product_index
   const fs::path folder = product.annotator_folders ? product.folder / "rgb" : product.folder;
   for (const auto& entry : fs::directory_iterator(folder)) {
     std::smatch m;
-    const std::string name = entry.path().filename().string();
+    const std::string file_name = entry.path().filename().string();
+    if (file_name.rfind(product.file_prefix, 0) != 0) continue;
+    const std::string name = file_name.substr(product.file_prefix.size());
     if (!std::regex_match(name, m, rgb_name)) continue;
     FrameFiles frame;
     frame.product = product_index;
@@ -122,9 +124,28 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
   for (const auto& entry : fs::directory_iterator(source))
     flat = flat || std::regex_match(entry.path().filename().string(), any_rgb);
   if (flat) {
-    products_.push_back({source_name, source, false});
+    products_.push_back({source_name, source, false, ""});
   } else if (fs::is_directory(source / "rgb")) {
-    products_.push_back({source_name, source, true});
+    // One product's annotator folders (rgb/rgb_0000.png), or several products' files in
+    // common annotator folders (use_common_output_dir: rgb/<product>_rgb_0000.png).
+    static const std::regex prefixed_rgb(R"((.+_)rgb_(\d+_)*\d+\.png)");
+    std::set<std::string> prefixes;
+    bool own = false;
+    for (const auto& entry : fs::directory_iterator(source / "rgb")) {
+      const std::string name = entry.path().filename().string();
+      std::smatch m;
+      if (std::regex_match(name, any_rgb)) {
+        own = true;
+      } else if (std::regex_match(name, m, prefixed_rgb)) {
+        prefixes.insert(m[1].str());
+      }
+    }
+    if (own || prefixes.empty()) {
+      products_.push_back({source_name, source, true, ""});
+    } else {
+      for (const std::string& prefix : prefixes)
+        products_.push_back({prefix.substr(0, prefix.size() - 1), source, true, prefix});
+    }
   } else {
     std::vector<fs::path> folders;
     for (const auto& entry : fs::directory_iterator(source))
@@ -132,7 +153,7 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
         folders.push_back(entry.path());
     std::sort(folders.begin(), folders.end());
     for (const fs::path& folder : folders)
-      products_.push_back({folder.filename().string(), folder, true});
+      products_.push_back({folder.filename().string(), folder, true, ""});
   }
   for (size_t p = 0; p < products_.size(); ++p) FindFrames(products_[p], p);
   if (frames_.empty())

@@ -10,7 +10,8 @@
 // camera_params_NNNN.json (row-vector view and OpenGL projection matrices,
 // metersPerSceneUnit). The layouts BasicWriter.write() makes: one render
 // product's files in one folder, or several products' in
-// <product>/<annotator>/ folders (each product one sequence); on_time
+// <product>/<annotator>/ folders, or with use_common_output_dir in
+// <annotator>/<product>_ names (each product one sequence); on_time
 // triggers prefix the frame number with their counts (rgb_1_0000.png). Without
 // instance segmentation, the objects come from the 3D boxes and their 2D truth
 // from bounding_box_2d_tight. The stage's up axis is not in the files: it
@@ -42,6 +43,7 @@ class ReplicatorImporter : public Importer {
     std::string name;
     std::filesystem::path folder;
     bool annotator_folders = false;  // files in <folder>/<annotator>/
+    std::string file_prefix;         // "<product>_" before each file name (common output dir)
   };
   // One frame: its product and the name part after "<stem>_" ("0000", "1_0000").
   struct FrameFiles {

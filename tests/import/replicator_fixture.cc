@@ -53,8 +53,14 @@ void WriteReplicatorFixture(const fs::path& folder,
   // files in os.path.join(render_product_name, annotator_name), the annotator's name without
   // its "_fast" suffix.
   std::string product;
+  // With use_common_output_dir: os.path.join(annotator_name, render_product_name) + "_".
   const auto at = [&](const char* annotator, const std::string& name) {
-    const fs::path dir = layout.products.empty() ? folder : folder / product / annotator;
+    if (layout.products.empty()) return folder / name;
+    if (layout.common_output_dir) {
+      fs::create_directories(folder / annotator);
+      return folder / annotator / (product + "_" + name);
+    }
+    const fs::path dir = folder / product / annotator;
     fs::create_directories(dir);
     return dir / name;
   };

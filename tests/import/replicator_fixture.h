@@ -23,6 +23,8 @@ struct ReplicatorLayout {
   // Several render products: each product's files in <folder>/<product>/<annotator>/ (here every
   // product sees the spec's frames). Empty: one product, every file in <folder>.
   std::vector<std::string> products;
+  // With several products, use_common_output_dir=True: <folder>/<annotator>/<product>_<file>.
+  bool common_output_dir = false;
   // The on_time triggers' counts before the frame number: "1_" -> rgb_1_0000.png.
   std::string trigger_prefix;
   // Whether the instance_segmentation annotator was on (its PNG and two mappings).

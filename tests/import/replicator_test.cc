@@ -121,21 +121,18 @@ TEST_F(ReplicatorImportTest, ValidatesCleanAndConverts) {
       "--up-axis y");
 }
 
-// Several render products: BasicWriter.write() puts each product's files in
-// <product>/<annotator>/; the root imports with one sequence per product, frame by frame equal
-// to the single-product import.
-TEST_F(ReplicatorImportTest, SeveralRenderProductsAreOneSequenceEach) {
-  synth::Spec spec = spec_;
+// Two render products of the spec's first two frames in `layout` import as two sequences named
+// after the products, frame by frame equal to the single-product import.
+void ExpectTwoProductsImport(const fs::path& dir, ReplicatorLayout layout) {
+  synth::Spec spec = ObliqueImportSpec();
   spec.cam_from_world.resize(2);
-  const fs::path root = dir_ / "replicator";
-  ReplicatorLayout layout;
+  const fs::path root = dir / "replicator";
   layout.products = {"Replicator", "Replicator_01"};
   WriteReplicatorFixture(root, spec, layout);
-  ASSERT_TRUE(fs::exists(root / "Replicator_01" / "bounding_box_3d" / "bounding_box_3d_0001.npy"));
   const fs::path out = ExpectImportValidatesAndConverts(
       "replicator",
       root,
-      dir_.path(),
+      dir,
       spec.width,
       spec.height,
       [&](int k) { return TargetIds(synth::RenderFrame(spec, k % 2)); },
@@ -152,6 +149,22 @@ TEST_F(ReplicatorImportTest, SeveralRenderProductsAreOneSequenceEach) {
     for (size_t i = 0; i < frames[k].objects.size(); ++i)
       ExpectObjectNear(frames[k].objects[i], truth.truth.objects[i], 1e-6);
   }
+}
+
+// Several render products: BasicWriter.write() puts each product's files in
+// <product>/<annotator>/ (the default, use_common_output_dir=False).
+TEST_F(ReplicatorImportTest, SeveralRenderProductsAreOneSequenceEach) {
+  ExpectTwoProductsImport(dir_.path(), {});
+  EXPECT_TRUE(fs::exists(dir_ / "replicator" / "Replicator_01" / "bounding_box_3d" /
+                         "bounding_box_3d_0001.npy"));
+}
+
+// use_common_output_dir=True: <annotator>/<product>_<file> (rgb/Replicator_01_rgb_0000.png).
+TEST_F(ReplicatorImportTest, TheCommonOutputDirLayoutImports) {
+  ReplicatorLayout layout;
+  layout.common_output_dir = true;
+  ExpectTwoProductsImport(dir_.path(), layout);
+  EXPECT_TRUE(fs::exists(dir_ / "replicator" / "rgb" / "Replicator_01_rgb_0001.png"));
 }
 
 // on_time triggers prefix the frame number with their counts (rgb_1_0000.png); the counts name

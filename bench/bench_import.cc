@@ -6,6 +6,9 @@
 //   kubric      tests/import/kubric_fixture.h: PNG, float TIFF, palette PNG,
 //               metadata.json
 //   replicator  tests/import/replicator_fixture.h: PNG, .npy, JSON
+//   replicator-products  the same as two render products (<product>/<annotator>/)
+//   replicator-noseg     no instance segmentation: objects from the 3D boxes,
+//               boxes from bounding_box_2d_tight
 //   solo        tests/import/solo_fixture.h: PNG, EXR, frame_data.json
 // For the file-per-layer sources the floor decodes every file the importer
 // opens (PNG/TIFF with OpenCV, .npy, EXR, JSON parse).
@@ -66,15 +69,21 @@ double MrqFloor(const fs::path& source) {
   return checksum;
 }
 
-// The floor of the file-per-layer importers: decode every file they read.
-double FileFloor(const fs::path& source) {
+// The floor of the file-per-layer importers: decode every file they read
+// (bounding_box_2d_tight only when there is no instance segmentation to derive
+// the boxes from).
+double FileFloor(const fs::path& source, bool reads_tight_boxes) {
   double checksum = 0;
   for (const auto& entry : fs::recursive_directory_iterator(source)) {
     if (!entry.is_regular_file()) continue;
     const fs::path& p = entry.path();
     const std::string name = p.filename().string();
     // Files the importers do not open.
-    if (name.find("bounding_box_2d") != std::string::npos || name == "data_ranges.json") continue;
+    const bool tight =
+        name.rfind("bounding_box_2d_tight", 0) == 0 && name.find("labels") == std::string::npos;
+    if ((name.find("bounding_box_2d") != std::string::npos && !(reads_tight_boxes && tight)) ||
+        name == "data_ranges.json")
+      continue;
     const std::string ext = p.extension().string();
     if (name.rfind("segmentation_", 0) == 0 && ext == ".png") {
       checksum += import::ReadIndexedPng(p).index[0];  // Kubric's palette PNG
@@ -100,7 +109,9 @@ int main(int argc, char** argv) {
   std::string format = "all";
   app.add_option("--frames", frames, "frames in the source");
   app.add_option("--size", size, "WIDTHxHEIGHT");
-  app.add_option("--format", format, "ue-mrq, kubric, replicator, solo or all");
+  app.add_option("--format",
+                 format,
+                 "ue-mrq, kubric, replicator, replicator-products, replicator-noseg, solo or all");
   CLI11_PARSE(app, argc, argv);
   int width = 0, height = 0;
   if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) return 2;
@@ -109,8 +120,10 @@ int main(int argc, char** argv) {
       fs::temp_directory_path() / ("lsds_bench_import_" + size + "_" + std::to_string(frames));
   synth::Spec spec = synth::CircleSpec(frames, width, height);
   spec.samples_per_axis = 1;
-  for (const std::string f : {"ue-mrq", "kubric", "replicator", "solo"}) {
+  for (const std::string f :
+       {"ue-mrq", "kubric", "replicator", "replicator-products", "replicator-noseg", "solo"}) {
     if (format != "all" && format != f) continue;
+    const std::string importer = f.rfind("replicator", 0) == 0 ? "replicator" : f;
     const fs::path source = root / f;
     const fs::path done = root / (f + ".done");
     import::ImportOptions options;
@@ -125,21 +138,33 @@ int main(int argc, char** argv) {
         testing::WriteKubricFixture(source, perspective);
       } else if (f == "replicator") {
         testing::WriteReplicatorFixture(source, spec);
+      } else if (f == "replicator-products") {
+        // Two products of half the frames each: the same number of frames to import.
+        synth::Spec half = spec;
+        half.cam_from_world.resize(static_cast<size_t>(frames / 2));
+        testing::ReplicatorLayout layout;
+        layout.products = {"Replicator", "Replicator_01"};
+        testing::WriteReplicatorFixture(source, half, layout);
+      } else if (f == "replicator-noseg") {
+        testing::ReplicatorLayout layout;
+        layout.instance_segmentation = false;
+        testing::WriteReplicatorFixture(source, spec, layout);
       } else {
         testing::WriteSoloFixture(source, spec, frames);
       }
       WriteFileAtomic(done, "");
     }
-    if (f == "replicator") options.up_axis = "y";
+    if (importer == "replicator") options.up_axis = "y";
 
     auto start = std::chrono::steady_clock::now();
-    const double checksum = f == "ue-mrq" ? MrqFloor(source) : FileFloor(source);
+    const double checksum =
+        f == "ue-mrq" ? MrqFloor(source) : FileFloor(source, f == "replicator-noseg");
     const double floor = Seconds(start);
 
     const fs::path out = root / (f + "_collection");
     start = std::chrono::steady_clock::now();
     const import::ImportResult result =
-        import::ImportCollection(f, source, out, options, /*force=*/true);
+        import::ImportCollection(importer, source, out, options, /*force=*/true);
     const double seconds = Seconds(start);
     std::printf("import %s: %lld frames %dx%d, %lld object entries\n",
                 f.c_str(),
@@ -147,11 +172,12 @@ int main(int argc, char** argv) {
                 width,
                 height,
                 static_cast<long long>(result.objects));
-    std::printf("  floor (decode the source files): %8.1f frames/s\n", frames / floor);
+    const double imported = static_cast<double>(result.frames);
+    std::printf("  floor (decode the source files): %8.1f frames/s\n", imported / floor);
     std::printf(
         "  lsds import:                     %8.1f frames/s  (%.2fx the "
         "floor)\n",
-        frames / seconds,
+        imported / seconds,
         seconds / floor);
     std::printf("  peak memory so far: %ld MB%s\n", PeakRssMb(), checksum == 12345.678 ? " " : "");
     fs::remove_all(out);

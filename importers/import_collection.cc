@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <unordered_map>
 
 #include "importers/derived_truth.h"
 #include "importers/registry.h"
@@ -50,31 +51,45 @@ auto Guarded(const fs::path& source, std::optional<int64_t> frame, F&& step) {
   }
 }
 
-// Per-object truth measured on the imported id layer (object_truth.h); the
-// unoccluded pixels are those of the OBB, unless the source states the
-// object's visibility itself (SourceFrame::visibility_by_instance).
-void MeasureObjects(const SourceFrame& source_frame, const Rigid3d& cam_from_world, Frame* frame) {
-  const PinholeCamera& camera = source_frame.camera.intrinsics;
-  const exr::FlatImage& instances = source_frame.flat.at("instanceid");
-  const auto masks =
-      MeasureInstanceMasks(instances.Get("id").uints, instances.width(), instances.height());
+// The truth entries of a frame's targets, measured on its id layer (object_truth.h), the
+// unoccluded pixels those of the OBB. A visibility the source states (SourceFrame::stated)
+// replaces the derived one; a source without an id layer (Replicator with 3D boxes only) gives the
+// 2D box it states itself; the rest comes from the OBB.
+std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
+                                             const PinholeCamera& camera,
+                                             const Rigid3d& cam_from_world) {
+  std::vector<ObjectTruth> objects;
+  const auto id_layer = source_frame.flat.find("instanceid");
+  IdLayerView ids;
+  std::unordered_map<uint32_t, InstanceMask> masks;
+  if (id_layer != source_frame.flat.end()) {
+    const exr::FlatImage& instances = id_layer->second;
+    ids = {instances.Get("id").uints.data(), instances.width(), instances.height()};
+    masks = MeasureInstanceMasks(ids.ids, ids.width, ids.height);
+  }
   for (const ObjectIdentity& target : source_frame.targets) {
     const auto mask = masks.find(target.instance_id);
-    auto count_unoccluded = [&](const Box2d& bounds) {
-      return CountObbPixels(target.obb, camera, cam_from_world, bounds);
-    };
-    std::optional<ObjectTruth> object = MeasureObjectTruth(
-        target,
-        camera,
-        cam_from_world,
-        {instances.Get("id").uints.data(), instances.width(), instances.height()},
-        mask == masks.end() ? nullptr : &mask->second,
-        count_unoccluded);
+    UnoccludedCounter count_unoccluded;
+    if (ids.ids != nullptr)
+      count_unoccluded = [&](const Box2d& bounds) {
+        return CountObbPixels(target.obb, camera, cam_from_world, bounds);
+      };
+    std::optional<ObjectTruth> object =
+        MeasureObjectTruth(target,
+                           camera,
+                           cam_from_world,
+                           ids,
+                           mask == masks.end() ? nullptr : &mask->second,
+                           count_unoccluded);
     if (!object) continue;
-    const auto stated = source_frame.visibility_by_instance.find(target.instance_id);
-    if (stated != source_frame.visibility_by_instance.end()) object->visibility = stated->second;
-    frame->objects.push_back(std::move(*object));
+    const auto stated = source_frame.stated.find(target.instance_id);
+    if (stated != source_frame.stated.end()) {
+      if (ids.ids == nullptr && stated->second.bbox) object->bbox = stated->second.bbox;
+      if (stated->second.visibility) object->visibility = *stated->second.visibility;
+    }
+    objects.push_back(std::move(*object));
   }
+  return objects;
 }
 
 }  // namespace
@@ -110,7 +125,7 @@ ImportResult ImportCollection(const std::string& format,
     result.warnings.push_back(
         "the source has no " + Join(lacking, ", ") + " pass: the collection holds the layers " +
         "that exist (" + Join(description.semantics, ", ") + (has_depth ? ", worldposition" : "") +
-        ")" + (has_ids ? "" : " and no per-object truth (objects need the instanceid layer)"));
+        ")" + (has_ids ? "" : "; per-object truth only as far as the source states it"));
   std::vector<std::string> semantics = description.semantics;
   std::map<std::string, std::string> origin = description.truth_origin;
   if (has_depth && !std::count(semantics.begin(), semantics.end(), "worldposition")) {
@@ -165,7 +180,7 @@ ImportResult ImportCollection(const std::string& format,
     frame.sequence = source_frame.sequence;
     frame.shot = source_frame.shot;
     frame.camera = source_frame.camera;
-    if (has_ids) MeasureObjects(source_frame, cam_from_world, &frame);
+    frame.objects = MeasureFrameObjects(source_frame, camera, cam_from_world);
     frame.files = WriteFrameLayers(
         root, header, k, frame.camera, {&source_frame.flat, nullptr, std::nullopt, std::nullopt});
     result.objects += static_cast<int64_t>(frame.objects.size());
@@ -174,6 +189,7 @@ ImportResult ImportCollection(const std::string& format,
   builder.Commit();
   out.Commit();
   result.frames = description.frame_count;
+  result.warnings = description.warnings;
   return result;
 }
 

@@ -1,5 +1,5 @@
 // lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE] [--up-axis z|y]
-// [--fov-window data|display] [--allow-links-outside] [--force]
+// [--fov-window data|display] [--all-labels] [--allow-links-outside] [--force]
 #include <iostream>
 
 #include "importers/import_collection.h"
@@ -42,6 +42,10 @@ int RunImport(int argc, char** argv) {
                  "Queue's, the rendered image with any overscan) or display (files whose FOV "
                  "is the full frame's and whose data window is a crop)")
       ->check(CLI::IsMember({"data", "display"}));
+  app.add_flag("--all-labels",
+               options.all_labels,
+               "make every label the source defines a class, also those no frame uses "
+               "(solo; default: only the labels used)");
   app.add_flag("--allow-links-outside",
                options.allow_links_outside,
                "read files of the source that are symbolic links to places outside it "

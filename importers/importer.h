@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct ImportOptions {
   // (--allow-links-outside): deliberately linked data. Names in the source's
   // data must be relative and inside it either way (libs/util/confined_path.h).
   bool allow_links_outside = false;
+  // Whether every label the source defines becomes a class (--all-labels);
+  // by default only the labels its frames use (SOLO).
+  bool all_labels = false;
 };
 
 // What the whole source holds, known before the first frame is read.
@@ -51,8 +55,9 @@ struct SourceDescription {
   std::map<std::string, std::string> truth_origin;
   // The source's own units and frames, recorded for people.
   nlohmann::json source_conventions = nlohmann::json::object();
-  // What the user should know (an assumed default, a pass not read); the
-  // driver adds them to ImportResult::warnings.
+  // What the user should know (an assumed default, a pass not read, what
+  // the collection cannot keep); the driver adds them to
+  // ImportResult::warnings, printed by `lsds import`, never fatal.
   std::vector<std::string> warnings;
 };
 
@@ -66,9 +71,15 @@ struct SourceFrame {
   // The objects of interest (OBB in ENU metres): each gets a truth entry when
   // it is near the image.
   std::vector<ObjectIdentity> targets;
-  // The visibility in [0, 1] the source itself states for a target, by
-  // instance id (BOP's visib_fract); the others' is derived from the OBB.
-  std::map<uint32_t, double> visibility_by_instance;
+  // Per-object truth the source states itself, by instance id: its
+  // visibility (BOP's visib_fract, Replicator's 1 - occlusionRatio) replaces
+  // the derived one; its 2D box (Replicator's bounding_box_2d_tight) is used
+  // for frames with no instanceid layer to measure one on.
+  struct StatedTruth {
+    std::optional<Box2d> bbox;  // pixel-edge, visible pixels
+    std::optional<double> visibility;
+  };
+  std::map<uint32_t, StatedTruth> stated;
 };
 
 class Importer {

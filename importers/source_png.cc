@@ -1,5 +1,6 @@
 #include "importers/source_png.h"
 
+#include <array>
 #include <cstring>
 #include <fstream>
 
@@ -145,14 +146,21 @@ exr::FlatImage ReadSrgbLayer(const std::filesystem::path& path,
   float* channel[3] = {rgb.AddChannel("R", exr::PixelType::kHalf).floats.data(),
                        rgb.AddChannel("G", exr::PixelType::kHalf).floats.data(),
                        rgb.AddChannel("B", exr::PixelType::kHalf).floats.data()};
+  // 8-bit values have 256 linear values: looked up, not recomputed per pixel (the same
+  // expression, so the same floats).
+  static const std::array<float, 256> linear_of_8bit = [] {
+    std::array<float, 256> table{};
+    for (int v = 0; v < 256; ++v) table[static_cast<size_t>(v)] = LinearFromSrgb(v * (1 / 255.0));
+    return table;
+  }();
   for (int j = 0; j < height; ++j)
     for (int i = 0; i < width; ++i)
       for (int c = 0; c < 3; ++c) {
         // OpenCV's order is B, G, R(, A).
         const int k = i * channels + (2 - c);
-        const double v =
-            image.depth() == CV_8U ? image.ptr<uint8_t>(j)[k] : image.ptr<uint16_t>(j)[k];
-        channel[c][rgb.Index(i, j)] = LinearFromSrgb(v * scale);
+        channel[c][rgb.Index(i, j)] = image.depth() == CV_8U
+                                          ? linear_of_8bit[image.ptr<uint8_t>(j)[k]]
+                                          : LinearFromSrgb(image.ptr<uint16_t>(j)[k] * scale);
       }
   return rgb;
 }

@@ -341,7 +341,7 @@ void BopImporter::ReadVisibFract(const std::string& key,
     const double fraction = info.at("visib_fract").get<double>();
     if (!(fraction >= 0 && fraction <= 1))
       throw Error("visib_fract must be in [0, 1]", Location(gt_info_file_, at));
-    frame->visibility_by_instance[frame->targets[g].instance_id] = fraction;
+    frame->stated[frame->targets[g].instance_id].visibility = fraction;
   }
 }
 

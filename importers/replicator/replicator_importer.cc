@@ -5,6 +5,7 @@
 #include <limits>
 #include <regex>
 #include <set>
+#include <tuple>
 
 #include <opencv2/core.hpp>
 
@@ -59,17 +60,52 @@ Eigen::Matrix4d ColumnMatrix(const Eigen::Matrix<double, 16, 1>& row_major) {
 
 }  // namespace
 
-fs::path ReplicatorImporter::Path(const std::string& stem,
+fs::path ReplicatorImporter::Path(const std::string& annotator,
+                                  const std::string& stem,
                                   int64_t index,
                                   const std::string& ext) const {
-  return root_->File(folder_ /
-                     (stem + "_" + frame_ids_.at(static_cast<size_t>(index)).second + "." + ext));
+  const FrameFiles& frame = frames_.at(static_cast<size_t>(index));
+  const Product& product = products_.at(frame.product);
+  const fs::path folder = product.annotator_folders ? product.folder / annotator : product.folder;
+  return root_->File(folder / (product.file_prefix + stem + "_" + frame.id + "." + ext));
+}
+
+// BasicWriter.write(): rgb_{sequence_id}{frame_id:0{padding}}.png, where each on_time trigger
+// prefixes sequence_id with "{call_count}_" and the frame number restarts with each sequence.
+void ReplicatorImporter::FindFrames(const Product& product, size_t product_index) {
+  static const std::regex rgb_name(R"(rgb_((?:\d+_)*)(\d+)\.png)");
+  const fs::path folder = product.annotator_folders ? product.folder / "rgb" : product.folder;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    std::smatch m;
+    const std::string file_name = entry.path().filename().string();
+    if (file_name.rfind(product.file_prefix, 0) != 0) continue;
+    const std::string name = file_name.substr(product.file_prefix.size());
+    if (!std::regex_match(name, m, rgb_name)) continue;
+    FrameFiles frame;
+    frame.product = product_index;
+    frame.trigger_prefix = m[1].str();
+    frame.id = m[1].str() + m[2].str();
+    std::string counts = frame.trigger_prefix;
+    for (size_t at = counts.find('_'); at != std::string::npos; at = counts.find('_')) {
+      const std::optional<int64_t> count =
+          ParseInteger(counts.substr(0, at), 0, std::numeric_limits<int64_t>::max());
+      if (!count)
+        throw Error("a trigger count is beyond 2^63 - 1", Location(entry.path().string()));
+      frame.order.push_back(*count);
+      counts.erase(0, at + 1);
+    }
+    const std::optional<int64_t> number =
+        ParseInteger(m[2].str(), 0, std::numeric_limits<int64_t>::max());
+    if (!number)
+      throw Error("the frame number is beyond 2^63 - 1", Location(entry.path().string()));
+    frame.order.push_back(*number);
+    frames_.push_back(std::move(frame));
+  }
 }
 
 // Not yet cut at its seams (docs/architecture.md, "Long functions").
 // NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
 SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportOptions& options) {
-  folder_ = source;
   root_.emplace(source, options.allow_links_outside);
   if (options.up_axis == "y") {
     // Y-up stage to ENU: x stays, stage -z is north, stage y is up.
@@ -77,39 +113,81 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
   } else if (options.up_axis != "z" && !options.up_axis.empty()) {
     throw Error("--up-axis must be z or y, not '" + options.up_axis + "'");
   }
-  static const std::regex rgb_name(R"(rgb_(\d+)\.png)");
-  for (const auto& entry : fs::directory_iterator(source)) {
-    std::smatch m;
-    const std::string name = entry.path().filename().string();
-    if (!std::regex_match(name, m, rgb_name)) continue;
-    const std::optional<int64_t> number =
-        ParseInteger(m[1].str(), 0, std::numeric_limits<int64_t>::max());
-    if (!number)
-      throw Error("the frame number is beyond 2^63 - 1", Location(entry.path().string()));
-    frame_ids_.emplace_back(*number, m[1].str());
+  // One product: its files here, or in annotator folders (rgb/, camera_params/, ...) here.
+  // Several: BasicWriter's default (use_common_output_dir False) puts each product's files in
+  // <product>/<annotator>/.
+  fs::path source_path = fs::absolute(source).lexically_normal();
+  if (source_path.filename().empty()) source_path = source_path.parent_path();  // "folder/"
+  const std::string source_name = source_path.filename().string();
+  static const std::regex any_rgb(R"(rgb_(\d+_)*\d+\.png)");
+  bool flat = false;
+  for (const auto& entry : fs::directory_iterator(source))
+    flat = flat || std::regex_match(entry.path().filename().string(), any_rgb);
+  if (flat) {
+    products_.push_back({source_name, source, false, ""});
+  } else if (fs::is_directory(source / "rgb")) {
+    // One product's annotator folders (rgb/rgb_0000.png), or several products' files in
+    // common annotator folders (use_common_output_dir: rgb/<product>_rgb_0000.png).
+    static const std::regex prefixed_rgb(R"((.+_)rgb_(\d+_)*\d+\.png)");
+    std::set<std::string> prefixes;
+    bool own = false;
+    for (const auto& entry : fs::directory_iterator(source / "rgb")) {
+      const std::string name = entry.path().filename().string();
+      std::smatch m;
+      if (std::regex_match(name, any_rgb)) {
+        own = true;
+      } else if (std::regex_match(name, m, prefixed_rgb)) {
+        prefixes.insert(m[1].str());
+      }
+    }
+    if (own || prefixes.empty()) {
+      products_.push_back({source_name, source, true, ""});
+    } else {
+      for (const std::string& prefix : prefixes)
+        products_.push_back({prefix.substr(0, prefix.size() - 1), source, true, prefix});
+    }
+  } else {
+    std::vector<fs::path> folders;
+    for (const auto& entry : fs::directory_iterator(source))
+      if (entry.is_directory() && fs::is_directory(entry.path() / "rgb"))
+        folders.push_back(entry.path());
+    std::sort(folders.begin(), folders.end());
+    for (const fs::path& folder : folders)
+      products_.push_back({folder.filename().string(), folder, true, ""});
   }
-  if (frame_ids_.empty())
+  for (size_t p = 0; p < products_.size(); ++p) FindFrames(products_[p], p);
+  if (frames_.empty())
     throw Error(
-        "not a Replicator BasicWriter folder: no rgb_NNNN.png "
-        "(for several render products, import each product's folder)",
+        "not a Replicator BasicWriter folder: no rgb_NNNN.png here, in rgb/ or in "
+        "<render product>/rgb/",
         Location(source.string()));
-  std::sort(frame_ids_.begin(), frame_ids_.end());
-  if (fs::exists(Path("distance_to_image_plane", 0, "npy"))) {
+  std::sort(frames_.begin(), frames_.end(), [](const FrameFiles& a, const FrameFiles& b) {
+    return std::tie(a.product, a.order) < std::tie(b.product, b.order);
+  });
+  if (fs::exists(Path("distance_to_image_plane", "distance_to_image_plane", 0, "npy"))) {
     depth_stem_ = "distance_to_image_plane", depth_kind_ = DepthKind::kPlanar;
-  } else if (fs::exists(Path("distance_to_camera", 0, "npy"))) {
+  } else if (fs::exists(Path("distance_to_camera", "distance_to_camera", 0, "npy"))) {
     depth_stem_ = "distance_to_camera", depth_kind_ = DepthKind::kPerspective;
   }
+  has_instances_ =
+      fs::exists(Path("instance_segmentation", "instance_segmentation_mapping", 0, "json"));
+  if (!has_instances_ && !fs::exists(Path("bounding_box_3d", "bounding_box_3d_labels", 0, "json")))
+    throw Error(
+        "neither instance_segmentation (with its mappings) nor bounding_box_3d for the first "
+        "frame: no objects to import",
+        Location(Path("rgb", "rgb", 0, "png").string()));
   // Instance ids and classes hold across frames: prim paths and class labels
   // of every frame's mappings, numbered in sorted order.
   std::set<std::string> prims, classes;
   std::map<std::string, std::string> class_label_of_prim;
-  for (size_t k = 0; k < frame_ids_.size(); ++k) {
+  for (size_t f = 0; f < frames_.size(); ++f) {
+    const auto k = static_cast<int64_t>(f);
     const fs::path mapping_path =
-        Path("instance_segmentation_mapping", static_cast<int64_t>(k), "json");
+        Path("instance_segmentation", "instance_segmentation_mapping", k, "json");
     const fs::path semantics_path =
-        Path("instance_segmentation_semantics_mapping", static_cast<int64_t>(k), "json");
-    const json mapping = ParseJsonFile(mapping_path);
-    const json semantics = ParseJsonFile(semantics_path);
+        Path("instance_segmentation", "instance_segmentation_semantics_mapping", k, "json");
+    const json mapping = has_instances_ ? ParseJsonFile(mapping_path) : json::object();
+    const json semantics = has_instances_ ? ParseJsonFile(semantics_path) : json::object();
     for (const auto& [key, prim] : mapping.items()) {
       const std::string where = (json::json_pointer() / key).to_string();
       const std::string path = StringAt(prim, mapping_path.string(), where);
@@ -123,15 +201,15 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
         class_label_of_prim[path] = label;
       }
     }
-    const fs::path boxes_labels = Path("bounding_box_3d_labels", static_cast<int64_t>(k), "json");
+    const fs::path boxes_labels = Path("bounding_box_3d", "bounding_box_3d_labels", k, "json");
     if (!fs::exists(boxes_labels)) continue;
     const json labels = ParseJsonFile(boxes_labels);
     const fs::path prim_paths_file =
-        Path("bounding_box_3d_prim_paths", static_cast<int64_t>(k), "json");
+        Path("bounding_box_3d", "bounding_box_3d_prim_paths", k, "json");
     const json prim_paths = ParseJsonFile(prim_paths_file);
-    const NpyArray boxes = ReadNpy(Path("bounding_box_3d", static_cast<int64_t>(k), "npy"));
-    const NpyField& semantic_id =
-        boxes.Field("semanticId", Path("bounding_box_3d", static_cast<int64_t>(k), "npy").string());
+    const fs::path boxes_path = Path("bounding_box_3d", "bounding_box_3d", k, "npy");
+    const NpyArray boxes = ReadNpy(boxes_path);
+    const NpyField& semantic_id = boxes.Field("semanticId", boxes_path.string());
     if (!prim_paths.is_array() || prim_paths.size() != static_cast<size_t>(boxes.size()))
       throw Error("expected one prim path per box (" + std::to_string(boxes.size()) + ")",
                   Location(prim_paths_file.string()));
@@ -143,7 +221,7 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
           semantic != std::floor(semantic))
         throw Error("semanticId of row " + std::to_string(row) + " is " + FormatNumber(semantic) +
                         ", not an id in [0, 4294967295]",
-                    Location(Path("bounding_box_3d", static_cast<int64_t>(k), "npy").string()));
+                    Location(boxes_path.string()));
       const std::string id = std::to_string(static_cast<int64_t>(semantic));
       const std::string label =
           AtPointer(boxes_labels.string(), "/" + id, [&] { return ClassLabel(labels.at(id)); });
@@ -166,15 +244,25 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
     const auto label = class_label_of_prim.find(p);
     class_of_prim_[p] = label == class_label_of_prim.end() ? 0 : class_ids_.at(label->second);
   }
-  description.frame_count = static_cast<int64_t>(frame_ids_.size());
-  description.semantics = {"rgb", "classid", "instanceid"};
+  description.frame_count = static_cast<int64_t>(frames_.size());
+  description.semantics = {"rgb"};
+  description.truth_origin = {{"rgb", "imported"}, {"camera", "imported"}, {"obb", "imported"}};
+  if (has_instances_) {
+    description.semantics.insert(description.semantics.end(), {"classid", "instanceid"});
+    description.truth_origin["instanceid"] = description.truth_origin["classid"] = "imported";
+  } else {
+    // The writer's own 2D truth (bounding_box_2d_tight), where it wrote it; no pixel counts.
+    const bool tight = fs::exists(Path("bounding_box_2d_tight", "bounding_box_2d_tight", 0, "npy"));
+    description.truth_origin["bbox"] = tight ? "imported" : "absent";
+    description.truth_origin["visibility"] = "imported";
+    description.truth_origin["visible_pixels"] = "absent";
+    description.warnings.push_back(
+        "no instance_segmentation: no instanceid and classid layers; the objects are the 3D "
+        "boxes, their visibility 1 - occlusionRatio" +
+        std::string(tight ? ", their box bounding_box_2d_tight's" : ", with no visible 2D box"));
+  }
   if (!depth_stem_.empty()) description.semantics.push_back("depth");
   description.depth_kind = depth_kind_;
-  description.truth_origin = {{"rgb", "imported"},
-                              {"instanceid", "imported"},
-                              {"classid", "imported"},
-                              {"camera", "imported"},
-                              {"obb", "imported"}};
   if (!depth_stem_.empty()) description.truth_origin["depth"] = "imported";
   description.source_conventions = {
       {"world_frame",
@@ -345,10 +433,11 @@ OrientedBox BoxOfRow(const NpyArray& boxes,
     axes.col(a) = linear.col(a) / scale;
     obb.half_extents[a] = 0.5 * (local_max[a] - local_min[a]) * scale * meters_per_unit;
   }
+  // A mirrored transform (a negative scale, as on some prims of real stages): the box is the
+  // same set of points with one axis reversed, since its extent is symmetric about the centre.
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
   // float32 records: the axes are orthonormal to 1e-7; make them exactly
   // a rotation.
-  if (axes.determinant() < 0)
-    throw Error("mirrored box transform in row " + std::to_string(row), Location(file));
   obb.world_from_box = enu_from_stage * Eigen::Quaterniond(axes).normalized().toRotationMatrix();
   const Eigen::Vector3d centre_in_stage =
       linear * (0.5 * (local_min + local_max)) + stage_from_local.topRightCorner<3, 1>();
@@ -358,48 +447,96 @@ OrientedBox BoxOfRow(const NpyArray& boxes,
 
 }  // namespace
 
+// bounding_box_2d_tight: the box of the visible pixels as inclusive pixel indices (x_max and
+// y_max the last pixel), and the share of the object occluded.
+void ReplicatorImporter::ReadTightBoxes(int64_t index, SourceFrame* frame) const {
+  const fs::path boxes_path = Path("bounding_box_2d_tight", "bounding_box_2d_tight", index, "npy");
+  if (!fs::exists(boxes_path)) return;
+  const std::string file = boxes_path.string();
+  const NpyArray boxes = ReadNpy(boxes_path);
+  const fs::path prim_paths_path =
+      Path("bounding_box_2d_tight", "bounding_box_2d_tight_prim_paths", index, "json");
+  const json prim_paths = ParseJsonFile(prim_paths_path);
+  if (!prim_paths.is_array() || prim_paths.size() != static_cast<size_t>(boxes.size()))
+    throw Error("expected one prim path per box (" + std::to_string(boxes.size()) + ")",
+                Location(prim_paths_path.string()));
+  const NpyField& x_min = boxes.Field("x_min", file);
+  const NpyField& y_min = boxes.Field("y_min", file);
+  const NpyField& x_max = boxes.Field("x_max", file);
+  const NpyField& y_max = boxes.Field("y_max", file);
+  for (int64_t row = 0; row < boxes.size(); ++row) {
+    const std::string path =
+        StringAt(prim_paths.at(row), prim_paths_path.string(), "/" + std::to_string(row));
+    const auto instance = instance_of_prim_.find(path);
+    if (instance == instance_of_prim_.end()) continue;  // not a 3D box: not an object
+    const Box2d box{boxes.Get(row, x_min),
+                    boxes.Get(row, y_min),
+                    boxes.Get(row, x_max) + 1,
+                    boxes.Get(row, y_max) + 1};
+    if (box.empty()) throw Error("row " + std::to_string(row) + " is an empty box", Location(file));
+    frame->stated[instance->second].bbox = box;
+  }
+}
+
 SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
   SourceFrame frame;
-  // BasicWriter writes no timestamps; randomised frames are independent.
+  const FrameFiles& files = frames_.at(static_cast<size_t>(index));
+  // BasicWriter writes no timestamps; randomised frames are independent. Each render product
+  // (and each on_time trigger count) is a sequence.
   frame.time = static_cast<double>(index);
-  frame.sequence = folder_.filename().string();
+  frame.sequence = products_.at(files.product).name;
+  if (!files.trigger_prefix.empty())
+    frame.sequence += "#" + files.trigger_prefix.substr(0, files.trigger_prefix.size() - 1);
   frame.shot = index;
-  const double meters_per_unit =
-      ReadCamera(Path("camera_params", index, "json"), enu_from_stage_, &frame.camera);
+  const double meters_per_unit = ReadCamera(
+      Path("camera_params", "camera_params", index, "json"), enu_from_stage_, &frame.camera);
   const int width = frame.camera.intrinsics.width, height = frame.camera.intrinsics.height;
   frame.flat["rgb"] =
-      ReadSrgbLayer(Path("rgb", index, "png"), width, height, "renderProductResolution");
+      ReadSrgbLayer(Path("rgb", "rgb", index, "png"), width, height, "renderProductResolution");
   if (!depth_stem_.empty()) {
-    frame.flat["depth"] =
-        ReadDistanceDepth(Path(depth_stem_, index, "npy"), index, width, height, meters_per_unit);
+    frame.flat["depth"] = ReadDistanceDepth(
+        Path(depth_stem_, depth_stem_, index, "npy"), index, width, height, meters_per_unit);
   }
-  ReadInstanceLayers(Path("instance_segmentation", index, "png"),
-                     Path("instance_segmentation_mapping", index, "json"),
-                     index,
-                     frame.camera.intrinsics,
-                     instance_of_prim_,
-                     class_of_prim_,
-                     &frame);
+  if (has_instances_) {
+    ReadInstanceLayers(
+        Path("instance_segmentation", "instance_segmentation", index, "png"),
+        Path("instance_segmentation", "instance_segmentation_mapping", index, "json"),
+        index,
+        frame.camera.intrinsics,
+        instance_of_prim_,
+        class_of_prim_,
+        &frame);
+  } else {
+    ReadTightBoxes(index, &frame);
+  }
 
   // 3D boxes, when written, are the targets.
-  const fs::path boxes_path = Path("bounding_box_3d", index, "npy");
+  const fs::path boxes_path = Path("bounding_box_3d", "bounding_box_3d", index, "npy");
   if (fs::exists(boxes_path)) {
     const std::string file = boxes_path.string();
     const NpyArray boxes = ReadNpy(boxes_path);
-    const json prim_paths = ParseJsonFile(Path("bounding_box_3d_prim_paths", index, "json"));
+    const fs::path prim_paths_path =
+        Path("bounding_box_3d", "bounding_box_3d_prim_paths", index, "json");
+    const json prim_paths = ParseJsonFile(prim_paths_path);
     const NpyField& transform_field = boxes.Field("transform", file);
     if (transform_field.count != 16) throw Error("field 'transform' is not 4x4", Location(file));
+    const NpyField* occlusion = nullptr;
+    for (const NpyField& field : boxes.fields)
+      if (field.name == "occlusionRatio") occlusion = &field;
     for (int64_t row = 0; row < boxes.size(); ++row) {
       const OrientedBox obb = BoxOfRow(boxes, row, file, enu_from_stage_, meters_per_unit);
-      const std::string path = StringAt(prim_paths.at(row),
-                                        Path("bounding_box_3d_prim_paths", index, "json").string(),
-                                        "/" + std::to_string(row));
+      const std::string path =
+          StringAt(prim_paths.at(row), prim_paths_path.string(), "/" + std::to_string(row));
       ObjectIdentity target;
       target.instance_id = instance_of_prim_.at(path);
       target.class_id = class_of_prim_.at(path);
       target.name = path;
       target.obb = obb;
       frame.targets.push_back(target);
+      // The renderer's own occluded share; outside [0, 1] (-1, NaN) when it could not tell.
+      const double occluded = occlusion != nullptr ? boxes.Get(row, *occlusion) : -1;
+      if (!has_instances_ && occluded >= 0 && occluded <= 1)
+        frame.stated[target.instance_id].visibility = 1 - occluded;
     }
   }
   return frame;

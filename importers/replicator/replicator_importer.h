@@ -1,13 +1,20 @@
-// Omniverse Replicator's BasicWriter output for one render product
-// (docs/import.md, "Omniverse Replicator"): per frame NNNN, rgb_NNNN.png,
-// distance_to_image_plane_NNNN.npy or distance_to_camera_NNNN.npy (float32,
-// scene units), instance_segmentation_NNNN.png (colourised RGBA) with
+// Omniverse Replicator's BasicWriter output (docs/import.md, "Omniverse
+// Replicator"): per frame NNNN, rgb_NNNN.png, distance_to_image_plane_NNNN.npy
+// or distance_to_camera_NNNN.npy (float32, scene units),
+// instance_segmentation_NNNN.png (colourised RGBA) with
 // instance_segmentation_mapping_NNNN.json (colour -> prim path) and
 // instance_segmentation_semantics_mapping_NNNN.json (colour -> {"class": ..}),
 // bounding_box_3d_NNNN.npy (structured records, local extents and a
 // row-vector local-to-world transform) with its _labels and _prim_paths JSON,
-// and camera_params_NNNN.json (row-vector view and OpenGL projection
-// matrices, metersPerSceneUnit). The stage's up axis is not in the files: it
+// bounding_box_2d_tight_NNNN.npy (inclusive pixel indices, occlusionRatio) and
+// camera_params_NNNN.json (row-vector view and OpenGL projection matrices,
+// metersPerSceneUnit). The layouts BasicWriter.write() makes: one render
+// product's files in one folder, or several products' in
+// <product>/<annotator>/ folders, or with use_common_output_dir in
+// <annotator>/<product>_ names (each product one sequence); on_time
+// triggers prefix the frame number with their counts (rgb_1_0000.png). Without
+// instance segmentation, the objects come from the 3D boxes and their 2D truth
+// from bounding_box_2d_tight. The stage's up axis is not in the files: it
 // comes from --up-axis.
 #pragma once
 
@@ -31,12 +38,32 @@ class ReplicatorImporter : public Importer {
   SourceFrame ReadFrame(int64_t index) override;
 
  private:
-  std::filesystem::path Path(const std::string& stem, int64_t index, const std::string& ext) const;
+  // One render product's output.
+  struct Product {
+    std::string name;
+    std::filesystem::path folder;
+    bool annotator_folders = false;  // files in <folder>/<annotator>/
+    std::string file_prefix;         // "<product>_" before each file name (common output dir)
+  };
+  // One frame: its product and the name part after "<stem>_" ("0000", "1_0000").
+  struct FrameFiles {
+    size_t product = 0;
+    std::string trigger_prefix;  // on_time trigger counts, "1_" ("" without)
+    std::vector<int64_t> order;  // trigger counts then frame number, for sorting
+    std::string id;
+  };
+  // The file `stem`_<id>.`ext` of frame `index`, written by `annotator`.
+  std::filesystem::path Path(const std::string& annotator,
+                             const std::string& stem,
+                             int64_t index,
+                             const std::string& ext) const;
+  void FindFrames(const Product& product, size_t product_index);
+  void ReadTightBoxes(int64_t index, SourceFrame* frame) const;
   std::optional<ConfinedFolder> root_;  // every file read is confined to it
-  std::filesystem::path folder_;
-  // (number, its digits as written: "0000", ...) in numeric order.
-  std::vector<std::pair<int64_t, std::string>> frame_ids_;
-  std::string depth_stem_;  // distance_to_image_plane | _camera
+  std::vector<Product> products_;
+  std::vector<FrameFiles> frames_;  // by product, trigger counts, frame number
+  bool has_instances_ = false;      // instance_segmentation written
+  std::string depth_stem_;          // distance_to_image_plane | _camera
   DepthKind depth_kind_ = DepthKind::kPlanar;
   std::map<std::string, uint32_t> instance_of_prim_;  // prim path -> id
   std::map<std::string, uint32_t> class_of_prim_;     // prim path -> class

@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <regex>
+#include <set>
 #include <tuple>
 
 #include <opencv2/core.hpp>
@@ -48,18 +49,42 @@ Eigen::Matrix3d RotationXyzw(const Eigen::Matrix<double, 4, 1>& q,
   return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
 }
 
-}  // namespace
+// The RGB sensor's capture schedule, when sensor_definitions.json has one.
+CaptureSchedule ReadCaptureSchedule(const ConfinedFolder& root, const fs::path& source) {
+  CaptureSchedule schedule;
+  const fs::path path = root.File(source / "sensor_definitions.json");
+  if (!fs::is_regular_file(path)) return schedule;
+  const json definitions = ParseJsonFile(path);
+  const std::string file = path.string();
+  const json& sensors = AtPointer(file, "/sensorDefinitions", [&]() -> const json& {
+    return definitions.at("sensorDefinitions");
+  });
+  for (size_t s = 0; s < sensors.size(); ++s) {
+    if (!HasType(sensors[s], "RGBCamera")) continue;
+    const std::string where = "/sensorDefinitions/" + std::to_string(s);
+    AtPointer(file, where, [&] {
+      schedule.scheduled = sensors[s].value("captureTriggerMode", "") == "Scheduled";
+      schedule.delta_time = sensors[s].value("simulationDeltaTime", 0.0);
+      schedule.first_capture_frame = sensors[s].value("firstCaptureFrame", 0.0);
+      schedule.frames_between = sensors[s].value("framesBetweenCaptures", int64_t{0});
+      return 0;
+    });
+    if (schedule.scheduled && !(schedule.delta_time > 0 && schedule.frames_between >= 0))
+      throw Error("a scheduled sensor needs simulationDeltaTime > 0 and framesBetweenCaptures >= 0",
+                  Location(file, where));
+    break;
+  }
+  return schedule;
+}
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
-SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions& options) {
-  root_.emplace(source, options.allow_links_outside);
-  const fs::path definitions_path = root_->File(source / "annotation_definitions.json");
+// The labels of annotation_definitions.json's specs, by id.
+std::map<uint32_t, std::string> ReadLabelDefinitions(const ConfinedFolder& root,
+                                                     const fs::path& source) {
+  const fs::path definitions_path = root.File(source / "annotation_definitions.json");
   if (!fs::is_regular_file(definitions_path))
     throw Error("not a SOLO dataset: no annotation_definitions.json", Location(source.string()));
   const json definitions = ParseJsonFile(definitions_path);
   const std::string definitions_file = definitions_path.string();
-  SourceDescription description;
   std::map<uint32_t, std::string> labels;
   AtPointer(definitions_file, "/annotationDefinitions", [&] {
     const json& list = definitions.at("annotationDefinitions");
@@ -86,10 +111,82 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
         "no label spec (label_id, label_name) in any annotation "
         "definition",
         Location(definitions_file, "/annotationDefinitions"));
-  for (const auto& [id, name] : labels) {
-    description.classes.push_back({id, name});
-    class_ids_.push_back(id);
+  return labels;
+}
+
+// What the frames use, read before the import: the label ids of the RGB capture's instances
+// and 3D boxes, and the 2D boxes with no 3D box of the same instance, counted by label name.
+struct LabelUse {
+  std::set<uint32_t> used;
+  std::map<std::string, int64_t> boxes_2d_only;
+};
+
+// The capture's label ids in `field` of the annotations of type `type`, with their instances.
+void CollectLabels(const json& capture,
+                   const std::string& at,
+                   const char* type,
+                   const char* field,
+                   const std::string& file,
+                   std::vector<std::pair<uint32_t, uint32_t>>* instance_labels) {
+  const json annotations = capture.value("annotations", json::array());
+  for (size_t a = 0; a < annotations.size(); ++a) {
+    if (!HasType(annotations[a], type)) continue;
+    const std::string where = at + "/annotations/" + std::to_string(a) + "/" + field;
+    const json& values =
+        AtPointer(file, where, [&]() -> const json& { return annotations[a].at(field); });
+    for (size_t n = 0; n < values.size(); ++n) {
+      const std::string w = where + "/" + std::to_string(n);
+      instance_labels->emplace_back(
+          AtPointer(
+              file, w, [&] { return IdAt(values[n].at("instanceId"), file, w + "/instanceId"); }),
+          AtPointer(file, w, [&] { return IdAt(values[n].at("labelId"), file, w + "/labelId"); }));
+    }
   }
+}
+
+LabelUse ScanLabelUse(const std::vector<fs::path>& step_files,
+                      const std::map<uint32_t, std::string>& labels) {
+  LabelUse use;
+  for (const fs::path& path : step_files) {
+    const json data = ParseJsonFile(path);
+    const std::string file = path.string();
+    const json& captures =
+        AtPointer(file, "/captures", [&]() -> const json& { return data.at("captures"); });
+    for (size_t c = 0; c < captures.size(); ++c) {
+      const json& capture = captures[c];
+      if (!HasType(capture, "RGBCamera")) continue;
+      const std::string at = "/captures/" + std::to_string(c);
+      std::vector<std::pair<uint32_t, uint32_t>> instances, boxes_3d, boxes_2d;
+      CollectLabels(capture, at, "InstanceSegmentationAnnotation", "instances", file, &instances);
+      CollectLabels(capture, at, "BoundingBox3DAnnotation", "values", file, &boxes_3d);
+      CollectLabels(capture, at, "BoundingBox2DAnnotation", "values", file, &boxes_2d);
+      for (const auto& [instance, label] : instances) use.used.insert(label);
+      std::set<uint32_t> with_3d;
+      for (const auto& [instance, label] : boxes_3d) {
+        use.used.insert(label);
+        with_3d.insert(instance);
+      }
+      for (const auto& [instance, label] : boxes_2d) {
+        if (with_3d.count(instance)) continue;
+        const auto name = labels.find(label);
+        ++use.boxes_2d_only[name == labels.end() ? "label " + std::to_string(label) : name->second];
+      }
+      break;
+    }
+  }
+  return use;
+}
+
+}  // namespace
+
+// Not yet cut at its seams (docs/architecture.md, "Long functions").
+// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
+SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions& options) {
+  root_.emplace(source, options.allow_links_outside);
+  const std::map<uint32_t, std::string> labels = ReadLabelDefinitions(*root_, source);
+  for (const auto& [id, name] : labels) class_ids_.push_back(id);
+  schedule_ = ReadCaptureSchedule(*root_, source);
+  SourceDescription description;
 
   static const std::regex sequence_name(R"(sequence\.(\d+))");
   static const std::regex step_name(R"(step(\d+)\.frame_data\.json)");
@@ -121,6 +218,19 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
     shot_of_step_.push_back(k > 0 && steps_[k].sequence == steps_[k - 1].sequence
                                 ? shot_of_step_[k - 1]
                                 : static_cast<int64_t>(k));
+  // The classes: the labels the frames use (or all, --all-labels), so that no class of the
+  // table is empty only because the label configuration listed it.
+  std::vector<fs::path> step_files;
+  for (const Step& step : steps_) step_files.push_back(step.file);
+  const LabelUse use = ScanLabelUse(step_files, labels);
+  for (const auto& [id, name] : labels)
+    if (options.all_labels || use.used.count(id)) description.classes.push_back({id, name});
+  for (const auto& [label, count] : use.boxes_2d_only)
+    description.warnings.push_back(
+        std::to_string(count) + " BoundingBox2D box(es) of '" + label +
+        "' have no BoundingBox3D box: not objects of the collection (an object needs a 3D box); "
+        "where the instance segmentation has their pixels, they keep their ids in the instanceid "
+        "and classid layers");
   // Whether there is depth, and of which kind: from the first frame.
   const json first = ParseJsonFile(steps_[0].file);
   const std::string first_file = steps_[0].file.string();
@@ -359,9 +469,13 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   SourceFrame frame;
   frame.sequence = "sequence." + std::to_string(step.sequence);
   frame.shot = shot_of_step_.at(static_cast<size_t>(index));
-  // Milliseconds since the sequence started.
+  // Seconds since the sequence started: Frame.ToMessage writes SimulationState.SequenceTime,
+  // a sum of Unity's Time.deltaTime (seconds), whatever the schema page says (milliseconds).
+  // Frames before Perception 1.0 have no timestamp: the sensor's schedule gives the time.
   frame.time =
-      AtPointer(file, "/timestamp", [&] { return data.at("timestamp").get<double>(); }) / 1000.0;
+      data.contains("timestamp")
+          ? AtPointer(file, "/timestamp", [&] { return data.at("timestamp").get<double>(); })
+          : schedule_.TimeOfStep(step.step);
   size_t c = 0;
   const json& captures =
       AtPointer(file, "/captures", [&]() -> const json& { return data.at("captures"); });

@@ -65,6 +65,23 @@ void ExpectObjectNear(const ObjectTruth& got, const ObjectTruth& want, double ob
   EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), obb);
 }
 
+fs::path ExpectValidatesAndConvertsToCoco(const fs::path& collection, const fs::path& coco) {
+  const CommandResult validate =
+      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + collection.string());
+  EXPECT_EQ(validate.exit_code, 0) << validate.output;
+  const CommandResult convert = RunCommandLine(LsdsBinary() + " convert " + collection.string() +
+                                               " --to coco --images none -o " + coco.string());
+  EXPECT_EQ(convert.exit_code, 0) << convert.output;
+  fs::path annotations;
+  if (convert.exit_code != 0) return annotations;
+  for (const auto& entry : fs::recursive_directory_iterator(coco))
+    if (entry.path().extension() == ".json" &&
+        entry.path().filename().string().rfind("instances", 0) == 0)
+      annotations = entry.path();
+  EXPECT_FALSE(annotations.empty());
+  return annotations;
+}
+
 fs::path ExpectImportValidatesAndConverts(const std::string& format,
                                           const fs::path& source,
                                           const fs::path& dir,
@@ -78,21 +95,8 @@ fs::path ExpectImportValidatesAndConverts(const std::string& format,
                      out.string() + " " + flags);
   EXPECT_EQ(imported.exit_code, 0) << imported.output;
   if (imported.exit_code != 0) return out;
-  const CommandResult validate =
-      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
-  EXPECT_EQ(validate.exit_code, 0) << validate.output;
-
   // COCO: every annotation's RLE mask is the fixture's mask of its instance.
-  const fs::path coco = dir / "coco";
-  const CommandResult convert = RunCommandLine(LsdsBinary() + " convert " + out.string() +
-                                               " --to coco --images none -o " + coco.string());
-  EXPECT_EQ(convert.exit_code, 0) << convert.output;
-  fs::path annotations;
-  for (const auto& entry : fs::recursive_directory_iterator(coco))
-    if (entry.path().extension() == ".json" &&
-        entry.path().filename().string().rfind("instances", 0) == 0)
-      annotations = entry.path();
-  EXPECT_FALSE(annotations.empty());
+  const fs::path annotations = ExpectValidatesAndConvertsToCoco(out, dir / "coco");
   if (annotations.empty()) return out;
   const json doc = json::parse(ReadText(annotations));
   std::map<int64_t, std::string> image_names;

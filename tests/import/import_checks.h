@@ -39,6 +39,11 @@ void ExpectCameraNear(const CameraTruth& got,
 // extents in metres, rotation entries). Ids are the caller's to compare.
 void ExpectObjectNear(const ObjectTruth& got, const ObjectTruth& want, double obb);
 
+// `lsds validate --fail-on warning COLLECTION` passes, and `lsds convert COLLECTION --to coco
+// --images none -o COCO` succeeds; returns the COCO annotations file (empty on failure).
+std::filesystem::path ExpectValidatesAndConvertsToCoco(const std::filesystem::path& collection,
+                                                       const std::filesystem::path& coco);
+
 // The fixture's id layer of frame k (what the source's masks hold).
 using FixtureIds = std::function<std::vector<uint32_t>(int frame)>;
 

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "synth/synthetic_collection.h"
 
@@ -16,6 +18,21 @@ namespace lsds::testing {
 
 inline constexpr double kReplicatorMetersPerUnit = 0.01;
 
-void WriteReplicatorFixture(const std::filesystem::path& folder, const synth::Spec& spec);
+// The layouts BasicWriter.write() makes besides one product's flat folder.
+struct ReplicatorLayout {
+  // Several render products: each product's files in <folder>/<product>/<annotator>/ (here every
+  // product sees the spec's frames). Empty: one product, every file in <folder>.
+  std::vector<std::string> products;
+  // With several products, use_common_output_dir=True: <folder>/<annotator>/<product>_<file>.
+  bool common_output_dir = false;
+  // The on_time triggers' counts before the frame number: "1_" -> rgb_1_0000.png.
+  std::string trigger_prefix;
+  // Whether the instance_segmentation annotator was on (its PNG and two mappings).
+  bool instance_segmentation = true;
+};
+
+void WriteReplicatorFixture(const std::filesystem::path& folder,
+                            const synth::Spec& spec,
+                            const ReplicatorLayout& layout = {});
 
 }  // namespace lsds::testing

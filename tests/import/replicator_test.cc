@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -118,6 +119,188 @@ TEST_F(ReplicatorImportTest, ValidatesCleanAndConverts) {
       spec_.height,
       [&](int k) { return TargetIds(synth::RenderFrame(spec_, k)); },
       "--up-axis y");
+}
+
+// Two render products of the spec's first two frames in `layout` import as two sequences named
+// after the products, frame by frame equal to the single-product import.
+void ExpectTwoProductsImport(const fs::path& dir, ReplicatorLayout layout) {
+  synth::Spec spec = ObliqueImportSpec();
+  spec.cam_from_world.resize(2);
+  const fs::path root = dir / "replicator";
+  layout.products = {"Replicator", "Replicator_01"};
+  WriteReplicatorFixture(root, spec, layout);
+  const fs::path out = ExpectImportValidatesAndConverts(
+      "replicator",
+      root,
+      dir,
+      spec.width,
+      spec.height,
+      [&](int k) { return TargetIds(synth::RenderFrame(spec, k % 2)); },
+      "--up-axis y");
+  std::vector<Frame> frames;
+  CollectionReader(out).ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+  ASSERT_EQ(frames.size(), 4u);
+  for (size_t k = 0; k < frames.size(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    EXPECT_EQ(frames[k].sequence, k < 2 ? "Replicator" : "Replicator_01");
+    const synth::RenderedFrame truth = synth::RenderFrame(spec, static_cast<int>(k % 2));
+    ExpectCameraNear(frames[k].camera, truth.truth.camera, 1e-12, 1e-12);
+    ASSERT_EQ(frames[k].objects.size(), truth.truth.objects.size());
+    for (size_t i = 0; i < frames[k].objects.size(); ++i)
+      ExpectObjectNear(frames[k].objects[i], truth.truth.objects[i], 1e-6);
+  }
+}
+
+// Several render products: BasicWriter.write() puts each product's files in
+// <product>/<annotator>/ (the default, use_common_output_dir=False).
+TEST_F(ReplicatorImportTest, SeveralRenderProductsAreOneSequenceEach) {
+  ExpectTwoProductsImport(dir_.path(), {});
+  EXPECT_TRUE(fs::exists(dir_ / "replicator" / "Replicator_01" / "bounding_box_3d" /
+                         "bounding_box_3d_0001.npy"));
+}
+
+// use_common_output_dir=True: <annotator>/<product>_<file> (rgb/Replicator_01_rgb_0000.png).
+TEST_F(ReplicatorImportTest, TheCommonOutputDirLayoutImports) {
+  ReplicatorLayout layout;
+  layout.common_output_dir = true;
+  ExpectTwoProductsImport(dir_.path(), layout);
+  EXPECT_TRUE(fs::exists(dir_ / "replicator" / "rgb" / "Replicator_01_rgb_0001.png"));
+}
+
+// on_time triggers prefix the frame number with their counts (rgb_1_0000.png); the counts name
+// the sequence.
+TEST_F(ReplicatorImportTest, OnTimeTriggerNamesImport) {
+  synth::Spec spec = spec_;
+  spec.cam_from_world.resize(2);
+  const fs::path folder = dir_ / "replicator";
+  ReplicatorLayout layout;
+  layout.trigger_prefix = "1_";
+  WriteReplicatorFixture(folder, spec, layout);
+  ASSERT_TRUE(fs::exists(folder / "rgb_1_0001.png"));
+  const fs::path out = ExpectImportValidatesAndConverts(
+      "replicator",
+      folder,
+      dir_.path(),
+      spec.width,
+      spec.height,
+      [&](int k) { return TargetIds(synth::RenderFrame(spec, k)); },
+      "--up-axis y");
+  std::vector<Frame> frames;
+  CollectionReader(out).ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+  ASSERT_EQ(frames.size(), 2u);
+  for (size_t k = 0; k < frames.size(); ++k) {
+    EXPECT_EQ(frames[k].sequence, "replicator#1");
+    ExpectCameraNear(
+        frames[k].camera, synth::RenderFrame(spec, static_cast<int>(k)).truth.camera, 1e-12, 1e-12);
+  }
+}
+
+// Without instance segmentation (rgb, camera_params and 3D boxes, as in real captures that
+// turn it off): the objects are the 3D boxes, their boxes the writer's bounding_box_2d_tight,
+// their visibility 1 - occlusionRatio; no id layers.
+TEST_F(ReplicatorImportTest, WithoutInstanceSegmentationTheBoxesAreTheObjects) {
+  const fs::path folder = dir_ / "replicator";
+  ReplicatorLayout layout;
+  layout.instance_segmentation = false;
+  WriteReplicatorFixture(folder, spec_, layout);
+  const fs::path out = dir_ / "collection";
+  const CommandResult imported = RunCommandLine(
+      LsdsBinary() + " import replicator " + folder.string() + " --up-axis y -o " + out.string());
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  EXPECT_NE(imported.output.find("warning: no instance_segmentation"), std::string::npos)
+      << imported.output;
+  const CommandResult validate =
+      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
+  EXPECT_EQ(validate.exit_code, 0) << validate.output;
+  const CollectionReader reader(out);
+  EXPECT_EQ(reader.header().FindLayerBySemantic("instanceid"), nullptr);
+  std::vector<Frame> frames;
+  reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+  ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
+  int64_t boxes = 0;
+  double max_visibility_error = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
+    ExpectCameraNear(frames[k].camera, truth.truth.camera, 1e-12, 1e-12);
+    ASSERT_EQ(frames[k].objects.size(), truth.truth.objects.size());
+    for (size_t i = 0; i < frames[k].objects.size(); ++i) {
+      const ObjectTruth& got = frames[k].objects[i];
+      const ObjectTruth& want = truth.truth.objects[i];
+      EXPECT_EQ(got.instance_id, want.instance_id);
+      EXPECT_EQ(got.bbox, want.bbox);  // the tight box, exact
+      boxes += got.bbox.has_value();
+      ASSERT_EQ(got.bbox_projected.has_value(), want.bbox_projected.has_value());
+      if (want.bbox_projected)  // from the float32 OBB
+        for (double d : {got.bbox_projected->x0 - want.bbox_projected->x0,
+                         got.bbox_projected->y1 - want.bbox_projected->y1})
+          EXPECT_LT(std::abs(d), 1e-3);
+      if (want.visible_pixels > 0)  // occlusionRatio is float32
+        max_visibility_error =
+            std::max(max_visibility_error, std::abs(got.visibility - want.visibility));
+      EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-6);
+    }
+  }
+  EXPECT_GT(boxes, 0);
+  EXPECT_LT(max_visibility_error, 1e-7);
+  const json header = json::parse(ReadText(out / "collection.json"));
+  const json& origin = header["provenance"]["import"]["truth_origin"];
+  EXPECT_EQ(origin["bbox"], "imported");
+  EXPECT_EQ(origin["visibility"], "imported");
+  EXPECT_EQ(origin["visible_pixels"], "absent");
+  // COCO's masks need the id layer: refused with the reason.
+  const CommandResult coco =
+      RunCommandLine(LsdsBinary() + " convert " + out.string() + " --to coco --images none -o " +
+                     (dir_ / "coco").string());
+  EXPECT_NE(coco.exit_code, 0);
+  EXPECT_NE(coco.output.find("no instanceid layer"), std::string::npos) << coco.output;
+}
+
+// A prim with a negative scale (three wall wires of the warehouse stage in real BasicWriter
+// output): the record's transform is mirrored, the box is the same set of points.
+TEST_F(ReplicatorImportTest, AMirroredBoxTransformIsTheSameBox) {
+  synth::Spec spec = spec_;
+  spec.cam_from_world.resize(1);
+  const fs::path folder = dir_ / "replicator";
+  WriteReplicatorFixture(folder, spec);
+  import::ImportOptions options;
+  options.up_axis = "y";
+  import::ImportCollection("replicator", folder, dir_ / "plain", options, false);
+  const fs::path boxes_path = folder / "bounding_box_3d_0000.npy";
+  NpyArray boxes = ReadNpy(boxes_path);
+  const NpyField& transform = boxes.Field("transform", "");
+  for (int row = 0; row < boxes.size(); ++row)
+    for (int r = 0; r < 3; ++r) {  // the row-vector matrix's first row: local x in the stage
+      float v = 0;
+      char* at = boxes.data.data() + row * boxes.record_size + transform.offset + r * 4;
+      std::memcpy(&v, at, 4);
+      v = -v;
+      std::memcpy(at, &v, 4);
+    }
+  WriteNpy(boxes_path,
+           "[('semanticId', '<u4'), ('x_min', '<f4'), ('y_min', '<f4'), ('z_min', '<f4'), "
+           "('x_max', '<f4'), ('y_max', '<f4'), ('z_max', '<f4'), ('transform', '<f4', (4, 4)), "
+           "('occlusionRatio', '<f4')]",
+           boxes.shape,
+           boxes.data);
+  import::ImportCollection("replicator", folder, dir_ / "mirrored", options, false);
+  std::vector<Frame> plain, mirrored;
+  CollectionReader(dir_ / "plain").ForEachFrame([&](const Frame& f) { plain.push_back(f); });
+  CollectionReader(dir_ / "mirrored").ForEachFrame([&](const Frame& f) { mirrored.push_back(f); });
+  ASSERT_EQ(plain.size(), 1u);
+  ASSERT_EQ(mirrored[0].objects.size(), plain[0].objects.size());
+  for (size_t i = 0; i < plain[0].objects.size(); ++i) {
+    const OrientedBox& a = plain[0].objects[i].obb;
+    const OrientedBox& b = mirrored[0].objects[i].obb;
+    EXPECT_LT((a.center - b.center).norm(), 1e-9);
+    const auto ca = a.Corners();
+    const auto cb = b.Corners();
+    for (const Eigen::Vector3d& corner : ca) {
+      double nearest = 1e9;
+      for (const Eigen::Vector3d& other : cb) nearest = std::min(nearest, (corner - other).norm());
+      EXPECT_LT(nearest, 1e-6);
+    }
+  }
 }
 
 TEST_F(ReplicatorImportTest, TheWrongUpAxisGivesAnotherWorldNotACrash) {

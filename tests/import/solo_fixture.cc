@@ -56,7 +56,11 @@ void WriteSoloFixture(const fs::path& dataset, const synth::Spec& spec, int spli
       << json({{"sensorDefinitions",
                 {{{"@type", "type.unity.com/unity.solo.RGBCamera"},
                   {"id", "camera"},
-                  {"modality", "camera"}}}}})
+                  {"modality", "camera"},
+                  {"captureTriggerMode", "Scheduled"},
+                  {"simulationDeltaTime", spec.frame_interval},
+                  {"firstCaptureFrame", 0.0},
+                  {"framesBetweenCaptures", 0}}}}})
              .dump(2);
   std::ofstream(dataset / "metric_definitions.json")
       << json({{"metricDefinitions", json::array()}}).dump(2);
@@ -174,7 +178,8 @@ void WriteSoloFixture(const fs::path& dataset, const synth::Spec& spec, int spli
     const json frame_data = {{"frame", k},
                              {"sequence", sequence},
                              {"step", step},
-                             {"timestamp", step * spec.frame_interval * 1000.0},
+                             // Seconds: SimulationState.SequenceTime (Time.deltaTime sums).
+                             {"timestamp", step * spec.frame_interval},
                              {"metadata", json::object()},
                              {"captures", {capture}},
                              {"metrics", json::array()}};

@@ -100,6 +100,34 @@ TEST_F(SoloImportTest, ValidatesCleanAndConverts) {
       });
 }
 
+// Perception before 1.0 writes no `timestamp`: the RGB sensor's schedule in
+// sensor_definitions.json (simulationDeltaTime, firstCaptureFrame, framesBetweenCaptures) gives
+// each step's time, the same the 1.0 writer stamps.
+TEST_F(SoloImportTest, FramesWithoutTimestampTakeTheSensorSchedule) {
+  const fs::path dataset = dir_ / "solo";
+  WriteSoloFixture(dataset, spec_, kSplit);
+  for (const auto& entry : fs::recursive_directory_iterator(dataset)) {
+    if (entry.path().filename().string().find("frame_data.json") == std::string::npos) continue;
+    json data = json::parse(ReadText(entry.path()));
+    data.erase("timestamp");
+    std::ofstream(entry.path()) << data.dump();
+  }
+  // Every second simulated frame captured, from frame 3 on.
+  json sensors = json::parse(ReadText(dataset / "sensor_definitions.json"));
+  sensors["sensorDefinitions"][0]["framesBetweenCaptures"] = 1;
+  sensors["sensorDefinitions"][0]["firstCaptureFrame"] = 3.0;
+  std::ofstream(dataset / "sensor_definitions.json") << sensors.dump();
+  const fs::path out = dir_ / "collection";
+  import::ImportCollection("solo", dataset, out, {}, false);
+  std::vector<double> times;
+  CollectionReader(out).ForEachFrame([&](const Frame& f) { times.push_back(f.time); });
+  ASSERT_EQ(times.size(), spec_.cam_from_world.size());
+  for (size_t k = 0; k < times.size(); ++k) {
+    const int step = k < kSplit ? static_cast<int>(k) : static_cast<int>(k) - kSplit;
+    EXPECT_NEAR(times[k], spec_.frame_interval * (3 + 2 * step), 1e-12) << "frame " << k;
+  }
+}
+
 TEST_F(SoloImportTest, ABadQuaternionIsALocatedError) {
   synth::Spec spec = spec_;
   spec.cam_from_world.resize(2);

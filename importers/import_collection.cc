@@ -180,7 +180,8 @@ ImportResult ImportCollection(const std::string& format,
     frame.sequence = source_frame.sequence;
     frame.shot = source_frame.shot;
     frame.camera = source_frame.camera;
-    frame.objects = MeasureFrameObjects(source_frame, camera, cam_from_world);
+    frame.objects =
+        MeasureFrameObjects(source_frame, source_frame.camera.intrinsics, cam_from_world);
     frame.files = WriteFrameLayers(
         root, header, k, frame.camera, {&source_frame.flat, nullptr, std::nullopt, std::nullopt});
     result.objects += static_cast<int64_t>(frame.objects.size());
@@ -189,7 +190,6 @@ ImportResult ImportCollection(const std::string& format,
   builder.Commit();
   out.Commit();
   result.frames = description.frame_count;
-  result.warnings = description.warnings;
   return result;
 }
 

@@ -47,15 +47,7 @@ struct Text {
 
 std::unique_ptr<Text> Lcap(const std::string& text) { return std::make_unique<Text>(text, "LCAP"); }
 
-template <typename F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::ErrorOf;
 
 // ---- flight.h
 

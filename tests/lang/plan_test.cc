@@ -14,6 +14,7 @@
 #include "libs/collection/schema.h"
 #include "libs/geometry/oriented_box.h"
 #include "tests/build_paths.h"
+#include "generator/lang/scene/placed_objects.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 
@@ -26,14 +27,6 @@ using testing::PlanText;
 
 Eigen::Vector3d HalfAabb(const PlannedObject& o) {
   return o.world_from_object.cwiseAbs() * (0.5 * o.extent);
-}
-
-OrientedBox Obb(const PlannedObject& o) {
-  OrientedBox b;
-  b.center = o.position;
-  b.half_extents = 0.5 * o.extent;
-  b.world_from_box = o.world_from_object;
-  return b;
 }
 
 const PlannedObject* Find(const Plan& plan, const std::string& name) {
@@ -137,7 +130,7 @@ TEST(LangPlan, OverlapFalseLeavesNoIntersectingBoxes) {
               25);
     for (size_t i = 0; i < plan.objects.size(); ++i)
       for (size_t j = i + 1; j < plan.objects.size(); ++j)
-        EXPECT_FALSE(Obb(plan.objects[i]).Intersects(Obb(plan.objects[j])))
+        EXPECT_FALSE(ObbOf(plan.objects[i]).Intersects(ObbOf(plan.objects[j])))
             << plan.objects[i].name << " " << plan.objects[j].name << " seed " << seed;
   }
 }
@@ -165,9 +158,9 @@ TEST(LangPlan, OverlapFalseHoldsForWallsAndSeparations) {
         const double gap = std::max(earlier.separation, later.separation);
         const Eigen::Vector3d apart =
             (later.position - earlier.position).cwiseAbs() - HalfAabb(later) - HalfAabb(earlier);
-        OrientedBox grown = Obb(later);
+        OrientedBox grown = ObbOf(later);
         grown.half_extents.array() += gap;
-        EXPECT_FALSE((apart.array() < gap).all() && grown.Intersects(Obb(earlier)))
+        EXPECT_FALSE((apart.array() < gap).all() && grown.Intersects(ObbOf(earlier)))
             << earlier.name << " " << later.name << " seed " << seed;
       }
   }

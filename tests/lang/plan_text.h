@@ -60,6 +60,17 @@ inline Plan PlanText(const std::string& scene,
   }
 }
 
+// The message of the lsds::Error `f` throws; "" when it throws none.
+template <typename F>
+std::string ErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 // The error message (with its location) of parsing and planning `scene` and
 // `capture` (none when empty); "" when they plan.
 inline std::string PlanErrorOf(const std::string& scene, const std::string& capture = "") {

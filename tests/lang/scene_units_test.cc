@@ -36,15 +36,7 @@ struct Scene {
   Program program;
 };
 
-template <typename F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::ErrorOf;
 
 // ---- scene_check.h
 

@@ -19,12 +19,17 @@
 
 namespace lsds {
 
+int RunExportScene(int argc, char** argv);  // generator/export_scene_command.cc
+
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"generate",
        "render a scene (LSCENE/LCAP, a plan, or --demo) into a collection",
        RunGenerate},
       {"plan", "expand an LSCENE scene and LCAP capture into the frame plan (JSON)", RunPlan},
+      {"export-scene",
+       "each planned frame's scene as glTF 2.0 and JSON for Blender, Unreal or Omniverse",
+       RunExportScene},
       {"language",
        "the LSCENE/LCAP vocabulary: kinds, keys, spellings, types, units, ranges (--json)",
        RunLanguage},

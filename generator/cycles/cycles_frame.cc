@@ -1,0 +1,138 @@
+#include "generator/cycles/cycles_frame.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+
+namespace lsds::gen {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Cycles writes the background's depth as 1e10.
+constexpr float kCyclesSkyDepth = 1e9f;
+
+// The channel of a multilayer EXR whose name ends with `suffix` ("Depth.Z" of
+// "ViewLayer.Depth.Z").
+const exr::FlatChannel& ChannelEndingWith(const exr::FlatImage& image,
+                                          const std::string& suffix,
+                                          const fs::path& file) {
+  for (const exr::FlatChannel& c : image.channels()) {
+    if (c.name == suffix ||
+        (c.name.size() > suffix.size() &&
+         c.name.compare(c.name.size() - suffix.size() - 1, suffix.size() + 1, "." + suffix) == 0))
+      return c;
+  }
+  throw Error("Cycles' output has no " + suffix + " pass", Location(file.string()));
+}
+
+void CheckSize(const exr::FlatImage& image, const Film& film, const fs::path& file) {
+  const exr::FlatImage& rgb = film.flat.at("rgb");
+  if (image.width() != rgb.width() || image.height() != rgb.height())
+    throw Error("Cycles rendered " + std::to_string(image.width()) + "x" +
+                    std::to_string(image.height()) + ", the frame is " +
+                    std::to_string(rgb.width()) + "x" + std::to_string(rgb.height()),
+                Location(file.string()));
+}
+
+}  // namespace
+
+fs::path CyclesRgbPath(const fs::path& folder, int64_t index) {
+  return folder / (FrameStem(index) + "_rgb.exr");
+}
+
+fs::path CyclesTruthPath(const fs::path& folder, int64_t index) {
+  return folder / (FrameStem(index) + "_truth.exr");
+}
+
+CyclesAgreement CompareWithCycles(const fs::path& truth_exr,
+                                  const Film& film,
+                                  const std::vector<ExportedNode>& nodes,
+                                  const PinholeCamera& camera,
+                                  DepthKind depth_kind,
+                                  int64_t frame) {
+  const exr::FlatImage cycles = exr::ReadFlatExr(truth_exr);
+  CheckSize(cycles, film, truth_exr);
+  const std::vector<float>& cycles_depth = ChannelEndingWith(cycles, "Depth.Z", truth_exr).floats;
+  const std::vector<float>& cycles_index = ChannelEndingWith(cycles, "IndexOB.X", truth_exr).floats;
+  const std::vector<float>& depth = film.flat.at("depth").Get("Z").floats;
+  const std::vector<uint32_t>& instance = film.flat.at("instanceid").Get("id").uints;
+  std::map<int, uint32_t> instance_of_pass = {{0, 0}};
+  for (const ExportedNode& n : nodes) instance_of_pass[n.pass_index] = n.instance_id;
+
+  CyclesAgreement agreement;
+  agreement.frame = frame;
+  agreement.pixels = static_cast<int64_t>(depth.size());
+  const int width = cycles.width();
+  for (size_t p = 0; p < depth.size(); ++p) {
+    const auto pass = static_cast<int>(std::lround(cycles_index[p]));
+    const auto found = instance_of_pass.find(pass);
+    const bool cycles_sky = !(cycles_depth[p] < kCyclesSkyDepth);
+    const bool lsds_sky = !std::isfinite(depth[p]);
+    if (found == instance_of_pass.end() || found->second != instance[p] || cycles_sky != lsds_sky) {
+      ++agreement.id_mismatches;
+      continue;
+    }
+    if (lsds_sky) continue;
+    double z = cycles_depth[p];  // planar
+    if (depth_kind == DepthKind::kPerspective)
+      z = PerspectiveFromPlanarDepth(
+          camera, {static_cast<double>(p % width) + 0.5, static_cast<double>(p / width) + 0.5}, z);
+    const double error = std::abs(z - depth[p]) / std::max(1e-9, static_cast<double>(depth[p]));
+    agreement.max_relative_depth_error = std::max(agreement.max_relative_depth_error, error);
+  }
+  return agreement;
+}
+
+void UseCyclesRgb(const fs::path& rgb_exr, double exposure_scale, Film* film) {
+  const exr::FlatImage cycles = exr::ReadFlatExr(rgb_exr);
+  CheckSize(cycles, *film, rgb_exr);
+  exr::FlatImage& rgb = film->flat.at("rgb");
+  for (const char* c : {"R", "G", "B"}) {
+    const std::vector<float>& from = ChannelEndingWith(cycles, c, rgb_exr).floats;
+    std::vector<float>& to = rgb.Get(c).floats;
+    for (size_t p = 0; p < to.size(); ++p) to[p] = static_cast<float>(from[p] * exposure_scale);
+  }
+}
+
+nlohmann::json AgreementToJson(const CyclesAgreement& a) {
+  return {{"frame", a.frame},
+          {"pixels", a.pixels},
+          {"id_mismatches", a.id_mismatches},
+          {"max_relative_depth_error", a.max_relative_depth_error}};
+}
+
+CyclesAgreement AgreementFromJson(const nlohmann::json& json) {
+  CyclesAgreement a;
+  a.frame = json.at("frame").get<int64_t>();
+  a.pixels = json.at("pixels").get<int64_t>();
+  a.id_mismatches = json.at("id_mismatches").get<int64_t>();
+  a.max_relative_depth_error = json.at("max_relative_depth_error").get<double>();
+  return a;
+}
+
+nlohmann::json AgreementSummaryJson(const std::vector<CyclesAgreement>& frames) {
+  CyclesAgreement worst_depth, worst_id;
+  int64_t pixels = 0, mismatches = 0;
+  for (const CyclesAgreement& a : frames) {
+    pixels += a.pixels;
+    mismatches += a.id_mismatches;
+    if (a.max_relative_depth_error > worst_depth.max_relative_depth_error) worst_depth = a;
+    if (a.IdMismatchShare() > worst_id.IdMismatchShare()) worst_id = a;
+  }
+  return {{"frames", frames.size()},
+          {"pixels", pixels},
+          {"id_mismatches", mismatches},
+          {"max_relative_depth_error", worst_depth.max_relative_depth_error},
+          {"max_relative_depth_error_frame", worst_depth.frame},
+          {"max_id_mismatch_share", worst_id.IdMismatchShare()},
+          {"max_id_mismatch_share_frame", worst_id.frame},
+          {"id_mismatch_share",
+           pixels > 0 ? static_cast<double>(mismatches) / static_cast<double>(pixels) : 0.0}};
+}
+
+}  // namespace lsds::gen

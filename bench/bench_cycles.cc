@@ -155,7 +155,8 @@ int main(int argc, char** argv) {
               Median(cycles),
               Median(cycles) / blender_alone);
   std::printf("|   of which scene export | %.3f | |\n", Median(cycles_export));
-  std::printf("|   of which Blender (rgb + truth passes) | %.3f | |\n", Median(cycles_blender));
+  std::printf("|   of which Blender's run (rgb + truth passes, beside lsds's render) | %.3f | |\n",
+              Median(cycles_blender));
   std::printf("| Blender alone on the export (rgb only) | %.3f | 1 |\n", blender_alone);
   std::printf("| lsds export-scene (for reference) | %.3f | |\n", Median(alone_export));
   std::printf(

@@ -422,17 +422,18 @@ void PrepareOutputFolders(const Plan& plan,
 struct CyclesStage {
   fs::path renders;
   std::map<int64_t, std::vector<ExportedNode>> nodes;
+  std::unique_ptr<CyclesRun> blender;  // null when every frame was kept (--resume)
 };
 
 // Exports the frames still to render (all selected ones, or with --resume those not complete)
-// and has Blender Cycles render them, before lsds renders any (docs/generator.md, "Blender
-// Cycles").
-CyclesStage RenderWithBlender(const Plan& plan,
-                              const SceneAssets& assets,
-                              const std::vector<size_t>& selected,
-                              const GenerateOptions& options,
-                              const CollectionHeader& header,
-                              GenerateSummary* summary) {
+// and starts Blender Cycles on them; lsds renders the same frames meanwhile and takes each one's
+// Cycles passes as they appear (docs/generator.md, "Blender Cycles").
+CyclesStage StartBlender(const Plan& plan,
+                         const SceneAssets& assets,
+                         const std::vector<size_t>& selected,
+                         const GenerateOptions& options,
+                         const CollectionHeader& header,
+                         GenerateSummary* summary) {
   CyclesStage stage;
   const fs::path folder = CyclesFolder(options.output);
   const fs::path scenes = folder / "scene";
@@ -452,14 +453,13 @@ CyclesStage RenderWithBlender(const Plan& plan,
   exporter.WriteIndex(frames);
   summary->export_seconds = Seconds(t0);
   if (frames.empty()) return stage;
-  const Clock::time_point t1 = Clock::now();
-  RenderWithCycles(options.blender,
-                   scenes,
-                   stage.renders,
-                   frames,
-                   {options.spp, options.threads, options.denoise},
-                   folder / "blender.log");
-  summary->cycles_seconds = Seconds(t1);
+  stage.blender = std::make_unique<CyclesRun>(
+      options.blender,
+      scenes,
+      stage.renders,
+      frames,
+      CyclesRenderOptions{options.spp, options.threads, options.denoise},
+      folder / "blender.log");
   return stage;
 }
 
@@ -481,7 +481,7 @@ class FramePipeline {
                 const GenerateOptions& options,
                 const SceneAssets& assets,
                 const CollectionHeader& base_header,
-                const CyclesStage* cycles,
+                CyclesStage* cycles,
                 GenerateSummary* summary)
       : plan_(plan),
         options_(options),
@@ -563,6 +563,7 @@ class FramePipeline {
   // --renderer cycles: Cycles' passes checked against the film's truth, then Cycles' radiance as
   // the rgb, exposed as lsds's would have been. The agreement part precedes the truth part.
   void UseCycles(const PlannedFrame& frame, const FrameExposure& exposure, Film* film) {
+    cycles_->blender->WaitForFrame(frame.index);
     const CyclesAgreement agreement =
         CompareWithCycles(CyclesTruthPath(cycles_->renders, frame.index),
                           *film,
@@ -679,7 +680,7 @@ class FramePipeline {
   const CollectionHeader& base_header_;
   const fs::path& root_;
   GenerateSummary& summary_;
-  const CyclesStage* cycles_;  // null: the reference renderer's rgb
+  CyclesStage* cycles_;  // null: the reference renderer's rgb
   RenderSettings render_;
   EmbreeDevice device_;
   std::unique_ptr<RenderScene> scene_, previous_scene_;
@@ -769,9 +770,10 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& give
   GenerateSummary summary;
   std::optional<CyclesStage> cycles;
   if (options.renderer == Renderer::kCycles)
-    cycles = RenderWithBlender(plan, assets, selected, options, base_header, &summary);
+    cycles = StartBlender(plan, assets, selected, options, base_header, &summary);
   FramePipeline pipeline(plan, options, assets, base_header, cycles ? &*cycles : nullptr, &summary);
   pipeline.Run(selected);
+  if (cycles && cycles->blender) summary.cycles_seconds = cycles->blender->Finish();
 
   const Clock::time_point t0 = Clock::now();
   AssembleCollection(plan, options, base_header, selected, &summary);

@@ -82,9 +82,9 @@ struct GenerateSummary {
   // first render, which nothing overlaps, and the last write (the pipeline's
   // fill and drain), which a long collection amortizes. 0 with fewer frames.
   double steady_seconds_per_frame = 0;
-  // --renderer cycles: the scene export and Blender's run (included in
-  // total_seconds, not in render_seconds), and per rendered frame how Cycles'
-  // depth and object index agreed with lsds's layers.
+  // --renderer cycles: the scene export (before any frame) and Blender's run
+  // (beside lsds's render and writes), and per rendered frame how Cycles' depth
+  // and object index agreed with lsds's layers.
   double export_seconds = 0;
   double cycles_seconds = 0;
   std::vector<CyclesAgreement> cycles_agreement;

@@ -153,9 +153,9 @@ json RunHeaderJson(const CollectionHeader& header) {
 // The run's provenance.render.cycles_agreement from its shards' (docs/format.md): frames and
 // pixels add up, the largest errors and their frames are the largest of any shard.
 json MergedCyclesAgreement(const std::vector<json>& shards) {
-  json merged = {{"frames", 0}, {"pixels", 0}, {"id_mismatches", 0}};
+  json merged = {{"frames", 0}, {"pixels", 0}, {"id_mismatches", 0}, {"depth_pixels", 0}};
   for (const json& a : shards) {
-    for (const char* count : {"frames", "pixels", "id_mismatches"})
+    for (const char* count : {"frames", "pixels", "id_mismatches", "depth_pixels"})
       merged[count] = merged[count].get<int64_t>() + a.value(count, int64_t{0});
     for (const char* figure : {"max_relative_depth_error", "max_id_mismatch_share"}) {
       const std::string frame = std::string(figure) + "_frame";

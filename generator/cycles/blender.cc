@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <regex>
+#include <thread>
 
 #include "generator/cycles/script_path.h"
 #include "libs/util/atomic_file.h"
@@ -77,12 +78,13 @@ fs::path CyclesScript() {
       built.string() + ")");
 }
 
-void RenderWithCycles(const fs::path& blender,
-                      const fs::path& scene_folder,
-                      const fs::path& output_folder,
-                      const std::vector<int64_t>& frames,
-                      const CyclesRenderOptions& options,
-                      const fs::path& log) {
+namespace {
+
+std::vector<std::string> BlenderArguments(const fs::path& blender,
+                                          const fs::path& scene_folder,
+                                          const fs::path& output_folder,
+                                          const std::vector<int64_t>& frames,
+                                          const CyclesRenderOptions& options) {
   std::string list;
   for (const int64_t f : frames) list += (list.empty() ? "" : ",") + std::to_string(f);
   std::vector<std::string> argv = {blender.string(),
@@ -104,10 +106,58 @@ void RenderWithCycles(const fs::path& blender,
                                    std::to_string(options.threads)};
   if (options.denoise) argv.emplace_back("--denoise");
   if (!options.truth_passes) argv.emplace_back("--no-truth");
-  const int status = RunProcess(argv, log);
-  if (status != 0)
-    throw Error("Blender Cycles failed (exit status " + std::to_string(status) + "; log " +
-                log.string() + "):" + LogTail(log, 12));
+  return argv;
+}
+
+}  // namespace
+
+CyclesRun::CyclesRun(const fs::path& blender,
+                     const fs::path& scene_folder,
+                     const fs::path& output_folder,
+                     const std::vector<int64_t>& frames,
+                     const CyclesRenderOptions& options,
+                     const fs::path& log)
+    : output_folder_(output_folder),
+      log_(log),
+      truth_passes_(options.truth_passes),
+      start_(std::chrono::steady_clock::now()),
+      blender_(BlenderArguments(blender, scene_folder, output_folder, frames, options), log) {}
+
+void CyclesRun::Fail(int status) const {
+  throw Error("Blender Cycles failed (exit status " + std::to_string(status) + "; log " +
+              log_.string() + "):" + LogTail(log_, 12));
+}
+
+void CyclesRun::WaitForFrame(int64_t index) {
+  const fs::path last =
+      output_folder_ / (FrameStem(index) + (truth_passes_ ? "_truth.exr" : "_rgb.exr"));
+  while (true) {
+    std::error_code ec;
+    if (fs::exists(last, ec)) return;
+    if (const std::optional<int> status = blender_.Poll()) {
+      if (fs::exists(last, ec)) return;
+      if (*status != 0) Fail(*status);
+      throw Error("Blender Cycles ended without rendering frame " + std::to_string(index) +
+                  " (log " + log_.string() + "):" + LogTail(log_, 12));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+double CyclesRun::Finish() {
+  const int status = blender_.Wait();
+  if (status != 0) Fail(status);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void RenderWithCycles(const fs::path& blender,
+                      const fs::path& scene_folder,
+                      const fs::path& output_folder,
+                      const std::vector<int64_t>& frames,
+                      const CyclesRenderOptions& options,
+                      const fs::path& log) {
+  CyclesRun run(blender, scene_folder, output_folder, frames, options, log);
+  run.Finish();
 }
 
 }  // namespace lsds::gen

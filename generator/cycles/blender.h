@@ -4,10 +4,13 @@
 // (generator/cycles/render_frames.py).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "libs/util/process.h"
 
 namespace lsds::gen {
 
@@ -33,9 +36,34 @@ struct CyclesRenderOptions {
   bool truth_passes = true;
 };
 
-// Renders `frames` of the export in `scene_folder` into `output_folder`
-// (NNNNNN_rgb.exr, NNNNNN_truth.exr; render_frames.py), Blender's output going
-// to `log`. Throws lsds::Error with the log's last lines when Blender fails.
+// Blender rendering `frames` of the export in `scene_folder` into `output_folder`
+// (NNNNNN_rgb.exr, NNNNNN_truth.exr; render_frames.py) in the background, its output going to
+// `log`, while lsds renders the same frames. Destroying it ends a Blender still running.
+class CyclesRun {
+ public:
+  CyclesRun(const std::filesystem::path& blender,
+            const std::filesystem::path& scene_folder,
+            const std::filesystem::path& output_folder,
+            const std::vector<int64_t>& frames,
+            const CyclesRenderOptions& options,
+            const std::filesystem::path& log);
+  // Waits until frame `index`'s files are complete. Throws lsds::Error with the log's last lines
+  // when Blender ended without them.
+  void WaitForFrame(int64_t index);
+  // Waits for Blender to end; throws lsds::Error with the log's last lines when it failed.
+  // Returns the seconds since Blender started.
+  double Finish();
+
+ private:
+  [[noreturn]] void Fail(int status) const;
+
+  std::filesystem::path output_folder_, log_;
+  bool truth_passes_ = true;
+  std::chrono::steady_clock::time_point start_;
+  ChildProcess blender_;
+};
+
+// The same, waiting for the end.
 void RenderWithCycles(const std::filesystem::path& blender,
                       const std::filesystem::path& scene_folder,
                       const std::filesystem::path& output_folder,

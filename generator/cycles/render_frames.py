@@ -207,18 +207,22 @@ def set_sky(world, spec):
 
 
 def render(scene, path, samples, filter_width, truth):
+    """One render written to `path`: the Combined pass as RGB, or with `truth` every pass in a
+    multilayer EXR. The passes stay enabled for both renders, and so does everything else but the
+    samples and the pixel filter, so that the persistent data carries over to the second render."""
     scene.cycles.samples = samples
     scene.cycles.filter_width = filter_width
-    layer = scene.view_layers[0]
-    layer.use_pass_z = truth
-    layer.use_pass_object_index = truth
     settings = scene.render.image_settings
     settings.file_format = "OPEN_EXR_MULTILAYER" if truth else "OPEN_EXR"
     settings.color_mode = "RGBA" if truth else "RGB"
     settings.color_depth = "32"
     settings.exr_codec = "ZIP"
-    scene.render.filepath = path
+    # Written under a temporary name and renamed: a file under its final name is complete (lsds
+    # reads each frame while Blender renders the next).
+    partial = path[:-len(".exr")] + ".partial.exr"
+    scene.render.filepath = partial
     bpy.ops.render.render(write_still=True)
+    os.replace(partial, path)
 
 
 def main():
@@ -244,8 +248,14 @@ def main():
     scene.cycles.device = "CPU"
     scene.cycles.use_adaptive_sampling = False
     scene.cycles.use_denoising = options["denoise"]
+    layer = scene.view_layers[0]
+    layer.use_pass_z = options["truth"]
+    layer.use_pass_object_index = options["truth"]
     scene.cycles.seed = 0
     scene.render.use_motion_blur = False
+    # Keep the synchronized scene and its BVH between renders: the truth pass after a frame's rgb
+    # and the next frame (the same ground) change only what changed.
+    scene.render.use_persistent_data = True
     scene.view_settings.view_transform = "Standard"  # EXR is scene-linear either way
     scene.view_settings.look = "None"
     scene.view_settings.exposure = 0.0
@@ -269,7 +279,6 @@ def main():
     ground = {}
     if os.path.exists(os.path.join(folder, "ground.glb")):
         ground = import_gltf(os.path.join(folder, "ground.glb"))
-    bounces = scene.cycles.max_bounces
     for frame in frames:
         start = time.time()
         stem = "%06d" % frame
@@ -284,16 +293,11 @@ def main():
         set_camera(camera, spec["camera"], scene)
         set_sun(sun, spec["sun"])
         set_sky(world, spec["sky"])
-        scene.cycles.max_bounces = bounces
         render(scene, os.path.join(options["output"], stem + "_rgb.exr"), options["samples"],
                1.5, False)
         if options["truth"]:
-            # Data passes through the pixel centres only: one sample, no light bounces needed.
-            scene.cycles.max_bounces = 0
-            denoise = scene.cycles.use_denoising
-            scene.cycles.use_denoising = False
+            # The data passes through the pixel centres: one sample, pixel filter 0.01 px.
             render(scene, os.path.join(options["output"], stem + "_truth.exr"), 1, 0.01, True)
-            scene.cycles.use_denoising = denoise
         remove_objects(objects)
         print("render_frames: frame %d %.3f s" % (frame, time.time() - start), flush=True)
 

@@ -4,6 +4,7 @@
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <csignal>
 
 #include <cerrno>
 #include <cstdlib>
@@ -37,8 +38,18 @@ std::string ExecutableDir() {
   return ec ? std::string() : exe.parent_path().string();
 }
 
-int RunProcess(const std::vector<std::string>& argv, const std::filesystem::path& log) {
-  if (argv.empty()) throw Error("internal: RunProcess needs a program");
+namespace {
+
+int ExitStatus(int status) {
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return WEXITSTATUS(status);
+}
+
+}  // namespace
+
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::filesystem::path& log) {
+  if (argv.empty()) throw Error("internal: ChildProcess needs a program");
+  program_ = argv[0];
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(
@@ -53,12 +64,39 @@ int RunProcess(const std::vector<std::string>& argv, const std::filesystem::path
   const int spawned = posix_spawn(&pid, argv[0].c_str(), &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) throw Error("cannot run " + argv[0] + ": " + std::strerror(spawned));  // NOLINT
+  pid_ = pid;
+}
+
+ChildProcess::~ChildProcess() {
+  if (status_ || pid_ < 0) return;
+  kill(pid_, SIGTERM);
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw Error("cannot wait for " + argv[0] + ": " + std::strerror(errno));
+  while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
   }
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return WEXITSTATUS(status);
+}
+
+std::optional<int> ChildProcess::Poll() {
+  if (status_) return status_;
+  int status = 0;
+  const pid_t done = waitpid(pid_, &status, WNOHANG);
+  if (done == pid_) status_ = ExitStatus(status);
+  return status_;
+}
+
+int ChildProcess::Wait() {
+  if (status_) return *status_;
+  int status = 0;
+  while (waitpid(pid_, &status, 0) < 0) {
+    if (errno != EINTR)
+      throw Error("cannot wait for " + program_ + ": " + std::strerror(errno));  // NOLINT
+  }
+  status_ = ExitStatus(status);
+  return *status_;
+}
+
+int RunProcess(const std::vector<std::string>& argv, const std::filesystem::path& log) {
+  ChildProcess child(argv, log);
+  return child.Wait();
 }
 
 }  // namespace lsds

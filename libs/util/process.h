@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,9 +16,27 @@ std::string FindOnPath(const std::string& name);
 // empty when it cannot be read.
 std::string ExecutableDir();
 
-// Runs `argv` (argv[0] the executable's path; no shell) with its standard output and error
-// appended to `log`, and waits for it. Returns its exit status (128 + the signal when a signal
-// ended it). Throws lsds::Error naming the executable when it cannot be started.
+// A program running beside lsds: `argv` (argv[0] the executable's path; no shell), its standard
+// output and error appended to `log`. Destroying it while the program still runs ends the
+// program (SIGTERM) and waits for it, so that an error in lsds leaves no orphan behind.
+class ChildProcess {
+ public:
+  // Throws lsds::Error naming the executable when it cannot be started.
+  ChildProcess(const std::vector<std::string>& argv, const std::filesystem::path& log);
+  ~ChildProcess();
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+  // Its exit status once it has ended (128 + the signal when a signal ended it), else nullopt.
+  std::optional<int> Poll();
+  int Wait();  // waits for the end; the exit status
+
+ private:
+  std::string program_;
+  int pid_ = -1;
+  std::optional<int> status_;
+};
+
+// Runs `argv` as a ChildProcess and waits for it; its exit status.
 int RunProcess(const std::vector<std::string>& argv, const std::filesystem::path& log);
 
 }  // namespace lsds

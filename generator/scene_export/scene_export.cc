@@ -46,18 +46,12 @@ nlohmann::json NodeJson(const std::string& name,
             {"specular", material.specular}}}};
 }
 
+// The camera as collection.json writes it (docs/format.md, "Camera model").
 nlohmann::json CameraJson(const PlannedFrame& frame) {
-  const PinholeCamera& c = frame.camera;
-  return {{"model", "pinhole"},
-          {"width", c.width},
-          {"height", c.height},
-          {"fx", c.fx},
-          {"fy", c.fy},
-          {"cx", c.cx},
-          {"cy", c.cy},
-          {"cam_from_world",
-           {{"rotation", Matrix3ToJson(frame.cam_from_world.rotation.toRotationMatrix())},
-            {"translation", Vector3ToJson(frame.cam_from_world.translation)}}}};
+  Frame truth;
+  truth.camera.intrinsics = frame.camera;
+  SetCamFromWorld(frame.cam_from_world, &truth.camera);
+  return FrameToJson(truth).at("camera");
 }
 
 // The light of the frame in photometric units (radiance: RGB whose relative
@@ -195,6 +189,19 @@ std::vector<ExportedNode> SceneExporter::Nodes(const nlohmann::json& frame_descr
 int64_t ExportScenes(const Plan& plan, const SceneExportOptions& options) {
   if (options.output.empty()) throw Error("no output folder (-o DIR)");
   RefuseToOverwrite(options.output, options.force, "output folder");
+  // --force replaces an export (or an empty folder), never anything else.
+  if (fs::exists(options.output) &&
+      !(fs::is_directory(options.output) && fs::is_empty(options.output))) {
+    bool export_folder = false;
+    try {
+      export_folder = nlohmann::json::parse(ReadFile(options.output / "scene.json"))
+                          .value("format", std::string()) == kFormat;
+    } catch (const std::exception&) {
+    }
+    if (!export_folder)
+      throw Error("--force: the output exists and is not a scene export; refusing to delete it",
+                  Location(options.output.string()));
+  }
   const SceneAssets assets = BuildSceneAssets(plan);  // a bad material fails before any output
   std::vector<int64_t> indices;
   for (const PlannedFrame& f : plan.frames)

@@ -91,7 +91,7 @@ const std::vector<CheckInfo>& AllChecks() {
        "a collection whose rgb Blender Cycles rendered (--renderer cycles): Cycles' depth and "
        "object index passes agreed with the depth and instanceid layers "
        "(provenance.render.cycles_agreement)",
-       "relative depth <= 1e-4, id mismatch share <= 0.01"},
+       "relative depth <= 1e-3, id mismatch share <= 0.01"},
       {"layer.readable",
        S::kError,
        "EXR opens, is within the size limits (checked before decoding) and "

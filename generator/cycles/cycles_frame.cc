@@ -43,8 +43,8 @@ void CheckSize(const exr::FlatImage& image, const Film& film, const fs::path& fi
 // 4 neighbours. Cycles' pixel filter (0.01 px wide, the narrowest it has) moves its ray up to
 // 0.005 px off the centre, which at a silhouette or on ground seen at a grazing angle (near the
 // horizon the depth changes by the pixel's own depth over a few pixels) changes the depth by far
-// more than the renderers differ; on smooth pixels it moves it by at most 0.005 * 0.005.
-constexpr double kSmoothDepthStep = 0.005;
+// more than the renderers differ; on smooth pixels it moves it by at most 0.005 * 0.05.
+constexpr double kSmoothDepthStep = 0.05;
 bool Smooth(const std::vector<float>& depth, int width, size_t p) {
   const auto height = static_cast<int>(depth.size() / static_cast<size_t>(width));
   const int x = static_cast<int>(p % static_cast<size_t>(width));

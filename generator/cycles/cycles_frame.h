@@ -24,7 +24,7 @@ struct CyclesAgreement {
   // Pixels whose instance differs (Cycles' object index mapped through the
   // export's nodes), or that one renderer sees as sky and the other not.
   int64_t id_mismatches = 0;
-  // Over the pixels that agree, are not sky and whose depth is smooth (within 0.5 % of each
+  // Over the pixels that agree, are not sky and whose depth is smooth (within 5 % of each
   // neighbour's: not a silhouette, not ground at a grazing angle, where Cycles' 0.005 px ray
   // offset moves the depth), how many and max |z_cycles - z_lsds| / z_lsds.
   int64_t depth_pixels = 0;

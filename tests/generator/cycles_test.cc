@@ -250,11 +250,15 @@ TEST(RendererCycles, RendersTheRgbWhileEveryTruthLayerStaysTheReferenceRenderers
   EXPECT_EQ(agreement["frames"], 2);
   const double depth_error = agreement["max_relative_depth_error"].get<double>();
   const double id_share = agreement["max_id_mismatch_share"].get<double>();
-  std::cout << "Cycles against lsds: max relative depth error " << depth_error
+  std::cout << "Cycles against lsds: max relative depth error " << depth_error << " (over "
+            << agreement["depth_pixels"] << " of " << agreement["pixels"] << " pixels)"
             << ", max share of pixels whose id differs " << id_share << "\n";
   RecordProperty("max_relative_depth_error", std::to_string(depth_error));
   RecordProperty("max_id_mismatch_share", std::to_string(id_share));
   EXPECT_LE(depth_error, validate::kMaxCyclesRelativeDepthError);
+  // The depth was compared on most pixels (all but silhouettes, grazing ground and sky).
+  EXPECT_GT(agreement["depth_pixels"].get<double>(), 0.5 * agreement["pixels"].get<double>())
+      << agreement.dump();
   EXPECT_LE(id_share, validate::kMaxCyclesIdMismatchShare);
   EXPECT_EQ(cyc["provenance"]["render"]["cycles"]["samples"], 16);
 

@@ -63,13 +63,13 @@ std::string BlenderVersion(const fs::path& blender) {
 
 fs::path CyclesScript() {
   if (const std::string exe_dir = ExecutableDir(); !exe_dir.empty()) {
-    const fs::path installed =
+    fs::path installed =
         (fs::path(exe_dir) / ".." / "share" / "lsds" / "cycles" / "render_frames.py")
             .lexically_normal();
     std::error_code ec;
     if (fs::is_regular_file(installed, ec)) return installed;
   }
-  const fs::path built = CyclesScriptBuildPath();
+  fs::path built = CyclesScriptBuildPath();
   std::error_code ec;
   if (fs::is_regular_file(built, ec)) return built;
   throw Error(

@@ -100,9 +100,11 @@ CyclesAgreement CompareWithCycles(const fs::path& truth_exr,
     if (lsds_sky || !Smooth(depth, width, p)) continue;
     ++agreement.depth_pixels;
     double z = cycles_depth[p];  // planar
-    if (depth_kind == DepthKind::kPerspective)
+    if (depth_kind == DepthKind::kPerspective) {
+      const size_t column = p % static_cast<size_t>(width), row = p / static_cast<size_t>(width);
       z = PerspectiveFromPlanarDepth(
-          camera, {static_cast<double>(p % width) + 0.5, static_cast<double>(p / width) + 0.5}, z);
+          camera, {static_cast<double>(column) + 0.5, static_cast<double>(row) + 0.5}, z);
+    }
     const double error = std::abs(z - depth[p]) / std::max(1e-9, static_cast<double>(depth[p]));
     agreement.max_relative_depth_error = std::max(agreement.max_relative_depth_error, error);
   }

@@ -672,6 +672,7 @@ MergeSummary MergeShards(const MergeOptions& options) {
     header.provenance.shard.reset();
     if (header.provenance.render.contains("cycles_agreement")) {
       std::vector<json> agreements;
+      agreements.reserve(shards.size());
       for (const Shard& shard : shards)
         agreements.push_back(shard.header.provenance.render.value("cycles_agreement", json()));
       header.provenance.render["cycles_agreement"] = MergedCyclesAgreement(agreements);

@@ -8,6 +8,7 @@
 // The Cycles test is skipped, with its reason, when Blender is not installed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -306,6 +307,41 @@ TEST(RendererCycles, RendersTheRgbWhileEveryTruthLayerStaysTheReferenceRenderers
   }
 
   const auto validated = RunLsds("validate " + cycles.string() + " --fail-on warning");
+  EXPECT_EQ(validated.exit_code, 0) << validated.output;
+}
+
+// Shards of a --renderer cycles run each check their own frames; lsds merge adds their counts up
+// and keeps the largest figures, and the merged collection validates.
+TEST(RendererCycles, ShardsMergeTheirAgreement) {
+  if (FindOnPath("blender").empty())
+    GTEST_SKIP() << "Blender is not installed (Debian package `blender`; "
+                    "scripts/install-deps.sh installs it)";
+  const TempDir dir;
+  const Files in = WriteInputs(dir);
+  const std::string common = " generate " + in.scene.string() + " " + in.capture.string() +
+                             " --spp 4 --renderer cycles -q --shard ";
+  std::vector<nlohmann::json> shards;
+  for (const char* shard : {"0/2", "1/2"}) {
+    const fs::path out = dir / (std::string("s") + shard[0]);
+    const auto run = RunLsds(common + shard + " -o " + out.string());
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    shards.push_back(nlohmann::json::parse(
+        ReadFile(out / "collection.json"))["provenance"]["render"]["cycles_agreement"]);
+    EXPECT_EQ(shards.back()["frames"], 1);
+  }
+  const fs::path merged = dir / "merged";
+  const auto merge = RunLsds("merge " + (dir / "s0").string() + " " + (dir / "s1").string() +
+                             " -o " + merged.string() + " -q");
+  ASSERT_EQ(merge.exit_code, 0) << merge.output;
+  const nlohmann::json agreement = nlohmann::json::parse(
+      ReadFile(merged / "collection.json"))["provenance"]["render"]["cycles_agreement"];
+  EXPECT_EQ(agreement["frames"], 2);
+  EXPECT_EQ(agreement["pixels"].get<int64_t>(),
+            shards[0]["pixels"].get<int64_t>() + shards[1]["pixels"].get<int64_t>());
+  EXPECT_EQ(agreement["max_relative_depth_error"].get<double>(),
+            std::max(shards[0]["max_relative_depth_error"].get<double>(),
+                     shards[1]["max_relative_depth_error"].get<double>()));
+  const auto validated = RunLsds("validate " + merged.string() + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
 }
 

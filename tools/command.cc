@@ -19,8 +19,6 @@
 
 namespace lsds {
 
-int RunExportScene(int argc, char** argv);  // generator/export_scene_command.cc
-
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"generate",

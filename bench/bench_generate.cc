@@ -44,6 +44,7 @@
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/imaging/srgb_image.h"
+#include "libs/util/process.h"
 #include "libs/util/strings.h"
 #include "libs/util/thread_limit.h"
 #include "tests/build_paths.h"
@@ -70,19 +71,6 @@ uintmax_t FolderBytes(const fs::path& folder) {
 }
 
 double Mb(double bytes) { return bytes / 1e6; }
-
-// The path of an executable named `name` on PATH, or empty.
-std::string FindOnPath(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  if (path == nullptr) return "";
-  for (const std::string& dir : Split(path, ':')) {
-    const fs::path candidate = fs::path(dir) / name;
-    std::error_code ec;
-    if (fs::is_regular_file(candidate, ec) && access(candidate.c_str(), X_OK) == 0)
-      return candidate.string();
-  }
-  return "";
-}
 
 struct PeerRun {
   bool ran = false;

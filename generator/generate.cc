@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -15,6 +16,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
+#include "generator/cycles/blender.h"
+#include "generator/cycles/cycles_frame.h"
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
 #include "generator/render/embree_scene.h"
@@ -24,6 +27,7 @@
 #include "generator/render/post_process.h"
 #include "generator/render/sky.h"
 #include "generator/render/truth.h"
+#include "generator/scene_export/scene_export.h"
 #include "generator/survey.h"
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/collection_reader.h"
@@ -56,6 +60,19 @@ double Seconds(Clock::time_point since) {
 }
 
 nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
+  if (options.renderer == Renderer::kCycles) {
+    nlohmann::json settings = RenderSettingsJson([&options] {
+      GenerateOptions reference = options;
+      reference.renderer = Renderer::kReference;
+      return reference;
+    }());
+    settings["renderer"] = "Blender Cycles " + options.blender_version +
+                           " (rgb); lsds reference renderer (Embree 3) (every truth layer)";
+    settings["cycles"] = {{"blender_version", options.blender_version},
+                          {"samples", options.spp},
+                          {"denoise", options.denoise}};
+    return settings;
+  }
   return {{"renderer", "lsds reference renderer (Embree 3)"},
           {"samples_per_pixel", options.spp},
           {"sampling", "stratified jittered n x n; sample 0 exactly at the pixel centre"},
@@ -69,6 +86,13 @@ nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
 
 fs::path TruthPartPath(const fs::path& root, int64_t index) {
   return root / kWorkFolder / (FrameStem(index) + ".json");
+}
+
+// --renderer cycles: the exported scenes, Cycles' renders and each frame's agreement, in the
+// work folder until the collection is assembled.
+fs::path CyclesFolder(const fs::path& root) { return root / kWorkFolder / "cycles"; }
+fs::path AgreementPartPath(const fs::path& root, int64_t index) {
+  return CyclesFolder(root) / (FrameStem(index) + ".agreement.json");
 }
 
 // A frame is complete when its truth part parses and every layer file has a
@@ -267,6 +291,8 @@ void GenerateOptions::Check() const {
   if (threads < 0) throw Error("--threads must be >= 0 (0: all cores)");
   if (force && resume) throw Error("--force and --resume exclude each other");
   if (zip_level < 0 || zip_level > 9) throw Error("--zip-level must be in [0, 9]");
+  if (denoise && renderer != Renderer::kCycles)
+    throw Error("--denoise applies to --renderer cycles only");
   CheckSamplerSettings({spp, jitter, 0});
 }
 
@@ -391,6 +417,52 @@ void PrepareOutputFolders(const Plan& plan,
   }
 }
 
+// --renderer cycles: what Blender rendered (in the work folder), and per frame index the
+// exported nodes its object index pass numbers.
+struct CyclesStage {
+  fs::path renders;
+  std::map<int64_t, std::vector<ExportedNode>> nodes;
+  std::unique_ptr<CyclesRun> blender;  // null when every frame was kept (--resume)
+};
+
+// Exports the frames still to render (all selected ones, or with --resume those not complete)
+// and starts Blender Cycles on them; lsds renders the same frames meanwhile and takes each one's
+// Cycles passes as they appear (docs/generator.md, "Blender Cycles").
+CyclesStage StartBlender(const Plan& plan,
+                         const SceneAssets& assets,
+                         const std::vector<size_t>& selected,
+                         const GenerateOptions& options,
+                         const CollectionHeader& header,
+                         GenerateSummary* summary) {
+  CyclesStage stage;
+  const fs::path folder = CyclesFolder(options.output);
+  const fs::path scenes = folder / "scene";
+  stage.renders = folder / "render";
+  fs::create_directories(scenes);
+  fs::create_directories(stage.renders);
+  const Clock::time_point t0 = Clock::now();
+  const SceneExporter exporter(plan, assets, scenes);
+  exporter.WriteGround();
+  std::vector<int64_t> frames;
+  for (size_t k : selected) {
+    const PlannedFrame& frame = plan.frames[k];
+    if (options.resume && FrameComplete(options.output, header, frame)) continue;
+    stage.nodes[frame.index] = SceneExporter::Nodes(exporter.WriteFrame(frame));
+    frames.push_back(frame.index);
+  }
+  exporter.WriteIndex(frames);
+  summary->export_seconds = Seconds(t0);
+  if (frames.empty()) return stage;
+  stage.blender = std::make_unique<CyclesRun>(
+      options.blender,
+      scenes,
+      stage.renders,
+      frames,
+      CyclesRenderOptions{options.spp, options.threads, options.denoise},
+      folder / "blender.log");
+  return stage;
+}
+
 // The view motion is measured against (PreviousInShot), with the world and scene it is seen
 // in; `view` points into this struct, which therefore stays where it was built.
 struct PreviousFrame {
@@ -409,13 +481,15 @@ class FramePipeline {
                 const GenerateOptions& options,
                 const SceneAssets& assets,
                 const CollectionHeader& base_header,
+                CyclesStage* cycles,
                 GenerateSummary* summary)
       : plan_(plan),
         options_(options),
         assets_(assets),
         base_header_(base_header),
         root_(options.output),
-        summary_(*summary) {
+        summary_(*summary),
+        cycles_(cycles) {
     render_.sampler = {options.spp, options.jitter, plan.seed};
     render_.depth_kind = options.depth_kind;
     // Capture Settings `layers`: no work for a layer that is not written.
@@ -470,6 +544,7 @@ class FramePipeline {
     // The camera's exposure: photometric radiance to the sensor's scale.
     const FrameExposure exposure = MeterExposure(plan_.exposure, rendered);
     ApplyExposure(exposure, &rendered);
+    if (cycles_ != nullptr) UseCycles(frame, exposure, &rendered);
     // LCAP post-process materials: RGB only, after the truth is final.
     const std::optional<double> focused =
         ApplyPostProcess(plan_.post_process, plan_.seed, frame, plan_.exposure, &rendered);
@@ -485,6 +560,23 @@ class FramePipeline {
     QueueWrite(rendered, truth, MotionReference(previous.view));
     rendering_ = 1 - rendering_;
     ++summary_.frames_rendered;
+  }
+
+  // --renderer cycles: Cycles' passes checked against the film's truth, then Cycles' radiance as
+  // the rgb, exposed as lsds's would have been. The agreement part precedes the truth part.
+  void UseCycles(const PlannedFrame& frame, const FrameExposure& exposure, Film* film) {
+    cycles_->blender->WaitForFrame(frame.index);
+    const CyclesAgreement agreement =
+        CompareWithCycles(CyclesTruthPath(cycles_->renders, frame.index),
+                          *film,
+                          cycles_->nodes.at(frame.index),
+                          frame.camera,
+                          render_.depth_kind,
+                          frame.index);
+    UseCyclesRgb(CyclesRgbPath(cycles_->renders, frame.index), exposure.scale, film);
+    WriteFileAtomic(AgreementPartPath(root_, frame.index),
+                    AgreementToJson(agreement).dump() + "\n");
+    summary_.cycles_agreement.push_back(agreement);
   }
 
   // One scene per world state. The scene two world states back is updated in place: its
@@ -590,6 +682,7 @@ class FramePipeline {
   const CollectionHeader& base_header_;
   const fs::path& root_;
   GenerateSummary& summary_;
+  CyclesStage* cycles_;  // null: the reference renderer's rgb
   RenderSettings render_;
   EmbreeDevice device_;
   std::unique_ptr<RenderScene> scene_, previous_scene_;
@@ -611,6 +704,17 @@ void AssembleCollection(const Plan& plan,
   const fs::path& root = options.output;
   CollectionHeader header = base_header;
   header.frame_count = static_cast<int64_t>(selected.size());
+  if (options.renderer == Renderer::kCycles) {
+    // Frames kept by --resume from a finished collection have no part: the figures cover the
+    // frames Cycles rendered.
+    std::vector<CyclesAgreement> agreements;
+    for (size_t k : selected) {
+      const fs::path part = AgreementPartPath(root, plan.frames[k].index);
+      if (fs::exists(part))
+        agreements.push_back(AgreementFromJson(nlohmann::json::parse(ReadFile(part))));
+    }
+    header.provenance.render["cycles_agreement"] = AgreementSummaryJson(agreements);
+  }
   CollectionBuilder builder(root, header);
   for (size_t k : selected) {
     const fs::path part = TruthPartPath(root, plan.frames[k].index);
@@ -633,9 +737,19 @@ void AssembleCollection(const Plan& plan,
 
 }  // namespace
 
-GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options) {
+GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& given) {
   const Clock::time_point start = Clock::now();
-  options.Check();
+  given.Check();
+  GenerateOptions options = given;
+  if (options.renderer == Renderer::kCycles) {
+    // Before any output: Blender is there, and every object gets an object index pass value.
+    if (plan.objects.empty() ? false : ObjectPassIndex(plan.objects.size() - 1) > kMaxPassIndex)
+      throw Error("--renderer cycles: " + std::to_string(plan.objects.size()) +
+                  " objects; Blender's object index pass numbers at most " +
+                  std::to_string(kMaxPassIndex - ObjectPassIndex(0) + 1));
+    options.blender = FindBlender(given.blender).string();
+    options.blender_version = BlenderVersion(options.blender);
+  }
   const ThreadLimit thread_limit(options.threads);
   Imf::setDefaultZipCompressionLevel(options.zip_level);
   // OpenEXR's thread pool compresses the chunks of one file in parallel: the
@@ -656,8 +770,12 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& opti
   PrepareOutputFolders(plan, options, base_header);
 
   GenerateSummary summary;
-  FramePipeline pipeline(plan, options, assets, base_header, &summary);
+  std::optional<CyclesStage> cycles;
+  if (options.renderer == Renderer::kCycles)
+    cycles = StartBlender(plan, assets, selected, options, base_header, &summary);
+  FramePipeline pipeline(plan, options, assets, base_header, cycles ? &*cycles : nullptr, &summary);
   pipeline.Run(selected);
+  if (cycles && cycles->blender) summary.cycles_seconds = cycles->blender->Finish();
 
   const Clock::time_point t0 = Clock::now();
   AssembleCollection(plan, options, base_header, selected, &summary);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "generator/cycles/cycles_frame.h"
 #include "generator/plan/plan.h"
 #include "generator/render/film.h"
 #include "generator/requirement_report.h"
@@ -17,6 +18,11 @@
 #include "libs/util/frame_selection.h"
 
 namespace lsds::gen {
+
+// What makes the rgb layer (docs/generator.md, "Blender Cycles"): lsds's reference renderer, or
+// Blender Cycles rendering the exported scene (lsds export-scene) while every truth layer still
+// comes from lsds's own ray casts.
+enum class Renderer { kReference, kCycles };
 
 struct GenerateOptions {
   std::filesystem::path output;
@@ -48,6 +54,12 @@ struct GenerateOptions {
   // by default (UINT differences from the motion of a static world seen by the
   // previous camera of the shot); float for tools that read the EXR directly.
   FlatLayout motion_layout = FlatLayout::kResidual;
+  Renderer renderer = Renderer::kReference;
+  // --renderer cycles: Blender's executable (empty: `blender` on PATH), its
+  // version (found by GenerateCollection), and OpenImageDenoise on the rgb.
+  std::string blender;
+  std::string blender_version;
+  bool denoise = false;
 
   void Check() const;  // throws lsds::Error for inconsistent options
   bool Selects(int64_t frame_index) const {
@@ -70,6 +82,12 @@ struct GenerateSummary {
   // first render, which nothing overlaps, and the last write (the pipeline's
   // fill and drain), which a long collection amortizes. 0 with fewer frames.
   double steady_seconds_per_frame = 0;
+  // --renderer cycles: the scene export (before any frame) and Blender's run
+  // (beside lsds's render and writes), and per rendered frame how Cycles' depth
+  // and object index agreed with lsds's layers.
+  double export_seconds = 0;
+  double cycles_seconds = 0;
+  std::vector<CyclesAgreement> cycles_agreement;
 };
 
 GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& options);

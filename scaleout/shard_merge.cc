@@ -145,7 +145,32 @@ json RunHeaderJson(const CollectionHeader& header) {
   json j = HeaderToJson(header);
   j.erase("frame_count");
   j["provenance"]["shard"].erase("index");
+  // Each shard checks its own frames' Cycles passes (generate --renderer cycles).
+  if (j["provenance"].contains("render")) j["provenance"]["render"].erase("cycles_agreement");
   return j;
+}
+
+// The run's provenance.render.cycles_agreement from its shards' (docs/format.md): frames and
+// pixels add up, the largest errors and their frames are the largest of any shard.
+json MergedCyclesAgreement(const std::vector<json>& shards) {
+  json merged = {{"frames", 0}, {"pixels", 0}, {"id_mismatches", 0}, {"depth_pixels", 0}};
+  for (const json& a : shards) {
+    for (const char* count : {"frames", "pixels", "id_mismatches", "depth_pixels"})
+      merged[count] = merged[count].get<int64_t>() + a.value(count, int64_t{0});
+    for (const char* figure : {"max_relative_depth_error", "max_id_mismatch_share"}) {
+      const std::string frame = std::string(figure) + "_frame";
+      if (!merged.contains(figure) || a.value(figure, 0.0) > merged[figure].get<double>()) {
+        merged[figure] = a.value(figure, 0.0);
+        merged[frame] = a.value(frame, int64_t{0});
+      }
+    }
+  }
+  const auto pixels = merged["pixels"].get<int64_t>();
+  merged["id_mismatch_share"] = pixels > 0
+                                    ? static_cast<double>(merged["id_mismatches"].get<int64_t>()) /
+                                          static_cast<double>(pixels)
+                                    : 0.0;
+  return merged;
 }
 
 // Throws naming the first JSON pointer where `other` differs from `first`.
@@ -645,6 +670,13 @@ MergeSummary MergeShards(const MergeOptions& options) {
   try {
     CollectionHeader header = shards[0].header;
     header.provenance.shard.reset();
+    if (header.provenance.render.contains("cycles_agreement")) {
+      std::vector<json> agreements;
+      agreements.reserve(shards.size());
+      for (const Shard& shard : shards)
+        agreements.push_back(shard.header.provenance.render.value("cycles_agreement", json()));
+      header.provenance.render["cycles_agreement"] = MergedCyclesAgreement(agreements);
+    }
     header.frame_count = coverage.frames;
     for (const LayerInfo& layer : header.layers) {
       std::error_code ec;

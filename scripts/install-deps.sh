@@ -31,10 +31,10 @@ packages=(
   clang-format                      # make format-check in CI (.clang-format)
   chromium                          # lsds report end-to-end test: headless screenshot of the page
   slurm-wlm munge                   # scale-out test: a real one-node Slurm (tests/scaleout/slurm_test.sh)
+  blender                           # lsds generate --renderer cycles and its test; bench/generate's peer
 )
 if [ "${1:-}" = "--bench" ]; then
   packages+=(python3-open3d)        # bench/backproject: Open3D create_from_depth_image side by side
-  packages+=(blender)                # bench/generate: Blender Cycles renders the demo-sized scene (bench/peers/)
 fi
 
 missing=()

@@ -39,6 +39,7 @@ int RunCommand(CLI::App& app,
 // (<feature>/<name>_command.cc, docs/architecture.md).
 int RunGenerate(int argc, char** argv);
 int RunPlan(int argc, char** argv);
+int RunExportScene(int argc, char** argv);
 int RunLanguage(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunValidate(int argc, char** argv);

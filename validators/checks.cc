@@ -86,6 +86,12 @@ const std::vector<CheckInfo>& AllChecks() {
        "provide (absent) or that are estimated (a derived visibility), from "
        "provenance.import.truth_origin",
        "exact"},
+      {"structure.cycles-agreement",
+       S::kError,
+       "a collection whose rgb Blender Cycles rendered (--renderer cycles): Cycles' depth and "
+       "object index passes agreed with the depth and instanceid layers "
+       "(provenance.render.cycles_agreement)",
+       "relative depth <= 1e-3, id mismatch share <= 0.01"},
       {"layer.readable",
        S::kError,
        "EXR opens, is within the size limits (checked before decoding) and "

@@ -19,6 +19,7 @@
 #include "libs/util/strings.h"
 #include "libs/util/thread_limit.h"
 #include "validators/compact_tables.h"
+#include "validators/cycles_agreement_check.h"
 #include "validators/frame_checks.h"
 #include "validators/truth_origin_check.h"
 
@@ -608,16 +609,19 @@ Report Validator::Run(bool finish) {
   CheckCollectionFolder(root_);
   bool header_read = false;
   {
-    CheckTimer timer(
-        &check_seconds_,
-        shard_zero_
-            ? SelectedOf(
-                  {"schema", "structure.tables", "structure.frame-count", "structure.truth-origin"})
-            : std::vector<std::string>{});
+    CheckTimer timer(&check_seconds_,
+                     shard_zero_ ? SelectedOf({"schema",
+                                               "structure.tables",
+                                               "structure.frame-count",
+                                               "structure.truth-origin",
+                                               "structure.cycles-agreement"})
+                                 : std::vector<std::string>{});
     header_read = ReadHeader();
     if (header_read) {
       CheckTables();
       for (const Finding& f : TruthOriginFindings(header_)) Emit(f.check_id, f.location, f.message);
+      for (const Finding& f : CyclesAgreementFindings(header_))
+        Emit(f.check_id, f.location, f.message);
     }
   }
   if (header_read) {

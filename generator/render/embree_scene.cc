@@ -1,9 +1,7 @@
 #include "generator/render/embree_scene.h"
 
 #include "generator/scene/perlin.h"
-#include "generator/scene/smooth_normals.h"
-#include "generator/scene/terrain.h"
-#include "generator/scene/world_ground.h"
+#include "generator/scene/world_meshes.h"
 #include "libs/util/error.h"
 
 namespace lsds::gen {
@@ -119,15 +117,14 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     Surface s;
     s.class_id = plan.terrain.class_id;
     s.instance_id = plan.terrain.instance_id;
-    TriangleMesh terrain = MakeTerrainMesh(plan.terrain);
     // The unbounded world: background ground of the same material past the
     // terrain's edge, then the plane itself (docs/generator.md).
     Surface beyond = s;
     beyond.class_id = 0;
     beyond.instance_id = 0;
-    TriangleMesh skirt = MakeGroundSkirt(plan.terrain, terrain);
-    AddMesh(device, 0, std::move(terrain), s);
-    AddMesh(device, 1, std::move(skirt), beyond);
+    GroundMeshes ground = MakeGroundMeshes(plan.terrain);
+    AddMesh(device, 0, std::move(ground.terrain), s);
+    AddMesh(device, 1, std::move(ground.skirt), beyond);
     ground_plane_ = static_cast<int>(ids);  // after every Embree geometry id
     surfaces_.push_back(surfaces_[1]);      // the skirt's: background
     surfaces_.back().positions = nullptr;
@@ -185,11 +182,7 @@ void RenderScene::PlaceObject(const EmbreeDevice& device,
     return;
   }
   const ClassShape& shape = assets.ShapeOf(i, o.asset);
-  TriangleMesh mesh = shape.mesh;
-  const Eigen::Matrix3f linear = (o.world_from_object * o.extent.asDiagonal()).cast<float>();
-  const Eigen::Vector3f offset = o.position.cast<float>();
-  for (Eigen::Vector3f& p : mesh.positions) p = linear * p + offset;
-  mesh.corner_normals = CreaseCornerNormals(mesh);  // smooth shading, sharp creases
+  TriangleMesh mesh = ObjectMeshInWorld(shape, o);
   Surface s;
   s.object = static_cast<int>(i);
   s.class_id = o.class_id;

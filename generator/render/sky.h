@@ -24,6 +24,7 @@ class Sky {
   const Eigen::Vector3f& sun_irradiance() const { return sun_irradiance_; }
   const Eigen::Vector3f& ambient() const { return ambient_; }
   const Eigen::Vector3f& horizon() const { return horizon_; }
+  const Eigen::Vector3f& zenith() const { return zenith_; }
   double fog_density() const { return fog_density_; }
   // The share of direct sunlight that reaches world point `p` through the
   // cloud deck (1 km above z = 0): 1 under a clear sky, down to

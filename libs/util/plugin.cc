@@ -8,17 +8,11 @@
 
 #include "libs/util/error.h"
 #include "libs/util/plugin_build_dir.h"
+#include "libs/util/process.h"
 
 namespace lsds {
 
 namespace {
-
-// The folder of the running executable (not of the working directory), from /proc/self/exe.
-std::string ExecutableDir() {
-  std::error_code ec;
-  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string() : exe.parent_path().string();
-}
 
 // The folder of the shared object that holds this code when that is not the running executable
 // (the Python module, loaded by python3), from dladdr; empty in the lsds binary and its tests.

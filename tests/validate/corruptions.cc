@@ -246,6 +246,22 @@ std::vector<Corruption> MakeCorruptions() {
                   std::nullopt,
                   "/provenance/import/truth_origin/shadow");
       });
+  add("cycles-depth-disagreement",
+      "the rgb was rendered by Blender Cycles whose depth pass was 20 % off the depth layer",
+      [](const fs::path& root) {
+        EditCollection(root, [](json& j) {
+          j["provenance"]["render"]["cycles_agreement"] = {{"frames", 4},
+                                                           {"max_relative_depth_error", 0.2},
+                                                           {"max_relative_depth_error_frame", 2},
+                                                           {"max_id_mismatch_share", 0.001},
+                                                           {"max_id_mismatch_share_frame", 1},
+                                                           {"id_mismatch_share", 0.0005}};
+        });
+        return At("structure.cycles-agreement",
+                  "collection.json",
+                  std::nullopt,
+                  "/provenance/render/cycles_agreement/max_relative_depth_error");
+      });
   // --- per layer ---
   add("truncated-exr", "normal/000001.exr cut to 60% of its size", [](const fs::path& root) {
     const fs::path path = root / File("normal", 1);

@@ -1,0 +1,305 @@
+"""Renders frames of an `lsds export-scene` folder with Blender Cycles (docs/export.md).
+
+    blender -b --factory-startup -noaudio --python render_frames.py -- \
+        SCENE_DIR OUTPUT_DIR [--frames 0,1,...] [--samples N] [--threads T] [--denoise]
+        [--no-truth]
+
+For each frame NNNNNN of SCENE_DIR/scene.json (or of --frames) it writes
+  OUTPUT_DIR/NNNNNN_rgb.exr    Cycles' Combined pass, linear photometric radiance
+                               (RGB whose relative luminance is cd/m^2; no exposure),
+                               N samples, Blender's default pixel filter;
+  OUTPUT_DIR/NNNNNN_truth.exr  one sample through each pixel centre (pixel filter 0.01 px):
+                               Cycles' Depth (Z) and Object Index (IndexOB) passes, which
+                               `lsds generate --renderer cycles` compares with its own layers.
+
+Conventions (the frame's JSON, docs/export.md): the world is +Z up, as Blender's; glTF files
+are +Y up and Blender's importer turns them back. The camera is OpenCV's (x right, y down,
+z forward) and Blender's looks down -Z with +Y up, so world_from_blender_camera =
+world_from_cam * diag(1, -1, -1). Intrinsics: horizontal sensor fit, lens = fx * sensor / W,
+pixel aspect fx / fy, principal point through shift_x = (W/2 - cx) / W and
+shift_y = (cy - H/2) * aspect_y / (W * aspect_x) (Cycles' blender_camera_viewplane).
+"""
+import json
+import math
+import os
+import sys
+import time
+
+import bpy
+import numpy
+from mathutils import Matrix, Vector
+
+# Blender 3.4's glTF importer uses numpy's aliases np.bool, np.int, ..., which numpy 1.24 (Debian
+# 12's) removed: the import fails with "module 'numpy' has no attribute 'bool'". The aliases meant
+# the builtins; restoring them changes nothing else.
+for _alias, _builtin in (("bool", bool), ("int", int), ("float", float), ("object", object),
+                         ("complex", complex)):
+    if _alias not in numpy.__dict__:
+        setattr(numpy, _alias, _builtin)
+
+SENSOR_WIDTH_MM = 36.0
+
+
+def parse_args():
+    args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    if len(args) < 2:
+        sys.exit("usage: blender -b --python render_frames.py -- SCENE_DIR OUTPUT_DIR "
+                 "[--frames 0,1] [--samples N] [--threads T] [--denoise] [--no-truth]")
+    options = {"scene": args[0], "output": args[1], "frames": None, "samples": 16,
+               "threads": 0, "denoise": False, "truth": True}
+    i = 2
+    while i < len(args):
+        flag = args[i]
+        if flag == "--frames":
+            options["frames"] = [int(f) for f in args[i + 1].split(",") if f]
+            i += 2
+        elif flag == "--samples":
+            options["samples"] = int(args[i + 1])
+            i += 2
+        elif flag == "--threads":
+            options["threads"] = int(args[i + 1])
+            i += 2
+        elif flag == "--denoise":
+            options["denoise"] = True
+            i += 1
+        elif flag == "--no-truth":
+            options["truth"] = False
+            i += 1
+        else:
+            sys.exit("render_frames.py: unknown argument " + flag)
+    return options
+
+
+def import_gltf(path):
+    """Imports a glTF file; returns the objects it added, by node name."""
+    before = set(bpy.data.objects)
+    bpy.ops.import_scene.gltf(filepath=path)
+    added = {}
+    for obj in set(bpy.data.objects) - before:
+        if obj.type == "MESH":
+            added[obj.name.split(".")[0]] = obj
+        elif obj.type == "EMPTY":
+            bpy.data.objects.remove(obj, do_unlink=True)
+    return added
+
+
+def remove_objects(objects):
+    for obj in objects.values():
+        mesh = obj.data
+        bpy.data.objects.remove(obj, do_unlink=True)
+        if mesh is not None and mesh.users == 0:
+            bpy.data.meshes.remove(mesh)
+
+
+class Materials:
+    """One Principled BSDF per distinct material of the frames' JSON (the JSON is authoritative;
+    the glTF's own materials are for other importers)."""
+
+    def __init__(self):
+        self.made = {}
+
+    def get(self, spec):
+        key = json.dumps(spec, sort_keys=True)
+        if key not in self.made:
+            material = bpy.data.materials.new(spec["name"])
+            material.use_nodes = True
+            bsdf = material.node_tree.nodes["Principled BSDF"]
+            bsdf.inputs["Base Color"].default_value = tuple(spec["base_color"]) + (1.0,)
+            bsdf.inputs["Roughness"].default_value = spec["roughness"]
+            bsdf.inputs["Metallic"].default_value = spec["metallic"]
+            # Principled's Specular 0.5 is a 4 % reflectance at normal incidence, the reference
+            # renderer's dielectric F0 at specular weight 1.
+            bsdf.inputs["Specular"].default_value = 0.5 * spec["specular"]
+            self.made[key] = material
+        return self.made[key]
+
+
+def assign(objects, nodes, materials):
+    for node in nodes:
+        obj = objects.get(node["name"])
+        if obj is None:
+            continue
+        obj.pass_index = node["pass_index"]
+        obj.data.materials.clear()
+        obj.data.materials.append(materials.get(node["material"]))
+        for polygon in obj.data.polygons:
+            polygon.use_smooth = True  # the exported corner normals shade it
+
+
+def set_camera(camera, spec, scene):
+    width, height = spec["width"], spec["height"]
+    fx, fy, cx, cy = spec["fx"], spec["fy"], spec["cx"], spec["cy"]
+    rotation = Matrix(spec["cam_from_world"]["rotation"])  # cam_from_world, OpenCV camera
+    translation = Vector(spec["cam_from_world"]["translation"])
+    world_from_cam = rotation.transposed()
+    centre = -(world_from_cam @ translation)
+    blender_from_opencv = Matrix(((1, 0, 0), (0, -1, 0), (0, 0, -1)))
+    world_from_blender = world_from_cam @ blender_from_opencv
+    matrix = world_from_blender.to_4x4()
+    matrix.translation = centre
+    camera.matrix_world = matrix
+    data = camera.data
+    data.type = "PERSP"
+    data.sensor_fit = "HORIZONTAL"
+    data.sensor_width = SENSOR_WIDTH_MM
+    data.lens = fx * SENSOR_WIDTH_MM / width
+    aspect_x, aspect_y = (1.0, fx / fy) if fx >= fy else (fy / fx, 1.0)
+    scene.render.pixel_aspect_x = aspect_x
+    scene.render.pixel_aspect_y = aspect_y
+    data.shift_x = (width / 2 - cx) / width
+    data.shift_y = (cy - height / 2) * aspect_y / (width * aspect_x)
+    data.clip_start = 0.01
+    data.clip_end = 1e8
+    scene.render.resolution_x = width
+    scene.render.resolution_y = height
+    scene.render.resolution_percentage = 100
+
+
+def set_sun(sun, spec):
+    to_sun = Vector(spec["direction_to_sun"]).normalized()
+    # A sun light shines down its local -Z: its +Z points at the sun.
+    sun.rotation_mode = "QUATERNION"
+    sun.rotation_quaternion = Vector((0, 0, 1)).rotation_difference(to_sun)
+    irradiance = spec["irradiance"]
+    strength = max(irradiance)
+    sun.data.energy = strength  # W/m^2 in Blender, here lux: the units carry through
+    sun.data.color = [c / strength for c in irradiance] if strength > 0 else (1, 1, 1)
+    sun.data.angle = math.radians(spec["angular_diameter_deg"])
+
+
+def set_sky(world, spec):
+    """The reference renderer's sky: mix(horizon, zenith, sqrt(z)) above the horizon, a hazy
+    floor below; lighting rays see it scaled by the skylight intensity."""
+    tree = world.node_tree
+    tree.nodes.clear()
+    nodes, links = tree.nodes, tree.links
+    coords = nodes.new("ShaderNodeTexCoord")
+    split = nodes.new("ShaderNodeSeparateXYZ")
+    links.new(coords.outputs["Generated"], split.inputs[0])
+    up = nodes.new("ShaderNodeClamp")
+    links.new(split.outputs["Z"], up.inputs["Value"])
+    root = nodes.new("ShaderNodeMath")
+    root.operation = "SQRT"
+    links.new(up.outputs[0], root.inputs[0])
+    gradient = nodes.new("ShaderNodeMixRGB")
+    links.new(root.outputs[0], gradient.inputs["Fac"])
+    gradient.inputs["Color1"].default_value = tuple(spec["horizon_radiance"]) + (1,)
+    gradient.inputs["Color2"].default_value = tuple(spec["zenith_radiance"]) + (1,)
+    below = nodes.new("ShaderNodeMath")
+    below.operation = "LESS_THAN"
+    links.new(split.outputs["Z"], below.inputs[0])
+    below.inputs[1].default_value = 0.0
+    floor = nodes.new("ShaderNodeMixRGB")
+    links.new(below.outputs[0], floor.inputs["Fac"])
+    links.new(gradient.outputs[0], floor.inputs["Color1"])
+    floor.inputs["Color2"].default_value = tuple(spec["below_horizon_radiance"]) + (1,)
+    path = nodes.new("ShaderNodeLightPath")
+    lighting = nodes.new("ShaderNodeMath")  # skylight intensity, or 1 for camera rays
+    lighting.operation = "MULTIPLY_ADD"
+    links.new(path.outputs["Is Camera Ray"], lighting.inputs[0])
+    lighting.inputs[1].default_value = 1.0 - spec["skylight_intensity"]
+    lighting.inputs[2].default_value = spec["skylight_intensity"]
+    background = nodes.new("ShaderNodeBackground")
+    links.new(floor.outputs[0], background.inputs["Color"])
+    links.new(lighting.outputs[0], background.inputs["Strength"])
+    output = nodes.new("ShaderNodeOutputWorld")
+    links.new(background.outputs[0], output.inputs["Surface"])
+
+
+def render(scene, path, samples, filter_width, truth):
+    """One render written to `path`: the Combined pass as RGB, or with `truth` every pass in a
+    multilayer EXR. The passes stay enabled for both renders, and so does everything else but the
+    samples and the pixel filter, so that the persistent data carries over to the second render."""
+    scene.cycles.samples = samples
+    scene.cycles.filter_width = filter_width
+    settings = scene.render.image_settings
+    settings.file_format = "OPEN_EXR_MULTILAYER" if truth else "OPEN_EXR"
+    settings.color_mode = "RGBA" if truth else "RGB"
+    settings.color_depth = "32"
+    settings.exr_codec = "ZIP"
+    # Written under a temporary name and renamed: a file under its final name is complete (lsds
+    # reads each frame while Blender renders the next).
+    partial = path[:-len(".exr")] + ".partial.exr"
+    scene.render.filepath = partial
+    bpy.ops.render.render(write_still=True)
+    os.replace(partial, path)
+
+
+def main():
+    options = parse_args()
+    if options["denoise"]:
+        import _cycles
+        if not getattr(_cycles, "with_openimagedenoise", False):
+            sys.exit("render_frames.py: --denoise: this Blender was built without "
+                     "OpenImageDenoise (Debian's blender 3.4 is); render without denoising")
+    folder = options["scene"]
+    with open(os.path.join(folder, "scene.json")) as f:
+        index = json.load(f)
+    frames = options["frames"]
+    if frames is None:
+        frames = [entry["index"] for entry in index["frames"]]
+    os.makedirs(options["output"], exist_ok=True)
+
+    # The factory scene's cube, light and camera go (the glTF importer stays enabled).
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.use_adaptive_sampling = False
+    scene.cycles.use_denoising = options["denoise"]
+    layer = scene.view_layers[0]
+    layer.use_pass_z = options["truth"]
+    layer.use_pass_object_index = options["truth"]
+    scene.cycles.seed = 0
+    scene.render.use_motion_blur = False
+    # Keep the synchronized scene and its BVH between renders: the truth pass after a frame's rgb
+    # and the next frame (the same ground) change only what changed.
+    scene.render.use_persistent_data = True
+    scene.view_settings.view_transform = "Standard"  # EXR is scene-linear either way
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    if options["threads"] > 0:
+        scene.render.threads_mode = "FIXED"
+        scene.render.threads = options["threads"]
+    world = bpy.data.worlds.new("sky")
+    world.use_nodes = True
+    # The sky is a smooth gradient: a coarse importance map samples it well, and Blender's default
+    # (1024 x 512, built for every render) would cost more than a small frame's samples.
+    world.cycles.sampling_method = "MANUAL"
+    world.cycles.sample_map_resolution = 64
+    scene.world = world
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    scene.collection.objects.link(sun)
+
+    materials = Materials()
+    ground = {}
+    if os.path.exists(os.path.join(folder, "ground.glb")):
+        ground = import_gltf(os.path.join(folder, "ground.glb"))
+    for frame in frames:
+        start = time.time()
+        stem = "%06d" % frame
+        with open(os.path.join(folder, stem + ".json")) as f:
+            spec = json.load(f)
+        objects = {}
+        objects_file = os.path.join(folder, stem + ".glb")
+        if os.path.exists(objects_file):
+            objects = import_gltf(objects_file)
+        assign(ground, spec["nodes"], materials)
+        assign(objects, spec["nodes"], materials)
+        set_camera(camera, spec["camera"], scene)
+        set_sun(sun, spec["sun"])
+        set_sky(world, spec["sky"])
+        render(scene, os.path.join(options["output"], stem + "_rgb.exr"), options["samples"],
+               1.5, False)
+        if options["truth"]:
+            # The data passes through the pixel centres: one sample, pixel filter 0.01 px.
+            render(scene, os.path.join(options["output"], stem + "_truth.exr"), 1, 0.01, True)
+        remove_objects(objects)
+        print("render_frames: frame %d %.3f s" % (frame, time.time() - start), flush=True)
+
+
+main()

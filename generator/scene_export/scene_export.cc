@@ -1,0 +1,229 @@
+#include "generator/scene_export/scene_export.h"
+
+#include <cmath>
+
+#include "generator/render/exposure.h"
+#include "generator/render/sky.h"
+#include "generator/scene/materials.h"
+#include "generator/scene/world_ground.h"
+#include "generator/scene/world_meshes.h"
+#include "generator/scene_export/gltf_writer.h"
+#include "libs/collection/json_io.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/error.h"
+#include "libs/util/strings.h"
+
+namespace lsds::gen {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFormat = "lsds-scene-export";
+constexpr const char* kFormatVersion = "1.0";
+constexpr const char* kGroundFile = "ground.glb";
+
+nlohmann::json Rgb(const Eigen::Vector3f& c) { return {c.x(), c.y(), c.z()}; }
+
+GltfMaterial GltfOf(const Material& m) { return {m.name, m.base, m.roughness, m.metallic}; }
+
+// A node's entry in the frame description.
+nlohmann::json NodeJson(const std::string& name,
+                        const std::string& file,
+                        int pass_index,
+                        uint32_t instance_id,
+                        uint32_t class_id,
+                        const Material& material) {
+  return {{"name", name},
+          {"file", file},
+          {"pass_index", pass_index},
+          {"instance_id", instance_id},
+          {"class_id", class_id},
+          {"material",
+           {{"name", material.name},
+            {"base_color", Rgb(material.base)},
+            {"roughness", material.roughness},
+            {"metallic", material.metallic},
+            {"specular", material.specular}}}};
+}
+
+// The camera as collection.json writes it (docs/format.md, "Camera model").
+nlohmann::json CameraJson(const PlannedFrame& frame) {
+  Frame truth;
+  truth.camera.intrinsics = frame.camera;
+  SetCamFromWorld(frame.cam_from_world, &truth.camera);
+  return FrameToJson(truth).at("camera");
+}
+
+// The light of the frame in photometric units (radiance: RGB whose relative
+// luminance is cd/m^2), as the reference renderer's Sky has it.
+nlohmann::json LightJson(const Plan& plan, const PlannedEnvironment& environment) {
+  const Sky sky(plan, environment);
+  const Eigen::Vector3f sun_irradiance = sky.sun_irradiance() * static_cast<float>(M_PI);
+  return {{"sun",
+           {{"direction_to_sun", Vector3ToJson(sky.to_sun())},
+            {"irradiance", Rgb(sun_irradiance)},
+            {"illuminance_lux", environment.sun.illuminance_lux},
+            {"angular_diameter_deg", 0.53}}},
+          {"sky",
+           {{"zenith_radiance", Rgb(sky.zenith())},
+            {"horizon_radiance", Rgb(sky.horizon())},
+            {"below_horizon_radiance", Rgb(sky.horizon() * 0.8f)},
+            {"skylight_intensity", environment.skylight_intensity},
+            {"cloud_type", environment.sky.cloud_type},
+            {"cloud_density", environment.sky.cloud_density}}},
+          {"atmosphere", {{"extinction_per_m", environment.fog_density}}}};
+}
+
+nlohmann::json ExposureDescription(const PlannedExposure& planned) {
+  if (!planned.Manual()) {
+    return {{"mode", "auto"},
+            {"compensation_ev", planned.compensation_ev},
+            {"meter_calibration_cd_s_m2", kMeterCalibration},
+            {"meter_ignored_brightest_share", kMeterIgnoredShare}};
+  }
+  const FrameExposure e = MeterExposure(planned, Film{});  // manual: no film is read
+  return {{"mode", "manual"},
+          {"ev100", e.ev100},
+          {"compensation_ev", e.compensation_ev},
+          {"scale", e.scale},
+          {"blender_film_exposure_stops", std::log2(e.scale)}};
+}
+
+}  // namespace
+
+SceneExporter::SceneExporter(const Plan& plan, const SceneAssets& assets, fs::path folder)
+    : plan_(plan), assets_(assets), folder_(std::move(folder)) {}
+
+void SceneExporter::WriteGround() const {
+  if (!plan_.terrain.present) return;
+  const GroundMeshes ground = MakeGroundMeshes(plan_.terrain);
+  const TriangleMesh plane = MakeGroundPlaneRing(plan_.terrain);
+  WriteGlb(
+      folder_ / kGroundFile,
+      {{"terrain", &ground.terrain, 0}, {"skirt", &ground.skirt, 0}, {"ground_plane", &plane, 0}},
+      {GltfOf(*assets_.terrain_material)});
+}
+
+nlohmann::json SceneExporter::WriteFrame(const PlannedFrame& frame) const {
+  const std::string where = "frame " + std::to_string(frame.index);
+  const WorldState world = WorldAt(plan_, frame);
+  const PlannedEnvironment environment = EnvironmentAt(plan_, frame);
+  nlohmann::json nodes = nlohmann::json::array();
+  if (plan_.terrain.present) {
+    const Material& ground = FindMaterial(environment.terrain_material, where + " terrain");
+    nodes.push_back(NodeJson("terrain",
+                             kGroundFile,
+                             kTerrainPassIndex,
+                             plan_.terrain.instance_id,
+                             plan_.terrain.class_id,
+                             ground));
+    nodes.push_back(NodeJson("skirt", kGroundFile, 0, 0, 0, ground));
+    nodes.push_back(NodeJson("ground_plane", kGroundFile, 0, 0, 0, ground));
+  }
+  const std::string objects_file = FrameStem(frame.index) + ".glb";
+  std::vector<TriangleMesh> meshes;
+  meshes.reserve(world.objects.size());
+  std::vector<GltfNode> gltf_nodes;
+  std::vector<GltfMaterial> materials;
+  for (size_t i = 0; i < world.objects.size(); ++i) {
+    const ObjectState& o = world.objects[i];
+    if (!o.visible) continue;  // placed, never rendered
+    const ClassShape& shape = assets_.ShapeOf(i, o.asset);
+    const Material& material =
+        FindMaterial(o.material.empty() ? shape.default_material : o.material,
+                     where + " object '" + o.planned->name + "'");
+    const std::string name = "object_" + std::to_string(i);
+    meshes.push_back(ObjectMeshInWorld(shape, o));
+    gltf_nodes.push_back({name, &meshes.back(), static_cast<int>(materials.size())});
+    materials.push_back(GltfOf(material));
+    nodes.push_back(NodeJson(
+        name, objects_file, ObjectPassIndex(i), o.planned->instance_id, o.class_id, material));
+    nodes.back()["object"] = o.planned->name;
+  }
+  if (!gltf_nodes.empty()) WriteGlb(folder_ / objects_file, gltf_nodes, materials);
+  nlohmann::json description = {{"format", kFormat},
+                                {"format_version", kFormatVersion},
+                                {"index", frame.index},
+                                {"time", frame.time},
+                                {"camera", CameraJson(frame)},
+                                {"nodes", nodes},
+                                {"exposure", ExposureDescription(plan_.exposure)}};
+  description.update(LightJson(plan_, environment));
+  WriteFileAtomic(folder_ / (FrameStem(frame.index) + ".json"), description.dump(2) + "\n");
+  return description;
+}
+
+void SceneExporter::WriteIndex(const std::vector<int64_t>& frames) const {
+  nlohmann::json listed = nlohmann::json::array();
+  for (const int64_t index : frames)
+    listed.push_back({{"index", index}, {"scene", FrameStem(index) + ".json"}});
+  nlohmann::json classes = nlohmann::json::array();
+  for (const ClassInfo& c : plan_.classes) classes.push_back({{"id", c.id}, {"name", c.name}});
+  const nlohmann::json index = {
+      {"format", kFormat},
+      {"format_version", kFormatVersion},
+      {"seed", plan_.seed},
+      {"conventions",
+       {{"world_frame", "ENU"},
+        {"up_axis", "+z"},
+        {"length_unit", "m"},
+        {"gltf_from_world", "(x, y, z) -> (x, z, -y): glTF is +Y up"},
+        {"camera_frame", "opencv"},
+        {"pixel_coordinates", "edge"},
+        {"radiance", "photometric: linear Rec. 709 RGB whose relative luminance is cd/m^2"}}},
+      {"classes", classes},
+      {"frames", listed}};
+  WriteFileAtomic(folder_ / "scene.json", index.dump(2) + "\n");
+}
+
+std::vector<ExportedNode> SceneExporter::Nodes(const nlohmann::json& frame_description) {
+  std::vector<ExportedNode> nodes;
+  for (const nlohmann::json& n : frame_description.at("nodes"))
+    nodes.push_back({n.at("name").get<std::string>(),
+                     n.at("pass_index").get<int>(),
+                     n.at("instance_id").get<uint32_t>(),
+                     n.at("class_id").get<uint32_t>()});
+  return nodes;
+}
+
+int64_t ExportScenes(const Plan& plan, const SceneExportOptions& options) {
+  if (options.output.empty()) throw Error("no output folder (-o DIR)");
+  RefuseToOverwrite(options.output, options.force, "output folder");
+  // --force replaces an export (or an empty folder), never anything else.
+  if (fs::exists(options.output) &&
+      !(fs::is_directory(options.output) && fs::is_empty(options.output))) {
+    bool export_folder = false;
+    try {
+      export_folder = nlohmann::json::parse(ReadFile(options.output / "scene.json"))
+                          .value("format", std::string()) == kFormat;
+    } catch (const std::exception&) {
+    }
+    if (!export_folder)
+      throw Error("--force: the output exists and is not a scene export; refusing to delete it",
+                  Location(options.output.string()));
+  }
+  const SceneAssets assets = BuildSceneAssets(plan);  // a bad material fails before any output
+  std::vector<int64_t> indices;
+  for (const PlannedFrame& f : plan.frames)
+    if (options.frames.Contains(f.index)) indices.push_back(f.index);
+  if (indices.empty())
+    throw Error("no frame to export: --frames selects none of the plan's frames");
+  const fs::path staging = TempPathBeside(options.output);
+  fs::create_directories(staging);
+  try {
+    const SceneExporter exporter(plan, assets, staging);
+    exporter.WriteGround();
+    for (const PlannedFrame& f : plan.frames)
+      if (options.frames.Contains(f.index)) exporter.WriteFrame(f);
+    exporter.WriteIndex(indices);
+    if (fs::exists(options.output)) fs::remove_all(options.output);
+    fs::rename(staging, options.output);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
+    throw;
+  }
+  return static_cast<int64_t>(indices.size());
+}
+
+}  // namespace lsds::gen

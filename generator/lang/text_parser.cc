@@ -351,42 +351,45 @@ class Parser {
       }
       return list;
     }
-    if (t.kind == Tok::kNumber) {
-      const bool integral = t.text.find_first_of(".eE") == std::string::npos;
-      errno = 0;
-      if (integral) {
-        char* end = nullptr;
-        const long long v = std::strtoll(t.text.c_str(), &end, 10);
-        if (errno == 0) return OJson(static_cast<int64_t>(v));
-      }
-      errno = 0;
-      const double d = std::strtod(t.text.c_str(), nullptr);
-      if (errno != 0 || !std::isfinite(d)) Fail(t.offset, "number " + t.text + " is out of range");
-      return OJson(d);
-    }
+    if (t.kind == Tok::kNumber) return NumberValue(t);
     if (t.kind == Tok::kString) return OJson(t.text);
-    if (t.kind == Tok::kIdent) {
-      if (t.text == "true") return OJson(true);
-      if (t.text == "false") return OJson(false);
-      // A named block as a value, "V1:{car:1,truck:2}" in a list: the object {V1: {...}}.
-      if (IsPunct(Peek(), ':') && IsPunct(Peek(1), '{')) {
-        Next();
-        const std::string member_pointer = PointerJoin(pointer, t.text);
-        MarkKey(member_pointer, t.offset);
-        OJson named = OJson::object();
-        named[t.text] = Value(member_pointer);
-        return named;
-      }
-      // References with a count or index: "P1:3" (3 repetitions), "O1:5" (label
-      // 5), "P1:1".
-      if (IsPunct(Peek(), ':') && (Peek(1).kind == Tok::kNumber || Peek(1).kind == Tok::kIdent) &&
-          !IsPunct(Peek(2), ':') && !IsPunct(Peek(2), '=') && !IsPunct(Peek(2), '{')) {
-        Next();
-        return OJson(t.text + ":" + Next().text);
-      }
-      return OJson(t.text);
-    }
+    if (t.kind == Tok::kIdent) return WordValue(t, pointer);
     Fail(t.offset, "expected a value (number, name, {...} or [...]), found " + Describe(t));
+  }
+
+  OJson NumberValue(const Token& t) const {
+    const bool integral = t.text.find_first_of(".eE") == std::string::npos;
+    errno = 0;
+    if (integral) {
+      char* end = nullptr;
+      const long long v = std::strtoll(t.text.c_str(), &end, 10);
+      if (errno == 0) return OJson(static_cast<int64_t>(v));
+    }
+    errno = 0;
+    const double d = std::strtod(t.text.c_str(), nullptr);
+    if (errno != 0 || !std::isfinite(d)) Fail(t.offset, "number " + t.text + " is out of range");
+    return OJson(d);
+  }
+
+  // A word: true, false, a named block "V1:{car:1,truck:2}" (the object {V1: {...}}, in a list),
+  // a reference with a count or index ("P1:3": 3 repetitions, "O1:5": label 5, "P1:1"), or a name.
+  OJson WordValue(const Token& t, const std::string& pointer) {
+    if (t.text == "true") return OJson(true);
+    if (t.text == "false") return OJson(false);
+    if (IsPunct(Peek(), ':') && IsPunct(Peek(1), '{')) {
+      Next();
+      const std::string member_pointer = PointerJoin(pointer, t.text);
+      MarkKey(member_pointer, t.offset);
+      OJson named = OJson::object();
+      named[t.text] = Value(member_pointer);
+      return named;
+    }
+    if (IsPunct(Peek(), ':') && (Peek(1).kind == Tok::kNumber || Peek(1).kind == Tok::kIdent) &&
+        !IsPunct(Peek(2), ':') && !IsPunct(Peek(2), '=') && !IsPunct(Peek(2), '{')) {
+      Next();
+      return OJson(t.text + ":" + Next().text);
+    }
+    return OJson(t.text);
   }
 
   SourceFile* src_;

@@ -8,13 +8,13 @@
 #include <set>
 
 #include "generator/lang/planner.h"
+#include "generator/lang/scene/placed_objects.h"
 #include "generator/plan/plan_json.h"
 #include "generator/plan/terrain_height.h"
 #include "generator/scene/world.h"
 #include "libs/collection/schema.h"
 #include "libs/geometry/oriented_box.h"
 #include "tests/build_paths.h"
-#include "generator/lang/scene/placed_objects.h"
 #include "tests/lang/plan_text.h"
 #include "tests/test_util.h"
 

@@ -1,10 +1,12 @@
 #include "generator/lang/scene.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
+#include "generator/lang/scene/blueprints.h"
 #include "generator/lang/scene/class_catalog.h"
 #include "generator/lang/scene/class_table.h"
 #include "generator/lang/scene/ground.h"
@@ -119,19 +121,47 @@ class SceneEvaluator {
       Placed p;
       p.object.symbol = def.symbol;
       p.object.separation = separation;
-      DrawClass(def, &p.object);
+      const std::optional<DrawnBlueprint> group = DrawClass(def, &p.object);
       DrawLooks(def, &p.object);
       if (!ApplyGeometry(def, copy, count, rules, &p)) continue;
       p.object.name = def.symbol + "#" + std::to_string(++copy_number);
+      if (group) {
+        AddGroup(def, *group, &p);
+        continue;
+      }
       placed_.Add(p);
     }
   }
 
-  // The asset a copy draws: one of the library assets its class option selects, uniformly, or the
-  // class the option resolves to; its natural size.
-  void DrawClass(const Definition& def, PlannedObject* o) {
+  // A placed blueprint group: its box stays as an invisible helper (placed like a zone, not
+  // rendered), its members are the objects, each with its class's id.
+  void AddGroup(const Definition& def, const DrawnBlueprint& group, Placed* p) {
+    std::vector<PlannedObject> members = PlaceMembers(group, *p, plan_->terrain);
+    p->object.visible = false;
+    p->object.target = false;
+    placed_.Add(*p);
+    for (size_t i = 0; i < members.size(); ++i) {  // in the blueprint's order
+      Placed m;
+      m.object = std::move(members[i]);
+      m.object.class_id = ClassIdOf(*plan_, labelled_, def.symbol, group.members[i].drawn.name);
+      m.aabb = AabbOf(m.object.position, m.object.world_from_object, m.object.extent);
+      m.support = p->support;
+      m.has_support = p->has_support;
+      placed_.Add(m);
+    }
+  }
+
+  // A blueprint drawn is the group's members; the object is then the group's box.
+  std::optional<DrawnBlueprint> DrawClass(const Definition& def, PlannedObject* o) {
     const Node cls = def.body.Find("class");
     const std::string chosen = IsTagSelection(cls) ? "tags" : SampleString(cls, rng_);
+    if (const Definition* blueprint = assets_.Blueprint(chosen)) {
+      DrawnBlueprint group = DrawBlueprint(*blueprint, &assets_, rng_);
+      o->class_name = "cube";  // the group's box: an invisible helper once placed
+      o->class_id = 0;
+      o->extent = group.extent;
+      return group;
+    }
     const std::vector<const gen::LibraryAsset*> selected =
         SelectAssets(assets_.Library(), cls, chosen);
     const std::string what = "object " + def.symbol;
@@ -147,6 +177,7 @@ class SceneEvaluator {
       o->class_id = ClassIdOf(*plan_, labelled_, def.symbol, drawn.name);
       o->extent = assets_.NaturalExtent(drawn.asset, MetresPerUnit(def), cls, what);
     }
+    return std::nullopt;
   }
 
   // Visibility, material and whether it is a target.

@@ -361,6 +361,27 @@ std::vector<KindSpec> BuildVocabulary() {
                   .Doc("`NAME: builtin-or-mesh` aliases (user class names like the paper's A, B)")
                   .Example("`K = classes{A:jerrycan,B:\"meshes/b.obj\"}`")
                   .KeysInCode());
+  v.push_back(Kind("blueprint", "LSCENE")
+                  .Aliases({"blueprint_class"})
+                  .Doc("the paper's Blueprint Class: `NAME:{class, at, rotation, extent, scale, "
+                       "material}` members placed together; an object whose class names the "
+                       "blueprint places the group (see \"Blueprint classes\")")
+                  .Example("`CAMP = blueprint{TENT:{class:crate,extent:[3,2,2]},FIRE:{class:barrel,"
+                           "at:[3,1,0]}}`")
+                  .KeysInCode());
+  v.push_back(
+      Kind("blueprint_member")
+          .What("blueprint member")
+          .Keys({Row("class").Is(T::kClass).Doc("as an object's (not a blueprint)"),
+                 Row("at")
+                     .Is(T::kVector3)
+                     .Unit("m")
+                     .Default({0, 0, 0})
+                     .Doc("its base centre in the group's frame (z: above the group's base)"),
+                 Row("rotation").Is(T::kVector3).Unit("degrees").Doc("in the group's frame"),
+                 Row("extent").Is(T::kVector3).Unit("m").Doc("its size (default its class's)"),
+                 Row("scale").Is(T::kScale).Doc("a factor on the size"),
+                 Row("material").Is(T::kName).Doc("as an object's")}));
   v.push_back(Kind("asset_library", "LSCENE")
                   .Aliases({"assets"})
                   .Example("`L = asset_library{path:\"assets\"}`")

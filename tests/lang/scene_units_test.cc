@@ -226,6 +226,54 @@ TEST(SceneGround, Wgs84InOneKeyAndObjectsPlacedByLatitudeAndLongitude) {
       std::string::npos);
 }
 
+// ---- blueprints.h
+
+TEST(SceneBlueprints, AGroupIsPlacedAsOneAndItsMembersStandOnTheGround) {
+  const std::string scene =
+      "LSCENE = ONE(W) ONE(C)\nW = terrain{size:[100,100],perlin:2}\n"
+      "CAMP = blueprint{TENT:{class:crate,extent:[3,2,2]},FIRE:{class:barrel,at:[4,0,0]}}\n"
+      "C = object{class:CAMP,rotation:[0,0,90],position:{ON:W,within:[[-10,-10,-100],[10,10,100]]}}"
+      "\n";
+  const Plan plan =
+      testing::PlanText(scene, "LCAP = ONE(P)\nP = path{create point:{position:[0,0,40]}}\n");
+  ASSERT_EQ(plan.objects.size(), 3u);
+  const PlannedObject& group = plan.objects[0];
+  const PlannedObject& tent = plan.objects[1];
+  const PlannedObject& fire = plan.objects[2];
+  EXPECT_EQ(group.name, "C#1");
+  EXPECT_FALSE(group.visible);  // the group's box: a helper
+  EXPECT_EQ(tent.name, "C#1/TENT");
+  EXPECT_EQ(fire.name, "C#1/FIRE");
+  EXPECT_EQ(tent.class_name, "crate");
+  EXPECT_EQ(tent.extent, Eigen::Vector3d(3, 2, 2));
+  EXPECT_EQ(fire.extent, BuiltinClasses().at("barrel"));
+  // The fire stands 4 m from the tent along the group's turned x axis.
+  const Eigen::Vector3d offset = group.world_from_object * Eigen::Vector3d(4, 0, 0);
+  EXPECT_NEAR((fire.position - tent.position).head<2>().norm(), 4, 1e-9);
+  EXPECT_NEAR(((fire.position - tent.position).head<2>() - offset.head<2>()).norm(), 0, 1e-9);
+  // Each member's base on the terrain under it; each has its class's id.
+  for (const PlannedObject* o : {&tent, &fire}) {
+    EXPECT_TRUE(o->visible);
+    EXPECT_NEAR(o->position.z() - 0.5 * o->extent.z(),
+                TerrainHeight(plan.terrain, o->position.x(), o->position.y()),
+                1e-9)
+        << o->name;
+    bool named = false;
+    for (const ClassInfo& c : plan.classes)
+      named = named || (c.id == o->class_id && c.name == o->class_name);
+    EXPECT_TRUE(named) << o->name;
+  }
+  // A member that is itself a blueprint, and an unknown class, are located errors.
+  EXPECT_NE(testing::PlanErrorOf("LSCENE = ONE(C)\nA = blueprint{X:{class:cube}}\n"
+                                 "B = blueprint{Y:{class:A}}\nC = object{class:B}\n")
+                .find("s.lscene:3:"),
+            std::string::npos);
+  EXPECT_NE(testing::PlanErrorOf("LSCENE = ONE(C)\nA = blueprint{X:{class:cub}}\n"
+                                 "C = object{class:A}\n")
+                .find("unknown class 'cub'"),
+            std::string::npos);
+}
+
 // ---- placed_objects.h
 
 Placed PlacedBox(const std::string& symbol,

@@ -28,6 +28,7 @@ ClassCatalog ClassCatalog::OfCheckedScene(const Program& scene) {
     if (def.kind == "classes")
       for (const auto& [name, node] : def.body.Members()) assets.AddAlias(name, ReadString(node));
     if (def.kind == "asset_library") assets.SetLibrary(LoadSceneAssetLibrary(scene, def));
+    if (def.kind == "blueprint") assets.AddBlueprint(def);
   }
   return assets;
 }

@@ -24,6 +24,12 @@ class ClassCatalog {
   static ClassCatalog OfCheckedScene(const Program& scene);
 
   void AddAlias(const std::string& name, const std::string& target) { aliases_[name] = target; }
+  void AddBlueprint(const Definition& blueprint) { blueprints_[blueprint.symbol] = &blueprint; }
+  // The blueprint `name` names (scene/blueprints.h), or null.
+  const Definition* Blueprint(const std::string& name) const {
+    const auto it = blueprints_.find(name);
+    return it == blueprints_.end() ? nullptr : it->second;
+  }
   void SetLibrary(gen::AssetLibrary library) { library_ = std::move(library); }
   bool HasLibrary() const { return library_.has_value(); }
   const gen::AssetLibrary* Library() const { return library_ ? &*library_ : nullptr; }
@@ -55,6 +61,7 @@ class ClassCatalog {
  private:
   std::string scene_dir_;
   std::map<std::string, std::string> aliases_;  // classes{}: name -> built-in or mesh file
+  std::map<std::string, const Definition*> blueprints_;
   std::optional<gen::AssetLibrary> library_;
   std::map<std::string, Eigen::Vector3d> mesh_extents_;  // native units, by file path
 };

@@ -4,18 +4,29 @@
 #include <set>
 #include <vector>
 
+#include "generator/lang/scene/blueprints.h"
 #include "libs/util/strings.h"
 
 namespace lsds {
 namespace {
 
 // The class names an object's class node may label it with, each once, in order.
-std::vector<std::string> ClassNamesOf(const ClassCatalog& assets, const Node& cls) {
+// A blueprint's are its members' (blueprints.h).
+std::vector<std::string> ClassNamesOf(const ClassCatalog& catalog, const Node& cls) {
   std::vector<std::string> names;
-  for (const std::string& option : StringOptions(cls))
-    for (const SceneClass& candidate : assets.Candidates(cls, option))
-      if (std::find(names.begin(), names.end(), candidate.name) == names.end())
-        names.push_back(candidate.name);
+  auto add = [&names](const std::string& name) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  };
+  for (const std::string& option : StringOptions(cls)) {
+    if (const Definition* blueprint = catalog.Blueprint(option)) {
+      for (const Node& member : BlueprintClassNodes(*blueprint))
+        for (const std::string& member_option : StringOptions(member))
+          for (const SceneClass& candidate : catalog.Candidates(member, member_option))
+            add(candidate.name);
+      continue;
+    }
+    for (const SceneClass& candidate : catalog.Candidates(cls, option)) add(candidate.name);
+  }
   return names;
 }
 

@@ -4,6 +4,7 @@
 
 #include "generator/lang/asset_choice.h"
 #include "generator/lang/environment.h"
+#include "generator/lang/scene/blueprints.h"
 #include "generator/lang/scene/position.h"
 #include "generator/lang/vocabulary.h"
 #include "generator/scene/mesh_formats.h"
@@ -15,7 +16,7 @@ namespace {
 
 class SceneChecker {
  public:
-  SceneChecker(const Program& scene, ClassCatalog* assets) : scene_(scene), assets_(*assets) {}
+  SceneChecker(const Program& scene, ClassCatalog* catalog) : scene_(scene), catalog_(*catalog) {}
 
   SceneSymbols Run() {
     std::set<std::string> defined;
@@ -36,8 +37,12 @@ class SceneChecker {
       }
       if (k == "classes") CheckAliases(def);
       if (k == "asset_library") {
-        if (assets_.HasLibrary()) def.statement.Fail("only one asset_library per scene");
-        assets_.SetLibrary(LoadSceneAssetLibrary(scene_, def));
+        if (catalog_.HasLibrary()) def.statement.Fail("only one asset_library per scene");
+        catalog_.SetLibrary(LoadSceneAssetLibrary(scene_, def));
+      }
+      if (k == "blueprint") {
+        CheckBlueprint(def, catalog_);
+        catalog_.AddBlueprint(def);
       }
       if (k == "object") CheckObject(def, defined);
       defined.insert(def.symbol);
@@ -53,7 +58,7 @@ class SceneChecker {
       if (!BuiltinClasses().count(gen::CanonicalClassName(target)) && !gen::IsMeshPath(target))
         node.Fail("class alias '" + name + "' must name a built-in class or a mesh file, not '" +
                   target + "'" + DidYouMean(target, ClassCatalog::BuiltinNames()));
-      assets_.AddAlias(name, target);
+      catalog_.AddAlias(name, target);
     }
   }
 
@@ -104,20 +109,21 @@ class SceneChecker {
     if (!cls->is_string() && !cls->is_object())
       cls.Fail("class must be a name or a choice {name: weight}");
     if (IsTagSelection(cls)) {
-      SelectAssets(assets_.Library(), cls, "tags");
+      SelectAssets(catalog_.Library(), cls, "tags");
     } else if (cls->is_object()) {
       for (const auto& [key, weight] : cls.Members()) (void)key, ReadNumber(weight);
     }
     for (const std::string& option : StringOptions(cls)) {
-      if (!SelectAssets(assets_.Library(), cls, option).empty()) continue;  // a library selection
+      if (catalog_.Blueprint(option)) continue;  // a group of objects (blueprints.h)
+      if (!SelectAssets(catalog_.Library(), cls, option).empty()) continue;  // a library selection
       if (cls->is_object()) {
         try {
-          assets_.Resolve(cls.Child(option), option);
+          catalog_.Resolve(cls.Child(option), option);
         } catch (const Error& e) {  // point at the option's name, not its weight
           throw Error(e.message(), cls.src->WhereKey(cls.Child(option).pointer));
         }
       } else {
-        assets_.Resolve(cls, option);
+        catalog_.Resolve(cls, option);
       }
     }
   }
@@ -189,14 +195,14 @@ class SceneChecker {
   }
 
   const Program& scene_;
-  ClassCatalog& assets_;
+  ClassCatalog& catalog_;
   SceneSymbols symbols_;
 };
 
 }  // namespace
 
-SceneSymbols CheckScene(const Program& scene, ClassCatalog* assets) {
-  return SceneChecker(scene, assets).Run();
+SceneSymbols CheckScene(const Program& scene, ClassCatalog* catalog) {
+  return SceneChecker(scene, catalog).Run();
 }
 
 }  // namespace lsds

@@ -62,6 +62,13 @@ const std::map<std::pair<std::string, std::string>, Program>& Programs() {
                                    ",position:{ON:W,within:[[-20,-20,-100],[20,20,100]]}}\n",
                                kCamera);
        }},
+      {{"blueprint_member", "at"},
+       [](const std::string& key) {
+         return std::make_pair("LSCENE = ONE(W) ONE(C)\n" + kGround +
+                                   "B = blueprint{X:{class:cube" + After(key) +
+                                   "},Y:{class:crate,at:[3,0,0]}}\nC = object{class:B}\n",
+                               kCamera);
+       }},
       {{"camera_settings", "fov"},
        CaptureKey("LCAP = ONE(CO) ONE(P)\nCO = camera{csettings:{%}}\n"
                   "P = path{create point:{position:[0,0,30]}}\n",

@@ -72,12 +72,35 @@ def tree_state(root):
             elif stat.S_ISFIFO(st.st_mode):
                 state[p] = "fifo"
             else:
-                digest = hashlib.sha256()
-                with open(p, "rb") as fh:  # in chunks: sparse 1 GiB inputs
-                    for block in iter(lambda: fh.read(1 << 20), b""):
-                        digest.update(block)
-                state[p] = digest.hexdigest()
+                state[p] = file_digest(p, st.st_size)
     return state
+
+
+def file_digest(path, size):
+    """sha256 of the file's size and of its data extents with their offsets. A sparse 1 GiB input
+    hashes its few data blocks instead of a gigabyte of zeros (reading those cost the decoder corpus
+    about 170 of its 210 seconds). Any write, zeros into a hole included, allocates an extent and
+    changes the digest; on a file system without SEEK_DATA the whole file is one extent."""
+    digest = hashlib.sha256(b"%d" % size)
+    with open(path, "rb") as fh:
+        offset = 0
+        while offset < size:
+            try:
+                start = os.lseek(fh.fileno(), offset, os.SEEK_DATA)
+            except OSError:  # ENXIO: nothing but a hole from offset to the end
+                break
+            end = os.lseek(fh.fileno(), start, os.SEEK_HOLE)
+            digest.update(b"@%d:" % start)
+            fh.seek(start)
+            left = end - start
+            while left > 0:
+                block = fh.read(min(left, 1 << 20))
+                if not block:
+                    break
+                digest.update(block)
+                left -= len(block)
+            offset = end
+    return digest.hexdigest()
 
 
 # --- mutations of a JSON file -------------------------------------------------

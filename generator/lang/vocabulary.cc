@@ -632,6 +632,13 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Is(T::kVector3)
                      .Unit("m")
                      .Doc("`[dx,dy,dz]`: uniform noise in +-d per axis, drawn per frame"),
+                 Row("point")
+                     .Aliases({"blueprint"})
+                     .Is(T::kAny)
+                     .Doc("the paper's point blueprint: a create point path symbol or block "
+                          "`{position:[[x0,y0,z0],[x1,y1,z1]], rotation or look_at}`; its "
+                          "position box is the noise about each grid point, drawn per frame, its "
+                          "rotation the attitude (instead of `perturb`, `roll`, `pitch`, `yaw`)"),
                  Row("roll").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame"),
                  Row("pitch").Is(T::kNumber).Unit("degrees").Default(-90).Doc("-90: nadir"),
                  Row("yaw").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame")}));
@@ -708,7 +715,13 @@ std::vector<KindSpec> BuildVocabulary() {
                           "is set back on it there. A new place by constraints is `rescatter`"),
                  Row("class").Is(T::kClass).Doc("a class swap"),
                  Row("rescatter").Is(T::kBool).Doc("a new place drawn by Algorithm 1"),
-                 Row("move").Is(T::kList).Doc("a smooth flight the object moves along"),
+                 Row("move").Is(T::kList).Doc("the paths the object moves along"),
+                 Row("speed")
+                     .Is(T::kNumber)
+                     .Range(Range{0, 1000, true, false, ""})
+                     .Unit("m/s")
+                     .Doc("along a `move` path that is not a smooth flight (without it: one point "
+                          "per frame)"),
                  Row("heading").Is(T::kName).Doc("how a moving object turns")}));
   v.push_back(Kind("timing").Keys({Row("when").Is(T::kBlock).Doc("`{after, during, frame}`"),
                                    Row("after").Is(T::kAny).Doc("from a path repetition on"),

@@ -173,6 +173,20 @@ struct TimelineFixture {
   std::unique_ptr<Timeline> timeline;
 };
 
+// The camera paths of an LCAP text whose camera is CO, over flat ground; a grid's point
+// blueprint may name the text's paths.
+struct PathsFixture {
+  explicit PathsFixture(const std::string& text, uint64_t seed = 1)
+      : c(Lcap(text)),
+        plan(FlatPlan()),
+        setup(ReadCameraSetup(&c->Def("CO"), &plan)),
+        paths(setup, plan, seed, "", &c->program) {}
+  std::unique_ptr<Text> c;
+  Plan plan;
+  CameraSetup setup;
+  CameraPaths paths;
+};
+
 TEST(CaptureTimeline, SegmentsFollowTheCameraMoves) {
   TimelineFixture t;
   const std::vector<Segment>& s = t.timeline->segments();
@@ -196,13 +210,12 @@ TEST(CaptureTimeline, SegmentsFollowTheCameraMoves) {
 }
 
 TEST(CaptureTimeline, SequenceNamesAreUniqueAcrossMovesAndCollections) {
-  const auto c = Lcap(
+  PathsFixture t(
       "LCAP = ONE(CO) ONE(W1) ONE(CL1) ONE(CL2)\nCO = camera{}\n"
       "W1 = path{create point:{position:[0,0,30],count:2}}\n"
       "CL1 = collection{CO:{move:[W1:2]}}\nCL2 = collection{CO:{move:[W1]}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   const Timeline timeline(
       c->program,
       [](const std::string& key, const Node&) { return key == "CO"; },
@@ -248,13 +261,12 @@ TEST(CaptureCameraPaths, GridIsFlownSerpentineAboveTheTerrain) {
 }
 
 TEST(CaptureCameraPaths, HemiLooksAtItsCentreFromItsRadius) {
-  const auto c = Lcap(
+  PathsFixture t(
       "LCAP = ONE(CO) ONE(H)\nCO = camera{}\n"
       "H = path{create hemi:{cam radius:[100,200,2],obj angle:[0,270,4],cam angle:[30,60,2],"
       "center:[5,5,0]}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   EXPECT_EQ(paths.FrameCount(c->Def("H"), 0), 16);
   Rng rng(1);
   // Pose 13: radius 200 (13 / 8), elevation 30 deg ((13 / 4) % 2 = 1 -> 60), azimuth 90 deg.
@@ -268,11 +280,10 @@ TEST(CaptureCameraPaths, HemiLooksAtItsCentreFromItsRadius) {
 }
 
 TEST(CaptureCameraPaths, RandomAltitudeIsDrawnWithinTheDemandedBin) {
-  const auto c =
-      Lcap("LCAP = ONE(CO) ONE(R)\nCO = camera{}\nR = path{random:{count:5,altitude:[15,60]}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
+  PathsFixture t(
+      "LCAP = ONE(CO) ONE(R)\nCO = camera{}\nR = path{random:{count:5,altitude:[15,60]}}\n");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   Quota quota;
   quota.quantity = "altitude";
   quota.edges = {15, 30, 60};
@@ -287,28 +298,34 @@ TEST(CaptureCameraPaths, RandomAltitudeIsDrawnWithinTheDemandedBin) {
   }
 }
 
-TEST(CaptureCameraPaths, CreatePathDrawsItsPointsInItsSpaceLookingDown) {
-  const auto c = Lcap(
-      "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n"
-      "P = path{create path:{space:[[-10,-20,30],[10,20,60]],points:7}}\n"
-      "Q = path{create path:{space:[[0,0,0],[1,1]],points:2}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
-  EXPECT_EQ(paths.FrameCount(c->Def("P"), 0), 7);
+// The bounds of the camera centre of pose `i` of `path` over 200 draws, each checked to look
+// straight down (the optical axis, camera +z, is the world's -z).
+std::pair<Eigen::Vector3d, Eigen::Vector3d> NadirEyeBounds(CameraPaths* paths,
+                                                           const Definition& path,
+                                                           int64_t i) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
   for (uint64_t k = 0; k < 200; ++k) {
     Rng rng = Rng::For(3, StreamTag::kFrame, k);
-    const Rigid3d pose = paths.Pose(c->Def("P"), 0, rng, 0, nullptr, nullptr);
-    const Eigen::Vector3d eye = CameraCenterInWorld(pose);
-    lo = lo.cwiseMin(eye);
-    hi = hi.cwiseMax(eye);
-    // Looking straight down: the optical axis (camera +z) is the world's -z.
+    const Rigid3d pose = paths->Pose(path, i, rng, 0, nullptr, nullptr);
+    lo = lo.cwiseMin(CameraCenterInWorld(pose));
+    hi = hi.cwiseMax(CameraCenterInWorld(pose));
     EXPECT_NEAR(
         (pose.rotation.inverse() * Eigen::Vector3d::UnitZ() - Eigen::Vector3d(0, 0, -1)).norm(),
         0,
         1e-9);
   }
+  return {lo, hi};
+}
+
+TEST(CaptureCameraPaths, CreatePathDrawsItsPointsInItsSpaceLookingDown) {
+  PathsFixture t(
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n"
+      "P = path{create path:{space:[[-10,-20,30],[10,20,60]],points:7}}\n"
+      "Q = path{create path:{space:[[0,0,0],[1,1]],points:2}}\n");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
+  EXPECT_EQ(paths.FrameCount(c->Def("P"), 0), 7);
+  const auto [lo, hi] = NadirEyeBounds(&paths, c->Def("P"), 0);
   EXPECT_GE(lo.minCoeff(), -20);
   EXPECT_LE(hi.x(), 10);
   EXPECT_LE(hi.y(), 20);
@@ -322,7 +339,7 @@ TEST(CaptureCameraPaths, CreatePathDrawsItsPointsInItsSpaceLookingDown) {
 // The paper's point blueprint fed to increment point (section 3.2): a generic point whose position
 // box is the noise about each grid point and whose rotation is the attitude there.
 TEST(CaptureCameraPaths, APointBlueprintPerturbsAndTurnsEveryGridPoint) {
-  const auto c = Lcap(
+  PathsFixture t(
       "LCAP = ONE(CO) ONE(N) ONE(G) ONE(J)\nCO = camera{}\n"
       "N = path{create point:{position:[1,2,3],rotation:[0,-60,45]}}\n"
       "G = path{increment point:{start:[0,0,20],step:[10,10,0],count:[2,2,1],point:N}}\n"
@@ -331,9 +348,8 @@ TEST(CaptureCameraPaths, APointBlueprintPerturbsAndTurnsEveryGridPoint) {
       "B1 = path{grid:{x:[0,10,2],y:[0,10,2],altitude:20,point:G}}\n"
       "B2 = path{grid:{x:[0,10,2],y:[0,10,2],altitude:20,perturb:[1,1,1],point:N}}\n"
       "B3 = path{grid:{x:[0,10,2],y:[0,10,2],altitude:20,point:{rotation:[0,-90,0]}}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "", &c->program);
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   ASSERT_EQ(paths.FrameCount(c->Def("G"), 0), 4);
   const Eigen::Vector3d grid[] = {{0, 0, 20}, {10, 0, 20}, {10, 10, 20}, {0, 10, 20}};
   for (int i = 0; i < 4; ++i) {
@@ -346,18 +362,9 @@ TEST(CaptureCameraPaths, APointBlueprintPerturbsAndTurnsEveryGridPoint) {
         << i;
   }
   // A box of noise: every point within it about its grid point, spread over it, looking down.
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
-  for (uint64_t k = 0; k < 200; ++k) {
-    Rng rng = Rng::For(3, StreamTag::kFrame, k);
-    const Rigid3d pose = paths.Pose(c->Def("J"), 2, rng, 0, nullptr, nullptr);
-    const Eigen::Vector3d noise = CameraCenterInWorld(pose) - Eigen::Vector3d(10, 10, 20);
-    lo = lo.cwiseMin(noise);
-    hi = hi.cwiseMax(noise);
-    EXPECT_NEAR(
-        (pose.rotation.inverse() * Eigen::Vector3d::UnitZ() - Eigen::Vector3d(0, 0, -1)).norm(),
-        0,
-        1e-9);
-  }
+  auto [lo, hi] = NadirEyeBounds(&paths, c->Def("J"), 2);
+  lo -= Eigen::Vector3d(10, 10, 20);  // the noise about grid point 2
+  hi -= Eigen::Vector3d(10, 10, 20);
   EXPECT_GE(lo.x(), -1);
   EXPECT_GE(lo.z(), -0.5);
   EXPECT_LE(hi.y(), 1);
@@ -625,13 +632,13 @@ TEST(CaptureObjectTrack, AnArcIsFollowedOnItsCircle) {
 }
 
 TEST(CaptureCameraPaths, AHemiTrackHasAnArcPerRingStep) {
-  const auto c = Lcap(
+  PathsFixture t(
       "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n"
       "P = path{create hemi:{cam radius:[10,20,2],obj angle:[0,180,3],cam angle:[0,0,1],"
-      "center:[1,2,0]}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 7, "");
+      "center:[1,2,0]}}\n",
+      7);
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   Rng rng(1);
   const ObjectTrack track = paths.Track(c->Def("P"), rng);
   ASSERT_EQ(track.knots.size(), 6u);

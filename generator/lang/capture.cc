@@ -92,7 +92,7 @@ class CaptureEvaluator {
            int64_t end) {
     requirements_ = std::move(requirements);
     setup_ = ReadCameraSetup(CheckCapture(capture_), plan_);
-    paths_.emplace(setup_, *plan_, seed_, FirstTarget(capture_));
+    paths_.emplace(setup_, *plan_, seed_, FirstTarget(capture_), &capture_);
     const auto is_camera_entry = [this](const std::string& key, const Node& value) {
       return IsCameraEntry(key, value);
     };
@@ -100,7 +100,7 @@ class CaptureEvaluator {
       return paths_->FrameCount(path, segment);
     });
     rules_ = ReadChangeRules(
-        capture_, *timeline_, is_camera_entry, targets_, setup_, seed_, &swaps_, plan_);
+        capture_, *timeline_, is_camera_entry, targets_, setup_, &*paths_, seed_, &swaps_, plan_);
     DropHelperClasses(MadeVisible(), plan_, swaps_.swapped_in());
     ResolveQuotaClasses(plan_->classes, &requirements_);
     // Paths give time steps; a rig has one frame per camera per step.

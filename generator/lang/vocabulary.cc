@@ -60,6 +60,10 @@ struct Row : KeySpec {
     default_value = std::move(value);
     return *this;
   }
+  Row& DefaultIs(std::string words) {  // a default that depends on the context
+    default_text = std::move(words);
+    return *this;
+  }
   Row& Role(std::string group) {
     role = std::move(group);
     return *this;
@@ -250,7 +254,8 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("seed")
                      .Is(T::kWhole)
                      .Range(WholeWithin(0, 9007199254740992.0))
-                     .Doc("Perlin seed; default derived from `--seed`")
+                     .DefaultIs("derived from `--seed`")
+                     .Doc("Perlin seed")
                      .NotInChange()}));
   v.push_back(
       Kind("object", "LSCENE")
@@ -285,8 +290,8 @@ std::vector<KindSpec> BuildVocabulary() {
                    .Is(T::kVector3)
                    .Range(Above(0))
                    .Unit("m")
-                   .Doc("Extent: full box size in metres (default: the class's size; a mesh keeps "
-                        "its native size, see `unit`)")
+                   .DefaultIs("the class's size; a mesh's native size, see `unit`")
+                   .Doc("Extent: full box size in metres")
                    .Example("`extent:[20,20,1]`"),
                Row("scale")
                    .Is(T::kScale)
@@ -337,8 +342,8 @@ std::vector<KindSpec> BuildVocabulary() {
                    .Example("`bound:O1`"),
                Row("target")
                    .Is(T::kBool)
-                   .Doc("whether the object gets truth entries (default: visible, and listed in "
-                        "the LCAP `targets` if there are any)")
+                   .DefaultIs("visible, and listed in the LCAP `targets` if there are any")
+                   .Doc("whether the object gets truth entries")
                    .Example("`target:false`"),
                Row("count")
                    .Is(T::kCount)
@@ -379,7 +384,11 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Default({0, 0, 0})
                      .Doc("its base centre in the group's frame (z: above the group's base)"),
                  Row("rotation").Is(T::kVector3).Unit("degrees").Doc("in the group's frame"),
-                 Row("extent").Is(T::kVector3).Unit("m").Doc("its size (default its class's)"),
+                 Row("extent")
+                     .Is(T::kVector3)
+                     .Unit("m")
+                     .DefaultIs("its class's size")
+                     .Doc("its size"),
                  Row("scale").Is(T::kScale).Doc("a factor on the size"),
                  Row("material").Is(T::kName).Doc("as an object's")}));
   v.push_back(Kind("asset_library", "LSCENE")
@@ -614,8 +623,8 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("center")
                      .Aliases({"target"})
                      .Is(T::kAny)
-                     .Doc("`[x,y,z]` or an object (default: the first camera target, else the "
-                          "origin)")}));
+                     .DefaultIs("the first camera target, else the origin")
+                     .Doc("`[x,y,z]` or an object")}));
   v.push_back(
       Kind("grid")
           .Paper("Increment Points, UC3")
@@ -632,6 +641,13 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Is(T::kVector3)
                      .Unit("m")
                      .Doc("`[dx,dy,dz]`: uniform noise in +-d per axis, drawn per frame"),
+                 Row("point")
+                     .Aliases({"blueprint"})
+                     .Is(T::kAny)
+                     .Doc("the paper's point blueprint: a create point path symbol or block "
+                          "`{position:[[x0,y0,z0],[x1,y1,z1]], rotation or look_at}`; its "
+                          "position box is the noise about each grid point, drawn per frame, its "
+                          "rotation the attitude (instead of `perturb`, `roll`, `pitch`, `yaw`)"),
                  Row("roll").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame"),
                  Row("pitch").Is(T::kNumber).Unit("degrees").Default(-90).Doc("-90: nadir"),
                  Row("yaw").Is(T::kNumber).Unit("degrees").Doc("crisp or interval, per frame")}));
@@ -680,7 +696,8 @@ std::vector<KindSpec> BuildVocabulary() {
                              .Aliases({"attitude"})
                              .Is(T::kVector3)
                              .Unit("degrees")
-                             .Doc("roll, pitch, yaw; default nadir; drawn per frame")}));
+                             .DefaultIs("nadir, `[0,-90,0]`")
+                             .Doc("roll, pitch, yaw; drawn per frame")}));
   v.push_back(Kind("create_point")
                   .Paper("Create Point")
                   .Keys({Row("position").Is(T::kVector3).Unit("m").Doc("vector or vector range"),
@@ -688,7 +705,8 @@ std::vector<KindSpec> BuildVocabulary() {
                              .Aliases({"attitude"})
                              .Is(T::kVector3)
                              .Unit("degrees")
-                             .Doc("roll, pitch, yaw; default nadir"),
+                             .DefaultIs("nadir, `[0,-90,0]`")
+                             .Doc("roll, pitch, yaw"),
                          Row("look_at").Is(T::kAny).Doc("instead of `rotation`"),
                          Row("count").Is(T::kCount).Default(1).Doc("drawn per frame")}));
   // The blocks of a collection entry (docs/languages.md, "Collections: move, when, after,
@@ -708,7 +726,13 @@ std::vector<KindSpec> BuildVocabulary() {
                           "is set back on it there. A new place by constraints is `rescatter`"),
                  Row("class").Is(T::kClass).Doc("a class swap"),
                  Row("rescatter").Is(T::kBool).Doc("a new place drawn by Algorithm 1"),
-                 Row("move").Is(T::kList).Doc("a smooth flight the object moves along"),
+                 Row("move").Is(T::kList).Doc("the paths the object moves along"),
+                 Row("speed")
+                     .Is(T::kNumber)
+                     .Range(Range{0, 1000, true, false, ""})
+                     .Unit("m/s")
+                     .DefaultIs("one point per frame")
+                     .Doc("along a `move` path that is not a smooth flight"),
                  Row("heading").Is(T::kName).Doc("how a moving object turns")}));
   v.push_back(Kind("timing").Keys({Row("when").Is(T::kBlock).Doc("`{after, during, frame}`"),
                                    Row("after").Is(T::kAny).Doc("from a path repetition on"),

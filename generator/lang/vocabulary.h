@@ -68,10 +68,13 @@ struct KeySpec {
   std::string block;      // kBlock / kNumberOrBlock: the id of the nested table
   bool in_change = true;  // environment kinds: also callable in an LCAP scene change
   std::string role;       // a group within the kind ("target quantity", "frame quantity")
-  // The value without the key, when it is a literal (null otherwise: a default that depends on
-  // other values is said in `doc`). Docs, schemas and `lsds language --json` print it;
-  // tests/lang/vocabulary_defaults_test.cc holds it equal to the evaluators' own.
+  // The value without the key, when it is a literal (null otherwise). Docs, schemas and `lsds
+  // language --json` print it; tests/lang/vocabulary_defaults_test.cc holds it equal to the
+  // evaluators' own.
   nlohmann::json default_value;
+  // A default that depends on the context, in words ("the class's size", "derived from --seed"),
+  // printed where a literal default is; the same test holds it to the evaluators'.
+  std::string default_text;
 
   std::vector<std::string> Spellings() const;  // name, then aliases
 };

@@ -20,16 +20,19 @@ std::string SpellingsCell(const KeySpec& key) {
   return Join(parts, " / ");
 }
 
-// "default 100000", "default [0,360]"
+// "default 100000", "default [0,360]", "default: the class's size" ("" for none)
 std::string DefaultText(const KeySpec& key) {
+  if (!key.default_text.empty()) return "default: " + key.default_text;
+  if (key.default_value.is_null()) return "";
   return "default " + (key.default_value.is_string() ? key.default_value.get<std::string>()
                                                      : key.default_value.dump());
 }
 
 // The doc line with the default after it.
 std::string DocWithDefault(const KeySpec& key) {
-  if (key.default_value.is_null()) return key.doc;
-  return key.doc.empty() ? DefaultText(key) : key.doc + "; " + DefaultText(key);
+  const std::string by_default = DefaultText(key);
+  if (by_default.empty()) return key.doc;
+  return key.doc.empty() ? by_default : key.doc + "; " + by_default;
 }
 
 std::string RangeText(const KeySpec& key, bool say_whole = true) {
@@ -41,7 +44,8 @@ std::string RangeText(const KeySpec& key, bool say_whole = true) {
 std::string KeyItem(const KeySpec& key) {
   std::vector<std::string> notes;
   if (!key.doc.empty()) notes.push_back(key.doc);
-  if (!key.default_value.is_null()) notes.push_back(DefaultText(key));
+  if (const std::string by_default = DefaultText(key); !by_default.empty())
+    notes.push_back(by_default);
   if (key.range) notes.push_back(RangeText(key));
   return SpellingsCell(key) + (notes.empty() ? "" : " (" + Join(notes, "; ") + ")");
 }
@@ -125,7 +129,8 @@ nlohmann::ordered_json KindSchema(const KindSpec& kind) {
   nlohmann::ordered_json properties = nlohmann::ordered_json::object();
   for (const KeySpec& key : kind.keys) {
     nlohmann::ordered_json p;
-    p["description"] = key.doc;
+    // A default in words is said in the description (JSON Schema's `default` is a value).
+    p["description"] = key.default_text.empty() ? key.doc : DocWithDefault(key);
     if (!key.default_value.is_null()) p["default"] = key.default_value;
     std::string value = ValueTypeName(key.type);
     if (key.range) value += ", " + RangeText(key, key.type != ValueType::kWhole);

@@ -50,6 +50,8 @@ nlohmann::ordered_json KeyJson(const KeySpec& key) {
   PutIfSet(out, "block", key.block);
   PutIfSet(out, "role", key.role);
   if (!key.default_value.is_null()) out["default"] = key.default_value;
+  // A default that depends on the context, in words ("the class's size").
+  PutIfSet(out, "default_text", key.default_text);
   // An environment key an LCAP scene change may not set (the others may).
   if (!key.in_change) out["in_change"] = false;
   PutIfSet(out, "doc", key.doc);
@@ -93,6 +95,7 @@ std::string VocabularyText() {
       if (key.range) out << ", " << key.range->Text();
       if (!key.unit.empty()) out << " " << key.unit;
       if (!key.default_value.is_null()) out << ", default " << key.default_value.dump();
+      if (!key.default_text.empty()) out << ", default: " << key.default_text;
       if (!key.aliases.empty()) out << " (also " << Join(key.aliases, ", ") << ")";
       out << "\n";
     }

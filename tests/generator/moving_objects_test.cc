@@ -183,10 +183,136 @@ TEST(MovingObjects, HeadingLapsLegsAndHillsFollowThePath) {
   EXPECT_NEAR(v.z(), dz, 1e-5);
 }
 
+// A static nadir camera 30 m up for `frames` frames at `fps`, and the car's collection entry.
+std::string StaticCameraCapture(int frames,
+                                int fps,
+                                const std::string& paths,
+                                const std::string& car_entry) {
+  std::string waypoints;
+  for (int k = 0; k < frames; ++k) waypoints += std::string(k ? "," : "") + "[0,0,30]";
+  return "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
+         "CO = camera{csettings:{fov:60,res:[120,90],fps:" +
+         std::to_string(fps) + "},targets:[CAR]}\nP = path{waypoints:[" + waypoints + "]}\n" +
+         paths + "CL = collection{CO:{move:[P]},CAR:{" + car_entry + "}}\n";
+}
+
+// Any path kind: a waypoint list and a grid's lawnmower rows are followed one point per frame, as
+// the camera flies them; the velocity and heading are the segment's ahead, then at rest.
+TEST(MovingObjects, AWaypointListOrAGridIsFollowedOnePointPerFrame) {
+  const std::vector<std::pair<std::string, std::vector<Eigen::Vector2d>>> cases = {
+      {"ROUTE = path{waypoints:[[0,0,0],[6,0,0],[6,8,0]]}\n", {{0, 0}, {6, 0}, {6, 8}}},
+      {"ROUTE = path{increment point:{x:[-4,4,3],y:[0,4,2],altitude:0}}\n",
+       {{-4, 0}, {0, 0}, {4, 0}, {4, 4}, {0, 4}, {-4, 4}}},
+  };
+  for (const auto& [route, knots] : cases) {
+    const Plan plan =
+        PlanText(kCarScene, StaticCameraCapture(8, 10, route, "move:[ROUTE],heading:true"));
+    ASSERT_EQ(plan.frames.size(), 8u);
+    for (const PlannedFrame& f : plan.frames) {
+      const gen::ObjectState car = gen::WorldAt(plan, f).objects[0];
+      const size_t j = std::min<size_t>(static_cast<size_t>(f.index), knots.size() - 1);
+      EXPECT_EQ(car.position, Eigen::Vector3d(knots[j].x(), knots[j].y(), 0.5)) << route << f.index;
+      if (j + 1 == knots.size()) {
+        EXPECT_TRUE(car.velocity.isZero()) << route << f.index;
+        continue;
+      }
+      const Eigen::Vector2d step = knots[j + 1] - knots[j];
+      EXPECT_NEAR((car.velocity - Eigen::Vector3d(10 * step.x(), 10 * step.y(), 0)).norm(), 0, 1e-9)
+          << route << f.index;
+      // Heading per segment: the object's x axis along the segment ahead.
+      EXPECT_NEAR(car.world_from_object.col(0).head<2>().dot(step.normalized()), 1, 1e-12)
+          << route << f.index;
+    }
+  }
+}
+
+// With a speed the same polyline is driven at that speed: the position at time t is closed-form.
+TEST(MovingObjects, AWaypointListAtASpeedIsAPolylineInTime) {
+  const Plan plan =
+      PlanText(kCarScene,
+               StaticCameraCapture(40,
+                                   10,
+                                   "ROUTE = path{waypoints:[[0,0,0],[6,0,0],[6,8,0]]}\n",
+                                   "move:[ROUTE],speed:5,heading:true"));
+  for (const PlannedFrame& f : plan.frames) {
+    const gen::ObjectState car = gen::WorldAt(plan, f).objects[0];
+    const double t = f.time;  // 6 m east in 1.2 s, then 8 m north in 1.6 s
+    Eigen::Vector3d p(6, 8, 0.5), v(0, 0, 0);
+    if (t < 1.2 - 1e-12) {
+      p = {5 * t, 0, 0.5};
+      v = {5, 0, 0};
+    } else if (t < 2.8 - 1e-12) {
+      p = {6, 5 * (t - 1.2), 0.5};
+      v = {0, 5, 0};
+    }
+    EXPECT_NEAR((car.position - p).norm(), 0, 1e-9) << f.index;
+    EXPECT_NEAR((car.velocity - v).norm(), 0, 1e-9) << f.index;
+    if (!v.isZero())
+      EXPECT_NEAR(car.world_from_object.col(0).dot(v.normalized()), 1, 1e-12) << f.index;
+  }
+}
+
+// A hemi ring is an orbit: two laps of a circle of radius 10 about (2, 1) at pi m/s (20 s a lap),
+// the position, velocity and heading those of uniform circular motion.
+TEST(MovingObjects, AHemiRingIsAnOrbitInClosedForm) {
+  const Plan plan = PlanText(
+      kCarScene,
+      StaticCameraCapture(90,
+                          2,
+                          "ORBIT = path{create hemi:{cam radius:[10,10,1],obj angle:[0,360,5],"
+                          "cam angle:[0,0,1],center:[2,1,0]}}\n",
+                          "move:[ORBIT:2],speed:3.141592653589793,heading:true"));
+  ASSERT_EQ(plan.frames.size(), 90u);
+  for (const PlannedFrame& f : plan.frames) {
+    const gen::ObjectState car = gen::WorldAt(plan, f).objects[0];
+    const double t = f.time;
+    if (t >= 40) {  // at rest where the second lap ends
+      EXPECT_NEAR((car.position - Eigen::Vector3d(12, 1, 0.5)).norm(), 0, 1e-9) << f.index;
+      EXPECT_TRUE(car.velocity.isZero()) << f.index;
+      continue;
+    }
+    const double a = M_PI * t / 10;  // rad
+    EXPECT_NEAR(
+        (car.position - Eigen::Vector3d(2 + 10 * std::cos(a), 1 + 10 * std::sin(a), 0.5)).norm(),
+        0,
+        1e-9)
+        << f.index;
+    const Eigen::Vector3d v = M_PI * Eigen::Vector3d(-std::sin(a), std::cos(a), 0);
+    EXPECT_NEAR((car.velocity - v).norm(), 0, 1e-9) << f.index;
+    EXPECT_NEAR(car.world_from_object.col(0).dot(v.normalized()), 1, 1e-12) << f.index;
+  }
+}
+
+// Generated and validated as a user does: the gate (--fail-on warning) passes with the object
+// orbiting at 2 fps, and the collection's truth is the closed form.
+TEST(MovingObjects, AnOrbitingObjectValidates) {
+  testing::TempDir dir;
+  const auto collection = testing::GenerateValidated(
+      dir,
+      kCarScene,
+      StaticCameraCapture(6,
+                          2,
+                          "ORBIT = path{create hemi:{cam radius:[6,6,1],obj angle:[0,360,5],"
+                          "cam angle:[0,0,1],center:[0,0,0]}}\n",
+                          "move:[ORBIT],speed:1.5707963267948966,heading:true"));
+  const auto& frames = collection["frames"];
+  ASSERT_EQ(frames.size(), 6u);
+  for (int k = 0; k < 6; ++k) {
+    const auto& car = frames[k]["objects"][0];
+    const double angle = M_PI / 12 * (k * 0.5);  // pi/2 m/s on radius 6: pi/12 rad/s
+    EXPECT_NEAR(car["obb"]["center"][0].get<double>(), 6 * std::cos(angle), 1e-9) << k;
+    EXPECT_NEAR(car["obb"]["center"][1].get<double>(), 6 * std::sin(angle), 1e-9) << k;
+    EXPECT_NEAR(car["velocity"][0].get<double>(), -M_PI / 2 * std::sin(angle), 1e-9) << k;
+    EXPECT_NEAR(car["velocity"][1].get<double>(), M_PI / 2 * std::cos(angle), 1e-9) << k;
+  }
+}
+
 TEST(MovingObjects, MisuseIsALocatedError) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"CL = collection{CO:{move:[P]},CAR:{move:[NOPE]}}\n", "not a path"},
-      {"CL = collection{CO:{move:[P]},CAR:{move:[P]}}\n", "an object moves along a smooth flight"},
+      {"CL = collection{CO:{move:[P]},CAR:{move:[DRIVE],speed:3}}\n", "has its own speed"},
+      {"CL = collection{CO:{move:[P]},CAR:{speed:3}}\n", "add move"},
+      {"CL = collection{CO:{move:[P]},CAR:{move:[P],speed:0}}\n", "speed must be"},
       {"CL = collection{CO:{move:[P]},CAR:{heading:true}}\n", "add move"},
       {"CL = collection{CO:{move:[P]},CAR:{move:[DRIVE],rescatter:true}}\n", "either moves"},
       {"CL = collection{CO:{move:[P]},CAR:{move:[DRIVE],offset:[1,0,0]}}\n",

@@ -16,11 +16,13 @@
 #include "generator/lang/capture/flight.h"
 #include "generator/lang/capture/keep_placement.h"
 #include "generator/lang/capture/object_changes.h"
+#include "generator/lang/capture/object_track.h"
 #include "generator/lang/capture/quota_draws.h"
 #include "generator/lang/capture/rescatter.h"
 #include "generator/lang/capture/targets.h"
 #include "generator/lang/capture/timeline.h"
 #include "generator/lang/source.h"
+#include "libs/geometry/attitude.h"
 #include "libs/util/error.h"
 #include "tests/generator/test_plans.h"
 #include "tests/lang/plan_text.h"
@@ -171,6 +173,20 @@ struct TimelineFixture {
   std::unique_ptr<Timeline> timeline;
 };
 
+// The camera paths of an LCAP text whose camera is CO, over flat ground; a grid's point
+// blueprint may name the text's paths.
+struct PathsFixture {
+  explicit PathsFixture(const std::string& text, uint64_t seed = 1)
+      : c(Lcap(text)),
+        plan(FlatPlan()),
+        setup(ReadCameraSetup(&c->Def("CO"), &plan)),
+        paths(setup, plan, seed, "", &c->program) {}
+  std::unique_ptr<Text> c;
+  Plan plan;
+  CameraSetup setup;
+  CameraPaths paths;
+};
+
 TEST(CaptureTimeline, SegmentsFollowTheCameraMoves) {
   TimelineFixture t;
   const std::vector<Segment>& s = t.timeline->segments();
@@ -194,13 +210,12 @@ TEST(CaptureTimeline, SegmentsFollowTheCameraMoves) {
 }
 
 TEST(CaptureTimeline, SequenceNamesAreUniqueAcrossMovesAndCollections) {
-  const auto c = Lcap(
+  PathsFixture t(
       "LCAP = ONE(CO) ONE(W1) ONE(CL1) ONE(CL2)\nCO = camera{}\n"
       "W1 = path{create point:{position:[0,0,30],count:2}}\n"
       "CL1 = collection{CO:{move:[W1:2]}}\nCL2 = collection{CO:{move:[W1]}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   const Timeline timeline(
       c->program,
       [](const std::string& key, const Node&) { return key == "CO"; },
@@ -246,13 +261,12 @@ TEST(CaptureCameraPaths, GridIsFlownSerpentineAboveTheTerrain) {
 }
 
 TEST(CaptureCameraPaths, HemiLooksAtItsCentreFromItsRadius) {
-  const auto c = Lcap(
+  PathsFixture t(
       "LCAP = ONE(CO) ONE(H)\nCO = camera{}\n"
       "H = path{create hemi:{cam radius:[100,200,2],obj angle:[0,270,4],cam angle:[30,60,2],"
       "center:[5,5,0]}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   EXPECT_EQ(paths.FrameCount(c->Def("H"), 0), 16);
   Rng rng(1);
   // Pose 13: radius 200 (13 / 8), elevation 30 deg ((13 / 4) % 2 = 1 -> 60), azimuth 90 deg.
@@ -266,11 +280,10 @@ TEST(CaptureCameraPaths, HemiLooksAtItsCentreFromItsRadius) {
 }
 
 TEST(CaptureCameraPaths, RandomAltitudeIsDrawnWithinTheDemandedBin) {
-  const auto c =
-      Lcap("LCAP = ONE(CO) ONE(R)\nCO = camera{}\nR = path{random:{count:5,altitude:[15,60]}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
+  PathsFixture t(
+      "LCAP = ONE(CO) ONE(R)\nCO = camera{}\nR = path{random:{count:5,altitude:[15,60]}}\n");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
   Quota quota;
   quota.quantity = "altitude";
   quota.edges = {15, 30, 60};
@@ -285,28 +298,34 @@ TEST(CaptureCameraPaths, RandomAltitudeIsDrawnWithinTheDemandedBin) {
   }
 }
 
-TEST(CaptureCameraPaths, CreatePathDrawsItsPointsInItsSpaceLookingDown) {
-  const auto c = Lcap(
-      "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n"
-      "P = path{create path:{space:[[-10,-20,30],[10,20,60]],points:7}}\n"
-      "Q = path{create path:{space:[[0,0,0],[1,1]],points:2}}\n");
-  Plan plan = FlatPlan();
-  const CameraSetup setup = ReadCameraSetup(&c->Def("CO"), &plan);
-  CameraPaths paths(setup, plan, 1, "");
-  EXPECT_EQ(paths.FrameCount(c->Def("P"), 0), 7);
+// The bounds of the camera centre of pose `i` of `path` over 200 draws, each checked to look
+// straight down (the optical axis, camera +z, is the world's -z).
+std::pair<Eigen::Vector3d, Eigen::Vector3d> NadirEyeBounds(CameraPaths* paths,
+                                                           const Definition& path,
+                                                           int64_t i) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
   for (uint64_t k = 0; k < 200; ++k) {
     Rng rng = Rng::For(3, StreamTag::kFrame, k);
-    const Rigid3d pose = paths.Pose(c->Def("P"), 0, rng, 0, nullptr, nullptr);
-    const Eigen::Vector3d eye = CameraCenterInWorld(pose);
-    lo = lo.cwiseMin(eye);
-    hi = hi.cwiseMax(eye);
-    // Looking straight down: the optical axis (camera +z) is the world's -z.
+    const Rigid3d pose = paths->Pose(path, i, rng, 0, nullptr, nullptr);
+    lo = lo.cwiseMin(CameraCenterInWorld(pose));
+    hi = hi.cwiseMax(CameraCenterInWorld(pose));
     EXPECT_NEAR(
         (pose.rotation.inverse() * Eigen::Vector3d::UnitZ() - Eigen::Vector3d(0, 0, -1)).norm(),
         0,
         1e-9);
   }
+  return {lo, hi};
+}
+
+TEST(CaptureCameraPaths, CreatePathDrawsItsPointsInItsSpaceLookingDown) {
+  PathsFixture t(
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n"
+      "P = path{create path:{space:[[-10,-20,30],[10,20,60]],points:7}}\n"
+      "Q = path{create path:{space:[[0,0,0],[1,1]],points:2}}\n");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
+  EXPECT_EQ(paths.FrameCount(c->Def("P"), 0), 7);
+  const auto [lo, hi] = NadirEyeBounds(&paths, c->Def("P"), 0);
   EXPECT_GE(lo.minCoeff(), -20);
   EXPECT_LE(hi.x(), 10);
   EXPECT_LE(hi.y(), 20);
@@ -315,6 +334,51 @@ TEST(CaptureCameraPaths, CreatePathDrawsItsPointsInItsSpaceLookingDown) {
   EXPECT_GT(hi.y() - lo.y(), 30);  // spread over the space, not one point
   EXPECT_NE(ErrorOf([&] { paths.FrameCount(c->Def("Q"), 0); }).find("c.lcap:4:"),
             std::string::npos);
+}
+
+// The paper's point blueprint fed to increment point (section 3.2): a generic point whose position
+// box is the noise about each grid point and whose rotation is the attitude there.
+TEST(CaptureCameraPaths, APointBlueprintPerturbsAndTurnsEveryGridPoint) {
+  PathsFixture t(
+      "LCAP = ONE(CO) ONE(N) ONE(G) ONE(J)\nCO = camera{}\n"
+      "N = path{create point:{position:[1,2,3],rotation:[0,-60,45]}}\n"
+      "G = path{increment point:{start:[0,0,20],step:[10,10,0],count:[2,2,1],point:N}}\n"
+      "J = path{increment point:{x:[0,10,2],y:[0,10,2],altitude:20,"
+      "point:{position:[[-1,-1,-0.5],[1,1,0.5]]}}}\n"
+      "B1 = path{grid:{x:[0,10,2],y:[0,10,2],altitude:20,point:G}}\n"
+      "B2 = path{grid:{x:[0,10,2],y:[0,10,2],altitude:20,perturb:[1,1,1],point:N}}\n"
+      "B3 = path{grid:{x:[0,10,2],y:[0,10,2],altitude:20,point:{rotation:[0,-90,0]}}}\n");
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
+  ASSERT_EQ(paths.FrameCount(c->Def("G"), 0), 4);
+  const Eigen::Vector3d grid[] = {{0, 0, 20}, {10, 0, 20}, {10, 10, 20}, {0, 10, 20}};
+  for (int i = 0; i < 4; ++i) {
+    Rng rng(5);
+    const Rigid3d pose = paths.Pose(c->Def("G"), i, rng, 0, nullptr, nullptr);
+    const Eigen::Vector3d eye = grid[i] + Eigen::Vector3d(1, 2, 3);
+    EXPECT_NEAR((CameraCenterInWorld(pose) - eye).norm(), 0, 1e-9) << i;
+    EXPECT_NEAR(
+        pose.rotation.angularDistance(CamFromEnu(eye, Attitude{0, -60, 45}).rotation), 0, 1e-12)
+        << i;
+  }
+  // A box of noise: every point within it about its grid point, spread over it, looking down.
+  auto [lo, hi] = NadirEyeBounds(&paths, c->Def("J"), 2);
+  lo -= Eigen::Vector3d(10, 10, 20);  // the noise about grid point 2
+  hi -= Eigen::Vector3d(10, 10, 20);
+  EXPECT_GE(lo.x(), -1);
+  EXPECT_GE(lo.z(), -0.5);
+  EXPECT_LE(hi.y(), 1);
+  EXPECT_LE(hi.z(), 0.5);
+  EXPECT_GT(hi.x() - lo.x(), 1.5);
+  EXPECT_GT(hi.z() - lo.z(), 0.75);
+  for (const auto& [symbol, message] :
+       std::vector<std::pair<std::string, std::string>>{{"B1", "c.lcap:6:57:"},
+                                                        {"B1", "not a create point path"},
+                                                        {"B2", "give one of them"},
+                                                        {"B3", "needs a position"}})
+    EXPECT_NE(ErrorOf([&] { paths.FrameCount(c->Def(symbol), 0); }).find(message),
+              std::string::npos)
+        << symbol << ": " << ErrorOf([&] { paths.FrameCount(c->Def(symbol), 0); });
 }
 
 // ---- quota_draws.h
@@ -522,6 +586,69 @@ TEST(CaptureObjectChanges, AMovingObjectFollowsItsLegsThenRests) {
   MoveAlongLegs(rule, o, plan, 20, 1, &after);
   EXPECT_NEAR((*after.position - Eigen::Vector3d(0, 10, 0)).norm(), 0, 1e-12);
   EXPECT_EQ(*after.velocity, Eigen::Vector3d::Zero());
+}
+
+// ---- object_track.h
+
+TEST(CaptureObjectTrack, APolylineOnePointPerFrameOrAtASpeed) {
+  ObjectTrack track;
+  track.knots = {{0, 0, 0}, {10, 0, 0}, {10, 5, 0}};
+  track.arcs.assign(2, std::nullopt);
+  track.TimePerFrame(2);  // knot j at j / 2 s
+  EXPECT_DOUBLE_EQ(track.Duration(), 1.0);
+  EXPECT_EQ(track.At(0.5).centre, Eigen::Vector3d(10, 0, 0));  // exactly the knot
+  EXPECT_NEAR((track.At(0.5).velocity - Eigen::Vector3d(0, 10, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((track.At(0.25).centre - Eigen::Vector3d(5, 0, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((track.At(0.25).velocity - Eigen::Vector3d(20, 0, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((track.At(0.25).tangent - Eigen::Vector3d(1, 0, 0)).norm(), 0, 1e-12);
+  EXPECT_EQ(track.At(9).centre, Eigen::Vector3d(10, 5, 0));  // clamped to the end
+  // At 5 m/s: 2 s along the first side, 1 s along the second.
+  track.TimeAtSpeed(5);
+  EXPECT_DOUBLE_EQ(track.Duration(), 3.0);
+  EXPECT_NEAR((track.At(1.2).centre - Eigen::Vector3d(6, 0, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((track.At(2.6).centre - Eigen::Vector3d(10, 3, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((track.At(2.6).velocity - Eigen::Vector3d(0, 5, 0)).norm(), 0, 1e-12);
+}
+
+TEST(CaptureObjectTrack, AnArcIsFollowedOnItsCircle) {
+  // A quarter circle of radius 4 about (1, 2, 3), from azimuth 0 to 90 degrees.
+  ObjectTrack track;
+  track.knots = {{5, 2, 3}, {1, 6, 3}};
+  ObjectTrack::Arc arc;
+  arc.centre = {1, 2, 3};
+  arc.radius = 4;
+  arc.from_deg = 0;
+  arc.to_deg = 90;
+  track.arcs = {arc};
+  track.TimeAtSpeed(M_PI);  // the arc is 2 pi m long: 2 s
+  EXPECT_NEAR(track.Duration(), 2, 1e-12);
+  const FlightSample mid = track.At(1);  // 45 degrees
+  const double c = 4 * std::cos(M_PI / 4);
+  EXPECT_NEAR((mid.centre - Eigen::Vector3d(1 + c, 2 + c, 3)).norm(), 0, 1e-12);
+  // Tangent to the circle at the track's speed.
+  EXPECT_NEAR(mid.velocity.norm(), M_PI, 1e-12);
+  EXPECT_NEAR(mid.velocity.dot(mid.centre - arc.centre), 0, 1e-12);
+  EXPECT_NEAR((mid.tangent - Eigen::Vector3d(-1, 1, 0).normalized()).norm(), 0, 1e-12);
+}
+
+TEST(CaptureCameraPaths, AHemiTrackHasAnArcPerRingStep) {
+  PathsFixture t(
+      "LCAP = ONE(CO) ONE(P)\nCO = camera{}\n"
+      "P = path{create hemi:{cam radius:[10,20,2],obj angle:[0,180,3],cam angle:[0,0,1],"
+      "center:[1,2,0]}}\n",
+      7);
+  const auto& c = t.c;
+  CameraPaths& paths = t.paths;
+  Rng rng(1);
+  const ObjectTrack track = paths.Track(c->Def("P"), rng);
+  ASSERT_EQ(track.knots.size(), 6u);
+  EXPECT_NEAR((track.knots[1] - Eigen::Vector3d(1, 12, 0)).norm(), 0, 1e-9);
+  ASSERT_TRUE(track.arcs[0] && track.arcs[1]);
+  EXPECT_FALSE(track.arcs[2]);  // radius 10 to radius 20: a line
+  EXPECT_NEAR((track.arcs[3]->centre - Eigen::Vector3d(1, 2, 0)).norm(), 0, 1e-9);
+  EXPECT_NEAR(track.arcs[3]->radius, 20, 1e-12);
+  EXPECT_EQ(track.arcs[3]->from_deg, 0);
+  EXPECT_EQ(track.arcs[3]->to_deg, 90);
 }
 
 // ---- keep_placement.h, rescatter.h

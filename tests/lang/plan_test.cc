@@ -267,6 +267,39 @@ TEST(LangPlan, GridAndRandomPosesRespectTheirRanges) {
   }
 }
 
+// Section 3.2's point blueprint fed to increment point, in the paper's spelling, over hills: a
+// uniform grid over the terrain with per-point noise within the blueprint's box, its attitude the
+// blueprint's rotation.
+TEST(LangPlan, APointBlueprintFedToIncrementPointIsANoisyGridOverTheTerrain) {
+  const Plan plan =
+      PlanText("LSCENE = ONE(W)\nW = terrain{size:[200,200],height:{perlin:{amplitude:3}}}\n",
+               "LCAP = ONE(CO) ONE(N) ONE(P) ONE(CL)\n"
+               "CO = camera{csettings:{res:[64,48]}}\n"
+               "N = path{create point:{position:[[-2,-2,-1],[2,2,1]],rotation:[0,-70,[0,360]]}}\n"
+               "P = create path{increment point:{x:[-40,40,5],y:[-40,40,5],altitude:30,point:N}}\n"
+               "CL = collection{CO:{move:[P]}}\n");
+  ASSERT_EQ(plan.frames.size(), 25u);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  for (const PlannedFrame& f : plan.frames) {
+    const int row = static_cast<int>(f.index / 5), col = row % 2 ? 4 - f.index % 5 : f.index % 5;
+    const Eigen::Vector3d c = CameraCenterInWorld(f.cam_from_world);
+    // Above the terrain under the perturbed point, as the grid's altitude is.
+    const Eigen::Vector3d noise(c.x() - (-40 + 20 * col),
+                                c.y() - (-40 + 20 * row),
+                                c.z() - TerrainHeight(plan.terrain, c.x(), c.y()) - 30);
+    lo = lo.cwiseMin(noise);
+    hi = hi.cwiseMax(noise);
+    // Pitch -70 (20 degrees off nadir) at every point.
+    const Eigen::Vector3d axis = f.cam_from_world.rotation.conjugate() * Eigen::Vector3d::UnitZ();
+    EXPECT_NEAR(std::asin(-axis.z()) * 180 / M_PI, 70, 1e-9) << f.index;
+  }
+  EXPECT_GE(lo.x(), -2);
+  EXPECT_LE(hi.y(), 2);
+  EXPECT_GE(lo.z(), -1 - 1e-9);
+  EXPECT_LE(hi.z(), 1 + 1e-9);
+  EXPECT_GT((hi - lo).minCoeff(), 1);  // noise in x, y and z, not one offset
+}
+
 TEST(LangPlan, SameSeedSamePlanAndFrameSubsetsMatch) {
   const std::vector<std::pair<std::string, std::string>> inputs = {
       {"paper_example1.lscene", "paper_example1.lcap"},

@@ -1,13 +1,17 @@
 // The defaults the vocabulary table states (`Row(...).Default(v)`; docs/languages.md, `lsds
 // language --json`) are the evaluators' own: for every key with one, a program that gives the key
-// its default plans byte for byte as the program without the key.
+// its default plans byte for byte as the program without the key. A default said in words
+// (`Row(...).DefaultIs(words)`) is checked the same way with the value it stands for in a program.
 #include <gtest/gtest.h>
 
 #include <functional>
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
+#include "generator/lang/random.h"
+#include "generator/lang/scene.h"
 #include "generator/lang/vocabulary.h"
 #include "generator/plan/plan_json.h"
 #include "tests/lang/plan_text.h"
@@ -117,6 +121,106 @@ TEST(VocabularyDefaults, GivingTheDefaultPlansAsLeavingTheKeyOut) {
       ++checked;
     }
   EXPECT_EQ(checked, static_cast<int>(Programs().size()));
+}
+
+// A program without the key and the same program with the value a default in words stands for.
+struct Described {
+  std::pair<std::string, std::string> without, with;
+};
+
+std::string Vector(const Eigen::Vector3d& v) {
+  return nlohmann::json({v.x(), v.y(), v.z()}).dump();
+}
+
+// The scene with one object O (`o_keys` inside its braces) on the ground.
+std::string OneObject(const std::string& o_keys) {
+  return "LSCENE = ONE(W) ONE(O)\n" + kGround + "O = object{" + o_keys + "}\n";
+}
+
+// Every (kind, key) with a default in words, and programs that give it its value (planned with
+// seed 3).
+const std::map<std::pair<std::string, std::string>, std::vector<Described>>& DescribedPrograms() {
+  const std::string crate = Vector(BuiltinClasses().at("crate"));
+  const std::string terrain_seed =
+      std::to_string(MixKey(3, static_cast<uint64_t>(StreamTag::kTerrain)) >> 11);
+  const std::string hemi =
+      "P = path{create hemi:{cam radius:[20,20,1],obj angle:[0,270,4],cam angle:[40,40,1]%}}\n";
+  auto capture = [](std::string text, const std::string& key) {
+    text.replace(text.find('%'), 1, key);
+    return text;
+  };
+  const std::string targets = "LCAP = ONE(CO) ONE(P)\nCO = camera{targets:[O]}\n";
+  const std::string moving =
+      "LCAP = ONE(CO) ONE(P) ONE(R) ONE(CL)\nCO = camera{csettings:{res:[32,24]}}\n"
+      "P = path{waypoints:[[0,0,40],[0,0,40],[0,0,40],[0,0,40]]}\n"
+      "R = path{waypoints:[[0,0,0],[10,0,0],[20,0,0]]}\n"
+      "CL = collection{CO:{move:[P]},O:{move:[R]%}}\n";
+  static const std::map<std::pair<std::string, std::string>, std::vector<Described>> programs = {
+      {{"terrain", "seed"},
+       {{{"LSCENE = ONE(W)\nW = terrain{size:[200,200],perlin:2}\n", kCamera},
+         {"LSCENE = ONE(W)\nW = terrain{size:[200,200],perlin:2,seed:" + terrain_seed + "}\n",
+          kCamera}}}},
+      {{"object", "extent"},
+       {{{OneObject("class:crate"), kCamera},
+         {OneObject("class:crate,extent:" + crate), kCamera}}}},
+      {{"object", "target"},
+       {{{OneObject("class:cube"), kCamera}, {OneObject("class:cube,target:true"), kCamera}},
+        // With targets, an object not listed gets none.
+        {{"LSCENE = ONE(W) ONE(O) ONE(Q)\n" + kGround + "O = object{class:cube}\n" +
+              "Q = object{class:crate}\n",
+          targets + "P = path{create point:{position:[0,0,30]}}\n"},
+         {"LSCENE = ONE(W) ONE(O) ONE(Q)\n" + kGround + "O = object{class:cube}\n" +
+              "Q = object{class:crate,target:false}\n",
+          targets + "P = path{create point:{position:[0,0,30]}}\n"}}}},
+      {{"blueprint_member", "extent"},
+       {{{"LSCENE = ONE(W) ONE(C)\n" + kGround +
+              "B = blueprint{X:{class:crate}}\nC = object{class:B}\n",
+          kCamera},
+         {"LSCENE = ONE(W) ONE(C)\n" + kGround + "B = blueprint{X:{class:crate,extent:" + crate +
+              "}}\nC = object{class:B}\n",
+          kCamera}}}},
+      {{"create_hemi", "center"},
+       {{{OneObject("class:cube"), "LCAP = ONE(P)\n" + capture(hemi, "")},
+         {OneObject("class:cube"), "LCAP = ONE(P)\n" + capture(hemi, ",center:[0,0,0]")}},
+        {{OneObject("class:cube,position:{ON:W,within:[[5,6,-10],[5,6,10]]}"),
+          targets + capture(hemi, "")},
+         {OneObject("class:cube,position:{ON:W,within:[[5,6,-10],[5,6,10]]}"),
+          targets + capture(hemi, ",center:O")}}}},
+      {{"create_point", "rotation"},
+       {{{OneObject("class:cube"), "LCAP = ONE(P)\nP = path{create point:{position:[0,0,30]}}\n"},
+         {OneObject("class:cube"),
+          "LCAP = ONE(P)\nP = path{create point:{position:[0,0,30],rotation:[0,-90,0]}}\n"}}}},
+      {{"create_path", "rotation"},
+       {{{OneObject("class:cube"),
+          "LCAP = ONE(P)\nP = path{create path:{space:[[-5,-5,20],[5,5,30]],points:3}}\n"},
+         {OneObject("class:cube"),
+          "LCAP = ONE(P)\nP = path{create path:{space:[[-5,-5,20],[5,5,30]],points:3,"
+          "rotation:[0,-90,0]}}\n"}}}},
+      // 10 m between points at the default 10 fps: 100 m/s.
+      {{"object_change", "speed"},
+       {{{OneObject("class:cube"), capture(moving, "")},
+         {OneObject("class:cube"), capture(moving, ",speed:100")}}}},
+  };
+  return programs;
+}
+
+TEST(VocabularyDefaults, ADefaultInWordsPlansAsTheValueItStandsFor) {
+  int checked = 0;
+  for (const KindSpec& kind : Vocabulary())
+    for (const KeySpec& key : kind.keys) {
+      if (key.default_text.empty()) continue;
+      EXPECT_TRUE(key.default_value.is_null()) << kind.id << "." << key.name << ": both defaults";
+      const auto programs = DescribedPrograms().find({kind.id, key.name});
+      ASSERT_NE(programs, DescribedPrograms().end())
+          << kind.id << "." << key.name << " has a default in words but no program here";
+      for (const Described& d : programs->second)
+        EXPECT_EQ(PlanJson(d.with), PlanJson(d.without))
+            << kind.id << "." << key.name << " (" << key.default_text << ")\nscene:\n"
+            << d.with.first << "capture:\n"
+            << d.with.second;
+      ++checked;
+    }
+  EXPECT_EQ(checked, static_cast<int>(DescribedPrograms().size()));
 }
 
 }  // namespace

@@ -72,7 +72,13 @@ std::array<std::vector<double>, 3> GridAxes(const Node& g) {
 }
 
 int64_t CameraPaths::FrameCount(const Definition& path, uint64_t segment) {
+  const auto [kind, g] = path.body.Members().front();
+  if (PathKind(kind) == "waypoints" && g->is_object()) return FlightOf(g, segment).frame_count;
   Rng count_rng = Rng::For(seed_, StreamTag::kCount, segment);
+  return FrameCount(path, count_rng);
+}
+
+int64_t CameraPaths::FrameCount(const Definition& path, Rng& count_rng) {
   const auto [kind, g] = path.body.Members().front();
   const std::string k = PathKind(kind);
   if (k == "createhemi" || k == "hemi") {
@@ -86,6 +92,7 @@ int64_t CameraPaths::FrameCount(const Definition& path, uint64_t segment) {
   }
   if (k == "grid" || k == "incrementpoints") {
     lsds::CheckKeys(g, KindVocabulary("grid"), "grid");
+    PointBlueprint(g);
     const auto axes = GridAxes(g);
     return static_cast<int64_t>(axes[0].size() * axes[1].size() * axes[2].size());
   }
@@ -95,7 +102,6 @@ int64_t CameraPaths::FrameCount(const Definition& path, uint64_t segment) {
     return SampleCount(g.Find("count"), count_rng);
   }
   if (k == "waypoints") {
-    if (g->is_object()) return FlightOf(g, segment).frame_count;
     if (!g->is_array() || g->empty()) g.Fail("waypoints are a non-empty list");
     return static_cast<int64_t>(g->size());
   }
@@ -156,6 +162,55 @@ Rigid3d CameraPaths::Pose(const Definition& path,
   return PointPose(g, rng, moved);
 }
 
+ObjectTrack CameraPaths::Track(const Definition& path, Rng& rng) {
+  ObjectTrack track;
+  const int64_t n = FrameCount(path, rng);
+  std::vector<Eigen::Vector3d> centres;
+  for (int64_t i = 0; i < n; ++i)
+    centres.push_back(CameraCenterInWorld(Pose(path, i, rng, 0, nullptr, nullptr)));
+  const auto [kind, g] = path.body.Members().front();
+  const std::string k = PathKind(kind);
+  if (k != "createhemi" && k != "hemi") {
+    track.knots = centres;
+    track.arcs.assign(centres.empty() ? 0 : centres.size() - 1, std::nullopt);
+    return track;
+  }
+  // A hemi's ring (one radius and elevation) is a circle about the vertical through the centre:
+  // from one azimuth to the next the object follows the arc, and a ring over a full turn
+  // (`obj angle:[0,360,n]`) is closed by the arc back to its first point. From one ring to the
+  // next it goes straight.
+  const Node azimuth = g.Find("objangle");
+  const auto az = ExpandRange(azimuth), el = ExpandRange(g.Find("camangle")),
+             radii = ExpandRange(g.Find("camradius"));
+  const double turn =
+      azimuth->is_array() ? ReadNumber(azimuth.Item(1)) - ReadNumber(azimuth.Item(0)) : 0.0;
+  const bool closed = az.size() > 1 && std::abs(std::abs(turn) - 360.0) < 1e-9;
+  for (size_t i = 0; i < centres.size(); ++i) {
+    const size_t a = i % az.size();
+    const double e = el[(i / az.size()) % el.size()] * kDeg;
+    ObjectTrack::Arc arc;
+    arc.radius = radii[i / (az.size() * el.size())] * std::cos(e);
+    arc.from_deg = az[a];
+    // The ring's centre: the hemi centre raised by r sin e, found from the point itself.
+    arc.centre = centres[i] - arc.radius * Eigen::Vector3d(std::cos(arc.from_deg * kDeg),
+                                                           std::sin(arc.from_deg * kDeg),
+                                                           0);
+    track.knots.push_back(centres[i]);
+    if (a + 1 < az.size()) {
+      arc.to_deg = az[a + 1];
+      track.arcs.push_back(arc);
+      continue;
+    }
+    if (closed) {
+      arc.to_deg = az[0] + turn;
+      track.arcs.push_back(arc);
+      track.knots.push_back(centres[i - a]);
+    }
+    if (i + 1 < centres.size()) track.arcs.push_back(std::nullopt);
+  }
+  return track;
+}
+
 // Radius, then elevation, then azimuth vary slowest to fastest; the camera looks at the centre
 // (the `center` key, else the camera's first target, else the origin).
 Rigid3d CameraPaths::HemiPose(const Node& g,
@@ -192,12 +247,53 @@ Rigid3d CameraPaths::GridPose(const Node& g, int64_t i, Rng& rng) const {
     const Eigen::Vector3d amp = SampleVec3(n, rng);
     for (int j = 0; j < 3; ++j) p[j] += rng.Uniform(-amp[j], amp[j]);
   }
+  if (const Node point = PointBlueprint(g)) {
+    // The paper's point blueprint (section 3.2): its position box is the noise about each grid
+    // point, its rotation (or look_at) the attitude there.
+    p += SampleVec3(point.Find("position"), rng);
+    p.z() += TerrainHeight(plan_.terrain, p.x(), p.y());
+    if (const Node l = point.Find("lookat")) return LookAt(p, Point(l, rng, {}));
+    Attitude att{0, -90, 0};
+    if (const Node r = FindKey(point, KindVocabulary("create_point"), "rotation")) {
+      const Eigen::Vector3d rpy = SampleVec3(r, rng);
+      att = Attitude{rpy.x(), rpy.y(), rpy.z()};
+    }
+    return CamFromEnu(p, att);
+  }
   p.z() += TerrainHeight(plan_.terrain, p.x(), p.y());
   Attitude att{0, -90, 0};
   if (const Node n = g.Find("roll")) att.roll_deg = SampleScalar(n, rng);
   if (const Node n = g.Find("pitch")) att.pitch_deg = SampleScalar(n, rng);
   if (const Node n = g.Find("yaw")) att.yaw_deg = SampleScalar(n, rng);
   return CamFromEnu(p, att);
+}
+
+Node CameraPaths::PointBlueprint(const Node& g) const {
+  const Node ref = FindKey(g, KindVocabulary("grid"), "point");
+  if (!ref) return Node{};
+  Node point = ref;
+  if (ref->is_string()) {
+    const std::string symbol = ReadString(ref);
+    const Definition* path = capture_ ? capture_->Find(symbol) : nullptr;
+    if (!path || path->kind != "path" || path->body->size() != 1 ||
+        PathKind(path->body.Members().front().first) != "createpoint")
+      ref.Fail("'" + symbol +
+               "' is not a create point path: the point blueprint is "
+               "N = path{create point:{position:[[x0,y0,z0],[x1,y1,z1]], rotation:[...]}}");
+    point = path->body.Members().front().second;
+  }
+  if (!point->is_object())
+    ref.Fail("a point blueprint is a create point block {position, rotation} or its path symbol");
+  lsds::CheckKeys(point, KindVocabulary("create_point"), "point blueprint");
+  if (!point.Find("position"))
+    point.Fail("a point blueprint needs a position: the box of noise about each grid point");
+  if (const Node c = point.Find("count")) c.Fail("the grid sets how many points; drop count");
+  if (const Node n = g.Find("perturb"))
+    n.Fail("the point blueprint's position box is the perturbation; give one of them");
+  for (const char* key : {"roll", "pitch", "yaw"})
+    if (const Node n = g.Find(key))
+      n.Fail("the point blueprint sets the attitude; drop " + std::string(key));
+  return point;
 }
 
 Rigid3d CameraPaths::RandomPose(const Node& g, Rng& rng, const FrameDemand* demand) const {

@@ -14,6 +14,7 @@
 
 #include "generator/lang/capture/camera_setup.h"
 #include "generator/lang/capture/flight.h"
+#include "generator/lang/capture/object_track.h"
 #include "generator/lang/requirements.h"
 
 namespace lsds {
@@ -24,13 +25,29 @@ std::string PathKind(const std::string& key);
 class CameraPaths {
  public:
   // `plan` gives the terrain and the objects a pose may look at; `first_target` is the object a
-  // hemi without a centre circles (the camera's first target).
-  CameraPaths(const CameraSetup& setup, const Plan& plan, uint64_t seed, std::string first_target)
-      : setup_(setup), plan_(plan), seed_(seed), first_target_(std::move(first_target)) {}
+  // hemi without a centre circles (the camera's first target); `capture` (may be null) the paths a
+  // grid's point blueprint may name.
+  CameraPaths(const CameraSetup& setup,
+              const Plan& plan,
+              uint64_t seed,
+              std::string first_target,
+              const Program* capture = nullptr)
+      : setup_(setup),
+        plan_(plan),
+        seed_(seed),
+        first_target_(std::move(first_target)),
+        capture_(capture) {}
 
   // The number of frames of a path instance, checked; a count interval is drawn from the seed, on
   // the stream of the instance's place `segment` in the timeline.
   int64_t FrameCount(const Definition& path, uint64_t segment);
+  // The same with the count interval drawn from `count_rng`.
+  int64_t FrameCount(const Definition& path, Rng& count_rng);
+
+  // A path other than a smooth flight as the track of an object's centre (object_track.h): the
+  // centres of its poses in frame order, drawn from `rng` once (for the whole leg), with the arcs
+  // of a hemi's rings; untimed. Object centres in it (a hemi centre, a look_at) are as planned.
+  ObjectTrack Track(const Definition& path, Rng& rng);
 
   // Pose `i` of the path instance at place `segment`, drawn from `rng`; `velocity` is set on a
   // smooth flight. `demand` (may be null) is the frame's quota demand: a random pose's altitude
@@ -65,6 +82,8 @@ class CameraPaths {
                    Rng& rng,
                    const std::vector<ObjectChange>& moved) const;
   Rigid3d GridPose(const Node& g, int64_t i, Rng& rng) const;
+  // The create point block a grid's `point` gives (inline or a path symbol), checked; null without.
+  Node PointBlueprint(const Node& g) const;
   Rigid3d RandomPose(const Node& g, Rng& rng, const FrameDemand* demand) const;
   Rigid3d WaypointPose(const Node& w, Rng& rng, const std::vector<ObjectChange>& moved) const;
   Rigid3d PointPose(const Node& g, Rng& rng, const std::vector<ObjectChange>& moved) const;
@@ -80,6 +99,7 @@ class CameraPaths {
   const Plan& plan_;
   uint64_t seed_;
   std::string first_target_;
+  const Program* capture_;
   std::map<uint64_t, Flight> flights_;  // by path instance (segment)
 };
 

@@ -14,6 +14,7 @@ class RuleReader {
              const Timeline& timeline,
              const ChangeTargets& targets,
              const CameraSetup& setup,
+             CameraPaths* paths,
              uint64_t seed,
              ClassSwaps* swaps,
              Plan* plan)
@@ -21,6 +22,7 @@ class RuleReader {
         timeline_(timeline),
         targets_(targets),
         setup_(setup),
+        paths_(paths),
         seed_(seed),
         swaps_(swaps),
         plan_(plan) {}
@@ -123,10 +125,12 @@ class RuleReader {
     return rule;
   }
 
-  // `move:[P2, P3:2]` and `heading` of an object's change block; `rescatter` is checked here too
-  // (it draws a new position, a move follows a path).
+  // `move:[P2, P3:2]`, `speed` and `heading` of an object's change block; `rescatter` is checked
+  // here too (it draws a new position, a move follows a path).
   void ReadMotion(const Node& block, Rule* rule) const {
     const Node move = block.Find("move");
+    if (const Node n = block.Find("speed"); n && !move)
+      n.Fail("speed times an object's move; add move:[P]");
     if (const Node h = block.Find("heading")) {
       if (!move) h.Fail("heading turns an object along its move; add move:[P]");
       if (!h->is_boolean()) h.Fail("heading is true or false");
@@ -144,28 +148,47 @@ class RuleReader {
         n.Fail("a moving object's position comes from its path; set it in another block");
     const std::vector<Node> items = Blocks(move);
     if (items.empty()) move.Fail("move lists paths: move:[P2, P3:2]");
+    const Node speed = block.Find("speed");
     for (const Node& item : items) {
       const auto [symbol, reps] = RefWithNumber(item);
       const Definition& path = NamedPath(capture_, item, symbol);
       Rule::Leg leg;
-      leg.flight = ObjectFlight(item, path, rule->id, rule->legs.size());
+      const auto [kind, g] = path.body.Members().front();
+      Rng rng = Rng::For(seed_, StreamTag::kObjectFlight, rule->id, rule->legs.size());
+      if (PathKind(kind) == "waypoints" && g->is_object()) {
+        if (speed)
+          speed.Fail("the smooth flight '" + path.symbol +
+                     "' has its own speed; speed times the other path kinds");
+        leg.flight = ObjectFlight(path, rng);
+      } else {
+        leg.track = ObjectTrackOf(item, path, speed, rng);
+      }
       leg.repetitions = reps < 0 ? 1 : reps;
       rule->legs.push_back(std::move(leg));
     }
   }
 
-  // The path an object moves along (`O1:{move:[P2]}`): a smooth flight `waypoints:{points:[[x,y,z],
-  // ...], speed, interpolation}` through the positions of the object's centre. Its intervals are
-  // drawn once per rule and leg (stream (seed, object flight, rule, leg)).
-  Flight ObjectFlight(const Node& item,
-                      const Definition& path,
-                      uint64_t rule_id,
-                      size_t leg) const {
-    const auto [kind, g] = path.body.Members().front();
-    if (CanonicalKey(kind) != "waypoints" || !g->is_object())
-      item.Fail("an object moves along a smooth flight: '" + path.symbol +
-                "' must be path{waypoints:{points:[[x,y,z], ...], speed: m/s}}");
-    Rng rng = Rng::For(seed_, StreamTag::kObjectFlight, rule_id, leg);
+  // Any other path kind an object moves along: the path's points in frame order (drawn once per
+  // rule and leg, as a smooth flight's intervals are), one per frame, or at the block's `speed`.
+  ObjectTrack ObjectTrackOf(const Node& item,
+                            const Definition& path,
+                            const Node& speed,
+                            Rng& rng) const {
+    ObjectTrack track = paths_->Track(path, rng);
+    if (track.knots.empty()) item.Fail("the path '" + path.symbol + "' has no points");
+    if (!speed) {
+      track.TimePerFrame(setup_.fps);
+      return track;
+    }
+    track.TimeAtSpeed(SampleInRange(speed, KindVocabulary("object_change").Key("speed"), rng));
+    return track;
+  }
+
+  // A smooth flight an object moves along (`O1:{move:[P2]}`): `waypoints:{points:[[x,y,z], ...],
+  // speed, interpolation}` through the positions of the object's centre. Its intervals are drawn
+  // once per rule and leg (stream (seed, object flight, rule, leg)), as a track's points are.
+  Flight ObjectFlight(const Definition& path, Rng& rng) const {
+    const Node g = path.body.Members().front().second;
     Flight flight;
     const bool spline = ReadFlightSettings(g, setup_.fps, rng, &flight);
     const Node points = g.Find("points");
@@ -187,6 +210,7 @@ class RuleReader {
   const Timeline& timeline_;
   const ChangeTargets& targets_;
   const CameraSetup& setup_;
+  CameraPaths* paths_;
   uint64_t seed_;
   ClassSwaps* swaps_;
   Plan* plan_;
@@ -205,10 +229,11 @@ std::vector<Rule> ReadChangeRules(const Program& capture,
                                   const Timeline::IsCameraEntry& is_camera_entry,
                                   const ChangeTargets& targets,
                                   const CameraSetup& setup,
+                                  CameraPaths* paths,
                                   uint64_t seed,
                                   ClassSwaps* swaps,
                                   Plan* plan) {
-  RuleReader reader(capture, timeline, targets, setup, seed, swaps, plan);
+  RuleReader reader(capture, timeline, targets, setup, paths, seed, swaps, plan);
   for (const Definition& d : capture.definitions) {
     if (d.kind != "collection") continue;
     for (const auto& [key, value] : d.body.Members())

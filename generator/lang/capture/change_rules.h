@@ -6,10 +6,12 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "generator/lang/capture/camera_paths.h"
 #include "generator/lang/capture/camera_setup.h"
 #include "generator/lang/capture/class_swaps.h"
 #include "generator/lang/capture/flight.h"
@@ -23,10 +25,12 @@ struct Rule {
   Node block;                    // the change keys
   RuleTiming when;
   uint64_t id = 0;  // 1-based, in reading order: names the rule's random streams
-  // An object's `move:[P2, P3:2]`: the flights it follows from `when.begin`, one after the other,
-  // each repeated.
+  // An object's `move:[P2, P3:2]`: the paths it follows from `when.begin`, one after the other,
+  // each repeated: a smooth flight at its speed, or the track of any other path kind, one point
+  // per frame (object_track.h).
   struct Leg {
     Flight flight;
+    std::optional<ObjectTrack> track;  // set: the leg follows the track, not `flight`
     int64_t repetitions = 1;
   };
   std::vector<Leg> legs;
@@ -41,12 +45,14 @@ struct ChangeTargets {
 
 // The rules of every collection of `capture` in file order; entries for which `is_camera_entry`
 // holds are the camera's moves (the timeline's), not rules. Class swaps are declared in `swaps`;
-// `plan` gives the objects and the environment the values are checked against.
+// `plan` gives the objects and the environment the values are checked against; `paths` makes the
+// tracks of objects moving along paths other than smooth flights.
 std::vector<Rule> ReadChangeRules(const Program& capture,
                                   const Timeline& timeline,
                                   const Timeline::IsCameraEntry& is_camera_entry,
                                   const ChangeTargets& targets,
                                   const CameraSetup& setup,
+                                  CameraPaths* paths,
                                   uint64_t seed,
                                   ClassSwaps* swaps,
                                   Plan* plan);

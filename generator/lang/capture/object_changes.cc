@@ -109,14 +109,15 @@ void MoveAlongLegs(const Rule& rule,
   bool moving = false;
   for (const Rule::Leg& leg : rule.legs) {
     const Flight& flight = leg.flight;
-    const double lap = flight.length / flight.speed;
+    const double lap = leg.track ? leg.track->Duration() : flight.length / flight.speed;
     if (t < lap * static_cast<double>(leg.repetitions)) {
-      at = flight.At((t - std::floor(t / lap) * lap) * flight.speed);
+      const double in_lap = t - std::floor(t / lap) * lap;
+      at = leg.track ? leg.track->At(in_lap) : flight.At(in_lap * flight.speed);
       moving = true;
       break;
     }
     t -= lap * static_cast<double>(leg.repetitions);
-    at = flight.At(flight.length);
+    at = leg.track ? leg.track->At(lap) : flight.At(flight.length);
   }
   c->position = at.centre + (o.position - first->position);
   Eigen::Vector3d v = moving ? at.velocity : Eigen::Vector3d::Zero();

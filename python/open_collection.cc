@@ -56,7 +56,9 @@ std::vector<const Channel*> DeclaredChannels(const Image& image,
 
 }  // namespace
 
-OpenCollection::OpenCollection(const fs::path& root, int threads)
+OpenCollection::OpenCollection(const fs::path& root,
+                               int threads,
+                               const std::string& metadata_variant)
     : reader_(root), threads_(threads < 1 ? 1 : threads) {
   const std::string file = reader_.collection_path().string();
   const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
@@ -69,17 +71,27 @@ OpenCollection::OpenCollection(const fs::path& root, int threads)
         frame_json_.push_back(std::move(json));
       });
   header_json_.erase("frames");
-  ReadMetadata();
+  ReadMetadata(metadata_variant);
 }
 
-// The truth metadata (the first variant that is not perturbed), frame records by index.
-void OpenCollection::ReadMetadata() {
+// The frame records (by index) of metadata variant `variant`, or of the truth metadata (the first
+// variant that is not perturbed) when it is "".
+void OpenCollection::ReadMetadata(const std::string& variant) {
   fs::path path;
-  for (const MetadataVariant& variant : header().metadata) {
-    if (!variant.perturbed) {
-      path = reader_.root() / variant.file;
+  std::vector<std::string> files;
+  for (const MetadataVariant& listed : header().metadata) {
+    files.push_back(listed.file);
+    if (variant.empty() ? !listed.perturbed : listed.file == variant) {
+      path = reader_.root() / listed.file;
+      metadata_variant_ = listed.file;
       break;
     }
+  }
+  if (!variant.empty() && path.empty()) {
+    throw UsageError("metadata: '" + variant + "' is not a metadata variant of the collection (" +
+                         (files.empty() ? std::string("it lists none") : Join(files, ", ")) + ")" +
+                         DidYouMean(variant, files),
+                     Location(reader_.collection_path().string(), "/metadata"));
   }
   std::error_code ec;
   if (path.empty() || !fs::is_regular_file(path, ec)) return;

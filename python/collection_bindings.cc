@@ -120,11 +120,11 @@ class PyFrame {
     return it == json().end() ? py::none() : ToPython(*it);
   }
 
-  py::array Layer(const std::string& name) const {
+  py::array Layer(const std::string& name, bool channels_first) const {
     LayerArray layer;
     {
       py::gil_scoped_release release;
-      layer = collection_->ReadLayer(position_, name);
+      layer = collection_->ReadLayer(position_, name, channels_first);
     }
     if (layer.integer) return ArrayOf(std::move(layer.uints), layer.shape);
     return ArrayOf(std::move(layer.floats), layer.shape);
@@ -294,8 +294,11 @@ void RegisterFrame(py::module_& m) {
       .def("layer",
            &PyFrame::Layer,
            py::arg("name"),
+           py::kw_only(),
+           py::arg("channels_first") = false,
            "the flat layer `name` decoded: float32 (HALF and FLOAT channels) or uint32 (ids), "
-           "shape (height, width) or (height, width, channels) in the layer table's channel order")
+           "shape (height, width) or (height, width, channels) in the layer table's channel order; "
+           "with channels_first=True (channels, height, width), one-channel layers included")
       .def("bundle",
            &PyFrame::Bundle,
            py::arg("name") = "",

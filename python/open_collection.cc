@@ -1,5 +1,7 @@
 #include "python/open_collection.h"
 
+#include <algorithm>
+#include <cstddef>
 #include <cstring>
 
 #include <tbb/task_arena.h>
@@ -154,7 +156,9 @@ const LayerInfo& OpenCollection::DeepLayer(const std::string& name) const {
   return *layer;
 }
 
-LayerArray OpenCollection::ReadLayer(size_t position, const std::string& name) const {
+LayerArray OpenCollection::ReadLayer(size_t position,
+                                     const std::string& name,
+                                     bool channels_first) const {
   const LayerInfo& layer = FlatLayer(name);
   LayerArray out;
   bool any_float = false;
@@ -171,14 +175,22 @@ LayerArray OpenCollection::ReadLayer(size_t position, const std::string& name) c
     const exr::FlatImage image = reader_.ReadFlatLayer(f, name, names);
     const size_t n = image.pixel_count(), count = names.size();
     out.shape = {image.height(), image.width()};
-    if (count > 1) out.shape.push_back(static_cast<int64_t>(count));
+    if (channels_first) {
+      out.shape.insert(out.shape.begin(), static_cast<int64_t>(count));
+    } else if (count > 1) {
+      out.shape.push_back(static_cast<int64_t>(count));
+    }
     const auto channels = DeclaredChannels<exr::FlatImage, exr::FlatChannel>(
         image, names, layer, n, reader_.LayerPath(f, name));
     auto interleave = [&](auto member, auto* values) {
       values->resize(n * count);
       for (size_t c = 0; c < count; ++c) {
         const auto& from = channels[c]->*member;
-        for (size_t p = 0; p < n; ++p) (*values)[p * count + c] = from[p];
+        if (channels_first || count == 1) {
+          std::copy(from.begin(), from.end(), values->begin() + static_cast<std::ptrdiff_t>(c * n));
+        } else {
+          for (size_t p = 0; p < n; ++p) (*values)[p * count + c] = from[p];
+        }
       }
     };
     if (out.integer) {

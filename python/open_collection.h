@@ -72,7 +72,9 @@ class OpenCollection {
 
   // Decodes a layer of the frame at `position` with the project's readers (residual layouts
   // included), on at most threads() TBB threads.
-  LayerArray ReadLayer(size_t position, const std::string& name) const;
+  // `channels_first`: shape (channels, height, width), each channel's plane as the reader
+  // decodes it (no interleaving: what PyTorch's layout wants, with one copy less).
+  LayerArray ReadLayer(size_t position, const std::string& name, bool channels_first = false) const;
   BundleArrays ReadBundle(size_t position, const std::string& name) const;
 
  private:

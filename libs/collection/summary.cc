@@ -28,6 +28,7 @@ namespace {
 template <typename Channel>
 std::vector<std::string> ChannelNames(const std::vector<Channel>& channels) {
   std::vector<std::string> names;
+  names.reserve(channels.size());
   for (const Channel& c : channels) names.push_back(c.name + ":" + exr::PixelTypeName(c.type));
   return names;
 }

@@ -27,6 +27,7 @@
 #include "generator/generate.h"
 #include "generator/scene_export/scene_export.h"
 #include "libs/collection/collection_reader.h"
+#include "libs/util/process.h"
 #include "libs/util/strings.h"
 #include "libs/util/thread_limit.h"
 #include "tests/build_paths.h"
@@ -97,7 +98,7 @@ void FramesPerSecond(const fs::path& root,
       if (threads == 1) {
         reader.ForEachFrame(decode);
       } else {
-        reader.ParallelForEachFrame(decode, static_cast<size_t>(2 * threads));
+        reader.ParallelForEachFrame(decode, 2 * static_cast<size_t>(threads));
       }
       if (r > 0) best = std::min(best, Seconds(start));
     }
@@ -175,12 +176,22 @@ void BytesPerFrame(const fs::path& root, int size, int spp, const std::string& b
       ExportScenes(MakeDemoPlan(demo), export_options);
       const fs::path rendered = root / "cycles";
       fs::remove_all(rendered);
-      const std::string command = Quoted(blender) + " -b --factory-startup -noaudio --python " +
-                                  Quoted(CyclesScript()) + " -- " + Quoted(root / "export") + " " +
-                                  Quoted(rendered) + " --frames 1 --samples " +
-                                  std::to_string(spp) + " --no-truth --all-passes > " +
-                                  Quoted(root / "cycles.log") + " 2>&1";
-      if (std::system(command.c_str()) == 0)
+      const std::vector<std::string> command = {blender.string(),
+                                                "-b",
+                                                "--factory-startup",
+                                                "-noaudio",
+                                                "--python",
+                                                CyclesScript().string(),
+                                                "--",
+                                                (root / "export").string(),
+                                                rendered.string(),
+                                                "--frames",
+                                                "1",
+                                                "--samples",
+                                                std::to_string(spp),
+                                                "--no-truth",
+                                                "--all-passes"};
+      if (RunProcess(command, root / "cycles.log") == 0)
         cycles = static_cast<double>(fs::file_size(rendered / "000001_rgb.exr"));
       else
         std::printf("Blender failed: see %s\n", (root / "cycles.log").c_str());

@@ -296,6 +296,12 @@ void GenerateOptions::Check() const {
   CheckSamplerSettings({spp, jitter, 0});
 }
 
+void GenerateOptions::UseCompactLayouts() {
+  bundle_layout = BundleLayout::kResidual;
+  worldposition_layout = FlatLayout::kResidual;
+  motion_layout = FlatLayout::kResidual;
+}
+
 CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   CollectionHeader header;
   header.provenance.generator = "lsds generate";

@@ -45,15 +45,13 @@ struct GenerateOptions {
   // residual by default; compact stores depths and normals as floats; full
   // writes every channel of every sample, as format 1.0 did.
   BundleLayout bundle_layout = BundleLayout::kResidual;
-  // How the worldposition layer is stored (docs/format.md "Worldposition
-  // layouts"): residual by default (UINT differences from the depth's
-  // prediction, every lsds reader decodes them); float for tools that read the
-  // EXR directly.
-  FlatLayout worldposition_layout = FlatLayout::kResidual;
-  // How the motion layer is stored (docs/format.md "Motion layouts"): residual
-  // by default (UINT differences from the motion of a static world seen by the
-  // previous camera of the shot); float for tools that read the EXR directly.
-  FlatLayout motion_layout = FlatLayout::kResidual;
+  // How the worldposition and motion layers are stored (docs/format.md
+  // "Worldposition layouts", "Motion layouts"): float by default, plain X, Y, Z
+  // and X, Y that any EXR reader gets right; residual (UseCompactLayouts, `lsds
+  // generate --compact`) stores UINT differences from the depth's prediction,
+  // lossless and decoded by every lsds reader, for users who want the bytes.
+  FlatLayout worldposition_layout = FlatLayout::kFloat;
+  FlatLayout motion_layout = FlatLayout::kFloat;
   Renderer renderer = Renderer::kReference;
   // --renderer cycles: Blender's executable (empty: `blender` on PATH), its
   // version (found by GenerateCollection), and OpenImageDenoise on the rgb.
@@ -62,6 +60,9 @@ struct GenerateOptions {
   bool denoise = false;
 
   void Check() const;  // throws lsds::Error for inconsistent options
+  // `lsds generate --compact`: every layer in its smallest lossless layout
+  // (the residual bundle, worldposition and motion).
+  void UseCompactLayouts();
   bool Selects(int64_t frame_index) const {
     return frames.Contains(frame_index) && frame_index % shard_count == shard_index;
   }

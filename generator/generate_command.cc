@@ -55,12 +55,12 @@ int RunGenerate(int argc, char** argv) {
       "Render an LSCENE/LCAP scene (or a plan) into a collection with every "
       "layer and truth",
       "lsds generate"};
-  std::string scene, capture, plan_file, shard,
-      depth = "planar", demo_size = "512x512", bundle_layout = "residual",
-      worldposition_layout = "residual", motion_layout = "residual", renderer = "reference";
+  std::string scene, capture, plan_file, shard, depth = "planar", demo_size = "512x512",
+                                                bundle_layout, worldposition_layout, motion_layout,
+                                                renderer = "reference";
   std::optional<uint64_t> seed;
   gen::GenerateOptions options;
-  bool demo = false;
+  bool demo = false, compact = false;
   int demo_frames = 24;
   app.add_option("SCENE", scene, "LSCENE file (text or JSON)");
   app.add_option("CAPTURE", capture, "LCAP file (text or JSON)");
@@ -76,6 +76,11 @@ int RunGenerate(int argc, char** argv) {
   app.add_option("--depth", depth, "depth layer kind: planar (default) or perspective");
   app.add_option(
       "--zip-level", options.zip_level, "zlib level of ZIP layers, 0-9 (default 1: fast)");
+  app.add_flag("--compact",
+               compact,
+               "store worldposition and motion as lossless UINT residuals (dX, dY, dZ) from "
+               "the depth's prediction, as the bundle is by default: about half the bytes, "
+               "decoded by every lsds command and `import lsds`, but not by other EXR readers");
   app.add_option("--bundle-layout",
                  bundle_layout,
                  "storage of the deep bundle layer: residual (default; lossless, derived "
@@ -84,15 +89,14 @@ int RunGenerate(int argc, char** argv) {
                  "classes, float depths and normals) or full (every channel of every sample)");
   app.add_option("--worldposition-layout",
                  worldposition_layout,
-                 "storage of the worldposition layer: residual (default; lossless, UINT "
-                 "differences from the position predicted by depth and camera, decoded by every "
-                 "lsds command) or float (plain X, Y, Z for tools that read the EXR directly)");
-  app.add_option(
-      "--motion-layout",
-      motion_layout,
-      "storage of the motion layer: residual (default; lossless, UINT differences "
-      "from the motion of a static world seen by the shot's previous camera, decoded "
-      "by every lsds command) or float (plain X, Y for tools that read the EXR directly)");
+                 "storage of the worldposition layer: float (default; plain X, Y, Z that any "
+                 "EXR reader gets right) or residual (lossless UINT differences from the "
+                 "position predicted by depth and camera, as --compact)");
+  app.add_option("--motion-layout",
+                 motion_layout,
+                 "storage of the motion layer: float (default; plain X, Y that any EXR reader "
+                 "gets right) or residual (lossless UINT differences from the motion of a "
+                 "static world seen by the shot's previous camera, as --compact)");
   app.add_option("--renderer",
                  renderer,
                  "what renders the rgb layer: reference (default; lsds's Embree renderer) or "
@@ -122,15 +126,18 @@ int RunGenerate(int argc, char** argv) {
     options.force = common.force;
     if (!shard.empty()) ParseShard(shard, &options.shard_index, &options.shard_count);
     options.depth_kind = ParseDepthFlag(depth);
-    if (!ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
+    // --compact first; a layer's own --*-layout flag then overrides it.
+    if (compact) options.UseCompactLayouts();
+    if (!bundle_layout.empty() && !ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
       throw Error("--bundle-layout " + bundle_layout + ": expected residual, compact or full");
     }
-    if (!ParseFlatLayout(worldposition_layout, &options.worldposition_layout)) {
+    if (!worldposition_layout.empty() &&
+        !ParseFlatLayout(worldposition_layout, &options.worldposition_layout)) {
       throw Error("--worldposition-layout " + worldposition_layout +
-                  ": expected residual or float");
+                  ": expected float or residual");
     }
-    if (!ParseFlatLayout(motion_layout, &options.motion_layout)) {
-      throw Error("--motion-layout " + motion_layout + ": expected residual or float");
+    if (!motion_layout.empty() && !ParseFlatLayout(motion_layout, &options.motion_layout)) {
+      throw Error("--motion-layout " + motion_layout + ": expected float or residual");
     }
     if (renderer == "cycles") {
       options.renderer = gen::Renderer::kCycles;

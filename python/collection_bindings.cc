@@ -2,6 +2,7 @@
 #include "python/bindings.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -119,11 +120,11 @@ class PyFrame {
     return it == json().end() ? py::none() : ToPython(*it);
   }
 
-  py::array Layer(const std::string& name) const {
+  py::array Layer(const std::string& name, bool channels_first) const {
     LayerArray layer;
     {
       py::gil_scoped_release release;
-      layer = collection_->ReadLayer(position_, name);
+      layer = collection_->ReadLayer(position_, name, channels_first);
     }
     if (layer.integer) return ArrayOf(std::move(layer.uints), layer.shape);
     return ArrayOf(std::move(layer.floats), layer.shape);
@@ -203,12 +204,14 @@ class PyCollection {
   Shared collection_;
 };
 
-PyCollection Open(const std::filesystem::path& path, int threads) {
+PyCollection Open(const std::filesystem::path& path,
+                  int threads,
+                  const std::optional<std::string>& metadata) {
   if (threads < 1) throw UsageError("threads must be at least 1, got " + std::to_string(threads));
   std::shared_ptr<const OpenCollection> collection;
   {
     py::gil_scoped_release release;
-    collection = std::make_shared<const OpenCollection>(path, threads);
+    collection = std::make_shared<const OpenCollection>(path, threads, metadata.value_or(""));
   }
   return PyCollection(std::move(collection));
 }
@@ -291,8 +294,11 @@ void RegisterFrame(py::module_& m) {
       .def("layer",
            &PyFrame::Layer,
            py::arg("name"),
+           py::kw_only(),
+           py::arg("channels_first") = false,
            "the flat layer `name` decoded: float32 (HALF and FLOAT channels) or uint32 (ids), "
-           "shape (height, width) or (height, width, channels) in the layer table's channel order")
+           "shape (height, width) or (height, width, channels) in the layer table's channel order; "
+           "with channels_first=True (channels, height, width), one-channel layers included")
       .def("bundle",
            &PyFrame::Bundle,
            py::arg("name") = "",
@@ -329,6 +335,18 @@ void RegisterCollectionClass(py::module_& m) {
           "header",
           [](const PyCollection& c) { return ToPython(c.data().header_json()); },
           "collection.json without its frames")
+      .def_property_readonly(
+          "metadata_variants",
+          [](const PyCollection& c) { return c.Header("metadata"); },
+          "collection.json's metadata variants: dicts with file, perturbed, description")
+      .def_property_readonly(
+          "metadata_variant",
+          [](const PyCollection& c) -> py::object {
+            const std::string& file = c.data().metadata_variant();
+            if (file.empty()) return py::none();
+            return py::str(file);
+          },
+          "the `file` of the variant Frame.metadata reads (lsds.open's `metadata`)")
       .def_property_readonly("threads", [](const PyCollection& c) { return c.data().threads(); })
       .def("__repr__", [](const PyCollection& c) {
         return "<lsds.Collection " + c.data().reader().root().string() + ": " +
@@ -347,9 +365,13 @@ void RegisterCollection(py::module_& m) {
         &Open,
         py::arg("path"),
         py::arg("threads") = 1,
+        py::kw_only(),
+        py::arg("metadata") = py::none(),
         "Opens the collection folder `path` (holding collection.json). `threads`: the TBB "
         "threads one layer decode may use; 1 (the default) starts no thread, so the process may "
-        "fork afterwards (DataLoader workers).");
+        "fork afterwards (DataLoader workers). `metadata`: the metadata variant Frame.metadata "
+        "reads, a `file` of Collection.metadata_variants (e.g. 'metadata.perturbed-7.json' of "
+        "`lsds perturb-metadata`); None: the truth metadata.");
 }
 
 }  // namespace lsds::python

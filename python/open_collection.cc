@@ -1,5 +1,7 @@
 #include "python/open_collection.h"
 
+#include <algorithm>
+#include <cstddef>
 #include <cstring>
 
 #include <tbb/task_arena.h>
@@ -56,7 +58,9 @@ std::vector<const Channel*> DeclaredChannels(const Image& image,
 
 }  // namespace
 
-OpenCollection::OpenCollection(const fs::path& root, int threads)
+OpenCollection::OpenCollection(const fs::path& root,
+                               int threads,
+                               const std::string& metadata_variant)
     : reader_(root), threads_(threads < 1 ? 1 : threads) {
   const std::string file = reader_.collection_path().string();
   const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
@@ -69,17 +73,27 @@ OpenCollection::OpenCollection(const fs::path& root, int threads)
         frame_json_.push_back(std::move(json));
       });
   header_json_.erase("frames");
-  ReadMetadata();
+  ReadMetadata(metadata_variant);
 }
 
-// The truth metadata (the first variant that is not perturbed), frame records by index.
-void OpenCollection::ReadMetadata() {
+// The frame records (by index) of metadata variant `variant`, or of the truth metadata (the first
+// variant that is not perturbed) when it is "".
+void OpenCollection::ReadMetadata(const std::string& variant) {
   fs::path path;
-  for (const MetadataVariant& variant : header().metadata) {
-    if (!variant.perturbed) {
-      path = reader_.root() / variant.file;
+  std::vector<std::string> files;
+  for (const MetadataVariant& listed : header().metadata) {
+    files.push_back(listed.file);
+    if (variant.empty() ? !listed.perturbed : listed.file == variant) {
+      path = reader_.root() / listed.file;
+      metadata_variant_ = listed.file;
       break;
     }
+  }
+  if (!variant.empty() && path.empty()) {
+    throw UsageError("metadata: '" + variant + "' is not a metadata variant of the collection (" +
+                         (files.empty() ? std::string("it lists none") : Join(files, ", ")) + ")" +
+                         DidYouMean(variant, files),
+                     Location(reader_.collection_path().string(), "/metadata"));
   }
   std::error_code ec;
   if (path.empty() || !fs::is_regular_file(path, ec)) return;
@@ -142,7 +156,9 @@ const LayerInfo& OpenCollection::DeepLayer(const std::string& name) const {
   return *layer;
 }
 
-LayerArray OpenCollection::ReadLayer(size_t position, const std::string& name) const {
+LayerArray OpenCollection::ReadLayer(size_t position,
+                                     const std::string& name,
+                                     bool channels_first) const {
   const LayerInfo& layer = FlatLayer(name);
   LayerArray out;
   bool any_float = false;
@@ -159,14 +175,22 @@ LayerArray OpenCollection::ReadLayer(size_t position, const std::string& name) c
     const exr::FlatImage image = reader_.ReadFlatLayer(f, name, names);
     const size_t n = image.pixel_count(), count = names.size();
     out.shape = {image.height(), image.width()};
-    if (count > 1) out.shape.push_back(static_cast<int64_t>(count));
+    if (channels_first) {
+      out.shape.insert(out.shape.begin(), static_cast<int64_t>(count));
+    } else if (count > 1) {
+      out.shape.push_back(static_cast<int64_t>(count));
+    }
     const auto channels = DeclaredChannels<exr::FlatImage, exr::FlatChannel>(
         image, names, layer, n, reader_.LayerPath(f, name));
     auto interleave = [&](auto member, auto* values) {
       values->resize(n * count);
       for (size_t c = 0; c < count; ++c) {
         const auto& from = channels[c]->*member;
-        for (size_t p = 0; p < n; ++p) (*values)[p * count + c] = from[p];
+        if (channels_first || count == 1) {
+          std::copy(from.begin(), from.end(), values->begin() + static_cast<std::ptrdiff_t>(c * n));
+        } else {
+          for (size_t p = 0; p < n; ++p) (*values)[p * count + c] = from[p];
+        }
       }
     };
     if (out.integer) {

@@ -43,9 +43,13 @@ struct BundleArrays {
 class OpenCollection {
  public:
   // Reads collection.json (header and frames, each schema-checked, as CollectionReader does) and
-  // metadata.json when present. `threads`: TBB threads one decode may use; 1 starts none.
-  // Throws lsds::Error located like the CLI's messages.
-  OpenCollection(const std::filesystem::path& root, int threads);
+  // the records of one metadata variant (collection.json `metadata`, docs/format.md): the file
+  // `metadata_variant` names, or the truth metadata (the first unperturbed variant) when it is
+  // empty. `threads`: TBB threads one decode may use; 1 starts none. Throws lsds::Error located
+  // like the CLI's messages; UsageError for a variant the collection does not list.
+  OpenCollection(const std::filesystem::path& root,
+                 int threads,
+                 const std::string& metadata_variant = "");
 
   const CollectionReader& reader() const { return reader_; }
   const CollectionHeader& header() const { return reader_.header(); }
@@ -54,8 +58,10 @@ class OpenCollection {
   size_t size() const { return frames_.size(); }
   const Frame& frame(size_t position) const { return frames_[position]; }
   const nlohmann::json& frame_json(size_t position) const { return frame_json_[position]; }
-  // metadata.json's record of the frame with this index; null when there is none.
+  // The chosen metadata variant's record of the frame with this index; null when there is none.
   const nlohmann::json* metadata(int64_t index) const;
+  // The chosen metadata variant (its `file`), "" when the collection lists none.
+  const std::string& metadata_variant() const { return metadata_variant_; }
   std::optional<size_t> PositionOfIndex(int64_t index) const;
 
   // The layer table's entry: a flat layer, or a deep one (empty name: the first of semantic
@@ -66,11 +72,13 @@ class OpenCollection {
 
   // Decodes a layer of the frame at `position` with the project's readers (residual layouts
   // included), on at most threads() TBB threads.
-  LayerArray ReadLayer(size_t position, const std::string& name) const;
+  // `channels_first`: shape (channels, height, width), each channel's plane as the reader
+  // decodes it (no interleaving: what PyTorch's layout wants, with one copy less).
+  LayerArray ReadLayer(size_t position, const std::string& name, bool channels_first = false) const;
   BundleArrays ReadBundle(size_t position, const std::string& name) const;
 
  private:
-  void ReadMetadata();
+  void ReadMetadata(const std::string& variant);
 
   CollectionReader reader_;
   int threads_ = 1;
@@ -79,6 +87,7 @@ class OpenCollection {
   std::vector<nlohmann::json> frame_json_;
   std::map<int64_t, size_t> position_of_index_;
   std::map<int64_t, nlohmann::json> metadata_;
+  std::string metadata_variant_;
 };
 
 }  // namespace lsds::python

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "libs/collection/frame_selection_check.h"
 #include "libs/util/frame_selection.h"
 #include "python/bindings.h"
 #include "python/json_to_python.h"
@@ -51,9 +52,34 @@ Severity ParseFailOn(const std::string& name) {
   return severity;
 }
 
+// The text of `frames` in the one --frames grammar (libs/util/frame_selection.h): a
+// string as the flag takes it ("A:B", "A:", ":B", "N"), an int N, or a Python slice
+// a:b (no step), so that the CLI's parser checks every form.
+std::string FramesText(const py::object& frames) {
+  if (frames.is_none()) return "";
+  if (py::isinstance<py::str>(frames)) return frames.cast<std::string>();
+  if (py::isinstance<py::int_>(frames) && !py::isinstance<py::bool_>(frames))
+    return std::to_string(frames.cast<int64_t>());
+  if (py::isinstance<py::slice>(frames)) {
+    const py::object start = frames.attr("start"), stop = frames.attr("stop"),
+                     step = frames.attr("step");
+    if (!step.is_none() && step.cast<int64_t>() != 1)
+      throw UsageError("frames: a slice with a step is no --frames range, got step " +
+                       py::str(step).cast<std::string>());
+    const auto bound = [](const py::object& value) {
+      return value.is_none() ? std::string() : std::to_string(value.cast<int64_t>());
+    };
+    return bound(start) + ":" + bound(stop);
+  }
+  throw UsageError(
+      "frames: expected a --frames range ('A:B', 'A:', ':B', 'N'), an int or a "
+      "slice, got " +
+      py::str(frames.get_type().attr("__name__")).cast<std::string>());
+}
+
 PyReport Validate(const std::filesystem::path& path,
                   const std::string& checks,
-                  const std::string& frames,
+                  const py::object& frames_argument,
                   int jobs,
                   size_t max_examples,
                   const std::string& fail_on) {
@@ -62,8 +88,19 @@ PyReport Validate(const std::filesystem::path& path,
     throw UsageError("jobs must be 0 (every core) or more, got " + std::to_string(jobs));
   validate::ValidateOptions options;
   options.checks = ParseArgument([&] { return validate::CheckSelection::Parse(checks); });
-  if (!frames.empty())
-    options.frames = ParseArgument([&] { return ParseFrameSelection(frames, "frames"); });
+  const std::string frames = FramesText(frames_argument);
+  // As the CLI: the range parsed and checked against the collection's frames (an unreadable
+  // collection is the DataError below, from the validation itself).
+  if (!frames.empty()) {
+    const FrameSelection selection =
+        ParseArgument([&] { return ParseFrameSelection(frames, "frames"); });
+    const std::vector<int64_t> indices = CollectionFrameIndices(path);  // DataError if unreadable
+    ParseArgument([&] {
+      CheckFrameSelection(selection, indices, "the collection " + path.string());
+      return 0;
+    });
+    options.frames = selection;
+  }
   options.jobs = jobs;
   options.max_examples = max_examples;
   PyReport out{validate::Report(max_examples), ParseFailOn(fail_on)};
@@ -159,12 +196,13 @@ void RegisterValidate(py::module_& m) {
         py::arg("path"),
         py::kw_only(),
         py::arg("checks") = "all",
-        py::arg("frames") = "",
+        py::arg("frames") = py::none(),
         py::arg("jobs") = 0,
         py::arg("max_examples") = 20,
         py::arg("fail_on") = "error",
         "Checks the collection folder `path` as `lsds validate` does and returns an lsds.Report. "
-        "checks: ids or groups as --checks; frames: 'A:B' as --frames; jobs: worker threads "
+        "checks: ids or groups as --checks; frames: as --frames ('A:B', 'A:', ':B', 'N'), an int "
+        "N or a slice a:b (frame indices, half-open); jobs: worker threads "
         "(0: every core; TBB threads stay alive afterwards); max_examples, fail_on: as the CLI's. "
         "Raises lsds.DataError when `path` cannot be read as a collection at all.");
 }

@@ -48,7 +48,10 @@ PYTHONPATH="$(dirname "$lsds")/../python" /usr/bin/python3 -c '
 import sys, lsds
 c = lsds.open(sys.argv[1]); f = c[0]
 print(len(c), "frames; frame 0:", f.layer("depth").shape, f.layer("depth").dtype, "depth,",
-      len(f.objects), "objects")' "$collection"
+      len(f.objects), "objects")
+noisy = lsds.open(sys.argv[1], metadata="metadata.perturbed-1.json")[0].metadata
+print("metadata variants:", [v["file"] for v in c.metadata_variants],
+      "; frame 0 measured attitude off by %.2f deg" % noisy["error"]["rotation_deg"])' "$collection"
 
 step "lsds report: one offline page with the contact sheet, layers, distributions and validation"
 "$lsds" report "$collection" -o "$out/demo-report.html" --validate --bundle-stats "$out/demo-bundle-stats.json"

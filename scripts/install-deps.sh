@@ -26,6 +26,7 @@ packages=(
   pybind11-dev python3-pybind11 python3-dev  # the Python module `import lsds` (python/, LSDS_BUILD_PYTHON)
   python3-pytest                    # the Python module's tests (tests/python)
   python3-torch                     # lsds.torch (python/lsds/torch.py) and its tests; ~45 packages, ~1 GB
+  python3-opencv python3-openimageio  # tests/python/test_other_readers.py: the default output in OpenCV and OpenImageIO
   clang libclang-rt-14-dev          # the sanitizer build and its fuzz targets (make test-asan)
   clang-tidy                        # make tidy (.clang-tidy)
   clang-format                      # make format-check in CI (.clang-format)

@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "libs/collection/frame_selection_check.h"  // SelectCollectionFrames
 #include "libs/geometry/camera.h"
 #include "libs/util/frame_selection.h"
 
@@ -63,12 +64,5 @@ DepthKind ParseDepthFlag(const std::string& text);
 
 // The parsed --frames (every frame when not given; its text is then empty).
 FrameSelection FramesFlag(const CommonFlags& flags);
-
-// The frame indices of the collection at `root`, in increasing order.
-std::vector<int64_t> CollectionFrameIndices(const std::filesystem::path& root);
-
-// Parses --frames and checks it against the collection's frames: exit 2 naming
-// the valid range when it reaches outside them. Empty text: every frame.
-FrameRange SelectCollectionFrames(const std::string& text, const std::filesystem::path& root);
 
 }  // namespace lsds

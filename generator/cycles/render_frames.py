@@ -2,7 +2,7 @@
 
     blender -b --factory-startup -noaudio --python render_frames.py -- \
         SCENE_DIR OUTPUT_DIR [--frames 0,1,...] [--samples N] [--threads T] [--denoise]
-        [--no-truth]
+        [--no-truth] [--all-passes]
 
 For each frame NNNNNN of SCENE_DIR/scene.json (or of --frames) it writes
   OUTPUT_DIR/NNNNNN_rgb.exr    Cycles' Combined pass, linear photometric radiance
@@ -11,6 +11,9 @@ For each frame NNNNNN of SCENE_DIR/scene.json (or of --frames) it writes
   OUTPUT_DIR/NNNNNN_truth.exr  one sample through each pixel centre (pixel filter 0.01 px):
                                Cycles' Depth (Z) and Object Index (IndexOB) passes, which
                                `lsds generate --renderer cycles` compares with its own layers.
+With --all-passes (bench/bench_python: the bytes of a Blender user's data passes) the rgb render
+is instead a multilayer EXR, OUTPUT_DIR/NNNNNN_rgb.exr, with the Combined, Depth, Normal,
+Position, Object Index and Vector passes at the frame's samples.
 
 Conventions (the frame's JSON, docs/export.md): the world is +Z up, as Blender's; glTF files
 are +Y up and Blender's importer turns them back. The camera is OpenCV's (x right, y down,
@@ -46,7 +49,7 @@ def parse_args():
         sys.exit("usage: blender -b --python render_frames.py -- SCENE_DIR OUTPUT_DIR "
                  "[--frames 0,1] [--samples N] [--threads T] [--denoise] [--no-truth]")
     options = {"scene": args[0], "output": args[1], "frames": None, "samples": 16,
-               "threads": 0, "denoise": False, "truth": True}
+               "threads": 0, "denoise": False, "truth": True, "all_passes": False}
     i = 2
     while i < len(args):
         flag = args[i]
@@ -64,6 +67,9 @@ def parse_args():
             i += 1
         elif flag == "--no-truth":
             options["truth"] = False
+            i += 1
+        elif flag == "--all-passes":
+            options["all_passes"] = True
             i += 1
         else:
             sys.exit("render_frames.py: unknown argument " + flag)
@@ -249,8 +255,10 @@ def main():
     scene.cycles.use_adaptive_sampling = False
     scene.cycles.use_denoising = options["denoise"]
     layer = scene.view_layers[0]
-    layer.use_pass_z = options["truth"]
-    layer.use_pass_object_index = options["truth"]
+    layer.use_pass_z = options["truth"] or options["all_passes"]
+    layer.use_pass_object_index = options["truth"] or options["all_passes"]
+    for data_pass in ("use_pass_normal", "use_pass_position", "use_pass_vector"):
+        setattr(layer, data_pass, options["all_passes"])
     scene.cycles.seed = 0
     scene.render.use_motion_blur = False
     # Keep the synchronized scene and its BVH between renders: the truth pass after a frame's rgb
@@ -294,7 +302,7 @@ def main():
         set_sun(sun, spec["sun"])
         set_sky(world, spec["sky"])
         render(scene, os.path.join(options["output"], stem + "_rgb.exr"), options["samples"],
-               1.5, False)
+               1.5, options["all_passes"])
         if options["truth"]:
             # The data passes through the pixel centres: one sample, pixel filter 0.01 px.
             render(scene, os.path.join(options["output"], stem + "_truth.exr"), 1, 0.01, True)

@@ -4,13 +4,46 @@
 #include <cstdio>
 #include <sstream>
 
+#include "libs/collection/worldposition_layout.h"
+#include "libs/exr/exr_info.h"
 #include "libs/geometry/world_frame.h"
+#include "libs/util/error.h"
 #include "libs/util/strings.h"
 #include "libs/util/text_check.h"
 
 namespace lsds {
 
 namespace fs = std::filesystem;
+
+std::string LayerLayoutName(const LayerInfo& layer) {
+  if (layer.deep) return BundleLayoutName(layer.layout);
+  if (layer.semantic == "worldposition" || layer.semantic == "motion")
+    return FlatLayoutName(layer.flat_layout);
+  return "";
+}
+
+namespace {
+
+// "name:type,..." of `channels` (declared or stored).
+template <typename Channel>
+std::vector<std::string> ChannelNames(const std::vector<Channel>& channels) {
+  std::vector<std::string> names;
+  names.reserve(channels.size());
+  for (const Channel& c : channels) names.push_back(c.name + ":" + exr::PixelTypeName(c.type));
+  return names;
+}
+
+// The stored channels of `layer` (its first readable file's header).
+void ReadStoredChannels(const fs::path& file, LayerSummary* ls) {
+  try {
+    ls->stored_channels = exr::ReadExrInfo(file).channels;
+    ls->stored_error.clear();
+  } catch (const Error& e) {
+    ls->stored_error = e.what();
+  }
+}
+
+}  // namespace
 
 CollectionSummary Summarize(const CollectionReader& reader) {
   CollectionSummary s;
@@ -49,6 +82,7 @@ CollectionSummary Summarize(const CollectionReader& reader) {
       } else {
         ++ls.files;
         ls.bytes += static_cast<int64_t>(size);
+        if (ls.stored_channels.empty()) ReadStoredChannels(reader.root() / it->second, &ls);
       }
     }
     for (const ObjectTruth& object : frame.objects) {
@@ -72,17 +106,20 @@ nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSum
   const CollectionHeader& h = reader.header();
   nlohmann::json layers = nlohmann::json::array();
   for (const LayerInfo& layer : h.layers) {
-    nlohmann::json channels = nlohmann::json::array();
-    for (const LayerChannel& c : layer.channels)
-      channels.push_back(c.name + ":" + exr::PixelTypeName(c.type));
     const LayerSummary& ls = s.layers.at(layer.name);
+    // `channels`: what the files store; `read_as`: what every lsds reader
+    // yields (the layer table's channels; they differ in the residual layouts).
     nlohmann::json entry = {{"name", layer.name},
                             {"semantic", layer.semantic},
                             {"deep", layer.deep},
-                            {"channels", channels},
+                            {"channels", ChannelNames(ls.stored_channels)},
+                            {"read_as", ChannelNames(layer.channels)},
                             {"files", ls.files},
                             {"missing_files", ls.missing_files},
                             {"bytes", ls.bytes}};
+    if (!ls.stored_error.empty()) entry["channels_error"] = ls.stored_error;
+    if (const std::string layout = LayerLayoutName(layer); !layout.empty())
+      entry["layout"] = layout;
     if (layer.depth_kind) entry["depth_kind"] = DepthKindName(*layer.depth_kind);
     layers.push_back(entry);
   }
@@ -177,20 +214,27 @@ std::string SummaryToText(const CollectionReader& reader, const CollectionSummar
   out << "layers\n";
   for (const LayerInfo& layer : h.layers) {
     const LayerSummary& ls = s.layers.at(layer.name);
-    std::string channels;
-    for (const LayerChannel& c : layer.channels) {
-      channels += (channels.empty() ? "" : ",") + c.name + ":" + exr::PixelTypeName(c.type);
-    }
+    const std::string stored = Join(ChannelNames(ls.stored_channels), ",");
     std::snprintf(line,
                   sizeof(line),
                   "  %-14s %-5s %-44s %6lld files %10s",
                   layer.name.c_str(),
                   layer.deep ? "deep" : "flat",
-                  channels.c_str(),
+                  stored.empty() ? "(no readable file)" : stored.c_str(),
                   static_cast<long long>(ls.files),
                   FormatBytes(static_cast<double>(ls.bytes)).c_str());
     out << line;
     if (layer.depth_kind) out << "  " << DepthKindName(*layer.depth_kind);
+    if (const std::string layout = LayerLayoutName(layer); !layout.empty()) {
+      out << "  layout " << layout;
+      // EXR stores channels sorted by name: compare as sets.
+      std::vector<std::string> read_as = ChannelNames(layer.channels);
+      std::vector<std::string> stored_sorted = ChannelNames(ls.stored_channels);
+      std::vector<std::string> read_as_sorted = read_as;
+      std::sort(stored_sorted.begin(), stored_sorted.end());
+      std::sort(read_as_sorted.begin(), read_as_sorted.end());
+      if (read_as_sorted != stored_sorted) out << ", read as " << Join(read_as, ",");
+    }
     if (ls.missing_files > 0) out << "  MISSING " << ls.missing_files;
     out << "\n";
   }

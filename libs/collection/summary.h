@@ -15,7 +15,16 @@ struct LayerSummary {
   int64_t files = 0;
   int64_t missing_files = 0;
   int64_t bytes = 0;
+  // The channels the layer's first file stores, from its EXR header (a residual
+  // layout stores dX, dY, dZ as UINT where readers get X, Y, Z as FLOAT); empty
+  // with `stored_error` set when no file's header could be read.
+  std::vector<exr::ChannelSpec> stored_channels;
+  std::string stored_error;
 };
+
+// The layer's storage layout ("residual", "float", "compact", "full"), or ""
+// for layers that have one storage only.
+std::string LayerLayoutName(const LayerInfo& layer);
 
 struct ClassSummary {
   int64_t objects = 0;              // object entries over all frames
@@ -37,7 +46,8 @@ struct CollectionSummary {
   int64_t total_bytes = 0;
 };
 
-// Streams the frames once (stat-ing each layer file, not decoding it).
+// Streams the frames once (stat-ing each layer file and reading the header of
+// its first one, not decoding pixels).
 CollectionSummary Summarize(const CollectionReader& reader);
 
 nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSummary& summary);

@@ -18,15 +18,12 @@ import lsds
 __all__ = ["FrameDataset", "collate"]
 
 
-def _tensor(array, channels_first):
-    """A layer array as a tensor: uint32 ids become int64 (torch has no uint32; lossless);
-    (H, W) and (H, W, C) become (1, H, W) and (C, H, W) when channels_first."""
+def _tensor(array):
+    """A layer array as a tensor: uint32 ids become int64 (torch has no uint32; lossless). The
+    module gives (C, H, W) itself when asked (Frame.layer(..., channels_first=True)): no copy here."""
     if array.dtype == "uint32":
         array = array.astype("int64")
-    tensor = torch.from_numpy(array)
-    if channels_first:
-        tensor = tensor.unsqueeze(0) if tensor.dim() == 2 else tensor.permute(2, 0, 1).contiguous()
-    return tensor
+    return torch.from_numpy(array)
 
 
 class FrameDataset(torch.utils.data.Dataset):
@@ -68,7 +65,8 @@ class FrameDataset(torch.utils.data.Dataset):
         sample = {
             "index": frame.index,
             "time": frame.time,
-            "layers": {name: _tensor(frame.layer(name), self.channels_first) for name in self.layers},
+            "layers": {name: _tensor(frame.layer(name, channels_first=self.channels_first))
+                       for name in self.layers},
             "K": torch.from_numpy(frame.camera.K),
             "cam_from_world": torch.from_numpy(frame.camera.cam_from_world),
             "boxes": torch.tensor(boxes, dtype=torch.float32).reshape(-1, 4),

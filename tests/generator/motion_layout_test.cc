@@ -167,16 +167,16 @@ TEST(MotionLayout, BadPreviousCameraIsAnErrorNamingTheFileAndAttribute) {
 
 // --- End to end, the way a user meets it. ---
 
-// Generates `source` with float and residual (the default) motion, same seed:
+// Generates `source` with float (the default) and residual motion, same seed:
 // both validate with --fail-on warning, every decoded motion value is
 // bit-identical, export-layers writes the same .npy bytes, and the residual
 // files of frames with motion are under a quarter of the floats.
 void ExpectLayoutsAgree(const TempDir& dir, const std::string& source) {
   const fs::path f = dir / "float", r = dir / "residual";
   const std::string common = source + " --seed 4 --quiet -o ";
-  auto g = RunLsds("generate --motion-layout float " + common + f.string());
+  auto g = RunLsds("generate " + common + f.string());  // float: the default
   ASSERT_EQ(g.exit_code, 0) << g.output;
-  g = RunLsds("generate " + common + r.string());
+  g = RunLsds("generate --motion-layout residual " + common + r.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   for (const fs::path& root : {f, r}) {
     const auto v = RunLsds("validate " + root.string() + " --fail-on warning");
@@ -246,8 +246,10 @@ TEST(MotionLayout, GeneratedRigWithMoversLayoutsAgree) {
 TEST(MotionLayout, ValidateReportsAFloatFileDeclaredResidual) {
   TempDir dir;
   const fs::path root = dir / "c";
-  auto g = RunLsds("generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --quiet -o " +
-                   root.string());
+  auto g = RunLsds(
+      "generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --compact "
+      "--quiet -o " +
+      root.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   const CollectionReader reader(root);
   std::vector<Frame> frames;

@@ -345,7 +345,7 @@ TEST(MovingObjects, BoxesVelocitiesAndMotionVectorsAreAnalytic) {
   const int width = frames[0]["camera"]["width"], height = frames[0]["camera"]["height"];
   // 0.5 m per frame at 29 m.
   const double shift_px = fx * 0.5 / 29.0;
-  // Motion through the collection reader: the generator stores it as residuals.
+  // Motion through the collection reader (whichever layout stores it).
   const CollectionReader reader(dir / "out");
   std::vector<Frame> truth;
   reader.ForEachFrame([&](const Frame& frame) { truth.push_back(frame); });

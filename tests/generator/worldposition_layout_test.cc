@@ -182,9 +182,9 @@ TEST(WorldPositionLayout, CorruptResidualFilesAreErrorsNamingTheFile) {
 void ExpectLayoutsAgree(const TempDir& dir, const std::string& source) {
   const fs::path f = dir / "float", r = dir / "residual";
   const std::string common = source + " --seed 4 --quiet -o ";
-  auto g = RunLsds("generate --worldposition-layout float " + common + f.string());
+  auto g = RunLsds("generate " + common + f.string());  // float: the default
   ASSERT_EQ(g.exit_code, 0) << g.output;
-  g = RunLsds("generate " + common + r.string());  // residual: the default
+  g = RunLsds("generate --worldposition-layout residual " + common + r.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   for (const fs::path& root : {f, r}) {
     const auto v = RunLsds("validate " + root.string() + " --fail-on warning");
@@ -260,8 +260,10 @@ TEST(WorldPositionLayout, GeneratedObliqueRigPerspectiveLayoutsAgree) {
 TEST(WorldPositionLayout, ValidateLocatesACorruptResidualFile) {
   TempDir dir;
   const fs::path root = dir / "c";
-  auto g = RunLsds("generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --quiet -o " +
-                   root.string());
+  auto g = RunLsds(
+      "generate --demo --demo-size 32x24 --demo-frames 2 --seed 1 --compact "
+      "--quiet -o " +
+      root.string());
   ASSERT_EQ(g.exit_code, 0) << g.output;
   const CollectionReader reader(root);
   std::vector<Frame> frames;

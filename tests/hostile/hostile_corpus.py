@@ -368,12 +368,12 @@ def build_cases(lsds, work):
              names="frame", place="memory budget"))
 
     # --- 8. the residual layers of a generated collection -----------------------
-    # lsds generate writes the bundle, worldposition and motion in the residual
-    # layouts, which decode from header attributes and another layer.
+    # lsds generate --compact writes the bundle, worldposition and motion in the
+    # residual layouts, which decode from header attributes and another layer.
     generated = os.path.join(base, "G")
     if not os.path.isdir(generated):
         subprocess.run([lsds, "generate", "--demo", "--demo-size", "32x24",
-                        "--demo-frames", "3", "-o", generated, "-q"], check=True,
+                        "--demo-frames", "3", "--compact", "-o", generated, "-q"], check=True,
                        stdout=subprocess.DEVNULL)
 
     def add_generated(case, *setups):

@@ -1,4 +1,7 @@
 // End-to-end: the lsds binary on synthetic collections and on bad input.
+#include <map>
+#include <string>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +11,7 @@
 namespace lsds {
 namespace {
 
+namespace fs = std::filesystem;
 using testing::RunCommandLine;
 
 TEST(Cli, VersionHelpAndUnknownCommand) {
@@ -43,6 +47,48 @@ TEST(Cli, InfoSummarizesACollection) {
   const auto text = RunCommandLine(testing::LsdsBinary() + " info " + (dir / "c").string());
   EXPECT_EQ(text.exit_code, 0);
   EXPECT_NE(text.output.find("bundle"), std::string::npos);
+}
+
+// lsds info shows what the files store, not only what readers get: the default
+// generator writes plain FLOAT worldposition and motion, --compact UINT
+// residuals that every lsds reader decodes to the same FLOAT X, Y, Z.
+TEST(Cli, InfoShowsTheStoredChannelsAndLayout) {
+  testing::TempDir dir;
+  const std::string demo = " generate --demo --demo-frames 2 --demo-size 16x12 --spp 1 --quiet -o ";
+  for (const std::string& extra : {"", " --compact"}) {
+    const fs::path out = dir / (extra.empty() ? "default" : "compact");
+    const auto g = RunCommandLine(testing::LsdsBinary() + demo + out.string() + extra);
+    ASSERT_EQ(g.exit_code, 0) << g.output;
+  }
+  std::map<std::string, nlohmann::json> layers[2];
+  std::string text[2];
+  for (int k = 0; k < 2; ++k) {
+    const fs::path out = dir / (k == 0 ? "default" : "compact");
+    const auto json = RunCommandLine(testing::LsdsBinary() + " info --json " + out.string());
+    ASSERT_EQ(json.exit_code, 0) << json.output;
+    const nlohmann::json info = nlohmann::json::parse(json.output);
+    for (const auto& layer : info["layers"]) layers[k][layer["name"]] = layer;
+    text[k] = RunCommandLine(testing::LsdsBinary() + " info " + out.string()).output;
+  }
+  const nlohmann::json xyz = {"X:float", "Y:float", "Z:float"}, xy = {"X:float", "Y:float"};
+  EXPECT_EQ(layers[0]["worldposition"]["channels"], xyz);
+  EXPECT_EQ(layers[0]["worldposition"]["read_as"], xyz);
+  EXPECT_EQ(layers[0]["worldposition"]["layout"], "float");
+  EXPECT_EQ(layers[0]["motion"]["channels"], xy);
+  EXPECT_EQ(layers[0]["motion"]["layout"], "float");
+  EXPECT_EQ(layers[0]["bundle"]["layout"], "residual");
+  EXPECT_FALSE(layers[0]["depth"].contains("layout"));
+  EXPECT_EQ(layers[1]["worldposition"]["channels"],
+            nlohmann::json({"dX:uint", "dY:uint", "dZ:uint"}));
+  EXPECT_EQ(layers[1]["worldposition"]["read_as"], xyz);
+  EXPECT_EQ(layers[1]["worldposition"]["layout"], "residual");
+  EXPECT_EQ(layers[1]["motion"]["channels"], nlohmann::json({"dX:uint", "dY:uint"}));
+  EXPECT_EQ(layers[1]["motion"]["layout"], "residual");
+  EXPECT_NE(text[0].find("X:float,Y:float,Z:float"), std::string::npos) << text[0];
+  EXPECT_NE(text[0].find("layout float\n"), std::string::npos) << text[0];
+  EXPECT_NE(text[1].find("dX:uint,dY:uint,dZ:uint"), std::string::npos) << text[1];
+  EXPECT_NE(text[1].find("layout residual, read as X:float,Y:float,Z:float"), std::string::npos)
+      << text[1];
 }
 
 TEST(Cli, InfoFailsCleanlyOnANonCollection) {

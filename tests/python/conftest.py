@@ -24,9 +24,11 @@ P = path{waypoints:{points:[[-0.25,0,20],[0.25,0,20]],speed:5}}
 CL = collection{CO:{move:[P]}}
 """
 
-# The tiny demo render of the CLI tests, in the default (residual) layouts and in the float ones.
+# The tiny demo render of the CLI tests: in the default layouts (float worldposition and motion,
+# residual bundle), --compact (every layer residual) and the plainest (float, full bundle).
 DEMO = ["generate", "--demo", "--demo-frames", "2", "--demo-size", "24x16", "--spp", "4", "--seed", "3"]
-FLOAT_LAYOUTS = ["--worldposition-layout", "float", "--motion-layout", "float", "--bundle-layout", "full"]
+COMPACT_LAYOUTS = ["--compact"]
+FLOAT_LAYOUTS = ["--bundle-layout", "full"]
 
 
 @pytest.fixture(scope="session")
@@ -50,7 +52,12 @@ def synth(workdir):
 
 @pytest.fixture(scope="session")
 def demo_residual(workdir):
-    return _made(workdir, "demo_residual", *DEMO)
+    return _made(workdir, "demo_residual", *DEMO, *COMPACT_LAYOUTS)
+
+
+@pytest.fixture(scope="session")
+def demo_default(workdir):
+    return _made(workdir, "demo_default", *DEMO)
 
 
 @pytest.fixture(scope="session")

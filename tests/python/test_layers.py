@@ -22,6 +22,9 @@ def check_layers_against_export(collection, workdir):
             expected = np.load(out / name / (stem + ".npy"))
             got = frame.layer(name)
             assert same_array(got, expected), (collection, frame.index, name)
+            # channels_first: the same values as (C, H, W), one-channel layers (1, H, W).
+            planar = np.ascontiguousarray(np.moveaxis(expected.reshape(*expected.shape[:2], -1), 2, 0))
+            assert same_array(frame.layer(name, channels_first=True), planar), (collection, name)
             assert got.dtype == (np.uint32 if name in ("classid", "instanceid") else np.float32)
             compared += 1
     return c, compared

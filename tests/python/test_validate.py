@@ -65,3 +65,46 @@ def test_options(synth, copy_of):
         lsds.validate(bad, frames="3:1")
     with pytest.raises(lsds.DataError):
         lsds.validate(bad / "nothing")
+
+
+def test_frames_take_the_cli_grammar(synth, copy_of):
+    """frames= takes every --frames form (and an int or a slice as the same range), parsed by the
+    CLI's own parser: the frames checked and the findings are the CLI's for the same text."""
+    bad = copy_of(synth)
+    corrupt(bad)  # frame 1's depth file is missing
+    forms = {"1": [1, "1", slice(1, 2)], "1:": ["1:", slice(1, None)], ":1": [":1", slice(None, 1)],
+             "0:2": ["0:2", slice(0, 2)],
+             "2": [2, "2"]}
+    for text, arguments in forms.items():
+        code, cli = cli_report_frames(bad, text)
+        for argument in arguments:
+            report = lsds.validate(bad, checks="structure", frames=argument)
+            assert report.frames == cli["frames"], (text, argument)
+            assert report.count("structure.missing-file") == sum(
+                len(c.get("findings", [])) for c in cli["checks"] if c["id"] == "structure.missing-file"
+            ), (text, argument)
+            assert report.exit_code == code, (text, argument)
+    assert lsds.validate(bad, checks="structure", frames="1").count("structure.missing-file") == 1
+    assert lsds.validate(bad, checks="structure", frames=2).count("structure.missing-file") == 0
+    # Bad ranges: the CLI's message, as a UsageError.
+    cli_error = run_lsds("validate", bad, "--frames", "5:2", check=False)
+    assert cli_error.returncode == 2
+    for bad_range in ("5:2", slice(5, 2), "a:b", -1):
+        with pytest.raises(lsds.UsageError, match="frames"):
+            lsds.validate(bad, frames=bad_range)
+    with pytest.raises(lsds.UsageError, match="step"):
+        lsds.validate(bad, frames=slice(0, 3, 2))
+    with pytest.raises(lsds.UsageError, match="float"):
+        lsds.validate(bad, frames=1.5)
+    # Outside the collection's frames: as the CLI, an error naming the valid range, never an empty
+    # report.
+    assert run_lsds("validate", bad, "--frames", "7", check=False).returncode == 2
+    with pytest.raises(lsds.UsageError, match=r"frames 7: .*the collection"):
+        lsds.validate(bad, frames=7)
+
+
+def cli_report_frames(collection, text):
+    run = run_lsds("validate", collection, "--checks", "structure", "--frames", text, "--format", "json",
+                   check=False)
+    assert run.returncode in (0, 1), run.stderr
+    return run.returncode, json.loads(run.stdout)

@@ -1,5 +1,5 @@
 // lsds evaluate COLLECTION --predictions FILE [--format coco] [-o eval.json]
-// [--junit FILE] [--fail-under METRIC=VALUE]... | --coverage
+// [--iou-type bbox|segm] [--junit FILE] [--fail-under METRIC=VALUE]... | --coverage
 #include <iostream>
 
 #include "evaluate/evaluate_run.h"
@@ -24,6 +24,11 @@ int RunEvaluate(int argc, char** argv) {
       "--predictions", predictions, "COCO results file: [{image_id, category_id, bbox, score}]");
   app.add_option("--format", options.format, "format of the predictions (coco)")
       ->check(CLI::IsMember({"coco"}));
+  app.add_option("--iou-type",
+                 options.iou_type,
+                 "COCOeval's iouType: bbox (boxes) or segm (masks: each prediction's "
+                 "segmentation, RLE or polygons, against the collection's instance masks)")
+      ->check(CLI::IsMember({"bbox", "segm"}));
   app.add_flag(
       "--coverage", coverage, "no predictions: how the collection fills the condition space");
   app.add_option(

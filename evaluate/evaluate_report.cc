@@ -181,6 +181,7 @@ json ReportJson(const EvaluationReport& report) {
   json coco = json::object();
   for (size_t i = 0; i < report.stats->size(); ++i) coco[CocoStatNames()[i]] = (*report.stats)[i];
   doc["detections"] = report.detections;
+  doc["options"]["iou_type"] = report.iou_type;
   doc["coco"] = std::move(coco);
   doc["counts"] = {{"objects", report.all.ground_truth},
                    {"matched_50", report.all.matched_50},
@@ -214,7 +215,9 @@ std::string ReportText(const EvaluationReport& report) {
     for (const ConditionCoverage& c : report.coverage) out += CoverageText(c);
     return out;
   }
-  out += Format("predictions: %lld detections\n", static_cast<long long>(report.detections));
+  out += Format("predictions: %lld detections, IoU of %s\n",
+                static_cast<long long>(report.detections),
+                report.iou_type == "segm" ? "masks (iouType segm)" : "boxes (iouType bbox)");
   out += CocoLines(*report.stats);
   out += Format("objects %lld, matched at IoU .5: %lld, false positives at IoU .5: %lld\n",
                 static_cast<long long>(report.all.ground_truth),

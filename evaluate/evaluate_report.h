@@ -35,6 +35,7 @@ struct EvaluationReport {
   int64_t images = 0, annotations = 0, detections = 0;
   std::vector<std::pair<int64_t, std::string>> categories;
   int64_t thin_below = 0;
+  std::string iou_type = "bbox";  // COCOeval's iouType: bbox, segm
   std::optional<CocoStats> stats;
   Accumulation all;  // area "all": the counts at IoU .5
   std::vector<ConditionMetrics> strata;

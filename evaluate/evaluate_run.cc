@@ -28,6 +28,10 @@ EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
 void EvaluateOptions::Check() const {
   if (format != "coco")
     throw Error("--format " + format + ": only coco results files are read so far");
+  if (iou_type != "bbox" && iou_type != "segm")
+    throw Error("--iou-type " + iou_type + ": expected bbox or segm");
+  if (predictions.empty() && iou_type != "bbox")
+    throw Error("--iou-type needs --predictions (coverage compares nothing)");
   if (thin_below < 0) throw Error("--thin must be >= 0");
   if (predictions.empty() && !fail_under.empty())
     throw Error("--fail-under needs --predictions (coverage has no metrics)");
@@ -47,6 +51,7 @@ EvaluationReport Evaluate(const EvaluationTruth& truth,
                           int64_t thin_below) {
   EvaluationReport report = BaseReport(truth, thin_below);
   report.detections = static_cast<int64_t>(detections.size());
+  report.iou_type = truth.coco.iou_type == IouType::kMask ? "segm" : "bbox";
   const std::vector<ConditionBins> conditions = BinConditions(truth, detections);
   CocoData data = truth.coco;
   data.detections = std::move(detections);
@@ -81,7 +86,9 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
     RefuseToOverwrite(outputs[i].first, options.force, outputs[i].second);
   }
 
-  const EvaluationTruth truth = ReadCollectionTruth(options.truth);
+  TruthOptions truth_options = options.truth;
+  truth_options.masks = options.iou_type == "segm";
+  const EvaluationTruth truth = ReadCollectionTruth(truth_options);
   EvaluateResult result;
   if (options.predictions.empty()) {
     result.report = CoverageReport(truth, options.thin_below);

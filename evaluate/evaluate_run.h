@@ -16,6 +16,7 @@ struct EvaluateOptions {
   TruthOptions truth;
   std::filesystem::path predictions;  // empty: coverage only
   std::string format = "coco";
+  std::string iou_type = "bbox";  // COCOeval's iouType: bbox | segm
   std::filesystem::path output;   // JSON; empty: none
   std::filesystem::path junit;    // JUnit XML; empty: none
   std::filesystem::path suggest;  // the next LCAP capture; empty: none (needs predictions)

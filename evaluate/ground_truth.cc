@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "converters/convert.h"
+#include "evaluate/segmentation.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/model.h"
 #include "libs/geometry/world_frame.h"
@@ -117,13 +118,18 @@ void ReadFrameFacts(const TruthOptions& options,
 
 }  // namespace
 
-void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTruth* truth) {
+void ReadCocoGroundTruth(const json& coco,
+                         const std::string& file,
+                         EvaluationTruth* truth,
+                         bool masks) {
+  if (masks) truth->coco.iou_type = IouType::kMask;
   AtPointer(file, "/images", [&] {
     for (const json& image : coco.at("images")) {
       const int64_t id = image.at("id").get<int64_t>();
       truth->coco.image_ids.push_back(id);
       truth->image_by_file_name[image.at("file_name").get<std::string>()] = id;
       truth->frame_of_image[id] = image.at("lsds").at("frame").get<int64_t>();
+      truth->image_size[id] = {image.at("height").get<int64_t>(), image.at("width").get<int64_t>()};
     }
   });
   AtPointer(file, "/categories", [&] {
@@ -133,7 +139,9 @@ void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTr
     }
   });
   AtPointer(file, "/annotations", [&] {
-    for (const json& a : coco.at("annotations")) {
+    const json& annotations = coco.at("annotations");
+    for (size_t i = 0; i < annotations.size(); ++i) {
+      const json& a = annotations[i];
       GroundTruthBox g;
       g.id = a.at("id").get<int64_t>();
       g.image_id = a.at("image_id").get<int64_t>();
@@ -141,6 +149,14 @@ void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTr
       g.bbox = ReadBox(a.at("bbox"));
       g.area = a.at("area").get<double>();
       g.iscrowd = a.at("iscrowd").get<int>() != 0;
+      if (masks) {
+        const EvaluationTruth::ImageSize size = truth->image_size.at(g.image_id);
+        g.mask = ReadSegmentation(a.at("segmentation"),
+                                  size.height,
+                                  size.width,
+                                  file,
+                                  "/annotations/" + std::to_string(i) + "/segmentation");
+      }
       truth->coco.ground_truth.push_back(g);
       ObjectFacts facts;
       facts.frame = truth->frame_of_image.at(g.image_id);
@@ -183,7 +199,7 @@ EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
   convert::Convert(coco);
   const fs::path file = coco.output / "annotations" / "instances_train.json";
   EvaluationTruth truth;
-  ReadCocoGroundTruth(ReadJsonFile(file), file.string(), &truth);
+  ReadCocoGroundTruth(ReadJsonFile(file), file.string(), &truth, options.masks);
 
   std::map<std::pair<int64_t, uint32_t>, double> distances;
   ReadFrameFacts(options, &truth, &distances);

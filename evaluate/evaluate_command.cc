@@ -1,5 +1,6 @@
 // lsds evaluate COLLECTION --predictions FILE [--format coco] [-o eval.json]
-// [--iou-type bbox|segm] [--junit FILE] [--fail-under METRIC=VALUE]... | --coverage
+// [--iou-type bbox|segm|obb] [--ap voc07|voc12] [--junit FILE] [--fail-under METRIC=VALUE]... |
+// --coverage
 #include <iostream>
 
 #include "evaluate/evaluate_run.h"
@@ -20,15 +21,26 @@ int RunEvaluate(int argc, char** argv) {
   std::string collection, predictions, output, junit;
   bool coverage = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
-  app.add_option(
-      "--predictions", predictions, "COCO results file: [{image_id, category_id, bbox, score}]");
-  app.add_option("--format", options.format, "format of the predictions (coco)")
-      ->check(CLI::IsMember({"coco"}));
+  app.add_option("--predictions",
+                 predictions,
+                 "COCO results file [{image_id, category_id, bbox, score}], or with --format dota "
+                 "a folder of Task1_<class>.txt");
+  app.add_option("--format",
+                 options.format,
+                 "format of the predictions: coco (a results file), dota (a folder of "
+                 "Task1_<class>.txt files, with --iou-type obb)")
+      ->check(CLI::IsMember({"coco", "dota"}));
   app.add_option("--iou-type",
                  options.iou_type,
                  "COCOeval's iouType: bbox (boxes) or segm (masks: each prediction's "
-                 "segmentation, RLE or polygons, against the collection's instance masks)")
-      ->check(CLI::IsMember({"bbox", "segm"}));
+                 "segmentation, RLE or polygons, against the collection's instance masks) or obb "
+                 "(oriented boxes scored as the DOTA devkit's task-1 evaluation)")
+      ->check(CLI::IsMember({"bbox", "segm", "obb"}));
+  app.add_option("--ap",
+                 options.ap,
+                 "obb: the DOTA devkit's VOC AP, voc07 (11 points, the devkit's default) or voc12 "
+                 "(area under the precision envelope)")
+      ->check(CLI::IsMember({"voc07", "voc12"}));
   app.add_flag(
       "--coverage", coverage, "no predictions: how the collection fills the condition space");
   app.add_option(

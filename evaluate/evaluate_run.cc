@@ -1,6 +1,7 @@
 #include "evaluate/evaluate_run.h"
 
 #include "evaluate/conditions.h"
+#include "evaluate/dota_files.h"
 #include "evaluate/predictions.h"
 #include "evaluate/suggest.h"
 #include "libs/collection/collection_reader.h"
@@ -26,10 +27,15 @@ EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
 }  // namespace
 
 void EvaluateOptions::Check() const {
-  if (format != "coco")
-    throw Error("--format " + format + ": only coco results files are read so far");
-  if (iou_type != "bbox" && iou_type != "segm")
-    throw Error("--iou-type " + iou_type + ": expected bbox or segm");
+  if (format != "coco" && format != "dota")
+    throw Error("--format " + format + ": expected coco or dota");
+  if (iou_type != "bbox" && iou_type != "segm" && iou_type != "obb")
+    throw Error("--iou-type " + iou_type + ": expected bbox, segm or obb");
+  if ((format == "dota") != (iou_type == "obb"))
+    throw Error("oriented boxes are DOTA task-1 files: give --iou-type obb with --format dota");
+  if (ap != "voc07" && ap != "voc12") throw Error("--ap " + ap + ": expected voc07 or voc12");
+  if (iou_type == "obb" && (!fail_under.empty() || !suggest.empty()))
+    throw Error("--fail-under and --suggest work on COCO's metrics: not with --iou-type obb");
   if (predictions.empty() && iou_type != "bbox")
     throw Error("--iou-type needs --predictions (coverage compares nothing)");
   if (thin_below < 0) throw Error("--thin must be >= 0");
@@ -92,6 +98,20 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
   EvaluateResult result;
   if (options.predictions.empty()) {
     result.report = CoverageReport(truth, options.thin_below);
+  } else if (options.iou_type == "obb") {
+    // The DOTA devkit's task-1 evaluation on the labels `lsds convert --to dota`
+    // writes; the coverage beside it.
+    result.report = CoverageReport(truth, options.thin_below);
+    const DotaTruth dota = ReadDotaTruth(truth_options);
+    const std::vector<DotaDetection> detections =
+        ReadDotaResults(options.predictions, dota.class_names, dota.images);
+    result.report.detections = static_cast<int64_t>(detections.size());
+    result.report.iou_type = "obb";
+    result.report.dota = EvaluateDota(dota.class_names,
+                                      dota.objects,
+                                      detections,
+                                      options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
+    result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
     result.report =
         Evaluate(truth, ReadCocoPredictions(options.predictions, truth), options.thin_below);

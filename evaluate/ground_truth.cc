@@ -4,14 +4,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <system_error>
 
 #include "converters/convert.h"
+#include "evaluate/dota_files.h"
 #include "evaluate/segmentation.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/model.h"
 #include "libs/geometry/world_frame.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 
 namespace lsds::evaluate {
@@ -116,7 +119,47 @@ void ReadFrameFacts(const TruthOptions& options,
   });
 }
 
+// `lsds convert COLLECTION --to FORMAT --images none` with the flags of
+// `options`, into `scratch`.
+convert::ConvertOptions ConverterOptions(const TruthOptions& options,
+                                         const std::string& format,
+                                         const fs::path& scratch) {
+  convert::ConvertOptions convert;
+  convert.collection = options.collection;
+  convert.output = scratch / format;
+  convert.formats = {format};
+  convert.images = "none";
+  convert.frames = options.frames;
+  convert.classes = options.classes;
+  convert.keep_classes = options.keep_classes;
+  convert.min_visibility = options.min_visibility;
+  convert.min_pixels = options.min_pixels;
+  convert.progress = false;
+  return convert;
+}
+
 }  // namespace
+
+DotaTruth ReadDotaTruth(const TruthOptions& options) {
+  const ScratchFolder scratch;
+  const convert::ConvertOptions dota = ConverterOptions(options, "dota", scratch.path());
+  convert::Convert(dota);
+  DotaTruth truth;
+  std::istringstream classes(ReadTextFile(dota.output / "dota_classes.txt"));
+  for (std::string name; std::getline(classes, name);)
+    if (!name.empty()) truth.class_names.push_back(name);
+  std::vector<fs::path> labels;
+  for (const auto& entry : fs::recursive_directory_iterator(dota.output / "labelTxt"))
+    if (entry.path().extension() == ".txt") labels.push_back(entry.path());
+  std::sort(labels.begin(), labels.end());
+  for (const fs::path& label : labels) {
+    const std::string image = label.stem().string();
+    truth.images.insert(image);
+    for (DotaObject& o : ParseDotaLabels(ReadTextFile(label), label.string(), image))
+      truth.objects.push_back(std::move(o));
+  }
+  return truth;
+}
 
 void ReadCocoGroundTruth(const json& coco,
                          const std::string& file,
@@ -185,17 +228,7 @@ EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
   }
   // The converter, run as `lsds convert COLLECTION --to coco --images none`.
   const ScratchFolder scratch;
-  convert::ConvertOptions coco;
-  coco.collection = options.collection;
-  coco.output = scratch.path() / "coco";
-  coco.formats = {"coco"};
-  coco.images = "none";
-  coco.frames = options.frames;
-  coco.classes = options.classes;
-  coco.keep_classes = options.keep_classes;
-  coco.min_visibility = options.min_visibility;
-  coco.min_pixels = options.min_pixels;
-  coco.progress = false;
+  const convert::ConvertOptions coco = ConverterOptions(options, "coco", scratch.path());
   convert::Convert(coco);
   const fs::path file = coco.output / "annotations" / "instances_train.json";
   EvaluationTruth truth;

@@ -9,12 +9,14 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "evaluate/coco_eval.h"
+#include "evaluate/dota_eval.h"
 #include "libs/util/frame_selection.h"
 
 namespace lsds::evaluate {
@@ -70,6 +72,16 @@ struct EvaluationTruth {
 
 // Throws lsds::Error (exit 2) for an unreadable collection or bad options.
 EvaluationTruth ReadCollectionTruth(const TruthOptions& options);
+
+// The oriented boxes `lsds convert --to dota` writes (with the flags of
+// `options`; the converter runs into a scratch folder), as the DOTA devkit
+// reads them.
+struct DotaTruth {
+  std::vector<std::string> class_names;  // dota_classes.txt, in order
+  std::set<std::string> images;          // label file stems
+  std::vector<DotaObject> objects;
+};
+DotaTruth ReadDotaTruth(const TruthOptions& options);
 
 // The COCO dataset JSON `lsds convert --to coco` writes (one split), read
 // into `truth` (images, categories, annotations and their `lsds` extras;

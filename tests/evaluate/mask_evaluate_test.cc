@@ -73,9 +73,8 @@ TEST_F(MaskEvaluate, BadMasksAreNamedAtTheirEntry) {
   // COCO.loadRes's box branch: the first entry has a box, so every entry needs one.
   const std::string rle = R"({"size":[192,256],"counts":[49152]})";
   try {
-    ParseCocoPredictions("[" + head + rle + R"(,"bbox":[0,0,1,1]},)" + head + rle + "}]",
-                         "p.json",
-                         *mask_truth_);
+    ParseCocoPredictions(
+        "[" + head + rle + R"(,"bbox":[0,0,1,1]},)" + head + rle + "}]", "p.json", *mask_truth_);
     ADD_FAILURE() << "a second entry without bbox was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("p.json#/1"), std::string::npos) << e.what();
@@ -85,7 +84,7 @@ TEST_F(MaskEvaluate, BadMasksAreNamedAtTheirEntry) {
       "[" + head + R"({"size":[192,256],"counts":[400,3,189,3,48557]}}])", "p.json", *mask_truth_);
   ASSERT_EQ(read.size(), 1u);
   EXPECT_EQ(read[0].Area(), 6);
-  EXPECT_EQ(read[0].bbox.x, 2);   // 400 = 2 * 192 + 16
+  EXPECT_EQ(read[0].bbox.x, 2);  // 400 = 2 * 192 + 16
   EXPECT_EQ(read[0].bbox.y, 16);
   EXPECT_EQ(read[0].bbox.w, 2);
   EXPECT_EQ(read[0].bbox.h, 3);

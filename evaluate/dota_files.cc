@@ -99,10 +99,11 @@ std::vector<DotaDetection> ReadDotaResults(const fs::path& folder,
       const std::vector<std::string> tokens = SplitOnSpace(line);
       const Location at = Location::Text(file, static_cast<int>(number), 0);
       if (tokens.size() != 10)
-        throw Error("expected 'image score x1 y1 x2 y2 x3 y3 x4 y4' (10 fields split on single "
-                    "spaces), got " +
-                        std::to_string(tokens.size()),
-                    at);
+        throw Error(
+            "expected 'image score x1 y1 x2 y2 x3 y3 x4 y4' (10 fields split on single "
+            "spaces), got " +
+                std::to_string(tokens.size()),
+            at);
       DotaDetection d;
       d.image = tokens[0];
       if (images.count(d.image) == 0)

@@ -1,4 +1,4 @@
-// lsds evaluate COLLECTION --predictions FILE [--format coco] [-o eval.json]
+// lsds evaluate COLLECTION --predictions FILE [--format coco|dota|yolo] [-o eval.json]
 // [--iou-type bbox|segm|obb] [--ap voc07|voc12] [--junit FILE] [--fail-under METRIC=VALUE]... |
 // --coverage
 #include <iostream>
@@ -25,11 +25,13 @@ int RunEvaluate(int argc, char** argv) {
                  predictions,
                  "COCO results file [{image_id, category_id, bbox, score}], or with --format dota "
                  "a folder of Task1_<class>.txt");
-  app.add_option("--format",
-                 options.format,
-                 "format of the predictions: coco (a results file), dota (a folder of "
-                 "Task1_<class>.txt files, with --iou-type obb)")
-      ->check(CLI::IsMember({"coco", "dota"}));
+  app.add_option(
+         "--format",
+         options.format,
+         "format of the predictions: coco (a results file), dota (a folder of "
+         "Task1_<class>.txt files, with --iou-type obb), yolo (a folder of Ultralytics' "
+         "<image>.txt predictions with confidences; boxes, or oriented with --iou-type obb)")
+      ->check(CLI::IsMember({"coco", "dota", "yolo"}));
   app.add_option("--iou-type",
                  options.iou_type,
                  "COCOeval's iouType: bbox (boxes) or segm (masks: each prediction's "

@@ -4,6 +4,7 @@
 #include "evaluate/dota_files.h"
 #include "evaluate/predictions.h"
 #include "evaluate/suggest.h"
+#include "evaluate/yolo_results.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -27,12 +28,16 @@ EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
 }  // namespace
 
 void EvaluateOptions::Check() const {
-  if (format != "coco" && format != "dota")
-    throw Error("--format " + format + ": expected coco or dota");
+  if (format != "coco" && format != "dota" && format != "yolo")
+    throw Error("--format " + format + ": expected coco, dota or yolo");
   if (iou_type != "bbox" && iou_type != "segm" && iou_type != "obb")
     throw Error("--iou-type " + iou_type + ": expected bbox, segm or obb");
-  if ((format == "dota") != (iou_type == "obb"))
-    throw Error("oriented boxes are DOTA task-1 files: give --iou-type obb with --format dota");
+  if (format == "dota" && iou_type != "obb")
+    throw Error("DOTA task-1 files hold oriented boxes: give --iou-type obb with --format dota");
+  if (iou_type == "obb" && format == "coco")
+    throw Error("oriented boxes are read from DOTA task-1 or YOLO OBB files: --format dota|yolo");
+  if (iou_type == "segm" && format != "coco")
+    throw Error("masks are read from COCO results files: --format coco with --iou-type segm");
   if (ap != "voc07" && ap != "voc12") throw Error("--ap " + ap + ": expected voc07 or voc12");
   if (iou_type == "obb" && (!fail_under.empty() || !suggest.empty()))
     throw Error("--fail-under and --suggest work on COCO's metrics: not with --iou-type obb");
@@ -104,7 +109,9 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
     result.report = CoverageReport(truth, options.thin_below);
     const DotaTruth dota = ReadDotaTruth(truth_options);
     const std::vector<DotaDetection> detections =
-        ReadDotaResults(options.predictions, dota.class_names, dota.images);
+        options.format == "yolo"
+            ? ReadYoloObbDetections(options.predictions, truth, dota.class_names)
+            : ReadDotaResults(options.predictions, dota.class_names, dota.images);
     result.report.detections = static_cast<int64_t>(detections.size());
     result.report.iou_type = "obb";
     result.report.dota = EvaluateDota(dota.class_names,
@@ -114,7 +121,10 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
     result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
     result.report =
-        Evaluate(truth, ReadCocoPredictions(options.predictions, truth), options.thin_below);
+        Evaluate(truth,
+                 options.format == "yolo" ? ReadYoloDetections(options.predictions, truth)
+                                          : ReadCocoPredictions(options.predictions, truth),
+                 options.thin_below);
     result.report.predictions = Utf8Escaped(options.predictions.string());
     for (const std::string& t : options.fail_under)
       result.report.thresholds.push_back(ParseThreshold(t));

@@ -33,7 +33,10 @@ const Golden kGoldens[] = {
     {"missing_small", VocAp::k07, {1.0000000000000002, 0.90909090909090928}, 0.95454545454545481},
     {"missing_small", VocAp::k12, {1, 0.95999999999999996}, 0.97999999999999998},
     {"false_positives", VocAp::k07, {0.61618441275558966, 0.6106665566738162}, 0.61342548471470293},
-    {"false_positives", VocAp::k12, {0.62840640690396143, 0.63220471279122947}, 0.63030555984759551},
+    {"false_positives",
+     VocAp::k12,
+     {0.62840640690396143, 0.63220471279122947},
+     0.63030555984759551},
 };
 
 using DotaEvalGolden = GoldenCollection;
@@ -47,8 +50,8 @@ TEST_F(DotaEvalGolden, ClassApsAndTheirMeanAreThoseOfTheDevkit) {
   for (const DotaObject& o : truth.objects) difficult += o.difficult;
   EXPECT_GT(difficult, 0);  // the goldens reach the devkit's difficult rule
   for (const Golden& golden : kGoldens) {
-    const std::vector<DotaDetection> detections =
-        ReadDotaResults(GoldenData(std::string("obb/") + golden.name), truth.class_names, truth.images);
+    const std::vector<DotaDetection> detections = ReadDotaResults(
+        GoldenData(std::string("obb/") + golden.name), truth.class_names, truth.images);
     const DotaResult result = EvaluateDota(truth.class_names, truth.objects, detections, golden.ap);
     ASSERT_EQ(result.classes.size(), golden.class_aps.size());
     for (size_t k = 0; k < golden.class_aps.size(); ++k) {

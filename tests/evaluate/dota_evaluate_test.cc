@@ -38,9 +38,8 @@ TEST_F(DotaEvaluate, TheCommandScoresOrientedBoxesAsTheDevkitDoes) {
   const testing::CommandResult voc12 =
       testing::RunLsds(base + " --ap voc12 -q -o " + (out / "e12.json").string());
   ASSERT_EQ(voc12.exit_code, 0) << voc12.output;
-  EXPECT_NEAR(ReadJsonFile(out / "e12.json")["dota"]["mAP"].get<double>(),
-              0.73766475360222405,
-              1e-9);
+  EXPECT_NEAR(
+      ReadJsonFile(out / "e12.json")["dota"]["mAP"].get<double>(), 0.73766475360222405, 1e-9);
 }
 
 TEST_F(DotaEvaluate, BadResultFilesAreNamedAtTheirLine) {
@@ -53,8 +52,14 @@ TEST_F(DotaEvaluate, BadResultFilesAreNamedAtTheirLine) {
       {"Task1_plane.txt", ok, "Task1_plane.txt", "'plane' is not a class"},
       {"Task1_box.txt", ok + "000001 0.5 1 1 9 1 9 9 1\n", "Task1_box.txt:2", "got 9"},
       {"Task1_box.txt", "000001  0.5 1 1 9 1 9 9 1 9\n", "Task1_box.txt:1", "got 11"},
-      {"Task1_box.txt", "999999 0.5 1 1 9 1 9 9 1 9\n", "Task1_box.txt:1", "'999999' is not an image"},
-      {"Task1_box.txt", "000001 nan 1 1 9 1 9 9 1 9\n", "Task1_box.txt:1", "the score is not a finite"},
+      {"Task1_box.txt",
+       "999999 0.5 1 1 9 1 9 9 1 9\n",
+       "Task1_box.txt:1",
+       "'999999' is not an image"},
+      {"Task1_box.txt",
+       "000001 nan 1 1 9 1 9 9 1 9\n",
+       "Task1_box.txt:1",
+       "the score is not a finite"},
       {"Task1_box.txt", "000001 0.5 1 1 9 x 9 9 1 9\n", "Task1_box.txt:1", "a corner"},
       {"readme.txt", ok, "", "no Task1_<class>.txt file"},
   };
@@ -62,9 +67,9 @@ TEST_F(DotaEvaluate, BadResultFilesAreNamedAtTheirLine) {
     testing::TempDir out;
     fs::create_directories(out / "results");
     WriteFileAtomic(out / "results" / c.file, c.text);
-    const testing::CommandResult run = testing::RunLsds(
-        "evaluate " + C() + " --format dota --iou-type obb -q --predictions " +
-        (out / "results").string() + " -o " + (out / "e.json").string());
+    const testing::CommandResult run =
+        testing::RunLsds("evaluate " + C() + " --format dota --iou-type obb -q --predictions " +
+                         (out / "results").string() + " -o " + (out / "e.json").string());
     EXPECT_EQ(run.exit_code, 2) << c.text << run.output;
     EXPECT_NE(run.output.find(c.where), std::string::npos) << c.text << run.output;
     EXPECT_NE(run.output.find(c.what), std::string::npos) << c.text << run.output;
@@ -72,10 +77,11 @@ TEST_F(DotaEvaluate, BadResultFilesAreNamedAtTheirLine) {
   }
   // Oriented boxes come in DOTA files; DOTA files hold oriented boxes.
   const std::string folder = GoldenData("obb/perfect").string();
-  EXPECT_EQ(testing::RunLsds("evaluate " + C() + " --format dota -q --predictions " + folder)
-                .exit_code,
-            2);
-  EXPECT_EQ(testing::RunLsds("evaluate " + C() + " --iou-type obb --fail-under AP=0.5 -q "
+  EXPECT_EQ(
+      testing::RunLsds("evaluate " + C() + " --format dota -q --predictions " + folder).exit_code,
+      2);
+  EXPECT_EQ(testing::RunLsds("evaluate " + C() +
+                             " --iou-type obb --fail-under AP=0.5 -q "
                              "--format dota --predictions " +
                              folder)
                 .exit_code,

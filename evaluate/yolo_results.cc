@@ -32,9 +32,10 @@ struct YoloImage {
 std::vector<std::pair<fs::path, YoloImage>> PredictionFiles(const fs::path& folder,
                                                             const EvaluationTruth& truth) {
   if (!fs::is_directory(folder))
-    throw Error("--format yolo reads a folder of <image>.txt files (Ultralytics' labels/ of "
-                "predict save_txt=True)",
-                Location(folder.string()));
+    throw Error(
+        "--format yolo reads a folder of <image>.txt files (Ultralytics' labels/ of "
+        "predict save_txt=True)",
+        Location(folder.string()));
   std::map<std::string, int64_t> by_stem;
   for (const auto& [name, id] : truth.image_by_file_name)
     by_stem[fs::path(name).stem().string()] = id;
@@ -51,9 +52,8 @@ std::vector<std::pair<fs::path, YoloImage>> PredictionFiles(const fs::path& fold
     files.emplace_back(entry.path(), YoloImage{it->second, stem, truth.image_size.at(it->second)});
   }
   if (files.empty()) throw Error("no <image>.txt file in the folder", Location(folder.string()));
-  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) {
-    return a.first < b.first;
-  });
+  std::sort(
+      files.begin(), files.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   return files;
 }
 
@@ -77,8 +77,7 @@ void ForEachYoloLine(const fs::path& file, size_t coordinates, Each each) {
     if (tokens.empty()) continue;
     const Location at = Location::Text(file.string(), number, 0);
     if (tokens.size() == coordinates + 1)
-      throw Error("no confidence: Ultralytics writes it with save_conf=True, and AP needs it",
-                  at);
+      throw Error("no confidence: Ultralytics writes it with save_conf=True, and AP needs it", at);
     if (tokens.size() != coordinates + 2 && tokens.size() != coordinates + 3)
       throw Error("expected 'class " +
                       std::string(coordinates == 4 ? "cx cy w h" : "x1 y1 x2 y2 x3 y3 x4 y4") +
@@ -99,7 +98,9 @@ void ForEachYoloLine(const fs::path& file, size_t coordinates, Each each) {
 
 std::vector<DetectionBox> ReadYoloDetections(const fs::path& folder, const EvaluationTruth& truth) {
   std::vector<DetectionBox> detections;
-  for (const auto& [file, image] : PredictionFiles(folder, truth)) {
+  for (const auto& entry : PredictionFiles(folder, truth)) {
+    const fs::path& file = entry.first;
+    const YoloImage& image = entry.second;  // a variable, not a binding: lambdas capture it
     ForEachYoloLine(file, 4, [&](const YoloLine& line, const Location& at) {
       DetectionBox d;
       d.image_id = image.image_id;
@@ -129,7 +130,9 @@ std::vector<DotaDetection> ReadYoloObbDetections(const fs::path& folder,
                                                  const EvaluationTruth& truth,
                                                  const std::vector<std::string>& class_names) {
   std::vector<DotaDetection> detections;
-  for (const auto& [file, image] : PredictionFiles(folder, truth)) {
+  for (const auto& entry : PredictionFiles(folder, truth)) {
+    const fs::path& file = entry.first;
+    const YoloImage& image = entry.second;  // a variable, not a binding: lambdas capture it
     ForEachYoloLine(file, 8, [&](const YoloLine& line, const Location& at) {
       if (line.class_index >= static_cast<int64_t>(class_names.size()))
         throw Error("class " + std::to_string(line.class_index) + " is not a class of the ground " +

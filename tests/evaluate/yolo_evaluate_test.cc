@@ -97,7 +97,8 @@ TEST_F(YoloEvaluate, BadPredictionFilesAreNamedAtTheirLine) {
     EXPECT_FALSE(fs::exists(out / "e.json"));
   }
   // YOLO files hold boxes or oriented boxes, not COCO masks.
-  EXPECT_EQ(testing::RunLsds("evaluate " + C() + " --format yolo --iou-type segm -q "
+  EXPECT_EQ(testing::RunLsds("evaluate " + C() +
+                             " --format yolo --iou-type segm -q "
                              "--predictions " +
                              GoldenData("obb/perfect").string())
                 .exit_code,

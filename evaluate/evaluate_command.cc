@@ -1,4 +1,4 @@
-// lsds evaluate COLLECTION --predictions FILE [--format coco|dota|yolo] [-o eval.json]
+// lsds evaluate COLLECTION --predictions FILE [--format coco|dota|yolo|mot] [-o eval.json]
 // [--iou-type bbox|segm|obb] [--ap voc07|voc12] [--junit FILE] [--fail-under METRIC=VALUE]... |
 // --coverage
 #include <iostream>
@@ -30,8 +30,9 @@ int RunEvaluate(int argc, char** argv) {
          options.format,
          "format of the predictions: coco (a results file), dota (a folder of "
          "Task1_<class>.txt files, with --iou-type obb), yolo (a folder of Ultralytics' "
-         "<image>.txt predictions with confidences; boxes, or oriented with --iou-type obb)")
-      ->check(CLI::IsMember({"coco", "dota", "yolo"}));
+         "<image>.txt predictions with confidences; boxes, or oriented with --iou-type obb), mot "
+         "(a folder of TrackEval tracker files <SEQ>.txt)")
+      ->check(CLI::IsMember({"coco", "dota", "yolo", "mot"}));
   app.add_option("--iou-type",
                  options.iou_type,
                  "COCOeval's iouType: bbox (boxes) or segm (masks: each prediction's "

@@ -2,6 +2,7 @@
 
 #include "evaluate/conditions.h"
 #include "evaluate/dota_files.h"
+#include "evaluate/mot_results.h"
 #include "evaluate/predictions.h"
 #include "evaluate/suggest.h"
 #include "evaluate/yolo_results.h"
@@ -25,11 +26,22 @@ EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
   return report;
 }
 
+// The predictions of the COCO path in any of the formats that hold boxes.
+std::vector<DetectionBox> ReadBoxPredictions(const EvaluateOptions& options,
+                                             const EvaluationTruth& truth) {
+  if (options.format == "yolo") return ReadYoloDetections(options.predictions, truth);
+  if (options.format == "mot")
+    return ReadMotDetections(options.predictions, truth, ReadMotSequences(options.truth));
+  return ReadCocoPredictions(options.predictions, truth);
+}
+
 }  // namespace
 
 void EvaluateOptions::Check() const {
-  if (format != "coco" && format != "dota" && format != "yolo")
-    throw Error("--format " + format + ": expected coco, dota or yolo");
+  if (format != "coco" && format != "dota" && format != "yolo" && format != "mot")
+    throw Error("--format " + format + ": expected coco, dota, yolo or mot");
+  if (format == "mot" && iou_type != "bbox")
+    throw Error("MOT tracker files hold boxes: --iou-type bbox with --format mot");
   if (iou_type != "bbox" && iou_type != "segm" && iou_type != "obb")
     throw Error("--iou-type " + iou_type + ": expected bbox, segm or obb");
   if (format == "dota" && iou_type != "obb")
@@ -120,11 +132,7 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
                                       options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
     result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
-    result.report =
-        Evaluate(truth,
-                 options.format == "yolo" ? ReadYoloDetections(options.predictions, truth)
-                                          : ReadCocoPredictions(options.predictions, truth),
-                 options.thin_below);
+    result.report = Evaluate(truth, ReadBoxPredictions(options, truth), options.thin_below);
     result.report.predictions = Utf8Escaped(options.predictions.string());
     for (const std::string& t : options.fail_under)
       result.report.thresholds.push_back(ParseThreshold(t));

@@ -3,7 +3,9 @@
 #include <stdlib.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <system_error>
 
@@ -159,6 +161,25 @@ DotaTruth ReadDotaTruth(const TruthOptions& options) {
       truth.objects.push_back(std::move(o));
   }
   return truth;
+}
+
+MotSequences ReadMotSequences(const TruthOptions& options) {
+  const ScratchFolder scratch;
+  const convert::ConvertOptions mot = ConverterOptions(options, "mot", scratch.path());
+  convert::Convert(mot);
+  MotSequences sequences;
+  for (const auto& entry : fs::recursive_directory_iterator(mot.output / "mot")) {
+    if (entry.path().filename() != "frames.txt") continue;
+    std::vector<int64_t>& frames = sequences[entry.path().parent_path().filename().string()];
+    std::istringstream in(ReadTextFile(entry.path()));
+    for (std::string line; std::getline(in, line);) {
+      // "number,collection_frame" after the header line, numbers from 1 in order.
+      const size_t comma = line.find(',');
+      if (comma == std::string::npos || line.empty() || !std::isdigit(line[0])) continue;
+      frames.push_back(std::strtoll(line.c_str() + comma + 1, nullptr, 10));
+    }
+  }
+  return sequences;
 }
 
 void ReadCocoGroundTruth(const json& coco,

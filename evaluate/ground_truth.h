@@ -83,6 +83,11 @@ struct DotaTruth {
 };
 DotaTruth ReadDotaTruth(const TruthOptions& options);
 
+// The sequences `lsds convert --to mot` writes: per sequence name, the frame
+// index of each frame number (frames.txt; number k at position k - 1).
+using MotSequences = std::map<std::string, std::vector<int64_t>>;
+MotSequences ReadMotSequences(const TruthOptions& options);
+
 // The COCO dataset JSON `lsds convert --to coco` writes (one split), read
 // into `truth` (images, categories, annotations and their `lsds` extras;
 // with `masks`, each annotation's segmentation as RLE and the iouType segm).

@@ -37,11 +37,10 @@ void DotaTable(const json& dota, Html* out) {
        << "</p><table class=\"dota\"><tr><th>class</th><th>objects</th><th>difficult</th>"
           "<th>detections</th><th>true positives</th><th>AP</th></tr>";
   for (const json& c : dota["classes"]) {
-    *out << "<tr><td>" << c["name"].get<std::string>() << "</td><td>"
-         << c["objects"].get<int64_t>() << "</td><td>" << c["difficult"].get<int64_t>()
-         << "</td><td>" << c["detections"].get<int64_t>() << "</td><td>"
-         << c["true_positives"].get<int64_t>() << "</td><td>" << Number(c["AP"], "%.4f")
-         << "</td></tr>";
+    *out << "<tr><td>" << c["name"].get<std::string>() << "</td><td>" << c["objects"].get<int64_t>()
+         << "</td><td>" << c["difficult"].get<int64_t>() << "</td><td>"
+         << c["detections"].get<int64_t>() << "</td><td>" << c["true_positives"].get<int64_t>()
+         << "</td><td>" << Number(c["AP"], "%.4f") << "</td></tr>";
   }
   *out << "</table>";
 }
@@ -97,8 +96,9 @@ void CoverageHoles(const json& coverage, Html* out) {
 
 void CheckEvaluation(const json& evaluation, const std::string& file) {
   if (!evaluation.is_object() || evaluation.value("format", json()) != "lsds-evaluation")
-    throw Error("not an lsds evaluate report (format lsds-evaluation; write one with lsds evaluate -o)",
-                Location(file, "/format"));
+    throw Error(
+        "not an lsds evaluate report (format lsds-evaluation; write one with lsds evaluate -o)",
+        Location(file, "/format"));
   JsonSchema::Get("evaluate.schema.json").ValidateOrThrow(evaluation, file);
 }
 
@@ -114,8 +114,8 @@ Html EvaluationSection(const json& evaluation) {
     out << "coverage only; ";
   }
   out << evaluation["ground_truth"]["images"].get<int64_t>() << " images, "
-      << evaluation["ground_truth"]["annotations"].get<int64_t>()
-      << " objects. Thin: fewer than " << evaluation["options"]["thin_below"].get<int64_t>()
+      << evaluation["ground_truth"]["annotations"].get<int64_t>() << " objects. Thin: fewer than "
+      << evaluation["options"]["thin_below"].get<int64_t>()
       << " objects (frames for a frame condition).</p>";
   if (evaluation.contains("coco")) CocoTable(evaluation["coco"], &out);
   if (evaluation.contains("dota")) DotaTable(evaluation["dota"], &out);

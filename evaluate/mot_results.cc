@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "evaluate/text_number.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
 
@@ -22,14 +23,6 @@ std::vector<std::string> Fields(const std::string& line) {
   std::vector<std::string> fields;
   for (std::string word; words >> word;) fields.push_back(word);
   return fields;
-}
-
-double Number(const std::string& token, const Location& at) {
-  char* end = nullptr;
-  const double value = std::strtod(token.c_str(), &end);
-  if (token.empty() || end != token.c_str() + token.size() || !std::isfinite(value))
-    throw Error("not a finite number: '" + token + "'", at);
-  return value;
 }
 
 }  // namespace
@@ -72,27 +65,26 @@ std::vector<DetectionBox> ReadMotDetections(const fs::path& folder,
         throw Error("expected 'frame,id,bb_left,bb_top,bb_width,bb_height,conf[,x,y,z]', got " +
                         std::to_string(fields.size()) + " fields",
                     at);
-      const double frame_number = Number(fields[0], at);
+      const double frame_number = FiniteNumber(fields[0], at);
       const std::vector<int64_t>& frames = sequence->second;
       if (frame_number < 1 || frame_number > static_cast<double>(frames.size()) ||
           frame_number != std::floor(frame_number))
         throw Error("frame " + fields[0] + " is not a frame of the sequence (1.." +
                         std::to_string(frames.size()) + ")",
                     at);
-      const auto image =
-          image_of_frame.find(frames[static_cast<size_t>(frame_number) - 1]);
+      const auto image = image_of_frame.find(frames[static_cast<size_t>(frame_number) - 1]);
       if (image == image_of_frame.end())
         throw Error("frame " + fields[0] + " has no image in the ground truth", at);
       DetectionBox d;
       d.image_id = image->second;
       d.category_id = truth.coco.category_ids.front();
       // MOT's boxes are 1-based: bb_left 1 is the first pixel column.
-      d.bbox = {Number(fields[2], at) - 1,
-                Number(fields[3], at) - 1,
-                Number(fields[4], at),
-                Number(fields[5], at)};
+      d.bbox = {FiniteNumber(fields[2], at) - 1,
+                FiniteNumber(fields[3], at) - 1,
+                FiniteNumber(fields[4], at),
+                FiniteNumber(fields[5], at)};
       if (d.bbox.w < 0 || d.bbox.h < 0) throw Error("negative width or height", at);
-      d.score = Number(fields[6], at);
+      d.score = FiniteNumber(fields[6], at);
       detections.push_back(d);
     }
   }

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "evaluate/text_number.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
 
@@ -57,14 +58,6 @@ std::vector<std::pair<fs::path, YoloImage>> PredictionFiles(const fs::path& fold
   return files;
 }
 
-double Number(const std::string& token, const Location& at) {
-  char* end = nullptr;
-  const double value = std::strtod(token.c_str(), &end);
-  if (token.empty() || end != token.c_str() + token.size() || !std::isfinite(value))
-    throw Error("not a finite number: '" + token + "'", at);
-  return value;
-}
-
 // Every line of `file` with `coordinates` numbers after the class.
 template <typename Each>
 void ForEachYoloLine(const fs::path& file, size_t coordinates, Each each) {
@@ -84,12 +77,13 @@ void ForEachYoloLine(const fs::path& file, size_t coordinates, Each each) {
                       " conf [track id]', got " + std::to_string(tokens.size()) + " fields",
                   at);
     YoloLine line;
-    const double class_value = Number(tokens[0], at);
+    const double class_value = FiniteNumber(tokens[0], at);
     if (class_value < 0 || class_value != std::floor(class_value))
       throw Error("the class is not an index >= 0: '" + tokens[0] + "'", at);
     line.class_index = static_cast<int64_t>(class_value);
-    for (size_t i = 0; i < coordinates; ++i) line.coordinates.push_back(Number(tokens[1 + i], at));
-    line.confidence = Number(tokens[1 + coordinates], at);
+    for (size_t i = 0; i < coordinates; ++i)
+      line.coordinates.push_back(FiniteNumber(tokens[1 + i], at));
+    line.confidence = FiniteNumber(tokens[1 + coordinates], at);
     each(line, at);
   }
 }

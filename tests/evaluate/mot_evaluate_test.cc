@@ -21,8 +21,10 @@ TEST_F(MotEvaluate, TheTruthConvertedToMotScoresOne) {
   testing::TempDir out;
   // One class (tracker files carry none), the tight visible boxes the COCO truth has.
   const testing::CommandResult convert =
-      testing::RunLsds("convert " + C() + " --to mot --classes box --mot-box visible --images none "
-                       "-q -o " + (out / "mot").string());
+      testing::RunLsds("convert " + C() +
+                       " --to mot --classes box --mot-box visible --images none "
+                       "-q -o " +
+                       (out / "mot").string());
   ASSERT_EQ(convert.exit_code, 0) << convert.output;
   fs::create_directories(out / "tracker");
   int sequences = 0;
@@ -33,8 +35,8 @@ TEST_F(MotEvaluate, TheTruthConvertedToMotScoresOne) {
     ++sequences;
   }
   ASSERT_GE(sequences, 1);
-  const std::string base = "evaluate " + C() + " --format mot -q --predictions " +
-                           (out / "tracker").string();
+  const std::string base =
+      "evaluate " + C() + " --format mot -q --predictions " + (out / "tracker").string();
   const testing::CommandResult run =
       testing::RunLsds(base + " --classes box -o " + (out / "e.json").string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -64,9 +66,9 @@ TEST_F(MotEvaluate, BadTrackerFilesAreNamedAtTheirLine) {
     testing::TempDir out;
     fs::create_directories(out / "tracker");
     WriteFileAtomic(out / "tracker" / c.file, c.text);
-    const testing::CommandResult run = testing::RunLsds(
-        "evaluate " + C() + " --classes box --format mot -q --predictions " +
-        (out / "tracker").string() + " -o " + (out / "e.json").string());
+    const testing::CommandResult run =
+        testing::RunLsds("evaluate " + C() + " --classes box --format mot -q --predictions " +
+                         (out / "tracker").string() + " -o " + (out / "e.json").string());
     EXPECT_EQ(run.exit_code, 2) << c.text << run.output;
     EXPECT_NE(run.output.find(c.where), std::string::npos) << c.text << run.output;
     EXPECT_NE(run.output.find(c.what), std::string::npos) << c.text << run.output;

@@ -9,7 +9,12 @@
 // --write DIR also writes DIR/gt_N.json (a COCO dataset) and DIR/dt_N.json (the results) for a
 // peer: pycocotools' COCOeval on the same data (bench/README.md, "lsds evaluate").
 //
+// The last columns are the process's peak resident memory so far (getrusage ru_maxrss) and that
+// peak per image: run one size per process to see each size's own peak.
+//
 //   bench_evaluate [--images 2000,10000] [--write DIR]
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -28,6 +33,13 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 using namespace lsds::evaluate;
+
+// The peak resident set of this process so far, MiB (Linux reports KiB).
+double PeakRssMib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
 
 double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
@@ -53,7 +65,13 @@ EvaluationTruth Truth(int64_t images, std::mt19937_64* rng, std::string* predict
       const BoxXywh box{900 * u(*rng), 700 * u(*rng), w, h};
       const int64_t category = 1 + static_cast<int64_t>(3 * u(*rng));
       if (k < 15) {
-        truth.coco.ground_truth.push_back({id++, image, category, box, w * h * 0.8, false});
+        GroundTruthBox g;
+        g.id = id++;
+        g.image_id = image;
+        g.category_id = category;
+        g.bbox = box;
+        g.area = w * h * 0.8;
+        truth.coco.ground_truth.push_back(g);
         ObjectFacts object;
         object.frame = image - 1;
         object.visibility = u(*rng);
@@ -110,7 +128,7 @@ int main(int argc, char** argv) {
   std::string write;
   app.add_option("--write", write, "also write the data as COCO files into this folder");
   CLI11_PARSE(app, argc, argv);
-  std::printf("%8s %10s %9s %9s %9s %9s %9s %7s\n",
+  std::printf("%8s %10s %9s %9s %9s %9s %9s %7s %9s %9s\n",
               "images",
               "dets",
               "floor_s",
@@ -118,14 +136,20 @@ int main(int argc, char** argv) {
               "coco_s",
               "report_s",
               "total_s",
-              "ratio");
+              "ratio",
+              "peak_mib",
+              "kib/img");
   for (const int64_t images : sizes) {
     std::mt19937_64 rng(44);
     std::string text;
     const EvaluationTruth truth = Truth(images, &rng, &text);
     if (!write.empty()) WriteCoco(truth, text, write, images);
     auto t = Clock::now();
-    const nlohmann::json parsed = nlohmann::json::parse(text);
+    size_t entries = 0;
+    {  // the floor's document is freed before the evaluation's memory is measured
+      const nlohmann::json parsed = nlohmann::json::parse(text);
+      entries = parsed.size();
+    }
     const double floor = Seconds(t);
     t = Clock::now();
     std::vector<DetectionBox> detections = ParseCocoPredictions(text, "bench.json", truth);
@@ -143,17 +167,22 @@ int main(int argc, char** argv) {
       for (const double v : stats) std::printf(" %.17g", v);
       std::printf("\n");
     }
-    std::printf("%8lld %10zu %9.3f %9.3f %9.3f %9.3f %9.3f %7.1f   (AP %.3f, %zu conditions)\n",
-                static_cast<long long>(images),
-                parsed.size(),
-                floor,
-                read,
-                coco,
-                whole,
-                read + whole,
-                (read + whole) / floor,
-                stats[0],
-                report.strata.size());
+    const double peak = PeakRssMib();
+    std::printf(
+        "%8lld %10zu %9.3f %9.3f %9.3f %9.3f %9.3f %7.1f %9.1f %9.2f   (AP %.3f, %zu "
+        "conditions)\n",
+        static_cast<long long>(images),
+        entries,
+        floor,
+        read,
+        coco,
+        whole,
+        read + whole,
+        (read + whole) / floor,
+        peak,
+        peak * 1024.0 / static_cast<double>(images),
+        stats[0],
+        report.strata.size());
   }
   return 0;
 }

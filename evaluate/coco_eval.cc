@@ -144,8 +144,10 @@ CocoEvaluator::CocoEvaluator(CocoData data) : data_(std::move(data)) {
     for (size_t d = 0; d < cell.dts.size(); ++d) {
       for (size_t g = 0; g < cell.gts.size(); ++g) {
         const GroundTruthBox& gt = data_.ground_truth[cell.gts[g]];
-        cell.ious[d * cell.gts.size() + g] =
-            BoxIou(data_.detections[cell.dts[d]].bbox, gt.bbox, gt.iscrowd);
+        const DetectionBox& dt = data_.detections[cell.dts[d]];
+        cell.ious[d * cell.gts.size() + g] = data_.iou_type == IouType::kMask
+                                                 ? masks::CocoRleIou(dt.mask, gt.mask, gt.iscrowd)
+                                                 : BoxIou(dt.bbox, gt.bbox, gt.iscrowd);
       }
     }
     cells_.push_back(std::move(cell));
@@ -359,8 +361,7 @@ Selection AreaRange(const CocoData& data, double low, double high) {
     return !(area < low || area > high);
   };
   s.detection = [&data, low, high](size_t i) {
-    const BoxXywh& b = data.detections[i].bbox;
-    const double area = b.w * b.h;
+    const double area = data.detections[i].Area();
     return !(area < low || area > high);
   };
   return s;

@@ -15,7 +15,13 @@
 #include <optional>
 #include <vector>
 
+#include "libs/masks/coco_rle.h"
+
 namespace lsds::evaluate {
+
+// COCOeval's iouType: "bbox" compares boxes (maskApi.c bbIou), "segm" masks
+// (rleIou, cocoeval.py:178-180).
+enum class IouType { kBox, kMask };
 
 // COCO's [x, y, width, height], pixel-edge.
 struct BoxXywh {
@@ -29,6 +35,7 @@ struct GroundTruthBox {
   BoxXywh bbox;
   double area = 0;  // the annotation's `area` (the mask pixel count from lsds convert)
   bool iscrowd = false;
+  masks::CocoRle mask;  // IouType::kMask only
 };
 
 // One entry of a COCO results list. Its id is its position + 1 and its area
@@ -36,8 +43,14 @@ struct GroundTruthBox {
 struct DetectionBox {
   int64_t image_id = 0;
   int64_t category_id = 0;
-  BoxXywh bbox;
+  BoxXywh bbox;  // with a mask and no box given: the mask's (rleToBbox, coco.py:346-347)
   double score = 0;
+  masks::CocoRle mask;  // IouType::kMask only
+  // COCO.loadRes's area when it is not w * h: a mask result file whose first
+  // entry has no bbox gives every entry its mask's area (coco.py:341-345).
+  std::optional<double> area;
+
+  double Area() const { return area ? *area : bbox.w * bbox.h; }
 };
 
 struct CocoData {
@@ -45,6 +58,7 @@ struct CocoData {
   std::vector<int64_t> category_ids;  // every category of the ground truth
   std::vector<GroundTruthBox> ground_truth;
   std::vector<DetectionBox> detections;  // for images and categories listed above
+  IouType iou_type = IouType::kBox;
 };
 
 // What one evaluation counts (empty functions: everything). A ground-truth box

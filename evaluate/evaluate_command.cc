@@ -1,5 +1,6 @@
-// lsds evaluate COLLECTION --predictions FILE [--format coco] [-o eval.json]
-// [--junit FILE] [--fail-under METRIC=VALUE]... | --coverage
+// lsds evaluate COLLECTION --predictions FILE [--format coco|dota|yolo|mot] [-o eval.json]
+// [--iou-type bbox|segm|obb] [--ap voc07|voc12] [--junit FILE] [--fail-under METRIC=VALUE]... |
+// --coverage
 #include <iostream>
 
 #include "evaluate/evaluate_run.h"
@@ -20,10 +21,29 @@ int RunEvaluate(int argc, char** argv) {
   std::string collection, predictions, output, junit;
   bool coverage = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
+  app.add_option("--predictions",
+                 predictions,
+                 "COCO results file [{image_id, category_id, bbox, score}], or with --format dota "
+                 "a folder of Task1_<class>.txt");
   app.add_option(
-      "--predictions", predictions, "COCO results file: [{image_id, category_id, bbox, score}]");
-  app.add_option("--format", options.format, "format of the predictions (coco)")
-      ->check(CLI::IsMember({"coco"}));
+         "--format",
+         options.format,
+         "format of the predictions: coco (a results file), dota (a folder of "
+         "Task1_<class>.txt files, with --iou-type obb), yolo (a folder of Ultralytics' "
+         "<image>.txt predictions with confidences; boxes, or oriented with --iou-type obb), mot "
+         "(a folder of TrackEval tracker files <SEQ>.txt)")
+      ->check(CLI::IsMember({"coco", "dota", "yolo", "mot"}));
+  app.add_option("--iou-type",
+                 options.iou_type,
+                 "COCOeval's iouType: bbox (boxes) or segm (masks: each prediction's "
+                 "segmentation, RLE or polygons, against the collection's instance masks) or obb "
+                 "(oriented boxes scored as the DOTA devkit's task-1 evaluation)")
+      ->check(CLI::IsMember({"bbox", "segm", "obb"}));
+  app.add_option("--ap",
+                 options.ap,
+                 "obb: the DOTA devkit's VOC AP, voc07 (11 points, the devkit's default) or voc12 "
+                 "(area under the precision envelope)")
+      ->check(CLI::IsMember({"voc07", "voc12"}));
   app.add_flag(
       "--coverage", coverage, "no predictions: how the collection fills the condition space");
   app.add_option(

@@ -161,6 +161,46 @@ bool CheckThresholds(const CocoStats& stats, std::vector<Threshold>* thresholds)
   return all;
 }
 
+namespace {
+
+const char* VocApName(VocAp ap) { return ap == VocAp::k07 ? "voc07" : "voc12"; }
+
+json DotaJson(const DotaResult& dota) {
+  json classes = json::array();
+  for (const DotaClassResult& c : dota.classes) {
+    classes.push_back({{"name", c.class_name},
+                       {"objects", c.objects},
+                       {"difficult", c.difficult},
+                       {"detections", c.detections},
+                       {"true_positives", c.true_positives},
+                       {"AP", c.ap ? json(*c.ap) : json()}});
+  }
+  return {{"ap", VocApName(dota.ap)},
+          {"iou_threshold", dota.iou_threshold},
+          {"mAP", dota.map ? json(*dota.map) : json()},
+          {"classes", std::move(classes)}};
+}
+
+std::string DotaText(const DotaResult& dota) {
+  std::string out = Format("DOTA task 1 (oriented boxes, polygon IoU > %g, VOC AP %s):\n",
+                           dota.iou_threshold,
+                           dota.ap == VocAp::k07 ? "07, 11 points" : "10-12, area");
+  out += "  class                     objects  difficult  detections  true pos.      AP\n";
+  for (const DotaClassResult& c : dota.classes) {
+    out += Format("  %-24s %8lld %10lld %11lld %10lld  %s\n",
+                  c.class_name.c_str(),
+                  static_cast<long long>(c.objects),
+                  static_cast<long long>(c.difficult),
+                  static_cast<long long>(c.detections),
+                  static_cast<long long>(c.true_positives),
+                  c.ap ? Format("%.4f", *c.ap).c_str() : "-");
+  }
+  out += dota.map ? Format("mAP = %.4f\n", *dota.map) : std::string("mAP: no class has objects\n");
+  return out;
+}
+
+}  // namespace
+
 json ReportJson(const EvaluationReport& report) {
   json categories = json::array();
   for (const auto& [id, name] : report.categories)
@@ -177,10 +217,16 @@ json ReportJson(const EvaluationReport& report) {
   json coverage = json::array();
   for (const ConditionCoverage& c : report.coverage) coverage.push_back(CoverageJson(c));
   doc["coverage"] = std::move(coverage);
+  if (report.dota) {
+    doc["detections"] = report.detections;
+    doc["options"]["iou_type"] = "obb";
+    doc["dota"] = DotaJson(*report.dota);
+  }
   if (!report.stats) return doc;
   json coco = json::object();
   for (size_t i = 0; i < report.stats->size(); ++i) coco[CocoStatNames()[i]] = (*report.stats)[i];
   doc["detections"] = report.detections;
+  doc["options"]["iou_type"] = report.iou_type;
   doc["coco"] = std::move(coco);
   doc["counts"] = {{"objects", report.all.ground_truth},
                    {"matched_50", report.all.matched_50},
@@ -208,13 +254,19 @@ std::string ReportText(const EvaluationReport& report) {
                            static_cast<long long>(report.images),
                            static_cast<long long>(report.annotations),
                            report.categories.size());
+  if (report.dota) {
+    out += Format("predictions: %lld detections\n", static_cast<long long>(report.detections));
+    out += DotaText(*report.dota);
+  }
   if (!report.stats) {
     out += "coverage (cells with fewer than " + std::to_string(report.thin_below) +
            " objects, or frames for a frame condition, are thin):\n";
     for (const ConditionCoverage& c : report.coverage) out += CoverageText(c);
     return out;
   }
-  out += Format("predictions: %lld detections\n", static_cast<long long>(report.detections));
+  out += Format("predictions: %lld detections, IoU of %s\n",
+                static_cast<long long>(report.detections),
+                report.iou_type == "segm" ? "masks (iouType segm)" : "boxes (iouType bbox)");
   out += CocoLines(*report.stats);
   out += Format("objects %lld, matched at IoU .5: %lld, false positives at IoU .5: %lld\n",
                 static_cast<long long>(report.all.ground_truth),

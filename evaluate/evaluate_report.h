@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "evaluate/coco_eval.h"
+#include "evaluate/dota_eval.h"
 #include "evaluate/strata.h"
 
 namespace lsds::evaluate {
@@ -35,11 +36,13 @@ struct EvaluationReport {
   int64_t images = 0, annotations = 0, detections = 0;
   std::vector<std::pair<int64_t, std::string>> categories;
   int64_t thin_below = 0;
+  std::string iou_type = "bbox";  // COCOeval's iouType: bbox, segm; or obb (the DOTA devkit)
   std::optional<CocoStats> stats;
   Accumulation all;  // area "all": the counts at IoU .5
   std::vector<ConditionMetrics> strata;
   std::vector<ConditionCoverage> coverage;
   std::vector<Threshold> thresholds;
+  std::optional<DotaResult> dota;  // --iou-type obb: the DOTA devkit's task-1 metrics
 };
 
 nlohmann::json ReportJson(const EvaluationReport& report);

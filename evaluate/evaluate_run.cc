@@ -1,8 +1,11 @@
 #include "evaluate/evaluate_run.h"
 
 #include "evaluate/conditions.h"
+#include "evaluate/dota_files.h"
+#include "evaluate/mot_results.h"
 #include "evaluate/predictions.h"
 #include "evaluate/suggest.h"
+#include "evaluate/yolo_results.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -23,11 +26,35 @@ EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
   return report;
 }
 
+// The predictions of the COCO path in any of the formats that hold boxes.
+std::vector<DetectionBox> ReadBoxPredictions(const EvaluateOptions& options,
+                                             const EvaluationTruth& truth) {
+  if (options.format == "yolo") return ReadYoloDetections(options.predictions, truth);
+  if (options.format == "mot")
+    return ReadMotDetections(options.predictions, truth, ReadMotSequences(options.truth));
+  return ReadCocoPredictions(options.predictions, truth);
+}
+
 }  // namespace
 
 void EvaluateOptions::Check() const {
-  if (format != "coco")
-    throw Error("--format " + format + ": only coco results files are read so far");
+  if (format != "coco" && format != "dota" && format != "yolo" && format != "mot")
+    throw Error("--format " + format + ": expected coco, dota, yolo or mot");
+  if (format == "mot" && iou_type != "bbox")
+    throw Error("MOT tracker files hold boxes: --iou-type bbox with --format mot");
+  if (iou_type != "bbox" && iou_type != "segm" && iou_type != "obb")
+    throw Error("--iou-type " + iou_type + ": expected bbox, segm or obb");
+  if (format == "dota" && iou_type != "obb")
+    throw Error("DOTA task-1 files hold oriented boxes: give --iou-type obb with --format dota");
+  if (iou_type == "obb" && format == "coco")
+    throw Error("oriented boxes are read from DOTA task-1 or YOLO OBB files: --format dota|yolo");
+  if (iou_type == "segm" && format != "coco")
+    throw Error("masks are read from COCO results files: --format coco with --iou-type segm");
+  if (ap != "voc07" && ap != "voc12") throw Error("--ap " + ap + ": expected voc07 or voc12");
+  if (iou_type == "obb" && (!fail_under.empty() || !suggest.empty()))
+    throw Error("--fail-under and --suggest work on COCO's metrics: not with --iou-type obb");
+  if (predictions.empty() && iou_type != "bbox")
+    throw Error("--iou-type needs --predictions (coverage compares nothing)");
   if (thin_below < 0) throw Error("--thin must be >= 0");
   if (predictions.empty() && !fail_under.empty())
     throw Error("--fail-under needs --predictions (coverage has no metrics)");
@@ -47,6 +74,7 @@ EvaluationReport Evaluate(const EvaluationTruth& truth,
                           int64_t thin_below) {
   EvaluationReport report = BaseReport(truth, thin_below);
   report.detections = static_cast<int64_t>(detections.size());
+  report.iou_type = truth.coco.iou_type == IouType::kMask ? "segm" : "bbox";
   const std::vector<ConditionBins> conditions = BinConditions(truth, detections);
   CocoData data = truth.coco;
   data.detections = std::move(detections);
@@ -81,13 +109,30 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
     RefuseToOverwrite(outputs[i].first, options.force, outputs[i].second);
   }
 
-  const EvaluationTruth truth = ReadCollectionTruth(options.truth);
+  TruthOptions truth_options = options.truth;
+  truth_options.masks = options.iou_type == "segm";
+  const EvaluationTruth truth = ReadCollectionTruth(truth_options);
   EvaluateResult result;
   if (options.predictions.empty()) {
     result.report = CoverageReport(truth, options.thin_below);
+  } else if (options.iou_type == "obb") {
+    // The DOTA devkit's task-1 evaluation on the labels `lsds convert --to dota`
+    // writes; the coverage beside it.
+    result.report = CoverageReport(truth, options.thin_below);
+    const DotaTruth dota = ReadDotaTruth(truth_options);
+    const std::vector<DotaDetection> detections =
+        options.format == "yolo"
+            ? ReadYoloObbDetections(options.predictions, truth, dota.class_names)
+            : ReadDotaResults(options.predictions, dota.class_names, dota.images);
+    result.report.detections = static_cast<int64_t>(detections.size());
+    result.report.iou_type = "obb";
+    result.report.dota = EvaluateDota(dota.class_names,
+                                      dota.objects,
+                                      detections,
+                                      options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
+    result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
-    result.report =
-        Evaluate(truth, ReadCocoPredictions(options.predictions, truth), options.thin_below);
+    result.report = Evaluate(truth, ReadBoxPredictions(options, truth), options.thin_below);
     result.report.predictions = Utf8Escaped(options.predictions.string());
     for (const std::string& t : options.fail_under)
       result.report.thresholds.push_back(ParseThreshold(t));

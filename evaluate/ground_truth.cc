@@ -3,14 +3,20 @@
 #include <stdlib.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <sstream>
 #include <system_error>
 
 #include "converters/convert.h"
+#include "evaluate/dota_files.h"
+#include "evaluate/segmentation.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/model.h"
 #include "libs/geometry/world_frame.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 
 namespace lsds::evaluate {
@@ -115,15 +121,79 @@ void ReadFrameFacts(const TruthOptions& options,
   });
 }
 
+// `lsds convert COLLECTION --to FORMAT --images none` with the flags of
+// `options`, into `scratch`.
+convert::ConvertOptions ConverterOptions(const TruthOptions& options,
+                                         const std::string& format,
+                                         const fs::path& scratch) {
+  convert::ConvertOptions convert;
+  convert.collection = options.collection;
+  convert.output = scratch / format;
+  convert.formats = {format};
+  convert.images = "none";
+  convert.frames = options.frames;
+  convert.classes = options.classes;
+  convert.keep_classes = options.keep_classes;
+  convert.min_visibility = options.min_visibility;
+  convert.min_pixels = options.min_pixels;
+  convert.progress = false;
+  return convert;
+}
+
 }  // namespace
 
-void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTruth* truth) {
+DotaTruth ReadDotaTruth(const TruthOptions& options) {
+  const ScratchFolder scratch;
+  const convert::ConvertOptions dota = ConverterOptions(options, "dota", scratch.path());
+  convert::Convert(dota);
+  DotaTruth truth;
+  std::istringstream classes(ReadTextFile(dota.output / "dota_classes.txt"));
+  for (std::string name; std::getline(classes, name);)
+    if (!name.empty()) truth.class_names.push_back(name);
+  std::vector<fs::path> labels;
+  for (const auto& entry : fs::recursive_directory_iterator(dota.output / "labelTxt"))
+    if (entry.path().extension() == ".txt") labels.push_back(entry.path());
+  std::sort(labels.begin(), labels.end());
+  for (const fs::path& label : labels) {
+    const std::string image = label.stem().string();
+    truth.images.insert(image);
+    for (DotaObject& o : ParseDotaLabels(ReadTextFile(label), label.string(), image))
+      truth.objects.push_back(std::move(o));
+  }
+  return truth;
+}
+
+MotSequences ReadMotSequences(const TruthOptions& options) {
+  const ScratchFolder scratch;
+  const convert::ConvertOptions mot = ConverterOptions(options, "mot", scratch.path());
+  convert::Convert(mot);
+  MotSequences sequences;
+  for (const auto& entry : fs::recursive_directory_iterator(mot.output / "mot")) {
+    if (entry.path().filename() != "frames.txt") continue;
+    std::vector<int64_t>& frames = sequences[entry.path().parent_path().filename().string()];
+    std::istringstream in(ReadTextFile(entry.path()));
+    for (std::string line; std::getline(in, line);) {
+      // "number,collection_frame" after the header line, numbers from 1 in order.
+      const size_t comma = line.find(',');
+      if (comma == std::string::npos || line.empty() || !std::isdigit(line[0])) continue;
+      frames.push_back(std::strtoll(line.c_str() + comma + 1, nullptr, 10));
+    }
+  }
+  return sequences;
+}
+
+void ReadCocoGroundTruth(const json& coco,
+                         const std::string& file,
+                         EvaluationTruth* truth,
+                         bool masks) {
+  if (masks) truth->coco.iou_type = IouType::kMask;
   AtPointer(file, "/images", [&] {
     for (const json& image : coco.at("images")) {
       const int64_t id = image.at("id").get<int64_t>();
       truth->coco.image_ids.push_back(id);
       truth->image_by_file_name[image.at("file_name").get<std::string>()] = id;
       truth->frame_of_image[id] = image.at("lsds").at("frame").get<int64_t>();
+      truth->image_size[id] = {image.at("height").get<int64_t>(), image.at("width").get<int64_t>()};
     }
   });
   AtPointer(file, "/categories", [&] {
@@ -133,7 +203,9 @@ void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTr
     }
   });
   AtPointer(file, "/annotations", [&] {
-    for (const json& a : coco.at("annotations")) {
+    const json& annotations = coco.at("annotations");
+    for (size_t i = 0; i < annotations.size(); ++i) {
+      const json& a = annotations[i];
       GroundTruthBox g;
       g.id = a.at("id").get<int64_t>();
       g.image_id = a.at("image_id").get<int64_t>();
@@ -141,6 +213,14 @@ void ReadCocoGroundTruth(const json& coco, const std::string& file, EvaluationTr
       g.bbox = ReadBox(a.at("bbox"));
       g.area = a.at("area").get<double>();
       g.iscrowd = a.at("iscrowd").get<int>() != 0;
+      if (masks) {
+        const EvaluationTruth::ImageSize size = truth->image_size.at(g.image_id);
+        g.mask = ReadSegmentation(a.at("segmentation"),
+                                  size.height,
+                                  size.width,
+                                  file,
+                                  "/annotations/" + std::to_string(i) + "/segmentation");
+      }
       truth->coco.ground_truth.push_back(g);
       ObjectFacts facts;
       facts.frame = truth->frame_of_image.at(g.image_id);
@@ -169,21 +249,11 @@ EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
   }
   // The converter, run as `lsds convert COLLECTION --to coco --images none`.
   const ScratchFolder scratch;
-  convert::ConvertOptions coco;
-  coco.collection = options.collection;
-  coco.output = scratch.path() / "coco";
-  coco.formats = {"coco"};
-  coco.images = "none";
-  coco.frames = options.frames;
-  coco.classes = options.classes;
-  coco.keep_classes = options.keep_classes;
-  coco.min_visibility = options.min_visibility;
-  coco.min_pixels = options.min_pixels;
-  coco.progress = false;
+  const convert::ConvertOptions coco = ConverterOptions(options, "coco", scratch.path());
   convert::Convert(coco);
   const fs::path file = coco.output / "annotations" / "instances_train.json";
   EvaluationTruth truth;
-  ReadCocoGroundTruth(ReadJsonFile(file), file.string(), &truth);
+  ReadCocoGroundTruth(ReadJsonFile(file), file.string(), &truth, options.masks);
 
   std::map<std::pair<int64_t, uint32_t>, double> distances;
   ReadFrameFacts(options, &truth, &distances);

@@ -9,12 +9,14 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "evaluate/coco_eval.h"
+#include "evaluate/dota_eval.h"
 #include "libs/util/frame_selection.h"
 
 namespace lsds::evaluate {
@@ -28,6 +30,7 @@ struct TruthOptions {
   bool keep_classes = false;
   double min_visibility = 0;
   int64_t min_pixels = 1;
+  bool masks = false;  // read each annotation's mask too (--iou-type segm)
 };
 
 // Per ground-truth annotation (parallel to CocoData::ground_truth).
@@ -58,18 +61,39 @@ struct EvaluationTruth {
   std::vector<std::string> category_names;  // parallel to coco.category_ids
   std::map<std::string, int64_t> image_by_file_name;
   std::map<int64_t, int64_t> frame_of_image;  // COCO image id -> frame index
-  std::vector<ObjectFacts> objects;           // parallel to coco.ground_truth
-  std::map<int64_t, FrameFacts> frames;       // by frame index
-  std::string capture_source;                 // provenance.capture_source (LCAP text)
+  struct ImageSize {
+    int64_t height = 0, width = 0;
+  };
+  std::map<int64_t, ImageSize> image_size;  // COCO image id -> its size
+  std::vector<ObjectFacts> objects;         // parallel to coco.ground_truth
+  std::map<int64_t, FrameFacts> frames;     // by frame index
+  std::string capture_source;               // provenance.capture_source (LCAP text)
 };
 
 // Throws lsds::Error (exit 2) for an unreadable collection or bad options.
 EvaluationTruth ReadCollectionTruth(const TruthOptions& options);
 
+// The oriented boxes `lsds convert --to dota` writes (with the flags of
+// `options`; the converter runs into a scratch folder), as the DOTA devkit
+// reads them.
+struct DotaTruth {
+  std::vector<std::string> class_names;  // dota_classes.txt, in order
+  std::set<std::string> images;          // label file stems
+  std::vector<DotaObject> objects;
+};
+DotaTruth ReadDotaTruth(const TruthOptions& options);
+
+// The sequences `lsds convert --to mot` writes: per sequence name, the frame
+// index of each frame number (frames.txt; number k at position k - 1).
+using MotSequences = std::map<std::string, std::vector<int64_t>>;
+MotSequences ReadMotSequences(const TruthOptions& options);
+
 // The COCO dataset JSON `lsds convert --to coco` writes (one split), read
-// into `truth` (images, categories, annotations and their `lsds` extras).
+// into `truth` (images, categories, annotations and their `lsds` extras;
+// with `masks`, each annotation's segmentation as RLE and the iouType segm).
 void ReadCocoGroundTruth(const nlohmann::json& coco,
                          const std::string& file,
-                         EvaluationTruth* truth);
+                         EvaluationTruth* truth,
+                         bool masks = false);
 
 }  // namespace lsds::evaluate

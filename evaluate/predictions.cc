@@ -5,6 +5,7 @@
 #include <cstring>
 #include <map>
 
+#include "evaluate/segmentation.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
@@ -62,25 +63,41 @@ class EntryReader {
   }
 
   DetectionBox Read(const json& entry, const std::string& at) const {
-    if (!entry.is_object()) Fail(at, "expected an object {image_id, category_id, bbox, score}");
+    if (!entry.is_object())
+      Fail(at,
+           truth_.coco.iou_type == IouType::kMask
+               ? "expected an object {image_id, category_id, segmentation, score}"
+               : "expected an object {image_id, category_id, bbox, score}");
     DetectionBox d;
     d.image_id = Image(entry, at);
     d.category_id = Id(entry, at, "category_id");
     if (!std::binary_search(categories_.begin(), categories_.end(), d.category_id))
       Fail(at + "/category_id",
            "category " + std::to_string(d.category_id) + " is not a category of the ground truth");
-    const json* bbox = Member(entry, at, "bbox");
-    if (!bbox->is_array() || bbox->size() != 4)
-      Fail(at + "/bbox", "expected [x, y, width, height], got " + bbox->dump());
-    double* values[] = {&d.bbox.x, &d.bbox.y, &d.bbox.w, &d.bbox.h};
-    for (size_t i = 0; i < 4; ++i) {
-      *values[i] = Number((*bbox)[i], at + "/bbox/" + std::to_string(i));
-      if (i >= 2 && *values[i] < 0)
-        Fail(at + "/bbox/" + std::to_string(i),
-             std::string(i == 2 ? "width" : "height") + " is negative: " + (*bbox)[i].dump());
+    if (truth_.coco.iou_type == IouType::kMask) {
+      const EvaluationTruth::ImageSize& size = truth_.image_size.at(d.image_id);
+      d.mask = ReadSegmentation(
+          *Member(entry, at, "segmentation"), size.height, size.width, file_, at + "/segmentation");
     }
+    if (NeedsBox(entry)) {
+      d.bbox = Box(*Member(entry, at, "bbox"), at + "/bbox");
+    } else {
+      const std::array<double, 4> box = masks::CocoRleBox(d.mask);
+      d.bbox = {box[0], box[1], box[2], box[3]};
+    }
+    // COCO.loadRes for a mask result file whose first entry has no box: every
+    // area is the mask's, a missing box the mask's (coco.py:341-347).
+    if (truth_.coco.iou_type == IouType::kMask && !boxes_given_)
+      d.area = static_cast<double>(masks::CocoRleArea(d.mask.counts));
     d.score = Number(*Member(entry, at, "score"), at + "/score");
     return d;
+  }
+
+  // COCO.loadRes takes the boxes' branch when the first entry has a non-empty
+  // bbox (coco.py:332-340): then every entry needs one, and its area is w * h.
+  void SetBoxesGiven(const json& first) {
+    const auto bbox = first.is_object() ? first.find("bbox") : first.end();
+    boxes_given_ = bbox != first.end() && !(bbox->is_array() && bbox->empty());
   }
 
   [[noreturn]] void Fail(const std::string& at, const std::string& what) const {
@@ -88,6 +105,26 @@ class EntryReader {
   }
 
  private:
+  bool NeedsBox(const json& entry) const {
+    if (truth_.coco.iou_type == IouType::kBox || boxes_given_) return true;
+    const auto bbox = entry.find("bbox");
+    return bbox != entry.end() && !(bbox->is_array() && bbox->empty());
+  }
+
+  BoxXywh Box(const json& bbox, const std::string& at) const {
+    if (!bbox.is_array() || bbox.size() != 4)
+      Fail(at, "expected [x, y, width, height], got " + bbox.dump());
+    BoxXywh box;
+    double* values[] = {&box.x, &box.y, &box.w, &box.h};
+    for (size_t i = 0; i < 4; ++i) {
+      *values[i] = Number(bbox[i], at + "/" + std::to_string(i));
+      if (i >= 2 && *values[i] < 0)
+        Fail(at + "/" + std::to_string(i),
+             std::string(i == 2 ? "width" : "height") + " is negative: " + bbox[i].dump());
+    }
+    return box;
+  }
+
   const json* Member(const json& entry, const std::string& at, const char* key) const {
     const auto it = entry.find(key);
     if (it == entry.end()) Fail(at, std::string("missing '") + key + "'");
@@ -133,6 +170,7 @@ class EntryReader {
   std::string file_;
   const EvaluationTruth& truth_;
   std::vector<int64_t> images_, categories_;
+  bool boxes_given_ = true;
 };
 
 }  // namespace
@@ -163,7 +201,8 @@ std::vector<DetectionBox> ParseCocoPredictions(const std::string& text,
     throw Error("expected a JSON list of detections (a COCO results file), got a " +
                     std::string(document.type_name()),
                 Location(file, "/"));
-  const EntryReader reader(file, truth);
+  EntryReader reader(file, truth);
+  if (!document.empty()) reader.SetBoxesGiven(document[0]);
   std::vector<DetectionBox> detections;
   detections.reserve(document.size());
   for (size_t i = 0; i < document.size(); ++i)

@@ -11,6 +11,7 @@
 #include "libs/util/progress.h"
 #include "report/bundle_section.h"
 #include "report/draw.h"
+#include "report/evaluation_section.h"
 #include "report/frame_sampler.h"
 #include "report/frame_views.h"
 #include "report/html.h"
@@ -126,7 +127,7 @@ std::string RenderReportHtml(const CollectionReader& reader,
   const std::string name = fs::absolute(reader.root()).lexically_normal().filename().string();
   // Every string below that is not a literal comes from an input (the folder
   // name, collection.json, metadata.json, the validation report, the bundle
-  // statistics) and is escaped by Html.
+  // statistics, the evaluation) and is escaped by Html.
   Html s;
   s << "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">"
     << "<title>lsds report: " << name << "</title><style>" << PageStyle() << "</style></head><body>"
@@ -146,6 +147,7 @@ std::string RenderReportHtml(const CollectionReader& reader,
   s << "<a href=\"#distributions\">distributions</a>";
   if (options.validation) s << " <a href=\"#validation\">validation</a>";
   if (!options.bundle_stats.is_null()) s << " <a href=\"#bundles\">mixed pixels</a>";
+  if (!options.evaluation.is_null()) s << " <a href=\"#evaluation\">evaluation</a>";
   s << "</nav></header>";
 
   if (options.validation) s << ValidationSection(*options.validation, on_sheet);
@@ -209,6 +211,7 @@ std::string RenderReportHtml(const CollectionReader& reader,
   if (!options.bundle_stats.is_null()) {
     s << BundleStatsSection(options.bundle_stats, header);
   }
+  if (!options.evaluation.is_null()) s << EvaluationSection(options.evaluation);
   s << "<div id=\"overlay\" hidden><div class=\"panel\"><button "
        "id=\"close\">close</button><div id=\"overlay-body\"></div></div></div>";
   s << "<footer>Written by lsds report. How to read this page: docs/report.md."

@@ -41,6 +41,9 @@ struct ReportOptions {
   // Statistics from `lsds bundles -o` (checked with CheckBundleStats); null:
   // no mixed-pixel section.
   nlohmann::json bundle_stats;
+  // The report `lsds evaluate -o` writes (checked with CheckEvaluation); null:
+  // no evaluation section.
+  nlohmann::json evaluation;
   imaging::DisplayOptions display;
 };
 

@@ -1,5 +1,6 @@
 // lsds report COLLECTION -o report.html [--frames A:B] [--sample N]
-// [--layer-frames K] [--validate | --validation-report FILE] [--force]
+// [--layer-frames K] [--validate | --validation-report FILE] [--bundle-stats FILE]
+// [--evaluation FILE] [--force]
 // (docs/report.md)
 #include <filesystem>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include "libs/util/error.h"
 #include "libs/util/json_errors.h"
 #include "report/bundle_section.h"
+#include "report/evaluation_section.h"
 #include "report/report.h"
 #include "tools/command.h"
 #include "tools/shared_flags.h"
@@ -18,6 +20,25 @@
 
 namespace lsds {
 
+namespace {
+
+// The sections made from other commands' JSON outputs (`lsds bundles -o`,
+// `lsds evaluate -o`), each read and checked; empty paths: none.
+void ReadJsonSections(const std::string& bundle_stats,
+                      const std::string& evaluation,
+                      report::ReportOptions* options) {
+  if (!bundle_stats.empty()) {
+    options->bundle_stats = ReadJsonFile(bundle_stats);
+    report::CheckBundleStats(options->bundle_stats, bundle_stats);
+  }
+  if (!evaluation.empty()) {
+    options->evaluation = ReadJsonFile(evaluation);
+    report::CheckEvaluation(options->evaluation, evaluation);
+  }
+}
+
+}  // namespace
+
 int RunReport(int argc, char** argv) {
   CLI::App app(
       "One self-contained HTML page to look at a collection before training: "
@@ -25,7 +46,7 @@ int RunReport(int argc, char** argv) {
       "distributions, validation summary (docs/report.md).",
       "lsds report");
   report::ReportOptions options;
-  std::string collection, output, validation_report, bundle_stats, tonemap = "filmic";
+  std::string collection, output, validation_report, bundle_stats, evaluation, tonemap = "filmic";
   bool validate = false;
   app.add_option("COLLECTION", collection, "collection folder (holds collection.json)")->required();
   app.add_option("-o,--output", output, "the HTML file (written atomically)")->required();
@@ -58,6 +79,10 @@ int RunReport(int argc, char** argv) {
                  bundle_stats,
                  "add the class-mixing matrix and mixed pixels by object size "
                  "from this `lsds bundles -o` file");
+  app.add_option("--evaluation",
+                 evaluation,
+                 "add the metrics, the worst strata and the coverage holes from this "
+                 "`lsds evaluate -o` file");
   CommonFlags common;
   AddCommonFlags(app, &common, "replace an existing output file");
   return RunCommand(app, common, argc, argv, [&] {
@@ -80,15 +105,13 @@ int RunReport(int argc, char** argv) {
     GuardCollection(&guard, collection, CollectionAccess::kReadOnly);
     guard.AddInput(validation_report, "validation report");
     guard.AddInput(bundle_stats, "bundle statistics file");
+    guard.AddInput(evaluation, "evaluation file");
     guard.CheckOutput(output, "-o");
     // Refuse before the long validation run, not after it.
     RefuseToOverwrite(output, options.force, "report");
-    // Both JSON inputs are read whole and typed before the long run: a
+    // The JSON inputs are read whole and typed before the long run: a
     // malformed one is refused at its line:column or JSON pointer.
-    if (!bundle_stats.empty()) {
-      options.bundle_stats = ReadJsonFile(bundle_stats);
-      report::CheckBundleStats(options.bundle_stats, bundle_stats);
-    }
+    ReadJsonSections(bundle_stats, evaluation, &options);
     if (!validation_report.empty()) {
       options.validation =
           report::ParseValidationReport(ReadFile(validation_report), validation_report);

@@ -81,26 +81,11 @@ const Golden kGoldens[] = {
 
 using CocoEvalGolden = GoldenCollection;
 
-// The crowd regions of data/crowd_regions.json added to the ground truth.
-void AddCrowdRegions(EvaluationTruth* truth) {
-  for (const nlohmann::json& a : ReadJsonFile(GoldenData("crowd_regions.json"))) {
-    GroundTruthBox g;
-    g.id = a["id"].get<int64_t>();
-    g.image_id = a["image_id"].get<int64_t>();
-    g.category_id = a["category_id"].get<int64_t>();
-    const nlohmann::json& b = a["bbox"];
-    g.bbox = {b[0].get<double>(), b[1].get<double>(), b[2].get<double>(), b[3].get<double>()};
-    g.area = a["area"].get<double>();
-    g.iscrowd = a["iscrowd"].get<int>() != 0;
-    truth->coco.ground_truth.push_back(g);
-  }
-}
-
 TEST_F(CocoEvalGolden, TheTwelveStatsAreThoseOfPycocotools) {
   ASSERT_GT(std::size(kGoldens), 0u);
   for (const Golden& golden : kGoldens) {
     EvaluationTruth truth = *truth_;
-    if (std::string(golden.name) == "crowd") AddCrowdRegions(&truth);
+    if (std::string(golden.name) == "crowd") AddCrowdRegions("crowd_regions.json", &truth);
     CocoData data = truth.coco;
     data.detections = ReadCocoPredictions(GoldenData(std::string(golden.name) + ".json"), truth);
     const CocoStats stats = CocoEvaluator(data).Stats();

@@ -106,7 +106,7 @@ def write_list(path, entries):
         f.write("[\n" + ",\n".join(json.dumps(e, separators=(",", ":")) for e in entries) + "\n]\n")
 
 
-def coco_stats(pycocotools_dir, gt, predictions):
+def coco_stats(pycocotools_dir, gt, predictions, iou_type="bbox"):
     sys.path.insert(0, pycocotools_dir)
     # coco.py imports matplotlib for showAnns only; cocoeval.py:378 uses np.float, which
     # numpy 1.24 removed (it was the builtin float).
@@ -123,11 +123,33 @@ def coco_stats(pycocotools_dir, gt, predictions):
     coco.dataset = gt
     coco.createIndex()
     results = coco.loadRes(predictions)
-    e = COCOeval(coco, results, "bbox")
+    e = COCOeval(coco, results, iou_type)
     e.evaluate()
     e.accumulate()
     e.summarize()
     return [float(s) for s in e.stats]
+
+
+def converted_ground_truth(lsds, maker):
+    """The golden collection written by the maker, as `lsds convert --to coco` writes it."""
+    with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run([maker, os.path.join(tmp, "c")], check=True)
+        subprocess.run([lsds, "convert", os.path.join(tmp, "c"), "--to", "coco", "--images",
+                        "none", "-q", "-o", os.path.join(tmp, "coco")], check=True)
+        return json.load(open(os.path.join(tmp, "coco", "annotations", "instances_train.json")))
+
+
+def print_table(pycocotools_dir, gt, data, iou_type):
+    """COCOeval's stats of every case of `data` (crowd: with its crowd regions) as the C++ table."""
+    table = []
+    for name in CASES:
+        predictions = json.load(open(os.path.join(data, name + ".json")))
+        case_gt = json.loads(json.dumps(gt))
+        if name == "crowd":
+            case_gt["annotations"] += json.load(open(os.path.join(data, "crowd_regions.json")))
+        table.append((name, coco_stats(pycocotools_dir, case_gt, predictions, iou_type)))
+    for name, stats in table:
+        print('    {"%s", {%s}},' % (name, ", ".join("%.17g" % s for s in stats)))
 
 
 def main():
@@ -137,25 +159,13 @@ def main():
     parser.add_argument("--pycocotools", required=True)
     parser.add_argument("--write-predictions", action="store_true")
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        subprocess.run([args.maker, os.path.join(tmp, "c")], check=True)
-        subprocess.run([args.lsds, "convert", os.path.join(tmp, "c"), "--to", "coco", "--images",
-                        "none", "-q", "-o", os.path.join(tmp, "coco")], check=True)
-        gt = json.load(open(os.path.join(tmp, "coco", "annotations", "instances_train.json")))
+    gt = converted_ground_truth(args.lsds, args.maker)
     if args.write_predictions:
         sets, crowd = make_predictions(gt)
         for name, entries in sets.items():
             write_list(os.path.join(DATA, name + ".json"), entries)
         write_list(os.path.join(DATA, "crowd_regions.json"), crowd)
-    table = []
-    for name in CASES:
-        predictions = json.load(open(os.path.join(DATA, name + ".json")))
-        case_gt = json.loads(json.dumps(gt))
-        if name == "crowd":
-            case_gt["annotations"] += json.load(open(os.path.join(DATA, "crowd_regions.json")))
-        table.append((name, coco_stats(args.pycocotools, case_gt, predictions)))
-    for name, stats in table:
-        print('    {"%s", {%s}},' % (name, ", ".join("%.17g" % s for s in stats)))
+    print_table(args.pycocotools, gt, DATA, "bbox")
 
 
 if __name__ == "__main__":

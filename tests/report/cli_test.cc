@@ -4,6 +4,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -249,6 +250,82 @@ bool HaveChromium() { return RunCommandLine("command -v chromium").exit_code == 
 constexpr const char* kNoChromium =
     "chromium is not installed (Debian package `chromium`, "
     "scripts/install-deps.sh): the page was not rendered";
+
+// `lsds evaluate -o` of predictions (the truth converted by lsds convert --to
+// yolo, every line given a confidence), shown as the page's evaluation section.
+class ReportEvaluation : public ReportCli {
+ protected:
+  fs::path Evaluation() {
+    const fs::path yolo = dir_ / "yolo";
+    const auto convert =
+        RunCommandLine(testing::LsdsBinary() + " convert " + (dir_ / "c").string() +
+                       " --to yolo --images none -q -o " + yolo.string());
+    EXPECT_EQ(convert.exit_code, 0) << convert.output;
+    const fs::path predictions = dir_ / "predictions";
+    fs::create_directories(predictions);
+    for (const auto& entry : fs::directory_iterator(yolo / "labels" / "train")) {
+      std::istringstream in(Slurp(entry.path()));
+      std::ofstream out(predictions / entry.path().filename());
+      for (std::string line; std::getline(in, line);) out << line << " 0.9\n";
+    }
+    const fs::path evaluation = dir_ / "eval.json";
+    const auto evaluate = RunCommandLine(
+        testing::LsdsBinary() + " evaluate " + (dir_ / "c").string() +
+        " --format yolo -q --predictions " + predictions.string() + " -o " + evaluation.string());
+    EXPECT_EQ(evaluate.exit_code, 0) << evaluate.output;
+    return evaluation;
+  }
+};
+
+TEST_F(ReportEvaluation, TheMetricsWorstStrataAndCoverageOfLsdsEvaluate) {
+  const fs::path evaluation = Evaluation();
+  const nlohmann::json json = nlohmann::json::parse(Slurp(evaluation));
+  const fs::path page = dir_ / "report.html";
+  const auto result =
+      RunCommandLine(Report("-o " + page.string() + " --evaluation " + evaluation.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string html = Slurp(page);
+  ASSERT_NE(html.find("<a href=\"#evaluation\">evaluation</a>"), std::string::npos);
+  const std::string section = html.substr(html.find("<section id=\"evaluation\">"));
+  // The 12 numbers as lsds evaluate computed them (every box found: AP 1).
+  EXPECT_EQ(json["coco"]["AP"], 1.0);
+  EXPECT_NE(section.find("<th>AP</th>"), std::string::npos);
+  EXPECT_NE(section.find("<td>1.000</td>"), std::string::npos);
+  // Each condition's worst stratum, with its counts.
+  ASSERT_FALSE(json["conditions"].empty());
+  for (const nlohmann::json& c : json["conditions"]) {
+    if (c["strata"].empty()) continue;
+    const nlohmann::json& worst = c["strata"][0];
+    EXPECT_NE(
+        section.find("<td>" + c["name"].get<std::string>() + "</td><td>" +
+                     lsds::report::HtmlEscape(worst["label"].get<std::string>()) + "</td><td>" +
+                     worst["objects"].dump() + "</td><td>" + worst["frames"].dump() + "</td>"),
+        std::string::npos)
+        << c["name"];
+  }
+  // Every coverage condition has its row.
+  for (const nlohmann::json& c : json["coverage"])
+    EXPECT_NE(section.find("<tr><td>" + c["name"].get<std::string>() + "</td>"), std::string::npos)
+        << c["name"];
+  // Any other JSON file is refused, naming it; nothing is written.
+  const fs::path other = dir_ / "c" / "collection.json";
+  const auto bad = RunCommandLine(
+      Report("-o " + (dir_ / "x.html").string() + " --evaluation " + other.string()));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find(other.string()), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir_ / "x.html"));
+}
+
+TEST_F(ReportEvaluation, ChromiumShowsTheEvaluationSection) {
+  if (!HaveChromium()) GTEST_SKIP() << kNoChromium;
+  const fs::path evaluation = Evaluation();
+  const fs::path page = dir_ / "report.html";
+  ASSERT_EQ(RunCommandLine(
+                Report("-o " + page.string() + " --sample 4 --evaluation " + evaluation.string()))
+                .exit_code,
+            0);
+  CheckInChromium(page, dir_.path());
+}
 
 TEST_F(ReportCli, ChromiumShowsTheSynthReport) {
   if (!HaveChromium()) GTEST_SKIP() << kNoChromium;

@@ -1,0 +1,92 @@
+// lsds evaluate --iou-type obb --format dota: the command end to end on DOTA
+// task-1 result files, and bad files named at their line (exit 2, nothing
+// written).
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "libs/collection/schema.h"
+#include "libs/util/atomic_file.h"
+#include "libs/util/json_errors.h"
+#include "tests/evaluate/golden_fixture.h"
+
+namespace lsds::evaluate {
+namespace {
+
+namespace fs = std::filesystem;
+
+using DotaEvaluate = GoldenCollection;
+
+TEST_F(DotaEvaluate, TheCommandScoresOrientedBoxesAsTheDevkitDoes) {
+  testing::TempDir out;
+  const std::string json = (out / "eval.json").string();
+  const std::string base = "evaluate " + C() + " --predictions " +
+                           GoldenData("obb/jittered").string() + " --format dota --iou-type obb";
+  const testing::CommandResult run = testing::RunLsds(base + " -o " + json);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("DOTA task 1 (oriented boxes, polygon IoU > 0.5, VOC AP 07"),
+            std::string::npos)
+      << run.output;
+  const nlohmann::json doc = ReadJsonFile(json);
+  EXPECT_TRUE(JsonSchema::Get("evaluate.schema.json").Validate(doc).empty());
+  EXPECT_EQ(doc["options"]["iou_type"], "obb");
+  // The devkit's numbers on the same files (dota_eval_golden_test.cc).
+  EXPECT_NEAR(doc["dota"]["mAP"].get<double>(), 0.73407747186183037, 1e-9);
+  EXPECT_EQ(doc["dota"]["ap"], "voc07");
+  EXPECT_FALSE(doc["coverage"].empty());
+
+  const testing::CommandResult voc12 =
+      testing::RunLsds(base + " --ap voc12 -q -o " + (out / "e12.json").string());
+  ASSERT_EQ(voc12.exit_code, 0) << voc12.output;
+  EXPECT_NEAR(
+      ReadJsonFile(out / "e12.json")["dota"]["mAP"].get<double>(), 0.73766475360222405, 1e-9);
+}
+
+TEST_F(DotaEvaluate, BadResultFilesAreNamedAtTheirLine) {
+  struct BadCase {
+    std::string file, text;
+    std::string where, what;
+  };
+  const std::string ok = "000001 0.5 1 1 9 1 9 9 1 9\n";
+  const BadCase cases[] = {
+      {"Task1_plane.txt", ok, "Task1_plane.txt", "'plane' is not a class"},
+      {"Task1_box.txt", ok + "000001 0.5 1 1 9 1 9 9 1\n", "Task1_box.txt:2", "got 9"},
+      {"Task1_box.txt", "000001  0.5 1 1 9 1 9 9 1 9\n", "Task1_box.txt:1", "got 11"},
+      {"Task1_box.txt",
+       "999999 0.5 1 1 9 1 9 9 1 9\n",
+       "Task1_box.txt:1",
+       "'999999' is not an image"},
+      {"Task1_box.txt",
+       "000001 nan 1 1 9 1 9 9 1 9\n",
+       "Task1_box.txt:1",
+       "the score is not a finite"},
+      {"Task1_box.txt", "000001 0.5 1 1 9 x 9 9 1 9\n", "Task1_box.txt:1", "a corner"},
+      {"readme.txt", ok, "", "no Task1_<class>.txt file"},
+  };
+  for (const BadCase& c : cases) {
+    testing::TempDir out;
+    fs::create_directories(out / "results");
+    WriteFileAtomic(out / "results" / c.file, c.text);
+    const testing::CommandResult run =
+        testing::RunLsds("evaluate " + C() + " --format dota --iou-type obb -q --predictions " +
+                         (out / "results").string() + " -o " + (out / "e.json").string());
+    EXPECT_EQ(run.exit_code, 2) << c.text << run.output;
+    EXPECT_NE(run.output.find(c.where), std::string::npos) << c.text << run.output;
+    EXPECT_NE(run.output.find(c.what), std::string::npos) << c.text << run.output;
+    EXPECT_FALSE(fs::exists(out / "e.json"));
+  }
+  // Oriented boxes come in DOTA files; DOTA files hold oriented boxes.
+  const std::string folder = GoldenData("obb/perfect").string();
+  EXPECT_EQ(
+      testing::RunLsds("evaluate " + C() + " --format dota -q --predictions " + folder).exit_code,
+      2);
+  EXPECT_EQ(testing::RunLsds("evaluate " + C() +
+                             " --iou-type obb --fail-under AP=0.5 -q "
+                             "--format dota --predictions " +
+                             folder)
+                .exit_code,
+            2);
+}
+
+}  // namespace
+}  // namespace lsds::evaluate

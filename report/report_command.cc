@@ -9,6 +9,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
+#include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 #include "report/bundle_section.h"
 #include "report/evaluation_section.h"
@@ -114,7 +115,7 @@ int RunReport(int argc, char** argv) {
     ReadJsonSections(bundle_stats, evaluation, &options);
     if (!validation_report.empty()) {
       options.validation =
-          report::ParseValidationReport(ReadFile(validation_report), validation_report);
+          report::ParseValidationReport(ReadTextFile(validation_report), validation_report);
     } else if (validate) {
       validate::ValidateOptions validate_options;
       validate_options.progress = true;

@@ -9,6 +9,7 @@
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/object_truth.h"
 #include "libs/collection/worldposition_layout.h"
+#include "libs/exr/encoder_settings.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -70,9 +71,9 @@ std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
   for (const ObjectIdentity& target : source_frame.targets) {
     const auto mask = masks.find(target.instance_id);
     UnoccludedCounter count_unoccluded;
-    if (ids.ids != nullptr)
+    if (ids.ids != nullptr && target.obb)
       count_unoccluded = [&](const Box2d& bounds) {
-        return CountObbPixels(target.obb, camera, cam_from_world, bounds);
+        return CountObbPixels(*target.obb, camera, cam_from_world, bounds);
       };
     std::optional<ObjectTruth> object =
         MeasureObjectTruth(target,
@@ -86,6 +87,7 @@ std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
     if (stated != source_frame.stated.end()) {
       if (ids.ids == nullptr && stated->second.bbox) object->bbox = stated->second.bbox;
       if (stated->second.visibility) object->visibility = *stated->second.visibility;
+      if (stated->second.in_frame) object->in_frame = *stated->second.in_frame;
     }
     objects.push_back(std::move(*object));
   }
@@ -149,11 +151,20 @@ ImportResult ImportCollection(const std::string& format,
                               {"source_conventions", description.source_conventions},
                               {"truth_origin", origin}};
   header.classes = description.classes;
-  for (const std::string& semantic : semantics)
-    header.layers.push_back(StandardLayer(semantic, description.depth_kind));
+  for (const std::string& semantic : semantics) {
+    LayerInfo layer = StandardLayer(semantic, description.depth_kind);
+    // The derived worldposition is the residual layout's own prediction from the depth: stored
+    // as residuals it is all 0, which costs next to nothing to compress (zip), where the float
+    // layout compresses three channels of full floats (bench/README.md, bench_import).
+    if (semantic == "worldposition" && has_depth) layer.flat_layout = FlatLayout::kResidual;
+    header.layers.push_back(layer);
+  }
   header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = description.frame_count;
 
+  // The generator's encoding (zlib level 1, every core compressing one file's chunks): most of
+  // an import's time is compressing the layers it writes (bench/README.md, bench_import).
+  exr::SetEncoderSettings(1, 0);
   AtomicDirectory out(output, force);
   const fs::path& root = out.temp_path();
   for (const LayerInfo& layer : header.layers) fs::create_directories(root / layer.name);

@@ -94,22 +94,6 @@ std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
   return objects;
 }
 
-// The layer table of the imported semantics. The derived worldposition is the residual layout's
-// own prediction from the depth: stored as residuals it is all 0, which costs next to nothing to
-// compress (zip), where the float layout compresses three channels of full floats
-// (bench/README.md, bench_import).
-std::vector<LayerInfo> ImportedLayers(const std::vector<std::string>& semantics,
-                                      DepthKind depth_kind,
-                                      bool has_depth) {
-  std::vector<LayerInfo> layers;
-  for (const std::string& semantic : semantics) {
-    LayerInfo layer = StandardLayer(semantic, depth_kind);
-    if (semantic == "worldposition" && has_depth) layer.flat_layout = FlatLayout::kResidual;
-    layers.push_back(layer);
-  }
-  return layers;
-}
-
 }  // namespace
 
 ImportResult ImportCollection(const std::string& format,
@@ -167,13 +151,12 @@ ImportResult ImportCollection(const std::string& format,
                               {"source_conventions", description.source_conventions},
                               {"truth_origin", origin}};
   header.classes = description.classes;
-  header.layers = ImportedLayers(semantics, description.depth_kind, has_depth);
+  for (const std::string& semantic : semantics)
+    header.layers.push_back(StandardLayer(semantic, description.depth_kind));
   header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = description.frame_count;
 
-  // The generator's encoding (zlib level 1, every core compressing one file's chunks): most of
-  // an import's time is compressing the layers it writes (bench/README.md, bench_import).
-  exr::SetEncoderSettings(1, 0);
+  exr::SetEncoderSettings(1, 0);  // as lsds generate encodes (bench/README.md, bench_import)
   AtomicDirectory out(output, force);
   const fs::path& root = out.temp_path();
   for (const LayerInfo& layer : header.layers) fs::create_directories(root / layer.name);

@@ -119,8 +119,7 @@ TEST_F(AirSimImportTest, TruthEqualsTheAnalyticScene) {
     EXPECT_EQ(read("classid").Get("id").uints, truth.flat.at("classid").Get("id").uints);
     // Depth in metres, float to float: exact; the PFM's top row is row 0.
     EXPECT_EQ(read("depth").Get("Z").floats, truth.flat.at("depth").Get("Z").floats);
-    // Stored as residuals from the depth (all 0: derived by the layout's own rule); read as X, Y,
-    // Z.
+    // Read through the collection's reader: X, Y, Z whatever the layer's layout.
     const exr::FlatImage position = reader.ReadFlatLayer(frame, "worldposition", {"X", "Y", "Z"});
     const exr::FlatImage& want = truth.flat.at("worldposition");
     const std::vector<float>& depth = truth.flat.at("depth").Get("Z").floats;

@@ -137,8 +137,7 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
     EXPECT_EQ(read("classid").Get("id").uints, truth.flat.at("classid").Get("id").uints);
     const std::vector<float> depth = read("depth").Get("Z").floats;
     const std::vector<float>& want_depth = truth.flat.at("depth").Get("Z").floats;
-    // Stored as residuals from the depth (all 0: derived by the layout's own rule); read as X, Y,
-    // Z.
+    // Read through the collection's reader: X, Y, Z whatever the layer's layout.
     const exr::FlatImage position = reader.ReadFlatLayer(frame, "worldposition", {"X", "Y", "Z"});
     const exr::FlatImage& want_position = truth.flat.at("worldposition");
     int sky = 0;

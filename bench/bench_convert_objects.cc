@@ -65,8 +65,9 @@ fs::path BuildCollection(const fs::path& work, int64_t count) {
     object.visible_pixels = 1;
     object.visibility = 1;
     object.in_frame = 1;
-    object.obb.center = {x, y, 0};
-    object.obb.half_extents = {0.5, 0.5, 0.5};
+    object.obb.emplace();
+    object.obb->center = {x, y, 0};
+    object.obb->half_extents = {0.5, 0.5, 0.5};
     id[k] = object.instance_id;
     frame.objects.push_back(std::move(object));
   }

@@ -51,8 +51,9 @@ void WriteCollection(const fs::path& root, int frames) {
       ObjectTruth object;
       object.instance_id = o + 1;
       object.class_id = 1;
-      object.obb.center = {0.5 * k + 30.0 + 5 * o, -5.0 + 5 * o, 1.0};
-      object.obb.half_extents = {2.0, 1.0, 1.0};
+      object.obb.emplace();
+      object.obb->center = {0.5 * k + 30.0 + 5 * o, -5.0 + 5 * o, 1.0};
+      object.obb->half_extents = {2.0, 1.0, 1.0};
       object.in_frame = 1.0;
       object.visibility = 1.0;
       object.visible_pixels = 100;

@@ -107,8 +107,9 @@ void ReadFrameFacts(const TruthOptions& options,
     const Eigen::Matrix3d& r = frame.camera.cam_from_world_rotation;
     const Eigen::Vector3d centre = -(r.transpose() * frame.camera.cam_from_world_translation);
     for (const ObjectTruth& object : frame.objects) {
+      if (!object.obb) continue;  // no 3D box: no distance (its bins say "unknown")
       (*distances)[{frame.index, object.instance_id}] =
-          world.metres_per_unit * (object.obb.center - centre).norm();
+          world.metres_per_unit * (object.obb->center - centre).norm();
     }
   });
   const fs::path metadata = options.collection / kMetadataFile;

@@ -11,8 +11,6 @@
 #include <optional>
 #include <thread>
 
-#include <OpenEXR/ImfCompression.h>
-#include <OpenEXR/ImfThreading.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
@@ -35,6 +33,7 @@
 #include "libs/collection/json_io.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/deep_image.h"
+#include "libs/exr/encoder_settings.h"
 #include "libs/exr/exr_info.h"
 #include "libs/exr/flat_image.h"
 #include "libs/util/atomic_file.h"
@@ -757,14 +756,10 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& give
     options.blender_version = BlenderVersion(options.blender);
   }
   const ThreadLimit thread_limit(options.threads);
-  Imf::setDefaultZipCompressionLevel(options.zip_level);
   // OpenEXR's thread pool compresses the chunks of one file in parallel: the
   // deep bundle, the longest file, no longer encodes on one core
-  // (bench_exr_compression). Chunks are written in order: the bytes do not
-  // depend on the thread count.
-  Imf::setGlobalThreadCount(options.threads > 0
-                                ? options.threads
-                                : static_cast<int>(std::thread::hardware_concurrency()));
+  // (bench_exr_compression).
+  exr::SetEncoderSettings(options.zip_level, options.threads);
   // Validate the whole plan before touching the output.
   const SceneAssets assets = BuildSceneAssets(plan);
   const Sky plan_sky(plan);  // throws for a bad sky before any output

@@ -9,6 +9,7 @@
 #include "libs/collection/collection_builder.h"
 #include "libs/collection/object_truth.h"
 #include "libs/collection/worldposition_layout.h"
+#include "libs/exr/encoder_settings.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -70,9 +71,9 @@ std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
   for (const ObjectIdentity& target : source_frame.targets) {
     const auto mask = masks.find(target.instance_id);
     UnoccludedCounter count_unoccluded;
-    if (ids.ids != nullptr)
+    if (ids.ids != nullptr && target.obb)
       count_unoccluded = [&](const Box2d& bounds) {
-        return CountObbPixels(target.obb, camera, cam_from_world, bounds);
+        return CountObbPixels(*target.obb, camera, cam_from_world, bounds);
       };
     std::optional<ObjectTruth> object =
         MeasureObjectTruth(target,
@@ -86,6 +87,7 @@ std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
     if (stated != source_frame.stated.end()) {
       if (ids.ids == nullptr && stated->second.bbox) object->bbox = stated->second.bbox;
       if (stated->second.visibility) object->visibility = *stated->second.visibility;
+      if (stated->second.in_frame) object->in_frame = *stated->second.in_frame;
     }
     objects.push_back(std::move(*object));
   }
@@ -154,6 +156,7 @@ ImportResult ImportCollection(const std::string& format,
   header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = description.frame_count;
 
+  exr::SetEncoderSettings(1, 0);  // as lsds generate encodes (bench/README.md, bench_import)
   AtomicDirectory out(output, force);
   const fs::path& root = out.temp_path();
   for (const LayerInfo& layer : header.layers) fs::create_directories(root / layer.name);

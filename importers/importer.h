@@ -72,12 +72,14 @@ struct SourceFrame {
   // it is near the image.
   std::vector<ObjectIdentity> targets;
   // Per-object truth the source states itself, by instance id: its
-  // visibility (BOP's visib_fract, Replicator's 1 - occlusionRatio) replaces
-  // the derived one; its 2D box (Replicator's bounding_box_2d_tight) is used
-  // for frames with no instanceid layer to measure one on.
+  // visibility (BOP's visib_fract, Replicator's 1 - occlusionRatio, SOLO's
+  // OcclusionMetric) and in-frame share (SOLO's) replace the derived ones; its
+  // 2D box (Replicator's bounding_box_2d_tight) is used for frames with no
+  // instanceid layer to measure one on.
   struct StatedTruth {
     std::optional<Box2d> bbox;  // pixel-edge, visible pixels
     std::optional<double> visibility;
+    std::optional<double> in_frame;
   };
   std::map<uint32_t, StatedTruth> stated;
 };

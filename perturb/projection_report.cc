@@ -33,9 +33,9 @@ FrameDisplacement MeasureDisplacement(const Frame& frame,
   const PinholeCamera& true_camera = frame.camera.intrinsics;
   const PinholeCamera& measured_camera = measured.camera;
   for (const ObjectTruth& object : frame.objects) {
-    if (!(object.in_frame > 0)) continue;
+    if (!(object.in_frame > 0) || !object.obb) continue;  // no 3D box: no corners to project
     ++result.targets;
-    for (const Eigen::Vector3d& corner_in_world : object.obb.Corners()) {
+    for (const Eigen::Vector3d& corner_in_world : object.obb->Corners()) {
       const Eigen::Vector3d corner_in_enu = world.EnuMetresFromWorld(corner_in_world);
       const Eigen::Vector3d in_true_cam = true_cam_from_enu * corner_in_enu;
       const Eigen::Vector3d in_measured_cam = measured_cam_from_enu * corner_in_enu;

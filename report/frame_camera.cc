@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace lsds::report {
 
@@ -59,7 +60,8 @@ FrameCamera ComputeFrameCamera(const CollectionHeader& header,
 double ObjectDistanceM(const CollectionHeader& header,
                        const FrameCamera& camera,
                        const ObjectTruth& object) {
-  return (header.conventions.world.EnuMetresFromWorld(object.obb.center) - camera.center_in_enu)
+  if (!object.obb) return std::numeric_limits<double>::quiet_NaN();
+  return (header.conventions.world.EnuMetresFromWorld(object.obb->center) - camera.center_in_enu)
       .norm();
 }
 

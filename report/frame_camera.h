@@ -35,7 +35,8 @@ FrameCamera ComputeFrameCamera(const CollectionHeader& header,
                                const exr::FlatImage* depth,
                                std::optional<DepthKind> depth_kind);
 
-// Distance in metres from the camera centre to the centre of an object's OBB.
+// Distance in metres from the camera centre to the centre of an object's OBB;
+// NaN for an object without one (shown as n/a, left out of histograms).
 double ObjectDistanceM(const CollectionHeader& header,
                        const FrameCamera& camera,
                        const ObjectTruth& object);

@@ -44,11 +44,11 @@ MovedBoxes MovedSincePrevious(const FrameInput& input) {
   MovedBoxes moved;
   for (const ObjectTruth& o : input.frame.objects) {
     const auto before = input.previous_boxes.find(o.instance_id);
-    if (before == input.previous_boxes.end()) continue;
+    if (!o.obb || before == input.previous_boxes.end()) continue;
     const OrientedBox& b = before->second;
-    if (b.center != o.obb.center || b.half_extents != o.obb.half_extents ||
-        b.world_from_box != o.obb.world_from_box)
-      moved[o.instance_id] = {o.obb, b};
+    if (b.center != o.obb->center || b.half_extents != o.obb->half_extents ||
+        b.world_from_box != o.obb->world_from_box)
+      moved[o.instance_id] = {*o.obb, b};
   }
   return moved;
 }
@@ -97,7 +97,7 @@ void FrameChecker::CheckObjects() {
       CheckOrientedBoxes(
           object, pointer, who, ids ? masks[object.instance_id].extent : InstanceMask{});
     }
-    if (object.bbox && can_project && Selected("cross.obb-contains-bbox")) {
+    if (object.bbox && object.obb && can_project && Selected("cross.obb-contains-bbox")) {
       CheckObbContainsBbox(object, pointer, who, cam_from_world);
     }
   }
@@ -175,7 +175,7 @@ void FrameChecker::CheckObbContainsBbox(const ObjectTruth& object,
                                         const std::string& pointer,
                                         const std::string& who,
                                         const Rigid3d& cam_from_world) {
-  const auto projected = ProjectedBounds(object.obb, frame_.camera.intrinsics, cam_from_world);
+  const auto projected = ProjectedBounds(*object.obb, frame_.camera.intrinsics, cam_from_world);
   const Box2d clipped = projected ? projected->ClippedTo(width_, height_) : Box2d{};
   if (!projected || !clipped.Contains(*object.bbox, 1.0)) {
     Emit("cross.obb-contains-bbox",

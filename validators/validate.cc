@@ -551,7 +551,8 @@ void Validator::StreamFrames() {
         PreviousFrame& remembered = previous_by_camera_[stream];
         remembered.frame = frame;
         remembered.boxes.clear();
-        for (const ObjectTruth& o : frame.objects) remembered.boxes[o.instance_id] = o.obb;
+        for (const ObjectTruth& o : frame.objects)
+          if (o.obb) remembered.boxes[o.instance_id] = *o.obb;
         remembered.frame.objects.clear();
         remembered.frame.files.clear();
         if (!owned) return;  // another shard decodes its layers

@@ -91,11 +91,11 @@ class CocoConverter : public Converter {
           {"visible_pixels", truth.visible_pixels},
           {"visibility", truth.visibility},
           {"in_frame", truth.in_frame},
-          {"bbox_projected", truth.bbox_projected ? BoxJson(*truth.bbox_projected) : json()},
-          {"obb",
-           {{"center", Vector3ToJson(truth.obb.center)},
-            {"half_extents", Vector3ToJson(truth.obb.half_extents)},
-            {"world_from_box", Matrix3ToJson(truth.obb.world_from_box)}}}};
+          {"bbox_projected", truth.bbox_projected ? BoxJson(*truth.bbox_projected) : json()}};
+      if (truth.obb)
+        a["lsds"]["obb"] = {{"center", Vector3ToJson(truth.obb->center)},
+                            {"half_extents", Vector3ToJson(truth.obb->half_extents)},
+                            {"world_from_box", Matrix3ToJson(truth.obb->world_from_box)}};
       std::string text = a.dump();
       piece->annotations.push_back(text.substr(1));  // without the leading "{"
     }

@@ -201,9 +201,10 @@ FrameMeasure MeasureTruth(const Plan& plan,
   FrameMeasure m;
   m.frame = FrameMeasures(plan, frame);
   for (const ObjectTruth& o : objects) {
+    if (!o.obb) continue;  // the generator's objects all have a 3D box
     TargetMeasure t;
     t.object = o.name;
-    t.values = GeometricMeasures(o.obb, frame.camera, frame.cam_from_world);
+    t.values = GeometricMeasures(*o.obb, frame.camera, frame.cam_from_world);
     t.values["class"] = o.class_id;
     t.values["in_frame"] = o.in_frame;
     t.values["visibility"] = o.visibility;

@@ -118,8 +118,8 @@ std::vector<ObjectTruth> ComputeObjectTruth(const RenderScene& scene,
     if (!t) continue;  // nowhere near the image
     t->material = o.material;
     t->velocity = o.velocity;
-    t->transmittance = std::exp(-extinction_per_m *
-                                (t->obb.center - CameraCenterInWorld(frame.cam_from_world)).norm());
+    t->transmittance = std::exp(
+        -extinction_per_m * (o.Box().center - CameraCenterInWorld(frame.cam_from_world)).norm());
     truths.push_back(std::move(*t));
   }
   return truths;

@@ -49,14 +49,29 @@ std::optional<DepthKind> AskedDepthType(const json& sidecar, const std::string& 
   throw Error("'depth' must be DepthPlanar or DepthPerspective", Location(file, "/depth"));
 }
 
+const char* ImageTypeName(int image_type) {
+  switch (image_type) {
+    case 1:
+      return "DepthPlanar (type 1)";
+    case 2:
+      return "DepthPerspective (type 2)";
+    case 5:
+      return "Segmentation (type 5)";
+    default:
+      return "Scene (type 0)";
+  }
+}
+
 }  // namespace
 
 Rigid3d CamFromEnuOfAirSim(const Eigen::Vector3d& vehicle_in_ned,
                            const Eigen::Quaterniond& ned_from_body,
-                           const AirSimMount& mount) {
+                           const AirSimMount& mount,
+                           const AirSimGimbal& gimbal) {
   const Eigen::Matrix3d ned_from_body_m = ned_from_body.toRotationMatrix();
-  const Eigen::Matrix3d enu_from_cam =
-      Ned().enu_from_frame * ned_from_body_m * mount.BodyFromCamera() * FrdFromOpenCv();
+  const Eigen::Matrix3d enu_from_cam = Ned().enu_from_frame *
+                                       gimbal.Held(ned_from_body_m * mount.BodyFromCamera()) *
+                                       FrdFromOpenCv();
   const Eigen::Vector3d centre =
       Ned().EnuMetresFromWorld(vehicle_in_ned + ned_from_body_m * mount.position_in_body);
   const Eigen::Quaterniond cam_from_enu(Eigen::Matrix3d(enu_from_cam.transpose()));
@@ -144,16 +159,31 @@ void AirSimImporter::ReadObjects(const fs::path& path) {
                     Location(file, where + "/obb/rotation"));
       const json& c = obb.at("center");
       const json& h = obb.at("half_extents");
-      target.obb.center = Ned().EnuMetresFromWorld(
+      OrientedBox& box = target.obb.emplace();
+      box.center = Ned().EnuMetresFromWorld(
           {c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>()});
       // NED and ENU are both right-handed: the box axes map as they are.
-      target.obb.world_from_box = Ned().enu_from_frame * ned_from_box;
-      target.obb.half_extents = {
-          h.at(0).get<double>(), h.at(1).get<double>(), h.at(2).get<double>()};
+      box.world_from_box = Ned().enu_from_frame * ned_from_box;
+      box.half_extents = {h.at(0).get<double>(), h.at(1).get<double>(), h.at(2).get<double>()};
       targets_.push_back(target);
     }
     return 0;
   });
+}
+
+bool AirSimImporter::SharesSceneCapture(int image_type) {
+  const AirSimCapture scene = camera_settings_.CaptureOf(0);
+  const AirSimCapture own = camera_settings_.CaptureOf(image_type);
+  if (own == scene) return true;
+  auto text = [](const AirSimCapture& c) {
+    return std::to_string(c.width) + "x" + std::to_string(c.height) + " at " +
+           FormatNumber(c.fov_deg) + " degrees";
+  };
+  warnings_.push_back("the " + std::string(ImageTypeName(image_type)) +
+                      " images are not read: settings.json gives them a capture of their own (" +
+                      text(own) + ", the Scene's " + text(scene) +
+                      "), whose pixels are not the Scene image's");
+  return false;
 }
 
 void AirSimImporter::ReadSettings(const fs::path& path) {
@@ -166,6 +196,13 @@ void AirSimImporter::ReadSettings(const fs::path& path) {
   camera_settings_ = ResolveAirSimCamera(
       root, path.empty() ? std::string("settings.json") : path.string(), vehicle_, camera_);
   if (path.empty()) camera_settings_.capture_origin = "AirSim's defaults (no settings.json)";
+  const double s = camera_settings_.gimbal.stabilization;
+  if (s > 0 && s < 1)
+    warnings_.push_back(
+        "the camera's Gimbal has Stabilization " + FormatNumber(s) +
+        ": AirSim moves the held angles there tick by tick (held * s + current * (1 - s)), "
+        "reaching them when the vehicle is at rest; the camera poses are the held ones (the lag "
+        "while the vehicle turns is not recorded)");
 }
 
 namespace {
@@ -334,6 +371,10 @@ void AirSimImporter::ReadRecord(const fs::path& source) {
         warnings_.push_back(
             "the Segmentation (type 5) images are not read: without lsds_objects.json their "
             "colours name no object");
+      // A capture of its own size or FOV is another camera than the Scene's, whose pixels are
+      // not the frame's: not read.
+      has_depth_ = has_depth_ && SharesSceneCapture(depth_kind_ == DepthKind::kPlanar ? 1 : 2);
+      has_segmentation_ = has_segmentation_ && SharesSceneCapture(5);
     }
     const char* depth_name =
         depth_kind_ == DepthKind::kPlanar ? "DepthPlanar (type 1)" : "DepthPerspective (type 2)";
@@ -394,7 +435,9 @@ SourceDescription AirSimImporter::Open(const fs::path& source, const ImportOptio
       {"length_unit", "m"},
       {"vehicle", vehicle_},
       {"camera", camera_},
-      {"pose", "vehicle body (FRD) in NED + camera mount (" + camera_settings_.mount_origin + ")"},
+      {"pose",
+       "vehicle body (FRD) in NED + camera mount (" + camera_settings_.mount_origin + ")" +
+           (camera_settings_.gimbal.stabilization > 0 ? " + the Gimbal's held angles" : "")},
       {"capture", camera_settings_.capture_origin},
       {"converted_to", "ENU m"}};
   if (has_depth_) {
@@ -415,8 +458,8 @@ SourceFrame AirSimImporter::ReadFrame(int64_t index) {
   const int width = camera_settings_.width, height = camera_settings_.height;
   frame.camera.intrinsics =
       PinholeCamera::FromHorizontalFov(width, height, camera_settings_.fov_deg);
-  const Rigid3d cam_from_world =
-      CamFromEnuOfAirSim(row.position, row.orientation, camera_settings_.mount);
+  const Rigid3d cam_from_world = CamFromEnuOfAirSim(
+      row.position, row.orientation, camera_settings_.mount, camera_settings_.gimbal);
   SetCamFromWorld(cam_from_world, &frame.camera);
 
   const cv::Mat scene = ReadScenePng(row.scene);

@@ -26,10 +26,12 @@
 namespace lsds::import {
 
 // The OpenCV cam_from_world pose (ENU metres) of the camera on a vehicle at
-// `vehicle_in_ned` with orientation `ned_from_body`, and back.
+// `vehicle_in_ned` with orientation `ned_from_body`, its world rotation held by
+// `gimbal` where it has one, and back (without a gimbal).
 Rigid3d CamFromEnuOfAirSim(const Eigen::Vector3d& vehicle_in_ned,
                            const Eigen::Quaterniond& ned_from_body,
-                           const AirSimMount& mount);
+                           const AirSimMount& mount,
+                           const AirSimGimbal& gimbal = {});
 void AirSimVehicleOfCamFromEnu(const Rigid3d& cam_from_enu,
                                const AirSimMount& mount,
                                Eigen::Vector3d* vehicle_in_ned,
@@ -61,6 +63,9 @@ class AirSimImporter : public Importer {
   void ReadDepth(const std::filesystem::path& path, int64_t index, SourceFrame* frame) const;
   void ReadSegmentation(const std::filesystem::path& path, SourceFrame* frame) const;
   cv::Mat ReadScenePng(const std::filesystem::path& path) const;
+  // Whether `image_type` has the Scene's capture (size and FOV); else a warning says it is not
+  // read.
+  bool SharesSceneCapture(int image_type);
 
   std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::filesystem::path rec_file_;

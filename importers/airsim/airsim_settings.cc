@@ -1,5 +1,6 @@
 #include "importers/airsim/airsim_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -101,41 +102,96 @@ PoseKeys ReadPose(const json& camera,
   return pose;
 }
 
-// loadCaptureSettings: an entry replaces the capture of its ImageType with a
-// fresh CaptureSetting (defaults 256 x 144, FOV unset), so the Scene capture
-// of CameraDefaults is not merged key by key into a camera's own entry.
-std::optional<Capture> ReadSceneCapture(const json& camera,
-                                        const std::string& file,
-                                        const std::string& where) {
-  if (!camera.contains("CaptureSettings")) return std::nullopt;
+// loadCaptureSettings (AirSimSettings.hpp 721-737): each entry replaces the
+// capture of its ImageType with a fresh CaptureSetting (defaults 256 x 144,
+// FOV unset), so a capture of CameraDefaults is not merged key by key into a
+// camera's own entry of the same type; types the entry does not list keep
+// theirs.
+void ReadCaptures(const json& camera,
+                  const std::string& file,
+                  const std::string& where,
+                  std::map<int, Capture>* by_type) {
+  if (!camera.contains("CaptureSettings")) return;
   const json& captures = camera.at("CaptureSettings");
   if (!captures.is_array())
     throw Error("'CaptureSettings' must be an array", Location(file, where + "/CaptureSettings"));
-  std::optional<Capture> scene;
   for (size_t i = 0; i < captures.size(); ++i) {
     const json& entry = captures.at(i);
     const std::string at = where + "/CaptureSettings/" + std::to_string(i);
     if (!entry.is_object()) throw Error("expected an object", Location(file, at));
-    if (IntegerAt<int64_t>(entry.value("ImageType", json(0)), file, at + "/ImageType") != 0)
-      continue;  // only the Scene (type 0) capture sets the camera
+    const int type = IntegerAt<int>(entry.value("ImageType", json(0)), file, at + "/ImageType");
     Capture capture;
     capture.width =
         IntegerAt<int>(entry.value("Width", json(capture.width)), file, at + "/Width", 1);
     capture.height =
         IntegerAt<int>(entry.value("Height", json(capture.height)), file, at + "/Height", 1);
     capture.fov_deg = NumberAt(entry, "FOV_Degrees", capture.fov_deg, file, at);
-    scene = capture;
+    if (!std::isnan(capture.fov_deg) && !(capture.fov_deg > 0 && capture.fov_deg < 180))
+      throw Error("FOV_Degrees must be in (0, 180)", Location(file, at + "/FOV_Degrees"));
+    (*by_type)[type] = capture;
   }
-  return scene;
+}
+
+// createGimbalSetting (AirSimSettings.hpp 1033-1040): a `Gimbal` object
+// replaces the whole gimbal, Stabilization 0 and angles unset unless listed.
+std::optional<AirSimGimbal> ReadGimbal(const json& camera,
+                                       const std::string& file,
+                                       const std::string& where) {
+  if (!camera.contains("Gimbal")) return std::nullopt;
+  const json& entry = camera.at("Gimbal");
+  const std::string at = where + "/Gimbal";
+  if (!entry.is_object()) throw Error("expected an object", Location(file, at));
+  AirSimGimbal gimbal;
+  gimbal.stabilization = NumberAt(entry, "Stabilization", 0, file, at);
+  gimbal.roll = NumberAt(entry, "Roll", kNaN, file, at);
+  gimbal.pitch = NumberAt(entry, "Pitch", kNaN, file, at);
+  gimbal.yaw = NumberAt(entry, "Yaw", kNaN, file, at);
+  // APIPCamera::setupCameraFromSettings clips it to [0, 1].
+  gimbal.stabilization = std::clamp(gimbal.stabilization, 0.0, 1.0);
+  return gimbal;
+}
+
+}  // namespace
+
+namespace {
+
+Eigen::Matrix3d RotationOfYawPitchRoll(double yaw, double pitch, double roll) {
+  return (Eigen::AngleAxisd(Rad(yaw), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(Rad(pitch), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(Rad(roll), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
 }
 
 }  // namespace
 
 Eigen::Matrix3d AirSimMount::BodyFromCamera() const {
-  return (Eigen::AngleAxisd(Rad(yaw), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(Rad(pitch), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(Rad(roll), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
+  return RotationOfYawPitchRoll(yaw, pitch, roll);
+}
+
+Eigen::Matrix3d AirSimGimbal::Held(const Eigen::Matrix3d& ned_from_camera) const {
+  if (!(stabilization > 0)) return ned_from_camera;
+  // The Euler angles of Rz(yaw) Ry(pitch) Rx(roll), as Unreal's FRotator
+  // decomposes a rotation (pitch in [-90, 90]).
+  const Eigen::Matrix3d& r = ned_from_camera;
+  const double deg = 180.0 / kPi;
+  const double current_pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0)) * deg;
+  double current_yaw = std::atan2(r(1, 0), r(0, 0)) * deg;
+  double current_roll = std::atan2(r(2, 1), r(2, 2)) * deg;
+  if (std::abs(r(2, 0)) > 1 - 1e-12) {
+    // Looking straight up or down: yaw and roll turn about the same axis;
+    // all of it is counted as yaw (any split recomposes to the same rotation;
+    // it matters only for a gimbal holding one of yaw and roll, not both).
+    current_yaw = std::atan2(-r(0, 1), r(1, 1)) * deg;
+    current_roll = 0;
+  }
+  auto held = [](double angle, double current) { return std::isnan(angle) ? current : angle; };
+  return RotationOfYawPitchRoll(
+      held(yaw, current_yaw), held(pitch, current_pitch), held(roll, current_roll));
+}
+
+AirSimCapture AirSimCamera::CaptureOf(int image_type) const {
+  const auto found = captures.find(image_type);
+  return found == captures.end() ? AirSimCapture{} : found->second;
 }
 
 AirSimCamera ResolveAirSimCamera(const json& settings,
@@ -159,17 +215,17 @@ AirSimCamera ResolveAirSimCamera(const json& settings,
 
   // CameraDefaults (loadDefaultCameraSetting -> createCameraSetting).
   PoseKeys defaults_pose;
-  Capture defaults_capture;
+  std::map<int, Capture> captures;
+  AirSimCamera result;
   if (settings.contains("CameraDefaults")) {
     const json& defaults = settings.at("CameraDefaults");
     if (!defaults.is_object()) throw Error("expected an object", Location(file, "/CameraDefaults"));
     defaults_pose = ReadPose(defaults, defaults_pose, file, "/CameraDefaults");
-    if (auto scene = ReadSceneCapture(defaults, file, "/CameraDefaults")) defaults_capture = *scene;
+    ReadCaptures(defaults, file, "/CameraDefaults", &captures);
+    if (auto gimbal = ReadGimbal(defaults, file, "/CameraDefaults")) result.gimbal = *gimbal;
   }
 
-  AirSimCamera result;
   PoseKeys pose;
-  Capture capture = defaults_capture;
   const json& cameras =
       vehicle_settings.contains("Cameras") ? vehicle_settings.at("Cameras") : none;
   const std::string camera_at = vehicle_at + "/Cameras/" + camera;
@@ -178,13 +234,16 @@ AirSimCamera ResolveAirSimCamera(const json& settings,
     // (PawnSimApi::createCamerasFromSettings): its keys over CameraDefaults'.
     const json& entry = cameras.at(camera);
     if (!entry.is_object()) throw Error("expected an object", Location(file, camera_at));
+    // createCameraSetting starts from a copy of CameraDefaults: its captures and gimbal stay
+    // unless the camera lists its own.
     pose = ReadPose(entry, defaults_pose, file, camera_at);
-    if (auto scene = ReadSceneCapture(entry, file, camera_at)) capture = *scene;
+    ReadCaptures(entry, file, camera_at, &captures);
+    if (auto gimbal = ReadGimbal(entry, file, camera_at)) result.gimbal = *gimbal;
     result.mount_origin = "settings.json " + camera_at + " over /CameraDefaults";
     result.capture_origin = result.mount_origin;
   } else if (pawn) {
     // The pawn's own camera keeps its mount: APIPCamera::setupCameraFromSettings
-    // applies CameraDefaults' captures but not its position or rotation.
+    // applies CameraDefaults' captures and gimbal but not its position or rotation.
     pose = *pawn;
     result.mount_origin = "the pawn's own camera";
     result.capture_origin = "settings.json /CameraDefaults";
@@ -201,11 +260,12 @@ AirSimCamera ResolveAirSimCamera(const json& settings,
   result.mount.roll = kept(pose.roll, base.roll);
   result.mount.pitch = kept(pose.pitch, base.pitch);
   result.mount.yaw = kept(pose.yaw, base.yaw);
-  result.width = capture.width;
-  result.height = capture.height;
-  result.fov_deg = kept(capture.fov_deg, 90.0);
-  if (!(result.fov_deg > 0 && result.fov_deg < 180))
-    throw Error("FOV_Degrees must be in (0, 180)", Location(file, camera_at));
+  for (const auto& [image_type, capture] : captures)
+    result.captures[image_type] = {capture.width, capture.height, kept(capture.fov_deg, 90.0)};
+  const AirSimCapture scene = result.CaptureOf(0);
+  result.width = scene.width;
+  result.height = scene.height;
+  result.fov_deg = scene.fov_deg;
   return result;
 }
 

@@ -217,7 +217,7 @@ void ResolveClaimsByDepth(const std::map<size_t, std::vector<size_t>>& claims,
     size_t owner = candidates.front();
     for (const size_t g : candidates) {
       const std::optional<double> entry =
-          RayEntersBox(targets[g].obb, world_from_cam.translation, direction);
+          RayEntersBox(*targets[g].obb, world_from_cam.translation, direction);
       if (!entry) continue;
       const double miss =
           std::isfinite(measured) ? std::max(0.0, std::abs(*entry - measured) - rounding) : 0.0;
@@ -299,9 +299,10 @@ SourceFrame BopImporter::ReadFrame(int64_t index) {
     target.asset = "obj_" + Stem(obj_id);
     const Eigen::Vector3d centre_in_cam =
         r_m2c * (model->second.min_mm + 0.5 * model->second.size_mm) + t_m2c;
-    target.obb.center = (world_from_cam * centre_in_cam + centre_mm) / 1000.0;
-    target.obb.half_extents = 0.5 * model->second.size_mm / 1000.0;
-    target.obb.world_from_box = world_from_cam * r_m2c;
+    OrientedBox& obb = target.obb.emplace();
+    obb.center = (world_from_cam * centre_in_cam + centre_mm) / 1000.0;
+    obb.half_extents = 0.5 * model->second.size_mm / 1000.0;
+    obb.world_from_box = world_from_cam * r_m2c;
     frame.targets.push_back(target);
 
     const fs::path mask_path = root_->File(

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <regex>
 #include <set>
 #include <tuple>
@@ -115,7 +116,8 @@ std::map<uint32_t, std::string> ReadLabelDefinitions(const ConfinedFolder& root,
 }
 
 // What the frames use, read before the import: the label ids of the RGB capture's instances
-// and 3D boxes, and the 2D boxes with no 3D box of the same instance, counted by label name.
+// and 2D and 3D boxes, and the 2D boxes with no 3D box of the same instance, counted by label
+// name.
 struct LabelUse {
   std::set<uint32_t> used;
   std::map<std::string, int64_t> boxes_2d_only;
@@ -167,6 +169,7 @@ LabelUse ScanLabelUse(const std::vector<fs::path>& step_files,
         with_3d.insert(instance);
       }
       for (const auto& [instance, label] : boxes_2d) {
+        use.used.insert(label);
         if (with_3d.count(instance)) continue;
         const auto name = labels.find(label);
         ++use.boxes_2d_only[name == labels.end() ? "label " + std::to_string(label) : name->second];
@@ -228,9 +231,9 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
   for (const auto& [label, count] : use.boxes_2d_only)
     description.warnings.push_back(
         std::to_string(count) + " BoundingBox2D box(es) of '" + label +
-        "' have no BoundingBox3D box: not objects of the collection (an object needs a 3D box); "
-        "where the instance segmentation has their pixels, they keep their ids in the instanceid "
-        "and classid layers");
+        "' have no BoundingBox3D box: objects without a 3D box (no obb, no bbox_projected); "
+        "their visibility and in_frame are the OcclusionMetric's where the frame has one, else "
+        "not measured (1)");
   // Whether there is depth, and of which kind: from the first frame.
   const json first = ParseJsonFile(steps_[0].file);
   const std::string first_file = steps_[0].file.string();
@@ -424,12 +427,65 @@ void ReadBoundingBoxes3d(const json& annotation,
     // In the camera's (Unity, left-handed) frame. Its axes, taken to ENU,
     // are a left-handed triple: negating the box's z keeps the same box.
     const Eigen::Matrix3d cam_from_box = RotationXyzw(q, file, w + "/rotation");
-    target.obb.center =
-        enu_from_unity * (geometry.world_from_unity_cam * translation + geometry.position);
-    target.obb.half_extents = 0.5 * size;
-    target.obb.world_from_box = enu_from_unity * geometry.world_from_unity_cam * cam_from_box *
-                                Eigen::Vector3d(1, 1, -1).asDiagonal();
+    OrientedBox& obb = target.obb.emplace();
+    obb.center = enu_from_unity * (geometry.world_from_unity_cam * translation + geometry.position);
+    obb.half_extents = 0.5 * size;
+    obb.world_from_box = enu_from_unity * geometry.world_from_unity_cam * cam_from_box *
+                         Eigen::Vector3d(1, 1, -1).asDiagonal();
     frame->targets.push_back(target);
+  }
+}
+
+// The objects with a 2D box and no 3D box (BoundingBox2DAnnotation's values whose instance no
+// BoundingBox3DAnnotation value has): targets without an OBB, measured on the instance mask.
+void ReadBoxes2dOnly(const json& annotation,
+                     const std::string& where,
+                     const std::string& file,
+                     const std::vector<uint32_t>& class_ids,
+                     SourceFrame* frame) {
+  std::set<uint32_t> with_obb;
+  for (const ObjectIdentity& target : frame->targets) with_obb.insert(target.instance_id);
+  const json& values =
+      AtPointer(file, where + "/values", [&]() -> const json& { return annotation.at("values"); });
+  for (size_t n = 0; n < values.size(); ++n) {
+    const std::string w = where + "/values/" + std::to_string(n);
+    ObjectIdentity target;
+    AtPointer(file, w, [&] {
+      target.instance_id = IdAt(values[n].at("instanceId"), file, w + "/instanceId");
+      target.class_id = IdAt(values[n].at("labelId"), file, w + "/labelId");
+      target.name =
+          values[n].value("labelName", std::string()) + "#" + std::to_string(target.instance_id);
+      return 0;
+    });
+    if (!std::binary_search(class_ids.begin(), class_ids.end(), target.class_id))
+      throw Error("labelId is not in annotation_definitions.json", Location(file, w + "/labelId"));
+    if (with_obb.insert(target.instance_id).second) frame->targets.push_back(target);
+  }
+}
+
+// The OcclusionLabeler's metric (Perception 1.0, OcclusionLabeler.cs ReportOcclusionMetrics):
+// visibilityInFrame is visible / unoccluded pixels inside the image, lsds's visibility, and
+// percentInFrame the share of the object's unoccluded pixels inside the image, its in_frame.
+void ReadOcclusionMetric(const json& data, const std::string& file, SourceFrame* frame) {
+  const json metrics = data.value("metrics", json::array());
+  for (size_t m = 0; m < metrics.size(); ++m) {
+    if (!HasType(metrics[m], "OcclusionMetric")) continue;
+    const std::string where = "/metrics/" + std::to_string(m) + "/values";
+    const json& values =
+        AtPointer(file, where, [&]() -> const json& { return metrics[m].at("values"); });
+    for (size_t n = 0; n < values.size(); ++n) {
+      const std::string w = where + "/" + std::to_string(n);
+      AtPointer(file, w, [&] {
+        const uint32_t instance = IdAt(values[n].at("instanceId"), file, w + "/instanceId");
+        const double visible = values[n].at("visibilityInFrame").get<double>();
+        const double in_frame = values[n].at("percentInFrame").get<double>();
+        if (!(visible >= 0 && visible <= 1 && in_frame >= 0 && in_frame <= 1))
+          throw Error("visibilityInFrame and percentInFrame must be in [0, 1]", Location(file, w));
+        frame->stated[instance].visibility = visible;
+        frame->stated[instance].in_frame = in_frame;
+        return 0;
+      });
+    }
   }
 }
 
@@ -503,6 +559,7 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
 
   bool have_instances = false;
   const json annotations = capture.value("annotations", json::array());
+  std::optional<size_t> boxes_2d;
   for (size_t a = 0; a < annotations.size(); ++a) {
     const json& annotation = annotations[a];
     const std::string where = at + "/annotations/" + std::to_string(a);
@@ -511,6 +568,8 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
       ReadInstanceSegmentation(annotation, where, context, class_ids_, &frame);
     } else if (HasType(annotation, "BoundingBox3DAnnotation")) {
       ReadBoundingBoxes3d(annotation, where, file, geometry, &frame);
+    } else if (HasType(annotation, "BoundingBox2DAnnotation")) {
+      boxes_2d = a;  // read once the 3D boxes are known
     } else if (HasType(annotation, "DepthAnnotation") && has_depth_) {
       ReadDepthAnnotation(annotation, where, context, &frame);
     }
@@ -518,6 +577,13 @@ SourceFrame SoloImporter::ReadFrame(int64_t index) {
   if (!have_instances)
     throw Error("no InstanceSegmentationAnnotation in the RGB capture",
                 Location(file, at + "/annotations"));
+  if (boxes_2d)
+    ReadBoxes2dOnly(annotations[*boxes_2d],
+                    at + "/annotations/" + std::to_string(*boxes_2d),
+                    file,
+                    class_ids_,
+                    &frame);
+  ReadOcclusionMetric(data, file, &frame);
   if (has_depth_ && !frame.flat.count("depth"))
     throw Error("no DepthAnnotation (the first frame has one)",
                 Location(file, at + "/annotations"));

@@ -156,16 +156,16 @@ CameraTruth CameraFromJson(const json& j) {
 json ObjectToJson(const ObjectTruth& o) {
   json j = {{"instance_id", o.instance_id},
             {"class_id", o.class_id},
-            {"obb",
-             {{"center", Vector3ToJson(o.obb.center)},
-              {"half_extents", Vector3ToJson(o.obb.half_extents)},
-              {"rotation", Matrix3ToJson(o.obb.world_from_box)}}},
             {"bbox", Box2dToJson(o.bbox)},
             {"bbox_projected", Box2dToJson(o.bbox_projected)},
             {"visible_pixels", o.visible_pixels},
             {"visibility", o.visibility},
             {"in_frame", o.in_frame}};
   if (!o.name.empty()) j["name"] = o.name;
+  if (o.obb)
+    j["obb"] = {{"center", Vector3ToJson(o.obb->center)},
+                {"half_extents", Vector3ToJson(o.obb->half_extents)},
+                {"rotation", Matrix3ToJson(o.obb->world_from_box)}};
   if (o.bbox_oriented) j["bbox_oriented"] = OrientedBox2dToJson(*o.bbox_oriented);
   if (o.bbox_oriented_projected)
     j["bbox_oriented_projected"] = OrientedBox2dToJson(*o.bbox_oriented_projected);
@@ -182,9 +182,12 @@ ObjectTruth ObjectFromJson(const json& j) {
   o.instance_id = GetInteger<uint32_t>(j, "instance_id");
   o.class_id = GetInteger<uint32_t>(j, "class_id");
   o.name = j.value("name", "");
-  o.obb.center = Vector3FromJson(j.at("obb").at("center"));
-  o.obb.half_extents = Vector3FromJson(j.at("obb").at("half_extents"));
-  o.obb.world_from_box = Matrix3FromJson(j.at("obb").at("rotation"));
+  if (j.contains("obb")) {
+    OrientedBox& obb = o.obb.emplace();
+    obb.center = Vector3FromJson(j.at("obb").at("center"));
+    obb.half_extents = Vector3FromJson(j.at("obb").at("half_extents"));
+    obb.world_from_box = Matrix3FromJson(j.at("obb").at("rotation"));
+  }
   o.bbox = Box2dFromJson(j.at("bbox"));
   o.bbox_projected =
       j.contains("bbox_projected") ? Box2dFromJson(j.at("bbox_projected")) : std::nullopt;

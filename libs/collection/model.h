@@ -127,10 +127,12 @@ struct CameraTruth {
 };
 
 struct ObjectTruth {
-  uint32_t instance_id = 0;             // > 0, the value in the instanceid layer
-  uint32_t class_id = 0;                // > 0, an id of the class table
-  std::string name;                     // e.g. "O2#3": the LSCENE symbol and its copy
-  OrientedBox obb;                      // world frame, world units
+  uint32_t instance_id = 0;  // > 0, the value in the instanceid layer
+  uint32_t class_id = 0;     // > 0, an id of the class table
+  std::string name;          // e.g. "O2#3": the LSCENE symbol and its copy
+  // World frame, world units. Format 1.2: absent for an imported object its
+  // source gives only a 2D box for (docs/format.md, "Objects without a 3D box").
+  std::optional<OrientedBox> obb;
   std::optional<Box2d> bbox;            // tight, visible: extent of the instance mask;
                                         // none when not visible
   std::optional<Box2d> bbox_projected;  // loose: bounds of the projected OBB

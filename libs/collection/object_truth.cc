@@ -45,22 +45,30 @@ std::optional<ObjectTruth> MeasureObjectTruth(const ObjectIdentity& object,
           instance_ids.ids, instance_ids.width, instance_ids.height, t.instance_id, mask->box);
     }
   }
-  if (const std::optional<Box2d> projected = ProjectedBounds(t.obb, camera, cam_from_world)) {
+  if (!t.obb) {
+    // Nothing says how much of it is hidden or outside the image: not measured.
+    if (t.visible_pixels == 0) return std::nullopt;
+    t.in_frame = 1;
+    t.visibility = 1;
+    return t;
+  }
+  const OrientedBox& obb = *t.obb;
+  if (const std::optional<Box2d> projected = ProjectedBounds(obb, camera, cam_from_world)) {
     const Box2d clipped = projected->ClippedTo(camera.width, camera.height);
     if (!clipped.empty()) t.bbox_projected = clipped;
   }
   if (!t.bbox_projected && t.visible_pixels == 0) return std::nullopt;
   t.bbox_oriented_projected =
-      MinimumAreaRectangle(ProjectedSilhouettePoints(t.obb, camera, cam_from_world));
+      MinimumAreaRectangle(ProjectedSilhouettePoints(obb, camera, cam_from_world));
   if (object.heading_in_box) {
     if (const std::optional<Eigen::Vector2d> heading = ImageDirectionAt(
-            camera, cam_from_world, t.obb.center, t.obb.world_from_box * *object.heading_in_box)) {
+            camera, cam_from_world, obb.center, obb.world_from_box * *object.heading_in_box)) {
       if (t.bbox_oriented) t.bbox_oriented = WithHeadingCornerFirst(*t.bbox_oriented, *heading);
       if (t.bbox_oriented_projected)
         t.bbox_oriented_projected = WithHeadingCornerFirst(*t.bbox_oriented_projected, *heading);
     }
   }
-  t.in_frame = InFrameFraction(t.obb, camera, cam_from_world);
+  t.in_frame = InFrameFraction(obb, camera, cam_from_world);
   int64_t unoccluded = t.visible_pixels;
   if (t.bbox_projected && count_unoccluded)
     unoccluded = std::max(unoccluded, count_unoccluded(*t.bbox_projected));

@@ -26,7 +26,9 @@ struct ObjectIdentity {
   uint32_t class_id = 0;
   std::string name;
   std::string asset;
-  OrientedBox obb;
+  // None for an object its source gives only a 2D box for (an importer's):
+  // it then gets an entry only where it has a visible pixel.
+  std::optional<OrientedBox> obb;
   // The object's front as a unit direction in the box frame (a column
   // combination of obb.world_from_box), when its kind has one: +x for the
   // generator's vehicles. None for objects with no heading (rocks, barrels,
@@ -60,6 +62,10 @@ using UnoccludedCounter = std::function<int64_t(const Box2d& bounds)>;
 // heading projected into the image at the OBB centre (canonical order when
 // the centre is behind the camera or the heading points along the line of
 // sight).
+//
+// An object without an OBB has no projected or amodal box; its in_frame and
+// visibility are not measured and are 1 where it has a visible pixel (docs/
+// format.md, "Objects without a 3D box"); a source's own figures replace them.
 std::optional<ObjectTruth> MeasureObjectTruth(const ObjectIdentity& object,
                                               const PinholeCamera& camera,
                                               const Rigid3d& cam_from_world,

@@ -178,8 +178,8 @@ TEST(BuiltinClasses, CarKeepsTheSizeThePlanAsks) {
         top ? Nadir({0, 0, 20}) : LookAt({0, -25, 0.75}, {0, 0, 0.75}, Eigen::Vector3d::UnitZ());
     const Rendered r = Render(plan);
     ASSERT_EQ(r.truth.size(), 1u);
-    EXPECT_TRUE((2 * r.truth[0].obb.half_extents).isApprox(size, 1e-12))
-        << r.truth[0].obb.half_extents.transpose();
+    EXPECT_TRUE((2 * r.truth[0].obb->half_extents).isApprox(size, 1e-12))
+        << r.truth[0].obb->half_extents.transpose();
     // The world positions of the car's pixels span its size (to a pixel).
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
     const auto& instance = Ids(r.film, "instanceid");

@@ -162,7 +162,7 @@ TEST(Render, BoxCoversItsAnalyticPixelCount) {
   ASSERT_TRUE(t.bbox && t.bbox_projected);
   EXPECT_NEAR(t.bbox->width(), side, 1.0);
   EXPECT_TRUE(t.bbox_projected->Contains(*t.bbox, 1.0));
-  EXPECT_EQ(t.obb.half_extents, Eigen::Vector3d(s / 2, s / 2, s / 2));
+  EXPECT_EQ(t.obb->half_extents, Eigen::Vector3d(s / 2, s / 2, s / 2));
 }
 
 TEST(Render, OccludedBoxHasVisibilityBelowOneAndTruncatedBoxInFrameBelowOne) {
@@ -212,9 +212,9 @@ TEST(Render, OrientedBoxesPutACarsHeadingCornerFirst) {
   }
   const ObjectTruth& c = r.truth[0].instance_id == 1 ? r.truth[0] : r.truth[1];
   const Rigid3d& cam_from_world = plan.frames[0].cam_from_world;
-  const Eigen::Vector3d ahead = c.obb.center + 1e-3 * c.obb.world_from_box.col(0);
+  const Eigen::Vector3d ahead = c.obb->center + 1e-3 * c.obb->world_from_box.col(0);
   const Eigen::Vector2d heading = (camera.ImageFromCam(cam_from_world * ahead) -
-                                   camera.ImageFromCam(cam_from_world * c.obb.center))
+                                   camera.ImageFromCam(cam_from_world * c.obb->center))
                                       .normalized();
   for (const OrientedBox2d& box : {*c.bbox_oriented, *c.bbox_oriented_projected}) {
     // The front side (corners 0 -> 1) faces the heading better than the

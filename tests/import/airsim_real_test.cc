@@ -3,6 +3,7 @@
 // pawn's cameras), and a real PX4 recording with Scene images only
 // (tests/import/data/airsim_px4, README there): accepted, valid, poses equal to
 // the recording's rows.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -252,6 +253,118 @@ TEST(AirSimPx4Recording, WithoutSettingsAirSimsDefaultsAreAssumedAndSaid) {
   reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
   ASSERT_FALSE(frames.empty());
   EXPECT_NEAR(frames[0].camera.intrinsics.fx, 128, 1e-9);  // 90 degrees over 256 px
+}
+
+// createCameraSetting copies CameraDefaults, then a camera's CaptureSettings entries replace the
+// captures of their types one by one (loadCaptureSettings) and its Gimbal replaces the gimbal
+// whole (createGimbalSetting); the pawn's own cameras take CameraDefaults' captures and gimbal
+// (APIPCamera::setupCameraFromSettings).
+TEST(AirSimSettings, CapturesOfEachImageTypeAndTheGimbalMergeAsAirSimMergesThem) {
+  const json settings = json::parse(R"({
+    "CameraDefaults": {
+      "CaptureSettings": [{"ImageType": 0, "Width": 640, "Height": 480, "FOV_Degrees": 70},
+                          {"ImageType": 1, "Width": 320, "Height": 240}],
+      "Gimbal": {"Stabilization": 1, "Pitch": -90}},
+    "Vehicles": {"Drone1": {"Cameras": {
+        "down": {"CaptureSettings": [{"ImageType": 5, "Width": 640, "Height": 480,
+                                      "FOV_Degrees": 70}]},
+        "level": {"Gimbal": {"Yaw": 30}},
+        "wild": {"Gimbal": {"Stabilization": 7, "Roll": 2}}}}}})");
+  const import::AirSimCamera down = Resolve(settings, "down");
+  EXPECT_EQ(down.width, 640);
+  EXPECT_EQ(down.height, 480);
+  EXPECT_DOUBLE_EQ(down.fov_deg, 70);
+  EXPECT_TRUE(down.CaptureOf(0) == (import::AirSimCapture{640, 480, 70}));
+  EXPECT_TRUE(down.CaptureOf(1) == (import::AirSimCapture{320, 240, 90}));  // FOV unset: 90
+  EXPECT_TRUE(down.CaptureOf(5) == (import::AirSimCapture{640, 480, 70}));
+  EXPECT_TRUE(down.CaptureOf(2) == (import::AirSimCapture{256, 144, 90}));  // never listed
+  EXPECT_DOUBLE_EQ(down.gimbal.stabilization, 1);
+  EXPECT_DOUBLE_EQ(down.gimbal.pitch, -90);
+  EXPECT_TRUE(std::isnan(down.gimbal.yaw));
+  EXPECT_TRUE(std::isnan(down.gimbal.roll));
+  // A camera's own Gimbal is a fresh one: Stabilization 0 unless it says.
+  const import::AirSimCamera level = Resolve(settings, "level");
+  EXPECT_DOUBLE_EQ(level.gimbal.stabilization, 0);
+  EXPECT_DOUBLE_EQ(level.gimbal.yaw, 30);
+  EXPECT_TRUE(std::isnan(level.gimbal.pitch));
+  // Clipped to [0, 1] as PIPCamera does.
+  EXPECT_DOUBLE_EQ(Resolve(settings, "wild").gimbal.stabilization, 1);
+  // The pawn's camera "" takes CameraDefaults' gimbal.
+  EXPECT_DOUBLE_EQ(Resolve(settings, "").gimbal.pitch, -90);
+  EXPECT_DOUBLE_EQ(Resolve(settings, "").gimbal.stabilization, 1);
+  // A gimbal without stabilization holds nothing.
+  const Eigen::Matrix3d tilted = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()))
+                                     .toRotationMatrix();
+  EXPECT_EQ(level.gimbal.Held(tilted), tilted);
+}
+
+// The PX4 recording (a flying multirotor: its body pitches and rolls) with a gimbal on the
+// recording camera: `settings` is CameraDefaults' Gimbal.
+Frame FirstFrameWithGimbal(const fs::path& dir,
+                           const json& gimbal,
+                           std::string* output,
+                           std::vector<Frame>* all = nullptr) {
+  const fs::path source = CopyPx4Recording(dir);
+  json settings = json::parse(
+      std::ifstream(fs::path(SourceDir()) / "tests/import/data/airsim_px4/settings.json"));
+  settings["CameraDefaults"]["Gimbal"] = gimbal;
+  const fs::path settings_file = dir / "gimbal_settings.json";
+  std::ofstream(settings_file) << settings.dump(2);
+  const fs::path out = dir / "gimbal";
+  const CommandResult imported = RunLsds("import airsim " + source.string() + " -o " +
+                                         out.string() + " --settings " + settings_file.string());
+  EXPECT_EQ(imported.exit_code, 0) << imported.output;
+  *output = imported.output;
+  const CommandResult validate = RunLsds("validate --fail-on warning " + out.string());
+  EXPECT_EQ(validate.exit_code, 0) << validate.output;
+  std::vector<Frame> frames;
+  CollectionReader(out).ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+  if (all != nullptr) *all = frames;
+  return frames.at(0);
+}
+
+// A stabilized gimbal holding Pitch -90 keeps the camera looking straight down whatever the body
+// does; holding Pitch 0, Roll 0 and Yaw 30 it looks level at 30 degrees east of north with the
+// image rows level. The camera centre stays where the mount puts it.
+TEST(AirSimPx4Recording, AStabilizedGimbalHoldsTheCamerasWorldAngles) {
+  TempDir dir;
+  std::string output;
+  std::vector<Frame> frames;
+  FirstFrameWithGimbal(dir / "down", json{{"Stabilization", 1}, {"Pitch", -90}}, &output, &frames);
+  const std::vector<RecordedRow> rows =
+      ReadRows(fs::path(SourceDir()) / "tests/import/data/airsim_px4/airsim_rec.txt");
+  ASSERT_EQ(frames.size(), rows.size());
+  double body_tilt = 0, down_error = 0, centre_error = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const Rigid3d cam_from_world = CamFromWorld(frames[k].camera);
+    const Eigen::Vector3d optical_axis =
+        cam_from_world.rotation.inverse() * Eigen::Vector3d::UnitZ();
+    down_error = std::max(down_error, (optical_axis - Eigen::Vector3d(0, 0, -1)).norm());
+    const Eigen::Vector3d up_ned = rows[k].q.normalized() * Eigen::Vector3d(0, 0, -1);
+    body_tilt = std::max(body_tilt, std::acos(std::clamp(-up_ned.z(), -1.0, 1.0)));
+    const Eigen::Vector3d centre_enu(rows[k].ned.y(), rows[k].ned.x(), -rows[k].ned.z());
+    centre_error =
+        std::max(centre_error, (CameraCenterInWorld(cam_from_world) - centre_enu).norm());
+  }
+  EXPECT_GT(body_tilt, 1e-4);  // the body is not level: the gimbal does the work
+  EXPECT_LT(down_error, 1e-12);
+  EXPECT_LT(centre_error, 1e-12);
+  std::cout << "AirSim gimbal: body tilt up to " << body_tilt << " rad, optical axis off nadir "
+            << down_error << "\n";
+
+  const Frame level = FirstFrameWithGimbal(
+      dir / "level", json{{"Stabilization", 1}, {"Pitch", 0}, {"Roll", 0}, {"Yaw", 30}}, &output);
+  const Rigid3d cam_from_world = CamFromWorld(level.camera);
+  const Eigen::Matrix3d world_from_cam = cam_from_world.rotation.inverse().toRotationMatrix();
+  // NED yaw 30: north-east in ENU is (sin 30, cos 30, 0).
+  EXPECT_LT((world_from_cam.col(2) - Eigen::Vector3d(0.5, std::sqrt(3) / 2, 0)).norm(), 1e-12);
+  EXPECT_LT(std::abs(world_from_cam.col(0).z()), 1e-12);  // image rows level
+  EXPECT_EQ(output.find("Stabilization"), std::string::npos) << output;
+
+  // Part stabilization is read as settled, and said.
+  FirstFrameWithGimbal(dir / "half", json{{"Stabilization", 0.5}, {"Pitch", -90}}, &output);
+  EXPECT_NE(output.find("Gimbal has Stabilization 0.5"), std::string::npos) << output;
 }
 
 }  // namespace lsds::testing

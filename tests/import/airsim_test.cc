@@ -108,9 +108,9 @@ TEST_F(AirSimImportTest, TruthEqualsTheAnalyticScene) {
       EXPECT_EQ(got.visible_pixels, want.visible_pixels);
       EXPECT_NEAR(got.visibility, want.visibility, 1e-12);
       EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9);
-      EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-9);
-      EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), 1e-12);
-      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LT((got.obb->center - want.obb->center).norm(), 1e-9);
+      EXPECT_LT((got.obb->half_extents - want.obb->half_extents).norm(), 1e-12);
+      EXPECT_LT((got.obb->world_from_box - want.obb->world_from_box).cwiseAbs().maxCoeff(), 1e-12);
     }
     const auto read = [&](const std::string& layer) {
       return exr::ReadFlatExr(reader.LayerPath(frame, layer));
@@ -119,7 +119,8 @@ TEST_F(AirSimImportTest, TruthEqualsTheAnalyticScene) {
     EXPECT_EQ(read("classid").Get("id").uints, truth.flat.at("classid").Get("id").uints);
     // Depth in metres, float to float: exact; the PFM's top row is row 0.
     EXPECT_EQ(read("depth").Get("Z").floats, truth.flat.at("depth").Get("Z").floats);
-    const exr::FlatImage position = read("worldposition");
+    // Read through the collection's reader: X, Y, Z whatever the layer's layout.
+    const exr::FlatImage position = reader.ReadFlatLayer(frame, "worldposition", {"X", "Y", "Z"});
     const exr::FlatImage& want = truth.flat.at("worldposition");
     const std::vector<float>& depth = truth.flat.at("depth").Get("Z").floats;
     for (size_t p = 0; p < depth.size(); ++p) {
@@ -175,6 +176,44 @@ TEST_F(AirSimImportTest, ValidatesCleanAndConvertsToCocoMasksOfTheSegmentation) 
             (mask.at<uint8_t>(j, i) != 0) != (ids[static_cast<size_t>(j) * w + i] == instance);
     EXPECT_EQ(differing, 0) << "instance " << instance << " frame " << k;
   }
+}
+
+// A DepthPlanar capture of its own size (CaptureSettings ImageType 1 at twice the Scene's) is
+// another camera than the Scene's: AirSim renders it through its own SceneCapture component
+// (PIPCamera.cpp, one capture per image type). The import leaves it out and says so; the rest
+// imports, validates and keeps its truth.
+TEST_F(AirSimImportTest, ADepthCaptureOfItsOwnSizeIsLeftOutAndSaid) {
+  const fs::path source = dir_ / "rec";
+  WriteAirSimFixture(source, spec_);
+  json settings = json::parse(ReadText(source / "settings.json"));
+  json& captures = settings["Vehicles"]["Drone1"]["Cameras"][kAirSimCamera]["CaptureSettings"];
+  for (json& capture : captures)
+    if (capture["ImageType"] == 1) {
+      capture["Width"] = 2 * spec_.width;
+      capture["Height"] = 2 * spec_.height;
+    }
+  std::ofstream(source / "settings.json") << settings.dump(2);
+  const fs::path out = dir_ / "collection";
+  const CommandResult imported =
+      RunLsds("import airsim " + source.string() + " -o " + out.string());
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  EXPECT_NE(imported.output.find("the DepthPlanar (type 1) images are not read: settings.json "
+                                 "gives them a capture of their own (" +
+                                 std::to_string(2 * spec_.width) + "x" +
+                                 std::to_string(2 * spec_.height)),
+            std::string::npos)
+      << imported.output;
+  const CommandResult validate = RunLsds("validate --fail-on warning " + out.string());
+  EXPECT_EQ(validate.exit_code, 0) << validate.output;
+  const CollectionReader reader(out);
+  std::vector<std::string> semantics;
+  for (const LayerInfo& layer : reader.header().layers) semantics.push_back(layer.semantic);
+  EXPECT_EQ(semantics, (std::vector<std::string>{"rgb", "classid", "instanceid"}));
+  // The Segmentation keeps the Scene's capture: its objects are there, as without the change.
+  std::vector<Frame> frames;
+  reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+  ASSERT_FALSE(frames.empty());
+  EXPECT_FALSE(frames[0].objects.empty());
 }
 
 TEST_F(AirSimImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {

@@ -60,9 +60,11 @@ void ExpectObjectNear(const ObjectTruth& got, const ObjectTruth& want, double ob
   EXPECT_EQ(got.visible_pixels, want.visible_pixels);
   EXPECT_NEAR(got.visibility, want.visibility, 1e-12);
   EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9 + 10 * obb);
-  EXPECT_LT((got.obb.center - want.obb.center).norm(), obb);
-  EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), obb);
-  EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), obb);
+  ASSERT_EQ(got.obb.has_value(), want.obb.has_value());
+  if (!got.obb) return;
+  EXPECT_LT((got.obb->center - want.obb->center).norm(), obb);
+  EXPECT_LT((got.obb->half_extents - want.obb->half_extents).norm(), obb);
+  EXPECT_LT((got.obb->world_from_box - want.obb->world_from_box).cwiseAbs().maxCoeff(), obb);
 }
 
 fs::path ExpectValidatesAndConvertsToCoco(const fs::path& collection, const fs::path& coco) {

@@ -111,7 +111,8 @@ TEST_F(KubricImportTest, TruthEqualsTheAnalyticScene) {
     // background (1e10) is +inf.
     const std::vector<float> depth = read("depth").Get("Z").floats;
     const std::vector<float>& want = truth.flat.at("depth").Get("Z").floats;
-    const exr::FlatImage position = read("worldposition");
+    // Read through the collection's reader: X, Y, Z whatever the layer's layout.
+    const exr::FlatImage position = reader.ReadFlatLayer(frame, "worldposition", {"X", "Y", "Z"});
     const exr::FlatImage& want_position = truth.flat.at("worldposition");
     int sky = 0;
     for (size_t p = 0; p < depth.size(); ++p) {

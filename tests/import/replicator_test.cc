@@ -90,7 +90,8 @@ TEST_F(ReplicatorImportTest, TruthEqualsTheAnalyticScene) {
     // float32 centimetres back to metres.
     const std::vector<float> depth = read("depth").Get("Z").floats;
     const std::vector<float>& want = truth.flat.at("depth").Get("Z").floats;
-    const exr::FlatImage position = read("worldposition");
+    // Read through the collection's reader: X, Y, Z whatever the layer's layout.
+    const exr::FlatImage position = reader.ReadFlatLayer(frame, "worldposition", {"X", "Y", "Z"});
     const exr::FlatImage& want_position = truth.flat.at("worldposition");
     for (size_t p = 0; p < depth.size(); ++p) {
       if (!std::isfinite(want[p])) {
@@ -238,7 +239,7 @@ TEST_F(ReplicatorImportTest, WithoutInstanceSegmentationTheBoxesAreTheObjects) {
       if (want.visible_pixels > 0)  // occlusionRatio is float32
         max_visibility_error =
             std::max(max_visibility_error, std::abs(got.visibility - want.visibility));
-      EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-6);
+      EXPECT_LT((got.obb->center - want.obb->center).norm(), 1e-6);
     }
   }
   EXPECT_GT(boxes, 0);
@@ -290,8 +291,8 @@ TEST_F(ReplicatorImportTest, AMirroredBoxTransformIsTheSameBox) {
   ASSERT_EQ(plain.size(), 1u);
   ASSERT_EQ(mirrored[0].objects.size(), plain[0].objects.size());
   for (size_t i = 0; i < plain[0].objects.size(); ++i) {
-    const OrientedBox& a = plain[0].objects[i].obb;
-    const OrientedBox& b = mirrored[0].objects[i].obb;
+    const OrientedBox& a = *plain[0].objects[i].obb;
+    const OrientedBox& b = *mirrored[0].objects[i].obb;
     EXPECT_LT((a.center - b.center).norm(), 1e-9);
     const auto ca = a.Corners();
     const auto cb = b.Corners();

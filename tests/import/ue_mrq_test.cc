@@ -125,9 +125,9 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
       EXPECT_EQ(got.visible_pixels, want.visible_pixels);
       EXPECT_NEAR(got.visibility, want.visibility, 1e-12);
       EXPECT_NEAR(got.in_frame, want.in_frame, 1e-9);
-      EXPECT_LT((got.obb.center - want.obb.center).norm(), 1e-9);
-      EXPECT_LT((got.obb.half_extents - want.obb.half_extents).norm(), 1e-9);
-      EXPECT_LT((got.obb.world_from_box - want.obb.world_from_box).cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LT((got.obb->center - want.obb->center).norm(), 1e-9);
+      EXPECT_LT((got.obb->half_extents - want.obb->half_extents).norm(), 1e-9);
+      EXPECT_LT((got.obb->world_from_box - want.obb->world_from_box).cwiseAbs().maxCoeff(), 1e-12);
     }
     // Layers: ids exact, depth and world position within float precision.
     const auto read = [&](const std::string& layer) {
@@ -137,7 +137,8 @@ TEST_F(UeMrqImportTest, TruthEqualsTheAnalyticScene) {
     EXPECT_EQ(read("classid").Get("id").uints, truth.flat.at("classid").Get("id").uints);
     const std::vector<float> depth = read("depth").Get("Z").floats;
     const std::vector<float>& want_depth = truth.flat.at("depth").Get("Z").floats;
-    const exr::FlatImage position = read("worldposition");
+    // Read through the collection's reader: X, Y, Z whatever the layer's layout.
+    const exr::FlatImage position = reader.ReadFlatLayer(frame, "worldposition", {"X", "Y", "Z"});
     const exr::FlatImage& want_position = truth.flat.at("worldposition");
     int sky = 0;
     for (size_t p = 0; p < depth.size(); ++p) {

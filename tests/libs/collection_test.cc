@@ -46,8 +46,9 @@ Frame SampleFrame(int64_t index) {
   object.instance_id = 3;
   object.class_id = 7;
   object.name = "O2#1";
-  object.obb.center = {1, 2, 0.5};
-  object.obb.half_extents = {0.3, 0.3, 0.5};
+  object.obb.emplace();
+  object.obb->center = {1, 2, 0.5};
+  object.obb->half_extents = {0.3, 0.3, 0.5};
   object.bbox = Box2d{10, 11, 20, 31};
   // Format 1.2's oriented boxes, with doubles that need every digit.
   object.bbox_oriented = OrientedBox2d{{Eigen::Vector2d(10.1, 11),
@@ -69,6 +70,13 @@ Frame SampleFrame(int64_t index) {
   hidden.visible_pixels = 0;
   hidden.visibility = 0;
   frame.objects.push_back(hidden);
+  // Format 1.2: an imported object its source gives only a 2D box for.
+  ObjectTruth flat = object;
+  flat.instance_id = 5;
+  flat.obb.reset();
+  flat.bbox_projected.reset();
+  flat.bbox_oriented_projected.reset();
+  frame.objects.push_back(flat);
   return frame;
 }
 
@@ -101,6 +109,10 @@ TEST(CollectionJson, WriteReadRoundTrip) {
                 expected.objects[0].bbox_oriented_projected->corners[i]);
     }
     EXPECT_FALSE(frame.objects[1].bbox_oriented);  // absent, not null
+    ASSERT_EQ(frame.objects.size(), 3u);
+    EXPECT_TRUE(frame.objects[0].obb);
+    EXPECT_FALSE(frame.objects[2].obb);  // absent: no 3D box
+    EXPECT_EQ(frame.objects[2].bbox, expected.objects[2].bbox);
     ++seen;
   });
   EXPECT_EQ(seen, 3);
@@ -129,6 +141,20 @@ TEST(Schema, RejectsWrongTypeInFrameWithPointer) {
       JsonSchema::Get("collection.schema.json", "frame").Validate(frame, "/frames/9");
   ASSERT_FALSE(issues.empty());
   EXPECT_EQ(issues[0].pointer, "/frames/9/objects/1/visibility");
+}
+
+// An object without a 3D box has no "obb" key, and the schema accepts it; a present obb is still
+// checked.
+TEST(Schema, TheObbIsOptional) {
+  json frame = FrameToJson(SampleFrame(0));
+  const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
+  EXPECT_FALSE(frame["objects"][2].contains("obb"));
+  EXPECT_TRUE(frame["objects"][0].contains("obb"));
+  EXPECT_TRUE(schema.Validate(frame, "/frames/0").empty());
+  frame["objects"][0]["obb"].erase("center");
+  const auto issues = schema.Validate(frame, "/frames/0");
+  ASSERT_FALSE(issues.empty());
+  EXPECT_EQ(issues[0].pointer, "/frames/0/objects/0/obb");
 }
 
 TEST(Schema, OrientedBoxesAreFourPointPairs) {

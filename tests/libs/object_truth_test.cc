@@ -201,6 +201,39 @@ TEST(ObjectTruthOrientedBoxes, HiddenObjectHasNoVisibleBox) {
   EXPECT_TRUE(t.bbox_oriented_projected);
 }
 
+// An object its source gives no 3D box for (an importer's 2D-only object): measured on its mask,
+// nothing projected, visibility and in_frame not measured (1); no entry without a visible pixel.
+TEST(ObjectTruthWithoutObb, MeasuredOnTheMaskOnly) {
+  Scene scene;
+  RasterizeTop(&scene, Car(1.0, -0.5, 33.0), 7);
+  const auto masks =
+      MeasureInstanceMasks(scene.ids.data(), scene.camera.width, scene.camera.height);
+  ObjectIdentity identity;
+  identity.instance_id = 7;
+  identity.class_id = 2;
+  const IdLayerView ids{scene.ids.data(), scene.camera.width, scene.camera.height};
+  bool counted = false;
+  const std::optional<ObjectTruth> t = MeasureObjectTruth(
+      identity, scene.camera, scene.cam_from_world, ids, &masks.at(7), [&](const Box2d&) {
+        counted = true;
+        return int64_t{1} << 40;
+      });
+  ASSERT_TRUE(t);
+  EXPECT_FALSE(t->obb);
+  EXPECT_EQ(t->visible_pixels, masks.at(7).pixels);
+  EXPECT_GT(t->visible_pixels, 0);
+  EXPECT_EQ(t->bbox, masks.at(7).box);
+  EXPECT_TRUE(t->bbox_oriented);
+  EXPECT_FALSE(t->bbox_projected);
+  EXPECT_FALSE(t->bbox_oriented_projected);
+  EXPECT_EQ(t->visibility, 1.0);
+  EXPECT_EQ(t->in_frame, 1.0);
+  EXPECT_FALSE(counted);     // no box to count unoccluded pixels on
+  identity.instance_id = 8;  // no pixel
+  EXPECT_FALSE(
+      MeasureObjectTruth(identity, scene.camera, scene.cam_from_world, ids, nullptr, nullptr));
+}
+
 TEST(ObjectTruthOrientedBoxes, BoxAcrossTheNearPlaneIsClipped) {
   // A camera inside a long box looking along it: the corners behind the
   // camera are replaced by the edges' crossings of the near plane, so the box

@@ -91,7 +91,7 @@ TEST(Distributions, CountsEqualTheCollectionTruth) {
       ++e.at("class").counts[o.class_id - 1];  // classes 1, 2, 3 in order
       add("box-size", std::max(o.bbox->width(), o.bbox->height()));
       add("visible-pixels", static_cast<double>(o.visible_pixels));
-      add("distance", (o.obb.center - centre).norm());
+      add("distance", (o.obb->center - centre).norm());
     }
     // The ray through the pixel that holds the principal point.
     const Eigen::Vector3d ray =

@@ -171,8 +171,9 @@ TEST(CaptureOverTime, TheSceneRecordNamesTheTerrainMaterialOfEveryFrame) {
   EXPECT_EQ(frames[2]["scene"]["terrain_material"], "grass");
 }
 
-// A flat terrain for the first flight of P, hills from its second (a shot's first frame): four
-// cubes ON the terrain.
+// A flat terrain for the first flight of P, hills from its second (a shot's first frame), lower
+// hills of the same frequency from its third (the renderer's third world re-meshes a recycled
+// scene's ground): four cubes ON the terrain.
 const char* kGroundScene =
     "LSCENE = ONE(W) MANY(O, 4)\n"
     "W = terrain{size:[80,80]}\n"
@@ -181,17 +182,22 @@ const char* kGroundCapture =
     "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
     "CO = camera{csettings:{res:[96,72]},targets:[O]}\n"
     "P = path{waypoints:[[0,0,40],[1,0,40],[2,0,40]]}\n"
-    "CL = collection{CO:{move:[P:2]},W:{after:P:1,height:{perlin:{amplitude:3,frequency:0.04}}}}\n";
+    "CL = collection{CO:{move:[P:3]},W:[{after:P:1,height:{perlin:{amplitude:3,frequency:0.04}}},"
+    "{after:P:2,perlin:1.5}]}\n";
+
+// The terrain amplitude of frame `k` of kGroundCapture.
+double GroundAmplitude(int64_t k) { return k >= 6 ? 1.5 : k >= 3 ? 3.0 : 0.0; }
 
 TEST(CaptureOverTime, ATerrainShapeChangeAtAShotReseatsWhatStandsOnIt) {
   const Plan plan = PlanText(kGroundScene, kGroundCapture, 0);
-  ASSERT_EQ(plan.frames.size(), 6u);
+  ASSERT_EQ(plan.frames.size(), 9u);
   EXPECT_EQ(plan.frames[2].shot, 0);
   EXPECT_EQ(plan.frames[3].shot, 3);  // P(2) is a shot of its own
+  EXPECT_EQ(plan.frames[6].shot, 6);
   double largest_base = 0;
   for (const PlannedFrame& f : plan.frames) {
     const PlannedTerrain ground = TerrainAt(plan, f);
-    EXPECT_EQ(ground.perlin_amplitude, f.index >= 3 ? 3.0 : 0.0) << f.index;
+    EXPECT_EQ(ground.perlin_amplitude, GroundAmplitude(f.index)) << f.index;
     EXPECT_EQ(ground.perlin_frequency, f.index >= 3 ? 0.04 : 0.05) << f.index;
     const gen::WorldState world = gen::WorldAt(plan, f);
     ASSERT_EQ(world.objects.size(), 4u);
@@ -209,6 +215,8 @@ TEST(CaptureOverTime, ATerrainShapeChangeAtAShotReseatsWhatStandsOnIt) {
   const Plan back = PlanFromJson(PlanToJson(plan), "plan.json");
   EXPECT_EQ(PlanToJson(back), PlanToJson(plan));
   EXPECT_EQ(TerrainAt(back, back.frames[4]).perlin_amplitude, 3.0);
+  EXPECT_EQ(TerrainAt(back, back.frames[7]).perlin_amplitude, 1.5);
+  EXPECT_EQ(TerrainAt(back, back.frames[7]).perlin_frequency, 0.04);
   EXPECT_EQ(TerrainAt(back, back.frames[1]).perlin_amplitude, 0.0);
   // A change that would take effect inside a shot is a located error showing the accepted form.
   const std::string error =
@@ -253,7 +261,7 @@ TEST(CaptureOverTime, TheRenderedGroundAndBoxesFollowATerrainShapeChange) {
   reader.ForEachFrame([&](const Frame& f) {
     ++frames;
     const PlannedTerrain ground = TerrainAt(plan, plan.frames[static_cast<size_t>(f.index)]);
-    EXPECT_EQ(f.scene["terrain_shape"]["perlin_amplitude"], f.index >= 3 ? 3.0 : 0.0);
+    EXPECT_EQ(f.scene["terrain_shape"]["perlin_amplitude"], GroundAmplitude(f.index));
     EXPECT_EQ(f.scene["terrain_shape"]["perlin_frequency"], f.index >= 3 ? 0.04 : 0.05);
     int boxes = 0;
     for (const ObjectTruth& o : f.objects) {
@@ -285,8 +293,8 @@ TEST(CaptureOverTime, TheRenderedGroundAndBoxesFollowATerrainShapeChange) {
       EXPECT_GT(off_flat, 0.5) << f.index;
     }
   });
-  EXPECT_EQ(frames, 6);
-  EXPECT_EQ(collection["frames"].size(), 6u);
+  EXPECT_EQ(frames, 9);
+  EXPECT_EQ(collection["frames"].size(), 9u);
 }
 
 const char* kSunScene =

@@ -223,8 +223,10 @@ void PrepareOutput(const GenerateOptions& options, const nlohmann::json& setting
 }
 
 // The scene state a frame shows (docs/format.md, "Scene state"); the terrain's material when the
-// scene has a terrain.
-nlohmann::json SceneStateJson(const PlannedEnvironment& environment, bool terrain) {
+// scene has a terrain, and its shape on the frame when the capture changes it (`shape`, else null).
+nlohmann::json SceneStateJson(const PlannedEnvironment& environment,
+                              bool terrain,
+                              const PlannedTerrain* shape) {
   const double el = environment.sun.elevation_deg * M_PI / 180.0,
                az = environment.sun.azimuth_deg * M_PI / 180.0;
   // Azimuth from north (+y), clockwise (towards east, +x), in the ENU world.
@@ -248,6 +250,9 @@ nlohmann::json SceneStateJson(const PlannedEnvironment& environment, bool terrai
       {"atmosphere", {{"extinction_per_m", environment.fog_density}, {"visibility_m", visibility}}},
       {"skylight_intensity", environment.skylight_intensity}};
   if (terrain) state["terrain_material"] = environment.terrain_material;
+  if (shape != nullptr)
+    state["terrain_shape"] = {{"perlin_amplitude", shape->perlin_amplitude},
+                              {"perlin_frequency", shape->perlin_frequency}};
   return state;
 }
 
@@ -494,7 +499,8 @@ class FramePipeline {
         base_header_(base_header),
         root_(options.output),
         summary_(*summary),
-        cycles_(cycles) {
+        cycles_(cycles),
+        terrain_shape_changes_(TerrainShapeChanges(plan)) {
     render_.sampler = {options.spp, options.jitter, plan.seed};
     render_.depth_kind = options.depth_kind;
     // Capture Settings `layers`: no work for a layer that is not written.
@@ -632,7 +638,10 @@ class FramePipeline {
     truth->camera_velocity = frame.camera_velocity;
     truth->rig_camera = frame.rig_camera;
     if (frame.step >= 0) truth->step = frame.step;
-    truth->scene = SceneStateJson(EnvironmentAt(plan_, frame), plan_.terrain.present);
+    const PlannedTerrain terrain = TerrainAt(plan_, frame);
+    truth->scene = SceneStateJson(EnvironmentAt(plan_, frame),
+                                  plan_.terrain.present,
+                                  terrain_shape_changes_ ? &terrain : nullptr);
     truth->exposure = ExposureJson(exposure);
     truth->camera.intrinsics = frame.camera;
     SetCamFromWorld(frame.cam_from_world, &truth->camera);
@@ -687,7 +696,8 @@ class FramePipeline {
   const CollectionHeader& base_header_;
   const fs::path& root_;
   GenerateSummary& summary_;
-  CyclesStage* cycles_;  // null: the reference renderer's rgb
+  CyclesStage* cycles_;         // null: the reference renderer's rgb
+  bool terrain_shape_changes_;  // some frame changes the terrain's shape: every frame records it
   RenderSettings render_;
   EmbreeDevice device_;
   std::unique_ptr<RenderScene> scene_, previous_scene_;

@@ -6,14 +6,15 @@ namespace lsds::gen {
 
 void AddSurveyMetadata(const Plan& plan, const PlannedFrame& frame, MetadataFrame* metadata) {
   const PinholeCamera& camera = frame.camera;
+  const PlannedTerrain terrain = TerrainAt(plan, frame);  // LCAP may change its shape
   const Eigen::Vector3d eye = CameraCenterInWorld(frame.cam_from_world);
   const Eigen::Matrix3d world_from_cam =
       frame.cam_from_world.rotation.conjugate().toRotationMatrix();
   auto ground_at = [&](double u, double v) {
     const Eigen::Vector3d ray = world_from_cam * camera.CamFromImage(Eigen::Vector2d(u, v));
-    return IntersectTerrain(plan.terrain, eye, ray, kSurveyMaxRangeM);
+    return IntersectTerrain(terrain, eye, ray, kSurveyMaxRangeM);
   };
-  metadata->altitude_agl_m = eye.z() - TerrainHeight(plan.terrain, eye.x(), eye.y());
+  metadata->altitude_agl_m = eye.z() - TerrainHeight(terrain, eye.x(), eye.y());
   // GSD at the principal point: the size of one pixel across the ray at the
   // ground it sees (range / fx); for a nadir view over flat ground, AGL / fx.
   if (const auto centre = ground_at(camera.cx, camera.cy))

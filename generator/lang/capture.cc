@@ -196,7 +196,12 @@ class CaptureEvaluator {
                std::to_string(k - seg.first) + " (frame " + std::to_string(f.index) +
                (f.rig_camera ? ", rig camera " + *f.rig_camera : std::string()) + ")";
       };
-      CheckClearance(*plan_, *setup_.clearance_m, f.cam_from_world, pose, seg.path->body);
+      CheckClearance(*plan_,
+                     TerrainAt(*plan_, f),
+                     *setup_.clearance_m,
+                     f.cam_from_world,
+                     pose,
+                     seg.path->body);
     }
     MoveSun(&f);
     return f;
@@ -218,32 +223,42 @@ class CaptureEvaluator {
 
   // The scene changes in effect on time step `k`, then the placement they must keep. An "after"
   // change is drawn once, when it fires; a "during" change on every frame.
+  // The environment first (objects on the terrain stand on the frame's ground), then the objects.
   void ApplyRules(int64_t k, uint64_t frame_seed, const FrameDemand* demand, PlannedFrame* f) {
+    const Rule* ground_rule = nullptr;  // the last terrain shape change in effect
+    for (const Rule& rule : rules_) {
+      if (k < rule.when.begin || k >= rule.when.end || rule.environment_kind.empty()) continue;
+      Rng change_rng = ChangeRng(rule, k, frame_seed);
+      if (!f->environment) f->environment = EnvironmentOf(*plan_);
+      ApplyEnvironment(rule.environment_kind, rule.block, change_rng, &*f->environment);
+      if (rule.terrain_shape) ground_rule = &rule;
+    }
+    const PlannedTerrain ground = TerrainAt(*plan_, *f);
     std::vector<const Rule*> change_rules;  // the rule of each change
     for (const Rule& rule : rules_) {
-      if (k < rule.when.begin || k >= rule.when.end) continue;
-      Rng change_rng =
-          rule.when.during
-              ? Rng::For(frame_seed, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
-              : Rng::For(
-                    seed_, StreamTag::kChange, rule.id, static_cast<uint64_t>(rule.when.begin));
-      if (!rule.environment_kind.empty()) {
-        if (!f->environment) f->environment = EnvironmentOf(*plan_);
-        ApplyEnvironment(rule.environment_kind, rule.block, change_rng, &*f->environment);
-        continue;
-      }
+      if (k < rule.when.begin || k >= rule.when.end || !rule.environment_kind.empty()) continue;
+      Rng change_rng = ChangeRng(rule, k, frame_seed);
       const bool rescatter =
           rule.block.Find("rescatter") && rule.block.Find("rescatter")->get<bool>();
       for (const PlannedObject& o : plan_->objects)
         if (o.symbol == rule.object_symbol) {
           ObjectChange change = DrawObjectChange(rule, o, change_rng, demand, &swaps_);
-          if (!rule.legs.empty()) MoveAlongLegs(rule, o, *plan_, k, setup_.fps, &change);
+          if (!rule.legs.empty()) MoveAlongLegs(rule, o, *plan_, ground, k, setup_.fps, &change);
           if (rescatter) Rescatter(*plan_, rule, o, *f, change_rng, &change);
           f->changes.push_back(change);
           change_rules.push_back(&rule);
         }
     }
-    KeepPlacement(*plan_, change_rules, f);
+    KeepPlacement(*plan_, change_rules, f, ground_rule);
+  }
+
+  // The stream of a change on step `k`: an "after" change (and a terrain shape change, which
+  // holds for whole shots) is drawn once, when it fires; a "during" change on every frame.
+  Rng ChangeRng(const Rule& rule, int64_t k, uint64_t frame_seed) const {
+    return rule.when.during && !rule.terrain_shape
+               ? Rng::For(frame_seed, StreamTag::kFrame, static_cast<uint64_t>(k), rule.id)
+               : Rng::For(
+                     seed_, StreamTag::kChange, rule.id, static_cast<uint64_t>(rule.when.begin));
   }
 
   // A sun given by date and time moves with the frame's time.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "generator/lang/scene/ground.h"
 #include "generator/lang/vocabulary.h"
 #include "libs/geometry/solar_position.h"
 #include "libs/util/strings.h"
@@ -210,6 +211,8 @@ void ApplyEnvironment(const std::string& kind, const Node& b, Rng& rng, PlannedE
     if (const Node n = b.Find("intensity"))
       env->skylight_intensity = Sampled(n, "skylight", "intensity", rng);
   } else if (kind == "terrain") {
+    // The shape first, as the scene reads it (its draws come before the material's).
+    ReadTerrainShape(b, rng, &env->terrain_shape);
     if (const Node m = b.Find("material")) env->terrain_material = SampleString(m, rng);
   }
 }

@@ -236,20 +236,17 @@ std::vector<KindSpec> BuildVocabulary() {
                  Row("height")
                      .Is(T::kBlock)
                      .Doc("`{Perlin: amplitude}` or `{perlin:{amplitude, frequency}}` (Perlin)")
-                     .Block("terrain_height")
-                     .NotInChange(),
+                     .Block("terrain_height"),
                  Row("perlin")
                      .Is(T::kNumberOrBlock)
                      .Doc("the Perlin amplitude (m), or `{amplitude, frequency}`")
-                     .Block("perlin")
-                     .NotInChange(),
+                     .Block("perlin"),
                  Row("frequency")
                      .Is(T::kNumber)
                      .Range(AtLeast(0))
                      .Unit("cycles/m")
                      .Default(0.05)
-                     .Doc("cycles/m")
-                     .NotInChange(),
+                     .Doc("cycles/m"),
                  Row("material").Is(T::kName).Doc("a name (or choice) recorded for the renderer"),
                  Row("seed")
                      .Is(T::kWhole)

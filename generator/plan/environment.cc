@@ -33,7 +33,8 @@ bool PlannedEnvironment::operator==(const PlannedEnvironment& o) const {
          sun.elevation_deg == o.sun.elevation_deg && sun.azimuth_deg == o.sun.azimuth_deg &&
          sun.illuminance_lux == o.sun.illuminance_lux && sun.clock_utc_s == o.sun.clock_utc_s &&
          sun.utc_offset_h == o.sun.utc_offset_h && fog_density == o.fog_density &&
-         skylight_intensity == o.skylight_intensity && terrain_material == o.terrain_material;
+         skylight_intensity == o.skylight_intensity && terrain_material == o.terrain_material &&
+         terrain_shape == o.terrain_shape;
 }
 
 PlannedEnvironment EnvironmentOf(const Plan& plan) {
@@ -56,6 +57,25 @@ void SetEnvironment(const PlannedEnvironment& e, Plan* plan) {
   plan->fog_density = e.fog_density;
   plan->skylight_intensity = e.skylight_intensity;
   plan->terrain.material = e.terrain_material;
+  plan->terrain = TerrainOf(*plan, e);
+}
+
+PlannedTerrain TerrainOf(const Plan& plan, const PlannedEnvironment& environment) {
+  PlannedTerrain terrain = plan.terrain;
+  const PlannedTerrainShape& shape = environment.terrain_shape;
+  if (shape.perlin_amplitude) terrain.perlin_amplitude = *shape.perlin_amplitude;
+  if (shape.perlin_frequency) terrain.perlin_frequency = *shape.perlin_frequency;
+  return terrain;
+}
+
+PlannedTerrain TerrainAt(const Plan& plan, const PlannedFrame& frame) {
+  return frame.environment ? TerrainOf(plan, *frame.environment) : plan.terrain;
+}
+
+bool TerrainShapeChanges(const Plan& plan) {
+  for (const PlannedFrame& f : plan.frames)
+    if (f.environment && !f.environment->terrain_shape.empty()) return true;
+  return false;
 }
 
 }  // namespace lsds

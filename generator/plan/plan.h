@@ -61,6 +61,17 @@ struct PlannedSun {
   double utc_offset_h = 0;
 };
 
+// An LCAP change of the terrain's shape (docs/languages.md, "Terrain shape changes"): the Perlin
+// amplitude and frequency it sets; what it leaves unset stays the scene's (Plan::terrain).
+struct PlannedTerrainShape {
+  std::optional<double> perlin_amplitude;  // metres
+  std::optional<double> perlin_frequency;  // cycles per metre
+  bool empty() const { return !perlin_amplitude && !perlin_frequency; }
+  bool operator==(const PlannedTerrainShape& o) const {
+    return perlin_amplitude == o.perlin_amplitude && perlin_frequency == o.perlin_frequency;
+  }
+};
+
 // The scene's environment: what LSCENE's sky, light, atmosphere, skylight and
 // terrain material set, and what LCAP scene changes may change per frame.
 struct PlannedEnvironment {
@@ -69,6 +80,7 @@ struct PlannedEnvironment {
   double fog_density = 0.0;         // extinction per metre
   double skylight_intensity = 0.3;  // ambient
   std::string terrain_material = "grassy";
+  PlannedTerrainShape terrain_shape;  // empty: the scene's terrain
   bool operator==(const PlannedEnvironment& o) const;
 };
 
@@ -225,7 +237,13 @@ struct Plan {
 // The plan's own environment, and the one in effect on `frame`.
 PlannedEnvironment EnvironmentOf(const Plan& plan);
 PlannedEnvironment EnvironmentAt(const Plan& plan, const PlannedFrame& frame);
-// Writes `environment` back into the plan's own fields.
+// Writes `environment` back into the plan's own fields (a terrain shape change too).
 void SetEnvironment(const PlannedEnvironment& environment, Plan* plan);
+// The terrain `environment` shows: the plan's, with the environment's shape change.
+PlannedTerrain TerrainOf(const Plan& plan, const PlannedEnvironment& environment);
+// The terrain in effect on `frame`.
+PlannedTerrain TerrainAt(const Plan& plan, const PlannedFrame& frame);
+// Whether some frame of `plan` changes the terrain's shape.
+bool TerrainShapeChanges(const Plan& plan);
 
 }  // namespace lsds

@@ -116,15 +116,24 @@ json SunJson(const PlannedSun& sun) {
 
 // The environment members, as the plan's top level writes them.
 json EnvironmentJson(const PlannedEnvironment& e) {
-  return {{"sky",
-           {{"color", Vec3(e.sky.color)},
-            {"cloud_type", e.sky.cloud_type},
-            {"cloud_density", e.sky.cloud_density},
-            {"luminance_cd_m2", e.sky.luminance_cd_m2}}},
-          {"sun", SunJson(e.sun)},
-          {"fog_density", e.fog_density},
-          {"skylight_intensity", e.skylight_intensity},
-          {"terrain_material", e.terrain_material}};
+  json j = {{"sky",
+             {{"color", Vec3(e.sky.color)},
+              {"cloud_type", e.sky.cloud_type},
+              {"cloud_density", e.sky.cloud_density},
+              {"luminance_cd_m2", e.sky.luminance_cd_m2}}},
+            {"sun", SunJson(e.sun)},
+            {"fog_density", e.fog_density},
+            {"skylight_intensity", e.skylight_intensity},
+            {"terrain_material", e.terrain_material}};
+  // A terrain shape change (written only when there is one: older plans read as before).
+  if (!e.terrain_shape.empty()) {
+    json& shape = j["terrain_shape"] = json::object();
+    if (e.terrain_shape.perlin_amplitude)
+      shape["perlin_amplitude"] = *e.terrain_shape.perlin_amplitude;
+    if (e.terrain_shape.perlin_frequency)
+      shape["perlin_frequency"] = *e.terrain_shape.perlin_frequency;
+  }
+  return j;
 }
 
 PlannedEnvironment EnvironmentFromJson(const json& j) {
@@ -152,6 +161,13 @@ PlannedEnvironment EnvironmentFromJson(const json& j) {
   e.fog_density = j.at("fog_density").get<double>();
   e.skylight_intensity = j.at("skylight_intensity").get<double>();
   e.terrain_material = j.value("terrain_material", std::string());
+  if (j.contains("terrain_shape")) {
+    const json& shape = j.at("terrain_shape");
+    if (shape.contains("perlin_amplitude"))
+      e.terrain_shape.perlin_amplitude = shape.at("perlin_amplitude").get<double>();
+    if (shape.contains("perlin_frequency"))
+      e.terrain_shape.perlin_frequency = shape.at("perlin_frequency").get<double>();
+  }
   return e;
 }
 

@@ -114,17 +114,7 @@ RenderScene::RenderScene(const EmbreeDevice& device,
   surfaces_.resize(ids);
   object_scenes_.assign(world.objects.size(), nullptr);
   if (plan.terrain.present) {
-    Surface s;
-    s.class_id = plan.terrain.class_id;
-    s.instance_id = plan.terrain.instance_id;
-    // The unbounded world: background ground of the same material past the
-    // terrain's edge, then the plane itself (docs/generator.md).
-    Surface beyond = s;
-    beyond.class_id = 0;
-    beyond.instance_id = 0;
-    GroundMeshes ground = MakeGroundMeshes(plan.terrain);
-    AddMesh(device, 0, std::move(ground.terrain), s);
-    AddMesh(device, 1, std::move(ground.skirt), beyond);
+    BuildGround(device, world);
     ground_plane_ = static_cast<int>(ids);  // after every Embree geometry id
     surfaces_.push_back(surfaces_[1]);      // the skirt's: background
     surfaces_.back().positions = nullptr;
@@ -145,6 +135,16 @@ void RenderScene::Update(const EmbreeDevice& device,
                          const RenderScene* earlier) {
   if (world.objects.size() != world_.objects.size())
     throw Error("internal: a scene can only be updated to a world state of its plan");
+  if (ground_plane_ >= 0 && !world_.SameGround(world)) {
+    // A terrain shape change (LCAP, at a shot's start): the ground is meshed again.
+    for (const unsigned id : {0U, 1U}) {
+      rtcDetachGeometry(scene_, id);
+      rtcReleaseGeometry(geometries_[id]);
+      geometries_[id] = nullptr;
+      meshes_[id].reset();
+    }
+    BuildGround(device, world);
+  }
   if (ground_plane_ >= 0) SetTerrainMaterial(assets, world);
   for (size_t i = 0; i < world.objects.size(); ++i) {
     const ObjectState& o = world.objects[i];
@@ -155,6 +155,20 @@ void RenderScene::Update(const EmbreeDevice& device,
   world_ = world;
   rtcCommitScene(scene_);
   CheckDevice(device.get());
+}
+
+void RenderScene::BuildGround(const EmbreeDevice& device, const WorldState& world) {
+  Surface s;
+  s.class_id = world.terrain.class_id;
+  s.instance_id = world.terrain.instance_id;
+  // The unbounded world: background ground of the same material past the
+  // terrain's edge, then the plane itself (docs/generator.md).
+  Surface beyond = s;
+  beyond.class_id = 0;
+  beyond.instance_id = 0;
+  GroundMeshes ground = MakeGroundMeshes(world.terrain);
+  AddMesh(device, 0, std::move(ground.terrain), s);
+  AddMesh(device, 1, std::move(ground.skirt), beyond);
 }
 
 void RenderScene::SetTerrainMaterial(const SceneAssets& assets, const WorldState& world) {

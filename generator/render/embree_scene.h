@@ -89,7 +89,8 @@ class RenderScene {
   // their geometry and its BVH, so Embree rebuilds only the changed objects'
   // BVHs and the level above them; changed objects are shared from
   // `earlier` where it has them in their new state, else built. The terrain
-  // stays as it is (only its material follows the world).
+  // is meshed again when its shape changed (else only its material follows
+  // the world).
   void Update(const EmbreeDevice& device,
               const SceneAssets& assets,
               const WorldState& world,
@@ -123,6 +124,9 @@ class RenderScene {
                    const ObjectState& o,
                    const RenderScene* earlier);
   void RemoveObject(size_t i);
+  // The terrain of `world` and its skirt, as geometries 0 and 1 (their
+  // material is set by SetTerrainMaterial).
+  void BuildGround(const EmbreeDevice& device, const WorldState& world);
   // The terrain's material in `world` (LCAP may change it per frame).
   void SetTerrainMaterial(const SceneAssets& assets, const WorldState& world);
   // A new Embree geometry reading `mesh` in place, attached as `id`

@@ -7,6 +7,7 @@ namespace lsds::gen {
 WorldState WorldAt(const Plan& plan, const PlannedFrame& frame) {
   WorldState world;
   world.terrain_material = EnvironmentAt(plan, frame).terrain_material;
+  world.terrain = TerrainAt(plan, frame);
   world.objects.reserve(plan.objects.size());
   for (const PlannedObject& o : plan.objects) {
     ObjectState s;

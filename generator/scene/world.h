@@ -44,8 +44,16 @@ struct ObjectState {
 struct WorldState {
   std::vector<ObjectState> objects;  // same order as Plan::objects
   std::string terrain_material;      // in effect on the frame
+  PlannedTerrain terrain;            // its shape in effect on the frame (LCAP may change it)
+  // Whether `o`'s terrain has the same surface (the same ground mesh).
+  bool SameGround(const WorldState& o) const {
+    return terrain.present == o.terrain.present && terrain.size == o.terrain.size &&
+           terrain.perlin_amplitude == o.terrain.perlin_amplitude &&
+           terrain.perlin_frequency == o.terrain.perlin_frequency &&
+           terrain.perlin_seed == o.terrain.perlin_seed;
+  }
   bool operator==(const WorldState& o) const {
-    return objects == o.objects && terrain_material == o.terrain_material;
+    return objects == o.objects && terrain_material == o.terrain_material && SameGround(o);
   }
 };
 

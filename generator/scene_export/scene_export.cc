@@ -108,6 +108,10 @@ nlohmann::json SceneExporter::WriteFrame(const PlannedFrame& frame) const {
   const std::string where = "frame " + std::to_string(frame.index);
   const WorldState world = WorldAt(plan_, frame);
   const PlannedEnvironment environment = EnvironmentAt(plan_, frame);
+  if (world.terrain.perlin_amplitude != plan_.terrain.perlin_amplitude ||
+      world.terrain.perlin_frequency != plan_.terrain.perlin_frequency)
+    throw Error(where + " changes the terrain's shape (LCAP); the scene export writes one ground " +
+                "for every frame and cannot carry a second one yet");
   nlohmann::json nodes = nlohmann::json::array();
   if (plan_.terrain.present) {
     const Material& ground = FindMaterial(environment.terrain_material, where + " terrain");

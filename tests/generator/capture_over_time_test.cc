@@ -10,7 +10,11 @@
 
 #include "generator/generate.h"
 #include "generator/lang/planner.h"
+#include "generator/plan/plan_json.h"
+#include "generator/plan/terrain_height.h"
 #include "generator/plan_source.h"
+#include "generator/scene/terrain.h"
+#include "generator/scene/world.h"
 #include "generator/survey.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/exr/flat_image.h"
@@ -165,6 +169,132 @@ TEST(CaptureOverTime, TheSceneRecordNamesTheTerrainMaterialOfEveryFrame) {
   EXPECT_EQ(frames[0]["scene"]["terrain_material"], "sandy");
   EXPECT_EQ(frames[1]["scene"]["terrain_material"], "grass");  // after frame 0
   EXPECT_EQ(frames[2]["scene"]["terrain_material"], "grass");
+}
+
+// A flat terrain for the first flight of P, hills from its second (a shot's first frame), lower
+// hills of the same frequency from its third (the renderer's third world re-meshes a recycled
+// scene's ground): four cubes ON the terrain.
+const char* kGroundScene =
+    "LSCENE = ONE(W) MANY(O, 4)\n"
+    "W = terrain{size:[80,80]}\n"
+    "O = object{class:cube,extent:[2,2,2],position:{ON:W,within:[[-12,-12,-100],[12,12,100]]}}\n";
+const char* kGroundCapture =
+    "LCAP = ONE(CO) ONE(P) ONE(CL)\n"
+    "CO = camera{csettings:{res:[96,72]},targets:[O]}\n"
+    "P = path{waypoints:[[0,0,40],[1,0,40],[2,0,40]]}\n"
+    "CL = collection{CO:{move:[P:3]},W:[{after:P:1,height:{perlin:{amplitude:3,frequency:0.04}}},"
+    "{after:P:2,perlin:1.5}]}\n";
+
+// The terrain amplitude of frame `k` of kGroundCapture.
+double GroundAmplitude(int64_t k) { return k >= 6 ? 1.5 : k >= 3 ? 3.0 : 0.0; }
+
+TEST(CaptureOverTime, ATerrainShapeChangeAtAShotReseatsWhatStandsOnIt) {
+  const Plan plan = PlanText(kGroundScene, kGroundCapture, 0);
+  ASSERT_EQ(plan.frames.size(), 9u);
+  EXPECT_EQ(plan.frames[2].shot, 0);
+  EXPECT_EQ(plan.frames[3].shot, 3);  // P(2) is a shot of its own
+  EXPECT_EQ(plan.frames[6].shot, 6);
+  double largest_base = 0;
+  for (const PlannedFrame& f : plan.frames) {
+    const PlannedTerrain ground = TerrainAt(plan, f);
+    EXPECT_EQ(ground.perlin_amplitude, GroundAmplitude(f.index)) << f.index;
+    EXPECT_EQ(ground.perlin_frequency, f.index >= 3 ? 0.04 : 0.05) << f.index;
+    const gen::WorldState world = gen::WorldAt(plan, f);
+    ASSERT_EQ(world.objects.size(), 4u);
+    for (const gen::ObjectState& o : world.objects) {
+      const double half_z = (o.world_from_object.cwiseAbs() * (0.5 * o.extent)).z();
+      const double base = o.position.z() - half_z;
+      // The box's base on the ground under its centre, on every frame of each shot.
+      EXPECT_NEAR(base, TerrainHeight(ground, o.position.x(), o.position.y()), 1e-9)
+          << "frame " << f.index << " " << o.planned->name;
+      largest_base = std::max(largest_base, std::abs(base));
+    }
+  }
+  EXPECT_GT(largest_base, 0.1);  // the hills did move the cubes
+  // The plan's JSON carries the change, and reads back to the same ground.
+  const Plan back = PlanFromJson(PlanToJson(plan), "plan.json");
+  EXPECT_EQ(PlanToJson(back), PlanToJson(plan));
+  EXPECT_EQ(TerrainAt(back, back.frames[4]).perlin_amplitude, 3.0);
+  EXPECT_EQ(TerrainAt(back, back.frames[7]).perlin_amplitude, 1.5);
+  EXPECT_EQ(TerrainAt(back, back.frames[7]).perlin_frequency, 0.04);
+  EXPECT_EQ(TerrainAt(back, back.frames[1]).perlin_amplitude, 0.0);
+  // A change that would take effect inside a shot is a located error showing the accepted form.
+  const std::string error =
+      testing::PlanErrorOf(kGroundScene,
+                           "LCAP = ONE(CO) ONE(P) ONE(CL)\nCO = camera{csettings:{res:[96,72]}}\n"
+                           "P = path{waypoints:[[0,0,40],[1,0,40],[2,0,40]]}\n"
+                           "CL = collection{CO:{move:[P:2]},W:{after:1,height:{perlin:2}}}\n");
+  EXPECT_NE(error.find("c.lcap:4:"), std::string::npos) << error;
+  EXPECT_NE(error.find("a terrain shape change takes effect only where a shot starts"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("starts at frame 2, inside the shot of P(1) that starts at frame 0"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("W:{during:P:1, height:{...}}"), std::string::npos) << error;
+}
+
+// The height at (x, y) of the rendered terrain mesh (gen::MakeTerrainMesh): its grid of
+// TerrainHeight vertices, each cell cut along its diagonal into triangles (a, b, d), (a, d, c).
+double TerrainMeshHeight(const PlannedTerrain& terrain, double x, double y) {
+  const Eigen::Vector2i grid = gen::TerrainGrid(terrain);
+  const double sx = terrain.size.x(), sy = terrain.size.y();
+  const double gx = (x + sx / 2) / sx * grid.x(), gy = (y + sy / 2) / sy * grid.y();
+  const int i = std::clamp(static_cast<int>(std::floor(gx)), 0, grid.x() - 1);
+  const int j = std::clamp(static_cast<int>(std::floor(gy)), 0, grid.y() - 1);
+  auto vertex = [&](int vi, int vj) {
+    const double vx = -sx / 2 + sx * vi / grid.x(), vy = -sy / 2 + sy * vj / grid.y();
+    return static_cast<double>(static_cast<float>(TerrainHeight(terrain, vx, vy)));
+  };
+  const double za = vertex(i, j), zb = vertex(i + 1, j), zc = vertex(i, j + 1),
+               zd = vertex(i + 1, j + 1);
+  const double u = gx - i, v = gy - j;
+  return u >= v ? za + u * (zb - za) + v * (zd - zb) : za + v * (zc - za) + u * (zd - zc);
+}
+
+TEST(CaptureOverTime, TheRenderedGroundAndBoxesFollowATerrainShapeChange) {
+  testing::TempDir dir;
+  const auto collection = testing::GenerateValidated(dir, kGroundScene, kGroundCapture);
+  const Plan plan = PlanText(kGroundScene, kGroundCapture, 0);  // lsds generate's seed
+  const CollectionReader reader(dir / "out");
+  int frames = 0;
+  reader.ForEachFrame([&](const Frame& f) {
+    ++frames;
+    const PlannedTerrain ground = TerrainAt(plan, plan.frames[static_cast<size_t>(f.index)]);
+    EXPECT_EQ(f.scene["terrain_shape"]["perlin_amplitude"], GroundAmplitude(f.index));
+    EXPECT_EQ(f.scene["terrain_shape"]["perlin_frequency"], f.index >= 3 ? 0.04 : 0.05);
+    int boxes = 0;
+    for (const ObjectTruth& o : f.objects) {
+      const Eigen::Vector3d half = o.obb.world_from_box.cwiseAbs() * o.obb.half_extents;
+      EXPECT_NEAR(o.obb.center.z() - half.z(),
+                  TerrainHeight(ground, o.obb.center.x(), o.obb.center.y()),
+                  1e-9)
+          << "frame " << f.index << " " << o.name;
+      ++boxes;
+    }
+    EXPECT_EQ(boxes, 4) << f.index;
+    // Every ground pixel's world position lies on this shot's terrain mesh, and off the other
+    // shot's ground.
+    const exr::FlatImage position = reader.ReadFlatLayer(f, "worldposition", {"X", "Y", "Z"});
+    const exr::FlatImage ids = reader.ReadFlatLayer(f, "instanceid", {"id"});
+    double worst = 0, off_flat = 0;
+    int ground_pixels = 0;
+    for (size_t p = 0; p < ids.Get("id").uints.size(); ++p) {
+      if (ids.Get("id").uints[p] != plan.terrain.instance_id) continue;
+      const double x = position.Get("X").floats[p], y = position.Get("Y").floats[p],
+                   z = position.Get("Z").floats[p];
+      worst = std::max(worst, std::abs(z - TerrainMeshHeight(ground, x, y)));
+      off_flat = std::max(off_flat, std::abs(z));
+      ++ground_pixels;
+    }
+    EXPECT_GT(ground_pixels, 1000) << f.index;
+    EXPECT_LT(worst, 1e-3) << f.index;
+    if (f.index >= 3) {
+      EXPECT_GT(off_flat, 0.5) << f.index;
+    }
+  });
+  EXPECT_EQ(frames, 9);
+  EXPECT_EQ(collection["frames"].size(), 9u);
 }
 
 const char* kSunScene =

@@ -575,7 +575,7 @@ TEST(CaptureObjectChanges, AMovingObjectFollowsItsLegsThenRests) {
   rule.legs.push_back(leg);
   rule.when.begin = 4;
   ObjectChange c;
-  MoveAlongLegs(rule, o, plan, 7, 1, &c);  // 3 s after it began: 6 m along
+  MoveAlongLegs(rule, o, plan, plan.terrain, 7, 1, &c);  // 3 s after it began: 6 m along
   EXPECT_NEAR((*c.position - Eigen::Vector3d(0, 6, 0)).norm(), 0, 1e-12);
   EXPECT_NEAR((*c.velocity - Eigen::Vector3d(0, 2, 0)).norm(), 0, 1e-12);
   // Heading: yaw 90 degrees turns the object's x axis to +y.
@@ -583,7 +583,7 @@ TEST(CaptureObjectChanges, AMovingObjectFollowsItsLegsThenRests) {
               0,
               1e-12);
   ObjectChange after;
-  MoveAlongLegs(rule, o, plan, 20, 1, &after);
+  MoveAlongLegs(rule, o, plan, plan.terrain, 20, 1, &after);
   EXPECT_NEAR((*after.position - Eigen::Vector3d(0, 10, 0)).norm(), 0, 1e-12);
   EXPECT_EQ(*after.velocity, Eigen::Vector3d::Zero());
 }
@@ -719,11 +719,12 @@ TEST(CaptureClearance, ACameraUnderTheClearanceIsAnErrorNamingThePose) {
   const auto c = Lcap(kTimelineLcap);
   const auto pose = [] { return std::string("G(1) pose 2 (frame 2)"); };
   EXPECT_EQ(ErrorOf([&] {
-              CheckClearance(plan, 1, gen::testing::Nadir({0, 0, 2}), pose, c->Def("G").body);
+              CheckClearance(
+                  plan, plan.terrain, 1, gen::testing::Nadir({0, 0, 2}), pose, c->Def("G").body);
             }),
             "");
   const std::string error = ErrorOf([&] {
-    CheckClearance(plan, 1, gen::testing::Nadir({0, 0, 0.5}), pose, c->Def("G").body);
+    CheckClearance(plan, plan.terrain, 1, gen::testing::Nadir({0, 0, 0.5}), pose, c->Def("G").body);
   });
   EXPECT_NE(error.find("c.lcap:3:5: G(1) pose 2 (frame 2): the camera at ("), std::string::npos)
       << error;

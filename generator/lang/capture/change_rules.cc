@@ -2,6 +2,7 @@
 
 #include "generator/lang/capture/object_changes.h"
 #include "generator/lang/environment.h"
+#include "generator/lang/scene/ground.h"
 #include "generator/lang/vocabulary.h"
 #include "libs/util/strings.h"
 
@@ -74,6 +75,10 @@ class RuleReader {
     block.CheckKeys(keys, where);
     Rule rule = NewRule(symbol, block, timing_block);
     rule.environment_kind = kind;
+    if (kind == "terrain" && HasTerrainShape(block)) {
+      rule.terrain_shape = true;
+      CheckShotBoundaries(rule, symbol, timing_block);
+    }
     Rng probe(0);  // bad values are reported now, not on some frame
     PlannedEnvironment scratch = EnvironmentOf(*plan_);
     ApplyEnvironment(rule.environment_kind, block, probe, &scratch);
@@ -114,6 +119,29 @@ class RuleReader {
         break;
       }
     rules.push_back(std::move(rule));
+  }
+
+  // A terrain shape change starts (and ends) where a shot starts: motion and its truth are
+  // measured between frames of one shot over a still world, so the ground may change only
+  // between shots (docs/languages.md, "Terrain shape changes").
+  void CheckShotBoundaries(const Rule& rule,
+                           const std::string& symbol,
+                           const Node& timing_block) const {
+    for (const int64_t step : {rule.when.begin, rule.when.end}) {
+      if (step <= 0 || step >= timeline_.steps()) continue;
+      const Segment& seg = timeline_.At(step);
+      const int64_t shot = paths_->ShotStart(*seg.path, seg.first, step - seg.first);
+      if (shot == step) continue;
+      timing_block.Fail(
+          "a terrain shape change takes effect only where a shot starts (motion is measured "
+          "within a shot over a still ground); this one " +
+          std::string(step == rule.when.begin ? "starts" : "ends") + " at frame " +
+          std::to_string(step) + ", inside the shot of " + seg.path->symbol + "(" +
+          std::to_string(seg.repetition) + ") that starts at frame " + std::to_string(shot) +
+          "; time it by a path instance: " + symbol + ":{during:" + seg.path->symbol + ":" +
+          std::to_string(seg.repetition) + ", height:{...}} or " + symbol +
+          ":{after:" + seg.path->symbol + ":" + std::to_string(seg.repetition) + ", height:{...}}");
+    }
   }
 
   Rule NewRule(const std::string& symbol, const Node& block, const Node& timing_block) const {

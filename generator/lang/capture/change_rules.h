@@ -35,6 +35,10 @@ struct Rule {
   };
   std::vector<Leg> legs;
   bool heading = false;  // the object turns to its direction of travel
+  // A terrain change of the ground's shape: in effect from a shot's first frame to a shot's first
+  // frame (or the end), drawn once when it takes effect (docs/languages.md, "Terrain shape
+  // changes").
+  bool terrain_shape = false;
 };
 
 // What a collection entry may name besides the camera.

@@ -7,6 +7,7 @@
 namespace lsds {
 
 void CheckClearance(const Plan& plan,
+                    const PlannedTerrain& terrain,
                     double clearance_m,
                     const Rigid3d& cam_from_world,
                     const std::function<std::string()>& pose,
@@ -14,8 +15,8 @@ void CheckClearance(const Plan& plan,
   const Eigen::Vector3d eye = CameraCenterInWorld(cam_from_world);
   const std::string fix = "; raise the path, or set camera settings clearance:" +
                           std::string("N (metres) or clearance:off");
-  if (plan.terrain.present) {
-    const double ground = TerrainHeight(plan.terrain, eye.x(), eye.y());
+  if (terrain.present) {
+    const double ground = TerrainHeight(terrain, eye.x(), eye.y());
     if (eye.z() < ground + clearance_m)
       where.Fail(pose() + ": the camera at (" + FormatNumber(eye.x()) + ", " +
                  FormatNumber(eye.y()) + ", " + FormatNumber(eye.z()) + ") is " +

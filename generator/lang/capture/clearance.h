@@ -13,6 +13,7 @@ namespace lsds {
 // A violation is a plan error at `where` (the path) naming `pose()` (the path instance, the pose
 // and the frame), the camera's place and the terrain height there.
 void CheckClearance(const Plan& plan,
+                    const PlannedTerrain& ground,
                     double clearance_m,
                     const Rigid3d& cam_from_world,
                     const std::function<std::string()>& pose,

@@ -45,8 +45,30 @@ States ApplyChanges(const Plan& plan,
   return states;
 }
 
+// Every object ON the terrain that no change moved stands on the frame's `ground` as it stood on
+// the scene's: its z moves by the ground's rise under its centre.
+void ReseatOnGround(const Plan& plan,
+                    const PlannedTerrain& ground,
+                    const Rule* ground_rule,
+                    States* states,
+                    PlannedFrame* f) {
+  for (const PlannedObject& o : plan.objects) {
+    State& s = states->at(o.name);
+    if (s.moved || o.support != PlannedObject::Support::kTerrain) continue;
+    const double rise = TerrainHeight(ground, s.position.x(), s.position.y()) -
+                        TerrainHeight(plan.terrain, s.position.x(), s.position.y());
+    s.position.z() += rise;
+    s.moved = true;
+    s.rule = ground_rule;
+    ObjectChange seat;
+    seat.object = o.name;
+    seat.position = s.position;
+    f->changes.push_back(seat);
+  }
+}
+
 // Every moved object with a support is set back on it (an offset's z lifts it off on purpose).
-void Reseat(const Plan& plan, States* states, PlannedFrame* f) {
+void Reseat(const Plan& plan, const PlannedTerrain& ground, States* states, PlannedFrame* f) {
   for (auto& [name, s] : *states) {
     if (!s.moved) continue;
     const PlannedObject& o = *s.planned;
@@ -55,7 +77,7 @@ void Reseat(const Plan& plan, States* states, PlannedFrame* f) {
     for (const auto& [key, v] : s.rule->block.Members())
       if (CanonicalKey(key) == "offset") lift = s.position.z() - o.position.z();
     if (o.support == PlannedObject::Support::kTerrain) {
-      s.position.z() = TerrainHeight(plan.terrain, s.position.x(), s.position.y()) + half_z + lift;
+      s.position.z() = TerrainHeight(ground, s.position.x(), s.position.y()) + half_z + lift;
     } else if (o.support == PlannedObject::Support::kTop) {
       s.position.z() = o.support_top + half_z + lift;
     } else {
@@ -133,9 +155,12 @@ void CheckOverlaps(const States& states, const PlannedFrame& f) {
 
 void KeepPlacement(const Plan& plan,
                    const std::vector<const Rule*>& change_rules,
-                   PlannedFrame* f) {
+                   PlannedFrame* f,
+                   const Rule* ground_rule) {
   States states = ApplyChanges(plan, change_rules, *f);
-  Reseat(plan, &states, f);
+  const PlannedTerrain ground = TerrainAt(plan, *f);
+  Reseat(plan, ground, &states, f);
+  if (ground_rule != nullptr) ReseatOnGround(plan, ground, ground_rule, &states, f);
   // Riders follow their carriers' final (re-seated) poses.
   CarryRiders(plan, &states, f);
   CheckOverlaps(states, *f);

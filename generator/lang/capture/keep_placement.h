@@ -15,7 +15,12 @@ namespace lsds {
 // new centre, as Algorithm 1 places it), objects standing ON (or placed IN) it ride with it, and
 // an object that may not overlap must not overlap another after the change. The re-seated and
 // carried poses are appended as changes of the frame; an overlap is a plan error at the change
-// that caused it.
-void KeepPlacement(const Plan& plan, const std::vector<const Rule*>& change_rules, PlannedFrame* f);
+// that caused it. On a frame whose terrain shape was changed (by `ground_rule`, else null), every
+// object standing ON the terrain is re-seated on the frame's ground: its z moves by the change of
+// the ground's height under it (docs/languages.md, "Terrain shape changes").
+void KeepPlacement(const Plan& plan,
+                   const std::vector<const Rule*>& change_rules,
+                   PlannedFrame* f,
+                   const Rule* ground_rule = nullptr);
 
 }  // namespace lsds

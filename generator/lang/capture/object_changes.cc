@@ -95,6 +95,7 @@ ObjectChange DrawObjectChange(const Rule& rule,
 void MoveAlongLegs(const Rule& rule,
                    const PlannedObject& o,
                    const Plan& plan,
+                   const PlannedTerrain& ground,
                    int64_t k,
                    double fps,
                    ObjectChange* c) {
@@ -122,7 +123,7 @@ void MoveAlongLegs(const Rule& rule,
   c->position = at.centre + (o.position - first->position);
   Eigen::Vector3d v = moving ? at.velocity : Eigen::Vector3d::Zero();
   if (o.support == PlannedObject::Support::kTerrain)
-    v.z() = TerrainClimb(plan.terrain, *c->position, v);
+    v.z() = TerrainClimb(ground, *c->position, v);
   else if (o.support == PlannedObject::Support::kTop)
     v.z() = 0;
   c->velocity = v;

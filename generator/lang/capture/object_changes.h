@@ -29,6 +29,7 @@ ObjectChange DrawObjectChange(const Rule& rule,
 void MoveAlongLegs(const Rule& rule,
                    const PlannedObject& o,
                    const Plan& plan,
+                   const PlannedTerrain& ground,
                    int64_t k,
                    double fps,
                    ObjectChange* c);

@@ -35,7 +35,7 @@ States FrameStates(const Plan& plan, const PlannedFrame& f) {
 }
 
 // A centre drawn uniformly in the placement space shrunk by `half`, seated on the support.
-Eigen::Vector3d DrawPlace(const Plan& plan,
+Eigen::Vector3d DrawPlace(const PlannedTerrain& ground,
                           const PlannedObject& o,
                           const Eigen::Vector3d& half,
                           Rng& rng) {
@@ -47,7 +47,7 @@ Eigen::Vector3d DrawPlace(const Plan& plan,
     p[i] = lo <= hi ? rng.Uniform(lo, hi) : 0.5 * (o.placement_lo[i] + o.placement_hi[i]);
   }
   if (o.support == PlannedObject::Support::kTerrain)
-    p.z() = TerrainHeight(plan.terrain, p.x(), p.y()) + half.z();
+    p.z() = TerrainHeight(ground, p.x(), p.y()) + half.z();
   else if (o.support == PlannedObject::Support::kTop)
     p.z() = o.support_top + half.z();
   return p;
@@ -104,8 +104,9 @@ void Rescatter(const Plan& plan,
   Eigen::Vector3d half = me.world_from_object.cwiseAbs() * (0.5 * me.extent);
   if (o.facing) half.head<2>().setConstant(HorizontalRadius(unturned, me.extent));
   const std::string* broken = nullptr;  // the relation the last draw broke
+  const PlannedTerrain ground = TerrainAt(plan, f);
   for (int attempt = 0;; ++attempt) {
-    const Eigen::Vector3d p = DrawPlace(plan, o, half, rng);
+    const Eigen::Vector3d p = DrawPlace(ground, o, half, rng);
     c->position = p;
     if (o.facing) {
       me.world_from_object = FacingRotation(unturned, p, *o.facing);

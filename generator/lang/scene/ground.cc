@@ -11,7 +11,7 @@ double Sampled(const Node& n, const char* kind, const char* key, Rng& rng) {
 }
 
 // `perlin:A` or `perlin:{amplitude, frequency}`.
-void ReadPerlin(const Node& p, Rng& rng, PlannedTerrain* t) {
+void ReadPerlin(const Node& p, Rng& rng, PlannedTerrainShape* t) {
   if (p->is_object()) {
     CheckKeys(p, KindVocabulary("perlin"), "Perlin");
     if (const Node a = p.Find("amplitude"))
@@ -25,6 +25,22 @@ void ReadPerlin(const Node& p, Rng& rng, PlannedTerrain* t) {
 
 }  // namespace
 
+void ReadTerrainShape(const Node& b, Rng& rng, PlannedTerrainShape* shape) {
+  if (const Node n = b.Find("height")) {
+    CheckKeys(n, KindVocabulary("terrain_height"), "terrain height");
+    if (const Node p = n.Find("perlin")) ReadPerlin(p, rng, shape);
+    if (const Node f = n.Find("frequency"))
+      shape->perlin_frequency = Sampled(f, "terrain_height", "frequency", rng);
+  }
+  if (const Node p = b.Find("perlin")) ReadPerlin(p, rng, shape);
+  if (const Node f = b.Find("frequency"))
+    shape->perlin_frequency = Sampled(f, "terrain", "frequency", rng);
+}
+
+bool HasTerrainShape(const Node& b) {
+  return b.Find("height") || b.Find("perlin") || b.Find("frequency");
+}
+
 void EvaluateTerrain(const Node& b, uint64_t seed, Rng& rng, Plan* plan) {
   PlannedTerrain& t = plan->terrain;
   t.present = true;
@@ -34,15 +50,10 @@ void EvaluateTerrain(const Node& b, uint64_t seed, Rng& rng, Plan* plan) {
     t.size = SampleVec2(n, rng);
     CheckRange(n, KindVocabulary("terrain").Key("size"), t.size.minCoeff());
   }
-  if (const Node n = b.Find("height")) {
-    CheckKeys(n, KindVocabulary("terrain_height"), "terrain height");
-    if (const Node p = n.Find("perlin")) ReadPerlin(p, rng, &t);
-    if (const Node f = n.Find("frequency"))
-      t.perlin_frequency = Sampled(f, "terrain_height", "frequency", rng);
-  }
-  if (const Node p = b.Find("perlin")) ReadPerlin(p, rng, &t);
-  if (const Node f = b.Find("frequency"))
-    t.perlin_frequency = Sampled(f, "terrain", "frequency", rng);
+  PlannedTerrainShape shape;
+  ReadTerrainShape(b, rng, &shape);
+  if (shape.perlin_amplitude) t.perlin_amplitude = *shape.perlin_amplitude;
+  if (shape.perlin_frequency) t.perlin_frequency = *shape.perlin_frequency;
   if (const Node m = b.Find("material")) t.material = SampleString(m, rng);
   if (const Node s = b.Find("seed"))
     t.perlin_seed = static_cast<uint64_t>(ReadInRange(s, KindVocabulary("terrain").Key("seed")));

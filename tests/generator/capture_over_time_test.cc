@@ -265,10 +265,11 @@ TEST(CaptureOverTime, TheRenderedGroundAndBoxesFollowATerrainShapeChange) {
     EXPECT_EQ(f.scene["terrain_shape"]["perlin_frequency"], f.index >= 3 ? 0.04 : 0.05);
     int boxes = 0;
     for (const ObjectTruth& o : f.objects) {
-      const Eigen::Vector3d half = o.obb.world_from_box.cwiseAbs() * o.obb.half_extents;
-      EXPECT_NEAR(o.obb.center.z() - half.z(),
-                  TerrainHeight(ground, o.obb.center.x(), o.obb.center.y()),
-                  1e-9)
+      ASSERT_TRUE(o.obb.has_value()) << o.name;
+      const OrientedBox& obb = *o.obb;
+      const Eigen::Vector3d half = obb.world_from_box.cwiseAbs() * obb.half_extents;
+      EXPECT_NEAR(
+          obb.center.z() - half.z(), TerrainHeight(ground, obb.center.x(), obb.center.y()), 1e-9)
           << "frame " << f.index << " " << o.name;
       ++boxes;
     }

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/stopwatch.h"
 #include "generator/cycles/blender.h"
 #include "generator/demo_plan.h"
 #include "generator/generate.h"
@@ -27,13 +28,10 @@
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
+using lsds::bench::Clock;
+using lsds::bench::Seconds;
 using namespace lsds;       // NOLINT(google-build-using-namespace): a benchmark's main file
 using namespace lsds::gen;  // NOLINT(google-build-using-namespace)
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

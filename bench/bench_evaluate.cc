@@ -25,24 +25,21 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench/stopwatch.h"
 #include "evaluate/evaluate_run.h"
 #include "evaluate/predictions.h"
-
-using Clock = std::chrono::steady_clock;
 
 namespace {
 
 using namespace lsds::evaluate;
+using lsds::bench::Clock;
+using lsds::bench::Seconds;
 
 // The peak resident set of this process so far, MiB (Linux reports KiB).
 double PeakRssMib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
-}
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
 // The ground truth and the predictions' JSON text for `images` images.

@@ -22,6 +22,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench/stopwatch.h"
 #include "generator/cycles/blender.h"
 #include "generator/demo_plan.h"
 #include "generator/generate.h"
@@ -35,13 +36,10 @@
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
+using lsds::bench::Clock;
+using lsds::bench::Seconds;
 using namespace lsds;       // NOLINT(google-build-using-namespace): a benchmark's main file
 using namespace lsds::gen;  // NOLINT(google-build-using-namespace)
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 // What `command` prints on stdout; "" when it fails.
 std::string Output(const std::string& command) {

@@ -190,35 +190,30 @@ struct FrameResult {
   FrameReport report;
 };
 
-}  // namespace
-
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
-BackprojectSummary RunBackproject(const BackprojectOptions& options,
-                                  const std::function<void(const FrameReport&)>& on_frame) {
+void CheckOptions(const BackprojectOptions& options) {
   if (options.stride < 1) throw Error("--stride must be >= 1");
   if (options.voxel < 0) throw Error("--voxel must be >= 0");
   if (options.voxel > 0 && !options.fuse)
     throw Error("--voxel needs --fuse (it downsamples the fused cloud)");
   if (options.output.empty() && !options.check)
     throw Error("nothing to do: give -o OUT, --check or both");
+}
 
-  const CollectionReader reader(options.collection);
-  const CollectionHeader& header = reader.header();
-  const std::string collection_file = reader.collection_path().string();
+std::string LayerNames(const CollectionHeader& header) {
+  std::vector<std::string> names;
+  for (const LayerInfo& l : header.layers) names.push_back(l.name);
+  return Join(names, ", ");
+}
 
+Plan PlanLayers(const CollectionHeader& header,
+                const BackprojectOptions& options,
+                const std::string& collection_file) {
   Plan plan;
   plan.depth = header.FindLayerBySemantic("depth");
   if (plan.depth == nullptr || plan.depth->deep) {
-    throw Error(
-        "the collection has no flat depth layer to back-project (layers: " +
-            [&header] {
-              std::vector<std::string> names;
-              for (const LayerInfo& l : header.layers) names.push_back(l.name);
-              return Join(names, ", ");
-            }() +
-            ")",
-        Location(collection_file, "/layers"));
+    throw Error("the collection has no flat depth layer to back-project (layers: " +
+                    LayerNames(header) + ")",
+                Location(collection_file, "/layers"));
   }
   plan.depth_kind = plan.depth->depth_kind.value_or(DepthKind::kPlanar);
   plan.rgb = header.FindLayerBySemantic("rgb");
@@ -237,161 +232,231 @@ BackprojectSummary RunBackproject(const BackprojectOptions& options,
     throw Error("--check: the collection has no worldposition layer to compare with",
                 Location(collection_file, "/layers"));
   }
-  const WorldFrame& world = header.conventions.world;
+  return plan;
+}
 
-  // Poses from a metadata variant, by frame index (a few numbers per frame).
-  std::map<int64_t, MetadataFrame> metadata;
-  fs::path metadata_path;
-  if (!options.metadata.empty()) {
-    metadata_path = ResolveMetadataPath(reader.root(), options.metadata);
-    const MetadataReader metadata_reader(metadata_path);
-    metadata_reader.ForEachFrame([&](const MetadataFrame& m) {
-      if (options.frames.Contains(m.index)) metadata[m.index] = m;
-    });
-  }
+// Poses from a metadata variant, by frame index (a few numbers per frame).
+struct MetadataPoses {
+  fs::path path;
+  std::map<int64_t, MetadataFrame> frames;
+};
 
-  // Outputs: checked and claimed before any work, so that bad usage costs
-  // nothing.
+MetadataPoses ReadMetadataPoses(const CollectionReader& reader, const BackprojectOptions& options) {
+  MetadataPoses poses;
+  if (options.metadata.empty()) return poses;
+  poses.path = ResolveMetadataPath(reader.root(), options.metadata);
+  const MetadataReader metadata_reader(poses.path);
+  metadata_reader.ForEachFrame([&](const MetadataFrame& m) {
+    if (options.frames.Contains(m.index)) poses.frames[m.index] = m;
+  });
+  return poses;
+}
+
+// The outputs of a run: one fused file, or a folder of one cloud per frame.
+struct Outputs {
   std::optional<CloudFormat> format;
   std::unique_ptr<AtomicDirectory> folder;
-  if (!options.output.empty()) {
-    if (options.fuse) {
-      format = FormatFromPath(options.output);
-      RefuseToOverwrite(options.output, options.force);
-      CheckWritableParent(options.output);
-    } else {
-      const std::string ext = options.output.extension().string();
-      if (ext == ".pcd" || ext == ".ply" || ext == ".PCD" || ext == ".PLY") {
-        throw Error(
-            "without --fuse the output is a folder of one cloud per frame; add "
-            "--fuse to write one file, select one frame (--frames N), or name "
-            "a folder (and --format pcd|ply)",
-            Location(options.output.string()));
-      }
-      format = FormatFromName(options.per_frame_format);
-      CheckWritableParent(options.output);
-      folder = std::make_unique<AtomicDirectory>(options.output, options.force);
-    }
+};
+
+// Outputs: checked and claimed before any work, so that bad usage costs
+// nothing.
+Outputs ClaimOutputs(const BackprojectOptions& options) {
+  Outputs outputs;
+  if (options.output.empty()) return outputs;
+  if (options.fuse) {
+    outputs.format = FormatFromPath(options.output);
+    RefuseToOverwrite(options.output, options.force);
+    CheckWritableParent(options.output);
+    return outputs;
+  }
+  const std::string ext = options.output.extension().string();
+  if (ext == ".pcd" || ext == ".ply" || ext == ".PCD" || ext == ".PLY") {
+    throw Error(
+        "without --fuse the output is a folder of one cloud per frame; add "
+        "--fuse to write one file, select one frame (--frames N), or name "
+        "a folder (and --format pcd|ply)",
+        Location(options.output.string()));
+  }
+  outputs.format = FormatFromName(options.per_frame_format);
+  CheckWritableParent(options.output);
+  outputs.folder = std::make_unique<AtomicDirectory>(options.output, options.force);
+  return outputs;
+}
+
+// One run of `lsds backproject`: the options checked, the layers planned and
+// the outputs claimed on construction; then the frames streamed in batches.
+class BackprojectRun {
+ public:
+  BackprojectRun(const BackprojectOptions& options,
+                 const std::function<void(const FrameReport&)>& on_frame)
+      : options_((CheckOptions(options), options)),
+        on_frame_(on_frame),
+        reader_(options.collection),
+        collection_file_(reader_.collection_path().string()),
+        plan_(PlanLayers(reader_.header(), options, collection_file_)),
+        world_(reader_.header().conventions.world),
+        metadata_(ReadMetadataPoses(reader_, options)),
+        outputs_(ClaimOutputs(options)) {
+    summary_.world_unit = world_.length_unit;
+    fused_.attributes = plan_.attributes;
+    if (options_.fuse && options_.voxel > 0)
+      voxels_ = std::make_unique<VoxelAccumulator>(options_.voxel, plan_.attributes);
   }
 
-  BackprojectSummary summary;
-  summary.world_unit = world.length_unit;
-  PointCloud fused;
-  fused.attributes = plan.attributes;
-  std::unique_ptr<VoxelAccumulator> voxels;
-  if (options.fuse && options.voxel > 0)
-    voxels = std::make_unique<VoxelAccumulator>(options.voxel, plan.attributes);
+  BackprojectSummary Run();
 
-  const int64_t in_file = static_cast<int64_t>(reader.frames_in_file());
-  const int64_t total = std::max<int64_t>(
-      0, std::min(in_file, options.frames.end) - std::min(in_file, options.frames.begin));
-  Progress progress("backproject", total);
+ private:
+  Eigen::Affine3d WorldFromCam(const Frame& frame, FramePose* pose) const;
+  FrameResult ProcessFrame(const Frame& frame) const;
+  void Flush(std::vector<Frame>* batch, Progress* progress);
+  void Keep(FrameResult* result);
+  void WriteFused();
 
-  auto process = [&](const Frame& frame) {
-    FrameResult result;
-    result.report.index = frame.index;
-    result.report.stem = FrameFileStem(frame);
-    result.cloud.attributes = plan.attributes;
-    const LoadedFrame loaded = LoadFrame(reader, frame, plan, options.check);
-    FramePose pose;
-    pose.camera = frame.camera.intrinsics;
-    Eigen::Affine3d world_from_cam = WorldFromCamOfTruth(frame.camera);
-    const Eigen::Affine3d cam_from_world_truth = world_from_cam.inverse();
-    if (!options.metadata.empty()) {
-      const auto it = metadata.find(frame.index);
-      if (it == metadata.end()) {
-        Location where(metadata_path.string());
-        where.frame = frame.index;
-        throw Error("the metadata variant has no frame " + std::to_string(frame.index), where);
-      }
-      world_from_cam = WorldFromCamOfMetadata(world, it->second);
-      if (it->second.camera.width > 0) pose.camera = it->second.camera;
-    }
-    if (pose.camera.width != loaded.layers.width || pose.camera.height != loaded.layers.height) {
-      Location where(reader.LayerPath(frame, plan.depth->name).string());
-      where.frame = frame.index;
-      throw Error("depth is " + std::to_string(loaded.layers.width) + "x" +
-                      std::to_string(loaded.layers.height) + " but the camera is " +
-                      std::to_string(pose.camera.width) + "x" + std::to_string(pose.camera.height),
-                  where);
-    }
-    if (options.frame == OutputFrame::kWorld) {
-      pose.out_from_cam = world_from_cam;
-      pose.out_from_world_normal = world_from_cam.linear() * cam_from_world_truth.linear();
+  const BackprojectOptions& options_;
+  const std::function<void(const FrameReport&)>& on_frame_;
+  const CollectionReader reader_;
+  const std::string collection_file_;
+  const Plan plan_;
+  const WorldFrame& world_;
+  const MetadataPoses metadata_;
+  Outputs outputs_;
+  BackprojectSummary summary_;
+  PointCloud fused_;
+  std::unique_ptr<VoxelAccumulator> voxels_;
+};
+
+// The camera's pose of the frame: the truth, or the metadata variant's when
+// one is given (with its intrinsics, when it has them).
+Eigen::Affine3d BackprojectRun::WorldFromCam(const Frame& frame, FramePose* pose) const {
+  if (options_.metadata.empty()) return WorldFromCamOfTruth(frame.camera);
+  const auto it = metadata_.frames.find(frame.index);
+  if (it == metadata_.frames.end()) {
+    Location where(metadata_.path.string());
+    where.frame = frame.index;
+    throw Error("the metadata variant has no frame " + std::to_string(frame.index), where);
+  }
+  if (it->second.camera.width > 0) pose->camera = it->second.camera;
+  return WorldFromCamOfMetadata(world_, it->second);
+}
+
+FrameResult BackprojectRun::ProcessFrame(const Frame& frame) const {
+  FrameResult result;
+  result.report.index = frame.index;
+  result.report.stem = FrameFileStem(frame);
+  result.cloud.attributes = plan_.attributes;
+  const LoadedFrame loaded = LoadFrame(reader_, frame, plan_, options_.check);
+  FramePose pose;
+  pose.camera = frame.camera.intrinsics;
+  const Eigen::Affine3d cam_from_world_truth = WorldFromCamOfTruth(frame.camera).inverse();
+  const Eigen::Affine3d world_from_cam = WorldFromCam(frame, &pose);
+  if (pose.camera.width != loaded.layers.width || pose.camera.height != loaded.layers.height) {
+    Location where(reader_.LayerPath(frame, plan_.depth->name).string());
+    where.frame = frame.index;
+    throw Error("depth is " + std::to_string(loaded.layers.width) + "x" +
+                    std::to_string(loaded.layers.height) + " but the camera is " +
+                    std::to_string(pose.camera.width) + "x" + std::to_string(pose.camera.height),
+                where);
+  }
+  if (options_.frame == OutputFrame::kWorld) {
+    pose.out_from_cam = world_from_cam;
+    pose.out_from_world_normal = world_from_cam.linear() * cam_from_world_truth.linear();
+  } else {
+    pose.out_from_cam = Eigen::Affine3d::Identity();
+    pose.out_from_world_normal = cam_from_world_truth.linear();
+  }
+  if (!options_.output.empty())
+    BackprojectFrame(loaded.layers, pose, options_.stride, &result.cloud);
+  if (options_.check) {
+    result.report.checked = true;
+    result.report.check = CompareWithWorldPosition(loaded.layers,
+                                                   pose.camera,
+                                                   world_from_cam,
+                                                   options_.stride,
+                                                   loaded.world_x,
+                                                   loaded.world_y,
+                                                   loaded.world_z);
+  }
+  result.report.points = static_cast<int64_t>(result.cloud.points.size());
+  return result;
+}
+
+// One frame's cloud into the outputs: its own file, the voxel grid or the
+// fused cloud.
+void BackprojectRun::Keep(FrameResult* result) {
+  ++summary_.frames;
+  summary_.points_backprojected += result->report.points;
+  if (result->report.checked) summary_.check.Merge(result->report.check);
+  if (outputs_.folder) {
+    WriteCloud(outputs_.folder->temp_path() / (result->report.stem + Extension(*outputs_.format)),
+               result->cloud,
+               *outputs_.format,
+               options_.ply_ids);
+    summary_.points_written += result->report.points;
+  } else if (voxels_) {
+    voxels_->Add(result->cloud);
+  } else if (options_.fuse && !options_.output.empty()) {
+    PointVector& points = result->cloud.points;
+    if (fused_.points.empty()) {
+      fused_.points.swap(points);  // the first frame: no copy
     } else {
-      pose.out_from_cam = Eigen::Affine3d::Identity();
-      pose.out_from_world_normal = cam_from_world_truth.linear();
+      fused_.points.insert(fused_.points.end(), points.begin(), points.end());
     }
-    if (!options.output.empty())
-      BackprojectFrame(loaded.layers, pose, options.stride, &result.cloud);
-    if (options.check) {
-      result.report.checked = true;
-      result.report.check = CompareWithWorldPosition(loaded.layers,
-                                                     pose.camera,
-                                                     world_from_cam,
-                                                     options.stride,
-                                                     loaded.world_x,
-                                                     loaded.world_y,
-                                                     loaded.world_z);
-    }
-    result.report.points = static_cast<int64_t>(result.cloud.points.size());
-    return result;
-  };
+  }
+  result->cloud = PointCloud();
+}
+
+void BackprojectRun::Flush(std::vector<Frame>* batch, Progress* progress) {
+  std::vector<FrameResult> results(batch->size());
+  tbb::parallel_for(
+      size_t{0}, batch->size(), [&](size_t i) { results[i] = ProcessFrame((*batch)[i]); });
+  for (FrameResult& r : results) {
+    Keep(&r);
+    if (on_frame_) on_frame_(r.report);
+    progress->Add();
+  }
+  batch->clear();
+}
+
+void BackprojectRun::WriteFused() {
+  if (voxels_) fused_ = voxels_->Finish();
+  summary_.points_written = static_cast<int64_t>(fused_.points.size());
+  WriteCloud(options_.output, fused_, *outputs_.format, options_.ply_ids);
+}
+
+BackprojectSummary BackprojectRun::Run() {
+  const int64_t in_file = static_cast<int64_t>(reader_.frames_in_file());
+  const int64_t total = std::max<int64_t>(
+      0, std::min(in_file, options_.frames.end) - std::min(in_file, options_.frames.begin));
+  Progress progress("backproject", total);
 
   // Frames are streamed in batches back-projected in parallel, then merged in
   // file order, so the output is deterministic and memory holds one batch of
   // frames plus the output cloud.
   const size_t batch_size =
-      options.batch_frames > 0
-          ? options.batch_frames
+      options_.batch_frames > 0
+          ? options_.batch_frames
           : std::max<size_t>(2, size_t{2} * std::thread::hardware_concurrency());
   std::vector<Frame> batch;
-  auto flush = [&] {
-    std::vector<FrameResult> results(batch.size());
-    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) { results[i] = process(batch[i]); });
-    for (FrameResult& r : results) {
-      ++summary.frames;
-      summary.points_backprojected += r.report.points;
-      if (r.report.checked) summary.check.Merge(r.report.check);
-      if (folder) {
-        WriteCloud(folder->temp_path() / (r.report.stem + Extension(*format)),
-                   r.cloud,
-                   *format,
-                   options.ply_ids);
-        summary.points_written += r.report.points;
-      } else if (voxels) {
-        voxels->Add(r.cloud);
-      } else if (options.fuse && !options.output.empty()) {
-        if (fused.points.empty()) {
-          fused.points.swap(r.cloud.points);  // the first frame: no copy
-        } else {
-          fused.points.insert(fused.points.end(), r.cloud.points.begin(), r.cloud.points.end());
-        }
-      }
-      r.cloud = PointCloud();
-      if (on_frame) on_frame(r.report);
-      progress.Add();
-    }
-    batch.clear();
-  };
-  reader.ForEachFrame([&](const Frame& frame) {
-    if (!options.frames.Contains(frame.index)) return;
+  reader_.ForEachFrame([&](const Frame& frame) {
+    if (!options_.frames.Contains(frame.index)) return;
     batch.push_back(frame);
-    if (batch.size() >= batch_size) flush();
+    if (batch.size() >= batch_size) Flush(&batch, &progress);
   });
-  flush();
-  if (summary.frames == 0) {
+  Flush(&batch, &progress);
+  if (summary_.frames == 0) {
     throw Error("no frame selected (the collection has " + std::to_string(in_file) + " frames)",
-                Location(collection_file));
+                Location(collection_file_));
   }
+  if (options_.fuse && !options_.output.empty()) WriteFused();
+  if (outputs_.folder) outputs_.folder->Commit();
+  return summary_;
+}
 
-  if (options.fuse && !options.output.empty()) {
-    if (voxels) fused = voxels->Finish();
-    summary.points_written = static_cast<int64_t>(fused.points.size());
-    WriteCloud(options.output, fused, *format, options.ply_ids);
-  }
-  if (folder) folder->Commit();
-  return summary;
+}  // namespace
+
+BackprojectSummary RunBackproject(const BackprojectOptions& options,
+                                  const std::function<void(const FrameReport&)>& on_frame) {
+  return BackprojectRun(options, on_frame).Run();
 }
 
 }  // namespace lsds::pointcloud

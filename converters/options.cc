@@ -11,9 +11,10 @@
 
 namespace lsds::convert {
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
-void ConvertOptions::Check() const {
+namespace {
+
+// Each format once; the YOLO formats share their files (data.yaml, labels/).
+void CheckFormats(const std::vector<std::string>& formats) {
   if (formats.empty()) throw Error("no target format", Location("--to"));
   const std::vector<std::string> names = ConverterNames();
   for (const std::string& format : formats) {
@@ -32,38 +33,45 @@ void ConvertOptions::Check() const {
       }
     }
   }
-  if (images != "png" && images != "jpg" && images != "none") {
-    throw Error("expected png, jpg or none, got '" + images + "'", Location("--images"));
-  }
+}
+
+// "expected a, b or c, got 'value'" unless `value` is one of `choices`.
+void RequireChoice(const std::string& value,
+                   const std::vector<std::string>& choices,
+                   const char* flag) {
+  if (std::find(choices.begin(), choices.end(), value) != choices.end()) return;
+  std::string expected = choices.front();
+  for (size_t i = 1; i < choices.size(); ++i)
+    expected += (i + 1 == choices.size() ? " or " : ", ") + choices[i];
+  throw Error("expected " + expected + ", got '" + value + "'", Location(flag));
+}
+
+// NaN fails too.
+void RequireFraction(double value, const char* flag) {
+  if (!(value >= 0 && value <= 1)) throw Error("must be in [0, 1]", Location(flag));
+}
+
+// NaN and infinity fail too.
+void RequireFiniteNonNegative(double value, const char* flag) {
+  if (!(value >= 0 && std::isfinite(value))) throw Error("must be >= 0", Location(flag));
+}
+
+}  // namespace
+
+void ConvertOptions::Check() const {
+  CheckFormats(formats);
+  RequireChoice(images, {"png", "jpg", "none"}, "--images");
   if (!std::isfinite(display.exposure_ev)) throw Error("not a number", Location("--exposure"));
-  if (!(min_transmittance >= 0 && min_transmittance <= 1)) {
-    throw Error("must be in [0, 1]", Location("--min-transmittance"));
-  }
-  if (!(min_visibility >= 0 && min_visibility <= 1)) {
-    throw Error("must be in [0, 1]", Location("--min-visibility"));
-  }
+  RequireFraction(min_transmittance, "--min-transmittance");
+  RequireFraction(min_visibility, "--min-visibility");
   if (min_pixels < 1) throw Error("must be >= 1", Location("--min-pixels"));
-  if (segmentation != "rle" && segmentation != "polygon") {
-    throw Error("expected rle or polygon, got '" + segmentation + "'", Location("--segmentation"));
-  }
-  if (!(occluded_below >= 0 && occluded_below <= 1)) {
-    throw Error("must be in [0, 1]", Location("--occluded-below"));
-  }
-  if (mot_classes != "order" && mot_classes != "mot17") {
-    throw Error("expected order or mot17, got '" + mot_classes + "'", Location("--mot-classes"));
-  }
-  if (mot_box != "projected" && mot_box != "visible") {
-    throw Error("expected projected or visible, got '" + mot_box + "'", Location("--mot-box"));
-  }
-  if (!(dota_difficult_below >= 0 && dota_difficult_below <= 1)) {
-    throw Error("must be in [0, 1]", Location("--dota-difficult-below"));
-  }
-  if (!(dota_difficult_size >= 0 && std::isfinite(dota_difficult_size))) {
-    throw Error("must be >= 0", Location("--dota-difficult-size"));
-  }
-  if (!(dota_min_size >= 0 && std::isfinite(dota_min_size))) {
-    throw Error("must be >= 0", Location("--dota-min-size"));
-  }
+  RequireChoice(segmentation, {"rle", "polygon"}, "--segmentation");
+  RequireFraction(occluded_below, "--occluded-below");
+  RequireChoice(mot_classes, {"order", "mot17"}, "--mot-classes");
+  RequireChoice(mot_box, {"projected", "visible"}, "--mot-box");
+  RequireFraction(dota_difficult_below, "--dota-difficult-below");
+  RequireFiniteNonNegative(dota_difficult_size, "--dota-difficult-size");
+  RequireFiniteNonNegative(dota_min_size, "--dota-min-size");
   // MMRotate 0.x builds the image name as <stem>.png whatever the files are
   // (mmrotate/datasets/dota.py:82-84), and DOTA's own images are PNG.
   if (images == "jpg" && std::find(formats.begin(), formats.end(), "dota") != formats.end()) {

@@ -149,8 +149,132 @@ int64_t Tiler::CountTiles(const Frame& frame) const {
       TileRects(grid_, frame.camera.intrinsics.width, frame.camera.intrinsics.height).size());
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
+namespace {
+
+// A tile of `frame` at `rect`: the frame without its objects (`head`), its
+// camera shifted to the tile, named after the tile's corner.
+std::unique_ptr<Tile> StartTile(const FrameContext& frame,
+                                const Frame& head,
+                                const TileRect& rect,
+                                const std::string& image_ext,
+                                int64_t image_index) {
+  auto tile = std::make_unique<Tile>();
+  tile->rect = rect;
+  const std::string suffix = "_" + std::to_string(rect.x) + "_" + std::to_string(rect.y);
+  tile->frame = head;
+  tile->frame.sequence += suffix;
+  PinholeCamera& camera = tile->frame.camera.intrinsics;
+  camera.width = rect.width, camera.height = rect.height;
+  camera.cx -= rect.x, camera.cy -= rect.y;
+
+  FrameContext& ctx = tile->context;
+  ctx.frame = &tile->frame;
+  ctx.split = frame.split;
+  ctx.stem = frame.stem + suffix;
+  ctx.image_name = ctx.stem + image_ext;
+  ctx.width = rect.width, ctx.height = rect.height;
+  ctx.image_index = image_index;
+  return tile;
+}
+
+// The mask cut to the tile, tight again, in tile coordinates: `part` is the
+// view of the mask over `overlap` (the mask's box and the tile's, in frame
+// coordinates), with `count` pixels set.
+masks::BoxMask CutMask(const cv::Mat& part,
+                       const cv::Rect& overlap,
+                       const TileRect& rect,
+                       int64_t count) {
+  // From the points: OpenCV 4.6's boundingRect of an 8-bit image is short
+  // for some narrow images (a 2 x 1 image of two 1s gives width 1).
+  std::vector<cv::Point> points;
+  cv::findNonZero(part, points);
+  const cv::Rect tight = cv::boundingRect(points);
+  masks::BoxMask cut;
+  cut.left = overlap.x + tight.x - rect.x;
+  cut.top = overlap.y + tight.y - rect.y;
+  cut.mask = part(tight).clone();
+  cut.pixel_count = count;
+  cut.image_width = rect.width, cut.image_height = rect.height;
+  return cut;
+}
+
+// The object's truth in the tile's frame: its visible box `box` (of the cut
+// mask `cut`), its projected boxes shifted, its oriented box shifted when
+// the object is `whole` in the tile, else measured on the cut mask.
+ObjectTruth TruthInTile(const ObjectTruth& in_frame,
+                        const masks::BoxMask& cut,
+                        const Box2d& box,
+                        double fraction,
+                        bool whole,
+                        const TileRect& rect) {
+  const double dx = -rect.x, dy = -rect.y;
+  ObjectTruth truth = in_frame;
+  truth.bbox = box;
+  truth.visible_pixels = cut.pixel_count;
+  // The share of the amodal silhouette inside the tile is not known; the
+  // share inside the frame times the visible share inside the tile
+  // estimates it (exact for an unoccluded object whole in the frame).
+  truth.in_frame = in_frame.in_frame * fraction;
+  if (truth.bbox_projected)
+    truth.bbox_projected =
+        Shifted(*truth.bbox_projected, dx, dy).ClippedTo(rect.width, rect.height);
+  if (truth.bbox_oriented_projected)
+    truth.bbox_oriented_projected = Shifted(*truth.bbox_oriented_projected, dx, dy);
+  if (truth.bbox_oriented) {
+    truth.bbox_oriented = whole ? Shifted(*truth.bbox_oriented, dx, dy)
+                                : CroppedMaskOrientedBox(cut, *truth.bbox_oriented);
+  }
+  return truth;
+}
+
+// Adds the part of `object` inside `tile` to it (its truth, its cut mask and
+// its kept object, the pointers set by the caller); false when the object has
+// no pixel in the tile or too small a share of them (a loss).
+bool AddObjectPart(const KeptObject& object,
+                   const TileGrid& grid,
+                   const ClassMap& classes,
+                   Tile* tile,
+                   std::vector<KeptObject>* kept,
+                   LossReport* loss) {
+  const TileRect& rect = tile->rect;
+  const cv::Rect tile_rect(rect.x, rect.y, rect.width, rect.height);
+  const masks::BoxMask& mask = *object.mask;
+  const cv::Rect overlap = cv::Rect(mask.left, mask.top, mask.width(), mask.height()) & tile_rect;
+  if (overlap.empty()) return false;
+  const cv::Mat part =
+      mask.mask(overlap - cv::Point(mask.left, mask.top));  // view, in mask coordinates
+  const int64_t count = cv::countNonZero(part);
+  if (count == 0) return false;  // no pixel in the tile: not even a loss
+  const std::string& name = classes.classes()[object.class_index].name;
+  const double fraction = static_cast<double>(count) / static_cast<double>(mask.pixel_count);
+  if (fraction < grid.min_fraction) {
+    loss->Add(loss::kTileBelowFraction, name);
+    return false;
+  }
+  if (count < mask.pixel_count) loss->Add(loss::kTileTruncated, name);
+
+  masks::BoxMask cut = CutMask(part, overlap, rect, count);
+  const Box2d box{double(cut.left),
+                  double(cut.top),
+                  double(cut.left + cut.width()),
+                  double(cut.top + cut.height())};
+  const bool whole = count == mask.pixel_count;
+  KeptObject out;
+  out.class_index = object.class_index;
+  out.box = box;
+  if (object.oriented) {
+    out.oriented = whole ? Shifted(*object.oriented, -rect.x, -rect.y)
+                         : CroppedMaskOrientedBox(cut, *object.oriented);
+  }
+  tile->frame.objects.push_back(TruthInTile(*object.truth, cut, box, fraction, whole, rect));
+  tile->context.mask_storage.push_back(std::move(cut));
+  kept->push_back(out);
+  tile->tile_fractions.push_back(fraction);
+  return true;
+}
+
+}  // namespace
+
 std::vector<std::unique_ptr<Tile>> Tiler::Cut(const FrameContext& frame,
                                               const cv::Mat& display,
                                               int64_t first_image_index,
@@ -161,91 +285,13 @@ std::vector<std::unique_ptr<Tile>> Tiler::Cut(const FrameContext& frame,
   std::vector<bool> in_some_tile(frame.objects.size(), false);
   std::vector<std::unique_ptr<Tile>> tiles;
   for (const TileRect& rect : TileRects(grid_, frame.width, frame.height)) {
-    auto tile = std::make_unique<Tile>();
-    tile->rect = rect;
-    const std::string suffix = "_" + std::to_string(rect.x) + "_" + std::to_string(rect.y);
-    tile->frame = head;
-    tile->frame.sequence += suffix;
-    PinholeCamera& camera = tile->frame.camera.intrinsics;
-    camera.width = rect.width, camera.height = rect.height;
-    camera.cx -= rect.x, camera.cy -= rect.y;
-
+    std::unique_ptr<Tile> tile = StartTile(
+        frame, head, rect, image_ext_, first_image_index + static_cast<int64_t>(tiles.size()));
     FrameContext& ctx = tile->context;
-    ctx.frame = &tile->frame;
-    ctx.split = frame.split;
-    ctx.stem = frame.stem + suffix;
-    ctx.image_name = ctx.stem + image_ext_;
-    ctx.width = rect.width, ctx.height = rect.height;
-    ctx.image_index = first_image_index + static_cast<int64_t>(tiles.size());
-
-    const cv::Rect tile_rect(rect.x, rect.y, rect.width, rect.height);
-    const double dx = -rect.x, dy = -rect.y;
     std::vector<KeptObject> kept;
     for (size_t i = 0; i < frame.objects.size(); ++i) {
-      const KeptObject& object = frame.objects[i];
-      const masks::BoxMask& mask = *object.mask;
-      const cv::Rect overlap =
-          cv::Rect(mask.left, mask.top, mask.width(), mask.height()) & tile_rect;
-      if (overlap.empty()) continue;
-      const cv::Mat part =
-          mask.mask(overlap - cv::Point(mask.left, mask.top));  // view, in mask coordinates
-      const int64_t count = cv::countNonZero(part);
-      if (count == 0) continue;  // no pixel in the tile: not even a loss
-      const std::string& name = classes_.classes()[object.class_index].name;
-      const double fraction = static_cast<double>(count) / static_cast<double>(mask.pixel_count);
-      if (fraction < grid_.min_fraction) {
-        loss->Add(loss::kTileBelowFraction, name);
-        continue;
-      }
-      in_some_tile[i] = true;
-      if (count < mask.pixel_count) loss->Add(loss::kTileTruncated, name);
-
-      // The mask cut to the tile, tight again, in tile coordinates.
-      // From the points: OpenCV 4.6's boundingRect of an 8-bit image is short
-      // for some narrow images (a 2 x 1 image of two 1s gives width 1).
-      std::vector<cv::Point> points;
-      cv::findNonZero(part, points);
-      const cv::Rect tight = cv::boundingRect(points);
-      masks::BoxMask cut;
-      cut.left = overlap.x + tight.x - rect.x;
-      cut.top = overlap.y + tight.y - rect.y;
-      cut.mask = part(tight).clone();
-      cut.pixel_count = count;
-      cut.image_width = rect.width, cut.image_height = rect.height;
-      const Box2d box{double(cut.left),
-                      double(cut.top),
-                      double(cut.left + cut.width()),
-                      double(cut.top + cut.height())};
-
-      const bool whole = count == mask.pixel_count;
-      ObjectTruth truth = *object.truth;
-      truth.bbox = box;
-      truth.visible_pixels = count;
-      // The share of the amodal silhouette inside the tile is not known; the
-      // share inside the frame times the visible share inside the tile
-      // estimates it (exact for an unoccluded object whole in the frame).
-      truth.in_frame = object.truth->in_frame * fraction;
-      if (truth.bbox_projected)
-        truth.bbox_projected =
-            Shifted(*truth.bbox_projected, dx, dy).ClippedTo(rect.width, rect.height);
-      if (truth.bbox_oriented_projected)
-        truth.bbox_oriented_projected = Shifted(*truth.bbox_oriented_projected, dx, dy);
-      if (truth.bbox_oriented) {
-        truth.bbox_oriented = whole ? Shifted(*truth.bbox_oriented, dx, dy)
-                                    : CroppedMaskOrientedBox(cut, *truth.bbox_oriented);
-      }
-      tile->frame.objects.push_back(std::move(truth));
-      ctx.mask_storage.push_back(std::move(cut));
-
-      KeptObject out;
-      out.class_index = object.class_index;
-      out.box = box;
-      if (object.oriented) {
-        out.oriented = whole ? Shifted(*object.oriented, dx, dy)
-                             : CroppedMaskOrientedBox(ctx.mask_storage.back(), *object.oriented);
-      }
-      kept.push_back(out);
-      tile->tile_fractions.push_back(fraction);
+      if (AddObjectPart(frame.objects[i], grid_, classes_, tile.get(), &kept, loss))
+        in_some_tile[i] = true;
     }
     // Pointers last: the vectors do not move any more.
     for (size_t k = 0; k < kept.size(); ++k) {
@@ -255,6 +301,7 @@ std::vector<std::unique_ptr<Tile>> Tiler::Cut(const FrameContext& frame,
     ctx.objects = std::move(kept);
 
     if (!display.empty()) {
+      const cv::Rect tile_rect(rect.x, rect.y, rect.width, rect.height);
       imaging::WriteImage(
           root_ / "images" / ctx.split / ctx.image_name, display(tile_rect), display_options_);
     }

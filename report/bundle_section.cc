@@ -23,79 +23,93 @@ std::string ClassName(const CollectionHeader& header, uint32_t id) {
   return c ? c->name : "class " + std::to_string(id);
 }
 
-}  // namespace
+[[noreturn]] void Fail(const std::string& file,
+                       const std::string& pointer,
+                       const std::string& what) {
+  throw Error(what, Location(file, pointer));
+}
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
-void CheckBundleStats(const nlohmann::json& stats, const std::string& file) {
-  const auto fail = [&](const std::string& pointer, const std::string& what) {
-    throw Error(what, Location(file, pointer));
-  };
+// The format, and what the section shows besides the summary: typed here, so
+// that the writer meets no value of another type.
+void CheckHead(const nlohmann::json& stats, const std::string& file) {
   if (!stats.is_object() || !stats.contains("format") || stats["format"] != "lsds-bundle-stats") {
-    fail("/format",
+    Fail(file,
+         "/format",
          "not an lsds bundles statistics file (format "
          "lsds-bundle-stats; write one with lsds bundles -o)");
   }
-  // What the section shows besides the summary: typed here, so that the
-  // writer meets no value of another type.
   if (stats.contains("bundle_layer") && !stats["bundle_layer"].is_string()) {
-    fail("/bundle_layer", "not a string");
+    Fail(file, "/bundle_layer", "not a string");
   }
   if (stats.contains("frame_range")) {
     const nlohmann::json& range = stats["frame_range"];
     for (const char* key : {"first", "end"}) {
       if (!range.is_object() || !range.contains(key) || !range[key].is_number_integer()) {
-        fail(std::string("/frame_range/") + key, "missing or not an integer");
+        Fail(file, std::string("/frame_range/") + key, "missing or not an integer");
       }
     }
   }
-  if (!stats.contains("summary") || !stats["summary"].is_object()) {
-    fail("/summary", "missing");
-  }
-  const nlohmann::json& s = stats["summary"];
+}
+
+// /summary/class_mixing: class ids and a square table of sample counts.
+void CheckClassMixing(const nlohmann::json& s, const std::string& file) {
   if (!s.contains("class_mixing") || !s["class_mixing"].is_object() ||
       !s["class_mixing"].contains("classes") || !s["class_mixing"]["classes"].is_array() ||
       !s["class_mixing"].contains("samples") || !s["class_mixing"]["samples"].is_array()) {
-    fail("/summary/class_mixing", "missing or not {classes, samples}");
+    Fail(file, "/summary/class_mixing", "missing or not {classes, samples}");
   }
   const size_t n = s["class_mixing"]["classes"].size();
   const nlohmann::json& samples = s["class_mixing"]["samples"];
   if (samples.size() != n) {
-    fail("/summary/class_mixing/samples", "not one row per class");
+    Fail(file, "/summary/class_mixing/samples", "not one row per class");
   }
   for (size_t i = 0; i < n; ++i) {
     if (!s["class_mixing"]["classes"][i].is_number_unsigned()) {
-      fail("/summary/class_mixing/classes/" + std::to_string(i), "not a class id");
+      Fail(file, "/summary/class_mixing/classes/" + std::to_string(i), "not a class id");
     }
     if (!samples[i].is_array() || samples[i].size() != n) {
-      fail("/summary/class_mixing/samples/" + std::to_string(i), "not one count per class");
+      Fail(file, "/summary/class_mixing/samples/" + std::to_string(i), "not one count per class");
     }
     for (const nlohmann::json& v : samples[i]) {
       if (!v.is_number_unsigned())
-        fail("/summary/class_mixing/samples/" + std::to_string(i), "not a sample count");
+        Fail(file, "/summary/class_mixing/samples/" + std::to_string(i), "not a sample count");
     }
   }
+}
+
+// One bin of /summary/by_object_size.
+void CheckSizeBin(const nlohmann::json& b, size_t i, const std::string& file) {
+  const std::string at = "/summary/by_object_size/" + std::to_string(i);
+  for (const char* key : {"min_pixels", "mixed_fraction"}) {
+    if (!b.is_object() || !b.contains(key) || !b[key].is_number()) {
+      Fail(file, at + "/" + key, "missing or not a number");
+    }
+  }
+  // Counts: integers (a float beyond int64 would not convert).
+  for (const char* key : {"objects", "pixels", "mixed_pixels"}) {
+    if (!b.contains(key) || !b[key].is_number_integer()) {
+      Fail(file, at + "/" + key, "missing or not an integer");
+    }
+  }
+  if (b.contains("max_pixels") && !b["max_pixels"].is_number() && !b["max_pixels"].is_null()) {
+    Fail(file, at + "/max_pixels", "not a number");
+  }
+}
+
+}  // namespace
+
+void CheckBundleStats(const nlohmann::json& stats, const std::string& file) {
+  CheckHead(stats, file);
+  if (!stats.contains("summary") || !stats["summary"].is_object()) {
+    Fail(file, "/summary", "missing");
+  }
+  const nlohmann::json& s = stats["summary"];
+  CheckClassMixing(s, file);
   if (!s.contains("by_object_size") || !s["by_object_size"].is_array()) {
-    fail("/summary/by_object_size", "missing or not an array");
+    Fail(file, "/summary/by_object_size", "missing or not an array");
   }
-  for (size_t i = 0; i < s["by_object_size"].size(); ++i) {
-    const nlohmann::json& b = s["by_object_size"][i];
-    for (const char* key : {"min_pixels", "mixed_fraction"}) {
-      if (!b.is_object() || !b.contains(key) || !b[key].is_number()) {
-        fail("/summary/by_object_size/" + std::to_string(i) + "/" + key, "missing or not a number");
-      }
-    }
-    // Counts: integers (a float beyond int64 would not convert).
-    for (const char* key : {"objects", "pixels", "mixed_pixels"}) {
-      if (!b.contains(key) || !b[key].is_number_integer()) {
-        fail("/summary/by_object_size/" + std::to_string(i) + "/" + key,
-             "missing or not an integer");
-      }
-    }
-    if (b.contains("max_pixels") && !b["max_pixels"].is_number() && !b["max_pixels"].is_null()) {
-      fail("/summary/by_object_size/" + std::to_string(i) + "/max_pixels", "not a number");
-    }
-  }
+  for (size_t i = 0; i < s["by_object_size"].size(); ++i)
+    CheckSizeBin(s["by_object_size"][i], i, file);
 }
 
 Html BundleStatsSection(const nlohmann::json& stats, const CollectionHeader& header) {

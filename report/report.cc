@@ -97,37 +97,49 @@ ReportData CollectReportData(const CollectionReader& reader,
   return data;
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
-std::string RenderReportHtml(const CollectionReader& reader,
-                             const ReportData& data,
-                             const ReportOptions& options,
-                             std::vector<std::string>* problems) {
-  const CollectionHeader& header = reader.header();
-  const size_t n = data.samples.size();
-  // The frames shown with every layer: spread evenly over the sample.
+namespace {
+
+// The frames shown with every layer: spread evenly over the sample.
+std::set<size_t> LayerSamples(size_t sample_count, size_t layer_frames) {
   std::set<size_t> layer_samples;
-  const size_t k = std::min(options.layer_frames, n);
-  for (size_t i = 0; i < k; ++i) layer_samples.insert((2 * i + 1) * n / (2 * k));
-  std::vector<Html> cards(n), strips(n);
+  const size_t k = std::min(layer_frames, sample_count);
+  for (size_t i = 0; i < k; ++i) layer_samples.insert((2 * i + 1) * sample_count / (2 * k));
+  return layer_samples;
+}
+
+// The sampled frames' cards, and the layer strips of those in `layer_samples`, drawn in
+// parallel; their problems in frame order, whatever order the threads finished in.
+struct SampleViews {
+  std::vector<Html> cards, strips;
+};
+
+SampleViews DrawSamples(const CollectionReader& reader,
+                        const ReportData& data,
+                        const ReportOptions& options,
+                        const std::set<size_t>& layer_samples,
+                        std::vector<std::string>* problems) {
+  const size_t n = data.samples.size();
+  SampleViews views{std::vector<Html>(n), std::vector<Html>(n)};
   std::vector<std::vector<std::string>> sample_problems(n);
   tbb::parallel_for(size_t{0}, n, [&](size_t i) {
     const bool layers = layer_samples.count(i) > 0;
-    cards[i] = FrameCard(reader, data.samples[i], layers, options, &sample_problems[i]);
-    if (layers) strips[i] = LayerStrip(reader, data.samples[i], options, &sample_problems[i]);
+    views.cards[i] = FrameCard(reader, data.samples[i], layers, options, &sample_problems[i]);
+    if (layers) views.strips[i] = LayerStrip(reader, data.samples[i], options, &sample_problems[i]);
   });
-  // In frame order, whatever order the threads finished in.
   for (std::vector<std::string>& p : sample_problems) {
     problems->insert(problems->end(), p.begin(), p.end());
   }
-  std::set<int64_t> on_sheet;
-  for (const SampledFrame& s : data.samples) on_sheet.insert(s.frame.index);
+  return views;
+}
 
+// The page's head and its header: the collection in one line, then the sections' links.
+Html PageHeader(const CollectionReader& reader,
+                const ReportData& data,
+                const ReportOptions& options,
+                bool has_layers) {
+  const CollectionHeader& header = reader.header();
   const Distributions& d = data.distributions;
   const std::string name = fs::absolute(reader.root()).lexically_normal().filename().string();
-  // Every string below that is not a literal comes from an input (the folder
-  // name, collection.json, metadata.json, the validation report, the bundle
-  // statistics, the evaluation) and is escaped by Html.
   Html s;
   s << "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">"
     << "<title>lsds report: " << name << "</title><style>" << PageStyle() << "</style></head><body>"
@@ -137,21 +149,25 @@ std::string RenderReportHtml(const CollectionReader& reader,
   if (reader.frames_in_file() != static_cast<size_t>(d.frames)) {
     s << " selected of " << reader.frames_in_file();
   }
-  s << " &middot; " << n << " on the contact sheet &middot; " << d.objects << " objects listed, "
-    << d.visible_objects << " visible &middot; " << header.classes.size() << " classes &middot; "
-    << header.layers.size() << " layers &middot; world " << header.conventions.world.name << ", "
-    << header.conventions.world.length_unit << " &middot; format " << header.format_version
-    << " &middot; " << header.provenance.generator << " " << header.provenance.generator_version
+  s << " &middot; " << data.samples.size() << " on the contact sheet &middot; " << d.objects
+    << " objects listed, " << d.visible_objects << " visible &middot; " << header.classes.size()
+    << " classes &middot; " << header.layers.size() << " layers &middot; world "
+    << header.conventions.world.name << ", " << header.conventions.world.length_unit
+    << " &middot; format " << header.format_version << " &middot; " << header.provenance.generator
+    << " " << header.provenance.generator_version
     << "</p><nav><a href=\"#sheet\">contact sheet</a> ";
-  if (!layer_samples.empty()) s << "<a href=\"#layers\">layers</a> ";
+  if (has_layers) s << "<a href=\"#layers\">layers</a> ";
   s << "<a href=\"#distributions\">distributions</a>";
   if (options.validation) s << " <a href=\"#validation\">validation</a>";
   if (!options.bundle_stats.is_null()) s << " <a href=\"#bundles\">mixed pixels</a>";
   if (!options.evaluation.is_null()) s << " <a href=\"#evaluation\">evaluation</a>";
   s << "</nav></header>";
+  return s;
+}
 
-  if (options.validation) s << ValidationSection(*options.validation, on_sheet);
-
+// The frame cards, with a class filter.
+Html ContactSheet(const CollectionHeader& header, const std::vector<Html>& cards) {
+  Html s;
   s << "<section id=\"sheet\"><h2>Contact sheet</h2><p class=\"help\">Tight "
        "boxes in the class colour, mask outlines in the instance colour. Click "
        "a frame for its objects (and layers when tagged).</p><div "
@@ -168,21 +184,48 @@ std::string RenderReportHtml(const CollectionReader& reader,
        "visible object</label></div><div class=\"sheet\">";
   for (const Html& card : cards) s << card;
   s << "</div></section>";
+  return s;
+}
 
-  if (!layer_samples.empty()) {
-    s << "<section id=\"layers\"><h2>Layers</h2><p class=\"help\">Every layer "
-         "of "
-      << layer_samples.size()
-      << " frames side by side. Ids: one colour per id, black background. "
-         "Depth: "
-         "turbo colour map from near (blue) to far (red), sky dark grey. "
-         "Motion: "
-         "hue is the direction (wheel), saturation the speed, white no motion, "
-         "checkered grey no valid motion.</p>";
-    for (const Html& strip : strips) s << strip;
-    s << "</section>";
+Html LayersSection(size_t frame_count, const std::vector<Html>& strips) {
+  Html s;
+  s << "<section id=\"layers\"><h2>Layers</h2><p class=\"help\">Every layer "
+       "of "
+    << frame_count
+    << " frames side by side. Ids: one colour per id, black background. "
+       "Depth: "
+       "turbo colour map from near (blue) to far (red), sky dark grey. "
+       "Motion: "
+       "hue is the direction (wheel), saturation the speed, white no motion, "
+       "checkered grey no valid motion.</p>";
+  for (const Html& strip : strips) s << strip;
+  s << "</section>";
+  return s;
+}
+
+// One histogram's plot, with notes on its variant and the values it could not bin.
+Html HistogramPlot(const Histogram& h, const std::string& metadata_variant) {
+  Html s;
+  s << "<div class=\"plot\" id=\"dist-" << h.id << "\"><h3>" << h.title << "</h3>"
+    << HistogramSvg(h);
+  if (h.id.rfind("metadata-", 0) == 0) {
+    s << "<p class=\"note\">variant " << metadata_variant << "</p>";
   }
+  if (h.invalid > 0) {
+    s << "<p class=\"note\">" << h.invalid << " " << h.counted << " without a value";
+    if (h.id == "class") {
+      s << " (class id not in the class table)";
+    } else if (h.id == "altitude" || h.id == "gsd") {
+      s << " (sky at the image centre)";
+    }
+    s << "</p>";
+  }
+  s << "</div>";
+  return s;
+}
 
+Html DistributionsSection(const Distributions& d) {
+  Html s;
   s << "<section id=\"distributions\"><h2>Distributions</h2><p "
        "class=\"help\">Counts over all "
     << d.frames
@@ -191,23 +234,32 @@ std::string RenderReportHtml(const CollectionReader& reader,
        "count.</p><div class=\"plots\">";
   for (const Histogram& h : d.histograms) {
     if (h.total() == 0) continue;  // e.g. no sun elevation in the scene state
-    s << "<div class=\"plot\" id=\"dist-" << h.id << "\"><h3>" << h.title << "</h3>"
-      << HistogramSvg(h);
-    if (h.id.rfind("metadata-", 0) == 0) {
-      s << "<p class=\"note\">variant " << d.metadata_variant << "</p>";
-    }
-    if (h.invalid > 0) {
-      s << "<p class=\"note\">" << h.invalid << " " << h.counted << " without a value";
-      if (h.id == "class") {
-        s << " (class id not in the class table)";
-      } else if (h.id == "altitude" || h.id == "gsd") {
-        s << " (sky at the image centre)";
-      }
-      s << "</p>";
-    }
-    s << "</div>";
+    s << HistogramPlot(h, d.metadata_variant);
   }
   s << "</div></section>";
+  return s;
+}
+
+}  // namespace
+
+// Every string of the page that is not a literal comes from an input (the folder name,
+// collection.json, metadata.json, the validation report, the bundle statistics, the
+// evaluation) and is escaped by Html.
+std::string RenderReportHtml(const CollectionReader& reader,
+                             const ReportData& data,
+                             const ReportOptions& options,
+                             std::vector<std::string>* problems) {
+  const CollectionHeader& header = reader.header();
+  const std::set<size_t> layer_samples = LayerSamples(data.samples.size(), options.layer_frames);
+  const SampleViews views = DrawSamples(reader, data, options, layer_samples, problems);
+  std::set<int64_t> on_sheet;
+  for (const SampledFrame& s : data.samples) on_sheet.insert(s.frame.index);
+
+  Html s = PageHeader(reader, data, options, !layer_samples.empty());
+  if (options.validation) s << ValidationSection(*options.validation, on_sheet);
+  s << ContactSheet(header, views.cards);
+  if (!layer_samples.empty()) s << LayersSection(layer_samples.size(), views.strips);
+  s << DistributionsSection(data.distributions);
   if (!options.bundle_stats.is_null()) {
     s << BundleStatsSection(options.bundle_stats, header);
   }

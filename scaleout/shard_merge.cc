@@ -244,61 +244,73 @@ struct Coverage {
   int64_t frames = 0;
 };
 
-// Pass 1: the frame indices of every shard, checked against the run.
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
-Coverage CheckCoverage(const std::vector<Shard>& shards) {
+// The index of frame `k` of a shard's collection file, checked: an integer,
+// increasing, inside the run's frames (`run`: the first shard's record) and
+// of this shard.
+int64_t CheckedFrameIndex(const json& frame,
+                          size_t k,
+                          int64_t previous,
+                          const ShardRecord& run,
+                          const Shard& shard,
+                          const fs::path& file) {
+  const int shard_index = shard.header.provenance.shard->index;
+  const std::string pointer = "/frames/" + std::to_string(k);
+  if (!frame.is_object() || !frame.contains("index") || !frame["index"].is_number_integer())
+    throw Error("frame without an integer index", Location(file.string(), pointer));
+  const int64_t index = frame["index"].get<int64_t>();
+  if (index <= previous)
+    throw Error("frames are not in increasing index order (frame " + std::to_string(index) +
+                    " after " + std::to_string(previous) + ")",
+                Location(file.string(), pointer));
+  if (index < run.run_first_frame || index > run.run_last_frame)
+    throw Error("frame " + std::to_string(index) + " lies outside the run's frames " +
+                    std::to_string(run.run_first_frame) + " to " +
+                    std::to_string(run.run_last_frame),
+                Location(file.string(), pointer));
+  if (index % run.count != shard_index)
+    throw Error("frame " + std::to_string(index) + " does not belong to shard " +
+                    shard.ShardText() + " (its index % " + std::to_string(run.count) + " is " +
+                    std::to_string(index % run.count) + ")",
+                Location(file.string(), pointer));
+  return index;
+}
+
+// Frames given by more than one shard: their indices, and the first two
+// shards that share one.
+struct Doubled {
+  std::vector<int64_t> frames;
+  std::string between;
+};
+
+// One shard's frames into the coverage.
+void AddShardFrames(const std::vector<Shard>& shards,
+                    size_t s,
+                    Coverage* coverage,
+                    Doubled* doubled) {
   const ShardRecord& run = *shards[0].header.provenance.shard;
-  Coverage coverage;
-  coverage.first = run.run_first_frame;
-  coverage.owner.assign(static_cast<size_t>(run.run_last_frame - run.run_first_frame + 1), -1);
-  std::vector<int64_t> doubled;
-  std::string doubled_between;
-  for (size_t s = 0; s < shards.size(); ++s) {
-    const Shard& shard = shards[s];
-    const fs::path file = shard.root / kCollectionFile;
-    const int shard_index = shard.header.provenance.shard->index;
-    int64_t previous = -1;
-    const size_t count =
-        StreamJsonArrayMember(file, "frames", nullptr, [&](json&& frame, size_t k) {
-          const std::string pointer = "/frames/" + std::to_string(k);
-          if (!frame.is_object() || !frame.contains("index") || !frame["index"].is_number_integer())
-            throw Error("frame without an integer index", Location(file.string(), pointer));
-          const int64_t index = frame["index"].get<int64_t>();
-          if (index <= previous)
-            throw Error("frames are not in increasing index order (frame " + std::to_string(index) +
-                            " after " + std::to_string(previous) + ")",
-                        Location(file.string(), pointer));
-          previous = index;
-          if (index < run.run_first_frame || index > run.run_last_frame)
-            throw Error("frame " + std::to_string(index) + " lies outside the run's frames " +
-                            std::to_string(run.run_first_frame) + " to " +
-                            std::to_string(run.run_last_frame),
-                        Location(file.string(), pointer));
-          if (index % run.count != shard_index)
-            throw Error("frame " + std::to_string(index) + " does not belong to shard " +
-                            shard.ShardText() + " (its index % " + std::to_string(run.count) +
-                            " is " + std::to_string(index % run.count) + ")",
-                        Location(file.string(), pointer));
-          int& owner = coverage.owner[index - coverage.first];
-          if (owner >= 0) {
-            if (doubled.empty()) doubled_between = shards[owner].Name() + " and " + shard.Name();
-            doubled.push_back(index);
-          } else {
-            owner = static_cast<int>(s);
-            ++coverage.frames;
-          }
-        });
-    if (static_cast<int64_t>(count) != shard.header.frame_count)
-      throw Error("frame_count is " + std::to_string(shard.header.frame_count) +
-                      " but the file holds " + std::to_string(count) + " frames",
-                  Location(file.string(), "/frame_count"));
-  }
-  if (!doubled.empty())
-    throw Error(std::string(doubled.size() == 1 ? "frame " : "frames ") + FrameList(doubled) +
-                (doubled.size() == 1 ? " is" : " are") + " in more than one shard (first in " +
-                doubled_between + "): give each shard once");
-  if (coverage.frames == run.run_frame_count) return coverage;
+  const Shard& shard = shards[s];
+  const fs::path file = shard.root / kCollectionFile;
+  int64_t previous = -1;
+  const size_t count = StreamJsonArrayMember(file, "frames", nullptr, [&](json&& frame, size_t k) {
+    const int64_t index = CheckedFrameIndex(frame, k, previous, run, shard, file);
+    previous = index;
+    int& owner = coverage->owner[index - coverage->first];
+    if (owner >= 0) {
+      if (doubled->frames.empty()) doubled->between = shards[owner].Name() + " and " + shard.Name();
+      doubled->frames.push_back(index);
+    } else {
+      owner = static_cast<int>(s);
+      ++coverage->frames;
+    }
+  });
+  if (static_cast<int64_t>(count) != shard.header.frame_count)
+    throw Error("frame_count is " + std::to_string(shard.header.frame_count) +
+                    " but the file holds " + std::to_string(count) + " frames",
+                Location(file.string(), "/frame_count"));
+}
+
+// The run's frames no shard holds, and the shards they belong to.
+[[noreturn]] void ThrowMissing(const Coverage& coverage, const ShardRecord& run) {
   std::vector<int64_t> missing;
   std::vector<bool> shard_missing(static_cast<size_t>(run.count), false);
   for (size_t k = 0; k < coverage.owner.size(); ++k) {
@@ -320,6 +332,22 @@ Coverage CheckCoverage(const std::vector<Shard>& shards) {
               (missing.size() == 1 ? " is" : " are") + " in no shard given: shard" +
               (owners.size() == 1 ? " " : "s ") + owner_text + " of the run " +
               (owners.size() == 1 ? "is" : "are") + " missing or incomplete");
+}
+
+// Pass 1: the frame indices of every shard, checked against the run.
+Coverage CheckCoverage(const std::vector<Shard>& shards) {
+  const ShardRecord& run = *shards[0].header.provenance.shard;
+  Coverage coverage;
+  coverage.first = run.run_first_frame;
+  coverage.owner.assign(static_cast<size_t>(run.run_last_frame - run.run_first_frame + 1), -1);
+  Doubled doubled;
+  for (size_t s = 0; s < shards.size(); ++s) AddShardFrames(shards, s, &coverage, &doubled);
+  if (!doubled.frames.empty())
+    throw Error(std::string(doubled.frames.size() == 1 ? "frame " : "frames ") +
+                FrameList(doubled.frames) + (doubled.frames.size() == 1 ? " is" : " are") +
+                " in more than one shard (first in " + doubled.between + "): give each shard once");
+  if (coverage.frames == run.run_frame_count) return coverage;
+  ThrowMissing(coverage, run);
 }
 
 // A frame's layer file path must stay inside the collection.

@@ -35,72 +35,88 @@ const std::vector<Rule>& DatumaroRules() {
   return rules;
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
+namespace {
+
+// The stems of the images under `images` (datumaro.util.image.IMAGE_EXTENSIONS,
+// the common ones).
+std::set<std::string> ImageStems(const fs::path& images) {
+  static const std::set<std::string> kImageExtensions = {
+      "jpg", "jpeg", "jpe", "jp2", "png", "bmp", "dib", "tif", "tiff", "tga", "webp",
+      "pfm", "sr",   "ras", "exr", "hdr", "pic", "pbm", "pgm", "ppm",  "pxm", "pnm"};
+  std::set<std::string> image_stems;
+  for (const fs::path& image : ListFiles(images)) {
+    if (kImageExtensions.count(LowerExtension(image)) > 0)
+      image_stems.insert(image.stem().string());
+  }
+  return image_stems;
+}
+
+// One line of an annotation file as the importer reads it.
+void CheckDotaLine(const std::string& text, const fs::path& file, int64_t line, FindingSink* sink) {
+  const std::vector<std::string> tokens = SplitWhitespace(text);
+  if (tokens.size() != 10) {
+    const std::string stripped = Strip(text);
+    const bool header = stripped.rfind("imagesource:", 0) == 0 || stripped.rfind("gsd:", 0) == 0;
+    sink->Add(header ? "datumaro.header" : "datumaro.tokens",
+              file,
+              line,
+              std::to_string(tokens.size()) + " token(s) (10 needed): skipped");
+    return;
+  }
+  for (size_t k = 0; k < 8; ++k) {
+    double v = 0;
+    if (!ParsePythonFloat(tokens[k], &v)) {
+      sink->Add("datumaro.field",
+                file,
+                line,
+                "coordinate '" + tokens[k] + "' is not a number: the import fails");
+      break;
+    }
+  }
+  long long difficulty = 0;
+  if (!ParsePythonInt(tokens[9], &difficulty)) {
+    sink->Add("datumaro.field",
+              file,
+              line,
+              "difficulty '" + tokens[9] + "' is not an integer: the import fails");
+  }
+}
+
+// One annotation file and its image.
+void CheckAnnotationFile(const fs::path& file,
+                         const std::set<std::string>& image_stems,
+                         FindingSink* sink) {
+  sink->CountFile();
+  if (image_stems.count(file.stem().string()) == 0) {
+    sink->Add("datumaro.image-missing",
+              file,
+              0,
+              "no image '" + file.stem().string() + ".*' under images/: the import fails");
+  }
+  std::string bytes;
+  ReadBytes(file, &bytes);
+  const std::vector<std::string> lines = SplitLines(bytes);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (Strip(lines[i]).empty()) continue;
+    CheckDotaLine(lines[i], file, static_cast<int64_t>(i) + 1, sink);
+  }
+}
+
+}  // namespace
+
 void CheckDatumaro(const std::string& /*format*/,
                    const fs::path& dir,
                    const CheckOptions& /*options*/,
                    FindingSink* sink) {
-  // datumaro.util.image.IMAGE_EXTENSIONS, the common ones.
-  static const std::set<std::string> kImageExtensions = {
-      "jpg", "jpeg", "jpe", "jp2", "png", "bmp", "dib", "tif", "tiff", "tga", "webp",
-      "pfm", "sr",   "ras", "exr", "hdr", "pic", "pbm", "pgm", "ppm",  "pxm", "pnm"};
   std::error_code error;
   for (const DotaFolder& folder : DotaFolders(dir)) {
-    std::set<std::string> image_stems;
-    for (const fs::path& image : ListFiles(folder.images)) {
-      if (kImageExtensions.count(LowerExtension(image)) > 0)
-        image_stems.insert(image.stem().string());
-    }
+    const std::set<std::string> image_stems = ImageStems(folder.images);
     std::vector<fs::path> annotations;
     for (const auto& entry : fs::directory_iterator(folder.labels, error)) {
       if (entry.is_regular_file(error)) annotations.push_back(entry.path());
     }
     std::sort(annotations.begin(), annotations.end());
-    for (const fs::path& file : annotations) {
-      sink->CountFile();
-      if (image_stems.count(file.stem().string()) == 0) {
-        sink->Add("datumaro.image-missing",
-                  file,
-                  0,
-                  "no image '" + file.stem().string() + ".*' under images/: the import fails");
-      }
-      std::string bytes;
-      ReadBytes(file, &bytes);
-      const std::vector<std::string> lines = SplitLines(bytes);
-      for (size_t i = 0; i < lines.size(); ++i) {
-        const int64_t line = static_cast<int64_t>(i) + 1;
-        if (Strip(lines[i]).empty()) continue;
-        const std::vector<std::string> tokens = SplitWhitespace(lines[i]);
-        if (tokens.size() != 10) {
-          const std::string stripped = Strip(lines[i]);
-          const bool header =
-              stripped.rfind("imagesource:", 0) == 0 || stripped.rfind("gsd:", 0) == 0;
-          sink->Add(header ? "datumaro.header" : "datumaro.tokens",
-                    file,
-                    line,
-                    std::to_string(tokens.size()) + " token(s) (10 needed): skipped");
-          continue;
-        }
-        for (size_t k = 0; k < 8; ++k) {
-          double v = 0;
-          if (!ParsePythonFloat(tokens[k], &v)) {
-            sink->Add("datumaro.field",
-                      file,
-                      line,
-                      "coordinate '" + tokens[k] + "' is not a number: the import fails");
-            break;
-          }
-        }
-        long long difficulty = 0;
-        if (!ParsePythonInt(tokens[9], &difficulty)) {
-          sink->Add("datumaro.field",
-                    file,
-                    line,
-                    "difficulty '" + tokens[9] + "' is not an integer: the import fails");
-        }
-      }
-    }
+    for (const fs::path& file : annotations) CheckAnnotationFile(file, image_stems, sink);
   }
 }
 

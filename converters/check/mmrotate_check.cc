@@ -62,8 +62,138 @@ const std::vector<Rule>& MmrotateRules() {
   return rules;
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
+namespace {
+
+// The .txt files of a labelTxt folder, sorted.
+std::vector<fs::path> AnnotationFiles(const fs::path& labels) {
+  std::error_code error;
+  std::vector<fs::path> annotations;
+  for (const auto& entry : fs::directory_iterator(labels, error)) {
+    if (entry.is_regular_file(error) && entry.path().extension() == ".txt")
+      annotations.push_back(entry.path());
+  }
+  std::sort(annotations.begin(), annotations.end());
+  return annotations;
+}
+
+// The polygon of a line's first 8 tokens; false when one is not a number.
+bool ParsePolygon(const std::vector<std::string>& tokens, std::vector<Eigen::Vector2d>* points) {
+  bool numeric = true;
+  for (size_t k = 0; k < std::min<size_t>(8, tokens.size()); ++k) {
+    double v = 0;
+    numeric = numeric && ParsePythonFloat(tokens[k], &v);
+    if (k % 2 == 0)
+      points->emplace_back(v, 0);
+    else
+      points->back().y() = v;
+  }
+  return numeric;
+}
+
+// One line of an annotation file as DOTADataset.load_annotations reads it;
+// true when its box is kept.
+bool CheckDotaLine(const std::vector<std::string>& tokens,
+                   const std::vector<std::string>& classes,
+                   const fs::path& file,
+                   int64_t line,
+                   FindingSink* sink) {
+  std::vector<Eigen::Vector2d> points;
+  if (!ParsePolygon(tokens, &points)) {
+    sink->Add("mmrotate.coordinates",
+              file,
+              line,
+              "'" +
+                  Join(std::vector<std::string>(
+                           tokens.begin(), tokens.begin() + std::min<size_t>(3, tokens.size())),
+                       " ") +
+                  "...' is not 8 numbers: ValueError, loading stops");
+    return false;
+  }
+  if (tokens.size() < 8) {
+    sink->Add("mmrotate.short-polygon",
+              file,
+              line,
+              std::to_string(tokens.size()) + " coordinate(s) (8 needed): skipped");
+    return false;
+  }
+  // cv2.minAreaRect of the 4 corners, then w < 2 or h < 2 is skipped.
+  const std::optional<OrientedBox2d> box = MinimumAreaRectangle(points);
+  const double w = box ? box->Width() : 0, h = box ? box->Height() : 0;
+  if (w < 2 || h < 2) {
+    sink->Add("mmrotate.min-size",
+              file,
+              line,
+              "minimum-area rectangle " + FormatNumber(w, 4) + " x " + FormatNumber(h, 4) +
+                  " px (a side under 2): skipped");
+    return false;
+  }
+  if (tokens.size() < 10) {
+    sink->Add("mmrotate.tokens",
+              file,
+              line,
+              std::to_string(tokens.size()) + " token(s) (10 needed): IndexError, loading stops");
+    return false;
+  }
+  long long difficulty = 0;
+  if (!ParsePythonInt(tokens[9], &difficulty)) {
+    sink->Add("mmrotate.difficulty",
+              file,
+              line,
+              "difficulty '" + tokens[9] + "' is not an integer: loading stops");
+    return false;
+  }
+  if (std::find(classes.begin(), classes.end(), tokens[8]) == classes.end()) {
+    sink->Add("mmrotate.class",
+              file,
+              line,
+              "class '" + tokens[8] + "' is not configured (classes=): KeyError, loading stops");
+    return false;
+  }
+  if (difficulty > 100) {
+    sink->Add("mmrotate.difficulty-threshold",
+              file,
+              line,
+              "difficulty " + tokens[9] + " above the default threshold 100: skipped");
+    return false;
+  }
+  return true;
+}
+
+// One annotation file and its image.
+void CheckAnnotationFile(const fs::path& file,
+                         const DotaFolder& folder,
+                         const fs::path& dir,
+                         const std::vector<std::string>& classes,
+                         FindingSink* sink) {
+  std::error_code error;
+  sink->CountFile();
+  const fs::path image = folder.images / (file.stem().string() + ".png");
+  if (!fs::is_regular_file(image, error)) {
+    sink->Add("mmrotate.image-missing",
+              file,
+              0,
+              "no image " + fs::relative(image, dir, error).string() + ": loading it fails");
+  }
+  std::string bytes;
+  ReadBytes(file, &bytes);
+  int kept = 0;
+  const std::vector<std::string> lines = SplitLines(bytes);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const std::vector<std::string> tokens = SplitWhitespace(lines[i]);
+    if (tokens.empty()) continue;  // an empty polygon: skipped, nothing lost
+    if (CheckDotaLine(tokens, classes, file, static_cast<int64_t>(i) + 1, sink)) ++kept;
+  }
+  if (kept == 0) {
+    sink->Add("mmrotate.empty-image",
+              file,
+              0,
+              bytes.empty() ? "empty annotation file: the image is skipped"
+                            : "no box kept: the image is filtered out of training");
+  }
+}
+
+}  // namespace
+
 void CheckMmrotate(const std::string& /*format*/,
                    const fs::path& dir,
                    const CheckOptions& options,
@@ -73,14 +203,8 @@ void CheckMmrotate(const std::string& /*format*/,
   std::vector<std::string> classes = options.dota_classes;
   if (classes.empty()) classes = DotaExportClasses(dir);
   if (classes.empty()) classes = DotaV1Classes();
-  std::error_code error;
   for (const DotaFolder& folder : DotaFolders(dir)) {
-    std::vector<fs::path> annotations;
-    for (const auto& entry : fs::directory_iterator(folder.labels, error)) {
-      if (entry.is_regular_file(error) && entry.path().extension() == ".txt")
-        annotations.push_back(entry.path());
-    }
-    std::sort(annotations.begin(), annotations.end());
+    const std::vector<fs::path> annotations = AnnotationFiles(folder.labels);
     if (annotations.empty()) {
       sink->Add("mmrotate.no-annotations",
                 folder.labels,
@@ -88,104 +212,7 @@ void CheckMmrotate(const std::string& /*format*/,
                 "no .txt file: read as a test set, without boxes");
       continue;
     }
-    for (const fs::path& file : annotations) {
-      sink->CountFile();
-      const fs::path image = folder.images / (file.stem().string() + ".png");
-      if (!fs::is_regular_file(image, error)) {
-        sink->Add("mmrotate.image-missing",
-                  file,
-                  0,
-                  "no image " + fs::relative(image, dir, error).string() + ": loading it fails");
-      }
-      std::string bytes;
-      ReadBytes(file, &bytes);
-      int kept = 0;
-      const std::vector<std::string> lines = SplitLines(bytes);
-      for (size_t i = 0; i < lines.size(); ++i) {
-        const int64_t line = static_cast<int64_t>(i) + 1;
-        const std::vector<std::string> tokens = SplitWhitespace(lines[i]);
-        if (tokens.empty()) continue;  // an empty polygon: skipped, nothing lost
-        std::vector<Eigen::Vector2d> points;
-        bool numeric = true;
-        for (size_t k = 0; k < std::min<size_t>(8, tokens.size()); ++k) {
-          double v = 0;
-          numeric = numeric && ParsePythonFloat(tokens[k], &v);
-          if (k % 2 == 0)
-            points.emplace_back(v, 0);
-          else
-            points.back().y() = v;
-        }
-        if (!numeric) {
-          sink->Add(
-              "mmrotate.coordinates",
-              file,
-              line,
-              "'" +
-                  Join(std::vector<std::string>(
-                           tokens.begin(), tokens.begin() + std::min<size_t>(3, tokens.size())),
-                       " ") +
-                  "...' is not 8 numbers: ValueError, loading stops");
-          continue;
-        }
-        if (tokens.size() < 8) {
-          sink->Add("mmrotate.short-polygon",
-                    file,
-                    line,
-                    std::to_string(tokens.size()) + " coordinate(s) (8 needed): skipped");
-          continue;
-        }
-        // cv2.minAreaRect of the 4 corners, then w < 2 or h < 2 is skipped.
-        const std::optional<OrientedBox2d> box = MinimumAreaRectangle(points);
-        const double w = box ? box->Width() : 0, h = box ? box->Height() : 0;
-        if (w < 2 || h < 2) {
-          sink->Add("mmrotate.min-size",
-                    file,
-                    line,
-                    "minimum-area rectangle " + FormatNumber(w, 4) + " x " + FormatNumber(h, 4) +
-                        " px (a side under 2): skipped");
-          continue;
-        }
-        if (tokens.size() < 10) {
-          sink->Add(
-              "mmrotate.tokens",
-              file,
-              line,
-              std::to_string(tokens.size()) + " token(s) (10 needed): IndexError, loading stops");
-          continue;
-        }
-        long long difficulty = 0;
-        if (!ParsePythonInt(tokens[9], &difficulty)) {
-          sink->Add("mmrotate.difficulty",
-                    file,
-                    line,
-                    "difficulty '" + tokens[9] + "' is not an integer: loading stops");
-          continue;
-        }
-        if (std::find(classes.begin(), classes.end(), tokens[8]) == classes.end()) {
-          sink->Add(
-              "mmrotate.class",
-              file,
-              line,
-              "class '" + tokens[8] + "' is not configured (classes=): KeyError, loading stops");
-          continue;
-        }
-        if (difficulty > 100) {
-          sink->Add("mmrotate.difficulty-threshold",
-                    file,
-                    line,
-                    "difficulty " + tokens[9] + " above the default threshold 100: skipped");
-          continue;
-        }
-        ++kept;
-      }
-      if (kept == 0) {
-        sink->Add("mmrotate.empty-image",
-                  file,
-                  0,
-                  bytes.empty() ? "empty annotation file: the image is skipped"
-                                : "no box kept: the image is filtered out of training");
-      }
-    }
+    for (const fs::path& file : annotations) CheckAnnotationFile(file, folder, dir, classes, sink);
   }
 }
 

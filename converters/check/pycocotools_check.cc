@@ -179,8 +179,169 @@ void CheckSegmentation(const json& segmentation,
   }
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
+// The array `key` of the document, or an empty one.
+const json& ArrayOf(const json& document, const char* key) {
+  static const json empty = json::array();
+  return document.contains(key) && document[key].is_array() ? document[key] : empty;
+}
+
+// One COCO file's check against the index pycocotools builds (COCO.createIndex):
+// images and categories indexed first, then each annotation checked.
+class CocoFileCheck {
+ public:
+  CocoFileCheck(const fs::path& file,
+                const std::string& text,
+                const json& document,
+                FindingSink* sink)
+      : file_(file),
+        sink_(sink),
+        lines_(ElementLines(text)),
+        images_(ArrayOf(document, "images")),
+        annotations_(ArrayOf(document, "annotations")),
+        categories_(ArrayOf(document, "categories")) {}
+
+  void Run() {
+    IndexImages();
+    IndexCategories();
+    for (size_t i = 0; i < annotations_.size(); ++i) CheckAnnotation(i);
+    CheckAnnotatedImageSizes();
+  }
+
+ private:
+  void IndexImages();
+  void IndexCategories();
+  void CheckAnnotation(size_t i);
+  void CheckAnnotationId(const json& a, size_t i, int64_t line);
+  const json* FindImage(const json& a, int64_t line);
+  void CheckAnnotatedImageSizes();
+
+  const fs::path& file_;
+  FindingSink* sink_;
+  const std::map<std::string, std::vector<int64_t>> lines_;
+  const json& images_;
+  const json& annotations_;
+  const json& categories_;
+  std::map<std::string, size_t> image_index_;  // id (as JSON text) -> index
+  std::set<std::string> category_ids_;
+  std::map<std::string, size_t> annotation_index_;
+  std::set<std::string> images_with_annotations_;
+};
+
+void CocoFileCheck::IndexImages() {
+  for (size_t i = 0; i < images_.size(); ++i) {
+    const int64_t line = LineOf(lines_, "images", i);
+    if (!images_[i].is_object() || !images_[i].contains("id")) {
+      sink_->Add(
+          "pycocotools.required-key", file_, line, "image " + std::to_string(i) + " has no id");
+      continue;
+    }
+    const std::string id = IdText(images_[i]["id"]);
+    const auto [it, inserted] = image_index_.emplace(id, i);
+    if (!inserted) {
+      sink_->Add("pycocotools.duplicate-image-id",
+                 file_,
+                 line,
+                 "image id " + id + " already on line " +
+                     std::to_string(LineOf(lines_, "images", it->second)) +
+                     ": one of them is lost");
+      it->second = i;  // the later one stays in the index
+    }
+  }
+}
+
+void CocoFileCheck::IndexCategories() {
+  for (size_t i = 0; i < categories_.size(); ++i) {
+    if (!categories_[i].is_object() || !categories_[i].contains("id")) {
+      sink_->Add("pycocotools.required-key",
+                 file_,
+                 LineOf(lines_, "categories", i),
+                 "category " + std::to_string(i) + " has no id");
+      continue;
+    }
+    category_ids_.insert(IdText(categories_[i]["id"]));
+  }
+}
+
+void CocoFileCheck::CheckAnnotationId(const json& a, size_t i, int64_t line) {
+  if (!a.contains("id")) return;
+  const std::string id = IdText(a["id"]);
+  const auto [it, inserted] = annotation_index_.emplace(id, i);
+  if (!inserted) {
+    sink_->Add("pycocotools.duplicate-annotation-id",
+               file_,
+               line,
+               "annotation id " + id + " already on line " +
+                   std::to_string(LineOf(lines_, "annotations", it->second)) +
+                   ": one of them is lost");
+  }
+}
+
+// The annotation's image, or null (without image_id, or an unknown one).
+const json* CocoFileCheck::FindImage(const json& a, int64_t line) {
+  if (!a.contains("image_id")) return nullptr;
+  const auto found = image_index_.find(IdText(a["image_id"]));
+  if (found == image_index_.end()) {
+    sink_->Add("pycocotools.unknown-image",
+               file_,
+               line,
+               "image_id " + IdText(a["image_id"]) + " is not an image: never evaluated");
+    return nullptr;
+  }
+  images_with_annotations_.insert(found->first);
+  return &images_[found->second];
+}
+
+void CocoFileCheck::CheckAnnotation(size_t i) {
+  const json& a = annotations_[i];
+  const int64_t line = LineOf(lines_, "annotations", i);
+  if (!a.is_object()) {
+    sink_->Add("pycocotools.required-key",
+               file_,
+               line,
+               "annotation " + std::to_string(i) + " is not an object");
+    return;
+  }
+  std::vector<std::string> missing;
+  for (const char* key : {"id", "image_id", "category_id", "area", "iscrowd"}) {
+    if (!a.contains(key)) missing.emplace_back(key);
+  }
+  if (!missing.empty()) {
+    sink_->Add("pycocotools.required-key",
+               file_,
+               line,
+               "annotation " + std::to_string(i) + " has no " + Join(missing, ", "));
+  }
+  CheckAnnotationId(a, i, line);
+  if (a.contains("category_id") && category_ids_.count(IdText(a["category_id"])) == 0) {
+    sink_->Add("pycocotools.unknown-category",
+               file_,
+               line,
+               "category_id " + IdText(a["category_id"]) + " is not a category: never evaluated");
+  }
+  const json* image = FindImage(a, line);
+  if (a.contains("bbox")) {
+    const json& bbox = a["bbox"];
+    bool ok = bbox.is_array() && bbox.size() == 4;
+    for (size_t k = 0; ok && k < 4; ++k) ok = bbox[k].is_number();
+    if (!ok)
+      sink_->Add("pycocotools.bbox", file_, line, "bbox " + bbox.dump() + " is not 4 numbers");
+  }
+  if (a.contains("segmentation")) CheckSegmentation(a["segmentation"], image, file_, line, sink_);
+}
+
+void CocoFileCheck::CheckAnnotatedImageSizes() {
+  for (const auto& [id, index] : image_index_) {
+    if (images_with_annotations_.count(id) == 0) continue;
+    const json& image = images_[index];
+    if (!image.contains("width") || !image.contains("height")) {
+      sink_->Add("pycocotools.image-size",
+                 file_,
+                 LineOf(lines_, "images", index),
+                 "image " + id + " has annotations but no width or height");
+    }
+  }
+}
+
 void CheckCocoFile(const fs::path& file, FindingSink* sink) {
   std::string text;
   ReadBytes(file, &text);
@@ -193,118 +354,7 @@ void CheckCocoFile(const fs::path& file, FindingSink* sink) {
               document.is_discarded() ? "not valid JSON" : "not a JSON object");
     return;
   }
-  const std::map<std::string, std::vector<int64_t>> lines = ElementLines(text);
-  const json empty = json::array();
-  const json& images =
-      document.contains("images") && document["images"].is_array() ? document["images"] : empty;
-  const json& annotations = document.contains("annotations") && document["annotations"].is_array()
-                                ? document["annotations"]
-                                : empty;
-  const json& categories = document.contains("categories") && document["categories"].is_array()
-                               ? document["categories"]
-                               : empty;
-  std::map<std::string, size_t> image_index;  // id (as JSON text) -> index
-  for (size_t i = 0; i < images.size(); ++i) {
-    const int64_t line = LineOf(lines, "images", i);
-    if (!images[i].is_object() || !images[i].contains("id")) {
-      sink->Add(
-          "pycocotools.required-key", file, line, "image " + std::to_string(i) + " has no id");
-      continue;
-    }
-    const std::string id = IdText(images[i]["id"]);
-    const auto [it, inserted] = image_index.emplace(id, i);
-    if (!inserted) {
-      sink->Add("pycocotools.duplicate-image-id",
-                file,
-                line,
-                "image id " + id + " already on line " +
-                    std::to_string(LineOf(lines, "images", it->second)) + ": one of them is lost");
-      it->second = i;  // the later one stays in the index
-    }
-  }
-  std::set<std::string> category_ids;
-  for (size_t i = 0; i < categories.size(); ++i) {
-    if (!categories[i].is_object() || !categories[i].contains("id")) {
-      sink->Add("pycocotools.required-key",
-                file,
-                LineOf(lines, "categories", i),
-                "category " + std::to_string(i) + " has no id");
-      continue;
-    }
-    category_ids.insert(IdText(categories[i]["id"]));
-  }
-  std::map<std::string, size_t> annotation_index;
-  std::set<std::string> images_with_annotations;
-  for (size_t i = 0; i < annotations.size(); ++i) {
-    const json& a = annotations[i];
-    const int64_t line = LineOf(lines, "annotations", i);
-    if (!a.is_object()) {
-      sink->Add("pycocotools.required-key",
-                file,
-                line,
-                "annotation " + std::to_string(i) + " is not an object");
-      continue;
-    }
-    std::vector<std::string> missing;
-    for (const char* key : {"id", "image_id", "category_id", "area", "iscrowd"}) {
-      if (!a.contains(key)) missing.emplace_back(key);
-    }
-    if (!missing.empty()) {
-      sink->Add("pycocotools.required-key",
-                file,
-                line,
-                "annotation " + std::to_string(i) + " has no " + Join(missing, ", "));
-    }
-    if (a.contains("id")) {
-      const std::string id = IdText(a["id"]);
-      const auto [it, inserted] = annotation_index.emplace(id, i);
-      if (!inserted) {
-        sink->Add("pycocotools.duplicate-annotation-id",
-                  file,
-                  line,
-                  "annotation id " + id + " already on line " +
-                      std::to_string(LineOf(lines, "annotations", it->second)) +
-                      ": one of them is lost");
-      }
-    }
-    if (a.contains("category_id") && category_ids.count(IdText(a["category_id"])) == 0) {
-      sink->Add("pycocotools.unknown-category",
-                file,
-                line,
-                "category_id " + IdText(a["category_id"]) + " is not a category: never evaluated");
-    }
-    const json* image = nullptr;
-    if (a.contains("image_id")) {
-      const auto found = image_index.find(IdText(a["image_id"]));
-      if (found == image_index.end()) {
-        sink->Add("pycocotools.unknown-image",
-                  file,
-                  line,
-                  "image_id " + IdText(a["image_id"]) + " is not an image: never evaluated");
-      } else {
-        image = &images[found->second];
-        images_with_annotations.insert(found->first);
-      }
-    }
-    if (a.contains("bbox")) {
-      const json& bbox = a["bbox"];
-      bool ok = bbox.is_array() && bbox.size() == 4;
-      for (size_t k = 0; ok && k < 4; ++k) ok = bbox[k].is_number();
-      if (!ok)
-        sink->Add("pycocotools.bbox", file, line, "bbox " + bbox.dump() + " is not 4 numbers");
-    }
-    if (a.contains("segmentation")) CheckSegmentation(a["segmentation"], image, file, line, sink);
-  }
-  for (const auto& [id, index] : image_index) {
-    if (images_with_annotations.count(id) == 0) continue;
-    const json& image = images[index];
-    if (!image.contains("width") || !image.contains("height")) {
-      sink->Add("pycocotools.image-size",
-                file,
-                LineOf(lines, "images", index),
-                "image " + id + " has annotations but no width or height");
-    }
-  }
+  CocoFileCheck(file, text, document, sink).Run();
 }
 
 }  // namespace

@@ -110,26 +110,30 @@ struct GtRow {
   std::vector<std::string> cells;
 };
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
-void CheckGroundTruth(const fs::path& gt, long long seq_length, FindingSink* sink) {
-  std::string bytes;
-  ReadBytes(gt, &bytes);
-  sink->CountFile();
-  const std::vector<std::string> lines = SplitLines(bytes);
-  if (lines.empty()) return;
+// A gt.txt line's cells as csv.reader gives them.
+std::vector<std::string> GtCells(const std::string& text, char delimiter) {
+  std::vector<std::string> cells;
+  for (const std::string& cell : Split(text, delimiter)) {
+    if (delimiter == ' ' && cell.empty()) continue;  // skipinitialspace
+    cells.push_back(Strip(cell));
+  }
+  if (!cells.empty() && cells.back().empty()) cells.pop_back();  // a trailing delimiter
+  return cells;
+}
+
+// The rows of gt.txt by frame (timestep), those with a frame number in
+// 1..seqLength.
+std::map<long long, std::vector<GtRow>> GtFrames(const fs::path& gt,
+                                                 const std::vector<std::string>& lines,
+                                                 long long seq_length,
+                                                 FindingSink* sink) {
   // csv.Sniffer on the first line: MOT files are comma separated.
   const char delimiter = lines.front().find(',') != std::string::npos ? ',' : ' ';
   std::map<long long, std::vector<GtRow>> frames;
   for (size_t i = 0; i < lines.size(); ++i) {
     const int64_t line = static_cast<int64_t>(i) + 1;
     if (lines[i].empty()) continue;  // csv.reader yields no row
-    std::vector<std::string> cells;
-    for (const std::string& cell : Split(lines[i], delimiter)) {
-      if (delimiter == ' ' && cell.empty()) continue;  // skipinitialspace
-      cells.push_back(Strip(cell));
-    }
-    if (!cells.empty() && cells.back().empty()) cells.pop_back();  // a trailing delimiter
+    std::vector<std::string> cells = GtCells(lines[i], delimiter);
     double frame = 0;
     if (cells.empty() || !ParsePythonFloat(cells[0], &frame) || !std::isfinite(frame)) {
       sink->Add("trackeval.frame-number",
@@ -148,36 +152,112 @@ void CheckGroundTruth(const fs::path& gt, long long seq_length, FindingSink* sin
                     " (seqLength): invalid timestep, the evaluation stops");
       continue;
     }
-    frames[timestep].push_back({line, cells});
+    frames[timestep].push_back({line, std::move(cells)});
   }
-  std::map<long long, std::pair<int64_t, int64_t>> not_scored;  // class -> count, first line
-  int64_t zero_marked = 0, first_zero_marked = 0;
-  for (const auto& [timestep, rows] : frames) {
-    bool usable = true;
-    for (const GtRow& row : rows) {
-      if (row.cells.size() != rows.front().cells.size()) {
+  return frames;
+}
+
+// A frame's rows convert to one float array: one length, numbers only.
+bool FrameValuesUsable(const fs::path& gt,
+                       long long timestep,
+                       const std::vector<GtRow>& rows,
+                       FindingSink* sink) {
+  bool usable = true;
+  for (const GtRow& row : rows) {
+    if (row.cells.size() != rows.front().cells.size()) {
+      sink->Add("trackeval.values",
+                gt,
+                row.line,
+                std::to_string(row.cells.size()) + " columns where frame " +
+                    std::to_string(timestep) + " has " + std::to_string(rows.front().cells.size()) +
+                    ": cannot convert to float");
+      usable = false;
+      continue;
+    }
+    for (const std::string& cell : row.cells) {
+      double v = 0;
+      if (!ParsePythonFloat(cell, &v)) {
         sink->Add("trackeval.values",
                   gt,
                   row.line,
-                  std::to_string(row.cells.size()) + " columns where frame " +
-                      std::to_string(timestep) + " has " +
-                      std::to_string(rows.front().cells.size()) + ": cannot convert to float");
+                  "'" + cell + "' is not a number: 'Is data corrupted?'");
         usable = false;
-        continue;
-      }
-      for (const std::string& cell : row.cells) {
-        double v = 0;
-        if (!ParsePythonFloat(cell, &v)) {
-          sink->Add("trackeval.values",
-                    gt,
-                    row.line,
-                    "'" + cell + "' is not a number: 'Is data corrupted?'");
-          usable = false;
-          break;
-        }
+        break;
       }
     }
-    if (!usable) continue;
+  }
+  return usable;
+}
+
+// The boxes a file's scoring leaves out, reported once per class and file
+// (a vehicle export has one per line otherwise).
+struct NotScored {
+  std::map<long long, std::pair<int64_t, int64_t>> by_class;  // class -> count, first line
+  int64_t zero_marked = 0, first_zero_marked = 0;
+};
+
+// The ids and classes of a frame's usable rows (8 columns or more).
+void CheckFrameRows(const fs::path& gt,
+                    long long timestep,
+                    const std::vector<GtRow>& rows,
+                    FindingSink* sink,
+                    NotScored* not_scored) {
+  std::map<long long, int64_t> id_line;
+  for (const GtRow& row : rows) {
+    double id = 0, cls = 0, conf = 0;
+    ParsePythonFloat(row.cells[1], &id);
+    ParsePythonFloat(row.cells[6], &conf);
+    ParsePythonFloat(row.cells[7], &cls);
+    const auto [it, inserted] = id_line.emplace(static_cast<long long>(id), row.line);
+    if (!inserted) {
+      sink->Add("trackeval.duplicate-id",
+                gt,
+                row.line,
+                "id " + std::to_string(static_cast<long long>(id)) + " already in frame " +
+                    std::to_string(timestep) + " (line " + std::to_string(it->second) + ")");
+    }
+    const auto class_id = static_cast<long long>(cls);
+    if (class_id < 1 || class_id > 13) {
+      sink->Add("trackeval.class-valid",
+                gt,
+                row.line,
+                "class " + std::to_string(class_id) + " is not a MOT class (1..13)");
+    } else if (class_id != 1) {
+      auto& [count, first] = not_scored->by_class[class_id];
+      if (count++ == 0) first = row.line;
+    }
+    if (static_cast<long long>(conf) == 0) {
+      if (not_scored->zero_marked++ == 0) not_scored->first_zero_marked = row.line;
+    }
+  }
+}
+
+void ReportNotScored(const fs::path& gt, const NotScored& not_scored, FindingSink* sink) {
+  for (const auto& [class_id, entry] : not_scored.by_class) {
+    sink->Add("trackeval.class-scored",
+              gt,
+              entry.second,
+              std::to_string(entry.first) + " box(es) of class " + std::to_string(class_id) +
+                  " (first here) are not scored: MotChallenge2DBox scores class 1 only");
+  }
+  if (not_scored.zero_marked > 0) {
+    sink->Add("trackeval.zero-marked",
+              gt,
+              not_scored.first_zero_marked,
+              std::to_string(not_scored.zero_marked) +
+                  " zero-marked line(s) (first here) are not scored");
+  }
+}
+
+void CheckGroundTruth(const fs::path& gt, long long seq_length, FindingSink* sink) {
+  std::string bytes;
+  ReadBytes(gt, &bytes);
+  sink->CountFile();
+  const std::vector<std::string> lines = SplitLines(bytes);
+  if (lines.empty()) return;
+  NotScored not_scored;
+  for (const auto& [timestep, rows] : GtFrames(gt, lines, seq_length, sink)) {
+    if (!FrameValuesUsable(gt, timestep, rows, sink)) continue;
     if (rows.front().cells.size() < 8) {
       sink->Add(
           "trackeval.columns",
@@ -186,67 +266,20 @@ void CheckGroundTruth(const fs::path& gt, long long seq_length, FindingSink* sin
           std::to_string(rows.front().cells.size()) + " columns (8 needed): the evaluation stops");
       continue;
     }
-    std::map<long long, int64_t> id_line;
-    for (const GtRow& row : rows) {
-      double id = 0, cls = 0, conf = 0;
-      ParsePythonFloat(row.cells[1], &id);
-      ParsePythonFloat(row.cells[6], &conf);
-      ParsePythonFloat(row.cells[7], &cls);
-      const auto [it, inserted] = id_line.emplace(static_cast<long long>(id), row.line);
-      if (!inserted) {
-        sink->Add("trackeval.duplicate-id",
-                  gt,
-                  row.line,
-                  "id " + std::to_string(static_cast<long long>(id)) + " already in frame " +
-                      std::to_string(timestep) + " (line " + std::to_string(it->second) + ")");
-      }
-      const auto class_id = static_cast<long long>(cls);
-      if (class_id < 1 || class_id > 13) {
-        sink->Add("trackeval.class-valid",
-                  gt,
-                  row.line,
-                  "class " + std::to_string(class_id) + " is not a MOT class (1..13)");
-      } else if (class_id != 1) {
-        auto& [count, first] = not_scored[class_id];
-        if (count++ == 0) first = row.line;
-      }
-      if (static_cast<long long>(conf) == 0) {
-        if (zero_marked++ == 0) first_zero_marked = row.line;
-      }
-    }
+    CheckFrameRows(gt, timestep, rows, sink, &not_scored);
   }
-  // One finding per class and file: a vehicle export has one per line otherwise.
-  for (const auto& [class_id, entry] : not_scored) {
-    sink->Add("trackeval.class-scored",
-              gt,
-              entry.second,
-              std::to_string(entry.first) + " box(es) of class " + std::to_string(class_id) +
-                  " (first here) are not scored: MotChallenge2DBox scores class 1 only");
-  }
-  if (zero_marked > 0) {
-    sink->Add("trackeval.zero-marked",
-              gt,
-              first_zero_marked,
-              std::to_string(zero_marked) + " zero-marked line(s) (first here) are not scored");
-  }
+  ReportNotScored(gt, not_scored, sink);
 }
 
-}  // namespace
-
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
-void CheckTrackEval(const std::string& /*format*/,
-                    const fs::path& dir,
-                    const CheckOptions& /*options*/,
-                    FindingSink* sink) {
+// Sequence folders: DIR/<split>/<SEQ> or DIR/<SEQ> holding gt/ or seqinfo.ini.
+std::set<fs::path> SequenceFolders(const fs::path& dir) {
   std::error_code error;
-  // Sequence folders: DIR/<split>/<SEQ> or DIR/<SEQ> holding gt/ or seqinfo.ini.
   std::set<fs::path> sequences;
+  const auto is_sequence = [&](const fs::path& p) {
+    return fs::is_directory(p / "gt", error) || fs::is_regular_file(p / "seqinfo.ini", error);
+  };
   for (const auto& entry : fs::directory_iterator(dir, error)) {
     if (!entry.is_directory(error) || entry.path().filename() == "seqmaps") continue;
-    const auto is_sequence = [&](const fs::path& p) {
-      return fs::is_directory(p / "gt", error) || fs::is_regular_file(p / "seqinfo.ini", error);
-    };
     if (is_sequence(entry.path())) {
       sequences.insert(entry.path());
       continue;
@@ -255,6 +288,86 @@ void CheckTrackEval(const std::string& /*format*/,
       if (inner.is_directory(error) && is_sequence(inner.path())) sequences.insert(inner.path());
     }
   }
+  return sequences;
+}
+
+// One sequence a seqmap lists (its row on `line`): seqinfo.ini, then gt.txt.
+void CheckListedSequence(const fs::path& seqmap,
+                         int64_t line,
+                         const std::string& name,
+                         const fs::path& sequence,
+                         const fs::path& dir,
+                         FindingSink* sink) {
+  std::error_code error;
+  long long length = 0;
+  std::string problem;
+  if (!fs::is_regular_file(sequence / "seqinfo.ini", error)) {
+    sink->Add("trackeval.seqinfo",
+              seqmap,
+              line,
+              "sequence '" + name + "': no " +
+                  fs::relative(sequence / "seqinfo.ini", dir, error).string());
+    return;
+  }
+  if (!ReadSeqLength(sequence / "seqinfo.ini", &length, &problem)) {
+    sink->Add("trackeval.seqinfo", sequence / "seqinfo.ini", 0, problem);
+    return;
+  }
+  if (!fs::is_regular_file(sequence / "gt" / "gt.txt", error)) {
+    sink->Add("trackeval.gt-file", seqmap, line, "sequence '" + name + "': no gt/gt.txt");
+    return;
+  }
+  CheckGroundTruth(sequence / "gt" / "gt.txt", length, sink);
+}
+
+// The sequences a seqmap lists, checked; their folders added to `listed`.
+void CheckSeqmap(const fs::path& seqmap,
+                 const fs::path& dir,
+                 FindingSink* sink,
+                 std::set<fs::path>* listed) {
+  std::error_code error;
+  sink->CountFile();
+  // GT_FOLDER/<BENCHMARK>-<SPLIT> holds the sequences, or GT_FOLDER itself
+  // with SKIP_SPLIT_FOL.
+  const fs::path gt_folder =
+      fs::is_directory(dir / seqmap.stem(), error) ? dir / seqmap.stem() : dir;
+  std::string bytes;
+  ReadBytes(seqmap, &bytes);
+  const std::vector<std::string> rows = SplitLines(bytes);
+  for (size_t i = 1; i < rows.size(); ++i) {  // row 0 is the header ("name")
+    const std::string name = Strip(Split(rows[i], ',').front());
+    if (name.empty()) continue;
+    const fs::path sequence = gt_folder / name;
+    listed->insert(fs::weakly_canonical(sequence, error));
+    CheckListedSequence(seqmap, static_cast<int64_t>(i) + 1, name, sequence, dir, sink);
+  }
+}
+
+// A sequence no seqmap lists: never evaluated, or, without any seqmap,
+// checked still, so that one run says everything.
+void CheckUnlistedSequence(const fs::path& sequence, bool have_seqmaps, FindingSink* sink) {
+  if (have_seqmaps) {
+    sink->Add("trackeval.unlisted-sequence", sequence, 0, "no seqmap lists it: never evaluated");
+    return;
+  }
+  std::error_code error;
+  long long length = 0;
+  std::string problem;
+  if (!ReadSeqLength(sequence / "seqinfo.ini", &length, &problem)) {
+    sink->Add("trackeval.seqinfo", sequence / "seqinfo.ini", 0, problem);
+  } else if (fs::is_regular_file(sequence / "gt" / "gt.txt", error)) {
+    CheckGroundTruth(sequence / "gt" / "gt.txt", length, sink);
+  }
+}
+
+}  // namespace
+
+void CheckTrackEval(const std::string& /*format*/,
+                    const fs::path& dir,
+                    const CheckOptions& /*options*/,
+                    FindingSink* sink) {
+  std::error_code error;
+  const std::set<fs::path> sequences = SequenceFolders(dir);
   std::vector<fs::path> seqmaps;
   for (const fs::path& file : ListFiles(dir / "seqmaps")) {
     if (LowerExtension(file) == "txt") seqmaps.push_back(file);
@@ -266,56 +379,10 @@ void CheckTrackEval(const std::string& /*format*/,
               "no seqmaps/*.txt: 'no seqmap found', the evaluation stops");
   }
   std::set<fs::path> listed;
-  for (const fs::path& seqmap : seqmaps) {
-    sink->CountFile();
-    // GT_FOLDER/<BENCHMARK>-<SPLIT> holds the sequences, or GT_FOLDER itself
-    // with SKIP_SPLIT_FOL.
-    const fs::path gt_folder =
-        fs::is_directory(dir / seqmap.stem(), error) ? dir / seqmap.stem() : dir;
-    std::string bytes;
-    ReadBytes(seqmap, &bytes);
-    const std::vector<std::string> rows = SplitLines(bytes);
-    for (size_t i = 1; i < rows.size(); ++i) {  // row 0 is the header ("name")
-      const std::string name = Strip(Split(rows[i], ',').front());
-      if (name.empty()) continue;
-      const int64_t line = static_cast<int64_t>(i) + 1;
-      const fs::path sequence = gt_folder / name;
-      listed.insert(fs::weakly_canonical(sequence, error));
-      long long length = 0;
-      std::string problem;
-      if (!fs::is_regular_file(sequence / "seqinfo.ini", error)) {
-        sink->Add("trackeval.seqinfo",
-                  seqmap,
-                  line,
-                  "sequence '" + name + "': no " +
-                      fs::relative(sequence / "seqinfo.ini", dir, error).string());
-        continue;
-      }
-      if (!ReadSeqLength(sequence / "seqinfo.ini", &length, &problem)) {
-        sink->Add("trackeval.seqinfo", sequence / "seqinfo.ini", 0, problem);
-        continue;
-      }
-      if (!fs::is_regular_file(sequence / "gt" / "gt.txt", error)) {
-        sink->Add("trackeval.gt-file", seqmap, line, "sequence '" + name + "': no gt/gt.txt");
-        continue;
-      }
-      CheckGroundTruth(sequence / "gt" / "gt.txt", length, sink);
-    }
-  }
+  for (const fs::path& seqmap : seqmaps) CheckSeqmap(seqmap, dir, sink, &listed);
   for (const fs::path& sequence : sequences) {
     if (listed.count(fs::weakly_canonical(sequence, error)) > 0) continue;
-    if (!seqmaps.empty()) {
-      sink->Add("trackeval.unlisted-sequence", sequence, 0, "no seqmap lists it: never evaluated");
-      continue;
-    }
-    // Without a seqmap the rest is still checked, so that one run says everything.
-    long long length = 0;
-    std::string problem;
-    if (!ReadSeqLength(sequence / "seqinfo.ini", &length, &problem)) {
-      sink->Add("trackeval.seqinfo", sequence / "seqinfo.ini", 0, problem);
-    } else if (fs::is_regular_file(sequence / "gt" / "gt.txt", error)) {
-      CheckGroundTruth(sequence / "gt" / "gt.txt", length, sink);
-    }
+    CheckUnlistedSequence(sequence, !seqmaps.empty(), sink);
   }
 }
 

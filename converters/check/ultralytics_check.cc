@@ -149,130 +149,141 @@ struct Row {
   size_t points = 0;  // segment points (0 for a box row)
 };
 
-// Checks one image's label file; returns false when the image is dropped.
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
-bool CheckLabelFile(const fs::path& label_file,
-                    const std::string& format,
-                    size_t class_count,
-                    FindingSink* sink) {
-  std::string bytes;
-  if (!ReadBytes(label_file, &bytes) || !ValidUtf8(bytes)) {
-    sink->Add("ultralytics.label-unreadable", label_file, 0, "not readable as UTF-8 text");
+// A line of a label file and its whitespace-separated tokens.
+using TokenRow = std::pair<int64_t, std::vector<std::string>>;
+
+// f.read().strip().splitlines() keeping the lines with any character: a
+// line of spaces inside the file becomes a row without tokens.
+std::vector<TokenRow> TokenRows(const std::string& bytes) {
+  std::vector<TokenRow> rows;
+  const std::vector<std::string> lines = SplitLines(bytes);
+  size_t first = 0, last = lines.size();
+  while (first < last && Strip(lines[first]).empty()) ++first;
+  while (last > first && Strip(lines[last - 1]).empty()) --last;
+  for (size_t i = first; i < last; ++i) {
+    if (lines[i].empty()) continue;
+    rows.emplace_back(static_cast<int64_t>(i) + 1, SplitWhitespace(lines[i]));
+  }
+  return rows;
+}
+
+// The row's tokens as numbers; false when one is not a number, or there are
+// none.
+bool ParseNumbers(const std::vector<std::string>& tokens, std::vector<double>* numbers) {
+  for (const std::string& token : tokens) {
+    double v = 0;
+    if (!ParsePythonFloat(token, &v)) return false;
+    numbers->push_back(v);
+  }
+  return !tokens.empty();
+}
+
+// segments2boxes: the bounding box of a segment row's points, as x, y, w, h;
+// false when its coordinates do not pair into points.
+bool ParseSegmentRow(const std::vector<double>& numbers,
+                     const fs::path& label_file,
+                     FindingSink* sink,
+                     Row* row) {
+  const size_t coordinates = numbers.size() - 1;
+  if (coordinates == 0 || coordinates % 2 != 0) {
+    sink->Add("ultralytics.label-columns",
+              label_file,
+              row->line,
+              std::to_string(coordinates) +
+                  " coordinate(s) in a segment file: they do not pair into points; "
+                  "the image is ignored");
     return false;
   }
-  sink->CountFile();
-  // f.read().strip().splitlines() keeping the lines with any character: a
-  // line of spaces inside the file becomes a row without tokens.
-  std::vector<std::pair<int64_t, std::vector<std::string>>> rows;
-  {
-    const std::vector<std::string> lines = SplitLines(bytes);
-    size_t first = 0, last = lines.size();
-    while (first < last && Strip(lines[first]).empty()) ++first;
-    while (last > first && Strip(lines[last - 1]).empty()) --last;
-    for (size_t i = first; i < last; ++i) {
-      if (lines[i].empty()) continue;
-      rows.emplace_back(static_cast<int64_t>(i) + 1, SplitWhitespace(lines[i]));
-    }
+  float x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (size_t i = 1; i + 1 < numbers.size(); i += 2) {
+    const auto x = static_cast<float>(numbers[i]), y = static_cast<float>(numbers[i + 1]);
+    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
   }
-  if (rows.empty()) return true;  // a background image
-  const bool segment_file =
-      std::any_of(rows.begin(), rows.end(), [](const auto& row) { return row.second.size() > 6; });
-  bool dropped = false;
-  std::vector<Row> parsed;
-  const size_t width = rows.front().second.size();
-  for (const auto& [line, tokens] : rows) {
-    std::vector<double> numbers;
-    bool numeric = !tokens.empty();
-    for (const std::string& token : tokens) {
-      double v = 0;
-      if (!ParsePythonFloat(token, &v)) {
-        numeric = false;
-        break;
-      }
-      numbers.push_back(v);
-    }
-    if (!numeric) {
-      sink->Add("ultralytics.label-not-numeric",
-                label_file,
-                line,
-                tokens.empty() ? "a row without tokens (a line of spaces)"
-                               : "a token is not a number: the image is ignored");
-      dropped = true;
-      continue;
-    }
-    Row row;
-    row.line = line;
-    row.values[0] = static_cast<float>(numbers[0]);
-    if (segment_file) {
-      const size_t coordinates = numbers.size() - 1;
-      if (coordinates == 0 || coordinates % 2 != 0) {
-        sink->Add("ultralytics.label-columns",
-                  label_file,
-                  line,
-                  std::to_string(coordinates) +
-                      " coordinate(s) in a segment file: they do not pair into points; "
-                      "the image is ignored");
-        dropped = true;
-        continue;
-      }
-      // segments2boxes: the bounding box of the points, as x, y, w, h.
-      float x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
-      for (size_t i = 1; i + 1 < numbers.size(); i += 2) {
-        const auto x = static_cast<float>(numbers[i]), y = static_cast<float>(numbers[i + 1]);
-        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-      }
-      row.values = {row.values[0], (x0 + x1) / 2, (y0 + y1) / 2, x1 - x0, y1 - y0};
-      row.points = coordinates / 2;
-    } else {
-      if (numbers.size() != 5 || tokens.size() != width) {
-        sink->Add("ultralytics.label-columns",
-                  label_file,
-                  line,
-                  "labels require 5 columns, " + std::to_string(numbers.size()) +
-                      " found: the image is ignored");
-        dropped = true;
-        continue;
-      }
-      for (size_t i = 1; i < 5; ++i) row.values[i] = static_cast<float>(numbers[i]);
-    }
-    parsed.push_back(row);
+  row->values = {row->values[0], (x0 + x1) / 2, (y0 + y1) / 2, x1 - x0, y1 - y0};
+  row->points = coordinates / 2;
+  return true;
+}
+
+// One row as verify_image_label parses it (a box row of the file's first
+// row's width, or a segment); false when the image is dropped for it.
+bool ParseRow(const TokenRow& token_row,
+              bool segment_file,
+              size_t width,
+              const fs::path& label_file,
+              FindingSink* sink,
+              Row* row) {
+  const auto& [line, tokens] = token_row;
+  std::vector<double> numbers;
+  if (!ParseNumbers(tokens, &numbers)) {
+    sink->Add("ultralytics.label-not-numeric",
+              label_file,
+              line,
+              tokens.empty() ? "a row without tokens (a line of spaces)"
+                             : "a token is not a number: the image is ignored");
+    return false;
   }
-  for (const Row& row : parsed) {
-    // The comparisons are those of numpy on float32 arrays: NaN fails both.
-    for (size_t i = 1; i < 5; ++i) {
-      if (!(row.values[i] <= 1.01f)) {
-        sink->Add("ultralytics.coordinate-range",
-                  label_file,
-                  row.line,
-                  std::string(row.points > 0 ? "bounding box of the segment: " : "") + "value " +
-                      FormatNumber(row.values[i]) +
-                      " above 1.01 (non-normalized or out of bounds): the image is ignored");
-        dropped = true;
-        break;
-      }
-    }
-    for (size_t i = 0; i < 5; ++i) {
-      if (!(row.values[i] >= -0.01f)) {
-        sink->Add("ultralytics.coordinate-range",
-                  label_file,
-                  row.line,
-                  std::string(i == 0 ? "class" : "value") + " " + FormatNumber(row.values[i]) +
-                      " below -0.01: the image is ignored");
-        dropped = true;
-        break;
-      }
-    }
-    if (!(row.values[0] < static_cast<float>(class_count))) {
-      sink->Add("ultralytics.class-range",
+  row->line = line;
+  row->values[0] = static_cast<float>(numbers[0]);
+  if (segment_file) return ParseSegmentRow(numbers, label_file, sink, row);
+  if (numbers.size() != 5 || tokens.size() != width) {
+    sink->Add("ultralytics.label-columns",
+              label_file,
+              line,
+              "labels require 5 columns, " + std::to_string(numbers.size()) +
+                  " found: the image is ignored");
+    return false;
+  }
+  for (size_t i = 1; i < 5; ++i) row->values[i] = static_cast<float>(numbers[i]);
+  return true;
+}
+
+// The coordinate and class ranges of a parsed row; false when the image is
+// dropped for it. The comparisons are those of numpy on float32 arrays: NaN
+// fails both.
+bool CheckRowRanges(const Row& row,
+                    size_t class_count,
+                    const fs::path& label_file,
+                    FindingSink* sink) {
+  bool kept = true;
+  for (size_t i = 1; i < 5; ++i) {
+    if (!(row.values[i] <= 1.01f)) {
+      sink->Add("ultralytics.coordinate-range",
                 label_file,
                 row.line,
-                "class " + FormatNumber(row.values[0]) + " >= nc " + std::to_string(class_count) +
-                    " (the names of data.yaml): the image is ignored");
-      dropped = true;
+                std::string(row.points > 0 ? "bounding box of the segment: " : "") + "value " +
+                    FormatNumber(row.values[i]) +
+                    " above 1.01 (non-normalized or out of bounds): the image is ignored");
+      kept = false;
+      break;
     }
   }
-  if (dropped) return false;
+  for (size_t i = 0; i < 5; ++i) {
+    if (!(row.values[i] >= -0.01f)) {
+      sink->Add("ultralytics.coordinate-range",
+                label_file,
+                row.line,
+                std::string(i == 0 ? "class" : "value") + " " + FormatNumber(row.values[i]) +
+                    " below -0.01: the image is ignored");
+      kept = false;
+      break;
+    }
+  }
+  if (!(row.values[0] < static_cast<float>(class_count))) {
+    sink->Add("ultralytics.class-range",
+              label_file,
+              row.line,
+              "class " + FormatNumber(row.values[0]) + " >= nc " + std::to_string(class_count) +
+                  " (the names of data.yaml): the image is ignored");
+    kept = false;
+  }
+  return kept;
+}
+
+// What a kept image loses: duplicate rows, segments without area.
+void CheckKeptRows(const std::vector<Row>& parsed,
+                   const std::string& format,
+                   const fs::path& label_file,
+                   FindingSink* sink) {
   std::map<std::array<float, 5>, int64_t> first_line;
   for (const Row& row : parsed) {
     const auto [it, inserted] = first_line.emplace(row.values, row.line);
@@ -290,6 +301,39 @@ bool CheckLabelFile(const fs::path& label_file,
                 std::to_string(row.points) + " point(s): the segment has no area");
     }
   }
+}
+
+// Checks one image's label file; returns false when the image is dropped.
+bool CheckLabelFile(const fs::path& label_file,
+                    const std::string& format,
+                    size_t class_count,
+                    FindingSink* sink) {
+  std::string bytes;
+  if (!ReadBytes(label_file, &bytes) || !ValidUtf8(bytes)) {
+    sink->Add("ultralytics.label-unreadable", label_file, 0, "not readable as UTF-8 text");
+    return false;
+  }
+  sink->CountFile();
+  const std::vector<TokenRow> rows = TokenRows(bytes);
+  if (rows.empty()) return true;  // a background image
+  const bool segment_file =
+      std::any_of(rows.begin(), rows.end(), [](const auto& row) { return row.second.size() > 6; });
+  bool dropped = false;
+  std::vector<Row> parsed;
+  const size_t width = rows.front().second.size();
+  for (const TokenRow& token_row : rows) {
+    Row row;
+    if (ParseRow(token_row, segment_file, width, label_file, sink, &row)) {
+      parsed.push_back(row);
+    } else {
+      dropped = true;
+    }
+  }
+  for (const Row& row : parsed) {
+    if (!CheckRowRanges(row, class_count, label_file, sink)) dropped = true;
+  }
+  if (dropped) return false;
+  CheckKeptRows(parsed, format, label_file, sink);
   if (format == "yolo-seg" && !segment_file) {
     sink->Add("ultralytics.segments-removed",
               label_file,

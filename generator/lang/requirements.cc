@@ -214,8 +214,139 @@ FrameMeasure MeasureTruth(const Plan& plan,
   return m;
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
+namespace {
+
+// require{...}: its bounds, one per key besides target, budget and cameras.
+Requirement ReadRequire(const Definition& d, const std::string& target, const std::string& camera) {
+  Requirement r;
+  r.name = d.symbol;
+  r.target = target;
+  for (const auto& [key, node] : d.body.Members()) {
+    const std::string k = CanonicalKey(key);
+    if (k == "target" || k == "budget" || k == "onbudget" || k == "cameras") continue;
+    if (k == "probability" || k == "p") {
+      r.probability = ReadInRange(node, KindVocabulary("require").Key("probability"));
+      continue;
+    }
+    if (IsCameraRelation(k)) {
+      if (target.empty()) node.FailKey("a relation to the camera needs target:OBJECT");
+      r.bounds.push_back(CameraRelationBound(node, k, camera));
+      continue;
+    }
+    const std::string q = QuantityOf(node, key);
+    if (q == "class")
+      node.FailKey("class is a quota quantity: quota{target:T,quantity:class,classes:{...}}");
+    if (!IsFrameQuantity(q) && target.empty())
+      node.FailKey("'" + q + "' is a quantity of a target: add target:OBJECT");
+    r.bounds.push_back(ReadBound(node, q));
+  }
+  if (r.bounds.empty()) d.body.Fail("require " + d.symbol + " bounds nothing");
+  return r;
+}
+
+// A class quota's bins are class names: classes:{car:1,truck:1} (the shares)
+// or classes:[car,truck] (equal shares, or weights:[...]).
+void ReadClassBins(const Definition& d, Quota* q) {
+  const Node bins = d.body.Find("bins"), classes = d.body.Find("classes");
+  if (bins) bins.FailKey("a class quota's bins are classes:{name: share, ...}");
+  if (!classes || !(classes->is_object() || classes->is_array()) || classes->empty())
+    (classes ? classes : d.body)
+        .Fail("a class quota needs classes:{name: share, ...} or classes:[name, ...]");
+  q->classes_node = classes;
+  if (classes->is_object()) {
+    if (d.body.Find("weights"))
+      d.body.Find("weights").FailKey("the shares are the values of classes:{name: share}");
+    for (const auto& [name, share] : classes.Members()) {
+      q->classes.push_back(name);
+      q->weights.push_back(ReadNumber(share));
+      if (q->weights.back() < 0) share.Fail("a share is >= 0");
+    }
+  } else {
+    for (size_t i = 0; i < classes->size(); ++i) q->classes.push_back(ReadString(classes.Item(i)));
+  }
+  for (size_t i = 0; i < q->classes.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (q->classes[i] == q->classes[j])
+        classes.Fail("class '" + q->classes[i] + "' is listed twice");
+}
+
+// A quota over a number: bins:[e0, e1, ..., en], edges ascending.
+void ReadEdgeBins(const Definition& d, Quota* q) {
+  const Node bins = d.body.Find("bins"), classes = d.body.Find("classes");
+  if (classes) classes.FailKey("classes belong to a quota over quantity:class");
+  if (!bins || !bins->is_array() || bins->size() < 2)
+    (bins ? bins : d.body).Fail("a quota needs bins:[e0, e1, ..., en] (n bins, edges ascending)");
+  for (size_t i = 0; i < bins->size(); ++i) {
+    q->edges.push_back(ReadNumber(bins.Item(i)));
+    if (i > 0 && q->edges[i] <= q->edges[i - 1]) bins.Item(i).Fail("bin edges must ascend");
+  }
+}
+
+// The bins' shares: weights:[...] (or the class shares, or equal), summing to 1.
+void ReadQuotaWeights(const Definition& d, Quota* q) {
+  const size_t n = q->categorical() ? q->classes.size() : q->edges.size() - 1;
+  if (q->weights.empty()) q->weights.assign(n, 1.0);
+  if (const Node w = d.body.Find("weights")) {
+    if (!w->is_array() || w->size() != n)
+      w.Fail("weights:[...] needs one weight per bin (" + std::to_string(n) + ")");
+    for (size_t i = 0; i < n; ++i) {
+      q->weights[i] = ReadNumber(w.Item(i));
+      if (q->weights[i] < 0) w.Item(i).Fail("a weight is >= 0");
+    }
+  }
+  const double sum = std::accumulate(q->weights.begin(), q->weights.end(), 0.0);
+  if (sum <= 0) d.body.Fail("the quota's weights sum to 0");
+  for (double& w : q->weights) w /= sum;
+}
+
+// quota{...}: the quantity, its bins and their weights, tolerance and sampling.
+Quota ReadQuota(const Definition& d, const std::string& target) {
+  Quota q;
+  q.name = d.symbol;
+  q.target = target;
+  const Node quantity = d.body.Find("quantity");
+  if (!quantity)
+    d.body.Fail("a quota needs quantity:NAME (" + Join(RequirementQuantities(), ", ") + ")");
+  q.quantity = QuantityOf(quantity, ReadString(quantity));
+  // A class quota without a target is over every target in view.
+  if (!IsFrameQuantity(q.quantity) && q.quantity != "class" && target.empty())
+    quantity.Fail("'" + q.quantity + "' is a quantity of a target: add target:OBJECT");
+  if (q.quantity == "class") {
+    ReadClassBins(d, &q);
+  } else {
+    ReadEdgeBins(d, &q);
+  }
+  ReadQuotaWeights(d, &q);
+  if (const Node t = d.body.Find("tolerance")) {
+    q.tolerance = ReadInRange(t, KindVocabulary("quota").Key("tolerance"));
+  }
+  if (const Node s = d.body.Find("sampling")) {
+    const std::string v = ReadString(s);
+    if (v != "importance" && v != "rejection")
+      s.Fail("sampling is importance (the default) or rejection");
+    q.importance = v == "importance";
+  }
+  return q;
+}
+
+// The paper's allowable occlusion on an LSCENE object (section 4.2): a hard requirement on every
+// frame, as require{target:X, occlusion:[lo, hi]}.
+void AddObjectOcclusions(const Program& scene, RequirementSet* set) {
+  for (const Definition& d : scene.definitions)
+    if (d.kind == "object")
+      if (const Node n = d.body.Find("occlusion")) {
+        Requirement r;
+        r.name = d.symbol + ":occlusion";
+        r.target = d.symbol;
+        r.bounds.push_back(ReadBound(n, "occlusion"));
+        if (r.bounds.back().lo < 0 || r.bounds.back().hi > 1)
+          n.Fail("occlusion is a share of the object hidden: [min, max] within [0, 1]");
+        set->requirements.push_back(r);
+      }
+}
+
+}  // namespace
+
 RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
   RequirementSet set;
   std::string camera;
@@ -232,114 +363,12 @@ RequirementSet ReadRequirements(const Program& capture, const Program& scene) {
     ReadBudget(d, &set);
     const std::string target = ReadTarget(d, scene);
     if (d.kind == "require") {
-      Requirement r;
-      r.name = d.symbol;
-      r.target = target;
-      for (const auto& [key, node] : d.body.Members()) {
-        const std::string k = CanonicalKey(key);
-        if (k == "target" || k == "budget" || k == "onbudget" || k == "cameras") continue;
-        if (k == "probability" || k == "p") {
-          r.probability = ReadInRange(node, KindVocabulary("require").Key("probability"));
-          continue;
-        }
-        if (IsCameraRelation(k)) {
-          if (target.empty()) node.FailKey("a relation to the camera needs target:OBJECT");
-          r.bounds.push_back(CameraRelationBound(node, k, camera));
-          continue;
-        }
-        const std::string q = QuantityOf(node, key);
-        if (q == "class")
-          node.FailKey("class is a quota quantity: quota{target:T,quantity:class,classes:{...}}");
-        if (!IsFrameQuantity(q) && target.empty())
-          node.FailKey("'" + q + "' is a quantity of a target: add target:OBJECT");
-        r.bounds.push_back(ReadBound(node, q));
-      }
-      if (r.bounds.empty()) d.body.Fail("require " + d.symbol + " bounds nothing");
-      set.requirements.push_back(r);
+      set.requirements.push_back(ReadRequire(d, target, camera));
     } else {
-      Quota q;
-      q.name = d.symbol;
-      q.target = target;
-      const Node quantity = d.body.Find("quantity");
-      if (!quantity)
-        d.body.Fail("a quota needs quantity:NAME (" + Join(RequirementQuantities(), ", ") + ")");
-      q.quantity = QuantityOf(quantity, ReadString(quantity));
-      // A class quota without a target is over every target in view.
-      if (!IsFrameQuantity(q.quantity) && q.quantity != "class" && target.empty())
-        quantity.Fail("'" + q.quantity + "' is a quantity of a target: add target:OBJECT");
-      const Node bins = d.body.Find("bins"), classes = d.body.Find("classes");
-      if (q.quantity == "class") {
-        // Bins are class names: classes:{car:1,truck:1} (the shares) or
-        // classes:[car,truck] (equal shares, or weights:[...]).
-        if (bins) bins.FailKey("a class quota's bins are classes:{name: share, ...}");
-        if (!classes || !(classes->is_object() || classes->is_array()) || classes->empty())
-          (classes ? classes : d.body)
-              .Fail("a class quota needs classes:{name: share, ...} or classes:[name, ...]");
-        q.classes_node = classes;
-        if (classes->is_object()) {
-          if (d.body.Find("weights"))
-            d.body.Find("weights").FailKey("the shares are the values of classes:{name: share}");
-          for (const auto& [name, share] : classes.Members()) {
-            q.classes.push_back(name);
-            q.weights.push_back(ReadNumber(share));
-            if (q.weights.back() < 0) share.Fail("a share is >= 0");
-          }
-        } else {
-          for (size_t i = 0; i < classes->size(); ++i)
-            q.classes.push_back(ReadString(classes.Item(i)));
-        }
-        for (size_t i = 0; i < q.classes.size(); ++i)
-          for (size_t j = 0; j < i; ++j)
-            if (q.classes[i] == q.classes[j])
-              classes.Fail("class '" + q.classes[i] + "' is listed twice");
-      } else {
-        if (classes) classes.FailKey("classes belong to a quota over quantity:class");
-        if (!bins || !bins->is_array() || bins->size() < 2)
-          (bins ? bins : d.body)
-              .Fail("a quota needs bins:[e0, e1, ..., en] (n bins, edges ascending)");
-        for (size_t i = 0; i < bins->size(); ++i) {
-          q.edges.push_back(ReadNumber(bins.Item(i)));
-          if (i > 0 && q.edges[i] <= q.edges[i - 1]) bins.Item(i).Fail("bin edges must ascend");
-        }
-      }
-      const size_t n = q.categorical() ? q.classes.size() : q.edges.size() - 1;
-      if (q.weights.empty()) q.weights.assign(n, 1.0);
-      if (const Node w = d.body.Find("weights")) {
-        if (!w->is_array() || w->size() != n)
-          w.Fail("weights:[...] needs one weight per bin (" + std::to_string(n) + ")");
-        for (size_t i = 0; i < n; ++i) {
-          q.weights[i] = ReadNumber(w.Item(i));
-          if (q.weights[i] < 0) w.Item(i).Fail("a weight is >= 0");
-        }
-      }
-      const double sum = std::accumulate(q.weights.begin(), q.weights.end(), 0.0);
-      if (sum <= 0) d.body.Fail("the quota's weights sum to 0");
-      for (double& w : q.weights) w /= sum;
-      if (const Node t = d.body.Find("tolerance")) {
-        q.tolerance = ReadInRange(t, KindVocabulary("quota").Key("tolerance"));
-      }
-      if (const Node s = d.body.Find("sampling")) {
-        const std::string v = ReadString(s);
-        if (v != "importance" && v != "rejection")
-          s.Fail("sampling is importance (the default) or rejection");
-        q.importance = v == "importance";
-      }
-      set.quotas.push_back(q);
+      set.quotas.push_back(ReadQuota(d, target));
     }
   }
-  // The paper's allowable occlusion on an LSCENE object (section 4.2): a hard requirement on every
-  // frame, as require{target:X, occlusion:[lo, hi]}.
-  for (const Definition& d : scene.definitions)
-    if (d.kind == "object")
-      if (const Node n = d.body.Find("occlusion")) {
-        Requirement r;
-        r.name = d.symbol + ":occlusion";
-        r.target = d.symbol;
-        r.bounds.push_back(ReadBound(n, "occlusion"));
-        if (r.bounds.back().lo < 0 || r.bounds.back().hi > 1)
-          n.Fail("occlusion is a share of the object hidden: [min, max] within [0, 1]");
-        set.requirements.push_back(r);
-      }
+  AddObjectOcclusions(scene, &set);
   return set;
 }
 

@@ -299,97 +299,157 @@ void AirSimImporter::ChooseVehicleAndCamera(const fs::path& rec_file) {
   if (!cameras.empty()) camera_ = *cameras.begin();
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-cognitive-complexity)
+namespace {
+
+// The columns ReadRecord reads, by index into a row's cells (-1: no VehicleName).
+struct RecordColumns {
+  int vehicle = -1, stamp = -1;
+  int pos[3] = {-1, -1, -1};
+  int q[4] = {-1, -1, -1, -1};
+  int images = -1;
+};
+
+RecordColumns FindColumns(const RecordText& text, const std::string& file) {
+  RecordColumns columns;
+  columns.vehicle = text.Column("VehicleName", false, file);
+  columns.stamp = text.Column("TimeStamp", true, file);
+  columns.pos[0] = text.Column("POS_X", true, file);
+  columns.pos[1] = text.Column("POS_Y", true, file);
+  columns.pos[2] = text.Column("POS_Z", true, file);
+  columns.q[0] = text.Column("Q_W", true, file);
+  columns.q[1] = text.Column("Q_X", true, file);
+  columns.q[2] = text.Column("Q_Y", true, file);
+  columns.q[3] = text.Column("Q_Z", true, file);
+  columns.images = text.Column("ImageFile", true, file);
+  return columns;
+}
+
+// One data row's cells, with the place of each in the file for messages.
+struct RecordCells {
+  const std::vector<std::string>& header;
+  const std::vector<std::string>& cells;
+  const std::string& file;
+  int number;  // the line
+
+  // The 1-based column of cell c: the row's text is the cells joined by tabs.
+  int ColumnOf(int c) const {
+    int at = 1;
+    for (int k = 0; k < c; ++k) at += static_cast<int>(cells[k].size()) + 1;
+    return at;
+  }
+
+  double NumberAt(int c) const {
+    char* end = nullptr;
+    const double value = std::strtod(cells[c].c_str(), &end);
+    if (end == cells[c].c_str() || *end != '\0' || !std::isfinite(value))
+      throw Error("column '" + header[c] + "' is '" + Excerpt(cells[c]) + "', not a finite number",
+                  Location::Text(file, number, ColumnOf(c)));
+    return value;
+  }
+};
+
+// A row's time stamp (AirSim: milliseconds), position and unit orientation.
+struct RecordPose {
+  double ms = 0;
+  Eigen::Vector3d position;
+  Eigen::Quaterniond orientation;
+};
+
+RecordPose ReadPose(const RecordCells& row, const RecordColumns& columns) {
+  RecordPose pose;
+  pose.ms = row.NumberAt(columns.stamp);
+  pose.position = {
+      row.NumberAt(columns.pos[0]), row.NumberAt(columns.pos[1]), row.NumberAt(columns.pos[2])};
+  pose.orientation = Eigen::Quaterniond(row.NumberAt(columns.q[0]),
+                                        row.NumberAt(columns.q[1]),
+                                        row.NumberAt(columns.q[2]),
+                                        row.NumberAt(columns.q[3]));
+  if (std::abs(pose.orientation.norm() - 1) > 1e-3)
+    throw Error("quaternion (Q_W, Q_X, Q_Y, Q_Z) is not unit length",
+                Location::Text(row.file, row.number, 1));
+  pose.orientation.normalize();
+  return pose;
+}
+
+}  // namespace
+
+// The camera's images of a row, by type.
+std::map<int, fs::path> AirSimImporter::ImagesOfRow(const std::string& image_file_cell,
+                                                    const fs::path& folder,
+                                                    const Location& where) const {
+  std::map<int, fs::path> by_type;
+  for (const std::string& name : Split(image_file_cell, ';')) {
+    // Every name in the data must be a relative path inside the source, read
+    // or not (the lexical rule of libs/util/confined_path.h; Reference throws
+    // its message).
+    if (!ReferenceProblem(name, "the source").empty()) root_->Reference(folder, name, where);
+    const std::optional<ImageName> image = ParseImageName(name, vehicle_);
+    if (image && image->camera == camera_)
+      by_type[image->type] = root_->Reference(folder, name, where);
+  }
+  return by_type;
+}
+
+// The passes of the first row are those of the recording.
+void AirSimImporter::ChoosePasses(const std::map<int, fs::path>& by_type) {
+  if (!asked_depth_)
+    asked_depth_ =
+        by_type.count(1) || !by_type.count(2) ? DepthKind::kPlanar : DepthKind::kPerspective;
+  depth_kind_ = *asked_depth_;
+  has_depth_ = by_type.count(depth_kind_ == DepthKind::kPlanar ? 1 : 2) != 0;
+  has_segmentation_ = by_type.count(5) != 0 && has_sidecar_;
+  if (by_type.count(5) && !has_sidecar_)
+    warnings_.push_back(
+        "the Segmentation (type 5) images are not read: without lsds_objects.json their "
+        "colours name no object");
+  // A capture of its own size or FOV is another camera than the Scene's, whose pixels are
+  // not the frame's: not read.
+  has_depth_ = has_depth_ && SharesSceneCapture(depth_kind_ == DepthKind::kPlanar ? 1 : 2);
+  has_segmentation_ = has_segmentation_ && SharesSceneCapture(5);
+}
+
+// Every row holds the passes of the recording.
+void AirSimImporter::AssignImages(const std::map<int, fs::path>& by_type,
+                                  const Location& where,
+                                  Row* row) const {
+  const char* depth_name =
+      depth_kind_ == DepthKind::kPlanar ? "DepthPlanar (type 1)" : "DepthPerspective (type 2)";
+  for (const auto& [type, what, wanted, target] :
+       {std::tuple<int, const char*, bool, fs::path*>{0, "Scene (type 0)", true, &row->scene},
+        {depth_kind_ == DepthKind::kPlanar ? 1 : 2, depth_name, has_depth_, &row->depth},
+        {5, "Segmentation (type 5)", has_segmentation_, &row->segmentation}}) {
+    if (!wanted) continue;
+    const auto found = by_type.find(type);
+    if (found == by_type.end())
+      throw Error(std::string("no ") + what + " image of camera '" + camera_ + "' in ImageFile" +
+                      (rows_.empty() ? "" : " (the first row has one)"),
+                  where);
+    *target = found->second;
+  }
+}
+
 void AirSimImporter::ReadRecord(const fs::path& source) {
   const std::string file = rec_file_.string();
   const RecordText text = ReadRecordText(rec_file_);
-  const int vehicle = text.Column("VehicleName", false, file);
-  const int stamp = text.Column("TimeStamp", true, file);
-  const int pos[3] = {text.Column("POS_X", true, file),
-                      text.Column("POS_Y", true, file),
-                      text.Column("POS_Z", true, file)};
-  const int q[4] = {text.Column("Q_W", true, file),
-                    text.Column("Q_X", true, file),
-                    text.Column("Q_Y", true, file),
-                    text.Column("Q_Z", true, file)};
-  const int images = text.Column("ImageFile", true, file);
-  const std::vector<std::string>& header = text.header;
+  const RecordColumns columns = FindColumns(text, file);
   const fs::path folder = source / "images";
   double first_stamp = std::numeric_limits<double>::quiet_NaN();
   for (const auto& [number, cells] : text.rows) {
-    if (vehicle >= 0 && cells[vehicle] != vehicle_) continue;
-    // The 1-based column of cell c: the row's text is the cells joined by tabs.
-    auto column_of = [&, &cells = cells](int c) {
-      int at = 1;
-      for (int k = 0; k < c; ++k) at += static_cast<int>(cells[k].size()) + 1;
-      return at;
-    };
-    auto number_at = [&, &cells = cells, number = number](int c) {
-      char* end = nullptr;
-      const double value = std::strtod(cells[c].c_str(), &end);
-      if (end == cells[c].c_str() || *end != '\0' || !std::isfinite(value))
-        throw Error(
-            "column '" + header[c] + "' is '" + Excerpt(cells[c]) + "', not a finite number",
-            Location::Text(file, number, column_of(c)));
-      return value;
-    };
+    if (columns.vehicle >= 0 && cells[columns.vehicle] != vehicle_) continue;
+    const RecordCells row_cells{text.header, cells, file, number};
+    const RecordPose pose = ReadPose(row_cells, columns);
+    if (std::isnan(first_stamp)) first_stamp = pose.ms;
     Row row;
     row.line = number;
-    const double ms = number_at(stamp);  // AirSim: milliseconds
-    if (std::isnan(first_stamp)) first_stamp = ms;
-    row.time = (ms - first_stamp) / 1000.0;
-    row.position = {number_at(pos[0]), number_at(pos[1]), number_at(pos[2])};
-    row.orientation =
-        Eigen::Quaterniond(number_at(q[0]), number_at(q[1]), number_at(q[2]), number_at(q[3]));
-    if (std::abs(row.orientation.norm() - 1) > 1e-3)
-      throw Error("quaternion (Q_W, Q_X, Q_Y, Q_Z) is not unit length",
-                  Location::Text(file, number, 1));
-    row.orientation.normalize();
-    // The camera's images of this row, by type.
-    std::map<int, fs::path> by_type;
-    for (const std::string& name : Split(cells[images], ';')) {
-      // Every name in the data must be a relative path inside the source, read
-      // or not (the lexical rule of libs/util/confined_path.h; Reference throws
-      // its message).
-      if (!ReferenceProblem(name, "the source").empty())
-        root_->Reference(folder, name, Location::Text(file, number, column_of(images)));
-      const std::optional<ImageName> image = ParseImageName(name, vehicle_);
-      if (image && image->camera == camera_)
-        by_type[image->type] =
-            root_->Reference(folder, name, Location::Text(file, number, column_of(images)));
-    }
-    if (rows_.empty()) {
-      // The passes of the first row are those of the recording.
-      if (!asked_depth_)
-        asked_depth_ =
-            by_type.count(1) || !by_type.count(2) ? DepthKind::kPlanar : DepthKind::kPerspective;
-      depth_kind_ = *asked_depth_;
-      has_depth_ = by_type.count(depth_kind_ == DepthKind::kPlanar ? 1 : 2) != 0;
-      has_segmentation_ = by_type.count(5) != 0 && has_sidecar_;
-      if (by_type.count(5) && !has_sidecar_)
-        warnings_.push_back(
-            "the Segmentation (type 5) images are not read: without lsds_objects.json their "
-            "colours name no object");
-      // A capture of its own size or FOV is another camera than the Scene's, whose pixels are
-      // not the frame's: not read.
-      has_depth_ = has_depth_ && SharesSceneCapture(depth_kind_ == DepthKind::kPlanar ? 1 : 2);
-      has_segmentation_ = has_segmentation_ && SharesSceneCapture(5);
-    }
-    const char* depth_name =
-        depth_kind_ == DepthKind::kPlanar ? "DepthPlanar (type 1)" : "DepthPerspective (type 2)";
-    for (const auto& [type, what, wanted, target] :
-         {std::tuple<int, const char*, bool, fs::path*>{0, "Scene (type 0)", true, &row.scene},
-          {depth_kind_ == DepthKind::kPlanar ? 1 : 2, depth_name, has_depth_, &row.depth},
-          {5, "Segmentation (type 5)", has_segmentation_, &row.segmentation}}) {
-      if (!wanted) continue;
-      const auto found = by_type.find(type);
-      if (found == by_type.end())
-        throw Error(std::string("no ") + what + " image of camera '" + camera_ + "' in ImageFile" +
-                        (rows_.empty() ? "" : " (the first row has one)"),
-                    Location::Text(file, number, 1));
-      *target = found->second;
-    }
+    row.time = (pose.ms - first_stamp) / 1000.0;
+    row.position = pose.position;
+    row.orientation = pose.orientation;
+    const std::map<int, fs::path> by_type =
+        ImagesOfRow(cells[columns.images],
+                    folder,
+                    Location::Text(file, number, row_cells.ColumnOf(columns.images)));
+    if (rows_.empty()) ChoosePasses(by_type);
+    AssignImages(by_type, Location::Text(file, number, 1), &row);
     rows_.push_back(row);
   }
   if (rows_.empty()) throw Error("no rows of vehicle '" + vehicle_ + "'", Location(file));

@@ -58,6 +58,16 @@ class AirSimImporter : public Importer {
   void ReadObjects(const std::filesystem::path& file);
   void ReadSettings(const std::filesystem::path& file);
   void ReadRecord(const std::filesystem::path& source);
+  // The stages of ReadRecord for one row: its images of the camera by type (`where`: the
+  // ImageFile cell), the passes of the recording (from the first row), the images the row
+  // must hold (`where`: the row).
+  std::map<int, std::filesystem::path> ImagesOfRow(const std::string& image_file_cell,
+                                                   const std::filesystem::path& folder,
+                                                   const Location& where) const;
+  void ChoosePasses(const std::map<int, std::filesystem::path>& by_type);
+  void AssignImages(const std::map<int, std::filesystem::path>& by_type,
+                    const Location& where,
+                    Row* row) const;
   // Vehicle and camera from the recording itself when there is no sidecar.
   void ChooseVehicleAndCamera(const std::filesystem::path& rec_file);
   void ReadDepth(const std::filesystem::path& path, int64_t index, SourceFrame* frame) const;

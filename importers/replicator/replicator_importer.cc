@@ -103,19 +103,10 @@ void ReplicatorImporter::FindFrames(const Product& product, size_t product_index
   }
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
-SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportOptions& options) {
-  root_.emplace(source, options.allow_links_outside);
-  if (options.up_axis == "y") {
-    // Y-up stage to ENU: x stays, stage -z is north, stage y is up.
-    enu_from_stage_ << 1, 0, 0, 0, 0, -1, 0, 1, 0;
-  } else if (options.up_axis != "z" && !options.up_axis.empty()) {
-    throw Error("--up-axis must be z or y, not '" + options.up_axis + "'");
-  }
-  // One product: its files here, or in annotator folders (rgb/, camera_params/, ...) here.
-  // Several: BasicWriter's default (use_common_output_dir False) puts each product's files in
-  // <product>/<annotator>/.
+// One product: its files here, or in annotator folders (rgb/, camera_params/, ...) here.
+// Several: BasicWriter's default (use_common_output_dir False) puts each product's files in
+// <product>/<annotator>/.
+void ReplicatorImporter::FindProducts(const fs::path& source) {
   fs::path source_path = fs::absolute(source).lexically_normal();
   if (source_path.filename().empty()) source_path = source_path.parent_path();  // "folder/"
   const std::string source_name = source_path.filename().string();
@@ -155,15 +146,10 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
     for (const fs::path& folder : folders)
       products_.push_back({folder.filename().string(), folder, true, ""});
   }
-  for (size_t p = 0; p < products_.size(); ++p) FindFrames(products_[p], p);
-  if (frames_.empty())
-    throw Error(
-        "not a Replicator BasicWriter folder: no rgb_NNNN.png here, in rgb/ or in "
-        "<render product>/rgb/",
-        Location(source.string()));
-  std::sort(frames_.begin(), frames_.end(), [](const FrameFiles& a, const FrameFiles& b) {
-    return std::tie(a.product, a.order) < std::tie(b.product, b.order);
-  });
+}
+
+// The depth and the instance segmentation, from the first frame's files.
+void ReplicatorImporter::FindLayers() {
   if (fs::exists(Path("distance_to_image_plane", "distance_to_image_plane", 0, "npy"))) {
     depth_stem_ = "distance_to_image_plane", depth_kind_ = DepthKind::kPlanar;
   } else if (fs::exists(Path("distance_to_camera", "distance_to_camera", 0, "npy"))) {
@@ -176,95 +162,108 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
         "neither instance_segmentation (with its mappings) nor bounding_box_3d for the first "
         "frame: no objects to import",
         Location(Path("rgb", "rgb", 0, "png").string()));
-  // Instance ids and classes hold across frames: prim paths and class labels
-  // of every frame's mappings, numbered in sorted order.
+}
+
+// The prim paths and class labels of every frame's mappings.
+struct ReplicatorImporter::PrimLabels {
   std::set<std::string> prims, classes;
   std::map<std::string, std::string> class_label_of_prim;
-  for (size_t f = 0; f < frames_.size(); ++f) {
-    const auto k = static_cast<int64_t>(f);
-    const fs::path mapping_path =
-        Path("instance_segmentation", "instance_segmentation_mapping", k, "json");
-    const fs::path semantics_path =
-        Path("instance_segmentation", "instance_segmentation_semantics_mapping", k, "json");
-    const json mapping = has_instances_ ? ParseJsonFile(mapping_path) : json::object();
-    const json semantics = has_instances_ ? ParseJsonFile(semantics_path) : json::object();
-    for (const auto& [key, prim] : mapping.items()) {
-      const std::string where = (json::json_pointer() / key).to_string();
-      const std::string path = StringAt(prim, mapping_path.string(), where);
-      if (IsBackgroundLabel(path)) continue;
-      const std::string label = AtPointer(semantics_path.string(), where, [&, &key = key] {
-        return ClassLabel(semantics.at(key));
-      });
-      prims.insert(path);
-      if (!label.empty()) {
-        classes.insert(label);
-        class_label_of_prim[path] = label;
-      }
-    }
-    const fs::path boxes_labels = Path("bounding_box_3d", "bounding_box_3d_labels", k, "json");
-    if (!fs::exists(boxes_labels)) continue;
-    const json labels = ParseJsonFile(boxes_labels);
-    const fs::path prim_paths_file =
-        Path("bounding_box_3d", "bounding_box_3d_prim_paths", k, "json");
-    const json prim_paths = ParseJsonFile(prim_paths_file);
-    const fs::path boxes_path = Path("bounding_box_3d", "bounding_box_3d", k, "npy");
-    const NpyArray boxes = ReadNpy(boxes_path);
-    const NpyField& semantic_id = boxes.Field("semanticId", boxes_path.string());
-    if (!prim_paths.is_array() || prim_paths.size() != static_cast<size_t>(boxes.size()))
-      throw Error("expected one prim path per box (" + std::to_string(boxes.size()) + ")",
-                  Location(prim_paths_file.string()));
-    for (int64_t row = 0; row < boxes.size(); ++row) {
-      const std::string path =
-          StringAt(prim_paths.at(row), prim_paths_file.string(), "/" + std::to_string(row));
-      const double semantic = boxes.Get(row, semantic_id);
-      if (!(semantic >= 0 && semantic <= std::numeric_limits<uint32_t>::max()) ||
-          semantic != std::floor(semantic))
-        throw Error("semanticId of row " + std::to_string(row) + " is " + FormatNumber(semantic) +
-                        ", not an id in [0, 4294967295]",
-                    Location(boxes_path.string()));
-      const std::string id = std::to_string(static_cast<int64_t>(semantic));
-      const std::string label =
-          AtPointer(boxes_labels.string(), "/" + id, [&] { return ClassLabel(labels.at(id)); });
-      prims.insert(path);
-      if (!label.empty()) {
-        classes.insert(label);
-        class_label_of_prim[path] = label;
-      }
+
+  void Add(const std::string& prim, const std::string& label) {
+    prims.insert(prim);
+    if (!label.empty()) {
+      classes.insert(label);
+      class_label_of_prim[prim] = label;
     }
   }
-  SourceDescription description;
+};
+
+void ReplicatorImporter::ScanInstanceMappings(int64_t index, PrimLabels* labels) const {
+  const fs::path mapping_path =
+      Path("instance_segmentation", "instance_segmentation_mapping", index, "json");
+  const fs::path semantics_path =
+      Path("instance_segmentation", "instance_segmentation_semantics_mapping", index, "json");
+  const json mapping = has_instances_ ? ParseJsonFile(mapping_path) : json::object();
+  const json semantics = has_instances_ ? ParseJsonFile(semantics_path) : json::object();
+  for (const auto& [key, prim] : mapping.items()) {
+    const std::string where = (json::json_pointer() / key).to_string();
+    const std::string path = StringAt(prim, mapping_path.string(), where);
+    if (IsBackgroundLabel(path)) continue;
+    const std::string label = AtPointer(
+        semantics_path.string(), where, [&, &key = key] { return ClassLabel(semantics.at(key)); });
+    labels->Add(path, label);
+  }
+}
+
+void ReplicatorImporter::ScanBoxes3d(int64_t index, PrimLabels* labels) const {
+  const fs::path boxes_labels = Path("bounding_box_3d", "bounding_box_3d_labels", index, "json");
+  if (!fs::exists(boxes_labels)) return;
+  const json label_of_id = ParseJsonFile(boxes_labels);
+  const fs::path prim_paths_file =
+      Path("bounding_box_3d", "bounding_box_3d_prim_paths", index, "json");
+  const json prim_paths = ParseJsonFile(prim_paths_file);
+  const fs::path boxes_path = Path("bounding_box_3d", "bounding_box_3d", index, "npy");
+  const NpyArray boxes = ReadNpy(boxes_path);
+  const NpyField& semantic_id = boxes.Field("semanticId", boxes_path.string());
+  if (!prim_paths.is_array() || prim_paths.size() != static_cast<size_t>(boxes.size()))
+    throw Error("expected one prim path per box (" + std::to_string(boxes.size()) + ")",
+                Location(prim_paths_file.string()));
+  for (int64_t row = 0; row < boxes.size(); ++row) {
+    const std::string path =
+        StringAt(prim_paths.at(row), prim_paths_file.string(), "/" + std::to_string(row));
+    const double semantic = boxes.Get(row, semantic_id);
+    if (!(semantic >= 0 && semantic <= std::numeric_limits<uint32_t>::max()) ||
+        semantic != std::floor(semantic))
+      throw Error("semanticId of row " + std::to_string(row) + " is " + FormatNumber(semantic) +
+                      ", not an id in [0, 4294967295]",
+                  Location(boxes_path.string()));
+    const std::string id = std::to_string(static_cast<int64_t>(semantic));
+    const std::string label =
+        AtPointer(boxes_labels.string(), "/" + id, [&] { return ClassLabel(label_of_id.at(id)); });
+    labels->Add(path, label);
+  }
+}
+
+// Instance ids and classes hold across frames: prim paths and class labels numbered in
+// sorted order.
+void ReplicatorImporter::NumberPrims(const PrimLabels& labels, SourceDescription* description) {
   uint32_t next = 1;
-  for (const std::string& c : classes) {
+  for (const std::string& c : labels.classes) {
     class_ids_[c] = next;
-    description.classes.push_back({next++, c});
+    description->classes.push_back({next++, c});
   }
   next = 1;
-  for (const std::string& p : prims) {
+  for (const std::string& p : labels.prims) {
     instance_of_prim_[p] = next++;
-    const auto label = class_label_of_prim.find(p);
-    class_of_prim_[p] = label == class_label_of_prim.end() ? 0 : class_ids_.at(label->second);
+    const auto label = labels.class_label_of_prim.find(p);
+    class_of_prim_[p] =
+        label == labels.class_label_of_prim.end() ? 0 : class_ids_.at(label->second);
   }
-  description.frame_count = static_cast<int64_t>(frames_.size());
-  description.semantics = {"rgb"};
-  description.truth_origin = {{"rgb", "imported"}, {"camera", "imported"}, {"obb", "imported"}};
+}
+
+// The layers, their origin and the source's conventions.
+void ReplicatorImporter::DescribeTruth(const ImportOptions& options,
+                                       SourceDescription* description) const {
+  description->semantics = {"rgb"};
+  description->truth_origin = {{"rgb", "imported"}, {"camera", "imported"}, {"obb", "imported"}};
   if (has_instances_) {
-    description.semantics.insert(description.semantics.end(), {"classid", "instanceid"});
-    description.truth_origin["instanceid"] = description.truth_origin["classid"] = "imported";
+    description->semantics.insert(description->semantics.end(), {"classid", "instanceid"});
+    description->truth_origin["instanceid"] = description->truth_origin["classid"] = "imported";
   } else {
     // The writer's own 2D truth (bounding_box_2d_tight), where it wrote it; no pixel counts.
     const bool tight = fs::exists(Path("bounding_box_2d_tight", "bounding_box_2d_tight", 0, "npy"));
-    description.truth_origin["bbox"] = tight ? "imported" : "absent";
-    description.truth_origin["visibility"] = "imported";
-    description.truth_origin["visible_pixels"] = "absent";
-    description.warnings.push_back(
+    description->truth_origin["bbox"] = tight ? "imported" : "absent";
+    description->truth_origin["visibility"] = "imported";
+    description->truth_origin["visible_pixels"] = "absent";
+    description->warnings.push_back(
         "no instance_segmentation: no instanceid and classid layers; the objects are the 3D "
         "boxes, their visibility 1 - occlusionRatio" +
         std::string(tight ? ", their box bounding_box_2d_tight's" : ", with no visible 2D box"));
   }
-  if (!depth_stem_.empty()) description.semantics.push_back("depth");
-  description.depth_kind = depth_kind_;
-  if (!depth_stem_.empty()) description.truth_origin["depth"] = "imported";
-  description.source_conventions = {
+  if (!depth_stem_.empty()) description->semantics.push_back("depth");
+  description->depth_kind = depth_kind_;
+  if (!depth_stem_.empty()) description->truth_origin["depth"] = "imported";
+  description->source_conventions = {
       {"world_frame",
        options.up_axis == "y" ? "USD stage, y up (--up-axis y), to ENU (x, -z, y)"
                               : "USD stage, z up, declared ENU"},
@@ -273,6 +272,36 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
       {"matrices", "row-major, row vectors (p_row * M)"},
       {"depth", depth_stem_.empty() ? "none" : depth_stem_ + " (.npy float32)"},
       {"converted_to", "ENU m, OpenCV camera, pixel-edge intrinsics"}};
+}
+
+SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportOptions& options) {
+  root_.emplace(source, options.allow_links_outside);
+  if (options.up_axis == "y") {
+    // Y-up stage to ENU: x stays, stage -z is north, stage y is up.
+    enu_from_stage_ << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  } else if (options.up_axis != "z" && !options.up_axis.empty()) {
+    throw Error("--up-axis must be z or y, not '" + options.up_axis + "'");
+  }
+  FindProducts(source);
+  for (size_t p = 0; p < products_.size(); ++p) FindFrames(products_[p], p);
+  if (frames_.empty())
+    throw Error(
+        "not a Replicator BasicWriter folder: no rgb_NNNN.png here, in rgb/ or in "
+        "<render product>/rgb/",
+        Location(source.string()));
+  std::sort(frames_.begin(), frames_.end(), [](const FrameFiles& a, const FrameFiles& b) {
+    return std::tie(a.product, a.order) < std::tie(b.product, b.order);
+  });
+  FindLayers();
+  PrimLabels labels;
+  for (size_t f = 0; f < frames_.size(); ++f) {
+    ScanInstanceMappings(static_cast<int64_t>(f), &labels);
+    ScanBoxes3d(static_cast<int64_t>(f), &labels);
+  }
+  SourceDescription description;
+  NumberPrims(labels, &description);
+  description.frame_count = static_cast<int64_t>(frames_.size());
+  DescribeTruth(options, &description);
   return description;
 }
 

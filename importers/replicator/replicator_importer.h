@@ -58,6 +58,15 @@ class ReplicatorImporter : public Importer {
                              int64_t index,
                              const std::string& ext) const;
   void FindFrames(const Product& product, size_t product_index);
+  // The stages of Open: the products, their frames, the layers the first frame has, the prims
+  // and classes of every frame numbered, then the description.
+  struct PrimLabels;
+  void FindProducts(const std::filesystem::path& source);
+  void FindLayers();
+  void ScanInstanceMappings(int64_t index, PrimLabels* labels) const;
+  void ScanBoxes3d(int64_t index, PrimLabels* labels) const;
+  void NumberPrims(const PrimLabels& labels, SourceDescription* description);
+  void DescribeTruth(const ImportOptions& options, SourceDescription* description) const;
   void ReadTightBoxes(int64_t index, SourceFrame* frame) const;
   std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::vector<Product> products_;

@@ -180,17 +180,45 @@ LabelUse ScanLabelUse(const std::vector<fs::path>& step_files,
   return use;
 }
 
+// The classes: the labels the frames use (or all, --all-labels), so that no class of the
+// table is empty only because the label configuration listed it.
+void AddClasses(const std::map<uint32_t, std::string>& labels,
+                const LabelUse& use,
+                bool all_labels,
+                SourceDescription* description) {
+  for (const auto& [id, name] : labels)
+    if (all_labels || use.used.count(id)) description->classes.push_back({id, name});
+  for (const auto& [label, count] : use.boxes_2d_only)
+    description->warnings.push_back(
+        std::to_string(count) + " BoundingBox2D box(es) of '" + label +
+        "' have no BoundingBox3D box: objects without a 3D box (no obb, no bbox_projected); "
+        "their visibility and in_frame are the OcclusionMetric's where the frame has one, else "
+        "not measured (1)");
+}
+
+// The layers, their origin and the source's conventions.
+void DescribeTruth(bool has_depth, DepthKind depth_kind, SourceDescription* description) {
+  description->semantics = {"rgb", "classid", "instanceid"};
+  if (has_depth) description->semantics.push_back("depth");
+  description->depth_kind = depth_kind;
+  description->truth_origin = {{"rgb", "imported"},
+                               {"instanceid", "imported"},
+                               {"classid", "imported"},
+                               {"camera", "imported"},
+                               {"obb", "imported"}};
+  if (has_depth) description->truth_origin["depth"] = "imported";
+  description->source_conventions = {
+      {"world_frame", "Unity world (left-handed, y up), to ENU (x, z, y)"},
+      {"length_unit", "m"},
+      {"camera_frame", "Unity camera: x right, y up, looks down +z"},
+      {"quaternions", "serialized [x, y, z, w]"},
+      {"intrinsics", "3x3 of Unity's OpenGL projection matrix, column-major"},
+      {"converted_to", "ENU m, OpenCV camera, pixel-edge intrinsics"}};
+}
+
 }  // namespace
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
-SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions& options) {
-  root_.emplace(source, options.allow_links_outside);
-  const std::map<uint32_t, std::string> labels = ReadLabelDefinitions(*root_, source);
-  for (const auto& [id, name] : labels) class_ids_.push_back(id);
-  schedule_ = ReadCaptureSchedule(*root_, source);
-  SourceDescription description;
-
+void SoloImporter::FindSteps(const fs::path& source) {
   static const std::regex sequence_name(R"(sequence\.(\d+))");
   static const std::regex step_name(R"(step(\d+)\.frame_data\.json)");
   for (const auto& folder : fs::directory_iterator(source)) {
@@ -221,20 +249,10 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
     shot_of_step_.push_back(k > 0 && steps_[k].sequence == steps_[k - 1].sequence
                                 ? shot_of_step_[k - 1]
                                 : static_cast<int64_t>(k));
-  // The classes: the labels the frames use (or all, --all-labels), so that no class of the
-  // table is empty only because the label configuration listed it.
-  std::vector<fs::path> step_files;
-  for (const Step& step : steps_) step_files.push_back(step.file);
-  const LabelUse use = ScanLabelUse(step_files, labels);
-  for (const auto& [id, name] : labels)
-    if (options.all_labels || use.used.count(id)) description.classes.push_back({id, name});
-  for (const auto& [label, count] : use.boxes_2d_only)
-    description.warnings.push_back(
-        std::to_string(count) + " BoundingBox2D box(es) of '" + label +
-        "' have no BoundingBox3D box: objects without a 3D box (no obb, no bbox_projected); "
-        "their visibility and in_frame are the OcclusionMetric's where the frame has one, else "
-        "not measured (1)");
-  // Whether there is depth, and of which kind: from the first frame.
+}
+
+// Whether there is depth, and of which kind: from the first frame.
+void SoloImporter::FindDepth() {
   const json first = ParseJsonFile(steps_[0].file);
   const std::string first_file = steps_[0].file.string();
   AtPointer(first_file, "/captures", [&] {
@@ -251,23 +269,21 @@ SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions
     }
     return 0;
   });
+}
+
+SourceDescription SoloImporter::Open(const fs::path& source, const ImportOptions& options) {
+  root_.emplace(source, options.allow_links_outside);
+  const std::map<uint32_t, std::string> labels = ReadLabelDefinitions(*root_, source);
+  for (const auto& [id, name] : labels) class_ids_.push_back(id);
+  schedule_ = ReadCaptureSchedule(*root_, source);
+  SourceDescription description;
+  FindSteps(source);
+  std::vector<fs::path> step_files;
+  for (const Step& step : steps_) step_files.push_back(step.file);
+  AddClasses(labels, ScanLabelUse(step_files, labels), options.all_labels, &description);
+  FindDepth();
   description.frame_count = static_cast<int64_t>(steps_.size());
-  description.semantics = {"rgb", "classid", "instanceid"};
-  if (has_depth_) description.semantics.push_back("depth");
-  description.depth_kind = depth_kind_;
-  description.truth_origin = {{"rgb", "imported"},
-                              {"instanceid", "imported"},
-                              {"classid", "imported"},
-                              {"camera", "imported"},
-                              {"obb", "imported"}};
-  if (has_depth_) description.truth_origin["depth"] = "imported";
-  description.source_conventions = {
-      {"world_frame", "Unity world (left-handed, y up), to ENU (x, z, y)"},
-      {"length_unit", "m"},
-      {"camera_frame", "Unity camera: x right, y up, looks down +z"},
-      {"quaternions", "serialized [x, y, z, w]"},
-      {"intrinsics", "3x3 of Unity's OpenGL projection matrix, column-major"},
-      {"converted_to", "ENU m, OpenCV camera, pixel-edge intrinsics"}};
+  DescribeTruth(has_depth_, depth_kind_, &description);
   return description;
 }
 

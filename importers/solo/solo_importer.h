@@ -52,6 +52,11 @@ class SoloImporter : public Importer {
     int64_t sequence = 0, step = 0;
     std::filesystem::path file;
   };
+  // The stages of Open: the steps of every sequence (and the shots), then the
+  // depth of the first frame.
+  void FindSteps(const std::filesystem::path& source);
+  void FindDepth();
+
   std::optional<ConfinedFolder> root_;  // every file read is confined to it
   std::vector<Step> steps_;             // by sequence, then step
   std::vector<int64_t> shot_of_step_;

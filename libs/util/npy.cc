@@ -181,8 +181,114 @@ double NpyArray::Get(int64_t record, const NpyField& field, int64_t element) con
   }
 }
 
-// Not yet cut at its seams (docs/architecture.md, "Long functions").
-// NOLINTNEXTLINE(readability-function-size,readability-function-cognitive-complexity)
+namespace {
+
+// The header's text, streamed: the magic, its length, then just its bytes
+// (`start`: where they begin). The length is checked against the file and
+// lsds's limit before any is read.
+std::string ReadHeaderText(std::ifstream& in,
+                           const std::string& file,
+                           uint64_t file_size,
+                           size_t* start) {
+  char lead[12] = {};
+  in.read(lead, sizeof lead);
+  const auto got = static_cast<size_t>(in.gcount());
+  if (got < 10 || std::memcmp(lead, "\x93NUMPY", 6) != 0)
+    throw Error("not a .npy file (no \\x93NUMPY magic)", Location(file));
+  const int major = static_cast<unsigned char>(lead[6]);
+  uint64_t header_length = 0;
+  if (major == 1) {
+    header_length =
+        static_cast<unsigned char>(lead[8]) | (static_cast<unsigned char>(lead[9]) << 8);
+    *start = 10;
+  } else if (major == 2 || major == 3) {
+    if (got < 12) throw Error("truncated .npy header", Location(file));
+    for (int b = 3; b >= 0; --b)
+      header_length = (header_length << 8) | static_cast<unsigned char>(lead[8 + b]);
+    *start = 12;
+  } else {
+    throw Error("unsupported .npy version " + std::to_string(major), Location(file));
+  }
+  if (*start + header_length > file_size) {
+    throw Error("truncated .npy header: it declares " + std::to_string(header_length) +
+                    " bytes, the file has " + std::to_string(file_size - *start) + " after byte " +
+                    std::to_string(*start),
+                Location(file));
+  }
+  if (header_length > kMaxHeaderBytes) {
+    throw Error("the .npy header declares " + std::to_string(header_length) +
+                    " bytes, over lsds's limit of " + std::to_string(kMaxHeaderBytes),
+                Location(file));
+  }
+  std::string header(static_cast<size_t>(header_length), '\0');
+  in.seekg(static_cast<std::streamoff>(*start));
+  in.read(header.data(), static_cast<std::streamsize>(header.size()));
+  if (static_cast<uint64_t>(in.gcount()) != header_length)
+    throw Error("truncated .npy header", Location(file));
+  return header;
+}
+
+// The array's dimensions into `shape`; returns their product, the element count.
+int64_t ReadShape(const PyValue& value, const std::string& file, std::vector<int64_t>* shape) {
+  int64_t elements = 1;
+  for (const PyValue& d : value.items) {
+    if (d.kind != PyValue::kInt || d.number < 0)
+      throw Error("bad shape in the .npy header: dimensions must be integers >= 0", Location(file));
+    shape->push_back(d.number);
+    elements = CheckedProduct(elements, d.number, "the .npy shape", file);
+  }
+  return elements;
+}
+
+// One field of a structured dtype: (name, type[, shape]).
+NpyField ReadStructuredField(const PyValue& item, const std::string& file) {
+  if (item.kind != PyValue::kSequence || item.items.size() < 2 || item.items.size() > 3 ||
+      item.items[0].kind != PyValue::kString || item.items[1].kind != PyValue::kString)
+    throw Error("bad structured dtype in the .npy header (a field is (name, type[, shape]))",
+                Location(file));
+  NpyField field = ParseType(item.items[1].text, file);
+  field.name = item.items[0].text;
+  if (item.items.size() <= 2) return field;
+  const PyValue& sub = item.items[2];
+  const std::string what = "the shape of field '" + field.name + "'";
+  if (sub.kind == PyValue::kInt && sub.number >= 0) {
+    field.count = sub.number;
+  } else if (sub.kind == PyValue::kSequence) {
+    for (const PyValue& d : sub.items) {
+      if (d.kind != PyValue::kInt || d.number < 0)
+        throw Error(what + " in the .npy header must hold integers >= 0", Location(file));
+      field.count = CheckedProduct(field.count, d.number, what, file);
+    }
+  } else {
+    throw Error(what + " in the .npy header must be an integer >= 0 or a tuple of them",
+                Location(file));
+  }
+  return field;
+}
+
+// The fields of the dtype `descr` (one plain type, or a structured dtype) at
+// their offsets; returns the record size.
+int64_t ReadFields(const PyValue& descr, const std::string& file, std::vector<NpyField>* fields) {
+  if (descr.kind == PyValue::kString) {
+    fields->push_back(ParseType(descr.text, file));
+    return fields->front().size;
+  }
+  if (descr.kind != PyValue::kSequence) throw Error("bad descr in the .npy header", Location(file));
+  int64_t record_size = 0;
+  for (const PyValue& item : descr.items) {
+    NpyField field = ReadStructuredField(item, file);
+    field.offset = static_cast<size_t>(record_size);
+    const int64_t bytes =
+        CheckedProduct(field.count, field.size, "the size of field '" + field.name + "'", file);
+    if (__builtin_add_overflow(record_size, bytes, &record_size))
+      throw Error("the .npy record size overflows a 64-bit size", Location(file));
+    fields->push_back(field);
+  }
+  return record_size;
+}
+
+}  // namespace
+
 NpyArray ReadNpy(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (!std::filesystem::exists(path)) throw Error("missing file", Location(file));
@@ -192,44 +298,10 @@ NpyArray ReadNpy(const std::filesystem::path& path) {
   std::error_code ec;
   const uint64_t file_size = std::filesystem::file_size(path, ec);
   if (ec) throw Error("cannot read: " + ec.message(), Location(file));
-  // The header is streamed: the magic, its length, then just its bytes; the
-  // payload is read only once its size is known to match the file.
-  char lead[12] = {};
-  in.read(lead, sizeof lead);
-  const auto got = static_cast<size_t>(in.gcount());
-  if (got < 10 || std::memcmp(lead, "\x93NUMPY", 6) != 0)
-    throw Error("not a .npy file (no \\x93NUMPY magic)", Location(file));
-  const int major = static_cast<unsigned char>(lead[6]);
-  uint64_t header_length = 0;
+  // The header is streamed; the payload is read only once its size is known
+  // to match the file.
   size_t start = 0;
-  if (major == 1) {
-    header_length =
-        static_cast<unsigned char>(lead[8]) | (static_cast<unsigned char>(lead[9]) << 8);
-    start = 10;
-  } else if (major == 2 || major == 3) {
-    if (got < 12) throw Error("truncated .npy header", Location(file));
-    for (int b = 3; b >= 0; --b)
-      header_length = (header_length << 8) | static_cast<unsigned char>(lead[8 + b]);
-    start = 12;
-  } else {
-    throw Error("unsupported .npy version " + std::to_string(major), Location(file));
-  }
-  if (start + header_length > file_size) {
-    throw Error("truncated .npy header: it declares " + std::to_string(header_length) +
-                    " bytes, the file has " + std::to_string(file_size - start) + " after byte " +
-                    std::to_string(start),
-                Location(file));
-  }
-  if (header_length > kMaxHeaderBytes) {
-    throw Error("the .npy header declares " + std::to_string(header_length) +
-                    " bytes, over lsds's limit of " + std::to_string(kMaxHeaderBytes),
-                Location(file));
-  }
-  std::string header(static_cast<size_t>(header_length), '\0');
-  in.seekg(static_cast<std::streamoff>(start));
-  in.read(header.data(), static_cast<std::streamsize>(header.size()));
-  if (static_cast<uint64_t>(in.gcount()) != header_length)
-    throw Error("truncated .npy header", Location(file));
+  const std::string header = ReadHeaderText(in, file, file_size, &start);
   const PyValue dict = PyParser(header, file, start).Parse();
   const PyValue* descr = dict.Find("descr");
   const PyValue* fortran = dict.Find("fortran_order");
@@ -240,54 +312,11 @@ NpyArray ReadNpy(const std::filesystem::path& path) {
   if (fortran->number != 0)
     throw Error("Fortran-order .npy arrays are not supported", Location(file));
   NpyArray array;
-  int64_t elements = 1;
-  for (const PyValue& d : shape->items) {
-    if (d.kind != PyValue::kInt || d.number < 0)
-      throw Error("bad shape in the .npy header: dimensions must be integers >= 0", Location(file));
-    array.shape.push_back(d.number);
-    elements = CheckedProduct(elements, d.number, "the .npy shape", file);
-  }
-  int64_t record_size = 0;
-  if (descr->kind == PyValue::kString) {
-    array.fields.push_back(ParseType(descr->text, file));
-    record_size = array.fields[0].size;
-  } else if (descr->kind == PyValue::kSequence) {
-    for (const PyValue& item : descr->items) {
-      if (item.kind != PyValue::kSequence || item.items.size() < 2 || item.items.size() > 3 ||
-          item.items[0].kind != PyValue::kString || item.items[1].kind != PyValue::kString)
-        throw Error("bad structured dtype in the .npy header (a field is (name, type[, shape]))",
-                    Location(file));
-      NpyField field = ParseType(item.items[1].text, file);
-      field.name = item.items[0].text;
-      if (item.items.size() > 2) {
-        const PyValue& sub = item.items[2];
-        const std::string what = "the shape of field '" + field.name + "'";
-        if (sub.kind == PyValue::kInt && sub.number >= 0) {
-          field.count = sub.number;
-        } else if (sub.kind == PyValue::kSequence) {
-          for (const PyValue& d : sub.items) {
-            if (d.kind != PyValue::kInt || d.number < 0)
-              throw Error(what + " in the .npy header must hold integers >= 0", Location(file));
-            field.count = CheckedProduct(field.count, d.number, what, file);
-          }
-        } else {
-          throw Error(what + " in the .npy header must be an integer >= 0 or a tuple of them",
-                      Location(file));
-        }
-      }
-      field.offset = static_cast<size_t>(record_size);
-      const int64_t bytes =
-          CheckedProduct(field.count, field.size, "the size of field '" + field.name + "'", file);
-      if (__builtin_add_overflow(record_size, bytes, &record_size))
-        throw Error("the .npy record size overflows a 64-bit size", Location(file));
-      array.fields.push_back(field);
-    }
-  } else {
-    throw Error("bad descr in the .npy header", Location(file));
-  }
+  const int64_t elements = ReadShape(*shape, file, &array.shape);
+  const int64_t record_size = ReadFields(*descr, file, &array.fields);
   array.record_size = static_cast<size_t>(record_size);
   const int64_t want = CheckedProduct(elements, record_size, "the .npy payload size", file);
-  const uint64_t have = file_size - start - header_length;
+  const uint64_t have = file_size - start - header.size();
   if (have != static_cast<uint64_t>(want))
     throw Error("the .npy payload holds " + std::to_string(have) + " bytes, its header says " +
                     std::to_string(want),

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The lsds binary links none of the libraries that only plug-ins may load (docs/architecture.md,
-"Plug-ins"): OpenCV's imgcodecs (GDAL and ~140 libraries) and PCL's io (VTK). A product library
-that links one again would make every command load them at start-up; this names it.
+"Plug-ins"): OpenCV's imgcodecs (GDAL and ~140 libraries), PCL's io (VTK), Ceres (glog, gflags,
+SuiteSparse). A product library that links one again would make every command load them at
+start-up; this names it.
 
 Usage: linked_libraries.py LSDS_BINARY
 """
@@ -9,8 +10,10 @@ import re
 import subprocess
 import sys
 
-# Only the plug-ins lsds_image_codecs.so and lsds_cloud_io.so may load these.
-PLUGIN_ONLY = re.compile(r"libopencv_imgcodecs|libgdal|libpcl_io|libvtk")
+# Only the plug-ins may load these: lsds_image_codecs.so (imgcodecs, GDAL), lsds_cloud_io.so (PCL
+# io, VTK), lsds_camera_solver.so (Ceres, static, and the libraries it needs).
+PLUGIN_ONLY = re.compile(r"libopencv_imgcodecs|libgdal|libpcl_io|libvtk|"
+                         r"libceres|libglog|libgflags|libcholmod|libcxsparse")
 
 
 def main():

@@ -81,21 +81,8 @@ std::string Lower(std::string s) {
   return s;
 }
 
-// The plug-in's table, opened once per process on first use (thread-safe static
-// initialisation). A failure is not cached: the next call retries and throws the same error.
 const CloudIoTable& CloudIo() {
-  static const CloudIoTable* const table = [] {
-    using Entry = const CloudIoTable* (*)();
-    const auto entry = reinterpret_cast<Entry>(LoadPluginSymbol(kCloudIoPlugin, kCloudIoEntry));
-    const CloudIoTable* loaded = entry();
-    if (loaded == nullptr || loaded->abi_version != kCloudIoAbiVersion) {
-      throw Error(std::string("the plug-in ") + kCloudIoPlugin + " has ABI version " +
-                  (loaded ? std::to_string(loaded->abi_version) : "none") + ", lsds needs " +
-                  std::to_string(kCloudIoAbiVersion) + ": reinstall lsds");
-    }
-    return loaded;
-  }();
-  return *table;
+  return PluginTable<CloudIoTable>(kCloudIoPlugin, kCloudIoEntry, kCloudIoAbiVersion);
 }
 
 }  // namespace

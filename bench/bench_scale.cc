@@ -31,46 +31,17 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+
+#include "bench/child_process.h"
 #include "tests/build_paths.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using lsds::bench::ChildRun;
+using lsds::bench::RunChild;
 using nlohmann::json;
 
 namespace {
-
-struct ChildRun {
-  int exit_code = -1;
-  double seconds = 0;
-  double cpu_seconds = 0;  // user + system of the child
-  double peak_mib = 0;     // maxrss of the child
-};
-
-// Runs argv with stdout and stderr to /dev/null; wait4 gives the child's own
-// resource usage (not the sum of all children).
-ChildRun RunChild(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  const Clock::time_point start = Clock::now();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    std::freopen("/dev/null", "w", stdout);
-    std::freopen("/dev/null", "w", stderr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  rusage usage{};
-  wait4(pid, &status, 0, &usage);
-  ChildRun run;
-  run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  run.peak_mib = usage.ru_maxrss / 1024.0;  // Linux: KiB
-  run.cpu_seconds = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
-                    1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-  return run;
-}
 
 // A SAX handler that does nothing: the floor of reading the file.
 struct NullSax : nlohmann::json_sax<json> {

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <string>
 
+#include "generator/render/embree_abi.h"
 #include "generator/render/embree_scene.h"
 #include "generator/scene/world.h"
 #include "libs/geometry/oriented_box.h"
@@ -127,12 +128,12 @@ class Estimator {
         const Eigen::Vector3d d =
             world_from_cam * camera.CamFromImage(Eigen::Vector2d(x + 0.5, y + 0.5));
         RTCRay alone = Ray(origin, d);
-        rtcOccluded1(own, &context, &alone);
+        Embree().occluded1(own, &context, &alone);
         RTCRayHit hit;
         hit.ray = Ray(origin, d);
         hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_->scene(), &context, &hit);
+        Embree().intersect1(scene_->scene(), &context, &hit);
         *rays += 2;
         if (alone.tfar < 0) ++covered;
         if (hit.hit.geomID != RTC_INVALID_GEOMETRY_ID &&

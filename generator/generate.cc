@@ -18,6 +18,7 @@
 #include "generator/cycles/cycles_frame.h"
 #include "generator/lang/requirements.h"
 #include "generator/plan/plan_json.h"
+#include "generator/render/embree_abi.h"
 #include "generator/render/embree_scene.h"
 #include "generator/render/exposure.h"
 #include "generator/render/film.h"
@@ -777,6 +778,9 @@ GenerateSummary GenerateCollection(const Plan& plan, const GenerateOptions& give
     if (f.environment) Sky(plan, *f.environment);
   const std::vector<size_t> selected = SelectFrames(plan, options);
   CheckMemoryBudgets(plan, assets, selected, options);
+  // The Embree plug-in (every renderer's truth is lsds's ray casts): one that cannot be loaded
+  // is an error before any output, not a half-made collection.
+  Embree();
   const CollectionHeader base_header = MakeHeader(plan, options);
   PrepareOutputFolders(plan, options, base_header);
 

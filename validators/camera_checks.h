@@ -1,5 +1,5 @@
 // Camera geometry: does the declared pinhole camera explain the world-position
-// and depth layers? When it does not, Ceres solves for the intrinsics (and then
+// and depth layers? When it does not, Ceres (in a plug-in) solves for the intrinsics (and then
 // the pose) that do, and the common mistakes are diagnosed by name: wrong FOV
 // or focal unit, depth in cm vs m, planar vs perspective depth, a mirrored
 // world axis (handedness), an image stored upside down.
@@ -10,6 +10,7 @@
 
 #include "libs/collection/model.h"
 #include "libs/exr/flat_image.h"
+#include "validators/camera_solver_abi.h"  // CameraSolution
 #include "validators/checks.h"
 #include "validators/finding.h"
 #include "validators/report.h"
@@ -27,14 +28,6 @@ struct CameraCheckInput {
   int grid = 24;  // correspondences per image axis
 };
 
-struct CameraSolution {
-  bool solved = false;
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  Eigen::Matrix3d cam_from_world_rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d cam_from_world_translation = Eigen::Vector3d::Zero();
-  double rms_px = 0;
-};
-
 // Appends findings of the camera.* checks selected; returns the declared
 // camera's RMS reprojection error in pixels (statistic
 // "camera.reprojection_rms_px").
@@ -43,7 +36,9 @@ double CheckCameraGeometry(const CameraCheckInput& input,
                            std::vector<Finding>* findings);
 
 // Exposed for tests: solve intrinsics (and the pose when `solve_pose`) from
-// correspondences, starting at `initial`, with a Cauchy loss.
+// correspondences, starting at `initial`, with a Cauchy loss. Ceres runs in the
+// lsds_camera_solver plug-in, opened on the first call (throws lsds::Error when
+// it cannot be loaded).
 CameraSolution SolveCamera(const std::vector<Eigen::Vector2d>& pixels,
                            const std::vector<Eigen::Vector3d>& points_in_world,
                            const CameraSolution& initial,

@@ -1,5 +1,6 @@
 #include "generator/render/embree_scene.h"
 
+#include "generator/render/embree_abi.h"
 #include "generator/scene/perlin.h"
 #include "generator/scene/world_meshes.h"
 #include "libs/util/error.h"
@@ -15,18 +16,18 @@ void ErrorFunction(void*, RTCError, const char* message) {
 }
 
 void CheckDevice(RTCDevice device) {
-  if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw Error("Embree: " + last_error);
+  if (Embree().get_device_error(device) != RTC_ERROR_NONE) throw Error("Embree: " + last_error);
 }
 
 }  // namespace
 
 EmbreeDevice::EmbreeDevice() {
-  device_ = rtcNewDevice(nullptr);
+  device_ = Embree().new_device(nullptr);
   if (device_ == nullptr) throw Error("cannot create the Embree device");
-  rtcSetDeviceErrorFunction(device_, ErrorFunction, nullptr);
+  Embree().set_device_error_function(device_, ErrorFunction, nullptr);
 }
 
-EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
+EmbreeDevice::~EmbreeDevice() { Embree().release_device(device_); }
 
 const ClassShape& SceneAssets::ShapeOf(size_t i, const std::string& asset) const {
   const auto swap = swapped.find({i, asset});
@@ -98,15 +99,15 @@ RenderScene::RenderScene(const EmbreeDevice& device,
                          const WorldState& world,
                          const RenderScene* earlier)
     : world_(world) {
-  scene_ = rtcNewScene(device.get());
+  scene_ = Embree().new_scene(device.get());
   // Two levels: a BVH per geometry, kept while the geometry stays attached,
   // under a BVH over them, so that Update() rebuilds only what changed (one
   // moving object: 0.4 ms instead of 12-15 ms for the demo's 60 objects).
   // Embree builds these per geometry BVHs at low quality; the demo's rays
   // trace as fast as through one high-quality BVH over every triangle
   // (docs/generator.md "Performance").
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_DYNAMIC);
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_LOW);
+  Embree().set_scene_flags(scene_, RTC_SCENE_FLAG_DYNAMIC);
+  Embree().set_scene_build_quality(scene_, RTC_BUILD_QUALITY_LOW);
   first_object_id_ = plan.terrain.present ? 2 : 0;
   const size_t ids = first_object_id_ + world.objects.size();
   geometries_.assign(ids, nullptr);
@@ -125,7 +126,7 @@ RenderScene::RenderScene(const EmbreeDevice& device,
   }
   for (size_t i = 0; i < world.objects.size(); ++i)
     PlaceObject(device, assets, i, world.objects[i], earlier);
-  rtcCommitScene(scene_);
+  Embree().commit_scene(scene_);
   CheckDevice(device.get());
 }
 
@@ -138,8 +139,8 @@ void RenderScene::Update(const EmbreeDevice& device,
   if (ground_plane_ >= 0 && !world_.SameGround(world)) {
     // A terrain shape change (LCAP, at a shot's start): the ground is meshed again.
     for (const unsigned id : {0U, 1U}) {
-      rtcDetachGeometry(scene_, id);
-      rtcReleaseGeometry(geometries_[id]);
+      Embree().detach_geometry(scene_, id);
+      Embree().release_geometry(geometries_[id]);
       geometries_[id] = nullptr;
       meshes_[id].reset();
     }
@@ -153,7 +154,7 @@ void RenderScene::Update(const EmbreeDevice& device,
     PlaceObject(device, assets, i, o, earlier);
   }
   world_ = world;
-  rtcCommitScene(scene_);
+  Embree().commit_scene(scene_);
   CheckDevice(device.get());
 }
 
@@ -189,9 +190,9 @@ void RenderScene::PlaceObject(const EmbreeDevice& device,
       earlier->object_scenes_[i] != nullptr) {
     // Unchanged since `earlier`: its mesh, geometry and own scene as they are.
     const unsigned from = earlier->ObjectGeometryId(i);
-    rtcRetainGeometry(earlier->geometries_[from]);
+    Embree().retain_geometry(earlier->geometries_[from]);
     AttachMesh(id, earlier->meshes_[from], earlier->geometries_[from], earlier->surfaces_[from]);
-    rtcRetainScene(earlier->object_scenes_[i]);
+    Embree().retain_scene(earlier->object_scenes_[i]);
     object_scenes_[i] = earlier->object_scenes_[i];
     return;
   }
@@ -204,21 +205,21 @@ void RenderScene::PlaceObject(const EmbreeDevice& device,
   s.material = &FindMaterial(o.material.empty() ? shape.default_material : o.material,
                              "object '" + o.planned->name + "'");
   AddMesh(device, id, std::move(mesh), s);
-  RTCScene own = rtcNewScene(device.get());
-  rtcAttachGeometry(own, geometries_[id]);
-  rtcCommitScene(own);
+  RTCScene own = Embree().new_scene(device.get());
+  Embree().attach_geometry(own, geometries_[id]);
+  Embree().commit_scene(own);
   object_scenes_[i] = own;
 }
 
 void RenderScene::RemoveObject(size_t i) {
   const unsigned id = ObjectGeometryId(i);
   if (geometries_[id] == nullptr) return;
-  rtcDetachGeometry(scene_, id);
-  rtcReleaseGeometry(geometries_[id]);
+  Embree().detach_geometry(scene_, id);
+  Embree().release_geometry(geometries_[id]);
   geometries_[id] = nullptr;
   meshes_[id].reset();
   surfaces_[id] = Surface{};
-  rtcReleaseScene(object_scenes_[i]);
+  Embree().release_scene(object_scenes_[i]);
   object_scenes_[i] = nullptr;
 }
 
@@ -231,24 +232,24 @@ void RenderScene::AddMesh(const EmbreeDevice& device,
   mesh.positions.reserve(mesh.positions.size() + 1);
   auto shared = std::make_shared<const TriangleMesh>(std::move(mesh));
   const TriangleMesh& m = *shared;
-  RTCGeometry geometry = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-  rtcSetSharedGeometryBuffer(geometry,
-                             RTC_BUFFER_TYPE_VERTEX,
-                             0,
-                             RTC_FORMAT_FLOAT3,
-                             m.positions.data(),
-                             0,
-                             sizeof(Eigen::Vector3f),
-                             m.positions.size());
-  rtcSetSharedGeometryBuffer(geometry,
-                             RTC_BUFFER_TYPE_INDEX,
-                             0,
-                             RTC_FORMAT_UINT3,
-                             m.triangles.data(),
-                             0,
-                             sizeof(Eigen::Vector3i),
-                             m.triangles.size());
-  rtcCommitGeometry(geometry);
+  RTCGeometry geometry = Embree().new_geometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  Embree().set_shared_geometry_buffer(geometry,
+                                      RTC_BUFFER_TYPE_VERTEX,
+                                      0,
+                                      RTC_FORMAT_FLOAT3,
+                                      m.positions.data(),
+                                      0,
+                                      sizeof(Eigen::Vector3f),
+                                      m.positions.size());
+  Embree().set_shared_geometry_buffer(geometry,
+                                      RTC_BUFFER_TYPE_INDEX,
+                                      0,
+                                      RTC_FORMAT_UINT3,
+                                      m.triangles.data(),
+                                      0,
+                                      sizeof(Eigen::Vector3i),
+                                      m.triangles.size());
+  Embree().commit_geometry(geometry);
   AttachMesh(id, std::move(shared), geometry, surface);
 }
 
@@ -256,7 +257,7 @@ void RenderScene::AttachMesh(unsigned id,
                              std::shared_ptr<const TriangleMesh> mesh,
                              RTCGeometry geometry,
                              Surface surface) {
-  rtcAttachGeometryByID(scene_, geometry, id);
+  Embree().attach_geometry_by_id(scene_, geometry, id);
   const TriangleMesh& m = *mesh;
   surface.positions = m.positions.data();
   surface.triangles = m.triangles.data();
@@ -269,12 +270,12 @@ void RenderScene::AttachMesh(unsigned id,
 
 RenderScene::~RenderScene() {
   for (RTCScene s : object_scenes_) {
-    if (s) rtcReleaseScene(s);
+    if (s) Embree().release_scene(s);
   }
   for (RTCGeometry g : geometries_) {
-    if (g) rtcReleaseGeometry(g);
+    if (g) Embree().release_geometry(g);
   }
-  rtcReleaseScene(scene_);
+  Embree().release_scene(scene_);
 }
 
 }  // namespace lsds::gen

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "generator/render/embree_abi.h"
+
 namespace lsds::gen {
 namespace {
 
@@ -89,11 +91,14 @@ void OccludedInPackets(RTCScene rtc_scene,
     const int n = std::min(kPacket, count - k);
     const auto from = rays.From(k);
     if (n <= 4) {
-      OccludedLanes<4, RTCRay4>(rtc_scene, from, wanted + k, n, context, rtcOccluded4, out + k);
+      OccludedLanes<4, RTCRay4>(
+          rtc_scene, from, wanted + k, n, context, Embree().occluded4, out + k);
     } else if (n <= 8) {
-      OccludedLanes<8, RTCRay8>(rtc_scene, from, wanted + k, n, context, rtcOccluded8, out + k);
+      OccludedLanes<8, RTCRay8>(
+          rtc_scene, from, wanted + k, n, context, Embree().occluded8, out + k);
     } else {
-      OccludedLanes<16, RTCRay16>(rtc_scene, from, wanted + k, n, context, rtcOccluded16, out + k);
+      OccludedLanes<16, RTCRay16>(
+          rtc_scene, from, wanted + k, n, context, Embree().occluded16, out + k);
     }
   }
 }
@@ -151,13 +156,13 @@ void TraceRays(RTCScene rtc_scene,
     const int n = std::min(kPacket, count - k);
     if (n <= 4) {
       TraceLanes<4, RTCRayHit4>(
-          rtc_scene, origin, directions + k, n, context, rtcIntersect4, out + k);
+          rtc_scene, origin, directions + k, n, context, Embree().intersect4, out + k);
     } else if (n <= 8) {
       TraceLanes<8, RTCRayHit8>(
-          rtc_scene, origin, directions + k, n, context, rtcIntersect8, out + k);
+          rtc_scene, origin, directions + k, n, context, Embree().intersect8, out + k);
     } else {
       TraceLanes<16, RTCRayHit16>(
-          rtc_scene, origin, directions + k, n, context, rtcIntersect16, out + k);
+          rtc_scene, origin, directions + k, n, context, Embree().intersect16, out + k);
     }
   }
 }
@@ -180,7 +185,7 @@ EmbreeHit TraceOne(RTCScene rtc_scene,
   rh.ray.time = 0.f;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(rtc_scene, context, &rh);
+  Embree().intersect1(rtc_scene, context, &rh);
   return {rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar};
 }
 
@@ -201,7 +206,7 @@ bool Occluded(RTCScene rtc_scene,
   ray.mask = 0xffffffffu;
   ray.flags = 0;
   ray.time = 0.f;
-  rtcOccluded1(rtc_scene, context, &ray);
+  Embree().occluded1(rtc_scene, context, &ray);
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 

@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "generator/render/embree_abi.h"
 #include "generator/scene/object_library.h"  // FrontOfBuiltinClass
 #include "libs/collection/object_truth.h"
 #include "libs/geometry/oriented_box.h"
@@ -66,7 +67,7 @@ int64_t UnoccludedPixels(RTCScene own,
       ray.mask = 0xffffffffu;
       ray.flags = 0;
       ray.time = 0.f;
-      rtcOccluded1(own, &context, &ray);
+      Embree().occluded1(own, &context, &ray);
       if (ray.tfar < 0) ++row;
     }
     count += row;

@@ -6,13 +6,10 @@
 #include <map>
 #include <optional>
 
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-#include <assimp/Importer.hpp>
-
 #include "generator/scene/asset_library.h"
 #include "generator/scene/builtin_meshes.h"
 #include "generator/scene/mesh_formats.h"
+#include "generator/scene/mesh_io_abi.h"
 #include "generator/scene/perlin.h"
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -76,33 +73,21 @@ TriangleMesh Tire() {
   return mesh;
 }
 
-// The base-colour map of an assimp material: glTF's baseColorTexture or the
-// diffuse map (OBJ's map_Kd), a file next to the mesh or embedded in it
+// The base-colour map of a mesh file's material: glTF's baseColorTexture or
+// the diffuse map (OBJ's map_Kd), a file next to the mesh or embedded in it
 // ("*0"); null when it has none. The colour factors are not applied: the map
 // is the albedo (docs/generator.md, "Image textures").
-std::shared_ptr<const ImageTexture> AlbedoMapOf(const aiScene& scene,
-                                                const aiMaterial& material,
+std::shared_ptr<const ImageTexture> AlbedoMapOf(const MeshFileMaterial& material,
                                                 const std::string& mesh_path,
                                                 const std::string& where) {
-  aiString name;
-  if (material.GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS &&
-      material.GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS)
-    return nullptr;
-  const std::string file = name.C_Str();
+  const std::string& file = material.albedo_map;
   if (file.empty()) return nullptr;
   const std::string context = where + ": mesh '" + mesh_path + "'";
-  if (const aiTexture* embedded = scene.GetEmbeddedTexture(name.C_Str())) {
-    if (embedded->mHeight == 0)  // compressed (PNG, JPEG): mWidth bytes
-      return DecodeImageTexture(
-          reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth, context);
-    std::vector<unsigned char> rgb;
-    rgb.reserve(size_t{3} * embedded->mWidth * embedded->mHeight);
-    for (size_t i = 0; i < size_t{embedded->mWidth} * embedded->mHeight; ++i) {
-      const aiTexel& t = embedded->pcData[i];
-      rgb.insert(rgb.end(), {t.r, t.g, t.b});
-    }
+  if (material.embedded) {
+    if (material.height == 0)  // compressed (PNG, JPEG): width bytes
+      return DecodeImageTexture(material.data.data(), material.width, context);
     return MakeImageTexture(
-        static_cast<int>(embedded->mWidth), static_cast<int>(embedded->mHeight), rgb.data());
+        static_cast<int>(material.width), static_cast<int>(material.height), material.data.data());
   }
   const std::filesystem::path image = std::filesystem::path(mesh_path).parent_path() / file;
   if (!std::filesystem::is_regular_file(image))
@@ -190,50 +175,45 @@ TriangleMesh LoadMeshFileNative(const std::string& path, const std::string& wher
   if (!std::filesystem::is_regular_file(path)) {
     throw Error(where + ": mesh file not found", Location(path));
   }
-  Assimp::Importer importer;
-  const aiScene* scene =
-      importer.ReadFile(path,
-                        aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                            aiProcess_PreTransformVertices | aiProcess_SortByPType);
-  if (scene == nullptr) {
-    throw Error(where + ": cannot read mesh: " + importer.GetErrorString(), Location(path));
-  }
+  MeshFile file;
+  std::string error;
+  if (!MeshIo().read(path, file, error))
+    throw Error(where + ": cannot read mesh: " + error, Location(path));
   // A y-up file turns into the z-up world: (x, y, z) -> (x, -z, y). An asset
   // library's manifest may give a file its own up axis.
   const std::optional<LibraryAsset> listed = LibraryAssetOf(path);
   const bool y_up = listed ? listed->y_up : IsYUpByFormat(path);
   TriangleMesh mesh;
-  // The base-colour map of each assimp material (-1: none), read once.
-  std::vector<int> material_map(scene->mNumMaterials, -1);
-  for (unsigned i = 0; i < scene->mNumMaterials; ++i) {
-    if (auto map = AlbedoMapOf(*scene, *scene->mMaterials[i], path, where)) {
+  // The base-colour map of each material (-1: none), read once.
+  std::vector<int> material_map(file.materials.size(), -1);
+  for (size_t i = 0; i < file.materials.size(); ++i) {
+    if (auto map = AlbedoMapOf(file.materials[i], path, where)) {
       material_map[i] = static_cast<int>(mesh.albedo_maps.size());
       mesh.albedo_maps.push_back(std::move(map));
     }
   }
   const bool textured = !mesh.albedo_maps.empty();
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* in = scene->mMeshes[m];
+  for (const MeshFilePart& in : file.parts) {
     const int base = static_cast<int>(mesh.positions.size());
-    const int map = in->mMaterialIndex < material_map.size() && in->HasTextureCoords(0)
-                        ? material_map[in->mMaterialIndex]
-                        : -1;
-    for (unsigned v = 0; v < in->mNumVertices; ++v) {
-      const aiVector3D& p = in->mVertices[v];
+    const int map =
+        in.material < material_map.size() && !in.uvs.empty() ? material_map[in.material] : -1;
+    for (size_t v = 0; 3 * v < in.positions.size(); ++v) {
+      const float x = in.positions[3 * v], y = in.positions[3 * v + 1], z = in.positions[3 * v + 2];
       if (y_up)
-        mesh.positions.emplace_back(p.x, -p.z, p.y);
+        mesh.positions.emplace_back(x, -z, y);
       else
-        mesh.positions.emplace_back(p.x, p.y, p.z);
+        mesh.positions.emplace_back(x, y, z);
       if (textured) {
-        const aiVector3D uv = map >= 0 ? in->mTextureCoords[0][v] : aiVector3D(0, 0, 0);
-        mesh.uvs.emplace_back(uv.x, uv.y);
+        if (map >= 0)
+          mesh.uvs.emplace_back(in.uvs[2 * v], in.uvs[2 * v + 1]);
+        else
+          mesh.uvs.emplace_back(0.f, 0.f);
       }
     }
-    for (unsigned f = 0; f < in->mNumFaces; ++f) {
-      const aiFace& face = in->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
-      mesh.triangles.emplace_back(
-          base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
+    for (size_t t = 0; 3 * t < in.triangles.size(); ++t) {
+      mesh.triangles.emplace_back(base + static_cast<int>(in.triangles[3 * t]),
+                                  base + static_cast<int>(in.triangles[3 * t + 1]),
+                                  base + static_cast<int>(in.triangles[3 * t + 2]));
       if (textured) mesh.triangle_map.push_back(map);
     }
   }

@@ -79,4 +79,11 @@ void* LoadPluginSymbol(const std::string& file_name, const std::string& symbol) 
               " (set LSDS_PLUGIN_DIR to the folder that holds it); tried:" + tried);
 }
 
+void CheckPluginAbiVersion(const std::string& file_name, const int* found, int wanted) {
+  if (found != nullptr && *found == wanted) return;
+  throw Error("the plug-in " + file_name + " has ABI version " +
+              (found != nullptr ? std::to_string(*found) : "none") + ", lsds needs " +
+              std::to_string(wanted) + ": reinstall lsds");
+}
+
 }  // namespace lsds

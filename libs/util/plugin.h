@@ -1,6 +1,6 @@
 // Plug-ins: shared libraries that lsds opens on first use rather than linking, so that the
-// libraries behind them (OpenCV's image codecs and the ~140 libraries GDAL pulls in) are not
-// loaded by every process at start-up.
+// libraries behind them (OpenCV's image codecs and GDAL, PCL and VTK, Embree, assimp, Ceres) are
+// not loaded by every process at start-up (docs/architecture.md, "Plug-ins").
 #pragma once
 
 #include <string>
@@ -24,5 +24,27 @@ std::vector<std::string> PluginSearchDirs();
 // the process. Throws lsds::Error naming every path tried and dlerror()'s message when no folder
 // holds a plug-in that opens and exports `symbol`.
 void* LoadPluginSymbol(const std::string& file_name, const std::string& symbol);
+
+// Throws lsds::Error naming the plug-in unless its table's ABI version (`found`, null when the
+// entry point returned no table) is `wanted`.
+void CheckPluginAbiVersion(const std::string& file_name, const int* found, int wanted);
+
+// A plug-in's boundary: one extern "C" entry point `entry_symbol` in `file_name` returning a
+// const Table* whose first member is `int abi_version`. The table is opened once per process on
+// first use (thread-safe static initialisation) and checked against `abi_version`. A failure is
+// not cached: the next call retries and throws the same lsds::Error. Each Table type belongs to
+// one plug-in.
+template <typename Table>
+const Table& PluginTable(const char* file_name, const char* entry_symbol, int abi_version) {
+  static const Table* const table = [&] {
+    using Entry = const Table* (*)();
+    const auto entry = reinterpret_cast<Entry>(LoadPluginSymbol(file_name, entry_symbol));
+    const Table* loaded = entry();
+    CheckPluginAbiVersion(
+        file_name, loaded != nullptr ? &loaded->abi_version : nullptr, abi_version);
+    return loaded;
+  }();
+  return *table;
+}
 
 }  // namespace lsds

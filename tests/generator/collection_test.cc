@@ -250,6 +250,55 @@ TEST(GenerateCommand, RendersAnLsceneExample) {
             2);  // unreadable
 }
 
+// Embree, assimp, Ceres, OpenCV's image codecs and PCL are plug-ins (docs/architecture.md,
+// "Plug-ins"): with every one of them broken, `--version` and `info` still work (nothing loads
+// them at start-up), and generate and export-scene, which need Embree and assimp, stop with exit
+// code 2 and the plug-in's path before writing anything.
+TEST(GenerateCommand, PlugInsAreOpenedOnlyByTheCommandsThatNeedThem) {
+  const fs::path root = TempRoot("broken_plugins");
+  const fs::path plugins = root / "plugins";
+  fs::create_directories(plugins);
+  for (const char* name : {"lsds_embree.so",
+                           "lsds_mesh_io.so",
+                           "lsds_camera_solver.so",
+                           "lsds_image_codecs.so",
+                           "lsds_cloud_io.so"})
+    std::ofstream((plugins / name).string()) << "not a shared library\n";
+  const std::string with_broken_plugins =
+      "LSDS_PLUGIN_DIR=" + plugins.string() + " " + ::lsds::testing::LsdsBinary() + " ";
+  const fs::path collection = root / "demo";
+  ASSERT_EQ(::lsds::testing::RunLsds("generate --demo --demo-frames 1 --demo-size 16x12 --spp 1 "
+                                     "-q -o " +
+                                     collection.string())
+                .exit_code,
+            0);
+  EXPECT_EQ(::lsds::testing::RunCommandLine(with_broken_plugins + "--version").exit_code, 0);
+  const ::lsds::testing::CommandResult info =
+      ::lsds::testing::RunCommandLine(with_broken_plugins + "info " + collection.string());
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+
+  const ::lsds::testing::CommandResult generate = ::lsds::testing::RunCommandLine(
+      with_broken_plugins + "generate --demo --demo-frames 1 --demo-size 16x12 --spp 1 -q -o " +
+      (root / "out").string());
+  EXPECT_EQ(generate.exit_code, 2) << generate.output;
+  EXPECT_NE(
+      generate.output.find("cannot load the plug-in " + (plugins / "lsds_embree.so").string()),
+      std::string::npos)
+      << generate.output;
+  EXPECT_FALSE(fs::exists(root / "out"));
+
+  const std::string examples = ::lsds::testing::ExamplesDir();
+  const ::lsds::testing::CommandResult export_scene = ::lsds::testing::RunCommandLine(
+      with_broken_plugins + "export-scene -q " + examples + "/uav_survey.lscene " + examples +
+      "/uav_survey.lcap --frames 0:1 -o " + (root / "scene").string());
+  EXPECT_EQ(export_scene.exit_code, 2) << export_scene.output;
+  EXPECT_NE(
+      export_scene.output.find("cannot load the plug-in " + (plugins / "lsds_mesh_io.so").string()),
+      std::string::npos)
+      << export_scene.output;
+  EXPECT_FALSE(fs::exists(root / "scene"));
+}
+
 // 60 trees of about 12,000 triangles each need about 190 MiB of scene: over a 150 MiB budget (the
 // default frame film takes 112) that is a usage error naming the scene before anything is written.
 TEST(GenerateCommand, ASceneOverTheMemoryBudgetFailsBeforeAnyOutput) {

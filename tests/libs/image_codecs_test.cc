@@ -159,6 +159,27 @@ TEST(Plugin, TheRealPlugInExportsItsTable) {
   EXPECT_EQ(entry()->abi_version, imaging::kImageCodecsAbiVersion);
 }
 
+// Every plug-in's table is checked by one helper: another ABI version (a stale plug-in from an
+// older install) or no table at all is an error naming the plug-in and both versions.
+TEST(Plugin, AnotherAbiVersionIsAnErrorNamingThePlugIn) {
+  const int stale = imaging::kImageCodecsAbiVersion + 1;
+  try {
+    CheckPluginAbiVersion(imaging::kImageCodecsPlugin, &stale, imaging::kImageCodecsAbiVersion);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              std::string("the plug-in lsds_image_codecs.so has ABI version ") +
+                  std::to_string(stale) + ", lsds needs " +
+                  std::to_string(imaging::kImageCodecsAbiVersion) + ": reinstall lsds");
+  }
+  EXPECT_THROW(
+      CheckPluginAbiVersion(imaging::kImageCodecsPlugin, nullptr, imaging::kImageCodecsAbiVersion),
+      Error);
+  const int current = imaging::kImageCodecsAbiVersion;
+  EXPECT_NO_THROW(CheckPluginAbiVersion(
+      imaging::kImageCodecsPlugin, &current, imaging::kImageCodecsAbiVersion));
+}
+
 // The CLI: a command that writes images (export-layers to 16-bit PNG) with a broken plug-in stops
 // with exit code 2 and the loader's message, and writes nothing. (`lsds report` instead shows the
 // message in place of each picture, as for any picture it cannot make.)

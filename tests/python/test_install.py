@@ -24,7 +24,9 @@ def test_import_from_an_installed_prefix(tmp_path):
     subprocess.run([cmake, "--install", build, "--prefix", prefix], check=True, capture_output=True)
     site = prefix / "lib" / "python3" / "dist-packages"
     assert list((site / "lsds").glob("_lsds*.so")) and (site / "lsds" / "__init__.py").exists()
-    assert (prefix / "lib" / "lsds" / "lsds_image_codecs.so").exists()
+    for plugin in ("lsds_image_codecs.so", "lsds_cloud_io.so", "lsds_embree.so", "lsds_mesh_io.so",
+                   "lsds_camera_solver.so"):
+        assert (prefix / "lib" / "lsds" / plugin).exists(), plugin
     collection = tmp_path / "synth"
     run_lsds("synth", collection, "--count", "1", "--size", "8x6")
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "LSDS_PLUGIN_DIR")}

@@ -14,6 +14,7 @@
 #include "libs/collection/schema.h"
 #include "tests/build_paths.h"
 #include "tests/validate/corruptions.h"
+#include "validators/camera_solver_abi.h"
 #include "validators/checks.h"
 
 namespace lsds::validate {
@@ -46,7 +47,7 @@ class ValidateCli : public ::testing::Test {
   static void SetUpTestSuite() {
     fs::remove_all(Root());
     corpus::WriteGoodCollection(Root() / "good");
-    for (const char* name : {"nan-depth", "stray-file"}) {
+    for (const char* name : {"nan-depth", "stray-file", "fov-plus-10"}) {
       corpus::CopyCollection(Root() / "good", Root() / name);
       corpus::FindCorruption(name).apply(Root() / name);
     }
@@ -70,6 +71,36 @@ TEST_F(ValidateCli, FindingsExitOneWithLocation) {
   // The NaN also disagrees with the bundle's centre sample: a second, genuine
   // finding.
   EXPECT_NE(run.out.find("FAIL: 2 error(s)"), std::string::npos) << run.out;
+}
+
+// Ceres is a plug-in (validators/camera_solver_abi.h), opened only when a declared camera must be
+// solved: with a broken plug-in a good collection still passes (it is never opened), and a
+// collection whose camera needs solving stops with exit code 2 and the plug-in's path.
+TEST_F(ValidateCli, TheCameraSolverPlugInIsOpenedOnlyWhenACameraNeedsSolving) {
+  const fs::path plugins = Root() / "broken-plugins";
+  fs::create_directories(plugins);
+  std::ofstream((plugins / kCameraSolverPlugin).string()) << "not a shared library\n";
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): the tests of this binary run on one thread
+  setenv("LSDS_PLUGIN_DIR", plugins.c_str(), 1);
+  const CliRun good = Lsds("validate " + Path("good"));
+  const std::string command =
+      ::lsds::testing::BinaryDir() + "/tools/lsds validate " + Path("fov-plus-10") + " 2>&1";
+  std::string log;
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) log.append(buffer, n);
+  const int status = pclose(pipe);
+  unsetenv("LSDS_PLUGIN_DIR");  // NOLINT(concurrency-mt-unsafe)
+  EXPECT_EQ(good.code, 0) << good.out;
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << log;
+  EXPECT_NE(log.find("cannot load the plug-in " + (plugins / kCameraSolverPlugin).string()),
+            std::string::npos)
+      << log;
+  // With the real plug-in the same collection's camera is solved and the mistake named.
+  const CliRun solved = Lsds("validate " + Path("fov-plus-10"));
+  EXPECT_EQ(solved.code, 1) << solved.out;
+  EXPECT_NE(solved.out.find("camera.fov"), std::string::npos) << solved.out;
 }
 
 TEST_F(ValidateCli, JsonReportMatchesItsSchema) {

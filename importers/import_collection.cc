@@ -7,6 +7,7 @@
 #include "importers/derived_truth.h"
 #include "importers/registry.h"
 #include "libs/collection/collection_builder.h"
+#include "libs/collection/layer_layouts.h"
 #include "libs/collection/object_truth.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/encoder_settings.h"
@@ -153,6 +154,7 @@ ImportResult ImportCollection(const std::string& format,
   header.classes = description.classes;
   for (const std::string& semantic : semantics)
     header.layers.push_back(StandardLayer(semantic, description.depth_kind));
+  ApplyLayerLayouts(options.layouts, &header);
   header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = description.frame_count;
 

@@ -235,6 +235,7 @@ struct ShadingFields {
   PixelField<float> cloud{0.f};
   ExactBall<float> exact_cloud;
   std::optional<Eigen::Vector3f> sky_light;
+  std::optional<Eigen::Vector3f> haze;  // the pixel's horizon colour
 };
 
 // What one sample contributes: its radiance and its values of the truth
@@ -351,6 +352,7 @@ class FrameRenderer {
     fields->albedo.Reset();
     fields->cloud.Reset();
     fields->sky_light.reset();
+    fields->haze.reset();
     Eigen::Vector3f sum = Eigen::Vector3f::Zero();
     const int c = p * spp_;  // the centre sample, in the block
     std::optional<CentreShading> centre;
@@ -460,6 +462,11 @@ class FrameRenderer {
     }
     const Surface& s = scene_.surface(hit.geom);
     if (s.material->specular > 0 || !centre.albedo.Holds(hit.geom, hit.point)) return false;
+    // Ground detail is shared by the pixel's samples (ShadeSample), which are
+    // still shaded each: its reuse over a whole footprint would let the cloud
+    // shadow's history-dependent reuse decide which samples take the
+    // centre's radiance, and the films would depend on the tiles.
+    if (s.material->detail.contrast > 0 && settings_.ground_detail) return false;
     const bool sunlit = block.facing_sun[i] && !block.occluded[i];
     if (sunlit != (block.facing_sun[c] && !block.occluded[c])) return false;
     if (sunlit && (!centre.cloud.Holds(hit.geom, hit.point) ||
@@ -487,28 +494,41 @@ class FrameRenderer {
     TangentFrame(n, &t1, &t2);
     const Eigen::Vector3d origin =
         hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
-    int open = 0, ground = 0;
+    Eigen::Vector3d directions[kSkyRays];
+    float lengths[kSkyRays];
+    uint8_t wanted[kSkyRays], blocked[kSkyRays];
+    int ground = 0;
     for (int k = 0; k < kSkyRays; ++k) {
+      wanted[k] = 0;
+      lengths[k] = static_cast<float>(kSkyOcclusionM);
       // Stratified over the 2x2 cells of the unit square, then mapped to the
       // cosine-weighted hemisphere (Malley's method).
-      const uint64_t draw = static_cast<uint64_t>(pixel) * (2 * kSkyRays) + 2 * k;
-      const double u1 = (k % 2 + Uniform01(kSkyLightField, 0, frame_.index, draw)) / 2;
-      const double u2 = (k / 2 + Uniform01(kSkyLightField, 0, frame_.index, draw + 1)) / 2;
+      const uint64_t draw = 2 * (static_cast<uint64_t>(pixel) * kSkyRays + k);
+      const int row = k / 2;  // ray k in the 2x2 cells: column k % 2, this row
+      const double cell_u = k % 2, cell_v = row;
+      const double u1 = (cell_u + Uniform01(kSkyLightField, 0, frame_.index, draw)) / 2;
+      const double u2 = (cell_v + Uniform01(kSkyLightField, 0, frame_.index, draw + 1)) / 2;
       const double r = std::sqrt(u1), phi = 2 * M_PI * u2;
       const Eigen::Vector3d d =
           r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(1 - u1) * n;
+      directions[k] = d;
       if (d.dot(hit.normal) <= 0) continue;  // into the surface itself: blocked
       if (d.z() <= 0) {
         ++ground;
         continue;
       }
+      wanted[k] = 1;
       ++*rays;
-      if (!Occluded(scene_.scene(), origin, d, context, kSkyOcclusionM)) ++open;
     }
-    const int blocked = kSkyRays - open - ground;
+    // One packet: the rays share their origin.
+    OccludedSegments(
+        scene_.scene(), origin, directions, lengths, wanted, kSkyRays, context, blocked);
+    int open = 0;
+    for (int k = 0; k < kSkyRays; ++k) open += wanted[k] && !blocked[k];
+    const int shaded = kSkyRays - open - ground;
     return (static_cast<float>(open) * sky_.ambient() +
             static_cast<float>(ground) * sky_.ground_bounce() +
-            static_cast<float>(blocked) * sky_.blocker_bounce()) /
+            static_cast<float>(shaded) * sky_.blocker_bounce()) /
            static_cast<float>(kSkyRays);
   }
 
@@ -546,8 +566,15 @@ class FrameRenderer {
                 SurfaceTexture t;
                 t.albedo = Albedo(
                     *s.material, sky_.texture_noise(), hit.point.cast<float>(), footprint, &t.tilt);
+                // Ground detail is sampled once per pixel, as a texture at
+                // its mip level: the pixel's samples within a footprint of
+                // this one take its value.
+                const double detail_reuse =
+                    s.material->detail.contrast > 0 && settings_.ground_detail ? footprint : 0;
                 return FieldValue<SurfaceTexture>{
-                    t, reuse ? AlbedoReuseDistance(*s.material, footprint) : 0};
+                    t,
+                    reuse ? std::max(AlbedoReuseDistance(*s.material, footprint), detail_reuse)
+                          : 0};
               });
     const float lit = !block.facing_sun[i] || block.occluded[i] ? 0.f : CloudShadow(hit, fields);
     // The shadow layer (truth): the sun on the shading normal against the
@@ -569,7 +596,10 @@ class FrameRenderer {
     // Haze: fog and the air's own extinction, towards the sky's horizon in
     // this azimuth, which the farthest ground then meets without a seam.
     const float f = static_cast<float>(sky_.HazeTransmittance(Distance(block, i)));
-    if (f < 1) v.radiance = v.radiance * f + sky_.Haze(direction) * (1 - f);
+    if (f < 1) {
+      if (!fields->haze) fields->haze = sky_.Haze(direction);  // once per pixel
+      v.radiance = v.radiance * f + *fields->haze * (1 - f);
+    }
     return v;
   }
 

@@ -43,6 +43,10 @@ struct RenderSettings {
   // off shades every sample. Only the RGB can change; every truth layer is
   // the same either way.
   bool shade_pixels_once = true;
+  // Show the terrain families' ground detail (generator/scene/ground_detail.h);
+  // off renders them with their smooth patterns alone, which a pixel's
+  // samples can share (the two settings above). Only the RGB changes.
+  bool ground_detail = true;
 };
 
 // How far apart a sample's direct sunlight and fog may be from its pixel's

@@ -4,6 +4,7 @@
 #include "evaluate/dota_files.h"
 #include "evaluate/mot_results.h"
 #include "evaluate/predictions.h"
+#include "evaluate/strata.h"
 #include "evaluate/suggest.h"
 #include "evaluate/yolo_results.h"
 #include "libs/collection/collection_reader.h"
@@ -19,7 +20,7 @@ namespace {
 EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
   EvaluationReport report;
   report.images = static_cast<int64_t>(truth.coco.image_ids.size());
-  report.annotations = static_cast<int64_t>(truth.coco.ground_truth.size());
+  report.annotations = truth.AnnotationCount();
   for (size_t k = 0; k < truth.coco.category_ids.size(); ++k)
     report.categories.emplace_back(truth.coco.category_ids[k], truth.category_names[k]);
   report.thin_below = thin_below;
@@ -65,7 +66,7 @@ void EvaluateOptions::Check() const {
 
 EvaluationReport CoverageReport(const EvaluationTruth& truth, int64_t thin_below) {
   EvaluationReport report = BaseReport(truth, thin_below);
-  report.coverage = Coverage(truth, BinConditions(truth, {}), thin_below);
+  report.coverage = EvaluateImages(truth, BinConditions(truth), nullptr, thin_below).coverage;
   return report;
 }
 
@@ -75,14 +76,17 @@ EvaluationReport Evaluate(const EvaluationTruth& truth,
   EvaluationReport report = BaseReport(truth, thin_below);
   report.detections = static_cast<int64_t>(detections.size());
   report.iou_type = truth.coco.iou_type == IouType::kMask ? "segm" : "bbox";
-  const std::vector<ConditionBins> conditions = BinConditions(truth, detections);
-  CocoData data = truth.coco;
-  data.detections = std::move(detections);
-  const CocoEvaluator evaluator(std::move(data));
-  report.stats = evaluator.Stats();
-  report.all = evaluator.Accumulate(Selection{});
-  report.strata = EvaluateStrata(evaluator, conditions, thin_below);
-  report.coverage = Coverage(truth, conditions, thin_below);
+  // Each image's detections together, in file order (the order COCOeval
+  // breaks score ties in).
+  std::stable_sort(detections.begin(),
+                   detections.end(),
+                   [](const DetectionBox& a, const DetectionBox& b) { return a.image_id < b.image_id; });
+  ImageMetrics metrics =
+      EvaluateImages(truth, BinConditions(truth), &detections, thin_below);
+  report.stats = metrics.stats;
+  report.all = std::move(metrics.all);
+  report.strata = std::move(metrics.strata);
+  report.coverage = std::move(metrics.coverage);
   return report;
 }
 
@@ -111,7 +115,8 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
 
   TruthOptions truth_options = options.truth;
   truth_options.masks = options.iou_type == "segm";
-  const EvaluationTruth truth = ReadCollectionTruth(truth_options);
+  // The annotations stay in the converter's scratch file, read image by image.
+  const EvaluationTruth truth = StreamCollectionTruth(truth_options);
   EvaluateResult result;
   if (options.predictions.empty()) {
     result.report = CoverageReport(truth, options.thin_below);
@@ -140,7 +145,7 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
   }
   std::string capture;
   if (!options.suggest.empty()) {
-    Suggestion suggestion = SuggestCapture(truth, BinConditions(truth, {}), result.report);
+    Suggestion suggestion = SuggestCapture(truth, BinConditions(truth), result.report);
     capture = std::move(suggestion.lcap);
     result.suggested_quotas = std::move(suggestion.quotas);
   }

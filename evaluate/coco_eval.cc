@@ -289,19 +289,6 @@ void AccumulationBuilder::Add(const EvaluationCell& cell,
   }
 }
 
-void AccumulationBuilder::Merge(AccumulationBuilder&& other) {
-  images_ += other.images_;
-  for (size_t k = 0; k < records_.size(); ++k) {
-    counted_[k] += other.counted_[k];
-    if (records_[k].empty()) {
-      records_[k] = std::move(other.records_[k]);
-    } else {
-      records_[k].insert(records_[k].end(), other.records_[k].begin(), other.records_[k].end());
-    }
-    other.records_[k] = {};
-  }
-}
-
 size_t AccumulationBuilder::kept_detections() const {
   size_t n = 0;
   for (const auto& r : records_) n += r.size();
@@ -311,22 +298,24 @@ size_t AccumulationBuilder::kept_detections() const {
 // accumulate (cocoeval.py:353-410): per category, each image's detections cut
 // to maxDet and concatenated in image order, then sorted stably by score
 // (:362-371), which is AccumulationOrder's.
-Accumulation AccumulationBuilder::Finish() const {
-  const size_t K = records_.size();
+Accumulation AccumulationBuilder::Finish(const std::vector<const AccumulationBuilder*>& parts) {
+  const size_t K = parts.empty() ? 0 : parts.front()->records_.size();
   Accumulation a;
   a.categories = K;
   a.precision.assign(static_cast<size_t>(kT) * kR * K * kM, -1.0);
   a.recall.assign(static_cast<size_t>(kT) * K * kM, -1.0);
-  a.images = images_;
+  for (const AccumulationBuilder* part : parts) a.images += part->images_;
   std::vector<Record> dets;
   for (size_t k = 0; k < K; ++k) {
-    const int64_t npig = counted_[k];
+    int64_t npig = 0;
+    for (const AccumulationBuilder* part : parts) npig += part->counted_[k];
     a.ground_truth += npig;
     if (npig == 0) continue;  // :360-361, :372-374
     for (int m = 0; m < kM; ++m) {
       dets.clear();
-      for (const Record& r : records_[k])
-        if ((r.bits & kRankMask) < static_cast<uint32_t>(kMaxDetections[m])) dets.push_back(r);
+      for (const AccumulationBuilder* part : parts)
+        for (const Record& r : part->records_[k])
+          if ((r.bits & kRankMask) < static_cast<uint32_t>(kMaxDetections[m])) dets.push_back(r);
       std::sort(dets.begin(), dets.end(), [](const Record& x, const Record& y) {
         return x.order < y.order;
       });

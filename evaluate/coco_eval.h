@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <optional>
 #include <utility>
@@ -175,18 +176,19 @@ class AccumulationBuilder {
   void CountImage() { ++images_; }
   // `order`: AccumulationOrder of the detections `cell` indexes.
   void Add(const EvaluationCell& cell, const CellResult& result, const uint32_t* order);
-  // COCOeval.accumulate (cocoeval.py:315-418).
-  Accumulation Finish() const;
+  // COCOeval.accumulate (cocoeval.py:315-418) over the cells of every one of
+  // `parts` (builders of the same selection fed with different images).
+  static Accumulation Finish(const std::vector<const AccumulationBuilder*>& parts);
+  Accumulation Finish() const { return Finish({this}); }
   size_t kept_detections() const;
-  // Takes over `other`'s cells (built from other images).
-  void Merge(AccumulationBuilder&& other);
 
  private:
   struct Record {
     uint32_t order;
     uint32_t bits;  // rank (7 bits), then 10 true-positive and 10 false-positive flags
   };
-  std::vector<std::vector<Record>> records_;  // per category
+  // Per category; a deque grows by small blocks, without a vector's spare half.
+  std::vector<std::deque<Record>> records_;
   std::vector<int64_t> counted_;              // ground truth counted, per category
   int64_t images_ = 0;
 };

@@ -41,8 +41,8 @@ struct Tally {
       frames.emplace_back(c.bins.size(), 0);
     }
   }
-  void Merge(Tally&& other) {
-    for (size_t s = 0; s < builders.size(); ++s) builders[s].Merge(std::move(other.builders[s]));
+  // The counts of `other` (its builders are read where they are).
+  void AddCounts(const Tally& other) {
     for (size_t c = 0; c < objects.size(); ++c) {
       unrecorded[c] += other.unrecorded[c];
       for (size_t b = 0; b < objects[c].size(); ++b) {
@@ -299,21 +299,27 @@ ImageMetrics EvaluateImages(const EvaluationTruth& truth,
     if (batch.size() == kImagesPerBatch) flush();
   });
   flush();
+  size_t out_kept = 0;
   Tally total(selections.size(), K, conditions);
-  for (Tally& tally : tallies) total.Merge(std::move(tally));
+  std::vector<std::vector<const AccumulationBuilder*>> parts(selections.size());
+  for (Tally& tally : tallies) {
+    total.AddCounts(tally);
+    for (size_t s = 0; s < selections.size(); ++s) {
+      parts[s].push_back(&tally.builders[s]);
+      out_kept += tally.builders[s].kept_detections();
+    }
+  }
 
   ImageMetrics out;
+  out.kept_detections = out_kept;
   out.coverage = CoverageOf(conditions, total, thin_below);
-  for (const AccumulationBuilder& b : total.builders) out.kept_detections += b.kept_detections();
-  if (detections == nullptr) {
-    out.all = total.builders[0].Finish();
-    return out;
-  }
-  // Every selection's accumulation, all at once (TBB), each into its own slot.
+  if (detections == nullptr) return out;
+  // Every selection's accumulation, all at once (TBB), each into its own slot;
+  // a selection's records are freed once it is accumulated.
   std::vector<Accumulation> accumulated(selections.size());
   tbb::parallel_for(size_t{0}, selections.size(), [&](size_t s) {
-    accumulated[s] = total.builders[s].Finish();
-    total.builders[s] = AccumulationBuilder(K);  // its records are no longer needed
+    accumulated[s] = AccumulationBuilder::Finish(parts[s]);
+    for (Tally& tally : tallies) tally.builders[s] = AccumulationBuilder(K);
   });
   out.all = accumulated[0];
   out.stats = StatsOf({accumulated[1], accumulated[2], accumulated[3], accumulated[4]});

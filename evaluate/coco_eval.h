@@ -189,7 +189,7 @@ class AccumulationBuilder {
   };
   // Per category; a deque grows by small blocks, without a vector's spare half.
   std::vector<std::deque<Record>> records_;
-  std::vector<int64_t> counted_;              // ground truth counted, per category
+  std::vector<int64_t> counted_;  // ground truth counted, per category
   int64_t images_ = 0;
 };
 

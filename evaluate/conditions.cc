@@ -95,9 +95,7 @@ const std::vector<Definition>& Definitions() {
                return o.facts.in_frame < 1 ? "truncated" : "whole";
              }),
              {"truncated", "whole"}),
-      Object("class",
-             "the COCO category",
-             ObjectLabel([](const ObjectView& o) -> Label {
+      Object("class", "the COCO category", ObjectLabel([](const ObjectView& o) -> Label {
                if (o.category == nullptr) return std::nullopt;
                return *o.category;
              })),

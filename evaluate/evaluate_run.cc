@@ -78,11 +78,11 @@ EvaluationReport Evaluate(const EvaluationTruth& truth,
   report.iou_type = truth.coco.iou_type == IouType::kMask ? "segm" : "bbox";
   // Each image's detections together, in file order (the order COCOeval
   // breaks score ties in).
-  std::stable_sort(detections.begin(),
-                   detections.end(),
-                   [](const DetectionBox& a, const DetectionBox& b) { return a.image_id < b.image_id; });
-  ImageMetrics metrics =
-      EvaluateImages(truth, BinConditions(truth), &detections, thin_below);
+  std::stable_sort(
+      detections.begin(), detections.end(), [](const DetectionBox& a, const DetectionBox& b) {
+        return a.image_id < b.image_id;
+      });
+  ImageMetrics metrics = EvaluateImages(truth, BinConditions(truth), &detections, thin_below);
   report.stats = metrics.stats;
   report.all = std::move(metrics.all);
   report.strata = std::move(metrics.strata);

@@ -232,7 +232,8 @@ void ReadAnnotationEntry(const json& a,
       if (const auto obb = lsds->find("obb");
           obb != lsds->end() && frame != truth.frames.end() && frame->second.camera_in_world) {
         const json& c = obb->at("center");
-        const Eigen::Vector3d center(c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>());
+        const Eigen::Vector3d center(
+            c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>());
         const std::array<double, 3>& camera = *frame->second.camera_in_world;
         const Eigen::Vector3d centre(camera[0], camera[1], camera[2]);
         facts.distance_m = truth.metres_per_unit * (center - centre).norm();
@@ -291,36 +292,36 @@ void EvaluationTruth::ForEachImage(const std::function<void(TruthImage&&)>& on_i
   const std::string file = streamed->file.string();
   TruthImage current;
   bool open = false;
-  StreamJsonArrays(
-      streamed->file,
-      {"images", "annotations"},
-      nullptr,
-      [&](const std::string& key, json&& element, size_t index) {
-        if (key != "annotations") return;
-        const std::string at = "/annotations/" + std::to_string(index);
-        TruthImage one;
-        ReadAnnotationEntry(element, file, at, *this, streamed->masks, &one);
-        const int64_t id = one.boxes.front().image_id;
-        if (open && id == current.image_id) {
-          current.boxes.push_back(std::move(one.boxes.front()));
-          current.objects.push_back(std::move(one.objects.front()));
-          return;
-        }
-        if (open && id < current.image_id)
-          throw Error("the annotations are not grouped by image in id order, as lsds convert "
-                      "writes them",
-                      Location(file, at + "/image_id"));
-        if (open) on_image(std::move(current));
-        open = false;
-        empty_until(id);
-        if (next == ids.size() || ids[next] != id)
-          throw Error("image " + std::to_string(id) + " is not in /images",
-                      Location(file, at + "/image_id"));
-        current = std::move(one);
-        current.image_id = id;
-        ++next;
-        open = true;
-      });
+  StreamJsonArrays(streamed->file,
+                   {"images", "annotations"},
+                   nullptr,
+                   [&](const std::string& key, json&& element, size_t index) {
+                     if (key != "annotations") return;
+                     const std::string at = "/annotations/" + std::to_string(index);
+                     TruthImage one;
+                     ReadAnnotationEntry(element, file, at, *this, streamed->masks, &one);
+                     const int64_t id = one.boxes.front().image_id;
+                     if (open && id == current.image_id) {
+                       current.boxes.push_back(std::move(one.boxes.front()));
+                       current.objects.push_back(std::move(one.objects.front()));
+                       return;
+                     }
+                     if (open && id < current.image_id)
+                       throw Error(
+                           "the annotations are not grouped by image in id order, as lsds convert "
+                           "writes them",
+                           Location(file, at + "/image_id"));
+                     if (open) on_image(std::move(current));
+                     open = false;
+                     empty_until(id);
+                     if (next == ids.size() || ids[next] != id)
+                       throw Error("image " + std::to_string(id) + " is not in /images",
+                                   Location(file, at + "/image_id"));
+                     current = std::move(one);
+                     current.image_id = id;
+                     ++next;
+                     open = true;
+                   });
   if (open) on_image(std::move(current));
   empty_until(std::numeric_limits<int64_t>::max());
 }
@@ -368,14 +369,18 @@ EvaluationTruth StreamCocoGroundTruth(const fs::path& file,
   if (masks) truth.coco.iou_type = IouType::kMask;
   json header;
   const std::string name = file.string();
-  StreamJsonArrays(
-      file, {"images", "annotations"}, &header, [&](const std::string& key, json&& element, size_t index) {
-        if (key == "annotations") {
-          ++truth.streamed_annotations;
-          return;
-        }
-        AtPointer(name, "/images/" + std::to_string(index), [&] { ReadImageEntry(element, &truth); });
-      });
+  StreamJsonArrays(file,
+                   {"images", "annotations"},
+                   &header,
+                   [&](const std::string& key, json&& element, size_t index) {
+                     if (key == "annotations") {
+                       ++truth.streamed_annotations;
+                       return;
+                     }
+                     AtPointer(name, "/images/" + std::to_string(index), [&] {
+                       ReadImageEntry(element, &truth);
+                     });
+                   });
   ReadCategories(header, name, &truth);
   SortImageIds(&truth);
   auto streamed = std::make_shared<StreamedAnnotations>();

@@ -5,9 +5,9 @@
 // frame was seen under (docs/evaluate.md, "Conditions").
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
-#include <array>
 #include <functional>
 #include <map>
 #include <memory>
@@ -65,8 +65,8 @@ struct FrameFacts {
 // One image of the ground truth as the evaluation is handed it.
 struct TruthImage {
   int64_t image_id = 0;
-  std::vector<GroundTruthBox> boxes;   // in file order
-  std::vector<ObjectFacts> objects;    // parallel to boxes
+  std::vector<GroundTruthBox> boxes;  // in file order
+  std::vector<ObjectFacts> objects;   // parallel to boxes
 };
 
 // The COCO dataset file the annotations are streamed from, image by image,

@@ -113,8 +113,9 @@ class ImageEvaluator {
       AccumulationBuilder& builder = tally->builders[s];
       builder.CountImage();
       for (const EvaluationCell& cell : cells)
-        builder.Add(
-            cell, EvaluateCell(cell, image.boxes.data(), work.detections, gt, detection), work.order);
+        builder.Add(cell,
+                    EvaluateCell(cell, image.boxes.data(), work.detections, gt, detection),
+                    work.order);
     };
     evaluate(0, {}, {});
     for (size_t a = 0; a < CocoAreaRanges().size(); ++a) {
@@ -136,7 +137,8 @@ class ImageEvaluator {
       std::function<bool(size_t)> detection;
       if (conditions_[c].bins_detections)
         detection = [&detections, b = bin](size_t d) { return detections[d] == b; };
-      evaluate(s, [&objects, b = bin](size_t g) { return objects[g] == b; }, detection);
+      evaluate(
+          s, [&objects, b = bin](size_t g) { return objects[g] == b; }, detection);
     }
   }
 
@@ -177,11 +179,8 @@ class ImageEvaluator {
   bool with_detections_;
 };
 
-StratumMetrics Measure(const Accumulation& a,
-                       const ConditionBins& c,
-                       int bin,
-                       int64_t frames,
-                       int64_t thin_below) {
+StratumMetrics Measure(
+    const Accumulation& a, const ConditionBins& c, int bin, int64_t frames, int64_t thin_below) {
   StratumMetrics m;
   m.label = c.bins[bin];
   m.objects = a.ground_truth;
@@ -265,7 +264,8 @@ ImageMetrics EvaluateImages(const EvaluationTruth& truth,
   std::sort(category_ids.begin(), category_ids.end());
   category_ids.erase(std::unique(category_ids.begin(), category_ids.end()), category_ids.end());
   const size_t K = category_ids.size();
-  const ImageEvaluator evaluator(truth, conditions, selections, category_ids, detections != nullptr);
+  const ImageEvaluator evaluator(
+      truth, conditions, selections, category_ids, detections != nullptr);
   tbb::enumerable_thread_specific<Tally> tallies(
       [&] { return Tally(selections.size(), K, conditions); });
 
@@ -276,9 +276,8 @@ ImageMetrics EvaluateImages(const EvaluationTruth& truth,
   std::vector<ImageWork> batch;
   size_t next_detection = 0;
   const auto flush = [&] {
-    tbb::parallel_for(size_t{0}, batch.size(), [&](size_t i) {
-      evaluator.Evaluate(batch[i], &tallies.local());
-    });
+    tbb::parallel_for(
+        size_t{0}, batch.size(), [&](size_t i) { evaluator.Evaluate(batch[i], &tallies.local()); });
     batch.clear();
   };
   truth.ForEachImage([&](TruthImage&& image) {

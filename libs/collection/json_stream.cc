@@ -152,8 +152,8 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
   // refuse documents nested deeper than any lsds file before they are built.
   void CheckDepth() const {
     if (stack_.size() < static_cast<size_t>(kMaxNestingDepth)) return;
-    const bool in_element = target_ != nullptr && stack_.size() >= 2 &&
-                            (stack_[1] == target_ || stack_[0] == target_);
+    const bool in_element =
+        target_ != nullptr && stack_.size() >= 2 && (stack_[1] == target_ || stack_[0] == target_);
     const std::string pointer =
         in_element ? (target_key_.empty() ? "" : "/" + target_key_) + "/" + std::to_string(count)
                    : "";
@@ -223,11 +223,11 @@ size_t StreamJsonArrays(const std::filesystem::path& path,
   NulStopBuf cut(&file);
   std::istream in(&cut);
   size_t count = 0;
-  const JsonElementHandler counted = [&](const std::string& key, nlohmann::json&& element,
-                                         size_t index) {
-    ++count;
-    if (on_element) on_element(key, std::move(element), index);
-  };
+  const JsonElementHandler counted =
+      [&](const std::string& key, nlohmann::json&& element, size_t index) {
+        ++count;
+        if (on_element) on_element(key, std::move(element), index);
+      };
   ArrayMemberSax sax(array_keys, counted, path, in);
   const auto nul_error = [&] {
     return Error(NulByteMessage(cut.nul_offset()), TextLocationInFile(path, cut.nul_offset()));
@@ -245,7 +245,8 @@ size_t StreamJsonArrays(const std::filesystem::path& path,
   if (cut.stopped()) throw nul_error();
   nlohmann::json& root = sax.root;
   if (array_keys.empty()) {
-    if (!root.is_array()) throw Error("top level must be a JSON list", Location(path.string(), "/"));
+    if (!root.is_array())
+      throw Error("top level must be a JSON list", Location(path.string(), "/"));
     return count;
   }
   if (!root.is_object())

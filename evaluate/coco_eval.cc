@@ -7,6 +7,8 @@
 #include <numeric>
 #include <utility>
 
+#include "evaluate/dota_eval.h"
+
 namespace lsds::evaluate {
 
 namespace {
@@ -28,6 +30,12 @@ double BoxIou(const BoxXywh& d, const BoxXywh& g, bool crowd) {
   const double i = w * h;
   const double u = crowd ? da : da + ga - i;
   return i / u;
+}
+
+Quad QuadOf(const std::vector<double>& corners) {
+  Quad q{};
+  std::copy_n(corners.begin(), std::min(corners.size(), q.size()), q.begin());
+  return q;
 }
 
 // np.argsort(-scores, kind='mergesort') over `indices`: a stable sort, highest
@@ -124,9 +132,15 @@ std::vector<EvaluationCell> MakeCells(const GroundTruthBox* gts,
       for (size_t g = 0; g < cell.gts.size(); ++g) {
         const GroundTruthBox& gt = gts[cell.gts[g]];
         const DetectionBox& dt = detections[cell.dts[d]];
-        cell.ious[d * cell.gts.size() + g] = iou_type == IouType::kMask
-                                                 ? masks::CocoRleIou(dt.mask, gt.mask, gt.iscrowd)
-                                                 : BoxIou(dt.bbox, gt.bbox, gt.iscrowd);
+        double iou = 0;
+        if (iou_type == IouType::kMask) {
+          iou = masks::CocoRleIou(dt.mask, gt.mask, gt.iscrowd);
+        } else if (iou_type == IouType::kQuad) {
+          iou = QuadIou(QuadOf(gt.quad), QuadOf(dt.quad));
+        } else {
+          iou = BoxIou(dt.bbox, gt.bbox, gt.iscrowd);
+        }
+        cell.ious[d * cell.gts.size() + g] = iou;
       }
     }
     out.push_back(std::move(cell));
@@ -183,7 +197,7 @@ CellResult EvaluateCell(const EvaluationCell& cell,
   for (size_t g = 0; g < G; ++g) {
     const size_t index = cell.gts[g];
     crowd[g] = gts[index].iscrowd;
-    ignore[g] = crowd[g] || (selected_gt && !selected_gt(index));
+    ignore[g] = crowd[g] || gts[index].ignored || (selected_gt && !selected_gt(index));
   }
   std::vector<size_t> order(G);
   std::iota(order.begin(), order.end(), size_t{0});

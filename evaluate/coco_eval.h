@@ -22,8 +22,9 @@
 namespace lsds::evaluate {
 
 // COCOeval's iouType: "bbox" compares boxes (maskApi.c bbIou), "segm" masks
-// (rleIou, cocoeval.py:178-180).
-enum class IouType { kBox, kMask };
+// (rleIou, cocoeval.py:178-180); and lsds' "obb", oriented boxes compared by
+// the DOTA devkit's polygon IoU (QuadIou, dota_eval.h) under COCO's rules.
+enum class IouType { kBox, kMask, kQuad };
 
 // COCO's [x, y, width, height], pixel-edge.
 struct BoxXywh {
@@ -37,7 +38,11 @@ struct GroundTruthBox {
   BoxXywh bbox;
   double area = 0;  // the annotation's `area` (the mask pixel count from lsds convert)
   bool iscrowd = false;
-  masks::CocoRle mask;  // IouType::kMask only
+  // Counted by no selection, as a box outside the area range (a DOTA object
+  // marked difficult: docs/evaluate.md, "Oriented boxes").
+  bool ignored = false;
+  masks::CocoRle mask;       // IouType::kMask only
+  std::vector<double> quad;  // IouType::kQuad only: x1 y1 ... x4 y4, pixels
 };
 
 // One entry of a COCO results list. Its id is its position + 1 and its area
@@ -47,7 +52,8 @@ struct DetectionBox {
   int64_t category_id = 0;
   BoxXywh bbox;  // with a mask and no box given: the mask's (rleToBbox, coco.py:346-347)
   double score = 0;
-  masks::CocoRle mask;  // IouType::kMask only
+  masks::CocoRle mask;       // IouType::kMask only
+  std::vector<double> quad;  // IouType::kQuad only
   // COCO.loadRes's area when it is not w * h: a mask result file whose first
   // entry has no bbox gives every entry its mask's area (coco.py:341-345).
   std::optional<double> area;

@@ -51,9 +51,12 @@ void EvaluateOptions::Check() const {
     throw Error("oriented boxes are read from DOTA task-1 or YOLO OBB files: --format dota|yolo");
   if (iou_type == "segm" && format != "coco")
     throw Error("masks are read from COCO results files: --format coco with --iou-type segm");
-  if (ap != "voc07" && ap != "voc12") throw Error("--ap " + ap + ": expected voc07 or voc12");
-  if (iou_type == "obb" && (!fail_under.empty() || !suggest.empty()))
-    throw Error("--fail-under and --suggest work on COCO's metrics: not with --iou-type obb");
+  if (ap != "voc07" && ap != "voc12" && ap != "coco")
+    throw Error("--ap " + ap + ": expected voc07, voc12 or coco");
+  if (iou_type == "obb" && ap != "coco" && !fail_under.empty())
+    throw Error("--fail-under works on COCO's metrics: with --iou-type obb give --ap coco");
+  if (iou_type == "obb" && !suggest.empty())
+    throw Error("--suggest works on the strata of boxes and masks: not with --iou-type obb");
   if (predictions.empty() && iou_type != "bbox")
     throw Error("--iou-type needs --predictions (coverage compares nothing)");
   if (thin_below < 0) throw Error("--thin must be >= 0");
@@ -131,10 +134,24 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
             : ReadDotaResults(options.predictions, dota.class_names, dota.images);
     result.report.detections = static_cast<int64_t>(detections.size());
     result.report.iou_type = "obb";
-    result.report.dota = EvaluateDota(dota.class_names,
-                                      dota.objects,
-                                      detections,
-                                      options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
+    if (options.ap == "coco") {
+      // COCO's rules and numbers with the devkit's polygon IoU.
+      std::map<std::string, int64_t> image_ids;  // label file stem -> COCO image id
+      for (const auto& [name, id] : truth.image_by_file_name)
+        image_ids[std::filesystem::path(name).stem().string()] = id;
+      const CocoEvaluator evaluator(
+          DotaAsCoco(dota.class_names, dota.objects, detections, image_ids));
+      result.report.stats = evaluator.Stats();
+      result.report.all = evaluator.Accumulate(Selection{});
+      for (const std::string& t : options.fail_under)
+        result.report.thresholds.push_back(ParseThreshold(t));
+      result.thresholds_passed = CheckThresholds(*result.report.stats, &result.report.thresholds);
+    } else {
+      result.report.dota = EvaluateDota(dota.class_names,
+                                        dota.objects,
+                                        detections,
+                                        options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
+    }
     result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
     result.report = Evaluate(truth, ReadBoxPredictions(options, truth), options.thin_below);

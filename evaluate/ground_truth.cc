@@ -340,28 +340,6 @@ void HoldAnnotations(EvaluationTruth* truth) {
   truth->streamed_annotations = 0;
 }
 
-void ReadCocoGroundTruth(const json& coco,
-                         const std::string& file,
-                         EvaluationTruth* truth,
-                         bool masks) {
-  if (masks) truth->coco.iou_type = IouType::kMask;
-  AtPointer(file, "/images", [&] {
-    for (const json& image : coco.at("images")) ReadImageEntry(image, truth);
-  });
-  ReadCategories(coco, file, truth);
-  SortImageIds(truth);
-  AtPointer(file, "/annotations", [&] {
-    const json& annotations = coco.at("annotations");
-    for (size_t i = 0; i < annotations.size(); ++i) {
-      TruthImage one;
-      ReadAnnotationEntry(
-          annotations[i], file, "/annotations/" + std::to_string(i), *truth, masks, &one);
-      truth->coco.ground_truth.push_back(std::move(one.boxes.front()));
-      truth->objects.push_back(std::move(one.objects.front()));
-    }
-  });
-}
-
 EvaluationTruth StreamCocoGroundTruth(const fs::path& file,
                                       bool masks,
                                       std::shared_ptr<void> keep_alive) {

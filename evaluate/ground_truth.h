@@ -133,12 +133,4 @@ DotaTruth ReadDotaTruth(const TruthOptions& options);
 using MotSequences = std::map<std::string, std::vector<int64_t>>;
 MotSequences ReadMotSequences(const TruthOptions& options);
 
-// The COCO dataset JSON `lsds convert --to coco` writes (one split), read
-// into `truth` (images, categories, annotations and their `lsds` extras;
-// with `masks`, each annotation's segmentation as RLE and the iouType segm).
-void ReadCocoGroundTruth(const nlohmann::json& coco,
-                         const std::string& file,
-                         EvaluationTruth* truth,
-                         bool masks = false);
-
 }  // namespace lsds::evaluate

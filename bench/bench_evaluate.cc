@@ -31,6 +31,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench/null_sax.h"
 #include "bench/stopwatch.h"
 #include "evaluate/evaluate_run.h"
 #include "evaluate/predictions.h"
@@ -125,28 +126,10 @@ std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) 
 }
 
 // nlohmann's SAX parser over the file, building nothing: the floor of reading it.
-size_t ParseOnly(const fs::path& file) {
-  struct Count : nlohmann::json_sax<json> {
-    size_t objects = 0;
-    bool null() override { return true; }
-    bool boolean(bool) override { return true; }
-    bool number_integer(number_integer_t) override { return true; }
-    bool number_unsigned(number_unsigned_t) override { return true; }
-    bool number_float(number_float_t, const string_t&) override { return true; }
-    bool string(string_t&) override { return true; }
-    bool binary(binary_t&) override { return true; }
-    bool start_object(std::size_t) override { return ++objects > 0; }
-    bool key(string_t&) override { return true; }
-    bool end_object() override { return true; }
-    bool start_array(std::size_t) override { return true; }
-    bool end_array() override { return true; }
-    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
-      return false;
-    }
-  } sax;
+void ParseOnly(const fs::path& file) {
+  lsds::bench::NullSax sax;
   std::ifstream in(file, std::ios::binary);
   json::sax_parse(in, &sax);
-  return sax.objects;
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "libs/collection/frame_text_reader.h"
+#include "libs/collection/json_array_split.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/motion_layout.h"
@@ -37,11 +39,36 @@ CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
   CheckCollectionFolder(root_);
   const std::string file = collection_path().string();
   nlohmann::json header_json;
-  frames_in_file_ = StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
+  if (!ReadHeaderFast(&header_json)) {
+    // The DOM reader: it reports what the fast path did not take at its line
+    // and column, or reads it.
+    header_json = nlohmann::json();
+    frames_in_file_ = StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
+  }
   if (options_.validate_schema) {
     JsonSchema::Get("collection.schema.json").ValidateOrThrow(header_json, file);
   }
   header_ = HeaderFromJson(header_json, file);
+}
+
+bool CollectionReader::ReadHeaderFast(nlohmann::json* header_json) {
+  std::string header_text;
+  FrameTextReader frames;
+  size_t count = 0;
+  const bool split = SplitJsonArrayMember(
+      collection_path(),
+      "frames",
+      &header_text,
+      [&](std::string_view text, size_t) { return frames.IsWellFormed(text); },
+      &count);
+  if (!split) return false;
+  try {
+    *header_json = nlohmann::json::parse(header_text);
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+  frames_in_file_ = count;
+  return header_json->is_object();
 }
 
 void CollectionReader::ForEachFrameJson(
@@ -53,12 +80,49 @@ void CollectionReader::ForEachFrameJson(
 }
 
 void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn) const {
+  ForEachFrame(fn, FramePath::kFastWhereItFits);
+}
+
+void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn,
+                                    FramePath path) const {
   const std::string file = collection_path().string();
   const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
-  ForEachFrameJson([&](const nlohmann::json& json, const std::string& pointer) {
+  const auto read_dom = [&](const nlohmann::json& json, const std::string& pointer) {
     if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
     fn(FrameFromJson(json, file, pointer));
-  });
+  };
+  size_t done = 0;
+  if (path == FramePath::kFastWhereItFits) {
+    // Each frame's text read by simdjson into the Frame; a frame the fast path
+    // does not take is read the DOM way from its text.
+    FrameTextReader fast;
+    Frame frame;
+    const bool split = SplitJsonArrayMember(
+        collection_path(),
+        "frames",
+        nullptr,
+        [&](std::string_view text, size_t index) {
+          if (fast.Read(text, &frame)) {
+            fn(frame);
+            return true;
+          }
+          nlohmann::json json;
+          try {
+            json = nlohmann::json::parse(text);
+          } catch (const nlohmann::json::exception&) {
+            return false;  // the stream below reports it at its line and column
+          }
+          read_dom(json, "/frames/" + std::to_string(index));
+          return true;
+        },
+        &done);
+    if (split) return;
+  }
+  // The DOM stream, from the first frame not handed out yet.
+  StreamJsonArrayMember(
+      collection_path(), "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
+        if (index >= done) read_dom(json, "/frames/" + std::to_string(index));
+      });
 }
 
 void CollectionReader::ParallelForEachFrame(const std::function<void(const Frame&)>& fn,

@@ -31,8 +31,13 @@ class CollectionReader {
   size_t frames_in_file() const { return frames_in_file_; }
 
   // Frames in file order, one at a time. Each frame is schema-checked and
-  // parsed before `fn` sees it.
+  // parsed before `fn` sees it: by the fast path (frame_text_reader.h) where
+  // the frame fits it, else by the DOM path (schema, then FrameFromJson), the
+  // one that reports errors. Both give the same Frame.
   void ForEachFrame(const std::function<void(const Frame&)>& fn) const;
+  enum class FramePath { kFastWhereItFits, kDomOnly };
+  // The same with the path chosen (tests compare the two).
+  void ForEachFrame(const std::function<void(const Frame&)>& fn, FramePath path) const;
   // The raw JSON of each frame with its JSON pointer ("/frames/17"), for checks
   // on the text itself.
   void ForEachFrameJson(
@@ -58,6 +63,11 @@ class CollectionReader {
                                const std::vector<std::string>& channels) const;
 
  private:
+  // The header and the frame count by the fast split (json_array_split.h),
+  // every frame's syntax checked by simdjson; false when the file does not fit
+  // it (the DOM reader then reads or reports it).
+  bool ReadHeaderFast(nlohmann::json* header_json);
+
   std::filesystem::path root_;
   ReaderOptions options_;
   CollectionHeader header_;

@@ -1,5 +1,6 @@
 #include "libs/collection/collection_reader.h"
 
+#include <utility>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -39,36 +40,34 @@ CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
   CheckCollectionFolder(root_);
   const std::string file = collection_path().string();
   nlohmann::json header_json;
-  if (!ReadHeaderFast(&header_json)) {
-    // The DOM reader: it reports what the fast path did not take at its line
-    // and column, or reads it.
-    header_json = nlohmann::json();
-    frames_in_file_ = StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
-  }
+  frames_in_file_ = ReadCollectionHeader(collection_path(), &header_json);
   if (options_.validate_schema) {
     JsonSchema::Get("collection.schema.json").ValidateOrThrow(header_json, file);
   }
   header_ = HeaderFromJson(header_json, file);
 }
 
-bool CollectionReader::ReadHeaderFast(nlohmann::json* header_json) {
+size_t ReadCollectionHeader(const std::filesystem::path& path, nlohmann::json* header) {
   std::string header_text;
   FrameTextReader frames;
   size_t count = 0;
   const bool split = SplitJsonArrayMember(
-      collection_path(),
+      path,
       "frames",
       &header_text,
       [&](std::string_view text, size_t) { return frames.IsWellFormed(text); },
       &count);
-  if (!split) return false;
-  try {
-    *header_json = nlohmann::json::parse(header_text);
-  } catch (const nlohmann::json::exception&) {
-    return false;
+  if (split) {
+    try {
+      *header = nlohmann::json::parse(header_text);
+      if (header->is_object()) return count;
+    } catch (const nlohmann::json::exception&) {
+    }
   }
-  frames_in_file_ = count;
-  return header_json->is_object();
+  // The DOM stream: it reports what the fast path did not take at its line
+  // and column, or reads it.
+  *header = nlohmann::json();
+  return StreamJsonArrayMember(path, "frames", header, nullptr);
 }
 
 void CollectionReader::ForEachFrameJson(
@@ -87,23 +86,34 @@ void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn,
                                     FramePath path) const {
   const std::string file = collection_path().string();
   const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
-  const auto read_dom = [&](const nlohmann::json& json, const std::string& pointer) {
-    if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
-    fn(FrameFromJson(json, file, pointer));
-  };
+  StreamCollectionFrames(
+      collection_path(),
+      [&](Frame&& frame, size_t) { fn(frame); },
+      [&](nlohmann::json&& json, size_t index) {
+        const std::string pointer = "/frames/" + std::to_string(index);
+        if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
+        fn(FrameFromJson(json, file, pointer));
+      },
+      path);
+}
+
+void StreamCollectionFrames(const std::filesystem::path& path,
+                            const std::function<void(Frame&&, size_t)>& on_frame,
+                            const std::function<void(nlohmann::json&&, size_t)>& on_json,
+                            CollectionReader::FramePath frame_path) {
   size_t done = 0;
-  if (path == FramePath::kFastWhereItFits) {
+  if (frame_path == CollectionReader::FramePath::kFastWhereItFits) {
     // Each frame's text read by simdjson into the Frame; a frame the fast path
-    // does not take is read the DOM way from its text.
+    // does not take is parsed from its text for the DOM path.
     FrameTextReader fast;
     Frame frame;
     const bool split = SplitJsonArrayMember(
-        collection_path(),
+        path,
         "frames",
         nullptr,
         [&](std::string_view text, size_t index) {
           if (fast.Read(text, &frame)) {
-            fn(frame);
+            on_frame(std::move(frame), index);
             return true;
           }
           nlohmann::json json;
@@ -112,17 +122,16 @@ void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn,
           } catch (const nlohmann::json::exception&) {
             return false;  // the stream below reports it at its line and column
           }
-          read_dom(json, "/frames/" + std::to_string(index));
+          on_json(std::move(json), index);
           return true;
         },
         &done);
     if (split) return;
   }
   // The DOM stream, from the first frame not handed out yet.
-  StreamJsonArrayMember(
-      collection_path(), "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
-        if (index >= done) read_dom(json, "/frames/" + std::to_string(index));
-      });
+  StreamJsonArrayMember(path, "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
+    if (index >= done) on_json(std::move(json), index);
+  });
 }
 
 void CollectionReader::ParallelForEachFrame(const std::function<void(const Frame&)>& fn,

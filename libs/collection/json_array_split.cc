@@ -9,6 +9,10 @@
 
 #include "libs/util/limits.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace lsds {
 
 namespace {
@@ -24,6 +28,55 @@ constexpr std::array<bool, 256> ElementStops() {
 }
 constexpr std::array<bool, 256> kElementStops = ElementStops();
 
+// The first byte from `i` on (or `end`) that is a quote or a bracket: inside
+// an element nothing else moves the split. 16 bytes at a time where SSE2 is
+// there (every x86-64).
+size_t NextElementStop(const char* text, size_t i, size_t end) {
+#if defined(__SSE2__)
+  const __m128i quote = _mm_set1_epi8('"');
+  const __m128i open_brace = _mm_set1_epi8('{');
+  const __m128i close_brace = _mm_set1_epi8('}');
+  const __m128i open_bracket = _mm_set1_epi8('[');
+  const __m128i close_bracket = _mm_set1_epi8(']');
+  for (; i + 16 <= end; i += 16) {
+    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(text + i));
+    const __m128i stops = _mm_or_si128(
+        _mm_or_si128(_mm_cmpeq_epi8(bytes, quote), _mm_cmpeq_epi8(bytes, open_brace)),
+        _mm_or_si128(
+            _mm_or_si128(_mm_cmpeq_epi8(bytes, close_brace), _mm_cmpeq_epi8(bytes, open_bracket)),
+            _mm_cmpeq_epi8(bytes, close_bracket)));
+    const int mask = _mm_movemask_epi8(stops);
+    if (mask != 0) return i + static_cast<size_t>(__builtin_ctz(static_cast<unsigned>(mask)));
+  }
+#endif
+  while (i < end && !kElementStops[static_cast<uint8_t>(text[i])]) ++i;
+  return i;
+}
+
+// The first byte from `i` on (or `end`) that ends a plain run of string
+// bytes: a quote, a backslash or a control character.
+size_t NextStringStop(const char* text, size_t i, size_t end) {
+#if defined(__SSE2__)
+  const __m128i quote = _mm_set1_epi8('"');
+  const __m128i backslash = _mm_set1_epi8('\\');
+  const __m128i last_control = _mm_set1_epi8(0x1f);
+  for (; i + 16 <= end; i += 16) {
+    const __m128i bytes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(text + i));
+    const __m128i control = _mm_cmpeq_epi8(_mm_max_epu8(bytes, last_control), last_control);
+    const __m128i stops = _mm_or_si128(
+        _mm_or_si128(_mm_cmpeq_epi8(bytes, quote), _mm_cmpeq_epi8(bytes, backslash)), control);
+    const int mask = _mm_movemask_epi8(stops);
+    if (mask != 0) return i + static_cast<size_t>(__builtin_ctz(static_cast<unsigned>(mask)));
+  }
+#endif
+  while (i < end) {
+    const auto c = static_cast<uint8_t>(text[i]);
+    if (c == '"' || c == '\\' || c < 0x20) break;
+    ++i;
+  }
+  return i;
+}
+
 // Nesting deeper than this is left to the DOM reader, which refuses documents
 // nested deeper than kMaxNestingDepth with its own message.
 constexpr size_t kMaxSplitDepth = kMaxNestingDepth / 2;
@@ -38,6 +91,8 @@ bool SplitJsonArrayMember(
     size_t* elements_done) {
   size_t done = 0;
   if (elements_done != nullptr) *elements_done = 0;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return false;  // no FIFO: it could block
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                        &std::fclose);
   if (file == nullptr) return false;
@@ -99,8 +154,11 @@ bool SplitJsonArrayMember(
 
   for (;;) {
     if (i == end && !refill()) break;
-    if (in_element && !in_string) {
-      while (i < end && !kElementStops[static_cast<uint8_t>(buffer[i])]) ++i;
+    if (in_string && !escaped && !in_key) {
+      i = NextStringStop(buffer.data(), i, end);
+      if (i == end) continue;
+    } else if (in_element && !in_string) {
+      i = NextElementStop(buffer.data(), i, end);
       if (i == end) continue;
     }
     const auto c = static_cast<uint8_t>(buffer[i]);

@@ -81,190 +81,238 @@ size_t NextStringStop(const char* text, size_t i, size_t end) {
 // nested deeper than kMaxNestingDepth with its own message.
 constexpr size_t kMaxSplitDepth = kMaxNestingDepth / 2;
 
+using OnElement = std::function<bool(std::string_view element, size_t index)>;
+
+// One pass over the file: the state of the scan between bytes. Every method
+// returning bool returns false for "not the fast path's layout".
+class ArraySplitter {
+ public:
+  ArraySplitter(std::FILE* file,
+                std::string_view array_key,
+                std::string* header_text,
+                const OnElement& on_element,
+                size_t* elements_done)
+      : file_(file),
+        array_key_(array_key),
+        header_text_(header_text),
+        on_element_(on_element),
+        elements_done_(elements_done),
+        buffer_(kBlockBytes + kElementTextPadding) {}
+
+  bool Run() {
+    for (;;) {
+      if (i_ == end_ && !Refill()) break;
+      if (in_string_ && !escaped_ && !in_key_) {
+        i_ = NextStringStop(buffer_.data(), i_, end_);
+        if (i_ == end_) continue;
+      } else if (in_element_ && !in_string_) {
+        i_ = NextElementStop(buffer_.data(), i_, end_);
+        if (i_ == end_) continue;
+      }
+      const auto c = static_cast<uint8_t>(buffer_[i_]);
+      if (!(in_string_ ? StringByte(c) : Structural(c))) return false;
+      ++i_;
+    }
+    if (nul_ || !root_closed_ || !array_seen_) return false;
+    AppendHeader(end_);
+    return true;
+  }
+
+ private:
+  // More bytes after end_, keeping the element being split; false at the end
+  // of the file (or at a NUL byte, which the DOM reader reports).
+  bool Refill() {
+    if (at_eof_) return false;
+    if (copying_header_) AppendHeader(end_);
+    const size_t keep = in_element_ ? element_start_ : end_;
+    const size_t kept = end_ - keep;
+    std::memmove(buffer_.data(), buffer_.data() + keep, kept);
+    element_start_ -= in_element_ ? keep : 0;
+    header_from_ = 0;
+    i_ -= keep;
+    end_ = kept;
+    if (buffer_.size() - kElementTextPadding - end_ < kBlockBytes / 2) {
+      buffer_.resize(2 * buffer_.size());  // an element larger than a block
+    }
+    const size_t got =
+        std::fread(buffer_.data() + end_, 1, buffer_.size() - kElementTextPadding - end_, file_);
+    if (got == 0 || std::memchr(buffer_.data() + end_, '\0', got) != nullptr) {
+      nul_ = got != 0;
+      at_eof_ = true;
+      return false;
+    }
+    end_ += got;
+    return true;
+  }
+
+  void AppendHeader(size_t to) {
+    if (header_text_ != nullptr)
+      header_text_->append(buffer_.data() + header_from_, to - header_from_);
+    header_from_ = to;
+  }
+
+  bool AtArrayLevel() const { return in_array_ && stack_.size() == 2; }
+
+  bool StringByte(uint8_t c) {
+    if (c < 0x20) return false;  // a raw control character: the DOM reader reports it
+    if (escaped_) {
+      escaped_ = false;
+    } else if (c == '\\') {
+      escaped_ = true;
+      key_has_escape_ = key_has_escape_ || in_key_;
+    } else if (c == '"') {
+      in_string_ = false;
+      return !in_key_ || KeyEnd();
+    } else if (in_key_) {
+      key_.push_back(static_cast<char>(c));
+    }
+    return true;
+  }
+
+  bool KeyEnd() {
+    in_key_ = false;
+    if (key_has_escape_) return false;
+    if (key_ != array_key_) return true;
+    if (array_seen_) return false;
+    array_seen_ = true;
+    array_key_state_ = 1;
+    return true;
+  }
+
+  bool Structural(uint8_t c) {
+    switch (c) {
+      case ' ':
+      case '\t':
+      case '\n':
+      case '\r':
+        return true;
+      case '"':
+        return Quote();
+      case '{':
+      case '[':
+        return Open(c);
+      case '}':
+      case ']':
+        return Close(c);
+      case ',':
+        return Comma();
+      case ':':
+        if (stack_.empty()) return false;
+        if (stack_.size() == 1 && array_key_state_ == 1) array_key_state_ = 2;
+        return true;
+      default:  // a number or literal: never the array nor an element
+        return !(stack_.empty() || AtArrayLevel() || array_key_state_ == 2);
+    }
+  }
+
+  bool Quote() {
+    if (stack_.empty() || AtArrayLevel() || array_key_state_ == 2) return false;
+    in_string_ = true;
+    if (stack_.size() == 1 && key_expected_) {
+      in_key_ = true;
+      key_.clear();
+      key_has_escape_ = false;
+      key_expected_ = false;
+    }
+    return true;
+  }
+
+  bool Open(uint8_t c) {
+    if (root_closed_ || (stack_.empty() && c != '{')) return false;
+    if (array_key_state_ == 2) {
+      if (c != '[' || stack_.size() != 1) return false;
+      array_key_state_ = 0;
+      in_array_ = true;
+      element_expected_ = true;
+      AppendHeader(i_ + 1);
+      copying_header_ = false;
+    } else if (AtArrayLevel()) {
+      if (c != '{' || !element_expected_) return false;
+      element_expected_ = false;
+      in_element_ = true;
+      element_start_ = i_;
+    }
+    stack_.push_back(static_cast<char>(c));
+    if (stack_.size() > kMaxSplitDepth) return false;
+    if (c == '{' && stack_.size() == 1) key_expected_ = true;
+    return true;
+  }
+
+  bool Close(uint8_t c) {
+    if (stack_.empty() || stack_.back() != (c == '}' ? '{' : '[')) return false;
+    if (AtArrayLevel()) {  // the array closes
+      if (element_expected_ && done_ > 0) return false;
+      in_array_ = false;
+      copying_header_ = true;
+      header_from_ = i_;
+    }
+    stack_.pop_back();
+    if (in_element_ && stack_.size() == 2) {
+      in_element_ = false;
+      const std::string_view element(buffer_.data() + element_start_, i_ + 1 - element_start_);
+      if (!on_element_(element, done_)) return false;
+      ++done_;
+      if (elements_done_ != nullptr) *elements_done_ = done_;
+    }
+    root_closed_ = stack_.empty();
+    return true;
+  }
+
+  bool Comma() {
+    if (stack_.empty()) return false;
+    if (stack_.size() == 1) {
+      key_expected_ = true;
+    } else if (AtArrayLevel()) {
+      if (element_expected_) return false;
+      element_expected_ = true;
+    }
+    return true;
+  }
+
+  std::FILE* file_;
+  std::string_view array_key_;
+  std::string* header_text_;
+  const OnElement& on_element_;
+  size_t* elements_done_;
+  std::vector<char> buffer_;
+  size_t end_ = 0;  // bytes of the file in buffer_
+  size_t i_ = 0;    // the byte being scanned
+  bool at_eof_ = false;
+  bool nul_ = false;
+  bool copying_header_ = true;
+  size_t header_from_ = 0;  // header bytes from here to i_ are not copied yet
+  bool in_element_ = false;
+  size_t element_start_ = 0;
+  size_t done_ = 0;
+  std::vector<char> stack_;  // '{' or '[' of every open container
+  bool in_array_ = false;    // inside the root's array_key array
+  bool array_seen_ = false;
+  int array_key_state_ = 0;  // 1: its key was read, 2: its ':' too (the array comes next)
+  bool element_expected_ = false;
+  bool key_expected_ = false;  // the next string of the root object is a key
+  bool in_string_ = false;
+  bool escaped_ = false;
+  bool in_key_ = false;
+  bool key_has_escape_ = false;
+  std::string key_;
+  bool root_closed_ = false;
+};
+
 }  // namespace
 
-bool SplitJsonArrayMember(
-    const std::filesystem::path& path,
-    std::string_view array_key,
-    std::string* header_text,
-    const std::function<bool(std::string_view element, size_t index)>& on_element,
-    size_t* elements_done) {
-  size_t done = 0;
+bool SplitJsonArrayMember(const std::filesystem::path& path,
+                          std::string_view array_key,
+                          std::string* header_text,
+                          const OnElement& on_element,
+                          size_t* elements_done) {
   if (elements_done != nullptr) *elements_done = 0;
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) return false;  // no FIFO: it could block
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                        &std::fclose);
   if (file == nullptr) return false;
-
-  std::vector<char> buffer(kBlockBytes + kElementTextPadding);
-  size_t end = 0;  // bytes of the file in buffer
-  size_t i = 0;    // the byte being scanned
-  bool copying_header = true;
-  size_t header_from = 0;  // header bytes from here to i are not copied yet
-  bool in_element = false;
-  size_t element_start = 0;
-  bool at_eof = false;
-  bool nul = false;
-
-  // More bytes after `end`, keeping the element being split; false at the end
-  // of the file (or at a NUL byte, which the DOM reader reports).
-  const auto refill = [&]() -> bool {
-    if (at_eof) return false;
-    if (copying_header && header_text != nullptr)
-      header_text->append(buffer.data() + header_from, end - header_from);
-    const size_t keep = in_element ? element_start : end;
-    const size_t kept = end - keep;
-    std::memmove(buffer.data(), buffer.data() + keep, kept);
-    element_start -= in_element ? keep : 0;
-    header_from = 0;
-    i -= keep;
-    end = kept;
-    if (buffer.size() - kElementTextPadding - end < kBlockBytes / 2) {
-      buffer.resize(2 * buffer.size());  // an element larger than a block
-    }
-    const size_t got =
-        std::fread(buffer.data() + end, 1, buffer.size() - kElementTextPadding - end, file.get());
-    if (got == 0) {
-      at_eof = true;
-      return false;
-    }
-    if (std::memchr(buffer.data() + end, '\0', got) != nullptr) {
-      nul = true;
-      at_eof = true;
-      return false;
-    }
-    end += got;
-    return true;
-  };
-
-  std::vector<char> stack;  // '{' or '[' of every open container
-  bool in_array = false;    // inside the root's array_key array
-  bool array_seen = false;
-  int array_key_state = 0;  // 1: its key was read, 2: its ':' too (the array comes next)
-  bool element_expected = false;
-  bool key_expected = false;  // the next string of the root object is a key
-  bool in_string = false;
-  bool escaped = false;
-  bool in_key = false;
-  bool key_has_escape = false;
-  std::string key;
-  bool root_closed = false;
-  const auto at_array_level = [&] { return in_array && stack.size() == 2; };
-
-  for (;;) {
-    if (i == end && !refill()) break;
-    if (in_string && !escaped && !in_key) {
-      i = NextStringStop(buffer.data(), i, end);
-      if (i == end) continue;
-    } else if (in_element && !in_string) {
-      i = NextElementStop(buffer.data(), i, end);
-      if (i == end) continue;
-    }
-    const auto c = static_cast<uint8_t>(buffer[i]);
-    if (in_string) {
-      if (c < 0x20) return false;  // a raw control character: the DOM reader reports it
-      if (escaped) {
-        escaped = false;
-      } else if (c == '\\') {
-        escaped = true;
-        key_has_escape = key_has_escape || in_key;
-      } else if (c == '"') {
-        in_string = false;
-        if (in_key) {
-          in_key = false;
-          if (key_has_escape) return false;
-          if (key == array_key) {
-            if (array_seen) return false;
-            array_seen = true;
-            array_key_state = 1;
-          }
-        }
-      } else if (in_key) {
-        key.push_back(static_cast<char>(c));
-      }
-      ++i;
-      continue;
-    }
-    switch (c) {
-      case ' ':
-      case '\t':
-      case '\n':
-      case '\r':
-        break;
-      case '"':
-        if (stack.empty() || at_array_level() || array_key_state == 2) return false;
-        in_string = true;
-        if (stack.size() == 1 && key_expected) {
-          in_key = true;
-          key.clear();
-          key_has_escape = false;
-          key_expected = false;
-        }
-        break;
-      case '{':
-      case '[':
-        if (root_closed || (stack.empty() && c != '{')) return false;
-        if (array_key_state == 2) {
-          if (c != '[' || stack.size() != 1) return false;
-          array_key_state = 0;
-          in_array = true;
-          element_expected = true;
-          if (header_text != nullptr)
-            header_text->append(buffer.data() + header_from, i + 1 - header_from);
-          copying_header = false;
-        } else if (at_array_level()) {
-          if (c != '{' || !element_expected) return false;
-          element_expected = false;
-          in_element = true;
-          element_start = i;
-        }
-        stack.push_back(static_cast<char>(c));
-        if (stack.size() > kMaxSplitDepth) return false;
-        if (c == '{' && stack.size() == 1) key_expected = true;
-        break;
-      case '}':
-      case ']':
-        if (stack.empty() || stack.back() != (c == '}' ? '{' : '[')) return false;
-        if (at_array_level()) {  // the array closes
-          if (element_expected && done > 0) return false;
-          in_array = false;
-          copying_header = true;
-          header_from = i;
-        }
-        stack.pop_back();
-        if (in_element && stack.size() == 2) {
-          in_element = false;
-          if (!on_element(std::string_view(buffer.data() + element_start, i + 1 - element_start),
-                          done))
-            return false;
-          ++done;
-          if (elements_done != nullptr) *elements_done = done;
-        }
-        root_closed = stack.empty();
-        break;
-      case ',':
-        if (stack.empty()) return false;
-        if (stack.size() == 1) {
-          key_expected = true;
-        } else if (at_array_level()) {
-          if (element_expected) return false;
-          element_expected = true;
-        }
-        break;
-      case ':':
-        if (stack.empty()) return false;
-        if (stack.size() == 1 && array_key_state == 1) array_key_state = 2;
-        break;
-      default:  // a number or literal: never the array nor an element
-        if (stack.empty() || at_array_level() || array_key_state == 2) return false;
-        break;
-    }
-    ++i;
-  }
-  if (nul || !root_closed || !array_seen) return false;
-  if (header_text != nullptr) header_text->append(buffer.data() + header_from, end - header_from);
-  return true;
+  ArraySplitter splitter(file.get(), array_key, header_text, on_element, elements_done);
+  return splitter.Run();
 }
 
 }  // namespace lsds

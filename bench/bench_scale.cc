@@ -9,9 +9,11 @@
 // files (the page cache serves them: what is measured is the per-frame work
 // of the command, not the disk). metadata.json repeats its frame likewise.
 //
-// The floor: one streaming parse of the same collection.json with nlohmann's
-// SAX parser and no handler work, the least any reader of the file does; the
-// ratio is the command's time over it.
+// The floors: simdjson's On-Demand API visiting every value of the same
+// collection.json (the whole file in memory; the fastest reading of the
+// bytes), and beside it one streaming parse with nlohmann's SAX parser and no
+// handler work. The ratio is the command's CPU time over the simdjson floor
+// ("ratio"), and over nlohmann's ("ratio nl").
 //
 //   bench_scale [--sizes 10000,100000] (the issue-sized run: --sizes 10000,100000,1000000)
 //               [--commands info,validate,convert]
@@ -29,11 +31,13 @@
 #include <string>
 #include <vector>
 
+#include <simdjson.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bench/child_process.h"
 #include "bench/null_sax.h"
+#include "libs/collection/frame_text_reader.h"
 #include "tests/build_paths.h"
 
 namespace fs = std::filesystem;
@@ -50,6 +54,17 @@ double ParseFloor(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   lsds::bench::NullSax sax;
   json::sax_parse(in, &sax);
+  return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+}
+
+// CPU seconds of simdjson reading every value of the file (loading it
+// included).
+double SimdjsonFloor(const fs::path& file) {
+  const std::clock_t start = std::clock();
+  simdjson::padded_string text;
+  if (simdjson::padded_string::load(file.string()).get(text) != simdjson::SUCCESS) return -1;
+  lsds::FrameTextReader reader;
+  if (!reader.IsWellFormed(std::string_view(text.data(), text.size()))) return -1;
   return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
 }
 
@@ -114,7 +129,7 @@ int main(int argc, char** argv) {
   }
   // CPU seconds too: on a shared machine the wall time says more about the
   // other processes than about lsds.
-  std::printf("%-9s %9s %9s %9s %11s %10s %9s %9s %6s\n",
+  std::printf("%-9s %9s %9s %9s %11s %10s %9s %7s %9s %8s %6s\n",
               "command",
               "frames",
               "wall s",
@@ -123,11 +138,14 @@ int main(int argc, char** argv) {
               "peak MiB",
               "floor s",
               "ratio",
+              "floor nl",
+              "ratio nl",
               "exit");
   for (int64_t n : sizes) {
     const fs::path collection = fs::path(work) / ("C" + std::to_string(n));
     WriteScaled(templ, collection, n);
-    const double floor = ParseFloor(collection / "collection.json");
+    const double floor = SimdjsonFloor(collection / "collection.json");
+    const double floor_nlohmann = ParseFloor(collection / "collection.json");
     for (const std::string& command : commands) {
       std::vector<std::string> args = {lsds, command, collection.string()};
       if (command == "validate") {
@@ -140,7 +158,7 @@ int main(int argc, char** argv) {
       const ChildRun run = RunChild(args);
       // frames/s and the ratio to the floor by CPU time (both sides single
       // threaded where the command is).
-      std::printf("%-9s %9lld %9.2f %9.2f %11.0f %10.1f %9.3f %9.1f %6d\n",
+      std::printf("%-9s %9lld %9.2f %9.2f %11.0f %10.1f %9.3f %7.1f %9.3f %8.1f %6d\n",
                   command.c_str(),
                   static_cast<long long>(n),
                   run.seconds,
@@ -149,6 +167,8 @@ int main(int argc, char** argv) {
                   run.peak_mib,
                   floor,
                   run.cpu_seconds / floor,
+                  floor_nlohmann,
+                  run.cpu_seconds / floor_nlohmann,
                   run.exit_code);
       std::fflush(stdout);
     }

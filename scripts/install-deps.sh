@@ -12,6 +12,7 @@ packages=(
   libopencv-dev                     # images, contours
   libeigen3-dev                     # geometry
   nlohmann-json3-dev                # JSON I/O
+  libsimdjson-dev                   # collection.json frames read on demand (libs/collection)
   libvalijson-dev                   # JSON Schema validation
   libcli11-dev                      # command line
   libpcl-dev                        # point clouds

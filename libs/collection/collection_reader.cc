@@ -1,9 +1,12 @@
 #include "libs/collection/collection_reader.h"
 
+#include <utility>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
+#include "libs/collection/frame_text_reader.h"
+#include "libs/collection/json_array_split.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/motion_layout.h"
@@ -37,11 +40,34 @@ CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
   CheckCollectionFolder(root_);
   const std::string file = collection_path().string();
   nlohmann::json header_json;
-  frames_in_file_ = StreamJsonArrayMember(collection_path(), "frames", &header_json, nullptr);
+  frames_in_file_ = ReadCollectionHeader(collection_path(), &header_json);
   if (options_.validate_schema) {
     JsonSchema::Get("collection.schema.json").ValidateOrThrow(header_json, file);
   }
   header_ = HeaderFromJson(header_json, file);
+}
+
+size_t ReadCollectionHeader(const std::filesystem::path& path, nlohmann::json* header) {
+  std::string header_text;
+  FrameTextReader frames;
+  size_t count = 0;
+  const bool split = SplitJsonArrayMember(
+      path,
+      "frames",
+      &header_text,
+      [&](std::string_view text, size_t) { return frames.IsWellFormed(text); },
+      &count);
+  if (split) {
+    try {
+      *header = nlohmann::json::parse(header_text);
+      if (header->is_object()) return count;
+    } catch (const nlohmann::json::exception&) {
+    }
+  }
+  // The DOM stream: it reports what the fast path did not take at its line
+  // and column, or reads it.
+  *header = nlohmann::json();
+  return StreamJsonArrayMember(path, "frames", header, nullptr);
 }
 
 void CollectionReader::ForEachFrameJson(
@@ -53,11 +79,58 @@ void CollectionReader::ForEachFrameJson(
 }
 
 void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn) const {
+  ForEachFrame(fn, FramePath::kFastWhereItFits);
+}
+
+void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn,
+                                    FramePath path) const {
   const std::string file = collection_path().string();
   const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
-  ForEachFrameJson([&](const nlohmann::json& json, const std::string& pointer) {
-    if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
-    fn(FrameFromJson(json, file, pointer));
+  StreamCollectionFrames(
+      collection_path(),
+      [&](Frame&& frame, size_t) { fn(frame); },
+      [&](nlohmann::json&& json, size_t index) {
+        const std::string pointer = "/frames/" + std::to_string(index);
+        if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
+        fn(FrameFromJson(json, file, pointer));
+      },
+      path);
+}
+
+void StreamCollectionFrames(const std::filesystem::path& path,
+                            const std::function<void(Frame&&, size_t)>& on_frame,
+                            const std::function<void(nlohmann::json&&, size_t)>& on_json,
+                            CollectionReader::FramePath frame_path) {
+  size_t done = 0;
+  if (frame_path == CollectionReader::FramePath::kFastWhereItFits) {
+    // Each frame's text read by simdjson into the Frame; a frame the fast path
+    // does not take is parsed from its text for the DOM path.
+    FrameTextReader fast;
+    Frame frame;
+    const bool split = SplitJsonArrayMember(
+        path,
+        "frames",
+        nullptr,
+        [&](std::string_view text, size_t index) {
+          if (fast.Read(text, &frame)) {
+            on_frame(std::move(frame), index);
+            return true;
+          }
+          nlohmann::json json;
+          try {
+            json = nlohmann::json::parse(text);
+          } catch (const nlohmann::json::exception&) {
+            return false;  // the stream below reports it at its line and column
+          }
+          on_json(std::move(json), index);
+          return true;
+        },
+        &done);
+    if (split) return;
+  }
+  // The DOM stream, from the first frame not handed out yet.
+  StreamJsonArrayMember(path, "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
+    if (index >= done) on_json(std::move(json), index);
   });
 }
 

@@ -31,8 +31,13 @@ class CollectionReader {
   size_t frames_in_file() const { return frames_in_file_; }
 
   // Frames in file order, one at a time. Each frame is schema-checked and
-  // parsed before `fn` sees it.
+  // parsed before `fn` sees it: by the fast path (frame_text_reader.h) where
+  // the frame fits it, else by the DOM path (schema, then FrameFromJson), the
+  // one that reports errors. Both give the same Frame.
   void ForEachFrame(const std::function<void(const Frame&)>& fn) const;
+  enum class FramePath { kFastWhereItFits, kDomOnly };
+  // The same with the path chosen (tests compare the two).
+  void ForEachFrame(const std::function<void(const Frame&)>& fn, FramePath path) const;
   // The raw JSON of each frame with its JSON pointer ("/frames/17"), for checks
   // on the text itself.
   void ForEachFrameJson(
@@ -63,6 +68,27 @@ class CollectionReader {
   CollectionHeader header_;
   size_t frames_in_file_ = 0;
 };
+
+// The members of the collection.json at `path` but its frames (left an empty
+// array) into `*header`, and the number of frames: what StreamJsonArrayMember
+// gives, by the fast split (json_array_split.h) with every frame's syntax
+// checked by simdjson; a file that does not fit it goes to
+// StreamJsonArrayMember itself, which reads it or reports what is wrong at its
+// line and column.
+size_t ReadCollectionHeader(const std::filesystem::path& path, nlohmann::json* header);
+
+// The frames of the collection.json at `path` in file order, one at a time:
+// each frame the fast path takes (frame_text_reader.h: what the frame schema
+// and FrameFromJson check, done in code) to `on_frame`, read; every other one
+// to `on_json` as nlohmann's DOM, for the schema and FrameFromJson, which
+// report it. A syntax error throws lsds::Error at its line:column (the DOM
+// stream's message), after the frames before it were handed out.
+// CollectionReader::ForEachFrame and `lsds validate` read frames through it.
+void StreamCollectionFrames(
+    const std::filesystem::path& path,
+    const std::function<void(Frame&&, size_t index)>& on_frame,
+    const std::function<void(nlohmann::json&&, size_t index)>& on_json,
+    CollectionReader::FramePath frame_path = CollectionReader::FramePath::kFastWhereItFits);
 
 // Throws lsds::Error naming `path`, the frame and the layer unless the layer is
 // width x height, the size of the frame's camera.

@@ -102,7 +102,8 @@ def add_fog(material):
     by a camera ray at distance d, the surface's radiance L becomes
     L * exp(-extinction * d) + fog_radiance * (1 - exp(-extinction * d)), Koschmieder's model,
     as a mix of its BSDF with an emission of the fog's radiance. Lighting rays see the plain BSDF,
-    as the reference renderer's shadow and sky rays see no fog. Returns the nodes set per frame."""
+    as the reference renderer's shadow and sky rays see no fog. Returns the nodes set per frame
+    (set_material_fog)."""
     nodes, links = material.node_tree.nodes, material.node_tree.links
     output = nodes["Material Output"]
     bsdf = output.inputs["Surface"].links[0].from_node
@@ -129,7 +130,19 @@ def add_fog(material):
     links.new(bsdf.outputs[0], mix.inputs[1])
     links.new(emission.outputs[0], mix.inputs[2])
     links.new(mix.outputs[0], output.inputs["Surface"])
-    return optical_depth, emission
+    return {"tree": material.node_tree, "bsdf": bsdf, "mix": mix, "output": output,
+            "optical_depth": optical_depth, "emission": emission, "foggy": True}
+
+
+def set_material_fog(fog_nodes, extinction, radiance):
+    """Clear air links the BSDF straight to the output: no fog nodes for Cycles to evaluate."""
+    fog_nodes["optical_depth"].inputs[1].default_value = -extinction
+    fog_nodes["emission"].inputs["Color"].default_value = tuple(radiance) + (1.0,)
+    foggy = extinction > 0
+    if foggy != fog_nodes["foggy"]:
+        source = fog_nodes["mix"] if foggy else fog_nodes["bsdf"]
+        fog_nodes["tree"].links.new(source.outputs[0], fog_nodes["output"].inputs["Surface"])
+        fog_nodes["foggy"] = foggy
 
 
 class Materials:
@@ -145,9 +158,8 @@ class Materials:
         """The frame's fog (its `atmosphere`; absent in exports before it had fog_radiance)."""
         self.fog = {"extinction_per_m": atmosphere.get("extinction_per_m", 0.0),
                     "fog_radiance": atmosphere.get("fog_radiance", [0.0, 0.0, 0.0])}
-        for optical_depth, emission in self.fog_nodes:
-            optical_depth.inputs[1].default_value = -self.fog["extinction_per_m"]
-            emission.inputs["Color"].default_value = tuple(self.fog["fog_radiance"]) + (1.0,)
+        for fog_nodes in self.fog_nodes:
+            set_material_fog(fog_nodes, self.fog["extinction_per_m"], self.fog["fog_radiance"])
 
     def get(self, spec):
         key = json.dumps(spec, sort_keys=True)

@@ -1,22 +1,28 @@
 // Benchmark of `lsds evaluate` (docs/evaluate.md) on a large synthetic prediction set: N images of
 // 15 ground-truth boxes in 3 classes, each found with probability 0.9 (its box moved by 5 %, a
-// random score) plus 10 random false positives per image. Prints the time to read the
-// predictions (ParseCocoPredictions), to compute COCOeval's 12 numbers (CocoEvaluator: IoUs,
-// evaluateImg, accumulate for the four area ranges) and the whole report (the 12 numbers plus
-// every stratum of every condition), against the floor: parsing the same JSON text with
-// nlohmann alone, which any evaluator of the file does.
+// random score) plus 10 random false positives per image. The ground truth is written as the
+// COCO dataset `lsds convert --to coco` writes (with its `lsds` extras: visibility, in_frame, the
+// object's 3D box centre), the predictions as a COCO results file, both straight to disk, and
+// `lsds evaluate` reads them as it reads a collection's: the ground truth image by image from
+// the dataset file (StreamCocoGroundTruth), the results file entry by entry (ReadCocoPredictions).
 //
-// --write DIR also writes DIR/gt_N.json (a COCO dataset) and DIR/dt_N.json (the results) for a
-// peer: pycocotools' COCOeval on the same data (bench/README.md, "lsds evaluate").
+// Printed per size: the floor, parsing the results file with nlohmann's SAX parser and nothing
+// else (what any evaluator of the file does); read_s, reading and checking every entry; truth_s,
+// the dataset's image and category tables; coco_s, COCOeval's 12 numbers; report_s, the whole
+// report (the 12 numbers plus every stratum of every condition); the ratio (read + truth +
+// report) / floor; the process's peak resident memory (getrusage ru_maxrss, so run one size per
+// process to see each size's own peak), that peak per image, and the detections' share: the
+// bytes of the DetectionBox array read from the user's file.
 //
-// The last columns are the process's peak resident memory so far (getrusage ru_maxrss) and that
-// peak per image: run one size per process to see each size's own peak.
+// --write DIR keeps the files (DIR/gt_N.json, DIR/dt_N.json) for a peer: pycocotools' COCOeval on
+// the same data (bench/README.md, "lsds evaluate"); without it they go to a scratch folder.
 //
 //   bench_evaluate [--images 2000,10000] [--write DIR]
+#include <stdlib.h>
 #include <sys/resource.h>
 
-#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <string>
@@ -25,15 +31,19 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench/null_sax.h"
 #include "bench/stopwatch.h"
 #include "evaluate/evaluate_run.h"
 #include "evaluate/predictions.h"
+#include "evaluate/strata.h"
 
 namespace {
 
+namespace fs = std::filesystem;
 using namespace lsds::evaluate;
 using lsds::bench::Clock;
 using lsds::bench::Seconds;
+using nlohmann::json;
 
 // The peak resident set of this process so far, MiB (Linux reports KiB).
 double PeakRssMib() {
@@ -42,78 +52,84 @@ double PeakRssMib() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
-// The ground truth and the predictions' JSON text for `images` images.
-EvaluationTruth Truth(int64_t images, std::mt19937_64* rng, std::string* predictions) {
-  EvaluationTruth truth;
-  truth.coco.category_ids = {1, 2, 3};
-  truth.category_names = {"car", "truck", "person"};
+// Writes DIR/gt_N.json and DIR/dt_N.json one entry at a time; returns the frames' facts.
+std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) {
+  std::mt19937_64 rng(44);
   std::uniform_real_distribution<double> u(0, 1);
-  nlohmann::json list = nlohmann::json::array();
-  int64_t id = 1;
+  const std::string n = std::to_string(images);
+  std::ofstream gt(folder / ("gt_" + n + ".json")), dt(folder / ("dt_" + n + ".json"));
+  std::string annotations;  // one image's, written after the images list
+  std::ofstream annotation_part(folder / ("gt_" + n + ".annotations"));
+  std::map<int64_t, FrameFacts> frames;
+  gt << "{\"images\":[\n";
+  dt << "[";
+  int64_t id = 1, detections = 0;
   for (int64_t image = 1; image <= images; ++image) {
-    truth.coco.image_ids.push_back(image);
-    truth.frame_of_image[image] = image - 1;
+    gt << (image > 1 ? ",\n" : "")
+       << json{{"id", image},
+               {"file_name", std::to_string(image) + ".png"},
+               {"width", 1000},
+               {"height", 800},
+               {"lsds", {{"frame", image - 1}}}}
+              .dump();
     FrameFacts facts;
-    facts.off_nadir_deg = 40 * u(*rng);
-    facts.altitude_agl_m = 30 + 90 * u(*rng);
-    truth.frames[image - 1] = facts;
+    facts.off_nadir_deg = 40 * u(rng);
+    facts.altitude_agl_m = 30 + 90 * u(rng);
+    facts.camera_in_world = std::array<double, 3>{0, 0, 0};
+    frames[image - 1] = facts;
     for (int k = 0; k < 25; ++k) {
-      const double w = 4 + 120 * u(*rng) * u(*rng), h = w * (0.5 + u(*rng));
-      const BoxXywh box{900 * u(*rng), 700 * u(*rng), w, h};
-      const int64_t category = 1 + static_cast<int64_t>(3 * u(*rng));
+      const double w = 4 + 120 * u(rng) * u(rng), h = w * (0.5 + u(rng));
+      const double x = 900 * u(rng), y = 700 * u(rng);
+      const int64_t category = 1 + static_cast<int64_t>(3 * u(rng));
       if (k < 15) {
-        GroundTruthBox g;
-        g.id = id++;
-        g.image_id = image;
-        g.category_id = category;
-        g.bbox = box;
-        g.area = w * h * 0.8;
-        truth.coco.ground_truth.push_back(g);
-        ObjectFacts object;
-        object.frame = image - 1;
-        object.visibility = u(*rng);
-        object.in_frame = u(*rng) < 0.9 ? 1 : 0.5;
-        object.size_px = std::max(w, h);
-        object.distance_m = 20 + 100 * u(*rng);
-        truth.objects.push_back(object);
-        if (u(*rng) > 0.9) continue;
+        const double visibility = u(rng);
+        const double in_frame = u(rng) < 0.9 ? 1 : 0.5;
+        const double distance = 20 + 100 * u(rng);
+        annotation_part << (id > 1 ? ",\n" : "")
+                        << json{{"id", id},
+                                {"image_id", image},
+                                {"category_id", category},
+                                {"bbox", {x, y, w, h}},
+                                {"area", w * h * 0.8},
+                                {"iscrowd", 0},
+                                {"lsds",
+                                 {{"instance_id", k + 1},
+                                  {"name", "T#" + std::to_string(k)},
+                                  {"visibility", visibility},
+                                  {"in_frame", in_frame},
+                                  {"obb", {{"center", {distance, 0, 0}}}}}}}
+                               .dump();
+        ++id;
+        if (u(rng) > 0.9) continue;
       }
       const double jitter = k < 15 ? 0.05 : 0;
-      list.push_back({{"image_id", image},
-                      {"category_id", category},
-                      {"bbox",
-                       {box.x + jitter * w * (u(*rng) - 0.5),
-                        box.y + jitter * h * (u(*rng) - 0.5),
-                        w * (1 + jitter * (u(*rng) - 0.5)),
-                        h}},
-                      {"score", u(*rng)}});
+      dt << (detections++ ? ",\n" : "")
+         << json{{"image_id", image},
+                 {"category_id", category},
+                 {"bbox",
+                  {x + jitter * w * (u(rng) - 0.5),
+                   y + jitter * h * (u(rng) - 0.5),
+                   w * (1 + jitter * (u(rng) - 0.5)),
+                   h}},
+                 {"score", u(rng)}}
+                .dump();
     }
   }
-  *predictions = list.dump();
-  return truth;
+  annotation_part.close();
+  gt << "\n],\n\"annotations\":[\n"
+     << std::ifstream(folder / ("gt_" + n + ".annotations")).rdbuf() << "\n],\n"
+     << "\"categories\":[{\"id\":1,\"name\":\"car\"},{\"id\":2,\"name\":\"truck\"},"
+        "{\"id\":3,\"name\":\"person\"}]}\n";
+  fs::remove(folder / ("gt_" + n + ".annotations"));
+  dt << "]\n";
+  return frames;
 }
 
-// The ground truth as a COCO dataset, for pycocotools.
-void WriteCoco(const EvaluationTruth& truth,
-               const std::string& predictions,
-               const std::string& folder,
-               int64_t images) {
-  nlohmann::json gt = {{"images", nlohmann::json::array()},
-                       {"annotations", nlohmann::json::array()},
-                       {"categories", nlohmann::json::array()}};
-  for (int64_t id : truth.coco.image_ids) gt["images"].push_back({{"id", id}});
-  for (int64_t id : truth.coco.category_ids) gt["categories"].push_back({{"id", id}});
-  for (const GroundTruthBox& g : truth.coco.ground_truth) {
-    gt["annotations"].push_back({{"id", g.id},
-                                 {"image_id", g.image_id},
-                                 {"category_id", g.category_id},
-                                 {"bbox", {g.bbox.x, g.bbox.y, g.bbox.w, g.bbox.h}},
-                                 {"area", g.area},
-                                 {"iscrowd", 0}});
-  }
-  const std::string n = std::to_string(images);
-  std::ofstream(folder + "/gt_" + n + ".json") << gt.dump();
-  std::ofstream(folder + "/dt_" + n + ".json") << predictions;
+// nlohmann's SAX parser over the file, building nothing: the floor of reading it.
+void ParseOnly(const fs::path& file) {
+  lsds::bench::NullSax sax;
+  std::ifstream in(file, std::ios::binary);
+  json::sax_parse(in, &sax);
 }
 
 }  // namespace
@@ -123,63 +139,79 @@ int main(int argc, char** argv) {
   std::vector<int64_t> sizes = {2000, 10000};
   app.add_option("--images", sizes, "image counts")->delimiter(',');
   std::string write;
-  app.add_option("--write", write, "also write the data as COCO files into this folder");
+  app.add_option("--write", write, "keep the data as COCO files in this folder");
   CLI11_PARSE(app, argc, argv);
-  std::printf("%8s %10s %9s %9s %9s %9s %9s %7s %9s %9s\n",
+  fs::path folder = write;
+  if (write.empty()) {
+    std::string pattern = (fs::temp_directory_path() / "bench-evaluate-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) return 2;
+    folder = pattern;
+  }
+  std::printf("%8s %10s %8s %8s %8s %8s %9s %9s %7s %9s %8s %8s %10s\n",
               "images",
               "dets",
               "floor_s",
               "read_s",
+              "truth_s",
               "coco_s",
               "report_s",
               "total_s",
               "ratio",
               "peak_mib",
-              "kib/img");
+              "kib/img",
+              "dets_mib",
+              "kept");
   for (const int64_t images : sizes) {
-    std::mt19937_64 rng(44);
-    std::string text;
-    const EvaluationTruth truth = Truth(images, &rng, &text);
-    if (!write.empty()) WriteCoco(truth, text, write, images);
+    const std::map<int64_t, FrameFacts> frames = WriteData(images, folder);
+    const std::string n = std::to_string(images);
+    const fs::path gt = folder / ("gt_" + n + ".json"), dt = folder / ("dt_" + n + ".json");
     auto t = Clock::now();
-    size_t entries = 0;
-    {  // the floor's document is freed before the evaluation's memory is measured
-      const nlohmann::json parsed = nlohmann::json::parse(text);
-      entries = parsed.size();
-    }
+    ParseOnly(dt);
     const double floor = Seconds(t);
     t = Clock::now();
-    std::vector<DetectionBox> detections = ParseCocoPredictions(text, "bench.json", truth);
+    EvaluationTruth truth = StreamCocoGroundTruth(gt, false);
+    truth.frames = frames;
+    const double truth_s = Seconds(t);
+    t = Clock::now();
+    std::vector<DetectionBox> detections = ReadCocoPredictions(dt, truth);
     const double read = Seconds(t);
+    const size_t entries = detections.size();
+    const double detections_mib =
+        static_cast<double>(detections.capacity() * sizeof(DetectionBox)) / (1024.0 * 1024.0);
     t = Clock::now();
-    CocoData data = truth.coco;
-    data.detections = detections;
-    const CocoStats stats = CocoEvaluator(std::move(data)).Stats();
-    const double coco = Seconds(t);
+    const ImageMetrics coco = EvaluateImages(truth, {}, &detections, 30);  // sorted by image
+    const double coco_s = Seconds(t);
     t = Clock::now();
-    const EvaluationReport report = Evaluate(truth, std::move(detections), 30);
-    const double whole = Seconds(t);
+    const std::vector<ConditionBins> conditions = BinConditions(truth);
+    const ImageMetrics whole = EvaluateImages(truth, conditions, &detections, 30);
+    const double report = Seconds(t);
     if (!write.empty()) {  // for comparison with the peer's stats
       std::printf("stats %lld:", static_cast<long long>(images));
-      for (const double v : stats) std::printf(" %.17g", v);
+      for (const double v : *coco.stats) std::printf(" %.17g", v);
       std::printf("\n");
     }
     const double peak = PeakRssMib();
+    const double total = read + truth_s + report;
     std::printf(
-        "%8lld %10zu %9.3f %9.3f %9.3f %9.3f %9.3f %7.1f %9.1f %9.2f   (AP %.3f, %zu "
-        "conditions)\n",
+        "%8lld %10zu %8.3f %8.3f %8.3f %8.3f %9.3f %9.3f %7.1f %9.1f %8.2f %8.1f %10zu   (AP %.3f, "
+        "%zu conditions)\n",
         static_cast<long long>(images),
         entries,
         floor,
         read,
-        coco,
-        whole,
-        read + whole,
-        (read + whole) / floor,
+        truth_s,
+        coco_s,
+        report,
+        total,
+        total / floor,
         peak,
         peak * 1024.0 / static_cast<double>(images),
-        stats[0],
-        report.strata.size());
+        detections_mib,
+        whole.kept_detections,
+        (*coco.stats)[0],
+        whole.strata.size());
+    std::fflush(stdout);
   }
+  if (write.empty()) fs::remove_all(folder);
   return 0;
 }

@@ -244,9 +244,9 @@ int main(int argc, char** argv) {
           decode_pool,
           codec == layer.compression &&
                   (layer.semantic != "worldposition" ||
-                   layer.flat_layout == options.worldposition_layout) &&
-                  (layer.semantic != "motion" || layer.flat_layout == options.motion_layout) &&
-                  (!layer.deep || layer.layout == options.bundle_layout)
+                   layer.flat_layout == options.layouts.worldposition) &&
+                  (layer.semantic != "motion" || layer.flat_layout == options.layouts.motion) &&
+                  (!layer.deep || layer.layout == options.layouts.bundle)
               ? "  <- chosen"
               : "");
     }

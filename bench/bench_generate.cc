@@ -218,10 +218,10 @@ bool ParseLayout(
   options.progress = false;
   options.spp = spp;
   const std::vector<std::string> parts = Split(name, '/');
-  options.motion_layout = FlatLayout::kFloat;
-  if (!ParseBundleLayout(parts[0], &options.bundle_layout) ||
-      (parts.size() > 1 && !ParseFlatLayout(parts[1], &options.worldposition_layout)) ||
-      (parts.size() > 2 && !ParseFlatLayout(parts[2], &options.motion_layout)) ||
+  options.layouts.motion = FlatLayout::kFloat;
+  if (!ParseBundleLayout(parts[0], &options.layouts.bundle) ||
+      (parts.size() > 1 && !ParseFlatLayout(parts[1], &options.layouts.worldposition)) ||
+      (parts.size() > 2 && !ParseFlatLayout(parts[2], &options.layouts.motion)) ||
       parts.size() > 3) {
     return false;
   }

@@ -63,7 +63,7 @@ void GenerateDemo(const fs::path& out, int size, int frames, int spp, bool compa
   options.spp = spp;
   options.force = true;
   options.progress = false;
-  if (compact) options.UseCompactLayouts();
+  if (compact) options.layouts.UseCompact();
   GenerateCollection(MakeDemoPlan(demo), options);
 }
 

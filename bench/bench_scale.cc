@@ -33,6 +33,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/child_process.h"
+#include "bench/null_sax.h"
 #include "tests/build_paths.h"
 
 namespace fs = std::filesystem;
@@ -43,30 +44,11 @@ using nlohmann::json;
 
 namespace {
 
-// A SAX handler that does nothing: the floor of reading the file.
-struct NullSax : nlohmann::json_sax<json> {
-  bool null() override { return true; }
-  bool boolean(bool) override { return true; }
-  bool number_integer(number_integer_t) override { return true; }
-  bool number_unsigned(number_unsigned_t) override { return true; }
-  bool number_float(number_float_t, const string_t&) override { return true; }
-  bool string(string_t&) override { return true; }
-  bool binary(binary_t&) override { return true; }
-  bool start_object(std::size_t) override { return true; }
-  bool key(string_t&) override { return true; }
-  bool end_object() override { return true; }
-  bool start_array(std::size_t) override { return true; }
-  bool end_array() override { return true; }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
-    return false;
-  }
-};
-
 // CPU seconds, like the commands' figures.
 double ParseFloor(const fs::path& file) {
   const std::clock_t start = std::clock();
   std::ifstream in(file, std::ios::binary);
-  NullSax sax;
+  lsds::bench::NullSax sax;
   json::sax_parse(in, &sax);
   return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
 }

@@ -7,6 +7,8 @@
 #include <numeric>
 #include <utility>
 
+#include "evaluate/dota_eval.h"
+
 namespace lsds::evaluate {
 
 namespace {
@@ -30,9 +32,15 @@ double BoxIou(const BoxXywh& d, const BoxXywh& g, bool crowd) {
   return i / u;
 }
 
+Quad QuadOf(const std::vector<double>& corners) {
+  Quad q{};
+  std::copy_n(corners.begin(), std::min(corners.size(), q.size()), q.begin());
+  return q;
+}
+
 // np.argsort(-scores, kind='mergesort') over `indices`: a stable sort, highest
 // score first, ties in their given order.
-void SortByScore(const std::vector<DetectionBox>& detections, std::vector<size_t>* indices) {
+void SortByScore(const DetectionBox* detections, std::vector<size_t>* indices) {
   std::stable_sort(indices->begin(), indices->end(), [&](size_t a, size_t b) {
     return detections[a].score > detections[b].score;
   });
@@ -86,75 +94,59 @@ double Accumulation::Recall(int t, size_t k, int m) const {
   return recall[(static_cast<size_t>(t) * categories + k) * kM + m];
 }
 
-// The detections and ground truth of one image and category
-// (COCOeval._gts/_dts[imgId, catId], cocoeval.py:114-117), with their IoUs.
-struct CocoEvaluator::Cell {
-  int64_t image_id = 0;
-  size_t category = 0;       // index into category_ids
-  std::vector<size_t> gts;   // ground-truth indices, in file order
-  std::vector<size_t> dts;   // detection indices, highest score first, at most 100
-  std::vector<double> ious;  // [dt][gt] (computeIoU, cocoeval.py:163-190)
-};
-
-// evaluateImg's arrays (cocoeval.py:301-313) for one cell and selection.
-struct CocoEvaluator::CellResult {
-  std::vector<double> scores;        // D
-  std::vector<uint8_t> matched;      // [t][d]
-  std::vector<uint8_t> ignored;      // [t][d]
-  int64_t ground_truth_counted = 0;  // gtIgnore == 0
-};
-
-CocoEvaluator::CocoEvaluator(CocoData data) : data_(std::move(data)) {
-  // COCOeval.evaluate: unique sorted image and category ids (cocoeval.py:134-136).
-  for (std::vector<int64_t>* ids : {&data_.image_ids, &data_.category_ids}) {
-    std::sort(ids->begin(), ids->end());
-    ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
-  }
+std::vector<EvaluationCell> MakeCells(const GroundTruthBox* gts,
+                                      size_t gt_count,
+                                      const DetectionBox* detections,
+                                      size_t detection_count,
+                                      const std::vector<int64_t>& image_ids,
+                                      const std::vector<int64_t>& category_ids,
+                                      IouType iou_type) {
   std::map<int64_t, size_t> category_index;
-  for (size_t k = 0; k < data_.category_ids.size(); ++k) category_index[data_.category_ids[k]] = k;
-  // Annotations of unknown images or categories are not evaluated
-  // (getAnnIds(imgIds, catIds), cocoeval.py:96-97).
-  std::map<std::pair<size_t, int64_t>, Cell> cells;
-  const auto cell_of = [&](int64_t image, int64_t category) -> Cell* {
+  for (size_t k = 0; k < category_ids.size(); ++k) category_index[category_ids[k]] = k;
+  std::map<std::pair<size_t, int64_t>, EvaluationCell> cells;
+  const auto cell_of = [&](int64_t image, int64_t category) -> EvaluationCell* {
     const auto k = category_index.find(category);
-    if (k == category_index.end() ||
-        !std::binary_search(data_.image_ids.begin(), data_.image_ids.end(), image))
+    if (k == category_index.end() || !std::binary_search(image_ids.begin(), image_ids.end(), image))
       return nullptr;
-    Cell& cell = cells[{k->second, image}];
+    EvaluationCell& cell = cells[{k->second, image}];
     cell.image_id = image;
     cell.category = k->second;
     return &cell;
   };
-  for (size_t i = 0; i < data_.ground_truth.size(); ++i) {
-    const GroundTruthBox& g = data_.ground_truth[i];
-    if (Cell* cell = cell_of(g.image_id, g.category_id)) cell->gts.push_back(i);
-  }
-  for (size_t i = 0; i < data_.detections.size(); ++i) {
-    const DetectionBox& d = data_.detections[i];
-    if (Cell* cell = cell_of(d.image_id, d.category_id)) cell->dts.push_back(i);
+  for (size_t i = 0; i < gt_count; ++i)
+    if (EvaluationCell* cell = cell_of(gts[i].image_id, gts[i].category_id)) cell->gts.push_back(i);
+  for (size_t i = 0; i < detection_count; ++i) {
+    const DetectionBox& d = detections[i];
+    if (EvaluationCell* cell = cell_of(d.image_id, d.category_id)) cell->dts.push_back(i);
   }
   // computeIoU: detections sorted by score, cut to maxDets[-1]
   // (cocoeval.py:173-176), IoUs of every pair (maskUtils.iou, :188-189).
-  cells_.reserve(cells.size());
+  std::vector<EvaluationCell> out;
+  out.reserve(cells.size());
   for (auto& entry : cells) {
-    Cell& cell = entry.second;
-    SortByScore(data_.detections, &cell.dts);
+    EvaluationCell& cell = entry.second;
+    SortByScore(detections, &cell.dts);
     if (cell.dts.size() > static_cast<size_t>(kLargestMaxDet)) cell.dts.resize(kLargestMaxDet);
     cell.ious.resize(cell.dts.size() * cell.gts.size());
     for (size_t d = 0; d < cell.dts.size(); ++d) {
       for (size_t g = 0; g < cell.gts.size(); ++g) {
-        const GroundTruthBox& gt = data_.ground_truth[cell.gts[g]];
-        const DetectionBox& dt = data_.detections[cell.dts[d]];
-        cell.ious[d * cell.gts.size() + g] = data_.iou_type == IouType::kMask
-                                                 ? masks::CocoRleIou(dt.mask, gt.mask, gt.iscrowd)
-                                                 : BoxIou(dt.bbox, gt.bbox, gt.iscrowd);
+        const GroundTruthBox& gt = gts[cell.gts[g]];
+        const DetectionBox& dt = detections[cell.dts[d]];
+        double iou = 0;
+        if (iou_type == IouType::kMask) {
+          iou = masks::CocoRleIou(dt.mask, gt.mask, gt.iscrowd);
+        } else if (iou_type == IouType::kQuad) {
+          iou = QuadIou(QuadOf(gt.quad), QuadOf(dt.quad));
+        } else {
+          iou = BoxIou(dt.bbox, gt.bbox, gt.iscrowd);
+        }
+        cell.ious[d * cell.gts.size() + g] = iou;
       }
     }
-    cells_.push_back(std::move(cell));
+    out.push_back(std::move(cell));
   }
+  return out;
 }
-
-CocoEvaluator::~CocoEvaluator() = default;
 
 namespace {
 
@@ -193,17 +185,19 @@ void MatchAtThreshold(double threshold,
 
 }  // namespace
 
-// COCOeval.evaluateImg (cocoeval.py:235-313) with maxDet = 100.
-CocoEvaluator::CellResult CocoEvaluator::EvaluateCell(const Cell& cell,
-                                                      const Selection& selection) const {
+CellResult EvaluateCell(const EvaluationCell& cell,
+                        const GroundTruthBox* gts,
+                        const DetectionBox* detections,
+                        const std::function<bool(size_t)>& selected_gt,
+                        const std::function<bool(size_t)>& selected_detection) {
   const size_t G = cell.gts.size(), D = cell.dts.size();
   // _ignore: crowd, or outside the selection (cocoeval.py:250-254); ignored
   // ground truth sorted last, stably (:257-258).
   std::vector<uint8_t> ignore(G), crowd(G);
   for (size_t g = 0; g < G; ++g) {
     const size_t index = cell.gts[g];
-    crowd[g] = data_.ground_truth[index].iscrowd;
-    ignore[g] = crowd[g] || (selection.ground_truth && !selection.ground_truth(index));
+    crowd[g] = gts[index].iscrowd;
+    ignore[g] = crowd[g] || gts[index].ignored || (selected_gt && !selected_gt(index));
   }
   std::vector<size_t> order(G);
   std::iota(order.begin(), order.end(), size_t{0});
@@ -213,7 +207,7 @@ CocoEvaluator::CellResult CocoEvaluator::EvaluateCell(const Cell& cell,
   result.scores.resize(D);
   result.matched.assign(kT * D, 0);
   result.ignored.assign(kT * D, 0);
-  for (size_t d = 0; d < D; ++d) result.scores[d] = data_.detections[cell.dts[d]].score;
+  for (size_t d = 0; d < D; ++d) result.scores[d] = detections[cell.dts[d]].score;
   for (size_t g = 0; g < G; ++g) result.ground_truth_counted += ignore[g] ? 0 : 1;
   // maskUtils.iou returns [] without ground truth or detections (:263, :272).
   for (int t = 0; G > 0 && D > 0 && t < kT; ++t) {
@@ -227,7 +221,7 @@ CocoEvaluator::CellResult CocoEvaluator::EvaluateCell(const Cell& cell,
   }
   // Unmatched detections outside the selection are ignored (:297-299).
   for (size_t d = 0; d < D; ++d) {
-    if (!selection.detection || selection.detection(cell.dts[d])) continue;
+    if (!selected_detection || selected_detection(cell.dts[d])) continue;
     for (int t = 0; t < kT; ++t)
       if (!result.matched[t * D + d]) result.ignored[t * D + d] = 1;
   }
@@ -265,65 +259,136 @@ void PrecisionRecall(const std::vector<uint8_t>& tps,
   }
 }
 
+constexpr uint32_t kRankBits = 7;  // ranks 0..99
+constexpr uint32_t kRankMask = (1u << kRankBits) - 1;
+static_assert(kLargestMaxDet <= (1 << kRankBits), "a rank fits its bits");
+static_assert(kRankBits + 2 * kT <= 32, "the flags fit 32 bits");
+
+bool TruePositive(uint32_t bits, int t) { return (bits >> (kRankBits + t)) & 1u; }
+bool FalsePositive(uint32_t bits, int t) { return (bits >> (kRankBits + kT + t)) & 1u; }
+
 }  // namespace
 
-// accumulate for one category (cocoeval.py:353-410): `E` holds its images'
-// results in image order.
-void CocoEvaluator::AccumulateCategory(size_t k,
-                                       const std::vector<CellResult>& E,
-                                       Accumulation* a) {
-  const size_t K = a->categories;
-  int64_t npig = 0;
-  for (const CellResult& e : E) npig += e.ground_truth_counted;
-  a->ground_truth += npig;
-  if (E.empty() || npig == 0) return;  // :360-361, :372-374
-  for (int m = 0; m < kM; ++m) {
-    // Concatenated in image order, each image cut to maxDet, then sorted
-    // stably by score (:362-371).
-    std::vector<std::pair<const CellResult*, size_t>> dets;
-    for (const CellResult& e : E)
-      for (size_t d = 0; d < std::min(e.scores.size(), size_t(kMaxDetections[m])); ++d)
-        dets.emplace_back(&e, d);
-    std::stable_sort(dets.begin(), dets.end(), [](const auto& x, const auto& y) {
-      return x.first->scores[x.second] > y.first->scores[y.second];
-    });
+AccumulationBuilder::AccumulationBuilder(size_t categories)
+    : records_(categories), counted_(categories, 0) {}
+
+std::vector<uint32_t> AccumulationOrder(const DetectionBox* detections, size_t count) {
+  std::vector<uint32_t> by_order(count);
+  std::iota(by_order.begin(), by_order.end(), uint32_t{0});
+  std::stable_sort(by_order.begin(), by_order.end(), [&](uint32_t a, uint32_t b) {
+    if (detections[a].score != detections[b].score)
+      return detections[a].score > detections[b].score;
+    return detections[a].image_id < detections[b].image_id;
+  });
+  std::vector<uint32_t> order(count);
+  for (size_t i = 0; i < count; ++i) order[by_order[i]] = static_cast<uint32_t>(i);
+  return order;
+}
+
+void AccumulationBuilder::Add(const EvaluationCell& cell,
+                              const CellResult& result,
+                              const uint32_t* order) {
+  counted_[cell.category] += result.ground_truth_counted;
+  const size_t D = result.scores.size();
+  for (size_t d = 0; d < D; ++d) {
+    uint32_t flags = 0;
     for (int t = 0; t < kT; ++t) {
-      std::vector<uint8_t> tps(dets.size()), fps(dets.size());
-      for (size_t i = 0; i < dets.size(); ++i) {
-        const CellResult& e = *dets[i].first;
-        const size_t at = t * e.scores.size() + dets[i].second;
-        tps[i] = e.matched[at] && !e.ignored[at];
-        fps[i] = !e.matched[at] && !e.ignored[at];
-      }
-      std::array<double, kR> q{};
-      double recall = 0;
-      PrecisionRecall(tps, fps, npig, &q, &recall);
-      a->recall[(static_cast<size_t>(t) * K + k) * kM + m] = recall;
-      for (int r = 0; r < kR; ++r)
-        a->precision[((static_cast<size_t>(t) * kR + r) * K + k) * kM + m] = q[r];
-      if (t == 0 && m == kM - 1) {
-        a->matched_50 += std::accumulate(tps.begin(), tps.end(), int64_t{0});
-        a->false_positives_50 += std::accumulate(fps.begin(), fps.end(), int64_t{0});
-      }
+      const size_t at = t * D + d;
+      if (result.ignored[at]) continue;  // dtIg: neither (cocoeval.py:377-378)
+      flags |= 1u << (result.matched[at] ? t : kT + t);
     }
+    if (flags == 0) continue;
+    records_[cell.category].push_back(
+        Record{order[cell.dts[d]], static_cast<uint32_t>(d) | flags << kRankBits});
   }
 }
 
-// COCOeval.accumulate (cocoeval.py:315-418) over the selected images.
-Accumulation CocoEvaluator::Accumulate(const Selection& selection) const {
-  const size_t K = data_.category_ids.size();
+size_t AccumulationBuilder::kept_detections() const {
+  size_t n = 0;
+  for (const auto& r : records_) n += r.size();
+  return n;
+}
+
+// accumulate (cocoeval.py:353-410): per category, each image's detections cut
+// to maxDet and concatenated in image order, then sorted stably by score
+// (:362-371), which is AccumulationOrder's.
+Accumulation AccumulationBuilder::Finish(const std::vector<const AccumulationBuilder*>& parts) {
+  const size_t K = parts.empty() ? 0 : parts.front()->records_.size();
   Accumulation a;
   a.categories = K;
   a.precision.assign(static_cast<size_t>(kT) * kR * K * kM, -1.0);
   a.recall.assign(static_cast<size_t>(kT) * K * kM, -1.0);
-  for (int64_t image : data_.image_ids) a.images += !selection.image || selection.image(image);
-  std::vector<std::vector<CellResult>> per_category(K);
-  for (const Cell& cell : cells_) {
-    if (selection.image && !selection.image(cell.image_id)) continue;
-    per_category[cell.category].push_back(EvaluateCell(cell, selection));
+  for (const AccumulationBuilder* part : parts) a.images += part->images_;
+  std::vector<Record> dets;
+  for (size_t k = 0; k < K; ++k) {
+    int64_t npig = 0;
+    for (const AccumulationBuilder* part : parts) npig += part->counted_[k];
+    a.ground_truth += npig;
+    if (npig == 0) continue;  // :360-361, :372-374
+    for (int m = 0; m < kM; ++m) {
+      dets.clear();
+      for (const AccumulationBuilder* part : parts)
+        for (const Record& r : part->records_[k])
+          if ((r.bits & kRankMask) < static_cast<uint32_t>(kMaxDetections[m])) dets.push_back(r);
+      std::sort(dets.begin(), dets.end(), [](const Record& x, const Record& y) {
+        return x.order < y.order;
+      });
+      for (int t = 0; t < kT; ++t) {
+        std::vector<uint8_t> tps(dets.size()), fps(dets.size());
+        for (size_t i = 0; i < dets.size(); ++i) {
+          tps[i] = TruePositive(dets[i].bits, t);
+          fps[i] = FalsePositive(dets[i].bits, t);
+        }
+        std::array<double, kR> q{};
+        double recall = 0;
+        PrecisionRecall(tps, fps, npig, &q, &recall);
+        a.recall[(static_cast<size_t>(t) * K + k) * kM + m] = recall;
+        for (int r = 0; r < kR; ++r)
+          a.precision[((static_cast<size_t>(t) * kR + r) * K + k) * kM + m] = q[r];
+        if (t == 0 && m == kM - 1) {
+          a.matched_50 += std::accumulate(tps.begin(), tps.end(), int64_t{0});
+          a.false_positives_50 += std::accumulate(fps.begin(), fps.end(), int64_t{0});
+        }
+      }
+    }
   }
-  for (size_t k = 0; k < K; ++k) AccumulateCategory(k, per_category[k], &a);
   return a;
+}
+
+CocoEvaluator::CocoEvaluator(CocoData data) : data_(std::move(data)) {
+  // COCOeval.evaluate: unique sorted image and category ids (cocoeval.py:134-136).
+  for (std::vector<int64_t>* ids : {&data_.image_ids, &data_.category_ids}) {
+    std::sort(ids->begin(), ids->end());
+    ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
+  }
+  cells_ = MakeCells(data_.ground_truth.data(),
+                     data_.ground_truth.size(),
+                     data_.detections.data(),
+                     data_.detections.size(),
+                     data_.image_ids,
+                     data_.category_ids,
+                     data_.iou_type);
+  order_ = AccumulationOrder(data_.detections.data(), data_.detections.size());
+}
+
+CocoEvaluator::~CocoEvaluator() = default;
+
+// COCOeval.accumulate (cocoeval.py:315-418) over the selected images.
+Accumulation CocoEvaluator::Accumulate(const Selection& selection) const {
+  AccumulationBuilder builder(data_.category_ids.size());
+  for (int64_t image : data_.image_ids)
+    if (!selection.image || selection.image(image)) builder.CountImage();
+  for (const EvaluationCell& cell : cells_) {
+    if (selection.image && !selection.image(cell.image_id)) continue;
+    builder.Add(cell,
+                EvaluateCell(cell,
+                             data_.ground_truth.data(),
+                             data_.detections.data(),
+                             selection.ground_truth,
+                             selection.detection),
+                order_.data());
+  }
+  return builder.Finish();
 }
 
 double MeanPrecision(const Accumulation& a, std::optional<int> iou_index, int m) {
@@ -354,28 +419,25 @@ double MeanRecall(const Accumulation& a, std::optional<int> iou_index, int m) {
   return n ? sum / static_cast<double>(n) : -1;
 }
 
+const std::array<std::pair<double, double>, 4>& CocoAreaRanges() {
+  static const double big = 1e5 * 1e5;
+  static const std::array<std::pair<double, double>, 4> ranges = {
+      {{0, big}, {0, 32 * 32}, {32 * 32, 96 * 96}, {96 * 96, big}}};
+  return ranges;
+}
+
 Selection AreaRange(const CocoData& data, double low, double high) {
   Selection s;
   s.ground_truth = [&data, low, high](size_t i) {
-    const double area = data.ground_truth[i].area;
-    return !(area < low || area > high);
+    return InAreaRange(data.ground_truth[i].area, {low, high});
   };
   s.detection = [&data, low, high](size_t i) {
-    const double area = data.detections[i].Area();
-    return !(area < low || area > high);
+    return InAreaRange(data.detections[i].Area(), {low, high});
   };
   return s;
 }
 
-// COCOeval.summarize for detections (cocoeval.py:458-472), area ranges of
-// Params.setDetParams (:509): [0, 1e5^2], [0, 32^2], [32^2, 96^2], [96^2, 1e5^2].
-CocoStats CocoEvaluator::Stats() const {
-  const double big = 1e5 * 1e5;
-  const std::array<std::pair<double, double>, 4> ranges = {
-      {{0, big}, {0, 32 * 32}, {32 * 32, 96 * 96}, {96 * 96, big}}};
-  std::array<Accumulation, 4> area;
-  for (size_t i = 0; i < ranges.size(); ++i)
-    area[i] = Accumulate(AreaRange(data_, ranges[i].first, ranges[i].second));
+CocoStats StatsOf(const std::array<Accumulation, 4>& area) {
   const int m100 = kM - 1;
   // A threshold that is not one of the linspace values selects nothing: -1.
   const auto at = [&](double threshold) {
@@ -394,6 +456,14 @@ CocoStats CocoEvaluator::Stats() const {
           MeanRecall(area[1], std::nullopt, m100),
           MeanRecall(area[2], std::nullopt, m100),
           MeanRecall(area[3], std::nullopt, m100)};
+}
+
+// COCOeval.summarize for detections (cocoeval.py:458-472).
+CocoStats CocoEvaluator::Stats() const {
+  std::array<Accumulation, 4> area;
+  for (size_t i = 0; i < area.size(); ++i)
+    area[i] = Accumulate(AreaRange(data_, CocoAreaRanges()[i].first, CocoAreaRanges()[i].second));
+  return StatsOf(area);
 }
 
 }  // namespace lsds::evaluate

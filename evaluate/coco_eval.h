@@ -11,8 +11,10 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "libs/masks/coco_rle.h"
@@ -20,8 +22,9 @@
 namespace lsds::evaluate {
 
 // COCOeval's iouType: "bbox" compares boxes (maskApi.c bbIou), "segm" masks
-// (rleIou, cocoeval.py:178-180).
-enum class IouType { kBox, kMask };
+// (rleIou, cocoeval.py:178-180); and lsds' "obb", oriented boxes compared by
+// the DOTA devkit's polygon IoU (QuadIou, dota_eval.h) under COCO's rules.
+enum class IouType { kBox, kMask, kQuad };
 
 // COCO's [x, y, width, height], pixel-edge.
 struct BoxXywh {
@@ -35,7 +38,11 @@ struct GroundTruthBox {
   BoxXywh bbox;
   double area = 0;  // the annotation's `area` (the mask pixel count from lsds convert)
   bool iscrowd = false;
-  masks::CocoRle mask;  // IouType::kMask only
+  // Counted by no selection, as a box outside the area range (a DOTA object
+  // marked difficult: docs/evaluate.md, "Oriented boxes").
+  bool ignored = false;
+  masks::CocoRle mask;       // IouType::kMask only
+  std::vector<double> quad;  // IouType::kQuad only: x1 y1 ... x4 y4, pixels
 };
 
 // One entry of a COCO results list. Its id is its position + 1 and its area
@@ -45,7 +52,8 @@ struct DetectionBox {
   int64_t category_id = 0;
   BoxXywh bbox;  // with a mask and no box given: the mask's (rleToBbox, coco.py:346-347)
   double score = 0;
-  masks::CocoRle mask;  // IouType::kMask only
+  masks::CocoRle mask;       // IouType::kMask only
+  std::vector<double> quad;  // IouType::kQuad only
   // COCO.loadRes's area when it is not w * h: a mask result file whose first
   // entry has no bbox gives every entry its mask's area (coco.py:341-345).
   std::optional<double> area;
@@ -111,6 +119,86 @@ std::optional<int> IouIndex(double threshold);
 using CocoStats = std::array<double, 12>;
 const std::array<const char*, 12>& CocoStatNames();
 
+// The boxes of one image and category (COCOeval._gts/_dts[imgId, catId],
+// cocoeval.py:114-117) as indices into the arrays they were grouped from: the
+// ground truth in file order, the detections by score (highest first, ties in
+// file order), cut to 100 (cocoeval.py:173-176), and their IoUs [dt][gt]
+// (computeIoU, cocoeval.py:163-190).
+struct EvaluationCell {
+  int64_t image_id = 0;
+  size_t category = 0;  // index into the sorted category ids
+  std::vector<size_t> gts, dts;
+  std::vector<double> ious;
+};
+
+// Groups `gts` and `detections` per image and category (those of unknown
+// images or categories are not evaluated: getAnnIds(imgIds, catIds),
+// cocoeval.py:96-97) and computes their IoUs, in category then image order.
+// `image_ids` and `category_ids` sorted and unique.
+std::vector<EvaluationCell> MakeCells(const GroundTruthBox* gts,
+                                      size_t gt_count,
+                                      const DetectionBox* detections,
+                                      size_t detection_count,
+                                      const std::vector<int64_t>& image_ids,
+                                      const std::vector<int64_t>& category_ids,
+                                      IouType iou_type);
+
+// evaluateImg's arrays (cocoeval.py:301-313) for one cell and selection, with
+// maxDet = 100.
+struct CellResult {
+  std::vector<double> scores;        // D
+  std::vector<uint8_t> matched;      // [t][d]
+  std::vector<uint8_t> ignored;      // [t][d]
+  int64_t ground_truth_counted = 0;  // gtIgnore == 0
+};
+
+// COCOeval.evaluateImg (cocoeval.py:235-313): `selected_gt(i)` and
+// `selected_detection(i)` are asked about the cell's indices into `gts` and
+// `detections` (empty functions: everything).
+CellResult EvaluateCell(const EvaluationCell& cell,
+                        const GroundTruthBox* gts,
+                        const DetectionBox* detections,
+                        const std::function<bool(size_t)>& selected_gt,
+                        const std::function<bool(size_t)>& selected_detection);
+
+// accumulate's order of detections (cocoeval.py:362-371: each image's
+// detections by score, concatenated in image order, then sorted stably by
+// score) as one number per detection: its position when sorted by score
+// (highest first), then image id, then file order. Any category's detections
+// in that order are in accumulate's.
+std::vector<uint32_t> AccumulationOrder(const DetectionBox* detections, size_t count);
+
+// What COCOeval.accumulate needs of every evaluated cell of one selection, and
+// nothing more: per category the number of ground-truth boxes counted, and per
+// detection that counts somewhere its place in accumulate's order, its rank in
+// its image (for maxDets) and its true / false positive flags at the 10 IoU
+// thresholds (8 bytes). A detection that is ignored at every threshold is not
+// kept: it adds neither a true nor a false positive, so the precision and
+// recall it would repeat are those of the detection before it. Cells may be
+// added in any order.
+class AccumulationBuilder {
+ public:
+  explicit AccumulationBuilder(size_t categories);
+  void CountImage() { ++images_; }
+  // `order`: AccumulationOrder of the detections `cell` indexes.
+  void Add(const EvaluationCell& cell, const CellResult& result, const uint32_t* order);
+  // COCOeval.accumulate (cocoeval.py:315-418) over the cells of every one of
+  // `parts` (builders of the same selection fed with different images).
+  static Accumulation Finish(const std::vector<const AccumulationBuilder*>& parts);
+  Accumulation Finish() const { return Finish({this}); }
+  size_t kept_detections() const;
+
+ private:
+  struct Record {
+    uint32_t order;
+    uint32_t bits;  // rank (7 bits), then 10 true-positive and 10 false-positive flags
+  };
+  // Per category; a deque grows by small blocks, without a vector's spare half.
+  std::vector<std::deque<Record>> records_;
+  std::vector<int64_t> counted_;  // ground truth counted, per category
+  int64_t images_ = 0;
+};
+
 class CocoEvaluator {
  public:
   // Groups the boxes per image and category and computes their IoUs once
@@ -125,14 +213,22 @@ class CocoEvaluator {
   CocoStats Stats() const;
 
  private:
-  struct Cell;
-  struct CellResult;
-  CellResult EvaluateCell(const Cell& cell, const Selection& selection) const;
-  static void AccumulateCategory(size_t k, const std::vector<CellResult>& E, Accumulation* a);
-
   CocoData data_;
-  std::vector<Cell> cells_;  // category, then image order
+  std::vector<EvaluationCell> cells_;  // category, then image order
+  std::vector<uint32_t> order_;        // AccumulationOrder of the detections
 };
+
+// COCOeval.summarize for detections (cocoeval.py:458-472) from the
+// accumulations of the four area ranges (all, small, medium, large).
+CocoStats StatsOf(const std::array<Accumulation, 4>& area_ranges);
+
+// Params.setDetParams' area ranges (cocoeval.py:509): [0, 1e5^2], [0, 32^2],
+// [32^2, 96^2], [96^2, 1e5^2]; an area a is in [low, high] unless a < low or
+// a > high (cocoeval.py:250-254, :297-299).
+const std::array<std::pair<double, double>, 4>& CocoAreaRanges();
+inline bool InAreaRange(double area, const std::pair<double, double>& range) {
+  return !(area < range.first || area > range.second);
+}
 
 // COCO's area ranges as selections: all, small, medium, large
 // (cocoeval.py:509-510).

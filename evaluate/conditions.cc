@@ -27,8 +27,8 @@ struct Definition {
   const char* description;
   Level level;
   std::vector<double> edges;
-  std::function<Number(const EvaluationTruth&, size_t object)> object_number;
-  std::function<Label(const EvaluationTruth&, size_t object)> object_label;
+  std::function<Number(const ObjectView&)> object_number;
+  std::function<Label(const ObjectView&)> object_label;
   std::function<Number(const FrameFacts&)> frame_number;
   std::function<Label(const FrameFacts&)> frame_label;
   std::vector<std::string> order;  // categorical: labels in this order first
@@ -44,8 +44,8 @@ std::string FogLabel(const FrameFacts& f) {
   return "visibility >= 3000 m";
 }
 
-using ObjectNumber = std::function<Number(const EvaluationTruth&, size_t object)>;
-using ObjectLabel = std::function<Label(const EvaluationTruth&, size_t object)>;
+using ObjectNumber = std::function<Number(const ObjectView&)>;
+using ObjectLabel = std::function<Label(const ObjectView&)>;
 using FrameNumber = std::function<Number(const FrameFacts&)>;
 using FrameLabel = std::function<Label(const FrameFacts&)>;
 
@@ -84,29 +84,25 @@ const std::vector<Definition>& Definitions() {
       Object("size_px",
              "larger side of the box, pixels",
              {0, 8, 16, 32, 64, 128, 256, kInf},
-             [](const EvaluationTruth& t, size_t i) -> Number { return t.objects[i].size_px; }),
+             [](const ObjectView& o) -> Number { return o.facts.size_px; }),
       Object("visibility",
              "visible share of the object (1 - occlusion)",
              {0, 0.25, 0.5, 0.75, 1},
-             [](const EvaluationTruth& t, size_t i) -> Number { return t.objects[i].visibility; }),
+             [](const ObjectView& o) -> Number { return o.facts.visibility; }),
       Object("in_frame",
              "whole in the image, or truncated by its border",
-             ObjectLabel([](const EvaluationTruth& t, size_t i) -> Label {
-               return t.objects[i].in_frame < 1 ? "truncated" : "whole";
+             ObjectLabel([](const ObjectView& o) -> Label {
+               return o.facts.in_frame < 1 ? "truncated" : "whole";
              }),
              {"truncated", "whole"}),
-      Object("class",
-             "the COCO category",
-             ObjectLabel([](const EvaluationTruth& t, size_t i) -> Label {
-               const int64_t id = t.coco.ground_truth[i].category_id;
-               for (size_t k = 0; k < t.coco.category_ids.size(); ++k)
-                 if (t.coco.category_ids[k] == id) return t.category_names[k];
-               return std::nullopt;
+      Object("class", "the COCO category", ObjectLabel([](const ObjectView& o) -> Label {
+               if (o.category == nullptr) return std::nullopt;
+               return *o.category;
              })),
       Object("distance_m",
              "camera centre to the object's OBB centre, metres",
              {},
-             [](const EvaluationTruth& t, size_t i) -> Number { return t.objects[i].distance_m; }),
+             [](const ObjectView& o) -> Number { return o.facts.distance_m; }),
       Frame("gsd_m",
             "ground sample distance at the image centre, metres per pixel",
             {},
@@ -152,11 +148,10 @@ std::string EdgeText(double value) { return std::isinf(value) ? "inf" : FormatNu
 struct NumericBins {
   std::vector<double> edges;
 
-  static NumericBins Make(std::vector<double> edges, const std::vector<Number>& values) {
+  // Fixed `edges`, or kDataBins equal-width bins over [lo, hi] (none when no
+  // value was seen: lo > hi).
+  static NumericBins Make(std::vector<double> edges, double lo, double hi) {
     if (edges.empty()) {
-      double lo = kInf, hi = -kInf;
-      for (const Number& v : values)
-        if (v) lo = std::min(lo, *v), hi = std::max(hi, *v);
       if (lo > hi) return {};
       edges = {lo};
       for (int b = 1; b <= (hi > lo ? kDataBins : 1); ++b)
@@ -181,57 +176,54 @@ struct NumericBins {
   }
 };
 
-// The values of a definition for every item: the objects, or the images.
-struct Values {
-  std::vector<Number> numbers;
-  std::vector<Label> labels;
+// What one pass over the items of a definition saw: the range of its numbers,
+// the set of its labels.
+struct Seen {
+  double lo = kInf, hi = -kInf;
+  std::set<std::string> labels;
+
+  void Add(const Definition& d, const Number& number, const Label& label) {
+    if (d.object_number || d.frame_number) {
+      if (number) lo = std::min(lo, *number), hi = std::max(hi, *number);
+    } else if (label) {
+      labels.insert(*label);
+    }
+  }
 };
 
-Values ObjectValues(const Definition& d, const EvaluationTruth& truth) {
-  Values v;
-  for (size_t i = 0; i < truth.objects.size(); ++i) {
-    if (d.object_number) v.numbers.push_back(d.object_number(truth, i));
-    if (d.object_label) v.labels.push_back(d.object_label(truth, i));
-  }
-  return v;
-}
-
-Values ImageValues(const Definition& d, const EvaluationTruth& truth) {
-  Values v;
-  for (int64_t image : truth.coco.image_ids) {
-    const auto frame = truth.frames.find(truth.frame_of_image.at(image));
-    const FrameFacts facts = frame == truth.frames.end() ? FrameFacts{} : frame->second;
-    if (d.frame_number) v.numbers.push_back(d.frame_number(facts));
-    if (d.frame_label) v.labels.push_back(d.frame_label(facts));
-  }
-  return v;
-}
-
-// Bin indices of the items (-1: not recorded) and the bin labels.
-std::vector<int> Bin(const Definition& d,
-                     const Values& values,
-                     std::vector<std::string>* labels,
-                     NumericBins* numeric) {
-  std::vector<int> bins;
+// The bins of a definition from what was seen: numeric edges and labels, or
+// the categorical labels (those of `order` first, listed even when empty:
+// coverage shows the hole).
+void MakeBins(const Definition& d, const Seen& seen, ConditionBins* c) {
   if (d.object_number || d.frame_number) {
-    *numeric = NumericBins::Make(d.edges, values.numbers);
-    *labels = numeric->Labels();
-    for (const Number& v : values.numbers) bins.push_back(v ? numeric->Of(*v) : -1);
-    return bins;
+    const NumericBins numeric = NumericBins::Make(d.edges, seen.lo, seen.hi);
+    c->edges = numeric.edges;
+    c->bins = numeric.Labels();
+    return;
   }
-  std::set<std::string> seen;
-  for (const Label& l : values.labels)
-    if (l) seen.insert(*l);
-  for (const std::string& l : d.order) {  // listed even when empty: coverage shows the hole
-    seen.erase(l);
-    labels->push_back(l);
+  std::set<std::string> rest = seen.labels;
+  for (const std::string& l : d.order) {
+    rest.erase(l);
+    c->bins.push_back(l);
   }
-  labels->insert(labels->end(), seen.begin(), seen.end());
-  for (const Label& l : values.labels) {
-    const auto it = l ? std::find(labels->begin(), labels->end(), *l) : labels->end();
-    bins.push_back(it == labels->end() ? -1 : static_cast<int>(it - labels->begin()));
-  }
-  return bins;
+  c->bins.insert(c->bins.end(), rest.begin(), rest.end());
+}
+
+int BinOf(const ConditionBins& c, const Number& number, const Label& label) {
+  if (!c.edges.empty()) return number ? NumericBins{c.edges}.Of(*number) : -1;
+  if (!label) return -1;
+  const auto it = std::find(c.bins.begin(), c.bins.end(), *label);
+  return it == c.bins.end() ? -1 : static_cast<int>(it - c.bins.begin());
+}
+
+bool IsNumeric(const Definition& d) { return d.object_number || d.frame_number; }
+
+const FrameFacts& FactsOfImage(const EvaluationTruth& truth, int64_t image) {
+  static const FrameFacts none;
+  const auto frame_of = truth.frame_of_image.find(image);
+  if (frame_of == truth.frame_of_image.end()) return none;
+  const auto frame = truth.frames.find(frame_of->second);
+  return frame == truth.frames.end() ? none : frame->second;
 }
 
 }  // namespace
@@ -245,36 +237,75 @@ const std::vector<std::string>& ConditionNames() {
   return names;
 }
 
-std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth,
-                                         const std::vector<DetectionBox>& detections) {
+const std::string* CategoryName(const EvaluationTruth& truth, int64_t category_id) {
+  for (size_t k = 0; k < truth.coco.category_ids.size() && k < truth.category_names.size(); ++k)
+    if (truth.coco.category_ids[k] == category_id) return &truth.category_names[k];
+  return nullptr;
+}
+
+int ObjectBin(const ConditionBins& c, const ObjectView& object) {
+  const Definition& d = Definitions()[c.definition];
+  return BinOf(c,
+               d.object_number ? d.object_number(object) : Number(),
+               d.object_label ? d.object_label(object) : Label());
+}
+
+int FrameBin(const ConditionBins& c, const FrameFacts& facts) {
+  const Definition& d = Definitions()[c.definition];
+  return BinOf(c,
+               d.frame_number ? d.frame_number(facts) : Number(),
+               d.frame_label ? d.frame_label(facts) : Label());
+}
+
+int ImageBin(const ConditionBins& c, const EvaluationTruth& truth, int64_t image) {
+  return FrameBin(c, FactsOfImage(truth, image));
+}
+
+int DetectionBin(const ConditionBins& c, const DetectionBox& detection) {
+  if (!c.bins_detections) return -1;
+  return NumericBins{c.edges}.Of(std::max(detection.bbox.w, detection.bbox.h));
+}
+
+std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth) {
+  const std::vector<Definition>& definitions = Definitions();
+  std::vector<Seen> seen(definitions.size());
+  // Frame conditions over the images, object conditions over every annotation
+  // (one pass over the truth, streamed or not).
+  for (size_t i = 0; i < definitions.size(); ++i) {
+    const Definition& d = definitions[i];
+    if (d.level != Level::kFrame) continue;
+    for (int64_t image : truth.coco.image_ids) {
+      const FrameFacts& facts = FactsOfImage(truth, image);
+      seen[i].Add(d,
+                  d.frame_number ? d.frame_number(facts) : Number(),
+                  d.frame_label ? d.frame_label(facts) : Label());
+    }
+  }
+  truth.ForEachImage([&](TruthImage&& image) {
+    for (size_t o = 0; o < image.boxes.size(); ++o) {
+      const ObjectView view{image.objects[o], CategoryName(truth, image.boxes[o].category_id)};
+      for (size_t i = 0; i < definitions.size(); ++i) {
+        const Definition& d = definitions[i];
+        if (d.level != Level::kObject) continue;
+        seen[i].Add(d,
+                    d.object_number ? d.object_number(view) : Number(),
+                    d.object_label ? d.object_label(view) : Label());
+      }
+    }
+  });
   std::vector<ConditionBins> out;
-  for (const Definition& d : Definitions()) {
+  for (size_t i = 0; i < definitions.size(); ++i) {
+    const Definition& d = definitions[i];
     ConditionBins c;
     c.name = d.name;
     c.description = d.description;
     c.level = d.level;
-    NumericBins numeric;
-    if (d.level == Level::kObject) {
-      c.object_bin = Bin(d, ObjectValues(d, truth), &c.bins, &numeric);
-      c.edges = numeric.edges;
-      if (std::none_of(c.object_bin.begin(), c.object_bin.end(), [](int b) { return b >= 0; }))
-        continue;
-      if (c.name == "size_px") {
-        for (const DetectionBox& box : detections)
-          c.detection_bin.push_back(numeric.Of(std::max(box.bbox.w, box.bbox.h)));
-      }
-    } else {
-      const std::vector<int> per_image = Bin(d, ImageValues(d, truth), &c.bins, &numeric);
-      c.edges = numeric.edges;
-      for (size_t i = 0; i < per_image.size(); ++i)
-        if (per_image[i] >= 0) c.image_bin[truth.coco.image_ids[i]] = per_image[i];
-      if (c.image_bin.empty()) continue;
-      for (const GroundTruthBox& g : truth.coco.ground_truth) {
-        const auto it = c.image_bin.find(g.image_id);
-        c.object_bin.push_back(it == c.image_bin.end() ? -1 : it->second);
-      }
-    }
-    out.push_back(std::move(c));
+    c.definition = i;
+    c.bins_detections = c.name == "size_px";
+    MakeBins(d, seen[i], &c);
+    // A condition nothing records is left out.
+    const bool recorded = IsNumeric(d) ? seen[i].lo <= seen[i].hi : !seen[i].labels.empty();
+    if (recorded) out.push_back(std::move(c));
   }
   return out;
 }

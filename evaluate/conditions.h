@@ -16,24 +16,39 @@ namespace lsds::evaluate {
 
 enum class Level { kObject, kFrame };
 
-// One condition with every object (or frame) put into a bin.
+// One condition and its bins.
 struct ConditionBins {
   std::string name;  // "size_px", "visibility", ...
   std::string description;
   Level level = Level::kObject;
-  std::vector<std::string> bins;     // bin labels, in the condition's order
-  std::vector<double> edges;         // numeric: bins.size() + 1 edges; categorical: empty
-  std::vector<int> object_bin;       // per ground-truth annotation; -1: not recorded
-  std::map<int64_t, int> image_bin;  // frame conditions: per COCO image id (absent: not recorded)
-  // Per detection, for a condition a box also has (size_px); empty otherwise:
-  // then every unmatched detection counts in every bin.
-  std::vector<int> detection_bin;
+  std::vector<std::string> bins;  // bin labels, in the condition's order
+  std::vector<double> edges;      // numeric: bins.size() + 1 edges; categorical: empty
+  size_t definition = 0;          // which of ConditionNames()
+  // A condition a detection's box also has (size_px); for the others every
+  // unmatched detection counts in every bin.
+  bool bins_detections = false;
+};
+
+// An object as the conditions see it.
+struct ObjectView {
+  const ObjectFacts& facts;
+  const std::string* category;  // its category's name; null: unknown
 };
 
 // The conditions the collection records (a condition no object or frame
-// records is left out). `detections` may be empty (coverage).
-std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth,
-                                         const std::vector<DetectionBox>& detections);
+// records is left out), from one pass over the truth's annotations.
+std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth);
+
+// The bin of an object under an object condition, of an image (its frame's
+// facts) under a frame condition, of a detection under a condition that bins
+// detections; -1: not recorded (or not binned).
+int ObjectBin(const ConditionBins& c, const ObjectView& object);
+int FrameBin(const ConditionBins& c, const FrameFacts& facts);
+int ImageBin(const ConditionBins& c, const EvaluationTruth& truth, int64_t image);
+int DetectionBin(const ConditionBins& c, const DetectionBox& detection);
+
+// The name of a category of the truth (null: none has that id).
+const std::string* CategoryName(const EvaluationTruth& truth, int64_t category_id);
 
 // The name of every condition BinConditions may give, in its order.
 const std::vector<std::string>& ConditionNames();

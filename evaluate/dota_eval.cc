@@ -228,6 +228,58 @@ double QuadIou(const Quad& p, const Quad& q) {
   return inter / united;  // polyiou.cpp:119-121
 }
 
+double QuadArea(const Quad& q) { return std::fabs(SignedArea(Corners(q))); }
+
+namespace {
+
+BoxXywh UprightBox(const Quad& q) {
+  const Upright u = UprightOf(q);
+  return {u.xmin, u.ymin, u.xmax - u.xmin, u.ymax - u.ymin};
+}
+
+int64_t CategoryOf(const std::vector<std::string>& class_names, const std::string& name) {
+  const auto it = std::find(class_names.begin(), class_names.end(), name);
+  return it == class_names.end() ? 0 : static_cast<int64_t>(it - class_names.begin()) + 1;
+}
+
+}  // namespace
+
+CocoData DotaAsCoco(const std::vector<std::string>& class_names,
+                    const std::vector<DotaObject>& objects,
+                    const std::vector<DotaDetection>& detections,
+                    const std::map<std::string, int64_t>& image_ids) {
+  CocoData data;
+  data.iou_type = IouType::kQuad;
+  for (const auto& [stem, id] : image_ids) data.image_ids.push_back(id);
+  for (size_t c = 0; c < class_names.size(); ++c) data.category_ids.push_back(int64_t(c) + 1);
+  const auto image_of = [&](const std::string& stem) {
+    const auto it = image_ids.find(stem);
+    return it == image_ids.end() ? int64_t{0} : it->second;
+  };
+  for (const DotaObject& o : objects) {
+    GroundTruthBox g;
+    g.id = static_cast<int64_t>(data.ground_truth.size()) + 1;
+    g.image_id = image_of(o.image);
+    g.category_id = CategoryOf(class_names, o.class_name);
+    g.bbox = UprightBox(o.quad);
+    g.area = QuadArea(o.quad);
+    g.ignored = o.difficult;
+    g.quad.assign(o.quad.begin(), o.quad.end());
+    data.ground_truth.push_back(std::move(g));
+  }
+  for (const DotaDetection& d : detections) {
+    DetectionBox b;
+    b.image_id = image_of(d.image);
+    b.category_id = CategoryOf(class_names, d.class_name);
+    b.bbox = UprightBox(d.quad);
+    b.score = d.score;
+    b.area = QuadArea(d.quad);
+    b.quad.assign(d.quad.begin(), d.quad.end());
+    data.detections.push_back(std::move(b));
+  }
+  return data;
+}
+
 DotaResult EvaluateDota(const std::vector<std::string>& class_names,
                         const std::vector<DotaObject>& objects,
                         const std::vector<DotaDetection>& detections,

@@ -7,9 +7,12 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "evaluate/coco_eval.h"
 
 namespace lsds::evaluate {
 
@@ -19,6 +22,9 @@ using Quad = std::array<double, 8>;
 // polyiou.cpp iou_poly: the IoU of two quadrilaterals (convex or not, either
 // winding), the intersection summed over triangle pairs of their fans.
 double QuadIou(const Quad& p, const Quad& q);
+
+// The area of a quadrilateral (the shoelace formula, either winding).
+double QuadArea(const Quad& q);
 
 struct DotaObject {
   std::string image;  // the label file's stem ("000007")
@@ -65,5 +71,15 @@ DotaResult EvaluateDota(const std::vector<std::string>& class_names,
                         const std::vector<DotaDetection>& detections,
                         VocAp ap,
                         double iou_threshold = 0.5);
+
+// The same objects and detections for COCO's rules with the polygon IoU
+// (IouType::kQuad, `--ap coco`): category c + 1 for the c-th of
+// `class_names`, the image id `image_ids` gives the label file's stem, each
+// box's area its quadrilateral's, its upright box the corners' extent, a
+// difficult object ignored (as one outside the area range).
+CocoData DotaAsCoco(const std::vector<std::string>& class_names,
+                    const std::vector<DotaObject>& objects,
+                    const std::vector<DotaDetection>& detections,
+                    const std::map<std::string, int64_t>& image_ids);
 
 }  // namespace lsds::evaluate

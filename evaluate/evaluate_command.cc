@@ -1,5 +1,6 @@
 // lsds evaluate COLLECTION --predictions FILE [--format coco|dota|yolo|mot] [-o eval.json]
-// [--iou-type bbox|segm|obb] [--ap voc07|voc12] [--junit FILE] [--fail-under METRIC=VALUE]... |
+// [--iou-type bbox|segm|obb] [--ap voc07|voc12|coco] [--junit FILE] [--fail-under METRIC=VALUE]...
+// |
 // --coverage
 #include <iostream>
 
@@ -42,8 +43,9 @@ int RunEvaluate(int argc, char** argv) {
   app.add_option("--ap",
                  options.ap,
                  "obb: the DOTA devkit's VOC AP, voc07 (11 points, the devkit's default) or voc12 "
-                 "(area under the precision envelope)")
-      ->check(CLI::IsMember({"voc07", "voc12"}));
+                 "(area under the precision envelope); or coco (COCO's 12 numbers with the "
+                 "polygon IoU)")
+      ->check(CLI::IsMember({"voc07", "voc12", "coco"}));
   app.add_flag(
       "--coverage", coverage, "no predictions: how the collection fills the condition space");
   app.add_option(

@@ -266,7 +266,9 @@ std::string ReportText(const EvaluationReport& report) {
   }
   out += Format("predictions: %lld detections, IoU of %s\n",
                 static_cast<long long>(report.detections),
-                report.iou_type == "segm" ? "masks (iouType segm)" : "boxes (iouType bbox)");
+                report.iou_type == "segm"  ? "masks (iouType segm)"
+                : report.iou_type == "obb" ? "oriented boxes (polygon IoU, --ap coco)"
+                                           : "boxes (iouType bbox)");
   out += CocoLines(*report.stats);
   out += Format("objects %lld, matched at IoU .5: %lld, false positives at IoU .5: %lld\n",
                 static_cast<long long>(report.all.ground_truth),

@@ -4,6 +4,7 @@
 #include "evaluate/dota_files.h"
 #include "evaluate/mot_results.h"
 #include "evaluate/predictions.h"
+#include "evaluate/strata.h"
 #include "evaluate/suggest.h"
 #include "evaluate/yolo_results.h"
 #include "libs/collection/collection_reader.h"
@@ -19,7 +20,7 @@ namespace {
 EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
   EvaluationReport report;
   report.images = static_cast<int64_t>(truth.coco.image_ids.size());
-  report.annotations = static_cast<int64_t>(truth.coco.ground_truth.size());
+  report.annotations = truth.AnnotationCount();
   for (size_t k = 0; k < truth.coco.category_ids.size(); ++k)
     report.categories.emplace_back(truth.coco.category_ids[k], truth.category_names[k]);
   report.thin_below = thin_below;
@@ -50,9 +51,12 @@ void EvaluateOptions::Check() const {
     throw Error("oriented boxes are read from DOTA task-1 or YOLO OBB files: --format dota|yolo");
   if (iou_type == "segm" && format != "coco")
     throw Error("masks are read from COCO results files: --format coco with --iou-type segm");
-  if (ap != "voc07" && ap != "voc12") throw Error("--ap " + ap + ": expected voc07 or voc12");
-  if (iou_type == "obb" && (!fail_under.empty() || !suggest.empty()))
-    throw Error("--fail-under and --suggest work on COCO's metrics: not with --iou-type obb");
+  if (ap != "voc07" && ap != "voc12" && ap != "coco")
+    throw Error("--ap " + ap + ": expected voc07, voc12 or coco");
+  if (iou_type == "obb" && ap != "coco" && !fail_under.empty())
+    throw Error("--fail-under works on COCO's metrics: with --iou-type obb give --ap coco");
+  if (iou_type == "obb" && !suggest.empty())
+    throw Error("--suggest works on the strata of boxes and masks: not with --iou-type obb");
   if (predictions.empty() && iou_type != "bbox")
     throw Error("--iou-type needs --predictions (coverage compares nothing)");
   if (thin_below < 0) throw Error("--thin must be >= 0");
@@ -65,7 +69,7 @@ void EvaluateOptions::Check() const {
 
 EvaluationReport CoverageReport(const EvaluationTruth& truth, int64_t thin_below) {
   EvaluationReport report = BaseReport(truth, thin_below);
-  report.coverage = Coverage(truth, BinConditions(truth, {}), thin_below);
+  report.coverage = EvaluateImages(truth, BinConditions(truth), nullptr, thin_below).coverage;
   return report;
 }
 
@@ -75,14 +79,17 @@ EvaluationReport Evaluate(const EvaluationTruth& truth,
   EvaluationReport report = BaseReport(truth, thin_below);
   report.detections = static_cast<int64_t>(detections.size());
   report.iou_type = truth.coco.iou_type == IouType::kMask ? "segm" : "bbox";
-  const std::vector<ConditionBins> conditions = BinConditions(truth, detections);
-  CocoData data = truth.coco;
-  data.detections = std::move(detections);
-  const CocoEvaluator evaluator(std::move(data));
-  report.stats = evaluator.Stats();
-  report.all = evaluator.Accumulate(Selection{});
-  report.strata = EvaluateStrata(evaluator, conditions, thin_below);
-  report.coverage = Coverage(truth, conditions, thin_below);
+  // Each image's detections together, in file order (the order COCOeval
+  // breaks score ties in).
+  std::stable_sort(
+      detections.begin(), detections.end(), [](const DetectionBox& a, const DetectionBox& b) {
+        return a.image_id < b.image_id;
+      });
+  ImageMetrics metrics = EvaluateImages(truth, BinConditions(truth), &detections, thin_below);
+  report.stats = metrics.stats;
+  report.all = std::move(metrics.all);
+  report.strata = std::move(metrics.strata);
+  report.coverage = std::move(metrics.coverage);
   return report;
 }
 
@@ -111,7 +118,8 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
 
   TruthOptions truth_options = options.truth;
   truth_options.masks = options.iou_type == "segm";
-  const EvaluationTruth truth = ReadCollectionTruth(truth_options);
+  // The annotations stay in the converter's scratch file, read image by image.
+  const EvaluationTruth truth = StreamCollectionTruth(truth_options);
   EvaluateResult result;
   if (options.predictions.empty()) {
     result.report = CoverageReport(truth, options.thin_below);
@@ -126,10 +134,24 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
             : ReadDotaResults(options.predictions, dota.class_names, dota.images);
     result.report.detections = static_cast<int64_t>(detections.size());
     result.report.iou_type = "obb";
-    result.report.dota = EvaluateDota(dota.class_names,
-                                      dota.objects,
-                                      detections,
-                                      options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
+    if (options.ap == "coco") {
+      // COCO's rules and numbers with the devkit's polygon IoU.
+      std::map<std::string, int64_t> image_ids;  // label file stem -> COCO image id
+      for (const auto& [name, id] : truth.image_by_file_name)
+        image_ids[std::filesystem::path(name).stem().string()] = id;
+      const CocoEvaluator evaluator(
+          DotaAsCoco(dota.class_names, dota.objects, detections, image_ids));
+      result.report.stats = evaluator.Stats();
+      result.report.all = evaluator.Accumulate(Selection{});
+      for (const std::string& t : options.fail_under)
+        result.report.thresholds.push_back(ParseThreshold(t));
+      result.thresholds_passed = CheckThresholds(*result.report.stats, &result.report.thresholds);
+    } else {
+      result.report.dota = EvaluateDota(dota.class_names,
+                                        dota.objects,
+                                        detections,
+                                        options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
+    }
     result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
     result.report = Evaluate(truth, ReadBoxPredictions(options, truth), options.thin_below);
@@ -140,7 +162,7 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
   }
   std::string capture;
   if (!options.suggest.empty()) {
-    Suggestion suggestion = SuggestCapture(truth, BinConditions(truth, {}), result.report);
+    Suggestion suggestion = SuggestCapture(truth, BinConditions(truth), result.report);
     capture = std::move(suggestion.lcap);
     result.suggested_quotas = std::move(suggestion.quotas);
   }

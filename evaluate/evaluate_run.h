@@ -17,7 +17,7 @@ struct EvaluateOptions {
   std::filesystem::path predictions;  // empty: coverage only
   std::string format = "coco";
   std::string iou_type = "bbox";  // COCOeval's iouType: bbox | segm; or obb (DOTA task 1)
-  std::string ap = "voc07";       // obb: the DOTA devkit's VOC AP, voc07 | voc12
+  std::string ap = "voc07";       // obb: the DOTA devkit's VOC AP, voc07 | voc12; or coco
   std::filesystem::path output;   // JSON; empty: none
   std::filesystem::path junit;    // JUnit XML; empty: none
   std::filesystem::path suggest;  // the next LCAP capture; empty: none (needs predictions)

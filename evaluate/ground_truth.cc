@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
+#include <limits>
 #include <sstream>
 #include <system_error>
 
@@ -13,6 +15,7 @@
 #include "evaluate/dota_files.h"
 #include "evaluate/segmentation.h"
 #include "libs/collection/collection_reader.h"
+#include "libs/collection/json_stream.h"
 #include "libs/collection/model.h"
 #include "libs/geometry/world_frame.h"
 #include "libs/util/error.h"
@@ -76,6 +79,9 @@ FrameFacts FactsOf(const Frame& frame, const WorldFrame& world) {
   const Eigen::Vector3d axis_in_world = frame.camera.cam_from_world_rotation.row(2).transpose();
   const Eigen::Vector3d axis = (world.enu_from_frame * axis_in_world).normalized();
   facts.off_nadir_deg = std::acos(std::clamp(-axis.z(), -1.0, 1.0)) * 180.0 / M_PI;
+  const Eigen::Matrix3d& r = frame.camera.cam_from_world_rotation;
+  const Eigen::Vector3d centre = -(r.transpose() * frame.camera.cam_from_world_translation);
+  facts.camera_in_world = std::array<double, 3>{centre.x(), centre.y(), centre.z()};
   const json& scene = frame.scene;
   if (!scene.is_object()) return facts;
   if (scene.contains("sun"))
@@ -93,24 +99,15 @@ FrameFacts FactsOf(const Frame& frame, const WorldFrame& world) {
   return facts;
 }
 
-// The frames' conditions and every object's distance, keyed by frame and
-// instance id.
-void ReadFrameFacts(const TruthOptions& options,
-                    EvaluationTruth* truth,
-                    std::map<std::pair<int64_t, uint32_t>, double>* distances) {
+// The frames' conditions, and where their cameras are.
+void ReadFrameFacts(const TruthOptions& options, EvaluationTruth* truth) {
   const CollectionReader reader(options.collection);
   const WorldFrame& world = reader.header().conventions.world;
   truth->capture_source = reader.header().provenance.capture_source;
+  truth->metres_per_unit = world.metres_per_unit;
   reader.ForEachFrame([&](const Frame& frame) {
     if (!options.frames.Contains(frame.index)) return;
     truth->frames[frame.index] = FactsOf(frame, world);
-    const Eigen::Matrix3d& r = frame.camera.cam_from_world_rotation;
-    const Eigen::Vector3d centre = -(r.transpose() * frame.camera.cam_from_world_translation);
-    for (const ObjectTruth& object : frame.objects) {
-      if (!object.obb) continue;  // no 3D box: no distance (its bins say "unknown")
-      (*distances)[{frame.index, object.instance_id}] =
-          world.metres_per_unit * (object.obb->center - centre).norm();
-    }
   });
   const fs::path metadata = options.collection / kMetadataFile;
   if (!fs::exists(metadata)) return;
@@ -183,61 +180,196 @@ MotSequences ReadMotSequences(const TruthOptions& options) {
   return sequences;
 }
 
-void ReadCocoGroundTruth(const json& coco,
-                         const std::string& file,
-                         EvaluationTruth* truth,
-                         bool masks) {
-  if (masks) truth->coco.iou_type = IouType::kMask;
-  AtPointer(file, "/images", [&] {
-    for (const json& image : coco.at("images")) {
-      const int64_t id = image.at("id").get<int64_t>();
-      truth->coco.image_ids.push_back(id);
-      truth->image_by_file_name[image.at("file_name").get<std::string>()] = id;
-      truth->frame_of_image[id] = image.at("lsds").at("frame").get<int64_t>();
-      truth->image_size[id] = {image.at("height").get<int64_t>(), image.at("width").get<int64_t>()};
-    }
-  });
+namespace {
+
+void ReadImageEntry(const json& image, EvaluationTruth* truth) {
+  const int64_t id = image.at("id").get<int64_t>();
+  truth->coco.image_ids.push_back(id);
+  truth->image_by_file_name[image.at("file_name").get<std::string>()] = id;
+  truth->frame_of_image[id] = image.at("lsds").at("frame").get<int64_t>();
+  truth->image_size[id] = {image.at("height").get<int64_t>(), image.at("width").get<int64_t>()};
+}
+
+void ReadCategories(const json& coco, const std::string& file, EvaluationTruth* truth) {
   AtPointer(file, "/categories", [&] {
     for (const json& category : coco.at("categories")) {
       truth->coco.category_ids.push_back(category.at("id").get<int64_t>());
       truth->category_names.push_back(category.at("name").get<std::string>());
     }
   });
-  AtPointer(file, "/annotations", [&] {
-    const json& annotations = coco.at("annotations");
-    for (size_t i = 0; i < annotations.size(); ++i) {
-      const json& a = annotations[i];
-      GroundTruthBox g;
-      g.id = a.at("id").get<int64_t>();
-      g.image_id = a.at("image_id").get<int64_t>();
-      g.category_id = a.at("category_id").get<int64_t>();
-      g.bbox = ReadBox(a.at("bbox"));
-      g.area = a.at("area").get<double>();
-      g.iscrowd = a.at("iscrowd").get<int>() != 0;
-      if (masks) {
-        const EvaluationTruth::ImageSize size = truth->image_size.at(g.image_id);
-        g.mask = ReadSegmentation(a.at("segmentation"),
-                                  size.height,
-                                  size.width,
-                                  file,
-                                  "/annotations/" + std::to_string(i) + "/segmentation");
-      }
-      truth->coco.ground_truth.push_back(g);
-      ObjectFacts facts;
-      facts.frame = truth->frame_of_image.at(g.image_id);
-      facts.size_px = std::max(g.bbox.w, g.bbox.h);
-      if (const auto lsds = a.find("lsds"); lsds != a.end()) {
-        facts.instance_id = lsds->at("instance_id").get<uint32_t>();
-        facts.name = lsds->value("name", "");
-        facts.visibility = lsds->at("visibility").get<double>();
-        facts.in_frame = lsds->at("in_frame").get<double>();
-      }
-      truth->objects.push_back(facts);
+}
+
+// One annotation and the facts of its object; its distance from the camera
+// of its frame (when both are known).
+void ReadAnnotationEntry(const json& a,
+                         const std::string& file,
+                         const std::string& at,
+                         const EvaluationTruth& truth,
+                         bool masks,
+                         TruthImage* image) {
+  AtPointer(file, at, [&] {
+    GroundTruthBox g;
+    g.id = a.at("id").get<int64_t>();
+    g.image_id = a.at("image_id").get<int64_t>();
+    g.category_id = a.at("category_id").get<int64_t>();
+    g.bbox = ReadBox(a.at("bbox"));
+    g.area = a.at("area").get<double>();
+    g.iscrowd = a.at("iscrowd").get<int>() != 0;
+    if (masks) {
+      const EvaluationTruth::ImageSize size = truth.image_size.at(g.image_id);
+      g.mask = ReadSegmentation(
+          a.at("segmentation"), size.height, size.width, file, at + "/segmentation");
     }
+    ObjectFacts facts;
+    facts.frame = truth.frame_of_image.at(g.image_id);
+    facts.size_px = std::max(g.bbox.w, g.bbox.h);
+    if (const auto lsds = a.find("lsds"); lsds != a.end()) {
+      facts.instance_id = lsds->at("instance_id").get<uint32_t>();
+      facts.name = lsds->value("name", "");
+      facts.visibility = lsds->at("visibility").get<double>();
+      facts.in_frame = lsds->at("in_frame").get<double>();
+      const auto frame = truth.frames.find(facts.frame);
+      if (const auto obb = lsds->find("obb");
+          obb != lsds->end() && frame != truth.frames.end() && frame->second.camera_in_world) {
+        const json& c = obb->at("center");
+        const Eigen::Vector3d center(
+            c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>());
+        const std::array<double, 3>& camera = *frame->second.camera_in_world;
+        const Eigen::Vector3d centre(camera[0], camera[1], camera[2]);
+        facts.distance_m = truth.metres_per_unit * (center - centre).norm();
+      }
+    }
+    image->boxes.push_back(std::move(g));
+    image->objects.push_back(std::move(facts));
   });
 }
 
-EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
+void SortImageIds(EvaluationTruth* truth) {
+  std::vector<int64_t>& ids = truth->coco.image_ids;
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+}
+
+}  // namespace
+
+struct StreamedAnnotations {
+  fs::path file;
+  bool masks = false;
+  std::shared_ptr<void> keep_alive;
+};
+
+void EvaluationTruth::ForEachImage(const std::function<void(TruthImage&&)>& on_image) const {
+  std::vector<int64_t> ids = coco.image_ids;
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  size_t next = 0;  // the next image to hand out
+  const auto empty_until = [&](int64_t id) {
+    for (; next < ids.size() && ids[next] < id; ++next) {
+      TruthImage empty;
+      empty.image_id = ids[next];
+      on_image(std::move(empty));
+    }
+  };
+  if (!streamed) {
+    std::map<int64_t, std::vector<size_t>> by_image;
+    for (size_t i = 0; i < coco.ground_truth.size(); ++i)
+      by_image[coco.ground_truth[i].image_id].push_back(i);
+    for (const auto& [id, indices] : by_image) {
+      empty_until(id);
+      if (next == ids.size() || ids[next] != id) continue;  // not an image of the truth
+      TruthImage image;
+      image.image_id = id;
+      ++next;
+      for (size_t i : indices) {
+        image.boxes.push_back(coco.ground_truth[i]);
+        image.objects.push_back(i < objects.size() ? objects[i] : ObjectFacts{});
+      }
+      on_image(std::move(image));
+    }
+    empty_until(std::numeric_limits<int64_t>::max());
+    return;
+  }
+  const std::string file = streamed->file.string();
+  TruthImage current;
+  bool open = false;
+  StreamJsonArrays(streamed->file,
+                   {"images", "annotations"},
+                   nullptr,
+                   [&](const std::string& key, json&& element, size_t index) {
+                     if (key != "annotations") return;
+                     const std::string at = "/annotations/" + std::to_string(index);
+                     TruthImage one;
+                     ReadAnnotationEntry(element, file, at, *this, streamed->masks, &one);
+                     const int64_t id = one.boxes.front().image_id;
+                     if (open && id == current.image_id) {
+                       current.boxes.push_back(std::move(one.boxes.front()));
+                       current.objects.push_back(std::move(one.objects.front()));
+                       return;
+                     }
+                     if (open && id < current.image_id)
+                       throw Error(
+                           "the annotations are not grouped by image in id order, as lsds convert "
+                           "writes them",
+                           Location(file, at + "/image_id"));
+                     if (open) on_image(std::move(current));
+                     open = false;
+                     empty_until(id);
+                     if (next == ids.size() || ids[next] != id)
+                       throw Error("image " + std::to_string(id) + " is not in /images",
+                                   Location(file, at + "/image_id"));
+                     current = std::move(one);
+                     current.image_id = id;
+                     ++next;
+                     open = true;
+                   });
+  if (open) on_image(std::move(current));
+  empty_until(std::numeric_limits<int64_t>::max());
+}
+
+void HoldAnnotations(EvaluationTruth* truth) {
+  if (!truth->streamed) return;
+  std::vector<GroundTruthBox> boxes;
+  std::vector<ObjectFacts> objects;
+  truth->ForEachImage([&](TruthImage&& image) {
+    std::move(image.boxes.begin(), image.boxes.end(), std::back_inserter(boxes));
+    std::move(image.objects.begin(), image.objects.end(), std::back_inserter(objects));
+  });
+  truth->coco.ground_truth = std::move(boxes);
+  truth->objects = std::move(objects);
+  truth->streamed.reset();
+  truth->streamed_annotations = 0;
+}
+
+EvaluationTruth StreamCocoGroundTruth(const fs::path& file,
+                                      bool masks,
+                                      std::shared_ptr<void> keep_alive) {
+  EvaluationTruth truth;
+  if (masks) truth.coco.iou_type = IouType::kMask;
+  json header;
+  const std::string name = file.string();
+  StreamJsonArrays(file,
+                   {"images", "annotations"},
+                   &header,
+                   [&](const std::string& key, json&& element, size_t index) {
+                     if (key == "annotations") {
+                       ++truth.streamed_annotations;
+                       return;
+                     }
+                     AtPointer(name, "/images/" + std::to_string(index), [&] {
+                       ReadImageEntry(element, &truth);
+                     });
+                   });
+  ReadCategories(header, name, &truth);
+  SortImageIds(&truth);
+  auto streamed = std::make_shared<StreamedAnnotations>();
+  streamed->file = file;
+  streamed->masks = masks;
+  streamed->keep_alive = std::move(keep_alive);
+  truth.streamed = std::move(streamed);
+  return truth;
+}
+
+EvaluationTruth StreamCollectionTruth(const TruthOptions& options) {
   {
     // The ground truth boxes and masks come from the instance layer; a
     // collection imported from a source without ids has none
@@ -248,20 +380,20 @@ EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
           "the collection has no instanceid layer, so no objects to evaluate detections against",
           Location(reader.collection_path().string(), "/layers"));
   }
-  // The converter, run as `lsds convert COLLECTION --to coco --images none`.
-  const ScratchFolder scratch;
-  const convert::ConvertOptions coco = ConverterOptions(options, "coco", scratch.path());
+  // The converter, run as `lsds convert COLLECTION --to coco --images none`;
+  // its file is read again image by image while the truth lives.
+  auto scratch = std::make_shared<ScratchFolder>();
+  const convert::ConvertOptions coco = ConverterOptions(options, "coco", scratch->path());
   convert::Convert(coco);
   const fs::path file = coco.output / "annotations" / "instances_train.json";
-  EvaluationTruth truth;
-  ReadCocoGroundTruth(ReadJsonFile(file), file.string(), &truth, options.masks);
+  EvaluationTruth truth = StreamCocoGroundTruth(file, options.masks, scratch);
+  ReadFrameFacts(options, &truth);
+  return truth;
+}
 
-  std::map<std::pair<int64_t, uint32_t>, double> distances;
-  ReadFrameFacts(options, &truth, &distances);
-  for (ObjectFacts& object : truth.objects) {
-    const auto it = distances.find({object.frame, object.instance_id});
-    if (it != distances.end()) object.distance_m = it->second;
-  }
+EvaluationTruth ReadCollectionTruth(const TruthOptions& options) {
+  EvaluationTruth truth = StreamCollectionTruth(options);
+  HoldAnnotations(&truth);
   return truth;
 }
 

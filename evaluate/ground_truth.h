@@ -5,9 +5,12 @@
 // frame was seen under (docs/evaluate.md, "Conditions").
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -54,10 +57,26 @@ struct FrameFacts {
   bool atmosphere_recorded = false;         // scene.atmosphere present
   std::optional<std::string> clouds;        // scene.sky.cloud_type ("none" at density 0)
   std::optional<std::string> terrain_material;
+  // The camera centre in world coordinates (world units), for the objects'
+  // distances.
+  std::optional<std::array<double, 3>> camera_in_world;
 };
 
+// One image of the ground truth as the evaluation is handed it.
+struct TruthImage {
+  int64_t image_id = 0;
+  std::vector<GroundTruthBox> boxes;  // in file order
+  std::vector<ObjectFacts> objects;   // parallel to boxes
+};
+
+// The COCO dataset file the annotations are streamed from, image by image,
+// when they are not held in memory (and the scratch folder holding it).
+struct StreamedAnnotations;
+
 struct EvaluationTruth {
-  CocoData coco;                            // ground truth only (detections empty)
+  // Ground truth only (detections empty). Its ground_truth is empty when the
+  // annotations are streamed (`streamed`); image and category ids are sorted.
+  CocoData coco;
   std::vector<std::string> category_names;  // parallel to coco.category_ids
   std::map<std::string, int64_t> image_by_file_name;
   std::map<int64_t, int64_t> frame_of_image;  // COCO image id -> frame index
@@ -68,10 +87,36 @@ struct EvaluationTruth {
   std::vector<ObjectFacts> objects;         // parallel to coco.ground_truth
   std::map<int64_t, FrameFacts> frames;     // by frame index
   std::string capture_source;               // provenance.capture_source (LCAP text)
+  double metres_per_unit = 1;               // of the world frame, for distances
+  std::shared_ptr<const StreamedAnnotations> streamed;
+  int64_t streamed_annotations = 0;  // how many the streamed file holds
+
+  int64_t AnnotationCount() const {
+    return streamed ? streamed_annotations : static_cast<int64_t>(coco.ground_truth.size());
+  }
+  // Hands every image, in id order, its ground truth: from memory, or read
+  // again from the streamed file (only one image's boxes held at a time).
+  // Images without annotations come with none.
+  void ForEachImage(const std::function<void(TruthImage&&)>& on_image) const;
 };
 
 // Throws lsds::Error (exit 2) for an unreadable collection or bad options.
+// Every annotation is held in memory (coco.ground_truth, objects).
 EvaluationTruth ReadCollectionTruth(const TruthOptions& options);
+
+// The same with the annotations left in the converter's scratch file and
+// streamed by ForEachImage: memory holds the image and category tables only.
+EvaluationTruth StreamCollectionTruth(const TruthOptions& options);
+
+// The tables of a COCO dataset file written by `lsds convert --to coco` (one
+// split), its annotations streamed from it by ForEachImage. `keep_alive`
+// owns what must outlive the truth (the scratch folder holding the file).
+EvaluationTruth StreamCocoGroundTruth(const std::filesystem::path& file,
+                                      bool masks,
+                                      std::shared_ptr<void> keep_alive = nullptr);
+
+// Every streamed annotation into coco.ground_truth and objects.
+void HoldAnnotations(EvaluationTruth* truth);
 
 // The oriented boxes `lsds convert --to dota` writes (with the flags of
 // `options`; the converter runs into a scratch folder), as the DOTA devkit
@@ -87,13 +132,5 @@ DotaTruth ReadDotaTruth(const TruthOptions& options);
 // index of each frame number (frames.txt; number k at position k - 1).
 using MotSequences = std::map<std::string, std::vector<int64_t>>;
 MotSequences ReadMotSequences(const TruthOptions& options);
-
-// The COCO dataset JSON `lsds convert --to coco` writes (one split), read
-// into `truth` (images, categories, annotations and their `lsds` extras;
-// with `masks`, each annotation's segmentation as RLE and the iouType segm).
-void ReadCocoGroundTruth(const nlohmann::json& coco,
-                         const std::string& file,
-                         EvaluationTruth* truth,
-                         bool masks = false);
 
 }  // namespace lsds::evaluate

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "evaluate/segmentation.h"
+#include "libs/collection/json_stream.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
@@ -212,7 +213,31 @@ std::vector<DetectionBox> ParseCocoPredictions(const std::string& text,
 
 std::vector<DetectionBox> ReadCocoPredictions(const std::filesystem::path& file,
                                               const EvaluationTruth& truth) {
-  return ParseCocoPredictions(ReadTextFile(file), file.string(), truth);
+  // The entries one at a time as they are parsed (no document of the whole
+  // list is built); a file that does not parse as a list is read again whole
+  // by ParseCocoPredictions, which says what is wrong with it (an empty file,
+  // NaN or Infinity at their entry, a syntax error at its line and column).
+  EntryReader reader(file.string(), truth);
+  std::vector<DetectionBox> detections;
+  bool entry_failed = false;
+  try {
+    StreamJsonArrays(file, {}, nullptr, [&](const std::string&, json&& entry, size_t index) {
+      try {
+        if (index == 0) reader.SetBoxesGiven(entry);
+        detections.push_back(reader.Read(entry, "/" + std::to_string(index)));
+      } catch (...) {
+        entry_failed = true;
+        throw;
+      }
+    });
+  } catch (const Error&) {
+    if (entry_failed) throw;
+    detections.clear();
+    detections.shrink_to_fit();
+    return ParseCocoPredictions(ReadTextFile(file), file.string(), truth);
+  }
+  detections.shrink_to_fit();
+  return detections;
 }
 
 }  // namespace lsds::evaluate

@@ -72,6 +72,12 @@ masks::CocoRle ReadPolygons(const json& segmentation,
     for (size_t i = 0; i < polygon.size(); ++i) {
       if (!polygon[i].is_number() || !std::isfinite(polygon[i].get<double>()))
         Fail(file, here + "/" + std::to_string(i), "expected a finite number");
+      if (std::fabs(polygon[i].get<double>()) > masks::kMaxPolygonCoordinate)
+        Fail(file,
+             here + "/" + std::to_string(i),
+             "a polygon coordinate beyond +-1e6 pixels (" + polygon[i].dump() +
+                 "): no mask of the image has one, and rasterising it as the COCO API does "
+                 "would walk its edges for minutes");
       xy.push_back(polygon[i].get<double>());
     }
     parts.push_back(masks::CocoRleFromPolygon(xy, height, width));

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,10 +36,6 @@ struct ConditionMetrics {
   std::vector<StratumMetrics> strata;  // worst first: recall_50, then CI upper bound, then label
 };
 
-std::vector<ConditionMetrics> EvaluateStrata(const CocoEvaluator& evaluator,
-                                             const std::vector<ConditionBins>& conditions,
-                                             int64_t thin_below);
-
 // One bin of the coverage histogram.
 struct CoverageCell {
   std::string label;
@@ -54,10 +51,25 @@ struct ConditionCoverage {
   std::vector<CoverageCell> cells;  // in the condition's bin order
 };
 
-// Flags: a cell is "empty" with no object (frame conditions: no frame) and
-// "thin" with fewer than `thin_below`.
-std::vector<ConditionCoverage> Coverage(const EvaluationTruth& truth,
-                                        const std::vector<ConditionBins>& conditions,
-                                        int64_t thin_below);
+// What one pass over the truth's images gives. A cell of coverage is "empty"
+// with no object (frame conditions: no frame) and "thin" with fewer than
+// `thin_below`.
+struct ImageMetrics {
+  std::optional<CocoStats> stats;        // with detections
+  Accumulation all;                      // no area range: the counts at IoU .5
+  std::vector<ConditionMetrics> strata;  // with detections
+  std::vector<ConditionCoverage> coverage;
+  size_t kept_detections = 0;  // what the accumulations held, over all selections
+};
+
+// Evaluates the images one at a time as the truth hands them out (several at
+// once on the TBB threads), each against its own detections as soon as both
+// are known, keeping only what COCOeval.accumulate needs per area range and
+// stratum (AccumulationBuilder). `detections` (null: coverage only) must be
+// sorted by image id, stably.
+ImageMetrics EvaluateImages(const EvaluationTruth& truth,
+                            const std::vector<ConditionBins>& conditions,
+                            const std::vector<DetectionBox>* detections,
+                            int64_t thin_below);
 
 }  // namespace lsds::evaluate

@@ -47,8 +47,10 @@ struct Proposal {
 // "T#2"); empty when the truth names none.
 std::string MainTarget(const EvaluationTruth& truth) {
   std::map<std::string, int64_t> counts;
-  for (const ObjectFacts& o : truth.objects)
-    if (!o.name.empty()) ++counts[o.name.substr(0, o.name.find('#'))];
+  truth.ForEachImage([&](TruthImage&& image) {
+    for (const ObjectFacts& o : image.objects)
+      if (!o.name.empty()) ++counts[o.name.substr(0, o.name.find('#'))];
+  });
   std::string best;
   for (const auto& [symbol, n] : counts)
     if (best.empty() || n > counts[best]) best = symbol;

@@ -79,9 +79,9 @@ nlohmann::json RenderSettingsJson(const GenerateOptions& options) {
           {"jitter", options.jitter},
           {"depth", DepthKindName(options.depth_kind)},
           {"zip_level", options.zip_level},
-          {"bundle_layout", BundleLayoutName(options.bundle_layout)},
-          {"worldposition_layout", FlatLayoutName(options.worldposition_layout)},
-          {"motion_layout", FlatLayoutName(options.motion_layout)}};
+          {"bundle_layout", BundleLayoutName(options.layouts.bundle)},
+          {"worldposition_layout", FlatLayoutName(options.layouts.worldposition)},
+          {"motion_layout", FlatLayoutName(options.layouts.motion)}};
 }
 
 fs::path TruthPartPath(const fs::path& root, int64_t index) {
@@ -301,12 +301,6 @@ void GenerateOptions::Check() const {
   CheckSamplerSettings({spp, jitter, 0});
 }
 
-void GenerateOptions::UseCompactLayouts() {
-  bundle_layout = BundleLayout::kResidual;
-  worldposition_layout = FlatLayout::kResidual;
-  motion_layout = FlatLayout::kResidual;
-}
-
 CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
   CollectionHeader header;
   header.provenance.generator = "lsds generate";
@@ -328,26 +322,9 @@ CollectionHeader MakeHeader(const Plan& plan, const GenerateOptions& options) {
                         std::find(asked.begin(), asked.end(), semantic) != asked.end();
     if (!wanted) continue;
     header.layers.push_back(StandardLayer(semantic, options.depth_kind));
-    if (semantic == "bundle") header.layers.back().layout = options.bundle_layout;
   }
-  // The residual worldposition and motion layouts predict from the depth layer:
-  // without one (Capture Settings may leave it out) the layers stay float.
-  if (header.FindLayerBySemantic("depth") != nullptr) {
-    for (LayerInfo& layer : header.layers) {
-      if (layer.semantic == "worldposition") {
-        layer.flat_layout = options.worldposition_layout;
-      } else if (layer.semantic == "motion") {
-        layer.flat_layout = options.motion_layout;
-      } else {
-        continue;
-      }
-      // Small integers: piz beats zip on worldposition's (2.41 vs 2.73 MB, and
-      // faster to encode); motion's are nearly all 0, where zip wins by far
-      // (0.08 vs 0.27 MB; docs/generator.md "Storage"). Both lossless.
-      if (layer.flat_layout == FlatLayout::kResidual && layer.semantic == "worldposition")
-        layer.compression = exr::Compression::kPiz;
-    }
-  }
+  // Without a depth layer (Capture Settings may leave it out) worldposition and motion stay float.
+  ApplyLayerLayouts(options.layouts, &header);
   if (!plan.capture_settings.empty())
     header.provenance.render["capture_settings"] = plan.capture_settings;
   header.metadata = {{kMetadataFile, false, "measured metadata; equal to truth"}};

@@ -14,6 +14,7 @@
 #include "generator/plan/plan.h"
 #include "generator/render/film.h"
 #include "generator/requirement_report.h"
+#include "libs/collection/layer_layouts.h"
 #include "libs/collection/model.h"
 #include "libs/util/frame_selection.h"
 
@@ -41,17 +42,9 @@ struct GenerateOptions {
   // encodes about twice as fast as OpenEXR's own default 4 for files a few
   // percent larger).
   int zip_level = 1;
-  // How the deep bundle layer is stored (docs/format.md "Pixel bundles"):
-  // residual by default; compact stores depths and normals as floats; full
-  // writes every channel of every sample, as format 1.0 did.
-  BundleLayout bundle_layout = BundleLayout::kResidual;
-  // How the worldposition and motion layers are stored (docs/format.md
-  // "Worldposition layouts", "Motion layouts"): float by default, plain X, Y, Z
-  // and X, Y that any EXR reader gets right; residual (UseCompactLayouts, `lsds
-  // generate --compact`) stores UINT differences from the depth's prediction,
-  // lossless and decoded by every lsds reader, for users who want the bytes.
-  FlatLayout worldposition_layout = FlatLayout::kFloat;
-  FlatLayout motion_layout = FlatLayout::kFloat;
+  // How the deep bundle, worldposition and motion layers are stored (`--compact`,
+  // `--*-layout`): libs/collection/layer_layouts.h.
+  LayerLayouts layouts;
   Renderer renderer = Renderer::kReference;
   // --renderer cycles: Blender's executable (empty: `blender` on PATH), its
   // version (found by GenerateCollection), and OpenImageDenoise on the rgb.
@@ -60,9 +53,6 @@ struct GenerateOptions {
   bool denoise = false;
 
   void Check() const;  // throws lsds::Error for inconsistent options
-  // `lsds generate --compact`: every layer in its smallest lossless layout
-  // (the residual bundle, worldposition and motion).
-  void UseCompactLayouts();
   bool Selects(int64_t frame_index) const {
     return frames.Contains(frame_index) && frame_index % shard_count == shard_index;
   }

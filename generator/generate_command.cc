@@ -127,16 +127,16 @@ int RunGenerate(int argc, char** argv) {
     if (!shard.empty()) ParseShard(shard, &options.shard_index, &options.shard_count);
     options.depth_kind = ParseDepthFlag(depth);
     // --compact first; a layer's own --*-layout flag then overrides it.
-    if (compact) options.UseCompactLayouts();
-    if (!bundle_layout.empty() && !ParseBundleLayout(bundle_layout, &options.bundle_layout)) {
+    if (compact) options.layouts.UseCompact();
+    if (!bundle_layout.empty() && !ParseBundleLayout(bundle_layout, &options.layouts.bundle)) {
       throw Error("--bundle-layout " + bundle_layout + ": expected residual, compact or full");
     }
     if (!worldposition_layout.empty() &&
-        !ParseFlatLayout(worldposition_layout, &options.worldposition_layout)) {
+        !ParseFlatLayout(worldposition_layout, &options.layouts.worldposition)) {
       throw Error("--worldposition-layout " + worldposition_layout +
                   ": expected float or residual");
     }
-    if (!motion_layout.empty() && !ParseFlatLayout(motion_layout, &options.motion_layout)) {
+    if (!motion_layout.empty() && !ParseFlatLayout(motion_layout, &options.layouts.motion)) {
       throw Error("--motion-layout " + motion_layout + ": expected float or residual");
     }
     if (renderer == "cycles") {

@@ -7,6 +7,7 @@
 #include "importers/derived_truth.h"
 #include "importers/registry.h"
 #include "libs/collection/collection_builder.h"
+#include "libs/collection/layer_layouts.h"
 #include "libs/collection/object_truth.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/encoder_settings.h"
@@ -54,8 +55,8 @@ auto Guarded(const fs::path& source, std::optional<int64_t> frame, F&& step) {
 
 // The truth entries of a frame's targets, measured on its id layer (object_truth.h), the
 // unoccluded pixels those of the OBB. A visibility the source states (SourceFrame::stated)
-// replaces the derived one; a source without an id layer (Replicator with 3D boxes only) gives the
-// 2D box it states itself; the rest comes from the OBB.
+// replaces the derived one; a source without an id layer (Replicator without instance segmentation)
+// gives the 2D box it states itself; the rest comes from the OBB, where there is one.
 std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
                                              const PinholeCamera& camera,
                                              const Rigid3d& cam_from_world) {
@@ -82,8 +83,20 @@ std::vector<ObjectTruth> MeasureFrameObjects(const SourceFrame& source_frame,
                            ids,
                            mask == masks.end() ? nullptr : &mask->second,
                            count_unoccluded);
-    if (!object) continue;
     const auto stated = source_frame.stated.find(target.instance_id);
+    const bool box_stated = stated != source_frame.stated.end() && stated->second.bbox;
+    if (!object && ids.ids == nullptr && !target.obb && box_stated) {
+      // No id layer to find it on and no OBB to project: an object without a 3D box is where
+      // the source's own 2D box says (format.md "Objects without a 3D box"); its in_frame and
+      // visibility are not measured (1) unless the source states them below.
+      object.emplace();
+      object->instance_id = target.instance_id;
+      object->class_id = target.class_id;
+      object->name = target.name;
+      object->asset = target.asset;
+      object->in_frame = object->visibility = 1;
+    }
+    if (!object) continue;
     if (stated != source_frame.stated.end()) {
       if (ids.ids == nullptr && stated->second.bbox) object->bbox = stated->second.bbox;
       if (stated->second.visibility) object->visibility = *stated->second.visibility;
@@ -153,6 +166,7 @@ ImportResult ImportCollection(const std::string& format,
   header.classes = description.classes;
   for (const std::string& semantic : semantics)
     header.layers.push_back(StandardLayer(semantic, description.depth_kind));
+  ApplyLayerLayouts(options.layouts, &header);
   header.metadata = {{kMetadataFile, false, "measured metadata, equal to truth"}};
   header.frame_count = description.frame_count;
 

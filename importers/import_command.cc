@@ -1,5 +1,5 @@
 // lsds import FORMAT SOURCE -o COLLECTION [--objects FILE] [--settings FILE] [--up-axis z|y]
-// [--fov-window data|display] [--all-labels] [--allow-links-outside] [--force]
+// [--fov-window data|display] [--all-labels] [--compact] [--allow-links-outside] [--force]
 #include <iostream>
 
 #include "importers/import_collection.h"
@@ -20,6 +20,7 @@ int RunImport(int argc, char** argv) {
   std::string format, source, output;
   import::ImportOptions options;
   std::string objects, settings;
+  bool compact = false;
   app.add_option("FORMAT", format, "source format")->required();
   app.add_option("SOURCE", source, "the simulator's output folder")->required();
   app.add_option("-o,--output", output, "the collection folder to write")->required();
@@ -46,6 +47,11 @@ int RunImport(int argc, char** argv) {
                options.all_labels,
                "make every label the source defines a class, also those no frame uses "
                "(solo; default: only the labels used)");
+  app.add_flag("--compact",
+               compact,
+               "store worldposition as lossless UINT residuals (dX, dY, dZ) from the depth's "
+               "prediction, as lsds generate --compact: a fraction of the bytes, decoded by "
+               "every lsds command and `import lsds`, but not by other EXR readers");
   app.add_flag("--allow-links-outside",
                options.allow_links_outside,
                "read files of the source that are symbolic links to places outside it "
@@ -66,6 +72,7 @@ int RunImport(int argc, char** argv) {
     guard.CheckOutput(output, "-o");
     options.objects = objects;
     options.settings = settings;
+    if (compact) options.layouts.UseCompact();
     const import::ImportResult result =
         import::ImportCollection(format, source, output, options, common.force);
     // Warnings are printed even with -q: they say what the collection lacks.

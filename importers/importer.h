@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libs/collection/layer_layouts.h"
 #include "libs/collection/model.h"
 #include "libs/collection/object_truth.h"
 #include "libs/exr/flat_image.h"
@@ -40,6 +41,9 @@ struct ImportOptions {
   // Whether every label the source defines becomes a class (--all-labels);
   // by default only the labels its frames use (SOLO).
   bool all_labels = false;
+  // How the collection stores its layers (--compact: the residual worldposition;
+  // libs/collection/layer_layouts.h); the importer does not see it.
+  LayerLayouts layouts;
 };
 
 // What the whole source holds, known before the first frame is read.

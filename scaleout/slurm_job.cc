@@ -99,6 +99,7 @@ SlurmScripts MakeSlurmScripts(const SlurmJob& job) {
   if (job.spp) g << " --spp " << *job.spp;
   if (!job.frames.empty()) g << " --frames " << ShellQuote(job.frames);
   if (!job.depth.empty()) g << " --depth " << ShellQuote(job.depth);
+  if (job.compact) g << " --compact";
   g << " \\\n    --shard \"${SLURM_ARRAY_TASK_ID}/" << n << "\""
     << " --threads \"${SLURM_CPUS_PER_TASK:-0}\" --resume --quiet \\\n"
     << "    -o \"$WORK/shard-${SLURM_ARRAY_TASK_ID}\"\n";

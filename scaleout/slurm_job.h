@@ -22,6 +22,7 @@ struct SlurmJob {
   std::optional<int> spp;
   std::string frames;        // --frames, as given; empty: all
   std::string depth;         // --depth, empty: the default
+  bool compact = false;      // --compact: the residual worldposition and motion layouts
   bool force_merge = false;  // the merge replaces an existing output
   // Resources (empty / 0: the cluster's defaults).
   std::string partition;

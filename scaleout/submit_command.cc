@@ -60,6 +60,10 @@ int RunSubmit(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed (as lsds generate)");
   app.add_option("--spp", spp, "samples per pixel (as lsds generate)");
   app.add_option("--depth", depth, "planar or perspective (as lsds generate)");
+  app.add_flag("--compact",
+               job.compact,
+               "store worldposition and motion in their lossless residual layouts (as lsds "
+               "generate --compact; lsds merge keeps them)");
   app.add_option("--partition", job.partition, "Slurm partition");
   app.add_option("--account", job.account, "Slurm account");
   app.add_option("--time", job.time, "time limit per task, e.g. 2:00:00");
@@ -105,6 +109,7 @@ int RunSubmit(int argc, char** argv) {
     task.shard_count = job.shards;
     if (spp) task.spp = *spp;
     if (!depth.empty()) task.depth_kind = ParseDepthFlag(depth);
+    if (job.compact) task.layouts.UseCompact();
     task.Check();
     // The plan is made here so that a bad scene or too many shards fail now,
     // not in every task on the cluster.

@@ -15,13 +15,23 @@
 #include "generator/render/pixel_field.h"
 #include "generator/render/ray_casts.h"
 #include "generator/render/shading.h"
+#include "generator/scene/ground_detail.h"
 #include "generator/scene/world_ground.h"
+#include "libs/util/counter_rng.h"
 #include "libs/util/error.h"
 
 namespace lsds::gen {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Sky light (docs/generator.md, "Light from the whole sky"): a pixel's
+// surface sees the sky through kSkyRays cosine-weighted rays, each blocked
+// within kSkyOcclusionM or not; the draws are counter-based (field
+// kSkyLightField), so a pixel's rays are the same in every run.
+constexpr int kSkyRays = 4;
+constexpr double kSkyOcclusionM = 30;
+constexpr uint64_t kSkyLightField = 0x5c71;
 
 struct Hit {
   bool hit = false;
@@ -209,13 +219,23 @@ struct BlockDisocclusions {
   uint8_t hidden[kBlock * kBlock];
 };
 
+// A procedural surface at a point: its albedo and the detail's tilt of the
+// shading normal (generator/scene/ground_detail.h).
+struct SurfaceTexture {
+  Eigen::Vector3f albedo = Eigen::Vector3f::Zero();
+  Eigen::Vector2f tilt = Eigen::Vector2f::Zero();
+};
+
 // The smooth fields a task keeps while it shades: the albedo and cloud shadow
-// of the pixel (reset per pixel), and the cloud shadow's last exactly constant
-// stretch (kept across pixels).
+// of the pixel (reset per pixel), the cloud shadow's last exactly constant
+// stretch (kept across pixels), and the pixel's sky light (its first surface
+// sample's, for all its samples).
 struct ShadingFields {
-  PixelField<Eigen::Vector3f> albedo{Eigen::Vector3f::Zero()};
+  PixelField<SurfaceTexture> albedo{SurfaceTexture{}};
   PixelField<float> cloud{0.f};
   ExactBall<float> exact_cloud;
+  std::optional<Eigen::Vector3f> sky_light;
+  std::optional<Eigen::Vector3f> haze;  // the pixel's horizon colour
 };
 
 // What one sample contributes: its radiance and its values of the truth
@@ -233,7 +253,7 @@ struct SampleValue {
 // the centre left them (a later sample may replace the pixel's own), and the
 // radiance.
 struct CentreShading {
-  PixelField<Eigen::Vector3f> albedo;
+  PixelField<SurfaceTexture> albedo;
   PixelField<float> cloud;
   Eigen::Vector3f radiance;
 };
@@ -326,11 +346,14 @@ class FrameRenderer {
                    int p,
                    ShadingFields* fields,
                    BlockDisocclusions* disocclusions,
+                   RTCIntersectContext* context,
                    uint64_t* rays) const {
     const int x = block.x[p], y = block.y[p];
     const size_t pixel = static_cast<size_t>(y) * frame_.camera.width + x;
     fields->albedo.Reset();
     fields->cloud.Reset();
+    fields->sky_light.reset();
+    fields->haze.reset();
     Eigen::Vector3f sum = Eigen::Vector3f::Zero();
     const int c = p * spp_;  // the centre sample, in the block
     std::optional<CentreShading> centre;
@@ -344,7 +367,7 @@ class FrameRenderer {
         v = SampleTruth(block, i);
         v.radiance = centre->radiance;
       } else {
-        v = ShadeSample(block, i, fields);
+        v = ShadeSample(block, i, pixel, fields, context, rays);
       }
       if (k == 0 && settings_.shade_pixels_once)
         centre = CentreShading{fields->albedo, fields->cloud, v.radiance};
@@ -460,6 +483,11 @@ class FrameRenderer {
     }
     const Surface& s = scene_.surface(hit.geom);
     if (s.material->specular > 0 || !centre.albedo.Holds(hit.geom, hit.point)) return false;
+    // Ground detail is shared by the pixel's samples (ShadeSample), which are
+    // still shaded each: its reuse over a whole footprint would let the cloud
+    // shadow's history-dependent reuse decide which samples take the
+    // centre's radiance, and the films would depend on the tiles.
+    if (s.material->detail.contrast > 0 && settings_.ground_detail) return false;
     const bool sunlit = block.facing_sun[i] && !block.occluded[i];
     if (sunlit != (block.facing_sun[c] && !block.occluded[c])) return false;
     if (sunlit && (!centre.cloud.Holds(hit.geom, hit.point) ||
@@ -467,13 +495,72 @@ class FrameRenderer {
                        kShadeOnceTolerance * block.cos_suns[c])) {
       return false;
     }
-    return sky_.fog_density() * std::abs(Distance(block, i) - Distance(block, c)) <=
+    return sky_.extinction() * std::abs(Distance(block, i) - Distance(block, c)) <=
            kShadeOnceTolerance;
+  }
+
+  // The light of the sky at a hit (irradiance / pi, as Sky::ambient()):
+  // kSkyRays cosine-weighted rays about the shading normal; one that reaches
+  // the open sky brings the sky's light, one heading below the horizon the
+  // light open ground reflects (Sky::ground_bounce()), one blocked within
+  // kSkyOcclusionM the light a shaded blocker reflects
+  // (Sky::blocker_bounce()). Open flat ground sees the whole sky: exactly
+  // Sky::ambient(), the level the shadow layer is defined on.
+  Eigen::Vector3f SkyLight(const Hit& hit,
+                           size_t pixel,
+                           RTCIntersectContext* context,
+                           uint64_t* rays) const {
+    const Eigen::Vector3d& n = hit.shading_normal;
+    Eigen::Vector3d t1, t2;
+    TangentFrame(n, &t1, &t2);
+    const Eigen::Vector3d origin =
+        hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
+    Eigen::Vector3d directions[kSkyRays];
+    float lengths[kSkyRays];
+    uint8_t wanted[kSkyRays], blocked[kSkyRays];
+    int ground = 0;
+    for (int k = 0; k < kSkyRays; ++k) {
+      wanted[k] = 0;
+      lengths[k] = static_cast<float>(kSkyOcclusionM);
+      // Stratified over the 2x2 cells of the unit square, then mapped to the
+      // cosine-weighted hemisphere (Malley's method).
+      const uint64_t draw = 2 * (static_cast<uint64_t>(pixel) * kSkyRays + k);
+      const int row = k / 2;  // ray k in the 2x2 cells: column k % 2, this row
+      const double cell_u = k % 2, cell_v = row;
+      const double u1 = (cell_u + Uniform01(kSkyLightField, 0, frame_.index, draw)) / 2;
+      const double u2 = (cell_v + Uniform01(kSkyLightField, 0, frame_.index, draw + 1)) / 2;
+      const double r = std::sqrt(u1), phi = 2 * M_PI * u2;
+      const Eigen::Vector3d d =
+          r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(1 - u1) * n;
+      directions[k] = d;
+      if (d.dot(hit.normal) <= 0) continue;  // into the surface itself: blocked
+      if (d.z() <= 0) {
+        ++ground;
+        continue;
+      }
+      wanted[k] = 1;
+      ++*rays;
+    }
+    // One packet: the rays share their origin.
+    OccludedSegments(
+        scene_.scene(), origin, directions, lengths, wanted, kSkyRays, context, blocked);
+    int open = 0;
+    for (int k = 0; k < kSkyRays; ++k) open += wanted[k] && !blocked[k];
+    const int shaded = kSkyRays - open - ground;
+    return (static_cast<float>(open) * sky_.ambient() +
+            static_cast<float>(ground) * sky_.ground_bounce() +
+            static_cast<float>(shaded) * sky_.blocker_bounce()) /
+           static_cast<float>(kSkyRays);
   }
 
   // Block sample i: the sky, or the shaded surface it hits (the procedural
   // albedo and the cloud shadow through the pixel's fields).
-  SampleValue ShadeSample(const BlockRays& block, int i, ShadingFields* fields) const {
+  SampleValue ShadeSample(const BlockRays& block,
+                          int i,
+                          size_t pixel,
+                          ShadingFields* fields,
+                          RTCIntersectContext* context,
+                          uint64_t* rays) const {
     const Eigen::Vector3d& direction = block.directions[i];
     const Hit& hit = block.hits[i];
     SampleValue v = SampleTruth(block, i);
@@ -483,24 +570,56 @@ class FrameRenderer {
     }
     const bool reuse = settings_.reuse_smooth_fields;
     const Surface& s = scene_.surface(hit.geom);
+    // The pixel's footprint on the surface (m), which decides the finest
+    // ground detail it shows (none when the detail is off: an infinite
+    // footprint).
+    const float footprint =
+        settings_.ground_detail
+            ? static_cast<float>(Distance(block, i) / frame_.camera.fx /
+                                 std::max(0.1, std::abs(hit.normal.dot(direction.normalized()))))
+            : kInf;
     // (Not value_or: the procedural albedo only where no map applies.)
     const std::optional<Eigen::Vector3f> mapped = s.MappedAlbedo(hit.prim, hit.u, hit.v);
-    const Eigen::Vector3f albedo = mapped ? *mapped : fields->albedo.At(hit.geom, hit.point, [&] {
-      return FieldValue<Eigen::Vector3f>{
-          Albedo(*s.material, sky_.texture_noise(), hit.point.cast<float>()),
-          reuse ? AlbedoReuseDistance(*s.material) : 0};
-    });
+    const SurfaceTexture texture =
+        mapped
+            ? SurfaceTexture{*mapped, Eigen::Vector2f::Zero()}
+            : fields->albedo.At(hit.geom, hit.point, [&] {
+                SurfaceTexture t;
+                t.albedo = Albedo(
+                    *s.material, sky_.texture_noise(), hit.point.cast<float>(), footprint, &t.tilt);
+                // Ground detail is sampled once per pixel, as a texture at
+                // its mip level: the pixel's samples within a footprint of
+                // this one take its value.
+                const double detail_reuse =
+                    s.material->detail.contrast > 0 && settings_.ground_detail ? footprint : 0;
+                return FieldValue<SurfaceTexture>{
+                    t,
+                    reuse ? std::max(AlbedoReuseDistance(*s.material, footprint), detail_reuse)
+                          : 0};
+              });
     const float lit = !block.facing_sun[i] || block.occluded[i] ? 0.f : CloudShadow(hit, fields);
+    // The shadow layer (truth): the sun on the shading normal against the
+    // plan's ambient light.
     const Eigen::Vector3f direct =
         sky_.sun_irradiance() * static_cast<float>(std::max(0.0, block.cos_suns[i]));
     const Eigen::Vector3f unshadowed = sky_.ambient() + direct;
     const Eigen::Vector3f shaded = sky_.ambient() + direct * lit;
     const float denominator = Luminance(unshadowed);
     v.shadow_ratio = denominator > 0 ? std::clamp(Luminance(shaded) / denominator, 0.f, 1.f) : 1.f;
-    v.radiance = Shade(*s.material, albedo, hit.shading_normal, direction, sky_, shaded, lit);
-    if (sky_.fog_density() > 0) {
-      const float f = static_cast<float>(std::exp(-sky_.fog_density() * Distance(block, i)));
-      v.radiance = v.radiance * f + sky_.horizon() * (1 - f);
+    // The rgb: the sun on the detail's tilted normal, and the sky this
+    // pixel's surface sees.
+    const Eigen::Vector3d normal = TiltedNormal(hit.shading_normal, texture.tilt);
+    if (!fields->sky_light) fields->sky_light = SkyLight(hit, pixel, context, rays);
+    const Eigen::Vector3f irradiance =
+        *fields->sky_light +
+        sky_.sun_irradiance() * static_cast<float>(std::max(0.0, normal.dot(sky_.to_sun()))) * lit;
+    v.radiance = Shade(*s.material, texture.albedo, normal, direction, sky_, irradiance, lit);
+    // Haze: fog and the air's own extinction, towards the sky's horizon in
+    // this azimuth, which the farthest ground then meets without a seam.
+    const float f = static_cast<float>(sky_.HazeTransmittance(Distance(block, i)));
+    if (f < 1) {
+      if (!fields->haze) fields->haze = sky_.Haze(direction);  // once per pixel
+      v.radiance = v.radiance * f + *fields->haze * (1 - f);
     }
     return v;
   }
@@ -628,7 +747,7 @@ void RenderFrame(const RenderScene& scene,
           for (int col = r.cols().begin(); col < r.cols().end(); ++col) {
             renderer.CastBlock(row, col, &block, &plane, &context, &rays);
             for (int p = 0; p < block.pixels; ++p)
-              renderer.RenderPixel(block, p, &fields, &disocclusions, &rays);
+              renderer.RenderPixel(block, p, &fields, &disocclusions, &context, &rays);
             renderer.DropDisoccludedMotion(block, &disocclusions, &context);
           }
         }

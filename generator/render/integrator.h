@@ -49,6 +49,10 @@ struct RenderSettings {
   // sample, which the shadow layer takes. The rgb is then 0. Every truth
   // layer is the same either way.
   bool shade_rgb = true;
+  // Show the terrain families' ground detail (generator/scene/ground_detail.h);
+  // off renders them with their smooth patterns alone, which a pixel's
+  // samples can share (the two settings above). Only the RGB changes.
+  bool ground_detail = true;
 };
 
 // How far apart a sample's direct sunlight and fog may be from its pixel's

@@ -47,6 +47,7 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
               static_cast<float>(kSkyHorizonWeight) * horizon_) *
              static_cast<float>(environment.skylight_intensity);
   fog_density_ = environment.fog_density;
+  InitClearSky(sky);
   cloud_density_ = std::clamp(sky.cloud_density, 0.0, 1.0);
   const auto& types = CloudTypes();
   if (std::find(types.begin(), types.end(), sky.cloud_type) == types.end()) {
@@ -69,6 +70,59 @@ Sky::Sky(const Plan& plan, const PlannedEnvironment& environment)
                Eigen::Vector3f::Constant(static_cast<float>(
                    0.2 * sky.luminance_cd_m2 * cloud_density_ * environment.skylight_intensity));
   }
+  ground_bounce_ =
+      kBounceAlbedo *
+      (ambient_ + sun_irradiance_ * static_cast<float>(std::max(0.0, to_sun_.z()) *
+                                                       environment.skylight_intensity));
+  blocker_bounce_ = kBounceAlbedo * ambient_;
+}
+
+void Sky::InitClearSky(const PlannedSky& sky) {
+  turbidity_ = std::min(10.0, 2.5 + 1000 * fog_density_);
+  const double t = turbidity_;
+  // Preetham et al. 1999, appendix A.2: the luminance (Y) distribution.
+  perez_[0] = 0.1787 * t - 1.4630;
+  perez_[1] = -0.3554 * t + 0.4275;
+  perez_[2] = -0.0227 * t + 5.3251;
+  perez_[3] = 0.1206 * t - 2.5771;
+  perez_[4] = -0.0670 * t + 0.3703;
+  zenith_perez_ = Perez(1, std::acos(std::clamp(to_sun_.z(), -1.0, 1.0)));
+  air_extinction_ = 3.912 / (80000 / (t - 1));
+  zenith_luminance_ = static_cast<float>(sky.luminance_cd_m2);
+  const float zl = static_cast<float>(RelativeLuminance(zenith_.cast<double>()));
+  const float hl = static_cast<float>(RelativeLuminance(horizon_.cast<double>()));
+  zenith_colour_ = zl > 0 ? Eigen::Vector3f(zenith_ / zl) : Eigen::Vector3f::Zero();
+  horizon_colour_ = hl > 0 ? Eigen::Vector3f(horizon_ / hl) : Eigen::Vector3f::Zero();
+}
+
+double Sky::Perez(double cos_theta, double gamma) const {
+  const double c = std::max(cos_theta, 0.01);
+  const double cos_gamma = std::cos(gamma);
+  return (1 + perez_[0] * std::exp(perez_[1] / c)) *
+         (1 + perez_[2] * std::exp(perez_[3] * gamma) + perez_[4] * cos_gamma * cos_gamma);
+}
+
+Eigen::Vector3f Sky::ClearSky(const Eigen::Vector3d& d) const {
+  const double up = std::clamp(d.z(), 0.0, 1.0);
+  const double gamma = std::acos(std::clamp(d.dot(to_sun_), -1.0, 1.0));
+  const float luminance = zenith_luminance_ * static_cast<float>(Perez(up, gamma) / zenith_perez_);
+  const float t = static_cast<float>(std::sqrt(up));
+  // Around the sun the sky whitens (forward scattering is grey).
+  const float glow = static_cast<float>(
+      0.5 * std::clamp(perez_[2] * std::exp(perez_[3] * gamma) / (1 + perez_[2]), 0.0, 1.0));
+  const Eigen::Vector3f colour = (1 - t) * horizon_colour_ + t * zenith_colour_;
+  return luminance * ((1 - glow) * colour + glow * Eigen::Vector3f::Ones());
+}
+
+double Sky::HazeTransmittance(double distance_m) const {
+  return std::exp(-fog_density_ * distance_m -
+                  air_extinction_ * std::max(0.0, distance_m - kClearAirM));
+}
+
+Eigen::Vector3f Sky::Haze(const Eigen::Vector3d& d) const {
+  const double h = std::hypot(d.x(), d.y());
+  if (!(h > 0)) return ClearSky(Eigen::Vector3d(1, 0, 0));
+  return ClearSky(Eigen::Vector3d(d.x() / h, d.y() / h, 0));
 }
 
 void Sky::InitCloudReuse() {
@@ -137,10 +191,15 @@ double Sky::CloudReuseDistanceInside(const Eigen::Vector3d& p, double remaining)
 }
 
 Eigen::Vector3f Sky::Radiance(const Eigen::Vector3d& d) const {
-  const float up = static_cast<float>(std::clamp(d.z(), 0.0, 1.0));
-  const float t = std::sqrt(up);
-  Eigen::Vector3f sky = (1 - t) * horizon_ + t * zenith_;
-  if (d.z() < 0) sky = horizon_ * 0.8f;  // below the horizon with no terrain: a hazy floor
+  Eigen::Vector3f sky;
+  if (d.z() >= 0) {
+    sky = ClearSky(d);
+  } else {
+    // Below the horizon with no terrain: a hazy floor, darkening smoothly
+    // from the horizon's haze to 0.8 of it over 6 degrees, with no seam.
+    const float below = static_cast<float>(std::min(1.0, -d.z() / 0.1));
+    sky = Haze(d) * (1 - 0.2f * below * below * (3 - 2 * below));
+  }
   const double cos_sun = d.dot(to_sun_);
   if (cos_sun > 0.9995) sky += sun_irradiance_ * 20.f;  // the sun's disc (about 1.8 degrees)
   const double cover = CloudCover(d);

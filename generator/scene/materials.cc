@@ -64,6 +64,47 @@ void SetPatterns(std::vector<Material>* table) {
       if (m.name == v.name) m.pattern = v.pattern, m.patches = v.patches;
 }
 
+// The terrain families' fine detail (ground_detail.h, docs/generator.md
+// "Ground detail"): wavelengths from clumps and patches down to blades,
+// grains and aggregate.
+void SetDetail(std::vector<Material>* table) {
+  struct Fine {
+    const char* name;
+    float contrast, coarsest_m, finest_m, persistence;
+    bool ridged;
+    float bump;
+  };
+  static const Fine fine[] = {
+      {"grassy", 0.5f, 0.32f, 0.01f, 0.95f, true, 0.6f},
+      {"grass", 0.5f, 0.32f, 0.01f, 0.95f, true, 0.6f},
+      {"sandy", 0.15f, 0.16f, 0.002f, 0.85f, false, 0.15f},
+      {"sand", 0.15f, 0.16f, 0.002f, 0.85f, false, 0.15f},
+      {"rocky_sand", 0.25f, 0.32f, 0.004f, 0.85f, false, 0.25f},
+      {"rocky", 0.3f, 0.64f, 0.005f, 0.8f, false, 0.35f},
+      {"stone", 0.3f, 0.64f, 0.005f, 0.8f, false, 0.35f},
+      {"sandstone", 0.25f, 0.64f, 0.005f, 0.8f, false, 0.3f},
+      {"granite", 0.25f, 0.32f, 0.003f, 0.85f, false, 0.25f},
+      {"soil", 0.35f, 0.32f, 0.005f, 0.85f, false, 0.3f},
+      {"mud", 0.25f, 0.32f, 0.005f, 0.8f, false, 0.15f},
+      {"asphalt", 0.4f, 0.08f, 0.002f, 0.95f, false, 0.2f},
+      {"concrete", 0.15f, 0.16f, 0.002f, 0.85f, false, 0.1f},
+      {"snowy", 0.06f, 0.64f, 0.01f, 0.75f, false, 0.1f},
+  };
+  for (Material& m : *table) {
+    for (const Fine& f : fine) {
+      if (m.name != f.name) continue;
+      m.detail.contrast = f.contrast;
+      m.detail.coarsest_m = f.coarsest_m;
+      m.detail.finest_m = f.finest_m;
+      m.detail.persistence = f.persistence;
+      m.detail.ridged = f.ridged;
+      m.detail.bump = f.bump;
+      // Grass: the bright blade tips are dry, yellower.
+      if (f.ridged) m.detail.tint = Eigen::Vector3f(1.3f, 1.1f, 0.5f);
+    }
+  }
+}
+
 }  // namespace
 
 const std::vector<Material>& MaterialTable() {
@@ -112,6 +153,7 @@ const std::vector<Material>& MaterialTable() {
     };
     SetSpecular(&t);
     SetPatterns(&t);
+    SetDetail(&t);
     return t;
   }();
   return table;
@@ -150,7 +192,12 @@ const Material& FindMaterial(const std::string& name, const std::string& where) 
               "; known: " + Join(MaterialNames(), ", "));
 }
 
-Eigen::Vector3f Albedo(const Material& material, const Perlin& noise, const Eigen::Vector3f& p) {
+Eigen::Vector3f Albedo(const Material& material,
+                       const Perlin& noise,
+                       const Eigen::Vector3f& p,
+                       float footprint_m,
+                       Eigen::Vector2f* tilt) {
+  if (tilt != nullptr) tilt->setZero();
   if (material.contrast <= 0 && material.patches <= 0) return material.base;
   const double f = material.frequency;
   double n = 0;
@@ -183,10 +230,12 @@ Eigen::Vector3f Albedo(const Material& material, const Perlin& noise, const Eige
     const double patch = noise.Fbm(p.x() * g + 113.1, p.y() * g + 71.3, p.z() * g, 2);
     albedo *= std::clamp(1.f + material.patches * static_cast<float>(patch) * 1.5f, 0.f, 2.f);
   }
+  if (material.detail.contrast > 0)
+    albedo = albedo.cwiseProduct(DetailFactor(material.detail, noise, p, footprint_m, tilt));
   return albedo.cwiseMin(1.f);
 }
 
-double AlbedoReuseDistance(const Material& material) {
+double AlbedoReuseDistance(const Material& material, float footprint_m) {
   const double f = material.frequency;
   // The highest frequency (cycles/m) of each term of Albedo above.
   double finest = 0;
@@ -206,6 +255,11 @@ double AlbedoReuseDistance(const Material& material) {
     }
   }
   if (material.patches > 0) finest = std::max(finest, f / 4);  // two octaves from f / 8
+  if (material.detail.contrast > 0) {
+    // Ridges (1 - 2 |noise|) are twice as steep as the noise.
+    const double ridges = material.detail.ridged ? 2 : 1;
+    finest = std::max(finest, ridges / DetailFinestWavelength(material.detail, footprint_m));
+  }
   if (finest <= 0) return std::numeric_limits<double>::infinity();
   return 1 / (32 * finest);
 }

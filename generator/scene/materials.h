@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "generator/scene/ground_detail.h"
 #include "generator/scene/perlin.h"
 
 namespace lsds::gen {
@@ -38,6 +39,9 @@ struct Material {
   // Large patches (at frequency / 8): the albedo is scaled by 1 +- patches
   // (dry and damp ground, wear, dirt), so no two stretches look the same.
   float patches = 0.f;
+  // Fine detail at the scale of a pixel (ground_detail.h): the terrain
+  // families' blades, grains and aggregate, and their tilt of the normal.
+  GroundDetail detail = {};
 };
 
 // The built-in material table (grassy, sandy, rocky, snowy, soil, asphalt,
@@ -49,17 +53,22 @@ const std::vector<std::string>& MaterialNames();
 const Material& FindMaterial(const std::string& name, const std::string& where);
 
 // Albedo of `material` at a world point; `noise` is the material noise field of
-// the world.
+// the world. `footprint_m` is the pixel's footprint on the surface, which
+// decides the finest detail shown (0: all of it); `tilt` (optional) receives
+// the detail's tilt of the shading normal (TiltedNormal).
 Eigen::Vector3f Albedo(const Material& material,
                        const Perlin& noise,
-                       const Eigen::Vector3f& point_in_world);
+                       const Eigen::Vector3f& point_in_world,
+                       float footprint_m = 0,
+                       Eigen::Vector2f* tilt = nullptr);
 
 // How far (m) the procedural albedo may be taken as constant: 1/32 of the
 // finest wavelength of its pattern and patches, over which it changes by well
 // under an 8-bit step (tests/generator/scene_test.cc). Infinite for a plain
 // albedo; 0 for speckle, whose thresholded grains have hard edges. The renderer
 // reuses a pixel's albedo within this distance (docs/generator.md, "Smooth
-// fields once per pixel").
-double AlbedoReuseDistance(const Material& material);
+// fields once per pixel"). The detail counts down to the finest wavelength it
+// shows at `footprint_m` (0: all of it).
+double AlbedoReuseDistance(const Material& material, float footprint_m = 0);
 
 }  // namespace lsds::gen

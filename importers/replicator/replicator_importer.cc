@@ -157,10 +157,12 @@ void ReplicatorImporter::FindLayers() {
   }
   has_instances_ =
       fs::exists(Path("instance_segmentation", "instance_segmentation_mapping", 0, "json"));
-  if (!has_instances_ && !fs::exists(Path("bounding_box_3d", "bounding_box_3d_labels", 0, "json")))
+  if (!has_instances_ &&
+      !fs::exists(Path("bounding_box_3d", "bounding_box_3d_labels", 0, "json")) &&
+      !fs::exists(Path("bounding_box_2d_tight", "bounding_box_2d_tight_labels", 0, "json")))
     throw Error(
-        "neither instance_segmentation (with its mappings) nor bounding_box_3d for the first "
-        "frame: no objects to import",
+        "neither instance_segmentation (with its mappings) nor bounding_box_3d nor "
+        "bounding_box_2d_tight for the first frame: no objects to import",
         Location(Path("rgb", "rgb", 0, "png").string()));
 }
 
@@ -195,14 +197,19 @@ void ReplicatorImporter::ScanInstanceMappings(int64_t index, PrimLabels* labels)
   }
 }
 
-void ReplicatorImporter::ScanBoxes3d(int64_t index, PrimLabels* labels) const {
-  const fs::path boxes_labels = Path("bounding_box_3d", "bounding_box_3d_labels", index, "json");
-  if (!fs::exists(boxes_labels)) return;
+// The prim paths and class labels of one frame's box records, in record order: bounding_box_3d
+// or bounding_box_2d_tight, which BasicWriter's _write_bounding_box_data writes alike (the
+// annotator's records with semanticId, its idToLabels as _labels and its primPaths as
+// _prim_paths). None where the frame has no such records.
+std::vector<std::pair<std::string, std::string>> ReplicatorImporter::ScanBoxes(
+    const std::string& annotator, int64_t index) const {
+  std::vector<std::pair<std::string, std::string>> rows;
+  const fs::path boxes_labels = Path(annotator, annotator + "_labels", index, "json");
+  if (!fs::exists(boxes_labels)) return rows;
   const json label_of_id = ParseJsonFile(boxes_labels);
-  const fs::path prim_paths_file =
-      Path("bounding_box_3d", "bounding_box_3d_prim_paths", index, "json");
+  const fs::path prim_paths_file = Path(annotator, annotator + "_prim_paths", index, "json");
   const json prim_paths = ParseJsonFile(prim_paths_file);
-  const fs::path boxes_path = Path("bounding_box_3d", "bounding_box_3d", index, "npy");
+  const fs::path boxes_path = Path(annotator, annotator, index, "npy");
   const NpyArray boxes = ReadNpy(boxes_path);
   const NpyField& semantic_id = boxes.Field("semanticId", boxes_path.string());
   if (!prim_paths.is_array() || prim_paths.size() != static_cast<size_t>(boxes.size()))
@@ -220,8 +227,9 @@ void ReplicatorImporter::ScanBoxes3d(int64_t index, PrimLabels* labels) const {
     const std::string id = std::to_string(static_cast<int64_t>(semantic));
     const std::string label =
         AtPointer(boxes_labels.string(), "/" + id, [&] { return ClassLabel(label_of_id.at(id)); });
-    labels->Add(path, label);
+    rows.emplace_back(path, label);
   }
+  return rows;
 }
 
 // Instance ids and classes hold across frames: prim paths and class labels numbered in
@@ -256,7 +264,7 @@ void ReplicatorImporter::DescribeTruth(const ImportOptions& options,
     description->truth_origin["visibility"] = "imported";
     description->truth_origin["visible_pixels"] = "absent";
     description->warnings.push_back(
-        "no instance_segmentation: no instanceid and classid layers; the objects are the 3D "
+        "no instance_segmentation: no instanceid and classid layers; the objects are the "
         "boxes, their visibility 1 - occlusionRatio" +
         std::string(tight ? ", their box bounding_box_2d_tight's" : ", with no visible 2D box"));
   }
@@ -294,14 +302,32 @@ SourceDescription ReplicatorImporter::Open(const fs::path& source, const ImportO
   });
   FindLayers();
   PrimLabels labels;
+  // The tight 2D boxes of prims with no 3D box in the same frame, by class label: objects
+  // without a 3D box (format.md "Objects without a 3D box"), said once in a warning.
+  std::map<std::string, int64_t> boxes_2d_only;
   for (size_t f = 0; f < frames_.size(); ++f) {
-    ScanInstanceMappings(static_cast<int64_t>(f), &labels);
-    ScanBoxes3d(static_cast<int64_t>(f), &labels);
+    const auto index = static_cast<int64_t>(f);
+    ScanInstanceMappings(index, &labels);
+    std::set<std::string> with_3d;
+    for (const auto& [prim, label] : ScanBoxes("bounding_box_3d", index)) {
+      labels.Add(prim, label);
+      with_3d.insert(prim);
+    }
+    for (const auto& [prim, label] : ScanBoxes("bounding_box_2d_tight", index)) {
+      labels.Add(prim, label);
+      if (!with_3d.count(prim)) ++boxes_2d_only[label.empty() ? "(no label)" : label];
+    }
   }
   SourceDescription description;
   NumberPrims(labels, &description);
   description.frame_count = static_cast<int64_t>(frames_.size());
   DescribeTruth(options, &description);
+  for (const auto& [label, count] : boxes_2d_only)
+    description.warnings.push_back(
+        std::to_string(count) + " bounding_box_2d_tight box(es) of '" + label +
+        "' have no bounding_box_3d box: objects without a 3D box (no obb, no bbox_projected); " +
+        "their visibility is 1 - the 2D record's occlusionRatio, their in_frame not measured (1)" +
+        (has_instances_ ? "" : "; with no instance segmentation, no visible_pixels either"));
   return description;
 }
 
@@ -477,7 +503,11 @@ OrientedBox BoxOfRow(const NpyArray& boxes,
 }  // namespace
 
 // bounding_box_2d_tight: the box of the visible pixels as inclusive pixel indices (x_max and
-// y_max the last pixel), and the share of the object occluded.
+// y_max the last pixel), and the share of the object occluded. Without instance segmentation the
+// box is the object's bbox (with it, the id layer gives the same box). A prim with no 3D box in
+// the frame is an object without one (format.md "Objects without a 3D box"), measured on the id
+// layer where there is one; its visibility is 1 - the record's occlusionRatio where that is in
+// [0, 1] (Replicator writes -1 where it could not tell).
 void ReplicatorImporter::ReadTightBoxes(int64_t index, SourceFrame* frame) const {
   const fs::path boxes_path = Path("bounding_box_2d_tight", "bounding_box_2d_tight", index, "npy");
   if (!fs::exists(boxes_path)) return;
@@ -493,17 +523,29 @@ void ReplicatorImporter::ReadTightBoxes(int64_t index, SourceFrame* frame) const
   const NpyField& y_min = boxes.Field("y_min", file);
   const NpyField& x_max = boxes.Field("x_max", file);
   const NpyField& y_max = boxes.Field("y_max", file);
+  const NpyField* occlusion = nullptr;
+  for (const NpyField& field : boxes.fields)
+    if (field.name == "occlusionRatio") occlusion = &field;
+  std::set<uint32_t> with_obb;
+  for (const ObjectIdentity& target : frame->targets) with_obb.insert(target.instance_id);
   for (int64_t row = 0; row < boxes.size(); ++row) {
     const std::string path =
         StringAt(prim_paths.at(row), prim_paths_path.string(), "/" + std::to_string(row));
-    const auto instance = instance_of_prim_.find(path);
-    if (instance == instance_of_prim_.end()) continue;  // not a 3D box: not an object
+    const uint32_t instance = instance_of_prim_.at(path);  // Open numbered every prim
     const Box2d box{boxes.Get(row, x_min),
                     boxes.Get(row, y_min),
                     boxes.Get(row, x_max) + 1,
                     boxes.Get(row, y_max) + 1};
     if (box.empty()) throw Error("row " + std::to_string(row) + " is an empty box", Location(file));
-    frame->stated[instance->second].bbox = box;
+    if (!has_instances_) frame->stated[instance].bbox = box;
+    if (!with_obb.insert(instance).second) continue;
+    ObjectIdentity target;
+    target.instance_id = instance;
+    target.class_id = class_of_prim_.at(path);
+    target.name = path;
+    frame->targets.push_back(target);
+    const double occluded = occlusion != nullptr ? boxes.Get(row, *occlusion) : -1;
+    if (occluded >= 0 && occluded <= 1) frame->stated[instance].visibility = 1 - occluded;
   }
 }
 
@@ -535,11 +577,9 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
         instance_of_prim_,
         class_of_prim_,
         &frame);
-  } else {
-    ReadTightBoxes(index, &frame);
   }
 
-  // 3D boxes, when written, are the targets.
+  // 3D boxes, when written, are the targets; then the tight 2D boxes (of prims without one too).
   const fs::path boxes_path = Path("bounding_box_3d", "bounding_box_3d", index, "npy");
   if (fs::exists(boxes_path)) {
     const std::string file = boxes_path.string();
@@ -568,6 +608,7 @@ SourceFrame ReplicatorImporter::ReadFrame(int64_t index) {
         frame.stated[target.instance_id].visibility = 1 - occluded;
     }
   }
+  ReadTightBoxes(index, &frame);
   return frame;
 }
 

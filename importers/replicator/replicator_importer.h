@@ -12,9 +12,10 @@
 // product's files in one folder, or several products' in
 // <product>/<annotator>/ folders, or with use_common_output_dir in
 // <annotator>/<product>_ names (each product one sequence); on_time
-// triggers prefix the frame number with their counts (rgb_1_0000.png). Without
-// instance segmentation, the objects come from the 3D boxes and their 2D truth
-// from bounding_box_2d_tight. The stage's up axis is not in the files: it
+// triggers prefix the frame number with their counts (rgb_1_0000.png). The
+// objects are the prims with a 3D box and those with only a tight 2D box (no
+// obb); without instance segmentation their 2D truth comes from
+// bounding_box_2d_tight. The stage's up axis is not in the files: it
 // comes from --up-axis.
 #pragma once
 
@@ -64,7 +65,8 @@ class ReplicatorImporter : public Importer {
   void FindProducts(const std::filesystem::path& source);
   void FindLayers();
   void ScanInstanceMappings(int64_t index, PrimLabels* labels) const;
-  void ScanBoxes3d(int64_t index, PrimLabels* labels) const;
+  std::vector<std::pair<std::string, std::string>> ScanBoxes(const std::string& annotator,
+                                                             int64_t index) const;
   void NumberPrims(const PrimLabels& labels, SourceDescription* description);
   void DescribeTruth(const ImportOptions& options, SourceDescription* description) const;
   void ReadTightBoxes(int64_t index, SourceFrame* frame) const;

@@ -90,18 +90,19 @@ class NulStopBuf : public std::streambuf {
 };
 
 // Builds the document like nlohmann's DOM parser, except that the elements of
-// the root's `array_key` array are handed out one at a time and not kept.
+// the root's arrays named in `array_keys` (or of the root itself when it is an
+// array and `array_keys` is empty) are handed out one at a time and not kept.
 // (nlohmann's callback parser scans the parent container at every
 // object_end, which is quadratic in the objects of one frame: 10^6 objects
 // did not load in 15 minutes.)
 class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
  public:
   using Json = nlohmann::json;
-  ArrayMemberSax(const std::string& array_key,
-                 const std::function<void(Json&&, size_t)>& on_element,
+  ArrayMemberSax(const std::vector<std::string>& array_keys,
+                 const JsonElementHandler& on_element,
                  const std::filesystem::path& path,
                  std::istream& in)
-      : array_key_(array_key), on_element_(on_element), path_(path), in_(in) {}
+      : array_keys_(array_keys), on_element_(on_element), path_(path), in_(in) {}
 
   Json root;
   size_t count = 0;
@@ -126,7 +127,15 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
   bool start_array(std::size_t) override {
     CheckDepth();
     Json* array = Place(Json::array());
-    if (stack_.size() == 1 && key_ == array_key_) target_ = array;
+    const bool streamed_root = stack_.empty() && array_keys_.empty();
+    const bool streamed_member =
+        stack_.size() == 1 && stack_[0]->is_object() &&
+        std::find(array_keys_.begin(), array_keys_.end(), key_) != array_keys_.end();
+    if (streamed_root || streamed_member) {
+      target_ = array;
+      target_key_ = streamed_root ? "" : key_;
+      count = 0;
+    }
     stack_.push_back(array);
     return true;
   }
@@ -143,9 +152,11 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
   // refuse documents nested deeper than any lsds file before they are built.
   void CheckDepth() const {
     if (stack_.size() < static_cast<size_t>(kMaxNestingDepth)) return;
-    const std::string pointer = target_ != nullptr && stack_.size() >= 2 && stack_[1] == target_
-                                    ? "/" + array_key_ + "/" + std::to_string(count)
-                                    : "";
+    const bool in_element =
+        target_ != nullptr && stack_.size() >= 2 && (stack_[1] == target_ || stack_[0] == target_);
+    const std::string pointer =
+        in_element ? (target_key_.empty() ? "" : "/" + target_key_) + "/" + std::to_string(count)
+                   : "";
     throw Error("nesting deeper than " + std::to_string(kMaxNestingDepth) +
                     " levels (objects and arrays) near byte " +
                     std::to_string(static_cast<long long>(in_.tellg())) +
@@ -183,34 +194,41 @@ class ArrayMemberSax : public nlohmann::json_sax<nlohmann::json> {
     return true;
   }
   void HandOut() {
-    if (on_element_) on_element_(std::move(element_), count);
+    if (on_element_) on_element_(target_key_, std::move(element_), count);
     element_ = Json();
     ++count;
   }
 
-  const std::string& array_key_;
-  const std::function<void(Json&&, size_t)>& on_element_;
+  const std::vector<std::string>& array_keys_;
+  const JsonElementHandler& on_element_;
   const std::filesystem::path& path_;
   std::istream& in_;
   std::vector<Json*> stack_;
   std::string key_;
-  Json* target_ = nullptr;  // the root's array_key array
+  Json* target_ = nullptr;  // the array being streamed
+  std::string target_key_;  // its member name ("" for the root)
   Json element_;            // the element of that array being built
 };
 
 }  // namespace
 
-size_t StreamJsonArrayMember(const std::filesystem::path& path,
-                             const std::string& array_key,
-                             nlohmann::json* header,
-                             const std::function<void(nlohmann::json&&, size_t)>& on_element) {
+size_t StreamJsonArrays(const std::filesystem::path& path,
+                        const std::vector<std::string>& array_keys,
+                        nlohmann::json* header,
+                        const JsonElementHandler& on_element) {
   RequireRegularFile(path, "JSON file");
   std::filebuf file;
   if (file.open(path, std::ios::in | std::ios::binary) == nullptr)
     throw Error("cannot open for reading", Location(path.string()));
   NulStopBuf cut(&file);
   std::istream in(&cut);
-  ArrayMemberSax sax(array_key, on_element, path, in);
+  size_t count = 0;
+  const JsonElementHandler counted =
+      [&](const std::string& key, nlohmann::json&& element, size_t index) {
+        ++count;
+        if (on_element) on_element(key, std::move(element), index);
+      };
+  ArrayMemberSax sax(array_keys, counted, path, in);
   const auto nul_error = [&] {
     return Error(NulByteMessage(cut.nul_offset()), TextLocationInFile(path, cut.nul_offset()));
   };
@@ -226,15 +244,29 @@ size_t StreamJsonArrayMember(const std::filesystem::path& path,
   }
   if (cut.stopped()) throw nul_error();
   nlohmann::json& root = sax.root;
-  const size_t count = sax.count;
+  if (array_keys.empty()) {
+    if (!root.is_array())
+      throw Error("top level must be a JSON list", Location(path.string(), "/"));
+    return count;
+  }
   if (!root.is_object())
     throw Error("top level must be a JSON object", Location(path.string(), "/"));
   if (header != nullptr) {
-    if (root.contains(array_key) && root[array_key].is_array())
-      root[array_key] = nlohmann::json::array();
+    for (const std::string& key : array_keys)
+      if (root.contains(key) && root[key].is_array()) root[key] = nlohmann::json::array();
     *header = std::move(root);
   }
   return count;
+}
+
+size_t StreamJsonArrayMember(const std::filesystem::path& path,
+                             const std::string& array_key,
+                             nlohmann::json* header,
+                             const std::function<void(nlohmann::json&&, size_t)>& on_element) {
+  return StreamJsonArrays(
+      path, {array_key}, header, [&](const std::string&, nlohmann::json&& element, size_t index) {
+        if (on_element) on_element(std::move(element), index);
+      });
 }
 
 struct JsonArrayWriter::Impl {

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -26,6 +27,20 @@ size_t StreamJsonArrayMember(
     const std::string& array_key,
     nlohmann::json* header,
     const std::function<void(nlohmann::json&& element, size_t index)>& on_element);
+
+// What a streamed element is handed to: the member name of its array ("" for
+// a root array), the element, its index in that array.
+using JsonElementHandler =
+    std::function<void(const std::string& array_key, nlohmann::json&& element, size_t index)>;
+
+// The same for several large arrays of the root object (a COCO dataset's
+// "images" and "annotations"), or, with no `array_keys`, for a root that is
+// itself a list (a COCO results file; `header` is then unused, and a root that
+// is not a list is an error at "/"). Returns the number of elements streamed.
+size_t StreamJsonArrays(const std::filesystem::path& path,
+                        const std::vector<std::string>& array_keys,
+                        nlohmann::json* header,
+                        const JsonElementHandler& on_element);
 
 // Writes such a file: the header members first (pretty), then the array one
 // element per line. Atomic: nothing appears under `path` until Commit().

@@ -50,8 +50,15 @@ std::array<double, 4> CocoRleBox(const CocoRle& rle);
 // detection's area when `crowd` (maskApi.c:77-96); 0 when they do not meet.
 double CocoRleIou(const CocoRle& detection, const CocoRle& ground_truth, bool crowd);
 
+// The largest |coordinate| CocoRleFromPolygon takes. rleFrPoly walks every
+// edge in steps of 1/5 pixel in int: past this the walk takes minutes and at
+// 4.3e8 the int overflows (the COCO API's own behaviour there is undefined).
+// A vertex of a real mask is within the image or near it.
+inline constexpr double kMaxPolygonCoordinate = 1e6;
+
 // rleFrPoly: the mask of one polygon [x0, y0, x1, y1, ...] (pixel-edge
-// coordinates), rasterised bit for bit as the COCO API does.
+// coordinates, each within +-kMaxPolygonCoordinate), rasterised bit for bit
+// as the COCO API does.
 CocoRle CocoRleFromPolygon(const std::vector<double>& xy, int64_t height, int64_t width);
 
 // rleMerge with intersect = 0: the union of masks of one size (an empty

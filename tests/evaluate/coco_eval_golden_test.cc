@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "evaluate/coco_eval.h"
+#include "evaluate/evaluate_run.h"
 #include "evaluate/ground_truth.h"
 #include "evaluate/predictions.h"
 #include "libs/util/json_errors.h"
@@ -91,6 +92,30 @@ TEST_F(CocoEvalGolden, TheTwelveStatsAreThoseOfPycocotools) {
     const CocoStats stats = CocoEvaluator(data).Stats();
     for (size_t i = 0; i < stats.size(); ++i)
       EXPECT_NEAR(stats[i], golden.stats[i], 1e-9) << golden.name << " " << CocoStatNames()[i];
+  }
+}
+
+TEST_F(CocoEvalGolden, TheStreamedEvaluationGivesTheSameStats) {
+  // What `lsds evaluate` runs: the truth streamed image by image from the
+  // converter's file, each image matched as soon as its detections are known
+  // (evaluate_run.cc); the crowd set adds regions to the truth held in memory.
+  TruthOptions options;
+  options.collection = C();
+  const EvaluationTruth streamed = StreamCollectionTruth(options);
+  ASSERT_TRUE(streamed.streamed);
+  EXPECT_TRUE(streamed.coco.ground_truth.empty());
+  EXPECT_EQ(streamed.AnnotationCount(), truth_->AnnotationCount());
+  for (const Golden& golden : kGoldens) {
+    EvaluationTruth held = *truth_;
+    const bool crowd = std::string(golden.name) == "crowd";
+    if (crowd) AddCrowdRegions("crowd_regions.json", &held);
+    const EvaluationTruth& truth = crowd ? held : streamed;
+    const EvaluationReport report = Evaluate(
+        truth, ReadCocoPredictions(GoldenData(std::string(golden.name) + ".json"), truth), 30);
+    ASSERT_TRUE(report.stats) << golden.name;
+    for (size_t i = 0; i < report.stats->size(); ++i)
+      EXPECT_NEAR((*report.stats)[i], golden.stats[i], 1e-9)
+          << golden.name << " " << CocoStatNames()[i];
   }
 }
 

@@ -1,10 +1,22 @@
 // The rules of the COCOeval port on cases small enough to work out by hand.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "evaluate/coco_eval.h"
+#include "evaluate/dota_eval.h"
 
 namespace lsds::evaluate {
 namespace {
+
+Quad QuadOfTest(const std::vector<double>& v) {
+  Quad q{};
+  std::copy(v.begin(), v.end(), q.begin());
+  return q;
+}
 
 GroundTruthBox Gt(int64_t id, int64_t image, BoxXywh box, bool crowd = false) {
   GroundTruthBox g;
@@ -47,6 +59,39 @@ TEST(CocoEval, OnePerfectDetectionIsOneEverywhereItCounts) {
   EXPECT_EQ(s[4], -1);          // APm: no ground truth there
   EXPECT_EQ(s[5], -1);
   EXPECT_EQ(s[8], 1);  // AR100
+}
+
+TEST(CocoEval, OrientedBoxesAreComparedByTheirPolygons) {
+  // A 10 x 10 square turned 45 degrees about (5, 5), and the same square slid
+  // 3 px along one of its sides: polygon IoU 70 / 130 = 0.538, a match at .50
+  // only (AP .1). Their upright boxes (IoU 0.566) would match at .55 too.
+  const double r = 5 * std::sqrt(2.0), s = 3 / std::sqrt(2.0);
+  const auto diamond = [&](double d) {
+    return std::vector<double>{
+        5 + d, 5 - r + d, 5 + r + d, 5 + d, 5 + d, 5 + r + d, 5 - r + d, 5 + d};
+  };
+  GroundTruthBox g = Gt(1, 1, {5 - r, 5 - r, 2 * r, 2 * r});
+  g.quad = diamond(0);
+  g.area = 100;
+  DetectionBox d = Dt(1, {5 - r + s, 5 - r + s, 2 * r, 2 * r}, 0.9);
+  d.quad = diamond(s);
+  d.area = 100;
+  EXPECT_NEAR(QuadIou(QuadOfTest(g.quad), QuadOfTest(d.quad)), 70.0 / 130.0, 1e-12);
+  // A difficult object and a detection on it: ignored, they change nothing.
+  GroundTruthBox difficult = Gt(2, 1, {50, 50, 10, 10});
+  difficult.quad = {50, 50, 60, 50, 60, 60, 50, 60};
+  difficult.ignored = true;
+  DetectionBox on_difficult = Dt(1, {50, 50, 10, 10}, 0.95);
+  on_difficult.quad = difficult.quad;
+  CocoData data{{1}, {1}, {g, difficult}, {d, on_difficult}, IouType::kQuad};
+  const CocoStats stats = CocoEvaluator(data).Stats();
+  const double one = 1 / (1 + std::numeric_limits<double>::epsilon());  // tp / (tp + eps)
+  EXPECT_NEAR(stats[0], 0.1 * one, 1e-15);  // AP: 1 of 10 thresholds at precision 1
+  EXPECT_NEAR(stats[1], one, 1e-15);        // AP50
+  EXPECT_EQ(stats[2], 0);                   // AP75
+  EXPECT_NEAR(stats[8], 0.1, 1e-15);        // AR100
+  data.iou_type = IouType::kBox;            // the upright boxes: .50 and .55
+  EXPECT_NEAR(CocoEvaluator(data).Stats()[0], 0.2 * one, 1e-15);
 }
 
 TEST(CocoEval, IouDecidesTheThresholdsAMatchPasses) {

@@ -1,12 +1,16 @@
 // lsds evaluate --iou-type obb --format dota: the command end to end on DOTA
 // task-1 result files, and bad files named at their line (exit 2, nothing
 // written).
+#include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "libs/collection/schema.h"
 #include "libs/util/atomic_file.h"
+#include "libs/util/input_file.h"
 #include "libs/util/json_errors.h"
 #include "tests/evaluate/golden_fixture.h"
 
@@ -40,6 +44,54 @@ TEST_F(DotaEvaluate, TheCommandScoresOrientedBoxesAsTheDevkitDoes) {
   ASSERT_EQ(voc12.exit_code, 0) << voc12.output;
   EXPECT_NEAR(
       ReadJsonFile(out / "e12.json")["dota"]["mAP"].get<double>(), 0.73766475360222405, 1e-9);
+}
+
+TEST_F(DotaEvaluate, CocoRulesScoreTheConvertersOwnBoxesOne) {
+  // The labels `lsds convert --to dota` writes, turned into task-1 result
+  // files (every object, difficult ones too, score 1), scored by COCO's rules
+  // with the polygon IoU: every IoU is 1, so every number is 1 (up to COCO's
+  // tp / (tp + eps)), and the perfect golden set gives the same.
+  testing::TempDir out;
+  const testing::CommandResult convert = testing::RunLsds(
+      "convert " + C() + " --to dota --images none -q -o " + (out / "dota").string());
+  ASSERT_EQ(convert.exit_code, 0) << convert.output;
+  std::map<std::string, std::string> results;  // class -> Task1 lines
+  int64_t objects = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(out / "dota" / "labelTxt")) {
+    if (!entry.is_regular_file()) continue;
+    std::istringstream lines(ReadTextFile(entry.path()));
+    for (std::string line; std::getline(lines, line);) {
+      std::istringstream fields(line);
+      std::vector<std::string> f;
+      for (std::string token; fields >> token;) f.push_back(token);
+      if (f.size() < 9) continue;
+      std::string corners;
+      for (size_t i = 0; i < 8; ++i) corners += " " + f[i];
+      results[f[8]] += entry.path().stem().string() + " 1" + corners + "\n";
+      ++objects;
+    }
+  }
+  ASSERT_GE(objects, 10);
+  fs::create_directories(out / "results");
+  for (const auto& [name, text] : results)
+    WriteFileAtomic(out / "results" / ("Task1_" + name + ".txt"), text);
+  for (const fs::path& predictions : {out / "results", GoldenData("obb/perfect")}) {
+    const std::string json = (out / (predictions.filename().string() + ".json")).string();
+    const testing::CommandResult run = testing::RunLsds(
+        "evaluate " + C() + " --format dota --iou-type obb --ap coco --predictions " +
+        predictions.string() + " --fail-under AP=0.99 -o " + json);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("oriented boxes (polygon IoU, --ap coco)"), std::string::npos)
+        << run.output;
+    const nlohmann::json doc = ReadJsonFile(json);
+    EXPECT_TRUE(JsonSchema::Get("evaluate.schema.json").Validate(doc).empty());
+    EXPECT_EQ(doc["options"]["iou_type"], "obb");
+    EXPECT_FALSE(doc.contains("dota"));
+    for (const char* metric : {"AP", "AP50", "AP75", "AR100"})
+      EXPECT_NEAR(doc["coco"][metric].get<double>(), 1, 1e-12) << metric << " " << predictions;
+    EXPECT_EQ(doc["counts"]["matched_50"], doc["counts"]["objects"]);
+    EXPECT_EQ(doc["counts"]["false_positives_50"], 0);
+  }
 }
 
 TEST_F(DotaEvaluate, BadResultFilesAreNamedAtTheirLine) {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "evaluate/conditions.h"
 #include "evaluate/evaluate_run.h"
 #include "evaluate/predictions.h"
 #include "libs/collection/schema.h"
@@ -65,6 +66,59 @@ TEST_F(EvaluateOnGolden, EveryRecordedConditionIsBrokenDown) {
   }
   const ConditionMetrics& in_frame = Condition(r, "in_frame");
   EXPECT_EQ(in_frame.strata.size(), 2u);  // frame 1 cuts objects at the border
+}
+
+TEST_F(EvaluateOnGolden, EveryStratumIsTheAccumulationOfItsSelectionOverAllImages) {
+  // The report evaluates each image once, for every stratum at once, as the
+  // truth streams by; CocoEvaluator holds every box and accumulates one
+  // selection over all of them. Each stratum must be that selection's numbers.
+  const std::vector<DetectionBox> detections =
+      ReadCocoPredictions(GoldenData("jittered.json"), *truth_);
+  const EvaluationReport r = Evaluate(*truth_, detections, 30);
+  CocoData data = truth_->coco;
+  data.detections = detections;
+  const CocoEvaluator evaluator(data);
+  const std::vector<ConditionBins> conditions = BinConditions(*truth_);
+  int64_t compared = 0;
+  for (const ConditionBins& c : conditions) {
+    const ConditionMetrics& metrics = Condition(r, c.name);
+    for (int bin = 0; bin < static_cast<int>(c.bins.size()); ++bin) {
+      Selection s;
+      if (c.level == Level::kFrame) {
+        s.image = [&, bin](int64_t image) { return ImageBin(c, *truth_, image) == bin; };
+      } else {
+        s.ground_truth = [&, bin](size_t i) {
+          const GroundTruthBox& g = truth_->coco.ground_truth[i];
+          return ObjectBin(c, {truth_->objects[i], CategoryName(*truth_, g.category_id)}) == bin;
+        };
+        if (c.bins_detections)
+          s.detection = [&, bin](size_t i) { return DetectionBin(c, detections[i]) == bin; };
+      }
+      const Accumulation a = evaluator.Accumulate(s);
+      const auto stratum =
+          std::find_if(metrics.strata.begin(), metrics.strata.end(), [&](const StratumMetrics& m) {
+            return m.label == c.bins[bin];
+          });
+      if (stratum == metrics.strata.end()) {
+        EXPECT_EQ(a.ground_truth, 0) << c.name << " " << c.bins[bin];
+        continue;
+      }
+      EXPECT_EQ(stratum->objects, a.ground_truth) << c.name << " " << c.bins[bin];
+      EXPECT_EQ(stratum->matched_50, a.matched_50) << c.name << " " << c.bins[bin];
+      EXPECT_EQ(stratum->false_positives_50, a.false_positives_50) << c.name << " " << c.bins[bin];
+      EXPECT_EQ(stratum->ap, MeanPrecision(a, std::nullopt, 2)) << c.name << " " << c.bins[bin];
+      EXPECT_EQ(stratum->ap50, MeanPrecision(a, 0, 2)) << c.name << " " << c.bins[bin];
+      EXPECT_EQ(stratum->ar100, MeanRecall(a, std::nullopt, 2)) << c.name << " " << c.bins[bin];
+      ++compared;
+    }
+  }
+  int64_t reported = 0;
+  for (const ConditionMetrics& c : r.strata) reported += static_cast<int64_t>(c.strata.size());
+  EXPECT_EQ(compared, reported);
+  EXPECT_GE(compared, 15);
+  // And the report's twelve numbers are the evaluator's.
+  ASSERT_TRUE(r.stats);
+  EXPECT_EQ(*r.stats, evaluator.Stats());
 }
 
 TEST(EvaluateWilson, TheIntervalOfTheWilsonScore) {

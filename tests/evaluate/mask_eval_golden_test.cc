@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "evaluate/coco_eval.h"
+#include "evaluate/evaluate_run.h"
 #include "evaluate/ground_truth.h"
 #include "evaluate/predictions.h"
 #include "evaluate/segmentation.h"
@@ -95,6 +96,29 @@ TEST_F(MaskEvalGolden, TheTwelveStatsAreThoseOfPycocotools) {
     const CocoStats stats = CocoEvaluator(data).Stats();
     for (size_t i = 0; i < stats.size(); ++i)
       EXPECT_NEAR(stats[i], golden.stats[i], 1e-9) << golden.name << " " << CocoStatNames()[i];
+  }
+}
+
+TEST_F(MaskEvalGolden, TheStreamedEvaluationGivesTheSameStats) {
+  // The masks read image by image from the converter's file (evaluate_run.cc).
+  TruthOptions options;
+  options.collection = C();
+  options.masks = true;
+  const EvaluationTruth streamed = StreamCollectionTruth(options);
+  ASSERT_TRUE(streamed.streamed);
+  for (const Golden& golden : kGoldens) {
+    EvaluationTruth held = *mask_truth_;
+    const bool crowd = std::string(golden.name) == "crowd";
+    if (crowd) AddCrowdRegions("segm/crowd_regions.json", &held);
+    const EvaluationTruth& truth = crowd ? held : streamed;
+    const EvaluationReport report = Evaluate(
+        truth,
+        ReadCocoPredictions(GoldenData("segm/" + std::string(golden.name) + ".json"), truth),
+        30);
+    ASSERT_TRUE(report.stats) << golden.name;
+    for (size_t i = 0; i < report.stats->size(); ++i)
+      EXPECT_NEAR((*report.stats)[i], golden.stats[i], 1e-9)
+          << golden.name << " " << CocoStatNames()[i];
   }
 }
 

@@ -37,13 +37,14 @@ void AddFrame(Plan* plan, const Rigid3d& cam_from_world, int width = 64, int hei
   plan->frames.push_back(f);
 }
 
-Film RenderK(const Plan& plan, size_t k) {
+// Frame k of `plan` at `spp` samples per pixel (4: as `lsds generate`).
+Film RenderK(const Plan& plan, size_t k, int spp = 1) {
   static EmbreeDevice device;
   const SceneAssets assets = BuildSceneAssets(plan);
   const WorldState world = WorldAt(plan, plan.frames[k]);
   const RenderScene scene(device, plan, assets, world);
   RenderSettings settings;
-  settings.sampler = {1, 1.0, plan.seed};
+  settings.sampler = {spp, 1.0, plan.seed};
   return RenderFrame(scene, Sky(plan), plan.frames[k], PreviousView(), settings);
 }
 
@@ -322,6 +323,163 @@ TEST(Materials, MetalGoldHasATintedHighlightLambertianDoesNot) {
   EXPECT_NEAR(matte, 1.0, 1e-5);
   EXPECT_GT(gold.x(), gold.y());  // tinted: R > G > B
   EXPECT_GT(gold.y(), gold.z());
+}
+
+}  // namespace
+}  // namespace lsds::gen
+
+namespace lsds::gen {
+namespace {
+
+std::vector<double> LuminanceOf(const Film& film) {
+  const auto& r = film.flat.at("rgb").Get("R").floats;
+  const auto& g = film.flat.at("rgb").Get("G").floats;
+  const auto& b = film.flat.at("rgb").Get("B").floats;
+  std::vector<double> y(r.size());
+  for (size_t p = 0; p < y.size(); ++p) y[p] = 0.2126 * r[p] + 0.7152 * g[p] + 0.0722 * b[p];
+  return y;
+}
+
+// The ground-detail measure of issue 45 (docs/generator.md, "Ground detail"):
+// the mean |4-neighbour Laplacian| of the linear luminance over the mean
+// luminance, on the pixels whose four neighbours are terrain too.
+double LaplacianMeasure(const Film& film, int w, int h, uint32_t terrain_class) {
+  const std::vector<double> y = LuminanceOf(film);
+  const auto& cls = film.flat.at("classid").Get("id").uints;
+  double laplacian = 0, luminance = 0;
+  size_t n = 0;
+  for (int j = 1; j + 1 < h; ++j) {
+    for (int i = 1; i + 1 < w; ++i) {
+      const size_t p = static_cast<size_t>(j) * w + i;
+      if (cls[p] != terrain_class || cls[p - 1] != terrain_class || cls[p + 1] != terrain_class ||
+          cls[p - w] != terrain_class || cls[p + w] != terrain_class)
+        continue;
+      laplacian += std::abs(4 * y[p] - y[p - 1] - y[p + 1] - y[p - w] - y[p + w]);
+      luminance += y[p];
+      ++n;
+    }
+  }
+  return n > 0 && luminance > 0 ? laplacian / luminance : 0;
+}
+
+// Grass seen from 2.5 m at 3 cm per pixel shows blades and clumps: the
+// Laplacian measure reaches a photo's (>= 0.05; 0.014 before the detail), and
+// the detail sits in the world: a frame moved by 10 pixels sees the same
+// ground 10 pixels over.
+TEST(GroundDetail, GrassAtThreeCentimetresPerPixelHasDetailAnchoredInTheWorld) {
+  constexpr int kSize = 96;
+  constexpr double kGsd = 0.03;
+  Plan plan = testing::FlatPlan(kSize, kSize, 60);
+  plan.terrain.material = "grassy";
+  plan.sun.illuminance_lux = 100000;
+  const double fx = plan.frames[0].camera.fx;
+  plan.frames[0].cam_from_world = testing::Nadir({0.3, 0.2, kGsd * fx});
+  plan.frames.push_back(plan.frames[0]);
+  plan.frames[1].index = 1;
+  plan.frames[1].cam_from_world = testing::Nadir({0.3 + 10 * kGsd, 0.2, kGsd * fx});
+  const Film film = RenderK(plan, 0, 4);
+  const double measure = LaplacianMeasure(film, kSize, kSize, 1);
+  std::printf(
+      "grass at %.0f cm per pixel: mean |Laplacian| / mean luminance %.4f\n", 100 * kGsd, measure);
+  EXPECT_GE(measure, 0.05);
+  EXPECT_LT(measure, 1.0);  // detail, not noise
+  const Film moved = RenderK(plan, 1, 4);
+  const std::vector<double> a = LuminanceOf(film), b = LuminanceOf(moved);
+  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  size_t n = 0;
+  for (int j = 0; j < kSize; ++j) {
+    for (int i = 0; i + 10 < kSize; ++i) {
+      const double u = a[static_cast<size_t>(j) * kSize + i + 10];
+      const double v = b[static_cast<size_t>(j) * kSize + i];
+      sa += u, sb += v, saa += u * u, sbb += v * v, sab += u * v, ++n;
+    }
+  }
+  const double cov = sab / n - sa / n * sb / n;
+  const double correlation =
+      cov / std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n));
+  std::printf("the same ground from a frame 10 pixels over: correlation %.3f\n", correlation);
+  EXPECT_GT(correlation, 0.8);
+}
+
+// Shadows keep the sky's light: on flat open ground the shadow of a box is
+// lit by the whole sky but the part the box hides, so shadow / sun is close to
+// the analytic ratio ambient / (ambient + sun x sin(elevation)), and under it,
+// never black.
+TEST(SkyLight, ShadowsOnOpenGroundKeepTheSkysLight) {
+  Plan plan = testing::FlatPlan(96, 96, 60);
+  plan.terrain.material = "white";
+  plan.sun.illuminance_lux = 100000;
+  plan.sun.elevation_deg = 45;
+  plan.objects.push_back(testing::Box("box", 7, {0, 0, 2}, {4, 4, 4}));
+  plan.frames[0].cam_from_world = testing::Nadir({0, 0, 30});
+  const Film film = RenderK(plan, 0, 4);
+  const std::vector<double> y = LuminanceOf(film);
+  const auto& shadow = film.flat.at("shadow").Get("Y").floats;
+  const auto& cls = film.flat.at("classid").Get("id").uints;
+  double in_shadow = 0, in_sun = 0;
+  size_t shadowed = 0, sunlit = 0;
+  // Pixels whose 3x3 neighbourhood is all ground in shadow, or all in the sun:
+  // no sample of theirs crosses the shadow's edge.
+  const int w = 96, h = 96;
+  auto all = [&](int i, int j, auto&& test) {
+    for (int b = j - 1; b <= j + 1; ++b)
+      for (int a = i - 1; a <= i + 1; ++a)
+        if (!test(static_cast<size_t>(b) * w + a)) return false;
+    return true;
+  };
+  for (int j = 1; j + 1 < h; ++j) {
+    for (int i = 1; i + 1 < w; ++i) {
+      const size_t p = static_cast<size_t>(j) * w + i;
+      if (all(i, j, [&](size_t q) { return cls[q] == 1 && shadow[q] < 0.5f; }))
+        in_shadow += y[p], ++shadowed;
+      if (all(i, j, [&](size_t q) { return cls[q] == 1 && shadow[q] == 1.f; }))
+        in_sun += y[p], ++sunlit;
+    }
+  }
+  ASSERT_GT(shadowed, 30u);
+  ASSERT_GT(sunlit, 30u);
+  const Sky sky(plan);
+  auto lum = [](const Eigen::Vector3f& c) {
+    return 0.2126 * c.x() + 0.7152 * c.y() + 0.0722 * c.z();
+  };
+  const double sun = lum(sky.sun_irradiance()) * std::sin(M_PI / 4);
+  const double analytic = lum(sky.ambient()) / (lum(sky.ambient()) + sun);
+  const double measured = (in_shadow / shadowed) / (in_sun / sunlit);
+  std::printf("shadow / sun on open ground: measured %.4f, analytic sky / (sun + sky) %.4f\n",
+              measured,
+              analytic);
+  EXPECT_GT(measured, 0.7 * analytic);
+  EXPECT_LE(measured, 1.02 * analytic);
+}
+
+// The sky has no seam at the horizon: just above and just below it the same
+// haze, and fogged distant ground fades to the sky just above it.
+TEST(Sky, TheHorizonIsHazeWithoutASeam) {
+  Plan plan = testing::FlatPlan();
+  plan.sun.elevation_deg = 30;
+  for (const double fog : {0.0, 0.002}) {
+    plan.fog_density = fog;
+    const Sky sky(plan);
+    for (int a = 0; a < 8; ++a) {
+      const double az = a * M_PI / 4;
+      const Eigen::Vector3d level(std::cos(az), std::sin(az), 0);
+      const Eigen::Vector3f above =
+          sky.Radiance((level + Eigen::Vector3d(0, 0, 1e-3)).normalized());
+      const Eigen::Vector3f below =
+          sky.Radiance((level - Eigen::Vector3d(0, 0, 1e-3)).normalized());
+      EXPECT_LT((above - below).norm(), 0.01 * above.norm()) << az;
+      EXPECT_LT((sky.Haze(level) - above).norm(), 0.01 * above.norm()) << az;
+    }
+    // Brighter towards the sun (east, +x) than away from it (Perez / Preetham).
+    auto lum = [](const Eigen::Vector3f& c) {
+      return 0.2126 * c.x() + 0.7152 * c.y() + 0.0722 * c.z();
+    };
+    EXPECT_GT(lum(sky.Haze(Eigen::Vector3d(1, 0, 0))),
+              1.5 * lum(sky.Haze(Eigen::Vector3d(-1, 0, 0))));
+    // Ground 20 km away is haze: nearly the sky's horizon.
+    EXPECT_LT(sky.HazeTransmittance(20000), 0.35) << fog;
+    EXPECT_EQ(sky.HazeTransmittance(500), std::exp(-fog * 500)) << fog;
+  }
 }
 
 }  // namespace

@@ -32,7 +32,12 @@ struct Rendered {
   std::vector<ObjectTruth> truth;
 };
 
-Rendered Render(const Plan& plan, int spp = 1, bool shade_pixels_once = true) {
+// `ground_detail` false: the terrain's smooth patterns alone, which a pixel's
+// samples can share (RenderSettings::ground_detail).
+Rendered Render(const Plan& plan,
+                int spp = 1,
+                bool shade_pixels_once = true,
+                bool ground_detail = true) {
   static EmbreeDevice device;
   const SceneAssets assets = BuildSceneAssets(plan);
   const WorldState world = WorldAt(plan, plan.frames[0]);
@@ -40,6 +45,7 @@ Rendered Render(const Plan& plan, int spp = 1, bool shade_pixels_once = true) {
   RenderSettings settings;
   settings.sampler = {spp, 1.0, plan.seed};
   settings.shade_pixels_once = shade_pixels_once;
+  settings.ground_detail = ground_detail;
   Rendered r{RenderFrame(scene, Sky(plan), plan.frames[0], PreviousView(), settings), {}};
   uint64_t rays = 0;
   r.truth = ComputeObjectTruth(scene, plan.frames[0], r.film, 0.0, &rays);
@@ -374,8 +380,8 @@ TEST(ImageTextures, TexturedPixelsAreShadedAtEverySample) {
   plan.objects.push_back(Object((dir.path() / "quad.obj").string(), 1, {0, 0, 0.5}, {2, 2, 1}));
   plan.objects.back().material = "fabric";
   plan.frames[0].cam_from_world = Nadir({0, 0, 6});
-  const Rendered once = Render(plan, 4);
-  const Rendered per_sample = Render(plan, 4, false);
+  const Rendered once = Render(plan, 4, true, false);
+  const Rendered per_sample = Render(plan, 4, false, false);
   const auto& instance = Ids(once.film, "instanceid");
   int quad = 0, ground_changed = 0;
   for (size_t p = 0; p < instance.size(); ++p) {

@@ -5,6 +5,7 @@
 // frame's exposure record -> the 8-bit image `lsds convert` writes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -196,6 +197,41 @@ TEST(Exposure, DoublingTheShutterDoublesLinearPixelValuesAndKeepsTheTruth) {
       gen::Ev100FromSettings(*iso.exposure.f_number, *iso.exposure.shutter_s, *iso.exposure.iso),
       ev_slow,
       1e-9);
+}
+
+// UC1a's templates (docs/generator.md, "Templates with a white background"):
+// under auto exposure a white ground is metered to a mid grey; the template
+// recipe, exposure_compensation 3.3 (log2 of the meter's 9.6 from the mean to
+// saturation, rounded up) with the clamp tone curve, keeps it white.
+TEST(Exposure, TemplateRecipeKeepsAWhiteBackgroundWhite) {
+  const std::string white =
+      "LSCENE = ONE(S) ONE(DL) ONE(SL) ONE(W)\n"
+      "S = skybox{color:blue}\n"
+      "DL = light{elevation:60,azimuth:180,intensity:100000}\n"
+      "SL = skylight{intensity:0.3}\n"
+      "W = terrain{size:[300,300],material:white}\n";
+  const std::string nadir =
+      "LCAP = ONE(CO) ONE(P)\n"
+      "CO = camera{csettings:{fov:60,res:[48,36]";
+  const std::string path = "}}\nP = path{waypoints:[[0,0,30],[5,0,30]]}\n";
+  auto median_green = [](const exr::FlatImage& rgb) {
+    imaging::DisplayOptions display;
+    display.tonemap = imaging::ToneMap::kClamp;
+    const cv::Mat bgr = imaging::ToSrgb8(rgb, display);
+    std::vector<int> g;
+    for (int y = 0; y < bgr.rows; ++y)
+      for (int x = 0; x < bgr.cols; ++x) g.push_back(bgr.at<cv::Vec3b>(y, x)[1]);
+    std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
+    return g[g.size() / 2];
+  };
+  testing::TempDir dir;
+  const Rendered metered = Generate(dir / "auto", PlanText(white, nadir + path));
+  const Rendered templ =
+      Generate(dir / "template", PlanText(white, nadir + ",exposure_compensation:3.3" + path));
+  const int grey = median_green(metered.rgb[0]), kept = median_green(templ.rgb[0]);
+  std::printf("white ground in 8 bits: auto exposure %d, template recipe %d\n", grey, kept);
+  EXPECT_LT(grey, 128);
+  EXPECT_EQ(kept, 255);
 }
 
 TEST(Exposure, CompensationScalesByPowersOfTwo) {

@@ -3,8 +3,10 @@
 // known truth, validates clean and converts to COCO masks equal to the
 // fixture's segmentation and YOLO boxes equal to the truth.
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <set>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -143,6 +145,58 @@ TEST_F(KubricImportTest, ValidatesCleanAndConverts) {
       "kubric", scene, dir_.path(), spec_.width, spec_.height, [&](int k) {
         return TargetIds(synth::RenderFrame(spec_, k));
       });
+}
+
+// lsds import --compact: worldposition stored in the residual layout (lsds info says so), every
+// layer of every frame decoded bit for bit as the plain import's (the sky's +inf included), and
+// both collections validate clean.
+TEST_F(KubricImportTest, CompactStoresTheSameLayersInTheResidualLayout) {
+  const fs::path scene = dir_ / "kubric" / "0";
+  WriteKubricFixture(scene, spec_);
+  const fs::path plain = dir_ / "plain", compact = dir_ / "compact";
+  for (const auto& [out, flags] : {std::pair{plain, ""}, std::pair{compact, " --compact"}}) {
+    CommandResult r = RunCommandLine(LsdsBinary() + " import kubric " + scene.string() + " -o " +
+                                     out.string() + flags);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << flags << ": " << r.output;
+    r = RunCommandLine(LsdsBinary() + " info --json " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const json info = json::parse(r.output);
+    std::string layout;
+    for (const json& layer : info["layers"])
+      if (layer["semantic"] == "worldposition") layout = layer.value("layout", "");
+    EXPECT_EQ(layout, out == compact ? "residual" : "float") << r.output;
+  }
+  const CollectionReader plain_reader(plain), compact_reader(compact);
+  std::vector<Frame> plain_frames, compact_frames;
+  plain_reader.ForEachFrame([&](const Frame& f) { plain_frames.push_back(f); });
+  compact_reader.ForEachFrame([&](const Frame& f) { compact_frames.push_back(f); });
+  ASSERT_EQ(plain_frames.size(), spec_.cam_from_world.size());
+  ASSERT_EQ(compact_frames.size(), plain_frames.size());
+  int64_t non_finite = 0;
+  for (const LayerInfo& layer : plain_reader.header().layers) {
+    std::vector<std::string> channels;
+    for (const LayerChannel& c : layer.channels) channels.push_back(c.name);
+    for (size_t k = 0; k < plain_frames.size(); ++k) {
+      SCOPED_TRACE(layer.name + " frame " + std::to_string(k));
+      const exr::FlatImage want = plain_reader.ReadFlatLayer(plain_frames[k], layer.name, channels);
+      const exr::FlatImage got =
+          compact_reader.ReadFlatLayer(compact_frames[k], layer.name, channels);
+      for (const std::string& name : channels) {
+        const exr::FlatChannel& a = want.Get(name);
+        const exr::FlatChannel& b = got.Get(name);
+        ASSERT_EQ(a.type, b.type) << name;
+        ASSERT_EQ(a.floats.size(), b.floats.size()) << name;
+        EXPECT_EQ(std::memcmp(a.floats.data(), b.floats.data(), a.floats.size() * sizeof(float)), 0)
+            << name;
+        EXPECT_EQ(a.uints, b.uints) << name;
+        if (layer.semantic == "worldposition")
+          for (float v : b.floats) non_finite += std::isfinite(v) ? 0 : 1;
+      }
+    }
+  }
+  EXPECT_GT(non_finite, 0);  // the sky's +inf went through the residual layout
 }
 
 TEST_F(KubricImportTest, ASourceThatIsNotWhatItClaimsGivesALocatedError) {

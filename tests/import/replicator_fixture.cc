@@ -1,5 +1,6 @@
 #include "tests/import/replicator_fixture.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -182,24 +183,31 @@ void WriteReplicatorFixture(const fs::path& folder,
       // moved by the prim's row-vector local-to-world transform.
       std::string boxes3d, boxes2d;
       json prim_paths = json::array(), prim_paths_2d = json::array();
+      int64_t boxes3d_count = 0;
       for (const synth::Box& box : spec.boxes) {
+        const bool has_3d =
+            std::find(layout.without_3d_box.begin(), layout.without_3d_box.end(), box.name) ==
+            layout.without_3d_box.end();
         const OrientedBox obb = box.Obb();
         Eigen::Matrix4d world_from_local = Eigen::Matrix4d::Identity();
         world_from_local.topLeftCorner<3, 3>() =
             stage_from_enu * obb.world_from_box * (2 * obb.half_extents / mpu).asDiagonal();
         world_from_local.topRightCorner<3, 1>() = stage_from_enu * obb.center / mpu;
-        Put(&boxes3d, semantic_id(label_of(box.class_id)));
-        for (float v : {-0.5f, -0.5f, -0.5f, 0.5f, 0.5f, 0.5f}) Put(&boxes3d, v);
-        for (int r = 0; r < 4; ++r)
-          for (int c = 0; c < 4; ++c) Put(&boxes3d, static_cast<float>(world_from_local(c, r)));
         // occlusionRatio: the occluded share of the object's pixels; -1 where the object is not
         // in view.
         float occluded = -1;
         for (const ObjectTruth& o : frame.truth.objects)
           if (o.instance_id == box.instance_id && o.visible_pixels > 0)
             occluded = static_cast<float>(1 - o.visibility);
-        Put(&boxes3d, occluded);
-        prim_paths.push_back("/World/" + box.name);
+        if (has_3d) {
+          Put(&boxes3d, semantic_id(label_of(box.class_id)));
+          for (float v : {-0.5f, -0.5f, -0.5f, 0.5f, 0.5f, 0.5f}) Put(&boxes3d, v);
+          for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) Put(&boxes3d, static_cast<float>(world_from_local(c, r)));
+          Put(&boxes3d, occluded);
+          prim_paths.push_back("/World/" + box.name);
+          ++boxes3d_count;
+        }
         // bounding_box_2d_tight: inclusive pixel indices of the visible pixels.
         for (const ObjectTruth& o : frame.truth.objects)
           if (o.instance_id == box.instance_id && o.bbox) {
@@ -217,7 +225,7 @@ void WriteReplicatorFixture(const fs::path& folder,
                "('z_min', '<f4'), ('x_max', '<f4'), ('y_max', '<f4'), "
                "('z_max', '<f4'), ('transform', '<f4', (4, 4)), "
                "('occlusionRatio', '<f4')]",
-               {static_cast<int64_t>(spec.boxes.size())},
+               {boxes3d_count},
                boxes3d);
       std::ofstream(at("bounding_box_3d", Name("bounding_box_3d_labels", prefix, k, "json")))
           << labels_json.dump();

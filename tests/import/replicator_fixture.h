@@ -29,6 +29,9 @@ struct ReplicatorLayout {
   std::string trigger_prefix;
   // Whether the instance_segmentation annotator was on (its PNG and two mappings).
   bool instance_segmentation = true;
+  // Boxes (by name) with no bounding_box_3d record, only their tight 2D box: prims whose
+  // semantics the 3D annotator leaves out, as a semantic filter per annotator does.
+  std::vector<std::string> without_3d_box;
 };
 
 void WriteReplicatorFixture(const std::filesystem::path& folder,

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <optional>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -255,6 +257,147 @@ TEST_F(ReplicatorImportTest, WithoutInstanceSegmentationTheBoxesAreTheObjects) {
                      (dir_ / "coco").string());
   EXPECT_NE(coco.exit_code, 0);
   EXPECT_NE(coco.output.find("no instanceid layer"), std::string::npos) << coco.output;
+}
+
+// A prim with a tight 2D box and no 3D box (a semantic filter leaving the crate out of
+// bounding_box_3d) is an object without a 3D box (format.md "Objects without a 3D box"): no obb
+// and no projected box; with instance segmentation its box and pixel count are measured on the
+// id layer and equal the writer's bounding_box_2d_tight record, its visibility is
+// 1 - occlusionRatio of that record, in_frame not measured (1). The collection validates clean
+// and COCO exports the box at the record's coordinates, without an obb.
+TEST_F(ReplicatorImportTest, APrimWithOnlyATightBoxIsAnObjectWithoutA3dBox) {
+  const fs::path folder = dir_ / "replicator";
+  ReplicatorLayout layout;
+  layout.without_3d_box = {"crate#0"};
+  WriteReplicatorFixture(folder, spec_, layout);
+  const fs::path out = dir_ / "collection";
+  const CommandResult imported = RunCommandLine(
+      LsdsBinary() + " import replicator " + folder.string() + " --up-axis y -o " + out.string());
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  EXPECT_NE(imported.output.find("bounding_box_2d_tight box(es) of 'crate' have no "
+                                 "bounding_box_3d box: objects without a 3D box"),
+            std::string::npos)
+      << imported.output;
+  const fs::path annotations = ExpectValidatesAndConvertsToCoco(out, dir_ / "coco");
+  ASSERT_FALSE(annotations.empty());
+  const json coco = json::parse(ReadText(annotations));
+  std::map<int64_t, int> frame_of_image;
+  for (const json& image : coco["images"])
+    frame_of_image[image["id"].get<int64_t>()] =
+        std::stoi(fs::path(image["file_name"].get<std::string>()).stem().string());
+
+  const CollectionReader reader(out);
+  std::vector<Frame> frames;
+  reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+  ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
+  const std::string crate = "/World/crate#0";
+  int crates = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    const synth::RenderedFrame truth = synth::RenderFrame(spec_, static_cast<int>(k));
+    // The source's own annotation of the crate: its bounding_box_2d_tight record.
+    const NpyArray boxes = ReadNpy(folder / FrameName("bounding_box_2d_tight", k, "npy"));
+    const json prims =
+        json::parse(ReadText(folder / FrameName("bounding_box_2d_tight_prim_paths", k, "json")));
+    std::optional<int64_t> row;
+    for (size_t r = 0; r < prims.size(); ++r)
+      if (prims[r] == crate) row = static_cast<int64_t>(r);
+    const ObjectTruth* got = nullptr;
+    for (const ObjectTruth& o : frames[k].objects)
+      if (o.name == crate) got = &o;
+    const ObjectTruth* want = nullptr;
+    for (const ObjectTruth& o : truth.truth.objects)
+      if (o.name == "crate#0") want = &o;
+    ASSERT_EQ(got != nullptr, row.has_value());  // an object exactly where the writer boxed it
+    // The other objects keep their 3D boxes, as without the filter.
+    EXPECT_EQ(frames[k].objects.size(),
+              truth.truth.objects.size() - (want != nullptr && !row.has_value() ? 1 : 0));
+    for (const ObjectTruth& o : frames[k].objects)
+      EXPECT_EQ(o.obb.has_value(), o.name != crate) << o.name;
+    if (!row) continue;
+    ++crates;
+    ASSERT_NE(want, nullptr);
+    const double x_min = boxes.Get(*row, boxes.Field("x_min", ""));
+    const double y_min = boxes.Get(*row, boxes.Field("y_min", ""));
+    const double x_max = boxes.Get(*row, boxes.Field("x_max", ""));
+    const double y_max = boxes.Get(*row, boxes.Field("y_max", ""));
+    const double occluded = boxes.Get(*row, boxes.Field("occlusionRatio", ""));
+    ASSERT_TRUE(got->bbox.has_value());
+    EXPECT_EQ(*got->bbox, (Box2d{x_min, y_min, x_max + 1, y_max + 1}));
+    EXPECT_EQ(got->visible_pixels, want->visible_pixels);
+    EXPECT_EQ(got->class_id, want->class_id - 1);  // no "ground" class here
+    EXPECT_FALSE(got->bbox_projected.has_value());
+    EXPECT_NEAR(got->visibility, 1 - occluded, 1e-15);
+    EXPECT_NEAR(got->visibility, want->visibility, 1e-7);  // float32 occlusionRatio
+    EXPECT_EQ(got->in_frame, 1);
+    // COCO: [x, y, width, height] of the record's inclusive pixel indices, no obb.
+    int found = 0;
+    for (const json& a : coco["annotations"]) {
+      if (frame_of_image.at(a["image_id"].get<int64_t>()) != static_cast<int>(k) ||
+          a["lsds"]["instance_id"] != got->instance_id)
+        continue;
+      ++found;
+      EXPECT_EQ(a["bbox"], json::array({x_min, y_min, x_max - x_min + 1, y_max - y_min + 1}));
+      EXPECT_FALSE(a["lsds"].contains("obb"));
+    }
+    EXPECT_EQ(found, 1);
+  }
+  EXPECT_GE(crates, 3);
+}
+
+// The same without instance segmentation: the crate's box is the record's own (no id layer to
+// measure one on, so no visible_pixels), its class from bounding_box_2d_tight_labels; the
+// collection validates clean and converts to YOLO.
+TEST_F(ReplicatorImportTest, WithoutInstanceSegmentationATightBoxAloneIsAnObjectToo) {
+  const fs::path folder = dir_ / "replicator";
+  ReplicatorLayout layout;
+  layout.instance_segmentation = false;
+  layout.without_3d_box = {"crate#0"};
+  WriteReplicatorFixture(folder, spec_, layout);
+  const fs::path out = dir_ / "collection";
+  const CommandResult imported = RunCommandLine(
+      LsdsBinary() + " import replicator " + folder.string() + " --up-axis y -o " + out.string());
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  const CommandResult validate =
+      RunCommandLine(LsdsBinary() + " validate --fail-on warning " + out.string());
+  EXPECT_EQ(validate.exit_code, 0) << validate.output;
+  const CommandResult yolo =
+      RunCommandLine(LsdsBinary() + " convert " + out.string() + " --to yolo --images none -o " +
+                     (dir_ / "yolo").string());
+  EXPECT_EQ(yolo.exit_code, 0) << yolo.output;
+  const CollectionReader reader(out);
+  std::vector<Frame> frames;
+  reader.ForEachFrame([&](const Frame& f) { frames.push_back(f); });
+  ASSERT_EQ(frames.size(), spec_.cam_from_world.size());
+  int crates = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    SCOPED_TRACE("frame " + std::to_string(k));
+    const NpyArray boxes = ReadNpy(folder / FrameName("bounding_box_2d_tight", k, "npy"));
+    const json prims =
+        json::parse(ReadText(folder / FrameName("bounding_box_2d_tight_prim_paths", k, "json")));
+    std::optional<int64_t> row;
+    for (size_t r = 0; r < prims.size(); ++r)
+      if (prims[r] == "/World/crate#0") row = static_cast<int64_t>(r);
+    const ObjectTruth* got = nullptr;
+    for (const ObjectTruth& o : frames[k].objects)
+      if (o.name == "/World/crate#0") got = &o;
+    ASSERT_EQ(got != nullptr, row.has_value());
+    if (!row) continue;
+    ++crates;
+    const double x_min = boxes.Get(*row, boxes.Field("x_min", ""));
+    const double y_min = boxes.Get(*row, boxes.Field("y_min", ""));
+    EXPECT_EQ(got->bbox,
+              (Box2d{x_min,
+                     y_min,
+                     boxes.Get(*row, boxes.Field("x_max", "")) + 1,
+                     boxes.Get(*row, boxes.Field("y_max", "")) + 1}));
+    EXPECT_FALSE(got->obb.has_value());
+    EXPECT_FALSE(got->bbox_projected.has_value());
+    EXPECT_EQ(got->visible_pixels, 0);
+    EXPECT_EQ(got->class_id, 2u);  // "crate": classes box, crate
+    EXPECT_NEAR(got->visibility, 1 - boxes.Get(*row, boxes.Field("occlusionRatio", "")), 1e-15);
+  }
+  EXPECT_GE(crates, 3);
 }
 
 // A prim with a negative scale (three wall wires of the warehouse stage in real BasicWriter

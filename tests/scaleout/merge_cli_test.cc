@@ -353,5 +353,26 @@ TEST_F(MergeCliTest, SubmitScriptsRunByHandGiveTheSingleRun) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
+// `lsds submit --compact`: every task renders with generate --compact, so the merged run equals
+// the single compact run ("whole") byte for byte.
+TEST_F(MergeCliTest, SubmitCompactGivesTheSingleCompactRun) {
+  const fs::path work = Path("compact_run.shards");
+  testing::CommandResult r =
+      RunCommandLine("CI=true " + LsdsBinary() + " submit slurm " + ::lsds::testing::SourceDir() +
+                     "/examples/uav_survey.lscene " + Path("small.lcap").string() +
+                     " --spp 1 --seed 3 --compact --shards 3 -o " + Path("compact_run").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(Slurp(work / "generate.sbatch").find(" --compact "), std::string::npos);
+  for (int task = 0; task < 3; ++task) {
+    r = RunCommandLine("SLURM_ARRAY_TASK_ID=" + std::to_string(task) + " bash " +
+                       (work / "generate.sbatch").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  r = RunCommandLine("bash " + (work / "merge.sbatch").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // "whole" is the single run of generate --compact (Generate's default layouts).
+  EXPECT_EQ(Tree(Path("compact_run")), Tree(Path("whole")));
+}
+
 }  // namespace
 }  // namespace lsds

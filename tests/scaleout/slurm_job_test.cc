@@ -54,6 +54,18 @@ TEST(SlurmScriptsTest, TheArrayRendersShardTaskIdOfNWithResume) {
   EXPECT_LT(g.rfind("#SBATCH"), g.find("set -euo pipefail"));
 }
 
+// --compact reaches every task's lsds generate, as the other generate flags do; without it the
+// tasks write generate's default layouts.
+TEST(SlurmScriptsTest, CompactIsPassedToEveryTasksGenerate) {
+  SlurmJob job = Job();
+  EXPECT_FALSE(Has(MakeSlurmScripts(job).generate, "--compact")) << MakeSlurmScripts(job).generate;
+  job.compact = true;
+  job.depth = "perspective";
+  const std::string g = MakeSlurmScripts(job).generate;
+  EXPECT_TRUE(Has(g, "--frames '0:800' --depth 'perspective' --compact \\\n    --shard ")) << g;
+  EXPECT_FALSE(Has(MakeSlurmScripts(job).merge, "--compact"));
+}
+
 TEST(SlurmScriptsTest, TheMergeDependsOnTheWholeArrayAndDiesWithIt) {
   const SlurmScripts scripts = MakeSlurmScripts(Job());
   EXPECT_TRUE(Has(scripts.merge,

@@ -484,6 +484,8 @@ class FramePipeline {
     // Capture Settings `layers`: no work for a layer that is not written.
     render_.bundle = base_header.FindLayerBySemantic("bundle") != nullptr;
     render_.motion = base_header.FindLayerBySemantic("motion") != nullptr;
+    // --renderer cycles: Blender makes the rgb, lsds casts only what the truth needs.
+    render_.shade_rgb = cycles == nullptr;
   }
 
   void Run(const std::vector<size_t>& selected) {
@@ -530,10 +532,10 @@ class FramePipeline {
     const Sky sky(plan_, environment);    // LCAP may change it per frame
     Film& rendered = films_[rendering_];  // its last write ended (writer_.wait below)
     RenderFrame(*scene_, sky, frame, previous.view, render_, &rendered);
-    // The camera's exposure: photometric radiance to the sensor's scale.
+    if (cycles_ != nullptr) UseCycles(frame, &rendered);
+    // The camera's exposure: photometric radiance (lsds's or Cycles') to the sensor's scale.
     const FrameExposure exposure = MeterExposure(plan_.exposure, rendered);
     ApplyExposure(exposure, &rendered);
-    if (cycles_ != nullptr) UseCycles(frame, exposure, &rendered);
     // LCAP post-process materials: RGB only, after the truth is final.
     const std::optional<double> focused =
         ApplyPostProcess(plan_.post_process, plan_.seed, frame, plan_.exposure, &rendered);
@@ -552,8 +554,9 @@ class FramePipeline {
   }
 
   // --renderer cycles: Cycles' passes checked against the film's truth, then Cycles' radiance as
-  // the rgb, exposed as lsds's would have been. The agreement part precedes the truth part.
-  void UseCycles(const PlannedFrame& frame, const FrameExposure& exposure, Film* film) {
+  // the rgb (in lsds's photometric units; the exposure meters it as it would lsds's). The
+  // agreement part precedes the truth part.
+  void UseCycles(const PlannedFrame& frame, Film* film) {
     cycles_->blender->WaitForFrame(frame.index);
     const CyclesAgreement agreement =
         CompareWithCycles(CyclesTruthPath(cycles_->renders, frame.index),
@@ -562,7 +565,7 @@ class FramePipeline {
                           frame.camera,
                           render_.depth_kind,
                           frame.index);
-    UseCyclesRgb(CyclesRgbPath(cycles_->renders, frame.index), exposure.scale, film);
+    UseCyclesRgb(CyclesRgbPath(cycles_->renders, frame.index), film);
     WriteFileAtomic(AgreementPartPath(root_, frame.index),
                     AgreementToJson(agreement).dump() + "\n");
     summary_.cycles_agreement.push_back(agreement);

@@ -111,14 +111,14 @@ CyclesAgreement CompareWithCycles(const fs::path& truth_exr,
   return agreement;
 }
 
-void UseCyclesRgb(const fs::path& rgb_exr, double exposure_scale, Film* film) {
+void UseCyclesRgb(const fs::path& rgb_exr, Film* film) {
   const exr::FlatImage cycles = exr::ReadFlatExr(rgb_exr);
   CheckSize(cycles, *film, rgb_exr);
   exr::FlatImage& rgb = film->flat.at("rgb");
   for (const char* c : {"R", "G", "B"}) {
     const std::vector<float>& from = ChannelEndingWith(cycles, c, rgb_exr).floats;
     std::vector<float>& to = rgb.Get(c).floats;
-    for (size_t p = 0; p < to.size(); ++p) to[p] = static_cast<float>(from[p] * exposure_scale);
+    std::copy(from.begin(), from.end(), to.begin());
   }
 }
 

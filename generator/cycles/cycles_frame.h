@@ -49,9 +49,9 @@ CyclesAgreement CompareWithCycles(const std::filesystem::path& truth_exr,
                                   DepthKind depth_kind,
                                   int64_t frame);
 
-// Replaces the film's rgb by Cycles' radiance (`rgb_exr`) times the frame's
-// exposure scale: the same linear units as the reference renderer's rgb.
-void UseCyclesRgb(const std::filesystem::path& rgb_exr, double exposure_scale, Film* film);
+// Replaces the film's rgb by Cycles' radiance (`rgb_exr`): the same photometric units as the
+// reference renderer's radiance, before the frame's exposure (MeterExposure, ApplyExposure).
+void UseCyclesRgb(const std::filesystem::path& rgb_exr, Film* film);
 
 nlohmann::json AgreementToJson(const CyclesAgreement& agreement);
 CyclesAgreement AgreementFromJson(const nlohmann::json& json);

@@ -97,12 +97,69 @@ def remove_objects(objects):
             bpy.data.meshes.remove(mesh)
 
 
+def add_fog(material):
+    """The reference renderer's fog on a material (the frame's `atmosphere`, docs/export.md): seen
+    by a camera ray at distance d, the surface's radiance L becomes
+    L * exp(-extinction * d) + fog_radiance * (1 - exp(-extinction * d)), Koschmieder's model,
+    as a mix of its BSDF with an emission of the fog's radiance. Lighting rays see the plain BSDF,
+    as the reference renderer's shadow and sky rays see no fog. Returns the nodes set per frame
+    (set_material_fog)."""
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    output = nodes["Material Output"]
+    bsdf = output.inputs["Surface"].links[0].from_node
+    path = nodes.new("ShaderNodeLightPath")
+    optical_depth = nodes.new("ShaderNodeMath")  # -extinction * d
+    optical_depth.operation = "MULTIPLY"
+    links.new(path.outputs["Ray Length"], optical_depth.inputs[0])
+    transmittance = nodes.new("ShaderNodeMath")
+    transmittance.operation = "EXPONENT"
+    links.new(optical_depth.outputs[0], transmittance.inputs[0])
+    fog_share = nodes.new("ShaderNodeMath")  # (1 - transmittance), on camera rays only
+    fog_share.operation = "MULTIPLY_ADD"
+    links.new(transmittance.outputs[0], fog_share.inputs[0])
+    fog_share.inputs[1].default_value = -1.0
+    fog_share.inputs[2].default_value = 1.0
+    camera_fog = nodes.new("ShaderNodeMath")
+    camera_fog.operation = "MULTIPLY"
+    links.new(fog_share.outputs[0], camera_fog.inputs[0])
+    links.new(path.outputs["Is Camera Ray"], camera_fog.inputs[1])
+    emission = nodes.new("ShaderNodeEmission")
+    emission.inputs["Strength"].default_value = 1.0
+    mix = nodes.new("ShaderNodeMixShader")
+    links.new(camera_fog.outputs[0], mix.inputs["Fac"])
+    links.new(bsdf.outputs[0], mix.inputs[1])
+    links.new(emission.outputs[0], mix.inputs[2])
+    links.new(mix.outputs[0], output.inputs["Surface"])
+    return {"tree": material.node_tree, "bsdf": bsdf, "mix": mix, "output": output,
+            "optical_depth": optical_depth, "emission": emission, "foggy": True}
+
+
+def set_material_fog(fog_nodes, extinction, radiance):
+    """Clear air links the BSDF straight to the output: no fog nodes for Cycles to evaluate."""
+    fog_nodes["optical_depth"].inputs[1].default_value = -extinction
+    fog_nodes["emission"].inputs["Color"].default_value = tuple(radiance) + (1.0,)
+    foggy = extinction > 0
+    if foggy != fog_nodes["foggy"]:
+        source = fog_nodes["mix"] if foggy else fog_nodes["bsdf"]
+        fog_nodes["tree"].links.new(source.outputs[0], fog_nodes["output"].inputs["Surface"])
+        fog_nodes["foggy"] = foggy
+
+
 class Materials:
     """One Principled BSDF per distinct material of the frames' JSON (the JSON is authoritative;
-    the glTF's own materials are for other importers)."""
+    the glTF's own materials are for other importers), seen through the frame's fog."""
 
     def __init__(self):
         self.made = {}
+        self.fog_nodes = []
+        self.fog = {"extinction_per_m": 0.0, "fog_radiance": [0.0, 0.0, 0.0]}
+
+    def set_fog(self, atmosphere):
+        """The frame's fog (its `atmosphere`; absent in exports before it had fog_radiance)."""
+        self.fog = {"extinction_per_m": atmosphere.get("extinction_per_m", 0.0),
+                    "fog_radiance": atmosphere.get("fog_radiance", [0.0, 0.0, 0.0])}
+        for fog_nodes in self.fog_nodes:
+            set_material_fog(fog_nodes, self.fog["extinction_per_m"], self.fog["fog_radiance"])
 
     def get(self, spec):
         key = json.dumps(spec, sort_keys=True)
@@ -116,6 +173,8 @@ class Materials:
             # Principled's Specular 0.5 is a 4 % reflectance at normal incidence, the reference
             # renderer's dielectric F0 at specular weight 1.
             bsdf.inputs["Specular"].default_value = 0.5 * spec["specular"]
+            self.fog_nodes.append(add_fog(material))
+            self.set_fog(self.fog)
             self.made[key] = material
         return self.made[key]
 
@@ -296,6 +355,7 @@ def main():
         objects_file = os.path.join(folder, stem + ".glb")
         if os.path.exists(objects_file):
             objects = import_gltf(objects_file)
+        materials.set_fog(spec.get("atmosphere", {}))
         assign(ground, spec["nodes"], materials)
         assign(objects, spec["nodes"], materials)
         set_camera(camera, spec["camera"], scene)

@@ -317,7 +317,8 @@ class FrameRenderer {
       block->hits[i] = Resolve(scene_, block->embree_hits[i], centre_, block->directions[i], plane);
       const Hit& hit = block->hits[i];
       block->cos_suns[i] = hit.hit ? hit.shading_normal.dot(sky_.to_sun()) : 0;
-      block->facing_sun[i] = block->cos_suns[i] > 0;
+      // Truth only: the shadow layer is the centre sample's (sample 0 of its pixel).
+      block->facing_sun[i] = block->cos_suns[i] > 0 && (settings_.shade_rgb || i % spp_ == 0);
       if (!block->facing_sun[i]) continue;
       block->shadow_origins[i] = hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
       ++*rays;
@@ -359,7 +360,10 @@ class FrameRenderer {
     for (int k = 0; k < spp_; ++k) {
       const int i = c + k;  // in the block
       SampleValue v;
-      if (centre && ShadesAsCentre(block, c, i, *centre)) {
+      if (!settings_.shade_rgb) {
+        v = k == 0 ? CentreTruth(block, i, fields) : SampleTruth(block, i);
+        v.radiance.setZero();
+      } else if (centre && ShadesAsCentre(block, c, i, *centre)) {
         v = SampleTruth(block, i);
         v.radiance = centre->radiance;
       } else {
@@ -443,6 +447,23 @@ class FrameRenderer {
     v.instance = s.instance_id;
     v.class_id = s.class_id;
     v.normal = hit.normal.cast<float>();
+    return v;
+  }
+
+  // Block sample i's truth values with its shadow ratio (the shadow layer's, as ShadeSample
+  // computes it), without shading it: RenderSettings::shade_rgb off.
+  SampleValue CentreTruth(const BlockRays& block, int i, ShadingFields* fields) const {
+    SampleValue v = SampleTruth(block, i);
+    if (!block.hits[i].hit) return v;
+    const float lit =
+        !block.facing_sun[i] || block.occluded[i] ? 0.f : CloudShadow(block.hits[i], fields);
+    const Eigen::Vector3f direct =
+        sky_.sun_irradiance() * static_cast<float>(std::max(0.0, block.cos_suns[i]));
+    const float denominator = Luminance(sky_.ambient() + direct);
+    v.shadow_ratio =
+        denominator > 0
+            ? std::clamp(Luminance(sky_.ambient() + direct * lit) / denominator, 0.f, 1.f)
+            : 1.f;
     return v;
   }
 

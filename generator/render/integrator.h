@@ -43,6 +43,12 @@ struct RenderSettings {
   // off shades every sample. Only the RGB can change; every truth layer is
   // the same either way.
   bool shade_pixels_once = true;
+  // Shade the rgb layer; off (`lsds generate --renderer cycles`, whose rgb
+  // comes from Blender) casts only what the truth layers need: the camera
+  // rays, the disocclusion rays and one shadow ray per pixel, at its centre
+  // sample, which the shadow layer takes. The rgb is then 0. Every truth
+  // layer is the same either way.
+  bool shade_rgb = true;
   // Show the terrain families' ground detail (generator/scene/ground_detail.h);
   // off renders them with their smooth patterns alone, which a pixel's
   // samples can share (the two settings above). Only the RGB changes.

@@ -71,7 +71,10 @@ nlohmann::json LightJson(const Plan& plan, const PlannedEnvironment& environment
             {"skylight_intensity", environment.skylight_intensity},
             {"cloud_type", environment.sky.cloud_type},
             {"cloud_density", environment.sky.cloud_density}}},
-          {"atmosphere", {{"extinction_per_m", environment.fog_density}}}};
+          // The reference renderer's fog (Koschmieder): a surface at distance d from the camera
+          // is seen as radiance * exp(-extinction * d) + fog_radiance * (1 - exp(-extinction * d)).
+          {"atmosphere",
+           {{"extinction_per_m", environment.fog_density}, {"fog_radiance", Rgb(sky.horizon())}}}};
 }
 
 nlohmann::json ExposureDescription(const PlannedExposure& planned) {

@@ -831,6 +831,34 @@ TEST(Render, TheCloudShadowKeptAcrossPixelsIsExact) {
   EXPECT_TRUE(SameFilms(truth_of_kept, per_sample));
 }
 
+// Truth only (RenderSettings::shade_rgb off, `--renderer cycles`): every truth layer, the shadow
+// layer under cloud edges included, is the shaded render's bit for bit, with one shadow ray per
+// pixel instead of one per sample facing the sun, and an rgb of 0.
+TEST(Render, TruthOnlyGivesTheTruthOfTheShadedRenderWithFewerRays) {
+  Plan plan = SmallDemo(160, 120);
+  plan.sky.cloud_density = 0.5;
+  plan.frames[0].cam_from_world = LookAt({-150, -150, 400}, {0, 0, 0});
+  plan.frames[1].cam_from_world = LookAt({-140, -150, 400}, {10, 0, 0});
+  const DemoFrames demo(plan);
+  RenderSettings settings;
+  settings.sampler = {4, 1.0, demo.plan.seed};
+  const Film shaded =
+      RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+  settings.shade_rgb = false;
+  const Film truth =
+      RenderFrame(demo.scene, demo.sky, demo.plan.frames[1], demo.previous, settings);
+  for (const char* c : {"R", "G", "B"})
+    for (const float v : truth.flat.at("rgb").Get(c).floats) ASSERT_EQ(v, 0.f);
+  Film truth_of_shaded = shaded;
+  truth_of_shaded.flat.at("rgb") = truth.flat.at("rgb");
+  truth_of_shaded.rays = truth.rays;
+  EXPECT_TRUE(SameFilms(truth_of_shaded, truth));
+  // 4 camera rays per pixel either way; shadow rays: up to 4 per pixel shaded, 1 truth only.
+  const uint64_t pixels = 160 * 120;
+  EXPECT_LE(truth.rays, pixels * (4 + 1 + 1));
+  EXPECT_LT(truth.rays, shaded.rays - pixels);
+}
+
 // The generator renders each frame into the film of the frame before last:
 // nothing of that frame may show through.
 TEST(Render, AReusedFilmIsAFreshOne) {

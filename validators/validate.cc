@@ -61,6 +61,7 @@ class Validator {
   void CheckTables();
   void ReadMetadata();
   void StreamFrames();
+  void CheckReadFrame(Frame&& frame, size_t position, bool owned);
   void CheckFrameStructure(const Frame& frame, size_t position);
   void CheckFrameOrder(const Frame& frame, const std::string& pointer);
   void CheckFrameFiles(const Frame& frame, const std::string& pointer);
@@ -474,57 +475,58 @@ void Validator::FlushBatch() {
   batch_.clear();
 }
 
+// What every frame goes through once read, by either path: the structure
+// checks, then (frames this shard owns) its layers in batches.
+void Validator::CheckReadFrame(Frame&& frame, size_t position, bool owned) {
+  {
+    CheckTimer timer(&check_seconds_,
+                     owned ? SelectedOf({"structure.duplicate-frame",
+                                         "structure.rig",
+                                         "structure.frame-order",
+                                         "structure.missing-file",
+                                         "structure.unknown-layer",
+                                         "structure.handedness",
+                                         "structure.class-id",
+                                         "structure.duplicate-instance",
+                                         "structure.metadata",
+                                         "cross.metadata-pose",
+                                         "stats.zero-visible-target",
+                                         "stats.empty-frame"})
+                           : std::vector<std::string>{});
+    CheckFrameStructure(frame, position);
+  }
+  FrameInput input;
+  input.position = position;
+  // Motion continues within a shot (format 1.1), or within a sequence
+  // in 1.0 collections, which have no shots.
+  // In a rig, against the previous frame of the same camera.
+  const std::string stream = CameraStreamOf(frame);
+  const auto before = previous_by_camera_.find(stream);
+  if (before != previous_by_camera_.end() && ContinuesShot(before->second.frame, frame)) {
+    input.previous_camera = before->second.frame.camera;
+    input.previous_boxes = before->second.boxes;
+  }
+  input.shot_start = frame.shot && *frame.shot == frame.index;
+  previous_ = frame;
+  previous_->objects.clear();
+  previous_->files.clear();
+  PreviousFrame& remembered = previous_by_camera_[stream];
+  remembered.frame = frame;
+  remembered.boxes.clear();
+  for (const ObjectTruth& o : frame.objects)
+    if (o.obb) remembered.boxes[o.instance_id] = *o.obb;
+  remembered.frame.objects.clear();
+  remembered.frame.files.clear();
+  if (!owned) return;  // another shard decodes its layers
+  input.frame = std::move(frame);
+  batch_.push_back(std::move(input));
+  if (batch_.size() >= options_.batch_size) FlushBatch();
+}
+
 void Validator::StreamFrames() {
   const std::string file = kCollectionFile;
   const JsonSchema& frame_schema = JsonSchema::Get("collection.schema.json", "frame");
   Progress progress("validate", static_cast<int64_t>(frames_in_file_));
-  // What every frame goes through once read, by either path: the structure
-  // checks, then its layers in batches.
-  const auto check_frame = [&](Frame&& frame, size_t position, bool owned) {
-    {
-      CheckTimer timer(&check_seconds_,
-                       owned ? SelectedOf({"structure.duplicate-frame",
-                                           "structure.rig",
-                                           "structure.frame-order",
-                                           "structure.missing-file",
-                                           "structure.unknown-layer",
-                                           "structure.handedness",
-                                           "structure.class-id",
-                                           "structure.duplicate-instance",
-                                           "structure.metadata",
-                                           "cross.metadata-pose",
-                                           "stats.zero-visible-target",
-                                           "stats.empty-frame"})
-                             : std::vector<std::string>{});
-      CheckFrameStructure(frame, position);
-    }
-    FrameInput input;
-    input.position = position;
-    // Motion continues within a shot (format 1.1), or within a sequence
-    // in 1.0 collections, which have no shots.
-    // In a rig, against the previous frame of the same camera.
-    const std::string stream = CameraStreamOf(frame);
-    const auto before = previous_by_camera_.find(stream);
-    if (before != previous_by_camera_.end() && ContinuesShot(before->second.frame, frame)) {
-      input.previous_camera = before->second.frame.camera;
-      input.previous_boxes = before->second.boxes;
-    }
-    input.shot_start = frame.shot && *frame.shot == frame.index;
-    previous_ = frame;
-    previous_->objects.clear();
-    previous_->files.clear();
-    PreviousFrame& remembered = previous_by_camera_[stream];
-    remembered.frame = frame;
-    remembered.boxes.clear();
-    for (const ObjectTruth& o : frame.objects)
-      if (o.obb) remembered.boxes[o.instance_id] = *o.obb;
-    remembered.frame.objects.clear();
-    remembered.frame.files.clear();
-    if (!owned) return;  // another shard decodes its layers
-    input.frame = std::move(frame);
-    batch_.push_back(std::move(input));
-    if (batch_.size() >= options_.batch_size) FlushBatch();
-  };
   StreamCollectionFrames(
       root_ / kCollectionFile,
       [&](Frame&& frame, size_t position) {
@@ -538,7 +540,7 @@ void Validator::StreamFrames() {
         }
         if (owned) ++report_.frames;
         if (options_.progress) progress.Add();
-        check_frame(std::move(frame), position, owned);
+        CheckReadFrame(std::move(frame), position, owned);
       },
       [&](nlohmann::json&& json, size_t position) {
         const std::string pointer = "/frames/" + std::to_string(position);
@@ -577,7 +579,7 @@ void Validator::StreamFrames() {
           previous_by_camera_.clear();
           return;
         }
-        check_frame(std::move(frame), position, owned);
+        CheckReadFrame(std::move(frame), position, owned);
       });
   FlushBatch();
   emitting_ = shard_zero_;

@@ -26,7 +26,7 @@ test: build
 	@ctest --preset $(PRESET) -j $(JOBS)
 
 # The whole suite under ASan + UBSan + LeakSanitizer, with the fuzz targets and their smoke runs
-# (the debug preset: clang, -O1), in build/debug.
+# (the debug preset: clang, -O2), in build/debug.
 test-asan: deps
 	@mkdir -p build/debug
 	@cmake --preset debug >build/debug/configure.log 2>&1 || { cat build/debug/configure.log; exit 1; }

@@ -63,6 +63,7 @@ void WriteGlb(const std::filesystem::path& path,
               const std::vector<GltfNode>& nodes,
               const std::vector<GltfMaterial>& materials) {
   std::vector<GlbMaterial> used;
+  used.reserve(materials.size());
   for (const GltfMaterial& m : materials) {
     used.push_back(
         {m.name, {m.base_color.x(), m.base_color.y(), m.base_color.z()}, m.roughness, m.metallic});

@@ -26,13 +26,15 @@ test: build
 	@ctest --preset $(PRESET) -j $(JOBS)
 
 # The whole suite under ASan + UBSan + LeakSanitizer, with the fuzz targets and their smoke runs
-# (the debug preset: clang, -O2), in build/debug.
+# (the debug preset: clang, -O2), in build/debug. intercept_tls_get_addr=0: LeakSanitizer's tracer
+# crashes at exit now and then while scanning the dynamic TLS of dlopen'ed plug-ins (Embree's and
+# TBB's threads; google/sanitizers#1322), which aborted a passing run; leaks are still checked.
 test-asan: deps
 	@mkdir -p build/debug
 	@cmake --preset debug >build/debug/configure.log 2>&1 || { cat build/debug/configure.log; exit 1; }
 	@cmake --build --preset debug -j $(JOBS)
-	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --preset debug -j $(JOBS)
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0 \
+	  UBSAN_OPTIONS=print_stacktrace=1 ctest --preset debug -j $(JOBS)
 
 # clang-tidy (.clang-tidy) over the product files changed since the last clean full pass (the
 # commit in .ci/tidy-clean; CI runs this); `make tidy-all` checks every product file.

@@ -234,10 +234,12 @@ TEST_F(ReplicatorImportTest, WithoutInstanceSegmentationTheBoxesAreTheObjects) {
       EXPECT_EQ(got.bbox, want.bbox);  // the tight box, exact
       boxes += got.bbox.has_value();
       ASSERT_EQ(got.bbox_projected.has_value(), want.bbox_projected.has_value());
-      if (want.bbox_projected)  // from the float32 OBB
+      if (want.bbox_projected) {  // from the float32 OBB
         for (double d : {got.bbox_projected->x0 - want.bbox_projected->x0,
-                         got.bbox_projected->y1 - want.bbox_projected->y1})
+                         got.bbox_projected->y1 - want.bbox_projected->y1}) {
           EXPECT_LT(std::abs(d), 1e-3);
+        }
+      }
       if (want.visible_pixels > 0)  // occlusionRatio is float32
         max_visibility_error =
             std::max(max_visibility_error, std::abs(got.visibility - want.visibility));

@@ -30,8 +30,9 @@ namespace fs = std::filesystem;
 using testing::RunLsds;
 using testing::TempDir;
 
-// A wide grassy field under cirrus at 50 % cover, the sun 60 degrees up, seen from 300 m: cloud
-// shadows (the deck's stripes are about 80 m apart across y) fall on the ground in view.
+// A wide grassy field under cirrus at 50 % cover, the sun 60 degrees up, seen from 300 m (frame
+// 0: cloud shadows, the deck's stripes about 80 m apart across y, fall on the ground in view) and
+// from 20 m towards the horizon (frame 1: the sky).
 constexpr const char* kCloudyScene =
     "LSCENE = ONE(S) ONE(DL) ONE(W)\n"
     "S = skybox{color:blue,cloud_type:cirrus,cloud_density:0.5}\n"
@@ -41,7 +42,7 @@ constexpr const char* kHighCapture =
     "LCAP = ONE(CO) ONE(P)\n"
     "CO = camera{csettings:{fov:90,res:[64,48]}}\n"
     "P = path{waypoints:[{position:[0,-20,300],look_at:[0,0,0]},"
-    "{position:[0,-22,300],look_at:[0,0,0]}]}\n";
+    "{position:[0,-300,20],look_at:[0,300,60]}]}\n";
 
 struct Inputs {
   fs::path scene, capture;
@@ -202,7 +203,7 @@ TEST(RendererCycles, CastsTheReferenceRenderersCloudShadows) {
   const TempDir dir;
   const Inputs in = WriteInputs(dir);
   const fs::path reference = dir / "reference", cycles = dir / "cycles";
-  const std::string inputs = in.scene.string() + " " + in.capture.string() + " --spp 4 --frames 0";
+  const std::string inputs = in.scene.string() + " " + in.capture.string() + " --spp 4";
   const auto ref_run = RunLsds("generate " + inputs + " -o " + reference.string() + " -q");
   ASSERT_EQ(ref_run.exit_code, 0) << ref_run.output;
   const auto cyc_run =
@@ -222,6 +223,34 @@ TEST(RendererCycles, CastsTheReferenceRenderersCloudShadows) {
   EXPECT_LT(ref_ratio, 0.8);
   EXPECT_LT(cyc_ratio, 0.8);
   EXPECT_GT(cyc_ratio, 0.2);
+
+  // Frame 1's sky: Cycles draws the reference renderer's own (the exported image), in the same
+  // place. Radiance is each rgb over its frame's exposure scale (each renderer meters its own).
+  const auto radiance = [](const fs::path& root, const nlohmann::json& frame) {
+    exr::FlatImage rgb =
+        exr::ReadFlatExr(root / frame["files"]["rgb"].get<std::string>(), {"R", "G", "B"});
+    const float scale = frame["exposure"]["scale"].get<float>();
+    for (const char* c : {"R", "G", "B"})
+      for (float& v : rgb.Get(c).floats) v /= scale;
+    return rgb;
+  };
+  const exr::FlatImage ref_sky = radiance(reference, ref["frames"][1]);
+  const exr::FlatImage cyc_sky = radiance(cycles, cyc["frames"][1]);
+  const std::vector<float> depth =
+      exr::ReadFlatExr(reference / ref["frames"][1]["files"]["depth"].get<std::string>(), {"Z"})
+          .Get("Z")
+          .floats;
+  double error = 0;
+  int sky_pixels = 0;
+  for (size_t p = 0; p < depth.size(); ++p) {
+    if (std::isfinite(depth[p])) continue;
+    error += std::abs(Luminance(cyc_sky, p) / Luminance(ref_sky, p) - 1);
+    ++sky_pixels;
+  }
+  ASSERT_GT(sky_pixels, 200);
+  std::cout << "sky: mean relative luminance difference " << error / sky_pixels << " over "
+            << sky_pixels << " pixels\n";
+  EXPECT_LT(error / sky_pixels, 0.05);
 }
 
 }  // namespace

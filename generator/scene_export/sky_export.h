@@ -1,5 +1,5 @@
 // The reference renderer's sky and cloud deck as images other renderers read
-// (docs/export.md, "Sky and clouds"): the sky's radiance over every direction
+// (docs/export.md, "Frame description"): the sky's radiance over every direction
 // as an equirectangular EXR, and the share of direct sunlight the cloud deck
 // lets through as a top-down EXR of the deck, both sampled from
 // generator/render/sky.h itself, so that Blender shows and casts the very

@@ -1,12 +1,14 @@
 // Benchmark of `lsds generate --renderer cycles` (issue 45): the built-in demo scene rendered
 //   1. by the reference renderer (lsds generate),
-//   2. by `lsds generate --renderer cycles` (scene export + Blender Cycles for the rgb + the
-//      pixel-centre depth and object index passes + lsds's own render for every truth layer),
+//   2. by `lsds generate --renderer cycles` (scene export + one Blender Cycles render per frame
+//      for the rgb and its depth and object index passes + lsds's own render for every truth
+//      layer),
 //   3. by Blender alone on the exported scene (render_frames.py --no-truth: what a user rendering
 //      `lsds export-scene`'s output would run),
-// at the same size, samples and frames, printing seconds per frame and the ratios reference /
-// Blender alone and --renderer cycles / Blender alone (aim <= 1.1: the truth adds little). Each
-// figure is the median of --repeats runs taking turns.
+// at the same size, samples and frames, printing wall and CPU (user + system, Blender's
+// included) seconds per frame and the ratios reference / Blender alone and --renderer cycles /
+// Blender alone (aim <= 1.1: the truth adds little). Each figure is the median of --repeats runs
+// taking turns.
 //
 //   bench_cycles [--frames N] [--size WxH] [--spp S] [--threads T] [--repeats R] [--blender PATH]
 #include <algorithm>
@@ -29,6 +31,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using lsds::bench::Clock;
+using lsds::bench::CpuSeconds;
 using lsds::bench::Seconds;
 using namespace lsds;       // NOLINT(google-build-using-namespace): a benchmark's main file
 using namespace lsds::gen;  // NOLINT(google-build-using-namespace)
@@ -96,6 +99,7 @@ int main(int argc, char** argv) {
       BlenderVersion(blender).c_str());
 
   std::vector<double> reference, cycles, cycles_export, cycles_blender, alone, alone_export;
+  std::vector<double> reference_cpu, cycles_cpu, alone_cpu;
   double depth_error = 0, id_share = 0;
   for (int r = 0; r < repeats; ++r) {
     GenerateOptions options;
@@ -105,15 +109,19 @@ int main(int argc, char** argv) {
     options.force = true;
     options.output = root / "reference";
     Clock::time_point t0 = Clock::now();
+    double cpu0 = CpuSeconds();
     GenerateCollection(plan, options);
     reference.push_back(Seconds(t0) / frames);
+    reference_cpu.push_back((CpuSeconds() - cpu0) / frames);
 
     options.output = root / "cycles";
     options.renderer = Renderer::kCycles;
     options.blender = blender.string();
     t0 = Clock::now();
+    cpu0 = CpuSeconds();
     const GenerateSummary summary = GenerateCollection(plan, options);
     cycles.push_back(Seconds(t0) / frames);
+    cycles_cpu.push_back((CpuSeconds() - cpu0) / frames);
     cycles_export.push_back(summary.export_seconds / frames);
     cycles_blender.push_back(summary.cycles_seconds / frames);
     const nlohmann::json agreement = AgreementSummaryJson(summary.cycles_agreement);
@@ -131,6 +139,7 @@ int main(int argc, char** argv) {
     for (const PlannedFrame& f : plan.frames) indices.push_back(f.index);
     fs::remove_all(root / "alone");
     t0 = Clock::now();
+    cpu0 = CpuSeconds();
     RenderWithCycles(blender,
                      root / "export",
                      root / "alone",
@@ -138,25 +147,36 @@ int main(int argc, char** argv) {
                      {spp, threads, false, /*truth_passes=*/false},
                      root / "alone.log");
     alone.push_back(Seconds(t0) / frames);
+    alone_cpu.push_back((CpuSeconds() - cpu0) / frames);
   }
-  const double blender_alone = Median(alone);
-  std::printf("\n| %dx%d, %d spp, %d frames | s/frame | / Blender alone |\n",
-              demo.width,
-              demo.height,
-              spp,
-              frames);
-  std::printf("|---|---|---|\n");
-  std::printf("| reference renderer (lsds generate) | %.3f | %.2f |\n",
+  const double blender_alone = Median(alone), blender_alone_cpu = Median(alone_cpu);
+  std::printf(
+      "\n| %dx%d, %d spp, %d frames | s/frame | / Blender alone | CPU s/frame | / Blender alone "
+      "|\n",
+      demo.width,
+      demo.height,
+      spp,
+      frames);
+  std::printf("|---|---|---|---|---|\n");
+  std::printf("| reference renderer (lsds generate) | %.3f | %.2f | %.3f | %.2f |\n",
               Median(reference),
-              Median(reference) / blender_alone);
-  std::printf("| lsds generate --renderer cycles | %.3f | %.2f |\n",
+              Median(reference) / blender_alone,
+              Median(reference_cpu),
+              Median(reference_cpu) / blender_alone_cpu);
+  std::printf("| lsds generate --renderer cycles | %.3f | %.2f | %.3f | %.2f |\n",
               Median(cycles),
-              Median(cycles) / blender_alone);
-  std::printf("|   of which scene export | %.3f | |\n", Median(cycles_export));
-  std::printf("|   of which Blender's run (rgb + truth passes, beside lsds's render) | %.3f | |\n",
-              Median(cycles_blender));
-  std::printf("| Blender alone on the export (rgb only) | %.3f | 1 |\n", blender_alone);
-  std::printf("| lsds export-scene (for reference) | %.3f | |\n", Median(alone_export));
+              Median(cycles) / blender_alone,
+              Median(cycles_cpu),
+              Median(cycles_cpu) / blender_alone_cpu);
+  std::printf("|   of which scene export | %.3f | | | |\n", Median(cycles_export));
+  std::printf(
+      "|   of which Blender's run (rgb with its truth passes, beside lsds's render) | %.3f | | | "
+      "|\n",
+      Median(cycles_blender));
+  std::printf("| Blender alone on the export (rgb only) | %.3f | 1 | %.3f | 1 |\n",
+              blender_alone,
+              blender_alone_cpu);
+  std::printf("| lsds export-scene (for reference) | %.3f | | | |\n", Median(alone_export));
   std::printf(
       "\nCycles against lsds's truth: max relative depth error %.3g, max id mismatch "
       "share %.4f\n",
@@ -164,6 +184,8 @@ int main(int argc, char** argv) {
       id_share);
   std::printf("Each repeat's ratio --renderer cycles / Blender alone:");
   for (size_t r = 0; r < cycles.size(); ++r) std::printf(" %.2f", cycles[r] / alone[r]);
+  std::printf("; in CPU seconds:");
+  for (size_t r = 0; r < cycles.size(); ++r) std::printf(" %.2f", cycles_cpu[r] / alone_cpu[r]);
   std::printf("\n");
   fs::remove_all(root);
   return 0;

@@ -559,7 +559,7 @@ class FramePipeline {
   void UseCycles(const PlannedFrame& frame, Film* film) {
     cycles_->blender->WaitForFrame(frame.index);
     const CyclesAgreement agreement =
-        CompareWithCycles(CyclesTruthPath(cycles_->renders, frame.index),
+        CompareWithCycles(CyclesRgbPath(cycles_->renders, frame.index),
                           *film,
                           cycles_->nodes.at(frame.index),
                           frame.camera,

@@ -119,7 +119,6 @@ CyclesRun::CyclesRun(const fs::path& blender,
                      const fs::path& log)
     : output_folder_(output_folder),
       log_(log),
-      truth_passes_(options.truth_passes),
       start_(std::chrono::steady_clock::now()),
       blender_(BlenderArguments(blender, scene_folder, output_folder, frames, options), log) {}
 
@@ -129,8 +128,7 @@ void CyclesRun::Fail(int status) const {
 }
 
 void CyclesRun::WaitForFrame(int64_t index) {
-  const fs::path last =
-      output_folder_ / (FrameStem(index) + (truth_passes_ ? "_truth.exr" : "_rgb.exr"));
+  const fs::path last = output_folder_ / (FrameStem(index) + "_rgb.exr");
   while (true) {
     std::error_code ec;
     if (fs::exists(last, ec)) return;

@@ -31,13 +31,13 @@ struct CyclesRenderOptions {
   int samples = 16;
   int threads = 0;  // 0: all cores
   bool denoise = false;
-  // Also the pixel-centre depth and object index passes (NNNNNN_truth.exr);
-  // without them Blender renders what a user rendering the export would.
+  // Also the depth and object index passes, in the rgb render's multilayer
+  // EXR; without them Blender renders what a user rendering the export would.
   bool truth_passes = true;
 };
 
 // Blender rendering `frames` of the export in `scene_folder` into `output_folder`
-// (NNNNNN_rgb.exr, NNNNNN_truth.exr; render_frames.py) in the background, its output going to
+// (NNNNNN_rgb.exr; render_frames.py) in the background, its output going to
 // `log`, while lsds renders the same frames. Destroying it ends a Blender still running.
 class CyclesRun {
  public:
@@ -58,7 +58,6 @@ class CyclesRun {
   [[noreturn]] void Fail(int status) const;
 
   std::filesystem::path output_folder_, log_;
-  bool truth_passes_ = true;
   std::chrono::steady_clock::time_point start_;
   ChildProcess blender_;
 };

@@ -40,10 +40,11 @@ void CheckSize(const exr::FlatImage& image, const Film& film, const fs::path& fi
 }
 
 // Whether the depth at pixel `p` changes by at most kSmoothDepthStep (relative) to each of its
-// 4 neighbours. Cycles' pixel filter (0.01 px wide, the narrowest it has) moves its ray up to
-// 0.005 px off the centre, which at a silhouette or on ground seen at a grazing angle (near the
-// horizon the depth changes by the pixel's own depth over a few pixels) changes the depth by far
-// more than the renderers differ; on smooth pixels it moves it by at most 0.005 * 0.05.
+// 4 neighbours. Cycles casts each pixel's first sample, which its data passes come from, through
+// the pixel's centre as its pixel filter's table maps it: within about 0.01 px, which at a
+// silhouette or on ground seen at a grazing angle (near the horizon the depth changes by the
+// pixel's own depth over a few pixels) changes the depth by far more than the renderers differ;
+// on smooth pixels it moves it by at most 0.01 * 0.05.
 constexpr double kSmoothDepthStep = 0.05;
 bool Smooth(const std::vector<float>& depth, int width, size_t p) {
   const auto height = static_cast<int>(depth.size() / static_cast<size_t>(width));
@@ -65,20 +66,17 @@ fs::path CyclesRgbPath(const fs::path& folder, int64_t index) {
   return folder / (FrameStem(index) + "_rgb.exr");
 }
 
-fs::path CyclesTruthPath(const fs::path& folder, int64_t index) {
-  return folder / (FrameStem(index) + "_truth.exr");
-}
-
-CyclesAgreement CompareWithCycles(const fs::path& truth_exr,
+CyclesAgreement CompareWithCycles(const fs::path& cycles_exr,
                                   const Film& film,
                                   const std::vector<ExportedNode>& nodes,
                                   const PinholeCamera& camera,
                                   DepthKind depth_kind,
                                   int64_t frame) {
-  const exr::FlatImage cycles = exr::ReadFlatExr(truth_exr);
-  CheckSize(cycles, film, truth_exr);
-  const std::vector<float>& cycles_depth = ChannelEndingWith(cycles, "Depth.Z", truth_exr).floats;
-  const std::vector<float>& cycles_index = ChannelEndingWith(cycles, "IndexOB.X", truth_exr).floats;
+  const exr::FlatImage cycles = exr::ReadFlatExr(cycles_exr);
+  CheckSize(cycles, film, cycles_exr);
+  const std::vector<float>& cycles_depth = ChannelEndingWith(cycles, "Depth.Z", cycles_exr).floats;
+  const std::vector<float>& cycles_index =
+      ChannelEndingWith(cycles, "IndexOB.X", cycles_exr).floats;
   const std::vector<float>& depth = film.flat.at("depth").Get("Z").floats;
   const std::vector<uint32_t>& instance = film.flat.at("instanceid").Get("id").uints;
   std::map<int, uint32_t> instance_of_pass = {{0, 0}};

@@ -25,8 +25,9 @@ struct CyclesAgreement {
   // export's nodes), or that one renderer sees as sky and the other not.
   int64_t id_mismatches = 0;
   // Over the pixels that agree, are not sky and whose depth is smooth (within 5 % of each
-  // neighbour's: not a silhouette, not ground at a grazing angle, where Cycles' 0.005 px ray
-  // offset moves the depth), how many and max |z_cycles - z_lsds| / z_lsds.
+  // neighbour's: not a silhouette, not ground at a grazing angle, where Cycles' ray, within
+  // about 0.01 px of the pixel centre, moves the depth), how many and max
+  // |z_cycles - z_lsds| / z_lsds.
   int64_t depth_pixels = 0;
   double max_relative_depth_error = 0;
   double IdMismatchShare() const {
@@ -34,15 +35,15 @@ struct CyclesAgreement {
   }
 };
 
-// The files render_frames.py writes for frame `index` in `folder`.
+// The file render_frames.py writes for frame `index` in `folder`: the Combined pass and, unless
+// --no-truth, the Depth and Object Index passes of the same render (a multilayer EXR).
 std::filesystem::path CyclesRgbPath(const std::filesystem::path& folder, int64_t index);
-std::filesystem::path CyclesTruthPath(const std::filesystem::path& folder, int64_t index);
 
-// Compares Cycles' passes (`truth_exr`: Depth.Z through the pixel centres,
-// planar; IndexOB) with the film's depth (of kind `depth_kind`) and instanceid
-// layers. Throws lsds::Error naming the file when it is missing, of another
-// size, or lacks the passes.
-CyclesAgreement CompareWithCycles(const std::filesystem::path& truth_exr,
+// Compares Cycles' passes (`cycles_exr`: Depth.Z of each pixel's first sample, which Cycles casts
+// through the pixel centre, planar; IndexOB) with the film's depth (of kind `depth_kind`) and
+// instanceid layers. Throws lsds::Error naming the file when it is missing, of another size, or
+// lacks the passes.
+CyclesAgreement CompareWithCycles(const std::filesystem::path& cycles_exr,
                                   const Film& film,
                                   const std::vector<ExportedNode>& nodes,
                                   const PinholeCamera& camera,

@@ -5,15 +5,18 @@
         [--no-truth] [--all-passes]
 
 For each frame NNNNNN of SCENE_DIR/scene.json (or of --frames) it writes
-  OUTPUT_DIR/NNNNNN_rgb.exr    Cycles' Combined pass, linear photometric radiance
-                               (RGB whose relative luminance is cd/m^2; no exposure),
-                               N samples, Blender's default pixel filter;
-  OUTPUT_DIR/NNNNNN_truth.exr  one sample through each pixel centre (pixel filter 0.01 px):
-                               Cycles' Depth (Z) and Object Index (IndexOB) passes, which
+  OUTPUT_DIR/NNNNNN_rgb.exr    one render of N samples, Blender's default pixel filter: a
+                               multilayer EXR with Cycles' Combined pass (linear photometric
+                               radiance: RGB whose relative luminance is cd/m^2; no exposure) and
+                               its Depth (Z) and Object Index (IndexOB) passes, which
                                `lsds generate --renderer cycles` compares with its own layers.
-With --all-passes (bench/bench_python: the bytes of a Blender user's data passes) the rgb render
-is instead a multilayer EXR, OUTPUT_DIR/NNNNNN_rgb.exr, with the Combined, Depth, Normal,
-Position, Object Index and Vector passes at the frame's samples.
+                               Cycles writes those data passes from each pixel's first sample
+                               only, and casts that sample through the pixel's centre
+                               (integrate_camera_sample), so they are pixel-centre passes at no
+                               cost beyond the rgb render. With --no-truth: the Combined pass
+                               alone as RGB.
+With --all-passes (bench/bench_python: the bytes of a Blender user's data passes) the multilayer
+EXR also has the Normal, Position and Vector passes.
 
 Conventions (the frame's JSON, docs/export.md): the world is +Z up, as Blender's; glTF files
 are +Y up and Blender's importer turns them back. The camera is OpenCV's (x right, y down,
@@ -145,6 +148,146 @@ def set_material_fog(fog_nodes, extinction, radiance):
         fog_nodes["foggy"] = foggy
 
 
+class Nodes:
+    """Builds math on a node tree: each function takes sockets or numbers, returns a socket."""
+
+    def __init__(self, tree):
+        self.tree = tree
+
+    def new(self, kind):
+        return self.tree.nodes.new(kind)
+
+    def feed(self, socket, value):
+        if isinstance(value, (int, float)):
+            socket.default_value = value
+        elif isinstance(value, tuple):
+            socket.default_value = value + (1.0,) * (len(socket.default_value) - len(value))
+        else:
+            self.tree.links.new(value, socket)
+
+    def math(self, operation, a, b=0.0, c=0.0, clamp=False):
+        node = self.new("ShaderNodeMath")
+        node.operation = operation
+        node.use_clamp = clamp
+        for socket, value in zip(node.inputs, (a, b, c)):
+            self.feed(socket, value)
+        return node.outputs[0]
+
+    def mix(self, factor, a, b, blend="MIX"):
+        node = self.new("ShaderNodeMixRGB")
+        node.blend_type = blend
+        self.feed(node.inputs["Fac"], factor)
+        self.feed(node.inputs["Color1"], a)
+        self.feed(node.inputs["Color2"], b)
+        return node.outputs[0]
+
+    def noise(self, position, scale, offset=(0.0, 0.0, 0.0), octaves=1):
+        """lsds's Perlin::Noise / Fbm(point * scale + offset, octaves) in about [-1, 1]:
+        Blender's Noise Texture is gradient noise of the same kind (Fac = 0.5 + 0.5 * noise)
+        and sums octaves as Fbm does (each twice the frequency, half the weight, normalized),
+        so its values have the same spread and wavelengths; not the same field."""
+        mapping = self.new("ShaderNodeMapping")
+        self.feed(mapping.inputs["Vector"], position)
+        mapping.inputs["Scale"].default_value = scale if isinstance(scale, tuple) else (scale,) * 3
+        mapping.inputs["Location"].default_value = offset
+        texture = self.new("ShaderNodeTexNoise")
+        texture.noise_dimensions = "3D"
+        self.tree.links.new(mapping.outputs[0], texture.inputs["Vector"])
+        texture.inputs["Scale"].default_value = 1.0
+        texture.inputs["Detail"].default_value = octaves - 1
+        texture.inputs["Roughness"].default_value = 0.5
+        texture.inputs["Distortion"].default_value = 0.0
+        return self.math("MULTIPLY_ADD", texture.outputs["Fac"], 2.0, -1.0)
+
+
+def pattern_value(nodes, position, pattern):
+    """The pattern's noise n of generator/scene/materials.cc (Albedo), per kind."""
+    f = pattern["frequency_per_m"]
+    kind = pattern["kind"]
+    if kind == "speckle":
+        grain = nodes.noise(position, f * 8, (31.7, 0.0, 0.0))
+        grains = nodes.math("MULTIPLY_ADD", nodes.math("GREATER_THAN", grain, 0.25), 0.9, -0.1)
+        return nodes.math("MULTIPLY_ADD", nodes.noise(position, f, octaves=2), 0.6, grains)
+    if kind == "strata":
+        warp = nodes.noise(position, f * 0.5, octaves=2)
+        z = nodes.new("ShaderNodeSeparateXYZ")
+        nodes.feed(z.inputs[0], position)
+        phase = nodes.math("MULTIPLY_ADD", warp, 2.5, nodes.math("MULTIPLY", z.outputs["Z"], f * 3))
+        bands = nodes.math("SINE", nodes.math("MULTIPLY", phase, math.pi))
+        fine = nodes.noise(position, f * 4)
+        return nodes.math("MULTIPLY_ADD", bands, 0.7, nodes.math("MULTIPLY", fine, 0.4))
+    if kind == "brushed":
+        return nodes.noise(position, (f * 0.1, f * 4, f * 4), octaves=2)
+    return nodes.noise(position, f, octaves=3)  # mottled
+
+
+def procedural_albedo(nodes, position, spec):
+    """The material's albedo as generator/scene/materials.cc (Albedo) makes it: the pattern's
+    mix of base and secondary colour, the large patches, and the ground detail's octaves
+    (generator/scene/ground_detail.cc, DetailFactor) with their tilt of the normal as a bump.
+    Returns the colour socket and the bump's normal socket (None without detail)."""
+    colour = tuple(spec["base_color"])
+    pattern = spec.get("pattern")
+    if pattern is not None:
+        n = pattern_value(nodes, position, pattern)
+        share = nodes.math("MULTIPLY_ADD", n, 0.8, 0.5, clamp=True)
+        share = nodes.math("MULTIPLY", share, pattern["contrast"])
+        colour = nodes.mix(share, colour, tuple(pattern["secondary_color"]))
+        if pattern["patches"] > 0:
+            g = pattern["frequency_per_m"] / 8
+            patch = nodes.noise(position, g, (113.1, 71.3, 0.0), octaves=2)
+            scale = nodes.math("MULTIPLY_ADD", patch, 1.5 * pattern["patches"], 1.0)
+            scale = nodes.math("MINIMUM", nodes.math("MAXIMUM", scale, 0.0), 2.0)
+            colour = nodes.mix(1.0, colour, scale, blend="MULTIPLY")
+    normal = None
+    detail = spec.get("detail")
+    if detail is not None:
+        total, height, norm, weight = 0.0, 0.0, 0.0, 1.0
+        wavelength, octave, octaves = detail["coarsest_m"], 0, []
+        while wavelength >= detail["finest_m"] * 0.999:
+            octaves.append((wavelength, weight, octave))
+            norm += weight
+            wavelength *= 0.5
+            weight *= detail["persistence"]
+            octave += 1
+        for wavelength, weight, octave in octaves:
+            offset = 37.71 * (octave + 1)
+            n = nodes.noise(position, 1.0 / wavelength, (offset, -offset, 0.5 * offset))
+            if wavelength < detail["ridged_below_m"]:  # ridges: blades of grass from above
+                n = nodes.math("MULTIPLY_ADD", nodes.math("ABSOLUTE", n), -2.0, 0.4)
+            total = nodes.math("MULTIPLY_ADD", n, weight, total)
+            # A height whose slope tilts the normal by about bump_rad, shared among the octaves.
+            height = nodes.math("MULTIPLY_ADD", n,
+                                0.5 * detail["bump_rad"] * wavelength * weight / norm, height)
+        d = nodes.math("MULTIPLY", total, 2.0 / norm)
+        d = nodes.math("MINIMUM", nodes.math("MAXIMUM", d, -1.0), 1.0)
+        # factor_c = 1 + contrast * d * (tint_c where d > 0, else 1)
+        bright = nodes.math("GREATER_THAN", d, 0.0)
+        channels = []
+        for tint in detail["tint"]:
+            gain = nodes.math("MULTIPLY_ADD", bright, tint - 1.0, 1.0)
+            factor = nodes.math("MULTIPLY", nodes.math("MULTIPLY", d, gain), detail["contrast"])
+            channels.append(nodes.math("MAXIMUM", nodes.math("ADD", factor, 1.0), 0.0))
+        combine = nodes.new("ShaderNodeCombineRGB")
+        for socket, value in zip(combine.inputs, channels):
+            nodes.feed(socket, value)
+        colour = nodes.mix(1.0, colour, combine.outputs[0], blend="MULTIPLY")
+        if detail["bump_rad"] > 0:
+            bump = nodes.new("ShaderNodeBump")
+            bump.inputs["Strength"].default_value = 1.0
+            bump.inputs["Distance"].default_value = 1.0
+            nodes.feed(bump.inputs["Height"], height)
+            normal = bump.outputs["Normal"]
+    if not isinstance(colour, tuple):
+        clamp = nodes.new("ShaderNodeMixRGB")  # albedo at most 1
+        clamp.use_clamp = True
+        clamp.blend_type = "MIX"
+        clamp.inputs["Fac"].default_value = 0.0
+        nodes.feed(clamp.inputs["Color1"], colour)
+        colour = clamp.outputs[0]
+    return colour, normal
+
+
 class Materials:
     """One Principled BSDF per distinct material of the frames' JSON (the JSON is authoritative;
     the glTF's own materials are for other importers), seen through the frame's fog."""
@@ -167,7 +310,12 @@ class Materials:
             material = bpy.data.materials.new(spec["name"])
             material.use_nodes = True
             bsdf = material.node_tree.nodes["Principled BSDF"]
-            bsdf.inputs["Base Color"].default_value = tuple(spec["base_color"]) + (1.0,)
+            nodes = Nodes(material.node_tree)
+            position = nodes.new("ShaderNodeNewGeometry").outputs["Position"]  # world
+            colour, normal = procedural_albedo(nodes, position, spec)
+            nodes.feed(bsdf.inputs["Base Color"], colour)
+            if normal is not None:
+                nodes.feed(bsdf.inputs["Normal"], normal)
             bsdf.inputs["Roughness"].default_value = spec["roughness"]
             bsdf.inputs["Metallic"].default_value = spec["metallic"]
             # Principled's Specular 0.5 is a 4 % reflectance at normal incidence, the reference
@@ -232,12 +380,54 @@ def set_sun(sun, spec):
     sun.data.angle = math.radians(spec["angular_diameter_deg"])
 
 
-def set_sky(world, spec):
-    """The reference renderer's sky: mix(horizon, zenith, sqrt(z)) above the horizon, a hazy
-    floor below; lighting rays see it scaled by the skylight intensity."""
+def sky_image_colour(tree, folder, spec):
+    """The reference renderer's own sky (Perez/Preetham, haze, clouds; no sun disc), from the
+    export's equirectangular image: column u = 0.5 + atan2(d_y, d_x) / (2 pi), row
+    v = 0.5 + asin(d_z) / pi (v up, as Blender's images are) for the view direction d."""
+    nodes = Nodes(tree)
+    coords = nodes.new("ShaderNodeTexCoord")
+    split = nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(coords.outputs["Generated"], split.inputs[0])
+    longitude = nodes.math("ARCTAN2", split.outputs["Y"], split.outputs["X"])
+    u = nodes.math("MULTIPLY_ADD", longitude, 1 / (2 * math.pi), 0.5)
+    latitude = nodes.math("ARCSINE", nodes.math("MINIMUM", nodes.math("MAXIMUM", split.outputs["Z"], -1.0), 1.0))
+    v = nodes.math("MULTIPLY_ADD", latitude, 1 / math.pi, 0.5)
+    uv = nodes.new("ShaderNodeCombineXYZ")
+    nodes.feed(uv.inputs["X"], u)
+    nodes.feed(uv.inputs["Y"], v)
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = load_image(os.path.join(folder, spec["image"]))
+    texture.interpolation = "Linear"
+    texture.extension = "EXTEND"
+    tree.links.new(uv.outputs[0], texture.inputs["Vector"])
+    return texture.outputs["Color"]
+
+
+def load_image(path):
+    """A linear float image, read as stored (no colour transform); one load per file."""
+    name = os.path.basename(path)
+    image = bpy.data.images.get(name)
+    if image is None or image.filepath != path:
+        image = bpy.data.images.load(path)
+        image.colorspace_settings.name = "Non-Color"
+    return image
+
+
+def set_sky(world, spec, folder):
+    """The reference renderer's sky: its image when the export has one, else (exports before
+    format 1.1) mix(horizon, zenith, sqrt(z)) above the horizon and a hazy floor below; lighting
+    rays see it scaled by the skylight intensity."""
+    key = json.dumps(spec, sort_keys=True)
+    if world.get("lsds_sky") == key:
+        return  # the same sky: no new shader, no new importance map
+    world["lsds_sky"] = key
     tree = world.node_tree
     tree.nodes.clear()
     nodes, links = tree.nodes, tree.links
+    if "image" in spec:
+        sky_colour = sky_image_colour(tree, folder, spec)
+        add_background(tree, sky_colour, spec["skylight_intensity"])
+        return
     coords = nodes.new("ShaderNodeTexCoord")
     split = nodes.new("ShaderNodeSeparateXYZ")
     links.new(coords.outputs["Generated"], split.inputs[0])
@@ -258,28 +448,82 @@ def set_sky(world, spec):
     links.new(below.outputs[0], floor.inputs["Fac"])
     links.new(gradient.outputs[0], floor.inputs["Color1"])
     floor.inputs["Color2"].default_value = tuple(spec["below_horizon_radiance"]) + (1,)
+    add_background(tree, floor.outputs[0], spec["skylight_intensity"])
+
+
+def add_background(tree, colour, skylight_intensity):
+    """The world's output: `colour` to camera rays, scaled by the skylight intensity for
+    lighting rays."""
+    nodes, links = tree.nodes, tree.links
     path = nodes.new("ShaderNodeLightPath")
     lighting = nodes.new("ShaderNodeMath")  # skylight intensity, or 1 for camera rays
     lighting.operation = "MULTIPLY_ADD"
     links.new(path.outputs["Is Camera Ray"], lighting.inputs[0])
-    lighting.inputs[1].default_value = 1.0 - spec["skylight_intensity"]
-    lighting.inputs[2].default_value = spec["skylight_intensity"]
+    lighting.inputs[1].default_value = 1.0 - skylight_intensity
+    lighting.inputs[2].default_value = skylight_intensity
     background = nodes.new("ShaderNodeBackground")
-    links.new(floor.outputs[0], background.inputs["Color"])
+    links.new(colour, background.inputs["Color"])
     links.new(lighting.outputs[0], background.inputs["Strength"])
     output = nodes.new("ShaderNodeOutputWorld")
     links.new(background.outputs[0], output.inputs["Surface"])
 
 
-def render(scene, path, samples, filter_width, truth):
-    """One render written to `path`: the Combined pass as RGB, or with `truth` every pass in a
-    multilayer EXR. The passes stay enabled for both renders, and so does everything else but the
-    samples and the pixel filter, so that the persistent data carries over to the second render."""
+class CloudDeck:
+    """The cloud deck's shadows: a plane at the deck's height that only shadow rays see, letting
+    through the share of sunlight the export's image gives (`clouds`, docs/export.md), as the
+    reference renderer's Sky::CloudTransmittance dims the sun. The clouds themselves are in the
+    sky's image."""
+
+    def __init__(self):
+        self.obj = None
+        self.key = None
+
+    def set(self, scene, folder, spec):
+        key = json.dumps(spec, sort_keys=True) if spec else None
+        if key == self.key:
+            return
+        self.key = key
+        if self.obj is not None:
+            mesh = self.obj.data
+            bpy.data.objects.remove(self.obj, do_unlink=True)
+            bpy.data.meshes.remove(mesh)
+            self.obj = None
+        if spec is None:
+            return
+        (x0, y0), (x1, y1), z = spec["min_xy"], spec["max_xy"], spec["deck_height_m"]
+        mesh = bpy.data.meshes.new("cloud_deck")
+        mesh.from_pydata([(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)], [],
+                         [(0, 1, 2, 3)])
+        self.obj = bpy.data.objects.new("cloud_deck", mesh)
+        scene.collection.objects.link(self.obj)
+        for ray in ("camera", "diffuse", "glossy", "transmission", "volume_scatter"):
+            setattr(self.obj, "visible_" + ray, False)
+        self.obj.visible_shadow = True
+        material = bpy.data.materials.new("cloud_deck")
+        material.use_nodes = True
+        tree = material.node_tree
+        tree.nodes.clear()
+        nodes = Nodes(tree)
+        coords = nodes.new("ShaderNodeTexCoord")  # Generated: the plane's [0, 1]^2
+        texture = nodes.new("ShaderNodeTexImage")
+        texture.image = load_image(os.path.join(folder, spec["shadow_image"]))
+        texture.interpolation = "Linear"
+        texture.extension = "EXTEND"
+        tree.links.new(coords.outputs["Generated"], texture.inputs["Vector"])
+        transparent = nodes.new("ShaderNodeBsdfTransparent")
+        tree.links.new(texture.outputs["Color"], transparent.inputs["Color"])
+        output = nodes.new("ShaderNodeOutputMaterial")
+        tree.links.new(transparent.outputs[0], output.inputs["Surface"])
+        mesh.materials.append(material)
+
+
+def render(scene, path, samples, multilayer):
+    """One render written to `path`: the Combined pass as RGB, or with `multilayer` every enabled
+    pass in a multilayer EXR."""
     scene.cycles.samples = samples
-    scene.cycles.filter_width = filter_width
     settings = scene.render.image_settings
-    settings.file_format = "OPEN_EXR_MULTILAYER" if truth else "OPEN_EXR"
-    settings.color_mode = "RGBA" if truth else "RGB"
+    settings.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
+    settings.color_mode = "RGBA" if multilayer else "RGB"
     settings.color_depth = "32"
     settings.exr_codec = "ZIP"
     # Written under a temporary name and renamed: a file under its final name is complete (lsds
@@ -319,9 +563,10 @@ def main():
     for data_pass in ("use_pass_normal", "use_pass_position", "use_pass_vector"):
         setattr(layer, data_pass, options["all_passes"])
     scene.cycles.seed = 0
+    scene.cycles.filter_width = 1.5  # Blender's default pixel filter (Blackman-Harris)
     scene.render.use_motion_blur = False
-    # Keep the synchronized scene and its BVH between renders: the truth pass after a frame's rgb
-    # and the next frame (the same ground) change only what changed.
+    # Keep the synchronized scene and its BVH between renders: the next frame (the same ground)
+    # changes only what changed.
     scene.render.use_persistent_data = True
     scene.view_settings.view_transform = "Standard"  # EXR is scene-linear either way
     scene.view_settings.look = "None"
@@ -331,10 +576,11 @@ def main():
         scene.render.threads = options["threads"]
     world = bpy.data.worlds.new("sky")
     world.use_nodes = True
-    # The sky is a smooth gradient: a coarse importance map samples it well, and Blender's default
-    # (1024 x 512, built for every render) would cost more than a small frame's samples.
+    # The sky is smooth but for its clouds and the glow around the sun: a 256 x 128 importance map
+    # samples it well, and Blender's default (1024 x 512, built whenever the sky changes) would
+    # cost more than a small frame's samples.
     world.cycles.sampling_method = "MANUAL"
-    world.cycles.sample_map_resolution = 64
+    world.cycles.sample_map_resolution = 256
     scene.world = world
     camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
     scene.collection.objects.link(camera)
@@ -343,6 +589,7 @@ def main():
     scene.collection.objects.link(sun)
 
     materials = Materials()
+    clouds = CloudDeck()
     ground = {}
     if os.path.exists(os.path.join(folder, "ground.glb")):
         ground = import_gltf(os.path.join(folder, "ground.glb"))
@@ -360,12 +607,10 @@ def main():
         assign(objects, spec["nodes"], materials)
         set_camera(camera, spec["camera"], scene)
         set_sun(sun, spec["sun"])
-        set_sky(world, spec["sky"])
+        set_sky(world, spec["sky"], folder)
+        clouds.set(scene, folder, spec.get("clouds"))
         render(scene, os.path.join(options["output"], stem + "_rgb.exr"), options["samples"],
-               1.5, options["all_passes"])
-        if options["truth"]:
-            # The data passes through the pixel centres: one sample, pixel filter 0.01 px.
-            render(scene, os.path.join(options["output"], stem + "_truth.exr"), 1, 0.01, True)
+               options["truth"] or options["all_passes"])
         remove_objects(objects)
         print("render_frames: frame %d %.3f s" % (frame, time.time() - start), flush=True)
 

@@ -8,6 +8,7 @@
 #include "generator/scene/world_ground.h"
 #include "generator/scene/world_meshes.h"
 #include "generator/scene_export/gltf_writer.h"
+#include "generator/scene_export/sky_export.h"
 #include "libs/collection/json_io.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -19,12 +20,55 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "lsds-scene-export";
-constexpr const char* kFormatVersion = "1.0";
+constexpr const char* kFormatVersion = "1.1";
 constexpr const char* kGroundFile = "ground.glb";
 
 nlohmann::json Rgb(const Eigen::Vector3f& c) { return {c.x(), c.y(), c.z()}; }
 
 GltfMaterial GltfOf(const Material& m) { return {m.name, m.base, m.roughness, m.metallic}; }
+
+const char* PatternName(Pattern pattern) {
+  switch (pattern) {
+    case Pattern::kMottled:
+      return "mottled";
+    case Pattern::kSpeckle:
+      return "speckle";
+    case Pattern::kStrata:
+      return "strata";
+    case Pattern::kBrushed:
+      return "brushed";
+  }
+  return "mottled";
+}
+
+// Octaves of ground detail finer than this are ridged (generator/scene/ground_detail.cc).
+constexpr double kRidgedBelowM = 0.08;
+
+// The material's record (docs/export.md): its BSDF, and the procedural albedo of
+// generator/scene/materials.h as parameters (pattern, patches, ground detail).
+nlohmann::json MaterialJson(const Material& material) {
+  nlohmann::json json = {{"name", material.name},
+                         {"base_color", Rgb(material.base)},
+                         {"roughness", material.roughness},
+                         {"metallic", material.metallic},
+                         {"specular", material.specular}};
+  if (material.contrast > 0 || material.patches > 0)
+    json["pattern"] = {{"kind", PatternName(material.pattern)},
+                       {"secondary_color", Rgb(material.secondary)},
+                       {"frequency_per_m", material.frequency},
+                       {"contrast", material.contrast},
+                       {"patches", material.patches}};
+  const GroundDetail& d = material.detail;
+  if (d.contrast > 0)
+    json["detail"] = {{"contrast", d.contrast},
+                      {"coarsest_m", d.coarsest_m},
+                      {"finest_m", d.finest_m},
+                      {"persistence", d.persistence},
+                      {"ridged_below_m", d.ridged ? kRidgedBelowM : 0.0},
+                      {"tint", Rgb(d.tint)},
+                      {"bump_rad", d.bump}};
+  return json;
+}
 
 // A node's entry in the frame description.
 nlohmann::json NodeJson(const std::string& name,
@@ -38,12 +82,7 @@ nlohmann::json NodeJson(const std::string& name,
           {"pass_index", pass_index},
           {"instance_id", instance_id},
           {"class_id", class_id},
-          {"material",
-           {{"name", material.name},
-            {"base_color", Rgb(material.base)},
-            {"roughness", material.roughness},
-            {"metallic", material.metallic},
-            {"specular", material.specular}}}};
+          {"material", MaterialJson(material)}};
 }
 
 // The camera as collection.json writes it (docs/format.md, "Camera model").
@@ -56,8 +95,7 @@ nlohmann::json CameraJson(const PlannedFrame& frame) {
 
 // The light of the frame in photometric units (radiance: RGB whose relative
 // luminance is cd/m^2), as the reference renderer's Sky has it.
-nlohmann::json LightJson(const Plan& plan, const PlannedEnvironment& environment) {
-  const Sky sky(plan, environment);
+nlohmann::json LightJson(const Sky& sky, const PlannedEnvironment& environment) {
   const Eigen::Vector3f sun_irradiance = sky.sun_irradiance() * static_cast<float>(M_PI);
   return {{"sun",
            {{"direction_to_sun", Vector3ToJson(sky.to_sun())},
@@ -95,7 +133,49 @@ nlohmann::json ExposureDescription(const PlannedExposure& planned) {
 }  // namespace
 
 SceneExporter::SceneExporter(const Plan& plan, const SceneAssets& assets, fs::path folder)
-    : plan_(plan), assets_(assets), folder_(std::move(folder)) {}
+    : plan_(plan), assets_(assets), folder_(std::move(folder)) {
+  // What clouds shade: the terrain and skirt, and what stands on them up to kObjectsReachM.
+  constexpr double kObjectsReachM = 50;
+  ground_min_ = Eigen::Vector3d::Zero();
+  ground_max_ = Eigen::Vector3d(0, 0, kObjectsReachM);
+  if (plan_.terrain.present) {
+    const GroundMeshes ground = MakeGroundMeshes(plan_.terrain);
+    ground_min_ = Eigen::Vector3d::Constant(1e300);
+    ground_max_ = -ground_min_;
+    for (const TriangleMesh* mesh : {&ground.terrain, &ground.skirt}) {
+      for (const Eigen::Vector3f& p : mesh->positions) {
+        ground_min_ = ground_min_.cwiseMin(p.cast<double>());
+        ground_max_ = ground_max_.cwiseMax(p.cast<double>());
+      }
+    }
+    ground_max_.z() += kObjectsReachM;
+  }
+}
+
+nlohmann::json SceneExporter::WriteSkyFiles(const PlannedFrame& frame,
+                                            const PlannedEnvironment& environment) const {
+  const Sky sky(plan_, environment);
+  nlohmann::json light = LightJson(sky, environment);
+  // Frames under the same sky share its images.
+  const std::string key = light.dump();
+  auto written = sky_files_.find(key);
+  if (written == sky_files_.end()) {
+    nlohmann::json files = nlohmann::json::object();
+    const std::string stem = FrameStem(frame.index);
+    WriteSkyImage(sky, folder_ / (stem + "_sky.exr"));
+    files["image"] = stem + "_sky.exr";
+    const double density =
+        environment.sky.cloud_type == "none" ? 0.0 : environment.sky.cloud_density;
+    if (const std::optional<CloudShadowArea> area =
+            CloudShadowAreaFor(sky, density, ground_min_, ground_max_))
+      files["clouds"] = WriteCloudShadowImage(sky, *area, folder_ / (stem + "_clouds.exr"));
+    written = sky_files_.emplace(key, files).first;
+  }
+  light["sky"]["image"] = written->second["image"];
+  light["sky"]["image_mapping"] = "equirectangular";
+  if (written->second.contains("clouds")) light["clouds"] = written->second["clouds"];
+  return light;
+}
 
 void SceneExporter::WriteGround() const {
   if (!plan_.terrain.present) return;
@@ -155,7 +235,7 @@ nlohmann::json SceneExporter::WriteFrame(const PlannedFrame& frame) const {
                                 {"camera", CameraJson(frame)},
                                 {"nodes", nodes},
                                 {"exposure", ExposureDescription(plan_.exposure)}};
-  description.update(LightJson(plan_, environment));
+  description.update(WriteSkyFiles(frame, environment));
   WriteFileAtomic(folder_ / (FrameStem(frame.index) + ".json"), description.dump(2) + "\n");
   return description;
 }

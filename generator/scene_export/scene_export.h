@@ -8,9 +8,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "generator/plan/plan.h"
@@ -37,8 +39,9 @@ constexpr int kMaxPassIndex = 32767;
 
 // Writes the scenes of a plan's frames into one folder: scene.json (the
 // index), ground.glb (terrain, skirt and the ground plane past it, the same
-// in every frame), and per frame NNNNNN.glb (its rendered objects) and
-// NNNNNN.json (docs/export.md).
+// in every frame), and per frame NNNNNN.glb (its rendered objects),
+// NNNNNN.json (docs/export.md) and, for each distinct sky, its images
+// (NNNNNN_sky.exr, NNNNNN_clouds.exr; sky_export.h).
 class SceneExporter {
  public:
   SceneExporter(const Plan& plan, const SceneAssets& assets, std::filesystem::path folder);
@@ -52,9 +55,16 @@ class SceneExporter {
   static std::vector<ExportedNode> Nodes(const nlohmann::json& frame_description);
 
  private:
+  // The sky's and clouds' images of the frame's environment (written once per
+  // distinct sky) and its light records: sun, sky, atmosphere, clouds.
+  nlohmann::json WriteSkyFiles(const PlannedFrame& frame,
+                               const PlannedEnvironment& environment) const;
+
   const Plan& plan_;
   const SceneAssets& assets_;
   std::filesystem::path folder_;
+  Eigen::Vector3d ground_min_, ground_max_;                  // what cloud shadows fall on
+  mutable std::map<std::string, nlohmann::json> sky_files_;  // light record -> its files
 };
 
 struct SceneExportOptions {

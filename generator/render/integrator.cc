@@ -399,9 +399,11 @@ class FrameRenderer {
         // pixels start at different cells), then mapped to the
         // cosine-weighted hemisphere (Malley's method).
         const int cell = (p + j) % kSkyRays;
+        const int row = cell / 2;  // the cell's column is cell % 2
+        const double cell_u = cell % 2, cell_v = row;
         const uint64_t draw = 2 * (static_cast<uint64_t>(pixel) * kSkyRays + cell);
-        const double u1 = (cell % 2 + Uniform01(kSkyLightField, 0, frame_.index, draw)) / 2;
-        const double u2 = (cell / 2 + Uniform01(kSkyLightField, 0, frame_.index, draw + 1)) / 2;
+        const double u1 = (cell_u + Uniform01(kSkyLightField, 0, frame_.index, draw)) / 2;
+        const double u2 = (cell_v + Uniform01(kSkyLightField, 0, frame_.index, draw + 1)) / 2;
         const double r = std::sqrt(u1), phi = 2 * M_PI * u2;
         const Eigen::Vector3d d =
             r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(1 - u1) * n;

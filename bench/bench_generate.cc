@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <tbb/blocked_range2d.h>
@@ -72,9 +73,19 @@ uintmax_t FolderBytes(const fs::path& folder) {
 
 double Mb(double bytes) { return bytes / 1e6; }
 
+// User + system CPU seconds of this process (RUSAGE_SELF) or of its waited-for
+// children (RUSAGE_CHILDREN): beside wall time, the work on a loaded machine.
+double CpuSeconds(int who) {
+  rusage usage{};
+  getrusage(who, &usage);
+  auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 struct PeerRun {
   bool ran = false;
-  double seconds = 0;  // the whole process
+  double seconds = 0;      // the whole process
+  double cpu_seconds = 0;  // its user + system time
   uintmax_t bytes = 0;
 };
 
@@ -91,8 +102,10 @@ PeerRun RunCycles(
       std::to_string(frames) + " " + std::to_string(spp) + " " + out.string() + " " +
       std::to_string(threads) + " > " + (out / "blender.log").string() + " 2>&1";
   const Clock::time_point t = Clock::now();
+  const double cpu = CpuSeconds(RUSAGE_CHILDREN);
   const int status = std::system(command.c_str());
   run.seconds = Since(t);
+  run.cpu_seconds = CpuSeconds(RUSAGE_CHILDREN) - cpu;
   run.ran = status == 0;
   if (!run.ran) std::printf("       (blender failed: see %s)\n", (out / "blender.log").c_str());
   fs::remove(out / "blender.log");
@@ -233,11 +246,13 @@ bool ParseLayout(
 // rays alone, then each layout's encoding of the same films alone) and
 // Blender Cycles.
 struct Repeat {
-  std::vector<GenerateSummary> generate;  // per layout
+  std::vector<GenerateSummary> generate;     // per layout
+  std::vector<double> generate_cpu_seconds;  // per layout
   double ray_seconds = 0;
   uint64_t floor_rays = 0;
   std::vector<double> encode_seconds;  // per layout
   std::optional<double> cycles_seconds;
+  double cycles_cpu_seconds = 0;
 };
 
 // The floor for `plan`'s frames: ray casts alone, then the encoding of the
@@ -494,7 +509,9 @@ int main(int argc, char** argv) {
       Repeat& repeat = measured[k];
       for (size_t i = 0; i < runs.size(); ++i) {
         const Layout& run = runs[i];
+        const double cpu = CpuSeconds(RUSAGE_SELF);
         repeat.generate.push_back(GenerateCollection(plan, run.options));
+        repeat.generate_cpu_seconds.push_back(CpuSeconds(RUSAGE_SELF) - cpu);
         if (k == 0) {
           for (const LayerInfo& layer : run.header.layers) {
             bytes[i].per_layer[layer.name] = FolderBytes(run.options.output / layer.name);
@@ -509,6 +526,7 @@ int main(int argc, char** argv) {
       if (!blender.empty()) {
         const PeerRun cycles = RunCycles(blender, size, frames, spp, threads, cycles_out);
         if (cycles.ran) repeat.cycles_seconds = cycles.seconds;
+        repeat.cycles_cpu_seconds = cycles.cpu_seconds;
         if (k == 0) cycles_bytes = cycles.bytes;
         fs::remove_all(cycles_out);
       }
@@ -611,6 +629,26 @@ int main(int argc, char** argv) {
         Mb(static_cast<double>(cycles_bytes) / frames),
         runs.back().name.c_str(),
         lsds_per_frame / cycles_per_frame);
+    // Each repeat's lsds run and Cycles run are a pair, taken one after the
+    // other: the median of their ratios, wall and CPU (user + system).
+    const double wall_ratio = MedianOver(cycles_ran, [](const Repeat& r) {
+      return r.generate.back().total_seconds / *r.cycles_seconds;
+    });
+    const double cpu_ratio = MedianOver(cycles_ran, [](const Repeat& r) {
+      return r.generate_cpu_seconds.back() / r.cycles_cpu_seconds;
+    });
+    std::printf(
+        "paired (median of %zu): lsds / Cycles wall %.3f, CPU %.3f; CPU s/frame lsds %.3f, "
+        "Cycles %.3f; lsds cores busy %.2f\n",
+        cycles_ran.size(),
+        wall_ratio,
+        cpu_ratio,
+        MedianOver(cycles_ran, [](const Repeat& r) { return r.generate_cpu_seconds.back(); }) /
+            frames,
+        MedianOver(cycles_ran, [](const Repeat& r) { return r.cycles_cpu_seconds; }) / frames,
+        MedianOver(cycles_ran, [](const Repeat& r) {
+          return r.generate_cpu_seconds.back() / r.generate.back().total_seconds;
+        }));
   }
   fs::remove_all(root);
   return 0;

@@ -32,6 +32,11 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kSkyRays = 4;
 constexpr double kSkyOcclusionM = 30;
 constexpr uint64_t kSkyLightField = 0x5c71;
+// Two pixels of a block share their sky rays (FrameRenderer::BlockSkyLight)
+// when they see the same surface with shading normals within about 25 degrees
+// and points within 4 pixel footprints.
+constexpr double kSkyAlikeCos = 0.9;
+constexpr double kSkyAlikeFootprints = 4;
 
 struct Hit {
   bool hit = false;
@@ -209,6 +214,8 @@ struct BlockRays {
   std::vector<double> cos_suns;  // shading normal . to the sun
   std::vector<Eigen::Vector3d> shadow_origins;
   std::vector<uint8_t> facing_sun, occluded;
+  // Each pixel's sky light (FrameRenderer::BlockSkyLight), where it hit a surface.
+  Eigen::Vector3f sky_light[kBlock * kBlock];
 };
 
 // A block's disocclusion rays (DisocclusionRay), one per pixel.
@@ -228,13 +235,11 @@ struct SurfaceTexture {
 
 // The smooth fields a task keeps while it shades: the albedo and cloud shadow
 // of the pixel (reset per pixel), the cloud shadow's last exactly constant
-// stretch (kept across pixels), and the pixel's sky light (its first surface
-// sample's, for all its samples).
+// stretch (kept across pixels), and the pixel's horizon colour.
 struct ShadingFields {
   PixelField<SurfaceTexture> albedo{SurfaceTexture{}};
   PixelField<float> cloud{0.f};
   ExactBall<float> exact_cloud;
-  std::optional<Eigen::Vector3f> sky_light;
   std::optional<Eigen::Vector3f> haze;  // the pixel's horizon colour
 };
 
@@ -339,6 +344,97 @@ class FrameRenderer {
     }
   }
 
+  // The light of the sky on each pixel's surface (irradiance / pi, as
+  // Sky::ambient()), at the pixel's first sample that hits a surface, into
+  // block->sky_light: cosine-weighted rays about the shading normal; one
+  // that reaches the open sky brings the sky's light, one heading below the
+  // horizon the light open ground reflects (Sky::ground_bounce()), one
+  // blocked within kSkyOcclusionM the light a shaded blocker reflects
+  // (Sky::blocker_bounce()). Open flat ground sees the whole sky: exactly
+  // Sky::ambient(), the level the shadow layer is defined on.
+  //
+  // The block's pixels whose surfaces are alike (SkyAlike) share their rays:
+  // a pixel casts kSkyRays / (its alike pixels, itself included) of them,
+  // rounded up, and takes the mean of every ray its alike pixels cast. Open
+  // ground thus casts one ray per pixel and still sees kSkyRays; a pixel alone
+  // in its block (an edge) casts all kSkyRays itself. The rays are one
+  // packet.
+  void BlockSkyLight(BlockRays* block, RTCIntersectContext* context, uint64_t* rays) const {
+    constexpr int kPixels = kBlock * kBlock;
+    int first[kPixels];
+    for (int p = 0; p < block->pixels; ++p) {
+      first[p] = -1;
+      for (int k = 0; k < spp_ && first[p] < 0; ++k)
+        if (block->hits[p * spp_ + k].hit) first[p] = p * spp_ + k;
+    }
+    bool alike[kPixels][kPixels];
+    int group[kPixels];
+    for (int p = 0; p < block->pixels; ++p) {
+      group[p] = 0;
+      for (int q = 0; q < block->pixels; ++q) {
+        alike[p][q] =
+            first[p] >= 0 && first[q] >= 0 && (p == q || SkyAlike(*block, first[p], first[q]));
+        group[p] += alike[p][q];
+      }
+    }
+    constexpr int kMaxRays = kPixels * kSkyRays;
+    Eigen::Vector3d origins[kMaxRays], directions[kMaxRays];
+    float lengths[kMaxRays];
+    uint8_t wanted[kMaxRays], blocked[kMaxRays];
+    int owner[kMaxRays];
+    bool ground[kMaxRays];
+    int count = 0;
+    for (int p = 0; p < block->pixels; ++p) {
+      if (first[p] < 0) continue;
+      const Hit& hit = block->hits[first[p]];
+      const size_t pixel = static_cast<size_t>(block->y[p]) * frame_.camera.width + block->x[p];
+      const Eigen::Vector3d& n = hit.shading_normal;
+      Eigen::Vector3d t1, t2;
+      TangentFrame(n, &t1, &t2);
+      const Eigen::Vector3d origin =
+          hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
+      const int own = (kSkyRays + group[p] - 1) / group[p];
+      for (int j = 0; j < own; ++j) {
+        // Stratified over the 2x2 cells of the unit square (the block's
+        // pixels start at different cells), then mapped to the
+        // cosine-weighted hemisphere (Malley's method).
+        const int cell = (p + j) % kSkyRays;
+        const int row = cell / 2;  // the cell's column is cell % 2
+        const double cell_u = cell % 2, cell_v = row;
+        const uint64_t draw = 2 * (static_cast<uint64_t>(pixel) * kSkyRays + cell);
+        const double u1 = (cell_u + Uniform01(kSkyLightField, 0, frame_.index, draw)) / 2;
+        const double u2 = (cell_v + Uniform01(kSkyLightField, 0, frame_.index, draw + 1)) / 2;
+        const double r = std::sqrt(u1), phi = 2 * M_PI * u2;
+        const Eigen::Vector3d d =
+            r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(1 - u1) * n;
+        origins[count] = origin;
+        directions[count] = d;
+        lengths[count] = static_cast<float>(kSkyOcclusionM);
+        owner[count] = p;
+        // Into the surface itself: blocked; below the horizon: open ground.
+        ground[count] = d.dot(hit.normal) > 0 && d.z() <= 0;
+        wanted[count] = d.dot(hit.normal) > 0 && d.z() > 0;
+        *rays += wanted[count];
+        ++count;
+      }
+    }
+    if (count == 0) return;
+    OccludedSegments(scene_.scene(), origins, directions, lengths, wanted, count, context, blocked);
+    for (int p = 0; p < block->pixels; ++p) {
+      if (first[p] < 0) continue;
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      int n = 0;
+      for (int k = 0; k < count; ++k) {
+        if (!alike[p][owner[k]]) continue;
+        sum += wanted[k] && !blocked[k] ? sky_.ambient()
+               : ground[k]              ? sky_.ground_bounce()
+                                        : sky_.blocker_bounce();
+        ++n;
+      }
+      block->sky_light[p] = sum / static_cast<float>(n);
+    }
+  }
+
   // Pixel p of the block: its RGB (the mean of its samples' radiance), its
   // bundle samples, and its flat truth layers (the centre sample's values).
   // Its motion waits for the block's disocclusion rays (`disocclusions`).
@@ -346,13 +442,11 @@ class FrameRenderer {
                    int p,
                    ShadingFields* fields,
                    BlockDisocclusions* disocclusions,
-                   RTCIntersectContext* context,
                    uint64_t* rays) const {
     const int x = block.x[p], y = block.y[p];
     const size_t pixel = static_cast<size_t>(y) * frame_.camera.width + x;
     fields->albedo.Reset();
     fields->cloud.Reset();
-    fields->sky_light.reset();
     fields->haze.reset();
     Eigen::Vector3f sum = Eigen::Vector3f::Zero();
     const int c = p * spp_;  // the centre sample, in the block
@@ -367,7 +461,7 @@ class FrameRenderer {
         v = SampleTruth(block, i);
         v.radiance = centre->radiance;
       } else {
-        v = ShadeSample(block, i, pixel, fields, context, rays);
+        v = ShadeSample(block, i, p, fields);
       }
       if (k == 0 && settings_.shade_pixels_once)
         centre = CentreShading{fields->albedo, fields->cloud, v.radiance};
@@ -499,68 +593,26 @@ class FrameRenderer {
            kShadeOnceTolerance;
   }
 
-  // The light of the sky at a hit (irradiance / pi, as Sky::ambient()):
-  // kSkyRays cosine-weighted rays about the shading normal; one that reaches
-  // the open sky brings the sky's light, one heading below the horizon the
-  // light open ground reflects (Sky::ground_bounce()), one blocked within
-  // kSkyOcclusionM the light a shaded blocker reflects
-  // (Sky::blocker_bounce()). Open flat ground sees the whole sky: exactly
-  // Sky::ambient(), the level the shadow layer is defined on.
-  Eigen::Vector3f SkyLight(const Hit& hit,
-                           size_t pixel,
-                           RTCIntersectContext* context,
-                           uint64_t* rays) const {
-    const Eigen::Vector3d& n = hit.shading_normal;
-    Eigen::Vector3d t1, t2;
-    TangentFrame(n, &t1, &t2);
-    const Eigen::Vector3d origin =
-        hit.point + hit.normal * (1e-3 * (1.0 + 1e-3 * hit.point.norm()));
-    Eigen::Vector3d directions[kSkyRays];
-    float lengths[kSkyRays];
-    uint8_t wanted[kSkyRays], blocked[kSkyRays];
-    int ground = 0;
-    for (int k = 0; k < kSkyRays; ++k) {
-      wanted[k] = 0;
-      lengths[k] = static_cast<float>(kSkyOcclusionM);
-      // Stratified over the 2x2 cells of the unit square, then mapped to the
-      // cosine-weighted hemisphere (Malley's method).
-      const uint64_t draw = 2 * (static_cast<uint64_t>(pixel) * kSkyRays + k);
-      const int row = k / 2;  // ray k in the 2x2 cells: column k % 2, this row
-      const double cell_u = k % 2, cell_v = row;
-      const double u1 = (cell_u + Uniform01(kSkyLightField, 0, frame_.index, draw)) / 2;
-      const double u2 = (cell_v + Uniform01(kSkyLightField, 0, frame_.index, draw + 1)) / 2;
-      const double r = std::sqrt(u1), phi = 2 * M_PI * u2;
-      const Eigen::Vector3d d =
-          r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(1 - u1) * n;
-      directions[k] = d;
-      if (d.dot(hit.normal) <= 0) continue;  // into the surface itself: blocked
-      if (d.z() <= 0) {
-        ++ground;
-        continue;
-      }
-      wanted[k] = 1;
-      ++*rays;
-    }
-    // One packet: the rays share their origin.
-    OccludedSegments(
-        scene_.scene(), origin, directions, lengths, wanted, kSkyRays, context, blocked);
-    int open = 0;
-    for (int k = 0; k < kSkyRays; ++k) open += wanted[k] && !blocked[k];
-    const int shaded = kSkyRays - open - ground;
-    return (static_cast<float>(open) * sky_.ambient() +
-            static_cast<float>(ground) * sky_.ground_bounce() +
-            static_cast<float>(shaded) * sky_.blocker_bounce()) /
-           static_cast<float>(kSkyRays);
+  // Whether block samples i and j (two pixels' first surface samples) see
+  // alike skies: the same surface, shading normals within kSkyAlikeCos, and
+  // points within kSkyAlikeFootprints pixel footprints.
+  bool SkyAlike(const BlockRays& block, int i, int j) const {
+    const Hit& a = block.hits[i];
+    const Hit& b = block.hits[j];
+    if (a.geom != b.geom || a.shading_normal.dot(b.shading_normal) < kSkyAlikeCos) return false;
+    const double footprint = std::max(Footprint(block, i), Footprint(block, j));
+    return (a.point - b.point).norm() <= kSkyAlikeFootprints * footprint;
   }
 
-  // Block sample i: the sky, or the shaded surface it hits (the procedural
-  // albedo and the cloud shadow through the pixel's fields).
-  SampleValue ShadeSample(const BlockRays& block,
-                          int i,
-                          size_t pixel,
-                          ShadingFields* fields,
-                          RTCIntersectContext* context,
-                          uint64_t* rays) const {
+  // Block sample i's pixel footprint on its surface (m).
+  double Footprint(const BlockRays& block, int i) const {
+    return Distance(block, i) / frame_.camera.fx /
+           std::max(0.1, std::abs(block.hits[i].normal.dot(block.directions[i].normalized())));
+  }
+
+  // Block sample i of pixel p: the sky, or the shaded surface it hits (the
+  // procedural albedo and the cloud shadow through the pixel's fields).
+  SampleValue ShadeSample(const BlockRays& block, int i, int p, ShadingFields* fields) const {
     const Eigen::Vector3d& direction = block.directions[i];
     const Hit& hit = block.hits[i];
     SampleValue v = SampleTruth(block, i);
@@ -574,29 +626,30 @@ class FrameRenderer {
     // ground detail it shows (none when the detail is off: an infinite
     // footprint).
     const float footprint =
-        settings_.ground_detail
-            ? static_cast<float>(Distance(block, i) / frame_.camera.fx /
-                                 std::max(0.1, std::abs(hit.normal.dot(direction.normalized()))))
-            : kInf;
+        settings_.ground_detail ? static_cast<float>(Footprint(block, i)) : kInf;
     // (Not value_or: the procedural albedo only where no map applies.)
     const std::optional<Eigen::Vector3f> mapped = s.MappedAlbedo(hit.prim, hit.u, hit.v);
     const SurfaceTexture texture =
-        mapped
-            ? SurfaceTexture{*mapped, Eigen::Vector2f::Zero()}
-            : fields->albedo.At(hit.geom, hit.point, [&] {
-                SurfaceTexture t;
-                t.albedo = Albedo(
-                    *s.material, sky_.texture_noise(), hit.point.cast<float>(), footprint, &t.tilt);
-                // Ground detail is sampled once per pixel, as a texture at
-                // its mip level: the pixel's samples within a footprint of
-                // this one take its value.
-                const double detail_reuse =
-                    s.material->detail.contrast > 0 && settings_.ground_detail ? footprint : 0;
-                return FieldValue<SurfaceTexture>{
-                    t,
-                    reuse ? std::max(AlbedoReuseDistance(*s.material, footprint), detail_reuse)
-                          : 0};
-              });
+        mapped ? SurfaceTexture{*mapped, Eigen::Vector2f::Zero()}
+               : fields->albedo.At(hit.geom, hit.point, [&] {
+                   SurfaceTexture t;
+                   // The terrain is a height field: its detail is 2D noise.
+                   t.albedo = Albedo(*s.material,
+                                     sky_.texture_noise(),
+                                     hit.point.cast<float>(),
+                                     footprint,
+                                     &t.tilt,
+                                     s.object < 0);
+                   // Ground detail is sampled once per pixel, as a texture at
+                   // its mip level: the pixel's samples within a footprint of
+                   // this one take its value.
+                   const double detail_reuse =
+                       s.material->detail.contrast > 0 && settings_.ground_detail ? footprint : 0;
+                   return FieldValue<SurfaceTexture>{
+                       t,
+                       reuse ? std::max(AlbedoReuseDistance(*s.material, footprint), detail_reuse)
+                             : 0};
+                 });
     const float lit = !block.facing_sun[i] || block.occluded[i] ? 0.f : CloudShadow(hit, fields);
     // The shadow layer (truth): the sun on the shading normal against the
     // plan's ambient light.
@@ -609,9 +662,8 @@ class FrameRenderer {
     // The rgb: the sun on the detail's tilted normal, and the sky this
     // pixel's surface sees.
     const Eigen::Vector3d normal = TiltedNormal(hit.shading_normal, texture.tilt);
-    if (!fields->sky_light) fields->sky_light = SkyLight(hit, pixel, context, rays);
     const Eigen::Vector3f irradiance =
-        *fields->sky_light +
+        block.sky_light[p] +
         sky_.sun_irradiance() * static_cast<float>(std::max(0.0, normal.dot(sky_.to_sun()))) * lit;
     v.radiance = Shade(*s.material, texture.albedo, normal, direction, sky_, irradiance, lit);
     // Haze: fog and the air's own extinction, towards the sky's horizon in
@@ -746,8 +798,9 @@ void RenderFrame(const RenderScene& scene,
         for (int row = r.rows().begin(); row < r.rows().end(); ++row) {
           for (int col = r.cols().begin(); col < r.cols().end(); ++col) {
             renderer.CastBlock(row, col, &block, &plane, &context, &rays);
+            if (settings.shade_rgb) renderer.BlockSkyLight(&block, &context, &rays);
             for (int p = 0; p < block.pixels; ++p)
-              renderer.RenderPixel(block, p, &fields, &disocclusions, &context, &rays);
+              renderer.RenderPixel(block, p, &fields, &disocclusions, &rays);
             renderer.DropDisoccludedMotion(block, &disocclusions, &context);
           }
         }

@@ -126,6 +126,18 @@ struct Segments {
   }
 };
 
+// Rays from `origins` along `directions`, each `lengths` long.
+struct OriginSegments {
+  const Eigen::Vector3d* origins;
+  const Eigen::Vector3d* directions;
+  const float* lengths;
+  OriginSegments From(int k) const { return {origins + k, directions + k, lengths + k}; }
+  template <class RayN>
+  void Lane(RayN* ray, int i) const {
+    SetLane(ray, i, origins[i], directions[i], lengths[i]);
+  }
+};
+
 }  // namespace
 
 int BlockPixels(int block_row, int block_col, int width, int height, int* x, int* y) {
@@ -243,6 +255,18 @@ void OccludedSegments(RTCScene rtc_scene,
                       RTCIntersectContext* context,
                       uint8_t* out) {
   OccludedInPackets(rtc_scene, Segments{origin, directions, lengths}, wanted, count, context, out);
+}
+
+void OccludedSegments(RTCScene rtc_scene,
+                      const Eigen::Vector3d* origins,
+                      const Eigen::Vector3d* directions,
+                      const float* lengths,
+                      const uint8_t* wanted,
+                      int count,
+                      RTCIntersectContext* context,
+                      uint8_t* out) {
+  OccludedInPackets(
+      rtc_scene, OriginSegments{origins, directions, lengths}, wanted, count, context, out);
 }
 
 }  // namespace lsds::gen

@@ -96,5 +96,15 @@ void OccludedSegments(RTCScene rtc_scene,
                       int count,
                       RTCIntersectContext* context,
                       uint8_t* out);
+// The same from an origin per ray (the sky-light rays of a block of pixels,
+// each from its own pixel's surface).
+void OccludedSegments(RTCScene rtc_scene,
+                      const Eigen::Vector3d* origins,
+                      const Eigen::Vector3d* directions,
+                      const float* lengths,
+                      const uint8_t* wanted,
+                      int count,
+                      RTCIntersectContext* context,
+                      uint8_t* out);
 
 }  // namespace lsds::gen

@@ -30,7 +30,8 @@ Eigen::Vector3f DetailFactor(const GroundDetail& detail,
                              const Perlin& noise,
                              const Eigen::Vector3f& p,
                              float footprint_m,
-                             Eigen::Vector2f* tilt) {
+                             Eigen::Vector2f* tilt,
+                             bool height_field) {
   if (tilt != nullptr) tilt->setZero();
   if (detail.contrast <= 0) return Eigen::Vector3f::Ones();
   double sum = 0, norm = 0, weight = 1;
@@ -44,7 +45,9 @@ Eigen::Vector3f DetailFactor(const GroundDetail& detail,
     const double f = 1.0 / wavelength;
     // Each octave its own offset into the field, so octaves do not line up.
     const double offset = 37.71 * (octave + 1);
-    double n = noise.Noise(p.x() * f + offset, p.y() * f - offset, p.z() * f + 0.5 * offset);
+    double n = height_field
+                   ? noise.Noise(p.x() * f + offset, p.y() * f - offset)
+                   : noise.Noise(p.x() * f + offset, p.y() * f - offset, p.z() * f + 0.5 * offset);
     if (detail.ridged && wavelength < kRidgedBelowM) n = 0.4 - 2 * std::abs(n);
     sum += weight * shown * n;
     finest_shown = wavelength;
@@ -60,8 +63,12 @@ Eigen::Vector3f DetailFactor(const GroundDetail& detail,
     // their own way.
     const double f = 1.0 / finest_shown;
     const float a = detail.bump * finest_weight;
-    tilt->x() = a * static_cast<float>(noise.Noise(p.x() * f + 53.1, p.y() * f, p.z() * f));
-    tilt->y() = a * static_cast<float>(noise.Noise(p.x() * f, p.y() * f + 71.9, p.z() * f));
+    tilt->x() =
+        a * static_cast<float>(height_field ? noise.Noise(p.x() * f + 53.1, p.y() * f)
+                                            : noise.Noise(p.x() * f + 53.1, p.y() * f, p.z() * f));
+    tilt->y() =
+        a * static_cast<float>(height_field ? noise.Noise(p.x() * f, p.y() * f + 71.9)
+                                            : noise.Noise(p.x() * f, p.y() * f + 71.9, p.z() * f));
   }
   return factor.cwiseMax(0.f);
 }

@@ -33,12 +33,15 @@ struct GroundDetail {
 
 // The detail's albedo factor at `point_in_world` for a pixel of footprint
 // `footprint_m` on the surface (0: every octave), and its tilt of the shading
-// normal (two tangent components, radians), in `tilt` when not null.
+// normal (two tangent components, radians), in `tilt` when not null. On a
+// `height_field` (the terrain: one surface point per x, y) the octaves are the
+// 2D noise of x and y, at half the cost of the 3D noise other surfaces take.
 Eigen::Vector3f DetailFactor(const GroundDetail& detail,
                              const Perlin& noise,
                              const Eigen::Vector3f& point_in_world,
                              float footprint_m,
-                             Eigen::Vector2f* tilt = nullptr);
+                             Eigen::Vector2f* tilt = nullptr,
+                             bool height_field = false);
 
 // The finest wavelength (m) the detail shows at `footprint_m`: its own
 // finest, or the footprint where that is coarser. Infinite for no detail.

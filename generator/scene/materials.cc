@@ -196,7 +196,8 @@ Eigen::Vector3f Albedo(const Material& material,
                        const Perlin& noise,
                        const Eigen::Vector3f& p,
                        float footprint_m,
-                       Eigen::Vector2f* tilt) {
+                       Eigen::Vector2f* tilt,
+                       bool height_field) {
   if (tilt != nullptr) tilt->setZero();
   if (material.contrast <= 0 && material.patches <= 0) return material.base;
   const double f = material.frequency;
@@ -231,7 +232,8 @@ Eigen::Vector3f Albedo(const Material& material,
     albedo *= std::clamp(1.f + material.patches * static_cast<float>(patch) * 1.5f, 0.f, 2.f);
   }
   if (material.detail.contrast > 0)
-    albedo = albedo.cwiseProduct(DetailFactor(material.detail, noise, p, footprint_m, tilt));
+    albedo = albedo.cwiseProduct(
+        DetailFactor(material.detail, noise, p, footprint_m, tilt, height_field));
   return albedo.cwiseMin(1.f);
 }
 

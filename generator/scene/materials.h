@@ -55,12 +55,14 @@ const Material& FindMaterial(const std::string& name, const std::string& where);
 // Albedo of `material` at a world point; `noise` is the material noise field of
 // the world. `footprint_m` is the pixel's footprint on the surface, which
 // decides the finest detail shown (0: all of it); `tilt` (optional) receives
-// the detail's tilt of the shading normal (TiltedNormal).
+// the detail's tilt of the shading normal (TiltedNormal); `height_field`: the
+// point is on the terrain (DetailFactor).
 Eigen::Vector3f Albedo(const Material& material,
                        const Perlin& noise,
                        const Eigen::Vector3f& point_in_world,
                        float footprint_m = 0,
-                       Eigen::Vector2f* tilt = nullptr);
+                       Eigen::Vector2f* tilt = nullptr,
+                       bool height_field = false);
 
 // How far (m) the procedural albedo may be taken as constant: 1/32 of the
 // finest wavelength of its pattern and patches, over which it changes by well

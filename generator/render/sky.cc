@@ -10,7 +10,6 @@
 namespace lsds::gen {
 namespace {
 
-constexpr double kCloudDeckM = 1000;   // the deck's height above z = 0
 constexpr double kCloudOpacity = 0.8;  // direct sunlight a full cloud stops
 
 }  // namespace
@@ -201,7 +200,7 @@ Eigen::Vector3f Sky::Radiance(const Eigen::Vector3d& d) const {
     sky = Haze(d) * (1 - 0.2f * below * below * (3 - 2 * below));
   }
   const double cos_sun = d.dot(to_sun_);
-  if (cos_sun > 0.9995) sky += sun_irradiance_ * 20.f;  // the sun's disc (about 1.8 degrees)
+  if (cos_sun > kSunDiscCos) sky += sun_irradiance_ * 20.f;  // the sun's disc
   const double cover = CloudCover(d);
   if (cover > 0) {
     const float c = static_cast<float>(cover);

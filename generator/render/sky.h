@@ -15,6 +15,12 @@
 
 namespace lsds::gen {
 
+// The cloud deck's height above z = 0 (m), and the sun's disc in the sky's
+// radiance: directions within this cosine of the sun (about 1.8 degrees).
+// The scene export reproduces both (generator/scene_export/sky_export.cc).
+inline constexpr double kCloudDeckM = 1000;
+inline constexpr double kSunDiscCos = 0.9995;
+
 class Sky {
  public:
   // The sky of the plan's own environment, or of a frame's (LCAP changes).

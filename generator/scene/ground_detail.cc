@@ -14,8 +14,6 @@ namespace {
 // still resolve it, and finer noise would only alias.
 constexpr float kWholeFootprints = 1.0f;
 constexpr float kGoneFootprints = 0.5f;
-// Ridged octaves below this wavelength (m): blades, not clumps.
-constexpr float kRidgedBelowM = 0.08f;
 
 // How much of an octave of wavelength `wavelength` a pixel of `footprint` shows.
 float OctaveWeight(float wavelength, float footprint) {
@@ -48,7 +46,7 @@ Eigen::Vector3f DetailFactor(const GroundDetail& detail,
     double n = height_field
                    ? noise.Noise(p.x() * f + offset, p.y() * f - offset)
                    : noise.Noise(p.x() * f + offset, p.y() * f - offset, p.z() * f + 0.5 * offset);
-    if (detail.ridged && wavelength < kRidgedBelowM) n = 0.4 - 2 * std::abs(n);
+    if (detail.ridged && wavelength < static_cast<float>(kRidgedBelowM)) n = 0.4 - 2 * std::abs(n);
     sum += weight * shown * n;
     finest_shown = wavelength;
     finest_weight = shown;

@@ -17,6 +17,10 @@ namespace lsds::gen {
 // A family's detail: octaves of noise from `coarsest_m` down to `finest_m`
 // wavelength (each half the last), weighted by `persistence` per octave. A
 // Material carries one (materials.h); contrast 0 is no detail.
+// Octaves finer than this wavelength (m) are ridged where a detail asks for
+// ridges: blades, not clumps.
+inline constexpr double kRidgedBelowM = 0.08;
+
 struct GroundDetail {
   float contrast = 0.f;      // the albedo is scaled by 1 +- contrast
   float coarsest_m = 0.5f;   // the first octave's wavelength

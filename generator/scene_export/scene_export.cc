@@ -41,9 +41,6 @@ const char* PatternName(Pattern pattern) {
   return "mottled";
 }
 
-// Octaves of ground detail finer than this are ridged (generator/scene/ground_detail.cc).
-constexpr double kRidgedBelowM = 0.08;
-
 // The material's record (docs/export.md): its BSDF, and the procedural albedo of
 // generator/scene/materials.h as parameters (pattern, patches, ground detail).
 nlohmann::json MaterialJson(const Material& material) {

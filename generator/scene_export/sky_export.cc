@@ -12,9 +12,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The sun's disc in Sky::Radiance: directions within this cosine of the sun
-// (generator/render/sky.cc).
-constexpr double kSunDiscCos = 0.9995;
 // Texel sizes of the cloud shadow image (m) and its largest side.
 constexpr double kFinestCloudTexelM = 1.0;
 constexpr int kMaxCloudTexels = 1024;
@@ -70,7 +67,7 @@ std::optional<CloudShadowArea> CloudShadowAreaFor(const Sky& sky,
     const Eigen::Vector3d p((corner & 1) ? ground_max.x() : ground_min.x(),
                             (corner & 2) ? ground_max.y() : ground_min.y(),
                             (corner & 4) ? ground_max.z() : ground_min.z());
-    const double t = (kCloudDeckHeightM - p.z()) / s.z();
+    const double t = (kCloudDeckM - p.z()) / s.z();
     const Eigen::Vector2d crossing(p.x() + t * s.x(), p.y() + t * s.y());
     lo = lo.cwiseMin(crossing);
     hi = hi.cwiseMax(crossing);
@@ -98,13 +95,13 @@ nlohmann::json WriteCloudShadowImage(const Sky& sky,
     for (int column = 0; column < area.width; ++column) {
       const Eigen::Vector3d on_deck(area.min_xy.x() + (column + 0.5) * dx,
                                     area.max_xy.y() - (row + 0.5) * dy,
-                                    kCloudDeckHeightM - kBelowDeckM);
+                                    kCloudDeckM - kBelowDeckM);
       share.floats[image.Index(column, row)] = static_cast<float>(sky.CloudTransmittance(on_deck));
     }
   }
   exr::WriteFlatExr(path, image);
   return {{"shadow_image", path.filename().string()},
-          {"deck_height_m", kCloudDeckHeightM},
+          {"deck_height_m", kCloudDeckM},
           {"min_xy", {area.min_xy.x(), area.min_xy.y()}},
           {"max_xy", {area.max_xy.x(), area.max_xy.y()}}};
 }

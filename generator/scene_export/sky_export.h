@@ -16,10 +16,6 @@
 
 namespace lsds::gen {
 
-// The cloud deck's height above z = 0 (m), where Sky::CloudTransmittance
-// meets the sun's rays with it (generator/render/sky.cc).
-constexpr double kCloudDeckHeightM = 1000;
-
 // The sky's equirectangular image size: 2:1, 0.7 degrees a texel.
 constexpr int kSkyImageWidth = 512;
 

@@ -247,8 +247,9 @@ TEST(MovingObjects, AWaypointListAtASpeedIsAPolylineInTime) {
     }
     EXPECT_NEAR((car.position - p).norm(), 0, 1e-9) << f.index;
     EXPECT_NEAR((car.velocity - v).norm(), 0, 1e-9) << f.index;
-    if (!v.isZero())
+    if (!v.isZero()) {
       EXPECT_NEAR(car.world_from_object.col(0).dot(v.normalized()), 1, 1e-12) << f.index;
+    }
   }
 }
 

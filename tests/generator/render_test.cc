@@ -206,9 +206,11 @@ TEST(Render, OrientedBoxesPutACarsHeadingCornerFirst) {
     ASSERT_TRUE(t.bbox_oriented && t.bbox_oriented_projected) << t.name;
     for (int y = 0; y < camera.height; ++y)
       for (int x = 0; x < camera.width; ++x)
-        if (ids[static_cast<size_t>(y) * camera.width + x] == t.instance_id)
-          for (int d = 0; d < 4; ++d)
+        if (ids[static_cast<size_t>(y) * camera.width + x] == t.instance_id) {
+          for (int d = 0; d < 4; ++d) {
             ASSERT_TRUE(t.bbox_oriented->Contains({x + d % 2, y + d / 2}, 1e-9)) << t.name;
+          }
+        }
   }
   const ObjectTruth& c = r.truth[0].instance_id == 1 ? r.truth[0] : r.truth[1];
   const Rigid3d& cam_from_world = plan.frames[0].cam_from_world;

@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "libs/collection/collection_reader.h"
+#include "libs/collection/file_sizes.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/rig.h"
@@ -76,6 +77,7 @@ class Validator {
   void AddCheckSeconds();
 
   fs::path root_;
+  FileSizes file_sizes_{root_};  // the layer files' stat, their folders opened once
   ValidateOptions options_;
   Report report_;
   CollectionHeader header_;
@@ -350,8 +352,7 @@ void Validator::CheckFrameFiles(const Frame& frame, const std::string& pointer) 
       }
       continue;
     }
-    std::error_code ec;
-    if (!fs::is_regular_file(root_ / it->second, ec)) {
+    if (!file_sizes_.Size(it->second)) {  // no regular file there
       Location where(it->second);
       where.frame = frame.index;
       Emit("structure.missing-file",

@@ -13,7 +13,10 @@
 // collection.json (the whole file in memory; the fastest reading of the
 // bytes), and beside it one streaming parse with nlohmann's SAX parser and no
 // handler work. The ratio is the command's CPU time over the simdjson floor
-// ("ratio"), and over nlohmann's ("ratio nl").
+// ("ratio"), and over nlohmann's ("ratio nl"). validate's own floor, printed
+// under its row: the simdjson floors of the JSON files it reads
+// (collection.json, metadata.json) and the layer decodes it must do (none
+// for --checks schema,structure; every layer of every frame for all).
 //
 //   bench_scale [--sizes 10000,100000] (the issue-sized run: --sizes 10000,100000,1000000)
 //               [--commands info,validate,convert]
@@ -28,6 +31,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -37,6 +41,7 @@
 
 #include "bench/child_process.h"
 #include "bench/null_sax.h"
+#include "libs/collection/collection_reader.h"
 #include "libs/collection/frame_text_reader.h"
 #include "tests/build_paths.h"
 
@@ -66,6 +71,47 @@ double SimdjsonFloor(const fs::path& file) {
   lsds::FrameTextReader reader;
   if (!reader.IsWellFormed(std::string_view(text.data(), text.size()))) return -1;
   return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+}
+
+// validate's floor: the layer decodes it must do, nothing checked. The files
+// `lsds validate --checks all` decodes (validators/frame_checks.cc,
+// LoadLayers: each frame's flat layers but the derived ones, the first file
+// of each semantic, and its bundle), decoded by the same readers one after
+// the other, frames read by CollectionReader (its time not counted: the JSON
+// floors count the reading). CPU seconds and the number of files.
+struct DecodeFloor {
+  double cpu_seconds = 0;
+  int64_t files = 0;
+};
+DecodeFloor LayerDecodeFloor(const fs::path& collection) {
+  DecodeFloor floor;
+  const lsds::CollectionReader reader(collection);
+  reader.ForEachFrame([&](const lsds::Frame& frame) {
+    const std::clock_t start = std::clock();
+    std::set<std::string> semantics;
+    for (const lsds::LayerInfo& layer : reader.header().layers) {
+      if (frame.files.count(layer.name) == 0 || layer.semantic == "derived") continue;
+      if (layer.deep && layer.semantic != "bundle") continue;
+      if (!semantics.insert(layer.semantic).second) continue;
+      std::vector<std::string> channels;
+      for (const lsds::LayerChannel& channel : layer.channels) channels.push_back(channel.name);
+      if (layer.deep) {
+        reader.ReadDeepLayer(frame, layer.name, channels);
+      } else {
+        reader.ReadFlatLayer(frame, layer.name, channels);
+      }
+      ++floor.files;
+    }
+    floor.cpu_seconds += static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+  });
+  return floor;
+}
+
+// The files `lsds validate` decoded, from its JSON report.
+int64_t FilesDecoded(const fs::path& report) {
+  std::ifstream in(report);
+  const json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return j.is_object() && j.contains("files_decoded") ? j["files_decoded"].get<int64_t>() : -1;
 }
 
 // collection.json and metadata.json of `frames` copies of the template's
@@ -148,14 +194,35 @@ int main(int argc, char** argv) {
     const double floor_nlohmann = ParseFloor(collection / "collection.json");
     for (const std::string& command : commands) {
       std::vector<std::string> args = {lsds, command, collection.string()};
+      const fs::path report = fs::path(work) / "validate.json";
       if (command == "validate") {
-        args.insert(args.end(), {"--checks", validate_checks});
+        fs::remove(report);
+        args.insert(args.end(),
+                    {"--checks", validate_checks, "--format", "json", "-o", report.string()});
       } else if (command == "convert") {
         fs::remove_all(fs::path(work) / "out");
         args.insert(args.end(),
                     {"--to", "coco", "--images", "none", "-o", (fs::path(work) / "out").string()});
       }
       const ChildRun run = RunChild(args);
+      if (command == "validate") {
+        // Its floor: the JSON files it reads (collection.json, metadata.json)
+        // and the layer decodes it must do.
+        const int64_t decoded = FilesDecoded(report);
+        const DecodeFloor decodes = decoded > 0 ? LayerDecodeFloor(collection) : DecodeFloor{};
+        const double validate_floor =
+            floor + SimdjsonFloor(collection / "metadata.json") + decodes.cpu_seconds;
+        std::printf(
+            "validate floor: JSON %.3f + metadata %.3f + %lld layer decodes %.3f = %.3f "
+            "CPU s (validate decoded %lld files); validate / floor %.2f\n",
+            floor,
+            validate_floor - floor - decodes.cpu_seconds,
+            static_cast<long long>(decodes.files),
+            decodes.cpu_seconds,
+            validate_floor,
+            static_cast<long long>(decoded),
+            run.cpu_seconds / validate_floor);
+      }
       // frames/s and the ratio to the floor by CPU time (both sides single
       // threaded where the command is).
       std::printf("%-9s %9lld %9.2f %9.2f %11.0f %10.1f %9.3f %7.1f %9.3f %8.1f %6d\n",

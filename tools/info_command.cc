@@ -1,7 +1,6 @@
 // lsds info COLLECTION [--json]
 #include <iostream>
 
-#include "libs/collection/collection_reader.h"
 #include "libs/collection/summary.h"
 #include "tools/command.h"
 
@@ -21,12 +20,11 @@ int RunInfo(int argc, char** argv) {
                  {{"--frames", "lsds info summarizes every frame of the collection"},
                   {"--force", "lsds info writes no file"}});
   return RunCommand(app, common, argc, argv, [&] {
-    const CollectionReader reader(collection);
-    const CollectionSummary summary = Summarize(reader);
+    const CollectionInfo info = SummarizeCollection(collection);
     if (json) {
-      std::cout << SummaryToJson(reader, summary).dump(2) << "\n";
+      std::cout << SummaryToJson(info).dump(2) << "\n";
     } else {
-      std::cout << SummaryToText(reader, summary);
+      std::cout << SummaryToText(info);
     }
     return 0;
   });

@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "libs/collection/collection_reader.h"
+#include "libs/collection/file_sizes.h"
 #include "libs/collection/json_io.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/rig.h"
@@ -76,6 +77,7 @@ class Validator {
   void AddCheckSeconds();
 
   fs::path root_;
+  FileSizes file_sizes_{root_};  // the layer files' stat, their folders opened once
   ValidateOptions options_;
   Report report_;
   CollectionHeader header_;
@@ -350,8 +352,7 @@ void Validator::CheckFrameFiles(const Frame& frame, const std::string& pointer) 
       }
       continue;
     }
-    std::error_code ec;
-    if (!fs::is_regular_file(root_ / it->second, ec)) {
+    if (!file_sizes_.Size(it->second)) {  // no regular file there
       Location where(it->second);
       where.frame = frame.index;
       Emit("structure.missing-file",
@@ -507,16 +508,22 @@ void Validator::CheckReadFrame(Frame&& frame, size_t position, bool owned) {
     input.previous_boxes = before->second.boxes;
   }
   input.shot_start = frame.shot && *frame.shot == frame.index;
-  previous_ = frame;
-  previous_->objects.clear();
-  previous_->files.clear();
   PreviousFrame& remembered = previous_by_camera_[stream];
-  remembered.frame = frame;
   remembered.boxes.clear();
   for (const ObjectTruth& o : frame.objects)
     if (o.obb) remembered.boxes[o.instance_id] = *o.obb;
-  remembered.frame.objects.clear();
-  remembered.frame.files.clear();
+  {
+    // The frame remembered without its objects and files (not copied only
+    // to be cleared: they are most of a frame's allocations).
+    std::vector<ObjectTruth> objects = std::move(frame.objects);
+    auto files = std::move(frame.files);
+    frame.objects.clear();
+    frame.files.clear();
+    previous_ = frame;
+    remembered.frame = frame;
+    frame.objects = std::move(objects);
+    frame.files = std::move(files);
+  }
   if (!owned) return;  // another shard decodes its layers
   input.frame = std::move(frame);
   batch_.push_back(std::move(input));

@@ -1,10 +1,12 @@
 #include "libs/collection/collection_reader.h"
 
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
+#include "libs/collection/collection_read_once.h"
 #include "libs/collection/frame_text_reader.h"
 #include "libs/collection/json_array_split.h"
 #include "libs/collection/json_io.h"
@@ -47,6 +49,92 @@ CollectionReader::CollectionReader(const fs::path& root, ReaderOptions options)
   header_ = HeaderFromJson(header_json, file);
 }
 
+namespace {
+
+// The header text the split gives, parsed; false (the DOM stream reports it)
+// when it is not an object.
+// The DOM path of a frame: the frame schema (unless `options` leave it out),
+// then FrameFromJson, each reporting at the frame's JSON pointer.
+Frame CheckedFrameFromJson(const nlohmann::json& json,
+                           size_t index,
+                           const std::string& file,
+                           const ReaderOptions& options) {
+  const std::string pointer = "/frames/" + std::to_string(index);
+  if (options.validate_schema) {
+    JsonSchema::Get("collection.schema.json", "frame").ValidateOrThrow(json, file, pointer);
+  }
+  return FrameFromJson(json, file, pointer);
+}
+
+bool ParseHeaderText(const std::string& text, nlohmann::json* header) {
+  try {
+    *header = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+  return header->is_object();
+}
+
+}  // namespace
+
+bool ReadCollectionHeaderBeforeFrames(const fs::path& path, nlohmann::json* header) {
+  std::string text;
+  if (!ReadJsonTextBeforeArray(path, "frames", &text)) return false;
+  return ParseHeaderText(text + "]}", header);
+}
+
+namespace {
+
+// The header of a one-pass read, or null when the file does not allow it: a
+// header the usual reader would refuse is left to it, which reports what is
+// wrong first (a syntax error anywhere in the file before the header's).
+std::optional<CollectionHeader> HeaderBeforeFrames(const fs::path& path,
+                                                   const ReaderOptions& options,
+                                                   nlohmann::json* header_json) {
+  if (!ReadCollectionHeaderBeforeFrames(path, header_json)) return std::nullopt;
+  if (options.validate_schema &&
+      !JsonSchema::Get("collection.schema.json").Validate(*header_json).empty())
+    return std::nullopt;
+  try {
+    return HeaderFromJson(*header_json, path.string());
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+CollectionHeader ReadCollectionOnce(const fs::path& root,
+                                    const ReadCollection& read,
+                                    ReaderOptions options) {
+  CheckCollectionFolder(root);
+  const fs::path path = root / kCollectionFile;
+  nlohmann::json header_before;
+  if (const std::optional<CollectionHeader> header =
+          HeaderBeforeFrames(path, options, &header_before)) {
+    const std::string file = path.string();
+    bool whole_header = false;
+    read(*header, [&](const std::function<void(const Frame&)>& fn) {
+      nlohmann::json header_after;
+      StreamCollectionFramesAndHeader(
+          path,
+          [&](Frame&& frame, size_t) { fn(frame); },
+          [&](nlohmann::json&& json, size_t index) {
+            fn(CheckedFrameFromJson(json, index, file, options));
+          },
+          CollectionReader::FramePath::kFastWhereItFits,
+          &header_after);
+      whole_header = header_after == header_before;
+    });
+    if (whole_header) return *header;
+  }
+  // Members after the frames (or a header to report): the usual reader.
+  const CollectionReader reader(root, options);
+  read(reader.header(),
+       [&](const std::function<void(const Frame&)>& fn) { reader.ForEachFrame(fn); });
+  return reader.header();
+}
+
 size_t ReadCollectionHeader(const std::filesystem::path& path, nlohmann::json* header) {
   std::string header_text;
   FrameTextReader frames;
@@ -57,13 +145,7 @@ size_t ReadCollectionHeader(const std::filesystem::path& path, nlohmann::json* h
       &header_text,
       [&](std::string_view text, size_t) { return frames.IsWellFormed(text); },
       &count);
-  if (split) {
-    try {
-      *header = nlohmann::json::parse(header_text);
-      if (header->is_object()) return count;
-    } catch (const nlohmann::json::exception&) {
-    }
-  }
+  if (split && ParseHeaderText(header_text, header)) return count;
   // The DOM stream: it reports what the fast path did not take at its line
   // and column, or reads it.
   *header = nlohmann::json();
@@ -85,14 +167,11 @@ void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn)
 void CollectionReader::ForEachFrame(const std::function<void(const Frame&)>& fn,
                                     FramePath path) const {
   const std::string file = collection_path().string();
-  const JsonSchema& schema = JsonSchema::Get("collection.schema.json", "frame");
   StreamCollectionFrames(
       collection_path(),
       [&](Frame&& frame, size_t) { fn(frame); },
       [&](nlohmann::json&& json, size_t index) {
-        const std::string pointer = "/frames/" + std::to_string(index);
-        if (options_.validate_schema) schema.ValidateOrThrow(json, file, pointer);
-        fn(FrameFromJson(json, file, pointer));
+        fn(CheckedFrameFromJson(json, index, file, options_));
       },
       path);
 }
@@ -101,16 +180,25 @@ void StreamCollectionFrames(const std::filesystem::path& path,
                             const std::function<void(Frame&&, size_t)>& on_frame,
                             const std::function<void(nlohmann::json&&, size_t)>& on_json,
                             CollectionReader::FramePath frame_path) {
+  StreamCollectionFramesAndHeader(path, on_frame, on_json, frame_path, nullptr);
+}
+
+size_t StreamCollectionFramesAndHeader(const std::filesystem::path& path,
+                                       const std::function<void(Frame&&, size_t)>& on_frame,
+                                       const std::function<void(nlohmann::json&&, size_t)>& on_json,
+                                       CollectionReader::FramePath frame_path,
+                                       nlohmann::json* header) {
   size_t done = 0;
   if (frame_path == CollectionReader::FramePath::kFastWhereItFits) {
     // Each frame's text read by simdjson into the Frame; a frame the fast path
     // does not take is parsed from its text for the DOM path.
     FrameTextReader fast;
     Frame frame;
+    std::string header_text;
     const bool split = SplitJsonArrayMember(
         path,
         "frames",
-        nullptr,
+        header != nullptr ? &header_text : nullptr,
         [&](std::string_view text, size_t index) {
           if (fast.Read(text, &frame)) {
             on_frame(std::move(frame), index);
@@ -126,10 +214,11 @@ void StreamCollectionFrames(const std::filesystem::path& path,
           return true;
         },
         &done);
-    if (split) return;
+    if (split && (header == nullptr || ParseHeaderText(header_text, header))) return done;
   }
   // The DOM stream, from the first frame not handed out yet.
-  StreamJsonArrayMember(path, "frames", nullptr, [&](nlohmann::json&& json, size_t index) {
+  if (header != nullptr) *header = nlohmann::json();
+  return StreamJsonArrayMember(path, "frames", header, [&](nlohmann::json&& json, size_t index) {
     if (index >= done) on_json(std::move(json), index);
   });
 }

@@ -91,8 +91,10 @@ class ArraySplitter {
                 std::string_view array_key,
                 std::string* header_text,
                 const OnElement& on_element,
-                size_t* elements_done)
+                size_t* elements_done,
+                bool stop_at_array = false)
       : file_(file),
+        stop_at_array_(stop_at_array),
         array_key_(array_key),
         header_text_(header_text),
         on_element_(on_element),
@@ -112,6 +114,7 @@ class ArraySplitter {
       const auto c = static_cast<uint8_t>(buffer_[i_]);
       if (!(in_string_ ? StringByte(c) : Structural(c))) return false;
       ++i_;
+      if (stop_at_array_ && in_array_) return true;
     }
     if (nul_ || !root_closed_ || !array_seen_) return false;
     AppendHeader(end_);
@@ -270,6 +273,7 @@ class ArraySplitter {
   }
 
   std::FILE* file_;
+  bool stop_at_array_;  // done once the array opens (its header text ends with '[')
   std::string_view array_key_;
   std::string* header_text_;
   const OnElement& on_element_;
@@ -298,6 +302,16 @@ class ArraySplitter {
   bool root_closed_ = false;
 };
 
+using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+// `path` opened for reading, or null when it is not a regular file (no FIFO:
+// it could block) or cannot be opened.
+File OpenRegularFile(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return File(nullptr, &std::fclose);
+  return File(std::fopen(path.c_str(), "rb"), &std::fclose);
+}
+
 }  // namespace
 
 bool SplitJsonArrayMember(const std::filesystem::path& path,
@@ -306,13 +320,21 @@ bool SplitJsonArrayMember(const std::filesystem::path& path,
                           const OnElement& on_element,
                           size_t* elements_done) {
   if (elements_done != nullptr) *elements_done = 0;
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) return false;  // no FIFO: it could block
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                       &std::fclose);
+  const File file = OpenRegularFile(path);
   if (file == nullptr) return false;
   ArraySplitter splitter(file.get(), array_key, header_text, on_element, elements_done);
   return splitter.Run();
+}
+
+bool ReadJsonTextBeforeArray(const std::filesystem::path& path,
+                             std::string_view array_key,
+                             std::string* text_before) {
+  const File file = OpenRegularFile(path);
+  if (file == nullptr) return false;
+  const OnElement no_elements = [](std::string_view, size_t) { return false; };
+  ArraySplitter splitter(
+      file.get(), array_key, text_before, no_elements, nullptr, /*stop_at_array=*/true);
+  return splitter.Run() && !text_before->empty() && text_before->back() == '[';
 }
 
 }  // namespace lsds

@@ -36,4 +36,13 @@ bool SplitJsonArrayMember(
     const std::function<bool(std::string_view element, size_t index)>& on_element,
     size_t* elements_done);
 
+// The text of `path` up to and including the '[' that opens the root's
+// `array_key` array, read as SplitJsonArrayMember reads it (nothing after the
+// '[' is read): the members before the array, for a reader that takes the
+// array as the root's last member. False where SplitJsonArrayMember would
+// refuse the file before the array, or the file has no such array.
+bool ReadJsonTextBeforeArray(const std::filesystem::path& path,
+                             std::string_view array_key,
+                             std::string* text_before);
+
 }  // namespace lsds

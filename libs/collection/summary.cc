@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
+#include "libs/collection/collection_read_once.h"
+#include "libs/collection/file_sizes.h"
 #include "libs/collection/worldposition_layout.h"
 #include "libs/exr/exr_info.h"
 #include "libs/geometry/world_frame.h"
@@ -45,15 +48,22 @@ void ReadStoredChannels(const fs::path& file, LayerSummary* ls) {
 
 }  // namespace
 
-CollectionSummary Summarize(const CollectionReader& reader) {
+namespace {
+
+// The summary of the collection at `root` whose header is `header` and whose
+// frames `for_each_frame` streams.
+CollectionSummary Summarize(const fs::path& root,
+                            const CollectionHeader& header,
+                            const ForEachFrameFn& for_each_frame) {
   CollectionSummary s;
-  const CollectionHeader& header = reader.header();
   const WorldFrame& world = header.conventions.world;
   std::error_code ec;
-  s.collection_json_bytes = static_cast<int64_t>(fs::file_size(reader.collection_path(), ec));
-  for (const LayerInfo& layer : header.layers) s.layers[layer.name];
+  s.collection_json_bytes = static_cast<int64_t>(fs::file_size(root / kCollectionFile, ec));
+  std::vector<LayerSummary*> layer_summaries;  // in the order of header.layers
+  for (const LayerInfo& layer : header.layers) layer_summaries.push_back(&s.layers[layer.name]);
   for (const ClassInfo& c : header.classes) s.classes[c.id];
-  reader.ForEachFrame([&](const Frame& frame) {
+  FileSizes file_sizes(root);
+  for_each_frame([&](const Frame& frame) {
     const PinholeCamera& k = frame.camera.intrinsics;
     const double hfov = k.HorizontalFovDeg();
     const Rigid3d cam_from_enu = world.CamFromEnuMetres(frame.camera.cam_from_world_rotation,
@@ -72,17 +82,17 @@ CollectionSummary Summarize(const CollectionReader& reader) {
     s.camera_height_max = std::max(s.camera_height_max, height);
     s.resolutions[std::to_string(k.width) + "x" + std::to_string(k.height)]++;
     if (frame.rig_camera) s.rig_frames[*frame.rig_camera]++;
-    for (const LayerInfo& layer : header.layers) {
-      LayerSummary& ls = s.layers[layer.name];
-      const auto it = frame.files.find(layer.name);
-      const auto size = it == frame.files.end() ? static_cast<uintmax_t>(-1)
-                                                : fs::file_size(reader.root() / it->second, ec);
-      if (it == frame.files.end() || ec) {
+    for (size_t l = 0; l < header.layers.size(); ++l) {
+      LayerSummary& ls = *layer_summaries[l];
+      const auto it = frame.files.find(header.layers[l].name);
+      const std::optional<uintmax_t> size =
+          it == frame.files.end() ? std::nullopt : file_sizes.Size(it->second);
+      if (!size) {
         ++ls.missing_files;
       } else {
         ++ls.files;
-        ls.bytes += static_cast<int64_t>(size);
-        if (ls.stored_channels.empty()) ReadStoredChannels(reader.root() / it->second, &ls);
+        ls.bytes += static_cast<int64_t>(*size);
+        if (ls.stored_channels.empty()) ReadStoredChannels(root / it->second, &ls);
       }
     }
     for (const ObjectTruth& object : frame.objects) {
@@ -96,14 +106,26 @@ CollectionSummary Summarize(const CollectionReader& reader) {
   s.total_bytes = s.collection_json_bytes;
   for (const auto& [name, layer] : s.layers) s.total_bytes += layer.bytes;
   for (const MetadataVariant& variant : header.metadata) {
-    s.total_bytes += static_cast<int64_t>(fs::file_size(reader.root() / variant.file, ec));
+    s.total_bytes += static_cast<int64_t>(fs::file_size(root / variant.file, ec));
     if (ec) ec.clear();
   }
   return s;
 }
 
-nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSummary& s) {
-  const CollectionHeader& h = reader.header();
+}  // namespace
+
+CollectionInfo SummarizeCollection(const fs::path& root) {
+  CollectionInfo info{root, {}, {}};
+  info.header = ReadCollectionOnce(
+      root, [&](const CollectionHeader& header, const ForEachFrameFn& for_each_frame) {
+        info.summary = Summarize(root, header, for_each_frame);
+      });
+  return info;
+}
+
+nlohmann::json SummaryToJson(const CollectionInfo& info) {
+  const CollectionHeader& h = info.header;
+  const CollectionSummary& s = info.summary;
   nlohmann::json layers = nlohmann::json::array();
   for (const LayerInfo& layer : h.layers) {
     const LayerSummary& ls = s.layers.at(layer.name);
@@ -146,7 +168,7 @@ nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSum
            {"frames", s.rig_frames.count(c.name) ? s.rig_frames.at(c.name) : 0}});
     }
   }
-  return {{"path", Utf8Escaped(reader.root().string())},
+  return {{"path", Utf8Escaped(info.root.string())},
           {"format_version", h.format_version},
           {"generator", h.provenance.generator + " " + h.provenance.generator_version},
           {"frames", s.frames},
@@ -167,10 +189,11 @@ nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSum
           {"bytes", s.total_bytes}};
 }
 
-std::string SummaryToText(const CollectionReader& reader, const CollectionSummary& s) {
-  const CollectionHeader& h = reader.header();
+std::string SummaryToText(const CollectionInfo& info) {
+  const CollectionHeader& h = info.header;
+  const CollectionSummary& s = info.summary;
   std::ostringstream out;
-  out << "collection  " << reader.root().string() << "  (format " << h.format_version << ", "
+  out << "collection  " << info.root.string() << "  (format " << h.format_version << ", "
       << h.provenance.generator << " " << h.provenance.generator_version << ")\n";
   out << "frames      " << s.frames;
   if (s.frames != h.frame_count) out << "  (header declares " << h.frame_count << ")";

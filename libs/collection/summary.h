@@ -1,6 +1,7 @@
 // What `lsds info` reports: a one-pass summary of a collection.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
@@ -46,11 +47,19 @@ struct CollectionSummary {
   int64_t total_bytes = 0;
 };
 
-// Streams the frames once (stat-ing each layer file and reading the header of
-// its first one, not decoding pixels).
-CollectionSummary Summarize(const CollectionReader& reader);
+// A collection's folder, header and summary.
+struct CollectionInfo {
+  std::filesystem::path root;
+  CollectionHeader header;
+  CollectionSummary summary;
+};
 
-nlohmann::json SummaryToJson(const CollectionReader& reader, const CollectionSummary& summary);
-std::string SummaryToText(const CollectionReader& reader, const CollectionSummary& summary);
+// Reads collection.json once (collection_read_once.h), stat-ing each layer
+// file and reading the header of its first one, not decoding pixels. A bad
+// collection is the lsds::Error CollectionReader reports.
+CollectionInfo SummarizeCollection(const std::filesystem::path& root);
+
+nlohmann::json SummaryToJson(const CollectionInfo& info);
+std::string SummaryToText(const CollectionInfo& info);
 
 }  // namespace lsds

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "libs/collection/collection_read_once.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/frame_text_reader.h"
 #include "libs/collection/json_array_split.h"
@@ -224,6 +225,97 @@ TEST(FrameFastPath, CorruptedFramesGiveTheDomPathsErrors) {
       ErrorOf([&] { StreamJsonArrayMember(dir / "collection.json", "frames", nullptr, nullptr); });
   EXPECT_NE(dom_error, "");
   EXPECT_EQ(ErrorOf([&] { CollectionReader reader(dir.path()); }), dom_error);
+}
+
+// The frames and header of ReadCollectionOnce, with how many times it ran
+// `read`.
+struct ReadOnceResult {
+  std::string header;
+  std::vector<std::string> frames;
+  int runs = 0;
+};
+ReadOnceResult ReadOnce(const fs::path& root) {
+  ReadOnceResult result;
+  const CollectionHeader last = ReadCollectionOnce(
+      root, [&](const CollectionHeader& header, const ForEachFrameFn& for_each_frame) {
+        ++result.runs;
+        result.header = HeaderToJson(header).dump();
+        result.frames.clear();
+        for_each_frame(
+            [&](const Frame& frame) { result.frames.push_back(FrameToJson(frame).dump()); });
+      });
+  EXPECT_EQ(HeaderToJson(last).dump(), result.header);
+  return result;
+}
+
+// collection.json read once gives CollectionReader's header and frames (in one
+// run where the frames are the last member, in two where members follow them)
+// and its errors.
+TEST(FrameFastPath, ReadOnceGivesTheReadersHeaderFramesAndErrors) {
+  for (const std::string& example : kExampleCollections) {
+    SCOPED_TRACE(example);
+    const fs::path file = fs::path(testing::SourceDir()) / example;
+    testing::TempDir dir;
+    fs::copy_file(file, dir / "collection.json");
+    const CollectionReader reader(dir.path());
+    const ReadOnceResult once = ReadOnce(dir.path());
+    EXPECT_EQ(once.runs, 1);
+    EXPECT_EQ(once.header, HeaderToJson(reader.header()).dump());
+    EXPECT_EQ(once.frames, FramesAsJson(reader, Path::kFastWhereItFits));
+    ASSERT_FALSE(once.frames.empty());
+
+    // A member after the frames (and the same member before them, which it
+    // overrides, as nlohmann takes the last): the header of the whole file.
+    json moved = json::parse(ReadText(file));
+    json frames = moved["frames"];
+    moved.erase("frames");
+    json classes = moved["classes"];
+    moved["classes"] = json::array();
+    std::string text = moved.dump();
+    text.pop_back();
+    text += ",\"frames\":" + frames.dump() + ",\"classes\":" + classes.dump() + "}";
+    WriteText(dir / "collection.json", text);
+    const ReadOnceResult after = ReadOnce(dir.path());
+    EXPECT_EQ(after.runs, 2);
+    EXPECT_EQ(after.header, once.header);
+    EXPECT_EQ(after.frames, once.frames);
+  }
+  const fs::path file = fs::path(testing::SourceDir()) / kExampleCollections[1];
+  const std::string original = ReadText(file);
+  const std::string frame = FrameTexts(file).at(1);
+  // Syntax errors, a frame the schema refuses, a header the schema refuses
+  // after the frames, the end cut off: CollectionReader's message.
+  const std::vector<std::pair<std::string, std::string>> corruptions = {
+      {"\"time\":", "\"time\": 1.5.2, \"t\":"},
+      {"\"time\":", "\"time\": tru, \"t\":"},
+      {"\"time\":", "\"time\": [1}, \"t\":"},
+      {"\"time\":", "\"tyme\": 0, \"time\":"},
+      {"\"fx\":", "\"fx\": -1, \"fy_\":"},
+  };
+  for (const auto& [from, to] : corruptions) {
+    SCOPED_TRACE(to);
+    std::string collection = original;
+    const size_t at = collection.find(frame) + frame.find(from);
+    collection.replace(at, from.size(), to);
+    testing::TempDir dir;
+    WriteText(dir / "collection.json", collection);
+    const std::string error = ErrorOf([&] {
+      const CollectionReader reader(dir.path());
+      FramesAsJson(reader, Path::kFastWhereItFits);
+    });
+    EXPECT_NE(error, "");
+    EXPECT_EQ(ErrorOf([&] { ReadOnce(dir.path()); }), error);
+  }
+  for (const std::string& tail : {std::string(",\"format_version\": 7}"), std::string("")}) {
+    SCOPED_TRACE(tail);
+    std::string collection = original.substr(0, original.rfind('}'));
+    collection += tail;
+    testing::TempDir dir;
+    WriteText(dir / "collection.json", collection);
+    const std::string error = ErrorOf([&] { CollectionReader reader(dir.path()); });
+    EXPECT_NE(error, "");
+    EXPECT_EQ(ErrorOf([&] { ReadOnce(dir.path()); }), error);
+  }
 }
 
 // The syntax check never takes what nlohmann refuses.

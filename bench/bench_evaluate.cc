@@ -7,23 +7,29 @@
 // the dataset file (StreamCocoGroundTruth), the results file entry by entry (ReadCocoPredictions).
 //
 // Printed per size: the floor, parsing the results file with nlohmann's SAX parser and nothing
-// else (what any evaluator of the file does); read_s, reading and checking every entry; truth_s,
-// the dataset's image and category tables; coco_s, COCOeval's 12 numbers; report_s, the whole
-// report (the 12 numbers plus every stratum of every condition); the ratio (read + truth +
-// report) / floor; the process's peak resident memory (getrusage ru_maxrss, so run one size per
-// process to see each size's own peak), that peak per image, and the detections' share: the
-// bytes of the DetectionBox array read from the user's file.
+// else (what any evaluator of the file does); read_s, reading and checking every entry into the
+// detections grouped by image (DetectionsByImage, spilled past its share of the budget);
+// truth_s, the dataset's image and category tables; coco_s, COCOeval's 12 numbers (the results
+// read again); report_s, the whole report (the 12 numbers plus every stratum of every condition);
+// the ratio (read + truth + report) / floor; the process's CPU seconds (user + sys, all threads);
+// its peak resident memory (getrusage ru_maxrss, so run one size per process to see each size's
+// own peak), that peak per image; the runs written to the scratch file (detections, records)
+// and the records the accumulations kept (16 bytes each).
 //
+// --memory-budget is lsds evaluate's: the detections and the records each held in memory up to
+// 1/32 of it (docs/evaluate.md, "Memory"). --report-only skips the coco_s pass.
 // --write DIR keeps the files (DIR/gt_N.json, DIR/dt_N.json) for a peer: pycocotools' COCOeval on
 // the same data (bench/README.md, "lsds evaluate"); without it they go to a scratch folder.
 //
-//   bench_evaluate [--images 2000,10000] [--write DIR]
+//   bench_evaluate [--images 2000,10000] [--memory-budget 8G] [--report-only] [--write DIR]
 #include <stdlib.h>
 #include <sys/resource.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -36,6 +42,7 @@
 #include "evaluate/evaluate_run.h"
 #include "evaluate/predictions.h"
 #include "evaluate/strata.h"
+#include "libs/util/limits.h"
 
 namespace {
 
@@ -50,6 +57,25 @@ double PeakRssMib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+// The CPU seconds of this process so far, user + sys, every thread.
+double CpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6;
+  };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+// The results file read into detections grouped by image, as lsds evaluate reads it.
+std::unique_ptr<DetectionsByImage> ReadDetections(const fs::path& file,
+                                                  const EvaluationTruth& truth,
+                                                  uint64_t budget) {
+  auto detections = std::make_unique<DetectionsByImage>(SpillShare(budget));
+  ReadCocoPredictions(file, truth, [&](DetectionBox&& d) { detections->Add(std::move(d)); });
+  return detections;
 }
 
 // Writes DIR/gt_N.json and DIR/dt_N.json one entry at a time; returns the frames' facts.
@@ -138,16 +164,21 @@ int main(int argc, char** argv) {
   CLI::App app{"lsds evaluate: COCO metrics and strata of a large synthetic prediction set"};
   std::vector<int64_t> sizes = {2000, 10000};
   app.add_option("--images", sizes, "image counts")->delimiter(',');
-  std::string write;
+  std::string write, budget_text;
   app.add_option("--write", write, "keep the data as COCO files in this folder");
+  app.add_option("--memory-budget", budget_text, "lsds evaluate's --memory-budget (default 8G)");
+  bool report_only = false;
+  app.add_flag("--report-only", report_only, "skip the pass of the 12 numbers alone");
   CLI11_PARSE(app, argc, argv);
+  if (!budget_text.empty()) lsds::SetMemoryBudget(budget_text);
+  const uint64_t budget = lsds::MemoryBudgetBytes();
   fs::path folder = write;
   if (write.empty()) {
     std::string pattern = (fs::temp_directory_path() / "bench-evaluate-XXXXXX").string();
     if (mkdtemp(pattern.data()) == nullptr) return 2;
     folder = pattern;
   }
-  std::printf("%8s %10s %8s %8s %8s %8s %9s %9s %7s %9s %8s %8s %10s\n",
+  std::printf("%8s %10s %8s %8s %8s %8s %9s %9s %7s %8s %9s %8s %6s %6s %10s\n",
               "images",
               "dets",
               "floor_s",
@@ -157,9 +188,11 @@ int main(int argc, char** argv) {
               "report_s",
               "total_s",
               "ratio",
+              "cpu_s",
               "peak_mib",
               "kib/img",
-              "dets_mib",
+              "d_runs",
+              "r_runs",
               "kept");
   for (const int64_t images : sizes) {
     const std::map<int64_t, FrameFacts> frames = WriteData(images, folder);
@@ -173,30 +206,38 @@ int main(int argc, char** argv) {
     truth.frames = frames;
     const double truth_s = Seconds(t);
     t = Clock::now();
-    std::vector<DetectionBox> detections = ReadCocoPredictions(dt, truth);
+    std::unique_ptr<DetectionsByImage> detections = ReadDetections(dt, truth, budget);
     const double read = Seconds(t);
-    const size_t entries = detections.size();
-    const double detections_mib =
-        static_cast<double>(detections.capacity() * sizeof(DetectionBox)) / (1024.0 * 1024.0);
-    t = Clock::now();
-    const ImageMetrics coco = EvaluateImages(truth, {}, &detections, 30);  // sorted by image
-    const double coco_s = Seconds(t);
+    const int64_t entries = detections->size();
+    const size_t detection_runs = detections->runs();
+    double coco_s = 0;
+    std::optional<CocoStats> coco_stats;
+    if (!report_only) {
+      t = Clock::now();
+      coco_stats = EvaluateImages(truth, {}, detections.get(), 30, SpillShare(budget)).stats;
+      coco_s = Seconds(t);
+      detections = ReadDetections(dt, truth, budget);  // taken image by image: read again
+    }
     t = Clock::now();
     const std::vector<ConditionBins> conditions = BinConditions(truth);
-    const ImageMetrics whole = EvaluateImages(truth, conditions, &detections, 30);
+    const ImageMetrics whole =
+        EvaluateImages(truth, conditions, detections.get(), 30, SpillShare(budget));
     const double report = Seconds(t);
+    detections.reset();
+    if (!coco_stats) coco_stats = whole.stats;
     if (!write.empty()) {  // for comparison with the peer's stats
       std::printf("stats %lld:", static_cast<long long>(images));
-      for (const double v : *coco.stats) std::printf(" %.17g", v);
+      for (const double v : *coco_stats) std::printf(" %.17g", v);
       std::printf("\n");
     }
     const double peak = PeakRssMib();
     const double total = read + truth_s + report;
     std::printf(
-        "%8lld %10zu %8.3f %8.3f %8.3f %8.3f %9.3f %9.3f %7.1f %9.1f %8.2f %8.1f %10zu   (AP %.3f, "
-        "%zu conditions)\n",
+        "%8lld %10lld %8.3f %8.3f %8.3f %8.3f %9.3f %9.3f %7.1f %8.1f %9.1f %8.2f %6zu %6zu %10zu  "
+        " "
+        "(AP %.3f, %zu conditions)\n",
         static_cast<long long>(images),
-        entries,
+        static_cast<long long>(entries),
         floor,
         read,
         truth_s,
@@ -204,11 +245,13 @@ int main(int argc, char** argv) {
         report,
         total,
         total / floor,
+        CpuSeconds(),
         peak,
         peak * 1024.0 / static_cast<double>(images),
-        detections_mib,
+        detection_runs,
+        whole.spilled_runs,
         whole.kept_detections,
-        (*coco.stats)[0],
+        (*coco_stats)[0],
         whole.strata.size());
     std::fflush(stdout);
   }

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <utility>
 
+#include "evaluate/accumulation.h"
 #include "evaluate/dota_eval.h"
 
 namespace lsds::evaluate {
@@ -228,133 +229,6 @@ CellResult EvaluateCell(const EvaluationCell& cell,
   return result;
 }
 
-namespace {
-
-// accumulate's inner loop for one IoU threshold (cocoeval.py:380-410): the
-// precision at the 101 recall thresholds and the final recall.
-void PrecisionRecall(const std::vector<uint8_t>& tps,
-                     const std::vector<uint8_t>& fps,
-                     int64_t npig,
-                     std::array<double, kR>* q,
-                     double* recall) {
-  const size_t nd = tps.size();
-  std::vector<double> rc(nd), pr(nd);
-  double tp = 0, fp = 0;
-  for (size_t i = 0; i < nd; ++i) {
-    tp += tps[i];
-    fp += fps[i];
-    rc[i] = tp / static_cast<double>(npig);
-    pr[i] = tp / (fp + tp + std::numeric_limits<double>::epsilon());  // np.spacing(1)
-  }
-  *recall = nd ? rc.back() : 0;
-  for (size_t i = nd > 0 ? nd - 1 : 0; i > 0; --i)
-    if (pr[i] > pr[i - 1]) pr[i - 1] = pr[i];
-  q->fill(0);
-  // np.searchsorted(rc, recThrs, side='left'); an index past the end stops the
-  // loop (the bare except of :403-408) and leaves the rest 0.
-  for (int r = 0; r < kR; ++r) {
-    const auto at = std::lower_bound(rc.begin(), rc.end(), RecallThresholds()[r]);
-    if (at == rc.end()) break;
-    (*q)[r] = pr[static_cast<size_t>(at - rc.begin())];
-  }
-}
-
-constexpr uint32_t kRankBits = 7;  // ranks 0..99
-constexpr uint32_t kRankMask = (1u << kRankBits) - 1;
-static_assert(kLargestMaxDet <= (1 << kRankBits), "a rank fits its bits");
-static_assert(kRankBits + 2 * kT <= 32, "the flags fit 32 bits");
-
-bool TruePositive(uint32_t bits, int t) { return (bits >> (kRankBits + t)) & 1u; }
-bool FalsePositive(uint32_t bits, int t) { return (bits >> (kRankBits + kT + t)) & 1u; }
-
-}  // namespace
-
-AccumulationBuilder::AccumulationBuilder(size_t categories)
-    : records_(categories), counted_(categories, 0) {}
-
-std::vector<uint32_t> AccumulationOrder(const DetectionBox* detections, size_t count) {
-  std::vector<uint32_t> by_order(count);
-  std::iota(by_order.begin(), by_order.end(), uint32_t{0});
-  std::stable_sort(by_order.begin(), by_order.end(), [&](uint32_t a, uint32_t b) {
-    if (detections[a].score != detections[b].score)
-      return detections[a].score > detections[b].score;
-    return detections[a].image_id < detections[b].image_id;
-  });
-  std::vector<uint32_t> order(count);
-  for (size_t i = 0; i < count; ++i) order[by_order[i]] = static_cast<uint32_t>(i);
-  return order;
-}
-
-void AccumulationBuilder::Add(const EvaluationCell& cell,
-                              const CellResult& result,
-                              const uint32_t* order) {
-  counted_[cell.category] += result.ground_truth_counted;
-  const size_t D = result.scores.size();
-  for (size_t d = 0; d < D; ++d) {
-    uint32_t flags = 0;
-    for (int t = 0; t < kT; ++t) {
-      const size_t at = t * D + d;
-      if (result.ignored[at]) continue;  // dtIg: neither (cocoeval.py:377-378)
-      flags |= 1u << (result.matched[at] ? t : kT + t);
-    }
-    if (flags == 0) continue;
-    records_[cell.category].push_back(
-        Record{order[cell.dts[d]], static_cast<uint32_t>(d) | flags << kRankBits});
-  }
-}
-
-size_t AccumulationBuilder::kept_detections() const {
-  size_t n = 0;
-  for (const auto& r : records_) n += r.size();
-  return n;
-}
-
-// accumulate (cocoeval.py:353-410): per category, each image's detections cut
-// to maxDet and concatenated in image order, then sorted stably by score
-// (:362-371), which is AccumulationOrder's.
-Accumulation AccumulationBuilder::Finish(const std::vector<const AccumulationBuilder*>& parts) {
-  const size_t K = parts.empty() ? 0 : parts.front()->records_.size();
-  Accumulation a;
-  a.categories = K;
-  a.precision.assign(static_cast<size_t>(kT) * kR * K * kM, -1.0);
-  a.recall.assign(static_cast<size_t>(kT) * K * kM, -1.0);
-  for (const AccumulationBuilder* part : parts) a.images += part->images_;
-  std::vector<Record> dets;
-  for (size_t k = 0; k < K; ++k) {
-    int64_t npig = 0;
-    for (const AccumulationBuilder* part : parts) npig += part->counted_[k];
-    a.ground_truth += npig;
-    if (npig == 0) continue;  // :360-361, :372-374
-    for (int m = 0; m < kM; ++m) {
-      dets.clear();
-      for (const AccumulationBuilder* part : parts)
-        for (const Record& r : part->records_[k])
-          if ((r.bits & kRankMask) < static_cast<uint32_t>(kMaxDetections[m])) dets.push_back(r);
-      std::sort(dets.begin(), dets.end(), [](const Record& x, const Record& y) {
-        return x.order < y.order;
-      });
-      for (int t = 0; t < kT; ++t) {
-        std::vector<uint8_t> tps(dets.size()), fps(dets.size());
-        for (size_t i = 0; i < dets.size(); ++i) {
-          tps[i] = TruePositive(dets[i].bits, t);
-          fps[i] = FalsePositive(dets[i].bits, t);
-        }
-        std::array<double, kR> q{};
-        double recall = 0;
-        PrecisionRecall(tps, fps, npig, &q, &recall);
-        a.recall[(static_cast<size_t>(t) * K + k) * kM + m] = recall;
-        for (int r = 0; r < kR; ++r)
-          a.precision[((static_cast<size_t>(t) * kR + r) * K + k) * kM + m] = q[r];
-        if (t == 0 && m == kM - 1) {
-          a.matched_50 += std::accumulate(tps.begin(), tps.end(), int64_t{0});
-          a.false_positives_50 += std::accumulate(fps.begin(), fps.end(), int64_t{0});
-        }
-      }
-    }
-  }
-  return a;
-}
-
 CocoEvaluator::CocoEvaluator(CocoData data) : data_(std::move(data)) {
   // COCOeval.evaluate: unique sorted image and category ids (cocoeval.py:134-136).
   for (std::vector<int64_t>* ids : {&data_.image_ids, &data_.category_ids}) {
@@ -368,7 +242,6 @@ CocoEvaluator::CocoEvaluator(CocoData data) : data_(std::move(data)) {
                      data_.image_ids,
                      data_.category_ids,
                      data_.iou_type);
-  order_ = AccumulationOrder(data_.detections.data(), data_.detections.size());
 }
 
 CocoEvaluator::~CocoEvaluator() = default;
@@ -380,13 +253,15 @@ Accumulation CocoEvaluator::Accumulate(const Selection& selection) const {
     if (!selection.image || selection.image(image)) builder.CountImage();
   for (const EvaluationCell& cell : cells_) {
     if (selection.image && !selection.image(cell.image_id)) continue;
+    const auto image =
+        std::lower_bound(data_.image_ids.begin(), data_.image_ids.end(), cell.image_id);
     builder.Add(cell,
                 EvaluateCell(cell,
                              data_.ground_truth.data(),
                              data_.detections.data(),
                              selection.ground_truth,
                              selection.detection),
-                order_.data());
+                static_cast<uint32_t>(image - data_.image_ids.begin()));
   }
   return builder.Finish();
 }

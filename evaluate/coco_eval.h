@@ -11,7 +11,6 @@
 
 #include <array>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <optional>
 #include <utility>
@@ -95,6 +94,7 @@ struct Accumulation {
   size_t categories = 0;
   std::vector<double> precision;   // [t][r][k][m], -1 where nothing was counted
   std::vector<double> recall;      // [t][k][m], -1 where nothing was counted
+  std::vector<double> scores;      // [t][r][k][m]: accumulate's `scores`, -1 likewise
   int64_t images = 0;              // images selected
   int64_t ground_truth = 0;        // ground-truth boxes counted (not ignored)
   int64_t matched_50 = 0;          // of them, matched at IoU .5
@@ -161,44 +161,6 @@ CellResult EvaluateCell(const EvaluationCell& cell,
                         const std::function<bool(size_t)>& selected_gt,
                         const std::function<bool(size_t)>& selected_detection);
 
-// accumulate's order of detections (cocoeval.py:362-371: each image's
-// detections by score, concatenated in image order, then sorted stably by
-// score) as one number per detection: its position when sorted by score
-// (highest first), then image id, then file order. Any category's detections
-// in that order are in accumulate's.
-std::vector<uint32_t> AccumulationOrder(const DetectionBox* detections, size_t count);
-
-// What COCOeval.accumulate needs of every evaluated cell of one selection, and
-// nothing more: per category the number of ground-truth boxes counted, and per
-// detection that counts somewhere its place in accumulate's order, its rank in
-// its image (for maxDets) and its true / false positive flags at the 10 IoU
-// thresholds (8 bytes). A detection that is ignored at every threshold is not
-// kept: it adds neither a true nor a false positive, so the precision and
-// recall it would repeat are those of the detection before it. Cells may be
-// added in any order.
-class AccumulationBuilder {
- public:
-  explicit AccumulationBuilder(size_t categories);
-  void CountImage() { ++images_; }
-  // `order`: AccumulationOrder of the detections `cell` indexes.
-  void Add(const EvaluationCell& cell, const CellResult& result, const uint32_t* order);
-  // COCOeval.accumulate (cocoeval.py:315-418) over the cells of every one of
-  // `parts` (builders of the same selection fed with different images).
-  static Accumulation Finish(const std::vector<const AccumulationBuilder*>& parts);
-  Accumulation Finish() const { return Finish({this}); }
-  size_t kept_detections() const;
-
- private:
-  struct Record {
-    uint32_t order;
-    uint32_t bits;  // rank (7 bits), then 10 true-positive and 10 false-positive flags
-  };
-  // Per category; a deque grows by small blocks, without a vector's spare half.
-  std::vector<std::deque<Record>> records_;
-  std::vector<int64_t> counted_;  // ground truth counted, per category
-  int64_t images_ = 0;
-};
-
 class CocoEvaluator {
  public:
   // Groups the boxes per image and category and computes their IoUs once
@@ -215,7 +177,6 @@ class CocoEvaluator {
  private:
   CocoData data_;
   std::vector<EvaluationCell> cells_;  // category, then image order
-  std::vector<uint32_t> order_;        // AccumulationOrder of the detections
 };
 
 // COCOeval.summarize for detections (cocoeval.py:458-472) from the

@@ -27,13 +27,21 @@ EvaluationReport BaseReport(const EvaluationTruth& truth, int64_t thin_below) {
   return report;
 }
 
-// The predictions of the COCO path in any of the formats that hold boxes.
-std::vector<DetectionBox> ReadBoxPredictions(const EvaluateOptions& options,
-                                             const EvaluationTruth& truth) {
-  if (options.format == "yolo") return ReadYoloDetections(options.predictions, truth);
-  if (options.format == "mot")
-    return ReadMotDetections(options.predictions, truth, ReadMotSequences(options.truth));
-  return ReadCocoPredictions(options.predictions, truth);
+// The predictions of the COCO path in any of the formats that hold boxes,
+// into `out` in file order (a COCO results file entry by entry).
+void ReadBoxPredictions(const EvaluateOptions& options,
+                        const EvaluationTruth& truth,
+                        DetectionsByImage* out) {
+  if (options.format == "coco") {
+    ReadCocoPredictions(
+        options.predictions, truth, [out](DetectionBox&& d) { out->Add(std::move(d)); });
+    return;
+  }
+  std::vector<DetectionBox> detections =
+      options.format == "yolo"
+          ? ReadYoloDetections(options.predictions, truth)
+          : ReadMotDetections(options.predictions, truth, ReadMotSequences(options.truth));
+  for (DetectionBox& d : detections) out->Add(std::move(d));
 }
 
 }  // namespace
@@ -75,17 +83,25 @@ EvaluationReport CoverageReport(const EvaluationTruth& truth, int64_t thin_below
 
 EvaluationReport Evaluate(const EvaluationTruth& truth,
                           std::vector<DetectionBox> detections,
-                          int64_t thin_below) {
+                          int64_t thin_below,
+                          uint64_t memory_budget) {
+  DetectionsByImage by_image(SpillShare(memory_budget));
+  for (DetectionBox& d : detections) by_image.Add(std::move(d));
+  std::vector<DetectionBox>().swap(detections);
+  return Evaluate(truth, &by_image, thin_below, memory_budget);
+}
+
+EvaluationReport Evaluate(const EvaluationTruth& truth,
+                          DetectionsByImage* detections,
+                          int64_t thin_below,
+                          uint64_t memory_budget) {
   EvaluationReport report = BaseReport(truth, thin_below);
-  report.detections = static_cast<int64_t>(detections.size());
+  report.detections = detections->size();
   report.iou_type = truth.coco.iou_type == IouType::kMask ? "segm" : "bbox";
-  // Each image's detections together, in file order (the order COCOeval
-  // breaks score ties in).
-  std::stable_sort(
-      detections.begin(), detections.end(), [](const DetectionBox& a, const DetectionBox& b) {
-        return a.image_id < b.image_id;
-      });
-  ImageMetrics metrics = EvaluateImages(truth, BinConditions(truth), &detections, thin_below);
+  // Each image's detections in file order (the order COCOeval breaks score
+  // ties in), image by image.
+  ImageMetrics metrics = EvaluateImages(
+      truth, BinConditions(truth), detections, thin_below, SpillShare(memory_budget));
   report.stats = metrics.stats;
   report.all = std::move(metrics.all);
   report.strata = std::move(metrics.strata);
@@ -154,7 +170,12 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
     }
     result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
-    result.report = Evaluate(truth, ReadBoxPredictions(options, truth), options.thin_below);
+    // The detections and the accumulation records each held up to 1/32 of
+    // --memory-budget, the rest in a scratch file (docs/evaluate.md, "Memory").
+    const uint64_t budget = MemoryBudgetBytes();
+    DetectionsByImage detections(SpillShare(budget));
+    ReadBoxPredictions(options, truth, &detections);
+    result.report = Evaluate(truth, &detections, options.thin_below, budget);
     result.report.predictions = Utf8Escaped(options.predictions.string());
     for (const std::string& t : options.fail_under)
       result.report.thresholds.push_back(ParseThreshold(t));

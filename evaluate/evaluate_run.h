@@ -3,12 +3,15 @@
 // or, without predictions, the coverage of the condition space.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "evaluate/detections_by_image.h"
 #include "evaluate/evaluate_report.h"
 #include "evaluate/ground_truth.h"
+#include "libs/util/limits.h"
 
 namespace lsds::evaluate {
 
@@ -40,10 +43,26 @@ struct EvaluateResult {
 // lsds::Error (exit 2) on bad input, naming the file and entry.
 EvaluateResult RunEvaluate(const EvaluateOptions& options);
 
-// The report of `truth` and `detections` (no files read or written).
+// The report of `truth` and `detections` (no files read or written). The
+// detections and the accumulation records each take at most SpillShare of
+// `memory_budget` in memory, the rest goes to a scratch file
+// (docs/evaluate.md, "Memory"); the numbers are the same either way.
 EvaluationReport Evaluate(const EvaluationTruth& truth,
                           std::vector<DetectionBox> detections,
-                          int64_t thin_below);
+                          int64_t thin_below,
+                          uint64_t memory_budget = MemoryBudgetBytes());
+
+// The same for detections already grouped by image.
+EvaluationReport Evaluate(const EvaluationTruth& truth,
+                          DetectionsByImage* detections,
+                          int64_t thin_below,
+                          uint64_t memory_budget = MemoryBudgetBytes());
+
+// The share of the memory budget the detections held in memory may take, and
+// the same share for the accumulation records: 1/32 (256 MiB of the default
+// 8G), so that a large evaluation stays well under the budget whatever else
+// the process holds.
+inline uint64_t SpillShare(uint64_t memory_budget) { return memory_budget / 32; }
 
 // The coverage report of `truth`.
 EvaluationReport CoverageReport(const EvaluationTruth& truth, int64_t thin_below);

@@ -211,20 +211,20 @@ std::vector<DetectionBox> ParseCocoPredictions(const std::string& text,
   return detections;
 }
 
-std::vector<DetectionBox> ReadCocoPredictions(const std::filesystem::path& file,
-                                              const EvaluationTruth& truth) {
+void ReadCocoPredictions(const std::filesystem::path& file,
+                         const EvaluationTruth& truth,
+                         const std::function<void(DetectionBox&&)>& on_detection) {
   // The entries one at a time as they are parsed (no document of the whole
   // list is built); a file that does not parse as a list is read again whole
   // by ParseCocoPredictions, which says what is wrong with it (an empty file,
   // NaN or Infinity at their entry, a syntax error at its line and column).
   EntryReader reader(file.string(), truth);
-  std::vector<DetectionBox> detections;
   bool entry_failed = false;
   try {
     StreamJsonArrays(file, {}, nullptr, [&](const std::string&, json&& entry, size_t index) {
       try {
         if (index == 0) reader.SetBoxesGiven(entry);
-        detections.push_back(reader.Read(entry, "/" + std::to_string(index)));
+        on_detection(reader.Read(entry, "/" + std::to_string(index)));
       } catch (...) {
         entry_failed = true;
         throw;
@@ -232,10 +232,18 @@ std::vector<DetectionBox> ReadCocoPredictions(const std::filesystem::path& file,
     });
   } catch (const Error&) {
     if (entry_failed) throw;
-    detections.clear();
-    detections.shrink_to_fit();
-    return ParseCocoPredictions(ReadTextFile(file), file.string(), truth);
+    // Entries were handed out already: the whole-file parse only names the
+    // fault; should it find none, the streaming parser's error stands.
+    ParseCocoPredictions(ReadTextFile(file), file.string(), truth);
+    throw;
   }
+}
+
+std::vector<DetectionBox> ReadCocoPredictions(const std::filesystem::path& file,
+                                              const EvaluationTruth& truth) {
+  std::vector<DetectionBox> detections;
+  ReadCocoPredictions(
+      file, truth, [&detections](DetectionBox&& d) { detections.push_back(std::move(d)); });
   detections.shrink_to_fit();
   return detections;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,11 @@ namespace lsds::evaluate {
 // json.dump writes, included), a negative width or height.
 std::vector<DetectionBox> ReadCocoPredictions(const std::filesystem::path& file,
                                               const EvaluationTruth& truth);
+
+// The same handing each entry to `on_detection` as it is read, in file order.
+void ReadCocoPredictions(const std::filesystem::path& file,
+                         const EvaluationTruth& truth,
+                         const std::function<void(DetectionBox&&)>& on_detection);
 
 // The same for a document in memory (`file` names it in messages).
 std::vector<DetectionBox> ParseCocoPredictions(const std::string& text,

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <set>
 #include <tuple>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+
+#include "evaluate/accumulation.h"
 
 namespace lsds::evaluate {
 
@@ -15,7 +18,11 @@ namespace {
 
 constexpr double kZ95 = 1.959963984540054;  // the 97.5 % quantile of the normal distribution
 
-constexpr size_t kImagesPerBatch = 256;  // evaluated at once on the TBB threads
+// Images evaluated at once on the TBB threads; fewer when the records may
+// take little memory, since they are spilled between batches only.
+size_t ImagesPerBatch(uint64_t record_memory_bytes) {
+  return static_cast<size_t>(std::clamp<uint64_t>(record_memory_bytes >> 16, 1, 256));
+}
 
 // What COCOeval evaluates an image for: everything, the four area ranges, and
 // one bin of a condition (a stratum): the images of a frame condition's bin;
@@ -53,12 +60,11 @@ struct Tally {
   }
 };
 
-// One image with its detections (a slice of the sorted detections).
+// One image with its detections, in file order.
 struct ImageWork {
   TruthImage truth;
-  const DetectionBox* detections = nullptr;
-  size_t detection_count = 0;
-  const uint32_t* order = nullptr;  // AccumulationOrder of the detections
+  std::vector<DetectionBox> detections;
+  uint32_t image_index = 0;  // the image's place in the ascending image ids
 };
 
 class ImageEvaluator {
@@ -97,13 +103,13 @@ class ImageEvaluator {
     std::vector<std::vector<int>> detection_bin(conditions_.size());
     for (size_t c = 0; c < conditions_.size(); ++c) {
       if (!conditions_[c].bins_detections) continue;
-      for (size_t d = 0; d < work.detection_count; ++d)
-        detection_bin[c].push_back(DetectionBin(conditions_[c], work.detections[d]));
+      for (const DetectionBox& d : work.detections)
+        detection_bin[c].push_back(DetectionBin(conditions_[c], d));
     }
     const std::vector<EvaluationCell> cells = MakeCells(image.boxes.data(),
                                                         G,
-                                                        work.detections,
-                                                        work.detection_count,
+                                                        work.detections.data(),
+                                                        work.detections.size(),
                                                         truth_.coco.image_ids,
                                                         category_ids_,
                                                         truth_.coco.iou_type);
@@ -114,8 +120,8 @@ class ImageEvaluator {
       builder.CountImage();
       for (const EvaluationCell& cell : cells)
         builder.Add(cell,
-                    EvaluateCell(cell, image.boxes.data(), work.detections, gt, detection),
-                    work.order);
+                    EvaluateCell(cell, image.boxes.data(), work.detections.data(), gt, detection),
+                    work.image_index);
     };
     evaluate(0, {}, {});
     for (size_t a = 0; a < CocoAreaRanges().size(); ++a) {
@@ -256,6 +262,18 @@ ImageMetrics EvaluateImages(const EvaluationTruth& truth,
                             const std::vector<ConditionBins>& conditions,
                             const std::vector<DetectionBox>* detections,
                             int64_t thin_below) {
+  if (detections == nullptr)
+    return EvaluateImages(truth, conditions, static_cast<DetectionsByImage*>(nullptr), thin_below);
+  DetectionsByImage by_image(std::numeric_limits<uint64_t>::max());
+  for (const DetectionBox& d : *detections) by_image.Add(d);
+  return EvaluateImages(truth, conditions, &by_image, thin_below);
+}
+
+ImageMetrics EvaluateImages(const EvaluationTruth& truth,
+                            const std::vector<ConditionBins>& conditions,
+                            DetectionsByImage* detections,
+                            int64_t thin_below,
+                            uint64_t record_memory_bytes) {
   Selections selections;
   for (size_t c = 0; c < conditions.size(); ++c)
     for (int bin = 0; bin < static_cast<int>(conditions[c].bins.size()); ++bin)
@@ -269,55 +287,59 @@ ImageMetrics EvaluateImages(const EvaluationTruth& truth,
   tbb::enumerable_thread_specific<Tally> tallies(
       [&] { return Tally(selections.size(), K, conditions); });
 
-  // The images in batches: read serially (streamed), evaluated in parallel.
-  const std::vector<uint32_t> order =
-      detections ? AccumulationOrder(detections->data(), detections->size())
-                 : std::vector<uint32_t>();
+  // The images in batches: read serially (streamed), evaluated in parallel;
+  // between batches, the records held go to a sorted run when they take more
+  // than their share of memory.
+  AccumulationRuns runs(selections.size(), K, record_memory_bytes);
+  const auto spill_when_over = [&] {
+    size_t held = 0;
+    for (const Tally& tally : tallies)
+      for (const AccumulationBuilder& builder : tally.builders) held += builder.held_records();
+    if (held * sizeof(AccumulationBuilder::Record) <= record_memory_bytes) return;
+    std::vector<std::vector<AccumulationBuilder*>> parts(selections.size());
+    for (Tally& tally : tallies)
+      for (size_t s = 0; s < selections.size(); ++s) parts[s].push_back(&tally.builders[s]);
+    runs.Spill(parts);
+  };
   std::vector<ImageWork> batch;
-  size_t next_detection = 0;
+  const size_t images_per_batch = ImagesPerBatch(record_memory_bytes);
+  uint32_t image_index = 0;
   const auto flush = [&] {
     tbb::parallel_for(
         size_t{0}, batch.size(), [&](size_t i) { evaluator.Evaluate(batch[i], &tallies.local()); });
     batch.clear();
+    if (detections != nullptr) spill_when_over();
   };
   truth.ForEachImage([&](TruthImage&& image) {
     ImageWork work;
-    if (detections != nullptr) {
-      const std::vector<DetectionBox>& all = *detections;
-      while (next_detection < all.size() && all[next_detection].image_id < image.image_id)
-        ++next_detection;  // an image the truth does not have: not evaluated
-      const size_t first = next_detection;
-      while (next_detection < all.size() && all[next_detection].image_id == image.image_id)
-        ++next_detection;
-      work.detections = all.data() + first;
-      work.detection_count = next_detection - first;
-      work.order = order.data() + first;
-    }
+    work.image_index = image_index++;
+    if (detections != nullptr) work.detections = detections->Take(image.image_id);
     work.truth = std::move(image);
     batch.push_back(std::move(work));
-    if (batch.size() == kImagesPerBatch) flush();
+    if (batch.size() == images_per_batch) flush();
   });
   flush();
-  size_t out_kept = 0;
+  size_t out_kept = runs.records();
   Tally total(selections.size(), K, conditions);
   std::vector<std::vector<const AccumulationBuilder*>> parts(selections.size());
   for (Tally& tally : tallies) {
     total.AddCounts(tally);
     for (size_t s = 0; s < selections.size(); ++s) {
       parts[s].push_back(&tally.builders[s]);
-      out_kept += tally.builders[s].kept_detections();
+      out_kept += tally.builders[s].held_records();
     }
   }
 
   ImageMetrics out;
   out.kept_detections = out_kept;
+  out.spilled_runs = runs.runs();
   out.coverage = CoverageOf(conditions, total, thin_below);
   if (detections == nullptr) return out;
   // Every selection's accumulation, all at once (TBB), each into its own slot;
   // a selection's records are freed once it is accumulated.
   std::vector<Accumulation> accumulated(selections.size());
   tbb::parallel_for(size_t{0}, selections.size(), [&](size_t s) {
-    accumulated[s] = AccumulationBuilder::Finish(parts[s]);
+    accumulated[s] = AccumulationBuilder::Finish(parts[s], &runs, s);
     for (Tally& tally : tallies) tally.builders[s] = AccumulationBuilder(K);
   });
   out.all = accumulated[0];

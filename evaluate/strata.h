@@ -2,13 +2,16 @@
 // coverage of the condition space (docs/evaluate.md, "Strata", "Coverage").
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "evaluate/coco_eval.h"
 #include "evaluate/conditions.h"
+#include "evaluate/detections_by_image.h"
 
 namespace lsds::evaluate {
 
@@ -59,14 +62,31 @@ struct ImageMetrics {
   Accumulation all;                      // no area range: the counts at IoU .5
   std::vector<ConditionMetrics> strata;  // with detections
   std::vector<ConditionCoverage> coverage;
-  size_t kept_detections = 0;  // what the accumulations held, over all selections
+  size_t kept_detections = 0;  // the accumulations' records, over all selections
+  size_t spilled_runs = 0;     // the runs of records written to the scratch file
 };
 
 // Evaluates the images one at a time as the truth hands them out (several at
 // once on the TBB threads), each against its own detections as soon as both
 // are known, keeping only what COCOeval.accumulate needs per area range and
-// stratum (AccumulationBuilder). `detections` (null: coverage only) must be
-// sorted by image id, stably.
+// stratum (AccumulationBuilder, evaluate/accumulation.h): in memory up to
+// `record_memory_bytes`, in sorted runs on a scratch file above it.
+// `detections` (null: coverage only) are taken image by image.
+ImageMetrics EvaluateImages(const EvaluationTruth& truth,
+                            const std::vector<ConditionBins>& conditions,
+                            DetectionsByImage* detections,
+                            int64_t thin_below,
+                            uint64_t record_memory_bytes = std::numeric_limits<uint64_t>::max());
+
+// Coverage only (no detections).
+inline ImageMetrics EvaluateImages(const EvaluationTruth& truth,
+                                   const std::vector<ConditionBins>& conditions,
+                                   std::nullptr_t,
+                                   int64_t thin_below) {
+  return EvaluateImages(truth, conditions, static_cast<DetectionsByImage*>(nullptr), thin_below);
+}
+
+// The same with every detection in memory, in file order.
 ImageMetrics EvaluateImages(const EvaluationTruth& truth,
                             const std::vector<ConditionBins>& conditions,
                             const std::vector<DetectionBox>* detections,

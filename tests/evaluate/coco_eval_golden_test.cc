@@ -10,6 +10,7 @@
 #include "evaluate/evaluate_run.h"
 #include "evaluate/ground_truth.h"
 #include "evaluate/predictions.h"
+#include "evaluate/strata.h"
 #include "libs/util/json_errors.h"
 #include "tests/evaluate/golden_fixture.h"
 
@@ -115,6 +116,32 @@ TEST_F(CocoEvalGolden, TheStreamedEvaluationGivesTheSameStats) {
     ASSERT_TRUE(report.stats) << golden.name;
     for (size_t i = 0; i < report.stats->size(); ++i)
       EXPECT_NEAR((*report.stats)[i], golden.stats[i], 1e-9)
+          << golden.name << " " << CocoStatNames()[i];
+  }
+}
+
+TEST_F(CocoEvalGolden, TheSpilledEvaluationGivesTheSameStats) {
+  // The same with a memory budget of a few bytes: every detection read goes to
+  // a run sorted by image on the scratch file, every accumulation record of
+  // every selection (area ranges and strata) to sorted runs merged at the end.
+  TruthOptions options;
+  options.collection = C();
+  const EvaluationTruth streamed = StreamCollectionTruth(options);
+  for (const Golden& golden : kGoldens) {
+    EvaluationTruth held = *truth_;
+    const bool crowd = std::string(golden.name) == "crowd";
+    if (crowd) AddCrowdRegions("crowd_regions.json", &held);
+    const EvaluationTruth& truth = crowd ? held : streamed;
+    DetectionsByImage detections(1024);
+    ReadCocoPredictions(GoldenData(std::string(golden.name) + ".json"),
+                        truth,
+                        [&](DetectionBox&& d) { detections.Add(std::move(d)); });
+    EXPECT_GT(detections.runs(), 1u) << golden.name;
+    const ImageMetrics metrics = EvaluateImages(truth, BinConditions(truth), &detections, 30, 1024);
+    EXPECT_GT(metrics.spilled_runs, 1u) << golden.name;
+    ASSERT_TRUE(metrics.stats) << golden.name;
+    for (size_t i = 0; i < metrics.stats->size(); ++i)
+      EXPECT_NEAR((*metrics.stats)[i], golden.stats[i], 1e-9)
           << golden.name << " " << CocoStatNames()[i];
   }
 }

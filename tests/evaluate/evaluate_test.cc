@@ -9,6 +9,7 @@
 #include "evaluate/conditions.h"
 #include "evaluate/evaluate_run.h"
 #include "evaluate/predictions.h"
+#include "evaluate/strata.h"
 #include "libs/collection/schema.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/json_errors.h"
@@ -119,6 +120,46 @@ TEST_F(EvaluateOnGolden, EveryStratumIsTheAccumulationOfItsSelectionOverAllImage
   // And the report's twelve numbers are the evaluator's.
   ASSERT_TRUE(r.stats);
   EXPECT_EQ(*r.stats, evaluator.Stats());
+}
+
+TEST_F(EvaluateOnGolden, SpilledStrataEqualTheInMemoryOnes) {
+  // A budget of 4 KiB (1 KiB each for the detections and the records) puts
+  // nearly everything on the scratch file; every number of every stratum is
+  // that of the evaluation held in memory, exactly.
+  const std::vector<DetectionBox> detections =
+      ReadCocoPredictions(GoldenData("jittered.json"), *truth_);
+  const EvaluationReport held = Evaluate(*truth_, detections, 30);
+  const EvaluationReport spilled = Evaluate(*truth_, detections, 30, 4096);
+  ASSERT_TRUE(held.stats && spilled.stats);
+  EXPECT_EQ(*held.stats, *spilled.stats);
+  EXPECT_EQ(held.all.precision, spilled.all.precision);
+  EXPECT_EQ(held.all.recall, spilled.all.recall);
+  EXPECT_EQ(held.all.scores, spilled.all.scores);
+  ASSERT_EQ(held.strata.size(), spilled.strata.size());
+  int64_t compared = 0;
+  for (size_t c = 0; c < held.strata.size(); ++c) {
+    ASSERT_EQ(held.strata[c].strata.size(), spilled.strata[c].strata.size());
+    for (size_t i = 0; i < held.strata[c].strata.size(); ++i) {
+      const StratumMetrics& a = held.strata[c].strata[i];
+      const StratumMetrics& b = spilled.strata[c].strata[i];
+      const std::string at = held.strata[c].name + " " + a.label;
+      EXPECT_EQ(a.label, b.label) << at;
+      EXPECT_EQ(a.objects, b.objects) << at;
+      EXPECT_EQ(a.frames, b.frames) << at;
+      EXPECT_EQ(a.matched_50, b.matched_50) << at;
+      EXPECT_EQ(a.false_positives_50, b.false_positives_50) << at;
+      EXPECT_EQ(a.ap, b.ap) << at;
+      EXPECT_EQ(a.ap50, b.ap50) << at;
+      EXPECT_EQ(a.ar100, b.ar100) << at;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 15);
+  // The records did go to the scratch file at that budget.
+  DetectionsByImage by_image(1024);
+  for (const DetectionBox& d : detections) by_image.Add(d);
+  EXPECT_GT(by_image.runs(), 1u);
+  EXPECT_GT(EvaluateImages(*truth_, BinConditions(*truth_), &by_image, 30, 1024).spilled_runs, 1u);
 }
 
 TEST(EvaluateWilson, TheIntervalOfTheWilsonScore) {

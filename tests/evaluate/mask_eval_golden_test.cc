@@ -13,6 +13,7 @@
 #include "evaluate/ground_truth.h"
 #include "evaluate/predictions.h"
 #include "evaluate/segmentation.h"
+#include "evaluate/strata.h"
 #include "libs/util/json_errors.h"
 #include "tests/evaluate/golden_fixture.h"
 
@@ -118,6 +119,31 @@ TEST_F(MaskEvalGolden, TheStreamedEvaluationGivesTheSameStats) {
     ASSERT_TRUE(report.stats) << golden.name;
     for (size_t i = 0; i < report.stats->size(); ++i)
       EXPECT_NEAR((*report.stats)[i], golden.stats[i], 1e-9)
+          << golden.name << " " << CocoStatNames()[i];
+  }
+}
+
+TEST_F(MaskEvalGolden, TheSpilledEvaluationGivesTheSameStats) {
+  // Masks and records through the scratch file (a budget of a few bytes).
+  TruthOptions options;
+  options.collection = C();
+  options.masks = true;
+  const EvaluationTruth streamed = StreamCollectionTruth(options);
+  for (const Golden& golden : kGoldens) {
+    EvaluationTruth held = *mask_truth_;
+    const bool crowd = std::string(golden.name) == "crowd";
+    if (crowd) AddCrowdRegions("segm/crowd_regions.json", &held);
+    const EvaluationTruth& truth = crowd ? held : streamed;
+    DetectionsByImage detections(1024);
+    ReadCocoPredictions(GoldenData("segm/" + std::string(golden.name) + ".json"),
+                        truth,
+                        [&](DetectionBox&& d) { detections.Add(std::move(d)); });
+    EXPECT_GT(detections.runs(), 1u) << golden.name;
+    const ImageMetrics metrics = EvaluateImages(truth, BinConditions(truth), &detections, 30, 1024);
+    EXPECT_GT(metrics.spilled_runs, 1u) << golden.name;
+    ASSERT_TRUE(metrics.stats) << golden.name;
+    for (size_t i = 0; i < metrics.stats->size(); ++i)
+      EXPECT_NEAR((*metrics.stats)[i], golden.stats[i], 1e-9)
           << golden.name << " " << CocoStatNames()[i];
   }
 }

@@ -222,13 +222,15 @@ struct Converters {
   bool needs_oriented = false;
 };
 
-Converters MakeConverters(const ConvertOptions& options) {
+Converters MakeConverters(const ConvertOptions& options,
+                          std::vector<std::unique_ptr<Converter>> also) {
   Converters converters;
-  for (const std::string& format : options.formats) {
+  for (const std::string& format : options.formats)
     converters.list.push_back(MakeConverter(format));
-    converters.needs_masks = converters.needs_masks || converters.list.back()->NeedsMasks();
-    converters.needs_oriented =
-        converters.needs_oriented || converters.list.back()->NeedsOrientedBoxes();
+  for (auto& converter : also) converters.list.push_back(std::move(converter));
+  for (const auto& converter : converters.list) {
+    converters.needs_masks = converters.needs_masks || converter->NeedsMasks();
+    converters.needs_oriented = converters.needs_oriented || converter->NeedsOrientedBoxes();
   }
   // Tiles measure each object's share in a tile on its mask.
   converters.needs_masks = converters.needs_masks || !options.tile.empty();
@@ -369,7 +371,9 @@ void BatchConverter::Flush(std::vector<Frame>* batch) {
 
 }  // namespace
 
-ConvertResult Convert(const ConvertOptions& options) {
+ConvertResult Convert(const ConvertOptions& options) { return Convert(options, {}); }
+
+ConvertResult Convert(const ConvertOptions& options, std::vector<std::unique_ptr<Converter>> also) {
   options.Check();
   const CollectionReader reader(options.collection);
   const CollectionHeader& header = reader.header();
@@ -377,7 +381,7 @@ ConvertResult Convert(const ConvertOptions& options) {
                                 ? ClassMap::All(header.classes)
                                 : ClassMap::Parse(options.classes, header.classes);
   const std::vector<SplitPart> splits = ParseSplit(options.split);
-  const Converters converters = MakeConverters(options);
+  const Converters converters = MakeConverters(options, std::move(also));
   std::set<uint32_t> used_classes;
   const SplitPlan split_plan = PlanFrames(reader, options, selected, splits, &used_classes);
   const ClassMap classes = options.keep_classes ? selected : selected.OnlyUsed(used_classes);

@@ -2,6 +2,10 @@
 // (docs/convert.md).
 #pragma once
 
+#include <memory>
+#include <vector>
+
+#include "converters/converter.h"
 #include "converters/loss_report.h"
 #include "converters/options.h"
 
@@ -18,5 +22,10 @@ struct ConvertResult {
 // shared images and loss_report.{txt,json}. Throws lsds::Error (bad options,
 // unreadable collection, missing layers).
 ConvertResult Convert(const ConvertOptions& options);
+
+// The same with `also` run beside the formats of options.formats in the same
+// pass (after them, on the same kept objects): for a reader of the
+// converters' own choices (`lsds evaluate`'s oriented-box truth).
+ConvertResult Convert(const ConvertOptions& options, std::vector<std::unique_ptr<Converter>> also);
 
 }  // namespace lsds::convert

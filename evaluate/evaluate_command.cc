@@ -74,6 +74,11 @@ int RunEvaluate(int argc, char** argv) {
   app.add_option("--min-pixels",
                  options.truth.min_pixels,
                  "as lsds convert: leave out objects with fewer visible pixels");
+  app.add_option("--mot-classes",
+                 options.truth.mot_classes,
+                 "with --format mot, as lsds convert: the class ids of the tracker rows' 8th "
+                 "field, order (the COCO category id) or mot17 (MOT17's ids by class name)")
+      ->check(CLI::IsMember({"order", "mot17"}));
   CommonFlags common;
   AddCommonFlags(app, &common, "replace existing output files");
   return RunCommand(app, common, argc, argv, [&] {

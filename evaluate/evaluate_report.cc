@@ -254,10 +254,6 @@ std::string ReportText(const EvaluationReport& report) {
                            static_cast<long long>(report.images),
                            static_cast<long long>(report.annotations),
                            report.categories.size());
-  if (report.dota) {
-    out += Format("predictions: %lld detections\n", static_cast<long long>(report.detections));
-    out += DotaText(*report.dota);
-  }
   if (!report.stats) {
     out += "coverage (cells with fewer than " + std::to_string(report.thin_below) +
            " objects, or frames for a frame condition, are thin):\n";
@@ -267,8 +263,9 @@ std::string ReportText(const EvaluationReport& report) {
   out += Format("predictions: %lld detections, IoU of %s\n",
                 static_cast<long long>(report.detections),
                 report.iou_type == "segm"  ? "masks (iouType segm)"
-                : report.iou_type == "obb" ? "oriented boxes (polygon IoU, --ap coco)"
+                : report.iou_type == "obb" ? "oriented boxes (polygon IoU, COCO's rules)"
                                            : "boxes (iouType bbox)");
+  if (report.dota) out += DotaText(*report.dota);
   out += CocoLines(*report.stats);
   out += Format("objects %lld, matched at IoU .5: %lld, false positives at IoU .5: %lld\n",
                 static_cast<long long>(report.all.ground_truth),

@@ -3,6 +3,7 @@
 #include "evaluate/conditions.h"
 #include "evaluate/dota_files.h"
 #include "evaluate/mot_results.h"
+#include "evaluate/obb_truth.h"
 #include "evaluate/predictions.h"
 #include "evaluate/strata.h"
 #include "evaluate/suggest.h"
@@ -37,10 +38,14 @@ void ReadBoxPredictions(const EvaluateOptions& options,
         options.predictions, truth, [out](DetectionBox&& d) { out->Add(std::move(d)); });
     return;
   }
-  std::vector<DetectionBox> detections =
-      options.format == "yolo"
-          ? ReadYoloDetections(options.predictions, truth)
-          : ReadMotDetections(options.predictions, truth, ReadMotSequences(options.truth));
+  std::vector<DetectionBox> detections;
+  if (options.format == "yolo") {
+    detections = options.iou_type == "segm" ? ReadYoloSegmentDetections(options.predictions, truth)
+                                            : ReadYoloDetections(options.predictions, truth);
+  } else {
+    detections = ReadMotDetections(
+        options.predictions, truth, ReadMotSequences(options.truth), options.truth.mot_classes);
+  }
   for (DetectionBox& d : detections) out->Add(std::move(d));
 }
 
@@ -57,14 +62,12 @@ void EvaluateOptions::Check() const {
     throw Error("DOTA task-1 files hold oriented boxes: give --iou-type obb with --format dota");
   if (iou_type == "obb" && format == "coco")
     throw Error("oriented boxes are read from DOTA task-1 or YOLO OBB files: --format dota|yolo");
-  if (iou_type == "segm" && format != "coco")
-    throw Error("masks are read from COCO results files: --format coco with --iou-type segm");
+  if (iou_type == "segm" && format != "coco" && format != "yolo")
+    throw Error(
+        "masks are read from COCO results files or YOLO polygons: --format coco|yolo with "
+        "--iou-type segm");
   if (ap != "voc07" && ap != "voc12" && ap != "coco")
     throw Error("--ap " + ap + ": expected voc07, voc12 or coco");
-  if (iou_type == "obb" && ap != "coco" && !fail_under.empty())
-    throw Error("--fail-under works on COCO's metrics: with --iou-type obb give --ap coco");
-  if (iou_type == "obb" && !suggest.empty())
-    throw Error("--suggest works on the strata of boxes and masks: not with --iou-type obb");
   if (predictions.empty() && iou_type != "bbox")
     throw Error("--iou-type needs --predictions (coverage compares nothing)");
   if (thin_below < 0) throw Error("--thin must be >= 0");
@@ -97,7 +100,9 @@ EvaluationReport Evaluate(const EvaluationTruth& truth,
                           uint64_t memory_budget) {
   EvaluationReport report = BaseReport(truth, thin_below);
   report.detections = detections->size();
-  report.iou_type = truth.coco.iou_type == IouType::kMask ? "segm" : "bbox";
+  report.iou_type = truth.coco.iou_type == IouType::kMask   ? "segm"
+                    : truth.coco.iou_type == IouType::kQuad ? "obb"
+                                                            : "bbox";
   // Each image's detections in file order (the order COCOeval breaks score
   // ties in), image by image.
   ImageMetrics metrics = EvaluateImages(
@@ -134,48 +139,43 @@ EvaluateResult RunEvaluate(const EvaluateOptions& options) {
 
   TruthOptions truth_options = options.truth;
   truth_options.masks = options.iou_type == "segm";
-  // The annotations stay in the converter's scratch file, read image by image.
-  const EvaluationTruth truth = StreamCollectionTruth(truth_options);
   EvaluateResult result;
+  std::optional<ObbTruth> obb;
+  if (options.iou_type == "obb") obb = ReadObbTruth(truth_options);
+  // The annotations stay in the converter's scratch file, read image by image
+  // (oriented boxes: held, with their facts).
+  EvaluationTruth streamed = obb ? EvaluationTruth() : StreamCollectionTruth(truth_options);
+  // MOT's distractor classes are ignored, as TrackEval leaves them out of the
+  // truth (mot_challenge_2d_box.py:390-394).
+  if (options.format == "mot")
+    streamed.ignored_categories = MotDistractorCategories(streamed, options.truth.mot_classes);
+  const EvaluationTruth& truth = obb ? obb->truth : streamed;
   if (options.predictions.empty()) {
     result.report = CoverageReport(truth, options.thin_below);
-  } else if (options.iou_type == "obb") {
-    // The DOTA devkit's task-1 evaluation on the labels `lsds convert --to dota`
-    // writes; the coverage beside it.
-    result.report = CoverageReport(truth, options.thin_below);
-    const DotaTruth dota = ReadDotaTruth(truth_options);
-    const std::vector<DotaDetection> detections =
-        options.format == "yolo"
-            ? ReadYoloObbDetections(options.predictions, truth, dota.class_names)
-            : ReadDotaResults(options.predictions, dota.class_names, dota.images);
-    result.report.detections = static_cast<int64_t>(detections.size());
-    result.report.iou_type = "obb";
-    if (options.ap == "coco") {
-      // COCO's rules and numbers with the devkit's polygon IoU.
-      std::map<std::string, int64_t> image_ids;  // label file stem -> COCO image id
-      for (const auto& [name, id] : truth.image_by_file_name)
-        image_ids[std::filesystem::path(name).stem().string()] = id;
-      const CocoEvaluator evaluator(
-          DotaAsCoco(dota.class_names, dota.objects, detections, image_ids));
-      result.report.stats = evaluator.Stats();
-      result.report.all = evaluator.Accumulate(Selection{});
-      for (const std::string& t : options.fail_under)
-        result.report.thresholds.push_back(ParseThreshold(t));
-      result.thresholds_passed = CheckThresholds(*result.report.stats, &result.report.thresholds);
-    } else {
-      result.report.dota = EvaluateDota(dota.class_names,
-                                        dota.objects,
-                                        detections,
-                                        options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
-    }
-    result.report.predictions = Utf8Escaped(options.predictions.string());
   } else {
     // The detections and the accumulation records each held up to 1/32 of
     // --memory-budget, the rest in a scratch file (docs/evaluate.md, "Memory").
     const uint64_t budget = MemoryBudgetBytes();
     DetectionsByImage detections(SpillShare(budget));
-    ReadBoxPredictions(options, truth, &detections);
+    std::vector<DotaDetection> oriented;
+    if (obb) {
+      // Oriented boxes: COCO's rules with the devkit's polygon IoU for the
+      // metrics and strata; beside them (unless --ap coco) the devkit's own
+      // task-1 evaluation of the same objects and result files.
+      oriented =
+          options.format == "yolo"
+              ? ReadYoloObbDetections(options.predictions, truth, obb->dota.class_names)
+              : ReadDotaResults(options.predictions, obb->dota.class_names, obb->dota.images);
+      for (DetectionBox& d : ObbDetections(*obb, oriented)) detections.Add(std::move(d));
+    } else {
+      ReadBoxPredictions(options, truth, &detections);
+    }
     result.report = Evaluate(truth, &detections, options.thin_below, budget);
+    if (obb && options.ap != "coco")
+      result.report.dota = EvaluateDota(obb->dota.class_names,
+                                        obb->dota.objects,
+                                        oriented,
+                                        options.ap == "voc07" ? VocAp::k07 : VocAp::k12);
     result.report.predictions = Utf8Escaped(options.predictions.string());
     for (const std::string& t : options.fail_under)
       result.report.thresholds.push_back(ParseThreshold(t));

@@ -12,7 +12,6 @@
 #include <system_error>
 
 #include "converters/convert.h"
-#include "evaluate/dota_files.h"
 #include "evaluate/segmentation.h"
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_stream.h"
@@ -134,32 +133,12 @@ convert::ConvertOptions ConverterOptions(const TruthOptions& options,
   convert.keep_classes = options.keep_classes;
   convert.min_visibility = options.min_visibility;
   convert.min_pixels = options.min_pixels;
+  convert.mot_classes = options.mot_classes;
   convert.progress = false;
   return convert;
 }
 
 }  // namespace
-
-DotaTruth ReadDotaTruth(const TruthOptions& options) {
-  const ScratchFolder scratch;
-  const convert::ConvertOptions dota = ConverterOptions(options, "dota", scratch.path());
-  convert::Convert(dota);
-  DotaTruth truth;
-  std::istringstream classes(ReadTextFile(dota.output / "dota_classes.txt"));
-  for (std::string name; std::getline(classes, name);)
-    if (!name.empty()) truth.class_names.push_back(name);
-  std::vector<fs::path> labels;
-  for (const auto& entry : fs::recursive_directory_iterator(dota.output / "labelTxt"))
-    if (entry.path().extension() == ".txt") labels.push_back(entry.path());
-  std::sort(labels.begin(), labels.end());
-  for (const fs::path& label : labels) {
-    const std::string image = label.stem().string();
-    truth.images.insert(image);
-    for (DotaObject& o : ParseDotaLabels(ReadTextFile(label), label.string(), image))
-      truth.objects.push_back(std::move(o));
-  }
-  return truth;
-}
 
 MotSequences ReadMotSequences(const TruthOptions& options) {
   const ScratchFolder scratch;
@@ -215,6 +194,7 @@ void ReadAnnotationEntry(const json& a,
     g.bbox = ReadBox(a.at("bbox"));
     g.area = a.at("area").get<double>();
     g.iscrowd = a.at("iscrowd").get<int>() != 0;
+    g.ignored = truth.ignored_categories.count(g.category_id) > 0;
     if (masks) {
       const EvaluationTruth::ImageSize size = truth.image_size.at(g.image_id);
       g.mask = ReadSegmentation(
@@ -282,6 +262,8 @@ void EvaluationTruth::ForEachImage(const std::function<void(TruthImage&&)>& on_i
       ++next;
       for (size_t i : indices) {
         image.boxes.push_back(coco.ground_truth[i]);
+        if (ignored_categories.count(image.boxes.back().category_id))
+          image.boxes.back().ignored = true;
         image.objects.push_back(i < objects.size() ? objects[i] : ObjectFacts{});
       }
       on_image(std::move(image));
@@ -370,6 +352,11 @@ EvaluationTruth StreamCocoGroundTruth(const fs::path& file,
 }
 
 EvaluationTruth StreamCollectionTruth(const TruthOptions& options) {
+  return StreamCollectionTruth(options, {});
+}
+
+EvaluationTruth StreamCollectionTruth(const TruthOptions& options,
+                                      std::vector<std::unique_ptr<convert::Converter>> also) {
   {
     // The ground truth boxes and masks come from the instance layer; a
     // collection imported from a source without ids has none
@@ -384,7 +371,7 @@ EvaluationTruth StreamCollectionTruth(const TruthOptions& options) {
   // its file is read again image by image while the truth lives.
   auto scratch = std::make_shared<ScratchFolder>();
   const convert::ConvertOptions coco = ConverterOptions(options, "coco", scratch->path());
-  convert::Convert(coco);
+  convert::Convert(coco, std::move(also));
   const fs::path file = coco.output / "annotations" / "instances_train.json";
   EvaluationTruth truth = StreamCocoGroundTruth(file, options.masks, scratch);
   ReadFrameFacts(options, &truth);

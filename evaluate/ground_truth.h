@@ -22,6 +22,10 @@
 #include "evaluate/dota_eval.h"
 #include "libs/util/frame_selection.h"
 
+namespace lsds::convert {
+class Converter;
+}  // namespace lsds::convert
+
 namespace lsds::evaluate {
 
 // What `lsds convert` is told (its flags of the same names), so that the
@@ -33,7 +37,8 @@ struct TruthOptions {
   bool keep_classes = false;
   double min_visibility = 0;
   int64_t min_pixels = 1;
-  bool masks = false;  // read each annotation's mask too (--iou-type segm)
+  bool masks = false;                 // read each annotation's mask too (--iou-type segm)
+  std::string mot_classes = "order";  // --mot-classes: the class ids of MOT tracker rows
 };
 
 // Per ground-truth annotation (parallel to CocoData::ground_truth).
@@ -88,6 +93,9 @@ struct EvaluationTruth {
   std::map<int64_t, FrameFacts> frames;     // by frame index
   std::string capture_source;               // provenance.capture_source (LCAP text)
   double metres_per_unit = 1;               // of the world frame, for distances
+  // Categories whose objects are ignored, as COCO ignores a box outside the
+  // area range (MOT's distractor classes, mot_results.h).
+  std::set<int64_t> ignored_categories;
   std::shared_ptr<const StreamedAnnotations> streamed;
   int64_t streamed_annotations = 0;  // how many the streamed file holds
 
@@ -107,6 +115,10 @@ EvaluationTruth ReadCollectionTruth(const TruthOptions& options);
 // The same with the annotations left in the converter's scratch file and
 // streamed by ForEachImage: memory holds the image and category tables only.
 EvaluationTruth StreamCollectionTruth(const TruthOptions& options);
+// The same with `also` run in the converter's pass (they see the objects the
+// COCO converter writes).
+EvaluationTruth StreamCollectionTruth(const TruthOptions& options,
+                                      std::vector<std::unique_ptr<convert::Converter>> also);
 
 // The tables of a COCO dataset file written by `lsds convert --to coco` (one
 // split), its annotations streamed from it by ForEachImage. `keep_alive`
@@ -119,14 +131,12 @@ EvaluationTruth StreamCocoGroundTruth(const std::filesystem::path& file,
 void HoldAnnotations(EvaluationTruth* truth);
 
 // The oriented boxes `lsds convert --to dota` writes (with the flags of
-// `options`; the converter runs into a scratch folder), as the DOTA devkit
-// reads them.
+// `options`), as the DOTA devkit reads them (ReadObbTruth, obb_truth.h).
 struct DotaTruth {
   std::vector<std::string> class_names;  // dota_classes.txt, in order
   std::set<std::string> images;          // label file stems
   std::vector<DotaObject> objects;
 };
-DotaTruth ReadDotaTruth(const TruthOptions& options);
 
 // The sequences `lsds convert --to mot` writes: per sequence name, the frame
 // index of each frame number (frames.txt; number k at position k - 1).

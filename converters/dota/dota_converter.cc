@@ -81,23 +81,14 @@ class DotaConverter : public Converter {
     const std::vector<OutputClass>& classes = setup_.classes->classes();
     for (const KeptObject& object : frame.objects) {
       const std::string& name = classes[object.class_index].name;
-      const OrientedBox2d& box = *object.oriented;
-      std::string line;
-      for (const Eigen::Vector2d& c : box.corners) line += Format("%.2f %.2f ", c.x(), c.y());
-      const std::array<Eigen::Vector2d, 4> corners = WrittenCorners(line);
-      const double side_a = (corners[1] - corners[0]).norm();
-      const double side_b = (corners[2] - corners[1]).norm();
-      // MMRotate drops a box whose minimum-area rectangle has a side under
-      // 2 px (mmrotate/core/bbox/transforms.py:347-348, poly2obb_np_oc; the
-      // le90 and le135 versions likewise).
-      if (std::min(side_a, side_b) < options.dota_min_size) {
+      const std::optional<DotaLabel> label = DotaLabelOf(object, options);
+      if (!label) {
         loss->Add(loss::kDotaUnderMinSize, name);
         continue;
       }
-      const bool difficult = object.truth->visibility < options.dota_difficult_below ||
-                             std::max(side_a, side_b) < options.dota_difficult_size;
-      if (difficult) loss->Add(loss::kDotaDifficult, name);
-      text += line + names_[object.class_index] + (difficult ? " 1\n" : " 0\n");
+      if (label->difficult) loss->Add(loss::kDotaDifficult, name);
+      text +=
+          label->corners_text + names_[object.class_index] + (label->difficult ? " 1\n" : " 0\n");
       ++written;
     }
     if (written == 0) loss->Add(loss::kDotaEmptyImages, loss::kImages);
@@ -126,6 +117,22 @@ class DotaConverter : public Converter {
 };
 
 }  // namespace
+
+std::optional<DotaLabel> DotaLabelOf(const KeptObject& object, const ConvertOptions& options) {
+  DotaLabel label;
+  for (const Eigen::Vector2d& c : object.oriented->corners)
+    label.corners_text += Format("%.2f %.2f ", c.x(), c.y());
+  label.corners = WrittenCorners(label.corners_text);
+  const double side_a = (label.corners[1] - label.corners[0]).norm();
+  const double side_b = (label.corners[2] - label.corners[1]).norm();
+  // MMRotate drops a box whose minimum-area rectangle has a side under
+  // 2 px (mmrotate/core/bbox/transforms.py:347-348, poly2obb_np_oc; the
+  // le90 and le135 versions likewise).
+  if (std::min(side_a, side_b) < options.dota_min_size) return std::nullopt;
+  label.difficult = object.truth->visibility < options.dota_difficult_below ||
+                    std::max(side_a, side_b) < options.dota_difficult_size;
+  return label;
+}
 
 std::string DotaClassName(const std::string& name) {
   std::string out;

@@ -10,6 +10,7 @@
 #include "evaluate/dota_eval.h"
 #include "evaluate/dota_files.h"
 #include "evaluate/ground_truth.h"
+#include "evaluate/obb_truth.h"
 #include "tests/evaluate/golden_fixture.h"
 
 namespace lsds::evaluate {
@@ -44,7 +45,7 @@ using DotaEvalGolden = GoldenCollection;
 TEST_F(DotaEvalGolden, ClassApsAndTheirMeanAreThoseOfTheDevkit) {
   TruthOptions options;
   options.collection = C();
-  const DotaTruth truth = ReadDotaTruth(options);
+  const DotaTruth truth = ReadObbTruth(options).dota;
   ASSERT_EQ(truth.class_names, (std::vector<std::string>{"box", "crate"}));
   int difficult = 0;
   for (const DotaObject& o : truth.objects) difficult += o.difficult;

@@ -81,7 +81,7 @@ TEST_F(DotaEvaluate, CocoRulesScoreTheConvertersOwnBoxesOne) {
         "evaluate " + C() + " --format dota --iou-type obb --ap coco --predictions " +
         predictions.string() + " --fail-under AP=0.99 -o " + json);
     ASSERT_EQ(run.exit_code, 0) << run.output;
-    EXPECT_NE(run.output.find("oriented boxes (polygon IoU, --ap coco)"), std::string::npos)
+    EXPECT_NE(run.output.find("oriented boxes (polygon IoU, COCO's rules)"), std::string::npos)
         << run.output;
     const nlohmann::json doc = ReadJsonFile(json);
     EXPECT_TRUE(JsonSchema::Get("evaluate.schema.json").Validate(doc).empty());
@@ -132,12 +132,20 @@ TEST_F(DotaEvaluate, BadResultFilesAreNamedAtTheirLine) {
   EXPECT_EQ(
       testing::RunLsds("evaluate " + C() + " --format dota -q --predictions " + folder).exit_code,
       2);
+  // --fail-under reads COCO's numbers, which every obb evaluation computes.
   EXPECT_EQ(testing::RunLsds("evaluate " + C() +
-                             " --iou-type obb --fail-under AP=0.5 -q "
+                             " --iou-type obb --fail-under AP=0.99 -q "
                              "--format dota --predictions " +
                              folder)
                 .exit_code,
-            2);
+            0);
+  // The jittered set's COCO AP (polygon IoU) is 0.273.
+  EXPECT_EQ(testing::RunLsds("evaluate " + C() +
+                             " --iou-type obb --fail-under AP=0.5 -q "
+                             "--format dota --predictions " +
+                             GoldenData("obb/jittered").string())
+                .exit_code,
+            1);
 }
 
 }  // namespace

@@ -29,6 +29,8 @@ COCO = (b'[{"image_id": 1, "category_id": 1, "bbox": [10, 10, 3, 4], "score": 0.
 # A mask result: a 32x24 image, RLE counts of 10 background then 5 object pixels.
 SEGM = (b'[{"image_id": 1, "category_id": 1, "segmentation": {"size": [24, 32], '
         b'"counts": "1:5"}, "score": 0.9}]\n')
+# A segment model's polygons (class, x y pairs, confidence).
+YOLO_SEG = b"0 0.3 0.4 0.4 0.4 0.4 0.6 0.3 0.6 0.9\n1 0.2 0.6 0.3 0.6 0.3 0.7 0.8\n"
 YOLO = b"0 0.359375 0.5 0.09375 0.166667 0.9\n1 0.234375 0.625 0.15625 0.166667 0.8\n"
 DOTA = b"000000 0.9 10 10 13 10 13 14 10 14\n000001 0.8 19 10 22 10 22 14 19 14\n"
 MOT = b"1,1,11,11,3,4,0.9,-1,-1,-1\n2,1,20,11,3,4,0.8,-1,-1,-1\n"
@@ -99,6 +101,9 @@ def build_cases(lsds, work):
          "evaluate {d}/C --iou-type segm --predictions {d}/p.json " + out, SEGM, b"0.9", True),
         ("yolo", "Y/000000.txt",
          "evaluate {d}/C --format yolo --predictions {d}/Y " + out, YOLO, b"0.359375", False),
+        ("yolo-seg", "Y/000000.txt",
+         "evaluate {d}/C --format yolo --iou-type segm --predictions {d}/Y " + out, YOLO_SEG,
+         b"0.3", False),
         ("dota", "D/Task1_box.txt",
          "evaluate {d}/C --format dota --iou-type obb --predictions {d}/D " + out, DOTA, b"13",
          False),
@@ -133,6 +138,30 @@ def build_cases(lsds, work):
     for label, data, place in bad_masks:
         add(Case("coco-segm/" + label, segm_line, names="p.json", place=place),
             lambda d, data=data: write(os.path.join(d, "p.json"), data))
+
+    # Tracker rows of a class the ground truth (box, crate) does not have (0
+    # stands for the one class only when there is one).
+    mot_line = ("evaluate {d}/C --format mot --predictions {d}/M " + out).split()
+    bad_classes = [
+        ("class-unknown", b"1,1,11,11,3,4,0.9,7\n", r":1\b"),
+        ("class-beyond-int", b"1,1,11,11,3,4,0.9,1e300\n", r":1\b"),
+        ("class-zero-two-categories", b"1,1,11,11,3,4,0.9,0\n", r":1\b"),
+    ]
+    for label, data, place in bad_classes:
+        add(Case("mot/" + label, mot_line, names="S1-shot0.txt", place=place),
+            lambda d, data=data: write(os.path.join(d, "M", "S1-shot0.txt"), data))
+
+    # Polygons Ultralytics' polygon2mask would cast out of int32, or lines that
+    # are not class, pairs and a confidence.
+    seg_line = ("evaluate {d}/C --format yolo --iou-type segm --predictions {d}/Y " + out).split()
+    bad_polygons = [
+        ("polygon-huge", YOLO_SEG.replace(b"0.4 0.4", b"1e300 0.4", 1), r":1\b"),
+        ("polygon-no-confidence", b"0 0.3 0.4 0.4 0.4 0.4 0.6 0.3 0.6\n", r":1\b"),
+        ("polygon-two-points", b"0 0.3 0.4 0.4 0.4 0.9\n", r":1\b"),
+    ]
+    for label, data, place in bad_polygons:
+        add(Case("yolo-seg/" + label, seg_line, names="000000.txt", place=place),
+            lambda d, data=data: write(os.path.join(d, "Y", "000000.txt"), data))
     return cases
 
 

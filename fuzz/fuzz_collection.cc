@@ -1,5 +1,6 @@
 // libFuzzer target: any byte string as collection.json goes through what
-// `lsds info` does (CollectionReader, Summarize, both summaries) and, as
+// `lsds info` does (SummarizeCollection: the read-once path and, where it
+// falls back, CollectionReader; both summaries) and, as
 // metadata.json, through MetadataReader (perturb-metadata, backproject
 // --use-metadata): each reads or throws lsds::Error naming the file and the
 // place; never a crash, leak, hang or stack overflow.
@@ -17,10 +18,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::filesystem::create_directories(root);
   lsds::fuzz::WriteBytes(root / lsds::kCollectionFile, data, size);
   try {
-    const lsds::CollectionReader reader(root);
-    const lsds::CollectionSummary summary = lsds::Summarize(reader);
-    (void)lsds::SummaryToJson(reader, summary).dump();
-    (void)lsds::SummaryToText(reader, summary);
+    const lsds::CollectionInfo info = lsds::SummarizeCollection(root);
+    (void)lsds::SummaryToJson(info).dump();
+    (void)lsds::SummaryToText(info);
   } catch (const lsds::Error&) {
   } catch (const std::filesystem::filesystem_error&) {  // exit 2 in the CLI as well
   }

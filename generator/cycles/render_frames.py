@@ -471,15 +471,20 @@ def add_background(tree, colour, skylight_intensity):
 class CloudDeck:
     """The cloud deck's shadows: a plane at the deck's height that only shadow rays see, letting
     through the share of sunlight the export's image gives (`clouds`, docs/export.md), as the
-    reference renderer's Sky::CloudTransmittance dims the sun. The clouds themselves are in the
-    sky's image."""
+    reference renderer's Sky::CloudTransmittance dims the sun. Only rays towards the sun's disc
+    are dimmed: the sky's light passes, as in the reference renderer, since the sky's image
+    already draws the clouds (a shadow ray towards a cloud brings the cloud's radiance)."""
+
+    # Shadow rays towards the sun lamp lie within its 0.265 degree radius; 1 degree keeps them all
+    # and the sky's rays (a share of about 1e-4 of the hemisphere) outside.
+    SUN_CONE_COS = math.cos(math.radians(1.0))
 
     def __init__(self):
         self.obj = None
         self.key = None
 
-    def set(self, scene, folder, spec):
-        key = json.dumps(spec, sort_keys=True) if spec else None
+    def set(self, scene, folder, spec, to_sun):
+        key = json.dumps([spec, to_sun], sort_keys=True) if spec else None
         if key == self.key:
             return
         self.key = key
@@ -510,8 +515,16 @@ class CloudDeck:
         texture.interpolation = "Linear"
         texture.extension = "EXTEND"
         tree.links.new(coords.outputs["Generated"], texture.inputs["Vector"])
+        # Incoming points back along the ray, down to the shaded point: -to_sun on its sun ray.
+        incoming = nodes.new("ShaderNodeNewGeometry").outputs["Incoming"]
+        towards_sun = nodes.new("ShaderNodeVectorMath")
+        towards_sun.operation = "DOT_PRODUCT"
+        nodes.feed(towards_sun.inputs[0], incoming)
+        towards_sun.inputs[1].default_value = tuple(-c for c in Vector(to_sun).normalized())
+        sun_ray = nodes.math("GREATER_THAN", towards_sun.outputs["Value"], self.SUN_CONE_COS)
+        share = nodes.mix(sun_ray, (1.0, 1.0, 1.0), texture.outputs["Color"])
         transparent = nodes.new("ShaderNodeBsdfTransparent")
-        tree.links.new(texture.outputs["Color"], transparent.inputs["Color"])
+        nodes.feed(transparent.inputs["Color"], share)
         output = nodes.new("ShaderNodeOutputMaterial")
         tree.links.new(transparent.outputs[0], output.inputs["Surface"])
         mesh.materials.append(material)
@@ -608,7 +621,7 @@ def main():
         set_camera(camera, spec["camera"], scene)
         set_sun(sun, spec["sun"])
         set_sky(world, spec["sky"], folder)
-        clouds.set(scene, folder, spec.get("clouds"))
+        clouds.set(scene, folder, spec.get("clouds"), spec["sun"]["direction_to_sun"])
         render(scene, os.path.join(options["output"], stem + "_rgb.exr"), options["samples"],
                options["truth"] or options["all_passes"])
         remove_objects(objects)

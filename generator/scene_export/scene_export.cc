@@ -131,7 +131,9 @@ nlohmann::json ExposureDescription(const PlannedExposure& planned) {
 
 SceneExporter::SceneExporter(const Plan& plan, const SceneAssets& assets, fs::path folder)
     : plan_(plan), assets_(assets), folder_(std::move(folder)) {
-  // What clouds shade: the terrain and skirt, and what stands on them up to kObjectsReachM.
+  // What clouds shade: the terrain and what stands on it up to kObjectsReachM. Not the skirt,
+  // which reaches kilometres out: a shadow image over it would have texels wider than the
+  // clouds' stripes (cirrus: 83 m apart) and lose the shadows under the camera.
   constexpr double kObjectsReachM = 50;
   ground_min_ = Eigen::Vector3d::Zero();
   ground_max_ = Eigen::Vector3d(0, 0, kObjectsReachM);
@@ -139,11 +141,9 @@ SceneExporter::SceneExporter(const Plan& plan, const SceneAssets& assets, fs::pa
     const GroundMeshes ground = MakeGroundMeshes(plan_.terrain);
     ground_min_ = Eigen::Vector3d::Constant(1e300);
     ground_max_ = -ground_min_;
-    for (const TriangleMesh* mesh : {&ground.terrain, &ground.skirt}) {
-      for (const Eigen::Vector3f& p : mesh->positions) {
-        ground_min_ = ground_min_.cwiseMin(p.cast<double>());
-        ground_max_ = ground_max_.cwiseMax(p.cast<double>());
-      }
+    for (const Eigen::Vector3f& p : ground.terrain.positions) {
+      ground_min_ = ground_min_.cwiseMin(p.cast<double>());
+      ground_max_ = ground_max_.cwiseMax(p.cast<double>());
     }
     ground_max_.z() += kObjectsReachM;
   }

@@ -292,7 +292,8 @@ class Materials:
     """One Principled BSDF per distinct material of the frames' JSON (the JSON is authoritative;
     the glTF's own materials are for other importers), seen through the frame's fog."""
 
-    def __init__(self):
+    def __init__(self, folder):
+        self.folder = folder
         self.made = {}
         self.fog_nodes = []
         self.fog = {"extinction_per_m": 0.0, "fog_radiance": [0.0, 0.0, 0.0]}
@@ -312,7 +313,10 @@ class Materials:
             bsdf = material.node_tree.nodes["Principled BSDF"]
             nodes = Nodes(material.node_tree)
             position = nodes.new("ShaderNodeNewGeometry").outputs["Position"]  # world
-            colour, normal = procedural_albedo(nodes, position, spec)
+            if "albedo_map" in spec:
+                colour, normal = mapped_albedo(nodes, self.folder, spec["albedo_map"]), None
+            else:
+                colour, normal = procedural_albedo(nodes, position, spec)
             nodes.feed(bsdf.inputs["Base Color"], colour)
             if normal is not None:
                 nodes.feed(bsdf.inputs["Normal"], normal)
@@ -327,14 +331,47 @@ class Materials:
         return self.made[key]
 
 
+def mapped_albedo(nodes, folder, file):
+    """A loaded asset's base-colour map (a node's `parts`, docs/export.md) on the mesh's UVs, as
+    the reference renderer samples it: bilinear, repeating. PNG maps are 8-bit sRGB, EXR ones
+    linear."""
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = load_image(os.path.join(folder, file),
+                               "sRGB" if file.lower().endswith(".png") else "Non-Color")
+    texture.interpolation = "Linear"
+    texture.extension = "REPEAT"
+    uv = nodes.new("ShaderNodeUVMap")
+    nodes.feed(texture.inputs["Vector"], uv.outputs["UV"])
+    return texture.outputs["Color"]
+
+
+def part_material(material, part):
+    """The material of one part of a node (`parts`): the node's BSDF with the part's albedo,
+    which replaces the material's own (pattern and detail) as in the reference renderer."""
+    if not part:
+        return material
+    spec = {k: v for k, v in material.items() if k not in ("pattern", "detail")}
+    if "albedo" in part:
+        spec["base_color"] = part["albedo"]
+    else:
+        spec["albedo_map"] = part["albedo_map"]
+    return spec
+
+
 def assign(objects, nodes, materials):
     for node in nodes:
         obj = objects.get(node["name"])
         if obj is None:
             continue
         obj.pass_index = node["pass_index"]
-        obj.data.materials.clear()
-        obj.data.materials.append(materials.get(node["material"]))
+        if "parts" in node:
+            # Primitive k's glTF material is NAME_partK (Blender may add a ".001" suffix).
+            for slot in obj.material_slots:
+                k = int(slot.material.name.split(".")[0].rsplit("_part", 1)[1])
+                slot.material = materials.get(part_material(node["material"], node["parts"][k]))
+        else:
+            obj.data.materials.clear()
+            obj.data.materials.append(materials.get(node["material"]))
         for polygon in obj.data.polygons:
             polygon.use_smooth = True  # the exported corner normals shade it
 
@@ -403,13 +440,11 @@ def sky_image_colour(tree, folder, spec):
     return texture.outputs["Color"]
 
 
-def load_image(path):
-    """A linear float image, read as stored (no colour transform); one load per file."""
-    name = os.path.basename(path)
-    image = bpy.data.images.get(name)
-    if image is None or image.filepath != path:
-        image = bpy.data.images.load(path)
-        image.colorspace_settings.name = "Non-Color"
+def load_image(path, colour_space="Non-Color"):
+    """An image read as stored (Non-Color: linear float, no colour transform); one load per
+    file."""
+    image = bpy.data.images.load(path, check_existing=True)
+    image.colorspace_settings.name = colour_space
     return image
 
 
@@ -601,7 +636,7 @@ def main():
     sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
     scene.collection.objects.link(sun)
 
-    materials = Materials()
+    materials = Materials(folder)
     clouds = CloudDeck()
     ground = {}
     if os.path.exists(os.path.join(folder, "ground.glb")):

@@ -66,7 +66,7 @@ TEST(ExportScene, WritesTheReferenceRenderersSkyCloudsAndGroundDetail) {
   const Plan plan = gen::PlanFromScene(in.scene.string(), in.capture.string(), 0);
   const gen::Sky sky(plan, EnvironmentAt(plan, plan.frames[0]));
   const nlohmann::json frame = nlohmann::json::parse(ReadFile(out / "000000.json"));
-  EXPECT_EQ(frame["format_version"], "1.1");
+  EXPECT_EQ(frame["format_version"], "1.2");
 
   // The mapping as docs/export.md states it: the centre column looks along +x, a quarter of the
   // width to its right along +y, the top row is the zenith.

@@ -24,7 +24,8 @@ constexpr float kSrgb8Tolerance = 1e-6f;
 // The 8-bit sRGB byte a texel was read from, if it was.
 std::optional<uint8_t> ExactSrgb8(float v) {
   if (!(v >= 0.f && v <= 1.f)) return std::nullopt;
-  const auto byte = static_cast<uint8_t>(std::lround(std::clamp(SrgbFromLinear(v), 0.0, 1.0) * 255));
+  const auto byte =
+      static_cast<uint8_t>(std::lround(std::clamp(SrgbFromLinear(v), 0.0, 1.0) * 255));
   if (std::abs(LinearFromSrgb8(byte) - v) > kSrgb8Tolerance) return std::nullopt;
   return byte;
 }
@@ -95,9 +96,8 @@ std::vector<AlbedoPart> TextureExporter::Split(const TriangleMesh& mesh) {
       }
     }
     // Maps of the same albedo (a car's four tyres) are one part.
-    auto part = std::find_if(parts.begin(), parts.end(), [&](const AlbedoPart& p) {
-      return p.record == albedo.record;
-    });
+    auto part = std::find_if(
+        parts.begin(), parts.end(), [&](const AlbedoPart& p) { return p.record == albedo.record; });
     if (part == parts.end()) {
       albedo.mesh.positions = mesh.positions;
       albedo.mesh.uvs = mesh.uvs;

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 
@@ -46,16 +47,16 @@ cv::Mat Checker() {
 // A unit box (z up) whose top face carries the whole checker, texture origin (OBJ's: the image's
 // bottom-left) at its (-x, -y) corner: red on top at world (-x, +y) and (+x, -y). The sides
 // take the texture's corner texel.
-void WriteTexturedBox(const fs::path& dir) {
+void WriteTexturedBox(const fs::path& dir, const std::string& map = "checker.png") {
   ASSERT_TRUE(cv::imwrite((dir / "checker.png").string(), Checker()));
-  std::ofstream(dir / "box.mtl") << "newmtl checker\nKd 1 1 1\nmap_Kd checker.png\n";
+  std::ofstream(dir / "box.mtl") << "newmtl checker\nKd 1 1 1\nmap_Kd " << map << "\n";
   std::ofstream(dir / "box.obj") << "mtllib box.mtl\n"
                                     "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
                                     "v -0.5 -0.5 1\nv 0.5 -0.5 1\nv 0.5 0.5 1\nv -0.5 0.5 1\n"
                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
                                     "usemtl checker\n"
-                                    "f 5/1 6/2 7/3 8/4\n"   // top
-                                    "f 1/1 4/1 3/1 2/1\n"   // bottom
+                                    "f 5/1 6/2 7/3 8/4\n"  // top
+                                    "f 1/1 4/1 3/1 2/1\n"  // bottom
                                     "f 1/1 2/1 6/1 5/1\nf 2/1 3/1 7/1 6/1\n"
                                     "f 3/1 4/1 8/1 7/1\nf 4/1 1/1 5/1 8/1\n";
 }
@@ -64,16 +65,15 @@ void WriteTexturedBox(const fs::path& dir) {
 struct Inputs {
   fs::path scene, capture;
 };
-Inputs WriteInputs(const fs::path& dir) {
-  WriteTexturedBox(dir);
+Inputs WriteInputs(const fs::path& dir, const std::string& map = "checker.png") {
+  WriteTexturedBox(dir, map);
   Inputs in{dir / "box.lscene", dir / "nadir.lcap"};
-  std::ofstream(in.scene)
-      << "LSCENE = ONE(S) ONE(DL) ONE(W) ONE(B)\n"
-         "S = skybox{color:blue}\n"
-         "DL = light{elevation:89,azimuth:0,intensity:100000}\n"
-         "W = terrain{size:[40,40],material:grassy}\n"
-         "B = object{class:\"box.obj\",extent:[4,4,0.5],material:fabric,"
-         "position:{ON:W,within:[[-0.01,-0.01,-9],[0.01,0.01,9]]}}\n";
+  std::ofstream(in.scene) << "LSCENE = ONE(S) ONE(DL) ONE(W) ONE(B)\n"
+                             "S = skybox{color:blue}\n"
+                             "DL = light{elevation:89,azimuth:0,intensity:100000}\n"
+                             "W = terrain{size:[40,40],material:grassy}\n"
+                             "B = object{class:\"box.obj\",extent:[4,4,0.5],material:fabric,"
+                             "position:{ON:W,within:[[-0.01,-0.01,-9],[0.01,0.01,9]]}}\n";
   std::ofstream(in.capture) << "LCAP = ONE(CO) ONE(P)\n"
                                "CO = camera{csettings:{fov:60,res:[64,64]},targets:[B]}\n"
                                "P = path{point:{position:[0,0,8]}}\n";
@@ -83,8 +83,13 @@ Inputs WriteInputs(const fs::path& dir) {
 TEST(ExportScene, WritesLoadedAssetsTexturesAndReferencesThem) {
   const TempDir dir;
   const Inputs in = WriteInputs(dir.path());
+  // Two frames: the map is written once.
+  std::ofstream(dir / "two.lcap") << "LCAP = ONE(CO) ONE(P)\n"
+                                     "CO = camera{csettings:{fov:60,res:[64,64]},targets:[B]}\n"
+                                     "P = path{waypoints:[{position:[0,-1,8],look_at:[0,0,0]},"
+                                     "{position:[1,-1,8],look_at:[0,0,0]}]}\n";
   const fs::path out = dir / "export";
-  const auto run = RunLsds("export-scene " + in.scene.string() + " " + in.capture.string() +
+  const auto run = RunLsds("export-scene " + in.scene.string() + " " + (dir / "two.lcap").string() +
                            " -o " + out.string() + " -q");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const nlohmann::json frame = nlohmann::json::parse(ReadFile(out / "000000.json"));
@@ -110,6 +115,33 @@ TEST(ExportScene, WritesLoadedAssetsTexturesAndReferencesThem) {
   const std::string glb = ReadFile(out / "000000.glb");
   EXPECT_NE(glb.find("TEXCOORD_0"), std::string::npos);
   EXPECT_NE(glb.find("object_0_part0"), std::string::npos);  // the part's glTF material
+  const nlohmann::json frame1 = nlohmann::json::parse(ReadFile(out / "000001.json"));
+  EXPECT_EQ(frame1["nodes"].back()["parts"][0]["albedo_map"], file);
+  EXPECT_EQ(std::distance(fs::directory_iterator(out / "textures"), fs::directory_iterator()), 1);
+}
+
+// A 16-bit map is more than 8-bit sRGB can hold: it goes out as the linear float texels the
+// reference renderer samples (generator/scene/texture.cc: 16-bit values are sRGB-encoded).
+TEST(ExportScene, WritesHighBitDepthMapsAsLinearExr) {
+  const TempDir dir;
+  cv::Mat deep(4, 4, CV_16UC3, cv::Scalar(1000, 30000, 65535));  // B, G, R
+  ASSERT_TRUE(cv::imwrite((dir / "deep.png").string(), deep));
+  const Inputs in = WriteInputs(dir.path(), "deep.png");
+  const fs::path out = dir / "export";
+  const auto run = RunLsds("export-scene " + in.scene.string() + " " + in.capture.string() +
+                           " -o " + out.string() + " -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json frame = nlohmann::json::parse(ReadFile(out / "000000.json"));
+  const std::string file = frame["nodes"].back()["parts"][0]["albedo_map"].get<std::string>();
+  ASSERT_EQ(file, "textures/texture_0.exr");
+  const exr::FlatImage map = exr::ReadFlatExr(out / file, {"R", "G", "B"});
+  ASSERT_EQ(map.width(), 4);
+  const auto linear = [](double encoded) {
+    return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+  };
+  EXPECT_NEAR(map.Get("R").floats[5], 1.0, 1e-6);
+  EXPECT_NEAR(map.Get("G").floats[5], linear(30000 / 65535.0), 1e-6);
+  EXPECT_NEAR(map.Get("B").floats[5], linear(1000 / 65535.0), 1e-6);
 }
 
 // Mean linear RGB of the box's top in the red and the blue quadrants of its checker.
@@ -118,7 +150,9 @@ struct Quadrants {
   int red_pixels = 0, blue_pixels = 0;
 };
 Quadrants MeanByQuadrant(const fs::path& root, const nlohmann::json& frame, uint32_t instance) {
-  const auto file = [&](const char* layer) { return root / frame["files"][layer].get<std::string>(); };
+  const auto file = [&](const char* layer) {
+    return root / frame["files"][layer].get<std::string>();
+  };
   const exr::FlatImage rgb = exr::ReadFlatExr(file("rgb"), {"R", "G", "B"});
   const std::vector<uint32_t> ids = exr::ReadFlatExr(file("instanceid"), {"id"}).Get("id").uints;
   const exr::FlatImage world = exr::ReadFlatExr(file("worldposition"), {"X", "Y", "Z"});
@@ -148,7 +182,8 @@ TEST(RendererCycles, DrawsLoadedAssetsTexturesWhereTheirMaskIs) {
   const fs::path reference = dir / "reference", cycles = dir / "cycles";
   const auto ref_run = RunLsds("generate " + inputs + " -o " + reference.string());
   ASSERT_EQ(ref_run.exit_code, 0) << ref_run.output;
-  const auto cyc_run = RunLsds("generate " + inputs + " -o " + cycles.string() + " --renderer cycles");
+  const auto cyc_run =
+      RunLsds("generate " + inputs + " -o " + cycles.string() + " --renderer cycles");
   ASSERT_EQ(cyc_run.exit_code, 0) << cyc_run.output;
   const nlohmann::json ref = nlohmann::json::parse(ReadFile(reference / "collection.json"));
   const nlohmann::json cyc = nlohmann::json::parse(ReadFile(cycles / "collection.json"));

@@ -7,7 +7,7 @@ BUILD_DIR := build/$(PRESET)
 JOBS ?= $(shell nproc)
 PREFIX ?= /usr/local
 
-.PHONY: all deps configure build test test-asan tidy tidy-all demo install format format-check clean bench
+.PHONY: all deps configure build test test-asan tidy tidy-all demo docs-images install format format-check clean bench
 
 all: build
 
@@ -46,6 +46,10 @@ tidy-all: configure
 
 demo: build
 	@./scripts/demo.sh $(BUILD_DIR)/tools/lsds
+
+# The reference renderer / Blender Cycles figures of docs/generator.md (needs Blender; not in `test`).
+docs-images: build
+	@./scripts/docs_images.sh $(BUILD_DIR)/tools/lsds
 
 install: build
 	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)

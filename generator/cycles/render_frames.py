@@ -292,7 +292,8 @@ class Materials:
     """One Principled BSDF per distinct material of the frames' JSON (the JSON is authoritative;
     the glTF's own materials are for other importers), seen through the frame's fog."""
 
-    def __init__(self):
+    def __init__(self, folder):
+        self.folder = folder
         self.made = {}
         self.fog_nodes = []
         self.fog = {"extinction_per_m": 0.0, "fog_radiance": [0.0, 0.0, 0.0]}
@@ -312,7 +313,10 @@ class Materials:
             bsdf = material.node_tree.nodes["Principled BSDF"]
             nodes = Nodes(material.node_tree)
             position = nodes.new("ShaderNodeNewGeometry").outputs["Position"]  # world
-            colour, normal = procedural_albedo(nodes, position, spec)
+            if "albedo_map" in spec:
+                colour, normal = mapped_albedo(nodes, self.folder, spec["albedo_map"]), None
+            else:
+                colour, normal = procedural_albedo(nodes, position, spec)
             nodes.feed(bsdf.inputs["Base Color"], colour)
             if normal is not None:
                 nodes.feed(bsdf.inputs["Normal"], normal)
@@ -327,14 +331,47 @@ class Materials:
         return self.made[key]
 
 
+def mapped_albedo(nodes, folder, file):
+    """A loaded asset's base-colour map (a node's `parts`, docs/export.md) on the mesh's UVs, as
+    the reference renderer samples it: bilinear, repeating. PNG maps are 8-bit sRGB, EXR ones
+    linear."""
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = load_image(os.path.join(folder, file),
+                               "sRGB" if file.lower().endswith(".png") else "Non-Color")
+    texture.interpolation = "Linear"
+    texture.extension = "REPEAT"
+    uv = nodes.new("ShaderNodeUVMap")
+    nodes.feed(texture.inputs["Vector"], uv.outputs["UV"])
+    return texture.outputs["Color"]
+
+
+def part_material(material, part):
+    """The material of one part of a node (`parts`): the node's BSDF with the part's albedo,
+    which replaces the material's own (pattern and detail) as in the reference renderer."""
+    if not part:
+        return material
+    spec = {k: v for k, v in material.items() if k not in ("pattern", "detail")}
+    if "albedo" in part:
+        spec["base_color"] = part["albedo"]
+    else:
+        spec["albedo_map"] = part["albedo_map"]
+    return spec
+
+
 def assign(objects, nodes, materials):
     for node in nodes:
         obj = objects.get(node["name"])
         if obj is None:
             continue
         obj.pass_index = node["pass_index"]
-        obj.data.materials.clear()
-        obj.data.materials.append(materials.get(node["material"]))
+        if "parts" in node:
+            # Primitive k's glTF material is NAME_partK (Blender may add a ".001" suffix).
+            for slot in obj.material_slots:
+                k = int(slot.material.name.split(".")[0].rsplit("_part", 1)[1])
+                slot.material = materials.get(part_material(node["material"], node["parts"][k]))
+        else:
+            obj.data.materials.clear()
+            obj.data.materials.append(materials.get(node["material"]))
         for polygon in obj.data.polygons:
             polygon.use_smooth = True  # the exported corner normals shade it
 
@@ -403,13 +440,11 @@ def sky_image_colour(tree, folder, spec):
     return texture.outputs["Color"]
 
 
-def load_image(path):
-    """A linear float image, read as stored (no colour transform); one load per file."""
-    name = os.path.basename(path)
-    image = bpy.data.images.get(name)
-    if image is None or image.filepath != path:
-        image = bpy.data.images.load(path)
-        image.colorspace_settings.name = "Non-Color"
+def load_image(path, colour_space="Non-Color"):
+    """An image read as stored (Non-Color: linear float, no colour transform); one load per
+    file."""
+    image = bpy.data.images.load(path, check_existing=True)
+    image.colorspace_settings.name = colour_space
     return image
 
 
@@ -471,15 +506,20 @@ def add_background(tree, colour, skylight_intensity):
 class CloudDeck:
     """The cloud deck's shadows: a plane at the deck's height that only shadow rays see, letting
     through the share of sunlight the export's image gives (`clouds`, docs/export.md), as the
-    reference renderer's Sky::CloudTransmittance dims the sun. The clouds themselves are in the
-    sky's image."""
+    reference renderer's Sky::CloudTransmittance dims the sun. Only rays towards the sun's disc
+    are dimmed: the sky's light passes, as in the reference renderer, since the sky's image
+    already draws the clouds (a shadow ray towards a cloud brings the cloud's radiance)."""
+
+    # Shadow rays towards the sun lamp lie within its 0.265 degree radius; 1 degree keeps them all
+    # and the sky's rays (a share of about 1e-4 of the hemisphere) outside.
+    SUN_CONE_COS = math.cos(math.radians(1.0))
 
     def __init__(self):
         self.obj = None
         self.key = None
 
-    def set(self, scene, folder, spec):
-        key = json.dumps(spec, sort_keys=True) if spec else None
+    def set(self, scene, folder, spec, to_sun):
+        key = json.dumps([spec, to_sun], sort_keys=True) if spec else None
         if key == self.key:
             return
         self.key = key
@@ -510,8 +550,16 @@ class CloudDeck:
         texture.interpolation = "Linear"
         texture.extension = "EXTEND"
         tree.links.new(coords.outputs["Generated"], texture.inputs["Vector"])
+        # Incoming points back along the ray, down to the shaded point: -to_sun on its sun ray.
+        incoming = nodes.new("ShaderNodeNewGeometry").outputs["Incoming"]
+        towards_sun = nodes.new("ShaderNodeVectorMath")
+        towards_sun.operation = "DOT_PRODUCT"
+        nodes.feed(towards_sun.inputs[0], incoming)
+        towards_sun.inputs[1].default_value = tuple(-c for c in Vector(to_sun).normalized())
+        sun_ray = nodes.math("GREATER_THAN", towards_sun.outputs["Value"], self.SUN_CONE_COS)
+        share = nodes.mix(sun_ray, (1.0, 1.0, 1.0), texture.outputs["Color"])
         transparent = nodes.new("ShaderNodeBsdfTransparent")
-        tree.links.new(texture.outputs["Color"], transparent.inputs["Color"])
+        nodes.feed(transparent.inputs["Color"], share)
         output = nodes.new("ShaderNodeOutputMaterial")
         tree.links.new(transparent.outputs[0], output.inputs["Surface"])
         mesh.materials.append(material)
@@ -588,7 +636,7 @@ def main():
     sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
     scene.collection.objects.link(sun)
 
-    materials = Materials()
+    materials = Materials(folder)
     clouds = CloudDeck()
     ground = {}
     if os.path.exists(os.path.join(folder, "ground.glb")):
@@ -608,7 +656,7 @@ def main():
         set_camera(camera, spec["camera"], scene)
         set_sun(sun, spec["sun"])
         set_sky(world, spec["sky"], folder)
-        clouds.set(scene, folder, spec.get("clouds"))
+        clouds.set(scene, folder, spec.get("clouds"), spec["sun"]["direction_to_sun"])
         render(scene, os.path.join(options["output"], stem + "_rgb.exr"), options["samples"],
                options["truth"] or options["all_passes"])
         remove_objects(objects)

@@ -14,7 +14,7 @@
 namespace lsds::gen {
 
 // Raised whenever the table's layout or meaning changes; the loader refuses any other value.
-constexpr int kMeshIoAbiVersion = 1;
+constexpr int kMeshIoAbiVersion = 2;
 
 // One material of a mesh file: its base-colour map (glTF's baseColorTexture, else the diffuse
 // map, OBJ's map_Kd), as assimp names it.
@@ -41,12 +41,14 @@ struct MeshFile {
   std::vector<MeshFilePart> parts;
 };
 
-// One glTF mesh and node, in glTF's frame.
+// One glTF primitive, in glTF's frame. Consecutive meshes of the same name are one node (one
+// glTF mesh whose primitives they are, in order).
 struct GlbMesh {
   std::string name;
   uint32_t material = 0;
   std::vector<float> positions;   // x, y, z per vertex
   std::vector<float> normals;     // x, y, z per vertex; empty: none
+  std::vector<float> uvs;         // u, v per vertex (TEXCOORD_0), v up as assimp's; empty: none
   std::vector<uint32_t> indices;  // 3 per triangle
 };
 
@@ -63,8 +65,9 @@ struct MeshIoTable {
   // Reads `path` with assimp (triangulated, identical vertices joined, node transforms applied,
   // sorted by primitive type) into `file`; false with assimp's message in `error` when it cannot.
   bool (*read)(const std::string& path, MeshFile& file, std::string& error);
-  // The .glb bytes of `meshes` (one node each, under a root node "lsds") with `materials`
-  // (at least one), from assimp's glTF 2 exporter; false with its message in `error`.
+  // The .glb bytes of `meshes` (a node per run of same-named meshes, under a root node "lsds")
+  // with `materials` (at least one), from assimp's glTF 2 exporter, which makes a node's meshes
+  // the primitives of one glTF mesh; false with its message in `error`.
   bool (*write_glb)(const std::vector<GlbMesh>& meshes,
                     const std::vector<GlbMaterial>& materials,
                     std::string& glb,

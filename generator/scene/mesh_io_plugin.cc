@@ -94,9 +94,15 @@ aiMesh* MakeMesh(const GlbMesh& mesh) {
   out->mNumVertices = static_cast<unsigned>(vertices);
   out->mVertices = new aiVector3D[vertices];
   if (normals) out->mNormals = new aiVector3D[vertices];
+  const bool uvs = !mesh.uvs.empty();
+  if (uvs) {
+    out->mTextureCoords[0] = new aiVector3D[vertices];
+    out->mNumUVComponents[0] = 2;
+  }
   for (size_t i = 0; i < vertices; ++i) {
     out->mVertices[i] = Vector(mesh.positions, i);
     if (normals) out->mNormals[i] = Vector(mesh.normals, i);
+    if (uvs) out->mTextureCoords[0][i] = aiVector3D(mesh.uvs[2 * i], mesh.uvs[2 * i + 1], 0.f);
   }
   out->mNumFaces = static_cast<unsigned>(triangles);
   out->mFaces = new aiFace[triangles];
@@ -132,15 +138,19 @@ bool WriteGlb(const std::vector<GlbMesh>& meshes,
   for (size_t i = 0; i < materials.size(); ++i) scene.mMaterials[i] = MakeMaterial(materials[i]);
   scene.mMeshes = new aiMesh*[std::max<size_t>(1, meshes.size())];
   scene.mRootNode->mChildren = new aiNode*[std::max<size_t>(1, meshes.size())];
-  for (const GlbMesh& mesh : meshes) {
-    const unsigned index = scene.mNumMeshes;
-    scene.mMeshes[index] = MakeMesh(mesh);
-    ++scene.mNumMeshes;
-    auto* child = new aiNode(mesh.name);
+  for (size_t first = 0; first < meshes.size();) {
+    size_t end = first + 1;
+    while (end < meshes.size() && meshes[end].name == meshes[first].name) ++end;
+    auto* child = new aiNode(meshes[first].name);
     child->mParent = scene.mRootNode;
-    child->mNumMeshes = 1;
-    child->mMeshes = new unsigned[1]{index};
+    child->mNumMeshes = static_cast<unsigned>(end - first);
+    child->mMeshes = new unsigned[end - first];
+    for (size_t m = first; m < end; ++m) {
+      child->mMeshes[m - first] = scene.mNumMeshes;
+      scene.mMeshes[scene.mNumMeshes++] = MakeMesh(meshes[m]);
+    }
     scene.mRootNode->mChildren[scene.mRootNode->mNumChildren++] = child;
+    first = end;
   }
   Assimp::Exporter exporter;
   const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, "glb2", 0);

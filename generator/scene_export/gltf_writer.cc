@@ -14,12 +14,14 @@ void AppendGltfFromWorld(const Eigen::Vector3f& p, std::vector<float>* xyz) {
   xyz->insert(xyz->end(), {p.x(), p.z(), -p.y()});
 }
 
-// One glTF mesh: the triangles as they are, with a vertex per distinct (position, normal) pair.
+// One glTF primitive: the triangles as they are, with a vertex per distinct (position, normal)
+// pair, and the mesh's texture coordinates when it has them.
 GlbMesh MakeMesh(const TriangleMesh& mesh, const std::string& name, int material) {
   const bool normals = mesh.corner_normals.size() == 3 * mesh.triangles.size();
   // Per source vertex, the glTF vertices made for it and their normals.
   std::vector<std::vector<std::pair<Eigen::Vector3f, unsigned>>> made(mesh.positions.size());
   std::vector<Eigen::Vector3f> positions, vertex_normals;
+  std::vector<int> source_vertex;  // per glTF vertex
   std::vector<unsigned> indices;
   indices.reserve(3 * mesh.triangles.size());
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -38,6 +40,7 @@ GlbMesh MakeMesh(const TriangleMesh& mesh, const std::string& name, int material
       if (!found) {
         index = static_cast<unsigned>(positions.size());
         positions.push_back(mesh.positions[v]);
+        source_vertex.push_back(v);
         vertex_normals.push_back(n);
         made[v].emplace_back(n, index);
       }
@@ -52,6 +55,11 @@ GlbMesh MakeMesh(const TriangleMesh& mesh, const std::string& name, int material
   for (size_t i = 0; i < positions.size(); ++i) {
     AppendGltfFromWorld(positions[i], &out.positions);
     if (normals) AppendGltfFromWorld(vertex_normals[i], &out.normals);
+  }
+  if (mesh.uvs.size() == mesh.positions.size()) {
+    out.uvs.reserve(2 * positions.size());
+    for (const int v : source_vertex)
+      out.uvs.insert(out.uvs.end(), {mesh.uvs[v].x(), mesh.uvs[v].y()});
   }
   out.indices = std::move(indices);
   return out;

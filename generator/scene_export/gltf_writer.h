@@ -22,9 +22,11 @@ struct GltfMaterial {
   float metallic = 0.f;
 };
 
+// One glTF primitive: consecutive entries of the same name are one node's primitives (a mesh
+// whose parts have different materials).
 struct GltfNode {
   std::string name;
-  const TriangleMesh* mesh = nullptr;  // world coordinates; corner normals optional
+  const TriangleMesh* mesh = nullptr;  // world coordinates; corner normals and uvs optional
   int material = 0;                    // index into the materials
 };
 

@@ -1,6 +1,7 @@
 #include "generator/scene_export/scene_export.h"
 
 #include <cmath>
+#include <deque>
 
 #include "generator/render/exposure.h"
 #include "generator/render/sky.h"
@@ -9,6 +10,7 @@
 #include "generator/scene/world_meshes.h"
 #include "generator/scene_export/gltf_writer.h"
 #include "generator/scene_export/sky_export.h"
+#include "generator/scene_export/texture_export.h"
 #include "libs/collection/json_io.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/error.h"
@@ -20,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "lsds-scene-export";
-constexpr const char* kFormatVersion = "1.1";
+constexpr const char* kFormatVersion = "1.2";
 constexpr const char* kGroundFile = "ground.glb";
 
 nlohmann::json Rgb(const Eigen::Vector3f& c) { return {c.x(), c.y(), c.z()}; }
@@ -130,8 +132,10 @@ nlohmann::json ExposureDescription(const PlannedExposure& planned) {
 }  // namespace
 
 SceneExporter::SceneExporter(const Plan& plan, const SceneAssets& assets, fs::path folder)
-    : plan_(plan), assets_(assets), folder_(std::move(folder)) {
-  // What clouds shade: the terrain and skirt, and what stands on them up to kObjectsReachM.
+    : plan_(plan), assets_(assets), folder_(std::move(folder)), textures_(folder_) {
+  // What clouds shade: the terrain and what stands on it up to kObjectsReachM. Not the skirt,
+  // which reaches kilometres out: a shadow image over it would have texels wider than the
+  // clouds' stripes (cirrus: 83 m apart) and lose the shadows under the camera.
   constexpr double kObjectsReachM = 50;
   ground_min_ = Eigen::Vector3d::Zero();
   ground_max_ = Eigen::Vector3d(0, 0, kObjectsReachM);
@@ -139,11 +143,9 @@ SceneExporter::SceneExporter(const Plan& plan, const SceneAssets& assets, fs::pa
     const GroundMeshes ground = MakeGroundMeshes(plan_.terrain);
     ground_min_ = Eigen::Vector3d::Constant(1e300);
     ground_max_ = -ground_min_;
-    for (const TriangleMesh* mesh : {&ground.terrain, &ground.skirt}) {
-      for (const Eigen::Vector3f& p : mesh->positions) {
-        ground_min_ = ground_min_.cwiseMin(p.cast<double>());
-        ground_max_ = ground_max_.cwiseMax(p.cast<double>());
-      }
+    for (const Eigen::Vector3f& p : ground.terrain.positions) {
+      ground_min_ = ground_min_.cwiseMin(p.cast<double>());
+      ground_max_ = ground_max_.cwiseMax(p.cast<double>());
     }
     ground_max_.z() += kObjectsReachM;
   }
@@ -205,8 +207,7 @@ nlohmann::json SceneExporter::WriteFrame(const PlannedFrame& frame) const {
     nodes.push_back(NodeJson("ground_plane", kGroundFile, 0, 0, 0, ground));
   }
   const std::string objects_file = FrameStem(frame.index) + ".glb";
-  std::vector<TriangleMesh> meshes;
-  meshes.reserve(world.objects.size());
+  std::deque<TriangleMesh> meshes;  // the glTF nodes point into it
   std::vector<GltfNode> gltf_nodes;
   std::vector<GltfMaterial> materials;
   for (size_t i = 0; i < world.objects.size(); ++i) {
@@ -218,11 +219,28 @@ nlohmann::json SceneExporter::WriteFrame(const PlannedFrame& frame) const {
                      where + " object '" + o.planned->name + "'");
     const std::string name = "object_" + std::to_string(i);
     meshes.push_back(ObjectMeshInWorld(shape, o));
-    gltf_nodes.push_back({name, &meshes.back(), static_cast<int>(materials.size())});
-    materials.push_back(GltfOf(material));
     nodes.push_back(NodeJson(
         name, objects_file, ObjectPassIndex(i), o.planned->instance_id, o.class_id, material));
     nodes.back()["object"] = o.planned->name;
+    std::vector<AlbedoPart> parts = textures_.Split(meshes.back());
+    if (parts.empty()) {
+      gltf_nodes.push_back({name, &meshes.back(), static_cast<int>(materials.size())});
+      materials.push_back(GltfOf(material));
+      continue;
+    }
+    // A mesh with base-colour maps: a primitive per albedo, its glTF material NAME_partK.
+    meshes.pop_back();
+    nlohmann::json records = nlohmann::json::array();
+    for (AlbedoPart& part : parts) {
+      GltfMaterial gltf = GltfOf(material);
+      gltf.name = name + "_part" + std::to_string(records.size());
+      if (part.constant) gltf.base_color = part.colour;
+      records.push_back(part.record);
+      meshes.push_back(std::move(part.mesh));
+      gltf_nodes.push_back({name, &meshes.back(), static_cast<int>(materials.size())});
+      materials.push_back(gltf);
+    }
+    nodes.back()["parts"] = records;
   }
   if (!gltf_nodes.empty()) WriteGlb(folder_ / objects_file, gltf_nodes, materials);
   nlohmann::json description = {{"format", kFormat},

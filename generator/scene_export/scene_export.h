@@ -17,6 +17,7 @@
 
 #include "generator/plan/plan.h"
 #include "generator/render/embree_scene.h"
+#include "generator/scene_export/texture_export.h"
 #include "libs/util/frame_selection.h"
 
 namespace lsds::gen {
@@ -65,6 +66,7 @@ class SceneExporter {
   std::filesystem::path folder_;
   Eigen::Vector3d ground_min_, ground_max_;                  // what cloud shadows fall on
   mutable std::map<std::string, nlohmann::json> sky_files_;  // light record -> its files
+  mutable TextureExporter textures_;                         // loaded assets' maps, written once
 };
 
 struct SceneExportOptions {

@@ -66,7 +66,7 @@ TEST(ExportScene, WritesTheReferenceRenderersSkyCloudsAndGroundDetail) {
   const Plan plan = gen::PlanFromScene(in.scene.string(), in.capture.string(), 0);
   const gen::Sky sky(plan, EnvironmentAt(plan, plan.frames[0]));
   const nlohmann::json frame = nlohmann::json::parse(ReadFile(out / "000000.json"));
-  EXPECT_EQ(frame["format_version"], "1.1");
+  EXPECT_EQ(frame["format_version"], "1.2");
 
   // The mapping as docs/export.md states it: the centre column looks along +x, a quarter of the
   // width to its right along +y, the top row is the zenith.
@@ -220,13 +220,13 @@ TEST(RendererCycles, CastsTheReferenceRenderersCloudShadows) {
             << cyc_ratio << "\n";
   RecordProperty("reference_shaded_over_lit", std::to_string(ref_ratio));
   RecordProperty("cycles_shaded_over_lit", std::to_string(cyc_ratio));
-  // Shaded ground keeps the sky's light and a fifth or more of the sun's: darker, not black. In
-  // Cycles the sky's light is the whole exported sky's, clouds included, which lights shaded
-  // ground more than the reference renderer's ambient term does (0.76 against 0.40 here); shadows
-  // in other places than the reference renderer's would leave the ratio near 1.
-  EXPECT_LT(ref_ratio, 0.8);
-  EXPECT_LT(cyc_ratio, 0.9);
-  EXPECT_GT(cyc_ratio, 0.2);
+  // Shaded ground keeps the sky's light and a fifth or more of the sun's: darker, not black; and
+  // Cycles shades the same ground as much (0.396 reference, 0.418 Cycles measured). Shadows in
+  // other places than the reference renderer's would leave Cycles' ratio near 1; a shadow image
+  // too coarse for the cirrus stripes (80 m texels over the skirt) left it at 0.76.
+  EXPECT_GT(ref_ratio, 0.32);
+  EXPECT_LT(ref_ratio, 0.48);
+  EXPECT_NEAR(cyc_ratio, ref_ratio, 0.05);
 
   // Frame 1's sky: Cycles draws the reference renderer's own (the exported image), in the same
   // place. Radiance is each rgb over its frame's exposure scale (each renderer meters its own).

@@ -22,6 +22,18 @@ float OctaveWeight(float wavelength, float footprint) {
       (wavelength / footprint - kGoneFootprints) / (kWholeFootprints - kGoneFootprints), 0.f, 1.f);
 }
 
+// The lean an octave of wavelength `wavelength` gives the normal at `p`, in [-0.5, 0.5]^2.
+Eigen::Vector2f DetailTilt(const Perlin& noise,
+                           const Eigen::Vector3f& p,
+                           float wavelength,
+                           bool height_field) {
+  const double f = 1.0 / wavelength;
+  return {static_cast<float>(height_field ? noise.Noise(p.x() * f + 53.1, p.y() * f)
+                                          : noise.Noise(p.x() * f + 53.1, p.y() * f, p.z() * f)),
+          static_cast<float>(height_field ? noise.Noise(p.x() * f, p.y() * f + 71.9)
+                                          : noise.Noise(p.x() * f, p.y() * f + 71.9, p.z() * f))};
+}
+
 }  // namespace
 
 Eigen::Vector3f DetailFactor(const GroundDetail& detail,
@@ -33,7 +45,7 @@ Eigen::Vector3f DetailFactor(const GroundDetail& detail,
   if (tilt != nullptr) tilt->setZero();
   if (detail.contrast <= 0) return Eigen::Vector3f::Ones();
   double sum = 0, norm = 0, weight = 1;
-  float finest_shown = 0, finest_weight = 0;
+  float finest_shown = 0, finest_weight = 0, coarser_shown = 0;
   int octave = 0;
   for (float wavelength = detail.coarsest_m; wavelength >= detail.finest_m * 0.999f;
        wavelength *= 0.5f, weight *= detail.persistence, ++octave) {
@@ -48,6 +60,7 @@ Eigen::Vector3f DetailFactor(const GroundDetail& detail,
                    : noise.Noise(p.x() * f + offset, p.y() * f - offset, p.z() * f + 0.5 * offset);
     if (detail.ridged && wavelength < static_cast<float>(kRidgedBelowM)) n = 0.4 - 2 * std::abs(n);
     sum += weight * shown * n;
+    coarser_shown = finest_shown;
     finest_shown = wavelength;
     finest_weight = shown;
   }
@@ -58,15 +71,13 @@ Eigen::Vector3f DetailFactor(const GroundDetail& detail,
   for (int c = 0; c < 3; ++c) factor[c] += detail.contrast * d * (d > 0 ? detail.tint[c] : 1.f);
   if (tilt != nullptr && detail.bump > 0 && finest_weight > 0) {
     // The finest octave shown tilts the normal: blades and grains lean each
-    // their own way.
-    const double f = 1.0 / finest_shown;
-    const float a = detail.bump * finest_weight;
-    tilt->x() =
-        a * static_cast<float>(height_field ? noise.Noise(p.x() * f + 53.1, p.y() * f)
-                                            : noise.Noise(p.x() * f + 53.1, p.y() * f, p.z() * f));
-    tilt->y() =
-        a * static_cast<float>(height_field ? noise.Noise(p.x() * f, p.y() * f + 71.9)
-                                            : noise.Noise(p.x() * f, p.y() * f + 71.9, p.z() * f));
+    // their own way. While it fades out with distance the next coarser octave
+    // fades in, so the tilt never drops to nothing at a footprint (which drew a
+    // ring of smooth ground round the nadir point).
+    *tilt = detail.bump * finest_weight * DetailTilt(noise, p, finest_shown, height_field);
+    if (finest_weight < 1 && coarser_shown > 0)
+      *tilt +=
+          detail.bump * (1 - finest_weight) * DetailTilt(noise, p, coarser_shown, height_field);
   }
   return factor.cwiseMax(0.f);
 }

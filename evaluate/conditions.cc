@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 
+#include "libs/collection/requirement_summary.h"
 #include "libs/util/strings.h"
 
 namespace lsds::evaluate {
@@ -226,6 +227,27 @@ const FrameFacts& FactsOfImage(const EvaluationTruth& truth, int64_t image) {
   return frame == truth.frames.end() ? none : frame->second;
 }
 
+// A quota as a frame condition: every bin listed (coverage shows an empty one).
+ConditionBins QuotaCondition(const nlohmann::json& quotas, size_t q) {
+  const nlohmann::json& quota = quotas[q];
+  ConditionBins c;
+  c.name = "quota:" + quota.at("name").get<std::string>();
+  const std::string target = quota.value("target", "");
+  c.description = "LCAP quota: " + quota.at("quantity").get<std::string>() + " of " +
+                  (target.empty() ? std::string("the frame") : target) + ", " +
+                  QuotaBinsText(quota) + ", the frame's achieved value";
+  c.level = Level::kFrame;
+  c.quota = static_cast<int>(q);
+  if (quota.contains("classes")) {
+    c.bins = quota.at("classes").get<std::vector<std::string>>();
+  } else {
+    c.edges = quota.at("bins").get<std::vector<double>>();
+    c.bins = NumericBins{c.edges}.Labels();
+  }
+  if (quota.contains("planned")) c.planned = quota.at("planned").get<std::vector<int64_t>>();
+  return c;
+}
+
 }  // namespace
 
 const std::vector<std::string>& ConditionNames() {
@@ -251,6 +273,8 @@ int ObjectBin(const ConditionBins& c, const ObjectView& object) {
 }
 
 int FrameBin(const ConditionBins& c, const FrameFacts& facts) {
+  if (c.quota >= 0)
+    return static_cast<size_t>(c.quota) < facts.quota_bins.size() ? facts.quota_bins[c.quota] : -1;
   const Definition& d = Definitions()[c.definition];
   return BinOf(c,
                d.frame_number ? d.frame_number(facts) : Number(),
@@ -307,6 +331,7 @@ std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth) {
     const bool recorded = IsNumeric(d) ? seen[i].lo <= seen[i].hi : !seen[i].labels.empty();
     if (recorded) out.push_back(std::move(c));
   }
+  for (size_t q = 0; q < truth.quotas.size(); ++q) out.push_back(QuotaCondition(truth.quotas, q));
   return out;
 }
 

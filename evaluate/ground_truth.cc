@@ -16,6 +16,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/model.h"
+#include "libs/collection/requirement_summary.h"
 #include "libs/geometry/world_frame.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
@@ -98,15 +99,39 @@ FrameFacts FactsOf(const Frame& frame, const WorldFrame& world) {
   return facts;
 }
 
+// The bin each quota's check of a frame record achieved (requirement_summary.h
+// counts the same), -1 for none.
+std::vector<int16_t> AchievedQuotaBins(const json& quotas, const json& record) {
+  std::vector<int16_t> bins(quotas.size(), -1);
+  if (!record.is_object() || !record.contains("checks")) return bins;
+  for (size_t q = 0; q < quotas.size(); ++q) {
+    const std::string& name = quotas[q].at("name").get_ref<const std::string&>();
+    for (const json& check : record.at("checks")) {
+      if (check.value("name", "") != name) continue;
+      if (check.contains("achieved")) {
+        const size_t bin = QuotaBinOf(quotas[q], check.at("achieved").get<double>());
+        if (bin < quotas[q].at("weights").size()) bins[q] = static_cast<int16_t>(bin);
+      }
+      break;  // one check per quota and frame
+    }
+  }
+  return bins;
+}
+
 // The frames' conditions, and where their cameras are.
 void ReadFrameFacts(const TruthOptions& options, EvaluationTruth* truth) {
   const CollectionReader reader(options.collection);
   const WorldFrame& world = reader.header().conventions.world;
   truth->capture_source = reader.header().provenance.capture_source;
   truth->metres_per_unit = world.metres_per_unit;
+  const json& requirements = reader.header().provenance.requirements;
+  if (requirements.is_object() && requirements.contains("quotas"))
+    truth->quotas = requirements.at("quotas");
   reader.ForEachFrame([&](const Frame& frame) {
     if (!options.frames.Contains(frame.index)) return;
-    truth->frames[frame.index] = FactsOf(frame, world);
+    FrameFacts facts = FactsOf(frame, world);
+    facts.quota_bins = AchievedQuotaBins(truth->quotas, frame.requirements);
+    truth->frames[frame.index] = std::move(facts);
   });
   const fs::path metadata = options.collection / kMetadataFile;
   if (!fs::exists(metadata)) return;

@@ -65,6 +65,10 @@ struct FrameFacts {
   // The camera centre in world coordinates (world units), for the objects'
   // distances.
   std::optional<std::array<double, 3>> camera_in_world;
+  // Per quota of the collection (EvaluationTruth::quotas): the bin the
+  // frame's check achieved in the rendered truth; -1 when it achieved none
+  // (the target out of view, a value outside every bin). Empty without quotas.
+  std::vector<int16_t> quota_bins;
 };
 
 // One image of the ground truth as the evaluation is handed it.
@@ -92,7 +96,11 @@ struct EvaluationTruth {
   std::vector<ObjectFacts> objects;         // parallel to coco.ground_truth
   std::map<int64_t, FrameFacts> frames;     // by frame index
   std::string capture_source;               // provenance.capture_source (LCAP text)
-  double metres_per_unit = 1;               // of the world frame, for distances
+  // The LCAP quotas the collection was generated under, in provenance form
+  // (provenance.requirements.quotas, docs/format.md "Requirements"); each is
+  // a frame condition (evaluate/conditions.h).
+  nlohmann::json quotas = nlohmann::json::array();
+  double metres_per_unit = 1;  // of the world frame, for distances
   // Categories whose objects are ignored, as COCO ignores a box outside the
   // area range (MOT's distractor classes, mot_results.h).
   std::set<int64_t> ignored_categories;

@@ -79,14 +79,14 @@ std::unique_ptr<DetectionsByImage> ReadDetections(const fs::path& file,
 }
 
 // Writes DIR/gt_N.json and DIR/dt_N.json one entry at a time; returns the frames' facts.
-std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) {
+FrameTable WriteData(int64_t images, const fs::path& folder) {
   std::mt19937_64 rng(44);
   std::uniform_real_distribution<double> u(0, 1);
   const std::string n = std::to_string(images);
   std::ofstream gt(folder / ("gt_" + n + ".json")), dt(folder / ("dt_" + n + ".json"));
   std::string annotations;  // one image's, written after the images list
   std::ofstream annotation_part(folder / ("gt_" + n + ".annotations"));
-  std::map<int64_t, FrameFacts> frames;
+  FrameTable frames;
   gt << "{\"images\":[\n";
   dt << "[";
   int64_t id = 1, detections = 0;
@@ -99,10 +99,11 @@ std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) 
                {"lsds", {{"frame", image - 1}}}}
               .dump();
     FrameFacts facts;
+    facts.index = image - 1;
     facts.off_nadir_deg = 40 * u(rng);
     facts.altitude_agl_m = 30 + 90 * u(rng);
-    facts.camera_in_world = std::array<double, 3>{0, 0, 0};
-    frames[image - 1] = facts;
+    facts.camera_in_world = {0, 0, 0};
+    frames.Add(std::move(facts));
     for (int k = 0; k < 25; ++k) {
       const double w = 4 + 120 * u(rng) * u(rng), h = w * (0.5 + u(rng));
       const double x = 900 * u(rng), y = 700 * u(rng);
@@ -148,6 +149,7 @@ std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) 
         "{\"id\":3,\"name\":\"person\"}]}\n";
   fs::remove(folder / ("gt_" + n + ".annotations"));
   dt << "]\n";
+  frames.Seal();
   return frames;
 }
 
@@ -195,7 +197,7 @@ int main(int argc, char** argv) {
               "r_runs",
               "kept");
   for (const int64_t images : sizes) {
-    const std::map<int64_t, FrameFacts> frames = WriteData(images, folder);
+    FrameTable frames = WriteData(images, folder);
     const std::string n = std::to_string(images);
     const fs::path gt = folder / ("gt_" + n + ".json"), dt = folder / ("dt_" + n + ".json");
     auto t = Clock::now();
@@ -203,7 +205,7 @@ int main(int argc, char** argv) {
     const double floor = Seconds(t);
     t = Clock::now();
     EvaluationTruth truth = StreamCocoGroundTruth(gt, false);
-    truth.frames = frames;
+    truth.frames = std::move(frames);
     const double truth_s = Seconds(t);
     t = Clock::now();
     std::unique_ptr<DetectionsByImage> detections = ReadDetections(dt, truth, budget);

@@ -39,7 +39,7 @@ inline void AddCrowdRegions(const std::string& name, EvaluationTruth* truth) {
     g.area = a["area"].get<double>();
     g.iscrowd = a["iscrowd"].get<int>() != 0;
     if (truth->coco.iou_type == IouType::kMask) {
-      const EvaluationTruth::ImageSize size = truth->image_size.at(g.image_id);
+      const EvaluationTruth::ImageSize size = truth->SizeOf(g.image_id);
       g.mask = ReadSegmentation(a["segmentation"],
                                 size.height,
                                 size.width,

@@ -70,7 +70,7 @@ TEST_F(ObbStrata, TheTruthIsWhatTheConverterWritesWithEachObjectsFacts) {
           return o.frame == facts.frame && o.instance_id == facts.instance_id;
         });
     ASSERT_NE(same, truth_->objects.end()) << i;
-    EXPECT_EQ(obb.truth.frame_of_image.at(g.image_id), facts.frame);
+    EXPECT_EQ(obb.truth.images.At(g.image_id).frame, facts.frame);
     EXPECT_EQ(same->visibility, facts.visibility);
     EXPECT_EQ(same->size_px, facts.size_px);
     EXPECT_EQ(same->in_frame, facts.in_frame);

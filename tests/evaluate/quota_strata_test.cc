@@ -99,10 +99,10 @@ TEST(EvaluateQuotaStrata, TheQuotaBinAModelMissesIsRankedWorstWithTheCollections
   WriteFileAtomic(dir / "p.json", predictions.dump());
 
   const fs::path next = dir / "next.lcap";
-  const testing::CommandResult evaluate = testing::RunLsds(
-      "evaluate " + c + " --predictions " + (dir / "p.json").string() + " -o " +
-      (dir / "e.json").string() + " --junit " + (dir / "e.xml").string() + " --suggest " +
-      next.string());
+  const testing::CommandResult evaluate =
+      testing::RunLsds("evaluate " + c + " --predictions " + (dir / "p.json").string() + " -o " +
+                       (dir / "e.json").string() + " --junit " + (dir / "e.xml").string() +
+                       " --suggest " + next.string());
   ASSERT_EQ(evaluate.exit_code, 0) << evaluate.output;
   EXPECT_NE(evaluate.output.find("quota:Q (LCAP quota: size_px of T"), std::string::npos)
       << evaluate.output;
@@ -139,8 +139,8 @@ TEST(EvaluateQuotaStrata, TheQuotaBinAModelMissesIsRankedWorstWithTheCollections
     EXPECT_EQ(cell["planned"], planned[b]) << b;
   }
   // --coverage alone gives the same cells.
-  const testing::CommandResult only = testing::RunLsds(
-      "evaluate " + c + " --coverage -o " + (dir / "cov.json").string());
+  const testing::CommandResult only =
+      testing::RunLsds("evaluate " + c + " --coverage -o " + (dir / "cov.json").string());
   ASSERT_EQ(only.exit_code, 0) << only.output;
   EXPECT_EQ(*Named(ReadJsonFile(dir / "cov.json")["coverage"], "quota:Q"), *coverage);
 
@@ -157,7 +157,8 @@ TEST(EvaluateQuotaStrata, TheQuotaBinAModelMissesIsRankedWorstWithTheCollections
   ASSERT_EQ(planned_next.exit_code, 0) << planned_next.output << "\n" << lcap;
   const json next_planned = ReadJsonFile(plan)["requirements"]["quotas"][0]["planned"];
   EXPECT_GT(next_planned[kMissedBin].get<int64_t>(), planned[kMissedBin].get<int64_t>())
-      << next_planned.dump() << " after " << planned.dump() << "\n" << lcap;
+      << next_planned.dump() << " after " << planned.dump() << "\n"
+      << lcap;
   for (size_t b = 0; b < kLabels.size(); ++b)
     if (static_cast<int>(b) != kMissedBin)
       EXPECT_GT(next_planned[kMissedBin].get<int64_t>(), next_planned[b].get<int64_t>());

@@ -19,7 +19,9 @@
 // --memory-budget is lsds evaluate's: the detections and the records each held in memory up to
 // 1/32 of it (docs/evaluate.md, "Memory"). --report-only skips the coco_s pass.
 // --write DIR keeps the files (DIR/gt_N.json, DIR/dt_N.json) for a peer: pycocotools' COCOeval on
-// the same data (bench/README.md, "lsds evaluate"); without it they go to a scratch folder.
+// the same data (bench/README.md, "lsds evaluate"; bench/peers/coco_eval_files.py); without it
+// they go to a scratch folder. With it the 12 numbers are printed to 17 digits, and the CPU
+// seconds of loading (the truth's tables and the results file) and of the 12 numbers alone.
 //
 //   bench_evaluate [--images 2000,10000] [--memory-budget 8G] [--report-only] [--write DIR]
 #include <stdlib.h>
@@ -204,20 +206,24 @@ int main(int argc, char** argv) {
     ParseOnly(dt);
     const double floor = Seconds(t);
     t = Clock::now();
+    const double cpu_before_load = CpuSeconds();
     EvaluationTruth truth = StreamCocoGroundTruth(gt, false);
     truth.frames = std::move(frames);
     const double truth_s = Seconds(t);
     t = Clock::now();
     std::unique_ptr<DetectionsByImage> detections = ReadDetections(dt, truth, budget);
     const double read = Seconds(t);
+    const double load_cpu = CpuSeconds() - cpu_before_load;  // truth tables and results file
     const int64_t entries = detections->size();
     const size_t detection_runs = detections->runs();
-    double coco_s = 0;
+    double coco_s = 0, coco_cpu = 0;
     std::optional<CocoStats> coco_stats;
     if (!report_only) {
       t = Clock::now();
+      const double cpu_before = CpuSeconds();
       coco_stats = EvaluateImages(truth, {}, detections.get(), 30, SpillShare(budget)).stats;
       coco_s = Seconds(t);
+      coco_cpu = CpuSeconds() - cpu_before;
       detections = ReadDetections(dt, truth, budget);  // taken image by image: read again
     }
     t = Clock::now();
@@ -230,7 +236,10 @@ int main(int argc, char** argv) {
     if (!write.empty()) {  // for comparison with the peer's stats
       std::printf("stats %lld:", static_cast<long long>(images));
       for (const double v : *coco_stats) std::printf(" %.17g", v);
-      std::printf("\n");
+      std::printf("\ncpu %lld: load_cpu_s %.2f coco_cpu_s %.2f\n",
+                  static_cast<long long>(images),
+                  load_cpu,
+                  coco_cpu);
     }
     const double peak = PeakRssMib();
     const double total = read + truth_s + report;

@@ -85,8 +85,8 @@ void FrameTable::Seal() {
 }
 
 FrameFacts* FrameTable::Find(int64_t index) {
-  const auto it = std::lower_bound(
-      frames_.begin(), frames_.end(), index, [](const FrameFacts& f, int64_t v) {
+  const auto it =
+      std::lower_bound(frames_.begin(), frames_.end(), index, [](const FrameFacts& f, int64_t v) {
         return f.index < v;
       });
   return it != frames_.end() && it->index == index ? &*it : nullptr;

@@ -44,7 +44,7 @@ class ImageTable {
 
  private:
   std::vector<ImageEntry> images_;
-  std::string names_;                // every file name, one after the other
+  std::string names_;                 // every file name, one after the other
   std::vector<uint32_t> name_order_;  // positions in images_, by file name
 };
 
@@ -55,12 +55,12 @@ const std::string* InternLabel(std::string_view label);
 // Per frame, what the collection records. Numbers are NaN when not recorded.
 struct FrameFacts {
   static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-  int64_t index = 0;                   // the frame's index
-  double gsd_m = kNone;                // metadata.json gsd_m
-  double altitude_agl_m = kNone;       // metadata.json altitude_agl_m
-  double off_nadir_deg = kNone;        // optical axis from straight down
-  double sun_elevation_deg = kNone;    // scene.sun.elevation_deg
-  double fog_visibility_m = kNone;     // scene.atmosphere.visibility_m (clear: NaN)
+  int64_t index = 0;                    // the frame's index
+  double gsd_m = kNone;                 // metadata.json gsd_m
+  double altitude_agl_m = kNone;        // metadata.json altitude_agl_m
+  double off_nadir_deg = kNone;         // optical axis from straight down
+  double sun_elevation_deg = kNone;     // scene.sun.elevation_deg
+  double fog_visibility_m = kNone;      // scene.atmosphere.visibility_m (clear: NaN)
   const std::string* clouds = nullptr;  // scene.sky.cloud_type ("none" at density 0), interned
   const std::string* terrain_material = nullptr;  // interned
   // The camera centre in world coordinates (world units), for the objects'

@@ -3,8 +3,8 @@ DIR` keeps.
 
     python3 coco_eval_files.py --pycocotools /tmp/cocoapi/PythonAPI GT.json DT.json
 
-pycocotools is not a dependency of lsds: build it from source in a scratch folder as
-tests/evaluate/README.md says (its code never enters the repository). Loading (COCO(), loadRes)
+pycocotools is not a dependency of lsds: build it from source in a scratch folder as the README.md
+of tests/evaluate says (its code never enters the repository). Loading (COCO(), loadRes)
 and evaluating (evaluate, accumulate, summarize) are timed apart, each in wall and CPU seconds
 (user + system of this process). Prints one JSON object: {"load_wall_s", "load_cpu_s",
 "eval_wall_s", "eval_cpu_s", "stats": the 12 numbers}.
@@ -16,7 +16,6 @@ import json
 import os
 import sys
 import time
-import types
 
 
 def cpu_seconds():
@@ -31,18 +30,11 @@ def main():
     parser.add_argument("results")
     args = parser.parse_args()
 
-    sys.path.insert(0, args.pycocotools)
-    # coco.py imports matplotlib for showAnns only; cocoeval.py:378 uses np.float, which numpy
-    # 1.24 removed (it was the builtin float).
-    for name in ["matplotlib", "matplotlib.pyplot", "matplotlib.collections", "matplotlib.patches"]:
-        module = types.ModuleType(name)
-        module.PatchCollection = module.Polygon = None
-        sys.modules.setdefault(name, module)
-    import numpy as np
-    if not hasattr(np, "float"):
-        np.float = float
-    from pycocotools.coco import COCO
-    from pycocotools.cocoeval import COCOeval
+    # The import the goldens' script makes (stubs for what the evaluation does not use).
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "tests", "evaluate"))
+    import make_goldens
+    COCO, COCOeval = make_goldens.import_pycocotools(args.pycocotools)
 
     wall, cpu = time.perf_counter(), cpu_seconds()
     with contextlib.redirect_stdout(io.StringIO()):

@@ -60,12 +60,8 @@ const json* Named(const json& list, const std::string& name) {
 
 TEST(EvaluateQuotaStrata, TheQuotaBinAModelMissesIsRankedWorstWithTheCollectionsCounts) {
   testing::TempDir dir;
-  WriteFileAtomic(dir / "s.lscene", kScene);
-  WriteFileAtomic(dir / "c.lcap", kCapture);
   const std::string c = (dir / "C").string();
-  const testing::CommandResult generate =
-      testing::RunLsds("generate " + (dir / "s.lscene").string() + " " + (dir / "c.lcap").string() +
-                       " -o " + c + " --spp 1 -q");
+  const testing::CommandResult generate = GenerateFromText(dir.path(), kScene, kCapture);
   ASSERT_EQ(generate.exit_code, 0) << generate.output;
   const testing::CommandResult convert =
       testing::RunLsds("convert " + c + " --to coco --images none -o " + (dir / "coco").string());

@@ -36,12 +36,8 @@ int CountSmall(const std::vector<double>& sizes) {
 
 TEST(EvaluateSuggest, TheNextCaptureAsksForTheStrataTheModelMissed) {
   testing::TempDir dir;
-  WriteFileAtomic(dir / "s.lscene", kScene);
-  WriteFileAtomic(dir / "c.lcap", kCapture);
   const std::string c = (dir / "C").string();
-  const testing::CommandResult generate =
-      testing::RunLsds("generate " + (dir / "s.lscene").string() + " " + (dir / "c.lcap").string() +
-                       " -o " + c + " --spp 1 -q");
+  const testing::CommandResult generate = GenerateFromText(dir.path(), kScene, kCapture);
   ASSERT_EQ(generate.exit_code, 0) << generate.output;
 
   // The model: every object of kBlindBelow pixels and more, exactly; nothing smaller.

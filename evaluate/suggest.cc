@@ -172,18 +172,24 @@ std::string Reweight(const std::string& capture, const Reweighting& r) {
   }
   std::string body = capture.substr(open + 1, close - open - 1);
   std::vector<std::string> parts;
-  if (r.quota->contains("classes")) {
+  // A class quota's shares are `classes:{name:share,...}`, or (`classes:[...]`)
+  // its `weights`, as a numeric quota's.
+  const std::regex class_shares(R"(classes\s*:\s*\{[^}]*\})");
+  if (r.quota->contains("classes") && std::regex_search(body, class_shares)) {
     const auto names = r.quota->at("classes").get<std::vector<std::string>>();
     for (size_t b = 0; b < names.size(); ++b)
       parts.push_back(names[b] + ":" + FormatNumber(r.weights[b], 3));
-    body = std::regex_replace(
-        body, std::regex(R"(classes\s*:\s*\{[^}]*\})"), "classes:{" + Join(parts, ",") + "}");
+    body = std::regex_replace(body, class_shares, "classes:{" + Join(parts, ",") + "}");
   } else {
     for (double w : r.weights) parts.push_back(FormatNumber(w, 3));
     const std::string weights = "weights:[" + Join(parts, ",") + "]";
     const std::regex old(R"(weights\s*:\s*\[[^\]]*\])");
-    body = std::regex_search(body, old) ? std::regex_replace(body, old, weights)
-                                        : body + "," + weights;
+    if (std::regex_search(body, old)) {
+      body = std::regex_replace(body, old, weights);
+    } else {
+      body.erase(body.find_last_not_of(" \t\r\n") + 1);
+      body += "," + weights;
+    }
   }
   return capture.substr(0, line) + "# lsds evaluate --suggest: weights raised, worst " + r.why +
          "\n" + capture.substr(line, open + 1 - line) + body + capture.substr(close);

@@ -19,7 +19,9 @@
 // --memory-budget is lsds evaluate's: the detections and the records each held in memory up to
 // 1/32 of it (docs/evaluate.md, "Memory"). --report-only skips the coco_s pass.
 // --write DIR keeps the files (DIR/gt_N.json, DIR/dt_N.json) for a peer: pycocotools' COCOeval on
-// the same data (bench/README.md, "lsds evaluate"); without it they go to a scratch folder.
+// the same data (bench/README.md, "lsds evaluate"; bench/peers/coco_eval_files.py); without it
+// they go to a scratch folder. With it the 12 numbers are printed to 17 digits, and the CPU
+// seconds of loading (the truth's tables and the results file) and of the 12 numbers alone.
 //
 //   bench_evaluate [--images 2000,10000] [--memory-budget 8G] [--report-only] [--write DIR]
 #include <stdlib.h>
@@ -79,14 +81,14 @@ std::unique_ptr<DetectionsByImage> ReadDetections(const fs::path& file,
 }
 
 // Writes DIR/gt_N.json and DIR/dt_N.json one entry at a time; returns the frames' facts.
-std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) {
+FrameTable WriteData(int64_t images, const fs::path& folder) {
   std::mt19937_64 rng(44);
   std::uniform_real_distribution<double> u(0, 1);
   const std::string n = std::to_string(images);
   std::ofstream gt(folder / ("gt_" + n + ".json")), dt(folder / ("dt_" + n + ".json"));
   std::string annotations;  // one image's, written after the images list
   std::ofstream annotation_part(folder / ("gt_" + n + ".annotations"));
-  std::map<int64_t, FrameFacts> frames;
+  FrameTable frames;
   gt << "{\"images\":[\n";
   dt << "[";
   int64_t id = 1, detections = 0;
@@ -99,10 +101,11 @@ std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) 
                {"lsds", {{"frame", image - 1}}}}
               .dump();
     FrameFacts facts;
+    facts.index = image - 1;
     facts.off_nadir_deg = 40 * u(rng);
     facts.altitude_agl_m = 30 + 90 * u(rng);
-    facts.camera_in_world = std::array<double, 3>{0, 0, 0};
-    frames[image - 1] = facts;
+    facts.camera_in_world = {0, 0, 0};
+    frames.Add(std::move(facts));
     for (int k = 0; k < 25; ++k) {
       const double w = 4 + 120 * u(rng) * u(rng), h = w * (0.5 + u(rng));
       const double x = 900 * u(rng), y = 700 * u(rng);
@@ -148,6 +151,7 @@ std::map<int64_t, FrameFacts> WriteData(int64_t images, const fs::path& folder) 
         "{\"id\":3,\"name\":\"person\"}]}\n";
   fs::remove(folder / ("gt_" + n + ".annotations"));
   dt << "]\n";
+  frames.Seal();
   return frames;
 }
 
@@ -195,27 +199,31 @@ int main(int argc, char** argv) {
               "r_runs",
               "kept");
   for (const int64_t images : sizes) {
-    const std::map<int64_t, FrameFacts> frames = WriteData(images, folder);
+    FrameTable frames = WriteData(images, folder);
     const std::string n = std::to_string(images);
     const fs::path gt = folder / ("gt_" + n + ".json"), dt = folder / ("dt_" + n + ".json");
     auto t = Clock::now();
     ParseOnly(dt);
     const double floor = Seconds(t);
     t = Clock::now();
+    const double cpu_before_load = CpuSeconds();
     EvaluationTruth truth = StreamCocoGroundTruth(gt, false);
-    truth.frames = frames;
+    truth.frames = std::move(frames);
     const double truth_s = Seconds(t);
     t = Clock::now();
     std::unique_ptr<DetectionsByImage> detections = ReadDetections(dt, truth, budget);
     const double read = Seconds(t);
+    const double load_cpu = CpuSeconds() - cpu_before_load;  // truth tables and results file
     const int64_t entries = detections->size();
     const size_t detection_runs = detections->runs();
-    double coco_s = 0;
+    double coco_s = 0, coco_cpu = 0;
     std::optional<CocoStats> coco_stats;
     if (!report_only) {
       t = Clock::now();
+      const double cpu_before = CpuSeconds();
       coco_stats = EvaluateImages(truth, {}, detections.get(), 30, SpillShare(budget)).stats;
       coco_s = Seconds(t);
+      coco_cpu = CpuSeconds() - cpu_before;
       detections = ReadDetections(dt, truth, budget);  // taken image by image: read again
     }
     t = Clock::now();
@@ -228,7 +236,10 @@ int main(int argc, char** argv) {
     if (!write.empty()) {  // for comparison with the peer's stats
       std::printf("stats %lld:", static_cast<long long>(images));
       for (const double v : *coco_stats) std::printf(" %.17g", v);
-      std::printf("\n");
+      std::printf("\ncpu %lld: load_cpu_s %.2f coco_cpu_s %.2f\n",
+                  static_cast<long long>(images),
+                  load_cpu,
+                  coco_cpu);
     }
     const double peak = PeakRssMib();
     const double total = read + truth_s + report;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 
+#include "libs/collection/requirement_summary.h"
 #include "libs/util/strings.h"
 
 namespace lsds::evaluate {
@@ -35,13 +36,18 @@ struct Definition {
 };
 
 std::string FogLabel(const FrameFacts& f) {
-  if (!f.fog_visibility_m) return "clear";
-  const double v = *f.fog_visibility_m;
+  if (std::isnan(f.fog_visibility_m)) return "clear";
+  const double v = f.fog_visibility_m;
   if (v < 100) return "visibility < 100 m";
   if (v < 300) return "visibility 100-300 m";
   if (v < 1000) return "visibility 300-1000 m";
   if (v < 3000) return "visibility 1000-3000 m";
   return "visibility >= 3000 m";
+}
+
+Label Interned(const std::string* label) {
+  if (label == nullptr) return std::nullopt;
+  return *label;
 }
 
 using ObjectNumber = std::function<Number(const ObjectView&)>;
@@ -106,19 +112,19 @@ const std::vector<Definition>& Definitions() {
       Frame("gsd_m",
             "ground sample distance at the image centre, metres per pixel",
             {},
-            [](const FrameFacts& f) { return f.gsd_m; }),
+            [](const FrameFacts& f) { return Recorded(f.gsd_m); }),
       Frame("altitude_agl_m",
             "camera height above the terrain under it, metres",
             {},
-            [](const FrameFacts& f) { return f.altitude_agl_m; }),
+            [](const FrameFacts& f) { return Recorded(f.altitude_agl_m); }),
       Frame("off_nadir_deg",
             "optical axis from straight down, degrees",
             {0, 10, 20, 30, 45, 60, 90},
-            [](const FrameFacts& f) { return f.off_nadir_deg; }),
+            [](const FrameFacts& f) { return Recorded(f.off_nadir_deg); }),
       Frame("sun_elevation_deg",
             "sun above the horizon, degrees",
             {-90, 0, 15, 30, 45, 60, 90},
-            [](const FrameFacts& f) { return f.sun_elevation_deg; }),
+            [](const FrameFacts& f) { return Recorded(f.sun_elevation_deg); }),
       Frame("fog",
             "meteorological visibility through the atmosphere",
             FrameLabel([](const FrameFacts& f) -> Label {
@@ -132,10 +138,10 @@ const std::vector<Definition>& Definitions() {
              "visibility >= 3000 m",
              "clear"}),
       Frame("clouds", "cloud type of the sky", FrameLabel([](const FrameFacts& f) {
-              return f.clouds;
+              return Interned(f.clouds);
             })),
       Frame("terrain_material", "the terrain's material", FrameLabel([](const FrameFacts& f) {
-              return f.terrain_material;
+              return Interned(f.terrain_material);
             })),
   };
   return definitions;
@@ -220,10 +226,31 @@ bool IsNumeric(const Definition& d) { return d.object_number || d.frame_number; 
 
 const FrameFacts& FactsOfImage(const EvaluationTruth& truth, int64_t image) {
   static const FrameFacts none;
-  const auto frame_of = truth.frame_of_image.find(image);
-  if (frame_of == truth.frame_of_image.end()) return none;
-  const auto frame = truth.frames.find(frame_of->second);
-  return frame == truth.frames.end() ? none : frame->second;
+  const ImageEntry* entry = truth.images.Find(image);
+  if (entry == nullptr) return none;
+  const FrameFacts* frame = truth.frames.Find(entry->frame);
+  return frame == nullptr ? none : *frame;
+}
+
+// A quota as a frame condition: every bin listed (coverage shows an empty one).
+ConditionBins QuotaCondition(const nlohmann::json& quotas, size_t q) {
+  const nlohmann::json& quota = quotas[q];
+  ConditionBins c;
+  c.name = "quota:" + quota.at("name").get<std::string>();
+  const std::string target = quota.value("target", "");
+  c.description = "LCAP quota: " + quota.at("quantity").get<std::string>() + " of " +
+                  (target.empty() ? std::string("the frame") : target) + ", " +
+                  QuotaBinsText(quota) + ", the frame's achieved value";
+  c.level = Level::kFrame;
+  c.quota = static_cast<int>(q);
+  if (quota.contains("classes")) {
+    c.bins = quota.at("classes").get<std::vector<std::string>>();
+  } else {
+    c.edges = quota.at("bins").get<std::vector<double>>();
+    c.bins = NumericBins{c.edges}.Labels();
+  }
+  if (quota.contains("planned")) c.planned = quota.at("planned").get<std::vector<int64_t>>();
+  return c;
 }
 
 }  // namespace
@@ -251,6 +278,8 @@ int ObjectBin(const ConditionBins& c, const ObjectView& object) {
 }
 
 int FrameBin(const ConditionBins& c, const FrameFacts& facts) {
+  if (c.quota >= 0)
+    return static_cast<size_t>(c.quota) < facts.quota_bins.size() ? facts.quota_bins[c.quota] : -1;
   const Definition& d = Definitions()[c.definition];
   return BinOf(c,
                d.frame_number ? d.frame_number(facts) : Number(),
@@ -307,6 +336,7 @@ std::vector<ConditionBins> BinConditions(const EvaluationTruth& truth) {
     const bool recorded = IsNumeric(d) ? seen[i].lo <= seen[i].hi : !seen[i].labels.empty();
     if (recorded) out.push_back(std::move(c));
   }
+  for (size_t q = 0; q < truth.quotas.size(); ++q) out.push_back(QuotaCondition(truth.quotas, q));
   return out;
 }
 

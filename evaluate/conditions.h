@@ -1,7 +1,8 @@
 // The operating conditions `lsds evaluate` breaks metrics down by
 // (docs/evaluate.md, "Conditions"): per object (size, visibility, in_frame,
 // class, distance) and per frame (GSD, altitude, off-nadir angle, sun
-// elevation, fog, clouds, terrain material), each cut into bins.
+// elevation, fog, clouds, terrain material, and each LCAP quota the collection
+// was generated under), each cut into bins.
 #pragma once
 
 #include <cstdint>
@@ -23,7 +24,12 @@ struct ConditionBins {
   Level level = Level::kObject;
   std::vector<std::string> bins;  // bin labels, in the condition's order
   std::vector<double> edges;      // numeric: bins.size() + 1 edges; categorical: empty
-  size_t definition = 0;          // which of ConditionNames()
+  size_t definition = 0;          // which of ConditionNames(); unused for a quota
+  // A quota of the collection's LCAP (EvaluationTruth::quotas[quota]): a frame
+  // condition named "quota:NAME", binned by the quota's own bins at the value
+  // the frame's check achieved; -1 for the built-in conditions.
+  int quota = -1;
+  std::vector<int64_t> planned;  // a quota: frames planned per bin (the whole run)
   // A condition a detection's box also has (size_px); for the others every
   // unmatched detection counts in every bin.
   bool bins_detections = false;

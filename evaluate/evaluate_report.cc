@@ -41,6 +41,7 @@ json CoverageJson(const ConditionCoverage& c) {
                      {"objects", cell.objects},
                      {"frames", cell.frames},
                      {"flag", cell.flag.empty() ? json() : json(cell.flag)}});
+    if (cell.planned >= 0) cells.back()["planned"] = cell.planned;
   }
   return {{"name", c.name},
           {"description", c.description},
@@ -117,10 +118,13 @@ std::string CoverageText(const ConditionCoverage& c) {
                   c.level == Level::kObject ? "objects" : "frames");
   out += ":\n";
   for (const CoverageCell& cell : c.cells) {
-    out += Format("  %-24s objects %7lld  frames %6lld  %s\n",
+    const std::string planned =
+        cell.planned >= 0 ? Format("  planned %6lld", static_cast<long long>(cell.planned)) : "";
+    out += Format("  %-24s objects %7lld  frames %6lld%s  %s\n",
                   cell.label.c_str(),
                   static_cast<long long>(cell.objects),
                   static_cast<long long>(cell.frames),
+                  planned.c_str(),
                   cell.flag.c_str());
   }
   return out;

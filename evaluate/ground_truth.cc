@@ -16,6 +16,7 @@
 #include "libs/collection/collection_reader.h"
 #include "libs/collection/json_stream.h"
 #include "libs/collection/model.h"
+#include "libs/collection/requirement_summary.h"
 #include "libs/geometry/world_frame.h"
 #include "libs/util/error.h"
 #include "libs/util/input_file.h"
@@ -57,18 +58,20 @@ BoxXywh ReadBox(const json& box) {
           box.at(3).get<double>()};
 }
 
-std::optional<double> OptionalNumber(const json& object, const char* key) {
-  if (!object.is_object()) return std::nullopt;
+// A number of the record, NaN when absent.
+double NumberOr(const json& object, const char* key) {
+  if (!object.is_object()) return FrameFacts::kNone;
   const auto it = object.find(key);
-  if (it == object.end() || !it->is_number()) return std::nullopt;
+  if (it == object.end() || !it->is_number()) return FrameFacts::kNone;
   return it->get<double>();
 }
 
-std::optional<std::string> OptionalString(const json& object, const char* key) {
-  if (!object.is_object()) return std::nullopt;
+// A label of the record, interned; null when absent.
+const std::string* LabelOr(const json& object, const char* key) {
+  if (!object.is_object()) return nullptr;
   const auto it = object.find(key);
-  if (it == object.end() || !it->is_string()) return std::nullopt;
-  return it->get<std::string>();
+  if (it == object.end() || !it->is_string()) return nullptr;
+  return InternLabel(it->get_ref<const std::string&>());
 }
 
 // What a frame record says about its conditions (docs/format.md, "Scene
@@ -80,22 +83,40 @@ FrameFacts FactsOf(const Frame& frame, const WorldFrame& world) {
   facts.off_nadir_deg = std::acos(std::clamp(-axis.z(), -1.0, 1.0)) * 180.0 / M_PI;
   const Eigen::Matrix3d& r = frame.camera.cam_from_world_rotation;
   const Eigen::Vector3d centre = -(r.transpose() * frame.camera.cam_from_world_translation);
-  facts.camera_in_world = std::array<double, 3>{centre.x(), centre.y(), centre.z()};
+  facts.camera_in_world = {centre.x(), centre.y(), centre.z()};
   const json& scene = frame.scene;
   if (!scene.is_object()) return facts;
-  if (scene.contains("sun"))
-    facts.sun_elevation_deg = OptionalNumber(scene["sun"], "elevation_deg");
+  if (scene.contains("sun")) facts.sun_elevation_deg = NumberOr(scene["sun"], "elevation_deg");
   if (scene.contains("atmosphere")) {
     facts.atmosphere_recorded = true;
-    facts.fog_visibility_m = OptionalNumber(scene["atmosphere"], "visibility_m");
+    facts.fog_visibility_m = NumberOr(scene["atmosphere"], "visibility_m");
   }
   if (scene.contains("sky")) {
     const json& sky = scene["sky"];
-    facts.clouds = OptionalString(sky, "cloud_type");
-    if (OptionalNumber(sky, "cloud_density").value_or(1.0) <= 0) facts.clouds = "none";
+    facts.clouds = LabelOr(sky, "cloud_type");
+    if (NumberOr(sky, "cloud_density") <= 0) facts.clouds = InternLabel("none");
   }
-  facts.terrain_material = OptionalString(scene, "terrain_material");
+  facts.terrain_material = LabelOr(scene, "terrain_material");
   return facts;
+}
+
+// The bin each quota's check of a frame record achieved (requirement_summary.h
+// counts the same), -1 for none.
+std::vector<int16_t> AchievedQuotaBins(const json& quotas, const json& record) {
+  std::vector<int16_t> bins(quotas.size(), -1);
+  if (!record.is_object() || !record.contains("checks")) return bins;
+  for (size_t q = 0; q < quotas.size(); ++q) {
+    const std::string& name = quotas[q].at("name").get_ref<const std::string&>();
+    for (const json& check : record.at("checks")) {
+      if (check.value("name", "") != name) continue;
+      if (check.contains("achieved")) {
+        const size_t bin = QuotaBinOf(quotas[q], check.at("achieved").get<double>());
+        if (bin < quotas[q].at("weights").size()) bins[q] = static_cast<int16_t>(bin);
+      }
+      break;  // one check per quota and frame
+    }
+  }
+  return bins;
 }
 
 // The frames' conditions, and where their cameras are.
@@ -104,17 +125,24 @@ void ReadFrameFacts(const TruthOptions& options, EvaluationTruth* truth) {
   const WorldFrame& world = reader.header().conventions.world;
   truth->capture_source = reader.header().provenance.capture_source;
   truth->metres_per_unit = world.metres_per_unit;
+  const json& requirements = reader.header().provenance.requirements;
+  if (requirements.is_object() && requirements.contains("quotas"))
+    truth->quotas = requirements.at("quotas");
   reader.ForEachFrame([&](const Frame& frame) {
     if (!options.frames.Contains(frame.index)) return;
-    truth->frames[frame.index] = FactsOf(frame, world);
+    FrameFacts facts = FactsOf(frame, world);
+    facts.index = frame.index;
+    facts.quota_bins = AchievedQuotaBins(truth->quotas, frame.requirements);
+    truth->frames.Add(std::move(facts));
   });
+  truth->frames.Seal();
   const fs::path metadata = options.collection / kMetadataFile;
   if (!fs::exists(metadata)) return;
   MetadataReader(metadata).ForEachFrame([&](const MetadataFrame& frame) {
-    const auto it = truth->frames.find(frame.index);
-    if (it == truth->frames.end()) return;
-    it->second.altitude_agl_m = frame.altitude_agl_m;
-    it->second.gsd_m = frame.gsd_m;
+    FrameFacts* facts = truth->frames.Find(frame.index);
+    if (facts == nullptr) return;
+    facts->altitude_agl_m = frame.altitude_agl_m.value_or(FrameFacts::kNone);
+    facts->gsd_m = frame.gsd_m.value_or(FrameFacts::kNone);
   });
 }
 
@@ -164,9 +192,11 @@ namespace {
 void ReadImageEntry(const json& image, EvaluationTruth* truth) {
   const int64_t id = image.at("id").get<int64_t>();
   truth->coco.image_ids.push_back(id);
-  truth->image_by_file_name[image.at("file_name").get<std::string>()] = id;
-  truth->frame_of_image[id] = image.at("lsds").at("frame").get<int64_t>();
-  truth->image_size[id] = {image.at("height").get<int64_t>(), image.at("width").get<int64_t>()};
+  truth->images.Add(id,
+                    image.at("file_name").get_ref<const std::string&>(),
+                    image.at("lsds").at("frame").get<int64_t>(),
+                    image.at("height").get<int64_t>(),
+                    image.at("width").get<int64_t>());
 }
 
 void ReadCategories(const json& coco, const std::string& file, EvaluationTruth* truth) {
@@ -196,25 +226,25 @@ void ReadAnnotationEntry(const json& a,
     g.iscrowd = a.at("iscrowd").get<int>() != 0;
     g.ignored = truth.ignored_categories.count(g.category_id) > 0;
     if (masks) {
-      const EvaluationTruth::ImageSize size = truth.image_size.at(g.image_id);
+      const EvaluationTruth::ImageSize size = truth.SizeOf(g.image_id);
       g.mask = ReadSegmentation(
           a.at("segmentation"), size.height, size.width, file, at + "/segmentation");
     }
     ObjectFacts facts;
-    facts.frame = truth.frame_of_image.at(g.image_id);
+    facts.frame = truth.images.At(g.image_id).frame;
     facts.size_px = std::max(g.bbox.w, g.bbox.h);
     if (const auto lsds = a.find("lsds"); lsds != a.end()) {
       facts.instance_id = lsds->at("instance_id").get<uint32_t>();
       facts.name = lsds->value("name", "");
       facts.visibility = lsds->at("visibility").get<double>();
       facts.in_frame = lsds->at("in_frame").get<double>();
-      const auto frame = truth.frames.find(facts.frame);
+      const FrameFacts* frame = truth.frames.Find(facts.frame);
       if (const auto obb = lsds->find("obb");
-          obb != lsds->end() && frame != truth.frames.end() && frame->second.camera_in_world) {
+          obb != lsds->end() && frame != nullptr && frame->camera_known()) {
         const json& c = obb->at("center");
         const Eigen::Vector3d center(
             c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>());
-        const std::array<double, 3>& camera = *frame->second.camera_in_world;
+        const std::array<double, 3>& camera = frame->camera_in_world;
         const Eigen::Vector3d centre(camera[0], camera[1], camera[2]);
         facts.distance_m = truth.metres_per_unit * (center - centre).norm();
       }
@@ -343,6 +373,7 @@ EvaluationTruth StreamCocoGroundTruth(const fs::path& file,
                    });
   ReadCategories(header, name, &truth);
   SortImageIds(&truth);
+  truth.images.Seal();
   auto streamed = std::make_shared<StreamedAnnotations>();
   streamed->file = file;
   streamed->masks = masks;

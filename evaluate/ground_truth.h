@@ -20,6 +20,7 @@
 
 #include "evaluate/coco_eval.h"
 #include "evaluate/dota_eval.h"
+#include "evaluate/truth_tables.h"
 #include "libs/util/frame_selection.h"
 
 namespace lsds::convert {
@@ -52,21 +53,6 @@ struct ObjectFacts {
   std::optional<double> distance_m;  // camera centre to the OBB centre, metres
 };
 
-// Per frame, what the collection records (absent: not recorded).
-struct FrameFacts {
-  std::optional<double> gsd_m;              // metadata.json gsd_m
-  std::optional<double> altitude_agl_m;     // metadata.json altitude_agl_m
-  std::optional<double> off_nadir_deg;      // optical axis from straight down
-  std::optional<double> sun_elevation_deg;  // scene.sun.elevation_deg
-  std::optional<double> fog_visibility_m;   // scene.atmosphere.visibility_m (clear: none)
-  bool atmosphere_recorded = false;         // scene.atmosphere present
-  std::optional<std::string> clouds;        // scene.sky.cloud_type ("none" at density 0)
-  std::optional<std::string> terrain_material;
-  // The camera centre in world coordinates (world units), for the objects'
-  // distances.
-  std::optional<std::array<double, 3>> camera_in_world;
-};
-
 // One image of the ground truth as the evaluation is handed it.
 struct TruthImage {
   int64_t image_id = 0;
@@ -83,16 +69,23 @@ struct EvaluationTruth {
   // annotations are streamed (`streamed`); image and category ids are sorted.
   CocoData coco;
   std::vector<std::string> category_names;  // parallel to coco.category_ids
-  std::map<std::string, int64_t> image_by_file_name;
-  std::map<int64_t, int64_t> frame_of_image;  // COCO image id -> frame index
+  // Per image: its frame, size and file name (sorted by id).
+  ImageTable images;
   struct ImageSize {
     int64_t height = 0, width = 0;
   };
-  std::map<int64_t, ImageSize> image_size;  // COCO image id -> its size
-  std::vector<ObjectFacts> objects;         // parallel to coco.ground_truth
-  std::map<int64_t, FrameFacts> frames;     // by frame index
-  std::string capture_source;               // provenance.capture_source (LCAP text)
-  double metres_per_unit = 1;               // of the world frame, for distances
+  ImageSize SizeOf(int64_t image_id) const {  // throws std::out_of_range for an unknown id
+    const ImageEntry& image = images.At(image_id);
+    return {image.height, image.width};
+  }
+  std::vector<ObjectFacts> objects;  // parallel to coco.ground_truth
+  FrameTable frames;                 // by frame index
+  std::string capture_source;        // provenance.capture_source (LCAP text)
+  // The LCAP quotas the collection was generated under, in provenance form
+  // (provenance.requirements.quotas, docs/format.md "Requirements"); each is
+  // a frame condition (evaluate/conditions.h).
+  nlohmann::json quotas = nlohmann::json::array();
+  double metres_per_unit = 1;  // of the world frame, for distances
   // Categories whose objects are ignored, as COCO ignores a box outside the
   // area range (MOT's distractor classes, mot_results.h).
   std::set<int64_t> ignored_categories;

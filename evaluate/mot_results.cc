@@ -154,7 +154,8 @@ std::vector<DetectionBox> ReadMotDetections(const fs::path& folder,
                 Location(folder.string()));
   const std::map<int64_t, int64_t> category_of = CategoryOfMotClass(truth, mot_classes);
   std::map<int64_t, int64_t> image_of_frame;
-  for (const auto& [image, frame] : truth.frame_of_image) image_of_frame.emplace(frame, image);
+  for (const ImageEntry& image : truth.images.images())
+    image_of_frame.emplace(image.frame, image.id);
   std::vector<fs::path> files;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder))
     if (entry.path().extension() == ".txt") files.push_back(entry.path());

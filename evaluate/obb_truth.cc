@@ -78,7 +78,8 @@ class ObbCollector : public convert::Converter {
 
 std::map<std::string, int64_t> ImageIdsByStem(const EvaluationTruth& truth) {
   std::map<std::string, int64_t> ids;
-  for (const auto& [name, id] : truth.image_by_file_name) ids[fs::path(name).stem().string()] = id;
+  for (const ImageEntry& image : truth.images.images())
+    ids[fs::path(truth.images.FileName(image)).stem().string()] = image.id;
   return ids;
 }
 

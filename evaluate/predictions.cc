@@ -76,7 +76,7 @@ class EntryReader {
       Fail(at + "/category_id",
            "category " + std::to_string(d.category_id) + " is not a category of the ground truth");
     if (truth_.coco.iou_type == IouType::kMask) {
-      const EvaluationTruth::ImageSize& size = truth_.image_size.at(d.image_id);
+      const EvaluationTruth::ImageSize size = truth_.SizeOf(d.image_id);
       d.mask = ReadSegmentation(
           *Member(entry, at, "segmentation"), size.height, size.width, file_, at + "/segmentation");
     }
@@ -153,11 +153,12 @@ class EntryReader {
   int64_t Image(const json& entry, const std::string& at) const {
     if (!entry.contains("image_id") && entry.contains("file_name")) {
       const json& name = entry["file_name"];
-      const auto it = name.is_string() ? truth_.image_by_file_name.find(name.get<std::string>())
-                                       : truth_.image_by_file_name.end();
-      if (it == truth_.image_by_file_name.end())
+      const ImageEntry* image = name.is_string()
+                                    ? truth_.images.FindFileName(name.get_ref<const std::string&>())
+                                    : nullptr;
+      if (image == nullptr)
         Fail(at + "/file_name", "image " + name.dump() + " is not an image of the ground truth");
-      return it->second;
+      return image->id;
     }
     const int64_t id = Id(entry, at, "image_id");
     if (!std::binary_search(images_.begin(), images_.end(), id))

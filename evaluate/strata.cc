@@ -238,6 +238,7 @@ std::vector<ConditionCoverage> CoverageOf(const std::vector<ConditionBins>& cond
       cell.label = c.bins[b];
       cell.objects = tally.objects[i][b];
       cell.frames = tally.frames[i][b];
+      if (b < c.planned.size()) cell.planned = c.planned[b];
       const int64_t n = c.level == Level::kFrame ? cell.frames : cell.objects;
       cell.flag = n == 0 ? "empty" : n < thin_below ? "thin" : "";
     }

@@ -42,9 +42,10 @@ struct ConditionMetrics {
 // One bin of the coverage histogram.
 struct CoverageCell {
   std::string label;
-  int64_t objects = 0;  // ground-truth boxes in the bin
-  int64_t frames = 0;   // frames in the bin (object conditions: frames holding such an object)
-  std::string flag;     // "empty", "thin" or ""
+  int64_t objects = 0;   // ground-truth boxes in the bin
+  int64_t frames = 0;    // frames in the bin (object conditions: frames holding such an object)
+  int64_t planned = -1;  // a quota's bin: the frames its LCAP planned (the whole run); -1: none
+  std::string flag;      // "empty", "thin" or ""
 };
 
 struct ConditionCoverage {

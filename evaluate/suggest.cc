@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <regex>
+#include <set>
 
 #include "libs/util/error.h"
 #include "libs/util/strings.h"
@@ -116,6 +117,84 @@ std::string QuotaText(const Proposal& p, const std::string& target) {
   return text + Join(parts, ",") + "]}";
 }
 
+// A quota of the capture whose weights the suggestion raises where the model
+// did worst: each bin's weight times 1 - recall@.5 (at least kLeastWeight);
+// a bin without objects keeps its weight.
+struct Reweighting {
+  const nlohmann::json* quota = nullptr;  // provenance form
+  std::vector<double> weights;
+  double spread = 0;
+  std::string why;
+};
+
+Reweighting Reweigh(const nlohmann::json& quota,
+                    const ConditionBins& c,
+                    const ConditionMetrics& m) {
+  Reweighting r{&quota, quota.at("weights").get<std::vector<double>>(), 0, ""};
+  double best = 0, worst = 1;
+  bool any = false;
+  for (const StratumMetrics& s : m.strata) {
+    const auto at = std::find(c.bins.begin(), c.bins.end(), s.label);
+    if (s.objects == 0 || at == c.bins.end()) continue;
+    r.weights[at - c.bins.begin()] *= std::max(kLeastWeight, 1 - s.recall_50);
+    best = std::max(best, s.recall_50);
+    worst = std::min(worst, s.recall_50);
+    any = true;
+  }
+  r.spread = any ? best - worst : 0;
+  double total = 0;
+  for (double w : r.weights) total += w;
+  for (double& w : r.weights) w = total > 0 ? w / total : w;
+  if (!m.strata.empty() && m.strata.front().objects > 0) {
+    const StratumMetrics& w = m.strata.front();
+    r.why = c.name + " " + w.label + ": recall@.5 " + FormatNumber(w.recall_50, 3) + " of " +
+            std::to_string(w.objects) + " objects";
+  }
+  return r;
+}
+
+// The capture with the weights of quota definition `r` replaced (a class
+// quota's `classes:{...}` written again with its names), and a comment line
+// before the definition saying why.
+std::string Reweight(const std::string& capture, const Reweighting& r) {
+  const std::string name = r.quota->at("name").get<std::string>();
+  std::smatch match;
+  const std::regex start("(^|\\n)([ \\t]*)" + name + R"([ \t]*=[ \t]*quota[ \t]*\{)");
+  if (!std::regex_search(capture, match, start))
+    throw Error("the collection's capture has no definition '" + name +
+                " = quota{...}' for its quota " + name + " (provenance.capture_source)");
+  const size_t line = static_cast<size_t>(match.position(0)) + match.length(1);
+  const size_t open = static_cast<size_t>(match.position(0) + match.length(0)) - 1;
+  size_t close = open;
+  for (int depth = 0; close < capture.size(); ++close) {
+    depth += capture[close] == '{' ? 1 : capture[close] == '}' ? -1 : 0;
+    if (depth == 0) break;
+  }
+  std::string body = capture.substr(open + 1, close - open - 1);
+  std::vector<std::string> parts;
+  // A class quota's shares are `classes:{name:share,...}`, or (`classes:[...]`)
+  // its `weights`, as a numeric quota's.
+  const std::regex class_shares(R"(classes\s*:\s*\{[^}]*\})");
+  if (r.quota->contains("classes") && std::regex_search(body, class_shares)) {
+    const auto names = r.quota->at("classes").get<std::vector<std::string>>();
+    for (size_t b = 0; b < names.size(); ++b)
+      parts.push_back(names[b] + ":" + FormatNumber(r.weights[b], 3));
+    body = std::regex_replace(body, class_shares, "classes:{" + Join(parts, ",") + "}");
+  } else {
+    for (double w : r.weights) parts.push_back(FormatNumber(w, 3));
+    const std::string weights = "weights:[" + Join(parts, ",") + "]";
+    const std::regex old(R"(weights\s*:\s*\[[^\]]*\])");
+    if (std::regex_search(body, old)) {
+      body = std::regex_replace(body, old, weights);
+    } else {
+      body.erase(body.find_last_not_of(" \t\r\n") + 1);
+      body += "," + weights;
+    }
+  }
+  return capture.substr(0, line) + "# lsds evaluate --suggest: weights raised, worst " + r.why +
+         "\n" + capture.substr(line, open + 1 - line) + body + capture.substr(close);
+}
+
 // The capture with ` ONE(SYMBOL)` appended to its start rule `LCAP = ...`.
 std::string AddToStartRule(const std::string& capture, const std::vector<std::string>& symbols) {
   std::smatch match;
@@ -144,8 +223,24 @@ Suggestion SuggestCapture(const EvaluationTruth& truth,
                 " (provenance.capture_source)");
   }
   const std::string target = MainTarget(truth);
+  // The capture's own quotas: reweighted where the model did worst; a
+  // condition of the same quantity adds no parallel quota.
+  std::vector<Reweighting> reweightings;
+  std::set<std::string> quota_quantities;
+  for (const ConditionBins& c : conditions) {
+    if (c.quota < 0) continue;
+    const nlohmann::json& quota = truth.quotas.at(c.quota);
+    quota_quantities.insert(quota.at("quantity").get<std::string>());
+    const auto m = std::find_if(report.strata.begin(),
+                                report.strata.end(),
+                                [&](const ConditionMetrics& s) { return s.name == c.name; });
+    if (m == report.strata.end()) continue;
+    Reweighting r = Reweigh(quota, c, *m);
+    if (r.spread >= kMinSpread) reweightings.push_back(std::move(r));
+  }
   std::vector<Proposal> proposals;
   for (const Quantity& q : kQuantities) {
+    if (quota_quantities.count(q.quantity)) continue;
     const auto c = std::find_if(conditions.begin(), conditions.end(), [&](const ConditionBins& b) {
       return b.name == q.condition;
     });
@@ -163,6 +258,11 @@ Suggestion SuggestCapture(const EvaluationTruth& truth,
   if (proposals.size() > kMaxQuotas) proposals.resize(kMaxQuotas);
 
   Suggestion out;
+  std::string reweighted = capture;
+  for (const Reweighting& r : reweightings) {
+    reweighted = Reweight(reweighted, r);
+    out.quotas.push_back(r.quota->at("name").get<std::string>());
+  }
   std::string definitions;
   for (const Proposal& p : proposals) {
     const std::string symbol = Symbol(p.bins->name, capture + definitions);
@@ -170,7 +270,8 @@ Suggestion SuggestCapture(const EvaluationTruth& truth,
                    QuotaText(p, target) + "\n";
     out.quotas.push_back(symbol);
   }
-  std::string lcap = out.quotas.empty() ? capture : AddToStartRule(capture, out.quotas);
+  std::vector<std::string> added(out.quotas.begin() + reweightings.size(), out.quotas.end());
+  std::string lcap = added.empty() ? reweighted : AddToStartRule(reweighted, added);
   if (!lcap.empty() && lcap.back() != '\n') lcap += '\n';
   if (out.quotas.empty())
     lcap += "# lsds evaluate --suggest: no condition's strata differ by 0.1 in recall@.5\n";

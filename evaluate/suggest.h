@@ -1,7 +1,8 @@
 // `lsds evaluate --suggest NEXT.lcap` (docs/evaluate.md, "Suggesting the next
 // capture"): the collection's LCAP capture with quotas that ask for more
 // frames in the strata where the model did worst and in the empty cells
-// inside the range the collection reaches.
+// inside the range the collection reaches; a quota the capture already has
+// gets its weights raised where the model did worst instead.
 #pragma once
 
 #include <string>
@@ -14,8 +15,10 @@
 namespace lsds::evaluate {
 
 struct Suggestion {
-  std::string lcap;                 // the capture text to write
-  std::vector<std::string> quotas;  // the quota symbols added ("SUGGEST_SIZE_PX")
+  std::string lcap;  // the capture text to write
+  // The quota symbols added ("SUGGEST_SIZE_PX") or whose weights were raised
+  // (the capture's own, "Q").
+  std::vector<std::string> quotas;
 };
 
 // Throws lsds::Error (exit 2) when the collection records no LCAP capture in

@@ -43,8 +43,8 @@ std::vector<std::pair<fs::path, YoloImage>> PredictionFiles(const fs::path& fold
         "predict save_txt=True)",
         Location(folder.string()));
   std::map<std::string, int64_t> by_stem;
-  for (const auto& [name, id] : truth.image_by_file_name)
-    by_stem[fs::path(name).stem().string()] = id;
+  for (const ImageEntry& image : truth.images.images())
+    by_stem[fs::path(truth.images.FileName(image)).stem().string()] = image.id;
   std::vector<std::pair<fs::path, YoloImage>> files;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     if (entry.path().extension() != ".txt") continue;
@@ -55,7 +55,7 @@ std::vector<std::pair<fs::path, YoloImage>> PredictionFiles(const fs::path& fold
                       "' is not an image of the ground truth (the name lsds convert gives the "
                       "image, without extension: 000007)",
                   Location(entry.path().string()));
-    files.emplace_back(entry.path(), YoloImage{it->second, stem, truth.image_size.at(it->second)});
+    files.emplace_back(entry.path(), YoloImage{it->second, stem, truth.SizeOf(it->second)});
   }
   if (files.empty()) throw Error("no <image>.txt file in the folder", Location(folder.string()));
   std::sort(

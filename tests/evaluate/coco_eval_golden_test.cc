@@ -160,7 +160,7 @@ TEST_F(CocoEvalGolden, TheCollectionCoversEveryAreaRangeAndBothClasses) {
   EXPECT_EQ(truth_->category_names, (std::vector<std::string>{"box", "crate"}));
   // Image ids are frame index + 1 (lsds convert --to coco).
   EXPECT_EQ(truth_->coco.image_ids.front(), 1);
-  EXPECT_EQ(truth_->frame_of_image.at(7), 6);
+  EXPECT_EQ(truth_->images.At(7).frame, 6);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "evaluate/ground_truth.h"
 #include "evaluate/segmentation.h"
+#include "libs/util/atomic_file.h"
 #include "libs/util/json_errors.h"
 #include "tests/build_paths.h"
 #include "tests/evaluate/golden_collection.h"
@@ -21,6 +22,18 @@ namespace lsds::evaluate {
 // tests/evaluate/data/NAME: the committed prediction sets of the goldens.
 inline std::filesystem::path GoldenData(const std::string& name) {
   return std::filesystem::path(testing::SourceDir()) / "tests" / "evaluate" / "data" / name;
+}
+
+// `lsds generate` of a scene and a capture given as text (written into `dir`
+// as s.lscene and c.lcap) into dir/C at 1 spp, as a user runs it.
+inline testing::CommandResult GenerateFromText(const std::filesystem::path& dir,
+                                               const char* scene,
+                                               const char* capture) {
+  WriteFileAtomic(dir / "s.lscene", scene);
+  WriteFileAtomic(dir / "c.lcap", capture);
+  return testing::RunLsds("generate " + (dir / "s.lscene").string() + " " +
+                          (dir / "c.lcap").string() + " -o " + (dir / "C").string() +
+                          " --spp 1 -q");
 }
 
 // The crowd regions of a committed file (data/crowd_regions.json, or
@@ -39,7 +52,7 @@ inline void AddCrowdRegions(const std::string& name, EvaluationTruth* truth) {
     g.area = a["area"].get<double>();
     g.iscrowd = a["iscrowd"].get<int>() != 0;
     if (truth->coco.iou_type == IouType::kMask) {
-      const EvaluationTruth::ImageSize size = truth->image_size.at(g.image_id);
+      const EvaluationTruth::ImageSize size = truth->SizeOf(g.image_id);
       g.mask = ReadSegmentation(a["segmentation"],
                                 size.height,
                                 size.width,

@@ -106,7 +106,9 @@ def write_list(path, entries):
         f.write("[\n" + ",\n".join(json.dumps(e, separators=(",", ":")) for e in entries) + "\n]\n")
 
 
-def coco_stats(pycocotools_dir, gt, predictions, iou_type="bbox"):
+def import_pycocotools(pycocotools_dir):
+    """pycocotools' COCO and COCOeval from cocoapi's PythonAPI folder, the evaluation code as
+    published (bench/peers/coco_eval_files.py uses it too)."""
     sys.path.insert(0, pycocotools_dir)
     # coco.py imports matplotlib for showAnns only; cocoeval.py:378 uses np.float, which
     # numpy 1.24 removed (it was the builtin float).
@@ -119,6 +121,11 @@ def coco_stats(pycocotools_dir, gt, predictions, iou_type="bbox"):
         np.float = float
     from pycocotools.coco import COCO
     from pycocotools.cocoeval import COCOeval
+    return COCO, COCOeval
+
+
+def coco_stats(pycocotools_dir, gt, predictions, iou_type="bbox"):
+    COCO, COCOeval = import_pycocotools(pycocotools_dir)
     coco = COCO()
     coco.dataset = gt
     coco.createIndex()

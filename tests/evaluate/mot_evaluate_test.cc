@@ -112,12 +112,8 @@ const char* const kRigCapture =
 
 TEST(MotEvaluateRig, SeveralClassesAndCamerasScoreByTheClassColumn) {
   testing::TempDir dir;
-  WriteFileAtomic(dir / "s.lscene", kRigScene);
-  WriteFileAtomic(dir / "c.lcap", kRigCapture);
   const std::string c = (dir / "C").string();
-  const testing::CommandResult generate =
-      testing::RunLsds("generate " + (dir / "s.lscene").string() + " " + (dir / "c.lcap").string() +
-                       " -o " + c + " --spp 1 -q");
+  const testing::CommandResult generate = GenerateFromText(dir.path(), kRigScene, kRigCapture);
   ASSERT_EQ(generate.exit_code, 0) << generate.output;
   const testing::CommandResult convert = testing::RunLsds(
       "convert " + c + " --to mot --mot-box visible --images none -q -o " + (dir / "mot").string());

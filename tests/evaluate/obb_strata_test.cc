@@ -70,7 +70,7 @@ TEST_F(ObbStrata, TheTruthIsWhatTheConverterWritesWithEachObjectsFacts) {
           return o.frame == facts.frame && o.instance_id == facts.instance_id;
         });
     ASSERT_NE(same, truth_->objects.end()) << i;
-    EXPECT_EQ(obb.truth.frame_of_image.at(g.image_id), facts.frame);
+    EXPECT_EQ(obb.truth.images.At(g.image_id).frame, facts.frame);
     EXPECT_EQ(same->visibility, facts.visibility);
     EXPECT_EQ(same->size_px, facts.size_px);
     EXPECT_EQ(same->in_frame, facts.in_frame);
@@ -120,12 +120,8 @@ bool InBlindStratum(double size) { return size >= 16 && size < kBlindBelow; }
 
 TEST(ObbSuggest, TurnedBoxesMissedUnderASizeRankWorstAndTheNextCaptureAsksForThem) {
   testing::TempDir dir;
-  WriteFileAtomic(dir / "s.lscene", kScene);
-  WriteFileAtomic(dir / "c.lcap", kCapture);
   const std::string c = (dir / "C").string();
-  const testing::CommandResult generate =
-      testing::RunLsds("generate " + (dir / "s.lscene").string() + " " + (dir / "c.lcap").string() +
-                       " -o " + c + " --spp 1 -q");
+  const testing::CommandResult generate = GenerateFromText(dir.path(), kScene, kCapture);
   ASSERT_EQ(generate.exit_code, 0) << generate.output;
   const testing::CommandResult convert =
       testing::RunLsds("convert " + c + " --to dota --images none -q -o " + (dir / "d").string());

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "evaluate/ground_truth.h"
+#include "evaluate/suggest.h"
 #include "libs/util/atomic_file.h"
 #include "libs/util/json_errors.h"
 #include "tests/evaluate/golden_fixture.h"
@@ -36,12 +37,8 @@ int CountSmall(const std::vector<double>& sizes) {
 
 TEST(EvaluateSuggest, TheNextCaptureAsksForTheStrataTheModelMissed) {
   testing::TempDir dir;
-  WriteFileAtomic(dir / "s.lscene", kScene);
-  WriteFileAtomic(dir / "c.lcap", kCapture);
   const std::string c = (dir / "C").string();
-  const testing::CommandResult generate =
-      testing::RunLsds("generate " + (dir / "s.lscene").string() + " " + (dir / "c.lcap").string() +
-                       " -o " + c + " --spp 1 -q");
+  const testing::CommandResult generate = GenerateFromText(dir.path(), kScene, kCapture);
   ASSERT_EQ(generate.exit_code, 0) << generate.output;
 
   // The model: every object of kBlindBelow pixels and more, exactly; nothing smaller.
@@ -109,6 +106,62 @@ TEST(EvaluateSuggest, ACollectionWithoutACaptureIsRefused) {
   const testing::CommandResult coverage = testing::RunLsds(
       "evaluate " + (dir / "c").string() + " --coverage --suggest " + (dir / "n.lcap").string());
   EXPECT_EQ(coverage.exit_code, 2) << coverage.output;
+}
+
+// A capture's own quotas are reweighted in place, whichever way their shares
+// are written: a class quota's `classes:{name:share}`, its `classes:[...]`
+// with no weights, a numeric quota without weights.
+TEST(EvaluateSuggest, TheCapturesQuotasGetTheirWorstBinsWeightRaisedInPlace) {
+  EvaluationTruth truth;
+  truth.capture_source =
+      "LCAP = ONE(CO) ONE(KIND) ONE(PAIR) ONE(SUN)\n"
+      "KIND = quota{target:V,quantity:class,classes:{car:2,truck:1}}\n"
+      "  PAIR = quota{quantity:class,classes:[car,truck]}\n"
+      "SUN = quota{quantity:sun_elevation,\n            bins:[10,45,80]\n}\n";
+  truth.quotas = nlohmann::json::parse(R"([
+      {"name": "KIND", "target": "V", "quantity": "class", "classes": ["car", "truck"],
+       "class_ids": [1, 2], "weights": [0.6666666666666666, 0.3333333333333333], "planned": [20, 10]},
+      {"name": "PAIR", "quantity": "class", "classes": ["car", "truck"], "class_ids": [1, 2],
+       "weights": [0.5, 0.5], "planned": [15, 15]},
+      {"name": "SUN", "quantity": "sun_elevation", "bins": [10, 45, 80], "weights": [0.5, 0.5],
+       "planned": [15, 15]}])");
+  const std::vector<ConditionBins> conditions = BinConditions(truth);
+  EvaluationReport report;
+  for (const ConditionBins& c : conditions) {
+    if (c.quota < 0) continue;
+    ConditionMetrics m{c.name, c.description, c.level, {}};
+    // The second bin: recall 0.2 of 10 objects; the first: 1 of 10.
+    for (const auto& [bin, matched] : {std::pair{1, 2}, std::pair{0, 10}}) {
+      StratumMetrics s;
+      s.label = c.bins[bin];
+      s.objects = 10;
+      s.matched_50 = matched;
+      s.recall_50 = matched / 10.0;
+      m.strata.push_back(s);
+    }
+    report.strata.push_back(m);
+  }
+  ASSERT_EQ(report.strata.size(), 3u);
+  const Suggestion suggestion = SuggestCapture(truth, conditions, report);
+  EXPECT_EQ(suggestion.quotas, (std::vector<std::string>{"KIND", "PAIR", "SUN"}));
+  const std::string& lcap = suggestion.lcap;
+  // KIND: 2/3 * 0.05 and 1/3 * 0.8, normalised: 0.111 and 0.889.
+  EXPECT_NE(lcap.find("KIND = quota{target:V,quantity:class,classes:{car:0.111,truck:0.889}}"),
+            std::string::npos)
+      << lcap;
+  EXPECT_NE(lcap.find("  PAIR = quota{quantity:class,classes:[car,truck],weights:[0.0588,0.941]}"),
+            std::string::npos)
+      << lcap;
+  EXPECT_NE(lcap.find("SUN = quota{quantity:sun_elevation,\n            bins:[10,45,80],weights:"
+                      "[0.0588,0.941]}"),
+            std::string::npos)
+      << lcap;
+  EXPECT_NE(
+      lcap.find("# lsds evaluate --suggest: weights raised, worst quota:PAIR truck: recall@.5 "
+                "0.2 of 10 objects\n  PAIR ="),
+      std::string::npos)
+      << lcap;
+  EXPECT_EQ(lcap.find("LCAP = ONE(CO) ONE(KIND) ONE(PAIR) ONE(SUN)\n"), 0u) << lcap;
 }
 
 }  // namespace

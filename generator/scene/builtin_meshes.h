@@ -18,7 +18,7 @@
 
 namespace lsds::gen {
 
-// The car family (docs/generator.md, "Built-in assets"): each shape has its own
+// The car family (docs/generator.md, "Built-in classes"): each shape has its own
 // size in metres, which is the mesh's exact bounds and the natural extent of a
 // car drawn as it.
 struct CarShape {

@@ -53,7 +53,8 @@ TriangleMesh PlantPrototype(const std::string& kind) {
   if (kind == "grass") {
     // Nine blades round the tuft, leaning out by 0.1-0.35 of the height, the tallest reaching 1.
     for (int i = 0; i < 9; ++i) {
-      const float angle = 2.0f * static_cast<float>(M_PI) * (static_cast<float>(i) + 0.37f * (i % 3)) / 9;
+      const float angle =
+          2.0f * static_cast<float>(M_PI) * (static_cast<float>(i) + 0.37f * (i % 3)) / 9;
       const float height = i == 0 ? 1.0f : 0.6f + 0.04f * static_cast<float>((i * 5) % 9);
       AddBlade(&mesh, angle, 0.1f + 0.03f * static_cast<float>((i * 7) % 9), height);
     }

@@ -52,12 +52,11 @@ const Eigen::Vector3i kTyre(25, 25, 27), kRim(170, 172, 176);
 
 // Designed sizes (length x width x height, metres) of the five shapes.
 const std::map<std::string, Eigen::Vector3d>& DesignedSizes() {
-  static const std::map<std::string, Eigen::Vector3d> sizes = {
-      {"sedan", {4.6, 1.8, 1.45}},
-      {"hatchback", {4.0, 1.75, 1.5}},
-      {"suv", {4.7, 1.9, 1.75}},
-      {"pickup", {5.3, 1.9, 1.85}},
-      {"van", {5.0, 2.0, 2.1}}};
+  static const std::map<std::string, Eigen::Vector3d> sizes = {{"sedan", {4.6, 1.8, 1.45}},
+                                                               {"hatchback", {4.0, 1.75, 1.5}},
+                                                               {"suv", {4.7, 1.9, 1.75}},
+                                                               {"pickup", {5.3, 1.9, 1.85}},
+                                                               {"van", {5.0, 2.0, 2.1}}};
   return sizes;
 }
 
@@ -79,7 +78,10 @@ TEST(CarFamily, EachShapeKeepsItsProportionsAndHasFourWheelsWithRims) {
     EXPECT_NEAR(shape.size.x() / shape.size.y(), designed.x() / designed.y(), 0.01);
     EXPECT_NEAR(shape.size.x() / shape.size.z(), designed.x() / designed.z(), 0.01);
     char key[32];
-    std::snprintf(key, sizeof key, "%.2f:%.2f", shape.size.x() / shape.size.y(),
+    std::snprintf(key,
+                  sizeof key,
+                  "%.2f:%.2f",
+                  shape.size.x() / shape.size.y(),
                   shape.size.x() / shape.size.z());
     ratios.insert(key);
     // Four dark tyres, four light rims (a luminance contrast of over 5x), one window band.

@@ -51,7 +51,8 @@ TEST(Vegetation, TheSceneKeyPlansItAndThePlanJsonCarriesIt) {
   ASSERT_TRUE(json["terrain"].contains("vegetation"));
   EXPECT_EQ(PlanFromJson(json, "plan.json").terrain.vegetation, plan.terrain.vegetation);
   // Without the key, the plan's JSON has no trace of it (plans from before keep their bytes).
-  const Plan bare = lsds::testing::PlanText("LSCENE = ONE(W)\nW = terrain{size:[40,40]}\n", kCamera);
+  const Plan bare =
+      lsds::testing::PlanText("LSCENE = ONE(W)\nW = terrain{size:[40,40]}\n", kCamera);
   EXPECT_FALSE(PlanToJson(bare)["terrain"].contains("vegetation"));
 }
 
@@ -149,11 +150,11 @@ TEST(Vegetation, TheDepthAtAPlantIsItsTopAndItCarriesTheTerrainsIds) {
     for (const PlantInstance& q : plants)
       crowded = crowded || (&q != &p && (q.offset - p.offset).head<2>().norm() < 1.2f);
     if (crowded) continue;
-    const Eigen::Vector3d top =
-        (p.offset + p.linear * Eigen::Vector3f(0, 0, 1)).cast<double>();
+    const Eigen::Vector3d top = (p.offset + p.linear * Eigen::Vector3f(0, 0, 1)).cast<double>();
     const Eigen::Vector3d in_cam = plan.frames[0].cam_from_world * top;
     const Eigen::Vector2d pixel = camera.ImageFromCam(in_cam);
-    const int x = static_cast<int>(std::floor(pixel.x())), y = static_cast<int>(std::floor(pixel.y()));
+    const int x = static_cast<int>(std::floor(pixel.x())),
+              y = static_cast<int>(std::floor(pixel.y()));
     if (x < 1 || y < 1 || x >= camera.width - 1 || y >= camera.height - 1) continue;
     const size_t i = static_cast<size_t>(y) * camera.width + x;
     // Nadir: the depth is the height above the top (the rosette is flat at the top).
@@ -220,8 +221,7 @@ TEST(Vegetation, CyclesDepthAndIndexPassesAgreeWithTheScatter) {
             << agreement["depth_pixels"] << " of " << agreement["pixels"] << " pixels)\n";
   EXPECT_LE(depth_error, validate::kMaxCyclesRelativeDepthError);
   EXPECT_LE(id_share, validate::kMaxCyclesIdMismatchShare);
-  const auto validated =
-      lsds::testing::RunLsds("validate " + out.string() + " --fail-on warning");
+  const auto validated = lsds::testing::RunLsds("validate " + out.string() + " --fail-on warning");
   EXPECT_EQ(validated.exit_code, 0) << validated.output;
 }
 

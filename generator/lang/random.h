@@ -40,6 +40,10 @@ class Rng {
     return Rng(MixKey(MixKey(MixKey(seed, static_cast<uint64_t>(tag)), index), sub));
   }
   uint64_t NextU64() { return SplitMix64Next(&state_); }
+  // A key from the stream's position without drawing: for choices added to
+  // the language later (a car's shape) that must leave every later draw, and so
+  // every plan without them, as it was.
+  uint64_t KeyHere(uint64_t purpose) const { return MixKey(state_, purpose); }
   // Uniform in [0, 1) with 53 random bits.
   double Uniform() { return static_cast<double>(NextU64() >> 11) * 0x1.0p-53; }
   double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }

@@ -175,7 +175,11 @@ class SceneEvaluator {
       const SceneClass drawn = assets_.Resolve(cls, chosen);
       o->class_name = drawn.asset;
       o->class_id = ClassIdOf(*plan_, labelled_, def.symbol, drawn.name);
-      o->extent = assets_.NaturalExtent(drawn.asset, MetresPerUnit(def), cls, what);
+      o->extent = assets_.NaturalExtent(drawn.asset,
+                                        MetresPerUnit(def),
+                                        cls,
+                                        what,
+                                        rng_.KeyHere(ClassCatalog::kMemberKeyPurpose));
     }
     return std::nullopt;
   }

@@ -253,6 +253,12 @@ std::vector<KindSpec> BuildVocabulary() {
                      .Range(WholeWithin(0, 9007199254740992.0))
                      .DefaultIs("derived from `--seed`")
                      .Doc("Perlin seed")
+                     .NotInChange(),
+                 Row("vegetation")
+                     .Is(T::kBlock)
+                     .Doc("`{density, kind, height}`: ground vegetation scattered on the terrain "
+                          "and part of it (its class and instance ids; \"Ground vegetation\")")
+                     .Block("vegetation")
                      .NotInChange()}));
   v.push_back(
       Kind("object", "LSCENE")
@@ -582,6 +588,21 @@ std::vector<KindSpec> BuildVocabulary() {
                                .Is(T::kNumber)
                                .Range(Within(0, 1))
                                .Doc("Density: the cloud cover, as `cloud_density`")}));
+  v.push_back(Kind("vegetation")
+                  .What("Ground vegetation")
+                  .Keys({Row("density")
+                             .Is(T::kNumber)
+                             .Range(Within(0, 100))
+                             .Unit("plants/m^2")
+                             .Doc("plants per square metre of terrain (required; 0: none)"),
+                         Row("kind").Is(T::kName).Default("grass").Doc(
+                             "`grass` (tufts of blades) or `plants` (small leafy plants)"),
+                         Row("height")
+                             .Is(T::kNumber)
+                             .Range(Within(0.01, 2))
+                             .Unit("m")
+                             .Default(0.25)
+                             .Doc("a plant's mean height; each varies by +-30 %")}));
   v.push_back(
       Kind("terrain_height")
           .Keys(

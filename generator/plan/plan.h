@@ -101,6 +101,18 @@ struct PlannedExposure {
   bool operator==(const PlannedExposure& o) const;
 };
 
+// Ground vegetation scattered on the terrain (LSCENE `terrain{vegetation:{...}}`;
+// generator/scene/vegetation.h): part of the terrain, with its ids.
+struct PlannedVegetation {
+  double density = 0;          // plants per square metre; 0: none
+  std::string kind = "grass";  // grass | plants
+  double height_m = 0.25;      // mean plant height
+  uint64_t seed = 0;           // the scatter's positions, turns and sizes
+  bool operator==(const PlannedVegetation& o) const {
+    return density == o.density && kind == o.kind && height_m == o.height_m && seed == o.seed;
+  }
+};
+
 struct PlannedTerrain {
   bool present = false;
   Eigen::Vector2d size = {200.0, 200.0};  // metres along x and y, centred on the origin
@@ -110,6 +122,7 @@ struct PlannedTerrain {
   std::string material = "grassy";
   uint32_t class_id = 0;     // terrain class in the class table (0: unlabeled background)
   uint32_t instance_id = 0;  // instance id in the instanceid layer
+  PlannedVegetation vegetation;
 };
 
 // One object of the sampled world.

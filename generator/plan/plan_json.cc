@@ -260,6 +260,11 @@ json PlanToJson(const Plan& plan) {
             {"frame_count", plan.frames.size()},
             {"frames", frames}};
   j.update(environment);
+  if (t.vegetation.density > 0)  // absent without: plans from before keep their bytes
+    j["terrain"]["vegetation"] = {{"density", t.vegetation.density},
+                                  {"kind", t.vegetation.kind},
+                                  {"height_m", t.vegetation.height_m},
+                                  {"seed", t.vegetation.seed}};
   if (!plan.requirements.is_null()) j["requirements"] = plan.requirements;
   if (plan.geo)
     j["geo"] = {{"latitude_deg", plan.geo->latitude_deg},
@@ -296,6 +301,13 @@ Plan PlanFromJson(const json& j, const std::string& file) {
     }
     plan.terrain.class_id = GetInteger<uint32_t>(t, "class_id");
     plan.terrain.instance_id = GetInteger<uint32_t>(t, "instance_id");
+    if (t.contains("vegetation")) {
+      const json& v = t.at("vegetation");
+      plan.terrain.vegetation.density = v.at("density").get<double>();
+      plan.terrain.vegetation.kind = v.at("kind").get<std::string>();
+      plan.terrain.vegetation.height_m = v.at("height_m").get<double>();
+      plan.terrain.vegetation.seed = GetInteger<uint64_t>(v, "seed");
+    }
     for (const json& o : j.at("objects")) {
       PlannedObject p;
       p.name = o.at("name").get<std::string>();

@@ -2,6 +2,7 @@
 
 #include "generator/render/embree_abi.h"
 #include "generator/scene/perlin.h"
+#include "generator/scene/vegetation.h"
 #include "generator/scene/world_meshes.h"
 #include "libs/util/error.h"
 
@@ -41,6 +42,7 @@ double RenderSceneBytes(const SceneAssets& assets) {
     triangles += static_cast<double>(shape.mesh.triangles.size());
   for (const auto& [key, shape] : assets.swapped)
     triangles += static_cast<double>(shape.mesh.triangles.size());
+  triangles += static_cast<double>(assets.vegetation_triangles);
   return kBytesPerTriangle * triangles;
 }
 
@@ -49,12 +51,15 @@ SceneAssets BuildSceneAssets(const Plan& plan) {
   assets.shapes.reserve(plan.objects.size());
   for (const PlannedObject& o : plan.objects) {
     const std::string where = "object '" + o.name + "'";
-    const uint64_t seed = HashCombine(plan.seed, HashString(o.name.c_str()));
-    assets.shapes.push_back(MakeClassShape(o.class_name, seed, where));
+    assets.shapes.push_back(
+        MakeClassShape(o.class_name, ObjectShapeSeed(plan.seed, o.name), where, &o.extent));
     FindMaterial(o.material.empty() ? assets.shapes.back().default_material : o.material, where);
   }
   if (plan.terrain.present)
     assets.terrain_material = &FindMaterial(plan.terrain.material, "terrain");
+  if (plan.terrain.present && PlantCount(plan.terrain) > 0)
+    assets.vegetation_triangles =
+        PlantCount(plan.terrain) * PlantPrototype(plan.terrain.vegetation.kind).triangles.size();
   for (const PlannedFrame& f : plan.frames) {
     if (f.environment && plan.terrain.present)  // fail before rendering
       FindMaterial(f.environment->terrain_material,
@@ -71,8 +76,9 @@ SceneAssets BuildSceneAssets(const Plan& plan) {
           assets.swapped.emplace(
               std::make_pair(i, *c.asset),
               MakeClassShape(*c.asset,
-                             HashCombine(plan.seed, HashString(o.name.c_str())),
-                             "frame " + std::to_string(f.index) + " object '" + c.object + "'"));
+                             ObjectShapeSeed(plan.seed, o.name),
+                             "frame " + std::to_string(f.index) + " object '" + c.object + "'",
+                             c.extent ? &*c.extent : nullptr));
       }
       if (c.material)
         FindMaterial(*c.material,
@@ -123,6 +129,7 @@ RenderScene::RenderScene(const EmbreeDevice& device,
     surfaces_.back().corner_normals = nullptr;
     surfaces_.back().mesh = nullptr;
     SetTerrainMaterial(assets, world);
+    BuildVegetation(device, world);
   }
   for (size_t i = 0; i < world.objects.size(); ++i)
     PlaceObject(device, assets, i, world.objects[i], earlier);
@@ -145,6 +152,8 @@ void RenderScene::Update(const EmbreeDevice& device,
       meshes_[id].reset();
     }
     BuildGround(device, world);
+    RemoveVegetation();
+    BuildVegetation(device, world);
   }
   if (ground_plane_ >= 0) SetTerrainMaterial(assets, world);
   for (size_t i = 0; i < world.objects.size(); ++i) {
@@ -170,6 +179,33 @@ void RenderScene::BuildGround(const EmbreeDevice& device, const WorldState& worl
   GroundMeshes ground = MakeGroundMeshes(world.terrain);
   AddMesh(device, 0, std::move(ground.terrain), s);
   AddMesh(device, 1, std::move(ground.skirt), beyond);
+}
+
+void RenderScene::BuildVegetation(const EmbreeDevice& device, const WorldState& world) {
+  TriangleMesh plants = VegetationMesh(world.terrain);
+  if (plants.empty()) return;
+  // Part of the terrain: its ids (class 0 and background when the terrain is unlabelled).
+  Surface s;
+  s.class_id = world.terrain.class_id;
+  s.instance_id = world.terrain.instance_id;
+  s.material = &FindMaterial(kVegetationMaterial, "terrain vegetation");
+  const auto id = static_cast<unsigned>(ground_plane_ + 1);
+  geometries_.resize(id + 1, nullptr);
+  meshes_.resize(id + 1);
+  surfaces_.resize(id + 1);
+  AddMesh(device, id, std::move(plants), s);
+  vegetation_ = static_cast<int>(id);
+}
+
+void RenderScene::RemoveVegetation() {
+  if (vegetation_ < 0) return;
+  const auto id = static_cast<unsigned>(vegetation_);
+  Embree().detach_geometry(scene_, id);
+  Embree().release_geometry(geometries_[id]);
+  geometries_.resize(id);
+  meshes_.resize(id);
+  surfaces_.resize(id);
+  vegetation_ = -1;
 }
 
 void RenderScene::SetTerrainMaterial(const SceneAssets& assets, const WorldState& world) {

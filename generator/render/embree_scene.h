@@ -43,6 +43,7 @@ struct SceneAssets {
   // The shape object `i` draws as `asset`.
   const ClassShape& ShapeOf(size_t i, const std::string& asset) const;
   const Material* terrain_material = nullptr;
+  size_t vegetation_triangles = 0;  // of the ground vegetation (vegetation.h)
 };
 SceneAssets BuildSceneAssets(const Plan& plan);
 
@@ -103,7 +104,8 @@ class RenderScene {
   // Surface ids run from 0 to surface_count() - 1: the terrain and its skirt
   // (0 and 1, when the plan has terrain), one per object of the world in its
   // order (a default Surface, with no mesh, while the object is not
-  // rendered), then the ground plane.
+  // rendered), then the ground plane, then the ground vegetation when the
+  // terrain has it (one geometry of every plant, carrying the terrain's ids).
   size_t surface_count() const { return surfaces_.size(); }
   const WorldState& world() const { return world_; }
   // The plane z = kWorldGroundZ past the world ground's skirt
@@ -127,6 +129,10 @@ class RenderScene {
   // The terrain of `world` and its skirt, as geometries 0 and 1 (their
   // material is set by SetTerrainMaterial).
   void BuildGround(const EmbreeDevice& device, const WorldState& world);
+  // The terrain's vegetation (generator/scene/vegetation.h): every plant in one world-space
+  // geometry, the id after the ground plane; and its removal.
+  void BuildVegetation(const EmbreeDevice& device, const WorldState& world);
+  void RemoveVegetation();
   // The terrain's material in `world` (LCAP may change it per frame).
   void SetTerrainMaterial(const SceneAssets& assets, const WorldState& world);
   // A new Embree geometry reading `mesh` in place, attached as `id`
@@ -150,6 +156,7 @@ class RenderScene {
   std::vector<std::shared_ptr<const TriangleMesh>> meshes_;
   std::vector<Surface> surfaces_;
   int ground_plane_ = -1;
+  int vegetation_ = -1;  // the vegetation's geometry id, -1: none
 };
 
 }  // namespace lsds::gen

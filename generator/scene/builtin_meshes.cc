@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "generator/scene/perlin.h"
+#include "libs/util/counter_rng.h"
 
 namespace lsds::gen {
 namespace {
@@ -26,6 +27,10 @@ class Uniform {
  private:
   uint64_t state_;
 };
+
+// Tyre rubber and a painted alloy rim (8-bit sRGB).
+constexpr unsigned char kTyre[3] = {25, 25, 27};
+constexpr unsigned char kRim[3] = {170, 172, 176};
 
 // A part whose albedo is a fixed colour (8-bit sRGB), not the material's.
 TriangleMesh Tinted(TriangleMesh part, unsigned char r, unsigned char g, unsigned char b) {
@@ -99,31 +104,204 @@ void AddSphere(TriangleMesh* mesh,
   mesh->Append(MakeSphereMesh(segments, segments / 2), size.asDiagonal(), centre);
 }
 
-// A wheel: a tyre (dark) with its axis along y.
-void AddWheel(TriangleMesh* mesh, const Eigen::Vector3f& centre, float radius, float width) {
-  TriangleMesh wheel;
-  AddLimb(&wheel,
-          centre - Eigen::Vector3f(0, width / 2, 0),
-          centre + Eigen::Vector3f(0, width / 2, 0),
+// A wheel with its axis along y: a dark tyre and, on its outer side (the side
+// `outer_y` lies on), a light rim disc whose face is at y = outer_y. Two tinted
+// parts, so that the tyre/rim contrast survives any body paint.
+void AddWheel(TriangleMesh* mesh, float x, float outer_y, float radius, float width) {
+  const float side = outer_y < 0 ? -1.f : 1.f;
+  const float rim_depth = std::min(0.03f, 0.2f * width);
+  TriangleMesh tyre, rim;
+  AddLimb(&tyre,
+          {x, outer_y - side * width, radius},
+          {x, outer_y - side * rim_depth / 2, radius},
           radius,
           20);
-  mesh->Append(Tinted(std::move(wheel), 25, 25, 27));
+  AddLimb(&rim, {x, outer_y - side * rim_depth, radius}, {x, outer_y, radius}, 0.6f * radius, 16);
+  mesh->Append(Tinted(std::move(tyre), kTyre[0], kTyre[1], kTyre[2]));
+  mesh->Append(Tinted(std::move(rim), kRim[0], kRim[1], kRim[2]));
+}
+
+// A dark band of glass just proud of a cabin between heights a and b.
+void AddWindows(TriangleMesh* mesh, const Frustum& cabin, float a, float b) {
+  mesh->Append(Tinted(cabin.Section(a, b, 0.012f).Mesh(), 30, 38, 48));
+}
+
+// One car shape: a body box between two heights over the full length and
+// width, a cabin frustum on it with its window band, optionally a pickup's bed
+// walls behind the cab, and four wheels whose rims are flush with the sides.
+struct CarLayout {
+  const char* name;
+  float length, width;
+  float body_z0, body_z1;
+  Frustum cabin;  // from body_z1 up to the roof
+  float window_z0, window_z1;
+  float front_axle_x, rear_axle_x, wheel_radius, tyre_width;
+  bool bed = false;  // pickup: an open bed from the rear to the cab
+};
+
+const std::vector<CarLayout>& CarLayouts() {
+  // Sizes of common models: a mid-size saloon, a compact hatchback, a mid-size
+  // SUV, a crew-cab pickup, a high-roof panel van (metres).
+  static const std::vector<CarLayout> layouts = {
+      {"sedan",
+       4.6f,
+       1.8f,
+       0.30f,
+       0.88f,
+       {{1.25f, 0.84f}, {0.78f, 0.72f}, -0.15f, -0.30f, 0.88f, 1.45f},
+       0.93f,
+       1.33f,
+       1.40f,
+       -1.35f,
+       0.32f,
+       0.22f},
+      {"hatchback",
+       4.0f,
+       1.75f,
+       0.30f,
+       0.90f,
+       {{1.35f, 0.82f}, {0.95f, 0.70f}, -0.55f, -0.80f, 0.90f, 1.50f},
+       0.95f,
+       1.38f,
+       1.30f,
+       -1.25f,
+       0.31f,
+       0.20f},
+      {"suv",
+       4.7f,
+       1.9f,
+       0.40f,
+       1.10f,
+       {{1.75f, 0.88f}, {1.50f, 0.80f}, -0.45f, -0.65f, 1.10f, 1.75f},
+       1.15f,
+       1.62f,
+       1.42f,
+       -1.42f,
+       0.38f,
+       0.25f},
+      {"pickup",
+       5.3f,
+       1.9f,
+       0.42f,
+       1.05f,
+       {{0.90f, 0.90f}, {0.70f, 0.85f}, 0.75f, 0.60f, 1.05f, 1.85f},
+       1.12f,
+       1.72f,
+       1.70f,
+       -1.60f,
+       0.40f,
+       0.26f,
+       true},
+      {"van",
+       5.0f,
+       2.0f,
+       0.36f,
+       1.15f,
+       {{2.28f, 0.98f}, {1.98f, 0.96f}, -0.20f, -0.50f, 1.15f, 2.10f},
+       1.25f,
+       1.85f,
+       1.75f,
+       -1.70f,
+       0.35f,
+       0.23f},
+  };
+  return layouts;
+}
+
+TriangleMesh CarOfLayout(const CarLayout& car) {
+  TriangleMesh mesh;
+  AddBox(&mesh,
+         {car.length, car.width, car.body_z1 - car.body_z0},
+         {0, 0, 0.5f * (car.body_z0 + car.body_z1)});
+  mesh.Append(car.cabin.Mesh());
+  AddWindows(&mesh, car.cabin, car.window_z0, car.window_z1);
+  if (car.bed) {  // side walls and a tailgate, 8 cm thick, 45 cm high, from the rear to the cab
+    const float wall = 0.08f, high = 0.45f;
+    const float rear = -car.length / 2;
+    const float cab_back = car.cabin.bottom_x - car.cabin.bottom.x();
+    const float z = car.body_z1 + high / 2;
+    for (float y : {-1.f, 1.f})
+      AddBox(&mesh,
+             {cab_back - rear, wall, high},
+             {0.5f * (rear + cab_back), y * (car.width - wall) / 2, z});
+    AddBox(&mesh, {wall, car.width, high}, {rear + wall / 2, 0, z});
+  }
+  for (float x : {car.front_axle_x, car.rear_axle_x})
+    for (float y : {-car.width / 2, car.width / 2})
+      AddWheel(&mesh, x, y, car.wheel_radius, car.tyre_width);
+  return mesh;
 }
 
 }  // namespace
 
-TriangleMesh CarMesh() {
-  TriangleMesh mesh;
-  // Body between the wheel arches' bottom and the belt line.
-  AddBox(&mesh, {4.2f, 1.8f, 0.55f}, {0, 0, 0.62f});
-  // Cabin, tapered to the roof and set back from the bonnet; a dark window
-  // band around it.
-  const Frustum cabin{{1.25f, 0.82f}, {0.8f, 0.7f}, -0.2f, -0.45f, 0.895f, 1.5f};
-  mesh.Append(cabin.Mesh());
-  mesh.Append(Tinted(cabin.Section(0.95f, 1.38f, 0.012f).Mesh(), 30, 38, 48));
-  for (float x : {-1.35f, 1.35f})
-    for (float y : {-0.79f, 0.79f}) AddWheel(&mesh, {x, y, 0.34f}, 0.34f, 0.22f);
-  return mesh;
+const std::vector<CarShape>& CarShapes() {
+  // Each shape's size is its mesh's bounds, so that the box drawn at that size
+  // is the mesh undistorted.
+  static const std::vector<CarShape> shapes = [] {
+    std::vector<CarShape> out;
+    for (const CarLayout& layout : CarLayouts()) {
+      const TriangleMesh mesh = CarOfLayout(layout);
+      Eigen::Vector3f lo = mesh.positions.front(), hi = lo;
+      for (const Eigen::Vector3f& p : mesh.positions) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      out.push_back({layout.name, (hi - lo).cast<double>()});
+    }
+    return out;
+  }();
+  return shapes;
+}
+
+size_t CarShapeOfKey(uint64_t key) {
+  constexpr uint64_t kShapeField = 0x636172;  // "car"
+  return std::min(CarShapes().size() - 1,
+                  static_cast<size_t>(Uniform01(key, kShapeField, 0, 0) *
+                                      static_cast<double>(CarShapes().size())));
+}
+
+size_t CarShapeNearest(const Eigen::Vector3d& extent) {
+  // Proportions only: log(l/w) and log(l/h), so that a car scaled as a whole
+  // keeps its shape.
+  auto proportions = [](const Eigen::Vector3d& e) {
+    return Eigen::Vector2d(std::log(e.x() / e.y()), std::log(e.x() / e.z()));
+  };
+  const Eigen::Vector2d wanted = proportions(extent);
+  size_t best = 0;
+  double best_distance = INFINITY;
+  for (size_t i = 0; i < CarShapes().size(); ++i) {
+    const double d = (proportions(CarShapes()[i].size) - wanted).squaredNorm();
+    if (d < best_distance) best = i, best_distance = d;
+  }
+  return best;
+}
+
+TriangleMesh CarMesh(size_t shape) { return CarOfLayout(CarLayouts().at(shape)); }
+
+const std::vector<std::pair<std::string, double>>& CarPaintPalette() {
+  // Shares of new cars' colours worldwide (Axalta's global automotive colour
+  // popularity report 2022, rounded): white 35 %, black 19 %, grey 17 %,
+  // silver 10 %, blue 8 %, red 7 %, beige/brown 2 %, green 2 %.
+  static const std::vector<std::pair<std::string, double>> palette = {{"car_white", 0.35},
+                                                                      {"car_black", 0.19},
+                                                                      {"car_grey", 0.17},
+                                                                      {"car_silver", 0.10},
+                                                                      {"car_blue", 0.08},
+                                                                      {"car_red", 0.07},
+                                                                      {"car_beige", 0.02},
+                                                                      {"car_green", 0.02}};
+  return palette;
+}
+
+const std::string& CarPaint(uint64_t seed) {
+  constexpr uint64_t kPaintField = 0x7061696e74;  // "paint"
+  const double u = Uniform01(seed, kPaintField, 0, 0);
+  double cumulative = 0;
+  for (const auto& [material, share] : CarPaintPalette()) {
+    cumulative += share;
+    if (u < cumulative) return material;
+  }
+  return CarPaintPalette().back().first;
 }
 
 TriangleMesh TruckMesh() {
@@ -134,7 +312,7 @@ TriangleMesh TruckMesh() {
   mesh.Append(cab.Mesh());
   mesh.Append(Tinted(cab.Section(2.1f, 2.8f, 0.015f).Mesh(), 30, 38, 48));
   for (float x : {-3.0f, -1.9f, 2.7f})
-    for (float y : {-0.97f, 0.97f}) AddWheel(&mesh, {x, y, 0.5f}, 0.5f, 0.56f);
+    for (float y : {-1.25f, 1.25f}) AddWheel(&mesh, x, y, 0.5f, 0.56f);
   return mesh;
 }
 

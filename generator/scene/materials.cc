@@ -20,16 +20,15 @@ void SetSpecular(std::vector<Material>* table) {
     float specular, metallic, roughness;
   };
   static const Gloss gloss[] = {
-      {"metal", 1.f, 1.f, 0.35f},
-      {"metal_gold", 1.f, 1.f, 0.3f},
-      {"plastic", 1.f, 0.f, 0.35f},
-      {"rubber", 1.f, 0.f, 0.7f},
-      {"painted", 1.f, 0.f, 0.45f},
-      {"painted_red", 1.f, 0.f, 0.45f},
-      {"painted_green", 1.f, 0.f, 0.45f},
-      {"painted_blue", 1.f, 0.f, 0.45f},
-      {"painted_yellow", 1.f, 0.f, 0.45f},
-      {"asphalt", 0.5f, 0.f, 0.8f},
+      {"metal", 1.f, 1.f, 0.35f},          {"metal_gold", 1.f, 1.f, 0.3f},
+      {"plastic", 1.f, 0.f, 0.35f},        {"rubber", 1.f, 0.f, 0.7f},
+      {"painted", 1.f, 0.f, 0.45f},        {"painted_red", 1.f, 0.f, 0.45f},
+      {"painted_green", 1.f, 0.f, 0.45f},  {"painted_blue", 1.f, 0.f, 0.45f},
+      {"painted_yellow", 1.f, 0.f, 0.45f}, {"car_white", 1.f, 0.f, 0.3f},
+      {"car_black", 1.f, 0.f, 0.3f},       {"car_grey", 1.f, 0.f, 0.3f},
+      {"car_silver", 1.f, 0.f, 0.3f},      {"car_blue", 1.f, 0.f, 0.3f},
+      {"car_red", 1.f, 0.f, 0.3f},         {"car_beige", 1.f, 0.f, 0.3f},
+      {"car_green", 1.f, 0.f, 0.3f},       {"asphalt", 0.5f, 0.f, 0.8f},
       {"concrete", 0.5f, 0.f, 0.85f},
   };
   for (Material& m : *table)
@@ -148,6 +147,16 @@ const std::vector<Material>& MaterialTable() {
         {"yellow", {0.70f, 0.55f, 0.05f}, {0.60f, 0.45f, 0.04f}, 4.0f, 0.2f},
         {"black", {0.03f, 0.03f, 0.03f}, {0.04f, 0.04f, 0.04f}, 4.0f, 0.2f},
         {"painted", {0.30f, 0.32f, 0.20f}, {0.25f, 0.26f, 0.16f}, 4.0f, 0.3f},
+        // Car paints (builtin_meshes.h CarPaint): lacquered, glossy (SetSpecular), hardly
+        // patterned; linear albedos of white, black, grey, silver, ... bodywork.
+        {"car_white", {0.78f, 0.78f, 0.76f}, {0.74f, 0.74f, 0.72f}, 4.0f, 0.1f},
+        {"car_black", {0.02f, 0.02f, 0.022f}, {0.03f, 0.03f, 0.032f}, 4.0f, 0.1f},
+        {"car_grey", {0.15f, 0.155f, 0.16f}, {0.13f, 0.135f, 0.14f}, 4.0f, 0.1f},
+        {"car_silver", {0.45f, 0.46f, 0.47f}, {0.40f, 0.41f, 0.42f}, 4.0f, 0.1f},
+        {"car_blue", {0.03f, 0.07f, 0.25f}, {0.03f, 0.06f, 0.21f}, 4.0f, 0.1f},
+        {"car_red", {0.42f, 0.03f, 0.03f}, {0.36f, 0.03f, 0.03f}, 4.0f, 0.1f},
+        {"car_beige", {0.45f, 0.38f, 0.27f}, {0.40f, 0.34f, 0.24f}, 4.0f, 0.1f},
+        {"car_green", {0.05f, 0.14f, 0.07f}, {0.04f, 0.12f, 0.06f}, 4.0f, 0.1f},
         // Gold's reflectance (F0) in linear RGB, as metals are tinted by it.
         {"metal_gold", {1.00f, 0.71f, 0.29f}, {0.90f, 0.62f, 0.24f}, 4.0f, 0.2f},
     };

@@ -117,7 +117,13 @@ const std::vector<BuiltinClass>& BuiltinClassTable() {
       {"bush", V(1.2, 1.2, 1.0), "foliage", Bush},
       {"tree", V(4.5, 4.5, 7.0), "foliage", TreeMesh},
       {"person", V(0.5, 0.3, 1.8), "fabric", HumanMesh},
-      {"car", V(4.2, 1.8, 1.5), "painted_red", [](uint64_t) { return CarMesh(); }},
+      {"car",
+       CarShapes().front().size,
+       "car_white",
+       [](uint64_t) { return CarMesh(0); },
+       [](uint64_t key) { return CarShapes()[CarShapeOfKey(key)].size; },
+       [](const Eigen::Vector3d& extent) { return CarMesh(CarShapeNearest(extent)); },
+       CarPaint},
       {"truck", V(8.0, 2.5, 3.2), "painted", [](uint64_t) { return TruckMesh(); }},
   };
   return table;
@@ -237,10 +243,26 @@ Eigen::Vector3d MeshFileExtent(const std::string& path, const std::string& where
   return (hi - lo).cast<double>();
 }
 
-ClassShape MakeClassShape(const std::string& name, uint64_t seed, const std::string& where) {
+Eigen::Vector3d BuiltinNaturalExtent(const std::string& name, uint64_t key) {
+  const BuiltinClass* builtin = FindBuiltinClass(name);
+  if (builtin == nullptr) throw Error("internal: '" + name + "' is no built-in class");
+  return builtin->member_extent ? builtin->member_extent(key) : builtin->default_extent;
+}
+
+uint64_t ObjectShapeSeed(uint64_t plan_seed, const std::string& object_name) {
+  return HashCombine(plan_seed, HashString(object_name.c_str()));
+}
+
+ClassShape MakeClassShape(const std::string& name,
+                          uint64_t seed,
+                          const std::string& where,
+                          const Eigen::Vector3d* extent) {
   ClassShape shape;
   if (const BuiltinClass* builtin = FindBuiltinClass(name)) {
-    shape = {builtin->make(seed), builtin->default_material, builtin->default_extent};
+    shape = {extent && builtin->make_for_extent ? builtin->make_for_extent(*extent)
+                                                : builtin->make(seed),
+             builtin->paint ? builtin->paint(seed) : builtin->default_material,
+             builtin->default_extent};
   } else if (IsMeshPath(name)) {
     shape = {LoadMeshFile(name, where), "plastic", {1, 1, 1}};
     return shape;

@@ -28,6 +28,14 @@ struct BuiltinClass {
   Eigen::Vector3d default_extent;       // metres: the size an object gets when the plan gives none
   std::string default_material;         // when the plan leaves the material empty
   TriangleMesh (*make)(uint64_t seed);  // in metres; the seed varies rocks, bushes, trees, people
+  // A family of shapes with their own proportions (car: builtin_meshes.h): the
+  // size of the member a planner's draw `key` picks, and the mesh of the member
+  // nearest an object's extent. Null for the other classes.
+  Eigen::Vector3d (*member_extent)(uint64_t key) = nullptr;
+  TriangleMesh (*make_for_extent)(const Eigen::Vector3d& extent) = nullptr;
+  // A paint drawn per object from `seed` when the plan gives no material
+  // (car); null: default_material.
+  const std::string& (*paint)(uint64_t seed) = nullptr;
 };
 // The one home of the built-in classes (LSCENE's defaults read it too).
 const std::vector<BuiltinClass>& BuiltinClassTable();
@@ -46,11 +54,24 @@ std::string CanonicalClassName(const std::string& name);
 // object truth puts its oriented boxes' heading corner there.
 std::optional<Eigen::Vector3d> FrontOfBuiltinClass(const std::string& name);
 
+// The natural size of built-in `name` (canonical or alias) drawn with planner key `key`: a
+// family's member's own size (car), else the class's default_extent.
+Eigen::Vector3d BuiltinNaturalExtent(const std::string& name, uint64_t key);
+
+// The seed of an object's shape and paint: one per (plan seed, object name), so that an object
+// keeps its look across frames and class swaps.
+uint64_t ObjectShapeSeed(uint64_t plan_seed, const std::string& object_name);
+
 // The shape of `class_name`; `seed` varies the random classes (rock, bush,
-// tree, person).
+// tree, person) and the car's paint; `extent` (the object's planned size)
+// picks a family's member (car: the shape nearest its proportions; without
+// it, the family's first).
 // `where` names the plan object for error messages. Throws lsds::Error for
 // unknown classes and unreadable meshes.
-ClassShape MakeClassShape(const std::string& class_name, uint64_t seed, const std::string& where);
+ClassShape MakeClassShape(const std::string& class_name,
+                          uint64_t seed,
+                          const std::string& where,
+                          const Eigen::Vector3d* extent = nullptr);
 
 // Loads every mesh of a file with assimp (triangulated, node transforms
 // applied, glTF's y-up turned to the world's z-up), in the file's units.

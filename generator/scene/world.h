@@ -50,7 +50,8 @@ struct WorldState {
     return terrain.present == o.terrain.present && terrain.size == o.terrain.size &&
            terrain.perlin_amplitude == o.terrain.perlin_amplitude &&
            terrain.perlin_frequency == o.terrain.perlin_frequency &&
-           terrain.perlin_seed == o.terrain.perlin_seed;
+           terrain.perlin_seed == o.terrain.perlin_seed &&
+           terrain.vegetation == o.terrain.vegetation;
   }
   bool operator==(const WorldState& o) const {
     return objects == o.objects && terrain_material == o.terrain_material && SameGround(o);

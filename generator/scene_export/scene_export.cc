@@ -6,6 +6,7 @@
 #include "generator/render/exposure.h"
 #include "generator/render/sky.h"
 #include "generator/scene/materials.h"
+#include "generator/scene/vegetation.h"
 #include "generator/scene/world_ground.h"
 #include "generator/scene/world_meshes.h"
 #include "generator/scene_export/gltf_writer.h"
@@ -24,6 +25,7 @@ namespace fs = std::filesystem;
 constexpr const char* kFormat = "lsds-scene-export";
 constexpr const char* kFormatVersion = "1.2";
 constexpr const char* kGroundFile = "ground.glb";
+constexpr const char* kVegetationNode = "vegetation";
 
 nlohmann::json Rgb(const Eigen::Vector3f& c) { return {c.x(), c.y(), c.z()}; }
 
@@ -180,10 +182,16 @@ void SceneExporter::WriteGround() const {
   if (!plan_.terrain.present) return;
   const GroundMeshes ground = MakeGroundMeshes(plan_.terrain);
   const TriangleMesh plane = MakeGroundPlaneRing(plan_.terrain);
-  WriteGlb(
-      folder_ / kGroundFile,
-      {{"terrain", &ground.terrain, 0}, {"skirt", &ground.skirt, 0}, {"ground_plane", &plane, 0}},
-      {GltfOf(*assets_.terrain_material)});
+  std::vector<GltfNode> nodes = {
+      {"terrain", &ground.terrain, 0}, {"skirt", &ground.skirt, 0}, {"ground_plane", &plane, 0}};
+  std::vector<GltfMaterial> materials = {GltfOf(*assets_.terrain_material)};
+  // The ground vegetation: the very mesh the renderer casts (docs/export.md, "Ground vegetation").
+  const TriangleMesh vegetation = VegetationMesh(plan_.terrain);
+  if (!vegetation.empty()) {
+    nodes.push_back({kVegetationNode, &vegetation, 1});
+    materials.push_back(GltfOf(FindMaterial(kVegetationMaterial, "terrain vegetation")));
+  }
+  WriteGlb(folder_ / kGroundFile, nodes, materials);
 }
 
 nlohmann::json SceneExporter::WriteFrame(const PlannedFrame& frame) const {
@@ -205,6 +213,13 @@ nlohmann::json SceneExporter::WriteFrame(const PlannedFrame& frame) const {
                              ground));
     nodes.push_back(NodeJson("skirt", kGroundFile, 0, 0, 0, ground));
     nodes.push_back(NodeJson("ground_plane", kGroundFile, 0, 0, 0, ground));
+    if (PlantCount(plan_.terrain) > 0)  // part of the terrain: its pass index and ids
+      nodes.push_back(NodeJson(kVegetationNode,
+                               kGroundFile,
+                               kTerrainPassIndex,
+                               plan_.terrain.instance_id,
+                               plan_.terrain.class_id,
+                               FindMaterial(kVegetationMaterial, where + " vegetation")));
   }
   const std::string objects_file = FrameStem(frame.index) + ".glb";
   std::deque<TriangleMesh> meshes;  // the glTF nodes point into it

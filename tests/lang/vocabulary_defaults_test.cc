@@ -46,6 +46,15 @@ Program CaptureKey(const std::string& capture_with_slot, bool after_others) {
   };
 }
 
+// A key of the terrain's vegetation block.
+Program VegetationKey() {
+  return [](const std::string& key) {
+    return std::make_pair(
+        "LSCENE = ONE(W)\nW = terrain{size:[20,20],vegetation:{density:1" + After(key) + "}}\n",
+        kCamera);
+  };
+}
+
 // Every (kind, key) with a default, and a program that uses it.
 const std::map<std::pair<std::string, std::string>, Program>& Programs() {
   static const std::map<std::pair<std::string, std::string>, Program> programs = {
@@ -59,6 +68,8 @@ const std::map<std::pair<std::string, std::string>, Program>& Programs() {
          return std::make_pair(
              "LSCENE = ONE(W)\nW = terrain{size:[200,200],perlin:2" + After(key) + "}\n", kCamera);
        }},
+      {{"vegetation", "kind"}, VegetationKey()},
+      {{"vegetation", "height"}, VegetationKey()},
       {{"object", "retries"},
        [](const std::string& key) {
          return std::make_pair("LSCENE = ONE(O) MANY(C, 20) ONE(W)\n" + kGround +

@@ -44,9 +44,11 @@ std::pair<std::string, uint32_t> ClassSwaps::Class(const std::string& symbol,
   return {resolved.asset, next};
 }
 
-Eigen::Vector3d ClassSwaps::NaturalExtent(const SceneClass& drawn, const Node& where) {
+Eigen::Vector3d ClassSwaps::NaturalExtent(const SceneClass& drawn,
+                                          const Node& where,
+                                          uint64_t member_key) {
   return Assets().NaturalExtent(
-      drawn.asset, Assets().LibraryMetresPerUnit(drawn.asset), where, "class change");
+      drawn.asset, Assets().LibraryMetresPerUnit(drawn.asset), where, "class change", member_key);
 }
 
 void ClassSwaps::Declare(const std::string& symbol, const Node& cls) {

@@ -41,7 +41,8 @@ class ClassSwaps {
   // The size a drawn class has of its own (docs/languages.md, "Class swaps and re-scatters"): a
   // built-in's box, a mesh's native bounds in metres (a library asset's in its manifest's unit).
   // The mesh's location names `where` when it cannot be read.
-  Eigen::Vector3d NaturalExtent(const SceneClass& drawn, const Node& where);
+  // `member_key` draws a built-in family's member (ClassCatalog::NaturalExtent).
+  Eigen::Vector3d NaturalExtent(const SceneClass& drawn, const Node& where, uint64_t member_key);
 
   // Every class a change of `symbol`'s class to `cls` may draw joins the table now, and is kept
   // shown (DropHelperClasses).

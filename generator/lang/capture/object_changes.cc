@@ -6,6 +6,7 @@
 
 #include "generator/lang/asset_choice.h"
 #include "generator/lang/capture/quota_draws.h"
+#include "generator/lang/scene/class_catalog.h"
 #include "generator/plan/terrain_height.h"
 
 namespace lsds {
@@ -38,7 +39,7 @@ void DrawClass(const Node& v,
   c->class_id = id;
   // The drawn asset keeps its own proportions and size; its base stays on the support
   // (KeepPlacement re-seats it). An `extent` later in the block still wins.
-  c->extent = swaps->NaturalExtent(drawn, v);
+  c->extent = swaps->NaturalExtent(drawn, v, rng.KeyHere(ClassCatalog::kMemberKeyPurpose));
 }
 
 // The vertical velocity of an object standing on the terrain: the slope along its motion, by a

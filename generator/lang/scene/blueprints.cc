@@ -45,7 +45,8 @@ DrawnBlueprint DrawBlueprint(const Definition& blueprint, ClassCatalog* catalog,
     m.extent = catalog->NaturalExtent(m.drawn.asset,
                                       catalog->LibraryMetresPerUnit(m.drawn.asset),
                                       cls,
-                                      "member " + name + " of " + blueprint.symbol);
+                                      "member " + name + " of " + blueprint.symbol,
+                                      rng.KeyHere(ClassCatalog::kMemberKeyPurpose));
     if (const Node n = member.Find("extent")) m.extent = SampleVec3(n, rng);
     if (const Node n = member.Find("scale")) m.extent = m.extent.cwiseProduct(SampleScale(n, rng));
     if (!(m.extent.minCoeff() > 0)) member.Fail("member " + name + ": a size must be > 0");

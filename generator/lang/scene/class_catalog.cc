@@ -68,10 +68,12 @@ std::vector<SceneClass> ClassCatalog::Candidates(const Node& cls, const std::str
 Eigen::Vector3d ClassCatalog::NaturalExtent(const std::string& asset,
                                             std::optional<double> metres_per_unit,
                                             const Node& where,
-                                            const std::string& what) {
+                                            const std::string& what,
+                                            std::optional<uint64_t> member_key) {
   if (!gen::IsMeshPath(asset)) {
     const auto builtin = BuiltinClasses().find(asset);
-    if (builtin != BuiltinClasses().end()) return builtin->second;
+    if (builtin != BuiltinClasses().end())
+      return member_key ? gen::BuiltinNaturalExtent(asset, *member_key) : builtin->second;
   }
   auto cached = mesh_extents_.find(asset);
   if (cached == mesh_extents_.end()) {

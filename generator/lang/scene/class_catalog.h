@@ -48,10 +48,15 @@ class ClassCatalog {
   // be read is an error at `where`, `what` naming the object or change. A mesh whose unit nobody
   // declared (nullopt: read as metres) over kLargestUndeclaredMeshM on a side is an error asking
   // for its unit: a model in centimetres would otherwise become a 300 m pipe.
+  // A built-in family (car) draws its member's own size from `member_key` (Rng::KeyHere); without
+  // it, the class's default size.
   Eigen::Vector3d NaturalExtent(const std::string& asset,
                                 std::optional<double> metres_per_unit,
                                 const Node& where,
-                                const std::string& what);
+                                const std::string& what,
+                                std::optional<uint64_t> member_key = std::nullopt);
+  // The purpose of Rng::KeyHere keys that draw a family's member.
+  static constexpr uint64_t kMemberKeyPurpose = 0x6d656d626572;  // "member"
   static constexpr double kLargestUndeclaredMeshM = 100;
   // The unit a library manifest declares for an asset's file; nullopt when none does.
   std::optional<double> LibraryMetresPerUnit(const std::string& asset) const;

@@ -1,6 +1,7 @@
 #include "generator/lang/scene/ground.h"
 
 #include "generator/lang/vocabulary.h"
+#include "generator/scene/vegetation.h"
 
 namespace lsds {
 namespace {
@@ -21,6 +22,23 @@ void ReadPerlin(const Node& p, Rng& rng, PlannedTerrainShape* t) {
   } else {
     t->perlin_amplitude = Sampled(p, "perlin", "amplitude", rng);
   }
+}
+
+// `vegetation:{density, kind, height}`: the scatter's seed from the scene seed's terrain stream.
+void ReadVegetation(const Node& v, uint64_t seed, Rng& rng, PlannedVegetation* out) {
+  CheckKeys(v, KindVocabulary("vegetation"), "vegetation");
+  const Node density = v.Find("density");
+  if (!density) v.Fail("vegetation needs a density (plants per m^2)");
+  out->density = Sampled(density, "vegetation", "density", rng);
+  if (const Node k = v.Find("kind")) {
+    out->kind = SampleString(k, rng);
+    if (out->kind != "grass" && out->kind != "plants")
+      k.Fail("vegetation kind must be grass or plants, not '" + out->kind + "'");
+  }
+  if (const Node h = v.Find("height")) out->height_m = Sampled(h, "vegetation", "height", rng);
+  constexpr uint64_t kVegetationKey = 0x76656765;  // "vege"
+  out->seed = MixKey(MixKey(seed, static_cast<uint64_t>(StreamTag::kTerrain)), kVegetationKey) >>
+              11;  // 53 bits: exact in JSON
 }
 
 }  // namespace
@@ -57,6 +75,13 @@ void EvaluateTerrain(const Node& b, uint64_t seed, Rng& rng, Plan* plan) {
   if (const Node m = b.Find("material")) t.material = SampleString(m, rng);
   if (const Node s = b.Find("seed"))
     t.perlin_seed = static_cast<uint64_t>(ReadInRange(s, KindVocabulary("terrain").Key("seed")));
+  if (const Node v = b.Find("vegetation")) {
+    ReadVegetation(v, seed, rng, &t.vegetation);
+    if (gen::PlantCount(t) > gen::kMaxPlants)
+      v.Fail("vegetation: " + std::to_string(gen::PlantCount(t)) +
+             " plants over this terrain is over the limit of " + std::to_string(gen::kMaxPlants) +
+             "; lower the density or the terrain's size");
+  }
   for (const ClassInfo& c : plan->classes)
     if (c.name == "terrain") t.class_id = c.id;
 }

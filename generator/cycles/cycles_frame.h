@@ -24,10 +24,11 @@ struct CyclesAgreement {
   // Pixels whose instance differs (Cycles' object index mapped through the
   // export's nodes), or that one renderer sees as sky and the other not.
   int64_t id_mismatches = 0;
-  // Over the pixels that agree, are not sky and whose depth is smooth (within 5 % of each
-  // neighbour's: not a silhouette, not ground at a grazing angle, where Cycles' ray, within
-  // about 0.01 px of the pixel centre, moves the depth), how many and max
-  // |z_cycles - z_lsds| / z_lsds.
+  // Over the pixels that agree, are not sky and whose depth is smooth in both renderers (within
+  // 5 % of each neighbour's: not a silhouette, not ground at a grazing angle, not a feature
+  // thinner than a pixel, where Cycles' ray, within about 0.01 px of the pixel centre, moves the
+  // depth), how many and the max distance of z_cycles outside the depths lsds saw at the pixel
+  // and its 4 neighbours, over z_lsds.
   int64_t depth_pixels = 0;
   double max_relative_depth_error = 0;
   double IdMismatchShare() const {

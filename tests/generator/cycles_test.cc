@@ -19,6 +19,7 @@
 #include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
+#include "generator/cycles/cycles_frame.h"
 #include "generator/plan_source.h"
 #include "generator/render/embree_scene.h"
 #include "generator/scene/world.h"
@@ -37,6 +38,49 @@ namespace fs = std::filesystem;
 using testing::RunCommandLine;
 using testing::RunLsds;
 using testing::TempDir;
+
+// The agreement rule on passes whose answer is known (no Blender needed): a 16 x 12 ground at
+// 10 m seen by both renderers, with (a) a one-pixel leaf only Cycles' sample caught, (b) a 3 cm
+// rim step that fell between lsds's pixel centre and Cycles' sample, (c) a 4 x 4 patch Cycles
+// draws 1 % deeper than lsds: only (c) is a disagreement.
+TEST(CyclesAgreement, CountsDisplacedGeometryNotSubPixelFeaturesOrSmallSteps) {
+  const int w = 16, h = 12;
+  gen::Film film = gen::Film::Make(w, h, 1, /*with_bundle=*/false);
+  exr::FlatImage cycles(w, h);
+  std::vector<float>& cycles_depth =
+      cycles.AddChannel("ViewLayer.Depth.Z", exr::PixelType::kFloat).floats;
+  std::vector<float>& cycles_index =
+      cycles.AddChannel("ViewLayer.IndexOB.X", exr::PixelType::kFloat).floats;
+  std::vector<float>& depth = film.flat.at("depth").Get("Z").floats;
+  std::vector<uint32_t>& instance = film.flat.at("instanceid").Get("id").uints;
+  for (size_t p = 0; p < depth.size(); ++p) {
+    depth[p] = 10.f;
+    cycles_depth[p] = 10.f;
+    cycles_index[p] = gen::kTerrainPassIndex;
+    instance[p] = 1;
+  }
+  cycles_depth[cycles.Index(3, 3)] = 8.f;   // (a) the leaf
+  depth[cycles.Index(8, 2)] = 9.97f;        // (b) the rim at lsds's centre ...
+  cycles_depth[cycles.Index(8, 2)] = 10.f;  // ... the tyre behind it, as the neighbours see
+  for (int y = 6; y < 10; ++y)
+    for (int x = 9; x < 13; ++x) cycles_depth[cycles.Index(x, y)] = 10.1f;  // (c)
+  const TempDir dir;
+  exr::WriteFlatExr(dir / "cycles.exr", cycles);
+  const std::vector<gen::ExportedNode> nodes = {{"terrain", gen::kTerrainPassIndex, 1, 1}};
+  const auto camera = PinholeCamera::FromHorizontalFov(w, h, 60);
+  const gen::CyclesAgreement agreement =
+      gen::CompareWithCycles(dir / "cycles.exr", film, nodes, camera, DepthKind::kPlanar, 0);
+  EXPECT_EQ(agreement.id_mismatches, 0);
+  // (c)'s inner 2 x 2 is smooth in both: 0.1 m beyond the 10 m lsds saw there and around.
+  EXPECT_NEAR(agreement.max_relative_depth_error, 0.01, 1e-6);
+  // Without (c), (a) and (b) leave no disagreement.
+  for (int y = 6; y < 10; ++y)
+    for (int x = 9; x < 13; ++x) cycles_depth[cycles.Index(x, y)] = 10.f;
+  exr::WriteFlatExr(dir / "cycles.exr", cycles);
+  EXPECT_EQ(gen::CompareWithCycles(dir / "cycles.exr", film, nodes, camera, DepthKind::kPlanar, 0)
+                .max_relative_depth_error,
+            0.0);
+}
 
 // A hilly field with two cars, a person and a gold cube under a morning sun, seen obliquely
 // from two positions at 64 x 48.

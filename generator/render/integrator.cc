@@ -12,11 +12,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 
+#include "generator/render/exact_hit.h"
 #include "generator/render/pixel_field.h"
 #include "generator/render/ray_casts.h"
 #include "generator/render/shading.h"
 #include "generator/scene/ground_detail.h"
-#include "generator/scene/world_ground.h"
 #include "libs/util/counter_rng.h"
 #include "libs/util/error.h"
 
@@ -37,87 +37,6 @@ constexpr uint64_t kSkyLightField = 0x5c71;
 // and points within 4 pixel footprints.
 constexpr double kSkyAlikeCos = 0.9;
 constexpr double kSkyAlikeFootprints = 4;
-
-struct Hit {
-  bool hit = false;
-  unsigned geom = 0;
-  double t = 0;            // along the ray whose camera-frame direction has z == 1: planar depth
-  Eigen::Vector3d point;   // world
-  Eigen::Vector3d normal;  // world, unit, facing the camera
-  // Interpolated corner normal (smooth shading), on the camera's side; used
-  // for lighting only, the normal layer keeps `normal`.
-  Eigen::Vector3d shading_normal;
-  unsigned prim = 0;  // Embree's triangle and barycentrics: texture lookups
-  float u = 0, v = 0;
-};
-
-// The plane of the triangle a tile last resolved, for rays from one origin:
-// neighbouring samples mostly hit the same triangle, whose unit normal (a
-// cross product and a square root) is then computed once. The same doubles
-// either way.
-struct TrianglePlane {
-  unsigned geom = RTC_INVALID_GEOMETRY_ID, prim = 0;
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, as the vertices wind
-  double offset = 0;                                  // normal . (v0 - origin)
-};
-
-// The ray's exact hit: Embree finds the triangle, the plane of its (float)
-// vertices gives t in double, so a flat terrain at z = 0 yields z == 0 and
-// depth == altitude to double precision.
-Hit Resolve(const RenderScene& scene,
-            const EmbreeHit& rh,
-            const Eigen::Vector3d& origin,
-            const Eigen::Vector3d& direction,
-            TrianglePlane* plane) {
-  Hit hit;
-  if (rh.geom == RTC_INVALID_GEOMETRY_ID) {
-    // Past the world ground's skirt: the plane it settles to
-    // (generator/scene/world_ground.h), exact in double.
-    if (scene.ground_plane() >= 0 && direction.z() < 0 && origin.z() > kWorldGroundZ) {
-      hit.hit = true;
-      hit.geom = static_cast<unsigned>(scene.ground_plane());
-      hit.t = (kWorldGroundZ - origin.z()) / direction.z();
-      hit.point = origin + hit.t * direction;
-      hit.point.z() = kWorldGroundZ;
-      hit.normal = hit.shading_normal = Eigen::Vector3d::UnitZ();
-    }
-    return hit;
-  }
-  hit.hit = true;
-  hit.geom = rh.geom;
-  hit.prim = rh.prim;
-  hit.u = rh.u;
-  hit.v = rh.v;
-  const Surface& s = scene.surface(rh.geom);
-  if (plane->geom != rh.geom || plane->prim != rh.prim) {
-    const Eigen::Vector3i& tri = s.triangles[rh.prim];
-    const Eigen::Vector3d v0 = s.positions[tri[0]].cast<double>();
-    const Eigen::Vector3d v1 = s.positions[tri[1]].cast<double>();
-    const Eigen::Vector3d v2 = s.positions[tri[2]].cast<double>();
-    const Eigen::Vector3d n = (v1 - v0).cross(v2 - v0);
-    const double nn = n.norm();
-    plane->geom = rh.geom;
-    plane->prim = rh.prim;
-    plane->normal = nn > 0 ? Eigen::Vector3d(n / nn) : Eigen::Vector3d(0, 0, 1);
-    plane->offset = plane->normal.dot(v0 - origin);
-  }
-  Eigen::Vector3d n = plane->normal;
-  const double nd = n.dot(direction);
-  hit.t = std::abs(nd) > 1e-12 ? plane->offset / nd : rh.tfar;
-  if (!(hit.t > 0)) hit.t = rh.tfar;
-  if (nd > 0) n = -n;
-  hit.normal = n;
-  hit.point = origin + hit.t * direction;
-  hit.shading_normal = n;
-  if (s.corner_normals != nullptr) {
-    const Eigen::Vector3f* c = s.corner_normals + 3 * static_cast<size_t>(rh.prim);
-    const float u = rh.u, v = rh.v;
-    const Eigen::Vector3d smooth = ((1 - u - v) * c[0] + u * c[1] + v * c[2]).cast<double>();
-    const double len = smooth.norm();
-    if (len > 0) hit.shading_normal = (smooth.dot(n) < 0 ? -smooth : smooth) / len;
-  }
-  return hit;
-}
 
 float Luminance(const Eigen::Vector3f& c) {
   return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
@@ -210,7 +129,7 @@ struct BlockRays {
   std::vector<Eigen::Vector3d> rays_in_cam;  // z == 1
   std::vector<Eigen::Vector3d> directions;   // world
   std::vector<EmbreeHit> embree_hits;
-  std::vector<Hit> hits;
+  std::vector<ExactHit> hits;
   std::vector<double> cos_suns;  // shading normal . to the sun
   std::vector<Eigen::Vector3d> shadow_origins;
   std::vector<uint8_t> facing_sun, occluded;
@@ -319,8 +238,9 @@ class FrameRenderer {
     }
     *rays += count;
     for (int i = 0; i < count; ++i) {
-      block->hits[i] = Resolve(scene_, block->embree_hits[i], centre_, block->directions[i], plane);
-      const Hit& hit = block->hits[i];
+      block->hits[i] =
+          ResolveExactHit(scene_, block->embree_hits[i], centre_, block->directions[i], plane);
+      const ExactHit& hit = block->hits[i];
       block->cos_suns[i] = hit.hit ? hit.shading_normal.dot(sky_.to_sun()) : 0;
       // Truth only: the shadow layer is the centre sample's (sample 0 of its pixel).
       block->facing_sun[i] = block->cos_suns[i] > 0 && (settings_.shade_rgb || i % spp_ == 0);
@@ -386,7 +306,7 @@ class FrameRenderer {
     int count = 0;
     for (int p = 0; p < block->pixels; ++p) {
       if (first[p] < 0) continue;
-      const Hit& hit = block->hits[first[p]];
+      const ExactHit& hit = block->hits[first[p]];
       const size_t pixel = static_cast<size_t>(block->y[p]) * frame_.camera.width + block->x[p];
       const Eigen::Vector3d& n = hit.shading_normal;
       Eigen::Vector3d t1, t2;
@@ -478,7 +398,7 @@ class FrameRenderer {
       if (k != 0) continue;
       // The flat truth layers: the single, non-mixed value of the centre
       // sample.
-      const Hit& hit = block.hits[i];
+      const ExactHit& hit = block.hits[i];
       film_.centre_sample[pixel] = block.samples[i].cast<float>();
       film_.class_id[pixel] = v.class_id;
       film_.instance_id[pixel] = v.instance;
@@ -533,7 +453,7 @@ class FrameRenderer {
 
   // Block sample i's values of the truth layers, without its radiance.
   SampleValue SampleTruth(const BlockRays& block, int i) const {
-    const Hit& hit = block.hits[i];
+    const ExactHit& hit = block.hits[i];
     SampleValue v;
     if (!hit.hit) return v;
     const Surface& s = scene_.surface(hit.geom);
@@ -570,8 +490,8 @@ class FrameRenderer {
   // centre is, with its cosine to the sun and its fog within
   // kShadeOnceTolerance of the centre's.
   bool ShadesAsCentre(const BlockRays& block, int c, int i, const CentreShading& centre) const {
-    const Hit& hit = block.hits[i];
-    const Hit& centre_hit = block.hits[c];
+    const ExactHit& hit = block.hits[i];
+    const ExactHit& centre_hit = block.hits[c];
     if (!hit.hit || !centre_hit.hit || hit.geom != centre_hit.geom || hit.prim != centre_hit.prim) {
       return false;
     }
@@ -597,8 +517,8 @@ class FrameRenderer {
   // alike skies: the same surface, shading normals within kSkyAlikeCos, and
   // points within kSkyAlikeFootprints pixel footprints.
   bool SkyAlike(const BlockRays& block, int i, int j) const {
-    const Hit& a = block.hits[i];
-    const Hit& b = block.hits[j];
+    const ExactHit& a = block.hits[i];
+    const ExactHit& b = block.hits[j];
     if (a.geom != b.geom || a.shading_normal.dot(b.shading_normal) < kSkyAlikeCos) return false;
     const double footprint = std::max(Footprint(block, i), Footprint(block, j));
     return (a.point - b.point).norm() <= kSkyAlikeFootprints * footprint;
@@ -614,7 +534,7 @@ class FrameRenderer {
   // procedural albedo and the cloud shadow through the pixel's fields).
   SampleValue ShadeSample(const BlockRays& block, int i, int p, ShadingFields* fields) const {
     const Eigen::Vector3d& direction = block.directions[i];
-    const Hit& hit = block.hits[i];
+    const ExactHit& hit = block.hits[i];
     SampleValue v = SampleTruth(block, i);
     if (!hit.hit) {
       v.radiance = sky_.Radiance(direction.normalized());
@@ -680,7 +600,7 @@ class FrameRenderer {
   // pixel's value where it applies (PixelField); else, inside the task's last
   // clear or full stretch of the deck (ExactBall), the bits a fresh evaluation
   // gives, without the noise; else evaluated.
-  float CloudShadow(const Hit& hit, ShadingFields* fields) const {
+  float CloudShadow(const ExactHit& hit, ShadingFields* fields) const {
     const bool reuse = settings_.reuse_smooth_fields;
     return fields->cloud.At(hit.geom, hit.point, [&] {
       FieldValue<float> lit;
@@ -711,7 +631,7 @@ class FrameRenderer {
     disocclusions->test[p] = 0;
     if (!with_motion_) return {kNaN, kNaN};
     const PlannedFrame& previous_frame = *previous_.frame;
-    const Hit& hit = block.hits[i];
+    const ExactHit& hit = block.hits[i];
     const Eigen::Vector2d& sample = block.samples[i];
     if (!hit.hit) {
       const Eigen::Vector3d dir_prev = previous_frame.cam_from_world.rotation * block.directions[i];

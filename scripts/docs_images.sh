@@ -4,6 +4,9 @@
 # by the reference renderer and by Blender Cycles (`--renderer cycles`, 16 samples each), each
 # through `lsds convert --images png` (its default tone curve, filmic at EV 0), into
 #   docs/images/generator_cycles_{oblique,nadir}_{reference,cycles}.png
+# and the figure of the built-in classes (examples/builtin_assets.lscene through
+# examples/builtin_assets.lcap, reference renderer, spp 4, seed 3) into
+#   docs/images/generator_builtin_assets.png
 # It prints each renderer's CPU seconds (the figure docs/generator.md quotes). Needs Blender on
 # PATH (or give --blender PATH after the lsds path). Not part of `make test`: Cycles takes about 15
 # CPU seconds and the PNGs are committed.
@@ -32,3 +35,10 @@ for renderer in reference cycles; do
     echo "wrote $target"
   done
 done
+
+"$lsds" generate examples/builtin_assets.lscene examples/builtin_assets.lcap --spp 4 --seed 3 \
+  -o "$work/assets" -q
+"$lsds" convert "$work/assets" --to yolo --images png -o "$work/assets-png" -q
+cp "$work/assets-png/images/train/000000.png" "$images/generator_builtin_assets.png.partial"
+mv "$images/generator_builtin_assets.png.partial" "$images/generator_builtin_assets.png"
+echo "wrote $images/generator_builtin_assets.png"

@@ -156,6 +156,7 @@ INSTANTIATE_TEST_SUITE_P(
                       std::make_pair("rocky_sand_clutter.lscene", "rocky_sand_random.lcap"),
                       std::make_pair("field_day.lscene", "field_day.lcap"),
                       std::make_pair("field_day.lscene", "field_day_figures.lcap"),
+                      std::make_pair("builtin_assets.lscene", "builtin_assets.lcap"),
                       std::make_pair("time_of_day_movers.lscene", "time_of_day_movers.lcap"),
                       std::make_pair("checkpoint_relations.lscene", "checkpoint_relations.lcap")),
     [](const auto& info) {
